@@ -1,0 +1,559 @@
+//! The DEM engine: one simulation of one layout.
+//!
+//! # The step, in order (written once, here)
+//!
+//! 1. **Clear forces.**
+//! 2. **Update contacts** if some body moved, since the last detection, more than
+//!    [`SolverParams::redetect_fraction`] of the contact margin (translation plus rotation
+//!    times its radius): broad phase ([`super::collider`]), narrow phase
+//!    ([`super::contact::geometry`]), sub-contact history carried over, time step checked.
+//! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
+//!    the two material points, then [`law::evaluate`]; forces summed per contact and then per
+//!    body, serially in contact order (so the sum never depends on a thread count).
+//! 4. **Loads**: gravity (table frame), end-restraint springs, external forces.
+//! 5. **Damping and integration** ([`super::integrator`]).
+//! 6. **Monitor**: unbalanced-force ratio and kinetic energy ([`super::monitor`]).
+//!
+//! A simulation is single-threaded and deterministic; ensembles parallelize over
+//! realizations.
+
+use super::collider::sweep_pairs;
+use super::contact::geometry::{self as cgeom, ContactSettings, PatchKind};
+use super::contact::law::{self, JointParams, Kinematics, SubContactState};
+use super::integrator::{advance, YConstraint};
+use super::monitor::StepStats;
+use super::state::Body;
+use super::timestep::critical_timestep;
+use crate::layout::{BaseSliding, EndRestraint, Layout};
+use crate::Vec3;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Engine errors.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum DemError {
+    /// A body's state became NaN or infinite: the run blew up.
+    #[error("block {id} has a non-finite state at step {step} (time step {dt_s:e} s): the run blew up")]
+    NonFinite {
+        /// Block id.
+        id: String,
+        /// Step number.
+        step: u64,
+        /// Time step, s.
+        dt_s: f64,
+    },
+}
+
+/// Solver parameters. Every field has a documented default (`SolverParams::default()`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverParams {
+    /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
+    pub damping: f64,
+    /// Fraction of the critical time step used. Default 0.5.
+    pub timestep_safety: f64,
+    /// Pairs closer than this get a contact, m. Default 0.001.
+    pub contact_margin_m: f64,
+    /// Vertices within this distance of the support plane form an edge/vertex feature, m.
+    /// Default 0.0005.
+    pub feature_tolerance_m: f64,
+    /// Faces within this angle of the contact normal form a face feature, degrees. Default 10.
+    pub face_angle_tolerance_deg: f64,
+    /// Sub-contact density: subdivisions of each fan triangle of a contact polygon per
+    /// edge, ≥ 1 (1 puts sub-contacts at the polygon's corners and centroid). Default 2.
+    pub subcontact_subdivisions: u32,
+    /// Nominal width of edge and vertex contacts, fraction of the smaller block's smallest
+    /// dimension. Default 0.05.
+    pub degenerate_width_fraction: f64,
+    /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
+    pub redetect_fraction: f64,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        let c = ContactSettings::default();
+        SolverParams {
+            damping: 0.8,
+            timestep_safety: 0.5,
+            contact_margin_m: c.margin,
+            feature_tolerance_m: c.feature_tolerance,
+            face_angle_tolerance_deg: c.face_angle_tolerance.to_degrees(),
+            subcontact_subdivisions: c.subdivisions,
+            degenerate_width_fraction: c.degenerate_width_fraction,
+            redetect_fraction: 0.5,
+        }
+    }
+}
+
+impl SolverParams {
+    /// The narrow-phase settings.
+    pub fn contact_settings(&self) -> ContactSettings {
+        ContactSettings {
+            margin: self.contact_margin_m,
+            feature_tolerance: self.feature_tolerance_m,
+            face_angle_tolerance: self.face_angle_tolerance_deg.to_radians(),
+            subdivisions: self.subcontact_subdivisions,
+            degenerate_width_fraction: self.degenerate_width_fraction,
+        }
+    }
+
+    /// Checks ranges; returns the offending key and value.
+    pub fn validate(&self) -> Result<(), (String, f64)> {
+        let checks: [(&str, f64, bool); 7] = [
+            ("damping", self.damping, (0.0..1.0).contains(&self.damping)),
+            ("timestep_safety", self.timestep_safety, self.timestep_safety > 0.0 && self.timestep_safety <= 1.0),
+            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0),
+            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0),
+            ("face_angle_tolerance_deg", self.face_angle_tolerance_deg, self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0),
+            ("degenerate_width_fraction", self.degenerate_width_fraction, self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0),
+            ("redetect_fraction", self.redetect_fraction, self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0),
+        ];
+        for (k, v, ok) in checks {
+            if !ok || !v.is_finite() {
+                return Err((k.to_string(), v));
+            }
+        }
+        if self.subcontact_subdivisions == 0 || self.subcontact_subdivisions > 64 {
+            return Err(("subcontact_subdivisions".into(), self.subcontact_subdivisions as f64));
+        }
+        Ok(())
+    }
+}
+
+/// One sub-contact: a material point on each body and its joint history.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubContact {
+    /// Point on A, A's body frame (table frame for the table), m.
+    pub on_a: Vec3,
+    /// Point on B, B's body frame, m.
+    pub on_b: Vec3,
+    /// Tributary area, m².
+    pub area: f64,
+    /// Joint history.
+    pub state: SubContactState,
+}
+
+/// A contact between body A (or the table) and body B.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// Body A; `None` is the table.
+    pub a: Option<usize>,
+    /// Body B.
+    pub b: usize,
+    /// Joint parameters.
+    pub joint: JointParams,
+    /// Contact normal at detection, in A's body frame (table frame for the table).
+    pub normal_a: Vec3,
+    /// Contact normal at detection, in B's body frame.
+    pub normal_b: Vec3,
+    /// Polygon kind at detection.
+    pub kind: PatchKind,
+    /// Sub-contacts.
+    pub subs: Vec<SubContact>,
+    /// Resultant force on B at the last step, N, table frame.
+    pub force: Vec3,
+}
+
+impl Contact {
+    fn key(&self) -> (usize, usize) {
+        (self.a.map_or(0, |i| i + 1), self.b)
+    }
+}
+
+/// One simulation.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// Bodies, in layout order.
+    pub bodies: Vec<Body>,
+    /// Contacts, sorted by (A, B) with the table first.
+    pub contacts: Vec<Contact>,
+    /// Solver parameters.
+    pub params: SolverParams,
+    /// Gravity, m/s², table frame.
+    pub gravity: Vec3,
+    /// External force per body at its centroid, N, table frame (lateral loads).
+    pub external_force: Vec<Vec3>,
+    /// External torque per body about its centroid, N·m, table frame.
+    pub external_torque: Vec<Vec3>,
+    /// End restraint per body.
+    pub restraint: Vec<Option<EndRestraint>>,
+    /// Time step, s.
+    pub dt: f64,
+    /// Simulated time, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Statistics of the last step.
+    pub stats: StepStats,
+    /// Number of contact re-detections so far.
+    pub detections: u64,
+    joints: Vec<JointParams>,
+    table_joint: JointParams,
+    gravity_magnitude: f64,
+    force: Vec<Vec3>,
+    torque: Vec<Vec3>,
+    detect_pos: Vec<Vec3>,
+    detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
+    layout_joints: Vec<Vec<JointParams>>,
+}
+
+impl Simulation {
+    /// Builds the simulation of a checked layout at rest, gravity straight down
+    /// (table level), and detects the initial contacts.
+    pub fn new(layout: &Layout, params: SolverParams) -> Simulation {
+        let bodies: Vec<Body> = layout
+            .blocks
+            .iter()
+            .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
+            .collect();
+        let n = bodies.len();
+        let nm = layout.materials.len();
+        let layout_joints = (0..nm).map(|i| (0..nm).map(|j| layout.joint_between(i, j)).collect()).collect();
+        let mut table_joint = layout.materials[layout.table_material].joint;
+        if layout.base_sliding == BaseSliding::Held {
+            table_joint.can_slip = false;
+        }
+        let mut restraint = vec![None; n];
+        for &(i, r) in &layout.end_restraints {
+            restraint[i] = Some(r);
+        }
+        let mut sim = Simulation {
+            detect_pos: bodies.iter().map(|b| b.pos).collect(),
+            detect_rot: bodies.iter().map(|b| b.rot).collect(),
+            bodies,
+            contacts: Vec::new(),
+            params,
+            gravity: Vec3::new(0.0, 0.0, -layout.gravity),
+            external_force: vec![Vec3::zeros(); n],
+            external_torque: vec![Vec3::zeros(); n],
+            restraint,
+            dt: f64::INFINITY,
+            time: 0.0,
+            steps: 0,
+            stats: StepStats::default(),
+            detections: 0,
+            joints: layout.materials.iter().map(|m| m.joint).collect(),
+            table_joint,
+            gravity_magnitude: layout.gravity,
+            force: vec![Vec3::zeros(); n],
+            torque: vec![Vec3::zeros(); n],
+            layout_joints,
+        };
+        sim.detect_contacts(true);
+        if !sim.dt.is_finite() {
+            // Nothing touches: a step from the free-fall of the smallest block over its size.
+            sim.dt = 1e-4;
+        }
+        sim
+    }
+
+    /// Sets the table tilt α (rad): gravity becomes `g (0, sin α, −cos α)` in the table
+    /// frame (SPEC §4; the out-of-plane load is `W sin α`).
+    pub fn set_tilt(&mut self, alpha: f64) {
+        self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
+    }
+
+    /// Joint parameters of material `i` (blocks of the same material).
+    pub fn material_joint(&self, i: usize) -> JointParams {
+        self.joints[i]
+    }
+
+    /// Detects contacts afresh and carries the history of persisting sub-contacts over.
+    fn detect_contacts(&mut self, initial: bool) {
+        let settings = self.params.contact_settings();
+        let shapes: Vec<_> = self.bodies.iter().map(|b| b.world_shape()).collect();
+        let boxes: Vec<_> = shapes.iter().map(|s| s.aabb()).collect();
+        let mut new = Vec::new();
+        // Table contacts first (key 0), then pairs in (i, j) order.
+        for (j, s) in shapes.iter().enumerate() {
+            if self.bodies[j].fixed {
+                continue;
+            }
+            if let Some(p) = cgeom::table_block(s, &settings) {
+                new.push(self.make_contact(None, j, p, initial));
+            }
+        }
+        for (i, j) in sweep_pairs(&boxes, settings.margin) {
+            if self.bodies[i].fixed && self.bodies[j].fixed {
+                continue;
+            }
+            if let Some(p) = cgeom::block_block(&shapes[i], &shapes[j], &settings) {
+                new.push(self.make_contact(Some(i), j, p, initial));
+            }
+        }
+        new.sort_by_key(|c| c.key());
+        if !initial {
+            self.transfer_history(&mut new);
+        }
+        self.contacts = new;
+        for (k, b) in self.bodies.iter().enumerate() {
+            self.detect_pos[k] = b.pos;
+            self.detect_rot[k] = b.rot;
+        }
+        if let Some(dt) = critical_timestep(&self.bodies, &self.contacts, self.params.timestep_safety) {
+            self.dt = self.dt.min(dt);
+        }
+        self.detections += 1;
+    }
+
+    fn make_contact(&self, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
+        let joint = match a {
+            None => self.table_joint,
+            Some(i) => self.layout_joints[self.bodies[i].material][self.bodies[b].material],
+        };
+        let bonded = initial && (joint.cohesion > 0.0 || joint.tensile_strength > 0.0);
+        let bb = &self.bodies[b];
+        let subs = p
+            .points
+            .iter()
+            .map(|q| SubContact {
+                on_a: match a {
+                    None => q.on_a,
+                    Some(i) => self.bodies[i].to_body(&q.on_a),
+                },
+                on_b: bb.to_body(&q.on_b),
+                area: q.area,
+                state: SubContactState::new(bonded),
+            })
+            .collect();
+        let normal_a = match a {
+            None => p.normal,
+            Some(i) => self.bodies[i].rot_mat.transpose() * p.normal,
+        };
+        Contact {
+            a,
+            b,
+            joint,
+            normal_a,
+            normal_b: bb.rot_mat.transpose() * p.normal,
+            kind: p.kind,
+            subs,
+            force: Vec3::zeros(),
+        }
+    }
+
+    fn world_points(&self, c: &Contact, s: &SubContact) -> (Vec3, Vec3) {
+        let pa = match c.a {
+            None => s.on_a,
+            Some(i) => self.bodies[i].to_world(&s.on_a),
+        };
+        (pa, self.bodies[c.b].to_world(&s.on_b))
+    }
+
+    /// Current unit normal of a contact (A → B, table frame): the mean of the detection
+    /// normal carried by each body.
+    pub fn contact_normal(&self, c: &Contact) -> Vec3 {
+        let na = match c.a {
+            None => c.normal_a,
+            Some(i) => self.bodies[i].rot_mat * c.normal_a,
+        };
+        (na + self.bodies[c.b].rot_mat * c.normal_b).normalize()
+    }
+
+    fn transfer_history(&self, new: &mut [Contact]) {
+        let old = &self.contacts;
+        for c in new.iter_mut() {
+            let Ok(k) = old.binary_search_by_key(&c.key(), |o| o.key()) else { continue };
+            let o = &old[k];
+            let old_pts: Vec<Vec3> = o
+                .subs
+                .iter()
+                .map(|s| {
+                    let (pa, pb) = self.world_points(o, s);
+                    0.5 * (pa + pb)
+                })
+                .collect();
+            let mut fresh = Vec::with_capacity(c.subs.len());
+            for s in &c.subs {
+                let (pa, pb) = self.world_points(c, s);
+                let x = 0.5 * (pa + pb);
+                let nearest = old_pts
+                    .iter()
+                    .enumerate()
+                    .min_by(|(_, p), (_, q)| (*p - x).norm_squared().total_cmp(&(*q - x).norm_squared()))
+                    .map(|(i, _)| i);
+                let mut st = s.state;
+                if let Some(i) = nearest {
+                    let os = &o.subs[i];
+                    st.bonded = os.state.bonded;
+                    st.shear = os.state.shear * (s.area / os.area.max(1e-300));
+                }
+                fresh.push(st);
+            }
+            for (s, st) in c.subs.iter_mut().zip(fresh) {
+                s.state = st;
+            }
+        }
+    }
+
+    fn needs_detection(&self) -> bool {
+        let limit = self.params.redetect_fraction * self.params.contact_margin_m;
+        self.bodies.iter().enumerate().any(|(k, b)| {
+            if b.fixed {
+                return false;
+            }
+            let dx = (b.pos - self.detect_pos[k]).norm();
+            let dr = (b.rot * self.detect_rot[k].inverse()).angle() * b.radius;
+            dx + dr > limit
+        })
+    }
+
+    /// Advances one step (see the module doc for the order).
+    ///
+    /// # Errors
+    /// [`DemError::NonFinite`] if a body's state blows up.
+    pub fn step(&mut self) -> Result<(), DemError> {
+        // 1. Clear forces.
+        self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
+        self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
+        // 2. Update contacts.
+        if self.needs_detection() {
+            self.detect_contacts(false);
+        }
+        // 3. Contact geometry and law.
+        let dt = self.dt;
+        let mut sum_contact = 0.0;
+        let mut active = 0usize;
+        for c in &mut self.contacts {
+            let (xa, ra, va, wa) = match c.a {
+                None => (Vec3::zeros(), crate::Mat3::identity(), Vec3::zeros(), Vec3::zeros()),
+                Some(i) => {
+                    let b = &self.bodies[i];
+                    (b.pos, b.rot_mat, b.vel, b.angvel)
+                }
+            };
+            let bb = &self.bodies[c.b];
+            let (xb, rb, vb, wb) = (bb.pos, bb.rot_mat, bb.vel, bb.angvel);
+            let n = (ra * c.normal_a + rb * c.normal_b).normalize();
+            let mut fsum = Vec3::zeros();
+            let mut ta = Vec3::zeros();
+            let mut tb = Vec3::zeros();
+            for s in &mut c.subs {
+                let pa = xa + ra * s.on_a;
+                let pb = xb + rb * s.on_b;
+                let gap = (pb - pa).dot(&n);
+                if gap > 0.0 && !s.state.bonded && s.state.normal == 0.0 && s.state.shear == Vec3::zeros() {
+                    continue; // open, no history: no force
+                }
+                let x = 0.5 * (pa + pb);
+                let rbx = x - xb;
+                let rax = x - xa;
+                let vrel = vb + wb.cross(&rbx) - va - wa.cross(&rax);
+                let du = (vrel - n * n.dot(&vrel)) * dt;
+                let f = law::evaluate(&c.joint, &mut s.state, &Kinematics { normal: n, gap, du_shear: du, area: s.area });
+                fsum += f;
+                tb += rbx.cross(&f);
+                ta -= rax.cross(&f);
+            }
+            c.force = fsum;
+            let mag = fsum.norm();
+            if mag > 0.0 {
+                sum_contact += mag;
+                active += 1;
+            }
+            self.force[c.b] += fsum;
+            self.torque[c.b] += tb;
+            if let Some(i) = c.a {
+                self.force[i] -= fsum;
+                self.torque[i] += ta;
+            }
+        }
+        // 4. Loads.
+        let mut sum_unbalanced = 0.0;
+        let mut free = 0usize;
+        for (k, b) in self.bodies.iter().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let mut f = self.force[k] + self.gravity * b.mass + self.external_force[k];
+            self.torque[k] += self.external_torque[k];
+            match self.restraint[k] {
+                Some(EndRestraint::Spring(kk)) => f.y -= kk * (b.pos.y - b.pos0.y),
+                Some(EndRestraint::Rigid) => {}
+                None => {}
+            }
+            self.force[k] = f;
+            let mut fu = f;
+            if self.restraint[k] == Some(EndRestraint::Rigid) {
+                fu.y = 0.0;
+            }
+            sum_unbalanced += fu.norm();
+            free += 1;
+        }
+        // 5. Damping and integration.
+        let damping = self.params.damping;
+        let mut ke = 0.0;
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            let y = if b.restraint_rigid(&self.restraint[k]) { YConstraint::Held } else { YConstraint::Free };
+            advance(b, self.force[k], self.torque[k], dt, damping, y);
+            if !(b.pos.iter().all(|v| v.is_finite()) && b.angvel.iter().all(|v| v.is_finite()) && b.vel.iter().all(|v| v.is_finite())) {
+                return Err(DemError::NonFinite { id: b.id.clone(), step: self.steps, dt_s: dt });
+            }
+            ke += 0.5 * b.mass * b.vel.norm_squared();
+        }
+        self.time += dt;
+        self.steps += 1;
+        // 6. Monitor.
+        let mean_unbalanced = if free > 0 { sum_unbalanced / free as f64 } else { 0.0 };
+        let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
+        self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
+        Ok(())
+    }
+
+    /// Runs until the unbalanced-force ratio falls below `tol` (returns `Ok(true)`) or
+    /// `max_steps` have been taken (`Ok(false)`). Checks the ratio every step after a first
+    /// 10 steps.
+    ///
+    /// # Errors
+    /// [`DemError::NonFinite`].
+    pub fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
+        for i in 0..max_steps {
+            self.step()?;
+            if i >= 10 && self.stats.unbalanced_ratio < tol {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Total force on each body from contacts, loads and gravity at the last step (N).
+    pub fn body_forces(&self) -> &[Vec3] {
+        &self.force
+    }
+
+    /// Total energy bookkeeping: (kinetic, gravitational potential relative to the
+    /// reference configuration, elastic energy stored in the joints), J.
+    pub fn energies(&self) -> (f64, f64, f64) {
+        let ke: f64 = self.bodies.iter().map(|b| b.kinetic_energy()).sum();
+        let pe: f64 = self.bodies.iter().map(|b| -b.mass * self.gravity.dot(&(b.pos - b.pos0))).sum();
+        let el: f64 = self
+            .contacts
+            .iter()
+            .flat_map(|c| c.subs.iter().map(move |s| law::stored_energy(&c.joint, &s.state, s.area)))
+            .sum();
+        (ke, pe, el)
+    }
+
+    /// Name of a contact's joint: `table/ID` or `ID_A/ID_B`.
+    pub fn joint_name(&self, c: &Contact) -> String {
+        match c.a {
+            None => format!("table/{}", self.bodies[c.b].id),
+            Some(i) => format!("{}/{}", self.bodies[i].id, self.bodies[c.b].id),
+        }
+    }
+
+    /// Forces a contact re-detection at the next step (after an external change of pose).
+    pub fn invalidate_contacts(&mut self) {
+        for p in &mut self.detect_pos {
+            *p = Vec3::repeat(f64::INFINITY);
+        }
+    }
+}
+
+impl Body {
+    #[inline]
+    fn restraint_rigid(&self, r: &Option<EndRestraint>) -> bool {
+        matches!(r, Some(EndRestraint::Rigid))
+    }
+}

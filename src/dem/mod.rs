@@ -1,0 +1,12 @@
+//! The rigid-block Discrete Element Method (3DEC-style): state, collider, contact geometry
+//! and law, integrator, time step, engine, monitor. See [`engine`] for the step order.
+
+pub mod collider;
+pub mod contact;
+pub mod engine;
+pub mod integrator;
+pub mod monitor;
+pub mod state;
+pub mod timestep;
+
+pub use engine::{Contact, DemError, Simulation, SolverParams};

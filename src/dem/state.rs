@@ -1,0 +1,104 @@
+//! Rigid bodies: mass properties, pose and velocities.
+
+use crate::geometry::ConvexBlock;
+use crate::{Mat3, Vec3};
+use nalgebra::UnitQuaternion;
+
+/// One rigid block.
+///
+/// Pose: `x_world = pos + rot · x_body` (body frame: origin at the centroid, axes parallel
+/// to the table frame in the reference configuration). Velocities are at the half step of
+/// the central-difference scheme.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Id from the layout.
+    pub id: String,
+    /// Geometry in the body frame, m.
+    pub shape: ConvexBlock,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Inertia tensor about the centroid in the body frame, kg·m².
+    pub inertia: Mat3,
+    /// Inverse of `inertia`.
+    pub inv_inertia: Mat3,
+    /// Smallest principal moment of inertia, kg·m².
+    pub min_inertia: f64,
+    /// Distance from the centroid to the farthest vertex, m.
+    pub radius: f64,
+    /// Never moves.
+    pub fixed: bool,
+    /// Index of the block's material in the layout.
+    pub material: usize,
+    /// Centroid position, table frame, m.
+    pub pos: Vec3,
+    /// Orientation (body → table frame).
+    pub rot: UnitQuaternion<f64>,
+    /// `rot` as a matrix, refreshed after every rotation update.
+    pub rot_mat: Mat3,
+    /// Velocity of the centroid, m/s.
+    pub vel: Vec3,
+    /// Angular velocity, rad/s, table frame.
+    pub angvel: Vec3,
+    /// Centroid in the reference configuration, m.
+    pub pos0: Vec3,
+}
+
+impl Body {
+    /// A body at rest in its reference configuration from a block given in the table frame.
+    pub fn new(id: String, shape_world: &ConvexBlock, density: f64, material: usize, fixed: bool) -> Body {
+        let mp = shape_world.mass_properties(density);
+        let c = mp.centroid;
+        let shape = shape_world.transformed(|v| v - c, &Mat3::identity());
+        let radius = shape.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        let inv_inertia = mp.inertia.try_inverse().unwrap_or_else(Mat3::zeros);
+        let min_inertia = mp.inertia.symmetric_eigenvalues().iter().cloned().fold(f64::INFINITY, f64::min);
+        Body {
+            id,
+            shape,
+            mass: mp.mass,
+            inertia: mp.inertia,
+            inv_inertia,
+            min_inertia,
+            radius,
+            fixed,
+            material,
+            pos: c,
+            rot: UnitQuaternion::identity(),
+            rot_mat: Mat3::identity(),
+            vel: Vec3::zeros(),
+            angvel: Vec3::zeros(),
+            pos0: c,
+        }
+    }
+
+    /// A body-frame point in the table frame.
+    #[inline]
+    pub fn to_world(&self, p: &Vec3) -> Vec3 {
+        self.pos + self.rot_mat * p
+    }
+
+    /// A table-frame point in the body frame.
+    #[inline]
+    pub fn to_body(&self, x: &Vec3) -> Vec3 {
+        self.rot_mat.transpose() * (x - self.pos)
+    }
+
+    /// The block's geometry at its current pose, table frame.
+    pub fn world_shape(&self) -> ConvexBlock {
+        let r = self.rot_mat;
+        let p = self.pos;
+        self.shape.transformed(|v| p + r * v, &r)
+    }
+
+    /// Velocity of the material point at table-frame position `x`, m/s.
+    #[inline]
+    pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
+        self.vel + self.angvel.cross(&(x - self.pos))
+    }
+
+    /// Kinetic energy, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        let iw = self.rot_mat * self.inertia * self.rot_mat.transpose();
+        0.5 * self.mass * self.vel.norm_squared() + 0.5 * self.angvel.dot(&(iw * self.angvel))
+    }
+}

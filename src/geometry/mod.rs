@@ -1,0 +1,533 @@
+//! Convex polyhedral blocks: hulls, faces, mass properties, bounding boxes, frames.
+//!
+//! # Frames
+//!
+//! * **Table frame** (also called the *layout frame* or *world frame*): x along the wall, y out
+//!   of plane (positive = the side the wall falls to when the table tilts), z up, normal to the
+//!   table. The table surface is the plane z = 0. Block vertices in a layout file are given in
+//!   this frame, in metres.
+//! * **Body frame** of a block: origin at the block's centroid, axes parallel to the table
+//!   frame *in the reference configuration* (the layout as read). A block's pose is the
+//!   translation of its centroid and the rotation `R` taking body-frame vectors to the table
+//!   frame: `x_world = c + R x_body`.
+//!
+//! The hull itself is computed with parry3d (`transformation::try_convex_hull`, quickhull);
+//! coplanar hull triangles are merged into polygonal faces here, because the contact
+//! detection of the DEM works with true faces (3DEC's face–face, edge–face, vertex–face
+//! contacts, Cundall 1988; Hart, Cundall & Lemos 1988).
+
+pub mod polygon;
+
+use crate::Vec3;
+use nalgebra::Matrix3;
+use parry3d_f64::math::Vector as PVec;
+use thiserror::Error;
+
+/// Errors in building a convex block.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum GeometryError {
+    /// Fewer than 4 vertices, or all vertices (nearly) coplanar: no volume.
+    #[error("needs at least 4 non-coplanar vertices (got {count} vertices spanning no volume)")]
+    Degenerate {
+        /// Number of vertices given.
+        count: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {index} has a non-finite coordinate {value:?}")]
+    NonFinite {
+        /// Index of the offending vertex in the input list.
+        index: usize,
+        /// The vertex as given.
+        value: [f64; 3],
+    },
+    /// A vertex lies strictly inside the convex hull of the others: the block as given is not
+    /// a convex polyhedron (or lists an interior point).
+    #[error("not convex: vertex {index} {value:?} lies {depth_m:.3e} m inside the hull of the others")]
+    NotConvex {
+        /// Index of the offending vertex in the input list.
+        index: usize,
+        /// The vertex as given.
+        value: [f64; 3],
+        /// Depth of the vertex below the hull surface, m.
+        depth_m: f64,
+    },
+    /// The hull algorithm failed.
+    #[error("convex hull failed: {0}")]
+    Hull(String),
+}
+
+/// A planar face of a convex block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Face {
+    /// Indices into [`ConvexBlock::vertices`], counter-clockwise seen from outside
+    /// (right-handed about `normal`). At least 3.
+    pub vertices: Vec<usize>,
+    /// Outward unit normal, in the frame of the block's vertices.
+    pub normal: Vec3,
+    /// Plane offset: `normal · x = offset` for every point x of the face, m.
+    pub offset: f64,
+}
+
+/// Mass properties of a homogeneous block.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MassProperties {
+    /// Volume, m³.
+    pub volume: f64,
+    /// Mass, kg (`density × volume`).
+    pub mass: f64,
+    /// Centroid in the frame of the vertices, m.
+    pub centroid: Vec3,
+    /// Inertia tensor about the centroid, axes of the vertex frame, kg·m².
+    pub inertia: Matrix3<f64>,
+}
+
+/// Axis-aligned bounding box, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Minimum corner.
+    pub min: Vec3,
+    /// Maximum corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// Bounding box of a point set. Panics never; an empty set gives an inverted box.
+    pub fn from_points<'a>(pts: impl IntoIterator<Item = &'a Vec3>) -> Self {
+        let mut min = Vec3::repeat(f64::INFINITY);
+        let mut max = Vec3::repeat(f64::NEG_INFINITY);
+        for p in pts {
+            min = min.inf(p);
+            max = max.sup(p);
+        }
+        Aabb { min, max }
+    }
+
+    /// True if the boxes, each grown by `margin` (m) on every side, overlap.
+    pub fn overlaps(&self, other: &Aabb, margin: f64) -> bool {
+        (0..3).all(|k| {
+            self.min[k] - margin <= other.max[k] && other.min[k] - margin <= self.max[k]
+        })
+    }
+
+    /// Edge lengths, m.
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+}
+
+/// A convex polyhedron given by its hull vertices and polygonal faces.
+///
+/// Built from any vertex list by [`ConvexBlock::from_vertices`]; coordinates in metres in the
+/// frame the caller uses (the table frame for a layout, the body frame inside the DEM).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvexBlock {
+    /// Hull vertices, m.
+    pub vertices: Vec<Vec3>,
+    /// Polygonal faces, outward normals.
+    pub faces: Vec<Face>,
+    /// Unique edges as pairs of vertex indices (i < j).
+    pub edges: Vec<(usize, usize)>,
+}
+
+fn to_p(v: &Vec3) -> PVec {
+    PVec::new(v.x, v.y, v.z)
+}
+
+fn from_p(v: &PVec) -> Vec3 {
+    Vec3::new(v.x, v.y, v.z)
+}
+
+impl ConvexBlock {
+    /// Builds the convex block whose hull is the given vertices.
+    ///
+    /// Every input vertex must lie on the hull surface (within `1e-9 × size`), otherwise the
+    /// input is not a convex polyhedron and [`GeometryError::NotConvex`] names the vertex.
+    /// Duplicate vertices are allowed and merged.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`], [`GeometryError::Degenerate`], [`GeometryError::NotConvex`].
+    pub fn from_vertices(input: &[Vec3]) -> Result<Self, GeometryError> {
+        for (i, v) in input.iter().enumerate() {
+            if !v.iter().all(|c| c.is_finite()) {
+                return Err(GeometryError::NonFinite { index: i, value: [v.x, v.y, v.z] });
+            }
+        }
+        if input.len() < 4 {
+            return Err(GeometryError::Degenerate { count: input.len() });
+        }
+        let bb = Aabb::from_points(input);
+        let size = bb.extent().norm();
+        if size <= 0.0 {
+            return Err(GeometryError::Degenerate { count: input.len() });
+        }
+        // Volume check before the hull: the largest tetrahedron spanned must have volume.
+        if !spans_volume(input, size) {
+            return Err(GeometryError::Degenerate { count: input.len() });
+        }
+        let pts: Vec<PVec> = input.iter().map(to_p).collect();
+        let (hv, tris) = parry3d_f64::transformation::try_convex_hull(&pts)
+            .map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
+        if tris.len() < 4 {
+            return Err(GeometryError::Degenerate { count: input.len() });
+        }
+        let hull_vertices: Vec<Vec3> = hv.iter().map(from_p).collect();
+        let tol = 1e-9 * size.max(1e-12);
+        let faces = merge_coplanar(&hull_vertices, &tris, tol)?;
+        // Keep only vertices used by faces, re-index.
+        let mut used = vec![usize::MAX; hull_vertices.len()];
+        let mut vertices = Vec::new();
+        let mut faces_out = Vec::with_capacity(faces.len());
+        for f in faces {
+            let idx = f
+                .vertices
+                .iter()
+                .map(|&i| {
+                    if used[i] == usize::MAX {
+                        used[i] = vertices.len();
+                        vertices.push(hull_vertices[i]);
+                    }
+                    used[i]
+                })
+                .collect();
+            faces_out.push(Face { vertices: idx, normal: f.normal, offset: f.offset });
+        }
+        let block = ConvexBlock::from_parts(vertices, faces_out);
+        // Convexity of the input: every input vertex on the hull surface.
+        for (i, v) in input.iter().enumerate() {
+            let depth = block.signed_distance(v);
+            if depth < -1e-7 * size.max(1e-12) {
+                return Err(GeometryError::NotConvex {
+                    index: i,
+                    value: [v.x, v.y, v.z],
+                    depth_m: -depth,
+                });
+            }
+        }
+        Ok(block)
+    }
+
+    fn from_parts(vertices: Vec<Vec3>, faces: Vec<Face>) -> Self {
+        let mut edges = Vec::new();
+        for f in &faces {
+            let n = f.vertices.len();
+            for k in 0..n {
+                let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+                let e = if a < b { (a, b) } else { (b, a) };
+                edges.push(e);
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        ConvexBlock { vertices, faces, edges }
+    }
+
+    /// Axis-aligned box with corners `min` and `max` (m).
+    ///
+    /// # Errors
+    /// [`GeometryError::Degenerate`] if any edge length is not positive.
+    pub fn cuboid(min: Vec3, max: Vec3) -> Result<Self, GeometryError> {
+        let mut v = Vec::with_capacity(8);
+        for &z in &[min.z, max.z] {
+            for &y in &[min.y, max.y] {
+                for &x in &[min.x, max.x] {
+                    v.push(Vec3::new(x, y, z));
+                }
+            }
+        }
+        if (0..3).any(|k| max[k] - min[k] <= 0.0 || !(max[k] - min[k]).is_finite()) {
+            return Err(GeometryError::Degenerate { count: 8 });
+        }
+        Self::from_vertices(&v)
+    }
+
+    /// Prism along x with a trapezoidal cross-section in the y–z plane.
+    ///
+    /// The section has its bottom edge from `y_bottom.0` to `y_bottom.1` at `z0` and its top
+    /// edge from `y_top.0` to `y_top.1` at `z1`, and the prism spans `x0..x1`. All in m.
+    /// A wall's symmetric batter with base B and top b centred on y = 0 is
+    /// `y_bottom = (-B/2, B/2)`, `y_top = (-b/2, b/2)`.
+    ///
+    /// # Errors
+    /// [`GeometryError::Degenerate`] for zero length, height or width.
+    pub fn trapezoidal_prism(
+        x0: f64,
+        x1: f64,
+        z0: f64,
+        z1: f64,
+        y_bottom: (f64, f64),
+        y_top: (f64, f64),
+    ) -> Result<Self, GeometryError> {
+        let mut v = Vec::with_capacity(8);
+        for &x in &[x0, x1] {
+            v.push(Vec3::new(x, y_bottom.0, z0));
+            v.push(Vec3::new(x, y_bottom.1, z0));
+            v.push(Vec3::new(x, y_top.1, z1));
+            v.push(Vec3::new(x, y_top.0, z1));
+        }
+        Self::from_vertices(&v)
+    }
+
+    /// Signed distance-like measure of a point to the hull: the minimum over faces of
+    /// `offset − normal · p` (m). Positive inside, zero on the surface, negative outside
+    /// (outside it is a lower bound of the true distance's magnitude).
+    pub fn signed_distance(&self, p: &Vec3) -> f64 {
+        self.faces
+            .iter()
+            .map(|f| f.offset - f.normal.dot(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Mass properties for a homogeneous density (kg/m³), by decomposition into tetrahedra
+    /// from an interior point (exact for polyhedra; Tonon 2004, "Explicit exact formulas for
+    /// the 3-D tetrahedron inertia tensor in terms of its vertex coordinates").
+    pub fn mass_properties(&self, density: f64) -> MassProperties {
+        let o = self.vertices.iter().sum::<Vec3>() / self.vertices.len() as f64;
+        let mut vol = 0.0;
+        let mut first = Vec3::zeros();
+        // Second moment  ∫ x xᵀ dV  about o.
+        let mut second = Matrix3::zeros();
+        for f in &self.faces {
+            let p0 = self.vertices[f.vertices[0]] - o;
+            for k in 1..f.vertices.len() - 1 {
+                let p1 = self.vertices[f.vertices[k]] - o;
+                let p2 = self.vertices[f.vertices[k + 1]] - o;
+                let v = p0.dot(&p1.cross(&p2)) / 6.0;
+                vol += v;
+                first += v * (p0 + p1 + p2) / 4.0;
+                // ∫ x xᵀ over tetra (0,p0,p1,p2) = v/20 (Σ pi piᵀ + (Σ pi)(Σ pi)ᵀ)
+                let s = p0 + p1 + p2;
+                let c = p0 * p0.transpose() + p1 * p1.transpose() + p2 * p2.transpose()
+                    + s * s.transpose();
+                second += c * (v / 20.0);
+            }
+        }
+        let centroid_rel = first / vol;
+        // Shift the second moment to the centroid.
+        let second_c = second - centroid_rel * centroid_rel.transpose() * vol;
+        let inertia = (Matrix3::identity() * second_c.trace() - second_c) * density;
+        MassProperties {
+            volume: vol,
+            mass: vol * density,
+            centroid: o + centroid_rel,
+            inertia,
+        }
+    }
+
+    /// Volume, m³.
+    pub fn volume(&self) -> f64 {
+        self.mass_properties(1.0).volume
+    }
+
+    /// Bounding box of the vertices.
+    pub fn aabb(&self) -> Aabb {
+        Aabb::from_points(&self.vertices)
+    }
+
+    /// The same block with every vertex mapped by `f` (a rigid motion keeps it convex; the
+    /// face normals are recomputed).
+    pub fn transformed(&self, f: impl Fn(&Vec3) -> Vec3, rot: &Matrix3<f64>) -> ConvexBlock {
+        let vertices: Vec<Vec3> = self.vertices.iter().map(&f).collect();
+        let faces = self
+            .faces
+            .iter()
+            .map(|fc| {
+                let normal = rot * fc.normal;
+                let offset = normal.dot(&vertices[fc.vertices[0]]);
+                Face { vertices: fc.vertices.clone(), normal, offset }
+            })
+            .collect();
+        ConvexBlock { vertices, faces, edges: self.edges.clone() }
+    }
+}
+
+fn spans_volume(pts: &[Vec3], size: f64) -> bool {
+    // Farthest pair, then the point farthest from that line, then from that plane.
+    let p0 = pts[0];
+    let p1 = *pts
+        .iter()
+        .max_by(|a, b| (*a - p0).norm().total_cmp(&(*b - p0).norm()))
+        .unwrap_or(&p0);
+    let d = p1 - p0;
+    if d.norm() <= 1e-9 * size {
+        return false;
+    }
+    let p2 = *pts
+        .iter()
+        .max_by(|a, b| d.cross(&(*a - p0)).norm().total_cmp(&d.cross(&(*b - p0)).norm()))
+        .unwrap_or(&p0);
+    let n = d.cross(&(p2 - p0));
+    if n.norm() <= 1e-9 * size * size {
+        return false;
+    }
+    let nn = n.normalize();
+    pts.iter().any(|p| nn.dot(&(p - p0)).abs() > 1e-7 * size)
+}
+
+/// Groups hull triangles into polygonal faces by plane, and orders each face's vertices
+/// counter-clockwise about the outward normal.
+fn merge_coplanar(v: &[Vec3], tris: &[[u32; 3]], tol: f64) -> Result<Vec<Face>, GeometryError> {
+    let centre = v.iter().sum::<Vec3>() / v.len() as f64;
+    let mut faces: Vec<(Vec3, f64, Vec<usize>)> = Vec::new();
+    for t in tris {
+        let (a, b, c) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+        let nrm = (b - a).cross(&(c - a));
+        if nrm.norm() == 0.0 {
+            continue;
+        }
+        let mut n = nrm.normalize();
+        if n.dot(&(a - centre)) < 0.0 {
+            n = -n;
+        }
+        let off = n.dot(&a);
+        if let Some(f) = faces.iter_mut().find(|(fn_, fo, _)| {
+            fn_.dot(&n) > 1.0 - 1e-9 && (fo - off).abs() <= tol.max(1e-12) * 10.0
+        }) {
+            for &i in t {
+                if !f.2.contains(&(i as usize)) {
+                    f.2.push(i as usize);
+                }
+            }
+        } else {
+            faces.push((n, off, t.iter().map(|&i| i as usize).collect()));
+        }
+    }
+    if faces.len() < 4 {
+        return Err(GeometryError::Degenerate { count: v.len() });
+    }
+    let mut out = Vec::with_capacity(faces.len());
+    for (n, _, mut idx) in faces {
+        // Refit the plane through the face's vertices along the merged normal.
+        let fc = idx.iter().map(|&i| v[i]).sum::<Vec3>() / idx.len() as f64;
+        let (u, w) = polygon::plane_basis(&n);
+        idx.sort_by(|&i, &j| {
+            let (pi, pj) = (v[i] - fc, v[j] - fc);
+            let ai = pi.dot(&w).atan2(pi.dot(&u));
+            let aj = pj.dot(&w).atan2(pj.dot(&u));
+            ai.total_cmp(&aj)
+        });
+        // Drop vertices collinear with their neighbours (edge midpoints of the hull).
+        let pts2: Vec<[f64; 2]> = idx.iter().map(|&i| [(v[i] - fc).dot(&u), (v[i] - fc).dot(&w)]).collect();
+        let keep = polygon::strictly_convex_indices(&pts2, tol);
+        let idx: Vec<usize> = keep.into_iter().map(|k| idx[k]).collect();
+        if idx.len() < 3 {
+            continue;
+        }
+        let offset = idx.iter().map(|&i| n.dot(&v[i])).sum::<f64>() / idx.len() as f64;
+        out.push(Face { vertices: idx, normal: n, offset });
+    }
+    // Deterministic face order: by normal components then offset.
+    out.sort_by(|a, b| {
+        let ka = (a.normal.z, a.normal.y, a.normal.x, a.offset);
+        let kb = (b.normal.z, b.normal.y, b.normal.x, b.offset);
+        ka.partial_cmp(&kb).unwrap_or(std::cmp::Ordering::Equal)
+    });
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn box_mass_properties_match_closed_form() {
+        let (a, b, c) = (0.2, 0.1, 0.05);
+        let blk = ConvexBlock::cuboid(Vec3::new(1.0, -0.5, 0.0), Vec3::new(1.0 + a, -0.5 + b, c)).unwrap();
+        assert_eq!(blk.vertices.len(), 8);
+        assert_eq!(blk.faces.len(), 6);
+        assert_eq!(blk.edges.len(), 12);
+        let rho = 2400.0;
+        let mp = blk.mass_properties(rho);
+        let m = rho * a * b * c;
+        assert_relative_eq!(mp.volume, a * b * c, max_relative = 1e-12);
+        assert_relative_eq!(mp.centroid, Vec3::new(1.0 + a / 2.0, -0.5 + b / 2.0, c / 2.0), epsilon = 1e-12);
+        assert_relative_eq!(mp.inertia[(0, 0)], m * (b * b + c * c) / 12.0, max_relative = 1e-10);
+        assert_relative_eq!(mp.inertia[(1, 1)], m * (a * a + c * c) / 12.0, max_relative = 1e-10);
+        assert_relative_eq!(mp.inertia[(2, 2)], m * (a * a + b * b) / 12.0, max_relative = 1e-10);
+        assert!(mp.inertia[(0, 1)].abs() < 1e-12 * m);
+    }
+
+    #[test]
+    fn trapezoid_prism_centroid_and_inertia_match_closed_form() {
+        // Section: bottom width B at z=0, top width T at z=H, symmetric; length L along x.
+        let (bw, tw, h, l) = (0.15, 0.077, 0.375, 1.5);
+        let blk = ConvexBlock::trapezoidal_prism(0.0, l, 0.0, h, (-bw / 2.0, bw / 2.0), (-tw / 2.0, tw / 2.0)).unwrap();
+        assert_eq!(blk.faces.len(), 6);
+        let mp = blk.mass_properties(1.0);
+        let area = (bw + tw) / 2.0 * h;
+        assert_relative_eq!(mp.volume, area * l, max_relative = 1e-12);
+        let zc = h * (bw + 2.0 * tw) / (3.0 * (bw + tw));
+        assert_relative_eq!(mp.centroid.z, zc, max_relative = 1e-12);
+        assert!(mp.centroid.y.abs() < 1e-14);
+        // Second moment of area of a trapezoid about its centroidal axis parallel to the bases:
+        // I = h³ (B² + 4BT + T²) / (36 (B + T)).
+        let iy = h.powi(3) * (bw * bw + 4.0 * bw * tw + tw * tw) / (36.0 * (bw + tw));
+        let izz_section = mp.inertia[(1, 1)] - mp.volume * l * l / 12.0; // ∫ z² dV part
+        assert_relative_eq!(izz_section, iy * l, max_relative = 1e-10);
+    }
+
+    #[test]
+    fn mass_properties_agree_with_parry_for_an_irregular_block() {
+        let pts = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.21, 0.01, 0.0),
+            Vec3::new(0.19, 0.14, 0.02),
+            Vec3::new(-0.01, 0.12, 0.0),
+            Vec3::new(0.02, 0.01, 0.07),
+            Vec3::new(0.2, 0.0, 0.06),
+            Vec3::new(0.18, 0.15, 0.09),
+            Vec3::new(0.0, 0.13, 0.05),
+        ];
+        let blk = ConvexBlock::from_vertices(&pts).unwrap();
+        let mp = blk.mass_properties(1000.0);
+        let pp: Vec<PVec> = pts.iter().map(to_p).collect();
+        let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&pp).unwrap();
+        let pm = parry3d_f64::mass_properties::MassProperties::from_convex_polyhedron(
+            1000.0,
+            poly.points(),
+            &parry3d_f64::transformation::convex_hull(&pp).1,
+        );
+        assert_relative_eq!(mp.mass, pm.mass(), max_relative = 1e-9);
+        let c = pm.local_com;
+        assert_relative_eq!(mp.centroid, Vec3::new(c.x, c.y, c.z), epsilon = 1e-12);
+        // Principal moments agree.
+        let mut ours: Vec<f64> = mp.inertia.symmetric_eigenvalues().iter().copied().collect();
+        ours.sort_by(f64::total_cmp);
+        let pi = pm.principal_inertia();
+        let mut theirs = vec![pi.x, pi.y, pi.z];
+        theirs.sort_by(f64::total_cmp);
+        for k in 0..3 {
+            assert_relative_eq!(ours[k], theirs[k], max_relative = 1e-8);
+        }
+    }
+
+    #[test]
+    fn non_convex_and_degenerate_inputs_are_rejected() {
+        let mut pts: Vec<Vec3> = ConvexBlock::cuboid(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0)).unwrap().vertices;
+        pts.push(Vec3::new(0.5, 0.5, 0.5));
+        assert!(matches!(ConvexBlock::from_vertices(&pts), Err(GeometryError::NotConvex { index: 8, .. })));
+        let flat = vec![Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::new(1.0, 1.0, 0.0)];
+        assert!(matches!(ConvexBlock::from_vertices(&flat), Err(GeometryError::Degenerate { .. })));
+        let three = vec![Vec3::zeros(), Vec3::x(), Vec3::y()];
+        assert!(matches!(ConvexBlock::from_vertices(&three), Err(GeometryError::Degenerate { .. })));
+        let nan = vec![Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::new(f64::NAN, 0.0, 1.0)];
+        assert!(matches!(ConvexBlock::from_vertices(&nan), Err(GeometryError::NonFinite { index: 3, .. })));
+    }
+
+    #[test]
+    fn faces_are_ccw_about_outward_normals() {
+        let blk = ConvexBlock::trapezoidal_prism(0.0, 1.0, 0.0, 0.4, (-0.1, 0.1), (-0.05, 0.05)).unwrap();
+        for f in &blk.faces {
+            let p: Vec<Vec3> = f.vertices.iter().map(|&i| blk.vertices[i]).collect();
+            let mut area = Vec3::zeros();
+            for k in 1..p.len() - 1 {
+                area += (p[k] - p[0]).cross(&(p[k + 1] - p[0]));
+            }
+            assert!(area.dot(&f.normal) > 0.0);
+            for q in &p {
+                assert!((f.normal.dot(q) - f.offset).abs() < 1e-12);
+            }
+        }
+    }
+}

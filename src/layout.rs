@@ -1,0 +1,543 @@
+//! The layout file: materials, blocks, the table and the restraints of one wall model.
+//!
+//! A layout is JSON, strict (unknown keys are errors), versioned (`"version": 1`). It is
+//! read into a raw [`LayoutSpec`] (serde) and checked into a [`Layout`] by
+//! [`LayoutSpec::resolve`]: every value finite and in range, ids unique, blocks convex, no
+//! block overlapping another or the table beyond [`OVERLAP_TOLERANCE_M`].
+//!
+//! ```json
+//! {
+//!   "version": 1,
+//!   "name": "one block",
+//!   "gravity_m_per_s2": 9.81,
+//!   "materials": [
+//!     {"name": "shale", "density_kg_per_m3": 2200, "kn_pa_per_m": 5e7, "ks_pa_per_m": 2.5e7,
+//!      "friction_deg": 35, "cohesion_pa": 0, "tensile_strength_pa": 0}
+//!   ],
+//!   "table": {"material": "shale"},
+//!   "blocks": [
+//!     {"id": "b0", "material": "shale",
+//!      "vertices": [[0,0,0],[0.3,0,0],[0.3,0.1,0],[0,0.1,0],
+//!                   [0,0,0.3],[0.3,0,0.3],[0.3,0.1,0.3],[0,0.1,0.3]]}
+//!   ],
+//!   "restraints": {"base_sliding": "free", "ends": []}
+//! }
+//! ```
+//!
+//! Units: lengths m, density kg/m³, joint stiffness Pa/m (force per unit area per unit
+//! relative displacement), stresses Pa, angles degrees (converted to radians on resolve).
+//! Frame: the table frame of [`crate::geometry`] (x along the wall, y out of plane, z up; the
+//! table is the plane z = 0).
+//!
+//! Joint properties between two blocks of different materials: normal and shear stiffness
+//! are the series combination of two half-joints, `2 k₁ k₂ / (k₁ + k₂)`; friction angle,
+//! cohesion and tensile strength are the smaller of the two. Between a block and the table,
+//! the table material's joint properties are used as they are.
+
+use crate::dem::contact::law::JointParams;
+use crate::geometry::{ConvexBlock, GeometryError};
+use crate::units::deg_to_rad;
+use crate::Vec3;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Two blocks (or a block and the table) may interpenetrate by at most this much, m.
+pub const OVERLAP_TOLERANCE_M: f64 = 1e-5;
+
+/// The only layout format version this build reads and writes.
+pub const LAYOUT_VERSION: u32 = 1;
+
+/// Errors in reading or checking a layout.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum LayoutError {
+    /// The file could not be read.
+    #[error("cannot read layout file {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not valid layout JSON (syntax, unknown key, wrong type, missing key).
+    #[error("layout file {path}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// serde's message, with the key and line.
+        message: String,
+    },
+    /// A value is out of range.
+    #[error("layout: {key} = {value}: {reason}")]
+    Invalid {
+        /// The key at fault, e.g. `materials[shale].kn_pa_per_m`.
+        key: String,
+        /// The value as given.
+        value: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A block's geometry is invalid.
+    #[error("layout: block {id}: {source}")]
+    Block {
+        /// Block id.
+        id: String,
+        /// The cause.
+        source: GeometryError,
+    },
+    /// Two blocks overlap beyond the tolerance.
+    #[error("layout: blocks {a} and {b} overlap by {depth_m:.3e} m (tolerance {OVERLAP_TOLERANCE_M:e} m)")]
+    Overlap {
+        /// First block id.
+        a: String,
+        /// Second block id (or `table`).
+        b: String,
+        /// Penetration depth, m.
+        depth_m: f64,
+    },
+}
+
+/// Raw layout file contents (see the module doc for the format).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayoutSpec {
+    /// Format version; must be [`LAYOUT_VERSION`].
+    pub version: u32,
+    /// Free-text name.
+    #[serde(default)]
+    pub name: String,
+    /// Gravitational acceleration, m/s². Default 9.81.
+    #[serde(default = "default_gravity")]
+    pub gravity_m_per_s2: f64,
+    /// Materials by name.
+    pub materials: Vec<MaterialSpec>,
+    /// The table (the plane z = 0) and the material of its joint with the blocks.
+    pub table: TableSpec,
+    /// The blocks.
+    pub blocks: Vec<BlockSpec>,
+    /// Base and end restraints. Default: base free, no end restraint.
+    #[serde(default)]
+    pub restraints: RestraintSpec,
+    /// Points whose displacement is recorded. Default: none named; protocols add the wall's
+    /// left, centre and right top points automatically.
+    #[serde(default)]
+    pub monitors: Vec<MonitorSpec>,
+}
+
+fn default_gravity() -> f64 {
+    crate::units::STANDARD_GRAVITY
+}
+
+/// One material: block density and joint properties.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Unique name.
+    pub name: String,
+    /// Block density, kg/m³ (> 0). For porous walls, the effective density of the block
+    /// volume modelled.
+    pub density_kg_per_m3: f64,
+    /// Joint normal stiffness Kn, Pa/m (> 0).
+    pub kn_pa_per_m: f64,
+    /// Joint shear stiffness Ks, Pa/m (> 0).
+    pub ks_pa_per_m: f64,
+    /// Joint friction angle φ, degrees, in [0, 90).
+    pub friction_deg: f64,
+    /// Joint cohesion c, Pa (≥ 0). Default 0.
+    #[serde(default)]
+    pub cohesion_pa: f64,
+    /// Joint tensile strength, Pa (≥ 0). Default 0: no tension.
+    #[serde(default)]
+    pub tensile_strength_pa: f64,
+}
+
+/// The table.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TableSpec {
+    /// Name of the material whose joint properties the table–block joints use.
+    pub material: String,
+}
+
+/// One block.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BlockSpec {
+    /// Unique id.
+    pub id: String,
+    /// Material name.
+    pub material: String,
+    /// Vertices in the table frame, m; at least 4, not coplanar, all on the convex hull.
+    pub vertices: Vec<[f64; 3]>,
+    /// A fixed block never moves. Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fixed: bool,
+}
+
+/// How the base course is held on the table.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseSliding {
+    /// Table joints follow the Coulomb law like any other joint.
+    #[default]
+    Free,
+    /// Table joints never slip (their shear spring stays elastic): the base course is held
+    /// against sliding, as by the timber stops of the source tests, but can still lift and
+    /// rotate about its edges.
+    Held,
+}
+
+/// Restraints.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RestraintSpec {
+    /// Base course restraint. Default `free`.
+    #[serde(default)]
+    pub base_sliding: BaseSliding,
+    /// End restraints acting in y (out of plane) on named blocks.
+    #[serde(default)]
+    pub ends: Vec<EndRestraintSpec>,
+}
+
+/// An out-of-plane (y) restraint on a set of blocks, acting at each block's centroid.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EndRestraintSpec {
+    /// Block ids restrained.
+    pub blocks: Vec<String>,
+    /// Rigid or spring.
+    pub kind: EndRestraintKind,
+    /// Spring stiffness, N/m per block (> 0), for `kind = "spring"`; absent for `rigid`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_n_per_m: Option<f64>,
+}
+
+/// Kind of end restraint.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EndRestraintKind {
+    /// The block centroid cannot move in y (rotations and x, z motion free).
+    Rigid,
+    /// A linear spring in y between the block centroid and its initial position
+    /// (a tensioned rope: bilateral, as the paper's partially restrained ends).
+    Spring,
+}
+
+/// A named point fixed to a block whose displacement is recorded.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MonitorSpec {
+    /// Name, e.g. `top_centre`.
+    pub name: String,
+    /// Block id.
+    pub block: String,
+    /// Point in the table frame at the reference configuration, m.
+    pub point: [f64; 3],
+}
+
+/// A checked material (SI, radians).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// kg/m³.
+    pub density: f64,
+    /// The joint law parameters of this material.
+    pub joint: JointParams,
+}
+
+/// A checked block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Block {
+    /// Id as in the file.
+    pub id: String,
+    /// Index into [`Layout::materials`].
+    pub material: usize,
+    /// Geometry in the table frame.
+    pub shape: ConvexBlock,
+    /// Fixed block.
+    pub fixed: bool,
+}
+
+/// A checked end restraint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EndRestraint {
+    /// y-translation of the block held at zero.
+    Rigid,
+    /// Linear spring in y, N/m.
+    Spring(f64),
+}
+
+/// A checked monitor point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Monitor {
+    /// Name.
+    pub name: String,
+    /// Block index.
+    pub block: usize,
+    /// Point in the table frame, m.
+    pub point: Vec3,
+}
+
+/// A checked layout: what the DEM loads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout {
+    /// Name.
+    pub name: String,
+    /// Gravity magnitude, m/s².
+    pub gravity: f64,
+    /// Material names, in file order.
+    pub material_names: Vec<String>,
+    /// Materials, in file order.
+    pub materials: Vec<Material>,
+    /// Index of the table's material.
+    pub table_material: usize,
+    /// Blocks, in file order.
+    pub blocks: Vec<Block>,
+    /// Base restraint.
+    pub base_sliding: BaseSliding,
+    /// End restraints per block index (at most one per block).
+    pub end_restraints: Vec<(usize, EndRestraint)>,
+    /// Monitor points.
+    pub monitors: Vec<Monitor>,
+}
+
+fn invalid(key: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> LayoutError {
+    LayoutError::Invalid { key: key.into(), value: value.to_string(), reason: reason.into() }
+}
+
+fn check_positive(key: String, v: f64) -> Result<f64, LayoutError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(invalid(key, v, "must be a finite number > 0"))
+    }
+}
+
+fn check_non_negative(key: String, v: f64) -> Result<f64, LayoutError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(invalid(key, v, "must be a finite number >= 0"))
+    }
+}
+
+impl MaterialSpec {
+    /// Checks the values and converts to SI.
+    ///
+    /// # Errors
+    /// [`LayoutError::Invalid`] naming `materials[NAME].KEY`.
+    pub fn resolve(&self) -> Result<Material, LayoutError> {
+        let k = |f: &str| format!("materials[{}].{}", self.name, f);
+        let density = check_positive(k("density_kg_per_m3"), self.density_kg_per_m3)?;
+        let kn = check_positive(k("kn_pa_per_m"), self.kn_pa_per_m)?;
+        let ks = check_positive(k("ks_pa_per_m"), self.ks_pa_per_m)?;
+        let phi = self.friction_deg;
+        if !(phi.is_finite() && (0.0..90.0).contains(&phi)) {
+            return Err(invalid(k("friction_deg"), phi, "must be in [0, 90) degrees"));
+        }
+        let c = check_non_negative(k("cohesion_pa"), self.cohesion_pa)?;
+        let t = check_non_negative(k("tensile_strength_pa"), self.tensile_strength_pa)?;
+        Ok(Material {
+            density,
+            joint: JointParams::coulomb(kn, ks, deg_to_rad(phi), c, t),
+        })
+    }
+}
+
+impl LayoutSpec {
+    /// Reads a layout file (JSON).
+    ///
+    /// # Errors
+    /// [`LayoutError::Io`] or [`LayoutError::Parse`] naming the file.
+    pub fn from_file(path: &Path) -> Result<Self, LayoutError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| LayoutError::Io { path: path.to_owned(), source })?;
+        Self::from_json(&text).map_err(|e| match e {
+            LayoutError::Parse { message, .. } => LayoutError::Parse { path: path.to_owned(), message },
+            other => other,
+        })
+    }
+
+    /// Parses layout JSON.
+    ///
+    /// # Errors
+    /// [`LayoutError::Parse`] with serde's message (key, line and column).
+    pub fn from_json(text: &str) -> Result<Self, LayoutError> {
+        serde_json::from_str(text)
+            .map_err(|e| LayoutError::Parse { path: PathBuf::from("<json>"), message: e.to_string() })
+    }
+
+    /// Serializes to pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Checks everything and builds the [`Layout`].
+    ///
+    /// # Errors
+    /// The first problem found, naming the key or block.
+    pub fn resolve(&self) -> Result<Layout, LayoutError> {
+        if self.version != LAYOUT_VERSION {
+            return Err(invalid("version", self.version, "this drystone reads layout version 1"));
+        }
+        let gravity = check_positive("gravity_m_per_s2".into(), self.gravity_m_per_s2)?;
+        if self.materials.is_empty() {
+            return Err(invalid("materials", "[]", "at least one material is needed"));
+        }
+        let mut by_name = BTreeMap::new();
+        let mut materials = Vec::new();
+        for (i, m) in self.materials.iter().enumerate() {
+            if by_name.insert(m.name.clone(), i).is_some() {
+                return Err(invalid(format!("materials[{}].name", m.name), &m.name, "duplicate material name"));
+            }
+            materials.push(m.resolve()?);
+        }
+        let table_material = *by_name
+            .get(&self.table.material)
+            .ok_or_else(|| invalid("table.material", &self.table.material, "no such material"))?;
+        if self.blocks.is_empty() {
+            return Err(invalid("blocks", "[]", "at least one block is needed"));
+        }
+        let mut ids = BTreeMap::new();
+        let mut blocks = Vec::with_capacity(self.blocks.len());
+        for (i, b) in self.blocks.iter().enumerate() {
+            if b.id.is_empty() {
+                return Err(invalid(format!("blocks[{i}].id"), "\"\"", "block id must not be empty"));
+            }
+            if ids.insert(b.id.clone(), i).is_some() {
+                return Err(invalid(format!("blocks[{}].id", b.id), &b.id, "duplicate block id"));
+            }
+            let material = *by_name.get(&b.material).ok_or_else(|| {
+                invalid(format!("blocks[{}].material", b.id), &b.material, "no such material")
+            })?;
+            let verts: Vec<Vec3> = b.vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
+            let shape = ConvexBlock::from_vertices(&verts)
+                .map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
+            blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed });
+        }
+        check_overlaps(&blocks)?;
+        let mut end_restraints: Vec<(usize, EndRestraint)> = Vec::new();
+        for (k, e) in self.restraints.ends.iter().enumerate() {
+            let r = match (e.kind, e.stiffness_n_per_m) {
+                (EndRestraintKind::Rigid, None) => EndRestraint::Rigid,
+                (EndRestraintKind::Rigid, Some(s)) => {
+                    return Err(invalid(format!("restraints.ends[{k}].stiffness_n_per_m"), s, "a rigid restraint takes no stiffness"))
+                }
+                (EndRestraintKind::Spring, Some(s)) => {
+                    EndRestraint::Spring(check_positive(format!("restraints.ends[{k}].stiffness_n_per_m"), s)?)
+                }
+                (EndRestraintKind::Spring, None) => {
+                    return Err(invalid(format!("restraints.ends[{k}].stiffness_n_per_m"), "missing", "a spring restraint needs a stiffness in N/m"))
+                }
+            };
+            for id in &e.blocks {
+                let bi = *ids
+                    .get(id)
+                    .ok_or_else(|| invalid(format!("restraints.ends[{k}].blocks"), id, "no such block"))?;
+                if end_restraints.iter().any(|(j, _)| *j == bi) {
+                    return Err(invalid(format!("restraints.ends[{k}].blocks"), id, "block restrained twice"));
+                }
+                end_restraints.push((bi, r));
+            }
+        }
+        end_restraints.sort_by_key(|(i, _)| *i);
+        let mut monitors = Vec::new();
+        for m in &self.monitors {
+            let bi = *ids
+                .get(&m.block)
+                .ok_or_else(|| invalid(format!("monitors[{}].block", m.name), &m.block, "no such block"))?;
+            let p = Vec3::new(m.point[0], m.point[1], m.point[2]);
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(invalid(format!("monitors[{}].point", m.name), format!("{:?}", m.point), "must be finite"));
+            }
+            monitors.push(Monitor { name: m.name.clone(), block: bi, point: p });
+        }
+        Ok(Layout {
+            name: self.name.clone(),
+            gravity,
+            material_names: self.materials.iter().map(|m| m.name.clone()).collect(),
+            materials,
+            table_material,
+            blocks,
+            base_sliding: self.restraints.base_sliding,
+            end_restraints,
+            monitors,
+        })
+    }
+}
+
+/// Rejects blocks below the table or interpenetrating each other beyond the tolerance.
+/// Uses the DEM's own narrow phase (separating-axis test) after a bounding-box sweep.
+fn check_overlaps(blocks: &[Block]) -> Result<(), LayoutError> {
+    for b in blocks {
+        let zmin = b.shape.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+        if zmin < -OVERLAP_TOLERANCE_M {
+            return Err(LayoutError::Overlap { a: b.id.clone(), b: "table".into(), depth_m: -zmin });
+        }
+    }
+    let boxes: Vec<_> = blocks.iter().map(|b| b.shape.aabb()).collect();
+    for (i, j) in crate::dem::collider::sweep_pairs(&boxes, 0.0) {
+        let sep = crate::dem::contact::geometry::separation(&blocks[i].shape, &blocks[j].shape);
+        if sep.distance < -OVERLAP_TOLERANCE_M {
+            return Err(LayoutError::Overlap {
+                a: blocks[i].id.clone(),
+                b: blocks[j].id.clone(),
+                depth_m: -sep.distance,
+            });
+        }
+    }
+    Ok(())
+}
+
+impl Layout {
+    /// Reads and checks a layout file.
+    ///
+    /// # Errors
+    /// Any [`LayoutError`], naming the file, key or block.
+    pub fn from_file(path: &Path) -> Result<Self, LayoutError> {
+        LayoutSpec::from_file(path)?.resolve()
+    }
+
+    /// The joint parameters between two materials (see the module doc for the rule).
+    pub fn joint_between(&self, m1: usize, m2: usize) -> JointParams {
+        if m1 == m2 {
+            self.materials[m1].joint
+        } else {
+            self.materials[m1].joint.combine(&self.materials[m2].joint)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_block() -> String {
+        r#"{"version":1,"name":"t","materials":[{"name":"m","density_kg_per_m3":2000,"kn_pa_per_m":1e8,
+        "ks_pa_per_m":5e7,"friction_deg":30}],"table":{"material":"m"},
+        "blocks":[{"id":"b0","material":"m","vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0],[0,0,1],[1,0,1],[1,1,1],[0,1,1]]}]}"#
+            .to_string()
+    }
+
+    #[test]
+    fn good_layout_resolves() {
+        let l = LayoutSpec::from_json(&one_block()).unwrap().resolve().unwrap();
+        assert_eq!(l.blocks.len(), 1);
+        assert!((l.materials[0].joint.tan_phi - 30f64.to_radians().tan()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn unknown_key_is_named() {
+        let s = one_block().replace("\"friction_deg\"", "\"frictoin_deg\"");
+        let e = LayoutSpec::from_json(&s).unwrap_err().to_string();
+        assert!(e.contains("frictoin_deg"), "{e}");
+    }
+
+    #[test]
+    fn negative_stiffness_is_named() {
+        let s = one_block().replace("1e8", "-1e8");
+        let e = LayoutSpec::from_json(&s).unwrap().resolve().unwrap_err().to_string();
+        assert!(e.contains("materials[m].kn_pa_per_m"), "{e}");
+    }
+}

@@ -1,0 +1,54 @@
+//! # drystone
+//!
+//! Probabilistic out-of-plane assessment of dry stone walls with a rigid-block Discrete
+//! Element Method.
+//!
+//! ```text
+//!  wall description ──generator──▶ layout (convex blocks) ──dem──▶ collapse angle,
+//!   + seed, realization i          (JSON, strict)          loading   displacements,
+//!                                                          protocol  mechanism
+//!        ensemble: realizations in parallel ──▶ stats ──▶ tables, plots, reports
+//! ```
+//!
+//! * [`geometry`]: convex polyhedral blocks, mass properties, frames.
+//! * [`layout`]: the layout file (materials, blocks, table, restraints).
+//! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
+//!   local damping).
+//! * [`loading`]: the tilting-table protocol.
+//! * [`verify`]: closed-form verification cases.
+//!
+//! ## Units
+//!
+//! SI inside (m, kg, s, N, Pa, rad). Degrees and centimetres only at the edges (files, CLI,
+//! reports), converted in [`units`].
+//!
+//! ## Frames
+//!
+//! The table frame: x along the wall, y out of plane (positive is the side the wall falls
+//! to), z up; the table is the plane z = 0. Tilting the table by α turns gravity into
+//! `g (0, sin α, −cos α)` in this frame.
+//!
+//! ## Determinism contract
+//!
+//! A simulation is single-threaded and its force sums run in a fixed order: the same
+//! layout and parameters give the same numbers bit for bit, run after run and whatever the
+//! number of threads of the process. All randomness comes from [`rng::rng_for`].
+
+#![warn(missing_docs)]
+
+pub mod benchmark;
+pub mod dem;
+pub mod error;
+pub mod geometry;
+pub mod layout;
+pub mod loading;
+pub mod rng;
+pub mod units;
+pub mod verify;
+
+/// 3-vector of f64 (nalgebra).
+pub type Vec3 = nalgebra::Vector3<f64>;
+/// 3×3 matrix of f64 (nalgebra).
+pub type Mat3 = nalgebra::Matrix3<f64>;
+
+pub use error::Error;

@@ -1,0 +1,469 @@
+//! The tilting-table protocol (SPEC §4; Santa-Cruz et al. 2021, §2.2 and §5.3).
+//!
+//! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
+//!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
+//! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
+//!    equilibrium, or declared collapsed when, during the increment, a block moves more than
+//!    [`TiltParams::collapse_increment_fraction`] of the wall width, a top point moves past
+//!    [`TiltParams::collapse_displacement_fraction`] of the wall width from the reference,
+//!    or no equilibrium is reached within [`TiltParams::max_steps_per_increment`] steps.
+//! 3. The bracket (last stable, first unstable) is bisected from the last stable state
+//!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
+//!    the last stable angle.
+//! 4. The mechanism is read from the motion between the last stable and the collapsed
+//!    state: the blocks that moved, the joints between moving and resting bodies, and for
+//!    each whether it slid (relative tangential motion dominates) or opened (toppling).
+//!
+//! The *wall width* is the y extent of the whole layout (the base width B of a wall).
+
+use crate::dem::{DemError, Simulation, SolverParams};
+use crate::layout::Layout;
+use crate::units::{deg_to_rad, rad_to_deg};
+use crate::Vec3;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Tilting-table parameters. Defaults in brackets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TiltParams {
+    /// Tilt increment, degrees \[0.5\] (the paper's DEM used 0.5°).
+    pub step_deg: f64,
+    /// Width of the final collapse bracket, degrees \[0.1\].
+    pub resolution_deg: f64,
+    /// Largest tilt tried, degrees \[80\].
+    pub max_angle_deg: f64,
+    /// Equilibrium when the unbalanced-force ratio is below this \[1e-4\].
+    pub tolerance: f64,
+    /// Step budget of one increment (and of the initial settling) \[400000\].
+    pub max_steps_per_increment: u64,
+    /// Collapse when a top point has moved (in y) more than this fraction of the wall width
+    /// since α = 0 \[0.5\].
+    pub collapse_displacement_fraction: f64,
+    /// Collapse when, within one increment, a block moves (centroid motion plus rotation
+    /// times its radius) more than this fraction of the wall width \[0.1\].
+    pub collapse_increment_fraction: f64,
+}
+
+impl Default for TiltParams {
+    fn default() -> Self {
+        TiltParams {
+            step_deg: 0.5,
+            resolution_deg: 0.1,
+            max_angle_deg: 80.0,
+            tolerance: 1e-4,
+            max_steps_per_increment: 400_000,
+            collapse_displacement_fraction: 0.5,
+            collapse_increment_fraction: 0.1,
+        }
+    }
+}
+
+impl TiltParams {
+    /// Checks ranges; returns the offending key and value.
+    pub fn validate(&self) -> Result<(), (String, f64)> {
+        let c: [(&str, f64, bool); 6] = [
+            ("step_deg", self.step_deg, self.step_deg > 0.0 && self.step_deg <= 10.0),
+            ("resolution_deg", self.resolution_deg, self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg),
+            ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0),
+            ("collapse_displacement_fraction", self.collapse_displacement_fraction, self.collapse_displacement_fraction > 0.0),
+            ("collapse_increment_fraction", self.collapse_increment_fraction, self.collapse_increment_fraction > 0.0),
+        ];
+        for (k, v, ok) in c {
+            if !ok || !v.is_finite() {
+                return Err((k.into(), v));
+            }
+        }
+        if self.max_steps_per_increment == 0 {
+            return Err(("max_steps_per_increment".into(), 0.0));
+        }
+        Ok(())
+    }
+}
+
+/// Failure mode of a joint or of the wall.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MechanismKind {
+    /// Relative sliding along the failing joints.
+    Sliding,
+    /// Rotation about an edge, the failing joints opening.
+    Toppling,
+    /// Some failing joints slide, others open.
+    Mixed,
+    /// No collapse.
+    None,
+}
+
+/// The collapse mechanism.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Mechanism {
+    /// Overall kind.
+    pub kind: MechanismKind,
+    /// The governing joint: the lowest failing joint, named `table/ID` or `ID_A/ID_B`.
+    pub joint: String,
+    /// Every joint between a moving and a resting body, with its kind, lowest first.
+    pub joints: Vec<(String, MechanismKind)>,
+    /// Ids of the blocks that moved.
+    pub blocks: Vec<String>,
+}
+
+/// Why an increment was declared unstable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CollapseReason {
+    /// A block moved too much within one increment.
+    IncrementDisplacement,
+    /// A top point moved too far from its reference.
+    TotalDisplacement,
+    /// No equilibrium within the step budget.
+    NoEquilibrium,
+}
+
+/// One tilt increment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Increment {
+    /// Tilt, degrees.
+    pub alpha_deg: f64,
+    /// Equilibrium reached.
+    pub stable: bool,
+    /// Steps taken in this increment.
+    pub steps: u64,
+    /// Out-of-plane (y) displacement of each monitor point since α = 0, m, in the order of
+    /// [`TiltResult::monitors`].
+    pub displacement_m: Vec<f64>,
+    /// Unbalanced-force ratio at the end of the increment.
+    pub unbalanced_ratio: f64,
+}
+
+/// Outcome of a tilting-table run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TiltResult {
+    /// Collapse angle α_max = the last stable tilt, degrees (`max_angle_deg` if none).
+    pub collapse_angle_deg: f64,
+    /// Last stable tilt, degrees.
+    pub last_stable_deg: f64,
+    /// First unstable tilt, degrees (`None` if the wall stood up to `max_angle_deg`).
+    pub first_unstable_deg: Option<f64>,
+    /// Why the first unstable tilt was unstable.
+    pub collapse_reason: Option<CollapseReason>,
+    /// Mechanism of collapse.
+    pub mechanism: Mechanism,
+    /// Monitor point names (`top_left`, `top_centre`, `top_right` unless the layout names its
+    /// own).
+    pub monitors: Vec<String>,
+    /// Accepted (stable) increments in increasing α, then the unstable trials.
+    pub increments: Vec<Increment>,
+    /// Steps in all.
+    pub steps: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Wall-clock time, s (not part of the deterministic output).
+    pub wall_time_s: f64,
+    /// Wall width used by the collapse criteria, m.
+    pub wall_width_m: f64,
+}
+
+/// Monitor points of a simulation: name, body index, point in the body frame, reference
+/// position in the table frame.
+#[derive(Debug, Clone)]
+struct MonitorPoint {
+    name: String,
+    body: usize,
+    local: Vec3,
+}
+
+fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
+    if !layout.monitors.is_empty() {
+        return layout
+            .monitors
+            .iter()
+            .map(|m| MonitorPoint { name: m.name.clone(), body: m.block, local: sim.bodies[m.block].to_body(&m.point) })
+            .collect();
+    }
+    let all = crate::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter()));
+    let (x0, x1) = (all.min.x, all.max.x);
+    let len = x1 - x0;
+    let targets = [("top_left", x0 + 0.05 * len), ("top_centre", 0.5 * (x0 + x1)), ("top_right", x1 - 0.05 * len)];
+    targets
+        .iter()
+        .filter_map(|&(name, x)| {
+            let (bi, b) = layout
+                .blocks
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| {
+                    let bb = b.shape.aabb();
+                    bb.min.x <= x && x <= bb.max.x && !b.fixed
+                })
+                .max_by(|(i, a), (j, b)| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z).then(j.cmp(i)))?;
+            let bb = b.shape.aabb();
+            let p = Vec3::new(x, 0.5 * (bb.min.y + bb.max.y), bb.max.z);
+            Some(MonitorPoint { name: name.into(), body: bi, local: sim.bodies[bi].to_body(&p) })
+        })
+        .collect()
+}
+
+enum Stage {
+    Stable,
+    Collapsed(CollapseReason),
+}
+
+struct Ctx<'a> {
+    params: &'a TiltParams,
+    monitors: &'a [MonitorPoint],
+    reference: Vec<Vec3>,
+    width: f64,
+}
+
+impl Ctx<'_> {
+    fn displacements(&self, sim: &Simulation) -> Vec<f64> {
+        self.monitors
+            .iter()
+            .zip(&self.reference)
+            .map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y)
+            .collect()
+    }
+
+    fn run_stage(&self, sim: &mut Simulation) -> Result<(Stage, u64), DemError> {
+        let start: Vec<(Vec3, nalgebra::UnitQuaternion<f64>)> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let inc_limit = self.params.collapse_increment_fraction * self.width;
+        let tot_limit = self.params.collapse_displacement_fraction * self.width;
+        let mut steps = 0;
+        while steps < self.params.max_steps_per_increment {
+            sim.step()?;
+            steps += 1;
+            if steps > 10 && sim.stats.unbalanced_ratio < self.params.tolerance {
+                return Ok((Stage::Stable, steps));
+            }
+            if steps % 64 == 0 {
+                let moved = sim
+                    .bodies
+                    .iter()
+                    .zip(&start)
+                    .filter(|(b, _)| !b.fixed)
+                    .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
+                    .fold(0.0, f64::max);
+                if moved > inc_limit {
+                    return Ok((Stage::Collapsed(CollapseReason::IncrementDisplacement), steps));
+                }
+                if self.displacements(sim).iter().any(|d| d.abs() > tot_limit) {
+                    return Ok((Stage::Collapsed(CollapseReason::TotalDisplacement), steps));
+                }
+            }
+        }
+        Ok((Stage::Collapsed(CollapseReason::NoEquilibrium), steps))
+    }
+}
+
+/// Errors of the tilting-table protocol.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum TiltError {
+    /// The engine blew up.
+    #[error(transparent)]
+    Dem(#[from] DemError),
+    /// The layout does not stand under gravity alone.
+    #[error("no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand")]
+    NoInitialEquilibrium {
+        /// Steps tried.
+        steps: u64,
+        /// Ratio reached.
+        ratio: f64,
+    },
+    /// A parameter is out of range.
+    #[error("tilt parameter {key} = {value} is out of range")]
+    Parameter {
+        /// Key.
+        key: String,
+        /// Value.
+        value: f64,
+    },
+}
+
+/// Runs the tilting-table test of a layout to collapse.
+///
+/// # Errors
+/// [`TiltError::NoInitialEquilibrium`] if the layout does not stand at α = 0,
+/// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
+pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
+    params.validate().map_err(|(key, value)| TiltError::Parameter { key, value })?;
+    solver.validate().map_err(|(key, value)| TiltError::Parameter { key, value })?;
+    let t0 = Instant::now();
+    let mut sim = Simulation::new(layout, solver);
+    let monitors = monitor_points(layout, &sim);
+    let all = crate::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter()));
+    let width = all.extent().y;
+    sim.set_tilt(0.0);
+    let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width };
+    if !sim.run_to_equilibrium(params.tolerance, params.max_steps_per_increment)? {
+        return Err(TiltError::NoInitialEquilibrium { steps: params.max_steps_per_increment, ratio: sim.stats.unbalanced_ratio });
+    }
+    ctx.reference = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
+    let mut increments = vec![Increment {
+        alpha_deg: 0.0,
+        stable: true,
+        steps: sim.steps,
+        displacement_m: vec![0.0; monitors.len()],
+        unbalanced_ratio: sim.stats.unbalanced_ratio,
+    }];
+    let mut last_stable = 0.0;
+    let mut stable_sim = sim.clone();
+    let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
+    let mut total_steps = sim.steps;
+    let mut k = 1;
+    loop {
+        let alpha = k as f64 * params.step_deg;
+        if alpha > params.max_angle_deg + 1e-9 {
+            break;
+        }
+        sim.set_tilt(deg_to_rad(alpha));
+        let (stage, steps) = ctx.run_stage(&mut sim)?;
+        total_steps += steps;
+        let inc = Increment {
+            alpha_deg: alpha,
+            stable: matches!(stage, Stage::Stable),
+            steps,
+            displacement_m: ctx.displacements(&sim),
+            unbalanced_ratio: sim.stats.unbalanced_ratio,
+        };
+        increments.push(inc);
+        match stage {
+            Stage::Stable => {
+                last_stable = alpha;
+                stable_sim = sim.clone();
+            }
+            Stage::Collapsed(reason) => {
+                first_unstable = Some((alpha, reason, sim.clone()));
+                break;
+            }
+        }
+        k += 1;
+    }
+    let dt_s = sim.dt;
+    let Some((mut unstable, mut reason, mut failed)) = first_unstable else {
+        return Ok(TiltResult {
+            collapse_angle_deg: last_stable,
+            last_stable_deg: last_stable,
+            first_unstable_deg: None,
+            collapse_reason: None,
+            mechanism: Mechanism { kind: MechanismKind::None, joint: String::new(), joints: vec![], blocks: vec![] },
+            monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+            increments,
+            steps: total_steps,
+            dt_s,
+            wall_time_s: t0.elapsed().as_secs_f64(),
+            wall_width_m: width,
+        });
+    };
+    // Bisection of the bracket from the last stable state.
+    while unstable - last_stable > params.resolution_deg + 1e-12 {
+        let mid = 0.5 * (unstable + last_stable);
+        let mut trial = stable_sim.clone();
+        trial.set_tilt(deg_to_rad(mid));
+        let (stage, steps) = ctx.run_stage(&mut trial)?;
+        total_steps += steps;
+        increments.push(Increment {
+            alpha_deg: mid,
+            stable: matches!(stage, Stage::Stable),
+            steps,
+            displacement_m: ctx.displacements(&trial),
+            unbalanced_ratio: trial.stats.unbalanced_ratio,
+        });
+        match stage {
+            Stage::Stable => {
+                last_stable = mid;
+                stable_sim = trial;
+            }
+            Stage::Collapsed(r) => {
+                unstable = mid;
+                reason = r;
+                failed = trial;
+            }
+        }
+    }
+    // Stable increments first, sorted by α, then unstable trials by α.
+    increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
+    let mechanism = mechanism(&stable_sim, &failed);
+    Ok(TiltResult {
+        collapse_angle_deg: last_stable,
+        last_stable_deg: last_stable,
+        first_unstable_deg: Some(unstable),
+        collapse_reason: Some(reason),
+        mechanism,
+        monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+        increments,
+        steps: total_steps,
+        dt_s: failed.dt.min(dt_s),
+        wall_time_s: t0.elapsed().as_secs_f64(),
+        wall_width_m: width,
+    })
+}
+
+/// The collapse mechanism from the motion between a stable and a failed state of the same
+/// simulation.
+pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
+    let moved: Vec<f64> = stable
+        .bodies
+        .iter()
+        .zip(&failed.bodies)
+        .map(|(s, f)| {
+            (f.pos - s.pos).norm() + (f.rot * s.rot.inverse()).angle() * s.radius
+        })
+        .collect();
+    let max = moved.iter().cloned().fold(0.0, f64::max);
+    let moving: Vec<bool> = moved.iter().map(|&d| max > 0.0 && d > 0.25 * max).collect();
+    let is_moving = |i: Option<usize>| i.is_some_and(|i| moving[i]);
+    let mut joints: Vec<(f64, String, MechanismKind)> = Vec::new();
+    for c in &stable.contacts {
+        if is_moving(c.a) == is_moving(Some(c.b)) {
+            continue;
+        }
+        if c.force.norm() == 0.0 {
+            continue; // not a load-carrying joint in the stable state
+        }
+        let (mut max_open, mut max_slip, mut z) = (0.0f64, 0.0f64, 0.0);
+        let n = failed.contact_normal(c);
+        for s in &c.subs {
+            let rel = |sim: &Simulation| {
+                let pa = match c.a {
+                    None => s.on_a,
+                    Some(i) => sim.bodies[i].to_world(&s.on_a),
+                };
+                let pb = sim.bodies[c.b].to_world(&s.on_b);
+                (pb - pa, 0.5 * (pa + pb))
+            };
+            let (d0, x0) = rel(stable);
+            let (d1, _) = rel(failed);
+            let dd = d1 - d0;
+            let dn = dd.dot(&n);
+            max_open = max_open.max(dn);
+            max_slip = max_slip.max((dd - n * dn).norm());
+            z += x0.z / c.subs.len() as f64;
+        }
+        let kind = if max_slip > max_open { MechanismKind::Sliding } else { MechanismKind::Toppling };
+        joints.push((z, stable.joint_name(c), kind));
+    }
+    joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let kind = if joints.is_empty() {
+        MechanismKind::None
+    } else if joints.iter().all(|j| j.2 == MechanismKind::Sliding) {
+        MechanismKind::Sliding
+    } else if joints.iter().all(|j| j.2 == MechanismKind::Toppling) {
+        MechanismKind::Toppling
+    } else {
+        MechanismKind::Mixed
+    };
+    Mechanism {
+        kind,
+        joint: joints.first().map(|j| j.1.clone()).unwrap_or_default(),
+        joints: joints.into_iter().map(|j| (j.1, j.2)).collect(),
+        blocks: stable.bodies.iter().zip(&moving).filter(|(_, m)| **m).map(|(b, _)| b.id.clone()).collect(),
+    }
+}
+
+/// Convenience: α in degrees of the gravity direction of a simulation.
+pub fn tilt_of(sim: &Simulation) -> f64 {
+    rad_to_deg(sim.gravity.y.atan2(-sim.gravity.z))
+}
