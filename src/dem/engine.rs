@@ -19,7 +19,7 @@
 
 use super::collider::sweep_pairs;
 use super::contact::geometry::{self as cgeom, ContactSettings, PatchKind};
-use super::contact::law::{self, JointParams, Kinematics, SubContactState};
+use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactState};
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
@@ -61,8 +61,11 @@ pub struct SolverParams {
     /// Faces within this angle of the contact normal form a face feature, degrees. Default 10.
     pub face_angle_tolerance_deg: f64,
     /// Sub-contact density: subdivisions of each fan triangle of a contact polygon per
-    /// edge, ≥ 1 (1 puts sub-contacts at the polygon's corners and centroid). Default 2.
+    /// edge, ≥ 1 (1: one sub-contact triangle per polygon edge, fanned about the centroid).
+    /// Default 1.
     pub subcontact_subdivisions: u32,
+    /// Integration of the joint pressure over a sub-contact. Default `exact`.
+    pub quadrature: Quadrature,
     /// Nominal width of edge and vertex contacts, fraction of the smaller block's smallest
     /// dimension. Default 0.05.
     pub degenerate_width_fraction: f64,
@@ -80,6 +83,7 @@ impl Default for SolverParams {
             feature_tolerance_m: c.feature_tolerance,
             face_angle_tolerance_deg: c.face_angle_tolerance.to_degrees(),
             subcontact_subdivisions: c.subdivisions,
+            quadrature: Quadrature::Exact,
             degenerate_width_fraction: c.degenerate_width_fraction,
             redetect_fraction: 0.5,
         }
@@ -121,14 +125,21 @@ impl SolverParams {
     }
 }
 
-/// One sub-contact: a material point on each body and its joint history.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SubContact {
+/// A node of a contact's sub-contact mesh: a material point on each body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactNode {
     /// Point on A, A's body frame (table frame for the table), m.
     pub on_a: Vec3,
     /// Point on B, B's body frame, m.
     pub on_b: Vec3,
-    /// Tributary area, m².
+}
+
+/// One sub-contact: a triangle of the contact polygon and its joint history.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubContact {
+    /// Node indices into [`Contact::nodes`].
+    pub nodes: [u32; 3],
+    /// Area, m².
     pub area: f64,
     /// Joint history.
     pub state: SubContactState,
@@ -149,7 +160,9 @@ pub struct Contact {
     pub normal_b: Vec3,
     /// Polygon kind at detection.
     pub kind: PatchKind,
-    /// Sub-contacts.
+    /// Nodes of the sub-contact mesh.
+    pub nodes: Vec<ContactNode>,
+    /// Sub-contacts (triangles).
     pub subs: Vec<SubContact>,
     /// Resultant force on B at the last step, N, table frame.
     pub force: Vec3,
@@ -196,6 +209,8 @@ pub struct Simulation {
     detect_pos: Vec<Vec3>,
     detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
     layout_joints: Vec<Vec<JointParams>>,
+    scratch_x: Vec<Vec3>,
+    scratch_gap: Vec<f64>,
 }
 
 impl Simulation {
@@ -239,6 +254,8 @@ impl Simulation {
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
             layout_joints,
+            scratch_x: Vec::new(),
+            scratch_gap: Vec::new(),
         };
         sim.detect_contacts(true);
         if !sim.dt.is_finite() {
@@ -304,18 +321,21 @@ impl Simulation {
         };
         let bonded = initial && (joint.cohesion > 0.0 || joint.tensile_strength > 0.0);
         let bb = &self.bodies[b];
-        let subs = p
-            .points
+        let nodes = p
+            .nodes
             .iter()
-            .map(|q| SubContact {
+            .map(|q| ContactNode {
                 on_a: match a {
                     None => q.on_a,
                     Some(i) => self.bodies[i].to_body(&q.on_a),
                 },
                 on_b: bb.to_body(&q.on_b),
-                area: q.area,
-                state: SubContactState::new(bonded),
             })
+            .collect();
+        let subs = p
+            .triangles
+            .iter()
+            .map(|t| SubContact { nodes: t.nodes, area: t.area, state: SubContactState::new(bonded) })
             .collect();
         let normal_a = match a {
             None => p.normal,
@@ -328,17 +348,36 @@ impl Simulation {
             normal_a,
             normal_b: bb.rot_mat.transpose() * p.normal,
             kind: p.kind,
+            nodes,
             subs,
             force: Vec3::zeros(),
         }
     }
 
-    fn world_points(&self, c: &Contact, s: &SubContact) -> (Vec3, Vec3) {
+    /// Table-frame positions of a node's two material points (on A, on B).
+    pub fn node_points(&self, c: &Contact, nd: &ContactNode) -> (Vec3, Vec3) {
         let pa = match c.a {
-            None => s.on_a,
-            Some(i) => self.bodies[i].to_world(&s.on_a),
+            None => nd.on_a,
+            Some(i) => self.bodies[i].to_world(&nd.on_a),
         };
-        (pa, self.bodies[c.b].to_world(&s.on_b))
+        (pa, self.bodies[c.b].to_world(&nd.on_b))
+    }
+
+    /// Table-frame centroid of a sub-contact (mid-plane), m.
+    pub fn sub_centroid(&self, c: &Contact, s: &SubContact) -> Vec3 {
+        s.nodes.iter().fold(Vec3::zeros(), |acc, &k| {
+            let (pa, pb) = self.node_points(c, &c.nodes[k as usize]);
+            acc + (pa + pb) / 6.0
+        })
+    }
+
+    /// Normal gaps (m) at the three nodes of a sub-contact, along the current normal.
+    pub fn sub_gaps(&self, c: &Contact, s: &SubContact) -> [f64; 3] {
+        let n = self.contact_normal(c);
+        s.nodes.map(|k| {
+            let (pa, pb) = self.node_points(c, &c.nodes[k as usize]);
+            (pb - pa).dot(&n)
+        })
     }
 
     /// Current unit normal of a contact (A → B, table frame): the mean of the detection
@@ -356,18 +395,10 @@ impl Simulation {
         for c in new.iter_mut() {
             let Ok(k) = old.binary_search_by_key(&c.key(), |o| o.key()) else { continue };
             let o = &old[k];
-            let old_pts: Vec<Vec3> = o
-                .subs
-                .iter()
-                .map(|s| {
-                    let (pa, pb) = self.world_points(o, s);
-                    0.5 * (pa + pb)
-                })
-                .collect();
+            let old_pts: Vec<Vec3> = o.subs.iter().map(|s| self.sub_centroid(o, s)).collect();
             let mut fresh = Vec::with_capacity(c.subs.len());
             for s in &c.subs {
-                let (pa, pb) = self.world_points(c, s);
-                let x = 0.5 * (pa + pb);
+                let x = self.sub_centroid(c, s);
                 let nearest = old_pts
                     .iter()
                     .enumerate()
@@ -413,6 +444,7 @@ impl Simulation {
         }
         // 3. Contact geometry and law.
         let dt = self.dt;
+        let quad = self.params.quadrature;
         let mut sum_contact = 0.0;
         let mut active = 0usize;
         for c in &mut self.contacts {
@@ -426,25 +458,33 @@ impl Simulation {
             let bb = &self.bodies[c.b];
             let (xb, rb, vb, wb) = (bb.pos, bb.rot_mat, bb.vel, bb.angvel);
             let n = (ra * c.normal_a + rb * c.normal_b).normalize();
+            self.scratch_x.clear();
+            self.scratch_gap.clear();
+            for nd in &c.nodes {
+                let pa = xa + ra * nd.on_a;
+                let pb = xb + rb * nd.on_b;
+                self.scratch_gap.push((pb - pa).dot(&n));
+                self.scratch_x.push(0.5 * (pa + pb));
+            }
             let mut fsum = Vec3::zeros();
             let mut ta = Vec3::zeros();
             let mut tb = Vec3::zeros();
             for s in &mut c.subs {
-                let pa = xa + ra * s.on_a;
-                let pb = xb + rb * s.on_b;
-                let gap = (pb - pa).dot(&n);
-                if gap > 0.0 && !s.state.bonded && s.state.normal == 0.0 && s.state.shear == Vec3::zeros() {
-                    continue; // open, no history: no force
+                let [i0, i1, i2] = s.nodes.map(|k| k as usize);
+                let gaps = [self.scratch_gap[i0], self.scratch_gap[i1], self.scratch_gap[i2]];
+                if gaps[0] > 0.0 && gaps[1] > 0.0 && gaps[2] > 0.0 && !s.state.bonded && s.state.normal == 0.0 {
+                    continue; // open everywhere, no history: no force
                 }
-                let x = 0.5 * (pa + pb);
-                let rbx = x - xb;
-                let rax = x - xa;
-                let vrel = vb + wb.cross(&rbx) - va - wa.cross(&rax);
+                let (x0, x1, x2) = (self.scratch_x[i0], self.scratch_x[i1], self.scratch_x[i2]);
+                let xc = (x0 + x1 + x2) / 3.0;
+                let vrel = vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa));
                 let du = (vrel - n * n.dot(&vrel)) * dt;
-                let f = law::evaluate(&c.joint, &mut s.state, &Kinematics { normal: n, gap, du_shear: du, area: s.area });
+                let out = law::evaluate(&c.joint, quad, &mut s.state, &Kinematics { normal: n, gaps, du_shear: du, area: s.area });
+                let f = out.force;
+                let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
                 fsum += f;
-                tb += rbx.cross(&f);
-                ta -= rax.cross(&f);
+                tb += (x - xb).cross(&f);
+                ta -= (x - xa).cross(&f);
             }
             c.force = fsum;
             let mag = fsum.norm();
@@ -478,7 +518,9 @@ impl Simulation {
             if self.restraint[k] == Some(EndRestraint::Rigid) {
                 fu.y = 0.0;
             }
-            sum_unbalanced += fu.norm();
+            // Out-of-balance moment counted as a force at the body's radius, so that a
+            // block rotating about an edge is not mistaken for one at rest.
+            sum_unbalanced += fu.norm() + self.torque[k].norm() / b.radius;
             free += 1;
         }
         // 5. Damping and integration.
@@ -530,7 +572,11 @@ impl Simulation {
         let el: f64 = self
             .contacts
             .iter()
-            .flat_map(|c| c.subs.iter().map(move |s| law::stored_energy(&c.joint, &s.state, s.area)))
+            .flat_map(|c| {
+                c.subs.iter().map(move |s| {
+                    law::normal_energy(&c.joint, self.sub_gaps(c, s), s.area) + law::shear_energy(&c.joint, &s.state, s.area)
+                })
+            })
             .sum();
         (ke, pe, el)
     }

@@ -3,12 +3,14 @@
 /// Statistics of one step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
-    /// Unbalanced-force ratio: mean magnitude of the net force on the free bodies divided by
-    /// the mean magnitude of the resultant contact forces (YADE's `unbalancedForce()`),
-    /// dimensionless. Zero at exact equilibrium; `f64::INFINITY` while no contact carries
+    /// Unbalanced-force ratio: mean out-of-balance load of the free bodies divided by the
+    /// mean magnitude of the resultant contact forces (YADE's `unbalancedForce()`),
+    /// dimensionless. A body's out-of-balance load is `|F| + |T| / r`: the net force plus
+    /// the net moment about its centroid over its radius r (YADE counts forces only, which
+    /// misses a block rotating about an edge). Zero at exact equilibrium; `f64::INFINITY` while no contact carries
     /// force but bodies are loaded (free fall).
     pub unbalanced_ratio: f64,
-    /// Mean net force on a free body, N.
+    /// Mean out-of-balance load `|F| + |T|/r` of a free body, N.
     pub mean_unbalanced_force: f64,
     /// Mean resultant force of a loaded contact, N.
     pub mean_contact_force: f64,

@@ -18,13 +18,16 @@ pub fn critical_timestep(bodies: &[Body], contacts: &[Contact], safety: f64) -> 
     for c in contacts {
         let k = c.joint.kn.max(c.joint.ks);
         for s in &c.subs {
-            let ks = k * s.area;
-            if let Some(a) = c.a {
-                kt[a] += ks;
-                kr[a] += ks * s.on_a.norm_squared();
+            let ks = k * s.area / 3.0;
+            for &i in &s.nodes {
+                let nd = &c.nodes[i as usize];
+                if let Some(a) = c.a {
+                    kt[a] += ks;
+                    kr[a] += ks * nd.on_a.norm_squared();
+                }
+                kt[c.b] += ks;
+                kr[c.b] += ks * nd.on_b.norm_squared();
             }
-            kt[c.b] += ks;
-            kr[c.b] += ks * s.on_b.norm_squared();
         }
     }
     let mut w2max: f64 = 0.0;

@@ -425,22 +425,14 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         }
         let (mut max_open, mut max_slip, mut z) = (0.0f64, 0.0f64, 0.0);
         let n = failed.contact_normal(c);
-        for s in &c.subs {
-            let rel = |sim: &Simulation| {
-                let pa = match c.a {
-                    None => s.on_a,
-                    Some(i) => sim.bodies[i].to_world(&s.on_a),
-                };
-                let pb = sim.bodies[c.b].to_world(&s.on_b);
-                (pb - pa, 0.5 * (pa + pb))
-            };
-            let (d0, x0) = rel(stable);
-            let (d1, _) = rel(failed);
-            let dd = d1 - d0;
+        for nd in &c.nodes {
+            let (a0, b0) = stable.node_points(c, nd);
+            let (a1, b1) = failed.node_points(c, nd);
+            let dd = (b1 - a1) - (b0 - a0);
             let dn = dd.dot(&n);
             max_open = max_open.max(dn);
             max_slip = max_slip.max((dd - n * dn).norm());
-            z += x0.z / c.subs.len() as f64;
+            z += 0.5 * (a0.z + b0.z) / c.nodes.len() as f64;
         }
         let kind = if max_slip > max_open { MechanismKind::Sliding } else { MechanismKind::Toppling };
         joints.push((z, stable.joint_name(c), kind));

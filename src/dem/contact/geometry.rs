@@ -15,13 +15,15 @@
 //!    (convex clipping): a polygon (face–face), a segment (edge–face, edge–edge parallel) or
 //!    a point (vertex–face, edge–edge crossing).
 //! 4. **Sub-contacts**: the polygon is split into a fan of triangles about its centroid,
-//!    each subdivided `n × n`; sub-contacts sit at the nodes with the lumped (one third per
-//!    triangle) tributary area, so that linear pressure fields are integrated exactly and
-//!    the polygon's corners carry sub-contacts (the rigid-limit pivot is exact). A segment or
-//!    point contact is given a nominal width `w` (see [`ContactSettings`]).
+//!    each subdivided `n × n`; every sub-triangle is a sub-contact with its own area and
+//!    joint history, and its three corners are *nodes*. A segment or point contact is first
+//!    widened into a thin rectangle or small square of nominal width `w`
+//!    (see [`ContactSettings`]).
 //!
-//! Each sub-contact is stored as two material points, one on the surface of each block
-//! straight across the mid-plane along `n`; the normal gap is their separation along `n`.
+//! Each node is stored as two material points, one on the surface of each block straight
+//! across the mid-plane along `n`; the normal gap at the node is their separation along `n`,
+//! and it varies linearly over a sub-triangle (two planar faces). See
+//! [`super::law`] for how the pressure is integrated over each sub-contact.
 
 use crate::geometry::polygon::{self, plane_basis};
 use crate::geometry::ConvexBlock;
@@ -106,7 +108,7 @@ pub struct ContactSettings {
     /// A face whose normal is within this angle (rad) of the contact normal is a face feature.
     /// Default 10°.
     pub face_angle_tolerance: f64,
-    /// Subdivisions of each fan triangle per edge (≥ 1). Default 2.
+    /// Subdivisions of each fan triangle per edge (≥ 1). Default 1.
     pub subdivisions: u32,
     /// Nominal width of a segment or point contact, as a fraction of the smaller block's
     /// smallest bounding-box edge. Default 0.05.
@@ -119,36 +121,44 @@ impl Default for ContactSettings {
             margin: 1e-3,
             feature_tolerance: 5e-4,
             face_angle_tolerance: 10f64.to_radians(),
-            subdivisions: 2,
+            subdivisions: 1,
             degenerate_width_fraction: 0.05,
         }
     }
 }
 
-/// A sub-contact as two surface points in the frame of the blocks given to the narrow
-/// phase (the world frame), with its tributary area.
+/// A node of the sub-contact mesh: two surface points straight across the mid-plane, in
+/// the frame of the blocks given to the narrow phase (the world frame).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SubContactPoint {
+pub struct NodePoint {
     /// Point on A's surface, m.
     pub on_a: Vec3,
     /// Point on B's surface, m.
     pub on_b: Vec3,
-    /// Tributary area, m².
+}
+
+/// A sub-contact triangle: three node indices (counter-clockwise about the normal) and its
+/// area.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Triangle {
+    /// Node indices.
+    pub nodes: [u32; 3],
+    /// Area, m².
     pub area: f64,
 }
 
-/// Kind of contact by the dimension of its polygon.
+/// Kind of contact by the dimension of the features' overlap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PatchKind {
     /// Polygon with area (face–face).
     Face,
-    /// Segment (edge–face or parallel edges).
+    /// Segment (edge–face or parallel edges), widened to a thin rectangle.
     Edge,
-    /// Point (vertex–face or crossing edges).
+    /// Point (vertex–face or crossing edges), widened to a small square.
     Vertex,
 }
 
-/// A contact patch: the common plane and its sub-contacts.
+/// A contact patch: the common plane and its sub-contact mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Patch {
     /// Unit normal A → B.
@@ -157,10 +167,12 @@ pub struct Patch {
     pub gap: f64,
     /// Polygon kind.
     pub kind: PatchKind,
-    /// Polygon area (m²) or, for degenerate patches, the nominal area.
+    /// Total area of the sub-contacts, m² (the nominal area for edges and vertices).
     pub area: f64,
-    /// Sub-contacts.
-    pub points: Vec<SubContactPoint>,
+    /// Nodes.
+    pub nodes: Vec<NodePoint>,
+    /// Sub-contact triangles.
+    pub triangles: Vec<Triangle>,
 }
 
 fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSettings, outward_sign: f64) -> Vec<Vec3> {
@@ -273,10 +285,11 @@ fn build_patch(
     }
     let to_world = |q: [f64; 2]| u * q[0] + w * q[1] + n * plane_offset;
     let area = polygon::area(&poly);
-    let (kind, nodes) = if poly.len() >= 3 && area > width * width * 1e-3 {
-        (PatchKind::Face, subdivide_polygon(&poly, s.subdivisions.max(1) as usize))
+    let m = s.subdivisions.max(1) as usize;
+    let (kind, shape) = if poly.len() >= 3 && area > width * width * 1e-3 {
+        (PatchKind::Face, poly)
     } else if poly.len() >= 2 {
-        // Longest extent of the degenerate polygon as a segment.
+        // Longest extent of the degenerate polygon, widened into a thin rectangle.
         let (mut i0, mut i1, mut best) = (0, 1, -1.0);
         for i in 0..poly.len() {
             for j in i + 1..poly.len() {
@@ -288,31 +301,48 @@ fn build_patch(
                 }
             }
         }
-        (PatchKind::Edge, subdivide_segment(poly[i0], poly[i1], s.subdivisions.max(1) as usize * 2, width))
+        let (p, q) = (poly[i0], poly[i1]);
+        let len = best.sqrt();
+        let h = 0.5 * width / len;
+        let perp = [-(q[1] - p[1]) * h, (q[0] - p[0]) * h];
+        let rect = vec![
+            [p[0] - perp[0], p[1] - perp[1]],
+            [q[0] - perp[0], q[1] - perp[1]],
+            [q[0] + perp[0], q[1] + perp[1]],
+            [p[0] + perp[0], p[1] + perp[1]],
+        ];
+        (PatchKind::Edge, rect)
     } else {
-        (PatchKind::Vertex, vec![(poly[0], width * width)])
+        let (c, h) = (poly[0], 0.5 * width);
+        (PatchKind::Vertex, vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]])
     };
-    let points: Vec<SubContactPoint> = nodes
+    let (pts, triangles) = subdivide_polygon(&shape, m);
+    let nodes: Vec<NodePoint> = pts
         .into_iter()
-        .map(|(q, area)| {
+        .map(|q| {
             let x = to_world(q);
             let (on_a, on_b) = surfaces(&x);
-            SubContactPoint { on_a, on_b, area }
+            NodePoint { on_a, on_b }
         })
         .collect();
-    let total = points.iter().map(|p| p.area).sum();
-    Some(Patch { normal: *n, gap, kind, area: total, points })
+    let total = triangles.iter().map(|t| t.area).sum();
+    Some(Patch { normal: *n, gap, kind, area: total, nodes, triangles })
 }
 
-/// Lumped-area nodes of a convex polygon's centroid fan, each triangle subdivided `m × m`.
-pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize) -> Vec<([f64; 2], f64)> {
+/// The centroid fan of a convex polygon with each triangle subdivided `m × m`: nodes
+/// (deduplicated) and counter-clockwise sub-triangles.
+pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize) -> (Vec<[f64; 2]>, Vec<Triangle>) {
     let c = polygon::centroid(poly);
-    let mut nodes: Vec<([f64; 2], f64)> = Vec::new();
-    let add = |p: [f64; 2], a: f64, nodes: &mut Vec<([f64; 2], f64)>| {
-        if let Some(e) = nodes.iter_mut().find(|(q, _)| (q[0] - p[0]).abs() <= 1e-12 && (q[1] - p[1]).abs() <= 1e-12) {
-            e.1 += a;
+    let mut nodes: Vec<[f64; 2]> = Vec::new();
+    let mut tris = Vec::new();
+    let scale = poly.iter().fold(0.0f64, |s, p| s.max((p[0] - c[0]).abs()).max((p[1] - c[1]).abs()));
+    let eps = 1e-12 * scale.max(1e-9);
+    let index = |p: [f64; 2], nodes: &mut Vec<[f64; 2]>| -> u32 {
+        if let Some(k) = nodes.iter().position(|q| (q[0] - p[0]).abs() <= eps && (q[1] - p[1]).abs() <= eps) {
+            k as u32
         } else {
-            nodes.push((p, a));
+            nodes.push(p);
+            (nodes.len() - 1) as u32
         }
     };
     let nv = poly.len();
@@ -332,33 +362,18 @@ pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize) -> Vec<([f64; 2], f64)> {
         }
         for i in 0..m {
             for j in 0..m - i {
-                // Upward sub-triangle (i,j), (i+1,j), (i,j+1).
-                for v in [node(i, j), node(i + 1, j), node(i, j + 1)] {
-                    add(v, tri_area / 3.0, &mut nodes);
-                }
+                let up = [node(i, j), node(i + 1, j), node(i, j + 1)];
+                let ids = up.map(|v| index(v, &mut nodes));
+                tris.push(Triangle { nodes: ids, area: tri_area });
                 if i + j + 1 < m {
-                    // Downward sub-triangle (i+1,j), (i+1,j+1), (i,j+1).
-                    for v in [node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)] {
-                        add(v, tri_area / 3.0, &mut nodes);
-                    }
+                    let down = [node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+                    let ids = down.map(|v| index(v, &mut nodes));
+                    tris.push(Triangle { nodes: ids, area: tri_area });
                 }
             }
         }
     }
-    nodes
-}
-
-/// Lumped-area nodes of a segment of nominal width `width` split into `m` pieces.
-pub fn subdivide_segment(p: [f64; 2], q: [f64; 2], m: usize, width: f64) -> Vec<([f64; 2], f64)> {
-    let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
-    let piece = len * width / m as f64;
-    (0..=m)
-        .map(|i| {
-            let t = i as f64 / m as f64;
-            let a = if i == 0 || i == m { piece / 2.0 } else { piece };
-            ([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], a)
-        })
-        .collect()
+    (nodes, tris)
 }
 
 #[cfg(test)]
@@ -379,24 +394,29 @@ mod tests {
         assert!((p.normal - Vec3::z()).norm() < 1e-12);
         assert!(p.gap.abs() < 1e-12);
         assert!((p.area - 0.15 * 0.1).abs() < 1e-12);
-        for q in &p.points {
+        for q in &p.nodes {
             assert!((q.on_a.z - 0.05).abs() < 1e-12 && (q.on_b.z - 0.05).abs() < 1e-12);
         }
     }
 
     #[test]
-    fn lumped_areas_integrate_linear_fields_exactly() {
+    fn subdivision_tiles_the_polygon() {
         let poly = vec![[0.0, 0.0], [0.3, 0.0], [0.3, 0.1], [0.0, 0.1]];
         for m in 1..6 {
-            let nodes = subdivide_polygon(&poly, m);
-            let a: f64 = nodes.iter().map(|n| n.1).sum();
-            let mx: f64 = nodes.iter().map(|n| n.1 * n.0[0]).sum();
-            let myy: f64 = nodes.iter().map(|n| n.1 * n.0[1] * n.0[1]).sum();
+            let (nodes, tris) = subdivide_polygon(&poly, m);
+            assert_eq!(tris.len(), 4 * m * m);
+            let a: f64 = tris.iter().map(|t| t.area).sum();
             assert!((a - 0.03).abs() < 1e-14);
-            assert!((mx - 0.03 * 0.15).abs() < 1e-14);
-            // Second moment converges with m (not exact).
-            let exact = 0.3 * 0.1f64.powi(3) / 3.0;
-            assert!((myy - exact).abs() / exact < 0.6 / (m * m) as f64);
+            // Each triangle's stored area equals its geometric area, counter-clockwise.
+            for t in &tris {
+                let [p, q, r] = t.nodes.map(|i| nodes[i as usize]);
+                let ga = 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+                assert!((ga - t.area).abs() < 1e-15);
+            }
+            // Euler: V − E + F = 1 for a triangulated disc; with E = (3F + boundary)/2.
+            let boundary = 4 * m;
+            let e = (3 * tris.len() + boundary) / 2;
+            assert_eq!(nodes.len() + tris.len(), e + 1);
         }
     }
 
@@ -408,7 +428,7 @@ mod tests {
         let bt = b.transformed(|v| toe + r * (v - toe), r.matrix());
         let p = table_block(&bt, &ContactSettings::default()).unwrap();
         assert_eq!(p.kind, PatchKind::Face);
-        let gaps: Vec<f64> = p.points.iter().map(|q| q.on_b.z - q.on_a.z).collect();
+        let gaps: Vec<f64> = p.nodes.iter().map(|q| q.on_b.z - q.on_a.z).collect();
         let max = gaps.iter().cloned().fold(0.0, f64::max);
         assert!((max - 0.1 * 0.01f64.sin()).abs() < 1e-6, "{max}");
         assert!(gaps.iter().all(|g| *g > -1e-12));

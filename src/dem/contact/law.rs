@@ -3,14 +3,21 @@
 //!
 //! # Coulomb joint (3DEC "Coulomb slip", Itasca 3DEC manual; Cundall 1988)
 //!
-//! Per sub-contact of area `A` (m²), with normal stiffness `Kn` and shear stiffness `Ks`
-//! (Pa/m: force per unit area per unit displacement):
+//! A sub-contact is a triangle of area `A` (m²) of the contact polygon. With normal
+//! stiffness `Kn` and shear stiffness `Ks` (Pa/m: stress per unit relative displacement):
 //!
-//! * normal force (compression positive): `Fn = Kn · A · uₙ` with the overlap `uₙ = −gap`;
-//!   no tension (`Fn = 0` for an open joint) unless a tensile strength `T` (Pa) is given and
-//!   intact, in which case `Fn ≥ −T A`; past it the joint breaks;
+//! * normal pressure (compression positive) `q = Kn · uₙ` with the overlap `uₙ = −gap`; the
+//!   gap is known at the triangle's three nodes and varies linearly over it. No tension
+//!   (`q = 0` where the joint is open) unless a tensile strength `T` (Pa) is given and
+//!   intact, in which case `q ≥ −T` at every node; past it the joint breaks;
+//! * the normal force `Fn = ∫ q dA` and its point of application follow from the pressure
+//!   field, integrated by the sub-contact [`Quadrature`]: `Exact` (default) clips the
+//!   triangle at the zero-pressure line and integrates the linear pressure exactly, so that
+//!   a joint opening across a sub-contact carries exactly the Winkler resultant whatever
+//!   the sub-contact density; `Vertex` lumps A/3 at each node (3DEC's vertex sub-contacts),
+//!   which converges to the same limit as the density grows;
 //! * shear force, incremental and rotated with the contact plane:
-//!   `Fs ← rot(Fs) − Ks · A · Δuₛ`;
+//!   `Fs ← rot(Fs) − Ks · A · Δuₛ`, acting at the same point as `Fn`;
 //! * slip: `|Fs| ≤ c A + Fn tan φ`; past it `Fs` is scaled back onto the limit
 //!   (elasto-plastic). When a joint fails in tension or shear, its tensile strength and
 //!   cohesion drop to zero for good (3DEC's residual-strength convention).
@@ -22,8 +29,8 @@
 //! returned act on B (A receives the opposite); `Δuₛ` is the tangential displacement
 //! increment of B relative to A over the step (m).
 //!
-//! Other closure laws are added as variants of [`NormalClosure`] with their own kernel;
-//! the engine calls only [`evaluate`].
+//! Other closure laws are added as variants of [`NormalClosure`] with their own pressure
+//! integral; the engine calls only [`evaluate`].
 
 use crate::Vec3;
 
@@ -91,6 +98,17 @@ impl JointParams {
     }
 }
 
+/// How the pressure is integrated over a sub-contact triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quadrature {
+    /// Exact integral of the linear pressure over the compressed part of the triangle.
+    #[default]
+    Exact,
+    /// One third of the area at each node (3DEC vertex sub-contacts).
+    Vertex,
+}
+
 /// History of one sub-contact, carried from step to step (and across re-detections).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SubContactState {
@@ -116,38 +134,121 @@ impl SubContactState {
 pub struct Kinematics {
     /// Current unit normal, A → B, world frame.
     pub normal: Vec3,
-    /// Normal gap, m (positive open, negative overlap).
-    pub gap: f64,
+    /// Normal gap at the three nodes, m (positive open, negative overlap).
+    pub gaps: [f64; 3],
     /// Tangential displacement increment of B relative to A, m, world frame.
     pub du_shear: Vec3,
-    /// Tributary area, m².
+    /// Triangle area, m².
     pub area: f64,
 }
 
-/// Evaluates the joint law: updates `state` and returns the force on B (N, world frame).
+/// The force of a sub-contact on B.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubContactForce {
+    /// Force on B, N, world frame.
+    pub force: Vec3,
+    /// Point of application in barycentric coordinates of the triangle's nodes (sums to 1).
+    pub at: [f64; 3],
+}
+
+/// No force.
+pub const NO_FORCE: SubContactForce = SubContactForce { force: Vec3::new(0.0, 0.0, 0.0), at: [1.0 / 3.0; 3] };
+
+/// ∫ q λᵢ dA over a triangle with linear q (nodal values `q`), area `area`:
+/// `A/12 (qᵢ + Σq)` for each barycentric coordinate λᵢ.
 #[inline]
-pub fn evaluate(p: &JointParams, state: &mut SubContactState, k: &Kinematics) -> Vec3 {
+fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
+    let s = q[0] + q[1] + q[2];
+    [area / 12.0 * (q[0] + s), area / 12.0 * (q[1] + s), area / 12.0 * (q[2] + s)]
+}
+
+/// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
+/// the compressed part (a triangle or a quadrilateral) integrated exactly.
+pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
+    let pos = q.iter().filter(|&&v| v > 0.0).count();
+    match pos {
+        0 => [0.0; 3],
+        3 => moments_full(q, area),
+        _ => {
+            // Vertices of the clipped polygon in barycentric coordinates with their q.
+            let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
+            let mut n = 0;
+            for i in 0..3 {
+                let j = (i + 1) % 3;
+                let mut bi = [0.0; 3];
+                bi[i] = 1.0;
+                if q[i] > 0.0 {
+                    poly[n] = (bi, q[i]);
+                    n += 1;
+                }
+                if (q[i] > 0.0) != (q[j] > 0.0) {
+                    let t = q[i] / (q[i] - q[j]);
+                    let mut b = [0.0; 3];
+                    b[i] = 1.0 - t;
+                    b[j] = t;
+                    poly[n] = (b, 0.0);
+                    n += 1;
+                }
+            }
+            let mut m = [0.0; 3];
+            let det = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| {
+                // Area ratio of the sub-triangle (a, b, c) in barycentric coordinates.
+                let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
+                let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
+                (u1 * v2 - u2 * v1).abs()
+            };
+            for k in 1..n - 1 {
+                let (a, qa) = poly[0];
+                let (b, qb) = poly[k];
+                let (c, qc) = poly[k + 1];
+                let sub = area * det(&a, &b, &c);
+                let mm = moments_full([qa, qb, qc], sub);
+                for i in 0..3 {
+                    m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
+                }
+            }
+            m
+        }
+    }
+}
+
+/// Evaluates the joint law on one sub-contact: updates `state`, returns the force on B.
+#[inline]
+pub fn evaluate(p: &JointParams, quad: Quadrature, state: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     match p.closure {
-        NormalClosure::Linear => coulomb_linear(p, state, k),
+        NormalClosure::Linear => coulomb_linear(p, quad, state, k),
     }
 }
 
 #[inline]
-fn coulomb_linear(p: &JointParams, s: &mut SubContactState, k: &Kinematics) -> Vec3 {
+fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     let n = k.normal;
-    // Normal force.
-    let fnorm = -p.kn * k.area * k.gap;
-    if fnorm < 0.0 {
-        if s.bonded && p.tensile_strength > 0.0 && -fnorm <= p.tensile_strength * k.area {
-            // Tension carried by an intact joint.
-        } else {
-            s.bonded = false;
-            s.shear = Vec3::zeros();
-            s.normal = 0.0;
-            s.slipping = false;
-            return Vec3::zeros();
-        }
+    let q = [-p.kn * k.gaps[0], -p.kn * k.gaps[1], -p.kn * k.gaps[2]];
+    // Tension carried only by an intact joint with a tensile strength, up to it everywhere.
+    let tension = s.bonded && p.tensile_strength > 0.0;
+    if tension && q.iter().any(|&v| v < -p.tensile_strength) {
+        s.bonded = false;
     }
+    let tension = s.bonded && p.tensile_strength > 0.0;
+    let moments = match (quad, tension) {
+        (Quadrature::Exact, true) => moments_full(q, k.area),
+        (Quadrature::Exact, false) => compressed_moments(q, k.area),
+        (Quadrature::Vertex, true) => q.map(|v| v * k.area / 3.0),
+        (Quadrature::Vertex, false) => q.map(|v| v.max(0.0) * k.area / 3.0),
+    };
+    let fnorm = moments[0] + moments[1] + moments[2];
+    if fnorm <= 0.0 && !tension {
+        s.bonded = false;
+        s.shear = Vec3::zeros();
+        s.normal = 0.0;
+        s.slipping = false;
+        return NO_FORCE;
+    }
+    let at = if fnorm.abs() > 0.0 {
+        [moments[0] / fnorm, moments[1] / fnorm, moments[2] / fnorm]
+    } else {
+        [1.0 / 3.0; 3]
+    };
     // Rotate the stored shear force into the current plane, keeping its magnitude.
     let old = s.shear;
     let old_mag2 = old.norm_squared();
@@ -172,7 +273,7 @@ fn coulomb_linear(p: &JointParams, s: &mut SubContactState, k: &Kinematics) -> V
                 if fnorm < 0.0 {
                     s.shear = Vec3::zeros();
                     s.normal = 0.0;
-                    return Vec3::zeros();
+                    return NO_FORCE;
                 }
             }
             let mag = mag2.sqrt();
@@ -182,40 +283,103 @@ fn coulomb_linear(p: &JointParams, s: &mut SubContactState, k: &Kinematics) -> V
     }
     s.shear = fs;
     s.normal = fnorm;
-    n * fnorm + fs
+    SubContactForce { force: n * fnorm + fs, at }
 }
 
-/// Elastic energy stored in a sub-contact, J: `Fn²/(2 Kn A) + |Fs|²/(2 Ks A)`.
-pub fn stored_energy(p: &JointParams, s: &SubContactState, area: f64) -> f64 {
+/// Elastic energy stored in the normal springs of a sub-contact, J:
+/// `∫ q₊² / (2 Kn) dA` over the compressed part (exact for the linear law).
+pub fn normal_energy(p: &JointParams, gaps: [f64; 3], area: f64) -> f64 {
+    squared_compressed(gaps.map(|g| -p.kn * g), area) / (2.0 * p.kn)
+}
+
+/// ∫ q₊² dA over a triangle with linear q: the compressed part is sub-triangulated and
+/// `∫ q² dA = A/12 (Σqᵢ² + (Σqᵢ)²)` applied to each piece.
+fn squared_compressed(q: [f64; 3], area: f64) -> f64 {
+    // Sub-triangulate the compressed part and integrate q² on each sub-triangle exactly.
+    let full = |a: f64, b: f64, c: f64, ar: f64| ar / 12.0 * (a * a + b * b + c * c + (a + b + c).powi(2));
+    let pos: Vec<usize> = (0..3).filter(|&i| q[i] > 0.0).collect();
+    match pos.len() {
+        0 => 0.0,
+        1 => {
+            let i = pos[0];
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let tj = q[i] / (q[i] - q[j]);
+            let tk = q[i] / (q[i] - q[k]);
+            full(q[i], 0.0, 0.0, area * tj * tk)
+        }
+        2 => {
+            let k = (0..3).find(|&v| q[v] <= 0.0).unwrap_or(0);
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            let ti = q[k] / (q[k] - q[i]);
+            let tj = q[k] / (q[k] - q[j]);
+            // Whole minus the negative corner, on q₊ = q on the quad; integrate the quad as
+            // two triangles: (i, j, Pj) and (i, Pj, Pi) where P are the cut points.
+            // Areas in barycentric units.
+            let pi = {
+                let mut b = [0.0; 3];
+                b[k] = 1.0 - ti;
+                b[i] = ti;
+                b
+            };
+            let pj = {
+                let mut b = [0.0; 3];
+                b[k] = 1.0 - tj;
+                b[j] = tj;
+                b
+            };
+            let ei = {
+                let mut b = [0.0; 3];
+                b[i] = 1.0;
+                b
+            };
+            let ej = {
+                let mut b = [0.0; 3];
+                b[j] = 1.0;
+                b
+            };
+            let det = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| {
+                let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
+                let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
+                (u1 * v2 - u2 * v1).abs()
+            };
+            full(q[i], q[j], 0.0, area * det(&ei, &ej, &pj)) + full(q[i], 0.0, 0.0, area * det(&ei, &pj, &pi))
+        }
+        _ => full(q[0], q[1], q[2], area),
+    }
+}
+
+/// Elastic energy stored in the shear spring of a sub-contact, J: `|Fs|² / (2 Ks A)`.
+pub fn shear_energy(p: &JointParams, s: &SubContactState, area: f64) -> f64 {
     if area <= 0.0 {
         return 0.0;
     }
-    s.normal * s.normal / (2.0 * p.kn * area) + s.shear.norm_squared() / (2.0 * p.ks * area)
+    s.shear.norm_squared() / (2.0 * p.ks * area)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn force(p: &JointParams, s: &mut SubContactState, gap: f64, du: Vec3) -> Vec3 {
+        evaluate(p, Quadrature::Exact, s, &Kinematics { normal: Vec3::z(), gaps: [gap; 3], du_shear: du, area: 0.01 }).force
+    }
+
     /// One contract every closure law must meet (statrs `check_continuous_distribution`
     /// style): no force when open and unbonded, compression grows with overlap, shear bounded
     /// by the Coulomb limit, force along n and in the plane only.
     fn check_contact_law(p: JointParams) {
-        let n = Vec3::new(0.0, 0.0, 1.0);
-        let area = 0.01;
         let mut s = SubContactState::new(false);
-        let f = evaluate(&p, &mut s, &Kinematics { normal: n, gap: 1e-4, du_shear: Vec3::x() * 1e-4, area });
-        assert_eq!(f, Vec3::zeros());
+        assert_eq!(force(&p, &mut s, 1e-4, Vec3::x() * 1e-4), Vec3::zeros());
         let mut last = 0.0;
         for i in 1..10 {
             let mut s = SubContactState::new(false);
-            let f = evaluate(&p, &mut s, &Kinematics { normal: n, gap: -1e-5 * i as f64, du_shear: Vec3::zeros(), area });
+            let f = force(&p, &mut s, -1e-5 * i as f64, Vec3::zeros());
             assert!(f.z > last);
             last = f.z;
         }
         let mut s = SubContactState::new(false);
         for _ in 0..100 {
-            let f = evaluate(&p, &mut s, &Kinematics { normal: n, gap: -1e-4, du_shear: Vec3::x() * 1e-4, area });
+            let f = force(&p, &mut s, -1e-4, Vec3::x() * 1e-4);
             let fs = (f.x * f.x + f.y * f.y).sqrt();
             assert!(fs <= f.z * p.tan_phi * (1.0 + 1e-12) + 1e-12);
             assert!(f.x <= 0.0, "shear force opposes the motion of B");
@@ -230,29 +394,47 @@ mod tests {
     }
 
     #[test]
-    fn elastic_shear_matches_ks_a_du() {
+    fn elastic_forces_match_kn_a_un_and_ks_a_du() {
         let p = JointParams::coulomb(5e7, 2.5e7, 35f64.to_radians(), 0.0, 0.0);
         let mut s = SubContactState::new(false);
-        let f = evaluate(&p, &mut s, &Kinematics { normal: Vec3::z(), gap: -1e-3, du_shear: Vec3::y() * 1e-6, area: 0.02 });
-        assert!((f.z - 5e7 * 0.02 * 1e-3).abs() < 1e-9);
-        assert!((f.y + 2.5e7 * 0.02 * 1e-6).abs() < 1e-12);
+        let f = evaluate(&p, Quadrature::Exact, &mut s, &Kinematics { normal: Vec3::z(), gaps: [-1e-3; 3], du_shear: Vec3::y() * 1e-6, area: 0.02 });
+        assert!((f.force.z - 5e7 * 0.02 * 1e-3).abs() < 1e-9);
+        assert!((f.force.y + 2.5e7 * 0.02 * 1e-6).abs() < 1e-12);
+    }
+
+    #[test]
+    fn clipped_pressure_integral_matches_the_wedge() {
+        // Right triangle (0,0),(1,0),(0,1), area 1/2, q = 1 − 2x: compressed for x < 1/2.
+        // ∫ q₊ dA = ∫₀^½ (1 − 2x)(1 − x) dx = 5/24.
+        let q = [1.0, -1.0, 1.0];
+        let m = compressed_moments(q, 0.5);
+        let f: f64 = m.iter().sum();
+        assert!((f - 5.0 / 24.0).abs() < 1e-14, "{f}");
+        // x̄ = ∫ x q₊ / ∫ q₊ = (∫₀^½ x(1−2x)(1−x) dx)/(5/24) = (1/32)/(5/24)... computed:
+        let xbar_num = 1.0 / 8.0 - 1.0 / 8.0 + 1.0 / 32.0; // ∫ x − 3x² + 2x³ over [0, ½]
+        assert!((m[1] / f - xbar_num / (5.0 / 24.0)).abs() < 1e-12);
+        // Energy: ∫ q₊² dA = ∫₀^½ (1−2x)²(1−x) dx = 7/48, stored energy half of it (Kn = 1).
+        let p = JointParams::coulomb(1.0, 1.0, 0.5, 0.0, 0.0);
+        let e = normal_energy(&p, q.map(|v| -v), 0.5);
+        assert!((e - 0.5 * 7.0 / 48.0).abs() < 1e-14, "{e}");
+        // Fully compressed: A/12 (Σq² + (Σq)²).
+        let e = normal_energy(&p, [-1.0, -2.0, -3.0], 0.5);
+        assert!((e - 0.5 * 0.5 / 12.0 * (14.0 + 36.0)).abs() < 1e-14);
     }
 
     #[test]
     fn cohesion_and_tension_are_lost_on_failure() {
         let p = JointParams::coulomb(1e8, 1e8, 30f64.to_radians(), 1e4, 1e4);
         let mut s = SubContactState::new(true);
-        let area = 0.01;
-        // Tension below strength: carried.
-        let f = evaluate(&p, &mut s, &Kinematics { normal: Vec3::z(), gap: 5e-7, du_shear: Vec3::zeros(), area });
-        assert!((f.z + 1e8 * area * 5e-7).abs() < 1e-9);
+        let k = |g: f64| Kinematics { normal: Vec3::z(), gaps: [g; 3], du_shear: Vec3::zeros(), area: 0.01 };
+        // Tension below strength (q = −5e3 Pa > −T): carried.
+        let f = evaluate(&p, Quadrature::Exact, &mut s, &k(5e-5)).force;
+        assert!((f.z + 1e8 * 0.01 * 5e-5).abs() < 1e-9);
         assert!(s.bonded);
         // Beyond strength: broken, zero force, and stays broken.
-        let f = evaluate(&p, &mut s, &Kinematics { normal: Vec3::z(), gap: 2e-4, du_shear: Vec3::zeros(), area });
-        assert_eq!(f, Vec3::zeros());
+        assert_eq!(evaluate(&p, Quadrature::Exact, &mut s, &k(2e-4)).force, Vec3::zeros());
         assert!(!s.bonded);
-        let f = evaluate(&p, &mut s, &Kinematics { normal: Vec3::z(), gap: 5e-7, du_shear: Vec3::zeros(), area });
-        assert_eq!(f, Vec3::zeros());
+        assert_eq!(evaluate(&p, Quadrature::Exact, &mut s, &k(5e-5)).force, Vec3::zeros());
     }
 
     #[test]
@@ -260,7 +442,7 @@ mod tests {
         let mut p = JointParams::coulomb(1e8, 1e8, 10f64.to_radians(), 0.0, 0.0);
         p.can_slip = false;
         let mut s = SubContactState::new(false);
-        let f = evaluate(&p, &mut s, &Kinematics { normal: Vec3::z(), gap: -1e-6, du_shear: Vec3::x() * 1e-3, area: 1.0 });
+        let f = evaluate(&p, Quadrature::Exact, &mut s, &Kinematics { normal: Vec3::z(), gaps: [-1e-6; 3], du_shear: Vec3::x() * 1e-3, area: 1.0 }).force;
         assert!((f.x + 1e8 * 1e-3).abs() < 1e-6);
         assert!(!s.slipping);
     }
