@@ -33,7 +33,8 @@ mod tests {
     fn finds_exactly_the_overlapping_pairs() {
         let b = |x: f64| Aabb { min: Vec3::new(x, 0.0, 0.0), max: Vec3::new(x + 1.0, 1.0, 1.0) };
         let boxes = vec![b(0.0), b(3.0), b(0.999), b(2.0)];
-        assert_eq!(sweep_pairs(&boxes, 0.0), vec![(0, 2), (1, 3), (2, 3)]);
-        assert_eq!(sweep_pairs(&boxes, 0.0005), vec![(0, 2), (1, 3), (2, 3)]);
+        // b(0.999) ends 1 mm short of b(2): apart without margin, paired with a 1 mm margin.
+        assert_eq!(sweep_pairs(&boxes, 0.0), vec![(0, 2), (1, 3)]);
+        assert_eq!(sweep_pairs(&boxes, 0.001), vec![(0, 2), (1, 3), (2, 3)]);
     }
 }

@@ -196,11 +196,11 @@ impl ConvexBlock {
         // Convexity of the input: every input vertex on the hull surface.
         for (i, v) in input.iter().enumerate() {
             let depth = block.signed_distance(v);
-            if depth < -1e-7 * size.max(1e-12) {
+            if depth > 1e-7 * size.max(1e-12) {
                 return Err(GeometryError::NotConvex {
                     index: i,
                     value: [v.x, v.y, v.z],
-                    depth_m: -depth,
+                    depth_m: depth,
                 });
             }
         }

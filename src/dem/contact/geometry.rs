@@ -279,7 +279,7 @@ fn build_patch(
     let tol2d = 1e-9;
     let ha = polygon::hull2d(&proj(fa), tol2d);
     let hb = polygon::hull2d(&proj(fb), tol2d);
-    let poly = polygon::intersect_convex(&ha, &hb, 1e-9);
+    let poly = polygon::intersect_convex(&ha, &hb, 1e-12);
     if poly.is_empty() {
         return None;
     }
@@ -393,7 +393,7 @@ mod tests {
         assert_eq!(p.kind, PatchKind::Face);
         assert!((p.normal - Vec3::z()).norm() < 1e-12);
         assert!(p.gap.abs() < 1e-12);
-        assert!((p.area - 0.15 * 0.1).abs() < 1e-12);
+        assert!((p.area - 0.15 * 0.1).abs() < 1e-12, "{p:?}");
         for q in &p.nodes {
             assert!((q.on_a.z - 0.05).abs() < 1e-12 && (q.on_b.z - 0.05).abs() < 1e-12);
         }
