@@ -338,10 +338,7 @@ impl MaterialSpec {
         }
         let c = check_non_negative(k("cohesion_pa"), self.cohesion_pa)?;
         let t = check_non_negative(k("tensile_strength_pa"), self.tensile_strength_pa)?;
-        Ok(Material {
-            density,
-            joint: JointParams::coulomb(kn, ks, deg_to_rad(phi), c, t),
-        })
+        Ok(Material { density, joint: JointParams::coulomb(kn, ks, deg_to_rad(phi), c, t) })
     }
 }
 
@@ -351,8 +348,7 @@ impl LayoutSpec {
     /// # Errors
     /// [`LayoutError::Io`] or [`LayoutError::Parse`] naming the file.
     pub fn from_file(path: &Path) -> Result<Self, LayoutError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| LayoutError::Io { path: path.to_owned(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| LayoutError::Io { path: path.to_owned(), source })?;
         Self::from_json(&text).map_err(|e| match e {
             LayoutError::Parse { message, .. } => LayoutError::Parse { path: path.to_owned(), message },
             other => other,
@@ -408,12 +404,12 @@ impl LayoutSpec {
             if ids.insert(b.id.clone(), i).is_some() {
                 return Err(invalid(format!("blocks[{}].id", b.id), &b.id, "duplicate block id"));
             }
-            let material = *by_name.get(&b.material).ok_or_else(|| {
-                invalid(format!("blocks[{}].material", b.id), &b.material, "no such material")
-            })?;
+            let material = *by_name
+                .get(&b.material)
+                .ok_or_else(|| invalid(format!("blocks[{}].material", b.id), &b.material, "no such material"))?;
             let verts: Vec<Vec3> = b.vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
-            let shape = ConvexBlock::from_vertices(&verts)
-                .map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
+            let shape =
+                ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
             blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed });
         }
         check_overlaps(&blocks)?;
@@ -422,19 +418,26 @@ impl LayoutSpec {
             let r = match (e.kind, e.stiffness_n_per_m) {
                 (EndRestraintKind::Rigid, None) => EndRestraint::Rigid,
                 (EndRestraintKind::Rigid, Some(s)) => {
-                    return Err(invalid(format!("restraints.ends[{k}].stiffness_n_per_m"), s, "a rigid restraint takes no stiffness"))
+                    return Err(invalid(
+                        format!("restraints.ends[{k}].stiffness_n_per_m"),
+                        s,
+                        "a rigid restraint takes no stiffness",
+                    ))
                 }
                 (EndRestraintKind::Spring, Some(s)) => {
                     EndRestraint::Spring(check_positive(format!("restraints.ends[{k}].stiffness_n_per_m"), s)?)
                 }
                 (EndRestraintKind::Spring, None) => {
-                    return Err(invalid(format!("restraints.ends[{k}].stiffness_n_per_m"), "missing", "a spring restraint needs a stiffness in N/m"))
+                    return Err(invalid(
+                        format!("restraints.ends[{k}].stiffness_n_per_m"),
+                        "missing",
+                        "a spring restraint needs a stiffness in N/m",
+                    ))
                 }
             };
             for id in &e.blocks {
-                let bi = *ids
-                    .get(id)
-                    .ok_or_else(|| invalid(format!("restraints.ends[{k}].blocks"), id, "no such block"))?;
+                let bi =
+                    *ids.get(id).ok_or_else(|| invalid(format!("restraints.ends[{k}].blocks"), id, "no such block"))?;
                 if end_restraints.iter().any(|(j, _)| *j == bi) {
                     return Err(invalid(format!("restraints.ends[{k}].blocks"), id, "block restrained twice"));
                 }

@@ -76,13 +76,23 @@ fn run() -> Result<ExitCode> {
             let l = Layout::from_file(&layout)?;
             let solver = SolverParams { damping, subcontact_subdivisions: subdivisions, ..SolverParams::default() };
             let params = TiltParams { step_deg, resolution_deg, tolerance, ..TiltParams::default() };
-            let r = run_tilt(&l, solver, &params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
+            let r =
+                run_tilt(&l, solver, &params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r)?);
             } else {
                 println!("layout            {}", layout.display());
-                println!("collapse angle    {:.2} deg (last stable), first unstable {}", r.collapse_angle_deg, r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg")));
-                println!("mechanism         {:?} at joint {} ({} blocks moving)", r.mechanism.kind, r.mechanism.joint, r.mechanism.blocks.len());
+                println!(
+                    "collapse angle    {:.2} deg (last stable), first unstable {}",
+                    r.collapse_angle_deg,
+                    r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
+                );
+                println!(
+                    "mechanism         {:?} at joint {} ({} blocks moving)",
+                    r.mechanism.kind,
+                    r.mechanism.joint,
+                    r.mechanism.blocks.len()
+                );
                 println!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
                 println!("out-of-plane displacement of the top points [cm]:");
                 println!("  alpha_deg  {}", r.monitors.join("  "));
@@ -98,14 +108,33 @@ fn run() -> Result<ExitCode> {
             if json {
                 println!("{}", serde_json::to_string_pretty(&rep)?);
             } else {
-                println!("{:<70} {:>9} {:>9} {:>8}  {:<4} {}", "case", "expected", "simulated", "error", "ok", "mechanism");
+                println!(
+                    "{:<70} {:>9} {:>9} {:>8}  {:<4} {}",
+                    "case", "expected", "simulated", "error", "ok", "mechanism"
+                );
                 for c in &rep.cases {
-                    println!("{:<70} {:>9.3} {:>9.3} {:>+8.3}  {:<4} {}", c.name, c.expected_deg, c.simulated_deg, c.error_deg, if c.ok { "ok" } else { "FAIL" }, c.detail);
+                    println!(
+                        "{:<70} {:>9.3} {:>9.3} {:>+8.3}  {:<4} {}",
+                        c.name,
+                        c.expected_deg,
+                        c.simulated_deg,
+                        c.error_deg,
+                        if c.ok { "ok" } else { "FAIL" },
+                        c.detail
+                    );
                 }
                 println!();
                 println!("{:<50} {:>14} {:>14} {:>10} {:<4}", "check", "expected", "simulated", "rel.err", "ok");
                 for c in &rep.checks {
-                    println!("{:<50} {:>14.6e} {:>14.6e} {:>10.2e} {:<4} [{}]", c.name, c.expected, c.simulated, c.relative_error, if c.ok { "ok" } else { "FAIL" }, c.unit);
+                    println!(
+                        "{:<50} {:>14.6e} {:>14.6e} {:>10.2e} {:<4} [{}]",
+                        c.name,
+                        c.expected,
+                        c.simulated,
+                        c.relative_error,
+                        if c.ok { "ok" } else { "FAIL" },
+                        c.unit
+                    );
                 }
             }
             Ok(if rep.all_ok() { ExitCode::SUCCESS } else { ExitCode::from(1) })
@@ -118,9 +147,15 @@ fn run() -> Result<ExitCode> {
             if json {
                 println!("{}", serde_json::to_string_pretty(&r)?);
             } else {
-                println!("cube16: {} bodies, {} contacts, {} sub-contacts, dt {:.3e} s", r.bodies, r.contacts, r.sub_contacts, r.dt_s);
+                println!(
+                    "cube16: {} bodies, {} contacts, {} sub-contacts, dt {:.3e} s",
+                    r.bodies, r.contacts, r.sub_contacts, r.dt_s
+                );
                 println!("  {} steps at {:.0} steps/s (one thread)", r.steps, r.steps_per_s);
-                println!("  equilibrium (unbalanced-force ratio < 1e-4) after {} steps, {:.3} s", r.steps_to_equilibrium, r.equilibrium_wall_time_s);
+                println!(
+                    "  equilibrium (unbalanced-force ratio < 1e-4) after {} steps, {:.3} s",
+                    r.steps_to_equilibrium, r.equilibrium_wall_time_s
+                );
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -5,8 +5,8 @@
 //! purpose. Realization `i` therefore draws the same numbers whether it runs alone, inside a
 //! batch, on any thread or any machine (rand's `examples/rayon-monte-carlo.rs` pattern).
 
-use rand_chacha::ChaCha8Rng;
 use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
 /// What a random stream is used for. Each purpose gets its own stream, so adding draws for
 /// one purpose never shifts the numbers of another.

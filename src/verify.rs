@@ -202,7 +202,13 @@ pub fn tilt_params() -> TiltParams {
 
 /// Block sliding on the table at α = φ (rigid limit). Returns the tilt result.
 pub fn sliding_block(phi_deg: f64) -> TiltResult {
-    let l = layout_of(vec![box_vertices([0.0, -0.15, 0.0], [0.3, 0.15, 0.1])], RIGID_KN, RIGID_KN / 2.0, phi_deg, BaseSliding::Free);
+    let l = layout_of(
+        vec![box_vertices([0.0, -0.15, 0.0], [0.3, 0.15, 0.1])],
+        RIGID_KN,
+        RIGID_KN / 2.0,
+        phi_deg,
+        BaseSliding::Free,
+    );
     run_tilt(&l, SolverParams::default(), &tilt_params()).expect("stands at α = 0")
 }
 
@@ -215,7 +221,15 @@ pub fn toppling_block(b: f64, h: f64) -> TiltResult {
 /// The 1:4 section (B 0.150, T 0.077, H 0.375 m) as one trapezoidal block, 0.3 m long.
 pub fn trapezoid_monolith() -> TiltResult {
     let (bb, tt, hh) = (0.150, 0.077, 0.375);
-    let blk = crate::geometry::ConvexBlock::trapezoidal_prism(0.0, 0.3, 0.0, hh, (-bb / 2.0, bb / 2.0), (-tt / 2.0, tt / 2.0)).expect("valid");
+    let blk = crate::geometry::ConvexBlock::trapezoidal_prism(
+        0.0,
+        0.3,
+        0.0,
+        hh,
+        (-bb / 2.0, bb / 2.0),
+        (-tt / 2.0, tt / 2.0),
+    )
+    .expect("valid");
     let verts = blk.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
     let l = layout_of(vec![verts], RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
     run_tilt(&l, SolverParams::default(), &tilt_params()).expect("stands at α = 0")
@@ -228,7 +242,8 @@ pub fn trapezoid_closed_form(bb: f64, tt: f64, hh: f64) -> f64 {
 
 /// `n` aligned blocks of width b and height h stacked on the table.
 pub fn aligned_stack(n: usize, b: f64, h: f64) -> TiltResult {
-    let blocks = (0..n).map(|k| box_vertices([0.0, -b / 2.0, k as f64 * h], [0.3, b / 2.0, (k + 1) as f64 * h])).collect();
+    let blocks =
+        (0..n).map(|k| box_vertices([0.0, -b / 2.0, k as f64 * h], [0.3, b / 2.0, (k + 1) as f64 * h])).collect();
     let l = layout_of(blocks, RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
     run_tilt(&l, SolverParams::default(), &tilt_params()).expect("stands at α = 0")
 }
@@ -309,7 +324,10 @@ pub fn weight_at_rest() -> (f64, f64) {
 /// leapfrog velocities does not enter the balance.
 pub fn bounce_energy() -> (f64, f64, f64) {
     let l = layout_of(vec![box_vertices([0.0, 0.0, 0.005], [0.2, 0.15, 0.105])], 1e8, 5e7, 30.0, BaseSliding::Free);
-    let mut sim = crate::dem::Simulation::new(&l, SolverParams { damping: 0.0, contact_margin_m: 0.01, ..SolverParams::default() });
+    let mut sim = crate::dem::Simulation::new(
+        &l,
+        SolverParams { damping: 0.0, contact_margin_m: 0.01, ..SolverParams::default() },
+    );
     sim.bodies[0].vel = -sim.gravity * (0.5 * sim.dt);
     let total = |s: &crate::dem::Simulation| {
         let (k, p, e) = s.energies();
@@ -340,23 +358,59 @@ pub fn run_all() -> Report {
     let tol = 0.3;
     for phi in [20.0, 30.0] {
         let r = sliding_block(phi);
-        cases.push(case(&format!("block slides at phi = {phi} deg"), phi, &r, tol, Some((MechanismKind::Sliding, "table/b0"))));
+        cases.push(case(
+            &format!("block slides at phi = {phi} deg"),
+            phi,
+            &r,
+            tol,
+            Some((MechanismKind::Sliding, "table/b0")),
+        ));
     }
     for (b, h) in [(0.1125, 0.375), (0.15, 0.3)] {
         let r = toppling_block(b, h);
-        cases.push(case(&format!("block {b} x {h} m topples at atan(b/h)"), rad_to_deg((b / h).atan()), &r, tol, Some((MechanismKind::Toppling, "table/b0"))));
+        cases.push(case(
+            &format!("block {b} x {h} m topples at atan(b/h)"),
+            rad_to_deg((b / h).atan()),
+            &r,
+            tol,
+            Some((MechanismKind::Toppling, "table/b0")),
+        ));
     }
     let r = trapezoid_monolith();
-    cases.push(case("trapezoid monolith of the 1:4 section", rad_to_deg(trapezoid_closed_form(0.150, 0.077, 0.375)), &r, tol, Some((MechanismKind::Toppling, "table/b0"))));
+    cases.push(case(
+        "trapezoid monolith of the 1:4 section",
+        rad_to_deg(trapezoid_closed_form(0.150, 0.077, 0.375)),
+        &r,
+        tol,
+        Some((MechanismKind::Toppling, "table/b0")),
+    ));
     let r = aligned_stack(5, 0.15, 0.075);
-    cases.push(case("stack of 5 aligned blocks (base joint)", rad_to_deg((0.15f64 / 0.375).atan()), &r, tol, Some((MechanismKind::Toppling, "table/b0"))));
+    cases.push(case(
+        "stack of 5 aligned blocks (base joint)",
+        rad_to_deg((0.15f64 / 0.375).atan()),
+        &r,
+        tol,
+        Some((MechanismKind::Toppling, "table/b0")),
+    ));
     let (b, h) = (0.15, 0.15);
     let e = 0.2 * b;
     let r = offset_stack(b, h, e);
-    cases.push(case("offset stack e = 0.2 b < b/3 (base joint)", rad_to_deg(((b - e) / (2.0 * h)).atan()), &r, tol, Some((MechanismKind::Toppling, "table/b0"))));
+    cases.push(case(
+        "offset stack e = 0.2 b < b/3 (base joint)",
+        rad_to_deg(((b - e) / (2.0 * h)).atan()),
+        &r,
+        tol,
+        Some((MechanismKind::Toppling, "table/b0")),
+    ));
     let e = 0.4 * b;
     let r = offset_stack(b, h, e);
-    cases.push(case("offset stack e = 0.4 b > b/3 (interface joint)", rad_to_deg(((b - 2.0 * e) / h).atan()), &r, tol, Some((MechanismKind::Toppling, "b0/b1"))));
+    cases.push(case(
+        "offset stack e = 0.4 b > b/3 (interface joint)",
+        rad_to_deg(((b - 2.0 * e) / h).atan()),
+        &r,
+        tol,
+        Some((MechanismKind::Toppling, "b0/b1")),
+    ));
     // Sliding after onset, as the friction angle implied by the measured acceleration.
     let (alpha, phi) = (30.0, 20.0);
     let a = slide_acceleration(alpha, phi);
@@ -377,7 +431,13 @@ pub fn run_all() -> Report {
     for kn in [5e7, 1e9, 1e11] {
         let exp = rad_to_deg(winkler_collapse_angle(b, h, DENSITY, crate::units::STANDARD_GRAVITY, kn));
         let r = winkler_block(b, h, kn, SolverParams::default().subcontact_subdivisions);
-        cases.push(case(&format!("block {b} x {h} m on a Winkler joint, Kn = {kn:.0e} Pa/m"), exp, &r, tol, Some((MechanismKind::Toppling, "table/b0"))));
+        cases.push(case(
+            &format!("block {b} x {h} m on a Winkler joint, Kn = {kn:.0e} Pa/m"),
+            exp,
+            &r,
+            tol,
+            Some((MechanismKind::Toppling, "table/b0")),
+        ));
     }
     let mut checks = Vec::new();
     let (sim, exp) = free_fall();
@@ -391,5 +451,13 @@ pub fn run_all() -> Report {
 
 fn check(name: &str, expected: f64, simulated: f64, scale: f64, tolerance: f64, unit: &str) -> Check {
     let relative_error = ((simulated - expected) / scale).abs();
-    Check { name: name.into(), expected, simulated, relative_error, tolerance, unit: unit.into(), ok: relative_error <= tolerance }
+    Check {
+        name: name.into(),
+        expected,
+        simulated,
+        relative_error,
+        tolerance,
+        unit: unit.into(),
+        ok: relative_error <= tolerance,
+    }
 }

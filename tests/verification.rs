@@ -12,7 +12,13 @@ const TOL_DEG: f64 = 0.3;
 
 fn assert_angle(r: &TiltResult, expected_deg: f64, kind: MechanismKind, joint: &str) {
     let err = r.collapse_angle_deg - expected_deg;
-    assert!(err.abs() <= TOL_DEG, "collapse {:.3}° vs closed form {:.3}° (error {:+.3}°)", r.collapse_angle_deg, expected_deg, err);
+    assert!(
+        err.abs() <= TOL_DEG,
+        "collapse {:.3}° vs closed form {:.3}° (error {:+.3}°)",
+        r.collapse_angle_deg,
+        expected_deg,
+        err
+    );
     assert_eq!(r.mechanism.kind, kind, "{:?}", r.mechanism);
     assert_eq!(r.mechanism.joint, joint, "{:?}", r.mechanism);
     // The bracket is resolved to the stated resolution.

@@ -109,9 +109,21 @@ impl SolverParams {
             ("timestep_safety", self.timestep_safety, self.timestep_safety > 0.0 && self.timestep_safety <= 1.0),
             ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0),
             ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0),
-            ("face_angle_tolerance_deg", self.face_angle_tolerance_deg, self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0),
-            ("degenerate_width_fraction", self.degenerate_width_fraction, self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0),
-            ("redetect_fraction", self.redetect_fraction, self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0),
+            (
+                "face_angle_tolerance_deg",
+                self.face_angle_tolerance_deg,
+                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
+            ),
+            (
+                "degenerate_width_fraction",
+                self.degenerate_width_fraction,
+                self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0,
+            ),
+            (
+                "redetect_fraction",
+                self.redetect_fraction,
+                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
+            ),
         ];
         for (k, v, ok) in checks {
             if !ok || !v.is_finite() {
@@ -479,7 +491,12 @@ impl Simulation {
                 let xc = (x0 + x1 + x2) / 3.0;
                 let vrel = vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa));
                 let du = (vrel - n * n.dot(&vrel)) * dt;
-                let out = law::evaluate(&c.joint, quad, &mut s.state, &Kinematics { normal: n, gaps, du_shear: du, area: s.area });
+                let out = law::evaluate(
+                    &c.joint,
+                    quad,
+                    &mut s.state,
+                    &Kinematics { normal: n, gaps, du_shear: du, area: s.area },
+                );
                 let f = out.force;
                 let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
                 fsum += f;
@@ -529,7 +546,10 @@ impl Simulation {
         for (k, b) in self.bodies.iter_mut().enumerate() {
             let y = if b.restraint_rigid(&self.restraint[k]) { YConstraint::Held } else { YConstraint::Free };
             advance(b, self.force[k], self.torque[k], dt, damping, y);
-            if !(b.pos.iter().all(|v| v.is_finite()) && b.angvel.iter().all(|v| v.is_finite()) && b.vel.iter().all(|v| v.is_finite())) {
+            if !(b.pos.iter().all(|v| v.is_finite())
+                && b.angvel.iter().all(|v| v.is_finite())
+                && b.vel.iter().all(|v| v.is_finite()))
+            {
                 return Err(DemError::NonFinite { id: b.id.clone(), step: self.steps, dt_s: dt });
             }
             ke += 0.5 * b.mass * b.vel.norm_squared();
@@ -574,7 +594,8 @@ impl Simulation {
             .iter()
             .flat_map(|c| {
                 c.subs.iter().map(move |s| {
-                    law::normal_energy(&c.joint, self.sub_gaps(c, s), s.area) + law::shear_energy(&c.joint, &s.state, s.area)
+                    law::normal_energy(&c.joint, self.sub_gaps(c, s), s.area)
+                        + law::shear_energy(&c.joint, &s.state, s.area)
                 })
             })
             .sum();

@@ -22,7 +22,12 @@ pub struct StepStats {
 
 impl StepStats {
     /// Builds the statistics from the step's sums.
-    pub fn new(mean_unbalanced_force: f64, mean_contact_force: f64, kinetic_energy: f64, active_contacts: usize) -> Self {
+    pub fn new(
+        mean_unbalanced_force: f64,
+        mean_contact_force: f64,
+        kinetic_energy: f64,
+        active_contacts: usize,
+    ) -> Self {
         let unbalanced_ratio = if mean_contact_force > 0.0 {
             mean_unbalanced_force / mean_contact_force
         } else if mean_unbalanced_force > 0.0 {

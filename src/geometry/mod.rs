@@ -105,9 +105,7 @@ impl Aabb {
 
     /// True if the boxes, each grown by `margin` (m) on every side, overlap.
     pub fn overlaps(&self, other: &Aabb, margin: f64) -> bool {
-        (0..3).all(|k| {
-            self.min[k] - margin <= other.max[k] && other.min[k] - margin <= self.max[k]
-        })
+        (0..3).all(|k| self.min[k] - margin <= other.max[k] && other.min[k] - margin <= self.max[k])
     }
 
     /// Edge lengths, m.
@@ -166,8 +164,8 @@ impl ConvexBlock {
             return Err(GeometryError::Degenerate { count: input.len() });
         }
         let pts: Vec<PVec> = input.iter().map(to_p).collect();
-        let (hv, tris) = parry3d_f64::transformation::try_convex_hull(&pts)
-            .map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
+        let (hv, tris) =
+            parry3d_f64::transformation::try_convex_hull(&pts).map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
         if tris.len() < 4 {
             return Err(GeometryError::Degenerate { count: input.len() });
         }
@@ -197,11 +195,7 @@ impl ConvexBlock {
         for (i, v) in input.iter().enumerate() {
             let depth = block.signed_distance(v);
             if depth > 1e-7 * size.max(1e-12) {
-                return Err(GeometryError::NotConvex {
-                    index: i,
-                    value: [v.x, v.y, v.z],
-                    depth_m: depth,
-                });
+                return Err(GeometryError::NotConvex { index: i, value: [v.x, v.y, v.z], depth_m: depth });
             }
         }
         Ok(block)
@@ -272,10 +266,7 @@ impl ConvexBlock {
     /// `offset − normal · p` (m). Positive inside, zero on the surface, negative outside
     /// (outside it is a lower bound of the true distance's magnitude).
     pub fn signed_distance(&self, p: &Vec3) -> f64 {
-        self.faces
-            .iter()
-            .map(|f| f.offset - f.normal.dot(p))
-            .fold(f64::INFINITY, f64::min)
+        self.faces.iter().map(|f| f.offset - f.normal.dot(p)).fold(f64::INFINITY, f64::min)
     }
 
     /// Mass properties for a homogeneous density (kg/m³), by decomposition into tetrahedra
@@ -297,8 +288,7 @@ impl ConvexBlock {
                 first += v * (p0 + p1 + p2) / 4.0;
                 // ∫ x xᵀ over tetra (0,p0,p1,p2) = v/20 (Σ pi piᵀ + (Σ pi)(Σ pi)ᵀ)
                 let s = p0 + p1 + p2;
-                let c = p0 * p0.transpose() + p1 * p1.transpose() + p2 * p2.transpose()
-                    + s * s.transpose();
+                let c = p0 * p0.transpose() + p1 * p1.transpose() + p2 * p2.transpose() + s * s.transpose();
                 second += c * (v / 20.0);
             }
         }
@@ -306,12 +296,7 @@ impl ConvexBlock {
         // Shift the second moment to the centroid.
         let second_c = second - centroid_rel * centroid_rel.transpose() * vol;
         let inertia = (Matrix3::identity() * second_c.trace() - second_c) * density;
-        MassProperties {
-            volume: vol,
-            mass: vol * density,
-            centroid: o + centroid_rel,
-            inertia,
-        }
+        MassProperties { volume: vol, mass: vol * density, centroid: o + centroid_rel, inertia }
     }
 
     /// Volume, m³.
@@ -344,18 +329,13 @@ impl ConvexBlock {
 fn spans_volume(pts: &[Vec3], size: f64) -> bool {
     // Farthest pair, then the point farthest from that line, then from that plane.
     let p0 = pts[0];
-    let p1 = *pts
-        .iter()
-        .max_by(|a, b| (*a - p0).norm().total_cmp(&(*b - p0).norm()))
-        .unwrap_or(&p0);
+    let p1 = *pts.iter().max_by(|a, b| (*a - p0).norm().total_cmp(&(*b - p0).norm())).unwrap_or(&p0);
     let d = p1 - p0;
     if d.norm() <= 1e-9 * size {
         return false;
     }
-    let p2 = *pts
-        .iter()
-        .max_by(|a, b| d.cross(&(*a - p0)).norm().total_cmp(&d.cross(&(*b - p0)).norm()))
-        .unwrap_or(&p0);
+    let p2 =
+        *pts.iter().max_by(|a, b| d.cross(&(*a - p0)).norm().total_cmp(&d.cross(&(*b - p0)).norm())).unwrap_or(&p0);
     let n = d.cross(&(p2 - p0));
     if n.norm() <= 1e-9 * size * size {
         return false;
@@ -380,9 +360,9 @@ fn merge_coplanar(v: &[Vec3], tris: &[[u32; 3]], tol: f64) -> Result<Vec<Face>, 
             n = -n;
         }
         let off = n.dot(&a);
-        if let Some(f) = faces.iter_mut().find(|(fn_, fo, _)| {
-            fn_.dot(&n) > 1.0 - 1e-9 && (fo - off).abs() <= tol.max(1e-12) * 10.0
-        }) {
+        if let Some(f) =
+            faces.iter_mut().find(|(fn_, fo, _)| fn_.dot(&n) > 1.0 - 1e-9 && (fo - off).abs() <= tol.max(1e-12) * 10.0)
+        {
             for &i in t {
                 if !f.2.contains(&(i as usize)) {
                     f.2.push(i as usize);

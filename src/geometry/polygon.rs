@@ -8,7 +8,13 @@ use crate::Vec3;
 /// An orthonormal basis (u, v) of the plane with unit normal `n`, such that (u, v, n) is
 /// right-handed. Deterministic: depends on `n` only.
 pub fn plane_basis(n: &Vec3) -> (Vec3, Vec3) {
-    let a = if n.x.abs() < 0.6 { Vec3::x() } else if n.y.abs() < 0.6 { Vec3::y() } else { Vec3::z() };
+    let a = if n.x.abs() < 0.6 {
+        Vec3::x()
+    } else if n.y.abs() < 0.6 {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
     let u = (a - n * n.dot(&a)).normalize();
     let v = n.cross(&u);
     (u, v)
@@ -227,10 +233,7 @@ pub fn closest_points_segments(p0: [f64; 2], p1: [f64; 2], q0: [f64; 2], q1: [f6
             t = t0;
         }
     }
-    (
-        [p0[0] + d1[0] * s, p0[1] + d1[1] * s],
-        [q0[0] + d2[0] * t, q0[1] + d2[1] * t],
-    )
+    ([p0[0] + d1[0] * s, p0[1] + d1[1] * s], [q0[0] + d2[0] * t, q0[1] + d2[1] * t])
 }
 
 #[cfg(test)]

@@ -67,7 +67,11 @@ impl TiltParams {
             ("resolution_deg", self.resolution_deg, self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg),
             ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0),
             ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0),
-            ("collapse_displacement_fraction", self.collapse_displacement_fraction, self.collapse_displacement_fraction > 0.0),
+            (
+                "collapse_displacement_fraction",
+                self.collapse_displacement_fraction,
+                self.collapse_displacement_fraction > 0.0,
+            ),
             ("collapse_increment_fraction", self.collapse_increment_fraction, self.collapse_increment_fraction > 0.0),
         ];
         for (k, v, ok) in c {
@@ -219,11 +223,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn displacements(&self, sim: &Simulation) -> Vec<f64> {
-        self.monitors
-            .iter()
-            .zip(&self.reference)
-            .map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y)
-            .collect()
+        self.monitors.iter().zip(&self.reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
     }
 
     fn run_stage(&self, sim: &mut Simulation) -> Result<(Stage, u64), DemError> {
@@ -265,7 +265,9 @@ pub enum TiltError {
     #[error(transparent)]
     Dem(#[from] DemError),
     /// The layout does not stand under gravity alone.
-    #[error("no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand")]
+    #[error(
+        "no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand"
+    )]
     NoInitialEquilibrium {
         /// Steps tried.
         steps: u64,
@@ -298,7 +300,10 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     sim.set_tilt(0.0);
     let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width };
     if !sim.run_to_equilibrium(params.tolerance, params.max_steps_per_increment)? {
-        return Err(TiltError::NoInitialEquilibrium { steps: params.max_steps_per_increment, ratio: sim.stats.unbalanced_ratio });
+        return Err(TiltError::NoInitialEquilibrium {
+            steps: params.max_steps_per_increment,
+            ratio: sim.stats.unbalanced_ratio,
+        });
     }
     ctx.reference = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {
@@ -408,9 +413,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         .bodies
         .iter()
         .zip(&failed.bodies)
-        .map(|(s, f)| {
-            (f.pos - s.pos).norm() + (f.rot * s.rot.inverse()).angle() * s.radius
-        })
+        .map(|(s, f)| (f.pos - s.pos).norm() + (f.rot * s.rot.inverse()).angle() * s.radius)
         .collect();
     let max = moved.iter().cloned().fold(0.0, f64::max);
     let moving: Vec<bool> = moved.iter().map(|&d| max > 0.0 && d > 0.25 * max).collect();

@@ -56,7 +56,8 @@ pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
     let size = a.aabb().extent().norm().max(b.aabb().extent().norm());
     let tie = 1e-9 * size;
     let min_along = |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min);
-    let max_along = |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
+    let max_along =
+        |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
     let mut best = Separation { distance: f64::NEG_INFINITY, normal: Vec3::z(), axis: Axis::FaceA(0) };
     for (k, f) in a.faces.iter().enumerate() {
         let d = min_along(b, &f.normal) - f.offset;
@@ -184,10 +185,8 @@ fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSetting
         if al < cos_tol {
             continue;
         }
-        let touches = f
-            .vertices
-            .iter()
-            .any(|&i| (outward_sign * (h - n.dot(&blk.vertices[i]))).abs() <= s.feature_tolerance);
+        let touches =
+            f.vertices.iter().any(|&i| (outward_sign * (h - n.dot(&blk.vertices[i]))).abs() <= s.feature_tolerance);
         if touches && best.is_none_or(|(b, _)| al > b) {
             best = Some((al, k));
         }
@@ -195,11 +194,7 @@ fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSetting
     if let Some((_, k)) = best {
         return blk.faces[k].vertices.iter().map(|&i| blk.vertices[i]).collect();
     }
-    blk.vertices
-        .iter()
-        .filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance)
-        .copied()
-        .collect()
+    blk.vertices.iter().filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance).copied().collect()
 }
 
 fn min_edge(blk: &ConvexBlock) -> f64 {
@@ -314,7 +309,10 @@ fn build_patch(
         (PatchKind::Edge, rect)
     } else {
         let (c, h) = (poly[0], 0.5 * width);
-        (PatchKind::Vertex, vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]])
+        (
+            PatchKind::Vertex,
+            vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]],
+        )
     };
     let (pts, triangles) = subdivide_polygon(&shape, m);
     let nodes: Vec<NodePoint> = pts

@@ -244,11 +244,8 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
         s.slipping = false;
         return NO_FORCE;
     }
-    let at = if fnorm.abs() > 0.0 {
-        [moments[0] / fnorm, moments[1] / fnorm, moments[2] / fnorm]
-    } else {
-        [1.0 / 3.0; 3]
-    };
+    let at =
+        if fnorm.abs() > 0.0 { [moments[0] / fnorm, moments[1] / fnorm, moments[2] / fnorm] } else { [1.0 / 3.0; 3] };
     // Rotate the stored shear force into the current plane, keeping its magnitude.
     let old = s.shear;
     let old_mag2 = old.norm_squared();
@@ -361,7 +358,8 @@ mod tests {
     use super::*;
 
     fn force(p: &JointParams, s: &mut SubContactState, gap: f64, du: Vec3) -> Vec3 {
-        evaluate(p, Quadrature::Exact, s, &Kinematics { normal: Vec3::z(), gaps: [gap; 3], du_shear: du, area: 0.01 }).force
+        evaluate(p, Quadrature::Exact, s, &Kinematics { normal: Vec3::z(), gaps: [gap; 3], du_shear: du, area: 0.01 })
+            .force
     }
 
     /// One contract every closure law must meet (statrs `check_continuous_distribution`
@@ -397,7 +395,12 @@ mod tests {
     fn elastic_forces_match_kn_a_un_and_ks_a_du() {
         let p = JointParams::coulomb(5e7, 2.5e7, 35f64.to_radians(), 0.0, 0.0);
         let mut s = SubContactState::new(false);
-        let f = evaluate(&p, Quadrature::Exact, &mut s, &Kinematics { normal: Vec3::z(), gaps: [-1e-3; 3], du_shear: Vec3::y() * 1e-6, area: 0.02 });
+        let f = evaluate(
+            &p,
+            Quadrature::Exact,
+            &mut s,
+            &Kinematics { normal: Vec3::z(), gaps: [-1e-3; 3], du_shear: Vec3::y() * 1e-6, area: 0.02 },
+        );
         assert!((f.force.z - 5e7 * 0.02 * 1e-3).abs() < 1e-9);
         assert!((f.force.y + 2.5e7 * 0.02 * 1e-6).abs() < 1e-12);
     }
@@ -442,7 +445,13 @@ mod tests {
         let mut p = JointParams::coulomb(1e8, 1e8, 10f64.to_radians(), 0.0, 0.0);
         p.can_slip = false;
         let mut s = SubContactState::new(false);
-        let f = evaluate(&p, Quadrature::Exact, &mut s, &Kinematics { normal: Vec3::z(), gaps: [-1e-6; 3], du_shear: Vec3::x() * 1e-3, area: 1.0 }).force;
+        let f = evaluate(
+            &p,
+            Quadrature::Exact,
+            &mut s,
+            &Kinematics { normal: Vec3::z(), gaps: [-1e-6; 3], du_shear: Vec3::x() * 1e-3, area: 1.0 },
+        )
+        .force;
         assert!((f.x + 1e8 * 1e-3).abs() < 1e-6);
         assert!(!s.slipping);
     }
