@@ -484,7 +484,7 @@ impl Simulation {
             for s in &mut c.subs {
                 let [i0, i1, i2] = s.nodes.map(|k| k as usize);
                 let gaps = [self.scratch_gap[i0], self.scratch_gap[i1], self.scratch_gap[i2]];
-                if gaps[0] > 0.0 && gaps[1] > 0.0 && gaps[2] > 0.0 && !s.state.bonded && s.state.normal == 0.0 {
+                if gaps[0] >= 0.0 && gaps[1] >= 0.0 && gaps[2] >= 0.0 && !s.state.bonded && s.state.normal == 0.0 {
                     continue; // open everywhere, no history: no force
                 }
                 let (x0, x1, x2) = (self.scratch_x[i0], self.scratch_x[i1], self.scratch_x[i2]);
