@@ -12,6 +12,9 @@ pub enum Error {
     /// Bad geometry.
     #[error(transparent)]
     Geometry(#[from] crate::geometry::GeometryError),
+    /// Bad wall description or distribution, or an infeasible realization.
+    #[error(transparent)]
+    Generator(#[from] crate::generator::GeneratorError),
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] crate::dem::DemError),

@@ -39,10 +39,15 @@
 pub mod benchmark;
 pub mod dem;
 pub mod error;
+pub mod ensemble;
+pub mod generator;
 pub mod geometry;
+pub mod io;
 pub mod layout;
 pub mod loading;
 pub mod rng;
+pub mod stats;
+pub mod study;
 pub mod units;
 pub mod verify;
 

@@ -40,11 +40,54 @@ enum Command {
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
         tolerance: f64,
     },
+    /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
+    Run {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Output directory. Default: out/<study name>.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads. Default: all cores.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Run only shard K of N (1-based, e.g. 3/8 for a job array); merge with `drystone merge`.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Realizations per group and sweep point, overriding the study file.
+        #[arg(long)]
+        realizations: Option<u64>,
+    },
+    /// Merges shard directories of one study run into what an unsharded run writes.
+    Merge {
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Shard directories.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+    },
     /// Closed-form verification cases; exit status 1 if any is out of tolerance.
     Verify {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+    },
+    /// Generates a wall layout from a wall description (TOML), a seed and a realization index.
+    Generate {
+        /// Wall description, e.g. studies/walls/sbl.toml.
+        wall: PathBuf,
+        /// Master seed.
+        #[arg(long)]
+        seed: u64,
+        /// Realization index.
+        #[arg(long, default_value_t = 0)]
+        realization: u64,
+        /// Output file, format by extension: .json (layout for `drystone tilt`), .vtk (ParaView), .svg (drawing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Directory of named distributions [default: the nearest `distributions/` at or above the wall file].
+        #[arg(long)]
+        distributions: Option<PathBuf>,
     },
     /// Benchmarks.
     Bench {
@@ -103,6 +146,53 @@ fn run() -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
+        Command::Run { study, out, threads, shard, realizations } => {
+            let mut st = drystone::study::Study::from_file(&study)?;
+            if let Some(n) = realizations {
+                if n == 0 {
+                    bail!("--realizations must be at least 1");
+                }
+                st.realizations = n;
+            }
+            let shard = match shard {
+                Some(s) => drystone::ensemble::Shard::parse(&s).map_err(anyhow::Error::msg)?,
+                None => drystone::ensemble::Shard::ALL,
+            };
+            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
+            let t0 = std::time::Instant::now();
+            let rows = pool.install(|| drystone::study::run::run_study(&st, shard));
+            let elapsed = t0.elapsed().as_secs_f64();
+            let text = drystone::study::run::write_outputs(&st, &study, shard, &rows, &dir)?;
+            let failed = rows.iter().filter(|r| !r.status.is_ok()).count();
+            println!(
+                "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
+                st.name,
+                rows.len(),
+                failed,
+                pool.current_num_threads(),
+                elapsed,
+                dir.display()
+            );
+            if let Some(t) = text {
+                println!("{t}");
+                println!("report: {}", dir.join("report.md").display());
+            } else {
+                println!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Merge { out, shards } => {
+            let (manifest, rows) = drystone::study::run::read_shards(&shards)?;
+            let mut st = drystone::study::Study::from_file(&manifest.study)?;
+            st.realizations = manifest.realizations;
+            let text = drystone::study::run::write_outputs(&st, &manifest.study, drystone::ensemble::Shard::ALL, &rows, &out)?;
+            println!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
+            if let Some(t) = text {
+                println!("{t}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Verify { json } => {
             let rep = drystone::verify::run_all();
             if json {
@@ -138,6 +228,27 @@ fn run() -> Result<ExitCode> {
                 }
             }
             Ok(if rep.all_ok() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+        }
+        Command::Generate { wall, seed, realization, out, distributions } => {
+            use drystone::generator::{generate, DistributionSource, OutputFormat, Wall};
+            let Some(format) = OutputFormat::from_path(&out) else {
+                bail!("--out {}: unknown extension; use .json, .vtk or .svg", out.display());
+            };
+            let source = distributions.map_or_else(|| DistributionSource::default_for(&wall), DistributionSource::dir);
+            let w = Wall::from_file_with(&wall, &source)?;
+            let t0 = std::time::Instant::now();
+            let g = generate(&w, seed, realization)?;
+            let dt = t0.elapsed().as_secs_f64();
+            g.check()?;
+            std::fs::write(&out, g.render(&w, format)?).with_context(|| format!("writing {}", out.display()))?;
+            let (stones, wedges) = g.counts();
+            println!("wall              {} ({})", w.name, wall.display());
+            println!("seed, realization {seed}, {realization}");
+            println!("blocks            {} ({stones} stones, {wedges} wedges) in {} courses", stones + wedges, g.course_tops_m.len());
+            println!("volume            {:.6} m3 of {:.6} m3 (void {:.3} %, stated {:.3} %)", g.volume(), g.envelope_volume_m3, 100.0 * g.void_fraction(), 100.0 * g.stated_void_fraction);
+            println!("generated in      {:.2} ms", dt * 1e3);
+            println!("wrote             {}", out.display());
+            Ok(ExitCode::SUCCESS)
         }
         Command::Bench { case, steps, json } => {
             if case != "cube16" {

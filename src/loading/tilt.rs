@@ -41,7 +41,7 @@ pub struct TiltParams {
     /// since α = 0 \[0.5\].
     pub collapse_displacement_fraction: f64,
     /// Collapse when, within one increment, a block moves (centroid motion plus rotation
-    /// times its radius) more than this fraction of the wall width \[0.1\].
+    /// times its radius) more than this fraction of the wall width \[0.05\].
     pub collapse_increment_fraction: f64,
 }
 
@@ -54,7 +54,7 @@ impl Default for TiltParams {
             tolerance: 1e-4,
             max_steps_per_increment: 400_000,
             collapse_displacement_fraction: 0.5,
-            collapse_increment_fraction: 0.1,
+            collapse_increment_fraction: 0.05,
         }
     }
 }
@@ -167,6 +167,8 @@ pub struct TiltResult {
     pub wall_time_s: f64,
     /// Wall width used by the collapse criteria, m.
     pub wall_width_m: f64,
+    /// Contact detections (broad + narrow phase over the model) in the accepted path.
+    pub detections: u64,
 }
 
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
@@ -360,6 +362,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             dt_s,
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
+            detections: sim.detections,
         });
     };
     // Bisection of the bracket from the last stable state.
@@ -403,6 +406,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         dt_s: failed.dt.min(dt_s),
         wall_time_s: t0.elapsed().as_secs_f64(),
         wall_width_m: width,
+        detections: failed.detections,
     })
 }
 

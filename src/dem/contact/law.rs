@@ -156,7 +156,7 @@ pub const NO_FORCE: SubContactForce = SubContactForce { force: Vec3::new(0.0, 0.
 
 /// ∫ q λᵢ dA over a triangle with linear q (nodal values `q`), area `area`:
 /// `A/12 (qᵢ + Σq)` for each barycentric coordinate λᵢ.
-#[inline]
+#[inline(always)]
 fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
     let s = q[0] + q[1] + q[2];
     [area / 12.0 * (q[0] + s), area / 12.0 * (q[1] + s), area / 12.0 * (q[2] + s)]
@@ -164,6 +164,7 @@ fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
 
 /// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
 /// the compressed part (a triangle or a quadrilateral) integrated exactly.
+#[inline]
 pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
     let pos = q.iter().filter(|&&v| v > 0.0).count();
     match pos {

@@ -1,0 +1,140 @@
+//! Ensembles: the work items of a study (group × sweep point × realization), run in
+//! parallel with rayon, sharded across machines, merged back.
+//!
+//! # Determinism
+//!
+//! Every item is a pure function of the study and its index: its layout is drawn from
+//! `rng_for(seed, realization, Purpose::Layout)` (the same realization index at every sweep
+//! point and in every group — common random numbers), and its simulation is serial. Items
+//! are collected in index order (rayon's indexed `collect`), and every reduction over them
+//! is serial and ordered. Hence: the same rows bit for bit on 1 or N threads, realization i
+//! the same alone or inside the ensemble, and shards that merge into exactly the unsharded
+//! run.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::io::IsTerminal;
+
+/// One unit of work.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Item {
+    /// Global index in the study (group-major, then sweep point, then realization).
+    pub index: usize,
+    /// Group index.
+    pub group: usize,
+    /// Sweep point index.
+    pub point: usize,
+    /// Realization index (the RNG stream of the layout).
+    pub realization: u64,
+}
+
+/// All items of a study, in index order.
+pub fn items(groups: usize, points: usize, realizations: u64) -> Vec<Item> {
+    let mut v = Vec::with_capacity(groups * points * realizations as usize);
+    for g in 0..groups {
+        for p in 0..points {
+            for r in 0..realizations {
+                v.push(Item { index: v.len(), group: g, point: p, realization: r });
+            }
+        }
+    }
+    v
+}
+
+/// A shard `k` of `n` (0-based `k < n`): the items whose index ≡ k (mod n). Round-robin
+/// balances groups whose cost differs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// This shard, 0-based.
+    pub k: usize,
+    /// Number of shards.
+    pub n: usize,
+}
+
+impl Shard {
+    /// The whole study.
+    pub const ALL: Shard = Shard { k: 0, n: 1 };
+
+    /// Parses `K/N` with 1 ≤ K ≤ N (1-based on the command line, as a Slurm array index
+    /// plus one).
+    ///
+    /// # Errors
+    /// A message naming the bad text.
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let (k, n) = text.split_once('/').ok_or_else(|| format!("shard {text:?}: expected K/N, e.g. 1/4"))?;
+        let k: usize = k.trim().parse().map_err(|_| format!("shard {text:?}: K is not a number"))?;
+        let n: usize = n.trim().parse().map_err(|_| format!("shard {text:?}: N is not a number"))?;
+        if n == 0 || k == 0 || k > n {
+            return Err(format!("shard {text:?}: need 1 <= K <= N"));
+        }
+        Ok(Shard { k: k - 1, n })
+    }
+
+    /// Keeps this shard's items.
+    pub fn select(&self, items: &[Item]) -> Vec<Item> {
+        items.iter().filter(|it| it.index % self.n == self.k).copied().collect()
+    }
+}
+
+/// Runs `f` on every item in parallel (rayon, on the current pool) and returns the results
+/// in item order. Shows a progress bar on a terminal (stderr), nothing otherwise.
+pub fn run<R: Send, F: Fn(&Item) -> R + Sync + Send>(items: &[Item], label: &str, f: F) -> Vec<R> {
+    let bar = if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(items.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b.set_message(label.to_string());
+        Some(b)
+    } else {
+        None
+    };
+    let out: Vec<R> = items
+        .par_iter()
+        .map(|it| {
+            let r = f(it);
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            r
+        })
+        .collect();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_items() {
+        let all = items(3, 2, 5);
+        assert_eq!(all.len(), 30);
+        let mut seen: Vec<usize> = Vec::new();
+        for k in 1..=4 {
+            let s = Shard::parse(&format!("{k}/4")).unwrap();
+            seen.extend(s.select(&all).iter().map(|i| i.index));
+        }
+        seen.sort();
+        assert_eq!(seen, (0..30).collect::<Vec<_>>());
+        assert!(Shard::parse("0/4").is_err());
+        assert!(Shard::parse("5/4").is_err());
+        assert!(Shard::parse("x").is_err());
+    }
+
+    #[test]
+    fn results_come_back_in_item_order_on_any_pool() {
+        let all = items(2, 3, 7);
+        for threads in [1, 2, 4] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let out = pool.install(|| run(&all, "t", |it| it.index * 10 + it.group));
+            assert_eq!(out, all.iter().map(|it| it.index * 10 + it.group).collect::<Vec<_>>());
+        }
+    }
+}
+pub mod row;

@@ -1,0 +1,187 @@
+//! SVG plots of ensemble results (plotters): collapse-angle histograms with the measured
+//! values marked, displacement against tilt with the ensemble band and the measured points,
+//! fragility curves (empirical and fitted lognormal), and x–y curves with a ±σ band.
+
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Plot errors carry the file and plotters' message.
+#[derive(Debug, thiserror::Error)]
+#[error("plot {path}: {message}")]
+pub struct PlotError {
+    /// The file.
+    pub path: String,
+    /// The message.
+    pub message: String,
+}
+
+fn err(path: &Path) -> impl Fn(String) -> PlotError + '_ {
+    move |message| PlotError { path: path.display().to_string(), message }
+}
+
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+];
+
+/// The colour of series `i`.
+pub fn colour(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// One histogram panel: simulated values and measured values (vertical lines).
+#[derive(Debug, Clone)]
+pub struct HistogramPanel {
+    /// Panel title.
+    pub title: String,
+    /// Simulated values.
+    pub simulated: Vec<f64>,
+    /// Measured values.
+    pub measured: Vec<f64>,
+}
+
+/// Histograms side by side (`x_label`, e.g. "collapse angle [deg]"), bins of `bin` width.
+///
+/// # Errors
+/// [`PlotError`].
+pub fn histograms(path: &Path, x_label: &str, bin: f64, panels: &[HistogramPanel]) -> Result<(), PlotError> {
+    let e = err(path);
+    let w = 420 * panels.len().max(1) as u32;
+    let root = SVGBackend::new(path, (w, 360)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let areas = root.split_evenly((1, panels.len().max(1)));
+    for (k, (p, area)) in panels.iter().zip(areas.iter()).enumerate() {
+        let all: Vec<f64> = p.simulated.iter().chain(p.measured.iter()).copied().filter(|v| v.is_finite()).collect();
+        if all.is_empty() {
+            continue;
+        }
+        let lo = (all.iter().cloned().fold(f64::INFINITY, f64::min) / bin).floor() * bin - bin;
+        let hi = (all.iter().cloned().fold(f64::NEG_INFINITY, f64::max) / bin).ceil() * bin + bin;
+        let nb = ((hi - lo) / bin).round() as usize;
+        let mut counts = vec![0usize; nb.max(1)];
+        for v in p.simulated.iter().filter(|v| v.is_finite()) {
+            let i = (((v - lo) / bin).floor() as usize).min(counts.len() - 1);
+            counts[i] += 1;
+        }
+        let ymax = (*counts.iter().max().unwrap_or(&1)).max(1) as f64 * 1.15;
+        let mut chart = ChartBuilder::on(area)
+            .caption(&p.title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(40)
+            .build_cartesian_2d(lo..hi, 0.0..ymax)
+            .map_err(|x| e(x.to_string()))?;
+        chart.configure_mesh().x_desc(x_label).y_desc("realizations").draw().map_err(|x| e(x.to_string()))?;
+        let c = colour(k);
+        chart
+            .draw_series(counts.iter().enumerate().map(|(i, &n)| {
+                let x0 = lo + i as f64 * bin;
+                Rectangle::new([(x0, 0.0), (x0 + bin, n as f64)], c.mix(0.5).filled())
+            }))
+            .map_err(|x| e(x.to_string()))?
+            .label("simulated")
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], c.mix(0.5).filled()));
+        if !p.measured.is_empty() {
+            chart
+                .draw_series(
+                    p.measured.iter().map(|&m| PathElement::new(vec![(m, 0.0), (m, ymax)], BLACK.stroke_width(2))),
+                )
+                .map_err(|x| e(x.to_string()))?
+                .label("measured")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 12, y)], BLACK.stroke_width(2)));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|x| e(x.to_string()))?;
+    }
+    root.present().map_err(|x| e(x.to_string()))
+}
+
+/// A curve with a band: `x`, `mid`, `lo`, `hi` of equal length, and measured points.
+#[derive(Debug, Clone)]
+pub struct BandSeries {
+    /// Legend label.
+    pub label: String,
+    /// Abscissae.
+    pub x: Vec<f64>,
+    /// Middle line (mean).
+    pub mid: Vec<f64>,
+    /// Lower edge of the band.
+    pub lo: Vec<f64>,
+    /// Upper edge of the band.
+    pub hi: Vec<f64>,
+    /// Measured points (x, y).
+    pub measured: Vec<(f64, f64)>,
+}
+
+/// Curves with shaded bands and measured points on one chart.
+///
+/// # Errors
+/// [`PlotError`].
+pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[BandSeries]) -> Result<(), PlotError> {
+    let e = err(path);
+    let root = SVGBackend::new(path, (720, 460)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let xs: Vec<f64> = series.iter().flat_map(|s| s.x.iter().copied().chain(s.measured.iter().map(|m| m.0))).collect();
+    let ys: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.lo.iter().chain(s.hi.iter()).chain(s.mid.iter()).copied().chain(s.measured.iter().map(|m| m.1)))
+        .filter(|v| v.is_finite())
+        .collect();
+    if xs.is_empty() || ys.is_empty() {
+        return root.present().map_err(|x| e(x.to_string()));
+    }
+    let (x0, x1) =
+        (xs.iter().cloned().fold(f64::INFINITY, f64::min), xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let (y0, y1) =
+        (ys.iter().cloned().fold(f64::INFINITY, f64::min), ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let pad = 0.05 * (y1 - y0).max(1e-9);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(55)
+        .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad).min(0.0)..y1 + pad)
+        .map_err(|x| e(x.to_string()))?;
+    chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw().map_err(|x| e(x.to_string()))?;
+    for (k, s) in series.iter().enumerate() {
+        let c = colour(k);
+        let mut poly: Vec<(f64, f64)> =
+            s.x.iter().zip(&s.hi).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
+        poly.extend(s.x.iter().zip(&s.lo).rev().filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)));
+        if poly.len() >= 3 {
+            chart
+                .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.18).filled())))
+                .map_err(|x| e(x.to_string()))?;
+        }
+        let line: Vec<(f64, f64)> =
+            s.x.iter().zip(&s.mid).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
+        chart
+            .draw_series(LineSeries::new(line, c.stroke_width(2)))
+            .map_err(|x| e(x.to_string()))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], c.stroke_width(2)));
+        if !s.measured.is_empty() {
+            chart
+                .draw_series(s.measured.iter().map(|&(x, y)| Circle::new((x, y), 4, c.filled())))
+                .map_err(|x| e(x.to_string()))?
+                .label(format!("{} measured", s.label))
+                .legend(move |(x, y)| Circle::new((x + 6, y), 4, c.filled()));
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    root.present().map_err(|x| e(x.to_string()))
+}

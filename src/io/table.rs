@@ -1,0 +1,376 @@
+//! Tables with polars: realizations and summaries to Parquet and CSV, and back; the measured
+//! data of the source paper from CSV. Polars is used in this module only.
+//!
+//! `realizations.parquet` keeps the per-increment series (tilt, top displacements) as list
+//! columns; `realizations.csv` writes them as `;`-separated numbers in one cell.
+
+use crate::ensemble::row::{RealizationRow, Status};
+use polars::prelude::*;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Table I/O errors.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum TableError {
+    /// File system error.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Polars error (format, schema).
+    #[error("{path}: {message}")]
+    Polars {
+        /// The file.
+        path: PathBuf,
+        /// The message.
+        message: String,
+    },
+    /// A column is missing or has the wrong type.
+    #[error("{path}: column {column}: {message}")]
+    Column {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+fn pe(path: &Path) -> impl Fn(PolarsError) -> TableError + '_ {
+    move |e| TableError::Polars { path: path.to_owned(), message: e.to_string() }
+}
+
+fn list_column(name: &str, rows: &[RealizationRow], f: impl Fn(&RealizationRow) -> &Vec<f64>) -> Column {
+    let series: Vec<Series> = rows.iter().map(|r| Series::new("".into(), f(r).as_slice())).collect();
+    Series::new(name.into(), series.as_slice()).into_column()
+}
+
+fn joined_column(name: &str, rows: &[RealizationRow], f: impl Fn(&RealizationRow) -> &Vec<f64>) -> Column {
+    let v: Vec<String> =
+        rows.iter().map(|r| f(r).iter().map(|x| format!("{x}")).collect::<Vec<_>>().join(";")).collect();
+    Column::new(name.into(), v)
+}
+
+/// The realizations as a data frame; `lists` chooses list columns (Parquet) or joined
+/// strings (CSV) for the per-increment series.
+pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
+    let u = |f: fn(&RealizationRow) -> u64| rows.iter().map(f).collect::<Vec<u64>>();
+    let s = |f: fn(&RealizationRow) -> String| rows.iter().map(f).collect::<Vec<String>>();
+    let of = |f: fn(&RealizationRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<Option<f64>>>();
+    let series = |name: &str, f: fn(&RealizationRow) -> &Vec<f64>| {
+        if lists {
+            list_column(name, rows, f)
+        } else {
+            joined_column(name, rows, f)
+        }
+    };
+    DataFrame::new_infer_height(vec![
+        Column::new("index".into(), u(|r| r.index)),
+        Column::new("study".into(), s(|r| r.study.clone())),
+        Column::new("group".into(), s(|r| r.group.clone())),
+        Column::new("point".into(), u(|r| r.point)),
+        Column::new("sweep".into(), s(|r| r.sweep.clone())),
+        Column::new("seed".into(), u(|r| r.seed)),
+        Column::new("realization".into(), u(|r| r.realization)),
+        Column::new("status".into(), s(|r| r.status.as_str().to_string())),
+        Column::new("error".into(), s(|r| r.error.clone())),
+        Column::new("blocks".into(), u(|r| r.blocks)),
+        Column::new("collapse_angle_deg".into(), of(|r| r.collapse_angle_deg)),
+        Column::new("first_unstable_deg".into(), of(|r| r.first_unstable_deg)),
+        Column::new("collapse_reason".into(), s(|r| r.collapse_reason.clone())),
+        Column::new("mechanism".into(), s(|r| r.mechanism.clone())),
+        Column::new("joint".into(), s(|r| r.joint.clone())),
+        Column::new("moving_blocks".into(), u(|r| r.moving_blocks)),
+        Column::new("disp_mean_5deg_cm".into(), of(|r| r.disp_mean_at(5.0))),
+        Column::new("disp_mean_10deg_cm".into(), of(|r| r.disp_mean_at(10.0))),
+        Column::new("disp_centre_rel_5deg_cm".into(), of(|r| r.disp_centre_rel_at(5.0))),
+        Column::new("disp_centre_rel_10deg_cm".into(), of(|r| r.disp_centre_rel_at(10.0))),
+        Column::new("lateral_disp_max_cm".into(), of(|r| r.lateral_disp_max_cm)),
+        Column::new("lateral_drift".into(), of(|r| r.lateral_drift)),
+        series("tilt_deg", |r| &r.tilt_deg),
+        series("disp_top_left_cm", |r| &r.disp_top_left_cm),
+        series("disp_top_centre_cm", |r| &r.disp_top_centre_cm),
+        series("disp_top_right_cm", |r| &r.disp_top_right_cm),
+        Column::new("steps".into(), u(|r| r.steps)),
+        Column::new("dt_s".into(), rows.iter().map(|r| r.dt_s).collect::<Vec<f64>>()),
+        Column::new("wall_time_s".into(), rows.iter().map(|r| r.wall_time_s).collect::<Vec<f64>>()),
+    ])
+}
+
+/// Writes `realizations.parquet` and `realizations.csv` into `dir`.
+///
+/// # Errors
+/// [`TableError`] naming the file.
+pub fn write_realizations(rows: &[RealizationRow], dir: &Path) -> Result<(), TableError> {
+    let pq = dir.join("realizations.parquet");
+    let mut df = realizations_frame(rows, true).map_err(pe(&pq))?;
+    let f = File::create(&pq).map_err(|source| TableError::Io { path: pq.clone(), source })?;
+    ParquetWriter::new(f).finish(&mut df).map_err(pe(&pq))?;
+    let csv = dir.join("realizations.csv");
+    let mut df = realizations_frame(rows, false).map_err(pe(&csv))?;
+    write_csv(&mut df, &csv)
+}
+
+/// Writes a data frame as CSV with a header.
+///
+/// # Errors
+/// [`TableError`] naming the file.
+pub fn write_csv(df: &mut DataFrame, path: &Path) -> Result<(), TableError> {
+    let f = File::create(path).map_err(|source| TableError::Io { path: path.to_owned(), source })?;
+    CsvWriter::new(f).include_header(true).finish(df).map_err(pe(path))
+}
+
+fn col<'a>(df: &'a DataFrame, path: &Path, name: &str) -> Result<&'a Column, TableError> {
+    df.column(name).map_err(|e| TableError::Column {
+        path: path.to_owned(),
+        column: name.into(),
+        message: e.to_string(),
+    })
+}
+
+/// Reads `realizations.parquet` back into rows (for `drystone merge`).
+///
+/// # Errors
+/// [`TableError`] naming the file and column.
+pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError> {
+    let f = File::open(path).map_err(|source| TableError::Io { path: path.to_owned(), source })?;
+    let df = ParquetReader::new(f).finish().map_err(pe(path))?;
+    let bad = |c: &str, e: PolarsError| TableError::Column {
+        path: path.to_owned(),
+        column: c.into(),
+        message: e.to_string(),
+    };
+    let u64s = |c: &str| -> Result<Vec<u64>, TableError> {
+        let ca = col(&df, path, c)?.u64().map_err(|e| bad(c, e))?.clone();
+        Ok(ca.iter().map(|v| v.unwrap_or(0)).collect())
+    };
+    let strs = |c: &str| -> Result<Vec<String>, TableError> {
+        let ca = col(&df, path, c)?.str().map_err(|e| bad(c, e))?.clone();
+        Ok(ca.iter().map(|v| v.unwrap_or("").to_string()).collect())
+    };
+    let opts = |c: &str| -> Result<Vec<Option<f64>>, TableError> {
+        let ca = col(&df, path, c)?.f64().map_err(|e| bad(c, e))?.clone();
+        Ok(ca.iter().collect())
+    };
+    let f64s =
+        |c: &str| -> Result<Vec<f64>, TableError> { Ok(opts(c)?.into_iter().map(|v| v.unwrap_or(f64::NAN)).collect()) };
+    let lists = |c: &str| -> Result<Vec<Vec<f64>>, TableError> {
+        let ca = col(&df, path, c)?.list().map_err(|e| bad(c, e))?.clone();
+        let mut out = Vec::with_capacity(ca.len());
+        for s in ca.amortized_iter() {
+            let v = match s {
+                Some(s) => s.as_ref().f64().map_err(|e| bad(c, e))?.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
+                None => Vec::new(),
+            };
+            out.push(v);
+        }
+        Ok(out)
+    };
+    let index = u64s("index")?;
+    let study = strs("study")?;
+    let group = strs("group")?;
+    let point = u64s("point")?;
+    let sweep = strs("sweep")?;
+    let seed = u64s("seed")?;
+    let realization = u64s("realization")?;
+    let status = strs("status")?;
+    let error = strs("error")?;
+    let blocks = u64s("blocks")?;
+    let collapse = opts("collapse_angle_deg")?;
+    let unstable = opts("first_unstable_deg")?;
+    let reason = strs("collapse_reason")?;
+    let mechanism = strs("mechanism")?;
+    let joint = strs("joint")?;
+    let moving = u64s("moving_blocks")?;
+    let lat = opts("lateral_disp_max_cm")?;
+    let drift = opts("lateral_drift")?;
+    let tilt = lists("tilt_deg")?;
+    let dl = lists("disp_top_left_cm")?;
+    let dc = lists("disp_top_centre_cm")?;
+    let dr = lists("disp_top_right_cm")?;
+    let steps = u64s("steps")?;
+    let dt = f64s("dt_s")?;
+    let wall = f64s("wall_time_s")?;
+    let mut rows = Vec::with_capacity(index.len());
+    for i in 0..index.len() {
+        let st = Status::parse(&status[i]).ok_or_else(|| TableError::Column {
+            path: path.to_owned(),
+            column: "status".into(),
+            message: format!("unknown status {:?} in row {i}", status[i]),
+        })?;
+        rows.push(RealizationRow {
+            index: index[i],
+            study: study[i].clone(),
+            group: group[i].clone(),
+            point: point[i],
+            sweep: sweep[i].clone(),
+            seed: seed[i],
+            realization: realization[i],
+            status: st,
+            error: error[i].clone(),
+            blocks: blocks[i],
+            collapse_angle_deg: collapse[i],
+            first_unstable_deg: unstable[i],
+            collapse_reason: reason[i].clone(),
+            mechanism: mechanism[i].clone(),
+            joint: joint[i].clone(),
+            moving_blocks: moving[i],
+            tilt_deg: tilt[i].clone(),
+            disp_top_left_cm: dl[i].clone(),
+            disp_top_centre_cm: dc[i].clone(),
+            disp_top_right_cm: dr[i].clone(),
+            lateral_disp_max_cm: lat[i],
+            lateral_drift: drift[i],
+            steps: steps[i],
+            dt_s: dt[i],
+            wall_time_s: wall[i],
+        });
+    }
+    Ok(rows)
+}
+
+/// A measured collapse angle (the paper's Table 2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredCollapse {
+    /// Specimen, e.g. `SBL2`.
+    pub specimen: String,
+    /// Group, e.g. `SBL`.
+    pub group: String,
+    /// Collapse tilt, degrees.
+    pub collapse_angle_deg: f64,
+}
+
+/// A measured out-of-plane displacement (the paper's Table 3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredDisplacement {
+    /// Specimen.
+    pub specimen: String,
+    /// Group.
+    pub group: String,
+    /// `mean_of_left_center_right` or `center_minus_mean_of_ends`.
+    pub measure: String,
+    /// Tilt, degrees.
+    pub tilt_deg: f64,
+    /// Displacement, cm.
+    pub displacement_cm: f64,
+}
+
+fn read_csv(path: &Path) -> Result<DataFrame, TableError> {
+    if !path.exists() {
+        return Err(TableError::Io {
+            path: path.to_owned(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
+        });
+    }
+    CsvReadOptions::default()
+        .with_has_header(true)
+        .with_infer_schema_length(None)
+        .try_into_reader_with_file_path(Some(path.to_owned()))
+        .map_err(pe(path))?
+        .finish()
+        .map_err(pe(path))
+}
+
+fn str_col(df: &DataFrame, path: &Path, name: &str) -> Result<Vec<String>, TableError> {
+    let c = col(df, path, name)?;
+    let c = c.cast(&DataType::String).map_err(pe(path))?;
+    let ca = c.str().map_err(pe(path))?.clone();
+    Ok(ca.iter().map(|v| v.unwrap_or("").to_string()).collect())
+}
+
+fn f64_col(df: &DataFrame, path: &Path, name: &str) -> Result<Vec<f64>, TableError> {
+    let c = col(df, path, name)?;
+    let c = c.cast(&DataType::Float64).map_err(pe(path))?;
+    let ca = c.f64().map_err(pe(path))?.clone();
+    ca.iter()
+        .enumerate()
+        .map(|(i, v)| {
+            v.filter(|x| x.is_finite()).ok_or_else(|| TableError::Column {
+                path: path.to_owned(),
+                column: name.into(),
+                message: format!("row {} is missing or not a finite number", i + 1),
+            })
+        })
+        .collect()
+}
+
+/// Reads measured collapse angles: columns `specimen`, `group`, `collapse_angle_deg`.
+///
+/// # Errors
+/// [`TableError`] naming the file and column.
+pub fn read_measured_collapse(path: &Path) -> Result<Vec<MeasuredCollapse>, TableError> {
+    let df = read_csv(path)?;
+    let sp = str_col(&df, path, "specimen")?;
+    let gr = str_col(&df, path, "group")?;
+    let a = f64_col(&df, path, "collapse_angle_deg")?;
+    Ok((0..sp.len())
+        .map(|i| MeasuredCollapse { specimen: sp[i].clone(), group: gr[i].clone(), collapse_angle_deg: a[i] })
+        .collect())
+}
+
+/// Reads measured displacements: columns `specimen`, `group`, `measure`, `tilt_deg`,
+/// `displacement_cm`.
+///
+/// # Errors
+/// [`TableError`] naming the file and column.
+pub fn read_measured_displacement(path: &Path) -> Result<Vec<MeasuredDisplacement>, TableError> {
+    let df = read_csv(path)?;
+    let sp = str_col(&df, path, "specimen")?;
+    let gr = str_col(&df, path, "group")?;
+    let me = str_col(&df, path, "measure")?;
+    let t = f64_col(&df, path, "tilt_deg")?;
+    let d = f64_col(&df, path, "displacement_cm")?;
+    Ok((0..sp.len())
+        .map(|i| MeasuredDisplacement {
+            specimen: sp[i].clone(),
+            group: gr[i].clone(),
+            measure: me[i].clone(),
+            tilt_deg: t[i],
+            displacement_cm: d[i],
+        })
+        .collect())
+}
+
+/// A generic table of named columns (numbers or text) written as CSV through polars.
+#[derive(Debug, Clone, Default)]
+pub struct SimpleTable {
+    /// Columns in order: name and values.
+    pub columns: Vec<(String, TableColumn)>,
+}
+
+/// A column of a [`SimpleTable`].
+#[derive(Debug, Clone)]
+pub enum TableColumn {
+    /// Text.
+    Text(Vec<String>),
+    /// Numbers (NaN written as empty).
+    Number(Vec<f64>),
+}
+
+impl SimpleTable {
+    /// Writes the table as CSV.
+    ///
+    /// # Errors
+    /// [`TableError`] naming the file.
+    pub fn write_csv(&self, path: &Path) -> Result<(), TableError> {
+        let cols: Vec<Column> = self
+            .columns
+            .iter()
+            .map(|(n, c)| match c {
+                TableColumn::Text(v) => Column::new(n.as_str().into(), v.clone()),
+                TableColumn::Number(v) => Column::new(
+                    n.as_str().into(),
+                    v.iter().map(|x| if x.is_finite() { Some(*x) } else { None }).collect::<Vec<Option<f64>>>(),
+                ),
+            })
+            .collect();
+        let mut df = DataFrame::new_infer_height(cols).map_err(pe(path))?;
+        write_csv(&mut df, path)
+    }
+}

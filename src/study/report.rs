@@ -1,0 +1,456 @@
+//! Reporting a study: statistics per group and sweep point, comparison with the measured
+//! data, `summary.csv`, `report.md` and SVG plots. Everything here is a deterministic
+//! function of the rows (in index order) and the study.
+
+use super::Study;
+use crate::ensemble::row::{RealizationRow, Status};
+use crate::io::plot::{self, BandSeries, HistogramPanel};
+use crate::io::table::{SimpleTable, TableColumn, TableError};
+use crate::stats::{self, LognormalFragility, Summary};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Report errors.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// Writing a table.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// Writing a plot.
+    #[error(transparent)]
+    Plot(#[from] plot::PlotError),
+    /// Writing a file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+/// Statistics of one group at one sweep point.
+#[derive(Debug, Clone)]
+pub struct CellSummary {
+    /// Group name.
+    pub group: String,
+    /// Group index.
+    pub group_index: usize,
+    /// Sweep point index.
+    pub point: usize,
+    /// Sweep label.
+    pub sweep: String,
+    /// Realizations in all.
+    pub n: usize,
+    /// Realizations that failed (layout, equilibrium at α = 0, blow-up).
+    pub failed: usize,
+    /// Realizations that stood to the largest tilt.
+    pub stood: usize,
+    /// Collapse angle, degrees (collapsed realizations).
+    pub collapse: Summary,
+    /// Fitted lognormal fragility of the collapse angle.
+    pub fragility: Option<LognormalFragility>,
+    /// Displacement measure at 5° and 10° (cm): the group's measure in the measured data
+    /// (SBL: mean of the top points; SBR: centre minus mean of ends; default: mean).
+    pub disp5: Summary,
+    /// See `disp5`.
+    pub disp10: Summary,
+    /// Name of the displacement measure.
+    pub measure: String,
+    /// Collapse angles of the collapsed realizations, in index order.
+    pub angles: Vec<f64>,
+}
+
+/// A measured-vs-simulated comparison line.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    /// Group.
+    pub group: String,
+    /// What is compared, e.g. `collapse angle [deg]`.
+    pub quantity: String,
+    /// Measured specimens.
+    pub measured_n: usize,
+    /// Measured mean.
+    pub measured_mean: f64,
+    /// Measured σ.
+    pub measured_sd: f64,
+    /// Simulated realizations.
+    pub simulated_n: usize,
+    /// Simulated mean.
+    pub simulated_mean: f64,
+    /// Simulated σ.
+    pub simulated_sd: f64,
+    /// Simulated 95 % prediction band of one realization.
+    pub band: (f64, f64),
+    /// Measured mean inside the band.
+    pub inside: bool,
+    /// Measured specimens inside the band.
+    pub specimens_inside: usize,
+}
+
+fn measure_of(study: &Study, group: usize) -> String {
+    let mg = &study.groups[group].measured_group;
+    study
+        .measured
+        .displacement
+        .iter()
+        .find(|d| &d.group == mg)
+        .map(|d| d.measure.clone())
+        .unwrap_or_else(|| "mean_of_left_center_right".into())
+}
+
+/// Summaries of every (group, point) cell, in group-major order.
+pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
+    let mut out = Vec::new();
+    for (gi, g) in study.groups.iter().enumerate() {
+        let measure = measure_of(study, gi);
+        for (pi, p) in study.points.iter().enumerate() {
+            let cell: Vec<&RealizationRow> = rows.iter().filter(|r| r.group == g.name && r.point as usize == pi).collect();
+            let angles: Vec<f64> = cell.iter().filter(|r| r.status == Status::Collapsed).filter_map(|r| r.collapse_angle_deg).collect();
+            let d5: Vec<f64> = cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 5.0)).collect();
+            let d10: Vec<f64> = cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 10.0)).collect();
+            let stream = (gi * study.points.len() + pi) as u64;
+            out.push(CellSummary {
+                group: g.name.clone(),
+                group_index: gi,
+                point: pi,
+                sweep: super::point_label(p),
+                n: cell.len(),
+                failed: cell.iter().filter(|r| !r.status.is_ok()).count(),
+                stood: cell.iter().filter(|r| r.status == Status::Stood).count(),
+                collapse: stats::summarize(&angles, study.seed, stream * 3),
+                fragility: LognormalFragility::fit(&angles),
+                disp5: stats::summarize(&d5, study.seed, stream * 3 + 1),
+                disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
+                measure: measure.clone(),
+                angles,
+            });
+        }
+    }
+    out
+}
+
+fn compare(group: &str, quantity: &str, measured: &[f64], sim: &Summary) -> Option<Comparison> {
+    if measured.is_empty() || sim.n == 0 {
+        return None;
+    }
+    let band = sim.prediction95;
+    let m = stats::mean(measured);
+    let inside = |v: f64| band.0 <= v && v <= band.1;
+    Some(Comparison {
+        group: group.into(),
+        quantity: quantity.into(),
+        measured_n: measured.len(),
+        measured_mean: m,
+        measured_sd: stats::sd(measured),
+        simulated_n: sim.n,
+        simulated_mean: sim.mean,
+        simulated_sd: sim.sd,
+        band,
+        inside: inside(m),
+        specimens_inside: measured.iter().filter(|v| inside(**v)).count(),
+    })
+}
+
+/// Measured against simulated, per group (first sweep point of each group), for the
+/// collapse angle and the displacement at 5° and 10°.
+pub fn comparisons(study: &Study, cells: &[CellSummary]) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for c in cells.iter().filter(|c| c.point == 0) {
+        let mg = &study.groups[c.group_index].measured_group;
+        let coll: Vec<f64> = study.measured.collapse.iter().filter(|m| &m.group == mg).map(|m| m.collapse_angle_deg).collect();
+        out.extend(compare(&c.group, "collapse angle [deg]", &coll, &c.collapse));
+        for (tilt, s) in [(5.0, &c.disp5), (10.0, &c.disp10)] {
+            let d: Vec<f64> = study
+                .measured
+                .displacement
+                .iter()
+                .filter(|m| &m.group == mg && (m.tilt_deg - tilt).abs() < 1e-9)
+                .map(|m| m.displacement_cm)
+                .collect();
+            out.extend(compare(&c.group, &format!("displacement at {tilt}° [cm] ({})", c.measure), &d, s));
+        }
+    }
+    out
+}
+
+/// The comparison as a plain-text table (printed by `drystone run`).
+pub fn comparison_text(cmp: &[Comparison]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<6} {:<58} {:>16} {:>16} {:>8} {:>20} {}",
+        "group", "quantity", "measured", "simulated", "diff", "sim. 95% band", "measured mean inside"
+    );
+    for c in cmp {
+        let _ = writeln!(
+            s,
+            "{:<6} {:<58} {:>7.2} ± {:<6.2} {:>7.2} ± {:<6.2} {:>+8.2} {:>9.2} .. {:<7.2} {}",
+            c.group,
+            c.quantity,
+            c.measured_mean,
+            c.measured_sd,
+            c.simulated_mean,
+            c.simulated_sd,
+            c.simulated_mean - c.measured_mean,
+            c.band.0,
+            c.band.1,
+            if c.inside { "yes" } else { "NO" }
+        );
+    }
+    s
+}
+
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.3}")
+    } else {
+        "–".into()
+    }
+}
+
+/// Writes `summary.csv`, `report.md` and the plots into `dir`.
+///
+/// # Errors
+/// [`ReportError`] naming the file.
+pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
+    let cells = summarize(study, rows);
+    let cmp = comparisons(study, &cells);
+    write_summary_csv(&cells, &dir.join("summary.csv"))?;
+    // Plots.
+    let hist_panels: Vec<HistogramPanel> = cells
+        .iter()
+        .map(|c| HistogramPanel {
+            title: if c.sweep.is_empty() { c.group.clone() } else { format!("{} {}", c.group, c.sweep) },
+            simulated: c.angles.clone(),
+            measured: study
+                .measured
+                .collapse
+                .iter()
+                .filter(|m| m.group == study.groups[c.group_index].measured_group && c.point == 0)
+                .map(|m| m.collapse_angle_deg)
+                .collect(),
+        })
+        .collect();
+    let hist_path = dir.join("collapse_angle_histograms.svg");
+    plot::histograms(&hist_path, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?;
+    let disp_path = dir.join("displacement_vs_tilt.svg");
+    plot::bands(&disp_path, "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured", "tilt [deg]", "displacement [cm]", &displacement_series(study, rows))?;
+    let frag_path = dir.join("fragility.svg");
+    plot::bands(&frag_path, "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)", "tilt [deg]", "P(collapse)", &fragility_series(&cells))?;
+    // report.md
+    let mut md = String::new();
+    let _ = writeln!(md, "# Study `{}`\n", study.name);
+    if !study.description.is_empty() {
+        let _ = writeln!(md, "{}\n", study.description.trim());
+    }
+    let _ = writeln!(
+        md,
+        "Master seed {}; {} realization(s) per group and sweep point; protocol {:?}; tilt step {}°, bracket {}°; damping {}; sub-contact subdivisions {}.\n",
+        study.seed, study.realizations, study.protocol, study.tilt.step_deg, study.tilt.resolution_deg, study.solver.damping, study.solver.subcontact_subdivisions
+    );
+    let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
+    let _ = writeln!(md, "| group | sweep | n | failed | stood | mean | σ | COV | min | max | 95 % CI of mean | 95 % bootstrap σ | lognormal median, β |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in &cells {
+        let s = &c.collapse;
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} .. {} | {} .. {} | {} |",
+            c.group,
+            if c.sweep.is_empty() { "–" } else { &c.sweep },
+            s.n,
+            c.failed,
+            c.stood,
+            num(s.mean),
+            num(s.sd),
+            num(s.cov),
+            num(s.min),
+            num(s.max),
+            num(s.mean_ci95.0),
+            num(s.mean_ci95.1),
+            num(s.sd_boot95.0),
+            num(s.sd_boot95.1),
+            c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta))
+        );
+    }
+    let _ = writeln!(md, "\n## Displacement of the top at 5° and 10° [cm]\n");
+    let _ = writeln!(md, "| group | sweep | measure | n at 5° | mean at 5° | σ | n at 10° | mean at 10° | σ |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in &cells {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            c.group,
+            if c.sweep.is_empty() { "–" } else { &c.sweep },
+            c.measure,
+            c.disp5.n,
+            num(c.disp5.mean),
+            num(c.disp5.sd),
+            c.disp10.n,
+            num(c.disp10.mean),
+            num(c.disp10.sd)
+        );
+    }
+    if !cmp.is_empty() {
+        let _ = writeln!(md, "\n## Measured against simulated\n");
+        let _ = writeln!(md, "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n");
+        let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
+        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+        for c in &cmp {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} ± {:.2} ({}) | {:+.2} | {:.2} .. {:.2} | {} | {}/{} |",
+                c.group,
+                c.quantity,
+                c.measured_mean,
+                c.measured_sd,
+                c.measured_n,
+                c.simulated_mean,
+                c.simulated_sd,
+                c.simulated_n,
+                c.simulated_mean - c.measured_mean,
+                c.band.0,
+                c.band.1,
+                if c.inside { "yes" } else { "**no**" },
+                c.specimens_inside,
+                c.measured_n
+            );
+        }
+        let misses: Vec<&Comparison> = cmp.iter().filter(|c| !c.inside).collect();
+        let _ = writeln!(md, "\n### Where the simulation misses\n");
+        if misses.is_empty() {
+            let _ = writeln!(md, "Every measured mean falls inside the simulated 95 % band.");
+        } else {
+            for c in misses {
+                let rel = if c.measured_mean != 0.0 { 100.0 * (c.simulated_mean - c.measured_mean) / c.measured_mean.abs() } else { f64::NAN };
+                let _ = writeln!(
+                    md,
+                    "- {} {}: measured {:.2} ± {:.2}, simulated {:.2} ± {:.2}: the simulation is {} by {:.2} ({:+.0} %), outside its 95 % band {:.2} .. {:.2}.",
+                    c.group,
+                    c.quantity,
+                    c.measured_mean,
+                    c.measured_sd,
+                    c.simulated_mean,
+                    c.simulated_sd,
+                    if c.simulated_mean > c.measured_mean { "high" } else { "low" },
+                    (c.simulated_mean - c.measured_mean).abs(),
+                    rel,
+                    c.band.0,
+                    c.band.1
+                );
+            }
+            let _ = writeln!(md, "\nNo parameter was tuned per specimen to close these gaps; explaining them is the job of the model-discrepancy analysis.");
+        }
+    }
+    let _ = writeln!(md, "\n## Plots\n");
+    let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
+    let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
+    let _ = writeln!(md, "![fragility curves](fragility.svg)\n");
+    let failed: Vec<&RealizationRow> = rows.iter().filter(|r| !r.status.is_ok()).collect();
+    if !failed.is_empty() {
+        let _ = writeln!(md, "## Failed realizations\n");
+        for r in failed {
+            let _ = writeln!(md, "- {} realization {} ({}): {} — {}", r.group, r.realization, r.sweep, r.status.as_str(), r.error);
+        }
+    }
+    let path = dir.join("report.md");
+    std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
+    Ok(comparison_text(&cmp))
+}
+
+fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableError> {
+    let text = |f: &dyn Fn(&CellSummary) -> String| TableColumn::Text(cells.iter().map(f).collect());
+    let numc = |f: &dyn Fn(&CellSummary) -> f64| TableColumn::Number(cells.iter().map(f).collect());
+    let mut cols: Vec<(String, TableColumn)> = vec![
+        ("group".into(), text(&|c| c.group.clone())),
+        ("point".into(), numc(&|c| c.point as f64)),
+        ("sweep".into(), text(&|c| c.sweep.clone())),
+        ("realizations".into(), numc(&|c| c.n as f64)),
+        ("failed".into(), numc(&|c| c.failed as f64)),
+        ("stood".into(), numc(&|c| c.stood as f64)),
+    ];
+    let stats_cols = |prefix: &str, get: fn(&CellSummary) -> &Summary| -> Vec<(String, TableColumn)> {
+        let n = |f: fn(&Summary) -> f64| TableColumn::Number(cells.iter().map(|c| f(get(c))).collect());
+        vec![
+            (format!("{prefix}_n"), n(|s| s.n as f64)),
+            (format!("{prefix}_mean"), n(|s| s.mean)),
+            (format!("{prefix}_sd"), n(|s| s.sd)),
+            (format!("{prefix}_cov"), n(|s| s.cov)),
+            (format!("{prefix}_min"), n(|s| s.min)),
+            (format!("{prefix}_q05"), n(|s| s.q05)),
+            (format!("{prefix}_q25"), n(|s| s.q25)),
+            (format!("{prefix}_median"), n(|s| s.median)),
+            (format!("{prefix}_q75"), n(|s| s.q75)),
+            (format!("{prefix}_q95"), n(|s| s.q95)),
+            (format!("{prefix}_max"), n(|s| s.max)),
+            (format!("{prefix}_mean_ci95_lo"), n(|s| s.mean_ci95.0)),
+            (format!("{prefix}_mean_ci95_hi"), n(|s| s.mean_ci95.1)),
+            (format!("{prefix}_pred95_lo"), n(|s| s.prediction95.0)),
+            (format!("{prefix}_pred95_hi"), n(|s| s.prediction95.1)),
+            (format!("{prefix}_sd_boot95_lo"), n(|s| s.sd_boot95.0)),
+            (format!("{prefix}_sd_boot95_hi"), n(|s| s.sd_boot95.1)),
+            (format!("{prefix}_cov_boot95_lo"), n(|s| s.cov_boot95.0)),
+            (format!("{prefix}_cov_boot95_hi"), n(|s| s.cov_boot95.1)),
+        ]
+    };
+    cols.extend(stats_cols("collapse_angle_deg", |c| &c.collapse));
+    cols.push(("fragility_median_deg".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.median))));
+    cols.push(("fragility_beta".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.beta))));
+    cols.push(("displacement_measure".into(), text(&|c| c.measure.clone())));
+    cols.extend(stats_cols("disp_5deg_cm", |c| &c.disp5));
+    cols.extend(stats_cols("disp_10deg_cm", |c| &c.disp10));
+    SimpleTable { columns: cols }.write_csv(path)
+}
+
+/// Displacement against tilt per group (first sweep point): mean and 5–95 % band over the
+/// realizations still standing at each tilt, with the measured points.
+fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries> {
+    let mut out = Vec::new();
+    for (gi, g) in study.groups.iter().enumerate() {
+        let measure = measure_of(study, gi);
+        let cell: Vec<&RealizationRow> = rows.iter().filter(|r| r.group == g.name && r.point == 0 && r.status.is_ok()).collect();
+        let max_tilt = cell.iter().flat_map(|r| r.tilt_deg.iter().copied()).fold(0.0, f64::max);
+        let step = study.tilt.step_deg;
+        let n = (max_tilt / step).round() as usize;
+        let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
+        for k in 0..=n {
+            let t = k as f64 * step;
+            let v: Vec<f64> = cell.iter().filter_map(|r| r.disp_measure_at(&measure, t)).collect();
+            if v.len() < 2.max(cell.len() / 2) {
+                continue; // fewer than half the realizations still standing
+            }
+            x.push(t);
+            mid.push(stats::mean(&v));
+            lo.push(stats::quantile(&v, 0.05));
+            hi.push(stats::quantile(&v, 0.95));
+        }
+        let measured = study
+            .measured
+            .displacement
+            .iter()
+            .filter(|m| m.group == g.measured_group)
+            .map(|m| (m.tilt_deg, m.displacement_cm))
+            .collect();
+        out.push(BandSeries { label: format!("{} ({})", g.name, measure), x, mid, lo, hi, measured });
+    }
+    out
+}
+
+fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
+    cells
+        .iter()
+        .filter_map(|c| {
+            let f = c.fragility?;
+            let max = c.angles.iter().cloned().fold(0.0, f64::max) * 1.3;
+            let x: Vec<f64> = (0..=100).map(|i| max * i as f64 / 100.0).collect();
+            let p: Vec<f64> = x.iter().map(|&a| f.probability(a)).collect();
+            let mut s = c.angles.clone();
+            s.sort_by(f64::total_cmp);
+            let measured = s.iter().map(|&a| (a, stats::empirical_fragility(&c.angles, a))).collect();
+            let label = if c.sweep.is_empty() { c.group.clone() } else { format!("{} {}", c.group, c.sweep) };
+            Some(BandSeries { label, x, mid: p.clone(), lo: p.clone(), hi: p, measured })
+        })
+        .collect()
+}

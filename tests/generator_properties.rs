@@ -1,0 +1,251 @@
+//! Invariants of generated walls over many seeds (property tests): every block convex (it
+//! resolves into a `ConvexBlock`, which rejects non-convex vertex lists), no two blocks
+//! overlapping (the DEM's own narrow phase, `dem::contact::geometry::separation`), the
+//! volume within 1 % of the envelope volume × (1 − stated void fraction), every vertex inside
+//! the section envelope, the base course on the table.
+
+use drystone::dem::collider::sweep_pairs;
+use drystone::dem::contact::geometry::separation;
+use drystone::generator::spec::{
+    ArrangementKind, ArrangementSpec, Batter, BlocksSpec, CoursesSpec, DistRef, EndKind, EndsSpec, GeometrySpec,
+    HeadGap, HeadJointsSpec, RestraintsSpec, WallSpec,
+};
+use drystone::generator::{generate, DistributionSource, DistributionSpec, GeneratedWall, PieceKind, Wall};
+use drystone::layout::{BaseSliding, MaterialSpec};
+use proptest::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn preset(name: &str) -> Wall {
+    Wall::from_file(&root().join("studies/walls").join(format!("{name}.toml"))).unwrap()
+}
+
+/// Checks every invariant; returns a description of the first violation.
+fn check_invariants(wall: &Wall, g: &GeneratedWall) -> Result<(), String> {
+    let layout = g.layout.resolve().map_err(|e| format!("layout does not resolve: {e}"))?;
+    let (l, h) = (wall.length, wall.height);
+    let tol = 1e-9 * (l + h);
+    // Inside the envelope.
+    for b in &layout.blocks {
+        for v in &b.shape.vertices {
+            let (y0, y1) = wall.faces_at(v.z);
+            if v.x < -tol || v.x > l + tol || v.z < -tol || v.z > h + tol || v.y < y0 - tol || v.y > y1 + tol {
+                return Err(format!("block {} vertex {v:?} outside the envelope", b.id));
+            }
+        }
+    }
+    // No overlap, by the DEM narrow phase (stricter than the layout's 1e-5 m tolerance).
+    let boxes: Vec<_> = layout.blocks.iter().map(|b| b.shape.aabb()).collect();
+    for (i, j) in sweep_pairs(&boxes, 0.0) {
+        let s = separation(&layout.blocks[i].shape, &layout.blocks[j].shape);
+        if s.distance < -1e-8 {
+            return Err(format!(
+                "blocks {} and {} overlap by {:e} m",
+                layout.blocks[i].id, layout.blocks[j].id, -s.distance
+            ));
+        }
+    }
+    // Volume: the hulls' volumes against the envelope.
+    let vol: f64 = layout.blocks.iter().map(|b| b.shape.volume()).sum();
+    let target = wall.envelope_volume() * (1.0 - wall.stated_void_fraction());
+    if (vol - target).abs() > 0.01 * target {
+        return Err(format!("volume {vol} vs {target} ({:+.3} %)", 100.0 * (vol / target - 1.0)));
+    }
+    if (vol - g.volume()).abs() > 1e-9 * target {
+        return Err(format!("hull volume {vol} != analytic volume {}", g.volume()));
+    }
+    // Base course on the table: course 0 stones start at z = 0, nothing is below.
+    let zmin = layout.blocks.iter().flat_map(|b| b.shape.vertices.iter().map(|v| v.z)).fold(f64::INFINITY, f64::min);
+    if zmin != 0.0 && zmin.abs() > 1e-15 {
+        return Err(format!("lowest vertex at z = {zmin}"));
+    }
+    for p in g.pieces.iter().filter(|p| p.course == 0) {
+        if p.kind != PieceKind::Stone || p.polygon.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min) != 0.0 {
+            return Err(format!("base-course block {} is not a stone standing on the table", p.id));
+        }
+    }
+    // Course 0 covers the whole length but for the open head joints.
+    let base_len: f64 = g
+        .pieces
+        .iter()
+        .filter(|p| p.course == 0)
+        .map(|p| {
+            let xs = p.polygon.iter().map(|q| q[0]);
+            xs.clone().fold(f64::NEG_INFINITY, f64::max) - xs.fold(f64::INFINITY, f64::min)
+        })
+        .sum();
+    let n_base = g.pieces.iter().filter(|p| p.course == 0).count() as f64;
+    let micro = match wall.head_gap {
+        HeadGap::Width(w) => w * (n_base - 1.0),
+        _ => 0.0,
+    };
+    if base_len > l + tol || base_len < (1.0 - 2.0 * wall.stated_void_fraction()) * l - micro - 1e-9 * l {
+        return Err(format!("base course covers {base_len} m of {l} m"));
+    }
+    Ok(())
+}
+
+/// `cases` cases (or `DRYSTONE_PROPTEST_CASES` for a longer soak), no regression files.
+fn config(cases: u32) -> ProptestConfig {
+    let cases = std::env::var("DRYSTONE_PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(cases);
+    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+}
+
+fn run(name: &str, seed: u64, realization: u64) -> Result<(), TestCaseError> {
+    let w = preset(name);
+    let g = generate(&w, seed, realization).map_err(|e| TestCaseError::fail(format!("{name}: {e}")))?;
+    check_invariants(&w, &g)
+        .map_err(|e| TestCaseError::fail(format!("{name} seed {seed} realization {realization}: {e}")))
+}
+
+proptest! {
+    #![proptest_config(config(48))]
+
+    #[test]
+    fn sbl_walls_satisfy_the_invariants(seed in any::<u64>(), r in 0u64..1_000_000) {
+        run("sbl", seed, r)?;
+    }
+
+    #[test]
+    fn sbr_walls_satisfy_the_invariants(seed in any::<u64>(), r in 0u64..1_000_000) {
+        run("sbr", seed, r)?;
+    }
+
+    #[test]
+    fn full_scale_irregular_walls_satisfy_the_invariants(seed in any::<u64>(), r in 0u64..1_000_000) {
+        run("full_scale", seed, r)?;
+    }
+}
+
+#[test]
+fn regular_presets_satisfy_the_invariants() {
+    for name in ["cbl", "full_scale_continuous", "full_scale_discontinuous"] {
+        run(name, 1, 0).unwrap();
+    }
+}
+
+/// A wall description with the given parameters (one material, default keys elsewhere).
+#[allow(clippy::too_many_arguments)]
+fn spec(
+    dims: [f64; 4],
+    batter: Batter,
+    kind: ArrangementKind,
+    course: DistRef,
+    block: DistRef,
+    dip_max: f64,
+    head: HeadJointsSpec,
+    inline: BTreeMap<String, DistributionSpec>,
+) -> WallSpec {
+    WallSpec {
+        version: 1,
+        name: "property".into(),
+        description: String::new(),
+        gravity_m_per_s2: 9.81,
+        geometry: GeometrySpec {
+            length_m: dims[0],
+            height_m: dims[1],
+            base_width_m: dims[2],
+            top_width_m: dims[3],
+            batter,
+        },
+        arrangement: ArrangementSpec {
+            kind,
+            overlap: None,
+            dip_deg: (kind == ArrangementKind::Irregular).then(|| DistRef::Name("dip".into())),
+            min_wedge_thickness_m: None,
+            min_wedge_length_m: None,
+            wedge_length_m: None,
+        },
+        courses: CoursesSpec { height_m: course, min_thickness_fraction: None },
+        blocks: BlocksSpec { length_m: block, min_end_fraction: None, material: None, wedge_material: None },
+        head_joints: head,
+        materials: vec![MaterialSpec {
+            name: "m".into(),
+            density_kg_per_m3: 2200.0,
+            kn_pa_per_m: 5e7,
+            ks_pa_per_m: 2.5e7,
+            friction_deg: 35.0,
+            cohesion_pa: 0.0,
+            tensile_strength_pa: 0.0,
+        }],
+        restraints: RestraintsSpec {
+            base: BaseSliding::Held,
+            table_material: None,
+            ends: EndsSpec { kind: EndKind::Free, zone_m: None, stiffness_n_per_m: None },
+        },
+        scatter: None,
+        distributions: {
+            let mut m = inline;
+            if kind == ArrangementKind::Irregular {
+                m.insert(
+                    "dip".into(),
+                    DistributionSpec::from_toml(
+                        &format!("unit = \"deg\"\nkind = \"uniform\"\nmin = {}\nmax = {}", -dip_max, dip_max.max(1e-3)),
+                        Path::new("inline"),
+                    )
+                    .unwrap(),
+                );
+            }
+            m
+        },
+    }
+}
+
+fn uniform_m(lo: f64, hi: f64) -> DistributionSpec {
+    DistributionSpec::from_toml(
+        &format!("unit = \"m\"\nkind = \"uniform\"\nmin = {lo}\nmax = {hi}"),
+        Path::new("inline"),
+    )
+    .unwrap()
+}
+
+proptest! {
+    #![proptest_config(config(96))]
+
+    /// Random envelopes, block sizes, dips, batters and open head joints.
+    #[test]
+    fn random_walls_satisfy_the_invariants(
+        seed in any::<u64>(),
+        l in 0.6f64..6.0,
+        h in 0.2f64..2.0,
+        bw in 0.1f64..0.8,
+        taper in 0.3f64..1.0,
+        batter in prop_oneof![Just(Batter::Symmetric), Just(Batter::VerticalNegativeY), Just(Batter::VerticalPositiveY)],
+        kind in prop_oneof![Just(ArrangementKind::Continuous), Just(ArrangementKind::Discontinuous), Just(ArrangementKind::Irregular)],
+        courses in 3usize..12,
+        aspect in 1.0f64..4.0,
+        spread in 0.0f64..0.3,
+        dip_max in 0.0f64..25.0,
+        head in prop_oneof![
+            Just(HeadJointsSpec::default()),
+            (0.0f64..0.03).prop_map(|f| HeadJointsSpec { micro_gap_m: None, void_fraction: Some(f) }),
+            (0.0f64..0.002).prop_map(|w| HeadJointsSpec { micro_gap_m: Some(w), void_fraction: None }),
+        ],
+    ) {
+        let hbar = h / courses as f64;
+        // Block length: `aspect` course heights, at most half the wall.
+        let lbar = (aspect * hbar).min(0.5 * l);
+        let (course, block, inline) = if kind == ArrangementKind::Irregular && spread > 0.01 {
+            let mut m = BTreeMap::new();
+            m.insert("ch".to_string(), uniform_m(hbar * (1.0 - spread), hbar * (1.0 + spread)));
+            m.insert("bl".to_string(), uniform_m(lbar * (1.0 - spread), lbar * (1.0 + spread)));
+            (DistRef::Name("ch".into()), DistRef::Name("bl".into()), m)
+        } else {
+            (DistRef::Value(hbar), DistRef::Value(lbar), BTreeMap::new())
+        };
+        // Keep the gaps small against the blocks (a micro-gap, not a missing block).
+        let head = match head {
+            HeadJointsSpec { micro_gap_m: Some(w), .. } => HeadJointsSpec { micro_gap_m: Some(w.min(0.005 * lbar)), void_fraction: None },
+            other => other,
+        };
+        let s = spec([l, h, bw, bw * taper], batter, kind, course, block, dip_max, head, inline);
+        let p = Path::new("property.toml");
+        let w = s.resolve(p, &DistributionSource::default()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let g = generate(&w, seed, 0).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        check_invariants(&w, &g).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", s.to_toml())))?;
+    }
+}
