@@ -228,47 +228,59 @@ fn least_line_above_free(segs: &[Seg], a: f64, b: f64) -> Option<Line> {
     Some(line)
 }
 
-/// The half-plane `nx x + nz z ≤ c` of the elevation plane.
+/// A half-plane of the elevation plane bounded by a non-vertical line.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct HalfPlane {
-    nx: f64,
-    nz: f64,
-    c: f64,
+pub(crate) enum HalfPlane {
+    /// z ≥ line(x).
+    Above(Line),
+    /// z ≤ line(x).
+    Below(Line),
 }
 
 impl HalfPlane {
-    /// z ≥ line(x).
-    fn above(l: &Line) -> Self {
-        HalfPlane { nx: l.m, nz: -1.0, c: l.m * l.xm - l.zm }
-    }
-    /// z ≤ line(x).
-    fn below(l: &Line) -> Self {
-        HalfPlane { nx: -l.m, nz: 1.0, c: l.zm - l.m * l.xm }
-    }
-    /// z ≤ level.
     fn z_max(level: f64) -> Self {
-        HalfPlane { nx: 0.0, nz: 1.0, c: level }
+        HalfPlane::Below(Line { xm: 0.0, zm: level, m: 0.0 })
     }
-    /// z ≥ level.
     fn z_min(level: f64) -> Self {
-        HalfPlane { nx: 0.0, nz: -1.0, c: -level }
+        HalfPlane::Above(Line { xm: 0.0, zm: level, m: 0.0 })
+    }
+    /// Signed excess: ≤ 0 inside.
+    fn excess(&self, p: &P2) -> f64 {
+        match self {
+            HalfPlane::Above(l) => l.at(p[0]) - p[1],
+            HalfPlane::Below(l) => p[1] - l.at(p[0]),
+        }
+    }
+    fn line(&self) -> &Line {
+        match self {
+            HalfPlane::Above(l) | HalfPlane::Below(l) => l,
+        }
     }
 }
 
-/// Clips a convex polygon to a half-plane (Sutherland–Hodgman; convex stays convex).
+/// Clips a convex polygon to a half-plane (Sutherland–Hodgman; convex stays convex). A
+/// crossing on a vertical edge is put exactly on the boundary line (`line.at(x)`), so
+/// pieces cut by the same line share bit-identical vertices.
 fn clip(poly: &[P2], hp: &HalfPlane) -> Vec<P2> {
-    let f = |p: &P2| hp.nx * p[0] + hp.nz * p[1] - hp.c;
     let n = poly.len();
     let mut out = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (p, q) = (poly[i], poly[(i + 1) % n]);
-        let (fp, fq) = (f(&p), f(&q));
+        let (fp, fq) = (hp.excess(&p), hp.excess(&q));
         if fp <= 0.0 {
             out.push(p);
         }
         if (fp <= 0.0) != (fq <= 0.0) {
-            let t = fp / (fp - fq);
-            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+            if p[0] == q[0] {
+                out.push([p[0], hp.line().at(p[0])]);
+            } else if hp.line().m == 0.0 {
+                let z = hp.line().zm;
+                let t = (z - p[1]) / (q[1] - p[1]);
+                out.push([p[0] + t * (q[0] - p[0]), z]);
+            } else {
+                let t = fp / (fp - fq);
+                out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+            }
         }
     }
     out
@@ -476,8 +488,8 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                         }
                         let under_line = Line { xm: s.x0, zm: s.z0, m: (s.z1 - s.z0) / (s.x1 - s.x0) };
                         let planes = [
-                            HalfPlane::above(&under_line),
-                            HalfPlane::below(&bottom),
+                            HalfPlane::Above(under_line),
+                            HalfPlane::Below(bottom),
                             HalfPlane::z_min(0.0),
                             HalfPlane::z_max(h),
                         ];
@@ -505,7 +517,7 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                 (t, Some(cap), Some(dip))
             };
             let mut planes =
-                vec![HalfPlane::above(&bottom), HalfPlane::below(&top), HalfPlane::z_min(0.0), HalfPlane::z_max(h)];
+                vec![HalfPlane::Above(bottom), HalfPlane::Below(top), HalfPlane::z_min(0.0), HalfPlane::z_max(h)];
             if let Some(c) = cap {
                 planes.push(HalfPlane::z_max(c));
             }
@@ -574,7 +586,7 @@ mod tests {
     fn a_region_whose_bed_crosses_the_top_is_the_true_intersection() {
         // Bed rising through the wall top at x = 0.8: the region is the triangle under z = 1.
         let bed = Line { xm: 0.0, zm: 0.6, m: 0.5 };
-        let r = region(0.0, 1.0, -1.0, 2.0, &[HalfPlane::above(&bed), HalfPlane::z_max(1.0)], 1e-9);
+        let r = region(0.0, 1.0, -1.0, 2.0, &[HalfPlane::Above(bed), HalfPlane::z_max(1.0)], 1e-9);
         assert_eq!(r.len(), 3);
         assert!((area(&r) - 0.5 * 0.8 * 0.4).abs() < 1e-12);
         assert!(r.iter().all(|p| p[1] >= bed.at(p[0]) - 1e-12 && p[0] <= 0.8 + 1e-12));

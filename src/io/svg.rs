@@ -73,7 +73,7 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
         h,
         bw,
         g.dimensions[3],
-        100.0 * g.void_fraction()
+        (100.0 * g.void_fraction()).max(0.0)
     );
     // Elevation.
     let _ = writeln!(out, r#"<g stroke-linejoin="round">"#);

@@ -35,7 +35,9 @@ pub fn layout_to_vtk(layout: &Layout, fields: &[(&str, Vec<i64>)]) -> String {
     }
     let mut out = String::new();
     out.push_str("# vtk DataFile Version 3.0\n");
-    let title: String = layout.name.chars().filter(|c| *c != '\n').take(250).collect();
+    // The header line: at most 256 characters, ASCII.
+    let title: String =
+        layout.name.chars().map(|c| if c.is_ascii() && !c.is_ascii_control() { c } else { '?' }).take(250).collect();
     let _ = writeln!(out, "{title}");
     out.push_str("ASCII\nDATASET POLYDATA\n");
     let _ = writeln!(out, "POINTS {npts} double");
