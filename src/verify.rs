@@ -262,7 +262,7 @@ pub fn offset_stack(b: f64, h: f64, e: f64) -> TiltResult {
 /// along y, m/s² (mean over 0.2 s after a 0.05 s transient).
 pub fn slide_acceleration(alpha_deg: f64, phi_deg: f64) -> f64 {
     let l = layout_of(vec![box_vertices([0.0, -0.15, 0.0], [0.3, 0.15, 0.1])], 1e9, 5e8, phi_deg, BaseSliding::Free);
-    let mut sim = crate::dem::Simulation::new(&l, SolverParams::default());
+    let mut sim = crate::dem::Simulation::new(&l, SolverParams { density_scaling: false, ..SolverParams::default() });
     sim.run_to_equilibrium(1e-6, 200_000).expect("finite");
     sim.params.damping = 0.0;
     sim.set_tilt(deg_to_rad(alpha_deg));
@@ -296,7 +296,10 @@ pub fn winkler_block(b: f64, h: f64, kn: f64, subdivisions: u32) -> TiltResult {
 /// Free fall of a block 0.5 m above the table for 0.2 s: (simulated drop, exact drop), m.
 pub fn free_fall() -> (f64, f64) {
     let l = layout_of(vec![box_vertices([0.0, 0.0, 0.5], [0.2, 0.2, 0.6])], 1e8, 5e7, 30.0, BaseSliding::Free);
-    let mut sim = crate::dem::Simulation::new(&l, SolverParams { damping: 0.0, ..SolverParams::default() });
+    let mut sim = crate::dem::Simulation::new(
+        &l,
+        SolverParams { damping: 0.0, density_scaling: false, ..SolverParams::default() },
+    );
     sim.dt = 1e-4;
     // Start the leapfrog from rest at t = 0: v(−Δt/2) = +g Δt/2 so that v(0) = 0.
     sim.bodies[0].vel = -sim.gravity * (0.5 * sim.dt);
@@ -326,7 +329,13 @@ pub fn weight_at_rest() -> (f64, f64) {
 pub fn bounce_energy() -> (f64, f64, f64) {
     let l = layout_of(vec![box_vertices([0.0, 0.0, 0.005], [0.2, 0.15, 0.105])], 1e8, 5e7, 30.0, BaseSliding::Free);
     // A dynamic (undamped) run: time step at 0.1 of critical rather than the quasi-static 0.5.
-    let params = SolverParams { damping: 0.0, contact_margin_m: 0.01, timestep_safety: 0.1, ..SolverParams::default() };
+    let params = SolverParams {
+        damping: 0.0,
+        contact_margin_m: 0.01,
+        timestep_safety: 0.1,
+        density_scaling: false,
+        ..SolverParams::default()
+    };
     let mut sim = crate::dem::Simulation::new(&l, params);
     sim.bodies[0].vel = -sim.gravity * (0.5 * sim.dt);
     let total = |s: &crate::dem::Simulation| {

@@ -23,7 +23,7 @@ use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactS
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
-use super::timestep::critical_timestep;
+use super::timestep::{body_eigenvalues, density_scaling, step_for};
 use crate::layout::{BaseSliding, EndRestraint, Layout};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
@@ -71,6 +71,10 @@ pub struct SolverParams {
     pub degenerate_width_fraction: f64,
     /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
     pub redetect_fraction: f64,
+    /// Density scaling for static solutions: bodies stiffer than the median body (small
+    /// wedges, slivers) get a larger inertia so that they do not set the time step; weights
+    /// are unchanged. Default true; turn off for dynamics.
+    pub density_scaling: bool,
 }
 
 impl Default for SolverParams {
@@ -86,6 +90,7 @@ impl Default for SolverParams {
             quadrature: Quadrature::Exact,
             degenerate_width_fraction: c.degenerate_width_fraction,
             redetect_fraction: 0.5,
+            density_scaling: true,
         }
     }
 }
@@ -98,6 +103,10 @@ impl SolverParams {
             feature_tolerance: self.feature_tolerance_m,
             face_angle_tolerance: self.face_angle_tolerance_deg.to_radians(),
             subdivisions: self.subcontact_subdivisions,
+            fan: match self.quadrature {
+                Quadrature::Exact => cgeom::Fan::Vertex,
+                Quadrature::Vertex => cgeom::Fan::Centroid,
+            },
             degenerate_width_fraction: self.degenerate_width_fraction,
         }
     }
@@ -213,6 +222,8 @@ pub struct Simulation {
     pub stats: StepStats,
     /// Number of contact re-detections so far.
     pub detections: u64,
+    /// Largest density-scaling factor applied so far (1: none).
+    pub max_density_scale: f64,
     joints: Vec<JointParams>,
     table_joint: JointParams,
     gravity_magnitude: f64,
@@ -260,6 +271,7 @@ impl Simulation {
             steps: 0,
             stats: StepStats::default(),
             detections: 0,
+            max_density_scale: 1.0,
             joints: layout.materials.iter().map(|m| m.joint).collect(),
             table_joint,
             gravity_magnitude: layout.gravity,
@@ -320,8 +332,21 @@ impl Simulation {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
         }
-        if let Some(dt) = critical_timestep(&self.bodies, &self.contacts, self.params.timestep_safety) {
-            self.dt = self.dt.min(dt);
+        let lambdas = body_eigenvalues(&self.bodies, &self.contacts);
+        if self.params.density_scaling {
+            let (target, scale) = density_scaling(&lambdas);
+            for (b, s) in self.bodies.iter_mut().zip(&scale) {
+                b.inertia_scale_inv = 1.0 / s;
+            }
+            self.max_density_scale = self.max_density_scale.max(scale.iter().cloned().fold(1.0, f64::max));
+            if let Some(dt) = step_for(target, self.params.timestep_safety) {
+                self.dt = dt;
+            }
+        } else {
+            let lmax = lambdas.iter().cloned().fold(0.0, f64::max);
+            if let Some(dt) = step_for(lmax, self.params.timestep_safety) {
+                self.dt = self.dt.min(dt);
+            }
         }
         self.detections += 1;
     }
@@ -437,7 +462,10 @@ impl Simulation {
                 return false;
             }
             let dx = (b.pos - self.detect_pos[k]).norm();
-            let dr = (b.rot * self.detect_rot[k].inverse()).angle() * b.radius;
+            // Rotation angle θ since detection from the quaternion dot product:
+            // |q·q₀| = cos(θ/2), so θ ≈ 2√(2(1 − |q·q₀|)) for small θ (an upper bound).
+            let c = b.rot.coords.dot(&self.detect_rot[k].coords).abs().min(1.0);
+            let dr = 2.0 * (2.0 * (1.0 - c)).sqrt() * b.radius;
             dx + dr > limit
         })
     }

@@ -11,6 +11,9 @@
 //! q^{n+1} = exp(Δt ω^{n+½}) q^n
 //! ```
 //!
+//! With density scaling (static solutions only) a body's inertial mass and inertia are
+//! `s m`, `s I` (`s ≥ 1`, see [`super::timestep`]) while its weight stays `m g`.
+//!
 //! Local damping (Cundall 1987; the default 0.8 of 3DEC and YADE's NewtonIntegrator) removes
 //! kinetic energy in proportion to the unbalanced force and vanishes at equilibrium: it is a
 //! device for static solutions, not physical damping.
@@ -71,14 +74,15 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
         f.y = 0.0;
         b.vel.y = 0.0;
     }
-    b.vel += f * (dt / b.mass);
+    b.vel += f * (dt * b.inertia_scale_inv / b.mass);
     b.pos += b.vel * dt;
     let t = damp(torque, &b.angvel, damping);
     let r = b.rot_mat;
-    let iw = r * b.inertia * r.transpose();
-    let iw_inv = r * b.inv_inertia * r.transpose();
-    let gyro = b.angvel.cross(&(iw * b.angvel));
-    b.angvel += iw_inv * (t - gyro) * dt;
+    // I_w ω = R I Rᵀ ω and I_w⁻¹ x = R I⁻¹ Rᵀ x, as matrix–vector products.
+    let iw_w = r * (b.inertia * (r.tr_mul(&b.angvel)));
+    let gyro = b.angvel.cross(&iw_w);
+    // With density scaling s the inertia is s·I: ω̇ = I⁻¹(T/s − ω × Iω).
+    b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
     let dq = UnitQuaternion::from_scaled_axis(b.angvel * dt);
     b.rot = dq * b.rot;
     b.rot.renormalize_fast();

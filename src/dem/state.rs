@@ -29,6 +29,8 @@ pub struct Body {
     pub fixed: bool,
     /// Index of the block's material in the layout.
     pub material: usize,
+    /// 1/s for the density scaling factor s ≥ 1 of the inertial mass and inertia (1: none).
+    pub inertia_scale_inv: f64,
     /// Centroid position, table frame, m.
     pub pos: Vec3,
     /// Orientation (body → table frame).
@@ -62,6 +64,7 @@ impl Body {
             radius,
             fixed,
             material,
+            inertia_scale_inv: 1.0,
             pos: c,
             rot: UnitQuaternion::identity(),
             rot_mat: Mat3::identity(),

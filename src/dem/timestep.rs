@@ -33,9 +33,9 @@ pub fn inv_sqrt(i: &Matrix3<f64>) -> Matrix3<f64> {
     e.eigenvectors * d * e.eigenvectors.transpose()
 }
 
-/// The stable time step, s, for the current contacts, or `None` if no body touches
-/// anything (then any step is stable for the contact forces; the caller keeps its own).
-pub fn critical_timestep(bodies: &[Body], contacts: &[Contact], safety: f64) -> Option<f64> {
+/// The largest eigenvalue `λ = ω²` (rad²/s²) of each body's 6 × 6 stiffness against its true
+/// mass matrix, with its neighbours held; 0 for fixed bodies and bodies without contacts.
+pub fn body_eigenvalues(bodies: &[Body], contacts: &[Contact]) -> Vec<f64> {
     let n = bodies.len();
     let mut k6 = vec![Matrix6::<f64>::zeros(); n];
     let mut touched = vec![false; n];
@@ -61,7 +61,7 @@ pub fn critical_timestep(bodies: &[Body], contacts: &[Contact], safety: f64) -> 
             }
         }
     }
-    let mut lmax: f64 = 0.0;
+    let mut out = vec![0.0; n];
     for (i, b) in bodies.iter().enumerate() {
         if b.fixed || !touched[i] {
             continue;
@@ -73,10 +73,30 @@ pub fn critical_timestep(bodies: &[Body], contacts: &[Contact], safety: f64) -> 
         }
         s.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_sqrt(&b.inertia));
         let a = s * k6[i] * s;
-        let l = a.symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max);
-        lmax = lmax.max(l);
+        out[i] = a.symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max);
     }
-    (lmax > 0.0).then(|| safety * 2.0 / (2.0 * lmax).sqrt())
+    out
+}
+
+/// The stable time step, s, for the eigenvalue `λ` of the stiffest (scaled) body:
+/// `safety × 2 / √(2λ)`; `None` if `λ` is 0.
+pub fn step_for(lambda: f64, safety: f64) -> Option<f64> {
+    (lambda > 0.0).then(|| safety * 2.0 / (2.0 * lambda).sqrt())
+}
+
+/// Density scaling for static solutions (3DEC's density scaling): the target eigenvalue is
+/// the median over the bodies in contact, and every stiffer body gets its inertial mass and
+/// inertia multiplied by `s = λ/λ_target` so that it no longer limits the step. Returns the
+/// target and the factors (1 for the others). Equilibrium states do not depend on inertia;
+/// only the path to them does.
+pub fn density_scaling(lambdas: &[f64]) -> (f64, Vec<f64>) {
+    let mut v: Vec<f64> = lambdas.iter().copied().filter(|l| *l > 0.0).collect();
+    if v.is_empty() {
+        return (0.0, vec![1.0; lambdas.len()]);
+    }
+    v.sort_by(f64::total_cmp);
+    let target = v[(v.len() - 1) / 2];
+    (target, lambdas.iter().map(|&l| if l > target { l / target } else { 1.0 }).collect())
 }
 
 #[cfg(test)]
@@ -88,7 +108,7 @@ mod tests {
         // A mass on one normal spring through its centroid: λ = k/m exactly.
         let mut k6 = Matrix6::zeros();
         add_spring(&mut k6, 100.0, &Vec3::z(), &Vec3::zeros());
-        let m = 4.0;
+        let m: f64 = 4.0;
         let s = Matrix6::from_diagonal(&Vector6::new(1.0 / m.sqrt(), 1.0 / m.sqrt(), 1.0 / m.sqrt(), 1.0, 1.0, 1.0));
         let l = (s * k6 * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max);
         assert!((l - 25.0).abs() < 1e-12);

@@ -169,6 +169,8 @@ pub struct TiltResult {
     pub wall_width_m: f64,
     /// Contact detections (broad + narrow phase over the model) in the accepted path.
     pub detections: u64,
+    /// Largest density-scaling factor applied (1: none; see `SolverParams::density_scaling`).
+    pub max_density_scale: f64,
 }
 
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
@@ -363,6 +365,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
             detections: sim.detections,
+            max_density_scale: sim.max_density_scale,
         });
     };
     // Bisection of the bracket from the last stable state.
@@ -407,6 +410,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         wall_time_s: t0.elapsed().as_secs_f64(),
         wall_width_m: width,
         detections: failed.detections,
+        max_density_scale: failed.max_density_scale.max(stable_sim.max_density_scale),
     })
 }
 

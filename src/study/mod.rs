@@ -335,7 +335,8 @@ impl StudySpec {
     /// # Errors
     /// The first problem found, naming the file and key.
     pub fn resolve(&self, path: &Path) -> Result<Study, StudyError> {
-        let invalid = |key: &str, reason: String| StudyError::Invalid { path: path.to_owned(), key: key.into(), reason };
+        let invalid =
+            |key: &str, reason: String| StudyError::Invalid { path: path.to_owned(), key: key.into(), reason };
         if self.version != 1 {
             return Err(invalid("version", format!("this drystone reads study version 1, got {}", self.version)));
         }
@@ -356,7 +357,8 @@ impl StudySpec {
             let mut next = Vec::new();
             for p in &points {
                 for v in values {
-                    let sv = to_value(v).ok_or_else(|| invalid(&format!("sweep.{key}"), format!("{v} is not a number or text")))?;
+                    let sv = to_value(v)
+                        .ok_or_else(|| invalid(&format!("sweep.{key}"), format!("{v} is not a number or text")))?;
                     let mut q = p.clone();
                     q.push((key.clone(), sv));
                     next.push(q);
@@ -377,22 +379,29 @@ impl StudySpec {
                 key: format!("groups[{}].wall", g.name),
                 reason: format!("cannot read {}: {source}", wall_path.display()),
             })?;
-            let base = WallSpec::from_toml(&text, &wall_path)
-                .map_err(|source| StudyError::Wall { path: path.to_owned(), group: g.name.clone(), source })?;
+            let base = WallSpec::from_toml(&text, &wall_path).map_err(|source| StudyError::Wall {
+                path: path.to_owned(),
+                group: g.name.clone(),
+                source,
+            })?;
             let source = DistributionSource::default_for(&wall_path);
             let mut walls = Vec::with_capacity(points.len());
             for p in &points {
                 let mut spec = base.clone();
                 for (k, v) in &g.overrides {
-                    let sv = to_value(v).ok_or_else(|| invalid(&format!("groups[{}].overrides.{k}", g.name), format!("{v} is not a number or text")))?;
+                    let sv = to_value(v).ok_or_else(|| {
+                        invalid(&format!("groups[{}].overrides.{k}", g.name), format!("{v} is not a number or text"))
+                    })?;
                     apply(&mut spec, k, &sv).map_err(|r| invalid(&format!("groups[{}].overrides.{k}", g.name), r))?;
                 }
                 for (k, v) in p {
                     apply(&mut spec, k, v).map_err(|r| invalid(&format!("sweep.{k}"), r))?;
                 }
-                let wall = spec
-                    .resolve(&wall_path, &source)
-                    .map_err(|source| StudyError::Wall { path: path.to_owned(), group: g.name.clone(), source })?;
+                let wall = spec.resolve(&wall_path, &source).map_err(|source| StudyError::Wall {
+                    path: path.to_owned(),
+                    group: g.name.clone(),
+                    source,
+                })?;
                 walls.push(wall);
             }
             groups.push(Group {

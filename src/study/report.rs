@@ -106,10 +106,14 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
     for (gi, g) in study.groups.iter().enumerate() {
         let measure = measure_of(study, gi);
         for (pi, p) in study.points.iter().enumerate() {
-            let cell: Vec<&RealizationRow> = rows.iter().filter(|r| r.group == g.name && r.point as usize == pi).collect();
-            let angles: Vec<f64> = cell.iter().filter(|r| r.status == Status::Collapsed).filter_map(|r| r.collapse_angle_deg).collect();
-            let d5: Vec<f64> = cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 5.0)).collect();
-            let d10: Vec<f64> = cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 10.0)).collect();
+            let cell: Vec<&RealizationRow> =
+                rows.iter().filter(|r| r.group == g.name && r.point as usize == pi).collect();
+            let angles: Vec<f64> =
+                cell.iter().filter(|r| r.status == Status::Collapsed).filter_map(|r| r.collapse_angle_deg).collect();
+            let d5: Vec<f64> =
+                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 5.0)).collect();
+            let d10: Vec<f64> =
+                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 10.0)).collect();
             let stream = (gi * study.points.len() + pi) as u64;
             out.push(CellSummary {
                 group: g.name.clone(),
@@ -159,7 +163,8 @@ pub fn comparisons(study: &Study, cells: &[CellSummary]) -> Vec<Comparison> {
     let mut out = Vec::new();
     for c in cells.iter().filter(|c| c.point == 0) {
         let mg = &study.groups[c.group_index].measured_group;
-        let coll: Vec<f64> = study.measured.collapse.iter().filter(|m| &m.group == mg).map(|m| m.collapse_angle_deg).collect();
+        let coll: Vec<f64> =
+            study.measured.collapse.iter().filter(|m| &m.group == mg).map(|m| m.collapse_angle_deg).collect();
         out.extend(compare(&c.group, "collapse angle [deg]", &coll, &c.collapse));
         for (tilt, s) in [(5.0, &c.disp5), (10.0, &c.disp10)] {
             let d: Vec<f64> = study
@@ -236,9 +241,21 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let hist_path = dir.join("collapse_angle_histograms.svg");
     plot::histograms(&hist_path, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?;
     let disp_path = dir.join("displacement_vs_tilt.svg");
-    plot::bands(&disp_path, "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured", "tilt [deg]", "displacement [cm]", &displacement_series(study, rows))?;
+    plot::bands(
+        &disp_path,
+        "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured",
+        "tilt [deg]",
+        "displacement [cm]",
+        &displacement_series(study, rows),
+    )?;
     let frag_path = dir.join("fragility.svg");
-    plot::bands(&frag_path, "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)", "tilt [deg]", "P(collapse)", &fragility_series(&cells))?;
+    plot::bands(
+        &frag_path,
+        "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)",
+        "tilt [deg]",
+        "P(collapse)",
+        &fragility_series(&cells),
+    )?;
     // report.md
     let mut md = String::new();
     let _ = writeln!(md, "# Study `{}`\n", study.name);
@@ -295,7 +312,10 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     }
     if !cmp.is_empty() {
         let _ = writeln!(md, "\n## Measured against simulated\n");
-        let _ = writeln!(md, "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n");
+        let _ = writeln!(
+            md,
+            "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n"
+        );
         let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
         let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
         for c in &cmp {
@@ -324,7 +344,11 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
             let _ = writeln!(md, "Every measured mean falls inside the simulated 95 % band.");
         } else {
             for c in misses {
-                let rel = if c.measured_mean != 0.0 { 100.0 * (c.simulated_mean - c.measured_mean) / c.measured_mean.abs() } else { f64::NAN };
+                let rel = if c.measured_mean != 0.0 {
+                    100.0 * (c.simulated_mean - c.measured_mean) / c.measured_mean.abs()
+                } else {
+                    f64::NAN
+                };
                 let _ = writeln!(
                     md,
                     "- {} {}: measured {:.2} ± {:.2}, simulated {:.2} ± {:.2}: the simulation is {} by {:.2} ({:+.0} %), outside its 95 % band {:.2} .. {:.2}.",
@@ -352,7 +376,15 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     if !failed.is_empty() {
         let _ = writeln!(md, "## Failed realizations\n");
         for r in failed {
-            let _ = writeln!(md, "- {} realization {} ({}): {} — {}", r.group, r.realization, r.sweep, r.status.as_str(), r.error);
+            let _ = writeln!(
+                md,
+                "- {} realization {} ({}): {} — {}",
+                r.group,
+                r.realization,
+                r.sweep,
+                r.status.as_str(),
+                r.error
+            );
         }
     }
     let path = dir.join("report.md");
@@ -410,7 +442,8 @@ fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries
     let mut out = Vec::new();
     for (gi, g) in study.groups.iter().enumerate() {
         let measure = measure_of(study, gi);
-        let cell: Vec<&RealizationRow> = rows.iter().filter(|r| r.group == g.name && r.point == 0 && r.status.is_ok()).collect();
+        let cell: Vec<&RealizationRow> =
+            rows.iter().filter(|r| r.group == g.name && r.point == 0 && r.status.is_ok()).collect();
         let max_tilt = cell.iter().flat_map(|r| r.tilt_deg.iter().copied()).fold(0.0, f64::max);
         let step = study.tilt.step_deg;
         let n = (max_tilt / step).round() as usize;

@@ -75,7 +75,8 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
             }
             Err(TiltError::NoInitialEquilibrium { steps, ratio }) => {
                 row.status = Status::NoInitialEquilibrium;
-                row.error = format!("no equilibrium at alpha = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e})");
+                row.error =
+                    format!("no equilibrium at alpha = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e})");
             }
             Err(TiltError::Dem(e)) => {
                 row.status = Status::BlewUp;
@@ -138,7 +139,8 @@ pub enum RunError {
 
 fn write_manifest(dir: &std::path::Path, m: &Manifest) -> Result<(), RunError> {
     let path = dir.join("manifest.json");
-    let text = serde_json::to_string_pretty(m).map_err(|e| RunError::File { path: path.clone(), message: e.to_string() })?;
+    let text =
+        serde_json::to_string_pretty(m).map_err(|e| RunError::File { path: path.clone(), message: e.to_string() })?;
     std::fs::write(&path, text).map_err(|e| RunError::File { path, message: e.to_string() })
 }
 
@@ -184,8 +186,10 @@ pub fn read_shards(dirs: &[std::path::PathBuf]) -> Result<(Manifest, Vec<Realiza
     let mut rows = Vec::new();
     for d in dirs {
         let mpath = d.join("manifest.json");
-        let text = std::fs::read_to_string(&mpath).map_err(|e| RunError::File { path: mpath.clone(), message: e.to_string() })?;
-        let m: Manifest = serde_json::from_str(&text).map_err(|e| RunError::File { path: mpath.clone(), message: e.to_string() })?;
+        let text = std::fs::read_to_string(&mpath)
+            .map_err(|e| RunError::File { path: mpath.clone(), message: e.to_string() })?;
+        let m: Manifest =
+            serde_json::from_str(&text).map_err(|e| RunError::File { path: mpath.clone(), message: e.to_string() })?;
         if let Some(f) = &first {
             if f.study != m.study || f.realizations != m.realizations || f.total_items != m.total_items {
                 return Err(RunError::Merge(format!("{} is from another run than {}", d.display(), dirs[0].display())));
@@ -195,7 +199,12 @@ pub fn read_shards(dirs: &[std::path::PathBuf]) -> Result<(Manifest, Vec<Realiza
         }
         let part = crate::io::table::read_realizations(&d.join("realizations.parquet"))?;
         if part.len() != m.items {
-            return Err(RunError::Merge(format!("{}: manifest says {} items, table has {}", d.display(), m.items, part.len())));
+            return Err(RunError::Merge(format!(
+                "{}: manifest says {} items, table has {}",
+                d.display(),
+                m.items,
+                part.len()
+            )));
         }
         rows.extend(part);
     }

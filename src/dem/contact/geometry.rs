@@ -111,6 +111,8 @@ pub struct ContactSettings {
     pub face_angle_tolerance: f64,
     /// Subdivisions of each fan triangle per edge (≥ 1). Default 1.
     pub subdivisions: u32,
+    /// How the polygon is fanned into triangles. Default [`Fan::Vertex`].
+    pub fan: Fan,
     /// Nominal width of a segment or point contact, as a fraction of the smaller block's
     /// smallest bounding-box edge. Default 0.05.
     pub degenerate_width_fraction: f64,
@@ -123,6 +125,7 @@ impl Default for ContactSettings {
             feature_tolerance: 5e-4,
             face_angle_tolerance: 10f64.to_radians(),
             subdivisions: 1,
+            fan: Fan::Vertex,
             degenerate_width_fraction: 0.05,
         }
     }
@@ -146,6 +149,17 @@ pub struct Triangle {
     pub nodes: [u32; 3],
     /// Area, m².
     pub area: f64,
+}
+
+/// How a contact polygon is split into triangles before subdivision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fan {
+    /// From its first vertex: n − 2 triangles (the fewest; used with exact integration,
+    /// which is exact on any triangulation).
+    Vertex,
+    /// From its centroid: n triangles, symmetric node areas (used with the 3DEC vertex
+    /// quadrature, whose lumped areas would otherwise depend on the diagonal chosen).
+    Centroid,
 }
 
 /// Kind of contact by the dimension of the features' overlap.
@@ -314,7 +328,7 @@ fn build_patch(
             vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]],
         )
     };
-    let (pts, triangles) = subdivide_polygon(&shape, m);
+    let (pts, triangles) = subdivide_polygon(&shape, m, s.fan);
     let nodes: Vec<NodePoint> = pts
         .into_iter()
         .map(|q| {
@@ -327,10 +341,13 @@ fn build_patch(
     Some(Patch { normal: *n, gap, kind, area: total, nodes, triangles })
 }
 
-/// The centroid fan of a convex polygon with each triangle subdivided `m × m`: nodes
+/// A fan of a convex polygon (see [`Fan`]) with each triangle subdivided `m × m`: nodes
 /// (deduplicated) and counter-clockwise sub-triangles.
-pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize) -> (Vec<[f64; 2]>, Vec<Triangle>) {
-    let c = polygon::centroid(poly);
+pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize, fan: Fan) -> (Vec<[f64; 2]>, Vec<Triangle>) {
+    let c = match fan {
+        Fan::Centroid => polygon::centroid(poly),
+        Fan::Vertex => poly[0],
+    };
     let mut nodes: Vec<[f64; 2]> = Vec::new();
     let mut tris = Vec::new();
     let scale = poly.iter().fold(0.0f64, |s, p| s.max((p[0] - c[0]).abs()).max((p[1] - c[1]).abs()));
@@ -345,7 +362,11 @@ pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize) -> (Vec<[f64; 2]>, Vec<Tri
     };
     let nv = poly.len();
     let mf = m as f64;
-    for k in 0..nv {
+    let fans: Vec<usize> = match fan {
+        Fan::Centroid => (0..nv).collect(),
+        Fan::Vertex => (1..nv.saturating_sub(1)).collect(),
+    };
+    for k in fans {
         let p = poly[k];
         let q = poly[(k + 1) % nv];
         let e1 = [p[0] - c[0], p[1] - c[1]];
@@ -400,21 +421,23 @@ mod tests {
     #[test]
     fn subdivision_tiles_the_polygon() {
         let poly = vec![[0.0, 0.0], [0.3, 0.0], [0.3, 0.1], [0.0, 0.1]];
-        for m in 1..6 {
-            let (nodes, tris) = subdivide_polygon(&poly, m);
-            assert_eq!(tris.len(), 4 * m * m);
-            let a: f64 = tris.iter().map(|t| t.area).sum();
-            assert!((a - 0.03).abs() < 1e-14);
-            // Each triangle's stored area equals its geometric area, counter-clockwise.
-            for t in &tris {
-                let [p, q, r] = t.nodes.map(|i| nodes[i as usize]);
-                let ga = 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
-                assert!((ga - t.area).abs() < 1e-15);
+        for (fan, per) in [(Fan::Centroid, 4), (Fan::Vertex, 2)] {
+            for m in 1..6 {
+                let (nodes, tris) = subdivide_polygon(&poly, m, fan);
+                assert_eq!(tris.len(), per * m * m);
+                let a: f64 = tris.iter().map(|t| t.area).sum();
+                assert!((a - 0.03).abs() < 1e-14);
+                // Each triangle's stored area equals its geometric area, counter-clockwise.
+                for t in &tris {
+                    let [p, q, r] = t.nodes.map(|i| nodes[i as usize]);
+                    let ga = 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+                    assert!((ga - t.area).abs() < 1e-15);
+                }
+                // Euler: V − E + F = 1 for a triangulated disc; with E = (3F + boundary)/2.
+                let boundary = 4 * m;
+                let e = (3 * tris.len() + boundary) / 2;
+                assert_eq!(nodes.len() + tris.len(), e + 1);
             }
-            // Euler: V − E + F = 1 for a triangulated disc; with E = (3F + boundary)/2.
-            let boundary = 4 * m;
-            let e = (3 * tris.len() + boundary) / 2;
-            assert_eq!(nodes.len() + tris.len(), e + 1);
         }
     }
 

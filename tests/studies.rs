@@ -1,0 +1,146 @@
+//! Study files, the ensemble runner, shards and merge.
+
+use drystone::ensemble::row::{RealizationRow, Status};
+use drystone::ensemble::Shard;
+use drystone::study::run::{read_shards, run_item, run_study, write_outputs};
+use drystone::study::Study;
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn mini() -> Study {
+    Study::from_file(&root().join("tests/studies/good/mini_sweep.toml")).unwrap()
+}
+
+fn zero_wall_time(mut rows: Vec<RealizationRow>) -> Vec<RealizationRow> {
+    for r in &mut rows {
+        r.wall_time_s = 0.0;
+    }
+    rows
+}
+
+#[test]
+fn every_shipped_study_loads() {
+    let mut n = 0;
+    for dir in ["studies", "tests/studies/good"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                Study::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                n += 1;
+            }
+        }
+    }
+    assert!(n >= 2);
+}
+
+#[test]
+fn each_bad_study_fails_with_its_expected_message() {
+    let mut n = 0;
+    for e in std::fs::read_dir(root().join("tests/studies/bad")).unwrap() {
+        let p = e.unwrap().path();
+        let text = std::fs::read_to_string(&p).unwrap();
+        let expect = text.lines().next().and_then(|l| l.strip_prefix("# expect: ")).expect("first line: # expect: ...");
+        let err = Study::from_file(&p).err().unwrap_or_else(|| panic!("{} loaded", p.display())).to_string();
+        assert!(err.contains(expect), "{}: expected {expect:?} in {err:?}", p.display());
+        assert!(err.contains(p.file_name().unwrap().to_str().unwrap()), "the message names the file: {err}");
+        n += 1;
+    }
+    assert!(n >= 8);
+}
+
+#[test]
+fn sweep_is_a_cartesian_grid_with_overrides() {
+    let s = mini();
+    assert_eq!(s.points.len(), 2);
+    assert_eq!(s.items().len(), 2 * 2 * 2);
+    assert!((s.groups[1].walls[0].length - 0.4).abs() < 1e-12);
+    let kn: Vec<f64> = s.groups[0].walls.iter().map(|w| w.materials[0].kn_pa_per_m).collect();
+    assert_eq!(kn, vec![1.75e8, 3.5e8]);
+    // Ks follows Kn at the material's own ratio.
+    let w = &s.groups[0].walls[1];
+    assert!((w.materials[0].ks_pa_per_m / w.materials[0].kn_pa_per_m - 0.86 / 1.75).abs() < 1e-12);
+}
+
+#[test]
+fn ensemble_is_bit_identical_on_1_and_2_threads_and_alone() {
+    let s = mini();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        zero_wall_time(pool.install(|| run_study(&s, Shard::ALL)))
+    };
+    let one = run(1);
+    let two = run(2);
+    assert_eq!(one.len(), 8);
+    assert!(one.iter().all(|r| r.status == Status::Collapsed), "{one:#?}");
+    assert_eq!(one, two);
+    // Realization 1 of group 1, point 1, alone.
+    let items = s.items();
+    let it = items.iter().find(|i| i.group == 1 && i.point == 1 && i.realization == 1).unwrap();
+    let mut alone = run_item(&s, it);
+    alone.wall_time_s = 0.0;
+    assert_eq!(alone, one[it.index]);
+    // Different realizations are different walls.
+    assert_ne!(one[0].collapse_angle_deg, None);
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("drystone-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn shards_merge_into_exactly_the_unsharded_run() {
+    let s = mini();
+    let arg = root().join("tests/studies/good/mini_sweep.toml");
+    let all = zero_wall_time(run_study(&s, Shard::ALL));
+    let whole = tmp("whole");
+    write_outputs(&s, &arg, Shard::ALL, &all, &whole).unwrap();
+    let mut dirs = Vec::new();
+    for k in 1..=3 {
+        let sh = Shard::parse(&format!("{k}/3")).unwrap();
+        let rows = zero_wall_time(run_study(&s, sh));
+        let d = tmp(&format!("shard{k}"));
+        write_outputs(&s, &arg, sh, &rows, &d).unwrap();
+        assert!(!d.join("report.md").exists(), "a shard writes no report");
+        dirs.push(d);
+    }
+    let (manifest, rows) = read_shards(&dirs).unwrap();
+    assert_eq!(rows, all);
+    let merged = tmp("merged");
+    write_outputs(&s, &manifest.study, Shard::ALL, &rows, &merged).unwrap();
+    for f in ["realizations.csv", "summary.csv", "report.md", "collapse_angle_histograms.svg", "fragility.svg"] {
+        assert_eq!(read(&whole.join(f)), read(&merged.join(f)), "{f} differs");
+    }
+    // Parquet round trip.
+    let back = drystone::io::table::read_realizations(&merged.join("realizations.parquet")).unwrap();
+    assert_eq!(back, all);
+    // An incomplete set of shards is refused.
+    let err = read_shards(&dirs[..2]).unwrap_err().to_string();
+    assert!(err.contains("missing") || err.contains("of 8 items"), "{err}");
+}
+
+#[test]
+fn a_failed_realization_becomes_a_row_and_the_ensemble_goes_on() {
+    let mut s = mini();
+    s.tilt.max_steps_per_increment = 5; // no equilibrium at alpha = 0 in 5 steps
+    let rows = run_study(&s, Shard::parse("1/4").unwrap());
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert_eq!(r.status, Status::NoInitialEquilibrium);
+        assert!(r.error.contains("no equilibrium"), "{}", r.error);
+        assert_eq!(r.collapse_angle_deg, None);
+    }
+    let dir = tmp("failed");
+    let arg = root().join("tests/studies/good/mini_sweep.toml");
+    write_outputs(&s, &arg, Shard::ALL, &rows, &dir).unwrap();
+    let report = String::from_utf8(read(&dir.join("report.md"))).unwrap();
+    assert!(report.contains("no_initial_equilibrium"), "{report}");
+}
