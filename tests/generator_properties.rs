@@ -249,3 +249,74 @@ proptest! {
         check_invariants(&w, &g).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", s.to_toml())))?;
     }
 }
+
+#[test]
+fn end_restraints_hold_exactly_the_blocks_near_the_ends() {
+    use drystone::generator::spec::Ends;
+    use drystone::layout::EndRestraintKind;
+    let path = root().join("studies/walls/sbr.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let spring = text.replace(
+        "ends = { kind = \"rigid\", zone_m = 0.05 }",
+        "ends = { kind = \"spring\", zone_m = 0.05, stiffness_n_per_m = 2.0e5 }",
+    );
+    let src = DistributionSource::dir(root().join("distributions"));
+    let walls = [
+        preset("sbr"),
+        preset("full_scale"),
+        WallSpec::from_toml(&spring, &path).unwrap().resolve(&path, &src).unwrap(),
+    ];
+    for w in &walls {
+        for r in 0..5 {
+            let g = generate(w, 3, r).unwrap();
+            let (zone, kind, k) = match w.ends {
+                Ends::Rigid { zone } => (zone, EndRestraintKind::Rigid, None),
+                Ends::Spring { zone, stiffness } => (zone, EndRestraintKind::Spring, Some(stiffness)),
+                Ends::Free => unreachable!(),
+            };
+            let expected: Vec<&str> = g
+                .pieces
+                .iter()
+                .filter(|p| p.polygon.iter().any(|q| q[0] < zone || q[0] > w.length - zone))
+                .map(|p| p.id.as_str())
+                .collect();
+            assert!(expected.len() >= 2 * g.course_tops_m.len(), "{}: {expected:?}", w.name);
+            let ends = &g.layout.restraints.ends;
+            assert_eq!(ends.len(), 1);
+            assert_eq!(ends[0].kind, kind);
+            assert_eq!(ends[0].stiffness_n_per_m, k);
+            assert_eq!(ends[0].blocks, expected);
+            let layout = g.check().unwrap();
+            assert_eq!(layout.end_restraints.len(), expected.len());
+        }
+    }
+    // Free ends restrain nothing; the base restraint is passed through.
+    let g = generate(&preset("sbl"), 3, 0).unwrap();
+    assert!(g.layout.restraints.ends.is_empty());
+    assert_eq!(g.layout.restraints.base_sliding, BaseSliding::Held);
+}
+
+#[test]
+fn wedge_lengths_cut_long_gaps_into_several_wedges() {
+    let path = root().join("studies/walls/full_scale.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace("min_wedge_length_m = 0.025\n", "min_wedge_length_m = 0.025\nwedge_length_m = 0.12\n");
+    let src = DistributionSource::dir(root().join("distributions"));
+    let cut = WallSpec::from_toml(&text, &path).unwrap().resolve(&path, &src).unwrap();
+    let whole = preset("full_scale");
+    for r in 0..10 {
+        let (g, h) = (generate(&cut, 8, r).unwrap(), generate(&whole, 8, r).unwrap());
+        check_invariants(&cut, &g).unwrap();
+        assert!(g.counts().1 > h.counts().1, "realization {r}: {:?} vs {:?}", g.counts(), h.counts());
+        for p in g.pieces.iter().filter(|p| p.kind == PieceKind::Wedge) {
+            let xs = p.polygon.iter().map(|q| q[0]);
+            let len = xs.clone().fold(f64::NEG_INFINITY, f64::max) - xs.fold(f64::INFINITY, f64::min);
+            assert!(len < 0.12 + 0.025 + 1e-9, "wedge {} is {len} m long", p.id);
+        }
+        // The base course has no wedges and is drawn before any wedge cut: it is the same.
+        let s0 = |w: &drystone::generator::GeneratedWall| {
+            w.pieces.iter().filter(|p| p.course == 0).map(|p| p.polygon.clone()).collect::<Vec<_>>()
+        };
+        assert_eq!(s0(&g), s0(&h));
+    }
+}

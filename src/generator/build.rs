@@ -369,6 +369,7 @@ fn top_segments(poly: &[P2], out: &mut Vec<Seg>) {
 }
 
 /// Builds the elevation of one realization. `rng` is the realization's layout stream.
+#[allow(clippy::needless_range_loop)] // k is the course number, not only an index
 pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevation, GeneratorError> {
     let (l, h) = (wall.length, wall.height);
     let mut samples = Samples::default();

@@ -257,12 +257,13 @@ impl DistributionSpec {
                 _ => {}
             }
         }
+        // Every value the kind takes is present and finite from here on.
         let g = |key: &str| given.iter().find(|(n, _)| *n == key).and_then(|(_, v)| *v).unwrap_or(f64::NAN);
         let law = match self.kind {
             Kind::Fixed => Law::Fixed(g("value")),
             Kind::Uniform => {
                 let (min, max) = (g("min"), g("max"));
-                if !(min < max) {
+                if min >= max {
                     return Err(bad(
                         path,
                         &k("max"),
@@ -274,21 +275,21 @@ impl DistributionSpec {
             }
             Kind::Normal => {
                 let std = g("std");
-                if !(std > 0.0) {
+                if std <= 0.0 {
                     return Err(bad(path, &k("std"), std, "must be > 0"));
                 }
                 Law::Normal { mean: g("mean"), std }
             }
             Kind::TruncatedNormal => {
                 let (mean, std, min, max) = (g("mean"), g("std"), g("min"), g("max"));
-                if !(std > 0.0) {
+                if std <= 0.0 {
                     return Err(bad(path, &k("std"), std, "must be > 0"));
                 }
-                if !(min < max) {
+                if min >= max {
                     return Err(bad(path, &k("max"), max, format!("must be > min = {min}")));
                 }
                 let law = Law::TruncatedNormal { mean, std, min, max };
-                if !(trunc_mass(mean, std, min, max) > 1e-9) {
+                if trunc_mass(mean, std, min, max) <= 1e-9 {
                     return Err(bad(
                         path,
                         &k("min"),
@@ -300,10 +301,10 @@ impl DistributionSpec {
             }
             Kind::Lognormal => {
                 let (mean, cv) = (g("mean"), g("cv"));
-                if !(mean > 0.0) {
+                if mean <= 0.0 {
                     return Err(bad(path, &k("mean"), mean, "must be > 0"));
                 }
-                if !(cv > 0.0) {
+                if cv <= 0.0 {
                     return Err(bad(path, &k("cv"), cv, "must be > 0 (use kind fixed for no scatter)"));
                 }
                 Law::Lognormal { mean, cv }

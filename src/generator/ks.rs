@@ -31,7 +31,7 @@ pub fn kolmogorov_q(lambda: f64) -> f64 {
         let y = (-std::f64::consts::PI.powi(2) / (8.0 * lambda * lambda)).exp();
         let mut s = 0.0;
         for k in 1..=20 {
-            let e = ((2 * k - 1) * (2 * k - 1)) as i32;
+            let e = (2 * k - 1) * (2 * k - 1);
             s += y.powi(e);
         }
         (1.0 - (2.0 * std::f64::consts::PI).sqrt() / lambda * s).clamp(0.0, 1.0)
@@ -39,7 +39,7 @@ pub fn kolmogorov_q(lambda: f64) -> f64 {
         let x = (-2.0 * lambda * lambda).exp();
         let mut s = 0.0;
         for k in 1..=100 {
-            let kk = (k * k) as i32;
+            let kk = k * k;
             let term = x.powi(kk);
             s += if k % 2 == 1 { term } else { -term };
             if term < 1e-17 {

@@ -41,8 +41,10 @@
 //!    odd course (default half a block). `irregular`: the first block of a course is a
 //!    random fraction in [½, 1) of a drawn length (so courses do not all start with a joint
 //!    at the same place); then drawn lengths while they fit; the last block takes the rest
-//!    (split in two if longer than the law's largest value). In every arrangement an end
-//!    piece shorter than `min_end_fraction × l̄` is merged into its neighbour.
+//!    (split in two if longer than the law's largest value). No end piece is shorter than
+//!    `min_end_fraction × l̄`: continuous and running-bond walls merge a shorter cut piece
+//!    into its neighbour; irregular walls make the first block at least that long and stop
+//!    drawing lengths so that the last one is too.
 //! 3. **Open head joints (micro-gaps).** `micro_gap_m = w` opens every interior head joint
 //!    by w; `void_fraction = f` opens each course's interior head joints by
 //!    `f L / (number of interior head joints)` (a course of one block is shortened at both
@@ -77,8 +79,10 @@
 //!    through prism, triangular or quadrilateral in elevation) of the wedge material,
 //!    listed with the course it supports. Gaps thinner than `min_wedge_thickness_m` or
 //!    shorter than `min_wedge_length_m` stay open; a gap longer than a drawn
-//!    `wedge_length_m` is cut into several wedges. Continuous and discontinuous walls have
-//!    no gaps and so no wedges.
+//!    `wedge_length_m` is cut into several wedges. A wedge is also dropped (its gap left
+//!    open) if the convex hull built from its vertices, as the DEM builds it, does not have
+//!    its volume: quickhull can fail on a thin sliver. Continuous and discontinuous walls
+//!    have no gaps and so no wedges.
 //! 7. Every polygon is clipped to 0 ≤ z ≤ H (half-planes keep it convex).
 //!
 //! So every block is convex, inside the envelope and the base course sits on the table by
@@ -121,10 +125,10 @@
 //! dip_deg = "dip_uniform_20"  # a number (fixed) or a distribution name (unit deg)
 //!
 //! [courses]
-//! height_m = "course_full_scale"   # number or distribution (unit m)
+//! height_m = "course_height_full_scale"   # number or distribution (unit m)
 //!
 //! [blocks]
-//! length_m = "block_full_scale"    # number or distribution (unit m)
+//! length_m = "block_length_full_scale"    # number or distribution (unit m)
 //! material = "stone"
 //!
 //! [head_joints]               # optional; at most one of the two
@@ -422,6 +426,19 @@ pub fn generate(wall: &Wall, seed: u64, realization: u64) -> Result<GeneratedWal
     order.sort_by_key(|&i| (elev.pieces[i].course, elev.pieces[i].kind == PieceKind::Stone));
     for i in order {
         let p = &elev.pieces[i];
+        let mut vertices = Vec::with_capacity(2 * p.polygon.len());
+        for &[x, z] in &p.polygon {
+            let (y0, y1) = wall.faces_at(z);
+            vertices.push([x, y0, z]);
+            vertices.push([x, y1, z]);
+        }
+        let a = build::area(&p.polygon);
+        let volume = a * wall.width_at(centroid_z(&p.polygon, a));
+        // A wedge can be a thin sliver; keep it only if the hull the DEM will build from its
+        // vertices is the block (quickhull can fail on slivers): else the gap stays open.
+        if p.kind == PieceKind::Wedge && !hull_is_faithful(&vertices, volume) {
+            continue;
+        }
         let id = match p.kind {
             PieceKind::Stone => {
                 stone_no[p.course] += 1;
@@ -432,14 +449,6 @@ pub fn generate(wall: &Wall, seed: u64, realization: u64) -> Result<GeneratedWal
                 format!("c{}w{}", p.course, wedge_no[p.course] - 1)
             }
         };
-        let mut vertices = Vec::with_capacity(2 * p.polygon.len());
-        for &[x, z] in &p.polygon {
-            let (y0, y1) = wall.faces_at(z);
-            vertices.push([x, y0, z]);
-            vertices.push([x, y1, z]);
-        }
-        let a = build::area(&p.polygon);
-        let zc = centroid_z(&p.polygon, a);
         let (xmin, xmax) =
             p.polygon.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[0]), hi.max(q[0])));
         let restrained = match wall.ends {
@@ -452,7 +461,7 @@ pub fn generate(wall: &Wall, seed: u64, realization: u64) -> Result<GeneratedWal
             course: p.course,
             polygon: p.polygon.clone(),
             vertices,
-            volume: a * wall.width_at(zc),
+            volume,
             dip_deg: p.dip_deg,
             material: match p.kind {
                 PieceKind::Stone => wall.block_material.clone(),
@@ -536,6 +545,16 @@ pub fn generate_batch(
     range.into_par_iter().map(|i| generate(wall, seed, i)).collect()
 }
 
+/// True if the convex hull of `vertices` (as [`crate::geometry::ConvexBlock`] builds it for
+/// the DEM) has the volume `volume` (m³) to 1e-9 relative: the hull is the block.
+fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
+    let v: Vec<crate::Vec3> = vertices.iter().map(|q| crate::Vec3::new(q[0], q[1], q[2])).collect();
+    match crate::geometry::ConvexBlock::from_vertices(&v) {
+        Ok(b) => (b.volume() - volume).abs() <= 1e-9 * volume.abs(),
+        Err(_) => false,
+    }
+}
+
 /// Centroid height of a polygon of signed area `a`.
 fn centroid_z(poly: &[[f64; 2]], a: f64) -> f64 {
     let n = poly.len();
@@ -590,6 +609,24 @@ friction_deg = 32
         assert!((c1[0].polygon[1][0] - 0.1).abs() < 1e-12);
         assert!((g.volume() - w.envelope_volume()).abs() < 1e-12 * w.envelope_volume());
         g.layout.resolve().unwrap();
+    }
+
+    #[test]
+    fn the_documented_wall_file_resolves_and_generates() {
+        let src = include_str!("mod.rs");
+        let start = src.find("//! ```toml\n//! version = 1").expect("example in the module doc");
+        let body: String = src[start..]
+            .lines()
+            .skip(1)
+            .take_while(|l| !l.starts_with("//! ```"))
+            .map(|l| l.strip_prefix("//! ").or(l.strip_prefix("//!")).unwrap_or(l))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let w = wall(&body);
+        let g = generate(&w, 1, 0).unwrap();
+        assert!(g.counts().1 > 0);
+        assert!(g.pieces.iter().all(|p| p.material.starts_with("stone~")));
+        g.check().unwrap();
     }
 
     #[test]

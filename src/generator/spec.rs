@@ -916,3 +916,41 @@ impl Resolver<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall(batter: &str) -> Wall {
+        let text = format!(
+            "version = 1\n[geometry]\nlength_m = 2.0\nheight_m = 1.0\nbase_width_m = 0.5\ntop_width_m = 0.2\n\
+             batter = \"{batter}\"\n[arrangement]\nkind = \"continuous\"\n[courses]\nheight_m = 0.25\n\
+             [blocks]\nlength_m = 0.5\n[[materials]]\nname = \"m\"\ndensity_kg_per_m3 = 2000\n\
+             kn_pa_per_m = 1e8\nks_pa_per_m = 5e7\nfriction_deg = 30\n"
+        );
+        let p = Path::new("t.toml");
+        WallSpec::from_toml(&text, p).unwrap().resolve(p, &DistributionSource::default()).unwrap()
+    }
+
+    #[test]
+    fn faces_follow_the_batter() {
+        let w = wall("symmetric");
+        assert_eq!(w.faces_at(0.0), (-0.25, 0.25));
+        let (a, b) = w.faces_at(1.0);
+        assert!((a + 0.1).abs() < 1e-15 && (b - 0.1).abs() < 1e-15);
+        let w = wall("vertical_negative_y");
+        for z in [0.0, 0.3, 1.0] {
+            let (a, b) = w.faces_at(z);
+            assert_eq!(a, -0.25);
+            assert!((b - a - w.width_at(z)).abs() < 1e-15);
+        }
+        let w = wall("vertical_positive_y");
+        for z in [0.0, 0.3, 1.0] {
+            let (a, b) = w.faces_at(z);
+            assert_eq!(b, 0.25);
+            assert!((b - a - w.width_at(z)).abs() < 1e-15);
+        }
+        assert!((w.section_area() - 0.35).abs() < 1e-15);
+        assert!((w.envelope_volume() - 0.7).abs() < 1e-15);
+    }
+}
