@@ -51,7 +51,7 @@ pub enum DemError {
 pub struct SolverParams {
     /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
     pub damping: f64,
-    /// Fraction of the critical time step used. Default 0.5.
+    /// Fraction of the critical time step bound used (see `dem::timestep`). Default 0.8.
     pub timestep_safety: f64,
     /// Pairs closer than this get a contact, m. Default 0.001.
     pub contact_margin_m: f64,
@@ -82,7 +82,7 @@ impl Default for SolverParams {
         let c = ContactSettings::default();
         SolverParams {
             damping: 0.8,
-            timestep_safety: 0.5,
+            timestep_safety: 0.8,
             contact_margin_m: c.margin,
             feature_tolerance_m: c.feature_tolerance,
             face_angle_tolerance_deg: c.face_angle_tolerance.to_degrees(),

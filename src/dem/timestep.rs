@@ -8,8 +8,8 @@
 //! the neighbours at most doubles `ω²` (each spring joins two bodies), so
 //! `ω_max² ≤ 2 max_body λ_max(M^{-1/2} K M^{-1/2})`, and the step is
 //! `Δt = safety × 2 / ω_max` (central differences are stable for `Δt < 2/ω_max`).
-//! The default safety factor 0.5 leaves room for the stiffening of contacts between
-//! detections.
+//! The default safety factor 0.8 (of a bound that already doubles the single-body ω²)
+//! leaves room for the stiffening of contacts between detections.
 
 use super::engine::Contact;
 use super::state::Body;
