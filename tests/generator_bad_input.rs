@@ -195,6 +195,14 @@ fn arrangement_and_restraint_keys() {
     expect("overlap_range.toml", &t, &["arrangement.overlap", "(0, 1)"]);
     let t = replace("kind = \"irregular\"\ndip_deg = \"dip_uniform_10\"", "kind = \"continuous\"");
     expect("continuous_random_length.toml", &t, &["blocks.length_m", "fixed block length"]);
+    expect(
+        "wedge_fill_range.toml",
+        &replace("dip_deg = \"dip_uniform_10\"", "dip_deg = \"dip_uniform_10\"\nwedge_fill = 1.5"),
+        &["arrangement.wedge_fill", "[0, 1]"],
+    );
+    let t = replace("kind = \"irregular\"\ndip_deg = \"dip_uniform_10\"", "kind = \"continuous\"\nwedge_fill = 0.5")
+        .replace("length_m = \"block_length_sbl\"", "length_m = 0.1");
+    expect("wedge_fill_regular.toml", &t, &["arrangement.wedge_fill", "irregular"]);
     expect("bad_kind.toml", &replace("kind = \"irregular\"", "kind = \"random\""), &["random"]);
     expect(
         "rigid_no_zone.toml",

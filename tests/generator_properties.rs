@@ -159,6 +159,7 @@ fn spec(
             min_wedge_thickness_m: None,
             min_wedge_length_m: None,
             wedge_length_m: None,
+            wedge_fill: None,
         },
         courses: CoursesSpec { height_m: course, min_thickness_fraction: None },
         blocks: BlocksSpec { length_m: block, min_end_fraction: None, material: None, wedge_material: None },
@@ -319,4 +320,27 @@ fn wedge_lengths_cut_long_gaps_into_several_wedges() {
         };
         assert_eq!(s0(&g), s0(&h));
     }
+}
+
+#[test]
+fn wedge_fill_keeps_about_that_fraction_of_the_gaps() {
+    let path = root().join("studies/walls/full_scale.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace("min_wedge_length_m = 0.025\n", "min_wedge_length_m = 0.025\nwedge_fill = 0.5\n");
+    let src = DistributionSource::dir(root().join("distributions"));
+    let half = WallSpec::from_toml(&text, &path).unwrap().resolve(&path, &src).unwrap();
+    let full = preset("full_scale");
+    let (mut n_half, mut n_full) = (0usize, 0usize);
+    for r in 0..200 {
+        let g = generate(&half, 4, r).unwrap();
+        n_half += g.counts().1;
+        n_full += generate(&full, 4, r).unwrap().counts().1;
+        // Still convex, inside, without overlaps; only the volume is short by the empty gaps.
+        if r < 10 {
+            g.layout.resolve().unwrap();
+            assert!(g.volume() <= half.envelope_volume() * (1.0 + 1e-12));
+        }
+    }
+    let ratio = n_half as f64 / n_full as f64;
+    assert!((ratio - 0.5).abs() < 0.05, "{n_half} / {n_full} = {ratio}");
 }

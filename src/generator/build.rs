@@ -461,9 +461,14 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             // Wedges in the gaps between this stone's bed and the course below.
             if k > 0 && irregular.is_some() {
                 let wedge_len = irregular.and_then(|ir| ir.wedge_length.as_ref());
+                let fill = irregular.map_or(1.0, |ir| ir.wedge_fill);
                 for s in &under {
                     let (gl, gr) = (bottom.at(s.x0) - s.z0, bottom.at(s.x1) - s.z1);
                     if gl.max(gr) < t_w || s.x1 - s.x0 < l_w {
+                        continue;
+                    }
+                    // Wedge frequency: a draw only when some gaps stay empty.
+                    if fill < 1.0 && rand::distr::Uniform::new(0.0, 1.0).expect("valid").sample(rng) >= fill {
                         continue;
                     }
                     // Cut points along x (wedge length law), else one wedge.

@@ -79,7 +79,8 @@
 //!    through prism, triangular or quadrilateral in elevation) of the wedge material,
 //!    listed with the course it supports. Gaps thinner than `min_wedge_thickness_m` or
 //!    shorter than `min_wedge_length_m` stay open; a gap longer than a drawn
-//!    `wedge_length_m` is cut into several wedges. A wedge is also dropped (its gap left
+//!    `wedge_length_m` is cut into several wedges; with `wedge_fill = p` (wedge frequency)
+//!    a gap gets its wedges with probability p only. A wedge is also dropped (its gap left
 //!    open) if the convex hull built from its vertices, as the DEM builds it, does not have
 //!    its volume: quickhull can fail on a thin sliver. Continuous and discontinuous walls
 //!    have no gaps and so no wedges.
@@ -100,6 +101,7 @@
 //! | `arrangement.min_wedge_thickness_m` | 0.01 × mean course height |
 //! | `arrangement.min_wedge_length_m` | 0.05 × mean block length |
 //! | `arrangement.wedge_length_m` | none (one wedge per gap) |
+//! | `arrangement.wedge_fill` | 1 (every gap thick and long enough gets its wedge) |
 //! | `courses.min_thickness_fraction` | 0.4 |
 //! | `blocks.min_end_fraction` | 0.25 |
 //! | `blocks.material` / `wedge_material` / `restraints.table_material` | first material / block material / block material |

@@ -106,6 +106,11 @@ pub struct ArrangementSpec {
     /// per gap piece.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wedge_length_m: Option<DistRef>,
+    /// `irregular` only: wedge frequency, the probability that a gap (thick and long enough
+    /// for a wedge) gets its wedge(s), in [0, 1]. Default 1: every such gap. Gaps left
+    /// empty add to the void the generator reports (not to the stated void fraction).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wedge_fill: Option<f64>,
 }
 
 /// `[courses]`.
@@ -280,6 +285,8 @@ pub struct Irregular {
     pub min_wedge_length: f64,
     /// Wedge length law (unit `m`), if gaps are split into several wedges.
     pub wedge_length: Option<Distribution>,
+    /// Probability that a gap gets its wedge(s), in [0, 1].
+    pub wedge_fill: f64,
 }
 
 /// Open head joints.
@@ -536,6 +543,7 @@ impl WallSpec {
                 only("min_wedge_thickness_m", a.min_wedge_thickness_m.is_some(), "irregular")?;
                 only("min_wedge_length_m", a.min_wedge_length_m.is_some(), "irregular")?;
                 only("wedge_length_m", a.wedge_length_m.is_some(), "irregular")?;
+                only("wedge_fill", a.wedge_fill.is_some(), "irregular")?;
                 if !block_length.is_fixed() {
                     return Err(inv(
                         "blocks.length_m",
@@ -587,7 +595,14 @@ impl WallSpec {
                     }
                     None => None,
                 };
-                Arrangement::Irregular(Irregular { dip, min_wedge_thickness, min_wedge_length, wedge_length })
+                let wedge_fill = fraction(path, "arrangement.wedge_fill", a.wedge_fill.unwrap_or(1.0), true, true)?;
+                Arrangement::Irregular(Irregular {
+                    dip,
+                    min_wedge_thickness,
+                    min_wedge_length,
+                    wedge_length,
+                    wedge_fill,
+                })
             }
         };
 
