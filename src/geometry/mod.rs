@@ -169,9 +169,24 @@ impl ConvexBlock {
         if tris.len() < 4 {
             return Err(GeometryError::Degenerate { count: input.len() });
         }
-        let hull_vertices: Vec<Vec3> = hv.iter().map(from_p).collect();
+        let mut hull_vertices: Vec<Vec3> = hv.iter().map(from_p).collect();
         let tol = 1e-9 * size.max(1e-12);
-        let faces = merge_coplanar(&hull_vertices, &tris, tol)?;
+        let mut faces = merge_coplanar(&hull_vertices, &tris, tol)?;
+        if !hull_is_valid(&hull_vertices, &faces, 1e-7 * size) {
+            // Quickhull can return inconsistent triangles on thin slivers: rebuild the faces
+            // from the supporting planes of the input points.
+            let mut pts: Vec<Vec3> = Vec::new();
+            for p in input {
+                if !pts.iter().any(|q| (q - p).norm() <= tol) {
+                    pts.push(*p);
+                }
+            }
+            faces = faces_from_planes(&pts, brute_force_planes(&pts, 1e-9 * size), tol)?;
+            hull_vertices = pts;
+            if !hull_is_valid(&hull_vertices, &faces, 1e-7 * size) {
+                return Err(GeometryError::Hull("no consistent convex hull (degenerate sliver?)".into()));
+            }
+        }
         // Keep only vertices used by faces, re-index.
         let mut used = vec![usize::MAX; hull_vertices.len()];
         let mut vertices = Vec::new();
@@ -372,6 +387,61 @@ fn merge_coplanar(v: &[Vec3], tris: &[[u32; 3]], tol: f64) -> Result<Vec<Face>, 
             faces.push((n, off, t.iter().map(|&i| i as usize).collect()));
         }
     }
+    faces_from_planes(v, faces, tol)
+}
+
+/// Supporting planes of a small point set by brute force: every plane through three points
+/// with all points on one side (within `tol`) is a face plane. O(n⁴), exact up to `tol`; the
+/// fallback when the quickhull result fails validation (it can, on thin slivers).
+fn brute_force_planes(v: &[Vec3], tol: f64) -> Vec<(Vec3, f64, Vec<usize>)> {
+    let n = v.len();
+    let mut planes: Vec<(Vec3, f64, Vec<usize>)> = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let nrm = (v[j] - v[i]).cross(&(v[k] - v[i]));
+                let len = nrm.norm();
+                if len <= 1e-300 {
+                    continue;
+                }
+                for sign in [1.0, -1.0] {
+                    let nn = nrm * (sign / len);
+                    let off = nn.dot(&v[i]);
+                    if v.iter().all(|p| nn.dot(p) <= off + tol)
+                        && !planes.iter().any(|(pn, po, _)| pn.dot(&nn) > 1.0 - 1e-9 && (po - off).abs() <= 10.0 * tol)
+                    {
+                        let on: Vec<usize> = (0..n).filter(|&m| (nn.dot(&v[m]) - off).abs() <= tol).collect();
+                        planes.push((nn, off, on));
+                    }
+                }
+            }
+        }
+    }
+    planes
+}
+
+/// A hull is valid if every vertex lies behind every face (within `tol`) and it is a closed
+/// polyhedron: V − E + F = 2.
+fn hull_is_valid(vertices: &[Vec3], faces: &[Face], tol: f64) -> bool {
+    let behind = faces.iter().all(|f| vertices.iter().all(|p| f.normal.dot(p) <= f.offset + tol));
+    let mut edges: Vec<(usize, usize)> = faces
+        .iter()
+        .flat_map(|f| {
+            let n = f.vertices.len();
+            (0..n).map(move |k| {
+                let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+                (a.min(b), a.max(b))
+            })
+        })
+        .collect();
+    let half_edges = edges.len();
+    edges.sort_unstable();
+    edges.dedup();
+    let used: std::collections::BTreeSet<usize> = faces.iter().flat_map(|f| f.vertices.iter().copied()).collect();
+    behind && half_edges == 2 * edges.len() && used.len() as i64 - edges.len() as i64 + faces.len() as i64 == 2
+}
+
+fn faces_from_planes(v: &[Vec3], faces: Vec<(Vec3, f64, Vec<usize>)>, tol: f64) -> Result<Vec<Face>, GeometryError> {
     if faces.len() < 4 {
         return Err(GeometryError::Degenerate { count: v.len() });
     }
@@ -493,6 +563,25 @@ mod tests {
         assert!(matches!(ConvexBlock::from_vertices(&three), Err(GeometryError::Degenerate { .. })));
         let nan = vec![Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::new(f64::NAN, 0.0, 1.0)];
         assert!(matches!(ConvexBlock::from_vertices(&nan), Err(GeometryError::NonFinite { index: 3, .. })));
+    }
+
+    #[test]
+    fn thin_sliver_gets_a_valid_hull_and_its_true_volume() {
+        // A sliver wedge for which quickhull returns inconsistent triangles (found by the
+        // generator): a triangle A, B, C in the x–z plane whose half-width in y is linear.
+        let (a, b, c) = (
+            (0.24980422391327317, 0.04531873824754805, 0.22501931971624725),
+            (0.24980422391327317, 0.04573339409453124, 0.22463118616890096),
+            (0.19620242069766625, 0.022864852626500776, 0.24603700544577842),
+        );
+        let pts: Vec<Vec3> =
+            [a, b, c].iter().flat_map(|&(x, z, hw)| [Vec3::new(x, -hw, z), Vec3::new(x, hw, z)]).collect();
+        let blk = ConvexBlock::from_vertices(&pts).unwrap();
+        assert!(hull_is_valid(&blk.vertices, &blk.faces, 1e-12));
+        // Volume = area of the x–z triangle × 2 × mean half-width (linear over the triangle).
+        let area = 0.5 * ((b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)).abs();
+        let exact = area * 2.0 * (a.2 + b.2 + c.2) / 3.0;
+        assert_relative_eq!(blk.volume(), exact, max_relative = 1e-9);
     }
 
     #[test]
