@@ -38,8 +38,8 @@
 
 pub mod benchmark;
 pub mod dem;
-pub mod error;
 pub mod ensemble;
+pub mod error;
 pub mod generator;
 pub mod geometry;
 pub mod io;

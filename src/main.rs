@@ -186,7 +186,8 @@ fn run() -> Result<ExitCode> {
             let (manifest, rows) = drystone::study::run::read_shards(&shards)?;
             let mut st = drystone::study::Study::from_file(&manifest.study)?;
             st.realizations = manifest.realizations;
-            let text = drystone::study::run::write_outputs(&st, &manifest.study, drystone::ensemble::Shard::ALL, &rows, &out)?;
+            let text =
+                drystone::study::run::write_outputs(&st, &manifest.study, drystone::ensemble::Shard::ALL, &rows, &out)?;
             println!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
             if let Some(t) = text {
                 println!("{t}");
@@ -244,8 +245,18 @@ fn run() -> Result<ExitCode> {
             let (stones, wedges) = g.counts();
             println!("wall              {} ({})", w.name, wall.display());
             println!("seed, realization {seed}, {realization}");
-            println!("blocks            {} ({stones} stones, {wedges} wedges) in {} courses", stones + wedges, g.course_tops_m.len());
-            println!("volume            {:.6} m3 of {:.6} m3 (void {:.3} %, stated {:.3} %)", g.volume(), g.envelope_volume_m3, 100.0 * g.void_fraction(), 100.0 * g.stated_void_fraction);
+            println!(
+                "blocks            {} ({stones} stones, {wedges} wedges) in {} courses",
+                stones + wedges,
+                g.course_tops_m.len()
+            );
+            println!(
+                "volume            {:.6} m3 of {:.6} m3 (void {:.3} %, stated {:.3} %)",
+                g.volume(),
+                g.envelope_volume_m3,
+                100.0 * g.void_fraction(),
+                100.0 * g.stated_void_fraction
+            );
             println!("generated in      {:.2} ms", dt * 1e3);
             println!("wrote             {}", out.display());
             Ok(ExitCode::SUCCESS)
