@@ -18,7 +18,7 @@
 
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
-use crate::units::{deg_to_rad, rad_to_deg};
+use crate::units::deg_to_rad;
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -464,9 +464,4 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         joints: joints.into_iter().map(|j| (j.1, j.2)).collect(),
         blocks: stable.bodies.iter().zip(&moving).filter(|(_, m)| **m).map(|(b, _)| b.id.clone()).collect(),
     }
-}
-
-/// Convenience: α in degrees of the gravity direction of a simulation.
-pub fn tilt_of(sim: &Simulation) -> f64 {
-    rad_to_deg(sim.gravity.y.atan2(-sim.gravity.z))
 }
