@@ -224,7 +224,6 @@ pub struct Simulation {
     pub detections: u64,
     /// Largest density-scaling factor applied so far (1: none).
     pub max_density_scale: f64,
-    joints: Vec<JointParams>,
     table_joint: JointParams,
     gravity_magnitude: f64,
     force: Vec<Vec3>,
@@ -272,7 +271,6 @@ impl Simulation {
             stats: StepStats::default(),
             detections: 0,
             max_density_scale: 1.0,
-            joints: layout.materials.iter().map(|m| m.joint).collect(),
             table_joint,
             gravity_magnitude: layout.gravity,
             force: vec![Vec3::zeros(); n],
@@ -293,11 +291,6 @@ impl Simulation {
     /// frame (SPEC §4; the out-of-plane load is `W sin α`).
     pub fn set_tilt(&mut self, alpha: f64) {
         self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
-    }
-
-    /// Joint parameters of material `i` (blocks of the same material).
-    pub fn material_joint(&self, i: usize) -> JointParams {
-        self.joints[i]
     }
 
     /// Detects contacts afresh and carries the history of persisting sub-contacts over.
@@ -553,10 +546,8 @@ impl Simulation {
             }
             let mut f = self.force[k] + self.gravity * b.mass + self.external_force[k];
             self.torque[k] += self.external_torque[k];
-            match self.restraint[k] {
-                Some(EndRestraint::Spring(kk)) => f.y -= kk * (b.pos.y - b.pos0.y),
-                Some(EndRestraint::Rigid) => {}
-                None => {}
+            if let Some(EndRestraint::Spring(kk)) = self.restraint[k] {
+                f.y -= kk * (b.pos.y - b.pos0.y);
             }
             self.force[k] = f;
             let mut fu = f;
@@ -572,7 +563,11 @@ impl Simulation {
         let damping = self.params.damping;
         let mut ke = 0.0;
         for (k, b) in self.bodies.iter_mut().enumerate() {
-            let y = if b.restraint_rigid(&self.restraint[k]) { YConstraint::Held } else { YConstraint::Free };
+            let y = if matches!(self.restraint[k], Some(EndRestraint::Rigid)) {
+                YConstraint::Held
+            } else {
+                YConstraint::Free
+            };
             advance(b, self.force[k], self.torque[k], dt, damping, y);
             if !(b.pos.iter().all(|v| v.is_finite())
                 && b.angvel.iter().all(|v| v.is_finite())
@@ -607,11 +602,6 @@ impl Simulation {
         Ok(false)
     }
 
-    /// Total force on each body from contacts, loads and gravity at the last step (N).
-    pub fn body_forces(&self) -> &[Vec3] {
-        &self.force
-    }
-
     /// Total energy bookkeeping: (kinetic, gravitational potential relative to the
     /// reference configuration, elastic energy stored in the joints), J.
     pub fn energies(&self) -> (f64, f64, f64) {
@@ -636,19 +626,5 @@ impl Simulation {
             None => format!("table/{}", self.bodies[c.b].id),
             Some(i) => format!("{}/{}", self.bodies[i].id, self.bodies[c.b].id),
         }
-    }
-
-    /// Forces a contact re-detection at the next step (after an external change of pose).
-    pub fn invalidate_contacts(&mut self) {
-        for p in &mut self.detect_pos {
-            *p = Vec3::repeat(f64::INFINITY);
-        }
-    }
-}
-
-impl Body {
-    #[inline]
-    fn restraint_rigid(&self, r: &Option<EndRestraint>) -> bool {
-        matches!(r, Some(EndRestraint::Rigid))
     }
 }
