@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use drystone::dem::SolverParams;
 use drystone::layout::Layout;
+use drystone::loading::lateral::{run_lateral, LateralParams};
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -38,6 +39,24 @@ enum Command {
         subdivisions: u32,
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
+        tolerance: f64,
+    },
+    /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
+    /// solved to equilibrium; prints the top displacements and the drift.
+    Lateral {
+        /// Layout file (JSON).
+        layout: PathBuf,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Pressure at the base of the wall, Pa.
+        #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
+        pressure_base_pa: f64,
+        /// Pressure at the top of the wall, Pa.
+        #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
+        pressure_top_pa: f64,
+        /// Unbalanced-force ratio of equilibrium.
+        #[arg(long, default_value_t = LateralParams::default().tolerance)]
         tolerance: f64,
     },
     /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
@@ -143,6 +162,38 @@ fn run() -> Result<ExitCode> {
                     let d: Vec<String> = inc.displacement_m.iter().map(|d| format!("{:>9.3}", d * 100.0)).collect();
                     println!("  {:>9.2}  {}", inc.alpha_deg, d.join("  "));
                 }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance } => {
+            let l = Layout::from_file(&layout)?;
+            let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
+            let r = run_lateral(&l, SolverParams::default(), &params)
+                .with_context(|| format!("static lateral load on {}", layout.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r)?);
+            } else {
+                println!("layout            {}", layout.display());
+                println!(
+                    "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
+                    pressure_base_pa,
+                    pressure_top_pa,
+                    r.resultant_n.y,
+                    r.resultant_n.y / r.weight_n,
+                    r.weight_n,
+                    r.loaded_faces
+                );
+                match &r.collapse_reason {
+                    None => println!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
+                    Some(why) => println!("equilibrium       NO: collapsed ({why})"),
+                }
+                println!("top displacement  [cm]");
+                for (m, d) in r.monitors.iter().zip(&r.displacement_m) {
+                    println!("  {m:<12} {:>9.4}", d * 100.0);
+                }
+                println!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
+                println!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
+                println!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -29,12 +29,19 @@ pub struct Item {
     pub realization: u64,
 }
 
-/// All items of a study, in index order.
+/// All items of a study with the same number of realizations in every group, in index
+/// order.
 pub fn items(groups: usize, points: usize, realizations: u64) -> Vec<Item> {
-    let mut v = Vec::with_capacity(groups * points * realizations as usize);
-    for g in 0..groups {
+    items_per_group(&vec![realizations; groups], points)
+}
+
+/// All items of a study, in index order, with `realizations[g]` realizations per sweep point
+/// in group `g` (length: the number of groups).
+pub fn items_per_group(realizations: &[u64], points: usize) -> Vec<Item> {
+    let mut v = Vec::new();
+    for (g, &n) in realizations.iter().enumerate() {
         for p in 0..points {
-            for r in 0..realizations {
+            for r in 0..n {
                 v.push(Item { index: v.len(), group: g, point: p, realization: r });
             }
         }

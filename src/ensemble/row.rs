@@ -87,7 +87,15 @@ pub struct RealizationRow {
     pub disp_top_centre_cm: Vec<f64>,
     /// Same, top-right point.
     pub disp_top_right_cm: Vec<f64>,
-    /// Static lateral load: top displacement (max of left, centre, right), cm.
+    /// Static lateral load: out-of-plane (y) displacement of the top-left point at
+    /// equilibrium, cm (positive in the direction of the load).
+    pub lateral_disp_left_cm: Option<f64>,
+    /// Same, top-centre point.
+    pub lateral_disp_centre_cm: Option<f64>,
+    /// Same, top-right point.
+    pub lateral_disp_right_cm: Option<f64>,
+    /// Static lateral load: top displacement (largest |displacement| of left, centre,
+    /// right), cm.
     pub lateral_disp_max_cm: Option<f64>,
     /// Static lateral load: drift, top displacement / H (dimensionless).
     pub lateral_drift: Option<f64>,

@@ -91,6 +91,9 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
         Column::new("disp_mean_10deg_cm".into(), of(|r| r.disp_mean_at(10.0))),
         Column::new("disp_centre_rel_5deg_cm".into(), of(|r| r.disp_centre_rel_at(5.0))),
         Column::new("disp_centre_rel_10deg_cm".into(), of(|r| r.disp_centre_rel_at(10.0))),
+        Column::new("lateral_disp_left_cm".into(), of(|r| r.lateral_disp_left_cm)),
+        Column::new("lateral_disp_centre_cm".into(), of(|r| r.lateral_disp_centre_cm)),
+        Column::new("lateral_disp_right_cm".into(), of(|r| r.lateral_disp_right_cm)),
         Column::new("lateral_disp_max_cm".into(), of(|r| r.lateral_disp_max_cm)),
         Column::new("lateral_drift".into(), of(|r| r.lateral_drift)),
         series("tilt_deg", |r| &r.tilt_deg),
@@ -188,6 +191,9 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let mechanism = strs("mechanism")?;
     let joint = strs("joint")?;
     let moving = u64s("moving_blocks")?;
+    let lat_l = opts("lateral_disp_left_cm")?;
+    let lat_c = opts("lateral_disp_centre_cm")?;
+    let lat_r = opts("lateral_disp_right_cm")?;
     let lat = opts("lateral_disp_max_cm")?;
     let drift = opts("lateral_drift")?;
     let tilt = lists("tilt_deg")?;
@@ -225,6 +231,9 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
             disp_top_left_cm: dl[i].clone(),
             disp_top_centre_cm: dc[i].clone(),
             disp_top_right_cm: dr[i].clone(),
+            lateral_disp_left_cm: lat_l[i],
+            lateral_disp_centre_cm: lat_c[i],
+            lateral_disp_right_cm: lat_r[i],
             lateral_disp_max_cm: lat[i],
             lateral_drift: drift[i],
             steps: steps[i],
@@ -333,6 +342,44 @@ pub fn read_measured_displacement(path: &Path) -> Result<Vec<MeasuredDisplacemen
             measure: me[i].clone(),
             tilt_deg: t[i],
             displacement_cm: d[i],
+        })
+        .collect())
+}
+
+/// A collapse angle of the source paper's own DEM (its Table 7, YADE clump model).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaperDemAngle {
+    /// The paper's model label (`SBL_or_CBL`, `SBR`).
+    pub model: String,
+    /// `free` or `restrained`.
+    pub ends: String,
+    /// Friction angle φ, degrees.
+    pub friction_deg: f64,
+    /// Joint normal stiffness Kn, Pa/m.
+    pub kn_pa_per_m: f64,
+    /// Collapse angle α_max, degrees.
+    pub collapse_angle_deg: f64,
+}
+
+/// Reads the paper's DEM collapse angles: columns `model`, `ends`, `phi_deg`,
+/// `kn_pa_per_m`, `collapse_angle_deg`.
+///
+/// # Errors
+/// [`TableError`] naming the file and column.
+pub fn read_paper_dem(path: &Path) -> Result<Vec<PaperDemAngle>, TableError> {
+    let df = read_csv(path)?;
+    let mo = str_col(&df, path, "model")?;
+    let en = str_col(&df, path, "ends")?;
+    let ph = f64_col(&df, path, "phi_deg")?;
+    let kn = f64_col(&df, path, "kn_pa_per_m")?;
+    let a = f64_col(&df, path, "collapse_angle_deg")?;
+    Ok((0..mo.len())
+        .map(|i| PaperDemAngle {
+            model: mo[i].clone(),
+            ends: en[i].clone(),
+            friction_deg: ph[i],
+            kn_pa_per_m: kn[i],
+            collapse_angle_deg: a[i],
         })
         .collect())
 }

@@ -1,3 +1,4 @@
-//! Loading protocols: the tilting table (and, later, static lateral loads).
+//! Loading protocols: the tilting table ([`tilt`]) and the static lateral load ([`lateral`]).
 
+pub mod lateral;
 pub mod tilt;

@@ -176,13 +176,13 @@ pub struct TiltResult {
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
 /// position in the table frame.
 #[derive(Debug, Clone)]
-struct MonitorPoint {
-    name: String,
-    body: usize,
-    local: Vec3,
+pub(crate) struct MonitorPoint {
+    pub(crate) name: String,
+    pub(crate) body: usize,
+    pub(crate) local: Vec3,
 }
 
-fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
+pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
     if !layout.monitors.is_empty() {
         return layout
             .monitors

@@ -10,10 +10,14 @@
 //! name = "tilting_table"
 //! seed = 2021
 //! realizations = 16          # per group and sweep point
-//! protocol = "tilt"          # the tilting table
+//! protocol = "tilt"          # the tilting table, or "lateral" (static pressure)
 //!
 //! [tilt]                     # optional, TiltParams (degrees)
 //! step_deg = 0.5
+//!
+//! [lateral]                  # optional, LateralParams (protocol "lateral"; Pa)
+//! pressure_base_pa = 1000.0
+//! pressure_top_pa = 500.0
 //!
 //! [solver]                   # optional, SolverParams
 //! damping = 0.8
@@ -42,7 +46,11 @@
 //! | `cohesion_pa` | cohesion of every material | Pa |
 //! | `length_m` | wall length L | m |
 //! | `arrangement` | `continuous`, `discontinuous` or `irregular` | – |
+//! | `ends` | `free`, or `rigid` (every block within the wall's end zone, or [`DEFAULT_END_ZONE_M`] if it has none, held in y) | – |
+//!
+//! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 
+pub mod paper;
 pub mod report;
 pub mod run;
 
@@ -51,6 +59,7 @@ use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::{ArrangementKind, WallSpec};
 use crate::generator::Wall;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement, TableError};
+use crate::loading::lateral::LateralParams;
 use crate::loading::tilt::TiltParams;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -114,6 +123,8 @@ pub enum ProtocolKind {
     /// The tilting table to collapse.
     #[default]
     Tilt,
+    /// The static lateral (trapezoidal pressure) load, solved to equilibrium.
+    Lateral,
 }
 
 /// Raw study file.
@@ -137,6 +148,9 @@ pub struct StudySpec {
     /// Tilting-table parameters.
     #[serde(default)]
     pub tilt: TiltParams,
+    /// Static lateral load parameters (protocol `lateral`).
+    #[serde(default)]
+    pub lateral: LateralParams,
     /// Solver parameters.
     #[serde(default)]
     pub solver: SolverParams,
@@ -149,6 +163,10 @@ pub struct StudySpec {
     /// Measured data.
     #[serde(default)]
     pub measured: Option<MeasuredSpec>,
+    /// Which of the source paper's studies this reproduces: adds its comparison to the
+    /// report (see [`paper`]).
+    #[serde(default)]
+    pub paper: Option<paper::PaperStudy>,
 }
 
 /// A group of realizations: one wall description.
@@ -165,6 +183,11 @@ pub struct GroupSpec {
     /// Fixed overrides of this group (same keys as the sweep).
     #[serde(default)]
     pub overrides: BTreeMap<String, toml::Value>,
+    /// Realizations of this group per sweep point, overriding the study's `realizations`
+    /// (and the `--realizations` of the command line): e.g. 1 for a wall without random
+    /// input (continuous or running-bond joints, no scatter).
+    #[serde(default)]
+    pub realizations: Option<u64>,
 }
 
 /// Measured data files, relative to the study file.
@@ -177,6 +200,10 @@ pub struct MeasuredSpec {
     /// Displacements: `specimen, group, measure, tilt_deg, displacement_cm`.
     #[serde(default)]
     pub displacement: Option<PathBuf>,
+    /// The paper's own DEM collapse angles (Table 7): `model, ends, phi_deg, kn_pa_per_m,
+    /// collapse_angle_deg`.
+    #[serde(default)]
+    pub paper_dem: Option<PathBuf>,
 }
 
 /// A sweep value.
@@ -217,6 +244,8 @@ pub struct Group {
     pub wall_path: PathBuf,
     /// The resolved wall at each sweep point.
     pub walls: Vec<Wall>,
+    /// Own number of realizations per sweep point, if the group fixes it.
+    pub realizations: Option<u64>,
 }
 
 /// Measured data of a study.
@@ -226,6 +255,8 @@ pub struct Measured {
     pub collapse: Vec<MeasuredCollapse>,
     /// Displacements.
     pub displacement: Vec<MeasuredDisplacement>,
+    /// The paper's DEM collapse angles (Table 7).
+    pub paper_dem: Vec<table::PaperDemAngle>,
 }
 
 /// A checked study.
@@ -245,6 +276,8 @@ pub struct Study {
     pub protocol: ProtocolKind,
     /// Tilting-table parameters.
     pub tilt: TiltParams,
+    /// Static lateral load parameters.
+    pub lateral: LateralParams,
     /// Solver parameters.
     pub solver: SolverParams,
     /// Groups.
@@ -253,9 +286,16 @@ pub struct Study {
     pub points: Vec<SweepPoint>,
     /// Measured data.
     pub measured: Measured,
+    /// The paper's study reproduced, if any.
+    pub paper: Option<paper::PaperStudy>,
 }
 
-const SWEEP_KEYS: [&str; 6] = ["kn_pa_per_m", "ks_over_kn", "friction_deg", "cohesion_pa", "length_m", "arrangement"];
+const SWEEP_KEYS: [&str; 7] =
+    ["kn_pa_per_m", "ks_over_kn", "friction_deg", "cohesion_pa", "length_m", "arrangement", "ends"];
+
+/// End zone given to a wall made `rigid` by the `ends` key when it has none, m: the
+/// paper's SBR ropes sat 0.05 m from each end.
+pub const DEFAULT_END_ZONE_M: f64 = 0.05;
 
 fn to_value(v: &toml::Value) -> Option<SweepValue> {
     match v {
@@ -306,6 +346,18 @@ fn apply(spec: &mut WallSpec, key: &str, value: &SweepValue) -> Result<(), Strin
             }
         }
         "length_m" => spec.geometry.length_m = num()?,
+        "ends" => match value {
+            SweepValue::Text(s) if s == "free" => {
+                spec.restraints.ends = crate::generator::spec::EndsSpec::default();
+            }
+            SweepValue::Text(s) if s == "rigid" => {
+                let e = &mut spec.restraints.ends;
+                e.kind = crate::generator::spec::EndKind::Rigid;
+                e.zone_m = Some(e.zone_m.unwrap_or(DEFAULT_END_ZONE_M));
+                e.stiffness_n_per_m = None;
+            }
+            other => return Err(format!("expects free or rigid, got {other}")),
+        },
         "arrangement" => {
             let kind = match value {
                 SweepValue::Text(s) if s == "continuous" => ArrangementKind::Continuous,
@@ -347,6 +399,7 @@ impl StudySpec {
             return Err(invalid("groups", "at least one group is needed".into()));
         }
         self.tilt.validate().map_err(|(k, v)| invalid(&format!("tilt.{k}"), format!("{v} is out of range")))?;
+        self.lateral.validate().map_err(|(k, v)| invalid(&format!("lateral.{k}"), format!("{v} is out of range")))?;
         self.solver.validate().map_err(|(k, v)| invalid(&format!("solver.{k}"), format!("{v} is out of range")))?;
         // Sweep points: cartesian product in key order, the last key varying fastest.
         let mut points: Vec<SweepPoint> = vec![Vec::new()];
@@ -372,6 +425,9 @@ impl StudySpec {
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid(&format!("groups[{}].name", g.name), "duplicate group name".into()));
+            }
+            if g.realizations == Some(0) {
+                return Err(invalid(&format!("groups[{}].realizations", g.name), "must be at least 1".into()));
             }
             let wall_path = dir.join(&g.wall);
             let text = std::fs::read_to_string(&wall_path).map_err(|source| StudyError::Invalid {
@@ -409,6 +465,7 @@ impl StudySpec {
                 measured_group: g.measured_group.clone().unwrap_or_else(|| g.name.clone()),
                 wall_path,
                 walls,
+                realizations: g.realizations,
             });
         }
         let mut measured = Measured::default();
@@ -420,8 +477,11 @@ impl StudySpec {
             if let Some(d) = &m.displacement {
                 measured.displacement = table::read_measured_displacement(&dir.join(d)).map_err(err)?;
             }
+            if let Some(d) = &m.paper_dem {
+                measured.paper_dem = table::read_paper_dem(&dir.join(d)).map_err(err)?;
+            }
         }
-        Ok(Study {
+        let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
             path: path.to_owned(),
@@ -429,11 +489,17 @@ impl StudySpec {
             realizations: self.realizations,
             protocol: self.protocol,
             tilt: self.tilt,
+            lateral: self.lateral,
             solver: self.solver,
             groups,
             points,
             measured,
-        })
+            paper: self.paper,
+        };
+        if let Some(p) = study.paper {
+            paper::check(p, &study).map_err(|r| invalid("paper", r))?;
+        }
+        Ok(study)
     }
 }
 
@@ -448,6 +514,12 @@ impl Study {
 
     /// All work items of the study.
     pub fn items(&self) -> Vec<crate::ensemble::Item> {
-        crate::ensemble::items(self.groups.len(), self.points.len(), self.realizations)
+        let counts: Vec<u64> = (0..self.groups.len()).map(|g| self.group_realizations(g)).collect();
+        crate::ensemble::items_per_group(&counts, self.points.len())
+    }
+
+    /// Realizations per sweep point of group `g`: its own count, or the study's.
+    pub fn group_realizations(&self, g: usize) -> u64 {
+        self.groups[g].realizations.unwrap_or(self.realizations)
     }
 }

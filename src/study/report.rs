@@ -60,6 +60,14 @@ pub struct CellSummary {
     pub measure: String,
     /// Collapse angles of the collapsed realizations, in index order.
     pub angles: Vec<f64>,
+    /// Static lateral load: realizations that collapsed under the load.
+    pub lateral_collapsed: usize,
+    /// Static lateral load: top displacement (largest of the three top points), cm.
+    pub lateral_max: Summary,
+    /// Static lateral load: top-centre displacement, cm.
+    pub lateral_centre: Summary,
+    /// Static lateral load: drift (top displacement / H).
+    pub drift: Summary,
 }
 
 /// A measured-vs-simulated comparison line.
@@ -115,6 +123,11 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
             let d10: Vec<f64> =
                 cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 10.0)).collect();
             let stream = (gi * study.points.len() + pi) as u64;
+            let lateral = |f: fn(&RealizationRow) -> Option<f64>| -> Vec<f64> {
+                cell.iter().filter(|r| r.status == Status::Stood).filter_map(|r| f(r)).collect()
+            };
+            // Bootstrap streams of the lateral quantities: disjoint from the tilt ones.
+            let lstream = (1u64 << 32) + stream * 3;
             out.push(CellSummary {
                 group: g.name.clone(),
                 group_index: gi,
@@ -129,6 +142,14 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
                 measure: measure.clone(),
                 angles,
+                lateral_collapsed: if study.protocol == super::ProtocolKind::Lateral {
+                    cell.iter().filter(|r| r.status == Status::Collapsed).count()
+                } else {
+                    0
+                },
+                lateral_max: stats::summarize(&lateral(|r| r.lateral_disp_max_cm), study.seed, lstream),
+                lateral_centre: stats::summarize(&lateral(|r| r.lateral_disp_centre_cm), study.seed, lstream + 1),
+                drift: stats::summarize(&lateral(|r| r.lateral_drift), study.seed, lstream + 2),
             });
         }
     }
@@ -223,6 +244,98 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let cells = summarize(study, rows);
     let cmp = comparisons(study, &cells);
     write_summary_csv(&cells, &dir.join("summary.csv"))?;
+    let tilt = study.protocol == super::ProtocolKind::Tilt;
+    let mut md = String::new();
+    let _ = writeln!(md, "# Study `{}`\n", study.name);
+    if !study.description.is_empty() {
+        let _ = writeln!(md, "{}\n", study.description.trim());
+    }
+    if tilt {
+        tilt_sections(study, rows, dir, &cells, &cmp, &mut md)?;
+    } else {
+        lateral_sections(study, &cells, &mut md);
+    }
+    if let Some(p) = study.paper {
+        md.push_str(&super::paper::section(p, study, &cells, dir)?);
+    }
+    let failed: Vec<&RealizationRow> = rows.iter().filter(|r| !r.status.is_ok()).collect();
+    if !failed.is_empty() {
+        let _ = writeln!(md, "## Failed realizations\n");
+        for r in failed {
+            let _ = writeln!(
+                md,
+                "- {} realization {} ({}): {} — {}",
+                r.group,
+                r.realization,
+                r.sweep,
+                r.status.as_str(),
+                r.error
+            );
+        }
+    }
+    let path = dir.join("report.md");
+    std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
+    Ok(comparison_text(&cmp))
+}
+
+/// The report of a static lateral load study: top displacement and drift per cell.
+fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
+    let l = &study.lateral;
+    let _ = writeln!(
+        md,
+        "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; equilibrium at unbalanced-force ratio {}; damping {}.\n",
+        study.seed, study.realizations, l.pressure_base_pa, l.pressure_top_pa, l.tolerance, study.solver.damping
+    );
+    let _ = writeln!(md, "## Top displacement under the lateral load\n");
+    let _ = writeln!(md, "Top displacement: the largest of the three top points (left, centre, right), in mm; drift = top displacement / H. Statistics over the realizations that reached equilibrium.\n");
+    let _ = writeln!(md, "| group | sweep | n | failed | collapsed | mean [mm] | σ [mm] | COV | min | max | 95 % CI of mean [mm] | 95 % bootstrap COV | centre mean [mm] | drift mean | drift σ |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in cells {
+        let s = &c.lateral_max;
+        let mm = |v: f64| num(10.0 * v);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} .. {} | {} .. {} | {} | {} | {} |",
+            c.group,
+            if c.sweep.is_empty() { "–" } else { &c.sweep },
+            c.n,
+            c.failed,
+            c.lateral_collapsed,
+            mm(s.mean),
+            mm(s.sd),
+            num(s.cov),
+            mm(s.min),
+            mm(s.max),
+            mm(s.mean_ci95.0),
+            mm(s.mean_ci95.1),
+            num(s.cov_boot95.0),
+            num(s.cov_boot95.1),
+            mm(c.lateral_centre.mean),
+            sci(c.drift.mean),
+            sci(c.drift.sd)
+        );
+    }
+    let _ = writeln!(md);
+}
+
+fn sci(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.3e}")
+    } else {
+        "–".into()
+    }
+}
+
+/// The tilting-table part of the report: collapse angles, displacements, measured against
+/// simulated, plots.
+fn tilt_sections(
+    study: &Study,
+    rows: &[RealizationRow],
+    dir: &Path,
+    cells: &[CellSummary],
+    cmp: &[Comparison],
+    md: &mut String,
+) -> Result<(), ReportError> {
     // Plots.
     let hist_panels: Vec<HistogramPanel> = cells
         .iter()
@@ -254,14 +367,8 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)",
         "tilt [deg]",
         "P(collapse)",
-        &fragility_series(&cells),
+        &fragility_series(cells),
     )?;
-    // report.md
-    let mut md = String::new();
-    let _ = writeln!(md, "# Study `{}`\n", study.name);
-    if !study.description.is_empty() {
-        let _ = writeln!(md, "{}\n", study.description.trim());
-    }
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point; protocol {:?}; tilt step {}°, bracket {}°; damping {}; sub-contact subdivisions {}.\n",
@@ -270,7 +377,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
     let _ = writeln!(md, "| group | sweep | n | failed | stood | mean | σ | COV | min | max | 95 % CI of mean | 95 % bootstrap σ | lognormal median, β |");
     let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in &cells {
+    for c in cells {
         let s = &c.collapse;
         let _ = writeln!(
             md,
@@ -295,7 +402,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let _ = writeln!(md, "\n## Displacement of the top at 5° and 10° [cm]\n");
     let _ = writeln!(md, "| group | sweep | measure | n at 5° | mean at 5° | σ | n at 10° | mean at 10° | σ |");
     let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in &cells {
+    for c in cells {
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -318,7 +425,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         );
         let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
         let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
-        for c in &cmp {
+        for c in cmp {
             let _ = writeln!(
                 md,
                 "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} ± {:.2} ({}) | {:+.2} | {:.2} .. {:.2} | {} | {}/{} |",
@@ -372,24 +479,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
     let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
     let _ = writeln!(md, "![fragility curves](fragility.svg)\n");
-    let failed: Vec<&RealizationRow> = rows.iter().filter(|r| !r.status.is_ok()).collect();
-    if !failed.is_empty() {
-        let _ = writeln!(md, "## Failed realizations\n");
-        for r in failed {
-            let _ = writeln!(
-                md,
-                "- {} realization {} ({}): {} — {}",
-                r.group,
-                r.realization,
-                r.sweep,
-                r.status.as_str(),
-                r.error
-            );
-        }
-    }
-    let path = dir.join("report.md");
-    std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
-    Ok(comparison_text(&cmp))
+    Ok(())
 }
 
 fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableError> {
@@ -433,6 +523,10 @@ fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableErro
     cols.push(("displacement_measure".into(), text(&|c| c.measure.clone())));
     cols.extend(stats_cols("disp_5deg_cm", |c| &c.disp5));
     cols.extend(stats_cols("disp_10deg_cm", |c| &c.disp10));
+    cols.push(("lateral_collapsed".into(), numc(&|c| c.lateral_collapsed as f64)));
+    cols.extend(stats_cols("lateral_disp_max_cm", |c| &c.lateral_max));
+    cols.extend(stats_cols("lateral_disp_centre_cm", |c| &c.lateral_centre));
+    cols.extend(stats_cols("lateral_drift", |c| &c.drift));
     SimpleTable { columns: cols }.write_csv(path)
 }
 

@@ -4,6 +4,7 @@ use super::{point_label, ProtocolKind, Study};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{self, Item, Shard};
 use crate::generator::generate;
+use crate::loading::lateral::{run_lateral, LateralError};
 use crate::loading::tilt::{run_tilt, TiltError};
 use crate::units::m_to_cm;
 use std::time::Instant;
@@ -36,6 +37,9 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         disp_top_left_cm: vec![],
         disp_top_centre_cm: vec![],
         disp_top_right_cm: vec![],
+        lateral_disp_left_cm: None,
+        lateral_disp_centre_cm: None,
+        lateral_disp_right_cm: None,
         lateral_disp_max_cm: None,
         lateral_drift: None,
         steps: 0,
@@ -81,6 +85,42 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
             Err(TiltError::Dem(e)) => {
                 row.status = Status::BlewUp;
                 row.error = e.to_string();
+            }
+            Err(e) => {
+                row.status = Status::BlewUp;
+                row.error = e.to_string();
+            }
+        },
+        ProtocolKind::Lateral => match run_lateral(&layout, study.solver, &study.lateral) {
+            Ok(r) => {
+                row.steps = r.steps;
+                row.dt_s = r.dt_s;
+                match &r.collapse_reason {
+                    None => {
+                        row.status = Status::Stood;
+                        let find = |name: &str| {
+                            r.monitors.iter().position(|m| m == name).map(|i| m_to_cm(r.displacement_m[i]))
+                        };
+                        row.lateral_disp_left_cm = find("top_left");
+                        row.lateral_disp_centre_cm = find("top_centre");
+                        row.lateral_disp_right_cm = find("top_right");
+                        row.lateral_disp_max_cm = Some(m_to_cm(r.max_displacement_m));
+                        row.lateral_drift = Some(r.drift);
+                    }
+                    Some(why) => {
+                        row.status = Status::Collapsed;
+                        row.collapse_reason = why.clone();
+                        row.error = format!(
+                            "collapsed under the lateral load ({why}): top displacement {:.2} cm when stopped",
+                            m_to_cm(r.max_displacement_m)
+                        );
+                    }
+                }
+            }
+            Err(LateralError::NoInitialEquilibrium { steps, ratio }) => {
+                row.status = Status::NoInitialEquilibrium;
+                row.error =
+                    format!("no equilibrium under gravity within {steps} steps (unbalanced-force ratio {ratio:.3e})");
             }
             Err(e) => {
                 row.status = Status::BlewUp;
