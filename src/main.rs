@@ -75,6 +75,25 @@ enum Command {
         /// Realizations per group and sweep point, overriding the study file.
         #[arg(long)]
         realizations: Option<u64>,
+        /// For a suite (e.g. studies/paper.toml): run every study at its own full size
+        /// instead of the suite's reduced default.
+        #[arg(long)]
+        full: bool,
+    },
+    /// Calibrates joint parameters (Kn, φ) of a study's walls against the measured collapse
+    /// angles, step by step as its [[calibrate]] table says (Brent root finding, argmin).
+    Calibrate {
+        /// Study file (TOML) with [[calibrate]] steps.
+        study: PathBuf,
+        /// Output directory. Default: out/<study name>.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads. Default: all cores.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Realizations per evaluation, overriding the study file.
+        #[arg(long)]
+        realizations: Option<u64>,
     },
     /// Merges shard directories of one study run into what an unsharded run writes.
     Merge {
@@ -197,7 +216,33 @@ fn run() -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Run { study, out, threads, shard, realizations } => {
+        Command::Run { study, out, threads, shard, realizations, full } => {
+            if drystone::study::suite::is_suite(&study) {
+                if shard.is_some() || realizations.is_some() {
+                    bail!(
+                        "{}: --shard and --realizations apply to single studies; a suite takes --full",
+                        study.display()
+                    );
+                }
+                let suite = drystone::study::suite::Suite::from_file(&study, full)?;
+                let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&suite.name));
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
+                let t0 = std::time::Instant::now();
+                let report =
+                    pool.install(|| drystone::study::suite::run_suite(&suite, &dir, |line| println!("{line}")))?;
+                println!(
+                    "suite {}: {} studies on {} threads in {:.1} s -> {}",
+                    suite.name,
+                    suite.studies.len(),
+                    pool.current_num_threads(),
+                    t0.elapsed().as_secs_f64(),
+                    report.display()
+                );
+                return Ok(ExitCode::SUCCESS);
+            }
+            if full {
+                bail!("{}: --full applies to suites only", study.display());
+            }
             let mut st = drystone::study::Study::from_file(&study)?;
             if let Some(n) = realizations {
                 if n == 0 {
@@ -231,6 +276,35 @@ fn run() -> Result<ExitCode> {
             } else {
                 println!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Calibrate { study, out, threads, realizations } => {
+            let mut st = drystone::study::Study::from_file(&study)?;
+            if st.calibrate.is_empty() {
+                bail!("{}: no [[calibrate]] steps", study.display());
+            }
+            if let Some(n) = realizations {
+                if n == 0 {
+                    bail!("--realizations must be at least 1");
+                }
+                st.realizations = n;
+            }
+            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
+            let t0 = std::time::Instant::now();
+            let results = pool
+                .install(|| drystone::study::calibrate::calibrate(&st, &st.calibrate))
+                .map_err(|m| anyhow::anyhow!("{}: {m}", study.display()))?;
+            let md = drystone::study::suite::write_calibration(&st, &results, &dir)?;
+            println!("{md}");
+            println!(
+                "calibration {}: {} steps on {} threads in {:.1} s -> {}",
+                st.name,
+                results.len(),
+                pool.current_num_threads(),
+                t0.elapsed().as_secs_f64(),
+                dir.join("calibration.md").display()
+            );
             Ok(ExitCode::SUCCESS)
         }
         Command::Merge { out, shards } => {

@@ -50,9 +50,11 @@
 //!
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 
+pub mod calibrate;
 pub mod paper;
 pub mod report;
 pub mod run;
+pub mod suite;
 
 use crate::dem::SolverParams;
 use crate::generator::distribution::DistributionSource;
@@ -167,6 +169,9 @@ pub struct StudySpec {
     /// report (see [`paper`]).
     #[serde(default)]
     pub paper: Option<paper::PaperStudy>,
+    /// Calibration steps (`drystone calibrate`; see [`calibrate`]).
+    #[serde(default)]
+    pub calibrate: Vec<calibrate::CalibrateSpec>,
 }
 
 /// A group of realizations: one wall description.
@@ -246,6 +251,8 @@ pub struct Group {
     pub walls: Vec<Wall>,
     /// Own number of realizations per sweep point, if the group fixes it.
     pub realizations: Option<u64>,
+    /// The group's wall description with its overrides applied (before any sweep point).
+    pub spec: WallSpec,
 }
 
 /// Measured data of a study.
@@ -288,6 +295,8 @@ pub struct Study {
     pub measured: Measured,
     /// The paper's study reproduced, if any.
     pub paper: Option<paper::PaperStudy>,
+    /// Calibration steps.
+    pub calibrate: Vec<calibrate::CalibrateSpec>,
 }
 
 const SWEEP_KEYS: [&str; 7] =
@@ -441,15 +450,16 @@ impl StudySpec {
                 source,
             })?;
             let source = DistributionSource::default_for(&wall_path);
+            let mut gspec = base.clone();
+            for (k, v) in &g.overrides {
+                let sv = to_value(v).ok_or_else(|| {
+                    invalid(&format!("groups[{}].overrides.{k}", g.name), format!("{v} is not a number or text"))
+                })?;
+                apply(&mut gspec, k, &sv).map_err(|r| invalid(&format!("groups[{}].overrides.{k}", g.name), r))?;
+            }
             let mut walls = Vec::with_capacity(points.len());
             for p in &points {
-                let mut spec = base.clone();
-                for (k, v) in &g.overrides {
-                    let sv = to_value(v).ok_or_else(|| {
-                        invalid(&format!("groups[{}].overrides.{k}", g.name), format!("{v} is not a number or text"))
-                    })?;
-                    apply(&mut spec, k, &sv).map_err(|r| invalid(&format!("groups[{}].overrides.{k}", g.name), r))?;
-                }
+                let mut spec = gspec.clone();
                 for (k, v) in p {
                     apply(&mut spec, k, v).map_err(|r| invalid(&format!("sweep.{k}"), r))?;
                 }
@@ -466,6 +476,7 @@ impl StudySpec {
                 wall_path,
                 walls,
                 realizations: g.realizations,
+                spec: gspec,
             });
         }
         let mut measured = Measured::default();
@@ -495,7 +506,11 @@ impl StudySpec {
             points,
             measured,
             paper: self.paper,
+            calibrate: self.calibrate.clone(),
         };
+        for (i, c) in study.calibrate.iter().enumerate() {
+            c.check(&study).map_err(|r| invalid(&format!("calibrate[{i}]"), r))?;
+        }
         if let Some(p) = study.paper {
             paper::check(p, &study).map_err(|r| invalid("paper", r))?;
         }
@@ -516,6 +531,30 @@ impl Study {
     pub fn items(&self) -> Vec<crate::ensemble::Item> {
         let counts: Vec<u64> = (0..self.groups.len()).map(|g| self.group_realizations(g)).collect();
         crate::ensemble::items_per_group(&counts, self.points.len())
+    }
+
+    /// The wall of group `g` with its overrides and then `values` applied (sweep keys),
+    /// resolved and checked.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] for a bad key or value, [`StudyError::Wall`] if the wall no
+    /// longer checks.
+    pub fn wall_with(&self, g: usize, values: &[(String, SweepValue)]) -> Result<Wall, StudyError> {
+        let group = &self.groups[g];
+        let mut spec = group.spec.clone();
+        for (k, v) in values {
+            apply(&mut spec, k, v).map_err(|reason| StudyError::Invalid {
+                path: self.path.clone(),
+                key: k.clone(),
+                reason,
+            })?;
+        }
+        let source = DistributionSource::default_for(&group.wall_path);
+        spec.resolve(&group.wall_path, &source).map_err(|source| StudyError::Wall {
+            path: self.path.clone(),
+            group: group.name.clone(),
+            source,
+        })
     }
 
     /// Realizations per sweep point of group `g`: its own count, or the study's.
