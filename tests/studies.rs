@@ -28,7 +28,14 @@ fn every_shipped_study_loads() {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml") {
-                Study::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                if drystone::study::suite::is_suite(&p) {
+                    for full in [false, true] {
+                        drystone::study::suite::Suite::from_file(&p, full)
+                            .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                    }
+                } else {
+                    Study::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                }
                 n += 1;
             }
         }
