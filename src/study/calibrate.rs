@@ -356,14 +356,16 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             result.slope = Some(slope);
             if let Some(at) = at {
                 if slope.is_finite() && slope.abs() > 0.0 {
-                    let se_sim = if at.n > 1 { at.sd_deg / (at.n as f64).sqrt() } else { f64::NAN };
+                    // One realization: no ensemble spread to propagate, the interval is the
+                    // measurement's alone (said in the note).
+                    let se_sim = if at.n > 1 { at.sd_deg / (at.n as f64).sqrt() } else { 0.0 };
                     let se_meas = measured.1 / (measured.2 as f64).sqrt();
                     let sx = (se_sim.powi(2) + se_meas.powi(2)).sqrt() / slope.abs();
                     if sx.is_finite() {
                         result.interval95 = Some((spec.from_x(x - 1.96 * sx), spec.from_x(x + 1.96 * sx)));
                     }
                     let sp = at.sd_deg / slope.abs();
-                    if sp.is_finite() {
+                    if at.n > 1 && sp.is_finite() {
                         result.spread = Some((spec.from_x(x - sp), spec.from_x(x + sp)));
                     }
                 }
@@ -375,7 +377,11 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                 spec.group,
                 measured.0,
                 log.len()
-            );
+            ) + if study.realizations < 2 {
+                "; one realization per evaluation, so the 95 % interval holds the measurement's standard error only"
+            } else {
+                ""
+            };
             let value = SweepValue::Number(spec.from_x(x));
             for g in std::iter::once(&spec.group).chain(&spec.carry_to) {
                 if let Some((_, v)) = carried.iter_mut().find(|(n, _)| n == g) {
