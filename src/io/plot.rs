@@ -119,6 +119,8 @@ pub struct BandSeries {
     pub hi: Vec<f64>,
     /// Measured points (x, y).
     pub measured: Vec<(f64, f64)>,
+    /// Legend suffix of the points \[`measured`\] (e.g. `paper` for a reference result).
+    pub points_label: Option<String>,
 }
 
 /// Curves with shaded bands and measured points on one chart.
@@ -172,7 +174,7 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
             chart
                 .draw_series(s.measured.iter().map(|&(x, y)| Circle::new((x, y), 4, c.filled())))
                 .map_err(|x| e(x.to_string()))?
-                .label(format!("{} measured", s.label))
+                .label(format!("{} {}", s.label, s.points_label.as_deref().unwrap_or("measured")))
                 .legend(move |(x, y)| Circle::new((x + 6, y), 4, c.filled()));
         }
     }

@@ -278,6 +278,7 @@ fn joint_arrangement(study: &Study, cells: &[CellSummary], dir: &Path) -> Result
             lo: cont.clone(),
             hi: cont.clone(),
             measured: vec![],
+            points_label: None,
         },
         BandSeries {
             label: "discontinuous".into(),
@@ -286,6 +287,7 @@ fn joint_arrangement(study: &Study, cells: &[CellSummary], dir: &Path) -> Result
             lo: disc.clone(),
             hi: disc.clone(),
             measured: vec![],
+            points_label: None,
         },
         BandSeries {
             label: "irregular mean ± σ".into(),
@@ -294,6 +296,7 @@ fn joint_arrangement(study: &Study, cells: &[CellSummary], dir: &Path) -> Result
             lo: irr.iter().zip(&irr_sd).map(|(m, s)| m - s).collect(),
             hi: irr.iter().zip(&irr_sd).map(|(m, s)| m + s).collect(),
             measured: vec![],
+            points_label: None,
         },
     ];
     plot::bands(
@@ -391,6 +394,7 @@ fn length_height(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<Str
             lo: dr.clone(),
             hi: dr.clone(),
             measured: vec![],
+            points_label: None,
         });
         series.push(BandSeries {
             label: format!("{arr}, free"),
@@ -399,6 +403,7 @@ fn length_height(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<Str
             lo: df.clone(),
             hi: df.clone(),
             measured: vec![],
+            points_label: None,
         });
         csv_cols.push((format!("{arr}_restrained_drift"), TableColumn::Number(dr)));
         csv_cols.push((format!("{arr}_free_drift"), TableColumn::Number(df)));
@@ -607,6 +612,7 @@ fn kn_phi(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<String, Re
                 lo: y.clone(),
                 hi: y,
                 measured: meas,
+                points_label: Some("paper".into()),
             });
         }
     }

@@ -560,7 +560,15 @@ fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries
             .filter(|m| m.group == g.measured_group)
             .map(|m| (m.tilt_deg, m.displacement_cm))
             .collect();
-        out.push(BandSeries { label: format!("{} ({})", g.name, measure), x, mid, lo, hi, measured });
+        out.push(BandSeries {
+            label: format!("{} ({})", g.name, measure),
+            x,
+            mid,
+            lo,
+            hi,
+            measured,
+            points_label: None,
+        });
     }
     out
 }
@@ -577,7 +585,7 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             s.sort_by(f64::total_cmp);
             let measured = s.iter().map(|&a| (a, stats::empirical_fragility(&c.angles, a))).collect();
             let label = if c.sweep.is_empty() { c.group.clone() } else { format!("{} {}", c.group, c.sweep) };
-            Some(BandSeries { label, x, mid: p.clone(), lo: p.clone(), hi: p, measured })
+            Some(BandSeries { label, x, mid: p.clone(), lo: p.clone(), hi: p, measured, points_label: None })
         })
         .collect()
 }
