@@ -137,6 +137,8 @@ impl CalibrateSpec {
 /// One ensemble evaluation of a step.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Evaluation {
+    /// Search variable: log10 Kn, or φ in degrees.
+    pub x: f64,
     /// Parameter value (Pa/m or degrees).
     pub value: f64,
     /// Mean collapse angle, degrees.
@@ -187,10 +189,13 @@ struct Problem<'a> {
 }
 
 impl Problem<'_> {
-    fn evaluate(&self, value: f64) -> Evaluation {
-        if let Some(e) = self.log.lock().map(|l| l.iter().find(|e| e.value == value).cloned()).ok().flatten() {
+    /// The ensemble at search variable `x` (log10 Kn or φ), cached by `x` so that the
+    /// solver's repeated points cost nothing.
+    fn evaluate(&self, x: f64) -> Evaluation {
+        if let Some(e) = self.log.lock().map(|l| l.iter().find(|e| e.x == x).cloned()).ok().flatten() {
             return e;
         }
+        let value = self.spec.from_x(x);
         let mut values = self.given.clone();
         values.push((self.spec.parameter.clone(), SweepValue::Number(value)));
         let ev = match self.study.wall_with(self.group, &values) {
@@ -206,13 +211,13 @@ impl Problem<'_> {
                     .filter(|r| r.status == Status::Collapsed)
                     .filter_map(|r| r.collapse_angle_deg)
                     .collect();
-                Evaluation { value, mean_deg: stats::mean(&a), sd_deg: stats::sd(&a), n: a.len() }
+                Evaluation { x, value, mean_deg: stats::mean(&a), sd_deg: stats::sd(&a), n: a.len() }
             }
             Err(e) => {
                 if let Ok(mut slot) = self.error.lock() {
                     *slot = Some(e.to_string());
                 }
-                Evaluation { value, mean_deg: f64::NAN, sd_deg: f64::NAN, n: 0 }
+                Evaluation { x, value, mean_deg: f64::NAN, sd_deg: f64::NAN, n: 0 }
             }
         };
         if let Ok(mut l) = self.log.lock() {
@@ -232,7 +237,7 @@ impl CostFunction for Residual<'_, '_> {
 
     fn cost(&self, x: &f64) -> Result<f64, argmin::core::Error> {
         let p = self.0;
-        let e = p.evaluate(p.spec.from_x(*x));
+        let e = p.evaluate(*x);
         if e.n == 0 {
             return Err(argmin::core::Error::msg(format!(
                 "no realization collapsed at {} = {}",
@@ -272,7 +277,7 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             error: Mutex::new(None),
         };
         let (x0, x1) = (spec.to_x(spec.lower), spec.to_x(spec.upper));
-        let (e0, e1) = (problem.evaluate(spec.lower), problem.evaluate(spec.upper));
+        let (e0, e1) = (problem.evaluate(x0), problem.evaluate(x1));
         if let Some(e) = problem.error.lock().ok().and_then(|e| e.clone()) {
             return Err(format!("calibrate[{si}] ({}): {e}", spec.group));
         }
@@ -283,7 +288,10 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             ));
         }
         let se = |e: &Evaluation| if e.n > 1 { e.sd_deg / (e.n as f64).sqrt() } else { 0.0 };
-        let resolution = study.tilt.resolution_deg + 2.0 * se(&e0).max(se(&e1));
+        // What the data can tell apart: the tilt bracket plus twice the standard error of
+        // the difference between a simulated mean and the measured mean.
+        let se_meas = if measured.2 > 1 { measured.1 / (measured.2 as f64).sqrt() } else { 0.0 };
+        let resolution = study.tilt.resolution_deg + 2.0 * (se(&e0).max(se(&e1)).powi(2) + se_meas.powi(2)).sqrt();
         let (lo_a, hi_a) = (e0.mean_deg.min(e1.mean_deg), e0.mean_deg.max(e1.mean_deg));
         let mut result = StepResult {
             group: spec.group.clone(),
@@ -316,6 +324,27 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                 spec.lower,
                 spec.upper
             );
+        } else if (measured.0 < lo_a && lo_a - measured.0 <= resolution)
+            || (measured.0 > hi_a && measured.0 - hi_a <= resolution)
+        {
+            // Just past an end, within the resolution: the angle reaches the target only on
+            // its plateau, so every value towards that end fits.
+            let end = if (measured.0 - e0.mean_deg).abs() < (measured.0 - e1.mean_deg).abs() {
+                spec.lower
+            } else {
+                spec.upper
+            };
+            result.outcome = "not_identifiable".into();
+            result.note = format!(
+                "not identifiable from {}: the measured mean {:.2}° lies within the resolution {:.2}° of the simulated mean at {} = {} ({:.2}°), on the plateau of α_max; values towards {} all fit",
+                spec.group,
+                measured.0,
+                resolution,
+                spec.parameter,
+                end,
+                if end == spec.lower { e0.mean_deg } else { e1.mean_deg },
+                end
+            );
         } else if measured.0 < lo_a || measured.0 > hi_a {
             result.outcome = "out_of_range".into();
             result.note = format!(
@@ -336,21 +365,16 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             let mut pts: Vec<(f64, f64)> = log
                 .iter()
                 .filter(|e| e.n > 0)
-                .map(|e| (spec.to_x(e.value), e.mean_deg))
+                .map(|e| (e.x, e.mean_deg))
                 .filter(|(xi, _)| (xi - x).abs() <= window)
                 .collect();
             if pts.len() < 2 {
-                let mut all: Vec<(f64, f64)> =
-                    log.iter().filter(|e| e.n > 0).map(|e| (spec.to_x(e.value), e.mean_deg)).collect();
+                let mut all: Vec<(f64, f64)> = log.iter().filter(|e| e.n > 0).map(|e| (e.x, e.mean_deg)).collect();
                 all.sort_by(|a, b| (a.0 - x).abs().total_cmp(&(b.0 - x).abs()));
                 pts = all.into_iter().take(2).collect();
             }
             let slope = ls_slope(&pts);
-            let at = log
-                .iter()
-                .filter(|e| e.n > 0)
-                .min_by(|a, b| (spec.to_x(a.value) - x).abs().total_cmp(&(spec.to_x(b.value) - x).abs()))
-                .cloned();
+            let at = log.iter().filter(|e| e.n > 0).min_by(|a, b| (a.x - x).abs().total_cmp(&(b.x - x).abs())).cloned();
             result.outcome = "calibrated".into();
             result.value = Some(spec.from_x(x));
             result.slope = Some(slope);
