@@ -236,7 +236,8 @@ fn num(v: f64) -> String {
     }
 }
 
-/// Writes `summary.csv`, `report.md` and the plots into `dir`.
+/// Writes `summary.csv`, `report.md` and the plots into `dir`. Returns what `drystone run`
+/// prints: the measured-against-simulated table and the paper comparison, if any.
 ///
 /// # Errors
 /// [`ReportError`] naming the file.
@@ -255,8 +256,11 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     } else {
         lateral_sections(study, &cells, &mut md);
     }
+    let mut printed = if cmp.is_empty() { String::new() } else { comparison_text(&cmp) };
     if let Some(p) = study.paper {
-        md.push_str(&super::paper::section(p, study, &cells, dir)?);
+        let section = super::paper::section(p, study, &cells, dir)?;
+        printed.push_str(&section);
+        md.push_str(&section);
     }
     let failed: Vec<&RealizationRow> = rows.iter().filter(|r| !r.status.is_ok()).collect();
     if !failed.is_empty() {
@@ -275,7 +279,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     }
     let path = dir.join("report.md");
     std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
-    Ok(comparison_text(&cmp))
+    Ok(printed)
 }
 
 /// The report of a static lateral load study: top displacement and drift per cell.
