@@ -21,12 +21,19 @@
 //! random numbers: the same layouts at every x). The steps run in file order; a value found
 //! is applied to the step's own group and to its `carry_to` groups in the later steps.
 //!
-//! **Identifiability.** Before searching, the two ends of the interval are evaluated. If the
-//! mean collapse angle changes by less than the *resolution* (the tilt bracket width plus
-//! twice the larger standard error of the two ensemble means) across the interval, the
-//! parameter is *not identifiable* from this group (e.g. φ of a free-standing wall that
-//! topples); if the measured mean lies outside the simulated range, no value in the interval
-//! fits. Both are reported, not forced.
+//! **Identifiability.** Before searching, the two ends of the interval are evaluated. The
+//! *resolution* is the tilt bracket width plus twice the standard error of the difference
+//! between a simulated and the measured mean (√(SE²_sim + SE²_meas)). In this order:
+//! 1. the measured mean lies farther than the resolution outside the simulated range: no
+//!    value in the interval fits (`out_of_range`);
+//! 2. the mean collapse angle changes by less than the resolution across the interval: the
+//!    parameter is `not_identifiable` from this group (e.g. φ of a free-standing wall that
+//!    topples);
+//! 3. the measured mean lies just outside the range, within the resolution: α_max reaches
+//!    it only on its plateau, every value towards that end fits (`not_identifiable`);
+//! 4. otherwise Brent's method finds the value (`calibrated`).
+//!
+//! Nothing is forced: each outcome is reported as such.
 //!
 //! **Uncertainty.** The slope s = dα/dx is the least-squares slope of the evaluations within
 //! a window around the root (±0.3 in log10 Kn, ±10° in φ; at least the two nearest). The
@@ -313,7 +320,14 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             evaluations: Vec::new(),
             note: String::new(),
         };
-        if hi_a - lo_a < resolution {
+        let beyond = (lo_a - measured.0).max(measured.0 - hi_a);
+        if beyond > resolution {
+            result.outcome = "out_of_range".into();
+            result.note = format!(
+                "no value in {} .. {} fits: the simulated mean collapse angle spans {:.2}° .. {:.2}°, the measured mean {:.2}° lies {:.2}° beyond (resolution {:.2}°)",
+                spec.lower, spec.upper, lo_a, hi_a, measured.0, beyond, resolution
+            );
+        } else if hi_a - lo_a < resolution {
             result.outcome = "not_identifiable".into();
             result.note = format!(
                 "not identifiable from {}: the mean collapse angle changes by only {:.2}° (resolution {:.2}°) over {} = {} .. {}",
@@ -344,12 +358,6 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                 end,
                 if end == spec.lower { e0.mean_deg } else { e1.mean_deg },
                 end
-            );
-        } else if measured.0 < lo_a || measured.0 > hi_a {
-            result.outcome = "out_of_range".into();
-            result.note = format!(
-                "no value in {} .. {} fits: the simulated mean collapse angle spans {:.2}° .. {:.2}°, the measured mean is {:.2}°",
-                spec.lower, spec.upper, lo_a, hi_a, measured.0
             );
         } else {
             let tol = spec.tolerance.unwrap_or(if spec.is_kn() { 0.02 } else { 0.5 });
@@ -487,9 +495,9 @@ pub fn markdown(study: &Study, results: &[StepResult]) -> String {
         if let (Some(v), Some(p)) = (r.value, r.paper_value) {
             let _ = writeln!(
                 md,
-                "  drystone {} the paper's value by {:+.0} %{}.",
+                "  drystone {} the paper's value by {:.0} %{}.",
                 if v > p { "exceeds" } else { "is below" },
-                100.0 * (v / p - 1.0),
+                100.0 * (v / p - 1.0).abs(),
                 match r.interval95 {
                     Some((a, b)) if a <= p && p <= b => ", inside the 95 % interval",
                     Some(_) => ", outside the 95 % interval",
