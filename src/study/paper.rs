@@ -11,7 +11,7 @@
 //! stated in the text), so those findings are what is checked; Table 7 is compared number by
 //! number. Nothing is tuned to match: where drystone disagrees the report says so.
 
-use super::report::{CellSummary, ReportError};
+use super::report::{sci, CellSummary, ReportError};
 use super::{ProtocolKind, Study, SweepValue};
 use crate::generator::spec::{Arrangement, Ends};
 use crate::io::plot::{self, BandSeries};
@@ -420,14 +420,6 @@ fn length_height(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<Str
     SimpleTable { columns: csv_cols }.write_csv(&dir.join("figure11.csv"))?;
     let _ = writeln!(md, "![Figure 11](figure11_length_height.svg)\n\nData: `figure11.csv`.\n");
     Ok(md)
-}
-
-fn sci(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.3e}")
-    } else {
-        "–".into()
-    }
 }
 
 /// Tables 7 and 8.

@@ -322,7 +322,8 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md);
 }
 
-fn sci(v: f64) -> String {
+/// A number in scientific notation with 3 decimals, `–` when not finite.
+pub(super) fn sci(v: f64) -> String {
     if v.is_finite() {
         format!("{v:.3e}")
     } else {
