@@ -520,9 +520,11 @@ impl Simulation {
                 );
                 let f = out.force;
                 let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
+                let xs = x0 * out.at_shear[0] + x1 * out.at_shear[1] + x2 * out.at_shear[2];
+                let fnormal = f - out.shear;
                 fsum += f;
-                tb += (x - xb).cross(&f);
-                ta -= (x - xa).cross(&f);
+                tb += (x - xb).cross(&fnormal) + (xs - xb).cross(&out.shear);
+                ta -= (x - xa).cross(&fnormal) + (xs - xa).cross(&out.shear);
             }
             c.force = fsum;
             let mag = fsum.norm();

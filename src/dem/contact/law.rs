@@ -17,7 +17,13 @@
 //!   the sub-contact density; `Vertex` lumps A/3 at each node (3DEC's vertex sub-contacts),
 //!   which converges to the same limit as the density grows;
 //! * shear force, incremental and rotated with the contact plane:
-//!   `Fs ← rot(Fs) − Ks · A · Δuₛ`, acting at the same point as `Fn`;
+//!   `Fs ← rot(Fs) − Ks · A · Δuₛ`, acting between the area centroid of the compressed part
+//!   (no strength mobilised: the elastic traction Ks·uₛ is uniform there) and the point of
+//!   `Fn` (at slip: the traction is then pressure-weighted), linearly in the mobilised
+//!   fraction |Fs| / (c A + Fn tan φ). Applying the elastic shear at the pressure centroid
+//!   couples the triangles of a face in torsion (a block pushed sideways through its
+//!   centroid twisted about the vertical by 5 % of its displacement); applying the slipping
+//!   shear at the area centroid lets a sliding block rotate about the vertical before α = φ;
 //! * slip: `|Fs| ≤ c A + Fn tan φ`; past it `Fs` is scaled back onto the limit
 //!   (elasto-plastic). When a joint fails in tension or shear, its tensile strength and
 //!   cohesion drop to zero for good (3DEC's residual-strength convention).
@@ -145,14 +151,29 @@ pub struct Kinematics {
 /// The force of a sub-contact on B.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SubContactForce {
-    /// Force on B, N, world frame.
+    /// Total force on B (normal plus shear), N, world frame.
     pub force: Vec3,
-    /// Point of application in barycentric coordinates of the triangle's nodes (sums to 1).
+    /// Point of application of the normal force, barycentric coordinates of the triangle's
+    /// nodes (sums to 1): the centroid of the pressure.
     pub at: [f64; 3],
+    /// The shear part of `force`, N, world frame (in the contact plane).
+    pub shear: Vec3,
+    /// Point of application of the shear force, barycentric: from the area centroid of the
+    /// compressed part when no strength is mobilised (the elastic shear traction Ks·uₛ is
+    /// uniform under the translation a sub-contact sees) to the pressure centroid `at` at
+    /// slip (the traction is then c + q tan φ, pressure-weighted), linearly in the mobilised
+    /// fraction |Fs| / (c A + Fn tan φ): slip spreads from the least-pressed part as the
+    /// shear grows.
+    pub at_shear: [f64; 3],
 }
 
 /// No force.
-pub const NO_FORCE: SubContactForce = SubContactForce { force: Vec3::new(0.0, 0.0, 0.0), at: [1.0 / 3.0; 3] };
+pub const NO_FORCE: SubContactForce = SubContactForce {
+    force: Vec3::new(0.0, 0.0, 0.0),
+    at: [1.0 / 3.0; 3],
+    shear: Vec3::new(0.0, 0.0, 0.0),
+    at_shear: [1.0 / 3.0; 3],
+};
 
 /// ∫ q λᵢ dA over a triangle with linear q (nodal values `q`), area `area`:
 /// `A/12 (qᵢ + Σq)` for each barycentric coordinate λᵢ.
@@ -213,6 +234,46 @@ pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
     }
 }
 
+/// Area centroid of the compressed part (q > 0) of a triangle with linear q, in barycentric
+/// coordinates; the triangle's centroid when all of it is compressed (or none of it).
+#[inline]
+pub fn compressed_centroid(q: [f64; 3]) -> [f64; 3] {
+    let pos = q.iter().filter(|&&v| v > 0.0).count();
+    if pos == 0 || pos == 3 {
+        return [1.0 / 3.0; 3];
+    }
+    let mut poly: [[f64; 3]; 4] = [[0.0; 3]; 4];
+    let mut n = 0;
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        if q[i] > 0.0 {
+            poly[n][i] = 1.0;
+            n += 1;
+        }
+        if (q[i] > 0.0) != (q[j] > 0.0) {
+            let t = q[i] / (q[i] - q[j]);
+            poly[n] = [0.0; 3];
+            poly[n][i] = 1.0 - t;
+            poly[n][j] = t;
+            n += 1;
+        }
+    }
+    let (mut c, mut total) = ([0.0; 3], 0.0);
+    for k in 1..n - 1 {
+        let (a, b, d) = (poly[0], poly[k], poly[k + 1]);
+        let w = ((b[1] - a[1]) * (d[2] - a[2]) - (d[1] - a[1]) * (b[2] - a[2])).abs();
+        total += w;
+        for i in 0..3 {
+            c[i] += w * (a[i] + b[i] + d[i]) / 3.0;
+        }
+    }
+    if total > 0.0 {
+        c.map(|v| v / total)
+    } else {
+        [1.0 / 3.0; 3]
+    }
+}
+
 /// Evaluates the joint law on one sub-contact: updates `state`, returns the force on B.
 #[inline]
 pub fn evaluate(p: &JointParams, quad: Quadrature, state: &mut SubContactState, k: &Kinematics) -> SubContactForce {
@@ -259,6 +320,8 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
     }
     fs -= k.du_shear * (p.ks * k.area);
     s.slipping = false;
+    // Mobilised fraction of the shear strength, in [0, 1] (0 for a joint that cannot slip).
+    let mut mobilised = 0.0;
     if p.can_slip {
         let cohesion = if s.bonded { p.cohesion * k.area } else { 0.0 };
         let mut limit = cohesion + fnorm.max(0.0) * p.tan_phi;
@@ -278,10 +341,25 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
             fs *= if mag > 0.0 { limit / mag } else { 0.0 };
             s.slipping = true;
         }
+        mobilised = if s.slipping || limit <= 0.0 { 1.0 } else { (mag2.sqrt() / limit).min(1.0) };
     }
     s.shear = fs;
     s.normal = fnorm;
-    SubContactForce { force: n * fnorm + fs, at }
+    let area_centroid = match (quad, tension) {
+        (_, true) => [1.0 / 3.0; 3],
+        (Quadrature::Exact, false) => compressed_centroid(q),
+        (Quadrature::Vertex, false) => {
+            let k = q.iter().filter(|&&v| v > 0.0).count().max(1) as f64;
+            q.map(|v| if v > 0.0 { 1.0 / k } else { 0.0 })
+        }
+    };
+    let w = mobilised;
+    let at_shear = [
+        (1.0 - w) * area_centroid[0] + w * at[0],
+        (1.0 - w) * area_centroid[1] + w * at[1],
+        (1.0 - w) * area_centroid[2] + w * at[2],
+    ];
+    SubContactForce { force: n * fnorm + fs, at, shear: fs, at_shear }
 }
 
 /// Elastic energy stored in the normal springs of a sub-contact, J:
@@ -455,5 +533,33 @@ mod tests {
         .force;
         assert!((f.x + 1e8 * 1e-3).abs() < 1e-6);
         assert!(!s.slipping);
+    }
+
+    /// The compressed part's area centroid against a fine sampling of the triangle.
+    #[test]
+    fn compressed_centroid_matches_sampling() {
+        for q in [[1.0, 2.0, 3.0], [1.0, -1.0, -2.0], [2.0, 1.0, -3.0], [-1.0, 4.0, -0.5], [-1.0, -1.0, -1.0]] {
+            let c = compressed_centroid(q);
+            let (mut acc, mut w) = ([0.0; 3], 0.0);
+            let n = 600;
+            for i in 0..n {
+                for j in 0..n - i {
+                    // Centre of a small cell in barycentric coordinates.
+                    let (l1, l2) = ((i as f64 + 1.0 / 3.0) / n as f64, (j as f64 + 1.0 / 3.0) / n as f64);
+                    let l = [1.0 - l1 - l2, l1, l2];
+                    if q[0] * l[0] + q[1] * l[1] + q[2] * l[2] > 0.0 {
+                        for k in 0..3 {
+                            acc[k] += l[k];
+                        }
+                        w += 1.0;
+                    }
+                }
+            }
+            let expect = if w > 0.0 { acc.map(|v| v / w) } else { [1.0 / 3.0; 3] };
+            for k in 0..3 {
+                assert!((c[k] - expect[k]).abs() < 3e-3, "q {q:?}: {c:?} vs {expect:?}");
+            }
+            assert!((c.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        }
     }
 }
