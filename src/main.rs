@@ -9,6 +9,17 @@ use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `println!` that ends the program quietly when stdout is closed (e.g. piped into `head`)
+/// instead of panicking.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout(), $($t)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
 struct Cli {
@@ -160,26 +171,26 @@ fn run() -> Result<ExitCode> {
             let r =
                 run_tilt(&l, solver, &params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&r)?);
+                out!("{}", serde_json::to_string_pretty(&r)?);
             } else {
-                println!("layout            {}", layout.display());
-                println!(
+                out!("layout            {}", layout.display());
+                out!(
                     "collapse angle    {:.2} deg (last stable), first unstable {}",
                     r.collapse_angle_deg,
                     r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
                 );
-                println!(
+                out!(
                     "mechanism         {:?} at joint {} ({} blocks moving)",
                     r.mechanism.kind,
                     r.mechanism.joint,
                     r.mechanism.blocks.len()
                 );
-                println!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
-                println!("out-of-plane displacement of the top points [cm]:");
-                println!("  alpha_deg  {}", r.monitors.join("  "));
+                out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+                out!("out-of-plane displacement of the top points [cm]:");
+                out!("  alpha_deg  {}", r.monitors.join("  "));
                 for inc in r.increments.iter().filter(|i| i.stable) {
                     let d: Vec<String> = inc.displacement_m.iter().map(|d| format!("{:>9.3}", d * 100.0)).collect();
-                    println!("  {:>9.2}  {}", inc.alpha_deg, d.join("  "));
+                    out!("  {:>9.2}  {}", inc.alpha_deg, d.join("  "));
                 }
             }
             Ok(ExitCode::SUCCESS)
@@ -190,10 +201,10 @@ fn run() -> Result<ExitCode> {
             let r = run_lateral(&l, SolverParams::default(), &params)
                 .with_context(|| format!("static lateral load on {}", layout.display()))?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&r)?);
+                out!("{}", serde_json::to_string_pretty(&r)?);
             } else {
-                println!("layout            {}", layout.display());
-                println!(
+                out!("layout            {}", layout.display());
+                out!(
                     "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
                     pressure_base_pa,
                     pressure_top_pa,
@@ -203,16 +214,16 @@ fn run() -> Result<ExitCode> {
                     r.loaded_faces
                 );
                 match &r.collapse_reason {
-                    None => println!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
-                    Some(why) => println!("equilibrium       NO: collapsed ({why})"),
+                    None => out!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
+                    Some(why) => out!("equilibrium       NO: collapsed ({why})"),
                 }
-                println!("top displacement  [cm]");
+                out!("top displacement  [cm]");
                 for (m, d) in r.monitors.iter().zip(&r.displacement_m) {
-                    println!("  {m:<12} {:>9.4}", d * 100.0);
+                    out!("  {m:<12} {:>9.4}", d * 100.0);
                 }
-                println!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
-                println!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
-                println!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+                out!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
+                out!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
+                out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -228,9 +239,8 @@ fn run() -> Result<ExitCode> {
                 let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&suite.name));
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
                 let t0 = std::time::Instant::now();
-                let report =
-                    pool.install(|| drystone::study::suite::run_suite(&suite, &dir, |line| println!("{line}")))?;
-                println!(
+                let report = pool.install(|| drystone::study::suite::run_suite(&suite, &dir, |line| out!("{line}")))?;
+                out!(
                     "suite {}: {} studies on {} threads in {:.1} s -> {}",
                     suite.name,
                     suite.studies.len(),
@@ -261,7 +271,7 @@ fn run() -> Result<ExitCode> {
             let elapsed = t0.elapsed().as_secs_f64();
             let text = drystone::study::run::write_outputs(&st, &study, shard, &rows, &dir)?;
             let failed = rows.iter().filter(|r| !r.status.is_ok()).count();
-            println!(
+            out!(
                 "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
                 st.name,
                 rows.len(),
@@ -271,10 +281,10 @@ fn run() -> Result<ExitCode> {
                 dir.display()
             );
             if let Some(t) = text {
-                println!("{t}");
-                println!("report: {}", dir.join("report.md").display());
+                out!("{t}");
+                out!("report: {}", dir.join("report.md").display());
             } else {
-                println!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
+                out!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -296,8 +306,8 @@ fn run() -> Result<ExitCode> {
                 .install(|| drystone::study::calibrate::calibrate(&st, &st.calibrate))
                 .map_err(|m| anyhow::anyhow!("{}: {m}", study.display()))?;
             let md = drystone::study::suite::write_calibration(&st, &results, &dir)?;
-            println!("{md}");
-            println!(
+            out!("{md}");
+            out!(
                 "calibration {}: {} steps on {} threads in {:.1} s -> {}",
                 st.name,
                 results.len(),
@@ -313,23 +323,20 @@ fn run() -> Result<ExitCode> {
             st.realizations = manifest.realizations;
             let text =
                 drystone::study::run::write_outputs(&st, &manifest.study, drystone::ensemble::Shard::ALL, &rows, &out)?;
-            println!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
+            out!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
             if let Some(t) = text {
-                println!("{t}");
+                out!("{t}");
             }
             Ok(ExitCode::SUCCESS)
         }
         Command::Verify { json } => {
             let rep = drystone::verify::run_all();
             if json {
-                println!("{}", serde_json::to_string_pretty(&rep)?);
+                out!("{}", serde_json::to_string_pretty(&rep)?);
             } else {
-                println!(
-                    "{:<70} {:>9} {:>9} {:>8}  {:<4} {}",
-                    "case", "expected", "simulated", "error", "ok", "mechanism"
-                );
+                out!("{:<70} {:>9} {:>9} {:>8}  {:<4} {}", "case", "expected", "simulated", "error", "ok", "mechanism");
                 for c in &rep.cases {
-                    println!(
+                    out!(
                         "{:<70} {:>9.3} {:>9.3} {:>+8.3}  {:<4} {}",
                         c.name,
                         c.expected_deg,
@@ -339,10 +346,10 @@ fn run() -> Result<ExitCode> {
                         c.detail
                     );
                 }
-                println!();
-                println!("{:<50} {:>14} {:>14} {:>10} {:<4}", "check", "expected", "simulated", "rel.err", "ok");
+                out!();
+                out!("{:<50} {:>14} {:>14} {:>10} {:<4}", "check", "expected", "simulated", "rel.err", "ok");
                 for c in &rep.checks {
-                    println!(
+                    out!(
                         "{:<50} {:>14.6e} {:>14.6e} {:>10.2e} {:<4} [{}]",
                         c.name,
                         c.expected,
@@ -368,22 +375,22 @@ fn run() -> Result<ExitCode> {
             g.check()?;
             std::fs::write(&out, g.render(&w, format)?).with_context(|| format!("writing {}", out.display()))?;
             let (stones, wedges) = g.counts();
-            println!("wall              {} ({})", w.name, wall.display());
-            println!("seed, realization {seed}, {realization}");
-            println!(
+            out!("wall              {} ({})", w.name, wall.display());
+            out!("seed, realization {seed}, {realization}");
+            out!(
                 "blocks            {} ({stones} stones, {wedges} wedges) in {} courses",
                 stones + wedges,
                 g.course_tops_m.len()
             );
-            println!(
+            out!(
                 "volume            {:.6} m3 of {:.6} m3 (void {:.3} %, stated {:.3} %)",
                 g.volume(),
                 g.envelope_volume_m3,
                 100.0 * g.void_fraction(),
                 100.0 * g.stated_void_fraction
             );
-            println!("generated in      {:.2} ms", dt * 1e3);
-            println!("wrote             {}", out.display());
+            out!("generated in      {:.2} ms", dt * 1e3);
+            out!("wrote             {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench { case, steps, json } => {
@@ -392,16 +399,20 @@ fn run() -> Result<ExitCode> {
             }
             let r = drystone::benchmark::run_cube16(steps, SolverParams::default());
             if json {
-                println!("{}", serde_json::to_string_pretty(&r)?);
+                out!("{}", serde_json::to_string_pretty(&r)?);
             } else {
-                println!(
+                out!(
                     "cube16: {} bodies, {} contacts, {} sub-contacts, dt {:.3e} s",
-                    r.bodies, r.contacts, r.sub_contacts, r.dt_s
+                    r.bodies,
+                    r.contacts,
+                    r.sub_contacts,
+                    r.dt_s
                 );
-                println!("  {} steps at {:.0} steps/s (one thread)", r.steps, r.steps_per_s);
-                println!(
+                out!("  {} steps at {:.0} steps/s (one thread)", r.steps, r.steps_per_s);
+                out!(
                     "  equilibrium (unbalanced-force ratio < 1e-4) after {} steps, {:.3} s",
-                    r.steps_to_equilibrium, r.equilibrium_wall_time_s
+                    r.steps_to_equilibrium,
+                    r.equilibrium_wall_time_s
                 );
             }
             Ok(ExitCode::SUCCESS)
