@@ -51,13 +51,17 @@ pub struct Separation {
     pub axis: Axis,
 }
 
+/// The smallest and largest of `n · v` over the vertices of a block.
+#[inline]
+fn min_max_along(blk: &ConvexBlock, n: &Vec3) -> (f64, f64) {
+    blk.vertices.iter().map(|v| n.dot(v)).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)))
+}
+
 /// Separating-axis test between two convex blocks in the same frame.
 pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
     let size = a.aabb().extent().norm().max(b.aabb().extent().norm());
     let tie = 1e-9 * size;
     let min_along = |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min);
-    let max_along =
-        |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
     let mut best = Separation { distance: f64::NEG_INFINITY, normal: Vec3::z(), axis: Axis::FaceA(0) };
     for (k, f) in a.faces.iter().enumerate() {
         let d = min_along(b, &f.normal) - f.offset;
@@ -82,8 +86,12 @@ pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
                 continue;
             }
             let mut n = c / cn;
-            let mut d = min_along(b, &n) - max_along(a, &n);
-            let d2 = min_along(b, &-n) - max_along(a, &-n);
+            // One pass per block for both orientations: (−n)·v is exactly −(n·v), so the
+            // extremes along −n are the negated extremes along n.
+            let (amin, amax) = min_max_along(a, &n);
+            let (bmin, bmax) = min_max_along(b, &n);
+            let mut d = bmin - amax;
+            let d2 = -bmax - -amin;
             if d2 > d {
                 d = d2;
                 n = -n;
