@@ -229,14 +229,14 @@ fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> [f64; 3] {
 }
 
 /// Evaluates the joint law on one sub-contact: updates `state`, returns the force on B.
-#[inline]
+#[inline(always)]
 pub fn evaluate(p: &JointParams, quad: Quadrature, state: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     match p.closure {
         NormalClosure::Linear => coulomb_linear(p, quad, state, k),
     }
 }
 
-#[inline]
+#[inline(always)]
 fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     let n = k.normal;
     let q = [-p.kn * k.gaps[0], -p.kn * k.gaps[1], -p.kn * k.gaps[2]];
