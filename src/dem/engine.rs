@@ -231,8 +231,71 @@ pub struct Simulation {
     detect_pos: Vec<Vec3>,
     detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
     layout_joints: Vec<Vec<JointParams>>,
-    scratch_x: Vec<Vec3>,
-    scratch_gap: Vec<f64>,
+    scratch: Vec<NodeScratch>,
+}
+
+/// Per-node values of the contact loop: the table-frame mid-point of the node's two
+/// material points (m) and the normal gap between them (m).
+#[derive(Debug, Clone, Copy, Default)]
+struct NodeScratch {
+    x: Vec3,
+    gap: f64,
+}
+
+/// Step 3 for one contact: evaluates the law on every sub-contact and returns the resultant
+/// force on B, the moment on A about A's centroid and the moment on B about B's centroid
+/// (N, N·m, table frame). `PAIR` is false for a table contact (A is the table: fixed, at the
+/// origin, identity rotation; `a` is then ignored and no moment on A is returned), which
+/// skips the transformations and products by the identity and zero (the results are those
+/// of the general expressions, up to the sign of zero).
+#[inline(always)]
+fn contact_forces<const PAIR: bool>(
+    c: &mut Contact,
+    a: &Body,
+    bb: &Body,
+    dt: f64,
+    quad: Quadrature,
+    scratch: &mut Vec<NodeScratch>,
+) -> (Vec3, Vec3, Vec3) {
+    let (xb, rb, vb, wb) = (&bb.pos, &bb.rot_mat, &bb.vel, &bb.angvel);
+    let (xa, ra, va, wa) = (&a.pos, &a.rot_mat, &a.vel, &a.angvel);
+    let n =
+        if PAIR { (ra * c.normal_a + rb * c.normal_b).normalize() } else { (c.normal_a + rb * c.normal_b).normalize() };
+    if scratch.len() < c.nodes.len() {
+        scratch.resize(c.nodes.len(), NodeScratch::default());
+    }
+    for (nd, sc) in c.nodes.iter().zip(scratch.iter_mut()) {
+        let pa = if PAIR { xa + ra * nd.on_a } else { nd.on_a };
+        let pb = xb + rb * nd.on_b;
+        *sc = NodeScratch { x: 0.5 * (pa + pb), gap: (pb - pa).dot(&n) };
+    }
+    let scratch = &scratch[..c.nodes.len()];
+    let mut fsum = Vec3::zeros();
+    let mut ta = Vec3::zeros();
+    let mut tb = Vec3::zeros();
+    for s in &mut c.subs {
+        let [s0, s1, s2] = s.nodes.map(|k| &scratch[k as usize]);
+        let gaps = [s0.gap, s1.gap, s2.gap];
+        if gaps[0] >= 0.0 && gaps[1] >= 0.0 && gaps[2] >= 0.0 && !s.state.bonded && s.state.normal == 0.0 {
+            continue; // open everywhere, no history: no force
+        }
+        let (x0, x1, x2) = (s0.x, s1.x, s2.x);
+        let xc = (x0 + x1 + x2) / 3.0;
+        let vrel = if PAIR { vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa)) } else { vb + wb.cross(&(xc - xb)) };
+        let du = (vrel - n * n.dot(&vrel)) * dt;
+        let out =
+            law::evaluate(&c.joint, quad, &mut s.state, &Kinematics { normal: n, gaps, du_shear: du, area: s.area });
+        let f = out.force;
+        let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
+        let xs = x0 * out.at_shear[0] + x1 * out.at_shear[1] + x2 * out.at_shear[2];
+        let fnormal = f - out.shear;
+        fsum += f;
+        tb += (x - xb).cross(&fnormal) + (xs - xb).cross(&out.shear);
+        if PAIR {
+            ta -= (x - xa).cross(&fnormal) + (xs - xa).cross(&out.shear);
+        }
+    }
+    (fsum, ta, tb)
 }
 
 impl Simulation {
@@ -276,8 +339,7 @@ impl Simulation {
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
             layout_joints,
-            scratch_x: Vec::new(),
-            scratch_gap: Vec::new(),
+            scratch: Vec::new(),
         };
         sim.detect_contacts(true);
         if !sim.dt.is_finite() {
@@ -481,51 +543,11 @@ impl Simulation {
         let mut sum_contact = 0.0;
         let mut active = 0usize;
         for c in &mut self.contacts {
-            let (xa, ra, va, wa) = match c.a {
-                None => (Vec3::zeros(), crate::Mat3::identity(), Vec3::zeros(), Vec3::zeros()),
-                Some(i) => {
-                    let b = &self.bodies[i];
-                    (b.pos, b.rot_mat, b.vel, b.angvel)
-                }
-            };
             let bb = &self.bodies[c.b];
-            let (xb, rb, vb, wb) = (bb.pos, bb.rot_mat, bb.vel, bb.angvel);
-            let n = (ra * c.normal_a + rb * c.normal_b).normalize();
-            self.scratch_x.clear();
-            self.scratch_gap.clear();
-            for nd in &c.nodes {
-                let pa = xa + ra * nd.on_a;
-                let pb = xb + rb * nd.on_b;
-                self.scratch_gap.push((pb - pa).dot(&n));
-                self.scratch_x.push(0.5 * (pa + pb));
-            }
-            let mut fsum = Vec3::zeros();
-            let mut ta = Vec3::zeros();
-            let mut tb = Vec3::zeros();
-            for s in &mut c.subs {
-                let [i0, i1, i2] = s.nodes.map(|k| k as usize);
-                let gaps = [self.scratch_gap[i0], self.scratch_gap[i1], self.scratch_gap[i2]];
-                if gaps[0] >= 0.0 && gaps[1] >= 0.0 && gaps[2] >= 0.0 && !s.state.bonded && s.state.normal == 0.0 {
-                    continue; // open everywhere, no history: no force
-                }
-                let (x0, x1, x2) = (self.scratch_x[i0], self.scratch_x[i1], self.scratch_x[i2]);
-                let xc = (x0 + x1 + x2) / 3.0;
-                let vrel = vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa));
-                let du = (vrel - n * n.dot(&vrel)) * dt;
-                let out = law::evaluate(
-                    &c.joint,
-                    quad,
-                    &mut s.state,
-                    &Kinematics { normal: n, gaps, du_shear: du, area: s.area },
-                );
-                let f = out.force;
-                let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
-                let xs = x0 * out.at_shear[0] + x1 * out.at_shear[1] + x2 * out.at_shear[2];
-                let fnormal = f - out.shear;
-                fsum += f;
-                tb += (x - xb).cross(&fnormal) + (xs - xb).cross(&out.shear);
-                ta -= (x - xa).cross(&fnormal) + (xs - xa).cross(&out.shear);
-            }
+            let (fsum, ta, tb) = match c.a {
+                None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch),
+                Some(i) => contact_forces::<true>(c, &self.bodies[i], bb, dt, quad, &mut self.scratch),
+            };
             c.force = fsum;
             let mag = fsum.norm();
             if mag > 0.0 {

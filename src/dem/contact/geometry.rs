@@ -51,13 +51,41 @@ pub struct Separation {
     pub axis: Axis,
 }
 
+/// The smallest and largest of `n · v` over the vertices of a block. (Plain comparisons:
+/// the vertices are finite, and which zero is returned on a ±0 tie changes no comparison
+/// made with the result.)
+#[inline]
+fn min_max_along(blk: &ConvexBlock, n: &Vec3) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in &blk.vertices {
+        let x = n.dot(v);
+        if x < lo {
+            lo = x;
+        }
+        if x > hi {
+            hi = x;
+        }
+    }
+    (lo, hi)
+}
+
+/// The smallest of `n · v` over the vertices of a block (see [`min_max_along`]).
+#[inline]
+fn min_along(blk: &ConvexBlock, n: &Vec3) -> f64 {
+    let mut lo = f64::INFINITY;
+    for v in &blk.vertices {
+        let x = n.dot(v);
+        if x < lo {
+            lo = x;
+        }
+    }
+    lo
+}
+
 /// Separating-axis test between two convex blocks in the same frame.
 pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
     let size = a.aabb().extent().norm().max(b.aabb().extent().norm());
     let tie = 1e-9 * size;
-    let min_along = |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min);
-    let max_along =
-        |blk: &ConvexBlock, n: &Vec3| blk.vertices.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
     let mut best = Separation { distance: f64::NEG_INFINITY, normal: Vec3::z(), axis: Axis::FaceA(0) };
     for (k, f) in a.faces.iter().enumerate() {
         let d = min_along(b, &f.normal) - f.offset;
@@ -72,18 +100,30 @@ pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
         }
     }
     let face_best = best.distance;
+    let b_edges: Vec<(Vec3, f64)> = b
+        .edges
+        .iter()
+        .map(|&(b0, b1)| {
+            let eb = b.vertices[b1] - b.vertices[b0];
+            (eb, eb.norm())
+        })
+        .collect();
     for (i, &(a0, a1)) in a.edges.iter().enumerate() {
         let ea = a.vertices[a1] - a.vertices[a0];
-        for (j, &(b0, b1)) in b.edges.iter().enumerate() {
-            let eb = b.vertices[b1] - b.vertices[b0];
+        let ea_norm = ea.norm();
+        for (j, &(eb, eb_norm)) in b_edges.iter().enumerate() {
             let c = ea.cross(&eb);
             let cn = c.norm();
-            if cn <= 1e-6 * ea.norm() * eb.norm() {
+            if cn <= 1e-6 * ea_norm * eb_norm {
                 continue;
             }
             let mut n = c / cn;
-            let mut d = min_along(b, &n) - max_along(a, &n);
-            let d2 = min_along(b, &-n) - max_along(a, &-n);
+            // One pass per block for both orientations: (−n)·v is exactly −(n·v), so the
+            // extremes along −n are the negated extremes along n.
+            let (amin, amax) = min_max_along(a, &n);
+            let (bmin, bmax) = min_max_along(b, &n);
+            let mut d = bmin - amax;
+            let d2 = -bmax - -amin;
             if d2 > d {
                 d = d2;
                 n = -n;

@@ -185,52 +185,22 @@ fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
 
 /// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
 /// the compressed part (a triangle or a quadrilateral) integrated exactly.
+///
+/// Dispatches on the sign pattern of `q` to [`clipped_moments`], compiled once per pattern
+/// so that the clipping's branches and index arithmetic fold away (the floating-point
+/// operations, and so the results, are those of the generic algorithm).
 #[inline]
 pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
-    let pos = q.iter().filter(|&&v| v > 0.0).count();
-    match pos {
+    let mask = (q[0] > 0.0) as u8 | ((q[1] > 0.0) as u8) << 1 | ((q[2] > 0.0) as u8) << 2;
+    match mask {
         0 => [0.0; 3],
-        3 => moments_full(q, area),
-        _ => {
-            // Vertices of the clipped polygon in barycentric coordinates with their q.
-            let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
-            let mut n = 0;
-            for i in 0..3 {
-                let j = (i + 1) % 3;
-                let mut bi = [0.0; 3];
-                bi[i] = 1.0;
-                if q[i] > 0.0 {
-                    poly[n] = (bi, q[i]);
-                    n += 1;
-                }
-                if (q[i] > 0.0) != (q[j] > 0.0) {
-                    let t = q[i] / (q[i] - q[j]);
-                    let mut b = [0.0; 3];
-                    b[i] = 1.0 - t;
-                    b[j] = t;
-                    poly[n] = (b, 0.0);
-                    n += 1;
-                }
-            }
-            let mut m = [0.0; 3];
-            let det = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| {
-                // Area ratio of the sub-triangle (a, b, c) in barycentric coordinates.
-                let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
-                let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
-                (u1 * v2 - u2 * v1).abs()
-            };
-            for k in 1..n - 1 {
-                let (a, qa) = poly[0];
-                let (b, qb) = poly[k];
-                let (c, qc) = poly[k + 1];
-                let sub = area * det(&a, &b, &c);
-                let mm = moments_full([qa, qb, qc], sub);
-                for i in 0..3 {
-                    m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
-                }
-            }
-            m
-        }
+        7 => moments_full(q, area),
+        1 => clipped_moments::<1>(q, area),
+        2 => clipped_moments::<2>(q, area),
+        3 => clipped_moments::<3>(q, area),
+        4 => clipped_moments::<4>(q, area),
+        5 => clipped_moments::<5>(q, area),
+        _ => clipped_moments::<6>(q, area),
     }
 }
 
@@ -274,15 +244,60 @@ pub fn compressed_centroid(q: [f64; 3]) -> [f64; 3] {
     }
 }
 
+/// [`compressed_moments`] for a partly compressed triangle whose nodes with `q > 0` are the
+/// set bits of `MASK` (1 to 6).
+#[inline(always)]
+fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> [f64; 3] {
+    let positive = |i: usize| MASK & (1 << i) != 0;
+    // Vertices of the clipped polygon in barycentric coordinates with their q.
+    let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
+    let mut n = 0;
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        let mut bi = [0.0; 3];
+        bi[i] = 1.0;
+        if positive(i) {
+            poly[n] = (bi, q[i]);
+            n += 1;
+        }
+        if positive(i) != positive(j) {
+            let t = q[i] / (q[i] - q[j]);
+            let mut b = [0.0; 3];
+            b[i] = 1.0 - t;
+            b[j] = t;
+            poly[n] = (b, 0.0);
+            n += 1;
+        }
+    }
+    let mut m = [0.0; 3];
+    let det = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| {
+        // Area ratio of the sub-triangle (a, b, c) in barycentric coordinates.
+        let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
+        let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
+        (u1 * v2 - u2 * v1).abs()
+    };
+    for k in 1..n - 1 {
+        let (a, qa) = poly[0];
+        let (b, qb) = poly[k];
+        let (c, qc) = poly[k + 1];
+        let sub = area * det(&a, &b, &c);
+        let mm = moments_full([qa, qb, qc], sub);
+        for i in 0..3 {
+            m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
+        }
+    }
+    m
+}
+
 /// Evaluates the joint law on one sub-contact: updates `state`, returns the force on B.
-#[inline]
+#[inline(always)]
 pub fn evaluate(p: &JointParams, quad: Quadrature, state: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     match p.closure {
         NormalClosure::Linear => coulomb_linear(p, quad, state, k),
     }
 }
 
-#[inline]
+#[inline(always)]
 fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     let n = k.normal;
     let q = [-p.kn * k.gaps[0], -p.kn * k.gaps[1], -p.kn * k.gaps[2]];
@@ -462,6 +477,72 @@ mod tests {
             assert!(f.x <= 0.0, "shear force opposes the motion of B");
         }
         assert!(s.slipping);
+    }
+
+    /// The generic clipping algorithm (the version before the sign-pattern dispatch), kept
+    /// as the bit-level reference of [`compressed_moments`].
+    fn compressed_moments_reference(q: [f64; 3], area: f64) -> [f64; 3] {
+        let pos = q.iter().filter(|&&v| v > 0.0).count();
+        match pos {
+            0 => [0.0; 3],
+            3 => moments_full(q, area),
+            _ => {
+                let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
+                let mut n = 0;
+                for i in 0..3 {
+                    let j = (i + 1) % 3;
+                    let mut bi = [0.0; 3];
+                    bi[i] = 1.0;
+                    if q[i] > 0.0 {
+                        poly[n] = (bi, q[i]);
+                        n += 1;
+                    }
+                    if (q[i] > 0.0) != (q[j] > 0.0) {
+                        let t = q[i] / (q[i] - q[j]);
+                        let mut b = [0.0; 3];
+                        b[i] = 1.0 - t;
+                        b[j] = t;
+                        poly[n] = (b, 0.0);
+                        n += 1;
+                    }
+                }
+                let mut m = [0.0; 3];
+                let det = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| {
+                    let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
+                    let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
+                    (u1 * v2 - u2 * v1).abs()
+                };
+                for k in 1..n - 1 {
+                    let (a, qa) = poly[0];
+                    let (b, qb) = poly[k];
+                    let (c, qc) = poly[k + 1];
+                    let sub = area * det(&a, &b, &c);
+                    let mm = moments_full([qa, qb, qc], sub);
+                    for i in 0..3 {
+                        m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
+                    }
+                }
+                m
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The sign-pattern dispatch gives bit for bit the generic algorithm's moments.
+        #[test]
+        fn clipped_moments_are_bit_identical_to_the_generic_algorithm(
+            q in proptest::array::uniform3(-1e6f64..1e6),
+            zero in 0usize..4,
+            area in 1e-8f64..1.0,
+        ) {
+            let mut q = q;
+            if zero < 3 {
+                q[zero] = 0.0; // a node exactly on the zero-pressure line
+            }
+            let new = compressed_moments(q, area).map(f64::to_bits);
+            let old = compressed_moments_reference(q, area).map(f64::to_bits);
+            proptest::prop_assert_eq!(new, old);
+        }
     }
 
     #[test]

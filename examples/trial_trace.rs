@@ -1,0 +1,55 @@
+//! Traces tilt trials: settles a layout, tilts it by 0.5° increments to equilibrium up to
+//! `LAST_STABLE` degrees, then from that state runs one trial per given angle and prints,
+//! every 64 steps (until the increment limit of 5 % of the wall width), the largest block motion since the start of the trial (centroid motion
+//! plus rotation times radius, m), the kinetic energy (J) and the unbalanced-force ratio.
+//!
+//! `cargo run --release --example trial_trace -- LAYOUT.json LAST_STABLE ANGLE... > trace.csv`
+
+use drystone::dem::{Simulation, SolverParams};
+use drystone::layout::Layout;
+use std::path::Path;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
+    let last: f64 = args[2].parse().unwrap();
+    let angles: Vec<f64> = args[3..].iter().map(|s| s.parse().unwrap()).collect();
+    // The wall width of the collapse criteria (as in `loading::tilt`).
+    let width =
+        drystone::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter())).extent().y;
+    let mut sim = Simulation::new(&layout, SolverParams::default());
+    assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
+    let mut k = 1;
+    while k as f64 * 0.5 <= last + 1e-9 {
+        sim.set_tilt((k as f64 * 0.5f64).to_radians());
+        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap(), "unstable at {}", k as f64 * 0.5);
+        k += 1;
+    }
+    eprintln!("reached {last} deg after {} steps", sim.steps);
+    println!("angle,step,moved_m,ke_j,ratio");
+    for a in angles {
+        let mut t = sim.clone();
+        t.set_tilt(a.to_radians());
+        let start: Vec<_> = t.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        for s in 1..=40_000u64 {
+            t.step().unwrap();
+            if s > 10 && t.stats.unbalanced_ratio < 1e-4 {
+                println!("{a},{s},stable,,");
+                break;
+            }
+            if s % 64 == 0 {
+                let moved = t
+                    .bodies
+                    .iter()
+                    .zip(&start)
+                    .filter(|(b, _)| !b.fixed)
+                    .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
+                    .fold(0.0, f64::max);
+                println!("{a},{s},{moved:e},{:e},{:e}", t.stats.kinetic_energy, t.stats.unbalanced_ratio);
+                if moved > 0.05 * width {
+                    break;
+                }
+            }
+        }
+    }
+}
