@@ -191,10 +191,18 @@ fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
 /// operations, and so the results, are those of the generic algorithm).
 #[inline]
 pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
+    compressed_moments_centroid(q, area).0
+}
+
+/// [`compressed_moments`] and, from the same clipping, the area centroid of the compressed
+/// part in barycentric coordinates (the triangle's centroid when all or none of it is
+/// compressed).
+#[inline(always)]
+pub fn compressed_moments_centroid(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3]) {
     let mask = (q[0] > 0.0) as u8 | ((q[1] > 0.0) as u8) << 1 | ((q[2] > 0.0) as u8) << 2;
     match mask {
-        0 => [0.0; 3],
-        7 => moments_full(q, area),
+        0 => ([0.0; 3], [1.0 / 3.0; 3]),
+        7 => (moments_full(q, area), [1.0 / 3.0; 3]),
         1 => clipped_moments::<1>(q, area),
         2 => clipped_moments::<2>(q, area),
         3 => clipped_moments::<3>(q, area),
@@ -208,46 +216,13 @@ pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
 /// coordinates; the triangle's centroid when all of it is compressed (or none of it).
 #[inline]
 pub fn compressed_centroid(q: [f64; 3]) -> [f64; 3] {
-    let pos = q.iter().filter(|&&v| v > 0.0).count();
-    if pos == 0 || pos == 3 {
-        return [1.0 / 3.0; 3];
-    }
-    let mut poly: [[f64; 3]; 4] = [[0.0; 3]; 4];
-    let mut n = 0;
-    for i in 0..3 {
-        let j = (i + 1) % 3;
-        if q[i] > 0.0 {
-            poly[n][i] = 1.0;
-            n += 1;
-        }
-        if (q[i] > 0.0) != (q[j] > 0.0) {
-            let t = q[i] / (q[i] - q[j]);
-            poly[n] = [0.0; 3];
-            poly[n][i] = 1.0 - t;
-            poly[n][j] = t;
-            n += 1;
-        }
-    }
-    let (mut c, mut total) = ([0.0; 3], 0.0);
-    for k in 1..n - 1 {
-        let (a, b, d) = (poly[0], poly[k], poly[k + 1]);
-        let w = ((b[1] - a[1]) * (d[2] - a[2]) - (d[1] - a[1]) * (b[2] - a[2])).abs();
-        total += w;
-        for i in 0..3 {
-            c[i] += w * (a[i] + b[i] + d[i]) / 3.0;
-        }
-    }
-    if total > 0.0 {
-        c.map(|v| v / total)
-    } else {
-        [1.0 / 3.0; 3]
-    }
+    compressed_moments_centroid(q, 1.0).1
 }
 
 /// [`compressed_moments`] for a partly compressed triangle whose nodes with `q > 0` are the
 /// set bits of `MASK` (1 to 6).
 #[inline(always)]
-fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> [f64; 3] {
+fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3]) {
     let positive = |i: usize| MASK & (1 << i) != 0;
     // Vertices of the clipped polygon in barycentric coordinates with their q.
     let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
@@ -276,17 +251,22 @@ fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> [f64; 3] {
         let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
         (u1 * v2 - u2 * v1).abs()
     };
+    let (mut centroid, mut total) = ([0.0; 3], 0.0);
     for k in 1..n - 1 {
         let (a, qa) = poly[0];
         let (b, qb) = poly[k];
         let (c, qc) = poly[k + 1];
-        let sub = area * det(&a, &b, &c);
+        let w = det(&a, &b, &c);
+        let sub = area * w;
         let mm = moments_full([qa, qb, qc], sub);
+        total += w;
         for i in 0..3 {
             m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
+            centroid[i] += w * (a[i] + b[i] + c[i]) / 3.0;
         }
     }
-    m
+    let centroid = if total > 0.0 { centroid.map(|v| v / total) } else { [1.0 / 3.0; 3] };
+    (m, centroid)
 }
 
 /// Evaluates the joint law on one sub-contact: updates `state`, returns the force on B.
@@ -307,11 +287,16 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
         s.bonded = false;
     }
     let tension = s.bonded && p.tensile_strength > 0.0;
-    let moments = match (quad, tension) {
-        (Quadrature::Exact, true) => moments_full(q, k.area),
-        (Quadrature::Exact, false) => compressed_moments(q, k.area),
-        (Quadrature::Vertex, true) => q.map(|v| v * k.area / 3.0),
-        (Quadrature::Vertex, false) => q.map(|v| v.max(0.0) * k.area / 3.0),
+    // Normal-pressure moments per node, and the area centroid of the compressed part (where
+    // the elastic shear acts).
+    let (moments, area_centroid) = match (quad, tension) {
+        (Quadrature::Exact, true) => (moments_full(q, k.area), [1.0 / 3.0; 3]),
+        (Quadrature::Exact, false) => compressed_moments_centroid(q, k.area),
+        (Quadrature::Vertex, true) => (q.map(|v| v * k.area / 3.0), [1.0 / 3.0; 3]),
+        (Quadrature::Vertex, false) => {
+            let c = q.iter().filter(|&&v| v > 0.0).count().max(1) as f64;
+            (q.map(|v| v.max(0.0) * k.area / 3.0), q.map(|v| if v > 0.0 { 1.0 / c } else { 0.0 }))
+        }
     };
     let fnorm = moments[0] + moments[1] + moments[2];
     if fnorm <= 0.0 && !tension {
@@ -360,14 +345,6 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
     }
     s.shear = fs;
     s.normal = fnorm;
-    let area_centroid = match (quad, tension) {
-        (_, true) => [1.0 / 3.0; 3],
-        (Quadrature::Exact, false) => compressed_centroid(q),
-        (Quadrature::Vertex, false) => {
-            let k = q.iter().filter(|&&v| v > 0.0).count().max(1) as f64;
-            q.map(|v| if v > 0.0 { 1.0 / k } else { 0.0 })
-        }
-    };
     let w = mobilised;
     let at_shear = [
         (1.0 - w) * area_centroid[0] + w * at[0],
