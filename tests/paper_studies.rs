@@ -162,3 +162,42 @@ upper = 60.0
     assert_eq!(phi.given.len(), 1, "the calibrated Kn is carried to the next step of the group");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A suite runs its studies into sub-directories and writes one report holding each
+/// study's report, headings demoted and figure links pointing into the sub-directory.
+#[test]
+fn a_suite_writes_one_report_with_every_study() {
+    use drystone::study::suite::{is_suite, run_suite, Suite};
+    let path = root().join("tests/studies/good/mini_suite.toml");
+    assert!(is_suite(&path));
+    assert!(!is_suite(&root().join("tests/studies/good/mini_lateral.toml")));
+    let suite = Suite::from_file(&path, false).unwrap();
+    let out = tmp("suite");
+    let mut lines = Vec::new();
+    let report = run_suite(&suite, &out, |l| lines.push(l.to_string())).unwrap();
+    assert_eq!(lines.len(), 1);
+    let md = std::fs::read_to_string(&report).unwrap();
+    assert!(md.starts_with("# Suite `mini_suite`"), "{md}");
+    assert!(md.contains("## Study `mini_lateral`"), "headings demoted: {md}");
+    assert!(md.contains("](mini_lateral/figure11_length_height.svg)"), "links into the study's directory");
+    assert!(out.join("mini_lateral/figure11_length_height.svg").exists());
+    assert!(out.join("mini_lateral/realizations.parquet").exists());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Lateral-load ensembles are bit-identical on 1 and 2 threads (wall time aside).
+#[test]
+fn lateral_study_is_bit_identical_on_1_and_2_threads() {
+    let st = Study::from_file(&root().join("tests/studies/good/mini_lateral.toml")).unwrap();
+    let run = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+        let mut rows = pool.install(|| run_study(&st, Shard::ALL));
+        for r in &mut rows {
+            r.wall_time_s = 0.0;
+        }
+        rows
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a, b);
+    assert!(a.iter().all(|r| r.lateral_drift.is_some_and(|d| d > 0.0 && d.is_finite())));
+}
