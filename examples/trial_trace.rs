@@ -15,8 +15,7 @@ fn main() {
     let last: f64 = args[2].parse().unwrap();
     let angles: Vec<f64> = args[3..].iter().map(|s| s.parse().unwrap()).collect();
     // The wall width of the collapse criteria (as in `loading::tilt`).
-    let width =
-        drystone::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter())).extent().y;
+    let width = layout.bounds().extent().y;
     let mut sim = Simulation::new(&layout, SolverParams::default());
     assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
     let mut k = 1;
@@ -38,13 +37,7 @@ fn main() {
                 break;
             }
             if s % 64 == 0 {
-                let moved = t
-                    .bodies
-                    .iter()
-                    .zip(&start)
-                    .filter(|(b, _)| !b.fixed)
-                    .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
-                    .fold(0.0, f64::max);
+                let moved = drystone::loading::tilt::largest_motion(&t, &start);
                 println!("{a},{s},{moved:e},{:e},{:e}", t.stats.kinetic_energy, t.stats.unbalanced_ratio);
                 if moved > 0.05 * width {
                     break;

@@ -502,6 +502,12 @@ impl Layout {
         LayoutSpec::from_file(path)?.resolve()
     }
 
+    /// Bounding box of all blocks as built (table frame, m): its y extent is the wall width
+    /// B, its z extent the wall height H, used by the loading protocols.
+    pub fn bounds(&self) -> crate::geometry::Aabb {
+        crate::geometry::Aabb::from_points(self.blocks.iter().flat_map(|b| b.shape.vertices.iter()))
+    }
+
     /// The joint parameters between two materials (see the module doc for the rule).
     pub fn joint_between(&self, m1: usize, m2: usize) -> JointParams {
         if m1 == m2 {

@@ -84,34 +84,11 @@ impl Shard {
     }
 }
 
-/// Runs `f` on every item in parallel (rayon, on the current pool) and returns the results
-/// in item order. Shows a progress bar on a terminal (stderr), nothing otherwise.
+/// Runs `f` on every item in parallel (rayon, on the current pool), taken in index order,
+/// and returns the results in item order. Shows a progress bar on a terminal (stderr),
+/// nothing otherwise.
 pub fn run<R: Send, F: Fn(&Item) -> R + Sync + Send>(items: &[Item], label: &str, f: F) -> Vec<R> {
-    let bar = if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(items.len() as u64);
-        b.set_style(
-            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b.set_message(label.to_string());
-        Some(b)
-    } else {
-        None
-    };
-    let out: Vec<R> = items
-        .par_iter()
-        .map(|it| {
-            let r = f(it);
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-            r
-        })
-        .collect();
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    out
+    run_scheduled(items, &vec![0.0; items.len()], label, f)
 }
 
 /// As [`run`], but schedules the items by decreasing `cost` (one estimate per item, any

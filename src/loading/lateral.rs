@@ -227,7 +227,7 @@ pub fn run_lateral(
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
-    let all = crate::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter()));
+    let all = layout.bounds();
     let (width, height) = (all.extent().y, all.extent().z);
     sim.set_tilt(0.0);
     if !sim.run_to_equilibrium(params.tolerance, params.max_steps)? {

@@ -190,7 +190,7 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
             .map(|m| MonitorPoint { name: m.name.clone(), body: m.block, local: sim.bodies[m.block].to_body(&m.point) })
             .collect();
     }
-    let all = crate::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter()));
+    let all = layout.bounds();
     let (x0, x1) = (all.min.x, all.max.x);
     let len = x1 - x0;
     let targets = [("top_left", x0 + 0.05 * len), ("top_centre", 0.5 * (x0 + x1)), ("top_right", x1 - 0.05 * len)];
@@ -242,14 +242,7 @@ impl Ctx<'_> {
                 return Ok((Stage::Stable, steps));
             }
             if steps % 64 == 0 {
-                let moved = sim
-                    .bodies
-                    .iter()
-                    .zip(&start)
-                    .filter(|(b, _)| !b.fixed)
-                    .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
-                    .fold(0.0, f64::max);
-                if moved > inc_limit {
+                if largest_motion(sim, &start) > inc_limit {
                     return Ok((Stage::Collapsed(CollapseReason::IncrementDisplacement), steps));
                 }
                 if self.displacements(sim).iter().any(|d| d.abs() > tot_limit) {
@@ -259,6 +252,18 @@ impl Ctx<'_> {
         }
         Ok((Stage::Collapsed(CollapseReason::NoEquilibrium), steps))
     }
+}
+
+/// The largest motion of a movable block since `start` (its position and orientation per
+/// body), m: centroid displacement plus rotation angle times the block's radius. The
+/// per-increment collapse criterion compares it with a fraction of the wall width.
+pub fn largest_motion(sim: &Simulation, start: &[(Vec3, nalgebra::UnitQuaternion<f64>)]) -> f64 {
+    sim.bodies
+        .iter()
+        .zip(start)
+        .filter(|(b, _)| !b.fixed)
+        .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
+        .fold(0.0, f64::max)
 }
 
 /// Errors of the tilting-table protocol.
@@ -299,8 +304,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);
-    let all = crate::geometry::Aabb::from_points(layout.blocks.iter().flat_map(|b| b.shape.vertices.iter()));
-    let width = all.extent().y;
+    let width = layout.bounds().extent().y;
     sim.set_tilt(0.0);
     let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width };
     if !sim.run_to_equilibrium(params.tolerance, params.max_steps_per_increment)? {

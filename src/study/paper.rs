@@ -335,17 +335,13 @@ fn length_height(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<Str
     // Pair groups by arrangement: restrained with free.
     let mut series = Vec::new();
     let mut csv_cols: Vec<(String, TableColumn)> = vec![("l_over_h".into(), TableColumn::Number(lh.clone()))];
-    let arrangements: Vec<&str> = {
-        let mut a: Vec<&str> = study.groups.iter().map(|g| arrangement_name(&g.walls[0].arrangement)).collect();
-        a.dedup();
-        let mut seen = Vec::new();
-        for x in a {
-            if !seen.contains(&x) {
-                seen.push(x);
-            }
+    let mut arrangements: Vec<&str> = Vec::new();
+    for g in &study.groups {
+        let a = arrangement_name(&g.walls[0].arrangement);
+        if !arrangements.contains(&a) {
+            arrangements.push(a);
         }
-        seen
-    };
+    }
     let drift_of = |gi: usize| -> Vec<f64> {
         (0..np)
             .map(|p| cells.iter().find(|c| c.group_index == gi && c.point == p).map_or(f64::NAN, |c| c.drift.mean))
