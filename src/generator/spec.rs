@@ -488,15 +488,8 @@ impl WallSpec {
         let resolver = Resolver { spec: self, path, source };
 
         // Courses.
-        let course_height = resolver.dist(&self.courses.height_m, "courses.height_m", Unit::M)?;
-        resolver.positive_support(&course_height, "courses.height_m")?;
-        if course_height.mean() > height {
-            return Err(inv(
-                "courses.height_m",
-                describe(&self.courses.height_m, &course_height),
-                format!("course height (mean {}) larger than the wall height H = {height} m", course_height.mean()),
-            ));
-        }
+        let course_height =
+            resolver.size_law(&self.courses.height_m, "courses.height_m", "course height", "wall height H", height)?;
         let min_thickness_fraction = fraction(
             path,
             "courses.min_thickness_fraction",
@@ -506,15 +499,8 @@ impl WallSpec {
         )?;
 
         // Blocks.
-        let block_length = resolver.dist(&self.blocks.length_m, "blocks.length_m", Unit::M)?;
-        resolver.positive_support(&block_length, "blocks.length_m")?;
-        if block_length.mean() > length {
-            return Err(inv(
-                "blocks.length_m",
-                describe(&self.blocks.length_m, &block_length),
-                format!("block length (mean {}) larger than the wall length L = {length} m", block_length.mean()),
-            ));
-        }
+        let block_length =
+            resolver.size_law(&self.blocks.length_m, "blocks.length_m", "block length", "wall length L", length)?;
         let min_end_fraction = fraction(
             path,
             "blocks.min_end_fraction",
@@ -905,6 +891,29 @@ impl Resolver<'_> {
                 key: key.into(),
                 value: format!("{:?}", d.name),
                 reason: format!("distribution {} has unit {}, this key needs {}", d.name, d.unit, unit),
+            });
+        }
+        Ok(d)
+    }
+
+    /// A block-size law in m: positive support, mean not larger than `limit` m (the wall
+    /// dimension `limit_name`).
+    fn size_law(
+        &self,
+        r: &DistRef,
+        key: &str,
+        what: &str,
+        limit_name: &str,
+        limit: f64,
+    ) -> Result<Distribution, GeneratorError> {
+        let d = self.dist(r, key, Unit::M)?;
+        self.positive_support(&d, key)?;
+        if d.mean() > limit {
+            return Err(GeneratorError::Invalid {
+                path: self.path.to_owned(),
+                key: key.into(),
+                value: describe(r, &d),
+                reason: format!("{what} (mean {}) larger than the {limit_name} = {limit} m", d.mean()),
             });
         }
         Ok(d)
