@@ -71,9 +71,11 @@ pub struct SolverParams {
     pub degenerate_width_fraction: f64,
     /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
     pub redetect_fraction: f64,
-    /// Density scaling for static solutions: bodies stiffer than the median body (small
-    /// wedges, slivers) get a larger inertia so that they do not set the time step; weights
-    /// are unchanged. Default true; turn off for dynamics.
+    /// Density scaling for static solutions (3DEC's): every body's inertial mass and inertia
+    /// are scaled so that all bodies have the critical step of the median body (small
+    /// wedges get a larger inertia and no longer set the time step, large stones a smaller
+    /// one); weights are unchanged (see `dem::timestep::density_scaling`). Default true;
+    /// turn off for dynamics.
     pub density_scaling: bool,
 }
 

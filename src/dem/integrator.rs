@@ -12,7 +12,7 @@
 //! ```
 //!
 //! With density scaling (static solutions only) a body's inertial mass and inertia are
-//! `s m`, `s I` (`s ≥ 1`, see [`super::timestep`]) while its weight stays `m g`.
+//! `s m`, `s I` (`s > 0`, see [`super::timestep`]) while its weight stays `m g`.
 //!
 //! Local damping (Cundall 1987; the default 0.8 of 3DEC and YADE's NewtonIntegrator) removes
 //! kinetic energy in proportion to the unbalanced force and vanishes at equilibrium: it is a

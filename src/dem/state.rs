@@ -29,7 +29,7 @@ pub struct Body {
     pub fixed: bool,
     /// Index of the block's material in the layout.
     pub material: usize,
-    /// 1/s for the density scaling factor s ≥ 1 of the inertial mass and inertia (1: none).
+    /// 1/s for the density scaling factor s > 0 of the inertial mass and inertia (1: none).
     pub inertia_scale_inv: f64,
     /// Centroid position, table frame, m.
     pub pos: Vec3,

@@ -84,11 +84,15 @@ pub fn step_for(lambda: f64, safety: f64) -> Option<f64> {
     (lambda > 0.0).then(|| safety * 2.0 / (2.0 * lambda).sqrt())
 }
 
-/// Density scaling for static solutions (3DEC's density scaling): the target eigenvalue is
-/// the median over the bodies in contact, and every stiffer body gets its inertial mass and
-/// inertia multiplied by `s = λ/λ_target` so that it no longer limits the step. Returns the
-/// target and the factors (1 for the others). Equilibrium states do not depend on inertia;
-/// only the path to them does.
+/// Density scaling for static solutions (3DEC's density scaling; Itasca 3DEC manual,
+/// "static analysis"; Underwood's dynamic relaxation): every body in contact gets its
+/// inertial mass and inertia multiplied by `s = λ/λ_target` so that all of them have the same
+/// critical step, the one of the target `λ_target` = the median of the bodies' eigenvalues.
+/// Stiff bodies (small wedges, slivers) get `s > 1` and no longer limit the step; soft ones
+/// (large stones on few contacts) get `s < 1` and no longer lag behind: the scaled system is
+/// the Jacobi-preconditioned one, whose slowest mode converges in the fewest steps. Bodies
+/// without contacts keep `s = 1`. Returns the target and the factors. Equilibrium states do
+/// not depend on inertia; only the path to them does.
 pub fn density_scaling(lambdas: &[f64]) -> (f64, Vec<f64>) {
     let mut v: Vec<f64> = lambdas.iter().copied().filter(|l| *l > 0.0).collect();
     if v.is_empty() {
@@ -96,7 +100,7 @@ pub fn density_scaling(lambdas: &[f64]) -> (f64, Vec<f64>) {
     }
     v.sort_by(f64::total_cmp);
     let target = v[(v.len() - 1) / 2];
-    (target, lambdas.iter().map(|&l| if l > target { l / target } else { 1.0 }).collect())
+    (target, lambdas.iter().map(|&l| if l > 0.0 { l / target } else { 1.0 }).collect())
 }
 
 #[cfg(test)]
