@@ -39,6 +39,12 @@
 use crate::dem::SolverParams;
 use crate::layout::{BaseSliding, BlockSpec, Layout, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
 use crate::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
+
+/// The tilt protocol of the verification cases: the defaults with the collapse bracket
+/// bisected to 1/16° (the cases are single blocks and small stacks, cheap to refine).
+fn verify_tilt() -> TiltParams {
+    TiltParams { resolution_deg: 0.0625, ..TiltParams::default() }
+}
 use crate::units::{deg_to_rad, rad_to_deg};
 use serde::Serialize;
 
@@ -204,13 +210,13 @@ pub fn sliding_block(phi_deg: f64) -> TiltResult {
         phi_deg,
         BaseSliding::Free,
     );
-    run_tilt(&l, SolverParams::default(), &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 
 /// Rectangular block toppling (rigid limit, φ = 60°).
 pub fn toppling_block(b: f64, h: f64) -> TiltResult {
     let l = layout_of(vec![rect_block(b, h, 0.3)], RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
-    run_tilt(&l, SolverParams::default(), &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 
 /// The 1:4 section (B 0.150, T 0.077, H 0.375 m) as one trapezoidal block, 0.3 m long.
@@ -227,7 +233,7 @@ pub fn trapezoid_monolith() -> TiltResult {
     .expect("valid");
     let verts = blk.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
     let l = layout_of(vec![verts], RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
-    run_tilt(&l, SolverParams::default(), &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 
 /// Closed form of the symmetric trapezoid monolith, rad.
@@ -240,7 +246,7 @@ pub fn aligned_stack(n: usize, b: f64, h: f64) -> TiltResult {
     let blocks =
         (0..n).map(|k| box_vertices([0.0, -b / 2.0, k as f64 * h], [0.3, b / 2.0, (k + 1) as f64 * h])).collect();
     let l = layout_of(blocks, RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
-    run_tilt(&l, SolverParams::default(), &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 
 /// Two identical blocks (b × h), the top one offset downhill (+y) by `e`.
@@ -250,7 +256,7 @@ pub fn offset_stack(b: f64, h: f64, e: f64) -> TiltResult {
         box_vertices([0.0, -b / 2.0 + e, h], [0.3, b / 2.0 + e, 2.0 * h]),
     ];
     let l = layout_of(blocks, RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
-    run_tilt(&l, SolverParams::default(), &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 
 /// A block on the table at a fixed tilt α > φ without damping: the measured acceleration
@@ -295,7 +301,7 @@ pub fn slide_acceleration_closed_form(alpha_deg: f64, phi_deg: f64) -> f64 {
 pub fn winkler_block(b: f64, h: f64, kn: f64, subdivisions: u32) -> TiltResult {
     let l = layout_of(vec![rect_block(b, h, 0.3)], kn, kn / 2.0, 60.0, BaseSliding::Free);
     let solver = SolverParams { subcontact_subdivisions: subdivisions, ..SolverParams::default() };
-    run_tilt(&l, solver, &TiltParams::default()).expect("stands at α = 0")
+    run_tilt(&l, solver, &verify_tilt()).expect("stands at α = 0")
 }
 
 /// Free fall of a block 0.5 m above the table for 0.2 s: (simulated drop, exact drop), m.

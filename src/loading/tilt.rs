@@ -29,7 +29,11 @@ use std::time::Instant;
 pub struct TiltParams {
     /// Tilt increment, degrees \[0.5\] (the paper's DEM used 0.5°).
     pub step_deg: f64,
-    /// Width of the final collapse bracket, degrees \[0.1\].
+    /// Width of the final collapse bracket, degrees \[0.125\]: three bisections of the
+    /// 0.5° step. The trial nearest α_max is the slowest of a test (the wall creeps for tens
+    /// of thousands of steps before it settles or fails), so each further halving costs
+    /// about 30 % more steps; the last-stable α_max is then on average 1/16° below the
+    /// critical tilt, with a spread (σ 0.036°) well under the realization-to-realization σ.
     pub resolution_deg: f64,
     /// Largest tilt tried, degrees \[80\].
     pub max_angle_deg: f64,
@@ -49,7 +53,7 @@ impl Default for TiltParams {
     fn default() -> Self {
         TiltParams {
             step_deg: 0.5,
-            resolution_deg: 0.1,
+            resolution_deg: 0.125,
             max_angle_deg: 80.0,
             tolerance: 1e-4,
             max_steps_per_increment: 400_000,
