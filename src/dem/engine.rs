@@ -273,8 +273,8 @@ fn contact_forces<const PAIR: bool>(
     }
     let scratch = &scratch[..c.nodes.len()];
     let mut fsum = Vec3::zeros();
-    let mut ta = Vec3::zeros();
-    let mut tb = Vec3::zeros();
+    // Moment of the sub-contact forces about the table origin; shifted to the centroids once.
+    let mut moment = Vec3::zeros();
     for s in &mut c.subs {
         let [s0, s1, s2] = s.nodes.map(|k| &scratch[k as usize]);
         let gaps = [s0.gap, s1.gap, s2.gap];
@@ -282,7 +282,7 @@ fn contact_forces<const PAIR: bool>(
             continue; // open everywhere, no history: no force
         }
         let (x0, x1, x2) = (s0.x, s1.x, s2.x);
-        let xc = (x0 + x1 + x2) / 3.0;
+        let xc = (x0 + x1 + x2) * (1.0 / 3.0);
         let vrel = if PAIR { vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa)) } else { vb + wb.cross(&(xc - xb)) };
         let du = (vrel - n * n.dot(&vrel)) * dt;
         let out =
@@ -290,13 +290,11 @@ fn contact_forces<const PAIR: bool>(
         let f = out.force;
         let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
         let xs = x0 * out.at_shear[0] + x1 * out.at_shear[1] + x2 * out.at_shear[2];
-        let fnormal = f - out.shear;
         fsum += f;
-        tb += (x - xb).cross(&fnormal) + (xs - xb).cross(&out.shear);
-        if PAIR {
-            ta -= (x - xa).cross(&fnormal) + (xs - xa).cross(&out.shear);
-        }
+        moment += x.cross(&(f - out.shear)) + xs.cross(&out.shear);
     }
+    let tb = moment - xb.cross(&fsum);
+    let ta = if PAIR { xa.cross(&fsum) - moment } else { Vec3::zeros() };
     (fsum, ta, tb)
 }
 

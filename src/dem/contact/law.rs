@@ -180,7 +180,8 @@ pub const NO_FORCE: SubContactForce = SubContactForce {
 #[inline(always)]
 fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
     let s = q[0] + q[1] + q[2];
-    [area / 12.0 * (q[0] + s), area / 12.0 * (q[1] + s), area / 12.0 * (q[2] + s)]
+    let a12 = area * (1.0 / 12.0);
+    [a12 * (q[0] + s), a12 * (q[1] + s), a12 * (q[2] + s)]
 }
 
 /// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
@@ -262,10 +263,15 @@ fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3
         total += w;
         for i in 0..3 {
             m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
-            centroid[i] += w * (a[i] + b[i] + c[i]) / 3.0;
+            centroid[i] += w * (a[i] + b[i] + c[i]);
         }
     }
-    let centroid = if total > 0.0 { centroid.map(|v| v / total) } else { [1.0 / 3.0; 3] };
+    let centroid = if total > 0.0 {
+        let inv = 1.0 / (3.0 * total);
+        centroid.map(|v| v * inv)
+    } else {
+        [1.0 / 3.0; 3]
+    };
     (m, centroid)
 }
 
@@ -306,8 +312,12 @@ fn coulomb_linear(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k:
         s.slipping = false;
         return NO_FORCE;
     }
-    let at =
-        if fnorm.abs() > 0.0 { [moments[0] / fnorm, moments[1] / fnorm, moments[2] / fnorm] } else { [1.0 / 3.0; 3] };
+    let at = if fnorm.abs() > 0.0 {
+        let inv = 1.0 / fnorm;
+        [moments[0] * inv, moments[1] * inv, moments[2] * inv]
+    } else {
+        [1.0 / 3.0; 3]
+    };
     // Rotate the stored shear force into the current plane, keeping its magnitude.
     let old = s.shear;
     let old_mag2 = old.norm_squared();
