@@ -100,7 +100,8 @@ length_m = [1.0, 2.0, 4.0, 6.0]
 /// Calibration recovers a known Kn: the "measured" collapse angles are the simulation's own
 /// at Kn* = 1e8 Pa/m; Brent's root finder from [3e7, 6e8] lands within 0.1 decade of Kn*,
 /// and its 95 % interval holds Kn*. The friction angle of a free-standing wall that
-/// topples is reported as not identifiable.
+/// topples is reported as not identifiable, also over an interval whose lower end makes it
+/// slide (the plateau of α_max reaches the measurement at the upper end).
 #[test]
 fn calibration_recovers_a_known_stiffness_and_flags_an_unidentifiable_friction_angle() {
     let dir = tmp("cal");
@@ -132,6 +133,11 @@ group = "W"
 parameter = "friction_deg"
 lower = 40.0
 upper = 60.0
+[[calibrate]]
+group = "W"
+parameter = "friction_deg"
+lower = 10.0
+upper = 60.0
 "#,
             w = wall.display(),
             m = measured
@@ -149,7 +155,7 @@ upper = 60.0
     );
     let st = Study::from_file(&write(&dir, "s.toml", &study_text(&m.display().to_string()))).unwrap();
     let res = calibrate(&st, &st.calibrate).unwrap();
-    assert_eq!(res.len(), 2);
+    assert_eq!(res.len(), 3);
     let kn = &res[0];
     assert_eq!(kn.outcome, "calibrated", "{kn:?}");
     let v = kn.value.unwrap();
@@ -160,6 +166,14 @@ upper = 60.0
     let phi = &res[1];
     assert_eq!(phi.outcome, "not_identifiable", "{phi:?}");
     assert_eq!(phi.given.len(), 1, "the calibrated Kn is carried to the next step of the group");
+    // From 10° (the wall slides early) to 60°: α_max changes by far more than the
+    // resolution, but above the toppling angle it stays on its plateau, which reaches the
+    // measured mean at the upper end: φ is bounded below, not identified.
+    let phi = &res[2];
+    let angles: Vec<f64> = phi.evaluations.iter().map(|e| e.mean_deg).collect();
+    assert!(angles[1] - angles[0] > 1.0, "sliding at 10°, toppling at 60°: {angles:?}");
+    assert_eq!(phi.outcome, "not_identifiable", "{phi:?}");
+    assert!(phi.note.contains("values towards 60 all fit"), "{}", phi.note);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

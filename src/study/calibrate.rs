@@ -29,8 +29,10 @@
 //! 2. the mean collapse angle changes by less than the resolution across the interval: the
 //!    parameter is `not_identifiable` from this group (e.g. φ of a free-standing wall that
 //!    topples);
-//! 3. the measured mean lies just outside the range, within the resolution: α_max reaches
-//!    it only on its plateau, every value towards that end fits (`not_identifiable`);
+//! 3. the measured mean lies within the resolution of the simulated mean at an end of the
+//!    interval (just outside the range, or inside it with α_max on a plateau there): the
+//!    data cannot exclude that end, every value towards it fits (`not_identifiable`; e.g.
+//!    φ of a wall whose α_max stops changing once φ is large enough for it to topple);
 //! 4. otherwise Brent's method finds the value (`calibrated`).
 //!
 //! Nothing is forced: each outcome is reported as such.
@@ -338,27 +340,30 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                 spec.lower,
                 spec.upper
             );
-        } else if (measured.0 < lo_a && lo_a - measured.0 <= resolution)
-            || (measured.0 > hi_a && measured.0 - hi_a <= resolution)
-        {
-            // Just past an end, within the resolution: the angle reaches the target only on
-            // its plateau, so every value towards that end fits.
-            let end = if (measured.0 - e0.mean_deg).abs() < (measured.0 - e1.mean_deg).abs() {
-                spec.lower
+        } else if (measured.0 - e0.mean_deg).abs() <= resolution || (measured.0 - e1.mean_deg).abs() <= resolution {
+            // The simulated mean at an end of the interval already matches the measurement
+            // within the resolution (α_max on its plateau there, or the target just past the
+            // end): the data cannot exclude that end, so no single value is identified.
+            let fit0 = (measured.0 - e0.mean_deg).abs() <= resolution;
+            let fit1 = (measured.0 - e1.mean_deg).abs() <= resolution;
+            let end = if fit0 && fit1 {
+                None
+            } else if fit0 {
+                Some((spec.lower, e0.mean_deg))
             } else {
-                spec.upper
+                Some((spec.upper, e1.mean_deg))
             };
             result.outcome = "not_identifiable".into();
-            result.note = format!(
-                "not identifiable from {}: the measured mean {:.2}° lies within the resolution {:.2}° of the simulated mean at {} = {} ({:.2}°), on the plateau of α_max; values towards {} all fit",
-                spec.group,
-                measured.0,
-                resolution,
-                spec.parameter,
-                end,
-                if end == spec.lower { e0.mean_deg } else { e1.mean_deg },
-                end
-            );
+            result.note = match end {
+                Some((end, at)) => format!(
+                    "not identifiable from {}: the measured mean {:.2}° lies within the resolution {:.2}° of the simulated mean at {} = {} ({:.2}°), on the plateau of α_max; values towards {} all fit",
+                    spec.group, measured.0, resolution, spec.parameter, end, at, end
+                ),
+                None => format!(
+                    "not identifiable from {}: the measured mean {:.2}° lies within the resolution {:.2}° of the simulated means at both ends, {} = {} ({:.2}°) and {} ({:.2}°): every value in between fits",
+                    spec.group, measured.0, resolution, spec.parameter, spec.lower, e0.mean_deg, spec.upper, e1.mean_deg
+                ),
+            };
         } else {
             let tol = spec.tolerance.unwrap_or(if spec.is_kn() { 0.02 } else { 0.5 });
             let solver = BrentRoot::new(x0, x1, tol);
