@@ -138,13 +138,21 @@ enum Command {
         #[arg(long)]
         distributions: Option<PathBuf>,
     },
-    /// Benchmarks.
+    /// Benchmarks: `cube16` (the paper's Table 6 element-cost case: `--steps` engine steps of
+    /// 16 boxes) or `tilt` (one tilting-table test to collapse of a generated wall, one
+    /// thread: by default the SBL preset, seed 20210917, realization 0, issue 4's case).
     Bench {
-        /// Which benchmark: `cube16` (the paper's Table 6 element-cost case).
+        /// Which benchmark: `cube16` or `tilt`.
         case: String,
-        /// Steps to time.
+        /// Steps to time (`cube16`).
         #[arg(long, default_value_t = 20_000)]
         steps: u64,
+        /// Wall description (`tilt`).
+        #[arg(long, default_value = "studies/walls/sbl.toml")]
+        wall: PathBuf,
+        /// Master seed of the wall (`tilt`); realization 0.
+        #[arg(long, default_value_t = 20210917)]
+        seed: u64,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -393,9 +401,40 @@ fn run() -> Result<ExitCode> {
             out!("wrote             {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, steps, json } => {
+        Command::Bench { case, wall, seed, json, .. } if case == "tilt" => {
+            use drystone::generator::{generate, DistributionSource, Wall};
+            let w = Wall::from_file_with(&wall, &DistributionSource::default_for(&wall))?;
+            let layout = generate(&w, seed, 0)?.check()?;
+            let r = run_tilt(&layout, SolverParams::default(), &TiltParams::default())?;
+            let per_step = 1e6 * r.wall_time_s / r.steps as f64;
+            if json {
+                let v = serde_json::json!({
+                    "wall": wall.display().to_string(), "seed": seed, "realization": 0,
+                    "blocks": layout.blocks.len(), "collapse_angle_deg": r.collapse_angle_deg,
+                    "first_unstable_deg": r.first_unstable_deg, "steps": r.steps, "dt_s": r.dt_s,
+                    "wall_time_s": r.wall_time_s, "us_per_step": per_step,
+                });
+                out!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                out!(
+                    "tilt: {} ({} blocks), seed {seed}, realization 0, one thread",
+                    wall.display(),
+                    layout.blocks.len()
+                );
+                out!(
+                    "  alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s",
+                    r.collapse_angle_deg,
+                    r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
+                    r.steps,
+                    r.dt_s
+                );
+                out!("  wall time {:.2} s ({per_step:.1} us/step)", r.wall_time_s);
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Bench { case, steps, json, .. } => {
             if case != "cube16" {
-                bail!("unknown benchmark {case:?}; available: cube16");
+                bail!("unknown benchmark {case:?}; available: cube16, tilt");
             }
             let r = drystone::benchmark::run_cube16(steps, SolverParams::default());
             if json {
