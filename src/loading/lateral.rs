@@ -41,7 +41,7 @@
 //!
 //! A study sets other values under `[lateral]`.
 
-use super::tilt::{monitor_points, MonitorPoint};
+use super::tilt::{monitor_displacements, monitor_points, MonitorPoint};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::Vec3;
@@ -243,9 +243,7 @@ pub fn run_lateral(
         resultant += f;
     }
     let weight_n: f64 = sim.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.gravity.norm();
-    let disp = |sim: &Simulation| -> Vec<f64> {
-        monitors.iter().zip(&reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
-    };
+    let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let mut steps = 0;
     let mut reason = None;

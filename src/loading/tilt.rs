@@ -217,6 +217,11 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
         .collect()
 }
 
+/// Out-of-plane (y) displacement of each monitor point from its `reference` position, m.
+pub(crate) fn monitor_displacements(sim: &Simulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
+    monitors.iter().zip(reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
+}
+
 enum Stage {
     Stable,
     Collapsed(CollapseReason),
@@ -231,7 +236,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn displacements(&self, sim: &Simulation) -> Vec<f64> {
-        self.monitors.iter().zip(&self.reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
+        monitor_displacements(sim, self.monitors, &self.reference)
     }
 
     fn run_stage(&self, sim: &mut Simulation) -> Result<(Stage, u64), DemError> {

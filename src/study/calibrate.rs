@@ -323,6 +323,9 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             note: String::new(),
         };
         let beyond = (lo_a - measured.0).max(measured.0 - hi_a);
+        // Does the simulated mean at an end already match the measurement?
+        let fit0 = (measured.0 - e0.mean_deg).abs() <= resolution;
+        let fit1 = (measured.0 - e1.mean_deg).abs() <= resolution;
         if beyond > resolution {
             result.outcome = "out_of_range".into();
             result.note = format!(
@@ -340,12 +343,10 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                 spec.lower,
                 spec.upper
             );
-        } else if (measured.0 - e0.mean_deg).abs() <= resolution || (measured.0 - e1.mean_deg).abs() <= resolution {
+        } else if fit0 || fit1 {
             // The simulated mean at an end of the interval already matches the measurement
             // within the resolution (α_max on its plateau there, or the target just past the
             // end): the data cannot exclude that end, so no single value is identified.
-            let fit0 = (measured.0 - e0.mean_deg).abs() <= resolution;
-            let fit1 = (measured.0 - e1.mean_deg).abs() <= resolution;
             let end = if fit0 && fit1 {
                 None
             } else if fit0 {

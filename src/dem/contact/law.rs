@@ -213,13 +213,6 @@ pub fn compressed_moments_centroid(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3
     }
 }
 
-/// Area centroid of the compressed part (q > 0) of a triangle with linear q, in barycentric
-/// coordinates; the triangle's centroid when all of it is compressed (or none of it).
-#[inline]
-pub fn compressed_centroid(q: [f64; 3]) -> [f64; 3] {
-    compressed_moments_centroid(q, 1.0).1
-}
-
 /// [`compressed_moments`] for a partly compressed triangle whose nodes with `q > 0` are the
 /// set bits of `MASK` (1 to 6).
 #[inline(always)]
@@ -607,7 +600,7 @@ mod tests {
     #[test]
     fn compressed_centroid_matches_sampling() {
         for q in [[1.0, 2.0, 3.0], [1.0, -1.0, -2.0], [2.0, 1.0, -3.0], [-1.0, 4.0, -0.5], [-1.0, -1.0, -1.0]] {
-            let c = compressed_centroid(q);
+            let c = compressed_moments_centroid(q, 1.0).1;
             let (mut acc, mut w) = ([0.0; 3], 0.0);
             let n = 600;
             for i in 0..n {
