@@ -458,7 +458,12 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                     infeasible(wall, "head_joints", format!("course {k}, block {i}: nothing underneath to rest on"))
                 })?
             };
-            // Wedges in the gaps between this stone's bed and the course below.
+            // The stone's ceiling: the course cap below the top course (see above).
+            let stone_cap = (k + 1 < n).then_some(cap);
+            // Wedges in the gaps between this stone's bed and the course below, under the
+            // same ceiling as the stone: where a steep bed rises above the cap the stone is
+            // cut short, and a wedge there must not reach above the cap either.
+            let mut wedges: Vec<Vec<P2>> = Vec::new();
             if k > 0 && irregular.is_some() {
                 let wedge_len = irregular.and_then(|ir| ir.wedge_length.as_ref());
                 let fill = irregular.map_or(1.0, |ir| ir.wedge_fill);
@@ -493,21 +498,25 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                             continue;
                         }
                         let under_line = Line { xm: s.x0, zm: s.z0, m: (s.z1 - s.z0) / (s.x1 - s.x0) };
-                        let planes = [
+                        let mut planes = vec![
                             HalfPlane::Above(under_line),
                             HalfPlane::Below(bottom),
                             HalfPlane::z_min(0.0),
                             HalfPlane::z_max(h),
                         ];
+                        if let Some(c) = stone_cap {
+                            planes.push(HalfPlane::z_max(c));
+                        }
                         let poly = region(c0, c1, -h, 2.0 * h, &planes, snap);
                         if poly.len() >= 3 && area(&poly) > 1e-6 * hbar * lbar {
+                            wedges.push(poly.clone());
                             pieces.push(Piece2 { kind: PieceKind::Wedge, course: k, polygon: poly, dip_deg: None });
                         }
                     }
                 }
             }
             // The stone's top.
-            let (top, cap, dip_deg) = if k + 1 == n {
+            let (top, stone_cap, dip_deg) = if k + 1 == n {
                 (Line { xm: mid, zm: h, m: 0.0 }, None, None)
             } else {
                 let dip = match irregular {
@@ -524,7 +533,7 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             };
             let mut planes =
                 vec![HalfPlane::Above(bottom), HalfPlane::Below(top), HalfPlane::z_min(0.0), HalfPlane::z_max(h)];
-            if let Some(c) = cap {
+            if let Some(c) = stone_cap {
                 planes.push(HalfPlane::z_max(c));
             }
             let poly = region(a, b, -h, 2.0 * h, &planes, snap);
@@ -539,6 +548,17 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                 ));
             }
             top_segments(&poly, &mut new_top);
+            // Wedge tops beyond the stone's x-range (where the cap cut the stone short) are
+            // exposed: the next course rests on them too.
+            let (sx0, sx1) = poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+            for w in &wedges {
+                let mut tops = Vec::new();
+                top_segments(w, &mut tops);
+                for t in tops {
+                    new_top.extend(t.clip(f64::NEG_INFINITY, sx0));
+                    new_top.extend(t.clip(sx1, f64::INFINITY));
+                }
+            }
             pieces.push(Piece2 { kind: PieceKind::Stone, course: k, polygon: poly, dip_deg });
         }
         new_top.sort_by(|p, q| p.x0.total_cmp(&q.x0));
