@@ -51,6 +51,10 @@ enum Command {
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
         tolerance: f64,
+        /// Start every increment from the last stable state at rest instead of the secant
+        /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
+        #[arg(long)]
+        no_predictor: bool,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
@@ -172,10 +176,11 @@ fn main() -> ExitCode {
 fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
-        Command::Tilt { layout, json, step_deg, resolution_deg, damping, subdivisions, tolerance } => {
+        Command::Tilt { layout, json, step_deg, resolution_deg, damping, subdivisions, tolerance, no_predictor } => {
             let l = Layout::from_file(&layout)?;
             let solver = SolverParams { damping, subcontact_subdivisions: subdivisions, ..SolverParams::default() };
-            let params = TiltParams { step_deg, resolution_deg, tolerance, ..TiltParams::default() };
+            let params =
+                TiltParams { step_deg, resolution_deg, tolerance, predictor: !no_predictor, ..TiltParams::default() };
             let r =
                 run_tilt(&l, solver, &params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
             if json {

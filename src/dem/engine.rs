@@ -530,18 +530,13 @@ impl Simulation {
         })
     }
 
-    /// Advances one step (see the module doc for the order).
-    ///
-    /// # Errors
-    /// [`DemError::NonFinite`] if a body's state blows up.
-    pub fn step(&mut self) -> Result<(), DemError> {
-        // 1. Clear forces.
+    /// Steps 1 and 3: clears the force accumulators and evaluates every contact at the
+    /// current pose, with the shear increments of the velocities `v Δt` (the motion since
+    /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
+    /// number of contacts carrying force.
+    fn contact_pass(&mut self) -> (f64, usize) {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
-        // 2. Update contacts.
-        if self.needs_detection() {
-            self.detect_contacts(false);
-        }
         // 3. Contact geometry and law.
         let dt = self.dt;
         let quad = self.params.quadrature;
@@ -566,6 +561,68 @@ impl Simulation {
                 self.torque[i] += ta;
             }
         }
+        (sum_contact, active)
+    }
+
+    /// Moves the free bodies by a predicted increment of their pose and starts them at
+    /// rest there: a predictor for quasi-static continuation (the secant predictor of
+    /// path-following solvers, e.g. the previous increment's motion scaled to this
+    /// increment's load step). `dpos[k]` is body k's centroid translation (m, table frame)
+    /// and `drot[k]` its rotation vector (rad, table frame: `q ← exp(drot) q`), one per body
+    /// in body order; fixed bodies ignore theirs, and a rigidly end-restrained body the y
+    /// component of its translation.
+    ///
+    /// The joints follow the jump as they follow any step: every contact is evaluated once
+    /// at the predicted pose with the relative motion of the jump as its shear increment
+    /// (the incremental shear force is path dependent; the jump is a straight path). The
+    /// next [`Simulation::step`] relaxes the predicted state to equilibrium. Contacts are
+    /// re-detected first if the jump moved a body past the re-detection threshold.
+    ///
+    /// # Panics
+    /// If `dpos` or `drot` do not have one entry per body.
+    pub fn predict(&mut self, dpos: &[Vec3], drot: &[Vec3]) {
+        assert_eq!(dpos.len(), self.bodies.len(), "one translation per body");
+        assert_eq!(drot.len(), self.bodies.len(), "one rotation per body");
+        let dt = self.dt;
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let mut d = dpos[k];
+            if self.restraint[k] == Some(EndRestraint::Rigid) {
+                d.y = 0.0;
+            }
+            b.pos += d;
+            b.rot = super::integrator::rotation_increment(drot[k]) * b.rot;
+            b.rot.renormalize_fast();
+            b.rot_mat = *b.rot.to_rotation_matrix().matrix();
+            // The jump as one step's velocities: the contact pass reads the shear
+            // increments as `v Δt`.
+            b.vel = d / dt;
+            b.angvel = drot[k] / dt;
+        }
+        if self.needs_detection() {
+            self.detect_contacts(false);
+        }
+        self.contact_pass();
+        for b in &mut self.bodies {
+            b.vel = Vec3::zeros();
+            b.angvel = Vec3::zeros();
+        }
+    }
+
+    /// Advances one step (see the module doc for the order).
+    ///
+    /// # Errors
+    /// [`DemError::NonFinite`] if a body's state blows up.
+    pub fn step(&mut self) -> Result<(), DemError> {
+        // 2. Update contacts.
+        if self.needs_detection() {
+            self.detect_contacts(false);
+        }
+        // 1. Clear forces; 3. contact geometry and law.
+        let (sum_contact, active) = self.contact_pass();
+        let dt = self.dt;
         // 4. Loads.
         let mut sum_unbalanced = 0.0;
         let mut free = 0usize;

@@ -550,7 +550,8 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             top_segments(&poly, &mut new_top);
             // Wedge tops beyond the stone's x-range (where the cap cut the stone short) are
             // exposed: the next course rests on them too.
-            let (sx0, sx1) = poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+            let (sx0, sx1) =
+                poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
             for w in &wedges {
                 let mut tops = Vec::new();
                 top_segments(w, &mut tops);
