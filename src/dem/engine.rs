@@ -583,7 +583,7 @@ impl Simulation {
     pub fn predict(&mut self, dpos: &[Vec3], drot: &[Vec3]) {
         assert_eq!(dpos.len(), self.bodies.len(), "one translation per body");
         assert_eq!(drot.len(), self.bodies.len(), "one rotation per body");
-        let dt = self.dt;
+        let mut jump = vec![(Vec3::zeros(), Vec3::zeros()); self.bodies.len()];
         for (k, b) in self.bodies.iter_mut().enumerate() {
             if b.fixed {
                 continue;
@@ -596,13 +596,19 @@ impl Simulation {
             b.rot = super::integrator::rotation_increment(drot[k]) * b.rot;
             b.rot.renormalize_fast();
             b.rot_mat = *b.rot.to_rotation_matrix().matrix();
-            // The jump as one step's velocities: the contact pass reads the shear
-            // increments as `v Δt`.
-            b.vel = d / dt;
-            b.angvel = drot[k] / dt;
+            jump[k] = (d, drot[k]);
         }
+        // Re-detection may change the time step (density scaling): the velocities below
+        // use the step the contact pass will use.
         if self.needs_detection() {
             self.detect_contacts(false);
+        }
+        // The jump as one step's velocities: the contact pass reads the shear increments as
+        // `v Δt`.
+        let dt = self.dt;
+        for (b, (d, w)) in self.bodies.iter_mut().zip(&jump) {
+            b.vel = d / dt;
+            b.angvel = w / dt;
         }
         self.contact_pass();
         for b in &mut self.bodies {

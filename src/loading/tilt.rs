@@ -3,7 +3,9 @@
 //! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
 //!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
 //! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
-//!    equilibrium, or declared collapsed when, during the increment, a block moves more than
+//!    equilibrium (starting, while the response is nearly linear, from the secant
+//!    prediction of that equilibrium: [`TiltParams::predictor`]), or declared collapsed
+//!    when, during the increment, a block moves more than
 //!    [`TiltParams::collapse_increment_fraction`] of the wall width, a top point moves past
 //!    [`TiltParams::collapse_displacement_fraction`] of the wall width from the reference,
 //!    or no equilibrium is reached within [`TiltParams::max_steps_per_increment`] steps.
