@@ -157,6 +157,9 @@ enum Command {
         /// Master seed of the wall (`tilt`); realization 0.
         #[arg(long, default_value_t = 20210917)]
         seed: u64,
+        /// Without the secant predictor of the tilting table (`tilt`; for comparison).
+        #[arg(long)]
+        no_predictor: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -406,25 +409,28 @@ fn run() -> Result<ExitCode> {
             out!("wrote             {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, wall, seed, json, .. } if case == "tilt" => {
+        Command::Bench { case, wall, seed, json, no_predictor, .. } if case == "tilt" => {
             use drystone::generator::{generate, DistributionSource, Wall};
             let w = Wall::from_file_with(&wall, &DistributionSource::default_for(&wall))?;
             let layout = generate(&w, seed, 0)?.check()?;
-            let r = run_tilt(&layout, SolverParams::default(), &TiltParams::default())?;
+            let params = TiltParams { predictor: !no_predictor, ..TiltParams::default() };
+            let r = run_tilt(&layout, SolverParams::default(), &params)?;
             let per_step = 1e6 * r.wall_time_s / r.steps as f64;
             if json {
                 let v = serde_json::json!({
                     "wall": wall.display().to_string(), "seed": seed, "realization": 0,
-                    "blocks": layout.blocks.len(), "collapse_angle_deg": r.collapse_angle_deg,
+                    "blocks": layout.blocks.len(), "predictor": params.predictor,
+                    "collapse_angle_deg": r.collapse_angle_deg,
                     "first_unstable_deg": r.first_unstable_deg, "steps": r.steps, "dt_s": r.dt_s,
                     "wall_time_s": r.wall_time_s, "us_per_step": per_step,
                 });
                 out!("{}", serde_json::to_string_pretty(&v)?);
             } else {
                 out!(
-                    "tilt: {} ({} blocks), seed {seed}, realization 0, one thread",
+                    "tilt: {} ({} blocks), seed {seed}, realization 0, one thread, predictor {}",
                     wall.display(),
-                    layout.blocks.len()
+                    layout.blocks.len(),
+                    if params.predictor { "on" } else { "off" }
                 );
                 out!(
                     "  alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s",
