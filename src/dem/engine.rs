@@ -2,11 +2,11 @@
 //!
 //! # The step, in order (written once, here)
 //!
-//! 1. **Clear forces.**
-//! 2. **Update contacts** if some body moved, since the last detection, more than
+//! 1. **Update contacts** if some body moved, since the last detection, more than
 //!    [`SolverParams::redetect_fraction`] of the contact margin (translation plus rotation
 //!    times its radius): broad phase ([`super::collider`]), narrow phase
 //!    ([`super::contact::geometry`]), sub-contact history carried over, time step checked.
+//! 2. **Clear forces.**
 //! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
 //!    the two material points, then [`law::evaluate`]; forces summed per contact and then per
 //!    body, serially in contact order (so the sum never depends on a thread count).
@@ -530,7 +530,7 @@ impl Simulation {
         })
     }
 
-    /// Steps 1 and 3: clears the force accumulators and evaluates every contact at the
+    /// Steps 2 and 3: clears the force accumulators and evaluates every contact at the
     /// current pose, with the shear increments of the velocities `v Δt` (the motion since
     /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
     /// number of contacts carrying force.
@@ -593,9 +593,7 @@ impl Simulation {
                 d.y = 0.0;
             }
             b.pos += d;
-            b.rot = super::integrator::rotation_increment(drot[k]) * b.rot;
-            b.rot.renormalize_fast();
-            b.rot_mat = *b.rot.to_rotation_matrix().matrix();
+            b.rotate(drot[k]);
             jump[k] = (d, drot[k]);
         }
         // Re-detection may change the time step (density scaling): the velocities below
@@ -622,11 +620,11 @@ impl Simulation {
     /// # Errors
     /// [`DemError::NonFinite`] if a body's state blows up.
     pub fn step(&mut self) -> Result<(), DemError> {
-        // 2. Update contacts.
+        // 1. Update contacts.
         if self.needs_detection() {
             self.detect_contacts(false);
         }
-        // 1. Clear forces; 3. contact geometry and law.
+        // 2. Clear forces; 3. contact geometry and law.
         let (sum_contact, active) = self.contact_pass();
         let dt = self.dt;
         // 4. Loads.

@@ -102,10 +102,7 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
     let gyro = b.angvel.cross(&iw_w);
     // With density scaling s the inertia is s·I: ω̇ = I⁻¹(T/s − ω × Iω).
     b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
-    let dq = rotation_increment(b.angvel * dt);
-    b.rot = dq * b.rot;
-    b.rot.renormalize_fast();
-    b.rot_mat = *b.rot.to_rotation_matrix().matrix();
+    b.rotate(b.angvel * dt);
 }
 
 #[cfg(test)]

@@ -74,6 +74,15 @@ impl Body {
         }
     }
 
+    /// Turns the body by the rotation vector `phi` (rad, table frame: `q ← exp(φ) q`, see
+    /// [`super::integrator::rotation_increment`]) and refreshes `rot_mat`.
+    #[inline]
+    pub fn rotate(&mut self, phi: Vec3) {
+        self.rot = super::integrator::rotation_increment(phi) * self.rot;
+        self.rot.renormalize_fast();
+        self.rot_mat = *self.rot.to_rotation_matrix().matrix();
+    }
+
     /// A body-frame point in the table frame.
     #[inline]
     pub fn to_world(&self, p: &Vec3) -> Vec3 {

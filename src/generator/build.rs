@@ -463,7 +463,7 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             // Wedges in the gaps between this stone's bed and the course below, under the
             // same ceiling as the stone: where a steep bed rises above the cap the stone is
             // cut short, and a wedge there must not reach above the cap either.
-            let mut wedges: Vec<Vec<P2>> = Vec::new();
+            let mut wedge_tops: Vec<Seg> = Vec::new();
             if k > 0 && irregular.is_some() {
                 let wedge_len = irregular.and_then(|ir| ir.wedge_length.as_ref());
                 let fill = irregular.map_or(1.0, |ir| ir.wedge_fill);
@@ -509,15 +509,15 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                         }
                         let poly = region(c0, c1, -h, 2.0 * h, &planes, snap);
                         if poly.len() >= 3 && area(&poly) > 1e-6 * hbar * lbar {
-                            wedges.push(poly.clone());
+                            top_segments(&poly, &mut wedge_tops);
                             pieces.push(Piece2 { kind: PieceKind::Wedge, course: k, polygon: poly, dip_deg: None });
                         }
                     }
                 }
             }
             // The stone's top.
-            let (top, stone_cap, dip_deg) = if k + 1 == n {
-                (Line { xm: mid, zm: h, m: 0.0 }, None, None)
+            let (top, dip_deg) = if k + 1 == n {
+                (Line { xm: mid, zm: h, m: 0.0 }, None)
             } else {
                 let dip = match irregular {
                     Some(ir) => ir.dip.sample(rng),
@@ -529,7 +529,7 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
                 if short > 0.0 {
                     t.zm += short;
                 }
-                (t, Some(cap), Some(dip))
+                (t, Some(dip))
             };
             let mut planes =
                 vec![HalfPlane::Above(bottom), HalfPlane::Below(top), HalfPlane::z_min(0.0), HalfPlane::z_max(h)];
@@ -552,13 +552,9 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             // exposed: the next course rests on them too.
             let (sx0, sx1) =
                 poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
-            for w in &wedges {
-                let mut tops = Vec::new();
-                top_segments(w, &mut tops);
-                for t in tops {
-                    new_top.extend(t.clip(f64::NEG_INFINITY, sx0));
-                    new_top.extend(t.clip(sx1, f64::INFINITY));
-                }
+            for t in &wedge_tops {
+                new_top.extend(t.clip(f64::NEG_INFINITY, sx0));
+                new_top.extend(t.clip(sx1, f64::INFINITY));
             }
             pieces.push(Piece2 { kind: PieceKind::Stone, course: k, polygon: poly, dip_deg });
         }

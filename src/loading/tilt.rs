@@ -261,14 +261,10 @@ impl Secant {
         }
     }
 
-    /// Largest body motion (centroid displacement plus rotation angle times 1 m) per degree
-    /// of tilt between two stable states.
+    /// Largest body motion ([`body_motion`] with a radius of 1 m) per degree of tilt between
+    /// two stable states.
     fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
-        let m =
-            a.1.iter()
-                .zip(&b.1)
-                .map(|((x0, q0), (x1, q1))| (x1 - x0).norm() + (q1 * q0.inverse()).angle())
-                .fold(0.0, f64::max);
+        let m = a.1.iter().zip(&b.1).map(|(from, to)| body_motion(from, to, 1.0)).fold(0.0, f64::max);
         m / (b.0 - a.0).abs()
     }
 
@@ -313,7 +309,7 @@ impl Ctx<'_> {
     }
 
     fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<(Stage, u64), DemError> {
-        let start: Vec<(Vec3, nalgebra::UnitQuaternion<f64>)> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let start = pose(sim);
         if let Some((dpos, drot)) = prediction {
             sim.predict(&dpos, &drot);
         }
@@ -339,6 +335,17 @@ impl Ctx<'_> {
     }
 }
 
+/// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
+/// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
+/// its farthest point).
+fn body_motion(
+    from: &(Vec3, nalgebra::UnitQuaternion<f64>),
+    to: &(Vec3, nalgebra::UnitQuaternion<f64>),
+    radius: f64,
+) -> f64 {
+    (to.0 - from.0).norm() + (to.1 * from.1.inverse()).angle() * radius
+}
+
 /// The largest motion of a movable block since `start` (its position and orientation per
 /// body), m: centroid displacement plus rotation angle times the block's radius. The
 /// per-increment collapse criterion compares it with a fraction of the wall width.
@@ -347,7 +354,7 @@ pub fn largest_motion(sim: &Simulation, start: &[(Vec3, nalgebra::UnitQuaternion
         .iter()
         .zip(start)
         .filter(|(b, _)| !b.fixed)
-        .map(|(b, (p, q))| (b.pos - p).norm() + (b.rot * q.inverse()).angle() * b.radius)
+        .map(|(b, from)| body_motion(from, &(b.pos, b.rot), b.radius))
         .fold(0.0, f64::max)
 }
 
@@ -515,7 +522,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         .bodies
         .iter()
         .zip(&failed.bodies)
-        .map(|(s, f)| (f.pos - s.pos).norm() + (f.rot * s.rot.inverse()).angle() * s.radius)
+        .map(|(s, f)| body_motion(&(s.pos, s.rot), &(f.pos, f.rot), s.radius))
         .collect();
     let max = moved.iter().cloned().fold(0.0, f64::max);
     let moving: Vec<bool> = moved.iter().map(|&d| max > 0.0 && d > 0.25 * max).collect();
