@@ -48,6 +48,9 @@ enum Command {
         /// Sub-contact subdivisions per fan-triangle edge.
         #[arg(long, default_value_t = SolverParams::default().subcontact_subdivisions)]
         subdivisions: u32,
+        /// Fraction of the critical time-step bound used, in (0, 1].
+        #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
+        timestep_safety: f64,
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
         tolerance: f64,
@@ -179,9 +182,24 @@ fn main() -> ExitCode {
 fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
-        Command::Tilt { layout, json, step_deg, resolution_deg, damping, subdivisions, tolerance, no_predictor } => {
+        Command::Tilt {
+            layout,
+            json,
+            step_deg,
+            resolution_deg,
+            damping,
+            subdivisions,
+            timestep_safety,
+            tolerance,
+            no_predictor,
+        } => {
             let l = Layout::from_file(&layout)?;
-            let solver = SolverParams { damping, subcontact_subdivisions: subdivisions, ..SolverParams::default() };
+            let solver = SolverParams {
+                damping,
+                subcontact_subdivisions: subdivisions,
+                timestep_safety,
+                ..SolverParams::default()
+            };
             let params =
                 TiltParams { step_deg, resolution_deg, tolerance, predictor: !no_predictor, ..TiltParams::default() };
             let r =

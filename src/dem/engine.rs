@@ -534,6 +534,7 @@ impl Simulation {
     /// current pose, with the shear increments of the velocities `v Δt` (the motion since
     /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
     /// number of contacts carrying force.
+    #[inline(always)]
     fn contact_pass(&mut self) -> (f64, usize) {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
@@ -617,9 +618,63 @@ impl Simulation {
 
     /// Advances one step (see the module doc for the order).
     ///
+    /// The step is compiled twice: for the baseline x86-64 instruction set and with AVX-512
+    /// (or AVX2) enabled, and the latter is taken when the CPU has it (runtime detection). Both
+    /// perform the same IEEE-754 operations in the same order (Rust never fuses a multiply and
+    /// an add on its own, and square root and division are correctly rounded in every
+    /// instruction set), so the results are the same bit for bit on any x86-64 machine; only
+    /// the speed differs (about 10 % on the SBL tilt; `BENCHMARKS.md`). Tested by
+    /// `tests/dispatch.rs`.
+    ///
     /// # Errors
     /// [`DemError::NonFinite`] if a body's state blows up.
     pub fn step(&mut self) -> Result<(), DemError> {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx512vl") {
+                // SAFETY: the CPU has every feature `step_avx512` is compiled for (checked
+                // above, and AVX-512F implies AVX2 and FMA on every x86-64 CPU that has it;
+                // `step_avx512` checks them in debug builds).
+                return unsafe { self.step_avx512() };
+            }
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU has AVX2 and FMA (checked above).
+                return unsafe { self.step_avx2() };
+            }
+        }
+        self.step_portable()
+    }
+
+    /// [`Simulation::step`] compiled with AVX-512.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F, AVX-512VL, AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx2,fma")]
+    unsafe fn step_avx512(&mut self) -> Result<(), DemError> {
+        debug_assert!(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma"));
+        self.step_impl()
+    }
+
+    /// [`Simulation::step`] compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn step_avx2(&mut self) -> Result<(), DemError> {
+        self.step_impl()
+    }
+
+    /// [`Simulation::step`] for the baseline instruction set, whatever the CPU: the reference
+    /// the dispatched versions are checked against.
+    #[doc(hidden)]
+    pub fn step_portable(&mut self) -> Result<(), DemError> {
+        self.step_impl()
+    }
+
+    #[inline(always)]
+    fn step_impl(&mut self) -> Result<(), DemError> {
         // 1. Update contacts.
         if self.needs_detection() {
             self.detect_contacts(false);

@@ -81,7 +81,7 @@ pub fn rotation_increment(phi: Vec3) -> UnitQuaternion<f64> {
 
 /// Advances one body by one step. `force` (N) and `torque` (N·m, about the centroid) are in
 /// the table frame and include every load. Fixed bodies do not move.
-#[inline]
+#[inline(always)]
 pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y: YConstraint) {
     if b.fixed {
         b.vel = Vec3::zeros();

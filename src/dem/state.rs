@@ -76,7 +76,7 @@ impl Body {
 
     /// Turns the body by the rotation vector `phi` (rad, table frame: `q ← exp(φ) q`, see
     /// [`super::integrator::rotation_increment`]) and refreshes `rot_mat`.
-    #[inline]
+    #[inline(always)]
     pub fn rotate(&mut self, phi: Vec3) {
         self.rot = super::integrator::rotation_increment(phi) * self.rot;
         self.rot.renormalize_fast();
