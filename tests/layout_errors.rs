@@ -28,9 +28,12 @@ fn the_good_layout_loads() {
     LayoutSpec::from_json(&good().to_string()).unwrap().resolve().unwrap();
 }
 
+/// An edit that spoils the good layout.
+type Spoil = Box<dyn Fn(&mut serde_json::Value)>;
+
 #[test]
 fn each_bad_layout_names_its_fault() {
-    let cases: Vec<(Box<dyn Fn(&mut serde_json::Value)>, &str)> = vec![
+    let cases: Vec<(Spoil, &str)> = vec![
         (Box::new(|v| v["materials"][0]["colour"] = "grey".into()), "colour"),
         (Box::new(|v| v["blocks"][0]["mass"] = 3.into()), "mass"),
         (Box::new(|v| v["version"] = 2.into()), "version"),

@@ -275,7 +275,7 @@ pub enum Arrangement {
         overlap: f64,
     },
     /// Irregular.
-    Irregular(Irregular),
+    Irregular(Box<Irregular>),
 }
 
 /// The checked irregular-arrangement parameters.
@@ -586,13 +586,13 @@ impl WallSpec {
                     None => None,
                 };
                 let wedge_fill = fraction(path, "arrangement.wedge_fill", a.wedge_fill.unwrap_or(1.0), true, true)?;
-                Arrangement::Irregular(Irregular {
+                Arrangement::Irregular(Box::new(Irregular {
                     dip,
                     min_wedge_thickness,
                     min_wedge_length,
                     wedge_length,
                     wedge_fill,
-                })
+                }))
             }
         };
 

@@ -545,7 +545,7 @@ mod tests {
         let mut ours: Vec<f64> = mp.inertia.symmetric_eigenvalues().iter().copied().collect();
         ours.sort_by(f64::total_cmp);
         let pi = pm.principal_inertia();
-        let mut theirs = vec![pi.x, pi.y, pi.z];
+        let mut theirs = [pi.x, pi.y, pi.z];
         theirs.sort_by(f64::total_cmp);
         for k in 0..3 {
             assert_relative_eq!(ours[k], theirs[k], max_relative = 1e-8);

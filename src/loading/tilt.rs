@@ -274,6 +274,8 @@ impl Secant {
     fn predict(&self, alpha: f64) -> Option<Prediction> {
         let [s0, s1, s2] = self.states.as_slice() else { return None };
         let (r1, r2) = (Self::rate(s0, s1), Self::rate(s1, s2));
+        // Written so that a NaN rate (a degenerate increment) also turns the predictor off.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(r2 <= LINEAR_RESPONSE_RATIO * r1) {
             return None;
         }

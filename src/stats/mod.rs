@@ -176,6 +176,8 @@ impl LognormalFragility {
     /// fragility function fitting", for complete capacity samples). `None` for fewer than
     /// 2 values or any value ≤ 0.
     pub fn fit(capacities: &[f64]) -> Option<Self> {
+        // `!(c > 0.0)` also rejects NaN.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if capacities.len() < 2 || capacities.iter().any(|&c| !(c > 0.0)) {
             return None;
         }

@@ -98,7 +98,8 @@ impl CalibrateSpec {
         }
     }
 
-    fn from_x(&self, x: f64) -> f64 {
+    /// Parameter value at a search variable: the inverse of `to_x`.
+    fn value_at(&self, x: f64) -> f64 {
         if self.is_kn() {
             10f64.powf(x)
         } else {
@@ -204,7 +205,7 @@ impl Problem<'_> {
         if let Some(e) = self.log.lock().map(|l| l.iter().find(|e| e.x == x).cloned()).ok().flatten() {
             return e;
         }
-        let value = self.spec.from_x(x);
+        let value = self.spec.value_at(x);
         let mut values = self.given.clone();
         values.push((self.spec.parameter.clone(), SweepValue::Number(value)));
         let ev = match self.study.wall_with(self.group, &values) {
@@ -251,7 +252,7 @@ impl CostFunction for Residual<'_, '_> {
             return Err(argmin::core::Error::msg(format!(
                 "no realization collapsed at {} = {}",
                 p.spec.parameter,
-                p.spec.from_x(*x)
+                p.spec.value_at(*x)
             )));
         }
         Ok(e.mean_deg - p.target)
@@ -390,7 +391,7 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             let slope = ls_slope(&pts);
             let at = log.iter().filter(|e| e.n > 0).min_by(|a, b| (a.x - x).abs().total_cmp(&(b.x - x).abs())).cloned();
             result.outcome = "calibrated".into();
-            result.value = Some(spec.from_x(x));
+            result.value = Some(spec.value_at(x));
             result.slope = Some(slope);
             if let Some(at) = at {
                 if slope.is_finite() && slope.abs() > 0.0 {
@@ -400,18 +401,18 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
                     let se_meas = measured.1 / (measured.2 as f64).sqrt();
                     let sx = (se_sim.powi(2) + se_meas.powi(2)).sqrt() / slope.abs();
                     if sx.is_finite() {
-                        result.interval95 = Some((spec.from_x(x - 1.96 * sx), spec.from_x(x + 1.96 * sx)));
+                        result.interval95 = Some((spec.value_at(x - 1.96 * sx), spec.value_at(x + 1.96 * sx)));
                     }
                     let sp = at.sd_deg / slope.abs();
                     if at.n > 1 && sp.is_finite() {
-                        result.spread = Some((spec.from_x(x - sp), spec.from_x(x + sp)));
+                        result.spread = Some((spec.value_at(x - sp), spec.value_at(x + sp)));
                     }
                 }
             }
             result.note = format!(
                 "{} = {} makes the mean collapse angle of {} match the measured {:.2}° (Brent, {} evaluations)",
                 spec.parameter,
-                fmt_value(spec, spec.from_x(x)),
+                fmt_value(spec, spec.value_at(x)),
                 spec.group,
                 measured.0,
                 log.len()
@@ -420,7 +421,7 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
             } else {
                 ""
             };
-            let value = SweepValue::Number(spec.from_x(x));
+            let value = SweepValue::Number(spec.value_at(x));
             for g in std::iter::once(&spec.group).chain(&spec.carry_to) {
                 if let Some((_, v)) = carried.iter_mut().find(|(n, _)| n == g) {
                     v.retain(|(k, _)| k != &spec.parameter);

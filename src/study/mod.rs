@@ -106,7 +106,7 @@ pub enum StudyError {
         /// The group.
         group: String,
         /// The generator's error.
-        source: crate::generator::GeneratorError,
+        source: Box<crate::generator::GeneratorError>,
     },
     /// A measured-data file failed.
     #[error("study file {path}: measured data: {source}")]
@@ -447,7 +447,7 @@ impl StudySpec {
             let base = WallSpec::from_toml(&text, &wall_path).map_err(|source| StudyError::Wall {
                 path: path.to_owned(),
                 group: g.name.clone(),
-                source,
+                source: Box::new(source),
             })?;
             let source = DistributionSource::default_for(&wall_path);
             let mut gspec = base.clone();
@@ -466,7 +466,7 @@ impl StudySpec {
                 let wall = spec.resolve(&wall_path, &source).map_err(|source| StudyError::Wall {
                     path: path.to_owned(),
                     group: g.name.clone(),
-                    source,
+                    source: Box::new(source),
                 })?;
                 walls.push(wall);
             }
@@ -553,7 +553,7 @@ impl Study {
         spec.resolve(&group.wall_path, &source).map_err(|source| StudyError::Wall {
             path: self.path.clone(),
             group: group.name.clone(),
-            source,
+            source: Box::new(source),
         })
     }
 

@@ -206,8 +206,8 @@ pub fn comparison_text(cmp: &[Comparison]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<6} {:<58} {:>16} {:>16} {:>8} {:>20} {}",
-        "group", "quantity", "measured", "simulated", "diff", "sim. 95% band", "measured mean inside"
+        "{:<6} {:<58} {:>16} {:>16} {:>8} {:>20} measured mean inside",
+        "group", "quantity", "measured", "simulated", "diff", "sim. 95% band"
     );
     for c in cmp {
         let _ = writeln!(

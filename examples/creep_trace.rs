@@ -1,0 +1,41 @@
+//! Which bodies move during a slow near-collapse increment (temporary diagnostic).
+use drystone::dem::{Simulation, SolverParams};
+use drystone::layout::Layout;
+use std::path::Path;
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
+    let last: f64 = args[2].parse().unwrap();
+    let trial: f64 = args[3].parse().unwrap();
+    let mut sim = Simulation::new(&layout, SolverParams::default());
+    assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
+    let mut k = 1;
+    while k as f64 * 0.5 <= last + 1e-9 {
+        sim.set_tilt((k as f64 * 0.5f64).to_radians());
+        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
+        k += 1;
+    }
+    sim.set_tilt(trial.to_radians());
+    let start: Vec<_> = sim.bodies.iter().map(|b| b.pos).collect();
+    for s in 1..=60_000u64 {
+        sim.step().unwrap();
+        if s > 10 && sim.stats.unbalanced_ratio < 1e-4 {
+            println!("stable at {s}");
+            break;
+        }
+        if s % 2000 == 0 {
+            let mut v: Vec<(f64, usize)> =
+                sim.bodies.iter().enumerate().map(|(i, b)| (b.vel.norm() + b.angvel.norm() * b.radius, i)).collect();
+            v.sort_by(|a, b| b.0.total_cmp(&a.0));
+            let mean: f64 = v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64;
+            let top: Vec<String> = v
+                .iter()
+                .take(6)
+                .map(|(sp, i)| {
+                    format!("{}:{:.1e}/{:.1e}m", sim.bodies[*i].id, sp, (sim.bodies[*i].pos - start[*i]).norm())
+                })
+                .collect();
+            println!("{s} ratio {:.2e} mean speed {:.1e} top {}", sim.stats.unbalanced_ratio, mean, top.join(" "));
+        }
+    }
+}
