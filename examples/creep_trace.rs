@@ -1,4 +1,10 @@
-//! Which bodies move during a slow near-collapse increment (temporary diagnostic).
+//! Which bodies move during a slow near-collapse increment: settles a layout, tilts it by
+//! 0.5° increments to equilibrium up to `LAST_STABLE` degrees, then tilts it to `TRIAL` and
+//! prints every 2,000 steps the unbalanced-force ratio, the mean body speed (m/s, centroid
+//! speed plus angular speed times radius) and the six fastest bodies with their speed and
+//! their motion since the start of the trial (m), until equilibrium or 60,000 steps.
+//!
+//! `cargo run --release --example creep_trace -- LAYOUT.json LAST_STABLE TRIAL`
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
 use std::path::Path;
