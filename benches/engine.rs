@@ -1,8 +1,11 @@
-//! Criterion benches: the contact kernel (narrow phase of two stacked blocks) and one engine
-//! step of the paper's 16-block cube. Seedless inputs (fixed geometry).
+//! Criterion benches: the contact kernel (narrow phase of two stacked blocks), the joint law
+//! of one sub-contact (fully and partly compressed), one engine step of the paper's 16-block
+//! cube, and one engine step of the SBL wall near collapse (the preset, seed 20210917,
+//! realization 0, settled and tilted to 17°: issue 4's case). Fixed inputs.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use drystone::dem::contact::geometry::{block_block, ContactSettings};
+use drystone::dem::contact::law::{evaluate, JointParams, Kinematics, Quadrature, SubContactState};
 use drystone::dem::{Simulation, SolverParams};
 use drystone::geometry::ConvexBlock;
 use drystone::Vec3;
@@ -24,5 +27,40 @@ fn engine_step(c: &mut Criterion) {
     c.bench_function("cube16_step", |bch| bch.iter(|| sim.step().unwrap()));
 }
 
-criterion_group!(benches, narrow_phase, engine_step);
+fn joint_law(c: &mut Criterion) {
+    let p = JointParams::coulomb(5e7, 2.5e7, 35f64.to_radians(), 0.0, 0.0);
+    let n = Vec3::new(0.01, 0.02, 1.0).normalize();
+    for (name, gaps) in
+        [("joint_law_compressed", [-1e-5, -2e-5, -1.5e-5]), ("joint_law_partly_open", [-1e-5, 2e-5, -0.5e-5])]
+    {
+        let mut s = SubContactState::new(false);
+        let mut sign = 1.0;
+        c.bench_function(name, |bch| {
+            bch.iter(|| {
+                // Shear back and forth, inside and past the slip limit.
+                sign = -sign;
+                let k = Kinematics { normal: n, gaps, du_shear: Vec3::new(3e-6, -1e-6, 0.0) * sign, area: 0.01 };
+                evaluate(&p, Quadrature::Exact, &mut s, black_box(&k))
+            })
+        });
+    }
+}
+
+fn sbl_step(c: &mut Criterion) {
+    let wall = drystone::generator::Wall::from_file(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/walls/sbl.toml"
+    )))
+    .unwrap();
+    let layout = drystone::generator::generate(&wall, 20210917, 0).unwrap().check().unwrap();
+    let mut sim = Simulation::new(&layout, SolverParams::default());
+    assert!(sim.run_to_equilibrium(1e-4, 100_000).unwrap());
+    sim.set_tilt(17f64.to_radians());
+    for _ in 0..2000 {
+        sim.step().unwrap();
+    }
+    c.bench_function("sbl_step_17deg", |bch| bch.iter(|| sim.step().unwrap()));
+}
+
+criterion_group!(benches, narrow_phase, joint_law, engine_step, sbl_step);
 criterion_main!(benches);
