@@ -463,11 +463,19 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             // Wedges in the gaps between this stone's bed and the course below, under the
             // same ceiling as the stone: where a steep bed rises above the cap the stone is
             // cut short, and a wedge there must not reach above the cap either.
+            // The wedges fill the stone's whole slot, out to the middle of its open head
+            // joints (and to the wall's ends), under the stone's bed line extended: an open
+            // head joint then reaches down to the bed level of its neighbours, not to the
+            // course below, and the void it leaves is the stated one (with steep beds the
+            // unfilled column under a joint used to add up to the stated void again). With
+            // closed head joints the slot is the stone itself.
             let mut wedge_tops: Vec<Seg> = Vec::new();
             if k > 0 && irregular.is_some() {
                 let wedge_len = irregular.and_then(|ir| ir.wedge_length.as_ref());
                 let fill = irregular.map_or(1.0, |ir| ir.wedge_fill);
-                for s in &under {
+                let slot = (if i == 0 { 0.0 } else { xs[i] }, if i + 1 == m { l } else { xs[i + 1] });
+                let slot_under: Vec<Seg> = lower.iter().filter_map(|s| s.clip(slot.0, slot.1)).collect();
+                for s in &slot_under {
                     let (gl, gr) = (bottom.at(s.x0) - s.z0, bottom.at(s.x1) - s.z1);
                     if gl.max(gr) < t_w || s.x1 - s.x0 < l_w {
                         continue;

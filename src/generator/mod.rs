@@ -74,7 +74,10 @@
 //!    long.
 //! 6. **Wedge stones.** Between a stone's straight bed and the tilted, stepped top surface
 //!    under it there are gaps, one per piece of that surface: the region between a straight
-//!    piece below and the bed line above, cut by vertical lines at the head joints. Each is
+//!    piece below and the bed line above, cut by vertical lines at the head joints. Where
+//!    the head joints are open (step 3) the stone's slot reaches to the middle of each open
+//!    joint (and to the wall's end), and its bed line is extended over it: the wedges fill
+//!    under the open joint too, which then leaves only its own width open. Each gap is
 //!    convex (between two lines, within an x-interval) and becomes a **wedge** (a small
 //!    through prism, triangular or quadrilateral in elevation) of the wedge material,
 //!    listed with the course it supports. Gaps thinner than `min_wedge_thickness_m` or

@@ -151,11 +151,10 @@ pub struct HeadJointsSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub micro_gap_m: Option<f64>,
     /// Fraction of the section volume left open, in [0, 0.5): each course's interior head
-    /// joints share an open width of `void_fraction × L`. In irregular walls the realized
-    /// void can exceed it: an open head joint reaches down to the top of the course below,
-    /// which with steep dips lies under its neighbours' beds (up to about twice the stated
-    /// fraction in coarse walls of two or three blocks per course; the generator reports the
-    /// realized void, `GeneratedWall::void_fraction`).
+    /// joints share an open width of `void_fraction × L`. In irregular walls the wedges fill
+    /// under an open joint down to the course below, so the joint leaves only its own width
+    /// open and the realized void is f plus the thin gaps left open (the generator reports
+    /// it, `GeneratedWall::void_fraction`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub void_fraction: Option<f64>,
 }
