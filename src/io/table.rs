@@ -398,6 +398,8 @@ pub enum TableColumn {
     Text(Vec<String>),
     /// Numbers (NaN written as empty).
     Number(Vec<f64>),
+    /// Counts (written as integers).
+    Count(Vec<u64>),
 }
 
 impl SimpleTable {
@@ -415,6 +417,7 @@ impl SimpleTable {
                     n.as_str().into(),
                     v.iter().map(|x| if x.is_finite() { Some(*x) } else { None }).collect::<Vec<Option<f64>>>(),
                 ),
+                TableColumn::Count(v) => Column::new(n.as_str().into(), v.clone()),
             })
             .collect();
         let mut df = DataFrame::new_infer_height(cols).map_err(pe(path))?;

@@ -181,6 +181,11 @@ impl LognormalFragility {
         if capacities.len() < 2 || capacities.iter().any(|&c| !(c > 0.0)) {
             return None;
         }
+        if capacities.iter().all(|&c| c == capacities[0]) {
+            // One capacity: a step at it, exactly (the general formulas would leave a
+            // round-off β of ~1e-16 and a median off in its last bits).
+            return Some(LognormalFragility { median: capacities[0], beta: 0.0 });
+        }
         let l: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
         let m = mean(&l);
         let var = l.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / l.len() as f64;
@@ -255,5 +260,15 @@ mod tests {
         assert!((f.beta - 0.1).abs() < 0.005);
         assert!((f.probability(15.0) - 0.5).abs() < 1e-3);
         assert!((empirical_fragility(&x, 15.0) - 0.5).abs() < 0.01);
+    }
+
+    /// Identical capacities (the six CBL realizations of the main job): a step at the
+    /// capacity, exactly, where the general formulas leave β ≈ 4e-16 and a median 20.250000000000014.
+    #[test]
+    fn lognormal_fit_of_one_repeated_capacity_is_an_exact_step() {
+        let f = LognormalFragility::fit(&[20.25; 6]).unwrap();
+        assert_eq!((f.median, f.beta), (20.25, 0.0));
+        assert_eq!(f.probability(20.25), 1.0);
+        assert_eq!(f.probability(20.0), 0.0);
     }
 }

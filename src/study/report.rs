@@ -490,18 +490,19 @@ fn tilt_sections(
 fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableError> {
     let text = |f: &dyn Fn(&CellSummary) -> String| TableColumn::Text(cells.iter().map(f).collect());
     let numc = |f: &dyn Fn(&CellSummary) -> f64| TableColumn::Number(cells.iter().map(f).collect());
+    let count = |f: &dyn Fn(&CellSummary) -> usize| TableColumn::Count(cells.iter().map(|c| f(c) as u64).collect());
     let mut cols: Vec<(String, TableColumn)> = vec![
         ("group".into(), text(&|c| c.group.clone())),
-        ("point".into(), numc(&|c| c.point as f64)),
+        ("point".into(), count(&|c| c.point)),
         ("sweep".into(), text(&|c| c.sweep.clone())),
-        ("realizations".into(), numc(&|c| c.n as f64)),
-        ("failed".into(), numc(&|c| c.failed as f64)),
-        ("stood".into(), numc(&|c| c.stood as f64)),
+        ("realizations".into(), count(&|c| c.n)),
+        ("failed".into(), count(&|c| c.failed)),
+        ("stood".into(), count(&|c| c.stood)),
     ];
     let stats_cols = |prefix: &str, get: fn(&CellSummary) -> &Summary| -> Vec<(String, TableColumn)> {
         let n = |f: fn(&Summary) -> f64| TableColumn::Number(cells.iter().map(|c| f(get(c))).collect());
         vec![
-            (format!("{prefix}_n"), n(|s| s.n as f64)),
+            (format!("{prefix}_n"), TableColumn::Count(cells.iter().map(|c| get(c).n as u64).collect())),
             (format!("{prefix}_mean"), n(|s| s.mean)),
             (format!("{prefix}_sd"), n(|s| s.sd)),
             (format!("{prefix}_cov"), n(|s| s.cov)),
