@@ -197,6 +197,51 @@ impl Contact {
     }
 }
 
+/// An instruction set the engine's step is compiled for (see [`Simulation::step`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[doc(hidden)]
+pub enum Isa {
+    /// The baseline of the target (x86-64: SSE2).
+    Portable,
+    /// AVX2 and FMA.
+    Avx2,
+    /// AVX-512F and AVX-512VL (with AVX2 and FMA).
+    Avx512,
+}
+
+impl Isa {
+    /// Every variant, baseline first.
+    pub const ALL: [Isa; 3] = [Isa::Portable, Isa::Avx2, Isa::Avx512];
+
+    /// Whether this CPU runs the variant.
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma"),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => {
+                Isa::Avx2.available()
+                    && std::is_x86_feature_detected!("avx512f")
+                    && std::is_x86_feature_detected!("avx512vl")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The widest variant this CPU runs.
+    pub fn best() -> Isa {
+        if Isa::Avx512.available() {
+            Isa::Avx512
+        } else if Isa::Avx2.available() {
+            Isa::Avx2
+        } else {
+            Isa::Portable
+        }
+    }
+}
+
 /// One simulation.
 #[derive(Debug, Clone)]
 pub struct Simulation {
@@ -618,58 +663,61 @@ impl Simulation {
 
     /// Advances one step (see the module doc for the order).
     ///
-    /// The step is compiled twice: for the baseline x86-64 instruction set and with AVX-512
-    /// (or AVX2) enabled, and the latter is taken when the CPU has it (runtime detection). Both
-    /// perform the same IEEE-754 operations in the same order (Rust never fuses a multiply and
-    /// an add on its own, and square root and division are correctly rounded in every
-    /// instruction set), so the results are the same bit for bit on any x86-64 machine; only
-    /// the speed differs (about 10 % on the SBL tilt; `BENCHMARKS.md`). Tested by
-    /// `tests/dispatch.rs`.
+    /// The step is compiled three times: for the baseline x86-64 instruction set, with AVX2
+    /// and with AVX-512 enabled; the best one the CPU supports is taken (runtime detection,
+    /// [`Isa::best`]). All three perform the same IEEE-754 operations in the same order (Rust
+    /// never fuses a multiply and an add on its own, and square root and division are
+    /// correctly rounded in every instruction set), so the results are the same bit for bit
+    /// on any x86-64 machine; only the speed differs (about 5 % on the SBL tilt;
+    /// `BENCHMARKS.md`). Tested by `tests/dispatch.rs`.
     ///
     /// # Errors
     /// [`DemError::NonFinite`] if a body's state blows up.
     pub fn step(&mut self) -> Result<(), DemError> {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx512vl") {
-                // SAFETY: the CPU has every feature `step_avx512` is compiled for (checked
-                // above, and AVX-512F implies AVX2 and FMA on every x86-64 CPU that has it;
-                // `step_avx512` checks them in debug builds).
-                return unsafe { self.step_avx512() };
-            }
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU has AVX2 and FMA (checked above).
-                return unsafe { self.step_avx2() };
-            }
+        match self.step_with(Isa::best()) {
+            Some(r) => r,
+            None => self.step_impl(),
         }
-        self.step_portable()
+    }
+
+    /// [`Simulation::step`] compiled for the given instruction set; `None` (and no step
+    /// taken) if this CPU does not support it. For tests and benchmarks: `step` picks the
+    /// best by itself.
+    #[doc(hidden)]
+    pub fn step_with(&mut self, isa: Isa) -> Option<Result<(), DemError>> {
+        if !isa.available() {
+            return None;
+        }
+        Some(match isa {
+            Isa::Portable => self.step_impl(),
+            // SAFETY: `isa.available()` checked every feature the clone is compiled for.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { self.step_avx2() },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { self.step_avx512() },
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => self.step_impl(),
+        })
     }
 
     /// [`Simulation::step`] compiled with AVX-512.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F, AVX-512VL, AVX2 and FMA.
+    /// The CPU must support AVX-512F, AVX-512VL, AVX2 and FMA ([`Isa::Avx512`] available).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx2,fma")]
     unsafe fn step_avx512(&mut self) -> Result<(), DemError> {
-        debug_assert!(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma"));
         self.step_impl()
     }
 
     /// [`Simulation::step`] compiled with AVX2.
     ///
     /// # Safety
-    /// The CPU must support AVX2 and FMA.
+    /// The CPU must support AVX2 and FMA ([`Isa::Avx2`] available).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn step_avx2(&mut self) -> Result<(), DemError> {
-        self.step_impl()
-    }
-
-    /// [`Simulation::step`] for the baseline instruction set, whatever the CPU: the reference
-    /// the dispatched versions are checked against.
-    #[doc(hidden)]
-    pub fn step_portable(&mut self) -> Result<(), DemError> {
         self.step_impl()
     }
 
