@@ -44,7 +44,7 @@ pub struct HistogramPanel {
     pub measured: Vec<f64>,
 }
 
-/// Histograms side by side (`x_label`, e.g. "collapse angle [deg]"), bins of `bin` width.
+/// Histograms side by side (`x_label`, e.g. "collapse angle \[deg\]"), bins of `bin` width.
 ///
 /// # Errors
 /// [`PlotError`].

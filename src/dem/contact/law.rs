@@ -187,7 +187,7 @@ fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
 /// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
 /// the compressed part (a triangle or a quadrilateral) integrated exactly.
 ///
-/// Dispatches on the sign pattern of `q` to [`clipped_moments`], compiled once per pattern
+/// Dispatches on the sign pattern of `q` to `clipped_moments`, compiled once per pattern
 /// so that the clipping's branches and index arithmetic fold away (the floating-point
 /// operations, and so the results, are those of the generic algorithm).
 #[inline]
