@@ -2,6 +2,37 @@
 
 use thiserror::Error;
 
+/// A numeric parameter outside its allowed range: the key (as in the study file's tables and
+/// the CLI flags), the value and the allowed range in words (every range also excludes NaN
+/// and infinities).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutOfRange {
+    /// The parameter.
+    pub key: String,
+    /// Its value.
+    pub value: f64,
+    /// The allowed range, e.g. `in [0, 1)`.
+    pub allowed: &'static str,
+}
+
+impl OutOfRange {
+    /// `key = value` is outside `allowed`.
+    pub fn new(key: &str, value: f64, allowed: &'static str) -> Self {
+        OutOfRange { key: key.to_string(), value, allowed }
+    }
+}
+
+/// Checks each `(key, value, ok, allowed)` in order; the first that is not `ok` or not finite
+/// is the error.
+pub(crate) fn check_ranges(checks: &[(&str, f64, bool, &'static str)]) -> Result<(), OutOfRange> {
+    for &(k, v, ok, allowed) in checks {
+        if !ok || !v.is_finite() {
+            return Err(OutOfRange::new(k, v, allowed));
+        }
+    }
+    Ok(())
+}
+
 /// Any drystone error.
 #[derive(Debug, Error)]
 #[non_exhaustive]

@@ -24,6 +24,7 @@ use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
 use super::timestep::{body_eigenvalues, density_scaling, step_for};
+use crate::error::{check_ranges, OutOfRange};
 use crate::layout::{BaseSliding, EndRestraint, Layout};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
@@ -113,38 +114,46 @@ impl SolverParams {
         }
     }
 
-    /// Checks ranges; returns the offending key and value.
-    pub fn validate(&self) -> Result<(), (String, f64)> {
-        let checks: [(&str, f64, bool); 7] = [
-            ("damping", self.damping, (0.0..1.0).contains(&self.damping)),
-            ("timestep_safety", self.timestep_safety, self.timestep_safety > 0.0 && self.timestep_safety <= 1.0),
-            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0),
-            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0),
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("damping", self.damping, (0.0..1.0).contains(&self.damping), "in [0, 1)"),
+            (
+                "timestep_safety",
+                self.timestep_safety,
+                self.timestep_safety > 0.0 && self.timestep_safety <= 1.0,
+                "in (0, 1]",
+            ),
+            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
+            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
             (
                 "face_angle_tolerance_deg",
                 self.face_angle_tolerance_deg,
                 self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
+                "in (0, 45)",
             ),
             (
                 "degenerate_width_fraction",
                 self.degenerate_width_fraction,
                 self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0,
+                "in (0, 1]",
             ),
             (
                 "redetect_fraction",
                 self.redetect_fraction,
                 self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
+                "in (0, 1]",
             ),
-        ];
-        for (k, v, ok) in checks {
-            if !ok || !v.is_finite() {
-                return Err((k.to_string(), v));
-            }
-        }
-        if self.subcontact_subdivisions == 0 || self.subcontact_subdivisions > 64 {
-            return Err(("subcontact_subdivisions".into(), self.subcontact_subdivisions as f64));
-        }
-        Ok(())
+            (
+                "subcontact_subdivisions",
+                self.subcontact_subdivisions as f64,
+                (1..=64).contains(&self.subcontact_subdivisions),
+                "an integer in [1, 64]",
+            ),
+        ])
     }
 }
 

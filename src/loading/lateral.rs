@@ -43,6 +43,7 @@
 
 use super::tilt::{monitor_displacements, monitor_points, MonitorPoint};
 use crate::dem::{DemError, Simulation, SolverParams};
+use crate::error::{check_ranges, OutOfRange};
 use crate::layout::Layout;
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
@@ -78,27 +79,23 @@ impl Default for LateralParams {
 }
 
 impl LateralParams {
-    /// Checks ranges; returns the offending key and value.
-    pub fn validate(&self) -> Result<(), (String, f64)> {
-        let c: [(&str, f64, bool); 4] = [
-            ("pressure_base_pa", self.pressure_base_pa, self.pressure_base_pa >= 0.0),
-            ("pressure_top_pa", self.pressure_top_pa, self.pressure_top_pa >= 0.0),
-            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0),
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("pressure_base_pa", self.pressure_base_pa, self.pressure_base_pa >= 0.0, ">= 0"),
+            ("pressure_top_pa", self.pressure_top_pa, self.pressure_top_pa >= 0.0, ">= 0"),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
             (
                 "collapse_displacement_fraction",
                 self.collapse_displacement_fraction,
                 self.collapse_displacement_fraction > 0.0,
+                "> 0",
             ),
-        ];
-        for (k, v, ok) in c {
-            if !ok || !v.is_finite() {
-                return Err((k.into(), v));
-            }
-        }
-        if self.max_steps == 0 {
-            return Err(("max_steps".into(), 0.0));
-        }
-        Ok(())
+            ("max_steps", self.max_steps as f64, self.max_steps > 0, ">= 1"),
+        ])
     }
 }
 
@@ -153,14 +150,9 @@ pub enum LateralError {
         /// Ratio reached.
         ratio: f64,
     },
-    /// A parameter is out of range.
-    #[error("lateral parameter {key} = {value} is out of range")]
-    Parameter {
-        /// Key.
-        key: String,
-        /// Value.
-        value: f64,
-    },
+    /// A lateral-load or solver parameter is out of range.
+    #[error("parameter {} = {} is out of range: must be {}", .0.key, .0.value, .0.allowed)]
+    Parameter(OutOfRange),
 }
 
 /// The pressure load on each body: (force, moment about the body centroid), world frame,
@@ -222,8 +214,8 @@ pub fn run_lateral(
     solver: SolverParams,
     params: &LateralParams,
 ) -> Result<LateralResult, LateralError> {
-    params.validate().map_err(|(key, value)| LateralError::Parameter { key, value })?;
-    solver.validate().map_err(|(key, value)| LateralError::Parameter { key, value })?;
+    params.validate().map_err(LateralError::Parameter)?;
+    solver.validate().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);

@@ -19,6 +19,7 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 use crate::dem::{DemError, Simulation, SolverParams};
+use crate::error::{check_ranges, OutOfRange};
 use crate::layout::Layout;
 use crate::units::deg_to_rad;
 use crate::Vec3;
@@ -72,29 +73,35 @@ impl Default for TiltParams {
 }
 
 impl TiltParams {
-    /// Checks ranges; returns the offending key and value.
-    pub fn validate(&self) -> Result<(), (String, f64)> {
-        let c: [(&str, f64, bool); 6] = [
-            ("step_deg", self.step_deg, self.step_deg > 0.0 && self.step_deg <= 10.0),
-            ("resolution_deg", self.resolution_deg, self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg),
-            ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0),
-            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0),
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("step_deg", self.step_deg, self.step_deg > 0.0 && self.step_deg <= 10.0, "in (0, 10]"),
+            (
+                "resolution_deg",
+                self.resolution_deg,
+                self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg,
+                "in (0, step_deg]",
+            ),
+            ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0, "in (0, 90)"),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
             (
                 "collapse_displacement_fraction",
                 self.collapse_displacement_fraction,
                 self.collapse_displacement_fraction > 0.0,
+                "> 0",
             ),
-            ("collapse_increment_fraction", self.collapse_increment_fraction, self.collapse_increment_fraction > 0.0),
-        ];
-        for (k, v, ok) in c {
-            if !ok || !v.is_finite() {
-                return Err((k.into(), v));
-            }
-        }
-        if self.max_steps_per_increment == 0 {
-            return Err(("max_steps_per_increment".into(), 0.0));
-        }
-        Ok(())
+            (
+                "collapse_increment_fraction",
+                self.collapse_increment_fraction,
+                self.collapse_increment_fraction > 0.0,
+                "> 0",
+            ),
+            ("max_steps_per_increment", self.max_steps_per_increment as f64, self.max_steps_per_increment > 0, ">= 1"),
+        ])
     }
 }
 
@@ -377,14 +384,9 @@ pub enum TiltError {
         /// Ratio reached.
         ratio: f64,
     },
-    /// A parameter is out of range.
-    #[error("tilt parameter {key} = {value} is out of range")]
-    Parameter {
-        /// Key.
-        key: String,
-        /// Value.
-        value: f64,
-    },
+    /// A tilt or solver parameter is out of range.
+    #[error("parameter {} = {} is out of range: must be {}", .0.key, .0.value, .0.allowed)]
+    Parameter(OutOfRange),
 }
 
 /// Runs the tilting-table test of a layout to collapse.
@@ -393,8 +395,8 @@ pub enum TiltError {
 /// [`TiltError::NoInitialEquilibrium`] if the layout does not stand at α = 0,
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
 pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
-    params.validate().map_err(|(key, value)| TiltError::Parameter { key, value })?;
-    solver.validate().map_err(|(key, value)| TiltError::Parameter { key, value })?;
+    params.validate().map_err(TiltError::Parameter)?;
+    solver.validate().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);

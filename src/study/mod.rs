@@ -407,9 +407,14 @@ impl StudySpec {
         if self.groups.is_empty() {
             return Err(invalid("groups", "at least one group is needed".into()));
         }
-        self.tilt.validate().map_err(|(k, v)| invalid(&format!("tilt.{k}"), format!("{v} is out of range")))?;
-        self.lateral.validate().map_err(|(k, v)| invalid(&format!("lateral.{k}"), format!("{v} is out of range")))?;
-        self.solver.validate().map_err(|(k, v)| invalid(&format!("solver.{k}"), format!("{v} is out of range")))?;
+        let range = |table: &'static str| {
+            move |e: crate::error::OutOfRange| {
+                invalid(&format!("{table}.{}", e.key), format!("{} is out of range: must be {}", e.value, e.allowed))
+            }
+        };
+        self.tilt.validate().map_err(range("tilt"))?;
+        self.lateral.validate().map_err(range("lateral"))?;
+        self.solver.validate().map_err(range("solver"))?;
         // Sweep points: cartesian product in key order, the last key varying fastest.
         let mut points: Vec<SweepPoint> = vec![Vec::new()];
         for (key, values) in &self.sweep {
