@@ -97,6 +97,35 @@ pub struct Comparison {
     pub specimens_inside: usize,
 }
 
+/// One note per group whose realizations all gave the same values (σ = 0 over more than one
+/// realization, every compared quantity): its band has zero width, which says nothing of how
+/// real walls vary, only that the group's layouts have no random input that matters.
+fn degenerate_groups(cmp: &[Comparison]) -> Vec<String> {
+    let mut groups: Vec<&str> = Vec::new();
+    for c in cmp {
+        if !groups.contains(&c.group.as_str()) {
+            groups.push(&c.group);
+        }
+    }
+    groups
+        .into_iter()
+        .filter_map(|g| {
+            let of: Vec<&Comparison> = cmp.iter().filter(|c| c.group == g).collect();
+            let n = of[0].simulated_n;
+            (n > 1 && of.iter().all(|c| c.simulated_sd == 0.0)).then(|| {
+                format!(
+                    "{g}: all {n} realizations gave the same values (σ = 0), so its 95 % band has zero \
+                     width. The layouts of this group have no random input that matters (e.g. a \
+                     regular bond of blocks of one size, and no material scatter): the band says \
+                     nothing of how real walls of this kind vary: judge the gap against the \
+                     measurements' own spread instead. Give the wall file a source of scatter \
+                     (block sizes, joint parameters) to study that variability."
+                )
+            })
+        })
+        .collect()
+}
+
 fn measure_of(study: &Study, group: usize) -> String {
     let mg = &study.groups[group].measured_group;
     study
@@ -479,6 +508,9 @@ fn tilt_sections(
             }
             let _ = writeln!(md, "\nNo parameter was tuned per specimen to close these gaps; explaining them is the job of the model-discrepancy analysis.");
         }
+        for note in degenerate_groups(cmp) {
+            let _ = writeln!(md, "\n{note}");
+        }
     }
     let _ = writeln!(md, "\n## Plots\n");
     let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
@@ -594,4 +626,36 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             Some(BandSeries { label, x, mid: p.clone(), lo: p.clone(), hi: p, measured, points_label: None })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cmp(group: &str, n: usize, sd: f64) -> Comparison {
+        Comparison {
+            group: group.into(),
+            quantity: "collapse angle [deg]".into(),
+            measured_n: 3,
+            measured_mean: 18.83,
+            measured_sd: 0.29,
+            simulated_n: n,
+            simulated_mean: 20.25,
+            simulated_sd: sd,
+            band: (20.25 - 2.0 * sd, 20.25 + 2.0 * sd),
+            inside: false,
+            specimens_inside: 0,
+        }
+    }
+
+    /// A group whose realizations all agree gets the note; one with scatter, or a single
+    /// realization, or one quantity with scatter, does not.
+    #[test]
+    fn identical_realizations_are_called_out() {
+        let notes =
+            degenerate_groups(&[cmp("CBL", 6, 0.0), cmp("CBL", 6, 0.0), cmp("SBL", 6, 0.2), cmp("ONE", 1, 0.0)]);
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].starts_with("CBL: all 6 realizations gave the same values"), "{}", notes[0]);
+        assert!(degenerate_groups(&[cmp("X", 6, 0.0), cmp("X", 6, 0.1)]).is_empty());
+    }
 }
