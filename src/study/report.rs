@@ -405,8 +405,8 @@ fn tilt_sections(
     )?;
     let _ = writeln!(
         md,
-        "Master seed {}; {} realization(s) per group and sweep point; protocol {:?}; tilt step {}°, bracket {}°; damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, study.protocol, study.tilt.step_deg, study.tilt.resolution_deg, study.solver.damping, study.solver.subcontact_subdivisions
+        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}; local damping {}; sub-contact subdivisions {}.\n",
+        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
     );
     let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
     let _ = writeln!(md, "| group | sweep | n | failed | stood | mean | σ | COV | min | max | 95 % CI of mean | 95 % bootstrap σ | lognormal median, β |");
