@@ -239,15 +239,18 @@ impl Isa {
         }
     }
 
-    /// The widest variant this CPU runs.
+    /// The widest variant this CPU runs (detected once per process).
     pub fn best() -> Isa {
-        if Isa::Avx512.available() {
-            Isa::Avx512
-        } else if Isa::Avx2.available() {
-            Isa::Avx2
-        } else {
-            Isa::Portable
-        }
+        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *BEST.get_or_init(|| {
+            if Isa::Avx512.available() {
+                Isa::Avx512
+            } else if Isa::Avx2.available() {
+                Isa::Avx2
+            } else {
+                Isa::Portable
+            }
+        })
     }
 }
 
