@@ -181,15 +181,14 @@ impl LognormalFragility {
         if capacities.len() < 2 || capacities.iter().any(|&c| !(c > 0.0)) {
             return None;
         }
-        if capacities.iter().all(|&c| c == capacities[0]) {
-            // One capacity: a step at it, exactly (the general formulas would leave a
-            // round-off β of ~1e-16 and a median off in its last bits).
-            return Some(LognormalFragility { median: capacities[0], beta: 0.0 });
-        }
-        let l: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
+        // ln x relative to the first capacity: θ = x₀ exp(mean ln(x/x₀)). Repeated
+        // capacities then give exactly θ = x₀ and β = 0 (a step), where ln and exp of the raw
+        // values would leave a round-off β of ~1e-16 and θ off in its last bits.
+        let x0 = capacities[0];
+        let l: Vec<f64> = capacities.iter().map(|c| (c / x0).ln()).collect();
         let m = mean(&l);
         let var = l.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / l.len() as f64;
-        Some(LognormalFragility { median: m.exp(), beta: var.sqrt() })
+        Some(LognormalFragility { median: x0 * m.exp(), beta: var.sqrt() })
     }
 
     /// P(collapse | α).
