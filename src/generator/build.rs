@@ -460,15 +460,14 @@ pub(crate) fn build<R: Rng + ?Sized>(wall: &Wall, rng: &mut R) -> Result<Elevati
             };
             // The stone's ceiling: the course cap below the top course (see above).
             let stone_cap = (k + 1 < n).then_some(cap);
-            // Wedges in the gaps between this stone's bed and the course below, under the
-            // same ceiling as the stone: where a steep bed rises above the cap the stone is
-            // cut short, and a wedge there must not reach above the cap either.
-            // The wedges fill the stone's whole slot, out to the middle of its open head
-            // joints (and to the wall's ends), under the stone's bed line extended: an open
-            // head joint then reaches down to the bed level of its neighbours, not to the
-            // course below, and the void it leaves is the stated one (with steep beds the
-            // unfilled column under a joint used to add up to the stated void again). With
-            // closed head joints the slot is the stone itself.
+            // Wedges in the gaps between this stone's bed line and the course below:
+            // * under the same ceiling as the stone (where a steep bed rises above the cap
+            //   the stone is cut short, and a wedge there must not reach above it either);
+            // * over the stone's whole slot, out to the middle of its open head joints (and to
+            //   the wall's ends), so that an open joint reaches down only to its neighbours'
+            //   bed level and leaves the stated void (an unfilled column under it would add
+            //   up to the stated void again under steep beds). With closed head joints the
+            //   slot is the stone itself.
             let mut wedge_tops: Vec<Seg> = Vec::new();
             if k > 0 && irregular.is_some() {
                 let wedge_len = irregular.and_then(|ir| ir.wedge_length.as_ref());

@@ -237,8 +237,11 @@ pub(crate) fn monitor_displacements(sim: &Simulation, monitors: &[MonitorPoint],
     monitors.iter().zip(reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
 }
 
-/// Pose of every body: centroid (m) and orientation.
-type Pose = Vec<(Vec3, nalgebra::UnitQuaternion<f64>)>;
+/// Pose of one body: centroid (m, table frame) and orientation.
+pub type BodyPose = (Vec3, nalgebra::UnitQuaternion<f64>);
+
+/// Pose of every body, in body order.
+type Pose = Vec<BodyPose>;
 
 /// A predicted increment: translation (m) and rotation vector (rad) per body.
 type Prediction = (Vec<Vec3>, Vec<Vec3>);
@@ -347,18 +350,14 @@ impl Ctx<'_> {
 /// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
 /// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
 /// its farthest point).
-fn body_motion(
-    from: &(Vec3, nalgebra::UnitQuaternion<f64>),
-    to: &(Vec3, nalgebra::UnitQuaternion<f64>),
-    radius: f64,
-) -> f64 {
+fn body_motion(from: &BodyPose, to: &BodyPose, radius: f64) -> f64 {
     (to.0 - from.0).norm() + (to.1 * from.1.inverse()).angle() * radius
 }
 
 /// The largest motion of a movable block since `start` (its position and orientation per
 /// body), m: centroid displacement plus rotation angle times the block's radius. The
 /// per-increment collapse criterion compares it with a fraction of the wall width.
-pub fn largest_motion(sim: &Simulation, start: &[(Vec3, nalgebra::UnitQuaternion<f64>)]) -> f64 {
+pub fn largest_motion(sim: &Simulation, start: &[BodyPose]) -> f64 {
     sim.bodies
         .iter()
         .zip(start)
