@@ -5,22 +5,18 @@
 //! their motion since the start of the trial (m), until equilibrium or 60,000 steps.
 //!
 //! `cargo run --release --example creep_trace -- LAYOUT.json LAST_STABLE TRIAL`
-use drystone::dem::{Simulation, SolverParams};
+
+mod common;
+
 use drystone::layout::Layout;
 use std::path::Path;
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
     let last: f64 = args[2].parse().unwrap();
     let trial: f64 = args[3].parse().unwrap();
-    let mut sim = Simulation::new(&layout, SolverParams::default());
-    assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
-    let mut k = 1;
-    while k as f64 * 0.5 <= last + 1e-9 {
-        sim.set_tilt((k as f64 * 0.5f64).to_radians());
-        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
-        k += 1;
-    }
+    let mut sim = common::settled_at(&layout, last);
     sim.set_tilt(trial.to_radians());
     let start: Vec<_> = sim.bodies.iter().map(|b| b.pos).collect();
     for s in 1..=60_000u64 {

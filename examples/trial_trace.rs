@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release --example trial_trace -- LAYOUT.json LAST_STABLE ANGLE... > trace.csv`
 
-use drystone::dem::{Simulation, SolverParams};
+mod common;
+
 use drystone::layout::Layout;
 use std::path::Path;
 
@@ -16,14 +17,7 @@ fn main() {
     let angles: Vec<f64> = args[3..].iter().map(|s| s.parse().unwrap()).collect();
     // The wall width of the collapse criteria (as in `loading::tilt`).
     let width = layout.bounds().extent().y;
-    let mut sim = Simulation::new(&layout, SolverParams::default());
-    assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
-    let mut k = 1;
-    while k as f64 * 0.5 <= last + 1e-9 {
-        sim.set_tilt((k as f64 * 0.5f64).to_radians());
-        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap(), "unstable at {}", k as f64 * 0.5);
-        k += 1;
-    }
+    let sim = common::settled_at(&layout, last);
     eprintln!("reached {last} deg after {} steps", sim.steps);
     println!("angle,step,moved_m,ke_j,ratio");
     for a in angles {
