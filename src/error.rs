@@ -20,6 +20,17 @@ impl OutOfRange {
     pub fn new(key: &str, value: f64, allowed: &'static str) -> Self {
         OutOfRange { key: key.to_string(), value, allowed }
     }
+
+    /// What is wrong with the value, without the key: `-0.5 is out of range: must be in (0, 10]`.
+    pub fn reason(&self) -> String {
+        format!("{} is out of range: must be {}", self.value, self.allowed)
+    }
+}
+
+impl std::fmt::Display for OutOfRange {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} = {}", self.key, self.reason())
+    }
 }
 
 /// Checks each `(key, value, ok, allowed)` in order; the first that is not `ok` or not finite

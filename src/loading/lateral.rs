@@ -151,7 +151,7 @@ pub enum LateralError {
         ratio: f64,
     },
     /// A lateral-load or solver parameter is out of range.
-    #[error("parameter {} = {} is out of range: must be {}", .0.key, .0.value, .0.allowed)]
+    #[error("parameter {0}")]
     Parameter(OutOfRange),
 }
 

@@ -384,7 +384,7 @@ pub enum TiltError {
         ratio: f64,
     },
     /// A tilt or solver parameter is out of range.
-    #[error("parameter {} = {} is out of range: must be {}", .0.key, .0.value, .0.allowed)]
+    #[error("parameter {0}")]
     Parameter(OutOfRange),
 }
 

@@ -407,11 +407,8 @@ impl StudySpec {
         if self.groups.is_empty() {
             return Err(invalid("groups", "at least one group is needed".into()));
         }
-        let range = |table: &'static str| {
-            move |e: crate::error::OutOfRange| {
-                invalid(&format!("{table}.{}", e.key), format!("{} is out of range: must be {}", e.value, e.allowed))
-            }
-        };
+        let range =
+            |table: &'static str| move |e: crate::error::OutOfRange| invalid(&format!("{table}.{}", e.key), e.reason());
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         self.solver.validate().map_err(range("solver"))?;
