@@ -41,7 +41,9 @@ fn a_predicted_jump_loads_the_shear_springs_like_a_step() {
 /// bracket and, up to 80 % of the collapse angle (where the response is nearly linear and the
 /// predictor at work; nearer collapse the equilibrium itself is ill-conditioned), the
 /// displacements of every stable increment equal to within 2 % of the largest (both are
-/// equilibria to the same unbalanced-force tolerance), in fewer steps.
+/// equilibria to the same unbalanced-force tolerance), reached in fewer steps. (The steps of
+/// the whole test are not compared: the trials near collapse, which the predictor does not
+/// touch, dominate them and vary by thousands of steps with any change of path.)
 #[test]
 fn the_predictor_changes_the_steps_not_the_result() {
     let l = Layout::from_file(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/layouts/running_bond_wall.json")))
@@ -69,5 +71,9 @@ fn the_predictor_changes_the_steps_not_the_result() {
             assert!((x - y).abs() <= 0.02 * largest, "at {alpha}°: {x} vs {y} m (largest {largest} m)");
         }
     }
-    assert!(with.steps < without.steps, "{} steps with the predictor, {} without", with.steps, without.steps);
+    let steps = |r: &drystone::loading::tilt::TiltResult| -> u64 {
+        r.increments.iter().filter(|i| i.stable && i.alpha_deg > 0.0 && i.alpha_deg <= limit).map(|i| i.steps).sum()
+    };
+    let (sw, so) = (steps(&with), steps(&without));
+    assert!((sw as f64) < 0.8 * so as f64, "{sw} steps with the predictor, {so} without, up to {limit}°");
 }

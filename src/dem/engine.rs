@@ -23,7 +23,7 @@ use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactS
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
-use super::timestep::{body_eigenvalues, density_scaling, step_for};
+use super::timestep::{density_scaling, step_for, Stiffness};
 use crate::error::{check_ranges, OutOfRange};
 use crate::layout::{BaseSliding, EndRestraint, Layout};
 use crate::Vec3;
@@ -52,7 +52,9 @@ pub enum DemError {
 pub struct SolverParams {
     /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
     pub damping: f64,
-    /// Fraction of the critical time step bound used (see `dem::timestep`). Default 0.8.
+    /// Fraction of the critical time step `2 / (ω_max √(1 + α))` used, with ω_max the
+    /// assembly's highest frequency (an upper estimate) and α the local damping (see
+    /// `dem::timestep`). Default 0.95.
     pub timestep_safety: f64,
     /// Pairs closer than this get a contact, m. Default 0.001.
     pub contact_margin_m: f64,
@@ -85,7 +87,7 @@ impl Default for SolverParams {
         let c = ContactSettings::default();
         SolverParams {
             damping: 0.8,
-            timestep_safety: 0.8,
+            timestep_safety: 0.95,
             contact_margin_m: c.margin,
             feature_tolerance_m: c.feature_tolerance,
             face_angle_tolerance_deg: c.face_angle_tolerance.to_degrees(),
@@ -449,21 +451,23 @@ impl Simulation {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
         }
-        let lambdas = body_eigenvalues(&self.bodies, &self.contacts);
+        let stiffness = Stiffness::new(&self.bodies, &self.contacts);
         if self.params.density_scaling {
-            let (target, scale) = density_scaling(&lambdas);
+            let (_, scale) = density_scaling(&stiffness.body_eigenvalues(&self.bodies));
             for (b, s) in self.bodies.iter_mut().zip(&scale) {
                 b.inertia_scale_inv = 1.0 / s;
             }
             self.max_density_scale = self.max_density_scale.max(scale.iter().cloned().fold(1.0, f64::max));
-            if let Some(dt) = step_for(target, self.params.timestep_safety) {
+            if let Some(dt) =
+                step_for(stiffness.max_eigenvalue(&self.bodies), self.params.timestep_safety, self.params.damping)
+            {
                 self.dt = dt;
             }
-        } else {
-            let lmax = lambdas.iter().cloned().fold(0.0, f64::max);
-            if let Some(dt) = step_for(lmax, self.params.timestep_safety) {
-                self.dt = self.dt.min(dt);
-            }
+        } else if let Some(dt) =
+            step_for(stiffness.max_eigenvalue(&self.bodies), self.params.timestep_safety, self.params.damping)
+        {
+            // Dynamics: the step only ever shrinks, so that a run keeps one time base.
+            self.dt = self.dt.min(dt);
         }
         self.detections += 1;
     }
