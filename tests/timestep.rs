@@ -7,10 +7,10 @@
 use drystone::dem::integrator::{advance, YConstraint};
 use drystone::dem::state::Body;
 use drystone::dem::timestep::{inv_sqrt, Stiffness};
-use drystone::geometry::ConvexBlock;
-use drystone::Vec3;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
+use drystone::geometry::ConvexBlock;
+use drystone::Vec3;
 use nalgebra::DMatrix;
 use std::path::PathBuf;
 
@@ -86,7 +86,7 @@ fn the_lanczos_step_bounds_the_dense_top_eigenvalue_closely() {
         // scaled λ_body), which the assembled matrix does not reach.
         let bound = 2.0
             * stiffness
-                .body_eigenvalues(&sim.bodies)
+                .body_eigenvalues()
                 .iter()
                 .zip(&sim.bodies)
                 .map(|(l, b)| l * b.inertia_scale_inv)

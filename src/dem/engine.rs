@@ -453,7 +453,7 @@ impl Simulation {
         }
         let stiffness = Stiffness::new(&self.bodies, &self.contacts);
         if self.params.density_scaling {
-            let (_, scale) = density_scaling(&stiffness.body_eigenvalues(&self.bodies));
+            let (_, scale) = density_scaling(stiffness.body_eigenvalues());
             for (b, s) in self.bodies.iter_mut().zip(&scale) {
                 b.inertia_scale_inv = 1.0 / s;
             }

@@ -79,6 +79,8 @@ pub struct Stiffness {
     touched: Vec<bool>,
     /// `(a, b, K_ab)`: the coupling of free bodies `a` and `b` (`K_ba = K_abᵀ`).
     off: Vec<(usize, usize, Matrix6<f64>)>,
+    /// Largest eigenvalue of each diagonal block against the body's true mass, rad²/s².
+    body_lambdas: Vec<f64>,
 }
 
 impl Stiffness {
@@ -145,7 +147,8 @@ impl Stiffness {
                 }
             }
         }
-        Stiffness { diag, touched, off }
+        let body_lambdas = Self::diagonal_eigenvalues(&diag, &touched, bodies);
+        Stiffness { diag, touched, off, body_lambdas }
     }
 
     /// `M^{-1/2}` per body: `1/√(s m)` and `(s R I Rᵀ)^{-1/2}` (kg^{-1/2}, (kg·m²)^{-1/2}),
@@ -163,13 +166,17 @@ impl Stiffness {
     /// The largest eigenvalue `λ = ω²` (rad²/s²) of each body's diagonal block against its
     /// true (unscaled) mass matrix: the body's highest frequency with its neighbours held;
     /// 0 for fixed bodies and bodies without contacts. Length: one per body.
-    pub fn body_eigenvalues(&self, bodies: &[Body]) -> Vec<f64> {
+    pub fn body_eigenvalues(&self) -> &[f64] {
+        &self.body_lambdas
+    }
+
+    fn diagonal_eigenvalues(diag: &[Matrix6<f64>], touched: &[bool], bodies: &[Body]) -> Vec<f64> {
         let roots = Self::mass_roots(bodies, false);
         bodies
             .iter()
             .enumerate()
             .map(|(i, b)| {
-                if b.fixed || !self.touched[i] {
+                if b.fixed || !touched[i] {
                     return 0.0;
                 }
                 let mut s = Matrix6::<f64>::zeros();
@@ -177,7 +184,7 @@ impl Stiffness {
                     s[(k, k)] = roots[i].0;
                 }
                 s.fixed_view_mut::<3, 3>(3, 3).copy_from(&roots[i].1);
-                (s * self.diag[i] * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
+                (s * diag[i] * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
             })
             .collect()
     }
@@ -198,13 +205,8 @@ impl Stiffness {
         if free.is_empty() {
             return 0.0;
         }
-        let bound = 2.0
-            * self
-                .body_eigenvalues(bodies)
-                .iter()
-                .zip(bodies)
-                .map(|(l, b)| l * b.inertia_scale_inv)
-                .fold(0.0, f64::max);
+        let bound =
+            2.0 * self.body_lambdas.iter().zip(bodies).map(|(l, b)| l * b.inertia_scale_inv).fold(0.0, f64::max);
         let roots = Self::mass_roots(bodies, true);
         let nb = bodies.len();
         let n = 6 * nb;
@@ -295,7 +297,7 @@ impl Stiffness {
 /// mass matrix, with its neighbours held; 0 for fixed bodies and bodies without contacts.
 /// Shorthand for [`Stiffness::body_eigenvalues`].
 pub fn body_eigenvalues(bodies: &[Body], contacts: &[Contact]) -> Vec<f64> {
-    Stiffness::new(bodies, contacts).body_eigenvalues(bodies)
+    Stiffness::new(bodies, contacts).body_eigenvalues().to_vec()
 }
 
 /// The time step, s, for the largest eigenvalue `λ` (rad²/s²) of the assembly under local
