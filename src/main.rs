@@ -146,8 +146,9 @@ enum Command {
         distributions: Option<PathBuf>,
     },
     /// Benchmarks: `cube16` (the paper's Table 6 element-cost case: `--steps` engine steps of
-    /// 16 boxes) or `tilt` (one tilting-table test to collapse of a generated wall, one
-    /// thread: by default the SBL preset, seed 20210917, realization 0, issue 4's case).
+    /// 16 boxes) or `tilt` (tilting-table tests to collapse of a generated wall, one after
+    /// the other on one thread: by default the SBL preset, seed 20210917, realization 0,
+    /// issue 4's case; `--realizations N` runs realizations 0..N and gives the totals).
     Bench {
         /// Which benchmark: `cube16` or `tilt`.
         case: String,
@@ -157,9 +158,14 @@ enum Command {
         /// Wall description (`tilt`).
         #[arg(long, default_value = "studies/walls/sbl.toml")]
         wall: PathBuf,
-        /// Master seed of the wall (`tilt`); realization 0.
+        /// Master seed of the wall (`tilt`).
         #[arg(long, default_value_t = 20210917)]
         seed: u64,
+        /// Realizations 0..N of the wall, run one after the other (`tilt`). A single
+        /// realization's step count moves by ±10 % with any change of the numerics (the
+        /// near-collapse trials are path-sensitive); compare changes on the total of several.
+        #[arg(long, default_value_t = 1)]
+        realizations: u64,
         /// Without the secant predictor of the tilting table (`tilt`; for comparison).
         #[arg(long)]
         no_predictor: bool,
@@ -427,37 +433,60 @@ fn run() -> Result<ExitCode> {
             out!("wrote             {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, wall, seed, json, no_predictor, .. } if case == "tilt" => {
+        Command::Bench { case, wall, seed, json, no_predictor, realizations, .. } if case == "tilt" => {
             use drystone::generator::{generate, DistributionSource, Wall};
+            if realizations == 0 {
+                bail!("--realizations must be at least 1");
+            }
             let w = Wall::from_file_with(&wall, &DistributionSource::default_for(&wall))?;
-            let layout = generate(&w, seed, 0)?.check()?;
             let params = TiltParams { predictor: !no_predictor, ..TiltParams::default() };
-            let r = run_tilt(&layout, SolverParams::default(), &params)?;
-            let per_step = 1e6 * r.wall_time_s / r.steps as f64;
-            if json {
-                let v = serde_json::json!({
-                    "wall": wall.display().to_string(), "seed": seed, "realization": 0,
-                    "blocks": layout.blocks.len(), "predictor": params.predictor,
+            if !json {
+                out!(
+                    "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}",
+                    wall.display(),
+                    if params.predictor { "on" } else { "off" }
+                );
+            }
+            let mut runs = Vec::new();
+            let (mut steps, mut time) = (0u64, 0.0);
+            for k in 0..realizations {
+                let layout = generate(&w, seed, k)?.check()?;
+                let r = run_tilt(&layout, SolverParams::default(), &params)?;
+                let per_step = 1e6 * r.wall_time_s / r.steps as f64;
+                steps += r.steps;
+                time += r.wall_time_s;
+                if !json {
+                    out!(
+                        "  realization {k} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {:.2} s ({per_step:.1} us/step)",
+                        layout.blocks.len(),
+                        r.collapse_angle_deg,
+                        r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
+                        r.steps,
+                        r.dt_s,
+                        r.wall_time_s
+                    );
+                }
+                runs.push(serde_json::json!({
+                    "realization": k, "blocks": layout.blocks.len(),
                     "collapse_angle_deg": r.collapse_angle_deg,
                     "first_unstable_deg": r.first_unstable_deg, "steps": r.steps, "dt_s": r.dt_s,
                     "wall_time_s": r.wall_time_s, "us_per_step": per_step,
+                }));
+            }
+            let per_step = 1e6 * time / steps as f64;
+            if json {
+                let v = serde_json::json!({
+                    "wall": wall.display().to_string(), "seed": seed, "realizations": realizations,
+                    "predictor": params.predictor, "steps": steps, "wall_time_s": time,
+                    "us_per_step": per_step, "runs": runs,
                 });
                 out!("{}", serde_json::to_string_pretty(&v)?);
-            } else {
+            } else if realizations > 1 {
                 out!(
-                    "tilt: {} ({} blocks), seed {seed}, realization 0, one thread, predictor {}",
-                    wall.display(),
-                    layout.blocks.len(),
-                    if params.predictor { "on" } else { "off" }
+                    "  total: {steps} steps, {time:.2} s ({per_step:.1} us/step); mean {:.0} steps, {:.2} s per test",
+                    steps as f64 / realizations as f64,
+                    time / realizations as f64
                 );
-                out!(
-                    "  alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s",
-                    r.collapse_angle_deg,
-                    r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
-                    r.steps,
-                    r.dt_s
-                );
-                out!("  wall time {:.2} s ({per_step:.1} us/step)", r.wall_time_s);
             }
             Ok(ExitCode::SUCCESS)
         }
