@@ -51,6 +51,14 @@ enum Command {
         /// Fraction of the critical time-step bound used, in (0, 1].
         #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
         timestep_safety: f64,
+        /// 6 × 6 block density scaling instead of the scalar one (`block_scaling = true` in
+        /// a study's [solver] table; opt-in: fewer steps, but the mechanism is read from the
+        /// scaled collapse dynamics).
+        #[arg(long)]
+        block_scaling: bool,
+        /// Share of the scalar-scaled mass in each block mass (`block_mass_floor`), in (0, 10].
+        #[arg(long, default_value_t = SolverParams::default().block_mass_floor)]
+        block_mass_floor: f64,
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
         tolerance: f64,
@@ -196,6 +204,8 @@ fn run() -> Result<ExitCode> {
             damping,
             subdivisions,
             timestep_safety,
+            block_scaling,
+            block_mass_floor,
             tolerance,
             no_predictor,
         } => {
@@ -204,6 +214,8 @@ fn run() -> Result<ExitCode> {
                 damping,
                 subcontact_subdivisions: subdivisions,
                 timestep_safety,
+                block_scaling,
+                block_mass_floor,
                 ..SolverParams::default()
             };
             let params =

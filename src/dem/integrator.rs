@@ -88,6 +88,10 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
         b.angvel = Vec3::zeros();
         return;
     }
+    if let Some(bm) = &b.block_mass {
+        advance_block(b.vel, b.angvel, bm, force, torque, dt, damping, y).apply(b, dt);
+        return;
+    }
     let mut f = damp(force, &b.vel, damping);
     if y == YConstraint::Held {
         f.y = 0.0;
@@ -103,6 +107,61 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
     // With density scaling s the inertia is s·I: ω̇ = I⁻¹(T/s − ω × Iω).
     b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
     b.rotate(b.angvel * dt);
+}
+
+/// New velocities of a body with a 6 × 6 block mass.
+struct BlockUpdate {
+    vel: Vec3,
+    angvel: Vec3,
+}
+
+impl BlockUpdate {
+    #[inline(always)]
+    fn apply(self, b: &mut Body, dt: f64) {
+        b.vel = self.vel;
+        b.angvel = self.angvel;
+        b.pos += b.vel * dt;
+        b.rotate(b.angvel * dt);
+    }
+}
+
+/// One step of a body with block density scaling: the force and torque `(F, T)` and the
+/// velocities `(v, ω)` in the eigenbasis `Q` of the block mass, local damping per
+/// component there (so that damping and mass commute and each mass-normalized direction
+/// is damped as a single oscillator), `Δ = Q diag(1/λ) (damped Qᵀ(F, T)) Δt`. No gyroscopic
+/// term: the scaled inertia is a device for static solutions, not a rigid body's.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn advance_block(
+    vel: Vec3,
+    angvel: Vec3,
+    bm: &super::state::BlockMass,
+    mut force: Vec3,
+    torque: Vec3,
+    dt: f64,
+    damping: f64,
+    y: YConstraint,
+) -> BlockUpdate {
+    let mut v = vel;
+    if y == YConstraint::Held {
+        force.y = 0.0;
+        v.y = 0.0;
+    }
+    let f6 = nalgebra::Vector6::new(force.x, force.y, force.z, torque.x, torque.y, torque.z);
+    let v6 = nalgebra::Vector6::new(v.x, v.y, v.z, angvel.x, angvel.y, angvel.z);
+    let fq = bm.q.tr_mul(&f6);
+    let vq = bm.q.tr_mul(&v6);
+    let mut dq = nalgebra::Vector6::zeros();
+    for k in 0..6 {
+        let fk = if damping == 0.0 { fq[k] } else { fq[k] - damping * fq[k].abs() * vq[k].signum_or_zero() };
+        dq[k] = fk * bm.inv_lambda[k] * dt;
+    }
+    let out = v6 + bm.q * dq;
+    let mut vel = Vec3::new(out[0], out[1], out[2]);
+    if y == YConstraint::Held {
+        vel.y = 0.0;
+    }
+    BlockUpdate { vel, angvel: Vec3::new(out[3], out[4], out[5]) }
 }
 
 #[cfg(test)]

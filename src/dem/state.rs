@@ -4,6 +4,17 @@ use crate::geometry::ConvexBlock;
 use crate::{Mat3, Vec3};
 use nalgebra::UnitQuaternion;
 
+/// A 6 × 6 inertial mass matrix `M = Q diag(λ) Qᵀ` (dofs: translation in m, then rotation
+/// in rad; table frame), kept as its eigenvectors `q` (columns, orthonormal) and the
+/// reciprocals of its eigenvalues `inv_lambda` (1/kg and 1/(kg·m²) mixed along `q`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockMass {
+    /// Eigenvectors of M, columns.
+    pub q: nalgebra::Matrix6<f64>,
+    /// 1/λ for each eigenvalue λ > 0 of M.
+    pub inv_lambda: nalgebra::Vector6<f64>,
+}
+
 /// One rigid block.
 ///
 /// Pose: `x_world = pos + rot · x_body` (body frame: origin at the centroid, axes parallel
@@ -31,6 +42,9 @@ pub struct Body {
     pub material: usize,
     /// 1/s for the density scaling factor s > 0 of the inertial mass and inertia (1: none).
     pub inertia_scale_inv: f64,
+    /// Block density scaling (`SolverParams::block_scaling`): the body's 6 × 6 inertial mass
+    /// matrix in the table frame, replacing `s m` and `s I` while set.
+    pub block_mass: Option<BlockMass>,
     /// Centroid position, table frame, m.
     pub pos: Vec3,
     /// Orientation (body → table frame).
@@ -65,6 +79,7 @@ impl Body {
             fixed,
             material,
             inertia_scale_inv: 1.0,
+            block_mass: None,
             pos: c,
             rot: UnitQuaternion::identity(),
             rot_mat: Mat3::identity(),

@@ -151,6 +151,21 @@ impl Stiffness {
         Stiffness { diag, touched, off, body_lambdas }
     }
 
+    /// `M^{-1/2}` of a body's inertial mass as the integrator uses it: its block mass
+    /// (`Q diag(λ^{-1/2}) Qᵀ`) if it has one, else `diag(1/√(s m), (s R I Rᵀ)^{-1/2})`.
+    fn scaled_mass_root(b: &Body) -> Matrix6<f64> {
+        if let Some(bm) = &b.block_mass {
+            return bm.q * Matrix6::from_diagonal(&bm.inv_lambda.map(f64::sqrt)) * bm.q.transpose();
+        }
+        let r = b.inertia_scale_inv.sqrt();
+        let mut s = Matrix6::zeros();
+        for k in 0..3 {
+            s[(k, k)] = r / b.mass.sqrt();
+        }
+        s.fixed_view_mut::<3, 3>(3, 3).copy_from(&(b.rot_mat * inv_sqrt(&b.inertia) * b.rot_mat.transpose() * r));
+        s
+    }
+
     /// `M^{-1/2}` per body: `1/√(s m)` and `(s R I Rᵀ)^{-1/2}` (kg^{-1/2}, (kg·m²)^{-1/2}),
     /// with `s` each body's density scaling factor if `scaled`, else 1.
     fn mass_roots(bodies: &[Body], scaled: bool) -> Vec<(f64, Mat3)> {
@@ -205,19 +220,21 @@ impl Stiffness {
         if free.is_empty() {
             return 0.0;
         }
-        let bound =
-            2.0 * self.body_lambdas.iter().zip(bodies).map(|(l, b)| l * b.inertia_scale_inv).fold(0.0, f64::max);
-        let roots = Self::mass_roots(bodies, true);
+        let roots: Vec<Matrix6<f64>> = bodies.iter().map(Self::scaled_mass_root).collect();
+        // Bound: each spring joins two bodies, so ω_max² ≤ 2 max_i λ_max(S_i K_ii S_i).
+        let bound = 2.0
+            * free
+                .iter()
+                .map(|&i| {
+                    (roots[i] * self.diag[i] * roots[i]).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
+                })
+                .fold(0.0, f64::max);
         let nb = bodies.len();
         let n = 6 * nb;
         let scale = |x: &[f64], y: &mut [f64]| {
             for i in 0..nb {
-                let (m, w) = &roots[i];
-                for k in 0..3 {
-                    y[6 * i + k] = m * x[6 * i + k];
-                }
-                let r = w * Vec3::new(x[6 * i + 3], x[6 * i + 4], x[6 * i + 5]);
-                y[6 * i + 3..6 * i + 6].copy_from_slice(r.as_slice());
+                let r = roots[i] * Vector6::from_column_slice(&x[6 * i..6 * i + 6]);
+                y[6 * i..6 * i + 6].copy_from_slice(r.as_slice());
             }
         };
         let six = |x: &[f64], i: usize| Vector6::from_column_slice(&x[6 * i..6 * i + 6]);
@@ -300,6 +317,60 @@ pub fn body_eigenvalues(bodies: &[Body], contacts: &[Contact]) -> Vec<f64> {
     Stiffness::new(bodies, contacts).body_eigenvalues().to_vec()
 }
 
+/// Block-Jacobi density scaling (the block form of [`density_scaling`]; block-diagonal
+/// preconditioning of dynamic relaxation): each free body with contacts gets the inertial
+/// mass `M_i = K_ii / λ_target + ε s_i M_i⁰` (6 × 6, table frame), with `K_ii` its diagonal
+/// stiffness block, `λ_target` the scalar target (the median body eigenvalue), `s_i` its
+/// scalar factor (bodies' `inertia_scale_inv` must be set), `M_i⁰ = diag(m, m, m, R I Rᵀ)`
+/// its true mass and `ε = floor` (`SolverParams::block_mass_floor`). As `ε` → 0 every
+/// direction of every body has the frequency `√λ_target` against its held neighbours (the
+/// scalar scaling equalises only the stiffest direction): on the SBL wall the condition
+/// number of the assembled system falls from about 2,700 to about 550 (eigenvalues floored
+/// at 1e-3 of each block's largest). The `ε s M⁰` term keeps the mass positive definite in
+/// directions no contact stiffens (a block on an edge) and, at `ε = 1`, never lighter than
+/// under scalar scaling. A body with its y translation `held`
+/// (rigid end restraint) has that direction decoupled from the others. `None` for fixed
+/// bodies and bodies without contacts (they keep their scalar scaling). One per body.
+pub fn block_masses(
+    stiffness: &Stiffness,
+    bodies: &[Body],
+    target: f64,
+    floor: f64,
+    held: &[bool],
+) -> Vec<Option<super::state::BlockMass>> {
+    bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            if b.fixed || !stiffness.touched[i] || target <= 0.0 {
+                return None;
+            }
+            let s = 1.0 / b.inertia_scale_inv;
+            let mut m = stiffness.diag[i] / target;
+            for k in 0..3 {
+                m[(k, k)] += floor * s * b.mass;
+            }
+            let iw = b.rot_mat * b.inertia * b.rot_mat.transpose() * (floor * s);
+            let mut rr = m.fixed_view_mut::<3, 3>(3, 3);
+            rr += iw;
+            if held[i] {
+                for k in 0..6 {
+                    if k != 1 {
+                        m[(1, k)] = 0.0;
+                        m[(k, 1)] = 0.0;
+                    }
+                }
+            }
+            let m = (m + m.transpose()) * 0.5;
+            let e = m.symmetric_eigen();
+            if e.eigenvalues.iter().any(|&l| !(l > 0.0) || !l.is_finite()) {
+                return None;
+            }
+            Some(super::state::BlockMass { q: e.eigenvectors, inv_lambda: e.eigenvalues.map(|l| 1.0 / l) })
+        })
+        .collect()
+}
+
 /// The time step, s, for the largest eigenvalue `λ` (rad²/s²) of the assembly under local
 /// damping `alpha`: `safety × 2 / (√λ √(1 + α))`; `None` if `λ` is 0.
 ///
@@ -319,6 +390,7 @@ pub fn step_for(lambda: f64, safety: f64, alpha: f64) -> Option<f64> {
 /// the Jacobi-preconditioned one, whose slowest mode converges in the fewest steps. Bodies
 /// without contacts keep `s = 1`. Returns the target and the factors. Equilibrium states do
 /// not depend on inertia; only the path to them does.
+///
 pub fn density_scaling(lambdas: &[f64]) -> (f64, Vec<f64>) {
     let mut v: Vec<f64> = lambdas.iter().copied().filter(|l| *l > 0.0).collect();
     if v.is_empty() {
