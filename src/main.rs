@@ -51,10 +51,10 @@ enum Command {
         /// Fraction of the critical time-step bound used, in (0, 1].
         #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
         timestep_safety: f64,
-        /// 6 × 6 block density scaling instead of the scalar one (`block_scaling = true` in
-        /// a study's [solver] table; opt-in: fewer steps, but the mechanism is read from the
-        /// scaled collapse dynamics).
-        #[arg(long)]
+        /// 6 × 6 block density scaling (true) or the scalar one (false) while the wall
+        /// stands (`block_scaling` in a study's [solver] table); the trials that may fail
+        /// always run with scalar scaling.
+        #[arg(long, default_value_t = SolverParams::default().block_scaling, action = clap::ArgAction::Set)]
         block_scaling: bool,
         /// Share of the scalar-scaled mass in each block mass (`block_mass_floor`), in (0, 10].
         #[arg(long, default_value_t = SolverParams::default().block_mass_floor)]

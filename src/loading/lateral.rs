@@ -217,7 +217,9 @@ pub fn run_lateral(
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
-    let mut sim = Simulation::new(layout, solver);
+    // Scalar density scaling only: a load past the wall's capacity collapses it within this
+    // one solve, and block-scaled collapse dynamics can blow up (`SolverParams::block_scaling`).
+    let mut sim = Simulation::new(layout, SolverParams { block_scaling: false, ..solver });
     let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
     let all = layout.bounds();
     let (width, height) = (all.extent().y, all.extent().z);

@@ -430,7 +430,19 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             break;
         }
         sim.set_tilt(deg_to_rad(alpha));
-        let (stage, steps) = ctx.run_stage(&mut sim, predict(&secant, alpha))?;
+        let before = sim.steps;
+        let (stage, steps) = match ctx.run_stage(&mut sim, predict(&secant, alpha)) {
+            Err(DemError::NonFinite { .. }) if sim.params.block_scaling => {
+                // The block-scaled dynamics of a collapse blew up: the increment again, from
+                // the last stable state, with scalar scaling, which the run keeps from here.
+                total_steps += sim.steps - before;
+                sim = stable_sim.clone();
+                sim.set_block_scaling(false);
+                sim.set_tilt(deg_to_rad(alpha));
+                ctx.run_stage(&mut sim, predict(&secant, alpha))?
+            }
+            r => r?,
+        };
         total_steps += steps;
         let inc = Increment {
             alpha_deg: alpha,
@@ -475,6 +487,9 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     while unstable - last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + last_stable);
         let mut trial = stable_sim.clone();
+        // The trials that may fail, and so the state the mechanism is read from, run with
+        // scalar scaling (see `SolverParams::block_scaling`).
+        trial.set_block_scaling(false);
         trial.set_tilt(deg_to_rad(mid));
         let (stage, steps) = ctx.run_stage(&mut trial, predict(&secant, mid))?;
         total_steps += steps;
@@ -496,6 +511,20 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
                 reason = r;
                 failed = trial;
             }
+        }
+    }
+    if failed.params.block_scaling {
+        // The failed state came from a block-scaled increment (no bisection trial failed):
+        // that trial again with scalar scaling, for the mechanism; its steps count, it adds
+        // no increment. Kept as it was if the scalar trial finds an equilibrium.
+        let mut trial = stable_sim.clone();
+        trial.set_block_scaling(false);
+        trial.set_tilt(deg_to_rad(unstable));
+        let (stage, steps) = ctx.run_stage(&mut trial, predict(&secant, unstable))?;
+        total_steps += steps;
+        if let Stage::Collapsed(r) = stage {
+            reason = r;
+            failed = trial;
         }
     }
     // Stable increments first, sorted by α, then unstable trials by α.
