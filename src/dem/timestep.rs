@@ -54,6 +54,7 @@ pub fn inv_sqrt(i: &Matrix3<f64>) -> Matrix3<f64> {
 /// `Σ_nodes Σ_dirs k g_p g_qᵀ` without the signs, from the node moments `w = Σ w`,
 /// `sp = Σ w r_p`, `sq = Σ w r_q`, `rpq = Σ w r_p r_qᵀ` (N/m, N, N·m), for `C₀` with the
 /// stiffnesses `ks`, `beta = Kn − Ks` (Pa/m) and the unit normal `n`.
+#[allow(clippy::too_many_arguments)]
 fn block(c0: &Mat3, n: &Vec3, ks: f64, beta: f64, w: f64, sp: &Vec3, sq: &Vec3, rpq: &Mat3) -> Matrix6<f64> {
     let mut k = Matrix6::zeros();
     // TT: Σ w C₀;  TR: Σ w C₀ [r_q]×ᵀ;  RT: Σ w [r_p]× C₀;
@@ -363,7 +364,7 @@ pub fn block_masses(
             }
             let m = (m + m.transpose()) * 0.5;
             let e = m.symmetric_eigen();
-            if e.eigenvalues.iter().any(|&l| !(l > 0.0) || !l.is_finite()) {
+            if e.eigenvalues.iter().any(|&l| l.is_nan() || l <= 0.0 || !l.is_finite()) {
                 return None;
             }
             Some(super::state::BlockMass { q: e.eigenvectors, inv_lambda: e.eigenvalues.map(|l| 1.0 / l) })
