@@ -1,0 +1,26 @@
+//! The offset 2-block stack of `verify` (b = h = 0.15 m, e = 0.2 b, rigid joints; closed
+//! form 21.80°) tilted with scalar and with block density scaling, with and without the
+//! secant predictor: prints the steps, α_max and every increment above 20° as
+//! `alpha:S|U:steps` (S stable, U no equilibrium or collapse).
+//!
+//! `cargo run --release --example knife_edge`
+use drystone::dem::SolverParams;
+use drystone::layout::BaseSliding;
+use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::verify::{box_vertices, layout_of, RIGID_KN};
+fn main() {
+    let (b, h) = (0.15, 0.15);
+    let e = 0.2 * b;
+    let blocks = vec![
+        box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h]),
+        box_vertices([0.0, -b / 2.0 + e, h], [0.3, b / 2.0 + e, 2.0 * h]),
+    ];
+    let l = layout_of(blocks, RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
+    for (block, pred) in [(false, true), (true, true), (false, false), (true, false)] {
+        let s = SolverParams { block_scaling: block, ..SolverParams::default() };
+        let t = TiltParams { resolution_deg: 0.0625, predictor: pred, ..TiltParams::default() };
+        let r = run_tilt(&l, s, &t).unwrap();
+        let inc: Vec<String> = r.increments.iter().filter(|i| i.alpha_deg > 20.0).map(|i| format!("{}:{}:{}", i.alpha_deg, if i.stable {"S"} else {"U"}, i.steps)).collect();
+        println!("block {block} predictor {pred}: {} steps, alpha {} {:?}", r.steps, r.collapse_angle_deg, inc);
+    }
+}
