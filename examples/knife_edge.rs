@@ -1,7 +1,8 @@
 //! The offset 2-block stack of `verify` (b = h = 0.15 m, e = 0.2 b, rigid joints; closed
 //! form 21.80°) tilted with scalar and with block density scaling, with and without the
 //! secant predictor: prints the steps, α_max and every increment above 20° as
-//! `alpha:S|U:steps` (S stable, U no equilibrium or collapse).
+//! `alpha:S|U:steps` (S stable, U no equilibrium or collapse); then, for both scalings
+//! relaxed to 21.5° by 0.5° increments, the forces locked into each joint.
 //!
 //! `cargo run --release --example knife_edge`
 use drystone::dem::SolverParams;
@@ -20,7 +21,42 @@ fn main() {
         let s = SolverParams { block_scaling: block, ..SolverParams::default() };
         let t = TiltParams { resolution_deg: 0.0625, predictor: pred, ..TiltParams::default() };
         let r = run_tilt(&l, s, &t).unwrap();
-        let inc: Vec<String> = r.increments.iter().filter(|i| i.alpha_deg > 20.0).map(|i| format!("{}:{}:{}", i.alpha_deg, if i.stable {"S"} else {"U"}, i.steps)).collect();
+        let inc: Vec<String> = r
+            .increments
+            .iter()
+            .filter(|i| i.alpha_deg > 20.0)
+            .map(|i| format!("{}:{}:{}", i.alpha_deg, if i.stable { "S" } else { "U" }, i.steps))
+            .collect();
         println!("block {block} predictor {pred}: {} steps, alpha {} {:?}", r.steps, r.collapse_angle_deg, inc);
+    }
+    locked_in_shear(&l);
+}
+
+/// After the tilt runs: both scalings relaxed by 0.5° increments (no predictor) to 21.5°,
+/// and per contact the normal force, the shear force and the mobilised friction
+/// |Fs| / (Fn tan φ) of the sub-contact sums, to compare the locked-in shear of the two paths.
+fn locked_in_shear(l: &drystone::layout::Layout) {
+    use drystone::dem::Simulation;
+    for block in [false, true] {
+        let mut sim = Simulation::new(l, SolverParams { block_scaling: block, ..SolverParams::default() });
+        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
+        for k in 1..=43 {
+            sim.set_tilt((k as f64 * 0.5f64).to_radians());
+            assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap(), "unstable at {}", k as f64 * 0.5);
+        }
+        for c in &sim.contacts {
+            let n = sim.contact_normal(c);
+            let fnorm: f64 = c.subs.iter().map(|s| s.state.normal).sum();
+            let fs: drystone::Vec3 = c.subs.iter().map(|s| s.state.shear).sum();
+            let fsn = (fs - n * n.dot(&fs)).norm();
+            println!(
+                "block {block}: {} Fn {:.3} N, |Fs| {:.3} N, mobilised {:.4}, top rotation {:.3e} rad",
+                sim.joint_name(c),
+                fnorm,
+                fsn,
+                fsn / (fnorm * c.joint.tan_phi),
+                sim.bodies[1].rot.angle()
+            );
+        }
     }
 }
