@@ -89,7 +89,9 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
         return;
     }
     if let Some(bm) = &b.block_mass {
-        advance_block(b.vel, b.angvel, bm, force, torque, dt, damping, y).apply(b, dt);
+        (b.vel, b.angvel) = block_velocities(b.vel, b.angvel, bm, force, torque, dt, damping, y);
+        b.pos += b.vel * dt;
+        b.rotate(b.angvel * dt);
         return;
     }
     let mut f = damp(force, &b.vel, damping);
@@ -109,30 +111,14 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
     b.rotate(b.angvel * dt);
 }
 
-/// New velocities of a body with a 6 × 6 block mass.
-struct BlockUpdate {
-    vel: Vec3,
-    angvel: Vec3,
-}
-
-impl BlockUpdate {
-    #[inline(always)]
-    fn apply(self, b: &mut Body, dt: f64) {
-        b.vel = self.vel;
-        b.angvel = self.angvel;
-        b.pos += b.vel * dt;
-        b.rotate(b.angvel * dt);
-    }
-}
-
-/// One step of a body with block density scaling: the force and torque `(F, T)` and the
-/// velocities `(v, ω)` in the eigenbasis `Q` of the block mass, local damping per
+/// The new velocities `(v, ω)` of a body with block density scaling: the force and torque
+/// `(F, T)` and the velocities in the eigenbasis `Q` of the block mass, local damping per
 /// component there (so that damping and mass commute and each mass-normalized direction
 /// is damped as a single oscillator), `Δ = Q diag(1/λ) (damped Qᵀ(F, T)) Δt`. No gyroscopic
 /// term: the scaled inertia is a device for static solutions, not a rigid body's.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn advance_block(
+fn block_velocities(
     vel: Vec3,
     angvel: Vec3,
     bm: &super::state::BlockMass,
@@ -141,7 +127,7 @@ fn advance_block(
     dt: f64,
     damping: f64,
     y: YConstraint,
-) -> BlockUpdate {
+) -> (Vec3, Vec3) {
     let mut v = vel;
     if y == YConstraint::Held {
         force.y = 0.0;
@@ -161,7 +147,7 @@ fn advance_block(
     if y == YConstraint::Held {
         vel.y = 0.0;
     }
-    BlockUpdate { vel, angvel: Vec3::new(out[3], out[4], out[5]) }
+    (vel, Vec3::new(out[3], out[4], out[5]))
 }
 
 #[cfg(test)]

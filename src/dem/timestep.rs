@@ -6,7 +6,8 @@
 //! generalized directions `g_B = (d, r_B × d)` and `g_A = −(d, r_A × d)`, and adds
 //! `k g gᵀ` to the assembled stiffness `K` (6 dofs per body: translation, then rotation;
 //! table frame). The step is set by the highest frequency of `K` against the mass matrix
-//! `M = diag(s m, s m, s m, s R I Rᵀ)` (density scaling factor `s`, 1 without it),
+//! `M = diag(s m, s m, s m, s R I Rᵀ)` (density scaling factor `s`, 1 without it; a body's
+//! 6 × 6 block mass instead under block scaling, [`block_masses`]),
 //! `ω_max² = λ_max(M^{-1/2} K M^{-1/2})` ([`Stiffness::max_eigenvalue`], Lanczos), and the
 //! local damping α ([`step_for`]):
 //!
@@ -25,7 +26,7 @@
 //! `ω_max² ≤ 2 max_body λ_body` (each spring joins two bodies), which caps the Lanczos
 //! estimate. Up to session 5 the step was `0.8 × 2 / √(2 λ_body)`, without the damping
 //! factor: on the SBL wall, where the assembled `ω_max²` is 1.65 times the scaled body
-//! eigenvalue, that put the highest mode at 97.5 % of the damped limit, and a layout with a
+//! eigenvalue, that put the highest mode at 97–98 % of the damped limit, and a layout with a
 //! ratio above 1.75 (a column of blocks tends to 2) past it.
 //!
 //! The three springs of a node sum to `w C₀` with `C₀ = Ks I + (Kn − Ks) n nᵀ` (`w` the
@@ -148,17 +149,19 @@ impl Stiffness {
                 }
             }
         }
-        let body_lambdas = Self::diagonal_eigenvalues(&diag, &touched, bodies);
-        Stiffness { diag, touched, off, body_lambdas }
+        let mut k = Stiffness { diag, touched, off, body_lambdas: Vec::new() };
+        k.body_lambdas = k.diagonal_eigenvalues(bodies);
+        k
     }
 
-    /// `M^{-1/2}` of a body's inertial mass as the integrator uses it: its block mass
-    /// (`Q diag(λ^{-1/2}) Qᵀ`) if it has one, else `diag(1/√(s m), (s R I Rᵀ)^{-1/2})`.
-    fn scaled_mass_root(b: &Body) -> Matrix6<f64> {
-        if let Some(bm) = &b.block_mass {
+    /// `M^{-1/2}` of a body's inertial mass (6 × 6, table frame): with `scaled`, as the
+    /// integrator uses it, its block mass (`Q diag(λ^{-1/2}) Qᵀ`) if it has one, else
+    /// `diag(1/√(s m), (s R I Rᵀ)^{-1/2})`; without, the true mass (`s = 1`).
+    fn mass_root(b: &Body, scaled: bool) -> Matrix6<f64> {
+        if let (true, Some(bm)) = (scaled, &b.block_mass) {
             return bm.q * Matrix6::from_diagonal(&bm.inv_lambda.map(f64::sqrt)) * bm.q.transpose();
         }
-        let r = b.inertia_scale_inv.sqrt();
+        let r = if scaled { b.inertia_scale_inv.sqrt() } else { 1.0 };
         let mut s = Matrix6::zeros();
         for k in 0..3 {
             s[(k, k)] = r / b.mass.sqrt();
@@ -167,16 +170,9 @@ impl Stiffness {
         s
     }
 
-    /// `M^{-1/2}` per body: `1/√(s m)` and `(s R I Rᵀ)^{-1/2}` (kg^{-1/2}, (kg·m²)^{-1/2}),
-    /// with `s` each body's density scaling factor if `scaled`, else 1.
-    fn mass_roots(bodies: &[Body], scaled: bool) -> Vec<(f64, Mat3)> {
-        bodies
-            .iter()
-            .map(|b| {
-                let r = if scaled { b.inertia_scale_inv.sqrt() } else { 1.0 };
-                (r / b.mass.sqrt(), b.rot_mat * inv_sqrt(&b.inertia) * b.rot_mat.transpose() * r)
-            })
-            .collect()
+    /// `λ_max(S K_ii S)` for the mass root `S` of body `i`.
+    fn block_eigenvalue(&self, i: usize, s: &Matrix6<f64>) -> f64 {
+        (s * self.diag[i] * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
     }
 
     /// The largest eigenvalue `λ = ω²` (rad²/s²) of each body's diagonal block against its
@@ -186,22 +182,19 @@ impl Stiffness {
         &self.body_lambdas
     }
 
-    fn diagonal_eigenvalues(diag: &[Matrix6<f64>], touched: &[bool], bodies: &[Body]) -> Vec<f64> {
-        let roots = Self::mass_roots(bodies, false);
+    fn diagonal_eigenvalues(&self, bodies: &[Body]) -> Vec<f64> {
         bodies
             .iter()
             .enumerate()
-            .map(|(i, b)| {
-                if b.fixed || !touched[i] {
-                    return 0.0;
-                }
-                let mut s = Matrix6::<f64>::zeros();
-                for k in 0..3 {
-                    s[(k, k)] = roots[i].0;
-                }
-                s.fixed_view_mut::<3, 3>(3, 3).copy_from(&roots[i].1);
-                (s * diag[i] * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
-            })
+            .map(
+                |(i, b)| {
+                    if b.fixed || !self.touched[i] {
+                        0.0
+                    } else {
+                        self.block_eigenvalue(i, &Self::mass_root(b, false))
+                    }
+                },
+            )
             .collect()
     }
 
@@ -221,13 +214,15 @@ impl Stiffness {
         if free.is_empty() {
             return 0.0;
         }
-        let roots: Vec<Matrix6<f64>> = bodies.iter().map(Self::scaled_mass_root).collect();
-        // Bound: each spring joins two bodies, so ω_max² ≤ 2 max_i λ_max(S_i K_ii S_i).
+        let roots: Vec<Matrix6<f64>> = bodies.iter().map(|b| Self::mass_root(b, true)).collect();
+        // Bound: each spring joins two bodies, so ω_max² ≤ 2 max_i λ_max(S_i K_ii S_i); for a
+        // scalar-scaled body that is its true-mass eigenvalue over s.
         let bound = 2.0
             * free
                 .iter()
-                .map(|&i| {
-                    (roots[i] * self.diag[i] * roots[i]).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max)
+                .map(|&i| match bodies[i].block_mass {
+                    None => self.body_lambdas[i] * bodies[i].inertia_scale_inv,
+                    Some(_) => self.block_eigenvalue(i, &roots[i]),
                 })
                 .fold(0.0, f64::max);
         let nb = bodies.len();
@@ -311,13 +306,6 @@ impl Stiffness {
     }
 }
 
-/// The largest eigenvalue `λ = ω²` (rad²/s²) of each body's stiffness against its true
-/// mass matrix, with its neighbours held; 0 for fixed bodies and bodies without contacts.
-/// Shorthand for [`Stiffness::body_eigenvalues`].
-pub fn body_eigenvalues(bodies: &[Body], contacts: &[Contact]) -> Vec<f64> {
-    Stiffness::new(bodies, contacts).body_eigenvalues().to_vec()
-}
-
 /// Block-Jacobi density scaling (the block form of [`density_scaling`]; block-diagonal
 /// preconditioning of dynamic relaxation): each free body with contacts gets the inertial
 /// mass `M_i = K_ii / λ_target + ε s_i M_i⁰` (6 × 6, table frame), with `K_ii` its diagonal
@@ -391,7 +379,6 @@ pub fn step_for(lambda: f64, safety: f64, alpha: f64) -> Option<f64> {
 /// the Jacobi-preconditioned one, whose slowest mode converges in the fewest steps. Bodies
 /// without contacts keep `s = 1`. Returns the target and the factors. Equilibrium states do
 /// not depend on inertia; only the path to them does.
-///
 pub fn density_scaling(lambdas: &[f64]) -> (f64, Vec<f64>) {
     let mut v: Vec<f64> = lambdas.iter().copied().filter(|l| *l > 0.0).collect();
     if v.is_empty() {
