@@ -2,7 +2,9 @@
 //! never a panic (lumol's `tests/bad` habit: each bad input carries the expected message).
 
 use drystone::generator::{DistributionSource, Wall};
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+mod common;
 
 const GOOD: &str = r#"
 version = 1
@@ -35,10 +37,9 @@ friction_deg = 35
 base = "held"
 "#;
 
-fn scratch_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("drystone_generator_bad_input_{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A scratch directory of its own for each check (removed when dropped).
+fn scratch(name: &str) -> common::Scratch {
+    common::Scratch::created(&format!("generator-bad-input-{name}"))
 }
 
 fn library() -> DistributionSource {
@@ -47,7 +48,8 @@ fn library() -> DistributionSource {
 
 /// Writes `text` to a file called `name` and loads it; returns the error message.
 fn error_of(name: &str, text: &str, source: &DistributionSource) -> String {
-    let path = scratch_dir().join(name);
+    let dir = scratch(name);
+    let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     let r = std::panic::catch_unwind(|| Wall::from_file_with(&path, source).map(|_| ()));
     match r {
@@ -76,7 +78,8 @@ fn expect(name: &str, text: &str, keys: &[&str]) {
 
 #[test]
 fn the_base_description_is_good() {
-    let path = scratch_dir().join("good.toml");
+    let dir = scratch("good");
+    let path = dir.join("good.toml");
     std::fs::write(&path, GOOD).unwrap();
     Wall::from_file_with(&path, &library()).unwrap();
 }
@@ -162,7 +165,8 @@ fn unknown_distribution_name_or_key() {
 
 #[test]
 fn a_bad_distribution_file_is_named() {
-    let dir = scratch_dir().join("lib");
+    let scratch = scratch("lib");
+    let dir = scratch.join("lib");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("broken.toml"), "version = 1\nunit = \"deg\"\nkind = \"uniform\"\nmin = 5.0\nmax = -5.0\n")
         .unwrap();
@@ -175,7 +179,7 @@ fn a_bad_distribution_file_is_named() {
     let src =
         DistributionSource { dirs: vec![dir.clone(), Path::new(env!("CARGO_MANIFEST_DIR")).join("distributions")] };
     for (name, key) in [("broken", "max"), ("noversion", "version"), ("typo", "mean")] {
-        let path = scratch_dir().join(format!("uses_{name}.toml"));
+        let path = scratch.join(format!("uses_{name}.toml"));
         std::fs::write(&path, replace("\"dip_uniform_10\"", &format!("\"{name}\""))).unwrap();
         let msg = Wall::from_file_with(&path, &src).unwrap_err().to_string();
         let file = dir.join(format!("{name}.toml")).display().to_string();
@@ -240,7 +244,8 @@ fn arrangement_and_restraint_keys() {
 
 #[test]
 fn a_missing_file_is_named() {
-    let p = scratch_dir().join("does_not_exist.toml");
+    let dir = scratch("missing");
+    let p = dir.join("does_not_exist.toml");
     let e = Wall::from_file_with(&p, &library()).unwrap_err().to_string();
     assert!(e.contains("does_not_exist.toml"), "{e}");
 }

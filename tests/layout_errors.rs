@@ -4,6 +4,8 @@
 use drystone::layout::LayoutSpec;
 use std::process::Command;
 
+mod common;
+
 fn good() -> serde_json::Value {
     serde_json::json!({
         "version": 1,
@@ -118,8 +120,7 @@ fn nan_is_rejected_not_propagated() {
 
 #[test]
 fn cli_exits_non_zero_with_the_file_and_key_named() {
-    let dir = std::env::temp_dir().join(format!("drystone-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::created("layout-errors");
     let bad = dir.join("bad.json");
     let mut v = good();
     v["blocks"][0]["colour"] = "red".into();

@@ -8,6 +8,8 @@ use drystone::study::run::run_study;
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 
+mod common;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -41,10 +43,8 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     p
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("drystone-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+fn tmp(name: &str) -> common::Scratch {
+    common::Scratch::new(&format!("paper-studies-{name}"))
 }
 
 /// End restraint matters for short walls and fades with length: the restrained drift
@@ -196,7 +196,6 @@ fn a_suite_writes_one_report_with_every_study() {
     assert!(md.contains("](mini_lateral/figure11_length_height.svg)"), "links into the study's directory");
     assert!(out.join("mini_lateral/figure11_length_height.svg").exists());
     assert!(out.join("mini_lateral/realizations.parquet").exists());
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// Lateral-load ensembles are bit-identical on 1 and 2 threads (wall time aside).

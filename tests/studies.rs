@@ -6,6 +6,8 @@ use drystone::study::run::{read_shards, run_item, run_study, write_outputs};
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 
+mod common;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -93,10 +95,8 @@ fn ensemble_is_bit_identical_on_1_and_2_threads_and_alone() {
     assert_ne!(one[0].collapse_angle_deg, None);
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("drystone-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+fn tmp(name: &str) -> common::Scratch {
+    common::Scratch::new(&format!("studies-{name}"))
 }
 
 fn read(p: &Path) -> Vec<u8> {
@@ -111,13 +111,15 @@ fn shards_merge_into_exactly_the_unsharded_run() {
     let whole = tmp("whole");
     write_outputs(&s, &arg, Shard::ALL, &all, &whole).unwrap();
     let mut dirs = Vec::new();
+    let mut scratch = Vec::new();
     for k in 1..=3 {
         let sh = Shard::parse(&format!("{k}/3")).unwrap();
         let rows = zero_wall_time(run_study(&s, sh));
         let d = tmp(&format!("shard{k}"));
         write_outputs(&s, &arg, sh, &rows, &d).unwrap();
         assert!(!d.join("report.md").exists(), "a shard writes no report");
-        dirs.push(d);
+        dirs.push(d.to_path_buf());
+        scratch.push(d);
     }
     let (manifest, rows) = read_shards(&dirs).unwrap();
     assert_eq!(rows, all);

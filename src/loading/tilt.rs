@@ -13,8 +13,10 @@
 //!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
 //!    the last stable angle.
 //! 4. The mechanism is read from the motion between the last stable and the collapsed
-//!    state: the blocks that moved, the joints between moving and resting bodies, and for
-//!    each whether it slid (relative tangential motion dominates) or opened (toppling).
+//!    state ([`mechanism`]): the joints that failed (large relative motion), the groups of
+//!    blocks they cut loose from the table, the joints between moving and resting bodies,
+//!    and for each whether it slid (relative tangential motion dominates) or opened
+//!    (toppling).
 //!
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
@@ -351,7 +353,14 @@ impl Ctx<'_> {
 /// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
 /// its farthest point).
 fn body_motion(from: &BodyPose, to: &BodyPose, radius: f64) -> f64 {
-    (to.0 - from.0).norm() + (to.1 * from.1.inverse()).angle() * radius
+    (to.0 - from.0).norm() + rotation_angle(&(to.1 * from.1.inverse())) * radius
+}
+
+/// The angle of a rotation, rad, in [0, π]: `2 atan2(|v|, |w|)` for the quaternion (w, v),
+/// exact to rounding near zero, where the `2 acos(w)` of `UnitQuaternion::angle` reads one
+/// rounding error of w as a rotation of about 3e-8 rad.
+fn rotation_angle(q: &nalgebra::UnitQuaternion<f64>) -> f64 {
+    2.0 * q.imag().norm().atan2(q.scalar().abs())
 }
 
 /// The largest motion of a movable block since `start` (its position and orientation per
@@ -547,40 +556,118 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     })
 }
 
+/// Share of the largest motion above which a joint counts as failing (its relative motion)
+/// or a group of blocks as moving (its largest body motion) in [`mechanism`].
+const MECHANISM_SHARE: f64 = 0.25;
+
 /// The collapse mechanism from the motion between a stable and a failed state of the same
 /// simulation.
+///
+/// Read from the joints, not from the blocks one by one (a block at the foot of a toppling
+/// stack rotates with it but moves less than a third as far as the top):
+/// 1. every joint that carries force in the stable state gets its relative motion, the
+///    largest over its nodes of the change of the B − A node separation (m);
+/// 2. a joint *fails* if that motion exceeds [`MECHANISM_SHARE`] of the largest one;
+/// 3. the blocks joined by intact joints form rigid groups; a group *rests* if it holds a
+///    fixed body or is held by the table through an intact joint, or if no block of it
+///    moved (centroid motion plus rotation times radius) more than [`MECHANISM_SHARE`] of
+///    the largest block motion (e.g. an end-restrained group); the others *move*; nothing
+///    moves if no block moved more than 1e-9 of the largest block radius (rounding);
+/// 4. the mechanism's joints are those between a moving and a resting group, each sliding
+///    if its largest tangential relative motion exceeds its largest opening, else toppling;
+///    the governing joint is the lowest (mean node height in the stable state).
 pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
+    let nb = stable.bodies.len();
     let moved: Vec<f64> = stable
         .bodies
         .iter()
         .zip(&failed.bodies)
         .map(|(s, f)| body_motion(&(s.pos, s.rot), &(f.pos, f.rot), s.radius))
         .collect();
-    let max = moved.iter().cloned().fold(0.0, f64::max);
-    let moving: Vec<bool> = moved.iter().map(|&d| max > 0.0 && d > 0.25 * max).collect();
-    let is_moving = |i: Option<usize>| i.is_some_and(|i| moving[i]);
-    let mut joints: Vec<(f64, String, MechanismKind)> = Vec::new();
-    for c in &stable.contacts {
-        if is_moving(c.a) == is_moving(Some(c.b)) {
-            continue;
-        }
+    // Motion below a nanometre per metre of block size is rounding, not a mechanism.
+    let max_radius = stable.bodies.iter().map(|b| b.radius).fold(0.0, f64::max);
+    let max_moved = moved.iter().cloned().fold(0.0, f64::max);
+    let max_moved = if max_moved > 1e-9 * max_radius { max_moved } else { 0.0 };
+    // Relative motion, largest opening and slip, and mean node height of every
+    // load-carrying joint.
+    struct JointMotion {
+        contact: usize,
+        relative: f64,
+        open: f64,
+        slip: f64,
+        z: f64,
+    }
+    let mut motions = Vec::new();
+    for (ci, c) in stable.contacts.iter().enumerate() {
         if c.force.norm() == 0.0 {
             continue; // not a load-carrying joint in the stable state
         }
-        let (mut max_open, mut max_slip, mut z) = (0.0f64, 0.0f64, 0.0);
+        let (mut relative, mut open, mut slip, mut z) = (0.0f64, 0.0f64, 0.0f64, 0.0);
         let n = failed.contact_normal(c);
         for nd in &c.nodes {
             let (a0, b0) = stable.node_points(c, nd);
             let (a1, b1) = failed.node_points(c, nd);
             let dd = (b1 - a1) - (b0 - a0);
             let dn = dd.dot(&n);
-            max_open = max_open.max(dn);
-            max_slip = max_slip.max((dd - n * dn).norm());
+            relative = relative.max(dd.norm());
+            open = open.max(dn);
+            slip = slip.max((dd - n * dn).norm());
             z += 0.5 * (a0.z + b0.z) / c.nodes.len() as f64;
         }
-        let kind = if max_slip > max_open { MechanismKind::Sliding } else { MechanismKind::Toppling };
-        joints.push((z, stable.joint_name(c), kind));
+        motions.push(JointMotion { contact: ci, relative, open, slip, z });
     }
+    let max_relative = motions.iter().map(|m| m.relative).fold(0.0, f64::max);
+    // Rigid groups: union-find over the bodies and the ground (index nb) through intact joints.
+    let mut parent: Vec<usize> = (0..=nb).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    fn join(parent: &mut [usize], i: usize, j: usize) {
+        let (ri, rj) = (root(parent, i), root(parent, j));
+        if ri != rj {
+            parent[ri.max(rj)] = ri.min(rj);
+        }
+    }
+    for (k, b) in stable.bodies.iter().enumerate() {
+        if b.fixed {
+            join(&mut parent, k, nb);
+        }
+    }
+    for m in &motions {
+        if m.relative <= MECHANISM_SHARE * max_relative {
+            let c = &stable.contacts[m.contact];
+            join(&mut parent, c.a.unwrap_or(nb), c.b);
+        }
+    }
+    let mut group_motion = vec![0.0f64; nb + 1];
+    for (k, &d) in moved.iter().enumerate() {
+        let r = root(&mut parent, k);
+        group_motion[r] = group_motion[r].max(d);
+    }
+    let ground = root(&mut parent, nb);
+    let moving: Vec<bool> = (0..nb)
+        .map(|k| {
+            let r = root(&mut parent, k);
+            let cut_off = r != ground && group_motion[r] > MECHANISM_SHARE * max_moved;
+            max_moved > 0.0 && (cut_off || moved[k] > MECHANISM_SHARE * max_moved)
+        })
+        .collect();
+    let is_moving = |i: Option<usize>| i.is_some_and(|i| moving[i]);
+    let mut joints: Vec<(f64, String, MechanismKind)> = motions
+        .iter()
+        .filter(|m| {
+            let c = &stable.contacts[m.contact];
+            is_moving(c.a) != is_moving(Some(c.b))
+        })
+        .map(|m| {
+            let kind = if m.slip > m.open { MechanismKind::Sliding } else { MechanismKind::Toppling };
+            (m.z, stable.joint_name(&stable.contacts[m.contact]), kind)
+        })
+        .collect();
     joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let kind = if joints.is_empty() {
         MechanismKind::None
