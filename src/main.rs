@@ -51,9 +51,9 @@ enum Command {
         /// Fraction of the critical time-step bound used, in (0, 1].
         #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
         timestep_safety: f64,
-        /// 6 × 6 block density scaling (true) or the scalar one (false) while the wall
-        /// stands (`block_scaling` in a study's [solver] table); the trials that may fail
-        /// always run with scalar scaling.
+        /// 6 × 6 block density scaling (true) or the scalar one (false) (`block_scaling` in
+        /// a study's [solver] table); an increment whose block-scaled dynamics blow up is
+        /// repeated with scalar scaling.
         #[arg(long, default_value_t = SolverParams::default().block_scaling, action = clap::ArgAction::Set)]
         block_scaling: bool,
         /// Share of the scalar-scaled mass in each block mass (`block_mass_floor`), in (0, 10].

@@ -83,16 +83,18 @@ pub struct SolverParams {
     /// With density scaling, make each body's inertial mass its own 6 × 6 contact stiffness
     /// block (block-Jacobi scaling) instead of a scalar multiple of its mass and inertia:
     /// every direction of every body then has about the same frequency against its held
-    /// neighbours, not only the stiffest one (see `dem::timestep::block_masses`). Only while
-    /// the wall stands: the tilting table runs its bisection trials (the ones that may fail,
-    /// from which the mechanism is read) with scalar scaling, re-runs a failed block-scaled
-    /// increment with scalar scaling for the mechanism, and falls back to scalar scaling if
-    /// a block-scaled increment blows up; the lateral load never uses it. SBL, 8
-    /// realizations: 376,614 steps against 490,858 (−23 %), the same collapse angles; the
-    /// `verify` cases give the same angles and mechanisms as with scalar scaling; the main
-    /// job the same collapse angles in 1,191,440 steps against 1,569,343 (−24 %). Default
-    /// true (since session 7, once the mechanism was read joint by joint; before, the foot
-    /// of the aligned 5-block stack of `verify` was reported at rest); false turns it off.
+    /// neighbours, not only the stiffest one (see `dem::timestep::block_masses`). The
+    /// tilting table uses it for every increment and bisection trial, and repeats with
+    /// scalar scaling (kept from there on) an increment whose block-scaled dynamics blow up;
+    /// the lateral load never uses it (its collapse is one solve, and a block pushed over by
+    /// twice its overturning load blew up under block scaling). Effect (session 7, the
+    /// mechanism read joint by joint): SBL, 8 realizations, 304,753 steps against 490,858
+    /// scalar (−38 %), the same collapse angles; the main job 762,238 steps against
+    /// 1,569,343 (−51 %), the same collapse angles and governing joints (up to ties between
+    /// base joints); `verify` the same angles except the knife-edge offset stack
+    /// e = 0.2 b, whose 21.6875° trial fails under block-scaled dynamics (−0.176° against
+    /// −0.114° scalar, inside the 0.3° tolerance). Default true; false restores scalar
+    /// scaling throughout.
     pub block_scaling: bool,
     /// With block scaling, the share ε of the scalar-scaled mass added to each block mass
     /// (`M = K_ii/λ_target + ε s M⁰`), in (0, 10]. Default 0.05. Smaller values precondition

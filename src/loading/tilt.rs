@@ -349,6 +349,36 @@ impl Ctx<'_> {
     }
 }
 
+impl Ctx<'_> {
+    /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
+    /// relaxed ([`Ctx::run_stage`]). If block-scaled dynamics blow up (a collapse can throw
+    /// light soft directions of a block mass into re-closing contacts), the trial again from
+    /// `from` with scalar scaling, which the returned state keeps. Returns the state, the
+    /// stage and the steps taken, those of a blown-up attempt included.
+    fn run_from(
+        &self,
+        from: &Simulation,
+        alpha_deg: f64,
+        prediction: Option<Prediction>,
+    ) -> Result<(Simulation, Stage, u64), DemError> {
+        let mut sim = from.clone();
+        sim.set_tilt(deg_to_rad(alpha_deg));
+        let before = sim.steps;
+        match self.run_stage(&mut sim, prediction.clone()) {
+            Ok((stage, steps)) => Ok((sim, stage, steps)),
+            Err(DemError::NonFinite { .. }) if sim.params.block_scaling => {
+                let wasted = sim.steps - before;
+                let mut sim = from.clone();
+                sim.set_block_scaling(false);
+                sim.set_tilt(deg_to_rad(alpha_deg));
+                let (stage, steps) = self.run_stage(&mut sim, prediction)?;
+                Ok((sim, stage, steps + wasted))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
 /// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
 /// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
 /// its farthest point).
@@ -438,20 +468,8 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         if alpha > params.max_angle_deg + 1e-9 {
             break;
         }
-        sim.set_tilt(deg_to_rad(alpha));
-        let before = sim.steps;
-        let (stage, steps) = match ctx.run_stage(&mut sim, predict(&secant, alpha)) {
-            Err(DemError::NonFinite { .. }) if sim.params.block_scaling => {
-                // The block-scaled dynamics of a collapse blew up: the increment again, from
-                // the last stable state, with scalar scaling, which the run keeps from here.
-                total_steps += sim.steps - before;
-                sim = stable_sim.clone();
-                sim.set_block_scaling(false);
-                sim.set_tilt(deg_to_rad(alpha));
-                ctx.run_stage(&mut sim, predict(&secant, alpha))?
-            }
-            r => r?,
-        };
+        let (next, stage, steps) = ctx.run_from(&stable_sim, alpha, predict(&secant, alpha))?;
+        sim = next;
         total_steps += steps;
         let inc = Increment {
             alpha_deg: alpha,
@@ -495,12 +513,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     // Bisection of the bracket from the last stable state.
     while unstable - last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + last_stable);
-        let mut trial = stable_sim.clone();
-        // The trials that may fail, and so the state the mechanism is read from, run with
-        // scalar scaling (see `SolverParams::block_scaling`).
-        trial.set_block_scaling(false);
-        trial.set_tilt(deg_to_rad(mid));
-        let (stage, steps) = ctx.run_stage(&mut trial, predict(&secant, mid))?;
+        let (trial, stage, steps) = ctx.run_from(&stable_sim, mid, predict(&secant, mid))?;
         total_steps += steps;
         increments.push(Increment {
             alpha_deg: mid,
@@ -520,20 +533,6 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
                 reason = r;
                 failed = trial;
             }
-        }
-    }
-    if failed.params.block_scaling {
-        // The failed state came from a block-scaled increment (no bisection trial failed):
-        // that trial again with scalar scaling, for the mechanism; its steps count, it adds
-        // no increment. Kept as it was if the scalar trial finds an equilibrium.
-        let mut trial = stable_sim.clone();
-        trial.set_block_scaling(false);
-        trial.set_tilt(deg_to_rad(unstable));
-        let (stage, steps) = ctx.run_stage(&mut trial, predict(&secant, unstable))?;
-        total_steps += steps;
-        if let Stage::Collapsed(r) = stage {
-            reason = r;
-            failed = trial;
         }
     }
     // Stable increments first, sorted by α, then unstable trials by α.
