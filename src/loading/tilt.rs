@@ -192,6 +192,11 @@ pub struct TiltResult {
     pub detections: u64,
     /// Largest density-scaling factor applied (1: none; see `SolverParams::density_scaling`).
     pub max_density_scale: f64,
+    /// The tilts (degrees, in the order tried) of the increments and trials whose
+    /// block-scaled dynamics blew up and were repeated with scalar scaling (see
+    /// `SolverParams::block_scaling`); empty if none did.
+    #[serde(default)]
+    pub scalar_fallbacks_deg: Vec<f64>,
 }
 
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
@@ -354,12 +359,14 @@ impl Ctx<'_> {
     /// relaxed ([`Ctx::run_stage`]). If block-scaled dynamics blow up (a collapse can throw
     /// light soft directions of a block mass into re-closing contacts), the trial again from
     /// `from` with scalar scaling, which the returned state keeps. Returns the state, the
-    /// stage and the steps taken, those of a blown-up attempt included.
+    /// stage and the steps taken, those of a blown-up attempt included; `fallbacks` gets
+    /// `alpha_deg` if the trial fell back.
     fn run_from(
         &self,
         from: &Simulation,
         alpha_deg: f64,
         prediction: Option<Prediction>,
+        fallbacks: &mut Vec<f64>,
     ) -> Result<(Simulation, Stage, u64), DemError> {
         let mut sim = from.clone();
         sim.set_tilt(deg_to_rad(alpha_deg));
@@ -368,6 +375,7 @@ impl Ctx<'_> {
             Ok((stage, steps)) => Ok((sim, stage, steps)),
             Err(DemError::NonFinite { .. }) if sim.params.block_scaling => {
                 let wasted = sim.steps - before;
+                fallbacks.push(alpha_deg);
                 let mut sim = from.clone();
                 sim.set_block_scaling(false);
                 sim.set_tilt(deg_to_rad(alpha_deg));
@@ -462,13 +470,14 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     let predict = |secant: &Secant, alpha: f64| if params.predictor { secant.predict(alpha) } else { None };
     let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
     let mut total_steps = sim.steps;
+    let mut fallbacks = Vec::new();
     let mut k = 1;
     loop {
         let alpha = k as f64 * params.step_deg;
         if alpha > params.max_angle_deg + 1e-9 {
             break;
         }
-        let (next, stage, steps) = ctx.run_from(&stable_sim, alpha, predict(&secant, alpha))?;
+        let (next, stage, steps) = ctx.run_from(&stable_sim, alpha, predict(&secant, alpha), &mut fallbacks)?;
         sim = next;
         total_steps += steps;
         let inc = Increment {
@@ -508,12 +517,13 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             wall_width_m: width,
             detections: sim.detections,
             max_density_scale: sim.max_density_scale,
+            scalar_fallbacks_deg: fallbacks,
         });
     };
     // Bisection of the bracket from the last stable state.
     while unstable - last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + last_stable);
-        let (trial, stage, steps) = ctx.run_from(&stable_sim, mid, predict(&secant, mid))?;
+        let (trial, stage, steps) = ctx.run_from(&stable_sim, mid, predict(&secant, mid), &mut fallbacks)?;
         total_steps += steps;
         increments.push(Increment {
             alpha_deg: mid,
@@ -552,6 +562,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         wall_width_m: width,
         detections: failed.detections,
         max_density_scale: failed.max_density_scale.max(stable_sim.max_density_scale),
+        scalar_fallbacks_deg: fallbacks,
     })
 }
 
