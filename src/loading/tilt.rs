@@ -568,7 +568,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
 
 /// Share of the largest motion above which a joint counts as failing (its relative motion)
 /// or a group of blocks as moving (its largest body motion) in [`mechanism`].
-const MECHANISM_SHARE: f64 = 0.25;
+pub const MECHANISM_SHARE: f64 = 0.25;
 
 /// The collapse mechanism from the motion between a stable and a failed state of the same
 /// simulation.
