@@ -98,10 +98,12 @@ pub struct SolverParams {
     pub block_scaling: bool,
     /// With block scaling, the share ε of the scalar-scaled mass added to each block mass
     /// (`M = K_ii/λ_target + ε s M⁰`), in (0, 10]. Default 0.05. Smaller values precondition
-    /// more: SBL, 8 realizations, block scaling throughout (no scalar trials): 0.05 → 307,156
-    /// steps, 0.25 → 343,722, 1 → 447,794 (scalar: 490,858). At 0.05 and 0.25 a single block
+    /// more: SBL, 8 realizations, block scaling throughout (session 6, before the
+    /// mechanism and switch fixes): 0.05 → 307,156 steps, 0.25 → 343,722, 1 → 447,794
+    /// (scalar: 490,858); SBL realization 0 (session 7): 0.01 → 33,884, 0.001 → 34,668, 1e-5
+    /// → 32,912 against 33,193 at 0.05, no blow-up. At 0.05 and 0.25 a single block
     /// overturned by twice its overturning lateral load blows up under block scaling (hence
-    /// scalar scaling for collapses).
+    /// scalar scaling for the lateral load).
     pub block_mass_floor: f64,
 }
 
