@@ -352,9 +352,7 @@ impl Ctx<'_> {
         }
         Ok((Stage::Collapsed(CollapseReason::NoEquilibrium), steps))
     }
-}
 
-impl Ctx<'_> {
     /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
     /// relaxed ([`Ctx::run_stage`]). If block-scaled dynamics blow up (a collapse can throw
     /// light soft directions of a block mass into re-closing contacts), the trial again from
