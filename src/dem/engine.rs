@@ -92,9 +92,10 @@ pub struct SolverParams {
     /// scalar (−38 %), the same collapse angles; the main job 762,238 steps against
     /// 1,569,343 (−51 %), the same collapse angles and governing joints (up to ties between
     /// base joints); `verify` the same angles except the knife-edge offset stack
-    /// e = 0.2 b, whose 21.6875° trial fails under block-scaled dynamics (−0.176° against
-    /// −0.114° scalar, inside the 0.3° tolerance). Default true; false restores scalar
-    /// scaling throughout.
+    /// e = 0.2 b, whose 21.6875° trial finds no equilibrium within the step budget (−0.176°
+    /// against −0.114° scalar, inside the 0.3° tolerance): the block masses come from every
+    /// node, open or closed, so on a knife edge the rocking mode is heavy and relaxes
+    /// slowly. Default true; false restores scalar scaling throughout.
     pub block_scaling: bool,
     /// With block scaling, the share ε of the scalar-scaled mass added to each block mass
     /// (`M = K_ii/λ_target + ε s M⁰`), in (0, 10]. Default 0.05. Smaller values precondition
