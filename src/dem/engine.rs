@@ -93,9 +93,9 @@ pub struct SolverParams {
     /// 1,569,343 (−51 %), the same collapse angles and governing joints (up to ties between
     /// base joints); `verify` the same angles except the knife-edge offset stack
     /// e = 0.2 b, whose 21.6875° trial finds no equilibrium within the step budget (−0.176°
-    /// against −0.114° scalar, inside the 0.3° tolerance): the block masses come from every
-    /// node, open or closed, so on a knife edge the rocking mode is heavy and relaxes
-    /// slowly. Default true; false restores scalar scaling throughout.
+    /// against −0.114° scalar, inside the 0.3° tolerance): near a knife edge block-scaled
+    /// relaxation is far slower than scalar (`BENCHMARKS.md`, session 7). Default true;
+    /// false restores scalar scaling throughout.
     pub block_scaling: bool,
     /// With block scaling, the share ε of the scalar-scaled mass added to each block mass
     /// (`M = K_ii/λ_target + ε s M⁰`), in (0, 10]. Default 0.05. Smaller values precondition
