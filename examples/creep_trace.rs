@@ -8,14 +8,11 @@
 
 mod common;
 
-use drystone::layout::Layout;
-use std::path::Path;
-
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
-    let last: f64 = args[2].parse().unwrap();
-    let trial: f64 = args[3].parse().unwrap();
+    let args = common::args(3, "creep_trace LAYOUT.json LAST_STABLE TRIAL");
+    let layout = common::layout(&args[0]);
+    let last: f64 = common::number(&args[1], "LAST_STABLE");
+    let trial: f64 = common::number(&args[2], "TRIAL");
     let mut sim = common::settled_at(&layout, last);
     sim.set_tilt(trial.to_radians());
     let start: Vec<_> = sim.bodies.iter().map(|b| b.pos).collect();

@@ -4,16 +4,16 @@
 //!
 //! `cargo run --release --example profile_steps -- LAYOUT.json [STEPS] [TILT_DEG]`
 
+mod common;
+
 use drystone::dem::{Simulation, SolverParams};
-use drystone::layout::Layout;
-use std::path::Path;
 use std::time::Instant;
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
-    let steps: u64 = args.get(2).map_or(2000, |s| s.parse().unwrap());
-    let tilt: f64 = args.get(3).map_or(10.0, |s| s.parse().unwrap());
+    let args = common::args(1, "profile_steps LAYOUT.json [STEPS] [TILT_DEG]");
+    let layout = common::layout(&args[0]);
+    let steps: u64 = args.get(1).map_or(2000, |s| common::number(s, "STEPS"));
+    let tilt: f64 = args.get(2).map_or(10.0, |s| common::number(s, "TILT_DEG"));
     let mut sim = Simulation::new(&layout, SolverParams::default());
     let t0 = Instant::now();
     let settled = sim.run_to_equilibrium(1e-4, 400_000).unwrap();

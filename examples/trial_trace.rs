@@ -7,14 +7,11 @@
 
 mod common;
 
-use drystone::layout::Layout;
-use std::path::Path;
-
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let layout = Layout::from_file(Path::new(&args[1])).expect("layout");
-    let last: f64 = args[2].parse().unwrap();
-    let angles: Vec<f64> = args[3..].iter().map(|s| s.parse().unwrap()).collect();
+    let args = common::args(3, "trial_trace LAYOUT.json LAST_STABLE ANGLE...");
+    let layout = common::layout(&args[0]);
+    let last: f64 = common::number(&args[1], "LAST_STABLE");
+    let angles: Vec<f64> = args[2..].iter().map(|s| common::number(s, "ANGLE")).collect();
     // The wall width of the collapse criteria (as in `loading::tilt`).
     let width = layout.bounds().extent().y;
     let sim = common::settled_at(&layout, last);
