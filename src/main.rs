@@ -238,6 +238,13 @@ fn run() -> Result<ExitCode> {
                     r.mechanism.blocks.len()
                 );
                 out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+                if !r.scalar_fallbacks_deg.is_empty() {
+                    let at: Vec<String> = r.scalar_fallbacks_deg.iter().map(|a| format!("{a:.3}")).collect();
+                    out!(
+                        "block scaling     blew up at {} deg; repeated with scalar scaling, kept from there on",
+                        at.join(", ")
+                    );
+                }
                 out!("out-of-plane displacement of the top points [cm]:");
                 out!("  alpha_deg  {}", r.monitors.join("  "));
                 for inc in r.increments.iter().filter(|i| i.stable) {
