@@ -15,6 +15,8 @@ use drystone::Vec3;
 use nalgebra::DMatrix;
 use std::path::PathBuf;
 
+mod common;
+
 /// `λ_max(M^{-1/2} K M^{-1/2})` by dense assembly, one spring at a time.
 fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
     let n = sim.bodies.len();
@@ -212,4 +214,36 @@ fn a_blown_up_block_scaled_increment_is_repeated_with_scalar_scaling() {
     assert_eq!(block.mechanism, scalar.mechanism);
     let closed_form = drystone::verify::winkler_collapse_angle(0.1125, 0.375, drystone::verify::DENSITY, 9.81, 5e7);
     assert!((block.collapse_angle_deg - closed_form.to_degrees()).abs() < 0.3, "{}", block.collapse_angle_deg);
+}
+
+/// The CLI names a fallback: `drystone tilt` on the soft-jointed block of the test above,
+/// tilted in 10° steps, prints the tilt at which block scaling blew up.
+#[test]
+fn the_tilt_command_reports_a_scalar_fallback() {
+    let (b, h, l) = (0.1125, 0.375, 0.3);
+    let mut vertices = Vec::new();
+    for z in [0.0, h] {
+        for y in [-b / 2.0, b / 2.0] {
+            for x in [0.0, l] {
+                vertices.push([x, y, z]);
+            }
+        }
+    }
+    let layout = serde_json::json!({
+        "version": 1,
+        "materials": [{"name": "m", "density_kg_per_m3": drystone::verify::DENSITY, "kn_pa_per_m": 5e7,
+                       "ks_pa_per_m": 2.5e7, "friction_deg": 60.0}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "b0", "material": "m", "vertices": vertices}]
+    });
+    let dir = common::Scratch::created("timestep-fallback");
+    let path = dir.join("block.json");
+    std::fs::write(&path, layout.to_string()).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["tilt", path.to_str().unwrap(), "--step-deg", "10"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("blew up at 20.000 deg; repeated with scalar scaling"), "{text}");
 }
