@@ -462,12 +462,13 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         unbalanced_ratio: sim.stats.unbalanced_ratio,
     }];
     let mut last_stable = 0.0;
-    let mut stable_sim = sim.clone();
     let mut secant = Secant::default();
     secant.push(0.0, &sim);
+    let mut total_steps = sim.steps;
+    // Every increment and trial starts from the last stable state.
+    let mut stable_sim = sim;
     let predict = |secant: &Secant, alpha: f64| if params.predictor { secant.predict(alpha) } else { None };
     let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
-    let mut total_steps = sim.steps;
     let mut fallbacks = Vec::new();
     let mut k = 1;
     loop {
@@ -476,30 +477,27 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             break;
         }
         let (next, stage, steps) = ctx.run_from(&stable_sim, alpha, predict(&secant, alpha), &mut fallbacks)?;
-        sim = next;
         total_steps += steps;
-        let inc = Increment {
+        increments.push(Increment {
             alpha_deg: alpha,
             stable: matches!(stage, Stage::Stable),
             steps,
-            displacement_m: ctx.displacements(&sim),
-            unbalanced_ratio: sim.stats.unbalanced_ratio,
-        };
-        increments.push(inc);
+            displacement_m: ctx.displacements(&next),
+            unbalanced_ratio: next.stats.unbalanced_ratio,
+        });
         match stage {
             Stage::Stable => {
                 last_stable = alpha;
-                stable_sim = sim.clone();
-                secant.push(alpha, &sim);
+                secant.push(alpha, &next);
+                stable_sim = next;
             }
             Stage::Collapsed(reason) => {
-                first_unstable = Some((alpha, reason, sim.clone()));
+                first_unstable = Some((alpha, reason, next));
                 break;
             }
         }
         k += 1;
     }
-    let dt_s = sim.dt;
     let Some((mut unstable, mut reason, mut failed)) = first_unstable else {
         return Ok(TiltResult {
             collapse_angle_deg: last_stable,
@@ -510,14 +508,16 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             monitors: monitors.iter().map(|m| m.name.clone()).collect(),
             increments,
             steps: total_steps,
-            dt_s,
+            dt_s: stable_sim.dt,
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
-            detections: sim.detections,
-            max_density_scale: sim.max_density_scale,
+            detections: stable_sim.detections,
+            max_density_scale: stable_sim.max_density_scale,
             scalar_fallbacks_deg: fallbacks,
         });
     };
+    // Time step of the first failing increment (bisection trials may replace `failed`).
+    let dt_s = failed.dt;
     // Bisection of the bracket from the last stable state.
     while unstable - last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + last_stable);
