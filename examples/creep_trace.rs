@@ -8,12 +8,14 @@
 
 mod common;
 
+use drystone::dem::SolverParams;
+
 fn main() {
     let args = common::args(3, "creep_trace LAYOUT.json LAST_STABLE TRIAL");
     let layout = common::layout(&args[0]);
     let last: f64 = common::number(&args[1], "LAST_STABLE");
     let trial: f64 = common::number(&args[2], "TRIAL");
-    let mut sim = common::settled_at(&layout, last);
+    let mut sim = common::settled_at(&layout, last, SolverParams::default());
     sim.set_tilt(trial.to_radians());
     let start: Vec<_> = sim.bodies.iter().map(|b| b.pos).collect();
     for s in 1..=60_000u64 {

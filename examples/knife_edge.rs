@@ -5,6 +5,9 @@
 //! relaxed to 21.5° by 0.5° increments, the forces locked into each joint.
 //!
 //! `cargo run --release --example knife_edge`
+
+mod common;
+
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{run_tilt, TiltParams};
@@ -36,14 +39,8 @@ fn main() {
 /// and per contact the normal force, the shear force and the mobilised friction
 /// |Fs| / (Fn tan φ) of the sub-contact sums, to compare the locked-in shear of the two paths.
 fn locked_in_shear(l: &drystone::layout::Layout) {
-    use drystone::dem::Simulation;
     for block in [false, true] {
-        let mut sim = Simulation::new(l, SolverParams { block_scaling: block, ..SolverParams::default() });
-        assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap());
-        for k in 1..=43 {
-            sim.set_tilt((k as f64 * 0.5f64).to_radians());
-            assert!(sim.run_to_equilibrium(1e-4, 400_000).unwrap(), "unstable at {}", k as f64 * 0.5);
-        }
+        let sim = common::settled_at(l, 21.5, SolverParams { block_scaling: block, ..SolverParams::default() });
         for c in &sim.contacts {
             let n = sim.contact_normal(c);
             let fnorm: f64 = c.subs.iter().map(|s| s.state.normal).sum();

@@ -7,6 +7,8 @@
 
 mod common;
 
+use drystone::dem::SolverParams;
+
 fn main() {
     let args = common::args(3, "trial_trace LAYOUT.json LAST_STABLE ANGLE...");
     let layout = common::layout(&args[0]);
@@ -14,7 +16,7 @@ fn main() {
     let angles: Vec<f64> = args[2..].iter().map(|s| common::number(s, "ANGLE")).collect();
     // The wall width of the collapse criteria (as in `loading::tilt`).
     let width = layout.bounds().extent().y;
-    let sim = common::settled_at(&layout, last);
+    let sim = common::settled_at(&layout, last, SolverParams::default());
     eprintln!("reached {last} deg after {} steps", sim.steps);
     println!("angle,step,moved_m,ke_j,ratio");
     for a in angles {
