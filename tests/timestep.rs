@@ -220,15 +220,7 @@ fn a_blown_up_block_scaled_increment_is_repeated_with_scalar_scaling() {
 /// tilted in 10° steps, prints the tilt at which block scaling blew up.
 #[test]
 fn the_tilt_command_reports_a_scalar_fallback() {
-    let (b, h, l) = (0.1125, 0.375, 0.3);
-    let mut vertices = Vec::new();
-    for z in [0.0, h] {
-        for y in [-b / 2.0, b / 2.0] {
-            for x in [0.0, l] {
-                vertices.push([x, y, z]);
-            }
-        }
-    }
+    let vertices = drystone::verify::rect_block(0.1125, 0.375, 0.3);
     let layout = serde_json::json!({
         "version": 1,
         "materials": [{"name": "m", "density_kg_per_m3": drystone::verify::DENSITY, "kn_pa_per_m": 5e7,
