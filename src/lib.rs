@@ -38,6 +38,7 @@
 
 pub mod benchmark;
 pub mod dem;
+pub mod discrepancy;
 pub mod ensemble;
 pub mod error;
 pub mod generator;

@@ -19,8 +19,11 @@ pub enum Purpose {
     Material,
     /// Bootstrap resampling in the statistics.
     Bootstrap,
-    /// Model-discrepancy analysis (synthetic data, cross-validation folds).
+    /// Model-discrepancy analysis (synthetic data, measurement noise, bootstrap of the
+    /// held-out error, null replicates).
     Discrepancy,
+    /// The random per-realization forms of the model-discrepancy effects.
+    Effect,
 }
 
 impl Purpose {
@@ -30,6 +33,7 @@ impl Purpose {
             Purpose::Material => 2,
             Purpose::Bootstrap => 3,
             Purpose::Discrepancy => 4,
+            Purpose::Effect => 5,
         }
     }
 }

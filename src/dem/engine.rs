@@ -523,7 +523,7 @@ impl Simulation {
             None => self.table_joint,
             Some(i) => self.layout_joints[self.bodies[i].material][self.bodies[b].material],
         };
-        let bonded = initial && (joint.cohesion > 0.0 || joint.tensile_strength > 0.0);
+        let bonded = initial && joint.has_strength();
         let bb = &self.bodies[b];
         let nodes = p
             .nodes

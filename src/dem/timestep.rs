@@ -102,7 +102,7 @@ impl Stiffness {
                 Some(i) => bodies[i].rot_mat * c.normal_a,
             };
             let n = (na + rb_mat * c.normal_b).normalize();
-            let (kn, ks) = (c.joint.kn, c.joint.ks);
+            let (kn, ks) = (c.joint.kn_bound(), c.joint.ks);
             let beta = kn - ks;
             let c0 = Mat3::identity() * ks + n * n.transpose() * beta;
             // Node areas: a third of every sub-contact the node belongs to.

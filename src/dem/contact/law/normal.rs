@@ -1,0 +1,456 @@
+//! Normal closure sub-models: the joint pressure as a function of the closure, and its
+//! integral over a sub-contact triangle.
+//!
+//! A sub-contact is a triangle of area `A` (m²). The closure `u` (m, positive when the two
+//! faces overlap, `u = −gap`) is known at its three nodes and varies linearly over it. A
+//! closure law gives the normal pressure `q(u)` (Pa, compression positive) for `u > 0`; the
+//! kernel returns the pressure moments `∫ q λᵢ dA` (N) for the barycentric coordinates
+//! `λᵢ` of the nodes, whose sum is the normal force and whose ratios place it, and the area
+//! centroid of the compressed part (where the elastic shear acts).
+//!
+//! Laws:
+//! * [`NormalClosure::Linear`]: `q = Kn u` (Winkler joint; 3DEC's linear joint, Itasca
+//!   3DEC manual). Integrated exactly: the triangle is clipped at `u = 0` and the linear
+//!   pressure integrated in closed form over the compressed part.
+//! * [`NormalClosure::Hyperbolic`]: `q = Kni u / (1 − u / Vm)` for rough rock joints
+//!   (Bandis, Lumsden & Barton 1983, Int. J. Rock Mech. Min. Sci. 20:249, Eq. 4;
+//!   Goodman 1976): soft (`Kni`) at low stress and stiffening without bound as the closure
+//!   approaches the maximum closure `Vm`. Past `u = 0.8 Vm` the law continues along its
+//!   tangent (stiffness `25 Kni`), which bounds the tangent stiffness and so the critical
+//!   time step. Integrated over the compressed part along the closure gradient: the
+//!   triangle is cut at its middle nodal closure into two pieces on which the integral is
+//!   one dimensional, evaluated with 8-point Gauss–Legendre (relative error below 1e-10).
+//! * [`NormalClosure::Seating`]: an uneven bed whose initial gaps are spread uniformly over
+//!   `[0, g₀]` (the seating of hand-placed stones; the homogenised form of a uniform
+//!   asperity-height distribution, Greenwood & Williamson 1966): the share of the area in
+//!   contact at closure `u` is `min(u/g₀, 1)`, so `q = Kn u² / (2 g₀)` while the gaps close
+//!   and `q = Kn (u − g₀/2)` once all are closed. Soft at first, the linear joint after
+//!   seating. Integrated like the hyperbolic law (it is a quadratic, so exactly).
+//!
+//! A joint that carries tension (see [`super::tension`]) has `q = Kn u` (`Kni u`) for `u < 0`
+//! with either law, over the whole triangle.
+
+/// The normal closure law of a joint.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub enum NormalClosure {
+    /// Linear: `q = Kn u`.
+    #[default]
+    Linear,
+    /// Hyperbolic (Bandis et al. 1983): `q = Kn u / (1 − u / max_closure)` with `Kn` the
+    /// initial stiffness Kni (Pa/m) and `max_closure` Vm (m, > 0).
+    Hyperbolic {
+        /// Maximum closure Vm, m.
+        max_closure: f64,
+    },
+    /// Seating of an uneven bed: initial gaps uniform in `[0, max_gap]` (m, > 0) that
+    /// close under load, `q = Kn u² / (2 g₀)` for `u ≤ g₀`, `Kn (u − g₀/2)` beyond.
+    Seating {
+        /// Largest initial gap g₀, m.
+        max_gap: f64,
+    },
+}
+
+/// The closure ratio `u / Vm` past which the hyperbolic law continues along its tangent.
+pub const HYPERBOLIC_CAP: f64 = 0.8;
+
+/// Parameters of the normal closure sub-model (plain data).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalParams {
+    /// Normal stiffness Kn (linear) or initial normal stiffness Kni (hyperbolic), Pa/m.
+    pub kn: f64,
+    /// The closure law.
+    pub closure: NormalClosure,
+}
+
+impl NormalParams {
+    /// Pressure at closure `u` (m), Pa; compression positive. Negative `u` gives the
+    /// tensile branch `Kn u` (used only while a joint carries tension).
+    #[inline(always)]
+    pub fn pressure(&self, u: f64) -> f64 {
+        match self.closure {
+            NormalClosure::Linear => self.kn * u,
+            NormalClosure::Hyperbolic { max_closure } => hyperbolic(self.kn, max_closure, u),
+            NormalClosure::Seating { max_gap } => seating(self.kn, max_gap, u),
+        }
+    }
+
+    /// Largest tangent stiffness `dq/du` the law reaches, Pa/m (the stiffness the critical
+    /// time step must be taken from): `Kn` (linear), `25 Kni` (hyperbolic, at its cap).
+    pub fn stiffness_bound(&self) -> f64 {
+        match self.closure {
+            NormalClosure::Linear | NormalClosure::Seating { .. } => self.kn,
+            NormalClosure::Hyperbolic { .. } => self.kn / ((1.0 - HYPERBOLIC_CAP) * (1.0 - HYPERBOLIC_CAP)),
+        }
+    }
+
+    /// Strain energy per unit area stored at closure `u ≥ 0`, J/m²: `∫₀ᵘ q ds`.
+    pub fn energy_density(&self, u: f64) -> f64 {
+        match self.closure {
+            _ if u <= 0.0 => 0.5 * self.kn * u * u,
+            NormalClosure::Linear => 0.5 * self.kn * u * u,
+            NormalClosure::Hyperbolic { max_closure: vm } => {
+                let uc = HYPERBOLIC_CAP * vm;
+                let w = |s: f64| self.kn * vm * (-s - vm * (1.0 - s / vm).ln());
+                if u <= uc {
+                    w(u)
+                } else {
+                    let (qc, kc) = (hyperbolic(self.kn, vm, uc), self.stiffness_bound());
+                    w(uc) + qc * (u - uc) + 0.5 * kc * (u - uc) * (u - uc)
+                }
+            }
+            NormalClosure::Seating { max_gap: g } => {
+                if u <= g {
+                    self.kn * u * u * u / (6.0 * g)
+                } else {
+                    self.kn * (g * g / 6.0 + 0.5 * (u * u - g * g) - 0.5 * g * (u - g))
+                }
+            }
+        }
+    }
+}
+
+/// The hyperbolic pressure with its tangent continuation past the cap; linear in tension.
+#[inline(always)]
+fn hyperbolic(kni: f64, vm: f64, u: f64) -> f64 {
+    if u <= 0.0 {
+        return kni * u;
+    }
+    let uc = HYPERBOLIC_CAP * vm;
+    if u <= uc {
+        kni * u / (1.0 - u / vm)
+    } else {
+        let qc = kni * uc / (1.0 - HYPERBOLIC_CAP);
+        let kc = kni / ((1.0 - HYPERBOLIC_CAP) * (1.0 - HYPERBOLIC_CAP));
+        qc + kc * (u - uc)
+    }
+}
+
+/// The seating pressure; linear in tension.
+#[inline(always)]
+fn seating(kn: f64, g: f64, u: f64) -> f64 {
+    if u <= 0.0 {
+        kn * u
+    } else if u <= g {
+        kn * u * u / (2.0 * g)
+    } else {
+        kn * (u - 0.5 * g)
+    }
+}
+
+/// How the pressure is integrated over a sub-contact triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quadrature {
+    /// Integral over the compressed part of the triangle (exact for the linear law).
+    #[default]
+    Exact,
+    /// One third of the area at each node (3DEC vertex sub-contacts).
+    Vertex,
+}
+
+/// What the normal kernel returns for one sub-contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalResult {
+    /// `∫ q λᵢ dA` per node, N; their sum is the normal force on B (compression positive).
+    pub moments: [f64; 3],
+    /// Area centroid of the compressed part, barycentric (the triangle's centroid when all
+    /// or none of it is compressed).
+    pub area_centroid: [f64; 3],
+}
+
+/// The normal kernel: pressure moments of one sub-contact triangle of area `area` (m²) with
+/// nodal closures `u` (m). `tension`: the joint carries tension, so the whole triangle is
+/// integrated with the tensile branch where `u < 0`.
+#[inline(always)]
+pub fn integrate(p: &NormalParams, quad: Quadrature, u: [f64; 3], area: f64, tension: bool) -> NormalResult {
+    match p.closure {
+        NormalClosure::Linear => {
+            let q = [p.kn * u[0], p.kn * u[1], p.kn * u[2]];
+            linear_moments(q, area, quad, tension)
+        }
+        NormalClosure::Hyperbolic { .. } | NormalClosure::Seating { .. } => match quad {
+            Quadrature::Exact => nonlinear_moments(p, u, area, tension),
+            Quadrature::Vertex => linear_moments(u.map(|v| p.pressure(v)), area, Quadrature::Vertex, tension),
+        },
+    }
+}
+
+/// Moments of a pressure linear over the triangle with nodal values `q`.
+#[inline(always)]
+fn linear_moments(q: [f64; 3], area: f64, quad: Quadrature, tension: bool) -> NormalResult {
+    let (moments, area_centroid) = match (quad, tension) {
+        (Quadrature::Exact, true) => (moments_full(q, area), [1.0 / 3.0; 3]),
+        (Quadrature::Exact, false) => compressed_moments_centroid(q, area),
+        (Quadrature::Vertex, true) => (q.map(|v| v * area / 3.0), [1.0 / 3.0; 3]),
+        (Quadrature::Vertex, false) => {
+            let c = q.iter().filter(|&&v| v > 0.0).count().max(1) as f64;
+            (q.map(|v| v.max(0.0) * area / 3.0), q.map(|v| if v > 0.0 { 1.0 / c } else { 0.0 }))
+        }
+    };
+    NormalResult { moments, area_centroid }
+}
+
+/// ∫ q λᵢ dA over a triangle with linear q (nodal values `q`), area `area`:
+/// `A/12 (qᵢ + Σq)` for each barycentric coordinate λᵢ.
+#[inline(always)]
+pub(crate) fn moments_full(q: [f64; 3], area: f64) -> [f64; 3] {
+    let s = q[0] + q[1] + q[2];
+    let a12 = area * (1.0 / 12.0);
+    [a12 * (q[0] + s), a12 * (q[1] + s), a12 * (q[2] + s)]
+}
+
+/// ∫ max(q, 0) λᵢ dA over a triangle with linear q: the triangle is clipped at q = 0 and
+/// the compressed part (a triangle or a quadrilateral) integrated exactly.
+#[inline]
+pub fn compressed_moments(q: [f64; 3], area: f64) -> [f64; 3] {
+    compressed_moments_centroid(q, area).0
+}
+
+/// [`compressed_moments`] and, from the same clipping, the area centroid of the compressed
+/// part in barycentric coordinates (the triangle's centroid when all or none of it is
+/// compressed).
+///
+/// Dispatches on the sign pattern of `q` to a clipping compiled once per pattern, so that
+/// its branches and index arithmetic fold away (the floating-point operations, and so the
+/// results, are those of the generic algorithm).
+#[inline(always)]
+pub fn compressed_moments_centroid(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3]) {
+    match sign_mask(q) {
+        0 => ([0.0; 3], [1.0 / 3.0; 3]),
+        7 => (moments_full(q, area), [1.0 / 3.0; 3]),
+        1 => clipped_moments::<1>(q, area),
+        2 => clipped_moments::<2>(q, area),
+        3 => clipped_moments::<3>(q, area),
+        4 => clipped_moments::<4>(q, area),
+        5 => clipped_moments::<5>(q, area),
+        _ => clipped_moments::<6>(q, area),
+    }
+}
+
+#[inline(always)]
+fn sign_mask(q: [f64; 3]) -> u8 {
+    (q[0] > 0.0) as u8 | ((q[1] > 0.0) as u8) << 1 | ((q[2] > 0.0) as u8) << 2
+}
+
+/// The compressed part of a triangle whose nodes with `q > 0` are the set bits of `MASK`:
+/// up to four vertices in barycentric coordinates, with their `q`.
+#[inline(always)]
+fn clip<const MASK: u8>(q: [f64; 3]) -> ([([f64; 3], f64); 4], usize) {
+    let positive = |i: usize| MASK & (1 << i) != 0;
+    let mut poly: [([f64; 3], f64); 4] = [([0.0; 3], 0.0); 4];
+    let mut n = 0;
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        let mut bi = [0.0; 3];
+        bi[i] = 1.0;
+        if positive(i) {
+            poly[n] = (bi, q[i]);
+            n += 1;
+        }
+        if positive(i) != positive(j) {
+            let t = q[i] / (q[i] - q[j]);
+            let mut b = [0.0; 3];
+            b[i] = 1.0 - t;
+            b[j] = t;
+            poly[n] = (b, 0.0);
+            n += 1;
+        }
+    }
+    (poly, n)
+}
+
+/// Area ratio of the sub-triangle (a, b, c) in barycentric coordinates.
+#[inline(always)]
+fn det(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    let (u1, v1) = (b[1] - a[1], b[2] - a[2]);
+    let (u2, v2) = (c[1] - a[1], c[2] - a[2]);
+    (u1 * v2 - u2 * v1).abs()
+}
+
+/// [`compressed_moments`] for a partly compressed triangle whose nodes with `q > 0` are the
+/// set bits of `MASK` (1 to 6).
+#[inline(always)]
+fn clipped_moments<const MASK: u8>(q: [f64; 3], area: f64) -> ([f64; 3], [f64; 3]) {
+    let (poly, n) = clip::<MASK>(q);
+    let mut m = [0.0; 3];
+    let (mut centroid, mut total) = ([0.0; 3], 0.0);
+    for k in 1..n - 1 {
+        let (a, qa) = poly[0];
+        let (b, qb) = poly[k];
+        let (c, qc) = poly[k + 1];
+        let w = det(&a, &b, &c);
+        let sub = area * w;
+        let mm = moments_full([qa, qb, qc], sub);
+        total += w;
+        for i in 0..3 {
+            m[i] += mm[0] * a[i] + mm[1] * b[i] + mm[2] * c[i];
+            centroid[i] += w * (a[i] + b[i] + c[i]);
+        }
+    }
+    let centroid = if total > 0.0 {
+        let inv = 1.0 / (3.0 * total);
+        centroid.map(|v| v * inv)
+    } else {
+        [1.0 / 3.0; 3]
+    };
+    (m, centroid)
+}
+
+/// Gauss–Legendre nodes on [−1, 1] and weights, 8 points (exact to degree 15).
+const GAUSS8: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
+];
+
+/// What [`level_integrals`] returns.
+struct LevelIntegrals {
+    /// `∫ g(u) λᵢ dA` per node.
+    moments: [f64; 3],
+    /// Area of the part, m².
+    area: f64,
+    /// Area centroid of the part, barycentric.
+    centroid: [f64; 3],
+}
+
+/// Integrals over the part of a triangle where `u > lower`, for a closure `u` linear over
+/// the triangle (nodal values `u`, area `area`): `∫ g(u) λᵢ dA` per node, the area of the
+/// part and its area centroid.
+///
+/// The triangle is cut at its middle nodal value into two pieces whose level lines
+/// `u = const` are segments of length linear in `u`; on each piece the integral is one
+/// dimensional, `∫ g(u) λ̄ᵢ(u) (dA/du) du` with `λ̄` (the mean of λ on the level segment) and
+/// `dA/du` of degree ≤ 1 in `u`, evaluated with 8-point Gauss–Legendre on every interval
+/// between `breaks` (the kinks of `g`).
+fn level_integrals(u: [f64; 3], area: f64, lower: f64, breaks: &[f64], g: impl Fn(f64) -> f64) -> LevelIntegrals {
+    let mut out = LevelIntegrals { moments: [0.0; 3], area: 0.0, centroid: [1.0 / 3.0; 3] };
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&i, &j| u[i].total_cmp(&u[j]));
+    let [ia, ib, ic] = idx;
+    let (ua, ub, uc) = (u[ia], u[ib], u[ic]);
+    let span = uc - ua;
+    if span <= 1e-12 * (ua.abs() + uc.abs()) {
+        if ua > lower {
+            out.moments = [g(ua) * area / 3.0; 3];
+            out.area = area;
+        }
+        return out;
+    }
+    let mut centroid = [0.0; 3];
+    let mut piece = |lo: f64, hi: f64, density: &dyn Fn(f64) -> f64, lam: &dyn Fn(f64) -> [f64; 3]| {
+        let lo = lo.max(lower);
+        if hi <= lo {
+            return;
+        }
+        let mut cuts = vec![lo];
+        cuts.extend(breaks.iter().copied().filter(|&b| b > lo && b < hi));
+        cuts.push(hi);
+        for w in cuts.windows(2) {
+            let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
+            for (x, wt) in GAUSS8 {
+                let v = mid + half * x;
+                let d_area = wt * half * density(v);
+                let (gv, l) = (g(v) * d_area, lam(v));
+                for k in 0..3 {
+                    out.moments[idx[k]] += gv * l[k];
+                    centroid[idx[k]] += d_area * l[k];
+                }
+                out.area += d_area;
+            }
+        }
+    };
+    let a_low = area * (ub - ua) / span;
+    if ub > ua {
+        let db = ub - ua;
+        piece(ua, ub, &|v| 2.0 * a_low * (v - ua) / (db * db), &|v| {
+            let (s, t) = ((v - ua) / db, (v - ua) / span);
+            [1.0 - 0.5 * (s + t), 0.5 * s, 0.5 * t]
+        });
+    }
+    if uc > ub {
+        let (dc, a_up) = (uc - ub, area - a_low);
+        piece(ub, uc, &|v| 2.0 * a_up * (uc - v) / (dc * dc), &|v| {
+            let (r, t) = ((v - ub) / dc, (v - ua) / span);
+            [0.5 * (1.0 - t), 0.5 * (1.0 - r), 0.5 * (r + t)]
+        });
+    }
+    if out.area > 0.0 {
+        out.centroid = centroid.map(|c| c / out.area);
+    }
+    out
+}
+
+/// The kinks of a law's pressure (the hyperbolic cap), closures in m.
+fn breaks(p: &NormalParams) -> [f64; 1] {
+    match p.closure {
+        NormalClosure::Hyperbolic { max_closure } => [HYPERBOLIC_CAP * max_closure],
+        NormalClosure::Seating { max_gap } => [max_gap],
+        NormalClosure::Linear => [f64::INFINITY],
+    }
+}
+
+/// `∫ q(u) λᵢ dA` over the compressed part (the whole triangle when the joint carries
+/// tension) by [`level_integrals`]: relative error below 1e-10 for the hyperbolic law.
+fn nonlinear_moments(p: &NormalParams, u: [f64; 3], area: f64, tension: bool) -> NormalResult {
+    let lower = if tension { f64::NEG_INFINITY } else { 0.0 };
+    let li = level_integrals(u, area, lower, &breaks(p), |v| p.pressure(v));
+    let whole = tension || u.iter().all(|&v| v > 0.0);
+    NormalResult { moments: li.moments, area_centroid: if whole { [1.0 / 3.0; 3] } else { li.centroid } }
+}
+
+/// Elastic energy stored in the normal closure of a sub-contact, J: `∫ W(u₊) dA` over the
+/// compressed part, with `W` the law's energy density ([`NormalParams::energy_density`]).
+/// Exact for the linear law (`∫ q₊² / (2 Kn) dA`); by [`level_integrals`] otherwise.
+pub fn energy(p: &NormalParams, u: [f64; 3], area: f64) -> f64 {
+    match p.closure {
+        NormalClosure::Linear => squared_compressed(u.map(|v| p.kn * v), area) / (2.0 * p.kn),
+        NormalClosure::Hyperbolic { .. } | NormalClosure::Seating { .. } => {
+            level_integrals(u, area, 0.0, &breaks(p), |v| p.energy_density(v)).moments.iter().sum()
+        }
+    }
+}
+
+/// ∫ q₊² dA over a triangle with linear q: the compressed part is sub-triangulated and
+/// `∫ q² dA = A/12 (Σqᵢ² + (Σqᵢ)²)` applied to each piece.
+fn squared_compressed(q: [f64; 3], area: f64) -> f64 {
+    let full = |a: f64, b: f64, c: f64, ar: f64| ar / 12.0 * (a * a + b * b + c * c + (a + b + c).powi(2));
+    let unit = |i: usize| {
+        let mut b = [0.0; 3];
+        b[i] = 1.0;
+        b
+    };
+    let pos: Vec<usize> = (0..3).filter(|&i| q[i] > 0.0).collect();
+    match pos.len() {
+        0 => 0.0,
+        1 => {
+            let i = pos[0];
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let tj = q[i] / (q[i] - q[j]);
+            let tk = q[i] / (q[i] - q[k]);
+            full(q[i], 0.0, 0.0, area * tj * tk)
+        }
+        2 => {
+            let k = (0..3).find(|&v| q[v] <= 0.0).unwrap_or(0);
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            let ti = q[k] / (q[k] - q[i]);
+            let tj = q[k] / (q[k] - q[j]);
+            // The compressed quadrilateral as two triangles (i, j, Pj) and (i, Pj, Pi), with
+            // P the cut points on the edges from k.
+            let mut pi = [0.0; 3];
+            pi[k] = 1.0 - ti;
+            pi[i] = ti;
+            let mut pj = [0.0; 3];
+            pj[k] = 1.0 - tj;
+            pj[j] = tj;
+            let (ei, ej) = (unit(i), unit(j));
+            full(q[i], q[j], 0.0, area * det(&ei, &ej, &pj)) + full(q[i], 0.0, 0.0, area * det(&ei, &pj, &pi))
+        }
+        _ => full(q[0], q[1], q[2], area),
+    }
+}

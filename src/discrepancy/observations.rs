@@ -1,0 +1,243 @@
+//! Observations: the measured data as one long table (specimen, group, observable, tilt,
+//! value, measurement σ).
+//!
+//! The study's `[measured]` files are the input: collapse angles (the paper's Table 2,
+//! degrees) and top displacements at given tilts (Table 3, cm). Measurement σ defaults
+//! come from the paper: the tilt was read to 0.5° and the displacement instrument had a
+//! precision of 5 mm (Santa-Cruz et al. 2021, Section 2); both are taken as one standard
+//! deviation. A study may override them (`[discrepancy]`).
+
+use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
+use serde::Serialize;
+use std::fmt;
+
+/// A displacement measure of the top of the wall.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Measure {
+    /// The mean of the left, centre and right top points (the paper's free walls).
+    MeanOfLeftCenterRight,
+    /// The centre minus the mean of the two ends (the paper's restrained walls).
+    CenterMinusMeanOfEnds,
+}
+
+impl Measure {
+    /// The name used in the measured-data files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::MeanOfLeftCenterRight => "mean_of_left_center_right",
+            Measure::CenterMinusMeanOfEnds => "center_minus_mean_of_ends",
+        }
+    }
+
+    /// The measure of a name.
+    pub fn from_name(name: &str) -> Option<Measure> {
+        [Measure::MeanOfLeftCenterRight, Measure::CenterMinusMeanOfEnds].into_iter().find(|m| m.name() == name)
+    }
+
+    /// The measure from the left, centre and right top displacements (any unit).
+    pub fn of(self, left: f64, centre: f64, right: f64) -> f64 {
+        match self {
+            Measure::MeanOfLeftCenterRight => (left + centre + right) / 3.0,
+            Measure::CenterMinusMeanOfEnds => centre - 0.5 * (left + right),
+        }
+    }
+}
+
+/// What is observed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Observable {
+    /// The collapse angle α_max, degrees.
+    CollapseAngle,
+    /// A top displacement measure at a tilt, cm.
+    Displacement {
+        /// The measure.
+        measure: Measure,
+        /// The tilt, degrees.
+        tilt_deg: f64,
+    },
+}
+
+impl Observable {
+    /// Short label: `alpha_max`, `disp@5`.
+    pub fn label(&self) -> String {
+        match self {
+            Observable::CollapseAngle => "alpha_max".into(),
+            Observable::Displacement { tilt_deg, .. } => format!("disp@{tilt_deg}"),
+        }
+    }
+
+    /// Unit of its values.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            Observable::CollapseAngle => "deg",
+            Observable::Displacement { .. } => "cm",
+        }
+    }
+
+    /// The same observable (same kind, measure and tilt).
+    pub fn same(&self, other: &Observable) -> bool {
+        match (self, other) {
+            (Observable::CollapseAngle, Observable::CollapseAngle) => true,
+            (
+                Observable::Displacement { measure: a, tilt_deg: t },
+                Observable::Displacement { measure: b, tilt_deg: u },
+            ) => a == b && (t - u).abs() < 1e-9,
+            _ => false,
+        }
+    }
+}
+
+impl fmt::Display for Observable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.label())
+    }
+}
+
+/// One measured value.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Observation {
+    /// Specimen, e.g. `SBL2`.
+    pub specimen: String,
+    /// Group of the study it belongs to, e.g. `SBL`.
+    pub group: String,
+    /// What was measured.
+    pub observable: Observable,
+    /// The value, in the observable's unit (degrees or cm).
+    pub value: f64,
+    /// Measurement standard deviation, same unit.
+    pub sigma: f64,
+}
+
+/// Measurement standard deviations.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeasurementSigma {
+    /// Collapse angle, degrees \[0.5\] (angles read to 0.5°).
+    pub angle_deg: f64,
+    /// Displacement, cm \[0.5\] (instrument precision 5 mm).
+    pub displacement_cm: f64,
+}
+
+impl Default for MeasurementSigma {
+    fn default() -> Self {
+        MeasurementSigma { angle_deg: 0.5, displacement_cm: 0.5 }
+    }
+}
+
+/// Why the measured data cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ObservationError {
+    /// No observation at all.
+    #[error("the measured data hold no observation (files {files}): nothing to compare with")]
+    Empty {
+        /// The files.
+        files: String,
+    },
+    /// A measured group that is not a group of the study.
+    #[error(
+        "measured data for group `{group}` (specimen {specimen}), which the study does not have (groups: {groups})"
+    )]
+    UnknownGroup {
+        /// The group.
+        group: String,
+        /// The specimen.
+        specimen: String,
+        /// The study's measured groups.
+        groups: String,
+    },
+    /// A displacement measure not known.
+    #[error("specimen {specimen}: unknown displacement measure `{measure}` (known: mean_of_left_center_right, center_minus_mean_of_ends)")]
+    UnknownMeasure {
+        /// The specimen.
+        specimen: String,
+        /// The measure.
+        measure: String,
+    },
+    /// A value that is not finite, or a σ not positive.
+    #[error("specimen {specimen}: {what} = {value} is not a finite number (or not > 0)")]
+    Invalid {
+        /// The specimen.
+        specimen: String,
+        /// What.
+        what: String,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// The observations of the measured data, for the study's measured group names `groups`
+/// (measured group name → study group name), in file order: collapse angles, then
+/// displacements.
+///
+/// # Errors
+/// [`ObservationError`] naming the specimen, group or measure at fault.
+pub fn observations(
+    collapse: &[MeasuredCollapse],
+    displacement: &[MeasuredDisplacement],
+    groups: &[(String, String)],
+    sigma: MeasurementSigma,
+    files: &str,
+) -> Result<Vec<Observation>, ObservationError> {
+    for (what, v) in [("sigma angle_deg", sigma.angle_deg), ("sigma displacement_cm", sigma.displacement_cm)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(ObservationError::Invalid { specimen: "-".into(), what: what.into(), value: v });
+        }
+    }
+    let group_of = |measured: &str, specimen: &str| {
+        groups.iter().find(|(m, _)| m == measured).map(|(_, g)| g.clone()).ok_or_else(|| {
+            ObservationError::UnknownGroup {
+                group: measured.to_string(),
+                specimen: specimen.to_string(),
+                groups: groups.iter().map(|(m, _)| m.as_str()).collect::<Vec<_>>().join(", "),
+            }
+        })
+    };
+    let finite = |specimen: &str, what: &str, v: f64| {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(ObservationError::Invalid { specimen: specimen.into(), what: what.into(), value: v })
+        }
+    };
+    let mut out = Vec::new();
+    for c in collapse {
+        out.push(Observation {
+            specimen: c.specimen.clone(),
+            group: group_of(&c.group, &c.specimen)?,
+            observable: Observable::CollapseAngle,
+            value: finite(&c.specimen, "collapse_angle_deg", c.collapse_angle_deg)?,
+            sigma: sigma.angle_deg,
+        });
+    }
+    for d in displacement {
+        let measure = Measure::from_name(&d.measure).ok_or_else(|| ObservationError::UnknownMeasure {
+            specimen: d.specimen.clone(),
+            measure: d.measure.clone(),
+        })?;
+        out.push(Observation {
+            specimen: d.specimen.clone(),
+            group: group_of(&d.group, &d.specimen)?,
+            observable: Observable::Displacement { measure, tilt_deg: finite(&d.specimen, "tilt_deg", d.tilt_deg)? },
+            value: finite(&d.specimen, "displacement_cm", d.displacement_cm)?,
+            sigma: sigma.displacement_cm,
+        });
+    }
+    if out.is_empty() {
+        return Err(ObservationError::Empty { files: files.to_string() });
+    }
+    Ok(out)
+}
+
+/// The specimens of the observations, in first-seen order.
+pub fn specimens(obs: &[Observation]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for o in obs {
+        if !out.contains(&o.specimen) {
+            out.push(o.specimen.clone());
+        }
+    }
+    out
+}

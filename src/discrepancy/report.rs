@@ -1,0 +1,368 @@
+//! The discrepancy report: `discrepancy.md`, `discrepancy.json` (the command-line contract),
+//! `residuals.svg` (standardized held-out residuals of every observation, baseline and
+//! extended model) and `displacement_<group>.svg` (displacement against tilt, both models'
+//! bands and the measured points).
+
+use super::analysis::Ranked;
+use super::observations::{Observable, Observation};
+use super::predictive::Predictive;
+use super::simulate::Outcome;
+use super::Run;
+use crate::io::plot::{bands, colour, BandSeries, PlotError};
+use plotters::prelude::*;
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::Path;
+
+fn params_json(r: &Ranked) -> Value {
+    Value::Object(r.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect())
+}
+
+fn ranked_json(r: &Ranked) -> Value {
+    json!({
+        "effects": r.effects,
+        "parameters": params_json(r),
+        "heldout_error": r.heldout_error,
+        "information_criterion": r.information_criterion,
+    })
+}
+
+fn observations_json(obs: &[Observation], pred: &[Predictive]) -> Value {
+    Value::Array(
+        obs.iter()
+            .zip(pred)
+            .map(|(o, p)| {
+                json!({
+                    "specimen": o.specimen,
+                    "group": o.group,
+                    "observable": o.observable.label(),
+                    "unit": o.observable.unit(),
+                    "value": o.value,
+                    "sigma": o.sigma,
+                    "mean": p.mean,
+                    "sd": p.sd,
+                    "z": p.z(o.value),
+                })
+            })
+            .collect(),
+    )
+}
+
+/// One row of the diagnosis: a group's observable, measured against simulated.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DiagnosisRow {
+    /// Group.
+    pub group: String,
+    /// Observable label.
+    pub observable: String,
+    /// Unit.
+    pub unit: String,
+    /// Specimens measured.
+    pub n: usize,
+    /// Measured mean.
+    pub measured_mean: f64,
+    /// Specimen-to-specimen standard deviation.
+    pub measured_sd: f64,
+    /// Simulated mean (baseline).
+    pub simulated_mean: f64,
+    /// Realization-to-realization standard deviation (baseline).
+    pub simulated_sd: f64,
+    /// Mean standardized residual.
+    pub mean_z: f64,
+}
+
+/// The diagnosis table: every key of the run, with the baseline's full run.
+pub fn diagnosis(run: &Run, outcomes: &[Vec<Outcome>]) -> Vec<DiagnosisRow> {
+    let sims = run.keys.simulated(outcomes);
+    run.keys
+        .keys
+        .iter()
+        .enumerate()
+        .map(|(k, (_, ob))| {
+            let idx: Vec<usize> = (0..run.obs.len()).filter(|&j| run.keys.of[j] == k).collect();
+            let vals: Vec<f64> = idx.iter().map(|&j| run.obs[j].value).collect();
+            let z: Vec<f64> = idx.iter().map(|&j| run.analysis.baseline_predictive[j].z(run.obs[j].value)).collect();
+            DiagnosisRow {
+                group: run.obs[idx[0]].group.clone(),
+                observable: ob.label(),
+                unit: ob.unit().to_string(),
+                n: vals.len(),
+                measured_mean: crate::stats::mean(&vals),
+                measured_sd: if vals.len() > 1 { crate::stats::sd(&vals) } else { 0.0 },
+                simulated_mean: sims[k].mean,
+                simulated_sd: sims[k].sd,
+                mean_z: crate::stats::mean(&z),
+            }
+        })
+        .collect()
+}
+
+/// The JSON object of the command-line contract.
+pub fn to_json(run: &Run) -> Value {
+    let a = &run.analysis;
+    let cause = a.cause.as_ref().map(|c| json!({ "effects": c.effects, "parameters": params_json(c) }));
+    let extended = run.extended.as_ref().map(|(effects, _)| {
+        let (g, lo, hi) = run.gain.unwrap_or((0.0, 0.0, 0.0));
+        json!({
+            "effects": effects.iter().map(|e| e.label()).collect::<Vec<_>>(),
+            "heldout_error": a.cause.as_ref().map(|c| c.heldout_error),
+            "gain": { "heldout_error": g, "ci95": [lo, hi] },
+            "heldout": observations_json(&run.obs, &a.best_predictive),
+            "observations": observations_json(&run.obs, &run.extended_predictive),
+        })
+    });
+    json!({
+        "verdict": a.verdict.name(),
+        "cause": cause,
+        "tie": a.tie,
+        "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
+        "baseline": {
+            "heldout_error": a.baseline_heldout_error,
+            "information_criterion": a.baseline_information_criterion,
+            "observations": observations_json(&run.obs, &a.baseline_predictive),
+        },
+        "extended": extended,
+        "margins": a.margins,
+        "diagnosis": diagnosis(run, &run.baseline),
+        "settings": run.settings,
+    })
+}
+
+fn fmt_params(r: &Ranked) -> String {
+    r.parameters.iter().map(|(k, v)| format!("{k} = {v:.3e}")).collect::<Vec<_>>().join(", ")
+}
+
+/// The Markdown report.
+pub fn to_markdown(run: &Run, study: &str) -> String {
+    let a = &run.analysis;
+    let mut md = String::new();
+    let _ = writeln!(md, "# Model discrepancy: {study}\n");
+    let verdict = match (&a.cause, a.tie.len()) {
+        (Some(c), 1) => format!("**explained** by `{}` ({})", c.effects.join("+"), fmt_params(c)),
+        (Some(c), _) => format!(
+            "**explained**, best `{}` ({}), but indistinguishable from: {}",
+            c.effects.join("+"),
+            fmt_params(c),
+            a.tie[1..].join(", ")
+        ),
+        (None, _) => format!("**{}**", a.verdict.name()),
+    };
+    let _ = writeln!(md, "Verdict: {verdict}.\n");
+    let _ = writeln!(md, "## What the model gets wrong\n");
+    let _ = writeln!(md, "Baseline ensemble against every observation: measured mean ± specimen σ, simulated mean ± realization σ, and the mean standardized residual z = (measured − predicted)/predictive σ.\n");
+    let _ = writeln!(md, "| group | observable | n | measured | simulated | mean z | spread ratio (sim/meas) |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+    for r in diagnosis(run, &run.baseline) {
+        let ratio = if r.measured_sd > 0.0 { format!("{:.2}", r.simulated_sd / r.measured_sd) } else { "–".into() };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.2} ± {:.2} {} | {:.2} ± {:.2} {} | {:+.2} | {} |",
+            r.group,
+            r.observable,
+            r.n,
+            r.measured_mean,
+            r.measured_sd,
+            r.unit,
+            r.simulated_mean,
+            r.simulated_sd,
+            r.unit,
+            r.mean_z,
+            ratio
+        );
+    }
+    let _ = writeln!(md, "\n![standardized residuals](residuals.svg)\n");
+    let _ = writeln!(md, "## Candidates\n");
+    let _ = writeln!(md, "Held-out error: mean negative log predictive density per observation, each specimen predicted by the model fitted to the other specimens (leave one specimen out). AICc at the fit to all data. Common random numbers: the same layouts and seeds for every candidate.\n");
+    let _ = writeln!(md, "| rank | effects | fitted parameters | held-out error | AICc |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    let _ = writeln!(
+        md,
+        "| – | baseline | – | {:.3} | {:.1} |",
+        a.baseline_heldout_error, a.baseline_information_criterion
+    );
+    for (i, c) in a.candidates.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.3} | {:.1} |",
+            i + 1,
+            c.effects.join("+"),
+            fmt_params(c),
+            c.heldout_error,
+            c.information_criterion
+        );
+    }
+    let m = &a.margins;
+    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline: a cause must beat the baseline by {:.3} and the runner-up by {:.3} (held-out error); the baseline's misfit is significant above {:.3}.\n", m.replicates, m.baseline, m.runner_up, m.misfit);
+    if let (Some((effects, _)), Some((g, lo, hi))) = (&run.extended, run.gain) {
+        let _ = writeln!(md, "## Extended model\n");
+        let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
+        let _ = writeln!(md, "The baseline extended by {} (fitted to all specimens), run as a full ensemble. Held-out error {:.3} → {:.3}: gain {g:.3} per observation, 95 % bootstrap interval over specimens [{lo:.3}, {hi:.3}].\n", labels.join(", "), a.baseline_heldout_error, a.baseline_heldout_error - g);
+        let _ = writeln!(md, "| group | observable | measured | baseline | extended |");
+        let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+        let base = run.keys.simulated(&run.baseline);
+        let ext = run.keys.simulated(&run.extended.as_ref().map(|e| e.1.clone()).unwrap_or_default());
+        for (k, (_, ob)) in run.keys.keys.iter().enumerate() {
+            let vals: Vec<f64> =
+                (0..run.obs.len()).filter(|&j| run.keys.of[j] == k).map(|j| run.obs[j].value).collect();
+            let group = &run.obs[run.keys.of.iter().position(|&x| x == k).unwrap_or(0)].group;
+            let sd = if vals.len() > 1 { crate::stats::sd(&vals) } else { 0.0 };
+            let _ = writeln!(
+                md,
+                "| {group} | {} | {:.2} ± {:.2} | {:.2} ± {:.2} | {:.2} ± {:.2} |",
+                ob.label(),
+                crate::stats::mean(&vals),
+                sd,
+                base[k].mean,
+                base[k].sd,
+                ext[k].mean,
+                ext[k].sd
+            );
+        }
+        let _ = writeln!(md);
+        for g in displacement_groups(run) {
+            let _ = writeln!(md, "![displacement against tilt, {g}](displacement_{g}.svg)\n");
+        }
+    }
+    md
+}
+
+fn displacement_groups(run: &Run) -> Vec<String> {
+    let mut v: Vec<String> = Vec::new();
+    for o in &run.obs {
+        if matches!(o.observable, Observable::Displacement { .. }) && !v.contains(&o.group) {
+            v.push(o.group.clone());
+        }
+    }
+    v
+}
+
+/// Standardized held-out residuals, baseline and best candidate, one point per observation.
+///
+/// # Errors
+/// [`PlotError`].
+pub fn residual_plot(path: &Path, run: &Run) -> Result<(), PlotError> {
+    let e = |m: String| PlotError { path: path.display().to_string(), message: m };
+    let a = &run.analysis;
+    let zb: Vec<f64> = run.obs.iter().zip(&a.baseline_predictive).map(|(o, p)| p.z(o.value)).collect();
+    let ze: Vec<f64> = run.obs.iter().zip(&a.best_predictive).map(|(o, p)| p.z(o.value)).collect();
+    let lim = zb.iter().chain(&ze).filter(|v| v.is_finite()).fold(3.0f64, |m, v| m.max(v.abs())) * 1.1;
+    let root = SVGBackend::new(path, (760, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let n = run.obs.len();
+    let mut chart = ChartBuilder::on(&root)
+        .caption("standardized held-out residuals", ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(60)
+        .y_label_area_size(50)
+        .build_cartesian_2d(-0.5f64..n as f64 - 0.5, -lim..lim)
+        .map_err(|x| e(x.to_string()))?;
+    let labels: Vec<String> = run.obs.iter().map(|o| format!("{} {}", o.specimen, o.observable.label())).collect();
+    chart
+        .configure_mesh()
+        .x_labels(n.min(40))
+        .x_label_formatter(&|x| labels.get(x.round().max(0.0) as usize).cloned().unwrap_or_default())
+        .y_desc("z = (measured − predicted) / σ")
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    for lvl in [-2.0, 2.0] {
+        chart
+            .draw_series(LineSeries::new(vec![(-0.5, lvl), (n as f64 - 0.5, lvl)], BLACK.mix(0.3)))
+            .map_err(|x| e(x.to_string()))?;
+    }
+    let best = a.candidates.first().map(|c| c.effects.join("+")).unwrap_or_else(|| "baseline".into());
+    for (k, (zs, label)) in [(&zb, "baseline".to_string()), (&ze, best)].into_iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(
+                zs.iter()
+                    .enumerate()
+                    .filter(|(_, z)| z.is_finite())
+                    .map(|(i, &z)| Circle::new((i as f64 + 0.15 * k as f64, z), 4, c.filled())),
+            )
+            .map_err(|x| e(x.to_string()))?
+            .label(label)
+            .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    root.present().map_err(|x| e(x.to_string()))?;
+    Ok(())
+}
+
+/// The band of a displacement measure over the tilts of a group's outcomes.
+fn band(
+    outcomes: &[Outcome],
+    measure: super::observations::Measure,
+    label: &str,
+    measured: Vec<(f64, f64)>,
+) -> BandSeries {
+    let mut tilts: Vec<f64> = outcomes.iter().flat_map(|o| o.tilt_deg.iter().copied()).collect();
+    tilts.sort_by(f64::total_cmp);
+    tilts.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
+    for t in tilts {
+        let ob = Observable::Displacement { measure, tilt_deg: t };
+        let v: Vec<f64> = outcomes
+            .iter()
+            .filter(|o| o.tilt_deg.iter().any(|u| (u - t).abs() < 1e-9))
+            .filter_map(|o| o.value(&ob))
+            .collect();
+        if v.len() * 2 < outcomes.len().max(1) {
+            continue;
+        }
+        let (m, s) = (crate::stats::mean(&v), if v.len() > 1 { crate::stats::sd(&v) } else { 0.0 });
+        x.push(t);
+        mid.push(m);
+        lo.push(m - s);
+        hi.push(m + s);
+    }
+    BandSeries { label: label.to_string(), x, mid, lo, hi, measured, points_label: None }
+}
+
+/// Writes the report files into `dir`.
+///
+/// # Errors
+/// The file system's or the plot's error, with the file.
+pub fn write(dir: &Path, run: &Run, study: &str) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let json = serde_json::to_string_pretty(&to_json(run)).map_err(|e| e.to_string())?;
+    for (name, text) in [("discrepancy.json", json), ("discrepancy.md", to_markdown(run, study))] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+    }
+    residual_plot(&dir.join("residuals.svg"), run).map_err(|e| e.to_string())?;
+    for g in displacement_groups(run) {
+        let Some(group_index) = run.obs.iter().position(|o| o.group == g).map(|j| run.keys.keys[run.keys.of[j]].0)
+        else {
+            continue;
+        };
+        let Some(measure) = run.obs.iter().find_map(|o| match o.observable {
+            Observable::Displacement { measure, .. } if o.group == g => Some(measure),
+            _ => None,
+        }) else {
+            continue;
+        };
+        let measured: Vec<(f64, f64)> = run
+            .obs
+            .iter()
+            .filter(|o| o.group == g)
+            .filter_map(|o| match o.observable {
+                Observable::Displacement { tilt_deg, .. } => Some((tilt_deg, o.value)),
+                _ => None,
+            })
+            .collect();
+        let mut series = vec![band(&run.baseline[group_index], measure, "baseline", measured.clone())];
+        if let Some((effects, outs)) = &run.extended {
+            let label = effects.iter().map(|e| e.label()).collect::<Vec<_>>().join(", ");
+            series.push(band(&outs[group_index], measure, &label, vec![]));
+        }
+        let p = dir.join(format!("displacement_{g}.svg"));
+        bands(&p, &format!("{g}: {}", measure.name()), "tilt [deg]", "displacement [cm]", &series)
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
