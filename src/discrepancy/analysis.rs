@@ -6,9 +6,11 @@
 //!   error is the mean held-out NLPD per observation. The baseline has no parameter: its
 //!   held-out error is its plain NLPD.
 //! * **Information criterion.** AICc at the full-data fit (Hurvich & Tsai 1989).
-//! * **Null calibration.** Parametric bootstrap under the baseline: null data sets are
-//!   drawn from the baseline's predictive distributions (the model is right, only
-//!   realization spread and measurement error vary) and analysed exactly as the data.
+//! * **Null calibration.** Null data sets are drawn under the baseline (the model is
+//!   right, only realization spread and measurement error vary) and analysed exactly as
+//!   the data: each null specimen is a baseline realization kept out of the library,
+//!   observed with measurement noise ([`NullSource::Pool`]), or, without such a pool, a
+//!   draw from the baseline's predictive distributions ([`NullSource::Predictive`]).
 //!   The margin a candidate must beat the baseline by is the 95th percentile of the best
 //!   candidate's gain on null data, so that a cause is named on at most 5 % of data sets
 //!   the baseline explains; the margin over the runner-up is the 95th percentile of the
@@ -18,12 +20,16 @@
 //!   has the lower AICc (candidates within the runner-up margin of it are reported as a
 //!   tie); otherwise `unexplained` when the baseline's misfit is significant, `no_effect`
 //!   when it is not. When the best single effect leaves a significant misfit, pairs of the
-//!   three best single effects are screened with the additive surrogate.
+//!   three best single effects are screened with the additive surrogate; a pair replaces
+//!   the best single effect only if it beats it by the margin and has the lower AICc.
 
 use super::fit::{aicc, fit, loso, Candidate, Data, Surface};
-use super::observations::Observation;
+use super::observations::{Observable, Observation};
 use super::predictive::{Predictive, Simulated};
+use super::simulate::Outcome;
 use crate::rng::{rng_for, Purpose};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -153,9 +159,60 @@ fn quantile95(mut v: Vec<f64>) -> f64 {
     crate::stats::quantile(&v, 0.95)
 }
 
-/// Calibrates the margins on `replicates` null data sets drawn from the baseline's
-/// predictive distributions of `obs` (seeded by `seed`, `Purpose::Discrepancy`, one stream
-/// per replicate).
+/// Where null data sets come from.
+#[derive(Debug, Clone, Copy)]
+pub enum NullSource<'a> {
+    /// The baseline's Gaussian predictive distributions (parametric bootstrap).
+    Predictive,
+    /// Baseline realizations kept out of the library, `[group][realization]`: each null
+    /// specimen is one of them, drawn with replacement, observed with measurement noise.
+    /// This carries the model's true (non-Gaussian, correlated) spread into the null data.
+    Pool(&'a [Vec<Outcome>], &'a [(usize, Observable)]),
+}
+
+/// One null data set: values for every observation.
+fn null_values(
+    lib: &Library,
+    data0: Data<'_>,
+    specimens: &[String],
+    source: NullSource<'_>,
+    rng: &mut ChaCha8Rng,
+) -> Vec<f64> {
+    let obs = data0.obs;
+    let mut y: Vec<f64> = vec![0.0; obs.len()];
+    match source {
+        NullSource::Pool(pool, keys) => {
+            for s in specimens {
+                let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
+                let g = keys[data0.key[idx[0]]].0;
+                // A group with fewer than three pooled realizations (e.g. a wall without
+                // random input, run once) is drawn from its predictive distributions.
+                let pick = (pool[g].len() >= 3).then(|| rng.random_range(0..pool[g].len()));
+                for j in idx {
+                    let z: f64 = StandardNormal.sample(rng);
+                    let p = data0.predictive(&lib.baseline, j);
+                    let v = match pick {
+                        Some(r) => pool[g][r].value(&keys[data0.key[j]].1).map(|v| v + obs[j].sigma * z),
+                        None => Some(p.mean + p.sd * z),
+                    };
+                    y[j] = v.filter(|v| v.is_finite()).unwrap_or(0.0);
+                }
+            }
+        }
+        NullSource::Predictive => {
+            for (j, yj) in y.iter_mut().enumerate() {
+                let p = data0.predictive(&lib.baseline, j);
+                let z: f64 = StandardNormal.sample(rng);
+                *yj = if p.mean.is_finite() { p.mean + p.sd * z } else { 0.0 };
+            }
+        }
+    }
+    y
+}
+
+/// Calibrates the margins on `replicates` null data sets of the observations `obs`, drawn
+/// from `source` (seeded by `seed`, `Purpose::Discrepancy`, one stream per replicate).
+#[allow(clippy::too_many_arguments)]
 pub fn calibrate_margins(
     lib: &Library,
     obs: &[Observation],
@@ -164,6 +221,7 @@ pub fn calibrate_margins(
     resolution_deg: f64,
     replicates: usize,
     seed: u64,
+    source: NullSource<'_>,
 ) -> Margins {
     let n = obs.len();
     let runs: Vec<(f64, f64, f64)> = (0..replicates)
@@ -172,17 +230,7 @@ pub fn calibrate_margins(
             let mut rng = rng_for(seed, b as u64, Purpose::Discrepancy);
             let zero = vec![0.0; n];
             let d0 = Data { obs, y: &zero, key, resolution_deg };
-            let y: Vec<f64> = (0..n)
-                .map(|j| {
-                    let p = d0.predictive(&lib.baseline, j);
-                    let z: f64 = StandardNormal.sample(&mut rng);
-                    if p.mean.is_finite() {
-                        p.mean + p.sd * z
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
+            let y = null_values(lib, d0, specimens, source, &mut rng);
             let data = Data { obs, y: &y, key, resolution_deg };
             let all: Vec<usize> = (0..n).collect();
             let base = data.nlpd(&lib.baseline, &all) / n as f64;
@@ -247,8 +295,8 @@ pub fn analyze(lib: &Library, data: Data<'_>, specimens: &[String], margins: Mar
                 r.0.index += offset;
             }
             pool.extend(extra);
-            let threshold = ranked[0].0.heldout_error - margins.baseline;
-            ranked.extend(more.into_iter().filter(|r| r.0.heldout_error < threshold));
+            let (threshold, ic) = (ranked[0].0.heldout_error - margins.baseline, ranked[0].0.information_criterion);
+            ranked.extend(more.into_iter().filter(|r| r.0.heldout_error < threshold && r.0.information_criterion < ic));
             ranked.sort_by(|a, b| a.0.heldout_error.total_cmp(&b.0.heldout_error).then(a.0.index.cmp(&b.0.index)));
         }
     }

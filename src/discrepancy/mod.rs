@@ -45,7 +45,10 @@ use simulate::{run_models, Outcome, Outcomes, Setup};
 pub struct Settings {
     /// Realizations per group of every model on the fitting grids \[3\].
     pub realizations: u64,
-    /// Realizations per group of the baseline and of the extended model's full run \[6\].
+    /// Realizations per group of the baseline and of the extended model's full run \[9\];
+    /// the baseline's realizations beyond `realizations` make the null data of the margin
+    /// calibration (with fewer than 3 the null data are drawn from the predictive
+    /// distributions).
     pub extension_realizations: u64,
     /// Grid intervals per parameter axis of a one-parameter effect \[2\]: nodes at
     /// `x = 0, 1/G, …, 1`, the node nearest the neutral value taken from the baseline.
@@ -68,7 +71,7 @@ impl Default for Settings {
     fn default() -> Self {
         Settings {
             realizations: 3,
-            extension_realizations: 6,
+            extension_realizations: 9,
             grid_points: 2,
             grid_points_2d: 2,
             null_replicates: 200,
@@ -343,7 +346,15 @@ pub fn run(setup: &Setup, obs: Vec<Observation>, s: &Settings, seed: u64) -> Res
     // grid's realizations (the library's baseline).
     let y: Vec<f64> = obs.iter().map(|o| o.value).collect();
     let data = Data { obs: &obs, y: &y, key: &keys.of, resolution_deg: s.resolution_deg };
-    let margins = calibrate_margins(&library, &obs, &keys.of, &specimens, s.resolution_deg, s.null_replicates, seed);
+    let pool: Vec<Vec<Outcome>> =
+        baseline.iter().map(|o| o.get(s.realizations as usize..).map(|v| v.to_vec()).unwrap_or_default()).collect();
+    let source = if pool.iter().any(|p| p.len() >= 3) {
+        analysis::NullSource::Pool(&pool, &keys.keys)
+    } else {
+        analysis::NullSource::Predictive
+    };
+    let margins =
+        calibrate_margins(&library, &obs, &keys.of, &specimens, s.resolution_deg, s.null_replicates, seed, source);
     let analysis = analyze(&library, data, &specimens, margins);
     let full_base = keys.simulated(&baseline);
     let mut extended = None;
