@@ -80,7 +80,7 @@ const SEATING_GAP: [ParamInfo; 1] = [p("max_gap_m", "m", 0.0, 3e-3, Scale::Linea
 const INITIAL_LEAN: [ParamInfo; 1] = [p("lean_deg", "deg", 0.0, 3.0, Scale::Linear, 0.0)];
 const EDGE_ROUNDING: [ParamInfo; 1] = [p("radius_m", "m", 0.0, 0.015, Scale::Linear, 0.0)];
 const RESTRAINT_STIFFNESS: [ParamInfo; 1] =
-    [p("stiffness_n_per_m", "N/m per block", 1e2, 1e6, Scale::Log, f64::INFINITY)];
+    [p("stiffness_n_per_m", "N/m per block", 10.0, 1e6, Scale::Log, f64::INFINITY)];
 const TRANSVERSE_DIP: [ParamInfo; 1] = [p("max_dip_deg", "deg", 0.0, 15.0, Scale::Linear, 0.0)];
 
 /// The effects of the library.
