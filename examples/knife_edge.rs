@@ -8,7 +8,7 @@
 
 mod common;
 
-use drystone::dem::SolverParams;
+use drystone::dem::{DensityScaling, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use drystone::verify::{box_vertices, layout_of, RIGID_KN};
@@ -21,7 +21,10 @@ fn main() {
     ];
     let l = layout_of(blocks, RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
     for (block, pred) in [(false, true), (true, true), (false, false), (true, false)] {
-        let s = SolverParams { block_scaling: block, ..SolverParams::default() };
+        let s = SolverParams {
+            density_scaling: if block { SolverParams::default().density_scaling } else { DensityScaling::Scalar },
+            ..SolverParams::default()
+        };
         let t = TiltParams { resolution_deg: 0.0625, predictor: pred, ..TiltParams::default() };
         let r = run_tilt(&l, s, &t).unwrap();
         let inc: Vec<String> = r
@@ -40,7 +43,14 @@ fn main() {
 /// |Fs| / (Fn tan φ) of the sub-contact sums, to compare the locked-in shear of the two paths.
 fn locked_in_shear(l: &drystone::layout::Layout) {
     for block in [false, true] {
-        let sim = common::settled_at(l, 21.5, SolverParams { block_scaling: block, ..SolverParams::default() });
+        let sim = common::settled_at(
+            l,
+            21.5,
+            SolverParams {
+                density_scaling: if block { SolverParams::default().density_scaling } else { DensityScaling::Scalar },
+                ..SolverParams::default()
+            },
+        );
         for c in &sim.contacts {
             let n = sim.contact_normal(c);
             let fnorm: f64 = c.subs.iter().map(|s| s.state.normal).sum();

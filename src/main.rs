@@ -2,12 +2,14 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use drystone::dem::SolverParams;
+use drystone::dem::{DensityScaling, SolverParams};
 use drystone::layout::Layout;
 use drystone::loading::lateral::{run_lateral, LateralParams};
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+mod cli;
 
 /// `println!` that ends the program quietly when stdout is closed (e.g. piped into `head`)
 /// instead of panicking.
@@ -51,13 +53,13 @@ enum Command {
         /// Fraction of the critical time-step bound used, in (0, 1].
         #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
         timestep_safety: f64,
-        /// 6 × 6 block density scaling (true) or the scalar one (false) (`block_scaling` in
+        /// Density scaling: `block` (6 × 6 per body), `scalar` or `off` (`density_scaling` in
         /// a study's [solver] table); an increment whose block-scaled dynamics blow up is
         /// repeated with scalar scaling.
-        #[arg(long, default_value_t = SolverParams::default().block_scaling, action = clap::ArgAction::Set)]
-        block_scaling: bool,
-        /// Share of the scalar-scaled mass in each block mass (`block_mass_floor`), in (0, 10].
-        #[arg(long, default_value_t = SolverParams::default().block_mass_floor)]
+        #[arg(long, default_value = "block")]
+        density_scaling: String,
+        /// Share of the scalar-scaled mass in each block mass (`block` scaling), in (0, 10].
+        #[arg(long, default_value_t = SolverParams::default().density_scaling.mass_floor())]
         block_mass_floor: f64,
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
@@ -153,10 +155,53 @@ enum Command {
         #[arg(long)]
         distributions: Option<PathBuf>,
     },
+    /// Model discrepancy: what the simulation gets wrong against the study's measured data,
+    /// the physical effect that explains it (from a library of candidate effects, ranked by
+    /// held-out error with margins calibrated on null data), the extended model and its gain.
+    Discrepancy {
+        /// Study file (TOML) with [measured] data (and an optional [discrepancy] table).
+        study: PathBuf,
+        /// Output directory. Default: out/<study name>-discrepancy.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads; 0 or absent: all cores.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Realizations per group on the fitting grids, overriding the study file.
+        #[arg(long)]
+        realizations: Option<u64>,
+        /// Directory with measured data in the paper's format (as `drystone synthesize`
+        /// writes), used instead of the study's [measured] files.
+        #[arg(long)]
+        measured: Option<PathBuf>,
+        /// Print one JSON object: verdict, cause, candidates, baseline, extended.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Synthetic measured data: the study's walls built with seeds the study does not use,
+    /// hidden effects applied, tilted to collapse, with measurement noise; written in the
+    /// format of the paper's data files (a power analysis for planning tests).
+    Synthesize {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Hidden effects, `NAME=VALUE[,NAME=VALUE]` (two-parameter effects `NAME=V1:V2`);
+        /// absent: null data from the baseline model.
+        #[arg(long)]
+        effect: Option<String>,
+        /// Seed of the synthetic specimens and noise.
+        #[arg(long)]
+        seed: u64,
+        /// Specimens per group.
+        #[arg(long, default_value_t = 3)]
+        specimens: u64,
+        /// Output directory. Default: out/<study name>-synthetic-<seed>.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Benchmarks: `cube16` (the paper's Table 6 element-cost case: `--steps` engine steps of
     /// 16 boxes) or `tilt` (tilting-table tests to collapse of a generated wall, one after
-    /// the other on one thread: by default the SBL preset, seed 20210917, realization 0,
-    /// issue 4's case; `--realizations N` runs realizations 0..N and gives the totals).
+    /// the other on one thread: by default the SBL preset, seed 20210917, realization 0;
+    /// `--realizations N` runs realizations 0..N and gives the totals).
     Bench {
         /// Which benchmark: `cube16` or `tilt`.
         case: String,
@@ -204,18 +249,23 @@ fn run() -> Result<ExitCode> {
             damping,
             subdivisions,
             timestep_safety,
-            block_scaling,
+            density_scaling,
             block_mass_floor,
             tolerance,
             no_predictor,
         } => {
             let l = Layout::from_file(&layout)?;
+            let density_scaling = match density_scaling.as_str() {
+                "block" => DensityScaling::Block { mass_floor: block_mass_floor },
+                "scalar" => DensityScaling::Scalar,
+                "off" => DensityScaling::Off,
+                other => bail!("--density-scaling {other}: expected block, scalar or off"),
+            };
             let solver = SolverParams {
                 damping,
                 subcontact_subdivisions: subdivisions,
                 timestep_safety,
-                block_scaling,
-                block_mass_floor,
+                density_scaling,
                 ..SolverParams::default()
             };
             let params =
@@ -450,6 +500,21 @@ fn run() -> Result<ExitCode> {
             );
             out!("generated in      {:.2} ms", dt * 1e3);
             out!("wrote             {}", out.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Discrepancy { study, out, threads, realizations, measured, json } => {
+            cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
+                study,
+                out,
+                threads,
+                realizations,
+                measured,
+                json,
+            })?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Synthesize { study, effect, seed, specimens, out } => {
+            cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench { case, wall, seed, json, no_predictor, realizations, .. } if case == "tilt" => {

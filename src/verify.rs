@@ -1,4 +1,4 @@
-//! Verification against closed-form statics and dynamics (SPEC §6).
+//! Verification against closed-form statics and dynamics (rigid-block limit analysis; Santa-Cruz et al. 2021, §5).
 //!
 //! Every case builds its layout here, runs the same code path as `drystone tilt`, and
 //! compares with an independent closed form. `drystone verify` prints them; the test suite
@@ -36,7 +36,7 @@
 //! block length and of Ks. The shear stiffness moves the block sideways but adds no moment
 //! about the base.
 
-use crate::dem::SolverParams;
+use crate::dem::{DensityScaling, SolverParams};
 use crate::layout::{BaseSliding, BlockSpec, Layout, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
 use crate::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
 
@@ -263,7 +263,10 @@ pub fn offset_stack(b: f64, h: f64, e: f64) -> TiltResult {
 /// along y, m/s² (least-squares slope of the velocity over 0.2 s after a 0.05 s transient).
 pub fn slide_acceleration(alpha_deg: f64, phi_deg: f64) -> f64 {
     let l = layout_of(vec![box_vertices([0.0, -0.15, 0.0], [0.3, 0.15, 0.1])], 1e9, 5e8, phi_deg, BaseSliding::Free);
-    let mut sim = crate::dem::Simulation::new(&l, SolverParams { density_scaling: false, ..SolverParams::default() });
+    let mut sim = crate::dem::Simulation::new(
+        &l,
+        SolverParams { density_scaling: DensityScaling::Off, ..SolverParams::default() },
+    );
     sim.run_to_equilibrium(1e-6, 200_000).expect("finite");
     sim.params.damping = 0.0;
     sim.set_tilt(deg_to_rad(alpha_deg));
@@ -309,7 +312,7 @@ pub fn free_fall() -> (f64, f64) {
     let l = layout_of(vec![box_vertices([0.0, 0.0, 0.5], [0.2, 0.2, 0.6])], 1e8, 5e7, 30.0, BaseSliding::Free);
     let mut sim = crate::dem::Simulation::new(
         &l,
-        SolverParams { damping: 0.0, density_scaling: false, ..SolverParams::default() },
+        SolverParams { damping: 0.0, density_scaling: DensityScaling::Off, ..SolverParams::default() },
     );
     sim.dt = 1e-4;
     // Start the leapfrog from rest at t = 0: v(−Δt/2) = +g Δt/2 so that v(0) = 0.
@@ -344,7 +347,7 @@ pub fn bounce_energy() -> (f64, f64, f64) {
         damping: 0.0,
         contact_margin_m: 0.01,
         timestep_safety: 0.1,
-        density_scaling: false,
+        density_scaling: DensityScaling::Off,
         ..SolverParams::default()
     };
     let mut sim = crate::dem::Simulation::new(&l, params);

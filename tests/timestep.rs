@@ -8,7 +8,7 @@
 use drystone::dem::integrator::{advance, YConstraint};
 use drystone::dem::state::Body;
 use drystone::dem::timestep::{inv_sqrt, Stiffness};
-use drystone::dem::{Simulation, SolverParams};
+use drystone::dem::{DensityScaling, Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use drystone::geometry::ConvexBlock;
 use drystone::Vec3;
@@ -89,12 +89,14 @@ fn the_lanczos_step_bounds_the_dense_top_eigenvalue_closely() {
     let wall = Wall::from_file(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("studies/walls/sbl.toml")).unwrap();
     let layout = generate(&wall, 20210917, 0).unwrap().check().unwrap();
     // Scalar density scaling, then block scaling.
-    for params in [
-        SolverParams { block_scaling: false, ..SolverParams::default() },
-        SolverParams { block_scaling: true, ..SolverParams::default() },
-    ] {
+    for params in
+        [SolverParams { density_scaling: DensityScaling::Scalar, ..SolverParams::default() }, SolverParams::default()]
+    {
         let mut sim = Simulation::new(&layout, params);
-        assert_eq!(sim.bodies.iter().any(|b| b.block_mass.is_some()), params.block_scaling);
+        assert_eq!(
+            sim.bodies.iter().any(|b| b.block_mass.is_some()),
+            matches!(params.density_scaling, DensityScaling::Block { .. })
+        );
         for settled in [false, true] {
             if settled {
                 assert!(sim.run_to_equilibrium(1e-4, 100_000).unwrap());
@@ -113,7 +115,7 @@ fn the_lanczos_step_bounds_the_dense_top_eigenvalue_closely() {
         }
         // Scalar scaling: below the classical bound 2 max λ_body (every body has the same
         // scaled λ_body), which the assembled matrix does not reach.
-        if !params.block_scaling {
+        if !matches!(params.density_scaling, DensityScaling::Block { .. }) {
             let stiffness = Stiffness::new(&sim.bodies, &sim.contacts);
             let bound = 2.0
                 * stiffness
@@ -167,8 +169,10 @@ fn block_scaling_reaches_the_same_equilibria_in_fewer_steps() {
     let l = Layout::from_file(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/layouts/running_bond_wall.json"))
         .unwrap();
     let tilt = TiltParams::default();
-    let block = run_tilt(&l, SolverParams { block_scaling: true, ..SolverParams::default() }, &tilt).unwrap();
-    let scalar = run_tilt(&l, SolverParams { block_scaling: false, ..SolverParams::default() }, &tilt).unwrap();
+    let block = run_tilt(&l, SolverParams::default(), &tilt).unwrap();
+    let scalar =
+        run_tilt(&l, SolverParams { density_scaling: DensityScaling::Scalar, ..SolverParams::default() }, &tilt)
+            .unwrap();
     assert_eq!(block.collapse_angle_deg, scalar.collapse_angle_deg);
     assert_eq!(block.first_unstable_deg, scalar.first_unstable_deg);
     let limit = 0.8 * scalar.collapse_angle_deg;
@@ -205,8 +209,10 @@ fn a_blown_up_block_scaled_increment_is_repeated_with_scalar_scaling() {
     use drystone::verify::{layout_of, rect_block};
     let l = layout_of(vec![rect_block(0.1125, 0.375, 0.3)], 5e7, 2.5e7, 60.0, BaseSliding::Free);
     let tilt = TiltParams { step_deg: 10.0, ..TiltParams::default() };
-    let block = run_tilt(&l, SolverParams { block_scaling: true, ..SolverParams::default() }, &tilt).unwrap();
-    let scalar = run_tilt(&l, SolverParams { block_scaling: false, ..SolverParams::default() }, &tilt).unwrap();
+    let block = run_tilt(&l, SolverParams::default(), &tilt).unwrap();
+    let scalar =
+        run_tilt(&l, SolverParams { density_scaling: DensityScaling::Scalar, ..SolverParams::default() }, &tilt)
+            .unwrap();
     assert_eq!(block.scalar_fallbacks_deg, vec![20.0]);
     assert!(scalar.scalar_fallbacks_deg.is_empty());
     assert_eq!(block.collapse_angle_deg, scalar.collapse_angle_deg);

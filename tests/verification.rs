@@ -1,4 +1,4 @@
-//! Analytic scenario tests (SPEC §6): the DEM against closed-form statics and dynamics.
+//! Analytic scenario tests: the DEM against closed-form statics and dynamics.
 //! Each test is named for what it proves.
 
 use drystone::dem::contact::law::Quadrature;

@@ -46,6 +46,55 @@ pub enum DemError {
     },
 }
 
+/// Density scaling for static solutions: fictitious inertial masses that leave the
+/// weights unchanged and let every body relax at about the same rate (3DEC's density
+/// scaling, Itasca 3DEC manual; see `dem::timestep`). Quasi-static results do not depend on
+/// it; dynamics need `Off`.
+///
+/// In TOML: `density_scaling = { kind = "block", mass_floor = 0.05 }`, `{ kind = "scalar" }`
+/// or `{ kind = "off" }`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DensityScaling {
+    /// True masses.
+    Off,
+    /// Every body's mass and inertia scaled so that all bodies have the critical step of
+    /// the median body (`dem::timestep::density_scaling`).
+    Scalar,
+    /// Each body's inertial mass is its own 6 × 6 contact-stiffness block plus `mass_floor`
+    /// (in (0, 10]) times its scalar-scaled mass (block-Jacobi scaling,
+    /// `dem::timestep::block_masses`). The tilting table repeats with `Scalar` (kept from
+    /// there on) an increment whose block-scaled dynamics blow up; the static lateral load
+    /// uses `Scalar`.
+    Block {
+        /// Share of the scalar-scaled mass added to each block mass, –.
+        mass_floor: f64,
+    },
+}
+
+impl DensityScaling {
+    /// Whether masses are scaled at all.
+    pub fn is_on(self) -> bool {
+        !matches!(self, DensityScaling::Off)
+    }
+
+    /// `Scalar` in place of `Block`, otherwise unchanged.
+    pub fn without_block(self) -> DensityScaling {
+        match self {
+            DensityScaling::Block { .. } => DensityScaling::Scalar,
+            other => other,
+        }
+    }
+
+    /// The block mass floor (1 for the other kinds, which have none).
+    pub fn mass_floor(self) -> f64 {
+        match self {
+            DensityScaling::Block { mass_floor } => mass_floor,
+            _ => 1.0,
+        }
+    }
+}
+
 /// Solver parameters. Every field has a documented default (`SolverParams::default()`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -74,38 +123,8 @@ pub struct SolverParams {
     pub degenerate_width_fraction: f64,
     /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
     pub redetect_fraction: f64,
-    /// Density scaling for static solutions (3DEC's): every body's inertial mass and inertia
-    /// are scaled so that all bodies have the critical step of the median body (small
-    /// wedges get a larger inertia and no longer set the time step, large stones a smaller
-    /// one); weights are unchanged (see `dem::timestep::density_scaling`). Default true;
-    /// turn off for dynamics.
-    pub density_scaling: bool,
-    /// With density scaling, make each body's inertial mass its own 6 × 6 contact stiffness
-    /// block (block-Jacobi scaling) instead of a scalar multiple of its mass and inertia:
-    /// every direction of every body then has about the same frequency against its held
-    /// neighbours, not only the stiffest one (see `dem::timestep::block_masses`). The
-    /// tilting table uses it for every increment and bisection trial, and repeats with
-    /// scalar scaling (kept from there on) an increment whose block-scaled dynamics blow up;
-    /// the lateral load never uses it (its collapse is one solve, and a block pushed over by
-    /// twice its overturning load blew up under block scaling). Effect (session 7, the
-    /// mechanism read joint by joint): SBL, 8 realizations, 304,753 steps against 490,858
-    /// scalar (−38 %), the same collapse angles; the main job 762,238 steps against
-    /// 1,569,343 (−51 %), the same collapse angles and governing joints (up to ties between
-    /// base joints); `verify` the same angles except the knife-edge offset stack
-    /// e = 0.2 b, whose 21.6875° trial finds no equilibrium within the step budget (−0.176°
-    /// against −0.114° scalar, inside the 0.3° tolerance): near a knife edge block-scaled
-    /// relaxation is far slower than scalar (`BENCHMARKS.md`, session 7). Default true;
-    /// false restores scalar scaling throughout.
-    pub block_scaling: bool,
-    /// With block scaling, the share ε of the scalar-scaled mass added to each block mass
-    /// (`M = K_ii/λ_target + ε s M⁰`), in (0, 10]. Default 0.05. Smaller values precondition
-    /// more: SBL, 8 realizations, block scaling throughout (session 6, before the
-    /// mechanism and switch fixes): 0.05 → 307,156 steps, 0.25 → 343,722, 1 → 447,794
-    /// (scalar: 490,858); SBL realization 0 (session 7): 0.01 → 33,884, 0.001 → 34,668, 1e-5
-    /// → 32,912 against 33,193 at 0.05, no blow-up. At 0.05 and 0.25 a single block
-    /// overturned by twice its overturning lateral load blows up under block scaling (hence
-    /// scalar scaling for the lateral load).
-    pub block_mass_floor: f64,
+    /// Density scaling for static solutions. Default `Block { mass_floor: 0.05 }`.
+    pub density_scaling: DensityScaling,
 }
 
 impl Default for SolverParams {
@@ -121,9 +140,7 @@ impl Default for SolverParams {
             quadrature: Quadrature::Exact,
             degenerate_width_fraction: c.degenerate_width_fraction,
             redetect_fraction: 0.5,
-            density_scaling: true,
-            block_scaling: true,
-            block_mass_floor: 0.05,
+            density_scaling: DensityScaling::Block { mass_floor: 0.05 },
         }
     }
 }
@@ -178,9 +195,9 @@ impl SolverParams {
                 "in (0, 1]",
             ),
             (
-                "block_mass_floor",
-                self.block_mass_floor,
-                self.block_mass_floor > 0.0 && self.block_mass_floor <= 10.0,
+                "density_scaling.mass_floor",
+                self.density_scaling.mass_floor(),
+                self.density_scaling.mass_floor() > 0.0 && self.density_scaling.mass_floor() <= 10.0,
                 "in (0, 10]",
             ),
             (
@@ -448,7 +465,8 @@ impl Simulation {
     }
 
     /// Sets the table tilt α (rad): gravity becomes `g (0, sin α, −cos α)` in the table
-    /// frame (SPEC §4; the out-of-plane load is `W sin α`).
+    /// frame (the out-of-plane load is `W sin α`; Santa-Cruz et al. 2021, Eq. 1 with sine and cosine in
+    /// their places).
     pub fn set_tilt(&mut self, alpha: f64) {
         self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
     }
@@ -493,16 +511,16 @@ impl Simulation {
     /// the stiffness of the current contacts at the current poses.
     fn update_masses_and_step(&mut self) {
         let stiffness = Stiffness::new(&self.bodies, &self.contacts);
-        if self.params.density_scaling {
+        if self.params.density_scaling.is_on() {
             let (target, scale) = density_scaling(stiffness.body_eigenvalues());
             for (b, s) in self.bodies.iter_mut().zip(&scale) {
                 b.inertia_scale_inv = 1.0 / s;
                 b.block_mass = None;
             }
             self.max_density_scale = self.max_density_scale.max(scale.iter().cloned().fold(1.0, f64::max));
-            if self.params.block_scaling && target > 0.0 {
+            if let (DensityScaling::Block { mass_floor }, true) = (self.params.density_scaling, target > 0.0) {
                 let held: Vec<bool> = self.restraint.iter().map(|r| matches!(r, Some(EndRestraint::Rigid))).collect();
-                let masses = block_masses(&stiffness, &self.bodies, target, self.params.block_mass_floor, &held);
+                let masses = block_masses(&stiffness, &self.bodies, target, mass_floor, &held);
                 for (b, m) in self.bodies.iter_mut().zip(masses) {
                     b.block_mass = m;
                 }
@@ -515,7 +533,7 @@ impl Simulation {
         };
         // Static solutions take the step of the current masses; dynamics only ever shrink it,
         // so that a run keeps one time base.
-        self.dt = if self.params.density_scaling { dt } else { self.dt.min(dt) };
+        self.dt = if self.params.density_scaling.is_on() { dt } else { self.dt.min(dt) };
     }
 
     fn make_contact(&self, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
@@ -622,12 +640,12 @@ impl Simulation {
         }
     }
 
-    /// Switches block density scaling on or off: rebuilds the inertial masses and the time
-    /// step, and stops every body (velocities of a relaxation under one set of fictitious
-    /// masses are a kick under another).
-    pub fn set_block_scaling(&mut self, on: bool) {
-        if self.params.block_scaling != on {
-            self.params.block_scaling = on;
+    /// Switches the density scaling: rebuilds the inertial masses and the time step, and
+    /// stops every body (velocities of a relaxation under one set of fictitious masses are a
+    /// kick under another).
+    pub fn set_density_scaling(&mut self, scaling: DensityScaling) {
+        if self.params.density_scaling != scaling {
+            self.params.density_scaling = scaling;
             self.update_masses_and_step();
             for b in &mut self.bodies {
                 b.vel = Vec3::zeros();

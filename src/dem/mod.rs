@@ -9,4 +9,4 @@ pub mod monitor;
 pub mod state;
 pub mod timestep;
 
-pub use engine::{Contact, DemError, Isa, Simulation, SolverParams};
+pub use engine::{Contact, DemError, DensityScaling, Isa, Simulation, SolverParams};

@@ -42,7 +42,7 @@ pub struct Body {
     pub material: usize,
     /// 1/s for the density scaling factor s > 0 of the inertial mass and inertia (1: none).
     pub inertia_scale_inv: f64,
-    /// Block density scaling (`SolverParams::block_scaling`): the body's 6 × 6 inertial mass
+    /// Block density scaling (`DensityScaling::Block`): the body's 6 × 6 inertial mass
     /// matrix in the table frame, replacing `s m` and `s I` while set.
     pub block_mass: Option<BlockMass>,
     /// Centroid position, table frame, m.

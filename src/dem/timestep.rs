@@ -24,10 +24,10 @@
 //! The per-body eigenvalues (each body against its neighbours held,
 //! [`Stiffness::body_eigenvalues`]) set the density scaling and give the classical bound
 //! `ω_max² ≤ 2 max_body λ_body` (each spring joins two bodies), which caps the Lanczos
-//! estimate. Up to session 5 the step was `0.8 × 2 / √(2 λ_body)`, without the damping
-//! factor: on the SBL wall, where the assembled `ω_max²` is 1.65 times the scaled body
-//! eigenvalue, that put the highest mode at 97–98 % of the damped limit, and a layout with a
-//! ratio above 1.75 (a column of blocks tends to 2) past it.
+//! estimate. A step from the body bound without the damping factor, `0.8 × 2 / √(2 λ_body)`,
+//! would put the highest mode of the SBL wall (assembled `ω_max²` 1.65 times the scaled body
+//! eigenvalue) at 97–98 % of the damped limit, and a layout with a ratio above 1.75 (a column
+//! of blocks tends to 2) past it.
 //!
 //! The three springs of a node sum to `w C₀` with `C₀ = Ks I + (Kn − Ks) n nᵀ` (`w` the
 //! node's area), so a contact's blocks follow from the moments `Σ w`, `Σ w r` and
@@ -311,7 +311,7 @@ impl Stiffness {
 /// mass `M_i = K_ii / λ_target + ε s_i M_i⁰` (6 × 6, table frame), with `K_ii` its diagonal
 /// stiffness block, `λ_target` the scalar target (the median body eigenvalue), `s_i` its
 /// scalar factor (bodies' `inertia_scale_inv` must be set), `M_i⁰ = diag(m, m, m, R I Rᵀ)`
-/// its true mass and `ε = floor` (`SolverParams::block_mass_floor`). As `ε` → 0 every
+/// its true mass and `ε = floor` (`DensityScaling::Block::mass_floor`). As `ε` → 0 every
 /// direction of every body has the frequency `√λ_target` against its held neighbours (the
 /// scalar scaling equalises only the stiffest direction): on the SBL wall the condition
 /// number of the assembled system falls from about 2,700 to about 550 (eigenvalues floored

@@ -1,5 +1,5 @@
 //! The seeded wall generator: from a wall description and a seed, a layout of convex blocks
-//! that the DEM loads (SPEC §2; issue 3).
+//! that the DEM loads.
 //!
 //! ```text
 //!  walls/NAME.toml ─▶ WallSpec ─resolve─▶ Wall ─┐

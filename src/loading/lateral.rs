@@ -1,4 +1,4 @@
-//! The static lateral load protocol (SPEC §4; Santa-Cruz et al. 2021, §4.1 and §4.2, after
+//! The static lateral load protocol (Santa-Cruz et al. 2021, §4.1 and §4.2, after
 //! Zanelli et al. 2019): a trapezoidal pressure on the face of the wall, applied once, solved
 //! to equilibrium; the output is the out-of-plane top displacement and the drift.
 //!
@@ -218,8 +218,9 @@ pub fn run_lateral(
     solver.validate().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
     // Scalar density scaling only: a load past the wall's capacity collapses it within this
-    // one solve, and block-scaled collapse dynamics can blow up (`SolverParams::block_scaling`).
-    let mut sim = Simulation::new(layout, SolverParams { block_scaling: false, ..solver });
+    // one solve, and block-scaled collapse dynamics can blow up (`DensityScaling::Block`).
+    let mut sim =
+        Simulation::new(layout, SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver });
     let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
     let all = layout.bounds();
     let (width, height) = (all.extent().y, all.extent().z);

@@ -1,4 +1,4 @@
-//! The tilting-table protocol (SPEC §4; Santa-Cruz et al. 2021, §2.2 and §5.3).
+//! The tilting-table protocol (Santa-Cruz et al. 2021, §2.2 and §5.3).
 //!
 //! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
 //!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
@@ -20,7 +20,7 @@
 //!
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
-use crate::dem::{DemError, Simulation, SolverParams};
+use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::error::{check_ranges, OutOfRange};
 use crate::layout::Layout;
 use crate::units::deg_to_rad;
@@ -194,7 +194,7 @@ pub struct TiltResult {
     pub max_density_scale: f64,
     /// The tilts (degrees, in the order tried) of the increments and trials whose
     /// block-scaled dynamics blew up and were repeated with scalar scaling (see
-    /// `SolverParams::block_scaling`); empty if none did.
+    /// `DensityScaling::Block`); empty if none did.
     #[serde(default)]
     pub scalar_fallbacks_deg: Vec<f64>,
 }
@@ -371,11 +371,11 @@ impl Ctx<'_> {
         let before = sim.steps;
         match self.run_stage(&mut sim, prediction.clone()) {
             Ok((stage, steps)) => Ok((sim, stage, steps)),
-            Err(DemError::NonFinite { .. }) if sim.params.block_scaling => {
+            Err(DemError::NonFinite { .. }) if matches!(sim.params.density_scaling, DensityScaling::Block { .. }) => {
                 let wasted = sim.steps - before;
                 fallbacks.push(alpha_deg);
                 let mut sim = from.clone();
-                sim.set_block_scaling(false);
+                sim.set_density_scaling(DensityScaling::Scalar);
                 sim.set_tilt(deg_to_rad(alpha_deg));
                 let (stage, steps) = self.run_stage(&mut sim, prediction)?;
                 Ok((sim, stage, steps + wasted))

@@ -51,6 +51,7 @@
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 
 pub mod calibrate;
+pub mod discrepancy;
 pub mod paper;
 pub mod report;
 pub mod run;
@@ -172,6 +173,10 @@ pub struct StudySpec {
     /// Calibration steps (`drystone calibrate`; see [`calibrate`]).
     #[serde(default)]
     pub calibrate: Vec<calibrate::CalibrateSpec>,
+    /// Model-discrepancy settings (`drystone discrepancy`; see
+    /// [`crate::discrepancy::Settings`]).
+    #[serde(default)]
+    pub discrepancy: Option<crate::discrepancy::Settings>,
 }
 
 /// A group of realizations: one wall description.
@@ -297,6 +302,8 @@ pub struct Study {
     pub paper: Option<paper::PaperStudy>,
     /// Calibration steps.
     pub calibrate: Vec<calibrate::CalibrateSpec>,
+    /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
+    pub discrepancy: crate::discrepancy::Settings,
 }
 
 const SWEEP_KEYS: [&str; 7] =
@@ -509,7 +516,9 @@ impl StudySpec {
             measured,
             paper: self.paper,
             calibrate: self.calibrate.clone(),
+            discrepancy: self.discrepancy.clone().unwrap_or_default(),
         };
+        study.discrepancy.validate().map_err(|e| invalid("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
             c.check(&study).map_err(|r| invalid(&format!("calibrate[{i}]"), r))?;
         }

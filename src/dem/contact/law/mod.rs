@@ -254,11 +254,6 @@ mod tests {
     use super::normal::moments_full;
     use super::*;
 
-    fn force(p: &JointParams, s: &mut SubContactState, gap: f64, du: Vec3) -> Vec3 {
-        evaluate(p, Quadrature::Exact, s, &Kinematics { normal: Vec3::z(), gaps: [gap; 3], du_shear: du, area: 0.01 })
-            .force
-    }
-
     /// The generic clipping algorithm (the version before the sign-pattern dispatch), kept
     /// as the bit-level reference of [`compressed_moments`].
     fn compressed_moments_reference(q: [f64; 3], area: f64) -> [f64; 3] {

@@ -1,0 +1,46 @@
+//! The model-discrepancy analysis of a study: its groups and measured data handed to
+//! [`crate::discrepancy`] (`drystone discrepancy STUDY.toml`, `drystone synthesize`).
+
+use super::Study;
+use crate::discrepancy::observations::{observations, MeasurementSigma, Observation};
+use crate::discrepancy::simulate::{GroupSetup, Setup};
+use crate::discrepancy::DiscrepancyError;
+
+/// The setup of a study for the discrepancy analysis: its groups at the first sweep point,
+/// each with `realizations` (or the group's own fixed count, if smaller), the study's seed,
+/// solver and tilting-table parameters with the collapse-angle resolution `resolution_deg`.
+pub fn setup_of(study: &Study, realizations: u64, resolution_deg: f64) -> Setup {
+    let groups = study
+        .groups
+        .iter()
+        .map(|g| {
+            let wall = g.walls[0].clone();
+            let restrained = crate::generator::generate(&wall, study.seed, 0)
+                .ok()
+                .and_then(|w| w.check().ok())
+                .is_some_and(|l| !l.end_restraints.is_empty());
+            GroupSetup {
+                name: g.name.clone(),
+                realizations: g.realizations.map_or(realizations, |r| r.min(realizations)),
+                wall,
+                restrained,
+            }
+        })
+        .collect();
+    let tilt =
+        crate::loading::tilt::TiltParams { resolution_deg: resolution_deg.min(study.tilt.step_deg), ..study.tilt };
+    Setup { groups, seed: study.seed, solver: study.solver, tilt }
+}
+
+/// The observations of a study's measured data (`[measured]`), with the measured group
+/// names mapped to the study's groups.
+///
+/// # Errors
+/// [`DiscrepancyError::Observations`] naming the study file.
+pub fn observations_of(study: &Study, sigma: MeasurementSigma) -> Result<Vec<Observation>, DiscrepancyError> {
+    let groups: Vec<(String, String)> =
+        study.groups.iter().map(|g| (g.measured_group.clone(), g.name.clone())).collect();
+    let file = format!("{} [measured]", study.path.display());
+    observations(&study.measured.collapse, &study.measured.displacement, &groups, sigma, &file)
+        .map_err(|source| DiscrepancyError::Observations { file, source })
+}
