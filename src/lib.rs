@@ -8,13 +8,19 @@
 //!   + seed, realization i          (JSON, strict)          loading   displacements,
 //!                                                          protocol  mechanism
 //!        ensemble: realizations in parallel ──▶ stats ──▶ tables, plots, reports
+//!                                                   └──▶ discrepancy: measured data ──▶
+//!                                                        named cause, extended model
 //! ```
 //!
 //! * [`geometry`]: convex polyhedral blocks, mass properties, frames.
 //! * [`layout`]: the layout file (materials, blocks, table, restraints).
 //! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
 //!   local damping).
-//! * [`loading`]: the tilting-table protocol.
+//! * [`loading`]: the tilting-table and static lateral load protocols.
+//! * [`generator`]: seeded wall layouts; [`ensemble`], [`stats`], [`study`]: ensembles,
+//!   statistics, study files and reports.
+//! * [`discrepancy`]: what the model gets wrong against measured data, the physical effect
+//!   that explains it, the extended model and its held-out gain.
 //! * [`verify`]: closed-form verification cases.
 //!
 //! ## Units
@@ -40,12 +46,12 @@ pub mod benchmark;
 pub mod dem;
 pub mod discrepancy;
 pub mod ensemble;
-pub mod error;
 pub mod generator;
 pub mod geometry;
 pub mod io;
 pub mod layout;
 pub mod loading;
+pub mod range;
 pub mod rng;
 pub mod stats;
 pub mod study;
@@ -56,5 +62,3 @@ pub mod verify;
 pub type Vec3 = nalgebra::Vector3<f64>;
 /// 3×3 matrix of f64 (nalgebra).
 pub type Mat3 = nalgebra::Matrix3<f64>;
-
-pub use error::Error;

@@ -18,14 +18,14 @@
 //! realizations.
 
 use super::collider::sweep_pairs;
-use super::contact::geometry::{self as cgeom, ContactSettings, PatchKind};
+use super::contact::geometry::{self as cgeom, ContactSettings};
 use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactState};
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
-use crate::error::{check_ranges, OutOfRange};
 use crate::layout::{BaseSliding, EndRestraint, Layout};
+use crate::range::{check_ranges, OutOfRange};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -243,8 +243,6 @@ pub struct Contact {
     pub normal_a: Vec3,
     /// Contact normal at detection, in B's body frame.
     pub normal_b: Vec3,
-    /// Polygon kind at detection.
-    pub kind: PatchKind,
     /// Nodes of the sub-contact mesh.
     pub nodes: Vec<ContactNode>,
     /// Sub-contacts (triangles).
@@ -569,7 +567,6 @@ impl Simulation {
             joint,
             normal_a,
             normal_b: bb.rot_mat.transpose() * p.normal,
-            kind: p.kind,
             nodes,
             subs,
             force: Vec3::zeros(),

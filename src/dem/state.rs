@@ -117,12 +117,6 @@ impl Body {
         self.shape.transformed(|v| p + r * v, &r)
     }
 
-    /// Velocity of the material point at table-frame position `x`, m/s.
-    #[inline]
-    pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
-        self.vel + self.angvel.cross(&(x - self.pos))
-    }
-
     /// Kinetic energy, J.
     pub fn kinetic_energy(&self) -> f64 {
         let iw = self.rot_mat * self.inertia * self.rot_mat.transpose();

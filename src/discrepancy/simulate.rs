@@ -6,11 +6,11 @@
 use super::effects::Effect;
 use super::observations::{Measure, Observable};
 use crate::dem::SolverParams;
+use crate::ensemble::{run_scheduled, Item};
 use crate::generator::{generate, Wall};
 use crate::loading::tilt::{run_tilt, TiltParams};
 use crate::rng::{rng_for, Purpose};
 use crate::units::m_to_cm;
-use rayon::prelude::*;
 use serde::Serialize;
 
 /// One group of walls the model is run for.
@@ -142,7 +142,15 @@ pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Out
             }
         }
     }
-    let results: Vec<Outcome> = tasks.par_iter().map(|&(mi, gi, r)| run_one(setup, gi, r, &models[mi])).collect();
+    // Restrained walls creep longest near collapse: schedule them first.
+    let items: Vec<Item> = tasks
+        .iter()
+        .enumerate()
+        .map(|(index, &(mi, gi, r))| Item { index, group: gi, point: mi, realization: r })
+        .collect();
+    let cost: Vec<f64> = tasks.iter().map(|&(_, gi, _)| if setup.groups[gi].restrained { 2.0 } else { 1.0 }).collect();
+    let results: Vec<Outcome> =
+        run_scheduled(&items, &cost, "discrepancy", |it| run_one(setup, it.group, it.realization, &models[it.point]));
     let mut out: Outcomes = models.iter().map(|_| setup.groups.iter().map(|_| Vec::new()).collect()).collect();
     for ((mi, gi, _), o) in tasks.into_iter().zip(results) {
         out[mi][gi].push(o);

@@ -84,18 +84,13 @@ impl Shard {
     }
 }
 
-/// Runs `f` on every item in parallel (rayon, on the current pool), taken in index order,
-/// and returns the results in item order. Shows a progress bar on a terminal (stderr),
+/// Runs `f` on every item in parallel (rayon, on the current pool) and returns the results
+/// in item order. Schedules the items by decreasing `cost` (one estimate per item, any unit;
+/// ties in index order): each free worker takes the costliest item left (greedy
+/// longest-processing-time list scheduling), so a few expensive items do not leave a thread
+/// idle at the end. Every item being a pure function of itself, the results do not depend
+/// on the costs or the number of threads. Shows a progress bar on a terminal (stderr),
 /// nothing otherwise.
-pub fn run<R: Send, F: Fn(&Item) -> R + Sync + Send>(items: &[Item], label: &str, f: F) -> Vec<R> {
-    run_scheduled(items, &vec![0.0; items.len()], label, f)
-}
-
-/// As [`run`], but schedules the items by decreasing `cost` (one estimate per item, any
-/// unit; ties in index order): each free worker takes the costliest item left (greedy
-/// longest-processing-time list scheduling), so a few expensive items do not leave a
-/// thread idle at the end. Results are still returned in item order and, every item being
-/// a pure function of itself, are the same as [`run`]'s bit for bit.
 pub fn run_scheduled<R: Send, F: Fn(&Item) -> R + Sync + Send>(
     items: &[Item],
     cost: &[f64],
@@ -171,7 +166,7 @@ mod tests {
         let all = items(2, 3, 7);
         for threads in [1, 2, 4] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let out = pool.install(|| run(&all, "t", |it| it.index * 10 + it.group));
+            let out = pool.install(|| run_scheduled(&all, &vec![0.0; all.len()], "t", |it| it.index * 10 + it.group));
             assert_eq!(out, all.iter().map(|it| it.index * 10 + it.group).collect::<Vec<_>>());
         }
     }

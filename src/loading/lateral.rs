@@ -43,8 +43,8 @@
 
 use super::tilt::{monitor_displacements, monitor_points, MonitorPoint};
 use crate::dem::{DemError, Simulation, SolverParams};
-use crate::error::{check_ranges, OutOfRange};
 use crate::layout::Layout;
+use crate::range::{check_ranges, OutOfRange};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;

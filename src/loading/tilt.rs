@@ -21,8 +21,8 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
-use crate::error::{check_ranges, OutOfRange};
 use crate::layout::Layout;
+use crate::range::{check_ranges, OutOfRange};
 use crate::units::deg_to_rad;
 use crate::Vec3;
 use serde::{Deserialize, Serialize};

@@ -415,7 +415,7 @@ impl StudySpec {
             return Err(invalid("groups", "at least one group is needed".into()));
         }
         let range =
-            |table: &'static str| move |e: crate::error::OutOfRange| invalid(&format!("{table}.{}", e.key), e.reason());
+            |table: &'static str| move |e: crate::range::OutOfRange| invalid(&format!("{table}.{}", e.key), e.reason());
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         self.solver.validate().map_err(range("solver"))?;

@@ -1,6 +1,5 @@
-//! The crate error: one variant per module error.
-
-use thiserror::Error;
+//! The one range-check helper of parameter structs (solver, tilt, lateral load): a leaf,
+//! used by every module that checks numeric parameters.
 
 /// A numeric parameter outside its allowed range: the key (as in the study file's tables and
 /// the CLI flags), the value and the allowed range in words (every range also excludes NaN
@@ -42,32 +41,4 @@ pub(crate) fn check_ranges(checks: &[(&str, f64, bool, &'static str)]) -> Result
         }
     }
     Ok(())
-}
-
-/// Any drystone error.
-#[derive(Debug, Error)]
-#[non_exhaustive]
-pub enum Error {
-    /// Bad layout file or layout value.
-    #[error(transparent)]
-    Layout(#[from] crate::layout::LayoutError),
-    /// Bad geometry.
-    #[error(transparent)]
-    Geometry(#[from] crate::geometry::GeometryError),
-    /// Bad wall description or distribution, or an infeasible realization.
-    #[error(transparent)]
-    Generator(#[from] crate::generator::GeneratorError),
-    /// The engine blew up.
-    #[error(transparent)]
-    Dem(#[from] crate::dem::DemError),
-    /// Bad protocol or solver parameter.
-    #[error("parameter {key} = {value}: {reason}")]
-    Parameter {
-        /// The parameter.
-        key: String,
-        /// Its value.
-        value: String,
-        /// What is wrong.
-        reason: String,
-    },
 }
