@@ -871,19 +871,14 @@ impl Simulation {
     }
 
     /// Runs until the unbalanced-force ratio falls below `tol` (returns `Ok(true)`) or
-    /// `max_steps` have been taken (`Ok(false)`). Checks the ratio every step after a first
-    /// 10 steps.
+    /// `max_steps` have been taken (`Ok(false)`): [`super::relax::relax`] without a stop
+    /// check.
     ///
     /// # Errors
     /// [`DemError::NonFinite`].
     pub fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
-        for i in 0..max_steps {
-            self.step()?;
-            if i >= 10 && self.stats.unbalanced_ratio < tol {
-                return Ok(true);
-            }
-        }
-        Ok(false)
+        let r = super::relax::relax(self, tol, max_steps, |_| None::<()>)?;
+        Ok(matches!(r, super::relax::Relaxed::Equilibrium(_)))
     }
 
     /// Total energy bookkeeping: (kinetic, gravitational potential relative to the

@@ -6,6 +6,7 @@ pub mod contact;
 pub mod engine;
 pub mod integrator;
 pub mod monitor;
+pub mod relax;
 pub mod state;
 pub mod timestep;
 

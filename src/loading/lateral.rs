@@ -42,6 +42,7 @@
 //! A study sets other values under `[lateral]`.
 
 use super::tilt::{monitor_displacements, monitor_points, MonitorPoint};
+use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -240,23 +241,12 @@ pub fn run_lateral(
     let weight_n: f64 = sim.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.gravity.norm();
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
-    let mut steps = 0;
-    let mut reason = None;
-    loop {
-        sim.step()?;
-        steps += 1;
-        if steps > 10 && sim.stats.unbalanced_ratio < params.tolerance {
-            break;
-        }
-        if steps % 64 == 0 && disp(&sim).iter().any(|d| d.abs() > limit) {
-            reason = Some("total_displacement".to_string());
-            break;
-        }
-        if steps >= params.max_steps {
-            reason = Some("no_equilibrium".to_string());
-            break;
-        }
-    }
+    let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
+    let reason = match relax(&mut sim, params.tolerance, params.max_steps, check)? {
+        Relaxed::Equilibrium(_) => None,
+        Relaxed::Stopped(r, _) => Some(r.to_string()),
+        Relaxed::Budget(_) => Some("no_equilibrium".to_string()),
+    };
     let displacement_m = disp(&sim);
     let max_displacement_m = displacement_m.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
     Ok(LateralResult {

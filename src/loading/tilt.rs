@@ -20,6 +20,7 @@
 //!
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
+use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -334,23 +335,20 @@ impl Ctx<'_> {
         }
         let inc_limit = self.params.collapse_increment_fraction * self.width;
         let tot_limit = self.params.collapse_displacement_fraction * self.width;
-        let mut steps = 0;
-        while steps < self.params.max_steps_per_increment {
-            sim.step()?;
-            steps += 1;
-            if steps > 10 && sim.stats.unbalanced_ratio < self.params.tolerance {
-                return Ok((Stage::Stable, steps));
+        let check = |sim: &Simulation| {
+            if largest_motion(sim, &start) > inc_limit {
+                Some(CollapseReason::IncrementDisplacement)
+            } else if self.displacements(sim).iter().any(|d| d.abs() > tot_limit) {
+                Some(CollapseReason::TotalDisplacement)
+            } else {
+                None
             }
-            if steps % 64 == 0 {
-                if largest_motion(sim, &start) > inc_limit {
-                    return Ok((Stage::Collapsed(CollapseReason::IncrementDisplacement), steps));
-                }
-                if self.displacements(sim).iter().any(|d| d.abs() > tot_limit) {
-                    return Ok((Stage::Collapsed(CollapseReason::TotalDisplacement), steps));
-                }
-            }
-        }
-        Ok((Stage::Collapsed(CollapseReason::NoEquilibrium), steps))
+        };
+        Ok(match relax(sim, self.params.tolerance, self.params.max_steps_per_increment, check)? {
+            Relaxed::Equilibrium(steps) => (Stage::Stable, steps),
+            Relaxed::Stopped(reason, steps) => (Stage::Collapsed(reason), steps),
+            Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::NoEquilibrium), steps),
+        })
     }
 
     /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and

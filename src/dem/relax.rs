@@ -1,0 +1,50 @@
+//! The one relaxation loop of every static solution (the settling under gravity, each
+//! tilting-table increment and bisection trial, the static lateral load): dynamic
+//! relaxation with local damping until the unbalanced-force ratio drops below a tolerance
+//! (Cundall 1988; 3DEC's `solve ratio`), a protocol's stop check fires, or the step budget
+//! runs out.
+
+use super::engine::{DemError, Simulation};
+
+/// Steps between two calls of the stop check (it measures displacements, which costs more
+/// than a step's bookkeeping).
+pub const CHECK_EVERY: u64 = 64;
+
+/// How a relaxation ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Relaxed<R> {
+    /// The unbalanced-force ratio fell below the tolerance after this many steps.
+    Equilibrium(u64),
+    /// The stop check returned its reason after this many steps.
+    Stopped(R, u64),
+    /// The step budget ran out.
+    Budget(u64),
+}
+
+/// Steps `sim` until equilibrium (unbalanced-force ratio below `tol`, after at least 11
+/// steps so that the first forces have propagated), until `check` (called every
+/// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps.
+///
+/// # Errors
+/// [`DemError::NonFinite`] when a body's state blows up.
+pub fn relax<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    max_steps: u64,
+    mut check: impl FnMut(&Simulation) -> Option<R>,
+) -> Result<Relaxed<R>, DemError> {
+    let mut steps = 0;
+    while steps < max_steps {
+        sim.step()?;
+        steps += 1;
+        if steps > 10 && sim.stats.unbalanced_ratio < tol {
+            return Ok(Relaxed::Equilibrium(steps));
+        }
+        if steps % CHECK_EVERY == 0 {
+            if let Some(r) = check(sim) {
+                return Ok(Relaxed::Stopped(r, steps));
+            }
+        }
+    }
+    Ok(Relaxed::Budget(steps))
+}
