@@ -20,6 +20,8 @@
 use super::collider::sweep_pairs;
 use super::contact::geometry::{self as cgeom, ContactSettings};
 use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactState};
+pub use super::contact::types::{Contact, ContactNode, SubContact};
+pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
@@ -207,101 +209,6 @@ impl SolverParams {
                 "an integer in [1, 64]",
             ),
         ])
-    }
-}
-
-/// A node of a contact's sub-contact mesh: a material point on each body.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactNode {
-    /// Point on A, A's body frame (table frame for the table), m.
-    pub on_a: Vec3,
-    /// Point on B, B's body frame, m.
-    pub on_b: Vec3,
-}
-
-/// One sub-contact: a triangle of the contact polygon and its joint history.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SubContact {
-    /// Node indices into [`Contact::nodes`].
-    pub nodes: [u32; 3],
-    /// Area, m².
-    pub area: f64,
-    /// Joint history.
-    pub state: SubContactState,
-}
-
-/// A contact between body A (or the table) and body B.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Contact {
-    /// Body A; `None` is the table.
-    pub a: Option<usize>,
-    /// Body B.
-    pub b: usize,
-    /// Joint parameters.
-    pub joint: JointParams,
-    /// Contact normal at detection, in A's body frame (table frame for the table).
-    pub normal_a: Vec3,
-    /// Contact normal at detection, in B's body frame.
-    pub normal_b: Vec3,
-    /// Nodes of the sub-contact mesh.
-    pub nodes: Vec<ContactNode>,
-    /// Sub-contacts (triangles).
-    pub subs: Vec<SubContact>,
-    /// Resultant force on B at the last step, N, table frame.
-    pub force: Vec3,
-}
-
-impl Contact {
-    fn key(&self) -> (usize, usize) {
-        (self.a.map_or(0, |i| i + 1), self.b)
-    }
-}
-
-/// An instruction set the engine's step is compiled for (see [`Simulation::step`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[doc(hidden)]
-pub enum Isa {
-    /// The baseline of the target (x86-64: SSE2).
-    Portable,
-    /// AVX2 and FMA.
-    Avx2,
-    /// AVX-512F and AVX-512VL (with AVX2 and FMA).
-    Avx512,
-}
-
-impl Isa {
-    /// Every variant, baseline first.
-    pub const ALL: [Isa; 3] = [Isa::Portable, Isa::Avx2, Isa::Avx512];
-
-    /// Whether this CPU runs the variant.
-    pub fn available(self) -> bool {
-        match self {
-            Isa::Portable => true,
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma"),
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => {
-                Isa::Avx2.available()
-                    && std::is_x86_feature_detected!("avx512f")
-                    && std::is_x86_feature_detected!("avx512vl")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => false,
-        }
-    }
-
-    /// The widest variant this CPU runs (detected once per process).
-    pub fn best() -> Isa {
-        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
-        *BEST.get_or_init(|| {
-            if Isa::Avx512.available() {
-                Isa::Avx512
-            } else if Isa::Avx2.available() {
-                Isa::Avx2
-            } else {
-                Isa::Portable
-            }
-        })
     }
 }
 

@@ -20,7 +20,6 @@
 
 use super::state::Body;
 use crate::Vec3;
-use nalgebra::UnitQuaternion;
 
 /// Constraint on a body's y translation (end restraints).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,25 +56,6 @@ impl SignumOrZero for f64 {
         } else {
             0.0
         }
-    }
-}
-
-/// The unit quaternion of the rotation vector `phi` (rad): `(cos(θ/2), sin(θ/2) φ/θ)` with
-/// `θ = |φ|`. The rotation of one step is tiny (θ ~ 1e-6), so below θ = 1e-3 the two
-/// factors come from their Taylor series in θ², to four terms: the first omitted terms are
-/// θ⁸/10321920 and θ⁸/185794560 relative, below 1e-30, far under the rounding of the result
-/// (this also avoids a square root and a call to `sincos` per body and step). Larger
-/// rotations use `UnitQuaternion::from_scaled_axis`.
-#[inline]
-pub fn rotation_increment(phi: Vec3) -> UnitQuaternion<f64> {
-    let t2 = phi.norm_squared();
-    if t2 < 1e-6 {
-        // cos(θ/2) = 1 − θ²/8 + θ⁴/384 − θ⁶/46080; sin(θ/2)/θ = 1/2 − θ²/48 + θ⁴/3840 − θ⁶/645120.
-        let c = 1.0 - t2 * (1.0 / 8.0 - t2 * (1.0 / 384.0 - t2 * (1.0 / 46080.0)));
-        let s = 0.5 - t2 * (1.0 / 48.0 - t2 * (1.0 / 3840.0 - t2 * (1.0 / 645120.0)));
-        UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(c, s * phi.x, s * phi.y, s * phi.z))
-    } else {
-        UnitQuaternion::from_scaled_axis(phi)
     }
 }
 
@@ -164,7 +144,9 @@ fn block_velocities(
 
 #[cfg(test)]
 mod tests {
+    use super::super::state::rotation_increment;
     use super::*;
+    use nalgebra::UnitQuaternion;
 
     /// The series agrees with the trigonometric form to rounding over the range it covers,
     /// and the two forms meet at the switch.

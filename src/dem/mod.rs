@@ -3,6 +3,7 @@
 
 pub mod collider;
 pub mod contact;
+pub mod dispatch;
 pub mod engine;
 pub mod integrator;
 pub mod monitor;

@@ -34,7 +34,7 @@
 //! `Σ w r_p r_qᵀ` of its nodes (see [`Stiffness::new`]) instead of three outer products
 //! per node and side.
 
-use super::engine::Contact;
+use super::contact::types::Contact;
 use super::state::Body;
 use crate::{Mat3, Vec3};
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};

@@ -1,4 +1,5 @@
-//! Contacts: narrow-phase geometry and the joint law.
+//! Contacts: narrow-phase geometry, the contact types and the joint law.
 
 pub mod geometry;
 pub mod law;
+pub mod types;

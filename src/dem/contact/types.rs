@@ -1,0 +1,54 @@
+//! Contact types: a contact between two bodies (or the table and a body), its sub-contact
+//! mesh and the joint history of every sub-contact (parry's `ContactManifold` with its
+//! per-contact data, in the 3DEC manner).
+
+use super::law::{JointParams, SubContactState};
+use crate::Vec3;
+
+/// A node of a contact's sub-contact mesh: a material point on each body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactNode {
+    /// Point on A, A's body frame (table frame for the table), m.
+    pub on_a: Vec3,
+    /// Point on B, B's body frame, m.
+    pub on_b: Vec3,
+}
+
+/// One sub-contact: a triangle of the contact polygon and its joint history.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubContact {
+    /// Node indices into [`Contact::nodes`].
+    pub nodes: [u32; 3],
+    /// Area, m².
+    pub area: f64,
+    /// Joint history.
+    pub state: SubContactState,
+}
+
+/// A contact between body A (or the table) and body B.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// Body A; `None` is the table.
+    pub a: Option<usize>,
+    /// Body B.
+    pub b: usize,
+    /// Joint parameters.
+    pub joint: JointParams,
+    /// Contact normal at detection, in A's body frame (table frame for the table).
+    pub normal_a: Vec3,
+    /// Contact normal at detection, in B's body frame.
+    pub normal_b: Vec3,
+    /// Nodes of the sub-contact mesh.
+    pub nodes: Vec<ContactNode>,
+    /// Sub-contacts (triangles).
+    pub subs: Vec<SubContact>,
+    /// Resultant force on B at the last step, N, table frame.
+    pub force: Vec3,
+}
+
+impl Contact {
+    /// The sort key of a contact: the table first, then by (A, B).
+    pub(crate) fn key(&self) -> (usize, usize) {
+        (self.a.map_or(0, |i| i + 1), self.b)
+    }
+}
