@@ -45,7 +45,7 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let study = Study::from_file(&root.join("tests/discrepancy/study.toml")).expect("test study");
     let s = study.discrepancy.clone();
-    let setup = setup_of(&study, s.realizations, s.resolution_deg);
+    let setup = setup_of(&study, s.realizations, &s);
     let full = Setup {
         groups: setup
             .groups

@@ -171,9 +171,11 @@ fn test_bed() -> (drystone::discrepancy::simulate::Setup, Settings) {
         grid_points: 4,
         null_replicates: 100,
         sigma: MeasurementSigma { angle_deg: 0.25, displacement_cm: 0.005 },
+        step_deg: 1.0,
+        resolution_deg: 0.25,
         ..Settings::default()
     };
-    (setup_of(&study, s.realizations, s.resolution_deg), s)
+    (setup_of(&study, s.realizations, &s), s)
 }
 
 /// The hidden strength of each effect, drawn in a range the test bed can resolve.

@@ -49,7 +49,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     }
     s.validate().with_context(|| a.study.display().to_string())?;
     let obs = observations_of(&st, s.sigma)?;
-    let setup = setup_of(&st, s.realizations.max(s.extension_realizations), s.resolution_deg);
+    let setup = setup_of(&st, s.realizations.max(s.extension_realizations), &s);
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create the output directory {}", dir.display()))?;
     let pool = pool(a.threads)?;
@@ -113,7 +113,7 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
         Some(text) => text.split(',').map(|e| Effect::parse(e.trim())).collect::<Result<_, _>>()?,
     };
     let s = &st.discrepancy;
-    let setup = setup_of(&st, specimens, s.resolution_deg);
+    let setup = setup_of(&st, specimens, s);
     let template = observations_of(&st, s.sigma).unwrap_or_default();
     let req = synthesize::Request {
         effects: effects.clone(),

@@ -59,7 +59,11 @@ pub struct Settings {
     pub null_replicates: usize,
     /// Bootstrap resamples of the specimens for the gain's interval \[2000\].
     pub bootstrap: usize,
-    /// Collapse-angle resolution of the tilts, degrees \[0.25\].
+    /// Tilt increment of the analysis's tilting-table runs, degrees \[1\]; every measured
+    /// displacement's tilt must be a multiple of it.
+    pub step_deg: f64,
+    /// Collapse-angle resolution of those runs, degrees \[0.5\] (the reading precision of
+    /// the measured angles).
     pub resolution_deg: f64,
     /// The effects searched \[all\].
     pub effects: Vec<EffectKind>,
@@ -76,7 +80,8 @@ impl Default for Settings {
             grid_points_2d: 2,
             null_replicates: 200,
             bootstrap: 2000,
-            resolution_deg: 0.25,
+            step_deg: 1.0,
+            resolution_deg: 0.5,
             effects: EffectKind::ALL.to_vec(),
             sigma: observations::MeasurementSigma::default(),
         }
@@ -107,6 +112,18 @@ pub enum DiscrepancyError {
         value: String,
         /// The range.
         reason: &'static str,
+    },
+    /// A measured displacement at a tilt the analysis's tilt steps do not reach.
+    #[error(
+        "specimen {specimen}: displacement at {tilt_deg} deg is not a multiple of discrepancy.step_deg = {step_deg}"
+    )]
+    Tilt {
+        /// The specimen.
+        specimen: String,
+        /// Its tilt, degrees.
+        tilt_deg: f64,
+        /// The step, degrees.
+        step_deg: f64,
     },
     /// Every realization of the baseline failed for a group.
     #[error("group {group}: every baseline realization failed ({error})")]
@@ -143,8 +160,11 @@ impl Settings {
         if !(100..=1_000_000).contains(&self.bootstrap) {
             return bad("bootstrap", self.bootstrap.to_string(), "must be in [100, 1000000]");
         }
-        if !(self.resolution_deg > 0.0 && self.resolution_deg <= 2.0) {
-            return bad("resolution_deg", self.resolution_deg.to_string(), "must be in (0, 2]");
+        if !(self.step_deg > 0.0 && self.step_deg <= 5.0) {
+            return bad("step_deg", self.step_deg.to_string(), "must be in (0, 5]");
+        }
+        if !(self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg) {
+            return bad("resolution_deg", self.resolution_deg.to_string(), "must be in (0, step_deg]");
         }
         if self.effects.is_empty() {
             return bad("effects", "[]".into(), "needs at least one effect");
@@ -324,6 +344,18 @@ pub fn build_library(
 /// [`DiscrepancyError`] for bad settings or a baseline that fails entirely.
 pub fn run(setup: &Setup, obs: Vec<Observation>, s: &Settings, seed: u64) -> Result<Run, DiscrepancyError> {
     s.validate()?;
+    for o in &obs {
+        if let Observable::Displacement { tilt_deg, .. } = o.observable {
+            let k = (tilt_deg / setup.tilt.step_deg).round();
+            if (k * setup.tilt.step_deg - tilt_deg).abs() > 1e-9 {
+                return Err(DiscrepancyError::Tilt {
+                    specimen: o.specimen.clone(),
+                    tilt_deg,
+                    step_deg: setup.tilt.step_deg,
+                });
+            }
+        }
+    }
     let keys = Keys::new(setup, &obs);
     let specimens = observations::specimens(&obs);
     let full = Setup {

@@ -128,8 +128,18 @@ pub fn to_json(run: &Run) -> Value {
     })
 }
 
+/// `name = value` for every fitted parameter, flagging a value at a bound of its range
+/// (the data would take it further: the range, or the effect, does not fit them).
 fn fmt_params(r: &Ranked) -> String {
-    r.parameters.iter().map(|(k, v)| format!("{k} = {v:.3e}")).collect::<Vec<_>>().join(", ")
+    r.parameters
+        .iter()
+        .zip(r.x.iter().chain(std::iter::repeat(&0.5)))
+        .map(|((k, v), x)| {
+            let bound = if *x <= 1e-6 || *x >= 1.0 - 1e-6 { " (at a bound of its range)" } else { "" };
+            format!("{k} = {v:.3e}{bound}")
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The Markdown report.

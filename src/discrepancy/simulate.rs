@@ -24,6 +24,9 @@ pub struct GroupSetup {
     pub realizations: u64,
     /// The walls have end restraints.
     pub restrained: bool,
+    /// Every realization of the wall is the same layout (a wall without random input):
+    /// a model without random effects then runs it once.
+    pub deterministic: bool,
 }
 
 /// What the model is run with: groups, master seed, solver and tilting-table parameters.
@@ -137,7 +140,9 @@ pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Out
             if reuse.is_some() && !acts(m, g) {
                 continue;
             }
-            for r in 0..g.realizations {
+            let random = models[mi].iter().any(|e| e.random);
+            let n = if g.deterministic && !random { g.realizations.min(1) } else { g.realizations };
+            for r in 0..n {
                 tasks.push((mi, gi, r));
             }
         }

@@ -75,7 +75,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
         groups: setup
             .groups
             .iter()
-            .map(|g| super::simulate::GroupSetup { realizations: req.specimens, ..g.clone() })
+            .map(|g| super::simulate::GroupSetup { realizations: req.specimens, deterministic: false, ..g.clone() })
             .collect(),
         ..setup.clone()
     };

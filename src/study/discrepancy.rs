@@ -6,29 +6,36 @@ use crate::discrepancy::observations::{observations, MeasurementSigma, Observati
 use crate::discrepancy::simulate::{GroupSetup, Setup};
 use crate::discrepancy::DiscrepancyError;
 
-/// The setup of a study for the discrepancy analysis: its groups at the first sweep point,
+/// The setup of a study for the discrepancy analysis: its groups at the first sweep point
+/// (a group whose realizations 0 and 1 are the same layout is marked deterministic),
 /// each with `realizations` (or the group's own fixed count, if smaller), the study's seed,
-/// solver and tilting-table parameters with the collapse-angle resolution `resolution_deg`.
-pub fn setup_of(study: &Study, realizations: u64, resolution_deg: f64) -> Setup {
+/// solver and tilting-table parameters with the analysis's tilt step and collapse-angle
+/// resolution (`s.step_deg`, `s.resolution_deg`).
+pub fn setup_of(study: &Study, realizations: u64, s: &crate::discrepancy::Settings) -> Setup {
     let groups = study
         .groups
         .iter()
         .map(|g| {
             let wall = g.walls[0].clone();
-            let restrained = crate::generator::generate(&wall, study.seed, 0)
-                .ok()
-                .and_then(|w| w.check().ok())
-                .is_some_and(|l| !l.end_restraints.is_empty());
+            let layout = |r: u64| crate::generator::generate(&wall, study.seed, r).ok().and_then(|w| w.check().ok());
+            let first = layout(0);
+            let restrained = first.as_ref().is_some_and(|l| !l.end_restraints.is_empty());
+            // Two realizations with the same blocks: the wall has no random input.
+            let deterministic = first.is_some() && first == layout(1);
             GroupSetup {
                 name: g.name.clone(),
                 realizations: g.realizations.map_or(realizations, |r| r.min(realizations)),
                 wall,
                 restrained,
+                deterministic,
             }
         })
         .collect();
-    let tilt =
-        crate::loading::tilt::TiltParams { resolution_deg: resolution_deg.min(study.tilt.step_deg), ..study.tilt };
+    let tilt = crate::loading::tilt::TiltParams {
+        step_deg: s.step_deg,
+        resolution_deg: s.resolution_deg.min(s.step_deg),
+        ..study.tilt
+    };
     Setup { groups, seed: study.seed, solver: study.solver, tilt }
 }
 
