@@ -34,7 +34,6 @@
 //! cohesion and tensile strength are the smaller of the two. Between a block and the table,
 //! the table material's joint properties are used as they are.
 
-use crate::dem::contact::law::JointParams;
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::units::deg_to_rad;
 use crate::Vec3;
@@ -237,13 +236,44 @@ pub struct MonitorSpec {
     pub point: [f64; 3],
 }
 
-/// A checked material (SI, radians).
+/// The normal closure law of a material's joints (the DEM's normal closure sub-model; see
+/// `dem::contact::law::normal`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Closure {
+    /// Linear: pressure `Kn u`.
+    #[default]
+    Linear,
+    /// Hyperbolic closure of a rough joint (Bandis, Lumsden & Barton 1983): `Kn` is the
+    /// initial stiffness, `max_closure_m` the maximum closure, m.
+    Hyperbolic {
+        /// Maximum closure Vm, m.
+        max_closure_m: f64,
+    },
+    /// Seating of an uneven bed: initial gaps uniform in `[0, max_gap_m]` (m) that close under
+    /// load.
+    Seating {
+        /// Largest initial gap g₀, m.
+        max_gap_m: f64,
+    },
+}
+
+/// A checked material, SI values (the DEM builds its joint law from them).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
-    /// kg/m³.
+    /// Block density, kg/m³.
     pub density: f64,
-    /// The joint law parameters of this material.
-    pub joint: JointParams,
+    /// Joint normal stiffness Kn, Pa/m.
+    pub kn: f64,
+    /// Joint shear stiffness Ks, Pa/m.
+    pub ks: f64,
+    /// Joint friction angle φ, rad.
+    pub friction: f64,
+    /// Joint cohesion c, Pa.
+    pub cohesion: f64,
+    /// Joint tensile strength, Pa (0: no tension).
+    pub tensile_strength: f64,
+    /// Normal closure law. Default linear.
+    pub closure: Closure,
 }
 
 /// A checked block.
@@ -338,7 +368,15 @@ impl MaterialSpec {
         }
         let c = check_non_negative(k("cohesion_pa"), self.cohesion_pa)?;
         let t = check_non_negative(k("tensile_strength_pa"), self.tensile_strength_pa)?;
-        Ok(Material { density, joint: JointParams::coulomb(kn, ks, deg_to_rad(phi), c, t) })
+        Ok(Material {
+            density,
+            kn,
+            ks,
+            friction: deg_to_rad(phi),
+            cohesion: c,
+            tensile_strength: t,
+            closure: Closure::Linear,
+        })
     }
 }
 
@@ -480,8 +518,8 @@ fn check_overlaps(blocks: &[Block]) -> Result<(), LayoutError> {
         }
     }
     let boxes: Vec<_> = blocks.iter().map(|b| b.shape.aabb()).collect();
-    for (i, j) in crate::dem::collider::sweep_pairs(&boxes, 0.0) {
-        let sep = crate::dem::contact::geometry::separation(&blocks[i].shape, &blocks[j].shape);
+    for (i, j) in crate::geometry::sweep::sweep_pairs(&boxes, 0.0) {
+        let sep = crate::geometry::sat::separation(&blocks[i].shape, &blocks[j].shape);
         if sep.distance < -OVERLAP_TOLERANCE_M {
             return Err(LayoutError::Overlap {
                 a: blocks[i].id.clone(),
@@ -507,15 +545,6 @@ impl Layout {
     pub fn bounds(&self) -> crate::geometry::Aabb {
         crate::geometry::Aabb::from_points(self.blocks.iter().flat_map(|b| b.shape.vertices.iter()))
     }
-
-    /// The joint parameters between two materials (see the module doc for the rule).
-    pub fn joint_between(&self, m1: usize, m2: usize) -> JointParams {
-        if m1 == m2 {
-            self.materials[m1].joint
-        } else {
-            self.materials[m1].joint.combine(&self.materials[m2].joint)
-        }
-    }
 }
 
 #[cfg(test)]
@@ -533,7 +562,7 @@ mod tests {
     fn good_layout_resolves() {
         let l = LayoutSpec::from_json(&one_block()).unwrap().resolve().unwrap();
         assert_eq!(l.blocks.len(), 1);
-        assert!((l.materials[0].joint.tan_phi - 30f64.to_radians().tan()).abs() < 1e-15);
+        assert!((l.materials[0].friction - 30f64.to_radians()).abs() < 1e-15);
     }
 
     #[test]

@@ -2,7 +2,6 @@
 //! single block), and the engine finds an effect hidden in synthetic data on a small wall,
 //! and names none in null data.
 
-use drystone::dem::contact::law::NormalClosure;
 use drystone::dem::SolverParams;
 use drystone::discrepancy::effects::{Effect, EffectKind};
 use drystone::discrepancy::fit::Data;
@@ -10,7 +9,7 @@ use drystone::discrepancy::observations::{observations, specimens, MeasurementSi
 use drystone::discrepancy::simulate::run_models;
 use drystone::discrepancy::synthesize::{observables_of, synthesize, Request};
 use drystone::discrepancy::{analysis, build_library, Keys, Settings};
-use drystone::layout::{BaseSliding, Layout};
+use drystone::layout::{BaseSliding, Closure, Layout};
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use drystone::rng::{rng_for, Purpose};
 use drystone::study::discrepancy::setup_of;
@@ -95,7 +94,7 @@ fn joint_law_effects_settle_a_block_by_their_closed_forms() {
     check("seating_gap=0.002", (2.0 * 0.002 * sigma / kn).sqrt());
     let mut l = base.clone();
     apply(&mut l, "joint_closure=0.1:0.0005");
-    assert_eq!(l.materials[0].joint.closure, NormalClosure::Hyperbolic { max_closure: 5e-4 });
+    assert_eq!(l.materials[0].closure, Closure::Hyperbolic { max_closure_m: 5e-4 });
 }
 
 /// An end-restrained block on a frictionless table held at α: rigid, it does not move;

@@ -1,16 +1,16 @@
 //! Invariants of generated walls over many seeds (property tests): every block convex (it
 //! resolves into a `ConvexBlock`, which rejects non-convex vertex lists), no two blocks
-//! overlapping (the DEM's own narrow phase, `dem::contact::geometry::separation`), the
+//! overlapping (the DEM's own narrow phase, `geometry::sat::separation`), the
 //! volume within 1 % of the envelope volume × (1 − stated void fraction), every vertex inside
 //! the section envelope, the base course on the table.
 
-use drystone::dem::collider::sweep_pairs;
-use drystone::dem::contact::geometry::separation;
 use drystone::generator::spec::{
     ArrangementKind, ArrangementSpec, Batter, BlocksSpec, CoursesSpec, DistRef, EndKind, EndsSpec, GeometrySpec,
     HeadGap, HeadJointsSpec, RestraintsSpec, WallSpec,
 };
 use drystone::generator::{generate, DistributionSource, DistributionSpec, GeneratedWall, PieceKind, Wall};
+use drystone::geometry::sat::separation;
+use drystone::geometry::sweep::sweep_pairs;
 use drystone::layout::{BaseSliding, MaterialSpec};
 use proptest::prelude::*;
 use std::collections::BTreeMap;

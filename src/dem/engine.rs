@@ -4,7 +4,7 @@
 //!
 //! 1. **Update contacts** if some body moved, since the last detection, more than
 //!    [`SolverParams::redetect_fraction`] of the contact margin (translation plus rotation
-//!    times its radius): broad phase ([`super::collider`]), narrow phase
+//!    times its radius): broad phase ([`crate::geometry::sweep`]), narrow phase
 //!    ([`super::contact::geometry`]), sub-contact history carried over, time step checked.
 //! 2. **Clear forces.**
 //! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
@@ -17,16 +17,16 @@
 //! A simulation is single-threaded and deterministic; ensembles parallelize over
 //! realizations.
 
-use super::collider::sweep_pairs;
 use super::contact::geometry::{self as cgeom, ContactSettings};
-use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactState};
+use super::contact::law::{self, JointParams, Kinematics, NormalClosure, Quadrature, SubContactState};
 pub use super::contact::types::{Contact, ContactNode, SubContact};
 pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
 use super::monitor::StepStats;
 use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
-use crate::layout::{BaseSliding, EndRestraint, Layout};
+use crate::geometry::sweep::sweep_pairs;
+use crate::layout::{BaseSliding, Closure, EndRestraint, Layout, Material};
 use crate::range::{check_ranges, OutOfRange};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
@@ -212,6 +212,27 @@ impl SolverParams {
     }
 }
 
+/// The joint law of a material's joints (the layout's SI values).
+pub fn joint_of(m: &Material) -> JointParams {
+    let closure = match m.closure {
+        Closure::Linear => NormalClosure::Linear,
+        Closure::Hyperbolic { max_closure_m } => NormalClosure::Hyperbolic { max_closure: max_closure_m },
+        Closure::Seating { max_gap_m } => NormalClosure::Seating { max_gap: max_gap_m },
+    };
+    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(closure)
+}
+
+/// The joint between blocks of materials `m1` and `m2` of a layout: the material's own, or
+/// the series combination of two half-joints (see [`JointParams::combine`]).
+pub fn joint_between(layout: &Layout, m1: usize, m2: usize) -> JointParams {
+    let j1 = joint_of(&layout.materials[m1]);
+    if m1 == m2 {
+        j1
+    } else {
+        j1.combine(&joint_of(&layout.materials[m2]))
+    }
+}
+
 /// One simulation.
 #[derive(Debug, Clone)]
 pub struct Simulation {
@@ -329,8 +350,8 @@ impl Simulation {
             .collect();
         let n = bodies.len();
         let nm = layout.materials.len();
-        let layout_joints = (0..nm).map(|i| (0..nm).map(|j| layout.joint_between(i, j)).collect()).collect();
-        let mut table_joint = layout.materials[layout.table_material].joint;
+        let layout_joints = (0..nm).map(|i| (0..nm).map(|j| joint_between(layout, i, j)).collect()).collect();
+        let mut table_joint = joint_of(&layout.materials[layout.table_material]);
         if layout.base_sliding == BaseSliding::Held {
             table_joint.can_slip = false;
         }

@@ -1,7 +1,6 @@
-//! The rigid-block Discrete Element Method (3DEC-style): state, collider, contact geometry
+//! The rigid-block Discrete Element Method (3DEC-style): state, contact geometry, types
 //! and law, integrator, time step, engine, monitor. See [`engine`] for the step order.
 
-pub mod collider;
 pub mod contact;
 pub mod dispatch;
 pub mod engine;

@@ -17,6 +17,8 @@
 //! contacts, Cundall 1988; Hart, Cundall & Lemos 1988).
 
 pub mod polygon;
+pub mod sat;
+pub mod sweep;
 
 use crate::Vec3;
 use nalgebra::Matrix3;

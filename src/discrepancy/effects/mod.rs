@@ -20,8 +20,7 @@
 
 mod geometry;
 
-use crate::dem::contact::law::NormalClosure;
-use crate::layout::{EndRestraint, Layout};
+use crate::layout::{Closure, EndRestraint, Layout};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -327,21 +326,21 @@ impl Effect {
         match self.kind {
             EffectKind::KnScale => {
                 for m in &mut layout.materials {
-                    m.joint.kn *= v[0];
-                    m.joint.ks *= v[0];
+                    m.kn *= v[0];
+                    m.ks *= v[0];
                 }
             }
             EffectKind::JointClosure => {
                 for m in &mut layout.materials {
-                    m.joint.kn *= v[0];
-                    m.joint.closure = NormalClosure::Hyperbolic { max_closure: v[1] };
+                    m.kn *= v[0];
+                    m.closure = Closure::Hyperbolic { max_closure_m: v[1] };
                 }
             }
             EffectKind::SeatingGap => {
                 let g = if self.random { rng.random_range(0.0..=2.0) * v[0] } else { v[0] };
                 if g > 0.0 {
                     for m in &mut layout.materials {
-                        m.joint.closure = NormalClosure::Seating { max_gap: g };
+                        m.closure = Closure::Seating { max_gap_m: g };
                     }
                 }
             }

@@ -1,6 +1,7 @@
-//! Broad phase: sweep and prune over axis-aligned bounding boxes.
+//! Broad phase: sweep and prune over axis-aligned bounding boxes (pure geometry, used by
+//! the DEM's contact detection and the layout's overlap check).
 
-use crate::geometry::Aabb;
+use super::Aabb;
 
 /// Pairs `(i, j)`, `i < j`, whose boxes grown by `margin` (m) overlap, sorted
 /// lexicographically. Sweep along x after sorting the boxes by their lower x bound
