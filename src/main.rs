@@ -482,7 +482,8 @@ fn run() -> Result<ExitCode> {
             let g = generate(&w, seed, realization)?;
             let dt = t0.elapsed().as_secs_f64();
             g.check()?;
-            std::fs::write(&out, g.render(&w, format)?).with_context(|| format!("writing {}", out.display()))?;
+            std::fs::write(&out, drystone::io::render(&g, &w, format)?)
+                .with_context(|| format!("writing {}", out.display()))?;
             let (stones, wedges) = g.counts();
             out!("wall              {} ({})", w.name, wall.display());
             out!("seed, realization {seed}, {realization}");

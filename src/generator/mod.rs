@@ -6,8 +6,8 @@
 //!  distributions/*.toml (named laws) ───────────┘
 //!  (master seed, realization i) ─ rng_for(seed, i, Layout) ─▶ generate ─▶ GeneratedWall
 //!                                                                         ├─ layout (JSON, `drystone tilt`)
-//!                                                                         ├─ VTK (ParaView)  [crate::io::vtk]
-//!                                                                         └─ SVG drawing     [crate::io::svg]
+//!                                                                         ├─ VTK (ParaView)  [`crate::io::render`]
+//!                                                                         └─ SVG drawing     [`crate::io::render`]
 //! ```
 //!
 //! # Frame and units
@@ -365,9 +365,9 @@ impl GeneratedWall {
 pub enum OutputFormat {
     /// `.json`: the layout file that `drystone tilt` reads.
     Json,
-    /// `.vtk`: legacy VTK polydata for ParaView ([`crate::io::vtk`]).
+    /// `.vtk`: legacy VTK polydata for ParaView ([`crate::io::render`]).
     Vtk,
-    /// `.svg`: front elevation and cross-section ([`crate::io::svg`]).
+    /// `.svg`: front elevation and cross-section ([`crate::io::render`]).
     Svg,
 }
 
@@ -391,26 +391,6 @@ impl GeneratedWall {
     /// [`GeneratorError::Layout`] (a generator bug).
     pub fn check(&self) -> Result<crate::layout::Layout, GeneratorError> {
         Ok(self.layout.resolve()?)
-    }
-
-    /// The file contents in `format`. `wall` gives the batter for the drawing.
-    ///
-    /// # Errors
-    /// [`GeneratorError::Layout`] if the layout does not resolve (VTK needs the block faces).
-    pub fn render(&self, wall: &Wall, format: OutputFormat) -> Result<String, GeneratorError> {
-        Ok(match format {
-            OutputFormat::Json => self.layout.to_json(),
-            OutputFormat::Vtk => {
-                let layout = self.check()?;
-                let fields = [
-                    ("course", self.pieces.iter().map(|p| p.course as i64).collect()),
-                    ("wedge", self.pieces.iter().map(|p| i64::from(p.kind == PieceKind::Wedge)).collect()),
-                    ("restrained", self.pieces.iter().map(|p| i64::from(p.restrained)).collect()),
-                ];
-                crate::io::vtk::layout_to_vtk(&layout, &fields)
-            }
-            OutputFormat::Svg => crate::io::svg::wall_to_svg(self, |z| wall.faces_at(z), &wall.name),
-        })
     }
 }
 

@@ -5,3 +5,27 @@ pub mod plot;
 pub mod svg;
 pub mod table;
 pub mod vtk;
+
+use crate::generator::{GeneratedWall, GeneratorError, OutputFormat, PieceKind, Wall};
+
+/// A generated wall as the contents of a file in `format`: the layout JSON (the format
+/// `drystone tilt` reads), VTK polydata with the course, wedge and restraint of every block,
+/// or an SVG drawing (front elevation and cross-section; `wall` gives the batter).
+///
+/// # Errors
+/// [`GeneratorError::Layout`] if the layout does not resolve (VTK needs the block faces).
+pub fn render(g: &GeneratedWall, wall: &Wall, format: OutputFormat) -> Result<String, GeneratorError> {
+    Ok(match format {
+        OutputFormat::Json => g.layout.to_json(),
+        OutputFormat::Vtk => {
+            let layout = g.check()?;
+            let fields = [
+                ("course", g.pieces.iter().map(|p| p.course as i64).collect()),
+                ("wedge", g.pieces.iter().map(|p| i64::from(p.kind == PieceKind::Wedge)).collect()),
+                ("restrained", g.pieces.iter().map(|p| i64::from(p.restrained)).collect()),
+            ];
+            vtk::layout_to_vtk(&layout, &fields)
+        }
+        OutputFormat::Svg => svg::wall_to_svg(g, |z| wall.faces_at(z), &wall.name),
+    })
+}

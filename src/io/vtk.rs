@@ -65,11 +65,16 @@ pub fn layout_to_vtk(layout: &Layout, fields: &[(&str, Vec<i64>)]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::verify::{layout_of, rect_block};
 
     #[test]
     fn a_box_has_8_points_and_6_quads() {
-        let l = layout_of(vec![rect_block(0.1, 0.2, 0.3)], 1e8, 5e7, 30.0, crate::layout::BaseSliding::Free);
+        let l = crate::layout::LayoutSpec::from_json(
+            r#"{"version":1,"name":"box","materials":[{"name":"m","density_kg_per_m3":2000,"kn_pa_per_m":1e8,
+            "ks_pa_per_m":5e7,"friction_deg":30}],"table":{"material":"m"},"blocks":[{"id":"b0","material":"m",
+            "vertices":[[0,-0.05,0],[0.3,-0.05,0],[0.3,0.05,0],[0,0.05,0],[0,-0.05,0.2],[0.3,-0.05,0.2],[0.3,0.05,0.2],[0,0.05,0.2]]}]}"#,
+        )
+        .and_then(|s| s.resolve())
+        .expect("a valid box");
         let s = layout_to_vtk(&l, &[("course", vec![0])]);
         assert!(s.contains("POINTS 8 double"));
         assert!(s.contains("POLYGONS 6 30"));

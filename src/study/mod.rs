@@ -56,6 +56,7 @@ pub mod paper;
 pub mod report;
 pub mod run;
 pub mod suite;
+pub mod summary;
 
 use crate::dem::SolverParams;
 use crate::generator::distribution::DistributionSource;

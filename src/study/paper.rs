@@ -11,7 +11,7 @@
 //! stated in the text), so those findings are what is checked; Table 7 is compared number by
 //! number. Nothing is tuned to match: where drystone disagrees the report says so.
 
-use super::report::{sci, CellSummary, ReportError};
+use super::summary::{sci, CellSummary, ReportError};
 use super::{ProtocolKind, Study, SweepValue};
 use crate::generator::spec::{Arrangement, Ends};
 use crate::io::plot::{self, BandSeries};

@@ -174,7 +174,7 @@ pub enum RunError {
     Table(#[from] crate::io::table::TableError),
     /// The report.
     #[error(transparent)]
-    Report(#[from] super::report::ReportError),
+    Report(#[from] super::summary::ReportError),
     /// A file.
     #[error("{path}: {message}")]
     File {
