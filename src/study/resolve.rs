@@ -2,14 +2,12 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
-use super::calibrate::CalibrateSpec;
-use super::paper::{self, PaperStudy};
-use super::spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
+use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::StudyError;
 use crate::dem::SolverParams;
 use crate::generator::distribution::DistributionSource;
-use crate::generator::spec::WallSpec;
+use crate::generator::spec::{Ends, WallSpec};
 use crate::generator::Wall;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
 use crate::loading::lateral::LateralParams;
@@ -129,10 +127,10 @@ impl StudySpec {
             calibrate: self.calibrate.clone(),
         };
         for (i, c) in study.calibrate.iter().enumerate() {
-            c.check(&study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
+            check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
         }
         if let Some(p) = study.paper {
-            paper::check(p, &study).map_err(|r| invalid.at("paper", r))?;
+            check_paper(p, &study).map_err(|r| invalid.at("paper", r))?;
         }
         Ok(study)
     }
@@ -256,4 +254,87 @@ impl Study {
     pub fn sweep_number(&self, point: usize, key: SweepKey) -> Option<f64> {
         self.points[point].iter().find(|(k, _)| *k == key).and_then(|(_, v)| v.number())
     }
+}
+
+/// Whether a wall's ends are held.
+pub(crate) fn restrained(e: &Ends) -> bool {
+    !matches!(e, Ends::Free)
+}
+
+/// Checks a calibration step against a study.
+///
+/// # Errors
+/// A message naming the bad key.
+pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), String> {
+    if !matches!(c.parameter.as_str(), "kn_pa_per_m" | "friction_deg") {
+        return Err(format!("parameter: expects kn_pa_per_m or friction_deg, got {:?}", c.parameter));
+    }
+    if !(c.lower.is_finite() && c.upper.is_finite() && c.lower < c.upper) {
+        return Err(format!("lower, upper: need finite lower < upper, got {} .. {}", c.lower, c.upper));
+    }
+    if c.is_kn() && c.lower <= 0.0 {
+        return Err(format!("lower: Kn must be > 0, got {}", c.lower));
+    }
+    if !c.is_kn() && (c.lower <= 0.0 || c.upper >= 90.0) {
+        return Err(format!("lower, upper: φ must be in (0, 90) degrees, got {} .. {}", c.lower, c.upper));
+    }
+    if c.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        return Err("tolerance: must be a finite number > 0".into());
+    }
+    for g in std::iter::once(&c.group).chain(&c.carry_to) {
+        if !study.groups.iter().any(|x| &x.name == g) {
+            return Err(format!("group {g:?} is not a group of the study"));
+        }
+    }
+    let mg =
+        &study.groups.iter().find(|x| x.name == c.group).map(|x| x.measured_group.clone()).unwrap_or_default();
+    if !study.measured.collapse.iter().any(|m| &m.group == mg) {
+        return Err(format!(
+            "group {:?}: no measured collapse angle for {mg:?} in [measured] collapse",
+            c.group
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that a study has what its paper comparison needs.
+///
+/// # Errors
+/// A message naming what is missing.
+pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), String> {
+    let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
+    let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
+    match p {
+        PaperStudy::JointArrangement => {
+            if study.protocol != ProtocolKind::Lateral {
+                return Err("joint_arrangement needs protocol = \"lateral\"".into());
+            }
+            if !has(SweepKey::KnPaPerM) {
+                return Err("joint_arrangement needs a sweep over kn_pa_per_m".into());
+            }
+        }
+        PaperStudy::LengthHeight => {
+            if study.protocol != ProtocolKind::Lateral {
+                return Err("length_height needs protocol = \"lateral\"".into());
+            }
+            if !has(SweepKey::LengthM) {
+                return Err("length_height needs a sweep over length_m".into());
+            }
+            if !ends.iter().any(|&r| r) || ends.iter().all(|&r| r) {
+                return Err("length_height needs groups with restrained and with free ends".into());
+            }
+        }
+        PaperStudy::KnPhi => {
+            if study.protocol != ProtocolKind::Tilt {
+                return Err("kn_phi needs protocol = \"tilt\"".into());
+            }
+            if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
+                return Err("kn_phi needs a sweep over kn_pa_per_m and friction_deg".into());
+            }
+            if ends.iter().filter(|&&r| !r).count() != 1 || ends.iter().filter(|&&r| r).count() != 1 {
+                return Err("kn_phi needs exactly one group with free ends and one with restrained ends".into());
+            }
+        }
+    }
+    Ok(())
 }

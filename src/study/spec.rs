@@ -2,9 +2,7 @@
 //! [`StudySpec::resolve`](crate::study::StudySpec::resolve) checks it into a
 //! [`Study`](crate::study::Study).
 
-use super::calibrate::CalibrateSpec;
-use super::paper::PaperStudy;
-use super::StudyError;
+use super::{StudyError, SweepKey};
 use crate::dem::SolverParams;
 use crate::loading::lateral::LateralParams;
 use crate::loading::tilt::TiltParams;
@@ -113,5 +111,64 @@ impl StudySpec {
     pub fn from_file(path: &Path) -> Result<Self, StudyError> {
         let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io { path: path.to_owned(), source })?;
         toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })
+    }
+}
+
+/// Which of the source paper's studies a study file reproduces (`paper = "…"` in the study
+/// file; see [`paper`](super::paper)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PaperStudy {
+    /// Figure 10: joint arrangement under the static lateral load, swept over Kn.
+    JointArrangement,
+    /// Figure 11: drift against L/H, restrained and free ends.
+    LengthHeight,
+    /// Tables 7 and 8: collapse angle against Kn and φ, free and restrained ends.
+    KnPhi,
+}
+
+/// One calibration step of a study file (`[[calibrate]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrateSpec {
+    /// The group whose measured mean collapse angle is the target.
+    pub group: String,
+    /// `kn_pa_per_m` (searched in log10) or `friction_deg`.
+    pub parameter: String,
+    /// Lower end of the search interval (Pa/m or degrees).
+    pub lower: f64,
+    /// Upper end of the search interval.
+    pub upper: f64,
+    /// Tolerance on log10(Kn) or on φ (degrees). Default 0.02 for Kn, 0.5 for φ.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// Brent iterations after the two end evaluations \[12\].
+    #[serde(default = "default_iters")]
+    pub max_iters: u64,
+    /// Groups that take the value found in later steps.
+    #[serde(default)]
+    pub carry_to: Vec<String>,
+    /// The paper's calibrated value, for the report.
+    #[serde(default)]
+    pub paper_value: Option<f64>,
+}
+
+fn default_iters() -> u64 {
+    12
+}
+
+impl CalibrateSpec {
+    /// Whether the parameter is Kn (searched in log10) rather than φ.
+    pub(crate) fn is_kn(&self) -> bool {
+        self.parameter == "kn_pa_per_m"
+    }
+
+    /// The sweep key of the parameter.
+    pub(crate) fn key(&self) -> SweepKey {
+        if self.is_kn() {
+            SweepKey::KnPaPerM
+        } else {
+            SweepKey::FrictionDeg
+        }
     }
 }

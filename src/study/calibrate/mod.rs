@@ -48,10 +48,13 @@ mod report;
 
 pub use report::{markdown, write_calibration};
 
+pub use super::spec::CalibrateSpec;
+
+use super::resolve::check_calibration;
 use super::{Study, SweepKey, SweepValue};
 use crate::stats;
 use problem::Problem;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::path::PathBuf;
 
 /// Calibration errors, each naming the step (0-based, in file order).
@@ -87,50 +90,7 @@ pub enum CalibrateError {
     },
 }
 
-/// One calibration step of a study file (`[[calibrate]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CalibrateSpec {
-    /// The group whose measured mean collapse angle is the target.
-    pub group: String,
-    /// `kn_pa_per_m` (searched in log10) or `friction_deg`.
-    pub parameter: String,
-    /// Lower end of the search interval (Pa/m or degrees).
-    pub lower: f64,
-    /// Upper end of the search interval.
-    pub upper: f64,
-    /// Tolerance on log10(Kn) or on φ (degrees). Default 0.02 for Kn, 0.5 for φ.
-    #[serde(default)]
-    pub tolerance: Option<f64>,
-    /// Brent iterations after the two end evaluations \[12\].
-    #[serde(default = "default_iters")]
-    pub max_iters: u64,
-    /// Groups that take the value found in later steps.
-    #[serde(default)]
-    pub carry_to: Vec<String>,
-    /// The paper's calibrated value, for the report.
-    #[serde(default)]
-    pub paper_value: Option<f64>,
-}
-
-fn default_iters() -> u64 {
-    12
-}
-
 impl CalibrateSpec {
-    fn is_kn(&self) -> bool {
-        self.parameter == "kn_pa_per_m"
-    }
-
-    /// The sweep key of the parameter.
-    fn key(&self) -> SweepKey {
-        if self.is_kn() {
-            SweepKey::KnPaPerM
-        } else {
-            SweepKey::FrictionDeg
-        }
-    }
-
     /// Search variable from a parameter value: log10(Kn) or φ.
     fn to_x(&self, v: f64) -> f64 {
         if self.is_kn() {
@@ -147,42 +107,6 @@ impl CalibrateSpec {
         } else {
             x
         }
-    }
-
-    /// Checks the step against a study.
-    ///
-    /// # Errors
-    /// A message naming the bad key.
-    pub fn check(&self, study: &Study) -> Result<(), String> {
-        if !matches!(self.parameter.as_str(), "kn_pa_per_m" | "friction_deg") {
-            return Err(format!("parameter: expects kn_pa_per_m or friction_deg, got {:?}", self.parameter));
-        }
-        if !(self.lower.is_finite() && self.upper.is_finite() && self.lower < self.upper) {
-            return Err(format!("lower, upper: need finite lower < upper, got {} .. {}", self.lower, self.upper));
-        }
-        if self.is_kn() && self.lower <= 0.0 {
-            return Err(format!("lower: Kn must be > 0, got {}", self.lower));
-        }
-        if !self.is_kn() && (self.lower <= 0.0 || self.upper >= 90.0) {
-            return Err(format!("lower, upper: φ must be in (0, 90) degrees, got {} .. {}", self.lower, self.upper));
-        }
-        if self.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-            return Err("tolerance: must be a finite number > 0".into());
-        }
-        for g in std::iter::once(&self.group).chain(&self.carry_to) {
-            if !study.groups.iter().any(|x| &x.name == g) {
-                return Err(format!("group {g:?} is not a group of the study"));
-            }
-        }
-        let mg =
-            &study.groups.iter().find(|x| x.name == self.group).map(|x| x.measured_group.clone()).unwrap_or_default();
-        if !study.measured.collapse.iter().any(|m| &m.group == mg) {
-            return Err(format!(
-                "group {:?}: no measured collapse angle for {mg:?} in [measured] collapse",
-                self.group
-            ));
-        }
-        Ok(())
     }
 }
 
@@ -241,7 +165,7 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
         study.groups.iter().map(|g| (g.name.clone(), Vec::new())).collect();
     let mut out = Vec::new();
     for (si, spec) in steps.iter().enumerate() {
-        spec.check(study).map_err(|reason| CalibrateError::Check { step: si, reason })?;
+        check_calibration(spec, study).map_err(|reason| CalibrateError::Check { step: si, reason })?;
         let gi = study.groups.iter().position(|g| g.name == spec.group).unwrap_or(0);
         let given: Vec<(SweepKey, SweepValue)> =
             carried[gi].1.iter().filter(|(k, _)| *k != spec.key()).cloned().collect();

@@ -17,25 +17,15 @@ pub mod figure11;
 pub mod table7;
 pub mod table8;
 
+pub use super::spec::PaperStudy;
+
 use super::summary::CellSummary;
-use super::{ProtocolKind, Study, SweepKey};
-use crate::generator::spec::{Arrangement, Ends};
+use super::resolve::restrained;
+use super::Study;
+use crate::generator::spec::Arrangement;
 use crate::io::plot::{BandSeries, PlotError};
 use crate::io::table::TableError;
-use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// Which of the paper's studies a study file reproduces (`paper = "…"` in the study file).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PaperStudy {
-    /// Figure 10: joint arrangement under the static lateral load, swept over Kn.
-    JointArrangement,
-    /// Figure 11: drift against L/H, restrained and free ends.
-    LengthHeight,
-    /// Tables 7 and 8: collapse angle against Kn and φ, free and restrained ends.
-    KnPhi,
-}
 
 /// Errors of writing a paper study's table or figure.
 #[derive(Debug, thiserror::Error)]
@@ -47,48 +37,6 @@ pub enum PaperError {
     /// Writing its plot.
     #[error(transparent)]
     Plot(#[from] PlotError),
-}
-
-/// Checks that a study has what its paper comparison needs.
-///
-/// # Errors
-/// A message naming what is missing.
-pub fn check(p: PaperStudy, study: &Study) -> Result<(), String> {
-    let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
-    let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
-    match p {
-        PaperStudy::JointArrangement => {
-            if study.protocol != ProtocolKind::Lateral {
-                return Err("joint_arrangement needs protocol = \"lateral\"".into());
-            }
-            if !has(SweepKey::KnPaPerM) {
-                return Err("joint_arrangement needs a sweep over kn_pa_per_m".into());
-            }
-        }
-        PaperStudy::LengthHeight => {
-            if study.protocol != ProtocolKind::Lateral {
-                return Err("length_height needs protocol = \"lateral\"".into());
-            }
-            if !has(SweepKey::LengthM) {
-                return Err("length_height needs a sweep over length_m".into());
-            }
-            if !ends.iter().any(|&r| r) || ends.iter().all(|&r| r) {
-                return Err("length_height needs groups with restrained and with free ends".into());
-            }
-        }
-        PaperStudy::KnPhi => {
-            if study.protocol != ProtocolKind::Tilt {
-                return Err("kn_phi needs protocol = \"tilt\"".into());
-            }
-            if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
-                return Err("kn_phi needs a sweep over kn_pa_per_m and friction_deg".into());
-            }
-            if ends.iter().filter(|&&r| !r).count() != 1 || ends.iter().filter(|&&r| r).count() != 1 {
-                return Err("kn_phi needs exactly one group with free ends and one with restrained ends".into());
-            }
-        }
-    }
-    Ok(())
 }
 
 /// The report section of a paper study (markdown), writing its CSV and SVG into `dir`.
@@ -116,11 +64,6 @@ fn arrangement_name(a: &Arrangement) -> &'static str {
         Arrangement::Discontinuous { .. } => "discontinuous",
         Arrangement::Irregular(_) => "irregular",
     }
-}
-
-/// Whether a wall's ends are held.
-fn restrained(e: &Ends) -> bool {
-    !matches!(e, Ends::Free)
 }
 
 /// A curve without a band (`lo` = `mid` = `hi`).
