@@ -1,9 +1,15 @@
-//! The paper's element-cost case (Santa-Cruz et al. 2021, Table 6): a 0.40 m cube built of
-//! 16 boxes 0.2 × 0.2 × 0.1 m resting on the table under gravity; Kn = 5e7, Ks = 2.5e7 Pa/m,
-//! φ = 35°, local damping 0.8.
+//! Benchmarks (`drystone bench`):
+//!
+//! * `cube16`: the paper's element-cost case (Santa-Cruz et al. 2021, Table 6): a 0.40 m
+//!   cube built of 16 boxes 0.2 × 0.2 × 0.1 m resting on the table under gravity;
+//!   Kn = 5e7, Ks = 2.5e7 Pa/m, φ = 35°, local damping 0.8.
+//! * `tilt`: tilting-table tests to collapse of generated walls, one after the other on one
+//!   thread.
 
 use crate::dem::{Simulation, SolverParams};
+use crate::generator::{generate, GeneratorError, Wall};
 use crate::layout::{BaseSliding, Layout};
+use crate::loading::tilt::{run_tilt, TiltError, TiltParams};
 use crate::verify::{box_vertices, layout_of};
 use serde::Serialize;
 use std::time::Instant;
@@ -74,4 +80,106 @@ pub fn run_cube16(steps: u64, params: SolverParams) -> BenchResult {
         steps_to_equilibrium: steps_to_eq,
         equilibrium_wall_time_s: eq_time,
     }
+}
+
+/// Errors of the tilt benchmark.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum BenchError {
+    /// A layout could not be generated or did not check.
+    #[error(transparent)]
+    Generator(#[from] GeneratorError),
+    /// A tilting-table test failed.
+    #[error(transparent)]
+    Tilt(#[from] TiltError),
+}
+
+/// One tilting-table test of the tilt benchmark. Fields in alphabetical order (the order of
+/// the keys of `drystone bench tilt --json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct TiltRun {
+    /// Blocks of the layout.
+    pub blocks: usize,
+    /// Collapse angle (last stable tilt), degrees.
+    pub collapse_angle_deg: f64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// First unstable tilt, degrees.
+    pub first_unstable_deg: Option<f64>,
+    /// Realization index.
+    pub realization: u64,
+    /// Engine steps.
+    pub steps: u64,
+    /// Wall time per step, µs.
+    pub us_per_step: f64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// The tilt benchmark: tilting-table tests to collapse of realizations `0..realizations` of
+/// a wall, one after the other on one thread. Fields in alphabetical order (the order of
+/// the keys of `drystone bench tilt --json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct TiltBench {
+    /// Secant predictor of the tilting table on.
+    pub predictor: bool,
+    /// Realizations run.
+    pub realizations: u64,
+    /// Each test.
+    pub runs: Vec<TiltRun>,
+    /// Master seed of the wall.
+    pub seed: u64,
+    /// Engine steps of all tests.
+    pub steps: u64,
+    /// Wall time per step over all tests, µs.
+    pub us_per_step: f64,
+    /// The wall (its file).
+    pub wall: String,
+    /// Wall time of all tests, s.
+    pub wall_time_s: f64,
+}
+
+/// Runs the tilt benchmark on `wall` (named `name` in the result) with the default solver;
+/// `on_run` sees each test as it finishes.
+///
+/// # Errors
+/// [`BenchError`] for the first realization that cannot be generated or tilted.
+pub fn run_tilt_bench(
+    wall: &Wall,
+    name: &str,
+    seed: u64,
+    realizations: u64,
+    params: &TiltParams,
+    mut on_run: impl FnMut(&TiltRun),
+) -> Result<TiltBench, BenchError> {
+    let mut runs = Vec::new();
+    let (mut steps, mut time) = (0u64, 0.0);
+    for k in 0..realizations {
+        let layout = generate(wall, seed, k)?.check()?;
+        let r = run_tilt(&layout, SolverParams::default(), params)?;
+        steps += r.steps;
+        time += r.wall_time_s;
+        let run = TiltRun {
+            blocks: layout.blocks.len(),
+            collapse_angle_deg: r.collapse_angle_deg,
+            dt_s: r.dt_s,
+            first_unstable_deg: r.first_unstable_deg,
+            realization: k,
+            steps: r.steps,
+            us_per_step: 1e6 * r.wall_time_s / r.steps as f64,
+            wall_time_s: r.wall_time_s,
+        };
+        on_run(&run);
+        runs.push(run);
+    }
+    Ok(TiltBench {
+        predictor: params.predictor,
+        realizations,
+        runs,
+        seed,
+        steps,
+        us_per_step: 1e6 * time / steps as f64,
+        wall: name.to_string(),
+        wall_time_s: time,
+    })
 }

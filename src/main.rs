@@ -1,26 +1,15 @@
-//! The `drystone` command line. Thin: parsing, printing, exit codes. `anyhow` lives here only.
-
-use anyhow::{bail, Context, Result};
-use clap::{Parser, Subcommand};
-use drystone::dem::{DensityScaling, SolverParams};
-use drystone::layout::Layout;
-use drystone::loading::lateral::{run_lateral, LateralParams};
-use drystone::loading::tilt::{run_tilt, TiltParams};
-use std::path::PathBuf;
-use std::process::ExitCode;
+//! The `drystone` command line: parsing (clap) and dispatch to one function per
+//! subcommand in [`cli`]; errors end the program with status 2. `anyhow` lives in the
+//! command line only.
 
 mod cli;
 
-/// `println!` that ends the program quietly when stdout is closed (e.g. piped into `head`)
-/// instead of panicking.
-macro_rules! out {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        if writeln!(std::io::stdout(), $($t)*).is_err() {
-            std::process::exit(0);
-        }
-    }};
-}
+use clap::{Parser, Subcommand};
+use drystone::dem::{DensityScaling, SolverParams};
+use drystone::loading::lateral::LateralParams;
+use drystone::loading::tilt::TiltParams;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
@@ -238,9 +227,8 @@ fn main() -> ExitCode {
     }
 }
 
-fn run() -> Result<ExitCode> {
-    let cli = Cli::parse();
-    match cli.command {
+fn run() -> anyhow::Result<ExitCode> {
+    match Cli::parse().command {
         Command::Tilt {
             layout,
             json,
@@ -254,12 +242,11 @@ fn run() -> Result<ExitCode> {
             tolerance,
             no_predictor,
         } => {
-            let l = Layout::from_file(&layout)?;
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
                 "scalar" => DensityScaling::Scalar,
                 "off" => DensityScaling::Off,
-                other => bail!("--density-scaling {other}: expected block, scalar or off"),
+                other => anyhow::bail!("--density-scaling {other}: expected block, scalar or off"),
             };
             let solver = SolverParams {
                 damping,
@@ -270,238 +257,22 @@ fn run() -> Result<ExitCode> {
             };
             let params =
                 TiltParams { step_deg, resolution_deg, tolerance, predictor: !no_predictor, ..TiltParams::default() };
-            let r =
-                run_tilt(&l, solver, &params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
-            if json {
-                out!("{}", serde_json::to_string_pretty(&r)?);
-            } else {
-                out!("layout            {}", layout.display());
-                out!(
-                    "collapse angle    {:.2} deg (last stable), first unstable {}",
-                    r.collapse_angle_deg,
-                    r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
-                );
-                out!(
-                    "mechanism         {:?} at joint {} ({} blocks moving)",
-                    r.mechanism.kind,
-                    r.mechanism.joint,
-                    r.mechanism.blocks.len()
-                );
-                out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
-                if !r.scalar_fallbacks_deg.is_empty() {
-                    let at: Vec<String> = r.scalar_fallbacks_deg.iter().map(|a| format!("{a:.3}")).collect();
-                    out!(
-                        "block scaling     blew up at {} deg; repeated with scalar scaling, kept from there on",
-                        at.join(", ")
-                    );
-                }
-                out!("out-of-plane displacement of the top points [cm]:");
-                out!("  alpha_deg  {}", r.monitors.join("  "));
-                for inc in r.increments.iter().filter(|i| i.stable) {
-                    let d: Vec<String> = inc.displacement_m.iter().map(|d| format!("{:>9.3}", d * 100.0)).collect();
-                    out!("  {:>9.2}  {}", inc.alpha_deg, d.join("  "));
-                }
-            }
-            Ok(ExitCode::SUCCESS)
+            cli::tilt::run(&layout, solver, &params, json)
         }
         Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance } => {
-            let l = Layout::from_file(&layout)?;
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
-            let r = run_lateral(&l, SolverParams::default(), &params)
-                .with_context(|| format!("static lateral load on {}", layout.display()))?;
-            if json {
-                out!("{}", serde_json::to_string_pretty(&r)?);
-            } else {
-                out!("layout            {}", layout.display());
-                out!(
-                    "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
-                    pressure_base_pa,
-                    pressure_top_pa,
-                    r.resultant_n.y,
-                    r.resultant_n.y / r.weight_n,
-                    r.weight_n,
-                    r.loaded_faces
-                );
-                match &r.collapse_reason {
-                    None => out!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
-                    Some(why) => out!("equilibrium       NO: collapsed ({why})"),
-                }
-                out!("top displacement  [cm]");
-                for (m, d) in r.monitors.iter().zip(&r.displacement_m) {
-                    out!("  {m:<12} {:>9.4}", d * 100.0);
-                }
-                out!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
-                out!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
-                out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
-            }
-            Ok(ExitCode::SUCCESS)
+            cli::lateral::run(&layout, &params, json)
         }
         Command::Run { study, out, threads, shard, realizations, full } => {
-            if drystone::study::suite::is_suite(&study) {
-                if shard.is_some() || realizations.is_some() {
-                    bail!(
-                        "{}: --shard and --realizations apply to single studies; a suite takes --full",
-                        study.display()
-                    );
-                }
-                let suite = drystone::study::suite::Suite::from_file(&study, full)?;
-                let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&suite.name));
-                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
-                let t0 = std::time::Instant::now();
-                let report = pool.install(|| drystone::study::suite::run_suite(&suite, &dir, |line| out!("{line}")))?;
-                out!(
-                    "suite {}: {} studies on {} threads in {:.1} s -> {}",
-                    suite.name,
-                    suite.studies.len(),
-                    pool.current_num_threads(),
-                    t0.elapsed().as_secs_f64(),
-                    report.display()
-                );
-                return Ok(ExitCode::SUCCESS);
-            }
-            if full {
-                bail!("{}: --full applies to suites only", study.display());
-            }
-            let mut st = drystone::study::Study::from_file(&study)?;
-            if let Some(n) = realizations {
-                if n == 0 {
-                    bail!("--realizations must be at least 1");
-                }
-                st.realizations = n;
-            }
-            let shard = match shard {
-                Some(s) => drystone::ensemble::Shard::parse(&s).map_err(anyhow::Error::msg)?,
-                None => drystone::ensemble::Shard::ALL,
-            };
-            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
-            let t0 = std::time::Instant::now();
-            let rows = pool.install(|| drystone::study::run::run_study(&st, shard));
-            let elapsed = t0.elapsed().as_secs_f64();
-            let text = drystone::study::run::write_outputs(&st, &study, shard, &rows, &dir)?;
-            let failed = rows.iter().filter(|r| !r.status.is_ok()).count();
-            out!(
-                "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
-                st.name,
-                rows.len(),
-                failed,
-                pool.current_num_threads(),
-                elapsed,
-                dir.display()
-            );
-            if let Some(t) = text {
-                out!("{t}");
-                out!("report: {}", dir.join("report.md").display());
-            } else {
-                out!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
-            }
-            Ok(ExitCode::SUCCESS)
+            cli::study::run(&study, out, threads, shard.as_deref(), realizations, full)
         }
         Command::Calibrate { study, out, threads, realizations } => {
-            let mut st = drystone::study::Study::from_file(&study)?;
-            if st.calibrate.is_empty() {
-                bail!("{}: no [[calibrate]] steps", study.display());
-            }
-            if let Some(n) = realizations {
-                if n == 0 {
-                    bail!("--realizations must be at least 1");
-                }
-                st.realizations = n;
-            }
-            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?;
-            let t0 = std::time::Instant::now();
-            let results = pool
-                .install(|| drystone::study::calibrate::calibrate(&st, &st.calibrate))
-                .map_err(|m| anyhow::anyhow!("{}: {m}", study.display()))?;
-            let md = drystone::study::suite::write_calibration(&st, &results, &dir)?;
-            out!("{md}");
-            out!(
-                "calibration {}: {} steps on {} threads in {:.1} s -> {}",
-                st.name,
-                results.len(),
-                pool.current_num_threads(),
-                t0.elapsed().as_secs_f64(),
-                dir.join("calibration.md").display()
-            );
-            Ok(ExitCode::SUCCESS)
+            cli::study::calibrate(&study, out, threads, realizations)
         }
-        Command::Merge { out, shards } => {
-            let (manifest, rows) = drystone::study::run::read_shards(&shards)?;
-            let mut st = drystone::study::Study::from_file(&manifest.study)?;
-            st.realizations = manifest.realizations;
-            let text =
-                drystone::study::run::write_outputs(&st, &manifest.study, drystone::ensemble::Shard::ALL, &rows, &out)?;
-            out!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
-            if let Some(t) = text {
-                out!("{t}");
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Verify { json } => {
-            let rep = drystone::verify::run_all();
-            if json {
-                out!("{}", serde_json::to_string_pretty(&rep)?);
-            } else {
-                out!("{:<70} {:>9} {:>9} {:>8}  {:<4} {}", "case", "expected", "simulated", "error", "ok", "mechanism");
-                for c in &rep.cases {
-                    out!(
-                        "{:<70} {:>9.3} {:>9.3} {:>+8.3}  {:<4} {}",
-                        c.name,
-                        c.expected_deg,
-                        c.simulated_deg,
-                        c.error_deg,
-                        if c.ok { "ok" } else { "FAIL" },
-                        c.detail
-                    );
-                }
-                out!();
-                out!("{:<50} {:>14} {:>14} {:>10} {:<4}", "check", "expected", "simulated", "rel.err", "ok");
-                for c in &rep.checks {
-                    out!(
-                        "{:<50} {:>14.6e} {:>14.6e} {:>10.2e} {:<4} [{}]",
-                        c.name,
-                        c.expected,
-                        c.simulated,
-                        c.relative_error,
-                        if c.ok { "ok" } else { "FAIL" },
-                        c.unit
-                    );
-                }
-            }
-            Ok(if rep.all_ok() { ExitCode::SUCCESS } else { ExitCode::from(1) })
-        }
+        Command::Merge { out, shards } => cli::study::merge(&out, &shards),
+        Command::Verify { json } => cli::verify::run(json),
         Command::Generate { wall, seed, realization, out, distributions } => {
-            use drystone::generator::{generate, DistributionSource, OutputFormat, Wall};
-            let Some(format) = OutputFormat::from_path(&out) else {
-                bail!("--out {}: unknown extension; use .json, .vtk or .svg", out.display());
-            };
-            let source = distributions.map_or_else(|| DistributionSource::default_for(&wall), DistributionSource::dir);
-            let w = Wall::from_file_with(&wall, &source)?;
-            let t0 = std::time::Instant::now();
-            let g = generate(&w, seed, realization)?;
-            let dt = t0.elapsed().as_secs_f64();
-            g.check()?;
-            std::fs::write(&out, drystone::io::render(&g, &w, format)?)
-                .with_context(|| format!("writing {}", out.display()))?;
-            let (stones, wedges) = g.counts();
-            out!("wall              {} ({})", w.name, wall.display());
-            out!("seed, realization {seed}, {realization}");
-            out!(
-                "blocks            {} ({stones} stones, {wedges} wedges) in {} courses",
-                stones + wedges,
-                g.course_tops_m.len()
-            );
-            out!(
-                "volume            {:.6} m3 of {:.6} m3 (void {:.3} %, stated {:.3} %)",
-                g.volume(),
-                g.envelope_volume_m3,
-                100.0 * g.void_fraction(),
-                100.0 * g.stated_void_fraction
-            );
-            out!("generated in      {:.2} ms", dt * 1e3);
-            out!("wrote             {}", out.display());
-            Ok(ExitCode::SUCCESS)
+            cli::generate::run(&wall, seed, realization, &out, distributions)
         }
         Command::Discrepancy { study, out, threads, realizations, measured, json } => {
             cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
@@ -518,86 +289,10 @@ fn run() -> Result<ExitCode> {
             cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, wall, seed, json, no_predictor, realizations, .. } if case == "tilt" => {
-            use drystone::generator::{generate, DistributionSource, Wall};
-            if realizations == 0 {
-                bail!("--realizations must be at least 1");
-            }
-            let w = Wall::from_file_with(&wall, &DistributionSource::default_for(&wall))?;
-            let params = TiltParams { predictor: !no_predictor, ..TiltParams::default() };
-            if !json {
-                out!(
-                    "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}",
-                    wall.display(),
-                    if params.predictor { "on" } else { "off" }
-                );
-            }
-            let mut runs = Vec::new();
-            let (mut steps, mut time) = (0u64, 0.0);
-            for k in 0..realizations {
-                let layout = generate(&w, seed, k)?.check()?;
-                let r = run_tilt(&layout, SolverParams::default(), &params)?;
-                let per_step = 1e6 * r.wall_time_s / r.steps as f64;
-                steps += r.steps;
-                time += r.wall_time_s;
-                if !json {
-                    out!(
-                        "  realization {k} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {:.2} s ({per_step:.1} us/step)",
-                        layout.blocks.len(),
-                        r.collapse_angle_deg,
-                        r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
-                        r.steps,
-                        r.dt_s,
-                        r.wall_time_s
-                    );
-                }
-                runs.push(serde_json::json!({
-                    "realization": k, "blocks": layout.blocks.len(),
-                    "collapse_angle_deg": r.collapse_angle_deg,
-                    "first_unstable_deg": r.first_unstable_deg, "steps": r.steps, "dt_s": r.dt_s,
-                    "wall_time_s": r.wall_time_s, "us_per_step": per_step,
-                }));
-            }
-            let per_step = 1e6 * time / steps as f64;
-            if json {
-                let v = serde_json::json!({
-                    "wall": wall.display().to_string(), "seed": seed, "realizations": realizations,
-                    "predictor": params.predictor, "steps": steps, "wall_time_s": time,
-                    "us_per_step": per_step, "runs": runs,
-                });
-                out!("{}", serde_json::to_string_pretty(&v)?);
-            } else if realizations > 1 {
-                out!(
-                    "  total: {steps} steps, {time:.2} s ({per_step:.1} us/step); mean {:.0} steps, {:.2} s per test",
-                    steps as f64 / realizations as f64,
-                    time / realizations as f64
-                );
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Bench { case, steps, json, .. } => {
-            if case != "cube16" {
-                bail!("unknown benchmark {case:?}; available: cube16, tilt");
-            }
-            let r = drystone::benchmark::run_cube16(steps, SolverParams::default());
-            if json {
-                out!("{}", serde_json::to_string_pretty(&r)?);
-            } else {
-                out!(
-                    "cube16: {} bodies, {} contacts, {} sub-contacts, dt {:.3e} s",
-                    r.bodies,
-                    r.contacts,
-                    r.sub_contacts,
-                    r.dt_s
-                );
-                out!("  {} steps at {:.0} steps/s (one thread)", r.steps, r.steps_per_s);
-                out!(
-                    "  equilibrium (unbalanced-force ratio < 1e-4) after {} steps, {:.3} s",
-                    r.steps_to_equilibrium,
-                    r.equilibrium_wall_time_s
-                );
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Bench { case, steps, wall, seed, realizations, no_predictor, json } => match case.as_str() {
+            "tilt" => cli::bench::tilt(&wall, seed, realizations, !no_predictor, json),
+            "cube16" => cli::bench::cube16(steps, json),
+            _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
+        },
     }
 }

@@ -91,7 +91,7 @@ length_m = [1.0, 2.0, 4.0, 6.0]
     assert!(r[3] / f[3] > 0.9, "at L/H = 6 the restraint hardly matters: {r:?} vs {f:?}");
     // The report finds the threshold and writes the figure.
     let out = dir.join("out");
-    drystone::study::run::write_outputs(&st, &p, Shard::ALL, &rows, &out).unwrap();
+    drystone::study::shards::write_outputs(&st, &p, Shard::ALL, &rows, &out).unwrap();
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("Figure 11") && out.join("figure11_length_height.svg").exists());
     let _ = std::fs::remove_dir_all(&dir);

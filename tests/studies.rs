@@ -2,7 +2,8 @@
 
 use drystone::ensemble::row::{RealizationRow, Status};
 use drystone::ensemble::Shard;
-use drystone::study::run::{read_shards, run_item, run_study, write_outputs};
+use drystone::study::run::{run_item, run_study};
+use drystone::study::shards::{read_shards, write_outputs};
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 

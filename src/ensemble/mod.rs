@@ -5,16 +5,19 @@
 //!
 //! Every item is a pure function of the study and its index: its layout is drawn from
 //! `rng_for(seed, realization, Purpose::Layout)` (the same realization index at every sweep
-//! point and in every group — common random numbers), and its simulation is serial. Items
-//! are collected in index order (rayon's indexed `collect`), and every reduction over them
-//! is serial and ordered. Hence: the same rows bit for bit on 1 or N threads, realization i
-//! the same alone or inside the ensemble, and shards that merge into exactly the unsharded
-//! run.
+//! point and in every group: common random numbers), and its simulation is serial. Results
+//! are put back in index order whatever order the items ran in, and every reduction over
+//! them is serial and ordered. Hence: the same rows bit for bit on 1 or N threads,
+//! realization i the same alone or inside the ensemble, and shards that merge into exactly
+//! the unsharded run.
+
+pub mod row;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::io::IsTerminal;
+use thiserror::Error;
 
 /// One unit of work.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -27,12 +30,6 @@ pub struct Item {
     pub point: usize,
     /// Realization index (the RNG stream of the layout).
     pub realization: u64,
-}
-
-/// All items of a study with the same number of realizations in every group, in index
-/// order.
-pub fn items(groups: usize, points: usize, realizations: u64) -> Vec<Item> {
-    items_per_group(&vec![realizations; groups], points)
 }
 
 /// All items of a study, in index order, with `realizations[g]` realizations per sweep point
@@ -59,6 +56,16 @@ pub struct Shard {
     pub n: usize,
 }
 
+/// A shard text that is not `K/N` with 1 ≤ K ≤ N.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("shard {text:?}: {reason}")]
+pub struct ShardError {
+    /// The text given.
+    pub text: String,
+    /// What is wrong.
+    pub reason: &'static str,
+}
+
 impl Shard {
     /// The whole study.
     pub const ALL: Shard = Shard { k: 0, n: 1 };
@@ -67,13 +74,14 @@ impl Shard {
     /// plus one).
     ///
     /// # Errors
-    /// A message naming the bad text.
-    pub fn parse(text: &str) -> Result<Shard, String> {
-        let (k, n) = text.split_once('/').ok_or_else(|| format!("shard {text:?}: expected K/N, e.g. 1/4"))?;
-        let k: usize = k.trim().parse().map_err(|_| format!("shard {text:?}: K is not a number"))?;
-        let n: usize = n.trim().parse().map_err(|_| format!("shard {text:?}: N is not a number"))?;
+    /// [`ShardError`] naming the bad text.
+    pub fn parse(text: &str) -> Result<Shard, ShardError> {
+        let error = |reason: &'static str| ShardError { text: text.to_owned(), reason };
+        let (k, n) = text.split_once('/').ok_or_else(|| error("expected K/N, e.g. 1/4"))?;
+        let k: usize = k.trim().parse().map_err(|_| error("K is not a number"))?;
+        let n: usize = n.trim().parse().map_err(|_| error("N is not a number"))?;
         if n == 0 || k == 0 || k > n {
-            return Err(format!("shard {text:?}: need 1 <= K <= N"));
+            return Err(error("need 1 <= K <= N"));
         }
         Ok(Shard { k: k - 1, n })
     }
@@ -84,24 +92,27 @@ impl Shard {
     }
 }
 
-/// Runs `f` on every item in parallel (rayon, on the current pool) and returns the results
-/// in item order. Schedules the items by decreasing `cost` (one estimate per item, any unit;
-/// ties in index order): each free worker takes the costliest item left (greedy
-/// longest-processing-time list scheduling), so a few expensive items do not leave a thread
-/// idle at the end. Every item being a pure function of itself, the results do not depend
-/// on the costs or the number of threads. Shows a progress bar on a terminal (stderr),
-/// nothing otherwise.
-pub fn run_scheduled<R: Send, F: Fn(&Item) -> R + Sync + Send>(
-    items: &[Item],
+/// Runs `f` on every work unit in parallel (rayon, on the current pool) and returns the
+/// results in the order of `work`. Units are taken by decreasing `cost` (one estimate per
+/// unit, any unit of measure; ties in order): each free worker takes the costliest unit
+/// left (greedy longest-processing-time list scheduling), so a few expensive units do not
+/// leave a thread idle at the end. Every unit being a pure function of itself, the results
+/// do not depend on the costs or on the number of threads. Shows a progress bar on a
+/// terminal (stderr), nothing otherwise.
+///
+/// # Panics
+/// If `cost` does not have one entry per unit.
+pub fn run_scheduled<T: Sync, R: Send, F: Fn(&T) -> R + Sync + Send>(
+    work: &[T],
     cost: &[f64],
     label: &str,
     f: F,
 ) -> Vec<R> {
-    assert_eq!(items.len(), cost.len(), "one cost per item");
-    let mut order: Vec<usize> = (0..items.len()).collect();
+    assert_eq!(work.len(), cost.len(), "one cost per work unit");
+    let mut order: Vec<usize> = (0..work.len()).collect();
     order.sort_by(|&a, &b| cost[b].total_cmp(&cost[a]).then(a.cmp(&b)));
     let bar = if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(items.len() as u64);
+        let b = ProgressBar::new(work.len() as u64);
         b.set_style(
             ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
                 .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -117,7 +128,7 @@ pub fn run_scheduled<R: Send, F: Fn(&Item) -> R + Sync + Send>(
         .into_iter()
         .par_bridge()
         .map(|k| {
-            let r = f(&items[k]);
+            let r = f(&work[k]);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -134,6 +145,10 @@ pub fn run_scheduled<R: Send, F: Fn(&Item) -> R + Sync + Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn items(groups: usize, points: usize, realizations: u64) -> Vec<Item> {
+        items_per_group(&vec![realizations; groups], points)
+    }
 
     #[test]
     fn scheduled_run_returns_results_in_item_order() {
@@ -171,4 +186,3 @@ mod tests {
         }
     }
 }
-pub mod row;

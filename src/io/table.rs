@@ -137,6 +137,52 @@ fn col<'a>(df: &'a DataFrame, path: &Path, name: &str) -> Result<&'a Column, Tab
     })
 }
 
+/// Typed columns of a data frame read from `path`; missing values as 0, "", NaN or None.
+struct Columns<'a> {
+    df: &'a DataFrame,
+    path: &'a Path,
+}
+
+impl Columns<'_> {
+    fn bad(&self, c: &str, e: PolarsError) -> TableError {
+        TableError::Column { path: self.path.to_owned(), column: c.into(), message: e.to_string() }
+    }
+
+    fn u64s(&self, c: &str) -> Result<Vec<u64>, TableError> {
+        let ca = col(self.df, self.path, c)?.u64().map_err(|e| self.bad(c, e))?.clone();
+        Ok(ca.iter().map(|v| v.unwrap_or(0)).collect())
+    }
+
+    fn strs(&self, c: &str) -> Result<Vec<String>, TableError> {
+        let ca = col(self.df, self.path, c)?.str().map_err(|e| self.bad(c, e))?.clone();
+        Ok(ca.iter().map(|v| v.unwrap_or("").to_string()).collect())
+    }
+
+    fn opts(&self, c: &str) -> Result<Vec<Option<f64>>, TableError> {
+        let ca = col(self.df, self.path, c)?.f64().map_err(|e| self.bad(c, e))?.clone();
+        Ok(ca.iter().collect())
+    }
+
+    fn f64s(&self, c: &str) -> Result<Vec<f64>, TableError> {
+        Ok(self.opts(c)?.into_iter().map(|v| v.unwrap_or(f64::NAN)).collect())
+    }
+
+    fn lists(&self, c: &str) -> Result<Vec<Vec<f64>>, TableError> {
+        let ca = col(self.df, self.path, c)?.list().map_err(|e| self.bad(c, e))?.clone();
+        let mut out = Vec::with_capacity(ca.len());
+        for s in ca.amortized_iter() {
+            let v = match s {
+                Some(s) => {
+                    s.as_ref().f64().map_err(|e| self.bad(c, e))?.iter().map(|v| v.unwrap_or(f64::NAN)).collect()
+                }
+                None => Vec::new(),
+            };
+            out.push(v);
+        }
+        Ok(out)
+    }
+}
+
 /// Reads `realizations.parquet` back into rows (for `drystone merge`).
 ///
 /// # Errors
@@ -144,65 +190,35 @@ fn col<'a>(df: &'a DataFrame, path: &Path, name: &str) -> Result<&'a Column, Tab
 pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError> {
     let f = File::open(path).map_err(|source| TableError::Io { path: path.to_owned(), source })?;
     let df = ParquetReader::new(f).finish().map_err(pe(path))?;
-    let bad = |c: &str, e: PolarsError| TableError::Column {
-        path: path.to_owned(),
-        column: c.into(),
-        message: e.to_string(),
-    };
-    let u64s = |c: &str| -> Result<Vec<u64>, TableError> {
-        let ca = col(&df, path, c)?.u64().map_err(|e| bad(c, e))?.clone();
-        Ok(ca.iter().map(|v| v.unwrap_or(0)).collect())
-    };
-    let strs = |c: &str| -> Result<Vec<String>, TableError> {
-        let ca = col(&df, path, c)?.str().map_err(|e| bad(c, e))?.clone();
-        Ok(ca.iter().map(|v| v.unwrap_or("").to_string()).collect())
-    };
-    let opts = |c: &str| -> Result<Vec<Option<f64>>, TableError> {
-        let ca = col(&df, path, c)?.f64().map_err(|e| bad(c, e))?.clone();
-        Ok(ca.iter().collect())
-    };
-    let f64s =
-        |c: &str| -> Result<Vec<f64>, TableError> { Ok(opts(c)?.into_iter().map(|v| v.unwrap_or(f64::NAN)).collect()) };
-    let lists = |c: &str| -> Result<Vec<Vec<f64>>, TableError> {
-        let ca = col(&df, path, c)?.list().map_err(|e| bad(c, e))?.clone();
-        let mut out = Vec::with_capacity(ca.len());
-        for s in ca.amortized_iter() {
-            let v = match s {
-                Some(s) => s.as_ref().f64().map_err(|e| bad(c, e))?.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
-                None => Vec::new(),
-            };
-            out.push(v);
-        }
-        Ok(out)
-    };
-    let index = u64s("index")?;
-    let study = strs("study")?;
-    let group = strs("group")?;
-    let point = u64s("point")?;
-    let sweep = strs("sweep")?;
-    let seed = u64s("seed")?;
-    let realization = u64s("realization")?;
-    let status = strs("status")?;
-    let error = strs("error")?;
-    let blocks = u64s("blocks")?;
-    let collapse = opts("collapse_angle_deg")?;
-    let unstable = opts("first_unstable_deg")?;
-    let reason = strs("collapse_reason")?;
-    let mechanism = strs("mechanism")?;
-    let joint = strs("joint")?;
-    let moving = u64s("moving_blocks")?;
-    let lat_l = opts("lateral_disp_left_cm")?;
-    let lat_c = opts("lateral_disp_centre_cm")?;
-    let lat_r = opts("lateral_disp_right_cm")?;
-    let lat = opts("lateral_disp_max_cm")?;
-    let drift = opts("lateral_drift")?;
-    let tilt = lists("tilt_deg")?;
-    let dl = lists("disp_top_left_cm")?;
-    let dc = lists("disp_top_centre_cm")?;
-    let dr = lists("disp_top_right_cm")?;
-    let steps = u64s("steps")?;
-    let dt = f64s("dt_s")?;
-    let wall = f64s("wall_time_s")?;
+    let r = Columns { df: &df, path };
+    let index = r.u64s("index")?;
+    let study = r.strs("study")?;
+    let group = r.strs("group")?;
+    let point = r.u64s("point")?;
+    let sweep = r.strs("sweep")?;
+    let seed = r.u64s("seed")?;
+    let realization = r.u64s("realization")?;
+    let status = r.strs("status")?;
+    let error = r.strs("error")?;
+    let blocks = r.u64s("blocks")?;
+    let collapse = r.opts("collapse_angle_deg")?;
+    let unstable = r.opts("first_unstable_deg")?;
+    let reason = r.strs("collapse_reason")?;
+    let mechanism = r.strs("mechanism")?;
+    let joint = r.strs("joint")?;
+    let moving = r.u64s("moving_blocks")?;
+    let lat_l = r.opts("lateral_disp_left_cm")?;
+    let lat_c = r.opts("lateral_disp_centre_cm")?;
+    let lat_r = r.opts("lateral_disp_right_cm")?;
+    let lat = r.opts("lateral_disp_max_cm")?;
+    let drift = r.opts("lateral_drift")?;
+    let tilt = r.lists("tilt_deg")?;
+    let dl = r.lists("disp_top_left_cm")?;
+    let dc = r.lists("disp_top_centre_cm")?;
+    let dr = r.lists("disp_top_right_cm")?;
+    let steps = r.u64s("steps")?;
+    let dt = r.f64s("dt_s")?;
+    let wall = r.f64s("wall_time_s")?;
     let mut rows = Vec::with_capacity(index.len());
     for i in 0..index.len() {
         let st = Status::parse(&status[i]).ok_or_else(|| TableError::Column {

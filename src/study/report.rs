@@ -1,41 +1,39 @@
-//! Reporting a study: statistics per group and sweep point, comparison with the measured
-//! data, `summary.csv`, `report.md` and SVG plots. Everything here is a deterministic
-//! function of the rows (in index order) and the study.
+//! Reporting a study: `summary.csv`, `report.md` and SVG plots, with the comparison with
+//! the measured data and, for a study of the source paper, its table or figure. Everything
+//! here is a deterministic function of the rows (in index order) and the study.
 
-use super::summary::{measure_of, sci, summarize, CellSummary, ReportError};
-use super::Study;
+use super::paper::{self, PaperError};
+use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
+use super::text::{fixed, sci};
+use super::{ProtocolKind, Study};
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
-use crate::io::table::{SimpleTable, TableColumn, TableError};
-use crate::stats::{self, Summary};
+use crate::io::table::TableError;
+use crate::stats;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// A measured-vs-simulated comparison line.
-#[derive(Debug, Clone)]
-pub struct Comparison {
-    /// Group.
-    pub group: String,
-    /// What is compared, e.g. `collapse angle [deg]`.
-    pub quantity: String,
-    /// Measured specimens.
-    pub measured_n: usize,
-    /// Measured mean.
-    pub measured_mean: f64,
-    /// Measured σ.
-    pub measured_sd: f64,
-    /// Simulated realizations.
-    pub simulated_n: usize,
-    /// Simulated mean.
-    pub simulated_mean: f64,
-    /// Simulated σ.
-    pub simulated_sd: f64,
-    /// Simulated 95 % prediction band of one realization.
-    pub band: (f64, f64),
-    /// Measured mean inside the band.
-    pub inside: bool,
-    /// Measured specimens inside the band.
-    pub specimens_inside: usize,
+/// Report errors.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// Writing a table.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// Writing a plot.
+    #[error(transparent)]
+    Plot(#[from] plot::PlotError),
+    /// The section of a paper study.
+    #[error(transparent)]
+    Paper(#[from] PaperError),
+    /// Writing a file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
 }
 
 /// One note per group whose realizations all gave the same values (σ = 0 over more than one
@@ -67,84 +65,8 @@ fn degenerate_groups(cmp: &[Comparison]) -> Vec<String> {
         .collect()
 }
 
-fn compare(group: &str, quantity: &str, measured: &[f64], sim: &Summary) -> Option<Comparison> {
-    if measured.is_empty() || sim.n == 0 {
-        return None;
-    }
-    let band = sim.prediction95;
-    let m = stats::mean(measured);
-    let inside = |v: f64| band.0 <= v && v <= band.1;
-    Some(Comparison {
-        group: group.into(),
-        quantity: quantity.into(),
-        measured_n: measured.len(),
-        measured_mean: m,
-        measured_sd: stats::sd(measured),
-        simulated_n: sim.n,
-        simulated_mean: sim.mean,
-        simulated_sd: sim.sd,
-        band,
-        inside: inside(m),
-        specimens_inside: measured.iter().filter(|v| inside(**v)).count(),
-    })
-}
-
-/// Measured against simulated, per group (first sweep point of each group), for the
-/// collapse angle and the displacement at 5° and 10°.
-pub fn comparisons(study: &Study, cells: &[CellSummary]) -> Vec<Comparison> {
-    let mut out = Vec::new();
-    for c in cells.iter().filter(|c| c.point == 0) {
-        let mg = &study.groups[c.group_index].measured_group;
-        let coll: Vec<f64> =
-            study.measured.collapse.iter().filter(|m| &m.group == mg).map(|m| m.collapse_angle_deg).collect();
-        out.extend(compare(&c.group, "collapse angle [deg]", &coll, &c.collapse));
-        for (tilt, s) in [(5.0, &c.disp5), (10.0, &c.disp10)] {
-            let d: Vec<f64> = study
-                .measured
-                .displacement
-                .iter()
-                .filter(|m| &m.group == mg && (m.tilt_deg - tilt).abs() < 1e-9)
-                .map(|m| m.displacement_cm)
-                .collect();
-            out.extend(compare(&c.group, &format!("displacement at {tilt}° [cm] ({})", c.measure), &d, s));
-        }
-    }
-    out
-}
-
-/// The comparison as a plain-text table (printed by `drystone run`).
-pub fn comparison_text(cmp: &[Comparison]) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "{:<6} {:<58} {:>16} {:>16} {:>8} {:>20} measured mean inside",
-        "group", "quantity", "measured", "simulated", "diff", "sim. 95% band"
-    );
-    for c in cmp {
-        let _ = writeln!(
-            s,
-            "{:<6} {:<58} {:>7.2} ± {:<6.2} {:>7.2} ± {:<6.2} {:>+8.2} {:>9.2} .. {:<7.2} {}",
-            c.group,
-            c.quantity,
-            c.measured_mean,
-            c.measured_sd,
-            c.simulated_mean,
-            c.simulated_sd,
-            c.simulated_mean - c.measured_mean,
-            c.band.0,
-            c.band.1,
-            if c.inside { "yes" } else { "NO" }
-        );
-    }
-    s
-}
-
 fn num(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.3}")
-    } else {
-        "–".into()
-    }
+    fixed(v, 3)
 }
 
 /// Writes `summary.csv`, `report.md` and the plots into `dir`. Returns what `drystone run`
@@ -156,7 +78,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let cells = summarize(study, rows);
     let cmp = comparisons(study, &cells);
     write_summary_csv(&cells, &dir.join("summary.csv"))?;
-    let tilt = study.protocol == super::ProtocolKind::Tilt;
+    let tilt = study.protocol == ProtocolKind::Tilt;
     let mut md = String::new();
     let _ = writeln!(md, "# Study `{}`\n", study.name);
     if !study.description.is_empty() {
@@ -169,7 +91,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     }
     let mut printed = if cmp.is_empty() { String::new() } else { comparison_text(&cmp) };
     if let Some(p) = study.paper {
-        let section = super::paper::section(p, study, &cells, dir)?;
+        let section = paper::section(p, study, &cells, dir)?;
         printed.push_str(&section);
         md.push_str(&section);
     }
@@ -243,7 +165,28 @@ fn tilt_sections(
     cmp: &[Comparison],
     md: &mut String,
 ) -> Result<(), ReportError> {
-    // Plots.
+    tilt_plots(study, rows, cells, dir)?;
+    let _ = writeln!(
+        md,
+        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}; local damping {}; sub-contact subdivisions {}.\n",
+        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
+    );
+    collapse_table(cells, md);
+    displacement_table(cells, md);
+    if !cmp.is_empty() {
+        comparison_table(cmp, md);
+        misses_section(cmp, md);
+    }
+    let _ = writeln!(md, "\n## Plots\n");
+    let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
+    let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
+    let _ = writeln!(md, "![fragility curves](fragility.svg)\n");
+    Ok(())
+}
+
+/// The histograms of the collapse angle, the displacement against tilt and the fragility
+/// curves, as SVG files in `dir`.
+fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir: &Path) -> Result<(), ReportError> {
     let hist_panels: Vec<HistogramPanel> = cells
         .iter()
         .map(|c| HistogramPanel {
@@ -276,11 +219,11 @@ fn tilt_sections(
         "P(collapse)",
         &fragility_series(cells),
     )?;
-    let _ = writeln!(
-        md,
-        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}; local damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
-    );
+    Ok(())
+}
+
+/// The collapse angle per cell.
+fn collapse_table(cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
     let _ = writeln!(md, "| group | sweep | n | failed | stood | mean | σ | COV | min | max | 95 % CI of mean | 95 % bootstrap σ | lognormal median, β |");
     let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
@@ -306,6 +249,10 @@ fn tilt_sections(
             c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta))
         );
     }
+}
+
+/// The displacement at 5° and 10° per cell.
+fn displacement_table(cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "\n## Displacement of the top at 5° and 10° [cm]\n");
     let _ = writeln!(md, "| group | sweep | measure | n at 5° | mean at 5° | σ | n at 10° | mean at 10° | σ |");
     let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
@@ -324,121 +271,74 @@ fn tilt_sections(
             num(c.disp10.sd)
         );
     }
-    if !cmp.is_empty() {
-        let _ = writeln!(md, "\n## Measured against simulated\n");
+}
+
+/// Measured against simulated, one line per comparison.
+fn comparison_table(cmp: &[Comparison], md: &mut String) {
+    let _ = writeln!(md, "\n## Measured against simulated\n");
+    let _ = writeln!(
+        md,
+        "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n"
+    );
+    let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in cmp {
         let _ = writeln!(
             md,
-            "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n"
+            "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} ± {:.2} ({}) | {:+.2} | {:.2} .. {:.2} | {} | {}/{} |",
+            c.group,
+            c.quantity,
+            c.measured_mean,
+            c.measured_sd,
+            c.measured_n,
+            c.simulated_mean,
+            c.simulated_sd,
+            c.simulated_n,
+            c.simulated_mean - c.measured_mean,
+            c.band.0,
+            c.band.1,
+            if c.inside { "yes" } else { "**no**" },
+            c.specimens_inside,
+            c.measured_n
         );
-        let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
-        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
-        for c in cmp {
+    }
+}
+
+/// The comparisons whose measured mean falls outside the simulated band, and the groups
+/// whose band says nothing.
+fn misses_section(cmp: &[Comparison], md: &mut String) {
+    let misses: Vec<&Comparison> = cmp.iter().filter(|c| !c.inside).collect();
+    let _ = writeln!(md, "\n### Where the simulation misses\n");
+    if misses.is_empty() {
+        let _ = writeln!(md, "Every measured mean falls inside the simulated 95 % band.");
+    } else {
+        for c in misses {
+            let rel = if c.measured_mean != 0.0 {
+                100.0 * (c.simulated_mean - c.measured_mean) / c.measured_mean.abs()
+            } else {
+                f64::NAN
+            };
             let _ = writeln!(
                 md,
-                "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} ± {:.2} ({}) | {:+.2} | {:.2} .. {:.2} | {} | {}/{} |",
+                "- {} {}: measured {:.2} ± {:.2}, simulated {:.2} ± {:.2}: the simulation is {} by {:.2} ({:+.0} %), outside its 95 % band {:.2} .. {:.2}.",
                 c.group,
                 c.quantity,
                 c.measured_mean,
                 c.measured_sd,
-                c.measured_n,
                 c.simulated_mean,
                 c.simulated_sd,
-                c.simulated_n,
-                c.simulated_mean - c.measured_mean,
+                if c.simulated_mean > c.measured_mean { "high" } else { "low" },
+                (c.simulated_mean - c.measured_mean).abs(),
+                rel,
                 c.band.0,
-                c.band.1,
-                if c.inside { "yes" } else { "**no**" },
-                c.specimens_inside,
-                c.measured_n
+                c.band.1
             );
         }
-        let misses: Vec<&Comparison> = cmp.iter().filter(|c| !c.inside).collect();
-        let _ = writeln!(md, "\n### Where the simulation misses\n");
-        if misses.is_empty() {
-            let _ = writeln!(md, "Every measured mean falls inside the simulated 95 % band.");
-        } else {
-            for c in misses {
-                let rel = if c.measured_mean != 0.0 {
-                    100.0 * (c.simulated_mean - c.measured_mean) / c.measured_mean.abs()
-                } else {
-                    f64::NAN
-                };
-                let _ = writeln!(
-                    md,
-                    "- {} {}: measured {:.2} ± {:.2}, simulated {:.2} ± {:.2}: the simulation is {} by {:.2} ({:+.0} %), outside its 95 % band {:.2} .. {:.2}.",
-                    c.group,
-                    c.quantity,
-                    c.measured_mean,
-                    c.measured_sd,
-                    c.simulated_mean,
-                    c.simulated_sd,
-                    if c.simulated_mean > c.measured_mean { "high" } else { "low" },
-                    (c.simulated_mean - c.measured_mean).abs(),
-                    rel,
-                    c.band.0,
-                    c.band.1
-                );
-            }
-            let _ = writeln!(md, "\nNo parameter was tuned per specimen to close these gaps; explaining them is the job of the model-discrepancy analysis.");
-        }
-        for note in degenerate_groups(cmp) {
-            let _ = writeln!(md, "\n{note}");
-        }
+        let _ = writeln!(md, "\nNo parameter was tuned per specimen to close these gaps; explaining them is the job of the model-discrepancy analysis.");
     }
-    let _ = writeln!(md, "\n## Plots\n");
-    let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
-    let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
-    let _ = writeln!(md, "![fragility curves](fragility.svg)\n");
-    Ok(())
-}
-
-fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableError> {
-    let text = |f: &dyn Fn(&CellSummary) -> String| TableColumn::Text(cells.iter().map(f).collect());
-    let numc = |f: &dyn Fn(&CellSummary) -> f64| TableColumn::Number(cells.iter().map(f).collect());
-    let count = |f: &dyn Fn(&CellSummary) -> usize| TableColumn::Count(cells.iter().map(|c| f(c) as u64).collect());
-    let mut cols: Vec<(String, TableColumn)> = vec![
-        ("group".into(), text(&|c| c.group.clone())),
-        ("point".into(), count(&|c| c.point)),
-        ("sweep".into(), text(&|c| c.sweep.clone())),
-        ("realizations".into(), count(&|c| c.n)),
-        ("failed".into(), count(&|c| c.failed)),
-        ("stood".into(), count(&|c| c.stood)),
-    ];
-    let stats_cols = |prefix: &str, get: fn(&CellSummary) -> &Summary| -> Vec<(String, TableColumn)> {
-        let n = |f: fn(&Summary) -> f64| TableColumn::Number(cells.iter().map(|c| f(get(c))).collect());
-        vec![
-            (format!("{prefix}_n"), TableColumn::Count(cells.iter().map(|c| get(c).n as u64).collect())),
-            (format!("{prefix}_mean"), n(|s| s.mean)),
-            (format!("{prefix}_sd"), n(|s| s.sd)),
-            (format!("{prefix}_cov"), n(|s| s.cov)),
-            (format!("{prefix}_min"), n(|s| s.min)),
-            (format!("{prefix}_q05"), n(|s| s.q05)),
-            (format!("{prefix}_q25"), n(|s| s.q25)),
-            (format!("{prefix}_median"), n(|s| s.median)),
-            (format!("{prefix}_q75"), n(|s| s.q75)),
-            (format!("{prefix}_q95"), n(|s| s.q95)),
-            (format!("{prefix}_max"), n(|s| s.max)),
-            (format!("{prefix}_mean_ci95_lo"), n(|s| s.mean_ci95.0)),
-            (format!("{prefix}_mean_ci95_hi"), n(|s| s.mean_ci95.1)),
-            (format!("{prefix}_pred95_lo"), n(|s| s.prediction95.0)),
-            (format!("{prefix}_pred95_hi"), n(|s| s.prediction95.1)),
-            (format!("{prefix}_sd_boot95_lo"), n(|s| s.sd_boot95.0)),
-            (format!("{prefix}_sd_boot95_hi"), n(|s| s.sd_boot95.1)),
-            (format!("{prefix}_cov_boot95_lo"), n(|s| s.cov_boot95.0)),
-            (format!("{prefix}_cov_boot95_hi"), n(|s| s.cov_boot95.1)),
-        ]
-    };
-    cols.extend(stats_cols("collapse_angle_deg", |c| &c.collapse));
-    cols.push(("fragility_median_deg".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.median))));
-    cols.push(("fragility_beta".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.beta))));
-    cols.push(("displacement_measure".into(), text(&|c| c.measure.clone())));
-    cols.extend(stats_cols("disp_5deg_cm", |c| &c.disp5));
-    cols.extend(stats_cols("disp_10deg_cm", |c| &c.disp10));
-    cols.push(("lateral_collapsed".into(), numc(&|c| c.lateral_collapsed as f64)));
-    cols.extend(stats_cols("lateral_disp_max_cm", |c| &c.lateral_max));
-    cols.extend(stats_cols("lateral_disp_centre_cm", |c| &c.lateral_centre));
-    cols.extend(stats_cols("lateral_drift", |c| &c.drift));
-    SimpleTable { columns: cols }.write_csv(path)
+    for note in degenerate_groups(cmp) {
+        let _ = writeln!(md, "\n{note}");
+    }
 }
 
 /// Displacement against tilt per group (first sweep point): mean and 5–95 % band over the

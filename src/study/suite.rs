@@ -19,8 +19,9 @@
 //! `DIR/<study name>/` and one `DIR/report.md` that holds every study's report (headings one
 //! level down, figure links into the study's directory) and the calibration.
 
-use super::calibrate::{self, StepResult};
-use super::run::{run_study, write_outputs};
+use super::calibrate::{self, write_calibration, CalibrateError};
+use super::run::run_study;
+use super::shards::{write_outputs, OutputError};
 use super::{Study, StudyError};
 use crate::ensemble::Shard;
 use serde::{Deserialize, Serialize};
@@ -130,15 +131,18 @@ impl Suite {
 pub enum SuiteError {
     /// A study's outputs.
     #[error(transparent)]
-    Run(#[from] super::run::RunError),
-    /// A calibration.
-    #[error("{path}: {message}")]
+    Output(#[from] OutputError),
+    /// A calibration that could not run.
+    #[error("{path}: {source}")]
     Calibrate {
         /// The study file.
         path: PathBuf,
         /// What went wrong.
-        message: String,
+        source: CalibrateError,
     },
+    /// Writing a calibration's outputs.
+    #[error(transparent)]
+    Calibration(CalibrateError),
     /// A file.
     #[error("{path}: {source}")]
     Io {
@@ -147,22 +151,6 @@ pub enum SuiteError {
         /// The cause.
         source: std::io::Error,
     },
-}
-
-/// Writes a calibration's outputs (`calibration.md`, `calibration.json`) into `dir`.
-///
-/// # Errors
-/// [`SuiteError::Io`] naming the file.
-pub fn write_calibration(study: &Study, results: &[StepResult], dir: &Path) -> Result<String, SuiteError> {
-    std::fs::create_dir_all(dir).map_err(|source| SuiteError::Io { path: dir.to_owned(), source })?;
-    let md =
-        format!("# Study `{}`\n\n{}\n\n{}", study.name, study.description.trim(), calibrate::markdown(study, results));
-    let p = dir.join("calibration.md");
-    std::fs::write(&p, &md).map_err(|source| SuiteError::Io { path: p.clone(), source })?;
-    let p = dir.join("calibration.json");
-    let json = serde_json::to_string_pretty(results).unwrap_or_default();
-    std::fs::write(&p, json).map_err(|source| SuiteError::Io { path: p.clone(), source })?;
-    Ok(md)
 }
 
 /// Runs every study of a suite on the current rayon pool and writes the outputs and the
@@ -185,8 +173,8 @@ pub fn run_suite(suite: &Suite, dir: &Path, mut progress: impl FnMut(&str)) -> R
         let t0 = std::time::Instant::now();
         let text = if entry.calibrate {
             let results = calibrate::calibrate(st, &st.calibrate)
-                .map_err(|message| SuiteError::Calibrate { path: path.clone(), message })?;
-            write_calibration(st, &results, &sub)?
+                .map_err(|source| SuiteError::Calibrate { path: path.clone(), source })?;
+            write_calibration(st, &results, &sub).map_err(SuiteError::Calibration)?
         } else {
             let rows = run_study(st, Shard::ALL);
             write_outputs(st, path, Shard::ALL, &rows, &sub)?;

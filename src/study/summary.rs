@@ -1,32 +1,13 @@
-//! Per-cell statistics of a study's rows (one cell per group and sweep point) and the
-//! errors of writing reports: shared by the study report and the paper's comparisons.
+//! Statistics of a study's rows: one [`CellSummary`] per group and sweep point, the
+//! measured-against-simulated [`Comparison`]s, and `summary.csv`. A deterministic function
+//! of the rows (in index order) and the study: the bootstrap streams are numbered by cell.
 
-use super::Study;
+use super::{point_label, ProtocolKind, Study};
 use crate::ensemble::row::{RealizationRow, Status};
-use crate::io::plot;
-use crate::io::table::TableError;
+use crate::io::table::{SimpleTable, TableColumn, TableError};
 use crate::stats::{self, LognormalFragility, Summary};
-use std::path::PathBuf;
-
-/// Report errors.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum ReportError {
-    /// Writing a table.
-    #[error(transparent)]
-    Table(#[from] TableError),
-    /// Writing a plot.
-    #[error(transparent)]
-    Plot(#[from] plot::PlotError),
-    /// Writing a file.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-}
+use std::fmt::Write as _;
+use std::path::Path;
 
 /// Statistics of one group at one sweep point.
 #[derive(Debug, Clone)]
@@ -68,6 +49,33 @@ pub struct CellSummary {
     pub drift: Summary,
 }
 
+/// A measured-vs-simulated comparison line.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    /// Group.
+    pub group: String,
+    /// What is compared, e.g. `collapse angle [deg]`.
+    pub quantity: String,
+    /// Measured specimens.
+    pub measured_n: usize,
+    /// Measured mean.
+    pub measured_mean: f64,
+    /// Measured σ.
+    pub measured_sd: f64,
+    /// Simulated realizations.
+    pub simulated_n: usize,
+    /// Simulated mean.
+    pub simulated_mean: f64,
+    /// Simulated σ.
+    pub simulated_sd: f64,
+    /// Simulated 95 % prediction band of one realization.
+    pub band: (f64, f64),
+    /// Measured mean inside the band.
+    pub inside: bool,
+    /// Measured specimens inside the band.
+    pub specimens_inside: usize,
+}
+
 pub(super) fn measure_of(study: &Study, group: usize) -> String {
     let mg = &study.groups[group].measured_group;
     study
@@ -103,7 +111,7 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 group: g.name.clone(),
                 group_index: gi,
                 point: pi,
-                sweep: super::point_label(p),
+                sweep: point_label(p),
                 n: cell.len(),
                 failed: cell.iter().filter(|r| !r.status.is_ok()).count(),
                 stood: cell.iter().filter(|r| r.status == Status::Stood).count(),
@@ -113,7 +121,7 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
                 measure: measure.clone(),
                 angles,
-                lateral_collapsed: if study.protocol == super::ProtocolKind::Lateral {
+                lateral_collapsed: if study.protocol == ProtocolKind::Lateral {
                     cell.iter().filter(|r| r.status == Status::Collapsed).count()
                 } else {
                     0
@@ -127,11 +135,127 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
     out
 }
 
-/// A number in scientific notation with 3 decimals, `–` when not finite.
-pub(super) fn sci(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.3e}")
-    } else {
-        "–".into()
+fn compare(group: &str, quantity: &str, measured: &[f64], sim: &Summary) -> Option<Comparison> {
+    if measured.is_empty() || sim.n == 0 {
+        return None;
     }
+    let band = sim.prediction95;
+    let m = stats::mean(measured);
+    let inside = |v: f64| band.0 <= v && v <= band.1;
+    Some(Comparison {
+        group: group.into(),
+        quantity: quantity.into(),
+        measured_n: measured.len(),
+        measured_mean: m,
+        measured_sd: stats::sd(measured),
+        simulated_n: sim.n,
+        simulated_mean: sim.mean,
+        simulated_sd: sim.sd,
+        band,
+        inside: inside(m),
+        specimens_inside: measured.iter().filter(|v| inside(**v)).count(),
+    })
+}
+
+/// Measured against simulated, per group (first sweep point of each group), for the
+/// collapse angle and the displacement at 5° and 10°.
+pub fn comparisons(study: &Study, cells: &[CellSummary]) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for c in cells.iter().filter(|c| c.point == 0) {
+        let mg = &study.groups[c.group_index].measured_group;
+        let coll: Vec<f64> =
+            study.measured.collapse.iter().filter(|m| &m.group == mg).map(|m| m.collapse_angle_deg).collect();
+        out.extend(compare(&c.group, "collapse angle [deg]", &coll, &c.collapse));
+        for (tilt, s) in [(5.0, &c.disp5), (10.0, &c.disp10)] {
+            let d: Vec<f64> = study
+                .measured
+                .displacement
+                .iter()
+                .filter(|m| &m.group == mg && (m.tilt_deg - tilt).abs() < 1e-9)
+                .map(|m| m.displacement_cm)
+                .collect();
+            out.extend(compare(&c.group, &format!("displacement at {tilt}° [cm] ({})", c.measure), &d, s));
+        }
+    }
+    out
+}
+
+/// The comparison as a plain-text table (printed by `drystone run`).
+pub fn comparison_text(cmp: &[Comparison]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<6} {:<58} {:>16} {:>16} {:>8} {:>20} measured mean inside",
+        "group", "quantity", "measured", "simulated", "diff", "sim. 95% band"
+    );
+    for c in cmp {
+        let _ = writeln!(
+            s,
+            "{:<6} {:<58} {:>7.2} ± {:<6.2} {:>7.2} ± {:<6.2} {:>+8.2} {:>9.2} .. {:<7.2} {}",
+            c.group,
+            c.quantity,
+            c.measured_mean,
+            c.measured_sd,
+            c.simulated_mean,
+            c.simulated_sd,
+            c.simulated_mean - c.measured_mean,
+            c.band.0,
+            c.band.1,
+            if c.inside { "yes" } else { "NO" }
+        );
+    }
+    s
+}
+
+/// Writes `summary.csv`: one row per cell, the statistics of every quantity.
+///
+/// # Errors
+/// [`TableError`] naming the file.
+pub fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), TableError> {
+    let text = |f: &dyn Fn(&CellSummary) -> String| TableColumn::Text(cells.iter().map(f).collect());
+    let numc = |f: &dyn Fn(&CellSummary) -> f64| TableColumn::Number(cells.iter().map(f).collect());
+    let count = |f: &dyn Fn(&CellSummary) -> usize| TableColumn::Count(cells.iter().map(|c| f(c) as u64).collect());
+    let mut cols: Vec<(String, TableColumn)> = vec![
+        ("group".into(), text(&|c| c.group.clone())),
+        ("point".into(), count(&|c| c.point)),
+        ("sweep".into(), text(&|c| c.sweep.clone())),
+        ("realizations".into(), count(&|c| c.n)),
+        ("failed".into(), count(&|c| c.failed)),
+        ("stood".into(), count(&|c| c.stood)),
+    ];
+    let stats_cols = |prefix: &str, get: fn(&CellSummary) -> &Summary| -> Vec<(String, TableColumn)> {
+        let n = |f: fn(&Summary) -> f64| TableColumn::Number(cells.iter().map(|c| f(get(c))).collect());
+        vec![
+            (format!("{prefix}_n"), TableColumn::Count(cells.iter().map(|c| get(c).n as u64).collect())),
+            (format!("{prefix}_mean"), n(|s| s.mean)),
+            (format!("{prefix}_sd"), n(|s| s.sd)),
+            (format!("{prefix}_cov"), n(|s| s.cov)),
+            (format!("{prefix}_min"), n(|s| s.min)),
+            (format!("{prefix}_q05"), n(|s| s.q05)),
+            (format!("{prefix}_q25"), n(|s| s.q25)),
+            (format!("{prefix}_median"), n(|s| s.median)),
+            (format!("{prefix}_q75"), n(|s| s.q75)),
+            (format!("{prefix}_q95"), n(|s| s.q95)),
+            (format!("{prefix}_max"), n(|s| s.max)),
+            (format!("{prefix}_mean_ci95_lo"), n(|s| s.mean_ci95.0)),
+            (format!("{prefix}_mean_ci95_hi"), n(|s| s.mean_ci95.1)),
+            (format!("{prefix}_pred95_lo"), n(|s| s.prediction95.0)),
+            (format!("{prefix}_pred95_hi"), n(|s| s.prediction95.1)),
+            (format!("{prefix}_sd_boot95_lo"), n(|s| s.sd_boot95.0)),
+            (format!("{prefix}_sd_boot95_hi"), n(|s| s.sd_boot95.1)),
+            (format!("{prefix}_cov_boot95_lo"), n(|s| s.cov_boot95.0)),
+            (format!("{prefix}_cov_boot95_hi"), n(|s| s.cov_boot95.1)),
+        ]
+    };
+    cols.extend(stats_cols("collapse_angle_deg", |c| &c.collapse));
+    cols.push(("fragility_median_deg".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.median))));
+    cols.push(("fragility_beta".into(), numc(&|c| c.fragility.map_or(f64::NAN, |f| f.beta))));
+    cols.push(("displacement_measure".into(), text(&|c| c.measure.clone())));
+    cols.extend(stats_cols("disp_5deg_cm", |c| &c.disp5));
+    cols.extend(stats_cols("disp_10deg_cm", |c| &c.disp10));
+    cols.push(("lateral_collapsed".into(), numc(&|c| c.lateral_collapsed as f64)));
+    cols.extend(stats_cols("lateral_disp_max_cm", |c| &c.lateral_max));
+    cols.extend(stats_cols("lateral_disp_centre_cm", |c| &c.lateral_centre));
+    cols.extend(stats_cols("lateral_drift", |c| &c.drift));
+    SimpleTable { columns: cols }.write_csv(path)
 }

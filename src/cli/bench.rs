@@ -1,0 +1,77 @@
+//! `drystone bench`: the benchmarks of [`drystone::benchmark`], printed.
+
+use anyhow::{bail, Result};
+use drystone::benchmark::{run_cube16, run_tilt_bench, TiltRun};
+use drystone::dem::SolverParams;
+use drystone::generator::{DistributionSource, Wall};
+use drystone::loading::tilt::TiltParams;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// `bench tilt`: realizations `0..realizations` of the wall, one after the other.
+pub fn tilt(wall: &Path, seed: u64, realizations: u64, predictor: bool, json: bool) -> Result<ExitCode> {
+    if realizations == 0 {
+        bail!("--realizations must be at least 1");
+    }
+    let w = Wall::from_file_with(wall, &DistributionSource::default_for(wall))?;
+    let params = TiltParams { predictor, ..TiltParams::default() };
+    if !json {
+        out!(
+            "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}",
+            wall.display(),
+            if params.predictor { "on" } else { "off" }
+        );
+    }
+    let print_run = |r: &TiltRun| {
+        if !json {
+            out!(
+                "  realization {} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {:.2} s ({:.1} us/step)",
+                r.realization,
+                r.blocks,
+                r.collapse_angle_deg,
+                r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
+                r.steps,
+                r.dt_s,
+                r.wall_time_s,
+                r.us_per_step
+            );
+        }
+    };
+    let b = run_tilt_bench(&w, &wall.display().to_string(), seed, realizations, &params, print_run)?;
+    if json {
+        out!("{}", serde_json::to_string_pretty(&b)?);
+    } else if realizations > 1 {
+        out!(
+            "  total: {} steps, {:.2} s ({:.1} us/step); mean {:.0} steps, {:.2} s per test",
+            b.steps,
+            b.wall_time_s,
+            b.us_per_step,
+            b.steps as f64 / realizations as f64,
+            b.wall_time_s / realizations as f64
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `bench cube16`: `steps` engine steps of the 16-box cube, and its settling.
+pub fn cube16(steps: u64, json: bool) -> Result<ExitCode> {
+    let r = run_cube16(steps, SolverParams::default());
+    if json {
+        out!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        out!(
+            "cube16: {} bodies, {} contacts, {} sub-contacts, dt {:.3e} s",
+            r.bodies,
+            r.contacts,
+            r.sub_contacts,
+            r.dt_s
+        );
+        out!("  {} steps at {:.0} steps/s (one thread)", r.steps, r.steps_per_s);
+        out!(
+            "  equilibrium (unbalanced-force ratio < 1e-4) after {} steps, {:.3} s",
+            r.steps_to_equilibrium,
+            r.equilibrium_wall_time_s
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

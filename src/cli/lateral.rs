@@ -1,0 +1,45 @@
+//! `drystone lateral`: the static lateral load on a layout file.
+
+use anyhow::{Context, Result};
+use drystone::dem::SolverParams;
+use drystone::layout::Layout;
+use drystone::loading::lateral::{run_lateral, LateralParams, LateralResult};
+use std::path::Path;
+use std::process::ExitCode;
+
+/// Solves the load to equilibrium and prints a table, or one JSON object with `json`.
+pub fn run(layout: &Path, params: &LateralParams, json: bool) -> Result<ExitCode> {
+    let l = Layout::from_file(layout)?;
+    let r = run_lateral(&l, SolverParams::default(), params)
+        .with_context(|| format!("static lateral load on {}", layout.display()))?;
+    if json {
+        out!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        print(layout, params, &r);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
+    out!("layout            {}", layout.display());
+    out!(
+        "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
+        params.pressure_base_pa,
+        params.pressure_top_pa,
+        r.resultant_n.y,
+        r.resultant_n.y / r.weight_n,
+        r.weight_n,
+        r.loaded_faces
+    );
+    match &r.collapse_reason {
+        None => out!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
+        Some(why) => out!("equilibrium       NO: collapsed ({why})"),
+    }
+    out!("top displacement  [cm]");
+    for (m, d) in r.monitors.iter().zip(&r.displacement_m) {
+        out!("  {m:<12} {:>9.4}", d * 100.0);
+    }
+    out!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
+    out!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
+    out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+}

@@ -1,0 +1,340 @@
+//! From the raw study file to a checked [`Study`]: every value range checked, every wall
+//! generated from its description with the group's overrides and each sweep point applied,
+//! every measured file read, before anything runs.
+
+use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
+use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
+use super::StudyError;
+use crate::dem::SolverParams;
+use crate::generator::distribution::DistributionSource;
+use crate::generator::spec::{Ends, WallSpec};
+use crate::generator::Wall;
+use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::TiltParams;
+use std::path::{Path, PathBuf};
+
+/// A checked group.
+#[derive(Debug, Clone)]
+pub struct Group {
+    /// Name.
+    pub name: String,
+    /// Group name in the measured data.
+    pub measured_group: String,
+    /// The wall description file.
+    pub wall_path: PathBuf,
+    /// The resolved wall at each sweep point.
+    pub walls: Vec<Wall>,
+    /// Own number of realizations per sweep point, if the group fixes it.
+    pub realizations: Option<u64>,
+    /// The group's wall description with its overrides applied (before any sweep point).
+    pub spec: WallSpec,
+}
+
+/// Measured data of a study.
+#[derive(Debug, Clone, Default)]
+pub struct Measured {
+    /// Collapse angles.
+    pub collapse: Vec<MeasuredCollapse>,
+    /// Displacements.
+    pub displacement: Vec<MeasuredDisplacement>,
+    /// The paper's DEM collapse angles (Table 7).
+    pub paper_dem: Vec<table::PaperDemAngle>,
+}
+
+/// A checked study.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// Name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// The study file.
+    pub path: PathBuf,
+    /// Master seed.
+    pub seed: u64,
+    /// Realizations per group and point.
+    pub realizations: u64,
+    /// Protocol.
+    pub protocol: ProtocolKind,
+    /// Tilting-table parameters.
+    pub tilt: TiltParams,
+    /// Static lateral load parameters.
+    pub lateral: LateralParams,
+    /// Solver parameters.
+    pub solver: SolverParams,
+    /// Groups.
+    pub groups: Vec<Group>,
+    /// Sweep points (one empty point without a sweep).
+    pub points: Vec<SweepPoint>,
+    /// Measured data.
+    pub measured: Measured,
+    /// The paper's study reproduced, if any.
+    pub paper: Option<PaperStudy>,
+    /// Calibration steps.
+    pub calibrate: Vec<CalibrateSpec>,
+    /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
+    pub discrepancy: crate::discrepancy::Settings,
+}
+
+/// Builds [`StudyError::Invalid`] for one file.
+struct Invalid<'a>(&'a Path);
+
+impl Invalid<'_> {
+    fn at(&self, key: &str, reason: String) -> StudyError {
+        StudyError::Invalid { path: self.0.to_owned(), key: key.into(), reason }
+    }
+
+    fn wall(&self, group: &str, source: crate::generator::GeneratorError) -> StudyError {
+        StudyError::Wall { path: self.0.to_owned(), group: group.into(), source: Box::new(source) }
+    }
+}
+
+impl StudySpec {
+    /// Checks the study and resolves every wall and measured file.
+    ///
+    /// # Errors
+    /// The first problem found, naming the file and key.
+    pub fn resolve(&self, path: &Path) -> Result<Study, StudyError> {
+        let invalid = Invalid(path);
+        self.check_scalars(&invalid)?;
+        let points = sweep::grid(&self.sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut names = std::collections::BTreeSet::new();
+        let mut groups = Vec::new();
+        for g in &self.groups {
+            if !names.insert(g.name.clone()) {
+                return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));
+            }
+            groups.push(resolve_group(g, dir, &points, &invalid)?);
+        }
+        let measured = match &self.measured {
+            Some(m) => read_measured(m, dir, path)?,
+            None => Measured::default(),
+        };
+        let study = Study {
+            name: self.name.clone(),
+            description: self.description.clone(),
+            path: path.to_owned(),
+            seed: self.seed,
+            realizations: self.realizations,
+            protocol: self.protocol,
+            tilt: self.tilt,
+            lateral: self.lateral,
+            solver: self.solver,
+            groups,
+            points,
+            measured,
+            paper: self.paper,
+            calibrate: self.calibrate.clone(),
+            discrepancy: self.discrepancy.clone().unwrap_or_default(),
+        };
+        study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
+        for (i, c) in study.calibrate.iter().enumerate() {
+            check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
+        }
+        if let Some(p) = study.paper {
+            check_paper(p, &study).map_err(|r| invalid.at("paper", r))?;
+        }
+        Ok(study)
+    }
+
+    /// The version, the counts and the parameter tables.
+    fn check_scalars(&self, invalid: &Invalid) -> Result<(), StudyError> {
+        if self.version != 1 {
+            return Err(invalid.at("version", format!("this drystone reads study version 1, got {}", self.version)));
+        }
+        if self.realizations == 0 {
+            return Err(invalid.at("realizations", "must be at least 1".into()));
+        }
+        if self.groups.is_empty() {
+            return Err(invalid.at("groups", "at least one group is needed".into()));
+        }
+        let range = |table: &'static str| {
+            move |e: crate::range::OutOfRange| invalid.at(&format!("{table}.{}", e.key), e.reason())
+        };
+        self.tilt.validate().map_err(range("tilt"))?;
+        self.lateral.validate().map_err(range("lateral"))?;
+        self.solver.validate().map_err(range("solver"))?;
+        Ok(())
+    }
+}
+
+/// One group: its wall description read, its overrides applied, its wall resolved at every
+/// sweep point.
+fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Invalid) -> Result<Group, StudyError> {
+    if g.realizations == Some(0) {
+        return Err(invalid.at(&format!("groups[{}].realizations", g.name), "must be at least 1".into()));
+    }
+    let wall_path = dir.join(&g.wall);
+    let text = std::fs::read_to_string(&wall_path).map_err(|source| {
+        invalid.at(&format!("groups[{}].wall", g.name), format!("cannot read {}: {source}", wall_path.display()))
+    })?;
+    let mut gspec = WallSpec::from_toml(&text, &wall_path).map_err(|e| invalid.wall(&g.name, e))?;
+    for (k, v) in &g.overrides {
+        let key = format!("groups[{}].overrides.{k}", g.name);
+        let value = SweepValue::from_toml(v).ok_or_else(|| invalid.at(&key, format!("{v} is not a number or text")))?;
+        SweepKey::parse(k).and_then(|sk| sk.apply(&mut gspec, &value)).map_err(|r| invalid.at(&key, r))?;
+    }
+    let source = DistributionSource::default_for(&wall_path);
+    let mut walls = Vec::with_capacity(points.len());
+    for p in points {
+        let mut spec = gspec.clone();
+        for (k, v) in p {
+            k.apply(&mut spec, v).map_err(|r| invalid.at(&format!("sweep.{k}"), r))?;
+        }
+        walls.push(spec.resolve(&wall_path, &source).map_err(|e| invalid.wall(&g.name, e))?);
+    }
+    Ok(Group {
+        name: g.name.clone(),
+        measured_group: g.measured_group.clone().unwrap_or_else(|| g.name.clone()),
+        wall_path,
+        walls,
+        realizations: g.realizations,
+        spec: gspec,
+    })
+}
+
+fn read_measured(m: &MeasuredSpec, dir: &Path, path: &Path) -> Result<Measured, StudyError> {
+    let err = |source| StudyError::Measured { path: path.to_owned(), source };
+    let mut measured = Measured::default();
+    if let Some(c) = &m.collapse {
+        measured.collapse = table::read_measured_collapse(&dir.join(c)).map_err(err)?;
+    }
+    if let Some(d) = &m.displacement {
+        measured.displacement = table::read_measured_displacement(&dir.join(d)).map_err(err)?;
+    }
+    if let Some(d) = &m.paper_dem {
+        measured.paper_dem = table::read_paper_dem(&dir.join(d)).map_err(err)?;
+    }
+    Ok(measured)
+}
+
+impl Study {
+    /// Reads and resolves a study file.
+    ///
+    /// # Errors
+    /// Any [`StudyError`].
+    pub fn from_file(path: &Path) -> Result<Study, StudyError> {
+        StudySpec::from_file(path)?.resolve(path)
+    }
+
+    /// All work items of the study.
+    pub fn items(&self) -> Vec<crate::ensemble::Item> {
+        let counts: Vec<u64> = (0..self.groups.len()).map(|g| self.group_realizations(g)).collect();
+        crate::ensemble::items_per_group(&counts, self.points.len())
+    }
+
+    /// The wall of group `g` with its overrides and then `values` applied, resolved and
+    /// checked.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] for a bad value, [`StudyError::Wall`] if the wall no longer
+    /// checks.
+    pub fn wall_with(&self, g: usize, values: &[(SweepKey, SweepValue)]) -> Result<Wall, StudyError> {
+        let group = &self.groups[g];
+        let mut spec = group.spec.clone();
+        for (k, v) in values {
+            k.apply(&mut spec, v).map_err(|reason| StudyError::Invalid {
+                path: self.path.clone(),
+                key: k.as_str().into(),
+                reason,
+            })?;
+        }
+        let source = DistributionSource::default_for(&group.wall_path);
+        spec.resolve(&group.wall_path, &source).map_err(|source| StudyError::Wall {
+            path: self.path.clone(),
+            group: group.name.clone(),
+            source: Box::new(source),
+        })
+    }
+
+    /// Realizations per sweep point of group `g`: its own count, or the study's.
+    pub fn group_realizations(&self, g: usize) -> u64 {
+        self.groups[g].realizations.unwrap_or(self.realizations)
+    }
+
+    /// The number that sweep key `key` takes at point `point`, if the sweep has it.
+    pub fn sweep_number(&self, point: usize, key: SweepKey) -> Option<f64> {
+        self.points[point].iter().find(|(k, _)| *k == key).and_then(|(_, v)| v.number())
+    }
+}
+
+/// Whether a wall's ends are held.
+pub(crate) fn restrained(e: &Ends) -> bool {
+    !matches!(e, Ends::Free)
+}
+
+/// Checks a calibration step against a study.
+///
+/// # Errors
+/// A message naming the bad key.
+pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), String> {
+    if !matches!(c.parameter.as_str(), "kn_pa_per_m" | "friction_deg") {
+        return Err(format!("parameter: expects kn_pa_per_m or friction_deg, got {:?}", c.parameter));
+    }
+    if !(c.lower.is_finite() && c.upper.is_finite() && c.lower < c.upper) {
+        return Err(format!("lower, upper: need finite lower < upper, got {} .. {}", c.lower, c.upper));
+    }
+    if c.is_kn() && c.lower <= 0.0 {
+        return Err(format!("lower: Kn must be > 0, got {}", c.lower));
+    }
+    if !c.is_kn() && (c.lower <= 0.0 || c.upper >= 90.0) {
+        return Err(format!("lower, upper: φ must be in (0, 90) degrees, got {} .. {}", c.lower, c.upper));
+    }
+    if c.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        return Err("tolerance: must be a finite number > 0".into());
+    }
+    for g in std::iter::once(&c.group).chain(&c.carry_to) {
+        if !study.groups.iter().any(|x| &x.name == g) {
+            return Err(format!("group {g:?} is not a group of the study"));
+        }
+    }
+    let mg = &study.groups.iter().find(|x| x.name == c.group).map(|x| x.measured_group.clone()).unwrap_or_default();
+    if !study.measured.collapse.iter().any(|m| &m.group == mg) {
+        return Err(format!("group {:?}: no measured collapse angle for {mg:?} in [measured] collapse", c.group));
+    }
+    Ok(())
+}
+
+/// Checks that a study has what its paper comparison needs.
+///
+/// # Errors
+/// A message naming what is missing.
+pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), String> {
+    let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
+    let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
+    match p {
+        PaperStudy::JointArrangement => {
+            if study.protocol != ProtocolKind::Lateral {
+                return Err("joint_arrangement needs protocol = \"lateral\"".into());
+            }
+            if !has(SweepKey::KnPaPerM) {
+                return Err("joint_arrangement needs a sweep over kn_pa_per_m".into());
+            }
+        }
+        PaperStudy::LengthHeight => {
+            if study.protocol != ProtocolKind::Lateral {
+                return Err("length_height needs protocol = \"lateral\"".into());
+            }
+            if !has(SweepKey::LengthM) {
+                return Err("length_height needs a sweep over length_m".into());
+            }
+            if !ends.iter().any(|&r| r) || ends.iter().all(|&r| r) {
+                return Err("length_height needs groups with restrained and with free ends".into());
+            }
+        }
+        PaperStudy::KnPhi => {
+            if study.protocol != ProtocolKind::Tilt {
+                return Err("kn_phi needs protocol = \"tilt\"".into());
+            }
+            if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
+                return Err("kn_phi needs a sweep over kn_pa_per_m and friction_deg".into());
+            }
+            if ends.iter().filter(|&&r| !r).count() != 1 || ends.iter().filter(|&&r| r).count() != 1 {
+                return Err("kn_phi needs exactly one group with free ends and one with restrained ends".into());
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,178 @@
+//! The study file as written: serde types, strict (`deny_unknown_fields`), `version = 1`.
+//! [`StudySpec::resolve`](crate::study::StudySpec::resolve) checks it into a
+//! [`Study`](crate::study::Study).
+
+use super::{StudyError, SweepKey};
+use crate::dem::SolverParams;
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::TiltParams;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The loading protocol.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProtocolKind {
+    /// The tilting table to collapse.
+    #[default]
+    Tilt,
+    /// The static lateral (trapezoidal pressure) load, solved to equilibrium.
+    Lateral,
+}
+
+/// Raw study file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySpec {
+    /// Must be 1.
+    pub version: u32,
+    /// Study name.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Master seed.
+    pub seed: u64,
+    /// Realizations per group and sweep point (≥ 1).
+    pub realizations: u64,
+    /// Protocol. Default `tilt`.
+    #[serde(default)]
+    pub protocol: ProtocolKind,
+    /// Tilting-table parameters.
+    #[serde(default)]
+    pub tilt: TiltParams,
+    /// Static lateral load parameters (protocol `lateral`).
+    #[serde(default)]
+    pub lateral: LateralParams,
+    /// Solver parameters.
+    #[serde(default)]
+    pub solver: SolverParams,
+    /// Groups (≥ 1).
+    pub groups: Vec<GroupSpec>,
+    /// Sweep: key → values; every combination is a point (keys in sorted order, the last
+    /// varying fastest). Keys: [`SweepKey`](super::SweepKey).
+    #[serde(default)]
+    pub sweep: BTreeMap<String, Vec<toml::Value>>,
+    /// Measured data.
+    #[serde(default)]
+    pub measured: Option<MeasuredSpec>,
+    /// Which of the source paper's studies this reproduces: adds its comparison to the
+    /// report (see [`paper`](super::paper)).
+    #[serde(default)]
+    pub paper: Option<PaperStudy>,
+    /// Calibration steps (`drystone calibrate`; see [`calibrate`](super::calibrate)).
+    #[serde(default)]
+    pub calibrate: Vec<CalibrateSpec>,
+    /// Model-discrepancy settings (`drystone discrepancy`; see
+    /// [`crate::discrepancy::Settings`]).
+    #[serde(default)]
+    pub discrepancy: Option<crate::discrepancy::Settings>,
+}
+
+/// A group of realizations: one wall description.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupSpec {
+    /// Group name.
+    pub name: String,
+    /// Wall description file, relative to the study file.
+    pub wall: PathBuf,
+    /// Group name in the measured data. Default: `name`.
+    #[serde(default)]
+    pub measured_group: Option<String>,
+    /// Fixed overrides of this group (same keys as the sweep).
+    #[serde(default)]
+    pub overrides: BTreeMap<String, toml::Value>,
+    /// Realizations of this group per sweep point, overriding the study's `realizations`
+    /// (and the `--realizations` of the command line): e.g. 1 for a wall without random
+    /// input (continuous or running-bond joints, no scatter).
+    #[serde(default)]
+    pub realizations: Option<u64>,
+}
+
+/// Measured data files, relative to the study file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeasuredSpec {
+    /// Collapse angles: `specimen, group, collapse_angle_deg`.
+    #[serde(default)]
+    pub collapse: Option<PathBuf>,
+    /// Displacements: `specimen, group, measure, tilt_deg, displacement_cm`.
+    #[serde(default)]
+    pub displacement: Option<PathBuf>,
+    /// The paper's own DEM collapse angles (Table 7): `model, ends, phi_deg, kn_pa_per_m,
+    /// collapse_angle_deg`.
+    #[serde(default)]
+    pub paper_dem: Option<PathBuf>,
+}
+
+impl StudySpec {
+    /// Reads a study file.
+    ///
+    /// # Errors
+    /// [`StudyError::Io`], [`StudyError::Parse`].
+    pub fn from_file(path: &Path) -> Result<Self, StudyError> {
+        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io { path: path.to_owned(), source })?;
+        toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })
+    }
+}
+
+/// Which of the source paper's studies a study file reproduces (`paper = "…"` in the study
+/// file; see [`paper`](super::paper)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PaperStudy {
+    /// Figure 10: joint arrangement under the static lateral load, swept over Kn.
+    JointArrangement,
+    /// Figure 11: drift against L/H, restrained and free ends.
+    LengthHeight,
+    /// Tables 7 and 8: collapse angle against Kn and φ, free and restrained ends.
+    KnPhi,
+}
+
+/// One calibration step of a study file (`[[calibrate]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrateSpec {
+    /// The group whose measured mean collapse angle is the target.
+    pub group: String,
+    /// `kn_pa_per_m` (searched in log10) or `friction_deg`.
+    pub parameter: String,
+    /// Lower end of the search interval (Pa/m or degrees).
+    pub lower: f64,
+    /// Upper end of the search interval.
+    pub upper: f64,
+    /// Tolerance on log10(Kn) or on φ (degrees). Default 0.02 for Kn, 0.5 for φ.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// Brent iterations after the two end evaluations \[12\].
+    #[serde(default = "default_iters")]
+    pub max_iters: u64,
+    /// Groups that take the value found in later steps.
+    #[serde(default)]
+    pub carry_to: Vec<String>,
+    /// The paper's calibrated value, for the report.
+    #[serde(default)]
+    pub paper_value: Option<f64>,
+}
+
+fn default_iters() -> u64 {
+    12
+}
+
+impl CalibrateSpec {
+    /// Whether the parameter is Kn (searched in log10) rather than φ.
+    pub(crate) fn is_kn(&self) -> bool {
+        self.parameter == "kn_pa_per_m"
+    }
+
+    /// The sweep key of the parameter.
+    pub(crate) fn key(&self) -> SweepKey {
+        if self.is_kn() {
+            SweepKey::KnPaPerM
+        } else {
+            SweepKey::FrictionDeg
+        }
+    }
+}

@@ -1,0 +1,48 @@
+//! How the reports write numbers: a dash for a value that is not finite (an empty cell, a
+//! ratio with nothing to divide).
+
+/// `v` with `d` decimals, `–` when not finite.
+pub(crate) fn fixed(v: f64, d: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.d$}")
+    } else {
+        "–".into()
+    }
+}
+
+/// `v` in scientific notation with 3 decimals, `–` when not finite.
+pub(crate) fn sci(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.3e}")
+    } else {
+        "–".into()
+    }
+}
+
+/// A fraction as a signed whole percentage (`+12 %`), `–` when not finite.
+pub(crate) fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:+.0} %", 100.0 * v)
+    } else {
+        "–".into()
+    }
+}
+
+/// `agrees`, or `**disagrees**` (bold in markdown).
+pub(crate) fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "agrees"
+    } else {
+        "**disagrees**"
+    }
+}
+
+/// Mean of the finite values, NaN if there are none.
+pub(crate) fn finite_mean(v: &[f64]) -> f64 {
+    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        crate::stats::mean(&v)
+    }
+}
