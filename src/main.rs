@@ -472,7 +472,8 @@ fn run() -> Result<ExitCode> {
             Ok(if rep.all_ok() { ExitCode::SUCCESS } else { ExitCode::from(1) })
         }
         Command::Generate { wall, seed, realization, out, distributions } => {
-            use drystone::generator::{generate, DistributionSource, OutputFormat, Wall};
+            use drystone::generator::{generate, DistributionSource, Wall};
+            use drystone::io::OutputFormat;
             let Some(format) = OutputFormat::from_path(&out) else {
                 bail!("--out {}: unknown extension; use .json, .vtk or .svg", out.display());
             };

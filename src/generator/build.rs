@@ -1,7 +1,7 @@
 //! The construction in the wall's elevation plane (x–z), course by course. See the
 //! [module doc](super) for the method; this file only implements it.
 
-use super::spec::{Arrangement, HeadGap, Wall};
+use super::wall::{Arrangement, HeadGap, Wall};
 use super::{GeneratorError, PieceKind, Samples};
 use rand::distr::Distribution as _;
 use rand::Rng;

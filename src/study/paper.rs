@@ -13,7 +13,7 @@
 
 use super::summary::{sci, CellSummary, ReportError};
 use super::{ProtocolKind, Study, SweepValue};
-use crate::generator::spec::{Arrangement, Ends};
+use crate::generator::{Arrangement, Ends};
 use crate::io::plot::{self, BandSeries};
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::stats;
