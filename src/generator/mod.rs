@@ -190,6 +190,7 @@ pub mod distribution;
 pub mod spec;
 
 mod build;
+mod polygon;
 mod realization;
 mod resolve;
 mod wall;

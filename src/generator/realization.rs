@@ -8,6 +8,7 @@
 //! 4. [`layout`]: the layout file with the base and end restraints.
 
 use super::build::{self, Elevation, Piece2};
+use super::polygon;
 use super::wall::{Ends, Wall};
 use super::GeneratorError;
 use crate::layout::{
@@ -172,7 +173,7 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
             vertices.push([x, y0, z]);
             vertices.push([x, y1, z]);
         }
-        let a = build::area(&p.polygon);
+        let a = polygon::area(&p.polygon);
         let volume = a * wall.width_at(centroid_z(&p.polygon, a));
         // A wedge can be a thin sliver; keep it only if the hull the DEM will build from its
         // vertices is the block (quickhull can fail on slivers): else the gap stays open.
@@ -298,6 +299,6 @@ mod tests {
     #[test]
     fn centroid_of_a_rectangle() {
         let r = [[0.0, 1.0], [2.0, 1.0], [2.0, 3.0], [0.0, 3.0]];
-        assert!((centroid_z(&r, build::area(&r)) - 2.0).abs() < 1e-15);
+        assert!((centroid_z(&r, polygon::area(&r)) - 2.0).abs() < 1e-15);
     }
 }
