@@ -1,6 +1,6 @@
 //! The wall description as written: a TOML file (`version = 1`, strict, unknown keys
 //! rejected) read into a raw [`WallSpec`]. Nothing here is checked beyond its type;
-//! [`WallSpec::resolve`](super::resolve) checks every value into a [`Wall`](super::Wall).
+//! [`WallSpec::resolve`] checks every value into a [`Wall`](super::Wall).
 //! See the [module doc](super) for the format and every default.
 
 use super::distribution::DistributionSpec;
