@@ -6,9 +6,9 @@
 
 use drystone::generator::spec::{
     ArrangementKind, ArrangementSpec, Batter, BlocksSpec, CoursesSpec, DistRef, EndKind, EndsSpec, GeometrySpec,
-    HeadGap, HeadJointsSpec, RestraintsSpec, WallSpec,
+    HeadJointsSpec, RestraintsSpec, WallSpec,
 };
-use drystone::generator::{generate, DistributionSource, DistributionSpec, GeneratedWall, PieceKind, Wall};
+use drystone::generator::{generate, DistributionSource, DistributionSpec, GeneratedWall, HeadGap, PieceKind, Wall};
 use drystone::geometry::sat::separation;
 use drystone::geometry::sweep::sweep_pairs;
 use drystone::layout::{BaseSliding, MaterialSpec};
@@ -256,7 +256,7 @@ proptest! {
 
 #[test]
 fn end_restraints_hold_exactly_the_blocks_near_the_ends() {
-    use drystone::generator::spec::Ends;
+    use drystone::generator::Ends;
     use drystone::layout::EndRestraintKind;
     let path = root().join("studies/walls/sbr.toml");
     let text = std::fs::read_to_string(&path).unwrap();

@@ -1,5 +1,5 @@
 //! The values a generated wall uses follow their laws: one-sample Kolmogorov–Smirnov tests
-//! (statistic and asymptotic p-value in `drystone::generator::ks`) over several thousand
+//! (statistic and asymptotic p-value in `drystone::stats::ks`) over several thousand
 //! dips, block lengths and course heights, p > 0.01.
 //!
 //! Only values used whatever their size are tested, so that the stopping rules of the
@@ -8,9 +8,8 @@
 //! piece; per wall, the first N course heights, where N draws of the largest height still
 //! fit below the top course's minimum.
 
-use drystone::generator::ks::ks_test;
-use drystone::generator::spec::Arrangement;
-use drystone::generator::{generate, Distribution, DistributionSpec, Wall};
+use drystone::generator::{generate, Arrangement, Distribution, DistributionSpec, Wall};
+use drystone::stats::ks::ks_test;
 use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {

@@ -1,7 +1,8 @@
 //! `drystone generate`: one layout of a wall description.
 
 use anyhow::{bail, Context, Result};
-use drystone::generator::{generate, DistributionSource, OutputFormat, Wall};
+use drystone::generator::{generate, DistributionSource, Wall};
+use drystone::io::OutputFormat;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

@@ -6,7 +6,30 @@ pub mod svg;
 pub mod table;
 pub mod vtk;
 
-use crate::generator::{GeneratedWall, GeneratorError, OutputFormat, PieceKind, Wall};
+use crate::generator::{GeneratedWall, GeneratorError, PieceKind, Wall};
+
+/// Output formats of `drystone generate`, chosen by the file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// `.json`: the layout file that `drystone tilt` reads.
+    Json,
+    /// `.vtk`: legacy VTK polydata for ParaView ([`render`]).
+    Vtk,
+    /// `.svg`: front elevation and cross-section ([`render`]).
+    Svg,
+}
+
+impl OutputFormat {
+    /// The format of a file name by its extension (case-insensitive), if known.
+    pub fn from_path(path: &std::path::Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "json" => Some(OutputFormat::Json),
+            "vtk" => Some(OutputFormat::Vtk),
+            "svg" => Some(OutputFormat::Svg),
+            _ => None,
+        }
+    }
+}
 
 /// A generated wall as the contents of a file in `format`: the layout JSON (the format
 /// `drystone tilt` reads), VTK polydata with the course, wedge and restraint of every block,

@@ -36,6 +36,34 @@ fn vertical_extent(poly: &[[f64; 2]], x: f64) -> Option<(f64, f64)> {
     (hi > lo).then_some((lo, hi))
 }
 
+/// The drawing's scale and placement: one metre is `s` px; the elevation's origin at
+/// (`margin`, `top` + H s); the section's centre line at x = `sx0`.
+struct Frame {
+    l: f64,
+    h: f64,
+    bw: f64,
+    s: f64,
+    margin: f64,
+    top: f64,
+    sx0: f64,
+    stroke: f64,
+}
+
+impl Frame {
+    /// Elevation x (m) to px.
+    fn ex(&self, x: f64) -> f64 {
+        self.margin + x * self.s
+    }
+    /// Height z (m) to px (both views).
+    fn ez(&self, z: f64) -> f64 {
+        self.top + (self.h - z) * self.s
+    }
+    /// Section y (m) to px.
+    fn sy(&self, y: f64) -> f64 {
+        self.sx0 + y * self.s
+    }
+}
+
 /// The SVG text. `faces_at(z)` gives the y of the two faces at height z (the wall's batter);
 /// `title` is printed above the drawing.
 pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), title: &str) -> String {
@@ -47,12 +75,9 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
     let sec_w = bw * s;
     let width = margin + l * s + gap + sec_w + margin + 20.0;
     let height = top + h * s + 70.0;
-    let ex = |x: f64| margin + x * s;
-    let ez = |z: f64| top + (h - z) * s;
-    let x_cut = 0.5 * l;
     let sx0 = margin + l * s + gap + 0.5 * sec_w;
-    let sy = |y: f64| sx0 + y * s;
     let stroke = (0.6f64).max((s * 0.0015).min(1.2));
+    let f = Frame { l, h, bw, s, margin, top, sx0, stroke };
 
     let mut out = String::new();
     let _ = writeln!(
@@ -75,10 +100,20 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
         g.dimensions[3],
         (100.0 * g.void_fraction()).max(0.0)
     );
-    // Elevation.
+    elevation(&mut out, g, &f);
+    section(&mut out, g, &f, faces_at);
+    legend(&mut out, &f, height);
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The front elevation: every block's polygon, the table and the dashed line of the cut.
+fn elevation(out: &mut String, g: &GeneratedWall, f: &Frame) {
+    let (l, h, stroke) = (f.l, f.h, f.stroke);
+    let x_cut = 0.5 * l;
     let _ = writeln!(out, r#"<g stroke-linejoin="round">"#);
     for p in &g.pieces {
-        let pts: Vec<String> = p.polygon.iter().map(|q| format!("{:.2},{:.2}", ex(q[0]), ez(q[1]))).collect();
+        let pts: Vec<String> = p.polygon.iter().map(|q| format!("{:.2},{:.2}", f.ex(q[0]), f.ez(q[1]))).collect();
         let fill = if p.kind == PieceKind::Wedge { WEDGE } else { STONE };
         let st = if p.restrained { RESTRAINED } else { "#333" };
         let _ = writeln!(
@@ -93,32 +128,37 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
     let _ = writeln!(
         out,
         r##"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="#000" stroke-width="2"/>"##,
-        ex(0.0) - 10.0,
-        ez(0.0) + 1.0,
-        ex(l) + 10.0,
-        ez(0.0) + 1.0
+        f.ex(0.0) - 10.0,
+        f.ez(0.0) + 1.0,
+        f.ex(l) + 10.0,
+        f.ez(0.0) + 1.0
     );
     let _ = writeln!(
         out,
         r##"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="#888" stroke-dasharray="4 3"/>"##,
-        ez(h) - 8.0,
-        ez(0.0) + 8.0,
-        x = ex(x_cut)
+        f.ez(h) - 8.0,
+        f.ez(0.0) + 8.0,
+        x = f.ex(x_cut)
     );
     let _ = writeln!(
         out,
         r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">front elevation (x along the wall, z up)</text>"#,
-        ex(0.5 * l),
-        ez(0.0) + 22.0
+        f.ex(0.5 * l),
+        f.ez(0.0) + 22.0
     );
-    // Cross-section at mid-length.
+}
+
+/// The cross-section at mid-length: the part of every block the cut crosses, between the
+/// two faces, and the table.
+fn section(out: &mut String, g: &GeneratedWall, f: &Frame, faces_at: impl Fn(f64) -> (f64, f64)) {
+    let (x_cut, bw, stroke, sx0) = (0.5 * f.l, f.bw, f.stroke, f.sx0);
     for p in &g.pieces {
         if let Some((z0, z1)) = vertical_extent(&p.polygon, x_cut) {
             let (a0, b0) = faces_at(z0);
             let (a1, b1) = faces_at(z1);
             let pts = [(a0, z0), (b0, z0), (b1, z1), (a1, z1)]
                 .iter()
-                .map(|(y, z)| format!("{:.2},{:.2}", sy(*y), ez(*z)))
+                .map(|(y, z)| format!("{:.2},{:.2}", f.sy(*y), f.ez(*z)))
                 .collect::<Vec<_>>()
                 .join(" ");
             let fill = if p.kind == PieceKind::Wedge { WEDGE } else { STONE };
@@ -132,15 +172,23 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
     let _ = writeln!(
         out,
         r##"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="#000" stroke-width="2"/>"##,
-        sy(-0.5 * bw) - 10.0,
-        ez(0.0) + 1.0,
-        sy(0.5 * bw) + 10.0,
-        ez(0.0) + 1.0
+        f.sy(-0.5 * bw) - 10.0,
+        f.ez(0.0) + 1.0,
+        f.sy(0.5 * bw) + 10.0,
+        f.ez(0.0) + 1.0
     );
-    let _ =
-        writeln!(out, r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">section x = L/2</text>"#, sx0, ez(0.0) + 22.0);
-    let _ = writeln!(out, r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">(+y →)</text>"#, sx0, ez(0.0) + 38.0);
-    // Legend.
+    let _ = writeln!(
+        out,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">section x = L/2</text>"#,
+        sx0,
+        f.ez(0.0) + 22.0
+    );
+    let _ = writeln!(out, r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">(+y →)</text>"#, sx0, f.ez(0.0) + 38.0);
+}
+
+/// The legend along the bottom edge of a drawing `height` px high.
+fn legend(out: &mut String, f: &Frame, height: f64) {
+    let margin = f.margin;
     let ly = height - 16.0;
     let _ = writeln!(
         out,
@@ -162,8 +210,6 @@ pub fn wall_to_svg(g: &GeneratedWall, faces_at: impl Fn(f64) -> (f64, f64), titl
         ly - 10.0,
         margin + 180.0
     );
-    out.push_str("</svg>\n");
-    out
 }
 
 #[cfg(test)]

@@ -1,8 +1,11 @@
-//! Ensemble statistics: moments, quantiles, confidence intervals, bootstrap, fragility.
+//! Ensemble statistics: moments, quantiles, confidence intervals, bootstrap, fragility, and
+//! the one-sample Kolmogorov–Smirnov test ([`ks`]).
 //!
 //! All reductions are serial and in the order of the input slice, so the same values in the
 //! same order give the same numbers bit for bit. Randomness (the bootstrap) comes from
 //! [`crate::rng::rng_for`] with [`Purpose::Bootstrap`].
+
+pub mod ks;
 
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;

@@ -22,7 +22,7 @@ pub use super::spec::PaperStudy;
 use super::resolve::restrained;
 use super::summary::CellSummary;
 use super::Study;
-use crate::generator::spec::Arrangement;
+use crate::generator::Arrangement;
 use crate::io::plot::{BandSeries, PlotError};
 use crate::io::table::TableError;
 use std::path::Path;

@@ -1,5 +1,5 @@
-//! One-sample Kolmogorov–Smirnov test, used to check that the values a generated wall uses
-//! follow their laws.
+//! One-sample Kolmogorov–Smirnov test: does a sample follow a given law (e.g. do the values a
+//! generated wall draws follow their distributions).
 //!
 //! The statistic is `D = sup_x |F_n(x) − F(x)|` (F_n the empirical CDF). The p-value is the
 //! asymptotic Kolmogorov distribution with Stephens' small-sample correction

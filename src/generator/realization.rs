@@ -1,0 +1,303 @@
+//! One realization of a wall: the elevation of [`build`](super::build) extruded into
+//! through stones, named, given their materials (with per-block scatter from the `Material`
+//! stream) and written as a layout with its end restraints. The stages, in order:
+//!
+//! 1. elevation (course tops, head joints, stones and wedges in x–z): [`super::build`];
+//! 2. [`extrude`]: vertices between the two faces, volume, id, end zone;
+//! 3. [`scatter_materials`]: one material per block when the wall has `[scatter]`;
+//! 4. [`layout`]: the layout file with the base and end restraints.
+
+use super::build::{self, Elevation, Piece2};
+use super::polygon;
+use super::wall::{Ends, Wall};
+use super::GeneratorError;
+use crate::layout::{
+    BlockSpec, EndRestraintKind, EndRestraintSpec, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec,
+};
+use crate::rng::{rng_for, Purpose};
+use serde::Serialize;
+
+/// Stone or wedge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PieceKind {
+    /// A block of a course.
+    Stone,
+    /// A wedge stone filling a gap under a stone.
+    Wedge,
+}
+
+/// One generated block.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Piece {
+    /// Block id in the layout.
+    pub id: String,
+    /// Stone or wedge.
+    pub kind: PieceKind,
+    /// Course index (0 at the base); a wedge belongs to the course it supports.
+    pub course: usize,
+    /// Elevation polygon (x, z), counter-clockwise, m.
+    pub polygon: Vec<[f64; 2]>,
+    /// Block vertices in the table frame, m (two per polygon vertex: −y face, +y face).
+    pub vertices: Vec<[f64; 3]>,
+    /// Volume, m³.
+    pub volume: f64,
+    /// Drawn dip of the stone's top segment, degrees (stones below the top course).
+    pub dip_deg: Option<f64>,
+    /// Material name in the layout.
+    pub material: String,
+    /// Held by an end restraint.
+    pub restrained: bool,
+}
+
+/// The values drawn from the laws, as used in the wall (for goodness-of-fit checks).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Samples {
+    /// Course heights drawn and used, bottom up, m (random laws only; the top course(s)
+    /// that take the rest are not included).
+    pub course_heights_m: Vec<f64>,
+    /// Per course, the block lengths drawn and used between the first and the last block,
+    /// left to right, m (irregular only; the end pieces are not included).
+    pub block_lengths_m: Vec<Vec<f64>>,
+    /// Dip of every stone's top segment, degrees, in layout order (0 for continuous and
+    /// discontinuous walls).
+    pub dips_deg: Vec<f64>,
+}
+
+/// One generated realization.
+#[derive(Debug, Clone)]
+pub struct GeneratedWall {
+    /// Master seed.
+    pub seed: u64,
+    /// Realization index.
+    pub realization: u64,
+    /// The blocks, in layout order.
+    pub pieces: Vec<Piece>,
+    /// Nominal course tops Z₁ … Zₙ = H, m.
+    pub course_tops_m: Vec<f64>,
+    /// Drawn values.
+    pub samples: Samples,
+    /// The layout (the `drystone tilt` format).
+    pub layout: LayoutSpec,
+    /// L, H, B, b, m.
+    pub dimensions: [f64; 4],
+    /// Envelope volume L (B + b) H / 2, m³.
+    pub envelope_volume_m3: f64,
+    /// The description's stated void fraction.
+    pub stated_void_fraction: f64,
+}
+
+impl GeneratedWall {
+    /// Total block volume, m³.
+    pub fn volume(&self) -> f64 {
+        self.pieces.iter().map(|p| p.volume).sum()
+    }
+
+    /// Void fraction realized: 1 − volume / envelope volume (values within 1e-12 of 0,
+    /// rounding in a closed wall, are reported as 0).
+    pub fn void_fraction(&self) -> f64 {
+        let f = 1.0 - self.volume() / self.envelope_volume_m3;
+        if f.abs() < 1e-12 {
+            0.0
+        } else {
+            f
+        }
+    }
+
+    /// Number of stones and of wedges.
+    pub fn counts(&self) -> (usize, usize) {
+        let w = self.pieces.iter().filter(|p| p.kind == PieceKind::Wedge).count();
+        (self.pieces.len() - w, w)
+    }
+
+    /// Checks the layout as `drystone tilt` would (convex blocks, no overlap beyond
+    /// [`crate::layout::OVERLAP_TOLERANCE_M`], by the DEM's narrow phase) and returns it.
+    ///
+    /// # Errors
+    /// [`GeneratorError::Layout`] (a generator bug).
+    pub fn check(&self) -> Result<crate::layout::Layout, GeneratorError> {
+        Ok(self.layout.resolve()?)
+    }
+}
+
+/// Generates realization `realization` of `wall` from the master seed `seed`.
+///
+/// # Errors
+/// [`GeneratorError::Infeasible`] if this realization cannot be built (far too steep dips
+/// for the course heights, or head-joint gaps wider than the blocks).
+pub fn generate(wall: &Wall, seed: u64, realization: u64) -> Result<GeneratedWall, GeneratorError> {
+    let mut rng = rng_for(seed, realization, Purpose::Layout);
+    let elev = build::build(wall, &mut rng)?;
+    let mut pieces = extrude(wall, &elev);
+    let materials = scatter_materials(wall, seed, realization, &mut pieces);
+    let layout = layout(wall, format!("{} (seed {seed}, realization {realization})", wall.name), &pieces, materials);
+    Ok(GeneratedWall {
+        seed,
+        realization,
+        pieces,
+        course_tops_m: elev.course_tops,
+        samples: elev.samples,
+        layout,
+        dimensions: [wall.length, wall.height, wall.base_width, wall.top_width],
+        envelope_volume_m3: wall.envelope_volume(),
+        stated_void_fraction: wall.stated_void_fraction(),
+    })
+}
+
+/// Generates realizations `range` of `wall` in parallel (rayon); element j is
+/// `generate(wall, seed, range.start + j)`, identical to generating it alone.
+pub fn generate_batch(
+    wall: &Wall,
+    seed: u64,
+    range: std::ops::Range<u64>,
+) -> Vec<Result<GeneratedWall, GeneratorError>> {
+    use rayon::prelude::*;
+    range.into_par_iter().map(|i| generate(wall, seed, i)).collect()
+}
+
+/// The elevation's pieces as through stones, in layout order (per course, wedges then
+/// stones, each group left to right), with their ids, volumes, stone or wedge material and
+/// end-zone flag. A wedge whose convex hull is not faithful is dropped (its gap stays open).
+fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
+    let courses = elev.course_tops.len();
+    let (mut stone_no, mut wedge_no) = (vec![0usize; courses], vec![0usize; courses]);
+    let mut order: Vec<usize> = (0..elev.pieces.len()).collect();
+    order.sort_by_key(|&i| (elev.pieces[i].course, elev.pieces[i].kind == PieceKind::Stone));
+    let mut pieces = Vec::with_capacity(elev.pieces.len());
+    for i in order {
+        let p = &elev.pieces[i];
+        let mut vertices = Vec::with_capacity(2 * p.polygon.len());
+        for &[x, z] in &p.polygon {
+            let (y0, y1) = wall.faces_at(z);
+            vertices.push([x, y0, z]);
+            vertices.push([x, y1, z]);
+        }
+        let a = polygon::area(&p.polygon);
+        let volume = a * wall.width_at(centroid_z(&p.polygon, a));
+        // A wedge can be a thin sliver; keep it only if the hull the DEM will build from its
+        // vertices is the block (quickhull can fail on slivers): else the gap stays open.
+        if p.kind == PieceKind::Wedge && !hull_is_faithful(&vertices, volume) {
+            continue;
+        }
+        let (no, letter, material) = match p.kind {
+            PieceKind::Stone => (&mut stone_no[p.course], 's', &wall.block_material),
+            PieceKind::Wedge => (&mut wedge_no[p.course], 'w', &wall.wedge_material),
+        };
+        *no += 1;
+        let id = format!("c{}{letter}{}", p.course, *no - 1);
+        pieces.push(Piece {
+            id,
+            kind: p.kind,
+            course: p.course,
+            polygon: p.polygon.clone(),
+            vertices,
+            volume,
+            dip_deg: p.dip_deg,
+            material: material.clone(),
+            restrained: in_end_zone(wall, p),
+        });
+    }
+    pieces
+}
+
+/// True if the piece reaches into an end-restraint zone (x < zone or x > L − zone).
+fn in_end_zone(wall: &Wall, p: &Piece2) -> bool {
+    let (xmin, xmax) =
+        p.polygon.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[0]), hi.max(q[0])));
+    match wall.ends {
+        Ends::Free => false,
+        Ends::Rigid { zone } | Ends::Spring { zone, .. } => xmin < zone || xmax > wall.length - zone,
+    }
+}
+
+/// The wall's materials, plus with `[scatter]` one material `NAME~ID` per block (Kn and Ks
+/// times the drawn factor, φ plus the drawn offset, clamped to [0°, 89.999°]) drawn from
+/// the realization's `Material` stream in layout order; the pieces are renamed to them.
+fn scatter_materials(wall: &Wall, seed: u64, realization: u64, pieces: &mut [Piece]) -> Vec<MaterialSpec> {
+    let mut materials = wall.materials.clone();
+    let Some(sc) = &wall.scatter else { return materials };
+    let mut mrng = rng_for(seed, realization, Purpose::Material);
+    for p in pieces {
+        let base = wall.materials.iter().find(|m| m.name == p.material).expect("checked material");
+        let f = sc.kn_factor.as_ref().map_or(1.0, |d| d.sample(&mut mrng));
+        let dphi = sc.friction_offset.as_ref().map_or(0.0, |d| d.sample(&mut mrng));
+        let name = format!("{}~{}", base.name, p.id);
+        materials.push(MaterialSpec {
+            name: name.clone(),
+            kn_pa_per_m: base.kn_pa_per_m * f,
+            ks_pa_per_m: base.ks_pa_per_m * f,
+            friction_deg: (base.friction_deg + dphi).clamp(0.0, 89.999),
+            ..base.clone()
+        });
+        p.material = name;
+    }
+    materials
+}
+
+/// The layout file named `name`: the pieces as blocks, the table joint, the base restraint
+/// and the end restraint on the pieces in the end zones.
+fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSpec>) -> LayoutSpec {
+    let restrained: Vec<String> = pieces.iter().filter(|p| p.restrained).map(|p| p.id.clone()).collect();
+    let ends = match wall.ends {
+        Ends::Free => vec![],
+        Ends::Rigid { .. } => {
+            vec![EndRestraintSpec { blocks: restrained, kind: EndRestraintKind::Rigid, stiffness_n_per_m: None }]
+        }
+        Ends::Spring { stiffness, .. } => vec![EndRestraintSpec {
+            blocks: restrained,
+            kind: EndRestraintKind::Spring,
+            stiffness_n_per_m: Some(stiffness),
+        }],
+    };
+    LayoutSpec {
+        version: crate::layout::LAYOUT_VERSION,
+        name,
+        gravity_m_per_s2: wall.gravity,
+        materials,
+        table: TableSpec { material: wall.table_material.clone() },
+        blocks: pieces
+            .iter()
+            .map(|p| BlockSpec {
+                id: p.id.clone(),
+                material: p.material.clone(),
+                vertices: p.vertices.clone(),
+                fixed: false,
+            })
+            .collect(),
+        restraints: RestraintSpec { base_sliding: wall.base, ends },
+        monitors: vec![],
+    }
+}
+
+/// True if the convex hull of `vertices` (as [`crate::geometry::ConvexBlock`] builds it for
+/// the DEM) has the volume `volume` (m³) to 1e-9 relative: the hull is the block.
+fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
+    let v: Vec<crate::Vec3> = vertices.iter().map(|q| crate::Vec3::new(q[0], q[1], q[2])).collect();
+    match crate::geometry::ConvexBlock::from_vertices(&v) {
+        Ok(b) => (b.volume() - volume).abs() <= 1e-9 * volume.abs(),
+        Err(_) => false,
+    }
+}
+
+/// Centroid height of a polygon of signed area `a`.
+fn centroid_z(poly: &[[f64; 2]], a: f64) -> f64 {
+    let n = poly.len();
+    let mut s = 0.0;
+    for i in 0..n {
+        let (p, q) = (poly[i], poly[(i + 1) % n]);
+        let cr = p[0] * q[1] - q[0] * p[1];
+        s += (p[1] + q[1]) * cr;
+    }
+    s / (6.0 * a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centroid_of_a_rectangle() {
+        let r = [[0.0, 1.0], [2.0, 1.0], [2.0, 3.0], [0.0, 3.0]];
+        assert!((centroid_z(&r, polygon::area(&r)) - 2.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,203 @@
+//! The checked wall description: every value in range, SI units (m), named distributions
+//! resolved, defaults filled in. Built by [`WallSpec::resolve`](super::WallSpec::resolve);
+//! the build stages read only this.
+
+use super::distribution::Distribution;
+use super::spec::Batter;
+use crate::layout::{BaseSliding, MaterialSpec};
+use std::path::PathBuf;
+
+/// The checked arrangement.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Arrangement {
+    /// Head joints aligned through all courses.
+    Continuous,
+    /// Running bond.
+    Discontinuous {
+        /// Offset of every other course, fraction of the block length.
+        overlap: f64,
+    },
+    /// Irregular.
+    Irregular(Box<Irregular>),
+}
+
+/// The checked irregular-arrangement parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Irregular {
+    /// Dip of the bed-joint segments, degrees (unit `deg`).
+    pub dip: Distribution,
+    /// Thinnest wedge kept, m.
+    pub min_wedge_thickness: f64,
+    /// Narrowest wedge kept (x), m.
+    pub min_wedge_length: f64,
+    /// Wedge length law (unit `m`), if gaps are split into several wedges.
+    pub wedge_length: Option<Distribution>,
+    /// Probability that a gap gets its wedge(s), in [0, 1].
+    pub wedge_fill: f64,
+}
+
+/// Open head joints.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeadGap {
+    /// Closed head joints (blocks touching).
+    Closed,
+    /// Every interior head joint open by this width, m.
+    Width(f64),
+    /// Each course's interior head joints share `fraction × L` of open width.
+    VoidFraction(f64),
+}
+
+/// A checked end restraint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Ends {
+    /// None.
+    Free,
+    /// Rigid (y held) on blocks within `zone` m of either end.
+    Rigid {
+        /// m.
+        zone: f64,
+    },
+    /// Spring of `stiffness` N/m per block within `zone` m of either end.
+    Spring {
+        /// m.
+        zone: f64,
+        /// N/m per block.
+        stiffness: f64,
+    },
+}
+
+/// Checked material scatter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scatter {
+    /// Factor on Kn and Ks (unit `1`).
+    pub kn_factor: Option<Distribution>,
+    /// Offset on φ, degrees.
+    pub friction_offset: Option<Distribution>,
+}
+
+/// A checked wall description: SI units (m), dips in degrees inside their distribution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wall {
+    /// Name.
+    pub name: String,
+    /// The file it came from (for messages).
+    pub source: PathBuf,
+    /// Gravity, m/s².
+    pub gravity: f64,
+    /// L, m.
+    pub length: f64,
+    /// H, m.
+    pub height: f64,
+    /// B, m.
+    pub base_width: f64,
+    /// b, m.
+    pub top_width: f64,
+    /// Batter.
+    pub batter: Batter,
+    /// Arrangement.
+    pub arrangement: Arrangement,
+    /// Course height law, m.
+    pub course_height: Distribution,
+    /// Thinnest stone, fraction of the course's nominal height.
+    pub min_thickness_fraction: f64,
+    /// Block length law, m.
+    pub block_length: Distribution,
+    /// Shortest end piece, fraction of the mean block length.
+    pub min_end_fraction: f64,
+    /// Open head joints.
+    pub head_gap: HeadGap,
+    /// Materials (checked), in file order.
+    pub materials: Vec<MaterialSpec>,
+    /// Stone material name.
+    pub block_material: String,
+    /// Wedge material name.
+    pub wedge_material: String,
+    /// Table material name.
+    pub table_material: String,
+    /// Base course restraint.
+    pub base: BaseSliding,
+    /// End restraints.
+    pub ends: Ends,
+    /// Material scatter.
+    pub scatter: Option<Scatter>,
+}
+
+impl Wall {
+    /// y of the −y and +y faces at height z (m), table frame.
+    pub fn faces_at(&self, z: f64) -> (f64, f64) {
+        let (bb, tb, h) = (self.base_width, self.top_width, self.height);
+        let s = z / h;
+        match self.batter {
+            Batter::Symmetric => {
+                let half = 0.5 * bb - 0.5 * (bb - tb) * s;
+                (-half, half)
+            }
+            Batter::VerticalNegativeY => (-0.5 * bb, 0.5 * bb - (bb - tb) * s),
+            Batter::VerticalPositiveY => (-0.5 * bb + (bb - tb) * s, 0.5 * bb),
+        }
+    }
+
+    /// Width of the section at height z, m: `B − (B − b) z / H`.
+    pub fn width_at(&self, z: f64) -> f64 {
+        self.base_width - (self.base_width - self.top_width) * z / self.height
+    }
+
+    /// Area of the cross-section, m²: `(B + b) H / 2`.
+    pub fn section_area(&self) -> f64 {
+        0.5 * (self.base_width + self.top_width) * self.height
+    }
+
+    /// Volume of the envelope, m³: section area × L.
+    pub fn envelope_volume(&self) -> f64 {
+        self.section_area() * self.length
+    }
+
+    /// The stated void fraction: `void_fraction` if given, else 0 (micro-gaps of a given
+    /// width leave a void the generator reports but the description does not state).
+    pub fn stated_void_fraction(&self) -> f64 {
+        match self.head_gap {
+            HeadGap::VoidFraction(f) => f,
+            _ => 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generator::{DistributionSource, WallSpec};
+    use std::path::Path;
+
+    fn wall(batter: &str) -> Wall {
+        let text = format!(
+            "version = 1\n[geometry]\nlength_m = 2.0\nheight_m = 1.0\nbase_width_m = 0.5\ntop_width_m = 0.2\n\
+             batter = \"{batter}\"\n[arrangement]\nkind = \"continuous\"\n[courses]\nheight_m = 0.25\n\
+             [blocks]\nlength_m = 0.5\n[[materials]]\nname = \"m\"\ndensity_kg_per_m3 = 2000\n\
+             kn_pa_per_m = 1e8\nks_pa_per_m = 5e7\nfriction_deg = 30\n"
+        );
+        let p = Path::new("t.toml");
+        WallSpec::from_toml(&text, p).unwrap().resolve(p, &DistributionSource::default()).unwrap()
+    }
+
+    #[test]
+    fn faces_follow_the_batter() {
+        let w = wall("symmetric");
+        assert_eq!(w.faces_at(0.0), (-0.25, 0.25));
+        let (a, b) = w.faces_at(1.0);
+        assert!((a + 0.1).abs() < 1e-15 && (b - 0.1).abs() < 1e-15);
+        let w = wall("vertical_negative_y");
+        for z in [0.0, 0.3, 1.0] {
+            let (a, b) = w.faces_at(z);
+            assert_eq!(a, -0.25);
+            assert!((b - a - w.width_at(z)).abs() < 1e-15);
+        }
+        let w = wall("vertical_positive_y");
+        for z in [0.0, 0.3, 1.0] {
+            let (a, b) = w.faces_at(z);
+            assert_eq!(b, 0.25);
+            assert!((b - a - w.width_at(z)).abs() < 1e-15);
+        }
+        assert!((w.section_area() - 0.35).abs() < 1e-15);
+        assert!((w.envelope_volume() - 0.7).abs() < 1e-15);
+    }
+}
