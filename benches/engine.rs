@@ -4,7 +4,8 @@
 //! realization 0, settled and tilted to 17°: issue 4's case). Fixed inputs.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use drystone::dem::contact::geometry::{block_block, ContactSettings};
+use drystone::dem::contact::geometry::block_block;
+use drystone::dem::SolverParams;
 use drystone::dem::contact::law::{evaluate, JointParams, Kinematics, Quadrature, SubContactState};
 use drystone::dem::{Simulation, SolverParams};
 use drystone::geometry::ConvexBlock;
@@ -14,7 +15,7 @@ use std::hint::black_box;
 fn narrow_phase(c: &mut Criterion) {
     let a = ConvexBlock::cuboid(Vec3::zeros(), Vec3::new(0.2, 0.15, 0.05)).unwrap();
     let b = ConvexBlock::cuboid(Vec3::new(0.1, 0.0, 0.05), Vec3::new(0.3, 0.15, 0.1)).unwrap();
-    let s = ContactSettings::default();
+    let s = SolverParams::default();
     c.bench_function("narrow_phase_face_face", |bch| bch.iter(|| block_block(black_box(&a), black_box(&b), &s)));
 }
 

@@ -30,7 +30,7 @@ fn main() {
                 break;
             }
             if s % 64 == 0 {
-                let moved = drystone::loading::tilt::largest_motion(&t, &start);
+                let moved = drystone::loading::monitors::largest_motion(&t, &start);
                 println!("{a},{s},{moved:e},{:e},{:e}", t.stats.kinetic_energy, t.stats.unbalanced_ratio);
                 if moved > 0.05 * width {
                     break;

@@ -17,8 +17,10 @@
 //! A simulation is single-threaded and deterministic; ensembles parallelize over
 //! realizations.
 
-use super::contact::geometry::{self as cgeom, ContactSettings};
-use super::contact::law::{self, JointParams, Kinematics, NormalClosure, Quadrature, SubContactState};
+use super::contact::geometry as cgeom;
+use super::contact::law::{self, JointParams, Kinematics, Quadrature, SubContactState};
+use super::materials::{joint_between, joint_of};
+use super::params::{DensityScaling, SolverParams};
 pub use super::contact::types::{Contact, ContactNode, SubContact};
 pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
@@ -26,10 +28,8 @@ use super::monitor::StepStats;
 use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
 use crate::geometry::sweep::sweep_pairs;
-use crate::layout::{BaseSliding, Closure, EndRestraint, Layout, Material};
-use crate::range::{check_ranges, OutOfRange};
+use crate::layout::{BaseSliding, EndRestraint, Layout};
 use crate::Vec3;
-use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 /// Engine errors.
@@ -46,191 +46,6 @@ pub enum DemError {
         /// Time step, s.
         dt_s: f64,
     },
-}
-
-/// Density scaling for static solutions: fictitious inertial masses that leave the
-/// weights unchanged and let every body relax at about the same rate (3DEC's density
-/// scaling, Itasca 3DEC manual; see `dem::timestep`). Quasi-static results do not depend on
-/// it; dynamics need `Off`.
-///
-/// In TOML: `density_scaling = { kind = "block", mass_floor = 0.05 }`, `{ kind = "scalar" }`
-/// or `{ kind = "off" }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum DensityScaling {
-    /// True masses.
-    Off,
-    /// Every body's mass and inertia scaled so that all bodies have the critical step of
-    /// the median body (`dem::timestep::density_scaling`).
-    Scalar,
-    /// Each body's inertial mass is its own 6 × 6 contact-stiffness block plus `mass_floor`
-    /// (in (0, 10]) times its scalar-scaled mass (block-Jacobi scaling,
-    /// `dem::timestep::block_masses`). The tilting table repeats with `Scalar` (kept from
-    /// there on) an increment whose block-scaled dynamics blow up; the static lateral load
-    /// uses `Scalar`.
-    Block {
-        /// Share of the scalar-scaled mass added to each block mass, –.
-        mass_floor: f64,
-    },
-}
-
-impl DensityScaling {
-    /// Whether masses are scaled at all.
-    pub fn is_on(self) -> bool {
-        !matches!(self, DensityScaling::Off)
-    }
-
-    /// `Scalar` in place of `Block`, otherwise unchanged.
-    pub fn without_block(self) -> DensityScaling {
-        match self {
-            DensityScaling::Block { .. } => DensityScaling::Scalar,
-            other => other,
-        }
-    }
-
-    /// The block mass floor (1 for the other kinds, which have none).
-    pub fn mass_floor(self) -> f64 {
-        match self {
-            DensityScaling::Block { mass_floor } => mass_floor,
-            _ => 1.0,
-        }
-    }
-}
-
-/// Solver parameters. Every field has a documented default (`SolverParams::default()`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SolverParams {
-    /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
-    pub damping: f64,
-    /// Fraction of the critical time step `2 / (ω_max √(1 + α))` used, with ω_max the
-    /// assembly's highest frequency (an upper estimate) and α the local damping (see
-    /// `dem::timestep`). Default 0.95.
-    pub timestep_safety: f64,
-    /// Pairs closer than this get a contact, m. Default 0.001.
-    pub contact_margin_m: f64,
-    /// Vertices within this distance of the support plane form an edge/vertex feature, m.
-    /// Default 0.0005.
-    pub feature_tolerance_m: f64,
-    /// Faces within this angle of the contact normal form a face feature, degrees. Default 10.
-    pub face_angle_tolerance_deg: f64,
-    /// Sub-contact density: subdivisions of each fan triangle of a contact polygon per
-    /// edge, ≥ 1 (1: one sub-contact triangle per polygon edge, fanned about the centroid).
-    /// Default 1.
-    pub subcontact_subdivisions: u32,
-    /// Integration of the joint pressure over a sub-contact. Default `exact`.
-    pub quadrature: Quadrature,
-    /// Nominal width of edge and vertex contacts, fraction of the smaller block's smallest
-    /// dimension. Default 0.05.
-    pub degenerate_width_fraction: f64,
-    /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
-    pub redetect_fraction: f64,
-    /// Density scaling for static solutions. Default `Block { mass_floor: 0.05 }`.
-    pub density_scaling: DensityScaling,
-}
-
-impl Default for SolverParams {
-    fn default() -> Self {
-        let c = ContactSettings::default();
-        SolverParams {
-            damping: 0.8,
-            timestep_safety: 0.95,
-            contact_margin_m: c.margin,
-            feature_tolerance_m: c.feature_tolerance,
-            face_angle_tolerance_deg: c.face_angle_tolerance.to_degrees(),
-            subcontact_subdivisions: c.subdivisions,
-            quadrature: Quadrature::Exact,
-            degenerate_width_fraction: c.degenerate_width_fraction,
-            redetect_fraction: 0.5,
-            density_scaling: DensityScaling::Block { mass_floor: 0.05 },
-        }
-    }
-}
-
-impl SolverParams {
-    /// The narrow-phase settings.
-    pub fn contact_settings(&self) -> ContactSettings {
-        ContactSettings {
-            margin: self.contact_margin_m,
-            feature_tolerance: self.feature_tolerance_m,
-            face_angle_tolerance: self.face_angle_tolerance_deg.to_radians(),
-            subdivisions: self.subcontact_subdivisions,
-            fan: match self.quadrature {
-                Quadrature::Exact => cgeom::Fan::Vertex,
-                Quadrature::Vertex => cgeom::Fan::Centroid,
-            },
-            degenerate_width_fraction: self.degenerate_width_fraction,
-        }
-    }
-
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// The first parameter out of its range, with the range.
-    pub fn validate(&self) -> Result<(), OutOfRange> {
-        check_ranges(&[
-            ("damping", self.damping, (0.0..1.0).contains(&self.damping), "in [0, 1)"),
-            (
-                "timestep_safety",
-                self.timestep_safety,
-                self.timestep_safety > 0.0 && self.timestep_safety <= 1.0,
-                "in (0, 1]",
-            ),
-            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
-            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
-            (
-                "face_angle_tolerance_deg",
-                self.face_angle_tolerance_deg,
-                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
-                "in (0, 45)",
-            ),
-            (
-                "degenerate_width_fraction",
-                self.degenerate_width_fraction,
-                self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0,
-                "in (0, 1]",
-            ),
-            (
-                "redetect_fraction",
-                self.redetect_fraction,
-                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
-                "in (0, 1]",
-            ),
-            (
-                "density_scaling.mass_floor",
-                self.density_scaling.mass_floor(),
-                self.density_scaling.mass_floor() > 0.0 && self.density_scaling.mass_floor() <= 10.0,
-                "in (0, 10]",
-            ),
-            (
-                "subcontact_subdivisions",
-                self.subcontact_subdivisions as f64,
-                (1..=64).contains(&self.subcontact_subdivisions),
-                "an integer in [1, 64]",
-            ),
-        ])
-    }
-}
-
-/// The joint law of a material's joints (the layout's SI values).
-pub fn joint_of(m: &Material) -> JointParams {
-    let closure = match m.closure {
-        Closure::Linear => NormalClosure::Linear,
-        Closure::Hyperbolic { max_closure_m } => NormalClosure::Hyperbolic { max_closure: max_closure_m },
-        Closure::Seating { max_gap_m } => NormalClosure::Seating { max_gap: max_gap_m },
-    };
-    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(closure)
-}
-
-/// The joint between blocks of materials `m1` and `m2` of a layout: the material's own, or
-/// the series combination of two half-joints (see [`JointParams::combine`]).
-pub fn joint_between(layout: &Layout, m1: usize, m2: usize) -> JointParams {
-    let j1 = joint_of(&layout.materials[m1]);
-    if m1 == m2 {
-        j1
-    } else {
-        j1.combine(&joint_of(&layout.materials[m2]))
-    }
 }
 
 /// One simulation.
@@ -399,7 +214,7 @@ impl Simulation {
 
     /// Detects contacts afresh and carries the history of persisting sub-contacts over.
     fn detect_contacts(&mut self, initial: bool) {
-        let settings = self.params.contact_settings();
+        let settings = &self.params;
         let shapes: Vec<_> = self.bodies.iter().map(|b| b.world_shape()).collect();
         let boxes: Vec<_> = shapes.iter().map(|s| s.aabb()).collect();
         let mut new = Vec::new();
@@ -412,7 +227,7 @@ impl Simulation {
                 new.push(self.make_contact(None, j, p, initial));
             }
         }
-        for (i, j) in sweep_pairs(&boxes, settings.margin) {
+        for (i, j) in sweep_pairs(&boxes, settings.contact_margin_m) {
             if self.bodies[i].fixed && self.bodies[j].fixed {
                 continue;
             }

@@ -5,9 +5,12 @@ pub mod contact;
 pub mod dispatch;
 pub mod engine;
 pub mod integrator;
+pub mod materials;
 pub mod monitor;
+pub mod params;
 pub mod relax;
 pub mod state;
 pub mod timestep;
 
-pub use engine::{Contact, DemError, DensityScaling, Isa, Simulation, SolverParams};
+pub use engine::{Contact, DemError, Isa, Simulation};
+pub use params::{DensityScaling, SolverParams};

@@ -41,7 +41,7 @@
 //!
 //! A study sets other values under `[lateral]`.
 
-use super::tilt::{monitor_displacements, monitor_points, MonitorPoint};
+use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;

@@ -20,6 +20,8 @@
 //!
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
+pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
+use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
@@ -108,33 +110,6 @@ impl TiltParams {
     }
 }
 
-/// Failure mode of a joint or of the wall.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MechanismKind {
-    /// Relative sliding along the failing joints.
-    Sliding,
-    /// Rotation about an edge, the failing joints opening.
-    Toppling,
-    /// Some failing joints slide, others open.
-    Mixed,
-    /// No collapse.
-    None,
-}
-
-/// The collapse mechanism.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Mechanism {
-    /// Overall kind.
-    pub kind: MechanismKind,
-    /// The governing joint: the lowest failing joint, named `table/ID` or `ID_A/ID_B`.
-    pub joint: String,
-    /// Every joint between a moving and a resting body, with its kind, lowest first.
-    pub joints: Vec<(String, MechanismKind)>,
-    /// Ids of the blocks that moved.
-    pub blocks: Vec<String>,
-}
-
 /// Why an increment was declared unstable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -199,54 +174,6 @@ pub struct TiltResult {
     #[serde(default)]
     pub scalar_fallbacks_deg: Vec<f64>,
 }
-
-/// Monitor points of a simulation: name, body index, point in the body frame, reference
-/// position in the table frame.
-#[derive(Debug, Clone)]
-pub(crate) struct MonitorPoint {
-    pub(crate) name: String,
-    pub(crate) body: usize,
-    pub(crate) local: Vec3,
-}
-
-pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
-    if !layout.monitors.is_empty() {
-        return layout
-            .monitors
-            .iter()
-            .map(|m| MonitorPoint { name: m.name.clone(), body: m.block, local: sim.bodies[m.block].to_body(&m.point) })
-            .collect();
-    }
-    let all = layout.bounds();
-    let (x0, x1) = (all.min.x, all.max.x);
-    let len = x1 - x0;
-    let targets = [("top_left", x0 + 0.05 * len), ("top_centre", 0.5 * (x0 + x1)), ("top_right", x1 - 0.05 * len)];
-    targets
-        .iter()
-        .filter_map(|&(name, x)| {
-            let (bi, b) = layout
-                .blocks
-                .iter()
-                .enumerate()
-                .filter(|(_, b)| {
-                    let bb = b.shape.aabb();
-                    bb.min.x <= x && x <= bb.max.x && !b.fixed
-                })
-                .max_by(|(i, a), (j, b)| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z).then(j.cmp(i)))?;
-            let bb = b.shape.aabb();
-            let p = Vec3::new(x, 0.5 * (bb.min.y + bb.max.y), bb.max.z);
-            Some(MonitorPoint { name: name.into(), body: bi, local: sim.bodies[bi].to_body(&p) })
-        })
-        .collect()
-}
-
-/// Out-of-plane (y) displacement of each monitor point from its `reference` position, m.
-pub(crate) fn monitor_displacements(sim: &Simulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
-    monitors.iter().zip(reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
-}
-
-/// Pose of one body: centroid (m, table frame) and orientation.
-pub type BodyPose = (Vec3, nalgebra::UnitQuaternion<f64>);
 
 /// Pose of every body, in body order.
 type Pose = Vec<BodyPose>;
@@ -381,32 +308,6 @@ impl Ctx<'_> {
             Err(e) => Err(e),
         }
     }
-}
-
-/// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
-/// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
-/// its farthest point).
-fn body_motion(from: &BodyPose, to: &BodyPose, radius: f64) -> f64 {
-    (to.0 - from.0).norm() + rotation_angle(&(to.1 * from.1.inverse())) * radius
-}
-
-/// The angle of a rotation, rad, in [0, π]: `2 atan2(|v|, |w|)` for the quaternion (w, v),
-/// exact to rounding near zero, where the `2 acos(w)` of `UnitQuaternion::angle` reads one
-/// rounding error of w as a rotation of about 3e-8 rad.
-fn rotation_angle(q: &nalgebra::UnitQuaternion<f64>) -> f64 {
-    2.0 * q.imag().norm().atan2(q.scalar().abs())
-}
-
-/// The largest motion of a movable block since `start` (its position and orientation per
-/// body), m: centroid displacement plus rotation angle times the block's radius. The
-/// per-increment collapse criterion compares it with a fraction of the wall width.
-pub fn largest_motion(sim: &Simulation, start: &[BodyPose]) -> f64 {
-    sim.bodies
-        .iter()
-        .zip(start)
-        .filter(|(b, _)| !b.fixed)
-        .map(|(b, from)| body_motion(from, &(b.pos, b.rot), b.radius))
-        .fold(0.0, f64::max)
 }
 
 /// Errors of the tilting-table protocol.
@@ -562,132 +463,3 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     })
 }
 
-/// Share of the largest motion above which a joint counts as failing (its relative motion)
-/// or a group of blocks as moving (its largest body motion) in [`mechanism`].
-pub const MECHANISM_SHARE: f64 = 0.25;
-
-/// The collapse mechanism from the motion between a stable and a failed state of the same
-/// simulation.
-///
-/// Read from the joints, not from the blocks one by one (a block at the foot of a toppling
-/// stack rotates with it but moves less than a third as far as the top):
-/// 1. every joint that carries force in the stable state gets its relative motion, the
-///    largest over its nodes of the change of the B − A node separation (m);
-/// 2. a joint *fails* if that motion exceeds [`MECHANISM_SHARE`] of the largest one;
-/// 3. the blocks joined by intact joints form rigid groups; a group *rests* if it holds a
-///    fixed body or is held by the table through an intact joint, or if no block of it
-///    moved (centroid motion plus rotation times radius) more than [`MECHANISM_SHARE`] of
-///    the largest block motion (e.g. an end-restrained group); the others *move*; nothing
-///    moves if no block moved more than 1e-9 of the largest block radius (rounding);
-/// 4. the mechanism's joints are those between a moving and a resting group, each sliding
-///    if its largest tangential relative motion exceeds its largest opening, else toppling;
-///    the governing joint is the lowest (mean node height in the stable state).
-pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
-    let nb = stable.bodies.len();
-    let moved: Vec<f64> = stable
-        .bodies
-        .iter()
-        .zip(&failed.bodies)
-        .map(|(s, f)| body_motion(&(s.pos, s.rot), &(f.pos, f.rot), s.radius))
-        .collect();
-    // Motion below a nanometre per metre of block size is rounding, not a mechanism.
-    let max_radius = stable.bodies.iter().map(|b| b.radius).fold(0.0, f64::max);
-    let max_moved = moved.iter().cloned().fold(0.0, f64::max);
-    let max_moved = if max_moved > 1e-9 * max_radius { max_moved } else { 0.0 };
-    // Relative motion, largest opening and slip, and mean node height of every
-    // load-carrying joint.
-    struct JointMotion {
-        contact: usize,
-        relative: f64,
-        open: f64,
-        slip: f64,
-        z: f64,
-    }
-    let mut motions = Vec::new();
-    for (ci, c) in stable.contacts.iter().enumerate() {
-        if c.force.norm() == 0.0 {
-            continue; // not a load-carrying joint in the stable state
-        }
-        let (mut relative, mut open, mut slip, mut z) = (0.0f64, 0.0f64, 0.0f64, 0.0);
-        let n = failed.contact_normal(c);
-        for nd in &c.nodes {
-            let (a0, b0) = stable.node_points(c, nd);
-            let (a1, b1) = failed.node_points(c, nd);
-            let dd = (b1 - a1) - (b0 - a0);
-            let dn = dd.dot(&n);
-            relative = relative.max(dd.norm());
-            open = open.max(dn);
-            slip = slip.max((dd - n * dn).norm());
-            z += 0.5 * (a0.z + b0.z) / c.nodes.len() as f64;
-        }
-        motions.push(JointMotion { contact: ci, relative, open, slip, z });
-    }
-    let max_relative = motions.iter().map(|m| m.relative).fold(0.0, f64::max);
-    // Rigid groups: union-find over the bodies and the ground (index nb) through intact joints.
-    let mut parent: Vec<usize> = (0..=nb).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    fn join(parent: &mut [usize], i: usize, j: usize) {
-        let (ri, rj) = (root(parent, i), root(parent, j));
-        if ri != rj {
-            parent[ri.max(rj)] = ri.min(rj);
-        }
-    }
-    for (k, b) in stable.bodies.iter().enumerate() {
-        if b.fixed {
-            join(&mut parent, k, nb);
-        }
-    }
-    for m in &motions {
-        if m.relative <= MECHANISM_SHARE * max_relative {
-            let c = &stable.contacts[m.contact];
-            join(&mut parent, c.a.unwrap_or(nb), c.b);
-        }
-    }
-    let mut group_motion = vec![0.0f64; nb + 1];
-    for (k, &d) in moved.iter().enumerate() {
-        let r = root(&mut parent, k);
-        group_motion[r] = group_motion[r].max(d);
-    }
-    let ground = root(&mut parent, nb);
-    let moving: Vec<bool> = (0..nb)
-        .map(|k| {
-            let r = root(&mut parent, k);
-            let cut_off = r != ground && group_motion[r] > MECHANISM_SHARE * max_moved;
-            max_moved > 0.0 && (cut_off || moved[k] > MECHANISM_SHARE * max_moved)
-        })
-        .collect();
-    let is_moving = |i: Option<usize>| i.is_some_and(|i| moving[i]);
-    let mut joints: Vec<(f64, String, MechanismKind)> = motions
-        .iter()
-        .filter(|m| {
-            let c = &stable.contacts[m.contact];
-            is_moving(c.a) != is_moving(Some(c.b))
-        })
-        .map(|m| {
-            let kind = if m.slip > m.open { MechanismKind::Sliding } else { MechanismKind::Toppling };
-            (m.z, stable.joint_name(&stable.contacts[m.contact]), kind)
-        })
-        .collect();
-    joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let kind = if joints.is_empty() {
-        MechanismKind::None
-    } else if joints.iter().all(|j| j.2 == MechanismKind::Sliding) {
-        MechanismKind::Sliding
-    } else if joints.iter().all(|j| j.2 == MechanismKind::Toppling) {
-        MechanismKind::Toppling
-    } else {
-        MechanismKind::Mixed
-    };
-    Mechanism {
-        kind,
-        joint: joints.first().map(|j| j.1.clone()).unwrap_or_default(),
-        joints: joints.into_iter().map(|j| (j.1, j.2)).collect(),
-        blocks: stable.bodies.iter().zip(&moving).filter(|(_, m)| **m).map(|(b, _)| b.id.clone()).collect(),
-    }
-}

@@ -9,8 +9,8 @@
 //!    the common-plane normal `n`, pointing from A to B. Face axes win ties (face–face and
 //!    edge–face contacts), edge axes give edge–edge contacts.
 //! 2. **Contact features**: on each side, the face best aligned with `n` (within
-//!    [`ContactSettings::face_angle_tolerance`]) touching the support plane, else the
-//!    vertices within [`ContactSettings::feature_tolerance`] of it (an edge or a vertex).
+//!    [`SolverParams::face_angle_tolerance_deg`]) touching the support plane, else the
+//!    vertices within [`SolverParams::feature_tolerance_m`] of it (an edge or a vertex).
 //! 3. **Contact polygon**: both features projected onto the mid-plane and intersected
 //!    (convex clipping): a polygon (face–face), a segment (edge–face, edge–edge parallel) or
 //!    a point (vertex–face, edge–edge crossing).
@@ -18,51 +18,18 @@
 //!    each subdivided `n × n`; every sub-triangle is a sub-contact with its own area and
 //!    joint history, and its three corners are *nodes*. A segment or point contact is first
 //!    widened into a thin rectangle or small square of nominal width `w`
-//!    (see [`ContactSettings`]).
+//!    (see [`SolverParams::degenerate_width_fraction`]).
 //!
 //! Each node is stored as two material points, one on the surface of each block straight
 //! across the mid-plane along `n`; the normal gap at the node is their separation along `n`,
 //! and it varies linearly over a sub-triangle (two planar faces). See
 //! [`super::law`] for how the pressure is integrated over each sub-contact.
 
+use crate::dem::params::SolverParams;
 use crate::geometry::polygon::{self, plane_basis};
 use crate::geometry::sat::separation;
 use crate::geometry::ConvexBlock;
 use crate::Vec3;
-
-/// Tolerances of the narrow phase.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactSettings {
-    /// Pairs closer than this (m) get a contact (its sub-contacts carry force only when
-    /// closed). Default 1 mm.
-    pub margin: f64,
-    /// Vertices within this distance (m) of the support plane belong to an edge or vertex
-    /// feature. Default 0.5 mm.
-    pub feature_tolerance: f64,
-    /// A face whose normal is within this angle (rad) of the contact normal is a face feature.
-    /// Default 10°.
-    pub face_angle_tolerance: f64,
-    /// Subdivisions of each fan triangle per edge (≥ 1). Default 1.
-    pub subdivisions: u32,
-    /// How the polygon is fanned into triangles. Default [`Fan::Vertex`].
-    pub fan: Fan,
-    /// Nominal width of a segment or point contact, as a fraction of the smaller block's
-    /// smallest bounding-box edge. Default 0.05.
-    pub degenerate_width_fraction: f64,
-}
-
-impl Default for ContactSettings {
-    fn default() -> Self {
-        ContactSettings {
-            margin: 1e-3,
-            feature_tolerance: 5e-4,
-            face_angle_tolerance: 10f64.to_radians(),
-            subdivisions: 1,
-            fan: Fan::Vertex,
-            degenerate_width_fraction: 0.05,
-        }
-    }
-}
 
 /// A node of the sub-contact mesh: two surface points straight across the mid-plane, in
 /// the frame of the blocks given to the narrow phase (the world frame).
@@ -123,9 +90,9 @@ pub struct Patch {
     pub triangles: Vec<Triangle>,
 }
 
-fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSettings, outward_sign: f64) -> Vec<Vec3> {
+fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &SolverParams, outward_sign: f64) -> Vec<Vec3> {
     // outward_sign = +1: A's side (support max along n); -1: B's side (support min along n).
-    let cos_tol = s.face_angle_tolerance.cos();
+    let cos_tol = s.face_angle_tolerance_rad().cos();
     let mut best: Option<(f64, usize)> = None;
     for (k, f) in blk.faces.iter().enumerate() {
         let al = outward_sign * f.normal.dot(n);
@@ -133,7 +100,7 @@ fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSetting
             continue;
         }
         let touches =
-            f.vertices.iter().any(|&i| (outward_sign * (h - n.dot(&blk.vertices[i]))).abs() <= s.feature_tolerance);
+            f.vertices.iter().any(|&i| (outward_sign * (h - n.dot(&blk.vertices[i]))).abs() <= s.feature_tolerance_m);
         if touches && best.is_none_or(|(b, _)| al > b) {
             best = Some((al, k));
         }
@@ -141,7 +108,7 @@ fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &ContactSetting
     if let Some((_, k)) = best {
         return blk.faces[k].vertices.iter().map(|&i| blk.vertices[i]).collect();
     }
-    blk.vertices.iter().filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance).copied().collect()
+    blk.vertices.iter().filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance_m).copied().collect()
 }
 
 fn min_edge(blk: &ConvexBlock) -> f64 {
@@ -165,9 +132,9 @@ fn ray_param(blk: &ConvexBlock, x: &Vec3, n: &Vec3, sign: f64) -> f64 {
 
 /// The contact patch between blocks A and B, or `None` if they are farther apart than the
 /// margin or their features do not overlap in projection.
-pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &ContactSettings) -> Option<Patch> {
+pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &SolverParams) -> Option<Patch> {
     let sep = separation(a, b);
-    if sep.distance > s.margin {
+    if sep.distance > s.contact_margin_m {
         return None;
     }
     let n = sep.normal;
@@ -177,8 +144,8 @@ pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &ContactSettings) -> Opt
     let fb = support_plane_feature(b, &n, h_b, s, -1.0);
     let width = s.degenerate_width_fraction * min_edge(a).min(min_edge(b));
     // The surface point of a feature lies between the feature's extremes along n.
-    let lo_a = fa.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min) - s.feature_tolerance;
-    let hi_b = fb.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance;
+    let lo_a = fa.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min) - s.feature_tolerance_m;
+    let hi_b = fb.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance_m;
     let surfaces = |x: &Vec3| {
         let ta = ray_param(a, x, &n, 1.0).clamp(lo_a - n.dot(x), h_a - n.dot(x));
         let tb = ray_param(b, x, &n, -1.0).clamp(h_b - n.dot(x), hi_b - n.dot(x));
@@ -188,15 +155,15 @@ pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &ContactSettings) -> Opt
 }
 
 /// The contact patch between the table (the half-space z ≤ 0, body A) and block B.
-pub fn table_block(b: &ConvexBlock, s: &ContactSettings) -> Option<Patch> {
+pub fn table_block(b: &ConvexBlock, s: &SolverParams) -> Option<Patch> {
     let n = Vec3::z();
     let h_b = b.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
-    if h_b > s.margin {
+    if h_b > s.contact_margin_m {
         return None;
     }
     let fb = support_plane_feature(b, &n, h_b, s, -1.0);
     let width = s.degenerate_width_fraction * min_edge(b);
-    let hi_b = fb.iter().map(|v| v.z).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance;
+    let hi_b = fb.iter().map(|v| v.z).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance_m;
     let surfaces = |x: &Vec3| {
         let tb = ray_param(b, x, &n, -1.0).clamp(h_b - x.z, hi_b - x.z);
         (Vec3::new(x.x, x.y, 0.0), x + n * tb)
@@ -213,7 +180,7 @@ fn build_patch(
     plane_offset: f64,
     gap: f64,
     width: f64,
-    s: &ContactSettings,
+    s: &SolverParams,
     surfaces: impl Fn(&Vec3) -> (Vec3, Vec3),
 ) -> Option<Patch> {
     let (u, w) = plane_basis(n);
@@ -227,7 +194,7 @@ fn build_patch(
     }
     let to_world = |q: [f64; 2]| u * q[0] + w * q[1] + n * plane_offset;
     let area = polygon::area(&poly);
-    let m = s.subdivisions.max(1) as usize;
+    let m = s.subcontact_subdivisions.max(1) as usize;
     let (kind, shape) = if poly.len() >= 3 && area > width * width * 1e-3 {
         (PatchKind::Face, poly)
     } else if poly.len() >= 2 {
@@ -261,7 +228,7 @@ fn build_patch(
             vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]],
         )
     };
-    let (pts, triangles) = subdivide_polygon(&shape, m, s.fan);
+    let (pts, triangles) = subdivide_polygon(&shape, m, s.fan());
     let nodes: Vec<NodePoint> = pts
         .into_iter()
         .map(|q| {
@@ -340,7 +307,7 @@ mod tests {
     fn stacked_boxes_share_the_overlap_rectangle() {
         let a = cube(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.2, 0.1, 0.05));
         let b = cube(Vec3::new(0.05, 0.0, 0.05), Vec3::new(0.2, 0.1, 0.05));
-        let s = ContactSettings::default();
+        let s = SolverParams::default();
         let p = block_block(&a, &b, &s).unwrap();
         assert_eq!(p.kind, PatchKind::Face);
         assert!((p.normal - Vec3::z()).norm() < 1e-12);
@@ -380,7 +347,7 @@ mod tests {
         let r = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), -0.01);
         let toe = Vec3::new(0.0, 0.05, 0.0);
         let bt = b.transformed(|v| toe + r * (v - toe), r.matrix());
-        let p = table_block(&bt, &ContactSettings::default()).unwrap();
+        let p = table_block(&bt, &SolverParams::default()).unwrap();
         assert_eq!(p.kind, PatchKind::Face);
         let gaps: Vec<f64> = p.nodes.iter().map(|q| q.on_b.z - q.on_a.z).collect();
         let max = gaps.iter().cloned().fold(0.0, f64::max);

@@ -1,0 +1,169 @@
+//! The solver parameters of a simulation: one struct, every field with its unit and
+//! default, and the density-scaling mode.
+
+use super::contact::geometry::Fan;
+use super::contact::law::Quadrature;
+use crate::range::{check_ranges, OutOfRange};
+use serde::{Deserialize, Serialize};
+
+/// Density scaling for static solutions: fictitious inertial masses that leave the
+/// weights unchanged and let every body relax at about the same rate (3DEC's density
+/// scaling, Itasca 3DEC manual; see `dem::timestep`). Quasi-static results do not depend on
+/// it; dynamics need `Off`.
+///
+/// In TOML: `density_scaling = { kind = "block", mass_floor = 0.05 }`, `{ kind = "scalar" }`
+/// or `{ kind = "off" }`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DensityScaling {
+    /// True masses.
+    Off,
+    /// Every body's mass and inertia scaled so that all bodies have the critical step of
+    /// the median body (`dem::timestep::density_scaling`).
+    Scalar,
+    /// Each body's inertial mass is its own 6 × 6 contact-stiffness block plus `mass_floor`
+    /// (in (0, 10]) times its scalar-scaled mass (block-Jacobi scaling,
+    /// `dem::timestep::block_masses`). The tilting table repeats with `Scalar` (kept from
+    /// there on) an increment whose block-scaled dynamics blow up; the static lateral load
+    /// uses `Scalar`.
+    Block {
+        /// Share of the scalar-scaled mass added to each block mass, –.
+        mass_floor: f64,
+    },
+}
+
+impl DensityScaling {
+    /// Whether masses are scaled at all.
+    pub fn is_on(self) -> bool {
+        !matches!(self, DensityScaling::Off)
+    }
+
+    /// `Scalar` in place of `Block`, otherwise unchanged.
+    pub fn without_block(self) -> DensityScaling {
+        match self {
+            DensityScaling::Block { .. } => DensityScaling::Scalar,
+            other => other,
+        }
+    }
+
+    /// The block mass floor (1 for the other kinds, which have none).
+    pub fn mass_floor(self) -> f64 {
+        match self {
+            DensityScaling::Block { mass_floor } => mass_floor,
+            _ => 1.0,
+        }
+    }
+}
+
+/// Solver parameters. Every field has a documented default (`SolverParams::default()`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverParams {
+    /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
+    pub damping: f64,
+    /// Fraction of the critical time step `2 / (ω_max √(1 + α))` used, with ω_max the
+    /// assembly's highest frequency (an upper estimate) and α the local damping (see
+    /// `dem::timestep`). Default 0.95.
+    pub timestep_safety: f64,
+    /// Pairs closer than this get a contact, m. Default 0.001.
+    pub contact_margin_m: f64,
+    /// Vertices within this distance of the support plane form an edge/vertex feature, m.
+    /// Default 0.0005.
+    pub feature_tolerance_m: f64,
+    /// Faces within this angle of the contact normal form a face feature, degrees. Default 10.
+    pub face_angle_tolerance_deg: f64,
+    /// Sub-contact density: subdivisions of each fan triangle of a contact polygon per
+    /// edge, ≥ 1 (1: one sub-contact triangle per polygon edge, fanned about the centroid).
+    /// Default 1.
+    pub subcontact_subdivisions: u32,
+    /// Integration of the joint pressure over a sub-contact. Default `exact`.
+    pub quadrature: Quadrature,
+    /// Nominal width of edge and vertex contacts, fraction of the smaller block's smallest
+    /// dimension. Default 0.05.
+    pub degenerate_width_fraction: f64,
+    /// Contacts are re-detected when a body has moved this fraction of the margin. Default 0.5.
+    pub redetect_fraction: f64,
+    /// Density scaling for static solutions. Default `Block { mass_floor: 0.05 }`.
+    pub density_scaling: DensityScaling,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        SolverParams {
+            damping: 0.8,
+            timestep_safety: 0.95,
+            contact_margin_m: 1e-3,
+            feature_tolerance_m: 5e-4,
+            face_angle_tolerance_deg: 10.0,
+            subcontact_subdivisions: 1,
+            quadrature: Quadrature::Exact,
+            degenerate_width_fraction: 0.05,
+            redetect_fraction: 0.5,
+            density_scaling: DensityScaling::Block { mass_floor: 0.05 },
+        }
+    }
+}
+
+impl SolverParams {
+    /// [`Self::face_angle_tolerance_deg`] in radians.
+    pub fn face_angle_tolerance_rad(&self) -> f64 {
+        self.face_angle_tolerance_deg.to_radians()
+    }
+
+    /// How the narrow phase fans a contact polygon into triangles for this quadrature:
+    /// from a vertex for exact integration, from the centroid for the vertex quadrature.
+    pub fn fan(&self) -> Fan {
+        match self.quadrature {
+            Quadrature::Exact => Fan::Vertex,
+            Quadrature::Vertex => Fan::Centroid,
+        }
+    }
+
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("damping", self.damping, (0.0..1.0).contains(&self.damping), "in [0, 1)"),
+            (
+                "timestep_safety",
+                self.timestep_safety,
+                self.timestep_safety > 0.0 && self.timestep_safety <= 1.0,
+                "in (0, 1]",
+            ),
+            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
+            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
+            (
+                "face_angle_tolerance_deg",
+                self.face_angle_tolerance_deg,
+                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
+                "in (0, 45)",
+            ),
+            (
+                "degenerate_width_fraction",
+                self.degenerate_width_fraction,
+                self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0,
+                "in (0, 1]",
+            ),
+            (
+                "redetect_fraction",
+                self.redetect_fraction,
+                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
+                "in (0, 1]",
+            ),
+            (
+                "density_scaling.mass_floor",
+                self.density_scaling.mass_floor(),
+                self.density_scaling.mass_floor() > 0.0 && self.density_scaling.mass_floor() <= 10.0,
+                "in (0, 10]",
+            ),
+            (
+                "subcontact_subdivisions",
+                self.subcontact_subdivisions as f64,
+                (1..=64).contains(&self.subcontact_subdivisions),
+                "an integer in [1, 64]",
+            ),
+        ])
+    }
+}
