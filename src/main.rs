@@ -57,6 +57,10 @@ enum Command {
         /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
         #[arg(long)]
         no_predictor: bool,
+        /// Plain dynamic relaxation, without the secant acceleration of slow creep and its
+        /// stability indicator (`accelerate = false` in a study's [tilt] table).
+        #[arg(long)]
+        no_acceleration: bool,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
@@ -211,6 +215,9 @@ enum Command {
         /// Without the secant predictor of the tilting table (`tilt`; for comparison).
         #[arg(long)]
         no_predictor: bool,
+        /// Without the secant acceleration of slow creep (`tilt`; for comparison).
+        #[arg(long)]
+        no_acceleration: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -241,6 +248,7 @@ fn run() -> anyhow::Result<ExitCode> {
             block_mass_floor,
             tolerance,
             no_predictor,
+            no_acceleration,
         } => {
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
@@ -255,8 +263,14 @@ fn run() -> anyhow::Result<ExitCode> {
                 density_scaling,
                 ..SolverParams::default()
             };
-            let params =
-                TiltParams { step_deg, resolution_deg, tolerance, predictor: !no_predictor, ..TiltParams::default() };
+            let params = TiltParams {
+                step_deg,
+                resolution_deg,
+                tolerance,
+                predictor: !no_predictor,
+                accelerate: !no_acceleration,
+                ..TiltParams::default()
+            };
             cli::tilt::run(&layout, solver, &params, json)
         }
         Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance } => {
@@ -289,8 +303,11 @@ fn run() -> anyhow::Result<ExitCode> {
             cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, steps, wall, seed, realizations, no_predictor, json } => match case.as_str() {
-            "tilt" => cli::bench::tilt(&wall, seed, realizations, !no_predictor, json),
+        Command::Bench { case, steps, wall, seed, realizations, no_predictor, no_acceleration, json } => match case.as_str() {
+            "tilt" => {
+                let params = TiltParams { predictor: !no_predictor, accelerate: !no_acceleration, ..TiltParams::default() };
+                cli::bench::tilt(&wall, seed, realizations, &params, json)
+            }
             "cube16" => cli::bench::cube16(steps, json),
             _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
         },

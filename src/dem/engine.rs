@@ -444,6 +444,21 @@ impl Simulation {
         (sum_contact, active)
     }
 
+    /// The out-of-balance force (N) and moment about the centroid (N·m) on body `k` after the
+    /// last step, table frame: contact forces, weight, restraint and external loads before
+    /// damping (zero for a fixed body; the y force of a rigidly end-restrained body is held
+    /// and reads zero).
+    pub fn unbalanced(&self, k: usize) -> (Vec3, Vec3) {
+        if self.bodies[k].fixed {
+            return (Vec3::zeros(), Vec3::zeros());
+        }
+        let mut f = self.force[k];
+        if self.restraint[k] == Some(EndRestraint::Rigid) {
+            f.y = 0.0;
+        }
+        (f, self.torque[k])
+    }
+
     /// Moves the free bodies by a predicted increment of their pose and starts them at
     /// rest there: a predictor for quasi-static continuation (the secant predictor of
     /// path-following solvers, e.g. the previous increment's motion scaled to this
@@ -620,7 +635,7 @@ impl Simulation {
     /// # Errors
     /// [`DemError::NonFinite`].
     pub fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
-        let r = super::relax::relax(self, tol, max_steps, |_| None::<()>)?;
+        let r = super::relax::relax(self, tol, max_steps, None, |_| None::<()>)?;
         Ok(matches!(r, super::relax::Relaxed::Equilibrium(_)))
     }
 

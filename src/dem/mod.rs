@@ -1,6 +1,7 @@
 //! The rigid-block Discrete Element Method (3DEC-style): state, contact geometry, types
 //! and law, integrator, time step, engine, monitor. See [`engine`] for the step order.
 
+pub mod accelerate;
 pub mod contact;
 pub mod dispatch;
 pub mod engine;

@@ -4,14 +4,16 @@
 //! (Cundall 1988; 3DEC's `solve ratio`), a protocol's stop check fires, or the step budget
 //! runs out.
 
+use super::accelerate::{Accelerator, Creep, SecantAcceleration};
 use super::engine::{DemError, Simulation};
+use crate::Vec3;
 
 /// Steps between two calls of the stop check (it measures displacements, which costs more
 /// than a step's bookkeeping).
 pub const CHECK_EVERY: u64 = 64;
 
 /// How a relaxation ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Relaxed<R> {
     /// The unbalanced-force ratio fell below the tolerance after this many steps.
     Equilibrium(u64),
@@ -19,6 +21,10 @@ pub enum Relaxed<R> {
     Stopped(R, u64),
     /// The step budget ran out.
     Budget(u64),
+    /// The secant acceleration found negative stiffness along a persistent motion (see
+    /// [`super::accelerate`]) after this many steps; with the motion of its last window
+    /// (per body: translation, m, and rotation vector, rad), the direction of collapse.
+    Unstable(u64, (Vec<Vec3>, Vec<Vec3>)),
 }
 
 /// Steps `sim` until equilibrium (unbalanced-force ratio below `tol`, after at least 11
@@ -31,14 +37,22 @@ pub fn relax<R>(
     sim: &mut Simulation,
     tol: f64,
     max_steps: u64,
+    accelerate: Option<SecantAcceleration>,
     mut check: impl FnMut(&Simulation) -> Option<R>,
 ) -> Result<Relaxed<R>, DemError> {
     let mut steps = 0;
+    let mut acc = accelerate.map(Accelerator::new);
     while steps < max_steps {
         sim.step()?;
         steps += 1;
         if steps > 10 && sim.stats.unbalanced_ratio < tol {
             return Ok(Relaxed::Equilibrium(steps));
+        }
+        if let Some(acc) = acc.as_mut() {
+            if acc.observe(sim, steps) == Creep::Unstable {
+                let motion = acc.last_motion().unwrap_or_default();
+                return Ok(Relaxed::Unstable(steps, motion));
+            }
         }
         if steps % CHECK_EVERY == 0 {
             if let Some(r) = check(sim) {

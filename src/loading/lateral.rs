@@ -242,10 +242,10 @@ pub fn run_lateral(
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
-    let reason = match relax(&mut sim, params.tolerance, params.max_steps, check)? {
+    let reason = match relax(&mut sim, params.tolerance, params.max_steps, None, check)? {
         Relaxed::Equilibrium(_) => None,
         Relaxed::Stopped(r, _) => Some(r.to_string()),
-        Relaxed::Budget(_) => Some("no_equilibrium".to_string()),
+        Relaxed::Budget(_) | Relaxed::Unstable(..) => Some("no_equilibrium".to_string()),
     };
     let displacement_m = disp(&sim);
     let max_displacement_m = displacement_m.iter().fold(0.0_f64, |a, d| a.max(d.abs()));

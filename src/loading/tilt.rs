@@ -3,12 +3,15 @@
 //! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
 //!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
 //! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
-//!    equilibrium (starting, while the response is nearly linear, from the secant
-//!    prediction of that equilibrium: [`TiltParams::predictor`]), or declared collapsed
-//!    when, during the increment, a block moves more than
-//!    [`TiltParams::collapse_increment_fraction`] of the wall width, a top point moves past
-//!    [`TiltParams::collapse_displacement_fraction`] of the wall width from the reference,
-//!    or no equilibrium is reached within [`TiltParams::max_steps_per_increment`] steps.
+//!    equilibrium (starting from the secant prediction of that equilibrium:
+//!    [`TiltParams::predictor`]; slow creep near collapse accelerated by secant steps along
+//!    the motion: [`TiltParams::accelerate`]), or declared collapsed when, during the
+//!    increment, a block moves more than [`TiltParams::collapse_increment_fraction`] of the
+//!    wall width, a top point moves past [`TiltParams::collapse_displacement_fraction`] of
+//!    the wall width from the reference, the stiffness along a persistent motion turns
+//!    negative while the out-of-balance force along it grows (the stability indicator of
+//!    `dem::accelerate`), or no equilibrium is reached within
+//!    [`TiltParams::max_steps_per_increment`] steps.
 //! 3. The bracket (last stable, first unstable) is bisected from the last stable state
 //!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
 //!    the last stable angle.
@@ -21,7 +24,8 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
-use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
+use super::monitors::{largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
+use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
@@ -60,6 +64,13 @@ pub struct TiltParams {
     /// Collapse when, within one increment, a block moves (centroid motion plus rotation
     /// times its radius) more than this fraction of the wall width \[0.05\].
     pub collapse_increment_fraction: f64,
+    /// Accelerate slow creep near collapse by secant steps along the motion, and end trials
+    /// that soften along their motion (`dem::accelerate`) \[true\]. Off: plain dynamic
+    /// relaxation (about twice the steps on the SBL wall; the same collapse angles within
+    /// one bracket).
+    pub accelerate: bool,
+    /// Settings of that acceleration.
+    pub acceleration: SecantAcceleration,
 }
 
 impl Default for TiltParams {
@@ -73,6 +84,8 @@ impl Default for TiltParams {
             predictor: true,
             collapse_displacement_fraction: 0.5,
             collapse_increment_fraction: 0.05,
+            accelerate: true,
+            acceleration: SecantAcceleration::default(),
         }
     }
 }
@@ -106,7 +119,8 @@ impl TiltParams {
                 "> 0",
             ),
             ("max_steps_per_increment", self.max_steps_per_increment as f64, self.max_steps_per_increment > 0, ">= 1"),
-        ])
+        ])?;
+        self.acceleration.validate()
     }
 }
 
@@ -120,6 +134,9 @@ pub enum CollapseReason {
     TotalDisplacement,
     /// No equilibrium within the step budget.
     NoEquilibrium,
+    /// Negative stiffness along a persistent motion during relaxation (the secant
+    /// acceleration's stability indicator, `dem::accelerate`): no equilibrium ahead.
+    NegativeStiffness,
 }
 
 /// One tilt increment.
@@ -191,13 +208,6 @@ struct Secant {
     states: Vec<(f64, Pose)>,
 }
 
-/// The predictor is used only while the response is nearly linear: the largest body motion
-/// per degree of the last increment at most this multiple of that of the increment before.
-/// Near a limit point (collapse) the motion accelerates and a linear jump can kick a
-/// knife-edge stack over early (the 5-block stack of `verify` fell 0.19° early without
-/// this gate), so the protocol falls back to relaxing from rest there.
-const LINEAR_RESPONSE_RATIO: f64 = 1.2;
-
 impl Secant {
     fn push(&mut self, alpha: f64, sim: &Simulation) {
         self.states.push((alpha, pose(sim)));
@@ -206,24 +216,13 @@ impl Secant {
         }
     }
 
-    /// Largest body motion ([`body_motion`] with a radius of 1 m) per degree of tilt between
-    /// two stable states.
-    fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
-        let m = a.1.iter().zip(&b.1).map(|(from, to)| body_motion(from, to, 1.0)).fold(0.0, f64::max);
-        m / (b.0 - a.0).abs()
-    }
-
     /// The motion from the second-last to the last stable state, scaled linearly in tilt to
     /// an increment from the last state to `alpha` (degrees); `None` until three stable
-    /// states are known or where the response is not nearly linear.
+    /// states are known (the settled state and the first two increments start from rest).
+    /// Near a limit point the linear jump undershoots the accelerating motion, and the
+    /// secant acceleration of the relaxation (`dem::accelerate`) takes over from there.
     fn predict(&self, alpha: f64) -> Option<Prediction> {
-        let [s0, s1, s2] = self.states.as_slice() else { return None };
-        let (r1, r2) = (Self::rate(s0, s1), Self::rate(s1, s2));
-        // Written so that a NaN rate (a degenerate increment) also turns the predictor off.
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        if !(r2 <= LINEAR_RESPONSE_RATIO * r1) {
-            return None;
-        }
+        let [_, s1, s2] = self.states.as_slice() else { return None };
         let ((a1, p1), (a2, p2)) = (s1, s2);
         let scale = (alpha - a2) / (a2 - a1);
         if !scale.is_finite() {
@@ -271,10 +270,15 @@ impl Ctx<'_> {
                 None
             }
         };
-        Ok(match relax(sim, self.params.tolerance, self.params.max_steps_per_increment, check)? {
+        let accel = if self.params.accelerate { Some(self.params.acceleration) } else { None };
+        Ok(match relax(sim, self.params.tolerance, self.params.max_steps_per_increment, accel, check)? {
             Relaxed::Equilibrium(steps) => (Stage::Stable, steps),
             Relaxed::Stopped(reason, steps) => (Stage::Collapsed(reason), steps),
             Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::NoEquilibrium), steps),
+            Relaxed::Unstable(steps, (dpos, drot)) => {
+                extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
+                (Stage::Collapsed(CollapseReason::NegativeStiffness), steps)
+            }
         })
     }
 
@@ -308,6 +312,30 @@ impl Ctx<'_> {
             Err(e) => Err(e),
         }
     }
+}
+
+/// Carries a state found unstable by the stability indicator along its direction of
+/// collapse, `(dpos, drot)` (the motion of the indicator's last window), until the largest
+/// block motion since `start` reaches `limit` (m), the per-increment collapse criterion:
+/// the state from which the collapse mechanism is read, as if the collapse had been
+/// followed by relaxation to that criterion (the motion of a collapsing state keeps its
+/// direction; the early motion of a trial still holds the elastic shear of the joints,
+/// which would read as sliding).
+fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
+    let now = largest_motion(sim, start);
+    let per_unit = sim
+        .bodies
+        .iter()
+        .zip(dpos.iter().zip(drot))
+        .filter(|(b, _)| !b.fixed)
+        .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
+        .fold(0.0, f64::max);
+    let scale = (limit - now).max(0.0) / per_unit;
+    if dpos.len() != sim.bodies.len() || !(scale.is_finite() && scale > 0.0) {
+        return;
+    }
+    let scaled = |v: &[Vec3]| v.iter().map(|x| x * scale).collect::<Vec<_>>();
+    sim.predict(&scaled(dpos), &scaled(drot));
 }
 
 /// Errors of the tilting-table protocol.

@@ -115,6 +115,7 @@ fn reason_name(r: CollapseReason) -> &'static str {
         CollapseReason::IncrementDisplacement => "incrementdisplacement",
         CollapseReason::TotalDisplacement => "totaldisplacement",
         CollapseReason::NoEquilibrium => "noequilibrium",
+        CollapseReason::NegativeStiffness => "negativestiffness",
     }
 }
 

@@ -1,0 +1,232 @@
+//! Secant acceleration of slow creep in dynamic relaxation, and the stability indicator it
+//! reads on the way.
+//!
+//! Near a limit point (a wall close to collapse) the lowest stiffness mode of the assembly
+//! goes to zero and dynamic relaxation creeps: the fast modes have died out, and the state
+//! moves, a little per step, along one slow mode towards equilibrium (or away from it, if
+//! there is none). Every [`SecantAcceleration::window`] steps, once
+//! [`SecantAcceleration::warmup`] steps have been taken, the motion over the last window
+//! `Δx` (centroid translations and rotation vectors of every free body) and the change of
+//! the out-of-balance forces and moments `Δg` give the secant stiffness along the motion,
+//! `k = −Δx·Δg / Δx·Δx`, and the out-of-balance force along it, `Δx·g`: the work-conjugate
+//! pairs of a generalized coordinate, so no metric between translations and rotations is
+//! assumed. Then:
+//!
+//! - `k > 0` and two successive windows moving the same way (cosine of their motions at
+//!   least [`SecantAcceleration::min_alignment`]): the out-of-balance force along the
+//!   motion is modelled as `φ(t) = Δx·g − c₁ t − c₂ t²` in the travel `t` (windows of
+//!   motion ahead), its stiffness extrapolated linearly from the secant stiffnesses of the
+//!   last two windows. The state jumps to the first root, `t Δx` with
+//!   `t = 2 Δx·g / (c₁ + √(c₁² + 4 c₂ Δx·g))` capped at [`SecantAcceleration::max_scale`],
+//!   through [`Simulation::predict`] (the joints follow the jump as a straight path), and
+//!   relaxation goes on from rest there. Where the softening stiffness reaches zero before
+//!   the force does (no root ahead: the limit point comes first), the state does not jump,
+//!   so a jump never carries a stable state past its limit point.
+//! - `k ≤ 0` while the out-of-balance force pushes along the motion and grows from window
+//!   to window, in [`SecantAcceleration::negative_windows`] successive windows moving the
+//!   same way: the second-order work along the motion is negative (Hill's stability
+//!   criterion) and the state accelerates away from any equilibrium along a softening path;
+//!   the relaxation reports [`Creep::Unstable`]. A dynamic overshoot past a limit point
+//!   with an equilibrium before it does not count: there the force opposes the motion.
+//!
+//! This is the 1-D secant (quasi-Newton) step of path-following solvers applied to the
+//! slow mode that dynamic relaxation isolates (Underwood 1983, "Dynamic relaxation", in
+//! Computational Methods for Transient Analysis, ch. 5, on the slow mode; Hill 1958 and
+//! Darve's second-order work for the indicator).
+//!
+//! Both leave short relaxations (fewer than `warmup + 2 window` steps) untouched.
+
+use super::engine::Simulation;
+use crate::range::{check_ranges, OutOfRange};
+use crate::Vec3;
+use nalgebra::UnitQuaternion;
+use serde::{Deserialize, Serialize};
+
+/// Settings of the secant acceleration. Defaults in brackets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SecantAcceleration {
+    /// Steps before the first window \[256\].
+    pub warmup: u64,
+    /// Steps per window \[128\].
+    pub window: u64,
+    /// Largest jump, in windows of motion \[32\].
+    pub max_scale: f64,
+    /// Least cosine between the motions of two successive windows for them to count as
+    /// moving the same way \[0.9\].
+    pub min_alignment: f64,
+    /// Successive windows of negative stiffness, each with a larger out-of-balance force
+    /// along the motion than the window before, that make the state unstable \[3\].
+    pub negative_windows: u32,
+}
+
+impl Default for SecantAcceleration {
+    fn default() -> Self {
+        SecantAcceleration { warmup: 256, window: 128, max_scale: 32.0, min_alignment: 0.9, negative_windows: 3 }
+    }
+}
+
+impl SecantAcceleration {
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first setting out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("acceleration.warmup", self.warmup as f64, true, ">= 0"),
+            ("acceleration.window", self.window as f64, self.window >= 1, ">= 1"),
+            ("acceleration.max_scale", self.max_scale, self.max_scale >= 1.0, ">= 1"),
+            (
+                "acceleration.min_alignment",
+                self.min_alignment,
+                self.min_alignment > -1.0 && self.min_alignment <= 1.0,
+                "in (-1, 1]",
+            ),
+            ("acceleration.negative_windows", self.negative_windows as f64, self.negative_windows >= 1, ">= 1"),
+        ])
+    }
+}
+
+/// What the accelerator did at a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Creep {
+    /// Nothing (not a window boundary, or no reason to act).
+    Continue,
+    /// The state jumped along the slow mode.
+    Jumped,
+    /// Negative stiffness along a persistent motion: no equilibrium ahead.
+    Unstable,
+}
+
+/// The accelerator's memory within one relaxation.
+#[derive(Debug, Clone)]
+pub struct Accelerator {
+    settings: SecantAcceleration,
+    /// Pose and generalized force at the last window boundary.
+    last: Option<(Vec<(Vec3, UnitQuaternion<f64>)>, Vec<f64>)>,
+    /// Motion of the last window.
+    last_dx: Option<Vec<f64>>,
+    negative: u32,
+    trace: bool,
+    /// Stiffness per unit motion squared and force along the motion of the last window.
+    last_window: Option<(f64, f64)>,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl Accelerator {
+    /// A fresh accelerator.
+    pub fn new(settings: SecantAcceleration) -> Accelerator {
+        Accelerator {
+            settings,
+            last: None,
+            last_dx: None,
+            negative: 0,
+            trace: std::env::var_os("DRYSTONE_TRACE_CREEP").is_some(),
+            last_window: None,
+        }
+    }
+
+    fn reset(&mut self) {
+        self.last = None;
+        self.last_dx = None;
+        self.negative = 0;
+        self.last_window = None;
+    }
+
+    /// The motion of the last window: per body, in body order, the centroid translation (m)
+    /// and the rotation vector (rad), table frame; `None` before the first window.
+    pub fn last_motion(&self) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
+        let dx = self.last_dx.as_ref()?;
+        Some(dx.chunks_exact(6).map(|c| (Vec3::new(c[0], c[1], c[2]), Vec3::new(c[3], c[4], c[5]))).unzip())
+    }
+
+    /// Called after step number `steps` (1-based) of a relaxation.
+    pub fn observe(&mut self, sim: &mut Simulation, steps: u64) -> Creep {
+        let s = self.settings;
+        if steps < s.warmup || (steps - s.warmup) % s.window != 0 {
+            return Creep::Continue;
+        }
+        let pose: Vec<(Vec3, UnitQuaternion<f64>)> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let mut g = Vec::with_capacity(6 * pose.len());
+        for k in 0..pose.len() {
+            let (f, t) = sim.unbalanced(k);
+            g.extend_from_slice(&[f.x, f.y, f.z, t.x, t.y, t.z]);
+        }
+        let Some((pose0, g0)) = self.last.replace((pose.clone(), g.clone())) else { return Creep::Continue };
+        let mut dx = Vec::with_capacity(g.len());
+        for (k, ((x1, q1), (x0, q0))) in pose.iter().zip(&pose0).enumerate() {
+            if sim.bodies[k].fixed {
+                dx.extend_from_slice(&[0.0; 6]);
+                continue;
+            }
+            let d = x1 - x0;
+            let r = (q1 * q0.inverse()).scaled_axis();
+            dx.extend_from_slice(&[d.x, d.y, d.z, r.x, r.y, r.z]);
+        }
+        let dg: Vec<f64> = g.iter().zip(&g0).map(|(a, b)| a - b).collect();
+        let work = dot(&dx, &g);
+        let stiff = -dot(&dx, &dg);
+        let dxx = dot(&dx, &dx);
+        let align = match &self.last_dx {
+            Some(p) => dot(p, &dx) / (dot(p, p) * dxx).sqrt(),
+            None => f64::NAN,
+        };
+        self.last_dx = Some(dx.clone());
+        if self.trace {
+            eprintln!(
+                "creep step {steps} |dx| {:.3e} work {:.3e} stiff {:.3e} s {:.2} align {:.3} ratio {:.3e}",
+                dxx.sqrt(),
+                work,
+                stiff,
+                work / stiff,
+                align,
+                sim.stats.unbalanced_ratio
+            );
+        }
+        let (kappa1, force1) = self.last_window.replace((stiff / dxx, work / dxx.sqrt())).unzip();
+        let aligned = align >= s.min_alignment;
+        if stiff <= 0.0 && work > 0.0 && aligned && force1.is_some_and(|f| work / dxx.sqrt() > f) {
+            self.negative += 1;
+            if self.negative >= s.negative_windows {
+                return Creep::Unstable;
+            }
+            return Creep::Continue;
+        }
+        self.negative = 0;
+        let Some(kappa1) = kappa1 else { return Creep::Continue };
+        if !(aligned && stiff > 0.0 && work > 0.0) {
+            return Creep::Continue;
+        }
+        // Travel t (in windows of motion) to the root of the out-of-balance force along the
+        // motion, its stiffness extrapolated linearly from the last two windows (centred at
+        // t = -1/2 and -3/2): phi(t) = work - c1 t - c2 t^2.
+        let k1 = kappa1 * dxx;
+        let c2 = 0.5 * (stiff - k1);
+        let c1 = stiff + c2;
+        if c1 <= 0.0 {
+            return Creep::Continue;
+        }
+        let disc = c1 * c1 + 4.0 * c2 * work;
+        if disc < 0.0 {
+            return Creep::Continue; // the peak comes first: no root ahead along this line
+        }
+        let t = 2.0 * work / (c1 + disc.sqrt());
+        if !(t > 1.0) {
+            return Creep::Continue;
+        }
+        let scale = t.min(s.max_scale);
+        let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = dx
+            .chunks_exact(6)
+            .map(|c| (Vec3::new(c[0], c[1], c[2]) * scale, Vec3::new(c[3], c[4], c[5]) * scale))
+            .unzip();
+        if self.trace {
+            eprintln!("creep step {steps} jump x{scale:.2}");
+        }
+        sim.predict(&dpos, &drot);
+        self.reset();
+        Creep::Jumped
+    }
+}
