@@ -24,7 +24,7 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
-use super::monitors::{largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
+use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
@@ -202,28 +202,65 @@ fn pose(sim: &Simulation) -> Pose {
     sim.bodies.iter().map(|b| (b.pos, b.rot)).collect()
 }
 
-/// The last three stable states (tilt in degrees, pose), oldest first.
+/// The last four stable states (tilt in degrees, pose), oldest first.
 #[derive(Default)]
 struct Secant {
     states: Vec<(f64, Pose)>,
 }
 
+/// The predictor extrapolates only a nearly linear or a steadily accelerating response.
+/// With `r` the largest body motion per degree of an increment (last `r₂`, then `r₁`,
+/// `r₀`), it is used if `r₂ ≤ LINEAR_RESPONSE_RATIO r₁`, or if the motion has been
+/// accelerating for two increments (`r₁ ≥ STEADY_GROWTH r₀`) and `r₂ ≤
+/// ACCELERATING_RESPONSE_RATIO r₁` (a wall approaching its limit point). A sudden jump of
+/// the rate after a steady one is a local slip event (an end stone sliding): a linear jump
+/// would impose that slip again at every increment, and friction would keep it, so the
+/// increment relaxes from rest.
+const LINEAR_RESPONSE_RATIO: f64 = 1.2;
+/// See [`LINEAR_RESPONSE_RATIO`].
+const STEADY_GROWTH: f64 = 1.05;
+/// See [`LINEAR_RESPONSE_RATIO`].
+const ACCELERATING_RESPONSE_RATIO: f64 = 2.5;
+
 impl Secant {
     fn push(&mut self, alpha: f64, sim: &Simulation) {
         self.states.push((alpha, pose(sim)));
-        if self.states.len() > 3 {
+        if self.states.len() > 4 {
             self.states.remove(0);
         }
     }
 
+    /// Largest body motion ([`body_motion`] with a radius of 1 m) per degree of tilt between
+    /// two stable states.
+    fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
+        let m = a.1.iter().zip(&b.1).map(|(from, to)| body_motion(from, to, 1.0)).fold(0.0, f64::max);
+        m / (b.0 - a.0).abs()
+    }
+
+    /// Whether the response is smooth enough to extrapolate ([`LINEAR_RESPONSE_RATIO`]).
+    fn smooth(&self) -> bool {
+        let n = self.states.len();
+        if n < 3 {
+            return false;
+        }
+        let s = &self.states;
+        let (r1, r2) = (Self::rate(&s[n - 3], &s[n - 2]), Self::rate(&s[n - 2], &s[n - 1]));
+        if r2 <= LINEAR_RESPONSE_RATIO * r1 {
+            return true;
+        }
+        n == 4 && r1 >= STEADY_GROWTH * Self::rate(&s[0], &s[1]) && r2 <= ACCELERATING_RESPONSE_RATIO * r1
+    }
+
     /// The motion from the second-last to the last stable state, scaled linearly in tilt to
     /// an increment from the last state to `alpha` (degrees); `None` until three stable
-    /// states are known (the settled state and the first two increments start from rest).
-    /// Near a limit point the linear jump undershoots the accelerating motion, and the
-    /// secant acceleration of the relaxation (`dem::accelerate`) takes over from there.
+    /// states are known or where the response is not smooth ([`LINEAR_RESPONSE_RATIO`]; a
+    /// NaN rate, from a degenerate increment, is not smooth either).
     fn predict(&self, alpha: f64) -> Option<Prediction> {
-        let [_, s1, s2] = self.states.as_slice() else { return None };
-        let ((a1, p1), (a2, p2)) = (s1, s2);
+        if !self.smooth() {
+            return None;
+        }
+        let n = self.states.len();
+        let ((a1, p1), (a2, p2)) = (&self.states[n - 2], &self.states[n - 1]);
         let scale = (alpha - a2) / (a2 - a1);
         if !scale.is_finite() {
             return None;
