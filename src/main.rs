@@ -1,6 +1,6 @@
 //! The `drystone` command line: parsing (clap) and dispatch to one function per
-//! subcommand in [`cli`]; errors end the program with status 2. `anyhow` lives in the
-//! command line only.
+//! subcommand in [`cli`]; errors end the program with status 2 (and `run` or `merge` with
+//! status 3 when every realization failed). `anyhow` lives in the command line only.
 
 mod cli;
 
@@ -10,6 +10,12 @@ use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+/// The exit statuses of `run` and `merge`.
+const EXIT_STATUS: &str = "Exit status: 0 when the outputs are written and at least one realization succeeded \
+(if some failed, a warning on stderr gives their count; their rows carry the status and the error); \
+2 on an error (bad input, a file that cannot be read or written, a journal or shard of another run); \
+3 when every realization failed (the outputs are written all the same).";
 
 #[derive(Parser)]
 #[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
@@ -77,13 +83,19 @@ enum Command {
         tolerance: f64,
     },
     /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
+    ///
+    /// Every finished realization goes at once to DIR/journal.jsonl (synced); after a crash
+    /// or a kill, the same command with --resume runs only what is missing and writes
+    /// outputs identical to an uninterrupted run (except the wall_time_s column).
+    #[command(after_help = EXIT_STATUS)]
     Run {
         /// Study file (TOML).
         study: PathBuf,
-        /// Output directory. Default: out/<study name>.
+        /// Output directory, checked writable before anything runs. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads. Default: all cores.
+        /// Worker threads: 0 or absent means all cores; more than the cores available is
+        /// reduced to that number. The results do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
         /// Run only shard K of N (1-based, e.g. 3/8 for a job array); merge with `drystone merge`.
@@ -96,6 +108,12 @@ enum Command {
         /// instead of the suite's reduced default.
         #[arg(long)]
         full: bool,
+        /// Continue the run whose journal is in --out: skip the realizations it holds, run
+        /// the rest. Refused if the journal is of another run (seed, study, wall or
+        /// distribution files, realizations, shard); without a journal, starts afresh.
+        /// Without --resume, a journal of an unfinished run in --out is refused.
+        #[arg(long)]
+        resume: bool,
     },
     /// Calibrates joint parameters (Kn, φ) of a study's walls against the measured collapse
     /// angles, step by step as its [[calibrate]] table says (Brent root finding, argmin).
@@ -105,7 +123,8 @@ enum Command {
         /// Output directory. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads. Default: all cores.
+        /// Worker threads: 0 or absent means all cores; more than the cores available is
+        /// reduced to that number.
         #[arg(long)]
         threads: Option<usize>,
         /// Realizations per evaluation, overriding the study file.
@@ -113,6 +132,12 @@ enum Command {
         realizations: Option<u64>,
     },
     /// Merges shard directories of one study run into what an unsharded run writes.
+    ///
+    /// The shards must agree on the drystone version, the master seed, the realizations,
+    /// the number of shards and every input file (by SHA-256); the first difference is
+    /// named with both values. The study is rebuilt from the input files stored in the
+    /// manifests, so the study file need not be unchanged or where it was.
+    #[command(after_help = EXIT_STATUS)]
     Merge {
         /// Output directory.
         #[arg(long)]
@@ -263,8 +288,16 @@ fn run() -> anyhow::Result<ExitCode> {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
             cli::lateral::run(&layout, &params, json)
         }
-        Command::Run { study, out, threads, shard, realizations, full } => {
-            cli::study::run(&study, out, threads, shard.as_deref(), realizations, full)
+        Command::Run { study, out, threads, shard, realizations, full, resume } => {
+            cli::study::run(cli::study::RunArgs {
+                study: &study,
+                out,
+                threads,
+                shard: shard.as_deref(),
+                realizations,
+                full,
+                resume,
+            })
         }
         Command::Calibrate { study, out, threads, realizations } => {
             cli::study::calibrate(&study, out, threads, realizations)

@@ -9,6 +9,7 @@ use super::{ProtocolKind, Study};
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
 use crate::io::table::TableError;
+use crate::io::{replace_file, replace_file_with, FileError};
 use crate::stats;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -34,6 +35,12 @@ pub enum ReportError {
         /// The cause.
         source: std::io::Error,
     },
+}
+
+impl From<FileError> for ReportError {
+    fn from(e: FileError) -> Self {
+        ReportError::Io { path: e.path, source: e.source }
+    }
 }
 
 /// One note per group whose realizations all gave the same values (σ = 0 over more than one
@@ -110,8 +117,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
             );
         }
     }
-    let path = dir.join("report.md");
-    std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
+    replace_file(&dir.join("report.md"), md.as_bytes())?;
     Ok(printed)
 }
 
@@ -201,25 +207,17 @@ fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir
                 .collect(),
         })
         .collect();
-    let hist_path = dir.join("collapse_angle_histograms.svg");
-    plot::histograms(&hist_path, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?;
-    let disp_path = dir.join("displacement_vs_tilt.svg");
-    plot::bands(
-        &disp_path,
-        "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured",
-        "tilt [deg]",
-        "displacement [cm]",
-        &displacement_series(study, rows),
-    )?;
-    let frag_path = dir.join("fragility.svg");
-    plot::bands(
-        &frag_path,
-        "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)",
-        "tilt [deg]",
-        "P(collapse)",
-        &fragility_series(cells),
-    )?;
-    Ok(())
+    replace_file_with(&dir.join("collapse_angle_histograms.svg"), |p| -> Result<(), ReportError> {
+        Ok(plot::histograms(p, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?)
+    })?;
+    replace_file_with(&dir.join("displacement_vs_tilt.svg"), |p| -> Result<(), ReportError> {
+        let title = "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured";
+        Ok(plot::bands(p, title, "tilt [deg]", "displacement [cm]", &displacement_series(study, rows))?)
+    })?;
+    replace_file_with(&dir.join("fragility.svg"), |p| -> Result<(), ReportError> {
+        let title = "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)";
+        Ok(plot::bands(p, title, "tilt [deg]", "P(collapse)", &fragility_series(cells))?)
+    })
 }
 
 /// The collapse angle per cell.

@@ -3,7 +3,7 @@
 //! figure is not tabulated; its findings, stated in the text, are what is checked.
 
 use super::{arrangement_name, curve, PaperError};
-use crate::io::plot::{self, BandSeries};
+use crate::io::plot::BandSeries;
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::study::summary::CellSummary;
 use crate::study::text::{finite_mean, fixed, pct, verdict};
@@ -172,8 +172,9 @@ fn figure(d: Figure10, dir: &Path) -> Result<(), PaperError> {
             points_label: None,
         },
     ];
-    plot::bands(
-        &dir.join("figure10_joint_arrangement.svg"),
+    super::plot_bands(
+        dir,
+        "figure10_joint_arrangement.svg",
         "Top displacement under the trapezoidal load (paper Figure 10)",
         "Kn [1e7 Pa/m]",
         "top displacement [mm]",

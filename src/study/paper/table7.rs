@@ -3,7 +3,7 @@
 //! and the trends the paper reads from it.
 
 use super::{restrained, PaperError};
-use crate::io::plot::{self, BandSeries};
+use crate::io::plot::BandSeries;
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::study::summary::CellSummary;
 use crate::study::text::{fixed, verdict};
@@ -248,8 +248,9 @@ impl Table7 {
                 });
             }
         }
-        plot::bands(
-            &dir.join("table7_kn_phi.svg"),
+        super::plot_bands(
+            dir,
+            "table7_kn_phi.svg",
             "Collapse angle vs φ per Kn: drystone (lines), paper Table 7 (points)",
             "friction angle φ [deg]",
             "collapse angle [deg]",
