@@ -292,7 +292,7 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
 fn size_key(g: &GroupSpec, point: &SweepPoint) -> String {
     let label = super::point_label(point);
     if point.iter().any(|(k, _)| *k == SweepKey::LengthM) {
-        format!("sweep.length_m (point {label})")
+        format!("groups[{}] at sweep.length_m", g.name)
     } else if g.overrides.contains_key(SweepKey::LengthM.as_str()) {
         format!("groups[{}].overrides.length_m", g.name)
     } else if label.is_empty() {

@@ -92,6 +92,16 @@ pub fn machine_memory() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
+/// A value for a message: as written for ordinary magnitudes, in scientific notation
+/// beyond (`1e300`, `1e-9`).
+pub fn compact(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e7).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// What a study asks for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SizeEstimate {
@@ -149,10 +159,10 @@ pub fn check_blocks(wall: &Wall) -> Result<(), String> {
     Err(format!(
         "the layout would have about {} blocks (geometry.length_m = {}, geometry.height_m = {}, mean courses.height_m = {}, mean blocks.length_m = {}), about {} per simulation; the limit is {} blocks per layout",
         count(n.ceil()),
-        wall.length,
-        wall.height,
-        wall.course_height.mean(),
-        wall.block_length.mean(),
+        compact(wall.length),
+        compact(wall.height),
+        compact(wall.course_height.mean()),
+        compact(wall.block_length.mean()),
         human_bytes(n * BYTES_PER_BLOCK),
         MAX_BLOCKS
     ))
@@ -214,7 +224,7 @@ mod tests {
         assert!(err.contains("geometry.length_m = 1e300") && err.contains("limit is 100000"), "{err}");
         assert!(check_blocks(&wall(10_000.0, 0.05, "continuous")).is_err());
         let err = check_blocks(&wall(1.5, 1e-6, "continuous")).unwrap_err();
-        assert!(err.contains("courses.height_m = 0.000001"), "{err}");
+        assert!(err.contains("courses.height_m = 1e-6"), "{err}");
     }
 
     #[test]
