@@ -17,6 +17,15 @@ const EXIT_STATUS: &str = "Exit status: 0 when the outputs are written and at le
 2 on an error (bad input, a file that cannot be read or written, a journal or shard of another run); \
 3 when every realization failed (the outputs are written all the same).";
 
+/// The worker threads of a command that runs realizations in parallel.
+#[derive(clap::Args)]
+struct Workers {
+    /// Worker threads: 0 or absent means all cores; more than the cores available is
+    /// reduced to that number. The results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
 #[derive(Parser)]
 #[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
 struct Cli {
@@ -94,10 +103,8 @@ enum Command {
         /// Output directory, checked writable before anything runs. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads: 0 or absent means all cores; more than the cores available is
-        /// reduced to that number. The results do not depend on it.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Run only shard K of N (1-based, e.g. 3/8 for a job array); merge with `drystone merge`.
         #[arg(long)]
         shard: Option<String>,
@@ -123,10 +130,8 @@ enum Command {
         /// Output directory. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads: 0 or absent means all cores; more than the cores available is
-        /// reduced to that number.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Realizations per evaluation, overriding the study file.
         #[arg(long)]
         realizations: Option<u64>,
@@ -178,9 +183,8 @@ enum Command {
         /// Output directory. Default: out/<study name>-discrepancy.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads; 0 or absent: all cores.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Realizations per group on the fitting grids, overriding the study file.
         #[arg(long)]
         realizations: Option<u64>,
@@ -246,10 +250,24 @@ fn main() -> ExitCode {
     match run() {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// The error and its causes joined by `: `, each cause left out when the message before it
+/// already ends with it (most errors here print their cause themselves).
+fn message(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.ends_with(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
 }
 
 fn run() -> anyhow::Result<ExitCode> {
@@ -288,30 +306,30 @@ fn run() -> anyhow::Result<ExitCode> {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
             cli::lateral::run(&layout, &params, json)
         }
-        Command::Run { study, out, threads, shard, realizations, full, resume } => {
+        Command::Run { study, out, workers, shard, realizations, full, resume } => {
             cli::study::run(cli::study::RunArgs {
                 study: &study,
                 out,
-                threads,
+                threads: workers.threads,
                 shard: shard.as_deref(),
                 realizations,
                 full,
                 resume,
             })
         }
-        Command::Calibrate { study, out, threads, realizations } => {
-            cli::study::calibrate(&study, out, threads, realizations)
+        Command::Calibrate { study, out, workers, realizations } => {
+            cli::study::calibrate(&study, out, workers.threads, realizations)
         }
         Command::Merge { out, shards } => cli::study::merge(&out, &shards),
         Command::Verify { json } => cli::verify::run(json),
         Command::Generate { wall, seed, realization, out, distributions } => {
             cli::generate::run(&wall, seed, realization, &out, distributions)
         }
-        Command::Discrepancy { study, out, threads, realizations, measured, json } => {
+        Command::Discrepancy { study, out, workers, realizations, measured, json } => {
             cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
                 study,
                 out,
-                threads,
+                threads: workers.threads,
                 realizations,
                 measured,
                 json,

@@ -10,9 +10,9 @@
 //! ```
 //!
 //! Rows keep every number exact (see [`row`](super::row)), so the rows read back are the
-//! rows computed, bit for bit. A line is written with one `write` of the whole line and
-//! synced before the next item can be reported; the only damage a crash can leave is a
-//! last line cut short, which reading drops (and resuming cuts off).
+//! rows computed, bit for bit. A line is written whole under a lock and synced before the
+//! next one; a line that fails in part (a full disk) is cut off again. The only damage a
+//! crash can leave is a last line cut short, which reading drops (and resuming cuts off).
 
 use super::row::RealizationRow;
 use crate::io::FileError;
@@ -167,7 +167,14 @@ impl Journal {
     fn write_line(&self, mut line: String) -> Result<(), JournalError> {
         line.push('\n');
         let mut f = self.file.lock().unwrap_or_else(|p| p.into_inner());
-        f.write_all(line.as_bytes()).and_then(|()| f.sync_data()).map_err(FileError::at(&self.path))?;
+        let len = f.metadata().map_err(FileError::at(&self.path))?.len();
+        let written = f.write_all(line.as_bytes()).and_then(|()| f.sync_data());
+        if let Err(e) = written {
+            // A line written in part (e.g. a full disk) is taken back, so that a later line
+            // cannot follow it.
+            let _ = f.set_len(len);
+            return Err(FileError::at(&self.path)(e).into());
+        }
         Ok(())
     }
 }
