@@ -19,10 +19,9 @@ fn root() -> PathBuf {
 /// A self-contained copy of a small study in `dir`: the study file, its wall and its
 /// measured data. Returns the study path.
 fn copy_study(dir: &Path, seed: u64, description: &str) -> PathBuf {
-    for (from, to) in [
-        ("studies/walls/cbl.toml", "walls/cbl.toml"),
-        ("data/paper/tilting_table_collapse.csv", "data/collapse.csv"),
-    ] {
+    for (from, to) in
+        [("studies/walls/cbl.toml", "walls/cbl.toml"), ("data/paper/tilting_table_collapse.csv", "data/collapse.csv")]
+    {
         let to = dir.join(to);
         std::fs::create_dir_all(to.parent().unwrap()).unwrap();
         std::fs::copy(root().join(from), &to).unwrap();
@@ -145,7 +144,10 @@ fn merge_needs_neither_the_study_file_nor_its_walls() {
         let strip = |p: PathBuf| {
             let t = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             // realizations.csv: drop the last column (wall time).
-            t.lines().map(|l| if f == "realizations.csv" { l.rsplit_once(',').unwrap().0 } else { l }).collect::<Vec<_>>().join("\n")
+            t.lines()
+                .map(|l| if f == "realizations.csv" { l.rsplit_once(',').unwrap().0 } else { l })
+                .collect::<Vec<_>>()
+                .join("\n")
         };
         assert_eq!(strip(whole.join(f)), strip(merged.join(f)), "{f} differs");
     }

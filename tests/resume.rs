@@ -115,7 +115,8 @@ fn a_killed_run_resumes_to_the_outputs_of_an_uninterrupted_one() {
     assert!((finished..ITEMS).contains(&resumed), "{resumed} resumed, {finished} were in the journal");
     assert_eq!(journal_rows(&killed), ITEMS, "every item once in the journal");
 
-    for f in ["summary.csv", "report.md", "collapse_angle_histograms.svg", "fragility.svg", "displacement_vs_tilt.svg"] {
+    for f in ["summary.csv", "report.md", "collapse_angle_histograms.svg", "fragility.svg", "displacement_vs_tilt.svg"]
+    {
         assert_eq!(read(&whole.join(f)), read(&killed.join(f)), "{f} differs");
     }
     assert_eq!(without_wall_time(&whole.join("realizations.csv")), without_wall_time(&killed.join("realizations.csv")));
@@ -154,10 +155,8 @@ fn an_unwritable_out_is_refused_before_anything_runs() {
 fn every_realization_failing_is_exit_status_3_and_the_outputs_are_written() {
     let scratch = common::Scratch::created("resume-all-failed");
     // No equilibrium at alpha = 0 within 5 steps: every realization fails.
-    let text_of = std::fs::read_to_string(study()).unwrap().replace(
-        "[tilt]\n",
-        "[tilt]\nmax_steps_per_increment = 5\n",
-    );
+    let text_of =
+        std::fs::read_to_string(study()).unwrap().replace("[tilt]\n", "[tilt]\nmax_steps_per_increment = 5\n");
     let text_of = text_of.replace("../../../", &format!("{}/", root().display()));
     let s = scratch.join("failing.toml");
     std::fs::write(&s, text_of).unwrap();

@@ -6,7 +6,7 @@ use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
 use drystone::study::shards::{check_writable, merge as merge_shards, run_into};
 use drystone::study::size::{human_bytes, machine_memory};
-use drystone::study::suite::{is_suite, run_suite, Suite};
+use drystone::study::suite::{is_suite, run_suite_with, Suite};
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -139,7 +139,7 @@ fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, 
     }
     let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
-    let done = pool.install(|| run_suite(&suite, &dir, resume, |line| out!("{line}")))?;
+    let done = pool.install(|| run_suite_with(&suite, &dir, resume, |line| out!("{line}")))?;
     out!(
         "suite {}: {} studies on {} threads in {:.1} s -> {}",
         suite.name,

@@ -59,10 +59,7 @@ pub fn replace_file(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
 ///
 /// # Errors
 /// `write`'s error, or [`FileError`] naming `path`; the temporary file is removed.
-pub fn replace_file_with<E: From<FileError>>(
-    path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), E>,
-) -> Result<(), E> {
+pub fn replace_file_with<E: From<FileError>>(path: &Path, write: impl FnOnce(&Path) -> Result<(), E>) -> Result<(), E> {
     let tmp = temporary_name(path);
     let done = write(&tmp).and_then(|()| {
         let sync = std::fs::File::open(&tmp).and_then(|f| f.sync_all());

@@ -167,7 +167,8 @@ mod tests {
 
     #[test]
     fn paths_are_relative_to_the_deepest_common_directory() {
-        let paths = [Path::new("/a/b/studies/s.toml"), Path::new("/a/b/studies/walls/w.toml"), Path::new("/a/b/d/x.toml")];
+        let paths =
+            [Path::new("/a/b/studies/s.toml"), Path::new("/a/b/studies/walls/w.toml"), Path::new("/a/b/d/x.toml")];
         let root = common_dir(paths.iter().copied());
         assert_eq!(root, Path::new("/a/b"));
         assert_eq!(relative(paths[1], &root), "studies/walls/w.toml");

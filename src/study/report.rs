@@ -151,8 +151,21 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "Top displacement: the largest of the three top points (left, centre, right), in mm; drift = top displacement / H. Statistics over the realizations that reached equilibrium.\n");
     let mm = |v: f64| num(10.0 * v);
     let header = [
-        "group", "sweep", "n", "failed", "collapsed", "mean [mm]", "σ [mm]", "COV", "min", "max",
-        "95 % CI of mean [mm]", "95 % bootstrap COV", "centre mean [mm]", "drift mean", "drift σ",
+        "group",
+        "sweep",
+        "n",
+        "failed",
+        "collapsed",
+        "mean [mm]",
+        "σ [mm]",
+        "COV",
+        "min",
+        "max",
+        "95 % CI of mean [mm]",
+        "95 % bootstrap COV",
+        "centre mean [mm]",
+        "drift mean",
+        "drift σ",
     ];
     md_table(
         md,
@@ -244,8 +257,19 @@ fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir
 fn collapse_table(cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
     let header = [
-        "group", "sweep", "n", "failed", "stood", "mean", "σ", "COV", "min", "max", "95 % CI of mean",
-        "95 % bootstrap σ", "lognormal median, β",
+        "group",
+        "sweep",
+        "n",
+        "failed",
+        "stood",
+        "mean",
+        "σ",
+        "COV",
+        "min",
+        "max",
+        "95 % CI of mean",
+        "95 % bootstrap σ",
+        "lognormal median, β",
     ];
     md_table(
         md,
@@ -302,8 +326,14 @@ fn comparison_table(cmp: &[Comparison], md: &mut String) {
         "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n"
     );
     let header = [
-        "group", "quantity", "measured mean ± σ (n)", "simulated mean ± σ (n)", "simulated − measured", "95 % band",
-        "measured mean inside", "specimens inside",
+        "group",
+        "quantity",
+        "measured mean ± σ (n)",
+        "simulated mean ± σ (n)",
+        "simulated − measured",
+        "95 % band",
+        "measured mean inside",
+        "specimens inside",
     ];
     md_table(
         md,
@@ -414,7 +444,15 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             let mut s = c.angles.clone();
             s.sort_by(f64::total_cmp);
             let measured = s.iter().map(|&a| (a, stats::empirical_fragility(&c.angles, a))).collect();
-            Some(BandSeries { label: cell_title(c), x, mid: p.clone(), lo: p.clone(), hi: p, measured, points_label: None })
+            Some(BandSeries {
+                label: cell_title(c),
+                x,
+                mid: p.clone(),
+                lo: p.clone(),
+                hi: p,
+                measured,
+                points_label: None,
+            })
         })
         .collect()
 }

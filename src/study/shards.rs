@@ -370,7 +370,8 @@ fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
     let path = provenance::materialize(&manifest.inputs, scratch).map_err(merge_error)?;
     let mut study = Study::from_file(&path).map_err(|e| merge_error(format!("the stored study: {e}")))?;
     study.realizations = manifest.realizations;
-    if let Some(d) = provenance::first_difference(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study") {
+    if let Some(d) = provenance::first_difference(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study")
+    {
         return Err(merge_error(format!("the stored inputs do not rebuild the study: {d}")));
     }
     Ok(study)

@@ -43,9 +43,10 @@ pub fn estimated_blocks(wall: &Wall) -> f64 {
     match &wall.arrangement {
         Arrangement::Irregular(ir) => {
             let shortest = ir.min_wedge_length.max(1e-6 * lbar);
-            let per_gap = ir.wedge_length.as_ref().map_or(1.0, |d| {
-                per(wall.block_length.practical_max(), d.mean().max(shortest)).ceil().max(1.0)
-            });
+            let per_gap = ir
+                .wedge_length
+                .as_ref()
+                .map_or(1.0, |d| per(wall.block_length.practical_max(), d.mean().max(shortest)).ceil().max(1.0));
             stones * (1.0 + 2.0 * per_gap)
         }
         _ => stones,
@@ -130,12 +131,7 @@ pub fn check_items(realizations: &[u64], points: f64) -> Result<(), String> {
         return Ok(());
     }
     let how = if realizations.windows(2).all(|w| w[0] == w[1]) {
-        format!(
-            "{} realizations × {} group(s) × {} sweep point(s)",
-            realizations[0],
-            realizations.len(),
-            count(points)
-        )
+        format!("{} realizations × {} group(s) × {} sweep point(s)", realizations[0], realizations.len(), count(points))
     } else {
         let sum: u64 = realizations.iter().fold(0u64, |a, &r| a.saturating_add(r));
         format!("{sum} realizations over the groups × {} sweep point(s)", count(points))
@@ -171,12 +167,7 @@ pub fn check_blocks(wall: &Wall) -> Result<(), String> {
 impl Study {
     /// The size of the study as it stands (after any `--realizations`).
     pub fn size(&self) -> SizeEstimate {
-        let blocks = self
-            .groups
-            .iter()
-            .flat_map(|g| g.walls.iter())
-            .map(estimated_blocks)
-            .fold(0.0, f64::max);
+        let blocks = self.groups.iter().flat_map(|g| g.walls.iter()).map(estimated_blocks).fold(0.0, f64::max);
         let counts: Vec<u64> = (0..self.groups.len()).map(|g| self.group_realizations(g)).collect();
         let items = counts.iter().map(|&r| r as f64).sum::<f64>() * self.points.len() as f64;
         SizeEstimate { items, largest_layout_blocks: blocks }
@@ -231,7 +222,10 @@ mod tests {
     fn item_counts_beyond_the_limit_are_refused_with_the_estimate() {
         assert!(check_items(&[12, 12, 12], 4.0).is_ok());
         let err = check_items(&[1_000_000_000; 3], 1.0).unwrap_err();
-        assert!(err.starts_with("1000000000 realizations × 3 group(s) × 1 sweep point(s) = 3000000000 work items"), "{err}");
+        assert!(
+            err.starts_with("1000000000 realizations × 3 group(s) × 1 sweep point(s) = 3000000000 work items"),
+            "{err}"
+        );
         assert!(err.contains("TiB"), "{err}");
         let err = check_items(&[1, u64::MAX], 2.0).unwrap_err();
         assert!(err.contains("realizations over the groups"), "{err}");

@@ -166,13 +166,21 @@ pub struct SuiteOutcome {
 }
 
 /// Runs every study of a suite on the current rayon pool and writes the outputs and the
-/// combined report into `dir`, each ensemble with its journal in `DIR/<study name>/`
-/// (continued with `resume`, see [`run_into`]). Every output directory is checked
-/// writable first. `progress` is called with a line per finished study.
+/// combined report into `dir`; returns the report. `progress` is called with a line per
+/// finished study. See [`run_suite_with`].
 ///
 /// # Errors
 /// [`SuiteError`] naming the study or file.
-pub fn run_suite(
+pub fn run_suite(suite: &Suite, dir: &Path, progress: impl FnMut(&str)) -> Result<PathBuf, SuiteError> {
+    run_suite_with(suite, dir, false, progress).map(|o| o.report)
+}
+
+/// As [`run_suite`], each ensemble with its journal in `DIR/<study name>/` (continued with
+/// `resume`, see [`run_into`]); every output directory is checked writable first.
+///
+/// # Errors
+/// [`SuiteError`] naming the study or file.
+pub fn run_suite_with(
     suite: &Suite,
     dir: &Path,
     resume: bool,
