@@ -1,6 +1,6 @@
 //! The `drystone` command line: parsing (clap) and dispatch to one function per
-//! subcommand in [`cli`]; errors end the program with status 2. `anyhow` lives in the
-//! command line only.
+//! subcommand in [`cli`]; errors end the program with status 2 (and `run` or `merge` with
+//! status 3 when every realization failed). `anyhow` lives in the command line only.
 
 mod cli;
 
@@ -10,6 +10,21 @@ use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+/// The exit statuses of `run` and `merge`.
+const EXIT_STATUS: &str = "Exit status: 0 when the outputs are written and at least one realization succeeded \
+(if some failed, a warning on stderr gives their count; their rows carry the status and the error); \
+2 on an error (bad input, a file that cannot be read or written, a journal or shard of another run); \
+3 when every realization failed (the outputs are written all the same).";
+
+/// The worker threads of a command that runs realizations in parallel.
+#[derive(clap::Args)]
+struct Workers {
+    /// Worker threads: 0 or absent means all cores; more than the cores available is
+    /// reduced to that number. The results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
 
 #[derive(Parser)]
 #[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
@@ -81,15 +96,19 @@ enum Command {
         tolerance: f64,
     },
     /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
+    ///
+    /// Every finished realization goes at once to DIR/journal.jsonl (synced); after a crash
+    /// or a kill, the same command with --resume runs only what is missing and writes
+    /// outputs identical to an uninterrupted run (except the wall_time_s column).
+    #[command(after_help = EXIT_STATUS)]
     Run {
         /// Study file (TOML).
         study: PathBuf,
-        /// Output directory. Default: out/<study name>.
+        /// Output directory, checked writable before anything runs. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads. Default: all cores.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Run only shard K of N (1-based, e.g. 3/8 for a job array); merge with `drystone merge`.
         #[arg(long)]
         shard: Option<String>,
@@ -100,6 +119,12 @@ enum Command {
         /// instead of the suite's reduced default.
         #[arg(long)]
         full: bool,
+        /// Continue the run whose journal is in --out: skip the realizations it holds, run
+        /// the rest. Refused if the journal is of another run (seed, study, wall or
+        /// distribution files, realizations, shard); without a journal, starts afresh.
+        /// Without --resume, a journal of an unfinished run in --out is refused.
+        #[arg(long)]
+        resume: bool,
     },
     /// Calibrates joint parameters (Kn, φ) of a study's walls against the measured collapse
     /// angles, step by step as its [[calibrate]] table says (Brent root finding, argmin).
@@ -109,14 +134,19 @@ enum Command {
         /// Output directory. Default: out/<study name>.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads. Default: all cores.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Realizations per evaluation, overriding the study file.
         #[arg(long)]
         realizations: Option<u64>,
     },
     /// Merges shard directories of one study run into what an unsharded run writes.
+    ///
+    /// The shards must agree on the drystone version, the master seed, the realizations,
+    /// the number of shards and every input file (by SHA-256); the first difference is
+    /// named with both values. The study is rebuilt from the input files stored in the
+    /// manifests, so the study file need not be unchanged or where it was.
+    #[command(after_help = EXIT_STATUS)]
     Merge {
         /// Output directory.
         #[arg(long)]
@@ -157,9 +187,8 @@ enum Command {
         /// Output directory. Default: out/<study name>-discrepancy.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads; 0 or absent: all cores.
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        workers: Workers,
         /// Realizations per group on the fitting grids, overriding the study file.
         #[arg(long)]
         realizations: Option<u64>,
@@ -228,10 +257,24 @@ fn main() -> ExitCode {
     match run() {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// The error and its causes joined by `: `, each cause left out when the message before it
+/// already ends with it (most errors here print their cause themselves).
+fn message(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.ends_with(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
 }
 
 fn run() -> anyhow::Result<ExitCode> {
@@ -277,22 +320,30 @@ fn run() -> anyhow::Result<ExitCode> {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
             cli::lateral::run(&layout, &params, json)
         }
-        Command::Run { study, out, threads, shard, realizations, full } => {
-            cli::study::run(&study, out, threads, shard.as_deref(), realizations, full)
+        Command::Run { study, out, workers, shard, realizations, full, resume } => {
+            cli::study::run(cli::study::RunArgs {
+                study: &study,
+                out,
+                threads: workers.threads,
+                shard: shard.as_deref(),
+                realizations,
+                full,
+                resume,
+            })
         }
-        Command::Calibrate { study, out, threads, realizations } => {
-            cli::study::calibrate(&study, out, threads, realizations)
+        Command::Calibrate { study, out, workers, realizations } => {
+            cli::study::calibrate(&study, out, workers.threads, realizations)
         }
         Command::Merge { out, shards } => cli::study::merge(&out, &shards),
         Command::Verify { json } => cli::verify::run(json),
         Command::Generate { wall, seed, realization, out, distributions } => {
             cli::generate::run(&wall, seed, realization, &out, distributions)
         }
-        Command::Discrepancy { study, out, threads, realizations, measured, json } => {
+        Command::Discrepancy { study, out, workers, realizations, measured, json } => {
             cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
                 study,
                 out,
-                threads,
+                threads: workers.threads,
                 realizations,
                 measured,
                 json,

@@ -19,7 +19,23 @@ pub mod study;
 pub mod tilt;
 pub mod verify;
 
-/// A rayon pool of `threads` workers (all cores when `None`).
+/// The number of worker threads for `--threads`: absent or 0 means every core available
+/// to the process; more than that is reduced to it (with a warning), since a simulation
+/// is single-threaded and extra threads would only share the cores and add memory. The
+/// results never depend on it.
+fn thread_count(threads: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match threads {
+        None | Some(0) => cores,
+        Some(n) if n > cores => {
+            eprintln!("warning: --threads {n} is more than the {cores} core(s) available; using {cores}");
+            cores
+        }
+        Some(n) => n,
+    }
+}
+
+/// A rayon pool of [`thread_count`] workers.
 fn pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
-    Ok(rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()?)
+    Ok(rayon::ThreadPoolBuilder::new().num_threads(thread_count(threads)).build()?)
 }

@@ -1,59 +1,114 @@
 //! `drystone run`, `calibrate` and `merge`: studies, suites, calibrations and shards.
 
-use super::pool;
+use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
-use drystone::study::run::run_study;
-use drystone::study::shards::{read_shards, write_outputs};
-use drystone::study::suite::{is_suite, run_suite, Suite};
+use drystone::study::shards::{check_writable, merge as merge_shards, run_into};
+use drystone::study::size::{human_bytes, machine_memory};
+use drystone::study::suite::{is_suite, run_suite_with, Suite};
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// Exit status of a run in which every realization failed (the outputs are written all
+/// the same).
+pub const ALL_FAILED: u8 = 3;
+
+/// The options of `run`.
+pub struct RunArgs<'a> {
+    /// Study or suite file.
+    pub study: &'a Path,
+    /// `--out`.
+    pub out: Option<PathBuf>,
+    /// `--threads`.
+    pub threads: Option<usize>,
+    /// `--shard`.
+    pub shard: Option<&'a str>,
+    /// `--realizations`.
+    pub realizations: Option<u64>,
+    /// `--full`.
+    pub full: bool,
+    /// `--resume`.
+    pub resume: bool,
+}
+
 /// `run`: a suite, or one study (or one shard of it).
-pub fn run(
-    study: &Path,
-    out: Option<PathBuf>,
-    threads: Option<usize>,
-    shard: Option<&str>,
-    realizations: Option<u64>,
-    full: bool,
-) -> Result<ExitCode> {
+pub fn run(a: RunArgs) -> Result<ExitCode> {
+    let study = a.study;
     if is_suite(study) {
-        if shard.is_some() || realizations.is_some() {
+        if a.shard.is_some() || a.realizations.is_some() {
             bail!("{}: --shard and --realizations apply to single studies; a suite takes --full", study.display());
         }
-        return suite(study, out, threads, full);
+        return suite(study, a.out, a.threads, a.full, a.resume);
     }
-    if full {
+    if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
-    let st = load(study, realizations)?;
-    let shard = shard.map_or(Ok(Shard::ALL), Shard::parse)?;
-    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
-    let pool = pool(threads)?;
+    let st = load(study, a.realizations)?;
+    let shard = a.shard.map_or(Ok(Shard::ALL), Shard::parse)?;
+    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
+    let threads = thread_count(a.threads);
+    check_memory(&st, threads)?;
+    let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
-    let rows = pool.install(|| run_study(&st, shard));
+    let run = pool.install(|| run_into(&st, study, shard, &dir, a.resume))?;
     let elapsed = t0.elapsed().as_secs_f64();
-    let text = write_outputs(&st, study, shard, &rows, &dir)?;
-    let failed = rows.iter().filter(|r| !r.status.is_ok()).count();
+    let failed = run.rows.iter().filter(|r| !r.status.is_ok()).count();
+    let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
     out!(
-        "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
+        "study {}: {} realizations ({} failed{}) on {} threads in {:.1} s -> {}",
         st.name,
-        rows.len(),
+        run.rows.len(),
         failed,
+        resumed,
         pool.current_num_threads(),
         elapsed,
         dir.display()
     );
-    if let Some(t) = text {
+    if let Some(t) = run.text {
         out!("{t}");
         out!("report: {}", dir.join("report.md").display());
     } else {
         out!("shard written; join the shards with `drystone merge --out DIR SHARD_DIRS...`");
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(failures(run.rows.len(), failed))
+}
+
+/// The exit status for `failed` of `total` realizations: success, with a warning on
+/// stderr when some failed; [`ALL_FAILED`] when all did.
+fn failures(total: usize, failed: usize) -> ExitCode {
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else if failed < total {
+        eprintln!(
+            "warning: {failed} of {total} realizations failed; their rows give the status and the error (realizations.csv), the statistics use the others"
+        );
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("error: every realization ({total}) failed; see the status and error columns of realizations.csv");
+        ExitCode::from(ALL_FAILED)
+    }
+}
+
+/// Refuses a study whose memory estimate on `threads` threads exceeds this machine's
+/// memory.
+fn check_memory(st: &Study, threads: usize) -> Result<()> {
+    let size = st.size();
+    let need = size.memory_bytes(threads);
+    if let Some(have) = machine_memory() {
+        if need > have {
+            bail!(
+                "study {}: {} work items and layouts of up to about {:.0} blocks on {threads} thread(s) need about {} of memory; this machine has {} (fewer --threads or --realizations, or a smaller sweep)",
+                st.name,
+                size.items,
+                size.largest_layout_blocks,
+                human_bytes(need),
+                human_bytes(have)
+            );
+        }
+    }
+    Ok(())
 }
 
 /// A study file with `--realizations` applied.
@@ -61,32 +116,39 @@ fn load(study: &Path, realizations: Option<u64>) -> Result<Study> {
     load_with(Study::from_file(study)?, realizations)
 }
 
-/// A study with `--realizations` applied.
+/// A study with `--realizations` applied, its size checked.
 fn load_with(mut st: Study, realizations: Option<u64>) -> Result<Study> {
     if let Some(n) = realizations {
         if n == 0 {
             bail!("--realizations must be at least 1");
         }
         st.realizations = n;
+        if let Err(reason) = st.check_items() {
+            bail!("--realizations {n}: {}: {reason}", st.path.display());
+        }
     }
     Ok(st)
 }
 
-fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool) -> Result<ExitCode> {
+fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, resume: bool) -> Result<ExitCode> {
     let suite = Suite::from_file(path, full)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&suite.name));
-    let pool = pool(threads)?;
+    let threads = thread_count(threads);
+    for (_, _, st) in &suite.studies {
+        check_memory(st, threads)?;
+    }
+    let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
-    let report = pool.install(|| run_suite(&suite, &dir, |line| out!("{line}")))?;
+    let done = pool.install(|| run_suite_with(&suite, &dir, resume, |line| out!("{line}")))?;
     out!(
         "suite {}: {} studies on {} threads in {:.1} s -> {}",
         suite.name,
         suite.studies.len(),
         pool.current_num_threads(),
         t0.elapsed().as_secs_f64(),
-        report.display()
+        done.report.display()
     );
-    Ok(ExitCode::SUCCESS)
+    Ok(failures(done.realizations, done.failed))
 }
 
 /// `calibrate`: the study's `[[calibrate]]` steps.
@@ -102,6 +164,7 @@ pub fn calibrate(
     }
     let st = load_with(st, realizations)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
+    check_writable(&dir)?;
     let pool = pool(threads)?;
     let t0 = std::time::Instant::now();
     let results = pool
@@ -122,13 +185,17 @@ pub fn calibrate(
 
 /// `merge`: shard directories into what an unsharded run writes.
 pub fn merge(out: &Path, shards: &[PathBuf]) -> Result<ExitCode> {
-    let (manifest, rows) = read_shards(shards)?;
-    let mut st = Study::from_file(&manifest.study)?;
-    st.realizations = manifest.realizations;
-    let text = write_outputs(&st, &manifest.study, Shard::ALL, &rows, out)?;
-    out!("merged {} shards, {} realizations -> {}", shards.len(), rows.len(), out.display());
-    if let Some(t) = text {
+    let merged = merge_shards(shards, out)?;
+    let failed = merged.rows.iter().filter(|r| !r.status.is_ok()).count();
+    out!(
+        "merged {} shards, {} realizations (seed {}) -> {}",
+        shards.len(),
+        merged.rows.len(),
+        merged.study.seed,
+        out.display()
+    );
+    if let Some(t) = merged.text {
         out!("{t}");
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(failures(merged.rows.len(), failed))
 }

@@ -1,5 +1,6 @@
 //! Ensembles: the work items of a study (group × sweep point × realization), run in
-//! parallel with rayon, sharded across machines, merged back.
+//! parallel with rayon, journaled as they finish ([`journal`]), sharded across machines,
+//! merged back.
 //!
 //! # Determinism
 //!
@@ -11,6 +12,7 @@
 //! realization i the same alone or inside the ensemble, and shards that merge into exactly
 //! the unsharded run.
 
+pub mod journal;
 pub mod row;
 
 use indicatif::{ProgressBar, ProgressStyle};

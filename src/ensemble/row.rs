@@ -1,4 +1,9 @@
 //! The record of one realization: what `realizations.parquet` / `.csv` hold, one row each.
+//!
+//! A row also serializes (serde) with every number exact: finite values as JSON numbers
+//! (shortest round-trip form), the others as text (`NaN`, `inf`, `-inf`, or the bit
+//! pattern `0x…` of a NaN other than the usual one). The journal of a run relies on it: a
+//! row read back is the row written, bit for bit.
 
 use serde::{Deserialize, Serialize};
 
@@ -68,8 +73,10 @@ pub struct RealizationRow {
     /// Number of blocks of the layout.
     pub blocks: u64,
     /// Collapse angle α_max (last stable tilt), degrees.
+    #[serde(with = "exact::opt")]
     pub collapse_angle_deg: Option<f64>,
     /// First unstable tilt, degrees.
+    #[serde(with = "exact::opt")]
     pub first_unstable_deg: Option<f64>,
     /// Why the first unstable tilt failed.
     pub collapse_reason: String,
@@ -80,30 +87,41 @@ pub struct RealizationRow {
     /// Number of blocks that moved at collapse.
     pub moving_blocks: u64,
     /// Tilt of each stable increment, degrees.
+    #[serde(with = "exact::vec")]
     pub tilt_deg: Vec<f64>,
     /// Out-of-plane displacement of the top-left point at each stable increment, cm.
+    #[serde(with = "exact::vec")]
     pub disp_top_left_cm: Vec<f64>,
     /// Same, top-centre point.
+    #[serde(with = "exact::vec")]
     pub disp_top_centre_cm: Vec<f64>,
     /// Same, top-right point.
+    #[serde(with = "exact::vec")]
     pub disp_top_right_cm: Vec<f64>,
     /// Static lateral load: out-of-plane (y) displacement of the top-left point at
     /// equilibrium, cm (positive in the direction of the load).
+    #[serde(with = "exact::opt")]
     pub lateral_disp_left_cm: Option<f64>,
     /// Same, top-centre point.
+    #[serde(with = "exact::opt")]
     pub lateral_disp_centre_cm: Option<f64>,
     /// Same, top-right point.
+    #[serde(with = "exact::opt")]
     pub lateral_disp_right_cm: Option<f64>,
     /// Static lateral load: top displacement (largest |displacement| of left, centre,
     /// right), cm.
+    #[serde(with = "exact::opt")]
     pub lateral_disp_max_cm: Option<f64>,
     /// Static lateral load: drift, top displacement / H (dimensionless).
+    #[serde(with = "exact::opt")]
     pub lateral_drift: Option<f64>,
     /// Engine steps.
     pub steps: u64,
     /// Time step, s.
+    #[serde(with = "exact::one")]
     pub dt_s: f64,
     /// Wall-clock time, s (the only non-deterministic column).
+    #[serde(with = "exact::one")]
     pub wall_time_s: f64,
 }
 
@@ -142,5 +160,164 @@ impl RealizationRow {
             "center_minus_mean_of_ends" => self.disp_centre_rel_at(tilt),
             _ => None,
         }
+    }
+}
+
+/// Serde of `f64` values that keeps every bit: finite numbers as JSON numbers, the others
+/// as text.
+mod exact {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// A number as written: a JSON number or a text for the values JSON has no number for.
+    #[derive(Serialize, Deserialize)]
+    #[serde(untagged)]
+    enum Repr {
+        Number(f64),
+        Text(String),
+    }
+
+    fn to_repr(v: f64) -> Repr {
+        if v.is_finite() {
+            Repr::Number(v)
+        } else if v.to_bits() == f64::NAN.to_bits() {
+            Repr::Text("NaN".into())
+        } else if v.is_nan() {
+            Repr::Text(format!("0x{:016x}", v.to_bits()))
+        } else if v > 0.0 {
+            Repr::Text("inf".into())
+        } else {
+            Repr::Text("-inf".into())
+        }
+    }
+
+    fn from_repr<E: serde::de::Error>(r: Repr) -> Result<f64, E> {
+        match r {
+            Repr::Number(v) => Ok(v),
+            Repr::Text(t) => match t.as_str() {
+                "NaN" => Ok(f64::NAN),
+                "inf" => Ok(f64::INFINITY),
+                "-inf" => Ok(f64::NEG_INFINITY),
+                _ => t
+                    .strip_prefix("0x")
+                    .and_then(|h| u64::from_str_radix(h, 16).ok())
+                    .map(f64::from_bits)
+                    .ok_or_else(|| E::custom(format!("{t:?} is not a number"))),
+            },
+        }
+    }
+
+    /// One `f64`.
+    pub mod one {
+        use super::*;
+
+        pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+            to_repr(*v).serialize(s)
+        }
+
+        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+            from_repr(Repr::deserialize(d)?)
+        }
+    }
+
+    /// An `Option<f64>` (`null` for `None`).
+    pub mod opt {
+        use super::*;
+
+        pub fn serialize<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+            v.map(to_repr).serialize(s)
+        }
+
+        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+            Option::<Repr>::deserialize(d)?.map(from_repr).transpose()
+        }
+    }
+
+    /// A `Vec<f64>`.
+    pub mod vec {
+        use super::*;
+
+        pub fn serialize<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+            v.iter().map(|x| to_repr(*x)).collect::<Vec<_>>().serialize(s)
+        }
+
+        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+            Vec::<Repr>::deserialize(d)?.into_iter().map(from_repr).collect()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(values: &[f64]) -> RealizationRow {
+        RealizationRow {
+            index: 3,
+            study: "s".into(),
+            group: "g".into(),
+            point: 1,
+            sweep: "kn_pa_per_m=1".into(),
+            seed: u64::MAX,
+            realization: 2,
+            status: Status::Collapsed,
+            error: String::new(),
+            blocks: 9,
+            collapse_angle_deg: Some(values[0]),
+            first_unstable_deg: None,
+            collapse_reason: "totaldisplacement".into(),
+            mechanism: "mixed".into(),
+            joint: "b1-b2".into(),
+            moving_blocks: 4,
+            tilt_deg: values.to_vec(),
+            disp_top_left_cm: values.iter().rev().copied().collect(),
+            disp_top_centre_cm: vec![],
+            disp_top_right_cm: vec![f64::NAN],
+            lateral_disp_left_cm: Some(values[values.len() - 1]),
+            lateral_disp_centre_cm: None,
+            lateral_disp_right_cm: Some(f64::NEG_INFINITY),
+            lateral_disp_max_cm: Some(-0.0),
+            lateral_drift: None,
+            steps: 77,
+            dt_s: values[1],
+            wall_time_s: 0.25,
+        }
+    }
+
+    fn bits(r: &RealizationRow) -> Vec<u64> {
+        let mut v: Vec<f64> = vec![r.collapse_angle_deg.unwrap(), r.dt_s, r.wall_time_s];
+        v.extend(&r.tilt_deg);
+        v.extend(&r.disp_top_left_cm);
+        v.extend(&r.disp_top_right_cm);
+        v.extend([r.lateral_disp_left_cm, r.lateral_disp_right_cm, r.lateral_disp_max_cm].map(Option::unwrap));
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    #[test]
+    fn a_row_survives_json_bit_for_bit() {
+        let mut values = vec![
+            0.1 + 0.2,
+            -0.0,
+            f64::MIN_POSITIVE / 3.0,
+            f64::MAX,
+            1e300,
+            20.0,
+            f64::NAN,
+            -f64::NAN,
+            f64::from_bits(0x7ff0_0000_0000_0001),
+            f64::INFINITY,
+        ];
+        // Pseudo-random bit patterns (a fixed LCG).
+        let mut x = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..200 {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            values.push(f64::from_bits(x));
+        }
+        let r = row(&values);
+        let text = serde_json::to_string(&r).unwrap();
+        assert!(!text.contains('\n'));
+        let back: RealizationRow = serde_json::from_str(&text).unwrap();
+        assert_eq!(bits(&back), bits(&r));
+        assert_eq!(serde_json::to_string(&back).unwrap(), text);
+        assert!(serde_json::from_str::<RealizationRow>(&text.replace("\"-inf\"", "\"minus\"")).is_err());
     }
 }

@@ -106,27 +106,35 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
     ])
 }
 
-/// Writes `realizations.parquet` and `realizations.csv` into `dir`.
+/// Writes `realizations.parquet` and `realizations.csv` into `dir`, each replaced whole
+/// ([`super::replace_file`]).
 ///
 /// # Errors
 /// [`TableError`] naming the file.
 pub fn write_realizations(rows: &[RealizationRow], dir: &Path) -> Result<(), TableError> {
     let pq = dir.join("realizations.parquet");
     let mut df = realizations_frame(rows, true).map_err(pe(&pq))?;
-    let f = File::create(&pq).map_err(|source| TableError::Io { path: pq.clone(), source })?;
-    ParquetWriter::new(f).finish(&mut df).map_err(pe(&pq))?;
+    let mut bytes = Vec::new();
+    ParquetWriter::new(&mut bytes).finish(&mut df).map_err(pe(&pq))?;
+    replace(&pq, &bytes)?;
     let csv = dir.join("realizations.csv");
     let mut df = realizations_frame(rows, false).map_err(pe(&csv))?;
     write_csv(&mut df, &csv)
 }
 
-/// Writes a data frame as CSV with a header.
+/// Writes a data frame as CSV with a header, replacing the file whole.
 ///
 /// # Errors
 /// [`TableError`] naming the file.
 pub fn write_csv(df: &mut DataFrame, path: &Path) -> Result<(), TableError> {
-    let f = File::create(path).map_err(|source| TableError::Io { path: path.to_owned(), source })?;
-    CsvWriter::new(f).include_header(true).finish(df).map_err(pe(path))
+    let mut bytes = Vec::new();
+    CsvWriter::new(&mut bytes).include_header(true).finish(df).map_err(pe(path))?;
+    replace(path, &bytes)
+}
+
+/// The bytes of a table into `path`, whole.
+fn replace(path: &Path, bytes: &[u8]) -> Result<(), TableError> {
+    super::replace_file(path, bytes).map_err(|e| TableError::Io { path: e.path, source: e.source })
 }
 
 fn col<'a>(df: &'a DataFrame, path: &Path, name: &str) -> Result<&'a Column, TableError> {

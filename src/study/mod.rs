@@ -51,8 +51,9 @@
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 //!
 //! The modules, in the order a study goes through them: [`spec`] (the file as written),
-//! [`resolve`] (checked into a [`Study`]), [`sweep`] (the keys and their effect), [`run`]
-//! (one row per realization), [`shards`] (the run directory, shards and their merge),
+//! [`resolve`] (checked into a [`Study`], with [`size`] its limits and [`provenance`] the
+//! files it was read from), [`sweep`] (the keys and their effect), [`run`] (one row per
+//! realization), [`shards`] (the run directory, its journal, shards and their merge),
 //! [`summary`] (statistics per group and sweep point), [`report`] (`report.md` and plots),
 //! [`paper`] (the source paper's tables and figures), [`calibrate`] and [`suite`].
 
@@ -60,10 +61,12 @@ pub mod calibrate;
 pub mod discrepancy;
 mod error;
 pub mod paper;
+pub mod provenance;
 pub mod report;
 pub mod resolve;
 pub mod run;
 pub mod shards;
+pub mod size;
 pub mod spec;
 pub mod suite;
 pub mod summary;

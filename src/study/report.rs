@@ -4,11 +4,12 @@
 
 use super::paper::{self, PaperError};
 use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
-use super::text::{fixed, sci};
+use super::text::{fixed, md_table, sci};
 use super::{ProtocolKind, Study};
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
 use crate::io::table::TableError;
+use crate::io::{replace_file, replace_file_with, FileError};
 use crate::stats;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -34,6 +35,12 @@ pub enum ReportError {
         /// The cause.
         source: std::io::Error,
     },
+}
+
+impl From<FileError> for ReportError {
+    fn from(e: FileError) -> Self {
+        ReportError::Io { path: e.path, source: e.source }
+    }
 }
 
 /// One note per group whose realizations all gave the same values (σ = 0 over more than one
@@ -67,6 +74,24 @@ fn degenerate_groups(cmp: &[Comparison]) -> Vec<String> {
 
 fn num(v: f64) -> String {
     fixed(v, 3)
+}
+
+/// A cell in a plot: its group, and its sweep point if there is a sweep.
+fn cell_title(c: &CellSummary) -> String {
+    if c.sweep.is_empty() {
+        c.group.clone()
+    } else {
+        format!("{} {}", c.group, c.sweep)
+    }
+}
+
+/// The sweep of a cell in a table: its label, or `–` without a sweep.
+fn sweep_label(c: &CellSummary) -> &str {
+    if c.sweep.is_empty() {
+        "–"
+    } else {
+        &c.sweep
+    }
 }
 
 /// Writes `summary.csv`, `report.md` and the plots into `dir`. Returns what `drystone run`
@@ -110,8 +135,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
             );
         }
     }
-    let path = dir.join("report.md");
-    std::fs::write(&path, &md).map_err(|source| ReportError::Io { path, source })?;
+    replace_file(&dir.join("report.md"), md.as_bytes())?;
     Ok(printed)
 }
 
@@ -125,33 +149,48 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
     );
     let _ = writeln!(md, "## Top displacement under the lateral load\n");
     let _ = writeln!(md, "Top displacement: the largest of the three top points (left, centre, right), in mm; drift = top displacement / H. Statistics over the realizations that reached equilibrium.\n");
-    let _ = writeln!(md, "| group | sweep | n | failed | collapsed | mean [mm] | σ [mm] | COV | min | max | 95 % CI of mean [mm] | 95 % bootstrap COV | centre mean [mm] | drift mean | drift σ |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in cells {
-        let s = &c.lateral_max;
-        let mm = |v: f64| num(10.0 * v);
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} .. {} | {} .. {} | {} | {} | {} |",
-            c.group,
-            if c.sweep.is_empty() { "–" } else { &c.sweep },
-            c.n,
-            c.failed,
-            c.lateral_collapsed,
-            mm(s.mean),
-            mm(s.sd),
-            num(s.cov),
-            mm(s.min),
-            mm(s.max),
-            mm(s.mean_ci95.0),
-            mm(s.mean_ci95.1),
-            num(s.cov_boot95.0),
-            num(s.cov_boot95.1),
-            mm(c.lateral_centre.mean),
-            sci(c.drift.mean),
-            sci(c.drift.sd)
-        );
-    }
+    let mm = |v: f64| num(10.0 * v);
+    let header = [
+        "group",
+        "sweep",
+        "n",
+        "failed",
+        "collapsed",
+        "mean [mm]",
+        "σ [mm]",
+        "COV",
+        "min",
+        "max",
+        "95 % CI of mean [mm]",
+        "95 % bootstrap COV",
+        "centre mean [mm]",
+        "drift mean",
+        "drift σ",
+    ];
+    md_table(
+        md,
+        &header,
+        cells.iter().map(|c| {
+            let s = &c.lateral_max;
+            vec![
+                c.group.clone(),
+                sweep_label(c).into(),
+                c.n.to_string(),
+                c.failed.to_string(),
+                c.lateral_collapsed.to_string(),
+                mm(s.mean),
+                mm(s.sd),
+                num(s.cov),
+                mm(s.min),
+                mm(s.max),
+                format!("{} .. {}", mm(s.mean_ci95.0), mm(s.mean_ci95.1)),
+                format!("{} .. {}", num(s.cov_boot95.0), num(s.cov_boot95.1)),
+                mm(c.lateral_centre.mean),
+                sci(c.drift.mean),
+                sci(c.drift.sd),
+            ]
+        }),
+    );
     let _ = writeln!(md);
 }
 
@@ -190,7 +229,7 @@ fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir
     let hist_panels: Vec<HistogramPanel> = cells
         .iter()
         .map(|c| HistogramPanel {
-            title: if c.sweep.is_empty() { c.group.clone() } else { format!("{} {}", c.group, c.sweep) },
+            title: cell_title(c),
             simulated: c.angles.clone(),
             measured: study
                 .measured
@@ -201,76 +240,82 @@ fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir
                 .collect(),
         })
         .collect();
-    let hist_path = dir.join("collapse_angle_histograms.svg");
-    plot::histograms(&hist_path, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?;
-    let disp_path = dir.join("displacement_vs_tilt.svg");
-    plot::bands(
-        &disp_path,
-        "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured",
-        "tilt [deg]",
-        "displacement [cm]",
-        &displacement_series(study, rows),
-    )?;
-    let frag_path = dir.join("fragility.svg");
-    plot::bands(
-        &frag_path,
-        "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)",
-        "tilt [deg]",
-        "P(collapse)",
-        &fragility_series(cells),
-    )?;
-    Ok(())
+    replace_file_with(&dir.join("collapse_angle_histograms.svg"), |p| -> Result<(), ReportError> {
+        Ok(plot::histograms(p, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?)
+    })?;
+    replace_file_with(&dir.join("displacement_vs_tilt.svg"), |p| -> Result<(), ReportError> {
+        let title = "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured";
+        Ok(plot::bands(p, title, "tilt [deg]", "displacement [cm]", &displacement_series(study, rows))?)
+    })?;
+    replace_file_with(&dir.join("fragility.svg"), |p| -> Result<(), ReportError> {
+        let title = "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)";
+        Ok(plot::bands(p, title, "tilt [deg]", "P(collapse)", &fragility_series(cells))?)
+    })
 }
 
 /// The collapse angle per cell.
 fn collapse_table(cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "## Collapse angle α_max [deg]\n");
-    let _ = writeln!(md, "| group | sweep | n | failed | stood | mean | σ | COV | min | max | 95 % CI of mean | 95 % bootstrap σ | lognormal median, β |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in cells {
-        let s = &c.collapse;
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} .. {} | {} .. {} | {} |",
-            c.group,
-            if c.sweep.is_empty() { "–" } else { &c.sweep },
-            s.n,
-            c.failed,
-            c.stood,
-            num(s.mean),
-            num(s.sd),
-            num(s.cov),
-            num(s.min),
-            num(s.max),
-            num(s.mean_ci95.0),
-            num(s.mean_ci95.1),
-            num(s.sd_boot95.0),
-            num(s.sd_boot95.1),
-            c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta))
-        );
-    }
+    let header = [
+        "group",
+        "sweep",
+        "n",
+        "failed",
+        "stood",
+        "mean",
+        "σ",
+        "COV",
+        "min",
+        "max",
+        "95 % CI of mean",
+        "95 % bootstrap σ",
+        "lognormal median, β",
+    ];
+    md_table(
+        md,
+        &header,
+        cells.iter().map(|c| {
+            let s = &c.collapse;
+            vec![
+                c.group.clone(),
+                sweep_label(c).into(),
+                s.n.to_string(),
+                c.failed.to_string(),
+                c.stood.to_string(),
+                num(s.mean),
+                num(s.sd),
+                num(s.cov),
+                num(s.min),
+                num(s.max),
+                format!("{} .. {}", num(s.mean_ci95.0), num(s.mean_ci95.1)),
+                format!("{} .. {}", num(s.sd_boot95.0), num(s.sd_boot95.1)),
+                c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta)),
+            ]
+        }),
+    );
 }
 
 /// The displacement at 5° and 10° per cell.
 fn displacement_table(cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(md, "\n## Displacement of the top at 5° and 10° [cm]\n");
-    let _ = writeln!(md, "| group | sweep | measure | n at 5° | mean at 5° | σ | n at 10° | mean at 10° | σ |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in cells {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            c.group,
-            if c.sweep.is_empty() { "–" } else { &c.sweep },
-            c.measure,
-            c.disp5.n,
-            num(c.disp5.mean),
-            num(c.disp5.sd),
-            c.disp10.n,
-            num(c.disp10.mean),
-            num(c.disp10.sd)
-        );
-    }
+    let header = ["group", "sweep", "measure", "n at 5°", "mean at 5°", "σ", "n at 10°", "mean at 10°", "σ"];
+    md_table(
+        md,
+        &header,
+        cells.iter().map(|c| {
+            vec![
+                c.group.clone(),
+                sweep_label(c).into(),
+                c.measure.clone(),
+                c.disp5.n.to_string(),
+                num(c.disp5.mean),
+                num(c.disp5.sd),
+                c.disp10.n.to_string(),
+                num(c.disp10.mean),
+                num(c.disp10.sd),
+            ]
+        }),
+    );
 }
 
 /// Measured against simulated, one line per comparison.
@@ -280,28 +325,32 @@ fn comparison_table(cmp: &[Comparison], md: &mut String) {
         md,
         "The band is the simulated 95 % prediction interval of one realization (mean ± t σ √(1 + 1/n)).\n"
     );
-    let _ = writeln!(md, "| group | quantity | measured mean ± σ (n) | simulated mean ± σ (n) | simulated − measured | 95 % band | measured mean inside | specimens inside |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in cmp {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} ± {:.2} ({}) | {:+.2} | {:.2} .. {:.2} | {} | {}/{} |",
-            c.group,
-            c.quantity,
-            c.measured_mean,
-            c.measured_sd,
-            c.measured_n,
-            c.simulated_mean,
-            c.simulated_sd,
-            c.simulated_n,
-            c.simulated_mean - c.measured_mean,
-            c.band.0,
-            c.band.1,
-            if c.inside { "yes" } else { "**no**" },
-            c.specimens_inside,
-            c.measured_n
-        );
-    }
+    let header = [
+        "group",
+        "quantity",
+        "measured mean ± σ (n)",
+        "simulated mean ± σ (n)",
+        "simulated − measured",
+        "95 % band",
+        "measured mean inside",
+        "specimens inside",
+    ];
+    md_table(
+        md,
+        &header,
+        cmp.iter().map(|c| {
+            vec![
+                c.group.clone(),
+                c.quantity.clone(),
+                format!("{:.2} ± {:.2} ({})", c.measured_mean, c.measured_sd, c.measured_n),
+                format!("{:.2} ± {:.2} ({})", c.simulated_mean, c.simulated_sd, c.simulated_n),
+                format!("{:+.2}", c.simulated_mean - c.measured_mean),
+                format!("{:.2} .. {:.2}", c.band.0, c.band.1),
+                (if c.inside { "yes" } else { "**no**" }).into(),
+                format!("{}/{}", c.specimens_inside, c.measured_n),
+            ]
+        }),
+    );
 }
 
 /// The comparisons whose measured mean falls outside the simulated band, and the groups
@@ -395,8 +444,15 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             let mut s = c.angles.clone();
             s.sort_by(f64::total_cmp);
             let measured = s.iter().map(|&a| (a, stats::empirical_fragility(&c.angles, a))).collect();
-            let label = if c.sweep.is_empty() { c.group.clone() } else { format!("{} {}", c.group, c.sweep) };
-            Some(BandSeries { label, x, mid: p.clone(), lo: p.clone(), hi: p, measured, points_label: None })
+            Some(BandSeries {
+                label: cell_title(c),
+                x,
+                mid: p.clone(),
+                lo: p.clone(),
+                hi: p,
+                measured,
+                points_label: None,
+            })
         })
         .collect()
 }

@@ -2,6 +2,8 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
+use super::provenance::{self, InputFile, InputRole};
+use super::size;
 use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::StudyError;
@@ -76,6 +78,9 @@ pub struct Study {
     pub calibrate: Vec<CalibrateSpec>,
     /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
     pub discrepancy: crate::discrepancy::Settings,
+    /// The files the study was resolved from (study, walls, distributions, measured data),
+    /// with their hashes and texts: the provenance a run records.
+    pub inputs: Vec<InputFile>,
 }
 
 /// Builds [`StudyError::Invalid`] for one file.
@@ -99,6 +104,7 @@ impl StudySpec {
     pub fn resolve(&self, path: &Path) -> Result<Study, StudyError> {
         let invalid = Invalid(path);
         self.check_scalars(&invalid)?;
+        self.check_counts(&invalid)?;
         let points = sweep::grid(&self.sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut names = std::collections::BTreeSet::new();
@@ -109,10 +115,14 @@ impl StudySpec {
             }
             groups.push(resolve_group(g, dir, &points, &invalid)?);
         }
+        let mut files = vec![(InputRole::Study, path.to_owned())];
+        files.extend(groups.iter().flat_map(group_files));
         let measured = match &self.measured {
-            Some(m) => read_measured(m, dir, path)?,
+            Some(m) => read_measured(m, dir, path, &mut files)?,
             None => Measured::default(),
         };
+        let inputs = provenance::record(&files)
+            .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
@@ -129,6 +139,7 @@ impl StudySpec {
             paper: self.paper,
             calibrate: self.calibrate.clone(),
             discrepancy: self.discrepancy.clone().unwrap_or_default(),
+            inputs,
         };
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
@@ -145,6 +156,7 @@ impl StudySpec {
         if self.version != 1 {
             return Err(invalid.at("version", format!("this drystone reads study version 1, got {}", self.version)));
         }
+        check_name(&self.name).map_err(|r| invalid.at("name", r))?;
         if self.realizations == 0 {
             return Err(invalid.at("realizations", "must be at least 1".into()));
         }
@@ -159,6 +171,83 @@ impl StudySpec {
         self.solver.validate().map_err(range("solver"))?;
         Ok(())
     }
+
+    /// The number of sweep points and work items against the limits of [`size`], before
+    /// the grid is built or a wall resolved.
+    fn check_counts(&self, invalid: &Invalid) -> Result<(), StudyError> {
+        let points = size::sweep_points(&self.sweep);
+        if points > size::MAX_SWEEP_POINTS as f64 {
+            let counts: Vec<String> = self.sweep.iter().map(|(k, v)| format!("{k} ({} values)", v.len())).collect();
+            return Err(invalid.at(
+                "sweep",
+                format!(
+                    "{} = {} sweep points; the limit is {} (each point is a wall resolved, a row of summary.csv and a panel of the report)",
+                    counts.join(" × "),
+                    size::count(points),
+                    size::MAX_SWEEP_POINTS
+                ),
+            ));
+        }
+        if self.groups.iter().any(|g| g.realizations == Some(0)) {
+            return Ok(()); // resolve_group names the group
+        }
+        let counts: Vec<u64> = self.groups.iter().map(|g| g.realizations.unwrap_or(self.realizations)).collect();
+        size::check_items(&counts, points).map_err(|reason| {
+            let largest = self.groups.iter().max_by_key(|g| g.realizations.unwrap_or(self.realizations));
+            let key = match largest.and_then(|g| g.realizations.map(|_| &g.name)) {
+                Some(name) => format!("groups[{name}].realizations"),
+                None => "realizations".to_string(),
+            };
+            invalid.at(&key, reason)
+        })
+    }
+}
+
+/// A study (or suite) name is used as a directory name (the default output `out/<name>`,
+/// a suite's `DIR/<name>`): it must be one plain path component, so a name such as
+/// `../../x` is refused rather than written outside the output directory.
+///
+/// # Errors
+/// What is wrong with it.
+pub fn check_name(name: &str) -> Result<(), String> {
+    let bad = name.chars().find(|c| matches!(c, '/' | '\\') || c.is_control());
+    if name.trim().is_empty() {
+        Err("must not be empty".into())
+    } else if name == "." || name == ".." {
+        Err(format!("{name:?} is not a usable directory name"))
+    } else if let Some(c) = bad {
+        Err(format!("{name:?} contains {c:?}; a study name is used as a directory name and must not contain / or \\ or control characters"))
+    } else {
+        Ok(())
+    }
+}
+
+/// The input files of a group: its wall description and the distribution files its walls
+/// use (at every sweep point).
+fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
+    let mut files = vec![(InputRole::Wall, g.wall_path.clone())];
+    for w in &g.walls {
+        for d in wall_distributions(w) {
+            if !d.source.as_os_str().is_empty() && d.source != g.wall_path {
+                files.push((InputRole::Distribution, d.source.clone()));
+            }
+        }
+    }
+    files
+}
+
+/// Every distribution of a resolved wall.
+fn wall_distributions(w: &Wall) -> Vec<&crate::generator::Distribution> {
+    let mut v = vec![&w.course_height, &w.block_length];
+    if let crate::generator::Arrangement::Irregular(ir) = &w.arrangement {
+        v.push(&ir.dip);
+        v.extend(ir.wedge_length.as_ref());
+    }
+    if let Some(s) = &w.scatter {
+        v.extend(s.kn_factor.as_ref());
+        v.extend(s.friction_offset.as_ref());
+    }
+    v
 }
 
 /// One group: its wall description read, its overrides applied, its wall resolved at every
@@ -184,7 +273,9 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         for (k, v) in p {
             k.apply(&mut spec, v).map_err(|r| invalid.at(&format!("sweep.{k}"), r))?;
         }
-        walls.push(spec.resolve(&wall_path, &source).map_err(|e| invalid.wall(&g.name, e))?);
+        let wall = spec.resolve(&wall_path, &source).map_err(|e| invalid.wall(&g.name, e))?;
+        size::check_blocks(&wall).map_err(|reason| invalid.at(&size_key(g, p), reason))?;
+        walls.push(wall);
     }
     Ok(Group {
         name: g.name.clone(),
@@ -196,17 +287,41 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
     })
 }
 
-fn read_measured(m: &MeasuredSpec, dir: &Path, path: &Path) -> Result<Measured, StudyError> {
+/// The key a wall too large for [`size::MAX_BLOCKS`] is blamed on: the sweep's or the
+/// group's `length_m` if either sets it, else the group's wall file.
+fn size_key(g: &GroupSpec, point: &SweepPoint) -> String {
+    let label = super::point_label(point);
+    if point.iter().any(|(k, _)| *k == SweepKey::LengthM) {
+        format!("groups[{}] at sweep.length_m", g.name)
+    } else if g.overrides.contains_key(SweepKey::LengthM.as_str()) {
+        format!("groups[{}].overrides.length_m", g.name)
+    } else if label.is_empty() {
+        format!("groups[{}].wall ({})", g.name, g.wall.display())
+    } else {
+        format!("groups[{}].wall ({}) at sweep point {label}", g.name, g.wall.display())
+    }
+}
+
+/// Reads the measured data; their files go into `files`.
+fn read_measured(
+    m: &MeasuredSpec,
+    dir: &Path,
+    path: &Path,
+    files: &mut Vec<(InputRole, PathBuf)>,
+) -> Result<Measured, StudyError> {
     let err = |source| StudyError::Measured { path: path.to_owned(), source };
     let mut measured = Measured::default();
     if let Some(c) = &m.collapse {
         measured.collapse = table::read_measured_collapse(&dir.join(c)).map_err(err)?;
+        files.push((InputRole::Measured, dir.join(c)));
     }
     if let Some(d) = &m.displacement {
         measured.displacement = table::read_measured_displacement(&dir.join(d)).map_err(err)?;
+        files.push((InputRole::Measured, dir.join(d)));
     }
     if let Some(d) = &m.paper_dem {
         measured.paper_dem = table::read_paper_dem(&dir.join(d)).map_err(err)?;
+        files.push((InputRole::Measured, dir.join(d)));
     }
     Ok(measured)
 }

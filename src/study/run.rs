@@ -1,47 +1,54 @@
 //! Running a study: one realization per work item, in parallel, into rows.
 //!
-//! Each item's layout is generated once: all layouts of the shard first (in parallel, a few
-//! milliseconds each), their block counts then order the items longest first, and each
-//! item runs its protocol on the layout already generated.
+//! The items are scheduled longest first: the layout of every item is generated once
+//! beforehand (in parallel, a few milliseconds each) only to count its blocks, and dropped;
+//! each item then generates its layout again (the same one: it is a pure function of the
+//! seed and the realization) and runs its protocol. Memory thus holds the layouts of the
+//! items running, not those of the whole ensemble.
+//!
+//! [`run_study_with`] hands each finished row to a sink (the journal of the run) as soon as
+//! it is computed, and takes the rows of items already finished (read back from the
+//! journal), which it does not run again. Every row being a pure function of the study and
+//! its item, the rows are the same whichever items were done before.
 
 use super::{point_label, ProtocolKind, Study};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{self, Item, Shard};
-use crate::generator::{generate, GeneratorError};
-use crate::layout::Layout;
+use crate::generator::generate;
 use crate::loading::lateral::{run_lateral, LateralError, LateralResult};
 use crate::loading::tilt::{run_tilt, CollapseReason, MechanismKind, TiltError, TiltResult};
 use crate::units::m_to_cm;
 use rayon::prelude::*;
-use std::time::{Duration, Instant};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
 
-/// A work item with its layout generated and checked, and the time that took.
-struct Prepared {
-    item: Item,
-    layout: Result<Layout, GeneratorError>,
-    generation: Duration,
-}
-
-impl Prepared {
-    fn new(study: &Study, item: Item) -> Prepared {
-        let t0 = Instant::now();
-        let wall = &study.groups[item.group].walls[item.point];
-        let layout = generate(wall, study.seed, item.realization).and_then(|g| g.check());
-        Prepared { item, layout, generation: t0.elapsed() }
-    }
-
-    /// Scheduling cost: the number of blocks (the DEM run grows with them); 0 for a
-    /// layout that failed, whose row is written at once.
-    fn cost(&self) -> f64 {
-        self.layout.as_ref().map_or(0.0, |l| l.blocks.len() as f64)
-    }
+/// Scheduling cost of an item: the number of blocks of its layout (the DEM run grows with
+/// them); 0 for a layout that cannot be generated, whose row is written at once.
+fn cost(study: &Study, item: &Item) -> f64 {
+    let wall = &study.groups[item.group].walls[item.point];
+    generate(wall, study.seed, item.realization).map_or(0.0, |g| g.layout.blocks.len() as f64)
 }
 
 /// Runs one realization of a study: generate the layout of its group and sweep point from
 /// `(seed, realization)`, run the protocol, and record the outcome. Never panics on a bad
-/// realization: failures become rows with their [`Status`].
+/// realization: failures become rows with their [`Status`]. The wall time includes the
+/// generation of the layout.
 pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
-    run_prepared(study, &Prepared::new(study, *item))
+    let t0 = Instant::now();
+    let wall = &study.groups[item.group].walls[item.point];
+    let base = empty_row(study, item);
+    let mut row = match generate(wall, study.seed, item.realization).and_then(|g| g.check()) {
+        Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
+        Ok(layout) => {
+            let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
+            match study.protocol {
+                ProtocolKind::Tilt => tilt_row(row, run_tilt(&layout, study.solver, &study.tilt)),
+                ProtocolKind::Lateral => lateral_row(row, run_lateral(&layout, study.solver, &study.lateral)),
+            }
+        }
+    };
+    row.wall_time_s = t0.elapsed().as_secs_f64();
+    row
 }
 
 /// Runs the items of a shard of a study in parallel on the current rayon pool; rows in item
@@ -50,28 +57,49 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
 /// Items are scheduled longest first, by the number of blocks of their layout, so that the
 /// expensive walls do not run last on one thread while the others idle.
 pub fn run_study(study: &Study, shard: Shard) -> Vec<RealizationRow> {
-    let items = shard.select(&study.items());
-    let prepared: Vec<Prepared> = items.par_iter().map(|it| Prepared::new(study, *it)).collect();
-    let cost: Vec<f64> = prepared.iter().map(Prepared::cost).collect();
-    ensemble::run_scheduled(&prepared, &cost, &study.name, |p| run_prepared(study, p))
+    let never = |_: &RealizationRow| Ok::<(), std::convert::Infallible>(());
+    match run_study_with(study, shard, Vec::new(), never) {
+        Ok(rows) => rows,
+        Err(e) => match e {},
+    }
 }
 
-/// The row of a prepared item; its wall time includes the generation of its layout.
-fn run_prepared(study: &Study, p: &Prepared) -> RealizationRow {
-    let t0 = Instant::now();
-    let base = empty_row(study, &p.item);
-    let mut row = match &p.layout {
-        Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
-        Ok(layout) => {
-            let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            match study.protocol {
-                ProtocolKind::Tilt => tilt_row(row, run_tilt(layout, study.solver, &study.tilt)),
-                ProtocolKind::Lateral => lateral_row(row, run_lateral(layout, study.solver, &study.lateral)),
+/// As [`run_study`], with the rows of the items already finished (`done`, any order; they
+/// are not run again) and a `sink` that receives every new row as soon as it is computed,
+/// from the worker thread that computed it. Returns every row of the shard in item order.
+///
+/// # Errors
+/// The first error of the sink (in item order); no item starts after the sink failed.
+pub fn run_study_with<E: Send>(
+    study: &Study,
+    shard: Shard,
+    done: Vec<RealizationRow>,
+    sink: impl Fn(&RealizationRow) -> Result<(), E> + Sync,
+) -> Result<Vec<RealizationRow>, E> {
+    let finished: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
+    let items: Vec<Item> =
+        shard.select(&study.items()).into_iter().filter(|it| !finished.contains(&(it.index as u64))).collect();
+    let costs: Vec<f64> = items.par_iter().map(|it| cost(study, it)).collect();
+    let failed = AtomicBool::new(false);
+    let results = ensemble::run_scheduled(&items, &costs, &study.name, |it| {
+        if failed.load(Ordering::SeqCst) {
+            return None;
+        }
+        let row = run_item(study, it);
+        match sink(&row) {
+            Ok(()) => Some(Ok(row)),
+            Err(e) => {
+                failed.store(true, Ordering::SeqCst);
+                Some(Err(e))
             }
         }
-    };
-    row.wall_time_s = (p.generation + t0.elapsed()).as_secs_f64();
-    row
+    });
+    let mut rows = done;
+    for r in results.into_iter().flatten() {
+        rows.push(r?);
+    }
+    rows.sort_by_key(|r| r.index);
+    Ok(rows)
 }
 
 /// The row of an item before its run: identification, no results.

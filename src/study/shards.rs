@@ -1,20 +1,46 @@
-//! The run directory: the realization tables and a manifest, and for a complete run the
-//! summary, report and plots. A study may run in shards (`--shard K/N`, e.g. on a job
-//! array), each writing its own directory; [`read_shards`] joins them back into the rows of
-//! the unsharded run.
+//! The run directory: the journal of finished items, the realization tables and a
+//! manifest, and for a complete run the summary, report and plots. A study may run in
+//! shards (`--shard K/N`, e.g. on a job array), each writing its own directory;
+//! [`read_shards`] joins them back into the rows of the unsharded run and [`merge`] writes
+//! what the unsharded run writes.
+//!
+//! # What a run directory guarantees
+//!
+//! - `journal.jsonl` ([`journal`](crate::ensemble::journal)) gets every finished item at
+//!   once, synced: a crash loses no finished item. [`run_into`] with `resume` runs only
+//!   the items the journal lacks, and the outputs are byte for byte those of a run that was
+//!   never interrupted, except the `wall_time_s` column.
+//! - The tables, the manifest, the summary, the report and the plots are each written
+//!   under a temporary name and renamed ([`crate::io::replace_file`]): a crash leaves the
+//!   old file or the new one.
+//! - The manifest records the drystone version, the master seed, the realizations, the
+//!   shard, and every input file (study, walls, distributions, measured data) with its
+//!   SHA-256 and its text ([`provenance`](super::provenance)). A resume and a merge refuse
+//!   what disagrees on any of them, naming the field and both values; merge rebuilds the
+//!   study from the stored texts, not from the study file.
 
+use super::provenance::{self, InputFile};
 use super::report::{write_report, ReportError};
+use super::run::run_study_with;
 use super::Study;
+use crate::ensemble::journal::{self, Journal, JournalError};
 use crate::ensemble::row::RealizationRow;
 use crate::ensemble::Shard;
-use crate::io::table;
+use crate::io::{table, FileError};
 use std::path::{Path, PathBuf};
 
-/// What a run directory holds besides its tables: enough to merge shards.
+/// What a run directory holds besides its tables: its provenance, and enough to merge
+/// shards.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Manifest {
+    /// The drystone version that wrote it (`CARGO_PKG_VERSION`).
+    #[serde(default)]
+    pub drystone_version: String,
     /// The study file as given on the command line.
     pub study: PathBuf,
+    /// The master seed of the rows.
+    #[serde(default)]
+    pub seed: u64,
     /// Realizations per group and point actually run.
     pub realizations: u64,
     /// This shard, 1-based `K/N` (`1/1` for a whole run).
@@ -23,6 +49,48 @@ pub struct Manifest {
     pub total_items: usize,
     /// Items in this directory.
     pub items: usize,
+    /// The input files of the study with their SHA-256 and text.
+    #[serde(default)]
+    pub inputs: Vec<InputFile>,
+}
+
+impl Manifest {
+    /// The manifest of `items` rows of a shard of a study.
+    pub fn new(study: &Study, study_arg: &Path, shard: Shard, items: usize) -> Manifest {
+        Manifest {
+            drystone_version: env!("CARGO_PKG_VERSION").to_string(),
+            study: study_arg.to_owned(),
+            seed: study.seed,
+            realizations: study.realizations,
+            shard: format!("{}/{}", shard.k + 1, shard.n),
+            total_items: study.items().len(),
+            items,
+            inputs: study.inputs.clone(),
+        }
+    }
+
+    /// The number of shards `N` of `K/N`.
+    fn shard_count(&self) -> &str {
+        self.shard.split_once('/').map_or("", |(_, n)| n)
+    }
+
+    /// The first field on which two runs disagree (everything but the study path, the
+    /// shard index and the item count), as `field: VALUE in a, VALUE in b`.
+    pub fn difference(&self, other: &Manifest, a: &str, b: &str) -> Option<String> {
+        let fields = [
+            ("drystone version", self.drystone_version.clone(), other.drystone_version.clone()),
+            ("seed", self.seed.to_string(), other.seed.to_string()),
+            ("realizations", self.realizations.to_string(), other.realizations.to_string()),
+            ("total items", self.total_items.to_string(), other.total_items.to_string()),
+            ("number of shards", self.shard_count().to_string(), other.shard_count().to_string()),
+        ];
+        for (name, x, y) in fields {
+            if x != y {
+                return Some(format!("{name}: {x} in {a}, {y} in {b}"));
+            }
+        }
+        provenance::first_difference(&self.inputs, &other.inputs, a, b)
+    }
 }
 
 /// Errors of writing a run's outputs or merging shards.
@@ -35,6 +103,9 @@ pub enum OutputError {
     /// The report.
     #[error(transparent)]
     Report(#[from] ReportError),
+    /// The journal.
+    #[error(transparent)]
+    Journal(#[from] JournalError),
     /// A file.
     #[error("{path}: {message}")]
     File {
@@ -48,11 +119,23 @@ pub enum OutputError {
     Merge(String),
 }
 
-fn write_manifest(dir: &Path, m: &Manifest) -> Result<(), OutputError> {
-    let path = dir.join("manifest.json");
-    let text = serde_json::to_string_pretty(m)
-        .map_err(|e| OutputError::File { path: path.clone(), message: e.to_string() })?;
-    std::fs::write(&path, text).map_err(|e| OutputError::File { path, message: e.to_string() })
+impl From<FileError> for OutputError {
+    fn from(e: FileError) -> Self {
+        OutputError::File { path: e.path, message: e.source.to_string() }
+    }
+}
+
+/// Creates `dir` if needed and checks that a file can be written in it (before anything is
+/// computed).
+///
+/// # Errors
+/// [`OutputError::File`] naming the directory or the file.
+pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
+    let probe = dir.join(".drystone-write-test");
+    std::fs::write(&probe, b"").map_err(FileError::at(&probe))?;
+    std::fs::remove_file(&probe).map_err(FileError::at(&probe))?;
+    Ok(())
 }
 
 /// Writes a run's outputs into `dir` (created if needed): the tables and the manifest, and,
@@ -60,7 +143,8 @@ fn write_manifest(dir: &Path, m: &Manifest) -> Result<(), OutputError> {
 /// text for a complete run.
 ///
 /// # Errors
-/// [`OutputError`] naming the file.
+/// [`OutputError`] naming the file; [`OutputError::Merge`] if a row was made with another
+/// seed than the study's (the report prints the study's seed as the seed of its rows).
 pub fn write_outputs(
     study: &Study,
     study_arg: &Path,
@@ -68,18 +152,19 @@ pub fn write_outputs(
     rows: &[RealizationRow],
     dir: &Path,
 ) -> Result<Option<String>, OutputError> {
-    std::fs::create_dir_all(dir).map_err(|e| OutputError::File { path: dir.to_owned(), message: e.to_string() })?;
+    if let Some(r) = rows.iter().find(|r| r.seed != study.seed) {
+        return Err(OutputError::Merge(format!(
+            "item {} was run with seed {}, the study has seed {}",
+            r.index, r.seed, study.seed
+        )));
+    }
+    std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
     table::write_realizations(rows, dir)?;
-    write_manifest(
-        dir,
-        &Manifest {
-            study: study_arg.to_owned(),
-            realizations: study.realizations,
-            shard: format!("{}/{}", shard.k + 1, shard.n),
-            total_items: study.items().len(),
-            items: rows.len(),
-        },
-    )?;
+    let manifest = Manifest::new(study, study_arg, shard, rows.len());
+    let path = dir.join("manifest.json");
+    let text = serde_json::to_string_pretty(&manifest)
+        .map_err(|e| OutputError::File { path: path.clone(), message: e.to_string() })?;
+    crate::io::replace_file(&path, text.as_bytes())?;
     if shard.n == 1 {
         Ok(Some(write_report(study, rows, dir)?))
     } else {
@@ -87,27 +172,118 @@ pub fn write_outputs(
     }
 }
 
-/// Reads shard directories, checks that they are the shards of one run and cover every
+/// What [`run_into`] did.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// Every row of the shard, in item order.
+    pub rows: Vec<RealizationRow>,
+    /// How many of them came from the journal of an earlier run.
+    pub resumed: usize,
+    /// The comparison text of a complete run (see [`write_outputs`]).
+    pub text: Option<String>,
+}
+
+/// Runs a shard of a study into `dir` with its journal: checks that `dir` is writable,
+/// opens the journal (continuing it with `resume`), runs the items not yet finished on the
+/// current rayon pool, each row journaled as soon as it is computed, and writes the
+/// outputs.
+///
+/// Without `resume`, a journal of an unfinished run in `dir` is refused (its finished
+/// items would be lost); a finished one is replaced. With `resume`, a journal of another
+/// run (a different seed, study, wall, distribution, realizations or shard) is refused
+/// naming the difference; no journal means a fresh start.
+///
+/// # Errors
+/// [`OutputError`] naming the file, or the difference with the journal.
+pub fn run_into(
+    study: &Study,
+    study_arg: &Path,
+    shard: Shard,
+    dir: &Path,
+    resume: bool,
+) -> Result<RunOutcome, OutputError> {
+    check_writable(dir)?;
+    let path = dir.join(journal::FILE_NAME);
+    let header = Manifest::new(study, study_arg, shard, 0);
+    let wanted = shard.select(&study.items()).len();
+    let (journal, done) = match Journal::read::<Manifest>(&path)? {
+        Some(c) if resume => {
+            if let Some(d) = c.header.difference(&header, "the journal", "this run") {
+                return Err(OutputError::File {
+                    path,
+                    message: format!("was written by another run ({d}); give another --out, or delete the journal to start again"),
+                });
+            }
+            (Journal::resume(&path, c.complete_len)?, c.rows)
+        }
+        Some(c) if c.rows.len() < wanted && !c.rows.is_empty() => {
+            return Err(OutputError::File {
+                path,
+                message: format!(
+                    "holds {} finished realization(s) of an unfinished run; continue it with --resume, or delete the file to start again",
+                    c.rows.len()
+                ),
+            })
+        }
+        _ => (Journal::create(&path, &header)?, Vec::new()),
+    };
+    let done = check_journal_rows(study, shard, done, &path)?;
+    let resumed = done.len();
+    let rows = run_study_with(study, shard, done, |row| journal.append(row))?;
+    let text = write_outputs(study, study_arg, shard, &rows, dir)?;
+    Ok(RunOutcome { rows, resumed, text })
+}
+
+/// The rows of a journal, checked against the items of the shard: each one an item of the
+/// shard, with its group, sweep point and realization, at most once.
+fn check_journal_rows(
+    study: &Study,
+    shard: Shard,
+    rows: Vec<RealizationRow>,
+    path: &Path,
+) -> Result<Vec<RealizationRow>, OutputError> {
+    let items = shard.select(&study.items());
+    let mut seen = std::collections::BTreeSet::new();
+    for r in &rows {
+        let fits = items.iter().find(|it| it.index as u64 == r.index).is_some_and(|it| {
+            study.groups[it.group].name == r.group && it.point as u64 == r.point && it.realization == r.realization
+        });
+        if !fits || !seen.insert(r.index) {
+            return Err(OutputError::File {
+                path: path.to_owned(),
+                message: format!(
+                    "item {} ({} realization {}) is {} this run",
+                    r.index,
+                    r.group,
+                    r.realization,
+                    if fits { "twice in" } else { "not an item of" }
+                ),
+            });
+        }
+    }
+    Ok(rows)
+}
+
+fn read_manifest(dir: &Path) -> Result<Manifest, OutputError> {
+    let path = dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path).map_err(FileError::at(&path))?;
+    serde_json::from_str(&text).map_err(|e| OutputError::File { path, message: e.to_string() })
+}
+
+/// Reads shard directories, checks that they are the shards of one run (the same drystone
+/// version, seed, realizations, number of shards and input files, by hash) and cover every
 /// item exactly once, and returns the manifest of the first and the rows in item order.
 ///
 /// # Errors
-/// [`OutputError::Merge`] naming what does not fit.
+/// [`OutputError::Merge`] naming what does not fit: the field and both values.
 pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), OutputError> {
     let mut first: Option<Manifest> = None;
     let mut rows = Vec::new();
     for d in dirs {
-        let mpath = d.join("manifest.json");
-        let text = std::fs::read_to_string(&mpath)
-            .map_err(|e| OutputError::File { path: mpath.clone(), message: e.to_string() })?;
-        let m: Manifest = serde_json::from_str(&text)
-            .map_err(|e| OutputError::File { path: mpath.clone(), message: e.to_string() })?;
+        let m = read_manifest(d)?;
         if let Some(f) = &first {
-            if f.study != m.study || f.realizations != m.realizations || f.total_items != m.total_items {
-                return Err(OutputError::Merge(format!(
-                    "{} is from another run than {}",
-                    d.display(),
-                    dirs[0].display()
-                )));
+            if let Some(diff) = f.difference(&m, &dirs[0].display().to_string(), &d.display().to_string()) {
+                return Err(OutputError::Merge(format!("the shards are not of one run: {diff}")));
             }
         } else {
             first = Some(m.clone());
@@ -119,6 +295,15 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
                 d.display(),
                 m.items,
                 part.len()
+            )));
+        }
+        if let Some(r) = part.iter().find(|r| r.seed != m.seed) {
+            return Err(OutputError::Merge(format!(
+                "{}: item {} has seed {}, the manifest seed {}",
+                d.display(),
+                r.index,
+                r.seed,
+                m.seed
             )));
         }
         rows.extend(part);
@@ -139,4 +324,55 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
         return Err(OutputError::Merge(format!("{} of {} items present", rows.len(), first.total_items)));
     }
     Ok((first, rows))
+}
+
+/// What [`merge`] wrote.
+#[derive(Debug, Clone)]
+pub struct Merged {
+    /// The study, rebuilt from the inputs stored in the manifests.
+    pub study: Study,
+    /// Every row, in item order.
+    pub rows: Vec<RealizationRow>,
+    /// The comparison text (see [`write_outputs`]).
+    pub text: Option<String>,
+}
+
+/// Merges shard directories into `out`: [`read_shards`], then the study rebuilt from the
+/// input files stored in the manifest (written under `out/.inputs/` while it resolves, then
+/// removed: the study file need not exist any more, nor be where it was), then
+/// [`write_outputs`] as for the unsharded run.
+///
+/// # Errors
+/// [`OutputError`] naming the shard, field or file.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
+    check_writable(out)?;
+    let (manifest, rows) = read_shards(dirs)?;
+    if manifest.inputs.is_empty() {
+        return Err(OutputError::Merge(format!(
+            "{}: the manifest stores no input files (written by drystone {}); run the shards again",
+            dirs[0].display(),
+            if manifest.drystone_version.is_empty() { "before 0.1.0" } else { &manifest.drystone_version }
+        )));
+    }
+    let scratch = out.join(".inputs");
+    let _ = std::fs::remove_dir_all(&scratch);
+    let rebuilt = rebuild(&manifest, &scratch);
+    let _ = std::fs::remove_dir_all(&scratch);
+    let study = rebuilt?;
+    let text = write_outputs(&study, &manifest.study, Shard::ALL, &rows, out)?;
+    Ok(Merged { study, rows, text })
+}
+
+/// The study of a manifest, resolved from its stored inputs written under `scratch`, with
+/// the manifest's realizations; its inputs must be the stored ones.
+fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
+    let merge_error = |m: String| OutputError::Merge(m);
+    let path = provenance::materialize(&manifest.inputs, scratch).map_err(merge_error)?;
+    let mut study = Study::from_file(&path).map_err(|e| merge_error(format!("the stored study: {e}")))?;
+    study.realizations = manifest.realizations;
+    if let Some(d) = provenance::first_difference(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study")
+    {
+        return Err(merge_error(format!("the stored inputs do not rebuild the study: {d}")));
+    }
+    Ok(study)
 }

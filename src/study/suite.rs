@@ -20,8 +20,7 @@
 //! level down, figure links into the study's directory) and the calibration.
 
 use super::calibrate::{self, write_calibration, CalibrateError};
-use super::run::run_study;
-use super::shards::{write_outputs, OutputError};
+use super::shards::{check_writable, run_into, OutputError};
 use super::{Study, StudyError};
 use crate::ensemble::Shard;
 use serde::{Deserialize, Serialize};
@@ -93,6 +92,7 @@ impl Suite {
         if spec.version != 1 {
             return Err(invalid("version", format!("this drystone reads suite version 1, got {}", spec.version)));
         }
+        super::resolve::check_name(&spec.name).map_err(|r| invalid("name", r))?;
         if spec.studies.is_empty() {
             return Err(invalid("studies", "at least one study is needed".into()));
         }
@@ -117,6 +117,7 @@ impl Suite {
                 }
                 if !full {
                     st.realizations = n;
+                    st.check_items().map_err(|r| invalid(&format!("studies[{i}].realizations"), r))?;
                 }
             }
             studies.push((e.clone(), p, st));
@@ -153,13 +154,42 @@ pub enum SuiteError {
     },
 }
 
+/// What [`run_suite`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SuiteOutcome {
+    /// The combined report.
+    pub report: PathBuf,
+    /// Realizations run (or resumed) over the ensembles of the suite.
+    pub realizations: usize,
+    /// How many of them failed.
+    pub failed: usize,
+}
+
 /// Runs every study of a suite on the current rayon pool and writes the outputs and the
-/// combined report into `dir`. `progress` is called with a line per finished study.
+/// combined report into `dir`; returns the report. `progress` is called with a line per
+/// finished study. See [`run_suite_with`].
 ///
 /// # Errors
 /// [`SuiteError`] naming the study or file.
-pub fn run_suite(suite: &Suite, dir: &Path, mut progress: impl FnMut(&str)) -> Result<PathBuf, SuiteError> {
-    std::fs::create_dir_all(dir).map_err(|source| SuiteError::Io { path: dir.to_owned(), source })?;
+pub fn run_suite(suite: &Suite, dir: &Path, progress: impl FnMut(&str)) -> Result<PathBuf, SuiteError> {
+    run_suite_with(suite, dir, false, progress).map(|o| o.report)
+}
+
+/// As [`run_suite`], each ensemble with its journal in `DIR/<study name>/` (continued with
+/// `resume`, see [`run_into`]); every output directory is checked writable first.
+///
+/// # Errors
+/// [`SuiteError`] naming the study or file.
+pub fn run_suite_with(
+    suite: &Suite,
+    dir: &Path,
+    resume: bool,
+    mut progress: impl FnMut(&str),
+) -> Result<SuiteOutcome, SuiteError> {
+    for (_, _, st) in &suite.studies {
+        check_writable(&dir.join(&st.name))?;
+    }
+    let (mut realizations, mut failed) = (0, 0);
     let mut md = String::new();
     let _ = writeln!(md, "# Suite `{}`\n", suite.name);
     if !suite.description.is_empty() {
@@ -176,8 +206,9 @@ pub fn run_suite(suite: &Suite, dir: &Path, mut progress: impl FnMut(&str)) -> R
                 .map_err(|source| SuiteError::Calibrate { path: path.clone(), source })?;
             write_calibration(st, &results, &sub).map_err(SuiteError::Calibration)?
         } else {
-            let rows = run_study(st, Shard::ALL);
-            write_outputs(st, path, Shard::ALL, &rows, &sub)?;
+            let run = run_into(st, path, Shard::ALL, &sub, resume)?;
+            realizations += run.rows.len();
+            failed += run.rows.iter().filter(|r| !r.status.is_ok()).count();
             let p = sub.join("report.md");
             std::fs::read_to_string(&p).map_err(|source| SuiteError::Io { path: p, source })?
         };
@@ -190,8 +221,8 @@ pub fn run_suite(suite: &Suite, dir: &Path, mut progress: impl FnMut(&str)) -> R
     let _ = writeln!(md, "\nWall times are the only numbers here that change from run to run.\n");
     md.push_str(&body);
     let p = dir.join("report.md");
-    std::fs::write(&p, &md).map_err(|source| SuiteError::Io { path: p.clone(), source })?;
-    Ok(p)
+    crate::io::replace_file(&p, md.as_bytes()).map_err(|e| SuiteError::Io { path: e.path, source: e.source })?;
+    Ok(SuiteOutcome { report: p, realizations, failed })
 }
 
 /// A study report inside the suite report: headings one level down, relative links to

@@ -94,10 +94,11 @@ pub fn write_calibration(study: &Study, results: &[StepResult], dir: &Path) -> R
     }
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let md = format!("# Study `{}`\n\n{}\n\n{}", study.name, study.description.trim(), markdown(study, results));
-    let p = dir.join("calibration.md");
-    std::fs::write(&p, &md).map_err(io(&p))?;
-    let p = dir.join("calibration.json");
-    let json = serde_json::to_string_pretty(results).unwrap_or_default();
-    std::fs::write(&p, json).map_err(io(&p))?;
+    let replace = |name: &str, bytes: &[u8]| {
+        crate::io::replace_file(&dir.join(name), bytes)
+            .map_err(|e| CalibrateError::Io { path: e.path, source: e.source })
+    };
+    replace("calibration.md", md.as_bytes())?;
+    replace("calibration.json", serde_json::to_string_pretty(results).unwrap_or_default().as_bytes())?;
     Ok(md)
 }

@@ -3,10 +3,10 @@
 //! figure is not tabulated; its findings, stated in the text, are what is checked.
 
 use super::{arrangement_name, curve, PaperError};
-use crate::io::plot::{self, BandSeries};
+use crate::io::plot::BandSeries;
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::study::summary::CellSummary;
-use crate::study::text::{finite_mean, fixed, pct, verdict};
+use crate::study::text::{finite_mean, fixed, md_table, pct, verdict};
 use crate::study::{Study, SweepKey};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -113,47 +113,43 @@ fn findings(d: &Figure10, md: &mut String) {
     let disc = &d.discontinuous;
     let disc_largest = (0..d.kn.len()).all(|p| disc[p] >= d.continuous[p] && disc[p] >= d.irregular[p]);
     let decreasing = |v: &[f64]| v.windows(2).all(|w| w[1] <= w[0]);
-    let _ = writeln!(md, "\n| finding (paper §4.1) | paper | drystone | |");
-    let _ = writeln!(md, "| --- | --- | --- | --- |");
     let near = |ours: f64, paper: f64| (ours - paper).abs() <= 0.10;
-    let _ = writeln!(
-        md,
-        "| continuous vs discontinuous, mean over Kn | {} | {} | {} (within 10 points) |",
-        pct(CONTINUOUS_VS_DISCONTINUOUS),
-        pct(cd),
-        verdict(near(cd, CONTINUOUS_VS_DISCONTINUOUS))
-    );
-    let _ = writeln!(
-        md,
-        "| irregular mean vs discontinuous, mean over Kn | {} | {} | {} (within 10 points) |",
-        pct(IRREGULAR_VS_DISCONTINUOUS),
-        pct(id),
-        verdict(near(id, IRREGULAR_VS_DISCONTINUOUS))
-    );
     let cov_ok = cov_lo >= IRREGULAR_COV.0 - 0.05 && cov_hi <= IRREGULAR_COV.1 + 0.05;
-    let _ = writeln!(
-        md,
-        "| irregular COV over Kn | {:.0}–{:.0} % | {}–{} % | {} (within 5 points) |",
-        100.0 * IRREGULAR_COV.0,
-        100.0 * IRREGULAR_COV.1,
-        fixed(100.0 * cov_lo, 0),
-        fixed(100.0 * cov_hi, 0),
-        verdict(cov_ok)
-    );
     let yes = |b: bool| if b { "yes" } else { "no" };
-    let _ = writeln!(
-        md,
-        "| discontinuous has the largest displacement at every Kn | yes | {} | {} |",
-        yes(disc_largest),
-        verdict(disc_largest)
-    );
     let dec = decreasing(&d.continuous) && decreasing(disc) && decreasing(&d.irregular);
-    let _ = writeln!(
-        md,
-        "| displacement falls as Kn grows (every arrangement) | yes | {} | {} |\n",
-        yes(dec),
-        verdict(dec)
-    );
+    let row = |finding: &str, paper: String, ours: String, verdict_text: String| {
+        vec![finding.to_string(), paper, ours, verdict_text]
+    };
+    let rows = vec![
+        row(
+            "continuous vs discontinuous, mean over Kn",
+            pct(CONTINUOUS_VS_DISCONTINUOUS),
+            pct(cd),
+            format!("{} (within 10 points)", verdict(near(cd, CONTINUOUS_VS_DISCONTINUOUS))),
+        ),
+        row(
+            "irregular mean vs discontinuous, mean over Kn",
+            pct(IRREGULAR_VS_DISCONTINUOUS),
+            pct(id),
+            format!("{} (within 10 points)", verdict(near(id, IRREGULAR_VS_DISCONTINUOUS))),
+        ),
+        row(
+            "irregular COV over Kn",
+            format!("{:.0}–{:.0} %", 100.0 * IRREGULAR_COV.0, 100.0 * IRREGULAR_COV.1),
+            format!("{}–{} %", fixed(100.0 * cov_lo, 0), fixed(100.0 * cov_hi, 0)),
+            format!("{} (within 5 points)", verdict(cov_ok)),
+        ),
+        row(
+            "discontinuous has the largest displacement at every Kn",
+            "yes".into(),
+            yes(disc_largest).into(),
+            verdict(disc_largest).into(),
+        ),
+        row("displacement falls as Kn grows (every arrangement)", "yes".into(), yes(dec).into(), verdict(dec).into()),
+    ];
+    md.push('\n');
+    md_table(md, &["finding (paper §4.1)", "paper", "drystone", ""], rows);
+    md.push('\n');
 }
 
 /// `figure10_joint_arrangement.svg` and `figure10.csv`.
@@ -172,8 +168,9 @@ fn figure(d: Figure10, dir: &Path) -> Result<(), PaperError> {
             points_label: None,
         },
     ];
-    plot::bands(
-        &dir.join("figure10_joint_arrangement.svg"),
+    super::plot_bands(
+        dir,
+        "figure10_joint_arrangement.svg",
         "Top displacement under the trapezoidal load (paper Figure 10)",
         "Kn [1e7 Pa/m]",
         "top displacement [mm]",

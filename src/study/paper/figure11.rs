@@ -3,7 +3,6 @@
 //! what is checked.
 
 use super::{arrangement_name, curve, restrained, PaperError};
-use crate::io::plot;
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::study::summary::CellSummary;
 use crate::study::text::{fixed, sci, verdict};
@@ -65,8 +64,9 @@ pub fn section(study: &Study, cells: &[CellSummary], dir: &Path) -> Result<Strin
         csv_cols.push((format!("{arr}_ratio"), TableColumn::Number(ratio)));
     }
     let _ = writeln!(md, "Where this disagrees, the likely reasons: Figure 11 comes from Zanelli et al. (2019) with 3DEC models whose block sizes and restraint details the paper does not give; ours holds every block within 0.05 m of an end rigidly in y (`ends = \"rigid\"`), the stiffest reading.\n");
-    plot::bands(
-        &dir.join("figure11_length_height.svg"),
+    super::plot_bands(
+        dir,
+        "figure11_length_height.svg",
         "Drift against L/H (paper Figure 11)",
         "L/H",
         "drift (top displacement / H)",

@@ -25,6 +25,7 @@ use super::Study;
 use crate::generator::Arrangement;
 use crate::io::plot::{BandSeries, PlotError};
 use crate::io::table::TableError;
+use crate::io::FileError;
 use std::path::Path;
 
 /// Errors of writing a paper study's table or figure.
@@ -37,6 +38,20 @@ pub enum PaperError {
     /// Writing its plot.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// Replacing its plot file.
+    #[error(transparent)]
+    File(#[from] FileError),
+}
+
+/// Plots `series` (x–y curves with bands, [`crate::io::plot::bands`]) into `dir/file`,
+/// replacing the file whole.
+///
+/// # Errors
+/// [`PaperError`] naming the file.
+fn plot_bands(dir: &Path, file: &str, title: &str, x: &str, y: &str, series: &[BandSeries]) -> Result<(), PaperError> {
+    crate::io::replace_file_with(&dir.join(file), |p| -> Result<(), PaperError> {
+        Ok(crate::io::plot::bands(p, title, x, y, series)?)
+    })
 }
 
 /// The report section of a paper study (markdown), writing its CSV and SVG into `dir`.

@@ -3,10 +3,10 @@
 //! and the trends the paper reads from it.
 
 use super::{restrained, PaperError};
-use crate::io::plot::{self, BandSeries};
+use crate::io::plot::BandSeries;
 use crate::io::table::{SimpleTable, TableColumn};
 use crate::study::summary::CellSummary;
-use crate::study::text::{fixed, verdict};
+use crate::study::text::{fixed, md_table, verdict};
 use crate::study::{Study, SweepKey};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -192,33 +192,19 @@ impl Table7 {
             last - first > noise && phi_levels.windows(2).all(|w| self.at(sr, k, w[1]) >= self.at(sr, k, w[0]) - noise)
         });
         let rising = |b: bool| if b { "rising" } else { "not rising" };
-        let _ = writeln!(md, "| finding (paper §6) | drystone | |");
-        let _ = writeln!(md, "| --- | --- | --- |");
-        let _ = writeln!(
-            md,
-            "| free ends: flat in φ for φ ≥ 30° (range within {:.2}° at every Kn) | {} | {} |",
-            noise.max(0.5),
-            if flat_free { "flat" } else { "not flat" },
-            verdict(flat_free)
-        );
-        let _ = writeln!(
-            md,
-            "| free ends: rising with Kn at every φ | {} | {} |",
-            rising(rising_kn(sf)),
-            verdict(rising_kn(sf))
-        );
-        let _ = writeln!(
-            md,
-            "| restrained ends: rising with φ at every Kn | {} | {} |",
-            rising(rising_phi_rest),
-            verdict(rising_phi_rest)
-        );
-        let _ = writeln!(
-            md,
-            "| restrained ends: rising with Kn at every φ | {} | {} |\n",
-            rising(rising_kn(sr)),
-            verdict(rising_kn(sr))
-        );
+        let row = |finding: String, ours: &str, ok: bool| vec![finding, ours.to_string(), verdict(ok).to_string()];
+        let rows = vec![
+            row(
+                format!("free ends: flat in φ for φ ≥ 30° (range within {:.2}° at every Kn)", noise.max(0.5)),
+                if flat_free { "flat" } else { "not flat" },
+                flat_free,
+            ),
+            row("free ends: rising with Kn at every φ".into(), rising(rising_kn(sf)), rising_kn(sf)),
+            row("restrained ends: rising with φ at every Kn".into(), rising(rising_phi_rest), rising_phi_rest),
+            row("restrained ends: rising with Kn at every φ".into(), rising(rising_kn(sr)), rising_kn(sr)),
+        ];
+        md_table(md, &["finding (paper §6)", "drystone", ""], rows);
+        md.push('\n');
     }
 
     /// `table7_kn_phi.svg` and `table7.csv`, and the markdown that shows them.
@@ -248,8 +234,9 @@ impl Table7 {
                 });
             }
         }
-        plot::bands(
-            &dir.join("table7_kn_phi.svg"),
+        super::plot_bands(
+            dir,
+            "table7_kn_phi.svg",
             "Collapse angle vs φ per Kn: drystone (lines), paper Table 7 (points)",
             "friction angle φ [deg]",
             "collapse angle [deg]",

@@ -1,0 +1,194 @@
+//! Provenance: the files a study was resolved from, each with its SHA-256 and its text.
+//!
+//! A study reads its own file, the wall description of each group, the named distribution
+//! files those walls use, and its measured data. [`InputFile`] records each one by its path
+//! relative to the deepest directory that holds them all (`/`-separated, so the record
+//! does not depend on where the tree sits or on the working directory), the SHA-256 of
+//! its bytes (lower-case hex) and its text. The manifest of a run directory and the header
+//! of its journal carry the list: a resumed run and `drystone merge` compare it file by
+//! file, and merge rebuilds the study from the stored texts ([`materialize`]), so it needs
+//! neither the study file nor its walls where they were.
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::{Component, Path, PathBuf};
+
+/// What an input file is to the study.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InputRole {
+    /// The study file.
+    Study,
+    /// A wall description of a group.
+    Wall,
+    /// A named distribution file a wall uses.
+    Distribution,
+    /// A measured-data file.
+    Measured,
+}
+
+impl InputRole {
+    /// The role in messages: `study file`, `wall file`, …
+    pub fn describe(self) -> &'static str {
+        match self {
+            InputRole::Study => "study file",
+            InputRole::Wall => "wall file",
+            InputRole::Distribution => "distribution file",
+            InputRole::Measured => "measured-data file",
+        }
+    }
+}
+
+/// One input file of a study.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InputFile {
+    /// What it is.
+    pub role: InputRole,
+    /// Path relative to the deepest directory holding every input, `/`-separated.
+    pub path: String,
+    /// SHA-256 of the bytes, lower-case hex.
+    pub sha256: String,
+    /// The contents (UTF-8; any invalid byte replaced, which the hash then shows).
+    pub text: String,
+}
+
+/// SHA-256 of `bytes`, lower-case hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The input files `(role, path)` read and recorded, in the order given with duplicates
+/// removed (a distribution shared by two walls is one input).
+///
+/// # Errors
+/// The file that cannot be read or located, with the reason.
+pub fn record(files: &[(InputRole, PathBuf)]) -> Result<Vec<InputFile>, (PathBuf, std::io::Error)> {
+    let mut seen: Vec<PathBuf> = Vec::new();
+    let mut read: Vec<(InputRole, PathBuf, Vec<u8>)> = Vec::new();
+    for (role, p) in files {
+        let canonical = std::fs::canonicalize(p).map_err(|e| (p.clone(), e))?;
+        if seen.contains(&canonical) {
+            continue;
+        }
+        let bytes = std::fs::read(&canonical).map_err(|e| (p.clone(), e))?;
+        seen.push(canonical.clone());
+        read.push((*role, canonical, bytes));
+    }
+    let root = common_dir(read.iter().map(|(_, p, _)| p.as_path()));
+    Ok(read
+        .into_iter()
+        .map(|(role, p, bytes)| InputFile {
+            role,
+            path: relative(&p, &root),
+            sha256: sha256_hex(&bytes),
+            text: String::from_utf8_lossy(&bytes).into_owned(),
+        })
+        .collect())
+}
+
+/// The deepest directory that holds every path (absolute paths of files).
+fn common_dir<'a>(paths: impl Iterator<Item = &'a Path>) -> PathBuf {
+    let mut root: Option<PathBuf> = None;
+    for p in paths {
+        let dir = p.parent().unwrap_or(Path::new("/")).to_path_buf();
+        root = Some(match root {
+            None => dir,
+            Some(r) => r.components().zip(dir.components()).take_while(|(a, b)| a == b).map(|(a, _)| a).collect(),
+        });
+    }
+    root.unwrap_or_default()
+}
+
+/// `path` below `root`, `/`-separated.
+fn relative(path: &Path, root: &Path) -> String {
+    let rest = path.strip_prefix(root).unwrap_or(path);
+    rest.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
+}
+
+/// Writes the inputs under `dir` at their relative paths and returns the path of the study
+/// file among them.
+///
+/// # Errors
+/// A message naming the input or the file that could not be written.
+pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, String> {
+    let mut study = None;
+    for f in inputs {
+        let rel = Path::new(&f.path);
+        let safe = rel.components().all(|c| matches!(c, Component::Normal(_)));
+        if !safe || f.path.is_empty() {
+            return Err(format!("stored input path {:?} is not a plain relative path", f.path));
+        }
+        if sha256_hex(f.text.as_bytes()) != f.sha256 {
+            return Err(format!("stored {} {} does not match its sha256 {}", f.role.describe(), f.path, f.sha256));
+        }
+        let p = dir.join(rel);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+        }
+        std::fs::write(&p, &f.text).map_err(|e| format!("{}: {e}", p.display()))?;
+        if f.role == InputRole::Study {
+            study = Some(p);
+        }
+    }
+    study.ok_or_else(|| "no study file among the stored inputs".to_string())
+}
+
+/// The first difference between two lists of inputs, in words: a file in one list and not
+/// in the other, or a file whose hash differs. `a` and `b` name the two sides.
+pub fn first_difference(x: &[InputFile], y: &[InputFile], a: &str, b: &str) -> Option<String> {
+    for f in x {
+        match y.iter().find(|g| g.role == f.role && g.path == f.path) {
+            None => return Some(format!("the {} {} is an input of {a} but not of {b}", f.role.describe(), f.path)),
+            Some(g) if g.sha256 != f.sha256 => {
+                return Some(format!(
+                    "the {} {} differs: sha256 {} in {a}, {} in {b}",
+                    f.role.describe(),
+                    f.path,
+                    f.sha256,
+                    g.sha256
+                ))
+            }
+            Some(_) => {}
+        }
+    }
+    y.iter()
+        .find(|g| !x.iter().any(|f| f.role == g.role && f.path == g.path))
+        .map(|g| format!("the {} {} is an input of {b} but not of {a}", g.role.describe(), g.path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sha256_of_known_text() {
+        assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    }
+
+    #[test]
+    fn paths_are_relative_to_the_deepest_common_directory() {
+        let paths =
+            [Path::new("/a/b/studies/s.toml"), Path::new("/a/b/studies/walls/w.toml"), Path::new("/a/b/d/x.toml")];
+        let root = common_dir(paths.iter().copied());
+        assert_eq!(root, Path::new("/a/b"));
+        assert_eq!(relative(paths[1], &root), "studies/walls/w.toml");
+    }
+
+    #[test]
+    fn differences_name_the_file_and_both_hashes() {
+        let f = |path: &str, text: &str| InputFile {
+            role: InputRole::Wall,
+            path: path.into(),
+            sha256: sha256_hex(text.as_bytes()),
+            text: text.into(),
+        };
+        let x = vec![f("w.toml", "a")];
+        assert_eq!(first_difference(&x, &x, "A", "B"), None);
+        let d = first_difference(&x, &[f("w.toml", "b")], "A", "B").unwrap();
+        assert!(d.starts_with("the wall file w.toml differs: sha256 ca978112"), "{d}");
+        let d = first_difference(&x, &[], "A", "B").unwrap();
+        assert_eq!(d, "the wall file w.toml is an input of A but not of B");
+        let bad = vec![InputFile { path: "../x".into(), ..f("x", "a") }];
+        assert!(materialize(&bad, Path::new("/nonexistent")).unwrap_err().contains("plain relative path"));
+    }
+}

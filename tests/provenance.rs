@@ -1,0 +1,170 @@
+//! Provenance of a run: the manifest records the drystone version, the master seed and the
+//! SHA-256 of every input file; `drystone merge` refuses shards that disagree on any of
+//! them, naming the field and both values, and needs neither the study file nor its walls
+//! where they were; `--resume` refuses a journal of another run; the report prints the seed
+//! of its rows.
+
+use drystone::study::provenance::sha256_hex;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+mod common;
+
+const BIN: &str = env!("CARGO_BIN_EXE_drystone");
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A self-contained copy of a small study in `dir`: the study file, its wall and its
+/// measured data. Returns the study path.
+fn copy_study(dir: &Path, seed: u64, description: &str) -> PathBuf {
+    for (from, to) in
+        [("studies/walls/cbl.toml", "walls/cbl.toml"), ("data/paper/tilting_table_collapse.csv", "data/collapse.csv")]
+    {
+        let to = dir.join(to);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(root().join(from), &to).unwrap();
+    }
+    let study = format!(
+        "version = 1\nname = \"prov\"\ndescription = \"{description}\"\nseed = {seed}\nrealizations = 2\n\
+         [tilt]\nstep_deg = 2.0\nresolution_deg = 0.5\n\
+         [[groups]]\nname = \"CBL\"\nwall = \"walls/cbl.toml\"\noverrides = {{ length_m = 0.4 }}\n\
+         [sweep]\nkn_pa_per_m = [1.75e8, 3.5e8]\n\
+         [measured]\ncollapse = \"data/collapse.csv\"\n"
+    );
+    let p = dir.join("study.toml");
+    std::fs::write(&p, study).unwrap();
+    p
+}
+
+fn drystone(args: &[&dyn AsRef<std::ffi::OsStr>], cwd: &Path) -> Output {
+    Command::new(BIN).args(args).current_dir(cwd).output().expect("drystone runs")
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+fn ok(o: Output) -> Output {
+    assert!(o.status.success(), "{}", text(&o));
+    o
+}
+
+fn shard(study: &Path, k: &str, out: &Path) -> Output {
+    ok(drystone(&[&"run", &study, &"--shard", &k, &"--out", &out], study.parent().unwrap()))
+}
+
+fn manifest(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn the_manifest_records_version_seed_and_input_hashes() {
+    let s = common::Scratch::created("prov-manifest");
+    let study = copy_study(&s, 7, "a");
+    let out = s.join("out");
+    ok(drystone(&[&"run", &study, &"--out", &out], &s));
+    let m = manifest(&out);
+    assert_eq!(m["drystone_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(m["seed"], 7);
+    let inputs = m["inputs"].as_array().unwrap();
+    let find = |path: &str| inputs.iter().find(|f| f["path"] == path).unwrap_or_else(|| panic!("{path} in {inputs:?}"));
+    for (path, role) in [("study.toml", "study"), ("walls/cbl.toml", "wall"), ("data/collapse.csv", "measured")] {
+        let f = find(path);
+        assert_eq!(f["role"], role);
+        assert_eq!(f["sha256"], sha256_hex(&std::fs::read(s.join(path)).unwrap()), "{path}");
+    }
+    // A shipped study records its named distribution files too.
+    let st = drystone::study::Study::from_file(&root().join("studies/tilting_table.toml")).unwrap();
+    let dists: Vec<&str> = st
+        .inputs
+        .iter()
+        .filter(|f| f.role == drystone::study::provenance::InputRole::Distribution)
+        .map(|f| f.path.as_str())
+        .collect();
+    assert!(dists.contains(&"distributions/course_height_sbl.toml"), "{dists:?}");
+    // The report prints the seed that produced its rows.
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("Master seed 7;"), "{report}");
+}
+
+#[test]
+fn merge_refuses_shards_of_different_seeds_or_edited_inputs_naming_the_difference() {
+    let s = common::Scratch::created("prov-refuse");
+    let study = copy_study(&s, 7, "a");
+    let (a, b) = (s.join("a"), s.join("b"));
+    shard(&study, "1/2", &a);
+    // Another seed.
+    copy_study(&s, 8, "a");
+    shard(&study, "2/2", &b);
+    let o = drystone(&[&"merge", &"--out", &s.join("m1"), &a, &b], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let msg = text(&o);
+    assert!(msg.contains("seed: 7 in") && msg.contains(", 8 in"), "{msg}");
+    // The same seed, an edited study file.
+    copy_study(&s, 7, "edited");
+    let c = s.join("c");
+    shard(&study, "2/2", &c);
+    let o = drystone(&[&"merge", &"--out", &s.join("m2"), &a, &c], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let msg = text(&o);
+    let (old, new) = (manifest(&a)["inputs"][0]["sha256"].clone(), manifest(&c)["inputs"][0]["sha256"].clone());
+    assert_ne!(old, new);
+    assert!(msg.contains("the study file study.toml differs: sha256"), "{msg}");
+    assert!(msg.contains(old.as_str().unwrap()) && msg.contains(new.as_str().unwrap()), "{msg}");
+    // An edited wall file.
+    copy_study(&s, 7, "a");
+    let wall = s.join("walls/cbl.toml");
+    let edited = std::fs::read_to_string(&wall).unwrap().replace("friction_deg = 32.0", "friction_deg = 33.0");
+    std::fs::write(&wall, edited).unwrap();
+    let d = s.join("d");
+    shard(&study, "2/2", &d);
+    let o = drystone(&[&"merge", &"--out", &s.join("m3"), &a, &d], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("the wall file walls/cbl.toml differs: sha256"), "{}", text(&o));
+}
+
+#[test]
+fn merge_needs_neither_the_study_file_nor_its_walls() {
+    let s = common::Scratch::created("prov-moved");
+    let study = copy_study(&s, 7, "a");
+    let (a, b, whole) = (s.join("a"), s.join("b"), s.join("whole"));
+    shard(&study, "1/2", &a);
+    shard(&study, "2/2", &b);
+    ok(drystone(&[&"run", &study, &"--out", &whole], &s));
+    // The study, its wall and its data are gone; merge from another directory.
+    for f in ["study.toml", "walls/cbl.toml", "data/collapse.csv"] {
+        std::fs::remove_file(s.join(f)).unwrap();
+    }
+    let merged = s.join("merged");
+    let o = ok(drystone(&[&"merge", &"--out", &merged, &a, &b], &root()));
+    assert!(text(&o).contains("(seed 7)"), "{}", text(&o));
+    for f in ["report.md", "summary.csv", "realizations.csv"] {
+        let strip = |p: PathBuf| {
+            let t = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            // realizations.csv: drop the last column (wall time).
+            t.lines()
+                .map(|l| if f == "realizations.csv" { l.rsplit_once(',').unwrap().0 } else { l })
+                .collect::<Vec<_>>()
+                .join("\n")
+        };
+        assert_eq!(strip(whole.join(f)), strip(merged.join(f)), "{f} differs");
+    }
+    assert!(!merged.join(".inputs").exists(), "the rebuilt inputs are removed");
+    let (mw, mm) = (manifest(&whole), manifest(&merged));
+    assert_eq!(mw["inputs"], mm["inputs"]);
+}
+
+#[test]
+fn resume_refuses_the_journal_of_another_run() {
+    let s = common::Scratch::created("prov-resume");
+    let study = copy_study(&s, 7, "a");
+    let out = s.join("out");
+    ok(drystone(&[&"run", &study, &"--out", &out], &s));
+    copy_study(&s, 8, "a");
+    let o = drystone(&[&"run", &study, &"--out", &out, &"--resume"], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let msg = text(&o);
+    assert!(msg.contains("journal.jsonl: was written by another run (seed: 7 in the journal, 8 in this run)"), "{msg}");
+}

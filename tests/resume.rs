@@ -1,0 +1,170 @@
+//! Crash safety of `drystone run`: a run killed with SIGKILL in the middle of its ensemble
+//! keeps every finished realization in its journal, and `--resume` finishes it with outputs
+//! byte-identical to an uninterrupted run (except the wall-time column). Also: an
+//! unwritable `--out` is refused before anything runs, and the exit status when every
+//! realization failed.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+mod common;
+
+const BIN: &str = env!("CARGO_BIN_EXE_drystone");
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The small study of the tests: 2 groups × 2 sweep points × 4 realizations = 16 items of
+/// short walls, a few seconds in all.
+fn study() -> PathBuf {
+    root().join("tests/studies/good/mini_sweep.toml")
+}
+
+const ITEMS: usize = 16;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).current_dir(root()).output().expect("drystone runs")
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+/// The finished rows in a journal (lines after the header).
+fn journal_rows(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join("journal.jsonl")).map_or(0, |t| t.lines().count().saturating_sub(1))
+}
+
+/// A CSV file with the `wall_time_s` column removed.
+fn without_wall_time(p: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    let rows: Vec<Vec<String>> = text.lines().map(|l| split_csv(l)).collect();
+    let i = rows[0].iter().position(|c| c == "wall_time_s").expect("a wall_time_s column");
+    rows.into_iter()
+        .map(|mut r| {
+            r.remove(i);
+            r
+        })
+        .collect()
+}
+
+/// Splits a CSV line (quoted cells may hold commas).
+fn split_csv(line: &str) -> Vec<String> {
+    let (mut cells, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => cells.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    cells.push(cur);
+    cells
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn a_killed_run_resumes_to_the_outputs_of_an_uninterrupted_one() {
+    let whole = common::Scratch::new("resume-whole");
+    let killed = common::Scratch::new("resume-killed");
+    let s = study();
+    let s = s.to_str().unwrap();
+    let o = run(&["run", s, "--realizations", "4", "--threads", "2", "--out", whole.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+
+    // Started, killed with SIGKILL (Child::kill on Unix) once some but not all items are in
+    // the journal.
+    let mut child = Command::new(BIN)
+        .args(["run", s, "--realizations", "4", "--threads", "1", "--out", killed.to_str().unwrap()])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("drystone starts");
+    let t0 = Instant::now();
+    while journal_rows(&killed) < 1 {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no item finished within 60 s");
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before it could be killed");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().expect("SIGKILL");
+    child.wait().unwrap();
+    let finished = journal_rows(&killed);
+    assert!((1..ITEMS).contains(&finished), "{finished} of {ITEMS} items in the journal");
+    assert!(!killed.join("summary.csv").exists() && !killed.join("realizations.csv").exists());
+
+    // A plain rerun would throw the finished items away: refused.
+    let o = run(&["run", s, "--realizations", "4", "--out", killed.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("journal.jsonl: holds") && text(&o).contains("--resume"), "{}", text(&o));
+
+    // Resumed on another number of threads.
+    let o = run(&["run", s, "--realizations", "4", "--threads", "2", "--resume", "--out", killed.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let resumed: usize = text(&o)
+        .split("failed, ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count of resumed items in {}", text(&o)));
+    assert!((finished..ITEMS).contains(&resumed), "{resumed} resumed, {finished} were in the journal");
+    assert_eq!(journal_rows(&killed), ITEMS, "every item once in the journal");
+
+    for f in ["summary.csv", "report.md", "collapse_angle_histograms.svg", "fragility.svg", "displacement_vs_tilt.svg"]
+    {
+        assert_eq!(read(&whole.join(f)), read(&killed.join(f)), "{f} differs");
+    }
+    assert_eq!(without_wall_time(&whole.join("realizations.csv")), without_wall_time(&killed.join("realizations.csv")));
+    let zero = |p: PathBuf| {
+        let mut rows = drystone::io::table::read_realizations(&p).unwrap();
+        rows.iter_mut().for_each(|r| r.wall_time_s = 0.0);
+        rows
+    };
+    assert_eq!(zero(whole.join("realizations.parquet")), zero(killed.join("realizations.parquet")));
+
+    // Resuming a finished run computes nothing and writes the same outputs.
+    let t0 = Instant::now();
+    let o = run(&["run", s, "--realizations", "4", "--resume", "--out", killed.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains(&format!("{ITEMS} from the journal")), "{}", text(&o));
+    assert!(t0.elapsed() < Duration::from_secs(20));
+    assert_eq!(read(&whole.join("summary.csv")), read(&killed.join("summary.csv")));
+}
+
+#[test]
+fn an_unwritable_out_is_refused_before_anything_runs() {
+    let scratch = common::Scratch::created("resume-unwritable");
+    let file = scratch.join("a_file");
+    std::fs::write(&file, b"not a directory").unwrap();
+    let out = file.join("out");
+    let s = study();
+    let t0 = Instant::now();
+    // 400000 items would run for days: the refusal must come first.
+    let o = run(&["run", s.to_str().unwrap(), "--realizations", "100000", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains(&*file.to_string_lossy()), "the message names the path: {}", text(&o));
+    assert!(t0.elapsed() < Duration::from_secs(20), "took {:?}", t0.elapsed());
+}
+
+#[test]
+fn every_realization_failing_is_exit_status_3_and_the_outputs_are_written() {
+    let scratch = common::Scratch::created("resume-all-failed");
+    // No equilibrium at alpha = 0 within 5 steps: every realization fails.
+    let text_of =
+        std::fs::read_to_string(study()).unwrap().replace("[tilt]\n", "[tilt]\nmax_steps_per_increment = 5\n");
+    let text_of = text_of.replace("../../../", &format!("{}/", root().display()));
+    let s = scratch.join("failing.toml");
+    std::fs::write(&s, text_of).unwrap();
+    let out = scratch.join("out");
+    let o = run(&["run", s.to_str().unwrap(), "--realizations", "1", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+    assert!(text(&o).contains("every realization (4) failed"), "{}", text(&o));
+    let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
+    assert_eq!(csv.matches("no_initial_equilibrium").count(), 4, "{csv}");
+    assert!(out.join("report.md").exists());
+}
