@@ -1,10 +1,9 @@
 //! Running a study: one realization per work item, in parallel, into rows.
 //!
-//! The items are scheduled longest first: the layout of every item is generated once
-//! beforehand (in parallel, a few milliseconds each) only to count its blocks, and dropped;
-//! each item then generates its layout again (the same one: it is a pure function of the
-//! seed and the realization) and runs its protocol. Memory thus holds the layouts of the
-//! items running, not those of the whole ensemble.
+//! The items are scheduled longest first, by the block count estimated from their wall
+//! description ([`super::size::estimated_blocks`]); each item generates its layout once,
+//! when it runs, and drops it with its result. Memory thus holds the layouts of the items
+//! running, not those of the whole ensemble.
 //!
 //! [`run_study_with`] hands each finished row to a sink (the journal of the run) as soon as
 //! it is computed, and takes the rows of items already finished (read back from the
@@ -18,15 +17,18 @@ use crate::generator::generate;
 use crate::loading::lateral::{run_lateral, LateralError, LateralResult};
 use crate::loading::tilt::{run_tilt, CollapseReason, MechanismKind, TiltError, TiltResult};
 use crate::units::m_to_cm;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-/// Scheduling cost of an item: the number of blocks of its layout (the DEM run grows with
-/// them); 0 for a layout that cannot be generated, whose row is written at once.
+/// Scheduling cost of an item: the block count estimated from its wall description (the
+/// DEM run grows with it), without generating the layout; 0 where no finite estimate exists.
 fn cost(study: &Study, item: &Item) -> f64 {
-    let wall = &study.groups[item.group].walls[item.point];
-    generate(wall, study.seed, item.realization).map_or(0.0, |g| g.layout.blocks.len() as f64)
+    let n = super::size::estimated_blocks(&study.groups[item.group].walls[item.point]);
+    if n.is_finite() {
+        n
+    } else {
+        0.0
+    }
 }
 
 /// Runs one realization of a study: generate the layout of its group and sweep point from
@@ -54,8 +56,8 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
 /// Runs the items of a shard of a study in parallel on the current rayon pool; rows in item
 /// order.
 ///
-/// Items are scheduled longest first, by the number of blocks of their layout, so that the
-/// expensive walls do not run last on one thread while the others idle.
+/// Items are scheduled longest first, by the estimated number of blocks of their layout, so
+/// that the expensive walls do not run last on one thread while the others idle.
 pub fn run_study(study: &Study, shard: Shard) -> Vec<RealizationRow> {
     let never = |_: &RealizationRow| Ok::<(), std::convert::Infallible>(());
     match run_study_with(study, shard, Vec::new(), never) {
@@ -79,7 +81,7 @@ pub fn run_study_with<E: Send>(
     let finished: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
     let items: Vec<Item> =
         shard.select(&study.items()).into_iter().filter(|it| !finished.contains(&(it.index as u64))).collect();
-    let costs: Vec<f64> = items.par_iter().map(|it| cost(study, it)).collect();
+    let costs: Vec<f64> = items.iter().map(|it| cost(study, it)).collect();
     let failed = AtomicBool::new(false);
     let results = ensemble::run_scheduled(&items, &costs, &study.name, |it| {
         if failed.load(Ordering::SeqCst) {
