@@ -45,6 +45,27 @@ use thiserror::Error;
 /// Two blocks (or a block and the table) may interpenetrate by at most this much, m.
 pub const OVERLAP_TOLERANCE_M: f64 = 1e-5;
 
+/// Range of a material's density, kg/m³ (from cork-light fills to the densest metals; dry
+/// stone is 1,500–3,000).
+pub const DENSITY_RANGE_KG_PER_M3: (f64, f64) = (100.0, 30_000.0);
+
+/// Range of a joint's normal and shear stiffness, Pa/m (the paper's joints are 2.5e7–1.75e8;
+/// rigid-limit checks use up to 1e13).
+pub const STIFFNESS_RANGE_PA_PER_M: (f64, f64) = (1e5, 1e15);
+
+/// Range of the gravitational acceleration, m/s².
+pub const GRAVITY_RANGE_M_PER_S2: (f64, f64) = (0.1, 100.0);
+
+/// Largest elastic closure of a joint under the wall's own weight, as a fraction of the
+/// wall's height: `ρ g H / Kn ≤ MAX_CLOSURE_RATIO H`, i.e. `ρ g / Kn ≤ 0.01` for every
+/// material (the paper's shale joints: 4e-4). Softer joints sink blocks into each other by
+/// more than the rigid-block model can represent.
+pub const MAX_CLOSURE_RATIO: f64 = 0.01;
+
+/// How far a monitor point may lie outside the bounding box of its block, as a fraction of
+/// the block's bounding-box diagonal.
+pub const MONITOR_TOLERANCE_FRACTION: f64 = 0.05;
+
 /// The only layout format version this build reads and writes.
 pub const LAYOUT_VERSION: u32 = 1;
 
@@ -85,6 +106,20 @@ pub enum LayoutError {
         id: String,
         /// The cause.
         source: GeometryError,
+    },
+    /// A block's vertices are not those of a convex polyhedron.
+    #[error(
+        "layout: block {id} is not convex: vertex {index} {vertex:?} is not a vertex of the convex hull of the block's \
+         vertices (drystone's blocks are convex polyhedra given by their corners; split a non-convex stone into \
+         convex blocks)"
+    )]
+    NotConvex {
+        /// Block id.
+        id: String,
+        /// Index of the vertex in the block's list.
+        index: usize,
+        /// The vertex, m.
+        vertex: [f64; 3],
     },
     /// Two blocks overlap beyond the tolerance.
     #[error("layout: blocks {a} and {b} overlap by {depth_m:.3e} m (tolerance {OVERLAP_TOLERANCE_M:e} m)")]
@@ -344,6 +379,14 @@ fn check_positive(key: String, v: f64) -> Result<f64, LayoutError> {
     }
 }
 
+fn check_range(key: String, v: f64, (lo, hi): (f64, f64)) -> Result<f64, LayoutError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(LayoutError::Invalid { key, value: v.to_string(), reason: format!("must be in [{lo:e}, {hi:e}]") })
+    }
+}
+
 fn check_non_negative(key: String, v: f64) -> Result<f64, LayoutError> {
     if v.is_finite() && v >= 0.0 {
         Ok(v)
@@ -359,9 +402,9 @@ impl MaterialSpec {
     /// [`LayoutError::Invalid`] naming `materials[NAME].KEY`.
     pub fn resolve(&self) -> Result<Material, LayoutError> {
         let k = |f: &str| format!("materials[{}].{}", self.name, f);
-        let density = check_positive(k("density_kg_per_m3"), self.density_kg_per_m3)?;
-        let kn = check_positive(k("kn_pa_per_m"), self.kn_pa_per_m)?;
-        let ks = check_positive(k("ks_pa_per_m"), self.ks_pa_per_m)?;
+        let density = check_range(k("density_kg_per_m3"), self.density_kg_per_m3, DENSITY_RANGE_KG_PER_M3)?;
+        let kn = check_range(k("kn_pa_per_m"), self.kn_pa_per_m, STIFFNESS_RANGE_PA_PER_M)?;
+        let ks = check_range(k("ks_pa_per_m"), self.ks_pa_per_m, STIFFNESS_RANGE_PA_PER_M)?;
         let phi = self.friction_deg;
         if !(phi.is_finite() && (0.0..90.0).contains(&phi)) {
             return Err(invalid(k("friction_deg"), phi, "must be in [0, 90) degrees"));
@@ -415,7 +458,7 @@ impl LayoutSpec {
         if self.version != LAYOUT_VERSION {
             return Err(invalid("version", self.version, "this drystone reads layout version 1"));
         }
-        let gravity = check_positive("gravity_m_per_s2".into(), self.gravity_m_per_s2)?;
+        let gravity = check_range("gravity_m_per_s2".into(), self.gravity_m_per_s2, GRAVITY_RANGE_M_PER_S2)?;
         if self.materials.is_empty() {
             return Err(invalid("materials", "[]", "at least one material is needed"));
         }
@@ -425,7 +468,19 @@ impl LayoutSpec {
             if by_name.insert(m.name.clone(), i).is_some() {
                 return Err(invalid(format!("materials[{}].name", m.name), &m.name, "duplicate material name"));
             }
-            materials.push(m.resolve()?);
+            let mat = m.resolve()?;
+            let closure = mat.density * gravity / mat.kn;
+            if closure > MAX_CLOSURE_RATIO {
+                return Err(LayoutError::Invalid {
+                    key: format!("materials[{}].kn_pa_per_m", m.name),
+                    value: mat.kn.to_string(),
+                    reason: format!(
+                        "too soft for the density and gravity: the joints would close by ρ g H / Kn = {closure:.3} of \
+                         the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
+                    ),
+                });
+            }
+            materials.push(mat);
         }
         let table_material = *by_name
             .get(&self.table.material)
@@ -448,6 +503,7 @@ impl LayoutSpec {
             let verts: Vec<Vec3> = b.vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
             let shape =
                 ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
+            check_convex(&b.id, &verts, &shape)?;
             blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed });
         }
         check_overlaps(&blocks)?;
@@ -492,6 +548,20 @@ impl LayoutSpec {
             if !p.iter().all(|c| c.is_finite()) {
                 return Err(invalid(format!("monitors[{}].point", m.name), format!("{:?}", m.point), "must be finite"));
             }
+            let bb = blocks[bi].shape.aabb();
+            let reach = MONITOR_TOLERANCE_FRACTION * bb.extent().norm();
+            let outside = (bb.min - p).sup(&(p - bb.max)).sup(&Vec3::zeros()).norm();
+            if outside > reach {
+                return Err(invalid(
+                    format!("monitors[{}].point", m.name),
+                    format!("{:?}", m.point),
+                    &format!(
+                        "lies {outside:.3e} m outside the bounding box of block {} (at most {reach:.3e} m); \
+                         points are in metres, table frame",
+                        m.block
+                    ),
+                ));
+            }
             monitors.push(Monitor { name: m.name.clone(), block: bi, point: p });
         }
         Ok(Layout {
@@ -506,6 +576,20 @@ impl LayoutSpec {
             monitors,
         })
     }
+}
+
+/// Refuses a block whose given vertices are not all vertices of their convex hull (a vertex
+/// strictly inside the hull or on one of its faces or edges: a non-convex block, which the
+/// hull would silently replace), duplicates within 1e-9 of the block's size aside.
+fn check_convex(id: &str, given: &[Vec3], shape: &ConvexBlock) -> Result<(), LayoutError> {
+    let size = shape.aabb().extent().norm();
+    let tol = 1e-9 * size;
+    for (i, v) in given.iter().enumerate() {
+        if !shape.vertices.iter().any(|h| (h - v).norm() <= tol) {
+            return Err(LayoutError::NotConvex { id: id.to_owned(), index: i, vertex: [v.x, v.y, v.z] });
+        }
+    }
+    Ok(())
 }
 
 /// Rejects blocks below the table or interpenetrating each other beyond the tolerance.

@@ -41,6 +41,7 @@
 //!
 //! A study sets other values under `[lateral]`.
 
+use super::settle::{settle, SettleError};
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, Simulation, SolverParams};
@@ -143,14 +144,9 @@ pub enum LateralError {
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
-    /// The layout does not stand under gravity alone.
-    #[error("no equilibrium under gravity within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand")]
-    NoInitialEquilibrium {
-        /// Steps tried.
-        steps: u64,
-        /// Ratio reached.
-        ratio: f64,
-    },
+    /// The layout does not stand as given under gravity alone (see [`super::settle`]).
+    #[error(transparent)]
+    DoesNotStand(SettleError),
     /// A lateral-load or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
@@ -206,7 +202,7 @@ pub fn pressure_loads(sim: &Simulation, z0: f64, z1: f64, p0: f64, p1: f64) -> (
 /// Runs the static lateral load test of a layout.
 ///
 /// # Errors
-/// [`LateralError::NoInitialEquilibrium`] if the layout does not stand under gravity,
+/// [`LateralError::DoesNotStand`] if the layout does not stand as given under gravity,
 /// [`LateralError::Dem`] if the state blows up, [`LateralError::Parameter`] for bad
 /// parameters. A wall that collapses under the load is a result (`equilibrium` false), not
 /// an error.
@@ -226,9 +222,10 @@ pub fn run_lateral(
     let all = layout.bounds();
     let (width, height) = (all.extent().y, all.extent().z);
     sim.set_tilt(0.0);
-    if !sim.run_to_equilibrium(params.tolerance, params.max_steps)? {
-        return Err(LateralError::NoInitialEquilibrium { steps: params.max_steps, ratio: sim.stats.unbalanced_ratio });
-    }
+    settle(&mut sim, layout, params.tolerance, params.max_steps).map_err(|e| match e {
+        SettleError::Dem(e) => LateralError::Dem(e),
+        other => LateralError::DoesNotStand(other),
+    })?;
     let reference: Vec<Vec3> = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);

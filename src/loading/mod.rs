@@ -5,4 +5,5 @@
 pub mod lateral;
 pub mod mechanism;
 pub mod monitors;
+pub mod settle;
 pub mod tilt;

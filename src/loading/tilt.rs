@@ -24,6 +24,7 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
+use super::settle::{settle, SettleError};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::relax::{relax, Relaxed};
@@ -382,25 +383,28 @@ pub enum TiltError {
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
-    /// The layout does not stand under gravity alone.
-    #[error(
-        "no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand"
-    )]
-    NoInitialEquilibrium {
-        /// Steps tried.
-        steps: u64,
-        /// Ratio reached.
-        ratio: f64,
-    },
+    /// The layout does not stand as given under gravity alone (see [`super::settle`]).
+    #[error(transparent)]
+    DoesNotStand(SettleError),
     /// A tilt or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
 }
 
+impl TiltError {
+    fn from_settle(e: SettleError) -> TiltError {
+        match e {
+            SettleError::Dem(e) => TiltError::Dem(e),
+            other => TiltError::DoesNotStand(other),
+        }
+    }
+}
+
 /// Runs the tilting-table test of a layout to collapse.
 ///
 /// # Errors
-/// [`TiltError::NoInitialEquilibrium`] if the layout does not stand at α = 0,
+/// [`TiltError::DoesNotStand`] if the layout does not stand as given at α = 0 (a block
+/// touching nothing, no equilibrium, or a block that moved while settling),
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
 pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
@@ -411,12 +415,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     let width = layout.bounds().extent().y;
     sim.set_tilt(0.0);
     let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width };
-    if !sim.run_to_equilibrium(params.tolerance, params.max_steps_per_increment)? {
-        return Err(TiltError::NoInitialEquilibrium {
-            steps: params.max_steps_per_increment,
-            ratio: sim.stats.unbalanced_ratio,
-        });
-    }
+    settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
     ctx.reference = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {
         alpha_deg: 0.0,

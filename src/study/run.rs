@@ -163,10 +163,9 @@ fn mechanism_name(k: MechanismKind) -> &'static str {
 fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> RealizationRow {
     let t = match outcome {
         Ok(t) => t,
-        Err(TiltError::NoInitialEquilibrium { steps, ratio }) => {
+        Err(TiltError::DoesNotStand(e)) => {
             row.status = Status::NoInitialEquilibrium;
-            row.error =
-                format!("no equilibrium at alpha = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e})");
+            row.error = e.to_string();
             return row;
         }
         Err(e) => {
@@ -200,10 +199,9 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
 fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralError>) -> RealizationRow {
     let r = match outcome {
         Ok(r) => r,
-        Err(LateralError::NoInitialEquilibrium { steps, ratio }) => {
+        Err(LateralError::DoesNotStand(e)) => {
             row.status = Status::NoInitialEquilibrium;
-            row.error =
-                format!("no equilibrium under gravity within {steps} steps (unbalanced-force ratio {ratio:.3e})");
+            row.error = e.to_string();
             return row;
         }
         Err(e) => {

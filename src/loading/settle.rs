@@ -1,0 +1,103 @@
+//! The settling under gravity alone (α = 0) that starts every protocol, with the checks that
+//! the layout stands as given: every free block touches something, the relaxation reaches
+//! equilibrium, and no block moved more than [`SETTLE_TOLERANCE_FRACTION`] of the layout's
+//! height on the way (the joints' elastic closure under the wall's own weight is at most
+//! 1 % of the height: see `layout::MAX_CLOSURE_RATIO`).
+
+use super::monitors::{body_motion, BodyPose};
+use crate::dem::{DemError, DensityScaling, Simulation};
+use crate::layout::Layout;
+
+/// Largest motion of a block while settling (centroid displacement plus rotation times the
+/// block's radius), as a fraction of the layout's height \[0.02\]: twice the largest elastic
+/// closure a valid layout can have under its own weight. A block that moves more was not
+/// supported as given: it fell, slid off or dropped onto its support.
+pub const SETTLE_TOLERANCE_FRACTION: f64 = 0.02;
+
+/// Why a layout does not stand as given.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum SettleError {
+    /// The engine blew up.
+    #[error(transparent)]
+    Dem(#[from] DemError),
+    /// A free block has no contact within the contact margin at α = 0.
+    #[error("the layout does not stand as given: block {block} touches nothing (no block or table within the {margin_m:e} m contact margin)")]
+    Untouched {
+        /// Block id.
+        block: String,
+        /// Contact margin, m.
+        margin_m: f64,
+    },
+    /// No equilibrium under gravity within the step budget.
+    #[error(
+        "no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand"
+    )]
+    NoEquilibrium {
+        /// Steps tried.
+        steps: u64,
+        /// Ratio reached.
+        ratio: f64,
+    },
+    /// A block moved too far while settling.
+    #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity (at most {tolerance_m:.3e} m, {SETTLE_TOLERANCE_FRACTION} of the layout height)")]
+    Moved {
+        /// Block id.
+        block: String,
+        /// Its motion, m.
+        moved_m: f64,
+        /// The tolerance, m.
+        tolerance_m: f64,
+    },
+}
+
+/// Settles `sim` (a fresh simulation of `layout`, table level) to an unbalanced-force ratio
+/// below `tolerance` within `max_steps` steps, and checks that the layout stood as given.
+///
+/// # Errors
+/// [`SettleError::Untouched`] for the first free block (in layout order) without a contact,
+/// [`SettleError::NoEquilibrium`], [`SettleError::Moved`] for the block that moved most if
+/// it moved more than the tolerance, [`SettleError::Dem`] if the state blows up (with block
+/// density scaling, after a second attempt with scalar scaling, which `sim` then keeps).
+pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: u64) -> Result<(), SettleError> {
+    let mut touched = vec![false; sim.bodies.len()];
+    for c in &sim.contacts {
+        touched[c.b] = true;
+        if let Some(a) = c.a {
+            touched[a] = true;
+        }
+    }
+    if let Some(k) = (0..sim.bodies.len()).find(|&k| !sim.bodies[k].fixed && !touched[k]) {
+        return Err(SettleError::Untouched { block: sim.bodies[k].id.clone(), margin_m: sim.params.contact_margin_m });
+    }
+    let start: Vec<BodyPose> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+    let fresh = matches!(sim.params.density_scaling, DensityScaling::Block { .. }).then(|| sim.clone());
+    let settled = match (sim.run_to_equilibrium(tolerance, max_steps), fresh) {
+        // Block-scaled dynamics can blow up when a block falls (light soft directions of a
+        // block mass thrown into re-closing contacts): settle again with scalar scaling,
+        // which the simulation keeps, as the tilting table does for an increment.
+        (Err(DemError::NonFinite { .. }), Some(fresh)) => {
+            *sim = fresh;
+            sim.set_density_scaling(DensityScaling::Scalar);
+            sim.run_to_equilibrium(tolerance, max_steps)?
+        }
+        (r, _) => r?,
+    };
+    if !settled {
+        return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats.unbalanced_ratio });
+    }
+    let tolerance_m = SETTLE_TOLERANCE_FRACTION * layout.bounds().extent().z;
+    let worst = sim
+        .bodies
+        .iter()
+        .zip(&start)
+        .filter(|(b, _)| !b.fixed)
+        .map(|(b, from)| (b, body_motion(from, &(b.pos, b.rot), b.radius)))
+        .max_by(|x, y| x.1.total_cmp(&y.1));
+    if let Some((b, moved_m)) = worst {
+        if !(moved_m <= tolerance_m) {
+            return Err(SettleError::Moved { block: b.id.clone(), moved_m, tolerance_m });
+        }
+    }
+    Ok(())
+}
