@@ -30,14 +30,14 @@ pub enum SettleError {
         margin_m: f64,
     },
     /// No equilibrium under gravity within the step budget.
-    #[error(
-        "no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}): the layout does not stand"
-    )]
+    #[error("no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}){}", why(*.damping))]
     NoEquilibrium {
         /// Steps tried.
         steps: u64,
         /// Ratio reached.
         ratio: f64,
+        /// The local damping coefficient used.
+        damping: f64,
     },
     /// A block moved too far while settling.
     #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity (at most {tolerance_m:.3e} m, {SETTLE_TOLERANCE_FRACTION} of the layout height)")]
@@ -49,6 +49,16 @@ pub enum SettleError {
         /// The tolerance, m.
         tolerance_m: f64,
     },
+}
+
+/// The likely cause of a failed settling.
+fn why(damping: f64) -> &'static str {
+    if damping == 0.0 {
+        ": without local damping (damping 0) dynamic relaxation does not converge; give a damping \
+         coefficient in (0, 1), 0.8 by default"
+    } else {
+        ": the layout does not stand"
+    }
 }
 
 /// Settles `sim` (a fresh simulation of `layout`, table level) to an unbalanced-force ratio
@@ -84,7 +94,8 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         (r, _) => r?,
     };
     if !settled {
-        return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats.unbalanced_ratio });
+        let damping = sim.params.damping;
+        return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats.unbalanced_ratio, damping });
     }
     let tolerance_m = SETTLE_TOLERANCE_FRACTION * layout.bounds().extent().z;
     let worst = sim
