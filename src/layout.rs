@@ -383,7 +383,8 @@ fn check_range(key: String, v: f64, (lo, hi): (f64, f64)) -> Result<f64, LayoutE
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(v)
     } else {
-        Err(LayoutError::Invalid { key, value: v.to_string(), reason: format!("must be in [{lo:e}, {hi:e}]") })
+        let value = if v != 0.0 && !(1e-3..1e7).contains(&v.abs()) { format!("{v:e}") } else { v.to_string() };
+        Err(LayoutError::Invalid { key, value, reason: format!("must be in [{lo:e}, {hi:e}]") })
     }
 }
 

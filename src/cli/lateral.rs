@@ -2,14 +2,13 @@
 
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
-use drystone::layout::Layout;
 use drystone::loading::lateral::{run_lateral, LateralParams, LateralResult};
 use std::path::Path;
 use std::process::ExitCode;
 
 /// Solves the load to equilibrium and prints a table, or one JSON object with `json`.
 pub fn run(layout: &Path, params: &LateralParams, json: bool) -> Result<ExitCode> {
-    let l = Layout::from_file(layout)?;
+    let l = super::read_layout(layout)?;
     let r = run_lateral(&l, SolverParams::default(), params)
         .with_context(|| format!("static lateral load on {}", layout.display()))?;
     if json {

@@ -39,3 +39,13 @@ fn thread_count(threads: Option<usize>) -> usize {
 fn pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
     Ok(rayon::ThreadPoolBuilder::new().num_threads(thread_count(threads)).build()?)
 }
+
+/// Reads and checks a layout file; an error of its contents names the file (read and parse
+/// errors name it already).
+pub fn read_layout(path: &std::path::Path) -> anyhow::Result<drystone::layout::Layout> {
+    use drystone::layout::{Layout, LayoutError};
+    Layout::from_file(path).map_err(|e| match e {
+        LayoutError::Io { .. } | LayoutError::Parse { .. } => anyhow::Error::from(e),
+        other => anyhow::Error::from(other).context(format!("layout file {}", path.display())),
+    })
+}

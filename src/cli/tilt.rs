@@ -2,14 +2,13 @@
 
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
-use drystone::layout::Layout;
 use drystone::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
 use std::path::Path;
 use std::process::ExitCode;
 
 /// Runs the test and prints a table, or one JSON object with `json`.
 pub fn run(layout: &Path, solver: SolverParams, params: &TiltParams, json: bool) -> Result<ExitCode> {
-    let l = Layout::from_file(layout)?;
+    let l = super::read_layout(layout)?;
     let r = run_tilt(&l, solver, params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
