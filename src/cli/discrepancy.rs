@@ -55,7 +55,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let pool = pool(a.threads)?;
     let t0 = std::time::Instant::now();
     let run = pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed))?;
-    report::write(&dir, &run, &st.name).map_err(anyhow::Error::msg)?;
+    report::write(&dir, &run, &st.name)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report::to_json(&run))?);
         return Ok(());
@@ -124,7 +124,7 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
     };
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-synthetic-{seed}", st.name)));
     let (c, d) = synthesize::synthesize(&setup, &req);
-    synthesize::write(&dir, &c, &d).map_err(anyhow::Error::msg)?;
+    synthesize::write(&dir, &c, &d)?;
     let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
     println!(
         "synthetic data of {}: {} specimens per group, effects [{}], master seed {} (the study's is {}): {} collapse angles, {} displacements -> {}",

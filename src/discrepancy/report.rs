@@ -9,6 +9,7 @@ use super::predictive::Predictive;
 use super::simulate::Outcome;
 use super::Run;
 use crate::io::plot::{bands, colour, BandSeries, PlotError};
+use crate::io::FileError;
 use plotters::prelude::*;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -333,18 +334,33 @@ fn band(
     BandSeries { label: label.to_string(), x, mid, lo, hi, measured, points_label: None }
 }
 
+/// Errors of writing the discrepancy outputs.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum WriteError {
+    /// A file or directory could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// The JSON report could not be serialized.
+    #[error("discrepancy.json: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
 /// Writes the report files into `dir`.
 ///
 /// # Errors
-/// The file system's or the plot's error, with the file.
-pub fn write(dir: &Path, run: &Run, study: &str) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let json = serde_json::to_string_pretty(&to_json(run)).map_err(|e| e.to_string())?;
+/// [`WriteError`]: the file system's or the plot's error, with the file.
+pub fn write(dir: &Path, run: &Run, study: &str) -> Result<(), WriteError> {
+    std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
+    let json = serde_json::to_string_pretty(&to_json(run))?;
     for (name, text) in [("discrepancy.json", json), ("discrepancy.md", to_markdown(run, study))] {
         let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(&p, text).map_err(FileError::at(&p))?;
     }
-    residual_plot(&dir.join("residuals.svg"), run).map_err(|e| e.to_string())?;
+    residual_plot(&dir.join("residuals.svg"), run)?;
     for g in displacement_groups(run) {
         let Some(group_index) = run.obs.iter().position(|o| o.group == g).map(|j| run.keys.keys[run.keys.of[j]].0)
         else {
@@ -371,8 +387,7 @@ pub fn write(dir: &Path, run: &Run, study: &str) -> Result<(), String> {
             series.push(band(&outs[group_index], measure, &label, vec![]));
         }
         let p = dir.join(format!("displacement_{g}.svg"));
-        bands(&p, &format!("{g}: {}", measure.name()), "tilt [deg]", "displacement [cm]", &series)
-            .map_err(|e| e.to_string())?;
+        bands(&p, &format!("{g}: {}", measure.name()), "tilt [deg]", "displacement [cm]", &series)?;
     }
     Ok(())
 }

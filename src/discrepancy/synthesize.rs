@@ -7,6 +7,7 @@ use super::effects::Effect;
 use super::observations::{Measure, MeasurementSigma, Observable, Observation};
 use super::simulate::{run_models, Setup};
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
+use crate::io::FileError;
 use crate::rng::{rng_for, Purpose};
 use rand::{Rng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
@@ -128,9 +129,9 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
 /// format of the paper's data files).
 ///
 /// # Errors
-/// The file system's error, with the file.
-pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplacement]) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+/// [`FileError`]: the file system's error, with the file.
+pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplacement]) -> Result<(), FileError> {
+    std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
     let mut c = String::from("specimen,group,block,joints,ends,collapse_angle_deg,load_factor_sin\n");
     for m in collapse {
         let sin = m.collapse_angle_deg.to_radians().sin();
@@ -145,7 +146,7 @@ pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplace
     }
     for (name, text) in [("tilting_table_collapse.csv", c), ("tilting_table_displacement.csv", d)] {
         let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(&p, text).map_err(FileError::at(&p))?;
     }
     Ok(())
 }

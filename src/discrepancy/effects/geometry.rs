@@ -4,7 +4,7 @@
 //! shear and the bed tilt are continuous maps of the whole layout (shared faces stay
 //! shared), the chamfer only removes material.
 
-use crate::geometry::ConvexBlock;
+use crate::geometry::{ConvexBlock, GeometryError};
 use crate::layout::Layout;
 use crate::Vec3;
 use parry3d_f64::math::Vector as PVec;
@@ -12,14 +12,15 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 /// A failed block: its id and the reason.
-pub type BlockFailure = (String, String);
+pub type BlockFailure = (String, GeometryError);
 
 /// The convex block spanned by `points` (the hull; points inside it are dropped).
-fn hull(points: &[Vec3]) -> Result<ConvexBlock, String> {
+fn hull(points: &[Vec3]) -> Result<ConvexBlock, GeometryError> {
     let pts: Vec<PVec> = points.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
-    let (hv, _) = parry3d_f64::transformation::try_convex_hull(&pts).map_err(|e| format!("{e:?}"))?;
+    let (hv, _) =
+        parry3d_f64::transformation::try_convex_hull(&pts).map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
     let hv: Vec<Vec3> = hv.iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect();
-    ConvexBlock::from_vertices(&hv).map_err(|e| e.to_string())
+    ConvexBlock::from_vertices(&hv)
 }
 
 /// Applies `f` to every vertex of every block and to every monitor point, and rebuilds the
@@ -118,7 +119,7 @@ fn chamfer_planes(s: &ConvexBlock, r: f64) -> Vec<(Vec3, f64)> {
 }
 
 /// The part of a convex block with `m · x ≤ c`.
-fn cut(s: &ConvexBlock, m: &Vec3, c: f64) -> Result<ConvexBlock, String> {
+fn cut(s: &ConvexBlock, m: &Vec3, c: f64) -> Result<ConvexBlock, GeometryError> {
     let side: Vec<f64> = s.vertices.iter().map(|v| m.dot(v) - c).collect();
     let mut pts: Vec<Vec3> = s.vertices.iter().zip(&side).filter(|(_, &d)| d <= 0.0).map(|(v, _)| *v).collect();
     for &(i, j) in &s.edges {

@@ -246,7 +246,7 @@ pub enum EffectError {
         /// The block id.
         block: String,
         /// What failed.
-        reason: String,
+        reason: crate::geometry::GeometryError,
     },
 }
 

@@ -34,11 +34,12 @@
 //! cohesion and tensile strength are the smaller of the two. Between a block and the table,
 //! the table material's joint properties are used as they are.
 
+mod check;
+mod resolve;
+
 use crate::geometry::{ConvexBlock, GeometryError};
-use crate::units::deg_to_rad;
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -367,63 +368,6 @@ pub struct Layout {
     pub monitors: Vec<Monitor>,
 }
 
-fn invalid(key: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> LayoutError {
-    LayoutError::Invalid { key: key.into(), value: value.to_string(), reason: reason.into() }
-}
-
-fn check_positive(key: String, v: f64) -> Result<f64, LayoutError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(invalid(key, v, "must be a finite number > 0"))
-    }
-}
-
-fn check_range(key: String, v: f64, (lo, hi): (f64, f64)) -> Result<f64, LayoutError> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(v)
-    } else {
-        let value = if v != 0.0 && !(1e-3..1e7).contains(&v.abs()) { format!("{v:e}") } else { v.to_string() };
-        Err(LayoutError::Invalid { key, value, reason: format!("must be in [{lo:e}, {hi:e}]") })
-    }
-}
-
-fn check_non_negative(key: String, v: f64) -> Result<f64, LayoutError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(invalid(key, v, "must be a finite number >= 0"))
-    }
-}
-
-impl MaterialSpec {
-    /// Checks the values and converts to SI.
-    ///
-    /// # Errors
-    /// [`LayoutError::Invalid`] naming `materials[NAME].KEY`.
-    pub fn resolve(&self) -> Result<Material, LayoutError> {
-        let k = |f: &str| format!("materials[{}].{}", self.name, f);
-        let density = check_range(k("density_kg_per_m3"), self.density_kg_per_m3, DENSITY_RANGE_KG_PER_M3)?;
-        let kn = check_range(k("kn_pa_per_m"), self.kn_pa_per_m, STIFFNESS_RANGE_PA_PER_M)?;
-        let ks = check_range(k("ks_pa_per_m"), self.ks_pa_per_m, STIFFNESS_RANGE_PA_PER_M)?;
-        let phi = self.friction_deg;
-        if !(phi.is_finite() && (0.0..90.0).contains(&phi)) {
-            return Err(invalid(k("friction_deg"), phi, "must be in [0, 90) degrees"));
-        }
-        let c = check_non_negative(k("cohesion_pa"), self.cohesion_pa)?;
-        let t = check_non_negative(k("tensile_strength_pa"), self.tensile_strength_pa)?;
-        Ok(Material {
-            density,
-            kn,
-            ks,
-            friction: deg_to_rad(phi),
-            cohesion: c,
-            tensile_strength: t,
-            closure: Closure::Linear,
-        })
-    }
-}
-
 impl LayoutSpec {
     /// Reads a layout file (JSON).
     ///
@@ -450,170 +394,6 @@ impl LayoutSpec {
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
-
-    /// Checks everything and builds the [`Layout`].
-    ///
-    /// # Errors
-    /// The first problem found, naming the key or block.
-    pub fn resolve(&self) -> Result<Layout, LayoutError> {
-        if self.version != LAYOUT_VERSION {
-            return Err(invalid("version", self.version, "this drystone reads layout version 1"));
-        }
-        let gravity = check_range("gravity_m_per_s2".into(), self.gravity_m_per_s2, GRAVITY_RANGE_M_PER_S2)?;
-        if self.materials.is_empty() {
-            return Err(invalid("materials", "[]", "at least one material is needed"));
-        }
-        let mut by_name = BTreeMap::new();
-        let mut materials = Vec::new();
-        for (i, m) in self.materials.iter().enumerate() {
-            if by_name.insert(m.name.clone(), i).is_some() {
-                return Err(invalid(format!("materials[{}].name", m.name), &m.name, "duplicate material name"));
-            }
-            let mat = m.resolve()?;
-            let closure = mat.density * gravity / mat.kn;
-            if closure > MAX_CLOSURE_RATIO {
-                return Err(LayoutError::Invalid {
-                    key: format!("materials[{}].kn_pa_per_m", m.name),
-                    value: mat.kn.to_string(),
-                    reason: format!(
-                        "too soft for the density and gravity: the joints would close by ρ g H / Kn = {closure:.3} of \
-                         the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
-                    ),
-                });
-            }
-            materials.push(mat);
-        }
-        let table_material = *by_name
-            .get(&self.table.material)
-            .ok_or_else(|| invalid("table.material", &self.table.material, "no such material"))?;
-        if self.blocks.is_empty() {
-            return Err(invalid("blocks", "[]", "at least one block is needed"));
-        }
-        let mut ids = BTreeMap::new();
-        let mut blocks = Vec::with_capacity(self.blocks.len());
-        for (i, b) in self.blocks.iter().enumerate() {
-            if b.id.is_empty() {
-                return Err(invalid(format!("blocks[{i}].id"), "\"\"", "block id must not be empty"));
-            }
-            if ids.insert(b.id.clone(), i).is_some() {
-                return Err(invalid(format!("blocks[{}].id", b.id), &b.id, "duplicate block id"));
-            }
-            let material = *by_name
-                .get(&b.material)
-                .ok_or_else(|| invalid(format!("blocks[{}].material", b.id), &b.material, "no such material"))?;
-            let verts: Vec<Vec3> = b.vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
-            let shape =
-                ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
-            check_convex(&b.id, &verts, &shape)?;
-            blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed });
-        }
-        check_overlaps(&blocks)?;
-        let mut end_restraints: Vec<(usize, EndRestraint)> = Vec::new();
-        for (k, e) in self.restraints.ends.iter().enumerate() {
-            let r = match (e.kind, e.stiffness_n_per_m) {
-                (EndRestraintKind::Rigid, None) => EndRestraint::Rigid,
-                (EndRestraintKind::Rigid, Some(s)) => {
-                    return Err(invalid(
-                        format!("restraints.ends[{k}].stiffness_n_per_m"),
-                        s,
-                        "a rigid restraint takes no stiffness",
-                    ))
-                }
-                (EndRestraintKind::Spring, Some(s)) => {
-                    EndRestraint::Spring(check_positive(format!("restraints.ends[{k}].stiffness_n_per_m"), s)?)
-                }
-                (EndRestraintKind::Spring, None) => {
-                    return Err(invalid(
-                        format!("restraints.ends[{k}].stiffness_n_per_m"),
-                        "missing",
-                        "a spring restraint needs a stiffness in N/m",
-                    ))
-                }
-            };
-            for id in &e.blocks {
-                let bi =
-                    *ids.get(id).ok_or_else(|| invalid(format!("restraints.ends[{k}].blocks"), id, "no such block"))?;
-                if end_restraints.iter().any(|(j, _)| *j == bi) {
-                    return Err(invalid(format!("restraints.ends[{k}].blocks"), id, "block restrained twice"));
-                }
-                end_restraints.push((bi, r));
-            }
-        }
-        end_restraints.sort_by_key(|(i, _)| *i);
-        let mut monitors = Vec::new();
-        for m in &self.monitors {
-            let bi = *ids
-                .get(&m.block)
-                .ok_or_else(|| invalid(format!("monitors[{}].block", m.name), &m.block, "no such block"))?;
-            let p = Vec3::new(m.point[0], m.point[1], m.point[2]);
-            if !p.iter().all(|c| c.is_finite()) {
-                return Err(invalid(format!("monitors[{}].point", m.name), format!("{:?}", m.point), "must be finite"));
-            }
-            let bb = blocks[bi].shape.aabb();
-            let reach = MONITOR_TOLERANCE_FRACTION * bb.extent().norm();
-            let outside = (bb.min - p).sup(&(p - bb.max)).sup(&Vec3::zeros()).norm();
-            if outside > reach {
-                return Err(invalid(
-                    format!("monitors[{}].point", m.name),
-                    format!("{:?}", m.point),
-                    &format!(
-                        "lies {outside:.3e} m outside the bounding box of block {} (at most {reach:.3e} m); \
-                         points are in metres, table frame",
-                        m.block
-                    ),
-                ));
-            }
-            monitors.push(Monitor { name: m.name.clone(), block: bi, point: p });
-        }
-        Ok(Layout {
-            name: self.name.clone(),
-            gravity,
-            material_names: self.materials.iter().map(|m| m.name.clone()).collect(),
-            materials,
-            table_material,
-            blocks,
-            base_sliding: self.restraints.base_sliding,
-            end_restraints,
-            monitors,
-        })
-    }
-}
-
-/// Refuses a block whose given vertices are not all vertices of their convex hull (a vertex
-/// strictly inside the hull or on one of its faces or edges: a non-convex block, which the
-/// hull would silently replace), duplicates within 1e-9 of the block's size aside.
-fn check_convex(id: &str, given: &[Vec3], shape: &ConvexBlock) -> Result<(), LayoutError> {
-    let size = shape.aabb().extent().norm();
-    let tol = 1e-9 * size;
-    for (i, v) in given.iter().enumerate() {
-        if !shape.vertices.iter().any(|h| (h - v).norm() <= tol) {
-            return Err(LayoutError::NotConvex { id: id.to_owned(), index: i, vertex: [v.x, v.y, v.z] });
-        }
-    }
-    Ok(())
-}
-
-/// Rejects blocks below the table or interpenetrating each other beyond the tolerance.
-/// Uses the DEM's own narrow phase (separating-axis test) after a bounding-box sweep.
-fn check_overlaps(blocks: &[Block]) -> Result<(), LayoutError> {
-    for b in blocks {
-        let zmin = b.shape.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
-        if zmin < -OVERLAP_TOLERANCE_M {
-            return Err(LayoutError::Overlap { a: b.id.clone(), b: "table".into(), depth_m: -zmin });
-        }
-    }
-    let boxes: Vec<_> = blocks.iter().map(|b| b.shape.aabb()).collect();
-    for (i, j) in crate::geometry::sweep::sweep_pairs(&boxes, 0.0) {
-        let sep = crate::geometry::sat::separation(&blocks[i].shape, &blocks[j].shape);
-        if sep.distance < -OVERLAP_TOLERANCE_M {
-            return Err(LayoutError::Overlap {
-                a: blocks[i].id.clone(),
-                b: blocks[j].id.clone(),
-                depth_m: -sep.distance,
-            });
-        }
-    }
-    Ok(())
 }
 
 impl Layout {
