@@ -24,8 +24,8 @@
 //! The *wall width* is the y extent of the whole layout (the base width B of a wall).
 
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
-use super::settle::{settle, SettleError};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
+use super::settle::{settle, SettleError};
 use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
@@ -352,6 +352,56 @@ impl Ctx<'_> {
     }
 }
 
+/// The stable path of a test: the last stable state (every increment and trial starts
+/// from it), its tilt, the secant predictor's states, and the counts.
+struct StablePath {
+    sim: Simulation,
+    last_stable: f64,
+    secant: Secant,
+    predictor: bool,
+    total_steps: u64,
+    fallbacks: Vec<f64>,
+}
+
+impl StablePath {
+    fn new(settled: Simulation, predictor: bool) -> StablePath {
+        let mut secant = Secant::default();
+        secant.push(0.0, &settled);
+        let total_steps = settled.steps;
+        StablePath { sim: settled, last_stable: 0.0, secant, predictor, total_steps, fallbacks: Vec::new() }
+    }
+
+    /// Runs the increment or trial at `alpha_deg` from the last stable state and records it
+    /// in `increments`; a stable state becomes the new end of the path (`None`), an
+    /// unstable one is returned with its reason.
+    fn try_at(
+        &mut self,
+        ctx: &Ctx<'_>,
+        alpha_deg: f64,
+        increments: &mut Vec<Increment>,
+    ) -> Result<Option<(CollapseReason, Simulation)>, DemError> {
+        let prediction = if self.predictor { self.secant.predict(alpha_deg) } else { None };
+        let (next, stage, steps) = ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
+        self.total_steps += steps;
+        increments.push(Increment {
+            alpha_deg,
+            stable: matches!(stage, Stage::Stable),
+            steps,
+            displacement_m: ctx.displacements(&next),
+            unbalanced_ratio: next.stats.unbalanced_ratio,
+        });
+        Ok(match stage {
+            Stage::Stable => {
+                self.last_stable = alpha_deg;
+                self.secant.push(alpha_deg, &next);
+                self.sim = next;
+                None
+            }
+            Stage::Collapsed(reason) => Some((reason, next)),
+        })
+    }
+}
+
 /// Carries a state found unstable by the stability indicator along its direction of
 /// collapse, `(dpos, drot)` (the motion of the indicator's last window), until the largest
 /// block motion since `start` reaches `limit` (m), the per-increment collapse criterion:
@@ -424,44 +474,22 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         displacement_m: vec![0.0; monitors.len()],
         unbalanced_ratio: sim.stats.unbalanced_ratio,
     }];
-    let mut last_stable = 0.0;
-    let mut secant = Secant::default();
-    secant.push(0.0, &sim);
-    let mut total_steps = sim.steps;
-    // Every increment and trial starts from the last stable state.
-    let mut stable_sim = sim;
-    let predict = |secant: &Secant, alpha: f64| if params.predictor { secant.predict(alpha) } else { None };
+    let mut path = StablePath::new(sim, params.predictor);
     let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
-    let mut fallbacks = Vec::new();
     let mut k = 1;
     loop {
         let alpha = k as f64 * params.step_deg;
         if alpha > params.max_angle_deg + 1e-9 {
             break;
         }
-        let (next, stage, steps) = ctx.run_from(&stable_sim, alpha, predict(&secant, alpha), &mut fallbacks)?;
-        total_steps += steps;
-        increments.push(Increment {
-            alpha_deg: alpha,
-            stable: matches!(stage, Stage::Stable),
-            steps,
-            displacement_m: ctx.displacements(&next),
-            unbalanced_ratio: next.stats.unbalanced_ratio,
-        });
-        match stage {
-            Stage::Stable => {
-                last_stable = alpha;
-                secant.push(alpha, &next);
-                stable_sim = next;
-            }
-            Stage::Collapsed(reason) => {
-                first_unstable = Some((alpha, reason, next));
-                break;
-            }
+        if let Some((reason, next)) = path.try_at(&ctx, alpha, &mut increments)? {
+            first_unstable = Some((alpha, reason, next));
+            break;
         }
         k += 1;
     }
     let Some((mut unstable, mut reason, mut failed)) = first_unstable else {
+        let last_stable = path.last_stable;
         return Ok(TiltResult {
             collapse_angle_deg: last_stable,
             last_stable_deg: last_stable,
@@ -470,42 +498,28 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
             mechanism: Mechanism { kind: MechanismKind::None, joint: String::new(), joints: vec![], blocks: vec![] },
             monitors: monitors.iter().map(|m| m.name.clone()).collect(),
             increments,
-            steps: total_steps,
-            dt_s: stable_sim.dt,
+            steps: path.total_steps,
+            dt_s: path.sim.dt,
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
-            detections: stable_sim.detections,
-            max_density_scale: stable_sim.max_density_scale,
-            scalar_fallbacks_deg: fallbacks,
+            detections: path.sim.detections,
+            max_density_scale: path.sim.max_density_scale,
+            scalar_fallbacks_deg: path.fallbacks,
         });
     };
     // Time step of the first failing increment (bisection trials may replace `failed`).
     let dt_s = failed.dt;
     // Bisection of the bracket from the last stable state.
-    while unstable - last_stable > params.resolution_deg + 1e-12 {
-        let mid = 0.5 * (unstable + last_stable);
-        let (trial, stage, steps) = ctx.run_from(&stable_sim, mid, predict(&secant, mid), &mut fallbacks)?;
-        total_steps += steps;
-        increments.push(Increment {
-            alpha_deg: mid,
-            stable: matches!(stage, Stage::Stable),
-            steps,
-            displacement_m: ctx.displacements(&trial),
-            unbalanced_ratio: trial.stats.unbalanced_ratio,
-        });
-        match stage {
-            Stage::Stable => {
-                last_stable = mid;
-                secant.push(mid, &trial);
-                stable_sim = trial;
-            }
-            Stage::Collapsed(r) => {
-                unstable = mid;
-                reason = r;
-                failed = trial;
-            }
+    while unstable - path.last_stable > params.resolution_deg + 1e-12 {
+        let mid = 0.5 * (unstable + path.last_stable);
+        if let Some((r, trial)) = path.try_at(&ctx, mid, &mut increments)? {
+            unstable = mid;
+            reason = r;
+            failed = trial;
         }
     }
+    let (last_stable, stable_sim, total_steps, fallbacks) =
+        (path.last_stable, path.sim, path.total_steps, path.fallbacks);
     // Stable increments first, sorted by α, then unstable trials by α.
     increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
     let mechanism = mechanism(&stable_sim, &failed);
@@ -526,4 +540,3 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         scalar_fallbacks_deg: fallbacks,
     })
 }
-

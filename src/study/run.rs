@@ -159,20 +159,19 @@ fn mechanism_name(k: MechanismKind) -> &'static str {
     }
 }
 
+/// The row of a protocol that failed: the layout did not stand as given (`does_not_stand`)
+/// or the run blew up, with the message.
+fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::Display) -> RealizationRow {
+    row.status = if does_not_stand { Status::NoInitialEquilibrium } else { Status::BlewUp };
+    row.error = e.to_string();
+    row
+}
+
 /// A tilting-table outcome into the row.
 fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> RealizationRow {
     let t = match outcome {
         Ok(t) => t,
-        Err(TiltError::DoesNotStand(e)) => {
-            row.status = Status::NoInitialEquilibrium;
-            row.error = e.to_string();
-            return row;
-        }
-        Err(e) => {
-            row.status = Status::BlewUp;
-            row.error = e.to_string();
-            return row;
-        }
+        Err(e) => return failed_row(row, matches!(e, TiltError::DoesNotStand(_)), &e),
     };
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
     row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg);
@@ -199,16 +198,7 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
 fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralError>) -> RealizationRow {
     let r = match outcome {
         Ok(r) => r,
-        Err(LateralError::DoesNotStand(e)) => {
-            row.status = Status::NoInitialEquilibrium;
-            row.error = e.to_string();
-            return row;
-        }
-        Err(e) => {
-            row.status = Status::BlewUp;
-            row.error = e.to_string();
-            return row;
-        }
+        Err(e) => return failed_row(row, matches!(e, LateralError::DoesNotStand(_)), &e),
     };
     row.steps = r.steps;
     row.dt_s = r.dt_s;
