@@ -123,6 +123,8 @@ pub struct TiltRun {
 pub struct TiltBench {
     /// Secant predictor of the tilting table on.
     pub predictor: bool,
+    /// Secant acceleration of slow creep (and its stability indicator) on.
+    pub accelerate: bool,
     /// Realizations run.
     pub realizations: u64,
     /// Each test.
@@ -174,6 +176,7 @@ pub fn run_tilt_bench(
     }
     Ok(TiltBench {
         predictor: params.predictor,
+        accelerate: params.accelerate,
         realizations,
         runs,
         seed,

@@ -1,18 +1,43 @@
 //! The settling under gravity alone (α = 0) that starts every protocol, with the checks that
 //! the layout stands as given: every free block touches something, the relaxation reaches
-//! equilibrium, and no block moved more than [`SETTLE_TOLERANCE_FRACTION`] of the layout's
-//! height on the way (the joints' elastic closure under the wall's own weight is at most
-//! 1 % of the height: see `layout::MAX_CLOSURE_RATIO`).
+//! equilibrium, and no block moved more than [`settle_tolerance`] on the way: the motion
+//! the joints' own closure can explain, with a margin.
 
 use super::monitors::{body_motion, BodyPose};
 use crate::dem::{DemError, DensityScaling, Simulation};
-use crate::layout::Layout;
+use crate::layout::{Closure, Layout};
+
+/// Margin of the settling tolerance, as a fraction of the layout's height \[0.02\]: twice
+/// the largest linear elastic closure a valid layout can have under its own weight (see
+/// `layout::MAX_CLOSURE_RATIO`).
+pub const SETTLE_TOLERANCE_FRACTION: f64 = 0.02;
 
 /// Largest motion of a block while settling (centroid displacement plus rotation times the
-/// block's radius), as a fraction of the layout's height \[0.02\]: twice the largest elastic
-/// closure a valid layout can have under its own weight. A block that moves more was not
-/// supported as given: it fell, slid off or dropped onto its support.
-pub const SETTLE_TOLERANCE_FRACTION: f64 = 0.02;
+/// block's radius), m: [`SETTLE_TOLERANCE_FRACTION`] of the layout height H, plus the
+/// closure every joint of a stack could take, `n · c_max`, with `n` the number of joints a
+/// stack of the lowest blocks would have (H over the smallest block height, at most 100) and
+/// `c_max` the largest closure of any material's law under the full weight: `ρ g H / Kn`,
+/// plus the largest initial gap of a seating law, or the maximum closure of a hyperbolic
+/// law. A block that moves more was not supported as given: it fell, slid off or dropped
+/// onto its support.
+pub fn settle_tolerance(layout: &Layout) -> f64 {
+    let h = layout.bounds().extent().z;
+    let lowest = layout.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+    let joints = (h / lowest.max(0.01 * h)).ceil();
+    let closure = layout
+        .materials
+        .iter()
+        .map(|m| {
+            let elastic = m.density * layout.gravity * h / m.kn;
+            match m.closure {
+                Closure::Linear => elastic,
+                Closure::Seating { max_gap_m } => max_gap_m + elastic,
+                Closure::Hyperbolic { max_closure_m } => max_closure_m,
+            }
+        })
+        .fold(0.0, f64::max);
+    SETTLE_TOLERANCE_FRACTION * h + joints * closure
+}
 
 /// Why a layout does not stand as given.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -40,7 +65,7 @@ pub enum SettleError {
         damping: f64,
     },
     /// A block moved too far while settling.
-    #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity (at most {tolerance_m:.3e} m, {SETTLE_TOLERANCE_FRACTION} of the layout height)")]
+    #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity (at most {tolerance_m:.3e} m, what the closure of its joints explains)")]
     Moved {
         /// Block id.
         block: String,
@@ -97,7 +122,7 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         let damping = sim.params.damping;
         return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats.unbalanced_ratio, damping });
     }
-    let tolerance_m = SETTLE_TOLERANCE_FRACTION * layout.bounds().extent().z;
+    let tolerance_m = settle_tolerance(layout);
     let worst = sim
         .bodies
         .iter()

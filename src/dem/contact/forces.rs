@@ -1,0 +1,74 @@
+//! Step 3 of the engine for one contact: the node gaps and mid-points from the two bodies'
+//! poses, the joint law on every sub-contact, and the resultant force and moments.
+
+use super::law::{self, Kinematics, Quadrature};
+use super::types::Contact;
+use crate::dem::state::Body;
+use crate::Vec3;
+
+/// Per-node values of the contact loop: the table-frame mid-point of the node's two
+/// material points (m) and the normal gap between them (m).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct NodeScratch {
+    x: Vec3,
+    gap: f64,
+}
+
+/// `v / |v|` with one division (the contact normal of every step).
+#[inline(always)]
+pub(crate) fn unit(v: Vec3) -> Vec3 {
+    v * (1.0 / v.norm())
+}
+
+/// Step 3 for one contact: evaluates the law on every sub-contact and returns the resultant
+/// force on B, the moment on A about A's centroid and the moment on B about B's centroid
+/// (N, N·m, table frame). `PAIR` is false for a table contact (A is the table: fixed, at the
+/// origin, identity rotation; `a` is then ignored and no moment on A is returned), which
+/// skips the transformations and products by the identity and zero (the results are those
+/// of the general expressions, up to the sign of zero).
+#[inline(always)]
+pub(crate) fn contact_forces<const PAIR: bool>(
+    c: &mut Contact,
+    a: &Body,
+    bb: &Body,
+    dt: f64,
+    quad: Quadrature,
+    scratch: &mut Vec<NodeScratch>,
+) -> (Vec3, Vec3, Vec3) {
+    let (xb, rb, vb, wb) = (&bb.pos, &bb.rot_mat, &bb.vel, &bb.angvel);
+    let (xa, ra, va, wa) = (&a.pos, &a.rot_mat, &a.vel, &a.angvel);
+    let n = unit(if PAIR { ra * c.normal_a + rb * c.normal_b } else { c.normal_a + rb * c.normal_b });
+    if scratch.len() < c.nodes.len() {
+        scratch.resize(c.nodes.len(), NodeScratch::default());
+    }
+    for (nd, sc) in c.nodes.iter().zip(scratch.iter_mut()) {
+        let pa = if PAIR { xa + ra * nd.on_a } else { nd.on_a };
+        let pb = xb + rb * nd.on_b;
+        *sc = NodeScratch { x: 0.5 * (pa + pb), gap: (pb - pa).dot(&n) };
+    }
+    let scratch = &scratch[..c.nodes.len()];
+    let mut fsum = Vec3::zeros();
+    // Moment of the sub-contact forces about the table origin; shifted to the centroids once.
+    let mut moment = Vec3::zeros();
+    for s in &mut c.subs {
+        let [s0, s1, s2] = s.nodes.map(|k| &scratch[k as usize]);
+        let gaps = [s0.gap, s1.gap, s2.gap];
+        if gaps[0] >= 0.0 && gaps[1] >= 0.0 && gaps[2] >= 0.0 && !s.state.bonded && s.state.normal == 0.0 {
+            continue; // open everywhere, no history: no force
+        }
+        let (x0, x1, x2) = (s0.x, s1.x, s2.x);
+        let xc = (x0 + x1 + x2) * (1.0 / 3.0);
+        let vrel = if PAIR { vb + wb.cross(&(xc - xb)) - va - wa.cross(&(xc - xa)) } else { vb + wb.cross(&(xc - xb)) };
+        let du = (vrel - n * n.dot(&vrel)) * dt;
+        let out =
+            law::evaluate(&c.joint, quad, &mut s.state, &Kinematics { normal: n, gaps, du_shear: du, area: s.area });
+        let f = out.force;
+        let x = x0 * out.at[0] + x1 * out.at[1] + x2 * out.at[2];
+        let xs = x0 * out.at_shear[0] + x1 * out.at_shear[1] + x2 * out.at_shear[2];
+        fsum += f;
+        moment += x.cross(&(f - out.shear)) + xs.cross(&out.shear);
+    }
+    let tb = moment - xb.cross(&fsum);
+    let ta = if PAIR { xa.cross(&fsum) - moment } else { Vec3::zeros() };
+    (fsum, ta, tb)
+}
