@@ -1,11 +1,10 @@
 //! Criterion benches: the contact kernel (narrow phase of two stacked blocks), the joint law
 //! of one sub-contact (fully and partly compressed), one engine step of the paper's 16-block
 //! cube, and one engine step of the SBL wall near collapse (the preset, seed 20210917,
-//! realization 0, settled and tilted to 17°: issue 4's case). Fixed inputs.
+//! realization 0, settled and tilted to 17°). Fixed inputs.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use drystone::dem::contact::geometry::block_block;
-use drystone::dem::SolverParams;
 use drystone::dem::contact::law::{evaluate, JointParams, Kinematics, Quadrature, SubContactState};
 use drystone::dem::{Simulation, SolverParams};
 use drystone::geometry::ConvexBlock;
