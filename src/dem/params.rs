@@ -119,6 +119,23 @@ impl SolverParams {
         }
     }
 
+    /// Checks ranges for a static solution by dynamic relaxation (the settling, the tilting
+    /// table, the static lateral load): those of [`Self::validate`], and local damping in
+    /// (0, 1). Without damping the relaxation does not converge, and the undamped explicit
+    /// scheme with contacts opening and closing can gain energy and blow up.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate_static(&self) -> Result<(), OutOfRange> {
+        self.validate()?;
+        check_ranges(&[(
+            "damping",
+            self.damping,
+            self.damping > 0.0,
+            "in (0, 1) for a static solution (dynamic relaxation needs local damping)",
+        )])
+    }
+
     /// Checks ranges.
     ///
     /// # Errors

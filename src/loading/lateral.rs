@@ -212,7 +212,7 @@ pub fn run_lateral(
     params: &LateralParams,
 ) -> Result<LateralResult, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
-    solver.validate().map_err(LateralError::Parameter)?;
+    solver.validate_static().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
     // Scalar density scaling only: a load past the wall's capacity collapses it within this
     // one solve, and block-scaled collapse dynamics can blow up (`DensityScaling::Block`).

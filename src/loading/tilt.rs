@@ -458,7 +458,7 @@ impl TiltError {
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
 pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
-    solver.validate().map_err(TiltError::Parameter)?;
+    solver.validate_static().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);
