@@ -168,7 +168,7 @@ impl StudySpec {
         };
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
-        self.solver.validate().map_err(range("solver"))?;
+        self.solver.validate_static().map_err(range("solver"))?;
         Ok(())
     }
 
