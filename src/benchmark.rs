@@ -108,8 +108,10 @@ pub struct TiltRun {
     pub first_unstable_deg: Option<f64>,
     /// Realization index.
     pub realization: u64,
-    /// Engine steps.
+    /// Engine steps (dynamic relaxation).
     pub steps: u64,
+    /// Iterations of the implicit relaxation.
+    pub iterations: u64,
     /// Wall time per step, µs.
     pub us_per_step: f64,
     /// Wall time, s.
@@ -125,6 +127,10 @@ pub struct TiltBench {
     pub predictor: bool,
     /// Secant acceleration of slow creep (and its stability indicator) on.
     pub accelerate: bool,
+    /// Implicit relaxation of the increments on.
+    pub implicit: bool,
+    /// Implicit iterations of all tests.
+    pub iterations: u64,
     /// Realizations run.
     pub realizations: u64,
     /// Each test.
@@ -155,11 +161,12 @@ pub fn run_tilt_bench(
     mut on_run: impl FnMut(&TiltRun),
 ) -> Result<TiltBench, BenchError> {
     let mut runs = Vec::new();
-    let (mut steps, mut time) = (0u64, 0.0);
+    let (mut steps, mut iterations, mut time) = (0u64, 0u64, 0.0);
     for k in 0..realizations {
         let layout = generate(wall, seed, k)?.check()?;
         let r = run_tilt(&layout, SolverParams::default(), params)?;
         steps += r.steps;
+        iterations += r.iterations;
         time += r.wall_time_s;
         let run = TiltRun {
             blocks: layout.blocks.len(),
@@ -168,6 +175,7 @@ pub fn run_tilt_bench(
             first_unstable_deg: r.first_unstable_deg,
             realization: k,
             steps: r.steps,
+            iterations: r.iterations,
             us_per_step: 1e6 * r.wall_time_s / r.steps as f64,
             wall_time_s: r.wall_time_s,
         };
@@ -177,6 +185,8 @@ pub fn run_tilt_bench(
     Ok(TiltBench {
         predictor: params.predictor,
         accelerate: params.accelerate,
+        implicit: params.implicit,
+        iterations,
         realizations,
         runs,
         seed,

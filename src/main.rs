@@ -76,6 +76,10 @@ enum Command {
         /// stability indicator (`accelerate = false` in a study's [tilt] table).
         #[arg(long)]
         no_acceleration: bool,
+        /// Dynamic relaxation only, without the implicit relaxation of each increment
+        /// (`implicit = false` in a study's [tilt] table).
+        #[arg(long)]
+        no_implicit: bool,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
@@ -247,6 +251,9 @@ enum Command {
         /// Without the secant acceleration of slow creep (`tilt`; for comparison).
         #[arg(long)]
         no_acceleration: bool,
+        /// Without the implicit relaxation of the increments (`tilt`; for comparison).
+        #[arg(long)]
+        no_implicit: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -292,6 +299,7 @@ fn run() -> anyhow::Result<ExitCode> {
             tolerance,
             no_predictor,
             no_acceleration,
+            no_implicit,
         } => {
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
@@ -312,6 +320,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 tolerance,
                 predictor: !no_predictor,
                 accelerate: !no_acceleration,
+                implicit: !no_implicit,
                 ..TiltParams::default()
             };
             cli::tilt::run(&layout, solver, &params, json)
@@ -354,13 +363,20 @@ fn run() -> anyhow::Result<ExitCode> {
             cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, steps, wall, seed, realizations, no_predictor, no_acceleration, json } => match case.as_str() {
-            "tilt" => {
-                let params = TiltParams { predictor: !no_predictor, accelerate: !no_acceleration, ..TiltParams::default() };
-                cli::bench::tilt(&wall, seed, realizations, &params, json)
+        Command::Bench { case, steps, wall, seed, realizations, no_predictor, no_acceleration, no_implicit, json } => {
+            match case.as_str() {
+                "tilt" => {
+                    let params = TiltParams {
+                        predictor: !no_predictor,
+                        accelerate: !no_acceleration,
+                        implicit: !no_implicit,
+                        ..TiltParams::default()
+                    };
+                    cli::bench::tilt(&wall, seed, realizations, &params, json)
+                }
+                "cube16" => cli::bench::cube16(steps, json),
+                _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
             }
-            "cube16" => cli::bench::cube16(steps, json),
-            _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
-        },
+        }
     }
 }

@@ -12,14 +12,15 @@ fn running_bond_wall() -> Layout {
     Layout::from_file(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/layouts/running_bond_wall.json"))).unwrap()
 }
 
-/// The 24-block running-bond wall with and without the acceleration: the collapse angle
+/// The 24-block running-bond wall relaxed dynamically with and without the acceleration: the collapse angle
 /// within one bracket, the displacements of every stable increment up to 80 % of it equal
 /// to within 2 % of the largest (both are equilibria to the same unbalanced-force
 /// tolerance), and fewer steps in all.
 #[test]
 fn the_acceleration_changes_the_steps_not_the_result() {
     let l = running_bond_wall();
-    let params = TiltParams::default();
+    // Dynamic relaxation only: the acceleration acts on its steps.
+    let params = TiltParams { implicit: false, ..TiltParams::default() };
     let with = run_tilt(&l, SolverParams::default(), &params).unwrap();
     let without = run_tilt(&l, SolverParams::default(), &TiltParams { accelerate: false, ..params }).unwrap();
     assert!(

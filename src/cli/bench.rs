@@ -16,21 +16,23 @@ pub fn tilt(wall: &Path, seed: u64, realizations: u64, params: &TiltParams, json
     let w = Wall::from_file_with(wall, &DistributionSource::default_for(wall))?;
     if !json {
         out!(
-            "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}, acceleration {}",
+            "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}, acceleration {}, implicit {}",
             wall.display(),
             if params.predictor { "on" } else { "off" },
-            if params.accelerate { "on" } else { "off" }
+            if params.accelerate { "on" } else { "off" },
+            if params.implicit { "on" } else { "off" }
         );
     }
     let print_run = |r: &TiltRun| {
         if !json {
             out!(
-                "  realization {} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {:.2} s ({:.1} us/step)",
+                "  realization {} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {} implicit iterations, {:.2} s ({:.1} us/step)",
                 r.realization,
                 r.blocks,
                 r.collapse_angle_deg,
                 r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.4} deg")),
                 r.steps,
+                r.iterations,
                 r.dt_s,
                 r.wall_time_s,
                 r.us_per_step

@@ -17,15 +17,15 @@
 //! A simulation is single-threaded and deterministic; ensembles parallelize over
 //! realizations.
 
-use super::contact::geometry as cgeom;
 use super::contact::forces::{contact_forces, unit, NodeScratch};
+use super::contact::geometry as cgeom;
 use super::contact::law::{self, JointParams, SubContactState};
-use super::materials::{joint_between, joint_of};
-use super::params::{DensityScaling, SolverParams};
 pub use super::contact::types::{Contact, ContactNode, SubContact};
 pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
+use super::materials::{joint_between, joint_of};
 use super::monitor::StepStats;
+use super::params::{DensityScaling, SolverParams};
 use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
 use crate::geometry::sweep::sweep_pairs;
@@ -86,6 +86,10 @@ pub struct Simulation {
     detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
     layout_joints: Vec<Vec<JointParams>>,
     scratch: Vec<NodeScratch>,
+    /// While set, a re-detection leaves the inertial masses and the time step to
+    /// [`Simulation::end_deferral`] (the implicit iterations take no step).
+    defer_step_update: bool,
+    step_update_pending: bool,
 }
 
 impl Simulation {
@@ -130,6 +134,8 @@ impl Simulation {
             torque: vec![Vec3::zeros(); n],
             layout_joints,
             scratch: Vec::new(),
+            defer_step_update: false,
+            step_update_pending: false,
         };
         sim.detect_contacts(true);
         if !sim.dt.is_finite() {
@@ -178,8 +184,28 @@ impl Simulation {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
         }
-        self.update_masses_and_step();
+        if self.defer_step_update {
+            self.step_update_pending = true;
+        } else {
+            self.update_masses_and_step();
+        }
         self.detections += 1;
+    }
+
+    /// Defers the update of the inertial masses and the time step at re-detections until
+    /// [`Simulation::end_deferral`] (for iterations that take no dynamic step; the jumps of
+    /// [`Simulation::predict`] do not depend on the step).
+    pub(crate) fn defer_step_updates(&mut self) {
+        self.defer_step_update = true;
+    }
+
+    /// Ends [`Simulation::defer_step_updates`]: sets the masses and the time step of the
+    /// current contacts if a re-detection happened meanwhile.
+    pub(crate) fn end_deferral(&mut self) {
+        self.defer_step_update = false;
+        if std::mem::take(&mut self.step_update_pending) {
+            self.update_masses_and_step();
+        }
     }
 
     /// Sets the inertial masses (density scaling, scalar or block) and the time step from
@@ -444,6 +470,55 @@ impl Simulation {
         }
     }
 
+    /// Step 4: adds the loads (weight, end-restraint springs, external forces and torques)
+    /// to the contact forces of the last contact pass; returns the sum of the free bodies'
+    /// out-of-balance loads `|F| + |T|/r` (N) and their number.
+    #[inline(always)]
+    fn load_pass(&mut self) -> (f64, usize) {
+        let mut sum_unbalanced = 0.0;
+        let mut free = 0usize;
+        for (k, b) in self.bodies.iter().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let mut f = self.force[k] + self.gravity * b.mass + self.external_force[k];
+            self.torque[k] += self.external_torque[k];
+            if let Some(EndRestraint::Spring(kk)) = self.restraint[k] {
+                f.y -= kk * (b.pos.y - b.pos0.y);
+            }
+            self.force[k] = f;
+            let mut fu = f;
+            if self.restraint[k] == Some(EndRestraint::Rigid) {
+                fu.y = 0.0;
+            }
+            // Out-of-balance moment counted as a force at the body's radius, so that a
+            // block rotating about an edge is not mistaken for one at rest.
+            sum_unbalanced += fu.norm() + self.torque[k].norm() / b.radius;
+            free += 1;
+        }
+        (sum_unbalanced, free)
+    }
+
+    /// The out-of-balance statistics of the state [`Simulation::predict`] has just placed
+    /// (its contact pass is the jump's): adds the loads and sets [`Simulation::stats`]
+    /// (kinetic energy 0) and the out-of-balance loads read by [`Simulation::unbalanced`].
+    pub fn assess_predicted(&mut self) -> StepStats {
+        let mut sum_contact = 0.0;
+        let mut active = 0usize;
+        for c in &self.contacts {
+            let mag = c.force.norm();
+            if mag > 0.0 {
+                sum_contact += mag;
+                active += 1;
+            }
+        }
+        let (sum_unbalanced, free) = self.load_pass();
+        let mean_unbalanced = if free > 0 { sum_unbalanced / free as f64 } else { 0.0 };
+        let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
+        self.stats = StepStats::new(mean_unbalanced, mean_contact, 0.0, active);
+        self.stats
+    }
+
     /// Advances one step (see the module doc for the order).
     ///
     /// The step is compiled three times: for the baseline x86-64 instruction set, with AVX2
@@ -514,27 +589,7 @@ impl Simulation {
         let (sum_contact, active) = self.contact_pass();
         let dt = self.dt;
         // 4. Loads.
-        let mut sum_unbalanced = 0.0;
-        let mut free = 0usize;
-        for (k, b) in self.bodies.iter().enumerate() {
-            if b.fixed {
-                continue;
-            }
-            let mut f = self.force[k] + self.gravity * b.mass + self.external_force[k];
-            self.torque[k] += self.external_torque[k];
-            if let Some(EndRestraint::Spring(kk)) = self.restraint[k] {
-                f.y -= kk * (b.pos.y - b.pos0.y);
-            }
-            self.force[k] = f;
-            let mut fu = f;
-            if self.restraint[k] == Some(EndRestraint::Rigid) {
-                fu.y = 0.0;
-            }
-            // Out-of-balance moment counted as a force at the body's radius, so that a
-            // block rotating about an edge is not mistaken for one at rest.
-            sum_unbalanced += fu.norm() + self.torque[k].norm() / b.radius;
-            free += 1;
-        }
+        let (sum_unbalanced, free) = self.load_pass();
         // 5. Damping and integration.
         let damping = self.params.damping;
         let mut ke = 0.0;

@@ -5,6 +5,7 @@ pub mod accelerate;
 pub mod contact;
 pub mod dispatch;
 pub mod engine;
+pub mod implicit;
 pub mod integrator;
 pub mod materials;
 pub mod monitor;

@@ -56,7 +56,7 @@ pub fn inv_sqrt(i: &Matrix3<f64>) -> Matrix3<f64> {
 /// `sp = Σ w r_p`, `sq = Σ w r_q`, `rpq = Σ w r_p r_qᵀ` (N/m, N, N·m), for `C₀` with the
 /// stiffnesses `ks`, `beta = Kn − Ks` (Pa/m) and the unit normal `n`.
 #[allow(clippy::too_many_arguments)]
-fn block(c0: &Mat3, n: &Vec3, ks: f64, beta: f64, w: f64, sp: &Vec3, sq: &Vec3, rpq: &Mat3) -> Matrix6<f64> {
+pub(crate) fn block(c0: &Mat3, n: &Vec3, ks: f64, beta: f64, w: f64, sp: &Vec3, sq: &Vec3, rpq: &Mat3) -> Matrix6<f64> {
     let mut k = Matrix6::zeros();
     // TT: Σ w C₀;  TR: Σ w C₀ [r_q]×ᵀ;  RT: Σ w [r_p]× C₀;
     // RR: Σ w [r_p]× C₀ [r_q]×ᵀ = Ks (tr(R) I − Rᵀ) + (Kn − Ks) [n]× R [n]×ᵀ, R = Σ w r_p r_qᵀ

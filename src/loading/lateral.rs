@@ -41,8 +41,8 @@
 //!
 //! A study sets other values under `[lateral]`.
 
-use super::settle::{settle, SettleError};
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
+use super::settle::{settle, SettleError};
 use crate::dem::relax::{relax, Relaxed};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;

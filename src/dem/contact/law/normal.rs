@@ -84,6 +84,22 @@ impl NormalParams {
         }
     }
 
+    /// Tangent stiffness `dq/du` at closure `u` (m), Pa/m: `Kn` (linear, and every law in
+    /// tension), `Kni / (1 − u/Vm)²` up to the cap and constant past it (hyperbolic),
+    /// `Kn u / g₀` up to `g₀` and `Kn` beyond (seating). The consistent tangent of the
+    /// implicit increments ([`crate::dem::implicit`]).
+    pub fn tangent(&self, u: f64) -> f64 {
+        match self.closure {
+            _ if u <= 0.0 => self.kn,
+            NormalClosure::Linear => self.kn,
+            NormalClosure::Hyperbolic { max_closure: vm } => {
+                let r = (u / vm).min(HYPERBOLIC_CAP);
+                self.kn / ((1.0 - r) * (1.0 - r))
+            }
+            NormalClosure::Seating { max_gap: g } => self.kn * (u / g).min(1.0),
+        }
+    }
+
     /// Strain energy per unit area stored at closure `u ≥ 0`, J/m²: `∫₀ᵘ q ds`.
     pub fn energy_density(&self, u: f64) -> f64 {
         match self.closure {
