@@ -1,7 +1,7 @@
 //! Criterion benches: the contact kernel (narrow phase of two stacked blocks), the joint law
 //! of one sub-contact (fully and partly compressed), one engine step of the paper's 16-block
-//! cube, and one engine step of the SBL wall near collapse (the preset, seed 20210917,
-//! realization 0, settled and tilted to 17°). Fixed inputs.
+//! cube, and one engine step and one implicit iteration of the SBL wall near collapse (the
+//! preset, seed 20210917, realization 0, settled and tilted to 17°). Fixed inputs.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use drystone::dem::contact::geometry::block_block;
@@ -46,7 +46,8 @@ fn joint_law(c: &mut Criterion) {
     }
 }
 
-fn sbl_step(c: &mut Criterion) {
+/// The SBL wall, realization 0, settled and tilted to 17° (2,000 steps of relaxation).
+fn sbl_at_17deg() -> Simulation {
     let wall = drystone::generator::Wall::from_file(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/studies/walls/sbl.toml"
@@ -59,8 +60,28 @@ fn sbl_step(c: &mut Criterion) {
     for _ in 0..2000 {
         sim.step().unwrap();
     }
+    sim
+}
+
+fn sbl_step(c: &mut Criterion) {
+    let mut sim = sbl_at_17deg();
     c.bench_function("sbl_step_17deg", |bch| bch.iter(|| sim.step().unwrap()));
 }
 
-criterion_group!(benches, narrow_phase, joint_law, engine_step, sbl_step);
+/// One iteration of the implicit relaxation (assembly and factorization of the stiffness,
+/// one solve, two contact passes) with the copy of the state it starts from.
+fn sbl_implicit_iteration(c: &mut Criterion) {
+    use drystone::dem::implicit::{relax, ImplicitSolve};
+    let sim = sbl_at_17deg();
+    let one = ImplicitSolve { max_iterations: 1, ..ImplicitSolve::default() };
+    c.bench_function("sbl_implicit_iteration_17deg", |bch| {
+        bch.iter_batched(
+            || sim.clone(),
+            |mut s| relax(&mut s, 1e-12, &one, |_| None::<()>),
+            criterion::BatchSize::LargeInput,
+        )
+    });
+}
+
+criterion_group!(benches, narrow_phase, joint_law, engine_step, sbl_step, sbl_implicit_iteration);
 criterion_main!(benches);

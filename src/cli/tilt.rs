@@ -41,7 +41,13 @@ fn print(layout: &Path, r: &TiltResult) {
         r.mechanism.joint,
         r.mechanism.blocks.len()
     );
-    out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+    out!(
+        "work              {} implicit iterations, {} steps of dynamic relaxation (dt {:.3e} s); wall time {:.2} s",
+        r.iterations,
+        r.steps,
+        r.dt_s,
+        r.wall_time_s
+    );
     if !r.scalar_fallbacks_deg.is_empty() {
         let at: Vec<String> = r.scalar_fallbacks_deg.iter().map(|a| format!("{a:.3}")).collect();
         out!("block scaling     blew up at {} deg; repeated with scalar scaling, kept from there on", at.join(", "));

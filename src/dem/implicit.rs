@@ -113,19 +113,23 @@ pub enum Solved<R> {
     Equilibrium(u32),
     /// The stop check returned its reason after this many iterations.
     Stopped(R, u32),
-    /// No equilibrium within the iterations, or the tangent could not be factorized, or the
-    /// iteration diverged (the state is then the last one whose ratio did not grow tenfold).
+    /// No equilibrium within the iterations (the state is the last iterate), or the
+    /// stiffness could not be factorized (the state is the last iterate), or the
+    /// unbalanced-force ratio grew tenfold above where it started or turned non-finite (the
+    /// state is put back where the iteration started), after this many iterations.
     Unsolved(u32),
 }
 
 /// A pose increment: per body, translation (m) and rotation vector (rad), table frame.
 pub type PoseIncrement = (Vec<Vec3>, Vec<Vec3>);
 
-/// Relaxes `sim` (its load set, its state placed; velocities ignored) towards equilibrium
-/// by the preconditioned iteration `Δx_k = β Δx_{k−1} + α K⁻¹ R_k` (see the module doc),
-/// calling `check` after every iteration. Every iterate is a jump of [`Simulation::predict`]
-/// from the one before, so the joints' history follows the iterates' path as it follows
-/// the steps of dynamic relaxation.
+/// Relaxes `sim` (its load set, its state placed) towards an unbalanced-force ratio below
+/// `tol` by the preconditioned, Anderson-mixed iteration of the module doc, calling `check`
+/// after every iteration; a reason from `check` stops it. Every iterate is a jump of
+/// [`Simulation::predict`] from the one before (the bodies end at rest), so the joints'
+/// history follows the iterates' path as it follows the steps of dynamic relaxation. The
+/// inertial masses and the time step are brought up to date at the end if contacts were
+/// re-detected meanwhile, so dynamic relaxation can go on from the state.
 pub fn relax<R>(
     sim: &mut Simulation,
     tol: f64,
@@ -138,6 +142,7 @@ pub fn relax<R>(
     out
 }
 
+/// [`relax`] with the time-step updates of re-detections deferred.
 fn relax_deferred<R>(
     sim: &mut Simulation,
     tol: f64,

@@ -207,8 +207,8 @@ fn tilt_sections(
     tilt_plots(study, rows, cells, dir)?;
     let _ = writeln!(
         md,
-        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}; local damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
+        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}, implicit relaxation {}; local damping {}; sub-contact subdivisions {}.\n",
+        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, if study.tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
     );
     collapse_table(cells, md);
     displacement_table(cells, md);
