@@ -5,8 +5,10 @@
 use drystone::dem::implicit::{relax, ImplicitSolve, Solved};
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{Closure, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams, TiltResult};
+use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::Path;
+
+mod common;
 
 fn layout(name: &str) -> Layout {
     Layout::from_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/layouts").join(name)).unwrap()
@@ -103,30 +105,7 @@ fn implicit_relaxation_changes_the_cost_not_the_result() {
     assert!(params.implicit);
     let with = run_tilt(&l, SolverParams::default(), &params).unwrap();
     let without = run_tilt(&l, SolverParams::default(), &TiltParams { implicit: false, ..params }).unwrap();
-    assert!(
-        (with.collapse_angle_deg - without.collapse_angle_deg).abs() <= params.resolution_deg + 1e-9,
-        "{} vs {}",
-        with.collapse_angle_deg,
-        without.collapse_angle_deg
-    );
-    let limit = 0.8 * without.collapse_angle_deg;
-    let stable = |r: &TiltResult| {
-        r.increments
-            .iter()
-            .filter(|i| i.stable && i.alpha_deg <= limit)
-            .map(|i| (i.alpha_deg, i.displacement_m.clone()))
-            .collect::<Vec<_>>()
-    };
-    let (a, b) = (stable(&with), stable(&without));
-    assert_eq!(a.len(), b.len());
-    let largest = b.iter().flat_map(|(_, d)| d.iter().map(|v| v.abs())).fold(0.0, f64::max);
-    assert!(largest > 0.0);
-    for ((alpha, da), (beta, db)) in a.iter().zip(&b) {
-        assert_eq!(alpha, beta);
-        for (x, y) in da.iter().zip(db) {
-            assert!((x - y).abs() <= 0.02 * largest, "at {alpha}°: {x} vs {y} m (largest {largest} m)");
-        }
-    }
+    common::assert_same_tilt_result(&with, &without, params.resolution_deg);
     assert!(with.iterations > 0 && without.iterations == 0);
     assert!(
         with.steps * 5 < without.steps,

@@ -9,6 +9,8 @@ use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;
 use std::path::Path;
 
+mod common;
+
 /// A 0.2 × 0.2 × 0.1 m block on the table: after a predicted sideways jump d (well inside
 /// the elastic range), the shear springs of its base carry Ks · A · d against the jump, as
 /// one step of that motion would leave them; the block starts at rest; and relaxing from
@@ -55,24 +57,7 @@ fn the_predictor_changes_the_steps_not_the_result() {
     let without = run_tilt(&l, SolverParams::default(), &TiltParams { predictor: false, ..params }).unwrap();
     assert_eq!(with.collapse_angle_deg, without.collapse_angle_deg);
     assert_eq!(with.first_unstable_deg, without.first_unstable_deg);
-    let limit = 0.8 * without.collapse_angle_deg;
-    let stable = |r: &drystone::loading::tilt::TiltResult| {
-        r.increments
-            .iter()
-            .filter(|i| i.stable && i.alpha_deg <= limit)
-            .map(|i| (i.alpha_deg, i.displacement_m.clone()))
-            .collect::<Vec<_>>()
-    };
-    let (a, b) = (stable(&with), stable(&without));
-    assert_eq!(a.len(), b.len());
-    let largest = b.iter().flat_map(|(_, d)| d.iter().map(|v| v.abs())).fold(0.0, f64::max);
-    assert!(largest > 0.0);
-    for ((alpha, da), (beta, db)) in a.iter().zip(&b) {
-        assert_eq!(alpha, beta);
-        for (x, y) in da.iter().zip(db) {
-            assert!((x - y).abs() <= 0.02 * largest, "at {alpha}°: {x} vs {y} m (largest {largest} m)");
-        }
-    }
+    let limit = common::assert_same_tilt_result(&with, &without, 0.0);
     let steps = |r: &drystone::loading::tilt::TiltResult| -> u64 {
         r.increments.iter().filter(|i| i.stable && i.alpha_deg > 0.0 && i.alpha_deg <= limit).map(|i| i.steps).sum()
     };

@@ -47,8 +47,10 @@
 //! [`ImplicitSolve::max_iterations`].
 //!
 //! The sparse factorization is faer's simplicial Cholesky with an approximate minimum
-//! degree ordering, run sequentially: the same operations in the same order on any
-//! number of threads.
+//! degree ordering, run sequentially; the simplicial factorization and the sparse
+//! triangular solves are scalar code (no runtime choice of SIMD kernels), so a test gives
+//! the same bits on any number of threads and any x86-64 machine, as the explicit step
+//! does.
 
 use super::engine::Simulation;
 use super::timestep::block;

@@ -51,3 +51,41 @@ impl Drop for Scratch {
         let _ = std::fs::remove_dir_all(&self.0);
     }
 }
+
+/// Asserts that two tilting-table runs of one layout reach the same result: collapse angles
+/// within `bracket_deg` of each other, and the displacements of every stable increment up
+/// to 80 % of the collapse angle (where the response is nearly linear; nearer collapse the
+/// equilibrium itself is ill-conditioned) equal to within 2 % of the largest (both runs are
+/// equilibria to the same unbalanced-force tolerance). Returns that tilt limit, degrees.
+#[allow(dead_code)]
+pub fn assert_same_tilt_result(
+    a: &drystone::loading::tilt::TiltResult,
+    b: &drystone::loading::tilt::TiltResult,
+    bracket_deg: f64,
+) -> f64 {
+    assert!(
+        (a.collapse_angle_deg - b.collapse_angle_deg).abs() <= bracket_deg + 1e-9,
+        "collapse angles {} and {}",
+        a.collapse_angle_deg,
+        b.collapse_angle_deg
+    );
+    let limit = 0.8 * b.collapse_angle_deg;
+    let stable = |r: &drystone::loading::tilt::TiltResult| {
+        r.increments
+            .iter()
+            .filter(|i| i.stable && i.alpha_deg <= limit)
+            .map(|i| (i.alpha_deg, i.displacement_m.clone()))
+            .collect::<Vec<_>>()
+    };
+    let (da, db) = (stable(a), stable(b));
+    assert_eq!(da.len(), db.len());
+    let largest = db.iter().flat_map(|(_, d)| d.iter().map(|v| v.abs())).fold(0.0, f64::max);
+    assert!(largest > 0.0);
+    for ((alpha, xa), (beta, xb)) in da.iter().zip(&db) {
+        assert_eq!(alpha, beta);
+        for (x, y) in xa.iter().zip(xb) {
+            assert!((x - y).abs() <= 0.02 * largest, "at {alpha}°: {x} vs {y} m (largest {largest} m)");
+        }
+    }
+    limit
+}
