@@ -40,6 +40,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let d: String = inc.displacement_m.iter().map(|d| format!("{:>10.3} mm", d * 1e3)).collect();
         println!("{:>7.1}° {d}", inc.alpha_deg);
     }
-    println!("{} steps, time step {:.2e} s, {:.2} s", result.steps, result.dt_s, result.wall_time_s);
+    println!(
+        "{} implicit iterations and {} steps of dynamic relaxation (time step {:.2e} s), {:.2} s",
+        result.iterations, result.steps, result.dt_s, result.wall_time_s
+    );
     Ok(())
 }

@@ -212,6 +212,7 @@ mod tests {
             lateral_disp_max_cm: None,
             lateral_drift: None,
             steps: 10,
+            iterations: 3,
             dt_s: 1e-4,
             wall_time_s: 0.5,
         }

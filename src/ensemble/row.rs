@@ -115,8 +115,11 @@ pub struct RealizationRow {
     /// Static lateral load: drift, top displacement / H (dimensionless).
     #[serde(with = "exact::opt")]
     pub lateral_drift: Option<f64>,
-    /// Engine steps.
+    /// Dynamic-relaxation steps (engine steps).
     pub steps: u64,
+    /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
+    #[serde(default)]
+    pub iterations: u64,
     /// Time step, s.
     #[serde(with = "exact::one")]
     pub dt_s: f64,
@@ -278,6 +281,7 @@ mod tests {
             lateral_disp_max_cm: Some(-0.0),
             lateral_drift: None,
             steps: 77,
+            iterations: 5,
             dt_s: values[1],
             wall_time_s: 0.25,
         }

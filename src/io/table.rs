@@ -101,6 +101,7 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
         series("disp_top_centre_cm", |r| &r.disp_top_centre_cm),
         series("disp_top_right_cm", |r| &r.disp_top_right_cm),
         Column::new("steps".into(), u(|r| r.steps)),
+        Column::new("iterations".into(), u(|r| r.iterations)),
         Column::new("dt_s".into(), rows.iter().map(|r| r.dt_s).collect::<Vec<f64>>()),
         Column::new("wall_time_s".into(), rows.iter().map(|r| r.wall_time_s).collect::<Vec<f64>>()),
     ])
@@ -225,6 +226,7 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let dc = r.lists("disp_top_centre_cm")?;
     let dr = r.lists("disp_top_right_cm")?;
     let steps = r.u64s("steps")?;
+    let iterations = r.u64s("iterations")?;
     let dt = r.f64s("dt_s")?;
     let wall = r.f64s("wall_time_s")?;
     let mut rows = Vec::with_capacity(index.len());
@@ -261,6 +263,7 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
             lateral_disp_max_cm: lat[i],
             lateral_drift: drift[i],
             steps: steps[i],
+            iterations: iterations[i],
             dt_s: dt[i],
             wall_time_s: wall[i],
         });

@@ -134,6 +134,7 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
         lateral_disp_max_cm: None,
         lateral_drift: None,
         steps: 0,
+        iterations: 0,
         dt_s: 0.0,
         wall_time_s: 0.0,
     }
@@ -190,6 +191,7 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
         row.disp_top_right_cm.push(get(ir));
     }
     row.steps = t.steps;
+    row.iterations = t.iterations;
     row.dt_s = t.dt_s;
     row
 }
