@@ -1,0 +1,328 @@
+//! The preconditioner of the implicit iteration: the stiffness `K` of every sub-contact
+//! spring (see the parent module), its assembly per body pair and its sparse Cholesky
+//! factorization.
+
+use super::PoseIncrement;
+use crate::dem::engine::Simulation;
+use crate::dem::timestep::block;
+use crate::layout::EndRestraint;
+use crate::{Mat3, Vec3};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, Mat, Par, Side};
+use nalgebra::Matrix6;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
+
+/// The numbering of the unknowns: six per free body (translation, rotation), in body order.
+pub(super) struct Dofs {
+    /// First unknown of each body (`usize::MAX` for a fixed body).
+    first: Vec<usize>,
+    /// Whether a body's y translation is held (rigid end restraint).
+    held: Vec<bool>,
+    /// Number of unknowns.
+    pub(super) n: usize,
+}
+
+impl Dofs {
+    pub(super) fn new(sim: &Simulation) -> Dofs {
+        let mut n = 0;
+        let first = sim
+            .bodies
+            .iter()
+            .map(|b| {
+                if b.fixed {
+                    usize::MAX
+                } else {
+                    n += 6;
+                    n - 6
+                }
+            })
+            .collect();
+        let held = sim.restraint.iter().map(|r| *r == Some(EndRestraint::Rigid)).collect();
+        Dofs { first, held, n }
+    }
+}
+
+/// The factorized tangent stiffness of a state (sparse Cholesky, simplicial, approximate
+/// minimum degree ordering, sequential).
+pub(super) struct Factor {
+    symbolic: Rc<SymbolicCholesky<usize>>,
+    values: Vec<f64>,
+}
+
+thread_local! {
+    /// The symbolic factorization of the last sparsity pattern factorized on this thread
+    /// (column pointers, row indices): the pattern changes only when contacts are
+    /// re-detected. A cache hit gives the same ordering as a fresh analysis, so the results
+    /// never depend on it.
+    static SYMBOLIC: RefCell<Option<(Vec<usize>, Vec<usize>, Rc<SymbolicCholesky<usize>>)>> =
+        const { RefCell::new(None) };
+}
+
+/// The symbolic Cholesky factorization (approximate minimum degree ordering, simplicial) of
+/// the pattern of `a`, from the thread's cache when the pattern is the last one.
+fn symbolic_of(a: &SparseColMat<usize, f64>) -> Option<Rc<SymbolicCholesky<usize>>> {
+    let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
+    if let Some(hit) = SYMBOLIC.with_borrow(|c| {
+        c.as_ref().filter(|(p, r, _)| p.as_slice() == cp && r.as_slice() == ri).map(|(_, _, s)| Rc::clone(s))
+    }) {
+        return Some(hit);
+    }
+    let symbolic = Rc::new(
+        factorize_symbolic_cholesky(
+            a.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+                ..Default::default()
+            },
+        )
+        .ok()?,
+    );
+    SYMBOLIC.with_borrow_mut(|c| *c = Some((cp.to_vec(), ri.to_vec(), Rc::clone(&symbolic))));
+    Some(symbolic)
+}
+
+impl Factor {
+    /// Assembles and factorizes the tangent at `sim`'s state; `None` if it is not positive
+    /// definite.
+    pub(super) fn new(sim: &Simulation, dofs: &Dofs) -> Option<Factor> {
+        let (diag, off) = tangent(sim);
+        let nb = sim.bodies.len();
+        // Regularization: a millionth of each diagonal entry plus a floor of a billionth of
+        // the largest translational (rotational) diagonal entry, so that a direction no
+        // spring stiffens gets a large but finite stiffness.
+        let (mut tmax, mut rmax) = (0.0f64, 0.0f64);
+        for k in (0..nb).filter(|&k| dofs.first[k] != usize::MAX) {
+            for r in 0..3 {
+                tmax = tmax.max(diag[k][(r, r)]);
+                rmax = rmax.max(diag[k][(r + 3, r + 3)]);
+            }
+        }
+        if !(tmax > 0.0 && rmax > 0.0) {
+            return None;
+        }
+        let is_held = |k: usize, r: usize| dofs.held[k] && r == 1;
+        let mut entries = Vec::with_capacity(21 * nb + 36 * off.len());
+        for k in 0..nb {
+            let f0 = dofs.first[k];
+            if f0 == usize::MAX {
+                continue;
+            }
+            let mut kk = diag[k];
+            if let Some(EndRestraint::Spring(ky)) = sim.restraint[k] {
+                kk[(1, 1)] += ky;
+            }
+            for r in 0..6 {
+                if is_held(k, r) {
+                    entries.push(Triplet::new(f0 + r, f0 + r, 1.0));
+                    continue;
+                }
+                let floor = if r < 3 { tmax } else { rmax } * 1e-9;
+                entries.push(Triplet::new(f0 + r, f0 + r, kk[(r, r)] * (1.0 + 1e-6) + floor));
+                for c in 0..r {
+                    if !is_held(k, c) {
+                        entries.push(Triplet::new(f0 + r, f0 + c, kk[(r, c)]));
+                    }
+                }
+            }
+        }
+        for ((a, b), kab) in &off {
+            let (fa, fb) = (dofs.first[*a], dofs.first[*b]);
+            // Lower triangle: rows of the later body.
+            for r in 0..6 {
+                for c in 0..6 {
+                    let (row, col, v, hr, hc) = if fa > fb {
+                        (fa + r, fb + c, kab[(r, c)], is_held(*a, r), is_held(*b, c))
+                    } else {
+                        (fb + r, fa + c, kab[(c, r)], is_held(*b, r), is_held(*a, c))
+                    };
+                    if !(hr || hc) {
+                        entries.push(Triplet::new(row, col, v));
+                    }
+                }
+            }
+        }
+        let a = SparseColMat::<usize, f64>::try_new_from_triplets(dofs.n, dofs.n, &entries).ok()?;
+        let symbolic = symbolic_of(&a)?;
+        let mut values = vec![0.0f64; symbolic.len_val()];
+        let mut mem =
+            MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())).ok()?;
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                a.as_ref(),
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .ok()?;
+        Some(Factor { symbolic, values })
+    }
+
+    /// `K⁻¹ R` for the out-of-balance loads `R` of `sim` (its last assessment), per body.
+    pub(super) fn solve(&self, sim: &Simulation, dofs: &Dofs) -> PoseIncrement {
+        let nb = sim.bodies.len();
+        let mut rhs = Mat::<f64>::zeros(dofs.n, 1);
+        for k in 0..nb {
+            let f0 = dofs.first[k];
+            if f0 == usize::MAX {
+                continue;
+            }
+            let (f, t) = sim.unbalanced(k);
+            for r in 0..3 {
+                rhs[(f0 + r, 0)] = f[r];
+                rhs[(f0 + 3 + r, 0)] = t[r];
+            }
+            if dofs.held[k] {
+                rhs[(f0 + 1, 0)] = 0.0;
+            }
+        }
+        let llt = LltRef::new(&self.symbolic, &self.values);
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut mem));
+        let mut step = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
+        for k in 0..nb {
+            let f0 = dofs.first[k];
+            if f0 == usize::MAX {
+                continue;
+            }
+            step.0[k] = Vec3::new(rhs[(f0, 0)], rhs[(f0 + 1, 0)], rhs[(f0 + 2, 0)]);
+            step.1[k] = Vec3::new(rhs[(f0 + 3, 0)], rhs[(f0 + 4, 0)], rhs[(f0 + 5, 0)]);
+        }
+        step
+    }
+}
+
+/// Per-body diagonal blocks and per-pair coupling blocks (`(a, b) → K_ab`, rows of `a`)
+/// of the stiffness `K` of every sub-contact spring of `sim` (N/m, N, N·m; table frame; see
+/// the module doc). Couplings with a fixed body are left out.
+fn tangent(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, usize), Matrix6<f64>>) {
+    let nb = sim.bodies.len();
+    let mut diag = vec![Matrix6::zeros(); nb];
+    let mut off: BTreeMap<(usize, usize), Matrix6<f64>> = BTreeMap::new();
+    // Spring points of one contact: arm from A's centroid (m), arm from B's centroid (m),
+    // normal and shear stiffness (N/m).
+    let mut points: Vec<(Vec3, Vec3, f64, f64)> = Vec::new();
+    let mut arms: Vec<(Vec3, Vec3, f64)> = Vec::new();
+    for c in &sim.contacts {
+        let n = sim.contact_normal(c);
+        let np = c.joint.normal();
+        let stiffness = |u: f64| if u > 0.0 { np.tangent(u).max(c.joint.kn) } else { c.joint.kn };
+        let rb_mat = &sim.bodies[c.b].rot_mat;
+        let ra_mat = c.a.map(|i| sim.bodies[i].rot_mat);
+        // Node arms and closures.
+        arms.clear();
+        for nd in &c.nodes {
+            let (pa, pb) = sim.node_points(c, nd);
+            let rb = rb_mat * nd.on_b;
+            let ra = ra_mat.map_or(Vec3::zeros(), |m| m * nd.on_a);
+            arms.push((ra, rb, (pa - pb).dot(&n)));
+        }
+        points.clear();
+        for s in &c.subs {
+            let a = s.area;
+            let (mut ra_c, mut rb_c, mut u_c) = (Vec3::zeros(), Vec3::zeros(), 0.0);
+            for &k in &s.nodes {
+                let (ra, rb, u) = arms[k as usize];
+                ra_c += ra / 3.0;
+                rb_c += rb / 3.0;
+                u_c += u / 3.0;
+                points.push((ra, rb, a / 12.0 * stiffness(u), 0.0));
+            }
+            points.push((ra_c, rb_c, 0.75 * a * stiffness(u_c), c.joint.ks * a));
+        }
+        if points.is_empty() {
+            continue;
+        }
+        let nn = n * n.transpose();
+        let free_b = !sim.bodies[c.b].fixed;
+        let free_a = c.a.filter(|&i| !sim.bodies[i].fixed);
+        // The normal springs (C₀ = n nᵀ) and the shear springs (C₀ = I − n nᵀ).
+        for (part, c0, ks, beta) in [(0, nn, 0.0, 1.0), (1, Mat3::identity() - nn, 1.0, -1.0)] {
+            let (mut wsum, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());
+            let (mut raa, mut rab, mut rbb) = (Mat3::zeros(), Mat3::zeros(), Mat3::zeros());
+            for &(ra, rb, wn, ws) in &points {
+                let wi = if part == 0 { wn } else { ws };
+                if wi == 0.0 {
+                    continue;
+                }
+                wsum += wi;
+                sb += rb * wi;
+                rbb += rb * rb.transpose() * wi;
+                sa += ra * wi;
+                raa += ra * ra.transpose() * wi;
+                rab += ra * rb.transpose() * wi;
+            }
+            if wsum == 0.0 {
+                continue;
+            }
+            if free_b {
+                diag[c.b] += block(&c0, &n, ks, beta, wsum, &sb, &sb, &rbb);
+            }
+            if let Some(a) = free_a {
+                diag[a] += block(&c0, &n, ks, beta, wsum, &sa, &sa, &raa);
+                if free_b {
+                    *off.entry((a, c.b)).or_insert_with(Matrix6::zeros) -=
+                        block(&c0, &n, ks, beta, wsum, &sa, &sb, &rab);
+                }
+            }
+        }
+    }
+    (diag, off)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::SolverParams;
+    use crate::layout::Layout;
+
+    /// On a block settled flat on the table (every node closed, nothing slipping) `K` is
+    /// the tangent of the joint law: each column equals the change of the out-of-balance
+    /// load under a small motion of that degree of freedom (central differences of the
+    /// contact pass), to 1 % of the column's largest entry.
+    #[test]
+    fn the_stiffness_is_the_tangent_of_a_closed_sticking_joint() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/layouts/single_block.json");
+        let mut sim = Simulation::new(&Layout::from_file(&path).unwrap(), SolverParams::default());
+        assert!(sim.run_to_equilibrium(1e-8, 200_000).unwrap());
+        sim.set_tilt(0.05);
+        let (diag, _) = tangent(&sim);
+        let load = |d: &PoseIncrement| {
+            let mut s = sim.clone();
+            s.predict(&d.0, &d.1);
+            s.assess_predicted();
+            let (f, t) = s.unbalanced(0);
+            [f.x, f.y, f.z, t.x, t.y, t.z]
+        };
+        for dof in 0..6 {
+            let eps = if dof < 3 { 1e-8 } else { 1e-7 };
+            let mut plus = (vec![Vec3::zeros()], vec![Vec3::zeros()]);
+            let mut minus = plus.clone();
+            if dof < 3 {
+                plus.0[0][dof] = eps;
+                minus.0[0][dof] = -eps;
+            } else {
+                plus.1[0][dof - 3] = eps;
+                minus.1[0][dof - 3] = -eps;
+            }
+            let (lp, lm) = (load(&plus), load(&minus));
+            let column: Vec<f64> = (0..6).map(|i| diag[0][(i, dof)]).collect();
+            let scale = column.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for i in 0..6 {
+                let fd = -(lp[i] - lm[i]) / (2.0 * eps);
+                assert!((fd - column[i]).abs() <= 0.01 * scale, "K[{i}][{dof}] = {} against {fd}", column[i]);
+            }
+        }
+    }
+}
