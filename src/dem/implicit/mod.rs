@@ -35,10 +35,11 @@
 //! `3A/4` at the centroid, the rule exact for the quadratic integrand) with the stiffness
 //! `max(dq/du, Kn)` of the closure law at each point
 //! ([`crate::dem::contact::law::NormalParams::tangent`]), and the shear spring `Ks A` at the
-//! centroid, where the law takes the shear increment. It bounds the true tangent from
-//! above (an open, slipping or softening joint is stiffer in `K` than it is), so no mode
-//! is over-corrected; the modes it over-stiffens (slip, opening joints, rocking) are what
-//! the Anderson mixing resolves. It is factorized once per increment, after every
+//! centroid, where the law takes the shear increment. It bounds the tangent of the state
+//! from above (an open or slipping joint is stiffer in `K` than it is; a hyperbolic joint
+//! stiffens further only as it closes further), so the iteration approaches each
+//! equilibrium from the stiff side rather than overshooting it; the modes it over-stiffens
+//! (slip, opening joints, rocking) are what the Anderson mixing resolves. It is factorized once per increment, after every
 //! re-detection of contacts and every [`ImplicitSolve::refactor_every`] iterations.
 //!
 //! The iteration ends at equilibrium (unbalanced-force ratio below the tolerance), when
