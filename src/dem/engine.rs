@@ -502,7 +502,7 @@ impl Simulation {
     /// The out-of-balance statistics of the state [`Simulation::predict`] has just placed
     /// (its contact pass is the jump's): adds the loads and sets [`Simulation::stats`]
     /// (kinetic energy 0) and the out-of-balance loads read by [`Simulation::unbalanced`].
-    pub fn assess_predicted(&mut self) -> StepStats {
+    pub(crate) fn assess_predicted(&mut self) -> StepStats {
         let mut sum_contact = 0.0;
         let mut active = 0usize;
         for c in &self.contacts {

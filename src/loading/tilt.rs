@@ -215,7 +215,7 @@ pub struct TiltResult {
 type Pose = Vec<BodyPose>;
 
 /// A predicted increment: translation (m) and rotation vector (rad) per body.
-type Prediction = (Vec<Vec3>, Vec<Vec3>);
+type Prediction = implicit::PoseIncrement;
 
 fn pose(sim: &Simulation) -> Pose {
     sim.bodies.iter().map(|b| (b.pos, b.rot)).collect()
@@ -353,7 +353,7 @@ impl Ctx<'_> {
     /// light soft directions of a block mass into re-closing contacts), the trial again from
     /// `from` with scalar scaling, which the returned state keeps. Returns the state, the
     /// stage, the steps taken (those of a blown-up attempt included) and the implicit
-    /// iterations; `fallbacks` gets `alpha_deg` if the trial fell back.
+    /// iterations of the attempt kept; `fallbacks` gets `alpha_deg` if the trial fell back.
     fn run_from(
         &self,
         from: &Simulation,

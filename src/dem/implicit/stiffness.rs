@@ -49,7 +49,7 @@ impl Dofs {
     }
 }
 
-/// The factorized tangent stiffness of a state (sparse Cholesky, simplicial, approximate
+/// The factorized stiffness `K` of a state (sparse Cholesky, simplicial, approximate
 /// minimum degree ordering, sequential).
 pub(super) struct Factor {
     symbolic: Rc<SymbolicCholesky<usize>>,
@@ -91,10 +91,10 @@ fn symbolic_of(a: &SparseColMat<usize, f64>) -> Option<Rc<SymbolicCholesky<usize
 }
 
 impl Factor {
-    /// Assembles and factorizes the tangent at `sim`'s state; `None` if it is not positive
+    /// Assembles and factorizes `K` at `sim`'s state; `None` if it is not positive
     /// definite.
     pub(super) fn new(sim: &Simulation, dofs: &Dofs) -> Option<Factor> {
-        let (diag, off) = tangent(sim);
+        let (diag, off) = spring_stiffness(sim);
         let nb = sim.bodies.len();
         // Regularization: a millionth of each diagonal entry plus a floor of a billionth of
         // the largest translational (rotational) diagonal entry, so that a direction no
@@ -206,7 +206,7 @@ impl Factor {
 /// Per-body diagonal blocks and per-pair coupling blocks (`(a, b) → K_ab`, rows of `a`)
 /// of the stiffness `K` of every sub-contact spring of `sim` (N/m, N, N·m; table frame; see
 /// the module doc). Couplings with a fixed body are left out.
-fn tangent(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, usize), Matrix6<f64>>) {
+fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, usize), Matrix6<f64>>) {
     let nb = sim.bodies.len();
     let mut diag = vec![Matrix6::zeros(); nb];
     let mut off: BTreeMap<(usize, usize), Matrix6<f64>> = BTreeMap::new();
@@ -217,7 +217,8 @@ fn tangent(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, usize), Mat
     for c in &sim.contacts {
         let n = sim.contact_normal(c);
         let np = c.joint.normal();
-        let stiffness = |u: f64| if u > 0.0 { np.tangent(u).max(c.joint.kn) } else { c.joint.kn };
+        // `tangent` is Kn for an open node (u ≤ 0).
+        let stiffness = |u: f64| np.tangent(u).max(np.kn);
         let rb_mat = &sim.bodies[c.b].rot_mat;
         let ra_mat = c.a.map(|i| sim.bodies[i].rot_mat);
         // Node arms and closures.
@@ -297,7 +298,7 @@ mod tests {
         let mut sim = Simulation::new(&Layout::from_file(&path).unwrap(), SolverParams::default());
         assert!(sim.run_to_equilibrium(1e-8, 200_000).unwrap());
         sim.set_tilt(0.05);
-        let (diag, _) = tangent(&sim);
+        let (diag, _) = spring_stiffness(&sim);
         let load = |d: &PoseIncrement| {
             let mut s = sim.clone();
             s.predict(&d.0, &d.1);
