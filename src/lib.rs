@@ -17,8 +17,9 @@
 //! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
 //!   local damping).
 //! * [`loading`]: the tilting-table and static lateral load protocols.
-//! * [`generator`]: seeded wall layouts; [`ensemble`], [`stats`], [`study`]: ensembles,
-//!   statistics, study files and reports.
+//! * [`generator`]: seeded wall layouts; [`effects`]: named extensions of the model (the
+//!   built-in library and the user's effect files) applied to a generated layout;
+//!   [`ensemble`], [`stats`], [`study`]: ensembles, statistics, study files and reports.
 //! * [`discrepancy`]: what the model gets wrong against measured data, the physical effect
 //!   that explains it, the extended model and its held-out gain.
 //! * [`verify`]: closed-form verification cases.
@@ -45,6 +46,7 @@
 pub mod benchmark;
 pub mod dem;
 pub mod discrepancy;
+pub mod effects;
 pub mod ensemble;
 pub mod generator;
 pub mod geometry;

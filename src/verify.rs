@@ -136,15 +136,24 @@ pub fn layout_of(blocks: Vec<Vec<[f64; 3]>>, kn: f64, ks: f64, phi_deg: f64, bas
             friction_deg: phi_deg,
             cohesion_pa: 0.0,
             tensile_strength_pa: 0.0,
+            closure: Default::default(),
         }],
         table: TableSpec { material: "m".into() },
         blocks: blocks
             .into_iter()
             .enumerate()
-            .map(|(i, vertices)| BlockSpec { id: format!("b{i}"), material: "m".into(), vertices, fixed: false })
+            .map(|(i, vertices)| BlockSpec {
+                id: format!("b{i}"),
+                material: "m".into(),
+                vertices,
+                fixed: false,
+                course: None,
+                wedge: false,
+            })
             .collect(),
         restraints: RestraintSpec { base_sliding: base, ends: vec![] },
         monitors: vec![],
+        joint_families: Default::default(),
     };
     spec.resolve().expect("verification layouts are valid")
 }

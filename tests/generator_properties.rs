@@ -175,12 +175,14 @@ fn spec(
             friction_deg: 35.0,
             cohesion_pa: 0.0,
             tensile_strength_pa: 0.0,
+            closure: Default::default(),
         }],
         restraints: RestraintsSpec {
             base: BaseSliding::Held,
             table_material: None,
             ends: EndsSpec { kind: EndKind::Free, zone_m: None, stiffness_n_per_m: None },
         },
+        joints: Default::default(),
         scatter: None,
         distributions: {
             let mut m = inline;

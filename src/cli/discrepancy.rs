@@ -1,8 +1,8 @@
 //! `drystone discrepancy` and `drystone synthesize`.
 
 use anyhow::{bail, Context, Result};
-use drystone::discrepancy::effects::Effect;
 use drystone::discrepancy::{report, synthesize, Settings};
+use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::study::discrepancy::{observations_of, setup_of};
 use drystone::study::Study;
@@ -49,12 +49,12 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     }
     s.validate().with_context(|| a.study.display().to_string())?;
     let obs = observations_of(&st, s.sigma)?;
-    let setup = setup_of(&st, s.realizations.max(s.extension_realizations), &s);
+    let setup = setup_of(&st, s.realizations.max(s.extension_realizations));
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create the output directory {}", dir.display()))?;
     let pool = pool(a.threads)?;
     let t0 = std::time::Instant::now();
-    let run = pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed))?;
+    let run = pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library))?;
     report::write(&dir, &run, &st.name)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report::to_json(&run))?);
@@ -74,7 +74,16 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     println!("verdict: {}", an.verdict.name());
     if let Some(c) = &an.cause {
         let p: Vec<String> = c.parameters.iter().map(|(k, v)| format!("{k} = {v:.4e}")).collect();
-        println!("cause: {} ({})", c.effects.join("+"), p.join(", "));
+        println!(
+            "{}: {} ({})",
+            if an.verdict == drystone::discrepancy::analysis::Verdict::Explained {
+                "cause"
+            } else {
+                "partial explanation"
+            },
+            c.name,
+            p.join(", ")
+        );
         if an.tie.len() > 1 {
             println!("indistinguishable from: {}", an.tie[1..].join(", "));
         }
@@ -90,13 +99,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     println!("{:<28} {:>14.3} {:>10.1}", "baseline", an.baseline_heldout_error, an.baseline_information_criterion);
     for c in &an.candidates {
         let p: Vec<String> = c.parameters.iter().map(|(k, v)| format!("{k} = {v:.3e}")).collect();
-        println!(
-            "{:<28} {:>14.3} {:>10.1}  {}",
-            c.effects.join("+"),
-            c.heldout_error,
-            c.information_criterion,
-            p.join(", ")
-        );
+        println!("{:<28} {:>14.3} {:>10.1}  {}", c.name, c.heldout_error, c.information_criterion, p.join(", "));
     }
     println!("report: {}", dir.join("discrepancy.md").display());
     Ok(())
@@ -108,18 +111,26 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
     if specimens == 0 || specimens > 10_000 {
         bail!("--specimens must be in [1, 10000], got {specimens}");
     }
+    let s = &st.discrepancy;
+    let setup = setup_of(&st, specimens);
+    let course_m = drystone::discrepancy::course_height(&setup);
     let effects: Vec<Effect> = match effects {
         None => vec![],
-        Some(text) => text.split(',').map(|e| Effect::parse(e.trim())).collect::<Result<_, _>>()?,
+        Some(text) => text.split(',').map(|e| st.library.parse(e.trim(), course_m)).collect::<Result<_, _>>()?,
     };
-    let s = &st.discrepancy;
-    let setup = setup_of(&st, specimens, s);
+    let mut names = std::collections::BTreeSet::new();
+    for e in &effects {
+        if !names.insert(e.name().to_string()) {
+            bail!("--effect: effect `{}` is given twice", e.name());
+        }
+    }
     let template = observations_of(&st, s.sigma).unwrap_or_default();
     let req = synthesize::Request {
         effects: effects.clone(),
         seed,
         specimens,
         sigma: s.sigma,
+        reading: s.reading,
         observables: synthesize::observables_of(&setup, &template),
     };
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-synthetic-{seed}", st.name)));

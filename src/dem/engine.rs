@@ -19,17 +19,17 @@
 
 use super::contact::forces::{contact_forces, unit, NodeScratch};
 use super::contact::geometry as cgeom;
-use super::contact::law::{self, JointParams, SubContactState};
+use super::contact::law::{self, SubContactState};
 pub use super::contact::types::{Contact, ContactNode, SubContact};
 pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
-use super::materials::{joint_between, joint_of};
+use super::materials::JointTable;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
 use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
 use crate::geometry::sweep::sweep_pairs;
-use crate::layout::{BaseSliding, EndRestraint, Layout};
+use crate::layout::{EndRestraint, Layout};
 use crate::Vec3;
 use thiserror::Error;
 
@@ -78,13 +78,12 @@ pub struct Simulation {
     pub detections: u64,
     /// Largest density-scaling factor applied so far (1: none).
     pub max_density_scale: f64,
-    table_joint: JointParams,
     gravity_magnitude: f64,
     force: Vec<Vec3>,
     torque: Vec<Vec3>,
     detect_pos: Vec<Vec3>,
     detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
-    layout_joints: Vec<Vec<JointParams>>,
+    joints: JointTable,
     scratch: Vec<NodeScratch>,
     /// While set, a re-detection leaves the inertial masses and the time step to
     /// [`Simulation::end_deferral`] (the implicit iterations take no step).
@@ -102,12 +101,7 @@ impl Simulation {
             .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
             .collect();
         let n = bodies.len();
-        let nm = layout.materials.len();
-        let layout_joints = (0..nm).map(|i| (0..nm).map(|j| joint_between(layout, i, j)).collect()).collect();
-        let mut table_joint = joint_of(&layout.materials[layout.table_material]);
-        if layout.base_sliding == BaseSliding::Held {
-            table_joint.can_slip = false;
-        }
+        let joints = JointTable::new(layout);
         let mut restraint = vec![None; n];
         for &(i, r) in &layout.end_restraints {
             restraint[i] = Some(r);
@@ -128,11 +122,10 @@ impl Simulation {
             stats: StepStats::default(),
             detections: 0,
             max_density_scale: 1.0,
-            table_joint,
             gravity_magnitude: layout.gravity,
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
-            layout_joints,
+            joints,
             scratch: Vec::new(),
             defer_step_update: false,
             step_update_pending: false,
@@ -238,10 +231,7 @@ impl Simulation {
     }
 
     fn make_contact(&self, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
-        let joint = match a {
-            None => self.table_joint,
-            Some(i) => self.layout_joints[self.bodies[i].material][self.bodies[b].material],
-        };
+        let joint = self.joints.joint(a, b, &p.normal);
         let bonded = initial && joint.has_strength();
         let bb = &self.bodies[b];
         let nodes = p

@@ -1,17 +1,22 @@
-//! The joint law of a layout's materials: the layout's SI material values as the
-//! [`JointParams`] of the contact law.
+//! The joint law of a layout's joints: the layout's SI material values and joint families
+//! as the [`JointParams`] of the contact law.
 
-use super::contact::law::{JointParams, NormalClosure};
-use crate::layout::{Closure, Layout, Material};
+use super::contact::law::{JointParams, NormalClosure, TensionCutoff};
+use crate::layout::{BaseSliding, Closure, FamilyJoint, JointFamily, Layout, Material};
+use crate::Vec3;
 
-/// The joint law of a material's joints (the layout's SI values).
-pub fn joint_of(m: &Material) -> JointParams {
-    let closure = match m.closure {
+/// The DEM's normal closure sub-model of a file's closure law.
+pub fn closure_of(c: Closure) -> NormalClosure {
+    match c {
         Closure::Linear => NormalClosure::Linear,
         Closure::Hyperbolic { max_closure_m } => NormalClosure::Hyperbolic { max_closure: max_closure_m },
         Closure::Seating { max_gap_m } => NormalClosure::Seating { max_gap: max_gap_m },
-    };
-    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(closure)
+    }
+}
+
+/// The joint law of a material's joints (the layout's SI values).
+pub fn joint_of(m: &Material) -> JointParams {
+    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(closure_of(m.closure))
 }
 
 /// The joint between blocks of materials `m1` and `m2` of a layout: the material's own, or
@@ -22,5 +27,67 @@ pub fn joint_between(layout: &Layout, m1: usize, m2: usize) -> JointParams {
         j1
     } else {
         j1.combine(&joint_of(&layout.materials[m2]))
+    }
+}
+
+/// `rule` with a family's overrides.
+fn with_family(rule: JointParams, f: &FamilyJoint) -> JointParams {
+    let phi = f.friction.unwrap_or(rule.phi);
+    JointParams {
+        kn: f.kn.unwrap_or(rule.kn * f.kn_factor),
+        ks: f.ks.unwrap_or(rule.ks * f.ks_factor),
+        phi,
+        tan_phi: phi.tan(),
+        cohesion: f.cohesion.unwrap_or(rule.cohesion),
+        tension: f.tensile_strength.map_or(rule.tension, TensionCutoff::from_strength),
+        closure: f.closure.map_or(rule.closure, closure_of),
+        can_slip: rule.can_slip,
+    }
+}
+
+/// The joint law of every contact a layout can make: the material rule (the table
+/// material's joint for the table; the material joint or the series combination between
+/// blocks), with the layout's joint families on top. Built once per simulation; looked up
+/// at every contact detection.
+#[derive(Debug, Clone)]
+pub struct JointTable {
+    table: JointParams,
+    pairs: Vec<Vec<JointParams>>,
+    block_material: Vec<usize>,
+    /// The layout itself when it has joint families (classification needs its blocks).
+    families: Option<Box<Layout>>,
+}
+
+impl JointTable {
+    /// The table of a checked layout. A base course held against sliding
+    /// ([`BaseSliding::Held`]) makes every table joint unable to slip, whatever its family.
+    pub fn new(layout: &Layout) -> JointTable {
+        let nm = layout.materials.len();
+        let pairs = (0..nm).map(|i| (0..nm).map(|j| joint_between(layout, i, j)).collect()).collect();
+        let mut table = joint_of(&layout.materials[layout.table_material]);
+        if layout.base_sliding == BaseSliding::Held {
+            table.can_slip = false;
+        }
+        JointTable {
+            table,
+            pairs,
+            block_material: layout.blocks.iter().map(|b| b.material).collect(),
+            families: (!layout.joint_families.is_empty()).then(|| Box::new(layout.clone())),
+        }
+    }
+
+    /// The joint between body `a` (`None`: the table) and body `b` whose contact normal
+    /// (table frame) is `normal`.
+    pub fn joint(&self, a: Option<usize>, b: usize, normal: &Vec3) -> JointParams {
+        let rule = match a {
+            None => self.table,
+            Some(i) => self.pairs[self.block_material[i]][self.block_material[b]],
+        };
+        let Some(layout) = &self.families else { return rule };
+        let family: JointFamily = layout.joint_family(a, b, normal);
+        match layout.joint_families.get(family) {
+            Some(f) => with_family(rule, f),
+            None => rule,
+        }
     }
 }

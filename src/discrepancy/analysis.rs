@@ -1,31 +1,29 @@
-//! Cause finding: the baseline's misfit, the candidates ranked by held-out error and AICc,
-//! margins calibrated on null data, and the verdict.
+//! Cause finding: the candidates ranked by held-out error and AICc, margins calibrated on
+//! null data from independent layouts, and the verdict.
 //!
 //! * **Hold-out.** Leave one specimen out: every specimen's observations are predicted by
 //!   the candidate fitted to the other specimens only ([`super::fit::loso`]). The held-out
-//!   error is the mean held-out NLPD per observation. The baseline has no parameter: its
-//!   held-out error is its plain NLPD.
-//! * **Information criterion.** AICc at the full-data fit (Hurvich & Tsai 1989).
-//! * **Null calibration.** Null data sets are drawn under the baseline (the model is
-//!   right, only realization spread and measurement error vary) and analysed exactly as
-//!   the data: each null specimen is a baseline realization kept out of the library,
-//!   observed with measurement noise ([`NullSource::Pool`]), or, without such a pool, a
-//!   draw from the baseline's predictive distributions ([`NullSource::Predictive`]).
-//!   The margin a candidate must beat the baseline by is the 95th percentile of the best
-//!   candidate's gain on null data, so that a cause is named on at most 5 % of data sets
-//!   the baseline explains; the margin over the runner-up is the 95th percentile of the
-//!   gap between the best two candidates on null data; the baseline's misfit is
-//!   significant when its NLPD exceeds the 95th percentile of its NLPD on null data.
-//! * **Verdict.** `explained` when the best candidate beats the baseline by the margin and
-//!   has the lower AICc (candidates within the runner-up margin of it are reported as a
-//!   tie); otherwise `unexplained` when the baseline's misfit is significant, `no_effect`
-//!   when it is not. When the best single effect leaves a significant misfit, pairs of the
-//!   three best single effects are screened with the additive surrogate; a pair replaces
-//!   the best single effect only if it beats it by the margin and has the lower AICc.
+//!   error is the mean held-out score per specimen. The baseline has no parameter: its
+//!   held-out error is its plain score. Differences carry their standard error over
+//!   specimens ([`super::fit::difference_se`]).
+//! * **Information criterion.** AICc at the full-data fit, n = specimens.
+//! * **Null calibration.** Null data sets are drawn under the baseline from layouts the
+//!   library never saw (a master seed of their own): each null specimen is one such
+//!   realization, observed with measurement noise and rounded to the readings' resolution
+//!   as the data are ([`NullSource::Pool`]). The margin a candidate must beat the baseline
+//!   by is the 95th percentile of the best candidate's gain on the first half of the null
+//!   data sets; the false-alarm rate of that margin is counted on the second half and
+//!   reported with its Clopper–Pearson interval. The runner-up margin is the 95th
+//!   percentile of the gap between the best two on null data; the baseline's misfit is
+//!   significant when its score exceeds the 95th percentile of its null scores.
+//! * **Ranking.** Candidates are ranked by their surrogate's held-out error; the two best
+//!   are then run as full ensembles at their fitted parameters and re-scored with their
+//!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
+//!   the gain and the verdict use those scores.
 
-use super::fit::{aicc, fit, loso, Candidate, Data, Surface};
-use super::observations::{Observable, Observation};
-use super::predictive::{Predictive, Simulated};
+use super::fit::{aicc, difference_se, fit, loso, per_specimen, Candidate, Data, Surface};
+use super::observations::Observable;
+use super::predictive::{Predictive, Reading, Simulated};
 use super::simulate::Outcome;
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;
@@ -38,11 +36,13 @@ use serde::Serialize;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
-    /// A candidate explains the misfit.
+    /// A candidate explains the misfit, and the extended model passes its posterior
+    /// predictive check.
     Explained,
     /// The baseline fits: nothing to explain.
     NoEffect,
-    /// The baseline misfits and no candidate explains it.
+    /// The baseline misfits and no candidate explains it (the best may be a partial
+    /// explanation).
     Unexplained,
 }
 
@@ -57,202 +57,213 @@ impl Verdict {
     }
 }
 
-/// The models' simulated values, ready for analysis: the baseline per key and one
-/// candidate per effect.
+/// The models' simulated values, ready for analysis: the baseline per key and the
+/// candidates.
 #[derive(Debug, Clone)]
 pub struct Library {
     /// The baseline's simulated values, per key.
     pub baseline: Vec<Simulated>,
-    /// The single-effect candidates.
+    /// The candidates (single effects and the scatter hypothesis).
     pub candidates: Vec<Candidate>,
 }
 
-/// Margins calibrated on null data (per observation, NLPD units).
+/// Margins calibrated on null data (per specimen, score units).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Margins {
     /// Gain over the baseline a candidate needs.
     pub baseline: f64,
     /// Lead over the runner-up needed to name one effect rather than a tie.
     pub runner_up: f64,
-    /// The baseline's NLPD per observation above which its misfit is significant.
+    /// The baseline's score per specimen above which its misfit is significant.
     pub misfit: f64,
-    /// Null data sets drawn.
+    /// Null data sets drawn (half set the margins, half measure the false-alarm rate).
     pub replicates: usize,
+    /// False alarms among the held-back null data sets, and their count.
+    pub false_alarms: (usize, usize),
+    /// 95 % Clopper–Pearson interval of the false-alarm rate.
+    pub false_alarm_interval: (f64, f64),
 }
 
 /// A ranked candidate.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Ranked {
-    /// Effect names.
-    pub effects: Vec<String>,
+    /// Candidate name (`a`, `a+b`, `scatter`).
+    pub name: String,
     /// Fitted parameters on all data, `effect.param` → value.
     pub parameters: Vec<(String, f64)>,
-    /// Mean held-out NLPD per observation.
+    /// Mean held-out score per specimen.
     pub heldout_error: f64,
+    /// Standard error of the summed held-out difference to the baseline.
+    pub difference_se: f64,
     /// AICc at the full-data fit.
     pub information_criterion: f64,
+    /// Scored by a full run at its fitted parameters (not the surrogate alone).
+    pub confirmed: bool,
     /// Search coordinates of the full-data fit.
     #[serde(skip)]
     pub x: Vec<f64>,
-    /// Index into the analysis's candidate list.
+    /// Index into the analysis's candidate pool.
     #[serde(skip)]
     pub index: usize,
-}
-
-/// The outcome of an analysis.
-#[derive(Debug, Clone, Serialize)]
-pub struct Analysis {
-    /// The verdict.
-    pub verdict: Verdict,
-    /// The named cause: the best candidate when the verdict is `explained`.
-    pub cause: Option<Ranked>,
-    /// Candidates indistinguishable from the cause (within the runner-up margin), the cause
-    /// first; one entry when the cause is unique.
-    pub tie: Vec<String>,
-    /// All candidates, best first.
-    pub candidates: Vec<Ranked>,
-    /// The baseline's held-out error (its NLPD per observation) and AICc.
-    pub baseline_heldout_error: f64,
-    /// The baseline's AICc.
-    pub baseline_information_criterion: f64,
-    /// Held-out predictive of each observation under the baseline.
-    pub baseline_predictive: Vec<Predictive>,
-    /// Held-out NLPD of each observation under the baseline.
-    pub baseline_scores: Vec<f64>,
-    /// Held-out predictive of each observation under the cause (or the best candidate).
-    pub best_predictive: Vec<Predictive>,
-    /// Held-out NLPD of each observation under the cause (or the best candidate).
-    pub best_scores: Vec<f64>,
-    /// The margins used.
-    pub margins: Margins,
-    /// The candidates analysed, pairs included.
+    /// Held-out score of every observation.
     #[serde(skip)]
-    pub pool: Vec<Candidate>,
+    pub scores: Vec<f64>,
+    /// Held-out predictive of every observation.
+    #[serde(skip)]
+    pub predictive: Vec<Predictive>,
 }
 
 /// Held-out error and full-data fit of one candidate.
-fn score(c: &Candidate, data: Data<'_>, specimens: &[String], index: usize) -> (Ranked, Vec<f64>, Vec<Predictive>) {
+pub fn score(c: &Candidate, data: Data<'_>, specimens: &[String], index: usize, base: &[f64]) -> Ranked {
     let all: Vec<usize> = (0..data.obs.len()).collect();
     let (x, nlpd) = fit(&c.surface, data, &all);
-    let (scores, pred) = loso(&c.surface, data, specimens);
-    let n = data.obs.len();
-    let ranked = Ranked {
-        effects: c.effects.iter().map(|e| e.name().to_string()).collect(),
+    let (scores, predictive) = loso(&c.surface, data, specimens);
+    let per = per_specimen(&scores, data.obs, specimens);
+    let d: Vec<f64> = base.iter().zip(&per).map(|(b, c)| b - c).collect();
+    let n = specimens.len().max(1);
+    Ranked {
+        name: c.name(),
         parameters: c.values(&x),
-        heldout_error: scores.iter().sum::<f64>() / n as f64,
+        heldout_error: per.iter().sum::<f64>() / n as f64,
+        difference_se: difference_se(&d) / n as f64,
         information_criterion: aicc(nlpd, c.surface.dims(), n),
+        confirmed: false,
         x,
         index,
-    };
-    (ranked, scores, pred)
+        scores,
+        predictive,
+    }
 }
 
-/// Ranks the candidates on `data`: best held-out error first.
-fn rank(pool: &[Candidate], data: Data<'_>, specimens: &[String]) -> Vec<(Ranked, Vec<f64>, Vec<Predictive>)> {
-    let mut r: Vec<_> = pool.iter().enumerate().map(|(i, c)| score(c, data, specimens, i)).collect();
-    r.sort_by(|a, b| a.0.heldout_error.total_cmp(&b.0.heldout_error).then(a.0.index.cmp(&b.0.index)));
+/// Ranks the candidates on `data`: best held-out error first (ties by pool order).
+pub fn rank(pool: &[Candidate], data: Data<'_>, specimens: &[String], base: &[f64]) -> Vec<Ranked> {
+    let mut r: Vec<Ranked> = pool.iter().enumerate().map(|(i, c)| score(c, data, specimens, i, base)).collect();
+    sort(&mut r);
     r
 }
 
-fn quantile95(mut v: Vec<f64>) -> f64 {
+/// Sorts by held-out error, then pool order.
+pub fn sort(r: &mut [Ranked]) {
+    r.sort_by(|a, b| a.heldout_error.total_cmp(&b.heldout_error).then(a.index.cmp(&b.index)));
+}
+
+fn quantile(mut v: Vec<f64>, p: f64) -> f64 {
     v.sort_by(f64::total_cmp);
-    crate::stats::quantile(&v, 0.95)
+    crate::stats::quantile(&v, p)
 }
 
-/// Where null data sets come from.
+/// Where null data sets come from: realizations of a model on layouts the fits never saw,
+/// `[group][realization]`, with the `(group, observable)` of every key. A group with fewer
+/// than three realizations (a wall without random input) is drawn from its predictive.
 #[derive(Debug, Clone, Copy)]
-pub enum NullSource<'a> {
-    /// The baseline's Gaussian predictive distributions (parametric bootstrap).
-    Predictive,
-    /// Baseline realizations kept out of the library, `[group][realization]`: each null
-    /// specimen is one of them, drawn with replacement, observed with measurement noise.
-    /// This carries the model's true (non-Gaussian, correlated) spread into the null data.
-    Pool(&'a [Vec<Outcome>], &'a [(usize, Observable)]),
+pub struct NullSource<'a> {
+    /// The realizations.
+    pub pool: &'a [Vec<Outcome>],
+    /// The keys.
+    pub keys: &'a [(usize, Observable)],
+    /// The model's simulated values per key (for groups drawn from the predictive).
+    pub sims: &'a [Simulated],
 }
 
-/// One null data set: values for every observation.
-fn null_values(
-    lib: &Library,
+/// One synthetic data set: values for every observation, each specimen one realization of
+/// `source` (drawn with replacement), plus Gaussian noise of the observation's σ, rounded
+/// to the reading resolution.
+pub fn draw_data(
     data0: Data<'_>,
     specimens: &[String],
     source: NullSource<'_>,
+    reading: Reading,
     rng: &mut ChaCha8Rng,
 ) -> Vec<f64> {
     let obs = data0.obs;
     let mut y: Vec<f64> = vec![0.0; obs.len()];
-    match source {
-        NullSource::Pool(pool, keys) => {
-            for s in specimens {
-                let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
-                let g = keys[data0.key[idx[0]]].0;
-                // A group with fewer than three pooled realizations (e.g. a wall without
-                // random input, run once) is drawn from its predictive distributions.
-                let pick = (pool[g].len() >= 3).then(|| rng.random_range(0..pool[g].len()));
-                for j in idx {
-                    let z: f64 = StandardNormal.sample(rng);
-                    let p = data0.predictive(&lib.baseline, j);
-                    let v = match pick {
-                        Some(r) => pool[g][r].value(&keys[data0.key[j]].1).map(|v| v + obs[j].sigma * z),
-                        None => Some(p.mean + p.sd * z),
-                    };
-                    y[j] = v.filter(|v| v.is_finite()).unwrap_or(0.0);
-                }
-            }
-        }
-        NullSource::Predictive => {
-            for (j, yj) in y.iter_mut().enumerate() {
-                let p = data0.predictive(&lib.baseline, j);
-                let z: f64 = StandardNormal.sample(rng);
-                *yj = if p.mean.is_finite() { p.mean + p.sd * z } else { 0.0 };
-            }
+    for s in specimens {
+        let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
+        let Some(&first) = idx.first() else { continue };
+        let g = source.keys[data0.key[first]].0;
+        let pick = (source.pool[g].len() >= 3).then(|| rng.random_range(0..source.pool[g].len()));
+        let shared: f64 = StandardNormal.sample(rng);
+        for j in idx {
+            let z: f64 = StandardNormal.sample(rng);
+            let p = data0.predictive(source.sims, j);
+            let v = match pick {
+                Some(r) => source.pool[g][r].value(&source.keys[data0.key[j]].1).map(|v| v + obs[j].sigma * z),
+                None => Some(
+                    p.mean + p.sd * if matches!(obs[j].observable, Observable::CollapseAngle) { z } else { shared },
+                ),
+            };
+            // A realization that fell before the tilt gives no displacement: the specimen
+            // is read at its predictive mean there (rare; keeps the design balanced).
+            let v = v.filter(|v| v.is_finite()).unwrap_or(if p.mean.is_finite() { p.mean } else { 0.0 });
+            y[j] = reading.round(&obs[j].observable, v);
         }
     }
     y
 }
 
-/// Calibrates the margins on `replicates` null data sets of the observations `obs`, drawn
-/// from `source` (seeded by `seed`, `Purpose::Discrepancy`, one stream per replicate).
-#[allow(clippy::too_many_arguments)]
+/// The baseline's held-out (plain) score per specimen.
+pub fn baseline_per_specimen(lib: &Library, data: Data<'_>, specimens: &[String]) -> Vec<f64> {
+    let n = data.obs.len();
+    let scores: Vec<f64> = (0..n).map(|j| data.score(&lib.baseline, j)).collect();
+    per_specimen(&scores, data.obs, specimens)
+}
+
+/// The 95 % Clopper–Pearson interval of a binomial proportion `k / n`.
+pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
+    use statrs::distribution::{Beta, ContinuousCDF};
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let (k, nf) = (k as f64, n as f64);
+    let lo = if k == 0.0 { 0.0 } else { Beta::new(k, nf - k + 1.0).map_or(0.0, |b| b.inverse_cdf(0.025)) };
+    let hi = if k == nf { 1.0 } else { Beta::new(k + 1.0, nf - k).map_or(1.0, |b| b.inverse_cdf(0.975)) };
+    (lo, hi)
+}
+
+/// Calibrates the margins on `replicates` null data sets drawn from `source` (seeded by
+/// `seed`, `Purpose::Discrepancy`, one stream per replicate).
 pub fn calibrate_margins(
     lib: &Library,
-    obs: &[Observation],
-    key: &[usize],
+    data0: Data<'_>,
     specimens: &[String],
-    resolution_deg: f64,
     replicates: usize,
     seed: u64,
     source: NullSource<'_>,
 ) -> Margins {
-    let n = obs.len();
+    let n = specimens.len().max(1) as f64;
     let runs: Vec<(f64, f64, f64)> = (0..replicates)
         .into_par_iter()
         .map(|b| {
             let mut rng = rng_for(seed, b as u64, Purpose::Discrepancy);
-            let zero = vec![0.0; n];
-            let d0 = Data { obs, y: &zero, key, resolution_deg };
-            let y = null_values(lib, d0, specimens, source, &mut rng);
-            let data = Data { obs, y: &y, key, resolution_deg };
-            let all: Vec<usize> = (0..n).collect();
-            let base = data.nlpd(&lib.baseline, &all) / n as f64;
-            let ranked = rank(&lib.candidates, data, specimens);
-            let best = ranked.first().map_or(base, |r| r.0.heldout_error);
-            let second = ranked.get(1).map_or(best, |r| r.0.heldout_error);
-            (base - best, second - best, base)
+            let y = draw_data(data0, specimens, source, data0.reading, &mut rng);
+            let data = Data { y: &y, ..data0 };
+            let base = baseline_per_specimen(lib, data, specimens);
+            let base_he = base.iter().sum::<f64>() / n;
+            let ranked = rank(&lib.candidates, data, specimens, &base);
+            let best = ranked.first().map_or(base_he, |r| r.heldout_error);
+            let second = ranked.get(1).map_or(best, |r| r.heldout_error);
+            (base_he - best, second - best, base_he)
         })
         .collect();
+    let half = replicates / 2;
+    let (fit_half, test_half) = runs.split_at(half);
+    let margin = quantile(fit_half.iter().map(|r| r.0).collect(), 0.95);
+    let alarms = test_half.iter().filter(|r| r.0 > margin).count();
     Margins {
-        baseline: quantile95(runs.iter().map(|r| r.0).collect()),
-        runner_up: quantile95(runs.iter().map(|r| r.1).collect()),
-        misfit: quantile95(runs.iter().map(|r| r.2).collect()),
+        baseline: margin,
+        runner_up: quantile(runs.iter().map(|r| r.1).collect(), 0.95),
+        misfit: quantile(runs.iter().map(|r| r.2).collect(), 0.95),
         replicates,
+        false_alarms: (alarms, test_half.len()),
+        false_alarm_interval: clopper_pearson(alarms, test_half.len()),
     }
 }
 
-/// Pairs of the three best one-parameter effects, with the additive surrogate.
-fn pairs(lib: &Library, ranked: &[(Ranked, Vec<f64>, Vec<Predictive>)]) -> Vec<Candidate> {
+/// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
+pub fn pairs(lib: &Library, ranked: &[Ranked]) -> Vec<Candidate> {
     let top: Vec<&Candidate> = ranked
         .iter()
-        .map(|r| &lib.candidates[r.0.index])
+        .map(|r| &lib.candidates[r.index])
         .filter(|c| c.effects.len() == 1 && c.surface.dims() == 1)
         .take(3)
         .collect();
@@ -261,7 +272,8 @@ fn pairs(lib: &Library, ranked: &[(Ranked, Vec<f64>, Vec<Predictive>)]) -> Vec<C
         for j in i + 1..top.len() {
             let (a, b) = (top[i], top[j]);
             out.push(Candidate {
-                effects: vec![a.effects[0], b.effects[0]],
+                effects: vec![a.effects[0].clone(), b.effects[0].clone()],
+                params: a.params.iter().chain(&b.params).cloned().collect(),
                 surface: Surface::Pair {
                     a: Box::new(a.surface.clone()),
                     b: Box::new(b.surface.clone()),
@@ -273,63 +285,93 @@ fn pairs(lib: &Library, ranked: &[(Ranked, Vec<f64>, Vec<Predictive>)]) -> Vec<C
     out
 }
 
-/// Analyses the data `y` of the observations `obs` against the library with the
-/// calibrated margins.
-pub fn analyze(lib: &Library, data: Data<'_>, specimens: &[String], margins: Margins) -> Analysis {
-    let n = data.obs.len();
-    let all: Vec<usize> = (0..n).collect();
-    let base_scores: Vec<f64> = all.iter().map(|&j| data.predictive(&lib.baseline, j).nlpd(data.y[j])).collect();
-    let base_pred: Vec<Predictive> = all.iter().map(|&j| data.predictive(&lib.baseline, j)).collect();
-    let base_he = base_scores.iter().sum::<f64>() / n as f64;
-    let base_ic = aicc(base_he * n as f64, 0, n);
-    let mut ranked = rank(&lib.candidates, data, specimens);
-    let mut pool = lib.candidates.clone();
-    // Pairs, when the best single effect leaves a significant misfit.
-    if !ranked.is_empty() {
-        let best_nlpd = ranked[0].1.iter().sum::<f64>() / n as f64;
-        if best_nlpd > margins.misfit && base_he - ranked[0].0.heldout_error > margins.baseline {
-            let offset = pool.len();
-            let extra = pairs(lib, &ranked);
-            let mut more = rank(&extra, data, specimens);
-            for r in &mut more {
-                r.0.index += offset;
-            }
-            pool.extend(extra);
-            let (threshold, ic) = (ranked[0].0.heldout_error - margins.baseline, ranked[0].0.information_criterion);
-            ranked.extend(more.into_iter().filter(|r| r.0.heldout_error < threshold && r.0.information_criterion < ic));
-            ranked.sort_by(|a, b| a.0.heldout_error.total_cmp(&b.0.heldout_error).then(a.0.index.cmp(&b.0.index)));
+/// The posterior predictive check of a model on the data: its score per specimen (at its
+/// full-data fit) against the 95th percentile of the same score on `replicates` data sets
+/// drawn from the model's own independent realizations.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PredictiveCheck {
+    /// The data's score per specimen.
+    pub score: f64,
+    /// The 95th percentile of the score per specimen on the model's own data.
+    pub envelope: f64,
+    /// Data sets drawn.
+    pub replicates: usize,
+    /// Observables the model misses (|mean standardized residual| > 2/√n), with that
+    /// residual.
+    pub missed: Vec<(String, f64)>,
+}
+
+impl PredictiveCheck {
+    /// The model fits its data as well as it fits its own.
+    pub fn passes(&self) -> bool {
+        self.score <= self.envelope
+    }
+}
+
+/// Runs the check: `sims` the model's simulated values per key, `source` its independent
+/// realizations, `labels` the key labels (`GROUP alpha_max`, …).
+pub fn predictive_check(
+    data: Data<'_>,
+    sims: &[Simulated],
+    specimens: &[String],
+    source: NullSource<'_>,
+    replicates: usize,
+    seed: u64,
+    labels: &[String],
+) -> PredictiveCheck {
+    let n = specimens.len().max(1) as f64;
+    let all: Vec<usize> = (0..data.obs.len()).collect();
+    let score = data.nlpd(sims, &all) / n;
+    let null: Vec<f64> = (0..replicates)
+        .into_par_iter()
+        .map(|b| {
+            let mut rng = rng_for(seed ^ 0x9e37_79b9_7f4a_7c15, b as u64, Purpose::Discrepancy);
+            let y = draw_data(data, specimens, source, data.reading, &mut rng);
+            Data { y: &y, ..data }.nlpd(sims, &all) / n
+        })
+        .collect();
+    let mut missed = Vec::new();
+    for (k, label) in labels.iter().enumerate() {
+        let z: Vec<f64> =
+            all.iter().filter(|&&j| data.key[j] == k).map(|&j| data.predictive(sims, j).z(data.y[j])).collect();
+        if z.is_empty() {
+            continue;
+        }
+        let zbar = crate::stats::mean(&z);
+        if zbar.abs() > 2.0 / (z.len() as f64).sqrt() {
+            missed.push((label.clone(), zbar));
         }
     }
-    let (best_pred, best_scores) =
-        ranked.first().map_or((base_pred.clone(), base_scores.clone()), |r| (r.2.clone(), r.1.clone()));
-    let candidates: Vec<Ranked> = ranked.iter().map(|r| r.0.clone()).collect();
-    let named = candidates
-        .first()
-        .filter(|b| base_he - b.heldout_error > margins.baseline && b.information_criterion < base_ic);
-    let (verdict, cause, tie) = match named {
-        Some(b) => {
-            let tie: Vec<String> = candidates
-                .iter()
-                .filter(|c| c.heldout_error - b.heldout_error <= margins.runner_up)
-                .map(|c| c.effects.join("+"))
-                .collect();
-            (Verdict::Explained, Some(b.clone()), tie)
-        }
-        None if base_he > margins.misfit => (Verdict::Unexplained, None, vec![]),
-        None => (Verdict::NoEffect, None, vec![]),
-    };
-    Analysis {
-        verdict,
-        cause,
-        tie,
-        candidates,
-        baseline_heldout_error: base_he,
-        baseline_information_criterion: base_ic,
-        baseline_predictive: base_pred,
-        baseline_scores: base_scores,
-        best_predictive: best_pred,
-        best_scores,
-        margins,
-        pool,
-    }
+    PredictiveCheck { score, envelope: quantile(null, 0.95), replicates, missed }
+}
+
+/// The outcome of an analysis.
+#[derive(Debug, Clone, Serialize)]
+pub struct Analysis {
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The named cause (`explained`), or the best candidate as a partial explanation
+    /// (`unexplained` after a failed predictive check).
+    pub cause: Option<Ranked>,
+    /// Candidates indistinguishable from the cause, the cause first; one entry when the
+    /// cause is unique.
+    pub tie: Vec<String>,
+    /// All candidates, best first.
+    pub candidates: Vec<Ranked>,
+    /// The baseline's held-out error (its score per specimen).
+    pub baseline_heldout_error: f64,
+    /// The baseline's AICc.
+    pub baseline_information_criterion: f64,
+    /// Predictive of each observation under the baseline.
+    pub baseline_predictive: Vec<Predictive>,
+    /// Score of each observation under the baseline.
+    pub baseline_scores: Vec<f64>,
+    /// The margins used.
+    pub margins: Margins,
+    /// The posterior predictive check of the extended model (of the baseline when no cause
+    /// is named).
+    pub check: Option<PredictiveCheck>,
+    /// The candidates analysed, pairs included.
+    #[serde(skip)]
+    pub pool: Vec<Candidate>,
 }

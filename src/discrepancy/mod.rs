@@ -5,25 +5,30 @@
 //!  measured data ─▶ observations ─┐
 //!  study ─▶ baseline ensemble ─────┼─▶ diagnosis (standardized residuals by group,
 //!          (common random numbers) │    observable, tilt; spread against specimens)
-//!  effect library ─▶ ensembles on ─┴─▶ surrogates ─▶ fits, held-out error, AICc
-//!   (effects/)      parameter grids        ─▶ margins from null data ─▶ verdict
-//!                                          ─▶ extended model: full ensemble, gain
+//!  effect library ─▶ ensembles on ─┴─▶ surrogates (with their own error) ─▶ fits,
+//!   (crate::effects)  parameter grids     held-out error, AICc ─▶ margins from null data
+//!                                         on independent layouts ─▶ the two best re-run
+//!                                         in full and re-scored ─▶ posterior predictive
+//!                                         check ─▶ verdict, extended model, gain
 //! ```
 //!
 //! The reference formulation is Kennedy & O'Hagan (2001, J. R. Stat. Soc. B 63:425), a
 //! statistical discrepancy term added after calibration; Brynjarsdóttir & O'Hagan (2014,
 //! Inverse Problems 30:114007) show that such a term, without physics, confounds the
 //! parameters. drystone instead searches a library of named physical mechanisms
-//! ([`effects`]), each entering the model where it acts, and names one only when it
-//! predicts held-out specimens better than the baseline by a margin calibrated on data
-//! the baseline explains ([`analysis`]).
+//! ([`crate::effects`]), each entering the model where it acts, beside a `scatter`
+//! hypothesis (specimens scatter more than the model's layouts: workmanship), and names
+//! one only when it predicts held-out specimens better than the baseline by a margin
+//! calibrated on data the baseline explains, after a full run at its fitted parameters,
+//! and when the extended model then fits the data as well as it fits its own simulated
+//! data ([`analysis`]).
 //!
-//! Units: observations and predictions are in the measured data's units (degrees for
-//! collapse angles, cm for displacements); effect parameters in the units of
-//! [`effects::EffectKind::params`].
+//! Every forward run uses the study's own tilting-table settings (step and resolution), so
+//! the predictive means are the study's `run` means. Units: observations and predictions
+//! are in the measured data's units (degrees for collapse angles, cm for displacements);
+//! effect parameters in the units of their [`crate::effects::ParamDef`]s.
 
 pub mod analysis;
-pub mod effects;
 pub mod fit;
 pub mod observations;
 pub mod predictive;
@@ -31,59 +36,73 @@ pub mod report;
 pub mod simulate;
 pub mod synthesize;
 
-use analysis::{analyze, calibrate_margins, Analysis, Library};
-use effects::{Effect, EffectKind};
-use fit::{to_value, to_x, Candidate, Data, Surface};
+/// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
+pub use crate::effects;
+
+use analysis::{calibrate_margins, predictive_check, rank, sort, Analysis, Library, NullSource, Ranked, Verdict};
+use effects::{Effect, EffectDef};
+use fit::{specimen_weights, to_value, to_x, Candidate, Data, Surface};
 use observations::{Observable, Observation};
-use predictive::{Predictive, Simulated};
+use predictive::{Predictive, Reading, Simulated};
 use serde::{Deserialize, Serialize};
-use simulate::{run_models, Outcome, Outcomes, Setup};
+use simulate::{run_models, Outcome, Setup};
+use std::sync::Arc;
 
 /// Settings of a discrepancy analysis. Defaults in brackets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Settings {
-    /// Realizations per group of every model on the fitting grids \[3\].
+    /// Realizations per group at every node of the surrogates' grids \[4\].
     pub realizations: u64,
-    /// Realizations per group of the baseline and of the extended model's full run \[9\];
-    /// the baseline's realizations beyond `realizations` make the null data of the margin
-    /// calibration (with fewer than 3 the null data are drawn from the predictive
-    /// distributions).
+    /// Realizations per group of the baseline's and of a confirmed candidate's full run
+    /// \[9\] (the first `realizations` of the baseline are the grids' neutral node).
     pub extension_realizations: u64,
-    /// Grid intervals per parameter axis of a one-parameter effect \[2\]: nodes at
+    /// Realizations per group on independent layouts (a master seed of their own) for the
+    /// null data and the posterior predictive check \[9\].
+    pub null_realizations: u64,
+    /// Grid intervals per parameter axis of a one-parameter effect \[4\]: nodes at
     /// `x = 0, 1/G, …, 1`, the node nearest the neutral value taken from the baseline.
     pub grid_points: usize,
-    /// Nodes per axis of a two-parameter effect \[2\], at the cell centres.
+    /// Nodes per axis of a two-parameter effect \[3\], corners included.
     pub grid_points_2d: usize,
-    /// Null data sets of the margin calibration \[200\].
+    /// Null data sets of the margin calibration \[200\] (half set the margins, half count
+    /// the false alarms).
     pub null_replicates: usize,
+    /// Data sets of the posterior predictive check \[200\].
+    pub check_replicates: usize,
     /// Bootstrap resamples of the specimens for the gain's interval \[2000\].
     pub bootstrap: usize,
-    /// Tilt increment of the analysis's tilting-table runs, degrees \[1\]; every measured
-    /// displacement's tilt must be a multiple of it.
-    pub step_deg: f64,
-    /// Collapse-angle resolution of those runs, degrees \[0.5\] (the reading precision of
-    /// the measured angles).
-    pub resolution_deg: f64,
-    /// The effects searched \[all\].
-    pub effects: Vec<EffectKind>,
+    /// The effects searched, by name \[every built-in and every effect file of the
+    /// study\].
+    pub effects: Vec<String>,
+    /// Rank the specimen-scatter hypothesis beside the mechanisms \[true\].
+    pub scatter: bool,
+    /// Re-run the two best candidates as full ensembles at their fitted parameters and
+    /// score them by those runs \[true\]; off, the surrogate's scores stand (for power
+    /// studies; the report says so).
+    pub confirm: bool,
     /// Measurement standard deviations.
     pub sigma: observations::MeasurementSigma,
+    /// Reading resolutions of the measured values.
+    pub reading: Reading,
 }
 
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            realizations: 3,
+            realizations: 4,
             extension_realizations: 9,
-            grid_points: 2,
-            grid_points_2d: 2,
+            null_realizations: 9,
+            grid_points: 4,
+            grid_points_2d: 3,
             null_replicates: 200,
+            check_replicates: 200,
             bootstrap: 2000,
-            step_deg: 1.0,
-            resolution_deg: 0.5,
-            effects: EffectKind::ALL.to_vec(),
+            effects: vec![],
+            scatter: true,
+            confirm: true,
             sigma: observations::MeasurementSigma::default(),
+            reading: Reading::default(),
         }
     }
 }
@@ -160,14 +179,24 @@ impl Settings {
         if !(100..=1_000_000).contains(&self.bootstrap) {
             return bad("bootstrap", self.bootstrap.to_string(), "must be in [100, 1000000]");
         }
-        if !(self.step_deg > 0.0 && self.step_deg <= 5.0) {
-            return bad("step_deg", self.step_deg.to_string(), "must be in (0, 5]");
+        if !(1..=10_000).contains(&self.null_realizations) {
+            return bad("null_realizations", self.null_realizations.to_string(), "must be in [1, 10000]");
         }
-        if !(self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg) {
-            return bad("resolution_deg", self.resolution_deg.to_string(), "must be in (0, step_deg]");
+        if !(20..=100_000).contains(&self.check_replicates) {
+            return bad("check_replicates", self.check_replicates.to_string(), "must be in [20, 100000]");
         }
-        if self.effects.is_empty() {
-            return bad("effects", "[]".into(), "needs at least one effect");
+        for (key, v) in
+            [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
+        {
+            if !(v.is_finite() && (0.0..=10.0).contains(&v)) {
+                return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
+            }
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for e in &self.effects {
+            if !seen.insert(e) {
+                return bad("effects", e.clone(), "an effect is listed twice");
+            }
         }
         Ok(())
     }
@@ -209,43 +238,164 @@ impl Keys {
     }
 }
 
-/// The models run for one effect: its grid nodes (search coordinates) and their effects.
+/// The grid of one effect: node coordinates and their effects (`None` marks the node
+/// taken from the baseline).
 #[derive(Debug, Clone)]
 struct Plan {
-    kind: EffectKind,
-    /// Node coordinates; `None` marks the node taken from the baseline.
+    def: Arc<EffectDef>,
+    params: Vec<effects::ParamDef>,
     nodes: Vec<(Vec<f64>, Option<Effect>)>,
 }
 
-fn effect_at(kind: EffectKind, x: &[f64]) -> Result<Effect, DiscrepancyError> {
-    let values = kind.params().iter().zip(x).map(|(p, &xi)| to_value(p, xi)).collect();
-    Ok(Effect::new(kind, values, kind.random_form().is_some())?)
+fn effect_at(
+    def: &Arc<EffectDef>,
+    params: &[effects::ParamDef],
+    x: &[f64],
+    course_m: f64,
+) -> Result<Effect, DiscrepancyError> {
+    let values = params.iter().zip(x).map(|(p, &xi)| to_value(p, xi)).collect();
+    Ok(Effect::new(def.clone(), values, course_m)?)
 }
 
-fn plan(kind: EffectKind, s: &Settings) -> Result<Plan, DiscrepancyError> {
-    let ps = kind.params();
+fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, DiscrepancyError> {
+    let params = def.params_for(course_m);
     let mut nodes = Vec::new();
-    if ps.len() == 1 {
-        let xn = to_x(&ps[0], ps[0].neutral).clamp(0.0, 1.0);
+    if params.len() == 1 {
+        let xn = to_x(&params[0], params[0].neutral).clamp(0.0, 1.0);
         let g = s.grid_points;
+        let half = 0.5 / g as f64;
         for k in 0..=g {
             let x = k as f64 / g as f64;
-            if (x - xn).abs() >= 0.15 {
-                nodes.push((vec![x], Some(effect_at(kind, &[x])?)));
+            if (x - xn).abs() >= half {
+                nodes.push((vec![x], Some(effect_at(&def, &params, &[x], course_m)?)));
             }
         }
         nodes.push((vec![xn], None));
         nodes.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
     } else {
         let g = s.grid_points_2d;
-        let axis: Vec<f64> = (0..g).map(|k| (k as f64 + 0.5) / g as f64).collect();
+        let axis: Vec<f64> = (0..g).map(|k| k as f64 / (g - 1) as f64).collect();
         for &a in &axis {
             for &b in &axis {
-                nodes.push((vec![a, b], Some(effect_at(kind, &[a, b])?)));
+                nodes.push((vec![a, b], Some(effect_at(&def, &params, &[a, b], course_m)?)));
             }
         }
     }
-    Ok(Plan { kind, nodes })
+    Ok(Plan { def, params, nodes })
+}
+
+/// The effects a run searches: the settings' names, or every effect of `library`.
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an unknown name.
+pub fn searched(s: &Settings, library: &effects::Library) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
+    if s.effects.is_empty() {
+        return Ok(library.all());
+    }
+    Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
+}
+
+/// Mean course height of the analysed walls, m (the effects' length ranges scale with it).
+pub fn course_height(setup: &Setup) -> f64 {
+    let v: Vec<f64> = setup.groups.iter().map(|g| g.course_m).collect();
+    if v.is_empty() {
+        effects::REFERENCE_COURSE_HEIGHT_M
+    } else {
+        crate::stats::mean(&v)
+    }
+}
+
+/// Builds the surrogate library: the baseline (from `baseline`, the first `realizations`
+/// of each group), every effect's grid, run with common random numbers, and the scatter
+/// hypothesis.
+pub fn build_library(
+    setup: &Setup,
+    keys: &Keys,
+    baseline: &[Vec<Outcome>],
+    s: &Settings,
+    defs: &[Arc<EffectDef>],
+) -> Result<Library, DiscrepancyError> {
+    let course_m = course_height(setup);
+    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
+    let models: Vec<Vec<Effect>> =
+        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
+    let grid_setup = with_realizations(setup, s.realizations);
+    let base_grid: Vec<Vec<Outcome>> = baseline
+        .iter()
+        .zip(&grid_setup.groups)
+        .map(|(o, g)| o[..(g.realizations as usize).min(o.len())].to_vec())
+        .collect();
+    let outcomes = run_models(&grid_setup, &models, Some(&base_grid));
+    let base_sims = keys.simulated(&base_grid);
+    let mut next = outcomes.iter();
+    let mut candidates = Vec::new();
+    for p in &plans {
+        let sims: Vec<(Vec<f64>, Vec<Simulated>)> = p
+            .nodes
+            .iter()
+            .map(|(x, e)| {
+                let sims = match e {
+                    Some(_) => keys.simulated(next.next().map(|v| v.as_slice()).unwrap_or(&[])),
+                    None => base_sims.clone(),
+                };
+                (x.clone(), sims)
+            })
+            .collect();
+        let surface = if p.params.len() == 1 {
+            Surface::Axis {
+                xs: sims.iter().map(|(x, _)| x[0]).collect(),
+                sims: sims.into_iter().map(|(_, s)| s).collect(),
+            }
+        } else {
+            let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
+            x1.dedup();
+            let mut x2: Vec<f64> = sims.iter().map(|(x, _)| x[1]).collect();
+            x2.sort_by(f64::total_cmp);
+            x2.dedup();
+            Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
+        };
+        candidates.push(Candidate { effects: vec![p.def.clone()], params: p.params.clone(), surface });
+    }
+    if s.scatter {
+        let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
+        candidates.push(Candidate::scatter(base_sims.clone(), angle));
+    }
+    Ok(Library { baseline: base_sims, candidates })
+}
+
+/// The setup with every group's realizations capped at `n`.
+fn with_realizations(setup: &Setup, n: u64) -> Setup {
+    Setup {
+        groups: setup
+            .groups
+            .iter()
+            .map(|g| simulate::GroupSetup { realizations: g.realizations.min(n), ..g.clone() })
+            .collect(),
+        ..setup.clone()
+    }
+}
+
+/// The master seed of the independent layouts (null data, predictive checks): derived from
+/// the study's, never equal to it.
+pub fn null_seed(seed: u64) -> u64 {
+    let s = seed.rotate_left(29) ^ 0x6a09_e667_f3bc_c909;
+    if s == seed {
+        s ^ 1
+    } else {
+        s
+    }
+}
+
+/// The effects of a candidate at its fitted coordinates.
+fn effects_of(c: &Candidate, x: &[f64], course_m: f64) -> Result<Vec<Effect>, DiscrepancyError> {
+    let mut out = Vec::new();
+    let mut offset = 0;
+    for def in &c.effects {
+        let n = def.parameters.len();
+        out.push(effect_at(def, &c.params[offset..offset + n], &x[offset..offset + n], course_m)?);
+        offset += n;
+    }
+    Ok(out)
 }
 
 /// Everything a discrepancy run computed.
@@ -264,85 +414,71 @@ pub struct Run {
     /// The baseline's full run, `[group][realization]`.
     pub baseline: Vec<Vec<Outcome>>,
     /// The extended model's effects at the fitted parameters and its full run, when a
-    /// cause was named.
+    /// mechanism was named (also as a partial explanation).
     pub extended: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
-    /// Predictive of every observation under the extended model's full run.
+    /// Predictive of every observation under the extended model (the baseline's when no
+    /// cause was named).
     pub extended_predictive: Vec<Predictive>,
-    /// Gain in held-out error (baseline − extended, per observation) and its 95 %
-    /// bootstrap interval over specimens.
+    /// Gain in held-out error (baseline − extended, per specimen) and its 95 % bootstrap
+    /// interval over specimens.
     pub gain: Option<(f64, f64, f64)>,
-    /// Tilt resolution used.
-    pub resolution_deg: f64,
+    /// What would separate tied candidates: an observable, the difference of the two
+    /// models there in predictive standard deviations, and the specimens of its group a
+    /// test would need to tell them apart (two-sided 5 %, power 80 %).
+    pub design: Option<Design>,
+    /// Width of a simulated collapse angle's bracket, degrees (the study's resolution).
+    pub bracket_deg: f64,
     /// The settings.
     pub settings: Settings,
 }
 
-/// Builds the surrogate library: the baseline (from `baseline`, the first `realizations`
-/// of each group) and every effect's grid, run with common random numbers.
-pub fn build_library(
-    setup: &Setup,
-    keys: &Keys,
-    baseline: &[Vec<Outcome>],
-    s: &Settings,
-) -> Result<Library, DiscrepancyError> {
-    let plans: Vec<Plan> = s.effects.iter().map(|&k| plan(k, s)).collect::<Result<_, _>>()?;
-    let models: Vec<Vec<Effect>> =
-        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
-    let grid_setup = Setup {
-        groups: setup
-            .groups
-            .iter()
-            .map(|g| simulate::GroupSetup { realizations: g.realizations.min(s.realizations), ..g.clone() })
-            .collect(),
-        ..setup.clone()
-    };
-    let base_grid: Vec<Vec<Outcome>> = baseline
-        .iter()
-        .zip(&grid_setup.groups)
-        .map(|(o, g)| o[..(g.realizations as usize).min(o.len())].to_vec())
-        .collect();
-    let outcomes: Outcomes = run_models(&grid_setup, &models, Some(&base_grid));
-    let base_sims = keys.simulated(&base_grid);
-    let mut next = outcomes.iter();
-    let mut candidates = Vec::new();
-    for p in &plans {
-        let sims: Vec<(Vec<f64>, Vec<Simulated>)> = p
-            .nodes
-            .iter()
-            .map(|(x, e)| {
-                let sims = match e {
-                    Some(_) => keys.simulated(next.next().map(|v| v.as_slice()).unwrap_or(&[])),
-                    None => base_sims.clone(),
-                };
-                (x.clone(), sims)
-            })
-            .collect();
-        let surface = if p.kind.params().len() == 1 {
-            Surface::Axis {
-                xs: sims.iter().map(|(x, _)| x[0]).collect(),
-                sims: sims.into_iter().map(|(_, s)| s).collect(),
-            }
-        } else {
-            let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
-            x1.dedup();
-            let mut x2: Vec<f64> = sims.iter().map(|(x, _)| x[1]).collect();
-            x2.sort_by(f64::total_cmp);
-            x2.dedup();
-            Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
-        };
-        candidates.push(Candidate { effects: vec![p.kind], surface });
-    }
-    let base_sims = keys.simulated(&base_grid);
-    Ok(Library { baseline: base_sims, candidates })
+/// What would separate two tied candidates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// The two candidates.
+    pub candidates: (String, String),
+    /// The group and observable that separates them best.
+    pub observable: String,
+    /// Their difference there, in predictive standard deviations.
+    pub effect_size: f64,
+    /// Specimens of that group needed (two-sided 5 %, power 80 %).
+    pub specimens: usize,
 }
 
-/// Runs the whole analysis: the baseline ensemble, the library, the margins, the ranking,
-/// the extended model's full run and the gain. `seed` seeds the null data and the
-/// bootstrap.
+fn design(a: &[Simulated], b: &[Simulated], labels: &[String], names: (String, String)) -> Option<Design> {
+    let mut best: Option<(usize, f64)> = None;
+    for k in 0..a.len() {
+        let sd = (0.5 * (a[k].sd.powi(2) + b[k].sd.powi(2)) + a[k].err.powi(2) + b[k].err.powi(2)).sqrt();
+        let d = (a[k].mean - b[k].mean).abs() / sd.max(1e-12);
+        if d.is_finite() && best.is_none_or(|(_, bd)| d > bd) {
+            best = Some((k, d));
+        }
+    }
+    let (k, d) = best?;
+    let n = ((1.96 + 0.84) / d.max(1e-6)).powi(2).ceil().min(1e6) as usize;
+    Some(Design { candidates: names, observable: labels[k].clone(), effect_size: d, specimens: n.max(2) })
+}
+
+/// The key labels, `GROUP observable`.
+pub fn key_labels(setup: &Setup, keys: &Keys) -> Vec<String> {
+    keys.keys.iter().map(|(g, o)| format!("{} {}", setup.groups[*g].name, o.label())).collect()
+}
+
+/// Runs the whole analysis: the baseline ensemble, the library, the null data on
+/// independent layouts and the margins, the ranking, the full runs of the two best
+/// candidates, the verdict with its predictive check, the extended model and the gain.
+/// `seed` seeds the null data and the bootstrap; `library` holds the effects by name.
 ///
 /// # Errors
-/// [`DiscrepancyError`] for bad settings or a baseline that fails entirely.
-pub fn run(setup: &Setup, obs: Vec<Observation>, s: &Settings, seed: u64) -> Result<Run, DiscrepancyError> {
+/// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
+/// entirely.
+pub fn run(
+    setup: &Setup,
+    obs: Vec<Observation>,
+    s: &Settings,
+    seed: u64,
+    library: &effects::Library,
+) -> Result<Run, DiscrepancyError> {
     s.validate()?;
     for o in &obs {
         if let Observable::Displacement { tilt_deg, .. } = o.observable {
@@ -356,16 +492,12 @@ pub fn run(setup: &Setup, obs: Vec<Observation>, s: &Settings, seed: u64) -> Res
             }
         }
     }
+    let defs = searched(s, library)?;
     let keys = Keys::new(setup, &obs);
+    let labels = key_labels(setup, &keys);
     let specimens = observations::specimens(&obs);
-    let full = Setup {
-        groups: setup
-            .groups
-            .iter()
-            .map(|g| simulate::GroupSetup { realizations: g.realizations.min(s.extension_realizations), ..g.clone() })
-            .collect(),
-        ..setup.clone()
-    };
+    let course_m = course_height(setup);
+    let full = with_realizations(setup, s.extension_realizations);
     let baseline = run_models(&full, &[vec![]], None).remove(0);
     for (g, outs) in full.groups.iter().zip(&baseline) {
         if outs.iter().all(|o| o.error.is_some()) {
@@ -373,86 +505,186 @@ pub fn run(setup: &Setup, obs: Vec<Observation>, s: &Settings, seed: u64) -> Res
             return Err(DiscrepancyError::Baseline { group: g.name.clone(), error });
         }
     }
-    let library = build_library(setup, &keys, &baseline, s)?;
-    // The diagnosis uses the full baseline run; the ranking compares like with like on the
-    // grid's realizations (the library's baseline).
+    let lib = build_library(setup, &keys, &baseline, s, &defs)?;
+    let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
+    let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
     let y: Vec<f64> = obs.iter().map(|o| o.value).collect();
-    let data = Data { obs: &obs, y: &y, key: &keys.of, resolution_deg: s.resolution_deg };
-    let pool: Vec<Vec<Outcome>> =
-        baseline.iter().map(|o| o.get(s.realizations as usize..).map(|v| v.to_vec()).unwrap_or_default()).collect();
-    let source = if pool.iter().any(|p| p.len() >= 3) {
-        analysis::NullSource::Pool(&pool, &keys.keys)
-    } else {
-        analysis::NullSource::Predictive
-    };
-    let margins =
-        calibrate_margins(&library, &obs, &keys.of, &specimens, s.resolution_deg, s.null_replicates, seed, source);
-    let analysis = analyze(&library, data, &specimens, margins);
+    let weight = specimen_weights(&obs);
+    let bracket_deg = setup.tilt.resolution_deg;
+    let data = Data { obs: &obs, y: &y, key: &keys.of, weight: &weight, reading: s.reading, bracket_deg };
+    let pool_sims = keys.simulated(&null_pool);
+    let source = NullSource { pool: &null_pool, keys: &keys.keys, sims: &pool_sims };
+    let margins = calibrate_margins(&lib, data, &specimens, s.null_replicates, seed, source);
+
+    let n = specimens.len().max(1) as f64;
+    let base_scores: Vec<f64> = (0..obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
+    let base_per = fit::per_specimen(&base_scores, &obs, &specimens);
+    let base_he = base_per.iter().sum::<f64>() / n;
+    let base_ic = fit::aicc(base_scores.iter().sum(), 0, specimens.len());
+    let mut pool = lib.candidates.clone();
+    let mut ranked = rank(&pool, data, &specimens, &base_per);
+    // Pairs, when the best single effect leaves a significant misfit.
+    if let Some(best) = ranked.first() {
+        let best_fit = best.scores.iter().sum::<f64>() / n;
+        if best_fit > margins.misfit && base_he - best.heldout_error > margins.baseline {
+            let offset = pool.len();
+            let extra = analysis::pairs(&lib, &ranked);
+            let mut more = rank(&extra, data, &specimens, &base_per);
+            for r in &mut more {
+                r.index += offset;
+            }
+            pool.extend(extra);
+            let (threshold, ic) = (best.heldout_error - margins.baseline, best.information_criterion);
+            ranked.extend(more.into_iter().filter(|r| r.heldout_error < threshold && r.information_criterion < ic));
+            sort(&mut ranked);
+        }
+    }
+    // Full runs of the best candidates at their fitted parameters, re-scored.
     let full_base = keys.simulated(&baseline);
+    let mut runs: Vec<(usize, Vec<Effect>, Vec<Vec<Outcome>>)> = Vec::new();
+    if s.confirm {
+        for _round in 0..3 {
+            let todo: Vec<usize> = ranked
+                .iter()
+                .take(2)
+                .filter(|r| !r.confirmed && !pool[r.index].is_scatter())
+                .map(|r| r.index)
+                .collect();
+            if todo.is_empty() {
+                break;
+            }
+            for idx in todo {
+                let pos = ranked.iter().position(|r| r.index == idx).unwrap_or(0);
+                let x = ranked[pos].x.clone();
+                let effects = effects_of(&pool[idx], &x, course_m)?;
+                let outs = run_models(&full, &[effects.clone()], Some(&baseline)).remove(0);
+                let corrected = Candidate {
+                    surface: Surface::Corrected {
+                        inner: Box::new(pool[idx].surface.clone()),
+                        x0: x,
+                        full: keys.simulated(&outs),
+                    },
+                    ..pool[idx].clone()
+                };
+                let mut r = analysis::score(&corrected, data, &specimens, idx, &base_per);
+                r.confirmed = true;
+                pool[idx] = corrected;
+                ranked[pos] = r;
+                runs.push((idx, effects, outs));
+            }
+            sort(&mut ranked);
+        }
+    }
+    let candidates: Vec<Ranked> = ranked.clone();
+    let eligible = |r: &&Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
+    let best = candidates.iter().find(eligible).cloned();
+    let named =
+        best.clone().filter(|b| base_he - b.heldout_error > margins.baseline && b.information_criterion < base_ic);
+
     let mut extended = None;
     let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(&full_base, j)).collect();
     let mut gain = None;
-    if let Some(cause) = &analysis.cause {
-        let c = &analysis.pool[cause.index];
-        let mut effects = Vec::new();
-        let mut offset = 0;
-        for &k in &c.effects {
-            let n = k.params().len();
-            effects.push(effect_at(k, &cause.x[offset..offset + n])?);
-            offset += n;
+    let check;
+    let (verdict, cause, tie) = match named {
+        Some(b) => {
+            let c = &pool[b.index];
+            let (sims, check_pool): (Vec<Simulated>, Vec<Vec<Outcome>>) = if c.is_scatter() {
+                (c.surface.at(&b.x), vec![vec![]; setup.groups.len()])
+            } else {
+                let (effects, outs) = match runs.iter().find(|r| r.0 == b.index) {
+                    Some((_, e, o)) => (e.clone(), o.clone()),
+                    None => {
+                        let e = effects_of(c, &b.x, course_m)?;
+                        let o = run_models(&full, &[e.clone()], Some(&baseline)).remove(0);
+                        (e, o)
+                    }
+                };
+                let sims = keys.simulated(&outs);
+                let ppc = run_models(&null_setup, &[effects.clone()], Some(&null_pool)).remove(0);
+                extended = Some((effects, outs));
+                (sims, ppc)
+            };
+            extended_predictive = (0..obs.len()).map(|j| data.predictive(&sims, j)).collect();
+            let src = NullSource { pool: &check_pool, keys: &keys.keys, sims: &sims };
+            let ppc = predictive_check(data, &sims, &specimens, src, s.check_replicates, seed, &labels);
+            let passes = ppc.passes();
+            check = Some(ppc);
+            gain = Some(bootstrap_gain(&base_per, &fit::per_specimen(&b.scores, &obs, &specimens), s.bootstrap, seed));
+            let tie: Vec<String> = candidates
+                .iter()
+                .filter(|r| r.heldout_error - b.heldout_error <= margins.runner_up)
+                .map(|r| r.name.clone())
+                .collect();
+            let mut tie = tie;
+            if let Some(i) = tie.iter().position(|t| t == &b.name) {
+                tie.remove(i);
+            }
+            tie.insert(0, b.name.clone());
+            (if passes { Verdict::Explained } else { Verdict::Unexplained }, Some(b), tie)
         }
-        let outs = run_models(&full, &[effects.clone()], Some(&baseline)).remove(0);
-        let sims = keys.simulated(&outs);
-        extended_predictive = (0..obs.len()).map(|j| data.predictive(&sims, j)).collect();
-        extended = Some((effects, outs));
-        gain = Some(bootstrap_gain(&analysis, &obs, &specimens, s.bootstrap, seed));
-    }
+        None => {
+            let src = NullSource { pool: &null_pool, keys: &keys.keys, sims: &pool_sims };
+            check = Some(predictive_check(data, &full_base, &specimens, src, s.check_replicates, seed, &labels));
+            if base_he > margins.misfit {
+                (Verdict::Unexplained, None, vec![])
+            } else {
+                (Verdict::NoEffect, None, vec![])
+            }
+        }
+    };
+    let design = (tie.len() > 1)
+        .then(|| {
+            let a = candidates.iter().find(|r| r.name == tie[0])?;
+            let b = candidates.iter().find(|r| r.name == tie[1])?;
+            design(
+                &pool[a.index].surface.at(&a.x),
+                &pool[b.index].surface.at(&b.x),
+                &labels,
+                (a.name.clone(), b.name.clone()),
+            )
+        })
+        .flatten();
+    let analysis = Analysis {
+        verdict,
+        cause,
+        tie,
+        candidates,
+        baseline_heldout_error: base_he,
+        baseline_information_criterion: base_ic,
+        baseline_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
+        baseline_scores: base_scores,
+        margins,
+        check,
+        pool,
+    };
     Ok(Run {
         obs,
         keys,
         specimens,
-        library,
+        library: lib,
         analysis,
         baseline,
         extended,
         extended_predictive,
         gain,
-        resolution_deg: s.resolution_deg,
+        design,
+        bracket_deg,
         settings: s.clone(),
     })
 }
 
-/// The mean held-out gain per observation (baseline − best) and its 95 % percentile
+/// The mean held-out gain per specimen (baseline − extended) and its 95 % percentile
 /// bootstrap interval, resampling specimens with replacement.
-pub fn bootstrap_gain(
-    a: &Analysis,
-    obs: &[Observation],
-    specimens: &[String],
-    resamples: usize,
-    seed: u64,
-) -> (f64, f64, f64) {
+pub fn bootstrap_gain(base: &[f64], ext: &[f64], resamples: usize, seed: u64) -> (f64, f64, f64) {
     use rand::RngExt;
-    let per: Vec<(f64, usize)> = specimens
-        .iter()
-        .map(|s| {
-            let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
-            (idx.iter().map(|&j| a.baseline_scores[j] - a.best_scores[j]).sum::<f64>(), idx.len())
-        })
-        .collect();
-    let total: f64 = per.iter().map(|p| p.0).sum();
-    let count: usize = per.iter().map(|p| p.1).sum();
+    let d: Vec<f64> = base.iter().zip(ext).map(|(b, e)| b - e).collect();
+    if d.is_empty() {
+        return (0.0, 0.0, 0.0);
+    }
     let mut rng = crate::rng::rng_for(seed, u64::MAX >> 8, crate::rng::Purpose::Bootstrap);
     let mut means: Vec<f64> = (0..resamples)
-        .map(|_| {
-            let (mut t, mut c) = (0.0, 0usize);
-            for _ in 0..per.len() {
-                let p = per[rng.random_range(0..per.len())];
-                t += p.0;
-                c += p.1;
-            }
-            t / c.max(1) as f64
-        })
+        .map(|_| (0..d.len()).map(|_| d[rng.random_range(0..d.len())]).sum::<f64>() / d.len() as f64)
         .collect();
     means.sort_by(f64::total_cmp);
-    (total / count.max(1) as f64, crate::stats::quantile(&means, 0.025), crate::stats::quantile(&means, 0.975))
+    (crate::stats::mean(&d), crate::stats::quantile(&means, 0.025), crate::stats::quantile(&means, 0.975))
 }

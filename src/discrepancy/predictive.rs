@@ -1,19 +1,32 @@
-//! The predictive distribution of an observation under a model: the spread of the
-//! simulated realizations (layout randomness) plus the measurement error.
+//! The predictive distribution of an observation under a model, and the likelihood of a
+//! reading.
 //!
-//! With `R` realizations of sample mean `m` and standard deviation `s`, a new specimen's
-//! measured value is predicted as Gaussian with mean `m` and variance
-//! `s² (1 + 1/R) + σ_res² + σ_meas²` (the prediction variance of a new draw, Geisser 1993),
-//! with `σ_res² = res²/12` the quantization of the collapse angle by the tilt resolution.
-//! Scores are the negative log predictive density (NLPD, a proper scoring rule: it charges
-//! a wrong mean and a wrong spread alike).
+//! A model is run for `R` realizations (layouts); their values of an observable have mean
+//! `m` and standard deviation `s`. A new specimen's reading is predicted as Student-t with
+//! location `m` and scale `S`,
+//!
+//! `S² = s² (1 + 1/R) + σ_meas² + σ_sur² + b²/12`,
+//!
+//! the prediction variance of a new draw (Geisser 1993), the measurement error, the
+//! surrogate's own error at the point (its leave-one-node-out estimate, [`super::fit`]) and
+//! the quantization of a collapse angle bracketed to `b` (the tilt resolution). Its degrees
+//! of freedom are Welch–Satterthwaite's, `ν = S⁴ (R − 1) / (s² (1 + 1/R))²`: with few
+//! realizations the spread is itself uncertain and the tails are heavy; with many, or when
+//! the measurement error dominates, the predictive is Gaussian.
+//!
+//! A reading is an interval: a value rounded to its resolution `r` (0.5° for the paper's
+//! angles, 0.1 cm for its displacements) means the truth is in `[y − r/2, y + r/2]`. Its
+//! score is the negative log of the predictive probability of that interval, plus `ln r`
+//! (so that for a fine resolution it is the negative log predictive density, NLPD: a proper
+//! scoring rule, which charges a wrong mean and a wrong spread alike).
 
 use super::observations::{Observable, Observation};
 use super::simulate::Outcome;
 use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// Mean and standard deviation of a model's simulated values of one observable (degrees
-/// or cm), and the number of realizations they came from.
+/// or cm), the number of realizations they came from, and the surrogate's error there.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Simulated {
     /// Mean over the realizations.
@@ -22,48 +35,141 @@ pub struct Simulated {
     pub sd: f64,
     /// Realizations that gave a value.
     pub n: usize,
+    /// Standard error of the surrogate at this point (0 at a simulated node).
+    pub err: f64,
 }
 
 impl Simulated {
-    /// From the outcomes of one group.
+    /// From the outcomes of one group: every realization that gave a value (a collapse
+    /// angle is the middle of its bracket; a displacement at a tilt only from realizations
+    /// that stood there).
     pub fn of(outcomes: &[Outcome], obs: &Observable) -> Simulated {
         let v: Vec<f64> = outcomes.iter().filter_map(|o| o.value(obs)).filter(|x| x.is_finite()).collect();
+        Simulated::from_values(&v)
+    }
+
+    /// From values.
+    pub fn from_values(v: &[f64]) -> Simulated {
         if v.is_empty() {
-            return Simulated { mean: f64::NAN, sd: 0.0, n: 0 };
+            return Simulated { mean: f64::NAN, sd: 0.0, n: 0, err: 0.0 };
         }
-        Simulated { mean: crate::stats::mean(&v), sd: if v.len() > 1 { crate::stats::sd(&v) } else { 0.0 }, n: v.len() }
+        Simulated {
+            mean: crate::stats::mean(v),
+            sd: if v.len() > 1 { crate::stats::sd(v) } else { 0.0 },
+            n: v.len(),
+            err: 0.0,
+        }
     }
 }
 
-/// A Gaussian predictive distribution.
+/// How readings were taken: their resolutions (the interval a rounded value stands for).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Reading {
+    /// Collapse angles read to this, degrees \[0.5\] (the paper's Table 2).
+    pub angle_deg: f64,
+    /// Displacements read to this, cm \[0.1\] (the paper's Table 3).
+    pub displacement_cm: f64,
+}
+
+impl Default for Reading {
+    fn default() -> Self {
+        Reading { angle_deg: 0.5, displacement_cm: 0.1 }
+    }
+}
+
+impl Reading {
+    /// The resolution of an observable's readings.
+    pub fn of(&self, o: &Observable) -> f64 {
+        match o {
+            Observable::CollapseAngle => self.angle_deg,
+            Observable::Displacement { .. } => self.displacement_cm,
+        }
+    }
+
+    /// `v` rounded to the resolution of `o`.
+    pub fn round(&self, o: &Observable, v: f64) -> f64 {
+        let r = self.of(o);
+        (v / r).round() * r
+    }
+}
+
+/// A Student-t predictive distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Predictive {
-    /// Mean.
+    /// Location.
     pub mean: f64,
-    /// Standard deviation (model spread and measurement error).
+    /// Scale (model spread, measurement, surrogate and bracket errors).
     pub sd: f64,
+    /// Degrees of freedom (infinite: Gaussian).
+    pub dof: f64,
 }
 
+/// Degrees of freedom above which the predictive is taken as Gaussian.
+const GAUSSIAN_DOF: f64 = 1e4;
+
 impl Predictive {
-    /// The predictive distribution of `obs` from the simulated values; `resolution_deg` is
-    /// the tilt resolution of the collapse angle.
-    pub fn new(sim: &Simulated, obs: &Observation, resolution_deg: f64) -> Predictive {
+    /// The predictive distribution of `obs` from the simulated values; `bracket` is the
+    /// width of a simulated collapse angle's bracket (degrees; 0 for displacements).
+    pub fn new(sim: &Simulated, obs: &Observation, bracket: f64) -> Predictive {
         let r = sim.n.max(1) as f64;
-        let res2 = match obs.observable {
-            Observable::CollapseAngle => resolution_deg * resolution_deg / 12.0,
+        let b2 = match obs.observable {
+            Observable::CollapseAngle => bracket * bracket / 12.0,
             Observable::Displacement { .. } => 0.0,
         };
-        let var = sim.sd * sim.sd * (1.0 + 1.0 / r) + res2 + obs.sigma * obs.sigma;
-        Predictive { mean: sim.mean, sd: var.sqrt() }
+        let model = sim.sd * sim.sd * (1.0 + 1.0 / r);
+        let var = model + b2 + obs.sigma * obs.sigma + sim.err * sim.err;
+        let dof = if sim.n >= 2 && model > 0.0 {
+            (var * var * (r - 1.0) / (model * model)).min(GAUSSIAN_DOF)
+        } else {
+            GAUSSIAN_DOF
+        };
+        Predictive { mean: sim.mean, sd: var.sqrt(), dof }
     }
 
-    /// Negative log density of `y`.
+    /// The standardized predictive's CDF.
+    fn cdf(&self, z: f64) -> f64 {
+        if self.dof >= GAUSSIAN_DOF {
+            0.5 * statrs::function::erf::erfc(-z / std::f64::consts::SQRT_2)
+        } else {
+            StudentsT::new(0.0, 1.0, self.dof.max(1.0)).map_or(f64::NAN, |t| t.cdf(z))
+        }
+    }
+
+    /// Negative log predictive density of `y`.
     pub fn nlpd(&self, y: f64) -> f64 {
-        if !self.mean.is_finite() {
+        if !self.mean.is_finite() || !(self.sd > 0.0) {
             return NLPD_MISSING;
         }
         let z = (y - self.mean) / self.sd;
-        0.5 * z * z + self.sd.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln()
+        let nu = self.dof.max(1.0);
+        let ln_pdf = if nu >= GAUSSIAN_DOF {
+            -0.5 * z * z - 0.5 * (2.0 * std::f64::consts::PI).ln()
+        } else {
+            statrs::function::gamma::ln_gamma(0.5 * (nu + 1.0))
+                - statrs::function::gamma::ln_gamma(0.5 * nu)
+                - 0.5 * (nu * std::f64::consts::PI).ln()
+                - 0.5 * (nu + 1.0) * (1.0 + z * z / nu).ln()
+        };
+        (self.sd.ln() - ln_pdf).min(NLPD_MISSING)
+    }
+
+    /// Negative log probability of a reading `y` of resolution `r` (the interval
+    /// `[y − r/2, y + r/2]`), plus `ln r`; the density score where the interval's
+    /// probability underflows or `r` is 0.
+    pub fn score(&self, y: f64, r: f64) -> f64 {
+        if !self.mean.is_finite() || !(self.sd > 0.0) {
+            return NLPD_MISSING;
+        }
+        if r > 0.0 {
+            let (a, b) = ((y - 0.5 * r - self.mean) / self.sd, (y + 0.5 * r - self.mean) / self.sd);
+            // Upper tail by symmetry, for precision.
+            let p = if a > 0.0 { self.cdf(-a) - self.cdf(-b) } else { self.cdf(b) - self.cdf(a) };
+            if p > 1e-12 {
+                return (-p.ln() + r.ln()).min(NLPD_MISSING);
+            }
+        }
+        self.nlpd(y)
     }
 
     /// Standardized residual `(y − mean) / sd`.
@@ -72,5 +178,49 @@ impl Predictive {
     }
 }
 
-/// The score of an observation the model cannot predict (every realization failed).
+/// The score of an observation the model cannot predict (every realization failed, or
+/// none stood to its tilt).
 pub const NLPD_MISSING: f64 = 50.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::discrepancy::observations::Observation;
+
+    fn obs(sigma: f64) -> Observation {
+        Observation {
+            specimen: "s".into(),
+            group: "g".into(),
+            observable: Observable::CollapseAngle,
+            value: 0.0,
+            sigma,
+        }
+    }
+
+    #[test]
+    fn gaussian_limit_matches_the_normal_density() {
+        let p = Predictive { mean: 1.0, sd: 2.0, dof: f64::INFINITY };
+        let z: f64 = 0.75;
+        let want = 0.5 * z * z + 2f64.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln();
+        assert!((p.nlpd(2.5) - want).abs() < 1e-12);
+    }
+
+    #[test]
+    fn few_realizations_give_heavy_tails() {
+        let sim = Simulated { mean: 10.0, sd: 1.0, n: 3, err: 0.0 };
+        let p = Predictive::new(&sim, &obs(1e-3), 0.0);
+        assert!(p.dof < 3.0, "{p:?}");
+        let g = Predictive { dof: f64::INFINITY, ..p };
+        // Far out the t density is much larger than the Gaussian one.
+        assert!(p.nlpd(16.0) < g.nlpd(16.0) - 5.0);
+    }
+
+    #[test]
+    fn interval_score_tends_to_the_density_score() {
+        let p = Predictive { mean: 0.0, sd: 1.0, dof: 5.0 };
+        assert!((p.score(0.3, 1e-4) - p.nlpd(0.3)).abs() < 1e-6);
+        // A coarse reading is more probable than its density times its width suggests only
+        // through curvature: still close for r << sd.
+        assert!((p.score(0.3, 0.1) - p.nlpd(0.3)).abs() < 1e-2);
+    }
+}

@@ -21,10 +21,13 @@ fn params_json(r: &Ranked) -> Value {
 
 fn ranked_json(r: &Ranked) -> Value {
     json!({
-        "effects": r.effects,
+        "name": r.name,
+        "effects": r.name.split('+').collect::<Vec<_>>(),
         "parameters": params_json(r),
         "heldout_error": r.heldout_error,
+        "difference_se": r.difference_se,
         "information_criterion": r.information_criterion,
+        "confirmed_by_full_run": r.confirmed,
     })
 }
 
@@ -101,20 +104,25 @@ pub fn diagnosis(run: &Run, outcomes: &[Vec<Outcome>]) -> Vec<DiagnosisRow> {
 /// The JSON object of the command-line contract.
 pub fn to_json(run: &Run) -> Value {
     let a = &run.analysis;
-    let cause = a.cause.as_ref().map(|c| json!({ "effects": c.effects, "parameters": params_json(c) }));
-    let extended = run.extended.as_ref().map(|(effects, _)| {
+    let cause = a.cause.as_ref().map(
+        |c| json!({ "name": c.name, "effects": c.name.split('+').collect::<Vec<_>>(), "parameters": params_json(c) }),
+    );
+    let extended = a.cause.as_ref().map(|c| {
         let (g, lo, hi) = run.gain.unwrap_or((0.0, 0.0, 0.0));
         json!({
-            "effects": effects.iter().map(|e| e.label()).collect::<Vec<_>>(),
-            "heldout_error": a.cause.as_ref().map(|c| c.heldout_error),
+            "effects": run.extended.as_ref().map(|(e, _)| e.iter().map(|e| e.label()).collect::<Vec<_>>()),
+            "heldout_error": c.heldout_error,
             "gain": { "heldout_error": g, "ci95": [lo, hi] },
-            "heldout": observations_json(&run.obs, &a.best_predictive),
+            "heldout": observations_json(&run.obs, &c.predictive),
             "observations": observations_json(&run.obs, &run.extended_predictive),
         })
     });
     json!({
         "verdict": a.verdict.name(),
         "cause": cause,
+        "partial": a.verdict == super::analysis::Verdict::Unexplained && a.cause.is_some(),
+        "check": a.check,
+        "design": run.design,
         "tie": a.tie,
         "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
         "baseline": {
@@ -148,17 +156,37 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
     let a = &run.analysis;
     let mut md = String::new();
     let _ = writeln!(md, "# Model discrepancy: {study}\n");
-    let verdict = match (&a.cause, a.tie.len()) {
-        (Some(c), 1) => format!("**explained** by `{}` ({})", c.effects.join("+"), fmt_params(c)),
-        (Some(c), _) => format!(
+    let verdict = match (&a.cause, a.tie.len(), a.verdict) {
+        (Some(c), _, super::analysis::Verdict::Unexplained) => format!(
+            "**unexplained**: the best candidate `{}` ({}) beats the baseline but still misfits the data (posterior predictive check), a partial explanation at most",
+            c.name,
+            fmt_params(c)
+        ),
+        (Some(c), 1, _) => format!("**explained** by `{}` ({})", c.name, fmt_params(c)),
+        (Some(c), _, _) => format!(
             "**explained**, best `{}` ({}), but indistinguishable from: {}",
-            c.effects.join("+"),
+            c.name,
             fmt_params(c),
             a.tie[1..].join(", ")
         ),
-        (None, _) => format!("**{}**", a.verdict.name()),
+        (None, _, _) => format!("**{}**", a.verdict.name()),
     };
     let _ = writeln!(md, "Verdict: {verdict}.\n");
+    if let Some(ch) = &a.check {
+        let _ = writeln!(md, "Posterior predictive check of the {} model: score {:.3} per specimen against {:.3}, the 95th percentile of its score on {} data sets simulated from its own independent layouts ({}).{}\n",
+            if a.verdict == super::analysis::Verdict::NoEffect || a.cause.is_none() { "baseline" } else { "extended" },
+            ch.score, ch.envelope, ch.replicates, if ch.passes() { "passes" } else { "fails" },
+            if ch.missed.is_empty() { String::new() } else {
+                format!(" Observables it misses (mean z): {}.", ch.missed.iter().map(|(k, z)| format!("{k} ({z:+.2})")).collect::<Vec<_>>().join(", "))
+            });
+    }
+    if let Some(d) = &run.design {
+        let _ = writeln!(md, "This design cannot separate `{}` and `{}`: they differ most in {} ({:.2} predictive σ); about {} specimens of that group would tell them apart (two-sided 5 %, power 80 %; check with `drystone synthesize`).\n",
+            d.candidates.0, d.candidates.1, d.observable, d.effect_size, d.specimens);
+    }
+    let s = &run.settings;
+    let _ = writeln!(md, "Measurement σ used: {} deg (collapse angles), {} cm (displacements); readings taken as intervals of {} deg and {} cm.\n",
+        s.sigma.angle_deg, s.sigma.displacement_cm, s.reading.angle_deg, s.reading.displacement_cm);
     let _ = writeln!(md, "## What the model gets wrong\n");
     let _ = writeln!(md, "Baseline ensemble against every observation: measured mean ± specimen σ, simulated mean ± realization σ, and the mean standardized residual z = (measured − predicted)/predictive σ.\n");
     let _ = writeln!(md, "| group | observable | n | measured | simulated | mean z | spread ratio (sim/meas) |");
@@ -183,31 +211,39 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
     }
     let _ = writeln!(md, "\n![standardized residuals](residuals.svg)\n");
     let _ = writeln!(md, "## Candidates\n");
-    let _ = writeln!(md, "Held-out error: mean negative log predictive density per observation, each specimen predicted by the model fitted to the other specimens (leave one specimen out). AICc at the fit to all data. Common random numbers: the same layouts and seeds for every candidate.\n");
-    let _ = writeln!(md, "| rank | effects | fitted parameters | held-out error | AICc |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    let _ = writeln!(md, "Held-out error: mean score per specimen (negative log predictive probability of each reading, a specimen's displacements counting as one observation), each specimen predicted by the model fitted to the other specimens (leave one specimen out); ± the standard error of its difference to the baseline. AICc at the fit to all data, n = specimens. Common random numbers: the same layouts and seeds for every candidate. `full run`: re-run as a full ensemble at its fitted parameters and scored by that run.\n");
+    let _ = writeln!(md, "| rank | candidate | fitted parameters | held-out error | AICc | scored by |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- |");
     let _ = writeln!(
         md,
-        "| – | baseline | – | {:.3} | {:.1} |",
+        "| – | baseline | – | {:.3} | {:.1} | full run |",
         a.baseline_heldout_error, a.baseline_information_criterion
     );
     for (i, c) in a.candidates.iter().enumerate() {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.3} | {:.1} |",
+            "| {} | {} | {} | {:.3} ± {:.3} | {:.1} | {} |",
             i + 1,
-            c.effects.join("+"),
+            c.name,
             fmt_params(c),
             c.heldout_error,
-            c.information_criterion
+            c.difference_se,
+            c.information_criterion,
+            if c.confirmed {
+                "full run"
+            } else if c.name == "scatter" {
+                "analytic"
+            } else {
+                "surrogate"
+            }
         );
     }
     let m = &a.margins;
-    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline: a cause must beat the baseline by {:.3} and the runner-up by {:.3} (held-out error); the baseline's misfit is significant above {:.3}.\n", m.replicates, m.baseline, m.runner_up, m.misfit);
+    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} and the runner-up by {:.3} (held-out error); the baseline's misfit is significant above {:.3}. False alarms of that margin on the {} held-back null data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, m.runner_up, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
     if let (Some((effects, _)), Some((g, lo, hi))) = (&run.extended, run.gain) {
         let _ = writeln!(md, "## Extended model\n");
         let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
-        let _ = writeln!(md, "The baseline extended by {} (fitted to all specimens), run as a full ensemble. Held-out error {:.3} → {:.3}: gain {g:.3} per observation, 95 % bootstrap interval over specimens [{lo:.3}, {hi:.3}].\n", labels.join(", "), a.baseline_heldout_error, a.baseline_heldout_error - g);
+        let _ = writeln!(md, "The baseline extended by {} (fitted to all specimens), run as a full ensemble. Held-out error {:.3} → {:.3}: gain {g:.3} per specimen, 95 % bootstrap interval over specimens [{lo:.3}, {hi:.3}].\n", labels.join(", "), a.baseline_heldout_error, a.baseline_heldout_error - g);
         let _ = writeln!(md, "| group | observable | measured | baseline | extended |");
         let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
         let base = run.keys.simulated(&run.baseline);
@@ -255,7 +291,8 @@ pub fn residual_plot(path: &Path, run: &Run) -> Result<(), PlotError> {
     let e = |m: String| PlotError { path: path.display().to_string(), message: m };
     let a = &run.analysis;
     let zb: Vec<f64> = run.obs.iter().zip(&a.baseline_predictive).map(|(o, p)| p.z(o.value)).collect();
-    let ze: Vec<f64> = run.obs.iter().zip(&a.best_predictive).map(|(o, p)| p.z(o.value)).collect();
+    let best_pred = a.cause.as_ref().or(a.candidates.first()).map(|c| c.predictive.clone()).unwrap_or_default();
+    let ze: Vec<f64> = run.obs.iter().zip(&best_pred).map(|(o, p)| p.z(o.value)).collect();
     let lim = zb.iter().chain(&ze).filter(|v| v.is_finite()).fold(3.0f64, |m, v| m.max(v.abs())) * 1.1;
     let root = SVGBackend::new(path, (760, 420)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
@@ -280,7 +317,7 @@ pub fn residual_plot(path: &Path, run: &Run) -> Result<(), PlotError> {
             .draw_series(LineSeries::new(vec![(-0.5, lvl), (n as f64 - 0.5, lvl)], BLACK.mix(0.3)))
             .map_err(|x| e(x.to_string()))?;
     }
-    let best = a.candidates.first().map(|c| c.effects.join("+")).unwrap_or_else(|| "baseline".into());
+    let best = a.cause.as_ref().or(a.candidates.first()).map(|c| c.name.clone()).unwrap_or_else(|| "baseline".into());
     for (k, (zs, label)) in [(&zb, "baseline".to_string()), (&ze, best)].into_iter().enumerate() {
         let c = colour(k);
         chart

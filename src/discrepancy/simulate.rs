@@ -1,15 +1,16 @@
 //! Running the model, baseline or extended by effects, as an ensemble with common random
 //! numbers: realization `i` of a group uses the same generated layout (`Purpose::Layout`)
-//! and the same effect draws (`Purpose::Effect`) in every model, so that the differences
-//! between models are the effects' and not the sampling's.
+//! and the same effect draws ([`crate::effects::effect_rng`]) in every model, so that the
+//! differences between models are the effects' and not the sampling's. The layouts are
+//! made by [`crate::effects::realize`], as a study's run makes them: a study with the same
+//! effects gives the same numbers.
 
-use super::effects::Effect;
-use super::observations::{Measure, Observable};
+use super::observations::Observable;
 use crate::dem::SolverParams;
+use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
-use crate::generator::{generate, Wall};
+use crate::generator::Wall;
 use crate::loading::tilt::{run_tilt, TiltParams};
-use crate::rng::{rng_for, Purpose};
 use crate::units::m_to_cm;
 use serde::Serialize;
 
@@ -27,6 +28,11 @@ pub struct GroupSetup {
     /// Every realization of the wall is the same layout (a wall without random input):
     /// a model without random effects then runs it once.
     pub deterministic: bool,
+    /// The effects of the user's model for this group (the study's `effects`): the
+    /// baseline of the analysis; candidates are added to them.
+    pub effects: Vec<Effect>,
+    /// Mean course height of the wall, m (scales the effects' length ranges).
+    pub course_m: f64,
 }
 
 /// What the model is run with: groups, master seed, solver and tilting-table parameters.
@@ -48,39 +54,39 @@ pub struct Outcome {
     /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` if the run
     /// failed.
     pub collapse_deg: Option<f64>,
+    /// The first unstable tilt above α_max, degrees (`None` if the wall stood or failed).
+    pub first_unstable_deg: Option<f64>,
     /// Stable tilts, degrees.
     pub tilt_deg: Vec<f64>,
     /// Left, centre and right top displacements at each stable tilt, cm.
     pub top_cm: Vec<[f64; 3]>,
-    /// Displacement recorded for a tilt beyond collapse, cm: the collapse criterion's top
-    /// displacement (the wall fell, so it moved at least that much).
-    pub censor_cm: f64,
     /// Why the run failed, if it did.
     pub error: Option<String>,
 }
 
 impl Outcome {
     fn failed(error: String) -> Outcome {
-        Outcome { collapse_deg: None, tilt_deg: vec![], top_cm: vec![], censor_cm: 0.0, error: Some(error) }
+        Outcome { collapse_deg: None, first_unstable_deg: None, tilt_deg: vec![], top_cm: vec![], error: Some(error) }
     }
 
-    /// The value of an observable (degrees or cm); `None` for a failed run.
+    /// The collapse angle as the middle of its bracket (last stable, first unstable),
+    /// degrees: the unbiased point value of an angle known to lie in the bracket.
+    pub fn collapse_mid_deg(&self) -> Option<f64> {
+        let a = self.collapse_deg?;
+        Some(self.first_unstable_deg.map_or(a, |b| 0.5 * (a + b)))
+    }
+
+    /// The value of an observable (degrees or cm); `None` for a failed run, and for a
+    /// displacement at a tilt the realization did not stand to (the chance of standing is
+    /// carried by the collapse angle).
     pub fn value(&self, obs: &Observable) -> Option<f64> {
         self.error.is_none().then_some(())?;
         match *obs {
-            Observable::CollapseAngle => self.collapse_deg,
+            Observable::CollapseAngle => self.collapse_mid_deg(),
             Observable::Displacement { measure, tilt_deg } => {
-                match self.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9) {
-                    Some(i) => {
-                        let [l, c, r] = self.top_cm[i];
-                        Some(measure.of(l, c, r))
-                    }
-                    None if self.collapse_deg.is_some_and(|a| a < tilt_deg) => Some(match measure {
-                        Measure::MeanOfLeftCenterRight => self.censor_cm,
-                        Measure::CenterMinusMeanOfEnds => self.censor_cm,
-                    }),
-                    None => None,
-                }
+                let i = self.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9)?;
+                let [l, c, r] = self.top_cm[i];
+                Some(measure.of(l, c, r))
             }
         }
     }
@@ -89,20 +95,11 @@ impl Outcome {
 /// Runs one realization of one group with `effects` applied to its layout.
 pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]) -> Outcome {
     let g = &setup.groups[group];
-    let generated = match generate(&g.wall, setup.seed, realization) {
-        Ok(w) => w,
+    let all: Vec<Effect> = g.effects.iter().chain(effects).cloned().collect();
+    let layout = match crate::effects::realize(&g.wall, setup.seed, realization, &g.name, &all) {
+        Ok((_, l)) => l,
         Err(e) => return Outcome::failed(e.to_string()),
     };
-    let mut layout = match generated.check() {
-        Ok(l) => l,
-        Err(e) => return Outcome::failed(e.to_string()),
-    };
-    let mut rng = rng_for(setup.seed, realization, Purpose::Effect);
-    for e in effects {
-        if let Err(err) = e.apply(&mut layout, &generated.course_tops_m, &mut rng) {
-            return Outcome::failed(err.to_string());
-        }
-    }
     match run_tilt(&layout, setup.solver, &setup.tilt) {
         Ok(t) => {
             let find = |name: &str| t.monitors.iter().position(|m| m == name);
@@ -115,9 +112,9 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
             }
             Outcome {
                 collapse_deg: Some(t.collapse_angle_deg),
+                first_unstable_deg: t.first_unstable_deg,
                 tilt_deg,
                 top_cm,
-                censor_cm: m_to_cm(setup.tilt.collapse_displacement_fraction * t.wall_width_m),
                 error: None,
             }
         }
@@ -133,14 +130,14 @@ pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 /// a group (e.g. `restraint_stiffness` on free walls) reuses `reuse`'s outcomes for it
 /// (`reuse[group]`, the baseline's), when given.
 pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Outcome>]>) -> Outcomes {
-    let acts = |m: &[Effect], g: &GroupSetup| m.is_empty() || m.iter().any(|e| e.kind.acts_on(g.restrained));
+    let acts = |m: &[Effect], g: &GroupSetup| m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained));
     let mut tasks = Vec::new();
     for (mi, m) in models.iter().enumerate() {
         for (gi, g) in setup.groups.iter().enumerate() {
             if reuse.is_some() && !acts(m, g) {
                 continue;
             }
-            let random = models[mi].iter().any(|e| e.random);
+            let random = models[mi].iter().chain(&g.effects).any(|e| e.def.is_random());
             let n = if g.deterministic && !random { g.realizations.min(1) } else { g.realizations };
             for r in 0..n {
                 tasks.push((mi, gi, r));

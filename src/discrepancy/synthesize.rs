@@ -1,11 +1,13 @@
 //! Synthetic measured data: specimens of the study's walls, built with seeds the study does
-//! not use, with hidden effects applied, tilted to collapse, plus measurement noise; written
-//! in the format of the paper's data files. A power analysis for planning tests: can a
-//! campaign of N specimens detect an effect of a given strength?
+//! not use, with hidden effects applied, tilted to collapse, plus measurement noise rounded
+//! to the readings' resolution; written in the format of the paper's data files. A power
+//! analysis for planning tests: can a campaign of N specimens detect an effect of a given
+//! strength? (Data made here share the effect code with the analysis: they check its
+//! consistency, not its power on real walls.)
 
-use super::effects::Effect;
 use super::observations::{Measure, MeasurementSigma, Observable, Observation};
 use super::simulate::{run_models, Setup};
+use crate::effects::Effect;
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
 use crate::io::FileError;
 use crate::rng::{rng_for, Purpose};
@@ -25,6 +27,8 @@ pub struct Request {
     pub specimens: u64,
     /// Measurement noise.
     pub sigma: MeasurementSigma,
+    /// Reading resolutions: every value is rounded to them, as real readings are.
+    pub reading: super::predictive::Reading,
     /// Observables per group (group name, observables); a group missing here gets its
     /// collapse angle and the displacement at 5° and 10° (the centre minus the ends for
     /// restrained walls, the mean of the three top points otherwise).
@@ -97,11 +101,11 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
             for obs in &wanted {
                 match *obs {
                     Observable::CollapseAngle => {
-                        if let Some(a) = o.collapse_deg {
+                        if let Some(a) = o.collapse_mid_deg() {
                             collapse.push(MeasuredCollapse {
                                 specimen: specimen.clone(),
                                 group: g.name.clone(),
-                                collapse_angle_deg: a + noise(req.sigma.angle_deg),
+                                collapse_angle_deg: req.reading.round(obs, a + noise(req.sigma.angle_deg)),
                             });
                         }
                     }
@@ -113,7 +117,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                                     group: g.name.clone(),
                                     measure: measure.name().to_string(),
                                     tilt_deg,
-                                    displacement_cm: v + noise(req.sigma.displacement_cm),
+                                    displacement_cm: req.reading.round(obs, v + noise(req.sigma.displacement_cm)),
                                 });
                             }
                         }

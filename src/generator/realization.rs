@@ -262,10 +262,13 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
                 material: p.material.clone(),
                 vertices: p.vertices.clone(),
                 fixed: false,
+                course: Some(p.course),
+                wedge: p.kind == PieceKind::Wedge,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends },
         monitors: vec![],
+        joint_families: wall.joints.clone(),
     }
 }
 

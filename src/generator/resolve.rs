@@ -56,6 +56,7 @@ impl WallSpec {
         let [block_material, wedge_material, table_material] = r.materials()?;
         let ends = r.ends(envelope.length)?;
         let scatter = r.scatter()?;
+        r.joints(&arrangement)?;
         r.inline_distributions()?;
 
         Ok(Wall {
@@ -84,6 +85,7 @@ impl WallSpec {
             base: self.restraints.base,
             ends,
             scatter,
+            joints: self.joints.clone(),
         })
     }
 }
@@ -425,6 +427,24 @@ impl Resolver<'_> {
 /// Values and distributions.
 impl Resolver<'_> {
     /// [`GeneratorError::Invalid`] for `key = value` in this file.
+    /// `[joints]`: every family's values in range, and no family the wall cannot have
+    /// (`wedge` joints need the irregular arrangement).
+    fn joints(&self, arrangement: &super::Arrangement) -> Result<(), GeneratorError> {
+        let j = &self.spec.joints;
+        j.resolve("joints").map_err(|e| match e {
+            crate::layout::LayoutError::Invalid { key, value, reason } => self.invalid(&key, value, reason),
+            other => self.invalid("joints", String::new(), other.to_string()),
+        })?;
+        if j.wedge.is_some() && !matches!(arrangement, super::Arrangement::Irregular(_)) {
+            return Err(self.invalid(
+                "joints.wedge",
+                "given".into(),
+                "only irregular walls have wedge stones: this wall has no wedge joint",
+            ));
+        }
+        Ok(())
+    }
+
     fn invalid(&self, key: &str, value: String, reason: impl Into<String>) -> GeneratorError {
         GeneratorError::Invalid { path: self.path.to_owned(), key: key.into(), value, reason: reason.into() }
     }

@@ -5,7 +5,7 @@
 
 use super::distribution::DistributionSpec;
 use super::GeneratorError;
-use crate::layout::{BaseSliding, MaterialSpec};
+use crate::layout::{BaseSliding, JointFamiliesSpec, MaterialSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -263,6 +263,11 @@ pub struct WallSpec {
     /// Base and end restraints.
     #[serde(default)]
     pub restraints: RestraintsSpec,
+    /// Joint families with their own properties (`[joints.base]`, `[joints.bed]`,
+    /// `[joints.head]`, `[joints.wedge]`; the keys of a layout's `joint_families`). Default
+    /// none: the material rule.
+    #[serde(default, skip_serializing_if = "JointFamiliesSpec::is_empty")]
+    pub joints: JointFamiliesSpec,
     /// Material scatter. Default none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scatter: Option<ScatterSpec>,

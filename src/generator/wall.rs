@@ -120,6 +120,8 @@ pub struct Wall {
     pub ends: Ends,
     /// Material scatter.
     pub scatter: Option<Scatter>,
+    /// Joint families with their own properties (checked), written into every layout.
+    pub joints: crate::layout::JointFamiliesSpec,
 }
 
 impl Wall {

@@ -32,10 +32,23 @@
 //! Joint properties between two blocks of different materials: normal and shear stiffness
 //! are the series combination of two half-joints, `2 k₁ k₂ / (k₁ + k₂)`; friction angle,
 //! cohesion and tensile strength are the smaller of the two. Between a block and the table,
-//! the table material's joint properties are used as they are.
+//! the table material's joint properties are used as they are. The optional
+//! `joint_families` give the `base`, `bed`, `head` and `wedge` joints their own properties
+//! on top of that rule (see [`joints`](JointFamily) for how a joint is classified); blocks
+//! may carry their `course` index and a `wedge` flag, which the generator writes.
+//!
+//! A material or a family may give a normal closure law:
+//! `"closure": "linear"` (default), `{"hyperbolic": {"max_closure_m": 1e-3}}` (Bandis et
+//! al. 1983) or `{"seating": {"max_gap_m": 1e-3}}` (uneven beds), with the parameter in
+//! [`CLOSURE_RANGE_M`].
 
 mod check;
+mod joints;
 mod resolve;
+
+pub use joints::{
+    FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, CLOSURE_RANGE_M, FACTOR_RANGE,
+};
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::Vec3;
@@ -159,6 +172,9 @@ pub struct LayoutSpec {
     /// left, centre and right top points automatically.
     #[serde(default)]
     pub monitors: Vec<MonitorSpec>,
+    /// Joint families with their own properties. Default: none (the material rule).
+    #[serde(default, skip_serializing_if = "JointFamiliesSpec::is_empty")]
+    pub joint_families: JointFamiliesSpec,
 }
 
 fn default_gravity() -> f64 {
@@ -186,6 +202,9 @@ pub struct MaterialSpec {
     /// Joint tensile strength, Pa (≥ 0). Default 0: no tension.
     #[serde(default)]
     pub tensile_strength_pa: f64,
+    /// Normal closure law of the material's joints. Default `linear`.
+    #[serde(default, skip_serializing_if = "Closure::is_linear")]
+    pub closure: Closure,
 }
 
 /// The table.
@@ -209,6 +228,12 @@ pub struct BlockSpec {
     /// A fixed block never moves. Default false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub fixed: bool,
+    /// Course index, 0 at the base (classifies its joints as `bed` or `head`). Optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub course: Option<usize>,
+    /// A wedge stone (its joints are `wedge` joints). Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub wedge: bool,
 }
 
 /// How the base course is held on the table.
@@ -273,8 +298,10 @@ pub struct MonitorSpec {
 }
 
 /// The normal closure law of a material's joints (the DEM's normal closure sub-model; see
-/// `dem::contact::law::normal`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// `dem::contact::law::normal`). In files: `"linear"`,
+/// `{"hyperbolic": {"max_closure_m": V}}` or `{"seating": {"max_gap_m": G}}`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Closure {
     /// Linear: pressure `Kn u`.
     #[default]
@@ -291,6 +318,13 @@ pub enum Closure {
         /// Largest initial gap g₀, m.
         max_gap_m: f64,
     },
+}
+
+impl Closure {
+    /// The linear law.
+    pub fn is_linear(&self) -> bool {
+        *self == Closure::Linear
+    }
 }
 
 /// A checked material, SI values (the DEM builds its joint law from them).
@@ -323,6 +357,10 @@ pub struct Block {
     pub shape: ConvexBlock,
     /// Fixed block.
     pub fixed: bool,
+    /// Course index, if the layout gives it.
+    pub course: Option<usize>,
+    /// A wedge stone.
+    pub wedge: bool,
 }
 
 /// A checked end restraint.
@@ -366,6 +404,8 @@ pub struct Layout {
     pub end_restraints: Vec<(usize, EndRestraint)>,
     /// Monitor points.
     pub monitors: Vec<Monitor>,
+    /// Joint families with their own properties.
+    pub joint_families: JointFamilies,
 }
 
 impl LayoutSpec {

@@ -58,9 +58,35 @@ impl MaterialSpec {
             friction: deg_to_rad(phi),
             cohesion: c,
             tensile_strength: t,
-            closure: Closure::Linear,
+            closure: self.closure.check(&k("closure"))?,
         })
     }
+}
+
+/// The joints of a family may not be softer than the material rule allows
+/// ([`MAX_CLOSURE_RATIO`]): `ρ g / Kn ≤ 0.01` with the densest material.
+fn check_family_softness(f: &JointFamilies, materials: &[Material], gravity: f64) -> Result<(), LayoutError> {
+    let rho = materials.iter().map(|m| m.density).fold(0.0, f64::max);
+    let kn_min = materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
+    for fam in JointFamily::ALL {
+        let Some(fj) = f.get(fam) else { continue };
+        let (kn, key) = match fj.kn {
+            Some(kn) => (kn, "kn_pa_per_m"),
+            None => (kn_min * fj.kn_factor, "kn_factor"),
+        };
+        let closure = rho * gravity / kn;
+        if closure > MAX_CLOSURE_RATIO {
+            return Err(invalid(
+                format!("joint_families.{}.{key}", fam.name()),
+                kn,
+                &format!(
+                    "too soft for the density and gravity: the joints would close by ρ g H / Kn = {closure:.3} of \
+                     the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl LayoutSpec {
@@ -84,7 +110,9 @@ impl LayoutSpec {
         check_overlaps(&blocks)?;
         let end_restraints = self.resolve_end_restraints(&ids)?;
         let monitors = self.resolve_monitors(&ids, &blocks)?;
-        Ok(Layout {
+        let joint_families = self.joint_families.resolve("joint_families")?;
+        check_family_softness(&joint_families, &materials, gravity)?;
+        let layout = Layout {
             name: self.name.clone(),
             gravity,
             material_names: self.materials.iter().map(|m| m.name.clone()).collect(),
@@ -94,7 +122,10 @@ impl LayoutSpec {
             base_sliding: self.restraints.base_sliding,
             end_restraints,
             monitors,
-        })
+            joint_families,
+        };
+        layout.check_families_present("joint_families")?;
+        Ok(layout)
     }
 
     /// The materials in SI, and their indices by name.
@@ -146,7 +177,7 @@ impl LayoutSpec {
             let shape =
                 ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
             check_convex(&b.id, &verts, &shape)?;
-            blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed });
+            blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed, course: b.course, wedge: b.wedge });
         }
         Ok((blocks, ids))
     }

@@ -16,7 +16,8 @@ pub const SETTLE_TOLERANCE_FRACTION: f64 = 0.02;
 /// block's radius), m: [`SETTLE_TOLERANCE_FRACTION`] of the layout height H, plus the
 /// closure every joint of a stack could take, `n · c_max`, with `n` the number of joints a
 /// stack of the lowest blocks would have (H over the smallest block height, at most 100) and
-/// `c_max` the largest closure of any material's law under the full weight: `ρ g H / Kn`,
+/// `c_max` the largest closure of any material's or joint family's law under the full
+/// weight (with the densest material): `ρ g H / Kn`,
 /// plus the largest initial gap of a seating law, or the maximum closure of a hyperbolic
 /// law. A block that moves more was not supported as given: it fell, slid off or dropped
 /// onto its support.
@@ -24,12 +25,13 @@ pub fn settle_tolerance(layout: &Layout) -> f64 {
     let h = layout.bounds().extent().z;
     let lowest = layout.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
     let joints = (h / lowest.max(0.01 * h)).ceil();
+    let rho = layout.materials.iter().map(|m| m.density).fold(0.0, f64::max);
     let closure = layout
-        .materials
-        .iter()
-        .map(|m| {
-            let elastic = m.density * layout.gravity * h / m.kn;
-            match m.closure {
+        .closure_laws()
+        .into_iter()
+        .map(|(kn, law)| {
+            let elastic = rho * layout.gravity * h / kn;
+            match law {
                 Closure::Linear => elastic,
                 Closure::Seating { max_gap_m } => max_gap_m + elastic,
                 Closure::Hyperbolic { max_closure_m } => max_closure_m,

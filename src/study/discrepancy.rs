@@ -7,16 +7,17 @@ use crate::discrepancy::simulate::{GroupSetup, Setup};
 use crate::discrepancy::DiscrepancyError;
 
 /// The setup of a study for the discrepancy analysis: its groups at the first sweep point
-/// (a group whose realizations 0 and 1 are the same layout is marked deterministic),
-/// each with `realizations` (or the group's own fixed count, if smaller), the study's seed,
-/// solver and tilting-table parameters with the analysis's tilt step and collapse-angle
-/// resolution (`s.step_deg`, `s.resolution_deg`).
-pub fn setup_of(study: &Study, realizations: u64, s: &crate::discrepancy::Settings) -> Setup {
+/// with their effects (a group whose realizations 0 and 1 are the same layout is marked
+/// deterministic), each with `realizations` (or the group's own fixed count, if smaller),
+/// the study's seed, solver and tilting-table parameters as they are (the analysis's
+/// predictive means are the study's `run` means).
+pub fn setup_of(study: &Study, realizations: u64) -> Setup {
     let groups = study
         .groups
         .iter()
         .map(|g| {
             let wall = g.walls[0].clone();
+            let course_m = crate::effects::course_height_of(&wall);
             let layout = |r: u64| crate::generator::generate(&wall, study.seed, r).ok().and_then(|w| w.check().ok());
             let first = layout(0);
             let restrained = first.as_ref().is_some_and(|l| !l.end_restraints.is_empty());
@@ -28,15 +29,12 @@ pub fn setup_of(study: &Study, realizations: u64, s: &crate::discrepancy::Settin
                 wall,
                 restrained,
                 deterministic,
+                effects: g.effects.clone(),
+                course_m,
             }
         })
         .collect();
-    let tilt = crate::loading::tilt::TiltParams {
-        step_deg: s.step_deg,
-        resolution_deg: s.resolution_deg.min(s.step_deg),
-        ..study.tilt
-    };
-    Setup { groups, seed: study.seed, solver: study.solver, tilt }
+    Setup { groups, seed: study.seed, solver: study.solver, tilt: study.tilt }
 }
 
 /// The observations of a study's measured data (`[measured]`), with the measured group

@@ -25,6 +25,8 @@ pub enum InputRole {
     Distribution,
     /// A measured-data file.
     Measured,
+    /// An effect definition file.
+    Effect,
 }
 
 impl InputRole {
@@ -35,6 +37,7 @@ impl InputRole {
             InputRole::Wall => "wall file",
             InputRole::Distribution => "distribution file",
             InputRole::Measured => "measured-data file",
+            InputRole::Effect => "effect file",
         }
     }
 }

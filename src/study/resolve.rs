@@ -32,6 +32,9 @@ pub struct Group {
     pub realizations: Option<u64>,
     /// The group's wall description with its overrides applied (before any sweep point).
     pub spec: WallSpec,
+    /// The effects of the group's model (the study's, then the group's own), applied to
+    /// every realization ([`crate::effects::realize`]).
+    pub effects: Vec<crate::effects::Effect>,
 }
 
 /// Measured data of a study.
@@ -78,9 +81,11 @@ pub struct Study {
     pub calibrate: Vec<CalibrateSpec>,
     /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
     pub discrepancy: crate::discrepancy::Settings,
-    /// The files the study was resolved from (study, walls, distributions, measured data),
-    /// with their hashes and texts: the provenance a run records.
+    /// The files the study was resolved from (study, effect files, walls, distributions,
+    /// measured data), with their hashes and texts: the provenance a run records.
     pub inputs: Vec<InputFile>,
+    /// The effect library: the built-ins and the study's effect files.
+    pub library: crate::effects::Library,
 }
 
 /// Builds [`StudyError::Invalid`] for one file.
@@ -107,15 +112,25 @@ impl StudySpec {
         self.check_counts(&invalid)?;
         let points = sweep::grid(&self.sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
         let dir = path.parent().unwrap_or(Path::new("."));
+        let mut library = crate::effects::Library::builtin();
+        let mut files = vec![(InputRole::Study, path.to_owned())];
+        for (i, f) in self.effect_files.iter().enumerate() {
+            let p = dir.join(f);
+            let def = crate::effects::EffectDef::from_file(&p)
+                .map_err(|e| invalid.at(&format!("effect_files[{i}]"), e.to_string()))?;
+            library.add(def).map_err(|e| invalid.at(&format!("effect_files[{i}]"), e.to_string()))?;
+            files.push((InputRole::Effect, p));
+        }
         let mut names = std::collections::BTreeSet::new();
         let mut groups = Vec::new();
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));
             }
-            groups.push(resolve_group(g, dir, &points, &invalid)?);
+            let mut group = resolve_group(g, dir, &points, &invalid)?;
+            group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
+            groups.push(group);
         }
-        let mut files = vec![(InputRole::Study, path.to_owned())];
         files.extend(groups.iter().flat_map(group_files));
         let measured = match &self.measured {
             Some(m) => read_measured(m, dir, path, &mut files)?,
@@ -140,7 +155,10 @@ impl StudySpec {
             calibrate: self.calibrate.clone(),
             discrepancy: self.discrepancy.clone().unwrap_or_default(),
             inputs,
+            library,
         };
+        crate::discrepancy::searched(&study.discrepancy, &study.library)
+            .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
             check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
@@ -284,7 +302,44 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         walls,
         realizations: g.realizations,
         spec: gspec,
+        effects: vec![],
     })
+}
+
+/// The effects of a group: the study's `effects`, then the group's own (which replace the
+/// study's values of the same effect), each checked against the effect's ranges for the
+/// group's wall, and applied once to its first layout so that an effect that cannot act
+/// on the wall (a joint family it does not have, a rounding that breaks a block) is an
+/// error here rather than in every realization.
+fn group_effects(
+    study: &super::spec::EffectsSpec,
+    g: &GroupSpec,
+    group: &Group,
+    library: &crate::effects::Library,
+    invalid: &Invalid,
+) -> Result<Vec<crate::effects::Effect>, StudyError> {
+    let mut merged: Vec<(String, String, &std::collections::BTreeMap<String, f64>)> = study
+        .iter()
+        .filter(|(n, _)| !g.effects.contains_key(*n))
+        .map(|(n, v)| (format!("effects.{n}"), n.clone(), v))
+        .collect();
+    merged.extend(g.effects.iter().map(|(n, v)| (format!("groups[{}].effects.{n}", g.name), n.clone(), v)));
+    let Some(wall) = group.walls.first() else { return Ok(vec![]) };
+    let course_m = crate::effects::course_height_of(wall);
+    let mut out = Vec::new();
+    for (key, name, values) in &merged {
+        out.push(library.from_values(name, values, course_m).map_err(|e| invalid.at(key, e.to_string()))?);
+    }
+    if !out.is_empty() {
+        // Realization 0 of the first sweep point: the effects must be able to act on it.
+        if let Err(e) = crate::effects::realize(wall, 0, 0, &g.name, &out) {
+            if !matches!(e, crate::effects::EffectError::Generator(_)) {
+                let key = merged.first().map_or("effects".to_string(), |m| m.0.clone());
+                return Err(invalid.at(&key, e.to_string()));
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// The key a wall too large for [`size::MAX_BLOCKS`] is blamed on: the sweep's or the

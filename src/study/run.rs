@@ -13,7 +13,6 @@
 use super::{point_label, ProtocolKind, Study};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{self, Item, Shard};
-use crate::generator::generate;
 use crate::loading::lateral::{run_lateral, LateralError, LateralResult};
 use crate::loading::tilt::{run_tilt, CollapseReason, MechanismKind, TiltError, TiltResult};
 use crate::units::m_to_cm;
@@ -32,16 +31,18 @@ fn cost(study: &Study, item: &Item) -> f64 {
 }
 
 /// Runs one realization of a study: generate the layout of its group and sweep point from
-/// `(seed, realization)`, run the protocol, and record the outcome. Never panics on a bad
+/// `(seed, realization)`, apply the group's effects, run the protocol, and record the
+/// outcome. Never panics on a bad
 /// realization: failures become rows with their [`Status`]. The wall time includes the
 /// generation of the layout.
 pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
     let t0 = Instant::now();
-    let wall = &study.groups[item.group].walls[item.point];
+    let group = &study.groups[item.group];
+    let wall = &group.walls[item.point];
     let base = empty_row(study, item);
-    let mut row = match generate(wall, study.seed, item.realization).and_then(|g| g.check()) {
+    let mut row = match crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects) {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
-        Ok(layout) => {
+        Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
             match study.protocol {
                 ProtocolKind::Tilt => tilt_row(row, run_tilt(&layout, study.solver, &study.tilt)),

@@ -68,7 +68,19 @@ pub struct StudySpec {
     /// [`crate::discrepancy::Settings`]).
     #[serde(default)]
     pub discrepancy: Option<crate::discrepancy::Settings>,
+    /// Effects applied to every group's model: `{ NAME = { PARAM = VALUE } }` (see
+    /// [`crate::effects`]). Default none.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub effects: EffectsSpec,
+    /// Effect definition files (TOML, [`crate::effects::EffectDef::from_file`]), relative to
+    /// the study file: their effects join the library by name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effect_files: Vec<PathBuf>,
 }
+
+/// Effects with their parameter values: effect name → parameter name → value (in the
+/// parameter's unit).
+pub type EffectsSpec = BTreeMap<String, BTreeMap<String, f64>>;
 
 /// A group of realizations: one wall description.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -89,6 +101,10 @@ pub struct GroupSpec {
     /// input (continuous or running-bond joints, no scatter).
     #[serde(default)]
     pub realizations: Option<u64>,
+    /// Effects applied to this group's model, on top of the study's `effects` (the same
+    /// effect here replaces the study's values).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub effects: EffectsSpec,
 }
 
 /// Measured data files, relative to the study file.

@@ -2,7 +2,7 @@
 //!
 //! Each keeps every block a convex polyhedron and never makes two blocks overlap: the
 //! shear and the bed tilt are continuous maps of the whole layout (shared faces stay
-//! shared), the chamfer only removes material.
+//! shared), the rounding only removes material.
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::layout::Layout;
@@ -50,86 +50,88 @@ pub fn shear_out_of_plumb(layout: &mut Layout, psi: f64) -> Result<(), BlockFail
     map_layout(layout, |p| Vec3::new(p.x, p.y + p.z * t, p.z))
 }
 
-/// `edge_rounding`: every block edge running along the wall (within 30° of x, the pivots
-/// of out-of-plane rocking) is cut by a chamfer plane through the points `r` (m) from the
-/// edge on both adjacent faces, so every such pivot moves `r` inwards. `r` is capped at
-/// 40 % of the narrower adjacent face's extent across the edge. A rigid rectangular block
-/// of width b and height h then tips at `tan α = (b/2 − r)/(h/2)`.
+/// `edge_rounding`: every edge and corner of every block rounded by `r` (m), as wear does:
+/// the block is eroded by `r` (every face plane moved `r` inwards) and dilated again by a
+/// ball of radius `r`, the ball taken as the polyhedron of the block's face normals, its
+/// edge bisectors and its corner normals (a one-facet rounding of every edge and corner).
+/// Flat faces stay in their planes and shrink by `r` at each edge, so every pivot of the
+/// block (the edge of a face it rests on) moves `r` inwards; the rounded block lies inside
+/// the original, so no overlap is made. `r` is capped at a quarter of the block's smallest
+/// width. A rigid rectangular block of width b and height h then tips at
+/// `tan α = (b/2 − r)/(h/2)`.
 ///
 /// # Errors
 /// The block that could not be rebuilt.
-pub fn chamfer_pivot_edges(layout: &mut Layout, r: f64) -> Result<(), BlockFailure> {
+pub fn round_edges(layout: &mut Layout, r: f64) -> Result<(), BlockFailure> {
     if r <= 0.0 {
         return Ok(());
     }
     for b in &mut layout.blocks {
-        let planes = chamfer_planes(&b.shape, r);
-        for (m, c) in planes {
-            b.shape = cut(&b.shape, &m, c).map_err(|e| (b.id.clone(), e))?;
-        }
+        b.shape = rounded(&b.shape, r).map_err(|e| (b.id.clone(), e))?;
     }
     Ok(())
 }
 
-/// The chamfer planes `m · x ≤ c` of a block's pivot edges (computed on the original block
-/// so that the order of the cuts does not matter).
-fn chamfer_planes(s: &ConvexBlock, r: f64) -> Vec<(Vec3, f64)> {
-    let cos_edge = 30f64.to_radians().cos();
-    let mut planes = Vec::new();
-    for &(i, j) in &s.edges {
-        let (a, b) = (s.vertices[i], s.vertices[j]);
-        let d = (b - a).normalize();
-        if d.x.abs() < cos_edge {
-            continue;
-        }
-        let adj: Vec<usize> = (0..s.faces.len())
-            .filter(|&f| s.faces[f].vertices.contains(&i) && s.faces[f].vertices.contains(&j))
-            .collect();
-        if adj.len() != 2 {
-            continue;
-        }
-        let (f1, f2) = (&s.faces[adj[0]], &s.faces[adj[1]]);
-        if f1.normal.dot(&f2.normal) > 20f64.to_radians().cos() {
-            continue; // nearly flat: no pivot
-        }
-        // In-face directions perpendicular to the edge, pointing into each face, and the
-        // extent of each face across the edge.
-        let inward = |f: &crate::geometry::Face| {
-            let mut t = f.normal.cross(&d).normalize();
-            let c: Vec3 = f.vertices.iter().map(|&k| s.vertices[k]).sum::<Vec3>() / f.vertices.len() as f64;
-            if t.dot(&(c - a)) < 0.0 {
-                t = -t;
-            }
-            let extent = f.vertices.iter().map(|&k| (s.vertices[k] - a).dot(&t)).fold(0.0, f64::max);
-            (t, extent)
-        };
-        let ((t1, e1), (t2, e2)) = (inward(f1), inward(f2));
-        let rr = r.min(0.4 * e1.min(e2));
-        if rr <= 0.0 {
-            continue;
-        }
-        let (p1, p2) = (a + t1 * rr, a + t2 * rr);
-        let mut m = (p2 - p1).cross(&d).normalize();
-        if m.dot(&(f1.normal + f2.normal)) < 0.0 {
-            m = -m;
-        }
-        planes.push((m, m.dot(&p1)));
+/// The rounded block (see [`round_edges`]).
+fn rounded(s: &ConvexBlock, r: f64) -> Result<ConvexBlock, GeometryError> {
+    let planes: Vec<(Vec3, f64)> =
+        s.faces.iter().map(|f| (f.normal, f.normal.dot(&s.vertices[f.vertices[0]]))).collect();
+    let width = planes
+        .iter()
+        .map(|(n, d)| s.vertices.iter().map(|v| d - n.dot(v)).fold(0.0, f64::max))
+        .fold(f64::INFINITY, f64::min);
+    let r = r.min(0.25 * width);
+    let eroded = erode(&planes, r);
+    if eroded.len() < 4 {
+        return Ok(s.clone());
     }
-    planes
+    // The ball's directions: face normals, edge bisectors, corner normals.
+    let mut dirs: Vec<Vec3> = planes.iter().map(|p| p.0).collect();
+    for &(i, j) in &s.edges {
+        let adj: Vec<&Vec3> =
+            s.faces.iter().filter(|f| f.vertices.contains(&i) && f.vertices.contains(&j)).map(|f| &f.normal).collect();
+        if adj.len() == 2 {
+            dirs.push((adj[0] + adj[1]).normalize());
+        }
+    }
+    for k in 0..s.vertices.len() {
+        let sum: Vec3 = s.faces.iter().filter(|f| f.vertices.contains(&k)).map(|f| f.normal).sum();
+        if sum.norm() > 1e-12 {
+            dirs.push(sum.normalize());
+        }
+    }
+    let pts: Vec<Vec3> = eroded.iter().flat_map(|v| dirs.iter().map(move |u| v + u * r)).collect();
+    hull(&pts)
 }
 
-/// The part of a convex block with `m · x ≤ c`.
-fn cut(s: &ConvexBlock, m: &Vec3, c: f64) -> Result<ConvexBlock, GeometryError> {
-    let side: Vec<f64> = s.vertices.iter().map(|v| m.dot(v) - c).collect();
-    let mut pts: Vec<Vec3> = s.vertices.iter().zip(&side).filter(|(_, &d)| d <= 0.0).map(|(v, _)| *v).collect();
-    for &(i, j) in &s.edges {
-        let (di, dj) = (side[i], side[j]);
-        if (di < 0.0 && dj > 0.0) || (di > 0.0 && dj < 0.0) {
-            let t = di / (di - dj);
-            pts.push(s.vertices[i] + (s.vertices[j] - s.vertices[i]) * t);
+/// The vertices of `{x : n·x ≤ d − r}` for the planes `(n, d)`: the intersections of
+/// every three planes that satisfy all of them (deduplicated).
+fn erode(planes: &[(Vec3, f64)], r: f64) -> Vec<Vec3> {
+    let tol = 1e-12 * (1.0 + planes.iter().map(|p| p.1.abs()).fold(0.0, f64::max));
+    let mut out: Vec<Vec3> = Vec::new();
+    let n = planes.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let m = crate::Mat3::from_rows(&[
+                    planes[i].0.transpose(),
+                    planes[j].0.transpose(),
+                    planes[k].0.transpose(),
+                ]);
+                let rhs = Vec3::new(planes[i].1 - r, planes[j].1 - r, planes[k].1 - r);
+                let Some(x) = m.lu().solve(&rhs) else { continue };
+                if !x.iter().all(|c| c.is_finite()) {
+                    continue;
+                }
+                if planes.iter().all(|(nn, d)| nn.dot(&x) <= d - r + 1e3 * tol)
+                    && !out.iter().any(|p| (p - x).norm() < 1e-10)
+                {
+                    out.push(x);
+                }
+            }
         }
     }
-    hull(&pts)
+    out
 }
 
 /// `transverse_dip`: every bed joint between two courses dips across the wall's thickness

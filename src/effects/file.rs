@@ -1,0 +1,149 @@
+//! Effects defined in TOML files: a user's hypothesis made of the library's primitives.
+//!
+//! ```toml
+//! version = 1
+//! name = "timber_base"
+//! description = "the base course sits on a timber table, softer than the stone beds"
+//! source = "our test rig"
+//!
+//! [[parameters]]
+//! name = "factor"
+//! unit = "-"
+//! min = 0.05
+//! max = 1.0
+//! scale = "log"          # or "linear" (default)
+//! neutral = 1.0
+//!
+//! [[steps]]
+//! kind = "joint_factor"  # joint_factor | closure | lean | rounding | transverse_dip | restraint_spring
+//! family = "base"        # base | bed | head | wedge; absent: every joint
+//! property = "stiffness" # kn | ks | stiffness | friction | cohesion
+//! parameter = "factor"
+//! ```
+//!
+//! A `closure` step takes `law = "hyperbolic" | "seating"` and a parameter in m; `lean` and
+//! `transverse_dip` take degrees, `rounding` m, `restraint_spring` N/m per block.
+
+use super::{EffectDef, Scale, Step};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// The only effect-file version this build reads.
+pub const EFFECT_VERSION: u32 = 1;
+
+/// Errors of an effect file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EffectFileError {
+    /// The file could not be read.
+    #[error("cannot read effect file {}: {message}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        message: String,
+    },
+    /// Not valid effect TOML (syntax, unknown key, wrong type).
+    #[error("effect file {}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// toml's message, with the key and line.
+        message: String,
+    },
+    /// A value is wrong.
+    #[error("effect file {}: {key}: {reason}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// The key.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EffectFile {
+    version: u32,
+    #[serde(flatten)]
+    def: EffectDef,
+}
+
+impl EffectDef {
+    /// Reads and checks an effect file.
+    ///
+    /// # Errors
+    /// [`EffectFileError`] naming the file and the key.
+    pub fn from_file(path: &Path) -> Result<EffectDef, EffectFileError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| EffectFileError::Io { path: path.to_owned(), message: e.to_string() })?;
+        EffectDef::from_toml(&text, path)
+    }
+
+    /// Parses and checks effect TOML; `path` names the file in errors.
+    ///
+    /// # Errors
+    /// [`EffectFileError`] naming the file and the key.
+    pub fn from_toml(text: &str, path: &Path) -> Result<EffectDef, EffectFileError> {
+        let f: EffectFile = toml::from_str(text)
+            .map_err(|e| EffectFileError::Parse { path: path.to_owned(), message: e.to_string() })?;
+        let bad = |key: String, reason: String| EffectFileError::Invalid { path: path.to_owned(), key, reason };
+        if f.version != EFFECT_VERSION {
+            return Err(bad("version".into(), format!("this drystone reads effect version {EFFECT_VERSION}")));
+        }
+        let d = f.def;
+        if d.name.is_empty() || !d.name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_') {
+            return Err(bad("name".into(), format!("{:?} must be non-empty, of a-z, 0-9 and _", d.name)));
+        }
+        if !(1..=2).contains(&d.parameters.len()) {
+            return Err(bad(
+                "parameters".into(),
+                format!("an effect has one or two parameters, {} given", d.parameters.len()),
+            ));
+        }
+        for (i, p) in d.parameters.iter().enumerate() {
+            let key = |k: &str| format!("parameters[{i}].{k}");
+            if d.parameters[..i].iter().any(|q| q.name == p.name) {
+                return Err(bad(key("name"), format!("parameter `{}` given twice", p.name)));
+            }
+            if !(p.min.is_finite() && p.max.is_finite() && p.min < p.max) {
+                return Err(bad(key("min"), format!("needs finite min < max, got [{}, {}]", p.min, p.max)));
+            }
+            if p.scale == Scale::Log && p.min <= 0.0 {
+                return Err(bad(key("min"), "a log scale needs min > 0".into()));
+            }
+            if p.neutral.is_nan() || (p.neutral.is_finite() && !(p.min..=p.max).contains(&p.neutral)) {
+                return Err(bad(
+                    key("neutral"),
+                    format!("{} is outside [{}, {}] (infinite is allowed)", p.neutral, p.min, p.max),
+                ));
+            }
+        }
+        if d.steps.is_empty() {
+            return Err(bad("steps".into(), "an effect needs at least one step".into()));
+        }
+        for (i, s) in d.steps.iter().enumerate() {
+            if !d.parameters.iter().any(|p| p.name == s.parameter()) {
+                let names: Vec<&str> = d.parameters.iter().map(|p| p.name.as_str()).collect();
+                return Err(bad(
+                    format!("steps[{i}].parameter"),
+                    format!("`{}` is not a parameter of the effect ({})", s.parameter(), names.join(", ")),
+                ));
+            }
+            let p = d.parameters.iter().find(|p| p.name == s.parameter()).map(|p| (p.min, p.max)).unwrap_or_default();
+            let needs_positive = matches!(s, Step::JointFactor { .. } | Step::RestraintSpring { .. });
+            if needs_positive && p.0 <= 0.0 {
+                return Err(bad(
+                    format!("steps[{i}]"),
+                    "a factor or a stiffness needs a parameter range above 0".into(),
+                ));
+            }
+            if matches!(s, Step::Closure { .. } | Step::Rounding { .. }) && p.0 < 0.0 {
+                return Err(bad(format!("steps[{i}]"), "a length needs a parameter range at or above 0".into()));
+            }
+        }
+        Ok(d)
+    }
+}

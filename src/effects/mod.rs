@@ -1,0 +1,725 @@
+//! Model extensions: named physical effects that change a wall model where they act (its
+//! layout geometry, its joint law or its restraints), each with one or two parameters.
+//!
+//! An effect is data, an [`EffectDef`]: its parameters (name, unit, plausible range, search
+//! scale, neutral value) and a list of [`Step`]s, each a primitive of the model driven by one
+//! parameter. The built-in library ([`builtin`]) is a set of such definitions, and a user
+//! adds a hypothesis the same way in a TOML file ([`EffectDef::from_file`]); both are run by
+//! the same code, in a study (`effects = { NAME = { PARAM = VALUE } }`), in `drystone
+//! discrepancy` and in `drystone synthesize`.
+//!
+//! | built-in | parameters | steps (where it enters) |
+//! | --- | --- | --- |
+//! | `kn_scale` | factor (–) | joint law: Kn and Ks of every joint × factor |
+//! | `base_stiffness` | factor (–) | joint law: Kn and Ks of the `base` joints × factor |
+//! | `bed_stiffness` | factor (–) | joint law: Kn and Ks of the `bed` joints × factor |
+//! | `head_stiffness` | factor (–) | joint law: Kn and Ks of the `head` joints × factor |
+//! | `joint_closure` | Kni/Kn (–), Vm (m) | joint law: Kn × ratio, hyperbolic closure Vm |
+//! | `seating_gap` | g₀ (m) | joint law: seating closure with gaps up to g₀ |
+//! | `initial_lean` | ψ (deg) | layout: sheared out of plumb towards +y |
+//! | `edge_rounding` | r (m) | layout: every edge of every block rounded by r |
+//! | `restraint_stiffness` | k (N/m per block) | restraints: rigid ends → springs |
+//! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
+//!
+//! Every form is deterministic (the same value in every realization) except
+//! `transverse_dip`, whose dips are drawn per bed joint. Length ranges marked
+//! `range_per_course_height` scale with the wall: they are written for a course height of
+//! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
+//! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
+//! ψ = 0, r = 0, δ = 0; `joint_closure` and `restraint_stiffness` reach it only in the
+//! limit Vm → ∞, k → ∞).
+//!
+//! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
+//! effect), so that a study with an effect and the discrepancy analysis that named it draw
+//! the same numbers, and no group or effect shifts another's draws.
+
+mod builtin;
+mod file;
+pub mod geometry;
+
+pub use builtin::builtin;
+pub use file::EffectFileError;
+
+use crate::generator::{generate, GeneratedWall, Wall};
+use crate::layout::{Closure, EndRestraint, FamilyJoint, JointFamily, Layout};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// Course height the built-in length ranges are written for, m (the 1:4 walls of
+/// Santa-Cruz et al. 2021).
+pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
+
+/// Where an effect enters the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// The generated block layout (applied first).
+    Layout,
+    /// The joint law.
+    JointLaw,
+    /// The end restraints (applied last).
+    Restraints,
+}
+
+/// How a parameter is searched: on a linear or a logarithmic axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Scale {
+    /// Linear.
+    Linear,
+    /// Logarithmic (positive values).
+    Log,
+}
+
+/// One parameter of an effect.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamDef {
+    /// Name, e.g. `max_gap_m`.
+    pub name: String,
+    /// Unit as printed.
+    pub unit: String,
+    /// Plausible range: lower bound.
+    pub min: f64,
+    /// Plausible range: upper bound.
+    pub max: f64,
+    /// Search axis. Default linear.
+    #[serde(default = "linear")]
+    pub scale: Scale,
+    /// The value that leaves the model unchanged (or its limit; may be infinite).
+    pub neutral: f64,
+    /// The range (and a finite neutral value) is written for a course height of
+    /// [`REFERENCE_COURSE_HEIGHT_M`] and scales with the wall's mean course height.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub range_per_course_height: bool,
+}
+
+fn linear() -> Scale {
+    Scale::Linear
+}
+
+impl ParamDef {
+    /// The parameter with its range scaled to a wall of mean course height `course_m` (m).
+    pub fn for_course_height(&self, course_m: f64) -> ParamDef {
+        if !self.range_per_course_height {
+            return self.clone();
+        }
+        let f = course_m / REFERENCE_COURSE_HEIGHT_M;
+        ParamDef {
+            min: self.min * f,
+            max: self.max * f,
+            neutral: if self.neutral.is_finite() { self.neutral * f } else { self.neutral },
+            range_per_course_height: false,
+            ..self.clone()
+        }
+    }
+}
+
+/// A joint property a [`Step::JointFactor`] multiplies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Property {
+    /// Kn.
+    Kn,
+    /// Ks.
+    Ks,
+    /// Kn and Ks (their ratio kept).
+    Stiffness,
+    /// The friction coefficient tan φ.
+    Friction,
+    /// The cohesion c.
+    Cohesion,
+}
+
+/// A closure law a [`Step::Closure`] sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClosureLaw {
+    /// Hyperbolic closure; the parameter is Vm, m.
+    Hyperbolic,
+    /// Seating; the parameter is g₀, m.
+    Seating,
+}
+
+/// One primitive of the model, driven by a parameter of the effect (named in files by
+/// `parameter`; held as its index once checked).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Step {
+    /// A factor on a joint property of one family (or of every joint when `family` is
+    /// absent).
+    JointFactor {
+        /// The family; absent: every joint (the materials and every family).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        family: Option<JointFamily>,
+        /// The property.
+        property: Property,
+        /// The parameter giving the factor.
+        parameter: String,
+    },
+    /// A normal closure law on one family (or every joint).
+    Closure {
+        /// The family; absent: every joint.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        family: Option<JointFamily>,
+        /// The law.
+        law: ClosureLaw,
+        /// The parameter giving Vm or g₀, m.
+        parameter: String,
+    },
+    /// The wall sheared out of plumb by ψ (deg) towards +y.
+    Lean {
+        /// The parameter giving ψ, degrees.
+        parameter: String,
+    },
+    /// Every edge of every block rounded by r (m).
+    Rounding {
+        /// The parameter giving r, m.
+        parameter: String,
+    },
+    /// Bed joints dipping across the thickness, uniform in [−δ, δ] (deg) per joint.
+    TransverseDip {
+        /// The parameter giving δ, degrees.
+        parameter: String,
+    },
+    /// End restraints as springs of stiffness k (N/m per block).
+    RestraintSpring {
+        /// The parameter giving k, N/m.
+        parameter: String,
+    },
+}
+
+impl Step {
+    /// The parameter's name.
+    pub fn parameter(&self) -> &str {
+        match self {
+            Step::JointFactor { parameter, .. }
+            | Step::Closure { parameter, .. }
+            | Step::Lean { parameter }
+            | Step::Rounding { parameter }
+            | Step::TransverseDip { parameter }
+            | Step::RestraintSpring { parameter } => parameter,
+        }
+    }
+
+    /// Where the step enters the model.
+    pub fn stage(&self) -> Stage {
+        match self {
+            Step::Lean { .. } | Step::Rounding { .. } | Step::TransverseDip { .. } => Stage::Layout,
+            Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
+            Step::RestraintSpring { .. } => Stage::Restraints,
+        }
+    }
+
+    /// The family the step acts on, if it is a joint-law step on one family.
+    pub fn family(&self) -> Option<JointFamily> {
+        match self {
+            Step::JointFactor { family, .. } | Step::Closure { family, .. } => *family,
+            _ => None,
+        }
+    }
+}
+
+/// A named effect: parameters and the steps they drive.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectDef {
+    /// Name, as in files and on the command line (`[a-z0-9_]`).
+    pub name: String,
+    /// What the effect is, in a sentence.
+    #[serde(default)]
+    pub description: String,
+    /// Its source in the literature (or the user's reason).
+    #[serde(default)]
+    pub source: String,
+    /// Its parameters (one or two).
+    pub parameters: Vec<ParamDef>,
+    /// Its steps, applied in stage order (layout, joint law, restraints), file order within
+    /// a stage.
+    pub steps: Vec<Step>,
+}
+
+/// Errors of effects.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EffectError {
+    /// Unknown effect name.
+    #[error("unknown effect `{name}` (known: {known})")]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// The known names.
+        known: String,
+    },
+    /// Unknown parameter of an effect.
+    #[error("effect `{effect}` has no parameter `{param}` (its parameters: {names})")]
+    UnknownParameter {
+        /// The effect.
+        effect: String,
+        /// The name given.
+        param: String,
+        /// Its parameters.
+        names: String,
+    },
+    /// Wrong number of parameter values.
+    #[error("effect `{effect}` takes {expected} parameter(s) ({names}), {given} given")]
+    Arity {
+        /// The effect.
+        effect: String,
+        /// Expected count.
+        expected: usize,
+        /// Given count.
+        given: usize,
+        /// Parameter names.
+        names: String,
+    },
+    /// A parameter outside its plausible range (or not a number).
+    #[error("effect `{effect}`: {param} = {value} is outside its range [{min}, {max}] {unit}")]
+    OutOfRange {
+        /// The effect.
+        effect: String,
+        /// The parameter.
+        param: String,
+        /// The value.
+        value: f64,
+        /// Range.
+        min: f64,
+        /// Range.
+        max: f64,
+        /// Unit.
+        unit: String,
+    },
+    /// The same effect given twice.
+    #[error("effect `{effect}` is given twice")]
+    Duplicate {
+        /// The effect.
+        effect: String,
+    },
+    /// The effect made a block that is not a valid convex polyhedron.
+    #[error("effect `{effect}`: block {block}: {reason}")]
+    Geometry {
+        /// The effect.
+        effect: String,
+        /// The block id.
+        block: String,
+        /// What failed.
+        reason: crate::geometry::GeometryError,
+    },
+    /// The effect acts on a joint family the wall does not have.
+    #[error("effect `{effect}` acts on the {family} joints, which this wall does not have")]
+    NoFamily {
+        /// The effect.
+        effect: String,
+        /// The family.
+        family: &'static str,
+    },
+    /// Generating or checking the wall failed (the generator's message).
+    #[error("{0}")]
+    Generator(String),
+}
+
+/// An effect with its parameter values (in the units of its [`ParamDef`]s).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Effect {
+    /// The definition (serialized as its name).
+    #[serde(rename = "effect", serialize_with = "def_name")]
+    pub def: Arc<EffectDef>,
+    /// Parameter values, one per parameter.
+    pub values: Vec<f64>,
+}
+
+fn def_name<S: serde::Serializer>(d: &Arc<EffectDef>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&d.name)
+}
+
+/// The known effects by name: the built-ins and the user's definitions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Library {
+    defs: BTreeMap<String, Arc<EffectDef>>,
+    order: Vec<String>,
+}
+
+impl Default for Library {
+    fn default() -> Self {
+        Library::builtin()
+    }
+}
+
+impl Library {
+    /// The built-in library.
+    pub fn builtin() -> Library {
+        let mut l = Library { defs: BTreeMap::new(), order: Vec::new() };
+        for d in builtin() {
+            l.order.push(d.name.clone());
+            l.defs.insert(d.name.clone(), Arc::new(d));
+        }
+        l
+    }
+
+    /// Adds a user definition.
+    ///
+    /// # Errors
+    /// [`EffectError::Duplicate`] if the name is taken.
+    pub fn add(&mut self, def: EffectDef) -> Result<(), EffectError> {
+        if self.defs.contains_key(&def.name) {
+            return Err(EffectError::Duplicate { effect: def.name });
+        }
+        self.order.push(def.name.clone());
+        self.defs.insert(def.name.clone(), Arc::new(def));
+        Ok(())
+    }
+
+    /// Every definition, built-ins first, then the user's in the order added.
+    pub fn all(&self) -> Vec<Arc<EffectDef>> {
+        self.order.iter().map(|n| self.defs[n].clone()).collect()
+    }
+
+    /// The definition of a name.
+    ///
+    /// # Errors
+    /// [`EffectError::Unknown`] listing the known names.
+    pub fn get(&self, name: &str) -> Result<Arc<EffectDef>, EffectError> {
+        self.defs
+            .get(name)
+            .cloned()
+            .ok_or_else(|| EffectError::Unknown { name: name.to_string(), known: self.order.join(", ") })
+    }
+
+    /// Parses `NAME=V` or `NAME=V1:V2` (as on the command line), values checked against the
+    /// ranges scaled to a wall of mean course height `course_m` (m).
+    ///
+    /// # Errors
+    /// [`EffectError`] naming the effect or the parameter.
+    pub fn parse(&self, text: &str, course_m: f64) -> Result<Effect, EffectError> {
+        let (name, vals) = text.split_once('=').unwrap_or((text, ""));
+        let def = self.get(name.trim())?;
+        let values: Vec<f64> = vals.split(':').map(|v| v.trim().parse::<f64>().unwrap_or(f64::NAN)).collect();
+        Effect::new(def, values, course_m)
+    }
+
+    /// An effect from named values (`{ PARAM = VALUE }` of a study file).
+    ///
+    /// # Errors
+    /// [`EffectError`] naming the effect or the parameter.
+    pub fn from_values(
+        &self,
+        name: &str,
+        values: &BTreeMap<String, f64>,
+        course_m: f64,
+    ) -> Result<Effect, EffectError> {
+        let def = self.get(name)?;
+        let names = || def.parameters.iter().map(|p| p.name.clone()).collect::<Vec<_>>().join(", ");
+        if let Some(k) = values.keys().find(|k| !def.parameters.iter().any(|p| &p.name == *k)) {
+            return Err(EffectError::UnknownParameter { effect: def.name.clone(), param: k.clone(), names: names() });
+        }
+        let mut v = Vec::new();
+        for p in &def.parameters {
+            v.push(*values.get(&p.name).ok_or_else(|| EffectError::Arity {
+                effect: def.name.clone(),
+                expected: def.parameters.len(),
+                given: values.len(),
+                names: names(),
+            })?);
+        }
+        Effect::new(def, v, course_m)
+    }
+}
+
+impl EffectDef {
+    /// Its parameters with their ranges for a wall of mean course height `course_m` (m).
+    pub fn params_for(&self, course_m: f64) -> Vec<ParamDef> {
+        self.parameters.iter().map(|p| p.for_course_height(course_m)).collect()
+    }
+
+    /// The earliest stage its steps enter.
+    pub fn stage(&self) -> Stage {
+        self.steps.iter().map(Step::stage).min().unwrap_or(Stage::JointLaw)
+    }
+
+    /// Whether the effect can change a wall with these properties (`restrained`: it has end
+    /// restraints): an effect made only of restraint steps cannot act on a free wall.
+    pub fn acts_on(&self, restrained: bool) -> bool {
+        restrained || self.steps.iter().any(|s| s.stage() != Stage::Restraints)
+    }
+
+    /// Whether it draws random numbers (a `transverse_dip` step).
+    pub fn is_random(&self) -> bool {
+        self.steps.iter().any(|s| matches!(s, Step::TransverseDip { .. }))
+    }
+}
+
+impl Effect {
+    /// A checked effect: one value per parameter, each in its range for a wall of mean
+    /// course height `course_m` (m).
+    ///
+    /// # Errors
+    /// [`EffectError::Arity`] or [`EffectError::OutOfRange`].
+    pub fn new(def: Arc<EffectDef>, values: Vec<f64>, course_m: f64) -> Result<Effect, EffectError> {
+        let ps = def.params_for(course_m);
+        if values.len() != ps.len() {
+            return Err(EffectError::Arity {
+                effect: def.name.clone(),
+                expected: ps.len(),
+                given: values.len(),
+                names: ps.iter().map(|p| p.name.clone()).collect::<Vec<_>>().join(", "),
+            });
+        }
+        for (p, &v) in ps.iter().zip(&values) {
+            let tol = 1e-9 * (p.max - p.min).abs();
+            if !(v.is_finite() && v >= p.min - tol && v <= p.max + tol) {
+                return Err(EffectError::OutOfRange {
+                    effect: def.name.clone(),
+                    param: p.name.clone(),
+                    value: v,
+                    min: p.min,
+                    max: p.max,
+                    unit: p.unit.clone(),
+                });
+            }
+        }
+        Ok(Effect { def, values })
+    }
+
+    /// The effect's name.
+    pub fn name(&self) -> &str {
+        &self.def.name
+    }
+
+    /// `name=v` or `name=v1:v2`.
+    pub fn label(&self) -> String {
+        let v: Vec<String> = self.values.iter().map(|x| format!("{x:.4e}")).collect();
+        format!("{}={}", self.def.name, v.join(":"))
+    }
+
+    fn value(&self, parameter: &str) -> f64 {
+        let i = self.def.parameters.iter().position(|p| p.name == parameter).unwrap_or(0);
+        self.values[i]
+    }
+
+    /// Applies the steps of one stage to the layout of one realization. `course_tops_m`
+    /// are the nominal course tops of the generated wall (m; used by `transverse_dip`),
+    /// `rng` the effect's stream ([`effect_rng`]).
+    ///
+    /// # Errors
+    /// [`EffectError::Geometry`] if a transformed block is not a valid convex block.
+    pub fn apply_stage(
+        &self,
+        stage: Stage,
+        layout: &mut Layout,
+        course_tops_m: &[f64],
+        rng: &mut ChaCha8Rng,
+    ) -> Result<(), EffectError> {
+        let geometry = |(block, reason)| EffectError::Geometry { effect: self.def.name.clone(), block, reason };
+        for step in self.def.steps.iter().filter(|s| s.stage() == stage) {
+            let v = self.value(step.parameter());
+            match step {
+                Step::JointFactor { family, property, .. } => joint_factor(layout, *family, *property, v),
+                Step::Closure { family, law, .. } => {
+                    let c = match law {
+                        ClosureLaw::Hyperbolic => Closure::Hyperbolic { max_closure_m: v },
+                        ClosureLaw::Seating => Closure::Seating { max_gap_m: v },
+                    };
+                    // A gap of zero is the linear law (the neutral value).
+                    let c = if v > 0.0 { c } else { Closure::Linear };
+                    set_closure(layout, *family, c);
+                }
+                Step::Lean { .. } => geometry::shear_out_of_plumb(layout, v.to_radians()).map_err(geometry)?,
+                Step::Rounding { .. } => geometry::round_edges(layout, v).map_err(geometry)?,
+                Step::TransverseDip { .. } => {
+                    geometry::tilt_beds_across(layout, v.to_radians(), course_tops_m, rng).map_err(geometry)?
+                }
+                Step::RestraintSpring { .. } => {
+                    for (_, r) in &mut layout.end_restraints {
+                        *r = if v.is_finite() { EndRestraint::Spring(v) } else { EndRestraint::Rigid };
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The family's overrides in `layout`, created neutral if absent.
+fn family_mut(layout: &mut Layout, f: JointFamily) -> &mut FamilyJoint {
+    layout.joint_families.0[f as usize].get_or_insert(FamilyJoint {
+        kn: None,
+        ks: None,
+        kn_factor: 1.0,
+        ks_factor: 1.0,
+        friction: None,
+        cohesion: None,
+        tensile_strength: None,
+        closure: None,
+    })
+}
+
+fn scale_family(fj: &mut FamilyJoint, property: Property, v: f64, tan_phi_default: f64) {
+    let (kn, ks) = match property {
+        Property::Kn => (v, 1.0),
+        Property::Ks => (1.0, v),
+        Property::Stiffness => (v, v),
+        Property::Friction => {
+            let phi = fj.friction.map_or(tan_phi_default, f64::tan);
+            fj.friction = Some((phi * v).atan());
+            (1.0, 1.0)
+        }
+        Property::Cohesion => {
+            fj.cohesion = fj.cohesion.map(|c| c * v);
+            (1.0, 1.0)
+        }
+    };
+    match &mut fj.kn {
+        Some(k) => *k *= kn,
+        None => fj.kn_factor *= kn,
+    }
+    match &mut fj.ks {
+        Some(k) => *k *= ks,
+        None => fj.ks_factor *= ks,
+    }
+}
+
+fn joint_factor(layout: &mut Layout, family: Option<JointFamily>, property: Property, v: f64) {
+    let tan_phi = layout.materials.iter().map(|m| m.friction.tan()).fold(f64::INFINITY, f64::min);
+    match family {
+        Some(f) => scale_family(family_mut(layout, f), property, v, tan_phi),
+        None => {
+            for m in &mut layout.materials {
+                match property {
+                    Property::Kn => m.kn *= v,
+                    Property::Ks => m.ks *= v,
+                    Property::Stiffness => {
+                        m.kn *= v;
+                        m.ks *= v;
+                    }
+                    Property::Friction => m.friction = (m.friction.tan() * v).atan(),
+                    Property::Cohesion => m.cohesion *= v,
+                }
+            }
+            // Families with values of their own scale with the rest.
+            for fj in layout.joint_families.0.iter_mut().flatten() {
+                match property {
+                    Property::Kn | Property::Ks | Property::Stiffness => {
+                        if let Some(k) = &mut fj.kn {
+                            if property != Property::Ks {
+                                *k *= v;
+                            }
+                        }
+                        if let Some(k) = &mut fj.ks {
+                            if property != Property::Kn {
+                                *k *= v;
+                            }
+                        }
+                    }
+                    Property::Friction => fj.friction = fj.friction.map(|p| (p.tan() * v).atan()),
+                    Property::Cohesion => fj.cohesion = fj.cohesion.map(|c| c * v),
+                }
+            }
+        }
+    }
+}
+
+fn set_closure(layout: &mut Layout, family: Option<JointFamily>, c: Closure) {
+    match family {
+        Some(f) => family_mut(layout, f).closure = Some(c),
+        None => {
+            for m in &mut layout.materials {
+                m.closure = c;
+            }
+            for fj in layout.joint_families.0.iter_mut().flatten() {
+                if fj.closure.is_some() {
+                    fj.closure = Some(c);
+                }
+            }
+        }
+    }
+}
+
+/// FNV-1a of a name (a stable hash: the effect streams must not change between builds).
+fn fnv1a(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// The random stream of an effect in one realization of one group: a `ChaCha8Rng` seeded
+/// from the master seed mixed with the group's and the effect's names, on the stream of the
+/// realization ([`crate::rng::rng_for`]'s layout of streams, purpose `Effect`).
+pub fn effect_rng(master: u64, realization: u64, group: &str, effect: &str) -> ChaCha8Rng {
+    let key = master ^ fnv1a(group).rotate_left(17) ^ fnv1a(effect).rotate_left(41);
+    crate::rng::rng_for(key, realization, crate::rng::Purpose::Effect)
+}
+
+/// Applies `effects` to a checked layout of a generated wall: every effect's layout steps,
+/// then every joint-law step, then every restraint step (effects in the order given within
+/// a stage), each effect with its own stream ([`effect_rng`]). A joint-law step on a family
+/// the layout does not have is an error.
+///
+/// # Errors
+/// [`EffectError::Geometry`] or [`EffectError::NoFamily`].
+pub fn apply_all(
+    layout: &mut Layout,
+    generated: &GeneratedWall,
+    group: &str,
+    effects: &[Effect],
+) -> Result<(), EffectError> {
+    let mut rngs: Vec<ChaCha8Rng> =
+        effects.iter().map(|e| effect_rng(generated.seed, generated.realization, group, e.name())).collect();
+    for stage in [Stage::Layout, Stage::JointLaw, Stage::Restraints] {
+        for (e, rng) in effects.iter().zip(&mut rngs) {
+            e.apply_stage(stage, layout, &generated.course_tops_m, rng)?;
+        }
+    }
+    for e in effects {
+        for f in e.def.steps.iter().filter_map(Step::family) {
+            if !has_family(layout, f) {
+                return Err(EffectError::NoFamily { effect: e.name().to_string(), family: f.name() });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn has_family(layout: &Layout, f: JointFamily) -> bool {
+    let courses = || {
+        let mut c: Vec<usize> = layout.blocks.iter().filter(|b| !b.wedge).filter_map(|b| b.course).collect();
+        let n = c.len();
+        c.sort_unstable();
+        c.dedup();
+        (c.len(), n)
+    };
+    match f {
+        JointFamily::Base => true,
+        JointFamily::Wedge => layout.blocks.iter().any(|b| b.wedge),
+        JointFamily::Bed => layout.blocks.iter().any(|b| b.course.is_none()) || courses().0 > 1,
+        JointFamily::Head => layout.blocks.iter().any(|b| b.course.is_none()) || courses().0 < courses().1,
+    }
+}
+
+/// The checked layout of realization `realization` of `wall` (master seed `seed`) in group
+/// `group`, with `effects` applied ([`apply_all`]), and the generated wall it came from.
+///
+/// # Errors
+/// [`EffectError::Generator`] if the wall cannot be generated or checked; the errors of
+/// [`apply_all`].
+pub fn realize(
+    wall: &Wall,
+    seed: u64,
+    realization: u64,
+    group: &str,
+    effects: &[Effect],
+) -> Result<(GeneratedWall, Layout), EffectError> {
+    let generated = generate(wall, seed, realization).map_err(|e| EffectError::Generator(e.to_string()))?;
+    let mut layout = generated.check().map_err(|e| EffectError::Generator(e.to_string()))?;
+    apply_all(&mut layout, &generated, group, effects)?;
+    Ok((generated, layout))
+}
+
+/// Mean course height of a wall, m (the scale of the length ranges).
+pub fn course_height_of(wall: &Wall) -> f64 {
+    let m = wall.course_height.mean();
+    if m.is_finite() && m > 0.0 {
+        m
+    } else {
+        REFERENCE_COURSE_HEIGHT_M
+    }
+}
