@@ -200,6 +200,15 @@ enum Command {
         /// writes), used instead of the study's [measured] files.
         #[arg(long)]
         measured: Option<PathBuf>,
+        /// Directory of data sets of one design (subdirectories, each with the measured files):
+        /// the forward runs are made once and every set is analysed against them, one JSON
+        /// line per set (a power study).
+        #[arg(long, conflicts_with = "measured")]
+        measured_sets: Option<PathBuf>,
+        /// Score candidates by their surrogates only (no full runs of the best two): faster,
+        /// for power studies; the report says so.
+        #[arg(long)]
+        no_confirm: bool,
         /// Print one JSON object: verdict, cause, candidates, baseline, extended.
         #[arg(long)]
         json: bool,
@@ -348,13 +357,15 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Generate { wall, seed, realization, out, distributions } => {
             cli::generate::run(&wall, seed, realization, &out, distributions)
         }
-        Command::Discrepancy { study, out, workers, realizations, measured, json } => {
+        Command::Discrepancy { study, out, workers, realizations, measured, measured_sets, no_confirm, json } => {
             cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
                 study,
                 out,
                 threads: workers.threads,
                 realizations,
                 measured,
+                measured_sets,
+                no_confirm,
                 json,
             })?;
             Ok(ExitCode::SUCCESS)

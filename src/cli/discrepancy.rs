@@ -15,6 +15,8 @@ pub struct DiscrepancyArgs {
     pub threads: Option<usize>,
     pub realizations: Option<u64>,
     pub measured: Option<PathBuf>,
+    pub measured_sets: Option<PathBuf>,
+    pub no_confirm: bool,
     pub json: bool,
 }
 
@@ -47,7 +49,13 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         s.realizations = n;
         s.extension_realizations = s.extension_realizations.max(n + 3);
     }
+    if a.no_confirm {
+        s.confirm = false;
+    }
     s.validate().with_context(|| a.study.display().to_string())?;
+    if let Some(dir) = &a.measured_sets {
+        return measured_sets(&mut st, &s, dir, a.threads);
+    }
     let obs = observations_of(&st, s.sigma)?;
     let setup = setup_of(&st, s.realizations.max(s.extension_realizations));
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
@@ -102,6 +110,44 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         println!("{:<28} {:>14.3} {:>10.1}  {}", c.name, c.heldout_error, c.information_criterion, p.join(", "));
     }
     println!("report: {}", dir.join("discrepancy.md").display());
+    Ok(())
+}
+
+/// Analyses every data set (a subdirectory with the two measured files) of `dir` against
+/// one preparation of the forward runs, printing one JSON line per set.
+fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize>) -> Result<()> {
+    let mut sets: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot read {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join("tilting_table_collapse.csv").exists())
+        .collect();
+    sets.sort();
+    if sets.is_empty() {
+        bail!("{}: no data set (a subdirectory with tilting_table_collapse.csv)", dir.display());
+    }
+    let mut all = Vec::new();
+    for set in &sets {
+        use_measured_dir(st, set)?;
+        let obs = observations_of(st, s.sigma).with_context(|| set.display().to_string())?;
+        all.push(obs);
+    }
+    let template: Vec<_> = all.iter().flatten().cloned().collect();
+    let setup = setup_of(st, s.realizations.max(s.extension_realizations));
+    let pool = pool(threads)?;
+    let prepared = pool.install(|| drystone::discrepancy::prepare(&setup, &template, s, &st.library))?;
+    for (set, obs) in sets.iter().zip(all) {
+        let run = pool.install(|| drystone::discrepancy::analyze(&prepared, obs, st.seed))?;
+        let an = &run.analysis;
+        let name = set.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        let line = serde_json::json!({
+            "set": name,
+            "verdict": an.verdict.name(),
+            "cause": an.cause.as_ref().map(|c| c.name.split('+').map(str::to_string).collect::<Vec<_>>()),
+            "tie": an.tie,
+            "parameters": an.cause.as_ref().map(|c| c.parameters.clone()),
+        });
+        println!("{line}");
+    }
     Ok(())
 }
 

@@ -144,6 +144,14 @@ pub enum DiscrepancyError {
         /// The step, degrees.
         step_deg: f64,
     },
+    /// An observation outside the prepared design.
+    #[error("specimen {specimen}: observable {observable} is not in the prepared design")]
+    Design {
+        /// The specimen.
+        specimen: String,
+        /// The observable.
+        observable: String,
+    },
     /// Every realization of the baseline failed for a group.
     #[error("group {group}: every baseline realization failed ({error})")]
     Baseline {
@@ -464,23 +472,32 @@ pub fn key_labels(setup: &Setup, keys: &Keys) -> Vec<String> {
     keys.keys.iter().map(|(g, o)| format!("{} {}", setup.groups[*g].name, o.label())).collect()
 }
 
-/// Runs the whole analysis: the baseline ensemble, the library, the null data on
-/// independent layouts and the margins, the ranking, the full runs of the two best
-/// candidates, the verdict with its predictive check, the extended model and the gain.
-/// `seed` seeds the null data and the bootstrap; `library` holds the effects by name.
-///
-/// # Errors
-/// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
-/// entirely.
-pub fn run(
-    setup: &Setup,
-    obs: Vec<Observation>,
-    s: &Settings,
-    seed: u64,
-    library: &effects::Library,
-) -> Result<Run, DiscrepancyError> {
+/// The data-independent part of an analysis: the baseline's full run, the surrogate
+/// library, and the baseline on independent layouts (the null pool), for the observable
+/// keys of a design. Many data sets of the same design are analysed against one
+/// [`Prepared`] ([`analyze`]).
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The setup.
+    pub setup: Setup,
+    /// The observable keys of the design.
+    pub keys: Keys,
+    /// The baseline's full run.
+    pub baseline: Vec<Vec<Outcome>>,
+    /// The surrogate library.
+    pub library: Library,
+    /// The baseline on independent layouts, `[group][realization]`.
+    pub null_pool: Vec<Vec<Outcome>>,
+    /// The setup of the independent layouts.
+    pub null_setup: Setup,
+    /// The settings.
+    pub settings: Settings,
+}
+
+/// Checks the settings and the observations' tilts against the study's step.
+fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<(), DiscrepancyError> {
     s.validate()?;
-    for o in &obs {
+    for o in obs {
         if let Observable::Displacement { tilt_deg, .. } = o.observable {
             let k = (tilt_deg / setup.tilt.step_deg).round();
             if (k * setup.tilt.step_deg - tilt_deg).abs() > 1e-9 {
@@ -492,11 +509,24 @@ pub fn run(
             }
         }
     }
+    Ok(())
+}
+
+/// Runs the forward models of a design whose observations are `template` (any data set of
+/// it, or the union of several): the baseline, the library's grids and the null pool.
+///
+/// # Errors
+/// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
+/// entirely.
+pub fn prepare(
+    setup: &Setup,
+    template: &[Observation],
+    s: &Settings,
+    library: &effects::Library,
+) -> Result<Prepared, DiscrepancyError> {
+    check(setup, template, s)?;
     let defs = searched(s, library)?;
-    let keys = Keys::new(setup, &obs);
-    let labels = key_labels(setup, &keys);
-    let specimens = observations::specimens(&obs);
-    let course_m = course_height(setup);
+    let keys = Keys::new(setup, template);
     let full = with_realizations(setup, s.extension_realizations);
     let baseline = run_models(&full, &[vec![]], None).remove(0);
     for (g, outs) in full.groups.iter().zip(&baseline) {
@@ -508,13 +538,58 @@ pub fn run(
     let lib = build_library(setup, &keys, &baseline, s, &defs)?;
     let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
     let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
+    Ok(Prepared { setup: setup.clone(), keys, baseline, library: lib, null_pool, null_setup, settings: s.clone() })
+}
+
+/// Runs the whole analysis of one data set: [`prepare`], then [`analyze`]. `seed` seeds the
+/// null data and the bootstrap; `library` holds the effects by name.
+///
+/// # Errors
+/// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
+/// entirely.
+pub fn run(
+    setup: &Setup,
+    obs: Vec<Observation>,
+    s: &Settings,
+    seed: u64,
+    library: &effects::Library,
+) -> Result<Run, DiscrepancyError> {
+    let prepared = prepare(setup, &obs, s, library)?;
+    analyze(&prepared, obs, seed)
+}
+
+/// Analyses one data set against prepared forward runs: the margins from null data on
+/// independent layouts, the ranking, the full runs of the two best candidates, the verdict
+/// with its predictive check, the extended model and the gain.
+///
+/// # Errors
+/// [`DiscrepancyError`] for an observation outside the prepared design or a failed
+/// effect.
+pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run, DiscrepancyError> {
+    let (setup, s, lib) = (&prep.setup, &prep.settings, &prep.library);
+    check(setup, &obs, s)?;
+    let mut keys = prep.keys.clone();
+    keys.of = obs
+        .iter()
+        .map(|o| {
+            let g = setup.groups.iter().position(|g| g.name == o.group).unwrap_or(0);
+            keys.keys.iter().position(|(kg, ko)| *kg == g && ko.same(&o.observable)).ok_or_else(|| {
+                DiscrepancyError::Design { specimen: o.specimen.clone(), observable: o.observable.label() }
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let labels = key_labels(setup, &keys);
+    let specimens = observations::specimens(&obs);
+    let course_m = course_height(setup);
+    let full = with_realizations(setup, s.extension_realizations);
+    let (baseline, null_pool, null_setup) = (&prep.baseline, &prep.null_pool, &prep.null_setup);
     let y: Vec<f64> = obs.iter().map(|o| o.value).collect();
     let weight = specimen_weights(&obs);
     let bracket_deg = setup.tilt.resolution_deg;
     let data = Data { obs: &obs, y: &y, key: &keys.of, weight: &weight, reading: s.reading, bracket_deg };
-    let pool_sims = keys.simulated(&null_pool);
-    let source = NullSource { pool: &null_pool, keys: &keys.keys, sims: &pool_sims };
-    let margins = calibrate_margins(&lib, data, &specimens, s.null_replicates, seed, source);
+    let pool_sims = keys.simulated(null_pool);
+    let source = NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims };
+    let margins = calibrate_margins(lib, data, &specimens, s.null_replicates, seed, source);
 
     let n = specimens.len().max(1) as f64;
     let base_scores: Vec<f64> = (0..obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
@@ -528,7 +603,7 @@ pub fn run(
         let best_fit = best.scores.iter().sum::<f64>() / n;
         if best_fit > margins.misfit && base_he - best.heldout_error > margins.baseline {
             let offset = pool.len();
-            let extra = analysis::pairs(&lib, &ranked);
+            let extra = analysis::pairs(lib, &ranked);
             let mut more = rank(&extra, data, &specimens, &base_per);
             for r in &mut more {
                 r.index += offset;
@@ -557,7 +632,7 @@ pub fn run(
                 let pos = ranked.iter().position(|r| r.index == idx).unwrap_or(0);
                 let x = ranked[pos].x.clone();
                 let effects = effects_of(&pool[idx], &x, course_m)?;
-                let outs = run_models(&full, &[effects.clone()], Some(&baseline)).remove(0);
+                let outs = run_models(&full, &[effects.clone()], Some(baseline)).remove(0);
                 let corrected = Candidate {
                     surface: Surface::Corrected {
                         inner: Box::new(pool[idx].surface.clone()),
@@ -588,19 +663,21 @@ pub fn run(
     let (verdict, cause, tie) = match named {
         Some(b) => {
             let c = &pool[b.index];
-            let (sims, check_pool): (Vec<Simulated>, Vec<Vec<Outcome>>) = if c.is_scatter() {
+            let (sims, check_pool): (Vec<Simulated>, Vec<Vec<Outcome>>) = if c.is_scatter() || !s.confirm {
+                // No full run: the surrogate's values, checked against draws from its own
+                // predictive.
                 (c.surface.at(&b.x), vec![vec![]; setup.groups.len()])
             } else {
                 let (effects, outs) = match runs.iter().find(|r| r.0 == b.index) {
                     Some((_, e, o)) => (e.clone(), o.clone()),
                     None => {
                         let e = effects_of(c, &b.x, course_m)?;
-                        let o = run_models(&full, &[e.clone()], Some(&baseline)).remove(0);
+                        let o = run_models(&full, &[e.clone()], Some(baseline)).remove(0);
                         (e, o)
                     }
                 };
                 let sims = keys.simulated(&outs);
-                let ppc = run_models(&null_setup, &[effects.clone()], Some(&null_pool)).remove(0);
+                let ppc = run_models(null_setup, &[effects.clone()], Some(null_pool)).remove(0);
                 extended = Some((effects, outs));
                 (sims, ppc)
             };
@@ -623,7 +700,7 @@ pub fn run(
             (if passes { Verdict::Explained } else { Verdict::Unexplained }, Some(b), tie)
         }
         None => {
-            let src = NullSource { pool: &null_pool, keys: &keys.keys, sims: &pool_sims };
+            let src = NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims };
             check = Some(predictive_check(data, &full_base, &specimens, src, s.check_replicates, seed, &labels));
             if base_he > margins.misfit {
                 (Verdict::Unexplained, None, vec![])
@@ -661,9 +738,9 @@ pub fn run(
         obs,
         keys,
         specimens,
-        library: lib,
+        library: lib.clone(),
         analysis,
-        baseline,
+        baseline: baseline.clone(),
         extended,
         extended_predictive,
         gain,
