@@ -47,3 +47,35 @@ fn a_study_with_effects_reproduces_the_discrepancy_ensemble_bit_for_bit() {
     assert_eq!(rows.len(), 4);
     assert!(changed >= 3, "the effects change the collapse angles ({changed} of 4 changed)");
 }
+
+/// The extended study a discrepancy analysis writes is self-contained (walls with their
+/// distributions inline, the effect files and the measured data copied) and runs, at the
+/// same seed, the ensemble of the engine's extended model.
+#[test]
+fn the_written_extended_study_runs_the_extended_model() {
+    let study = Study::from_file(&root().join("tests/studies/good/mini_effects.toml")).unwrap();
+    let extra = vec![study.library.parse("edge_rounding=0.004", 0.05).unwrap()];
+    let dir = std::env::temp_dir().join(format!("drystone-extended-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let fitted = vec![drystone::study::extend::FittedParameter {
+        name: "edge_rounding.radius_m".into(),
+        value: 0.004,
+        interval: (0.002, 0.006),
+    }];
+    let path = drystone::study::extend::write_extended(&study, &extra, &fitted, "test", &dir).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("edge_rounding.radius_m = 4.0000e-3, interval [2.0000e-3, 6.0000e-3]"), "{text}");
+    let ext = Study::from_file(&path).unwrap();
+    let rows = run_study(&ext, Shard::ALL);
+    let setup = setup_of(&study, study.realizations);
+    let engine = run_models(&setup, &[extra], None).remove(0);
+    for r in &rows {
+        let g = ext.groups.iter().position(|g| g.name == r.group).unwrap();
+        assert_eq!(
+            r.collapse_angle_deg, engine[g][r.realization as usize].collapse_deg,
+            "{} r{}",
+            r.group, r.realization
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

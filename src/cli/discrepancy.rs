@@ -64,6 +64,19 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let run = pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library))?;
     report::write(&dir, &run, &st.name)?;
+    let extended_study = match (&run.analysis.cause, &run.extended) {
+        (Some(c), Some((effects, _))) => {
+            let note = format!(
+                "{} named by `drystone discrepancy` ({}; {} specimens)",
+                c.name,
+                run.analysis.verdict.name(),
+                run.specimens.len()
+            );
+            let ext = dir.join("extended");
+            Some(drystone::study::extend::write_extended(&st, effects, &run.cause_interval, &note, &ext)?)
+        }
+        _ => None,
+    };
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report::to_json(&run))?);
         return Ok(());
@@ -110,6 +123,9 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         println!("{:<28} {:>14.3} {:>10.1}  {}", c.name, c.heldout_error, c.information_criterion, p.join(", "));
     }
     println!("report: {}", dir.join("discrepancy.md").display());
+    if let Some(p) = extended_study {
+        println!("extended model: drystone run {}", p.display());
+    }
     Ok(())
 }
 

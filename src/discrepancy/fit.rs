@@ -429,6 +429,33 @@ impl Candidate {
     }
 }
 
+/// The profile interval of every coordinate of a fit at `x`: along each axis (the others
+/// at `x`), the connected range around `x` where the summed score of `which` stays within
+/// 1.92 of its minimum (a 95 % likelihood-ratio interval, χ²₁ / 2). Returns `(lo, hi)`
+/// coordinates.
+pub fn profile_intervals(surface: &Surface, data: Data<'_>, which: &[usize], x: &[f64]) -> Vec<(f64, f64)> {
+    let f0 = data.nlpd(&surface.at(x), which);
+    (0..x.len())
+        .map(|axis| {
+            let at = |v: f64| {
+                let mut y = x.to_vec();
+                y[axis] = v;
+                data.nlpd(&surface.at(&y), which) - f0 <= 1.92
+            };
+            let n = 200;
+            let h = 1.0 / n as f64;
+            let (mut lo, mut hi) = (x[axis], x[axis]);
+            while lo - h >= 0.0 && at(lo - h) {
+                lo -= h;
+            }
+            while hi + h <= 1.0 && at(hi + h) {
+                hi += h;
+            }
+            (lo.max(0.0), hi.min(1.0))
+        })
+        .collect()
+}
+
 /// Leave-one-specimen-out cross-validation of a surface: for every specimen, fit on the
 /// others and score the specimen's observations. Returns the held-out score of every
 /// observation and the held-out predictive of every observation.

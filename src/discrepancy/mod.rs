@@ -436,6 +436,8 @@ pub struct Run {
     pub design: Option<Design>,
     /// Width of a simulated collapse angle's bracket, degrees (the study's resolution).
     pub bracket_deg: f64,
+    /// The cause's parameters: `effect.param`, fitted value and 95 % profile interval.
+    pub cause_interval: Vec<crate::study::extend::FittedParameter>,
     /// The settings.
     pub settings: Settings,
 }
@@ -721,6 +723,23 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
             )
         })
         .flatten();
+    let cause_interval = match &cause {
+        Some(b) => {
+            let all: Vec<usize> = (0..obs.len()).collect();
+            let c = &pool[b.index];
+            let iv = fit::profile_intervals(&c.surface, data, &all, &b.x);
+            b.parameters
+                .iter()
+                .zip(c.params.iter().zip(iv))
+                .map(|((name, value), (p, (lo, hi)))| crate::study::extend::FittedParameter {
+                    name: name.clone(),
+                    value: *value,
+                    interval: (to_value(p, lo), to_value(p, hi)),
+                })
+                .collect()
+        }
+        None => vec![],
+    };
     let analysis = Analysis {
         verdict,
         cause,
@@ -746,6 +765,7 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
         gain,
         design,
         bracket_deg,
+        cause_interval,
         settings: s.clone(),
     })
 }

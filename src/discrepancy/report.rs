@@ -123,6 +123,7 @@ pub fn to_json(run: &Run) -> Value {
         "partial": a.verdict == super::analysis::Verdict::Unexplained && a.cause.is_some(),
         "check": a.check,
         "design": run.design,
+        "cause_interval": run.cause_interval,
         "tie": a.tie,
         "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
         "baseline": {
