@@ -71,6 +71,8 @@ pub enum Surface {
         xs: Vec<f64>,
         /// `[node][key]`.
         sims: Vec<Vec<Simulated>>,
+        /// Leave-one-node-out misses of the means, `[node][key]` ([`Surface::axis`]).
+        miss: Vec<Vec<f64>>,
     },
     /// Two parameters on a tensor grid.
     Grid {
@@ -179,6 +181,12 @@ fn along(xs: &[f64], sims: &[Vec<Simulated>], miss: &[Vec<f64>], x: f64) -> Vec<
 }
 
 impl Surface {
+    /// A one-parameter surface on nodes `xs` (increasing) with values `sims[node][key]`.
+    pub fn axis(xs: Vec<f64>, sims: Vec<Vec<Simulated>>) -> Surface {
+        let miss = loo_misses(&xs, &sims);
+        Surface::Axis { xs, sims, miss }
+    }
+
     /// Number of parameters.
     pub fn dims(&self) -> usize {
         match self {
@@ -191,7 +199,7 @@ impl Surface {
     /// The simulated values of every key at `x` (`dims()` coordinates).
     pub fn at(&self, x: &[f64]) -> Vec<Simulated> {
         match self {
-            Surface::Axis { xs, sims } => along(xs, sims, &loo_misses(xs, sims), x[0]),
+            Surface::Axis { xs, sims, miss } => along(xs, sims, miss, x[0]),
             Surface::Grid { x1, x2, sims } => {
                 // Interpolate along x2 on every x1 row, then along x1.
                 let n2 = x2.len();
@@ -512,7 +520,7 @@ mod tests {
     fn linear_data_have_no_surrogate_error() {
         let xs = vec![0.0, 0.25, 0.5, 0.75, 1.0];
         let sims: Vec<Vec<Simulated>> = xs.iter().map(|&x| vec![sim(2.0 * x)]).collect();
-        let s = Surface::Axis { xs, sims };
+        let s = Surface::axis(xs, sims);
         let v = s.at(&[0.6])[0];
         assert!((v.mean - 1.2).abs() < 1e-12 && v.err < 1e-12);
     }
@@ -521,7 +529,7 @@ mod tests {
     fn curvature_shows_as_surrogate_error_between_nodes_only() {
         let xs = vec![0.0, 0.25, 0.5, 0.75, 1.0];
         let sims: Vec<Vec<Simulated>> = xs.iter().map(|&x| vec![sim(x * x)]).collect();
-        let s = Surface::Axis { xs, sims };
+        let s = Surface::axis(xs, sims);
         assert!(s.at(&[0.5])[0].err < 1e-12);
         let mid = s.at(&[0.625])[0];
         // Linear interpolation misses x² by h²/4 at mid-interval (h = 0.25): 0.0156; the

@@ -350,10 +350,7 @@ pub fn build_library(
             })
             .collect();
         let surface = if p.params.len() == 1 {
-            Surface::Axis {
-                xs: sims.iter().map(|(x, _)| x[0]).collect(),
-                sims: sims.into_iter().map(|(_, s)| s).collect(),
-            }
+            Surface::axis(sims.iter().map(|(x, _)| x[0]).collect(), sims.into_iter().map(|(_, s)| s).collect())
         } else {
             let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
             x1.dedup();
