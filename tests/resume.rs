@@ -272,8 +272,62 @@ fn a_plain_rerun_never_throws_finished_work_away() {
     let r = run(&["run", st, "--realizations", "1", "--out", o]);
     assert_eq!(r.status.code(), Some(2), "{}", text(&r));
     assert!(text(&r).contains("holds 2 of 4 finished realization(s) of this run; continue it with --resume"));
+    // A damaged line is refused without --force too.
+    let mut damaged = full[..3].to_vec();
+    damaged[1] = damaged[1].replacen("\"seed\":7", "\"seed\":8", 1);
+    write_journal(&out, &damaged);
+    let r = run(&["run", st, "--realizations", "1", "--out", o]);
+    assert_eq!(r.status.code(), Some(2), "{}", text(&r));
+    assert!(text(&r).contains("journal.jsonl: line 2: sum: the line was altered"), "{}", text(&r));
+    assert!(text(&r).contains("give --force to start again"), "{}", text(&r));
     // A finished journal of this run is started again.
     write_journal(&out, &full);
     let r = run(&["run", st, "--realizations", "1", "--out", o]);
     assert!(r.status.success(), "{}", text(&r));
+    // --force replaces the journal of another run.
+    write_journal(&out, &full[..3]);
+    let r = run(&["run", st, "--realizations", "2", "--force", "--out", o]);
+    assert!(r.status.success(), "{}", text(&r));
+    assert_eq!(journal_lines(&out).len(), 9);
+}
+
+#[test]
+fn one_writer_per_output_directory_and_the_lock_dies_with_its_holder() {
+    let scratch = common::Scratch::created("resume-lock");
+    let s = study();
+    let s = s.to_str().unwrap();
+    let out = scratch.join("out");
+    let o = out.to_str().unwrap();
+    let mut first = Command::new(BIN)
+        .args(["run", s, "--realizations", "4", "--threads", "1", "--out", o])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("drystone starts");
+    let t0 = Instant::now();
+    while !out.join("journal.jsonl").exists() {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no journal within 60 s");
+        assert!(first.try_wait().unwrap().is_none(), "the run ended before the test could race it");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let holder = format!("{}: in use by another drystone process (pid {}: ", out.display(), first.id());
+    let before = journal_lines(&out).len();
+    for args in [
+        vec!["run", s, "--realizations", "4", "--out", o],
+        vec!["run", s, "--realizations", "4", "--resume", "--out", o],
+        vec!["run", s, "--realizations", "2", "--force", "--out", o],
+        vec!["merge", "--out", o, o],
+    ] {
+        let r = run(&args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {}", text(&r));
+        assert!(text(&r).contains(&holder), "{args:?}: {}", text(&r));
+    }
+    assert!(journal_lines(&out).len() >= before, "the journal was not cut");
+    first.kill().expect("SIGKILL");
+    first.wait().unwrap();
+    // The operating system released the lock with the process.
+    let r = run(&["run", s, "--realizations", "4", "--threads", "2", "--resume", "--out", o]);
+    assert!(r.status.success(), "{}", text(&r));
+    assert_eq!(journal_rows(&out), ITEMS);
 }

@@ -19,6 +19,7 @@
 //!   what disagrees on any of them, naming the field and both values; merge rebuilds the
 //!   study from the stored texts, not from the study file.
 
+use super::lock::{DirLock, LockError};
 use super::provenance::{self, InputFile, InputRole};
 use super::report::{write_report, ReportError};
 use super::run::run_study_with;
@@ -140,6 +141,9 @@ pub enum OutputError {
         /// What went wrong.
         message: String,
     },
+    /// Another process writes the directory.
+    #[error(transparent)]
+    Lock(#[from] LockError),
     /// Shards that do not fit together.
     #[error("merge: {0}")]
     Merge(String),
@@ -198,6 +202,18 @@ pub fn write_outputs(
     }
 }
 
+/// How [`run_into`] treats a journal already in the directory.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunMode {
+    /// Continue the journal of this run: keep its rows, run the missing items
+    /// (`--resume`).
+    pub resume: bool,
+    /// Replace a journal that cannot be continued (another run's, a damaged one, or an
+    /// unfinished one without `resume`) instead of refusing it (`--force`): its rows are
+    /// lost.
+    pub force: bool,
+}
+
 /// What [`run_into`] did.
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
@@ -210,7 +226,8 @@ pub struct RunOutcome {
 }
 
 /// Runs a shard of a study into `dir` with its journal: checks that `dir` is writable,
-/// opens the journal (continuing it with `resume`), runs the items not yet finished on the
+/// takes the directory's lock ([`DirLock`]: one writer per directory), opens the journal
+/// (continuing it with `resume`), runs the items not yet finished on the
 /// current rayon pool, each row journaled as soon as it is computed, and writes the
 /// outputs.
 ///
@@ -221,6 +238,8 @@ pub struct RunOutcome {
 /// `resume`, a journal of this run with every item finished (or none) is started again; an
 /// unfinished one is refused (its finished items would be lost). A journal of another run
 /// or a damaged one is refused in both cases, naming the journal, the line and the field.
+/// With `force`, a journal that would be refused is replaced instead. A journal is never
+/// replaced or cut by another command while this one runs: the lock refuses it.
 ///
 /// # Errors
 /// [`OutputError`] naming the file, or the difference with the journal.
@@ -229,35 +248,52 @@ pub fn run_into(
     study_arg: &Path,
     shard: Shard,
     dir: &Path,
-    resume: bool,
+    mode: RunMode,
 ) -> Result<RunOutcome, OutputError> {
+    let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
     let header = Manifest::new(study, study_arg, shard, 0);
     let run = header.identity();
     let wanted = shard.select(&study.items()).len();
     let refuse = |message: String| OutputError::File { path: path.clone(), message };
-    let (journal, done) = match Journal::read::<Manifest>(&path)? {
-        None => (Journal::create(&path, &run, &header)?, Vec::new()),
-        Some(c) if c.run != run => {
-            let d = c.header.difference(&header, "the journal", "this run").unwrap_or_else(|| {
-                format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
-            });
+    let fresh = || Ok::<_, OutputError>((Journal::create(&path, &run, &header)?, Vec::new()));
+    let contents = match Journal::read::<Manifest>(&path) {
+        Err(JournalError::Corrupt { .. }) if mode.force => None,
+        Err(JournalError::Corrupt { line, field, message, .. }) => {
             return Err(refuse(format!(
-                "was written by another run ({d}); give another --out, or delete the journal to start again"
-            )));
+                "line {line}: {field}: {message}; delete the journal or give --force to start again"
+            )))
+        }
+        other => other?,
+    };
+    let (journal, done) = match contents {
+        None => fresh()?,
+        Some(c) if c.run != run => {
+            if mode.force {
+                fresh()?
+            } else {
+                let d = c.header.difference(&header, "the journal", "this run").unwrap_or_else(|| {
+                    format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
+                });
+                return Err(refuse(format!(
+                    "was written by another run ({d}); give another --out, or --force to replace it"
+                )));
+            }
         }
         Some(c) => {
-            let done = check_journal_rows(study, shard, c.rows, &c.lines, &path)?;
-            if resume {
-                (Journal::resume(&path, &run, c.complete_len)?, done)
-            } else if done.is_empty() || done.len() == wanted {
-                (Journal::create(&path, &run, &header)?, Vec::new())
-            } else {
-                return Err(refuse(format!(
-                    "holds {} of {wanted} finished realization(s) of this run; continue it with --resume, or delete the file to start again",
-                    done.len()
-                )));
+            let checked = check_journal_rows(study, shard, c.rows, &c.lines, &path);
+            match checked {
+                Err(_) if mode.force => fresh()?,
+                Err(e) => return Err(e),
+                Ok(done) if mode.resume => (Journal::resume(&path, &run, c.complete_len)?, done),
+                Ok(done) if done.is_empty() || done.len() == wanted || mode.force => fresh()?,
+                Ok(done) => {
+                    return Err(refuse(format!(
+                        "holds {} of {wanted} finished realization(s) of this run; continue it with --resume, or give --force to start again",
+                        done.len()
+                    )))
+                }
             }
         }
     };
@@ -394,7 +430,7 @@ pub struct Merged {
     pub text: Option<String>,
 }
 
-/// Merges shard directories into `out`: [`read_shards`], then the study rebuilt from the
+/// Merges shard directories into `out` (under its lock, [`DirLock`]): [`read_shards`], then the study rebuilt from the
 /// input files stored in the manifest (written under `out/.inputs/` while it resolves, then
 /// removed: the study file need not exist any more, nor be where it was), then
 /// [`write_outputs`] as for the unsharded run.
@@ -402,6 +438,7 @@ pub struct Merged {
 /// # Errors
 /// [`OutputError`] naming the shard, field or file.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
+    let _lock = DirLock::acquire(out)?;
     check_writable(out)?;
     let (manifest, rows) = read_shards(dirs)?;
     if manifest.inputs.is_empty() {
