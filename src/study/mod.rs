@@ -61,6 +61,7 @@ pub mod calibrate;
 pub mod discrepancy;
 mod error;
 pub mod lock;
+mod measured;
 pub mod paper;
 pub mod provenance;
 pub mod report;

@@ -141,6 +141,7 @@ impl StudySpec {
             discrepancy: self.discrepancy.clone().unwrap_or_default(),
             inputs,
         };
+        study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
             check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
