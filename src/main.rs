@@ -27,7 +27,7 @@ struct Workers {
 }
 
 #[derive(Parser)]
-#[command(name = "drystone", version, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
+#[command(name = "drystone", version = drystone::study::provenance::BUILD, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -124,11 +124,16 @@ enum Command {
         #[arg(long)]
         full: bool,
         /// Continue the run whose journal is in --out: skip the realizations it holds, run
-        /// the rest. Refused if the journal is of another run (seed, study, wall or
-        /// distribution files, realizations, shard); without a journal, starts afresh.
-        /// Without --resume, a journal of an unfinished run in --out is refused.
+        /// the rest. Refused if the journal is of another run (drystone build, seed, study,
+        /// wall, distribution or measured files, realizations, shard) or has a damaged line;
+        /// without a journal, starts afresh. Without --resume, a journal of an unfinished
+        /// run in --out is refused.
         #[arg(long)]
         resume: bool,
+        /// Replace a journal in --out that would be refused (another run's, a damaged one,
+        /// or an unfinished one without --resume): its finished realizations are lost.
+        #[arg(long)]
+        force: bool,
     },
     /// Calibrates joint parameters (Kn, φ) of a study's walls against the measured collapse
     /// angles, step by step as its [[calibrate]] table says (Brent root finding, argmin).
@@ -338,7 +343,7 @@ fn run() -> anyhow::Result<ExitCode> {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
             cli::lateral::run(&layout, &params, json)
         }
-        Command::Run { study, out, workers, shard, realizations, full, resume } => {
+        Command::Run { study, out, workers, shard, realizations, full, resume, force } => {
             cli::study::run(cli::study::RunArgs {
                 study: &study,
                 out,
@@ -347,6 +352,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 realizations,
                 full,
                 resume,
+                force,
             })
         }
         Command::Calibrate { study, out, workers, realizations } => {

@@ -34,6 +34,7 @@ fn every_bad_layout_is_refused_with_its_reason() {
         ("floating_block.json", "block floater touches nothing"),
         ("unknown_key.json", "unknown field `colour`"),
         ("infinite_stiffness.json", "number out of range"),
+        ("all_blocks_fixed.json", "blocks = 2 blocks, every one fixed: no free block"),
     ];
     for (file, fragment) in cases {
         let (code, err) = tilt(file, &[]);

@@ -67,6 +67,15 @@ fn the_manifest_records_version_seed_and_input_hashes() {
     ok(drystone(&[&"run", &study, &"--out", &out], &s));
     let m = manifest(&out);
     assert_eq!(m["drystone_version"], env!("CARGO_PKG_VERSION"));
+    // The exact build: the version and a digest of the sources, also in the journal.
+    let build = m["build"].as_str().unwrap();
+    assert_eq!(build, drystone::study::provenance::BUILD);
+    let digest = build.strip_prefix(&format!("{}+src.", env!("CARGO_PKG_VERSION"))).unwrap();
+    assert!(digest.len() == 16 && digest.bytes().all(|b| b.is_ascii_hexdigit()), "{build}");
+    let journal = std::fs::read_to_string(out.join("journal.jsonl")).unwrap();
+    assert!(journal.lines().next().unwrap().contains(&format!("\"build\":\"{build}\"")), "{journal}");
+    let v = drystone(&[&"--version"], &s);
+    assert_eq!(String::from_utf8_lossy(&v.stdout).trim(), format!("drystone {build}"));
     assert_eq!(m["seed"], 7);
     let inputs = m["inputs"].as_array().unwrap();
     let find = |path: &str| inputs.iter().find(|f| f["path"] == path).unwrap_or_else(|| panic!("{path} in {inputs:?}"));

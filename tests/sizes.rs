@@ -113,3 +113,22 @@ fn threads_are_clamped_and_zero_means_every_core() {
         assert!(text(&o).contains(&format!("on {expect} threads")), "{}", text(&o));
     }
 }
+
+#[test]
+fn generate_shares_the_size_limits_of_run() {
+    let s = common::Scratch::created("sizes-generate");
+    for (edit, key) in [
+        (("length_m = 1.5", "length_m = 1e300"), "geometry.length_m = 1e300"),
+        (("length_m = 1.5", "length_m = 10000"), "geometry.length_m = 10000"),
+        (("height_m = 0.040", "height_m = 1e-6"), "courses.height_m = 1e-6"),
+    ] {
+        study(&s, "g", "1", &[edit], "");
+        let out = s.join("wall.json");
+        let o = run(&[&"generate", &s.join("wall.toml"), &"--seed", &"1", &"--out", &out], &s);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(key) && err.contains("the limit is 100000 blocks per layout"), "{err}");
+        assert!(err.contains("wall.toml"), "{err}");
+        assert!(!out.exists());
+    }
+}

@@ -5,7 +5,11 @@ use drystone::discrepancy::{report, synthesize, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::study::discrepancy::{observations_of, setup_of};
+use drystone::study::size::{estimated_blocks, human_seconds, simulation_seconds};
 use drystone::study::Study;
+
+/// The longest `synthesize` may be estimated to take on this machine, seconds.
+const MAX_SYNTHESIZE_SECONDS: f64 = 3600.0;
 use std::path::{Path, PathBuf};
 
 /// Options of `drystone discrepancy`.
@@ -32,6 +36,7 @@ fn use_measured_dir(st: &mut Study, dir: &Path) -> Result<()> {
     let d = dir.join("tilting_table_displacement.csv");
     st.measured.collapse = read_measured_collapse(&c)?;
     st.measured.displacement = if d.exists() { read_measured_displacement(&d)? } else { vec![] };
+    st.check_measured()?;
     Ok(())
 }
 
@@ -186,6 +191,22 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
             bail!("--effect: effect `{}` is given twice", e.name());
         }
     }
+    let threads = rayon::current_num_threads().max(1) as f64;
+    let blocks: f64 = st.groups.iter().flat_map(|g| g.walls.iter()).map(estimated_blocks).fold(0.0, f64::max);
+    let cost = simulation_seconds(specimens as f64 * st.groups.len() as f64, blocks) / threads;
+    if cost > MAX_SYNTHESIZE_SECONDS {
+        bail!(
+            "--specimens {specimens}: {} simulations of walls of up to about {blocks:.0} blocks would take about {} on {threads} thread(s); the limit is {} (give fewer --specimens)",
+            specimens * st.groups.len() as u64,
+            human_seconds(cost),
+            human_seconds(MAX_SYNTHESIZE_SECONDS)
+        );
+    }
+    eprintln!(
+        "synthesize: {} simulations, about {} on {threads} thread(s)",
+        specimens * st.groups.len() as u64,
+        human_seconds(cost)
+    );
     let template = observations_of(&st, s.sigma).unwrap_or_default();
     let req = synthesize::Request {
         effects: effects.clone(),

@@ -3,17 +3,35 @@
 use anyhow::{bail, Context, Result};
 use drystone::generator::{generate, DistributionSource, Wall};
 use drystone::io::OutputFormat;
+use drystone::study::size::{check_blocks, estimated_blocks, human_bytes, machine_memory, BYTES_PER_BLOCK};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Generates realization `realization` of the wall with master seed `seed`, writes it to
-/// `out` (format by extension) and prints what it holds.
+/// `out` (format by extension) and prints what it holds. A wall whose layout would exceed
+/// `run`'s limits ([`drystone::study::size::MAX_BLOCKS`] estimated blocks, or more memory
+/// than the machine has) is refused before anything is generated.
 pub fn run(wall: &Path, seed: u64, realization: u64, out: &Path, distributions: Option<PathBuf>) -> Result<ExitCode> {
     let Some(format) = OutputFormat::from_path(out) else {
         bail!("--out {}: unknown extension; use .json, .vtk or .svg", out.display());
     };
     let source = distributions.map_or_else(|| DistributionSource::default_for(wall), DistributionSource::dir);
     let w = Wall::from_file_with(wall, &source)?;
+    // The limits of `run`, before anything is allocated.
+    if let Err(reason) = check_blocks(&w) {
+        bail!("{}: {reason}", wall.display());
+    }
+    let need = estimated_blocks(&w) * BYTES_PER_BLOCK;
+    if let Some(have) = machine_memory() {
+        if need > have {
+            bail!(
+                "{}: the layout would need about {} of memory; this machine has {}",
+                wall.display(),
+                human_bytes(need),
+                human_bytes(have)
+            );
+        }
+    }
     let t0 = std::time::Instant::now();
     let g = generate(&w, seed, realization)?;
     let dt = t0.elapsed().as_secs_f64();

@@ -4,7 +4,7 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
-use drystone::study::shards::{check_writable, merge as merge_shards, run_into};
+use drystone::study::shards::{check_writable, merge as merge_shards, run_into, RunMode};
 use drystone::study::size::{human_bytes, machine_memory};
 use drystone::study::suite::{is_suite, run_suite_with, Suite};
 use drystone::study::Study;
@@ -31,6 +31,8 @@ pub struct RunArgs<'a> {
     pub full: bool,
     /// `--resume`.
     pub resume: bool,
+    /// `--force`.
+    pub force: bool,
 }
 
 /// `run`: a suite, or one study (or one shard of it).
@@ -40,7 +42,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
         if a.shard.is_some() || a.realizations.is_some() {
             bail!("{}: --shard and --realizations apply to single studies; a suite takes --full", study.display());
         }
-        return suite(study, a.out, a.threads, a.full, a.resume);
+        return suite(study, a.out, a.threads, a.full, RunMode { resume: a.resume, force: a.force });
     }
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
@@ -52,7 +54,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     check_memory(&st, threads)?;
     let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
-    let run = pool.install(|| run_into(&st, study, shard, &dir, a.resume))?;
+    let run = pool.install(|| run_into(&st, study, shard, &dir, RunMode { resume: a.resume, force: a.force }))?;
     let elapsed = t0.elapsed().as_secs_f64();
     let failed = run.rows.iter().filter(|r| !r.status.is_ok()).count();
     let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
@@ -130,7 +132,7 @@ fn load_with(mut st: Study, realizations: Option<u64>) -> Result<Study> {
     Ok(st)
 }
 
-fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, resume: bool) -> Result<ExitCode> {
+fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, mode: RunMode) -> Result<ExitCode> {
     let suite = Suite::from_file(path, full)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&suite.name));
     let threads = thread_count(threads);
@@ -139,7 +141,7 @@ fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, 
     }
     let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
-    let done = pool.install(|| run_suite_with(&suite, &dir, resume, |line| out!("{line}")))?;
+    let done = pool.install(|| run_suite_with(&suite, &dir, mode, |line| out!("{line}")))?;
     out!(
         "suite {}: {} studies on {} threads in {:.1} s -> {}",
         suite.name,

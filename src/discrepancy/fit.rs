@@ -23,7 +23,7 @@
 //! displacements as a fraction of the baseline's mean, 0–[`SCATTER_DISP_MAX`]).
 //!
 //! A fit minimises the summed score of the training observations over `x`: a scan of the
-//! axis (101 points; 41 × 41 on a grid) and a polish of the best point with Brent's method
+//! axis (101 points; 21 × 21 on a grid) and a polish of the best point with Brent's method
 //! (argmin's `BrentOpt`), coordinate by coordinate. A specimen's observations are one joint
 //! observation: its displacements (one stiffness seen at several tilts) are weighted
 //! `1/k` for `k` displacements, its collapse angle 1; the information criterion counts
@@ -334,7 +334,7 @@ impl CostFunction for Along<'_> {
 pub fn fit(surface: &Surface, data: Data<'_>, which: &[usize]) -> (Vec<f64>, f64) {
     let cost = |x: &[f64]| data.nlpd(&surface.at(x), which);
     let (mut best, mut best_cost) = (vec![0.0; surface.dims()], f64::INFINITY);
-    let n = if surface.dims() == 1 { 101 } else { 41 };
+    let n = if surface.dims() == 1 { 101 } else { 21 };
     let scan: Vec<Vec<f64>> = if surface.dims() == 1 {
         (0..n).map(|i| vec![i as f64 / (n - 1) as f64]).collect()
     } else {

@@ -22,6 +22,9 @@ pub enum Measure {
 }
 
 impl Measure {
+    /// Every measure.
+    pub const ALL: [Measure; 2] = [Measure::MeanOfLeftCenterRight, Measure::CenterMinusMeanOfEnds];
+
     /// The name used in the measured-data files.
     pub fn name(self) -> &'static str {
         match self {
@@ -32,7 +35,7 @@ impl Measure {
 
     /// The measure of a name.
     pub fn from_name(name: &str) -> Option<Measure> {
-        [Measure::MeanOfLeftCenterRight, Measure::CenterMinusMeanOfEnds].into_iter().find(|m| m.name() == name)
+        Measure::ALL.into_iter().find(|m| m.name() == name)
     }
 
     /// The measure from the left, centre and right top displacements (any unit).
@@ -156,6 +159,18 @@ pub enum ObservationError {
         /// The measure.
         measure: String,
     },
+    /// A group with a single specimen: no specimen is left to score a fit held out.
+    #[error("{file}: line {line}, column specimen: group {group} has a single specimen ({specimen}); a held-out score needs at least two specimens per group")]
+    OneSpecimen {
+        /// The file of the specimen's first row.
+        file: String,
+        /// Its line.
+        line: usize,
+        /// The measured group.
+        group: String,
+        /// The specimen.
+        specimen: String,
+    },
     /// A value that is not finite, or a σ not positive.
     #[error("specimen {specimen}: {what} = {value} is not a finite number (or not > 0)")]
     Invalid {
@@ -227,6 +242,27 @@ pub fn observations(
     }
     if out.is_empty() {
         return Err(ObservationError::Empty { files: files.to_string() });
+    }
+    let rows = collapse
+        .iter()
+        .map(|c| (&c.specimen, &c.group, &c.file, c.line))
+        .chain(displacement.iter().map(|d| (&d.specimen, &d.group, &d.file, d.line)));
+    let mut per_group: std::collections::BTreeMap<&String, Vec<(&String, &std::path::PathBuf, usize)>> =
+        Default::default();
+    for (specimen, group, file, line) in rows {
+        let v = per_group.entry(group).or_default();
+        if !v.iter().any(|(s, _, _)| *s == specimen) {
+            v.push((specimen, file, line));
+        }
+    }
+    if let Some((group, v)) = per_group.into_iter().find(|(_, v)| v.len() == 1) {
+        let (specimen, file, line) = v[0];
+        return Err(ObservationError::OneSpecimen {
+            file: file.display().to_string(),
+            line,
+            group: group.clone(),
+            specimen: specimen.clone(),
+        });
     }
     Ok(out)
 }

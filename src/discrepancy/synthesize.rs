@@ -106,6 +106,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                                 specimen: specimen.clone(),
                                 group: g.name.clone(),
                                 collapse_angle_deg: req.reading.round(obs, a + noise(req.sigma.angle_deg)),
+                                ..MeasuredCollapse::default()
                             });
                         }
                     }
@@ -118,6 +119,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                                     measure: measure.name().to_string(),
                                     tilt_deg,
                                     displacement_cm: req.reading.round(obs, v + noise(req.sigma.displacement_cm)),
+                                    ..MeasuredDisplacement::default()
                                 });
                             }
                         }
@@ -126,6 +128,11 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
             }
         }
     }
+    // A specimen's displacements stop at its (noisy) collapse angle, as a measured
+    // specimen's do: the data must pass the check of measured data.
+    disp.retain(|d| {
+        collapse.iter().find(|c| c.specimen == d.specimen).is_none_or(|c| d.tilt_deg <= c.collapse_angle_deg)
+    });
     (collapse, disp)
 }
 

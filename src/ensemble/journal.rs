@@ -4,20 +4,29 @@
 //! only the items it lacks.
 //!
 //! ```text
-//! {"journal":1,"header":{…}}          the run it belongs to (what must match to resume)
-//! {"index":12,"row":{…}}              a finished item: its global index and its row
-//! {"index":3,"row":{…}}               (in the order the items finished)
+//! {"journal":2,"run":"9f…","header":{…},"sum":"4c…"}        the run it belongs to
+//! {"run":"9f…","index":12,"row":{…},"sum":"b0…"}            a finished item
+//! {"run":"9f…","index":3,"row":{…},"sum":"e1…"}             (in the order they finished)
 //! ```
+//!
+//! Every line carries the identity of its run (`run`, a digest of what makes the run:
+//! study, inputs, seed, realizations, shard, drystone build; computed by the caller) and
+//! its own checksum (`sum`, the SHA-256 of the line without the `sum` member, lower-case
+//! hex). Reading checks both before anything is used: a line of another run (copied in
+//! from another journal) or a line altered after it was written (a flipped digit, an
+//! edited status) is an error naming the journal, the line and the field.
 //!
 //! Rows keep every number exact (see [`row`](super::row)), so the rows read back are the
 //! rows computed, bit for bit. A line is written whole under a lock and synced before the
 //! next one; a line that fails in part (a full disk) is cut off again. The only damage a
-//! crash can leave is a last line cut short, which reading drops (and resuming cuts off).
+//! crash can leave is a last line cut short (or filled with NUL bytes), without its line
+//! end, which reading drops (and resuming cuts off).
 
 use super::row::RealizationRow;
 use crate::io::FileError;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -27,7 +36,7 @@ use std::sync::Mutex;
 pub const FILE_NAME: &str = "journal.jsonl";
 
 /// The version of the journal format (the `journal` key of the first line).
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// Journal errors.
 #[derive(Debug, thiserror::Error)]
@@ -36,37 +45,91 @@ pub enum JournalError {
     /// Reading or writing the file.
     #[error(transparent)]
     File(#[from] FileError),
-    /// A line that is not a journal line (other than a last line cut short).
-    #[error("{path}: line {line}: {message}")]
+    /// A line that is not a sound line of this journal (other than a last line cut short).
+    #[error("{path}: line {line}: {field}: {message}")]
     Corrupt {
         /// The journal.
         path: PathBuf,
         /// 1-based line number.
         line: usize,
+        /// The member of the line at fault (`sum`, `run`, `index`, `journal`, or `line`
+        /// for a line that is not a journal line at all).
+        field: &'static str,
         /// What is wrong.
         message: String,
     },
 }
 
 #[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct HeaderLine<H> {
     journal: u32,
+    run: String,
     header: H,
 }
 
-#[derive(Serialize, Deserialize)]
+#[derive(Serialize)]
+struct RowLineRef<'a> {
+    run: &'a str,
+    index: u64,
+    row: &'a RealizationRow,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct RowLine {
+    run: String,
     index: u64,
     row: RealizationRow,
+}
+
+/// The `sum` member closing every line: `,"sum":"` + 64 hex digits + `"}`.
+const SUM_OPEN: &str = ",\"sum\":\"";
+const SUM_LEN: usize = SUM_OPEN.len() + 64 + 2;
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// A JSON object with its checksum appended as the last member `sum`: the SHA-256 of the
+/// object as given.
+fn seal(body: &str) -> String {
+    let sum = sha256_hex(body.as_bytes());
+    format!("{}{SUM_OPEN}{sum}\"}}", &body[..body.len() - 1])
+}
+
+/// The object of a sealed line without its `sum`, if the checksum holds.
+fn unseal(text: &str) -> Result<String, (&'static str, String)> {
+    let n = text.len();
+    let split = n.checked_sub(SUM_LEN).filter(|&i| text.is_char_boundary(i));
+    let Some(i) = split.filter(|&i| text[i..].starts_with(SUM_OPEN) && text.ends_with("\"}")) else {
+        return Err(("sum", "no checksum at the end of the line (not a line of this journal format)".into()));
+    };
+    let recorded = &text[i + SUM_OPEN.len()..n - 2];
+    let body = format!("{}}}", &text[..i]);
+    let actual = sha256_hex(body.as_bytes());
+    if actual != recorded {
+        return Err((
+            "sum",
+            format!(
+                "the line was altered after it was written: its checksum is {recorded}, its contents hash to {actual}"
+            ),
+        ));
+    }
+    Ok(body)
 }
 
 /// What a journal on disk holds.
 #[derive(Debug, Clone)]
 pub struct Contents<H> {
+    /// The identity of the run that wrote it (the `run` of every line).
+    pub run: String,
     /// The header of the run.
     pub header: H,
     /// The finished rows, in the order they were written.
     pub rows: Vec<RealizationRow>,
+    /// The 1-based line of each row in the file.
+    pub lines: Vec<usize>,
     /// The length in bytes of the complete lines (a torn last line starts there).
     pub complete_len: u64,
 }
@@ -75,14 +138,17 @@ pub struct Contents<H> {
 #[derive(Debug)]
 pub struct Journal {
     path: PathBuf,
+    run: String,
     file: Mutex<File>,
 }
 
 impl Journal {
-    /// Reads the journal at `path`; `None` if there is none.
+    /// Reads the journal at `path`; `None` if there is none. Every complete line must carry
+    /// its checksum and the run identity of the header line; a row appears at most once.
+    /// A last line without its line end (a write cut short by a crash) is dropped.
     ///
     /// # Errors
-    /// [`JournalError`] naming the file and line.
+    /// [`JournalError::Corrupt`] naming the file, the line and the field.
     pub fn read<H: DeserializeOwned>(path: &Path) -> Result<Option<Contents<H>>, JournalError> {
         let f = match File::open(path) {
             Ok(f) => f,
@@ -90,9 +156,15 @@ impl Journal {
             Err(e) => return Err(FileError::at(path)(e).into()),
         };
         let mut reader = BufReader::new(f);
-        let corrupt = |line: usize, message: String| JournalError::Corrupt { path: path.to_owned(), line, message };
-        let mut header: Option<H> = None;
-        let mut rows = Vec::new();
+        let corrupt = |line: usize, field: &'static str, message: String| JournalError::Corrupt {
+            path: path.to_owned(),
+            line,
+            field,
+            message,
+        };
+        let mut head: Option<(String, H)> = None;
+        let (mut rows, mut lines) = (Vec::new(), Vec::new());
+        let mut seen = std::collections::BTreeMap::new();
         let mut complete_len = 0u64;
         let mut buf = Vec::new();
         for line in 1.. {
@@ -104,49 +176,74 @@ impl Journal {
             if buf.last() != Some(&b'\n') {
                 break; // cut short by a crash: dropped
             }
-            let text = std::str::from_utf8(&buf[..n - 1]).map_err(|e| corrupt(line, e.to_string()))?;
-            if line == 1 {
-                let h: HeaderLine<H> = serde_json::from_str(text).map_err(|e| corrupt(line, e.to_string()))?;
-                if h.journal != VERSION {
-                    return Err(corrupt(line, format!("journal version {}; this drystone reads {VERSION}", h.journal)));
+            let text = std::str::from_utf8(&buf[..n - 1]).map_err(|e| corrupt(line, "line", e.to_string()))?;
+            let body = unseal(text).map_err(|(field, m)| corrupt(line, field, m))?;
+            match &head {
+                None => {
+                    let v: serde_json::Value =
+                        serde_json::from_str(&body).map_err(|e| corrupt(line, "line", e.to_string()))?;
+                    let version = v.get("journal").and_then(serde_json::Value::as_u64);
+                    if version != Some(u64::from(VERSION)) {
+                        let found = version.map_or_else(|| "none".to_string(), |v| v.to_string());
+                        return Err(corrupt(
+                            line,
+                            "journal",
+                            format!("journal format {found}; this drystone reads format {VERSION}"),
+                        ));
+                    }
+                    let h: HeaderLine<H> =
+                        serde_json::from_str(&body).map_err(|e| corrupt(line, "header", e.to_string()))?;
+                    head = Some((h.run, h.header));
                 }
-                header = Some(h.header);
-            } else {
-                let r: RowLine = serde_json::from_str(text).map_err(|e| corrupt(line, e.to_string()))?;
-                if r.index != r.row.index {
-                    return Err(corrupt(line, format!("index {} but the row is item {}", r.index, r.row.index)));
+                Some((run, _)) => {
+                    let r: RowLine = serde_json::from_str(&body).map_err(|e| corrupt(line, "line", e.to_string()))?;
+                    if &r.run != run {
+                        return Err(corrupt(
+                            line,
+                            "run",
+                            format!("a row of another run ({}; this journal's run is {run})", r.run),
+                        ));
+                    }
+                    if r.index != r.row.index {
+                        return Err(corrupt(line, "index", format!("{} but the row is item {}", r.index, r.row.index)));
+                    }
+                    if let Some(first) = seen.insert(r.index, line) {
+                        return Err(corrupt(line, "index", format!("item {} is already on line {first}", r.index)));
+                    }
+                    rows.push(r.row);
+                    lines.push(line);
                 }
-                rows.push(r.row);
             }
             complete_len += n as u64;
         }
-        Ok(header.map(|header| Contents { header, rows, complete_len }))
+        Ok(head.map(|(run, header)| Contents { run, header, rows, lines, complete_len }))
     }
 
-    /// Starts a new journal at `path` (replacing any) with `header`, synced.
+    /// Starts a new journal at `path` (replacing any) for the run `run` (its identity) with
+    /// `header`, synced.
     ///
     /// # Errors
     /// [`JournalError::File`] naming the file.
-    pub fn create<H: Serialize>(path: &Path, header: &H) -> Result<Journal, JournalError> {
-        let line = serde_json::to_string(&HeaderLine { journal: VERSION, header })
+    pub fn create<H: Serialize>(path: &Path, run: &str, header: &H) -> Result<Journal, JournalError> {
+        let body = serde_json::to_string(&HeaderLine { journal: VERSION, run: run.to_string(), header })
             .map_err(|e| FileError::at(path)(std::io::Error::other(e)))?;
         let file = File::create(path).map_err(FileError::at(path))?;
-        let j = Journal { path: path.to_owned(), file: Mutex::new(file) };
-        j.write_line(line)?;
+        let j = Journal { path: path.to_owned(), run: run.to_string(), file: Mutex::new(file) };
+        j.write_line(seal(&body))?;
         crate::io::sync_dir(path);
         Ok(j)
     }
 
-    /// Continues the journal at `path` whose complete lines end at `complete_len` (a torn
-    /// last line is cut off).
+    /// Continues the journal at `path` of the run `run` whose complete lines end at
+    /// `complete_len` (a torn last line is cut off).
     ///
     /// # Errors
     /// [`JournalError::File`] naming the file.
-    pub fn resume(path: &Path, complete_len: u64) -> Result<Journal, JournalError> {
+    pub fn resume(path: &Path, run: &str, complete_len: u64) -> Result<Journal, JournalError> {
         let file = OpenOptions::new().append(true).open(path).map_err(FileError::at(path))?;
         file.set_len(complete_len).map_err(FileError::at(path))?;
         file.sync_all().map_err(FileError::at(path))?;
-        Ok(Journal { path: path.to_owned(), file: Mutex::new(file) })
+        Ok(Journal { path: path.to_owned(), run: run.to_string(), file: Mutex::new(file) })
     }
 
     /// Appends a finished row and syncs it to disk.
@@ -154,9 +251,9 @@ impl Journal {
     /// # Errors
     /// [`JournalError::File`] naming the file (e.g. `No space left on device`).
     pub fn append(&self, row: &RealizationRow) -> Result<(), JournalError> {
-        let line = serde_json::to_string(&RowLine { index: row.index, row: row.clone() })
+        let body = serde_json::to_string(&RowLineRef { run: &self.run, index: row.index, row })
             .map_err(|e| FileError::at(&self.path)(std::io::Error::other(e)))?;
-        self.write_line(line)
+        self.write_line(seal(&body))
     }
 
     /// The file.
@@ -222,34 +319,93 @@ mod tests {
         serde_json::to_string(a).unwrap() == serde_json::to_string(b).unwrap()
     }
 
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("drystone-journal-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[test]
     fn rows_come_back_and_a_torn_last_line_is_dropped_then_cut_off() {
-        let dir = std::env::temp_dir().join(format!("drystone-journal-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("torn");
         let p = dir.join(FILE_NAME);
         assert!(Journal::read::<String>(&p).unwrap().is_none());
-        let j = Journal::create(&p, &"run A".to_string()).unwrap();
+        let j = Journal::create(&p, "A", &"run A".to_string()).unwrap();
         j.append(&row(4)).unwrap();
         j.append(&row(1)).unwrap();
         drop(j);
         let good = std::fs::metadata(&p).unwrap().len();
-        // A crash in the middle of a line.
-        let mut f = OpenOptions::new().append(true).open(&p).unwrap();
-        f.write_all(b"{\"index\":7,\"row\":{\"ind").unwrap();
-        drop(f);
-        let c = Journal::read::<String>(&p).unwrap().unwrap();
-        assert_eq!(c.header, "run A");
-        assert!(same(&c.rows, &[row(4), row(1)]));
-        assert_eq!(c.complete_len, good);
-        let j = Journal::resume(&p, c.complete_len).unwrap();
+        // A crash in the middle of a line, then one that left NUL bytes.
+        for tail in [&b"{\"run\":\"A\",\"index\":7,\"row\":{\"ind"[..], &[0u8; 300][..]] {
+            let mut f = OpenOptions::new().append(true).open(&p).unwrap();
+            f.write_all(tail).unwrap();
+            drop(f);
+            let c = Journal::read::<String>(&p).unwrap().unwrap();
+            assert_eq!((c.run.as_str(), c.header.as_str()), ("A", "run A"));
+            assert!(same(&c.rows, &[row(4), row(1)]));
+            assert_eq!(c.lines, [2, 3]);
+            assert_eq!(c.complete_len, good);
+            drop(Journal::resume(&p, "A", c.complete_len).unwrap());
+        }
+        let j = Journal::resume(&p, "A", good).unwrap();
         j.append(&row(7)).unwrap();
         let c = Journal::read::<String>(&p).unwrap().unwrap();
         assert!(same(&c.rows, &[row(4), row(1), row(7)]));
-        // A bad line in the middle is an error naming the line.
-        let text = std::fs::read_to_string(&p).unwrap().replacen("\"index\":1,", "\"index\":x,", 1);
-        std::fs::write(&p, text).unwrap();
-        let e = Journal::read::<String>(&p).unwrap_err().to_string();
-        assert!(e.contains("journal.jsonl: line 3:"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The journal at `p` with line `n` (1-based) replaced by `f(line)`.
+    fn edit(p: &Path, n: usize, f: impl Fn(&str) -> String) {
+        let text = std::fs::read_to_string(p).unwrap();
+        let lines: Vec<String> =
+            text.lines().enumerate().map(|(i, l)| if i + 1 == n { f(l) } else { l.to_string() }).collect();
+        std::fs::write(p, lines.join("\n") + "\n").unwrap();
+    }
+
+    fn error_of(p: &Path) -> String {
+        Journal::read::<String>(p).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn altered_foreign_and_repeated_lines_are_refused_naming_line_and_field() {
+        let dir = scratch("damaged");
+        let p = dir.join(FILE_NAME);
+        let other = dir.join("other.jsonl");
+        let fresh = || {
+            let j = Journal::create(&p, "A", &"run A".to_string()).unwrap();
+            j.append(&row(4)).unwrap();
+            j.append(&row(1)).unwrap();
+            j.append(&row(2)).unwrap();
+        };
+        // A flipped digit (the number of blocks) and an edited status: the checksum.
+        for (from, to) in [("\"blocks\":2", "\"blocks\":3"), ("\"status\":\"stood\"", "\"status\":\"collapsed\"")] {
+            fresh();
+            edit(&p, 3, |l| l.replacen(from, to, 1));
+            assert_ne!(std::fs::read_to_string(&p).unwrap().matches(to).count(), 0, "{to} not in the journal");
+            let e = error_of(&p);
+            assert!(e.starts_with(&format!("{}: line 3: sum: the line was altered", p.display())), "{e}");
+        }
+        // A whole row line of another run, checksum intact.
+        let j = Journal::create(&other, "B", &"run B".to_string()).unwrap();
+        j.append(&row(3)).unwrap();
+        let foreign = std::fs::read_to_string(&other).unwrap().lines().nth(1).unwrap().to_string();
+        fresh();
+        edit(&p, 4, |_| foreign.clone());
+        let e = error_of(&p);
+        assert!(e.contains("journal.jsonl: line 4: run: a row of another run (B; this journal's run is A)"), "{e}");
+        // The same item twice.
+        fresh();
+        let second = std::fs::read_to_string(&p).unwrap().lines().nth(1).unwrap().to_string();
+        edit(&p, 4, |l| format!("{l}\n{second}"));
+        assert!(error_of(&p).contains("line 5: index: item 4 is already on line 2"), "{}", error_of(&p));
+        // A line without a checksum, and a header of another format.
+        fresh();
+        edit(&p, 2, |_| "{\"index\":4}".into());
+        assert!(error_of(&p).contains("line 2: sum: no checksum"), "{}", error_of(&p));
+        fresh();
+        edit(&p, 1, |_| seal("{\"journal\":1,\"header\":\"run A\"}"));
+        assert!(error_of(&p).contains("line 1: journal: journal format 1; this drystone reads format 2"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -259,7 +415,11 @@ mod tests {
         if !full.exists() {
             return;
         }
-        let j = Journal { path: full.to_owned(), file: Mutex::new(OpenOptions::new().write(true).open(full).unwrap()) };
+        let j = Journal {
+            path: full.to_owned(),
+            run: "A".into(),
+            file: Mutex::new(OpenOptions::new().write(true).open(full).unwrap()),
+        };
         let e = j.append(&row(0)).unwrap_err().to_string();
         assert!(e.starts_with("/dev/full: No space left on device"), "{e}");
     }

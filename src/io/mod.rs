@@ -9,6 +9,7 @@
 //! names the file and gives the system's reason, e.g. `out/x/realizations.parquet: No space
 //! left on device (os error 28)`.
 
+pub mod measured;
 pub mod plot;
 pub mod svg;
 pub mod table;

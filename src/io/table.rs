@@ -1,9 +1,11 @@
-//! Tables with polars: realizations and summaries to Parquet and CSV, and back; the measured
-//! data of the source paper from CSV. Polars is used in this module only.
+//! Tables with polars: realizations and summaries to Parquet and CSV, and back; the source
+//! paper's DEM angles from CSV. Polars is used in this module only; the measured data are
+//! read and checked line by line in [`measured`](super::measured).
 //!
 //! `realizations.parquet` keeps the per-increment series (tilt, top displacements) as list
 //! columns; `realizations.csv` writes them as `;`-separated numbers in one cell.
 
+pub use super::measured::{read_measured_collapse, read_measured_displacement, MeasuredCollapse, MeasuredDisplacement};
 use crate::ensemble::row::{RealizationRow, Status};
 use polars::prelude::*;
 use std::fs::File;
@@ -28,6 +30,18 @@ pub enum TableError {
         /// The file.
         path: PathBuf,
         /// The message.
+        message: String,
+    },
+    /// A value of a row that cannot be used.
+    #[error("{path}: line {line}, column {column}: {message}")]
+    Value {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line (the header is line 1).
+        line: usize,
+        /// The column.
+        column: String,
+        /// What is wrong.
         message: String,
     },
     /// A column is missing or has the wrong type.
@@ -271,32 +285,6 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     Ok(rows)
 }
 
-/// A measured collapse angle (the paper's Table 2).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeasuredCollapse {
-    /// Specimen, e.g. `SBL2`.
-    pub specimen: String,
-    /// Group, e.g. `SBL`.
-    pub group: String,
-    /// Collapse tilt, degrees.
-    pub collapse_angle_deg: f64,
-}
-
-/// A measured out-of-plane displacement (the paper's Table 3).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeasuredDisplacement {
-    /// Specimen.
-    pub specimen: String,
-    /// Group.
-    pub group: String,
-    /// `mean_of_left_center_right` or `center_minus_mean_of_ends`.
-    pub measure: String,
-    /// Tilt, degrees.
-    pub tilt_deg: f64,
-    /// Displacement, cm.
-    pub displacement_cm: f64,
-}
-
 fn read_csv(path: &Path) -> Result<DataFrame, TableError> {
     if !path.exists() {
         return Err(TableError::Io {
@@ -334,43 +322,6 @@ fn f64_col(df: &DataFrame, path: &Path, name: &str) -> Result<Vec<f64>, TableErr
             })
         })
         .collect()
-}
-
-/// Reads measured collapse angles: columns `specimen`, `group`, `collapse_angle_deg`.
-///
-/// # Errors
-/// [`TableError`] naming the file and column.
-pub fn read_measured_collapse(path: &Path) -> Result<Vec<MeasuredCollapse>, TableError> {
-    let df = read_csv(path)?;
-    let sp = str_col(&df, path, "specimen")?;
-    let gr = str_col(&df, path, "group")?;
-    let a = f64_col(&df, path, "collapse_angle_deg")?;
-    Ok((0..sp.len())
-        .map(|i| MeasuredCollapse { specimen: sp[i].clone(), group: gr[i].clone(), collapse_angle_deg: a[i] })
-        .collect())
-}
-
-/// Reads measured displacements: columns `specimen`, `group`, `measure`, `tilt_deg`,
-/// `displacement_cm`.
-///
-/// # Errors
-/// [`TableError`] naming the file and column.
-pub fn read_measured_displacement(path: &Path) -> Result<Vec<MeasuredDisplacement>, TableError> {
-    let df = read_csv(path)?;
-    let sp = str_col(&df, path, "specimen")?;
-    let gr = str_col(&df, path, "group")?;
-    let me = str_col(&df, path, "measure")?;
-    let t = f64_col(&df, path, "tilt_deg")?;
-    let d = f64_col(&df, path, "displacement_cm")?;
-    Ok((0..sp.len())
-        .map(|i| MeasuredDisplacement {
-            specimen: sp[i].clone(),
-            group: gr[i].clone(),
-            measure: me[i].clone(),
-            tilt_deg: t[i],
-            displacement_cm: d[i],
-        })
-        .collect())
 }
 
 /// A collapse angle of the source paper's own DEM (its Table 7, YADE clump model).

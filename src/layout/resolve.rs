@@ -107,6 +107,13 @@ impl LayoutSpec {
             .get(&self.table.material)
             .ok_or_else(|| invalid("table.material", &self.table.material, "no such material"))?;
         let (blocks, ids) = self.resolve_blocks(&by_name)?;
+        if self.blocks.iter().all(|b| b.fixed) {
+            return Err(invalid(
+                "blocks",
+                format!("{} blocks, every one fixed", self.blocks.len()),
+                "no free block: nothing can move, so a test would report the tilt it stopped at as a collapse angle (set `fixed = false` on the blocks of the wall)",
+            ));
+        }
         check_overlaps(&blocks)?;
         let end_restraints = self.resolve_end_restraints(&ids)?;
         let monitors = self.resolve_monitors(&ids, &blocks)?;

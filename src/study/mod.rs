@@ -61,6 +61,8 @@ pub mod calibrate;
 pub mod discrepancy;
 mod error;
 pub mod extend;
+pub mod lock;
+mod measured;
 pub mod paper;
 pub mod provenance;
 pub mod report;

@@ -13,6 +13,15 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Component, Path, PathBuf};
 
+/// The drystone version of this build (`CARGO_PKG_VERSION`).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The exact build: `VERSION+src.DIGEST`, DIGEST the first 16 hex digits of a SHA-256 over
+/// the crate's sources (`src/`), `Cargo.toml`, `Cargo.lock` and `build.rs`, computed by
+/// `build.rs` when the crate is compiled. Manifests and journals record it; a journal is
+/// continued only by the build that started it.
+pub const BUILD: &str = env!("DRYSTONE_BUILD");
+
 /// What an input file is to the study.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

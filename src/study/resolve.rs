@@ -159,6 +159,7 @@ impl StudySpec {
         };
         crate::discrepancy::searched(&study.discrepancy, &study.library)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
+        study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
             check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;

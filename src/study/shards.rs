@@ -19,7 +19,8 @@
 //!   what disagrees on any of them, naming the field and both values; merge rebuilds the
 //!   study from the stored texts, not from the study file.
 
-use super::provenance::{self, InputFile};
+use super::lock::{DirLock, LockError};
+use super::provenance::{self, InputFile, InputRole};
 use super::report::{write_report, ReportError};
 use super::run::run_study_with;
 use super::Study;
@@ -33,9 +34,13 @@ use std::path::{Path, PathBuf};
 /// shards.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Manifest {
-    /// The drystone version that wrote it (`CARGO_PKG_VERSION`).
+    /// The drystone version that wrote its rows (`CARGO_PKG_VERSION`).
     #[serde(default)]
     pub drystone_version: String,
+    /// The exact build that wrote its rows ([`provenance::BUILD`]: version and source
+    /// digest).
+    #[serde(default)]
+    pub build: String,
     /// The study file as given on the command line.
     pub study: PathBuf,
     /// The master seed of the rows.
@@ -58,7 +63,8 @@ impl Manifest {
     /// The manifest of `items` rows of a shard of a study.
     pub fn new(study: &Study, study_arg: &Path, shard: Shard, items: usize) -> Manifest {
         Manifest {
-            drystone_version: env!("CARGO_PKG_VERSION").to_string(),
+            drystone_version: provenance::VERSION.to_string(),
+            build: provenance::BUILD.to_string(),
             study: study_arg.to_owned(),
             seed: study.seed,
             realizations: study.realizations,
@@ -74,11 +80,32 @@ impl Manifest {
         self.shard.split_once('/').map_or("", |(_, n)| n)
     }
 
+    /// The identity of the run: the SHA-256 (hex) of what makes its rows (the drystone
+    /// version and build, the seed, the realizations, the shard `K/N`, the item count and
+    /// every input file by role, path and hash); the study path as typed and the item
+    /// count of this directory are not part of it. Every line of the run's journal carries
+    /// it.
+    pub fn identity(&self) -> String {
+        let inputs: Vec<(InputRole, &str, &str)> =
+            self.inputs.iter().map(|f| (f.role, f.path.as_str(), f.sha256.as_str())).collect();
+        let id = serde_json::json!({
+            "drystone_version": self.drystone_version,
+            "build": self.build,
+            "seed": self.seed,
+            "realizations": self.realizations,
+            "shard": self.shard,
+            "total_items": self.total_items,
+            "inputs": inputs,
+        });
+        provenance::sha256_hex(id.to_string().as_bytes())
+    }
+
     /// The first field on which two runs disagree (everything but the study path, the
     /// shard index and the item count), as `field: VALUE in a, VALUE in b`.
     pub fn difference(&self, other: &Manifest, a: &str, b: &str) -> Option<String> {
         let fields = [
             ("drystone version", self.drystone_version.clone(), other.drystone_version.clone()),
+            ("drystone build", self.build.clone(), other.build.clone()),
             ("seed", self.seed.to_string(), other.seed.to_string()),
             ("realizations", self.realizations.to_string(), other.realizations.to_string()),
             ("total items", self.total_items.to_string(), other.total_items.to_string()),
@@ -114,6 +141,9 @@ pub enum OutputError {
         /// What went wrong.
         message: String,
     },
+    /// Another process writes the directory.
+    #[error(transparent)]
+    Lock(#[from] LockError),
     /// Shards that do not fit together.
     #[error("merge: {0}")]
     Merge(String),
@@ -172,6 +202,18 @@ pub fn write_outputs(
     }
 }
 
+/// How [`run_into`] treats a journal already in the directory.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunMode {
+    /// Continue the journal of this run: keep its rows, run the missing items
+    /// (`--resume`).
+    pub resume: bool,
+    /// Replace a journal that cannot be continued (another run's, a damaged one, or an
+    /// unfinished one without `resume`) instead of refusing it (`--force`): its rows are
+    /// lost.
+    pub force: bool,
+}
+
 /// What [`run_into`] did.
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
@@ -184,14 +226,20 @@ pub struct RunOutcome {
 }
 
 /// Runs a shard of a study into `dir` with its journal: checks that `dir` is writable,
-/// opens the journal (continuing it with `resume`), runs the items not yet finished on the
+/// takes the directory's lock ([`DirLock`]: one writer per directory), opens the journal
+/// (continuing it with `resume`), runs the items not yet finished on the
 /// current rayon pool, each row journaled as soon as it is computed, and writes the
 /// outputs.
 ///
-/// Without `resume`, a journal of an unfinished run in `dir` is refused (its finished
-/// items would be lost); a finished one is replaced. With `resume`, a journal of another
-/// run (a different seed, study, wall, distribution, realizations or shard) is refused
-/// naming the difference; no journal means a fresh start.
+/// The journal is read and checked whole before anything is computed: every line must
+/// carry its checksum and the identity of this run ([`Manifest::identity`]), and every row
+/// must be an item of this shard with this study's name, seed, group, sweep point and
+/// realization. With `resume`, its rows are kept and only the missing items run. Without
+/// `resume`, a journal of this run with every item finished (or none) is started again; an
+/// unfinished one is refused (its finished items would be lost). A journal of another run
+/// or a damaged one is refused in both cases, naming the journal, the line and the field.
+/// With `force`, a journal that would be refused is replaced instead. A journal is never
+/// replaced or cut by another command while this one runs: the lock refuses it.
 ///
 /// # Errors
 /// [`OutputError`] naming the file, or the difference with the journal.
@@ -200,65 +248,110 @@ pub fn run_into(
     study_arg: &Path,
     shard: Shard,
     dir: &Path,
-    resume: bool,
+    mode: RunMode,
 ) -> Result<RunOutcome, OutputError> {
+    let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
     let header = Manifest::new(study, study_arg, shard, 0);
+    let run = header.identity();
     let wanted = shard.select(&study.items()).len();
-    let (journal, done) = match Journal::read::<Manifest>(&path)? {
-        Some(c) if resume => {
-            if let Some(d) = c.header.difference(&header, "the journal", "this run") {
-                return Err(OutputError::File {
-                    path,
-                    message: format!("was written by another run ({d}); give another --out, or delete the journal to start again"),
-                });
-            }
-            (Journal::resume(&path, c.complete_len)?, c.rows)
+    let refuse = |message: String| OutputError::File { path: path.clone(), message };
+    let fresh = || Ok::<_, OutputError>((Journal::create(&path, &run, &header)?, Vec::new()));
+    let contents = match Journal::read::<Manifest>(&path) {
+        Err(JournalError::Corrupt { .. }) if mode.force => None,
+        Err(JournalError::Corrupt { line, field, message, .. }) => {
+            return Err(refuse(format!(
+                "line {line}: {field}: {message}; delete the journal or give --force to start again"
+            )))
         }
-        Some(c) if c.rows.len() < wanted && !c.rows.is_empty() => {
-            return Err(OutputError::File {
-                path,
-                message: format!(
-                    "holds {} finished realization(s) of an unfinished run; continue it with --resume, or delete the file to start again",
-                    c.rows.len()
-                ),
-            })
-        }
-        _ => (Journal::create(&path, &header)?, Vec::new()),
+        other => other?,
     };
-    let done = check_journal_rows(study, shard, done, &path)?;
+    let (journal, done) = match contents {
+        None => fresh()?,
+        Some(c) if c.run != run => {
+            if mode.force {
+                fresh()?
+            } else {
+                let d = c.header.difference(&header, "the journal", "this run").unwrap_or_else(|| {
+                    format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
+                });
+                return Err(refuse(format!(
+                    "was written by another run ({d}); give another --out, or --force to replace it"
+                )));
+            }
+        }
+        Some(c) => {
+            let checked = check_journal_rows(study, shard, c.rows, &c.lines, &path);
+            match checked {
+                Err(_) if mode.force => fresh()?,
+                Err(e) => return Err(e),
+                Ok(done) if mode.resume => (Journal::resume(&path, &run, c.complete_len)?, done),
+                Ok(done) if done.is_empty() || done.len() == wanted || mode.force => fresh()?,
+                Ok(done) => {
+                    return Err(refuse(format!(
+                        "holds {} of {wanted} finished realization(s) of this run; continue it with --resume, or give --force to start again",
+                        done.len()
+                    )))
+                }
+            }
+        }
+    };
     let resumed = done.len();
     let rows = run_study_with(study, shard, done, |row| journal.append(row))?;
     let text = write_outputs(study, study_arg, shard, &rows, dir)?;
     Ok(RunOutcome { rows, resumed, text })
 }
 
-/// The rows of a journal, checked against the items of the shard: each one an item of the
-/// shard, with its group, sweep point and realization, at most once.
+/// The rows of a journal (`lines`: the line of each), checked against the items of the
+/// shard: each one an item of the shard with this study's name and seed and its group,
+/// sweep point and realization.
+///
+/// # Errors
+/// [`OutputError::File`] naming the journal, the line and the field.
 fn check_journal_rows(
     study: &Study,
     shard: Shard,
     rows: Vec<RealizationRow>,
+    lines: &[usize],
     path: &Path,
 ) -> Result<Vec<RealizationRow>, OutputError> {
     let items = shard.select(&study.items());
-    let mut seen = std::collections::BTreeSet::new();
-    for r in &rows {
-        let fits = items.iter().find(|it| it.index as u64 == r.index).is_some_and(|it| {
-            study.groups[it.group].name == r.group && it.point as u64 == r.point && it.realization == r.realization
-        });
-        if !fits || !seen.insert(r.index) {
+    for (r, &line) in rows.iter().zip(lines) {
+        let refuse = |field: &str, journal: String, run: String| OutputError::File {
+            path: path.to_owned(),
+            message: format!("line {line}: {field}: {journal} in the journal, {run} in this run (item {})", r.index),
+        };
+        let Some(it) = items.iter().find(|it| it.index as u64 == r.index) else {
             return Err(OutputError::File {
                 path: path.to_owned(),
                 message: format!(
-                    "item {} ({} realization {}) is {} this run",
+                    "line {line}: index: item {} is not an item of this run (shard {}/{})",
                     r.index,
-                    r.group,
-                    r.realization,
-                    if fits { "twice in" } else { "not an item of" }
+                    shard.k + 1,
+                    shard.n
                 ),
             });
+        };
+        let group = &study.groups[it.group].name;
+        if r.study != study.name {
+            return Err(refuse("study", r.study.clone(), study.name.clone()));
+        }
+        if r.seed != study.seed {
+            return Err(refuse("seed", r.seed.to_string(), study.seed.to_string()));
+        }
+        if &r.group != group {
+            return Err(refuse("group", r.group.clone(), group.clone()));
+        }
+        if r.point != it.point as u64 {
+            return Err(refuse("point", r.point.to_string(), it.point.to_string()));
+        }
+        if r.realization != it.realization {
+            return Err(refuse("realization", r.realization.to_string(), it.realization.to_string()));
+        }
+        let sweep = super::point_label(&study.points[it.point]);
+        if r.sweep != sweep {
+            return Err(refuse("sweep", format!("{:?}", r.sweep), format!("{sweep:?}")));
         }
     }
     Ok(rows)
@@ -337,7 +430,7 @@ pub struct Merged {
     pub text: Option<String>,
 }
 
-/// Merges shard directories into `out`: [`read_shards`], then the study rebuilt from the
+/// Merges shard directories into `out` (under its lock, [`DirLock`]): [`read_shards`], then the study rebuilt from the
 /// input files stored in the manifest (written under `out/.inputs/` while it resolves, then
 /// removed: the study file need not exist any more, nor be where it was), then
 /// [`write_outputs`] as for the unsharded run.
@@ -345,6 +438,7 @@ pub struct Merged {
 /// # Errors
 /// [`OutputError`] naming the shard, field or file.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
+    let _lock = DirLock::acquire(out)?;
     check_writable(out)?;
     let (manifest, rows) = read_shards(dirs)?;
     if manifest.inputs.is_empty() {

@@ -103,6 +103,31 @@ pub fn compact(v: f64) -> String {
     }
 }
 
+/// Processor time of one tilting-table simulation per block of its layout as
+/// [`estimated_blocks`] counts them, seconds: 0.001–0.002 s measured with `drystone
+/// synthesize` on `studies/tilting_table.toml` and `tests/discrepancy/study.toml` (x86-64,
+/// one core per simulation), doubled; a planning figure, not a bound.
+pub const SECONDS_PER_BLOCK: f64 = 0.004;
+
+/// The estimated processor time of `simulations` tilting-table runs of layouts of about
+/// `blocks` blocks each (estimated by [`estimated_blocks`]), seconds.
+pub fn simulation_seconds(simulations: f64, blocks: f64) -> f64 {
+    simulations * blocks * SECONDS_PER_BLOCK
+}
+
+/// A duration for a message: `40 s`, `12 min`, `3.5 h`, `2.1 days`.
+pub fn human_seconds(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.0} min", s / 60.0)
+    } else if s < 172_800.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.1e} days", s / 86_400.0)
+    }
+}
+
 /// What a study asks for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SizeEstimate {

@@ -20,7 +20,7 @@
 //! level down, figure links into the study's directory) and the calibration.
 
 use super::calibrate::{self, write_calibration, CalibrateError};
-use super::shards::{check_writable, run_into, OutputError};
+use super::shards::{check_writable, run_into, OutputError, RunMode};
 use super::{Study, StudyError};
 use crate::ensemble::Shard;
 use serde::{Deserialize, Serialize};
@@ -172,20 +172,23 @@ pub struct SuiteOutcome {
 /// # Errors
 /// [`SuiteError`] naming the study or file.
 pub fn run_suite(suite: &Suite, dir: &Path, progress: impl FnMut(&str)) -> Result<PathBuf, SuiteError> {
-    run_suite_with(suite, dir, false, progress).map(|o| o.report)
+    run_suite_with(suite, dir, RunMode::default(), progress).map(|o| o.report)
 }
 
-/// As [`run_suite`], each ensemble with its journal in `DIR/<study name>/` (continued with
-/// `resume`, see [`run_into`]); every output directory is checked writable first.
+/// As [`run_suite`], each ensemble with its journal in `DIR/<study name>/` (continued or
+/// replaced as `mode` says, see [`run_into`]); `DIR` is locked
+/// ([`DirLock`](super::lock::DirLock)) and every output directory is checked writable
+/// first.
 ///
 /// # Errors
 /// [`SuiteError`] naming the study or file.
 pub fn run_suite_with(
     suite: &Suite,
     dir: &Path,
-    resume: bool,
+    mode: RunMode,
     mut progress: impl FnMut(&str),
 ) -> Result<SuiteOutcome, SuiteError> {
+    let _lock = super::lock::DirLock::acquire(dir).map_err(OutputError::from)?;
     for (_, _, st) in &suite.studies {
         check_writable(&dir.join(&st.name))?;
     }
@@ -206,7 +209,7 @@ pub fn run_suite_with(
                 .map_err(|source| SuiteError::Calibrate { path: path.clone(), source })?;
             write_calibration(st, &results, &sub).map_err(SuiteError::Calibration)?
         } else {
-            let run = run_into(st, path, Shard::ALL, &sub, resume)?;
+            let run = run_into(st, path, Shard::ALL, &sub, mode)?;
             realizations += run.rows.len();
             failed += run.rows.iter().filter(|r| !r.status.is_ok()).count();
             let p = sub.join("report.md");
