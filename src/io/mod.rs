@@ -9,7 +9,9 @@
 //! names the file and gives the system's reason, e.g. `out/x/realizations.parquet: No space
 //! left on device (os error 28)`.
 
+pub mod mechanism;
 pub mod plot;
+pub mod series;
 pub mod svg;
 pub mod table;
 pub mod vtk;

@@ -60,6 +60,7 @@
 pub mod calibrate;
 pub mod discrepancy;
 mod error;
+pub mod figures;
 pub mod paper;
 pub mod provenance;
 pub mod report;
