@@ -320,8 +320,10 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
             .collect();
         if !missing.is_empty() {
             return Err(OutputError::Merge(format!(
-                "shard {} missing: its items are in none of the directories given (run it, e.g. with `drystone run STUDY --shard {} --resume --out DIR`, then merge again)",
+                "{} {} missing: {} in none of the directories given (run it, e.g. with `drystone run STUDY --shard {} --resume --out DIR`, then merge again)",
+                if missing.len() == 1 { "shard" } else { "shards" },
                 missing.join(", "),
+                if missing.len() == 1 { "its items are" } else { "their items are" },
                 missing[0]
             )));
         }
