@@ -262,7 +262,7 @@ pub fn block_motion(reference: &[BodyPose], poses: &[BodyPose]) -> Vec<(Vec3, f6
 
 fn vtk(piece: UnstructuredGridPiece) -> Vtk {
     Vtk {
-        version: Version { major: 1, minor: 0 },
+        version: Version::XML { major: 1, minor: 0 },
         title: String::new(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,
