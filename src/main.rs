@@ -80,6 +80,11 @@ enum Command {
         /// (`implicit = false` in a study's [tilt] table).
         #[arg(long)]
         no_implicit: bool,
+        /// Write the states of the test as a ParaView time series into DIR (tilt.pvd: every
+        /// stable increment and the first unstable state; unstable_trials.pvd: the other
+        /// failed trials).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
@@ -98,6 +103,10 @@ enum Command {
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = LateralParams::default().tolerance)]
         tolerance: f64,
+        /// Write the settled and the loaded state as a ParaView time series into DIR
+        /// (lateral.pvd, time = load factor 0 and 1).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
     },
     /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
     ///
@@ -134,6 +143,11 @@ enum Command {
         /// or an unfinished one without --resume): its finished realizations are lost.
         #[arg(long)]
         force: bool,
+        /// Also write the ParaView time series of these realizations (e.g. 0,3) of every
+        /// group and sweep point into DIR/vtk/ (each is run again with the recording on;
+        /// the rows do not change).
+        #[arg(long, value_name = "I,J,...", value_delimiter = ',')]
+        vtk_realizations: Vec<u64>,
     },
     /// Calibrates joint parameters (Kn, φ) of a study's walls against the measured collapse
     /// angles, step by step as its [[calibrate]] table says (Brent root finding, argmin).
@@ -314,6 +328,7 @@ fn run() -> anyhow::Result<ExitCode> {
             no_predictor,
             no_acceleration,
             no_implicit,
+            vtk,
         } => {
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
@@ -337,13 +352,13 @@ fn run() -> anyhow::Result<ExitCode> {
                 implicit: !no_implicit,
                 ..TiltParams::default()
             };
-            cli::tilt::run(&layout, solver, &params, json)
+            cli::tilt::run(&layout, solver, &params, json, vtk.as_deref())
         }
-        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance } => {
+        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance, vtk } => {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
-            cli::lateral::run(&layout, &params, json)
+            cli::lateral::run(&layout, &params, json, vtk.as_deref())
         }
-        Command::Run { study, out, workers, shard, realizations, full, resume, force } => {
+        Command::Run { study, out, workers, shard, realizations, full, resume, force, vtk_realizations } => {
             cli::study::run(cli::study::RunArgs {
                 study: &study,
                 out,
@@ -353,6 +368,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 full,
                 resume,
                 force,
+                vtk_realizations,
             })
         }
         Command::Calibrate { study, out, workers, realizations } => {

@@ -2,15 +2,26 @@
 
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
-use drystone::loading::lateral::{run_lateral, LateralParams, LateralResult};
+use drystone::io::series::{lateral_frames, write_series, Recorder};
+use drystone::loading::lateral::{run_lateral_observed, LateralParams, LateralResult};
 use std::path::Path;
 use std::process::ExitCode;
 
-/// Solves the load to equilibrium and prints a table, or one JSON object with `json`.
-pub fn run(layout: &Path, params: &LateralParams, json: bool) -> Result<ExitCode> {
+/// Solves the load to equilibrium and prints a table, or one JSON object with `json`;
+/// with `vtk`, writes the settled and the loaded state as a ParaView time series there.
+pub fn run(layout: &Path, params: &LateralParams, json: bool, vtk: Option<&Path>) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
-    let r = run_lateral(&l, SolverParams::default(), params)
-        .with_context(|| format!("static lateral load on {}", layout.display()))?;
+    let mut rec = Recorder::default();
+    let r = run_lateral_observed(&l, SolverParams::default(), params, &mut |a, stable, sim| {
+        if vtk.is_some() {
+            rec.observe(a, stable, sim)
+        }
+    })
+    .with_context(|| format!("static lateral load on {}", layout.display()))?;
+    if let Some(dir) = vtk {
+        let pvd = write_series(dir, "lateral", &rec, &lateral_frames(&rec))?;
+        eprintln!("ParaView series: {}", pvd.display());
+    }
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {

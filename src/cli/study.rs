@@ -4,6 +4,7 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
+use drystone::study::figures::write_vtk_realizations;
 use drystone::study::shards::{check_writable, merge as merge_shards, run_into, RunMode};
 use drystone::study::size::{human_bytes, machine_memory};
 use drystone::study::suite::{is_suite, run_suite_with, Suite};
@@ -33,6 +34,8 @@ pub struct RunArgs<'a> {
     pub resume: bool,
     /// `--force`.
     pub force: bool,
+    /// `--vtk-realizations`: realizations whose ParaView series are written (none: none).
+    pub vtk_realizations: Vec<u64>,
 }
 
 /// `run`: a suite, or one study (or one shard of it).
@@ -41,6 +44,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     if is_suite(study) {
         if a.shard.is_some() || a.realizations.is_some() {
             bail!("{}: --shard and --realizations apply to single studies; a suite takes --full", study.display());
+        }
+        if !a.vtk_realizations.is_empty() {
+            bail!("{}: --vtk-realizations applies to single studies", study.display());
         }
         return suite(study, a.out, a.threads, a.full, RunMode { resume: a.resume, force: a.force });
     }
@@ -56,6 +62,15 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     let t0 = std::time::Instant::now();
     let run = pool.install(|| run_into(&st, study, shard, &dir, RunMode { resume: a.resume, force: a.force }))?;
     let elapsed = t0.elapsed().as_secs_f64();
+    if !a.vtk_realizations.is_empty() {
+        let files = pool.install(|| write_vtk_realizations(&st, shard, &dir, &a.vtk_realizations))?;
+        out!(
+            "ParaView series of realizations {:?}: {} written under {}",
+            a.vtk_realizations,
+            files.len(),
+            dir.join("vtk").display()
+        );
+    }
     let failed = run.rows.iter().filter(|r| !r.status.is_ok()).count();
     let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
     out!(

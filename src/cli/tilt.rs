@@ -2,14 +2,35 @@
 
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
-use drystone::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
+use drystone::io::series::{tilt_frames, write_series, Recorder};
+use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
 use std::path::Path;
 use std::process::ExitCode;
 
-/// Runs the test and prints a table, or one JSON object with `json`.
-pub fn run(layout: &Path, solver: SolverParams, params: &TiltParams, json: bool) -> Result<ExitCode> {
+/// Runs the test and prints a table, or one JSON object with `json`; with `vtk`, writes
+/// the states of the test as a ParaView time series into that directory.
+pub fn run(
+    layout: &Path,
+    solver: SolverParams,
+    params: &TiltParams,
+    json: bool,
+    vtk: Option<&Path>,
+) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
-    let r = run_tilt(&l, solver, params).with_context(|| format!("tilting-table test of {}", layout.display()))?;
+    let mut rec = Recorder::default();
+    let mut observe = |a: f64, stable: bool, sim: &drystone::dem::Simulation| {
+        if vtk.is_some() {
+            rec.observe(a, stable, sim)
+        }
+    };
+    let r = run_tilt_observed(&l, solver, params, &mut observe)
+        .with_context(|| format!("tilting-table test of {}", layout.display()))?;
+    if let Some(dir) = vtk {
+        let (series, others) = tilt_frames(&rec, &r);
+        let pvd = write_series(dir, "tilt", &rec, &series)?;
+        write_series(dir, "unstable_trials", &rec, &others)?;
+        eprintln!("ParaView series: {} ({} states)", pvd.display(), series.len());
+    }
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {

@@ -10,7 +10,9 @@
 //! left on device (os error 28)`.
 
 pub mod measured;
+pub mod mechanism;
 pub mod plot;
+pub mod series;
 pub mod svg;
 pub mod table;
 pub mod vtk;

@@ -211,6 +211,22 @@ pub fn run_lateral(
     solver: SolverParams,
     params: &LateralParams,
 ) -> Result<LateralResult, LateralError> {
+    run_lateral_observed(layout, solver, params, &mut |_, _, _| {})
+}
+
+/// As [`run_lateral`], handing the states of the test to `observe(load_factor, stable,
+/// state)`: the settled state under gravity alone (load factor 0), then the state at the
+/// end of the loaded solve (load factor 1; stable if it is an equilibrium). Observing
+/// changes nothing in the test.
+///
+/// # Errors
+/// As [`run_lateral`].
+pub fn run_lateral_observed(
+    layout: &Layout,
+    solver: SolverParams,
+    params: &LateralParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<LateralResult, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
@@ -226,6 +242,7 @@ pub fn run_lateral(
         SettleError::Dem(e) => LateralError::Dem(e),
         other => LateralError::DoesNotStand(other),
     })?;
+    observe(0.0, true, &sim);
     let reference: Vec<Vec3> = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
@@ -244,6 +261,7 @@ pub fn run_lateral(
         Relaxed::Stopped(r, _) => Some(r.to_string()),
         Relaxed::Budget(_) | Relaxed::Unstable(..) => Some("no_equilibrium".to_string()),
     };
+    observe(1.0, reason.is_none(), &sim);
     let displacement_m = disp(&sim);
     let max_displacement_m = displacement_m.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
     Ok(LateralResult {

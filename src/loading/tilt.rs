@@ -416,6 +416,7 @@ impl StablePath {
         ctx: &Ctx<'_>,
         alpha_deg: f64,
         increments: &mut Vec<Increment>,
+        observe: &mut dyn FnMut(f64, bool, &Simulation),
     ) -> Result<Option<(CollapseReason, Simulation)>, DemError> {
         let prediction = if self.predictor { self.secant.predict(alpha_deg) } else { None };
         let (next, stage, steps, iterations) = ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
@@ -429,6 +430,7 @@ impl StablePath {
             displacement_m: ctx.displacements(&next),
             unbalanced_ratio: next.stats.unbalanced_ratio,
         });
+        observe(alpha_deg, matches!(stage, Stage::Stable), &next);
         Ok(match stage {
             Stage::Stable => {
                 self.last_stable = alpha_deg;
@@ -496,6 +498,23 @@ impl TiltError {
 /// touching nothing, no equilibrium, or a block that moved while settling),
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
 pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
+    run_tilt_observed(layout, solver, params, &mut |_, _, _| {})
+}
+
+/// As [`run_tilt`], handing every state of the test to `observe(alpha_deg, stable, state)`
+/// as it is reached: the settled state at α = 0, then every increment and bisection trial
+/// in the order tried (the unstable ones in the state their mechanism is read from). The
+/// last unstable state handed over at `first_unstable_deg` is the first unstable state of
+/// the result. Observing changes nothing in the test.
+///
+/// # Errors
+/// As [`run_tilt`].
+pub fn run_tilt_observed(
+    layout: &Layout,
+    solver: SolverParams,
+    params: &TiltParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
     solver.validate_static().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
@@ -514,6 +533,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         displacement_m: vec![0.0; monitors.len()],
         unbalanced_ratio: sim.stats.unbalanced_ratio,
     }];
+    observe(0.0, true, &sim);
     let mut path = StablePath::new(sim, params.predictor);
     let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
     let mut k = 1;
@@ -522,7 +542,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
         if alpha > params.max_angle_deg + 1e-9 {
             break;
         }
-        if let Some((reason, next)) = path.try_at(&ctx, alpha, &mut increments)? {
+        if let Some((reason, next)) = path.try_at(&ctx, alpha, &mut increments, observe)? {
             first_unstable = Some((alpha, reason, next));
             break;
         }
@@ -553,7 +573,7 @@ pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> R
     // Bisection of the bracket from the last stable state.
     while unstable - path.last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + path.last_stable);
-        if let Some((r, trial)) = path.try_at(&ctx, mid, &mut increments)? {
+        if let Some((r, trial)) = path.try_at(&ctx, mid, &mut increments, observe)? {
             unstable = mid;
             reason = r;
             failed = trial;

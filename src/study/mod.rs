@@ -61,6 +61,7 @@ pub mod calibrate;
 pub mod discrepancy;
 mod error;
 pub mod extend;
+pub mod figures;
 pub mod lock;
 mod measured;
 pub mod paper;

@@ -220,6 +220,17 @@ fn tilt_sections(
     let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
     let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
     let _ = writeln!(md, "![fragility curves](fragility.svg)\n");
+    let figures = super::figures::mechanism_figures(study, rows, dir)?;
+    if !figures.is_empty() {
+        let _ = writeln!(md, "## Mechanisms\n");
+        let _ = writeln!(
+            md,
+            "Per group, the realization with the median collapse angle (at the first sweep point), run again and drawn at its first unstable state: moving blocks coloured by their displacement since the settled state, the governing joint in red.\n"
+        );
+        for (group, file) in figures {
+            let _ = writeln!(md, "![{group}: collapse mechanism]({file})\n");
+        }
+    }
     Ok(())
 }
 

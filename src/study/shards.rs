@@ -403,6 +403,24 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
     }
     let first = first.ok_or_else(|| OutputError::Merge("no shard directories given".into()))?;
     rows.sort_by_key(|r| r.index);
+    // A missing item names its shard: item i is in shard (i mod N) + 1 of N.
+    let n_shards: Option<usize> = first.shard.split_once('/').and_then(|(_, n)| n.parse().ok()).filter(|n| *n > 0);
+    let present: std::collections::BTreeSet<u64> = rows.iter().map(|r| r.index).collect();
+    if let Some(n) = n_shards {
+        let missing: Vec<String> = (0..n)
+            .filter(|k| (*k..first.total_items).step_by(n).next().is_some_and(|i| !present.contains(&(i as u64))))
+            .map(|k| format!("{}/{n}", k + 1))
+            .collect();
+        if !missing.is_empty() {
+            return Err(OutputError::Merge(format!(
+                "{} {} missing: {} in none of the directories given (run it, e.g. with `drystone run STUDY --shard {} --resume --out DIR`, then merge again)",
+                if missing.len() == 1 { "shard" } else { "shards" },
+                missing.join(", "),
+                if missing.len() == 1 { "its items are" } else { "their items are" },
+                missing[0]
+            )));
+        }
+    }
     for (i, r) in rows.iter().enumerate() {
         if r.index as usize != i {
             return Err(OutputError::Merge(format!(
