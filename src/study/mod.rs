@@ -62,6 +62,7 @@ pub mod discrepancy;
 mod error;
 pub mod lock;
 mod measured;
+pub mod outputs;
 pub mod paper;
 pub mod provenance;
 pub mod report;
