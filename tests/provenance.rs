@@ -258,3 +258,35 @@ fn merge_checks_every_row_and_the_table_digests_and_keeps_the_shards_version() {
         (Some("0.1.9"), Some("0.1.9+src.0123456789abcdef"))
     );
 }
+
+#[test]
+fn shards_with_distributions_from_the_working_directory_merge_from_anywhere() {
+    let s = common::Scratch::created("prov-cwd");
+    let (proj, cwd, elsewhere) = (s.join("proj"), s.join("cwd"), s.join("elsewhere"));
+    for d in [proj.join("walls"), cwd.join("distributions"), elsewhere.clone()] {
+        std::fs::create_dir_all(d).unwrap();
+    }
+    std::fs::copy(root().join("studies/walls/sbl.toml"), proj.join("walls/sbl.toml")).unwrap();
+    for name in ["dip_uniform_10", "course_height_sbl", "block_length_sbl"] {
+        let f = format!("distributions/{name}.toml");
+        std::fs::copy(root().join(&f), cwd.join(&f)).unwrap();
+    }
+    let study = proj.join("study.toml");
+    std::fs::write(
+        &study,
+        "version = 1\nname = \"cwd\"\nseed = 3\nrealizations = 2\n[tilt]\nstep_deg = 2.5\nresolution_deg = 0.5\n\
+         [[groups]]\nname = \"SBL\"\nwall = \"walls/sbl.toml\"\noverrides = { length_m = 0.4 }\n",
+    )
+    .unwrap();
+    let (a, b, whole) = (s.join("a"), s.join("b"), s.join("whole"));
+    for (k, d) in [("1/2", &a), ("2/2", &b)] {
+        ok(drystone(&[&"run", &study, &"--shard", &k, &"--out", d], &cwd));
+    }
+    ok(drystone(&[&"run", &study, &"--out", &whole], &cwd));
+    let dists = manifest(&a)["inputs"].as_array().unwrap().iter().filter(|f| f["role"] == "distribution").count();
+    assert_eq!(dists, 3, "the distributions found in the working directory are inputs");
+    let merged = s.join("merged");
+    ok(drystone(&[&"merge", &"--out", &merged, &a, &b], &elsewhere));
+    assert_eq!(std::fs::read(whole.join("summary.csv")).unwrap(), std::fs::read(merged.join("summary.csv")).unwrap());
+    assert_eq!(manifest(&whole)["inputs"], manifest(&merged)["inputs"]);
+}

@@ -197,15 +197,15 @@ pub fn write_outputs(
     write_outputs_by(study, study_arg, shard, rows, dir, None)
 }
 
-/// As [`write_outputs`], with the manifest's drystone version and build `made_by` (those
-/// of the rows' run, for a merge) instead of this build's.
+/// As [`write_outputs`], with the drystone version, build and inputs of the manifest
+/// `made_by` (the shards' run, for a merge) instead of this build's and the study's.
 fn write_outputs_by(
     study: &Study,
     study_arg: &Path,
     shard: Shard,
     rows: &[RealizationRow],
     dir: &Path,
-    made_by: Option<(&str, &str)>,
+    made_by: Option<&Manifest>,
 ) -> Result<Option<String>, OutputError> {
     if let Some(r) = rows.iter().find(|r| r.seed != study.seed) {
         return Err(OutputError::Merge(format!(
@@ -216,9 +216,10 @@ fn write_outputs_by(
     std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
     let previous = read_manifest(dir).map(|m| m.outputs).unwrap_or_default();
     let mut manifest = Manifest::new(study, study_arg, shard, rows.len());
-    if let Some((version, build)) = made_by {
-        manifest.drystone_version = version.to_string();
-        manifest.build = build.to_string();
+    if let Some(m) = made_by {
+        manifest.drystone_version = m.drystone_version.clone();
+        manifest.build = m.build.clone();
+        manifest.inputs = m.inputs.clone();
     }
     let path = dir.join(outputs::MANIFEST);
     outputs::write_set(
@@ -496,8 +497,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
     let study = rebuilt?;
     let at = |i: usize| (origin[i].join("realizations.parquet"), format!("row of item {}", rows[i].index));
     check_rows(&study, Shard::ALL, &rows, at, "shard")?;
-    let made_by = Some((manifest.drystone_version.as_str(), manifest.build.as_str()));
-    let text = write_outputs_by(&study, &manifest.study, Shard::ALL, &rows, out, made_by)?;
+    let text = write_outputs_by(&study, &manifest.study, Shard::ALL, &rows, out, Some(&manifest))?;
     Ok(Merged { study, rows, text })
 }
 
@@ -508,8 +508,9 @@ fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
     let path = provenance::materialize(&manifest.inputs, scratch).map_err(merge_error)?;
     let mut study = Study::from_file(&path).map_err(|e| merge_error(format!("the stored study: {e}")))?;
     study.realizations = manifest.realizations;
-    if let Some(d) = provenance::first_difference(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study")
-    {
+    let d =
+        provenance::first_difference_by_content(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study");
+    if let Some(d) = d {
         return Err(merge_error(format!("the stored inputs do not rebuild the study: {d}")));
     }
     Ok(study)
