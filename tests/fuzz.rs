@@ -217,7 +217,7 @@ fn row(index: u64) -> RealizationRow {
         blocks: 12,
         collapse_angle_deg: Some(17.25),
         first_unstable_deg: Some(17.5),
-        collapse_reason: "negativestiffness".into(),
+        collapse_reason: "negative_stiffness".into(),
         mechanism: "toppling".into(),
         joint: "table/b0".into(),
         moving_blocks: 3,
