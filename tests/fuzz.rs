@@ -1,12 +1,18 @@
 //! Fuzzing of every input parser (property tests, a fixed budget of cases per run): the
-//! layout JSON, the wall and distribution TOML and the study TOML, each fed arbitrary text
-//! and the bundled valid files with their numbers replaced by hostile values (NaN, ±inf,
-//! 0, negative, huge, tiny, random), and every wall that parses generated and its layout
-//! checked. The property is that nothing panics: every input is either accepted or refused
-//! with an error.
+//! layout JSON, the wall and distribution TOML, the study TOML, the measured-data CSV
+//! files, run journals and manifests, each fed arbitrary text and the bundled valid files
+//! with their numbers replaced by hostile values (NaN, ±inf, 0, negative, huge, tiny,
+//! random), and every wall that parses generated and its layout checked. The property is
+//! that nothing panics: every input is either accepted or refused with an error. Beyond
+//! that, measured data accepted are in range, and a journal altered anywhere gives back
+//! exactly the rows written (a cut-off last line dropped) or is refused.
 
+use drystone::ensemble::journal::Journal;
+use drystone::ensemble::row::{RealizationRow, Status};
 use drystone::generator::{generate, DistributionSource, DistributionSpec, WallSpec};
+use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::layout::LayoutSpec;
+use drystone::study::shards::Manifest;
 use drystone::study::Study;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
@@ -192,6 +198,121 @@ proptest! {
         let _ = std::fs::remove_file(&path);
         if let Ok(study) = study {
             let _ = study.items();
+        }
+    }
+}
+
+/// A row of a journal (any values: the journal does not look into them).
+fn row(index: u64) -> RealizationRow {
+    RealizationRow {
+        index,
+        study: "s".into(),
+        group: "g".into(),
+        point: 0,
+        sweep: String::new(),
+        seed: 1,
+        realization: index,
+        status: Status::Collapsed,
+        error: String::new(),
+        blocks: 12,
+        collapse_angle_deg: Some(17.25),
+        first_unstable_deg: Some(17.5),
+        collapse_reason: "negative_stiffness".into(),
+        mechanism: "toppling".into(),
+        joint: "table/b0".into(),
+        moving_blocks: 3,
+        tilt_deg: vec![0.5, 1.0],
+        disp_top_left_cm: vec![0.01, 0.02],
+        disp_top_centre_cm: vec![0.011, 0.021],
+        disp_top_right_cm: vec![0.012, 0.022],
+        lateral_disp_left_cm: None,
+        lateral_disp_centre_cm: None,
+        lateral_disp_right_cm: None,
+        lateral_disp_max_cm: None,
+        lateral_drift: None,
+        steps: 140,
+        iterations: 30,
+        dt_s: 1.5e-5,
+        wall_time_s: 0.25,
+    }
+}
+
+/// The text of a journal of three rows, and its rows as JSON.
+fn journal_text() -> (String, Vec<String>) {
+    let dir = std::env::temp_dir().join(format!("drystone-fuzz-journal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("journal.jsonl");
+    let j = Journal::create(&p, "run-a", &"header".to_string()).unwrap();
+    let rows = [row(3), row(0), row(7)];
+    for r in &rows {
+        j.append(r).unwrap();
+    }
+    drop(j);
+    let text = std::fs::read_to_string(&p).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (text, rows.iter().map(|r| serde_json::to_string(r).unwrap()).collect())
+}
+
+/// `text` with one character replaced (any position, any printable character).
+fn flipped(text: String) -> impl Strategy<Value = String> {
+    let n = text.len();
+    (0..n, proptest::char::range(' ', '~')).prop_map(move |(i, c)| {
+        let mut b = text.clone().into_bytes();
+        b[i] = c as u8;
+        String::from_utf8_lossy(&b).into_owned()
+    })
+}
+
+/// Writes `text` to a scratch file named `name` for one case; returns its path.
+fn scratch_file(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drystone-fuzz-files-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+proptest! {
+    #![proptest_config(config(200))]
+
+    #[test]
+    fn an_altered_journal_gives_back_its_rows_or_is_refused(
+        text in prop_oneof![mutated(journal_text().0, true), flipped(journal_text().0)]
+    ) {
+        let (_, rows) = journal_text();
+        let p = scratch_file("journal.jsonl", &text);
+        if let Ok(Some(c)) = Journal::read::<String>(&p) {
+            let back: Vec<String> = c.rows.iter().map(|r| serde_json::to_string(r).unwrap()).collect();
+            // Only a cut-off last line may be missing.
+            prop_assert!(back.len() + 1 >= rows.len() && back[..] == rows[..back.len()], "{back:?}");
+            prop_assert_eq!(c.run.as_str(), "run-a");
+        }
+    }
+
+    #[test]
+    fn measured_csv_accepted_is_in_range(
+        collapse in mutated(read("data/paper/tilting_table_collapse.csv"), false),
+        displacement in mutated(read("data/paper/tilting_table_displacement.csv"), false),
+        arbitrary in "\\PC{0,200}",
+    ) {
+        for text in [&collapse, &arbitrary] {
+            if let Ok(rows) = read_measured_collapse(&scratch_file("collapse.csv", text)) {
+                prop_assert!(rows.iter().all(|r| r.collapse_angle_deg > 0.0 && r.collapse_angle_deg < 90.0));
+            }
+        }
+        for text in [&displacement, &arbitrary] {
+            if let Ok(rows) = read_measured_displacement(&scratch_file("displacement.csv", text)) {
+                prop_assert!(rows.iter().all(|r| (0.0..90.0).contains(&r.tilt_deg) && r.displacement_cm.abs() <= 1000.0));
+            }
+        }
+    }
+
+    #[test]
+    fn manifests_never_panic(text in mutated(read("tests/fuzz/manifest.json"), true)) {
+        if let Ok(m) = serde_json::from_str::<Manifest>(&text) {
+            let _ = m.identity();
+            let _ = m.difference(&m, "a", "b");
+            let _ = drystone::study::outputs::verify(Path::new("/nonexistent"), &m.outputs);
         }
     }
 }

@@ -177,3 +177,116 @@ fn resume_refuses_the_journal_of_another_run() {
     let msg = text(&o);
     assert!(msg.contains("journal.jsonl: was written by another run (seed: 7 in the journal, 8 in this run)"), "{msg}");
 }
+
+#[test]
+fn the_manifest_lists_every_output_with_its_digest_and_no_staging_is_left() {
+    let s = common::Scratch::created("prov-outputs");
+    let study = copy_study(&s, 7, "a");
+    let out = s.join("out");
+    ok(drystone(&[&"run", &study, &"--out", &out], &s));
+    let m = manifest(&out);
+    let outputs = m["outputs"].as_array().unwrap();
+    let names: Vec<&str> = outputs.iter().map(|o| o["path"].as_str().unwrap()).collect();
+    for f in ["realizations.parquet", "realizations.csv", "summary.csv", "report.md", "fragility.svg"] {
+        assert!(names.contains(&f), "{f} not in {names:?}");
+    }
+    for o in outputs {
+        let p = out.join(o["path"].as_str().unwrap());
+        assert_eq!(o["sha256"], sha256_hex(&std::fs::read(&p).unwrap()), "{}", p.display());
+    }
+    assert!(!names.iter().any(|n| n.starts_with('.') || *n == "journal.jsonl" || *n == "manifest.json"), "{names:?}");
+    assert!(!out.join(".drystone-staging").exists());
+}
+
+#[test]
+fn merge_checks_every_row_and_the_table_digests_and_keeps_the_shards_version() {
+    let s = common::Scratch::created("prov-rows");
+    let study = copy_study(&s, 7, "a");
+    let (a, b) = (s.join("a"), s.join("b"));
+    shard(&study, "1/2", &a);
+    shard(&study, "2/2", &b);
+    // The same study under another name: its shard 1/2 has the same seed, groups and count.
+    let other_dir = s.join("other");
+    std::fs::create_dir_all(&other_dir).unwrap();
+    let other = copy_study(&other_dir, 7, "a");
+    std::fs::write(&other, std::fs::read_to_string(&other).unwrap().replace("name = \"prov\"", "name = \"other\""))
+        .unwrap();
+    let o1 = s.join("o1");
+    shard(&other, "1/2", &o1);
+    let table = |d: &Path| d.join("realizations.parquet");
+    let original = std::fs::read(table(&a)).unwrap();
+    std::fs::copy(table(&o1), table(&a)).unwrap();
+    let o = drystone(&[&"merge", &"--out", &s.join("m1"), &a, &b], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let msg = text(&o);
+    assert!(
+        msg.contains("realizations.parquet: sha256") && msg.contains("the file is not the one its run wrote"),
+        "{msg}"
+    );
+    // With the manifest's digest forged to match, the rows themselves are refused.
+    let mut m = manifest(&a);
+    for f in m["outputs"].as_array_mut().unwrap() {
+        if f["path"] == "realizations.parquet" {
+            f["sha256"] = sha256_hex(&std::fs::read(table(&a)).unwrap()).into();
+        }
+    }
+    std::fs::write(a.join("manifest.json"), serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    let o = drystone(&[&"merge", &"--out", &s.join("m2"), &a, &b], &s);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let msg = text(&o);
+    assert!(msg.contains("realizations.parquet: row of item 0: study: other in the shard, prov in this run"), "{msg}");
+    // The merged manifest keeps the version and build of the shards.
+    std::fs::write(table(&a), original).unwrap();
+    for d in [&a, &b] {
+        let mut m = manifest(d);
+        m["drystone_version"] = "0.1.9".into();
+        m["build"] = "0.1.9+src.0123456789abcdef".into();
+        if d == &a {
+            for f in m["outputs"].as_array_mut().unwrap() {
+                if f["path"] == "realizations.parquet" {
+                    f["sha256"] = sha256_hex(&std::fs::read(table(&a)).unwrap()).into();
+                }
+            }
+        }
+        std::fs::write(d.join("manifest.json"), serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    }
+    let merged = s.join("m3");
+    ok(drystone(&[&"merge", &"--out", &merged, &a, &b], &s));
+    let m = manifest(&merged);
+    assert_eq!(
+        (m["drystone_version"].as_str(), m["build"].as_str()),
+        (Some("0.1.9"), Some("0.1.9+src.0123456789abcdef"))
+    );
+}
+
+#[test]
+fn shards_with_distributions_from_the_working_directory_merge_from_anywhere() {
+    let s = common::Scratch::created("prov-cwd");
+    let (proj, cwd, elsewhere) = (s.join("proj"), s.join("cwd"), s.join("elsewhere"));
+    for d in [proj.join("walls"), cwd.join("distributions"), elsewhere.clone()] {
+        std::fs::create_dir_all(d).unwrap();
+    }
+    std::fs::copy(root().join("studies/walls/sbl.toml"), proj.join("walls/sbl.toml")).unwrap();
+    for name in ["dip_uniform_10", "course_height_sbl", "block_length_sbl"] {
+        let f = format!("distributions/{name}.toml");
+        std::fs::copy(root().join(&f), cwd.join(&f)).unwrap();
+    }
+    let study = proj.join("study.toml");
+    std::fs::write(
+        &study,
+        "version = 1\nname = \"cwd\"\nseed = 3\nrealizations = 2\n[tilt]\nstep_deg = 2.5\nresolution_deg = 0.5\n\
+         [[groups]]\nname = \"SBL\"\nwall = \"walls/sbl.toml\"\noverrides = { length_m = 0.4 }\n",
+    )
+    .unwrap();
+    let (a, b, whole) = (s.join("a"), s.join("b"), s.join("whole"));
+    for (k, d) in [("1/2", &a), ("2/2", &b)] {
+        ok(drystone(&[&"run", &study, &"--shard", &k, &"--out", d], &cwd));
+    }
+    ok(drystone(&[&"run", &study, &"--out", &whole], &cwd));
+    let dists = manifest(&a)["inputs"].as_array().unwrap().iter().filter(|f| f["role"] == "distribution").count();
+    assert_eq!(dists, 3, "the distributions found in the working directory are inputs");
+    let merged = s.join("merged");
+    ok(drystone(&[&"merge", &"--out", &merged, &a, &b], &elsewhere));
+    assert_eq!(std::fs::read(whole.join("summary.csv")).unwrap(), std::fs::read(merged.join("summary.csv")).unwrap());
+    assert_eq!(manifest(&whole)["inputs"], manifest(&merged)["inputs"]);
+}

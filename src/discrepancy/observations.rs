@@ -11,41 +11,7 @@ use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
 use serde::Serialize;
 use std::fmt;
 
-/// A displacement measure of the top of the wall.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Measure {
-    /// The mean of the left, centre and right top points (the paper's free walls).
-    MeanOfLeftCenterRight,
-    /// The centre minus the mean of the two ends (the paper's restrained walls).
-    CenterMinusMeanOfEnds,
-}
-
-impl Measure {
-    /// Every measure.
-    pub const ALL: [Measure; 2] = [Measure::MeanOfLeftCenterRight, Measure::CenterMinusMeanOfEnds];
-
-    /// The name used in the measured-data files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Measure::MeanOfLeftCenterRight => "mean_of_left_center_right",
-            Measure::CenterMinusMeanOfEnds => "center_minus_mean_of_ends",
-        }
-    }
-
-    /// The measure of a name.
-    pub fn from_name(name: &str) -> Option<Measure> {
-        Measure::ALL.into_iter().find(|m| m.name() == name)
-    }
-
-    /// The measure from the left, centre and right top displacements (any unit).
-    pub fn of(self, left: f64, centre: f64, right: f64) -> f64 {
-        match self {
-            Measure::MeanOfLeftCenterRight => (left + centre + right) / 3.0,
-            Measure::CenterMinusMeanOfEnds => centre - 0.5 * (left + right),
-        }
-    }
-}
+pub use crate::ensemble::row::Measure;
 
 /// What is observed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -228,10 +194,7 @@ pub fn observations(
         });
     }
     for d in displacement {
-        let measure = Measure::from_name(&d.measure).ok_or_else(|| ObservationError::UnknownMeasure {
-            specimen: d.specimen.clone(),
-            measure: d.measure.clone(),
-        })?;
+        let measure = d.measure;
         out.push(Observation {
             specimen: d.specimen.clone(),
             group: group_of(&d.group, &d.specimen)?,

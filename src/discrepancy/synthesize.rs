@@ -116,7 +116,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                                 disp.push(MeasuredDisplacement {
                                     specimen: specimen.clone(),
                                     group: g.name.clone(),
-                                    measure: measure.name().to_string(),
+                                    measure,
                                     tilt_deg,
                                     displacement_cm: req.reading.round(obs, v + noise(req.sigma.displacement_cm)),
                                     ..MeasuredDisplacement::default()
@@ -153,7 +153,7 @@ pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplace
     }
     let mut d = String::from("specimen,group,measure,tilt_deg,displacement_cm\n");
     for m in disp {
-        d += &format!("{},{},{},{},{:.4}\n", m.specimen, m.group, m.measure, m.tilt_deg, m.displacement_cm);
+        d += &format!("{},{},{},{},{:.4}\n", m.specimen, m.group, m.measure.name(), m.tilt_deg, m.displacement_cm);
     }
     for (name, text) in [("tilting_table_collapse.csv", c), ("tilting_table_displacement.csv", d)] {
         let p = dir.join(name);

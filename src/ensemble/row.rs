@@ -128,6 +128,49 @@ pub struct RealizationRow {
     pub wall_time_s: f64,
 }
 
+/// A displacement measure of the top of the wall.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Measure {
+    /// The mean of the left, centre and right top points (the paper's free walls).
+    #[default]
+    MeanOfLeftCenterRight,
+    /// The centre minus the mean of the two ends (the paper's restrained walls).
+    CenterMinusMeanOfEnds,
+}
+
+impl Measure {
+    /// Every measure.
+    pub const ALL: [Measure; 2] = [Measure::MeanOfLeftCenterRight, Measure::CenterMinusMeanOfEnds];
+
+    /// The name used in the measured-data files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::MeanOfLeftCenterRight => "mean_of_left_center_right",
+            Measure::CenterMinusMeanOfEnds => "center_minus_mean_of_ends",
+        }
+    }
+
+    /// The measure of a name.
+    pub fn from_name(name: &str) -> Option<Measure> {
+        Measure::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// The measure from the left, centre and right top displacements (any unit).
+    pub fn of(self, left: f64, centre: f64, right: f64) -> f64 {
+        match self {
+            Measure::MeanOfLeftCenterRight => (left + centre + right) / 3.0,
+            Measure::CenterMinusMeanOfEnds => centre - 0.5 * (left + right),
+        }
+    }
+}
+
+impl std::fmt::Display for Measure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 impl RealizationRow {
     /// A row for a realization that produced no result.
     pub fn failed(base: RealizationRow, status: Status, error: String) -> RealizationRow {
@@ -155,13 +198,12 @@ impl RealizationRow {
         Some(c - 0.5 * (l + r))
     }
 
-    /// A measure by its name in the measured data (`mean_of_left_center_right`,
-    /// `center_minus_mean_of_ends`).
-    pub fn disp_measure_at(&self, measure: &str, tilt: f64) -> Option<f64> {
+    /// A displacement measure at a tilt, cm; `None` if that tilt was not a stable
+    /// increment.
+    pub fn disp_measure_at(&self, measure: Measure, tilt: f64) -> Option<f64> {
         match measure {
-            "mean_of_left_center_right" => self.disp_mean_at(tilt),
-            "center_minus_mean_of_ends" => self.disp_centre_rel_at(tilt),
-            _ => None,
+            Measure::MeanOfLeftCenterRight => self.disp_mean_at(tilt),
+            Measure::CenterMinusMeanOfEnds => self.disp_centre_rel_at(tilt),
         }
     }
 }
@@ -267,7 +309,7 @@ mod tests {
             blocks: 9,
             collapse_angle_deg: Some(values[0]),
             first_unstable_deg: None,
-            collapse_reason: "totaldisplacement".into(),
+            collapse_reason: "total_displacement".into(),
             mechanism: "mixed".into(),
             joint: "b1-b2".into(),
             moving_blocks: 4,

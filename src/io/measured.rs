@@ -24,7 +24,7 @@
 //! beyond the specimen's own collapse angle, and one group per specimen across both files.
 
 use super::table::TableError;
-use crate::discrepancy::observations::Measure;
+use crate::ensemble::row::Measure;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -54,8 +54,9 @@ pub struct MeasuredDisplacement {
     pub specimen: String,
     /// Group.
     pub group: String,
-    /// `mean_of_left_center_right` or `center_minus_mean_of_ends` (checked on reading).
-    pub measure: String,
+    /// The measure (`mean_of_left_center_right` or `center_minus_mean_of_ends` in the
+    /// file).
+    pub measure: Measure,
     /// Tilt, degrees, in [0, 90).
     pub tilt_deg: f64,
     /// Displacement, cm.
@@ -223,15 +224,15 @@ pub fn read_measured_displacement(path: &Path) -> Result<Vec<MeasuredDisplacemen
         let line = *line;
         let specimen = csv.text(line, row, "specimen")?.to_string();
         let group = csv.text(line, row, "group")?.to_string();
-        let measure = csv.text(line, row, "measure")?.to_string();
-        if Measure::from_name(&measure).is_none() {
+        let name = csv.text(line, row, "measure")?;
+        let Some(measure) = Measure::from_name(name) else {
             return Err(value_error(
                 path,
                 line,
                 "measure",
-                format!("unknown measure `{measure}` (known: {})", Measure::ALL.map(Measure::name).join(", ")),
+                format!("unknown measure `{name}` (known: {})", Measure::ALL.map(Measure::name).join(", ")),
             ));
-        }
+        };
         let t = csv.number(line, row, "tilt_deg", |t| (0.0..90.0).contains(&t), "in [0, 90) degrees")?;
         let bound = format!("a displacement within ±{MAX_DISPLACEMENT_CM} cm");
         let d = csv.number(line, row, "displacement_cm", |d| d.abs() <= MAX_DISPLACEMENT_CM, &bound)?;
@@ -241,7 +242,7 @@ pub fn read_measured_displacement(path: &Path) -> Result<Vec<MeasuredDisplacemen
                 path,
                 line,
                 "specimen",
-                format!("specimen {specimen} has a {measure} at {t} degrees on line {} already", first.line),
+                format!("specimen {specimen} has a {} at {t} degrees on line {} already", measure.name(), first.line),
             ));
         }
         out.push(MeasuredDisplacement {

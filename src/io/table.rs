@@ -227,6 +227,16 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let collapse = r.opts("collapse_angle_deg")?;
     let unstable = r.opts("first_unstable_deg")?;
     let reason = r.strs("collapse_reason")?;
+    if let Some((i, bad)) =
+        reason.iter().enumerate().find(|(_, x)| !x.is_empty() && crate::study::run::reason_of_name(x).is_none())
+    {
+        let known: Vec<&str> = crate::study::run::REASONS.iter().map(|x| crate::study::run::reason_name(*x)).collect();
+        return Err(TableError::Column {
+            path: path.to_owned(),
+            column: "collapse_reason".into(),
+            message: format!("row {}: unknown collapse reason `{bad}` (known: {})", i + 1, known.join(", ")),
+        });
+    }
     let mechanism = r.strs("mechanism")?;
     let joint = r.strs("joint")?;
     let moving = r.u64s("moving_blocks")?;

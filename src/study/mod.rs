@@ -64,6 +64,7 @@ pub mod extend;
 pub mod figures;
 pub mod lock;
 mod measured;
+pub mod outputs;
 pub mod paper;
 pub mod provenance;
 pub mod report;

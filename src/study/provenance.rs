@@ -142,7 +142,59 @@ pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, String> 
             study = Some(p);
         }
     }
+    place_distributions(inputs, dir)?;
     study.ok_or_else(|| "no study file among the stored inputs".to_string())
+}
+
+/// Makes every stored distribution file findable from every stored wall by the lookup of
+/// [`DistributionSource::default_for`](crate::generator::DistributionSource::default_for)
+/// (the first `distributions` directory beside the wall or above it) without the working
+/// directory: a distribution the run found in the working directory's `distributions/` is
+/// written into that first directory under `dir` (made at `dir/distributions` if there is
+/// none), unless a file of its name is there already. The lookup then never leaves `dir`.
+fn place_distributions(inputs: &[InputFile], dir: &Path) -> Result<(), String> {
+    let dists: Vec<&InputFile> = inputs.iter().filter(|f| f.role == InputRole::Distribution).collect();
+    for wall in inputs.iter().filter(|f| f.role == InputRole::Wall) {
+        let mut cur = dir.join(&wall.path);
+        let mut found = None;
+        while cur.pop() && cur.starts_with(dir) {
+            if cur.join("distributions").is_dir() {
+                found = Some(cur.join("distributions"));
+                break;
+            }
+        }
+        let target = found.unwrap_or_else(|| dir.join("distributions"));
+        for d in &dists {
+            let Some(name) = Path::new(&d.path).file_name() else { continue };
+            let p = target.join(name);
+            if !p.exists() {
+                std::fs::create_dir_all(&target).map_err(|e| format!("{}: {e}", target.display()))?;
+                std::fs::write(&p, &d.text).map_err(|e| format!("{}: {e}", p.display()))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// As [`first_difference`], with distribution files compared by file name and hash, and
+/// the other files by their paths below the deepest directory that holds them all (where
+/// a distribution is found depends on the directory a study is run from, and with it the
+/// directory every path is relative to; which file it is, its hash says).
+pub fn first_difference_by_content(x: &[InputFile], y: &[InputFile], a: &str, b: &str) -> Option<String> {
+    let normal = |v: &[InputFile]| -> Vec<InputFile> {
+        let dirs = v.iter().filter(|f| f.role != InputRole::Distribution).map(|f| Path::new(&f.path));
+        let root = common_dir(dirs);
+        v.iter()
+            .map(|f| {
+                let path = match f.role {
+                    InputRole::Distribution => f.path.rsplit('/').next().unwrap_or(&f.path).to_string(),
+                    _ => relative(Path::new(&f.path), &root),
+                };
+                InputFile { path, ..f.clone() }
+            })
+            .collect()
+    };
+    first_difference(&normal(x), &normal(y), a, b)
 }
 
 /// The first difference between two lists of inputs, in words: a file in one list and not

@@ -415,7 +415,7 @@ fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries
         let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
         for k in 0..=n {
             let t = k as f64 * step;
-            let v: Vec<f64> = cell.iter().filter_map(|r| r.disp_measure_at(&measure, t)).collect();
+            let v: Vec<f64> = cell.iter().filter_map(|r| r.disp_measure_at(measure, t)).collect();
             if v.len() < 2.max(cell.len() / 2) {
                 continue; // fewer than half the realizations still standing
             }

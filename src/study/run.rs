@@ -141,14 +141,28 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
     }
 }
 
-/// The name of a collapse reason in the `collapse_reason` column.
-fn reason_name(r: CollapseReason) -> &'static str {
+/// Every collapse reason.
+pub const REASONS: [CollapseReason; 4] = [
+    CollapseReason::IncrementDisplacement,
+    CollapseReason::TotalDisplacement,
+    CollapseReason::NoEquilibrium,
+    CollapseReason::NegativeStiffness,
+];
+
+/// The name of a collapse reason in the `collapse_reason` column of both protocols: its
+/// serde name, as `drystone tilt --json` prints it.
+pub fn reason_name(r: CollapseReason) -> &'static str {
     match r {
-        CollapseReason::IncrementDisplacement => "incrementdisplacement",
-        CollapseReason::TotalDisplacement => "totaldisplacement",
-        CollapseReason::NoEquilibrium => "noequilibrium",
-        CollapseReason::NegativeStiffness => "negativestiffness",
+        CollapseReason::IncrementDisplacement => "increment_displacement",
+        CollapseReason::TotalDisplacement => "total_displacement",
+        CollapseReason::NoEquilibrium => "no_equilibrium",
+        CollapseReason::NegativeStiffness => "negative_stiffness",
     }
+}
+
+/// The collapse reason of a name of the `collapse_reason` column.
+pub fn reason_of_name(name: &str) -> Option<CollapseReason> {
+    REASONS.into_iter().find(|r| reason_name(*r) == name)
 }
 
 /// The name of a mechanism in the `mechanism` column.
@@ -217,7 +231,8 @@ fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralEr
         }
         Some(why) => {
             row.status = Status::Collapsed;
-            row.collapse_reason = why.clone();
+            // The lateral load names its reasons with the same vocabulary.
+            row.collapse_reason = reason_of_name(why).map_or_else(|| why.clone(), |r| reason_name(r).to_string());
             row.error = format!(
                 "collapsed under the lateral load ({why}): top displacement {:.2} cm when stopped",
                 m_to_cm(r.max_displacement_m)
@@ -225,4 +240,21 @@ fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralEr
         }
     }
     row
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collapse_reasons_have_one_spelling_in_every_table_and_in_tilt_json() {
+        for r in REASONS {
+            assert_eq!(serde_json::to_string(&r).unwrap(), format!("\"{}\"", reason_name(r)));
+            assert_eq!(reason_of_name(reason_name(r)), Some(r));
+        }
+        // The names the lateral load gives.
+        for why in ["total_displacement", "no_equilibrium"] {
+            assert!(reason_of_name(why).is_some(), "{why}");
+        }
+    }
 }

@@ -6,20 +6,26 @@
 //!
 //! # What a run directory guarantees
 //!
+//! - One writer: every command that writes the directory holds its lock
+//!   ([`lock`](super::lock)) from before its first write to its end.
 //! - `journal.jsonl` ([`journal`](crate::ensemble::journal)) gets every finished item at
-//!   once, synced: a crash loses no finished item. [`run_into`] with `resume` runs only
-//!   the items the journal lacks, and the outputs are byte for byte those of a run that was
-//!   never interrupted, except the `wall_time_s` column.
-//! - The tables, the manifest, the summary, the report and the plots are each written
-//!   under a temporary name and renamed ([`crate::io::replace_file`]): a crash leaves the
-//!   old file or the new one.
-//! - The manifest records the drystone version, the master seed, the realizations, the
-//!   shard, and every input file (study, walls, distributions, measured data) with its
-//!   SHA-256 and its text ([`provenance`](super::provenance)). A resume and a merge refuse
-//!   what disagrees on any of them, naming the field and both values; merge rebuilds the
-//!   study from the stored texts, not from the study file.
+//!   once, synced, each line with the run's identity ([`Manifest::identity`]) and its own
+//!   checksum: a crash loses no finished item. [`run_into`] with `resume` checks every line
+//!   and row before running anything, runs only the items the journal lacks, and the
+//!   outputs are byte for byte those of a run that was never interrupted, except the
+//!   `wall_time_s` column.
+//! - The tables, the summary, the report and the plots are one set
+//!   ([`outputs`](super::outputs)): staged, moved in, and completed by `manifest.json`,
+//!   written last with the SHA-256 of every output.
+//! - The manifest records the drystone version and build, the master seed, the
+//!   realizations, the shard, and every input file (study, walls, distributions, measured
+//!   data) with its SHA-256 and its text ([`provenance`](super::provenance)). A resume and
+//!   a merge refuse what disagrees on any of them, naming the field and both values; merge
+//!   rebuilds the study from the stored texts, not from the study file, and checks every
+//!   row against its items.
 
 use super::lock::{DirLock, LockError};
+use super::outputs::{self, OutputFile};
 use super::provenance::{self, InputFile, InputRole};
 use super::report::{write_report, ReportError};
 use super::run::run_study_with;
@@ -57,6 +63,10 @@ pub struct Manifest {
     /// The input files of the study with their SHA-256 and text.
     #[serde(default)]
     pub inputs: Vec<InputFile>,
+    /// The outputs of the set this manifest completes, with their SHA-256
+    /// ([`outputs`](super::outputs)); empty in a journal header.
+    #[serde(default)]
+    pub outputs: Vec<OutputFile>,
 }
 
 impl Manifest {
@@ -72,6 +82,7 @@ impl Manifest {
             total_items: study.items().len(),
             items,
             inputs: study.inputs.clone(),
+            outputs: Vec::new(),
         }
     }
 
@@ -169,8 +180,9 @@ pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
 }
 
 /// Writes a run's outputs into `dir` (created if needed): the tables and the manifest, and,
-/// for a complete run, `summary.csv`, `report.md` and the plots. Returns the comparison
-/// text for a complete run.
+/// for a complete run, `summary.csv`, `report.md` and the plots, as one set
+/// ([`outputs::write_set`]: staged, then committed with `manifest.json`, which records the
+/// digest of every output, written last). Returns the comparison text for a complete run.
 ///
 /// # Errors
 /// [`OutputError`] naming the file; [`OutputError::Merge`] if a row was made with another
@@ -182,6 +194,19 @@ pub fn write_outputs(
     rows: &[RealizationRow],
     dir: &Path,
 ) -> Result<Option<String>, OutputError> {
+    write_outputs_by(study, study_arg, shard, rows, dir, None)
+}
+
+/// As [`write_outputs`], with the drystone version, build and inputs of the manifest
+/// `made_by` (the shards' run, for a merge) instead of this build's and the study's.
+fn write_outputs_by(
+    study: &Study,
+    study_arg: &Path,
+    shard: Shard,
+    rows: &[RealizationRow],
+    dir: &Path,
+    made_by: Option<&Manifest>,
+) -> Result<Option<String>, OutputError> {
     if let Some(r) = rows.iter().find(|r| r.seed != study.seed) {
         return Err(OutputError::Merge(format!(
             "item {} was run with seed {}, the study has seed {}",
@@ -189,17 +214,26 @@ pub fn write_outputs(
         )));
     }
     std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
-    table::write_realizations(rows, dir)?;
-    let manifest = Manifest::new(study, study_arg, shard, rows.len());
-    let path = dir.join("manifest.json");
-    let text = serde_json::to_string_pretty(&manifest)
-        .map_err(|e| OutputError::File { path: path.clone(), message: e.to_string() })?;
-    crate::io::replace_file(&path, text.as_bytes())?;
-    if shard.n == 1 {
-        Ok(Some(write_report(study, rows, dir)?))
-    } else {
-        Ok(None)
+    let previous = read_manifest(dir).map(|m| m.outputs).unwrap_or_default();
+    let mut manifest = Manifest::new(study, study_arg, shard, rows.len());
+    if let Some(m) = made_by {
+        manifest.drystone_version = m.drystone_version.clone();
+        manifest.build = m.build.clone();
+        manifest.inputs = m.inputs.clone();
     }
+    let path = dir.join(outputs::MANIFEST);
+    outputs::write_set(
+        dir,
+        &previous,
+        |staging| -> Result<Option<String>, OutputError> {
+            table::write_realizations(rows, staging)?;
+            Ok(if shard.n == 1 { Some(write_report(study, rows, staging)?) } else { None })
+        },
+        |outputs| {
+            manifest.outputs = outputs;
+            serde_json::to_string_pretty(&manifest).map_err(|e| OutputError::File { path, message: e.to_string() })
+        },
+    )
 }
 
 /// How [`run_into`] treats a journal already in the directory.
@@ -282,8 +316,10 @@ pub fn run_into(
             }
         }
         Some(c) => {
-            let checked = check_journal_rows(study, shard, c.rows, &c.lines, &path);
-            match checked {
+            let lines = &c.lines;
+            let checked =
+                check_rows(study, shard, &c.rows, |i| (path.clone(), format!("line {}", lines[i])), "journal");
+            match checked.map(|()| c.rows) {
                 Err(_) if mode.force => fresh()?,
                 Err(e) => return Err(e),
                 Ok(done) if mode.resume => (Journal::resume(&path, &run, c.complete_len)?, done),
@@ -303,58 +339,51 @@ pub fn run_into(
     Ok(RunOutcome { rows, resumed, text })
 }
 
-/// The rows of a journal (`lines`: the line of each), checked against the items of the
-/// shard: each one an item of the shard with this study's name and seed and its group,
-/// sweep point and realization.
+/// Rows checked against the items of a shard of the study: each one an item of the shard
+/// with the study's name and seed and the item's group, sweep point and realization. `at`
+/// places row `i` (the file and, e.g., `line 4`) and `source` names where the rows come
+/// from in the message (`journal`, `shard`).
 ///
 /// # Errors
-/// [`OutputError::File`] naming the journal, the line and the field.
-fn check_journal_rows(
+/// [`OutputError::File`] naming the file, the place and the field with both values.
+fn check_rows(
     study: &Study,
     shard: Shard,
-    rows: Vec<RealizationRow>,
-    lines: &[usize],
-    path: &Path,
-) -> Result<Vec<RealizationRow>, OutputError> {
-    let items = shard.select(&study.items());
-    for (r, &line) in rows.iter().zip(lines) {
-        let refuse = |field: &str, journal: String, run: String| OutputError::File {
-            path: path.to_owned(),
-            message: format!("line {line}: {field}: {journal} in the journal, {run} in this run (item {})", r.index),
+    rows: &[RealizationRow],
+    at: impl Fn(usize) -> (PathBuf, String),
+    source: &str,
+) -> Result<(), OutputError> {
+    let items = study.items();
+    for (i, r) in rows.iter().enumerate() {
+        let refuse = |field: &str, theirs: String, ours: String| {
+            let (path, place) = at(i);
+            OutputError::File {
+                path,
+                message: format!("{place}: {field}: {theirs} in the {source}, {ours} in this run (item {})", r.index),
+            }
         };
-        let Some(it) = items.iter().find(|it| it.index as u64 == r.index) else {
-            return Err(OutputError::File {
-                path: path.to_owned(),
-                message: format!(
-                    "line {line}: index: item {} is not an item of this run (shard {}/{})",
-                    r.index,
-                    shard.k + 1,
-                    shard.n
-                ),
-            });
+        let it = match items.get(r.index as usize) {
+            Some(it) if shard.select(std::slice::from_ref(it)).len() == 1 => it,
+            _ => {
+                let n = format!("shard {}/{} of {} items", shard.k + 1, shard.n, items.len());
+                return Err(refuse("index", format!("item {}", r.index), format!("no such item in {n}")));
+            }
         };
         let group = &study.groups[it.group].name;
-        if r.study != study.name {
-            return Err(refuse("study", r.study.clone(), study.name.clone()));
-        }
-        if r.seed != study.seed {
-            return Err(refuse("seed", r.seed.to_string(), study.seed.to_string()));
-        }
-        if &r.group != group {
-            return Err(refuse("group", r.group.clone(), group.clone()));
-        }
-        if r.point != it.point as u64 {
-            return Err(refuse("point", r.point.to_string(), it.point.to_string()));
-        }
-        if r.realization != it.realization {
-            return Err(refuse("realization", r.realization.to_string(), it.realization.to_string()));
-        }
         let sweep = super::point_label(&study.points[it.point]);
-        if r.sweep != sweep {
-            return Err(refuse("sweep", format!("{:?}", r.sweep), format!("{sweep:?}")));
+        let fields = [
+            ("study", r.study.clone(), study.name.clone()),
+            ("seed", r.seed.to_string(), study.seed.to_string()),
+            ("group", r.group.clone(), group.clone()),
+            ("point", r.point.to_string(), it.point.to_string()),
+            ("realization", r.realization.to_string(), it.realization.to_string()),
+            ("sweep", format!("{:?}", r.sweep), format!("{sweep:?}")),
+        ];
+        if let Some((field, theirs, ours)) = fields.into_iter().find(|(_, a, b)| a != b) {
+            return Err(refuse(field, theirs, ours));
         }
     }
-    Ok(rows)
+    Ok(())
 }
 
 fn read_manifest(dir: &Path) -> Result<Manifest, OutputError> {
@@ -364,16 +393,26 @@ fn read_manifest(dir: &Path) -> Result<Manifest, OutputError> {
 }
 
 /// Reads shard directories, checks that they are the shards of one run (the same drystone
-/// version, seed, realizations, number of shards and input files, by hash) and cover every
-/// item exactly once, and returns the manifest of the first and the rows in item order.
+/// version and build, seed, realizations, number of shards and input files, by hash), that
+/// each one's outputs have the digests its manifest records (a table swapped in from
+/// another run is refused) and that they cover every item exactly once, and returns the
+/// manifest of the first and the rows in item order.
 ///
 /// # Errors
 /// [`OutputError::Merge`] naming what does not fit: the field and both values.
 pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), OutputError> {
+    read_shards_with_origin(dirs).map(|(m, rows, _)| (m, rows))
+}
+
+/// As [`read_shards`], with the shard directory of each row. Each shard's outputs must
+/// have the digests its manifest records.
+#[allow(clippy::type_complexity)]
+fn read_shards_with_origin(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>, Vec<PathBuf>), OutputError> {
     let mut first: Option<Manifest> = None;
     let mut rows = Vec::new();
     for d in dirs {
         let m = read_manifest(d)?;
+        outputs::verify(d, &m.outputs).map_err(|e| OutputError::Merge(format!("{}: {e}", d.display())))?;
         if let Some(f) = &first {
             if let Some(diff) = f.difference(&m, &dirs[0].display().to_string(), &d.display().to_string()) {
                 return Err(OutputError::Merge(format!("the shards are not of one run: {diff}")));
@@ -399,10 +438,11 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
                 m.seed
             )));
         }
-        rows.extend(part);
+        rows.extend(part.into_iter().map(|r| (r, d.clone())));
     }
     let first = first.ok_or_else(|| OutputError::Merge("no shard directories given".into()))?;
-    rows.sort_by_key(|r| r.index);
+    rows.sort_by_key(|(r, _)| r.index);
+    let (rows, origin): (Vec<RealizationRow>, Vec<PathBuf>) = rows.into_iter().unzip();
     // A missing item names its shard: item i is in shard (i mod N) + 1 of N.
     let n_shards: Option<usize> = first.shard.split_once('/').and_then(|(_, n)| n.parse().ok()).filter(|n| *n > 0);
     let present: std::collections::BTreeSet<u64> = rows.iter().map(|r| r.index).collect();
@@ -434,7 +474,7 @@ pub fn read_shards(dirs: &[PathBuf]) -> Result<(Manifest, Vec<RealizationRow>), 
     if rows.len() != first.total_items {
         return Err(OutputError::Merge(format!("{} of {} items present", rows.len(), first.total_items)));
     }
-    Ok((first, rows))
+    Ok((first, rows, origin))
 }
 
 /// What [`merge`] wrote.
@@ -448,17 +488,19 @@ pub struct Merged {
     pub text: Option<String>,
 }
 
-/// Merges shard directories into `out` (under its lock, [`DirLock`]): [`read_shards`], then the study rebuilt from the
-/// input files stored in the manifest (written under `out/.inputs/` while it resolves, then
-/// removed: the study file need not exist any more, nor be where it was), then
-/// [`write_outputs`] as for the unsharded run.
+/// Merges shard directories into `out` (under its lock, [`DirLock`]): [`read_shards`]; the
+/// study rebuilt from the input files stored in the manifest (written under `out/.inputs/`
+/// while it resolves, then removed: the study file need not exist any more, nor be where
+/// it was); every row checked against the rebuilt study's items (study name, seed, group,
+/// sweep point, realization); then [`write_outputs`] as for the unsharded run, its manifest
+/// with the shards' drystone version and build.
 ///
 /// # Errors
 /// [`OutputError`] naming the shard, field or file.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
     let _lock = DirLock::acquire(out)?;
     check_writable(out)?;
-    let (manifest, rows) = read_shards(dirs)?;
+    let (manifest, rows, origin) = read_shards_with_origin(dirs)?;
     if manifest.inputs.is_empty() {
         return Err(OutputError::Merge(format!(
             "{}: the manifest stores no input files (written by drystone {}); run the shards again",
@@ -471,7 +513,9 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
     let rebuilt = rebuild(&manifest, &scratch);
     let _ = std::fs::remove_dir_all(&scratch);
     let study = rebuilt?;
-    let text = write_outputs(&study, &manifest.study, Shard::ALL, &rows, out)?;
+    let at = |i: usize| (origin[i].join("realizations.parquet"), format!("row of item {}", rows[i].index));
+    check_rows(&study, Shard::ALL, &rows, at, "shard")?;
+    let text = write_outputs_by(&study, &manifest.study, Shard::ALL, &rows, out, Some(&manifest))?;
     Ok(Merged { study, rows, text })
 }
 
@@ -482,8 +526,9 @@ fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
     let path = provenance::materialize(&manifest.inputs, scratch).map_err(merge_error)?;
     let mut study = Study::from_file(&path).map_err(|e| merge_error(format!("the stored study: {e}")))?;
     study.realizations = manifest.realizations;
-    if let Some(d) = provenance::first_difference(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study")
-    {
+    let d =
+        provenance::first_difference_by_content(&manifest.inputs, &study.inputs, "the manifest", "the rebuilt study");
+    if let Some(d) = d {
         return Err(merge_error(format!("the stored inputs do not rebuild the study: {d}")));
     }
     Ok(study)

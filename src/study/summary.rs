@@ -3,7 +3,7 @@
 //! of the rows (in index order) and the study: the bootstrap streams are numbered by cell.
 
 use super::{point_label, ProtocolKind, Study};
-use crate::ensemble::row::{RealizationRow, Status};
+use crate::ensemble::row::{Measure, RealizationRow, Status};
 use crate::io::table::{SimpleTable, TableColumn, TableError};
 use crate::stats::{self, LognormalFragility, Summary};
 use std::fmt::Write as _;
@@ -76,15 +76,9 @@ pub struct Comparison {
     pub specimens_inside: usize,
 }
 
-pub(super) fn measure_of(study: &Study, group: usize) -> String {
+pub(super) fn measure_of(study: &Study, group: usize) -> Measure {
     let mg = &study.groups[group].measured_group;
-    study
-        .measured
-        .displacement
-        .iter()
-        .find(|d| &d.group == mg)
-        .map(|d| d.measure.clone())
-        .unwrap_or_else(|| "mean_of_left_center_right".into())
+    study.measured.displacement.iter().find(|d| &d.group == mg).map(|d| d.measure).unwrap_or_default()
 }
 
 /// Summaries of every (group, point) cell, in group-major order.
@@ -98,9 +92,9 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
             let angles: Vec<f64> =
                 cell.iter().filter(|r| r.status == Status::Collapsed).filter_map(|r| r.collapse_angle_deg).collect();
             let d5: Vec<f64> =
-                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 5.0)).collect();
+                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(measure, 5.0)).collect();
             let d10: Vec<f64> =
-                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(&measure, 10.0)).collect();
+                cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(measure, 10.0)).collect();
             let stream = (gi * study.points.len() + pi) as u64;
             let lateral = |f: fn(&RealizationRow) -> Option<f64>| -> Vec<f64> {
                 cell.iter().filter(|r| r.status == Status::Stood).filter_map(|r| f(r)).collect()
@@ -119,7 +113,7 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 fragility: LognormalFragility::fit(&angles),
                 disp5: stats::summarize(&d5, study.seed, stream * 3 + 1),
                 disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
-                measure: measure.clone(),
+                measure: measure.name().to_string(),
                 angles,
                 lateral_collapsed: if study.protocol == ProtocolKind::Lateral {
                     cell.iter().filter(|r| r.status == Status::Collapsed).count()

@@ -1,0 +1,180 @@
+//! Output sets that cannot mix: the files of a run directory are written as one set.
+//!
+//! [`write_set`] writes every output (tables, summary, report, plots) into a fresh staging
+//! directory `DIR/.drystone-staging/`, records the SHA-256 of each, then commits the set:
+//! it removes `manifest.json` (the directory is then marked incomplete), removes the
+//! outputs of the previous set that the new one lacks, renames every new output into
+//! `DIR`, and writes `manifest.json`, with the list of outputs and their digests, last.
+//!
+//! Hence a directory with a `manifest.json` holds one complete set, and each output in it
+//! has the digest the manifest records; a directory without one (a run killed while it
+//! committed) holds no complete set, and the next run or `--resume` writes one.
+//! [`verify`] checks a set against its manifest.
+
+use super::provenance::sha256_hex;
+use crate::io::FileError;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The staging directory inside a run directory.
+pub const STAGING: &str = ".drystone-staging";
+
+/// The manifest, written last: the completion marker of a set.
+pub const MANIFEST: &str = "manifest.json";
+
+/// One output file of a set.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OutputFile {
+    /// File name in the run directory.
+    pub path: String,
+    /// SHA-256 of its bytes, lower-case hex.
+    pub sha256: String,
+}
+
+/// Writes a set of outputs into `dir`: `write` fills the staging directory it is given,
+/// `manifest` turns the list of outputs into the text of `manifest.json`, and the set is
+/// committed (see the module documentation). `previous` are the outputs of the set in
+/// `dir` before (from its manifest), removed unless the new set has them too.
+///
+/// # Errors
+/// `write`'s error, or [`FileError`] naming the file.
+pub fn write_set<E: From<FileError>, T>(
+    dir: &Path,
+    previous: &[OutputFile],
+    write: impl FnOnce(&Path) -> Result<T, E>,
+    manifest: impl FnOnce(Vec<OutputFile>) -> Result<String, E>,
+) -> Result<T, E> {
+    let staging = dir.join(STAGING);
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir_all(&staging).map_err(FileError::at(&staging))?;
+    let value = write(&staging)?;
+    let outputs = digests(&staging)?;
+    let text = manifest(outputs.clone())?;
+    let marker = dir.join(MANIFEST);
+    match std::fs::remove_file(&marker) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(FileError::at(&marker)(e).into()),
+        _ => crate::io::sync_dir(&marker),
+    }
+    for old in previous.iter().filter(|o| !outputs.iter().any(|n| n.path == o.path)) {
+        if plain_name(&old.path) {
+            let _ = std::fs::remove_file(dir.join(&old.path));
+        }
+    }
+    for f in &outputs {
+        let to = dir.join(&f.path);
+        std::fs::rename(staging.join(&f.path), &to).map_err(FileError::at(&to))?;
+    }
+    crate::io::sync_dir(&marker);
+    crate::io::replace_file(&marker, text.as_bytes())?;
+    let _ = std::fs::remove_dir_all(&staging);
+    Ok(value)
+}
+
+/// A file name without a directory part (what an output path must be).
+fn plain_name(p: &str) -> bool {
+    let mut c = Path::new(p).components();
+    matches!((c.next(), c.next()), (Some(std::path::Component::Normal(_)), None))
+}
+
+/// The files of `dir` (not its subdirectories) with their digests, by name.
+fn digests(dir: &Path) -> Result<Vec<OutputFile>, FileError> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).map_err(FileError::at(dir))? {
+        let e = e.map_err(FileError::at(dir))?;
+        let p: PathBuf = e.path();
+        if p.is_file() {
+            let bytes = std::fs::read(&p).map_err(FileError::at(&p))?;
+            out.push(OutputFile { path: e.file_name().to_string_lossy().into_owned(), sha256: sha256_hex(&bytes) });
+        }
+    }
+    out.sort_by(|a, b| a.path.cmp(&b.path));
+    Ok(out)
+}
+
+/// Checks that every output of a set in `dir` has the digest its manifest records.
+///
+/// # Errors
+/// A message naming the file: missing, or with another digest (the set was mixed with
+/// another run's files, or altered).
+pub fn verify(dir: &Path, outputs: &[OutputFile]) -> Result<(), String> {
+    if outputs.is_empty() {
+        return Err(format!("{}: the manifest records no outputs", dir.join(MANIFEST).display()));
+    }
+    for f in outputs {
+        let p = dir.join(&f.path);
+        let bytes = std::fs::read(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let actual = sha256_hex(&bytes);
+        if actual != f.sha256 {
+            return Err(format!(
+                "{}: sha256 {actual}, the manifest records {} (the file is not the one its run wrote)",
+                p.display(),
+                f.sha256
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set(dir: &Path, files: &[(&str, &str)], fail: bool) -> Result<(), FileError> {
+        let previous: Vec<OutputFile> = std::fs::read_to_string(dir.join(MANIFEST))
+            .ok()
+            .map(|t| serde_json::from_str(&t).unwrap())
+            .unwrap_or_default();
+        write_set(
+            dir,
+            &previous,
+            |staging| {
+                for (name, text) in files {
+                    std::fs::write(staging.join(name), text).map_err(FileError::at(staging))?;
+                }
+                Ok(())
+            },
+            |outputs| {
+                if fail {
+                    Err(FileError::at(dir)(std::io::Error::other("killed")))
+                } else {
+                    Ok(serde_json::to_string(&outputs).unwrap())
+                }
+            },
+        )
+    }
+
+    fn outputs_of(dir: &Path) -> Vec<OutputFile> {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(MANIFEST)).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn a_set_is_whole_or_marked_incomplete_and_its_digests_are_checked() {
+        let dir = std::env::temp_dir().join(format!("drystone-outputs-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        set(&dir, &[("a.csv", "old a"), ("old.svg", "old plot")], false).unwrap();
+        let old = outputs_of(&dir);
+        assert_eq!(old.len(), 2);
+        assert_eq!(old[0].sha256, sha256_hex(b"old a"));
+        verify(&dir, &old).unwrap();
+        // Stopped before its commit: the old set stands.
+        assert!(set(&dir, &[("a.csv", "new a")], true).is_err());
+        assert_eq!(std::fs::read_to_string(dir.join("a.csv")).unwrap(), "old a");
+        verify(&dir, &outputs_of(&dir)).unwrap();
+        // Stopped in its commit (a file cannot be renamed): no manifest, the set is marked
+        // incomplete.
+        std::fs::create_dir_all(dir.join("b.csv").join("x")).unwrap();
+        assert!(set(&dir, &[("a.csv", "new a"), ("b.csv", "new b")], false).is_err());
+        assert!(!dir.join(MANIFEST).exists());
+        std::fs::remove_dir_all(dir.join("b.csv")).unwrap();
+        // A whole new set: the old plot it lacks is removed; a file altered afterwards is
+        // named.
+        std::fs::write(dir.join(MANIFEST), serde_json::to_string(&old).unwrap()).unwrap();
+        set(&dir, &[("a.csv", "new a")], false).unwrap();
+        assert!(!dir.join("old.svg").exists());
+        std::fs::write(dir.join("a.csv"), "altered").unwrap();
+        let e = verify(&dir, &outputs_of(&dir)).unwrap_err();
+        assert!(e.contains("a.csv: sha256") && e.contains("the file is not the one its run wrote"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
