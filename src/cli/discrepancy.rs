@@ -188,7 +188,7 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
     let mut names = std::collections::BTreeSet::new();
     for e in &effects {
         if !names.insert(e.name().to_string()) {
-            bail!("--effect: effect `{}` is given twice", e.name());
+            bail!("--effect: {} is given twice; give each effect once", e.name());
         }
     }
     let threads = rayon::current_num_threads().max(1) as f64;
