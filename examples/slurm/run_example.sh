@@ -74,7 +74,7 @@ blank_wall_time() {
 }
 status=0
 compared=0
-for f in $(cd "$WORK/whole" && find . -type f ! -name journal.jsonl ! -name 'realizations.*' | sort); do
+for f in $(cd "$WORK/whole" && find . -type f ! -name journal.jsonl ! -name 'realizations.*' ! -name .drystone.lock ! -name manifest.json | sort); do
     compared=$((compared + 1))
     if ! cmp -s "$WORK/whole/$f" "$WORK/merged/$f"; then
         echo "differs: $f"
@@ -85,7 +85,7 @@ if ! diff <(blank_wall_time "$WORK/whole/realizations.csv") <(blank_wall_time "$
     echo "differs: realizations.csv (beyond wall_time_s)"
     status=1
 fi
-extra=$(cd "$WORK/merged" && find . -type f ! -name journal.jsonl | sort | while read -r f; do [ -e "$WORK/whole/$f" ] || echo "$f"; done)
+extra=$(cd "$WORK/merged" && find . -type f ! -name journal.jsonl ! -name .drystone.lock | sort | while read -r f; do [ -e "$WORK/whole/$f" ] || echo "$f"; done)
 [ -z "$extra" ] || { echo "only in the merged outputs: $extra"; status=1; }
 if [ $status = 0 ]; then
     echo "identical: $compared files byte for byte and realizations.csv but for wall_time_s ($WORK)"
