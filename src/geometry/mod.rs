@@ -128,6 +128,9 @@ pub struct ConvexBlock {
     pub faces: Vec<Face>,
     /// Unique edges as pairs of vertex indices (i < j).
     pub edges: Vec<(usize, usize)>,
+    /// The two faces that meet at each edge, in the order of [`ConvexBlock::edges`] (the
+    /// edge's arc on the Gauss map, used by the separating-axis test).
+    pub edge_faces: Vec<[usize; 2]>,
 }
 
 fn to_p(v: &Vec3) -> PVec {
@@ -230,7 +233,19 @@ impl ConvexBlock {
         }
         edges.sort_unstable();
         edges.dedup();
-        ConvexBlock { vertices, faces, edges }
+        let mut edge_faces = vec![[usize::MAX; 2]; edges.len()];
+        for (fi, f) in faces.iter().enumerate() {
+            let n = f.vertices.len();
+            for k in 0..n {
+                let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+                let e = if a < b { (a, b) } else { (b, a) };
+                if let Ok(i) = edges.binary_search(&e) {
+                    let slot = if edge_faces[i][0] == usize::MAX { 0 } else { 1 };
+                    edge_faces[i][slot] = fi;
+                }
+            }
+        }
+        ConvexBlock { vertices, faces, edges, edge_faces }
     }
 
     /// Axis-aligned box with corners `min` and `max` (m).
@@ -339,7 +354,7 @@ impl ConvexBlock {
                 Face { vertices: fc.vertices.clone(), normal, offset }
             })
             .collect();
-        ConvexBlock { vertices, faces, edges: self.edges.clone() }
+        ConvexBlock { vertices, faces, edges: self.edges.clone(), edge_faces: self.edge_faces.clone() }
     }
 }
 

@@ -1,0 +1,134 @@
+//! The discrepancy engine's power and false-alarm rate on measured data it did not make:
+//! data sets of the test bed (`tests/discrepancy/study.toml`) made by
+//! `tests/realwalls/mod.rs` (layouts edited as files, noise at a σ the engine is not told,
+//! rounded readings), analysed against one prepared set of forward runs.
+//!
+//! ```sh
+//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP]
+//! cargo run --release --example realwall_power -- effects     # the edits' effect on the specimens
+//! ```
+//!
+//! Prints, per class, how often the answer is right (the effect, or a tie containing it),
+//! `unexplained`, `no_effect`, or a wrong cause, with the Clopper–Pearson interval of the
+//! rate that matters.
+
+#[path = "../tests/realwalls/mod.rs"]
+mod realwalls;
+
+use drystone::discrepancy::{analyze, prepare};
+use drystone::study::Study;
+use rayon::prelude::*;
+use realwalls::{classify, data_set, specimen, Answer, Edit, Noise};
+use statrs::distribution::{Beta, ContinuousCDF};
+use std::path::PathBuf;
+
+const NOISE: Noise =
+    Noise { angle_deg: 0.4, displacement_cm: 0.01, angle_reading_deg: 0.25, displacement_reading_cm: 0.01 };
+const TILTS: [f64; 2] = [5.0, 10.0];
+const DATA_SEED: u64 = 0x5eed_da7a;
+
+fn classes() -> Vec<Edit> {
+    vec![
+        Edit::Lean(1.5),
+        Edit::Round(0.004),
+        Edit::Stiffness(0.3),
+        Edit::SoftBase(5e6),
+        Edit::Springs(500.0),
+        Edit::LeanRound(1.5, 0.004),
+    ]
+}
+
+fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
+    let lo = if k == 0 { 0.0 } else { Beta::new(k as f64, (n - k + 1) as f64).unwrap().inverse_cdf(0.025) };
+    let hi = if k == n { 1.0 } else { Beta::new((k + 1) as f64, (n - k) as f64).unwrap().inverse_cdf(0.975) };
+    (lo, hi)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
+    if args.first().map(String::as_str) == Some("effects") {
+        // The mean shift of each edit on the first specimens, against the unedited walls.
+        let n = 6u64;
+        let only: Option<usize> = args.get(1).and_then(|a| a.parse().ok());
+        for (ci, e) in std::iter::once(Edit::None).chain(classes()).enumerate() {
+            if only.is_some_and(|o| o != ci) {
+                continue;
+            }
+            for g in &st.groups {
+                let t0 = std::time::Instant::now();
+                let rows: Vec<_> = (0..n)
+                    .into_par_iter()
+                    .filter_map(|k| specimen(&st, &g.walls[0], DATA_SEED, 10_000 + k, e))
+                    .collect();
+                let a: Vec<f64> = rows.iter().map(|s| 0.5 * (s.bracket.0 + s.bracket.1)).collect();
+                let d5: Vec<f64> = rows
+                    .iter()
+                    .filter_map(|s| s.top_cm.iter().find(|(t, _)| (*t - 5.0).abs() < 1e-9).map(|(_, v)| v[1]))
+                    .collect();
+                println!(
+                    "{:<32} {:<5} alpha mean {:6.2} sd {:5.2} | centre disp at 5 deg {:.4} cm (n {}) {:.1} s",
+                    e.label(),
+                    g.name,
+                    drystone::stats::mean(&a),
+                    drystone::stats::sd(&a),
+                    drystone::stats::mean(&d5),
+                    rows.len(),
+                    t0.elapsed().as_secs_f64()
+                );
+            }
+        }
+        return;
+    }
+    let per: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(20);
+    let nulls: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(80);
+    let specimens: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(5);
+    let s = st.discrepancy.clone();
+    let t0 = std::time::Instant::now();
+    let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
+    let setup = drystone::study::discrepancy::setup_of(&st, s.extension_realizations);
+    let prep = prepare(&setup, &template, &s, &st.library).unwrap();
+    eprintln!("prepared in {:.0} s", t0.elapsed().as_secs_f64());
+    let mut jobs: Vec<(Edit, usize)> = (0..nulls).map(|i| (Edit::None, i)).collect();
+    for e in classes() {
+        jobs.extend((0..per).map(|i| (e, i)));
+    }
+    let answers: Vec<(Edit, Answer, String)> = jobs
+        .iter()
+        .enumerate()
+        .map(|(j, &(e, i))| {
+            let first = 1_000 + 100 * j as u64;
+            let obs = data_set(&st, DATA_SEED, first, specimens, e, NOISE, &TILTS, s.sigma);
+            let run = analyze(&prep, obs, first).unwrap();
+            let a = &run.analysis;
+            let cause = a.cause.as_ref().map(|c| c.name.clone());
+            let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
+            let what = format!("{} #{i}: {} {:?} tie {:?}", e.label(), a.verdict.name(), cause, a.tie);
+            eprintln!("{what} -> {got:?}");
+            (e, got, what)
+        })
+        .collect();
+    println!("| data | sets | right (alone or in a tie) | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
+    println!("| --- | --- | --- | --- | --- | --- | --- |");
+    for e in std::iter::once(Edit::None).chain(classes()) {
+        let v: Vec<&Answer> = answers.iter().filter(|(x, _, _)| *x == e).map(|(_, a, _)| a).collect();
+        let c = |a: Answer| v.iter().filter(|x| ***x == a).count();
+        let n = v.len();
+        let (k, what) =
+            if e == Edit::None { (n - c(Answer::NoEffect), "false alarms") } else { (c(Answer::Right), "named") };
+        let (lo, hi) = clopper_pearson(k, n);
+        println!(
+            "| {} | {n} | {} | {} | {} | {} | {what} {:.0} % [{:.0}, {:.0}] |",
+            e.label(),
+            c(Answer::Right),
+            c(Answer::Unexplained),
+            c(Answer::NoEffect),
+            c(Answer::Wrong),
+            100.0 * k as f64 / n.max(1) as f64,
+            100.0 * lo,
+            100.0 * hi
+        );
+    }
+    eprintln!("total {:.0} s", t0.elapsed().as_secs_f64());
+}

@@ -1,0 +1,432 @@
+//! Measured data made the way real walls differ from the model, by a path that shares no
+//! code with the effect library (`drystone::effects`) or the discrepancy engine:
+//!
+//! - each specimen is a wall of the study generated with a seed the analysis never uses,
+//!   written as layout JSON ([`drystone::layout::Layout::to_json`]) and **edited as a
+//!   file**: a shear of every vertex for a wall built out of plumb, an erosion and
+//!   dilation of every block (a Minkowski rounding of every edge, with a polyhedral ball),
+//!   a factor on a material's Kn and Ks, a softer table material (a softer joint between
+//!   the table and the base course), spring end restraints;
+//! - the edited file is read back and tilted with `run_tilt` at the study's own tilt step
+//!   and resolution;
+//! - the collapse angle is a uniform draw inside the simulated bracket (the table tilts
+//!   continuously; the model only brackets the angle), the displacements are the mean of
+//!   the three top points (free walls) or the centre minus the mean of the ends (held
+//!   walls); both get Gaussian noise at a σ **different** from the one the engine
+//!   assumes, and are rounded to the study's reading resolutions as real readings are.
+//!
+//! Used by `tests/discrepancy_realwalls.rs` (the reduced set CI runs) and by
+//! `examples/realwall_power.rs` (the power table of BENCHMARKS.md).
+#![allow(dead_code)]
+
+use drystone::discrepancy::observations::{Measure, Observable, Observation};
+use drystone::generator::{generate, Wall};
+use drystone::layout::LayoutSpec;
+use drystone::loading::tilt::run_tilt;
+use drystone::study::Study;
+use parry3d_f64::math::Vector as PVec;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+use serde_json::Value;
+
+/// How a data set's walls differ from the model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Edit {
+    /// As generated (null data).
+    None,
+    /// Built out of plumb by this angle, degrees, towards the side the table tilts to.
+    Lean(f64),
+    /// Every edge of every block rounded with this radius, m.
+    Round(f64),
+    /// Kn and Ks of every stone material times this factor.
+    Stiffness(f64),
+    /// The table made of a material with this Kn (Pa/m; Ks half of it): a softer joint
+    /// between the table and the base course.
+    SoftBase(f64),
+    /// End restraints as springs of this stiffness, N/m (free walls unchanged).
+    Springs(f64),
+    /// A lean (degrees) and a rounding (m) together.
+    LeanRound(f64, f64),
+}
+
+impl Edit {
+    /// A short label.
+    pub fn label(&self) -> String {
+        match *self {
+            Edit::None => "null".into(),
+            Edit::Lean(d) => format!("lean {d} deg"),
+            Edit::Round(r) => format!("rounding {} mm", r * 1e3),
+            Edit::Stiffness(f) => format!("stone Kn x{f}"),
+            Edit::SoftBase(k) => format!("table Kn {k:.1e} Pa/m"),
+            Edit::Springs(k) => format!("spring ends {k:.0} N/m"),
+            Edit::LeanRound(d, r) => format!("lean {d} deg + rounding {} mm", r * 1e3),
+        }
+    }
+}
+
+/// Measurement noise of the data (deliberately not the engine's assumed σ) and the
+/// readings' resolution.
+#[derive(Debug, Clone, Copy)]
+pub struct Noise {
+    /// Collapse angle σ, degrees.
+    pub angle_deg: f64,
+    /// Displacement σ, cm.
+    pub displacement_cm: f64,
+    /// Angle reading, degrees.
+    pub angle_reading_deg: f64,
+    /// Displacement reading, cm.
+    pub displacement_reading_cm: f64,
+}
+
+fn round_to(v: f64, step: f64) -> f64 {
+    if step > 0.0 {
+        (v / step).round() * step
+    } else {
+        v
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Editing layout JSON.
+
+fn vertices(block: &Value) -> Vec<[f64; 3]> {
+    block["vertices"]
+        .as_array()
+        .expect("vertices")
+        .iter()
+        .map(|v| {
+            let a = v.as_array().expect("vertex");
+            [a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap()]
+        })
+        .collect()
+}
+
+fn set_vertices(block: &mut Value, v: &[[f64; 3]]) {
+    block["vertices"] = Value::Array(v.iter().map(|p| serde_json::json!([p[0], p[1], p[2]])).collect());
+}
+
+/// Shear every vertex: `y += s · z` (a wall built out of plumb; the table is z = 0).
+fn shear(spec: &mut Value, lean_deg: f64) {
+    let s = lean_deg.to_radians().tan();
+    for b in spec["blocks"].as_array_mut().expect("blocks") {
+        let v: Vec<[f64; 3]> = vertices(b).into_iter().map(|[x, y, z]| [x, y + s * z, z]).collect();
+        set_vertices(b, &v);
+    }
+}
+
+type P3 = [f64; 3];
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: P3, b: P3) -> P3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+fn unit(a: P3) -> P3 {
+    let n = dot(a, a).sqrt();
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+/// The supporting planes `n · x = d` (outward unit n) of the hull of `pts`.
+fn planes(pts: &[P3]) -> Vec<(P3, f64)> {
+    let pp: Vec<PVec> = pts.iter().map(|p| PVec::new(p[0], p[1], p[2])).collect();
+    let (hv, tris) = parry3d_f64::transformation::convex_hull(&pp);
+    let c = {
+        let n = hv.len() as f64;
+        let s = hv.iter().fold([0.0; 3], |a, p| [a[0] + p.x, a[1] + p.y, a[2] + p.z]);
+        [s[0] / n, s[1] / n, s[2] / n]
+    };
+    let mut out: Vec<(P3, f64)> = Vec::new();
+    for t in tris {
+        let [a, b, cc] = t.map(|i| [hv[i as usize].x, hv[i as usize].y, hv[i as usize].z]);
+        let mut n = cross(sub(b, a), sub(cc, a));
+        if dot(n, n).sqrt() < 1e-14 {
+            continue;
+        }
+        n = unit(n);
+        if dot(n, sub(a, c)) < 0.0 {
+            n = [-n[0], -n[1], -n[2]];
+        }
+        let d = dot(n, a);
+        if !out.iter().any(|(m, e)| dot(*m, n) > 1.0 - 1e-9 && (e - d).abs() < 1e-9) {
+            out.push((n, d));
+        }
+    }
+    out
+}
+
+/// The vertices of `{x : n_i · x ≤ d_i − r}` by intersecting every triple of planes.
+fn eroded_vertices(pl: &[(P3, f64)], r: f64) -> Vec<P3> {
+    let mut out: Vec<P3> = Vec::new();
+    let k = pl.len();
+    for i in 0..k {
+        for j in i + 1..k {
+            for l in j + 1..k {
+                let (a, b, c) = (pl[i], pl[j], pl[l]);
+                let det = dot(a.0, cross(b.0, c.0));
+                if det.abs() < 1e-10 {
+                    continue;
+                }
+                let (da, db, dc) = (a.1 - r, b.1 - r, c.1 - r);
+                let bc = cross(b.0, c.0);
+                let ca = cross(c.0, a.0);
+                let ab = cross(a.0, b.0);
+                let x = [
+                    (da * bc[0] + db * ca[0] + dc * ab[0]) / det,
+                    (da * bc[1] + db * ca[1] + dc * ab[1]) / det,
+                    (da * bc[2] + db * ca[2] + dc * ab[2]) / det,
+                ];
+                if pl.iter().all(|(n, d)| dot(*n, x) <= d - r + 1e-10)
+                    && !out.iter().any(|p| dot(sub(*p, x), sub(*p, x)) < 1e-20)
+                {
+                    out.push(x);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The 12 vertices of a regular icosahedron on the unit sphere.
+fn icosahedron() -> Vec<P3> {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v = Vec::new();
+    for (a, b) in [(1.0, t), (-1.0, t), (1.0, -t), (-1.0, -t)] {
+        v.push(unit([0.0, a, b]));
+        v.push(unit([a, b, 0.0]));
+        v.push(unit([b, 0.0, a]));
+    }
+    v
+}
+
+/// Minkowski rounding of one convex block: erode by r, dilate by a polyhedral ball (the
+/// block's own face normals, so flat faces stay where they were, and an icosahedron).
+/// The radius is capped at a quarter of the block's thinnest width.
+fn rounded(pts: &[P3], r: f64) -> Vec<P3> {
+    let pl = planes(pts);
+    let thin = pl.iter().map(|(n, d)| pts.iter().map(|p| d - dot(*n, *p)).fold(0.0, f64::max)).fold(f64::MAX, f64::min);
+    let r = r.min(0.25 * thin);
+    let core = eroded_vertices(&pl, r);
+    if core.len() < 4 {
+        return pts.to_vec();
+    }
+    let mut ball: Vec<P3> = pl.iter().map(|(n, _)| *n).collect();
+    ball.extend(icosahedron());
+    let cloud: Vec<PVec> = core
+        .iter()
+        .flat_map(|c| ball.iter().map(move |u| PVec::new(c[0] + r * u[0], c[1] + r * u[1], c[2] + r * u[2])))
+        .collect();
+    let (hv, _) = parry3d_f64::transformation::convex_hull(&cloud);
+    hv.iter().map(|p| [p.x, p.y, p.z]).collect()
+}
+
+fn round_every_edge(spec: &mut Value, r: f64) {
+    for b in spec["blocks"].as_array_mut().expect("blocks") {
+        let v = rounded(&vertices(b), r);
+        set_vertices(b, &v);
+    }
+}
+
+fn scale_stone_stiffness(spec: &mut Value, f: f64) {
+    for m in spec["materials"].as_array_mut().expect("materials") {
+        for key in ["kn_pa_per_m", "ks_pa_per_m"] {
+            let v = m[key].as_f64().expect(key);
+            m[key] = serde_json::json!(v * f);
+        }
+    }
+}
+
+fn soft_table(spec: &mut Value, kn: f64) {
+    let table = spec["table"]["material"].as_str().expect("table material").to_string();
+    let mut timber = spec["materials"]
+        .as_array()
+        .expect("materials")
+        .iter()
+        .find(|m| m["name"] == table.as_str())
+        .expect("the table's material")
+        .clone();
+    timber["name"] = serde_json::json!("soft_table");
+    timber["kn_pa_per_m"] = serde_json::json!(kn);
+    timber["ks_pa_per_m"] = serde_json::json!(kn / 2.0);
+    spec["materials"].as_array_mut().unwrap().push(timber);
+    spec["table"]["material"] = serde_json::json!("soft_table");
+}
+
+fn spring_ends(spec: &mut Value, k: f64) {
+    if let Some(ends) = spec["restraints"]["ends"].as_array_mut() {
+        for e in ends {
+            e["kind"] = serde_json::json!("spring");
+            e["stiffness_n_per_m"] = serde_json::json!(k);
+        }
+    }
+}
+
+/// Applies an edit to a layout's JSON.
+pub fn edit(json: &str, e: Edit) -> String {
+    let mut spec: Value = serde_json::from_str(json).expect("layout JSON");
+    match e {
+        Edit::None => {}
+        Edit::Lean(d) => shear(&mut spec, d),
+        Edit::Round(r) => round_every_edge(&mut spec, r),
+        Edit::Stiffness(f) => scale_stone_stiffness(&mut spec, f),
+        Edit::SoftBase(k) => soft_table(&mut spec, k),
+        Edit::Springs(k) => spring_ends(&mut spec, k),
+        Edit::LeanRound(d, r) => {
+            round_every_edge(&mut spec, r);
+            shear(&mut spec, d);
+        }
+    }
+    serde_json::to_string(&spec).unwrap()
+}
+
+// ---------------------------------------------------------------------------------------
+// Specimens and data sets.
+
+/// One tilted specimen: its collapse bracket and top displacements (cm) at stable tilts.
+#[derive(Debug, Clone)]
+pub struct Specimen {
+    /// The wall has end restraints.
+    pub held: bool,
+    /// Last stable and first unstable tilt, degrees.
+    pub bracket: (f64, f64),
+    /// Stable tilts, degrees, and the left, centre, right top y displacement there, cm.
+    pub top_cm: Vec<(f64, [f64; 3])>,
+}
+
+/// Generates realization `k` of `wall` with `seed`, edits it and tilts it at the study's
+/// settings.
+pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Option<Specimen> {
+    let generated = generate(wall, seed, k).ok()?;
+    let json = edit(&generated.layout.to_json(), e);
+    if let Ok(path) = std::env::var("REALWALLS_DUMP") {
+        let _ = std::fs::write(format!("{path}-{k}.json"), &json);
+    }
+    let edited = LayoutSpec::from_json(&json).and_then(|s| s.resolve()).expect("the edited layout reads back");
+    let t = run_tilt(&edited, study.solver, &study.tilt).ok()?;
+    let find = |n: &str| t.monitors.iter().position(|m| m == n);
+    let idx = [find("top_left")?, find("top_centre")?, find("top_right")?];
+    let top_cm = t
+        .increments
+        .iter()
+        .filter(|i| i.stable)
+        .map(|i| (i.alpha_deg, idx.map(|j| i.displacement_m[j] * 100.0)))
+        .collect();
+    let held = !edited.end_restraints.is_empty();
+    Some(Specimen { held, bracket: (t.last_stable_deg, t.first_unstable_deg.unwrap_or(t.last_stable_deg)), top_cm })
+}
+
+/// The observations of one data set: `n` specimens per group of `study`, realizations
+/// `first..first + n` of a master seed the analysis never uses, edited by `e`. Collapse
+/// angle and the displacement at `tilts_deg` (the centre minus the mean of the ends for
+/// held walls, the mean of the three top points for free ones); `sigma` is the σ the
+/// engine is told (not the data's).
+pub fn data_set(
+    study: &Study,
+    seed: u64,
+    first: u64,
+    n: u64,
+    e: Edit,
+    noise: Noise,
+    tilts_deg: &[f64],
+    sigma: drystone::discrepancy::observations::MeasurementSigma,
+) -> Vec<Observation> {
+    use rayon::prelude::*;
+    let todo: Vec<(usize, u64)> =
+        (0..study.groups.len()).flat_map(|gi| (first..first + n).map(move |k| (gi, k))).collect();
+    let tilted: Vec<Option<Specimen>> =
+        todo.par_iter().map(|&(gi, k)| specimen(study, &study.groups[gi].walls[0], seed, k, e)).collect();
+    let mut obs = Vec::new();
+    for (&(gi, k), s) in todo.iter().zip(tilted) {
+        let g = &study.groups[gi];
+        let Some(s) = s else { continue };
+        let held = s.held;
+        let measure = if held { Measure::CenterMinusMeanOfEnds } else { Measure::MeanOfLeftCenterRight };
+        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (k << 8) ^ gi as u64);
+        let mut z = || -> f64 { StandardNormal.sample(&mut rng) };
+        let name = format!("{}-{}", g.name, k);
+        let alpha = s.bracket.0 + (s.bracket.1 - s.bracket.0) * rng_uniform(seed, k, gi);
+        let angle = round_to(alpha + noise.angle_deg * z(), noise.angle_reading_deg);
+        obs.push(Observation {
+            specimen: name.clone(),
+            group: g.name.clone(),
+            observable: Observable::CollapseAngle,
+            value: angle,
+            sigma: sigma.angle_deg,
+        });
+        for &t in tilts_deg {
+            if t > angle {
+                continue;
+            }
+            let Some((_, [l, c, r])) = s.top_cm.iter().find(|(a, _)| (a - t).abs() < 1e-9) else { continue };
+            let v = if held { c - 0.5 * (l + r) } else { (l + c + r) / 3.0 };
+            obs.push(Observation {
+                specimen: name.clone(),
+                group: g.name.clone(),
+                observable: Observable::Displacement { measure, tilt_deg: t },
+                value: round_to(v + noise.displacement_cm * z(), noise.displacement_reading_cm),
+                sigma: sigma.displacement_cm,
+            });
+        }
+    }
+    obs
+}
+
+fn rng_uniform(seed: u64, k: u64, g: usize) -> f64 {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(31) ^ k.rotate_left(17) ^ ((g as u64) << 40));
+    rng.random_range(0.0..1.0)
+}
+
+/// Which class an analysis's answer falls in, for an edit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Answer {
+    /// No cause named.
+    NoEffect,
+    /// The misfit is significant and unexplained.
+    Unexplained,
+    /// A named cause (or a tie containing the expected one).
+    Right,
+    /// A cause named that is not the expected one.
+    Wrong,
+}
+
+/// The effect names that count as right for an edit.
+pub fn expected(e: Edit) -> &'static [&'static str] {
+    match e {
+        Edit::None => &[],
+        Edit::Lean(_) => &["initial_lean"],
+        Edit::Round(_) => &["edge_rounding"],
+        // Every stone joint: the all-joints factor, or the families that carry most of it.
+        Edit::Stiffness(_) => &["kn_scale", "bed_stiffness", "head_stiffness", "base_stiffness", "joint_closure"],
+        // A joint-law effect (stiffness of a family or of all joints, a closure law); never
+        // a geometric or a restraint effect.
+        Edit::SoftBase(_) => {
+            &["base_stiffness", "kn_scale", "bed_stiffness", "head_stiffness", "joint_closure", "seating_gap"]
+        }
+        Edit::Springs(_) => &["restraint_stiffness"],
+        Edit::LeanRound(_, _) => &["initial_lean", "edge_rounding"],
+    }
+}
+
+/// Classifies an analysis's answer: the cause's name (`a` or `a+b`) and its tie.
+pub fn classify(e: Edit, verdict: &str, cause: Option<&str>, tie: &[String]) -> Answer {
+    let ok = expected(e);
+    let members = |name: &str| name.split('+').all(|m| ok.contains(&m));
+    match (verdict, cause) {
+        ("no_effect", _) => Answer::NoEffect,
+        ("unexplained", None) => Answer::Unexplained,
+        (_, Some(c)) => {
+            if members(c) || tie.iter().any(|t| members(t)) && !ok.is_empty() {
+                Answer::Right
+            } else if verdict == "unexplained" {
+                Answer::Unexplained
+            } else {
+                Answer::Wrong
+            }
+        }
+        _ => Answer::NoEffect,
+    }
+}
