@@ -435,6 +435,12 @@ pub struct Run {
     pub bracket_deg: f64,
     /// The cause's parameters: `effect.param`, fitted value and 95 % profile interval.
     pub cause_interval: Vec<crate::study::extend::FittedParameter>,
+    /// The measurement σ the data show (collapse angles in degrees, displacements in cm),
+    /// each with its degrees of freedom, where the data allow an estimate
+    /// ([`observations::measurement_sigma`]). The analysis uses the larger of it and the
+    /// setting: data that scatter more than the model and the stated σ together are not
+    /// evidence for a mechanism.
+    pub sigma_estimate: [Option<(f64, usize)>; 2],
     /// The settings.
     pub settings: Settings,
 }
@@ -564,7 +570,7 @@ pub fn run(
 /// # Errors
 /// [`DiscrepancyError`] for an observation outside the prepared design or a failed
 /// effect.
-pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run, DiscrepancyError> {
+pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<Run, DiscrepancyError> {
     let (setup, s, lib) = (&prep.setup, &prep.settings, &prep.library);
     check(setup, &obs, s)?;
     let mut keys = prep.keys.clone();
@@ -577,6 +583,20 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
             })
         })
         .collect::<Result<_, _>>()?;
+    // The measurement σ: the setting, or the spread the data show beyond the model's, if
+    // larger.
+    let full_base = keys.simulated(&prep.baseline);
+    let model_sd: Vec<f64> = full_base.iter().map(|x| x.sd).collect();
+    let sigma_estimate = [true, false].map(|angle| {
+        let reading = if angle { s.reading.angle_deg } else { s.reading.displacement_cm };
+        observations::measurement_sigma(&obs, &keys.of, &model_sd, reading, angle)
+    });
+    for o in &mut obs {
+        let angle = matches!(o.observable, Observable::CollapseAngle);
+        if let Some((sd, _)) = sigma_estimate[usize::from(!angle)] {
+            o.sigma = o.sigma.max(sd);
+        }
+    }
     let labels = key_labels(setup, &keys);
     let specimens = observations::specimens(&obs);
     let course_m = course_height(setup);
@@ -614,7 +634,6 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
         }
     }
     // Full runs of the best candidates at their fitted parameters, re-scored.
-    let full_base = keys.simulated(&baseline);
     let mut runs: Vec<(usize, Vec<Effect>, Vec<Vec<Outcome>>)> = Vec::new();
     if s.confirm {
         for _round in 0..3 {
@@ -763,6 +782,7 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
         design,
         bracket_deg,
         cause_interval,
+        sigma_estimate,
         settings: s.clone(),
     })
 }

@@ -240,3 +240,83 @@ pub fn specimens(obs: &[Observation]) -> Vec<String> {
     }
     out
 }
+
+/// Pooled degrees of freedom below which [`measurement_sigma`] gives no estimate.
+pub const MIN_SIGMA_DOF: usize = 4;
+
+/// The measurement σ of one kind of observable (collapse angles or displacements) as the
+/// data show it: for every observable key (group and observable) with at least two
+/// specimens, the specimens' sample variance minus the model's realization variance there
+/// (what the model's layouts explain) minus the reading's rounding variance r²/12 (the
+/// likelihood takes readings as intervals), pooled over the keys with their `n − 1`
+/// degrees of freedom. A shift of a group's mean (a mechanism the model lacks) does not
+/// enter it; only a spread the model does not have does. `None` below [`MIN_SIGMA_DOF`]
+/// degrees of freedom.
+///
+/// `obs[j]` belongs to key `key[j]`; `model_sd[k]` is the model's realization standard
+/// deviation at key `k`; `angle` selects collapse angles (true) or displacements.
+pub fn measurement_sigma(
+    obs: &[Observation],
+    key: &[usize],
+    model_sd: &[f64],
+    reading: f64,
+    angle: bool,
+) -> Option<(f64, usize)> {
+    let (mut ss, mut dof) = (0.0, 0usize);
+    for (k, sd) in model_sd.iter().enumerate() {
+        let y: Vec<f64> = (0..obs.len())
+            .filter(|&j| key[j] == k && matches!(obs[j].observable, Observable::CollapseAngle) == angle)
+            .map(|j| obs[j].value)
+            .collect();
+        if y.len() < 2 || !sd.is_finite() {
+            continue;
+        }
+        let m = y.iter().sum::<f64>() / y.len() as f64;
+        let s2 = y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (y.len() - 1) as f64;
+        ss += (y.len() - 1) as f64 * (s2 - sd * sd - reading * reading / 12.0);
+        dof += y.len() - 1;
+    }
+    (dof >= MIN_SIGMA_DOF).then(|| ((ss / dof as f64).max(0.0).sqrt(), dof))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn obs(specimen: &str, v: f64) -> Observation {
+        Observation {
+            specimen: specimen.into(),
+            group: "G".into(),
+            observable: Observable::CollapseAngle,
+            value: v,
+            sigma: 0.5,
+        }
+    }
+
+    /// Two keys whose data spread by a known variance beyond the model's: the excess comes
+    /// back; a shift of one key's mean changes nothing; too few specimens give nothing.
+    #[test]
+    fn the_measurement_sigma_is_the_spread_the_model_does_not_have() {
+        // Key 0: values 10 ± 1 (sample variance 4/3 · ... computed below); key 1 the same
+        // pattern around 30.
+        let a = [9.0, 10.0, 11.0, 10.0];
+        let b = [29.0, 30.0, 31.0, 30.0];
+        let mut o: Vec<Observation> = a.iter().map(|v| obs("a", *v)).collect();
+        o.extend(b.iter().map(|v| obs("b", *v)));
+        let key = [0, 0, 0, 0, 1, 1, 1, 1];
+        let s2 = 2.0 / 3.0; // sample variance of (−1, 0, 1, 0)
+        let (sd, dof) = measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap();
+        assert_eq!(dof, 6);
+        assert!((sd - (s2 - 0.25f64).sqrt()).abs() < 1e-12, "{sd}");
+        // A mean shift of key 1 by 5: the same estimate.
+        for v in &mut o[4..] {
+            v.value += 5.0;
+        }
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap().1, 6);
+        assert!((measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap().0 - sd).abs() < 1e-12);
+        // The model's spread covers the data's: zero excess.
+        assert_eq!(measurement_sigma(&o, &key, &[2.0, 2.0], 0.0, true).unwrap().0, 0.0);
+        // Displacements asked for: none here.
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, false), None);
+    }
+}

@@ -186,8 +186,21 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
             d.candidates.0, d.candidates.1, d.observable, d.effect_size, d.specimens);
     }
     let s = &run.settings;
-    let _ = writeln!(md, "Measurement σ used: {} deg (collapse angles), {} cm (displacements); readings taken as intervals of {} deg and {} cm.\n",
-        s.sigma.angle_deg, s.sigma.displacement_cm, s.reading.angle_deg, s.reading.displacement_cm);
+    let used = |i: usize, setting: f64, unit: &str, what: &str| {
+        match run.sigma_estimate[i] {
+        Some((sd, dof)) if sd > setting => format!("{sd:.3} {unit} ({what}: the spread the specimens show beyond the model's, {dof} degrees of freedom, larger than the setting {setting} {unit})"),
+        Some((sd, dof)) => format!("{setting} {unit} ({what}: the setting; the specimens' spread beyond the model's is {sd:.3} {unit}, {dof} degrees of freedom)"),
+        None => format!("{setting} {unit} ({what}: the setting; too few specimens per group for an estimate)"),
+    }
+    };
+    let _ = writeln!(
+        md,
+        "Measurement σ used: {}, {}; readings taken as intervals of {} deg and {} cm.\n",
+        used(0, s.sigma.angle_deg, "deg", "collapse angles"),
+        used(1, s.sigma.displacement_cm, "cm", "displacements"),
+        s.reading.angle_deg,
+        s.reading.displacement_cm
+    );
     let _ = writeln!(md, "## What the model gets wrong\n");
     let _ = writeln!(md, "Baseline ensemble against every observation: measured mean ± specimen σ, simulated mean ± realization σ, and the mean standardized residual z = (measured − predicted)/predictive σ.\n");
     let _ = writeln!(md, "| group | observable | n | measured | simulated | mean z | spread ratio (sim/meas) |");

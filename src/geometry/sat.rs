@@ -187,7 +187,11 @@ mod tests {
                     )
             })
             .collect();
-        ConvexBlock::from_vertices(&pts).unwrap()
+        let pp: Vec<parry3d_f64::math::Vector> =
+            pts.iter().map(|p| parry3d_f64::math::Vector::new(p.x, p.y, p.z)).collect();
+        let hull: Vec<Vec3> =
+            parry3d_f64::transformation::convex_hull(&pp).0.iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect();
+        ConvexBlock::from_vertices(&hull).unwrap()
     }
 
     /// For overlapping blocks the depth of the pruned test is the full enumeration's (the
