@@ -33,7 +33,7 @@ fn classes() -> Vec<Edit> {
         Edit::Round(0.004),
         Edit::Stiffness(0.3),
         Edit::SoftBase(5e6),
-        Edit::Springs(500.0),
+        Edit::Springs(150.0),
         Edit::LeanRound(1.5, 0.004),
     ]
 }

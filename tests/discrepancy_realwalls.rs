@@ -82,6 +82,6 @@ fn a_lean_with_rounded_edges_names_the_pair_or_a_member() {
 
 #[test]
 fn spring_end_restraints_are_named_restraint_stiffness() {
-    let (got, what) = answer(Edit::Springs(500.0), 600);
+    let (got, what) = answer(Edit::Springs(150.0), 600);
     assert_eq!(got, Answer::Right, "{what}");
 }
