@@ -4,7 +4,7 @@
 //! (Cundall 1988; 3DEC's `solve ratio`), a protocol's stop check fires, or the step budget
 //! runs out.
 
-use super::accelerate::{Accelerator, Creep, SecantAcceleration};
+use super::accelerate::{Accelerator, Ahead, Creep, SecantAcceleration};
 use super::engine::{DemError, Simulation};
 use crate::Vec3;
 
@@ -19,11 +19,12 @@ pub enum Relaxed<R> {
     Equilibrium(u64),
     /// The stop check returned its reason after this many steps.
     Stopped(R, u64),
-    /// The step budget ran out.
+    /// The step budget ran out (neither equilibrium nor a collapse established).
     Budget(u64),
-    /// The secant acceleration found negative stiffness along a persistent motion (see
-    /// [`super::accelerate`]) after this many steps; with the motion of its last window
-    /// (per body: translation, m, and rotation vector, rad), the direction of collapse.
+    /// The secant acceleration found negative stiffness along a persistent motion and no
+    /// equilibrium on the path ahead up to the probe's reach (see [`super::accelerate`])
+    /// after this many steps; with the motion of its last window (per body: translation,
+    /// m, and rotation vector, rad), the direction of collapse.
     Unstable(u64, (Vec<Vec3>, Vec<Vec3>)),
 }
 
@@ -31,17 +32,24 @@ pub enum Relaxed<R> {
 /// steps so that the first forces have propagated), until `check` (called every
 /// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps.
 ///
+/// `accelerate`: the secant acceleration's settings and the reach (m) of its probe of the
+/// path ahead: where the stability indicator fires, the state is unstable only if no
+/// equilibrium lies within that largest body motion along the collapse direction
+/// ([`Accelerator::probe`]); otherwise the relaxation goes on from the last probe point
+/// that still pushed along the motion.
+///
 /// # Errors
 /// [`DemError::NonFinite`] when a body's state blows up.
 pub fn relax<R>(
     sim: &mut Simulation,
     tol: f64,
     max_steps: u64,
-    accelerate: Option<SecantAcceleration>,
+    accelerate: Option<(SecantAcceleration, f64)>,
     mut check: impl FnMut(&Simulation) -> Option<R>,
 ) -> Result<Relaxed<R>, DemError> {
     let mut steps = 0;
-    let mut acc = accelerate.map(Accelerator::new);
+    let reach = accelerate.map_or(0.0, |a| a.1);
+    let mut acc = accelerate.map(|a| Accelerator::new(a.0));
     while steps < max_steps {
         sim.step()?;
         steps += 1;
@@ -50,8 +58,16 @@ pub fn relax<R>(
         }
         if let Some(acc) = acc.as_mut() {
             if acc.observe(sim, steps) == Creep::Unstable {
-                let motion = acc.last_motion().unwrap_or_default();
-                return Ok(Relaxed::Unstable(steps, motion));
+                match acc.probe(sim, reach) {
+                    Ahead::NoEquilibrium => {
+                        let motion = acc.last_motion().unwrap_or_default();
+                        return Ok(Relaxed::Unstable(steps, motion));
+                    }
+                    Ahead::Equilibrium(dpos, drot) => {
+                        sim.predict(&dpos, &drot);
+                        acc.reset();
+                    }
+                }
             }
         }
         if steps % CHECK_EVERY == 0 {
