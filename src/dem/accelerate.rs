@@ -124,6 +124,10 @@ pub enum Ahead {
 /// 0.
 const PROBE_HALVINGS: i32 = 12;
 
+/// Bisections of [`Accelerator::probe`] between the last probe that pushed the state along
+/// the motion and the first that did not.
+const PROBE_BISECTIONS: u32 = 10;
+
 /// The accelerator's memory within one relaxation.
 #[derive(Debug, Clone)]
 pub struct Accelerator {
@@ -136,6 +140,9 @@ pub struct Accelerator {
     trace: bool,
     /// Stiffness per unit motion squared and force along the motion of the last window.
     last_window: Option<(f64, f64)>,
+    /// Whether the last window moved the way of the one before, pushed by the
+    /// out-of-balance force along its motion (a creep the probe can follow).
+    creeping: bool,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -152,6 +159,7 @@ impl Accelerator {
             negative: 0,
             trace: std::env::var_os("DRYSTONE_TRACE_CREEP").is_some(),
             last_window: None,
+            creeping: false,
         }
     }
 
@@ -160,9 +168,9 @@ impl Accelerator {
     /// following a straight path from the state), by travels whose largest body motion
     /// (centroid translation plus rotation times the body's radius) is `reach · 2^-k`, `k`
     /// = [`PROBE_HALVINGS`] … 0, and reads the out-of-balance force and moment along the
-    /// motion (`Δx·g`, the work-conjugate pairs) at each. `reach` in m. Leaves `sim`
-    /// unchanged.
-    pub fn probe(&self, sim: &Simulation, reach: f64) -> Ahead {
+    /// motion (`Δx·g`, the work-conjugate pairs) at each. `reach` in m, and at most
+    /// `max_windows` windows of motion. Leaves `sim` unchanged.
+    pub fn probe(&self, sim: &Simulation, reach: f64, max_windows: f64) -> Ahead {
         let Some((dpos, drot)) = self.last_motion() else { return Ahead::NoEquilibrium };
         let per_unit = sim
             .bodies
@@ -175,9 +183,7 @@ impl Accelerator {
             return Ahead::NoEquilibrium;
         }
         let scaled = |v: &[Vec3], t: f64| v.iter().map(|x| x * t).collect::<Vec<_>>();
-        let mut last_pushing = 0.0;
-        for k in (0..=PROBE_HALVINGS).rev() {
-            let t = reach / per_unit * 0.5f64.powi(k);
+        let pushes = |t: f64| {
             let mut trial = sim.clone();
             trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
             trial.assess_predicted();
@@ -187,7 +193,24 @@ impl Accelerator {
                     f.dot(&dpos[i]) + m.dot(&drot[i])
                 })
                 .sum();
-            if !(along > 0.0) {
+            along > 0.0
+        };
+        let mut last_pushing = 0.0;
+        let t_max = (reach / per_unit).min(max_windows);
+        for k in (0..=PROBE_HALVINGS).rev() {
+            let t = t_max * 0.5f64.powi(k);
+            if !pushes(t) {
+                // The equilibrium lies between the last probe that pushed and this one:
+                // narrow it down to an eighth of a percent of the interval.
+                let mut hi = t;
+                for _ in 0..PROBE_BISECTIONS {
+                    let mid = 0.5 * (last_pushing + hi);
+                    if pushes(mid) {
+                        last_pushing = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
                 return Ahead::Equilibrium(scaled(&dpos, last_pushing), scaled(&drot, last_pushing));
             }
             last_pushing = t;
@@ -195,8 +218,16 @@ impl Accelerator {
         Ahead::NoEquilibrium
     }
 
+    /// Whether the last window moved the way of the one before, pushed by the
+    /// out-of-balance force along its motion: a creep [`Accelerator::probe`] can follow
+    /// to its equilibrium.
+    pub fn creeping(&self) -> bool {
+        self.creeping
+    }
+
     /// Forgets the windows seen so far (after the state was moved).
     pub fn reset(&mut self) {
+        self.creeping = false;
         self.last = None;
         self.last_dx = None;
         self.negative = 0;
@@ -255,6 +286,7 @@ impl Accelerator {
         }
         let (kappa1, force1) = self.last_window.replace((stiff / dxx, work / dxx.sqrt())).unzip();
         let aligned = align >= s.min_alignment;
+        self.creeping = aligned && work > 0.0;
         if stiff <= 0.0 && work > 0.0 && aligned && force1.is_some_and(|f| work / dxx.sqrt() > f) {
             self.negative += 1;
             if self.negative >= s.negative_windows {
