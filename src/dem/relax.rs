@@ -41,13 +41,9 @@ pub enum Relaxed<R> {
 
 /// Steps `sim` until equilibrium (unbalanced-force ratio below `tol`, after at least 11
 /// steps so that the first forces have propagated), until `check` (called every
-/// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps.
-///
-/// `accelerate`: the secant acceleration's settings and the reach (m) of its probe of the
-/// path ahead: where the stability indicator fires, the state is unstable only if no
-/// equilibrium lies within that largest body motion along the collapse direction
-/// ([`Accelerator::probe`]); otherwise the relaxation goes on from the last probe point
-/// that still pushed along the motion.
+/// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps; with the
+/// secant acceleration if `accelerate` is given, whose stability indicator then ends the
+/// relaxation as soon as it fires (no probe of the path ahead: see [`relax_probed`]).
 ///
 /// # Errors
 /// [`DemError::NonFinite`] when a body's state blows up.
@@ -55,11 +51,41 @@ pub fn relax<R>(
     sim: &mut Simulation,
     tol: f64,
     max_steps: u64,
-    accelerate: Option<(SecantAcceleration, f64)>,
+    accelerate: Option<SecantAcceleration>,
+    check: impl FnMut(&Simulation) -> Option<R>,
+) -> Result<Relaxed<R>, DemError> {
+    relax_impl(sim, tol, max_steps, accelerate.map(|a| (a, None)), check)
+}
+
+/// [`relax`] with the secant acceleration and probes of the path ahead, `reach` (m) the
+/// largest body motion a probe goes: where the stability indicator fires, the state is
+/// unstable only if no equilibrium lies within that reach along the collapse direction
+/// ([`Accelerator::probe`]), otherwise the relaxation goes on from the last probe point
+/// that still pushed along the motion; and a long creep is followed to the equilibrium
+/// ahead ([`FOLLOW_CREEP_AFTER`]).
+///
+/// # Errors
+/// [`DemError::NonFinite`] when a body's state blows up.
+pub fn relax_probed<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    max_steps: u64,
+    accelerate: SecantAcceleration,
+    reach: f64,
+    check: impl FnMut(&Simulation) -> Option<R>,
+) -> Result<Relaxed<R>, DemError> {
+    relax_impl(sim, tol, max_steps, Some((accelerate, Some(reach))), check)
+}
+
+fn relax_impl<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    max_steps: u64,
+    accelerate: Option<(SecantAcceleration, Option<f64>)>,
     mut check: impl FnMut(&Simulation) -> Option<R>,
 ) -> Result<Relaxed<R>, DemError> {
     let mut steps = 0;
-    let reach = accelerate.map_or(0.0, |a| a.1);
+    let reach = accelerate.and_then(|a| a.1);
     let max_scale = accelerate.map_or(0.0, |a| a.0.max_scale);
     let mut acc = accelerate.map(|a| Accelerator::new(a.0));
     while steps < max_steps {
@@ -70,18 +96,16 @@ pub fn relax<R>(
         }
         if let Some(acc) = acc.as_mut() {
             let creep = acc.observe(sim, steps);
-            if creep == Creep::Continue
-                && steps >= FOLLOW_CREEP_AFTER
-                && steps % FOLLOW_CREEP_EVERY == 0
-                && acc.creeping()
-            {
+            let follow = steps >= FOLLOW_CREEP_AFTER && steps % FOLLOW_CREEP_EVERY == 0;
+            if let (Creep::Continue, true, Some(reach)) = (creep, follow && acc.creeping(), reach) {
                 if let Ahead::Equilibrium(dpos, drot) = acc.probe(sim, reach, max_scale) {
                     sim.predict(&dpos, &drot);
                     acc.reset();
                 }
             }
             if creep == Creep::Unstable {
-                match acc.probe(sim, reach, f64::INFINITY) {
+                let ahead = reach.map_or(Ahead::NoEquilibrium, |r| acc.probe(sim, r, f64::INFINITY));
+                match ahead {
                     Ahead::NoEquilibrium => {
                         let motion = acc.last_motion().unwrap_or_default();
                         return Ok(Relaxed::Unstable(steps, motion));

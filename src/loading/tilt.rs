@@ -37,7 +37,7 @@ use super::monitors::{body_motion, largest_motion, monitor_displacements, monito
 use super::settle::{settle, SettleError};
 use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::implicit::{self, ImplicitSolve, Solved};
-use crate::dem::relax::{relax, Relaxed};
+use crate::dem::relax::{relax, relax_probed, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -359,8 +359,13 @@ impl Ctx<'_> {
                 Solved::Unsolved(it) => iterations = it,
             }
         }
-        let accel = if self.params.accelerate { Some((self.params.acceleration, inc_limit)) } else { None };
-        Ok(match relax(sim, self.params.tolerance, self.params.max_steps_per_increment, accel, check)? {
+        let (tol, budget) = (self.params.tolerance, self.params.max_steps_per_increment);
+        let relaxed = if self.params.accelerate {
+            relax_probed(sim, tol, budget, self.params.acceleration, inc_limit, check)?
+        } else {
+            relax(sim, tol, budget, None, check)?
+        };
+        Ok(match relaxed {
             Relaxed::Equilibrium(steps) => (Stage::Stable, steps, iterations),
             Relaxed::Stopped(reason, steps) => (Stage::Collapsed(reason), steps, iterations),
             Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::StepBudget), steps, iterations),
