@@ -3,7 +3,7 @@
 //! `scripts/lmgc90/rigid_limits.py`; non-smooth contact dynamics with hard contacts).
 //!
 //! A no-tension elastic joint tips before the rigid limit by a loss that shrinks as
-//! Kn^(-1/3). Each case runs drystone at Kn 1e12 Pa/m and requires its bracket to lie
+//! Kn^(-1/3). Each case runs drystone at Kn 1e11 Pa/m and requires its bracket to lie
 //! below LMGC90's (never above the rigid limit, within 0.05°) and above it by no more than
 //! the Winkler loss of the governing joint at that Kn (from the collapse of a block on a
 //! Winkler joint, `common/winkler.rs`) plus 0.05°.
@@ -17,7 +17,7 @@ use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};
 use drystone::units::STANDARD_GRAVITY as G;
 use std::path::Path;
 
-const KN: f64 = 1e12;
+const KN: f64 = 1e11;
 
 /// (last stable, first unstable) of LMGC90 for a case of the table, degrees.
 fn lmgc90(case: &str) -> (f64, f64) {
@@ -40,11 +40,7 @@ fn check(case: &str, layout: &str, loss_deg: f64) {
         m.kn = KN;
         m.ks = KN / 2.0;
     }
-    let p = TiltParams {
-        resolution_deg: 0.0625,
-        max_steps_per_increment: 10 * TiltParams::default().max_steps_per_increment,
-        ..TiltParams::default()
-    };
+    let p = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
     let r = run_tilt(&l, SolverParams::default(), &p).expect("stands");
     let up = r.first_unstable_deg.expect("collapses");
     assert_ne!(r.collapse_reason, Some(CollapseReason::StepBudget), "{case}: step budget at {up}°");

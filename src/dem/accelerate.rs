@@ -193,6 +193,9 @@ impl Accelerator {
                     f.dot(&dpos[i]) + m.dot(&drot[i])
                 })
                 .sum();
+            if self.trace {
+                eprintln!("probe t {t:.3e} along {along:.3e} ratio {:.3e}", trial.stats.unbalanced_ratio);
+            }
             along > 0.0
         };
         let mut last_pushing = 0.0;
