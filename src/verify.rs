@@ -510,11 +510,14 @@ pub fn stiffness_sweep() -> Vec<Case> {
                 up - r.last_stable_deg + 0.05,
                 Some((MechanismKind::Toppling, "table/b0")),
             );
+            let reason = r
+                .collapse_reason
+                .and_then(|c| serde_json::to_string(&c).ok())
+                .map_or("none".to_string(), |n| n.trim_matches('"').to_string());
             c.detail = format!(
-                "{}; bracket [{:.4}, {:.4}] {:?}, {} steps, {} iterations",
-                c.detail, r.last_stable_deg, up, r.collapse_reason, r.steps, r.iterations
-            )
-            .to_lowercase();
+                "{}; bracket [{:.4}, {:.4}] {reason}, {} steps, {} iterations",
+                c.detail, r.last_stable_deg, up, r.steps, r.iterations
+            );
             c.ok = c.ok && decided && inside;
             c
         })

@@ -1,3 +1,4 @@
+#![allow(dead_code)] // each test file uses a part of it
 //! The collapse tilt of blocks on no-tension Winkler joints, integrated independently of
 //! `drystone::verify` (which uses the closed form of the joint rotation): here each joint is
 //! solved numerically from its pressure distribution, for any contact segment and centroid.
