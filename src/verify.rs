@@ -100,12 +100,14 @@ pub struct Report {
     pub cases: Vec<Case>,
     /// Other checks.
     pub checks: Vec<Check>,
+    /// The stiffness sweep ([`stiffness_sweep`]).
+    pub sweep: Vec<Case>,
 }
 
 impl Report {
     /// True if every case and check passed.
     pub fn all_ok(&self) -> bool {
-        self.cases.iter().all(|c| c.ok) && self.checks.iter().all(|c| c.ok)
+        self.cases.iter().chain(&self.sweep).all(|c| c.ok) && self.checks.iter().all(|c| c.ok)
     }
 }
 
@@ -471,6 +473,7 @@ pub fn run_all() -> Report {
             Some((MechanismKind::Toppling, "table/b0")),
         ));
     }
+    let sweep = stiffness_sweep();
     let mut checks = Vec::new();
     let (sim, exp) = free_fall();
     checks.push(check("free fall: drop after 0.2 s", exp, sim, exp, 1e-9, "m"));
@@ -478,7 +481,47 @@ pub fn run_all() -> Report {
     checks.push(check("block at rest: table reaction = weight", w, fz, w, 1e-3, "N"));
     let (e0, e1, scale) = bounce_energy();
     checks.push(check("undamped bounce: energy change / m g h_drop", e0, e1, scale, 1e-2, "J"));
-    Report { cases, checks }
+    Report { cases, checks, sweep }
+}
+
+/// Normal stiffnesses of the sweep of [`stiffness_sweep`], Pa/m: 1e7 to 1e11 by decades
+/// (`tests/stiffness_range.rs` covers 2.5e6 to 1e13 with its own reference).
+pub const SWEEP_KN: [f64; 5] = [1e7, 1e8, 1e9, 1e10, 1e11];
+
+/// The block 0.15 × 0.30 m (b × h) on a Winkler joint across [`SWEEP_KN`] (φ = 60°,
+/// Ks = Kn/2), against [`winkler_collapse_angle`]: each case passes if the closed form lies
+/// within 0.05° of the bracket (last stable, first unstable) and the bracket ends on a
+/// collapse, not on a step budget (the detail gives the bracket, the reason, the steps and
+/// the implicit iterations).
+pub fn stiffness_sweep() -> Vec<Case> {
+    let (b, h) = (0.15, 0.30);
+    SWEEP_KN
+        .iter()
+        .map(|&kn| {
+            let exp = rad_to_deg(winkler_collapse_angle(b, h, DENSITY, crate::units::STANDARD_GRAVITY, kn));
+            let r = winkler_block(b, h, kn, SolverParams::default().subcontact_subdivisions);
+            let up = r.first_unstable_deg.unwrap_or(f64::INFINITY);
+            let decided = !matches!(r.collapse_reason, Some(crate::loading::tilt::CollapseReason::StepBudget) | None);
+            let inside = r.last_stable_deg - 0.05 <= exp && exp <= up + 0.05;
+            let mut c = case(
+                &format!("stiffness sweep: block {b} x {h} m on a Winkler joint, Kn = {kn:.1e} Pa/m"),
+                exp,
+                &r,
+                up - r.last_stable_deg + 0.05,
+                Some((MechanismKind::Toppling, "table/b0")),
+            );
+            let reason = r
+                .collapse_reason
+                .and_then(|c| serde_json::to_string(&c).ok())
+                .map_or("none".to_string(), |n| n.trim_matches('"').to_string());
+            c.detail = format!(
+                "{}; bracket [{:.4}, {:.4}] {reason}, {} steps, {} iterations",
+                c.detail, r.last_stable_deg, up, r.steps, r.iterations
+            );
+            c.ok = c.ok && decided && inside;
+            c
+        })
+        .collect()
 }
 
 fn check(name: &str, expected: f64, simulated: f64, scale: f64, tolerance: f64, unit: &str) -> Check {

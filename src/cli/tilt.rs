@@ -56,6 +56,14 @@ fn print(layout: &Path, r: &TiltResult) {
         r.collapse_angle_deg,
         r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
     );
+    if let Some(reason) = r.collapse_reason {
+        let note = if reason == drystone::loading::tilt::CollapseReason::StepBudget {
+            " (undecided: the step budget ran out; the critical tilt may lie above)"
+        } else {
+            ""
+        };
+        out!("unstable because  {}{note}", drystone::study::run::reason_name(reason));
+    }
     out!(
         "mechanism         {} at joint {} ({} blocks moving)",
         mechanism_name(r.mechanism.kind),
@@ -71,7 +79,10 @@ fn print(layout: &Path, r: &TiltResult) {
     );
     if !r.scalar_fallbacks_deg.is_empty() {
         let at: Vec<String> = r.scalar_fallbacks_deg.iter().map(|a| format!("{a:.3}")).collect();
-        out!("block scaling     blew up at {} deg; repeated with scalar scaling, kept from there on", at.join(", "));
+        out!(
+            "block scaling     blew up at {} deg; repeated with scalar scaling (with true masses where that blew up too), kept from there on",
+            at.join(", ")
+        );
     }
     out!("out-of-plane displacement of the top points [cm]:");
     out!("  alpha_deg  {}", r.monitors.join("  "));

@@ -19,7 +19,7 @@ pub fn run(json: bool) -> Result<ExitCode> {
 fn print(rep: &Report) {
     let ok = |b: bool| if b { "ok" } else { "FAIL" };
     out!("{:<70} {:>9} {:>9} {:>8}  {:<4} {}", "case", "expected", "simulated", "error", "ok", "mechanism");
-    for c in &rep.cases {
+    for c in rep.cases.iter().chain(&rep.sweep) {
         out!(
             "{:<70} {:>9.3} {:>9.3} {:>+8.3}  {:<4} {}",
             c.name,

@@ -26,8 +26,17 @@
 //!   to window, in [`SecantAcceleration::negative_windows`] successive windows moving the
 //!   same way: the second-order work along the motion is negative (Hill's stability
 //!   criterion) and the state accelerates away from any equilibrium along a softening path;
-//!   the relaxation reports [`Creep::Unstable`]. A dynamic overshoot past a limit point
-//!   with an equilibrium before it does not count: there the force opposes the motion.
+//!   the indicator fires. A dynamic overshoot past a limit point with an equilibrium before
+//!   it does not count: there the force opposes the motion.
+//! - When the indicator fires, the path ahead is probed ([`Accelerator::probe`]): the state
+//!   is moved along the motion of the last window, at rest, by travels growing geometrically
+//!   up to a given reach (the protocol's collapse displacement), and the out-of-balance
+//!   force along the motion is read at each. If it turns against the motion somewhere, an
+//!   equilibrium lies on the path (the window softened locally: a knife-edge joint whose
+//!   closed length shrinks past a quadrature point, the creep of a stiff joint seen through
+//!   its fast modes) and the relaxation goes on from the last probe that still pushed along
+//!   the motion. Only if it pushes the state along the whole way is there no equilibrium
+//!   near the path: [`Creep::Unstable`].
 //!
 //! This is the 1-D secant (quasi-Newton) step of path-following solvers applied to the
 //! slow mode that dynamic relaxation isolates (Underwood 1983, "Dynamic relaxation", in
@@ -94,9 +103,30 @@ pub enum Creep {
     Continue,
     /// The state jumped along the slow mode.
     Jumped,
-    /// Negative stiffness along a persistent motion: no equilibrium ahead.
+    /// Negative stiffness along a persistent motion: the stability indicator fired (see
+    /// [`Accelerator::probe`] for whether an equilibrium lies ahead).
     Unstable,
 }
+
+/// What the probe of the path ahead found ([`Accelerator::probe`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Ahead {
+    /// The out-of-balance force pushes the state along the motion over the whole reach: no
+    /// equilibrium near the path.
+    NoEquilibrium,
+    /// The force turns against the motion within the reach: an equilibrium lies ahead. The
+    /// pose increment (per body: translation, m; rotation vector, rad) to the last probe
+    /// that still pushed along the motion (zero if the first did not).
+    Equilibrium(Vec<Vec3>, Vec<Vec3>),
+}
+
+/// Probe points of [`Accelerator::probe`]: travels `reach · 2^-k` for `k` from this down to
+/// 0.
+const PROBE_HALVINGS: i32 = 12;
+
+/// Bisections of [`Accelerator::probe`] between the last probe that pushed the state along
+/// the motion and the first that did not.
+const PROBE_BISECTIONS: u32 = 10;
 
 /// The accelerator's memory within one relaxation.
 #[derive(Debug, Clone)]
@@ -110,6 +140,9 @@ pub struct Accelerator {
     trace: bool,
     /// Stiffness per unit motion squared and force along the motion of the last window.
     last_window: Option<(f64, f64)>,
+    /// Whether the last window moved the way of the one before, pushed by the
+    /// out-of-balance force along its motion (a creep the probe can follow).
+    creeping: bool,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -126,10 +159,78 @@ impl Accelerator {
             negative: 0,
             trace: std::env::var_os("DRYSTONE_TRACE_CREEP").is_some(),
             last_window: None,
+            creeping: false,
         }
     }
 
-    fn reset(&mut self) {
+    /// Probes the path ahead of a state on which the indicator fired: moves a copy of `sim`
+    /// along the motion of the last window, at rest ([`Simulation::predict`], the joints
+    /// following a straight path from the state), by travels whose largest body motion
+    /// (centroid translation plus rotation times the body's radius) is `reach · 2^-k`, `k`
+    /// = [`PROBE_HALVINGS`] … 0, and reads the out-of-balance force and moment along the
+    /// motion (`Δx·g`, the work-conjugate pairs) at each. `reach` in m, and at most
+    /// `max_windows` windows of motion. Leaves `sim` unchanged.
+    pub fn probe(&self, sim: &Simulation, reach: f64, max_windows: f64) -> Ahead {
+        let Some((dpos, drot)) = self.last_motion() else { return Ahead::NoEquilibrium };
+        let per_unit = sim
+            .bodies
+            .iter()
+            .zip(dpos.iter().zip(&drot))
+            .filter(|(b, _)| !b.fixed)
+            .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
+            .fold(0.0, f64::max);
+        if !(per_unit > 0.0 && reach > 0.0) {
+            return Ahead::NoEquilibrium;
+        }
+        let scaled = |v: &[Vec3], t: f64| v.iter().map(|x| x * t).collect::<Vec<_>>();
+        let pushes = |t: f64| {
+            let mut trial = sim.clone();
+            trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
+            trial.assess_predicted();
+            let along: f64 = (0..trial.bodies.len())
+                .map(|i| {
+                    let (f, m) = trial.unbalanced(i);
+                    f.dot(&dpos[i]) + m.dot(&drot[i])
+                })
+                .sum();
+            if self.trace {
+                eprintln!("probe t {t:.3e} along {along:.3e} ratio {:.3e}", trial.stats.unbalanced_ratio);
+            }
+            along > 0.0
+        };
+        let mut last_pushing = 0.0;
+        let t_max = (reach / per_unit).min(max_windows);
+        for k in (0..=PROBE_HALVINGS).rev() {
+            let t = t_max * 0.5f64.powi(k);
+            if !pushes(t) {
+                // The equilibrium lies between the last probe that pushed and this one:
+                // narrow it down to an eighth of a percent of the interval.
+                let mut hi = t;
+                for _ in 0..PROBE_BISECTIONS {
+                    let mid = 0.5 * (last_pushing + hi);
+                    if pushes(mid) {
+                        last_pushing = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                return Ahead::Equilibrium(scaled(&dpos, last_pushing), scaled(&drot, last_pushing));
+            }
+            last_pushing = t;
+        }
+        Ahead::NoEquilibrium
+    }
+
+    /// Whether the last window moved the way of the one before, pushed by the
+    /// out-of-balance force along its motion: a creep [`Accelerator::probe`] can follow
+    /// to its equilibrium.
+    pub fn creeping(&self) -> bool {
+        self.creeping
+    }
+
+    /// Forgets the windows seen so far (after the state was moved).
+    pub fn reset(&mut self) {
+        self.creeping = false;
         self.last = None;
         self.last_dx = None;
         self.negative = 0;
@@ -188,6 +289,7 @@ impl Accelerator {
         }
         let (kappa1, force1) = self.last_window.replace((stiff / dxx, work / dxx.sqrt())).unzip();
         let aligned = align >= s.min_alignment;
+        self.creeping = aligned && work > 0.0;
         if stiff <= 0.0 && work > 0.0 && aligned && force1.is_some_and(|f| work / dxx.sqrt() > f) {
             self.negative += 1;
             if self.negative >= s.negative_windows {

@@ -4,13 +4,24 @@
 //! (Cundall 1988; 3DEC's `solve ratio`), a protocol's stop check fires, or the step budget
 //! runs out.
 
-use super::accelerate::{Accelerator, Creep, SecantAcceleration};
+use super::accelerate::{Accelerator, Ahead, Creep, SecantAcceleration};
 use super::engine::{DemError, Simulation};
 use crate::Vec3;
 
 /// Steps between two calls of the stop check (it measures displacements, which costs more
 /// than a step's bookkeeping).
 pub const CHECK_EVERY: u64 = 64;
+
+/// Steps of a relaxation after which a slow creep is followed along its motion to the
+/// equilibrium ahead ([`Accelerator::probe`]) every [`FOLLOW_CREEP_EVERY`] steps: the
+/// creep of stiff joints near a limit point, where the secant stiffness of a window is
+/// lost in the fast modes (the knife-edge contact of a block on joints of Kn ≥ 1e11 Pa/m
+/// creeps for hundreds of thousands of steps). Relaxations shorter than that are left as
+/// they are.
+pub const FOLLOW_CREEP_AFTER: u64 = 8192;
+
+/// See [`FOLLOW_CREEP_AFTER`].
+pub const FOLLOW_CREEP_EVERY: u64 = 1024;
 
 /// How a relaxation ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,17 +30,20 @@ pub enum Relaxed<R> {
     Equilibrium(u64),
     /// The stop check returned its reason after this many steps.
     Stopped(R, u64),
-    /// The step budget ran out.
+    /// The step budget ran out (neither equilibrium nor a collapse established).
     Budget(u64),
-    /// The secant acceleration found negative stiffness along a persistent motion (see
-    /// [`super::accelerate`]) after this many steps; with the motion of its last window
-    /// (per body: translation, m, and rotation vector, rad), the direction of collapse.
+    /// The secant acceleration found negative stiffness along a persistent motion and no
+    /// equilibrium on the path ahead up to the probe's reach (see [`super::accelerate`])
+    /// after this many steps; with the motion of its last window (per body: translation,
+    /// m, and rotation vector, rad), the direction of collapse.
     Unstable(u64, (Vec<Vec3>, Vec<Vec3>)),
 }
 
 /// Steps `sim` until equilibrium (unbalanced-force ratio below `tol`, after at least 11
 /// steps so that the first forces have propagated), until `check` (called every
-/// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps.
+/// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps; with the
+/// secant acceleration if `accelerate` is given, whose stability indicator then ends the
+/// relaxation as soon as it fires (no probe of the path ahead: see [`relax_probed`]).
 ///
 /// # Errors
 /// [`DemError::NonFinite`] when a body's state blows up.
@@ -38,10 +52,42 @@ pub fn relax<R>(
     tol: f64,
     max_steps: u64,
     accelerate: Option<SecantAcceleration>,
+    check: impl FnMut(&Simulation) -> Option<R>,
+) -> Result<Relaxed<R>, DemError> {
+    relax_impl(sim, tol, max_steps, accelerate.map(|a| (a, None)), check)
+}
+
+/// [`relax`] with the secant acceleration and probes of the path ahead, `reach` (m) the
+/// largest body motion a probe goes: where the stability indicator fires, the state is
+/// unstable only if no equilibrium lies within that reach along the collapse direction
+/// ([`Accelerator::probe`]), otherwise the relaxation goes on from the last probe point
+/// that still pushed along the motion; and a long creep is followed to the equilibrium
+/// ahead ([`FOLLOW_CREEP_AFTER`]).
+///
+/// # Errors
+/// [`DemError::NonFinite`] when a body's state blows up.
+pub fn relax_probed<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    max_steps: u64,
+    accelerate: SecantAcceleration,
+    reach: f64,
+    check: impl FnMut(&Simulation) -> Option<R>,
+) -> Result<Relaxed<R>, DemError> {
+    relax_impl(sim, tol, max_steps, Some((accelerate, Some(reach))), check)
+}
+
+fn relax_impl<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    max_steps: u64,
+    accelerate: Option<(SecantAcceleration, Option<f64>)>,
     mut check: impl FnMut(&Simulation) -> Option<R>,
 ) -> Result<Relaxed<R>, DemError> {
     let mut steps = 0;
-    let mut acc = accelerate.map(Accelerator::new);
+    let reach = accelerate.and_then(|a| a.1);
+    let max_scale = accelerate.map_or(0.0, |a| a.0.max_scale);
+    let mut acc = accelerate.map(|a| Accelerator::new(a.0));
     while steps < max_steps {
         sim.step()?;
         steps += 1;
@@ -49,9 +95,26 @@ pub fn relax<R>(
             return Ok(Relaxed::Equilibrium(steps));
         }
         if let Some(acc) = acc.as_mut() {
-            if acc.observe(sim, steps) == Creep::Unstable {
-                let motion = acc.last_motion().unwrap_or_default();
-                return Ok(Relaxed::Unstable(steps, motion));
+            let creep = acc.observe(sim, steps);
+            let follow = steps >= FOLLOW_CREEP_AFTER && steps % FOLLOW_CREEP_EVERY == 0;
+            if let (Creep::Continue, true, Some(reach)) = (creep, follow && acc.creeping(), reach) {
+                if let Ahead::Equilibrium(dpos, drot) = acc.probe(sim, reach, max_scale) {
+                    sim.predict(&dpos, &drot);
+                    acc.reset();
+                }
+            }
+            if creep == Creep::Unstable {
+                let ahead = reach.map_or(Ahead::NoEquilibrium, |r| acc.probe(sim, r, f64::INFINITY));
+                match ahead {
+                    Ahead::NoEquilibrium => {
+                        let motion = acc.last_motion().unwrap_or_default();
+                        return Ok(Relaxed::Unstable(steps, motion));
+                    }
+                    Ahead::Equilibrium(dpos, drot) => {
+                        sim.predict(&dpos, &drot);
+                        acc.reset();
+                    }
+                }
             }
         }
         if steps % CHECK_EVERY == 0 {

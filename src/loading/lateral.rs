@@ -106,7 +106,8 @@ impl LateralParams {
 pub struct LateralResult {
     /// Equilibrium reached under the load.
     pub equilibrium: bool,
-    /// Why not, when `equilibrium` is false: `total_displacement` or `no_equilibrium`.
+    /// Why not, when `equilibrium` is false: `total_displacement`, or `step_budget` (no
+    /// equilibrium within the step budget).
     pub collapse_reason: Option<String>,
     /// Monitor names (by default `top_left`, `top_centre`, `top_right`).
     pub monitors: Vec<String>,
@@ -259,7 +260,8 @@ pub fn run_lateral_observed(
     let reason = match relax(&mut sim, params.tolerance, params.max_steps, None, check)? {
         Relaxed::Equilibrium(_) => None,
         Relaxed::Stopped(r, _) => Some(r.to_string()),
-        Relaxed::Budget(_) | Relaxed::Unstable(..) => Some("no_equilibrium".to_string()),
+        Relaxed::Budget(_) => Some("step_budget".to_string()),
+        Relaxed::Unstable(..) => Some("no_equilibrium".to_string()),
     };
     observe(1.0, reason.is_none(), &sim);
     let displacement_m = disp(&sim);

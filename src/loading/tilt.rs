@@ -5,16 +5,25 @@
 //! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
 //!    equilibrium (starting from the secant prediction of that equilibrium:
 //!    [`TiltParams::predictor`]; slow creep near collapse accelerated by secant steps along
-//!    the motion: [`TiltParams::accelerate`]), or declared collapsed when, during the
-//!    increment, a block moves more than [`TiltParams::collapse_increment_fraction`] of the
-//!    wall width, a top point moves past [`TiltParams::collapse_displacement_fraction`] of
-//!    the wall width from the reference, the stiffness along a persistent motion turns
+//!    the motion: [`TiltParams::accelerate`]), or declared unstable when the wall has no
+//!    equilibrium near the increment's path: the stiffness along a persistent motion turns
 //!    negative while the out-of-balance force along it grows (the stability indicator of
-//!    `dem::accelerate`), or no equilibrium is reached within
-//!    [`TiltParams::max_steps_per_increment`] steps.
+//!    `dem::accelerate`) *and* that force keeps pushing the state along the motion over the
+//!    whole collapse displacement ahead (the probe of the path); or, during the
+//!    increment, a block moves more than the collapse displacement, or a top point moves
+//!    from the reference more than the total collapse displacement. Both displacements
+//!    are the larger of a fraction of the wall width
+//!    ([`TiltParams::collapse_increment_fraction`],
+//!    [`TiltParams::collapse_displacement_fraction`]) and the elastic displacement scale
+//!    of the layout's joints ([`elastic_scale`]), so that the elastic rotation of soft
+//!    joints is never taken for a mechanism. An increment that reaches neither an
+//!    equilibrium nor a collapse within [`TiltParams::max_steps_per_increment`] steps is
+//!    reported as such ([`CollapseReason::StepBudget`]): it bounds the bracket from above
+//!    (nothing above it is known to be stable) without being a collapse.
 //! 3. The bracket (last stable, first unstable) is bisected from the last stable state
 //!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
-//!    the last stable angle.
+//!    the last stable angle; the critical tilt lies in the bracket (unless its upper end
+//!    is a [`CollapseReason::StepBudget`]).
 //! 4. The mechanism is read from the motion between the last stable and the collapsed
 //!    state ([`mechanism`]): the joints that failed (large relative motion), the groups of
 //!    blocks they cut loose from the table, the joints between moving and resting bodies,
@@ -28,7 +37,7 @@ use super::monitors::{body_motion, largest_motion, monitor_displacements, monito
 use super::settle::{settle, SettleError};
 use crate::dem::accelerate::SecantAcceleration;
 use crate::dem::implicit::{self, ImplicitSolve, Solved};
-use crate::dem::relax::{relax, Relaxed};
+use crate::dem::relax::{relax, relax_probed, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -60,11 +69,14 @@ pub struct TiltParams {
     /// as one jump before relaxing (see `Simulation::predict`). Off: each increment starts
     /// from the last stable state at rest.
     pub predictor: bool,
-    /// Collapse when a top point has moved (in y) more than this fraction of the wall width
-    /// since α = 0 \[0.5\].
+    /// Collapse when a top point has moved (in y) since α = 0 more than this fraction of the
+    /// wall width, or the elastic displacement scale of the joints ([`elastic_scale`]) if
+    /// that is larger \[0.5\].
     pub collapse_displacement_fraction: f64,
     /// Collapse when, within one increment, a block moves (centroid motion plus rotation
-    /// times its radius) more than this fraction of the wall width \[0.05\].
+    /// times its radius) more than this fraction of the wall width, or the elastic
+    /// displacement scale of the joints ([`elastic_scale`]) if that is larger \[0.05\]. Also
+    /// the reach of the probe that confirms the stability indicator.
     pub collapse_increment_fraction: f64,
     /// Accelerate slow creep near collapse by secant steps along the motion, and end trials
     /// that soften along their motion (`dem::accelerate`) \[true\]. Off: plain dynamic
@@ -145,11 +157,16 @@ pub enum CollapseReason {
     IncrementDisplacement,
     /// A top point moved too far from its reference.
     TotalDisplacement,
-    /// No equilibrium within the step budget.
+    /// No equilibrium: the name the static lateral load gives a load it cannot carry.
     NoEquilibrium,
     /// Negative stiffness along a persistent motion during relaxation (the secant
-    /// acceleration's stability indicator, `dem::accelerate`): no equilibrium ahead.
+    /// acceleration's stability indicator, `dem::accelerate`), and no equilibrium on the
+    /// path ahead up to the collapse displacement (the indicator's probe).
     NegativeStiffness,
+    /// The step budget of the increment ([`TiltParams::max_steps_per_increment`]) ran out
+    /// before an equilibrium or a collapse was established: not a collapse, an undecided
+    /// increment (the critical tilt may lie above it).
+    StepBudget,
 }
 
 /// One tilt increment.
@@ -200,13 +217,17 @@ pub struct TiltResult {
     pub wall_time_s: f64,
     /// Wall width used by the collapse criteria, m.
     pub wall_width_m: f64,
+    /// Elastic displacement scale of the joints ([`elastic_scale`]), m: the collapse
+    /// displacements are never below it.
+    #[serde(default)]
+    pub elastic_scale_m: f64,
     /// Contact detections (broad + narrow phase over the model) in the accepted path.
     pub detections: u64,
     /// Largest density-scaling factor applied (1: none; see `SolverParams::density_scaling`).
     pub max_density_scale: f64,
-    /// The tilts (degrees, in the order tried) of the increments and trials whose
-    /// block-scaled dynamics blew up and were repeated with scalar scaling (see
-    /// `DensityScaling::Block`); empty if none did.
+    /// The tilts (degrees, in the order tried) of the increments and trials whose scaled
+    /// dynamics blew up and were repeated with a weaker density scaling (block, then
+    /// scalar, then true masses; see `DensityScaling::Block`); empty if none did.
     #[serde(default)]
     pub scalar_fallbacks_deg: Vec<f64>,
 }
@@ -303,6 +324,8 @@ struct Ctx<'a> {
     monitors: &'a [MonitorPoint],
     reference: Vec<Vec3>,
     width: f64,
+    /// [`elastic_scale`], m.
+    elastic: f64,
 }
 
 impl Ctx<'_> {
@@ -312,8 +335,8 @@ impl Ctx<'_> {
 
     fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<(Stage, u64, u32), DemError> {
         let start = pose(sim);
-        let inc_limit = self.params.collapse_increment_fraction * self.width;
-        let tot_limit = self.params.collapse_displacement_fraction * self.width;
+        let inc_limit = (self.params.collapse_increment_fraction * self.width).max(self.elastic);
+        let tot_limit = (self.params.collapse_displacement_fraction * self.width).max(self.elastic);
         let check = |sim: &Simulation| {
             if largest_motion(sim, &start) > inc_limit {
                 Some(CollapseReason::IncrementDisplacement)
@@ -336,11 +359,16 @@ impl Ctx<'_> {
                 Solved::Unsolved(it) => iterations = it,
             }
         }
-        let accel = if self.params.accelerate { Some(self.params.acceleration) } else { None };
-        Ok(match relax(sim, self.params.tolerance, self.params.max_steps_per_increment, accel, check)? {
+        let (tol, budget) = (self.params.tolerance, self.params.max_steps_per_increment);
+        let relaxed = if self.params.accelerate {
+            relax_probed(sim, tol, budget, self.params.acceleration, inc_limit, check)?
+        } else {
+            relax(sim, tol, budget, None, check)?
+        };
+        Ok(match relaxed {
             Relaxed::Equilibrium(steps) => (Stage::Stable, steps, iterations),
             Relaxed::Stopped(reason, steps) => (Stage::Collapsed(reason), steps, iterations),
-            Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::NoEquilibrium), steps, iterations),
+            Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::StepBudget), steps, iterations),
             Relaxed::Unstable(steps, (dpos, drot)) => {
                 extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
                 (Stage::Collapsed(CollapseReason::NegativeStiffness), steps, iterations)
@@ -349,11 +377,13 @@ impl Ctx<'_> {
     }
 
     /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
-    /// relaxed ([`Ctx::run_stage`]). If block-scaled dynamics blow up (a collapse can throw
-    /// light soft directions of a block mass into re-closing contacts), the trial again from
-    /// `from` with scalar scaling, which the returned state keeps. Returns the state, the
-    /// stage, the steps taken (those of a blown-up attempt included) and the implicit
-    /// iterations of the attempt kept; `fallbacks` gets `alpha_deg` if the trial fell back.
+    /// relaxed ([`Ctx::run_stage`]). If the scaled dynamics blow up (a collapse can throw
+    /// light soft directions of a block mass into re-closing contacts, and a soft joint's
+    /// collapse displacement carries a body far with a scaled time step), the trial again
+    /// from `from` with the next weaker density scaling (block, then scalar, then true
+    /// masses), which the returned state keeps. Returns the state, the stage, the steps
+    /// taken (those of blown-up attempts included) and the implicit iterations of the
+    /// attempt kept; `fallbacks` gets `alpha_deg` if the trial fell back.
     fn run_from(
         &self,
         from: &Simulation,
@@ -361,21 +391,27 @@ impl Ctx<'_> {
         prediction: Option<Prediction>,
         fallbacks: &mut Vec<f64>,
     ) -> Result<(Simulation, Stage, u64, u32), DemError> {
-        let mut sim = from.clone();
-        sim.set_tilt(deg_to_rad(alpha_deg));
-        let before = sim.steps;
-        match self.run_stage(&mut sim, prediction.clone()) {
-            Ok((stage, steps, iterations)) => Ok((sim, stage, steps, iterations)),
-            Err(DemError::NonFinite { .. }) if matches!(sim.params.density_scaling, DensityScaling::Block { .. }) => {
-                let wasted = sim.steps - before;
-                fallbacks.push(alpha_deg);
-                let mut sim = from.clone();
-                sim.set_density_scaling(DensityScaling::Scalar);
-                sim.set_tilt(deg_to_rad(alpha_deg));
-                let (stage, steps, iterations) = self.run_stage(&mut sim, prediction)?;
-                Ok((sim, stage, steps + wasted, iterations))
+        let mut wasted = 0;
+        let mut scaling = from.params.density_scaling;
+        loop {
+            let mut sim = from.clone();
+            sim.set_density_scaling(scaling);
+            sim.set_tilt(deg_to_rad(alpha_deg));
+            let before = sim.steps;
+            match self.run_stage(&mut sim, prediction.clone()) {
+                Ok((stage, steps, iterations)) => return Ok((sim, stage, steps + wasted, iterations)),
+                Err(DemError::NonFinite { .. }) if scaling.is_on() => {
+                    wasted += sim.steps - before;
+                    if fallbacks.last() != Some(&alpha_deg) {
+                        fallbacks.push(alpha_deg);
+                    }
+                    scaling = match scaling {
+                        DensityScaling::Block { .. } => DensityScaling::Scalar,
+                        _ => DensityScaling::Off,
+                    };
+                }
+                Err(e) => return Err(e),
             }
-            Err(e) => Err(e),
         }
     }
 }
@@ -467,6 +503,37 @@ fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3],
     sim.predict(&scaled(dpos), &scaled(drot));
 }
 
+/// The elastic displacement scale of a layout's joints, m: how far the wall can move on
+/// its joints' elastic closure alone before it collapses, an upper estimate.
+///
+/// With W the weight of the free blocks, A the plan area of the layout (its x extent times
+/// its width B), H its height and Kn the smallest normal stiffness of its joints, the
+/// closure of the base under the whole weight is `p = W / (Kn A)`; a no-tension Winkler
+/// joint with the resultant at the edge of its middle third rotates by `6 p / B` (the
+/// full-contact rotation `6 ρ g h² sin β / (Kn b²)` of a block at its rigid limit
+/// `tan β = b/h`), which moves the top by `6 p H / B`. The scale is `p + 6 p H / B`. At
+/// the stiffnesses of the source study (Kn ≥ 2.5e7 Pa/m, the 1:4 walls) it is a few
+/// millimetres, below the fixed fractions of the wall width; at Kn of the order of 1e6
+/// Pa/m it is centimetres, the rotation of the joints before collapse.
+pub fn elastic_scale(layout: &Layout, sim: &Simulation) -> f64 {
+    let weight: f64 = sim.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * layout.gravity;
+    let ext = layout.bounds().extent();
+    let area = ext.x * ext.y;
+    let kn = sim
+        .contacts
+        .iter()
+        .map(|c| c.joint.kn)
+        .chain(layout.materials.iter().map(|m| m.kn))
+        .fold(f64::INFINITY, f64::min);
+    let p = weight / (kn * area);
+    let scale = p + 6.0 * p * ext.z / ext.y;
+    if scale.is_finite() {
+        scale
+    } else {
+        0.0
+    }
+}
+
 /// Errors of the tilting-table protocol.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 #[non_exhaustive]
@@ -522,7 +589,8 @@ pub fn run_tilt_observed(
     let monitors = monitor_points(layout, &sim);
     let width = layout.bounds().extent().y;
     sim.set_tilt(0.0);
-    let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width };
+    let elastic = elastic_scale(layout, &sim);
+    let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width, elastic };
     settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
     ctx.reference = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {
@@ -563,6 +631,7 @@ pub fn run_tilt_observed(
             dt_s: path.sim.dt,
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
+            elastic_scale_m: elastic,
             detections: path.sim.detections,
             max_density_scale: path.sim.max_density_scale,
             scalar_fallbacks_deg: path.fallbacks,
@@ -597,6 +666,7 @@ pub fn run_tilt_observed(
         dt_s: failed.dt.min(dt_s),
         wall_time_s: t0.elapsed().as_secs_f64(),
         wall_width_m: width,
+        elastic_scale_m: elastic,
         detections: failed.detections,
         max_density_scale: failed.max_density_scale.max(stable_sim.max_density_scale),
         scalar_fallbacks_deg: fallbacks,

@@ -142,11 +142,12 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
 }
 
 /// Every collapse reason.
-pub const REASONS: [CollapseReason; 4] = [
+pub const REASONS: [CollapseReason; 5] = [
     CollapseReason::IncrementDisplacement,
     CollapseReason::TotalDisplacement,
     CollapseReason::NoEquilibrium,
     CollapseReason::NegativeStiffness,
+    CollapseReason::StepBudget,
 ];
 
 /// The name of a collapse reason in the `collapse_reason` column of both protocols: its
@@ -157,6 +158,7 @@ pub fn reason_name(r: CollapseReason) -> &'static str {
         CollapseReason::TotalDisplacement => "total_displacement",
         CollapseReason::NoEquilibrium => "no_equilibrium",
         CollapseReason::NegativeStiffness => "negative_stiffness",
+        CollapseReason::StepBudget => "step_budget",
     }
 }
 
@@ -253,7 +255,7 @@ mod tests {
             assert_eq!(reason_of_name(reason_name(r)), Some(r));
         }
         // The names the lateral load gives.
-        for why in ["total_displacement", "no_equilibrium"] {
+        for why in ["total_displacement", "no_equilibrium", "step_budget"] {
             assert!(reason_of_name(why).is_some(), "{why}");
         }
     }
