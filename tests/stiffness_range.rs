@@ -27,12 +27,12 @@ use winkler::Collapse;
 /// Bracket of the protocol, degrees.
 const RESOLUTION_DEG: f64 = 0.0625;
 
-/// Step budget of an increment: the default, ten times that for Kn ≥ 1e12 Pa/m (dynamic
-/// relaxation of a knife-edge contact on such joints creeps for more than the default
+/// Step budget of an increment: the default, ten times that for Kn ≥ 1e11 Pa/m (dynamic
+/// relaxation of a knife-edge contact on such joints can creep for more than the default
 /// budget; see BENCHMARKS.md).
 fn budget(kn: f64) -> u64 {
     let base = TiltParams::default().max_steps_per_increment;
-    if kn >= 1e12 {
+    if kn >= 1e11 {
         10 * base
     } else {
         base
@@ -94,7 +94,10 @@ fn offset_stack_case(b: f64, h: f64, e: f64, kn: f64) {
         box_vertices([0.0, -b / 2.0 + e, h], [0.3, b / 2.0 + e, 2.0 * h]),
     ];
     let r = tilt(blocks, kn, 60.0);
-    assert_brackets(&format!("offset stack {b} x {h} m, e {e} m, Kn {kn:.0e}"), &r, exact.alpha_deg, allowance(&exact));
+    // The reference couples the two joints to first order in the top block's rotation
+    // (its centroid shift on the base joint): 0.04° more.
+    let tol = allowance(&exact) + 0.04;
+    assert_brackets(&format!("offset stack {b} x {h} m, e {e} m, Kn {kn:.0e}"), &r, exact.alpha_deg, tol);
 }
 
 /// A wide low block slides at α = φ whatever the joint stiffness.
