@@ -165,6 +165,24 @@ pub fn rect_block(b: f64, h: f64, l: f64) -> Vec<[f64; 3]> {
     box_vertices([0.0, -b / 2.0, 0.0], [l, b / 2.0, h])
 }
 
+/// A symmetric trapezoidal prism 0.3 m long (x): base width `bb` and top width `tt` (y),
+/// centred on y = 0, height `hh` (z), m.
+///
+/// # Panics
+/// If a width or the height is not positive.
+pub fn trapezoid_block(bb: f64, tt: f64, hh: f64) -> Vec<[f64; 3]> {
+    let blk = crate::geometry::ConvexBlock::trapezoidal_prism(
+        0.0,
+        0.3,
+        0.0,
+        hh,
+        (-bb / 2.0, bb / 2.0),
+        (-tt / 2.0, tt / 2.0),
+    )
+    .expect("positive widths and height");
+    blk.vertices.iter().map(|v| [v.x, v.y, v.z]).collect()
+}
+
 /// Closed-form collapse tilt (rad) of a rectangular block on a no-tension Winkler joint
 /// (module doc): the maximum over β of α(β) = β − θ(β).
 pub fn winkler_collapse_angle(b: f64, h: f64, rho: f64, g: f64, kn: f64) -> f64 {
@@ -232,18 +250,7 @@ pub fn toppling_block(b: f64, h: f64) -> TiltResult {
 
 /// The 1:4 section (B 0.150, T 0.077, H 0.375 m) as one trapezoidal block, 0.3 m long.
 pub fn trapezoid_monolith() -> TiltResult {
-    let (bb, tt, hh) = (0.150, 0.077, 0.375);
-    let blk = crate::geometry::ConvexBlock::trapezoidal_prism(
-        0.0,
-        0.3,
-        0.0,
-        hh,
-        (-bb / 2.0, bb / 2.0),
-        (-tt / 2.0, tt / 2.0),
-    )
-    .expect("valid");
-    let verts = blk.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
-    let l = layout_of(vec![verts], RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
+    let l = layout_of(vec![trapezoid_block(0.150, 0.077, 0.375)], RIGID_KN, RIGID_KN / 2.0, 60.0, BaseSliding::Free);
     run_tilt(&l, SolverParams::default(), &verify_tilt()).expect("stands at α = 0")
 }
 

@@ -21,7 +21,7 @@ use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams, TiltResult};
 use drystone::units::STANDARD_GRAVITY as G;
-use drystone::verify::{box_vertices, layout_of, DENSITY};
+use drystone::verify::{box_vertices, layout_of, trapezoid_block, DENSITY};
 use winkler::Collapse;
 
 /// Bracket of the protocol, degrees.
@@ -73,17 +73,7 @@ fn block_case(b: f64, h: f64, kn: f64) {
 
 fn trapezoid_case(bb: f64, tt: f64, hh: f64, kn: f64) {
     let exact = winkler::trapezoid(bb, tt, hh, DENSITY, G, kn);
-    let blk = drystone::geometry::ConvexBlock::trapezoidal_prism(
-        0.0,
-        0.3,
-        0.0,
-        hh,
-        (-bb / 2.0, bb / 2.0),
-        (-tt / 2.0, tt / 2.0),
-    )
-    .expect("valid");
-    let verts = blk.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
-    let r = tilt(vec![verts], kn, 60.0);
+    let r = tilt(vec![trapezoid_block(bb, tt, hh)], kn, 60.0);
     assert_brackets(&format!("trapezoid {bb}/{tt} x {hh} m, Kn {kn:.0e}"), &r, exact.alpha_deg, allowance(&exact));
 }
 
