@@ -145,18 +145,30 @@ impl Simulation {
         self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
     }
 
-    /// Detects contacts afresh and carries the history of persisting sub-contacts over.
+    /// Detects contacts afresh and carries the history of persisting sub-contacts over. A
+    /// contact whose pair has barely moved relative to its patch keeps it (and its history:
+    /// see [`SolverParams::patch_reuse_fraction`]); the separating-axis test of a pair
+    /// without a contact stops at the first axis that separates the pair by more than the
+    /// margin.
     fn detect_contacts(&mut self, initial: bool) {
         let settings = &self.params;
         let shapes: Vec<_> = self.bodies.iter().map(|b| b.world_shape()).collect();
         let boxes: Vec<_> = shapes.iter().map(|s| s.aabb()).collect();
+        let reuse_tol = if initial {
+            -1.0
+        } else {
+            settings.patch_reuse_fraction * settings.redetect_fraction * settings.contact_margin_m
+        };
         let mut new = Vec::new();
+        let mut kept = Vec::new();
         // Table contacts first (key 0), then pairs in (i, j) order.
         for (j, s) in shapes.iter().enumerate() {
             if self.bodies[j].fixed {
                 continue;
             }
-            if let Some(p) = cgeom::table_block(s, &settings) {
+            if let Some(c) = self.reusable(None, j, reuse_tol) {
+                kept.push(c);
+            } else if let Some(p) = cgeom::table_block(s, &settings) {
                 new.push(self.make_contact(None, j, p, initial));
             }
         }
@@ -164,14 +176,17 @@ impl Simulation {
             if self.bodies[i].fixed && self.bodies[j].fixed {
                 continue;
             }
-            if let Some(p) = cgeom::block_block(&shapes[i], &shapes[j], &settings) {
+            if let Some(c) = self.reusable(Some(i), j, reuse_tol) {
+                kept.push(c);
+            } else if let Some(p) = cgeom::block_block(&shapes[i], &shapes[j], &settings) {
                 new.push(self.make_contact(Some(i), j, p, initial));
             }
         }
-        new.sort_by_key(|c| c.key());
         if !initial {
             self.transfer_history(&mut new);
         }
+        new.extend(kept);
+        new.sort_by_key(|c| c.key());
         self.contacts = new;
         for (k, b) in self.bodies.iter().enumerate() {
             self.detect_pos[k] = b.pos;
@@ -230,6 +245,37 @@ impl Simulation {
         self.dt = if self.params.density_scaling.is_on() { dt } else { self.dt.min(dt) };
     }
 
+    /// B's pose relative to A (the table for `None`): B's centroid in A's body frame and
+    /// B's rotation relative to A's.
+    fn relative_pose(&self, a: Option<usize>, b: usize) -> (Vec3, nalgebra::UnitQuaternion<f64>) {
+        let bb = &self.bodies[b];
+        match a {
+            None => (bb.pos, bb.rot),
+            Some(i) => {
+                let ba = &self.bodies[i];
+                (ba.to_body(&bb.pos), ba.rot.inverse() * bb.rot)
+            }
+        }
+    }
+
+    /// The current contact of the pair, if its bodies have moved relative to each other by
+    /// less than `tol` (m, at B's extremities) since its patch was made.
+    fn reusable(&self, a: Option<usize>, b: usize, tol: f64) -> Option<Contact> {
+        if tol <= 0.0 {
+            return None;
+        }
+        let key = (a.map_or(0, |i| i + 1), b);
+        let k = self.contacts.binary_search_by_key(&key, |o| o.key()).ok()?;
+        let c = &self.contacts[k];
+        let (t, q) = self.relative_pose(a, b);
+        let dt = (t - c.made_at.0).norm();
+        // Rotation angle θ from the quaternion dot product, |q·q₀| = cos(θ/2) (as in
+        // `needs_detection`, an upper bound for small θ).
+        let dot = q.coords.dot(&c.made_at.1.coords).abs().min(1.0);
+        let dr = 2.0 * (2.0 * (1.0 - dot)).sqrt() * self.bodies[b].radius;
+        (dt + dr < tol).then(|| c.clone())
+    }
+
     fn make_contact(&self, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
         let joint = self.joints.joint(a, b, &p.normal);
         let bonded = initial && joint.has_strength();
@@ -263,6 +309,7 @@ impl Simulation {
             nodes,
             subs,
             force: Vec3::zeros(),
+            made_at: self.relative_pose(a, b),
         }
     }
 

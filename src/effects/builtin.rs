@@ -72,7 +72,7 @@ pub fn builtin() -> Vec<EffectDef> {
             "edge_rounding",
             "every edge of every block rounded by r: pivots move inwards, head joints open at their edges",
             "rounded and crushed block edges (Mehrotra & DeJong 2018, Earthq. Eng. Struct. Dyn. 47:2661)",
-            vec![param("radius_m", "m", 0.0, 0.0125, Scale::Linear, 0.0, true)],
+            vec![param("radius_m", "m", 0.0, 0.00625, Scale::Linear, 0.0, true)],
             vec![Step::Rounding { parameter: "radius_m".into() }],
         ),
         def(

@@ -71,6 +71,13 @@ fn min_along(blk: &ConvexBlock, n: &Vec3) -> f64 {
 
 /// Separating-axis test between two convex blocks in the same frame.
 pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
+    separation_until(a, b, f64::INFINITY)
+}
+
+/// [`separation`], stopped at the first axis that separates the blocks by more than `stop`
+/// (m): the returned separation is then that axis's, which exceeds `stop` (the full test's
+/// would too). For contact detection, where only pairs within the margin matter.
+pub fn separation_until(a: &ConvexBlock, b: &ConvexBlock, stop: f64) -> Separation {
     let size = a.aabb().extent().norm().max(b.aabb().extent().norm());
     let tie = 1e-9 * size;
     let mut best = Separation { distance: f64::NEG_INFINITY, normal: Vec3::z(), axis: Axis::FaceA(0) };
@@ -78,12 +85,18 @@ pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
         let d = min_along(b, &f.normal) - f.offset;
         if d > best.distance + tie {
             best = Separation { distance: d, normal: f.normal, axis: Axis::FaceA(k) };
+            if d > stop {
+                return best;
+            }
         }
     }
     for (k, f) in b.faces.iter().enumerate() {
         let d = min_along(a, &f.normal) - f.offset;
         if d > best.distance + tie {
             best = Separation { distance: d, normal: -f.normal, axis: Axis::FaceB(k) };
+            if d > stop {
+                return best;
+            }
         }
     }
     let face_best = best.distance;
@@ -141,6 +154,9 @@ pub fn separation(a: &ConvexBlock, b: &ConvexBlock) -> Separation {
             // Edge axes must beat the faces clearly (Box2D/Bullet practice).
             if d > face_best + 1e-6 * size && d > best.distance {
                 best = Separation { distance: d, normal: n, axis: Axis::Edges(i, j) };
+                if d > stop {
+                    return best;
+                }
             }
         }
     }

@@ -27,7 +27,7 @@
 
 use crate::dem::params::SolverParams;
 use crate::geometry::polygon::{self, plane_basis};
-use crate::geometry::sat::separation;
+use crate::geometry::sat::separation_until;
 use crate::geometry::ConvexBlock;
 use crate::Vec3;
 
@@ -133,7 +133,7 @@ fn ray_param(blk: &ConvexBlock, x: &Vec3, n: &Vec3, sign: f64) -> f64 {
 /// The contact patch between blocks A and B, or `None` if they are farther apart than the
 /// margin or their features do not overlap in projection.
 pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &SolverParams) -> Option<Patch> {
-    let sep = separation(a, b);
+    let sep = separation_until(a, b, s.contact_margin_m);
     if sep.distance > s.contact_margin_m {
         return None;
     }
@@ -298,6 +298,7 @@ pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize, fan: Fan) -> (Vec<[f64; 2]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::sat::separation;
 
     fn cube(min: Vec3, size: Vec3) -> ConvexBlock {
         ConvexBlock::cuboid(min, min + size).unwrap()

@@ -44,6 +44,13 @@ pub struct Contact {
     pub subs: Vec<SubContact>,
     /// Resultant force on B at the last step, N, table frame.
     pub force: Vec3,
+    /// B's pose relative to A when the patch was made: B's centroid in A's body frame (the
+    /// table frame for the table), m, and B's rotation relative to A's. A re-detection
+    /// keeps the patch while the pair has moved less than
+    /// [`crate::dem::SolverParams::patch_reuse_fraction`] of the re-detection distance
+    /// relative to it (the nodes are material points of the two bodies, so the patch moves
+    /// with the pair).
+    pub made_at: (Vec3, nalgebra::UnitQuaternion<f64>),
 }
 
 impl Contact {
