@@ -228,6 +228,11 @@ enum Command {
         /// for power studies; the report says so.
         #[arg(long)]
         no_confirm: bool,
+        /// Twice the realizations on the grids, the full runs and the independent layouts,
+        /// and finer grids (6 intervals per axis, 4 nodes per axis of two-parameter
+        /// effects): about three times the cost of the defaults, for a final answer.
+        #[arg(long)]
+        thorough: bool,
         /// Print one JSON object: verdict, cause, candidates, baseline, extended.
         #[arg(long)]
         json: bool,
@@ -379,7 +384,17 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Generate { wall, seed, realization, out, distributions } => {
             cli::generate::run(&wall, seed, realization, &out, distributions)
         }
-        Command::Discrepancy { study, out, workers, realizations, measured, measured_sets, no_confirm, json } => {
+        Command::Discrepancy {
+            study,
+            out,
+            workers,
+            realizations,
+            measured,
+            measured_sets,
+            no_confirm,
+            thorough,
+            json,
+        } => {
             cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
                 study,
                 out,
@@ -388,6 +403,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 measured,
                 measured_sets,
                 no_confirm,
+                thorough,
                 json,
             })?;
             Ok(ExitCode::SUCCESS)

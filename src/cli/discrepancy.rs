@@ -21,6 +21,7 @@ pub struct DiscrepancyArgs {
     pub measured: Option<PathBuf>,
     pub measured_sets: Option<PathBuf>,
     pub no_confirm: bool,
+    pub thorough: bool,
     pub json: bool,
 }
 
@@ -47,6 +48,9 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         use_measured_dir(&mut st, dir)?;
     }
     let mut s: Settings = st.discrepancy.clone();
+    if a.thorough {
+        s.thorough();
+    }
     if let Some(n) = a.realizations {
         if n == 0 {
             bail!("--realizations must be at least 1");

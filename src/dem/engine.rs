@@ -152,36 +152,64 @@ impl Simulation {
     /// margin.
     fn detect_contacts(&mut self, initial: bool) {
         let settings = &self.params;
-        let shapes: Vec<_> = self.bodies.iter().map(|b| b.world_shape()).collect();
-        let boxes: Vec<_> = shapes.iter().map(|s| s.aabb()).collect();
+        // Bounding boxes from the vertices at the current pose; a body's full geometry is
+        // only built when one of its pairs is detected afresh.
+        let boxes: Vec<_> = self
+            .bodies
+            .iter()
+            .map(|b| {
+                let pts: Vec<Vec3> = b.shape.vertices.iter().map(|v| b.to_world(v)).collect();
+                crate::geometry::Aabb::from_points(&pts)
+            })
+            .collect();
         let reuse_tol = if initial {
             -1.0
         } else {
             settings.patch_reuse_fraction * settings.redetect_fraction * settings.contact_margin_m
         };
-        let mut new = Vec::new();
         let mut kept = Vec::new();
+        let mut fresh: Vec<(Option<usize>, usize)> = Vec::new();
         // Table contacts first (key 0), then pairs in (i, j) order.
-        for (j, s) in shapes.iter().enumerate() {
+        for j in 0..self.bodies.len() {
             if self.bodies[j].fixed {
                 continue;
             }
-            if let Some(c) = self.reusable(None, j, reuse_tol) {
-                kept.push(c);
-            } else if let Some(p) = cgeom::table_block(s, &settings) {
-                new.push(self.make_contact(None, j, p, initial));
+            match self.reusable(None, j, reuse_tol) {
+                Some(c) => kept.push(c),
+                None if boxes[j].min.z <= settings.contact_margin_m => fresh.push((None, j)),
+                None => {}
             }
         }
         for (i, j) in sweep_pairs(&boxes, settings.contact_margin_m) {
             if self.bodies[i].fixed && self.bodies[j].fixed {
                 continue;
             }
-            if let Some(c) = self.reusable(Some(i), j, reuse_tol) {
-                kept.push(c);
-            } else if let Some(p) = cgeom::block_block(&shapes[i], &shapes[j], &settings) {
-                new.push(self.make_contact(Some(i), j, p, initial));
+            match self.reusable(Some(i), j, reuse_tol) {
+                Some(c) => kept.push(c),
+                None => fresh.push((Some(i), j)),
             }
         }
+        let mut shapes: Vec<Option<crate::geometry::ConvexBlock>> = vec![None; self.bodies.len()];
+        for &(a, b) in &fresh {
+            for k in a.into_iter().chain([b]) {
+                if shapes[k].is_none() {
+                    shapes[k] = Some(self.bodies[k].world_shape());
+                }
+            }
+        }
+        let shape = |k: usize| shapes[k].as_ref().expect("built above");
+        let mut new = Vec::new();
+        for &(a, b) in &fresh {
+            let patch = match a {
+                None => cgeom::table_block(shape(b), settings),
+                Some(i) => cgeom::block_block(shape(i), shape(b), settings),
+            };
+            if let Some(p) = patch {
+                new.push(self.make_contact(a, b, p, initial));
+            }
+        }
+        // The same contacts as before, every patch kept: the masses and the step stand.
+        let unchanged = !initial && new.is_empty() && kept.len() == self.contacts.len();
         if !initial {
             self.transfer_history(&mut new);
         }
@@ -191,6 +219,10 @@ impl Simulation {
         for (k, b) in self.bodies.iter().enumerate() {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
+        }
+        if unchanged {
+            self.detections += 1;
+            return;
         }
         if self.defer_step_update {
             self.step_update_pending = true;

@@ -281,6 +281,7 @@ fn collapse_table(cells: &[CellSummary], md: &mut String) {
         "95 % CI of mean",
         "95 % bootstrap σ",
         "lognormal median, β",
+        "load multiplier λ = tan α_max at the mean (95 % CI)",
     ];
     md_table(
         md,
@@ -301,9 +302,25 @@ fn collapse_table(cells: &[CellSummary], md: &mut String) {
                 format!("{} .. {}", num(s.mean_ci95.0), num(s.mean_ci95.1)),
                 format!("{} .. {}", num(s.sd_boot95.0), num(s.sd_boot95.1)),
                 c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta)),
+                load_multiplier(s.mean, s.mean_ci95),
             ]
         }),
     );
+}
+
+/// The load multiplier of a tilting-table collapse angle (degrees), λ = tan α_max: the
+/// out-of-plane load `W sin α` over the weight's normal component `W cos α` at collapse
+/// (Santa-Cruz et al. 2021, Eq. 1), at the mean and at the ends of its interval (tan is
+/// monotonic on [0°, 90°)).
+fn load_multiplier(mean: f64, ci: (f64, f64)) -> String {
+    let t = |a: f64| {
+        if a.is_finite() && (0.0..90.0).contains(&a) {
+            format!("{:.3}", a.to_radians().tan())
+        } else {
+            "–".into()
+        }
+    };
+    format!("{} ({} .. {})", t(mean), t(ci.0), t(ci.1))
 }
 
 /// The displacement at 5° and 10° per cell.
