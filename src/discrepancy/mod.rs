@@ -52,7 +52,10 @@ use std::sync::Arc;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Settings {
-    /// Realizations per group at every node of the surrogates' grids \[4\].
+    /// Realizations per group at every node of the surrogates' grids \[2\]: the models
+    /// share their layouts (common random numbers), so the nodes differ by the effect and
+    /// not by the sampling; the predictive carries the few realizations (Student-t), and
+    /// the two best candidates are re-run and scored with `extension_realizations`.
     pub realizations: u64,
     /// Realizations per group of the baseline's and of a confirmed candidate's full run
     /// \[9\] (the first `realizations` of the baseline are the grids' neutral node).
@@ -90,7 +93,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            realizations: 4,
+            realizations: 2,
             extension_realizations: 9,
             null_realizations: 9,
             grid_points: 4,
@@ -464,16 +467,25 @@ pub struct Design {
     pub candidates: (String, String),
     /// The group and observable that separates them best.
     pub observable: String,
-    /// Their difference there, in predictive standard deviations.
+    /// Their difference there, in standard deviations of a new specimen (the models' spread,
+    /// their surrogates' error and the measurement σ).
     pub effect_size: f64,
     /// Specimens of that group needed (two-sided 5 %, power 80 %).
     pub specimens: usize,
 }
 
-fn design(a: &[Simulated], b: &[Simulated], labels: &[String], names: (String, String)) -> Option<Design> {
+/// `sigma[k]`: the measurement σ of key `k` (a new specimen is read with it).
+fn design(
+    a: &[Simulated],
+    b: &[Simulated],
+    sigma: &[f64],
+    labels: &[String],
+    names: (String, String),
+) -> Option<Design> {
     let mut best: Option<(usize, f64)> = None;
     for k in 0..a.len() {
-        let sd = (0.5 * (a[k].sd.powi(2) + b[k].sd.powi(2)) + a[k].err.powi(2) + b[k].err.powi(2)).sqrt();
+        let sd =
+            (0.5 * (a[k].sd.powi(2) + b[k].sd.powi(2)) + a[k].err.powi(2) + b[k].err.powi(2) + sigma[k].powi(2)).sqrt();
         let d = (a[k].mean - b[k].mean).abs() / sd.max(1e-12);
         if d.is_finite() && best.is_none_or(|(_, bd)| d > bd) {
             best = Some((k, d));
@@ -646,7 +658,8 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         }
     }
     // Full runs of the best candidates at their fitted parameters, re-scored.
-    let mut runs: Vec<(usize, Vec<Effect>, Vec<Vec<Outcome>>)> = Vec::new();
+    // (candidate, coordinates of the run, its effects, its outcomes)
+    let mut runs: Vec<(usize, Vec<f64>, Vec<Effect>, Vec<Vec<Outcome>>)> = Vec::new();
     if s.confirm {
         for _round in 0..3 {
             let todo: Vec<usize> = ranked
@@ -666,7 +679,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 let corrected = Candidate {
                     surface: Surface::Corrected {
                         inner: Box::new(pool[idx].surface.clone()),
-                        x0: x,
+                        x0: x.clone(),
                         full: keys.simulated(&outs),
                     },
                     ..pool[idx].clone()
@@ -675,7 +688,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 r.confirmed = true;
                 pool[idx] = corrected;
                 ranked[pos] = r;
-                runs.push((idx, effects, outs));
+                runs.push((idx, x, effects, outs));
             }
             sort(&mut ranked);
         }
@@ -698,8 +711,11 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 // predictive.
                 (c.surface.at(&b.x), vec![vec![]; setup.groups.len()])
             } else {
-                let (effects, outs) = match runs.iter().find(|r| r.0 == b.index) {
-                    Some((_, e, o)) => (e.clone(), o.clone()),
+                // The extended model is run at the fitted parameters: a confirmation run
+                // at other coordinates (the re-scored fit moved) is not reused.
+                let same = |x: &[f64]| x.len() == b.x.len() && x.iter().zip(&b.x).all(|(p, q)| (p - q).abs() < 1e-9);
+                let (effects, outs) = match runs.iter().find(|r| r.0 == b.index && same(&r.1)) {
+                    Some((_, _, e, o)) => (e.clone(), o.clone()),
                     None => {
                         let e = effects_of(c, &b.x, course_m)?;
                         let o = run_models(&full, &[e.clone()], Some(baseline)).remove(0);
@@ -739,6 +755,10 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             }
         }
     };
+    let mut key_sigma = vec![0.0f64; keys.keys.len()];
+    for (o, &k) in obs.iter().zip(&keys.of) {
+        key_sigma[k] = key_sigma[k].max(o.sigma);
+    }
     let design = (tie.len() > 1)
         .then(|| {
             let a = candidates.iter().find(|r| r.name == tie[0])?;
@@ -746,6 +766,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             design(
                 &pool[a.index].surface.at(&a.x),
                 &pool[b.index].surface.at(&b.x),
+                &key_sigma,
                 &labels,
                 (a.name.clone(), b.name.clone()),
             )
