@@ -52,7 +52,7 @@ fn initial_lean_tips_a_rigid_block_earlier_by_the_lean() {
 /// Rounded edges of size r move the pivot inwards: `tan α = (b/2 − r)/(h/2)`.
 #[test]
 fn edge_rounding_moves_the_pivot_of_a_rigid_block_inwards() {
-    let (b, h, r) = (0.1, 0.3, 0.01);
+    let (b, h, r) = (0.1, 0.3, 0.006);
     let mut l = layout_of(vec![rect_block(b, h, 0.3)], RIGID, RIGID / 2.0, 60.0, BaseSliding::Free);
     let plumb = collapse_deg(&l);
     apply(&mut l, &format!("edge_rounding={r}"));
