@@ -137,7 +137,6 @@ pub struct Accelerator {
     /// Motion of the last window.
     last_dx: Option<Vec<f64>>,
     negative: u32,
-    trace: bool,
     /// Stiffness per unit motion squared and force along the motion of the last window.
     last_window: Option<(f64, f64)>,
     /// Whether the last window moved the way of the one before, pushed by the
@@ -152,15 +151,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 impl Accelerator {
     /// A fresh accelerator.
     pub fn new(settings: SecantAcceleration) -> Accelerator {
-        Accelerator {
-            settings,
-            last: None,
-            last_dx: None,
-            negative: 0,
-            trace: std::env::var_os("DRYSTONE_TRACE_CREEP").is_some(),
-            last_window: None,
-            creeping: false,
-        }
+        Accelerator { settings, last: None, last_dx: None, negative: 0, last_window: None, creeping: false }
     }
 
     /// Probes the path ahead of a state on which the indicator fired: moves a copy of `sim`
@@ -193,9 +184,6 @@ impl Accelerator {
                     f.dot(&dpos[i]) + m.dot(&drot[i])
                 })
                 .sum();
-            if self.trace {
-                eprintln!("probe t {t:.3e} along {along:.3e} ratio {:.3e}", trial.stats.unbalanced_ratio);
-            }
             along > 0.0
         };
         let mut last_pushing = 0.0;
@@ -276,17 +264,6 @@ impl Accelerator {
             None => f64::NAN,
         };
         self.last_dx = Some(dx.clone());
-        if self.trace {
-            eprintln!(
-                "creep step {steps} |dx| {:.3e} work {:.3e} stiff {:.3e} s {:.2} align {:.3} ratio {:.3e}",
-                dxx.sqrt(),
-                work,
-                stiff,
-                work / stiff,
-                align,
-                sim.stats.unbalanced_ratio
-            );
-        }
         let (kappa1, force1) = self.last_window.replace((stiff / dxx, work / dxx.sqrt())).unzip();
         let aligned = align >= s.min_alignment;
         self.creeping = aligned && work > 0.0;
@@ -324,9 +301,6 @@ impl Accelerator {
             .chunks_exact(6)
             .map(|c| (Vec3::new(c[0], c[1], c[2]) * scale, Vec3::new(c[3], c[4], c[5]) * scale))
             .unzip();
-        if self.trace {
-            eprintln!("creep step {steps} jump x{scale:.2}");
-        }
         sim.predict(&dpos, &drot);
         self.reset();
         Creep::Jumped
