@@ -24,6 +24,27 @@
 //!   that explains it, the extended model and its held-out gain.
 //! * [`verify`]: closed-form verification cases.
 //!
+//! ## Example
+//!
+//! Generate one realization of a wall description and tilt it to collapse
+//! (`examples/tilt_a_wall.rs` prints more of the result):
+//!
+//! ```
+//! use drystone::dem::SolverParams;
+//! use drystone::generator::{generate, Wall};
+//! use drystone::loading::tilt::{run_tilt, TiltParams};
+//!
+//! let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/discrepancy/walls/small_free.toml");
+//! let wall = Wall::from_file(std::path::Path::new(file))?;
+//! let layout = generate(&wall, 2021, 0)?.check()?; // master seed, realization
+//! let again = generate(&wall, 2021, 0)?.check()?;
+//! assert_eq!(layout.blocks.len(), again.blocks.len()); // the seed fixes the layout
+//! let r = run_tilt(&layout, SolverParams::default(), &TiltParams::default())?;
+//! assert!(r.collapse_angle_deg > 5.0 && r.collapse_angle_deg < 40.0);
+//! assert!(r.first_unstable_deg.unwrap() > r.collapse_angle_deg);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## Units
 //!
 //! SI inside (m, kg, s, N, Pa, rad). Degrees and centimetres only at the edges (files, CLI,

@@ -560,6 +560,29 @@ impl TiltError {
 
 /// Runs the tilting-table test of a layout to collapse.
 ///
+/// The returned bracket `[last_stable_deg, first_unstable_deg]` contains the collapse
+/// angle α_max to `params.resolution_deg`.
+///
+/// ```
+/// use drystone::dem::SolverParams;
+/// use drystone::layout::BaseSliding;
+/// use drystone::loading::tilt::{run_tilt, TiltParams};
+/// use drystone::verify::{box_vertices, layout_of};
+///
+/// // A block 0.1125 m deep (y) and 0.375 m tall on stiff joints (Kn 1e11 Pa/m, φ 60°)
+/// // topples near the rigid limit tan α = b / h = 0.3 (16.70°), below it by the elastic
+/// // rotation of its base joint (the no-tension Winkler solution: 16.31°, `drystone verify`).
+/// let block = box_vertices([0.0, -0.05625, 0.0], [0.3, 0.05625, 0.375]);
+/// let layout = layout_of(vec![block], 1e11, 5e10, 60.0, BaseSliding::Free);
+/// let params = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
+/// let r = run_tilt(&layout, SolverParams::default(), &params)?;
+/// let up = r.first_unstable_deg.unwrap();
+/// assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{} {up}", r.last_stable_deg);
+/// // The load multiplier at collapse, λ = tan α_max, against the rigid limit b / h.
+/// assert!((r.collapse_angle_deg.to_radians().tan() - 0.3).abs() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// # Errors
 /// [`TiltError::DoesNotStand`] if the layout does not stand as given at α = 0 (a block
 /// touching nothing, no equilibrium, or a block that moved while settling),
