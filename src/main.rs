@@ -204,39 +204,7 @@ enum Command {
     /// Model discrepancy: what the simulation gets wrong against the study's measured data,
     /// the physical effect that explains it (from a library of candidate effects, ranked by
     /// held-out error with margins calibrated on null data), the extended model and its gain.
-    Discrepancy {
-        /// Study file (TOML) with [measured] data (and an optional [discrepancy] table).
-        study: PathBuf,
-        /// Output directory. Default: out/<study name>-discrepancy.
-        #[arg(long)]
-        out: Option<PathBuf>,
-        #[command(flatten)]
-        workers: Workers,
-        /// Realizations per group on the fitting grids, overriding the study file.
-        #[arg(long)]
-        realizations: Option<u64>,
-        /// Directory with measured data in the paper's format (as `drystone synthesize`
-        /// writes), used instead of the study's [measured] files.
-        #[arg(long)]
-        measured: Option<PathBuf>,
-        /// Directory of data sets of one design (subdirectories, each with the measured files):
-        /// the forward runs are made once and every set is analysed against them, one JSON
-        /// line per set (a power study).
-        #[arg(long, conflicts_with = "measured")]
-        measured_sets: Option<PathBuf>,
-        /// Score candidates by their surrogates only (no full runs of the best two): faster,
-        /// for power studies; the report says so.
-        #[arg(long)]
-        no_confirm: bool,
-        /// Twice the realizations on the grids, the full runs and the independent layouts,
-        /// and finer grids (6 intervals per axis, 4 nodes per axis of two-parameter
-        /// effects): about three times the cost of the defaults, for a final answer.
-        #[arg(long)]
-        thorough: bool,
-        /// Print one JSON object: verdict, cause, candidates, baseline, extended.
-        #[arg(long)]
-        json: bool,
-    },
+    Discrepancy(cli::discrepancy::DiscrepancyArgs),
     /// Synthetic measured data: the study's walls built with seeds the study does not use,
     /// hidden effects applied, tilted to collapse, with measurement noise; written in the
     /// format of the paper's data files (a power analysis for planning tests).
@@ -384,28 +352,8 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Generate { wall, seed, realization, out, distributions } => {
             cli::generate::run(&wall, seed, realization, &out, distributions)
         }
-        Command::Discrepancy {
-            study,
-            out,
-            workers,
-            realizations,
-            measured,
-            measured_sets,
-            no_confirm,
-            thorough,
-            json,
-        } => {
-            cli::discrepancy::discrepancy(cli::discrepancy::DiscrepancyArgs {
-                study,
-                out,
-                threads: workers.threads,
-                realizations,
-                measured,
-                measured_sets,
-                no_confirm,
-                thorough,
-                json,
-            })?;
+        Command::Discrepancy(args) => {
+            cli::discrepancy::discrepancy(args)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Synthesize { study, effect, seed, specimens, out } => {

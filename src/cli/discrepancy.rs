@@ -13,15 +13,40 @@ const MAX_SYNTHESIZE_SECONDS: f64 = 3600.0;
 use std::path::{Path, PathBuf};
 
 /// Options of `drystone discrepancy`.
+#[derive(clap::Args)]
 pub struct DiscrepancyArgs {
+    /// Study file (TOML) with [measured] data (and an optional [discrepancy] table).
     pub study: PathBuf,
+    /// Output directory. Default: out/<study name>-discrepancy.
+    #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Worker threads: 0 or absent means all cores; more than the cores available is
+    /// reduced to that number. The results do not depend on it.
+    #[arg(long)]
     pub threads: Option<usize>,
+    /// Realizations per group on the fitting grids, overriding the study file.
+    #[arg(long)]
     pub realizations: Option<u64>,
+    /// Directory with measured data in the paper's format (as `drystone synthesize`
+    /// writes), used instead of the study's [measured] files.
+    #[arg(long)]
     pub measured: Option<PathBuf>,
+    /// Directory of data sets of one design (subdirectories, each with the measured files):
+    /// the forward runs are made once and every set is analysed against them, one JSON
+    /// line per set (a power study).
+    #[arg(long, conflicts_with = "measured")]
     pub measured_sets: Option<PathBuf>,
+    /// Score candidates by their surrogates only (no full runs of the best two): faster,
+    /// for power studies; the report says so.
+    #[arg(long)]
     pub no_confirm: bool,
+    /// Twice the realizations on the grids, the full runs and the independent layouts,
+    /// and finer grids (6 intervals per axis, 4 nodes per axis of two-parameter
+    /// effects): about three times the cost of the defaults, for a final answer.
+    #[arg(long)]
     pub thorough: bool,
+    /// Print one JSON object: verdict, cause, candidates, baseline, extended.
+    #[arg(long)]
     pub json: bool,
 }
 
