@@ -104,7 +104,22 @@ fn main() {
             let a = &run.analysis;
             let cause = a.cause.as_ref().map(|c| c.name.clone());
             let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
-            let what = format!("{} #{i}: {} {:?} tie {:?}", e.label(), a.verdict.name(), cause, a.tie);
+            let m = &a.margins;
+            let gain = a.candidates.first().map_or(0.0, |b| a.baseline_heldout_error - b.heldout_error);
+            let missed = a.check.as_ref().map(|c| c.missed.clone()).unwrap_or_default();
+            let what = format!(
+                "{} #{i}: {} {:?} tie {:?} | base {:.2} (misfit margin {:.2}) best gain {:.2} (margin {:.2}) sigma {:?} missed {:?}",
+                e.label(),
+                a.verdict.name(),
+                cause,
+                a.tie,
+                a.baseline_heldout_error,
+                m.misfit,
+                gain,
+                m.baseline,
+                run.sigma_estimate,
+                missed
+            );
             eprintln!("{what} -> {got:?}");
             (e, got, what)
         })

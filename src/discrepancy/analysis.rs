@@ -9,20 +9,22 @@
 //! * **Information criterion.** AICc at the full-data fit, n = specimens.
 //! * **Null calibration.** Null data sets are drawn under the baseline from layouts the
 //!   library never saw (a master seed of their own): each null specimen is one such
-//!   realization, observed with measurement noise and rounded to the readings' resolution
-//!   as the data are ([`NullSource::Pool`]). The margin a candidate must beat the baseline
-//!   by is the 95th percentile of the best candidate's gain on the first half of the null
-//!   data sets; the false-alarm rate of that margin is counted on the second half and
-//!   reported with its Clopper–Pearson interval. The runner-up margin is the 95th
-//!   percentile of the gap between the best two on null data; the baseline's misfit is
-//!   significant when its score exceeds the 95th percentile of its null scores.
+//!   realization, centred on the baseline with one draw of the baseline's own sampling
+//!   error per data set, observed with measurement noise, rounded to the readings'
+//!   resolution, and given its σ by the same rule as the data ([`draw_data`]). Two alarms
+//!   are calibrated together ([`calibrate_margins`]): the best candidate's gain over the
+//!   baseline (a cause named) and the baseline's score (a significant misfit), so that
+//!   null data raise either in at most 5 % of the data sets. The false-alarm rate of
+//!   margins set this way is measured by cross-fitting (margins from one half of the null
+//!   data sets, alarms on the other) and reported with its Clopper–Pearson interval. The
+//!   runner-up margin is the 95th percentile of the gap between the best two on null data.
 //! * **Ranking.** Candidates are ranked by their surrogate's held-out error; the two best
 //!   are then run as full ensembles at their fitted parameters and re-scored with their
 //!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
 //!   the gain and the verdict use those scores.
 
 use super::fit::{aicc, difference_se, fit, loso, per_specimen, Candidate, Data, Surface};
-use super::observations::Observable;
+use super::observations::{Observable, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::simulate::Outcome;
 use crate::rng::{rng_for, Purpose};
@@ -76,9 +78,10 @@ pub struct Margins {
     pub runner_up: f64,
     /// The baseline's score per specimen above which its misfit is significant.
     pub misfit: f64,
-    /// Null data sets drawn (half set the margins, half measure the false-alarm rate).
+    /// Null data sets drawn (all set the margins).
     pub replicates: usize,
-    /// False alarms among the held-back null data sets, and their count.
+    /// False alarms (either alarm) of margins set on one half of the null data sets,
+    /// counted on the other half, both ways; and the data sets counted.
     pub false_alarms: (usize, usize),
     /// 95 % Clopper–Pearson interval of the false-alarm rate.
     pub false_alarm_interval: (f64, f64),
@@ -161,21 +164,92 @@ pub struct NullSource<'a> {
     pub pool: &'a [Vec<Outcome>],
     /// The keys.
     pub keys: &'a [(usize, Observable)],
-    /// The model's simulated values per key (for groups drawn from the predictive).
+    /// The pool's own mean and spread per key.
     pub sims: &'a [Simulated],
+    /// The model the null data stand for, per key: the data are centred on its mean, and
+    /// its number of realizations sets the error of that mean that each data set draws.
+    pub centre: &'a [Simulated],
+    /// How the analysis sets the measurement σ from the data, applied again to every
+    /// synthetic data set.
+    pub sigma: SigmaRule<'a>,
+}
+
+/// How the analysis sets each observation's measurement σ: the stated σ, or the spread
+/// the data show beyond the model's ([`super::observations::measurement_sigma`]) if
+/// larger. Applied to the measured data and again to every synthetic data set, so that
+/// the margins carry the uncertainty of a σ estimated from a few specimens (a parametric
+/// bootstrap of the whole procedure; Efron & Tibshirani 1993, §6.5).
+#[derive(Debug, Clone, Copy)]
+pub struct SigmaRule<'a> {
+    /// The stated σ of every observation (the file's, or the settings').
+    pub stated: &'a [f64],
+    /// The model's spread per key (the baseline's full run).
+    pub model_sd: &'a [f64],
+    /// The readings' resolutions.
+    pub reading: Reading,
+}
+
+impl SigmaRule<'_> {
+    /// Sets `obs[j].sigma` from the data (`obs[j].value`, keys `key`); returns the estimate
+    /// of collapse angles and of displacements, each with its degrees of freedom.
+    pub fn apply(&self, obs: &mut [Observation], key: &[usize]) -> [Option<(f64, usize)>; 2] {
+        let est = [true, false].map(|angle| {
+            let r = if angle { self.reading.angle_deg } else { self.reading.displacement_cm };
+            super::observations::measurement_sigma(obs, key, self.model_sd, r, angle)
+        });
+        for (o, &stated) in obs.iter_mut().zip(self.stated) {
+            let kind = usize::from(!matches!(o.observable, Observable::CollapseAngle));
+            o.sigma = est[kind].map_or(stated, |(sd, _)| stated.max(sd));
+        }
+        est
+    }
 }
 
 /// One synthetic data set: values for every observation, each specimen one realization of
 /// `source` (drawn with replacement), plus Gaussian noise of the observation's σ, rounded
-/// to the reading resolution.
+/// to the reading resolution; and the observations with their σ set from these values as
+/// the analysis sets them from the measured ones.
+///
+/// The values are centred on the model's mean, not on the pool's: a realization enters as
+/// its deviation from the pool's mean, and every data set adds one draw of the error of
+/// the model's mean (the mean of `R` realizations drawn from the pool, less the pool's
+/// mean; `R` the model's realizations; one draw per group, so that a group's observables
+/// err together). Under the null hypothesis the measured data differ from the model by
+/// the specimens' spread and by the model's own sampling error; the synthetic data do by
+/// the same two, whatever the pool's mean happens to be.
 pub fn draw_data(
     data0: Data<'_>,
     specimens: &[String],
     source: NullSource<'_>,
     reading: Reading,
     rng: &mut ChaCha8Rng,
-) -> Vec<f64> {
+) -> (Vec<f64>, Vec<Observation>) {
     let obs = data0.obs;
+    let groups = source.pool.len();
+    let mut delta = vec![0.0f64; source.keys.len()];
+    for g in 0..groups {
+        let n = source.pool[g].len();
+        if n < 3 {
+            continue;
+        }
+        let r = (0..source.keys.len())
+            .filter(|&k| source.keys[k].0 == g)
+            .map(|k| source.centre[k].n)
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let picks: Vec<usize> = (0..r).map(|_| rng.random_range(0..n)).collect();
+        for (k, (kg, o)) in source.keys.iter().enumerate() {
+            if *kg != g {
+                continue;
+            }
+            let v: Vec<f64> =
+                picks.iter().filter_map(|&i| source.pool[g][i].value(o)).filter(|v| v.is_finite()).collect();
+            if !v.is_empty() && source.sims[k].mean.is_finite() {
+                delta[k] = crate::stats::mean(&v) - source.sims[k].mean;
+            }
+        }
+    }
     let mut y: Vec<f64> = vec![0.0; obs.len()];
     for s in specimens {
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
@@ -185,9 +259,14 @@ pub fn draw_data(
         let shared: f64 = StandardNormal.sample(rng);
         for j in idx {
             let z: f64 = StandardNormal.sample(rng);
-            let p = data0.predictive(source.sims, j);
+            let k = data0.key[j];
+            let p = data0.predictive(source.centre, j);
             let v = match pick {
-                Some(r) => source.pool[g][r].value(&source.keys[data0.key[j]].1).map(|v| v + obs[j].sigma * z),
+                Some(r) => source.pool[g][r].value(&source.keys[k].1).map(|v| {
+                    let (c, m) = (source.centre[k].mean, source.sims[k].mean);
+                    let v = if c.is_finite() && m.is_finite() { c + (v - m) + delta[k] } else { v };
+                    v + obs[j].sigma * z
+                }),
                 None => Some(
                     p.mean + p.sd * if matches!(obs[j].observable, Observable::CollapseAngle) { z } else { shared },
                 ),
@@ -198,7 +277,12 @@ pub fn draw_data(
             y[j] = reading.round(&obs[j].observable, v);
         }
     }
-    y
+    let mut o: Vec<Observation> = obs.to_vec();
+    for (o, v) in o.iter_mut().zip(&y) {
+        o.value = *v;
+    }
+    source.sigma.apply(&mut o, data0.key);
+    (y, o)
 }
 
 /// The baseline's held-out (plain) score per specimen.
@@ -221,7 +305,8 @@ pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
 }
 
 /// Calibrates the margins on `replicates` null data sets drawn from `source` (seeded by
-/// `seed`, `Purpose::Discrepancy`, one stream per replicate).
+/// `seed`, `Purpose::Discrepancy`, one stream per replicate): the gain and misfit margins
+/// together ([`joint_margins`]), the runner-up margin at the 95th percentile.
 pub fn calibrate_margins(
     lib: &Library,
     data0: Data<'_>,
@@ -235,8 +320,8 @@ pub fn calibrate_margins(
         .into_par_iter()
         .map(|b| {
             let mut rng = rng_for(seed, b as u64, Purpose::Discrepancy);
-            let y = draw_data(data0, specimens, source, data0.reading, &mut rng);
-            let data = Data { y: &y, ..data0 };
+            let (y, o) = draw_data(data0, specimens, source, data0.reading, &mut rng);
+            let data = Data { obs: &o, y: &y, ..data0 };
             let base = baseline_per_specimen(lib, data, specimens);
             let base_he = base.iter().sum::<f64>() / n;
             let ranked = rank(&lib.candidates, data, specimens, &base);
@@ -245,18 +330,47 @@ pub fn calibrate_margins(
             (base_he - best, second - best, base_he)
         })
         .collect();
+    let (baseline, misfit) = joint_margins(&runs);
+    // The false-alarm rate of margins set this way, measured on data they were not set
+    // on: margins from each half of the null data sets, alarms counted on the other half.
     let half = replicates / 2;
-    let (fit_half, test_half) = runs.split_at(half);
-    let margin = quantile(fit_half.iter().map(|r| r.0).collect(), 0.95);
-    let alarms = test_half.iter().filter(|r| r.0 > margin).count();
+    let (a, b) = runs.split_at(half);
+    let alarms_of = |set: &[(f64, f64, f64)], on: &[(f64, f64, f64)]| {
+        let (g, m) = joint_margins(set);
+        on.iter().filter(|r| r.0 > g || r.2 > m).count()
+    };
+    let alarms = if a.is_empty() || b.is_empty() { 0 } else { alarms_of(a, b) + alarms_of(b, a) };
+    let tested = if a.is_empty() || b.is_empty() { 0 } else { replicates };
     Margins {
-        baseline: margin,
+        baseline,
         runner_up: quantile(runs.iter().map(|r| r.1).collect(), 0.95),
-        misfit: quantile(runs.iter().map(|r| r.2).collect(), 0.95),
+        misfit,
         replicates,
-        false_alarms: (alarms, test_half.len()),
-        false_alarm_interval: clopper_pearson(alarms, test_half.len()),
+        false_alarms: (alarms, tested),
+        false_alarm_interval: clopper_pearson(alarms, tested),
     }
+}
+
+/// The margin on the best candidate's gain and the threshold of the baseline's misfit,
+/// set together so that null data raise either alarm (a cause named, or a significant
+/// misfit) in at most 5 % of the data sets: both at the same upper quantile `q` of their
+/// null distributions, the smallest `q` in [0.95, 0.975] (0.975: Bonferroni's bound for
+/// two tests) whose union of alarms on `runs` (gain, runner-up gap, baseline score) is at
+/// most 5 %.
+fn joint_margins(runs: &[(f64, f64, f64)]) -> (f64, f64) {
+    let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
+    let base: Vec<f64> = runs.iter().map(|r| r.2).collect();
+    let at = |q: f64| (quantile(gains.clone(), q), quantile(base.clone(), q));
+    let mut q = 0.95;
+    while q < 0.975 {
+        let (g, m) = at(q);
+        let union = runs.iter().filter(|r| r.0 > g || r.2 > m).count();
+        if union as f64 <= 0.05 * runs.len() as f64 {
+            return (g, m);
+        }
+        q += 0.0025;
+    }
+    at(0.975)
 }
 
 /// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
@@ -326,8 +440,8 @@ pub fn predictive_check(
         .into_par_iter()
         .map(|b| {
             let mut rng = rng_for(seed ^ 0x9e37_79b9_7f4a_7c15, b as u64, Purpose::Discrepancy);
-            let y = draw_data(data, specimens, source, data.reading, &mut rng);
-            Data { y: &y, ..data }.nlpd(sims, &all) / n
+            let (y, o) = draw_data(data, specimens, source, data.reading, &mut rng);
+            Data { obs: &o, y: &y, ..data }.nlpd(sims, &all) / n
         })
         .collect();
     let mut missed = Vec::new();

@@ -100,8 +100,11 @@ pub enum Surface {
         angle: Vec<bool>,
     },
     /// A surface re-centred on a full run at one point: `at(x) = inner(x) + (full − inner(x₀))`
-    /// in the mean, the full run's spread and size at every point (the surrogate's shape,
-    /// the full run's level).
+    /// in the mean and in the variance, the full run's size at every point (the
+    /// surrogate's shape, the full run's level). Used twice: every grid is re-centred on
+    /// the baseline's full run at its neutral point (so that the baseline and every
+    /// candidate are scored with the same number of realizations), and a confirmed
+    /// candidate on its own full run at its fitted point.
     Corrected {
         /// The surrogate.
         inner: Box<Surface>,
@@ -247,7 +250,11 @@ impl Surface {
                         } else {
                             f.mean
                         },
-                        sd: f.sd,
+                        sd: if s.sd.is_finite() && s0.sd.is_finite() {
+                            (f.sd * f.sd + s.sd * s.sd - s0.sd * s0.sd).max(0.0).sqrt()
+                        } else {
+                            f.sd
+                        },
                         n: f.n,
                         err: s.err,
                     })

@@ -68,8 +68,8 @@ pub struct Settings {
     pub grid_points: usize,
     /// Nodes per axis of a two-parameter effect \[3\], corners included.
     pub grid_points_2d: usize,
-    /// Null data sets of the margin calibration \[200\] (half set the margins, half count
-    /// the false alarms).
+    /// Null data sets of the margin calibration \[200\] (all set the margins; the
+    /// false-alarm rate is measured by cross-fitting their two halves).
     pub null_replicates: usize,
     /// Data sets of the posterior predictive check \[200\].
     pub check_replicates: usize,
@@ -328,9 +328,12 @@ pub fn course_height(setup: &Setup) -> f64 {
     }
 }
 
-/// Builds the surrogate library: the baseline (from `baseline`, the first `realizations`
-/// of each group), every effect's grid, run with common random numbers, and the scatter
-/// hypothesis.
+/// Builds the surrogate library: the baseline (every realization of `baseline`, the full
+/// run), every effect's grid (the first `realizations` layouts of each group, common random
+/// numbers) re-centred on the full baseline at the effect's neutral point
+/// ([`Surface::Corrected`]), and the scatter hypothesis. The baseline and every candidate
+/// are thereby scored with the same number of realizations: a candidate does not gain on
+/// the baseline by being estimated from more layouts.
 pub fn build_library(
     setup: &Setup,
     keys: &Keys,
@@ -350,6 +353,7 @@ pub fn build_library(
         .collect();
     let outcomes = run_models(&grid_setup, &models, Some(&base_grid));
     let base_sims = keys.simulated(&base_grid);
+    let full_sims = keys.simulated(baseline);
     let mut next = outcomes.iter();
     let mut candidates = Vec::new();
     for p in &plans {
@@ -374,13 +378,15 @@ pub fn build_library(
             x2.dedup();
             Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
         };
+        let x0: Vec<f64> = p.params.iter().map(|q| to_x(q, q.neutral).clamp(0.0, 1.0)).collect();
+        let surface = Surface::Corrected { inner: Box::new(surface), x0, full: full_sims.clone() };
         candidates.push(Candidate { effects: vec![p.def.clone()], params: p.params.clone(), surface });
     }
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
-        candidates.push(Candidate::scatter(base_sims.clone(), angle));
+        candidates.push(Candidate::scatter(full_sims.clone(), angle));
     }
-    Ok(Library { baseline: base_sims, candidates })
+    Ok(Library { baseline: full_sims, candidates })
 }
 
 /// The setup with every group's realizations capped at `n`.
@@ -607,20 +613,13 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             })
         })
         .collect::<Result<_, _>>()?;
-    // The measurement σ: the setting, or the spread the data show beyond the model's, if
-    // larger.
+    // The measurement σ: the stated one, or the spread the data show beyond the model's,
+    // if larger (again on every synthetic data set).
     let full_base = keys.simulated(&prep.baseline);
     let model_sd: Vec<f64> = full_base.iter().map(|x| x.sd).collect();
-    let sigma_estimate = [true, false].map(|angle| {
-        let reading = if angle { s.reading.angle_deg } else { s.reading.displacement_cm };
-        observations::measurement_sigma(&obs, &keys.of, &model_sd, reading, angle)
-    });
-    for o in &mut obs {
-        let angle = matches!(o.observable, Observable::CollapseAngle);
-        if let Some((sd, _)) = sigma_estimate[usize::from(!angle)] {
-            o.sigma = o.sigma.max(sd);
-        }
-    }
+    let stated: Vec<f64> = obs.iter().map(|o| o.sigma).collect();
+    let sigma_rule = analysis::SigmaRule { stated: &stated, model_sd: &model_sd, reading: s.reading };
+    let sigma_estimate = sigma_rule.apply(&mut obs, &keys.of);
     let labels = key_labels(setup, &keys);
     let specimens = observations::specimens(&obs);
     let course_m = course_height(setup);
@@ -631,7 +630,8 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let bracket_deg = setup.tilt.resolution_deg;
     let data = Data { obs: &obs, y: &y, key: &keys.of, weight: &weight, reading: s.reading, bracket_deg };
     let pool_sims = keys.simulated(null_pool);
-    let source = NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims };
+    let source =
+        NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims, centre: &full_base, sigma: sigma_rule };
     let margins = calibrate_margins(lib, data, &specimens, s.null_replicates, seed, source);
 
     let n = specimens.len().max(1) as f64;
@@ -728,7 +728,9 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 (sims, ppc)
             };
             extended_predictive = (0..obs.len()).map(|j| data.predictive(&sims, j)).collect();
-            let src = NullSource { pool: &check_pool, keys: &keys.keys, sims: &sims };
+            let check_sims = keys.simulated(&check_pool);
+            let src =
+                NullSource { pool: &check_pool, keys: &keys.keys, sims: &check_sims, centre: &sims, sigma: sigma_rule };
             let ppc = predictive_check(data, &sims, &specimens, src, s.check_replicates, seed, &labels);
             let passes = ppc.passes();
             check = Some(ppc);
@@ -746,7 +748,13 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             (if passes { Verdict::Explained } else { Verdict::Unexplained }, Some(b), tie)
         }
         None => {
-            let src = NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims };
+            let src = NullSource {
+                pool: null_pool,
+                keys: &keys.keys,
+                sims: &pool_sims,
+                centre: &full_base,
+                sigma: sigma_rule,
+            };
             check = Some(predictive_check(data, &full_base, &specimens, src, s.check_replicates, seed, &labels));
             if base_he > margins.misfit {
                 (Verdict::Unexplained, None, vec![])

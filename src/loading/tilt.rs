@@ -80,16 +80,16 @@ pub struct TiltParams {
     pub collapse_increment_fraction: f64,
     /// Accelerate slow creep near collapse by secant steps along the motion, and end trials
     /// that soften along their motion (`dem::accelerate`) \[true\]. Off: plain dynamic
-    /// relaxation (about twice the steps on the SBL wall; the same collapse angles within
-    /// one bracket).
+    /// relaxation (1.5× the steps on the SBL wall, BENCHMARKS.md "Tilting table: the SBL
+    /// wall"; the same collapse angles within one bracket).
     pub accelerate: bool,
     /// Settings of that acceleration.
     pub acceleration: SecantAcceleration,
     /// Relax each increment and trial first by the implicit iteration (`dem::implicit`:
     /// the factorized stiffness of the contact springs as preconditioner, Anderson mixing),
     /// from the secant prediction; dynamic relaxation takes over where it does not converge
-    /// (near collapse) \[true\]. Off: dynamic relaxation only (about three times the
-    /// work on the SBL wall; the same collapse angles within one bracket).
+    /// (near collapse) \[true\]. Off: dynamic relaxation only (2.8× the CPU time on the SBL
+    /// wall, same section; the same collapse angles within one bracket).
     pub implicit: bool,
     /// Settings of the implicit iteration.
     pub implicit_solve: ImplicitSolve,
