@@ -30,9 +30,7 @@
 //! (`examples/tilt_a_wall.rs` prints more of the result):
 //!
 //! ```
-//! use drystone::dem::SolverParams;
-//! use drystone::generator::{generate, Wall};
-//! use drystone::loading::tilt::{run_tilt, TiltParams};
+//! use drystone::prelude::*;
 //!
 //! let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/discrepancy/walls/small_free.toml");
 //! let wall = Wall::from_file(std::path::Path::new(file))?;
@@ -80,6 +78,25 @@ pub mod stats;
 pub mod study;
 pub mod units;
 pub mod verify;
+
+/// The entry points most programs need: `use drystone::prelude::*;`.
+///
+/// Generate a layout ([`generate`] from a [`Wall`] description), tilt it ([`run_tilt`]
+/// with [`SolverParams`] and [`TiltParams`]) or load it laterally ([`run_lateral`]), run a
+/// study's ensemble ([`Study::from_file`], [`run_study`] over a [`Shard`]), and confront it
+/// with measured data ([`discrepancy::run`], or [`discrepancy::prepare`] once and
+/// [`discrepancy::analyze`] per data set).
+pub mod prelude {
+    pub use crate::dem::SolverParams;
+    pub use crate::discrepancy::{self, Settings as DiscrepancySettings};
+    pub use crate::ensemble::Shard;
+    pub use crate::generator::{generate, Wall};
+    pub use crate::layout::{Layout, LayoutSpec};
+    pub use crate::loading::lateral::{run_lateral, LateralParams};
+    pub use crate::loading::tilt::{run_tilt, TiltParams, TiltResult};
+    pub use crate::study::run::run_study;
+    pub use crate::study::Study;
+}
 
 /// 3-vector of f64 (nalgebra).
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -489,3 +489,92 @@ pub struct Analysis {
     #[serde(skip)]
     pub pool: Vec<Candidate>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn angle_outcome(a: f64) -> Outcome {
+        Outcome { collapse_deg: Some(a), first_unstable_deg: None, tilt_deg: vec![], top_cm: vec![], error: None }
+    }
+
+    /// One group, collapse angles only: a pool of 12 independent realizations whose mean is
+    /// 5° above the model's. The synthetic data must be centred on the model (not on the
+    /// pool), and a data set's mean must scatter about it by the specimens' spread plus the
+    /// sampling error of a model mean from `R` realizations: var(ȳ) = s²/n + σ²/n + s²/R
+    /// (s² the pool's biased variance, as the draws resample it).
+    #[test]
+    fn null_data_are_centred_on_the_model_with_its_sampling_error() {
+        let pool_values: Vec<f64> = (0..12).map(|i| 25.0 + (i as f64 - 5.5) * 0.4).collect();
+        let pool = vec![pool_values.iter().map(|&a| angle_outcome(a)).collect::<Vec<_>>()];
+        let keys = vec![(0usize, Observable::CollapseAngle)];
+        let pool_sims = vec![Simulated::from_values(&pool_values)];
+        let r_model = 4usize;
+        let centre = vec![Simulated { mean: 20.0, sd: pool_sims[0].sd, n: r_model, err: 0.0 }];
+        let n = 5usize;
+        let sigma = 0.3;
+        let obs: Vec<Observation> = (0..n)
+            .map(|i| Observation {
+                specimen: format!("S{i}"),
+                group: "G".into(),
+                observable: Observable::CollapseAngle,
+                value: 0.0,
+                sigma,
+            })
+            .collect();
+        let key = vec![0usize; n];
+        let weight = vec![1.0; n];
+        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9 };
+        let y0 = vec![0.0; n];
+        let data = Data { obs: &obs, y: &y0, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
+        let stated = vec![sigma; n];
+        // A model spread larger than any data spread: the σ estimate never exceeds the
+        // stated σ, so every data set keeps σ = 0.3.
+        let model_sd = vec![10.0];
+        let rule = SigmaRule { stated: &stated, model_sd: &model_sd, reading };
+        let source = NullSource { pool: &pool, keys: &keys, sims: &pool_sims, centre: &centre, sigma: rule };
+        let specimens: Vec<String> = obs.iter().map(|o| o.specimen.clone()).collect();
+        let reps = 20_000u64;
+        let means: Vec<f64> = (0..reps)
+            .map(|b| {
+                let mut rng = rng_for(11, b, Purpose::Discrepancy);
+                let (y, o) = draw_data(data, &specimens, source, reading, &mut rng);
+                assert!(o.iter().all(|o| o.sigma == sigma));
+                y.iter().sum::<f64>() / n as f64
+            })
+            .collect();
+        let m = crate::stats::mean(&means);
+        let v = crate::stats::sd(&means).powi(2);
+        let s2 = pool_values.iter().map(|x| (x - pool_sims[0].mean).powi(2)).sum::<f64>() / 12.0;
+        let want = s2 / n as f64 + sigma * sigma / n as f64 + s2 / r_model as f64;
+        let se_mean = (want / reps as f64).sqrt();
+        assert!((m - 20.0).abs() < 4.0 * se_mean, "mean {m}, want 20 ± {se_mean}");
+        // The variance of a sample variance from 20 000 draws: about 1 % relative.
+        assert!((v / want - 1.0).abs() < 0.05, "var {v}, want {want}");
+    }
+
+    /// The two alarms set together: on independent gains and misfit scores the union of
+    /// alarms is at most 5 %, and each margin sits between its own 95th and 97.5th
+    /// percentiles.
+    #[test]
+    fn the_two_alarms_together_stay_within_five_percent() {
+        let mut rng = rng_for(3, 0, Purpose::Discrepancy);
+        let runs: Vec<(f64, f64, f64)> = (0..2000)
+            .map(|_| {
+                let g: f64 = StandardNormal.sample(&mut rng);
+                let m: f64 = StandardNormal.sample(&mut rng);
+                (g, 0.0, m)
+            })
+            .collect();
+        let (g, m) = joint_margins(&runs);
+        let union = runs.iter().filter(|r| r.0 > g || r.2 > m).count() as f64 / runs.len() as f64;
+        assert!(union <= 0.05, "{union}");
+        let q = |v: Vec<f64>, p: f64| quantile(v, p);
+        let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
+        assert!(g >= q(gains.clone(), 0.95) && g <= q(gains, 0.975) + 1e-12);
+        // Perfectly dependent alarms: one test's 95th percentile is enough.
+        let same: Vec<(f64, f64, f64)> = runs.iter().map(|r| (r.0, 0.0, r.0)).collect();
+        let (g2, _) = joint_margins(&same);
+        assert_eq!(g2, quantile(same.iter().map(|r| r.0).collect(), 0.95));
+    }
+}
