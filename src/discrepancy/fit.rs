@@ -545,6 +545,61 @@ mod tests {
         assert!(mid.err > 0.5 * miss && mid.err < 2.0 * miss, "{mid:?} miss {miss}");
     }
 
+    /// Six specimens read exactly at the mean of a linear surrogate at x = 0.6: the fit
+    /// inverts the line (closed form) and every held-out prediction is centred on the
+    /// data.
+    #[test]
+    fn a_fit_recovers_the_point_of_a_linear_surrogate() {
+        let xs = vec![0.0, 0.25, 0.5, 0.75, 1.0];
+        let sims: Vec<Vec<Simulated>> = xs.iter().map(|&x| vec![sim(10.0 + 4.0 * x)]).collect();
+        let s = Surface::axis(xs, sims);
+        let obs: Vec<Observation> = (0..6)
+            .map(|i| Observation {
+                specimen: format!("S{i}"),
+                group: "G".into(),
+                observable: Observable::CollapseAngle,
+                value: 12.4,
+                sigma: 0.2,
+            })
+            .collect();
+        let y = vec![12.4; 6];
+        let key = vec![0usize; 6];
+        let weight = vec![1.0; 6];
+        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6 };
+        let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
+        let all: Vec<usize> = (0..6).collect();
+        let (x, _) = fit(&s, data, &all);
+        // Brent's tolerance is on the score, flat at its minimum: x to about 1e-3 (a mean
+        // 0.004° off against a predictive σ of 1.1°).
+        assert!((x[0] - 0.6).abs() < 1e-3, "{x:?}");
+        let specimens: Vec<String> = obs.iter().map(|o| o.specimen.clone()).collect();
+        let (_, pred) = loso(&s, data, &specimens);
+        for p in pred {
+            assert!((p.mean - 12.4).abs() < 1e-3, "{p:?}");
+        }
+    }
+
+    /// A surface re-centred on a full run: the full run's values at its point, the
+    /// surrogate's changes elsewhere (mean and variance), the full run's size everywhere.
+    #[test]
+    fn a_corrected_surface_is_the_full_run_at_its_point_and_the_surrogate_s_shape_elsewhere() {
+        let xs = vec![0.0, 0.5, 1.0];
+        let sims: Vec<Vec<Simulated>> = xs
+            .iter()
+            .map(|&x| vec![Simulated { mean: 2.0 * x, sd: 1.0 + x, n: 2, err: 0.0 }])
+            .collect();
+        let inner = Surface::axis(xs, sims);
+        let full = vec![Simulated { mean: 7.0, sd: 3.0, n: 9, err: 0.0 }];
+        let c = Surface::Corrected { inner: Box::new(inner), x0: vec![0.0], full: full.clone() };
+        let at0 = c.at(&[0.0])[0];
+        assert_eq!((at0.mean, at0.sd, at0.n), (7.0, 3.0, 9));
+        let at1 = c.at(&[1.0])[0];
+        assert!((at1.mean - 9.0).abs() < 1e-12);
+        // 3² + (2² − 1²) = 12.
+        assert!((at1.sd - 12f64.sqrt()).abs() < 1e-12, "{at1:?}");
+        assert_eq!(at1.n, 9);
+    }
+
     #[test]
     fn difference_se_is_sqrt_n_times_sd() {
         let d = [1.0, 2.0, 3.0, 4.0];
