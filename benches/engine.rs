@@ -6,6 +6,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use drystone::dem::contact::geometry::block_block;
 use drystone::dem::contact::law::{evaluate, JointParams, Kinematics, Quadrature, SubContactState};
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::geometry::ConvexBlock;
 use drystone::Vec3;
@@ -14,7 +15,7 @@ use std::hint::black_box;
 fn narrow_phase(c: &mut Criterion) {
     let a = ConvexBlock::cuboid(Vec3::zeros(), Vec3::new(0.2, 0.15, 0.05)).unwrap();
     let b = ConvexBlock::cuboid(Vec3::new(0.1, 0.0, 0.05), Vec3::new(0.3, 0.15, 0.1)).unwrap();
-    let s = SolverParams::default();
+    let s = SolverParams::default().patch();
     c.bench_function("narrow_phase_face_face", |bch| bch.iter(|| block_block(black_box(&a), black_box(&b), &s)));
 }
 

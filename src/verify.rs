@@ -36,7 +36,7 @@
 //! block length and of Ks. The shear stiffness moves the block sideways but adds no moment
 //! about the base.
 
-use crate::dem::{DensityScaling, SolverParams};
+use crate::dem::{DensityScaling, RunToEquilibrium, SolverParams};
 use crate::layout::{BaseSliding, BlockSpec, Layout, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
 use crate::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
 

@@ -3,6 +3,7 @@
 
 use drystone::dem::accelerate::SecantAcceleration;
 use drystone::dem::relax::{relax, Relaxed};
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
 use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};

@@ -3,6 +3,7 @@
 //! bad effects are refused with their name and range. (The engine's power on data it did
 //! not make is tested in `discrepancy_realwalls.rs`.)
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::SolverParams;
 use drystone::effects::{effect_rng, EffectDef, Library, Stage};
 use drystone::layout::{BaseSliding, Closure, JointFamily, Layout};

@@ -4,6 +4,7 @@
 //! encoded differently. Checked on an irregular wall (wedges, steep beds: partly open
 //! sub-contacts, slip) tilted to 16°, where blocks creep, slide and re-detect their contacts.
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Isa, Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use std::path::PathBuf;

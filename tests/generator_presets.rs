@@ -3,6 +3,7 @@
 //! block moving more than a tenth of a mean course height (the joints close by a fraction of
 //! a millimetre each; a falling block would move by centimetres).
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use std::path::PathBuf;

@@ -3,6 +3,7 @@
 //! cost of a tilting-table test, not its result.
 
 use drystone::dem::implicit::{relax, ImplicitSolve, Solved};
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{Closure, Layout};
 use drystone::loading::tilt::{run_tilt, TiltParams};

@@ -3,6 +3,7 @@
 //! that the right answer (the failing joints, the moving blocks, toppling or sliding) is
 //! known exactly.
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{mechanism, Mechanism, MechanismKind};

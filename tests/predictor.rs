@@ -2,6 +2,7 @@
 //! `Simulation::predict`): the joints follow a predicted jump as they follow a step, and the
 //! predictor changes how fast each increment reaches equilibrium, not where it ends.
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::{run_tilt, TiltParams};

@@ -8,6 +8,7 @@
 use drystone::dem::integrator::{advance, YConstraint};
 use drystone::dem::state::Body;
 use drystone::dem::timestep::{inv_sqrt, Stiffness};
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{DensityScaling, Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use drystone::geometry::ConvexBlock;

@@ -6,6 +6,7 @@
 
 mod common;
 
+use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use std::time::Instant;
 

@@ -198,11 +198,12 @@ impl Simulation {
             }
         }
         let shape = |k: usize| shapes[k].as_ref().expect("built above");
+        let patch_params = settings.patch();
         let mut new = Vec::new();
         for &(a, b) in &fresh {
             let patch = match a {
-                None => cgeom::table_block(shape(b), settings),
-                Some(i) => cgeom::block_block(shape(i), shape(b), settings),
+                None => cgeom::table_block(shape(b), &patch_params),
+                Some(i) => cgeom::block_block(shape(i), shape(b), &patch_params),
             };
             if let Some(p) = patch {
                 new.push(self.make_contact(a, b, p, initial));
@@ -684,17 +685,6 @@ impl Simulation {
         let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
         self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
         Ok(())
-    }
-
-    /// Runs until the unbalanced-force ratio falls below `tol` (returns `Ok(true)`) or
-    /// `max_steps` have been taken (`Ok(false)`): [`super::relax::relax`] without a stop
-    /// check.
-    ///
-    /// # Errors
-    /// [`DemError::NonFinite`].
-    pub fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
-        let r = super::relax::relax(self, tol, max_steps, None, |_| None::<()>)?;
-        Ok(matches!(r, super::relax::Relaxed::Equilibrium(_)))
     }
 
     /// Total energy bookkeeping: (kinetic, gravitational potential relative to the

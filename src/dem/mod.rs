@@ -16,3 +16,4 @@ pub mod timestep;
 
 pub use engine::{Contact, DemError, Isa, Simulation};
 pub use params::{DensityScaling, SolverParams};
+pub use relax::RunToEquilibrium;

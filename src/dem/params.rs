@@ -1,7 +1,7 @@
 //! The solver parameters of a simulation: one struct, every field with its unit and
 //! default, and the density-scaling mode.
 
-use super::contact::geometry::Fan;
+use super::contact::geometry::{Fan, PatchParams};
 use super::contact::law::Quadrature;
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
@@ -116,6 +116,18 @@ impl SolverParams {
     /// [`Self::face_angle_tolerance_deg`] in radians.
     pub fn face_angle_tolerance_rad(&self) -> f64 {
         self.face_angle_tolerance_deg.to_radians()
+    }
+
+    /// The narrow phase's share of the parameters.
+    pub fn patch(&self) -> PatchParams {
+        PatchParams {
+            contact_margin_m: self.contact_margin_m,
+            feature_tolerance_m: self.feature_tolerance_m,
+            face_angle_tolerance_rad: self.face_angle_tolerance_rad(),
+            degenerate_width_fraction: self.degenerate_width_fraction,
+            subcontact_subdivisions: self.subcontact_subdivisions,
+            fan: self.fan(),
+        }
     }
 
     /// How the narrow phase fans a contact polygon into triangles for this quadrature:

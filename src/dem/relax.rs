@@ -125,3 +125,21 @@ fn relax_impl<R>(
     }
     Ok(Relaxed::Budget(steps))
 }
+
+/// Relaxation to equilibrium as a method of a [`Simulation`] (the driver owns it; the
+/// engine knows no driver): `use drystone::dem::RunToEquilibrium`.
+pub trait RunToEquilibrium {
+    /// Runs until the unbalanced-force ratio falls below `tol` (returns `Ok(true)`) or
+    /// `max_steps` have been taken (`Ok(false)`): [`relax`] without a stop check.
+    ///
+    /// # Errors
+    /// [`DemError::NonFinite`].
+    fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError>;
+}
+
+impl RunToEquilibrium for Simulation {
+    fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
+        let r = relax(self, tol, max_steps, None, |_| None::<()>)?;
+        Ok(matches!(r, Relaxed::Equilibrium(_)))
+    }
+}

@@ -584,10 +584,8 @@ mod tests {
     #[test]
     fn a_corrected_surface_is_the_full_run_at_its_point_and_the_surrogate_s_shape_elsewhere() {
         let xs = vec![0.0, 0.5, 1.0];
-        let sims: Vec<Vec<Simulated>> = xs
-            .iter()
-            .map(|&x| vec![Simulated { mean: 2.0 * x, sd: 1.0 + x, n: 2, err: 0.0 }])
-            .collect();
+        let sims: Vec<Vec<Simulated>> =
+            xs.iter().map(|&x| vec![Simulated { mean: 2.0 * x, sd: 1.0 + x, n: 2, err: 0.0 }]).collect();
         let inner = Surface::axis(xs, sims);
         let full = vec![Simulated { mean: 7.0, sd: 3.0, n: 9, err: 0.0 }];
         let c = Surface::Corrected { inner: Box::new(inner), x0: vec![0.0], full: full.clone() };

@@ -4,7 +4,7 @@
 //! the joints' own closure can explain, with a margin.
 
 use super::monitors::{body_motion, BodyPose};
-use crate::dem::{DemError, DensityScaling, Simulation};
+use crate::dem::{DemError, DensityScaling, RunToEquilibrium, Simulation};
 use crate::layout::{Closure, Layout};
 
 /// Margin of the settling tolerance, as a fraction of the layout's height \[0.02\]: twice

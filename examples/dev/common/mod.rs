@@ -1,6 +1,6 @@
 //! Shared by the diagnostic examples (not an example itself).
 
-use drystone::dem::{Simulation, SolverParams};
+use drystone::dem::{RunToEquilibrium, Simulation, SolverParams};
 use drystone::layout::Layout;
 
 /// Settles `layout` at α = 0, then tilts it by 0.5° increments to equilibrium up to `last`

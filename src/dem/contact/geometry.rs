@@ -9,8 +9,8 @@
 //!    the common-plane normal `n`, pointing from A to B. Face axes win ties (face–face and
 //!    edge–face contacts), edge axes give edge–edge contacts.
 //! 2. **Contact features**: on each side, the face best aligned with `n` (within
-//!    [`SolverParams::face_angle_tolerance_deg`]) touching the support plane, else the
-//!    vertices within [`SolverParams::feature_tolerance_m`] of it (an edge or a vertex).
+//!    [`PatchParams::face_angle_tolerance_rad`]) touching the support plane, else the
+//!    vertices within [`PatchParams::feature_tolerance_m`] of it (an edge or a vertex).
 //! 3. **Contact polygon**: both features projected onto the mid-plane and intersected
 //!    (convex clipping): a polygon (face–face), a segment (edge–face, edge–edge parallel) or
 //!    a point (vertex–face, edge–edge crossing).
@@ -18,18 +18,36 @@
 //!    each subdivided `n × n`; every sub-triangle is a sub-contact with its own area and
 //!    joint history, and its three corners are *nodes*. A segment or point contact is first
 //!    widened into a thin rectangle or small square of nominal width `w`
-//!    (see [`SolverParams::degenerate_width_fraction`]).
+//!    (see [`PatchParams::degenerate_width_fraction`]).
 //!
 //! Each node is stored as two material points, one on the surface of each block straight
 //! across the mid-plane along `n`; the normal gap at the node is their separation along `n`,
 //! and it varies linearly over a sub-triangle (two planar faces). See
 //! [`super::law`] for how the pressure is integrated over each sub-contact.
 
-use crate::dem::params::SolverParams;
 use crate::geometry::polygon::{self, plane_basis};
 use crate::geometry::sat::separation_until;
 use crate::geometry::ConvexBlock;
 use crate::Vec3;
+
+/// What the narrow phase needs of the solver's parameters (`SolverParams::patch` makes it;
+/// the narrow phase does not see the rest). Lengths in m, angles in rad.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchParams {
+    /// Pairs closer than this get a contact, m.
+    pub contact_margin_m: f64,
+    /// Vertices within this distance of the support plane form an edge/vertex feature, m.
+    pub feature_tolerance_m: f64,
+    /// Faces within this angle of the contact normal form a face feature, rad.
+    pub face_angle_tolerance_rad: f64,
+    /// Nominal width of edge and vertex contacts, fraction of the smaller block's smallest
+    /// dimension.
+    pub degenerate_width_fraction: f64,
+    /// Subdivisions of each fan triangle per edge, ≥ 1.
+    pub subcontact_subdivisions: u32,
+    /// How a contact polygon is fanned into triangles.
+    pub fan: Fan,
+}
 
 /// A node of the sub-contact mesh: two surface points straight across the mid-plane, in
 /// the frame of the blocks given to the narrow phase (the world frame).
@@ -90,9 +108,9 @@ pub struct Patch {
     pub triangles: Vec<Triangle>,
 }
 
-fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &SolverParams, outward_sign: f64) -> Vec<Vec3> {
+fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &PatchParams, outward_sign: f64) -> Vec<Vec3> {
     // outward_sign = +1: A's side (support max along n); -1: B's side (support min along n).
-    let cos_tol = s.face_angle_tolerance_rad().cos();
+    let cos_tol = s.face_angle_tolerance_rad.cos();
     let mut best: Option<(f64, usize)> = None;
     for (k, f) in blk.faces.iter().enumerate() {
         let al = outward_sign * f.normal.dot(n);
@@ -132,7 +150,7 @@ fn ray_param(blk: &ConvexBlock, x: &Vec3, n: &Vec3, sign: f64) -> f64 {
 
 /// The contact patch between blocks A and B, or `None` if they are farther apart than the
 /// margin or their features do not overlap in projection.
-pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &SolverParams) -> Option<Patch> {
+pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &PatchParams) -> Option<Patch> {
     let sep = separation_until(a, b, s.contact_margin_m);
     if sep.distance > s.contact_margin_m {
         return None;
@@ -155,7 +173,7 @@ pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &SolverParams) -> Option
 }
 
 /// The contact patch between the table (the half-space z ≤ 0, body A) and block B.
-pub fn table_block(b: &ConvexBlock, s: &SolverParams) -> Option<Patch> {
+pub fn table_block(b: &ConvexBlock, s: &PatchParams) -> Option<Patch> {
     let n = Vec3::z();
     let h_b = b.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
     if h_b > s.contact_margin_m {
@@ -180,7 +198,7 @@ fn build_patch(
     plane_offset: f64,
     gap: f64,
     width: f64,
-    s: &SolverParams,
+    s: &PatchParams,
     surfaces: impl Fn(&Vec3) -> (Vec3, Vec3),
 ) -> Option<Patch> {
     let (u, w) = plane_basis(n);
@@ -228,7 +246,7 @@ fn build_patch(
             vec![[c[0] - h, c[1] - h], [c[0] + h, c[1] - h], [c[0] + h, c[1] + h], [c[0] - h, c[1] + h]],
         )
     };
-    let (pts, triangles) = subdivide_polygon(&shape, m, s.fan());
+    let (pts, triangles) = subdivide_polygon(&shape, m, s.fan);
     let nodes: Vec<NodePoint> = pts
         .into_iter()
         .map(|q| {
@@ -308,7 +326,7 @@ mod tests {
     fn stacked_boxes_share_the_overlap_rectangle() {
         let a = cube(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.2, 0.1, 0.05));
         let b = cube(Vec3::new(0.05, 0.0, 0.05), Vec3::new(0.2, 0.1, 0.05));
-        let s = SolverParams::default();
+        let s = crate::dem::params::SolverParams::default().patch();
         let p = block_block(&a, &b, &s).unwrap();
         assert_eq!(p.kind, PatchKind::Face);
         assert!((p.normal - Vec3::z()).norm() < 1e-12);
@@ -348,7 +366,7 @@ mod tests {
         let r = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), -0.01);
         let toe = Vec3::new(0.0, 0.05, 0.0);
         let bt = b.transformed(|v| toe + r * (v - toe), r.matrix());
-        let p = table_block(&bt, &SolverParams::default()).unwrap();
+        let p = table_block(&bt, &crate::dem::params::SolverParams::default().patch()).unwrap();
         assert_eq!(p.kind, PatchKind::Face);
         let gaps: Vec<f64> = p.nodes.iter().map(|q| q.on_b.z - q.on_a.z).collect();
         let max = gaps.iter().cloned().fold(0.0, f64::max);

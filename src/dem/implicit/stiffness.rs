@@ -285,7 +285,7 @@ fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, us
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dem::SolverParams;
+    use crate::dem::{RunToEquilibrium, SolverParams};
     use crate::layout::Layout;
 
     /// On a block settled flat on the table (every node closed, nothing slipping) `K` is
