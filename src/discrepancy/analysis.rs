@@ -18,6 +18,9 @@
 //!   margins set this way is measured by cross-fitting (margins from one half of the null
 //!   data sets, alarms on the other) and reported with its Clopper–Pearson interval. The
 //!   runner-up margin is the 95th percentile of the gap between the best two on null data.
+//! * **Ties.** The next four candidates after a named cause are scored on data simulated
+//!   from the cause's own independent realizations; each that beats the cause on 5 % or
+//!   more of them is in the tie ([`reversal_rates`]).
 //! * **Ranking.** Candidates are ranked by their surrogate's held-out error; the two best
 //!   are then run as full ensembles at their fitted parameters and re-scored with their
 //!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
@@ -74,8 +77,6 @@ pub struct Library {
 pub struct Margins {
     /// Gain over the baseline a candidate needs.
     pub baseline: f64,
-    /// Lead over the runner-up needed to name one effect rather than a tie.
-    pub runner_up: f64,
     /// The baseline's score per specimen above which its misfit is significant.
     pub misfit: f64,
     /// Null data sets drawn (all set the margins).
@@ -306,7 +307,7 @@ pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
 
 /// Calibrates the margins on `replicates` null data sets drawn from `source` (seeded by
 /// `seed`, `Purpose::Discrepancy`, one stream per replicate): the gain and misfit margins
-/// together ([`joint_margins`]), the runner-up margin at the 95th percentile.
+/// together ([`joint_margins`]).
 pub fn calibrate_margins(
     lib: &Library,
     data0: Data<'_>,
@@ -316,7 +317,7 @@ pub fn calibrate_margins(
     source: NullSource<'_>,
 ) -> Margins {
     let n = specimens.len().max(1) as f64;
-    let runs: Vec<(f64, f64, f64)> = (0..replicates)
+    let runs: Vec<(f64, f64)> = (0..replicates)
         .into_par_iter()
         .map(|b| {
             let mut rng = rng_for(seed, b as u64, Purpose::Discrepancy);
@@ -326,8 +327,7 @@ pub fn calibrate_margins(
             let base_he = base.iter().sum::<f64>() / n;
             let ranked = rank(&lib.candidates, data, specimens, &base);
             let best = ranked.first().map_or(base_he, |r| r.heldout_error);
-            let second = ranked.get(1).map_or(best, |r| r.heldout_error);
-            (base_he - best, second - best, base_he)
+            (base_he - best, base_he)
         })
         .collect();
     let (baseline, misfit) = joint_margins(&runs);
@@ -335,15 +335,14 @@ pub fn calibrate_margins(
     // on: margins from each half of the null data sets, alarms counted on the other half.
     let half = replicates / 2;
     let (a, b) = runs.split_at(half);
-    let alarms_of = |set: &[(f64, f64, f64)], on: &[(f64, f64, f64)]| {
+    let alarms_of = |set: &[(f64, f64)], on: &[(f64, f64)]| {
         let (g, m) = joint_margins(set);
-        on.iter().filter(|r| r.0 > g || r.2 > m).count()
+        on.iter().filter(|r| r.0 > g || r.1 > m).count()
     };
     let alarms = if a.is_empty() || b.is_empty() { 0 } else { alarms_of(a, b) + alarms_of(b, a) };
     let tested = if a.is_empty() || b.is_empty() { 0 } else { replicates };
     Margins {
         baseline,
-        runner_up: quantile(runs.iter().map(|r| r.1).collect(), 0.95),
         misfit,
         replicates,
         false_alarms: (alarms, tested),
@@ -355,22 +354,57 @@ pub fn calibrate_margins(
 /// set together so that null data raise either alarm (a cause named, or a significant
 /// misfit) in at most 5 % of the data sets: both at the same upper quantile `q` of their
 /// null distributions, the smallest `q` in [0.95, 0.975] (0.975: Bonferroni's bound for
-/// two tests) whose union of alarms on `runs` (gain, runner-up gap, baseline score) is at
+/// two tests) whose union of alarms on `runs` (gain, baseline score) is at
 /// most 5 %.
-fn joint_margins(runs: &[(f64, f64, f64)]) -> (f64, f64) {
+fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
     let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
-    let base: Vec<f64> = runs.iter().map(|r| r.2).collect();
+    let base: Vec<f64> = runs.iter().map(|r| r.1).collect();
     let at = |q: f64| (quantile(gains.clone(), q), quantile(base.clone(), q));
     let mut q = 0.95;
     while q < 0.975 {
         let (g, m) = at(q);
-        let union = runs.iter().filter(|r| r.0 > g || r.2 > m).count();
+        let union = runs.iter().filter(|r| r.0 > g || r.1 > m).count();
         if union as f64 <= 0.05 * runs.len() as f64 {
             return (g, m);
         }
         q += 0.0025;
     }
     at(0.975)
+}
+
+/// Challengers checked against a named cause for a tie ([`reversal_rates`]).
+pub const TIE_CHALLENGERS: usize = 4;
+
+/// Rate at which a challenger ranks above a model (lower held-out error) on data simulated
+/// from that model: `replicates` data sets drawn from `source` (the model's own
+/// independent realizations) and read as the data are. A challenger that beats the true
+/// model on 5 % or more of its data cannot be told from it by this design: the two are a
+/// tie (a Monte Carlo version of the reversal probability of Vehtari, Gelman & Gabry 2017,
+/// §5, for the design at hand).
+pub fn reversal_rates(
+    winner: &Candidate,
+    challengers: &[&Candidate],
+    data0: Data<'_>,
+    specimens: &[String],
+    source: NullSource<'_>,
+    replicates: usize,
+    seed: u64,
+) -> Vec<f64> {
+    if challengers.is_empty() || replicates == 0 {
+        return vec![0.0; challengers.len()];
+    }
+    let zero = vec![0.0; specimens.len()];
+    let wins: Vec<Vec<bool>> = (0..replicates)
+        .into_par_iter()
+        .map(|b| {
+            let mut rng = rng_for(seed ^ 0x71e5_71e5_0000_0001, b as u64, Purpose::Discrepancy);
+            let (y, o) = draw_data(data0, specimens, source, data0.reading, &mut rng);
+            let data = Data { obs: &o, y: &y, ..data0 };
+            let w = score(winner, data, specimens, 0, &zero).heldout_error;
+            challengers.iter().map(|c| score(c, data, specimens, 0, &zero).heldout_error < w).collect()
+        })
+        .collect();
+    (0..challengers.len()).map(|k| wins.iter().filter(|w| w[k]).count() as f64 / replicates as f64).collect()
 }
 
 /// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
@@ -468,8 +502,13 @@ pub struct Analysis {
     /// (`unexplained` after a failed predictive check).
     pub cause: Option<Ranked>,
     /// Candidates indistinguishable from the cause, the cause first; one entry when the
-    /// cause is unique.
+    /// cause is unique. A challenger is in the tie when it beats the cause on 5 % or more
+    /// of data simulated from the cause ([`reversal_rates`]).
     pub tie: Vec<String>,
+    /// The challengers checked for the tie (the next best candidates, at most
+    /// [`TIE_CHALLENGERS`]) with the rate at which each beats the cause on data simulated
+    /// from the cause.
+    pub reversals: Vec<(String, f64)>,
     /// All candidates, best first.
     pub candidates: Vec<Ranked>,
     /// The baseline's held-out error (its score per specimen).
@@ -559,21 +598,21 @@ mod tests {
     #[test]
     fn the_two_alarms_together_stay_within_five_percent() {
         let mut rng = rng_for(3, 0, Purpose::Discrepancy);
-        let runs: Vec<(f64, f64, f64)> = (0..2000)
+        let runs: Vec<(f64, f64)> = (0..2000)
             .map(|_| {
                 let g: f64 = StandardNormal.sample(&mut rng);
                 let m: f64 = StandardNormal.sample(&mut rng);
-                (g, 0.0, m)
+                (g, m)
             })
             .collect();
         let (g, m) = joint_margins(&runs);
-        let union = runs.iter().filter(|r| r.0 > g || r.2 > m).count() as f64 / runs.len() as f64;
+        let union = runs.iter().filter(|r| r.0 > g || r.1 > m).count() as f64 / runs.len() as f64;
         assert!(union <= 0.05, "{union}");
         let q = |v: Vec<f64>, p: f64| quantile(v, p);
         let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
         assert!(g >= q(gains.clone(), 0.95) && g <= q(gains, 0.975) + 1e-12);
         // Perfectly dependent alarms: one test's 95th percentile is enough.
-        let same: Vec<(f64, f64, f64)> = runs.iter().map(|r| (r.0, 0.0, r.0)).collect();
+        let same: Vec<(f64, f64)> = runs.iter().map(|r| (r.0, r.0)).collect();
         let (g2, _) = joint_margins(&same);
         assert_eq!(g2, quantile(same.iter().map(|r| r.0).collect(), 0.95));
     }

@@ -703,6 +703,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(&full_base, j)).collect();
     let mut gain = None;
     let check;
+    let mut reversals: Vec<(String, f64)> = Vec::new();
     let (verdict, cause, tie) = match named {
         Some(b) => {
             let c = &pool[b.index];
@@ -735,16 +736,26 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             let passes = ppc.passes();
             check = Some(ppc);
             gain = Some(bootstrap_gain(&base_per, &fit::per_specimen(&b.scores, &obs, &specimens), s.bootstrap, seed));
-            let tie: Vec<String> = candidates
-                .iter()
-                .filter(|r| r.heldout_error - b.heldout_error <= margins.runner_up)
-                .map(|r| r.name.clone())
-                .collect();
-            let mut tie = tie;
-            if let Some(i) = tie.iter().position(|t| t == &b.name) {
-                tie.remove(i);
+            // The tie: the challengers that beat the cause on 5 % or more of data simulated
+            // from the cause's own independent realizations.
+            let challengers: Vec<&Ranked> =
+                candidates.iter().filter(|r| r.index != b.index).take(analysis::TIE_CHALLENGERS).collect();
+            let rates = analysis::reversal_rates(
+                &pool[b.index],
+                &challengers.iter().map(|r| &pool[r.index]).collect::<Vec<_>>(),
+                data,
+                &specimens,
+                src,
+                s.check_replicates,
+                seed,
+            );
+            let mut tie = vec![b.name.clone()];
+            for (r, &rate) in challengers.iter().zip(&rates) {
+                reversals.push((r.name.clone(), rate));
+                if rate >= 0.05 {
+                    tie.push(r.name.clone());
+                }
             }
-            tie.insert(0, b.name.clone());
             (if passes { Verdict::Explained } else { Verdict::Unexplained }, Some(b), tie)
         }
         None => {
@@ -801,6 +812,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         verdict,
         cause,
         tie,
+        reversals,
         candidates,
         baseline_heldout_error: base_he,
         baseline_information_criterion: base_ic,

@@ -125,6 +125,7 @@ pub fn to_json(run: &Run) -> Value {
         "design": run.design,
         "cause_interval": run.cause_interval,
         "tie": a.tie,
+        "reversals": a.reversals,
         "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
         "baseline": {
             "heldout_error": a.baseline_heldout_error,
@@ -253,7 +254,11 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
         );
     }
     let m = &a.margins;
-    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} and the runner-up by {:.3} (held-out error); the baseline's misfit is significant above {:.3} (the two margins set together: null data raise either alarm in at most 5 % of the data sets). False alarms of margins set on one half of the null data sets, counted on the other half, both ways, {} data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, m.runner_up, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
+    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} (held-out error); the baseline's misfit is significant above {:.3} (the two margins set together: null data raise either alarm in at most 5 % of the data sets). False alarms of margins set on one half of the null data sets, counted on the other half, both ways, {} data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
+    if !a.reversals.is_empty() {
+        let r: Vec<String> = a.reversals.iter().map(|(n, p)| format!("`{n}` {:.1} %", 100.0 * p)).collect();
+        let _ = writeln!(md, "Ties: on {} data sets simulated from the cause's own independent layouts, read as the data are, the next candidates beat it at these rates: {}. A candidate that beats it on 5 % or more is in the tie.\n", a.check.as_ref().map_or(0, |c| c.replicates), r.join(", "));
+    }
     if let (Some((effects, _)), Some((g, lo, hi))) = (&run.extended, run.gain) {
         let _ = writeln!(md, "## Extended model\n");
         let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
