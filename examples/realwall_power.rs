@@ -4,7 +4,7 @@
 //! rounded readings), analysed against one prepared set of forward runs.
 //!
 //! ```sh
-//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP]
+//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP] [FIRST_NULL | LIST]
 //! cargo run --release --example realwall_power -- effects     # the edits' effect on the specimens
 //! ```
 //!
@@ -84,21 +84,30 @@ fn main() {
     let per: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(20);
     let nulls: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(80);
     let specimens: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(5);
+    // The null data sets: FIRST_NULL.. (a number), or a list `12,13,22`.
+    let null_ids: Vec<usize> = match args.get(3) {
+        Some(a) if a.contains(',') => a.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
+        a => {
+            let first: usize = a.and_then(|a| a.parse().ok()).unwrap_or(0);
+            (first..first + nulls).collect()
+        }
+    };
     let s = st.discrepancy.clone();
     let t0 = std::time::Instant::now();
     let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
-    let setup = drystone::study::discrepancy::setup_of(&st, s.extension_realizations);
+    let setup = drystone::study::discrepancy::setup_of(&st, s.most_realizations());
     let prep = prepare(&setup, &template, &s, &st.library).unwrap();
     eprintln!("prepared in {:.0} s", t0.elapsed().as_secs_f64());
-    let mut jobs: Vec<(Edit, usize)> = (0..nulls).map(|i| (Edit::None, i)).collect();
-    for e in classes() {
-        jobs.extend((0..per).map(|i| (e, i)));
+    // (edit, its class, data set index): a data set's specimens depend on its class and
+    // index only, not on how many data sets the run has.
+    let mut jobs: Vec<(Edit, usize, usize)> = null_ids.iter().map(|&i| (Edit::None, 0, i)).collect();
+    for (c, e) in classes().into_iter().enumerate() {
+        jobs.extend((0..per).map(|i| (e, c + 1, i)));
     }
     let answers: Vec<(Edit, Answer, String)> = jobs
         .iter()
-        .enumerate()
-        .map(|(j, &(e, i))| {
-            let first = 1_000 + 100 * j as u64;
+        .map(|&(e, c, i)| {
+            let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
             let obs = data_set(&st, DATA_SEED, first, specimens, e, NOISE, &TILTS, s.sigma);
             let run = analyze(&prep, obs, first).unwrap();
             let a = &run.analysis;

@@ -33,7 +33,7 @@ fn prepared() -> &'static (Study, Prepared) {
         let st = study();
         let s = st.discrepancy.clone();
         let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
-        let setup = drystone::study::discrepancy::setup_of(&st, s.extension_realizations);
+        let setup = drystone::study::discrepancy::setup_of(&st, s.most_realizations());
         let prep = prepare(&setup, &template, &s, &st.library).unwrap();
         (st, prep)
     })

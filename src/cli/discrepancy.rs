@@ -91,7 +91,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         return measured_sets(&mut st, &s, dir, a.threads);
     }
     let obs = observations_of(&st, s.sigma)?;
-    let setup = setup_of(&st, s.realizations.max(s.extension_realizations));
+    let setup = setup_of(&st, s.most_realizations());
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create the output directory {}", dir.display()))?;
     let pool = pool(a.threads)?;
@@ -182,7 +182,7 @@ fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize
         all.push(obs);
     }
     let template: Vec<_> = all.iter().flatten().cloned().collect();
-    let setup = setup_of(st, s.realizations.max(s.extension_realizations));
+    let setup = setup_of(st, s.most_realizations());
     let pool = pool(threads)?;
     let prepared = pool.install(|| drystone::discrepancy::prepare(&setup, &template, s, &st.library))?;
     for (set, obs) in sets.iter().zip(all) {

@@ -251,6 +251,7 @@ pub fn draw_data(
             }
         }
     }
+    let scale = spread_scale(data0, source, reading, rng);
     let mut y: Vec<f64> = vec![0.0; obs.len()];
     for s in specimens {
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
@@ -265,12 +266,17 @@ pub fn draw_data(
             let v = match pick {
                 Some(r) => source.pool[g][r].value(&source.keys[k].1).map(|v| {
                     let (c, m) = (source.centre[k].mean, source.sims[k].mean);
-                    let v = if c.is_finite() && m.is_finite() { c + (v - m) + delta[k] } else { v };
-                    v + obs[j].sigma * z
+                    let f = scale[kind_of(&obs[j].observable)];
+                    if c.is_finite() && m.is_finite() {
+                        c + delta[k] + f * ((v - m) + obs[j].sigma * z)
+                    } else {
+                        v + obs[j].sigma * z
+                    }
                 }),
-                None => Some(
-                    p.mean + p.sd * if matches!(obs[j].observable, Observable::CollapseAngle) { z } else { shared },
-                ),
+                None => Some({
+                    let f = scale[kind_of(&obs[j].observable)];
+                    p.mean + f * p.sd * if matches!(obs[j].observable, Observable::CollapseAngle) { z } else { shared }
+                }),
             };
             // A realization that fell before the tilt gives no displacement: the specimen
             // is read at its predictive mean there (rare; keeps the design balanced).
@@ -284,6 +290,67 @@ pub fn draw_data(
     }
     source.sigma.apply(&mut o, data0.key);
     (y, o)
+}
+
+fn kind_of(o: &Observable) -> usize {
+    usize::from(!matches!(o, Observable::CollapseAngle))
+}
+
+/// The factor on a synthetic data set's deviations from the model's mean, per kind
+/// (collapse angles, displacements), that gives them the spread of the measured data,
+/// drawn with that spread's uncertainty: `f² = ν s² / (χ²_ν v)`, with `s²` the data's
+/// within-key variance (specimens of one group and observable; a shift of a group's mean
+/// does not enter it) less the readings' rounding `r²/12`, pooled over the keys with `ν`
+/// degrees of freedom, and `v` the variance the draws have before the factor (the
+/// source's realizations about their mean, which the draws resample, and the
+/// measurement σ; the predictive's where a group is drawn from it), pooled alike. Under
+/// the null hypothesis the data's spread is the walls' and the readings' together,
+/// whatever the stated σ and whatever the few realizations of the source show; the null
+/// distribution of the scores is then that of data as dispersed as the measured ones, and
+/// a spread alone (no shift of a mean) is not evidence for a mechanism. 1 below
+/// [`super::observations::MIN_SIGMA_DOF`] degrees of freedom.
+fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: &mut ChaCha8Rng) -> [f64; 2] {
+    let obs = data0.obs;
+    let mut acc = [(0.0f64, 0.0f64, 0usize); 2]; // (Σ(n−1)s², Σ(n−1)v, ν)
+    for (k, (g, o)) in source.keys.iter().enumerate() {
+        let idx: Vec<usize> = (0..obs.len()).filter(|&j| data0.key[j] == k).collect();
+        if idx.len() < 2 {
+            continue;
+        }
+        let y: Vec<f64> = idx.iter().map(|&j| data0.y[j]).collect();
+        let m = crate::stats::mean(&y);
+        let ss = y.iter().map(|v| (v - m).powi(2)).sum::<f64>();
+        let sigma2 = idx.iter().map(|&j| obs[j].sigma.powi(2)).sum::<f64>() / idx.len() as f64;
+        let pool = &source.pool[*g];
+        let v = if pool.len() >= 3 {
+            let vals: Vec<f64> = pool.iter().filter_map(|r| r.value(o)).filter(|v| v.is_finite()).collect();
+            if vals.len() < 2 {
+                continue;
+            }
+            let pm = crate::stats::mean(&vals);
+            vals.iter().map(|v| (v - pm).powi(2)).sum::<f64>() / vals.len() as f64 + sigma2
+        } else {
+            data0.predictive(source.centre, idx[0]).sd.powi(2)
+        };
+        let a = &mut acc[kind_of(o)];
+        let dof = idx.len() - 1;
+        a.0 += ss;
+        a.1 += dof as f64 * v;
+        a.2 += dof;
+    }
+    let mut out = [1.0; 2];
+    for (kind, (ss, sv, nu)) in acc.into_iter().enumerate() {
+        // One χ² draw per kind whether used or not: the stream does not depend on the data.
+        let chi2: f64 = rand_distr::ChiSquared::new(nu.max(1) as f64).map_or(1.0, |c| c.sample(rng));
+        if nu < super::observations::MIN_SIGMA_DOF || !(sv > 0.0) {
+            continue;
+        }
+        let r = if kind == 0 { reading.angle_deg } else { reading.displacement_cm };
+        let s2 = (ss / nu as f64 - r * r / 12.0).max(1e-3 * sv / nu as f64);
+        let v = sv / nu as f64;
+        out[kind] = (nu as f64 * s2 / (chi2.max(1e-9) * v)).sqrt();
+    }
+    out
 }
 
 /// The baseline's held-out (plain) score per specimen.
@@ -538,33 +605,44 @@ mod tests {
     }
 
     /// One group, collapse angles only: a pool of 12 independent realizations whose mean is
-    /// 5° above the model's. The synthetic data must be centred on the model (not on the
-    /// pool), and a data set's mean must scatter about it by the specimens' spread plus the
-    /// sampling error of a model mean from `R` realizations: var(ȳ) = s²/n + σ²/n + s²/R
-    /// (s² the pool's biased variance, as the draws resample it).
+    /// 5° above the model's, and 12 measured specimens whose spread is `k` times that of
+    /// the pool's realizations with the measurement noise. The synthetic data must be
+    /// centred on the model (not on the pool), and a data set's mean must scatter about it
+    /// by the measured specimens' spread, drawn with its uncertainty (`E[ν/χ²_ν] = ν/(ν −
+    /// 2)`), plus the sampling error of a model mean from `R` realizations:
+    /// `var(ȳ) = k² v ν/(ν − 2) / n + s²/R`, `v = s² + σ²` (`s²` the pool's variance about
+    /// its mean, as the draws resample it).
     #[test]
-    fn null_data_are_centred_on_the_model_with_its_sampling_error() {
+    fn null_data_are_centred_on_the_model_and_as_dispersed_as_the_data() {
         let pool_values: Vec<f64> = (0..12).map(|i| 25.0 + (i as f64 - 5.5) * 0.4).collect();
         let pool = vec![pool_values.iter().map(|&a| angle_outcome(a)).collect::<Vec<_>>()];
         let keys = vec![(0usize, Observable::CollapseAngle)];
         let pool_sims = vec![Simulated::from_values(&pool_values)];
         let r_model = 4usize;
         let centre = vec![Simulated { mean: 20.0, sd: pool_sims[0].sd, n: r_model, err: 0.0 }];
-        let n = 5usize;
+        let n = 12usize;
         let sigma = 0.3;
-        let obs: Vec<Observation> = (0..n)
-            .map(|i| Observation {
+        let s2 = pool_values.iter().map(|x| (x - pool_sims[0].mean).powi(2)).sum::<f64>() / 12.0;
+        let v = s2 + sigma * sigma;
+        let k = 1.5;
+        // Measured values with sample variance k² v exactly.
+        let pattern: Vec<f64> = (0..n).map(|i| i as f64 - 5.5).collect();
+        let ps = crate::stats::sd(&pattern);
+        let y0: Vec<f64> = pattern.iter().map(|p| 18.0 + k * v.sqrt() * p / ps).collect();
+        let obs: Vec<Observation> = y0
+            .iter()
+            .enumerate()
+            .map(|(i, &value)| Observation {
                 specimen: format!("S{i}"),
                 group: "G".into(),
                 observable: Observable::CollapseAngle,
-                value: 0.0,
+                value,
                 sigma,
             })
             .collect();
         let key = vec![0usize; n];
         let weight = vec![1.0; n];
         let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9 };
-        let y0 = vec![0.0; n];
         let data = Data { obs: &obs, y: &y0, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let stated = vec![sigma; n];
         // A model spread larger than any data spread: the σ estimate never exceeds the
@@ -573,7 +651,7 @@ mod tests {
         let rule = SigmaRule { stated: &stated, model_sd: &model_sd, reading };
         let source = NullSource { pool: &pool, keys: &keys, sims: &pool_sims, centre: &centre, sigma: rule };
         let specimens: Vec<String> = obs.iter().map(|o| o.specimen.clone()).collect();
-        let reps = 20_000u64;
+        let reps = 40_000u64;
         let means: Vec<f64> = (0..reps)
             .map(|b| {
                 let mut rng = rng_for(11, b, Purpose::Discrepancy);
@@ -583,13 +661,12 @@ mod tests {
             })
             .collect();
         let m = crate::stats::mean(&means);
-        let v = crate::stats::sd(&means).powi(2);
-        let s2 = pool_values.iter().map(|x| (x - pool_sims[0].mean).powi(2)).sum::<f64>() / 12.0;
-        let want = s2 / n as f64 + sigma * sigma / n as f64 + s2 / r_model as f64;
+        let var = crate::stats::sd(&means).powi(2);
+        let nu = (n - 1) as f64;
+        let want = k * k * v * nu / (nu - 2.0) / n as f64 + s2 / r_model as f64;
         let se_mean = (want / reps as f64).sqrt();
         assert!((m - 20.0).abs() < 4.0 * se_mean, "mean {m}, want 20 ± {se_mean}");
-        // The variance of a sample variance from 20 000 draws: about 1 % relative.
-        assert!((v / want - 1.0).abs() < 0.05, "var {v}, want {want}");
+        assert!((var / want - 1.0).abs() < 0.05, "var {var}, want {want}");
     }
 
     /// The two alarms set together: on independent gains and misfit scores the union of

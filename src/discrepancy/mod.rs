@@ -178,6 +178,12 @@ impl Settings {
         self.grid_points_2d = self.grid_points_2d.max(4);
     }
 
+    /// The most realizations any of its runs takes per group (grids, full runs, independent
+    /// layouts): what a [`simulate::Setup`] for the analysis must allow.
+    pub fn most_realizations(&self) -> u64 {
+        self.realizations.max(self.extension_realizations).max(self.null_realizations)
+    }
+
     /// Checks ranges.
     ///
     /// # Errors
