@@ -298,12 +298,13 @@ fn kind_of(o: &Observable) -> usize {
 
 /// The factor on a synthetic data set's deviations from the model's mean, per kind
 /// (collapse angles, displacements), that gives them the spread of the measured data,
-/// drawn with that spread's uncertainty: `f² = ν s² / (χ²_ν v)`, with `s²` the data's
-/// within-key variance (specimens of one group and observable; a shift of a group's mean
-/// does not enter it) less the readings' rounding `r²/12`, pooled over the keys with `ν`
-/// degrees of freedom, and `v` the variance the draws have before the factor (the
-/// source's realizations about their mean, which the draws resample, and the
-/// measurement σ; the predictive's where a group is drawn from it), pooled alike. Under
+/// drawn with that spread's uncertainty: `f² = Σ_k ν_k (s_k² / v_k) / χ²_ν`, with `s_k²`
+/// the data's variance at key `k` (specimens of one group and observable; a shift of a
+/// group's mean does not enter it) less the readings' rounding `r²/12`, `v_k` the
+/// variance the draws have there before the factor (the source's realizations about their
+/// mean, which the draws resample, and the measurement σ; the predictive's where a group
+/// is drawn from it), `ν_k = n_k − 1` and `ν = Σ ν_k`: the ratios are pooled, so a group
+/// whose layouts barely scatter counts as much as one whose layouts scatter a lot. Under
 /// the null hypothesis the data's spread is the walls' and the readings' together,
 /// whatever the stated σ and whatever the few realizations of the source show; the null
 /// distribution of the scores is then that of data as dispersed as the measured ones, and
@@ -311,7 +312,7 @@ fn kind_of(o: &Observable) -> usize {
 /// [`super::observations::MIN_SIGMA_DOF`] degrees of freedom.
 fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: &mut ChaCha8Rng) -> [f64; 2] {
     let obs = data0.obs;
-    let mut acc = [(0.0f64, 0.0f64, 0usize); 2]; // (Σ(n−1)s², Σ(n−1)v, ν)
+    let mut acc = [(0.0f64, 0.0f64, 0usize); 2]; // (Σ ν_k s_k² / v_k, unused, ν)
     for (k, (g, o)) in source.keys.iter().enumerate() {
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| data0.key[j] == k).collect();
         if idx.len() < 2 {
@@ -332,23 +333,25 @@ fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: 
         } else {
             data0.predictive(source.centre, idx[0]).sd.powi(2)
         };
-        let a = &mut acc[kind_of(o)];
+        if !(v > 0.0) {
+            continue;
+        }
+        let kind = kind_of(o);
+        let r = if kind == 0 { reading.angle_deg } else { reading.displacement_cm };
         let dof = idx.len() - 1;
-        a.0 += ss;
-        a.1 += dof as f64 * v;
+        let s2 = (ss / dof as f64 - r * r / 12.0).max(1e-3 * v);
+        let a = &mut acc[kind];
+        a.0 += dof as f64 * s2 / v;
         a.2 += dof;
     }
     let mut out = [1.0; 2];
-    for (kind, (ss, sv, nu)) in acc.into_iter().enumerate() {
+    for (kind, (ratio, _, nu)) in acc.into_iter().enumerate() {
         // One χ² draw per kind whether used or not: the stream does not depend on the data.
         let chi2: f64 = rand_distr::ChiSquared::new(nu.max(1) as f64).map_or(1.0, |c| c.sample(rng));
-        if nu < super::observations::MIN_SIGMA_DOF || !(sv > 0.0) {
+        if nu < super::observations::MIN_SIGMA_DOF {
             continue;
         }
-        let r = if kind == 0 { reading.angle_deg } else { reading.displacement_cm };
-        let s2 = (ss / nu as f64 - r * r / 12.0).max(1e-3 * sv / nu as f64);
-        let v = sv / nu as f64;
-        out[kind] = (nu as f64 * s2 / (chi2.max(1e-9) * v)).sqrt();
+        out[kind] = (ratio / chi2.max(1e-9)).sqrt();
     }
     out
 }

@@ -248,8 +248,11 @@ pub const MIN_SIGMA_DOF: usize = 4;
 /// data show it: for every observable key (group and observable) with at least two
 /// specimens, the specimens' sample variance minus the model's realization variance there
 /// (what the model's layouts explain) minus the reading's rounding variance r²/12 (the
-/// likelihood takes readings as intervals), pooled over the keys with their `n − 1`
-/// degrees of freedom. A shift of a group's mean (a mechanism the model lacks) does not
+/// likelihood takes readings as intervals), pooled over the keys with the weights of their
+/// precision, `(n − 1) / (2 τ⁴)` (`τ²` the sample variance the key should show: its
+/// model's spread, σ² and the rounding), so that a group whose layouts barely scatter
+/// (where σ is most of the spread) is not drowned by one whose layouts scatter a lot;
+/// the degrees of freedom returned are `Σ (n − 1)`. A shift of a group's mean (a mechanism the model lacks) does not
 /// enter it; only a spread the model does not have does. `None` below [`MIN_SIGMA_DOF`]
 /// degrees of freedom.
 ///
@@ -262,7 +265,8 @@ pub fn measurement_sigma(
     reading: f64,
     angle: bool,
 ) -> Option<(f64, usize)> {
-    let (mut ss, mut dof) = (0.0, 0usize);
+    // Per key: (n − 1, sample variance, model variance).
+    let mut terms: Vec<(f64, f64, f64)> = Vec::new();
     for (k, sd) in model_sd.iter().enumerate() {
         let y: Vec<f64> = (0..obs.len())
             .filter(|&j| key[j] == k && matches!(obs[j].observable, Observable::CollapseAngle) == angle)
@@ -273,10 +277,31 @@ pub fn measurement_sigma(
         }
         let m = y.iter().sum::<f64>() / y.len() as f64;
         let s2 = y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (y.len() - 1) as f64;
-        ss += (y.len() - 1) as f64 * (s2 - sd * sd - reading * reading / 12.0);
-        dof += y.len() - 1;
+        terms.push(((y.len() - 1) as f64, s2, sd * sd));
     }
-    (dof >= MIN_SIGMA_DOF).then(|| ((ss / dof as f64).max(0.0).sqrt(), dof))
+    let dof: usize = terms.iter().map(|t| t.0 as usize).sum();
+    if dof < MIN_SIGMA_DOF {
+        return None;
+    }
+    let r2 = reading * reading / 12.0;
+    // Each key's excess variance s² − sd² − r²/12, weighted by its precision (n − 1) / (2 τ⁴),
+    // τ² = sd² + σ² + r²/12 its expected sample variance: a key whose layouts scatter
+    // little tells much more about σ than one whose layouts scatter a lot. Started from
+    // the (n − 1)-weighted pool, refined twice.
+    let pooled = |w: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        let (num, den) = terms.iter().fold((0.0, 0.0), |(a, b), t| (a + w(t) * (t.1 - t.2 - r2), b + w(t)));
+        if den > 0.0 {
+            (num / den).max(0.0)
+        } else {
+            0.0
+        }
+    };
+    let mut sigma2 = pooled(&|t| t.0);
+    for _ in 0..2 {
+        let s = sigma2;
+        sigma2 = pooled(&|t| t.0 / (2.0 * (t.2 + s + r2).powi(2)).max(f64::MIN_POSITIVE));
+    }
+    Some((sigma2.sqrt(), dof))
 }
 
 #[cfg(test)]
