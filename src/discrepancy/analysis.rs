@@ -199,8 +199,7 @@ impl SigmaRule<'_> {
             super::observations::measurement_sigma(obs, key, self.model_sd, r, angle)
         });
         for (o, &stated) in obs.iter_mut().zip(self.stated) {
-            let kind = usize::from(!matches!(o.observable, Observable::CollapseAngle));
-            o.sigma = est[kind].map_or(stated, |(sd, _)| stated.max(sd));
+            o.sigma = est[kind_of(&o.observable)].map_or(stated, |(sd, _)| stated.max(sd));
         }
         est
     }
@@ -427,9 +426,13 @@ pub fn calibrate_margins(
 /// two tests) whose union of alarms on `runs` (gain, baseline score) is at
 /// most 5 %.
 fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
-    let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
-    let base: Vec<f64> = runs.iter().map(|r| r.1).collect();
-    let at = |q: f64| (quantile(gains.clone(), q), quantile(base.clone(), q));
+    let sorted = |f: fn(&(f64, f64)) -> f64| {
+        let mut v: Vec<f64> = runs.iter().map(f).collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let (gains, base) = (sorted(|r| r.0), sorted(|r| r.1));
+    let at = |q: f64| (crate::stats::quantile(&gains, q), crate::stats::quantile(&base, q));
     let mut q = 0.95;
     while q < 0.975 {
         let (g, m) = at(q);

@@ -621,7 +621,8 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         .collect::<Result<_, _>>()?;
     // The measurement σ: the stated one, or the spread the data show beyond the model's,
     // if larger (again on every synthetic data set).
-    let full_base = keys.simulated(&prep.baseline);
+    // The baseline's full run, as the library scores it.
+    let full_base = &lib.baseline;
     let model_sd: Vec<f64> = full_base.iter().map(|x| x.sd).collect();
     let stated: Vec<f64> = obs.iter().map(|o| o.sigma).collect();
     let sigma_rule = analysis::SigmaRule { stated: &stated, model_sd: &model_sd, reading: s.reading };
@@ -637,7 +638,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let data = Data { obs: &obs, y: &y, key: &keys.of, weight: &weight, reading: s.reading, bracket_deg };
     let pool_sims = keys.simulated(null_pool);
     let source =
-        NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims, centre: &full_base, sigma: sigma_rule };
+        NullSource { pool: null_pool, keys: &keys.keys, sims: &pool_sims, centre: full_base, sigma: sigma_rule };
     let margins = calibrate_margins(lib, data, &specimens, s.null_replicates, seed, source);
 
     let n = specimens.len().max(1) as f64;
@@ -706,7 +707,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         best.clone().filter(|b| base_he - b.heldout_error > margins.baseline && b.information_criterion < base_ic);
 
     let mut extended = None;
-    let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(&full_base, j)).collect();
+    let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(full_base, j)).collect();
     let mut gain = None;
     let check;
     let mut reversals: Vec<(String, f64)> = Vec::new();
@@ -769,10 +770,10 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 pool: null_pool,
                 keys: &keys.keys,
                 sims: &pool_sims,
-                centre: &full_base,
+                centre: full_base,
                 sigma: sigma_rule,
             };
-            check = Some(predictive_check(data, &full_base, &specimens, src, s.check_replicates, seed, &labels));
+            check = Some(predictive_check(data, full_base, &specimens, src, s.check_replicates, seed, &labels));
             if base_he > margins.misfit {
                 (Verdict::Unexplained, None, vec![])
             } else {
