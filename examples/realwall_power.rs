@@ -4,7 +4,7 @@
 //! rounded readings), analysed against one prepared set of forward runs.
 //!
 //! ```sh
-//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP] [FIRST_NULL | LIST]
+//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP] [FIRST_NULL | LIST] [CLASSES] [FIRST_SET]
 //! cargo run --release --example realwall_power -- effects     # the edits' effect on the specimens
 //! ```
 //!
@@ -92,6 +92,11 @@ fn main() {
             (first..first + nulls).collect()
         }
     };
+    // The effect classes to run (1-based, as in the table: `2` or `1,2,6`), all by default, and
+    // the index of each class's first data set.
+    let only: Option<Vec<usize>> =
+        args.get(4).filter(|a| *a != "all").map(|a| a.split(',').filter_map(|x| x.trim().parse().ok()).collect());
+    let first_set: usize = args.get(5).and_then(|a| a.parse().ok()).unwrap_or(0);
     let s = st.discrepancy.clone();
     let t0 = std::time::Instant::now();
     let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
@@ -102,7 +107,10 @@ fn main() {
     // index only, not on how many data sets the run has.
     let mut jobs: Vec<(Edit, usize, usize)> = null_ids.iter().map(|&i| (Edit::None, 0, i)).collect();
     for (c, e) in classes().into_iter().enumerate() {
-        jobs.extend((0..per).map(|i| (e, c + 1, i)));
+        if only.as_ref().is_some_and(|o| !o.contains(&(c + 1))) {
+            continue;
+        }
+        jobs.extend((first_set..first_set + per).map(|i| (e, c + 1, i)));
     }
     let answers: Vec<(Edit, Answer, String)> = jobs
         .iter()
@@ -130,6 +138,41 @@ fn main() {
                 missed
             );
             eprintln!("{what} -> {got:?}");
+            if std::env::var_os("REALWALL_VERBOSE").is_some() {
+                let top = &a.candidates[0];
+                let ps = |sc: &[f64]| drystone::discrepancy::fit::per_specimen(sc, &run.obs, &run.specimens);
+                for c in &a.candidates {
+                    let d: Vec<f64> = ps(&c.scores).iter().zip(ps(&top.scores)).map(|(x, y)| x - y).collect();
+                    eprintln!(
+                        "    vs top: D {:8.3} se {:8.3} per-specimen {:?}",
+                        d.iter().sum::<f64>(),
+                        drystone::discrepancy::fit::difference_se(&d),
+                        d.iter().map(|x| (x * 100.0).round() / 100.0).collect::<Vec<_>>()
+                    );
+                    eprintln!(
+                        "    {:<28} held-out {:8.3} ± {:.3}  AICc {:9.2}  confirmed {}  {:?}",
+                        c.name, c.heldout_error, c.difference_se, c.information_criterion, c.confirmed, c.parameters
+                    );
+                }
+                let mut seen = std::collections::BTreeMap::new();
+                for (o, (pb, pe)) in run.obs.iter().zip(a.baseline_predictive.iter().zip(&run.extended_predictive)) {
+                    let k = format!("{} {}", o.group, o.observable.label());
+                    seen.entry(k).or_insert_with(Vec::new).push((o.value, pb.mean, pb.sd, pe.mean, pe.sd));
+                }
+                for (k, v) in seen {
+                    let d: Vec<f64> = v.iter().map(|x| x.0).collect();
+                    eprintln!(
+                        "    {:<22} data {:8.4} (sd {:.4}) | base {:8.4} ± {:.4} | extended {:8.4} ± {:.4}",
+                        k,
+                        drystone::stats::mean(&d),
+                        drystone::stats::sd(&d),
+                        v[0].1,
+                        v[0].2,
+                        v[0].3,
+                        v[0].4
+                    );
+                }
+            }
             (e, got, what)
         })
         .collect();

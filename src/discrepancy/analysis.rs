@@ -16,11 +16,12 @@
 //!   baseline (a cause named) and the baseline's score (a significant misfit), so that
 //!   null data raise either in at most 5 % of the data sets. The false-alarm rate of
 //!   margins set this way is measured by cross-fitting (margins from one half of the null
-//!   data sets, alarms on the other) and reported with its Clopper–Pearson interval. The
-//!   runner-up margin is the 95th percentile of the gap between the best two on null data.
-//! * **Ties.** The next four candidates after a named cause are scored on data simulated
-//!   from the cause's own independent realizations; each that beats the cause on 5 % or
-//!   more of them is in the tie ([`reversal_rates`]).
+//!   data sets, alarms on the other) and reported with its Clopper–Pearson interval.
+//! * **Ties.** Each of the next four candidates after a named cause is in the tie when the
+//!   design cannot separate it from the cause (it beats the cause on 5 % or more of data
+//!   simulated from the cause's own independent realizations, [`reversal_rates`]) or the
+//!   data cannot (its held-out difference to the cause is under two standard errors),
+//!   [`TieCheck`].
 //! * **Ranking.** Candidates are ranked by their surrogate's held-out error; the two best
 //!   are then run as full ensembles at their fitted parameters and re-scored with their
 //!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
@@ -448,6 +449,58 @@ fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
 /// Challengers checked against a named cause for a tie ([`reversal_rates`]).
 pub const TIE_CHALLENGERS: usize = 4;
 
+/// One challenger checked against the named cause for a tie. It is in the tie when either
+/// test fails to separate the two:
+///
+/// * **the design**: it beats the cause (lower held-out error) on 5 % or more of data
+///   simulated from the cause's own independent realizations ([`reversal_rates`]); this
+///   assumes the cause's model is exactly right;
+/// * **the data**: its summed held-out difference to the cause, over specimens, is less
+///   than two standard errors of that difference, `sqrt(n · var(dᵢ))` over the
+///   per-specimen differences (Vehtari, Gelman & Gabry 2017; ArviZ `compare`'s `dse`).
+///   This needs no model to be right: when the data lie between two models, or off both,
+///   the per-specimen differences scatter more than either model's own data would make
+///   them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TieCheck {
+    /// The challenger's name.
+    pub name: String,
+    /// Rate at which it beats the cause on data simulated from the cause, in [0, 1].
+    pub reversal_rate: f64,
+    /// Its summed held-out score minus the cause's, over specimens (≥ 0: the cause ranks
+    /// first).
+    pub difference: f64,
+    /// Standard error of that difference.
+    pub difference_se: f64,
+    /// In the tie.
+    pub tied: bool,
+}
+
+impl TieCheck {
+    /// Reversal rate at or above which the design cannot separate two candidates.
+    pub const REVERSAL_RATE: f64 = 0.05;
+    /// Standard errors of the held-out difference below which the data cannot.
+    pub const STANDARD_ERRORS: f64 = 2.0;
+
+    /// The check of `challenger` against `cause` (held-out scores per observation of
+    /// `obs`, summed per specimen) at reversal rate `reversal_rate`.
+    pub fn new(
+        cause: &Ranked,
+        challenger: &Ranked,
+        reversal_rate: f64,
+        obs: &[Observation],
+        specimens: &[String],
+    ) -> TieCheck {
+        let a = per_specimen(&challenger.scores, obs, specimens);
+        let b = per_specimen(&cause.scores, obs, specimens);
+        let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
+        let difference: f64 = d.iter().sum();
+        let difference_se = difference_se(&d);
+        let tied = reversal_rate >= Self::REVERSAL_RATE || difference < Self::STANDARD_ERRORS * difference_se;
+        TieCheck { name: challenger.name.clone(), reversal_rate, difference, difference_se, tied }
+    }
+}
+
 /// Rate at which a challenger ranks above a model (lower held-out error) on data simulated
 /// from that model: `replicates` data sets drawn from `source` (the model's own
 /// independent realizations) and read as the data are. A challenger that beats the true
@@ -575,13 +628,12 @@ pub struct Analysis {
     /// (`unexplained` after a failed predictive check).
     pub cause: Option<Ranked>,
     /// Candidates indistinguishable from the cause, the cause first; one entry when the
-    /// cause is unique. A challenger is in the tie when it beats the cause on 5 % or more
-    /// of data simulated from the cause ([`reversal_rates`]).
+    /// cause is unique. A challenger is in the tie when the design cannot separate it from
+    /// the cause or the data cannot ([`TieCheck`]).
     pub tie: Vec<String>,
     /// The challengers checked for the tie (the next best candidates, at most
-    /// [`TIE_CHALLENGERS`]) with the rate at which each beats the cause on data simulated
-    /// from the cause.
-    pub reversals: Vec<(String, f64)>,
+    /// [`TIE_CHALLENGERS`]), each with both tests.
+    pub tie_checks: Vec<TieCheck>,
     /// All candidates, best first.
     pub candidates: Vec<Ranked>,
     /// The baseline's held-out error (its score per specimen).
@@ -698,5 +750,54 @@ mod tests {
         let same: Vec<(f64, f64)> = runs.iter().map(|r| (r.0, r.0)).collect();
         let (g2, _) = joint_margins(&same);
         assert_eq!(g2, quantile(same.iter().map(|r| r.0).collect(), 0.95));
+    }
+
+    fn ranked(name: &str, scores: Vec<f64>) -> Ranked {
+        Ranked {
+            name: name.into(),
+            parameters: vec![],
+            heldout_error: 0.0,
+            difference_se: 0.0,
+            information_criterion: 0.0,
+            confirmed: false,
+            x: vec![],
+            index: 0,
+            scores,
+            predictive: vec![],
+        }
+    }
+
+    /// The tie check's data test is the summed difference against two of its standard
+    /// errors, `sqrt(n · var(dᵢ))` over specimens (two observations per specimen here,
+    /// summed first); its design test is the reversal rate against 5 %.
+    #[test]
+    fn a_challenger_is_tied_when_the_design_or_the_data_cannot_separate_it() {
+        let obs: Vec<Observation> = (0..8)
+            .map(|j| Observation {
+                specimen: format!("S{}", j / 2),
+                group: "G".into(),
+                observable: Observable::CollapseAngle,
+                value: 0.0,
+                sigma: 1.0,
+            })
+            .collect();
+        let specimens = crate::discrepancy::observations::specimens(&obs);
+        assert_eq!(specimens.len(), 4);
+        let cause = ranked("a", vec![0.0; 8]);
+        // Per-specimen differences 1, 3, 1, 3: sum 8, sd 2/√3, se = √4 · sd = 2.309.
+        let close = ranked("b", vec![0.5, 0.5, 1.0, 2.0, 0.0, 1.0, 3.0, 0.0]);
+        let t = TieCheck::new(&cause, &close, 0.0, &obs, &specimens);
+        let se = 2.0 * (4.0f64 / 3.0).sqrt();
+        assert!((t.difference - 8.0).abs() < 1e-12 && (t.difference_se - se).abs() < 1e-12, "{t:?}");
+        assert!(!t.tied, "8 > 2 × {se}: separated by the data, and the design (rate 0)");
+        // The same mean difference with a wide spread: 8 < 2 se.
+        let wide = ranked("c", vec![-2.0, 0.0, 5.0, 0.0, -3.0, 0.0, 8.0, 0.0]);
+        let t = TieCheck::new(&cause, &wide, 0.0, &obs, &specimens);
+        assert!((t.difference - 8.0).abs() < 1e-12 && t.difference < 2.0 * t.difference_se && t.tied, "{t:?}");
+        // Separated by the data, not by the design.
+        let t = TieCheck::new(&cause, &close, 0.05, &obs, &specimens);
+        assert!(t.tied);
+        let t = TieCheck::new(&cause, &close, 0.049, &obs, &specimens);
+        assert!(!t.tied);
     }
 }

@@ -710,7 +710,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(full_base, j)).collect();
     let mut gain = None;
     let check;
-    let mut reversals: Vec<(String, f64)> = Vec::new();
+    let mut tie_checks: Vec<analysis::TieCheck> = Vec::new();
     let (verdict, cause, tie) = match named {
         Some(b) => {
             let c = &pool[b.index];
@@ -743,8 +743,9 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             let passes = ppc.passes();
             check = Some(ppc);
             gain = Some(bootstrap_gain(&base_per, &fit::per_specimen(&b.scores, &obs, &specimens), s.bootstrap, seed));
-            // The tie: the challengers that beat the cause on 5 % or more of data simulated
-            // from the cause's own independent realizations.
+            // The tie: the challengers that the design (data simulated from the cause's own
+            // independent realizations) or the data (the held-out difference in standard
+            // errors) cannot separate from the cause.
             let challengers: Vec<&Ranked> =
                 candidates.iter().filter(|r| r.index != b.index).take(analysis::TIE_CHALLENGERS).collect();
             let rates = analysis::reversal_rates(
@@ -758,10 +759,11 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             );
             let mut tie = vec![b.name.clone()];
             for (r, &rate) in challengers.iter().zip(&rates) {
-                reversals.push((r.name.clone(), rate));
-                if rate >= 0.05 {
+                let t = analysis::TieCheck::new(&b, r, rate, &obs, &specimens);
+                if t.tied {
                     tie.push(r.name.clone());
                 }
+                tie_checks.push(t);
             }
             (if passes { Verdict::Explained } else { Verdict::Unexplained }, Some(b), tie)
         }
@@ -819,7 +821,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         verdict,
         cause,
         tie,
-        reversals,
+        tie_checks,
         candidates,
         baseline_heldout_error: base_he,
         baseline_information_criterion: base_ic,
