@@ -72,7 +72,7 @@ fn sbl_step(c: &mut Criterion) {
 /// One iteration of the implicit relaxation (assembly and factorization of the stiffness,
 /// one solve, two contact passes) with the copy of the state it starts from.
 fn sbl_implicit_iteration(c: &mut Criterion) {
-    use drystone::dem::implicit::{relax, ImplicitSolve};
+    use drystone::dem::drivers::implicit::{relax, ImplicitSolve};
     let sim = sbl_at_17deg();
     let one = ImplicitSolve { max_iterations: 1, ..ImplicitSolve::default() };
     c.bench_function("sbl_implicit_iteration_17deg", |bch| {

@@ -58,7 +58,7 @@ pub fn run_cube16(steps: u64, params: SolverParams) -> BenchResult {
     let mut steps_to_eq = 0;
     for i in 1..=10_000_000u64 {
         eq.step().expect("cube16 is stable");
-        if i > 10 && eq.stats.unbalanced_ratio < 1e-4 {
+        if i > 10 && eq.stats().unbalanced_ratio < 1e-4 {
             steps_to_eq = i;
             break;
         }
@@ -71,12 +71,12 @@ pub fn run_cube16(steps: u64, params: SolverParams) -> BenchResult {
     }
     let el = t0.elapsed().as_secs_f64();
     BenchResult {
-        bodies: sim.bodies.len(),
+        bodies: sim.state.bodies.len(),
         steps,
         steps_per_s: steps as f64 / el,
-        contacts: sim.contacts.len(),
-        sub_contacts: sim.contacts.iter().map(|c| c.subs.len()).sum(),
-        dt_s: sim.dt,
+        contacts: sim.state.contacts.len(),
+        sub_contacts: sim.state.contacts.iter().map(|c| c.subs.len()).sum(),
+        dt_s: sim.dt(),
         steps_to_equilibrium: steps_to_eq,
         equilibrium_wall_time_s: eq_time,
     }

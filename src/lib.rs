@@ -79,14 +79,14 @@ pub mod study;
 pub mod units;
 pub mod verify;
 
-/// The entry points most programs need: `use drystone::prelude::*;`.
-///
-/// Generate a layout ([`generate`] from a [`Wall`] description), tilt it ([`run_tilt`]
-/// with [`SolverParams`] and [`TiltParams`]) or load it laterally ([`run_lateral`]), run a
-/// study's ensemble ([`Study::from_file`], [`run_study`] over a [`Shard`]), and confront it
-/// with measured data ([`discrepancy::run`], or [`discrepancy::prepare`] once and
-/// [`discrepancy::analyze`] per data set).
 pub mod prelude {
+    //! The entry points most programs need: `use drystone::prelude::*;`.
+    //!
+    //! Generate a layout ([`generate`] from a [`Wall`] description), tilt it ([`run_tilt`]
+    //! with [`SolverParams`] and [`TiltParams`]) or load it laterally ([`run_lateral`]), run
+    //! a study's ensemble ([`Study::from_file`], [`run_study`] over a [`Shard`]), and
+    //! confront it with measured data ([`discrepancy::run`], or [`discrepancy::prepare`]
+    //! once and [`discrepancy::analyze`] per data set).
     pub use crate::dem::SolverParams;
     pub use crate::discrepancy::{self, Settings as DiscrepancySettings};
     pub use crate::ensemble::Shard;

@@ -286,22 +286,22 @@ pub fn slide_acceleration(alpha_deg: f64, phi_deg: f64) -> f64 {
         SolverParams { density_scaling: DensityScaling::Off, ..SolverParams::default() },
     );
     sim.run_to_equilibrium(1e-6, 200_000).expect("finite");
-    sim.params.damping = 0.0;
+    sim.set_damping(0.0);
     sim.set_tilt(deg_to_rad(alpha_deg));
     let run_for = |sim: &mut crate::dem::Simulation, t: f64| {
-        let end = sim.time + t;
-        while sim.time < end {
+        let end = sim.state.time + t;
+        while sim.state.time < end {
             sim.step().expect("finite");
         }
     };
     run_for(&mut sim, 0.05);
     // Least-squares slope of v_y(t) over 0.2 s: robust to the rocking the sudden tilt
     // excites in the undamped block (sampling v at two instants picks up its phase).
-    let end = sim.time + 0.2;
+    let end = sim.state.time + 0.2;
     let (mut n, mut st, mut sv, mut stt, mut stv) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    while sim.time < end {
+    while sim.state.time < end {
         sim.step().expect("finite");
-        let (t, v) = (sim.time, sim.bodies[0].vel.y);
+        let (t, v) = (sim.state.time, sim.state.bodies[0].vel.y);
         n += 1.0;
         st += t;
         sv += v;
@@ -332,15 +332,15 @@ pub fn free_fall() -> (f64, f64) {
         &l,
         SolverParams { damping: 0.0, density_scaling: DensityScaling::Off, ..SolverParams::default() },
     );
-    sim.dt = 1e-4;
+    sim.set_time_step(1e-4);
     // Start the leapfrog from rest at t = 0: v(−Δt/2) = +g Δt/2 so that v(0) = 0.
-    sim.bodies[0].vel = -sim.gravity * (0.5 * sim.dt);
-    let z0 = sim.bodies[0].pos.z;
+    sim.state.bodies[0].vel = -sim.state.gravity * (0.5 * sim.dt());
+    let z0 = sim.state.bodies[0].pos.z;
     for _ in 0..2000 {
         sim.step().expect("finite");
     }
-    let t = sim.time;
-    (z0 - sim.bodies[0].pos.z, 0.5 * crate::units::STANDARD_GRAVITY * t * t)
+    let t = sim.state.time;
+    (z0 - sim.state.bodies[0].pos.z, 0.5 * crate::units::STANDARD_GRAVITY * t * t)
 }
 
 /// A block at rest on the table: (sum of table contact normal forces, weight), N.
@@ -348,8 +348,8 @@ pub fn weight_at_rest() -> (f64, f64) {
     let l = layout_of(vec![box_vertices([0.0, 0.0, 0.0], [0.2, 0.15, 0.1])], 5e7, 2.5e7, 30.0, BaseSliding::Free);
     let mut sim = crate::dem::Simulation::new(&l, SolverParams::default());
     sim.run_to_equilibrium(1e-8, 500_000).expect("finite");
-    let fz: f64 = sim.contacts.iter().filter(|c| c.a.is_none()).map(|c| c.force.z).sum();
-    (fz, sim.bodies[0].mass * crate::units::STANDARD_GRAVITY)
+    let fz: f64 = sim.state.contacts.iter().filter(|c| c.a.is_none()).map(|c| c.force.z).sum();
+    (fz, sim.state.bodies[0].mass * crate::units::STANDARD_GRAVITY)
 }
 
 /// An undamped block dropped 5 mm onto the table: (total energy at release, total energy
@@ -369,7 +369,7 @@ pub fn bounce_energy() -> (f64, f64, f64) {
         ..SolverParams::default()
     };
     let mut sim = crate::dem::Simulation::new(&l, params);
-    sim.bodies[0].vel = -sim.gravity * (0.5 * sim.dt);
+    sim.state.bodies[0].vel = -sim.state.gravity * (0.5 * sim.dt());
     let total = |s: &crate::dem::Simulation| {
         let (k, p, e) = s.energies();
         k + p + e
@@ -379,17 +379,17 @@ pub fn bounce_energy() -> (f64, f64, f64) {
     let mut rising = false;
     for _ in 0..2_000_000 {
         sim.step().expect("finite");
-        if sim.contacts.iter().any(|c| c.force.norm() > 0.0) {
+        if sim.state.contacts.iter().any(|c| c.force.norm() > 0.0) {
             touched = true;
         } else if touched {
-            if sim.bodies[0].vel.z > 0.0 {
+            if sim.state.bodies[0].vel.z > 0.0 {
                 rising = true;
             } else if rising {
                 break; // apex of the rebound
             }
         }
     }
-    let mgh = sim.bodies[0].mass * crate::units::STANDARD_GRAVITY * 0.005;
+    let mgh = sim.state.bodies[0].mass * crate::units::STANDARD_GRAVITY * 0.005;
     (e0, total(&sim), mgh)
 }
 

@@ -1,8 +1,8 @@
-//! The secant acceleration of slow creep and its stability indicator (`dem::accelerate`):
+//! The secant acceleration of slow creep and its stability indicator (`dem::drivers::accelerate`):
 //! it changes the steps, not the result, and it names an overloaded block unstable.
 
-use drystone::dem::accelerate::SecantAcceleration;
-use drystone::dem::relax::{relax, Relaxed};
+use drystone::dem::drivers::accelerate::SecantAcceleration;
+use drystone::dem::drivers::relax::{relax, Relaxed};
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
@@ -66,7 +66,7 @@ fn the_indicator_names_an_overloaded_block_and_only_that() {
     let Relaxed::Unstable(steps, _) = r else { panic!("30°: {r:?}") };
     let mut plain = settled();
     plain.set_tilt(30f64.to_radians());
-    let start: Vec<_> = plain.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+    let start: Vec<_> = plain.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
     let moved = relax(&mut plain, 1e-4, 200_000, None, |s| {
         (drystone::loading::monitors::largest_motion(s, &start) > 0.05 * 0.15).then_some(())
     })

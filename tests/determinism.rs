@@ -27,7 +27,8 @@ fn fingerprint(r: &TiltResult) -> String {
 }
 
 fn state_bits(sim: &Simulation) -> Vec<u64> {
-    sim.bodies
+    sim.state
+        .bodies
         .iter()
         .flat_map(|b| {
             b.pos

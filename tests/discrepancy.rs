@@ -67,9 +67,9 @@ fn edge_rounding_moves_the_pivot_of_a_rigid_block_inwards() {
 /// The settlement of a block of height h on the table under its own weight, m.
 fn settlement(l: &Layout) -> f64 {
     let mut sim = drystone::dem::Simulation::new(l, SolverParams::default());
-    let z0 = sim.bodies[0].pos.z;
+    let z0 = sim.state.bodies[0].pos.z;
     sim.run_to_equilibrium(1e-9, 2_000_000).unwrap();
-    z0 - sim.bodies[0].pos.z
+    z0 - sim.state.bodies[0].pos.z
 }
 
 /// The joint-law effects against the closed forms of their closure laws, for a block
@@ -111,13 +111,13 @@ fn restraint_stiffness_makes_the_end_restraint_a_spring() {
     apply(&mut l, &format!("restraint_stiffness={k}"));
     let mut sim = drystone::dem::Simulation::new(&l, SolverParams::default());
     sim.run_to_equilibrium(1e-9, 2_000_000).unwrap();
-    let y0 = sim.bodies[0].pos.y;
+    let y0 = sim.state.bodies[0].pos.y;
     let alpha = 10f64.to_radians();
     sim.set_tilt(alpha);
     sim.run_to_equilibrium(1e-9, 4_000_000).unwrap();
-    let w = sim.bodies[0].mass * drystone::units::STANDARD_GRAVITY;
+    let w = sim.state.bodies[0].mass * drystone::units::STANDARD_GRAVITY;
     let expect = w * alpha.sin() / k;
-    let dy = sim.bodies[0].pos.y - y0;
+    let dy = sim.state.bodies[0].pos.y - y0;
     assert!((dy - expect).abs() < 2e-3 * expect, "{dy:e} vs {expect:e}");
 }
 
@@ -180,9 +180,9 @@ fn base_stiffness_softens_the_table_joint_only() {
     };
     let settle = |l: &Layout| {
         let mut sim = drystone::dem::Simulation::new(l, SolverParams::default());
-        let z0 = [sim.bodies[0].pos.z, sim.bodies[1].pos.z];
+        let z0 = [sim.state.bodies[0].pos.z, sim.state.bodies[1].pos.z];
         sim.run_to_equilibrium(1e-10, 4_000_000).unwrap();
-        (z0[0] - sim.bodies[0].pos.z, (z0[1] - sim.bodies[1].pos.z) - (z0[0] - sim.bodies[0].pos.z))
+        (z0[0] - sim.state.bodies[0].pos.z, (z0[1] - sim.state.bodies[1].pos.z) - (z0[0] - sim.state.bodies[0].pos.z))
     };
     let sigma1 = drystone::verify::DENSITY * drystone::units::STANDARD_GRAVITY * h;
     let (base0, bed0) = settle(&stack());

@@ -12,12 +12,12 @@ use std::path::PathBuf;
 /// Every bit of the bodies' state and of the joints' history.
 fn state_bits(sim: &Simulation) -> Vec<u64> {
     let mut v = Vec::new();
-    for b in &sim.bodies {
+    for b in &sim.state.bodies {
         for x in b.pos.iter().chain(b.vel.iter()).chain(b.angvel.iter()).chain(b.rot.coords.iter()) {
             v.push(x.to_bits());
         }
     }
-    for c in &sim.contacts {
+    for c in &sim.state.contacts {
         v.extend(c.force.iter().map(|x| x.to_bits()));
         for s in &c.subs {
             v.extend(s.state.shear.iter().map(|x| x.to_bits()));
@@ -25,8 +25,8 @@ fn state_bits(sim: &Simulation) -> Vec<u64> {
             v.push(s.state.slipping as u64);
         }
     }
-    v.push(sim.stats.unbalanced_ratio.to_bits());
-    v.push(sim.dt.to_bits());
+    v.push(sim.stats().unbalanced_ratio.to_bits());
+    v.push(sim.dt().to_bits());
     v
 }
 
@@ -41,7 +41,7 @@ fn every_compiled_step_equals_the_portable_step_bit_for_bit() {
     let variants: Vec<Isa> = Isa::ALL.into_iter().filter(|v| *v != Isa::Portable && v.available()).collect();
     println!("instruction sets checked against the baseline: {variants:?}, and step()'s choice {:?}", Isa::best());
     let mut sims: Vec<Simulation> = (0..=variants.len()).map(|_| reference.clone()).collect();
-    let detections = reference.detections;
+    let detections = reference.detections();
     let mut slipping = 0;
     for i in 0..1500 {
         reference.step_with(Isa::Portable).unwrap().unwrap();
@@ -56,12 +56,12 @@ fn every_compiled_step_equals_the_portable_step_bit_for_bit() {
             for (k, sim) in sims.iter().enumerate() {
                 assert_eq!(state_bits(sim), bits, "{:?}: states differ after {} steps", variants.get(k), i + 1);
             }
-            slipping =
-                slipping.max(reference.contacts.iter().flat_map(|c| &c.subs).filter(|s| s.state.slipping).count());
+            slipping = slipping
+                .max(reference.state.contacts.iter().flat_map(|c| &c.subs).filter(|s| s.state.slipping).count());
         }
     }
     // The run exercised what it is meant to: motion past the re-detection threshold and
     // joints at the slip limit.
-    assert!(reference.detections > detections, "no re-detection in the run");
+    assert!(reference.detections() > detections, "no re-detection in the run");
     assert!(slipping > 0, "no sub-contact slipped");
 }

@@ -23,17 +23,17 @@ fn stands(name: &str, max_steps: u64) -> (usize, u64, f64, f64) {
     let mut sim = Simulation::new(&layout, SolverParams::default());
     let t0 = Instant::now();
     let ok = sim.run_to_equilibrium(1e-4, max_steps).unwrap();
-    let moved = sim.bodies.iter().map(|b| (b.pos - b.pos0).norm()).fold(0.0, f64::max);
+    let moved = sim.state.bodies.iter().map(|b| (b.pos - b.pos0).norm()).fold(0.0, f64::max);
     println!(
         "{name}: {} blocks, equilibrium {ok} after {} steps (dt {:.2e} s, {:.2} s), largest displacement {:.3e} m",
-        sim.bodies.len(),
-        sim.steps,
-        sim.dt,
+        sim.state.bodies.len(),
+        sim.state.steps,
+        sim.dt(),
         t0.elapsed().as_secs_f64(),
         moved
     );
     assert!(ok, "{name}: no equilibrium at alpha = 0 within {max_steps} steps");
-    (sim.bodies.len(), sim.steps, moved, w.course_height.mean())
+    (sim.state.bodies.len(), sim.state.steps, moved, w.course_height.mean())
 }
 
 #[test]

@@ -65,7 +65,7 @@ fn trapezoidal_pressure_on_a_generated_wall_integrates_to_the_closed_form() {
     // Moment of the y forces about the x axis through the base line (z = 0): Σ (c × F + T)
     // takes the x component; for the y force alone, −∫ z dF_y.
     let mut mx_y = 0.0;
-    for (b, (f, t)) in sim.bodies.iter().zip(&loads) {
+    for (b, (f, t)) in sim.state.bodies.iter().zip(&loads) {
         let total = b.pos.cross(f) + t;
         // Remove the part of the moment due to the z force (batter), y lever.
         mx_y += total.x;

@@ -27,7 +27,7 @@ fn toppled(sim: &Simulation, from: usize, b: f64, z_pivot: f64, theta: f64) -> S
     let mut s = sim.clone();
     let pivot = Vec3::new(0.0, b / 2.0, z_pivot);
     let rot = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), -theta);
-    for body in &mut s.bodies[from..] {
+    for body in &mut s.state.bodies[from..] {
         let arm = body.pos - Vec3::new(body.pos.x, pivot.y, pivot.z);
         body.pos = Vec3::new(body.pos.x, pivot.y, pivot.z) + rot * arm;
         body.rotate(Vec3::x() * -theta);
@@ -59,7 +59,7 @@ fn the_foot_of_a_slender_toppling_stack_counts_as_moving() {
     let sim = settled_stack(12, 0.05, b, h);
     let failed = toppled(&sim, 0, b, 0.0, 0.05);
     let motion = |k: usize| {
-        let (s, f) = (&sim.bodies[k], &failed.bodies[k]);
+        let (s, f) = (&sim.state.bodies[k], &failed.state.bodies[k]);
         (f.pos - s.pos).norm() + (f.rot * s.rot.inverse()).angle() * s.radius
     };
     assert!(motion(0) < 0.25 * motion(11), "the premise: {} vs {}", motion(0), motion(11));
@@ -84,7 +84,7 @@ fn a_top_block_sliding_off_is_a_sliding_mechanism_at_its_joint() {
     let (b, h) = (0.15, 0.075);
     let sim = settled_stack(5, 0.3, b, h);
     let mut failed = sim.clone();
-    failed.bodies[4].pos.y += 0.01;
+    failed.state.bodies[4].pos.y += 0.01;
     let m = mechanism(&sim, &failed);
     assert_eq!(m.kind, MechanismKind::Sliding, "{m:?}");
     assert_eq!(m.joint, "b3/b4", "{m:?}");

@@ -23,14 +23,15 @@ fn a_predicted_jump_loads_the_shear_springs_like_a_step() {
     let mut sim = Simulation::new(&layout, SolverParams::default());
     assert!(sim.run_to_equilibrium(1e-6, 100_000).unwrap());
     let d = 1e-6; // m; the friction limit is at W tan φ / (Ks A) ≈ 4.2e-6 m
-    let weight = sim.bodies[0].mass * 9.81;
-    let pos0 = sim.bodies[0].pos;
-    let shear_sum =
-        |sim: &Simulation| -> Vec3 { sim.contacts.iter().flat_map(|c| c.subs.iter().map(|s| s.state.shear)).sum() };
+    let weight = sim.state.bodies[0].mass * 9.81;
+    let pos0 = sim.state.bodies[0].pos;
+    let shear_sum = |sim: &Simulation| -> Vec3 {
+        sim.state.contacts.iter().flat_map(|c| c.subs.iter().map(|s| s.state.shear)).sum()
+    };
     let before = shear_sum(&sim);
     sim.predict(&[Vec3::new(0.0, d, 0.0)], &[Vec3::zeros()]);
-    assert!((sim.bodies[0].pos.y - pos0.y - d).abs() < 1e-15);
-    assert_eq!(sim.bodies[0].vel, Vec3::zeros());
+    assert!((sim.state.bodies[0].pos.y - pos0.y - d).abs() < 1e-15);
+    assert_eq!(sim.state.bodies[0].vel, Vec3::zeros());
     let shear = shear_sum(&sim) - before;
     let expected = -ks * 0.2 * 0.2 * d;
     assert!((shear.y - expected).abs() < 1e-9 * weight, "shear {shear:?}, expected y {expected}");

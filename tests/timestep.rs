@@ -20,9 +20,9 @@ mod common;
 
 /// `λ_max(M^{-1/2} K M^{-1/2})` by dense assembly, one spring at a time.
 fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
-    let n = sim.bodies.len();
+    let n = sim.state.bodies.len();
     let mut k = DMatrix::<f64>::zeros(6 * n, 6 * n);
-    for c in &sim.contacts {
+    for c in &sim.state.contacts {
         let nrm = sim.contact_normal(c);
         let (t1, t2) = drystone::geometry::polygon::plane_basis(&nrm);
         for s in &c.subs {
@@ -31,13 +31,13 @@ fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
                 let w = s.area / 3.0;
                 for (kk, d) in [(c.joint.kn * w, nrm), (c.joint.ks * w, t1), (c.joint.ks * w, t2)] {
                     let mut g: Vec<(usize, [f64; 6])> = Vec::new();
-                    let b = &sim.bodies[c.b];
+                    let b = &sim.state.bodies[c.b];
                     if !b.fixed {
                         let m = (b.rot_mat * nd.on_b).cross(&d);
                         g.push((c.b, [d.x, d.y, d.z, m.x, m.y, m.z]));
                     }
-                    if let Some(ia) = c.a.filter(|&ia| !sim.bodies[ia].fixed) {
-                        let m = (sim.bodies[ia].rot_mat * nd.on_a).cross(&d);
+                    if let Some(ia) = c.a.filter(|&ia| !sim.state.bodies[ia].fixed) {
+                        let m = (sim.state.bodies[ia].rot_mat * nd.on_a).cross(&d);
                         g.push((ia, [-d.x, -d.y, -d.z, -m.x, -m.y, -m.z]));
                     }
                     for (p, gp) in &g {
@@ -60,9 +60,9 @@ fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
 /// `M^{-1/2}` of the inertial masses the integrator uses (block masses where set, else the
 /// density-scaled mass and inertia), dense, 6 per body; zero rows for fixed bodies.
 fn mass_root(sim: &Simulation) -> DMatrix<f64> {
-    let n = sim.bodies.len();
+    let n = sim.state.bodies.len();
     let mut s = DMatrix::<f64>::zeros(6 * n, 6 * n);
-    for (i, b) in sim.bodies.iter().enumerate() {
+    for (i, b) in sim.state.bodies.iter().enumerate() {
         if b.fixed {
             continue;
         }
@@ -95,15 +95,15 @@ fn the_lanczos_step_bounds_the_dense_top_eigenvalue_closely() {
     {
         let mut sim = Simulation::new(&layout, params);
         assert_eq!(
-            sim.bodies.iter().any(|b| b.block_mass.is_some()),
+            sim.state.bodies.iter().any(|b| b.block_mass.is_some()),
             matches!(params.density_scaling, DensityScaling::Block { .. })
         );
         for settled in [false, true] {
             if settled {
                 assert!(sim.run_to_equilibrium(1e-4, 100_000).unwrap());
             }
-            let stiffness = Stiffness::new(&sim.bodies, &sim.contacts);
-            let lanczos = stiffness.max_eigenvalue(&sim.bodies);
+            let stiffness = Stiffness::new(&sim.state.bodies, &sim.state.contacts);
+            let lanczos = stiffness.max_eigenvalue(&sim.state.bodies);
             let dense = dense_max_eigenvalue(&sim);
             // An over-estimate (the residual bound), by under 1 %.
             assert!(lanczos >= dense * (1.0 - 1e-9) && lanczos <= dense * 1.01, "{lanczos:e} vs dense {dense:e}");
@@ -111,18 +111,18 @@ fn the_lanczos_step_bounds_the_dense_top_eigenvalue_closely() {
                 // The engine's step is the one of this eigenvalue under local damping α:
                 // safety × 2 / (ω_max √(1 + α)).
                 let want = params.timestep_safety * 2.0 / (lanczos.sqrt() * (1.0 + params.damping).sqrt());
-                assert_eq!(sim.dt, want);
+                assert_eq!(sim.dt(), want);
             }
         }
         // Scalar scaling: below the classical bound 2 max λ_body (every body has the same
         // scaled λ_body), which the assembled matrix does not reach.
         if !matches!(params.density_scaling, DensityScaling::Block { .. }) {
-            let stiffness = Stiffness::new(&sim.bodies, &sim.contacts);
+            let stiffness = Stiffness::new(&sim.state.bodies, &sim.state.contacts);
             let bound = 2.0
                 * stiffness
                     .body_eigenvalues()
                     .iter()
-                    .zip(&sim.bodies)
+                    .zip(&sim.state.bodies)
                     .map(|(l, b)| l * b.inertia_scale_inv)
                     .fold(0.0, f64::max);
             let dense = dense_max_eigenvalue(&sim);

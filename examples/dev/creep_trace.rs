@@ -17,26 +17,36 @@ fn main() {
     let trial: f64 = common::number(&args[2], "TRIAL");
     let mut sim = common::settled_at(&layout, last, SolverParams::default());
     sim.set_tilt(trial.to_radians());
-    let start: Vec<_> = sim.bodies.iter().map(|b| b.pos).collect();
+    let start: Vec<_> = sim.state.bodies.iter().map(|b| b.pos).collect();
     for s in 1..=60_000u64 {
         sim.step().unwrap();
-        if s > 10 && sim.stats.unbalanced_ratio < 1e-4 {
+        if s > 10 && sim.stats().unbalanced_ratio < 1e-4 {
             println!("stable at {s}");
             break;
         }
         if s % 2000 == 0 {
-            let mut v: Vec<(f64, usize)> =
-                sim.bodies.iter().enumerate().map(|(i, b)| (b.vel.norm() + b.angvel.norm() * b.radius, i)).collect();
+            let mut v: Vec<(f64, usize)> = sim
+                .state
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (b.vel.norm() + b.angvel.norm() * b.radius, i))
+                .collect();
             v.sort_by(|a, b| b.0.total_cmp(&a.0));
             let mean: f64 = v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64;
             let top: Vec<String> = v
                 .iter()
                 .take(6)
                 .map(|(sp, i)| {
-                    format!("{}:{:.1e}/{:.1e}m", sim.bodies[*i].id, sp, (sim.bodies[*i].pos - start[*i]).norm())
+                    format!(
+                        "{}:{:.1e}/{:.1e}m",
+                        sim.state.bodies[*i].id,
+                        sp,
+                        (sim.state.bodies[*i].pos - start[*i]).norm()
+                    )
                 })
                 .collect();
-            println!("{s} ratio {:.2e} mean speed {:.1e} top {}", sim.stats.unbalanced_ratio, mean, top.join(" "));
+            println!("{s} ratio {:.2e} mean speed {:.1e} top {}", sim.stats().unbalanced_ratio, mean, top.join(" "));
         }
     }
 }

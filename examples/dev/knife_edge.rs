@@ -51,7 +51,7 @@ fn locked_in_shear(l: &drystone::layout::Layout) {
                 ..SolverParams::default()
             },
         );
-        for c in &sim.contacts {
+        for c in &sim.state.contacts {
             let n = sim.contact_normal(c);
             let fnorm: f64 = c.subs.iter().map(|s| s.state.normal).sum();
             let fs: drystone::Vec3 = c.subs.iter().map(|s| s.state.shear).sum();
@@ -62,7 +62,7 @@ fn locked_in_shear(l: &drystone::layout::Layout) {
                 fnorm,
                 fsn,
                 fsn / (fnorm * c.joint.tan_phi),
-                sim.bodies[1].rot.angle()
+                sim.state.bodies[1].rot.angle()
             );
         }
     }

@@ -18,7 +18,7 @@ fn main() {
     let mut sim = Simulation::new(&layout, SolverParams::default());
     let t0 = Instant::now();
     let settled = sim.run_to_equilibrium(1e-4, 400_000).unwrap();
-    let settle_steps = sim.steps;
+    let settle_steps = sim.state.steps;
     sim.set_tilt(tilt.to_radians());
     let t1 = Instant::now();
     for _ in 0..steps {
@@ -30,20 +30,20 @@ fn main() {
         h ^= v.to_bits();
         h = h.wrapping_mul(0x100000001b3);
     };
-    for b in &sim.bodies {
+    for b in &sim.state.bodies {
         b.pos.iter().chain(b.vel.iter()).chain(b.angvel.iter()).chain(b.rot.coords.iter()).for_each(|&v| mix(v));
     }
-    for c in &sim.contacts {
+    for c in &sim.state.contacts {
         c.force.iter().for_each(|&v| mix(v));
         for s in &c.subs {
             s.state.shear.iter().for_each(|&v| mix(v));
             mix(s.state.normal);
         }
     }
-    mix(sim.stats.unbalanced_ratio);
-    let subs: usize = sim.contacts.iter().map(|c| c.subs.len()).sum();
-    let loaded: usize = sim.contacts.iter().flat_map(|c| &c.subs).filter(|s| s.state.normal != 0.0).count();
-    let nodes: usize = sim.contacts.iter().map(|c| c.nodes.len()).sum();
+    mix(sim.stats().unbalanced_ratio);
+    let subs: usize = sim.state.contacts.iter().map(|c| c.subs.len()).sum();
+    let loaded: usize = sim.state.contacts.iter().flat_map(|c| &c.subs).filter(|s| s.state.normal != 0.0).count();
+    let nodes: usize = sim.state.contacts.iter().map(|c| c.nodes.len()).sum();
     println!(
         "settled {settled} in {settle_steps} steps ({:.2} s); {steps} steps at {tilt} deg in {el:.3} s ({:.1} us/step)",
         (t1 - t0).as_secs_f64(),
@@ -51,10 +51,10 @@ fn main() {
     );
     println!(
         "bodies {} contacts {} subs {subs} loaded subs {loaded} nodes {nodes} detections {} dt {:e}",
-        sim.bodies.len(),
-        sim.contacts.len(),
-        sim.detections,
-        sim.dt
+        sim.state.bodies.len(),
+        sim.state.contacts.len(),
+        sim.detections(),
+        sim.dt()
     );
-    println!("ratio {:e} checksum {h:016x}", sim.stats.unbalanced_ratio);
+    println!("ratio {:e} checksum {h:016x}", sim.stats().unbalanced_ratio);
 }

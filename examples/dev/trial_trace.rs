@@ -17,21 +17,21 @@ fn main() {
     // The wall width of the collapse criteria (as in `loading::tilt`).
     let width = layout.bounds().extent().y;
     let sim = common::settled_at(&layout, last, SolverParams::default());
-    eprintln!("reached {last} deg after {} steps", sim.steps);
+    eprintln!("reached {last} deg after {} steps", sim.state.steps);
     println!("angle,step,moved_m,ke_j,ratio");
     for a in angles {
         let mut t = sim.clone();
         t.set_tilt(a.to_radians());
-        let start: Vec<_> = t.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let start: Vec<_> = t.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
         for s in 1..=40_000u64 {
             t.step().unwrap();
-            if s > 10 && t.stats.unbalanced_ratio < 1e-4 {
+            if s > 10 && t.stats().unbalanced_ratio < 1e-4 {
                 println!("{a},{s},stable,,");
                 break;
             }
             if s % 64 == 0 {
                 let moved = drystone::loading::monitors::largest_motion(&t, &start);
-                println!("{a},{s},{moved:e},{:e},{:e}", t.stats.kinetic_energy, t.stats.unbalanced_ratio);
+                println!("{a},{s},{moved:e},{:e},{:e}", t.stats().kinetic_energy, t.stats().unbalanced_ratio);
                 if moved > 0.05 * width {
                     break;
                 }

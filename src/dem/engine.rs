@@ -8,7 +8,7 @@
 //!    ([`super::contact::geometry`]), sub-contact history carried over, time step checked.
 //! 2. **Clear forces.**
 //! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
-//!    the two material points, then [`law::evaluate`]; forces summed per contact and then per
+//!    the two material points, then [`super::contact::law::evaluate`]; forces summed per contact and then per
 //!    body, serially in contact order (so the sum never depends on a thread count).
 //! 4. **Loads**: gravity (table frame), end-restraint springs, external forces.
 //! 5. **Damping and integration** ([`super::integrator`]).
@@ -16,17 +16,27 @@
 //!
 //! A simulation is single-threaded and deterministic; ensembles parallelize over
 //! realizations.
+//!
+//! # State, parameters, workspace
+//!
+//! A [`Simulation`] is three parts (as rapier keeps its bodies, its
+//! `IntegrationParameters` and its pipeline apart): the model state ([`WallState`]:
+//! bodies, contacts with their history, loads, time), the parameters ([`SolverParams`]),
+//! and the engine's workspace (forces and moments, per-node scratch, the detection cache,
+//! the joint table, the time step and the last step's statistics), whose methods are the
+//! stages above. Drivers ([`super::drivers`]) run the engine through its public methods
+//! and read its state; nothing outside this module writes the workspace.
 
-use super::contact::forces::{contact_forces, unit, NodeScratch};
+use super::contact::forces::{contact_forces, NodeScratch};
 use super::contact::geometry as cgeom;
-use super::contact::law::{self, SubContactState};
+use super::contact::law::SubContactState;
 pub use super::contact::types::{Contact, ContactNode, SubContact};
 pub use super::dispatch::Isa;
 use super::integrator::{advance, YConstraint};
 use super::materials::JointTable;
+pub use super::model::WallState;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
-use super::state::Body;
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
@@ -49,112 +59,89 @@ pub enum DemError {
     },
 }
 
-/// One simulation.
-#[derive(Debug, Clone)]
-pub struct Simulation {
-    /// Bodies, in layout order.
-    pub bodies: Vec<Body>,
-    /// Contacts, sorted by (A, B) with the table first.
-    pub contacts: Vec<Contact>,
-    /// Solver parameters.
-    pub params: SolverParams,
-    /// Gravity, m/s², table frame.
-    pub gravity: Vec3,
-    /// External force per body at its centroid, N, table frame (lateral loads).
-    pub external_force: Vec<Vec3>,
-    /// External torque per body about its centroid, N·m, table frame.
-    pub external_torque: Vec<Vec3>,
-    /// End restraint per body.
-    pub restraint: Vec<Option<EndRestraint>>,
-    /// Time step, s.
-    pub dt: f64,
-    /// Simulated time, s.
-    pub time: f64,
-    /// Steps taken.
-    pub steps: u64,
-    /// Statistics of the last step.
-    pub stats: StepStats,
-    /// Number of contact re-detections so far.
-    pub detections: u64,
-    /// Largest density-scaling factor applied so far (1: none).
-    pub max_density_scale: f64,
-    gravity_magnitude: f64,
-    force: Vec<Vec3>,
-    torque: Vec<Vec3>,
-    detect_pos: Vec<Vec3>,
-    detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
-    joints: JointTable,
-    scratch: Vec<NodeScratch>,
-    /// While set, a re-detection leaves the inertial masses and the time step to
-    /// [`Simulation::end_deferral`] (the implicit iterations take no step).
-    defer_step_update: bool,
-    step_update_pending: bool,
+/// What the re-detection of contacts before a jump or a step did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Redetection {
+    /// No body moved past the re-detection threshold: no detection.
+    None,
+    /// Contacts detected afresh, the same contacts with every patch kept: the inertial
+    /// masses and the time step stand.
+    Unchanged,
+    /// Contacts detected afresh and changed. After [`Simulation::step`] and
+    /// [`Simulation::predict`] the inertial masses and the time step are already those of
+    /// the new contacts; after [`Simulation::predict_deferred`] they are stale until
+    /// [`Simulation::update_masses_and_step`].
+    Changed,
 }
 
-impl Simulation {
-    /// Builds the simulation of a checked layout at rest, gravity straight down
-    /// (table level), and detects the initial contacts.
-    pub fn new(layout: &Layout, params: SolverParams) -> Simulation {
-        let bodies: Vec<Body> = layout
-            .blocks
-            .iter()
-            .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
-            .collect();
-        let n = bodies.len();
-        let joints = JointTable::new(layout);
-        let mut restraint = vec![None; n];
-        for &(i, r) in &layout.end_restraints {
-            restraint[i] = Some(r);
-        }
-        let mut sim = Simulation {
-            detect_pos: bodies.iter().map(|b| b.pos).collect(),
-            detect_rot: bodies.iter().map(|b| b.rot).collect(),
-            bodies,
-            contacts: Vec::new(),
-            params,
-            gravity: Vec3::new(0.0, 0.0, -layout.gravity),
-            external_force: vec![Vec3::zeros(); n],
-            external_torque: vec![Vec3::zeros(); n],
-            restraint,
+impl Redetection {
+    /// The inertial masses and the time step need an update (contacts changed).
+    pub fn changed(self) -> bool {
+        self == Redetection::Changed
+    }
+}
+
+/// One simulation: the model state, the solver parameters and the engine's workspace.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// The model state: bodies, contacts, loads, time.
+    pub state: WallState,
+    params: SolverParams,
+    work: Workspace,
+}
+
+/// The engine's workspace: what a step derives from the state and the parameters, and
+/// caches between steps. Its methods are the stages of the step.
+#[derive(Debug, Clone)]
+struct Workspace {
+    /// Time step, s.
+    dt: f64,
+    /// Statistics of the last step (or the last assessed jump).
+    stats: StepStats,
+    /// Contact detections so far (the initial one included).
+    detections: u64,
+    /// Largest density-scaling factor applied so far (1: none).
+    max_density_scale: f64,
+    /// Out-of-balance force per body, N, table frame (contacts, then loads).
+    force: Vec<Vec3>,
+    /// Out-of-balance moment per body about its centroid, N·m, table frame.
+    torque: Vec<Vec3>,
+    /// Poses at the last detection.
+    detect_pos: Vec<Vec3>,
+    detect_rot: Vec<nalgebra::UnitQuaternion<f64>>,
+    /// Joint parameters by material pair and joint family.
+    joints: JointTable,
+    /// Per-node scratch of the contact pass.
+    scratch: Vec<NodeScratch>,
+}
+
+impl Workspace {
+    fn new(layout: &Layout, st: &WallState) -> Workspace {
+        let n = st.bodies.len();
+        Workspace {
             dt: f64::INFINITY,
-            time: 0.0,
-            steps: 0,
             stats: StepStats::default(),
             detections: 0,
             max_density_scale: 1.0,
-            gravity_magnitude: layout.gravity,
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
-            joints,
+            detect_pos: st.bodies.iter().map(|b| b.pos).collect(),
+            detect_rot: st.bodies.iter().map(|b| b.rot).collect(),
+            joints: JointTable::new(layout),
             scratch: Vec::new(),
-            defer_step_update: false,
-            step_update_pending: false,
-        };
-        sim.detect_contacts(true);
-        if !sim.dt.is_finite() {
-            // Nothing touches: a step from the free-fall of the smallest block over its size.
-            sim.dt = 1e-4;
         }
-        sim
     }
 
-    /// Sets the table tilt α (rad): gravity becomes `g (0, sin α, −cos α)` in the table
-    /// frame (the out-of-plane load is `W sin α`; Santa-Cruz et al. 2021, Eq. 1 with sine and cosine in
-    /// their places).
-    pub fn set_tilt(&mut self, alpha: f64) {
-        self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
-    }
-
-    /// Detects contacts afresh and carries the history of persisting sub-contacts over. A
-    /// contact whose pair has barely moved relative to its patch keeps it (and its history:
-    /// see [`SolverParams::patch_reuse_fraction`]); the separating-axis test of a pair
-    /// without a contact stops at the first axis that separates the pair by more than the
-    /// margin.
-    fn detect_contacts(&mut self, initial: bool) {
-        let settings = &self.params;
+    /// Stage 1: detects contacts afresh and carries the history of persisting
+    /// sub-contacts over. A contact whose pair has barely moved relative to its patch keeps
+    /// it (and its history: see [`SolverParams::patch_reuse_fraction`]); the
+    /// separating-axis test of a pair without a contact stops at the first axis that
+    /// separates the pair by more than the margin. Returns `Unchanged` or `Changed`; the
+    /// masses and the time step are left to the caller.
+    fn detect(&mut self, st: &mut WallState, settings: &SolverParams, initial: bool) -> Redetection {
         // Bounding boxes from the vertices at the current pose; a body's full geometry is
         // only built when one of its pairs is detected afresh.
-        let boxes: Vec<_> = self
+        let boxes: Vec<_> = st
             .bodies
             .iter()
             .map(|b| {
@@ -170,30 +157,30 @@ impl Simulation {
         let mut kept = Vec::new();
         let mut fresh: Vec<(Option<usize>, usize)> = Vec::new();
         // Table contacts first (key 0), then pairs in (i, j) order.
-        for j in 0..self.bodies.len() {
-            if self.bodies[j].fixed {
+        for j in 0..st.bodies.len() {
+            if st.bodies[j].fixed {
                 continue;
             }
-            match self.reusable(None, j, reuse_tol) {
+            match st.reusable(None, j, reuse_tol) {
                 Some(c) => kept.push(c),
                 None if boxes[j].min.z <= settings.contact_margin_m => fresh.push((None, j)),
                 None => {}
             }
         }
         for (i, j) in sweep_pairs(&boxes, settings.contact_margin_m) {
-            if self.bodies[i].fixed && self.bodies[j].fixed {
+            if st.bodies[i].fixed && st.bodies[j].fixed {
                 continue;
             }
-            match self.reusable(Some(i), j, reuse_tol) {
+            match st.reusable(Some(i), j, reuse_tol) {
                 Some(c) => kept.push(c),
                 None => fresh.push((Some(i), j)),
             }
         }
-        let mut shapes: Vec<Option<crate::geometry::ConvexBlock>> = vec![None; self.bodies.len()];
+        let mut shapes: Vec<Option<crate::geometry::ConvexBlock>> = vec![None; st.bodies.len()];
         for &(a, b) in &fresh {
             for k in a.into_iter().chain([b]) {
                 if shapes[k].is_none() {
-                    shapes[k] = Some(self.bodies[k].world_shape());
+                    shapes[k] = Some(st.bodies[k].world_shape());
                 }
             }
         }
@@ -206,120 +193,42 @@ impl Simulation {
                 Some(i) => cgeom::block_block(shape(i), shape(b), &patch_params),
             };
             if let Some(p) = patch {
-                new.push(self.make_contact(a, b, p, initial));
+                new.push(self.make_contact(st, a, b, p, initial));
             }
         }
         // The same contacts as before, every patch kept: the masses and the step stand.
-        let unchanged = !initial && new.is_empty() && kept.len() == self.contacts.len();
+        let unchanged = !initial && new.is_empty() && kept.len() == st.contacts.len();
         if !initial {
-            self.transfer_history(&mut new);
+            st.transfer_history(&mut new);
         }
         new.extend(kept);
         new.sort_by_key(|c| c.key());
-        self.contacts = new;
-        for (k, b) in self.bodies.iter().enumerate() {
+        st.contacts = new;
+        for (k, b) in st.bodies.iter().enumerate() {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
         }
-        if unchanged {
-            self.detections += 1;
-            return;
-        }
-        if self.defer_step_update {
-            self.step_update_pending = true;
-        } else {
-            self.update_masses_and_step();
-        }
         self.detections += 1;
-    }
-
-    /// Defers the update of the inertial masses and the time step at re-detections until
-    /// [`Simulation::end_deferral`] (for iterations that take no dynamic step; the jumps of
-    /// [`Simulation::predict`] do not depend on the step).
-    pub(crate) fn defer_step_updates(&mut self) {
-        self.defer_step_update = true;
-    }
-
-    /// Ends [`Simulation::defer_step_updates`]: sets the masses and the time step of the
-    /// current contacts if a re-detection happened meanwhile.
-    pub(crate) fn end_deferral(&mut self) {
-        self.defer_step_update = false;
-        if std::mem::take(&mut self.step_update_pending) {
-            self.update_masses_and_step();
+        if unchanged {
+            Redetection::Unchanged
+        } else {
+            Redetection::Changed
         }
     }
 
-    /// Sets the inertial masses (density scaling, scalar or block) and the time step from
-    /// the stiffness of the current contacts at the current poses.
-    fn update_masses_and_step(&mut self) {
-        let stiffness = Stiffness::new(&self.bodies, &self.contacts);
-        if self.params.density_scaling.is_on() {
-            let (target, scale) = density_scaling(stiffness.body_eigenvalues());
-            for (b, s) in self.bodies.iter_mut().zip(&scale) {
-                b.inertia_scale_inv = 1.0 / s;
-                b.block_mass = None;
-            }
-            self.max_density_scale = self.max_density_scale.max(scale.iter().cloned().fold(1.0, f64::max));
-            if let (DensityScaling::Block { mass_floor }, true) = (self.params.density_scaling, target > 0.0) {
-                let held: Vec<bool> = self.restraint.iter().map(|r| matches!(r, Some(EndRestraint::Rigid))).collect();
-                let masses = block_masses(&stiffness, &self.bodies, target, mass_floor, &held);
-                for (b, m) in self.bodies.iter_mut().zip(masses) {
-                    b.block_mass = m;
-                }
-            }
-        }
-        let Some(dt) =
-            step_for(stiffness.max_eigenvalue(&self.bodies), self.params.timestep_safety, self.params.damping)
-        else {
-            return;
-        };
-        // Static solutions take the step of the current masses; dynamics only ever shrink it,
-        // so that a run keeps one time base.
-        self.dt = if self.params.density_scaling.is_on() { dt } else { self.dt.min(dt) };
-    }
-
-    /// B's pose relative to A (the table for `None`): B's centroid in A's body frame and
-    /// B's rotation relative to A's.
-    fn relative_pose(&self, a: Option<usize>, b: usize) -> (Vec3, nalgebra::UnitQuaternion<f64>) {
-        let bb = &self.bodies[b];
-        match a {
-            None => (bb.pos, bb.rot),
-            Some(i) => {
-                let ba = &self.bodies[i];
-                (ba.to_body(&bb.pos), ba.rot.inverse() * bb.rot)
-            }
-        }
-    }
-
-    /// The current contact of the pair, if its bodies have moved relative to each other by
-    /// less than `tol` (m, at B's extremities) since its patch was made.
-    fn reusable(&self, a: Option<usize>, b: usize, tol: f64) -> Option<Contact> {
-        if tol <= 0.0 {
-            return None;
-        }
-        let key = (a.map_or(0, |i| i + 1), b);
-        let k = self.contacts.binary_search_by_key(&key, |o| o.key()).ok()?;
-        let c = &self.contacts[k];
-        let (t, q) = self.relative_pose(a, b);
-        let dt = (t - c.made_at.0).norm();
-        // Rotation angle θ from the quaternion dot product, |q·q₀| = cos(θ/2) (as in
-        // `needs_detection`, an upper bound for small θ).
-        let dot = q.coords.dot(&c.made_at.1.coords).abs().min(1.0);
-        let dr = 2.0 * (2.0 * (1.0 - dot)).sqrt() * self.bodies[b].radius;
-        (dt + dr < tol).then(|| c.clone())
-    }
-
-    fn make_contact(&self, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
+    /// A contact of the pair (A, B) on the patch `p`, its joint from the joint table, its
+    /// sub-contacts at rest (bonded at the initial detection if the joint has strength).
+    fn make_contact(&self, st: &WallState, a: Option<usize>, b: usize, p: cgeom::Patch, initial: bool) -> Contact {
         let joint = self.joints.joint(a, b, &p.normal);
         let bonded = initial && joint.has_strength();
-        let bb = &self.bodies[b];
+        let bb = &st.bodies[b];
         let nodes = p
             .nodes
             .iter()
             .map(|q| ContactNode {
                 on_a: match a {
                     None => q.on_a,
-                    Some(i) => self.bodies[i].to_body(&q.on_a),
+                    Some(i) => st.bodies[i].to_body(&q.on_a),
                 },
                 on_b: bb.to_body(&q.on_b),
             })
@@ -331,7 +240,7 @@ impl Simulation {
             .collect();
         let normal_a = match a {
             None => p.normal,
-            Some(i) => self.bodies[i].rot_mat.transpose() * p.normal,
+            Some(i) => st.bodies[i].rot_mat.transpose() * p.normal,
         };
         Contact {
             a,
@@ -342,91 +251,43 @@ impl Simulation {
             nodes,
             subs,
             force: Vec3::zeros(),
-            made_at: self.relative_pose(a, b),
+            made_at: st.relative_pose(a, b),
         }
     }
 
-    /// Table-frame positions of a node's two material points (on A, on B).
-    pub fn node_points(&self, c: &Contact, nd: &ContactNode) -> (Vec3, Vec3) {
-        let pa = match c.a {
-            None => nd.on_a,
-            Some(i) => self.bodies[i].to_world(&nd.on_a),
-        };
-        (pa, self.bodies[c.b].to_world(&nd.on_b))
-    }
-
-    /// Table-frame centroid of a sub-contact (mid-plane), m.
-    pub fn sub_centroid(&self, c: &Contact, s: &SubContact) -> Vec3 {
-        s.nodes.iter().fold(Vec3::zeros(), |acc, &k| {
-            let (pa, pb) = self.node_points(c, &c.nodes[k as usize]);
-            acc + (pa + pb) / 6.0
-        })
-    }
-
-    /// Normal gaps (m) at the three nodes of a sub-contact, along the current normal.
-    pub fn sub_gaps(&self, c: &Contact, s: &SubContact) -> [f64; 3] {
-        let n = self.contact_normal(c);
-        s.nodes.map(|k| {
-            let (pa, pb) = self.node_points(c, &c.nodes[k as usize]);
-            (pb - pa).dot(&n)
-        })
-    }
-
-    /// Current unit normal of a contact (A → B, table frame): the mean of the detection
-    /// normal carried by each body.
-    pub fn contact_normal(&self, c: &Contact) -> Vec3 {
-        let na = match c.a {
-            None => c.normal_a,
-            Some(i) => self.bodies[i].rot_mat * c.normal_a,
-        };
-        unit(na + self.bodies[c.b].rot_mat * c.normal_b)
-    }
-
-    fn transfer_history(&self, new: &mut [Contact]) {
-        let old = &self.contacts;
-        for c in new.iter_mut() {
-            let Ok(k) = old.binary_search_by_key(&c.key(), |o| o.key()) else { continue };
-            let o = &old[k];
-            let old_pts: Vec<Vec3> = o.subs.iter().map(|s| self.sub_centroid(o, s)).collect();
-            let mut fresh = Vec::with_capacity(c.subs.len());
-            for s in &c.subs {
-                let x = self.sub_centroid(c, s);
-                let nearest = old_pts
-                    .iter()
-                    .enumerate()
-                    .min_by(|(_, p), (_, q)| (*p - x).norm_squared().total_cmp(&(*q - x).norm_squared()))
-                    .map(|(i, _)| i);
-                let mut st = s.state;
-                if let Some(i) = nearest {
-                    let os = &o.subs[i];
-                    st.bonded = os.state.bonded;
-                    st.shear = os.state.shear * (s.area / os.area.max(1e-300));
+    /// Sets the inertial masses (density scaling, scalar or block) and the time step from
+    /// the stiffness of the current contacts at the current poses.
+    fn update_masses_and_step(&mut self, st: &mut WallState, params: &SolverParams) {
+        let stiffness = Stiffness::new(&st.bodies, &st.contacts);
+        if params.density_scaling.is_on() {
+            let (target, scale) = density_scaling(stiffness.body_eigenvalues());
+            for (b, s) in st.bodies.iter_mut().zip(&scale) {
+                b.inertia_scale_inv = 1.0 / s;
+                b.block_mass = None;
+            }
+            self.max_density_scale = self.max_density_scale.max(scale.iter().cloned().fold(1.0, f64::max));
+            if let (DensityScaling::Block { mass_floor }, true) = (params.density_scaling, target > 0.0) {
+                let held: Vec<bool> = st.restraint.iter().map(|r| matches!(r, Some(EndRestraint::Rigid))).collect();
+                let masses = block_masses(&stiffness, &st.bodies, target, mass_floor, &held);
+                for (b, m) in st.bodies.iter_mut().zip(masses) {
+                    b.block_mass = m;
                 }
-                fresh.push(st);
-            }
-            for (s, st) in c.subs.iter_mut().zip(fresh) {
-                s.state = st;
             }
         }
+        let Some(dt) = step_for(stiffness.max_eigenvalue(&st.bodies), params.timestep_safety, params.damping) else {
+            return;
+        };
+        // Static solutions take the step of the current masses; dynamics only ever shrink it,
+        // so that a run keeps one time base.
+        self.dt = if params.density_scaling.is_on() { dt } else { self.dt.min(dt) };
     }
 
-    /// Switches the density scaling: rebuilds the inertial masses and the time step, and
-    /// stops every body (velocities of a relaxation under one set of fictitious masses are a
-    /// kick under another).
-    pub fn set_density_scaling(&mut self, scaling: DensityScaling) {
-        if self.params.density_scaling != scaling {
-            self.params.density_scaling = scaling;
-            self.update_masses_and_step();
-            for b in &mut self.bodies {
-                b.vel = Vec3::zeros();
-                b.angvel = Vec3::zeros();
-            }
-        }
-    }
-
-    fn needs_detection(&self) -> bool {
-        let limit = self.params.redetect_fraction * self.params.contact_margin_m;
-        self.bodies.iter().enumerate().any(|(k, b)| {
+    /// Whether a body moved, since the last detection, more than
+    /// [`SolverParams::redetect_fraction`] of the contact margin (translation plus rotation
+    /// times its radius).
+    fn needs_detection(&self, st: &WallState, params: &SolverParams) -> bool {
+        let limit = params.redetect_fraction * params.contact_margin_m;
+        st.bodies.iter().enumerate().any(|(k, b)| {
             if b.fixed {
                 return false;
             }
@@ -439,24 +300,38 @@ impl Simulation {
         })
     }
 
-    /// Steps 2 and 3: clears the force accumulators and evaluates every contact at the
+    /// Stage 1 when needed: re-detects if a body moved past the threshold, and updates the
+    /// masses and the time step of changed contacts unless `deferred`.
+    fn redetect(&mut self, st: &mut WallState, params: &SolverParams, deferred: bool) -> Redetection {
+        if !self.needs_detection(st, params) {
+            return Redetection::None;
+        }
+        let r = self.detect(st, params, false);
+        if r.changed() && !deferred {
+            self.update_masses_and_step(st, params);
+        }
+        r
+    }
+
+    /// Stages 2 and 3: clears the force accumulators and evaluates every contact at the
     /// current pose, with the shear increments of the velocities `v Δt` (the motion since
     /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
     /// number of contacts carrying force.
     #[inline(always)]
-    fn contact_pass(&mut self) -> (f64, usize) {
+    fn contact_pass(&mut self, st: &mut WallState, params: &SolverParams) -> (f64, usize) {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
         // 3. Contact geometry and law.
         let dt = self.dt;
-        let quad = self.params.quadrature;
+        let quad = params.quadrature;
         let mut sum_contact = 0.0;
         let mut active = 0usize;
-        for c in &mut self.contacts {
-            let bb = &self.bodies[c.b];
+        let bodies = &st.bodies;
+        for c in &mut st.contacts {
+            let bb = &bodies[c.b];
             let (fsum, ta, tb) = match c.a {
                 None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch),
-                Some(i) => contact_forces::<true>(c, &self.bodies[i], bb, dt, quad, &mut self.scratch),
+                Some(i) => contact_forces::<true>(c, &bodies[i], bb, dt, quad, &mut self.scratch),
             };
             c.force = fsum;
             let mag = fsum.norm();
@@ -474,19 +349,197 @@ impl Simulation {
         (sum_contact, active)
     }
 
+    /// Stage 4: adds the loads (weight, end-restraint springs, external forces and
+    /// torques) to the contact forces of the last contact pass; returns the sum of the free
+    /// bodies' out-of-balance loads `|F| + |T|/r` (N) and their number.
+    #[inline(always)]
+    fn load_pass(&mut self, st: &WallState) -> (f64, usize) {
+        let mut sum_unbalanced = 0.0;
+        let mut free = 0usize;
+        for (k, b) in st.bodies.iter().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let mut f = self.force[k] + st.gravity * b.mass + st.external_force[k];
+            self.torque[k] += st.external_torque[k];
+            if let Some(EndRestraint::Spring(kk)) = st.restraint[k] {
+                f.y -= kk * (b.pos.y - b.pos0.y);
+            }
+            self.force[k] = f;
+            let mut fu = f;
+            if st.restraint[k] == Some(EndRestraint::Rigid) {
+                fu.y = 0.0;
+            }
+            // Out-of-balance moment counted as a force at the body's radius, so that a
+            // block rotating about an edge is not mistaken for one at rest.
+            sum_unbalanced += fu.norm() + self.torque[k].norm() / b.radius;
+            free += 1;
+        }
+        (sum_unbalanced, free)
+    }
+
+    /// Stage 5: damping and central-difference integration of every body; returns the
+    /// kinetic energy (J) and advances the time.
+    ///
+    /// # Errors
+    /// [`DemError::NonFinite`] if a body's state blows up.
+    #[inline(always)]
+    fn integrate(&mut self, st: &mut WallState, params: &SolverParams) -> Result<f64, DemError> {
+        let dt = self.dt;
+        let damping = params.damping;
+        let mut ke = 0.0;
+        for (k, b) in st.bodies.iter_mut().enumerate() {
+            let y = if matches!(st.restraint[k], Some(EndRestraint::Rigid)) {
+                YConstraint::Held
+            } else {
+                YConstraint::Free
+            };
+            advance(b, self.force[k], self.torque[k], dt, damping, y);
+            if !(b.pos.iter().all(|v| v.is_finite())
+                && b.angvel.iter().all(|v| v.is_finite())
+                && b.vel.iter().all(|v| v.is_finite()))
+            {
+                return Err(DemError::NonFinite { id: b.id.clone(), step: st.steps, dt_s: dt });
+            }
+            ke += 0.5 * b.mass * b.vel.norm_squared();
+        }
+        st.time += dt;
+        st.steps += 1;
+        Ok(ke)
+    }
+
+    /// Stage 6: the step's statistics from the sums of stages 3 to 5.
+    fn monitor(&mut self, (sum_contact, active): (f64, usize), (sum_unbalanced, free): (f64, usize), ke: f64) {
+        let mean_unbalanced = if free > 0 { sum_unbalanced / free as f64 } else { 0.0 };
+        let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
+        self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
+    }
+}
+
+impl Simulation {
+    /// Builds the simulation of a checked layout at rest, gravity straight down
+    /// (table level), and detects the initial contacts.
+    pub fn new(layout: &Layout, params: SolverParams) -> Simulation {
+        let state = WallState::new(layout);
+        let work = Workspace::new(layout, &state);
+        let mut sim = Simulation { state, params, work };
+        sim.work.detect(&mut sim.state, &sim.params, true);
+        sim.work.update_masses_and_step(&mut sim.state, &sim.params);
+        if !sim.work.dt.is_finite() {
+            // Nothing touches: a step from the free-fall of the smallest block over its size.
+            sim.work.dt = 1e-4;
+        }
+        sim
+    }
+
+    /// The solver parameters.
+    pub fn params(&self) -> &SolverParams {
+        &self.params
+    }
+
+    /// The time step, s.
+    pub fn dt(&self) -> f64 {
+        self.work.dt
+    }
+
+    /// Statistics of the last step (or of the jump [`Simulation::assess_predicted`]
+    /// assessed).
+    pub fn stats(&self) -> StepStats {
+        self.work.stats
+    }
+
+    /// Contact detections so far, the initial one included.
+    pub fn detections(&self) -> u64 {
+        self.work.detections
+    }
+
+    /// Largest density-scaling factor applied so far (1: none).
+    pub fn max_density_scale(&self) -> f64 {
+        self.work.max_density_scale
+    }
+
+    /// Sets the local damping coefficient (dimensionless, in [0, 1); 0: undamped
+    /// dynamics), for runs that follow true dynamics after a relaxation.
+    pub fn set_damping(&mut self, damping: f64) {
+        self.params.damping = damping;
+    }
+
+    /// Fixes the time step (s) until the next re-detection of changed contacts, which sets
+    /// it from the stiffness again (for integrator tests with a known step).
+    pub fn set_time_step(&mut self, dt: f64) {
+        self.work.dt = dt;
+    }
+
+    /// Sets the table tilt α (rad); see [`WallState::set_tilt`].
+    pub fn set_tilt(&mut self, alpha: f64) {
+        self.state.set_tilt(alpha);
+    }
+
+    /// Table-frame positions of a node's two material points; see [`WallState::node_points`].
+    pub fn node_points(&self, c: &Contact, nd: &ContactNode) -> (Vec3, Vec3) {
+        self.state.node_points(c, nd)
+    }
+
+    /// Table-frame centroid of a sub-contact; see [`WallState::sub_centroid`].
+    pub fn sub_centroid(&self, c: &Contact, s: &SubContact) -> Vec3 {
+        self.state.sub_centroid(c, s)
+    }
+
+    /// Normal gaps at the three nodes of a sub-contact; see [`WallState::sub_gaps`].
+    pub fn sub_gaps(&self, c: &Contact, s: &SubContact) -> [f64; 3] {
+        self.state.sub_gaps(c, s)
+    }
+
+    /// Current unit normal of a contact; see [`WallState::contact_normal`].
+    pub fn contact_normal(&self, c: &Contact) -> Vec3 {
+        self.state.contact_normal(c)
+    }
+
+    /// Energy bookkeeping (kinetic, potential, elastic), J; see [`WallState::energies`].
+    pub fn energies(&self) -> (f64, f64, f64) {
+        self.state.energies()
+    }
+
+    /// Name of a contact's joint: `table/ID` or `ID_A/ID_B`.
+    pub fn joint_name(&self, c: &Contact) -> String {
+        self.state.joint_name(c)
+    }
+
+    /// Switches the density scaling: rebuilds the inertial masses and the time step, and
+    /// stops every body (velocities of a relaxation under one set of fictitious masses are a
+    /// kick under another).
+    pub fn set_density_scaling(&mut self, scaling: DensityScaling) {
+        if self.params.density_scaling != scaling {
+            self.params.density_scaling = scaling;
+            self.update_masses_and_step();
+            for b in &mut self.state.bodies {
+                b.vel = Vec3::zeros();
+                b.angvel = Vec3::zeros();
+            }
+        }
+    }
+
+    /// Sets the inertial masses (density scaling, scalar or block) and the time step from
+    /// the stiffness of the current contacts at the current poses: what a re-detection of
+    /// changed contacts does, for a driver that deferred it
+    /// ([`Simulation::predict_deferred`]).
+    pub fn update_masses_and_step(&mut self) {
+        self.work.update_masses_and_step(&mut self.state, &self.params);
+    }
+
     /// The out-of-balance force (N) and moment about the centroid (N·m) on body `k` after the
     /// last step, table frame: contact forces, weight, restraint and external loads before
     /// damping (zero for a fixed body; the y force of a rigidly end-restrained body is held
     /// and reads zero).
     pub fn unbalanced(&self, k: usize) -> (Vec3, Vec3) {
-        if self.bodies[k].fixed {
+        if self.state.bodies[k].fixed {
             return (Vec3::zeros(), Vec3::zeros());
         }
-        let mut f = self.force[k];
-        if self.restraint[k] == Some(EndRestraint::Rigid) {
+        let mut f = self.work.force[k];
+        if self.state.restraint[k] == Some(EndRestraint::Rigid) {
             f.y = 0.0;
         }
-        (f, self.torque[k])
+        (f, self.work.torque[k])
     }
 
     /// Moves the free bodies by a predicted increment of their pose and starts them at
@@ -501,20 +554,38 @@ impl Simulation {
     /// at the predicted pose with the relative motion of the jump as its shear increment
     /// (the incremental shear force is path dependent; the jump is a straight path). The
     /// next [`Simulation::step`] relaxes the predicted state to equilibrium. Contacts are
-    /// re-detected first if the jump moved a body past the re-detection threshold.
+    /// re-detected first if the jump moved a body past the re-detection threshold, and
+    /// the inertial masses and the time step follow changed contacts; returns what the
+    /// re-detection did.
     ///
     /// # Panics
     /// If `dpos` or `drot` do not have one entry per body.
-    pub fn predict(&mut self, dpos: &[Vec3], drot: &[Vec3]) {
-        assert_eq!(dpos.len(), self.bodies.len(), "one translation per body");
-        assert_eq!(drot.len(), self.bodies.len(), "one rotation per body");
-        let mut jump = vec![(Vec3::zeros(), Vec3::zeros()); self.bodies.len()];
-        for (k, b) in self.bodies.iter_mut().enumerate() {
+    pub fn predict(&mut self, dpos: &[Vec3], drot: &[Vec3]) -> Redetection {
+        self.jump(dpos, drot, false)
+    }
+
+    /// [`Simulation::predict`] for iterations that take no dynamic step: a re-detection
+    /// leaves the inertial masses and the time step as they were (the jump does not depend
+    /// on them), and a returned [`Redetection::Changed`] tells the caller to call
+    /// [`Simulation::update_masses_and_step`] before the next [`Simulation::step`].
+    ///
+    /// # Panics
+    /// If `dpos` or `drot` do not have one entry per body.
+    pub fn predict_deferred(&mut self, dpos: &[Vec3], drot: &[Vec3]) -> Redetection {
+        self.jump(dpos, drot, true)
+    }
+
+    fn jump(&mut self, dpos: &[Vec3], drot: &[Vec3], deferred: bool) -> Redetection {
+        let st = &mut self.state;
+        assert_eq!(dpos.len(), st.bodies.len(), "one translation per body");
+        assert_eq!(drot.len(), st.bodies.len(), "one rotation per body");
+        let mut jump = vec![(Vec3::zeros(), Vec3::zeros()); st.bodies.len()];
+        for (k, b) in st.bodies.iter_mut().enumerate() {
             if b.fixed {
                 continue;
             }
             let mut d = dpos[k];
-            if self.restraint[k] == Some(EndRestraint::Rigid) {
+            if st.restraint[k] == Some(EndRestraint::Rigid) {
                 d.y = 0.0;
             }
             b.pos += d;
@@ -523,70 +594,38 @@ impl Simulation {
         }
         // Re-detection may change the time step (density scaling): the velocities below
         // use the step the contact pass will use.
-        if self.needs_detection() {
-            self.detect_contacts(false);
-        }
+        let r = self.work.redetect(&mut self.state, &self.params, deferred);
         // The jump as one step's velocities: the contact pass reads the shear increments as
         // `v Δt`.
-        let dt = self.dt;
-        for (b, (d, w)) in self.bodies.iter_mut().zip(&jump) {
+        let dt = self.work.dt;
+        for (b, (d, w)) in self.state.bodies.iter_mut().zip(&jump) {
             b.vel = d / dt;
             b.angvel = w / dt;
         }
-        self.contact_pass();
-        for b in &mut self.bodies {
+        self.work.contact_pass(&mut self.state, &self.params);
+        for b in &mut self.state.bodies {
             b.vel = Vec3::zeros();
             b.angvel = Vec3::zeros();
         }
-    }
-
-    /// Step 4: adds the loads (weight, end-restraint springs, external forces and torques)
-    /// to the contact forces of the last contact pass; returns the sum of the free bodies'
-    /// out-of-balance loads `|F| + |T|/r` (N) and their number.
-    #[inline(always)]
-    fn load_pass(&mut self) -> (f64, usize) {
-        let mut sum_unbalanced = 0.0;
-        let mut free = 0usize;
-        for (k, b) in self.bodies.iter().enumerate() {
-            if b.fixed {
-                continue;
-            }
-            let mut f = self.force[k] + self.gravity * b.mass + self.external_force[k];
-            self.torque[k] += self.external_torque[k];
-            if let Some(EndRestraint::Spring(kk)) = self.restraint[k] {
-                f.y -= kk * (b.pos.y - b.pos0.y);
-            }
-            self.force[k] = f;
-            let mut fu = f;
-            if self.restraint[k] == Some(EndRestraint::Rigid) {
-                fu.y = 0.0;
-            }
-            // Out-of-balance moment counted as a force at the body's radius, so that a
-            // block rotating about an edge is not mistaken for one at rest.
-            sum_unbalanced += fu.norm() + self.torque[k].norm() / b.radius;
-            free += 1;
-        }
-        (sum_unbalanced, free)
+        r
     }
 
     /// The out-of-balance statistics of the state [`Simulation::predict`] has just placed
     /// (its contact pass is the jump's): adds the loads and sets [`Simulation::stats`]
     /// (kinetic energy 0) and the out-of-balance loads read by [`Simulation::unbalanced`].
-    pub(crate) fn assess_predicted(&mut self) -> StepStats {
+    pub fn assess_predicted(&mut self) -> StepStats {
         let mut sum_contact = 0.0;
         let mut active = 0usize;
-        for c in &self.contacts {
+        for c in &self.state.contacts {
             let mag = c.force.norm();
             if mag > 0.0 {
                 sum_contact += mag;
                 active += 1;
             }
         }
-        let (sum_unbalanced, free) = self.load_pass();
-        let mean_unbalanced = if free > 0 { sum_unbalanced / free as f64 } else { 0.0 };
-        let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
-        self.stats = StepStats::new(mean_unbalanced, mean_contact, 0.0, active);
-        self.stats
+        let loads = self.work.load_pass(&self.state);
+        self.work.monitor((sum_contact, active), loads, 0.0);
+        self.work.stats
     }
 
     /// Advances one step (see the module doc for the order).
@@ -651,65 +690,103 @@ impl Simulation {
 
     #[inline(always)]
     fn step_impl(&mut self) -> Result<(), DemError> {
+        let (st, p, w) = (&mut self.state, &self.params, &mut self.work);
         // 1. Update contacts.
-        if self.needs_detection() {
-            self.detect_contacts(false);
-        }
+        w.redetect(st, p, false);
         // 2. Clear forces; 3. contact geometry and law.
-        let (sum_contact, active) = self.contact_pass();
-        let dt = self.dt;
+        let contacts = w.contact_pass(st, p);
         // 4. Loads.
-        let (sum_unbalanced, free) = self.load_pass();
+        let loads = w.load_pass(st);
         // 5. Damping and integration.
-        let damping = self.params.damping;
-        let mut ke = 0.0;
-        for (k, b) in self.bodies.iter_mut().enumerate() {
-            let y = if matches!(self.restraint[k], Some(EndRestraint::Rigid)) {
-                YConstraint::Held
-            } else {
-                YConstraint::Free
-            };
-            advance(b, self.force[k], self.torque[k], dt, damping, y);
-            if !(b.pos.iter().all(|v| v.is_finite())
-                && b.angvel.iter().all(|v| v.is_finite())
-                && b.vel.iter().all(|v| v.is_finite()))
-            {
-                return Err(DemError::NonFinite { id: b.id.clone(), step: self.steps, dt_s: dt });
-            }
-            ke += 0.5 * b.mass * b.vel.norm_squared();
-        }
-        self.time += dt;
-        self.steps += 1;
+        let ke = w.integrate(st, p)?;
         // 6. Monitor.
-        let mean_unbalanced = if free > 0 { sum_unbalanced / free as f64 } else { 0.0 };
-        let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
-        self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
+        w.monitor(contacts, loads, ke);
         Ok(())
     }
+}
 
-    /// Total energy bookkeeping: (kinetic, gravitational potential relative to the
-    /// reference configuration, elastic energy stored in the joints), J.
-    pub fn energies(&self) -> (f64, f64, f64) {
-        let ke: f64 = self.bodies.iter().map(|b| b.kinetic_energy()).sum();
-        let pe: f64 = self.bodies.iter().map(|b| -b.mass * self.gravity.dot(&(b.pos - b.pos0))).sum();
-        let el: f64 = self
-            .contacts
-            .iter()
-            .flat_map(|c| {
-                c.subs.iter().map(move |s| {
-                    law::normal_energy(&c.joint, self.sub_gaps(c, s), s.area)
-                        + law::shear_energy(&c.joint, &s.state, s.area)
-                })
-            })
-            .sum();
-        (ke, pe, el)
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::RunToEquilibrium;
+    use crate::layout::BaseSliding;
+    use crate::verify::{box_vertices, layout_of};
+
+    const KN: f64 = 1e8;
+
+    /// A 0.3 × 0.2 × 0.1 m block (x, y, z) on the table, φ 35°, Kn 1e8 Pa/m, Ks Kn/2.
+    fn block_on_table() -> (Layout, f64) {
+        let l = layout_of(vec![box_vertices([0.0, -0.1, 0.0], [0.3, 0.1, 0.1])], KN, KN / 2.0, 35.0, BaseSliding::Free);
+        (l, 0.3 * 0.2)
     }
 
-    /// Name of a contact's joint: `table/ID` or `ID_A/ID_B`.
-    pub fn joint_name(&self, c: &Contact) -> String {
-        match c.a {
-            None => format!("table/{}", self.bodies[c.b].id),
-            Some(i) => format!("{}/{}", self.bodies[i].id, self.bodies[c.b].id),
+    /// Stages 3 and 4 at equilibrium: the contact force on a block resting on the table
+    /// balances its weight (a conservation law), the out-of-balance load reads zero, and
+    /// the uniform Winkler closure is `W / (Kn A)` (linear law, every node closed).
+    #[test]
+    fn the_contact_of_a_settled_block_carries_its_weight_by_the_winkler_closure() {
+        let (l, area) = block_on_table();
+        let mut sim = Simulation::new(&l, SolverParams::default());
+        assert!(sim.run_to_equilibrium(1e-10, 400_000).unwrap());
+        let w = sim.state.bodies[0].mass * sim.state.gravity_magnitude;
+        let total: Vec3 = sim.state.contacts.iter().map(|c| c.force).sum();
+        assert!((total - Vec3::new(0.0, 0.0, w)).norm() < 1e-6 * w, "{total:?} against {w} N");
+        let (f, t) = sim.unbalanced(0);
+        assert!(f.norm() < 1e-6 * w && t.norm() < 1e-6 * w * 0.3, "{f:?} {t:?}");
+        let settle = sim.state.bodies[0].pos0.z - sim.state.bodies[0].pos.z;
+        let exact = w / (KN * area);
+        assert!((settle - exact).abs() < 1e-4 * exact, "settlement {settle:e} m against {exact:e} m");
+    }
+
+    /// A re-detection is an event: a jump within the re-detection distance detects
+    /// nothing; one past it detects, and with density scaling the masses and the time step
+    /// follow the new contacts at once, or, deferred, only when the caller asks, to the
+    /// same bits.
+    #[test]
+    fn a_jump_hands_back_its_redetection_and_a_deferred_update_gives_the_same_bits() {
+        let blocks =
+            vec![box_vertices([0.0, -0.1, 0.0], [0.3, 0.1, 0.1]), box_vertices([0.0, -0.1, 0.1], [0.3, 0.1, 0.2])];
+        let l = layout_of(blocks, KN, KN / 2.0, 35.0, BaseSliding::Free);
+        let mut sim = Simulation::new(&l, SolverParams::default());
+        assert!(sim.run_to_equilibrium(1e-8, 400_000).unwrap());
+        let zero = vec![Vec3::zeros(); 2];
+        let n = sim.detections();
+        assert_eq!(sim.clone().predict(&zero, &zero), Redetection::None);
+        // The top block pushed 0.1 m along y: the bed joint loses half its area.
+        let shift = vec![Vec3::zeros(), Vec3::new(0.0, 0.1, 0.0)];
+        let mut now = sim.clone();
+        let mut later = sim.clone();
+        assert_eq!(now.predict(&zero, &shift), Redetection::Changed);
+        assert_eq!(now.detections(), n + 1);
+        assert_eq!(later.predict_deferred(&zero, &shift), Redetection::Changed);
+        assert_eq!(later.dt().to_bits(), sim.dt().to_bits(), "a deferred jump keeps the step");
+        assert_ne!(now.dt().to_bits(), sim.dt().to_bits(), "half the bed joint: another step");
+        later.update_masses_and_step();
+        assert_eq!(later.dt().to_bits(), now.dt().to_bits());
+        for (a, b) in later.state.bodies.iter().zip(&now.state.bodies) {
+            assert_eq!(a, b);
         }
+    }
+
+    /// Stage 5 without contacts: a block released above the table falls as the
+    /// central-difference scheme integrates a constant acceleration, exactly:
+    /// `z(t) = z₀ − g t²/2` when `v(−Δt/2) = g Δt/2`.
+    #[test]
+    fn a_free_block_falls_by_the_closed_form_of_the_scheme() {
+        let l = layout_of(vec![box_vertices([0.0, 0.0, 0.5], [0.2, 0.2, 0.6])], KN, KN / 2.0, 30.0, BaseSliding::Free);
+        let mut sim = Simulation::new(&l, SolverParams { damping: 0.0, ..SolverParams::default() });
+        assert!(sim.state.contacts.is_empty());
+        sim.set_time_step(1e-3);
+        let g = sim.state.gravity;
+        sim.state.bodies[0].vel = -g * 0.5e-3;
+        let z0 = sim.state.bodies[0].pos.z;
+        for _ in 0..100 {
+            sim.step().unwrap();
+        }
+        let t = sim.state.time;
+        assert_eq!(sim.state.steps, 100);
+        let drop = z0 - sim.state.bodies[0].pos.z;
+        assert!((drop - 0.5 * g.norm() * t * t).abs() < 1e-12, "{drop} m after {t} s");
+        assert_eq!(sim.stats().active_contacts, 0);
     }
 }

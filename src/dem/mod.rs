@@ -1,19 +1,21 @@
-//! The rigid-block Discrete Element Method (3DEC-style): state, contact geometry, types
-//! and law, integrator, time step, engine, monitor. See [`engine`] for the step order.
+//! The rigid-block Discrete Element Method (3DEC-style): the model state ([`model`],
+//! [`state`]), contact geometry, types and law, integrator, time step, the engine and its
+//! workspace ([`engine`], which gives the step order), the monitor, and the drivers that
+//! run the engine to equilibrium ([`drivers`]).
 
-pub mod accelerate;
 pub mod contact;
 pub mod dispatch;
+pub mod drivers;
 pub mod engine;
-pub mod implicit;
 pub mod integrator;
 pub mod materials;
+pub mod model;
 pub mod monitor;
 pub mod params;
-pub mod relax;
 pub mod state;
 pub mod timestep;
 
-pub use engine::{Contact, DemError, Isa, Simulation};
+pub use drivers::relax::RunToEquilibrium;
+pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
+pub use model::WallState;
 pub use params::{DensityScaling, SolverParams};
-pub use relax::RunToEquilibrium;

@@ -136,6 +136,7 @@ impl Recorder {
     pub fn observe(&mut self, time: f64, stable: bool, sim: &Simulation) {
         if self.blocks.is_empty() {
             self.blocks = sim
+                .state
                 .bodies
                 .iter()
                 .map(|b| RecordedBlock {
@@ -148,7 +149,7 @@ impl Recorder {
                 .collect();
         }
         let mut subs = Vec::new();
-        for (ci, c) in sim.contacts.iter().enumerate() {
+        for (ci, c) in sim.state.contacts.iter().enumerate() {
             let normal = sim.contact_normal(c);
             for s in &c.subs {
                 subs.push(RecordedSubContact {
@@ -165,7 +166,7 @@ impl Recorder {
                 });
             }
         }
-        let poses = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let poses = sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
         self.states.push(RecordedState { time, stable, poses, subs });
     }
 }

@@ -43,7 +43,7 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::relax::{relax, Relaxed};
+use crate::dem::drivers::relax::{relax, Relaxed};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -160,13 +160,13 @@ pub enum LateralError {
 /// `z0`, `z1`: the heights (m) where the pressure is `p0` and `p1` (Pa); linear in between
 /// and extrapolated linearly outside.
 pub fn pressure_loads(sim: &Simulation, z0: f64, z1: f64, p0: f64, p1: f64) -> (Vec<(Vec3, Vec3)>, usize) {
-    let shapes: Vec<_> = sim.bodies.iter().map(|b| b.world_shape()).collect();
+    let shapes: Vec<_> = sim.state.bodies.iter().map(|b| b.world_shape()).collect();
     let slope = if z1 > z0 { (p1 - p0) / (z1 - z0) } else { 0.0 };
     let p = |z: f64| p0 + slope * (z - z0);
-    let mut out = vec![(Vec3::zeros(), Vec3::zeros()); sim.bodies.len()];
+    let mut out = vec![(Vec3::zeros(), Vec3::zeros()); sim.state.bodies.len()];
     let mut loaded = 0;
     const PROBE_M: f64 = 2e-3;
-    for (i, (b, s)) in sim.bodies.iter().zip(&shapes).enumerate() {
+    for (i, (b, s)) in sim.state.bodies.iter().zip(&shapes).enumerate() {
         if b.fixed {
             continue;
         }
@@ -244,16 +244,17 @@ pub fn run_lateral_observed(
         other => LateralError::DoesNotStand(other),
     })?;
     observe(0.0, true, &sim);
-    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
+    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
     let mut resultant = Vec3::zeros();
     for (k, (f, m)) in loads.iter().enumerate() {
-        sim.external_force[k] = *f;
-        sim.external_torque[k] = *m;
+        sim.state.external_force[k] = *f;
+        sim.state.external_torque[k] = *m;
         resultant += f;
     }
-    let weight_n: f64 = sim.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.gravity.norm();
+    let weight_n: f64 =
+        sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
@@ -278,9 +279,9 @@ pub fn run_lateral_observed(
         resultant_n: resultant,
         weight_n,
         loaded_faces,
-        unbalanced_ratio: sim.stats.unbalanced_ratio,
-        steps: sim.steps,
-        dt_s: sim.dt,
+        unbalanced_ratio: sim.stats().unbalanced_ratio,
+        steps: sim.state.steps,
+        dt_s: sim.dt(),
         wall_time_s: t0.elapsed().as_secs_f64(),
     })
 }

@@ -54,15 +54,16 @@ pub const MECHANISM_SHARE: f64 = 0.25;
 ///    if its largest tangential relative motion exceeds its largest opening, else toppling;
 ///    the governing joint is the lowest (mean node height in the stable state).
 pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
-    let nb = stable.bodies.len();
+    let nb = stable.state.bodies.len();
     let moved: Vec<f64> = stable
+        .state
         .bodies
         .iter()
-        .zip(&failed.bodies)
+        .zip(&failed.state.bodies)
         .map(|(s, f)| body_motion(&(s.pos, s.rot), &(f.pos, f.rot), s.radius))
         .collect();
     // Motion below a nanometre per metre of block size is rounding, not a mechanism.
-    let max_radius = stable.bodies.iter().map(|b| b.radius).fold(0.0, f64::max);
+    let max_radius = stable.state.bodies.iter().map(|b| b.radius).fold(0.0, f64::max);
     let max_moved = moved.iter().cloned().fold(0.0, f64::max);
     let max_moved = if max_moved > 1e-9 * max_radius { max_moved } else { 0.0 };
     // Relative motion, largest opening and slip, and mean node height of every
@@ -75,7 +76,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         z: f64,
     }
     let mut motions = Vec::new();
-    for (ci, c) in stable.contacts.iter().enumerate() {
+    for (ci, c) in stable.state.contacts.iter().enumerate() {
         if c.force.norm() == 0.0 {
             continue; // not a load-carrying joint in the stable state
         }
@@ -109,14 +110,14 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
             parent[ri.max(rj)] = ri.min(rj);
         }
     }
-    for (k, b) in stable.bodies.iter().enumerate() {
+    for (k, b) in stable.state.bodies.iter().enumerate() {
         if b.fixed {
             join(&mut parent, k, nb);
         }
     }
     for m in &motions {
         if m.relative <= MECHANISM_SHARE * max_relative {
-            let c = &stable.contacts[m.contact];
+            let c = &stable.state.contacts[m.contact];
             join(&mut parent, c.a.unwrap_or(nb), c.b);
         }
     }
@@ -137,12 +138,12 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
     let mut joints: Vec<(f64, String, MechanismKind)> = motions
         .iter()
         .filter(|m| {
-            let c = &stable.contacts[m.contact];
+            let c = &stable.state.contacts[m.contact];
             is_moving(c.a) != is_moving(Some(c.b))
         })
         .map(|m| {
             let kind = if m.slip > m.open { MechanismKind::Sliding } else { MechanismKind::Toppling };
-            (m.z, stable.joint_name(&stable.contacts[m.contact]), kind)
+            (m.z, stable.joint_name(&stable.state.contacts[m.contact]), kind)
         })
         .collect();
     joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -159,6 +160,6 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         kind,
         joint: joints.first().map(|j| j.1.clone()).unwrap_or_default(),
         joints: joints.into_iter().map(|j| (j.1, j.2)).collect(),
-        blocks: stable.bodies.iter().zip(&moving).filter(|(_, m)| **m).map(|(b, _)| b.id.clone()).collect(),
+        blocks: stable.state.bodies.iter().zip(&moving).filter(|(_, m)| **m).map(|(b, _)| b.id.clone()).collect(),
     }
 }

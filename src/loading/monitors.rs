@@ -25,7 +25,11 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
         return layout
             .monitors
             .iter()
-            .map(|m| MonitorPoint { name: m.name.clone(), body: m.block, local: sim.bodies[m.block].to_body(&m.point) })
+            .map(|m| MonitorPoint {
+                name: m.name.clone(),
+                body: m.block,
+                local: sim.state.bodies[m.block].to_body(&m.point),
+            })
             .collect();
     }
     let all = layout.bounds();
@@ -46,14 +50,14 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
                 .max_by(|(i, a), (j, b)| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z).then(j.cmp(i)))?;
             let bb = b.shape.aabb();
             let p = Vec3::new(x, 0.5 * (bb.min.y + bb.max.y), bb.max.z);
-            Some(MonitorPoint { name: name.into(), body: bi, local: sim.bodies[bi].to_body(&p) })
+            Some(MonitorPoint { name: name.into(), body: bi, local: sim.state.bodies[bi].to_body(&p) })
         })
         .collect()
 }
 
 /// Out-of-plane (y) displacement of each monitor point from its `reference` position, m.
 pub(crate) fn monitor_displacements(sim: &Simulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
-    monitors.iter().zip(reference).map(|(m, r)| (sim.bodies[m.body].to_world(&m.local) - r).y).collect()
+    monitors.iter().zip(reference).map(|(m, r)| (sim.state.bodies[m.body].to_world(&m.local) - r).y).collect()
 }
 
 /// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
@@ -74,7 +78,8 @@ fn rotation_angle(q: &nalgebra::UnitQuaternion<f64>) -> f64 {
 /// body), m: centroid displacement plus rotation angle times the block's radius. The
 /// per-increment collapse criterion compares it with a fraction of the wall width.
 pub fn largest_motion(sim: &Simulation, start: &[BodyPose]) -> f64 {
-    sim.bodies
+    sim.state
+        .bodies
         .iter()
         .zip(start)
         .filter(|(b, _)| !b.fixed)

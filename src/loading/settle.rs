@@ -97,18 +97,21 @@ fn why(damping: f64) -> &'static str {
 /// it moved more than the tolerance, [`SettleError::Dem`] if the state blows up (with block
 /// density scaling, after a second attempt with scalar scaling, which `sim` then keeps).
 pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: u64) -> Result<(), SettleError> {
-    let mut touched = vec![false; sim.bodies.len()];
-    for c in &sim.contacts {
+    let mut touched = vec![false; sim.state.bodies.len()];
+    for c in &sim.state.contacts {
         touched[c.b] = true;
         if let Some(a) = c.a {
             touched[a] = true;
         }
     }
-    if let Some(k) = (0..sim.bodies.len()).find(|&k| !sim.bodies[k].fixed && !touched[k]) {
-        return Err(SettleError::Untouched { block: sim.bodies[k].id.clone(), margin_m: sim.params.contact_margin_m });
+    if let Some(k) = (0..sim.state.bodies.len()).find(|&k| !sim.state.bodies[k].fixed && !touched[k]) {
+        return Err(SettleError::Untouched {
+            block: sim.state.bodies[k].id.clone(),
+            margin_m: sim.params().contact_margin_m,
+        });
     }
-    let start: Vec<BodyPose> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
-    let fresh = matches!(sim.params.density_scaling, DensityScaling::Block { .. }).then(|| sim.clone());
+    let start: Vec<BodyPose> = sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+    let fresh = matches!(sim.params().density_scaling, DensityScaling::Block { .. }).then(|| sim.clone());
     let settled = match (sim.run_to_equilibrium(tolerance, max_steps), fresh) {
         // Block-scaled dynamics can blow up when a block falls (light soft directions of a
         // block mass thrown into re-closing contacts): settle again with scalar scaling,
@@ -121,11 +124,12 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         (r, _) => r?,
     };
     if !settled {
-        let damping = sim.params.damping;
-        return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats.unbalanced_ratio, damping });
+        let damping = sim.params().damping;
+        return Err(SettleError::NoEquilibrium { steps: max_steps, ratio: sim.stats().unbalanced_ratio, damping });
     }
     let tolerance_m = settle_tolerance(layout);
     let worst = sim
+        .state
         .bodies
         .iter()
         .zip(&start)

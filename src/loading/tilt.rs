@@ -8,7 +8,7 @@
 //!    the motion: [`TiltParams::accelerate`]), or declared unstable when the wall has no
 //!    equilibrium near the increment's path: the stiffness along a persistent motion turns
 //!    negative while the out-of-balance force along it grows (the stability indicator of
-//!    `dem::accelerate`) *and* that force keeps pushing the state along the motion over the
+//!    `dem::drivers::accelerate`) *and* that force keeps pushing the state along the motion over the
 //!    whole collapse displacement ahead (the probe of the path); or, during the
 //!    increment, a block moves more than the collapse displacement, or a top point moves
 //!    from the reference more than the total collapse displacement. Both displacements
@@ -35,9 +35,9 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::accelerate::SecantAcceleration;
-use crate::dem::implicit::{self, ImplicitSolve, Solved};
-use crate::dem::relax::{relax, relax_probed, Relaxed};
+use crate::dem::drivers::accelerate::SecantAcceleration;
+use crate::dem::drivers::implicit::{self, ImplicitSolve, Solved};
+use crate::dem::drivers::relax::{relax, relax_probed, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -79,13 +79,13 @@ pub struct TiltParams {
     /// the reach of the probe that confirms the stability indicator.
     pub collapse_increment_fraction: f64,
     /// Accelerate slow creep near collapse by secant steps along the motion, and end trials
-    /// that soften along their motion (`dem::accelerate`) \[true\]. Off: plain dynamic
+    /// that soften along their motion (`dem::drivers::accelerate`) \[true\]. Off: plain dynamic
     /// relaxation (1.5× the steps on the SBL wall, BENCHMARKS.md "Tilting table: the SBL
     /// wall"; the same collapse angles within one bracket).
     pub accelerate: bool,
     /// Settings of that acceleration.
     pub acceleration: SecantAcceleration,
-    /// Relax each increment and trial first by the implicit iteration (`dem::implicit`:
+    /// Relax each increment and trial first by the implicit iteration (`dem::drivers::implicit`:
     /// the factorized stiffness of the contact springs as preconditioner, Anderson mixing),
     /// from the secant prediction; dynamic relaxation takes over where it does not converge
     /// (near collapse) \[true\]. Off: dynamic relaxation only (2.8× the CPU time on the SBL
@@ -160,7 +160,7 @@ pub enum CollapseReason {
     /// No equilibrium: the name the static lateral load gives a load it cannot carry.
     NoEquilibrium,
     /// Negative stiffness along a persistent motion during relaxation (the secant
-    /// acceleration's stability indicator, `dem::accelerate`), and no equilibrium on the
+    /// acceleration's stability indicator, `dem::drivers::accelerate`), and no equilibrium on the
     /// path ahead up to the collapse displacement (the indicator's probe).
     NegativeStiffness,
     /// The step budget of the increment ([`TiltParams::max_steps_per_increment`]) ran out
@@ -239,7 +239,7 @@ type Pose = Vec<BodyPose>;
 type Prediction = implicit::PoseIncrement;
 
 fn pose(sim: &Simulation) -> Pose {
-    sim.bodies.iter().map(|b| (b.pos, b.rot)).collect()
+    sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect()
 }
 
 /// The last four stable states (tilt in degrees, pose), oldest first.
@@ -356,7 +356,7 @@ impl Ctx<'_> {
             match implicit::relax(sim, self.params.tolerance, &self.params.implicit_solve, &check) {
                 Solved::Equilibrium(it) => return Ok((Stage::Stable, 0, it)),
                 Solved::Stopped(reason, it) => return Ok((Stage::Collapsed(reason), 0, it)),
-                Solved::Unsolved(it) => iterations = it,
+                Solved::Unsolved(_, it) => iterations = it,
             }
         }
         let (tol, budget) = (self.params.tolerance, self.params.max_steps_per_increment);
@@ -392,16 +392,16 @@ impl Ctx<'_> {
         fallbacks: &mut Vec<f64>,
     ) -> Result<(Simulation, Stage, u64, u32), DemError> {
         let mut wasted = 0;
-        let mut scaling = from.params.density_scaling;
+        let mut scaling = from.params().density_scaling;
         loop {
             let mut sim = from.clone();
             sim.set_density_scaling(scaling);
             sim.set_tilt(deg_to_rad(alpha_deg));
-            let before = sim.steps;
+            let before = sim.state.steps;
             match self.run_stage(&mut sim, prediction.clone()) {
                 Ok((stage, steps, iterations)) => return Ok((sim, stage, steps + wasted, iterations)),
                 Err(DemError::NonFinite { .. }) if scaling.is_on() => {
-                    wasted += sim.steps - before;
+                    wasted += sim.state.steps - before;
                     if fallbacks.last() != Some(&alpha_deg) {
                         fallbacks.push(alpha_deg);
                     }
@@ -432,7 +432,7 @@ impl StablePath {
     fn new(settled: Simulation, predictor: bool) -> StablePath {
         let mut secant = Secant::default();
         secant.push(0.0, &settled);
-        let total_steps = settled.steps;
+        let total_steps = settled.state.steps;
         StablePath {
             sim: settled,
             last_stable: 0.0,
@@ -464,7 +464,7 @@ impl StablePath {
             steps,
             iterations,
             displacement_m: ctx.displacements(&next),
-            unbalanced_ratio: next.stats.unbalanced_ratio,
+            unbalanced_ratio: next.stats().unbalanced_ratio,
         });
         observe(alpha_deg, matches!(stage, Stage::Stable), &next);
         Ok(match stage {
@@ -489,6 +489,7 @@ impl StablePath {
 fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
     let now = largest_motion(sim, start);
     let per_unit = sim
+        .state
         .bodies
         .iter()
         .zip(dpos.iter().zip(drot))
@@ -496,7 +497,7 @@ fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3],
         .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
         .fold(0.0, f64::max);
     let scale = (limit - now).max(0.0) / per_unit;
-    if dpos.len() != sim.bodies.len() || !(scale.is_finite() && scale > 0.0) {
+    if dpos.len() != sim.state.bodies.len() || !(scale.is_finite() && scale > 0.0) {
         return;
     }
     let scaled = |v: &[Vec3]| v.iter().map(|x| x * scale).collect::<Vec<_>>();
@@ -516,10 +517,11 @@ fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3],
 /// millimetres, below the fixed fractions of the wall width; at Kn of the order of 1e6
 /// Pa/m it is centimetres, the rotation of the joints before collapse.
 pub fn elastic_scale(layout: &Layout, sim: &Simulation) -> f64 {
-    let weight: f64 = sim.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * layout.gravity;
+    let weight: f64 = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * layout.gravity;
     let ext = layout.bounds().extent();
     let area = ext.x * ext.y;
     let kn = sim
+        .state
         .contacts
         .iter()
         .map(|c| c.joint.kn)
@@ -615,14 +617,14 @@ pub fn run_tilt_observed(
     let elastic = elastic_scale(layout, &sim);
     let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width, elastic };
     settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
-    ctx.reference = monitors.iter().map(|m| sim.bodies[m.body].to_world(&m.local)).collect();
+    ctx.reference = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {
         alpha_deg: 0.0,
         stable: true,
-        steps: sim.steps,
+        steps: sim.state.steps,
         iterations: 0,
         displacement_m: vec![0.0; monitors.len()],
-        unbalanced_ratio: sim.stats.unbalanced_ratio,
+        unbalanced_ratio: sim.stats().unbalanced_ratio,
     }];
     observe(0.0, true, &sim);
     let mut path = StablePath::new(sim, params.predictor);
@@ -651,17 +653,17 @@ pub fn run_tilt_observed(
             increments,
             steps: path.total_steps,
             iterations: path.total_iterations,
-            dt_s: path.sim.dt,
+            dt_s: path.sim.dt(),
             wall_time_s: t0.elapsed().as_secs_f64(),
             wall_width_m: width,
             elastic_scale_m: elastic,
-            detections: path.sim.detections,
-            max_density_scale: path.sim.max_density_scale,
+            detections: path.sim.detections(),
+            max_density_scale: path.sim.max_density_scale(),
             scalar_fallbacks_deg: path.fallbacks,
         });
     };
     // Time step of the first failing increment (bisection trials may replace `failed`).
-    let dt_s = failed.dt;
+    let dt_s = failed.dt();
     // Bisection of the bracket from the last stable state.
     while unstable - path.last_stable > params.resolution_deg + 1e-12 {
         let mid = 0.5 * (unstable + path.last_stable);
@@ -686,12 +688,12 @@ pub fn run_tilt_observed(
         increments,
         steps: total_steps,
         iterations: total_iterations,
-        dt_s: failed.dt.min(dt_s),
+        dt_s: failed.dt().min(dt_s),
         wall_time_s: t0.elapsed().as_secs_f64(),
         wall_width_m: width,
         elastic_scale_m: elastic,
-        detections: failed.detections,
-        max_density_scale: failed.max_density_scale.max(stable_sim.max_density_scale),
+        detections: failed.detections(),
+        max_density_scale: failed.max_density_scale().max(stable_sim.max_density_scale()),
         scalar_fallbacks_deg: fallbacks,
     })
 }

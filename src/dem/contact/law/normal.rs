@@ -87,7 +87,7 @@ impl NormalParams {
     /// Tangent stiffness `dq/du` at closure `u` (m), Pa/m: `Kn` (linear, and every law in
     /// tension), `Kni / (1 − u/Vm)²` up to the cap and constant past it (hyperbolic),
     /// `Kn u / g₀` up to `g₀` and `Kn` beyond (seating). The consistent tangent of the
-    /// implicit increments ([`crate::dem::implicit`]).
+    /// implicit increments ([`crate::dem::drivers::implicit`]).
     pub fn tangent(&self, u: f64) -> f64 {
         match self.closure {
             _ if u <= 0.0 => self.kn,

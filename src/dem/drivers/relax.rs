@@ -5,7 +5,7 @@
 //! runs out.
 
 use super::accelerate::{Accelerator, Ahead, Creep, SecantAcceleration};
-use super::engine::{DemError, Simulation};
+use crate::dem::engine::{DemError, Simulation};
 use crate::Vec3;
 
 /// Steps between two calls of the stop check (it measures displacements, which costs more
@@ -91,7 +91,7 @@ fn relax_impl<R>(
     while steps < max_steps {
         sim.step()?;
         steps += 1;
-        if steps > 10 && sim.stats.unbalanced_ratio < tol {
+        if steps > 10 && sim.stats().unbalanced_ratio < tol {
             return Ok(Relaxed::Equilibrium(steps));
         }
         if let Some(acc) = acc.as_mut() {
@@ -141,5 +141,43 @@ impl RunToEquilibrium for Simulation {
     fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
         let r = relax(self, tol, max_steps, None, |_| None::<()>)?;
         Ok(matches!(r, Relaxed::Equilibrium(_)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::SolverParams;
+    use crate::layout::BaseSliding;
+    use crate::verify::{box_vertices, layout_of};
+
+    fn block() -> Simulation {
+        let l = layout_of(vec![box_vertices([0.0, -0.1, 0.0], [0.3, 0.1, 0.1])], 1e8, 5e7, 35.0, BaseSliding::Free);
+        Simulation::new(&l, SolverParams::default())
+    }
+
+    /// The loop's stopping rules, each on its own: equilibrium (never before step 11), the
+    /// step budget, and the protocol's check (called every [`CHECK_EVERY`] steps).
+    #[test]
+    fn relaxation_stops_at_equilibrium_at_the_budget_or_at_the_check() {
+        let none = |_: &Simulation| None::<()>;
+        let mut sim = block();
+        let Relaxed::Equilibrium(n) = relax(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        assert!(n > 10 && sim.stats().unbalanced_ratio < 1e-6, "{n} steps");
+        // Already in equilibrium: still at least 11 steps, so that the first forces
+        // propagate.
+        let Relaxed::Equilibrium(again) = relax(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        assert!((11..n).contains(&again), "{again} steps, {n} from rest");
+        let mut sim = block();
+        assert_eq!(relax(&mut sim, 1e-12, 5, None, none).unwrap(), Relaxed::Budget(5));
+        assert_eq!(sim.state.steps, 5);
+        let mut sim = block();
+        let mut calls = 0;
+        let out = relax(&mut sim, 1e-12, 100_000, None, |_| {
+            calls += 1;
+            (calls == 2).then_some("stop")
+        })
+        .unwrap();
+        assert_eq!(out, Relaxed::Stopped("stop", 2 * CHECK_EVERY));
     }
 }

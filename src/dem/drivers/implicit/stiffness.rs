@@ -33,6 +33,7 @@ impl Dofs {
     pub(super) fn new(sim: &Simulation) -> Dofs {
         let mut n = 0;
         let first = sim
+            .state
             .bodies
             .iter()
             .map(|b| {
@@ -44,7 +45,7 @@ impl Dofs {
                 }
             })
             .collect();
-        let held = sim.restraint.iter().map(|r| *r == Some(EndRestraint::Rigid)).collect();
+        let held = sim.state.restraint.iter().map(|r| *r == Some(EndRestraint::Rigid)).collect();
         Dofs { first, held, n }
     }
 }
@@ -67,12 +68,12 @@ thread_local! {
 
 /// The symbolic Cholesky factorization (approximate minimum degree ordering, simplicial) of
 /// the pattern of `a`, from the thread's cache when the pattern is the last one.
-fn symbolic_of(a: &SparseColMat<usize, f64>) -> Option<Rc<SymbolicCholesky<usize>>> {
+fn symbolic_of(a: &SparseColMat<usize, f64>) -> Result<Rc<SymbolicCholesky<usize>>, String> {
     let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
     if let Some(hit) = SYMBOLIC.with_borrow(|c| {
         c.as_ref().filter(|(p, r, _)| p.as_slice() == cp && r.as_slice() == ri).map(|(_, _, s)| Rc::clone(s))
     }) {
-        return Some(hit);
+        return Ok(hit);
     }
     let symbolic = Rc::new(
         factorize_symbolic_cholesky(
@@ -84,18 +85,21 @@ fn symbolic_of(a: &SparseColMat<usize, f64>) -> Option<Rc<SymbolicCholesky<usize
                 ..Default::default()
             },
         )
-        .ok()?,
+        .map_err(|e| format!("symbolic Cholesky factorization: {e:?}"))?,
     );
     SYMBOLIC.with_borrow_mut(|c| *c = Some((cp.to_vec(), ri.to_vec(), Rc::clone(&symbolic))));
-    Some(symbolic)
+    Ok(symbolic)
 }
 
 impl Factor {
-    /// Assembles and factorizes `K` at `sim`'s state; `None` if it is not positive
-    /// definite.
-    pub(super) fn new(sim: &Simulation, dofs: &Dofs) -> Option<Factor> {
+    /// Assembles and factorizes `K` at `sim`'s state.
+    ///
+    /// # Errors
+    /// No spring stiffens the free bodies, or faer's error from the assembly, the symbolic
+    /// or the numeric factorization (`K` not positive definite), as text.
+    pub(super) fn new(sim: &Simulation, dofs: &Dofs) -> Result<Factor, String> {
         let (diag, off) = spring_stiffness(sim);
-        let nb = sim.bodies.len();
+        let nb = sim.state.bodies.len();
         // Regularization: a millionth of each diagonal entry plus a floor of a billionth of
         // the largest translational (rotational) diagonal entry, so that a direction no
         // spring stiffens gets a large but finite stiffness.
@@ -107,7 +111,9 @@ impl Factor {
             }
         }
         if !(tmax > 0.0 && rmax > 0.0) {
-            return None;
+            return Err(format!(
+                "no stiffness on the free bodies (largest diagonal entries {tmax:e} N/m, {rmax:e} N·m)"
+            ));
         }
         let is_held = |k: usize, r: usize| dofs.held[k] && r == 1;
         let mut entries = Vec::with_capacity(21 * nb + 36 * off.len());
@@ -117,7 +123,7 @@ impl Factor {
                 continue;
             }
             let mut kk = diag[k];
-            if let Some(EndRestraint::Spring(ky)) = sim.restraint[k] {
+            if let Some(EndRestraint::Spring(ky)) = sim.state.restraint[k] {
                 kk[(1, 1)] += ky;
             }
             for r in 0..6 {
@@ -150,11 +156,12 @@ impl Factor {
                 }
             }
         }
-        let a = SparseColMat::<usize, f64>::try_new_from_triplets(dofs.n, dofs.n, &entries).ok()?;
+        let a = SparseColMat::<usize, f64>::try_new_from_triplets(dofs.n, dofs.n, &entries)
+            .map_err(|e| format!("assembly: {e:?}"))?;
         let symbolic = symbolic_of(&a)?;
         let mut values = vec![0.0f64; symbolic.len_val()];
-        let mut mem =
-            MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())).ok()?;
+        let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()))
+            .map_err(|e| format!("workspace: {e:?}"))?;
         symbolic
             .factorize_numeric_llt(
                 &mut values,
@@ -165,13 +172,13 @@ impl Factor {
                 MemStack::new(&mut mem),
                 Default::default(),
             )
-            .ok()?;
-        Some(Factor { symbolic, values })
+            .map_err(|e| format!("numeric Cholesky factorization: {e:?}"))?;
+        Ok(Factor { symbolic, values })
     }
 
     /// `K⁻¹ R` for the out-of-balance loads `R` of `sim` (its last assessment), per body.
     pub(super) fn solve(&self, sim: &Simulation, dofs: &Dofs) -> PoseIncrement {
-        let nb = sim.bodies.len();
+        let nb = sim.state.bodies.len();
         let mut rhs = Mat::<f64>::zeros(dofs.n, 1);
         for k in 0..nb {
             let f0 = dofs.first[k];
@@ -207,20 +214,20 @@ impl Factor {
 /// of the stiffness `K` of every sub-contact spring of `sim` (N/m, N, N·m; table frame; see
 /// the module doc). Couplings with a fixed body are left out.
 fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, usize), Matrix6<f64>>) {
-    let nb = sim.bodies.len();
+    let nb = sim.state.bodies.len();
     let mut diag = vec![Matrix6::zeros(); nb];
     let mut off: BTreeMap<(usize, usize), Matrix6<f64>> = BTreeMap::new();
     // Spring points of one contact: arm from A's centroid (m), arm from B's centroid (m),
     // normal and shear stiffness (N/m).
     let mut points: Vec<(Vec3, Vec3, f64, f64)> = Vec::new();
     let mut arms: Vec<(Vec3, Vec3, f64)> = Vec::new();
-    for c in &sim.contacts {
+    for c in &sim.state.contacts {
         let n = sim.contact_normal(c);
         let np = c.joint.normal();
         // `tangent` is Kn for an open node (u ≤ 0).
         let stiffness = |u: f64| np.tangent(u).max(np.kn);
-        let rb_mat = &sim.bodies[c.b].rot_mat;
-        let ra_mat = c.a.map(|i| sim.bodies[i].rot_mat);
+        let rb_mat = &sim.state.bodies[c.b].rot_mat;
+        let ra_mat = c.a.map(|i| sim.state.bodies[i].rot_mat);
         // Node arms and closures.
         arms.clear();
         for nd in &c.nodes {
@@ -246,8 +253,8 @@ fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, us
             continue;
         }
         let nn = n * n.transpose();
-        let free_b = !sim.bodies[c.b].fixed;
-        let free_a = c.a.filter(|&i| !sim.bodies[i].fixed);
+        let free_b = !sim.state.bodies[c.b].fixed;
+        let free_a = c.a.filter(|&i| !sim.state.bodies[i].fixed);
         // The normal springs (C₀ = n nᵀ) and the shear springs (C₀ = I − n nᵀ).
         for (part, c0, ks, beta) in [(0, nn, 0.0, 1.0), (1, Mat3::identity() - nn, 1.0, -1.0)] {
             let (mut wsum, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());

@@ -45,7 +45,7 @@
 //!
 //! Both leave short relaxations (fewer than `warmup + 2 window` steps) untouched.
 
-use super::engine::Simulation;
+use crate::dem::engine::Simulation;
 use crate::range::{check_ranges, OutOfRange};
 use crate::Vec3;
 use nalgebra::UnitQuaternion;
@@ -164,6 +164,7 @@ impl Accelerator {
     pub fn probe(&self, sim: &Simulation, reach: f64, max_windows: f64) -> Ahead {
         let Some((dpos, drot)) = self.last_motion() else { return Ahead::NoEquilibrium };
         let per_unit = sim
+            .state
             .bodies
             .iter()
             .zip(dpos.iter().zip(&drot))
@@ -178,7 +179,7 @@ impl Accelerator {
             let mut trial = sim.clone();
             trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
             trial.assess_predicted();
-            let along: f64 = (0..trial.bodies.len())
+            let along: f64 = (0..trial.state.bodies.len())
                 .map(|i| {
                     let (f, m) = trial.unbalanced(i);
                     f.dot(&dpos[i]) + m.dot(&drot[i])
@@ -238,7 +239,7 @@ impl Accelerator {
         if steps < s.warmup || (steps - s.warmup) % s.window != 0 {
             return Creep::Continue;
         }
-        let pose: Vec<(Vec3, UnitQuaternion<f64>)> = sim.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let pose: Vec<(Vec3, UnitQuaternion<f64>)> = sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
         let mut g = Vec::with_capacity(6 * pose.len());
         for k in 0..pose.len() {
             let (f, t) = sim.unbalanced(k);
@@ -247,7 +248,7 @@ impl Accelerator {
         let Some((pose0, g0)) = self.last.replace((pose.clone(), g.clone())) else { return Creep::Continue };
         let mut dx = Vec::with_capacity(g.len());
         for (k, ((x1, q1), (x0, q0))) in pose.iter().zip(&pose0).enumerate() {
-            if sim.bodies[k].fixed {
+            if sim.state.bodies[k].fixed {
                 dx.extend_from_slice(&[0.0; 6]);
                 continue;
             }
