@@ -63,6 +63,7 @@
 #![warn(missing_docs)]
 
 pub mod benchmark;
+pub mod closure;
 pub mod dem;
 pub mod discrepancy;
 pub mod effects;

@@ -3,6 +3,7 @@
 //! bad effects are refused with their name and range. (The engine's power on data it did
 //! not make is tested in `discrepancy_realwalls.rs`.)
 
+use drystone::closure::Hyperbolic;
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::SolverParams;
 use drystone::effects::{effect_rng, EffectDef, Library, Stage};
@@ -91,7 +92,7 @@ fn joint_law_effects_settle_a_block_by_their_closed_forms() {
     check("seating_gap=0.002", (2.0 * 0.002 * sigma / kn).sqrt());
     let mut l = base.clone();
     apply(&mut l, "joint_closure=0.1:0.0005");
-    assert_eq!(l.materials[0].closure, Closure::Hyperbolic { max_closure_m: 5e-4 });
+    assert_eq!(l.materials[0].closure, Closure::Hyperbolic(Hyperbolic { max_closure_m: 5e-4 }));
 }
 
 /// An end-restrained block on a frictionless table held at α: rigid, it does not move;

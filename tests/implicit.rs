@@ -2,6 +2,7 @@
 //! equilibrium dynamic relaxation finds, in a fraction of the work, and it changes the
 //! cost of a tilting-table test, not its result.
 
+use drystone::closure::{Hyperbolic, Seating};
 use drystone::dem::drivers::implicit::{relax, ImplicitSolve, Solved};
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
@@ -68,7 +69,9 @@ fn the_implicit_iteration_finds_the_equilibrium_dynamic_relaxation_finds() {
 /// still reaches the relaxed state.
 #[test]
 fn the_implicit_iteration_follows_nonlinear_closure_laws() {
-    for closure in [Closure::Hyperbolic { max_closure_m: 2e-4 }, Closure::Seating { max_gap_m: 1e-4 }] {
+    for closure in
+        [Closure::Hyperbolic(Hyperbolic { max_closure_m: 2e-4 }), Closure::Seating(Seating { max_gap_m: 1e-4 })]
+    {
         let mut l = layout("running_bond_wall.json");
         for m in &mut l.materials {
             m.closure = closure;

@@ -140,7 +140,7 @@ fn seating_gaps_that_close_are_not_a_fall() {
         .map(|k| block(&format!("c{k}"), [0.0, 0.4], [0.0, 0.2], [0.05 * k as f64, 0.05 * (k + 1) as f64]))
         .collect();
     let mut l = parse(&layout_json(&blocks, 2150.0, 5e7, "")).unwrap();
-    l.materials[0].closure = drystone::layout::Closure::Seating { max_gap_m: 0.003 };
+    l.materials[0].closure = drystone::closure::Closure::Seating(drystone::closure::Seating { max_gap_m: 0.003 });
     let tolerance = drystone::loading::settle::settle_tolerance(&l);
     assert!(tolerance > 0.02 * 0.5 + 9.0 * 0.003, "{tolerance}");
     let r = run_tilt(&l, SolverParams::default(), &TiltParams { max_angle_deg: 2.0, ..TiltParams::default() });

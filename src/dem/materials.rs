@@ -1,22 +1,13 @@
 //! The joint law of a layout's joints: the layout's SI material values and joint families
 //! as the [`JointParams`] of the contact law.
 
-use super::contact::law::{JointParams, NormalClosure, TensionCutoff};
-use crate::layout::{BaseSliding, Closure, FamilyJoint, JointFamily, Layout, Material};
+use super::contact::law::{JointParams, TensionCutoff};
+use crate::layout::{BaseSliding, FamilyJoint, JointFamily, Layout, Material};
 use crate::Vec3;
-
-/// The DEM's normal closure sub-model of a file's closure law.
-pub fn closure_of(c: Closure) -> NormalClosure {
-    match c {
-        Closure::Linear => NormalClosure::Linear,
-        Closure::Hyperbolic { max_closure_m } => NormalClosure::Hyperbolic { max_closure: max_closure_m },
-        Closure::Seating { max_gap_m } => NormalClosure::Seating { max_gap: max_gap_m },
-    }
-}
 
 /// The joint law of a material's joints (the layout's SI values).
 pub fn joint_of(m: &Material) -> JointParams {
-    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(closure_of(m.closure))
+    JointParams::coulomb(m.kn, m.ks, m.friction, m.cohesion, m.tensile_strength).with_closure(m.closure)
 }
 
 /// The joint between blocks of materials `m1` and `m2` of a layout: the material's own, or
@@ -40,7 +31,7 @@ fn with_family(rule: JointParams, f: &FamilyJoint) -> JointParams {
         tan_phi: phi.tan(),
         cohesion: f.cohesion.unwrap_or(rule.cohesion),
         tension: f.tensile_strength.map_or(rule.tension, TensionCutoff::from_strength),
-        closure: f.closure.map_or(rule.closure, closure_of),
+        closure: f.closure.unwrap_or(rule.closure),
         can_slip: rule.can_slip,
     }
 }

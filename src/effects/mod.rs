@@ -40,8 +40,9 @@ pub mod geometry;
 pub use builtin::builtin;
 pub use file::EffectFileError;
 
+use crate::closure::{Closure, Hyperbolic, Seating};
 use crate::generator::{generate, GeneratedWall, Wall};
-use crate::layout::{Closure, EndRestraint, FamilyJoint, JointFamily, Layout};
+use crate::layout::{EndRestraint, FamilyJoint, JointFamily, Layout};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -518,8 +519,8 @@ impl Effect {
                 Step::JointFactor { family, property, .. } => joint_factor(layout, *family, *property, v),
                 Step::Closure { family, law, .. } => {
                     let c = match law {
-                        ClosureLaw::Hyperbolic => Closure::Hyperbolic { max_closure_m: v },
-                        ClosureLaw::Seating => Closure::Seating { max_gap_m: v },
+                        ClosureLaw::Hyperbolic => Closure::Hyperbolic(Hyperbolic { max_closure_m: v }),
+                        ClosureLaw::Seating => Closure::Seating(Seating { max_gap_m: v }),
                     };
                     // A gap of zero is the linear law (the neutral value).
                     let c = if v > 0.0 { c } else { Closure::Linear };

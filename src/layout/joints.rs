@@ -24,10 +24,6 @@ use super::{Closure, Layout, LayoutError, STIFFNESS_RANGE_PA_PER_M};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 
-/// Range of a hyperbolic law's maximum closure Vm and of a seating law's largest initial
-/// gap, m (from a polished joint to the roughest rubble beds).
-pub const CLOSURE_RANGE_M: (f64, f64) = (1e-6, 0.05);
-
 /// Range of a stiffness factor of a joint family, dimensionless.
 pub const FACTOR_RANGE: (f64, f64) = (1e-3, 1e3);
 
@@ -201,25 +197,10 @@ fn check_in(key: String, v: f64, (lo, hi): (f64, f64)) -> Result<f64, LayoutErro
     }
 }
 
-impl Closure {
-    /// Checks the law's parameter; `key` names the `closure` key.
-    ///
-    /// # Errors
-    /// [`LayoutError::Invalid`] naming `{key}.hyperbolic.max_closure_m` or
-    /// `{key}.seating.max_gap_m` when out of [`CLOSURE_RANGE_M`].
-    pub fn check(self, key: &str) -> Result<Closure, LayoutError> {
-        match self {
-            Closure::Linear => Ok(self),
-            Closure::Hyperbolic { max_closure_m } => {
-                check_in(format!("{key}.hyperbolic.max_closure_m"), max_closure_m, CLOSURE_RANGE_M)?;
-                Ok(self)
-            }
-            Closure::Seating { max_gap_m } => {
-                check_in(format!("{key}.seating.max_gap_m"), max_gap_m, CLOSURE_RANGE_M)?;
-                Ok(self)
-            }
-        }
-    }
+/// A closure law's range error as the layout's error.
+pub(super) fn closure_error(e: crate::closure::ClosureRangeError) -> LayoutError {
+    let (lo, hi) = e.range;
+    invalid(e.key, format!("{:e}", e.value), &format!("must be in [{lo:e}, {hi:e}]"))
 }
 
 impl JointSpec {
@@ -262,7 +243,7 @@ impl JointSpec {
             friction,
             cohesion: non_negative("cohesion_pa", self.cohesion_pa)?,
             tensile_strength: non_negative("tensile_strength_pa", self.tensile_strength_pa)?,
-            closure: self.closure.map(|c| c.check(&k("closure"))).transpose()?,
+            closure: self.closure.map(|c| c.check(&k("closure"))).transpose().map_err(closure_error)?,
         })
     }
 }

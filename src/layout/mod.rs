@@ -46,9 +46,8 @@ mod check;
 mod joints;
 mod resolve;
 
-pub use joints::{
-    FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, CLOSURE_RANGE_M, FACTOR_RANGE,
-};
+pub use crate::closure::{Closure, CLOSURE_RANGE_M};
+pub use joints::{FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, FACTOR_RANGE};
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::Vec3;
@@ -295,36 +294,6 @@ pub struct MonitorSpec {
     pub block: String,
     /// Point in the table frame at the reference configuration, m.
     pub point: [f64; 3],
-}
-
-/// The normal closure law of a material's joints (the DEM's normal closure sub-model; see
-/// `dem::contact::law::normal`). In files: `"linear"`,
-/// `{"hyperbolic": {"max_closure_m": V}}` or `{"seating": {"max_gap_m": G}}`.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum Closure {
-    /// Linear: pressure `Kn u`.
-    #[default]
-    Linear,
-    /// Hyperbolic closure of a rough joint (Bandis, Lumsden & Barton 1983): `Kn` is the
-    /// initial stiffness, `max_closure_m` the maximum closure, m.
-    Hyperbolic {
-        /// Maximum closure Vm, m.
-        max_closure_m: f64,
-    },
-    /// Seating of an uneven bed: initial gaps uniform in `[0, max_gap_m]` (m) that close under
-    /// load.
-    Seating {
-        /// Largest initial gap g₀, m.
-        max_gap_m: f64,
-    },
-}
-
-impl Closure {
-    /// The linear law.
-    pub fn is_linear(&self) -> bool {
-        *self == Closure::Linear
-    }
 }
 
 /// A checked material, SI values (the DEM builds its joint law from them).

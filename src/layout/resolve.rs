@@ -58,7 +58,7 @@ impl MaterialSpec {
             friction: deg_to_rad(phi),
             cohesion: c,
             tensile_strength: t,
-            closure: self.closure.check(&k("closure"))?,
+            closure: self.closure.check(&k("closure")).map_err(super::joints::closure_error)?,
         })
     }
 }

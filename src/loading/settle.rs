@@ -5,7 +5,7 @@
 
 use super::monitors::{body_motion, BodyPose};
 use crate::dem::{DemError, DensityScaling, RunToEquilibrium, Simulation};
-use crate::layout::{Closure, Layout};
+use crate::layout::Layout;
 
 /// Margin of the settling tolerance, as a fraction of the layout's height \[0.02\]: twice
 /// the largest linear elastic closure a valid layout can have under its own weight (see
@@ -31,11 +31,7 @@ pub fn settle_tolerance(layout: &Layout) -> f64 {
         .into_iter()
         .map(|(kn, law)| {
             let elastic = rho * layout.gravity * h / kn;
-            match law {
-                Closure::Linear => elastic,
-                Closure::Seating { max_gap_m } => max_gap_m + elastic,
-                Closure::Hyperbolic { max_closure_m } => max_closure_m,
-            }
+            law.closure_under(elastic)
         })
         .fold(0.0, f64::max);
     SETTLE_TOLERANCE_FRACTION * h + joints * closure

@@ -10,7 +10,8 @@
 //! * the stored normal energy is the work of the normal force (`dE/du = Fn`);
 //! * the shear force opposes the motion, never exceeds `c A + Fn tan φ`, and reaches slip.
 
-use super::{evaluate, normal_energy, JointParams, Kinematics, NormalClosure, Quadrature, SubContactState};
+use super::{evaluate, normal_energy, JointParams, Kinematics, Quadrature, SubContactState};
+use crate::closure::{Closure, Hyperbolic, Seating};
 use crate::Vec3;
 
 const AREA: f64 = 0.01;
@@ -20,18 +21,18 @@ fn uniform(p: &JointParams, quad: Quadrature, s: &mut SubContactState, u: f64, d
 }
 
 /// One joint per normal closure law, with the paper's shale joint stiffness (Kn 5e7 Pa/m,
-/// Ks = Kn/2, φ 35°): the laws the contract is run over. Adding a [`NormalClosure`] variant
+/// Ks = Kn/2, φ 35°): the laws the contract is run over. Adding a [`Closure`] variant
 /// fails to compile here until it is listed.
 pub fn representative_laws() -> Vec<JointParams> {
     let base = JointParams::coulomb(5e7, 2.5e7, 35f64.to_radians(), 0.0, 0.0);
     let laws = [
-        NormalClosure::Linear,
-        NormalClosure::Hyperbolic { max_closure: 1e-3 },
-        NormalClosure::Seating { max_gap: 2e-4 },
+        Closure::Linear,
+        Closure::Hyperbolic(Hyperbolic { max_closure_m: 1e-3 }),
+        Closure::Seating(Seating { max_gap_m: 2e-4 }),
     ];
     for l in laws {
         match l {
-            NormalClosure::Linear | NormalClosure::Hyperbolic { .. } | NormalClosure::Seating { .. } => {}
+            Closure::Linear | Closure::Hyperbolic(_) | Closure::Seating(_) => {}
         }
     }
     laws.iter().map(|&c| base.with_closure(c)).collect()

@@ -3,12 +3,12 @@
 //! a plain parameter struct and the sub-contact's own history.
 //!
 //! * [`normal`]: the normal closure law and its integral over the sub-contact
-//!   ([`NormalClosure::Linear`], [`NormalClosure::Hyperbolic`], [`NormalClosure::Seating`]);
+//!   (the laws of [`crate::closure`]);
 //! * [`tension`]: the tension cut-off ([`TensionCutoff`]);
 //! * [`slip`]: the incremental shear spring with the Coulomb slip limit.
 //!
 //! [`evaluate`] composes them; the engine calls nothing else. A new normal closure law is
-//! one kernel in [`normal`] and one variant of [`NormalClosure`]; [`contract`] holds the
+//! one file in [`crate::closure`] and one variant of [`Closure`]; [`contract`] holds the
 //! checks every law must pass.
 //!
 //! # Coulomb joint (3DEC "Coulomb slip", Itasca 3DEC manual; Cundall 1988)
@@ -44,10 +44,13 @@ pub mod normal;
 pub mod slip;
 pub mod tension;
 
-pub use normal::{compressed_moments, compressed_moments_centroid, NormalClosure, NormalParams, Quadrature};
+pub use normal::{compressed_moments, compressed_moments_centroid, NormalParams, Quadrature};
 pub use slip::SlipParams;
 pub use tension::TensionCutoff;
 
+use crate::closure::Closure;
+#[cfg(test)]
+use crate::closure::{Hyperbolic, Seating};
 use crate::Vec3;
 
 /// Joint parameters (SI). Plain data: the kernels read nothing else.
@@ -66,7 +69,7 @@ pub struct JointParams {
     /// Tension cut-off.
     pub tension: TensionCutoff,
     /// Normal closure law.
-    pub closure: NormalClosure,
+    pub closure: Closure,
     /// False for a joint held against slip (the base course's restraint): its shear spring
     /// stays elastic whatever the force.
     pub can_slip: bool,
@@ -83,13 +86,13 @@ impl JointParams {
             tan_phi: phi.tan(),
             cohesion,
             tension: TensionCutoff::from_strength(tensile_strength),
-            closure: NormalClosure::Linear,
+            closure: Closure::Linear,
             can_slip: true,
         }
     }
 
     /// The same joint with another normal closure law.
-    pub fn with_closure(self, closure: NormalClosure) -> Self {
+    pub fn with_closure(self, closure: Closure) -> Self {
         JointParams { closure, ..self }
     }
 
@@ -122,12 +125,7 @@ impl JointParams {
     pub fn combine(&self, other: &JointParams) -> JointParams {
         let series = |a: f64, b: f64| 2.0 * a * b / (a + b);
         let phi = self.phi.min(other.phi);
-        let closure = match (self.closure, other.closure) {
-            (NormalClosure::Hyperbolic { max_closure: a }, NormalClosure::Hyperbolic { max_closure: b }) => {
-                NormalClosure::Hyperbolic { max_closure: 0.5 * (a + b) }
-            }
-            (c, _) => c,
-        };
+        let closure = self.closure.combine(&other.closure);
         JointParams {
             kn: series(self.kn, other.kn),
             ks: series(self.ks, other.ks),
@@ -327,7 +325,7 @@ mod tests {
         }
         contract::check_contact_law(&JointParams::coulomb(1e9, 1e9, 20f64.to_radians(), 0.0, 0.0), 1e-5);
         let soft = JointParams::coulomb(1e7, 5e6, 30f64.to_radians(), 0.0, 0.0)
-            .with_closure(NormalClosure::Hyperbolic { max_closure: 2e-3 });
+            .with_closure(Closure::Hyperbolic(Hyperbolic { max_closure_m: 2e-3 }));
         contract::check_contact_law(&soft, 5e-4);
     }
 
@@ -335,7 +333,7 @@ mod tests {
     /// a uniform closure and the energy against these closed forms.
     #[test]
     fn seating_closure_is_quadratic_then_linear_with_the_offset() {
-        let p = NormalParams { kn: 4e7, closure: NormalClosure::Seating { max_gap: 1e-3 } };
+        let p = NormalParams { kn: 4e7, closure: Closure::Seating(Seating { max_gap_m: 1e-3 }) };
         assert!((p.pressure(5e-4) - 4e7 * 25e-8 / 2e-3).abs() < 1e-9);
         assert!((p.pressure(3e-3) - 4e7 * 2.5e-3).abs() < 1e-6);
         // A ramp from 0 to 2 g₀ across a unit square: ∫ q dA = (W(2g₀) − W(0)) / (2g₀).
@@ -358,7 +356,7 @@ mod tests {
     /// the secant stiffness twice the initial one.
     #[test]
     fn hyperbolic_closure_doubles_the_secant_stiffness_at_half_the_maximum_closure() {
-        let p = NormalParams { kn: 1e7, closure: NormalClosure::Hyperbolic { max_closure: 1e-3 } };
+        let p = NormalParams { kn: 1e7, closure: Closure::Hyperbolic(Hyperbolic { max_closure_m: 1e-3 }) };
         assert!((p.pressure(5e-4) - 1e7 * 1e-3).abs() < 1e-6);
         assert!((p.pressure(1e-9) / 1e-9 - 1e7).abs() < 1e-5 * 1e7);
         // Past 0.8 Vm: tangent continuation with 25 Kni.
@@ -373,7 +371,7 @@ mod tests {
     fn hyperbolic_closure_integrates_a_closure_ramp_exactly() {
         let (kni, vm) = (2e7, 1e-3);
         let p = JointParams::coulomb(kni, kni / 2.0, 0.6, 0.0, 0.0)
-            .with_closure(NormalClosure::Hyperbolic { max_closure: vm });
+            .with_closure(Closure::Hyperbolic(Hyperbolic { max_closure_m: vm }));
         // Unit square, closure u(x) = u0 + (u1 − u0) x over x ∈ [0, 1], partly open.
         for (u0, u1) in [(1e-4, 7e-4), (-2e-4, 6e-4), (3e-4, 3.000001e-4)] {
             let u = |x: f64| u0 + (u1 - u0) * x;

@@ -8,51 +8,18 @@
 //! `λᵢ` of the nodes, whose sum is the normal force and whose ratios place it, and the area
 //! centroid of the compressed part (where the elastic shear acts).
 //!
-//! Laws:
-//! * [`NormalClosure::Linear`]: `q = Kn u` (Winkler joint; 3DEC's linear joint, Itasca
-//!   3DEC manual). Integrated exactly: the triangle is clipped at `u = 0` and the linear
-//!   pressure integrated in closed form over the compressed part.
-//! * [`NormalClosure::Hyperbolic`]: `q = Kni u / (1 − u / Vm)` for rough rock joints
-//!   (Bandis, Lumsden & Barton 1983, Int. J. Rock Mech. Min. Sci. 20:249, Eq. 4;
-//!   Goodman 1976): soft (`Kni`) at low stress and stiffening without bound as the closure
-//!   approaches the maximum closure `Vm`. Past `u = 0.8 Vm` the law continues along its
-//!   tangent (stiffness `25 Kni`), which bounds the tangent stiffness and so the critical
-//!   time step. Integrated over the compressed part along the closure gradient: the
-//!   triangle is cut at its middle nodal closure into two pieces on which the integral is
-//!   one dimensional, evaluated with 8-point Gauss–Legendre (relative error below 1e-10).
-//! * [`NormalClosure::Seating`]: an uneven bed whose initial gaps are spread uniformly over
-//!   `[0, g₀]` (the seating of hand-placed stones; the homogenised form of a uniform
-//!   asperity-height distribution, Greenwood & Williamson 1966): the share of the area in
-//!   contact at closure `u` is `min(u/g₀, 1)`, so `q = Kn u² / (2 g₀)` while the gaps close
-//!   and `q = Kn (u − g₀/2)` once all are closed. Soft at first, the linear joint after
-//!   seating. Integrated like the hyperbolic law (it is a quadratic, so exactly).
+//! The laws are [`crate::closure`]'s, one file each. The linear law (`q = Kn u`) is
+//! integrated exactly: the triangle is clipped at `u = 0` and the linear pressure
+//! integrated in closed form over the compressed part. A nonlinear law is integrated over
+//! the compressed part along the closure gradient: the triangle is cut at its middle nodal
+//! closure into two pieces on which the integral is one dimensional, evaluated with
+//! 8-point Gauss–Legendre between the law's kinks (relative error below 1e-10 for the
+//! hyperbolic law; exact for the quadratic seating law).
 //!
 //! A joint that carries tension (see [`super::tension`]) has `q = Kn u` (`Kni u`) for `u < 0`
 //! with either law, over the whole triangle.
 
-/// The normal closure law of a joint.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[non_exhaustive]
-pub enum NormalClosure {
-    /// Linear: `q = Kn u`.
-    #[default]
-    Linear,
-    /// Hyperbolic (Bandis et al. 1983): `q = Kn u / (1 − u / max_closure)` with `Kn` the
-    /// initial stiffness Kni (Pa/m) and `max_closure` Vm (m, > 0).
-    Hyperbolic {
-        /// Maximum closure Vm, m.
-        max_closure: f64,
-    },
-    /// Seating of an uneven bed: initial gaps uniform in `[0, max_gap]` (m, > 0) that
-    /// close under load, `q = Kn u² / (2 g₀)` for `u ≤ g₀`, `Kn (u − g₀/2)` beyond.
-    Seating {
-        /// Largest initial gap g₀, m.
-        max_gap: f64,
-    },
-}
-
-/// The closure ratio `u / Vm` past which the hyperbolic law continues along its tangent.
-pub const HYPERBOLIC_CAP: f64 = 0.8;
+use crate::closure::Closure;
 
 /// Parameters of the normal closure sub-model (plain data).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,7 +27,7 @@ pub struct NormalParams {
     /// Normal stiffness Kn (linear) or initial normal stiffness Kni (hyperbolic), Pa/m.
     pub kn: f64,
     /// The closure law.
-    pub closure: NormalClosure,
+    pub closure: Closure,
 }
 
 impl NormalParams {
@@ -68,89 +35,25 @@ impl NormalParams {
     /// tensile branch `Kn u` (used only while a joint carries tension).
     #[inline(always)]
     pub fn pressure(&self, u: f64) -> f64 {
-        match self.closure {
-            NormalClosure::Linear => self.kn * u,
-            NormalClosure::Hyperbolic { max_closure } => hyperbolic(self.kn, max_closure, u),
-            NormalClosure::Seating { max_gap } => seating(self.kn, max_gap, u),
-        }
+        self.closure.pressure(self.kn, u)
     }
 
     /// Largest tangent stiffness `dq/du` the law reaches, Pa/m (the stiffness the critical
     /// time step must be taken from): `Kn` (linear), `25 Kni` (hyperbolic, at its cap).
     pub fn stiffness_bound(&self) -> f64 {
-        match self.closure {
-            NormalClosure::Linear | NormalClosure::Seating { .. } => self.kn,
-            NormalClosure::Hyperbolic { .. } => self.kn / ((1.0 - HYPERBOLIC_CAP) * (1.0 - HYPERBOLIC_CAP)),
-        }
+        self.closure.stiffness_bound(self.kn)
     }
 
-    /// Tangent stiffness `dq/du` at closure `u` (m), Pa/m: `Kn` (linear, and every law in
-    /// tension), `Kni / (1 − u/Vm)²` up to the cap and constant past it (hyperbolic),
-    /// `Kn u / g₀` up to `g₀` and `Kn` beyond (seating). The consistent tangent of the
-    /// implicit increments ([`crate::dem::drivers::implicit`]).
+    /// Tangent stiffness `dq/du` at closure `u` (m), Pa/m: `Kn` in tension, the law's
+    /// tangent in compression. The consistent tangent of the implicit increments
+    /// ([`crate::dem::drivers::implicit`]).
     pub fn tangent(&self, u: f64) -> f64 {
-        match self.closure {
-            _ if u <= 0.0 => self.kn,
-            NormalClosure::Linear => self.kn,
-            NormalClosure::Hyperbolic { max_closure: vm } => {
-                let r = (u / vm).min(HYPERBOLIC_CAP);
-                self.kn / ((1.0 - r) * (1.0 - r))
-            }
-            NormalClosure::Seating { max_gap: g } => self.kn * (u / g).min(1.0),
-        }
+        self.closure.tangent(self.kn, u)
     }
 
-    /// Strain energy per unit area stored at closure `u ≥ 0`, J/m²: `∫₀ᵘ q ds`.
+    /// Strain energy per unit area stored at closure `u`, J/m²: `∫₀ᵘ q ds`.
     pub fn energy_density(&self, u: f64) -> f64 {
-        match self.closure {
-            _ if u <= 0.0 => 0.5 * self.kn * u * u,
-            NormalClosure::Linear => 0.5 * self.kn * u * u,
-            NormalClosure::Hyperbolic { max_closure: vm } => {
-                let uc = HYPERBOLIC_CAP * vm;
-                let w = |s: f64| self.kn * vm * (-s - vm * (1.0 - s / vm).ln());
-                if u <= uc {
-                    w(u)
-                } else {
-                    let (qc, kc) = (hyperbolic(self.kn, vm, uc), self.stiffness_bound());
-                    w(uc) + qc * (u - uc) + 0.5 * kc * (u - uc) * (u - uc)
-                }
-            }
-            NormalClosure::Seating { max_gap: g } => {
-                if u <= g {
-                    self.kn * u * u * u / (6.0 * g)
-                } else {
-                    self.kn * (g * g / 6.0 + 0.5 * (u * u - g * g) - 0.5 * g * (u - g))
-                }
-            }
-        }
-    }
-}
-
-/// The hyperbolic pressure with its tangent continuation past the cap; linear in tension.
-#[inline(always)]
-fn hyperbolic(kni: f64, vm: f64, u: f64) -> f64 {
-    if u <= 0.0 {
-        return kni * u;
-    }
-    let uc = HYPERBOLIC_CAP * vm;
-    if u <= uc {
-        kni * u / (1.0 - u / vm)
-    } else {
-        let qc = kni * uc / (1.0 - HYPERBOLIC_CAP);
-        let kc = kni / ((1.0 - HYPERBOLIC_CAP) * (1.0 - HYPERBOLIC_CAP));
-        qc + kc * (u - uc)
-    }
-}
-
-/// The seating pressure; linear in tension.
-#[inline(always)]
-fn seating(kn: f64, g: f64, u: f64) -> f64 {
-    if u <= 0.0 {
-        kn * u
-    } else if u <= g {
-        kn * u * u / (2.0 * g)
-    } else {
-        kn * (u - 0.5 * g)
+        self.closure.energy_density(self.kn, u)
     }
 }
 
@@ -181,11 +84,11 @@ pub struct NormalResult {
 #[inline(always)]
 pub fn integrate(p: &NormalParams, quad: Quadrature, u: [f64; 3], area: f64, tension: bool) -> NormalResult {
     match p.closure {
-        NormalClosure::Linear => {
+        Closure::Linear => {
             let q = [p.kn * u[0], p.kn * u[1], p.kn * u[2]];
             linear_moments(q, area, quad, tension)
         }
-        NormalClosure::Hyperbolic { .. } | NormalClosure::Seating { .. } => match quad {
+        _ => match quad {
             Quadrature::Exact => nonlinear_moments(p, u, area, tension),
             Quadrature::Vertex => linear_moments(u.map(|v| p.pressure(v)), area, Quadrature::Vertex, tension),
         },
@@ -404,11 +307,7 @@ fn level_integrals(u: [f64; 3], area: f64, lower: f64, breaks: &[f64], g: impl F
 
 /// The kinks of a law's pressure (the hyperbolic cap), closures in m.
 fn breaks(p: &NormalParams) -> [f64; 1] {
-    match p.closure {
-        NormalClosure::Hyperbolic { max_closure } => [HYPERBOLIC_CAP * max_closure],
-        NormalClosure::Seating { max_gap } => [max_gap],
-        NormalClosure::Linear => [f64::INFINITY],
-    }
+    [p.closure.kink()]
 }
 
 /// `∫ q(u) λᵢ dA` over the compressed part (the whole triangle when the joint carries
@@ -425,10 +324,8 @@ fn nonlinear_moments(p: &NormalParams, u: [f64; 3], area: f64, tension: bool) ->
 /// Exact for the linear law (`∫ q₊² / (2 Kn) dA`); by [`level_integrals`] otherwise.
 pub fn energy(p: &NormalParams, u: [f64; 3], area: f64) -> f64 {
     match p.closure {
-        NormalClosure::Linear => squared_compressed(u.map(|v| p.kn * v), area) / (2.0 * p.kn),
-        NormalClosure::Hyperbolic { .. } | NormalClosure::Seating { .. } => {
-            level_integrals(u, area, 0.0, &breaks(p), |v| p.energy_density(v)).moments.iter().sum()
-        }
+        Closure::Linear => squared_compressed(u.map(|v| p.kn * v), area) / (2.0 * p.kn),
+        _ => level_integrals(u, area, 0.0, &breaks(p), |v| p.energy_density(v)).moments.iter().sum(),
     }
 }
 
