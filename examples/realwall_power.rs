@@ -125,7 +125,7 @@ fn main() {
             let gain = a.candidates.first().map_or(0.0, |b| a.baseline_heldout_error - b.heldout_error);
             let missed = a.check.as_ref().map(|c| c.missed.clone()).unwrap_or_default();
             let what = format!(
-                "{} #{i}: {} {:?} tie {:?} | base {:.2} (misfit margin {:.2}) best gain {:.2} (margin {:.2}) sigma {:?} missed {:?}",
+                "{} #{i}: {} {:?} tie {:?} | base {:.2} (misfit margin {:.2}) best gain {:.2}, on the surrogates {:.2} (margin {:.2}) sigma {:?} missed {:?}",
                 e.label(),
                 a.verdict.name(),
                 cause,
@@ -133,6 +133,7 @@ fn main() {
                 a.baseline_heldout_error,
                 m.misfit,
                 gain,
+                a.screen_gain,
                 m.baseline,
                 run.sigma_estimate,
                 missed

@@ -421,11 +421,17 @@ pub fn calibrate_margins(
 }
 
 /// The margin on the best candidate's gain and the threshold of the baseline's misfit,
-/// set together so that null data raise either alarm (a cause named, or a significant
-/// misfit) in at most 5 % of the data sets: both at the same upper quantile `q` of their
-/// null distributions, the smallest `q` in [0.95, 0.975] (0.975: Bonferroni's bound for
-/// two tests) whose union of alarms on `runs` (gain, baseline score) is at
-/// most 5 %.
+/// set together so that a new null data set raises either alarm (a cause named, or a
+/// significant misfit) with probability at most 5 %: both at the same upper quantile `q`
+/// of their null distributions, the smallest `q` from 0.95 up whose `u` alarms (either
+/// one) on the `n` runs (gain, baseline score) meet `(u + 2) / (n + 1) ≤ 5 %`.
+///
+/// A threshold that `u` of `n` exchangeable runs exceed is exceeded by a new one with
+/// probability at most `(u + 1) / (n + 1)` (conformal calibration: Vovk, Gammerman &
+/// Shafer 2005; Lei et al. 2018, JASA 113:1094); the two thresholds here add one each.
+/// Margins from 100 runs then raise alarms on 4.4 % of new null sets, where `u / n ≤ 5 %`
+/// gave 6.3 % and `(u + 1)/(n + 1) ≤ 5 %` 5.6 % (the unit test
+/// `margins_from_a_hundred_null_sets_keep_new_null_sets_within_five_percent`).
 fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
     let sorted = |f: fn(&(f64, f64)) -> f64| {
         let mut v: Vec<f64> = runs.iter().map(f).collect();
@@ -434,16 +440,17 @@ fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
     };
     let (gains, base) = (sorted(|r| r.0), sorted(|r| r.1));
     let at = |q: f64| (crate::stats::quantile(&gains, q), crate::stats::quantile(&base, q));
+    let n = runs.len() as f64;
     let mut q = 0.95;
-    while q < 0.975 {
+    while q < 1.0 {
         let (g, m) = at(q);
         let union = runs.iter().filter(|r| r.0 > g || r.1 > m).count();
-        if union as f64 <= 0.05 * runs.len() as f64 {
+        if (union as f64 + 2.0) / (n + 1.0) <= 0.05 {
             return (g, m);
         }
         q += 0.0025;
     }
-    at(0.975)
+    at(1.0)
 }
 
 /// Challengers checked against a named cause for a tie ([`reversal_rates`]).
@@ -644,6 +651,11 @@ pub struct Analysis {
     pub baseline_predictive: Vec<Predictive>,
     /// Score of each observation under the baseline.
     pub baseline_scores: Vec<f64>,
+    /// The best gain in held-out error of the library's candidates on their surrogates
+    /// alone, before pairs and confirmation runs: the statistic the gain margin is
+    /// calibrated on. A cause is named only when it and the confirmed winner's gain both
+    /// clear the margin.
+    pub screen_gain: f64,
     /// The margins used.
     pub margins: Margins,
     /// The posterior predictive check of the extended model (of the baseline when no cause
@@ -728,8 +740,8 @@ mod tests {
     }
 
     /// The two alarms set together: on independent gains and misfit scores the union of
-    /// alarms is at most 5 %, and each margin sits between its own 95th and 97.5th
-    /// percentiles.
+    /// alarms is within the bound, `(u + 2)/(n + 1) ≤ 5 %`, and each margin sits at or
+    /// above its own 95th percentile.
     #[test]
     fn the_two_alarms_together_stay_within_five_percent() {
         let mut rng = rng_for(3, 0, Purpose::Discrepancy);
@@ -741,15 +753,45 @@ mod tests {
             })
             .collect();
         let (g, m) = joint_margins(&runs);
-        let union = runs.iter().filter(|r| r.0 > g || r.1 > m).count() as f64 / runs.len() as f64;
-        assert!(union <= 0.05, "{union}");
+        let union = runs.iter().filter(|r| r.0 > g || r.1 > m).count() as f64;
+        assert!((union + 2.0) / 2001.0 <= 0.05, "{union}");
         let q = |v: Vec<f64>, p: f64| quantile(v, p);
         let gains: Vec<f64> = runs.iter().map(|r| r.0).collect();
-        assert!(g >= q(gains.clone(), 0.95) && g <= q(gains, 0.975) + 1e-12);
-        // Perfectly dependent alarms: one test's 95th percentile is enough.
+        assert!(g >= q(gains.clone(), 0.95) && g <= q(gains, 0.98), "{g}");
+        // Perfectly dependent alarms: one test's percentile is enough, at the level
+        // (u + 2)/(n + 1) ≤ 5 %: 98 of 2000 above.
         let same: Vec<(f64, f64)> = runs.iter().map(|r| (r.0, r.0)).collect();
         let (g2, _) = joint_margins(&same);
-        assert_eq!(g2, quantile(same.iter().map(|r| r.0).collect(), 0.95));
+        let above = same.iter().filter(|r| r.0 > g2).count();
+        assert!(above <= 98 && above >= 95, "{above}");
+    }
+
+    /// The false-alarm rate of margins set on few null data sets, on data sets they were
+    /// not set on: at most 5 % on average over calibrations, where margins at 5 % of their
+    /// own runs give 6.3 % and `(u + 1)/(n + 1) ≤ 5 %` gives 5.6 % (measured with this
+    /// test's draws). 400 calibrations of 100 runs, each checked on 1000 fresh runs.
+    #[test]
+    fn margins_from_a_hundred_null_sets_keep_new_null_sets_within_five_percent() {
+        let mut rng = rng_for(11, 0, Purpose::Discrepancy);
+        let mut draw = |k: usize| -> Vec<(f64, f64)> {
+            (0..k)
+                .map(|_| {
+                    let g: f64 = StandardNormal.sample(&mut rng);
+                    let e: f64 = StandardNormal.sample(&mut rng);
+                    (g, 0.6 * g + 0.8 * e) // correlated alarms, as gains and misfits are
+                })
+                .collect()
+        };
+        let (mut alarms, mut tried) = (0usize, 0usize);
+        for _ in 0..400 {
+            let (g, m) = joint_margins(&draw(100));
+            let fresh = draw(1000);
+            alarms += fresh.iter().filter(|r| r.0 > g || r.1 > m).count();
+            tried += fresh.len();
+        }
+        let rate = alarms as f64 / tried as f64;
+        // The Monte Carlo error of the mean over 400 calibrations is about 0.1 %.
+        assert!(rate <= 0.0505 && rate >= 0.035, "{rate}");
     }
 
     fn ranked(name: &str, scores: Vec<f64>) -> Ranked {

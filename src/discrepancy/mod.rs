@@ -648,6 +648,9 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let base_ic = fit::aicc(base_scores.iter().sum(), 0, specimens.len());
     let mut pool = lib.candidates.clone();
     let mut ranked = rank(&pool, data, &specimens, &base_per);
+    // The statistic the margins are calibrated on: the best gain of the library's
+    // candidates on their surrogates, before pairs and confirmation runs.
+    let screen_gain = ranked.first().map_or(0.0, |r| base_he - r.heldout_error);
     // Pairs, when the best single effect leaves a significant misfit.
     if let Some(best) = ranked.first() {
         let best_fit = best.scores.iter().sum::<f64>() / n;
@@ -703,8 +706,15 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
     let candidates: Vec<Ranked> = ranked.clone();
     let eligible = |r: &&Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
     let best = candidates.iter().find(eligible).cloned();
-    let named =
-        best.clone().filter(|b| base_he - b.heldout_error > margins.baseline && b.information_criterion < base_ic);
+    // A cause is named when the calibrated statistic clears its margin and the confirmed
+    // winner still does: re-scoring the best few by full runs and keeping the best is a
+    // selection the null calibration does not repeat, so it may veto an alarm, never
+    // raise one.
+    let named = best.clone().filter(|b| {
+        screen_gain > margins.baseline
+            && base_he - b.heldout_error > margins.baseline
+            && b.information_criterion < base_ic
+    });
 
     let mut extended = None;
     let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(full_base, j)).collect();
@@ -824,6 +834,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
         tie_checks,
         candidates,
         baseline_heldout_error: base_he,
+        screen_gain,
         baseline_information_criterion: base_ic,
         baseline_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
         baseline_scores: base_scores,

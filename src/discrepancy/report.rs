@@ -126,6 +126,7 @@ pub fn to_json(run: &Run) -> Value {
         "cause_interval": run.cause_interval,
         "tie": a.tie,
         "tie_checks": a.tie_checks,
+        "screen_gain": a.screen_gain,
         "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
         "baseline": {
             "heldout_error": a.baseline_heldout_error,
@@ -254,7 +255,7 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
         );
     }
     let m = &a.margins;
-    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} (held-out error); the baseline's misfit is significant above {:.3} (the two margins set together: null data raise either alarm in at most 5 % of the data sets). False alarms of margins set on one half of the null data sets, counted on the other half, both ways, {} data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
+    let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} (held-out error), on the surrogates as the null data sets were scored (here the best does by {:.3}) and again after the confirmation runs; the baseline's misfit is significant above {:.3} (the two margins set together: null data raise either alarm in at most 5 % of the data sets). False alarms of margins set on one half of the null data sets, counted on the other half, both ways, {} data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, a.screen_gain, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
     if !a.tie_checks.is_empty() {
         let _ = writeln!(md, "Ties: a challenger is in the tie when it beats the cause on 5 % or more of {} data sets simulated from the cause's own independent layouts, read as the data are (the design cannot separate them), or when its held-out difference to the cause is under two standard errors (the data cannot).\n", a.check.as_ref().map_or(0, |c| c.replicates));
         let _ = writeln!(
