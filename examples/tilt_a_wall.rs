@@ -28,13 +28,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let result = run_tilt(&layout, SolverParams::default(), &TiltParams::default())?;
     println!(
         "collapse angle α_max = {:.3}° (next trial {:?}°), {:?} at joint {} ({} blocks moved)",
-        result.collapse_angle_deg,
+        result.collapse_angle_deg(),
         result.first_unstable_deg,
         result.mechanism.kind,
         result.mechanism.joint,
         result.mechanism.blocks.len()
     );
-    println!("load multiplier λ = tan α_max = {:.3}", result.collapse_angle_deg.to_radians().tan());
+    println!("load multiplier λ = tan α_max = {:.3}", result.collapse_angle_deg().to_radians().tan());
     println!("{:>8} {}", "tilt", result.monitors.iter().map(|m| format!("{m:>12}")).collect::<String>());
     for inc in result.increments.iter().filter(|i| i.stable && (i.alpha_deg % 5.0).abs() < 1e-9) {
         let d: String = inc.displacement_m.iter().map(|d| format!("{:>10.3} mm", d * 1e3)).collect();

@@ -172,7 +172,7 @@ pub fn run_tilt_bench(
         time += r.wall_time_s;
         let run = TiltRun {
             blocks: layout.blocks.len(),
-            collapse_angle_deg: r.collapse_angle_deg,
+            collapse_angle_deg: r.collapse_angle_deg(),
             dt_s: r.dt_s,
             first_unstable_deg: r.first_unstable_deg,
             iterations: r.iterations,

@@ -38,8 +38,8 @@
 //! let again = generate(&wall, 2021, 0)?.check()?;
 //! assert_eq!(layout.blocks.len(), again.blocks.len()); // the seed fixes the layout
 //! let r = run_tilt(&layout, SolverParams::default(), &TiltParams::default())?;
-//! assert!(r.collapse_angle_deg > 5.0 && r.collapse_angle_deg < 40.0);
-//! assert!(r.first_unstable_deg.unwrap() > r.collapse_angle_deg);
+//! assert!(r.collapse_angle_deg() > 5.0 && r.collapse_angle_deg() < 40.0);
+//! assert!(r.first_unstable_deg.unwrap() > r.collapse_angle_deg());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

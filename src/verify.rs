@@ -215,7 +215,7 @@ pub fn winkler_collapse_angle(b: f64, h: f64, rho: f64, g: f64, kn: f64) -> f64 
 }
 
 fn case(name: &str, expected_deg: f64, r: &TiltResult, tol: f64, want: Option<(MechanismKind, &str)>) -> Case {
-    let sim = r.collapse_angle_deg;
+    let sim = r.collapse_angle_deg();
     let err = sim - expected_deg;
     let detail = format!("{:?} at {}", r.mechanism.kind, r.mechanism.joint).to_lowercase();
     let mech_ok = want.is_none_or(|(k, j)| r.mechanism.kind == k && r.mechanism.joint == j);

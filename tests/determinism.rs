@@ -22,7 +22,7 @@ fn fingerprint(r: &TiltResult) -> String {
             s.push_str(&format!("{:016x}", d.to_bits()));
         }
     }
-    s.push_str(&format!("{:016x}{:016x}", r.collapse_angle_deg.to_bits(), r.dt_s.to_bits()));
+    s.push_str(&format!("{:016x}{:016x}", r.collapse_angle_deg().to_bits(), r.dt_s.to_bits()));
     s
 }
 

@@ -31,7 +31,7 @@ fn apply_with(lib: &Library, layout: &mut Layout, e: &str) {
 }
 
 fn collapse_deg(l: &Layout) -> f64 {
-    run_tilt(l, SolverParams::default(), &fine_tilt()).unwrap().collapse_angle_deg
+    run_tilt(l, SolverParams::default(), &fine_tilt()).unwrap().collapse_angle_deg()
 }
 
 /// A rigid block b × h built out of plumb by ψ (sheared): `tan α = b/h − tan ψ`, so it tips

@@ -115,7 +115,7 @@ fn families_equal_to_the_rule_change_nothing() {
     let a = run_tilt(&l, SolverParams::default(), &tilt).unwrap();
     let b = run_tilt(&with, SolverParams::default(), &tilt).unwrap();
     // friction_deg round-trips through degrees; the angles still agree bit for bit.
-    assert_eq!(a.collapse_angle_deg, b.collapse_angle_deg);
+    assert_eq!(a.collapse_angle_deg(), b.collapse_angle_deg());
     assert_eq!(
         a.increments.last().map(|i| i.displacement_m.clone()),
         b.increments.last().map(|i| i.displacement_m.clone())

@@ -57,7 +57,7 @@ fn the_predictor_changes_the_steps_not_the_result() {
     let params = TiltParams { step_deg: 1.0, resolution_deg: 0.25, implicit: false, ..TiltParams::default() };
     let with = run_tilt(&l, SolverParams::default(), &params).unwrap();
     let without = run_tilt(&l, SolverParams::default(), &TiltParams { predictor: false, ..params }).unwrap();
-    assert_eq!(with.collapse_angle_deg, without.collapse_angle_deg);
+    assert_eq!(with.collapse_angle_deg(), without.collapse_angle_deg());
     assert_eq!(with.first_unstable_deg, without.first_unstable_deg);
     let limit = common::assert_same_tilt_result(&with, &without, 0.0);
     let steps = |r: &drystone::loading::tilt::TiltResult| -> u64 {

@@ -11,11 +11,11 @@ use drystone::verify::*;
 const TOL_DEG: f64 = 0.3;
 
 fn assert_angle(r: &TiltResult, expected_deg: f64, kind: MechanismKind, joint: &str) {
-    let err = r.collapse_angle_deg - expected_deg;
+    let err = r.collapse_angle_deg() - expected_deg;
     assert!(
         err.abs() <= TOL_DEG,
         "collapse {:.3}° vs closed form {:.3}° (error {:+.3}°)",
-        r.collapse_angle_deg,
+        r.collapse_angle_deg(),
         expected_deg,
         err
     );
@@ -94,7 +94,7 @@ fn winkler_error(kn: f64, n: u32, quad: Quadrature) -> f64 {
     let solver = SolverParams { subcontact_subdivisions: n, quadrature: quad, ..SolverParams::default() };
     let p = TiltParams { resolution_deg: 0.02, ..TiltParams::default() };
     let r = run_tilt(&l, solver, &p).unwrap();
-    r.collapse_angle_deg - winkler_collapse_angle(b, h, DENSITY, G, kn).to_degrees()
+    r.collapse_angle_deg() - winkler_collapse_angle(b, h, DENSITY, G, kn).to_degrees()
 }
 
 #[test]

@@ -33,7 +33,7 @@ fn main() {
             .filter(|i| i.alpha_deg > 20.0)
             .map(|i| format!("{}:{}:{}", i.alpha_deg, if i.stable { "S" } else { "U" }, i.steps))
             .collect();
-        println!("block {block} predictor {pred}: {} steps, alpha {} {:?}", r.steps, r.collapse_angle_deg, inc);
+        println!("block {block} predictor {pred}: {} steps, alpha {} {:?}", r.steps, r.collapse_angle_deg(), inc);
     }
     locked_in_shear(&l);
 }

@@ -32,7 +32,12 @@ pub fn run(
         eprintln!("ParaView series: {} ({} states)", pvd.display(), series.len());
     }
     if json {
-        out!("{}", serde_json::to_string_pretty(&r)?);
+        // The result with its collapse angle α_max (the last stable tilt) as a key of its own.
+        let mut v = serde_json::to_value(&r)?;
+        if let Some(o) = v.as_object_mut() {
+            o.insert("collapse_angle_deg".into(), r.collapse_angle_deg().into());
+        }
+        out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print(layout, &r);
     }
@@ -53,7 +58,7 @@ fn print(layout: &Path, r: &TiltResult) {
     out!("layout            {}", layout.display());
     out!(
         "collapse angle    {:.2} deg (last stable), first unstable {}",
-        r.collapse_angle_deg,
+        r.collapse_angle_deg(),
         r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
     );
     if let Some(reason) = r.collapse_reason {

@@ -111,7 +111,7 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
                 top_cm.push(idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]))));
             }
             Outcome {
-                collapse_deg: Some(t.collapse_angle_deg),
+                collapse_deg: Some(t.collapse_angle_deg()),
                 first_unstable_deg: t.first_unstable_deg,
                 tilt_deg,
                 top_cm,

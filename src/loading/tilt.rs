@@ -191,9 +191,8 @@ pub struct Increment {
 /// Outcome of a tilting-table run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TiltResult {
-    /// Collapse angle α_max = the last stable tilt, degrees (`max_angle_deg` if none).
-    pub collapse_angle_deg: f64,
-    /// Last stable tilt, degrees.
+    /// Last stable tilt, degrees: the collapse angle α_max
+    /// ([`TiltResult::collapse_angle_deg`]; `max_angle_deg` if the wall stood).
     pub last_stable_deg: f64,
     /// First unstable tilt, degrees (`None` if the wall stood up to `max_angle_deg`).
     pub first_unstable_deg: Option<f64>,
@@ -560,6 +559,16 @@ impl TiltError {
     }
 }
 
+impl TiltResult {
+    /// The collapse angle α_max, degrees: the last stable tilt, which the bracket
+    /// `[last_stable_deg, first_unstable_deg]` holds to the protocol's resolution (the
+    /// convention of the source paper's tilting-table readings: the last angle at which the
+    /// wall stood).
+    pub fn collapse_angle_deg(&self) -> f64 {
+        self.last_stable_deg
+    }
+}
+
 /// Runs the tilting-table test of a layout to collapse.
 ///
 /// The returned bracket `[last_stable_deg, first_unstable_deg]` contains the collapse
@@ -581,7 +590,7 @@ impl TiltError {
 /// let up = r.first_unstable_deg.unwrap();
 /// assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{} {up}", r.last_stable_deg);
 /// // The load multiplier at collapse, λ = tan α_max, against the rigid limit b / h.
-/// assert!((r.collapse_angle_deg.to_radians().tan() - 0.3).abs() < 0.01);
+/// assert!((r.collapse_angle_deg().to_radians().tan() - 0.3).abs() < 0.01);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
@@ -644,7 +653,6 @@ pub fn run_tilt_observed(
     let Some((mut unstable, mut reason, mut failed)) = first_unstable else {
         let last_stable = path.last_stable;
         return Ok(TiltResult {
-            collapse_angle_deg: last_stable,
             last_stable_deg: last_stable,
             first_unstable_deg: None,
             collapse_reason: None,
@@ -679,7 +687,6 @@ pub fn run_tilt_observed(
     increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
     let mechanism = mechanism(&stable_sim, &failed);
     Ok(TiltResult {
-        collapse_angle_deg: last_stable,
         last_stable_deg: last_stable,
         first_unstable_deg: Some(unstable),
         collapse_reason: Some(reason),

@@ -79,7 +79,7 @@ pub fn tilt_mechanism_svg(
     let disp: Vec<f64> = motion.iter().map(|m| m.0.norm()).collect();
     let subtitle = format!(
         "{subtitle}α_max {:.2}°, first unstable {unstable:.2}°: {} at {}",
-        r.collapse_angle_deg,
+        r.collapse_angle_deg(),
         kind_name(r.mechanism.kind),
         r.mechanism.joint
     );

@@ -223,7 +223,7 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
         Err(e) => return failed_row(row, matches!(e, TiltError::DoesNotStand(_)), &e),
     };
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
-    row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg);
+    row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
     row.first_unstable_deg = t.first_unstable_deg;
     row.collapse_reason = t.collapse_reason.map(reason_name).unwrap_or_default().to_string();
     row.mechanism = mechanism_name(t.mechanism.kind).to_string();

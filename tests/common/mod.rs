@@ -64,12 +64,12 @@ pub fn assert_same_tilt_result(
     bracket_deg: f64,
 ) -> f64 {
     assert!(
-        (a.collapse_angle_deg - b.collapse_angle_deg).abs() <= bracket_deg + 1e-9,
+        (a.collapse_angle_deg() - b.collapse_angle_deg()).abs() <= bracket_deg + 1e-9,
         "collapse angles {} and {}",
-        a.collapse_angle_deg,
-        b.collapse_angle_deg
+        a.collapse_angle_deg(),
+        b.collapse_angle_deg()
     );
-    let limit = 0.8 * b.collapse_angle_deg;
+    let limit = 0.8 * b.collapse_angle_deg();
     let stable = |r: &drystone::loading::tilt::TiltResult| {
         r.increments
             .iter()
