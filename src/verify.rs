@@ -371,7 +371,7 @@ pub fn bounce_energy() -> (f64, f64, f64) {
     let mut sim = crate::dem::Simulation::new(&l, params);
     sim.state.bodies[0].vel = -sim.state.gravity * (0.5 * sim.dt());
     let total = |s: &crate::dem::Simulation| {
-        let (k, p, e) = s.energies();
+        let (k, p, e) = s.state.energies();
         k + p + e
     };
     let e0 = total(&sim);

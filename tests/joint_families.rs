@@ -26,7 +26,7 @@ fn families(l: &Layout) -> BTreeMap<JointFamily, usize> {
     let sim = Simulation::new(l, SolverParams::default());
     let mut out = BTreeMap::new();
     for c in &sim.state.contacts {
-        *out.entry(l.joint_family(c.a, c.b, &sim.contact_normal(c))).or_insert(0) += 1;
+        *out.entry(l.joint_family(c.a, c.b, &sim.state.contact_normal(c))).or_insert(0) += 1;
     }
     out
 }
@@ -44,7 +44,7 @@ fn the_presets_joints_are_classified_by_course_and_wedge() {
     // Every head joint of a regular wall is vertical, every bed joint horizontal.
     let sim = Simulation::new(&cbl, SolverParams::default());
     for c in sim.state.contacts.iter().filter(|c| c.a.is_some()) {
-        let n = sim.contact_normal(c);
+        let n = sim.state.contact_normal(c);
         match cbl.joint_family(c.a, c.b, &n) {
             JointFamily::Head => assert!(n.z.abs() < 1e-6, "{n:?}"),
             JointFamily::Bed => assert!(n.x.abs() < 1e-6 && n.y.abs() < 1e-6, "{n:?}"),

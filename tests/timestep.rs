@@ -23,7 +23,7 @@ fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
     let n = sim.state.bodies.len();
     let mut k = DMatrix::<f64>::zeros(6 * n, 6 * n);
     for c in &sim.state.contacts {
-        let nrm = sim.contact_normal(c);
+        let nrm = sim.state.contact_normal(c);
         let (t1, t2) = drystone::geometry::polygon::plane_basis(&nrm);
         for s in &c.subs {
             for &i in &s.nodes {

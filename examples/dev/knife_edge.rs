@@ -52,13 +52,13 @@ fn locked_in_shear(l: &drystone::layout::Layout) {
             },
         );
         for c in &sim.state.contacts {
-            let n = sim.contact_normal(c);
+            let n = sim.state.contact_normal(c);
             let fnorm: f64 = c.subs.iter().map(|s| s.state.normal).sum();
             let fs: drystone::Vec3 = c.subs.iter().map(|s| s.state.shear).sum();
             let fsn = (fs - n * n.dot(&fs)).norm();
             println!(
                 "block {block}: {} Fn {:.3} N, |Fs| {:.3} N, mobilised {:.4}, top rotation {:.3e} rad",
-                sim.joint_name(c),
+                sim.state.joint_name(c),
                 fnorm,
                 fsn,
                 fsn / (fnorm * c.joint.tan_phi),

@@ -475,36 +475,6 @@ impl Simulation {
         self.state.set_tilt(alpha);
     }
 
-    /// Table-frame positions of a node's two material points; see [`WallState::node_points`].
-    pub fn node_points(&self, c: &Contact, nd: &ContactNode) -> (Vec3, Vec3) {
-        self.state.node_points(c, nd)
-    }
-
-    /// Table-frame centroid of a sub-contact; see [`WallState::sub_centroid`].
-    pub fn sub_centroid(&self, c: &Contact, s: &SubContact) -> Vec3 {
-        self.state.sub_centroid(c, s)
-    }
-
-    /// Normal gaps at the three nodes of a sub-contact; see [`WallState::sub_gaps`].
-    pub fn sub_gaps(&self, c: &Contact, s: &SubContact) -> [f64; 3] {
-        self.state.sub_gaps(c, s)
-    }
-
-    /// Current unit normal of a contact; see [`WallState::contact_normal`].
-    pub fn contact_normal(&self, c: &Contact) -> Vec3 {
-        self.state.contact_normal(c)
-    }
-
-    /// Energy bookkeeping (kinetic, potential, elastic), J; see [`WallState::energies`].
-    pub fn energies(&self) -> (f64, f64, f64) {
-        self.state.energies()
-    }
-
-    /// Name of a contact's joint: `table/ID` or `ID_A/ID_B`.
-    pub fn joint_name(&self, c: &Contact) -> String {
-        self.state.joint_name(c)
-    }
-
     /// Switches the density scaling: rebuilds the inertial masses and the time step, and
     /// stops every body (velocities of a relaxation under one set of fictitious masses are a
     /// kick under another).

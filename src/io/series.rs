@@ -150,10 +150,10 @@ impl Recorder {
         }
         let mut subs = Vec::new();
         for (ci, c) in sim.state.contacts.iter().enumerate() {
-            let normal = sim.contact_normal(c);
+            let normal = sim.state.contact_normal(c);
             for s in &c.subs {
                 subs.push(RecordedSubContact {
-                    point: sim.sub_centroid(c, s),
+                    point: sim.state.sub_centroid(c, s),
                     normal,
                     normal_force_n: s.state.normal,
                     shear_n: s.state.shear,

@@ -81,10 +81,10 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
             continue; // not a load-carrying joint in the stable state
         }
         let (mut relative, mut open, mut slip, mut z) = (0.0f64, 0.0f64, 0.0f64, 0.0);
-        let n = failed.contact_normal(c);
+        let n = failed.state.contact_normal(c);
         for nd in &c.nodes {
-            let (a0, b0) = stable.node_points(c, nd);
-            let (a1, b1) = failed.node_points(c, nd);
+            let (a0, b0) = stable.state.node_points(c, nd);
+            let (a1, b1) = failed.state.node_points(c, nd);
             let dd = (b1 - a1) - (b0 - a0);
             let dn = dd.dot(&n);
             relative = relative.max(dd.norm());
@@ -143,7 +143,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         })
         .map(|m| {
             let kind = if m.slip > m.open { MechanismKind::Sliding } else { MechanismKind::Toppling };
-            (m.z, stable.joint_name(&stable.state.contacts[m.contact]), kind)
+            (m.z, stable.state.joint_name(&stable.state.contacts[m.contact]), kind)
         })
         .collect();
     joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));

@@ -222,7 +222,7 @@ fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, us
     let mut points: Vec<(Vec3, Vec3, f64, f64)> = Vec::new();
     let mut arms: Vec<(Vec3, Vec3, f64)> = Vec::new();
     for c in &sim.state.contacts {
-        let n = sim.contact_normal(c);
+        let n = sim.state.contact_normal(c);
         let np = c.joint.normal();
         // `tangent` is Kn for an open node (u ≤ 0).
         let stiffness = |u: f64| np.tangent(u).max(np.kn);
@@ -231,7 +231,7 @@ fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, us
         // Node arms and closures.
         arms.clear();
         for nd in &c.nodes {
-            let (pa, pb) = sim.node_points(c, nd);
+            let (pa, pb) = sim.state.node_points(c, nd);
             let rb = rb_mat * nd.on_b;
             let ra = ra_mat.map_or(Vec3::zeros(), |m| m * nd.on_a);
             arms.push((ra, rb, (pa - pb).dot(&n)));
