@@ -44,8 +44,13 @@
 //!
 //! The iteration ends at equilibrium (unbalanced-force ratio below the tolerance), when
 //! the protocol's check stops it (a collapse criterion), when the ratio grows tenfold
-//! (the state is then put back where the iteration started), or after
-//! [`ImplicitSolve::max_iterations`].
+//! (the state is then put back where the iteration started), when the ratio has not
+//! gone below 0.9 of its lowest value for [`ImplicitSolve::stall_window`] iterations, or
+//! after [`ImplicitSolve::max_iterations`]. A trial tilted past the collapse tilt has no
+//! equilibrium to converge to: its iterates wander with the ratio at 10–100 times the
+//! tolerance (the spring stiffness does not see the mechanism), and the stall rule hands
+//! it to dynamic relaxation, whose collapse criteria decide it, instead of spending the
+//! whole iteration budget.
 //!
 //! The sparse factorization is faer's simplicial Cholesky with an approximate minimum
 //! degree ordering, run sequentially; the simplicial factorization and the sparse
@@ -74,11 +79,19 @@ pub struct ImplicitSolve {
     /// Iterations between two factorizations of the stiffness when no contact is
     /// re-detected (default 32).
     pub refactor_every: u32,
+    /// Iterations without progress after which the iteration gives up and dynamic
+    /// relaxation takes over (default 100; see [`Unsolved::Stalled`]). Progress is an
+    /// unbalanced-force ratio below [`STALL_PROGRESS`] times the lowest one reached so far.
+    pub stall_window: u32,
 }
+
+/// The fraction of the lowest unbalanced-force ratio reached so far that an iterate must
+/// go below to count as progress ([`ImplicitSolve::stall_window`]).
+pub const STALL_PROGRESS: f64 = 0.9;
 
 impl Default for ImplicitSolve {
     fn default() -> Self {
-        ImplicitSolve { max_iterations: 1000, anderson_depth: 4, refactor_every: 32 }
+        ImplicitSolve { max_iterations: 1000, anderson_depth: 4, refactor_every: 32, stall_window: 100 }
     }
 }
 
@@ -97,6 +110,7 @@ impl ImplicitSolve {
             ),
             ("implicit_solve.anderson_depth", self.anderson_depth as f64, self.anderson_depth <= 50, "in [0, 50]"),
             ("implicit_solve.refactor_every", self.refactor_every as f64, self.refactor_every >= 1, ">= 1"),
+            ("implicit_solve.stall_window", self.stall_window as f64, self.stall_window >= 1, ">= 1"),
         ])
     }
 }
@@ -119,6 +133,11 @@ pub enum Unsolved {
     NoFreeBodies,
     /// [`ImplicitSolve::max_iterations`] ran out; the state is the last iterate.
     Budget,
+    /// No progress for [`ImplicitSolve::stall_window`] iterations: the iterates wander
+    /// with the unbalanced-force ratio far from the tolerance (a trial past the collapse
+    /// tilt, whose mechanism the spring stiffness cannot follow) or on a plateau just
+    /// above it; the state is the last iterate.
+    Stalled,
     /// The stiffness could not be assembled or factorized (the sparse Cholesky
     /// factorization's error, as faer gives it); the state is the last iterate.
     Factorization(String),
@@ -175,6 +194,7 @@ fn iterate<R>(
     let mut factor: Option<Factor> = None;
     let mut since = 0;
     let mut detections = sim.detections();
+    let (mut best, mut best_at) = (f64::INFINITY, 0);
     for it in 0..settings.max_iterations {
         let ratio = sim.stats().unbalanced_ratio;
         if !(ratio <= limit) {
@@ -183,6 +203,11 @@ fn iterate<R>(
         }
         if ratio < tol {
             return Solved::Equilibrium(it);
+        }
+        if ratio < STALL_PROGRESS * best {
+            (best, best_at) = (ratio, it);
+        } else if it - best_at >= settings.stall_window {
+            return Solved::Unsolved(Unsolved::Stalled, it);
         }
         if factor.is_none() || since >= settings.refactor_every || sim.detections() != detections {
             factor = match Factor::new(sim, &dofs) {
@@ -265,6 +290,20 @@ mod tests {
         let (a, b) = (&sim.state.bodies[0], &dynamic.state.bodies[0]);
         assert!((a.pos - b.pos).norm() < 1e-9, "{:?} against {:?}", a.pos, b.pos);
         assert!(a.rot.angle_to(&b.rot) < 1e-8);
+    }
+
+    /// Tilted past its friction angle (40° against φ 35°) a block has no equilibrium: the
+    /// iterates slide on with the ratio where it was, and the iteration gives up after the
+    /// stall window, not at the end of the budget.
+    #[test]
+    fn an_iteration_without_progress_stalls_before_the_budget() {
+        let mut sim = settled_block();
+        sim.set_tilt(40f64.to_radians());
+        let settings = ImplicitSolve { stall_window: 20, ..ImplicitSolve::default() };
+        let out = relax(&mut sim, 1e-9, &settings, |_| None::<()>);
+        let Solved::Unsolved(Unsolved::Stalled, it) = out else { panic!("{out:?}") };
+        assert!((20..100).contains(&it), "{it} iterations");
+        assert!(sim.stats().unbalanced_ratio > 1e-3);
     }
 
     /// The causes of no equilibrium are told apart: the iteration budget, and no free
