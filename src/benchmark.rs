@@ -6,7 +6,7 @@
 //! * `tilt`: tilting-table tests to collapse of generated walls, one after the other on one
 //!   thread.
 
-use crate::dem::{Simulation, SolverParams};
+use crate::dem::{Isa, Simulation, SolverParams};
 use crate::generator::{generate, GeneratorError, Wall};
 use crate::layout::{BaseSliding, Layout};
 use crate::loading::tilt::{run_tilt, TiltError, TiltParams};
@@ -50,14 +50,18 @@ pub struct BenchResult {
 }
 
 /// Runs `steps` steps of the cube under gravity and, separately, the settling from the
-/// first step to equilibrium (unbalanced-force ratio 1e-4).
-pub fn run_cube16(steps: u64, params: SolverParams) -> BenchResult {
+/// first step to equilibrium (unbalanced-force ratio 1e-4), with the step compiled for
+/// `isa` ([`Isa::best`] for the default step; an instruction set this CPU does not run
+/// falls back to the default).
+pub fn run_cube16(steps: u64, params: SolverParams, isa: Isa) -> BenchResult {
+    let isa = if isa.available() { isa } else { Isa::best() };
+    let step = |sim: &mut Simulation| sim.step_with(isa).expect("available").expect("cube16 is stable");
     let layout = cube16();
     let mut eq = Simulation::new(&layout, params);
     let t0 = Instant::now();
     let mut steps_to_eq = 0;
     for i in 1..=10_000_000u64 {
-        eq.step().expect("cube16 is stable");
+        step(&mut eq);
         if i > 10 && eq.stats().unbalanced_ratio < 1e-4 {
             steps_to_eq = i;
             break;
@@ -67,7 +71,7 @@ pub fn run_cube16(steps: u64, params: SolverParams) -> BenchResult {
     let mut sim = Simulation::new(&layout, params);
     let t0 = Instant::now();
     for _ in 0..steps {
-        sim.step().expect("cube16 is stable");
+        step(&mut sim);
     }
     let el = t0.elapsed().as_secs_f64();
     BenchResult {

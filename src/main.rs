@@ -255,6 +255,11 @@ enum Command {
         /// Without the implicit relaxation of the increments (`tilt`; for comparison).
         #[arg(long)]
         no_implicit: bool,
+        /// The step compiled for the baseline instruction set (x86-64: SSE2) instead of the
+        /// widest one this CPU runs (`cube16`; for comparison: the results are the same
+        /// bit for bit, only the speed differs).
+        #[arg(long)]
+        portable: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -360,20 +365,29 @@ fn run() -> anyhow::Result<ExitCode> {
             cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench { case, steps, wall, seed, realizations, no_predictor, no_acceleration, no_implicit, json } => {
-            match case.as_str() {
-                "tilt" => {
-                    let params = TiltParams {
-                        predictor: !no_predictor,
-                        accelerate: !no_acceleration,
-                        implicit: !no_implicit,
-                        ..TiltParams::default()
-                    };
-                    cli::bench::tilt(&wall, seed, realizations, &params, json)
-                }
-                "cube16" => cli::bench::cube16(steps, json),
-                _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
+        Command::Bench {
+            case,
+            steps,
+            wall,
+            seed,
+            realizations,
+            no_predictor,
+            no_acceleration,
+            no_implicit,
+            portable,
+            json,
+        } => match case.as_str() {
+            "tilt" => {
+                let params = TiltParams {
+                    predictor: !no_predictor,
+                    accelerate: !no_acceleration,
+                    implicit: !no_implicit,
+                    ..TiltParams::default()
+                };
+                cli::bench::tilt(&wall, seed, realizations, &params, json)
             }
-        }
+            "cube16" => cli::bench::cube16(steps, portable, json),
+            _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
+        },
     }
 }

@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Result};
 use drystone::benchmark::{run_cube16, run_tilt_bench, TiltRun};
-use drystone::dem::SolverParams;
+use drystone::dem::{Isa, SolverParams};
 use drystone::generator::{DistributionSource, Wall};
 use drystone::loading::tilt::TiltParams;
 use std::path::Path;
@@ -60,9 +60,11 @@ fn per_step(us: Option<f64>) -> String {
     us.map_or(String::new(), |v| format!(" ({v:.1} us/step)"))
 }
 
-/// `bench cube16`: `steps` engine steps of the 16-box cube, and its settling.
-pub fn cube16(steps: u64, json: bool) -> Result<ExitCode> {
-    let r = run_cube16(steps, SolverParams::default());
+/// `bench cube16`: `steps` engine steps of the 16-box cube, and its settling; with the
+/// step compiled for the baseline instruction set if `portable`.
+pub fn cube16(steps: u64, portable: bool, json: bool) -> Result<ExitCode> {
+    let isa = if portable { Isa::Portable } else { Isa::best() };
+    let r = run_cube16(steps, SolverParams::default(), isa);
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
