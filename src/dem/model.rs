@@ -1,7 +1,7 @@
 //! The model state of one simulation: what the wall is at an instant (bodies with their
 //! poses and velocities, contacts with their sub-contacts' joint history, the loads, the
 //! time), and the geometric questions it answers. The engine's derived data (forces,
-//! masses, time step, detection cache) live in its workspace ([`super::engine`]); the
+//! masses, time step, detection cache) live in its workspace ([`super::Simulation`]); the
 //! parameters in [`super::SolverParams`].
 
 use super::contact::forces::unit;

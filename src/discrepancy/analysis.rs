@@ -377,7 +377,7 @@ pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
 
 /// Calibrates the margins on `replicates` null data sets drawn from `source` (seeded by
 /// `seed`, `Purpose::Discrepancy`, one stream per replicate): the gain and misfit margins
-/// together ([`joint_margins`]).
+/// together (`joint_margins`).
 pub fn calibrate_margins(
     lib: &Library,
     data0: Data<'_>,

@@ -1,5 +1,5 @@
 //! Files at the edges of the pipeline. Generated walls: VTK for ParaView ([`vtk`]) and SVG
-//! drawings ([`svg`]).
+//! drawings (`svg`).
 //!
 //! # Writing files
 //!
@@ -13,7 +13,7 @@ pub mod measured;
 pub mod mechanism;
 pub mod plot;
 pub mod series;
-pub mod svg;
+pub(crate) mod svg;
 pub mod table;
 pub mod vtk;
 

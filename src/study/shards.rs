@@ -8,18 +8,18 @@
 //!
 //! - One writer: every command that writes the directory holds its lock
 //!   ([`lock`](super::lock)) from before its first write to its end.
-//! - `journal.jsonl` ([`journal`](crate::ensemble::journal)) gets every finished item at
+//! - `journal.jsonl` ([`crate::ensemble::journal`]) gets every finished item at
 //!   once, synced, each line with the run's identity ([`Manifest::identity`]) and its own
 //!   checksum: a crash loses no finished item. [`run_into`] with `resume` checks every line
 //!   and row before running anything, runs only the items the journal lacks, and the
 //!   outputs are byte for byte those of a run that was never interrupted, except the
 //!   `wall_time_s` column.
 //! - The tables, the summary, the report and the plots are one set
-//!   ([`outputs`](super::outputs)): staged, moved in, and completed by `manifest.json`,
+//!   ([`super::outputs`]): staged, moved in, and completed by `manifest.json`,
 //!   written last with the SHA-256 of every output.
 //! - The manifest records the drystone version and build, the master seed, the
 //!   realizations, the shard, and every input file (study, walls, distributions, measured
-//!   data) with its SHA-256 and its text ([`provenance`](super::provenance)). A resume and
+//!   data) with its SHA-256 and its text ([`super::provenance`]). A resume and
 //!   a merge refuse what disagrees on any of them, naming the field and both values; merge
 //!   rebuilds the study from the stored texts, not from the study file, and checks every
 //!   row against its items.
@@ -64,7 +64,7 @@ pub struct Manifest {
     #[serde(default)]
     pub inputs: Vec<InputFile>,
     /// The outputs of the set this manifest completes, with their SHA-256
-    /// ([`outputs`](super::outputs)); empty in a journal header.
+    /// ([`super::outputs`]); empty in a journal header.
     #[serde(default)]
     pub outputs: Vec<OutputFile>,
 }

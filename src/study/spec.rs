@@ -51,7 +51,7 @@ pub struct StudySpec {
     /// Groups (≥ 1).
     pub groups: Vec<GroupSpec>,
     /// Sweep: key → values; every combination is a point (keys in sorted order, the last
-    /// varying fastest). Keys: [`SweepKey`](super::SweepKey).
+    /// varying fastest). Keys: [`super::SweepKey`].
     #[serde(default)]
     pub sweep: BTreeMap<String, Vec<toml::Value>>,
     /// Measured data.

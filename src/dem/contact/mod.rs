@@ -1,6 +1,6 @@
 //! Contacts: narrow-phase geometry, the contact types and the joint law.
 
-pub mod forces;
+pub(crate) mod forces;
 pub mod geometry;
 pub mod law;
 pub mod types;

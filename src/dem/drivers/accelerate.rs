@@ -158,7 +158,7 @@ impl Accelerator {
     /// along the motion of the last window, at rest ([`Simulation::predict`], the joints
     /// following a straight path from the state), by travels whose largest body motion
     /// (centroid translation plus rotation times the body's radius) is `reach · 2^-k`, `k`
-    /// = [`PROBE_HALVINGS`] … 0, and reads the out-of-balance force and moment along the
+    /// = `PROBE_HALVINGS` … 0, and reads the out-of-balance force and moment along the
     /// motion (`Δx·g`, the work-conjugate pairs) at each. `reach` in m, and at most
     /// `max_windows` windows of motion. Leaves `sim` unchanged.
     pub fn probe(&self, sim: &Simulation, reach: f64, max_windows: f64) -> Ahead {

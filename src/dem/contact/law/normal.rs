@@ -321,7 +321,7 @@ fn nonlinear_moments(p: &NormalParams, u: [f64; 3], area: f64, tension: bool) ->
 
 /// Elastic energy stored in the normal closure of a sub-contact, J: `∫ W(u₊) dA` over the
 /// compressed part, with `W` the law's energy density ([`NormalParams::energy_density`]).
-/// Exact for the linear law (`∫ q₊² / (2 Kn) dA`); by [`level_integrals`] otherwise.
+/// Exact for the linear law (`∫ q₊² / (2 Kn) dA`); by `level_integrals` otherwise.
 pub fn energy(p: &NormalParams, u: [f64; 3], area: f64) -> f64 {
     match p.closure {
         Closure::Linear => squared_compressed(u.map(|v| p.kn * v), area) / (2.0 * p.kn),
