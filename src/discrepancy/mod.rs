@@ -601,6 +601,42 @@ pub fn prepare(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
+/// A small analysis that runs in seconds: the test bed's two small walls, four collapse
+/// angles read to 0.25° per group, one candidate effect and small ensembles (too small
+/// for a verdict to mean much; the defaults are in [`Settings`]):
+///
+/// ```
+/// use drystone::discrepancy::observations::{Observable, Observation};
+/// use drystone::study::{discrepancy::setup_of, Study};
+///
+/// let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/discrepancy/study.toml");
+/// let study = Study::from_file(std::path::Path::new(file))?;
+/// let mut s = study.discrepancy.clone();
+/// (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
+/// (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (2, 20, 20, 100);
+/// s.effects = vec!["initial_lean".into()];
+/// (s.scatter, s.confirm) = (false, false);
+/// let reading = |group: &str, i: usize, deg: f64| Observation {
+///     specimen: format!("{group}{i}"),
+///     group: group.into(),
+///     observable: Observable::CollapseAngle,
+///     value: deg,
+///     sigma: s.sigma.angle_deg,
+/// };
+/// let mut obs = Vec::new();
+/// for (i, (free, held)) in [(26.0, 33.5), (25.75, 34.0), (26.25, 33.0), (25.5, 34.5)].into_iter().enumerate() {
+///     obs.push(reading("FREE", i, free));
+///     obs.push(reading("HELD", i, held));
+/// }
+/// let setup = setup_of(&study, s.most_realizations());
+/// let run = drystone::discrepancy::run(&setup, obs, &s, study.seed, &study.library)?;
+/// let a = &run.analysis;
+/// assert!(["explained", "no_effect", "unexplained"].contains(&a.verdict.name()));
+/// assert_eq!(run.baseline[0].len(), 3); // the baseline's full run: 3 realizations per group
+/// assert!(a.baseline_heldout_error.is_finite());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// # Errors
 /// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
 /// entirely.
