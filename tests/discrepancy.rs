@@ -229,4 +229,13 @@ parameter = "psi"
     let bad = text.replace("kind = \"lean\"", "kind = \"tilt\"");
     let e = EffectDef::from_toml(&bad, Path::new("bad.toml")).unwrap_err().to_string();
     assert!(e.contains("bad.toml") && e.contains("tilt"), "{e}");
+    // A closure step takes the laws of one length parameter by their layout-file names.
+    let closure = |law: &str| {
+        text.replace("unit = \"deg\"", "unit = \"m\"")
+            .replace("max = 3.0", "max = 0.002")
+            .replace("kind = \"lean\"", &format!("kind = \"closure\"\nlaw = \"{law}\""))
+    };
+    assert!(EffectDef::from_toml(&closure("seating"), Path::new("ok.toml")).is_ok());
+    let e = EffectDef::from_toml(&closure("bandis"), Path::new("bad.toml")).unwrap_err().to_string();
+    assert!(e.contains("bad.toml") && e.contains("steps[0].law") && e.contains("hyperbolic, seating"), "{e}");
 }

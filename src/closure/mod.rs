@@ -14,7 +14,9 @@
 //!
 //! 1. A file in this folder with the law's struct (its parameters, with their units in
 //!    their serde keys) and its [`ClosureLaw`] implementation, with the law's source.
-//! 2. A variant of [`Closure`] and its arm in the `each_law!` dispatch beside it.
+//! 2. A variant of [`Closure`] and its arm in the `each_law!` dispatch beside it (and, for
+//!    a law of one length parameter, in [`Closure::with_length`], which the discrepancy
+//!    effects' `closure` steps name it by).
 //! 3. Its line in `dem::contact::law::contract::representative_laws`, which runs the
 //!    joint-law contract over it (the list fails to compile until the variant is in it).
 //!
@@ -125,6 +127,23 @@ macro_rules! each_law {
 }
 
 impl Closure {
+    /// The law named `name` in files whose one length parameter (m; a hyperbolic law's
+    /// maximum closure Vm, a seating law's largest initial gap g₀) is `v`; `None` for a
+    /// name that is not such a law. What an effect's `closure` step sets.
+    pub fn with_length(name: &str, v: f64) -> Option<Closure> {
+        Closure::length_laws(v).into_iter().find(|c| c.name() == name)
+    }
+
+    /// The names of the laws [`Closure::with_length`] knows.
+    pub fn length_law_names() -> Vec<&'static str> {
+        Closure::length_laws(0.0).iter().map(Closure::name).collect()
+    }
+
+    /// Every law of one length parameter, at `v` (m).
+    fn length_laws(v: f64) -> [Closure; 2] {
+        [Closure::Hyperbolic(Hyperbolic { max_closure_m: v }), Closure::Seating(Seating { max_gap_m: v })]
+    }
+
     /// The linear law.
     pub fn is_linear(&self) -> bool {
         *self == Closure::Linear

@@ -1,6 +1,6 @@
 //! The built-in effect library, written as [`EffectDef`]s like a user's own.
 
-use super::{ClosureLaw, EffectDef, ParamDef, Property, Scale, Step};
+use super::{EffectDef, ParamDef, Property, Scale, Step};
 use crate::layout::JointFamily;
 
 fn param(name: &str, unit: &str, min: f64, max: f64, scale: Scale, neutral: f64, per_course: bool) -> ParamDef {
@@ -51,7 +51,7 @@ pub fn builtin() -> Vec<EffectDef> {
             ],
             vec![
                 Step::JointFactor { family: None, property: Property::Kn, parameter: "initial_stiffness_ratio".into() },
-                Step::Closure { family: None, law: ClosureLaw::Hyperbolic, parameter: "max_closure_m".into() },
+                Step::Closure { family: None, law: "hyperbolic".into(), parameter: "max_closure_m".into() },
             ],
         ),
         def(
@@ -59,7 +59,7 @@ pub fn builtin() -> Vec<EffectDef> {
             "uneven beds: initial gaps up to g0 that close under load",
             "uneven beds of hand-placed stones; uniform asperity heights (Greenwood & Williamson 1966)",
             vec![param("max_gap_m", "m", 0.0, 3e-3, Scale::Linear, 0.0, true)],
-            vec![Step::Closure { family: None, law: ClosureLaw::Seating, parameter: "max_gap_m".into() }],
+            vec![Step::Closure { family: None, law: "seating".into(), parameter: "max_gap_m".into() }],
         ),
         def(
             "initial_lean",

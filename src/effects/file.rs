@@ -25,6 +25,7 @@
 //! `transverse_dip` take degrees, `rounding` m, `restraint_spring` N/m per block.
 
 use super::{EffectDef, Scale, Step};
+use crate::closure::Closure;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -139,6 +140,17 @@ impl EffectDef {
                     format!("steps[{i}]"),
                     "a factor or a stiffness needs a parameter range above 0".into(),
                 ));
+            }
+            if let Step::Closure { law, .. } = s {
+                if Closure::with_length(law, 1e-3).is_none() {
+                    return Err(bad(
+                        format!("steps[{i}].law"),
+                        format!(
+                            "`{law}` is not a closure law with a length parameter ({})",
+                            Closure::length_law_names().join(", ")
+                        ),
+                    ));
+                }
             }
             if matches!(s, Step::Closure { .. } | Step::Rounding { .. }) && p.0 < 0.0 {
                 return Err(bad(format!("steps[{i}]"), "a length needs a parameter range at or above 0".into()));

@@ -40,7 +40,7 @@ pub mod geometry;
 pub use builtin::builtin;
 pub use file::EffectFileError;
 
-use crate::closure::{Closure, Hyperbolic, Seating};
+use crate::closure::Closure;
 use crate::generator::{generate, GeneratedWall, Wall};
 use crate::layout::{EndRestraint, FamilyJoint, JointFamily, Layout};
 use rand_chacha::ChaCha8Rng;
@@ -134,16 +134,6 @@ pub enum Property {
     Cohesion,
 }
 
-/// A closure law a [`Step::Closure`] sets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ClosureLaw {
-    /// Hyperbolic closure; the parameter is Vm, m.
-    Hyperbolic,
-    /// Seating; the parameter is g₀, m.
-    Seating,
-}
-
 /// One primitive of the model, driven by a parameter of the effect (named in files by
 /// `parameter`; held as its index once checked).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -165,8 +155,9 @@ pub enum Step {
         /// The family; absent: every joint.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         family: Option<JointFamily>,
-        /// The law.
-        law: ClosureLaw,
+        /// The law, by its name in files (`hyperbolic`, `seating`: a law of
+        /// [`Closure::with_length`]).
+        law: String,
         /// The parameter giving Vm or g₀, m.
         parameter: String,
     },
@@ -307,6 +298,16 @@ pub enum EffectError {
         block: String,
         /// What failed.
         reason: crate::geometry::GeometryError,
+    },
+    /// A `closure` step names a law that is not a closure law of one length parameter.
+    #[error("effect `{effect}`: `{law}` is not a closure law with a length parameter (known: {known})")]
+    UnknownLaw {
+        /// The effect.
+        effect: String,
+        /// The name given.
+        law: String,
+        /// The known names.
+        known: String,
     },
     /// The effect acts on a joint family the wall does not have.
     #[error("effect `{effect}` acts on the {family} joints, which this wall does not have")]
@@ -518,10 +519,11 @@ impl Effect {
             match step {
                 Step::JointFactor { family, property, .. } => joint_factor(layout, *family, *property, v),
                 Step::Closure { family, law, .. } => {
-                    let c = match law {
-                        ClosureLaw::Hyperbolic => Closure::Hyperbolic(Hyperbolic { max_closure_m: v }),
-                        ClosureLaw::Seating => Closure::Seating(Seating { max_gap_m: v }),
-                    };
+                    let c = Closure::with_length(law, v).ok_or_else(|| EffectError::UnknownLaw {
+                        effect: self.def.name.clone(),
+                        law: law.clone(),
+                        known: Closure::length_law_names().join(", "),
+                    })?;
                     // A gap of zero is the linear law (the neutral value).
                     let c = if v > 0.0 { c } else { Closure::Linear };
                     set_closure(layout, *family, c);
