@@ -704,3 +704,50 @@ pub fn run_tilt_observed(
         scalar_fallbacks_deg: fallbacks,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::UnitQuaternion;
+
+    /// A secant path of one body moving `rate(k)` m per degree (along y) and turning by a
+    /// tenth of that in rad per degree about x, at the tilts of `alphas`.
+    fn path(alphas: &[f64], rate: impl Fn(usize) -> f64) -> Secant {
+        let mut s = Secant::default();
+        let (mut y, mut turn) = (0.0, 0.0);
+        for (k, &a) in alphas.iter().enumerate() {
+            if k > 0 {
+                let d = rate(k) * (a - alphas[k - 1]);
+                y += d;
+                turn += 0.1 * d;
+            }
+            let pose = (Vec3::new(0.0, y, 0.0), UnitQuaternion::from_scaled_axis(Vec3::new(turn, 0.0, 0.0)));
+            s.states.push((a, vec![pose]));
+        }
+        s
+    }
+
+    /// A linear response is extrapolated linearly: the last increment's motion scaled to
+    /// the new step, translation and rotation alike; fewer than three states give nothing.
+    #[test]
+    fn the_predictor_extrapolates_a_linear_response() {
+        assert!(path(&[0.0, 0.5], |_| 1e-4).predict(1.0).is_none());
+        let (dpos, drot) = path(&[0.0, 0.5, 1.0], |_| 1e-4).predict(1.25).unwrap();
+        assert!((dpos[0] - Vec3::new(0.0, 0.25e-4, 0.0)).norm() < 1e-15, "{:?}", dpos[0]);
+        assert!((drot[0] - Vec3::new(0.25e-5, 0.0, 0.0)).norm() < 1e-15, "{:?}", drot[0]);
+    }
+
+    /// A steadily accelerating response (a wall approaching its limit point) is
+    /// extrapolated; a sudden jump of the rate after a steady one (a local slip) is not,
+    /// nor is a jump beyond the accelerating ratio.
+    #[test]
+    fn the_predictor_refuses_a_sudden_jump_of_the_rate() {
+        let alphas = [0.0, 0.5, 1.0, 1.5];
+        let accelerating = path(&alphas, |k| 1e-4 * 2f64.powi(k as i32));
+        assert!(accelerating.predict(2.0).is_some());
+        let slip = path(&alphas, |k| if k == 3 { 3e-4 } else { 1e-4 });
+        assert!(slip.predict(2.0).is_none());
+        let runaway = path(&alphas, |k| if k == 3 { 1e-3 } else { 1e-4 * 1.1f64.powi(k as i32) });
+        assert!(runaway.predict(2.0).is_none());
+    }
+}

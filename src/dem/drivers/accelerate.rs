@@ -307,3 +307,69 @@ impl Accelerator {
         Creep::Jumped
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::{RunToEquilibrium, SolverParams};
+    use crate::layout::BaseSliding;
+    use crate::verify::{box_vertices, layout_of};
+
+    /// A block 0.3 × 0.2 × 0.1 m (φ 35°) settled on the table, then tilted by `deg`.
+    fn block_tilted(deg: f64) -> Simulation {
+        let l = layout_of(vec![box_vertices([0.0, -0.1, 0.0], [0.3, 0.1, 0.1])], 1e8, 5e7, 35.0, BaseSliding::Free);
+        let mut sim = Simulation::new(&l, SolverParams::default());
+        assert!(sim.run_to_equilibrium(1e-9, 400_000).unwrap());
+        sim.set_tilt(deg.to_radians());
+        sim
+    }
+
+    /// At least `steps` steps of dynamic relaxation observed by an accelerator with windows
+    /// of 16 steps, ending on a window with a motion; the accelerator and what it said at
+    /// each window.
+    fn observe_steps(sim: &mut Simulation, steps: u64) -> (Accelerator, Vec<Creep>) {
+        let settings = SecantAcceleration { warmup: 16, window: 16, ..SecantAcceleration::default() };
+        let mut acc = Accelerator::new(settings);
+        let mut said = Vec::new();
+        // Until a window boundary that did not jump (a jump forgets the motion).
+        for k in 1..=steps + 160 {
+            sim.step().unwrap();
+            let c = acc.observe(sim, k);
+            if k >= 16 && (k - 16) % 16 == 0 {
+                said.push(c);
+                if k >= steps && acc.last_motion().is_some() {
+                    break;
+                }
+            }
+        }
+        (acc, said)
+    }
+
+    /// Past its friction angle (40° against 35°) the block slides: once the joint's shear
+    /// has reached its Coulomb limit, the probe finds the out-of-balance force pushing it
+    /// along its motion over the whole reach, so no equilibrium lies near the path, and
+    /// the indicator does not fire (the force along the motion does not grow: a slide at
+    /// constant friction, not a softening mechanism).
+    #[test]
+    fn a_sliding_block_has_no_equilibrium_ahead() {
+        let mut sim = block_tilted(40.0);
+        let (acc, said) = observe_steps(&mut sim, 480);
+        assert!(!said.contains(&Creep::Unstable), "{said:?}");
+        let (dpos, _) = acc.last_motion().unwrap();
+        assert!(dpos[0].y > 0.0, "the block slides down the table (+y): {:?}", dpos[0]);
+        assert_eq!(acc.probe(&sim, 0.01, 1e6), Ahead::NoEquilibrium);
+    }
+
+    /// Below its friction and toppling limits (20°) the block, released from its state at
+    /// 0°, moves elastically towards its new equilibrium: the probe along that motion finds
+    /// the force turning against it within the elastic shear of the joint (Ks = 5e7 Pa/m,
+    /// under 0.1 mm), not after the 10 mm reach.
+    #[test]
+    fn a_stable_block_has_an_equilibrium_ahead() {
+        let mut sim = block_tilted(20.0);
+        let (acc, said) = observe_steps(&mut sim, 48);
+        assert!(!said.contains(&Creep::Unstable), "{said:?}");
+        let Ahead::Equilibrium(dpos, drot) = acc.probe(&sim, 0.01, 1e6) else { panic!("no equilibrium ahead") };
+        assert!(dpos[0].norm() + drot[0].norm() * sim.state.bodies[0].radius < 1e-4, "{:?}", dpos[0]);
+    }
+}
