@@ -35,8 +35,8 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::drivers::accelerate::SecantAcceleration;
-use crate::dem::drivers::implicit::{self, ImplicitSolve, Solved};
+use crate::dem::drivers::accelerate::{probe_along, Ahead, SecantAcceleration};
+use crate::dem::drivers::implicit::{self, ImplicitSolve, Solved, Unsolved};
 use crate::dem::drivers::relax::{relax, relax_probed, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
 use crate::layout::Layout;
@@ -355,6 +355,24 @@ impl Ctx<'_> {
             match implicit::relax(sim, self.params.tolerance, &self.params.implicit_solve, &check) {
                 Solved::Equilibrium(it) => return Ok((Stage::Stable, 0, it)),
                 Solved::Stopped(reason, it) => return Ok((Stage::Collapsed(reason), 0, it)),
+                Solved::Unsolved(Unsolved::Stalled, it) => {
+                    iterations = it;
+                    // The iterates drifted from the start without finding an equilibrium:
+                    // if the out-of-balance force pushes the wall along that drift all the
+                    // way to the collapse displacement, no equilibrium lies near the path.
+                    let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = sim
+                        .state
+                        .bodies
+                        .iter()
+                        .zip(&start)
+                        .map(|(b, (x0, q0))| (b.pos - x0, (b.rot * q0.inverse()).scaled_axis()))
+                        .unzip();
+                    let reach = (inc_limit - largest_motion(sim, &start)).max(0.0);
+                    if probe_along(sim, &dpos, &drot, reach, f64::INFINITY) == Ahead::NoEquilibrium {
+                        extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
+                        return Ok((Stage::Collapsed(CollapseReason::NegativeStiffness), 0, it));
+                    }
+                }
                 Solved::Unsolved(_, it) => iterations = it,
             }
         }

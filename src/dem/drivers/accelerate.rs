@@ -128,6 +128,58 @@ const PROBE_HALVINGS: i32 = 12;
 /// the motion and the first that did not.
 const PROBE_BISECTIONS: u32 = 10;
 
+/// [`Accelerator::probe`] along a given motion `(dpos, drot)` (per body: translation, m;
+/// rotation vector, rad; table frame) instead of the last window's: travels `t` of it whose
+/// largest body motion is `reach · 2^-k` (m), `t` at most `max_windows`. Leaves `sim`
+/// unchanged.
+pub fn probe_along(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3], reach: f64, max_windows: f64) -> Ahead {
+    let per_unit = sim
+        .state
+        .bodies
+        .iter()
+        .zip(dpos.iter().zip(drot))
+        .filter(|(b, _)| !b.fixed)
+        .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
+        .fold(0.0, f64::max);
+    if !(per_unit > 0.0 && reach > 0.0) {
+        return Ahead::NoEquilibrium;
+    }
+    let scaled = |v: &[Vec3], t: f64| v.iter().map(|x| x * t).collect::<Vec<_>>();
+    let pushes = |t: f64| {
+        let mut trial = sim.clone();
+        trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
+        trial.assess_predicted();
+        let along: f64 = (0..trial.state.bodies.len())
+            .map(|i| {
+                let (f, m) = trial.unbalanced(i);
+                f.dot(&dpos[i]) + m.dot(&drot[i])
+            })
+            .sum();
+        along > 0.0
+    };
+    let mut last_pushing = 0.0;
+    let t_max = (reach / per_unit).min(max_windows);
+    for k in (0..=PROBE_HALVINGS).rev() {
+        let t = t_max * 0.5f64.powi(k);
+        if !pushes(t) {
+            // The equilibrium lies between the last probe that pushed and this one:
+            // narrow it down to an eighth of a percent of the interval.
+            let mut hi = t;
+            for _ in 0..PROBE_BISECTIONS {
+                let mid = 0.5 * (last_pushing + hi);
+                if pushes(mid) {
+                    last_pushing = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return Ahead::Equilibrium(scaled(&dpos, last_pushing), scaled(&drot, last_pushing));
+        }
+        last_pushing = t;
+    }
+    Ahead::NoEquilibrium
+}
+
 /// The accelerator's memory within one relaxation.
 #[derive(Debug, Clone)]
 pub struct Accelerator {
@@ -163,51 +215,7 @@ impl Accelerator {
     /// `max_windows` windows of motion. Leaves `sim` unchanged.
     pub fn probe(&self, sim: &Simulation, reach: f64, max_windows: f64) -> Ahead {
         let Some((dpos, drot)) = self.last_motion() else { return Ahead::NoEquilibrium };
-        let per_unit = sim
-            .state
-            .bodies
-            .iter()
-            .zip(dpos.iter().zip(&drot))
-            .filter(|(b, _)| !b.fixed)
-            .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
-            .fold(0.0, f64::max);
-        if !(per_unit > 0.0 && reach > 0.0) {
-            return Ahead::NoEquilibrium;
-        }
-        let scaled = |v: &[Vec3], t: f64| v.iter().map(|x| x * t).collect::<Vec<_>>();
-        let pushes = |t: f64| {
-            let mut trial = sim.clone();
-            trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
-            trial.assess_predicted();
-            let along: f64 = (0..trial.state.bodies.len())
-                .map(|i| {
-                    let (f, m) = trial.unbalanced(i);
-                    f.dot(&dpos[i]) + m.dot(&drot[i])
-                })
-                .sum();
-            along > 0.0
-        };
-        let mut last_pushing = 0.0;
-        let t_max = (reach / per_unit).min(max_windows);
-        for k in (0..=PROBE_HALVINGS).rev() {
-            let t = t_max * 0.5f64.powi(k);
-            if !pushes(t) {
-                // The equilibrium lies between the last probe that pushed and this one:
-                // narrow it down to an eighth of a percent of the interval.
-                let mut hi = t;
-                for _ in 0..PROBE_BISECTIONS {
-                    let mid = 0.5 * (last_pushing + hi);
-                    if pushes(mid) {
-                        last_pushing = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                return Ahead::Equilibrium(scaled(&dpos, last_pushing), scaled(&drot, last_pushing));
-            }
-            last_pushing = t;
-        }
-        Ahead::NoEquilibrium
+        probe_along(sim, &dpos, &drot, reach, max_windows)
     }
 
     /// Whether the last window moved the way of the one before, pushed by the
