@@ -35,7 +35,7 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::drivers::accelerate::{probe_along, Ahead, SecantAcceleration};
+use crate::dem::drivers::accelerate::{largest_body_motion, probe_along, Ahead, SecantAcceleration};
 use crate::dem::drivers::implicit::{self, ImplicitSolve, Solved, Unsolved};
 use crate::dem::drivers::relax::{relax, relax_probed, Relaxed};
 use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
@@ -505,14 +505,7 @@ impl StablePath {
 /// which would read as sliding).
 fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
     let now = largest_motion(sim, start);
-    let per_unit = sim
-        .state
-        .bodies
-        .iter()
-        .zip(dpos.iter().zip(drot))
-        .filter(|(b, _)| !b.fixed)
-        .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
-        .fold(0.0, f64::max);
+    let per_unit = largest_body_motion(sim, dpos, drot);
     let scale = (limit - now).max(0.0) / per_unit;
     if dpos.len() != sim.state.bodies.len() || !(scale.is_finite() && scale > 0.0) {
         return;

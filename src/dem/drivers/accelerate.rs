@@ -128,19 +128,25 @@ const PROBE_HALVINGS: i32 = 12;
 /// the motion and the first that did not.
 const PROBE_BISECTIONS: u32 = 10;
 
-/// [`Accelerator::probe`] along a given motion `(dpos, drot)` (per body: translation, m;
-/// rotation vector, rad; table frame) instead of the last window's: travels `t` of it whose
-/// largest body motion is `reach · 2^-k` (m), `t` at most `max_windows`. Leaves `sim`
-/// unchanged.
-pub fn probe_along(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3], reach: f64, max_windows: f64) -> Ahead {
-    let per_unit = sim
-        .state
+/// The largest motion of a free body of `sim` under the pose increment `(dpos, drot)` (per
+/// body: translation, m; rotation vector, rad): centroid translation plus rotation times
+/// the body's radius, m.
+pub fn largest_body_motion(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3]) -> f64 {
+    sim.state
         .bodies
         .iter()
         .zip(dpos.iter().zip(drot))
         .filter(|(b, _)| !b.fixed)
         .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
-        .fold(0.0, f64::max);
+        .fold(0.0, f64::max)
+}
+
+/// [`Accelerator::probe`] along a given motion `(dpos, drot)` (per body: translation, m;
+/// rotation vector, rad; table frame) instead of the last window's: travels `t` of it whose
+/// largest body motion is `reach · 2^-k` (m), `t` at most `max_windows`. Leaves `sim`
+/// unchanged.
+pub fn probe_along(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3], reach: f64, max_windows: f64) -> Ahead {
+    let per_unit = largest_body_motion(sim, dpos, drot);
     if !(per_unit > 0.0 && reach > 0.0) {
         return Ahead::NoEquilibrium;
     }
