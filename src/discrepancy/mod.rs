@@ -110,6 +110,18 @@ impl Default for Settings {
     }
 }
 
+/// A fitted parameter of the named cause: `effect.param`, its value and its interval (in
+/// the parameter's unit; see [`crate::effects::ParamDef`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FittedParameter {
+    /// `effect.param`.
+    pub name: String,
+    /// The fitted value.
+    pub value: f64,
+    /// The interval (lower, upper).
+    pub interval: (f64, f64),
+}
+
 /// Errors of a discrepancy analysis.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -461,7 +473,7 @@ pub struct Run {
     /// Width of a simulated collapse angle's bracket, degrees (the study's resolution).
     pub bracket_deg: f64,
     /// The cause's parameters: `effect.param`, fitted value and 95 % profile interval.
-    pub cause_interval: Vec<crate::study::extend::FittedParameter>,
+    pub cause_interval: Vec<FittedParameter>,
     /// The measurement σ the data show (collapse angles in degrees, displacements in cm),
     /// each with its degrees of freedom, where the data allow an estimate
     /// ([`observations::measurement_sigma`]). The analysis uses the larger of it and the
@@ -870,7 +882,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
             b.parameters
                 .iter()
                 .zip(c.params.iter().zip(iv))
-                .map(|((name, value), (p, (lo, hi)))| crate::study::extend::FittedParameter {
+                .map(|((name, value), (p, (lo, hi)))| FittedParameter {
                     name: name.clone(),
                     value: *value,
                     interval: (to_value(p, lo), to_value(p, hi)),

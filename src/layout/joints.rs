@@ -19,8 +19,7 @@
 //! combination of two materials, for the others). A layout without `joint_families` is the
 //! default rule throughout.
 
-use super::resolve::invalid;
-use super::{Closure, Layout, LayoutError, STIFFNESS_RANGE_PA_PER_M};
+use super::{invalid, Closure, Layout, LayoutError, STIFFNESS_RANGE_PA_PER_M};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 

@@ -421,6 +421,11 @@ impl Layout {
     }
 }
 
+/// A [`LayoutError::Invalid`] for `key` with its `value` and the `reason`.
+fn invalid(key: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> LayoutError {
+    LayoutError::Invalid { key: key.into(), value: value.to_string(), reason: reason.into() }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,10 +6,6 @@ use super::*;
 use crate::units::deg_to_rad;
 use std::collections::BTreeMap;
 
-pub(super) fn invalid(key: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> LayoutError {
-    LayoutError::Invalid { key: key.into(), value: value.to_string(), reason: reason.into() }
-}
-
 fn check_positive(key: String, v: f64) -> Result<f64, LayoutError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)

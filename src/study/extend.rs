@@ -23,16 +23,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// A fitted parameter: `effect.param`, its value and its interval.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct FittedParameter {
-    /// `effect.param`.
-    pub name: String,
-    /// The fitted value.
-    pub value: f64,
-    /// The interval (lower, upper).
-    pub interval: (f64, f64),
-}
+pub use crate::discrepancy::FittedParameter;
 
 /// Errors of writing the extended study.
 #[derive(Debug, thiserror::Error)]
