@@ -9,7 +9,8 @@
 //! ```
 //!
 //! Prints, per class, how often the answer is right (the effect, or a tie containing it),
-//! `unexplained`, `no_effect`, or a wrong cause, with the Clopper–Pearson interval of the
+//! and of those how often the named cause is itself the effect (or one of the effects a class
+//! accepts), `unexplained`, `no_effect`, or a wrong cause, with the Clopper–Pearson interval of the
 //! rate that matters.
 
 #[path = "../tests/realwalls/mod.rs"]
@@ -112,7 +113,8 @@ fn main() {
         }
         jobs.extend((first_set..first_set + per).map(|i| (e, c + 1, i)));
     }
-    let answers: Vec<(Edit, Answer, String)> = jobs
+    // (edit, answer, the named cause itself is the hidden effect or one of its members, line)
+    let answers: Vec<(Edit, Answer, bool, String)> = jobs
         .iter()
         .map(|&(e, c, i)| {
             let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
@@ -121,6 +123,7 @@ fn main() {
             let a = &run.analysis;
             let cause = a.cause.as_ref().map(|c| c.name.clone());
             let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
+            let first = cause.as_deref().is_some_and(|c| c.split('+').all(|m| realwalls::expected(e).contains(&m)));
             let m = &a.margins;
             let gain = a.candidates.first().map_or(0.0, |b| a.baseline_heldout_error - b.heldout_error);
             let missed = a.check.as_ref().map(|c| c.missed.clone()).unwrap_or_default();
@@ -174,22 +177,24 @@ fn main() {
                     );
                 }
             }
-            (e, got, what)
+            (e, got, first, what)
         })
         .collect();
-    println!("| data | sets | right (alone or in a tie) | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
-    println!("| --- | --- | --- | --- | --- | --- | --- |");
+    println!("| data | sets | right (alone or in a tie) | of which the named cause itself | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
     for e in std::iter::once(Edit::None).chain(classes()) {
-        let v: Vec<&Answer> = answers.iter().filter(|(x, _, _)| *x == e).map(|(_, a, _)| a).collect();
+        let v: Vec<&Answer> = answers.iter().filter(|(x, ..)| *x == e).map(|(_, a, ..)| a).collect();
+        let first = answers.iter().filter(|(x, a, f, _)| *x == e && *a == Answer::Right && *f).count();
         let c = |a: Answer| v.iter().filter(|x| ***x == a).count();
         let n = v.len();
         let (k, what) =
             if e == Edit::None { (n - c(Answer::NoEffect), "false alarms") } else { (c(Answer::Right), "named") };
         let (lo, hi) = clopper_pearson(k, n);
         println!(
-            "| {} | {n} | {} | {} | {} | {} | {what} {:.0} % [{:.0}, {:.0}] |",
+            "| {} | {n} | {} | {} | {} | {} | {} | {what} {:.0} % [{:.0}, {:.0}] |",
             e.label(),
             c(Answer::Right),
+            if e == Edit::None { "–".to_string() } else { first.to_string() },
             c(Answer::Unexplained),
             c(Answer::NoEffect),
             c(Answer::Wrong),

@@ -68,6 +68,7 @@ pub mod dem;
 pub mod discrepancy;
 pub mod effects;
 pub mod ensemble;
+pub mod files;
 pub mod generator;
 pub mod geometry;
 pub mod io;

@@ -131,11 +131,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         let p: Vec<String> = c.parameters.iter().map(|(k, v)| format!("{k} = {v:.4e}")).collect();
         println!(
             "{}: {} ({})",
-            if an.verdict == drystone::discrepancy::analysis::Verdict::Explained {
-                "cause"
-            } else {
-                "partial explanation"
-            },
+            if an.verdict == drystone::discrepancy::Verdict::Explained { "cause" } else { "partial explanation" },
             c.name,
             p.join(", ")
         );

@@ -67,7 +67,7 @@ fn print(layout: &Path, r: &TiltResult) {
         } else {
             ""
         };
-        out!("unstable because  {}{note}", drystone::study::run::reason_name(reason));
+        out!("unstable because  {}{note}", reason.name());
     }
     out!(
         "mechanism         {} at joint {} ({} blocks moving)",

@@ -28,7 +28,7 @@
 //! are in the measured data's units (degrees for collapse angles, cm for displacements);
 //! effect parameters in the units of their [`crate::effects::ParamDef`]s.
 
-pub mod analysis;
+pub(crate) mod analysis;
 pub mod fit;
 pub mod observations;
 pub mod predictive;
@@ -39,7 +39,8 @@ pub mod synthesize;
 /// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
 pub use crate::effects;
 
-use analysis::{calibrate_margins, predictive_check, rank, sort, Analysis, Library, NullSource, Ranked, Verdict};
+use analysis::{calibrate_margins, predictive_check, rank, sort, Library, NullSource};
+pub use analysis::{Analysis, Margins, PredictiveCheck, Ranked, TieCheck, Verdict};
 use effects::{Effect, EffectDef};
 use fit::{specimen_weights, to_value, to_x, Candidate, Data, Surface};
 use observations::{Observable, Observation};

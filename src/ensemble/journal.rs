@@ -23,7 +23,7 @@
 //! end, which reading drops (and resuming cuts off).
 
 use super::row::RealizationRow;
-use crate::io::FileError;
+use crate::files::FileError;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -230,7 +230,7 @@ impl Journal {
         let file = File::create(path).map_err(FileError::at(path))?;
         let j = Journal { path: path.to_owned(), run: run.to_string(), file: Mutex::new(file) };
         j.write_line(seal(&body))?;
-        crate::io::sync_dir(path);
+        crate::files::sync_dir(path);
         Ok(j)
     }
 

@@ -227,10 +227,12 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let collapse = r.opts("collapse_angle_deg")?;
     let unstable = r.opts("first_unstable_deg")?;
     let reason = r.strs("collapse_reason")?;
-    if let Some((i, bad)) =
-        reason.iter().enumerate().find(|(_, x)| !x.is_empty() && crate::study::run::reason_of_name(x).is_none())
+    if let Some((i, bad)) = reason
+        .iter()
+        .enumerate()
+        .find(|(_, x)| !x.is_empty() && crate::loading::tilt::CollapseReason::from_name(x).is_none())
     {
-        let known: Vec<&str> = crate::study::run::REASONS.iter().map(|x| crate::study::run::reason_name(*x)).collect();
+        let known: Vec<&str> = crate::loading::tilt::CollapseReason::ALL.iter().map(|x| x.name()).collect();
         return Err(TableError::Column {
             path: path.to_owned(),
             column: "collapse_reason".into(),

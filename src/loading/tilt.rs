@@ -169,6 +169,34 @@ pub enum CollapseReason {
     StepBudget,
 }
 
+impl CollapseReason {
+    /// Every collapse reason.
+    pub const ALL: [CollapseReason; 5] = [
+        CollapseReason::IncrementDisplacement,
+        CollapseReason::TotalDisplacement,
+        CollapseReason::NoEquilibrium,
+        CollapseReason::NegativeStiffness,
+        CollapseReason::StepBudget,
+    ];
+
+    /// The name of the reason in the `collapse_reason` column of both protocols: its serde
+    /// name, as `drystone tilt --json` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CollapseReason::IncrementDisplacement => "increment_displacement",
+            CollapseReason::TotalDisplacement => "total_displacement",
+            CollapseReason::NoEquilibrium => "no_equilibrium",
+            CollapseReason::NegativeStiffness => "negative_stiffness",
+            CollapseReason::StepBudget => "step_budget",
+        }
+    }
+
+    /// The reason of a name of the `collapse_reason` column.
+    pub fn from_name(name: &str) -> Option<CollapseReason> {
+        CollapseReason::ALL.into_iter().find(|r| r.name() == name)
+    }
+}
+
 /// One tilt increment.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Increment {

@@ -62,7 +62,7 @@ pub mod discrepancy;
 mod error;
 pub mod extend;
 pub mod figures;
-pub mod lock;
+pub(crate) mod lock;
 mod measured;
 pub mod outputs;
 pub mod paper;
@@ -74,7 +74,7 @@ pub mod shards;
 pub mod size;
 pub mod spec;
 pub mod suite;
-pub mod summary;
+pub(crate) mod summary;
 pub mod sweep;
 mod text;
 

@@ -172,32 +172,6 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
     }
 }
 
-/// Every collapse reason.
-pub const REASONS: [CollapseReason; 5] = [
-    CollapseReason::IncrementDisplacement,
-    CollapseReason::TotalDisplacement,
-    CollapseReason::NoEquilibrium,
-    CollapseReason::NegativeStiffness,
-    CollapseReason::StepBudget,
-];
-
-/// The name of a collapse reason in the `collapse_reason` column of both protocols: its
-/// serde name, as `drystone tilt --json` prints it.
-pub fn reason_name(r: CollapseReason) -> &'static str {
-    match r {
-        CollapseReason::IncrementDisplacement => "increment_displacement",
-        CollapseReason::TotalDisplacement => "total_displacement",
-        CollapseReason::NoEquilibrium => "no_equilibrium",
-        CollapseReason::NegativeStiffness => "negative_stiffness",
-        CollapseReason::StepBudget => "step_budget",
-    }
-}
-
-/// The collapse reason of a name of the `collapse_reason` column.
-pub fn reason_of_name(name: &str) -> Option<CollapseReason> {
-    REASONS.into_iter().find(|r| reason_name(*r) == name)
-}
-
 /// The name of a mechanism in the `mechanism` column.
 fn mechanism_name(k: MechanismKind) -> &'static str {
     match k {
@@ -225,7 +199,7 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
     row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
     row.first_unstable_deg = t.first_unstable_deg;
-    row.collapse_reason = t.collapse_reason.map(reason_name).unwrap_or_default().to_string();
+    row.collapse_reason = t.collapse_reason.map(CollapseReason::name).unwrap_or_default().to_string();
     row.mechanism = mechanism_name(t.mechanism.kind).to_string();
     row.joint = t.mechanism.joint.clone();
     row.moving_blocks = t.mechanism.blocks.len() as u64;
@@ -265,7 +239,7 @@ fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralEr
         Some(why) => {
             row.status = Status::Collapsed;
             // The lateral load names its reasons with the same vocabulary.
-            row.collapse_reason = reason_of_name(why).map_or_else(|| why.clone(), |r| reason_name(r).to_string());
+            row.collapse_reason = CollapseReason::from_name(why).map_or_else(|| why.clone(), |r| r.name().to_string());
             row.error = format!(
                 "collapsed under the lateral load ({why}): top displacement {:.2} cm when stopped",
                 m_to_cm(r.max_displacement_m)
@@ -281,13 +255,13 @@ mod tests {
 
     #[test]
     fn collapse_reasons_have_one_spelling_in_every_table_and_in_tilt_json() {
-        for r in REASONS {
-            assert_eq!(serde_json::to_string(&r).unwrap(), format!("\"{}\"", reason_name(r)));
-            assert_eq!(reason_of_name(reason_name(r)), Some(r));
+        for r in CollapseReason::ALL {
+            assert_eq!(serde_json::to_string(&r).unwrap(), format!("\"{}\"", r.name()));
+            assert_eq!(CollapseReason::from_name(r.name()), Some(r));
         }
         // The names the lateral load gives.
         for why in ["total_displacement", "no_equilibrium", "step_budget"] {
-            assert!(reason_of_name(why).is_some(), "{why}");
+            assert!(CollapseReason::from_name(why).is_some(), "{why}");
         }
     }
 }
