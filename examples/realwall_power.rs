@@ -10,7 +10,7 @@
 //!
 //! Prints, per class, how often the answer is right (the effect, or a tie containing it),
 //! and of those how often the named cause is itself the effect (or one of the effects a class
-//! accepts), `unexplained`, `no_effect`, or a wrong cause, with the Clopper–Pearson interval of the
+//! accepts) and how often it is named with no tie, `unexplained`, `no_effect`, or a wrong cause, with the Clopper–Pearson interval of the
 //! rate that matters.
 
 #[path = "../tests/realwalls/mod.rs"]
@@ -113,8 +113,9 @@ fn main() {
         }
         jobs.extend((first_set..first_set + per).map(|i| (e, c + 1, i)));
     }
-    // (edit, answer, the named cause itself is the hidden effect or one of its members, line)
-    let answers: Vec<(Edit, Answer, bool, String)> = jobs
+    // (edit, answer, (the named cause itself is the hidden effect or one of its members,
+    // named with no tie), line)
+    let answers: Vec<(Edit, Answer, (bool, bool), String)> = jobs
         .iter()
         .map(|&(e, c, i)| {
             let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
@@ -177,24 +178,27 @@ fn main() {
                     );
                 }
             }
-            (e, got, first, what)
+            (e, got, (first, first && a.tie.len() <= 1), what)
         })
         .collect();
-    println!("| data | sets | right (alone or in a tie) | of which the named cause itself | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| data | sets | right (alone or in a tie) | of which the named cause itself | of which with no tie | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for e in std::iter::once(Edit::None).chain(classes()) {
         let v: Vec<&Answer> = answers.iter().filter(|(x, ..)| *x == e).map(|(_, a, ..)| a).collect();
-        let first = answers.iter().filter(|(x, a, f, _)| *x == e && *a == Answer::Right && *f).count();
+        let first = answers.iter().filter(|(x, a, f, _)| *x == e && *a == Answer::Right && f.0).count();
+        let alone = answers.iter().filter(|(x, a, f, _)| *x == e && *a == Answer::Right && f.1).count();
+        let dash = |k: usize| if e == Edit::None { "–".to_string() } else { k.to_string() };
         let c = |a: Answer| v.iter().filter(|x| ***x == a).count();
         let n = v.len();
         let (k, what) =
             if e == Edit::None { (n - c(Answer::NoEffect), "false alarms") } else { (c(Answer::Right), "named") };
         let (lo, hi) = clopper_pearson(k, n);
         println!(
-            "| {} | {n} | {} | {} | {} | {} | {} | {what} {:.0} % [{:.0}, {:.0}] |",
+            "| {} | {n} | {} | {} | {} | {} | {} | {} | {what} {:.0} % [{:.0}, {:.0}] |",
             e.label(),
             c(Answer::Right),
-            if e == Edit::None { "–".to_string() } else { first.to_string() },
+            dash(first),
+            dash(alone),
             c(Answer::Unexplained),
             c(Answer::NoEffect),
             c(Answer::Wrong),
