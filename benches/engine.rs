@@ -72,13 +72,13 @@ fn sbl_step(c: &mut Criterion) {
 /// One iteration of the implicit relaxation (assembly and factorization of the stiffness,
 /// one solve, two contact passes) with the copy of the state it starts from.
 fn sbl_implicit_iteration(c: &mut Criterion) {
-    use drystone::dem::drivers::implicit::{relax, ImplicitSolve};
+    use drystone::dem::drivers::implicit::{implicit_relaxation, ImplicitSolve};
     let sim = sbl_at_17deg();
     let one = ImplicitSolve { max_iterations: 1, ..ImplicitSolve::default() };
     c.bench_function("sbl_implicit_iteration_17deg", |bch| {
         bch.iter_batched(
             || sim.clone(),
-            |mut s| relax(&mut s, 1e-12, &one, |_| None::<()>),
+            |mut s| implicit_relaxation(&mut s, 1e-12, &one, |_| None::<()>),
             criterion::BatchSize::LargeInput,
         )
     });

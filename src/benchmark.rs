@@ -142,6 +142,8 @@ pub struct TiltBench {
     pub runs: Vec<TiltRun>,
     /// Master seed of the wall.
     pub seed: u64,
+    /// The solver (`SolverKind` name).
+    pub solver: String,
     /// Engine steps of all tests.
     pub steps: u64,
     /// Wall time per step over all tests, µs, for dynamic relaxation alone (`None` when
@@ -153,7 +155,7 @@ pub struct TiltBench {
     pub wall_time_s: f64,
 }
 
-/// Runs the tilt benchmark on `wall` (named `name` in the result) with the default solver;
+/// Runs the tilt benchmark on `wall` (named `name` in the result) with `solver`;
 /// `on_run` sees each test as it finishes.
 ///
 /// # Errors
@@ -163,6 +165,7 @@ pub fn run_tilt_bench(
     name: &str,
     seed: u64,
     realizations: u64,
+    solver: SolverParams,
     params: &TiltParams,
     mut on_run: impl FnMut(&TiltRun),
 ) -> Result<TiltBench, BenchError> {
@@ -170,7 +173,7 @@ pub fn run_tilt_bench(
     let (mut steps, mut iterations, mut time) = (0u64, 0u64, 0.0);
     for k in 0..realizations {
         let layout = generate(wall, seed, k)?.check()?;
-        let r = run_tilt(&layout, SolverParams::default(), params)?;
+        let r = run_tilt(&layout, solver, params)?;
         steps += r.steps;
         iterations += r.iterations;
         time += r.wall_time_s;
@@ -190,8 +193,9 @@ pub fn run_tilt_bench(
     }
     Ok(TiltBench {
         predictor: params.predictor,
-        accelerate: params.accelerate,
-        implicit: params.implicit,
+        accelerate: params.cascade(solver.kind).accelerate,
+        implicit: params.cascade(solver.kind).implicit,
+        solver: solver.kind.name().to_string(),
         iterations,
         realizations,
         runs,

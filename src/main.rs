@@ -5,7 +5,7 @@
 mod cli;
 
 use clap::{Parser, Subcommand};
-use drystone::dem::{DensityScaling, SolverParams};
+use drystone::dem::{DensityScaling, SolverKind, SolverParams};
 use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
 use std::path::PathBuf;
@@ -72,13 +72,19 @@ enum Command {
         /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
         #[arg(long)]
         no_predictor: bool,
-        /// Plain dynamic relaxation, without the secant acceleration of slow creep and its
-        /// stability indicator (`accelerate = false` in a study's [tilt] table).
-        #[arg(long)]
+        /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
+        /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
+        /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
+        /// analysis, rigid joints); `kind` in a study's [solver] table.
+        #[arg(long, default_value = "penalty", value_parser = parse_solver)]
+        solver: SolverKind,
+        /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep
+        /// and its stability indicator.
+        #[arg(long, hide = true)]
         no_acceleration: bool,
-        /// Dynamic relaxation only, without the implicit relaxation of each increment
-        /// (`implicit = false` in a study's [tilt] table).
-        #[arg(long)]
+        /// Deprecated (`--solver accelerated`): without the implicit relaxation of each
+        /// increment.
+        #[arg(long, hide = true)]
         no_implicit: bool,
         /// Write the states of the test as a ParaView time series into DIR (tilt.pvd: every
         /// stable increment and the first unstable state; unstable_trials.pvd: the other
@@ -103,6 +109,12 @@ enum Command {
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = LateralParams::default().tolerance)]
         tolerance: f64,
+        /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
+        /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
+        /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
+        /// analysis, rigid joints); `kind` in a study's [solver] table.
+        #[arg(long, default_value = "penalty", value_parser = parse_solver)]
+        solver: SolverKind,
         /// Write the settled and the loaded state as a ParaView time series into DIR
         /// (lateral.pvd, time = load factor 0 and 1).
         #[arg(long, value_name = "DIR")]
@@ -249,11 +261,18 @@ enum Command {
         /// Without the secant predictor of the tilting table (`tilt`; for comparison).
         #[arg(long)]
         no_predictor: bool,
-        /// Without the secant acceleration of slow creep (`tilt`; for comparison).
-        #[arg(long)]
+        /// Solver (`tilt`): `penalty` (the default: the penalty DEM with the protocol's own static
+        /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
+        /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
+        /// analysis, rigid joints); `kind` in a study's [solver] table.
+        #[arg(long, default_value = "penalty", value_parser = parse_solver)]
+        solver: SolverKind,
+        /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep.
+        #[arg(long, hide = true)]
         no_acceleration: bool,
-        /// Without the implicit relaxation of the increments (`tilt`; for comparison).
-        #[arg(long)]
+        /// Deprecated (`--solver accelerated`): without the implicit relaxation of the
+        /// increments.
+        #[arg(long, hide = true)]
         no_implicit: bool,
         /// The step compiled for the baseline instruction set (x86-64: SSE2) instead of the
         /// widest one this CPU runs (`cube16`; for comparison: the results are the same
@@ -290,6 +309,20 @@ fn message(e: &anyhow::Error) -> String {
     text
 }
 
+/// `--solver NAME`.
+fn parse_solver(name: &str) -> Result<SolverKind, String> {
+    name.parse()
+}
+
+/// The deprecation line of the old solver switches (they keep working).
+fn deprecated(no_acceleration: bool, no_implicit: bool) {
+    if no_implicit || no_acceleration {
+        let instead = if no_acceleration && no_implicit { "relaxation" } else { "accelerated" };
+        let flag = if no_implicit { "--no-implicit" } else { "--no-acceleration" };
+        eprintln!("warning: {flag} is deprecated; the solver is chosen with --solver (here: --solver {instead})");
+    }
+}
+
 fn run() -> anyhow::Result<ExitCode> {
     match Cli::parse().command {
         Command::Tilt {
@@ -304,10 +337,12 @@ fn run() -> anyhow::Result<ExitCode> {
             block_mass_floor,
             tolerance,
             no_predictor,
+            solver: kind,
             no_acceleration,
             no_implicit,
             vtk,
         } => {
+            deprecated(no_acceleration, no_implicit);
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
                 "scalar" => DensityScaling::Scalar,
@@ -315,6 +350,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 other => anyhow::bail!("--density-scaling {other}: expected block, scalar or off"),
             };
             let solver = SolverParams {
+                kind,
                 damping,
                 subcontact_subdivisions: subdivisions,
                 timestep_safety,
@@ -332,9 +368,10 @@ fn run() -> anyhow::Result<ExitCode> {
             };
             cli::tilt::run(&layout, solver, &params, json, vtk.as_deref())
         }
-        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance, vtk } => {
+        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance, solver, vtk } => {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
-            cli::lateral::run(&layout, &params, json, vtk.as_deref())
+            let solver = SolverParams { kind: solver, ..SolverParams::default() };
+            cli::lateral::run(&layout, solver, &params, json, vtk.as_deref())
         }
         Command::Run { study, out, workers, shard, realizations, full, resume, force, vtk_realizations } => {
             cli::study::run(cli::study::RunArgs {
@@ -372,19 +409,22 @@ fn run() -> anyhow::Result<ExitCode> {
             seed,
             realizations,
             no_predictor,
+            solver,
             no_acceleration,
             no_implicit,
             portable,
             json,
         } => match case.as_str() {
             "tilt" => {
+                deprecated(no_acceleration, no_implicit);
+                let solver = SolverParams { kind: solver, ..SolverParams::default() };
                 let params = TiltParams {
                     predictor: !no_predictor,
                     accelerate: !no_acceleration,
                     implicit: !no_implicit,
                     ..TiltParams::default()
                 };
-                cli::bench::tilt(&wall, seed, realizations, &params, json)
+                cli::bench::tilt(&wall, seed, realizations, solver, &params, json)
             }
             "cube16" => cli::bench::cube16(steps, portable, json),
             _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),

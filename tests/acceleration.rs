@@ -2,7 +2,7 @@
 //! it changes the steps, not the result, and it names an overloaded block unstable.
 
 use drystone::dem::drivers::accelerate::SecantAcceleration;
-use drystone::dem::drivers::relax::{relax, Relaxed};
+use drystone::dem::drivers::relax::{dynamic_relaxation, Relaxed};
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
@@ -62,12 +62,12 @@ fn the_indicator_names_an_overloaded_block_and_only_that() {
     };
     let mut over = settled();
     over.set_tilt(30f64.to_radians());
-    let r = relax(&mut over, 1e-4, 200_000, Some(SecantAcceleration::default()), |_| None::<()>).unwrap();
+    let r = dynamic_relaxation(&mut over, 1e-4, 200_000, Some(SecantAcceleration::default()), |_| None::<()>).unwrap();
     let Relaxed::Unstable(steps, _) = r else { panic!("30°: {r:?}") };
     let mut plain = settled();
     plain.set_tilt(30f64.to_radians());
     let start: Vec<_> = plain.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
-    let moved = relax(&mut plain, 1e-4, 200_000, None, |s| {
+    let moved = dynamic_relaxation(&mut plain, 1e-4, 200_000, None, |s| {
         (drystone::loading::monitors::largest_motion(s, &start) > 0.05 * 0.15).then_some(())
     })
     .unwrap();
@@ -78,7 +78,7 @@ fn the_indicator_names_an_overloaded_block_and_only_that() {
     );
     let mut under = settled();
     under.set_tilt(20f64.to_radians());
-    let r = relax(&mut under, 1e-4, 200_000, Some(SecantAcceleration::default()), |_| None::<()>).unwrap();
+    let r = dynamic_relaxation(&mut under, 1e-4, 200_000, Some(SecantAcceleration::default()), |_| None::<()>).unwrap();
     assert!(matches!(r, Relaxed::Equilibrium(_)), "20°: {r:?}");
     let tilt = run_tilt(&l, SolverParams::default(), &TiltParams::default()).unwrap();
     assert!(tilt.collapse_reason.is_some());

@@ -3,7 +3,7 @@
 //! cost of a tilting-table test, not its result.
 
 use drystone::closure::{Hyperbolic, Seating};
-use drystone::dem::drivers::implicit::{relax, ImplicitSolve, Solved};
+use drystone::dem::drivers::implicit::{implicit_relaxation, ImplicitSolve, Solved};
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{Closure, Layout};
@@ -33,7 +33,7 @@ fn settled_and_tilted(l: &Layout, alpha_deg: f64) -> Simulation {
 fn agrees_with_dynamic_relaxation(l: &Layout, alpha_deg: f64) {
     let base = settled_and_tilted(l, alpha_deg);
     let mut implicit = base.clone();
-    let out = relax(&mut implicit, 1e-6, &ImplicitSolve::default(), |_| None::<()>);
+    let out = implicit_relaxation(&mut implicit, 1e-6, &ImplicitSolve::default(), |_| None::<()>);
     let Solved::Equilibrium(iterations) = out else { panic!("no equilibrium: {out:?}") };
     assert!(implicit.stats().unbalanced_ratio < 1e-6);
     let mut dr = base.clone();
@@ -88,11 +88,11 @@ fn the_implicit_iteration_reports_no_false_equilibrium() {
     let l = layout("single_block.json");
     let base = settled_and_tilted(&l, 25.0);
     let mut sim = base.clone();
-    let out = relax(&mut sim, 1e-4, &ImplicitSolve::default(), |_| None::<()>);
+    let out = implicit_relaxation(&mut sim, 1e-4, &ImplicitSolve::default(), |_| None::<()>);
     assert!(matches!(out, Solved::Unsolved(..)), "{out:?}");
     let mut sim = base.clone();
     let x0 = base.state.bodies[0].pos;
-    let out = relax(&mut sim, 1e-4, &ImplicitSolve::default(), |s| {
+    let out = implicit_relaxation(&mut sim, 1e-4, &ImplicitSolve::default(), |s| {
         ((s.state.bodies[0].pos - x0).norm() > 0.1125 / 20.0).then_some("moved")
     });
     assert!(matches!(out, Solved::Stopped("moved", _)), "{out:?}");

@@ -9,18 +9,26 @@ use std::path::Path;
 use std::process::ExitCode;
 
 /// `bench tilt`: realizations `0..realizations` of the wall, one after the other.
-pub fn tilt(wall: &Path, seed: u64, realizations: u64, params: &TiltParams, json: bool) -> Result<ExitCode> {
+pub fn tilt(
+    wall: &Path,
+    seed: u64,
+    realizations: u64,
+    solver: SolverParams,
+    params: &TiltParams,
+    json: bool,
+) -> Result<ExitCode> {
     if realizations == 0 {
         bail!("--realizations must be at least 1");
     }
     let w = Wall::from_file_with(wall, &DistributionSource::default_for(wall))?;
     if !json {
         out!(
-            "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, predictor {}, acceleration {}, implicit {}",
+            "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, solver {}, predictor {}, acceleration {}, implicit {}",
             wall.display(),
+            solver.kind,
             if params.predictor { "on" } else { "off" },
-            if params.accelerate { "on" } else { "off" },
-            if params.implicit { "on" } else { "off" }
+            if params.cascade(solver.kind).accelerate { "on" } else { "off" },
+            if params.cascade(solver.kind).implicit { "on" } else { "off" }
         );
     }
     let print_run = |r: &TiltRun| {
@@ -39,7 +47,7 @@ pub fn tilt(wall: &Path, seed: u64, realizations: u64, params: &TiltParams, json
             );
         }
     };
-    let b = run_tilt_bench(&w, &wall.display().to_string(), seed, realizations, params, print_run)?;
+    let b = run_tilt_bench(&w, &wall.display().to_string(), seed, realizations, solver, params, print_run)?;
     if json {
         out!("{}", serde_json::to_string_pretty(&b)?);
     } else if realizations > 1 {

@@ -11,12 +11,14 @@ pub mod integrator;
 pub(crate) mod materials;
 pub mod model;
 pub(crate) mod monitor;
+pub mod motion;
 pub(crate) mod params;
+pub mod solve;
 pub mod state;
 pub mod timestep;
 
-pub use drivers::relax::RunToEquilibrium;
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use model::WallState;
 pub use monitor::StepStats;
 pub use params::{DensityScaling, SolverParams};
+pub use solve::{solve_static, Cascade, End, Outcome, RunToEquilibrium, SolverKind, Stage, StaticSolve};

@@ -3,6 +3,7 @@
 
 use super::contact::geometry::{Fan, PatchParams};
 use super::contact::law::Quadrature;
+use super::solve::SolverKind;
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 
@@ -59,6 +60,10 @@ impl DensityScaling {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverParams {
+    /// The solver (`kind = "penalty"` in a study's `[solver]` table, `--solver` on the
+    /// command line; see [`SolverKind`]). Default `penalty`: the penalty DEM with each
+    /// protocol's default static method. The other fields are the penalty DEM's.
+    pub kind: SolverKind,
     /// Local damping coefficient α, dimensionless in [0, 1). Default 0.8 (3DEC, YADE).
     pub damping: f64,
     /// Fraction of the critical time step `2 / (ω_max √(1 + α))` used, with ω_max the
@@ -97,6 +102,7 @@ pub struct SolverParams {
 impl Default for SolverParams {
     fn default() -> Self {
         SolverParams {
+            kind: SolverKind::Penalty,
             damping: 0.8,
             timestep_safety: 0.95,
             contact_margin_m: 1e-3,

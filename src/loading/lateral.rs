@@ -43,7 +43,10 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::drivers::relax::{relax, Relaxed};
+use crate::dem::drivers::accelerate::SecantAcceleration;
+use crate::dem::drivers::implicit::ImplicitSolve;
+use crate::dem::motion::poses;
+use crate::dem::{solve_static, Cascade, End, StaticSolve};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
@@ -151,6 +154,9 @@ pub enum LateralError {
     /// A lateral-load or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
+    /// The solver chosen cannot run this protocol.
+    #[error("solver {0} cannot run the static lateral load")]
+    Unsupported(crate::dem::SolverKind),
 }
 
 /// The pressure load on each body: (force, moment about the body centroid), world frame,
@@ -230,6 +236,9 @@ pub fn run_lateral_observed(
 ) -> Result<LateralResult, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
+    if !solver.kind.is_penalty() {
+        return Err(LateralError::Unsupported(solver.kind));
+    }
     let t0 = Instant::now();
     // Scalar density scaling only: a load past the wall's capacity collapses it within this
     // one solve, and block-scaled collapse dynamics can blow up (`DensityScaling::Block`).
@@ -258,11 +267,22 @@ pub fn run_lateral_observed(
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
-    let reason = match relax(&mut sim, params.tolerance, params.max_steps, None, check)? {
-        Relaxed::Equilibrium(_) => None,
-        Relaxed::Stopped(r, _) => Some(r.to_string()),
-        Relaxed::Budget(_) => Some("step_budget".to_string()),
-        Relaxed::Unstable(..) => Some("no_equilibrium".to_string()),
+    // The static lateral load's default is plain dynamic relaxation; a penalty solver
+    // with more stages probes up to the collapse displacement.
+    let solve = StaticSolve {
+        cascade: solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION),
+        tolerance: params.tolerance,
+        max_steps: params.max_steps,
+        acceleration: SecantAcceleration::default(),
+        implicit: ImplicitSolve::default(),
+        reach: Some(limit),
+    };
+    let start = poses(&sim);
+    let reason = match solve_static(&mut sim, &solve, &start, check)?.end {
+        End::Equilibrium => None,
+        End::Stopped(r) => Some(r.to_string()),
+        End::Budget => Some("step_budget".to_string()),
+        End::Unstable(..) => Some("no_equilibrium".to_string()),
     };
     observe(1.0, reason.is_none(), &sim);
     let displacement_m = disp(&sim);

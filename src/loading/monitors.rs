@@ -5,8 +5,7 @@ use crate::dem::Simulation;
 use crate::layout::Layout;
 use crate::Vec3;
 
-/// Pose of one body: centroid (m, table frame) and orientation.
-pub type BodyPose = (Vec3, nalgebra::UnitQuaternion<f64>);
+pub use crate::dem::motion::{body_motion, largest_motion, BodyPose};
 
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
 /// position in the table frame.
@@ -58,31 +57,4 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
 /// Out-of-plane (y) displacement of each monitor point from its `reference` position, m.
 pub(crate) fn monitor_displacements(sim: &Simulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
     monitors.iter().zip(reference).map(|(m, r)| (sim.state.bodies[m.body].to_world(&m.local) - r).y).collect()
-}
-
-/// How far a body of radius `radius` (m) moved between two poses (centroid, orientation),
-/// m: centroid displacement plus rotation angle times the radius (a bound on the motion of
-/// its farthest point).
-pub(crate) fn body_motion(from: &BodyPose, to: &BodyPose, radius: f64) -> f64 {
-    (to.0 - from.0).norm() + rotation_angle(&(to.1 * from.1.inverse())) * radius
-}
-
-/// The angle of a rotation, rad, in [0, π]: `2 atan2(|v|, |w|)` for the quaternion (w, v),
-/// exact to rounding near zero, where the `2 acos(w)` of `UnitQuaternion::angle` reads one
-/// rounding error of w as a rotation of about 3e-8 rad.
-fn rotation_angle(q: &nalgebra::UnitQuaternion<f64>) -> f64 {
-    2.0 * q.imag().norm().atan2(q.scalar().abs())
-}
-
-/// The largest motion of a movable block since `start` (its position and orientation per
-/// body), m: centroid displacement plus rotation angle times the block's radius. The
-/// per-increment collapse criterion compares it with a fraction of the wall width.
-pub fn largest_motion(sim: &Simulation, start: &[BodyPose]) -> f64 {
-    sim.state
-        .bodies
-        .iter()
-        .zip(start)
-        .filter(|(b, _)| !b.fixed)
-        .map(|(b, from)| body_motion(from, &(b.pos, b.rot), b.radius))
-        .fold(0.0, f64::max)
 }

@@ -35,10 +35,9 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::{body_motion, largest_motion, monitor_displacements, monitor_points, BodyPose, MonitorPoint};
 use super::settle::{settle, SettleError};
-use crate::dem::drivers::accelerate::{largest_body_motion, probe_along, Ahead, SecantAcceleration};
-use crate::dem::drivers::implicit::{self, ImplicitSolve, Solved, Unsolved};
-use crate::dem::drivers::relax::{relax, relax_probed, Relaxed};
-use crate::dem::{DemError, DensityScaling, Simulation, SolverParams};
+use crate::dem::drivers::accelerate::{largest_body_motion, SecantAcceleration};
+use crate::dem::drivers::implicit::{self, ImplicitSolve};
+use crate::dem::{solve_static, Cascade, DemError, DensityScaling, End, Simulation, SolverKind, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
 use crate::units::deg_to_rad;
@@ -78,18 +77,15 @@ pub struct TiltParams {
     /// displacement scale of the joints ([`elastic_scale`]) if that is larger \[0.05\]. Also
     /// the reach of the probe that confirms the stability indicator.
     pub collapse_increment_fraction: f64,
-    /// Accelerate slow creep near collapse by secant steps along the motion, and end trials
-    /// that soften along their motion (`dem::drivers::accelerate`) \[true\]. Off: plain dynamic
-    /// relaxation (1.5× the steps on the SBL wall, BENCHMARKS.md "Tilting table: the SBL
-    /// wall"; the same collapse angles within one bracket).
+    /// Deprecated: choose the solver instead (`[solver] kind = "relaxation"`, `--solver
+    /// relaxation`). `false` turns the secant acceleration of slow creep and its stability
+    /// indicator off in whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
     pub accelerate: bool,
     /// Settings of that acceleration.
     pub acceleration: SecantAcceleration,
-    /// Relax each increment and trial first by the implicit iteration (`dem::drivers::implicit`:
-    /// the factorized stiffness of the contact springs as preconditioner, Anderson mixing),
-    /// from the secant prediction; dynamic relaxation takes over where it does not converge
-    /// (near collapse) \[true\]. Off: dynamic relaxation only (2.8× the CPU time on the SBL
-    /// wall, same section; the same collapse angles within one bracket).
+    /// Deprecated: choose the solver instead (`[solver] kind = "accelerated"`, `--solver
+    /// accelerated`). `false` turns the implicit iteration of each increment off in
+    /// whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
     pub implicit: bool,
     /// Settings of the implicit iteration.
     pub implicit_solve: ImplicitSolve,
@@ -115,6 +111,17 @@ impl Default for TiltParams {
 }
 
 impl TiltParams {
+    /// The stages of the static solve of every increment and trial with the solver `kind`:
+    /// the tilting table's default is every stage ([`Cascade::FULL`]: the implicit
+    /// iteration, its stall probe, accelerated and probed dynamic relaxation); the
+    /// deprecated [`TiltParams::implicit`] and [`TiltParams::accelerate`] switch stages off.
+    /// `Cascade::RELAXATION` for a solver that is not a penalty method (which does not run
+    /// this protocol).
+    pub fn cascade(&self, kind: SolverKind) -> Cascade {
+        let c = kind.cascade(Cascade::FULL).unwrap_or(Cascade::RELAXATION);
+        Cascade { implicit: c.implicit && self.implicit, accelerate: c.accelerate && self.accelerate }
+    }
+
     /// Checks ranges.
     ///
     /// # Errors
@@ -346,8 +353,18 @@ enum Stage {
     Collapsed(CollapseReason),
 }
 
+/// What one increment or trial came to: its stage, the dynamic-relaxation steps and the
+/// implicit iterations it took.
+struct Trial {
+    stage: Stage,
+    steps: u64,
+    iterations: u32,
+}
+
 struct Ctx<'a> {
     params: &'a TiltParams,
+    /// The static solve of every increment and trial (its reach set per trial).
+    solve: StaticSolve,
     monitors: &'a [MonitorPoint],
     reference: Vec<Vec3>,
     width: f64,
@@ -360,9 +377,11 @@ impl Ctx<'_> {
         monitor_displacements(sim, self.monitors, &self.reference)
     }
 
-    fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<(Stage, u64, u32), DemError> {
+    /// Relaxes `sim` at its tilt from `prediction` (applied as one jump) through the solver
+    /// seam ([`solve_static`]), with this protocol's collapse criteria as the stop check.
+    fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
         let start = pose(sim);
-        let inc_limit = (self.params.collapse_increment_fraction * self.width).max(self.elastic);
+        let inc_limit = self.inc_limit();
         let tot_limit = (self.params.collapse_displacement_fraction * self.width).max(self.elastic);
         let check = |sim: &Simulation| {
             if largest_motion(sim, &start) > inc_limit {
@@ -376,49 +395,23 @@ impl Ctx<'_> {
         if let Some((dpos, drot)) = prediction {
             sim.predict(&dpos, &drot);
         }
-        // The implicit iteration first; dynamic relaxation takes over where it does not
-        // converge (near collapse).
-        let mut iterations = 0;
-        if self.params.implicit {
-            match implicit::relax(sim, self.params.tolerance, &self.params.implicit_solve, &check) {
-                Solved::Equilibrium(it) => return Ok((Stage::Stable, 0, it)),
-                Solved::Stopped(reason, it) => return Ok((Stage::Collapsed(reason), 0, it)),
-                Solved::Unsolved(Unsolved::Stalled, it) => {
-                    iterations = it;
-                    // The iterates drifted from the start without finding an equilibrium:
-                    // if the out-of-balance force pushes the wall along that drift all the
-                    // way to the collapse displacement, no equilibrium lies near the path.
-                    let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = sim
-                        .state
-                        .bodies
-                        .iter()
-                        .zip(&start)
-                        .map(|(b, (x0, q0))| (b.pos - x0, (b.rot * q0.inverse()).scaled_axis()))
-                        .unzip();
-                    let reach = (inc_limit - largest_motion(sim, &start)).max(0.0);
-                    if probe_along(sim, &dpos, &drot, reach, f64::INFINITY) == Ahead::NoEquilibrium {
-                        extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
-                        return Ok((Stage::Collapsed(CollapseReason::NegativeStiffness), 0, it));
-                    }
-                }
-                Solved::Unsolved(_, it) => iterations = it,
-            }
-        }
-        let (tol, budget) = (self.params.tolerance, self.params.max_steps_per_increment);
-        let relaxed = if self.params.accelerate {
-            relax_probed(sim, tol, budget, self.params.acceleration, inc_limit, check)?
-        } else {
-            relax(sim, tol, budget, None, check)?
-        };
-        Ok(match relaxed {
-            Relaxed::Equilibrium(steps) => (Stage::Stable, steps, iterations),
-            Relaxed::Stopped(reason, steps) => (Stage::Collapsed(reason), steps, iterations),
-            Relaxed::Budget(steps) => (Stage::Collapsed(CollapseReason::StepBudget), steps, iterations),
-            Relaxed::Unstable(steps, (dpos, drot)) => {
+        let out = solve_static(sim, &self.solve, &start, check)?;
+        let stage = match out.end {
+            End::Equilibrium => Stage::Stable,
+            End::Stopped(reason) => Stage::Collapsed(reason),
+            End::Budget => Stage::Collapsed(CollapseReason::StepBudget),
+            End::Unstable((dpos, drot)) => {
                 extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
-                (Stage::Collapsed(CollapseReason::NegativeStiffness), steps, iterations)
+                Stage::Collapsed(CollapseReason::NegativeStiffness)
             }
-        })
+        };
+        Ok(Trial { stage, steps: out.steps, iterations: out.iterations })
+    }
+
+    /// The per-increment collapse displacement, m: the larger of
+    /// [`TiltParams::collapse_increment_fraction`] of the wall width and the elastic scale.
+    fn inc_limit(&self) -> f64 {
+        (self.params.collapse_increment_fraction * self.width).max(self.elastic)
     }
 
     /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
@@ -435,7 +428,7 @@ impl Ctx<'_> {
         alpha_deg: f64,
         prediction: Option<Prediction>,
         fallbacks: &mut Vec<f64>,
-    ) -> Result<(Simulation, Stage, u64, u32), DemError> {
+    ) -> Result<(Simulation, Trial), DemError> {
         let mut wasted = 0;
         let mut scaling = from.params().density_scaling;
         loop {
@@ -444,7 +437,7 @@ impl Ctx<'_> {
             sim.set_tilt(deg_to_rad(alpha_deg));
             let before = sim.state.steps;
             match self.run_stage(&mut sim, prediction.clone()) {
-                Ok((stage, steps, iterations)) => return Ok((sim, stage, steps + wasted, iterations)),
+                Ok(trial) => return Ok((sim, Trial { steps: trial.steps + wasted, ..trial })),
                 Err(DemError::NonFinite { .. }) if scaling.is_on() => {
                     wasted += sim.state.steps - before;
                     if fallbacks.last() != Some(&alpha_deg) {
@@ -500,7 +493,8 @@ impl StablePath {
         observe: &mut dyn FnMut(f64, bool, &Simulation),
     ) -> Result<Option<(CollapseReason, Simulation)>, DemError> {
         let prediction = if self.predictor { self.secant.predict(alpha_deg) } else { None };
-        let (next, stage, steps, iterations) = ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
+        let (next, Trial { stage, steps, iterations }) =
+            ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
         self.total_steps += steps;
         self.total_iterations += u64::from(iterations);
         increments.push(Increment {
@@ -587,6 +581,9 @@ pub enum TiltError {
     /// A tilt or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
+    /// The solver chosen cannot run this protocol.
+    #[error("solver {0} cannot run the tilting-table test")]
+    Unsupported(SolverKind),
 }
 
 impl TiltError {
@@ -657,13 +654,25 @@ pub fn run_tilt_observed(
 ) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
     solver.validate_static().map_err(TiltError::Parameter)?;
+    if !solver.kind.is_penalty() {
+        return Err(TiltError::Unsupported(solver.kind));
+    }
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);
     let width = layout.bounds().extent().y;
     sim.set_tilt(0.0);
     let elastic = elastic_scale(layout, &sim);
-    let mut ctx = Ctx { params, monitors: &monitors, reference: Vec::new(), width, elastic };
+    let solve = StaticSolve {
+        cascade: params.cascade(solver.kind),
+        tolerance: params.tolerance,
+        max_steps: params.max_steps_per_increment,
+        acceleration: params.acceleration,
+        implicit: params.implicit_solve,
+        reach: None,
+    };
+    let mut ctx = Ctx { params, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
+    ctx.solve.reach = Some(ctx.inc_limit());
     settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
     ctx.reference = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {

@@ -383,6 +383,15 @@ fn read_measured(
 }
 
 impl Study {
+    /// The study's loading protocol with its parameters, as the seam runs it.
+    pub fn loading(&self) -> crate::loading::protocol::Protocol {
+        use crate::loading::protocol::Protocol;
+        match self.protocol {
+            ProtocolKind::Tilt => Protocol::Tilt(self.tilt),
+            ProtocolKind::Lateral => Protocol::Lateral(self.lateral),
+        }
+    }
+
     /// Reads and resolves a study file.
     ///
     /// # Errors

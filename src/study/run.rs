@@ -10,11 +10,12 @@
 //! journal), which it does not run again. Every row being a pure function of the study and
 //! its item, the rows are the same whichever items were done before.
 
-use super::{point_label, ProtocolKind, Study};
+use super::{point_label, Study};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{self, Item, Shard};
-use crate::loading::lateral::{run_lateral, LateralError, LateralResult};
-use crate::loading::tilt::{run_tilt, CollapseReason, MechanismKind, TiltError, TiltResult};
+use crate::loading::lateral::LateralResult;
+use crate::loading::protocol::ProtocolRun;
+use crate::loading::tilt::{CollapseReason, MechanismKind, TiltResult};
 use crate::units::m_to_cm;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -44,9 +45,10 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            match study.protocol {
-                ProtocolKind::Tilt => tilt_row(row, run_tilt(&layout, study.solver, &study.tilt)),
-                ProtocolKind::Lateral => lateral_row(row, run_lateral(&layout, study.solver, &study.lateral)),
+            match study.loading().run(&layout, study.solver) {
+                ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
+                ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
+                failed => failed_row(row, failed.does_not_stand(), &failed.error().unwrap_or_default()),
             }
         }
     };
@@ -191,11 +193,7 @@ fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::D
 }
 
 /// A tilting-table outcome into the row.
-fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> RealizationRow {
-    let t = match outcome {
-        Ok(t) => t,
-        Err(e) => return failed_row(row, matches!(e, TiltError::DoesNotStand(_)), &e),
-    };
+fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
     row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
     row.first_unstable_deg = t.first_unstable_deg;
@@ -219,11 +217,7 @@ fn tilt_row(mut row: RealizationRow, outcome: Result<TiltResult, TiltError>) -> 
 }
 
 /// A static lateral load outcome into the row.
-fn lateral_row(mut row: RealizationRow, outcome: Result<LateralResult, LateralError>) -> RealizationRow {
-    let r = match outcome {
-        Ok(r) => r,
-        Err(e) => return failed_row(row, matches!(e, LateralError::DoesNotStand(_)), &e),
-    };
+fn lateral_row(mut row: RealizationRow, r: LateralResult) -> RealizationRow {
     row.steps = r.steps;
     row.dt_s = r.dt_s;
     match &r.collapse_reason {

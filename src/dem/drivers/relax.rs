@@ -43,11 +43,11 @@ pub enum Relaxed<R> {
 /// steps so that the first forces have propagated), until `check` (called every
 /// [`CHECK_EVERY`] steps) returns a reason to stop, or for `max_steps` steps; with the
 /// secant acceleration if `accelerate` is given, whose stability indicator then ends the
-/// relaxation as soon as it fires (no probe of the path ahead: see [`relax_probed`]).
+/// relaxation as soon as it fires (no probe of the path ahead: see [`dynamic_relaxation_probed`]).
 ///
 /// # Errors
 /// [`DemError::NonFinite`] when a body's state blows up.
-pub fn relax<R>(
+pub fn dynamic_relaxation<R>(
     sim: &mut Simulation,
     tol: f64,
     max_steps: u64,
@@ -57,7 +57,7 @@ pub fn relax<R>(
     relax_impl(sim, tol, max_steps, accelerate.map(|a| (a, None)), check)
 }
 
-/// [`relax`] with the secant acceleration and probes of the path ahead, `reach` (m) the
+/// [`dynamic_relaxation`] with the secant acceleration and probes of the path ahead, `reach` (m) the
 /// largest body motion a probe goes: where the stability indicator fires, the state is
 /// unstable only if no equilibrium lies within that reach along the collapse direction
 /// ([`Accelerator::probe`]), otherwise the relaxation goes on from the last probe point
@@ -66,7 +66,7 @@ pub fn relax<R>(
 ///
 /// # Errors
 /// [`DemError::NonFinite`] when a body's state blows up.
-pub fn relax_probed<R>(
+pub fn dynamic_relaxation_probed<R>(
     sim: &mut Simulation,
     tol: f64,
     max_steps: u64,
@@ -126,24 +126,6 @@ fn relax_impl<R>(
     Ok(Relaxed::Budget(steps))
 }
 
-/// Relaxation to equilibrium as a method of a [`Simulation`] (the driver owns it; the
-/// engine knows no driver): `use drystone::dem::RunToEquilibrium`.
-pub trait RunToEquilibrium {
-    /// Runs until the unbalanced-force ratio falls below `tol` (returns `Ok(true)`) or
-    /// `max_steps` have been taken (`Ok(false)`): [`relax`] without a stop check.
-    ///
-    /// # Errors
-    /// [`DemError::NonFinite`].
-    fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError>;
-}
-
-impl RunToEquilibrium for Simulation {
-    fn run_to_equilibrium(&mut self, tol: f64, max_steps: u64) -> Result<bool, DemError> {
-        let r = relax(self, tol, max_steps, None, |_| None::<()>)?;
-        Ok(matches!(r, Relaxed::Equilibrium(_)))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -162,18 +144,18 @@ mod tests {
     fn relaxation_stops_at_equilibrium_at_the_budget_or_at_the_check() {
         let none = |_: &Simulation| None::<()>;
         let mut sim = block();
-        let Relaxed::Equilibrium(n) = relax(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        let Relaxed::Equilibrium(n) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
         assert!(n > 10 && sim.stats().unbalanced_ratio < 1e-6, "{n} steps");
         // Already in equilibrium: still at least 11 steps, so that the first forces
         // propagate.
-        let Relaxed::Equilibrium(again) = relax(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        let Relaxed::Equilibrium(again) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
         assert!((11..n).contains(&again), "{again} steps, {n} from rest");
         let mut sim = block();
-        assert_eq!(relax(&mut sim, 1e-12, 5, None, none).unwrap(), Relaxed::Budget(5));
+        assert_eq!(dynamic_relaxation(&mut sim, 1e-12, 5, None, none).unwrap(), Relaxed::Budget(5));
         assert_eq!(sim.state.steps, 5);
         let mut sim = block();
         let mut calls = 0;
-        let out = relax(&mut sim, 1e-12, 100_000, None, |_| {
+        let out = dynamic_relaxation(&mut sim, 1e-12, 100_000, None, |_| {
             calls += 1;
             (calls == 2).then_some("stop")
         })

@@ -156,7 +156,7 @@ pub type PoseIncrement = (Vec<Vec3>, Vec<Vec3>);
 /// history follows the iterates' path as it follows the steps of dynamic relaxation. The
 /// inertial masses and the time step are brought up to date at the end if contacts were
 /// re-detected meanwhile, so dynamic relaxation can go on from the state.
-pub fn relax<R>(
+pub fn implicit_relaxation<R>(
     sim: &mut Simulation,
     tol: f64,
     settings: &ImplicitSolve,
@@ -170,7 +170,7 @@ pub fn relax<R>(
     out
 }
 
-/// The iteration of [`relax`], its jumps leaving the inertial masses and the time step to
+/// The iteration of [`implicit_relaxation`], its jumps leaving the inertial masses and the time step to
 /// the end; `stale` is set when a re-detection changed the contacts of the state left.
 fn iterate<R>(
     sim: &mut Simulation,
@@ -283,7 +283,7 @@ mod tests {
         let mut sim = settled_block();
         sim.set_tilt(10f64.to_radians());
         let mut dynamic = sim.clone();
-        let out = relax(&mut sim, 1e-9, &ImplicitSolve::default(), |_| None::<()>);
+        let out = implicit_relaxation(&mut sim, 1e-9, &ImplicitSolve::default(), |_| None::<()>);
         let Solved::Equilibrium(it) = out else { panic!("{out:?}") };
         assert!(it <= 30, "{it} iterations");
         assert!(dynamic.run_to_equilibrium(1e-9, 1_000_000).unwrap());
@@ -300,7 +300,7 @@ mod tests {
         let mut sim = settled_block();
         sim.set_tilt(40f64.to_radians());
         let settings = ImplicitSolve { stall_window: 20, ..ImplicitSolve::default() };
-        let out = relax(&mut sim, 1e-9, &settings, |_| None::<()>);
+        let out = implicit_relaxation(&mut sim, 1e-9, &settings, |_| None::<()>);
         let Solved::Unsolved(Unsolved::Stalled, it) = out else { panic!("{out:?}") };
         assert!((20..100).contains(&it), "{it} iterations");
         assert!(sim.stats().unbalanced_ratio > 1e-3);
@@ -313,11 +313,11 @@ mod tests {
         let mut sim = settled_block();
         sim.set_tilt(10f64.to_radians());
         let one = ImplicitSolve { max_iterations: 1, ..ImplicitSolve::default() };
-        assert_eq!(relax(&mut sim, 1e-12, &one, |_| None::<()>), Solved::Unsolved(Unsolved::Budget, 1));
+        assert_eq!(implicit_relaxation(&mut sim, 1e-12, &one, |_| None::<()>), Solved::Unsolved(Unsolved::Budget, 1));
         let mut l = layout_of(vec![box_vertices([0.0, -0.1, 0.0], [0.3, 0.1, 0.1])], 1e8, 5e7, 35.0, BaseSliding::Free);
         l.blocks[0].fixed = true;
         let mut fixed = Simulation::new(&l, SolverParams::default());
-        let out = relax(&mut fixed, 1e-9, &ImplicitSolve::default(), |_| None::<()>);
+        let out = implicit_relaxation(&mut fixed, 1e-9, &ImplicitSolve::default(), |_| None::<()>);
         assert_eq!(out, Solved::Unsolved(Unsolved::NoFreeBodies, 0));
     }
 }
