@@ -71,6 +71,7 @@ pub mod ensemble;
 pub mod files;
 pub mod generator;
 pub mod geometry;
+pub mod ground;
 pub mod io;
 pub mod layout;
 pub mod loading;

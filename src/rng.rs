@@ -24,6 +24,8 @@ pub enum Purpose {
     Discrepancy,
     /// The random per-realization forms of the model-discrepancy effects.
     Effect,
+    /// Stochastic ground motions (`ground::stochastic`), per motion index.
+    GroundMotion,
 }
 
 impl Purpose {
@@ -34,6 +36,7 @@ impl Purpose {
             Purpose::Bootstrap => 3,
             Purpose::Discrepancy => 4,
             Purpose::Effect => 5,
+            Purpose::GroundMotion => 6,
         }
     }
 }

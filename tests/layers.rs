@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 /// layer's other modules (where the list allows it) and the layers above.
 const LAYERS: &[&[&str]] = &[
     &["units", "range", "rng", "files"],
+    &["ground"],
     &["closure"],
     &["geometry"],
     &["layout"],

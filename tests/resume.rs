@@ -40,7 +40,7 @@ fn journal_rows(dir: &Path) -> usize {
 /// A CSV file with the `wall_time_s` column removed.
 fn without_wall_time(p: &Path) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-    let rows: Vec<Vec<String>> = text.lines().map(|l| split_csv(l)).collect();
+    let rows: Vec<Vec<String>> = text.lines().map(split_csv).collect();
     let i = rows[0].iter().position(|c| c == "wall_time_s").expect("a wall_time_s column");
     rows.into_iter()
         .map(|mut r| {

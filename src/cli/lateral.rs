@@ -9,7 +9,13 @@ use std::process::ExitCode;
 
 /// Solves the load to equilibrium and prints a table, or one JSON object with `json`;
 /// with `vtk`, writes the settled and the loaded state as a ParaView time series there.
-pub fn run(layout: &Path, solver: SolverParams, params: &LateralParams, json: bool, vtk: Option<&Path>) -> Result<ExitCode> {
+pub fn run(
+    layout: &Path,
+    solver: SolverParams,
+    params: &LateralParams,
+    json: bool,
+    vtk: Option<&Path>,
+) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut rec = Recorder::default();
     let r = run_lateral_observed(&l, solver, params, &mut |a, stable, sim| {

@@ -763,7 +763,7 @@ mod tests {
         let same: Vec<(f64, f64)> = runs.iter().map(|r| (r.0, r.0)).collect();
         let (g2, _) = joint_margins(&same);
         let above = same.iter().filter(|r| r.0 > g2).count();
-        assert!(above <= 98 && above >= 95, "{above}");
+        assert!((95..=98).contains(&above), "{above}");
     }
 
     /// The false-alarm rate of margins set on few null data sets, on data sets they were
@@ -791,7 +791,7 @@ mod tests {
         }
         let rate = alarms as f64 / tried as f64;
         // The Monte Carlo error of the mean over 400 calibrations is about 0.1 %.
-        assert!(rate <= 0.0505 && rate >= 0.035, "{rate}");
+        assert!((0.035..=0.0505).contains(&rate), "{rate}");
     }
 
     fn ranked(name: &str, scores: Vec<f64>) -> Ranked {

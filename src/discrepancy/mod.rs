@@ -750,7 +750,7 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                 let pos = ranked.iter().position(|r| r.index == idx).unwrap_or(0);
                 let x = ranked[pos].x.clone();
                 let effects = effects_of(&pool[idx], &x, course_m)?;
-                let outs = run_models(&full, &[effects.clone()], Some(baseline)).remove(0);
+                let outs = run_models(&full, std::slice::from_ref(&effects), Some(baseline)).remove(0);
                 let corrected = Candidate {
                     surface: Surface::Corrected {
                         inner: Box::new(pool[idx].surface.clone()),
@@ -801,12 +801,12 @@ pub fn analyze(prep: &Prepared, mut obs: Vec<Observation>, seed: u64) -> Result<
                     Some((_, _, e, o)) => (e.clone(), o.clone()),
                     None => {
                         let e = effects_of(c, &b.x, course_m)?;
-                        let o = run_models(&full, &[e.clone()], Some(baseline)).remove(0);
+                        let o = run_models(&full, std::slice::from_ref(&e), Some(baseline)).remove(0);
                         (e, o)
                     }
                 };
                 let sims = keys.simulated(&outs);
-                let ppc = run_models(null_setup, &[effects.clone()], Some(null_pool)).remove(0);
+                let ppc = run_models(null_setup, std::slice::from_ref(&effects), Some(null_pool)).remove(0);
                 extended = Some((effects, outs));
                 (sims, ppc)
             };

@@ -84,7 +84,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
             .collect(),
         ..setup.clone()
     };
-    let outs = run_models(&synth, &[req.effects.clone()], None).remove(0);
+    let outs = run_models(&synth, std::slice::from_ref(&req.effects), None).remove(0);
     let (mut collapse, mut disp) = (Vec::new(), Vec::new());
     for (gi, g) in synth.groups.iter().enumerate() {
         let wanted = req.observables.iter().find(|(n, _)| n == &g.name).map(|(_, v)| v.clone()).unwrap_or_default();

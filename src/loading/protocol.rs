@@ -55,7 +55,8 @@ impl ProtocolRun {
     pub fn does_not_stand(&self) -> bool {
         matches!(
             self,
-            ProtocolRun::Tilt(Err(TiltError::DoesNotStand(_))) | ProtocolRun::Lateral(Err(LateralError::DoesNotStand(_)))
+            ProtocolRun::Tilt(Err(TiltError::DoesNotStand(_)))
+                | ProtocolRun::Lateral(Err(LateralError::DoesNotStand(_)))
         )
     }
 
@@ -83,7 +84,10 @@ mod tests {
         let tilt = TiltParams { resolution_deg: 0.5, ..TiltParams::default() };
         let ProtocolRun::Tilt(Ok(a)) = Protocol::Tilt(tilt).run(&l, SolverParams::default()) else { panic!() };
         let b = run_tilt(&l, SolverParams::default(), &tilt).unwrap();
-        assert_eq!((a.last_stable_deg, a.first_unstable_deg, a.steps), (b.last_stable_deg, b.first_unstable_deg, b.steps));
+        assert_eq!(
+            (a.last_stable_deg, a.first_unstable_deg, a.steps),
+            (b.last_stable_deg, b.first_unstable_deg, b.steps)
+        );
         let lateral = LateralParams::default();
         let ProtocolRun::Lateral(Ok(c)) = Protocol::Lateral(lateral).run(&l, SolverParams::default()) else { panic!() };
         let d = run_lateral(&l, SolverParams::default(), &lateral).unwrap();

@@ -37,7 +37,9 @@ use super::monitors::{body_motion, largest_motion, monitor_displacements, monito
 use super::settle::{settle, SettleError};
 use crate::dem::drivers::accelerate::{largest_body_motion, SecantAcceleration};
 use crate::dem::drivers::implicit::{self, ImplicitSolve};
-use crate::dem::{solve_static, Cascade, DemError, DensityScaling, End, Simulation, SolverKind, SolverParams, StaticSolve};
+use crate::dem::{
+    solve_static, Cascade, DemError, DensityScaling, End, Simulation, SolverKind, SolverParams, StaticSolve,
+};
 use crate::layout::Layout;
 use crate::range::{check_ranges, OutOfRange};
 use crate::units::deg_to_rad;

@@ -5,6 +5,7 @@
 //! same order give the same numbers bit for bit. Randomness (the bootstrap) comes from
 //! [`crate::rng::rng_for`] with [`Purpose::Bootstrap`].
 
+pub mod fragility;
 pub mod ks;
 
 use crate::rng::{rng_for, Purpose};

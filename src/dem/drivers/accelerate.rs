@@ -153,7 +153,7 @@ pub fn probe_along(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3], reach: f64, m
     let scaled = |v: &[Vec3], t: f64| v.iter().map(|x| x * t).collect::<Vec<_>>();
     let pushes = |t: f64| {
         let mut trial = sim.clone();
-        trial.predict(&scaled(&dpos, t), &scaled(&drot, t));
+        trial.predict(&scaled(dpos, t), &scaled(drot, t));
         trial.assess_predicted();
         let along: f64 = (0..trial.state.bodies.len())
             .map(|i| {
@@ -179,7 +179,7 @@ pub fn probe_along(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3], reach: f64, m
                     hi = mid;
                 }
             }
-            return Ahead::Equilibrium(scaled(&dpos, last_pushing), scaled(&drot, last_pushing));
+            return Ahead::Equilibrium(scaled(dpos, last_pushing), scaled(drot, last_pushing));
         }
         last_pushing = t;
     }

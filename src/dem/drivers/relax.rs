@@ -144,11 +144,15 @@ mod tests {
     fn relaxation_stops_at_equilibrium_at_the_budget_or_at_the_check() {
         let none = |_: &Simulation| None::<()>;
         let mut sim = block();
-        let Relaxed::Equilibrium(n) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        let Relaxed::Equilibrium(n) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else {
+            panic!()
+        };
         assert!(n > 10 && sim.stats().unbalanced_ratio < 1e-6, "{n} steps");
         // Already in equilibrium: still at least 11 steps, so that the first forces
         // propagate.
-        let Relaxed::Equilibrium(again) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else { panic!() };
+        let Relaxed::Equilibrium(again) = dynamic_relaxation(&mut sim, 1e-6, 100_000, None, none).unwrap() else {
+            panic!()
+        };
         assert!((11..n).contains(&again), "{again} steps, {n} from rest");
         let mut sim = block();
         assert_eq!(dynamic_relaxation(&mut sim, 1e-12, 5, None, none).unwrap(), Relaxed::Budget(5));

@@ -1,0 +1,309 @@
+//! Record files: PEER NGA `.AT2` and two-column CSV/TSV.
+//!
+//! **AT2** (the PEER NGA-West1 and -West2 databases): four header lines (title, event,
+//! `ACCELERATION TIME SERIES IN UNITS OF G`, then `NPTS=  5590, DT=   .0050 SEC` or the
+//! older `5590    .0050    NPTS, DT`), then NPTS accelerations in g, several per line.
+//!
+//! **CSV/TSV** (`.csv`, `.tsv`, `.txt`): lines starting with `#` are comments; the first
+//! other line is the header, comma- or tab-separated: `time_s`, then the horizontal
+//! acceleration with its unit in the column name's suffix (`_g`, `_m_s2`, `_cm_s2` or
+//! `_gal`), and optionally a vertical acceleration the same way (a name starting with
+//! `vert` or `z`). Times start at or after 0 and increase strictly; a non-uniform time
+//! column is resampled by linear interpolation at its smallest interval.
+//!
+//! Every problem is refused naming the file and the line: a missing or unknown unit,
+//! NPTS/DT missing or DT ≤ 0, a value that is not a finite number, fewer or more values
+//! than NPTS, times that do not increase, an empty record.
+
+use super::{Motion, G};
+use std::path::{Path, PathBuf};
+
+/// Why a record file was refused.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[error("{}{}: {message}", path.display(), line.map_or(String::new(), |l| format!(", line {l}")))]
+pub struct RecordError {
+    /// The file.
+    pub path: PathBuf,
+    /// The line (1-based), where one is at fault.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+fn err(path: &Path, line: Option<usize>, message: impl Into<String>) -> RecordError {
+    RecordError { path: path.to_path_buf(), line, message: message.into() }
+}
+
+/// Reads a record file, by its extension: `.at2` (any case) as PEER NGA, `.csv`, `.tsv`
+/// and `.txt` as columns. The motion is named by the file stem.
+///
+/// # Errors
+/// [`RecordError`] naming the file and line (module doc).
+pub fn read_record(path: &Path) -> Result<Motion, RecordError> {
+    let text = std::fs::read_to_string(path).map_err(|e| err(path, None, format!("cannot read: {e}")))?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("record").to_string();
+    let (dt_s, horizontal_g, vertical_g) = match ext.as_str() {
+        "at2" => parse_at2(path, &text).map(|(dt, a)| (dt, a, None))?,
+        "csv" | "tsv" | "txt" => parse_columns(path, &text)?,
+        other => {
+            return Err(err(
+                path,
+                None,
+                format!("unknown record format {other:?}: expected .AT2 (PEER NGA), .csv or .tsv"),
+            ))
+        }
+    };
+    Ok(Motion { name, dt_s, horizontal_g, vertical_g })
+}
+
+fn number(path: &Path, line: usize, token: &str) -> Result<f64, RecordError> {
+    // Fortran exponents (`1.0D-03`) as in some record files.
+    let v: f64 = token
+        .replace(['D', 'd'], "E")
+        .parse()
+        .map_err(|_| err(path, Some(line), format!("{token:?} is not a number")))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(path, Some(line), format!("{token:?} is not a finite number")))
+    }
+}
+
+fn parse_at2(path: &Path, text: &str) -> Result<(f64, Vec<f64>), RecordError> {
+    let lines: Vec<&str> = text.lines().collect();
+    if lines.len() < 4 {
+        return Err(err(path, None, "an AT2 record needs four header lines and its values; the file is shorter"));
+    }
+    if !lines[2].to_ascii_uppercase().contains("UNITS OF G") {
+        return Err(err(
+            path,
+            Some(3),
+            format!("the third header line must state the unit (\"... IN UNITS OF G\"), got {:?}", lines[2].trim()),
+        ));
+    }
+    let (npts, dt) = npts_dt(path, lines[3])?;
+    if !(dt > 0.0) {
+        return Err(err(path, Some(4), format!("DT must be > 0, got {dt}")));
+    }
+    let mut values = Vec::with_capacity(npts);
+    for (i, l) in lines.iter().enumerate().skip(4) {
+        for tok in l.split_whitespace() {
+            if values.len() == npts {
+                return Err(err(path, Some(i + 1), format!("more values than NPTS = {npts}")));
+            }
+            values.push(number(path, i + 1, tok)?);
+        }
+    }
+    if values.is_empty() {
+        return Err(err(path, None, "the record is empty (no values after the header)"));
+    }
+    if values.len() < npts {
+        return Err(err(path, Some(lines.len()), format!("{} values, NPTS = {npts} in the header", values.len())));
+    }
+    Ok((dt, values))
+}
+
+/// NPTS and DT from the fourth header line, in either layout.
+fn npts_dt(path: &Path, line: &str) -> Result<(usize, f64), RecordError> {
+    let upper = line.to_ascii_uppercase();
+    let bad =
+        || err(path, Some(4), format!("expected NPTS and DT (\"NPTS= 5590, DT= .0050 SEC\"), got {:?}", line.trim()));
+    let (n, dt) = if upper.contains("NPTS=") || upper.contains("NPTS =") {
+        let after = |key: &str| -> Option<String> {
+            let i = upper.find(key)? + key.len();
+            let rest = upper[i..].trim_start().trim_start_matches('=').trim_start();
+            Some(rest.split(|c: char| c == ',' || c.is_whitespace()).next()?.to_string())
+        };
+        (after("NPTS").ok_or_else(bad)?, after("DT").ok_or_else(bad)?)
+    } else {
+        let toks: Vec<&str> = upper.split(|c: char| c == ',' || c.is_whitespace()).filter(|t| !t.is_empty()).collect();
+        if toks.len() < 2 {
+            return Err(bad());
+        }
+        (toks[0].to_string(), toks[1].to_string())
+    };
+    let npts: usize = n.trim().parse().map_err(|_| bad())?;
+    let dt = number(path, 4, dt.trim())?;
+    if npts == 0 {
+        return Err(err(path, Some(4), "NPTS is 0: the record is empty"));
+    }
+    Ok((npts, dt))
+}
+
+/// The size of a column's unit in g (the values are divided by it), by its name's suffix.
+fn unit_to_g(name: &str) -> Option<f64> {
+    let n = name.trim().to_ascii_lowercase();
+    if n.ends_with("_cm_s2") || n.ends_with("_gal") {
+        Some(100.0 * G)
+    } else if n.ends_with("_m_s2") {
+        Some(G)
+    } else if n.ends_with("_g") {
+        Some(1.0)
+    } else {
+        None
+    }
+}
+
+type Columns = (f64, Vec<f64>, Option<Vec<f64>>);
+
+fn parse_columns(path: &Path, text: &str) -> Result<Columns, RecordError> {
+    let mut rows = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((hline, header)) = rows.next() else {
+        return Err(err(path, None, "the record is empty (no header line)"));
+    };
+    let split = |l: &str| -> Vec<String> {
+        if l.contains('\t') { l.split('\t') } else { l.split(',') }.map(|s| s.trim().to_string()).collect()
+    };
+    let names = split(header);
+    if names.len() < 2 || !names[0].eq_ignore_ascii_case("time_s") {
+        return Err(err(
+            path,
+            Some(hline + 1),
+            format!("the header must be `time_s` then the acceleration with its unit (e.g. `time_s,accel_g`), got {header:?}"),
+        ));
+    }
+    let factors: Vec<f64> = names[1..]
+        .iter()
+        .map(|n| {
+            unit_to_g(n).ok_or_else(|| {
+                err(
+                    path,
+                    Some(hline + 1),
+                    format!("column {n:?} states no unit: end its name with _g, _m_s2, _cm_s2 or _gal"),
+                )
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    if factors.len() > 2 {
+        return Err(err(path, Some(hline + 1), "at most two acceleration columns (horizontal, vertical)"));
+    }
+    let vertical_col = names[1..].iter().position(|n| {
+        let n = n.to_ascii_lowercase();
+        n.starts_with("vert") || n.starts_with('z')
+    });
+    let (hcol, vcol) = match (factors.len(), vertical_col) {
+        (1, Some(_)) => {
+            return Err(err(path, Some(hline + 1), "a vertical column alone: the horizontal one is missing"))
+        }
+        (1, None) => (0, None),
+        (_, Some(v)) => (1 - v, Some(v)),
+        (_, None) => (0, Some(1)),
+    };
+    let (mut t, mut h, mut v) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, l) in rows {
+        let cells = split(l);
+        if cells.len() != names.len() {
+            return Err(err(path, Some(i + 1), format!("{} columns, the header has {}", cells.len(), names.len())));
+        }
+        let time = number(path, i + 1, &cells[0])?;
+        if time < 0.0 {
+            return Err(err(path, Some(i + 1), format!("time {time} s is negative")));
+        }
+        if let Some(&last) = t.last() {
+            if !(time > last) {
+                return Err(err(
+                    path,
+                    Some(i + 1),
+                    format!("time {time} s does not increase (the line before: {last} s)"),
+                ));
+            }
+        }
+        t.push(time);
+        h.push(number(path, i + 1, &cells[1 + hcol])? / factors[hcol]);
+        if let Some(vc) = vcol {
+            v.push(number(path, i + 1, &cells[1 + vc])? / factors[vc]);
+        }
+    }
+    if t.len() < 2 {
+        return Err(err(path, None, format!("{} samples: a record needs at least two", t.len())));
+    }
+    let dt = t.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    let uniform = t.windows(2).all(|w| ((w[1] - w[0]) / dt - 1.0).abs() < 1e-6) && t[0] == 0.0;
+    if uniform {
+        return Ok((dt, h, vcol.map(|_| v)));
+    }
+    // Resampled from t = 0 at the smallest interval (zero before the first sample).
+    let n = (t[t.len() - 1] / dt).round() as usize + 1;
+    let resample = |a: &[f64]| -> Vec<f64> {
+        let mut j = 0;
+        (0..n)
+            .map(|k| {
+                let tk = k as f64 * dt;
+                if tk < t[0] {
+                    return 0.0;
+                }
+                while j + 1 < t.len() && t[j + 1] < tk {
+                    j += 1;
+                }
+                if j + 1 >= t.len() {
+                    return a[a.len() - 1];
+                }
+                let f = ((tk - t[j]) / (t[j + 1] - t[j])).clamp(0.0, 1.0);
+                a[j] * (1.0 - f) + a[j + 1] * f
+            })
+            .collect()
+    };
+    Ok((dt, resample(&h), vcol.map(|_| resample(&v))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("drystone-records-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nTest event, 01/01/2000, Station, 000\n\
+ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=     7, DT=   .0050 SEC\n  .1000000E-01  -.2000000E-01  .3000000E-01\n\
+ .4000000E-01 -.5000000E-01\n  .6000000E-01  .0000000E+00\n";
+
+    #[test]
+    fn an_at2_record_reads_in_both_header_layouts() {
+        let m = read_record(&write("a.AT2", AT2)).unwrap();
+        assert_eq!(m.dt_s, 0.005);
+        assert_eq!(m.horizontal_g.len(), 7);
+        assert_eq!(m.horizontal_g[4], -0.05);
+        assert_eq!(m.name, "a");
+        let old = AT2.replace("NPTS=     7, DT=   .0050 SEC", "    7    .0050    NPTS, DT");
+        assert_eq!(read_record(&write("b.at2", &old)).unwrap(), Motion { name: "b".into(), ..m });
+    }
+
+    #[test]
+    fn bad_records_are_refused_naming_file_and_line() {
+        let cases = [
+            ("u.AT2", AT2.replace("IN UNITS OF G", "IN UNITS OF CM/S/S"), "line 3"),
+            ("d.AT2", AT2.replace(".0050", "0.0"), "DT must be > 0"),
+            ("n.AT2", AT2.replace(".4000000E-01", "NaN"), "line 6"),
+            ("s.AT2", AT2.replace("NPTS=     7", "NPTS=     9"), "NPTS = 9"),
+            ("e.AT2", AT2.lines().take(4).collect::<Vec<_>>().join("\n"), "empty"),
+            ("c.csv", "time_s,accel\n0,0.1\n0.01,0.2\n".into(), "states no unit"),
+            ("m.csv", "time_s,accel_g\n0,0.1\n0.01,0.2\n0.01,0.3\n".into(), "line 4"),
+            ("x.csv", "time_s,accel_g\n0,0.1\n0.01,nan\n".into(), "line 3"),
+            ("y.csv", "time_s,accel_g\n".into(), "0 samples"),
+        ];
+        for (name, text, needle) in cases {
+            let e = read_record(&write(name, &text)).unwrap_err().to_string();
+            assert!(e.contains(name) && e.contains(needle), "{name}: {e}");
+        }
+    }
+
+    #[test]
+    fn columns_read_with_their_units_and_resample() {
+        let m = read_record(&write("r.csv", "# a comment\ntime_s,accel_m_s2\n0,9.80665\n0.01,-4.903325\n")).unwrap();
+        assert_eq!(m.horizontal_g, vec![1.0, -0.5]);
+        let t = read_record(&write("r.tsv", "time_s\tvert_g\taccel_cm_s2\n0\t0.5\t980.665\n0.02\t0\t0\n")).unwrap();
+        assert_eq!(t.horizontal_g, vec![1.0, 0.0]);
+        assert_eq!(t.vertical_g, Some(vec![0.5, 0.0]));
+        // Non-uniform times: resampled at the smallest interval by linear interpolation.
+        let u = read_record(&write("u.csv", "time_s,accel_g\n0,0\n0.01,0.1\n0.03,0.3\n")).unwrap();
+        assert!((u.dt_s - 0.01).abs() < 1e-15);
+        assert_eq!(u.horizontal_g.len(), 4);
+        assert!((u.horizontal_g[2] - 0.2).abs() < 1e-12);
+    }
+}
