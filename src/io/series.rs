@@ -171,6 +171,57 @@ impl Recorder {
     }
 }
 
+impl Recorder {
+    /// Records the poses of `bodies` (the blocks of any solver, layout order) at `time`,
+    /// with the sub-contacts given (none where the solver has no sub-contact forces to
+    /// show).
+    pub fn observe_bodies(
+        &mut self,
+        time: f64,
+        stable: bool,
+        bodies: &[crate::dem::state::Body],
+        subs: Vec<RecordedSubContact>,
+    ) {
+        if self.blocks.is_empty() {
+            self.blocks = bodies
+                .iter()
+                .map(|b| RecordedBlock {
+                    id: b.id.clone(),
+                    material: b.material,
+                    fixed: b.fixed,
+                    shape: b.shape.clone(),
+                    radius: b.radius,
+                })
+                .collect();
+        }
+        let poses = bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        self.states.push(RecordedState { time, stable, poses, subs });
+    }
+}
+
+/// The frames of a motion: every recorded state in time order, the blocks that moved more
+/// than `MECHANISM_SHARE` of the largest motion from the first state marked moving.
+pub fn motion_frames(rec: &Recorder) -> Vec<Frame> {
+    let Some(first) = rec.states.first() else { return Vec::new() };
+    rec.states
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let m: Vec<f64> = first
+                .poses
+                .iter()
+                .zip(&s.poses)
+                .zip(&rec.blocks)
+                .map(|((a, b), blk)| motion(a, b, blk.radius))
+                .collect();
+            let max = m.iter().cloned().fold(0.0, f64::max);
+            let moving =
+                m.iter().zip(&rec.blocks).map(|(d, b)| !b.fixed && max > 1e-6 && *d > MECHANISM_SHARE * max).collect();
+            Frame { state: k, moving }
+        })
+        .collect()
+}
+
 /// One state of a series: the index of the recorded state and which blocks move.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {

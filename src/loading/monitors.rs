@@ -20,6 +20,11 @@ pub(crate) struct MonitorPoint {
 /// and `top_right`, on the top face of the highest movable block at 5 %, 50 % and 95 % of the
 /// layout's length.
 pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
+    monitor_points_of(layout, &sim.state.bodies)
+}
+
+/// [`monitor_points`] for the bodies of any solver (the layout's blocks, in layout order).
+pub(crate) fn monitor_points_of(layout: &Layout, bodies: &[crate::dem::state::Body]) -> Vec<MonitorPoint> {
     if !layout.monitors.is_empty() {
         return layout
             .monitors
@@ -27,7 +32,7 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
             .map(|m| MonitorPoint {
                 name: m.name.clone(),
                 body: m.block,
-                local: sim.state.bodies[m.block].to_body(&m.point),
+                local: bodies[m.block].to_body(&m.point),
             })
             .collect();
     }
@@ -49,7 +54,7 @@ pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPo
                 .max_by(|(i, a), (j, b)| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z).then(j.cmp(i)))?;
             let bb = b.shape.aabb();
             let p = Vec3::new(x, 0.5 * (bb.min.y + bb.max.y), bb.max.z);
-            Some(MonitorPoint { name: name.into(), body: bi, local: sim.state.bodies[bi].to_body(&p) })
+            Some(MonitorPoint { name: name.into(), body: bi, local: bodies[bi].to_body(&p) })
         })
         .collect()
 }
