@@ -1,4 +1,5 @@
-//! Loading protocols: the tilting table ([`tilt`]) and the static lateral load ([`lateral`]),
+//! Loading protocols: the tilting table ([`tilt`]; at the rigid limit by non-smooth
+//! contact dynamics, [`tilt_nscd`]) and the static lateral load ([`lateral`]),
 //! with the monitor points and motion measures they share ([`monitors`]) and the reading of
 //! the collapse mechanism ([`mechanism`]).
 
@@ -7,3 +8,4 @@ pub mod mechanism;
 pub mod monitors;
 pub mod settle;
 pub mod tilt;
+pub mod tilt_nscd;

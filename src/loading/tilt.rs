@@ -587,6 +587,10 @@ pub enum TiltError {
     /// A tilt or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
+    /// The non-smooth solver refused the layout (a joint with cohesion or tensile
+    /// strength; `loading::tilt_nscd`).
+    #[error(transparent)]
+    Nscd(crate::dem::drivers::nscd::NscdError),
 }
 
 impl TiltError {
