@@ -5,8 +5,10 @@
 mod cli;
 
 use clap::{Parser, Subcommand};
+use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, SolverKind, SolverParams};
 use drystone::loading::lateral::LateralParams;
+use drystone::loading::shake::ShakeParams;
 use drystone::loading::tilt::TiltParams;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -117,6 +119,59 @@ enum Command {
         solver: SolverKind,
         /// Write the settled and the loaded state as a ParaView time series into DIR
         /// (lateral.pvd, time = load factor 0 and 1).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
+    },
+    /// Shaking table: the layout on a base that moves with a recorded or a built-in
+    /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks);
+    /// prints whether it overturned, the largest rocking rotation and the drifts.
+    Shake {
+        /// Layout file (JSON).
+        layout: PathBuf,
+        /// Ground-motion record: PEER NGA `.AT2` (in g), or `.csv`/`.tsv` with columns
+        /// `time_s` and the acceleration with its unit in the name (`accel_g`, `accel_m_s2`,
+        /// `accel_cm_s2`; optionally a vertical column `vert_g`, ...).
+        #[arg(long, value_name = "FILE")]
+        record: Option<PathBuf>,
+        /// Built-in pulse instead of a record: `one-sine` (a = A g sin(2πt/T) for 0 ≤ t ≤ T,
+        /// Zhang & Makris 2001) or `ricker` (the Ricker wavelet of period T, peak A at t = T).
+        #[arg(long)]
+        pulse: Option<String>,
+        /// Pulse amplitude A, g.
+        #[arg(long)]
+        amplitude_g: Option<f64>,
+        /// Pulse period T, s.
+        #[arg(long)]
+        period_s: Option<f64>,
+        /// Scale the motion (both components) to this peak ground acceleration, g.
+        #[arg(long)]
+        scale_pga_g: Option<f64>,
+        /// Remove the linear trend of the record's velocity (baseline correction).
+        #[arg(long)]
+        baseline_correction: bool,
+        /// Simulate this much of the motion, s [default: all of it].
+        #[arg(long)]
+        duration_s: Option<f64>,
+        /// Free motion after the record ends, s.
+        #[arg(long, default_value_t = ShakeParams::default().tail_s)]
+        tail_s: f64,
+        /// Time step of the solver, s.
+        #[arg(long, default_value_t = NscdParams::default().dt_s)]
+        dt_s: f64,
+        /// Newton's coefficient of restitution at impacts, in [0, 1].
+        #[arg(long, default_value_t = NscdParams::default().restitution)]
+        restitution: f64,
+        /// Keep simulating after the first block falls (to the end of the motion and tail).
+        #[arg(long)]
+        no_stop_at_collapse: bool,
+        /// Solver: `nscd` (non-smooth contact dynamics, the only one that runs the shaking
+        /// table).
+        #[arg(long, default_value = "nscd", value_parser = parse_solver)]
+        solver: SolverKind,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+        /// Write the motion as a ParaView time series into DIR (shake.pvd, time in s).
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
     },
@@ -372,6 +427,38 @@ fn run() -> anyhow::Result<ExitCode> {
             let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
             let solver = SolverParams { kind: solver, ..SolverParams::default() };
             cli::lateral::run(&layout, solver, &params, json, vtk.as_deref())
+        }
+        Command::Shake {
+            layout,
+            record,
+            pulse,
+            amplitude_g,
+            period_s,
+            scale_pga_g,
+            baseline_correction,
+            duration_s,
+            tail_s,
+            dt_s,
+            restitution,
+            no_stop_at_collapse,
+            solver,
+            json,
+            vtk,
+        } => {
+            let args = cli::shake::MotionArgs {
+                record,
+                pulse,
+                amplitude_g,
+                period_s,
+                scale_pga_g,
+                baseline: baseline_correction,
+            };
+            let motion = cli::shake::motion(&args, dt_s.min(0.001))?;
+            let nscd = NscdParams { dt_s, restitution, ..NscdParams::default() };
+            let solver = SolverParams { kind: solver, nscd, ..SolverParams::default() };
+            let params =
+                ShakeParams { duration_s, tail_s, stop_at_collapse: !no_stop_at_collapse, ..ShakeParams::default() };
+            cli::shake::run(&layout, &motion, solver, &params, json, vtk.as_deref())
         }
         Command::Run { study, out, workers, shard, realizations, full, resume, force, vtk_realizations } => {
             cli::study::run(cli::study::RunArgs {

@@ -1,7 +1,6 @@
 //! `drystone shake`: a layout on a shaking table, under a record or a built-in pulse.
 
 use anyhow::{bail, Context, Result};
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::SolverParams;
 use drystone::ground::{read_record, Motion, Pulse};
 use drystone::io::series::{motion_frames, write_series, Recorder};
@@ -59,14 +58,13 @@ pub fn run(
     layout: &Path,
     motion: &Motion,
     solver: SolverParams,
-    nscd: &NscdParams,
     params: &ShakeParams,
     json: bool,
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut rec = Recorder::default();
-    let r = run_shake_observed(&l, solver, nscd, motion, params, &mut |t, sim| {
+    let r = run_shake_observed(&l, solver, motion, params, &mut |t, sim| {
         if vtk.is_some() {
             rec.observe_bodies(t, true, sim.bodies(), Vec::new());
         }

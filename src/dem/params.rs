@@ -97,6 +97,9 @@ pub struct SolverParams {
     pub patch_reuse_fraction: f64,
     /// Density scaling for static solutions. Default `Block { mass_floor: 0.05 }`.
     pub density_scaling: DensityScaling,
+    /// Settings of the non-smooth contact-dynamics solver (`kind = "nscd"`; a
+    /// `[solver.nscd]` table in a study), unused by the penalty DEM.
+    pub nscd: super::drivers::nscd::NscdParams,
 }
 
 impl Default for SolverParams {
@@ -114,6 +117,7 @@ impl Default for SolverParams {
             redetect_fraction: 0.5,
             patch_reuse_fraction: 0.1,
             density_scaling: DensityScaling::Block { mass_floor: 0.05 },
+            nscd: super::drivers::nscd::NscdParams::default(),
         }
     }
 }

@@ -29,11 +29,7 @@ pub(crate) fn monitor_points_of(layout: &Layout, bodies: &[crate::dem::state::Bo
         return layout
             .monitors
             .iter()
-            .map(|m| MonitorPoint {
-                name: m.name.clone(),
-                body: m.block,
-                local: bodies[m.block].to_body(&m.point),
-            })
+            .map(|m| MonitorPoint { name: m.name.clone(), body: m.block, local: bodies[m.block].to_body(&m.point) })
             .collect();
     }
     let all = layout.bounds();

@@ -25,7 +25,7 @@
 //! ([`ShakeParams::settle_s`]); the motion's time 0 is the end of that settling.
 
 use super::monitors::{monitor_points_of, MonitorPoint};
-use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
+use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
 use crate::dem::{SolverKind, SolverParams};
 use crate::ground::{Motion, G};
 use crate::layout::Layout;
@@ -171,7 +171,7 @@ pub enum ShakeError {
 }
 
 /// Runs the shaking-table test of `layout` under `motion` with the non-smooth solver
-/// `nscd` (`solver.kind` must be [`SolverKind::Nscd`]).
+/// (`solver.kind` must be [`SolverKind::Nscd`]; its settings are `solver.nscd`).
 ///
 /// # Errors
 /// [`ShakeError`]: a bad parameter or motion, a solver other than `nscd`, or the solver's
@@ -179,11 +179,10 @@ pub enum ShakeError {
 pub fn run_shake(
     layout: &Layout,
     solver: SolverParams,
-    nscd: &NscdParams,
     motion: &Motion,
     params: &ShakeParams,
 ) -> Result<ShakeResult, ShakeError> {
-    run_shake_observed(layout, solver, nscd, motion, params, &mut |_, _| {})
+    run_shake_observed(layout, solver, motion, params, &mut |_, _| {})
 }
 
 /// As [`run_shake`], handing the state to `observe(time_s, state)` at every recorded time
@@ -194,7 +193,6 @@ pub fn run_shake(
 pub fn run_shake_observed(
     layout: &Layout,
     solver: SolverParams,
-    nscd: &NscdParams,
     motion: &Motion,
     params: &ShakeParams,
     observe: &mut dyn FnMut(f64, &NscdSimulation),
@@ -207,6 +205,7 @@ pub fn run_shake_observed(
         return Err(ShakeError::BadMotion(motion.name.clone()));
     }
     let t0 = Instant::now();
+    let nscd = &solver.nscd;
     let mut sim = NscdSimulation::new(layout, nscd)?;
     let h = nscd.dt_s;
     let height = layout.bounds().extent().z;

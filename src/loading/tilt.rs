@@ -586,6 +586,10 @@ pub enum TiltError {
     /// The solver chosen cannot run this protocol.
     #[error("solver {0} cannot run the tilting-table test")]
     Unsupported(SolverKind),
+    /// The non-smooth solver refused the layout (a joint with cohesion or tensile
+    /// strength; `loading::tilt_nscd`).
+    #[error(transparent)]
+    Nscd(crate::dem::drivers::nscd::NscdError),
 }
 
 impl TiltError {
@@ -655,10 +659,12 @@ pub fn run_tilt_observed(
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
-    solver.validate_static().map_err(TiltError::Parameter)?;
-    if !solver.kind.is_penalty() {
-        return Err(TiltError::Unsupported(solver.kind));
+    match solver.kind {
+        SolverKind::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
+        kind if !kind.is_penalty() => return Err(TiltError::Unsupported(kind)),
+        _ => {}
     }
+    solver.validate_static().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);

@@ -1,0 +1,202 @@
+//! Non-smooth contact dynamics (NSCD) of rigid blocks: the Moreau–Jean time stepping with
+//! hard unilateral contacts and Coulomb friction, solved by non-linear Gauss–Seidel
+//! (Moreau 1988; Jean 1999, Comput. Methods Appl. Mech. Eng. 177:235; Acary & Brogliato
+//! 2008, *Numerical Methods for Nonsmooth Dynamical Systems*, ch. 10 and 12). LMGC90 and
+//! Siconos are the reference codes of the method; this is drystone's own implementation.
+//!
+//! Every joint is rigid: the layout's Kn, Ks and closure law are not used; its friction
+//! angle φ (material rule and joint families, as the penalty engine reads them) is.
+//! Cohesion and tensile strength are refused ([`NscdError::Cohesion`], naming the joint).
+//!
+//! # The parts
+//!
+//! * [`contacts`]: contact points and their local frames from drystone's own detection
+//!   (sweep and prune, the separating-axis narrow phase and its contact polygon,
+//!   `dem::contact::geometry`): one point per vertex of each contact polygon (a segment
+//!   contact: its two ends; a point contact: the point). With hard contacts the vertices
+//!   of the polygon carry every admissible pressure resultant inside it, so the reduced
+//!   set carries the same forces and moments as the polygon (as LMGC90's polyhedra do).
+//! * [`delassus`]: the blocks of the Delassus operator `W = H M⁻¹ Hᵀ` of the rigid
+//!   bodies (the diagonal 3 × 3 block of each contact point, and the rows `H` that map
+//!   the bodies' velocities to the point's relative velocity).
+//! * [`local`]: the local 3D Coulomb problem of one contact point (separation, stick or
+//!   slip, exact; De Saxcé's projection as a fallback).
+//! * [`stepper`]: [`NscdSimulation`], the θ-scheme step with a prescribed base
+//!   acceleration and its NSGS loop.
+//!
+//! # Frames and signs
+//!
+//! The table frame (x along the wall, y out of plane, z up). At each contact point the
+//! local frame is (n, t₁, t₂), `n` the unit normal from body A (the table, or the lower
+//! index) to body B and (t₁, t₂) = `geometry::polygon::plane_basis(n)`. `u` is the
+//! velocity of B relative to A at the point in that frame (m/s), `r` the impulse on B over
+//! the step in that frame (N·s; A gets −r). Signorini: `uₙ + b ≥ 0, rₙ ≥ 0, (uₙ + b) rₙ = 0`
+//! with `b` the gap and restitution term of [`stepper`]; Coulomb: `‖r_t‖ ≤ μ rₙ`, and
+//! `r_t = −μ rₙ u_t/‖u_t‖` when `u_t ≠ 0`.
+
+pub mod contacts;
+pub mod delassus;
+pub mod local;
+pub mod stepper;
+
+pub use contacts::ContactPoint;
+pub use stepper::{NscdSimulation, NscdStep};
+
+use crate::range::{check_ranges, OutOfRange};
+use serde::{Deserialize, Serialize};
+
+/// Parameters of the non-smooth contact-dynamics solver. Defaults in brackets; serde
+/// keys as the field names (a study's `[solver]` table), unknown keys refused.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NscdParams {
+    /// Time step h, s \[1e-3\] (LMGC90's step in `scripts/lmgc90/rigid_limits.py`).
+    pub dt_s: f64,
+    /// θ of the Moreau–Jean scheme, in \[0.5, 1\] \[0.5\]: the positions advance by
+    /// `h (θ v⁺ + (1 − θ) v⁻)` and the smooth forces act at `t + θ h`. 0.5 (LMGC90's
+    /// choice) conserves the energy of free flight; the impulse law is on the end-of-step
+    /// velocity `v⁺` for every θ, so Housner's impact ratio does not depend on it
+    /// (`tests/nscd_motion.rs` checks 0.5 and 1).
+    pub theta: f64,
+    /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
+    /// (0: no bounce, the rocking block's impact of Housner 1963).
+    pub restitution: f64,
+    /// NSGS convergence tolerance \[1e-7\]: a sweep over the contact points converged when
+    /// the largest velocity correction it made at any point, `max_i ‖W_ii Δr_i‖`, is below
+    /// `tolerance × g h` (g h: the velocity gravity adds in one step).
+    pub tolerance: f64,
+    /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
+    /// last iterate and counts as unconverged ([`NscdStep::converged`]).
+    pub max_iterations: u32,
+    /// Pairs closer than this get contact points, m \[1e-3\].
+    pub contact_margin_m: f64,
+    /// Vertices within this distance of the support plane form an edge or vertex feature,
+    /// m \[5e-4\].
+    pub feature_tolerance_m: f64,
+    /// Faces within this angle of the contact normal form a face feature, degrees \[10\]:
+    /// a block rocking on an edge gets the points of its whole face back when it turns
+    /// within this angle of its seat, before the impact.
+    pub face_angle_tolerance_deg: f64,
+    /// Contacts are re-detected when a body has moved this fraction of the margin since
+    /// the last detection (translation plus rotation times its radius) \[0.5\].
+    pub redetect_fraction: f64,
+    /// Largest simulated time of one tilt trial released from rest, s \[1.0\] (see
+    /// `loading::tilt_nscd`).
+    pub trial_time_s: f64,
+    /// A trial is at rest when the largest velocity of any block point (`|v| + |ω| R`) is
+    /// below `rest_velocity_ratio × g h` \[1e-3\] for [`Self::rest_steps`] steps running.
+    pub rest_velocity_ratio: f64,
+    /// Steps at rest that end a trial as stable \[10\].
+    pub rest_steps: u32,
+    /// A trial is unstable when the largest point speed has grown at every one of this
+    /// many steps running and is above the rest velocity: the mechanism keeps
+    /// accelerating under a constant tilt \[50\].
+    pub accelerating_steps: u32,
+}
+
+impl Default for NscdParams {
+    fn default() -> Self {
+        NscdParams {
+            dt_s: 1e-3,
+            theta: 0.5,
+            restitution: 0.0,
+            tolerance: 1e-7,
+            max_iterations: 2000,
+            contact_margin_m: 1e-3,
+            feature_tolerance_m: 5e-4,
+            face_angle_tolerance_deg: 10.0,
+            redetect_fraction: 0.5,
+            trial_time_s: 1.0,
+            rest_velocity_ratio: 1e-3,
+            rest_steps: 10,
+            accelerating_steps: 50,
+        }
+    }
+}
+
+impl NscdParams {
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, named by its key, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("dt_s", self.dt_s, self.dt_s > 0.0 && self.dt_s <= 0.1, "in (0, 0.1]"),
+            ("theta", self.theta, (0.5..=1.0).contains(&self.theta), "in [0.5, 1]"),
+            ("restitution", self.restitution, (0.0..=1.0).contains(&self.restitution), "in [0, 1]"),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
+            ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
+            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
+            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
+            (
+                "face_angle_tolerance_deg",
+                self.face_angle_tolerance_deg,
+                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
+                "in (0, 45)",
+            ),
+            (
+                "redetect_fraction",
+                self.redetect_fraction,
+                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
+                "in (0, 1]",
+            ),
+            ("trial_time_s", self.trial_time_s, self.trial_time_s > 0.0, "> 0"),
+            (
+                "rest_velocity_ratio",
+                self.rest_velocity_ratio,
+                self.rest_velocity_ratio > 0.0 && self.rest_velocity_ratio < 1.0,
+                "in (0, 1)",
+            ),
+            ("rest_steps", self.rest_steps as f64, self.rest_steps >= 1, ">= 1"),
+            ("accelerating_steps", self.accelerating_steps as f64, self.accelerating_steps >= 1, ">= 1"),
+        ])
+    }
+
+    /// The narrow phase's share: drystone's detection with one point per polygon vertex
+    /// (no subdivision, fanned from a vertex) and a negligible widening of segment and
+    /// point contacts (their points are merged back, [`contacts`]).
+    pub fn patch(&self) -> crate::dem::contact::geometry::PatchParams {
+        crate::dem::contact::geometry::PatchParams {
+            contact_margin_m: self.contact_margin_m,
+            feature_tolerance_m: self.feature_tolerance_m,
+            face_angle_tolerance_rad: self.face_angle_tolerance_deg.to_radians(),
+            degenerate_width_fraction: 1e-4,
+            subcontact_subdivisions: 1,
+            fan: crate::dem::contact::geometry::Fan::Vertex,
+        }
+    }
+}
+
+/// Errors of the non-smooth solver.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum NscdError {
+    /// A parameter is out of range.
+    #[error("nscd parameter {0}")]
+    Parameter(OutOfRange),
+    /// A joint has cohesion or tensile strength: the solver's joints are cohesionless
+    /// Coulomb contacts.
+    #[error(
+        "joint {joint} has cohesion {cohesion_pa} Pa and tensile strength {tensile_strength_pa} Pa: the nscd solver \
+         models rigid cohesionless Coulomb joints; set both to 0 for this joint's material or family, or use the \
+         penalty solver"
+    )]
+    Cohesion {
+        /// The joint, `table/ID` or `ID_A/ID_B`.
+        joint: String,
+        /// Its cohesion, Pa.
+        cohesion_pa: f64,
+        /// Its tensile strength, Pa.
+        tensile_strength_pa: f64,
+    },
+    /// A body's state became NaN or infinite.
+    #[error("block {id} has a non-finite state at step {step} (time step {dt_s:e} s): the run blew up")]
+    NonFinite {
+        /// Block id.
+        id: String,
+        /// Step number.
+        step: u64,
+        /// Time step, s.
+        dt_s: f64,
+    },
+}

@@ -1,0 +1,407 @@
+//! The Moreau–Jean step of the non-smooth solver ([`NscdSimulation`]).
+//!
+//! # One step of length h (Jean 1999, §3; Acary & Brogliato 2008, §10.1)
+//!
+//! 1. **Contacts**, re-detected only when a body has moved more than
+//!    [`NscdParams::redetect_fraction`] of the contact margin since the last detection;
+//!    each new point starts from the impulse of the nearest old point of its pair (warm
+//!    start).
+//! 2. **Rows** of every point at the poses of the start of the step ([`PointRows`]), and
+//!    its Signorini term `b`: a closed point (gap g ≤ 0) has `b = 0` (no interpenetration
+//!    velocity); an open one may close within the step, `b = max(g + h (1 − θ) uₙ⁻, 0) /
+//!    (h θ)`, so that the θ-update of the positions brings it at most to contact; a point
+//!    that closes within the step also gets Newton's term `b += e min(uₙ⁻, 0)` (restitution
+//!    e, [`NscdParams::restitution`]).
+//! 3. **Free velocities**: `v_free = v⁻ + h M⁻¹ F(t + θ h)`, F the weight (tilted gravity),
+//!    the d'Alembert force of the base acceleration `−m a_g` (the bodies are followed in
+//!    the frame of the table, which moves with acceleration `a_g(t)`: the table is then a
+//!    boundary body at rest, and every displacement is relative to it), end-restraint
+//!    springs, external loads, and the gyroscopic torque `−ω × I ω`.
+//! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
+//!    points in their fixed order, each solving its local Coulomb problem
+//!    ([`super::local::solve`]) with the current velocities of the other points' bodies
+//!    and writing its impulse change back, until the largest velocity correction of a
+//!    sweep `max ‖W_ii Δr_i‖` is below `tolerance × g h` or [`NscdParams::max_iterations`].
+//! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
+//!    vector in the table frame).
+//!
+//! An end restraint that is rigid holds the block's centroid in y (its inverse mass in y
+//! is zero); a spring restraint is a smooth force. Fixed blocks and the table are boundary
+//! bodies (zero inverse mass).
+
+use super::contacts::{detect, ContactPoint};
+use super::delassus::{PointRows, TABLE};
+use super::local;
+use super::{NscdError, NscdParams};
+use crate::dem::materials::JointTable;
+use crate::dem::state::Body;
+use crate::layout::{EndRestraint, Layout};
+use crate::{Mat3, Vec3};
+use nalgebra::UnitQuaternion;
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NscdStep {
+    /// NSGS sweeps.
+    pub iterations: u32,
+    /// The sweeps met the tolerance.
+    pub converged: bool,
+    /// The largest velocity correction of the last sweep, m/s.
+    pub residual_m_per_s: f64,
+    /// Contact points carrying an impulse at the end of the step.
+    pub active: usize,
+    /// Contacts were re-detected before the step.
+    pub redetected: bool,
+}
+
+/// A rigid-block simulation by non-smooth contact dynamics (see the module doc): the
+/// bodies (poses, velocities), the contact points with their impulses, the loads, and the
+/// time.
+#[derive(Debug, Clone)]
+pub struct NscdSimulation {
+    bodies: Vec<Body>,
+    points: Vec<ContactPoint>,
+    rows: Vec<PointRows>,
+    vel: Vec<Vec3>,
+    angvel: Vec<Vec3>,
+    x: Vec<Vec3>,
+    inv_m: Vec<Vec3>,
+    inv_i: Vec<Mat3>,
+    spring: Vec<Option<f64>>,
+    gravity: Vec3,
+    gravity_magnitude: f64,
+    external_force: Vec<Vec3>,
+    external_torque: Vec<Vec3>,
+    joints: JointTable,
+    params: NscdParams,
+    detect_pos: Vec<Vec3>,
+    detect_rot: Vec<UnitQuaternion<f64>>,
+    time: f64,
+    steps: u64,
+    iterations: u64,
+    detections: u64,
+    last: NscdStep,
+}
+
+impl NscdSimulation {
+    /// The simulation of a checked layout at rest in its reference configuration, gravity
+    /// straight down (table level), its contact points detected.
+    ///
+    /// # Errors
+    /// [`NscdError::Parameter`] for a parameter out of range, [`NscdError::Cohesion`] for a
+    /// joint in contact with cohesion or tensile strength.
+    pub fn new(layout: &Layout, params: &NscdParams) -> Result<NscdSimulation, NscdError> {
+        params.validate().map_err(NscdError::Parameter)?;
+        let bodies: Vec<Body> = layout
+            .blocks
+            .iter()
+            .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
+            .collect();
+        let n = bodies.len();
+        let mut spring = vec![None; n];
+        let mut inv_m: Vec<Vec3> =
+            bodies.iter().map(|b| if b.fixed { Vec3::zeros() } else { Vec3::repeat(1.0 / b.mass) }).collect();
+        for &(i, r) in &layout.end_restraints {
+            match r {
+                EndRestraint::Rigid => inv_m[i].y = 0.0,
+                EndRestraint::Spring(k) => spring[i] = Some(k),
+            }
+        }
+        let mut sim = NscdSimulation {
+            vel: vec![Vec3::zeros(); n],
+            angvel: vec![Vec3::zeros(); n],
+            x: bodies.iter().map(|b| b.pos).collect(),
+            inv_i: vec![Mat3::zeros(); n],
+            inv_m,
+            spring,
+            gravity: Vec3::new(0.0, 0.0, -layout.gravity),
+            gravity_magnitude: layout.gravity,
+            external_force: vec![Vec3::zeros(); n],
+            external_torque: vec![Vec3::zeros(); n],
+            joints: JointTable::new(layout),
+            params: *params,
+            detect_pos: bodies.iter().map(|b| b.pos).collect(),
+            detect_rot: bodies.iter().map(|b| b.rot).collect(),
+            bodies,
+            points: Vec::new(),
+            rows: Vec::new(),
+            time: 0.0,
+            steps: 0,
+            iterations: 0,
+            detections: 0,
+            last: NscdStep::default(),
+        };
+        sim.redetect()?;
+        Ok(sim)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &NscdParams {
+        &self.params
+    }
+
+    /// The bodies (poses: centroid `pos`, orientation `rot` from the reference
+    /// configuration; velocities `vel`, `angvel` at the end of the last step), layout order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// The contact points with the impulses of the last step, in their fixed order.
+    pub fn contact_points(&self) -> &[ContactPoint] {
+        &self.points
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// NSGS sweeps taken in all.
+    pub fn iterations(&self) -> u64 {
+        self.iterations
+    }
+
+    /// Contact detections so far (the initial one included).
+    pub fn detections(&self) -> u64 {
+        self.detections
+    }
+
+    /// What the last step did.
+    pub fn last_step(&self) -> NscdStep {
+        self.last
+    }
+
+    /// Magnitude of gravity, m/s².
+    pub fn gravity_magnitude(&self) -> f64 {
+        self.gravity_magnitude
+    }
+
+    /// Sets the table tilt α (rad): gravity `g (0, sin α, −cos α)` in the table frame, as
+    /// the penalty engine's `WallState::set_tilt`.
+    pub fn set_tilt(&mut self, alpha: f64) {
+        self.gravity = Vec3::new(0.0, alpha.sin(), -alpha.cos()) * self.gravity_magnitude;
+    }
+
+    /// External force (N, at the centroid) and torque (N·m, about it) per body, table
+    /// frame, constant until changed.
+    pub fn set_external(&mut self, force: &[Vec3], torque: &[Vec3]) {
+        self.external_force.copy_from_slice(force);
+        self.external_torque.copy_from_slice(torque);
+    }
+
+    /// Kinetic energy, J (relative to the table).
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies.iter().map(Body::kinetic_energy).sum()
+    }
+
+    /// The largest speed of a point of a free block, `|v| + |ω| R` (R its radius), m/s.
+    pub fn max_point_speed(&self) -> f64 {
+        self.bodies.iter().filter(|b| !b.fixed).map(|b| b.vel.norm() + b.angvel.norm() * b.radius).fold(0.0, f64::max)
+    }
+
+    /// Rotation of body `i` from its reference configuration, as a rotation vector (rad,
+    /// table frame); its x component is the rocking rotation about the out-of-plane axis.
+    pub fn rotation_vector(&self, i: usize) -> Vec3 {
+        self.bodies[i].rot.scaled_axis()
+    }
+
+    /// Puts every body at rest (velocities zero) where it is.
+    pub fn stop(&mut self) {
+        for b in &mut self.bodies {
+            b.vel = Vec3::zeros();
+            b.angvel = Vec3::zeros();
+        }
+    }
+
+    /// Sets the velocity (m/s) and angular velocity (rad/s, table frame) of body `i`.
+    pub fn set_velocity(&mut self, i: usize, vel: Vec3, angvel: Vec3) {
+        self.bodies[i].vel = vel;
+        self.bodies[i].angvel = angvel;
+    }
+
+    /// Moves body `i` rigidly: rotation vector `phi` (rad, table frame) about the point
+    /// `pivot` (m, table frame), then the translation `shift` (m). Contacts are re-detected
+    /// before the next step.
+    pub fn displace(&mut self, i: usize, pivot: Vec3, phi: Vec3, shift: Vec3) {
+        let b = &mut self.bodies[i];
+        let r = crate::dem::state::rotation_increment(phi);
+        b.pos = pivot + r * (b.pos - pivot) + shift;
+        b.rotate(phi);
+        self.detect_pos[i] = Vec3::repeat(f64::INFINITY);
+    }
+
+    /// Takes the impulses of `other` (a simulation of the same layout with the same
+    /// contact points) as the warm start of the next step; does nothing if the points
+    /// differ.
+    pub fn warm_start_from(&mut self, other: &NscdSimulation) {
+        if self.points.len() == other.points.len()
+            && self.points.iter().zip(&other.points).all(|(a, b)| a.key() == b.key() && a.on_b == b.on_b)
+        {
+            for (a, b) in self.points.iter_mut().zip(&other.points) {
+                a.impulse = b.impulse;
+            }
+        }
+    }
+
+    /// The mean contact force of the last step on B of every contact point (impulse / h,
+    /// N, table frame), in the order of [`Self::contact_points`]; zeros before the first
+    /// step.
+    pub fn point_forces(&self) -> Vec<Vec3> {
+        let h = self.params.dt_s;
+        if self.rows.len() != self.points.len() {
+            return vec![Vec3::zeros(); self.points.len()];
+        }
+        self.points.iter().zip(&self.rows).map(|(c, r)| r.frame * c.impulse / h).collect()
+    }
+
+    fn needs_detection(&self) -> bool {
+        let limit = self.params.redetect_fraction * self.params.contact_margin_m;
+        self.bodies.iter().enumerate().any(|(k, b)| {
+            if b.fixed {
+                return false;
+            }
+            let dx = (b.pos - self.detect_pos[k]).norm();
+            let c = b.rot.coords.dot(&self.detect_rot[k].coords).abs().min(1.0);
+            dx + 2.0 * (2.0 * (1.0 - c)).sqrt() * b.radius > limit
+        })
+    }
+
+    fn redetect(&mut self) -> Result<(), NscdError> {
+        let carry = self.params.contact_margin_m;
+        self.points = detect(&self.bodies, &self.joints, &self.params.patch(), &self.points, carry)?;
+        for (k, b) in self.bodies.iter().enumerate() {
+            self.detect_pos[k] = b.pos;
+            self.detect_rot[k] = b.rot;
+        }
+        self.detections += 1;
+        Ok(())
+    }
+
+    /// One step of length [`NscdParams::dt_s`] with the base (table) accelerating by
+    /// `base(t)` (m/s², table frame; e.g. `|_| Vec3::zeros()` for a table at rest).
+    ///
+    /// # Errors
+    /// [`NscdError::Cohesion`] at a re-detection that meets a joint with strength,
+    /// [`NscdError::NonFinite`] if a body's state blows up.
+    pub fn step(&mut self, base: impl Fn(f64) -> Vec3) -> Result<NscdStep, NscdError> {
+        let (h, theta) = (self.params.dt_s, self.params.theta);
+        let redetected = self.needs_detection();
+        if redetected {
+            self.redetect()?;
+        }
+        self.load_state();
+        self.build_rows();
+        let a_g = base(self.time + h) * theta + base(self.time) * (1.0 - theta);
+        self.free_velocities(h, a_g);
+        let (iterations, converged, residual) = self.nsgs();
+        self.advance(h, theta)?;
+        let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
+        self.iterations += u64::from(iterations);
+        self.last = NscdStep { iterations, converged, residual_m_per_s: residual, active, redetected };
+        Ok(self.last)
+    }
+
+    /// Copies the bodies' poses, velocities and inverse inertias into the work arrays.
+    fn load_state(&mut self) {
+        for (k, b) in self.bodies.iter().enumerate() {
+            self.x[k] = b.pos;
+            self.vel[k] = b.vel;
+            self.angvel[k] = b.angvel;
+            self.inv_i[k] = if b.fixed { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
+        }
+    }
+
+    /// Stage 2: rows and Signorini terms of every point at the start of the step.
+    fn build_rows(&mut self) {
+        let (h, theta, e) = (self.params.dt_s, self.params.theta, self.params.restitution);
+        self.rows.clear();
+        for c in &self.points {
+            let (pa, pb) = c.world_points(&self.bodies);
+            let n = c.normal(&self.bodies);
+            let gap = (pb - pa).dot(&n);
+            let mut rows =
+                PointRows::new(c.a.unwrap_or(TABLE), c.b, 0.5 * (pa + pb), n, &self.x, &self.inv_m, &self.inv_i, c.mu);
+            let un = rows.velocity(&self.vel, &self.angvel).x;
+            let mut bias = if gap > 0.0 { (gap + h * (1.0 - theta) * un).max(0.0) / (h * theta) } else { 0.0 };
+            if gap + h * un <= 0.0 && un < 0.0 {
+                bias += e * un;
+            }
+            rows.bias = bias;
+            self.rows.push(rows);
+        }
+    }
+
+    /// Stage 3: the velocities the smooth forces give by the end of the step.
+    fn free_velocities(&mut self, h: f64, a_g: Vec3) {
+        for (k, b) in self.bodies.iter().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let mut f = (self.gravity - a_g) * b.mass + self.external_force[k];
+            if let Some(kk) = self.spring[k] {
+                f.y -= kk * (b.pos.y - b.pos0.y);
+            }
+            let iw = b.rot_mat * b.inertia * b.rot_mat.transpose();
+            let w = self.angvel[k];
+            let t = self.external_torque[k] - w.cross(&(iw * w));
+            self.vel[k] += h * self.inv_m[k].component_mul(&f);
+            self.angvel[k] += h * (self.inv_i[k] * t);
+        }
+    }
+
+    /// Stage 4: warm start and Gauss–Seidel sweeps; returns (sweeps, converged, residual).
+    fn nsgs(&mut self) -> (u32, bool, f64) {
+        for (c, rows) in self.points.iter().zip(&self.rows) {
+            rows.apply(&c.impulse, &mut self.vel, &mut self.angvel);
+        }
+        let tol = self.params.tolerance * self.gravity_magnitude * self.params.dt_s;
+        let mut residual = 0.0;
+        for it in 1..=self.params.max_iterations {
+            residual = 0.0f64;
+            for (c, rows) in self.points.iter_mut().zip(&self.rows) {
+                let u = rows.velocity(&self.vel, &self.angvel);
+                let mut q = u - rows.w * c.impulse;
+                q.x += rows.bias;
+                let r = local::solve(&rows.w, &rows.w_inv, &q, rows.mu);
+                let dr = r - c.impulse;
+                if dr != Vec3::zeros() {
+                    rows.apply(&dr, &mut self.vel, &mut self.angvel);
+                    residual = residual.max((rows.w * dr).norm());
+                    c.impulse = r;
+                }
+            }
+            if residual <= tol {
+                return (it, true, residual);
+            }
+        }
+        (self.params.max_iterations, false, residual)
+    }
+
+    /// Stage 5: the θ-update of the poses; the new velocities into the bodies.
+    fn advance(&mut self, h: f64, theta: f64) -> Result<(), NscdError> {
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let (v, w) = (self.vel[k], self.angvel[k]);
+            b.pos += h * (theta * v + (1.0 - theta) * b.vel);
+            b.rotate(h * (theta * w + (1.0 - theta) * b.angvel));
+            b.vel = v;
+            b.angvel = w;
+            if !(b.pos.iter().all(|c| c.is_finite())
+                && v.iter().all(|c| c.is_finite())
+                && w.iter().all(|c| c.is_finite()))
+            {
+                return Err(NscdError::NonFinite { id: b.id.clone(), step: self.steps, dt_s: h });
+            }
+        }
+        self.time += h;
+        self.steps += 1;
+        Ok(())
+    }
+}

@@ -1,0 +1,310 @@
+//! The tilting-table test at the rigid limit, by non-smooth contact dynamics
+//! (`dem::drivers::nscd`): a static bisection of trials released from rest.
+//!
+//! Every joint is rigid (the layout's Kn and Ks are not used); friction is the layout's.
+//! The result is the same [`TiltResult`] as the penalty solver's [`super::tilt::run_tilt`]
+//! (the same JSON and CSV fields).
+//!
+//! # A trial
+//!
+//! The wall in its reference configuration (as built: rigid blocks do not settle), at rest,
+//! gravity tilted by α, is released and stepped by the Moreau–Jean scheme:
+//!
+//! * **stable** when the largest speed of any block point (`|v| + |ω| R`) stays below the
+//!   rest velocity `rest_velocity_ratio × g h` for `rest_steps` steps running: an
+//!   equilibrium exists (a statically admissible set of contact forces holds the wall
+//!   still; with rigid blocks released from rest the wall then never moves);
+//! * **unstable** ([`CollapseReason::NoEquilibrium`]) when that speed is above the rest
+//!   velocity and has grown at every one of `accelerating_steps` steps running: the
+//!   mechanism keeps accelerating under the constant tilt (its kinetic energy grows);
+//!   or ([`CollapseReason::IncrementDisplacement`]) when a block has moved (centroid
+//!   motion plus rotation times its radius) more than the per-increment collapse
+//!   displacement of [`TiltParams::collapse_increment_fraction`] × the wall width;
+//! * **undecided** ([`CollapseReason::StepBudget`]) if neither happens within
+//!   `trial_time_s`; it bounds the bracket from above as an unstable trial does, and is
+//!   reported as such.
+//!
+//! Just above the rigid limit the mechanism accelerates at about `g δ` (δ the tilt excess
+//! in rad), so its speed passes the rest velocity `10⁻³ g h` within `10⁻³/δ` steps: a
+//! few steps at δ = 0.01°. The NSGS tolerance (`1e-7 g h` by default) is far below the
+//! rest velocity, so an equilibrium is never read as motion.
+//!
+//! # The bisection
+//!
+//! As the penalty path: trials at α = 0 (the layout must stand as given), then every
+//! [`TiltParams::step_deg`] until one is not stable, then bisection to
+//! [`TiltParams::resolution_deg`]. The bracket `[last_stable_deg, first_unstable_deg]`
+//! contains the rigid-limit tilt (the largest tilt at which an equilibrium exists, found
+//! dynamically: with non-associated friction an equilibrium the release from rest does not
+//! find counts as none, as in LMGC90's bisections). Each trial warm-starts its impulses
+//! from the last stable trial.
+//!
+//! # The mechanism
+//!
+//! Read as the penalty path reads it ([`mechanism`]) between the reference state, whose
+//! load-carrying joints are those with an impulse in the last stable trial, and the first
+//! unstable trial's final state carried along its velocity until a block has moved the
+//! per-increment collapse displacement.
+
+use super::mechanism::{mechanism, Mechanism, MechanismKind};
+use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
+use super::settle::SettleError;
+use super::tilt::{CollapseReason, Increment, TiltError, TiltParams, TiltResult};
+use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
+use crate::dem::{DemError, Simulation, SolverParams};
+use crate::layout::Layout;
+use crate::units::deg_to_rad;
+use crate::Vec3;
+use std::time::Instant;
+
+/// The outcome of one trial.
+struct Trial {
+    sim: NscdSimulation,
+    /// `None`: stable.
+    reason: Option<CollapseReason>,
+    steps: u64,
+    iterations: u64,
+}
+
+fn tilt_error(e: NscdError) -> TiltError {
+    match e {
+        NscdError::Parameter(p) => TiltError::Parameter(p),
+        NscdError::NonFinite { id, step, dt_s } => TiltError::Dem(DemError::NonFinite { id, step, dt_s }),
+        other => TiltError::Nscd(other),
+    }
+}
+
+fn poses(sim: &NscdSimulation) -> Vec<BodyPose> {
+    sim.bodies().iter().map(|b| (b.pos, b.rot)).collect()
+}
+
+/// The largest motion of a free block since `start`, m.
+fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
+    sim.bodies()
+        .iter()
+        .zip(start)
+        .filter(|(b, _)| !b.fixed)
+        .map(|(b, s)| body_motion(s, &(b.pos, b.rot), b.radius))
+        .fold(0.0, f64::max)
+}
+
+/// Runs one trial at `alpha_deg` from `base` (the reference state at rest), warm-started
+/// from `warm`.
+fn trial(base: &NscdSimulation, warm: &NscdSimulation, alpha_deg: f64, inc_limit: f64) -> Result<Trial, NscdError> {
+    let p = *base.params();
+    let mut sim = base.clone();
+    sim.warm_start_from(warm);
+    sim.set_tilt(deg_to_rad(alpha_deg));
+    let start = poses(&sim);
+    let (steps0, it0) = (sim.steps(), sim.iterations());
+    let v_rest = p.rest_velocity_ratio * sim.gravity_magnitude() * p.dt_s;
+    let max_steps = (p.trial_time_s / p.dt_s).ceil() as u64;
+    let (mut at_rest, mut growing, mut last_speed) = (0u32, 0u32, 0.0f64);
+    let mut reason = Some(CollapseReason::StepBudget);
+    for _ in 0..max_steps {
+        sim.step(|_| Vec3::zeros())?;
+        let speed = sim.max_point_speed();
+        if largest_motion(&sim, &start) > inc_limit {
+            reason = Some(CollapseReason::IncrementDisplacement);
+            break;
+        }
+        if speed < v_rest {
+            at_rest += 1;
+            growing = 0;
+            if at_rest >= p.rest_steps {
+                reason = None;
+                break;
+            }
+        } else {
+            at_rest = 0;
+            growing = if speed > last_speed { growing + 1 } else { 0 };
+            if growing >= p.accelerating_steps {
+                reason = Some(CollapseReason::NoEquilibrium);
+                break;
+            }
+        }
+        last_speed = speed;
+    }
+    let (steps, iterations) = (sim.steps() - steps0, sim.iterations() - it0);
+    Ok(Trial { sim, reason, steps, iterations })
+}
+
+/// Runs the tilting-table test of a layout at the rigid limit by non-smooth contact
+/// dynamics (see the module doc). `tilt` gives the increment, the resolution, the largest
+/// tilt and the per-increment collapse displacement; its relaxation settings (tolerance,
+/// step budget, predictor, acceleration, implicit) do not apply. The result's
+/// `elastic_scale_m` is 0 (rigid joints), `steps` counts time steps, `iterations` NSGS
+/// sweeps, `dt_s` is the time step, and each increment's `unbalanced_ratio` is the last
+/// NSGS residual over `g h`.
+///
+/// # Errors
+/// [`TiltError::Parameter`] for a tilt or nscd parameter out of range (its key),
+/// [`TiltError::Nscd`] for a joint with cohesion or tensile strength,
+/// [`TiltError::DoesNotStand`] if a free block touches nothing or the wall is not stable
+/// at α = 0, [`TiltError::Dem`] if the state blows up.
+pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) -> Result<TiltResult, TiltError> {
+    tilt.validate().map_err(TiltError::Parameter)?;
+    let t0 = Instant::now();
+    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    for (k, b) in base.bodies().iter().enumerate() {
+        if !b.fixed && !base.contact_points().iter().any(|c| c.b == k || c.a == Some(k)) {
+            return Err(TiltError::DoesNotStand(SettleError::Untouched {
+                block: b.id.clone(),
+                margin_m: params.contact_margin_m,
+            }));
+        }
+    }
+    // The penalty engine's view of the same layout, for the monitors and the mechanism.
+    let reader = Simulation::new(layout, SolverParams::default());
+    let monitors = monitor_points(layout, &reader);
+    let reference: Vec<Vec3> = monitors.iter().map(|m| base.bodies()[m.body].to_world(&m.local)).collect();
+    let width = layout.bounds().extent().y;
+    let inc_limit = tilt.collapse_increment_fraction * width;
+    let g_h = base.gravity_magnitude() * params.dt_s;
+
+    let mut increments = Vec::new();
+    let (mut total_steps, mut total_iterations, mut detections) = (0u64, 0u64, 0u64);
+    let mut record = |alpha: f64, t: &Trial, increments: &mut Vec<Increment>| {
+        total_steps += t.steps;
+        total_iterations += t.iterations;
+        detections += t.sim.detections();
+        increments.push(Increment {
+            alpha_deg: alpha,
+            stable: t.reason.is_none(),
+            steps: t.steps,
+            iterations: u32::try_from(t.iterations).unwrap_or(u32::MAX),
+            displacement_m: displacements(&t.sim, &monitors, &reference),
+            unbalanced_ratio: t.sim.last_step().residual_m_per_s / g_h,
+        });
+    };
+
+    let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
+    record(0.0, &first, &mut increments);
+    if first.reason.is_some() {
+        let start = poses(&base);
+        let (block, moved_m) = first
+            .sim
+            .bodies()
+            .iter()
+            .zip(&start)
+            .map(|(b, s)| (b.id.clone(), body_motion(s, &(b.pos, b.rot), b.radius)))
+            .fold((String::new(), -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+        return Err(TiltError::DoesNotStand(SettleError::Moved { block, moved_m, tolerance_m: 0.0 }));
+    }
+    let mut stable = first.sim;
+    let mut last_stable = 0.0;
+    let mut unstable: Option<(f64, CollapseReason, NscdSimulation)> = None;
+    let mut k = 1;
+    loop {
+        let alpha = k as f64 * tilt.step_deg;
+        if alpha > tilt.max_angle_deg + 1e-9 {
+            break;
+        }
+        let t = trial(&base, &stable, alpha, inc_limit).map_err(tilt_error)?;
+        record(alpha, &t, &mut increments);
+        match t.reason {
+            None => {
+                last_stable = alpha;
+                stable = t.sim;
+            }
+            Some(r) => {
+                unstable = Some((alpha, r, t.sim));
+                break;
+            }
+        }
+        k += 1;
+    }
+    let Some((mut up, mut reason, mut failed)) = unstable else {
+        let none = Mechanism { kind: MechanismKind::None, joint: String::new(), joints: vec![], blocks: vec![] };
+        return Ok(TiltResult {
+            last_stable_deg: last_stable,
+            first_unstable_deg: None,
+            collapse_reason: None,
+            mechanism: none,
+            monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+            increments,
+            steps: total_steps,
+            iterations: total_iterations,
+            dt_s: params.dt_s,
+            wall_time_s: t0.elapsed().as_secs_f64(),
+            wall_width_m: width,
+            elastic_scale_m: 0.0,
+            detections,
+            max_density_scale: 1.0,
+            scalar_fallbacks_deg: Vec::new(),
+        });
+    };
+    while up - last_stable > tilt.resolution_deg + 1e-12 {
+        let mid = 0.5 * (up + last_stable);
+        let t = trial(&base, &stable, mid, inc_limit).map_err(tilt_error)?;
+        record(mid, &t, &mut increments);
+        match t.reason {
+            None => {
+                last_stable = mid;
+                stable = t.sim;
+            }
+            Some(r) => {
+                up = mid;
+                reason = r;
+                failed = t.sim;
+            }
+        }
+    }
+    increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
+    let mech = read_mechanism(&reader, &base, &stable, &failed, inc_limit);
+    Ok(TiltResult {
+        last_stable_deg: last_stable,
+        first_unstable_deg: Some(up),
+        collapse_reason: Some(reason),
+        mechanism: mech,
+        monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+        increments,
+        steps: total_steps,
+        iterations: total_iterations,
+        dt_s: params.dt_s,
+        wall_time_s: t0.elapsed().as_secs_f64(),
+        wall_width_m: width,
+        elastic_scale_m: 0.0,
+        detections,
+        max_density_scale: 1.0,
+        scalar_fallbacks_deg: Vec::new(),
+    })
+}
+
+/// Out-of-plane (y) displacement of each monitor point from its reference, m.
+fn displacements(sim: &NscdSimulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
+    monitors.iter().zip(reference).map(|(m, r)| (sim.bodies()[m.body].to_world(&m.local) - r).y).collect()
+}
+
+/// The mechanism (see the module doc) through the penalty path's reading: `reader` (the
+/// penalty engine's contacts of the layout at its reference configuration) with the
+/// contact forces of the last stable trial, against the first unstable trial carried along
+/// its velocity to a block motion of `limit` (m).
+fn read_mechanism(
+    reader: &Simulation,
+    base: &NscdSimulation,
+    stable: &NscdSimulation,
+    failed: &NscdSimulation,
+    limit: f64,
+) -> Mechanism {
+    let mut at_rest = reader.clone();
+    let forces = stable.point_forces();
+    for c in &mut at_rest.state.contacts {
+        c.force = stable
+            .contact_points()
+            .iter()
+            .zip(&forces)
+            .filter(|(p, _)| p.a == c.a && p.b == c.b)
+            .fold(Vec3::zeros(), |s, (_, f)| s + f);
+    }
+    let start = poses(base);
+    let speed = failed.max_point_speed();
+    let extra = if speed > 0.0 { (limit - largest_motion(failed, &start)).max(0.0) / speed } else { 0.0 };
+    let mut moved = at_rest.clone();
+    for (b, f) in moved.state.bodies.iter_mut().zip(failed.bodies()) {
+        b.pos = f.pos + f.vel * extra;
+        b.rot = crate::dem::state::rotation_increment(f.angvel * extra) * f.rot;
+        b.rot_mat = *b.rot.to_rotation_matrix().matrix();
+    }
+    mechanism(&at_rest, &moved)
+}
