@@ -14,6 +14,7 @@ const LAYERS: &[&[&str]] = &[
     &["layout"],
     &["dem"],
     &["loading"],
+    &["limit"],
     &["generator"],
     &["verify", "benchmark"],
     &["effects"],
