@@ -48,21 +48,23 @@ pub(crate) fn gilbert(
     let mut last: Option<Solution> = None;
     let mut converged = false;
     let mut solve_time_s = 0.0;
+    let mut small = 0;
     for _ in 0..max_iterations {
         let s = model.solve(Friction::Fixed(&nhat));
         solve_time_s += s.solve_time_s;
         if !matches!(s.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
             break;
         }
-        let change = s.normal.iter().zip(&nhat).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         let lambda_change = history.last().map_or(f64::INFINITY, |l: &f64| (s.lambda - l).abs());
-        history.push(s.lambda);
+        let s_lambda = s.lambda;
+        history.push(s_lambda);
         for (h, n) in nhat.iter_mut().zip(&s.normal) {
             *h += relaxation * (n.max(0.0) - *h);
         }
         last = Some(s);
-        // Forces are scaled by the total weight: `change` is relative to it.
-        if lambda_change <= tolerance * history.last().unwrap().abs().max(1.0) && change <= tolerance.sqrt() {
+        // Two changes in a row below the tolerance: one may be a crossing of a wandering λ.
+        small = if lambda_change <= tolerance * s_lambda.abs().max(1.0) { small + 1 } else { 0 };
+        if small >= 2 {
             converged = true;
             break;
         }

@@ -60,19 +60,18 @@ use std::time::Instant;
 pub struct LimitParams {
     /// Run the non-associative correction when the associative mechanism slides \[true\].
     pub non_associative: bool,
-    /// Largest number of cone programs of the non-associative iteration \[60\].
+    /// Largest number of cone programs of the non-associative iteration \[20\].
     pub max_iterations: u32,
     /// Under-relaxation ω of the normal forces in the iteration, in (0, 1] \[0.5\].
     pub relaxation: f64,
-    /// The iteration has converged when λ changes by less than this (relative to
-    /// max(1, |λ|)) and the normal forces by less than its square root (relative to the
-    /// total weight) \[1e-7\].
+    /// The iteration has converged when λ changes by less than this, relative to
+    /// max(1, |λ|), twice in a row \[1e-5\].
     pub tolerance: f64,
 }
 
 impl Default for LimitParams {
     fn default() -> Self {
-        LimitParams { non_associative: true, max_iterations: 60, relaxation: 0.5, tolerance: 1e-7 }
+        LimitParams { non_associative: true, max_iterations: 20, relaxation: 0.5, tolerance: 1e-5 }
     }
 }
 

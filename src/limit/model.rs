@@ -93,6 +93,10 @@ pub(crate) struct Model {
     pub length_scale: f64,
 }
 
+/// Weight ε of the quadratic term ε‖f‖² (forces scaled by the total weight) of the
+/// fixed-friction programs.
+const FIXED_REGULARISATION: f64 = 1e-6;
+
 /// How the friction cones are bounded.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Friction<'a> {
@@ -259,16 +263,26 @@ impl Model {
                 }
             }
         }
-        // Cones: f_n + T A ≥ 0 for every point, then the friction cones.
+        // Cones: f_n + T A ≥ 0 where the friction cone does not imply it (a joint with
+        // tensile strength or cohesion, one held against slip, or friction fixed), then
+        // the friction cones.
         let mut row = neq;
         for j in &self.joints {
+            let implied =
+                matches!(friction, Friction::Associative) && j.can_slip && j.tension == 0.0 && j.cohesion == 0.0;
+            if implied {
+                continue;
+            }
             for p in j.points.clone() {
                 push(row, col_pt + 3 * p, -1.0);
                 b.push(j.tension * self.points[p].area / fs);
                 row += 1;
             }
         }
-        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(neq), NonnegativeConeT(np)];
+        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(neq)];
+        if row > neq {
+            cones.push(NonnegativeConeT(row - neq));
+        }
         for j in &self.joints {
             if !j.can_slip {
                 continue;
@@ -291,18 +305,20 @@ impl Model {
             }
         }
         let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
-        let p = CscMatrix::zeros((nvar, nvar));
+        // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
+        // unique (the least-squares one among the optimal), so that the non-associative
+        // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
+        let p = match friction {
+            Friction::Associative => CscMatrix::zeros((nvar, nvar)),
+            Friction::Fixed(_) => {
+                let eps = FIXED_REGULARISATION;
+                let cols: Vec<usize> = (col_pt..nvar).collect();
+                CscMatrix::new_from_triplets(nvar, nvar, cols.clone(), cols, vec![eps; nvar - col_pt])
+            }
+        };
         let mut q = vec![0.0; nvar];
         q[0] = -1.0;
-        let settings = DefaultSettings {
-            verbose: false,
-            max_iter: 200,
-            max_threads: 1,
-            tol_gap_abs: 1e-10,
-            tol_gap_rel: 1e-10,
-            tol_feas: 1e-10,
-            ..DefaultSettings::default()
-        };
+        let settings = DefaultSettings { verbose: false, max_iter: 200, max_threads: 1, ..DefaultSettings::default() };
         let mut solver = match DefaultSolver::new(&p, &q, &a, &b, &cones, settings) {
             Ok(s) => s,
             Err(_) => {
