@@ -17,6 +17,8 @@
 //! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
 //!   local damping).
 //! * [`loading`]: the tilting-table and static lateral load protocols.
+//! * [`limit`]: limit analysis (the rigid collapse load multiplier from statics alone, a
+//!   second-order cone program over the DEM's contact polygons).
 //! * [`generator`]: seeded wall layouts; [`effects`]: named extensions of the model (the
 //!   built-in library and the user's effect files) applied to a generated layout;
 //!   [`ensemble`], [`stats`], [`study`]: ensembles, statistics, study files and reports.
@@ -74,6 +76,7 @@ pub mod geometry;
 pub mod ground;
 pub mod io;
 pub mod layout;
+pub mod limit;
 pub mod loading;
 pub mod range;
 pub mod rng;

@@ -175,6 +175,30 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
     },
+    /// Limit analysis: the rigid collapse load multiplier of a layout from statics alone (a
+    /// second-order cone program over the contact polygons; tilting table: λ = tan α_max).
+    Limit {
+        /// Layout file (JSON).
+        layout: PathBuf,
+        /// The live load: the tilting table's weight along +y, or the lateral pressure.
+        #[arg(long, value_enum, default_value = "tilt")]
+        protocol: cli::limit::ProtocolArg,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Lateral pressure at the base of the wall, Pa (`--protocol lateral`).
+        #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
+        pressure_base_pa: f64,
+        /// Lateral pressure at the top of the wall, Pa (`--protocol lateral`).
+        #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
+        pressure_top_pa: f64,
+        /// The associative answer only (no non-associative correction).
+        #[arg(long)]
+        associative: bool,
+        /// Draw the collapse mechanism into this SVG file.
+        #[arg(long, value_name = "FILE")]
+        svg: Option<PathBuf>,
+    },
     /// Runs a study (ensembles of realizations) and writes tables, plots and a report.
     ///
     /// Every finished realization goes at once to DIR/journal.jsonl (synced); after a crash
@@ -459,6 +483,16 @@ fn run() -> anyhow::Result<ExitCode> {
             let params =
                 ShakeParams { duration_s, tail_s, stop_at_collapse: !no_stop_at_collapse, ..ShakeParams::default() };
             cli::shake::run(&layout, &motion, solver, &params, json, vtk.as_deref())
+        }
+        Command::Limit { layout, protocol, json, pressure_base_pa, pressure_top_pa, associative, svg } => {
+            cli::limit::run(&cli::limit::LimitArgs {
+                layout: &layout,
+                protocol,
+                pressure_pa: (pressure_base_pa, pressure_top_pa),
+                associative,
+                json,
+                svg: svg.as_deref(),
+            })
         }
         Command::Run { study, out, workers, shard, realizations, full, resume, force, vtk_realizations } => {
             cli::study::run(cli::study::RunArgs {

@@ -15,6 +15,7 @@ const LAYERS: &[&[&str]] = &[
     &["layout"],
     &["dem"],
     &["loading"],
+    &["limit"],
     &["generator"],
     &["verify", "benchmark"],
     &["effects"],

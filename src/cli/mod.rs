@@ -15,6 +15,7 @@ pub mod bench;
 pub mod discrepancy;
 pub mod generate;
 pub mod lateral;
+pub mod limit;
 pub mod shake;
 pub mod study;
 pub mod tilt;

@@ -1,0 +1,135 @@
+//! `drystone limit`: limit analysis of a layout file (the rigid collapse load multiplier
+//! from statics alone).
+
+use anyhow::{Context, Result};
+use drystone::dem::SolverParams;
+use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
+use drystone::layout::Layout;
+use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, Protocol};
+use drystone::Vec3;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// The live load of `drystone limit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ProtocolArg {
+    /// Tilting table: λ = tan α_max.
+    Tilt,
+    /// The lateral pressure of `drystone lateral`: λ multiplies it.
+    Lateral,
+}
+
+/// What `drystone limit` was asked.
+pub struct LimitArgs<'a> {
+    /// Layout file.
+    pub layout: &'a Path,
+    /// The live load.
+    pub protocol: ProtocolArg,
+    /// Lateral pressure at the base and the top, Pa.
+    pub pressure_pa: (f64, f64),
+    /// The associative answer only.
+    pub associative: bool,
+    /// One JSON object instead of a table.
+    pub json: bool,
+    /// Where to draw the mechanism (SVG).
+    pub svg: Option<&'a Path>,
+}
+
+/// Runs the analysis and prints a table, or one JSON object with `json`; with `svg`, draws
+/// the mechanism there as the DEM's mechanism figure is drawn.
+pub fn run(a: &LimitArgs) -> Result<ExitCode> {
+    let l = super::read_layout(a.layout)?;
+    let protocol = match a.protocol {
+        ProtocolArg::Tilt => Protocol::Tilt,
+        ProtocolArg::Lateral => {
+            Protocol::Lateral { pressure_base_pa: a.pressure_pa.0, pressure_top_pa: a.pressure_pa.1 }
+        }
+    };
+    let params = LimitParams { non_associative: !a.associative, ..LimitParams::default() };
+    let r = limit_analysis(&l, &SolverParams::default(), protocol, &params)
+        .with_context(|| format!("limit analysis of {}", a.layout.display()))?;
+    if let Some(path) = a.svg {
+        drystone::files::replace_file(path, svg(&l, &r, a.layout).as_bytes())?;
+        eprintln!("mechanism drawing: {}", path.display());
+    }
+    if a.json {
+        out!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        print(a.layout, &r);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The mechanism drawn on the layout: each block moved by its virtual velocity (the
+/// figure magnifies the motion itself).
+fn svg(l: &Layout, r: &LimitResult, path: &Path) -> String {
+    let h = l.bounds().extent().z;
+    let scale = 0.05 * h;
+    let poses: Vec<(Vec3, nalgebra::UnitQuaternion<f64>)> = l
+        .blocks
+        .iter()
+        .zip(&r.velocities)
+        .map(|(b, v)| {
+            let c = b.shape.mass_properties(1.0).centroid;
+            (c + v.translation * scale, nalgebra::UnitQuaternion::from_scaled_axis(v.rotation * scale))
+        })
+        .collect();
+    let disp: Vec<f64> = r.velocities.iter().map(|v| v.translation.norm() * scale).collect();
+    let moving: Vec<bool> = l.blocks.iter().map(|b| r.mechanism.blocks.contains(&b.id)).collect();
+    let title = format!("limit analysis of {}", path.display());
+    let subtitle = match r.collapse_angle_deg {
+        Some(a) => format!("lambda = {:.4}, alpha_max = {a:.3} deg ({})", r.load_multiplier, flow_name(r.governing)),
+        None => format!("lambda = {:.4} ({})", r.load_multiplier, flow_name(r.governing)),
+    };
+    mechanism_svg(&MechanismFigure {
+        layout: l,
+        poses: &poses,
+        displacement_m: &disp,
+        moving: &moving,
+        joint: &r.mechanism.joint,
+        title: &title,
+        subtitle: &subtitle,
+    })
+}
+
+fn flow_name(f: FlowRule) -> &'static str {
+    match f {
+        FlowRule::Associative => "associative",
+        FlowRule::NonAssociative => "non-associative",
+    }
+}
+
+fn print(layout: &Path, r: &LimitResult) {
+    out!("layout            {}", layout.display());
+    out!("load multiplier   {:.6} ({})", r.load_multiplier, flow_name(r.governing));
+    if let Some(a) = r.collapse_angle_deg {
+        out!("collapse angle    {a:.4} deg (atan of the multiplier)");
+    }
+    out!("associative       {:.6}", r.associative);
+    if let Some(na) = &r.non_associative {
+        out!(
+            "non-associative   {:.6} ({} iterations, {})",
+            na.load_multiplier,
+            na.iterations,
+            if na.converged { "converged" } else { "not converged: the associative value is an upper estimate" }
+        );
+    }
+    out!(
+        "mechanism         {:?} at joint {} ({} blocks moving)",
+        r.mechanism.kind,
+        r.mechanism.joint,
+        r.mechanism.blocks.len()
+    );
+    for j in &r.joints {
+        out!("  {:<24} {:?} at z {:.3} m (opening {:.3}, slip {:.3})", j.joint, j.mode, j.z_m, j.opening, j.slip);
+    }
+    out!(
+        "program           {} blocks, {} contacts, {} contact points; {} ({} iterations); wall time {:.1} ms",
+        r.blocks,
+        r.contacts,
+        r.contact_points,
+        r.status,
+        r.solver_iterations,
+        r.wall_time_s * 1e3
+    );
+}

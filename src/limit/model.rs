@@ -1,0 +1,357 @@
+//! The static model of the lower-bound problem: the contact points of every joint (the
+//! vertices of the DEM's contact polygons, each with its local frame and tributary area),
+//! the bodies' equations, the dead and live loads, and the second-order cone program built
+//! on them and solved by Clarabel (Goulart & Chen 2024, an interior-point solver for conic
+//! programs).
+//!
+//! # The program
+//!
+//! Unknowns: the load multiplier λ (free), one y reaction per block with a rigid end
+//! restraint (free), and at every contact point k the force on body B in the point's local
+//! frame `(f_n, f_t1, f_t2)` along `(n, t1, t2)`, `n` the contact normal A → B (body A gets
+//! the opposite). For every free block, six equations about its centroid:
+//!
+//! ```text
+//! Σ_k (±) [f_n n + f_t1 t1 + f_t2 t2 ;  (x_k − c) × (f_n n + f_t1 t1 + f_t2 t2)] + D + λ L = 0
+//! ```
+//!
+//! with D the dead and L the live load (force, moment about the centroid). At each point
+//! `f_n ≥ −T A_k` (T the joint's tensile strength, Pa; 0 for a dry joint) and, unless the
+//! joint is held against slip, the Coulomb cone `‖(f_t1, f_t2)‖ ≤ μ f_n + c A_k` (c the
+//! cohesion, Pa, A_k the point's tributary area, m²) as an exact second-order cone; with
+//! friction fixed ([`Friction::Fixed`], the non-associative iteration), the cone's radius is
+//! `μ N̂_k + c A_k` for given normal forces N̂. Maximise λ.
+//!
+//! Forces are scaled by the total weight of the free blocks and moments by that weight times
+//! a length (the largest block radius) so that the program is of order one.
+
+use crate::dem::{Simulation, SolverParams};
+use crate::geometry::polygon::plane_basis;
+use crate::layout::{EndRestraint, Layout};
+use crate::Vec3;
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT, SupportedConeT::*};
+
+/// A contact point: a vertex of a contact polygon.
+#[derive(Debug, Clone)]
+pub(crate) struct Point {
+    /// Position (mid-plane), m, table frame.
+    pub x: Vec3,
+    /// Tributary area, m² (a third of each sub-contact triangle it is a corner of).
+    pub area: f64,
+}
+
+/// A joint: one contact of the DEM's detection, with its law.
+#[derive(Debug, Clone)]
+pub(crate) struct Joint {
+    /// Body A (`None`: the table).
+    pub a: Option<usize>,
+    /// Body B.
+    pub b: usize,
+    /// `table/ID` or `ID_A/ID_B`.
+    pub name: String,
+    /// Frame: normal A → B and two tangents.
+    pub frame: [Vec3; 3],
+    /// Friction coefficient tan φ.
+    pub mu: f64,
+    /// Cohesion, Pa.
+    pub cohesion: f64,
+    /// Tensile strength, Pa.
+    pub tension: f64,
+    /// False for a joint held against slip (the base restraint): no cone.
+    pub can_slip: bool,
+    /// Its points, a range of [`Model::points`].
+    pub points: std::ops::Range<usize>,
+    /// Mean height of its points, m.
+    pub z: f64,
+}
+
+/// The static model of a layout: bodies, joints, loads.
+#[derive(Debug, Clone)]
+pub(crate) struct Model {
+    /// Block ids.
+    pub ids: Vec<String>,
+    /// Equation block of each body (`None`: fixed).
+    pub row_of: Vec<Option<usize>>,
+    /// Centroids, m.
+    pub centroid: Vec<Vec3>,
+    /// Radii (centroid to farthest vertex), m.
+    pub radius: Vec<f64>,
+    /// Joints.
+    pub joints: Vec<Joint>,
+    /// Contact points.
+    pub points: Vec<Point>,
+    /// Bodies with a rigid end restraint (a free y reaction at the centroid).
+    pub held_y: Vec<usize>,
+    /// Dead load per body: force (N) and moment about the centroid (N·m), table frame.
+    pub dead: Vec<(Vec3, Vec3)>,
+    /// Live load per body, as `dead`.
+    pub live: Vec<(Vec3, Vec3)>,
+    /// Force scale, N (total weight of the free blocks).
+    pub force_scale: f64,
+    /// Length scale, m (largest block radius).
+    pub length_scale: f64,
+}
+
+/// Weight ε of the quadratic term ε‖f‖² (forces scaled by the total weight) of the
+/// fixed-friction programs.
+const FIXED_REGULARISATION: f64 = 1e-6;
+
+/// How the friction cones are bounded.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Friction<'a> {
+    /// `‖f_t‖ ≤ μ f_n + c A`: associative (Coulomb cone as the yield surface).
+    Associative,
+    /// `‖f_t‖ ≤ μ N̂_k + c A` with N̂ given per point, N (scaled): a cone of fixed radius.
+    Fixed(&'a [f64]),
+}
+
+/// The solution of one cone program.
+#[derive(Debug, Clone)]
+pub(crate) struct Solution {
+    /// Clarabel's status.
+    pub status: SolverStatus,
+    /// λ.
+    pub lambda: f64,
+    /// Normal force per point, scaled by the force scale.
+    pub normal: Vec<f64>,
+    /// Virtual velocity of each body (translation, rotation), from the duals of its
+    /// equations; zero for fixed bodies. Normalised so that the live load's power is 1
+    /// (units: per force scale).
+    pub velocity: Vec<(Vec3, Vec3)>,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Clarabel's solve time, s.
+    pub solve_time_s: f64,
+}
+
+impl Model {
+    /// The model of a layout's contacts as the DEM detects them at rest (`contact`: the
+    /// narrow phase's parameters; one sub-contact triangle per polygon edge fanned from a
+    /// vertex, so that the points are the polygon's vertices), with the dead load of gravity
+    /// and no live load yet.
+    pub fn new(layout: &Layout, contact: &SolverParams) -> (Model, Simulation) {
+        let params = SolverParams {
+            subcontact_subdivisions: 1,
+            quadrature: crate::dem::contact::law::Quadrature::Exact,
+            density_scaling: crate::dem::DensityScaling::Off,
+            ..*contact
+        };
+        let sim = Simulation::new(layout, params);
+        let st = &sim.state;
+        let n = st.bodies.len();
+        let mut row_of = vec![None; n];
+        let mut free = 0;
+        for (k, b) in st.bodies.iter().enumerate() {
+            if !b.fixed {
+                row_of[k] = Some(free);
+                free += 1;
+            }
+        }
+        let g = layout.gravity;
+        let dead: Vec<(Vec3, Vec3)> =
+            st.bodies.iter().map(|b| (Vec3::new(0.0, 0.0, -g * b.mass), Vec3::zeros())).collect();
+        let weight: f64 = st.bodies.iter().filter(|b| !b.fixed).map(|b| g * b.mass).sum();
+        let mut joints = Vec::with_capacity(st.contacts.len());
+        let mut points = Vec::new();
+        for c in &st.contacts {
+            let nrm = st.contact_normal(c);
+            let (t1, t2) = plane_basis(&nrm);
+            let mut area = vec![0.0; c.nodes.len()];
+            for s in &c.subs {
+                for &k in &s.nodes {
+                    area[k as usize] += s.area / 3.0;
+                }
+            }
+            let start = points.len();
+            let mut z = 0.0;
+            for (nd, a) in c.nodes.iter().zip(area) {
+                let (pa, pb) = st.node_points(c, nd);
+                let x = 0.5 * (pa + pb);
+                z += x.z / c.nodes.len() as f64;
+                points.push(Point { x, area: a });
+            }
+            joints.push(Joint {
+                a: c.a,
+                b: c.b,
+                name: st.joint_name(c),
+                frame: [nrm, t1, t2],
+                mu: c.joint.tan_phi,
+                cohesion: c.joint.cohesion,
+                tension: c.joint.tension.strength(),
+                can_slip: c.joint.slip().can_slip,
+                points: start..points.len(),
+                z,
+            });
+        }
+        let held_y = layout
+            .end_restraints
+            .iter()
+            .filter(|(i, r)| *r == EndRestraint::Rigid && !st.bodies[*i].fixed)
+            .map(|(i, _)| *i)
+            .collect();
+        let model = Model {
+            ids: st.bodies.iter().map(|b| b.id.clone()).collect(),
+            row_of,
+            centroid: st.bodies.iter().map(|b| b.pos).collect(),
+            radius: st.bodies.iter().map(|b| b.radius).collect(),
+            joints,
+            points,
+            held_y,
+            dead,
+            live: vec![(Vec3::zeros(), Vec3::zeros()); n],
+            force_scale: if weight > 0.0 { weight } else { 1.0 },
+            length_scale: st.bodies.iter().map(|b| b.radius).fold(0.0, f64::max).max(1e-9),
+        };
+        (model, sim)
+    }
+
+    /// Number of free bodies.
+    pub fn free(&self) -> usize {
+        self.row_of.iter().flatten().count()
+    }
+
+    /// Solves the program with the given friction bounds.
+    pub fn solve(&self, friction: Friction) -> Solution {
+        let nf = self.free();
+        let neq = 6 * nf;
+        let nh = self.held_y.len();
+        let np = self.points.len();
+        let col_pt = 1 + nh;
+        let nvar = col_pt + 3 * np;
+        let (fs, ls) = (self.force_scale, self.length_scale);
+        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut push = |r: usize, c: usize, v: f64| {
+            if v != 0.0 {
+                ri.push(r);
+                ci.push(c);
+                vv.push(v);
+            }
+        };
+        let mut b = vec![0.0; neq];
+        // Loads: dead on the right-hand side, live in λ's column.
+        for (k, row) in self.row_of.iter().enumerate() {
+            let Some(r) = row else { continue };
+            let (df, dm) = self.dead[k];
+            let (lf, lm) = self.live[k];
+            for d in 0..3 {
+                b[6 * r + d] = -df[d] / fs;
+                b[6 * r + 3 + d] = -dm[d] / (fs * ls);
+                push(6 * r + d, 0, lf[d] / fs);
+                push(6 * r + 3 + d, 0, lm[d] / (fs * ls));
+            }
+        }
+        for (h, &k) in self.held_y.iter().enumerate() {
+            let r = self.row_of[k].expect("held bodies are free");
+            push(6 * r + 1, 1 + h, 1.0);
+        }
+        // Contact forces: on B as given, on A the opposite.
+        for j in &self.joints {
+            for p in j.points.clone() {
+                let x = self.points[p].x;
+                for (body, sign) in [(Some(j.b), 1.0), (j.a, -1.0)] {
+                    let Some(k) = body else { continue };
+                    let Some(r) = self.row_of[k] else { continue };
+                    let arm = (x - self.centroid[k]) / ls;
+                    for (d, e) in j.frame.iter().enumerate() {
+                        let m = arm.cross(e);
+                        for q in 0..3 {
+                            push(6 * r + q, col_pt + 3 * p + d, sign * e[q]);
+                            push(6 * r + 3 + q, col_pt + 3 * p + d, sign * m[q]);
+                        }
+                    }
+                }
+            }
+        }
+        // Cones: f_n + T A ≥ 0 where the friction cone does not imply it (a joint with
+        // tensile strength or cohesion, one held against slip, or friction fixed), then
+        // the friction cones.
+        let mut row = neq;
+        for j in &self.joints {
+            let implied =
+                matches!(friction, Friction::Associative) && j.can_slip && j.tension == 0.0 && j.cohesion == 0.0;
+            if implied {
+                continue;
+            }
+            for p in j.points.clone() {
+                push(row, col_pt + 3 * p, -1.0);
+                b.push(j.tension * self.points[p].area / fs);
+                row += 1;
+            }
+        }
+        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(neq)];
+        if row > neq {
+            cones.push(NonnegativeConeT(row - neq));
+        }
+        for j in &self.joints {
+            if !j.can_slip {
+                continue;
+            }
+            for p in j.points.clone() {
+                let ca = j.cohesion * self.points[p].area / fs;
+                match friction {
+                    Friction::Associative => {
+                        push(row, col_pt + 3 * p, -j.mu);
+                        b.push(ca);
+                    }
+                    // A floor keeps the cone's interior non-empty where N̂ is zero.
+                    Friction::Fixed(nhat) => b.push((j.mu * nhat[p].max(0.0) + ca).max(1e-9)),
+                }
+                push(row + 1, col_pt + 3 * p + 1, -1.0);
+                push(row + 2, col_pt + 3 * p + 2, -1.0);
+                b.extend([0.0, 0.0]);
+                row += 3;
+                cones.push(SecondOrderConeT(3));
+            }
+        }
+        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
+        // unique (the least-squares one among the optimal), so that the non-associative
+        // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
+        let p = match friction {
+            Friction::Associative => CscMatrix::zeros((nvar, nvar)),
+            Friction::Fixed(_) => {
+                let eps = FIXED_REGULARISATION;
+                let cols: Vec<usize> = (col_pt..nvar).collect();
+                CscMatrix::new_from_triplets(nvar, nvar, cols.clone(), cols, vec![eps; nvar - col_pt])
+            }
+        };
+        let mut q = vec![0.0; nvar];
+        q[0] = -1.0;
+        let settings = DefaultSettings { verbose: false, max_iter: 200, max_threads: 1, ..DefaultSettings::default() };
+        let mut solver = match DefaultSolver::new(&p, &q, &a, &b, &cones, settings) {
+            Ok(s) => s,
+            Err(_) => {
+                return Solution {
+                    status: SolverStatus::NumericalError,
+                    lambda: f64::NAN,
+                    normal: Vec::new(),
+                    velocity: Vec::new(),
+                    iterations: 0,
+                    solve_time_s: 0.0,
+                }
+            }
+        };
+        solver.solve();
+        let sol = &solver.solution;
+        let velocity = self
+            .row_of
+            .iter()
+            .map(|r| match r {
+                Some(r) => {
+                    let z = &sol.z[6 * r..6 * r + 6];
+                    (Vec3::new(z[0], z[1], z[2]), Vec3::new(z[3], z[4], z[5]) / ls)
+                }
+                None => (Vec3::zeros(), Vec3::zeros()),
+            })
+            .collect();
+        Solution {
+            status: sol.status,
+            lambda: sol.x[0],
+            normal: (0..np).map(|p| sol.x[col_pt + 3 * p]).collect(),
+            velocity,
+            iterations: sol.iterations,
+            solve_time_s: sol.solve_time,
+        }
+    }
+}
