@@ -227,6 +227,9 @@ impl Settings {
         if !(20..=100_000).contains(&self.check_replicates) {
             return bad("check_replicates", self.check_replicates.to_string(), "must be in [20, 100000]");
         }
+        if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
+            return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");
+        }
         for (key, v) in
             [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
         {
@@ -403,7 +406,8 @@ pub fn build_library(
     }
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
-        candidates.push(Candidate::scatter(full_sims.clone(), angle));
+        let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
+        candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
     Ok(Library { baseline: full_sims, candidates })
 }
