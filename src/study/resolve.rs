@@ -159,7 +159,7 @@ impl StudySpec {
             inputs,
             library,
         };
-        crate::discrepancy::searched(&study.discrepancy, &study.library)
+        crate::discrepancy::searched(&study.discrepancy, &study.library, true)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
         study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
