@@ -187,7 +187,7 @@ pub fn tilt_beds_across(
 /// # Errors
 /// The block whose stop could not be built.
 pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<(), BlockFailure> {
-    if !(h_s > 0.0) {
+    if h_s.is_nan() || h_s <= 0.0 {
         return Ok(());
     }
     let wall: Vec<usize> = (0..layout.blocks.len()).filter(|&i| !layout.blocks[i].fixed).collect();

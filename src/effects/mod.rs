@@ -557,7 +557,7 @@ impl Effect {
                     let material = match friction_deg {
                         None => layout.table_material,
                         Some(phi) => {
-                            let mut m = layout.materials[layout.table_material].clone();
+                            let mut m = layout.materials[layout.table_material];
                             m.friction = phi.to_radians();
                             layout.materials.push(m);
                             layout.material_names.push(format!("{}_stop", self.def.name));
