@@ -62,6 +62,8 @@ fn use_measured_dir(st: &mut Study, dir: &Path) -> Result<()> {
     let d = dir.join("tilting_table_displacement.csv");
     st.measured.collapse = read_measured_collapse(&c)?;
     st.measured.displacement = if d.exists() { read_measured_displacement(&d)? } else { vec![] };
+    let m = dir.join(drystone::io::measured::MECHANISM_FILE);
+    st.measured.mechanism = if m.exists() { drystone::io::table::read_measured_mechanism(&m)? } else { vec![] };
     st.check_measured()?;
     Ok(())
 }

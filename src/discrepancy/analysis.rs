@@ -200,7 +200,8 @@ impl SigmaRule<'_> {
             super::observations::measurement_sigma(obs, key, self.model_sd, r, angle)
         });
         for (o, &stated) in obs.iter_mut().zip(self.stated) {
-            o.sigma = est[kind_of(&o.observable)].map_or(stated, |(sd, _)| stated.max(sd));
+            // A mechanism observation keeps its stated σ.
+            o.sigma = est.get(kind_of(&o.observable)).copied().flatten().map_or(stated, |(sd, _)| stated.max(sd));
         }
         est
     }
@@ -262,6 +263,20 @@ pub fn draw_data(
         for j in idx {
             let z: f64 = StandardNormal.sample(rng);
             let k = data0.key[j];
+            if let Some(category) = obs[j].observable.category() {
+                // A category: the realization's own (or, without one, a draw from the
+                // predictive), then misread.
+                let seen = pick.and_then(|r| source.pool[g][r].value(&source.keys[k].1));
+                let u: f64 = rng.random();
+                y[j] = f64::from(u8::from(match seen {
+                    Some(v) => misread(v >= 0.5, category, reading.misreading, u),
+                    None => {
+                        let q = reading.category_probability(&obs[j].observable, &source.centre[k]).unwrap_or(0.5);
+                        u < q
+                    }
+                }));
+                continue;
+            }
             let p = data0.predictive(source.centre, j);
             let v = match pick {
                 Some(r) => source.pool[g][r].value(&source.keys[k].1).map(|v| {
@@ -275,7 +290,9 @@ pub fn draw_data(
                 }),
                 None => Some({
                     let f = scale[kind_of(&obs[j].observable)];
-                    p.mean + f * p.sd * if matches!(obs[j].observable, Observable::CollapseAngle) { z } else { shared }
+                    p.mean
+                        + f * p.sd
+                            * if matches!(obs[j].observable, Observable::Displacement { .. }) { shared } else { z }
                 }),
             };
             // A realization that fell before the tilt gives no displacement: the specimen
@@ -292,8 +309,25 @@ pub fn draw_data(
     (y, o)
 }
 
+/// A category seen (`seen`) or not, read with misreading probability `e` (`category` = `(m,
+/// K)`: a category not seen is misread as this one with probability `e m / (K − 1)`), for
+/// a uniform draw `u` in [0, 1).
+fn misread(seen: bool, category: (usize, usize), e: f64, u: f64) -> bool {
+    let (m, k) = (category.0 as f64, category.1 as f64);
+    if seen {
+        u >= e
+    } else {
+        u < e * m / (k - 1.0)
+    }
+}
+
+/// 0 for a collapse angle, 1 for a displacement, 2 for a mechanism observation.
 fn kind_of(o: &Observable) -> usize {
-    usize::from(!matches!(o, Observable::CollapseAngle))
+    match o {
+        Observable::CollapseAngle => 0,
+        Observable::Displacement { .. } => 1,
+        _ => 2,
+    }
 }
 
 /// The factor on a synthetic data set's deviations from the model's mean, per kind
@@ -310,10 +344,13 @@ fn kind_of(o: &Observable) -> usize {
 /// distribution of the scores is then that of data as dispersed as the measured ones, and
 /// a spread alone (no shift of a mean) is not evidence for a mechanism. 1 below
 /// [`super::observations::MIN_SIGMA_DOF`] degrees of freedom.
-fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: &mut ChaCha8Rng) -> [f64; 2] {
+fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: &mut ChaCha8Rng) -> [f64; 3] {
     let obs = data0.obs;
     let mut acc = [(0.0f64, 0.0f64, 0usize); 2]; // (Σ ν_k s_k² / v_k, unused, ν)
     for (k, (g, o)) in source.keys.iter().enumerate() {
+        if o.is_mechanism() {
+            continue; // drawn as the realizations have them (factor 1)
+        }
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| data0.key[j] == k).collect();
         if idx.len() < 2 {
             continue;
@@ -344,7 +381,7 @@ fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: 
         a.0 += dof as f64 * s2 / v;
         a.2 += dof;
     }
-    let mut out = [1.0; 2];
+    let mut out = [1.0; 3];
     for (kind, (ratio, _, nu)) in acc.into_iter().enumerate() {
         // One χ² draw per kind whether used or not: the stream does not depend on the data.
         let chi2: f64 = rand_distr::ChiSquared::new(nu.max(1) as f64).map_or(1.0, |c| c.sample(rng));
@@ -671,7 +708,14 @@ mod tests {
     use super::*;
 
     fn angle_outcome(a: f64) -> Outcome {
-        Outcome { collapse_deg: Some(a), first_unstable_deg: None, tilt_deg: vec![], top_cm: vec![], error: None }
+        Outcome {
+            collapse_deg: Some(a),
+            first_unstable_deg: None,
+            tilt_deg: vec![],
+            top_cm: vec![],
+            error: None,
+            mechanism: None,
+        }
     }
 
     /// One group, collapse angles only: a pool of 12 independent realizations whose mean is
@@ -712,7 +756,7 @@ mod tests {
             .collect();
         let key = vec![0usize; n];
         let weight = vec![1.0; n];
-        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9 };
+        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9, misreading: 0.1 };
         let data = Data { obs: &obs, y: &y0, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let stated = vec![sigma; n];
         // A model spread larger than any data spread: the σ estimate never exceeds the

@@ -98,6 +98,9 @@ pub enum Surface {
         base: Vec<Simulated>,
         /// Whether each key is a collapse angle.
         angle: Vec<bool>,
+        /// Whether each key is a mechanism observation (no scatter added: the hypothesis
+        /// is about angles and displacements).
+        mechanism: Vec<bool>,
     },
     /// A surface re-centred on a full run at one point: `at(x) = inner(x) + (full − inner(x₀))`
     /// in the mean and in the variance, the full run's size at every point (the
@@ -229,12 +232,17 @@ impl Surface {
                     })
                     .collect()
             }
-            Surface::Scatter { base, angle } => base
+            Surface::Scatter { base, angle, mechanism } => base
                 .iter()
-                .zip(angle)
-                .map(|(o, &is_angle)| {
-                    let tau =
-                        if is_angle { x[0] * SCATTER_ANGLE_MAX_DEG } else { x[1] * SCATTER_DISP_MAX * o.mean.abs() };
+                .zip(angle.iter().zip(mechanism))
+                .map(|(o, (&is_angle, &is_mechanism))| {
+                    let tau = if is_mechanism {
+                        0.0
+                    } else if is_angle {
+                        x[0] * SCATTER_ANGLE_MAX_DEG
+                    } else {
+                        x[1] * SCATTER_DISP_MAX * o.mean.abs()
+                    };
                     Simulated { err: (o.err * o.err + tau * tau).sqrt(), ..*o }
                 })
                 .collect(),
@@ -283,19 +291,20 @@ pub struct Data<'a> {
     pub bracket_deg: f64,
 }
 
-/// The weights that make a specimen's displacements one observation: 1 for a collapse
-/// angle, `1/k` for each of a specimen's `k` displacements.
+/// The weights that make a specimen's displacements one observation and its mechanism
+/// another: 1 for a collapse angle, `1/k` for each of a specimen's `k` displacements, `1/k`
+/// for each of its `k` mechanism observations (failure height, kind, start: one
+/// mechanism seen, read three ways).
 pub fn specimen_weights(obs: &[Observation]) -> Vec<f64> {
+    let share = |o: &Observation, like: &dyn Fn(&Observable) -> bool| {
+        let k = obs.iter().filter(|p| p.specimen == o.specimen && like(&p.observable)).count();
+        1.0 / k.max(1) as f64
+    };
     obs.iter()
         .map(|o| match o.observable {
             Observable::CollapseAngle => 1.0,
-            Observable::Displacement { .. } => {
-                let k = obs
-                    .iter()
-                    .filter(|p| p.specimen == o.specimen && matches!(p.observable, Observable::Displacement { .. }))
-                    .count();
-                1.0 / k.max(1) as f64
-            }
+            Observable::Displacement { .. } => share(o, &|p| matches!(p, Observable::Displacement { .. })),
+            _ => share(o, &Observable::is_mechanism),
         })
         .collect()
 }
@@ -308,13 +317,21 @@ impl Data<'_> {
 
     /// Weighted score of observation `j`.
     pub fn score(&self, sims: &[Simulated], j: usize) -> f64 {
-        let r = self.reading.of(&self.obs[j].observable);
+        let o = &self.obs[j].observable;
+        if let Some(q) = self.reading.category_probability(o, &sims[self.key[j]]) {
+            return self.weight[j] * super::predictive::category_score(q, self.y[j]);
+        }
+        let r = self.reading.of(o);
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
     }
 
-    /// The predictive distribution of observation `j`.
+    /// The predictive distribution of observation `j` (of a category's indicator:
+    /// [`Predictive::category`]).
     pub fn predictive(&self, sims: &[Simulated], j: usize) -> Predictive {
-        Predictive::new(&sims[self.key[j]], &self.obs[j], self.bracket_deg)
+        match self.reading.category_probability(&self.obs[j].observable, &sims[self.key[j]]) {
+            Some(q) => Predictive::category(q),
+            None => Predictive::new(&sims[self.key[j]], &self.obs[j], self.bracket_deg),
+        }
     }
 }
 
@@ -407,8 +424,9 @@ impl Candidate {
         self.effects.is_empty()
     }
 
-    /// The scatter hypothesis on a baseline.
-    pub fn scatter(base: Vec<Simulated>, angle: Vec<bool>) -> Candidate {
+    /// The scatter hypothesis on a baseline (`angle`: each key a collapse angle;
+    /// `mechanism`: each key a mechanism observation, left as the baseline has it).
+    pub fn scatter(base: Vec<Simulated>, angle: Vec<bool>, mechanism: Vec<bool>) -> Candidate {
         let p = |name: &str, unit: &str, max: f64| ParamDef {
             name: name.into(),
             unit: unit.into(),
@@ -421,7 +439,7 @@ impl Candidate {
         Candidate {
             effects: vec![],
             params: vec![p("angle_sd_deg", "deg", SCATTER_ANGLE_MAX_DEG), p("displacement_cv", "-", SCATTER_DISP_MAX)],
-            surface: Surface::Scatter { base, angle },
+            surface: Surface::Scatter { base, angle, mechanism },
         }
     }
 
@@ -565,7 +583,7 @@ mod tests {
         let y = vec![12.4; 6];
         let key = vec![0usize; 6];
         let weight = vec![1.0; 6];
-        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6 };
+        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6, misreading: 0.1 };
         let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let all: Vec<usize> = (0..6).collect();
         let (x, _) = fit(&s, data, &all);

@@ -227,6 +227,9 @@ impl Settings {
         if !(20..=100_000).contains(&self.check_replicates) {
             return bad("check_replicates", self.check_replicates.to_string(), "must be in [20, 100000]");
         }
+        if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
+            return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");
+        }
         for (key, v) in
             [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
         {
@@ -326,13 +329,26 @@ fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, Discre
     Ok(Plan { def, params, nodes })
 }
 
-/// The effects a run searches: the settings' names, or every effect of `library`.
+/// The effects a run searches: the settings' names, or every effect of `library`, less
+/// the built-ins whose signature is the failure mechanism
+/// ([`effects::MECHANISM_EFFECTS`]) when the data hold no mechanism observation
+/// (`mechanism` false): an analysis of angles and displacements alone searches what it
+/// searched before those effects existed. Named in the settings, they are searched
+/// always.
 ///
 /// # Errors
 /// [`DiscrepancyError::Effect`] for an unknown name.
-pub fn searched(s: &Settings, library: &effects::Library) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
+pub fn searched(
+    s: &Settings,
+    library: &effects::Library,
+    mechanism: bool,
+) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
     if s.effects.is_empty() {
-        return Ok(library.all());
+        return Ok(library
+            .all()
+            .into_iter()
+            .filter(|d| mechanism || !effects::MECHANISM_EFFECTS.contains(&d.name.as_str()))
+            .collect());
     }
     Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
 }
@@ -403,7 +419,8 @@ pub fn build_library(
     }
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
-        candidates.push(Candidate::scatter(full_sims.clone(), angle));
+        let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
+        candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
     Ok(Library { baseline: full_sims, candidates })
 }
@@ -579,7 +596,7 @@ pub fn prepare(
     library: &effects::Library,
 ) -> Result<Prepared, DiscrepancyError> {
     check(setup, template, s)?;
-    let defs = searched(s, library)?;
+    let defs = searched(s, library, template.iter().any(|o| o.observable.is_mechanism()))?;
     let keys = Keys::new(setup, template);
     let full = with_realizations(setup, s.extension_realizations);
     let baseline = run_models(&full, &[vec![]], None).remove(0);

@@ -6,8 +6,15 @@
 //! come from the paper: the tilt was read to 0.5° and the displacement instrument had a
 //! precision of 5 mm (Santa-Cruz et al. 2021, Section 2); both are taken as one standard
 //! deviation. A study may override them (`[discrepancy]`).
+//!
+//! Observed failure mechanisms (`[measured] mechanism`) give up to three observations per
+//! specimen: the failure height (a fraction of the wall's height, read as an interval:
+//! the observable carries its width), and the kind and the start as categories, each an
+//! indicator (value 1: the specimen showed it; 0 only in synthetic data sets) scored with
+//! a misreading probability ([`super::predictive`]). The extent is not scored.
 
-use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
+use crate::io::table::{MeasuredCollapse, MeasuredDisplacement, MeasuredMechanism};
+use crate::loading::mechanism::{FailureKind, FailureStart};
 use serde::Serialize;
 use std::fmt;
 
@@ -26,6 +33,23 @@ pub enum Observable {
         /// The tilt, degrees.
         tilt_deg: f64,
     },
+    /// The failure height: the bed joint at the bottom of the moving part over the wall's
+    /// height, a fraction in [0, 1], read as an interval of width `width` about the value.
+    FailureHeight {
+        /// Width of the reading interval (fraction of the height; not part of the key).
+        width: f64,
+    },
+    /// Whether the failure was of this kind (value 1 or 0).
+    MechanismKind {
+        /// The kind.
+        #[serde(rename = "failure_kind")]
+        kind: FailureKind,
+    },
+    /// Whether the failure started here (value 1 or 0; `random`: end or centre).
+    MechanismStart {
+        /// The start.
+        start: FailureStart,
+    },
 }
 
 impl Observable {
@@ -34,6 +58,27 @@ impl Observable {
         match self {
             Observable::CollapseAngle => "alpha_max".into(),
             Observable::Displacement { tilt_deg, .. } => format!("disp@{tilt_deg}"),
+            Observable::FailureHeight { .. } => "failure_height".into(),
+            Observable::MechanismKind { kind } => format!("kind={}", kind.name()),
+            Observable::MechanismStart { start } => format!("start={}", start.name()),
+        }
+    }
+
+    /// An observation of the failure mechanism (failure height, kind or start).
+    pub fn is_mechanism(&self) -> bool {
+        matches!(
+            self,
+            Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. }
+        )
+    }
+
+    /// A category (kind or start): `(m, K)`, the simulated categories the observed one
+    /// covers and the simulated categories in all; `None` for a number.
+    pub fn category(&self) -> Option<(usize, usize)> {
+        match self {
+            Observable::MechanismKind { .. } => Some((1, FailureKind::ALL.len())),
+            Observable::MechanismStart { start } => Some((start.covers(), FailureStart::SIMULATED.len())),
+            _ => None,
         }
     }
 
@@ -42,6 +87,8 @@ impl Observable {
         match self {
             Observable::CollapseAngle => "deg",
             Observable::Displacement { .. } => "cm",
+            Observable::FailureHeight { .. } => "H",
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => "-",
         }
     }
 
@@ -53,6 +100,9 @@ impl Observable {
                 Observable::Displacement { measure: a, tilt_deg: t },
                 Observable::Displacement { measure: b, tilt_deg: u },
             ) => a == b && (t - u).abs() < 1e-9,
+            (Observable::FailureHeight { .. }, Observable::FailureHeight { .. }) => true,
+            (Observable::MechanismKind { kind: a }, Observable::MechanismKind { kind: b }) => a == b,
+            (Observable::MechanismStart { start: a }, Observable::MechanismStart { start: b }) => a == b,
             _ => false,
         }
     }
@@ -87,11 +137,16 @@ pub struct MeasurementSigma {
     pub angle_deg: f64,
     /// Displacement, cm \[0.5\] (instrument precision 5 mm).
     pub displacement_cm: f64,
+    /// Failure height, fraction of the wall's height \[0.05\]: where the moving part of a
+    /// specimen starts differs from where a realization's does by about half a course of
+    /// the paper's walls (9 courses) beyond the reading interval; also the smoothing width
+    /// of the realizations' few values.
+    pub failure_height: f64,
 }
 
 impl Default for MeasurementSigma {
     fn default() -> Self {
-        MeasurementSigma { angle_deg: 0.5, displacement_cm: 0.5 }
+        MeasurementSigma { angle_deg: 0.5, displacement_cm: 0.5, failure_height: 0.05 }
     }
 }
 
@@ -230,6 +285,55 @@ pub fn observations(
     Ok(out)
 }
 
+/// The observations of observed failure mechanisms for the study's measured group names
+/// `groups` (measured group name → study group name), in file order, per specimen: the
+/// failure height (value the middle of its reading interval, the interval's width in the
+/// observable, σ `sigma.failure_height`), the kind, the start (value 1: seen), each where
+/// given. The extent is not an observation.
+///
+/// # Errors
+/// [`ObservationError::UnknownGroup`] or [`ObservationError::Invalid`] (a σ not > 0).
+pub fn mechanism_observations(
+    mechanism: &[MeasuredMechanism],
+    groups: &[(String, String)],
+    sigma: MeasurementSigma,
+) -> Result<Vec<Observation>, ObservationError> {
+    if !(sigma.failure_height.is_finite() && sigma.failure_height > 0.0) {
+        return Err(ObservationError::Invalid {
+            specimen: "-".into(),
+            what: "sigma failure_height".into(),
+            value: sigma.failure_height,
+        });
+    }
+    let mut out = Vec::new();
+    for m in mechanism {
+        let group = groups.iter().find(|(g, _)| g == &m.group).map(|(_, g)| g.clone()).ok_or_else(|| {
+            ObservationError::UnknownGroup {
+                group: m.group.clone(),
+                specimen: m.specimen.clone(),
+                groups: groups.iter().map(|(g, _)| g.as_str()).collect::<Vec<_>>().join(", "),
+            }
+        })?;
+        let one = |observable: Observable, value: f64, sigma: f64| Observation {
+            specimen: m.specimen.clone(),
+            group: group.clone(),
+            observable,
+            value,
+            sigma,
+        };
+        if let Some((_, lo, hi)) = m.failure_height {
+            out.push(one(Observable::FailureHeight { width: hi - lo }, 0.5 * (lo + hi), sigma.failure_height));
+        }
+        if let Some(kind) = m.kind {
+            out.push(one(Observable::MechanismKind { kind }, 1.0, 1.0));
+        }
+        if let Some(start) = m.start {
+            out.push(one(Observable::MechanismStart { start }, 1.0, 1.0));
+        }
+    }
+    Ok(out)
+}
+
 /// The specimens of the observations, in first-seen order.
 pub fn specimens(obs: &[Observation]) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
@@ -269,7 +373,14 @@ pub fn measurement_sigma(
     let mut terms: Vec<(f64, f64, f64)> = Vec::new();
     for (k, sd) in model_sd.iter().enumerate() {
         let y: Vec<f64> = (0..obs.len())
-            .filter(|&j| key[j] == k && matches!(obs[j].observable, Observable::CollapseAngle) == angle)
+            .filter(|&j| {
+                key[j] == k
+                    && match obs[j].observable {
+                        Observable::CollapseAngle => angle,
+                        Observable::Displacement { .. } => !angle,
+                        _ => false,
+                    }
+            })
             .map(|j| obs[j].value)
             .collect();
         if y.len() < 2 || !sd.is_finite() {

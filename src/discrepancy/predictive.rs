@@ -19,6 +19,17 @@
 //! score is the negative log of the predictive probability of that interval, plus `ln r`
 //! (so that for a fine resolution it is the negative log predictive density, NLPD: a proper
 //! scoring rule, which charges a wrong mean and a wrong spread alike).
+//!
+//! **Mechanisms.** A failure height (a fraction of the wall's height) is scored as an
+//! interval reading like the angles, against the Student-t predictive of the
+//! realizations' failure heights; its measurement σ (0.05 of the height by default) is
+//! also the smoothing width of a few realizations' values. A kind or a start is a
+//! category: of `R` realizations, `k` showed the observed one (which covers `m` of the `K`
+//! simulated categories: `random` covers `end` and `centre`); its probability is smoothed
+//! for the finite ensemble with the Jeffreys prior, `p = (k + m/2) / (R + K/2)`, and read
+//! with a misreading probability `ε` (\[0.1\]: one reading in ten is another category,
+//! uniformly), `q = (1 − ε) p + ε (1 − p) m / (K − 1)`. Its score is `−ln q` where the
+//! category was seen, `−ln (1 − q)` where it was not (synthetic data sets).
 
 use super::observations::{Observable, Observation};
 use super::simulate::Outcome;
@@ -70,11 +81,13 @@ pub struct Reading {
     pub angle_deg: f64,
     /// Displacements read to this, cm \[0.1\] (the paper's Table 3).
     pub displacement_cm: f64,
+    /// Probability that a mechanism's kind or start is read as another category \[0.1\].
+    pub misreading: f64,
 }
 
 impl Default for Reading {
     fn default() -> Self {
-        Reading { angle_deg: 0.5, displacement_cm: 0.1 }
+        Reading { angle_deg: 0.5, displacement_cm: 0.1, misreading: 0.1 }
     }
 }
 
@@ -84,13 +97,39 @@ impl Reading {
         match o {
             Observable::CollapseAngle => self.angle_deg,
             Observable::Displacement { .. } => self.displacement_cm,
+            Observable::FailureHeight { width } => *width,
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => 0.0,
         }
     }
 
-    /// `v` rounded to the resolution of `o`.
+    /// `v` rounded to the resolution of `o` (a failure height also kept in [0, 1]; a
+    /// category's indicator as it is).
     pub fn round(&self, o: &Observable, v: f64) -> f64 {
-        let r = self.of(o);
-        (v / r).round() * r
+        match o {
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => v,
+            Observable::FailureHeight { width } => {
+                let r = if *width > 0.0 { (v / width).round() * width } else { v };
+                r.clamp(0.0, 1.0)
+            }
+            _ => {
+                let r = self.of(o);
+                (v / r).round() * r
+            }
+        }
+    }
+
+    /// The probability that a reading of category `o` (covering `m` of `K` simulated
+    /// categories, [`Observable::category`]) says "seen", from the share `sim.mean` of
+    /// `sim.n` realizations that showed it: Jeffreys-smoothed and misread at
+    /// [`Reading::misreading`] (module documentation). `None` for a number.
+    pub fn category_probability(&self, o: &Observable, sim: &Simulated) -> Option<f64> {
+        let (m, k) = o.category()?;
+        let (m, k) = (m as f64, k as f64);
+        let n = sim.n as f64;
+        let share = if sim.n > 0 && sim.mean.is_finite() { sim.mean.clamp(0.0, 1.0) } else { 0.0 };
+        let p = (n * share + 0.5 * m) / (n + 0.5 * k);
+        let e = self.misreading;
+        Some(((1.0 - e) * p + e * (1.0 - p) * m / (k - 1.0)).clamp(1e-12, 1.0 - 1e-12))
     }
 }
 
@@ -115,7 +154,7 @@ impl Predictive {
         let r = sim.n.max(1) as f64;
         let b2 = match obs.observable {
             Observable::CollapseAngle => bracket * bracket / 12.0,
-            Observable::Displacement { .. } => 0.0,
+            _ => 0.0,
         };
         let model = sim.sd * sim.sd * (1.0 + 1.0 / r);
         let var = model + b2 + obs.sigma * obs.sigma + sim.err * sim.err;
@@ -172,10 +211,23 @@ impl Predictive {
         self.nlpd(y)
     }
 
+    /// The predictive of a category's indicator read "seen" with probability `q`: mean `q`,
+    /// standard deviation `√(q (1 − q))` (for residuals; the score is
+    /// [`category_score`]).
+    pub fn category(q: f64) -> Predictive {
+        Predictive { mean: q, sd: (q * (1.0 - q)).sqrt().max(1e-9), dof: GAUSSIAN_DOF }
+    }
+
     /// Standardized residual `(y − mean) / sd`.
     pub fn z(&self, y: f64) -> f64 {
         (y - self.mean) / self.sd
     }
+}
+
+/// The score of a category's indicator `y` (1: seen) read "seen" with probability `q`:
+/// `−ln q` or `−ln (1 − q)`.
+pub fn category_score(q: f64, y: f64) -> f64 {
+    (if y >= 0.5 { -q.ln() } else { -(1.0 - q).ln() }).min(NLPD_MISSING)
 }
 
 /// The score of an observation the model cannot predict (every realization failed, or
@@ -195,6 +247,27 @@ mod tests {
             value: 0.0,
             sigma,
         }
+    }
+
+    /// The smoothed, misread category probability against its closed form: 3 of 9
+    /// realizations toppled (K = 4 kinds), ε = 0.1: p = (3 + ½)/(9 + 2) = 7/22, q = 0.9 p +
+    /// 0.1 (1 − p)/3; none of 9 uniform starts for `random` (m = 2 of K = 3): p = 1/10.5.
+    #[test]
+    fn a_category_is_smoothed_for_few_realizations_and_misread() {
+        use crate::loading::mechanism::{FailureKind, FailureStart};
+        let r = Reading::default();
+        let sim = Simulated { mean: 3.0 / 9.0, sd: 0.0, n: 9, err: 0.0 };
+        let q = r.category_probability(&Observable::MechanismKind { kind: FailureKind::Toppling }, &sim).unwrap();
+        let p = 7.0 / 22.0;
+        assert!((q - (0.9 * p + 0.1 * (1.0 - p) / 3.0)).abs() < 1e-15, "{q}");
+        let none = Simulated { mean: 0.0, sd: 0.0, n: 9, err: 0.0 };
+        let q = r.category_probability(&Observable::MechanismStart { start: FailureStart::Random }, &none).unwrap();
+        let p = 1.0 / 10.5;
+        assert!((q - (0.9 * p + 0.1 * (1.0 - p))).abs() < 1e-15, "{q}");
+        assert!(
+            (category_score(q, 1.0) + q.ln()).abs() < 1e-15 && (category_score(q, 0.0) + (1.0 - q).ln()).abs() < 1e-15
+        );
+        assert_eq!(r.category_probability(&Observable::CollapseAngle, &sim), None);
     }
 
     #[test]

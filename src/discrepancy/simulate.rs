@@ -10,6 +10,7 @@ use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
+use crate::loading::mechanism::MechanismReading;
 use crate::loading::tilt::{run_tilt, TiltParams};
 use crate::units::m_to_cm;
 use serde::Serialize;
@@ -62,11 +63,22 @@ pub struct Outcome {
     pub top_cm: Vec<[f64; 3]>,
     /// Why the run failed, if it did.
     pub error: Option<String>,
+    /// The failure mechanism as a person would read it (`None` if the wall stood or the
+    /// run failed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mechanism: Option<MechanismReading>,
 }
 
 impl Outcome {
     fn failed(error: String) -> Outcome {
-        Outcome { collapse_deg: None, first_unstable_deg: None, tilt_deg: vec![], top_cm: vec![], error: Some(error) }
+        Outcome {
+            collapse_deg: None,
+            first_unstable_deg: None,
+            tilt_deg: vec![],
+            top_cm: vec![],
+            error: Some(error),
+            mechanism: None,
+        }
     }
 
     /// The collapse angle as the middle of its bracket (last stable, first unstable),
@@ -78,7 +90,8 @@ impl Outcome {
 
     /// The value of an observable (degrees or cm); `None` for a failed run, and for a
     /// displacement at a tilt the realization did not stand to (the chance of standing is
-    /// carried by the collapse angle).
+    /// carried by the collapse angle), and for a mechanism of a wall that stood; a kind or
+    /// a start is 1 where the realization showed it, else 0.
     pub fn value(&self, obs: &Observable) -> Option<f64> {
         self.error.is_none().then_some(())?;
         match *obs {
@@ -88,6 +101,9 @@ impl Outcome {
                 let [l, c, r] = self.top_cm[i];
                 Some(measure.of(l, c, r))
             }
+            Observable::FailureHeight { .. } => self.mechanism.map(|m| m.failure_height_fraction),
+            Observable::MechanismKind { kind } => self.mechanism.map(|m| f64::from(u8::from(m.kind == kind))),
+            Observable::MechanismStart { start } => self.mechanism.map(|m| f64::from(u8::from(start.matches(m.start)))),
         }
     }
 }
@@ -116,6 +132,7 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
                 tilt_deg,
                 top_cm,
                 error: None,
+                mechanism: t.mechanism.reading,
             }
         }
         Err(e) => Outcome::failed(e.to_string()),

@@ -89,5 +89,12 @@ pub fn builtin() -> Vec<EffectDef> {
             vec![param("max_dip_deg", "deg", 0.0, 15.0, Scale::Linear, 0.0, false)],
             vec![Step::TransverseDip { parameter: "max_dip_deg".into() }],
         ),
+        def(
+            "base_restraint",
+            "the first course held against rotation by stops of height h_s on the downhill side: it overturns about the stops' top edge, not its toe",
+            "Santa-Cruz et al. (2021), §2.1: \"the base of the specimens was restrained with two wooden pieces, to avoid sliding failure\"",
+            vec![param("stop_height_m", "m", 0.0, 0.04, Scale::Linear, 0.0, true)],
+            vec![Step::BaseStop { parameter: "stop_height_m".into(), friction_deg: None }],
+        ),
     ]
 }

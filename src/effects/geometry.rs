@@ -169,3 +169,68 @@ pub fn tilt_beds_across(
         Vec3::new(p.x, p.y, p.z + (p.y - yc) * t)
     })
 }
+
+/// `base_restraint`: stops of height `h_s` (m) on the downhill side (+y) of the first
+/// course, as the source paper's set-up had them ("the base of the specimens was
+/// restrained with two wooden pieces, to avoid sliding failure", Santa-Cruz et al. 2021,
+/// §2.1). Each block standing on the table gets a fixed stop bearing on its downhill face
+/// (the face whose outward normal has the largest y component, at least 0.5) from the
+/// table up to `h_s`: the prism spanned by that part of the face and the same points moved
+/// `max(h_s, 5 mm)` downhill, appended to the layout as a fixed block `stop_ID` of
+/// material `material` (the face's shape is followed, so a battered face is held over its
+/// height, not at its toe alone). A block held so can no longer rotate about its toe: it
+/// overturns about the stop's top edge, its toe sliding uphill on the table; for a
+/// rectangular block of width b, height h on a table of friction μ against a smooth stop,
+/// `tan α = (b + 2 μ h_s) / (h − 2 h_s)` (moments about the stop's edge, the toe carrying
+/// the weight's normal component). `h_s = 0` adds nothing.
+///
+/// # Errors
+/// The block whose stop could not be built.
+pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<(), BlockFailure> {
+    if h_s.is_nan() || h_s <= 0.0 {
+        return Ok(());
+    }
+    let wall: Vec<usize> = (0..layout.blocks.len()).filter(|&i| !layout.blocks[i].fixed).collect();
+    let z0 = wall.iter().map(|&i| layout.blocks[i].shape.aabb().min.z).fold(f64::INFINITY, f64::min);
+    let size = wall.iter().map(|&i| layout.blocks[i].shape.aabb().extent().norm()).fold(0.0, f64::max);
+    let tol = 1e-9 * size.max(1e-3);
+    let zc = z0 + h_s;
+    let t = h_s.max(0.005);
+    let mut stops = Vec::new();
+    for &i in &wall {
+        let b = &layout.blocks[i];
+        if b.shape.aabb().min.z > z0 + 1e-6 * size.max(1e-3) {
+            continue; // not on the table
+        }
+        let Some(face) =
+            b.shape.faces.iter().filter(|f| f.normal.y >= 0.5).max_by(|a, c| a.normal.y.total_cmp(&c.normal.y))
+        else {
+            continue;
+        };
+        let v: Vec<Vec3> = face.vertices.iter().map(|&k| b.shape.vertices[k]).collect();
+        let mut pts: Vec<Vec3> = v.iter().filter(|p| p.z <= zc + tol).copied().collect();
+        for k in 0..v.len() {
+            let (p, q) = (v[k], v[(k + 1) % v.len()]);
+            if (p.z - zc) * (q.z - zc) < 0.0 {
+                let s = (zc - p.z) / (q.z - p.z);
+                pts.push(p + (q - p) * s);
+            }
+        }
+        if pts.len() < 3 {
+            continue;
+        }
+        let out: Vec<Vec3> = pts.iter().map(|p| p + Vec3::new(0.0, t, 0.0)).collect();
+        pts.extend(out);
+        let shape = hull(&pts).map_err(|e| (format!("stop_{}", b.id), e))?;
+        stops.push(crate::layout::Block {
+            id: format!("stop_{}", b.id),
+            material,
+            shape,
+            fixed: true,
+            course: None,
+            wedge: false,
+        });
+    }
+    layout.blocks.extend(stops);
+    Ok(())
+}

@@ -20,13 +20,14 @@
 //! | `edge_rounding` | r (m) | layout: every edge of every block rounded by r |
 //! | `restraint_stiffness` | k (N/m per block) | restraints: rigid ends → springs |
 //! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
+//! | `base_restraint` | h_s (m) | layout: fixed stops of height h_s on the downhill face of the first course |
 //!
 //! Every form is deterministic (the same value in every realization) except
 //! `transverse_dip`, whose dips are drawn per bed joint. Length ranges marked
 //! `range_per_course_height` scale with the wall: they are written for a course height of
 //! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
 //! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
-//! ψ = 0, r = 0, δ = 0; `joint_closure` and `restraint_stiffness` reach it only in the
+//! ψ = 0, r = 0, δ = 0, h_s = 0; `joint_closure` and `restraint_stiffness` reach it only in the
 //! limit Vm → ∞, k → ∞).
 //!
 //! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
@@ -51,6 +52,11 @@ use std::sync::Arc;
 /// Course height the built-in length ranges are written for, m (the 1:4 walls of
 /// Santa-Cruz et al. 2021).
 pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
+
+/// The built-in effects whose signature is the failure mechanism (where the moving part
+/// starts) more than the angles: the discrepancy analysis searches them by default only
+/// when the data hold mechanism observations ([`crate::discrepancy::searched`]).
+pub const MECHANISM_EFFECTS: [&str; 1] = ["base_restraint"];
 
 /// Where an effect enters the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -181,6 +187,17 @@ pub enum Step {
         /// The parameter giving k, N/m.
         parameter: String,
     },
+    /// Fixed stops of height h_s (m) bearing on the downhill face of every block on the
+    /// table ([`geometry::add_base_stops`]).
+    BaseStop {
+        /// The parameter giving h_s, m.
+        parameter: String,
+        /// Friction angle of the stops' joints, degrees; absent: the table's material (the
+        /// joint with a block is then that material's series combination with the block's,
+        /// as between any two materials).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        friction_deg: Option<f64>,
+    },
 }
 
 impl Step {
@@ -192,14 +209,17 @@ impl Step {
             | Step::Lean { parameter }
             | Step::Rounding { parameter }
             | Step::TransverseDip { parameter }
-            | Step::RestraintSpring { parameter } => parameter,
+            | Step::RestraintSpring { parameter }
+            | Step::BaseStop { parameter, .. } => parameter,
         }
     }
 
     /// Where the step enters the model.
     pub fn stage(&self) -> Stage {
         match self {
-            Step::Lean { .. } | Step::Rounding { .. } | Step::TransverseDip { .. } => Stage::Layout,
+            Step::Lean { .. } | Step::Rounding { .. } | Step::TransverseDip { .. } | Step::BaseStop { .. } => {
+                Stage::Layout
+            }
             Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
             Step::RestraintSpring { .. } => Stage::Restraints,
         }
@@ -532,6 +552,19 @@ impl Effect {
                 Step::Rounding { .. } => geometry::round_edges(layout, v).map_err(geometry)?,
                 Step::TransverseDip { .. } => {
                     geometry::tilt_beds_across(layout, v.to_radians(), course_tops_m, rng).map_err(geometry)?
+                }
+                Step::BaseStop { friction_deg, .. } => {
+                    let material = match friction_deg {
+                        None => layout.table_material,
+                        Some(phi) => {
+                            let mut m = layout.materials[layout.table_material];
+                            m.friction = phi.to_radians();
+                            layout.materials.push(m);
+                            layout.material_names.push(format!("{}_stop", self.def.name));
+                            layout.materials.len() - 1
+                        }
+                    };
+                    geometry::add_base_stops(layout, v, material).map_err(geometry)?
                 }
                 Step::RestraintSpring { .. } => {
                     for (_, r) in &mut layout.end_restraints {

@@ -86,6 +86,23 @@ pub struct RealizationRow {
     pub joint: String,
     /// Number of blocks that moved at collapse.
     pub moving_blocks: u64,
+    /// The lowest bed joint of the moving part as a fraction of the wall's height (0: the
+    /// table joint; [`crate::loading::mechanism::MechanismReading`]); `None` without a
+    /// mechanism.
+    #[serde(default, with = "exact::opt")]
+    pub failure_height_fraction: Option<f64>,
+    /// The failure's kind as a person reads it (`toppling`, `sliding`, `bending`, `mixed`;
+    /// empty without a mechanism).
+    #[serde(default)]
+    pub mechanism_kind: String,
+    /// Where along the wall it started (`end`, `centre`, `uniform`; empty without a
+    /// mechanism).
+    #[serde(default)]
+    pub mechanism_start: String,
+    /// The share of the wall's length the moving blocks span, in [0, 1]; `None` without a
+    /// mechanism.
+    #[serde(default, with = "exact::opt")]
+    pub mechanism_extent: Option<f64>,
     /// Tilt of each stable increment, degrees.
     #[serde(with = "exact::vec")]
     pub tilt_deg: Vec<f64>,
@@ -313,6 +330,10 @@ mod tests {
             mechanism: "mixed".into(),
             joint: "b1-b2".into(),
             moving_blocks: 4,
+            failure_height_fraction: Some(values[2]),
+            mechanism_kind: "bending".into(),
+            mechanism_start: "centre".into(),
+            mechanism_extent: None,
             tilt_deg: values.to_vec(),
             disp_top_left_cm: values.iter().rev().copied().collect(),
             disp_top_centre_cm: vec![],
@@ -330,7 +351,8 @@ mod tests {
     }
 
     fn bits(r: &RealizationRow) -> Vec<u64> {
-        let mut v: Vec<f64> = vec![r.collapse_angle_deg.unwrap(), r.dt_s, r.wall_time_s];
+        let mut v: Vec<f64> =
+            vec![r.collapse_angle_deg.unwrap(), r.dt_s, r.wall_time_s, r.failure_height_fraction.unwrap()];
         v.extend(&r.tilt_deg);
         v.extend(&r.disp_top_left_cm);
         v.extend(&r.disp_top_right_cm);

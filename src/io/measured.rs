@@ -1,6 +1,9 @@
 //! Measured data (CSV): collapse angles (`specimen, group, collapse_angle_deg`, the source
-//! paper's Table 2) and top displacements (`specimen, group, measure, tilt_deg,
-//! displacement_cm`, its Table 3), read and checked row by row. Other columns are ignored.
+//! paper's Table 2), top displacements (`specimen, group, measure, tilt_deg,
+//! displacement_cm`, its Table 3) and failure mechanisms as seen (`specimen, group,
+//! failure_height_fraction, failure_height_low, failure_height_high, kind, start`, optional
+//! `extent_fraction` and `source`: its §2.2), read and checked row by row. Other columns are
+//! ignored.
 //!
 //! Every refusal names the file, the line (1-based, the header is line 1) and the column.
 //! A file is refused when:
@@ -17,14 +20,25 @@
 //! | an unknown measure | `measure` |
 //! | a specimen twice in the collapse file, or a (specimen, measure, tilt) twice | `specimen` |
 //! | a specimen in two groups | `group` |
+//! | a failure height, its low or high bound outside [0, 1], or not low ≤ value ≤ high, or given without both bounds | `failure_height_*` |
+//! | an unknown kind (known: `toppling`, `sliding`, `bending`, `mixed`) | `kind` |
+//! | an unknown start (known: `end`, `centre`, `uniform`, `random`) | `start` |
+//! | an extent outside (0, 1] | `extent_fraction` |
+//! | a specimen twice in the mechanism file | `specimen` |
+//!
+//! In the mechanism file every field but `specimen` and `group` may be empty (not seen or
+//! not reported).
 //!
 //! [`check_against_study`] adds the checks that need the study: every displacement tilt on
 //! the grid of tilts the study observes (a multiple of its `[tilt] step_deg`), no
 //! displacement larger than the height of the group's wall, no displacement at a tilt
-//! beyond the specimen's own collapse angle, and one group per specimen across both files.
+//! beyond the specimen's own collapse angle, and one group per specimen across the files;
+//! [`check_mechanism_against_study`] that every mechanism row is of a group the study has and
+//! of a specimen the other files know (when they hold any).
 
 use super::table::TableError;
 use crate::ensemble::row::Measure;
+use crate::loading::mechanism::{FailureKind, FailureStart};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -134,6 +148,26 @@ impl Csv {
             rows.push((n, header.iter().cloned().zip(f).collect()));
         }
         Ok(Csv { path: path.to_owned(), rows })
+    }
+
+    /// A field that may be empty.
+    fn optional<'a>(&self, row: &'a BTreeMap<String, String>, column: &str) -> Option<&'a str> {
+        row.get(column).map(String::as_str).filter(|v| !v.is_empty())
+    }
+
+    /// A finite number in `range` that may be empty.
+    fn optional_number(
+        &self,
+        line: usize,
+        row: &BTreeMap<String, String>,
+        column: &str,
+        ok: impl Fn(f64) -> bool,
+        what: &str,
+    ) -> Result<Option<f64>, TableError> {
+        if self.optional(row, column).is_none() {
+            return Ok(None);
+        }
+        self.number(line, row, column, ok, what).map(Some)
     }
 
     fn text<'a>(&self, line: usize, row: &'a BTreeMap<String, String>, column: &str) -> Result<&'a str, TableError> {
@@ -324,4 +358,193 @@ pub fn check_against_study(
         }
     }
     Ok(())
+}
+
+/// A failure mechanism as seen on a specimen (the paper's §2.2 and Figures 5–7): every
+/// field but the specimen and its group may be missing.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeasuredMechanism {
+    /// Specimen.
+    pub specimen: String,
+    /// Group.
+    pub group: String,
+    /// Failure height: the bed joint at the bottom of the moving part as a fraction of the
+    /// wall's height (0: the table joint), read as `(value, low, high)`, the interval the
+    /// reading stands for, `0 ≤ low ≤ value ≤ high ≤ 1`.
+    pub failure_height: Option<(f64, f64, f64)>,
+    /// Kind of failure.
+    pub kind: Option<FailureKind>,
+    /// Where along the wall it started.
+    pub start: Option<FailureStart>,
+    /// The share of the wall's length that failed in the end, in (0, 1] (recorded, not
+    /// scored: a realization's extent is read at its first unstable state).
+    pub extent: Option<f64>,
+    /// The sentence of the source the row comes from.
+    pub source: String,
+    /// The file it was read from (empty for data made in memory).
+    pub file: PathBuf,
+    /// Its line in the file (0 for data made in memory).
+    pub line: usize,
+}
+
+/// Reads observed failure mechanisms: columns `specimen`, `group`,
+/// `failure_height_fraction`, `failure_height_low`, `failure_height_high`, `kind`, `start`;
+/// optional `extent_fraction` and `source`. Empty fields are missing observations.
+///
+/// # Errors
+/// [`TableError`] naming the file, the line and the column (see the module table).
+pub fn read_measured_mechanism(path: &Path) -> Result<Vec<MeasuredMechanism>, TableError> {
+    let h = ["failure_height_fraction", "failure_height_low", "failure_height_high"];
+    let csv = Csv::read(path, &["specimen", "group", h[0], h[1], h[2], "kind", "start"])?;
+    let mut out: Vec<MeasuredMechanism> = Vec::new();
+    for (line, row) in &csv.rows {
+        let line = *line;
+        let bad = |column: &str, m: String| value_error(path, line, column, m);
+        let specimen = csv.text(line, row, "specimen")?.to_string();
+        let group = csv.text(line, row, "group")?.to_string();
+        let unit = |v: f64| (0.0..=1.0).contains(&v);
+        let [v, lo, hi] = h.map(|c| csv.optional_number(line, row, c, unit, "a fraction of the wall height in [0, 1]"));
+        let (v, lo, hi) = (v?, lo?, hi?);
+        let failure_height = match (v, lo, hi) {
+            (None, None, None) => None,
+            (Some(v), Some(lo), Some(hi)) => {
+                if !(lo <= v && v <= hi) {
+                    return Err(bad(
+                        h[0],
+                        format!("{v} is not within its reading interval [{lo}, {hi}] (low ≤ value ≤ high)"),
+                    ));
+                }
+                Some((v, lo, hi))
+            }
+            (None, _, _) => {
+                return Err(bad(h[0], "empty, but a bound of its reading interval is given".into()));
+            }
+            (Some(_), None, _) => {
+                return Err(bad(h[1], "empty: a failure height needs its reading interval (low and high)".into()))
+            }
+            (Some(_), Some(_), None) => {
+                return Err(bad(h[2], "empty: a failure height needs its reading interval (low and high)".into()))
+            }
+        };
+        let kind = match csv.optional(row, "kind") {
+            None => None,
+            Some(k) => Some(FailureKind::from_name(k).ok_or_else(|| {
+                bad(
+                    "kind",
+                    format!("unknown kind `{k}` (known: {})", FailureKind::ALL.map(FailureKind::name).join(", ")),
+                )
+            })?),
+        };
+        let start = match csv.optional(row, "start") {
+            None => None,
+            Some(k) => Some(FailureStart::from_name(k).ok_or_else(|| {
+                bad(
+                    "start",
+                    format!("unknown start `{k}` (known: {})", FailureStart::ALL.map(FailureStart::name).join(", ")),
+                )
+            })?),
+        };
+        let extent = csv.optional_number(line, row, "extent_fraction", |e| e > 0.0 && e <= 1.0, "in (0, 1]")?;
+        if let Some(first) = out.iter().find(|m| m.specimen == specimen) {
+            return Err(bad(
+                "specimen",
+                format!("specimen {specimen} has a mechanism on line {} already (one per specimen)", first.line),
+            ));
+        }
+        let source = csv.optional(row, "source").unwrap_or_default().to_string();
+        out.push(MeasuredMechanism {
+            specimen,
+            group,
+            failure_height,
+            kind,
+            start,
+            extent,
+            source,
+            file: path.to_owned(),
+            line,
+        });
+    }
+    Ok(out)
+}
+
+/// Checks observed mechanisms against the study and the other measured data: every row's
+/// group is one of the study's (by its measured-group name), its specimen is known to the
+/// collapse or displacement data when they hold any specimen, in the same group.
+///
+/// # Errors
+/// [`TableError::Value`] naming the file, the line and the column.
+pub fn check_mechanism_against_study(
+    mechanism: &[MeasuredMechanism],
+    collapse: &[MeasuredCollapse],
+    displacement: &[MeasuredDisplacement],
+    study: &StudyContext,
+) -> Result<(), TableError> {
+    let mut groups = BTreeMap::new();
+    for c in collapse {
+        one_group(&mut groups, &c.specimen, &c.group, &c.file, c.line)?;
+    }
+    for d in displacement {
+        one_group(&mut groups, &d.specimen, &d.group, &d.file, d.line)?;
+    }
+    let known: Vec<String> = groups.keys().cloned().collect();
+    for m in mechanism {
+        if !study.groups.is_empty() && !study.groups.iter().any(|(g, _)| g == &m.group) {
+            let names: Vec<&str> = study.groups.iter().map(|(g, _)| g.as_str()).collect();
+            return Err(value_error(
+                &m.file,
+                m.line,
+                "group",
+                format!("group {} is not a group of the study (groups: {})", m.group, names.join(", ")),
+            ));
+        }
+        if !known.is_empty() && !groups.contains_key(&m.specimen) {
+            return Err(value_error(
+                &m.file,
+                m.line,
+                "specimen",
+                format!(
+                    "unknown specimen {}: not in the collapse or displacement data (specimens: {})",
+                    m.specimen,
+                    known.join(", ")
+                ),
+            ));
+        }
+        one_group(&mut groups, &m.specimen, &m.group, &m.file, m.line)?;
+    }
+    Ok(())
+}
+
+/// The file name of observed mechanisms beside the collapse and displacement files (as
+/// `drystone synthesize` and an extended study write them).
+pub const MECHANISM_FILE: &str = "tilting_table_mechanism.csv";
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Observed mechanisms as the CSV text [`read_measured_mechanism`] reads (numbers in their
+/// shortest round-trip form; missing fields empty).
+pub fn mechanism_csv(rows: &[MeasuredMechanism]) -> String {
+    let mut t = String::from(
+        "specimen,group,failure_height_fraction,failure_height_low,failure_height_high,kind,start,extent_fraction,source\n",
+    );
+    for m in rows {
+        let (v, lo, hi) = m.failure_height.map_or((String::new(), String::new(), String::new()), |(v, lo, hi)| {
+            (v.to_string(), lo.to_string(), hi.to_string())
+        });
+        t += &format!(
+            "{},{},{v},{lo},{hi},{},{},{},{}\n",
+            csv_field(&m.specimen),
+            csv_field(&m.group),
+            m.kind.map_or("", FailureKind::name),
+            m.start.map_or("", FailureStart::name),
+            m.extent.map_or(String::new(), |e| e.to_string()),
+            csv_field(&m.source)
+        );
+    }
+    t
 }

@@ -5,7 +5,10 @@
 //! `realizations.parquet` keeps the per-increment series (tilt, top displacements) as list
 //! columns; `realizations.csv` writes them as `;`-separated numbers in one cell.
 
-pub use super::measured::{read_measured_collapse, read_measured_displacement, MeasuredCollapse, MeasuredDisplacement};
+pub use super::measured::{
+    read_measured_collapse, read_measured_displacement, read_measured_mechanism, MeasuredCollapse,
+    MeasuredDisplacement, MeasuredMechanism,
+};
 use crate::ensemble::row::{RealizationRow, Status};
 use polars::prelude::*;
 use std::fs::File;
@@ -101,6 +104,10 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
         Column::new("mechanism".into(), s(|r| r.mechanism.clone())),
         Column::new("joint".into(), s(|r| r.joint.clone())),
         Column::new("moving_blocks".into(), u(|r| r.moving_blocks)),
+        Column::new("failure_height_fraction".into(), of(|r| r.failure_height_fraction)),
+        Column::new("mechanism_kind".into(), s(|r| r.mechanism_kind.clone())),
+        Column::new("mechanism_start".into(), s(|r| r.mechanism_start.clone())),
+        Column::new("mechanism_extent".into(), of(|r| r.mechanism_extent)),
         Column::new("disp_mean_5deg_cm".into(), of(|r| r.disp_mean_at(5.0))),
         Column::new("disp_mean_10deg_cm".into(), of(|r| r.disp_mean_at(10.0))),
         Column::new("disp_centre_rel_5deg_cm".into(), of(|r| r.disp_centre_rel_at(5.0))),
@@ -242,6 +249,13 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let mechanism = r.strs("mechanism")?;
     let joint = r.strs("joint")?;
     let moving = r.u64s("moving_blocks")?;
+    // Columns added later: a table written before them reads as without a mechanism.
+    let n = index.len();
+    let has = |c: &str| df.column(c).is_ok();
+    let height = if has("failure_height_fraction") { r.opts("failure_height_fraction")? } else { vec![None; n] };
+    let mkind = if has("mechanism_kind") { r.strs("mechanism_kind")? } else { vec![String::new(); n] };
+    let mstart = if has("mechanism_start") { r.strs("mechanism_start")? } else { vec![String::new(); n] };
+    let extent = if has("mechanism_extent") { r.opts("mechanism_extent")? } else { vec![None; n] };
     let lat_l = r.opts("lateral_disp_left_cm")?;
     let lat_c = r.opts("lateral_disp_centre_cm")?;
     let lat_r = r.opts("lateral_disp_right_cm")?;
@@ -279,6 +293,10 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
             mechanism: mechanism[i].clone(),
             joint: joint[i].clone(),
             moving_blocks: moving[i],
+            failure_height_fraction: height[i],
+            mechanism_kind: mkind[i].clone(),
+            mechanism_start: mstart[i].clone(),
+            mechanism_extent: extent[i],
             tilt_deg: tilt[i].clone(),
             disp_top_left_cm: dl[i].clone(),
             disp_top_centre_cm: dc[i].clone(),

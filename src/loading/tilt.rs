@@ -712,7 +712,7 @@ pub fn run_tilt_observed(
             last_stable_deg: last_stable,
             first_unstable_deg: None,
             collapse_reason: None,
-            mechanism: Mechanism { kind: MechanismKind::None, joint: String::new(), joints: vec![], blocks: vec![] },
+            mechanism: Mechanism::none(),
             monitors: monitors.iter().map(|m| m.name.clone()).collect(),
             increments,
             steps: path.total_steps,

@@ -2,7 +2,7 @@
 //! [`crate::discrepancy`] (`drystone discrepancy STUDY.toml`, `drystone synthesize`).
 
 use super::Study;
-use crate::discrepancy::observations::{observations, MeasurementSigma, Observation};
+use crate::discrepancy::observations::{mechanism_observations, observations, MeasurementSigma, Observation};
 use crate::discrepancy::simulate::{GroupSetup, Setup};
 use crate::discrepancy::DiscrepancyError;
 
@@ -38,7 +38,8 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
 }
 
 /// The observations of a study's measured data (`[measured]`), with the measured group
-/// names mapped to the study's groups.
+/// names mapped to the study's groups: collapse angles, displacements, then observed
+/// mechanisms (none without a `mechanism` file: the observations are then as before).
 ///
 /// # Errors
 /// [`DiscrepancyError::Observations`] naming the study file.
@@ -46,6 +47,11 @@ pub fn observations_of(study: &Study, sigma: MeasurementSigma) -> Result<Vec<Obs
     let groups: Vec<(String, String)> =
         study.groups.iter().map(|g| (g.measured_group.clone(), g.name.clone())).collect();
     let file = format!("{} [measured]", study.path.display());
-    observations(&study.measured.collapse, &study.measured.displacement, &groups, sigma, &file)
-        .map_err(|source| DiscrepancyError::Observations { file, source })
+    let mut obs = observations(&study.measured.collapse, &study.measured.displacement, &groups, sigma, &file)
+        .map_err(|source| DiscrepancyError::Observations { file: file.clone(), source })?;
+    obs.extend(
+        mechanism_observations(&study.measured.mechanism, &groups, sigma)
+            .map_err(|source| DiscrepancyError::Observations { file, source })?,
+    );
+    Ok(obs)
 }

@@ -124,7 +124,12 @@ pub fn write_extended(
     for m in &study.measured.displacement {
         let _ = writeln!(d, "{},{},{},{},{}", m.specimen, m.group, m.measure, m.tilt_deg, m.displacement_cm);
     }
-    let mut measured = MeasuredSpec { collapse: None, displacement: None, paper_dem: None };
+    let mut measured = MeasuredSpec { collapse: None, displacement: None, mechanism: None, paper_dem: None };
+    if !study.measured.mechanism.is_empty() {
+        let p = dir.join("data").join(crate::io::measured::MECHANISM_FILE);
+        std::fs::write(&p, crate::io::measured::mechanism_csv(&study.measured.mechanism)).map_err(FileError::at(&p))?;
+        measured.mechanism = Some(PathBuf::from(format!("data/{}", crate::io::measured::MECHANISM_FILE)));
+    }
     for (name, text, n) in [
         ("tilting_table_collapse.csv", c, study.measured.collapse.len()),
         ("tilting_table_displacement.csv", d, study.measured.displacement.len()),
@@ -153,7 +158,8 @@ pub fn write_extended(
         solver: study.solver,
         groups,
         sweep: BTreeMap::new(),
-        measured: (measured.collapse.is_some() || measured.displacement.is_some()).then_some(measured),
+        measured: (measured.collapse.is_some() || measured.displacement.is_some() || measured.mechanism.is_some())
+            .then_some(measured),
         paper: None,
         calibrate: vec![],
         discrepancy: Some(study.discrepancy.clone()),

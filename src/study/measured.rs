@@ -1,10 +1,11 @@
 //! The measured data of a study checked against the study itself
 //! ([`crate::io::measured::check_against_study`]): displacement tilts on the study's tilt
 //! grid, displacements within the height of the group's wall, none beyond the specimen's
-//! collapse angle, one group per specimen.
+//! collapse angle, one group per specimen; observed mechanisms of the study's groups and of
+//! specimens the other files know.
 
 use super::{ProtocolKind, Study};
-use crate::io::measured::{check_against_study, StudyContext};
+use crate::io::measured::{check_against_study, check_mechanism_against_study, StudyContext};
 use crate::io::table::TableError;
 
 impl Study {
@@ -29,6 +30,8 @@ impl Study {
     /// # Errors
     /// [`TableError::Value`] naming the file, the line and the column.
     pub fn check_measured(&self) -> Result<(), TableError> {
-        check_against_study(&self.measured.collapse, &self.measured.displacement, &self.measured_context())
+        let (c, d) = (&self.measured.collapse, &self.measured.displacement);
+        check_against_study(c, d, &self.measured_context())?;
+        check_mechanism_against_study(&self.measured.mechanism, c, d, &self.measured_context())
     }
 }

@@ -216,6 +216,7 @@ fn tilt_sections(
         comparison_table(cmp, md);
         misses_section(cmp, md);
     }
+    mechanism_table(study, rows, md);
     let _ = writeln!(md, "\n## Plots\n");
     let _ = writeln!(md, "![collapse angle histograms](collapse_angle_histograms.svg)\n");
     let _ = writeln!(md, "![displacement against tilt](displacement_vs_tilt.svg)\n");
@@ -483,6 +484,89 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             })
         })
         .collect()
+}
+
+/// Counts of the names in `v` (empty names left out), as `name n` joined by `, `, most
+/// frequent first (ties by name).
+fn counts(v: &[&str]) -> String {
+    let mut c: Vec<(&str, usize)> = Vec::new();
+    for x in v.iter().filter(|x| !x.is_empty()) {
+        match c.iter_mut().find(|(n, _)| n == x) {
+            Some(e) => e.1 += 1,
+            None => c.push((x, 1)),
+        }
+    }
+    c.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    if c.is_empty() {
+        return "–".into();
+    }
+    c.iter().map(|(n, k)| format!("{n} {k}")).collect::<Vec<_>>().join(", ")
+}
+
+/// The failure mechanisms simulated (per group and sweep point: the failure height's mean
+/// and range over the realizations that collapsed, the kinds and starts counted) beside
+/// the observed ones of the group's specimens (`[measured] mechanism`).
+fn mechanism_table(study: &Study, rows: &[RealizationRow], md: &mut String) {
+    let read: Vec<&RealizationRow> = rows.iter().filter(|r| r.failure_height_fraction.is_some()).collect();
+    if read.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "\n## Failure mechanism: simulated and observed\n");
+    let _ = writeln!(
+        md,
+        "Failure height: the lowest bed joint of the moving part over the wall's height (0: the table joint). Start: where the blocks that moved at least half the largest motion lie (`uniform`: over three quarters of the length or more). Simulated at the first unstable state of each realization that collapsed; observed as read on the specimens.\n"
+    );
+    let _ = writeln!(md, "| group | point | source | n | failure height | kind | start |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+    let mut keys: Vec<(&str, u64, &str)> = Vec::new();
+    for r in &read {
+        if !keys.iter().any(|k| k.0 == r.group && k.1 == r.point) {
+            keys.push((&r.group, r.point, &r.sweep));
+        }
+    }
+    for (group, point, sweep) in keys {
+        let these: Vec<&&RealizationRow> = read.iter().filter(|r| r.group == group && r.point == point).collect();
+        let h: Vec<f64> = these.iter().filter_map(|r| r.failure_height_fraction).collect();
+        let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+        let kinds: Vec<&str> = these.iter().map(|r| r.mechanism_kind.as_str()).collect();
+        let starts: Vec<&str> = these.iter().map(|r| r.mechanism_start.as_str()).collect();
+        let label = if sweep.is_empty() { point.to_string() } else { sweep.to_string() };
+        let _ = writeln!(
+            md,
+            "| {group} | {label} | simulated | {} | {:.2} [{:.2}, {:.2}] | {} | {} |",
+            h.len(),
+            crate::stats::mean(&h),
+            lo,
+            hi,
+            counts(&kinds),
+            counts(&starts)
+        );
+        if point != 0 {
+            continue;
+        }
+        let mg = study.groups.iter().find(|g| g.name == group).map(|g| g.measured_group.as_str()).unwrap_or(group);
+        let obs: Vec<&crate::io::table::MeasuredMechanism> =
+            study.measured.mechanism.iter().filter(|m| m.group == mg).collect();
+        if obs.is_empty() {
+            continue;
+        }
+        let heights: Vec<String> =
+            obs.iter().filter_map(|m| m.failure_height.map(|(v, a, b)| format!("{v} [{a}, {b}]"))).collect();
+        let kinds: Vec<&str> = obs.iter().map(|m| m.kind.map_or("", |k| k.name())).collect();
+        let starts: Vec<&str> = obs.iter().map(|m| m.start.map_or("", |s| s.name())).collect();
+        let _ = writeln!(
+            md,
+            "| {group} | – | observed | {} | {} | {} | {} |",
+            obs.len(),
+            if heights.is_empty() {
+                "–".to_string()
+            } else {
+                counts(&heights.iter().map(String::as_str).collect::<Vec<_>>())
+            },
+            counts(&kinds),
+            counts(&starts)
+        );
+    }
 }
 
 #[cfg(test)]

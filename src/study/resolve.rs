@@ -44,6 +44,8 @@ pub struct Measured {
     pub collapse: Vec<MeasuredCollapse>,
     /// Displacements.
     pub displacement: Vec<MeasuredDisplacement>,
+    /// Failure mechanisms as seen.
+    pub mechanism: Vec<table::MeasuredMechanism>,
     /// The paper's DEM collapse angles (Table 7).
     pub paper_dem: Vec<table::PaperDemAngle>,
 }
@@ -157,7 +159,7 @@ impl StudySpec {
             inputs,
             library,
         };
-        crate::discrepancy::searched(&study.discrepancy, &study.library)
+        crate::discrepancy::searched(&study.discrepancy, &study.library, true)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
         study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
@@ -373,6 +375,10 @@ fn read_measured(
     }
     if let Some(d) = &m.displacement {
         measured.displacement = table::read_measured_displacement(&dir.join(d)).map_err(err)?;
+        files.push((InputRole::Measured, dir.join(d)));
+    }
+    if let Some(d) = &m.mechanism {
+        measured.mechanism = table::read_measured_mechanism(&dir.join(d)).map_err(err)?;
         files.push((InputRole::Measured, dir.join(d)));
     }
     if let Some(d) = &m.paper_dem {

@@ -158,6 +158,10 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
         mechanism: String::new(),
         joint: String::new(),
         moving_blocks: 0,
+        failure_height_fraction: None,
+        mechanism_kind: String::new(),
+        mechanism_start: String::new(),
+        mechanism_extent: None,
         tilt_deg: vec![],
         disp_top_left_cm: vec![],
         disp_top_centre_cm: vec![],
@@ -201,6 +205,11 @@ fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.mechanism = mechanism_name(t.mechanism.kind).to_string();
     row.joint = t.mechanism.joint.clone();
     row.moving_blocks = t.mechanism.blocks.len() as u64;
+    if let Some(m) = t.mechanism.reading {
+        (row.failure_height_fraction, row.mechanism_extent) =
+            (Some(m.failure_height_fraction), Some(m.extent_fraction));
+        (row.mechanism_kind, row.mechanism_start) = (m.kind.name().to_string(), m.start.name().to_string());
+    }
     let find = |name: &str| t.monitors.iter().position(|m| m == name);
     let (il, ic, ir) = (find("top_left"), find("top_centre"), find("top_right"));
     for inc in t.increments.iter().filter(|i| i.stable) {

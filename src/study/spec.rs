@@ -117,6 +117,11 @@ pub struct MeasuredSpec {
     /// Displacements: `specimen, group, measure, tilt_deg, displacement_cm`.
     #[serde(default)]
     pub displacement: Option<PathBuf>,
+    /// Failure mechanisms as seen: `specimen, group, failure_height_fraction,
+    /// failure_height_low, failure_height_high, kind, start` (optional `extent_fraction`,
+    /// `source`; see [`crate::io::measured`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mechanism: Option<PathBuf>,
     /// The paper's own DEM collapse angles (Table 7): `model, ends, phi_deg, kn_pa_per_m,
     /// collapse_angle_deg`.
     #[serde(default)]
