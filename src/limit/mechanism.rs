@@ -5,7 +5,7 @@
 //! the dual of the equilibrium problem is the kinematic problem).
 
 use super::model::Model;
-use crate::loading::mechanism::{Mechanism, MechanismKind};
+use crate::loading::mechanism::{read_mechanism, BlockMotion, Mechanism, MechanismKind};
 use crate::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -130,7 +130,16 @@ pub(crate) fn read(model: &Model, velocity: &[(Vec3, Vec3)]) -> (Mechanism, Vec<
     } else {
         MechanismKind::Mixed
     };
+    let moving: Vec<bool> = motion.iter().map(|m| max_motion > 0.0 && *m > VELOCITY_SHARE * max_motion).collect();
+    let seen: Vec<BlockMotion> = model
+        .extents
+        .iter()
+        .zip(&motion)
+        .zip(&moving)
+        .map(|(((x, z, fixed), m), mv)| BlockMotion { x: *x, z: *z, moved: m * scale, moving: *mv, fixed: *fixed })
+        .collect();
     let mechanism = Mechanism {
+        reading: read_mechanism(&seen, kind),
         kind,
         joint: joints.first().map(|j| j.joint.clone()).unwrap_or_default(),
         joints: joints.iter().map(|j| (j.joint.clone(), kind_of(j.mode))).collect(),

@@ -77,6 +77,9 @@ pub(crate) struct Model {
     pub centroid: Vec<Vec3>,
     /// Radii (centroid to farthest vertex), m.
     pub radius: Vec<f64>,
+    /// Per body: its x and z extents (lowest, highest), m, and whether it is fixed (the
+    /// mechanism reading's view of the blocks).
+    pub extents: Vec<((f64, f64), (f64, f64), bool)>,
     /// Joints.
     pub joints: Vec<Joint>,
     /// Contact points.
@@ -195,6 +198,14 @@ impl Model {
             row_of,
             centroid: st.bodies.iter().map(|b| b.pos).collect(),
             radius: st.bodies.iter().map(|b| b.radius).collect(),
+            extents: st
+                .bodies
+                .iter()
+                .map(|b| {
+                    let bb = b.world_shape().aabb();
+                    ((bb.min.x, bb.max.x), (bb.min.z, bb.max.z), b.fixed)
+                })
+                .collect(),
             joints,
             points,
             held_y,

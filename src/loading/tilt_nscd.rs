@@ -46,7 +46,7 @@
 //! unstable trial's final state carried along its velocity until a block has moved the
 //! per-increment collapse displacement.
 
-use super::mechanism::{mechanism, Mechanism, MechanismKind};
+use super::mechanism::{mechanism, Mechanism};
 use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
 use super::tilt::{CollapseReason, Increment, TiltError, TiltParams, TiltResult};
@@ -215,7 +215,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
         k += 1;
     }
     let Some((mut up, mut reason, mut failed)) = unstable else {
-        let none = Mechanism { kind: MechanismKind::None, joint: String::new(), joints: vec![], blocks: vec![] };
+        let none = Mechanism::none();
         return Ok(TiltResult {
             last_stable_deg: last_stable,
             first_unstable_deg: None,

@@ -190,6 +190,16 @@ impl StudySpec {
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         self.solver.validate_static().map_err(range("solver"))?;
+        if self.solver.kind == crate::dem::SolverKind::Nscd {
+            self.solver.nscd.validate().map_err(range("solver.nscd"))?;
+            if self.protocol == ProtocolKind::Lateral {
+                return Err(invalid.at(
+                    "solver.kind",
+                    "nscd runs the tilting table (protocol = \"tilt\"); for the lateral load use penalty or limit"
+                        .into(),
+                ));
+            }
+        }
         Ok(())
     }
 

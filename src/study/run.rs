@@ -10,7 +10,8 @@
 //! journal), which it does not run again. Every row being a pure function of the study and
 //! its item, the rows are the same whichever items were done before.
 
-use super::{point_label, Study};
+use super::{point_label, ProtocolKind, Study};
+use crate::dem::SolverKind;
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{self, Item, Shard};
 use crate::loading::lateral::LateralResult;
@@ -41,10 +42,13 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
     let group = &study.groups[item.group];
     let wall = &group.walls[item.point];
     let base = empty_row(study, item);
-    let mut row = match crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects) {
+    let row = match crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects) {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
+            if study.solver.kind == SolverKind::Limit {
+                return finish(limit_row(row, study, &layout), t0);
+            }
             match study.loading().run(&layout, study.solver) {
                 ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
                 ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
@@ -52,7 +56,68 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
             }
         }
     };
+    finish(row, t0)
+}
+
+/// The row with its wall time since `t0`.
+fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
     row.wall_time_s = t0.elapsed().as_secs_f64();
+    row
+}
+
+/// A realization by limit analysis (`[solver] kind = "limit"`): on the tilting table the
+/// collapse angle α_max = atan λ (its bracket of zero width, reason `no_equilibrium`: no
+/// statically admissible state exists above it); under the lateral load, whether the wall
+/// carries the pressure (λ ≥ 1: stood; rigid blocks have no displacements) or not
+/// (collapsed, with λ in the error column). The mechanism columns come from the dual.
+fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
+    use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams};
+    let params = LimitParams::default();
+    let out = match study.protocol {
+        ProtocolKind::Tilt => limit_tilt(layout, &study.solver, &params),
+        ProtocolKind::Lateral => limit_lateral(layout, &study.solver, &study.lateral, &params),
+    };
+    let r = match out {
+        Ok(r) => r,
+        Err(e) => {
+            let stands = !matches!(
+                e,
+                LimitError::Untouched { .. } | LimitError::Floating { .. } | LimitError::Infeasible { .. }
+            );
+            row.status = if stands { Status::BlewUp } else { Status::NoInitialEquilibrium };
+            row.error = e.to_string();
+            return row;
+        }
+    };
+    row.mechanism = mechanism_name(r.mechanism.kind).to_string();
+    row.joint = r.mechanism.joint.clone();
+    row.moving_blocks = r.mechanism.blocks.len() as u64;
+    if let Some(m) = &r.mechanism.reading {
+        (row.failure_height_fraction, row.mechanism_extent) =
+            (Some(m.failure_height_fraction), Some(m.extent_fraction));
+        (row.mechanism_kind, row.mechanism_start) = (m.kind.name().to_string(), m.start.name().to_string());
+    }
+    row.iterations = u64::from(r.solver_iterations);
+    match study.protocol {
+        ProtocolKind::Tilt => {
+            row.status = Status::Collapsed;
+            row.collapse_angle_deg = r.collapse_angle_deg;
+            row.first_unstable_deg = r.collapse_angle_deg;
+            row.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+        }
+        ProtocolKind::Lateral => {
+            if r.load_multiplier >= 1.0 {
+                row.status = Status::Stood;
+            } else {
+                row.status = Status::Collapsed;
+                row.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+                row.error = format!(
+                    "the pressure is {:.3} times the rigid collapse load (load multiplier λ)",
+                    1.0 / r.load_multiplier
+                );
+            }
+        }
+    }
     row
 }
 

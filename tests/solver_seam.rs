@@ -1,0 +1,72 @@
+//! The solver seam end to end: a study's `[solver] kind` chooses the solver of every
+//! realization, with the same tables; each solver checked against a closed form.
+
+use drystone::dem::{SolverKind, SolverParams};
+use drystone::ensemble::Shard;
+use drystone::layout::BaseSliding;
+use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::study::{run::run_study, Study};
+use drystone::verify::{box_vertices, layout_of};
+use std::path::{Path, PathBuf};
+
+fn study(name: &str, solver: &str, protocol: &str) -> PathBuf {
+    let walls = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/walls");
+    let dir = std::env::temp_dir().join(format!("drystone-seam-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = format!(
+        "version = 1\nname = \"{name}\"\nseed = 1\nrealizations = 2\nprotocol = \"{protocol}\"\n\
+         [solver]\nkind = \"{solver}\"\n[[groups]]\nname = \"CBL\"\nwall = {:?}\n",
+        walls.join("cbl.toml")
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `kind = "limit"`: every CBL realization collapses at the rigid overturning of the
+/// section as one monolith about its toe, tan α = (B/2) / z_c = 0.075 / 0.1674 (the
+/// through-stone layout on a held base), by limit analysis.
+#[test]
+fn a_study_by_limit_analysis_gives_the_monolith_angle() {
+    let s = Study::from_file(&study("limit_cbl", "limit", "tilt")).unwrap();
+    let rows = run_study(&s, Shard::ALL);
+    let exact = (0.075_f64 / 0.1674).atan().to_degrees();
+    for r in &rows {
+        let a = r.collapse_angle_deg.expect("collapsed");
+        assert!((a - exact).abs() < 0.05, "{a} vs {exact}: {}", r.error);
+        assert_eq!(r.first_unstable_deg, Some(a));
+        assert_eq!(r.collapse_reason, "no_equilibrium");
+        assert_eq!(r.mechanism, "toppling");
+    }
+}
+
+/// `kind = "nscd"` is refused for the lateral load, naming the key; an unknown kind is
+/// refused by the study file's parser.
+#[test]
+fn a_solver_that_cannot_run_the_protocol_is_refused_naming_the_key() {
+    let e = Study::from_file(&study("nscd_lateral", "nscd", "lateral")).unwrap_err().to_string();
+    assert!(e.contains("solver.kind"), "{e}");
+    let e = Study::from_file(&study("rigid", "rigid", "tilt")).unwrap_err().to_string();
+    assert!(e.contains("rigid") && e.contains("nscd"), "{e}");
+}
+
+/// The same rigid block through the seam with every solver: the penalty methods at a stiff
+/// joint below the rigid limit by the Winkler rotation, the non-smooth solver's bracket
+/// holding the rigid limit tan α = b/h itself.
+#[test]
+fn every_solver_runs_the_tilting_table_through_the_seam() {
+    let (b, h) = (0.1125, 0.375);
+    let l = layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h])], 1e11, 5e10, 60.0, BaseSliding::Free);
+    let rigid = (b / h).atan().to_degrees();
+    let params = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
+    let nscd = run_tilt(&l, SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() }, &params).unwrap();
+    let up = nscd.first_unstable_deg.unwrap();
+    assert!(nscd.last_stable_deg <= rigid && rigid <= up, "nscd [{}, {up}] vs {rigid}", nscd.last_stable_deg);
+    // The penalty methods agree with each other within one bracket, below the rigid limit
+    // (the exact finite-rotation Winkler angle of this block is 16.31°, `drystone verify`).
+    for kind in [SolverKind::Penalty, SolverKind::Accelerated, SolverKind::Relaxation] {
+        let r = run_tilt(&l, SolverParams { kind, ..SolverParams::default() }, &params).unwrap();
+        let up = r.first_unstable_deg.unwrap();
+        assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{kind}: [{}, {up}]", r.last_stable_deg);
+    }
+}
