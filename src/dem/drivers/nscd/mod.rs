@@ -61,9 +61,10 @@ pub struct NscdParams {
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).
     pub restitution: f64,
-    /// NSGS convergence tolerance \[1e-7\]: a sweep over the contact points converged when
-    /// the largest velocity correction it made at any point, `max_i ‖W_ii Δr_i‖`, is below
-    /// `tolerance × g h` (g h: the velocity gravity adds in one step).
+    /// NSGS convergence tolerance \[1e-7\]: the sweeps over the contact points have
+    /// converged when one changes the velocity of no block point by more than
+    /// `tolerance × g h` (`max_k ‖Δv_k‖ + ‖Δω_k‖ R_k`, R_k the block's radius; g h the
+    /// velocity gravity adds in one step).
     pub tolerance: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
@@ -84,13 +85,13 @@ pub struct NscdParams {
     /// `loading::tilt_nscd`).
     pub trial_time_s: f64,
     /// A trial is at rest when the largest velocity of any block point (`|v| + |ω| R`) is
-    /// below `rest_velocity_ratio × g h` \[1e-3\] for [`Self::rest_steps`] steps running.
+    /// below `rest_velocity_ratio × g h` \[1e-5\] for [`Self::rest_steps`] steps running.
     pub rest_velocity_ratio: f64,
     /// Steps at rest that end a trial as stable \[10\].
     pub rest_steps: u32,
     /// A trial is unstable when the largest point speed has grown at every one of this
     /// many steps running and is above the rest velocity: the mechanism keeps
-    /// accelerating under a constant tilt \[50\].
+    /// accelerating under a constant tilt \[20\].
     pub accelerating_steps: u32,
 }
 
@@ -107,9 +108,9 @@ impl Default for NscdParams {
             face_angle_tolerance_deg: 10.0,
             redetect_fraction: 0.5,
             trial_time_s: 1.0,
-            rest_velocity_ratio: 1e-3,
+            rest_velocity_ratio: 1e-5,
             rest_steps: 10,
-            accelerating_steps: 50,
+            accelerating_steps: 20,
         }
     }
 }
