@@ -26,7 +26,8 @@ fn cases() -> Vec<(String, Layout, f64)> {
     ];
     // Boxes b (y) × h (z), 0.3 m long, friction 60°: toppling at tan α = b / h.
     for (b, h) in [(0.05, 0.15), (0.1, 0.25), (0.25, 0.5), (0.5, 1.0), (1.0, 1.25)] {
-        let l = layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h])], 1e13, 5e12, 60.0, BaseSliding::Free);
+        let l =
+            layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h])], 1e13, 5e12, 60.0, BaseSliding::Free);
         out.push((format!("box_{b}x{h}"), l, (b / h).atan().to_degrees()));
     }
     // A squat box sliding at tan α = tan φ.
@@ -45,9 +46,13 @@ fn cases() -> Vec<(String, Layout, f64)> {
 
 /// LMGC90's (last stable, first unstable, seconds) of a case, if the table has it.
 fn lmgc90(case: &str) -> Option<(f64, f64, f64)> {
-    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/lmgc90_rigid_limits.csv")).ok()?;
-    let row: Vec<&str> =
-        text.lines().filter(|l| !l.starts_with('#')).map(|l| l.split(',').collect()).find(|r: &Vec<&str>| r[0] == case)?;
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/lmgc90_rigid_limits.csv")).ok()?;
+    let row: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').collect())
+        .find(|r: &Vec<&str>| r[0] == case)?;
     Some((row[2].parse().ok()?, row[3].parse().ok()?, row[6].parse().ok()?))
 }
 

@@ -160,7 +160,12 @@ fn a_released_block_rocks_with_housners_impact_ratio() {
             eprintln!("α {alpha_deg}° θ {theta}: r {ratios:.4?} Housner {want:.4}");
             for (k, r) in ratios.iter().enumerate() {
                 let err = (r - want).abs() / want;
-                assert!(err < 0.02, "α {alpha_deg}°, θ {theta}, impact {}: r {r:.4}, Housner {want:.4} ({:.2} %)", k + 1, 100.0 * err);
+                assert!(
+                    err < 0.02,
+                    "α {alpha_deg}°, θ {theta}, impact {}: r {r:.4}, Housner {want:.4} ({:.2} %)",
+                    k + 1,
+                    100.0 * err
+                );
             }
         }
     }
@@ -243,7 +248,10 @@ fn a_one_sine_pulse_overturns_the_block_as_the_rocking_equation_says() {
             }
             let got = pulse_nscd(b, h, amp, tp, fallen);
             eprintln!("ω_p/p {ratio}: boundary {hi:.4} g, amplitude {amp:.4} g: rocking equation {want}, nscd {got}");
-            assert_eq!(got, want, "ω_p/p {ratio}, amplitude {amp:.4} g (boundary {hi:.4} g): nscd {got}, rocking equation {want}");
+            assert_eq!(
+                got, want,
+                "ω_p/p {ratio}, amplitude {amp:.4} g (boundary {hi:.4} g): nscd {got}, rocking equation {want}"
+            );
             checked += 1;
         }
         assert!(!reference(0.9 * lo), "below the boundary the reference stands");

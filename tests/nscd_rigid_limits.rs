@@ -77,14 +77,14 @@ fn the_rigid_layouts_bracket_their_exact_limits_within_0_05_deg_of_lmgc90() {
 #[test]
 fn blocks_trapezoids_and_sliding_blocks_bracket_their_closed_forms() {
     for (b, h) in [(0.05, 0.15), (0.1, 0.4), (0.3, 0.5), (0.5, 1.0), (1.0, 1.5)] {
-        let l = layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h])], 1e13, 5e12, 60.0, BaseSliding::Free);
+        let l =
+            layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.3, b / 2.0, h])], 1e13, 5e12, 60.0, BaseSliding::Free);
         let r = run(&l);
         brackets(&format!("box {b} × {h}"), &r, (b / h).atan().to_degrees());
         assert_eq!(r.mechanism.kind, MechanismKind::Toppling);
     }
     for phi in [15.0f64, 25.0, 35.0] {
-        let l =
-            layout_of(vec![box_vertices([0.0, -0.2, 0.0], [0.3, 0.2, 0.1])], 1e13, 5e12, phi, BaseSliding::Free);
+        let l = layout_of(vec![box_vertices([0.0, -0.2, 0.0], [0.3, 0.2, 0.1])], 1e13, 5e12, phi, BaseSliding::Free);
         let r = run(&l);
         brackets(&format!("sliding φ {phi}"), &r, phi);
         assert_eq!(r.mechanism.kind, MechanismKind::Sliding);

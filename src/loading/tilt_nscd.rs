@@ -93,12 +93,7 @@ fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
 
 /// Runs one trial at `alpha_deg` from `base` (the reference state at rest), warm-started
 /// from `warm`.
-fn trial(
-    base: &NscdSimulation,
-    warm: &NscdSimulation,
-    alpha_deg: f64,
-    inc_limit: f64,
-) -> Result<Trial, NscdError> {
+fn trial(base: &NscdSimulation, warm: &NscdSimulation, alpha_deg: f64, inc_limit: f64) -> Result<Trial, NscdError> {
     let p = *base.params();
     let mut sim = base.clone();
     sim.warm_start_from(warm);

@@ -115,7 +115,9 @@ pub(crate) fn detect(
 ) -> Result<Vec<ContactPoint>, NscdError> {
     let boxes: Vec<_> = bodies
         .iter()
-        .map(|b| crate::geometry::Aabb::from_points(&b.shape.vertices.iter().map(|v| b.to_world(v)).collect::<Vec<_>>()))
+        .map(|b| {
+            crate::geometry::Aabb::from_points(&b.shape.vertices.iter().map(|v| b.to_world(v)).collect::<Vec<_>>())
+        })
         .collect();
     let mut pairs: Vec<(Option<usize>, usize)> = (0..bodies.len())
         .filter(|&j| !bodies[j].fixed && boxes[j].min.z <= patch.contact_margin_m)

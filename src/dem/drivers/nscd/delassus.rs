@@ -64,16 +64,7 @@ impl PointRows {
     /// ([`TABLE`] for the table) and `b`, from the bodies' centroids `x`, inverse masses per
     /// axis `inv_m` and inverse inertias in the table frame `inv_i`.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        a: usize,
-        b: usize,
-        p: Vec3,
-        n: Vec3,
-        x: &[Vec3],
-        inv_m: &[Vec3],
-        inv_i: &[Mat3],
-        mu: f64,
-    ) -> PointRows {
+    pub fn new(a: usize, b: usize, p: Vec3, n: Vec3, x: &[Vec3], inv_m: &[Vec3], inv_i: &[Mat3], mu: f64) -> PointRows {
         let (t1, t2) = crate::geometry::polygon::plane_basis(&n);
         let frame = Mat3::from_columns(&[n, t1, t2]);
         let lever = |k: usize| {

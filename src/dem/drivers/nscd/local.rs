@@ -51,7 +51,7 @@ pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
 /// `F(∞) = −μ r̂ₙ < 0`. Safeguarded Newton on a bracket.
 fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
     let wnn = w[(0, 0)];
-    if !(wnn > 0.0) {
+    if wnn.is_nan() || wnn <= 0.0 {
         return None;
     }
     let rn_hat = -q.x / wnn;
@@ -109,7 +109,7 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
         }
     }
     let (_, _, x, rn) = eval(nu);
-    if !(rn > 0.0) {
+    if rn.is_nan() || rn <= 0.0 {
         return None;
     }
     Some(Vec3::new(rn, x[0], x[1]))

@@ -319,8 +319,7 @@ impl NscdSimulation {
             self.x[k] = b.pos;
             self.vel[k] = b.vel;
             self.angvel[k] = b.angvel;
-            self.inv_i[k] =
-                if b.fixed { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
+            self.inv_i[k] = if b.fixed { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
         }
     }
 
@@ -386,7 +385,8 @@ impl NscdSimulation {
             // The largest change of a block point's velocity over the sweep.
             residual = 0.0f64;
             for (k, b) in self.bodies.iter().enumerate() {
-                let dv = (self.vel[k] - self.sweep_vel[k]).norm() + (self.angvel[k] - self.sweep_angvel[k]).norm() * b.radius;
+                let dv = (self.vel[k] - self.sweep_vel[k]).norm()
+                    + (self.angvel[k] - self.sweep_angvel[k]).norm() * b.radius;
                 residual = residual.max(dv);
             }
             if residual <= tol {
@@ -407,7 +407,9 @@ impl NscdSimulation {
             b.rotate(h * (theta * w + (1.0 - theta) * b.angvel));
             b.vel = v;
             b.angvel = w;
-            if !(b.pos.iter().all(|c| c.is_finite()) && v.iter().all(|c| c.is_finite()) && w.iter().all(|c| c.is_finite()))
+            if !(b.pos.iter().all(|c| c.is_finite())
+                && v.iter().all(|c| c.is_finite())
+                && w.iter().all(|c| c.is_finite()))
             {
                 return Err(NscdError::NonFinite { id: b.id.clone(), step: self.steps, dt_s: h });
             }
