@@ -6,6 +6,7 @@
 //! ```sh
 //! cargo run --release --example rigid_limits            # every case
 //! cargo run --release --example rigid_limits -- running_bond_13   # the cases named
+//! cargo run --release --example rigid_limits -- wall.json          # any layout file
 //! ```
 
 use drystone::dem::drivers::nscd::NscdParams;
@@ -64,7 +65,11 @@ fn main() {
         "| case | exact (°) | nscd bracket (°) | contains exact | LMGC90 (°) | nscd time (s) | LMGC90 time (s) | trials | steps | mechanism |"
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for (name, layout, exact) in cases() {
+    let mut all = cases();
+    for f in only.iter().filter(|a| a.ends_with(".json")) {
+        all.push((f.clone(), Layout::from_file(Path::new(f)).expect("layout"), f64::NAN));
+    }
+    for (name, layout, exact) in all {
         if !only.is_empty() && !only.contains(&name) {
             continue;
         }
