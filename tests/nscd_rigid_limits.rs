@@ -149,3 +149,24 @@ fn cohesion_and_bad_parameters_are_refused_by_name() {
     let p: NscdParams = serde_json::from_str(r#"{"restitution": 0.5}"#).unwrap();
     assert_eq!(p, NscdParams { restitution: 0.5, ..NscdParams::default() });
 }
+
+/// The rigid pushover of a block b × h (0.3 m long) under a uniform pressure p on its
+/// −y face: it topples when p l h · h/2 = W b/2, or slides when p l h = μ W, whichever
+/// multiplier of p is smaller; the bracket of λ holds it to 0.5 %.
+#[test]
+fn a_pushed_block_topples_or_slides_at_its_load_multiplier() {
+    use drystone::loading::lateral::LateralParams;
+    use drystone::loading::lateral_nscd::run_lateral_nscd;
+    let (l, p) = (0.3, 1000.0);
+    for (b, h, phi) in [(0.15f64, 0.3f64, 60.0f64), (0.3, 0.1, 20.0)] {
+        let layout =
+            layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [l, b / 2.0, h])], 1e13, 5e12, phi, BaseSliding::Free);
+        let w = drystone::verify::DENSITY * b * h * l * layout.gravity;
+        let exact = (w * b / (p * l * h * h)).min(phi.to_radians().tan() * w / (p * l * h));
+        let lat = LateralParams { pressure_base_pa: p, pressure_top_pa: p, ..LateralParams::default() };
+        let r = run_lateral_nscd(&layout, &NscdParams::default(), &lat, 5e-3).expect("pushover");
+        let up = r.lambda_unstable.expect("collapses");
+        assert!(r.lambda_stable <= exact && exact <= up, "{b} × {h}: λ [{}, {up}], exact {exact}", r.lambda_stable);
+        assert!((r.resultant_n.y - p * l * h).abs() < 1e-9 * p * l * h, "{:?}", r.resultant_n);
+    }
+}

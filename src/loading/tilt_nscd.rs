@@ -63,15 +63,15 @@ use crate::Vec3;
 use std::time::Instant;
 
 /// The outcome of one trial.
-struct Trial {
-    sim: NscdSimulation,
+pub(crate) struct Trial {
+    pub(crate) sim: NscdSimulation,
     /// `None`: stable.
-    reason: Option<CollapseReason>,
-    steps: u64,
-    iterations: u64,
+    pub(crate) reason: Option<CollapseReason>,
+    pub(crate) steps: u64,
+    pub(crate) iterations: u64,
 }
 
-fn tilt_error(e: NscdError) -> TiltError {
+pub(crate) fn tilt_error(e: NscdError) -> TiltError {
     match e {
         NscdError::Parameter(p) => TiltError::Parameter(p),
         NscdError::NonFinite { id, step, dt_s } => TiltError::Dem(DemError::NonFinite { id, step, dt_s }),
@@ -79,7 +79,7 @@ fn tilt_error(e: NscdError) -> TiltError {
     }
 }
 
-fn poses(sim: &NscdSimulation) -> Vec<BodyPose> {
+pub(crate) fn poses(sim: &NscdSimulation) -> Vec<BodyPose> {
     sim.bodies().iter().map(|b| (b.pos, b.rot)).collect()
 }
 
@@ -96,10 +96,21 @@ fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
 /// Runs one trial at `alpha_deg` from `base` (the reference state at rest), warm-started
 /// from `warm`.
 fn trial(base: &NscdSimulation, warm: &NscdSimulation, alpha_deg: f64, inc_limit: f64) -> Result<Trial, NscdError> {
+    released(base, warm, inc_limit, |sim| sim.set_tilt(deg_to_rad(alpha_deg)))
+}
+
+/// Runs one trial (see the module doc) from `base` (the reference state at rest) loaded by
+/// `load`, warm-started from `warm`.
+pub(crate) fn released(
+    base: &NscdSimulation,
+    warm: &NscdSimulation,
+    inc_limit: f64,
+    load: impl FnOnce(&mut NscdSimulation),
+) -> Result<Trial, NscdError> {
     let p = *base.params();
     let mut sim = base.clone();
     sim.warm_start_from(warm);
-    sim.set_tilt(deg_to_rad(alpha_deg));
+    load(&mut sim);
     let start = poses(&sim);
     let (steps0, it0) = (sim.steps(), sim.iterations());
     let v_rest = p.rest_velocity_ratio * sim.gravity_magnitude() * p.dt_s;
@@ -277,7 +288,7 @@ fn displacements(sim: &NscdSimulation, monitors: &[MonitorPoint], reference: &[V
 /// penalty engine's contacts of the layout at its reference configuration) with the
 /// contact forces of the last stable trial, against the first unstable trial carried along
 /// its velocity to a block motion of `limit` (m).
-fn read_mechanism(
+pub(crate) fn read_mechanism(
     reader: &Simulation,
     base: &NscdSimulation,
     stable: &NscdSimulation,
