@@ -6,7 +6,13 @@
 //! ```sh
 //! cargo run --release --example rigid_limits            # every case
 //! cargo run --release --example rigid_limits -- running_bond_13   # the cases named
+//! cargo run --release --example rigid_limits -- wall.json          # any layout file
+//! cargo run --release --example rigid_limits -- --cost a.json b.json  # cost of one trial
 //! ```
+//!
+//! `--cost` runs one tilt trial's worth of steps (40, at 10°, released from rest) on each
+//! layout and prints the blocks, contact points, time per step and sweeps per step: the
+//! cost against wall size.
 
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::layout::{BaseSliding, Layout};
@@ -56,15 +62,48 @@ fn lmgc90(case: &str) -> Option<(f64, f64, f64)> {
     Some((row[2].parse().ok()?, row[3].parse().ok()?, row[6].parse().ok()?))
 }
 
+/// One trial's steps at 10° on each layout: blocks, points, seconds and sweeps per step.
+fn cost(files: &[String]) {
+    use drystone::dem::drivers::nscd::NscdSimulation;
+    println!("| layout | blocks | contact points | s per step | sweeps per step | s per trial (40 steps) |");
+    println!("| --- | --- | --- | --- | --- | --- |");
+    for f in files {
+        let l = Layout::from_file(Path::new(f)).expect("layout");
+        let params = NscdParams::default();
+        let t0 = std::time::Instant::now();
+        let mut sim = NscdSimulation::new(&l, &params).expect("simulation");
+        sim.set_tilt(10f64.to_radians());
+        let n = params.trial_steps;
+        for _ in 0..n {
+            sim.step(|_| drystone::Vec3::zeros()).expect("step");
+        }
+        let s = t0.elapsed().as_secs_f64();
+        println!(
+            "| {f} | {} | {} | {:.4} | {:.0} | {s:.2} |",
+            l.blocks.len(),
+            sim.contact_points().len(),
+            s / f64::from(n),
+            sim.iterations() as f64 / f64::from(n)
+        );
+    }
+}
+
 fn main() {
     let only: Vec<String> = std::env::args().skip(1).collect();
+    if only.first().is_some_and(|a| a == "--cost") {
+        return cost(&only[1..]);
+    }
     let params = NscdParams::default();
     let tilt = TiltParams { resolution_deg: 0.05, ..TiltParams::default() };
     println!(
         "| case | exact (°) | nscd bracket (°) | contains exact | LMGC90 (°) | nscd time (s) | LMGC90 time (s) | trials | steps | mechanism |"
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for (name, layout, exact) in cases() {
+    let mut all = cases();
+    for f in only.iter().filter(|a| a.ends_with(".json")) {
+        all.push((f.clone(), Layout::from_file(Path::new(f)).expect("layout"), f64::NAN));
+    }
+    for (name, layout, exact) in all {
         if !only.is_empty() && !only.contains(&name) {
             continue;
         }

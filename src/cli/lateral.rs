@@ -17,6 +17,9 @@ pub fn run(
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
+    if solver.kind == drystone::dem::SolverKind::Nscd {
+        return pushover(layout, &l, solver, params, json);
+    }
     let mut rec = Recorder::default();
     let r = run_lateral_observed(&l, solver, params, &mut |a, stable, sim| {
         if vtk.is_some() {
@@ -58,4 +61,40 @@ fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
     out!("  {:<12} {:>9.4}", "max", r.max_displacement_m * 100.0);
     out!("drift             {:.3e} (max / H, H = {:.3} m)", r.drift, r.height_m);
     out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
+}
+
+/// `lateral --solver nscd`: the rigid pushover, the collapse load multiplier λ of the
+/// pressure by non-smooth contact dynamics (bisection to 1 % of λ).
+fn pushover(
+    path: &Path,
+    layout: &drystone::layout::Layout,
+    solver: SolverParams,
+    params: &LateralParams,
+    json: bool,
+) -> Result<ExitCode> {
+    let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params, 0.01)
+        .with_context(|| format!("rigid pushover of {}", path.display()))?;
+    if json {
+        let mut v = serde_json::to_value(&r)?;
+        if let Some(o) = v.as_object_mut() {
+            o.insert("load_multiplier".into(), r.lambda_stable.into());
+            o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+        }
+        out!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    out!("layout            {}", path.display());
+    out!(
+        "load multiplier   {:.4} (stable), first unstable {} (the pressure {:.0} Pa at the base, {:.0} Pa at the top, times λ)",
+        r.lambda_stable,
+        r.lambda_unstable.map_or("none".into(), |l| format!("{l:.4}")),
+        params.pressure_base_pa,
+        params.pressure_top_pa
+    );
+    if let Some(m) = &r.mechanism {
+        out!("mechanism         {:?} at joint {} ({} blocks moving)", m.kind, m.joint, m.blocks.len());
+    }
+    out!("work              {} trials, {} time steps; wall time {:.2} s", r.trials, r.steps, r.wall_time_s);
+    out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+    Ok(ExitCode::SUCCESS)
 }

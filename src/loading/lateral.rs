@@ -155,7 +155,7 @@ pub enum LateralError {
     #[error("parameter {0}")]
     Parameter(OutOfRange),
     /// The solver chosen cannot run this protocol.
-    #[error("solver {0} cannot run the static lateral load")]
+    #[error("solver {0} cannot run the static lateral load here (limit analysis: `drystone limit LAYOUT.json --protocol lateral`; the rigid pushover: `drystone lateral --solver nscd`)")]
     Unsupported(crate::dem::SolverKind),
 }
 

@@ -1,9 +1,12 @@
 //! Loading protocols: the tilting table ([`tilt`]; at the rigid limit by non-smooth
-//! contact dynamics, [`tilt_nscd`]) and the static lateral load ([`lateral`]), run through
-//! one seam ([`protocol::Protocol`]), with the monitor points and motion measures they share ([`monitors`]) and the reading of
+//! contact dynamics, [`tilt_nscd`]), the static lateral load ([`lateral`]; its rigid pushover,
+//! [`lateral_nscd`]) and the shaking table ([`shake`]), run through one seam
+//! ([`protocol::Protocol`]), with the monitor points and motion measures they share
+//! ([`monitors`]) and the reading of
 //! the collapse mechanism ([`mechanism`]).
 
 pub mod lateral;
+pub mod lateral_nscd;
 pub mod mechanism;
 pub mod monitors;
 pub mod protocol;

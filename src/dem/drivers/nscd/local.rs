@@ -35,7 +35,7 @@ pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
         return Vec3::zeros();
     }
     let stick = -(w_inv * q);
-    if stick.x > 0.0 && stick.y.hypot(stick.z) <= mu * stick.x {
+    if stick.x > 0.0 && stick.y * stick.y + stick.z * stick.z <= mu * mu * stick.x * stick.x {
         return stick;
     }
     slip(w, q, mu).unwrap_or_else(|| de_saxce(w, q, mu, stick))
@@ -51,7 +51,7 @@ pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
 /// `F(∞) = −μ r̂ₙ < 0`. Safeguarded Newton on a bracket.
 fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
     let wnn = w[(0, 0)];
-    if !(wnn > 0.0) {
+    if wnn.is_nan() || wnn <= 0.0 {
         return None;
     }
     let rn_hat = -q.x / wnn;
@@ -62,28 +62,25 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
         w[(2, 2)] - w[(2, 0)] * c[1],
     );
     let qh = [q.y + w[(1, 0)] * rn_hat, q.z + w[(2, 0)] * rn_hat];
-    // Eigen-decomposition of the symmetric 2 × 2 Schur complement.
-    let mean = 0.5 * (p + s);
-    let dev = (0.25 * (p - s) * (p - s) + r * r).sqrt();
-    let (l1, l2) = (mean + dev, mean - dev);
-    if !(l2 > 0.0) {
+    // Ŵ positive definite (a 2 × 2 Schur complement of an SPD matrix, unless rounding).
+    if !(p > 0.0 && p * s - r * r > 0.0) {
         return None;
     }
-    let theta = 0.5 * (2.0 * r).atan2(p - s);
-    let (cs, sn) = (theta.cos(), theta.sin());
-    let (v1, v2) = ([cs, sn], [-sn, cs]);
-    let (a1, a2) = (qh[0] * v1[0] + qh[1] * v1[1], qh[0] * v2[0] + qh[1] * v2[1]);
-    let cv = (c[0] * v1[0] + c[1] * v1[1], c[0] * v2[0] + c[1] * v2[1]);
-    // F and F' at ν, in the eigenbasis (x = r_t's components along v1, v2).
+    // F and F' at ν: x = r_t(ν) = −(Ŵ + ν I)⁻¹ q̂, dx/dν = −(Ŵ + ν I)⁻¹ x.
     let eval = |nu: f64| {
-        let (x1, x2) = (-a1 / (l1 + nu), -a2 / (l2 + nu));
-        let (d1, d2) = (a1 / (l1 + nu).powi(2), a2 / (l2 + nu).powi(2));
-        let norm = (x1 * x1 + x2 * x2).sqrt();
-        let rn = rn_hat - (cv.0 * x1 + cv.1 * x2);
+        let (a, d) = (p + nu, s + nu);
+        let det = a * d - r * r;
+        let solve = |b: [f64; 2]| [(d * b[0] - r * b[1]) / det, (a * b[1] - r * b[0]) / det];
+        let x = solve([-qh[0], -qh[1]]);
+        let dx = solve([-x[0], -x[1]]);
+        let norm = (x[0] * x[0] + x[1] * x[1]).sqrt();
+        let rn = rn_hat - (c[0] * x[0] + c[1] * x[1]);
         let f = norm - mu * rn;
-        let df = if norm > 0.0 { (x1 * d1 + x2 * d2) / norm } else { 0.0 } + mu * (cv.0 * d1 + cv.1 * d2);
-        (f, df, x1, x2, rn)
+        let dnorm = if norm > 0.0 { (x[0] * dx[0] + x[1] * dx[1]) / norm } else { 0.0 };
+        let df = dnorm + mu * (c[0] * dx[0] + c[1] * dx[1]);
+        (f, df, x, rn)
     };
+    let l1 = p.max(s) + r.abs();
     let scale = rn_hat * mu.max(1e-3);
     let (mut lo, mut hi) = (0.0f64, l1.max(1e-300));
     let mut guard = 0;
@@ -111,17 +108,17 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
             break;
         }
     }
-    let (_, _, x1, x2, rn) = eval(nu);
-    if !(rn > 0.0) {
+    let (_, _, x, rn) = eval(nu);
+    if rn.is_nan() || rn <= 0.0 {
         return None;
     }
-    Some(Vec3::new(rn, x1 * v1[0] + x2 * v2[0], x1 * v1[1] + x2 * v2[1]))
+    Some(Vec3::new(rn, x[0], x[1]))
 }
 
 /// Projection onto the Coulomb cone `‖r_t‖ ≤ μ rₙ`.
 #[inline]
 pub fn project(r: &Vec3, mu: f64) -> Vec3 {
-    let t = r.y.hypot(r.z);
+    let t = (r.y * r.y + r.z * r.z).sqrt();
     if t <= mu * r.x {
         *r
     } else if mu * t <= -r.x {
@@ -138,7 +135,7 @@ fn de_saxce(w: &Mat3, q: &Vec3, mu: f64, start: Vec3) -> Vec3 {
     let mut r = project(&start, mu);
     for _ in 0..2_000 {
         let u = w * r + q;
-        let ut = u.y.hypot(u.z);
+        let ut = (u.y * u.y + u.z * u.z).sqrt();
         let next = project(&(r - rho * Vec3::new(u.x + mu * ut, u.y, u.z)), mu);
         let change = (next - r).norm();
         r = next;

@@ -61,9 +61,10 @@ pub struct NscdParams {
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).
     pub restitution: f64,
-    /// NSGS convergence tolerance \[1e-7\]: a sweep over the contact points converged when
-    /// the largest velocity correction it made at any point, `max_i ‖W_ii Δr_i‖`, is below
-    /// `tolerance × g h` (g h: the velocity gravity adds in one step).
+    /// NSGS convergence tolerance \[1e-7\]: the sweeps over the contact points have
+    /// converged when one changes the velocity of no block point by more than
+    /// `tolerance × g h` (`max_k ‖Δv_k‖ + ‖Δω_k‖ R_k`, R_k the block's radius; g h the
+    /// velocity gravity adds in one step).
     pub tolerance: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
@@ -80,18 +81,21 @@ pub struct NscdParams {
     /// Contacts are re-detected when a body has moved this fraction of the margin since
     /// the last detection (translation plus rotation times its radius) \[0.5\].
     pub redetect_fraction: f64,
-    /// Largest simulated time of one tilt trial released from rest, s \[1.0\] (see
-    /// `loading::tilt_nscd`).
-    pub trial_time_s: f64,
-    /// A trial is at rest when the largest velocity of any block point (`|v| + |ω| R`) is
-    /// below `rest_velocity_ratio × g h` \[1e-3\] for [`Self::rest_steps`] steps running.
+    /// Steps of one tilt trial released from rest \[40\] (see `loading::tilt_nscd`): the
+    /// window over which the growth of the motion is judged.
+    pub trial_steps: u32,
+    /// A trial is at rest, and stable at once, when the largest speed of any block point
+    /// (`|v| + |ω| R`) is below `rest_velocity_ratio × g h` \[1e-5\] for
+    /// [`Self::rest_steps`] steps running.
     pub rest_velocity_ratio: f64,
     /// Steps at rest that end a trial as stable \[10\].
     pub rest_steps: u32,
-    /// A trial is unstable when the largest point speed has grown at every one of this
-    /// many steps running and is above the rest velocity: the mechanism keeps
-    /// accelerating under a constant tilt \[50\].
-    pub accelerating_steps: u32,
+    /// A trial is unstable when the mean largest point speed over the second half of its
+    /// steps exceeds this many times its mean over the first half (and the rest
+    /// velocity): the mechanism keeps accelerating under a constant tilt \[2\] (a speed
+    /// growing linearly from rest gives 3, an exponential toppling more, a settling or the
+    /// noise of an unconverged solution about 1 or less).
+    pub growth_ratio: f64,
 }
 
 impl Default for NscdParams {
@@ -106,10 +110,10 @@ impl Default for NscdParams {
             feature_tolerance_m: 5e-4,
             face_angle_tolerance_deg: 10.0,
             redetect_fraction: 0.5,
-            trial_time_s: 1.0,
-            rest_velocity_ratio: 1e-3,
+            trial_steps: 40,
+            rest_velocity_ratio: 1e-5,
             rest_steps: 10,
-            accelerating_steps: 50,
+            growth_ratio: 2.0,
         }
     }
 }
@@ -140,7 +144,7 @@ impl NscdParams {
                 self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
                 "in (0, 1]",
             ),
-            ("trial_time_s", self.trial_time_s, self.trial_time_s > 0.0, "> 0"),
+            ("trial_steps", self.trial_steps as f64, self.trial_steps >= 4, ">= 4"),
             (
                 "rest_velocity_ratio",
                 self.rest_velocity_ratio,
@@ -148,7 +152,7 @@ impl NscdParams {
                 "in (0, 1)",
             ),
             ("rest_steps", self.rest_steps as f64, self.rest_steps >= 1, ">= 1"),
-            ("accelerating_steps", self.accelerating_steps as f64, self.accelerating_steps >= 1, ">= 1"),
+            ("growth_ratio", self.growth_ratio, self.growth_ratio > 1.0, "> 1"),
         ])
     }
 

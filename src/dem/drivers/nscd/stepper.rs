@@ -20,8 +20,11 @@
 //! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
 //!    points in their fixed order, each solving its local Coulomb problem
 //!    ([`super::local::solve`]) with the current velocities of the other points' bodies
-//!    and writing its impulse change back, until the largest velocity correction of a
-//!    sweep `max ‖W_ii Δr_i‖` is below `tolerance × g h` or [`NscdParams::max_iterations`].
+//!    and writing its impulse change back, until the largest change over a sweep of the
+//!    velocity of a block point, `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k)`, is below `tolerance × g h`
+//!    or [`NscdParams::max_iterations`]. (A norm on the velocities, not on the impulses:
+//!    the impulses of a statically indeterminate wall may drift among equivalent
+//!    solutions while the motion has converged.)
 //! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
 //!    vector in the table frame).
 //!
@@ -46,7 +49,7 @@ pub struct NscdStep {
     pub iterations: u32,
     /// The sweeps met the tolerance.
     pub converged: bool,
-    /// The largest velocity correction of the last sweep, m/s.
+    /// The largest change of a block point's velocity over the last sweep, m/s.
     pub residual_m_per_s: f64,
     /// Contact points carrying an impulse at the end of the step.
     pub active: usize,
@@ -64,6 +67,8 @@ pub struct NscdSimulation {
     rows: Vec<PointRows>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
+    sweep_vel: Vec<Vec3>,
+    sweep_angvel: Vec<Vec3>,
     x: Vec<Vec3>,
     inv_m: Vec<Vec3>,
     inv_i: Vec<Mat3>,
@@ -110,6 +115,8 @@ impl NscdSimulation {
         let mut sim = NscdSimulation {
             vel: vec![Vec3::zeros(); n],
             angvel: vec![Vec3::zeros(); n],
+            sweep_vel: vec![Vec3::zeros(); n],
+            sweep_angvel: vec![Vec3::zeros(); n],
             x: bodies.iter().map(|b| b.pos).collect(),
             inv_i: vec![Mat3::zeros(); n],
             inv_m,
@@ -362,7 +369,8 @@ impl NscdSimulation {
         let tol = self.params.tolerance * self.gravity_magnitude * self.params.dt_s;
         let mut residual = 0.0;
         for it in 1..=self.params.max_iterations {
-            residual = 0.0f64;
+            self.sweep_vel.copy_from_slice(&self.vel);
+            self.sweep_angvel.copy_from_slice(&self.angvel);
             for (c, rows) in self.points.iter_mut().zip(&self.rows) {
                 let u = rows.velocity(&self.vel, &self.angvel);
                 let mut q = u - rows.w * c.impulse;
@@ -371,9 +379,15 @@ impl NscdSimulation {
                 let dr = r - c.impulse;
                 if dr != Vec3::zeros() {
                     rows.apply(&dr, &mut self.vel, &mut self.angvel);
-                    residual = residual.max((rows.w * dr).norm());
                     c.impulse = r;
                 }
+            }
+            // The largest change of a block point's velocity over the sweep.
+            residual = 0.0f64;
+            for (k, b) in self.bodies.iter().enumerate() {
+                let dv = (self.vel[k] - self.sweep_vel[k]).norm()
+                    + (self.angvel[k] - self.sweep_angvel[k]).norm() * b.radius;
+                residual = residual.max(dv);
             }
             if residual <= tol {
                 return (it, true, residual);
