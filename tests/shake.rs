@@ -122,8 +122,8 @@ fn overturning_amplitude(b: f64, h: f64, period: f64) -> f64 {
 
 #[test]
 fn a_block_under_a_one_sine_pulse_overturns_as_the_rocking_equation_says() {
-    let (b, h) = (0.15, 0.6);
-    let r_len = 0.5 * (b * b + h * h as f64).sqrt();
+    let (b, h): (f64, f64) = (0.15, 0.6);
+    let r_len = 0.5 * (b * b + h * h).sqrt();
     let p = (3.0 * G_LAYOUT / (4.0 * r_len)).sqrt();
     for ratio in [2.0, 4.0, 8.0] {
         let period = 2.0 * std::f64::consts::PI / (ratio * p);

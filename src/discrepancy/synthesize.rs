@@ -110,18 +110,18 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                             });
                         }
                     }
-                    Observable::Displacement { measure, tilt_deg } => {
-                        if o.tilt_deg.iter().any(|t| (t - tilt_deg).abs() < 1e-9) {
-                            if let Some(v) = o.value(obs) {
-                                disp.push(MeasuredDisplacement {
-                                    specimen: specimen.clone(),
-                                    group: g.name.clone(),
-                                    measure,
-                                    tilt_deg,
-                                    displacement_cm: req.reading.round(obs, v + noise(req.sigma.displacement_cm)),
-                                    ..MeasuredDisplacement::default()
-                                });
-                            }
+                    Observable::Displacement { measure, tilt_deg }
+                        if o.tilt_deg.iter().any(|t| (t - tilt_deg).abs() < 1e-9) =>
+                    {
+                        if let Some(v) = o.value(obs) {
+                            disp.push(MeasuredDisplacement {
+                                specimen: specimen.clone(),
+                                group: g.name.clone(),
+                                measure,
+                                tilt_deg,
+                                displacement_cm: req.reading.round(obs, v + noise(req.sigma.displacement_cm)),
+                                ..MeasuredDisplacement::default()
+                            });
                         }
                     }
                     // Mechanisms are read by the test bed (`tests/realwalls`), not here.
