@@ -78,6 +78,7 @@ pub mod io;
 pub mod layout;
 pub mod limit;
 pub mod loading;
+pub mod math;
 pub mod range;
 pub mod rng;
 pub mod stats;
@@ -104,7 +105,4 @@ pub mod prelude {
     pub use crate::study::Study;
 }
 
-/// 3-vector of f64 (nalgebra).
-pub type Vec3 = nalgebra::Vector3<f64>;
-/// 3×3 matrix of f64 (nalgebra).
-pub type Mat3 = nalgebra::Matrix3<f64>;
+pub use math::{Mat3, Vec3};

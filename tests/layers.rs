@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 /// The layers, top first, as ARCHITECTURE.md lists them; a module imports only from its own
 /// layer's other modules (where the list allows it) and the layers above.
 const LAYERS: &[&[&str]] = &[
-    &["units", "range", "rng", "files"],
+    &["math", "units", "range", "rng", "files"],
     &["ground"],
     &["closure"],
     &["geometry"],
@@ -71,7 +71,13 @@ fn every_import_points_up_the_layers_of_architecture_md() {
                     continue;
                 }
                 let Some(theirs) = layer_of(&name) else {
-                    // An item of the crate root (e.g. the `Vec3` alias): the bottom of the crate.
+                    // An item of the crate root (lib.rs, which imports every module): an arrow
+                    // up to the bottom of the crate.
+                    wrong.push(format!(
+                        "src/{}:{}: `{top}` imports `{name}` from the crate root; import it from its module",
+                        rel.display(),
+                        n + 1
+                    ));
                     continue;
                 };
                 seen_arrows += 1;
@@ -84,4 +90,32 @@ fn every_import_points_up_the_layers_of_architecture_md() {
     }
     assert!(seen_arrows > 100, "only {seen_arrows} imports found: is the scan reading the sources?");
     assert!(wrong.is_empty(), "imports against the layers of ARCHITECTURE.md:\n{}", wrong.join("\n"));
+}
+
+/// The crate root only declares the modules and re-exports (the prelude and the
+/// `math` types): it defines nothing a module could import from it.
+#[test]
+fn the_crate_root_declares_and_re_exports_only() {
+    let lib = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/lib.rs")).unwrap();
+    let defining: Vec<&str> = lib
+        .lines()
+        .map(|l| l.split("//").next().unwrap().trim())
+        .filter(|l| {
+            [
+                "fn ",
+                "pub fn ",
+                "type ",
+                "pub type ",
+                "struct ",
+                "pub struct ",
+                "enum ",
+                "pub enum ",
+                "const ",
+                "pub const ",
+            ]
+            .iter()
+            .any(|k| l.starts_with(k))
+        })
+        .collect();
+    assert!(defining.is_empty(), "src/lib.rs defines items: {defining:?}");
 }

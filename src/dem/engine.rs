@@ -40,7 +40,7 @@ use super::params::{DensityScaling, SolverParams};
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
-use crate::Vec3;
+use crate::math::Vec3;
 use thiserror::Error;
 
 /// Engine errors.

@@ -19,7 +19,7 @@
 //! device for static solutions, not physical damping.
 
 use super::state::Body;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Constraint on a body's y translation (end restraints).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

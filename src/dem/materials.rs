@@ -3,7 +3,7 @@
 
 use super::contact::law::{JointParams, TensionCutoff};
 use crate::layout::{BaseSliding, FamilyJoint, JointFamily, Layout, Material};
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// The joint law of a material's joints (the layout's SI values).
 pub fn joint_of(m: &Material) -> JointParams {

@@ -9,7 +9,7 @@ use super::contact::law;
 use super::contact::types::{Contact, ContactNode, SubContact};
 use super::state::Body;
 use crate::layout::{EndRestraint, Layout};
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// The model state of one simulation. Every vector indexed by body is in layout order.
 #[derive(Debug, Clone)]

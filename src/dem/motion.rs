@@ -3,7 +3,7 @@
 //! distances and the protocols' collapse criteria are all measured with these.
 
 use crate::dem::Simulation;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Pose of one body: centroid (m, table frame) and orientation.
 pub type BodyPose = (Vec3, nalgebra::UnitQuaternion<f64>);

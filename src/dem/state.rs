@@ -1,7 +1,7 @@
 //! Rigid bodies: mass properties, pose and velocities.
 
 use crate::geometry::ConvexBlock;
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 use nalgebra::UnitQuaternion;
 
 /// A 6 × 6 inertial mass matrix `M = Q diag(λ) Qᵀ` (dofs: translation in m, then rotation

@@ -36,7 +36,7 @@
 
 use super::contact::types::Contact;
 use super::state::Body;
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
 
 /// `[a]×`, the cross-product matrix: `[a]× b = a × b`.

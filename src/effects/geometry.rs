@@ -6,7 +6,7 @@
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::layout::Layout;
-use crate::Vec3;
+use crate::math::Vec3;
 use parry3d_f64::math::Vector as PVec;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
@@ -113,7 +113,7 @@ fn erode(planes: &[(Vec3, f64)], r: f64) -> Vec<Vec3> {
     for i in 0..n {
         for j in i + 1..n {
             for k in j + 1..n {
-                let m = crate::Mat3::from_rows(&[
+                let m = crate::math::Mat3::from_rows(&[
                     planes[i].0.transpose(),
                     planes[j].0.transpose(),
                     planes[k].0.transpose(),

@@ -296,7 +296,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
 /// True if the convex hull of `vertices` (as [`crate::geometry::ConvexBlock`] builds it for
 /// the DEM) has the volume `volume` (m³) to 1e-9 relative: the hull is the block.
 fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
-    let v: Vec<crate::Vec3> = vertices.iter().map(|q| crate::Vec3::new(q[0], q[1], q[2])).collect();
+    let v: Vec<crate::math::Vec3> = vertices.iter().map(|q| crate::math::Vec3::new(q[0], q[1], q[2])).collect();
     match crate::geometry::ConvexBlock::from_vertices(&v) {
         Ok(b) => (b.volume() - volume).abs() <= 1e-9 * volume.abs(),
         Err(_) => false,

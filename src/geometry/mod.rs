@@ -20,7 +20,7 @@ pub mod polygon;
 pub mod sat;
 pub mod sweep;
 
-use crate::Vec3;
+use crate::math::Vec3;
 use nalgebra::Matrix3;
 use parry3d_f64::math::Vector as PVec;
 use thiserror::Error;

@@ -3,7 +3,7 @@
 //! Points are `[u, v]` coordinates in m along the basis vectors returned by [`plane_basis`].
 //! Polygons are counter-clockwise about the plane normal.
 
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// An orthonormal basis (u, v) of the plane with unit normal `n`, such that (u, v, n) is
 /// right-handed. Deterministic: depends on `n` only.

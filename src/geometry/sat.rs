@@ -14,7 +14,7 @@
 //! stones).
 
 use super::ConvexBlock;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Which axis separated the blocks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

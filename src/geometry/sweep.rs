@@ -28,7 +28,7 @@ pub fn sweep_pairs(boxes: &[Aabb], margin: f64) -> Vec<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Vec3;
+    use crate::math::Vec3;
 
     #[test]
     fn finds_exactly_the_overlapping_pairs() {

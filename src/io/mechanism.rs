@@ -16,7 +16,7 @@
 use crate::geometry::polygon::hull2d;
 use crate::layout::Layout;
 use crate::loading::monitors::BodyPose;
-use crate::Vec3;
+use crate::math::Vec3;
 use nalgebra::UnitQuaternion;
 use std::fmt::Write as _;
 

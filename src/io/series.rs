@@ -41,7 +41,7 @@ use crate::geometry::ConvexBlock;
 use crate::loading::mechanism::MECHANISM_SHARE;
 use crate::loading::monitors::BodyPose;
 use crate::loading::tilt::TiltResult;
-use crate::Vec3;
+use crate::math::Vec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use vtkio::model::{

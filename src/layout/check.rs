@@ -2,7 +2,7 @@
 
 use super::{Block, LayoutError, OVERLAP_TOLERANCE_M};
 use crate::geometry::ConvexBlock;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Refuses a block whose given vertices are not all vertices of their convex hull (a vertex
 /// strictly inside the hull or on one of its faces or edges: a non-convex block, which the

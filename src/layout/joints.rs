@@ -20,7 +20,7 @@
 //! default rule throughout.
 
 use super::{invalid, Closure, Layout, LayoutError, STIFFNESS_RANGE_PA_PER_M};
-use crate::Vec3;
+use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// Range of a stiffness factor of a joint family, dimensionless.

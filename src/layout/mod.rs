@@ -50,7 +50,7 @@ pub use crate::closure::{Closure, CLOSURE_RANGE_M};
 pub use joints::{FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, FACTOR_RANGE};
 
 use crate::geometry::{ConvexBlock, GeometryError};
-use crate::Vec3;
+use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use thiserror::Error;

@@ -6,7 +6,7 @@
 
 use super::model::Model;
 use crate::loading::mechanism::{read_mechanism, BlockMotion, Mechanism, MechanismKind};
-use crate::Vec3;
+use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// Share of the largest block motion (or joint relative motion) above which a block moves

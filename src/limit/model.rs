@@ -28,7 +28,7 @@
 use crate::dem::{Simulation, SolverParams};
 use crate::geometry::polygon::plane_basis;
 use crate::layout::{EndRestraint, Layout};
-use crate::Vec3;
+use crate::math::Vec3;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT, SupportedConeT::*};
 

@@ -49,8 +49,8 @@ use crate::dem::motion::poses;
 use crate::dem::{solve_static, Cascade, End, StaticSolve};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
+use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
-use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 

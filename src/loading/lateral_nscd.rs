@@ -18,8 +18,8 @@ use super::tilt_nscd::{read_mechanism, released, tilt_error};
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
+use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
-use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 

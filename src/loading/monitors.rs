@@ -3,7 +3,7 @@
 
 use crate::dem::Simulation;
 use crate::layout::Layout;
-use crate::Vec3;
+use crate::math::Vec3;
 
 pub use crate::dem::motion::{body_motion, largest_motion, BodyPose};
 

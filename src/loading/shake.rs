@@ -29,8 +29,8 @@ use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
 use crate::dem::{SolverKind, SolverParams};
 use crate::ground::{Motion, G};
 use crate::layout::Layout;
+use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
-use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 

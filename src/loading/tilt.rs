@@ -41,9 +41,9 @@ use crate::dem::{
     solve_static, Cascade, DemError, DensityScaling, End, Simulation, SolverKind, SolverParams, StaticSolve,
 };
 use crate::layout::Layout;
+use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
 use crate::units::deg_to_rad;
-use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 

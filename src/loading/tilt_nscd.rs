@@ -58,8 +58,8 @@ use super::tilt::{CollapseReason, Increment, TiltError, TiltParams, TiltResult};
 use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
+use crate::math::Vec3;
 use crate::units::deg_to_rad;
-use crate::Vec3;
 use std::time::Instant;
 
 /// The outcome of one trial.

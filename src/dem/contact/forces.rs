@@ -4,7 +4,7 @@
 use super::law::{self, Kinematics, Quadrature};
 use super::types::Contact;
 use crate::dem::state::Body;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Per-node values of the contact loop: the table-frame mid-point of the node's two
 /// material points (m) and the normal gap between them (m).

@@ -28,7 +28,7 @@
 use crate::geometry::polygon::{self, plane_basis};
 use crate::geometry::sat::separation_until;
 use crate::geometry::ConvexBlock;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// What the narrow phase needs of the solver's parameters (`SolverParams::patch` makes it;
 /// the narrow phase does not see the rest). Lengths in m, angles in rad.

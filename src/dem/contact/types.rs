@@ -3,7 +3,7 @@
 //! per-contact data, in the 3DEC manner).
 
 use super::law::{JointParams, SubContactState};
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// A node of a contact's sub-contact mesh: a material point on each body.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -46,8 +46,8 @@
 //! Both leave short relaxations (fewer than `warmup + 2 window` steps) untouched.
 
 use crate::dem::engine::Simulation;
+use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
-use crate::Vec3;
 use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
 

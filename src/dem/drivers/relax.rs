@@ -6,7 +6,7 @@
 
 use super::accelerate::{Accelerator, Ahead, Creep, SecantAcceleration};
 use crate::dem::engine::{DemError, Simulation};
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Steps between two calls of the stop check (it measures displacements, which costs more
 /// than a step's bookkeeping).

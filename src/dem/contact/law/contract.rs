@@ -12,7 +12,7 @@
 
 use super::{evaluate, normal_energy, JointParams, Kinematics, Quadrature, SubContactState};
 use crate::closure::{Closure, Hyperbolic, Seating};
-use crate::Vec3;
+use crate::math::Vec3;
 
 const AREA: f64 = 0.01;
 

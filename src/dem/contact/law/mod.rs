@@ -51,7 +51,7 @@ pub use tension::TensionCutoff;
 use crate::closure::Closure;
 #[cfg(test)]
 use crate::closure::{Hyperbolic, Seating};
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Joint parameters (SI). Plain data: the kernels read nothing else.
 #[derive(Debug, Clone, Copy, PartialEq)]

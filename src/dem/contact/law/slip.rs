@@ -7,7 +7,7 @@
 //! leaves residual strength only (`c = 0`), for good.
 
 use super::SubContactState;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Parameters of the shear/slip sub-model (plain data).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -62,7 +62,7 @@ mod anderson;
 mod stiffness;
 
 use crate::dem::engine::Simulation;
-use crate::Vec3;
+use crate::math::Vec3;
 use anderson::Anderson;
 use serde::{Deserialize, Serialize};
 use stiffness::{Dofs, Factor};

@@ -6,7 +6,7 @@ use super::PoseIncrement;
 use crate::dem::engine::Simulation;
 use crate::dem::timestep::block;
 use crate::layout::EndRestraint;
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,

@@ -19,7 +19,7 @@ use crate::dem::contact::geometry::{block_block, table_block, Patch, PatchKind, 
 use crate::dem::materials::JointTable;
 use crate::dem::state::Body;
 use crate::geometry::sweep::sweep_pairs;
-use crate::Vec3;
+use crate::math::Vec3;
 
 /// Friction coefficient of a table joint held against sliding (`base_sliding = "held"`):
 /// effectively no slip.

@@ -22,7 +22,7 @@
 //! velocities up to date instead (each point reads `u` from them and writes its impulse
 //! change back), which is the same iteration on `W` at the cost of the points only.
 
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 
 /// No body: the table side of a table contact.
 pub const TABLE: usize = usize::MAX;

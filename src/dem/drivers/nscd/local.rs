@@ -23,7 +23,7 @@
 //! the bipotential, `r ← proj_K(r − ρ (u + μ ‖u_t‖ n))` with `ρ = 1/tr W` (De Saxcé &
 //! Feng 1998), finishes the job from the slip iterate.
 
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 
 /// Relative tolerance of the local iterations.
 const LOCAL_TOL: f64 = 1e-13;

@@ -39,7 +39,7 @@ use super::{NscdError, NscdParams};
 use crate::dem::materials::JointTable;
 use crate::dem::state::Body;
 use crate::layout::{EndRestraint, Layout};
-use crate::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3};
 use nalgebra::UnitQuaternion;
 
 /// What one step did.
