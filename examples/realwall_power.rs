@@ -29,8 +29,8 @@ use drystone::discrepancy::{analyze, prepare};
 use drystone::study::Study;
 use rayon::prelude::*;
 use realwalls::{
-    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template, specimen,
-    Answer, Edit, MechanismNoise, Noise,
+    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template, specimen, Answer,
+    Edit, MechanismNoise, Noise,
 };
 use statrs::distribution::{Beta, ContinuousCDF};
 use std::path::PathBuf;
@@ -142,7 +142,11 @@ fn main() {
                 t.extend(mechanism_template(&st, s.sigma));
             }
             let p = prepare(&setup, &t, &s, &st.library).unwrap();
-            eprintln!("prepared ({}) in {:.0} s", if with { "with mechanisms" } else { "without" }, t0.elapsed().as_secs_f64());
+            eprintln!(
+                "prepared ({}) in {:.0} s",
+                if with { "with mechanisms" } else { "without" },
+                t0.elapsed().as_secs_f64()
+            );
             p
         })
         .collect();

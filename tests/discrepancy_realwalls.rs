@@ -7,8 +7,8 @@
 //!
 //! With the specimens' failure mechanisms (read from each edited wall's own run, misread at
 //! 10 %, written as the measured mechanism file and read back), one data set whose hidden
-//! effect moves the failure: the slow case, ignored by default (two preparations, about
-//! 5 minutes on 2 cores):
+//! effect moves the failure: the slow case, ignored by default (two preparations and two
+//! analyses: 917 s on 2 cores shared with other jobs at a load of 8):
 //!
 //! ```sh
 //! cargo test --release --test discrepancy_realwalls -- --ignored
@@ -134,13 +134,14 @@ fn spring_end_restraints_are_named_restraint_stiffness() {
     assert_eq!(got, Answer::Right, "{what}");
 }
 
-/// Edges rounded by 4 mm lower the held walls' failure and change its kind (in the reduced
-/// power run, 15 specimens: failure height 0.51 of the wall's height against 0.72 on null
-/// data, sliding in 3 of 10 against 13 of 15); on this data set (rounding #1 of
-/// BENCHMARKS.md's reduced table) angles and displacements tie `edge_rounding` with
-/// `base_stiffness` (which ranks first), and the mechanisms name the rounding alone.
+/// Edges rounded by 4 mm lower the held walls' failure and change its kind (the readings of
+/// the reduced power run, 15 held specimens each: failure height 0.51 of the wall's height
+/// on average against 0.72 on null data; sliding 5 and bending 6 against 13 and 1); on this
+/// data set (rounding #1 of BENCHMARKS.md's reduced table) angles and displacements name
+/// `base_stiffness` tied with `edge_rounding`, and with the mechanisms the rounding is named
+/// alone.
 #[test]
-#[ignore = "two preparations and two analyses: about 5 minutes on 2 cores (see the module doc)"]
+#[ignore = "two preparations and two analyses: 917 s on 2 loaded cores (see the module doc)"]
 fn with_the_mechanisms_rounded_edges_are_named_alone() {
     let [without, with] = answers_both_ways(Edit::Round(0.004), 201_100);
     assert_eq!(with.0, Answer::Right, "{} (without the mechanisms: {})", with.2, without.2);

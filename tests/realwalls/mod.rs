@@ -38,13 +38,13 @@ use drystone::io::measured::{
 use drystone::layout::LayoutSpec;
 use drystone::loading::mechanism::{FailureKind, FailureStart, MechanismReading};
 use drystone::loading::tilt::run_tilt;
-use std::path::{Path, PathBuf};
 use drystone::study::Study;
 use parry3d_f64::math::Vector as PVec;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use serde_json::Value;
+use std::path::{Path, PathBuf};
 
 /// How a data set's walls differ from the model.
 #[derive(Debug, Clone, Copy, PartialEq)]
