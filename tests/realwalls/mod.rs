@@ -15,13 +15,28 @@
 //!   walls); both get Gaussian noise at a σ **different** from the one the engine
 //!   assumes, and are rounded to the study's reading resolutions as real readings are.
 //!
+//! - the mechanism is read from the edited wall's own run (`TiltResult::mechanism`'s
+//!   reading: failure height, kind, start), as a person would read it: the height to the
+//!   nearest bed joint of the specimen's own courses with an interval of ± half a mean
+//!   course, the kind and the start each misread at a stated rate (replaced by another
+//!   category drawn uniformly), from a random stream of its own (the angles and
+//!   displacements are the same with or without it); the readings are written as the
+//!   measured mechanism file (`drystone::io::measured::MECHANISM_FILE`, the format of
+//!   `[measured] mechanism`) and read back by the library's reader
+//!   ([`mechanism_observations_via_file`]).
+//!
 //! Used by `tests/discrepancy_realwalls.rs` (the reduced set CI runs) and by
 //! `examples/realwall_power.rs` (the power table of BENCHMARKS.md).
 #![allow(dead_code)]
 
-use drystone::discrepancy::observations::{Measure, Observable, Observation};
+use drystone::discrepancy::observations::{Measure, MeasurementSigma, Observable, Observation};
 use drystone::generator::{generate, Wall};
+use drystone::io::measured::{
+    check_mechanism_against_study, mechanism_csv, read_measured_mechanism, MeasuredMechanism, StudyContext,
+    MECHANISM_FILE,
+};
 use drystone::layout::LayoutSpec;
+use drystone::loading::mechanism::{FailureKind, FailureStart, MechanismReading};
 use drystone::loading::tilt::run_tilt;
 use drystone::study::Study;
 use parry3d_f64::math::Vector as PVec;
@@ -29,6 +44,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use serde_json::Value;
+use std::path::{Path, PathBuf};
 
 /// How a data set's walls differ from the model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,6 +93,17 @@ pub struct Noise {
     pub angle_reading_deg: f64,
     /// Displacement reading, cm.
     pub displacement_reading_cm: f64,
+}
+
+/// How an observer reads a specimen's failure mechanism: the failure height to the nearest
+/// bed joint of the specimen's own (nominal) courses, with a reading interval of ± half its
+/// mean course height (clamped to [0, 1]); the kind and the start each replaced, with
+/// probability `misreading`, by another category drawn uniformly (kinds: `toppling`,
+/// `sliding`, `bending`, `mixed`; starts: `end`, `centre`, `uniform`).
+#[derive(Debug, Clone, Copy)]
+pub struct MechanismNoise {
+    /// Probability of misreading the kind, and independently the start, in [0, 1).
+    pub misreading: f64,
 }
 
 fn round_to(v: f64, step: f64) -> f64 {
@@ -295,6 +322,12 @@ pub struct Specimen {
     pub bracket: (f64, f64),
     /// Stable tilts, degrees, and the left, centre, right top y displacement there, cm.
     pub top_cm: Vec<(f64, [f64; 3])>,
+    /// The mechanism read from the edited wall's own run (`None`: nothing moved or the
+    /// wall stood).
+    pub mechanism: Option<MechanismReading>,
+    /// The specimen's bed joints (the table, then its nominal course tops but the last) as
+    /// fractions of its height, and its mean course height over its height.
+    pub beds: (Vec<f64>, f64),
 }
 
 /// Generates realization `k` of `wall` with `seed`, edits it and tilts it at the study's
@@ -316,14 +349,25 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
         .map(|i| (i.alpha_deg, idx.map(|j| i.displacement_m[j] * 100.0)))
         .collect();
     let held = !edited.end_restraints.is_empty();
-    Some(Specimen { held, bracket: (t.last_stable_deg, t.first_unstable_deg.unwrap_or(t.last_stable_deg)), top_cm })
+    let tops = &generated.course_tops_m;
+    let h = tops.last().copied().unwrap_or(1.0);
+    let beds = std::iter::once(0.0).chain(tops[..tops.len().saturating_sub(1)].iter().map(|z| z / h)).collect();
+    let beds = (beds, 1.0 / tops.len().max(1) as f64);
+    Some(Specimen {
+        held,
+        bracket: (t.last_stable_deg, t.first_unstable_deg.unwrap_or(t.last_stable_deg)),
+        top_cm,
+        mechanism: t.mechanism.reading,
+        beds,
+    })
 }
 
 /// The observations of one data set: `n` specimens per group of `study`, realizations
 /// `first..first + n` of a master seed the analysis never uses, edited by `e`. Collapse
 /// angle and the displacement at `tilts_deg` (the centre minus the mean of the ends for
 /// held walls, the mean of the three top points for free ones); `sigma` is the σ the
-/// engine is told (not the data's).
+/// engine is told (not the data's). The same as [`data_set_with_mechanism`]'s
+/// observations, without the mechanisms.
 pub fn data_set(
     study: &Study,
     seed: u64,
@@ -332,14 +376,42 @@ pub fn data_set(
     e: Edit,
     noise: Noise,
     tilts_deg: &[f64],
-    sigma: drystone::discrepancy::observations::MeasurementSigma,
+    sigma: MeasurementSigma,
 ) -> Vec<Observation> {
+    data_set_with_mechanism(study, seed, first, n, e, noise, MechanismNoise { misreading: 0.0 }, tilts_deg, sigma).obs
+}
+
+/// A data set: the angle and displacement observations, and the mechanisms as seen (one
+/// row per specimen whose run read a mechanism, the rows of the measured mechanism file).
+#[derive(Debug, Clone)]
+pub struct DataSet {
+    /// Collapse angles and displacements (as [`data_set`]).
+    pub obs: Vec<Observation>,
+    /// The mechanisms as an observer read them ([`MechanismNoise`]).
+    pub mechanism: Vec<MeasuredMechanism>,
+}
+
+/// [`data_set`] and the specimens' mechanisms as seen: each specimen's own reading
+/// (`TiltResult::mechanism`) read by an observer with `misreading` ([`MechanismNoise`]),
+/// drawn from a stream of its own: the angles and displacements do not depend on it.
+pub fn data_set_with_mechanism(
+    study: &Study,
+    seed: u64,
+    first: u64,
+    n: u64,
+    e: Edit,
+    noise: Noise,
+    seen: MechanismNoise,
+    tilts_deg: &[f64],
+    sigma: MeasurementSigma,
+) -> DataSet {
     use rayon::prelude::*;
     let todo: Vec<(usize, u64)> =
         (0..study.groups.len()).flat_map(|gi| (first..first + n).map(move |k| (gi, k))).collect();
     let tilted: Vec<Option<Specimen>> =
         todo.par_iter().map(|&(gi, k)| specimen(study, &study.groups[gi].walls[0], seed, k, e)).collect();
     let mut obs = Vec::new();
+    let mut mechanism = Vec::new();
     for (&(gi, k), s) in todo.iter().zip(tilted) {
         let g = &study.groups[gi];
         let Some(s) = s else { continue };
@@ -371,8 +443,90 @@ pub fn data_set(
                 sigma: sigma.displacement_cm,
             });
         }
+        if let Some(r) = s.mechanism {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x6d65_6368_0000_0000 ^ (k << 8) ^ gi as u64);
+            mechanism.push(read_as_seen(&r, &s.beds, seen, &mut rng, name, g.measured_group.clone()));
+        }
     }
-    obs
+    DataSet { obs, mechanism }
+}
+
+/// A realization's mechanism as an observer reads it ([`MechanismNoise`]); four draws
+/// from `rng` whatever the outcome.
+fn read_as_seen(
+    r: &MechanismReading,
+    beds: &(Vec<f64>, f64),
+    seen: MechanismNoise,
+    rng: &mut ChaCha8Rng,
+    specimen: String,
+    group: String,
+) -> MeasuredMechanism {
+    let f = r.failure_height_fraction;
+    let v = beds.0.iter().copied().min_by(|a, b| (a - f).abs().total_cmp(&(b - f).abs())).unwrap_or(f);
+    let half = 0.5 * beds.1;
+    let kind = misread(&FailureKind::ALL, r.kind, seen.misreading, rng);
+    let start = misread(&FailureStart::SIMULATED, r.start, seen.misreading, rng);
+    MeasuredMechanism {
+        specimen,
+        group,
+        failure_height: Some((v, (v - half).max(0.0), (v + half).min(1.0))),
+        kind: Some(kind),
+        start: Some(start),
+        extent: None,
+        source: "tests/realwalls: the edited wall's own run, read to the nearest bed joint, misread".into(),
+        ..Default::default()
+    }
+}
+
+/// `own`, or with probability `e` another of `all` drawn uniformly (two draws from `rng`).
+fn misread<T: Copy + PartialEq>(all: &[T], own: T, e: f64, rng: &mut ChaCha8Rng) -> T {
+    let (u, j): (f64, f64) = (rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+    let others: Vec<T> = all.iter().copied().filter(|c| *c != own).collect();
+    if u < e && !others.is_empty() {
+        others[((j * others.len() as f64) as usize).min(others.len() - 1)]
+    } else {
+        own
+    }
+}
+
+/// Writes `rows` as the measured mechanism file (`dir/MECHANISM_FILE`, the format of
+/// `[measured] mechanism`), reads it back with the library's reader, checks it against
+/// the study's groups and returns its observations (`sigma.failure_height` for the heights).
+pub fn mechanism_observations_via_file(
+    study: &Study,
+    dir: &Path,
+    rows: &[MeasuredMechanism],
+    sigma: MeasurementSigma,
+) -> Vec<Observation> {
+    std::fs::create_dir_all(dir).expect("a directory for the mechanism file");
+    let path: PathBuf = dir.join(MECHANISM_FILE);
+    std::fs::write(&path, mechanism_csv(rows)).expect("the mechanism file is written");
+    let read = read_measured_mechanism(&path).expect("the mechanism file reads back");
+    let groups: Vec<(String, String)> =
+        study.groups.iter().map(|g| (g.measured_group.clone(), g.name.clone())).collect();
+    let ctx = StudyContext { groups: groups.iter().map(|(m, _)| (m.clone(), f64::INFINITY)).collect(), step_deg: None };
+    check_mechanism_against_study(&read, &[], &[], &ctx).expect("the mechanism file is valid");
+    drystone::discrepancy::observations::mechanism_observations(&read, &groups, sigma).expect("mechanism observations")
+}
+
+/// Observations holding every mechanism key of every group (the failure height, each
+/// kind, each simulated start): the template a preparation needs for data sets with
+/// mechanisms, whatever the misreadings make of them.
+pub fn mechanism_template(study: &Study, sigma: MeasurementSigma) -> Vec<Observation> {
+    let mut out = Vec::new();
+    for g in &study.groups {
+        let one = |observable: Observable, sigma: f64| Observation {
+            specimen: format!("{}-template", g.name),
+            group: g.name.clone(),
+            observable,
+            value: 1.0,
+            sigma,
+        };
+        out.push(one(Observable::FailureHeight { width: 0.0 }, sigma.failure_height));
+        out.extend(FailureKind::ALL.map(|kind| one(Observable::MechanismKind { kind }, 1.0)));
+        out.extend(FailureStart::SIMULATED.map(|start| one(Observable::MechanismStart { start }, 1.0)));
+    }
+    out
 }
 
 fn rng_uniform(seed: u64, k: u64, g: usize) -> f64 {
