@@ -70,6 +70,7 @@ pub mod provenance;
 pub mod report;
 pub mod resolve;
 pub mod run;
+pub mod shaking;
 pub mod shards;
 pub mod size;
 pub mod spec;
@@ -79,6 +80,6 @@ pub mod sweep;
 mod text;
 
 pub use error::StudyError;
-pub use resolve::{Group, Measured, Study};
-pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
+pub use resolve::{Group, Measured, ShakeStudy, Study};
+pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
 pub use sweep::{point_label, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
