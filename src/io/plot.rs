@@ -268,7 +268,7 @@ pub fn ida_and_fragility(
             .map_err(|x| e(x.to_string()))?;
     }
     let mut chart = ChartBuilder::on(&right)
-        .caption("P(collapse | PGA): ML fit, 95 % bootstrap band, observed; static capacity λ g", ("sans-serif", 14))
+        .caption("P(collapse | PGA) with its band; static capacity λ g", ("sans-serif", 14))
         .margin(10)
         .x_label_area_size(40)
         .y_label_area_size(50)

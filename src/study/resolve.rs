@@ -219,7 +219,7 @@ impl StudySpec {
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         self.solver.validate_static().map_err(range("solver"))?;
-        for (name, _) in self.sweep.iter().filter(|(k, _)| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
+        if let Some(name) = self.sweep.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
             return Err(invalid.at(
                 &format!("sweep.{name}"),
                 "is set by the [shake] table (its motions and pga_g levels), not in [sweep]".into(),
