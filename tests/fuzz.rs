@@ -234,6 +234,7 @@ fn row(index: u64) -> RealizationRow {
         lateral_disp_right_cm: None,
         lateral_disp_max_cm: None,
         lateral_drift: None,
+        shake: Default::default(),
         steps: 140,
         iterations: 30,
         dt_s: 1.5e-5,

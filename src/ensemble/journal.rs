@@ -312,6 +312,7 @@ mod tests {
             lateral_disp_right_cm: None,
             lateral_disp_max_cm: None,
             lateral_drift: None,
+            shake: Default::default(),
             steps: 10,
             iterations: 3,
             dt_s: 1e-4,

@@ -132,6 +132,10 @@ pub struct RealizationRow {
     /// Static lateral load: drift, top displacement / H (dimensionless).
     #[serde(with = "exact::opt")]
     pub lateral_drift: Option<f64>,
+    /// Shaking table: the motion, its level and what the wall did (empty for the other
+    /// protocols).
+    #[serde(default)]
+    pub shake: ShakeColumns,
     /// Dynamic-relaxation steps (engine steps).
     pub steps: u64,
     /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
@@ -143,6 +147,34 @@ pub struct RealizationRow {
     /// Wall-clock time, s (the only non-deterministic column).
     #[serde(with = "exact::one")]
     pub wall_time_s: f64,
+}
+
+/// The shaking-table columns of a row ([`crate::loading::shake::ShakeResult`]); empty
+/// (`""`, `None`) for the tilting table and the lateral load. Whether the wall overturned
+/// is the row's status: `collapsed` (a block fell) or `stood`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ShakeColumns {
+    /// The ground motion's name (a record's file stem, `kt_SEED_I` for a generated motion,
+    /// `one-sine_…` for a pulse).
+    pub motion: String,
+    /// The PGA the motion was scaled to, g.
+    #[serde(with = "exact::opt")]
+    pub pga_g: Option<f64>,
+    /// When the first block fell, s from the start of the motion (`None` if none did).
+    #[serde(with = "exact::opt")]
+    pub collapse_time_s: Option<f64>,
+    /// The largest |rotation about x| (out-of-plane rocking) of any block, degrees.
+    #[serde(with = "exact::opt")]
+    pub max_rotation_deg: Option<f64>,
+    /// The largest drift (top y displacement relative to the table / H), –.
+    #[serde(with = "exact::opt")]
+    pub max_drift: Option<f64>,
+    /// The drift at the end of the run, –.
+    #[serde(with = "exact::opt")]
+    pub residual_drift: Option<f64>,
+    /// Blocks fallen at the end of the run.
+    pub blocks_fallen: Option<u64>,
 }
 
 /// A displacement measure of the top of the wall.
@@ -343,6 +375,15 @@ mod tests {
             lateral_disp_right_cm: Some(f64::NEG_INFINITY),
             lateral_disp_max_cm: Some(-0.0),
             lateral_drift: None,
+            shake: ShakeColumns {
+                motion: "kt_1_0".into(),
+                pga_g: Some(values[3]),
+                collapse_time_s: None,
+                max_rotation_deg: Some(values[4]),
+                max_drift: Some(values[6]),
+                residual_drift: Some(values[7]),
+                blocks_fallen: Some(3),
+            },
             steps: 77,
             iterations: 5,
             dt_s: values[1],
@@ -357,6 +398,8 @@ mod tests {
         v.extend(&r.disp_top_left_cm);
         v.extend(&r.disp_top_right_cm);
         v.extend([r.lateral_disp_left_cm, r.lateral_disp_right_cm, r.lateral_disp_max_cm].map(Option::unwrap));
+        let s = &r.shake;
+        v.extend([s.pga_g, s.max_rotation_deg, s.max_drift, s.residual_drift].map(Option::unwrap));
         v.iter().map(|x| x.to_bits()).collect()
     }
 

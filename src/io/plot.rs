@@ -187,3 +187,147 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
         .map_err(|x| e(x.to_string()))?;
     root.present().map_err(|x| e(x.to_string()))
 }
+
+/// One curve of an incremental dynamic analysis: a response against the intensity, one
+/// point per level, for one motion and one realization.
+#[derive(Debug, Clone)]
+pub struct IdaCurve {
+    /// Colour index (the group's).
+    pub series: usize,
+    /// `(intensity, response, collapsed)` by increasing intensity; a collapsed point is
+    /// drawn at the chart's cap with a cross.
+    pub points: Vec<(f64, f64, bool)>,
+}
+
+/// A fitted fragility against an intensity with its band, the empirical fractions and a
+/// static capacity drawn beside it.
+#[derive(Debug, Clone)]
+pub struct IntensityFragilityPanel {
+    /// Legend label (the group).
+    pub label: String,
+    /// Colour index.
+    pub series: usize,
+    /// Intensities of the fitted curve and its band (empty without a fit).
+    pub x: Vec<f64>,
+    /// Fitted P(collapse).
+    pub p: Vec<f64>,
+    /// Lower edge of the band.
+    pub lo: Vec<f64>,
+    /// Upper edge of the band.
+    pub hi: Vec<f64>,
+    /// `(intensity, collapses / runs)` per level.
+    pub empirical: Vec<(f64, f64)>,
+    /// The static capacities (one per realization, same unit as the intensity): drawn as
+    /// their empirical distribution (a dashed step line) over a shaded min–max band.
+    pub capacity: Vec<f64>,
+}
+
+/// Incremental dynamic analysis and fragility side by side on one intensity axis: on the
+/// left the IDA curves (`y_label` against `x_label`, capped at `cap`), on the right the
+/// fragility curves with their bands, the empirical fractions (points) and the static
+/// capacities (dashed steps over a shaded band).
+///
+/// # Errors
+/// [`PlotError`].
+pub fn ida_and_fragility(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    cap: f64,
+    ida: &[IdaCurve],
+    fragility: &[IntensityFragilityPanel],
+) -> Result<(), PlotError> {
+    let e = err(path);
+    let root = SVGBackend::new(path, (1100, 470)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let root = root.titled(title, ("sans-serif", 18)).map_err(|x| e(x.to_string()))?;
+    let (left, right) = root.split_horizontally(540);
+    let xs: Vec<f64> = ida
+        .iter()
+        .flat_map(|c| c.points.iter().map(|p| p.0))
+        .chain(fragility.iter().flat_map(|f| f.x.iter().chain(&f.capacity).copied()))
+        .filter(|v| v.is_finite())
+        .collect();
+    let x1 = xs.iter().cloned().fold(0.0_f64, f64::max).max(1e-6) * 1.05;
+    let mut chart = ChartBuilder::on(&left)
+        .caption("IDA curves (one per motion and realization)", ("sans-serif", 14))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..x1, 0.0..cap * 1.08)
+        .map_err(|x| e(x.to_string()))?;
+    chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw().map_err(|x| e(x.to_string()))?;
+    for c in ida {
+        let col = colour(c.series);
+        let line: Vec<(f64, f64)> =
+            c.points.iter().map(|&(x, y, fell)| (x, if fell { cap } else { y.min(cap) })).collect();
+        chart.draw_series(LineSeries::new(line, col.mix(0.35).stroke_width(1))).map_err(|x| e(x.to_string()))?;
+        chart
+            .draw_series(c.points.iter().filter(|p| p.2).map(|&(x, _, _)| Cross::new((x, cap), 4, col.stroke_width(1))))
+            .map_err(|x| e(x.to_string()))?;
+    }
+    let mut chart = ChartBuilder::on(&right)
+        .caption("P(collapse | PGA) with its band; static capacity λ g", ("sans-serif", 14))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..x1, 0.0..1.02)
+        .map_err(|x| e(x.to_string()))?;
+    chart.configure_mesh().x_desc(x_label).y_desc("P(collapse)").draw().map_err(|x| e(x.to_string()))?;
+    for f in fragility {
+        let col = colour(f.series);
+        if let (Some(lo), Some(hi)) = (
+            f.capacity.iter().cloned().filter(|v| v.is_finite()).reduce(f64::min),
+            f.capacity.iter().cloned().filter(|v| v.is_finite()).reduce(f64::max),
+        ) {
+            let w = (hi - lo).max(0.004 * x1);
+            chart
+                .draw_series(std::iter::once(Rectangle::new([(lo, 0.0), (lo + w, 1.0)], col.mix(0.10).filled())))
+                .map_err(|x| e(x.to_string()))?;
+            let mut sorted: Vec<f64> = f.capacity.iter().cloned().filter(|v| v.is_finite()).collect();
+            sorted.sort_by(f64::total_cmp);
+            let n = sorted.len() as f64;
+            let mut step = vec![(0.0, 0.0)];
+            for (i, v) in sorted.iter().enumerate() {
+                step.push((*v, i as f64 / n));
+                step.push((*v, (i + 1) as f64 / n));
+            }
+            step.push((x1, 1.0));
+            chart
+                .draw_series(DashedLineSeries::new(step, 6, 4, col.stroke_width(2)))
+                .map_err(|x| e(x.to_string()))?
+                .label(format!("{} static capacity (tilt, λ g)", f.label))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], col.stroke_width(1)));
+        }
+        let mut poly: Vec<(f64, f64)> =
+            f.x.iter().zip(&f.hi).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
+        poly.extend(f.x.iter().zip(&f.lo).rev().filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)));
+        if poly.len() >= 3 {
+            chart
+                .draw_series(std::iter::once(Polygon::new(poly, col.mix(0.18).filled())))
+                .map_err(|x| e(x.to_string()))?;
+        }
+        if !f.x.is_empty() {
+            let line: Vec<(f64, f64)> = f.x.iter().zip(&f.p).map(|(x, y)| (*x, *y)).collect();
+            chart
+                .draw_series(LineSeries::new(line, col.stroke_width(2)))
+                .map_err(|x| e(x.to_string()))?
+                .label(format!("{} shaking table (fit)", f.label))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], col.stroke_width(2)));
+        }
+        chart
+            .draw_series(f.empirical.iter().map(|&(x, y)| Circle::new((x, y), 4, col.filled())))
+            .map_err(|x| e(x.to_string()))?
+            .label(format!("{} observed", f.label))
+            .legend(move |(x, y)| Circle::new((x + 6, y), 4, col.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    root.present().map_err(|x| e(x.to_string()))
+}

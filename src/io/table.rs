@@ -117,6 +117,13 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
         Column::new("lateral_disp_right_cm".into(), of(|r| r.lateral_disp_right_cm)),
         Column::new("lateral_disp_max_cm".into(), of(|r| r.lateral_disp_max_cm)),
         Column::new("lateral_drift".into(), of(|r| r.lateral_drift)),
+        Column::new("motion".into(), s(|r| r.shake.motion.clone())),
+        Column::new("pga_g".into(), of(|r| r.shake.pga_g)),
+        Column::new("collapse_time_s".into(), of(|r| r.shake.collapse_time_s)),
+        Column::new("max_rotation_deg".into(), of(|r| r.shake.max_rotation_deg)),
+        Column::new("max_drift".into(), of(|r| r.shake.max_drift)),
+        Column::new("residual_drift".into(), of(|r| r.shake.residual_drift)),
+        Column::new("blocks_fallen".into(), rows.iter().map(|r| r.shake.blocks_fallen).collect::<Vec<Option<u64>>>()),
         series("tilt_deg", |r| &r.tilt_deg),
         series("disp_top_left_cm", |r| &r.disp_top_left_cm),
         series("disp_top_centre_cm", |r| &r.disp_top_centre_cm),
@@ -181,6 +188,11 @@ impl Columns<'_> {
     fn u64s(&self, c: &str) -> Result<Vec<u64>, TableError> {
         let ca = col(self.df, self.path, c)?.u64().map_err(|e| self.bad(c, e))?.clone();
         Ok(ca.iter().map(|v| v.unwrap_or(0)).collect())
+    }
+
+    fn opt_u64s(&self, c: &str) -> Result<Vec<Option<u64>>, TableError> {
+        let ca = col(self.df, self.path, c)?.u64().map_err(|e| self.bad(c, e))?.clone();
+        Ok(ca.iter().collect())
     }
 
     fn strs(&self, c: &str) -> Result<Vec<String>, TableError> {
@@ -261,6 +273,17 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let lat_r = r.opts("lateral_disp_right_cm")?;
     let lat = r.opts("lateral_disp_max_cm")?;
     let drift = r.opts("lateral_drift")?;
+    // The shaking table's columns (added later: a table without them reads as rows of
+    // another protocol).
+    let shake_text = |c: &str| if has(c) { r.strs(c) } else { Ok(vec![String::new(); n]) };
+    let shake_num = |c: &str| if has(c) { r.opts(c) } else { Ok(vec![None; n]) };
+    let motion = shake_text("motion")?;
+    let pga = shake_num("pga_g")?;
+    let collapse_time = shake_num("collapse_time_s")?;
+    let rotation = shake_num("max_rotation_deg")?;
+    let max_drift = shake_num("max_drift")?;
+    let residual = shake_num("residual_drift")?;
+    let fallen = if has("blocks_fallen") { r.opt_u64s("blocks_fallen")? } else { vec![None; n] };
     let tilt = r.lists("tilt_deg")?;
     let dl = r.lists("disp_top_left_cm")?;
     let dc = r.lists("disp_top_centre_cm")?;
@@ -306,6 +329,15 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
             lateral_disp_right_cm: lat_r[i],
             lateral_disp_max_cm: lat[i],
             lateral_drift: drift[i],
+            shake: crate::ensemble::row::ShakeColumns {
+                motion: motion[i].clone(),
+                pga_g: pga[i],
+                collapse_time_s: collapse_time[i],
+                max_rotation_deg: rotation[i],
+                max_drift: max_drift[i],
+                residual_drift: residual[i],
+                blocks_fallen: fallen[i],
+            },
             steps: steps[i],
             iterations: iterations[i],
             dt_s: dt[i],

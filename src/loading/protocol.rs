@@ -8,6 +8,7 @@
 //! [`ProtocolRun`], one command in `src/cli/`; see CONTRIBUTING.md.
 
 use super::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
+use super::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
 use super::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
 use crate::dem::SolverParams;
 use crate::layout::Layout;
@@ -20,6 +21,14 @@ pub enum Protocol {
     /// The static lateral (trapezoidal pressure) load, solved to equilibrium
     /// (`loading::lateral`).
     Lateral(LateralParams),
+    /// The shaking table under one ground motion (`loading::shake`; non-smooth contact
+    /// dynamics only).
+    Shake {
+        /// Shaking-table parameters.
+        params: ShakeParams,
+        /// The base motion, as it is applied (already scaled to its level).
+        motion: Box<crate::ground::Motion>,
+    },
 }
 
 /// What one run of a protocol came to.
@@ -29,6 +38,8 @@ pub enum ProtocolRun {
     Tilt(Result<TiltResult, TiltError>),
     /// The static lateral load's result or error.
     Lateral(Result<LateralResult, LateralError>),
+    /// The shaking table's result or error.
+    Shake(Result<ShakeResult, ShakeError>),
 }
 
 impl Protocol {
@@ -37,6 +48,7 @@ impl Protocol {
         match self {
             Protocol::Tilt(_) => "tilt",
             Protocol::Lateral(_) => "lateral",
+            Protocol::Shake { .. } => "shake",
         }
     }
 
@@ -45,6 +57,7 @@ impl Protocol {
         match self {
             Protocol::Tilt(p) => ProtocolRun::Tilt(run_tilt(layout, solver, p)),
             Protocol::Lateral(p) => ProtocolRun::Lateral(run_lateral(layout, solver, p)),
+            Protocol::Shake { params, motion } => ProtocolRun::Shake(run_shake(layout, solver, motion, params)),
         }
     }
 }
@@ -65,6 +78,7 @@ impl ProtocolRun {
         match self {
             ProtocolRun::Tilt(Err(e)) => Some(e.to_string()),
             ProtocolRun::Lateral(Err(e)) => Some(e.to_string()),
+            ProtocolRun::Shake(Err(e)) => Some(e.to_string()),
             _ => None,
         }
     }

@@ -156,6 +156,10 @@ pub struct FragilityBand {
     pub upper: Vec<f64>,
     /// Bootstrap replicates with a finite fit (of `replicates` drawn).
     pub fitted_replicates: usize,
+    /// 2.5–97.5 % range of the median θ over the bootstrap fits (NaN without any).
+    pub median_ci95: (f64, f64),
+    /// 2.5–97.5 % range of β over the bootstrap fits (NaN without any).
+    pub beta_ci95: (f64, f64),
 }
 
 /// The fit with a parametric bootstrap band: `replicates` sets of counts drawn level by
@@ -173,6 +177,7 @@ pub fn fragility_band(
     let mut rng = rng_for(seed, stream, Purpose::Bootstrap);
     let mut curves: Vec<Vec<f64>> = vec![Vec::with_capacity(replicates); intensity.len()];
     let mut fitted = 0;
+    let (mut medians, mut betas) = (Vec::with_capacity(replicates), Vec::with_capacity(replicates));
     for _ in 0..replicates {
         let drawn: Vec<LevelCount> = levels
             .iter()
@@ -184,6 +189,8 @@ pub fn fragility_band(
             .collect();
         if let Some(f) = IntensityFragility::fit(&drawn) {
             fitted += 1;
+            medians.push(f.median);
+            betas.push(f.beta);
             for (c, &x) in curves.iter_mut().zip(intensity) {
                 c.push(f.probability(x));
             }
@@ -196,6 +203,8 @@ pub fn fragility_band(
         lower: curves.iter().map(|c| q(c, 0.025)).collect(),
         upper: curves.iter().map(|c| q(c, 0.975)).collect(),
         fitted_replicates: fitted,
+        median_ci95: (q(&medians, 0.025), q(&medians, 0.975)),
+        beta_ci95: (q(&betas, 0.025), q(&betas, 0.975)),
     })
 }
 
@@ -259,5 +268,7 @@ mod tests {
             assert!(b.lower[k] <= p && p <= b.upper[k], "{x}: {} {p} {}", b.lower[k], b.upper[k]);
         }
         assert!(b.fitted_replicates > 150);
+        assert!(b.median_ci95.0 <= b.fit.median && b.fit.median <= b.median_ci95.1, "{b:?}");
+        assert!(b.beta_ci95.0 <= b.fit.beta && b.fit.beta <= b.beta_ci95.1, "{b:?}");
     }
 }

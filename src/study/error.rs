@@ -44,6 +44,17 @@ pub enum StudyError {
         /// The generator's error.
         source: Box<crate::generator::GeneratorError>,
     },
+    /// A ground-motion record of a shaking study was refused (its file and line named by
+    /// the [`crate::ground::RecordError`]).
+    #[error("study file {path}: {key}: {source}")]
+    Record {
+        /// The study file.
+        path: PathBuf,
+        /// The key that names the record, `shake.records[i]`.
+        key: String,
+        /// The record's error.
+        source: crate::ground::RecordError,
+    },
     /// A measured-data file failed.
     #[error("study file {path}: measured data: {source}")]
     Measured {

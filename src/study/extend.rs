@@ -155,6 +155,7 @@ pub fn write_extended(
         protocol: study.protocol,
         tilt: study.tilt,
         lateral: study.lateral,
+        shake: None,
         solver: study.solver,
         groups,
         sweep: BTreeMap::new(),

@@ -13,10 +13,13 @@ use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{Item, Shard};
 use crate::generator::generate;
 use crate::io::mechanism::{mechanism_svg, MechanismFigure};
-use crate::io::series::{block_motion, lateral_frames, tilt_frames, write_series, Recorder, SeriesError};
+use crate::io::series::{
+    block_motion, lateral_frames, motion_frames, tilt_frames, write_series, Recorder, SeriesError,
+};
 use crate::io::{replace_file, FileError};
 use crate::layout::Layout;
 use crate::loading::lateral::run_lateral_observed;
+use crate::loading::shake::run_shake_observed;
 use crate::loading::tilt::{run_tilt_observed, MechanismKind, TiltResult};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -156,6 +159,7 @@ pub fn write_vtk_realizations(
             let group = file_stem(&study.groups[it.group].name);
             let point = if study.points.len() > 1 { format!("_p{}", it.point) } else { String::new() };
             let out = dir.join("vtk").join(format!("{group}{point}_r{}", it.realization));
+            // (A shaking study's points are its motions and levels: `_pP` names them.)
             let wall = &study.groups[it.group].walls[it.point];
             let Ok(layout) = generate(wall, study.seed, it.realization).and_then(|g| g.check()) else {
                 return Ok(None);
@@ -176,6 +180,20 @@ pub fn write_vtk_realizations(
                         return Ok(None);
                     }
                     write_series(&out, "lateral", &rec, &lateral_frames(&rec)).map(Some)
+                }
+                ProtocolKind::Shake => {
+                    let crate::loading::protocol::Protocol::Shake { params, motion } = study.loading_at(it.point)
+                    else {
+                        return Ok(None);
+                    };
+                    let mut rec = Recorder::default();
+                    let mut watch = |t: f64, sim: &crate::dem::drivers::nscd::NscdSimulation| {
+                        rec.observe_bodies(t, true, sim.bodies(), Vec::new());
+                    };
+                    if run_shake_observed(&layout, study.solver, &motion, &params, &mut watch).is_err() {
+                        return Ok(None);
+                    }
+                    write_series(&out, "shake", &rec, &motion_frames(&rec)).map(Some)
                 }
             }
         })

@@ -47,13 +47,30 @@
 //! | `length_m` | wall length L | m |
 //! | `arrangement` | `continuous`, `discontinuous` or `irregular` | – |
 //! | `ends` | `free`, or `rigid` (every block within the wall's end zone, or [`DEFAULT_END_ZONE_M`] if it has none, held in y) | – |
+//! | `motion`, `pga_g` | set by `[shake]`, not in `[sweep]`: a shaking study's motion and PGA level (they act on the protocol) | –, g |
+//!
+//! A shaking study (`protocol = "shake"`, `[solver] kind = "nscd"`) runs every realization
+//! under every motion of its `[shake]` table scaled to every PGA level (incremental
+//! dynamic analysis; [`ShakeSpec`]); its report fits the fragility against PGA and draws
+//! the static capacity of the same walls beside it ([`shaking`]):
+//!
+//! ```toml
+//! protocol = "shake"
+//! [solver]
+//! kind = "nscd"
+//! [shake]
+//! pga_g = [0.2, 0.4, 0.8]
+//! records = ["records/RSN1.AT2"]           # and/or
+//! stochastic = { count = 10, duration_s = 5.0 }
+//! tail_s = 1.0
+//! ```
 //!
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 //!
 //! The modules, in the order a study goes through them: [`spec`] (the file as written),
 //! [`resolve`] (checked into a [`Study`], with [`size`] its limits and [`provenance`] the
 //! files it was read from), [`sweep`] (the keys and their effect), [`run`] (one row per
-//! realization), [`shards`] (the run directory, its journal, shards and their merge),
+//! realization), [`shaking`] (the report of a shaking study), [`shards`] (the run directory, its journal, shards and their merge),
 //! [`summary`] (statistics per group and sweep point), [`report`] (`report.md` and plots),
 //! [`paper`] (the source paper's tables and figures), [`calibrate`] and [`suite`].
 
@@ -70,6 +87,7 @@ pub mod provenance;
 pub mod report;
 pub mod resolve;
 pub mod run;
+pub mod shaking;
 pub mod shards;
 pub mod size;
 pub mod spec;
@@ -79,6 +97,6 @@ pub mod sweep;
 mod text;
 
 pub use error::StudyError;
-pub use resolve::{Group, Measured, Study};
-pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
+pub use resolve::{Group, Measured, ShakeStudy, Study};
+pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
 pub use sweep::{point_label, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};

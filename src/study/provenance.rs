@@ -36,6 +36,8 @@ pub enum InputRole {
     Measured,
     /// An effect definition file.
     Effect,
+    /// A ground-motion record of a shaking study.
+    Record,
 }
 
 impl InputRole {
@@ -47,6 +49,7 @@ impl InputRole {
             InputRole::Distribution => "distribution file",
             InputRole::Measured => "measured-data file",
             InputRole::Effect => "effect file",
+            InputRole::Record => "ground-motion record",
         }
     }
 }

@@ -109,12 +109,17 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description.trim());
     }
+    let mut printed = String::new();
     if tilt {
         tilt_sections(study, rows, dir, &cells, &cmp, &mut md)?;
+    } else if study.protocol == ProtocolKind::Shake {
+        printed = super::shaking::shake_sections(study, rows, dir, &mut md)?;
     } else {
         lateral_sections(study, &cells, &mut md);
     }
-    let mut printed = if cmp.is_empty() { String::new() } else { comparison_text(&cmp) };
+    if !cmp.is_empty() {
+        printed = comparison_text(&cmp);
+    }
     if let Some(p) = study.paper {
         let section = paper::section(p, study, &cells, dir)?;
         printed.push_str(&section);

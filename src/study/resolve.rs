@@ -12,10 +12,34 @@ use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::WallSpec;
 use crate::generator::Ends;
 use crate::generator::Wall;
+use crate::ground::Motion;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
 use crate::loading::lateral::LateralParams;
+use crate::loading::shake::ShakeParams;
 use crate::loading::tilt::TiltParams;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+/// The shaking-table part of a checked study (protocol `shake`): its parameters, its
+/// motions as read or generated (unscaled) and its PGA levels. The study's points carry
+/// the sweep keys `motion` (a motion's name) and `pga_g` (a level): see
+/// [`Study::loading_at`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShakeStudy {
+    /// Shaking-table parameters.
+    pub params: ShakeParams,
+    /// The motions, in the order records, stochastic, pulses; names unique.
+    pub motions: Vec<Motion>,
+    /// PGA levels, g, increasing.
+    pub levels: Vec<f64>,
+}
+
+impl ShakeStudy {
+    /// The motion named `name` scaled to `pga_g`; `None` for an unknown name.
+    pub fn motion(&self, name: &str, pga_g: f64) -> Option<Motion> {
+        self.motions.iter().find(|m| m.name == name).map(|m| m.scaled_to_pga(pga_g))
+    }
+}
 
 /// A checked group.
 #[derive(Debug, Clone)]
@@ -71,6 +95,8 @@ pub struct Study {
     pub lateral: LateralParams,
     /// Solver parameters.
     pub solver: SolverParams,
+    /// The shaking table's parameters, motions and levels (protocol `shake` only).
+    pub shake: Option<ShakeStudy>,
     /// Groups.
     pub groups: Vec<Group>,
     /// Sweep points (one empty point without a sweep).
@@ -111,11 +137,13 @@ impl StudySpec {
     pub fn resolve(&self, path: &Path) -> Result<Study, StudyError> {
         let invalid = Invalid(path);
         self.check_scalars(&invalid)?;
-        self.check_counts(&invalid)?;
-        let points = sweep::grid(&self.sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        let mut library = crate::effects::Library::builtin();
         let mut files = vec![(InputRole::Study, path.to_owned())];
+        let shake = self.resolve_shake(dir, &invalid, &mut files)?;
+        let sweep = protocol_sweep(&self.sweep, shake.as_ref());
+        self.check_counts(&sweep, &invalid)?;
+        let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
+        let mut library = crate::effects::Library::builtin();
         for (i, f) in self.effect_files.iter().enumerate() {
             let p = dir.join(f);
             let def = crate::effects::EffectDef::from_file(&p)
@@ -150,6 +178,7 @@ impl StudySpec {
             tilt: self.tilt,
             lateral: self.lateral,
             solver: self.solver,
+            shake,
             groups,
             points,
             measured,
@@ -190,6 +219,29 @@ impl StudySpec {
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         self.solver.validate_static().map_err(range("solver"))?;
+        if let Some(name) = self.sweep.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
+            return Err(invalid.at(
+                &format!("sweep.{name}"),
+                "is set by the [shake] table (its motions and pga_g levels), not in [sweep]".into(),
+            ));
+        }
+        for g in &self.groups {
+            if let Some(k) = g.overrides.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
+                return Err(invalid.at(
+                    &format!("groups[{}].overrides.{k}", g.name),
+                    "is set by the [shake] table for every group, not per group".into(),
+                ));
+            }
+        }
+        if self.protocol == ProtocolKind::Shake && self.solver.kind != crate::dem::SolverKind::Nscd {
+            return Err(invalid.at(
+                "solver.kind",
+                format!(
+                    "protocol = \"shake\" runs by non-smooth contact dynamics only: set [solver] kind = \"nscd\" (got {:?}; the penalty solver's local damping would absorb the motion)",
+                    self.solver.kind.name()
+                ),
+            ));
+        }
         if self.solver.kind == crate::dem::SolverKind::Nscd {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
             if self.protocol == ProtocolKind::Lateral {
@@ -204,11 +256,12 @@ impl StudySpec {
     }
 
     /// The number of sweep points and work items against the limits of [`size`], before
-    /// the grid is built or a wall resolved.
-    fn check_counts(&self, invalid: &Invalid) -> Result<(), StudyError> {
-        let points = size::sweep_points(&self.sweep);
+    /// the grid is built or a wall resolved (`sweep`: the file's `[sweep]` with the
+    /// protocol's keys of a shaking study).
+    fn check_counts(&self, sweep: &BTreeMap<String, Vec<toml::Value>>, invalid: &Invalid) -> Result<(), StudyError> {
+        let points = size::sweep_points(sweep);
         if points > size::MAX_SWEEP_POINTS as f64 {
-            let counts: Vec<String> = self.sweep.iter().map(|(k, v)| format!("{k} ({} values)", v.len())).collect();
+            let counts: Vec<String> = sweep.iter().map(|(k, v)| format!("{k} ({} values)", v.len())).collect();
             return Err(invalid.at(
                 "sweep",
                 format!(
@@ -232,6 +285,146 @@ impl StudySpec {
             invalid.at(&key, reason)
         })
     }
+}
+
+impl StudySpec {
+    /// The `[shake]` table of a shaking study checked, its records read (each one an
+    /// input file of the study), its stochastic motions generated from the study's seed and
+    /// its pulses sampled at the solver's step; `None` for another protocol, which must not
+    /// have the table.
+    fn resolve_shake(
+        &self,
+        dir: &Path,
+        invalid: &Invalid,
+        files: &mut Vec<(InputRole, PathBuf)>,
+    ) -> Result<Option<ShakeStudy>, StudyError> {
+        let spec = match (&self.shake, self.protocol) {
+            (None, ProtocolKind::Shake) => {
+                return Err(invalid.at(
+                    "shake",
+                    "protocol = \"shake\" needs a [shake] table with pga_g levels and motions (records, stochastic or pulses)"
+                        .into(),
+                ))
+            }
+            (Some(_), p) if p != ProtocolKind::Shake => {
+                return Err(invalid.at("shake", "the [shake] table is read only with protocol = \"shake\"".into()))
+            }
+            (None, _) => return Ok(None),
+            (Some(s), _) => s,
+        };
+        let params = spec.params();
+        params.validate().map_err(|e| invalid.at(&format!("shake.{}", e.key), e.reason()))?;
+        check_levels(&spec.pga_g).map_err(|r| invalid.at("shake.pga_g", r))?;
+        let mut motions = Vec::new();
+        for (i, r) in spec.records.iter().enumerate() {
+            let p = dir.join(r);
+            let m = crate::ground::read_record(&p).map_err(|source| StudyError::Record {
+                path: invalid.0.to_owned(),
+                key: format!("shake.records[{i}]"),
+                source,
+            })?;
+            files.push((InputRole::Record, p));
+            motions.push((
+                format!("shake.records[{i}]"),
+                if spec.baseline_correction { m.baseline_corrected() } else { m },
+            ));
+        }
+        if let Some(table) = &spec.stochastic {
+            motions.extend(stochastic_motions(table, self.seed, invalid)?);
+        }
+        for (i, p) in spec.pulses.iter().enumerate() {
+            let key = format!("shake.pulses[{i}]");
+            if !(p.amplitude_g().is_finite() && p.amplitude_g() != 0.0) {
+                return Err(invalid.at(&key, format!("amplitude_g must be finite and not 0, got {}", p.amplitude_g())));
+            }
+            if !(p.period_s().is_finite() && p.period_s() > 0.0) {
+                return Err(invalid.at(&key, format!("period_s must be > 0, got {}", p.period_s())));
+            }
+            motions.push((key, p.sampled(self.solver.nscd.dt_s, 0.0)));
+        }
+        if motions.is_empty() {
+            return Err(invalid.at("shake", "no motions: give records, stochastic = { count = N } or pulses".into()));
+        }
+        for (i, (key, m)) in motions.iter().enumerate() {
+            if let Some(c) = m.name.chars().find(|c| matches!(c, ';' | '=') || c.is_control()) {
+                return Err(invalid.at(
+                    key,
+                    format!(
+                        "the motion's name {:?} contains {c:?}, which a sweep label cannot hold; rename the file",
+                        m.name
+                    ),
+                ));
+            }
+            if let Some((other, _)) = motions[..i].iter().find(|(_, n)| n.name == m.name) {
+                return Err(invalid.at(
+                    key,
+                    format!("two motions are named {:?} (also {other}); motions are told apart by name", m.name),
+                ));
+            }
+            if m.pga_g() == 0.0 {
+                return Err(invalid.at(
+                    key,
+                    format!("motion {:?} has no acceleration (PGA 0): it cannot be scaled to a level", m.name),
+                ));
+            }
+        }
+        Ok(Some(ShakeStudy {
+            params,
+            motions: motions.into_iter().map(|(_, m)| m).collect(),
+            levels: spec.pga_g.clone(),
+        }))
+    }
+}
+
+/// PGA levels: at least one, each finite and > 0, strictly increasing.
+fn check_levels(levels: &[f64]) -> Result<(), String> {
+    if levels.is_empty() {
+        return Err("needs at least one PGA level, g".into());
+    }
+    if let Some(v) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(format!("levels must be finite and > 0 g, got {v}"));
+    }
+    if let Some(w) = levels.windows(2).find(|w| w[1] <= w[0]) {
+        return Err(format!("levels must increase, got {} then {}", w[0], w[1]));
+    }
+    Ok(())
+}
+
+/// The generated motions of `[shake] stochastic = { count = N, ... }`: motion `i` is
+/// [`crate::ground::StochasticMotion::generate`]`(seed, i)` with the table's parameters.
+fn stochastic_motions(table: &toml::Table, seed: u64, invalid: &Invalid) -> Result<Vec<(String, Motion)>, StudyError> {
+    let mut rest = table.clone();
+    let count = match rest.remove("count") {
+        Some(toml::Value::Integer(n)) if n >= 1 => n as u64,
+        Some(v) => return Err(invalid.at("shake.stochastic.count", format!("must be an integer >= 1, got {v}"))),
+        None => return Err(invalid.at("shake.stochastic.count", "missing: how many motions to generate".into())),
+    };
+    if count > size::MAX_SWEEP_POINTS {
+        return Err(
+            invalid.at("shake.stochastic.count", format!("{count} motions; the limit is {}", size::MAX_SWEEP_POINTS))
+        );
+    }
+    let model: crate::ground::StochasticMotion = toml::Value::Table(rest)
+        .try_into()
+        .map_err(|e: toml::de::Error| invalid.at("shake.stochastic", e.message().to_string()))?;
+    model.validate().map_err(|e| invalid.at(&format!("shake.stochastic.{}", e.key), e.reason()))?;
+    Ok((0..count).map(|i| (format!("shake.stochastic (motion {i})"), model.generate(seed, i))).collect())
+}
+
+/// The sweep of the study's points: the file's `[sweep]`, and for a shaking study the
+/// protocol's keys `motion` (every motion's name) and `pga_g` (every level), which sort
+/// after the wall's keys: the motion varies after the wall, the level fastest.
+fn protocol_sweep(
+    sweep: &BTreeMap<String, Vec<toml::Value>>,
+    shake: Option<&ShakeStudy>,
+) -> BTreeMap<String, Vec<toml::Value>> {
+    let mut out = sweep.clone();
+    if let Some(s) = shake {
+        let names = s.motions.iter().map(|m| toml::Value::String(m.name.clone())).collect();
+        out.insert(SweepKey::Motion.as_str().to_string(), names);
+        out.insert(SweepKey::PgaG.as_str().to_string(), s.levels.iter().map(|&l| toml::Value::Float(l)).collect());
+    }
+    out
 }
 
 /// A study (or suite) name is used as a directory name (the default output `out/<name>`,
@@ -298,8 +491,17 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         SweepKey::parse(k).and_then(|sk| sk.apply(&mut gspec, &value)).map_err(|r| invalid.at(&key, r))?;
     }
     let source = DistributionSource::default_for(&wall_path);
-    let mut walls = Vec::with_capacity(points.len());
+    let mut walls: Vec<Wall> = Vec::with_capacity(points.len());
+    let mut resolved: BTreeMap<String, usize> = BTreeMap::new();
     for p in points {
+        // Points that differ only in the protocol's keys (a shaking study's motion and
+        // level) share their wall.
+        let label = sweep::wall_label(p);
+        if let Some(&j) = resolved.get(&label) {
+            walls.push(walls[j].clone());
+            continue;
+        }
+        resolved.insert(label, walls.len());
         let mut spec = gspec.clone();
         for (k, v) in p {
             k.apply(&mut spec, v).map_err(|r| invalid.at(&format!("sweep.{k}"), r))?;
@@ -399,12 +601,35 @@ fn read_measured(
 }
 
 impl Study {
-    /// The study's loading protocol with its parameters, as the seam runs it.
+    /// The study's loading protocol with its parameters, as the seam runs it (at the first
+    /// sweep point; see [`Study::loading_at`]).
     pub fn loading(&self) -> crate::loading::protocol::Protocol {
+        self.loading_at(0)
+    }
+
+    /// The loading protocol of sweep point `point`: the tilting table or the lateral load
+    /// with the study's parameters, or the shaking table under the point's motion scaled to
+    /// its PGA level (sweep keys `motion` and `pga_g`). A shaking point whose motion is
+    /// missing (a study not made by [`StudySpec::resolve`]) gets an empty motion, which the
+    /// protocol refuses with an error row.
+    pub fn loading_at(&self, point: usize) -> crate::loading::protocol::Protocol {
         use crate::loading::protocol::Protocol;
         match self.protocol {
             ProtocolKind::Tilt => Protocol::Tilt(self.tilt),
             ProtocolKind::Lateral => Protocol::Lateral(self.lateral),
+            ProtocolKind::Shake => {
+                let value = |key: SweepKey| self.points.get(point)?.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
+                let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
+                let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
+                let shake = self.shake.as_ref();
+                let motion = shake.and_then(|s| s.motion(&name, pga)).unwrap_or_else(|| Motion {
+                    name,
+                    dt_s: 0.0,
+                    horizontal_g: vec![],
+                    vertical_g: None,
+                });
+                Protocol::Shake { params: shake.map(|s| s.params).unwrap_or_default(), motion: Box::new(motion) }
+            }
         }
     }
 

@@ -10,12 +10,13 @@
 //! journal), which it does not run again. Every row being a pure function of the study and
 //! its item, the rows are the same whichever items were done before.
 
-use super::{point_label, ProtocolKind, Study};
+use super::{point_label, ProtocolKind, Study, SweepKey};
 use crate::dem::SolverKind;
-use crate::ensemble::row::{RealizationRow, Status};
+use crate::ensemble::row::{RealizationRow, ShakeColumns, Status};
 use crate::ensemble::{self, Item, Shard};
 use crate::loading::lateral::LateralResult;
 use crate::loading::protocol::ProtocolRun;
+use crate::loading::shake::ShakeResult;
 use crate::loading::tilt::{CollapseReason, MechanismKind, TiltResult};
 use crate::units::m_to_cm;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -46,12 +47,13 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            if study.solver.kind == SolverKind::Limit {
+            if study.solver.kind == SolverKind::Limit && study.protocol != ProtocolKind::Shake {
                 return finish(limit_row(row, study, &layout), t0);
             }
-            match study.loading().run(&layout, study.solver) {
+            match study.loading_at(item.point).run(&layout, study.solver) {
                 ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
                 ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
+                ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
                 failed => failed_row(row, failed.does_not_stand(), &failed.error().unwrap_or_default()),
             }
         }
@@ -73,8 +75,9 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
 fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
     use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams};
     let params = LimitParams::default();
+    // (A shaking study never gets here: it runs by nscd only.)
     let out = match study.protocol {
-        ProtocolKind::Tilt => limit_tilt(layout, &study.solver, &params),
+        ProtocolKind::Tilt | ProtocolKind::Shake => limit_tilt(layout, &study.solver, &params),
         ProtocolKind::Lateral => limit_lateral(layout, &study.solver, &study.lateral, &params),
     };
     let r = match out {
@@ -99,7 +102,7 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
     }
     row.iterations = u64::from(r.solver_iterations);
     match study.protocol {
-        ProtocolKind::Tilt => {
+        ProtocolKind::Tilt | ProtocolKind::Shake => {
             row.status = Status::Collapsed;
             row.collapse_angle_deg = r.collapse_angle_deg;
             row.first_unstable_deg = r.collapse_angle_deg;
@@ -236,6 +239,15 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
         lateral_disp_right_cm: None,
         lateral_disp_max_cm: None,
         lateral_drift: None,
+        shake: ShakeColumns {
+            motion: study.points[item.point]
+                .iter()
+                .find(|(k, _)| *k == SweepKey::Motion)
+                .map(|(_, v)| v.to_string())
+                .unwrap_or_default(),
+            pga_g: study.sweep_number(item.point, SweepKey::PgaG),
+            ..ShakeColumns::default()
+        },
         steps: 0,
         iterations: 0,
         dt_s: 0.0,
@@ -287,6 +299,27 @@ fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.steps = t.steps;
     row.iterations = t.iterations;
     row.dt_s = t.dt_s;
+    row
+}
+
+/// A shaking-table outcome into the row: `collapsed` if a block fell, else `stood`; the
+/// motion's name and its PGA level (`level`, the point's `pga_g` exactly; the motion's own
+/// PGA otherwise), the collapse time, the largest rocking rotation, the drifts and the
+/// fallen blocks.
+fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f64>) -> RealizationRow {
+    row.status = if r.overturned { Status::Collapsed } else { Status::Stood };
+    row.shake = ShakeColumns {
+        motion: r.motion,
+        pga_g: Some(level.unwrap_or(r.pga_g)),
+        collapse_time_s: r.collapse_time_s,
+        max_rotation_deg: Some(r.max_rotation_deg),
+        max_drift: Some(r.max_drift),
+        residual_drift: Some(r.residual_drift),
+        blocks_fallen: Some(r.blocks_fallen as u64),
+    };
+    row.steps = r.steps;
+    row.iterations = r.iterations;
+    row.dt_s = r.dt_s;
     row
 }
 

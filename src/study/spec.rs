@@ -5,6 +5,7 @@
 use super::{StudyError, SweepKey};
 use crate::dem::SolverParams;
 use crate::loading::lateral::LateralParams;
+use crate::loading::shake::ShakeParams;
 use crate::loading::tilt::TiltParams;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -19,6 +20,9 @@ pub enum ProtocolKind {
     Tilt,
     /// The static lateral (trapezoidal pressure) load, solved to equilibrium.
     Lateral,
+    /// The shaking table: each realization under each motion of `[shake]` scaled to each
+    /// PGA level (incremental dynamic analysis), by non-smooth contact dynamics.
+    Shake,
 }
 
 /// Raw study file.
@@ -45,6 +49,9 @@ pub struct StudySpec {
     /// Static lateral load parameters (protocol `lateral`).
     #[serde(default)]
     pub lateral: LateralParams,
+    /// Shaking-table parameters and motions (protocol `shake`; see [`ShakeSpec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shake: Option<ShakeSpec>,
     /// Solver parameters.
     #[serde(default)]
     pub solver: SolverParams,
@@ -76,6 +83,83 @@ pub struct StudySpec {
     /// the study file: their effects join the library by name.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub effect_files: Vec<PathBuf>,
+}
+
+/// The `[shake]` table of a study (protocol `shake`): the shaking-table parameters of
+/// [`crate::loading::shake::ShakeParams`] (each optional, its default otherwise), the
+/// motions and the intensity levels of the incremental dynamic analysis.
+///
+/// ```toml
+/// [shake]
+/// pga_g = [0.1, 0.2, 0.3]             # PGA levels, g (> 0, increasing)
+/// records = ["records/RSN1.AT2"]      # PEER NGA .AT2 or .csv/.tsv, relative to the study file
+/// stochastic = { count = 10, duration_s = 5.0 }   # generated motions (ground::StochasticMotion keys)
+/// pulses = [{ kind = "one-sine", amplitude_g = 1.0, period_s = 0.5 }]  # built-in pulses
+/// baseline_correction = false         # baseline-correct the records
+/// tail_s = 2.0                        # ShakeParams keys
+/// ```
+///
+/// Motion `i` of `stochastic` is `StochasticMotion::generate(study seed, i)`. Every motion
+/// is scaled to every level ([`crate::ground::Motion::scaled_to_pga`]): the sweep keys
+/// `motion` and `pga_g` of the study's points.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShakeSpec {
+    /// PGA levels of the incremental dynamic analysis, g (> 0, strictly increasing; ≥ 1).
+    #[serde(default)]
+    pub pga_g: Vec<f64>,
+    /// Record files (PEER NGA `.AT2`, `.csv`, `.tsv`), relative to the study file.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub records: Vec<PathBuf>,
+    /// Generated motions: `count` (≥ 1) and any key of
+    /// [`crate::ground::StochasticMotion`] (its defaults otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stochastic: Option<toml::Table>,
+    /// Built-in pulses (`{ kind = "one-sine" | "ricker", amplitude_g, period_s }`), sampled
+    /// at the solver's time step; their amplitude is rescaled to each level like any motion.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pulses: Vec<crate::ground::Pulse>,
+    /// Baseline-correct the records ([`crate::ground::Motion::baseline_corrected`])
+    /// \[false\]. Generated motions are corrected by their model; pulses are not.
+    #[serde(default)]
+    pub baseline_correction: bool,
+    /// [`ShakeParams::tail_s`], s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tail_s: Option<f64>,
+    /// [`ShakeParams::duration_s`], s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+    /// [`ShakeParams::settle_s`], s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settle_s: Option<f64>,
+    /// [`ShakeParams::fall_rotation_deg`], degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fall_rotation_deg: Option<f64>,
+    /// [`ShakeParams::stop_at_collapse`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop_at_collapse: Option<bool>,
+    /// [`ShakeParams::vertical`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<bool>,
+    /// [`ShakeParams::history_dt_s`], s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub history_dt_s: Option<f64>,
+}
+
+impl ShakeSpec {
+    /// The shaking-table parameters: the table's values over the defaults.
+    pub fn params(&self) -> ShakeParams {
+        let d = ShakeParams::default();
+        ShakeParams {
+            tail_s: self.tail_s.unwrap_or(d.tail_s),
+            duration_s: self.duration_s.or(d.duration_s),
+            settle_s: self.settle_s.unwrap_or(d.settle_s),
+            fall_rotation_deg: self.fall_rotation_deg.unwrap_or(d.fall_rotation_deg),
+            stop_at_collapse: self.stop_at_collapse.unwrap_or(d.stop_at_collapse),
+            vertical: self.vertical.unwrap_or(d.vertical),
+            history_dt_s: self.history_dt_s.unwrap_or(d.history_dt_s),
+        }
+    }
 }
 
 /// Effects with their parameter values: effect name → parameter name → value (in the

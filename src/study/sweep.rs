@@ -1,5 +1,9 @@
 //! Sweep keys: the parameters a study varies (in `[sweep]`) or fixes per group (in
-//! `overrides`), each acting on a wall description through [`SweepKey::apply`].
+//! `overrides`), each acting on a wall description through [`SweepKey::apply`]; and the
+//! two keys of a shaking study, `motion` and `pga_g`, which act on the protocol instead
+//! (set from the study's `[shake]` table, never written in `[sweep]`): each motion at each
+//! PGA level is a sweep point, so that work items, journal, shards and merge treat the
+//! incremental dynamic analysis as any sweep.
 
 use crate::generator::spec::{ArrangementKind, EndKind, EndsSpec, WallSpec};
 use serde::{Deserialize, Serialize};
@@ -29,11 +33,17 @@ pub enum SweepKey {
     /// `ends`: `free`, or `rigid` (every block within the wall's end zone, or
     /// [`DEFAULT_END_ZONE_M`] if it has none, held in y).
     Ends,
+    /// `motion`: the name of a ground motion of the study's `[shake]` table (acts on the
+    /// protocol; set by `[shake]`).
+    Motion,
+    /// `pga_g`: the PGA the motion is scaled to, g (acts on the protocol; set by
+    /// `[shake] pga_g`).
+    PgaG,
 }
 
 impl SweepKey {
     /// Every key, in the order the error messages list them.
-    pub const ALL: [SweepKey; 7] = [
+    pub const ALL: [SweepKey; 9] = [
         SweepKey::KnPaPerM,
         SweepKey::KsOverKn,
         SweepKey::FrictionDeg,
@@ -41,6 +51,8 @@ impl SweepKey {
         SweepKey::LengthM,
         SweepKey::Arrangement,
         SweepKey::Ends,
+        SweepKey::Motion,
+        SweepKey::PgaG,
     ];
 
     /// The key as written in a study file.
@@ -53,7 +65,15 @@ impl SweepKey {
             SweepKey::LengthM => "length_m",
             SweepKey::Arrangement => "arrangement",
             SweepKey::Ends => "ends",
+            SweepKey::Motion => "motion",
+            SweepKey::PgaG => "pga_g",
         }
+    }
+
+    /// Whether the key acts on the loading protocol (`motion`, `pga_g`) rather than on the
+    /// wall: the study's `[shake]` table sets it, and the wall is the same at every value.
+    pub fn acts_on_protocol(self) -> bool {
+        matches!(self, SweepKey::Motion | SweepKey::PgaG)
     }
 
     /// Parses [`SweepKey::as_str`].
@@ -106,6 +126,8 @@ impl SweepKey {
             SweepKey::LengthM => spec.geometry.length_m = num()?,
             SweepKey::Ends => apply_ends(spec, value)?,
             SweepKey::Arrangement => spec.arrangement.kind = arrangement(value)?,
+            // The protocol's keys leave the wall as it is (`Study::loading_at` reads them).
+            SweepKey::Motion | SweepKey::PgaG => {}
         }
         Ok(())
     }
@@ -181,6 +203,12 @@ impl std::fmt::Display for SweepValue {
 
 /// A point of the sweep: (key, value) in the order of the keys' names.
 pub type SweepPoint = Vec<(SweepKey, SweepValue)>;
+
+/// Label of the wall of a point: the label of its keys that act on the wall (points that
+/// differ only in `motion` and `pga_g` share their wall).
+pub fn wall_label(p: &[(SweepKey, SweepValue)]) -> String {
+    p.iter().filter(|(k, _)| !k.acts_on_protocol()).map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(";")
+}
 
 /// Label of a point: `key=value;key=value` (empty without a sweep).
 pub fn point_label(p: &[(SweepKey, SweepValue)]) -> String {

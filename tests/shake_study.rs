@@ -1,0 +1,290 @@
+//! Shaking studies (`protocol = "shake"`) end to end: a rigid block under built-in pulses
+//! collapses at each PGA level as Housner's rocking equation, integrated here, says, and
+//! its fitted fragility and static capacity sit where statics and the counts put them;
+//! the rows are the same on 1 and 2 threads and sharded then merged; bad inputs are refused
+//! naming the file, line or key.
+
+use drystone::ensemble::row::{RealizationRow, Status};
+use drystone::ensemble::Shard;
+use drystone::ground::{Pulse, G};
+use drystone::study::run::run_study;
+use drystone::study::shards::{merge, run_into, RunMode};
+use drystone::study::{shaking, Study, StudyError};
+use std::path::{Path, PathBuf};
+
+/// The block: 0.2 m along x, b = 0.1 m out of plane (y), h = 0.5 m tall; tan α = b/h = 0.2.
+const B: f64 = 0.1;
+const H: f64 = 0.5;
+
+/// A wall description of one block on the table (one course, one stone), friction 60°
+/// (μ 1.7 against b/h 0.2: it rocks, it does not slide).
+const BLOCK: &str = r#"
+version = 1
+name = "block"
+[geometry]
+length_m = 0.2
+height_m = 0.5
+base_width_m = 0.1
+top_width_m = 0.1
+batter = "symmetric"
+[arrangement]
+kind = "continuous"
+[courses]
+height_m = 0.5
+[blocks]
+length_m = 0.2
+material = "stone"
+[[materials]]
+name = "stone"
+density_kg_per_m3 = 2000.0
+kn_pa_per_m = 1.0e9
+ks_pa_per_m = 5.0e8
+friction_deg = 60.0
+cohesion_pa = 0.0
+tensile_strength_pa = 0.0
+[restraints]
+base = "free"
+ends = { kind = "free" }
+"#;
+
+/// The periods of the pulses: long (ω_p/p ≈ 2), medium (≈ 4), short (≈ 8), with
+/// p = √(3g / 4R) = 5.37 rad/s.
+const PERIODS: [f64; 3] = [0.6, 0.3, 0.15];
+/// The PGA levels, g: the first below the uplift threshold tan α = 0.2, the others at
+/// least 10 % away from the overturning boundary of each pulse (about 0.25 g for T 0.6 s,
+/// 0.34 g for 0.3 s, 1.6 g for 0.15 s by the rocking equation; the test checks it).
+const LEVELS: [f64; 5] = [0.1, 0.29, 0.6, 1.2, 2.0];
+/// Free motion after the pulse, s.
+const TAIL_S: f64 = 1.5;
+
+/// A scratch directory of this test.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("drystone-shake-study-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A shaking study of the block in `dir` with the given `[shake]` lines and solver kind.
+///
+/// The solver's step is 2.5e-4 s: 600 steps over the shortest pulse (0.15 s, ω_p/p ≈ 8),
+/// whose overturning a coarser step misses near the boundary (`tests/shake.rs`).
+fn block_study(dir: &Path, shake: &str, solver: &str) -> PathBuf {
+    std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
+    let text = format!(
+        "version = 1\nname = \"block_shake\"\nseed = 5\nrealizations = 1\nprotocol = \"shake\"\n\
+         [solver]\nkind = \"{solver}\"\n[solver.nscd]\ndt_s = 2.5e-4\n[shake]\n{shake}\n[[groups]]\nname = \"block\"\nwall = \"block.toml\"\n"
+    );
+    let path = dir.join("study.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn pulses_table() -> String {
+    let levels: Vec<String> = LEVELS.iter().map(|l| l.to_string()).collect();
+    let pulses: Vec<String> =
+        PERIODS.iter().map(|t| format!("{{ kind = \"one-sine\", amplitude_g = 1.0, period_s = {t} }}")).collect();
+    format!("pga_g = [{}]\npulses = [{}]\ntail_s = {TAIL_S}", levels.join(", "), pulses.join(", "))
+}
+
+/// Housner's rocking equation (SPEC §8), integrated here by RK4 at 1e-4 s, with the
+/// impact rule θ̇ ← r θ̇, r = 1 − 1.5 sin²α, at θ = 0 and uplift only when |a_g| > g tan α:
+/// whether the block turns past 45° (the protocol's fall rotation) within `t_end`.
+fn housner_falls(pulse: &Pulse, t_end: f64) -> bool {
+    let g = drystone::units::STANDARD_GRAVITY;
+    let alpha = (B / H).atan();
+    let p2 = 3.0 * g / (4.0 * 0.5 * (B * B + H * H).sqrt());
+    let r = 1.0 - 1.5 * alpha.sin().powi(2);
+    let a = |t: f64| pulse.at(t) * G / g;
+    let dt = 1e-4;
+    let (mut th, mut om, mut t) = (0.0_f64, 0.0_f64, 0.0_f64);
+    while t < t_end {
+        if th == 0.0 && om == 0.0 && a(t).abs() <= alpha.tan() {
+            t += dt;
+            continue;
+        }
+        let side = if th != 0.0 {
+            th.signum()
+        } else if om != 0.0 {
+            om.signum()
+        } else {
+            -a(t).signum()
+        };
+        let f = |th: f64, t: f64| -p2 * ((alpha * side - th).sin() + a(t) * (alpha * side - th).cos());
+        let (k1t, k1o) = (om, f(th, t));
+        let (k2t, k2o) = (om + 0.5 * dt * k1o, f(th + 0.5 * dt * k1t, t + 0.5 * dt));
+        let (k3t, k3o) = (om + 0.5 * dt * k2o, f(th + 0.5 * dt * k2t, t + 0.5 * dt));
+        let (k4t, k4o) = (om + dt * k3o, f(th + dt * k3t, t + dt));
+        let nth = th + dt / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t);
+        let nom = om + dt / 6.0 * (k1o + 2.0 * k2o + 2.0 * k3o + k4o);
+        t += dt;
+        if th != 0.0 && nth * th < 0.0 {
+            th = 0.0;
+            om = if (nom * r).abs() < 1e-6 { 0.0 } else { nom * r };
+            continue;
+        }
+        (th, om) = (nth, nom);
+        if th.abs() > 45f64.to_radians() {
+            return true;
+        }
+    }
+    false
+}
+
+/// The rows by (motion period, level).
+fn verdict(rows: &[RealizationRow], period: f64, level: f64) -> &RealizationRow {
+    let name = format!("one-sine_1g_{period}s");
+    rows.iter().find(|r| r.shake.motion == name && r.shake.pga_g == Some(level)).expect("a row per motion and level")
+}
+
+/// Every (pulse, level) of the block collapses or stands as the rocking equation says (at
+/// levels where the equation gives the same verdict 10 % below and above: away from the
+/// overturning boundary), below the uplift threshold nothing moves; the fitted median lies
+/// between the highest level with no collapse and the lowest where every motion
+/// overturns; the static capacity by limit analysis is tan α = b/h.
+#[test]
+fn a_rigid_block_collapses_at_each_level_as_the_rocking_equation_says() {
+    let dir = scratch("block");
+    let study = Study::from_file(&block_study(&dir, &pulses_table(), "nscd")).unwrap();
+    assert_eq!(study.points.len(), PERIODS.len() * LEVELS.len());
+    let rows = run_study(&study, Shard::ALL);
+    let mut collapses = vec![0u64; LEVELS.len()];
+    for &t in &PERIODS {
+        for (k, &level) in LEVELS.iter().enumerate() {
+            let pulse = |f: f64| Pulse::OneSine { amplitude_g: f * level, period_s: t };
+            let expect = housner_falls(&pulse(1.0), t + TAIL_S);
+            assert!(
+                housner_falls(&pulse(0.9), t + TAIL_S) == expect && housner_falls(&pulse(1.1), t + TAIL_S) == expect,
+                "T {t} s at {level} g is within 10 % of the overturning boundary: choose another level"
+            );
+            let r = verdict(&rows, t, level);
+            assert!(r.status.is_ok(), "{}", r.error);
+            assert_eq!(r.status == Status::Collapsed, expect, "T {t} s at {level} g: {:?}", r.shake);
+            assert_eq!(r.shake.collapse_time_s.is_some(), expect);
+            assert_eq!(r.shake.blocks_fallen, Some(u64::from(expect)));
+            collapses[k] += u64::from(expect);
+            if level < B / H {
+                assert!(r.shake.max_rotation_deg.unwrap() < 1e-3, "below g tan α: {:?}", r.shake);
+            }
+        }
+    }
+    // The counts overlap (a fit exists) and bracket the median.
+    assert_eq!(collapses[0], 0);
+    assert!(collapses.iter().any(|&c| c > 0 && c < PERIODS.len() as u64), "{collapses:?}");
+    let frag = shaking::fragilities(&study, &rows);
+    let f = &frag[0];
+    assert_eq!(f.levels.iter().map(|l| l.collapses).collect::<Vec<_>>(), collapses);
+    let band = f.band.as_ref().expect("overlapping counts have a fit");
+    let quiet = LEVELS.iter().zip(&collapses).filter(|(_, &c)| c == 0).map(|(l, _)| *l).fold(0.0, f64::max);
+    let all = LEVELS.iter().zip(&collapses).filter(|(_, &c)| c == PERIODS.len() as u64).map(|(l, _)| *l);
+    let all = all.fold(f64::INFINITY, f64::min).min(2.0 * LEVELS[LEVELS.len() - 1]);
+    assert!(quiet < band.fit.median && band.fit.median < all, "θ {} not in ({quiet}, {all})", band.fit.median);
+    // Limit analysis of the block on the tilting table: λ = tan α = b/h.
+    assert_eq!(f.capacity.len(), 1);
+    assert!((f.capacity[0] - B / H).abs() < 1e-4, "λ {} vs b/h {}", f.capacity[0], B / H);
+    // The report has its table and plot.
+    let out = dir.join("out");
+    run_into(&study, &dir.join("study.toml"), Shard::ALL, &out, RunMode::default()).unwrap();
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Fragility against PGA") && report.contains("shaking.svg"), "{report}");
+    assert!(out.join("shaking.svg").exists() && out.join("fragility.csv").exists());
+    let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for c in ["motion", "pga_g", "collapse_time_s", "max_rotation_deg", "max_drift", "residual_drift", "blocks_fallen"]
+    {
+        assert!(header.split(',').any(|h| h == c), "{c} in {header}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The rows without their wall times.
+fn rows_of(rows: &[RealizationRow]) -> Vec<RealizationRow> {
+    rows.iter().map(|r| RealizationRow { wall_time_s: 0.0, ..r.clone() }).collect()
+}
+
+/// A study with every kind of motion (a CSV record beside the study file, a generated
+/// motion, a pulse) gives the same rows on 1 and 2 threads, and in two shards merged
+/// (the merge rebuilds the study from the stored inputs, the record among them).
+#[test]
+fn rows_are_the_same_on_any_thread_count_and_sharded_then_merged() {
+    let dir = scratch("determinism");
+    std::fs::create_dir_all(dir.join("records")).unwrap();
+    let mut record = String::from("# a one-sine pulse of 0.4 s, 0.5 g\ntime_s,accel_g\n");
+    for k in 0..=400 {
+        let t = k as f64 * 0.001;
+        let _ = std::fmt::Write::write_fmt(
+            &mut record,
+            format_args!("{t},{}\n", 0.5 * (std::f64::consts::TAU * t / 0.4).sin()),
+        );
+    }
+    std::fs::write(dir.join("records/pulse04.csv"), record).unwrap();
+    let shake = "pga_g = [0.15, 0.4, 0.9]\nrecords = [\"records/pulse04.csv\"]\n\
+                 stochastic = { count = 1, duration_s = 1.0, envelope_peak_s = 0.4 }\n\
+                 pulses = [{ kind = \"ricker\", amplitude_g = 1.0, period_s = 0.3 }]\ntail_s = 0.5";
+    let path = block_study(&dir, shake, "nscd");
+    let study = Study::from_file(&path).unwrap();
+    assert_eq!(study.items().len(), 9);
+    let on = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+        rows_of(&pool.install(|| run_study(&study, Shard::ALL)))
+    };
+    let one = on(1);
+    assert_eq!(one, on(2));
+    assert!(one.iter().all(|r| r.status.is_ok()), "{one:?}");
+    assert!(one.iter().any(|r| r.status == Status::Collapsed) && one.iter().any(|r| r.status == Status::Stood));
+    let shards: Vec<PathBuf> = (1..=2).map(|k| dir.join(format!("shard{k}"))).collect();
+    for (k, d) in shards.iter().enumerate() {
+        run_into(&study, &path, Shard::parse(&format!("{}/2", k + 1)).unwrap(), d, RunMode::default()).unwrap();
+    }
+    let merged = merge(&shards, &dir.join("merged")).unwrap();
+    assert_eq!(rows_of(&merged.rows), one);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Bad shaking inputs are refused before anything runs, naming the file and line or the
+/// key.
+#[test]
+fn bad_shaking_inputs_are_refused_naming_file_and_key() {
+    let dir = scratch("bad");
+    let err =
+        |shake: &str, solver: &str| -> StudyError { Study::from_file(&block_study(&dir, shake, solver)).unwrap_err() };
+    // A record file that is not there.
+    let e = err("pga_g = [0.2]\nrecords = [\"missing.AT2\"]", "nscd");
+    assert!(matches!(e, StudyError::Record { .. }), "{e}");
+    let text = e.to_string();
+    assert!(text.contains("shake.records[0]") && text.contains("missing.AT2"), "{text}");
+    // A record with a NaN on line 6.
+    std::fs::write(
+        dir.join("nan.AT2"),
+        "PEER NGA\nevent\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT=   .0100 SEC\n0.0 0.1\nNaN 0.0\n",
+    )
+    .unwrap();
+    let text = err("pga_g = [0.2]\nrecords = [\"nan.AT2\"]", "nscd").to_string();
+    assert!(text.contains("nan.AT2") && text.contains("line 6"), "{text}");
+    // The penalty solver.
+    let table = "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]";
+    let text = err(table, "penalty").to_string();
+    assert!(text.contains("solver.kind") && text.contains("nscd"), "{text}");
+    // Levels, motions, generated motions.
+    let text = err("pga_g = [0.3, 0.2]\npulses = [{ kind = \"ricker\", amplitude_g = 1.0, period_s = 0.5 }]", "nscd");
+    assert!(text.to_string().contains("shake.pga_g"), "{text}");
+    let text = err("pga_g = [0.2]", "nscd").to_string();
+    assert!(text.contains("shake") && text.contains("no motions"), "{text}");
+    let text = err("pga_g = [0.2]\nstochastic = { count = 2, ground_frequency_hz = -1.0 }", "nscd").to_string();
+    assert!(text.contains("shake.stochastic.ground_frequency_hz"), "{text}");
+    let text = err("pga_g = [0.2]\nstochastic = { count = 0 }", "nscd").to_string();
+    assert!(text.contains("shake.stochastic.count"), "{text}");
+    let text = err("pga_g = [0.2]\nstochastic = { count = 1, duration = 3.0 }", "nscd").to_string();
+    assert!(text.contains("shake.stochastic") && text.contains("duration"), "{text}");
+    // `motion` and `pga_g` belong to [shake], not to [sweep]; [shake] needs protocol shake.
+    let path = block_study(&dir, table, "nscd");
+    let with_sweep = std::fs::read_to_string(&path).unwrap() + "[sweep]\npga_g = [0.1, 0.2]\n";
+    std::fs::write(&path, with_sweep).unwrap();
+    let text = Study::from_file(&path).unwrap_err().to_string();
+    assert!(text.contains("sweep.pga_g") && text.contains("[shake]"), "{text}");
+    let tilt = std::fs::read_to_string(block_study(&dir, table, "nscd")).unwrap().replace("\"shake\"\n", "\"tilt\"\n");
+    std::fs::write(&path, tilt).unwrap();
+    let text = Study::from_file(&path).unwrap_err().to_string();
+    assert!(text.contains("shake") && text.contains("protocol = \"shake\""), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
