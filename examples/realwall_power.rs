@@ -54,6 +54,10 @@ fn classes() -> Vec<Edit> {
     ]
 }
 
+/// One analysis: the edit, with mechanisms, the answer, (the named cause itself is the
+/// hidden effect or one of its members, named with no tie), the line printed.
+type Row = (Edit, bool, Answer, (bool, bool), String);
+
 fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
     let lo = if k == 0 { 0.0 } else { Beta::new(k as f64, (n - k + 1) as f64).unwrap().inverse_cdf(0.025) };
     let hi = if k == n { 1.0 } else { Beta::new((k + 1) as f64, (n - k) as f64).unwrap().inverse_cdf(0.975) };
@@ -162,7 +166,7 @@ fn main() {
     }
     // (edit, with mechanisms, answer, (the named cause itself is the hidden effect or one
     // of its members, named with no tie), line)
-    let answers: Vec<(Edit, bool, Answer, (bool, bool), String)> = jobs
+    let answers: Vec<Row> = jobs
         .iter()
         .flat_map(|&(e, c, i)| {
             let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
@@ -229,7 +233,7 @@ fn one(
     with: bool,
     i: usize,
     first: u64,
-) -> (Edit, bool, Answer, (bool, bool), String) {
+) -> Row {
     let run = analyze(prep, obs, first).unwrap();
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(|c| c.name.clone());
@@ -293,7 +297,7 @@ fn one(
 }
 
 /// The power table of the analyses `with` (or without) mechanisms.
-fn table(answers: &[(Edit, bool, Answer, (bool, bool), String)], with: bool) {
+fn table(answers: &[Row], with: bool) {
     println!("| data | sets | right (alone or in a tie) | of which the named cause itself | of which with no tie | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for e in std::iter::once(Edit::None).chain(classes()) {

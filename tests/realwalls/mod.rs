@@ -368,6 +368,7 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
 /// held walls, the mean of the three top points for free ones); `sigma` is the σ the
 /// engine is told (not the data's). The same as [`data_set_with_mechanism`]'s
 /// observations, without the mechanisms.
+#[allow(clippy::too_many_arguments)] // the data set's coordinates, each a plain number
 pub fn data_set(
     study: &Study,
     seed: u64,
@@ -394,6 +395,7 @@ pub struct DataSet {
 /// [`data_set`] and the specimens' mechanisms as seen: each specimen's own reading
 /// (`TiltResult::mechanism`) read by an observer with `misreading` ([`MechanismNoise`]),
 /// drawn from a stream of its own: the angles and displacements do not depend on it.
+#[allow(clippy::too_many_arguments)]
 pub fn data_set_with_mechanism(
     study: &Study,
     seed: u64,
