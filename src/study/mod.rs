@@ -81,6 +81,7 @@ pub mod extend;
 pub mod figures;
 pub(crate) mod lock;
 mod measured;
+mod motions;
 pub mod outputs;
 pub mod paper;
 pub mod provenance;

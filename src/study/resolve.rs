@@ -2,6 +2,8 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
+use super::motions::protocol_sweep;
+pub use super::motions::ShakeStudy;
 use super::provenance::{self, InputFile, InputRole};
 use super::size;
 use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
@@ -15,31 +17,9 @@ use crate::generator::Wall;
 use crate::ground::Motion;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
 use crate::loading::lateral::LateralParams;
-use crate::loading::shake::ShakeParams;
 use crate::loading::tilt::TiltParams;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// The shaking-table part of a checked study (protocol `shake`): its parameters, its
-/// motions as read or generated (unscaled) and its PGA levels. The study's points carry
-/// the sweep keys `motion` (a motion's name) and `pga_g` (a level): see
-/// [`Study::loading_at`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ShakeStudy {
-    /// Shaking-table parameters.
-    pub params: ShakeParams,
-    /// The motions, in the order records, stochastic, pulses; names unique.
-    pub motions: Vec<Motion>,
-    /// PGA levels, g, increasing.
-    pub levels: Vec<f64>,
-}
-
-impl ShakeStudy {
-    /// The motion named `name` scaled to `pga_g`; `None` for an unknown name.
-    pub fn motion(&self, name: &str, pga_g: f64) -> Option<Motion> {
-        self.motions.iter().find(|m| m.name == name).map(|m| m.scaled_to_pga(pga_g))
-    }
-}
 
 /// A checked group.
 #[derive(Debug, Clone)]
@@ -117,10 +97,10 @@ pub struct Study {
 }
 
 /// Builds [`StudyError::Invalid`] for one file.
-struct Invalid<'a>(&'a Path);
+pub(super) struct Invalid<'a>(pub(super) &'a Path);
 
 impl Invalid<'_> {
-    fn at(&self, key: &str, reason: String) -> StudyError {
+    pub(super) fn at(&self, key: &str, reason: String) -> StudyError {
         StudyError::Invalid { path: self.0.to_owned(), key: key.into(), reason }
     }
 
@@ -285,146 +265,6 @@ impl StudySpec {
             invalid.at(&key, reason)
         })
     }
-}
-
-impl StudySpec {
-    /// The `[shake]` table of a shaking study checked, its records read (each one an
-    /// input file of the study), its stochastic motions generated from the study's seed and
-    /// its pulses sampled at the solver's step; `None` for another protocol, which must not
-    /// have the table.
-    fn resolve_shake(
-        &self,
-        dir: &Path,
-        invalid: &Invalid,
-        files: &mut Vec<(InputRole, PathBuf)>,
-    ) -> Result<Option<ShakeStudy>, StudyError> {
-        let spec = match (&self.shake, self.protocol) {
-            (None, ProtocolKind::Shake) => {
-                return Err(invalid.at(
-                    "shake",
-                    "protocol = \"shake\" needs a [shake] table with pga_g levels and motions (records, stochastic or pulses)"
-                        .into(),
-                ))
-            }
-            (Some(_), p) if p != ProtocolKind::Shake => {
-                return Err(invalid.at("shake", "the [shake] table is read only with protocol = \"shake\"".into()))
-            }
-            (None, _) => return Ok(None),
-            (Some(s), _) => s,
-        };
-        let params = spec.params();
-        params.validate().map_err(|e| invalid.at(&format!("shake.{}", e.key), e.reason()))?;
-        check_levels(&spec.pga_g).map_err(|r| invalid.at("shake.pga_g", r))?;
-        let mut motions = Vec::new();
-        for (i, r) in spec.records.iter().enumerate() {
-            let p = dir.join(r);
-            let m = crate::ground::read_record(&p).map_err(|source| StudyError::Record {
-                path: invalid.0.to_owned(),
-                key: format!("shake.records[{i}]"),
-                source,
-            })?;
-            files.push((InputRole::Record, p));
-            motions.push((
-                format!("shake.records[{i}]"),
-                if spec.baseline_correction { m.baseline_corrected() } else { m },
-            ));
-        }
-        if let Some(table) = &spec.stochastic {
-            motions.extend(stochastic_motions(table, self.seed, invalid)?);
-        }
-        for (i, p) in spec.pulses.iter().enumerate() {
-            let key = format!("shake.pulses[{i}]");
-            if !(p.amplitude_g().is_finite() && p.amplitude_g() != 0.0) {
-                return Err(invalid.at(&key, format!("amplitude_g must be finite and not 0, got {}", p.amplitude_g())));
-            }
-            if !(p.period_s().is_finite() && p.period_s() > 0.0) {
-                return Err(invalid.at(&key, format!("period_s must be > 0, got {}", p.period_s())));
-            }
-            motions.push((key, p.sampled(self.solver.nscd.dt_s, 0.0)));
-        }
-        if motions.is_empty() {
-            return Err(invalid.at("shake", "no motions: give records, stochastic = { count = N } or pulses".into()));
-        }
-        for (i, (key, m)) in motions.iter().enumerate() {
-            if let Some(c) = m.name.chars().find(|c| matches!(c, ';' | '=') || c.is_control()) {
-                return Err(invalid.at(
-                    key,
-                    format!(
-                        "the motion's name {:?} contains {c:?}, which a sweep label cannot hold; rename the file",
-                        m.name
-                    ),
-                ));
-            }
-            if let Some((other, _)) = motions[..i].iter().find(|(_, n)| n.name == m.name) {
-                return Err(invalid.at(
-                    key,
-                    format!("two motions are named {:?} (also {other}); motions are told apart by name", m.name),
-                ));
-            }
-            if m.pga_g() == 0.0 {
-                return Err(invalid.at(
-                    key,
-                    format!("motion {:?} has no acceleration (PGA 0): it cannot be scaled to a level", m.name),
-                ));
-            }
-        }
-        Ok(Some(ShakeStudy {
-            params,
-            motions: motions.into_iter().map(|(_, m)| m).collect(),
-            levels: spec.pga_g.clone(),
-        }))
-    }
-}
-
-/// PGA levels: at least one, each finite and > 0, strictly increasing.
-fn check_levels(levels: &[f64]) -> Result<(), String> {
-    if levels.is_empty() {
-        return Err("needs at least one PGA level, g".into());
-    }
-    if let Some(v) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-        return Err(format!("levels must be finite and > 0 g, got {v}"));
-    }
-    if let Some(w) = levels.windows(2).find(|w| w[1] <= w[0]) {
-        return Err(format!("levels must increase, got {} then {}", w[0], w[1]));
-    }
-    Ok(())
-}
-
-/// The generated motions of `[shake] stochastic = { count = N, ... }`: motion `i` is
-/// [`crate::ground::StochasticMotion::generate`]`(seed, i)` with the table's parameters.
-fn stochastic_motions(table: &toml::Table, seed: u64, invalid: &Invalid) -> Result<Vec<(String, Motion)>, StudyError> {
-    let mut rest = table.clone();
-    let count = match rest.remove("count") {
-        Some(toml::Value::Integer(n)) if n >= 1 => n as u64,
-        Some(v) => return Err(invalid.at("shake.stochastic.count", format!("must be an integer >= 1, got {v}"))),
-        None => return Err(invalid.at("shake.stochastic.count", "missing: how many motions to generate".into())),
-    };
-    if count > size::MAX_SWEEP_POINTS {
-        return Err(
-            invalid.at("shake.stochastic.count", format!("{count} motions; the limit is {}", size::MAX_SWEEP_POINTS))
-        );
-    }
-    let model: crate::ground::StochasticMotion = toml::Value::Table(rest)
-        .try_into()
-        .map_err(|e: toml::de::Error| invalid.at("shake.stochastic", e.message().to_string()))?;
-    model.validate().map_err(|e| invalid.at(&format!("shake.stochastic.{}", e.key), e.reason()))?;
-    Ok((0..count).map(|i| (format!("shake.stochastic (motion {i})"), model.generate(seed, i))).collect())
-}
-
-/// The sweep of the study's points: the file's `[sweep]`, and for a shaking study the
-/// protocol's keys `motion` (every motion's name) and `pga_g` (every level), which sort
-/// after the wall's keys: the motion varies after the wall, the level fastest.
-fn protocol_sweep(
-    sweep: &BTreeMap<String, Vec<toml::Value>>,
-    shake: Option<&ShakeStudy>,
-) -> BTreeMap<String, Vec<toml::Value>> {
-    let mut out = sweep.clone();
-    if let Some(s) = shake {
-        let names = s.motions.iter().map(|m| toml::Value::String(m.name.clone())).collect();
-        out.insert(SweepKey::Motion.as_str().to_string(), names);
-        out.insert(SweepKey::PgaG.as_str().to_string(), s.levels.iter().map(|&l| toml::Value::Float(l)).collect());
-    }
-    out
 }
 
 /// A study (or suite) name is used as a directory name (the default output `out/<name>`,
