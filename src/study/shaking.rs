@@ -163,6 +163,10 @@ pub fn shake_sections(
     let table = fragility_text(&frag, md);
     write_tables(&frag, dir)?;
     let ida = ida_curves(study, rows);
+    // The rotation axis ends a quarter above the largest rotation of a run that stood
+    // (collapsed runs are drawn at its top), at most the fall rotation.
+    let standing = ida.iter().flat_map(|c| c.points.iter().filter(|p| !p.2).map(|p| p.1)).fold(0.0, f64::max);
+    let cap = if standing > 0.0 { (1.25 * standing).min(p.fall_rotation_deg) } else { p.fall_rotation_deg };
     let panels: Vec<IntensityFragilityPanel> = frag.iter().enumerate().map(|(g, f)| panel(g, f)).collect();
     replace_file_with(&dir.join("shaking.svg"), |path| -> Result<(), ReportError> {
         let title = format!("{}: incremental dynamic analysis and fragility against PGA", study.name);
@@ -170,8 +174,8 @@ pub fn shake_sections(
             path,
             &title,
             "PGA [g]",
-            "max rocking rotation [deg]",
-            p.fall_rotation_deg,
+            "max rocking rotation [deg] (x: collapsed)",
+            cap,
             &ida,
             &panels,
         )?)
