@@ -1,5 +1,5 @@
 //! Limit analysis (`drystone::limit`) against closed forms of rigid blocks on the tilting
-//! table (SPEC §6 and §8: tan α = b/h, the offset stack's two joints, α = φ for sliding,
+//! table (tan α = b/h, the offset stack's two joints, α = φ for sliding,
 //! the trapezoid 3B(B+T)/(2H(B+2T)), the 13-box wall's t/H), each within 0.01°, and against
 //! LMGC90's rigid-limit brackets (`data/lmgc90_rigid_limits.csv`, within ± 0.05°). Every
 //! expected value is computed here from the geometry, never by the code under test.

@@ -34,7 +34,7 @@ fn nscd_at(dt_s: f64) -> SolverParams {
 /// are in the standard g of `drystone::ground::G`.
 const G_LAYOUT: f64 = drystone::units::STANDARD_GRAVITY;
 
-/// Housner's rocking equation (SPEC §8) by RK4 at 1e-4 s with the impact rule
+/// Housner's rocking equation (Housner 1963) by RK4 at 1e-4 s with the impact rule
 /// `θ̇ ← r θ̇`, `r = 1 − 1.5 sin²α`, when θ crosses 0: whether |θ| exceeds 1.5 α (the
 /// block has passed its overturning angle and falls) within `t_end`.
 fn overturns(b: f64, h: f64, pulse: &Pulse, t_end: f64) -> bool {

@@ -87,7 +87,7 @@ fn pulses_table() -> String {
     format!("pga_g = [{}]\npulses = [{}]\ntail_s = {TAIL_S}", levels.join(", "), pulses.join(", "))
 }
 
-/// Housner's rocking equation (SPEC §8), integrated here by RK4 at 1e-4 s, with the
+/// Housner's rocking equation (Housner 1963), integrated here by RK4 at 1e-4 s, with the
 /// impact rule θ̇ ← r θ̇, r = 1 − 1.5 sin²α, at θ = 0 and uplift only when |a_g| > g tan α:
 /// whether the block turns past 45° (the protocol's fall rotation) within `t_end`.
 fn housner_falls(pulse: &Pulse, t_end: f64) -> bool {
