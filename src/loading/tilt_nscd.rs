@@ -238,33 +238,20 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
             Some(r) => unstable = Some((top, r, t.sim)),
         }
     }
-    let Some((up, reason, failed)) = unstable else {
-        let none = Mechanism::none();
-        return Ok(TiltResult {
-            last_stable_deg: last_stable,
-            first_unstable_deg: None,
-            collapse_reason: None,
-            mechanism: none,
-            monitors: monitors.iter().map(|m| m.name.clone()).collect(),
-            increments,
-            steps: total_steps,
-            iterations: total_iterations,
-            dt_s: params.dt_s,
-            wall_time_s: t0.elapsed().as_secs_f64(),
-            wall_width_m: width,
-            elastic_scale_m: 0.0,
-            detections,
-            max_density_scale: 1.0,
-            scalar_fallbacks_deg: Vec::new(),
-        });
-    };
     increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
-    let mech = read_mechanism(&reader, &base, &stable, &failed, inc_limit);
+    // The bracket's upper end, why it failed and the mechanism read from it (none if the
+    // wall stood to the largest tilt).
+    let (first_unstable_deg, collapse_reason, mechanism) = match unstable {
+        Some((up, reason, failed)) => {
+            (Some(up), Some(reason), read_mechanism(&reader, &base, &stable, &failed, inc_limit))
+        }
+        None => (None, None, Mechanism::none()),
+    };
     Ok(TiltResult {
         last_stable_deg: last_stable,
-        first_unstable_deg: Some(up),
-        collapse_reason: Some(reason),
-        mechanism: mech,
+        first_unstable_deg,
+        collapse_reason,
+        mechanism,
         monitors: monitors.iter().map(|m| m.name.clone()).collect(),
         increments,
         steps: total_steps,
