@@ -39,11 +39,7 @@ impl WallState {
     /// The state of a checked layout at rest, gravity straight down (table level), no
     /// contacts yet (the engine detects them).
     pub fn new(layout: &Layout) -> WallState {
-        let bodies: Vec<Body> = layout
-            .blocks
-            .iter()
-            .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
-            .collect();
+        let bodies = crate::dem::state::bodies_of(layout);
         let n = bodies.len();
         let mut restraint = vec![None; n];
         for &(i, r) in &layout.end_restraints {

@@ -59,6 +59,16 @@ pub struct Body {
     pub pos0: Vec3,
 }
 
+/// The bodies of every block of a checked layout, in layout order, at rest in their
+/// reference configuration (the model state's and the non-smooth solver's bodies).
+pub fn bodies_of(layout: &crate::layout::Layout) -> Vec<Body> {
+    layout
+        .blocks
+        .iter()
+        .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
+        .collect()
+}
+
 impl Body {
     /// A body at rest in its reference configuration from a block given in the table frame.
     pub fn new(id: String, shape_world: &ConvexBlock, density: f64, material: usize, fixed: bool) -> Body {

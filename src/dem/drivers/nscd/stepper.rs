@@ -97,11 +97,7 @@ impl NscdSimulation {
     /// joint in contact with cohesion or tensile strength.
     pub fn new(layout: &Layout, params: &NscdParams) -> Result<NscdSimulation, NscdError> {
         params.validate().map_err(NscdError::Parameter)?;
-        let bodies: Vec<Body> = layout
-            .blocks
-            .iter()
-            .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
-            .collect();
+        let bodies = crate::dem::state::bodies_of(layout);
         let n = bodies.len();
         let mut spring = vec![None; n];
         let mut inv_m: Vec<Vec3> =
