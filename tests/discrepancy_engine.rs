@@ -25,8 +25,8 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
         let mid: Vec<f64> = mine
             .iter()
             .map(|r| {
-                let a = r.collapse_angle_deg.unwrap();
-                r.first_unstable_deg.map_or(a, |b| 0.5 * (a + b))
+                let a = r.collapse.collapse_angle_deg.unwrap();
+                r.collapse.first_unstable_deg.map_or(a, |b| 0.5 * (a + b))
             })
             .collect();
         let sim = Simulated::of(&outs[g], &Observable::CollapseAngle);
@@ -39,8 +39,8 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
         let run: Vec<f64> = mine
             .iter()
             .map(|r| {
-                let i = r.tilt_deg.iter().position(|&x| (x - t).abs() < 1e-9).unwrap();
-                (r.disp_top_left_cm[i] + r.disp_top_centre_cm[i] + r.disp_top_right_cm[i]) / 3.0
+                let i = r.tilt.tilt_deg.iter().position(|&x| (x - t).abs() < 1e-9).unwrap();
+                (r.tilt.disp_top_left_cm[i] + r.tilt.disp_top_centre_cm[i] + r.tilt.disp_top_right_cm[i]) / 3.0
             })
             .collect();
         assert!((sim.mean - drystone::stats::mean(&run)).abs() < 1e-12, "{}: {} vs {:?}", group.name, sim.mean, run);

@@ -8,7 +8,7 @@
 //! exactly the rows written (a cut-off last line dropped) or is refused.
 
 use drystone::ensemble::journal::Journal;
-use drystone::ensemble::row::{RealizationRow, Status};
+use drystone::ensemble::row::{CollapseColumns, LateralColumns, RealizationRow, Status, TiltColumns};
 use drystone::generator::{generate, DistributionSource, DistributionSpec, WallSpec};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::layout::LayoutSpec;
@@ -215,25 +215,31 @@ fn row(index: u64) -> RealizationRow {
         status: Status::Collapsed,
         error: String::new(),
         blocks: 12,
-        collapse_angle_deg: Some(17.25),
-        first_unstable_deg: Some(17.5),
-        collapse_reason: "negative_stiffness".into(),
-        mechanism: "toppling".into(),
-        joint: "table/b0".into(),
-        moving_blocks: 3,
-        failure_height_fraction: None,
-        mechanism_kind: String::new(),
-        mechanism_start: String::new(),
-        mechanism_extent: None,
-        tilt_deg: vec![0.5, 1.0],
-        disp_top_left_cm: vec![0.01, 0.02],
-        disp_top_centre_cm: vec![0.011, 0.021],
-        disp_top_right_cm: vec![0.012, 0.022],
-        lateral_disp_left_cm: None,
-        lateral_disp_centre_cm: None,
-        lateral_disp_right_cm: None,
-        lateral_disp_max_cm: None,
-        lateral_drift: None,
+        collapse: CollapseColumns {
+            collapse_angle_deg: Some(17.25),
+            first_unstable_deg: Some(17.5),
+            collapse_reason: "negative_stiffness".into(),
+            mechanism: "toppling".into(),
+            joint: "table/b0".into(),
+            moving_blocks: 3,
+            failure_height_fraction: None,
+            mechanism_kind: String::new(),
+            mechanism_start: String::new(),
+            mechanism_extent: None,
+        },
+        tilt: TiltColumns {
+            tilt_deg: vec![0.5, 1.0],
+            disp_top_left_cm: vec![0.01, 0.02],
+            disp_top_centre_cm: vec![0.011, 0.021],
+            disp_top_right_cm: vec![0.012, 0.022],
+        },
+        lateral: LateralColumns {
+            lateral_disp_left_cm: None,
+            lateral_disp_centre_cm: None,
+            lateral_disp_right_cm: None,
+            lateral_disp_max_cm: None,
+            lateral_drift: None,
+        },
         shake: Default::default(),
         steps: 140,
         iterations: 30,

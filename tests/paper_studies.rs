@@ -81,7 +81,7 @@ length_m = [1.0, 2.0, 4.0, 6.0]
     let st = Study::from_file(&p).unwrap();
     let rows = run_study(&st, Shard::ALL);
     let drift = |g: &str| -> Vec<f64> {
-        rows.iter().filter(|r| r.group == g).map(|r| r.lateral_drift.expect("equilibrium")).collect()
+        rows.iter().filter(|r| r.group == g).map(|r| r.lateral.lateral_drift.expect("equilibrium")).collect()
     };
     let (r, f) = (drift("restrained"), drift("free"));
     assert!(r.windows(2).all(|w| w[1] > w[0]), "restrained drift grows with L/H: {r:?}");
@@ -147,7 +147,7 @@ upper = 60.0
     let m0 = write(&dir, "m0.csv", "specimen,group,collapse_angle_deg\nW1,W,20\n");
     let st = Study::from_file(&write(&dir, "s0.toml", &study_text(&m0.display().to_string()))).unwrap();
     let rows = run_study(&st, Shard::ALL);
-    let truth = rows[0].collapse_angle_deg.expect("collapses");
+    let truth = rows[0].collapse.collapse_angle_deg.expect("collapses");
     let m = write(
         &dir,
         "m.csv",
@@ -212,5 +212,5 @@ fn lateral_study_is_bit_identical_on_1_and_2_threads() {
     };
     let (a, b) = (run(1), run(2));
     assert_eq!(a, b);
-    assert!(a.iter().all(|r| r.lateral_drift.is_some_and(|d| d > 0.0 && d.is_finite())));
+    assert!(a.iter().all(|r| r.lateral.lateral_drift.is_some_and(|d| d > 0.0 && d.is_finite())));
 }

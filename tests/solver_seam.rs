@@ -32,11 +32,11 @@ fn a_study_by_limit_analysis_gives_the_monolith_angle() {
     let rows = run_study(&s, Shard::ALL);
     let exact = (0.075_f64 / 0.1674).atan().to_degrees();
     for r in &rows {
-        let a = r.collapse_angle_deg.expect("collapsed");
+        let a = r.collapse.collapse_angle_deg.expect("collapsed");
         assert!((a - exact).abs() < 0.05, "{a} vs {exact}: {}", r.error);
-        assert_eq!(r.first_unstable_deg, Some(a));
-        assert_eq!(r.collapse_reason, "no_equilibrium");
-        assert_eq!(r.mechanism, "toppling");
+        assert_eq!(r.collapse.first_unstable_deg, Some(a));
+        assert_eq!(r.collapse.collapse_reason, "no_equilibrium");
+        assert_eq!(r.collapse.mechanism, "toppling");
     }
 }
 

@@ -93,7 +93,7 @@ fn ensemble_is_bit_identical_on_1_and_2_threads_and_alone() {
     alone.wall_time_s = 0.0;
     assert_eq!(alone, one[it.index]);
     // Different realizations are different walls.
-    assert_ne!(one[0].collapse_angle_deg, None);
+    assert_ne!(one[0].collapse.collapse_angle_deg, None);
 }
 
 fn tmp(name: &str) -> common::Scratch {
@@ -146,7 +146,7 @@ fn a_failed_realization_becomes_a_row_and_the_ensemble_goes_on() {
     for r in &rows {
         assert_eq!(r.status, Status::NoInitialEquilibrium);
         assert!(r.error.contains("no equilibrium"), "{}", r.error);
-        assert_eq!(r.collapse_angle_deg, None);
+        assert_eq!(r.collapse.collapse_angle_deg, None);
     }
     let dir = tmp("failed");
     let arg = root().join("tests/studies/good/mini_sweep.toml");

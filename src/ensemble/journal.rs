@@ -279,7 +279,7 @@ impl Journal {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ensemble::row::Status;
+    use crate::ensemble::row::{CollapseColumns, LateralColumns, Status, TiltColumns};
 
     fn row(index: u64) -> RealizationRow {
         RealizationRow {
@@ -293,25 +293,31 @@ mod tests {
             status: Status::Stood,
             error: String::new(),
             blocks: 2,
-            collapse_angle_deg: None,
-            first_unstable_deg: None,
-            collapse_reason: String::new(),
-            mechanism: "none".into(),
-            joint: String::new(),
-            moving_blocks: 0,
-            failure_height_fraction: None,
-            mechanism_kind: String::new(),
-            mechanism_start: String::new(),
-            mechanism_extent: None,
-            tilt_deg: vec![0.5, 1.0 / 3.0],
-            disp_top_left_cm: vec![f64::NAN, -0.0],
-            disp_top_centre_cm: vec![],
-            disp_top_right_cm: vec![],
-            lateral_disp_left_cm: None,
-            lateral_disp_centre_cm: None,
-            lateral_disp_right_cm: None,
-            lateral_disp_max_cm: None,
-            lateral_drift: None,
+            collapse: CollapseColumns {
+                collapse_angle_deg: None,
+                first_unstable_deg: None,
+                collapse_reason: String::new(),
+                mechanism: "none".into(),
+                joint: String::new(),
+                moving_blocks: 0,
+                failure_height_fraction: None,
+                mechanism_kind: String::new(),
+                mechanism_start: String::new(),
+                mechanism_extent: None,
+            },
+            tilt: TiltColumns {
+                tilt_deg: vec![0.5, 1.0 / 3.0],
+                disp_top_left_cm: vec![f64::NAN, -0.0],
+                disp_top_centre_cm: vec![],
+                disp_top_right_cm: vec![],
+            },
+            lateral: LateralColumns {
+                lateral_disp_left_cm: None,
+                lateral_disp_centre_cm: None,
+                lateral_disp_right_cm: None,
+                lateral_disp_max_cm: None,
+                lateral_drift: None,
+            },
             shake: Default::default(),
             steps: 10,
             iterations: 3,

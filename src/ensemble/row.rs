@@ -48,8 +48,15 @@ impl Status {
     }
 }
 
-/// One realization's results. Angles in degrees, displacements in cm (report units), times
-/// in s.
+/// One realization's results: the columns every protocol has (identification, status,
+/// solver effort), then each protocol's own ([`CollapseColumns`], [`TiltColumns`],
+/// [`LateralColumns`], [`ShakeColumns`]), empty where the protocol does not fill them.
+/// Angles in degrees, displacements in cm (report units), times in s.
+///
+/// The protocol groups serialize flat (their fields are columns of the row, as in the
+/// tables), except the shaking table's, which nest under `shake`.
+/// [`RealizationRow::default`] is a row with no result yet: status `layout_failed`,
+/// every number zero or empty.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RealizationRow {
     /// Global item index in the study.
@@ -72,6 +79,63 @@ pub struct RealizationRow {
     pub error: String,
     /// Number of blocks of the layout.
     pub blocks: u64,
+    /// The collapse and its mechanism (tilting table, limit analysis; the collapse reason
+    /// of a lateral load).
+    #[serde(flatten)]
+    pub collapse: CollapseColumns,
+    /// The tilting table's displacement curves.
+    #[serde(flatten)]
+    pub tilt: TiltColumns,
+    /// The static lateral load's displacements.
+    #[serde(flatten)]
+    pub lateral: LateralColumns,
+    /// Shaking table: the motion, its level and what the wall did (empty for the other
+    /// protocols).
+    #[serde(default)]
+    pub shake: ShakeColumns,
+    /// Dynamic-relaxation steps (engine steps).
+    pub steps: u64,
+    /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
+    #[serde(default)]
+    pub iterations: u64,
+    /// Time step, s.
+    #[serde(with = "exact::one")]
+    pub dt_s: f64,
+    /// Wall-clock time, s (the only non-deterministic column).
+    #[serde(with = "exact::one")]
+    pub wall_time_s: f64,
+}
+
+impl Default for RealizationRow {
+    fn default() -> RealizationRow {
+        RealizationRow {
+            index: 0,
+            study: String::new(),
+            group: String::new(),
+            point: 0,
+            sweep: String::new(),
+            seed: 0,
+            realization: 0,
+            status: Status::LayoutFailed,
+            error: String::new(),
+            blocks: 0,
+            collapse: CollapseColumns::default(),
+            tilt: TiltColumns::default(),
+            lateral: LateralColumns::default(),
+            shake: ShakeColumns::default(),
+            steps: 0,
+            iterations: 0,
+            dt_s: 0.0,
+            wall_time_s: 0.0,
+        }
+    }
+}
+
+/// The collapse columns of a row: the tilting table's collapse angle and mechanism
+/// ([`crate::loading::tilt::TiltResult`]), the limit analysis's collapse angle, the
+/// reason a lateral load collapsed. Empty (`None`, `""`, 0) where the protocol has none.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct CollapseColumns {
     /// Collapse angle α_max (last stable tilt), degrees.
     #[serde(with = "exact::opt")]
     pub collapse_angle_deg: Option<f64>,
@@ -103,6 +167,12 @@ pub struct RealizationRow {
     /// mechanism.
     #[serde(default, with = "exact::opt")]
     pub mechanism_extent: Option<f64>,
+}
+
+/// The tilting table's curves: the top displacements at each stable increment (empty for
+/// the other protocols). The three points are the default [`crate::loading::Monitor`]s.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TiltColumns {
     /// Tilt of each stable increment, degrees.
     #[serde(with = "exact::vec")]
     pub tilt_deg: Vec<f64>,
@@ -115,8 +185,14 @@ pub struct RealizationRow {
     /// Same, top-right point.
     #[serde(with = "exact::vec")]
     pub disp_top_right_cm: Vec<f64>,
-    /// Static lateral load: out-of-plane (y) displacement of the top-left point at
-    /// equilibrium, cm (positive in the direction of the load).
+}
+
+/// The static lateral load's columns ([`crate::loading::lateral::LateralResult`]); `None`
+/// for the other protocols and for a wall that collapsed under the load.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct LateralColumns {
+    /// Out-of-plane (y) displacement of the top-left point at equilibrium, cm (positive in
+    /// the direction of the load).
     #[serde(with = "exact::opt")]
     pub lateral_disp_left_cm: Option<f64>,
     /// Same, top-centre point.
@@ -125,28 +201,12 @@ pub struct RealizationRow {
     /// Same, top-right point.
     #[serde(with = "exact::opt")]
     pub lateral_disp_right_cm: Option<f64>,
-    /// Static lateral load: top displacement (largest |displacement| of left, centre,
-    /// right), cm.
+    /// Top displacement (largest |displacement| of left, centre, right), cm.
     #[serde(with = "exact::opt")]
     pub lateral_disp_max_cm: Option<f64>,
-    /// Static lateral load: drift, top displacement / H (dimensionless).
+    /// Drift, top displacement / H (dimensionless).
     #[serde(with = "exact::opt")]
     pub lateral_drift: Option<f64>,
-    /// Shaking table: the motion, its level and what the wall did (empty for the other
-    /// protocols).
-    #[serde(default)]
-    pub shake: ShakeColumns,
-    /// Dynamic-relaxation steps (engine steps).
-    pub steps: u64,
-    /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
-    #[serde(default)]
-    pub iterations: u64,
-    /// Time step, s.
-    #[serde(with = "exact::one")]
-    pub dt_s: f64,
-    /// Wall-clock time, s (the only non-deterministic column).
-    #[serde(with = "exact::one")]
-    pub wall_time_s: f64,
 }
 
 /// The shaking-table columns of a row ([`crate::loading::shake::ShakeResult`]); empty
@@ -227,23 +287,23 @@ impl RealizationRow {
     }
 
     fn at_tilt(&self, v: &[f64], tilt: f64) -> Option<f64> {
-        self.tilt_deg.iter().position(|t| (t - tilt).abs() < 1e-9).map(|i| v[i])
+        self.tilt.tilt_deg.iter().position(|t| (t - tilt).abs() < 1e-9).map(|i| v[i])
     }
 
     /// Mean of the left, centre and right top displacements at a tilt, cm (the paper's SBL
     /// measure, Table 3); `None` if that tilt was not a stable increment.
     pub fn disp_mean_at(&self, tilt: f64) -> Option<f64> {
-        let l = self.at_tilt(&self.disp_top_left_cm, tilt)?;
-        let c = self.at_tilt(&self.disp_top_centre_cm, tilt)?;
-        let r = self.at_tilt(&self.disp_top_right_cm, tilt)?;
+        let l = self.at_tilt(&self.tilt.disp_top_left_cm, tilt)?;
+        let c = self.at_tilt(&self.tilt.disp_top_centre_cm, tilt)?;
+        let r = self.at_tilt(&self.tilt.disp_top_right_cm, tilt)?;
         Some((l + c + r) / 3.0)
     }
 
     /// Centre minus the mean of the two ends at a tilt, cm (the paper's SBR measure).
     pub fn disp_centre_rel_at(&self, tilt: f64) -> Option<f64> {
-        let l = self.at_tilt(&self.disp_top_left_cm, tilt)?;
-        let c = self.at_tilt(&self.disp_top_centre_cm, tilt)?;
-        let r = self.at_tilt(&self.disp_top_right_cm, tilt)?;
+        let l = self.at_tilt(&self.tilt.disp_top_left_cm, tilt)?;
+        let c = self.at_tilt(&self.tilt.disp_top_centre_cm, tilt)?;
+        let r = self.at_tilt(&self.tilt.disp_top_right_cm, tilt)?;
         Some(c - 0.5 * (l + r))
     }
 
@@ -356,25 +416,31 @@ mod tests {
             status: Status::Collapsed,
             error: String::new(),
             blocks: 9,
-            collapse_angle_deg: Some(values[0]),
-            first_unstable_deg: None,
-            collapse_reason: "total_displacement".into(),
-            mechanism: "mixed".into(),
-            joint: "b1-b2".into(),
-            moving_blocks: 4,
-            failure_height_fraction: Some(values[2]),
-            mechanism_kind: "bending".into(),
-            mechanism_start: "centre".into(),
-            mechanism_extent: None,
-            tilt_deg: values.to_vec(),
-            disp_top_left_cm: values.iter().rev().copied().collect(),
-            disp_top_centre_cm: vec![],
-            disp_top_right_cm: vec![f64::NAN],
-            lateral_disp_left_cm: Some(values[values.len() - 1]),
-            lateral_disp_centre_cm: None,
-            lateral_disp_right_cm: Some(f64::NEG_INFINITY),
-            lateral_disp_max_cm: Some(-0.0),
-            lateral_drift: None,
+            collapse: CollapseColumns {
+                collapse_angle_deg: Some(values[0]),
+                first_unstable_deg: None,
+                collapse_reason: "total_displacement".into(),
+                mechanism: "mixed".into(),
+                joint: "b1-b2".into(),
+                moving_blocks: 4,
+                failure_height_fraction: Some(values[2]),
+                mechanism_kind: "bending".into(),
+                mechanism_start: "centre".into(),
+                mechanism_extent: None,
+            },
+            tilt: TiltColumns {
+                tilt_deg: values.to_vec(),
+                disp_top_left_cm: values.iter().rev().copied().collect(),
+                disp_top_centre_cm: vec![],
+                disp_top_right_cm: vec![f64::NAN],
+            },
+            lateral: LateralColumns {
+                lateral_disp_left_cm: Some(values[values.len() - 1]),
+                lateral_disp_centre_cm: None,
+                lateral_disp_right_cm: Some(f64::NEG_INFINITY),
+                lateral_disp_max_cm: Some(-0.0),
+                lateral_drift: None,
+            },
             shake: ShakeColumns {
                 motion: "kt_1_0".into(),
                 pga_g: Some(values[3]),
@@ -392,12 +458,19 @@ mod tests {
     }
 
     fn bits(r: &RealizationRow) -> Vec<u64> {
-        let mut v: Vec<f64> =
-            vec![r.collapse_angle_deg.unwrap(), r.dt_s, r.wall_time_s, r.failure_height_fraction.unwrap()];
-        v.extend(&r.tilt_deg);
-        v.extend(&r.disp_top_left_cm);
-        v.extend(&r.disp_top_right_cm);
-        v.extend([r.lateral_disp_left_cm, r.lateral_disp_right_cm, r.lateral_disp_max_cm].map(Option::unwrap));
+        let mut v: Vec<f64> = vec![
+            r.collapse.collapse_angle_deg.unwrap(),
+            r.dt_s,
+            r.wall_time_s,
+            r.collapse.failure_height_fraction.unwrap(),
+        ];
+        v.extend(&r.tilt.tilt_deg);
+        v.extend(&r.tilt.disp_top_left_cm);
+        v.extend(&r.tilt.disp_top_right_cm);
+        v.extend(
+            [r.lateral.lateral_disp_left_cm, r.lateral.lateral_disp_right_cm, r.lateral.lateral_disp_max_cm]
+                .map(Option::unwrap),
+        );
         let s = &r.shake;
         v.extend([s.pga_g, s.max_rotation_deg, s.max_drift, s.residual_drift].map(Option::unwrap));
         v.iter().map(|x| x.to_bits()).collect()

@@ -14,3 +14,5 @@ pub mod settle;
 pub mod shake;
 pub mod tilt;
 pub mod tilt_nscd;
+
+pub use monitors::Monitor;

@@ -7,6 +7,52 @@ use crate::math::Vec3;
 
 pub use crate::dem::motion::{body_motion, largest_motion, BodyPose};
 
+/// The default monitor points of a wall without monitors of its own: points on the top
+/// face of the highest movable block at 5 %, 50 % and 95 % of the layout's length (x),
+/// where the paper's tilting-table walls carried their displacement transducers (§2.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Monitor {
+    /// At 5 % of the length from the left end (x min).
+    TopLeft,
+    /// At mid-length.
+    TopCentre,
+    /// At 5 % of the length from the right end (x max).
+    TopRight,
+}
+
+impl Monitor {
+    /// The three default monitors, left to right.
+    pub const ALL: [Monitor; 3] = [Monitor::TopLeft, Monitor::TopCentre, Monitor::TopRight];
+
+    /// The name in results, tables and layout files (`top_left`, `top_centre`, `top_right`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Monitor::TopLeft => "top_left",
+            Monitor::TopCentre => "top_centre",
+            Monitor::TopRight => "top_right",
+        }
+    }
+
+    /// The monitor of a name, if it is one of the defaults.
+    pub fn from_name(name: &str) -> Option<Monitor> {
+        Monitor::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Where along the length it sits, as a fraction of the length from the left end.
+    pub fn length_fraction(self) -> f64 {
+        match self {
+            Monitor::TopLeft => 0.05,
+            Monitor::TopCentre => 0.5,
+            Monitor::TopRight => 0.95,
+        }
+    }
+
+    /// The position of this monitor in a result's list of monitor names, if present.
+    pub fn index_in<S: AsRef<str>>(self, names: &[S]) -> Option<usize> {
+        names.iter().position(|n| n.as_ref() == self.name())
+    }
+}
+
 /// Monitor points of a simulation: name, body index, point in the body frame, reference
 /// position in the table frame.
 #[derive(Debug, Clone)]
@@ -16,9 +62,8 @@ pub(crate) struct MonitorPoint {
     pub(crate) local: Vec3,
 }
 
-/// The monitor points of `layout` in `sim`: the layout's own, or else `top_left`, `top_centre`
-/// and `top_right`, on the top face of the highest movable block at 5 %, 50 % and 95 % of the
-/// layout's length.
+/// The monitor points of `layout` in `sim`: the layout's own, or else the default
+/// [`Monitor`]s.
 pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
     monitor_points_of(layout, &sim.state.bodies)
 }
@@ -35,10 +80,17 @@ pub(crate) fn monitor_points_of(layout: &Layout, bodies: &[crate::dem::state::Bo
     let all = layout.bounds();
     let (x0, x1) = (all.min.x, all.max.x);
     let len = x1 - x0;
-    let targets = [("top_left", x0 + 0.05 * len), ("top_centre", 0.5 * (x0 + x1)), ("top_right", x1 - 0.05 * len)];
-    targets
+    // Written out per monitor (not x0 + f·len for all three) so the points are the same
+    // bits as they have always been.
+    let at = |m: Monitor| match m {
+        Monitor::TopLeft => x0 + 0.05 * len,
+        Monitor::TopCentre => 0.5 * (x0 + x1),
+        Monitor::TopRight => x1 - 0.05 * len,
+    };
+    Monitor::ALL
         .iter()
-        .filter_map(|&(name, x)| {
+        .map(|&m| (m.name(), at(m)))
+        .filter_map(|(name, x)| {
             let (bi, b) = layout
                 .blocks
                 .iter()

@@ -44,16 +44,19 @@ fn record_tilt(study: &Study, item: &Item) -> Option<(Layout, Recorder, TiltResu
 fn representative<'a>(rows: &'a [RealizationRow], group: &str) -> Option<&'a RealizationRow> {
     let mut collapsed: Vec<&RealizationRow> = rows
         .iter()
-        .filter(|r| r.group == group && r.point == 0 && r.status == Status::Collapsed && r.collapse_angle_deg.is_some())
+        .filter(|r| {
+            r.group == group && r.point == 0 && r.status == Status::Collapsed && r.collapse.collapse_angle_deg.is_some()
+        })
         .collect();
     collapsed.sort_by(|a, b| {
-        a.collapse_angle_deg
+        a.collapse
+            .collapse_angle_deg
             .unwrap_or(0.0)
-            .total_cmp(&b.collapse_angle_deg.unwrap_or(0.0))
+            .total_cmp(&b.collapse.collapse_angle_deg.unwrap_or(0.0))
             .then(a.realization.cmp(&b.realization))
     });
-    let median = collapsed.get(collapsed.len().checked_sub(1)? / 2)?.collapse_angle_deg;
-    collapsed.into_iter().filter(|r| r.collapse_angle_deg == median).min_by_key(|r| r.realization)
+    let median = collapsed.get(collapsed.len().checked_sub(1)? / 2)?.collapse.collapse_angle_deg;
+    collapsed.into_iter().filter(|r| r.collapse.collapse_angle_deg == median).min_by_key(|r| r.realization)
 }
 
 fn kind_name(k: MechanismKind) -> &'static str {

@@ -432,7 +432,7 @@ fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries
         let measure = measure_of(study, gi);
         let cell: Vec<&RealizationRow> =
             rows.iter().filter(|r| r.group == g.name && r.point == 0 && r.status.is_ok()).collect();
-        let max_tilt = cell.iter().flat_map(|r| r.tilt_deg.iter().copied()).fold(0.0, f64::max);
+        let max_tilt = cell.iter().flat_map(|r| r.tilt.tilt_deg.iter().copied()).fold(0.0, f64::max);
         let step = study.tilt.step_deg;
         let n = (max_tilt / step).round() as usize;
         let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
@@ -512,7 +512,7 @@ fn counts(v: &[&str]) -> String {
 /// and range over the realizations that collapsed, the kinds and starts counted) beside
 /// the observed ones of the group's specimens (`[measured] mechanism`).
 fn mechanism_table(study: &Study, rows: &[RealizationRow], md: &mut String) {
-    let read: Vec<&RealizationRow> = rows.iter().filter(|r| r.failure_height_fraction.is_some()).collect();
+    let read: Vec<&RealizationRow> = rows.iter().filter(|r| r.collapse.failure_height_fraction.is_some()).collect();
     if read.is_empty() {
         return;
     }
@@ -531,10 +531,10 @@ fn mechanism_table(study: &Study, rows: &[RealizationRow], md: &mut String) {
     }
     for (group, point, sweep) in keys {
         let these: Vec<&&RealizationRow> = read.iter().filter(|r| r.group == group && r.point == point).collect();
-        let h: Vec<f64> = these.iter().filter_map(|r| r.failure_height_fraction).collect();
+        let h: Vec<f64> = these.iter().filter_map(|r| r.collapse.failure_height_fraction).collect();
         let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-        let kinds: Vec<&str> = these.iter().map(|r| r.mechanism_kind.as_str()).collect();
-        let starts: Vec<&str> = these.iter().map(|r| r.mechanism_start.as_str()).collect();
+        let kinds: Vec<&str> = these.iter().map(|r| r.collapse.mechanism_kind.as_str()).collect();
+        let starts: Vec<&str> = these.iter().map(|r| r.collapse.mechanism_start.as_str()).collect();
         let label = if sweep.is_empty() { point.to_string() } else { sweep.to_string() };
         let _ = writeln!(
             md,

@@ -12,12 +12,13 @@
 
 use super::{point_label, ProtocolKind, Study, SweepKey};
 use crate::dem::SolverKind;
-use crate::ensemble::row::{RealizationRow, ShakeColumns, Status};
+use crate::ensemble::row::{CollapseColumns, RealizationRow, ShakeColumns, Status};
 use crate::ensemble::{self, Item, Shard};
 use crate::loading::lateral::LateralResult;
+use crate::loading::monitors::Monitor;
 use crate::loading::protocol::ProtocolRun;
 use crate::loading::shake::ShakeResult;
-use crate::loading::tilt::{CollapseReason, MechanismKind, TiltResult};
+use crate::loading::tilt::{CollapseReason, Mechanism, MechanismKind, TiltResult};
 use crate::units::m_to_cm;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -92,28 +93,21 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
             return row;
         }
     };
-    row.mechanism = mechanism_name(r.mechanism.kind).to_string();
-    row.joint = r.mechanism.joint.clone();
-    row.moving_blocks = r.mechanism.blocks.len() as u64;
-    if let Some(m) = &r.mechanism.reading {
-        (row.failure_height_fraction, row.mechanism_extent) =
-            (Some(m.failure_height_fraction), Some(m.extent_fraction));
-        (row.mechanism_kind, row.mechanism_start) = (m.kind.name().to_string(), m.start.name().to_string());
-    }
+    mechanism_columns(&mut row.collapse, &r.mechanism);
     row.iterations = u64::from(r.solver_iterations);
     match study.protocol {
         ProtocolKind::Tilt | ProtocolKind::Shake => {
             row.status = Status::Collapsed;
-            row.collapse_angle_deg = r.collapse_angle_deg;
-            row.first_unstable_deg = r.collapse_angle_deg;
-            row.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+            row.collapse.collapse_angle_deg = r.collapse_angle_deg;
+            row.collapse.first_unstable_deg = r.collapse_angle_deg;
+            row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
         }
         ProtocolKind::Lateral => {
             if r.load_multiplier >= 1.0 {
                 row.status = Status::Stood;
             } else {
                 row.status = Status::Collapsed;
-                row.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+                row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
                 row.error = format!(
                     "the pressure is {:.3} times the rigid collapse load (load multiplier λ)",
                     1.0 / r.load_multiplier
@@ -217,28 +211,6 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
         sweep: point_label(&study.points[item.point]),
         seed: study.seed,
         realization: item.realization,
-        status: Status::LayoutFailed,
-        error: String::new(),
-        blocks: 0,
-        collapse_angle_deg: None,
-        first_unstable_deg: None,
-        collapse_reason: String::new(),
-        mechanism: String::new(),
-        joint: String::new(),
-        moving_blocks: 0,
-        failure_height_fraction: None,
-        mechanism_kind: String::new(),
-        mechanism_start: String::new(),
-        mechanism_extent: None,
-        tilt_deg: vec![],
-        disp_top_left_cm: vec![],
-        disp_top_centre_cm: vec![],
-        disp_top_right_cm: vec![],
-        lateral_disp_left_cm: None,
-        lateral_disp_centre_cm: None,
-        lateral_disp_right_cm: None,
-        lateral_disp_max_cm: None,
-        lateral_drift: None,
         shake: ShakeColumns {
             motion: study.points[item.point]
                 .iter()
@@ -248,10 +220,7 @@ fn empty_row(study: &Study, item: &Item) -> RealizationRow {
             pga_g: study.sweep_number(item.point, SweepKey::PgaG),
             ..ShakeColumns::default()
         },
-        steps: 0,
-        iterations: 0,
-        dt_s: 0.0,
-        wall_time_s: 0.0,
+        ..RealizationRow::default()
     }
 }
 
@@ -262,6 +231,19 @@ fn mechanism_name(k: MechanismKind) -> &'static str {
         MechanismKind::Toppling => "toppling",
         MechanismKind::Mixed => "mixed",
         MechanismKind::None => "none",
+    }
+}
+
+/// A collapse mechanism (the tilting table's or the limit analysis's) into the collapse
+/// columns: its kind, governing joint, moving blocks and, where read, how a person would
+/// describe it.
+fn mechanism_columns(c: &mut CollapseColumns, m: &Mechanism) {
+    c.mechanism = mechanism_name(m.kind).to_string();
+    c.joint = m.joint.clone();
+    c.moving_blocks = m.blocks.len() as u64;
+    if let Some(r) = &m.reading {
+        (c.failure_height_fraction, c.mechanism_extent) = (Some(r.failure_height_fraction), Some(r.extent_fraction));
+        (c.mechanism_kind, c.mechanism_start) = (r.kind.name().to_string(), r.start.name().to_string());
     }
 }
 
@@ -276,25 +258,17 @@ fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::D
 /// A tilting-table outcome into the row.
 fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
-    row.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
-    row.first_unstable_deg = t.first_unstable_deg;
-    row.collapse_reason = t.collapse_reason.map(CollapseReason::name).unwrap_or_default().to_string();
-    row.mechanism = mechanism_name(t.mechanism.kind).to_string();
-    row.joint = t.mechanism.joint.clone();
-    row.moving_blocks = t.mechanism.blocks.len() as u64;
-    if let Some(m) = t.mechanism.reading {
-        (row.failure_height_fraction, row.mechanism_extent) =
-            (Some(m.failure_height_fraction), Some(m.extent_fraction));
-        (row.mechanism_kind, row.mechanism_start) = (m.kind.name().to_string(), m.start.name().to_string());
-    }
-    let find = |name: &str| t.monitors.iter().position(|m| m == name);
-    let (il, ic, ir) = (find("top_left"), find("top_centre"), find("top_right"));
+    row.collapse.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
+    row.collapse.first_unstable_deg = t.first_unstable_deg;
+    row.collapse.collapse_reason = t.collapse_reason.map(CollapseReason::name).unwrap_or_default().to_string();
+    mechanism_columns(&mut row.collapse, &t.mechanism);
+    let [il, ic, ir] = Monitor::ALL.map(|m| m.index_in(&t.monitors));
     for inc in t.increments.iter().filter(|i| i.stable) {
-        row.tilt_deg.push(inc.alpha_deg);
+        row.tilt.tilt_deg.push(inc.alpha_deg);
         let get = |i: Option<usize>| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]));
-        row.disp_top_left_cm.push(get(il));
-        row.disp_top_centre_cm.push(get(ic));
-        row.disp_top_right_cm.push(get(ir));
+        row.tilt.disp_top_left_cm.push(get(il));
+        row.tilt.disp_top_centre_cm.push(get(ic));
+        row.tilt.disp_top_right_cm.push(get(ir));
     }
     row.steps = t.steps;
     row.iterations = t.iterations;
@@ -330,17 +304,17 @@ fn lateral_row(mut row: RealizationRow, r: LateralResult) -> RealizationRow {
     match &r.collapse_reason {
         None => {
             row.status = Status::Stood;
-            let find = |name: &str| r.monitors.iter().position(|m| m == name).map(|i| m_to_cm(r.displacement_m[i]));
-            row.lateral_disp_left_cm = find("top_left");
-            row.lateral_disp_centre_cm = find("top_centre");
-            row.lateral_disp_right_cm = find("top_right");
-            row.lateral_disp_max_cm = Some(m_to_cm(r.max_displacement_m));
-            row.lateral_drift = Some(r.drift);
+            let [l, c, rt] = Monitor::ALL.map(|m| m.index_in(&r.monitors).map(|i| m_to_cm(r.displacement_m[i])));
+            (row.lateral.lateral_disp_left_cm, row.lateral.lateral_disp_centre_cm, row.lateral.lateral_disp_right_cm) =
+                (l, c, rt);
+            row.lateral.lateral_disp_max_cm = Some(m_to_cm(r.max_displacement_m));
+            row.lateral.lateral_drift = Some(r.drift);
         }
         Some(why) => {
             row.status = Status::Collapsed;
             // The lateral load names its reasons with the same vocabulary.
-            row.collapse_reason = CollapseReason::from_name(why).map_or_else(|| why.clone(), |r| r.name().to_string());
+            row.collapse.collapse_reason =
+                CollapseReason::from_name(why).map_or_else(|| why.clone(), |r| r.name().to_string());
             row.error = format!(
                 "collapsed under the lateral load ({why}): top displacement {:.2} cm when stopped",
                 m_to_cm(r.max_displacement_m)

@@ -89,8 +89,11 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
         for (pi, p) in study.points.iter().enumerate() {
             let cell: Vec<&RealizationRow> =
                 rows.iter().filter(|r| r.group == g.name && r.point as usize == pi).collect();
-            let angles: Vec<f64> =
-                cell.iter().filter(|r| r.status == Status::Collapsed).filter_map(|r| r.collapse_angle_deg).collect();
+            let angles: Vec<f64> = cell
+                .iter()
+                .filter(|r| r.status == Status::Collapsed)
+                .filter_map(|r| r.collapse.collapse_angle_deg)
+                .collect();
             let d5: Vec<f64> =
                 cell.iter().filter(|r| r.status.is_ok()).filter_map(|r| r.disp_measure_at(measure, 5.0)).collect();
             let d10: Vec<f64> =
@@ -120,9 +123,13 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 } else {
                     0
                 },
-                lateral_max: stats::summarize(&lateral(|r| r.lateral_disp_max_cm), study.seed, lstream),
-                lateral_centre: stats::summarize(&lateral(|r| r.lateral_disp_centre_cm), study.seed, lstream + 1),
-                drift: stats::summarize(&lateral(|r| r.lateral_drift), study.seed, lstream + 2),
+                lateral_max: stats::summarize(&lateral(|r| r.lateral.lateral_disp_max_cm), study.seed, lstream),
+                lateral_centre: stats::summarize(
+                    &lateral(|r| r.lateral.lateral_disp_centre_cm),
+                    study.seed,
+                    lstream + 1,
+                ),
+                drift: stats::summarize(&lateral(|r| r.lateral.lateral_drift), study.seed, lstream + 2),
             });
         }
     }

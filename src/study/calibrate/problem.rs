@@ -64,7 +64,7 @@ impl<'a> Problem<'a> {
                 let a: Vec<f64> = rows
                     .iter()
                     .filter(|r| r.status == Status::Collapsed)
-                    .filter_map(|r| r.collapse_angle_deg)
+                    .filter_map(|r| r.collapse.collapse_angle_deg)
                     .collect();
                 Evaluation { x, value, mean_deg: stats::mean(&a), sd_deg: stats::sd(&a), n: a.len() }
             }
