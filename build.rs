@@ -3,7 +3,7 @@
 //! by path in byte order, each as its `/`-separated path, a NUL, its length and its
 //! bytes), `Cargo.toml`, `Cargo.lock` and this file. Two builds with the same string were
 //! made from the same sources and the same locked dependencies. The manifest and the
-//! journal of every run record it (`drystone::study::provenance::BUILD`).
+//! journal of every run record it (`drystone::study::BUILD`).
 //!
 //! The digest is computed here, with no dependency, by a plain SHA-256 (FIPS 180-4).
 

@@ -64,6 +64,8 @@
 
 #![warn(missing_docs)]
 
+// The binary's `bench` and `verify` commands: not part of the library's API.
+#[doc(hidden)]
 pub mod benchmark;
 pub mod closure;
 pub mod dem;
@@ -84,6 +86,7 @@ pub mod rng;
 pub mod stats;
 pub mod study;
 pub mod units;
+#[doc(hidden)]
 pub mod verify;
 
 pub mod prelude {
@@ -101,7 +104,7 @@ pub mod prelude {
     pub use crate::layout::{Layout, LayoutSpec};
     pub use crate::loading::lateral::{run_lateral, LateralParams};
     pub use crate::loading::tilt::{run_tilt, TiltParams, TiltResult};
-    pub use crate::study::run::run_study;
+    pub use crate::study::run_study;
     pub use crate::study::Study;
 }
 

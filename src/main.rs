@@ -29,7 +29,7 @@ struct Workers {
 }
 
 #[derive(Parser)]
-#[command(name = "drystone", version = drystone::study::provenance::BUILD, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
+#[command(name = "drystone", version = drystone::study::BUILD, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
 struct Cli {
     #[command(subcommand)]
     command: Command,

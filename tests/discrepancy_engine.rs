@@ -7,7 +7,7 @@ use drystone::discrepancy::predictive::Simulated;
 use drystone::discrepancy::simulate::run_models;
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
-use drystone::study::{run::run_study, Study};
+use drystone::study::{run_study, Study};
 use std::path::PathBuf;
 
 #[test]

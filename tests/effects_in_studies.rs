@@ -5,7 +5,7 @@
 use drystone::discrepancy::simulate::{run_models, Setup};
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
-use drystone::study::{run::run_study, Study};
+use drystone::study::{run_study, Study};
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
@@ -57,12 +57,12 @@ fn the_written_extended_study_runs_the_extended_model() {
     let extra = vec![study.library.parse("edge_rounding=0.004", 0.05).unwrap()];
     let dir = std::env::temp_dir().join(format!("drystone-extended-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let fitted = vec![drystone::study::extend::FittedParameter {
+    let fitted = vec![drystone::study::FittedParameter {
         name: "edge_rounding.radius_m".into(),
         value: 0.004,
         interval: (0.002, 0.006),
     }];
-    let path = drystone::study::extend::write_extended(&study, &extra, &fitted, "test", &dir).unwrap();
+    let path = drystone::study::write_extended(&study, &extra, &fitted, "test", &dir).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("edge_rounding.radius_m = 4.0000e-3, interval [2.0000e-3, 6.0000e-3]"), "{text}");
     let ext = Study::from_file(&path).unwrap();

@@ -12,7 +12,7 @@ use drystone::ensemble::row::{CollapseColumns, LateralColumns, RealizationRow, S
 use drystone::generator::{generate, DistributionSource, DistributionSpec, WallSpec};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::layout::LayoutSpec;
-use drystone::study::shards::Manifest;
+use drystone::study::Manifest;
 use drystone::study::Study;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
@@ -109,7 +109,7 @@ fn wall_pipeline(text: &str, dir: &Path) -> bool {
     let Ok(wall) = spec.resolve(&path, &DistributionSource::default_for(&root().join("studies/walls/x.toml"))) else {
         return false;
     };
-    if drystone::study::size::check_blocks(&wall).is_err() || drystone::study::size::estimated_blocks(&wall) > 3000.0 {
+    if drystone::study::check_blocks(&wall).is_err() || drystone::study::estimated_blocks(&wall) > 3000.0 {
         return false;
     }
     let mut generated = false;
@@ -323,7 +323,7 @@ proptest! {
         if let Ok(m) = serde_json::from_str::<Manifest>(&text) {
             let _ = m.identity();
             let _ = m.difference(&m, "a", "b");
-            let _ = drystone::study::outputs::verify(Path::new("/nonexistent"), &m.outputs);
+            let _ = drystone::study::verify_outputs(Path::new("/nonexistent"), &m.outputs);
         }
     }
 }

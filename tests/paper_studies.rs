@@ -4,7 +4,7 @@
 
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::calibrate;
-use drystone::study::run::run_study;
+use drystone::study::run_study;
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 
@@ -91,7 +91,7 @@ length_m = [1.0, 2.0, 4.0, 6.0]
     assert!(r[3] / f[3] > 0.9, "at L/H = 6 the restraint hardly matters: {r:?} vs {f:?}");
     // The report finds the threshold and writes the figure.
     let out = dir.join("out");
-    drystone::study::shards::write_outputs(&st, &p, Shard::ALL, &rows, &out).unwrap();
+    drystone::study::write_outputs(&st, &p, Shard::ALL, &rows, &out).unwrap();
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("Figure 11") && out.join("figure11_length_height.svg").exists());
     let _ = std::fs::remove_dir_all(&dir);
@@ -181,7 +181,7 @@ upper = 60.0
 /// study's report, headings demoted and figure links pointing into the sub-directory.
 #[test]
 fn a_suite_writes_one_report_with_every_study() {
-    use drystone::study::suite::{is_suite, run_suite, Suite};
+    use drystone::study::{is_suite, run_suite, Suite};
     let path = root().join("tests/studies/good/mini_suite.toml");
     assert!(is_suite(&path));
     assert!(!is_suite(&root().join("tests/studies/good/mini_lateral.toml")));

@@ -4,7 +4,7 @@
 //! where they were; `--resume` refuses a journal of another run; the report prints the seed
 //! of its rows.
 
-use drystone::study::provenance::sha256_hex;
+use drystone::study::sha256_hex;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -69,7 +69,7 @@ fn the_manifest_records_version_seed_and_input_hashes() {
     assert_eq!(m["drystone_version"], env!("CARGO_PKG_VERSION"));
     // The exact build: the version and a digest of the sources, also in the journal.
     let build = m["build"].as_str().unwrap();
-    assert_eq!(build, drystone::study::provenance::BUILD);
+    assert_eq!(build, drystone::study::BUILD);
     let digest = build.strip_prefix(&format!("{}+src.", env!("CARGO_PKG_VERSION"))).unwrap();
     assert!(digest.len() == 16 && digest.bytes().all(|b| b.is_ascii_hexdigit()), "{build}");
     let journal = std::fs::read_to_string(out.join("journal.jsonl")).unwrap();
@@ -89,7 +89,7 @@ fn the_manifest_records_version_seed_and_input_hashes() {
     let dists: Vec<&str> = st
         .inputs
         .iter()
-        .filter(|f| f.role == drystone::study::provenance::InputRole::Distribution)
+        .filter(|f| f.role == drystone::study::InputRole::Distribution)
         .map(|f| f.path.as_str())
         .collect();
     assert!(dists.contains(&"distributions/course_height_sbl.toml"), "{dists:?}");

@@ -7,9 +7,9 @@
 use drystone::ensemble::row::{RealizationRow, Status};
 use drystone::ensemble::Shard;
 use drystone::ground::{Pulse, G};
-use drystone::study::run::run_study;
-use drystone::study::shards::{merge, run_into, RunMode};
-use drystone::study::{shaking, Study, StudyError};
+use drystone::study::run_study;
+use drystone::study::{fragilities, Study, StudyError};
+use drystone::study::{merge, run_into, RunMode};
 use std::path::{Path, PathBuf};
 
 /// The block: 0.2 m along x, b = 0.1 m out of plane (y), h = 0.5 m tall; tan α = b/h = 0.2.
@@ -171,7 +171,7 @@ fn a_rigid_block_collapses_at_each_level_as_the_rocking_equation_says() {
     // The counts overlap (a fit exists) and bracket the median.
     assert_eq!(collapses[0], 0);
     assert!(collapses.iter().any(|&c| c > 0 && c < PERIODS.len() as u64), "{collapses:?}");
-    let frag = shaking::fragilities(&study, &rows);
+    let frag = fragilities(&study, &rows);
     let f = &frag[0];
     assert_eq!(f.levels.iter().map(|l| l.collapses).collect::<Vec<_>>(), collapses);
     let band = f.band.as_ref().expect("overlapping counts have a fit");

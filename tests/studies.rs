@@ -2,9 +2,9 @@
 
 use drystone::ensemble::row::{RealizationRow, Status};
 use drystone::ensemble::Shard;
-use drystone::study::run::{run_item, run_study};
-use drystone::study::shards::{read_shards, write_outputs};
 use drystone::study::Study;
+use drystone::study::{read_shards, write_outputs};
+use drystone::study::{run_item, run_study};
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -31,10 +31,9 @@ fn every_shipped_study_loads() {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml") {
-                if drystone::study::suite::is_suite(&p) {
+                if drystone::study::is_suite(&p) {
                     for full in [false, true] {
-                        drystone::study::suite::Suite::from_file(&p, full)
-                            .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                        drystone::study::Suite::from_file(&p, full).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                     }
                 } else {
                     Study::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));

@@ -5,8 +5,8 @@ use drystone::discrepancy::{report, synthesize, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::study::discrepancy::{observations_of, setup_of};
-use drystone::study::size::{estimated_blocks, human_seconds, simulation_seconds};
 use drystone::study::Study;
+use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
 
 /// The longest `synthesize` may be estimated to take on this machine, seconds.
 const MAX_SYNTHESIZE_SECONDS: f64 = 3600.0;
@@ -109,7 +109,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
                 run.specimens.len()
             );
             let ext = dir.join("extended");
-            Some(drystone::study::extend::write_extended(&st, effects, &run.cause_interval, &note, &ext)?)
+            Some(drystone::study::write_extended(&st, effects, &run.cause_interval, &note, &ext)?)
         }
         _ => None,
     };

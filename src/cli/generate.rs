@@ -3,13 +3,13 @@
 use anyhow::{bail, Context, Result};
 use drystone::generator::{generate, DistributionSource, Wall};
 use drystone::io::OutputFormat;
-use drystone::study::size::{check_blocks, estimated_blocks, human_bytes, machine_memory, BYTES_PER_BLOCK};
+use drystone::study::{check_blocks, estimated_blocks, human_bytes, machine_memory, BYTES_PER_BLOCK};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Generates realization `realization` of the wall with master seed `seed`, writes it to
 /// `out` (format by extension) and prints what it holds. A wall whose layout would exceed
-/// `run`'s limits ([`drystone::study::size::MAX_BLOCKS`] estimated blocks, or more memory
+/// `run`'s limits ([`drystone::study::MAX_BLOCKS`] estimated blocks, or more memory
 /// than the machine has) is refused before anything is generated.
 pub fn run(wall: &Path, seed: u64, realization: u64, out: &Path, distributions: Option<PathBuf>) -> Result<ExitCode> {
     let Some(format) = OutputFormat::from_path(out) else {

@@ -4,11 +4,11 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
-use drystone::study::figures::write_vtk_realizations;
-use drystone::study::shards::{check_writable, merge as merge_shards, run_into, RunMode};
-use drystone::study::size::{human_bytes, machine_memory};
-use drystone::study::suite::{is_suite, run_suite_with, Suite};
+use drystone::study::write_vtk_realizations;
 use drystone::study::Study;
+use drystone::study::{check_writable, merge as merge_shards, run_into, RunMode};
+use drystone::study::{human_bytes, machine_memory};
+use drystone::study::{is_suite, run_suite_with, Suite};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

@@ -77,27 +77,42 @@
 pub mod calibrate;
 pub mod discrepancy;
 mod error;
-pub mod extend;
-pub mod figures;
-pub(crate) mod lock;
+mod extend;
+mod figures;
+mod lock;
 mod measured;
 mod motions;
-pub mod outputs;
-pub mod paper;
-pub mod provenance;
-pub mod report;
-pub mod resolve;
-pub mod run;
-pub mod shaking;
-pub mod shards;
-pub mod size;
-pub mod spec;
-pub mod suite;
-pub(crate) mod summary;
-pub mod sweep;
+mod outputs;
+mod paper;
+mod provenance;
+mod report;
+mod resolve;
+mod run;
+mod shaking;
+mod shards;
+mod size;
+mod spec;
+mod suite;
+mod summary;
+mod sweep;
 mod text;
 
 pub use error::StudyError;
+pub use extend::{write_extended, ExtendError, FittedParameter};
+pub use figures::write_vtk_realizations;
+pub use outputs::verify as verify_outputs;
+pub use provenance::{sha256_hex, InputFile, InputRole, BUILD, VERSION};
+pub use report::{write_report, ReportError};
 pub use resolve::{Group, Measured, ShakeStudy, Study};
+pub use run::{run_item, run_study, run_study_with};
+pub use shaking::{fragilities, GroupFragility};
+pub use shards::{
+    check_writable, merge, read_shards, run_into, write_outputs, Manifest, Merged, OutputError, RunMode, RunOutcome,
+};
+pub use size::{
+    check_blocks, estimated_blocks, human_bytes, human_seconds, machine_memory, simulation_seconds, SizeEstimate,
+    BYTES_PER_BLOCK, MAX_BLOCKS,
+};
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
+pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
 pub use sweep::{point_label, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
