@@ -1,0 +1,199 @@
+//! The tilting-table protocol (Santa-Cruz et al. 2021, §2.2 and §5.3).
+//!
+//! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
+//!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
+//! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
+//!    equilibrium (starting from the secant prediction of that equilibrium:
+//!    [`TiltParams::predictor`]; slow creep near collapse accelerated by secant steps along
+//!    the motion: [`TiltParams::accelerate`]), or declared unstable when the wall has no
+//!    equilibrium near the increment's path: the stiffness along a persistent motion turns
+//!    negative while the out-of-balance force along it grows (the stability indicator of
+//!    `dem::drivers::accelerate`) *and* that force keeps pushing the state along the motion over the
+//!    whole collapse displacement ahead (the probe of the path); or, during the
+//!    increment, a block moves more than the collapse displacement, or a top point moves
+//!    from the reference more than the total collapse displacement. Both displacements
+//!    are the larger of a fraction of the wall width
+//!    ([`TiltParams::collapse_increment_fraction`],
+//!    [`TiltParams::collapse_displacement_fraction`]) and the elastic displacement scale
+//!    of the layout's joints ([`elastic_scale`]), so that the elastic rotation of soft
+//!    joints is never taken for a mechanism. An increment that reaches neither an
+//!    equilibrium nor a collapse within [`TiltParams::max_steps_per_increment`] steps is
+//!    reported as such ([`CollapseReason::StepBudget`]): it bounds the bracket from above
+//!    (nothing above it is known to be stable) without being a collapse.
+//! 3. The bracket (last stable, first unstable) is bisected from the last stable state
+//!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
+//!    the last stable angle; the critical tilt lies in the bracket (unless its upper end
+//!    is a [`CollapseReason::StepBudget`]).
+//! 4. The mechanism is read from the motion between the last stable and the collapsed
+//!    state ([`mechanism`]): the joints that failed (large relative motion), the groups of
+//!    blocks they cut loose from the table, the joints between moving and resting bodies,
+//!    and for each whether it slid (relative tangential motion dominates) or opened
+//!    (toppling).
+//!
+//! The *wall width* is the y extent of the whole layout (the base width B of a wall).
+
+pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
+use super::monitors::monitor_points;
+use super::settle::settle;
+use crate::dem::{Simulation, SolverKind, SolverParams, StaticSolve};
+use crate::layout::Layout;
+use std::time::Instant;
+
+mod params;
+mod path;
+mod result;
+
+pub use params::TiltParams;
+pub use path::elastic_scale;
+use path::{Ctx, StablePath};
+pub use result::{CollapseReason, Increment, TiltError, TiltResult};
+
+/// Runs the tilting-table test of a layout to collapse.
+///
+/// The returned bracket `[last_stable_deg, first_unstable_deg]` contains the collapse
+/// angle α_max to `params.resolution_deg`.
+///
+/// ```
+/// use drystone::dem::SolverParams;
+/// use drystone::layout::BaseSliding;
+/// use drystone::loading::tilt::{run_tilt, TiltParams};
+/// use drystone::verify::{box_vertices, layout_of};
+///
+/// // A block 0.1125 m deep (y) and 0.375 m tall on stiff joints (Kn 1e11 Pa/m, φ 60°)
+/// // topples near the rigid limit tan α = b / h = 0.3 (16.70°), below it by the elastic
+/// // rotation of its base joint (the no-tension Winkler solution: 16.31°, `drystone verify`).
+/// let block = box_vertices([0.0, -0.05625, 0.0], [0.3, 0.05625, 0.375]);
+/// let layout = layout_of(vec![block], 1e11, 5e10, 60.0, BaseSliding::Free);
+/// let params = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
+/// let r = run_tilt(&layout, SolverParams::default(), &params)?;
+/// let up = r.first_unstable_deg.unwrap();
+/// assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{} {up}", r.last_stable_deg);
+/// // The load multiplier at collapse, λ = tan α_max, against the rigid limit b / h.
+/// assert!((r.collapse_angle_deg().to_radians().tan() - 0.3).abs() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// [`TiltError::DoesNotStand`] if the layout does not stand as given at α = 0 (a block
+/// touching nothing, no equilibrium, or a block that moved while settling),
+/// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
+pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
+    run_tilt_observed(layout, solver, params, &mut |_, _, _| {})
+}
+
+/// As [`run_tilt`], handing every state of the test to `observe(alpha_deg, stable, state)`
+/// as it is reached: the settled state at α = 0, then every increment and bisection trial
+/// in the order tried (the unstable ones in the state their mechanism is read from). The
+/// last unstable state handed over at `first_unstable_deg` is the first unstable state of
+/// the result. Observing changes nothing in the test.
+///
+/// # Errors
+/// As [`run_tilt`].
+pub fn run_tilt_observed(
+    layout: &Layout,
+    solver: SolverParams,
+    params: &TiltParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<TiltResult, TiltError> {
+    params.validate().map_err(TiltError::Parameter)?;
+    match solver.kind {
+        SolverKind::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
+        kind if !kind.is_penalty() => return Err(TiltError::Unsupported(kind)),
+        _ => {}
+    }
+    solver.validate_static().map_err(TiltError::Parameter)?;
+    let t0 = Instant::now();
+    let mut sim = Simulation::new(layout, solver);
+    let monitors = monitor_points(layout, &sim);
+    let width = layout.bounds().extent().y;
+    sim.set_tilt(0.0);
+    let elastic = elastic_scale(layout, &sim);
+    let solve = StaticSolve {
+        cascade: params.cascade(solver.kind),
+        tolerance: params.tolerance,
+        max_steps: params.max_steps_per_increment,
+        acceleration: params.acceleration,
+        implicit: params.implicit_solve,
+        reach: None,
+    };
+    let mut ctx = Ctx { params, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
+    ctx.solve.reach = Some(ctx.inc_limit());
+    settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
+    ctx.reference = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
+    let mut increments = vec![Increment {
+        alpha_deg: 0.0,
+        stable: true,
+        steps: sim.state.steps,
+        iterations: 0,
+        displacement_m: vec![0.0; monitors.len()],
+        unbalanced_ratio: sim.stats().unbalanced_ratio,
+    }];
+    observe(0.0, true, &sim);
+    let mut path = StablePath::new(sim, params.predictor);
+    let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
+    let mut k = 1;
+    loop {
+        let alpha = k as f64 * params.step_deg;
+        if alpha > params.max_angle_deg + 1e-9 {
+            break;
+        }
+        if let Some((reason, next)) = path.try_at(&ctx, alpha, &mut increments, observe)? {
+            first_unstable = Some((alpha, reason, next));
+            break;
+        }
+        k += 1;
+    }
+    let Some((mut unstable, mut reason, mut failed)) = first_unstable else {
+        let last_stable = path.last_stable;
+        return Ok(TiltResult {
+            last_stable_deg: last_stable,
+            first_unstable_deg: None,
+            collapse_reason: None,
+            mechanism: Mechanism::none(),
+            monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+            increments,
+            steps: path.total_steps,
+            iterations: path.total_iterations,
+            dt_s: path.sim.dt(),
+            wall_time_s: t0.elapsed().as_secs_f64(),
+            wall_width_m: width,
+            elastic_scale_m: elastic,
+            detections: path.sim.detections(),
+            max_density_scale: path.sim.max_density_scale(),
+            scalar_fallbacks_deg: path.fallbacks,
+        });
+    };
+    // Time step of the first failing increment (bisection trials may replace `failed`).
+    let dt_s = failed.dt();
+    // Bisection of the bracket from the last stable state.
+    while unstable - path.last_stable > params.resolution_deg + 1e-12 {
+        let mid = 0.5 * (unstable + path.last_stable);
+        if let Some((r, trial)) = path.try_at(&ctx, mid, &mut increments, observe)? {
+            unstable = mid;
+            reason = r;
+            failed = trial;
+        }
+    }
+    let (last_stable, stable_sim, total_steps, total_iterations, fallbacks) =
+        (path.last_stable, path.sim, path.total_steps, path.total_iterations, path.fallbacks);
+    // Stable increments first, sorted by α, then unstable trials by α.
+    increments.sort_by(|a, b| (!a.stable).cmp(&!b.stable).then(a.alpha_deg.total_cmp(&b.alpha_deg)));
+    let mechanism = mechanism(&stable_sim, &failed);
+    Ok(TiltResult {
+        last_stable_deg: last_stable,
+        first_unstable_deg: Some(unstable),
+        collapse_reason: Some(reason),
+        mechanism,
+        monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+        increments,
+        steps: total_steps,
+        iterations: total_iterations,
+        dt_s: failed.dt().min(dt_s),
+        wall_time_s: t0.elapsed().as_secs_f64(),
+        wall_width_m: width,
+        elastic_scale_m: elastic,
+        detections: failed.detections(),
+        max_density_scale: failed.max_density_scale().max(stable_sim.max_density_scale()),
+        scalar_fallbacks_deg: fallbacks,
+    })
+}

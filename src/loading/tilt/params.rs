@@ -1,0 +1,118 @@
+//! The tilting table's parameters ([`TiltParams`]).
+
+use crate::dem::drivers::accelerate::SecantAcceleration;
+use crate::dem::drivers::implicit::ImplicitSolve;
+use crate::dem::{Cascade, SolverKind};
+use crate::range::{check_ranges, OutOfRange};
+use serde::{Deserialize, Serialize};
+
+/// Tilting-table parameters. Defaults in brackets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TiltParams {
+    /// Tilt increment, degrees \[0.5\] (the paper's DEM used 0.5°).
+    pub step_deg: f64,
+    /// Width of the final collapse bracket, degrees \[0.125\]: three bisections of the
+    /// 0.5° step. The trial nearest α_max is the slowest of a test (the wall creeps for tens
+    /// of thousands of steps before it settles or fails), so each further halving costs
+    /// about 30 % more steps; the last-stable α_max is then on average 1/16° below the
+    /// critical tilt, with a spread (σ 0.036°) well under the realization-to-realization σ.
+    pub resolution_deg: f64,
+    /// Largest tilt tried, degrees \[80\].
+    pub max_angle_deg: f64,
+    /// Equilibrium when the unbalanced-force ratio is below this \[1e-4\].
+    pub tolerance: f64,
+    /// Step budget of one increment (and of the initial settling) \[400000\].
+    pub max_steps_per_increment: u64,
+    /// Start each increment from the secant prediction of its equilibrium \[true\]: the
+    /// motion between the last two stable states, scaled to the new tilt increment, applied
+    /// as one jump before relaxing (see `Simulation::predict`). Off: each increment starts
+    /// from the last stable state at rest.
+    pub predictor: bool,
+    /// Collapse when a top point has moved (in y) since α = 0 more than this fraction of the
+    /// wall width, or the elastic displacement scale of the joints ([`elastic_scale`]) if
+    /// that is larger \[0.5\].
+    pub collapse_displacement_fraction: f64,
+    /// Collapse when, within one increment, a block moves (centroid motion plus rotation
+    /// times its radius) more than this fraction of the wall width, or the elastic
+    /// displacement scale of the joints ([`elastic_scale`]) if that is larger \[0.05\]. Also
+    /// the reach of the probe that confirms the stability indicator.
+    pub collapse_increment_fraction: f64,
+    /// Deprecated: choose the solver instead (`[solver] kind = "relaxation"`, `--solver
+    /// relaxation`). `false` turns the secant acceleration of slow creep and its stability
+    /// indicator off in whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
+    pub accelerate: bool,
+    /// Settings of that acceleration.
+    pub acceleration: SecantAcceleration,
+    /// Deprecated: choose the solver instead (`[solver] kind = "accelerated"`, `--solver
+    /// accelerated`). `false` turns the implicit iteration of each increment off in
+    /// whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
+    pub implicit: bool,
+    /// Settings of the implicit iteration.
+    pub implicit_solve: ImplicitSolve,
+}
+
+impl Default for TiltParams {
+    fn default() -> Self {
+        TiltParams {
+            step_deg: 0.5,
+            resolution_deg: 0.125,
+            max_angle_deg: 80.0,
+            tolerance: 1e-4,
+            max_steps_per_increment: 400_000,
+            predictor: true,
+            collapse_displacement_fraction: 0.5,
+            collapse_increment_fraction: 0.05,
+            accelerate: true,
+            acceleration: SecantAcceleration::default(),
+            implicit: true,
+            implicit_solve: ImplicitSolve::default(),
+        }
+    }
+}
+
+impl TiltParams {
+    /// The stages of the static solve of every increment and trial with the solver `kind`:
+    /// the tilting table's default is every stage ([`Cascade::FULL`]: the implicit
+    /// iteration, its stall probe, accelerated and probed dynamic relaxation); the
+    /// deprecated [`TiltParams::implicit`] and [`TiltParams::accelerate`] switch stages off.
+    /// `Cascade::RELAXATION` for a solver that is not a penalty method (which does not run
+    /// this protocol).
+    pub fn cascade(&self, kind: SolverKind) -> Cascade {
+        let c = kind.cascade(Cascade::FULL).unwrap_or(Cascade::RELAXATION);
+        Cascade { implicit: c.implicit && self.implicit, accelerate: c.accelerate && self.accelerate }
+    }
+
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("step_deg", self.step_deg, self.step_deg > 0.0 && self.step_deg <= 10.0, "in (0, 10]"),
+            (
+                "resolution_deg",
+                self.resolution_deg,
+                self.resolution_deg > 0.0 && self.resolution_deg <= self.step_deg,
+                "in (0, step_deg]",
+            ),
+            ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0, "in (0, 90)"),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
+            (
+                "collapse_displacement_fraction",
+                self.collapse_displacement_fraction,
+                self.collapse_displacement_fraction > 0.0,
+                "> 0",
+            ),
+            (
+                "collapse_increment_fraction",
+                self.collapse_increment_fraction,
+                self.collapse_increment_fraction > 0.0,
+                "> 0",
+            ),
+            ("max_steps_per_increment", self.max_steps_per_increment as f64, self.max_steps_per_increment > 0, ">= 1"),
+        ])?;
+        self.acceleration.validate()?;
+        self.implicit_solve.validate()
+    }
+}

@@ -1,0 +1,158 @@
+//! What a tilting-table test returns ([`TiltResult`]) and why it can fail ([`TiltError`]).
+
+use crate::dem::{DemError, SolverKind};
+use crate::loading::mechanism::Mechanism;
+use crate::loading::settle::SettleError;
+use crate::range::OutOfRange;
+use serde::{Deserialize, Serialize};
+
+/// Why an increment was declared unstable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CollapseReason {
+    /// A block moved too much within one increment.
+    IncrementDisplacement,
+    /// A top point moved too far from its reference.
+    TotalDisplacement,
+    /// No equilibrium: the name the static lateral load gives a load it cannot carry.
+    NoEquilibrium,
+    /// Negative stiffness along a persistent motion during relaxation (the secant
+    /// acceleration's stability indicator, `dem::drivers::accelerate`), and no equilibrium on the
+    /// path ahead up to the collapse displacement (the indicator's probe).
+    NegativeStiffness,
+    /// The step budget of the increment ([`TiltParams::max_steps_per_increment`]) ran out
+    /// before an equilibrium or a collapse was established: not a collapse, an undecided
+    /// increment (the critical tilt may lie above it).
+    StepBudget,
+}
+
+impl CollapseReason {
+    /// Every collapse reason.
+    pub const ALL: [CollapseReason; 5] = [
+        CollapseReason::IncrementDisplacement,
+        CollapseReason::TotalDisplacement,
+        CollapseReason::NoEquilibrium,
+        CollapseReason::NegativeStiffness,
+        CollapseReason::StepBudget,
+    ];
+
+    /// The name of the reason in the `collapse_reason` column of both protocols: its serde
+    /// name, as `drystone tilt --json` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CollapseReason::IncrementDisplacement => "increment_displacement",
+            CollapseReason::TotalDisplacement => "total_displacement",
+            CollapseReason::NoEquilibrium => "no_equilibrium",
+            CollapseReason::NegativeStiffness => "negative_stiffness",
+            CollapseReason::StepBudget => "step_budget",
+        }
+    }
+
+    /// The reason of a name of the `collapse_reason` column.
+    pub fn from_name(name: &str) -> Option<CollapseReason> {
+        CollapseReason::ALL.into_iter().find(|r| r.name() == name)
+    }
+}
+
+/// One tilt increment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Increment {
+    /// Tilt, degrees.
+    pub alpha_deg: f64,
+    /// Equilibrium reached.
+    pub stable: bool,
+    /// Dynamic-relaxation steps taken in this increment.
+    pub steps: u64,
+    /// Iterations of the implicit relaxation in this increment (0 without it).
+    #[serde(default)]
+    pub iterations: u32,
+    /// Out-of-plane (y) displacement of each monitor point since α = 0, m, in the order of
+    /// [`TiltResult::monitors`].
+    pub displacement_m: Vec<f64>,
+    /// Unbalanced-force ratio at the end of the increment.
+    pub unbalanced_ratio: f64,
+}
+
+/// Outcome of a tilting-table run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TiltResult {
+    /// Last stable tilt, degrees: the collapse angle α_max
+    /// ([`TiltResult::collapse_angle_deg`]; `max_angle_deg` if the wall stood).
+    pub last_stable_deg: f64,
+    /// First unstable tilt, degrees (`None` if the wall stood up to `max_angle_deg`).
+    pub first_unstable_deg: Option<f64>,
+    /// Why the first unstable tilt was unstable.
+    pub collapse_reason: Option<CollapseReason>,
+    /// Mechanism of collapse.
+    pub mechanism: Mechanism,
+    /// Monitor point names (`top_left`, `top_centre`, `top_right` unless the layout names its
+    /// own).
+    pub monitors: Vec<String>,
+    /// Accepted (stable) increments in increasing α, then the unstable trials.
+    pub increments: Vec<Increment>,
+    /// Dynamic-relaxation steps in all.
+    pub steps: u64,
+    /// Iterations of the implicit relaxation in all.
+    #[serde(default)]
+    pub iterations: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Wall-clock time, s (not part of the deterministic output).
+    pub wall_time_s: f64,
+    /// Wall width used by the collapse criteria, m.
+    pub wall_width_m: f64,
+    /// Elastic displacement scale of the joints ([`elastic_scale`]), m: the collapse
+    /// displacements are never below it.
+    #[serde(default)]
+    pub elastic_scale_m: f64,
+    /// Contact detections (broad + narrow phase over the model) in the accepted path.
+    pub detections: u64,
+    /// Largest density-scaling factor applied (1: none; see `SolverParams::density_scaling`).
+    pub max_density_scale: f64,
+    /// The tilts (degrees, in the order tried) of the increments and trials whose scaled
+    /// dynamics blew up and were repeated with a weaker density scaling (block, then
+    /// scalar, then true masses; see `DensityScaling::Block`); empty if none did.
+    #[serde(default)]
+    pub scalar_fallbacks_deg: Vec<f64>,
+}
+
+/// Errors of the tilting-table protocol.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum TiltError {
+    /// The engine blew up.
+    #[error(transparent)]
+    Dem(#[from] DemError),
+    /// The layout does not stand as given under gravity alone (see [`super::settle`]).
+    #[error(transparent)]
+    DoesNotStand(SettleError),
+    /// A tilt or solver parameter is out of range.
+    #[error("parameter {0}")]
+    Parameter(OutOfRange),
+    /// The solver chosen cannot run this protocol.
+    #[error("solver {0} cannot run the tilting-table test (limit analysis: `drystone limit LAYOUT.json`, or [solver] kind = \"limit\" in a study)")]
+    Unsupported(SolverKind),
+    /// The non-smooth solver refused the layout (a joint with cohesion or tensile
+    /// strength; `loading::tilt_nscd`).
+    #[error(transparent)]
+    Nscd(crate::dem::drivers::nscd::NscdError),
+}
+
+impl TiltError {
+    pub(super) fn from_settle(e: SettleError) -> TiltError {
+        match e {
+            SettleError::Dem(e) => TiltError::Dem(e),
+            other => TiltError::DoesNotStand(other),
+        }
+    }
+}
+
+impl TiltResult {
+    /// The collapse angle α_max, degrees: the last stable tilt, which the bracket
+    /// `[last_stable_deg, first_unstable_deg]` holds to the protocol's resolution (the
+    /// convention of the source paper's tilting-table readings: the last angle at which the
+    /// wall stood).
+    pub fn collapse_angle_deg(&self) -> f64 {
+        self.last_stable_deg
+    }
+}
