@@ -2,9 +2,7 @@
 //! are the means of `drystone run` on the same study (collapse angles as the middles of
 //! their brackets, displacements at every observed tilt), realization by realization.
 
-use drystone::discrepancy::observations::{Measure, Observable};
-use drystone::discrepancy::predictive::Simulated;
-use drystone::discrepancy::simulate::run_models;
+use drystone::discrepancy::{run_models, Measure, Observable, Simulated};
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
 use drystone::study::{run::run_study, Study};
