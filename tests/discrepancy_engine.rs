@@ -68,7 +68,8 @@ fn the_lateral_load_gives_the_study_run_displacements_under_the_load() {
     let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 0.0 };
     for (g, group) in study.groups.iter().enumerate() {
         let row = rows.iter().find(|r| r.group == group.name && r.point == 0).unwrap();
-        let want = [row.lateral_disp_left_cm, row.lateral_disp_centre_cm, row.lateral_disp_right_cm].map(Option::unwrap);
+        let want =
+            [row.lateral_disp_left_cm, row.lateral_disp_centre_cm, row.lateral_disp_right_cm].map(Option::unwrap);
         let o = &outs[g][0];
         assert_eq!(o.tilt_deg, [0.0], "{}", group.name);
         assert_eq!(o.top_cm, [want], "{}", group.name);

@@ -189,7 +189,8 @@ fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize
     let setup = setup_of(st, s.most_realizations());
     let pool = pool(threads)?;
     let progress = progress_lines("discrepancy");
-    let prepared = pool.install(|| drystone::discrepancy::prepare_with(&setup, &template, s, &st.library, &progress))?;
+    let prepared =
+        pool.install(|| drystone::discrepancy::prepare_with(&setup, &template, s, &st.library, &progress))?;
     for (set, obs) in sets.iter().zip(all) {
         let name = set.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
         progress(&format!("data set {name}"));

@@ -4,8 +4,8 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate_with, write_calibration, OUTPUT_SET as CALIBRATION_SET};
-use drystone::study::outputs::HeldDir;
 use drystone::study::figures::write_vtk_realizations;
+use drystone::study::outputs::HeldDir;
 use drystone::study::shards::{check_writable, merge as merge_shards, run_into, RunMode};
 use drystone::study::size::{human_bytes, machine_memory};
 use drystone::study::suite::{is_suite, run_suite_with, Suite};
@@ -195,7 +195,8 @@ pub fn calibrate(
     let results = pool
         .install(|| calibrate_with(&st, &st.calibrate, &progress))
         .map_err(|m| anyhow::anyhow!("{}: {m}", study.display()))?;
-    let md = held.write_set(CALIBRATION_SET, "calibrate", &st.name, |staging| write_calibration(&st, &results, staging))?;
+    let md =
+        held.write_set(CALIBRATION_SET, "calibrate", &st.name, |staging| write_calibration(&st, &results, staging))?;
     out!("{md}");
     out!(
         "calibration {}: {} steps on {} threads in {:.1} s -> {}",

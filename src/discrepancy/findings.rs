@@ -3,13 +3,13 @@
 //! the bootstrap interval of the gain.
 
 use super::analysis::Analysis;
+use super::analysis::Library;
 use super::effects::Effect;
 use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};
 use super::prepare::Keys;
 use super::simulate::Outcome;
 use super::Settings;
-use super::analysis::Library;
 use serde::Serialize;
 
 /// A fitted parameter of the named cause: `effect.param`, its value and its interval (in

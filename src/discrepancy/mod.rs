@@ -55,8 +55,8 @@ pub use observations::{
 };
 pub use predictive::{Predictive, Reading, Simulated};
 pub use prepare::{
-    build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_with, searched, InertEffect, Keys,
-    Prepared,
+    build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_with, searched, InertEffect,
+    Keys, Prepared,
 };
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};
 pub use settings::Settings;

@@ -512,5 +512,4 @@ mod tests {
         // The Monte Carlo error of the mean over 400 calibrations is about 0.1 %.
         assert!((0.035..=0.0505).contains(&rate), "{rate}");
     }
-
 }

@@ -193,11 +193,7 @@ pub fn build_library(
 /// The setup with every group's realizations capped at `n`.
 pub(super) fn with_realizations(setup: &Setup, n: u64) -> Setup {
     Setup {
-        groups: setup
-            .groups
-            .iter()
-            .map(|g| GroupSetup { realizations: g.realizations.min(n), ..g.clone() })
-            .collect(),
+        groups: setup.groups.iter().map(|g| GroupSetup { realizations: g.realizations.min(n), ..g.clone() }).collect(),
         ..setup.clone()
     }
 }

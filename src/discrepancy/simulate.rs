@@ -17,8 +17,8 @@ use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
-use crate::loading::mechanism::MechanismReading;
 use crate::loading::lateral::LateralResult;
+use crate::loading::mechanism::MechanismReading;
 use crate::loading::protocol::{Protocol, ProtocolRun};
 use crate::loading::tilt::{TiltParams, TiltResult};
 use crate::units::m_to_cm;
@@ -174,7 +174,9 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
     match setup.protocol.run(&layout, setup.solver) {
         ProtocolRun::Tilt(Ok(t)) => tilt_outcome(&t),
         ProtocolRun::Lateral(Ok(r)) => lateral_outcome(&r),
-        run => Outcome::failed(run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name()))),
+        run => Outcome::failed(
+            run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
+        ),
     }
 }
 

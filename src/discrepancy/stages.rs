@@ -85,15 +85,13 @@ pub fn analyze_with(
         progress(&format!("ranking: {added} pairs of effects added"));
     }
     let ctx = Ctx { data, specimens: &specimens, keys: &keys, full: &full, course_m: course_height(setup), prep };
-    let runs =
-        if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
+    let runs = if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
     let candidates: Vec<Ranked> = ranked;
     let eligible = |r: &Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
     let named = name_cause(&candidates, eligible, &screening, margins.baseline);
 
     let mut extended = None;
-    let mut extended_predictive: Vec<Predictive> =
-        (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect();
+    let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect();
     let mut gain = None;
     let mut tie = Tie::default();
     let (check, passes) = match &named {
@@ -462,7 +460,8 @@ fn tie_checks(
     replicates: usize,
     seed: u64,
 ) -> Tie {
-    let challengers: Vec<&Ranked> = candidates.iter().filter(|r| r.index != cause.index).take(TIE_CHALLENGERS).collect();
+    let challengers: Vec<&Ranked> =
+        candidates.iter().filter(|r| r.index != cause.index).take(TIE_CHALLENGERS).collect();
     let rates = reversal_rates(
         &pool[cause.index],
         &challengers.iter().map(|r| &pool[r.index]).collect::<Vec<_>>(),

@@ -163,4 +163,3 @@ pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplace
     }
     Ok(())
 }
-

@@ -1,9 +1,9 @@
 //! The model-discrepancy analysis of a study: its groups and measured data handed to
 //! [`crate::discrepancy`] (`drystone discrepancy STUDY.toml`, `drystone synthesize`).
 
-use super::Study;
 use super::extend::ExtendError;
 use super::outputs::{HeldDir, SetNames};
+use super::Study;
 use crate::discrepancy::{mechanism_observations, observations, write_report, DiscrepancyError, GroupSetup};
 use crate::discrepancy::{MeasurementSigma, Observation, Run, Setup, WriteError};
 use crate::io::FileError;
