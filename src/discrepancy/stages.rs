@@ -14,7 +14,7 @@
 //! posterior predictive check, the tie checks and the verdict.
 
 use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Library, Ranked};
-use super::analysis::{TieCheck, Verdict, TIE_CHALLENGERS};
+use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
 use super::fit::{self, specimen_weights, to_value, Candidate, Data, Surface};
@@ -84,43 +84,33 @@ pub fn analyze_with(
     if added > 0 {
         progress(&format!("ranking: {added} pairs of effects added"));
     }
-    let ctx = Ctx { data, specimens: &specimens, keys: &keys, full: &full, course_m: course_height(setup), prep };
+    let ctx = Ctx {
+        data,
+        specimens: &specimens,
+        keys: &keys,
+        labels: &labels,
+        full: &full,
+        course_m: course_height(setup),
+        sigma: sigma_rule,
+        seed,
+        prep,
+    };
     let runs = if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
     let candidates: Vec<Ranked> = ranked;
     let eligible = |r: &Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
     let named = name_cause(&candidates, eligible, &screening, margins.baseline);
-
-    let mut extended = None;
-    let mut extended_predictive: Vec<Predictive> = (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect();
-    let mut gain = None;
-    let mut tie = Tie::default();
-    let (check, passes) = match &named {
-        Some(b) => {
-            progress(&format!("extended model: {} ({} check data sets)", b.name, s.check_replicates));
-            let model = extended_model(&ctx, b, &pool[b.index], &runs)?;
-            extended_predictive = (0..obs.len()).map(|j| data.predictive(&model.sims, j)).collect();
-            let check_sims = keys.simulated(&model.check_pool);
-            let src = NullSource {
-                pool: &model.check_pool,
-                keys: &keys.keys,
-                sims: &check_sims,
-                centre: &model.sims,
-                sigma: sigma_rule,
-            };
-            let ppc = predictive_check(data, &model.sims, &specimens, src, s.check_replicates, seed, &labels);
-            let passes = ppc.passes();
-            let cause_per = fit::per_specimen(&b.scores, &obs, &specimens);
-            gain = Some(bootstrap_gain(&screening.base_per, &cause_per, s.bootstrap, seed));
-            progress(&format!("tie checks: {} against its challengers", b.name));
-            tie = tie_checks(&ctx, b, &candidates, &pool, src, s.check_replicates, seed);
-            extended = model.run;
-            (ppc, passes)
-        }
-        None => {
-            let ppc = predictive_check(data, &lib.baseline, &specimens, null_source, s.check_replicates, seed, &labels);
-            (ppc, false)
-        }
+    let found = match &named {
+        Some(b) => examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?,
+        None => Findings {
+            check: predictive_check(data, &lib.baseline, &specimens, null_source, s.check_replicates, seed, &labels),
+            passes: false,
+            extended: None,
+            extended_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
+            gain: None,
+            tie: Tie::default(),
+        },
     };
+    let (passes, tie) = (found.passes, found.tie);
     let verdict = verdict(named.is_some(), passes, screening.base_he, margins.misfit);
     progress(&format!("verdict: {}", verdict.name()));
     let design = separating_design(&tie.members, &candidates, &pool, &obs, &keys, &labels);
@@ -137,7 +127,7 @@ pub fn analyze_with(
         baseline_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
         baseline_scores: screening.base_scores,
         margins,
-        check: Some(check),
+        check: Some(found.check),
         pool,
     };
     Ok(Run {
@@ -147,9 +137,9 @@ pub fn analyze_with(
         library: lib.clone(),
         analysis,
         baseline: prep.baseline.clone(),
-        extended,
-        extended_predictive,
-        gain,
+        extended: found.extended,
+        extended_predictive: found.extended_predictive,
+        gain: found.gain,
         design,
         bracket_deg,
         cause_interval,
@@ -159,15 +149,68 @@ pub fn analyze_with(
     })
 }
 
-/// What the later stages share: the data, the specimens, the keys, the setup of the full
-/// runs, the walls' mean course height and the preparation.
+/// What the later stages share: the data, the specimens, the keys and their labels, the
+/// setup of the full runs, the walls' mean course height, the σ rule, the seed of the null
+/// data and the bootstrap, and the preparation.
 struct Ctx<'a> {
     data: Data<'a>,
     specimens: &'a [String],
     keys: &'a Keys,
+    labels: &'a [String],
     full: &'a Setup,
     course_m: f64,
+    sigma: SigmaRule<'a>,
+    seed: u64,
     prep: &'a Prepared,
+}
+
+/// What the analysis found after naming a cause, or not: the posterior predictive check
+/// (of the extended model, else of the baseline) and whether it passes, the extended
+/// model's run and predictive of every observation (the baseline's without a cause), the
+/// gain with its bootstrap interval and the tie.
+struct Findings {
+    check: PredictiveCheck,
+    passes: bool,
+    extended: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
+    extended_predictive: Vec<Predictive>,
+    gain: Option<(f64, f64, f64)>,
+    tie: Tie,
+}
+
+/// Stages 7 and 8 for a named cause `b`: its extended model ([`extended_model`]) checked
+/// on data drawn from its own independent realizations, the gain in held-out error per
+/// specimen on the baseline (`base_per`) with its bootstrap interval, and the tie
+/// ([`tie_checks`]).
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an effect that cannot take its fitted values.
+fn examine_cause(
+    ctx: &Ctx<'_>,
+    b: &Ranked,
+    candidates: &[Ranked],
+    pool: &[Candidate],
+    runs: &[Confirmation],
+    base_per: &[f64],
+    progress: Progress<'_>,
+) -> Result<Findings, DiscrepancyError> {
+    let (data, s, seed) = (ctx.data, &ctx.prep.settings, ctx.seed);
+    progress(&format!("extended model: {} ({} check data sets)", b.name, s.check_replicates));
+    let model = extended_model(ctx, b, &pool[b.index], runs)?;
+    let extended_predictive = (0..data.obs.len()).map(|j| data.predictive(&model.sims, j)).collect();
+    let check_sims = ctx.keys.simulated(&model.check_pool);
+    let src = NullSource {
+        pool: &model.check_pool,
+        keys: &ctx.keys.keys,
+        sims: &check_sims,
+        centre: &model.sims,
+        sigma: ctx.sigma,
+    };
+    let check = predictive_check(data, &model.sims, ctx.specimens, src, s.check_replicates, seed, ctx.labels);
+    let cause_per = fit::per_specimen(&b.scores, data.obs, ctx.specimens);
+    let gain = Some(bootstrap_gain(base_per, &cause_per, s.bootstrap, seed));
+    progress(&format!("tie checks: {} against its challengers", b.name));
+    let tie = tie_checks(ctx, b, candidates, pool, src, s.check_replicates, seed);
+    Ok(Findings { passes: check.passes(), check, extended: model.run, extended_predictive, gain, tie })
 }
 
 /// Stage 1, the design: the key of every observation in the prepared design (its group
