@@ -153,5 +153,5 @@ fn discrepancy_and_calibrate_hold_their_output_directory_and_write_whole_sets() 
     let listed: Vec<&str> = outputs.iter().map(|f| f.path.as_str()).collect();
     assert_eq!(listed, ["calibration.json", "calibration.md"]);
     drystone::study::outputs::verify(&out, &outputs).unwrap();
-    assert!(err.contains("calibrate: step 1/1 (FREE): friction_deg in 30 .. 31"), "{err}");
+    assert!(err.contains("calibrate: step 1/1 (FREE): friction_deg in 30.0° .. 31.0°"), "{err}");
 }

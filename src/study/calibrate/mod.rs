@@ -199,8 +199,8 @@ pub fn calibrate_with(
             steps.len(),
             spec.group,
             spec.parameter,
-            spec.lower,
-            spec.upper
+            report::fmt_value(spec, spec.lower),
+            report::fmt_value(spec, spec.upper)
         ));
         let result = step(study, gi, spec, given).map_err(|reason| CalibrateError::Step {
             step: si,
