@@ -163,3 +163,51 @@ fn the_verdict_follows_the_cause_its_check_and_the_misfit_margin() {
     assert_eq!(verdict(false, true, 1.0, 1.0), Verdict::NoEffect);
     assert_eq!(verdict(false, false, 0.5, 1.0), Verdict::NoEffect);
 }
+
+/// Screening on five collapse angles 21, 21.5, 22, 21.25, 21.75° (σ = 0.5°, exact
+/// readings) against a baseline at 20° from one realization (a Gaussian predictive of
+/// sd σ): each specimen scores ln σ + ½ ln 2π + ½ ((y − 20)/σ)². A candidate whose surface
+/// is the baseline everywhere gains nothing and pays the AICc of one parameter,
+/// 2 + 2·1·2/(5 − 1 − 1); one whose mean runs linearly from 20° to 22° over its axis fits
+/// any mean, so leaving specimen i out it predicts the mean of the other four, missing by
+/// (5/4)(yᵢ − ȳ): it ranks first, and its gain is the screening's statistic.
+#[test]
+fn screening_scores_the_baseline_and_ranks_the_candidates_by_their_heldout_error() {
+    let ys = [21.0, 21.5, 22.0, 21.25, 21.75];
+    let sigma = 0.5;
+    let obs: Vec<Observation> = ys.iter().enumerate().map(|(i, &y)| angle(&format!("S{i}"), "G", y, sigma)).collect();
+    let y: Vec<f64> = ys.to_vec();
+    let key = vec![0usize; 5];
+    let weight = vec![1.0; 5];
+    let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: EXACT, bracket_deg: 0.0 };
+    let specimens = observations::specimens(&obs);
+    let at = |mean: f64| vec![Simulated { mean, sd: 0.0, n: 1, err: 0.0 }];
+    let defs = crate::effects::Library::builtin();
+    let candidate = |name: &str, means: [f64; 3]| {
+        let def = defs.get(name).unwrap();
+        Candidate {
+            params: def.params_for(0.2),
+            effects: vec![def],
+            surface: Surface::axis(vec![0.0, 0.5, 1.0], means.iter().map(|&m| at(m)).collect()),
+        }
+    };
+    let lib = Library {
+        baseline: at(20.0),
+        candidates: vec![candidate("kn_scale", [20.0; 3]), candidate("initial_lean", [20.0, 21.0, 22.0])],
+    };
+    let s = screen(&lib, data, &specimens);
+    let c = sigma.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln();
+    let base: Vec<f64> = ys.iter().map(|y| c + 0.5 * ((y - 20.0) / sigma).powi(2)).collect();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9 * b.abs().max(1.0);
+    assert!(s.base_scores.iter().zip(&base).all(|(a, b)| close(*a, *b)), "{:?}", s.base_scores);
+    let base_he = base.iter().sum::<f64>() / 5.0;
+    assert!(close(s.base_he, base_he) && close(s.base_ic, 2.0 * base.iter().sum::<f64>()), "{s:?}");
+    let mean = ys.iter().sum::<f64>() / 5.0;
+    let loso: f64 = ys.iter().map(|y| c + 0.5 * (1.25 * (y - mean) / sigma).powi(2)).sum::<f64>() / 5.0;
+    assert_eq!(s.ranked.iter().map(|r| r.name.as_str()).collect::<Vec<_>>(), ["initial_lean", "kn_scale"]);
+    let (best, flat) = (&s.ranked[0], &s.ranked[1]);
+    assert!((best.heldout_error - loso).abs() < 1e-6, "{} vs {loso}", best.heldout_error);
+    assert!((s.screen_gain - (base_he - loso)).abs() < 1e-6, "{}", s.screen_gain);
+    assert!(close(flat.heldout_error, base_he), "{} vs {base_he}", flat.heldout_error);
+    assert!(close(flat.information_criterion, s.base_ic + 2.0 + 4.0 / 3.0), "{}", flat.information_criterion);
+}
