@@ -155,9 +155,18 @@ fn fmt_params(r: &Ranked) -> String {
 
 /// The Markdown report.
 pub fn report_markdown(run: &Run, study: &str) -> String {
-    let a = &run.analysis;
     let mut md = String::new();
     let _ = writeln!(md, "# Model discrepancy: {study}\n");
+    verdict_section(&mut md, run);
+    diagnosis_section(&mut md, run);
+    candidates_section(&mut md, run);
+    extended_section(&mut md, run);
+    md
+}
+
+/// The verdict, its predictive check, what would separate a tie and the measurement σ used.
+fn verdict_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     let verdict = match (&a.cause, a.tie.len(), a.verdict) {
         (Some(c), _, super::analysis::Verdict::Unexplained) => format!(
             "**unexplained**: the best candidate `{}` ({}) beats the baseline but still misfits the data (posterior predictive check), a partial explanation at most",
@@ -202,6 +211,9 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
         s.reading.angle_deg,
         s.reading.displacement_cm
     );
+}
+/// What the model gets wrong: the baseline against every group and observable.
+fn diagnosis_section(md: &mut String, run: &Run) {
     let _ = writeln!(md, "## What the model gets wrong\n");
     let _ = writeln!(md, "Baseline ensemble against every observation: measured mean ± specimen σ, simulated mean ± realization σ, and the mean standardized residual z = (measured − predicted)/predictive σ.\n");
     let _ = writeln!(md, "| group | observable | n | measured | simulated | mean z | spread ratio (sim/meas) |");
@@ -225,6 +237,10 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
         );
     }
     let _ = writeln!(md, "\n![standardized residuals](residuals.svg)\n");
+}
+/// The candidates ranked, the margins and their false-alarm rate, the tie checks.
+fn candidates_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     let _ = writeln!(md, "## Candidates\n");
     let _ = writeln!(md, "Held-out error: mean score per specimen (negative log predictive probability of each reading, a specimen's displacements counting as one observation), each specimen predicted by the model fitted to the other specimens (leave one specimen out); ± the standard error of its difference to the baseline. AICc at the fit to all data, n = specimens. Common random numbers: the same layouts and seeds for every candidate. `full run`: re-run as a full ensemble at its fitted parameters and scored by that run.\n");
     let _ = writeln!(md, "| rank | candidate | fitted parameters | held-out error | AICc | scored by |");
@@ -275,6 +291,10 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
         }
         let _ = writeln!(md);
     }
+}
+/// The extended model, when one was run: its gain and its values beside the baseline's.
+fn extended_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     if let (Some((effects, _)), Some((g, lo, hi))) = (&run.extended, run.gain) {
         let _ = writeln!(md, "## Extended model\n");
         let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
@@ -305,7 +325,6 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
             let _ = writeln!(md, "![displacement against tilt, {g}](displacement_{g}.svg)\n");
         }
     }
-    md
 }
 
 fn displacement_groups(run: &Run) -> Vec<String> {
