@@ -3,7 +3,8 @@
 //! ```text
 //!  observations ─▶ design_keys ─▶ apply_sigma_rule (Sigmas) ─▶ calibrate_margins (Margins)
 //!    ─▶ screen (Screening) ─▶ add_pairs ─▶ confirm (Confirmation runs) ─▶ name_cause
-//!    ─▶ extended_model (ExtendedModel) ─▶ tie_checks (Tie) ─▶ verdict ─▶ Run
+//!    ─▶ examine_cause: extended_model (ExtendedModel), predictive check, gain,
+//!       tie_checks (Tie) → Findings ─▶ verdict ─▶ separating_design, fitted_parameters ─▶ Run
 //! ```
 //!
 //! The stages are those of the method ([`super::analysis`], [`super::null`]): the
