@@ -228,7 +228,7 @@ fn main() {
 /// Analyses one data set's observations and classifies the answer.
 fn one(
     prep: &drystone::discrepancy::Prepared,
-    obs: Vec<drystone::discrepancy::observations::Observation>,
+    obs: Vec<drystone::discrepancy::Observation>,
     e: Edit,
     with: bool,
     i: usize,
@@ -260,13 +260,13 @@ fn one(
     eprintln!("{what} -> {got:?}");
     if std::env::var_os("REALWALL_VERBOSE").is_some() {
         let top = &a.candidates[0];
-        let ps = |sc: &[f64]| drystone::discrepancy::fit::per_specimen(sc, &run.obs, &run.specimens);
+        let ps = |sc: &[f64]| drystone::discrepancy::per_specimen(sc, &run.obs, &run.specimens);
         for c in &a.candidates {
             let d: Vec<f64> = ps(&c.scores).iter().zip(ps(&top.scores)).map(|(x, y)| x - y).collect();
             eprintln!(
                 "    vs top: D {:8.3} se {:8.3} per-specimen {:?}",
                 d.iter().sum::<f64>(),
-                drystone::discrepancy::fit::difference_se(&d),
+                drystone::discrepancy::difference_se(&d),
                 d.iter().map(|x| (x * 100.0).round() / 100.0).collect::<Vec<_>>()
             );
             eprintln!(

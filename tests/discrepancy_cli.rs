@@ -77,3 +77,80 @@ fn unknown_keys_and_effects_of_the_discrepancy_table_are_named() {
         assert!(err.contains(expect) && err.contains("s.toml"), "{table}: {err}");
     }
 }
+
+/// The small walls' study with measured collapse angles and one calibration step, written
+/// into `dir` (its walls by absolute path).
+fn study_with_data(dir: &Path) -> String {
+    let text = std::fs::read_to_string(root().join("tests/discrepancy/study.toml")).unwrap();
+    let walls = root().join("tests/discrepancy/walls");
+    let mut rows = String::from("specimen,group,collapse_angle_deg\n");
+    for (i, (free, held)) in [(26.0, 33.5), (25.5, 34.0), (26.5, 33.0)].into_iter().enumerate() {
+        rows += &format!("F{i},FREE,{free}\nH{i},HELD,{held}\n");
+    }
+    write(dir, "collapse.csv", &rows);
+    let study = text.replace("walls/", &format!("{}/", walls.display()))
+        + "\n[measured]\ncollapse = \"collapse.csv\"\n\n[[calibrate]]\ngroup = \"FREE\"\nparameter = \"friction_deg\"\nlower = 30.0\nupper = 31.0\n";
+    write(dir, "s.toml", &study);
+    dir.join("s.toml").display().to_string()
+}
+
+/// `discrepancy` and `calibrate` hold their output directory as `run` does: while one
+/// analysis runs, a second one, a calibration and a run on the same `--out` are refused
+/// naming the holder (its process id and command line), and nothing is written there;
+/// after it is killed, the directory holds no output of it (its set was never committed)
+/// and a calibration writes its own set whole (`calibration-manifest.json` with the digest
+/// of each file).
+#[test]
+fn discrepancy_and_calibrate_hold_their_output_directory_and_write_whole_sets() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let scratch = Scratch::created("discrepancy-lock");
+    let st = study_with_data(&scratch);
+    let out = scratch.join("out");
+    let o = out.to_str().unwrap();
+    let mut first = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["discrepancy", &st, "--threads", "1", "--out", o])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("drystone starts");
+    let lock = out.join(".drystone.lock");
+    let t0 = Instant::now();
+    while std::fs::read_to_string(&lock).map_or(true, |t| t.is_empty()) {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no lock within 60 s");
+        assert!(first.try_wait().unwrap().is_none(), "the analysis ended before the test could race it");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let holder = format!("{}: in use by another drystone process (pid {}: ", out.display(), first.id());
+    for args in [
+        vec!["discrepancy", st.as_str(), "--threads", "1", "--out", o],
+        vec!["calibrate", st.as_str(), "--out", o],
+        vec!["run", st.as_str(), "--realizations", "1", "--out", o],
+    ] {
+        let (code, err) = drystone(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(&holder), "{args:?}: {err}");
+    }
+    assert!(first.try_wait().unwrap().is_none(), "the analysis ran through the race");
+    first.kill().expect("SIGKILL");
+    first.wait().unwrap();
+    let names = |d: &Path| {
+        let mut v: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names(&out), [".drystone.lock"], "nothing written but the lock");
+    let (code, err) = drystone(&["calibrate", &st, "--threads", "1", "--out", o]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(names(&out), [".drystone.lock", "calibration-manifest.json", "calibration.json", "calibration.md"]);
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("calibration-manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["command"], "calibrate");
+    let outputs: Vec<drystone::study::OutputFile> = serde_json::from_value(manifest["outputs"].clone()).unwrap();
+    let listed: Vec<&str> = outputs.iter().map(|f| f.path.as_str()).collect();
+    assert_eq!(listed, ["calibration.json", "calibration.md"]);
+    drystone::study::verify_outputs(&out, &outputs).unwrap();
+    assert!(err.contains("calibrate: step 1/1 (FREE): friction_deg in 30.0° .. 31.0°"), "{err}");
+}

@@ -1,10 +1,11 @@
 //! The discrepancy engine's forward runs are the study's: its baseline predictive means
 //! are the means of `drystone run` on the same study (collapse angles as the middles of
-//! their brackets, displacements at every observed tilt), realization by realization.
+//! their brackets, displacements at every observed tilt), realization by realization; the
+//! lateral load goes through the same protocol seam, and an analysis of its displacements
+//! finds a joint stiffness by the elastic 1/Kn scaling.
 
-use drystone::discrepancy::observations::{Measure, Observable};
-use drystone::discrepancy::predictive::Simulated;
-use drystone::discrepancy::simulate::run_models;
+use drystone::discrepancy::{analyze, prepare, run_models, DiscrepancyError, Measure, Observable, Observation};
+use drystone::discrepancy::{Reading, Settings, Simulated, Verdict};
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
 use drystone::study::{run_study, Study};
@@ -18,7 +19,8 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
     let study = Study { realizations: n, ..study };
     let rows = run_study(&study, Shard::ALL);
     let setup = setup_of(&study, n);
-    assert_eq!((setup.tilt.step_deg, setup.tilt.resolution_deg), (study.tilt.step_deg, study.tilt.resolution_deg));
+    let tilt = setup.tilt().expect("a tilting-table study");
+    assert_eq!((tilt.step_deg, tilt.resolution_deg), (study.tilt.step_deg, study.tilt.resolution_deg));
     let outs = run_models(&setup, &[vec![]], None).remove(0);
     for (g, group) in study.groups.iter().enumerate() {
         let mine: Vec<_> = rows.iter().filter(|r| r.group == group.name).collect();
@@ -45,4 +47,102 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
             .collect();
         assert!((sim.mean - drystone::stats::mean(&run)).abs() < 1e-12, "{}: {} vs {:?}", group.name, sim.mean, run);
     }
+}
+
+fn lateral_study() -> Study {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    Study::from_file(&root.join("tests/studies/good/mini_lateral.toml")).unwrap()
+}
+
+/// The lateral load through the protocol seam: every group's outcome is one state at
+/// tilt 0 holding the top monitors' out-of-plane displacements under the load, the columns
+/// `lateral_disp_{left,centre,right}_cm` of `drystone run` on the same study (first sweep
+/// point), and no collapse angle.
+#[test]
+fn the_lateral_load_gives_the_study_run_displacements_under_the_load() {
+    let study = lateral_study();
+    let rows = run_study(&study, Shard::ALL);
+    let setup = setup_of(&study, 1);
+    assert!(setup.tilt().is_none() && setup.bracket_deg() == 0.0);
+    let outs = run_models(&setup, &[vec![]], None).remove(0);
+    let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 0.0 };
+    for (g, group) in study.groups.iter().enumerate() {
+        let row = rows.iter().find(|r| r.group == group.name && r.point == 0).unwrap();
+        let want =
+            [row.lateral.lateral_disp_left_cm, row.lateral.lateral_disp_centre_cm, row.lateral.lateral_disp_right_cm]
+                .map(Option::unwrap);
+        let o = &outs[g][0];
+        assert_eq!(o.tilt_deg, [0.0], "{}", group.name);
+        assert_eq!(o.top_cm, [want], "{}", group.name);
+        assert_eq!((o.collapse_deg, o.value(&Observable::CollapseAngle)), (None, None));
+        let sim = Simulated::of(&outs[g], &ob);
+        assert!((sim.mean - (want[0] + want[1] + want[2]) / 3.0).abs() < 1e-15, "{}: {sim:?}", group.name);
+    }
+    // The free wall moves towards +y, the side the pressure pushes it to.
+    assert!(outs[1][0].top_cm[0][1] > 0.0, "{:?}", outs[1][0]);
+}
+
+/// Measured displacements of the free wall under the lateral load three times the model's
+/// (three specimens, ±1 %): with joints elastic and fully compressed the displacement
+/// scales as 1/Kn (Kn and Ks together), so the analysis names `kn_scale` with a factor
+/// near 1/3; the same specimens at the model's own displacement are explained by no
+/// effect. A collapse angle, or a displacement at a tilt, is not an observable of the
+/// lateral load and is refused before anything runs.
+#[test]
+fn an_analysis_of_lateral_displacements_finds_the_joint_stiffness_by_its_scaling() {
+    let study = lateral_study();
+    let s = Settings {
+        realizations: 1,
+        extension_realizations: 1,
+        null_realizations: 1,
+        grid_points: 4,
+        null_replicates: 40,
+        check_replicates: 40,
+        bootstrap: 100,
+        effects: vec!["kn_scale".into()],
+        scatter: false,
+        reading: Reading { angle_deg: 0.5, displacement_cm: 0.0, misreading: 0.0 },
+        ..Settings::default()
+    };
+    let setup = setup_of(&study, s.most_realizations());
+    let model = run_models(&setup, &[vec![]], None).remove(0);
+    let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 0.0 };
+    let free = study.groups.iter().position(|g| g.name == "free").unwrap();
+    let at_model = model[free][0].value(&ob).unwrap();
+    assert!(at_model > 0.01, "{at_model} cm");
+    let data = |scale: f64| -> Vec<Observation> {
+        [0.99, 1.0, 1.01]
+            .iter()
+            .enumerate()
+            .map(|(i, f)| Observation {
+                specimen: format!("free{i}"),
+                group: "free".into(),
+                observable: ob,
+                value: scale * at_model * f,
+                sigma: 0.01 * at_model,
+            })
+            .collect()
+    };
+    let prep = prepare(&setup, &data(3.0), &s, &study.library).unwrap();
+    let run = analyze(&prep, data(3.0), study.seed).unwrap();
+    let a = &run.analysis;
+    let cause = a.cause.as_ref().expect("a cause named");
+    assert_eq!(cause.name, "kn_scale");
+    assert_ne!(a.verdict, Verdict::NoEffect);
+    let factor = cause.parameters[0].1;
+    assert!((factor * 3.0 - 1.0).abs() < 0.15, "kn_scale.factor = {factor}, want about 1/3");
+    let run = analyze(&prep, data(1.0), study.seed).unwrap();
+    assert_eq!((run.analysis.verdict, run.analysis.cause.as_ref().map(|c| c.name.clone())), (Verdict::NoEffect, None));
+    // Observables the lateral load does not give.
+    let mut angle = data(1.0);
+    angle[0].observable = Observable::CollapseAngle;
+    let e = prepare(&setup, &angle, &s, &study.library).unwrap_err();
+    assert!(matches!(e, DiscrepancyError::Observable { protocol: "lateral", .. }), "{e}");
+    let mut tilted = data(1.0);
+    tilted[1].observable = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 5.0 };
+    let e = prepare(&setup, &tilted, &s, &study.library).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "specimen free1: displacement at 5 deg; the lateral load gives the displacements under the load, at tilt 0 only"
+    );
 }

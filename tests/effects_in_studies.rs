@@ -2,7 +2,7 @@
 //! the numbers of the discrepancy engine's extended ensemble (the same layouts, the same
 //! effect streams: both go through `effects::realize`), and effects change the result.
 
-use drystone::discrepancy::simulate::{run_models, Setup};
+use drystone::discrepancy::{run_models, Setup};
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
 use drystone::study::{run_study, Study};
@@ -26,7 +26,7 @@ fn a_study_with_effects_reproduces_the_discrepancy_ensemble_bit_for_bit() {
         groups: setup
             .groups
             .iter()
-            .map(|g| drystone::discrepancy::simulate::GroupSetup { effects: vec![], ..g.clone() })
+            .map(|g| drystone::discrepancy::GroupSetup { effects: vec![], ..g.clone() })
             .collect(),
         ..setup.clone()
     };

@@ -1,10 +1,12 @@
 //! `drystone discrepancy` and `drystone synthesize`.
 
 use anyhow::{bail, Context, Result};
-use drystone::discrepancy::{report, synthesize, Settings};
+use drystone::discrepancy::{report_json, synthetic_master_seed, synthetic_observables, SynthesisRequest};
+use drystone::discrepancy::{write_synthetic, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
-use drystone::study::discrepancy::{observations_of, setup_of};
+use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
+use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
 
@@ -68,6 +70,21 @@ fn use_measured_dir(st: &mut Study, dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The progress of a long command (`discrepancy`, `calibrate`): its lines on stderr, as
+/// `COMMAND: line`, when stderr is not a terminal (a batch log then shows the command
+/// advancing; a terminal has the progress bars); warnings (`warning: …`) always.
+pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
+    use std::io::IsTerminal;
+    let terminal = std::io::stderr().is_terminal();
+    move |line: &str| {
+        if line.starts_with("warning:") {
+            eprintln!("{line}");
+        } else if !terminal {
+            eprintln!("{command}: {line}");
+        }
+    }
+}
+
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let mut st = Study::from_file(&a.study)?;
@@ -95,26 +112,15 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let obs = observations_of(&st, s.sigma)?;
     let setup = setup_of(&st, s.most_realizations());
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create the output directory {}", dir.display()))?;
+    // The directory is held from here to the end: a second command on it is refused.
+    let held = HeldDir::acquire(&dir)?;
     let pool = pool(a.threads)?;
     let t0 = std::time::Instant::now();
-    let run = pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library))?;
-    report::write(&dir, &run, &st.name)?;
-    let extended_study = match (&run.analysis.cause, &run.extended) {
-        (Some(c), Some((effects, _))) => {
-            let note = format!(
-                "{} named by `drystone discrepancy` ({}; {} specimens)",
-                c.name,
-                run.analysis.verdict.name(),
-                run.specimens.len()
-            );
-            let ext = dir.join("extended");
-            Some(drystone::study::write_extended(&st, effects, &run.cause_interval, &note, &ext)?)
-        }
-        _ => None,
-    };
+    let progress = progress_lines("discrepancy");
+    let run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
+    let extended_study = write_discrepancy(&held, &st, &run)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report::to_json(&run))?);
+        println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
         return Ok(());
     }
     let an = &run.analysis;
@@ -182,11 +188,14 @@ fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize
     let template: Vec<_> = all.iter().flatten().cloned().collect();
     let setup = setup_of(st, s.most_realizations());
     let pool = pool(threads)?;
-    let prepared = pool.install(|| drystone::discrepancy::prepare(&setup, &template, s, &st.library))?;
+    let progress = progress_lines("discrepancy");
+    let prepared =
+        pool.install(|| drystone::discrepancy::prepare_with(&setup, &template, s, &st.library, &progress))?;
     for (set, obs) in sets.iter().zip(all) {
-        let run = pool.install(|| drystone::discrepancy::analyze(&prepared, obs, st.seed))?;
-        let an = &run.analysis;
         let name = set.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        progress(&format!("data set {name}"));
+        let run = pool.install(|| drystone::discrepancy::analyze_with(&prepared, obs, st.seed, &progress))?;
+        let an = &run.analysis;
         let line = serde_json::json!({
             "set": name,
             "verdict": an.verdict.name(),
@@ -235,24 +244,24 @@ pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64
         human_seconds(cost)
     );
     let template = observations_of(&st, s.sigma).unwrap_or_default();
-    let req = synthesize::Request {
+    let req = SynthesisRequest {
         effects: effects.clone(),
         seed,
         specimens,
         sigma: s.sigma,
         reading: s.reading,
-        observables: synthesize::observables_of(&setup, &template),
+        observables: synthetic_observables(&setup, &template),
     };
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-synthetic-{seed}", st.name)));
-    let (c, d) = synthesize::synthesize(&setup, &req);
-    synthesize::write(&dir, &c, &d)?;
+    let (c, d) = drystone::discrepancy::synthesize(&setup, &req);
+    write_synthetic(&dir, &c, &d)?;
     let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
     println!(
         "synthetic data of {}: {} specimens per group, effects [{}], master seed {} (the study's is {}): {} collapse angles, {} displacements -> {}",
         st.name,
         specimens,
         labels.join(", "),
-        synthesize::master_seed(seed, st.seed),
+        synthetic_master_seed(seed, st.seed),
         st.seed,
         c.len(),
         d.len(),

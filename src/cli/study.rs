@@ -3,8 +3,9 @@
 use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
-use drystone::study::calibrate::{calibrate as calibrate_steps, write_calibration};
+use drystone::study::calibrate::{calibrate_with, write_calibration, OUTPUT_SET as CALIBRATION_SET};
 use drystone::study::write_vtk_realizations;
+use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{check_writable, merge as merge_shards, run_into, RunMode};
 use drystone::study::{human_bytes, machine_memory};
@@ -181,13 +182,21 @@ pub fn calibrate(
     }
     let st = load_with(st, realizations)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
+    // The directory is held from here to the end: a second command on it is refused.
+    let held = HeldDir::acquire(&dir)?;
     check_writable(&dir)?;
+    let progress = super::discrepancy::progress_lines("calibrate");
+    let setup = drystone::study::discrepancy::setup_of(&st, 1);
+    for i in drystone::discrepancy::inert_effects(&setup, &[]) {
+        progress(&format!("warning: {i}"));
+    }
     let pool = pool(threads)?;
     let t0 = std::time::Instant::now();
     let results = pool
-        .install(|| calibrate_steps(&st, &st.calibrate))
+        .install(|| calibrate_with(&st, &st.calibrate, &progress))
         .map_err(|m| anyhow::anyhow!("{}: {m}", study.display()))?;
-    let md = write_calibration(&st, &results, &dir)?;
+    let md =
+        held.write_set(CALIBRATION_SET, "calibrate", &st.name, |staging| write_calibration(&st, &results, staging))?;
     out!("{md}");
     out!(
         "calibration {}: {} steps on {} threads in {:.1} s -> {}",

@@ -8,9 +8,8 @@ use super::observations::{Observable, Observation};
 use super::predictive::Predictive;
 use super::simulate::Outcome;
 use super::Run;
-use crate::io::plot::{bands, colour, BandSeries, PlotError};
+use crate::io::plot::{bands, residuals, BandSeries, PlotError, ResidualSeries};
 use crate::io::FileError;
-use plotters::prelude::*;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -102,7 +101,7 @@ pub fn diagnosis(run: &Run, outcomes: &[Vec<Outcome>]) -> Vec<DiagnosisRow> {
 }
 
 /// The JSON object of the command-line contract.
-pub fn to_json(run: &Run) -> Value {
+pub fn report_json(run: &Run) -> Value {
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(
         |c| json!({ "name": c.name, "effects": c.name.split('+').collect::<Vec<_>>(), "parameters": params_json(c) }),
@@ -155,10 +154,19 @@ fn fmt_params(r: &Ranked) -> String {
 }
 
 /// The Markdown report.
-pub fn to_markdown(run: &Run, study: &str) -> String {
-    let a = &run.analysis;
+pub fn report_markdown(run: &Run, study: &str) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "# Model discrepancy: {study}\n");
+    verdict_section(&mut md, run);
+    diagnosis_section(&mut md, run);
+    candidates_section(&mut md, run);
+    extended_section(&mut md, run);
+    md
+}
+
+/// The verdict, its predictive check, what would separate a tie and the measurement σ used.
+fn verdict_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     let verdict = match (&a.cause, a.tie.len(), a.verdict) {
         (Some(c), _, super::analysis::Verdict::Unexplained) => format!(
             "**unexplained**: the best candidate `{}` ({}) beats the baseline but still misfits the data (posterior predictive check), a partial explanation at most",
@@ -203,6 +211,9 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
         s.reading.angle_deg,
         s.reading.displacement_cm
     );
+}
+/// What the model gets wrong: the baseline against every group and observable.
+fn diagnosis_section(md: &mut String, run: &Run) {
     let _ = writeln!(md, "## What the model gets wrong\n");
     let _ = writeln!(md, "Baseline ensemble against every observation: measured mean ± specimen σ, simulated mean ± realization σ, and the mean standardized residual z = (measured − predicted)/predictive σ.\n");
     let _ = writeln!(md, "| group | observable | n | measured | simulated | mean z | spread ratio (sim/meas) |");
@@ -226,6 +237,10 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
         );
     }
     let _ = writeln!(md, "\n![standardized residuals](residuals.svg)\n");
+}
+/// The candidates ranked, the margins and their false-alarm rate, the tie checks.
+fn candidates_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     let _ = writeln!(md, "## Candidates\n");
     let _ = writeln!(md, "Held-out error: mean score per specimen (negative log predictive probability of each reading, a specimen's displacements counting as one observation), each specimen predicted by the model fitted to the other specimens (leave one specimen out); ± the standard error of its difference to the baseline. AICc at the fit to all data, n = specimens. Common random numbers: the same layouts and seeds for every candidate. `full run`: re-run as a full ensemble at its fitted parameters and scored by that run.\n");
     let _ = writeln!(md, "| rank | candidate | fitted parameters | held-out error | AICc | scored by |");
@@ -276,6 +291,10 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
         }
         let _ = writeln!(md);
     }
+}
+/// The extended model, when one was run: its gain and its values beside the baseline's.
+fn extended_section(md: &mut String, run: &Run) {
+    let a = &run.analysis;
     if let (Some((effects, _)), Some((g, lo, hi))) = (&run.extended, run.gain) {
         let _ = writeln!(md, "## Extended model\n");
         let labels: Vec<String> = effects.iter().map(|e| e.label()).collect();
@@ -306,7 +325,6 @@ pub fn to_markdown(run: &Run, study: &str) -> String {
             let _ = writeln!(md, "![displacement against tilt, {g}](displacement_{g}.svg)\n");
         }
     }
-    md
 }
 
 fn displacement_groups(run: &Run) -> Vec<String> {
@@ -319,62 +337,18 @@ fn displacement_groups(run: &Run) -> Vec<String> {
     v
 }
 
-/// Standardized held-out residuals, baseline and best candidate, one point per observation.
-///
-/// # Errors
-/// [`PlotError`].
-pub fn residual_plot(path: &Path, run: &Run) -> Result<(), PlotError> {
-    let e = |m: String| PlotError { path: path.display().to_string(), message: m };
+/// The standardized held-out residuals of every observation, baseline and best candidate
+/// (the cause, or the first candidate), as the plot draws them: one label per observation
+/// (`SPECIMEN observable`) and one series per model.
+fn residual_series(run: &Run) -> (Vec<String>, Vec<ResidualSeries>) {
     let a = &run.analysis;
     let zb: Vec<f64> = run.obs.iter().zip(&a.baseline_predictive).map(|(o, p)| p.z(o.value)).collect();
     let best_pred = a.cause.as_ref().or(a.candidates.first()).map(|c| c.predictive.clone()).unwrap_or_default();
     let ze: Vec<f64> = run.obs.iter().zip(&best_pred).map(|(o, p)| p.z(o.value)).collect();
-    let lim = zb.iter().chain(&ze).filter(|v| v.is_finite()).fold(3.0f64, |m, v| m.max(v.abs())) * 1.1;
-    let root = SVGBackend::new(path, (760, 420)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
-    let n = run.obs.len();
-    let mut chart = ChartBuilder::on(&root)
-        .caption("standardized held-out residuals", ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(60)
-        .y_label_area_size(50)
-        .build_cartesian_2d(-0.5f64..n as f64 - 0.5, -lim..lim)
-        .map_err(|x| e(x.to_string()))?;
-    let labels: Vec<String> = run.obs.iter().map(|o| format!("{} {}", o.specimen, o.observable.label())).collect();
-    chart
-        .configure_mesh()
-        .x_labels(n.min(40))
-        .x_label_formatter(&|x| labels.get(x.round().max(0.0) as usize).cloned().unwrap_or_default())
-        .y_desc("z = (measured − predicted) / σ")
-        .draw()
-        .map_err(|x| e(x.to_string()))?;
-    for lvl in [-2.0, 2.0] {
-        chart
-            .draw_series(LineSeries::new(vec![(-0.5, lvl), (n as f64 - 0.5, lvl)], BLACK.mix(0.3)))
-            .map_err(|x| e(x.to_string()))?;
-    }
     let best = a.cause.as_ref().or(a.candidates.first()).map(|c| c.name.clone()).unwrap_or_else(|| "baseline".into());
-    for (k, (zs, label)) in [(&zb, "baseline".to_string()), (&ze, best)].into_iter().enumerate() {
-        let c = colour(k);
-        chart
-            .draw_series(
-                zs.iter()
-                    .enumerate()
-                    .filter(|(_, z)| z.is_finite())
-                    .map(|(i, &z)| Circle::new((i as f64 + 0.15 * k as f64, z), 4, c.filled())),
-            )
-            .map_err(|x| e(x.to_string()))?
-            .label(label)
-            .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|x| e(x.to_string()))?;
-    root.present().map_err(|x| e(x.to_string()))?;
-    Ok(())
+    let labels: Vec<String> = run.obs.iter().map(|o| format!("{} {}", o.specimen, o.observable.label())).collect();
+    let series = vec![ResidualSeries { label: "baseline".into(), z: zb }, ResidualSeries { label: best, z: ze }];
+    (labels, series)
 }
 
 /// The band of a displacement measure over the tilts of a group's outcomes.
@@ -426,14 +400,15 @@ pub enum WriteError {
 ///
 /// # Errors
 /// [`WriteError`]: the file system's or the plot's error, with the file.
-pub fn write(dir: &Path, run: &Run, study: &str) -> Result<(), WriteError> {
+pub fn write_report(dir: &Path, run: &Run, study: &str) -> Result<(), WriteError> {
     std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
-    let json = serde_json::to_string_pretty(&to_json(run))?;
-    for (name, text) in [("discrepancy.json", json), ("discrepancy.md", to_markdown(run, study))] {
+    let json = serde_json::to_string_pretty(&report_json(run))?;
+    for (name, text) in [("discrepancy.json", json), ("discrepancy.md", report_markdown(run, study))] {
         let p = dir.join(name);
         std::fs::write(&p, text).map_err(FileError::at(&p))?;
     }
-    residual_plot(&dir.join("residuals.svg"), run)?;
+    let (labels, series) = residual_series(run);
+    residuals(&dir.join("residuals.svg"), "standardized held-out residuals", &labels, &series)?;
     for g in displacement_groups(run) {
         let Some(group_index) = run.obs.iter().position(|o| o.group == g).map(|j| run.keys.keys[run.keys.of[j]].0)
         else {

@@ -4,14 +4,24 @@
 //! differences between models are the effects' and not the sampling's. The layouts are
 //! made by [`crate::effects::realize`], as a study's run makes them: a study with the same
 //! effects gives the same numbers.
+//!
+//! Every realization is loaded by the setup's protocol through the protocol seam
+//! ([`crate::loading::protocol::Protocol`]): the tilting table (the path the paper's data
+//! take: collapse angle, displacements at every stable tilt, the failure mechanism) or the
+//! static lateral load (the monitors' out-of-plane displacements under the load, as one
+//! state at tilt 0°). The shaking table has no observable here and is refused
+//! ([`Setup::check_protocol`]).
 
 use super::observations::Observable;
 use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
+use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
-use crate::loading::tilt::{run_tilt, TiltParams};
+use crate::loading::protocol::{Protocol, ProtocolRun};
+use crate::loading::tilt::{TiltParams, TiltResult};
+use crate::loading::Monitor;
 use crate::units::m_to_cm;
 use serde::Serialize;
 
@@ -36,7 +46,7 @@ pub struct GroupSetup {
     pub course_m: f64,
 }
 
-/// What the model is run with: groups, master seed, solver and tilting-table parameters.
+/// What the model is run with: groups, master seed, solver and loading protocol.
 #[derive(Debug, Clone)]
 pub struct Setup {
     /// Groups.
@@ -45,21 +55,67 @@ pub struct Setup {
     pub seed: u64,
     /// Solver parameters.
     pub solver: SolverParams,
-    /// Tilting-table parameters.
-    pub tilt: TiltParams,
+    /// The loading protocol with its parameters (the study's): [`Protocol::Tilt`] or
+    /// [`Protocol::Lateral`].
+    pub protocol: Protocol,
+}
+
+impl Setup {
+    /// The tilting table's parameters, for a tilting-table setup.
+    pub fn tilt(&self) -> Option<&TiltParams> {
+        match &self.protocol {
+            Protocol::Tilt(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// Width of a simulated collapse angle's bracket, degrees: the tilting table's
+    /// resolution; 0 for the lateral load (no collapse angle).
+    pub fn bracket_deg(&self) -> f64 {
+        self.tilt().map_or(0.0, |t| t.resolution_deg)
+    }
+
+    /// The tilts at which the protocol gives displacements, degrees: multiples of the
+    /// tilting table's step; the lateral load's one state at tilt 0.
+    pub fn reaches_tilt(&self, tilt_deg: f64) -> bool {
+        match self.tilt() {
+            Some(t) => {
+                let k = (tilt_deg / t.step_deg).round();
+                (k * t.step_deg - tilt_deg).abs() <= 1e-9
+            }
+            None => tilt_deg == 0.0,
+        }
+    }
+
+    /// Refuses a protocol the analysis cannot compare with measured data (the shaking
+    /// table: no collapse angle, no displacement at a tilt).
+    ///
+    /// # Errors
+    /// [`super::DiscrepancyError::Protocol`] naming it.
+    pub fn check_protocol(&self) -> Result<(), super::DiscrepancyError> {
+        match self.protocol {
+            Protocol::Tilt(_) | Protocol::Lateral(_) => Ok(()),
+            Protocol::Shake { .. } => Err(super::DiscrepancyError::Protocol {
+                protocol: self.protocol.name(),
+                reason: "the discrepancy analysis compares collapse angles and displacements of the tilting table or of the lateral load; the shaking table has neither",
+            }),
+        }
+    }
 }
 
 /// The outcome of one realization of one model.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outcome {
     /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` if the run
-    /// failed.
+    /// failed, and under the lateral load (no collapse angle).
     pub collapse_deg: Option<f64>,
     /// The first unstable tilt above α_max, degrees (`None` if the wall stood or failed).
     pub first_unstable_deg: Option<f64>,
-    /// Stable tilts, degrees.
+    /// Stable tilts, degrees (under the lateral load: `[0.0]`, the equilibrium under the
+    /// load, or none if the wall found none).
     pub tilt_deg: Vec<f64>,
-    /// Left, centre and right top displacements at each stable tilt, cm.
+    /// Left, centre and right top displacements at each stable tilt, cm (out of plane, +y:
+    /// the side the wall falls to).
     pub top_cm: Vec<[f64; 3]>,
     /// Why the run failed, if it did.
     pub error: Option<String>,
@@ -116,27 +172,47 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
         Ok((_, l)) => l,
         Err(e) => return Outcome::failed(e.to_string()),
     };
-    match run_tilt(&layout, setup.solver, &setup.tilt) {
-        Ok(t) => {
-            let find = |name: &str| t.monitors.iter().position(|m| m == name);
-            let idx = [find("top_left"), find("top_centre"), find("top_right")];
-            let mut tilt_deg = Vec::new();
-            let mut top_cm = Vec::new();
-            for inc in t.increments.iter().filter(|i| i.stable) {
-                tilt_deg.push(inc.alpha_deg);
-                top_cm.push(idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]))));
-            }
-            Outcome {
-                collapse_deg: Some(t.collapse_angle_deg()),
-                first_unstable_deg: t.first_unstable_deg,
-                tilt_deg,
-                top_cm,
-                error: None,
-                mechanism: t.mechanism.reading,
-            }
-        }
-        Err(e) => Outcome::failed(e.to_string()),
+    match setup.protocol.run(&layout, setup.solver) {
+        ProtocolRun::Tilt(Ok(t)) => tilt_outcome(&t),
+        ProtocolRun::Lateral(Ok(r)) => lateral_outcome(&r),
+        run => Outcome::failed(
+            run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
+        ),
     }
+}
+
+/// The observables of a tilting-table run: the collapse angle, its bracket, the left,
+/// centre and right top displacements at every stable tilt and the failure mechanism.
+fn tilt_outcome(t: &TiltResult) -> Outcome {
+    let idx = Monitor::ALL.map(|m| m.index_in(&t.monitors));
+    let mut tilt_deg = Vec::new();
+    let mut top_cm = Vec::new();
+    for inc in t.increments.iter().filter(|i| i.stable) {
+        tilt_deg.push(inc.alpha_deg);
+        top_cm.push(idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]))));
+    }
+    Outcome {
+        collapse_deg: Some(t.collapse_angle_deg()),
+        first_unstable_deg: t.first_unstable_deg,
+        tilt_deg,
+        top_cm,
+        error: None,
+        mechanism: t.mechanism.reading,
+    }
+}
+
+/// The observables of a lateral-load run: the left, centre and right top out-of-plane
+/// displacements under the load, as one state at tilt 0° when the wall found an
+/// equilibrium (none when it did not: a displacement observation of it is then missing,
+/// as one above a tilting-table collapse). No collapse angle, no mechanism.
+fn lateral_outcome(r: &LateralResult) -> Outcome {
+    let idx = Monitor::ALL.map(|m| m.index_in(&r.monitors));
+    let (tilt_deg, top_cm) = if r.equilibrium {
+        (vec![0.0], vec![idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(r.displacement_m[i])))])
+    } else {
+        (vec![], vec![])
+    };
+    Outcome { collapse_deg: None, first_unstable_deg: None, tilt_deg, top_cm, error: None, mechanism: None }
 }
 
 /// The outcomes of several models: `[model][group][realization]`.

@@ -11,7 +11,7 @@ use crate::effects::Effect;
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement};
 use crate::io::FileError;
 use crate::rng::{rng_for, Purpose};
-use rand::{Rng, RngExt};
+use rand::RngExt;
 use rand_distr::{Distribution, StandardNormal};
 use std::path::Path;
 
@@ -162,9 +162,4 @@ pub fn write(dir: &Path, collapse: &[MeasuredCollapse], disp: &[MeasuredDisplace
         std::fs::write(&p, text).map_err(FileError::at(&p))?;
     }
     Ok(())
-}
-
-/// A uniform draw in `[lo, hi]` (for tests and power studies that hide an effect).
-pub fn draw<R: Rng + ?Sized>(rng: &mut R, lo: f64, hi: f64) -> f64 {
-    rng.random_range(lo..=hi)
 }

@@ -1,5 +1,6 @@
 //! SVG plots of ensemble results (plotters): collapse-angle histograms with the measured
 //! values marked, displacement against tilt with the ensemble band and the measured points,
+//! standardized residuals of observations against models (the discrepancy report's),
 //! fragility curves (empirical and fitted lognormal), and x–y curves with a ±σ band.
 
 use plotters::prelude::*;
@@ -121,6 +122,70 @@ pub struct BandSeries {
     pub measured: Vec<(f64, f64)>,
     /// Legend suffix of the points \[`measured`\] (e.g. `paper` for a reference result).
     pub points_label: Option<String>,
+}
+
+/// One model's standardized residuals, one per observation (non-finite ones are not
+/// drawn).
+#[derive(Debug, Clone)]
+pub struct ResidualSeries {
+    /// Legend label.
+    pub label: String,
+    /// z = (measured − predicted) / σ of every observation, in the order of the labels.
+    pub z: Vec<f64>,
+}
+
+/// Standardized residuals, one column per observation (`labels`, at most 40 shown on the
+/// axis), one point per series in its colour (series `k` offset by 0.15 k), with the
+/// ±2 lines; the y range is symmetric, at least ±3.3.
+///
+/// # Errors
+/// [`PlotError`].
+pub fn residuals(path: &Path, title: &str, labels: &[String], series: &[ResidualSeries]) -> Result<(), PlotError> {
+    let e = err(path);
+    let lim = series.iter().flat_map(|s| &s.z).filter(|v| v.is_finite()).fold(3.0f64, |m, v| m.max(v.abs())) * 1.1;
+    let root = SVGBackend::new(path, (760, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let n = labels.len();
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(60)
+        .y_label_area_size(50)
+        .build_cartesian_2d(-0.5f64..n as f64 - 0.5, -lim..lim)
+        .map_err(|x| e(x.to_string()))?;
+    chart
+        .configure_mesh()
+        .x_labels(n.min(40))
+        .x_label_formatter(&|x| labels.get(x.round().max(0.0) as usize).cloned().unwrap_or_default())
+        .y_desc("z = (measured − predicted) / σ")
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    for lvl in [-2.0, 2.0] {
+        chart
+            .draw_series(LineSeries::new(vec![(-0.5, lvl), (n as f64 - 0.5, lvl)], BLACK.mix(0.3)))
+            .map_err(|x| e(x.to_string()))?;
+    }
+    for (k, s) in series.iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(
+                s.z.iter()
+                    .enumerate()
+                    .filter(|(_, z)| z.is_finite())
+                    .map(|(i, &z)| Circle::new((i as f64 + 0.15 * k as f64, z), 4, c.filled())),
+            )
+            .map_err(|x| e(x.to_string()))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    root.present().map_err(|x| e(x.to_string()))?;
+    Ok(())
 }
 
 /// Curves with shaded bands and measured points on one chart.

@@ -1,16 +1,19 @@
 //! The model-discrepancy analysis of a study: its groups and measured data handed to
 //! [`crate::discrepancy`] (`drystone discrepancy STUDY.toml`, `drystone synthesize`).
 
+use super::extend::ExtendError;
+use super::outputs::{HeldDir, SetNames};
 use super::Study;
-use crate::discrepancy::observations::{mechanism_observations, observations, MeasurementSigma, Observation};
-use crate::discrepancy::simulate::{GroupSetup, Setup};
-use crate::discrepancy::DiscrepancyError;
+use crate::discrepancy::{mechanism_observations, observations, write_report, DiscrepancyError, GroupSetup};
+use crate::discrepancy::{MeasurementSigma, Observation, Run, Setup, WriteError};
+use crate::io::FileError;
+use std::path::PathBuf;
 
 /// The setup of a study for the discrepancy analysis: its groups at the first sweep point
 /// with their effects (a group whose realizations 0 and 1 are the same layout is marked
 /// deterministic), each with `realizations` (or the group's own fixed count, if smaller),
-/// the study's seed, solver and tilting-table parameters as they are (the analysis's
-/// predictive means are the study's `run` means).
+/// the study's seed, solver and loading protocol with its parameters as they are (the
+/// analysis's predictive means are the study's `run` means).
 pub fn setup_of(study: &Study, realizations: u64) -> Setup {
     let groups = study
         .groups
@@ -34,7 +37,7 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
             }
         })
         .collect();
-    Setup { groups, seed: study.seed, solver: study.solver, tilt: study.tilt }
+    Setup { groups, seed: study.seed, solver: study.solver, protocol: study.loading() }
 }
 
 /// The observations of a study's measured data (`[measured]`), with the measured group
@@ -54,4 +57,51 @@ pub fn observations_of(study: &Study, sigma: MeasurementSigma) -> Result<Vec<Obs
             .map_err(|source| DiscrepancyError::Observations { file, source })?,
     );
     Ok(obs)
+}
+
+/// The staging directory and manifest of `drystone discrepancy`'s set in its output
+/// directory (beside a run's, if the directory holds one).
+pub const OUTPUT_SET: SetNames =
+    SetNames { staging: ".drystone-staging-discrepancy", manifest: "discrepancy-manifest.json" };
+
+/// Errors of writing a discrepancy analysis's outputs.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DiscrepancyOutputError {
+    /// The report could not be written.
+    #[error(transparent)]
+    Report(#[from] WriteError),
+    /// A file could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The extended study could not be written.
+    #[error(transparent)]
+    Extended(#[from] ExtendError),
+}
+
+/// Writes an analysis of `study` into the held directory `out`: the report
+/// (`discrepancy.md`, `discrepancy.json`, `residuals.svg`, `displacement_<group>.svg`) as
+/// one set ([`HeldDir::write_set`], manifest `discrepancy-manifest.json`), then, when a
+/// mechanism was named, the extended study under `extended/` (still under the
+/// directory's lock). Returns the extended study's file.
+///
+/// # Errors
+/// [`DiscrepancyOutputError`] naming the file.
+pub fn write_discrepancy(out: &HeldDir, study: &Study, run: &Run) -> Result<Option<PathBuf>, DiscrepancyOutputError> {
+    out.write_set(OUTPUT_SET, "discrepancy", &study.name, |staging| -> Result<(), DiscrepancyOutputError> {
+        Ok(write_report(staging, run, &study.name)?)
+    })?;
+    Ok(match (&run.analysis.cause, &run.extended) {
+        (Some(c), Some((effects, _))) => {
+            let note = format!(
+                "{} named by `drystone discrepancy` ({}; {} specimens)",
+                c.name,
+                run.analysis.verdict.name(),
+                run.specimens.len()
+            );
+            let ext = out.path().join("extended");
+            Some(super::extend::write_extended(study, effects, &run.cause_interval, &note, &ext)?)
+        }
+        _ => None,
+    })
 }

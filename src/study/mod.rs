@@ -100,7 +100,7 @@ mod text;
 pub use error::StudyError;
 pub use extend::{write_extended, ExtendError, FittedParameter};
 pub use figures::write_vtk_realizations;
-pub use outputs::verify as verify_outputs;
+pub use outputs::{verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames};
 pub use provenance::{sha256_hex, InputFile, InputRole, BUILD, VERSION};
 pub use report::{write_report, ReportError};
 pub use resolve::{Group, Measured, ShakeStudy, Study};

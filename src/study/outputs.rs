@@ -11,6 +11,7 @@
 //! committed) holds no complete set, and the next run or `--resume` writes one.
 //! [`verify`] checks a set against its manifest.
 
+use super::lock::{DirLock, LockError};
 use super::provenance::sha256_hex;
 use crate::io::FileError;
 use serde::{Deserialize, Serialize};
@@ -44,13 +45,43 @@ pub fn write_set<E: From<FileError>, T>(
     write: impl FnOnce(&Path) -> Result<T, E>,
     manifest: impl FnOnce(Vec<OutputFile>) -> Result<String, E>,
 ) -> Result<T, E> {
-    let staging = dir.join(STAGING);
+    write_named_set(dir, SetNames::RUN, previous, write, manifest)
+}
+
+/// The staging directory and the manifest of a set: a run's ([`SetNames::RUN`]), or
+/// another command's writing beside it in the same directory (`calibrate`,
+/// `discrepancy`), whose set is committed and checked on its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetNames {
+    /// The staging directory inside the output directory.
+    pub staging: &'static str,
+    /// The manifest, written last.
+    pub manifest: &'static str,
+}
+
+impl SetNames {
+    /// A run's set: [`STAGING`], [`MANIFEST`].
+    pub const RUN: SetNames = SetNames { staging: STAGING, manifest: MANIFEST };
+}
+
+/// [`write_set`] with the staging directory and manifest of `names`.
+///
+/// # Errors
+/// `write`'s error, or [`FileError`] naming the file.
+pub fn write_named_set<E: From<FileError>, T>(
+    dir: &Path,
+    names: SetNames,
+    previous: &[OutputFile],
+    write: impl FnOnce(&Path) -> Result<T, E>,
+    manifest: impl FnOnce(Vec<OutputFile>) -> Result<String, E>,
+) -> Result<T, E> {
+    let staging = dir.join(names.staging);
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir_all(&staging).map_err(FileError::at(&staging))?;
     let value = write(&staging)?;
     let outputs = digests(&staging)?;
     let text = manifest(outputs.clone())?;
-    let marker = dir.join(MANIFEST);
+    let marker = dir.join(names.manifest);
     match std::fs::remove_file(&marker) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(FileError::at(&marker)(e).into()),
         _ => crate::io::sync_dir(&marker),
@@ -68,6 +99,79 @@ pub fn write_set<E: From<FileError>, T>(
     crate::io::replace_file(&marker, text.as_bytes())?;
     let _ = std::fs::remove_dir_all(&staging);
     Ok(value)
+}
+
+/// The manifest of a command's set written beside a run's (`calibrate`, `discrepancy`):
+/// the command, the study, the drystone version and every output with its digest.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CommandManifest {
+    /// The command (`calibrate`, `discrepancy`).
+    pub command: String,
+    /// The study's name.
+    pub study: String,
+    /// The drystone version that wrote the set.
+    pub drystone_version: String,
+    /// The outputs.
+    pub outputs: Vec<OutputFile>,
+}
+
+/// An output directory held by this command: its lock ([`DirLock`], one writer per
+/// directory, taken before anything is computed, released when dropped) and its sets
+/// written whole ([`write_named_set`]). Two commands on one `--out`: the second is
+/// refused naming the first, and nothing of theirs is mixed.
+#[derive(Debug)]
+pub struct HeldDir {
+    dir: PathBuf,
+    _lock: DirLock,
+}
+
+impl HeldDir {
+    /// Creates `dir` if needed and takes its lock without waiting.
+    ///
+    /// # Errors
+    /// [`LockError::Held`] naming the directory and the process holding it, or
+    /// [`LockError::File`] naming the file.
+    pub fn acquire(dir: &Path) -> Result<HeldDir, LockError> {
+        let lock = DirLock::acquire(dir)?;
+        Ok(HeldDir { dir: dir.to_owned(), _lock: lock })
+    }
+
+    /// The directory.
+    pub fn path(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Writes one set of `command`'s outputs for `study`: `write` fills the staging
+    /// directory it is given (plain files only), and the set is committed with the
+    /// manifest of `names` ([`CommandManifest`]); the outputs of the command's previous
+    /// set that the new one lacks are removed, nothing else in the directory is touched.
+    ///
+    /// # Errors
+    /// `write`'s error, or [`FileError`] naming the file.
+    pub fn write_set<E: From<FileError>, T>(
+        &self,
+        names: SetNames,
+        command: &str,
+        study: &str,
+        write: impl FnOnce(&Path) -> Result<T, E>,
+    ) -> Result<T, E> {
+        let marker = self.dir.join(names.manifest);
+        let previous = std::fs::read_to_string(&marker)
+            .ok()
+            .and_then(|t| serde_json::from_str::<CommandManifest>(&t).ok())
+            .map(|m| m.outputs)
+            .unwrap_or_default();
+        write_named_set(&self.dir, names, &previous, write, |outputs| {
+            let m = CommandManifest {
+                command: command.into(),
+                study: study.into(),
+                drystone_version: env!("CARGO_PKG_VERSION").into(),
+                outputs,
+            };
+            serde_json::to_string_pretty(&m)
+                .map_err(|e| E::from(FileError::at(&marker)(std::io::Error::other(e.to_string()))))
+        })
+    }
 }
 
 /// A file name without a directory part (what an output path must be).

@@ -29,7 +29,7 @@
 //! `examples/realwall_power.rs` (the power table of BENCHMARKS.md).
 #![allow(dead_code)]
 
-use drystone::discrepancy::observations::{Measure, MeasurementSigma, Observable, Observation};
+use drystone::discrepancy::{Measure, MeasurementSigma, Observable, Observation};
 use drystone::generator::{generate, Wall};
 use drystone::io::measured::{
     check_mechanism_against_study, mechanism_csv, read_measured_mechanism, MeasuredMechanism, StudyContext,
@@ -508,7 +508,7 @@ pub fn mechanism_observations_via_file(
         study.groups.iter().map(|g| (g.measured_group.clone(), g.name.clone())).collect();
     let ctx = StudyContext { groups: groups.iter().map(|(m, _)| (m.clone(), f64::INFINITY)).collect(), step_deg: None };
     check_mechanism_against_study(&read, &[], &[], &ctx).expect("the mechanism file is valid");
-    drystone::discrepancy::observations::mechanism_observations(&read, &groups, sigma).expect("mechanism observations")
+    drystone::discrepancy::mechanism_observations(&read, &groups, sigma).expect("mechanism observations")
 }
 
 /// Observations holding every mechanism key of every group (the failure height, each

@@ -90,6 +90,17 @@ pub enum CalibrateError {
     },
 }
 
+impl From<crate::io::FileError> for CalibrateError {
+    fn from(e: crate::io::FileError) -> Self {
+        CalibrateError::Io { path: e.path, source: e.source }
+    }
+}
+
+/// The staging directory and manifest of `drystone calibrate`'s set in its output
+/// directory (a run's default directory too: the two sets stand side by side).
+pub const OUTPUT_SET: super::outputs::SetNames =
+    super::outputs::SetNames { staging: ".drystone-staging-calibration", manifest: "calibration-manifest.json" };
+
 impl CalibrateSpec {
     /// Search variable from a parameter value: log10(Kn) or φ.
     fn to_x(&self, v: f64) -> f64 {
@@ -160,6 +171,19 @@ pub struct StepResult {
 /// # Errors
 /// [`CalibrateError`] naming the step that could not run (bad wall, no collapse at an end).
 pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResult>, CalibrateError> {
+    calibrate_with(study, steps, &|_| {})
+}
+
+/// [`calibrate`], reporting each step as it starts and ends to `progress` (one line
+/// each, no trailing newline).
+///
+/// # Errors
+/// As [`calibrate`].
+pub fn calibrate_with(
+    study: &Study,
+    steps: &[CalibrateSpec],
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Vec<StepResult>, CalibrateError> {
     // The values found so far, per group: applied to the group's later steps.
     let mut carried: Vec<(String, Vec<(SweepKey, SweepValue)>)> =
         study.groups.iter().map(|g| (g.name.clone(), Vec::new())).collect();
@@ -169,11 +193,29 @@ pub fn calibrate(study: &Study, steps: &[CalibrateSpec]) -> Result<Vec<StepResul
         let gi = study.groups.iter().position(|g| g.name == spec.group).unwrap_or(0);
         let given: Vec<(SweepKey, SweepValue)> =
             carried[gi].1.iter().filter(|(k, _)| *k != spec.key()).cloned().collect();
+        progress(&format!(
+            "step {}/{} ({}): {} in {} .. {}",
+            si + 1,
+            steps.len(),
+            spec.group,
+            spec.parameter,
+            report::fmt_value(spec, spec.lower),
+            report::fmt_value(spec, spec.upper)
+        ));
         let result = step(study, gi, spec, given).map_err(|reason| CalibrateError::Step {
             step: si,
             group: spec.group.clone(),
             reason,
         })?;
+        progress(&format!(
+            "step {}/{} ({}): {}{} after {} evaluation(s)",
+            si + 1,
+            steps.len(),
+            spec.group,
+            result.outcome.replace('_', " "),
+            result.value.map_or(String::new(), |v| format!(" at {}", report::fmt_value(spec, v))),
+            result.evaluations.len()
+        ));
         if let Some(x) = result.value {
             let value = SweepValue::Number(x);
             for g in std::iter::once(&spec.group).chain(&spec.carry_to) {

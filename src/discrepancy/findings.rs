@@ -1,0 +1,121 @@
+//! What an analysis found, beyond the ranking: the [`Run`] with every part of it, the
+//! design that would separate two tied candidates, the fitted parameters of the cause and
+//! the bootstrap interval of the gain.
+
+use super::analysis::Analysis;
+use super::analysis::Library;
+use super::effects::Effect;
+use super::observations::Observation;
+use super::predictive::{Predictive, Simulated};
+use super::prepare::Keys;
+use super::simulate::Outcome;
+use super::Settings;
+use serde::Serialize;
+
+/// A fitted parameter of the named cause: `effect.param`, its value and its interval (in
+/// the parameter's unit; see [`crate::effects::ParamDef`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FittedParameter {
+    /// `effect.param`.
+    pub name: String,
+    /// The fitted value.
+    pub value: f64,
+    /// The interval (lower, upper).
+    pub interval: (f64, f64),
+}
+
+/// Everything a discrepancy run computed.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The observations.
+    pub obs: Vec<Observation>,
+    /// Their keys.
+    pub keys: Keys,
+    /// The specimens, in first-seen order.
+    pub specimens: Vec<String>,
+    /// The surrogate library.
+    pub library: Library,
+    /// The analysis.
+    pub analysis: Analysis,
+    /// The baseline's full run, `[group][realization]`.
+    pub baseline: Vec<Vec<Outcome>>,
+    /// The extended model's effects at the fitted parameters and its full run, when a
+    /// mechanism was named (also as a partial explanation).
+    pub extended: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
+    /// Predictive of every observation under the extended model (the baseline's when no
+    /// cause was named).
+    pub extended_predictive: Vec<Predictive>,
+    /// Gain in held-out error (baseline − extended, per specimen) and its 95 % bootstrap
+    /// interval over specimens.
+    pub gain: Option<(f64, f64, f64)>,
+    /// What would separate tied candidates: an observable, the difference of the two
+    /// models there in predictive standard deviations, and the specimens of its group a
+    /// test would need to tell them apart (two-sided 5 %, power 80 %).
+    pub design: Option<Design>,
+    /// Width of a simulated collapse angle's bracket, degrees (the study's resolution).
+    pub bracket_deg: f64,
+    /// The cause's parameters: `effect.param`, fitted value and 95 % profile interval.
+    pub cause_interval: Vec<FittedParameter>,
+    /// The measurement σ the data show (collapse angles in degrees, displacements in cm),
+    /// each with its degrees of freedom, where the data allow an estimate
+    /// ([`super::measurement_sigma`]). The analysis uses the larger of it and the
+    /// setting: data that scatter more than the model and the stated σ together are not
+    /// evidence for a mechanism.
+    pub sigma_estimate: [Option<(f64, usize)>; 2],
+    /// The settings.
+    pub settings: Settings,
+    /// The effects that change nothing in a group ([`super::Prepared::inert`]).
+    pub inert: Vec<super::InertEffect>,
+}
+
+/// What would separate two tied candidates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// The two candidates.
+    pub candidates: (String, String),
+    /// The group and observable that separates them best.
+    pub observable: String,
+    /// Their difference there, in standard deviations of a new specimen (the models' spread,
+    /// their surrogates' error and the measurement σ).
+    pub effect_size: f64,
+    /// Specimens of that group needed (two-sided 5 %, power 80 %).
+    pub specimens: usize,
+}
+
+/// `sigma[k]`: the measurement σ of key `k` (a new specimen is read with it).
+pub(super) fn design(
+    a: &[Simulated],
+    b: &[Simulated],
+    sigma: &[f64],
+    labels: &[String],
+    names: (String, String),
+) -> Option<Design> {
+    let mut best: Option<(usize, f64)> = None;
+    for k in 0..a.len() {
+        let sd =
+            (0.5 * (a[k].sd.powi(2) + b[k].sd.powi(2)) + a[k].err.powi(2) + b[k].err.powi(2) + sigma[k].powi(2)).sqrt();
+        let d = (a[k].mean - b[k].mean).abs() / sd.max(1e-12);
+        if d.is_finite() && best.is_none_or(|(_, bd)| d > bd) {
+            best = Some((k, d));
+        }
+    }
+    let (k, d) = best?;
+    let n = ((1.96 + 0.84) / d.max(1e-6)).powi(2).ceil().min(1e6) as usize;
+    Some(Design { candidates: names, observable: labels[k].clone(), effect_size: d, specimens: n.max(2) })
+}
+
+/// The mean held-out gain per specimen (baseline − extended) and its 95 % percentile
+/// bootstrap interval, resampling specimens with replacement.
+pub fn bootstrap_gain(base: &[f64], ext: &[f64], resamples: usize, seed: u64) -> (f64, f64, f64) {
+    use rand::RngExt;
+    let d: Vec<f64> = base.iter().zip(ext).map(|(b, e)| b - e).collect();
+    if d.is_empty() {
+        return (0.0, 0.0, 0.0);
+    }
+    let mut rng = crate::rng::rng_for(seed, u64::MAX >> 8, crate::rng::Purpose::Bootstrap);
+    let mut means: Vec<f64> = (0..resamples)
+        .map(|_| (0..d.len()).map(|_| d[rng.random_range(0..d.len())]).sum::<f64>() / d.len() as f64)
+        .collect();
+    means.sort_by(f64::total_cmp);
+    (crate::stats::mean(&d), crate::stats::quantile(&means, 0.025), crate::stats::quantile(&means, 0.975))
+}

@@ -1,0 +1,394 @@
+//! The data-independent part of an analysis: the observable keys of a design, the
+//! effects searched and their parameter grids, the baseline's full run, the surrogate
+//! library ([`build_library`]) and the baseline on independent layouts (the null pool),
+//! gathered in a [`Prepared`] by [`prepare`].
+
+use super::analysis::Library;
+use super::effects::{self, Effect, EffectDef};
+use super::fit::{to_value, to_x, Candidate, Surface};
+use super::observations::{Observable, Observation};
+use super::predictive::Simulated;
+use super::simulate::{run_models, GroupSetup, Outcome, Setup};
+use super::{DiscrepancyError, Settings};
+use std::sync::Arc;
+
+/// The observable keys of the observations: `(group, observable)` pairs, and each
+/// observation's key.
+#[derive(Debug, Clone)]
+pub struct Keys {
+    /// Group index into the setup and observable of each key.
+    pub keys: Vec<(usize, Observable)>,
+    /// Key of each observation.
+    pub of: Vec<usize>,
+}
+
+impl Keys {
+    /// The keys of `obs` for the setup's groups (observations of a group the setup does not
+    /// have are an error of the caller, caught by [`observations::observations`]).
+    pub fn new(setup: &Setup, obs: &[Observation]) -> Keys {
+        let mut keys: Vec<(usize, Observable)> = Vec::new();
+        let mut of = Vec::with_capacity(obs.len());
+        for o in obs {
+            let g = setup.groups.iter().position(|g| g.name == o.group).unwrap_or(0);
+            let k = match keys.iter().position(|(kg, ko)| *kg == g && ko.same(&o.observable)) {
+                Some(k) => k,
+                None => {
+                    keys.push((g, o.observable));
+                    keys.len() - 1
+                }
+            };
+            of.push(k);
+        }
+        Keys { keys, of }
+    }
+
+    /// The simulated values of every key from one model's outcomes (`[group][realization]`).
+    pub fn simulated(&self, outcomes: &[Vec<Outcome>]) -> Vec<Simulated> {
+        self.keys.iter().map(|(g, o)| Simulated::of(&outcomes[*g], o)).collect()
+    }
+}
+
+/// The grid of one effect: node coordinates and their effects (`None` marks the node
+/// taken from the baseline).
+#[derive(Debug, Clone)]
+struct Plan {
+    def: Arc<EffectDef>,
+    params: Vec<effects::ParamDef>,
+    nodes: Vec<(Vec<f64>, Option<Effect>)>,
+}
+
+fn effect_at(
+    def: &Arc<EffectDef>,
+    params: &[effects::ParamDef],
+    x: &[f64],
+    course_m: f64,
+) -> Result<Effect, DiscrepancyError> {
+    let values = params.iter().zip(x).map(|(p, &xi)| to_value(p, xi)).collect();
+    Ok(Effect::new(def.clone(), values, course_m)?)
+}
+
+fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, DiscrepancyError> {
+    let params = def.params_for(course_m);
+    let mut nodes = Vec::new();
+    if params.len() == 1 {
+        let xn = to_x(&params[0], params[0].neutral).clamp(0.0, 1.0);
+        let g = s.grid_points;
+        let half = 0.5 / g as f64;
+        for k in 0..=g {
+            let x = k as f64 / g as f64;
+            if (x - xn).abs() >= half {
+                nodes.push((vec![x], Some(effect_at(&def, &params, &[x], course_m)?)));
+            }
+        }
+        nodes.push((vec![xn], None));
+        nodes.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
+    } else {
+        let g = s.grid_points_2d;
+        let axis: Vec<f64> = (0..g).map(|k| k as f64 / (g - 1) as f64).collect();
+        for &a in &axis {
+            for &b in &axis {
+                nodes.push((vec![a, b], Some(effect_at(&def, &params, &[a, b], course_m)?)));
+            }
+        }
+    }
+    Ok(Plan { def, params, nodes })
+}
+
+/// The effects a run searches: the settings' names, or every effect of `library`, less
+/// the built-ins whose signature is the failure mechanism
+/// ([`effects::MECHANISM_EFFECTS`]) when the data hold no mechanism observation
+/// (`mechanism` false): an analysis of angles and displacements alone searches what it
+/// searched before those effects existed. Named in the settings, they are searched
+/// always.
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an unknown name.
+pub fn searched(
+    s: &Settings,
+    library: &effects::Library,
+    mechanism: bool,
+) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
+    if s.effects.is_empty() {
+        return Ok(library
+            .all()
+            .into_iter()
+            .filter(|d| mechanism || !effects::MECHANISM_EFFECTS.contains(&d.name.as_str()))
+            .collect());
+    }
+    Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
+}
+
+/// Mean course height of the analysed walls, m (the effects' length ranges scale with it).
+pub fn course_height(setup: &Setup) -> f64 {
+    let v: Vec<f64> = setup.groups.iter().map(|g| g.course_m).collect();
+    if v.is_empty() {
+        effects::REFERENCE_COURSE_HEIGHT_M
+    } else {
+        crate::stats::mean(&v)
+    }
+}
+
+/// Builds the surrogate library: the baseline (every realization of `baseline`, the full
+/// run), every effect's grid (the first `realizations` layouts of each group, common random
+/// numbers) re-centred on the full baseline at the effect's neutral point
+/// ([`Surface::Corrected`]), and the scatter hypothesis. The baseline and every candidate
+/// are thereby scored with the same number of realizations: a candidate does not gain on
+/// the baseline by being estimated from more layouts.
+pub fn build_library(
+    setup: &Setup,
+    keys: &Keys,
+    baseline: &[Vec<Outcome>],
+    s: &Settings,
+    defs: &[Arc<EffectDef>],
+) -> Result<Library, DiscrepancyError> {
+    let course_m = course_height(setup);
+    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
+    let models: Vec<Vec<Effect>> =
+        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
+    let grid_setup = with_realizations(setup, s.realizations);
+    let base_grid: Vec<Vec<Outcome>> = baseline
+        .iter()
+        .zip(&grid_setup.groups)
+        .map(|(o, g)| o[..(g.realizations as usize).min(o.len())].to_vec())
+        .collect();
+    let outcomes = run_models(&grid_setup, &models, Some(&base_grid));
+    let base_sims = keys.simulated(&base_grid);
+    let full_sims = keys.simulated(baseline);
+    let mut next = outcomes.iter();
+    let mut candidates = Vec::new();
+    for p in &plans {
+        let sims: Vec<(Vec<f64>, Vec<Simulated>)> = p
+            .nodes
+            .iter()
+            .map(|(x, e)| {
+                let sims = match e {
+                    Some(_) => keys.simulated(next.next().map(|v| v.as_slice()).unwrap_or(&[])),
+                    None => base_sims.clone(),
+                };
+                (x.clone(), sims)
+            })
+            .collect();
+        let surface = if p.params.len() == 1 {
+            Surface::axis(sims.iter().map(|(x, _)| x[0]).collect(), sims.into_iter().map(|(_, s)| s).collect())
+        } else {
+            let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
+            x1.dedup();
+            let mut x2: Vec<f64> = sims.iter().map(|(x, _)| x[1]).collect();
+            x2.sort_by(f64::total_cmp);
+            x2.dedup();
+            Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
+        };
+        let x0: Vec<f64> = p.params.iter().map(|q| to_x(q, q.neutral).clamp(0.0, 1.0)).collect();
+        let surface = Surface::Corrected { inner: Box::new(surface), x0, full: full_sims.clone() };
+        candidates.push(Candidate { effects: vec![p.def.clone()], params: p.params.clone(), surface });
+    }
+    if s.scatter {
+        let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
+        let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
+        candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
+    }
+    Ok(Library { baseline: full_sims, candidates })
+}
+
+/// The setup with every group's realizations capped at `n`.
+pub(super) fn with_realizations(setup: &Setup, n: u64) -> Setup {
+    Setup {
+        groups: setup.groups.iter().map(|g| GroupSetup { realizations: g.realizations.min(n), ..g.clone() }).collect(),
+        ..setup.clone()
+    }
+}
+
+/// The master seed of the independent layouts (null data, predictive checks): derived from
+/// the study's, never equal to it.
+pub fn null_seed(seed: u64) -> u64 {
+    let s = seed.rotate_left(29) ^ 0x6a09_e667_f3bc_c909;
+    if s == seed {
+        s ^ 1
+    } else {
+        s
+    }
+}
+
+/// The effects of a candidate at its fitted coordinates.
+pub(super) fn effects_of(c: &Candidate, x: &[f64], course_m: f64) -> Result<Vec<Effect>, DiscrepancyError> {
+    let mut out = Vec::new();
+    let mut offset = 0;
+    for def in &c.effects {
+        let n = def.parameters.len();
+        out.push(effect_at(def, &c.params[offset..offset + n], &x[offset..offset + n], course_m)?);
+        offset += n;
+    }
+    Ok(out)
+}
+
+/// The key labels, `GROUP observable`.
+pub fn key_labels(setup: &Setup, keys: &Keys) -> Vec<String> {
+    keys.keys.iter().map(|(g, o)| format!("{} {}", setup.groups[*g].name, o.label())).collect()
+}
+
+/// The data-independent part of an analysis: the baseline's full run, the surrogate
+/// library, and the baseline on independent layouts (the null pool), for the observable
+/// keys of a design. Many data sets of the same design are analysed against one
+/// [`Prepared`] ([`analyze`]).
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The setup.
+    pub setup: Setup,
+    /// The observable keys of the design.
+    pub keys: Keys,
+    /// The baseline's full run.
+    pub baseline: Vec<Vec<Outcome>>,
+    /// The surrogate library.
+    pub library: Library,
+    /// The baseline on independent layouts, `[group][realization]`.
+    pub null_pool: Vec<Vec<Outcome>>,
+    /// The setup of the independent layouts.
+    pub null_setup: Setup,
+    /// The settings.
+    pub settings: Settings,
+    /// The effects that change nothing in a group (the group's own or a candidate): the
+    /// analysis reuses the baseline's outcomes for a candidate there.
+    pub inert: Vec<InertEffect>,
+}
+
+/// Checks the settings, the setup's protocol ([`Setup::check_protocol`]) and the
+/// observations against it: displacements at tilts the tilting table's steps reach (at
+/// tilt 0 under the lateral load), and under the lateral load no collapse angle or
+/// mechanism.
+pub(super) fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<(), DiscrepancyError> {
+    s.validate()?;
+    setup.check_protocol()?;
+    for o in obs {
+        match (setup.tilt(), o.observable) {
+            (Some(t), Observable::Displacement { tilt_deg, .. }) if !setup.reaches_tilt(tilt_deg) => {
+                return Err(DiscrepancyError::Tilt { specimen: o.specimen.clone(), tilt_deg, step_deg: t.step_deg });
+            }
+            (None, Observable::Displacement { tilt_deg, .. }) if !setup.reaches_tilt(tilt_deg) => {
+                return Err(DiscrepancyError::LateralTilt { specimen: o.specimen.clone(), tilt_deg });
+            }
+            (None, Observable::Displacement { .. }) | (Some(_), _) => {}
+            (None, _) => {
+                return Err(DiscrepancyError::Observable {
+                    specimen: o.specimen.clone(),
+                    observable: o.observable.label(),
+                    protocol: setup.protocol.name(),
+                })
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs the forward models of a design whose observations are `template` (any data set of
+/// it, or the union of several): the baseline, the library's grids and the null pool.
+///
+/// # Errors
+/// [`DiscrepancyError`] for bad settings, an unknown effect or a baseline that fails
+/// entirely.
+pub fn prepare(
+    setup: &Setup,
+    template: &[Observation],
+    s: &Settings,
+    library: &effects::Library,
+) -> Result<Prepared, DiscrepancyError> {
+    prepare_with(setup, template, s, library, &super::quiet)
+}
+
+/// [`prepare`], reporting each stage and model to `progress` (see
+/// [`super::Progress`]), and each effect that changes nothing in a group (a line
+/// starting `warning:`; also in [`Prepared::inert`]).
+///
+/// # Errors
+/// As [`prepare`].
+pub fn prepare_with(
+    setup: &Setup,
+    template: &[Observation],
+    s: &Settings,
+    library: &effects::Library,
+    progress: super::Progress<'_>,
+) -> Result<Prepared, DiscrepancyError> {
+    check(setup, template, s)?;
+    let defs = searched(s, library, template.iter().any(|o| o.observable.is_mechanism()))?;
+    let inert = inert_effects(setup, &defs);
+    for i in &inert {
+        progress(&format!("warning: {i}"));
+    }
+    let keys = Keys::new(setup, template);
+    let full = with_realizations(setup, s.extension_realizations);
+    progress(&format!("baseline: full run of {} ({})", setup.protocol.name(), realizations_of(&full)));
+    let baseline = run_models(&full, &[vec![]], None).remove(0);
+    for (g, outs) in full.groups.iter().zip(&baseline) {
+        if outs.iter().all(|o| o.error.is_some()) {
+            let error = outs.first().and_then(|o| o.error.clone()).unwrap_or_default();
+            return Err(DiscrepancyError::Baseline { group: g.name.clone(), error });
+        }
+    }
+    let names: Vec<&str> = defs.iter().map(|d| d.name.as_str()).collect();
+    progress(&format!(
+        "surrogates: grids of {} effect(s) [{}] ({} per node)",
+        defs.len(),
+        names.join(", "),
+        realizations_of(&with_realizations(setup, s.realizations))
+    ));
+    let lib = build_library(setup, &keys, &baseline, s, &defs)?;
+    let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
+    progress(&format!("null pool: the baseline on independent layouts ({})", realizations_of(&null_setup)));
+    let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
+    Ok(Prepared {
+        setup: setup.clone(),
+        keys,
+        baseline,
+        library: lib,
+        null_pool,
+        null_setup,
+        settings: s.clone(),
+        inert,
+    })
+}
+
+/// `GROUP × N realizations, …` of a setup.
+fn realizations_of(setup: &Setup) -> String {
+    let v: Vec<String> = setup.groups.iter().map(|g| format!("{} × {}", g.name, g.realizations)).collect();
+    v.join(", ")
+}
+
+/// An effect that changes nothing in a group: an effect made only of restraint steps
+/// (e.g. `restraint_stiffness`) on a wall without end restraints. The analysis reuses the
+/// baseline's outcomes for it there, and says so.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct InertEffect {
+    /// The effect's name.
+    pub effect: String,
+    /// The group.
+    pub group: String,
+    /// The group's own effect (the study's `effects`), not a searched candidate.
+    pub own: bool,
+}
+
+impl std::fmt::Display for InertEffect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let what = if self.own { "the study's effect" } else { "candidate effect" };
+        write!(
+            f,
+            "{what} {} changes nothing in group {} (its wall has no end restraints){}",
+            self.effect,
+            self.group,
+            if self.own { "" } else { "; the baseline's outcomes stand for it there" }
+        )
+    }
+}
+
+/// The effects of `setup`'s groups and the searched `defs` that cannot act on a group
+/// ([`effects::EffectDef::acts_on`]), group by group.
+pub fn inert_effects(setup: &Setup, defs: &[Arc<EffectDef>]) -> Vec<InertEffect> {
+    let mut out = Vec::new();
+    for g in &setup.groups {
+        for e in g.effects.iter().filter(|e| !e.def.acts_on(g.restrained)) {
+            out.push(InertEffect { effect: e.def.name.clone(), group: g.name.clone(), own: true });
+        }
+        for d in defs.iter().filter(|d| !d.acts_on(g.restrained)) {
+            out.push(InertEffect { effect: d.name.clone(), group: g.name.clone(), own: false });
+        }
+    }
+    out
+}

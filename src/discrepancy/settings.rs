@@ -1,0 +1,137 @@
+//! The settings of a discrepancy analysis (`[discrepancy]` in a study) and their ranges.
+
+use super::observations;
+use super::predictive::Reading;
+use super::DiscrepancyError;
+use serde::{Deserialize, Serialize};
+
+/// Settings of a discrepancy analysis. Defaults in brackets.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Settings {
+    /// Realizations per group at every node of the surrogates' grids \[2\]: the models
+    /// share their layouts (common random numbers), so the nodes differ by the effect and
+    /// not by the sampling; the predictive carries the few realizations (Student-t), and
+    /// the two best candidates are re-run and scored with `extension_realizations`.
+    pub realizations: u64,
+    /// Realizations per group of the baseline's and of a confirmed candidate's full run
+    /// \[9\] (the first `realizations` of the baseline are the grids' neutral node).
+    pub extension_realizations: u64,
+    /// Realizations per group on independent layouts (a master seed of their own) for the
+    /// null data and the posterior predictive check \[9\].
+    pub null_realizations: u64,
+    /// Grid intervals per parameter axis of a one-parameter effect \[4\]: nodes at
+    /// `x = 0, 1/G, …, 1`, the node nearest the neutral value taken from the baseline.
+    pub grid_points: usize,
+    /// Nodes per axis of a two-parameter effect \[3\], corners included.
+    pub grid_points_2d: usize,
+    /// Null data sets of the margin calibration \[200\] (all set the margins; the
+    /// false-alarm rate is measured by cross-fitting their two halves).
+    pub null_replicates: usize,
+    /// Data sets of the posterior predictive check \[200\].
+    pub check_replicates: usize,
+    /// Bootstrap resamples of the specimens for the gain's interval \[2000\].
+    pub bootstrap: usize,
+    /// The effects searched, by name \[every built-in and every effect file of the
+    /// study\].
+    pub effects: Vec<String>,
+    /// Rank the specimen-scatter hypothesis beside the mechanisms \[true\].
+    pub scatter: bool,
+    /// Re-run the two best candidates as full ensembles at their fitted parameters and
+    /// score them by those runs \[true\]; off, the surrogate's scores stand (for power
+    /// studies; the report says so).
+    pub confirm: bool,
+    /// Measurement standard deviations.
+    pub sigma: observations::MeasurementSigma,
+    /// Reading resolutions of the measured values.
+    pub reading: Reading,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            realizations: 2,
+            extension_realizations: 9,
+            null_realizations: 9,
+            grid_points: 4,
+            grid_points_2d: 3,
+            null_replicates: 200,
+            check_replicates: 200,
+            bootstrap: 2000,
+            effects: vec![],
+            scatter: true,
+            confirm: true,
+            sigma: observations::MeasurementSigma::default(),
+            reading: Reading::default(),
+        }
+    }
+}
+
+impl Settings {
+    /// The settings of `drystone discrepancy --thorough`: twice the realizations of the
+    /// grids, of the full runs and of the independent layouts, and finer grids (at least 6
+    /// intervals per axis, 4 nodes per axis of a two-parameter effect). About three times
+    /// the cost.
+    pub fn thorough(&mut self) {
+        self.realizations *= 2;
+        self.extension_realizations *= 2;
+        self.null_realizations *= 2;
+        self.grid_points = self.grid_points.max(6);
+        self.grid_points_2d = self.grid_points_2d.max(4);
+    }
+
+    /// The most realizations any of its runs takes per group (grids, full runs, independent
+    /// layouts): what a [`simulate::Setup`] for the analysis must allow.
+    pub fn most_realizations(&self) -> u64 {
+        self.realizations.max(self.extension_realizations).max(self.null_realizations)
+    }
+
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// [`DiscrepancyError::Setting`] naming the key.
+    pub fn validate(&self) -> Result<(), DiscrepancyError> {
+        let bad = |key, value: String, reason| Err(DiscrepancyError::Setting { key, value, reason });
+        if !(1..=10_000).contains(&self.realizations) {
+            return bad("realizations", self.realizations.to_string(), "must be in [1, 10000]");
+        }
+        if !(1..=10_000).contains(&self.extension_realizations) {
+            return bad("extension_realizations", self.extension_realizations.to_string(), "must be in [1, 10000]");
+        }
+        if !(1..=20).contains(&self.grid_points) {
+            return bad("grid_points", self.grid_points.to_string(), "must be in [1, 20]");
+        }
+        if !(2..=10).contains(&self.grid_points_2d) {
+            return bad("grid_points_2d", self.grid_points_2d.to_string(), "must be in [2, 10]");
+        }
+        if !(20..=100_000).contains(&self.null_replicates) {
+            return bad("null_replicates", self.null_replicates.to_string(), "must be in [20, 100000]");
+        }
+        if !(100..=1_000_000).contains(&self.bootstrap) {
+            return bad("bootstrap", self.bootstrap.to_string(), "must be in [100, 1000000]");
+        }
+        if !(1..=10_000).contains(&self.null_realizations) {
+            return bad("null_realizations", self.null_realizations.to_string(), "must be in [1, 10000]");
+        }
+        if !(20..=100_000).contains(&self.check_replicates) {
+            return bad("check_replicates", self.check_replicates.to_string(), "must be in [20, 100000]");
+        }
+        if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
+            return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");
+        }
+        for (key, v) in
+            [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
+        {
+            if !(v.is_finite() && (0.0..=10.0).contains(&v)) {
+                return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
+            }
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for e in &self.effects {
+            if !seen.insert(e) {
+                return bad("effects", e.clone(), "an effect is listed twice");
+            }
+        }
+        Ok(())
+    }
+}

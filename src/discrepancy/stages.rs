@@ -1,0 +1,580 @@
+//! [`analyze`] in named stages, each a function with a typed result:
+//!
+//! ```text
+//!  observations ─▶ design_keys ─▶ apply_sigma_rule (Sigmas) ─▶ calibrate_margins (Margins)
+//!    ─▶ screen (Screening) ─▶ add_pairs ─▶ confirm (Confirmation runs) ─▶ name_cause
+//!    ─▶ examine_cause: extended_model (ExtendedModel), predictive check, gain,
+//!       tie_checks (Tie) → Findings ─▶ verdict ─▶ separating_design, fitted_parameters ─▶ Run
+//! ```
+//!
+//! The stages are those of the method ([`super::analysis`], [`super::null`]): the
+//! measurement σ rule, the margins from null data on independent layouts, the screening of
+//! the library's candidates on their surrogates, the pairs when the best single effect
+//! leaves a significant misfit, the full runs of the two best candidates at their fitted
+//! parameters, the cause named when it clears its margins, the extended model with its
+//! posterior predictive check, the tie checks and the verdict.
+
+use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Library, Ranked};
+use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
+use super::effects::Effect;
+use super::findings::{bootstrap_gain, design, FittedParameter, Run};
+use super::fit::{self, specimen_weights, to_value, Candidate, Data, Surface};
+use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
+use super::observations::{self, Observation};
+use super::predictive::{Predictive, Reading, Simulated};
+use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
+use super::simulate::{run_models, Outcome, Setup};
+use super::DiscrepancyError;
+
+/// What an analysis reports as it advances: one line per stage, model or candidate (the
+/// command line prints them on stderr when it is not a terminal, so that a batch log shows
+/// the analysis advancing). Lines have no trailing newline.
+pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
+
+/// A [`Progress`] that says nothing.
+pub fn quiet(_: &str) {}
+
+/// Analyses one data set against prepared forward runs: the margins from null data on
+/// independent layouts, the ranking, the full runs of the two best candidates, the verdict
+/// with its predictive check, the extended model and the gain.
+///
+/// # Errors
+/// [`DiscrepancyError`] for an observation outside the prepared design or a failed
+/// effect.
+pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run, DiscrepancyError> {
+    analyze_with(prep, obs, seed, &quiet)
+}
+
+/// [`analyze`], reporting each stage, model and candidate to `progress`.
+///
+/// # Errors
+/// As [`analyze`].
+pub fn analyze_with(
+    prep: &Prepared,
+    mut obs: Vec<Observation>,
+    seed: u64,
+    progress: Progress<'_>,
+) -> Result<Run, DiscrepancyError> {
+    let (setup, s, lib) = (&prep.setup, &prep.settings, &prep.library);
+    check(setup, &obs, s)?;
+    let keys = design_keys(prep, &obs)?;
+    let sigmas = apply_sigma_rule(&mut obs, &keys.of, &lib.baseline, s.reading);
+    let sigma_rule = sigmas.rule(s.reading);
+    let labels = key_labels(setup, &keys);
+    let specimens = observations::specimens(&obs);
+    let full = with_realizations(setup, s.extension_realizations);
+    let y: Vec<f64> = obs.iter().map(|o| o.value).collect();
+    let weight = specimen_weights(&obs);
+    let bracket_deg = setup.bracket_deg();
+    let data = Data { obs: &obs, y: &y, key: &keys.of, weight: &weight, reading: s.reading, bracket_deg };
+    let pool_sims = keys.simulated(&prep.null_pool);
+    let null_source = NullSource {
+        pool: &prep.null_pool,
+        keys: &keys.keys,
+        sims: &pool_sims,
+        centre: &lib.baseline,
+        sigma: sigma_rule,
+    };
+    progress(&format!("margins: {} null data sets on independent layouts", s.null_replicates));
+    let margins = calibrate_margins(lib, data, &specimens, s.null_replicates, seed, null_source);
+    progress(&format!("screening: {} candidates on their surrogates", lib.candidates.len()));
+    let screening = screen(lib, data, &specimens);
+    let mut pool = lib.candidates.clone();
+    let mut ranked = screening.ranked.clone();
+    let added = add_pairs(lib, data, &specimens, &screening, &margins, &mut pool, &mut ranked);
+    if added > 0 {
+        progress(&format!("ranking: {added} pairs of effects added"));
+    }
+    let ctx = Ctx {
+        data,
+        specimens: &specimens,
+        keys: &keys,
+        labels: &labels,
+        full: &full,
+        course_m: course_height(setup),
+        sigma: sigma_rule,
+        seed,
+        prep,
+    };
+    let runs = if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
+    let candidates: Vec<Ranked> = ranked;
+    let eligible = |r: &Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
+    let named = name_cause(&candidates, eligible, &screening, margins.baseline);
+    let found = match &named {
+        Some(b) => examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?,
+        None => Findings {
+            check: predictive_check(data, &lib.baseline, &specimens, null_source, s.check_replicates, seed, &labels),
+            passes: false,
+            extended: None,
+            extended_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
+            gain: None,
+            tie: Tie::default(),
+        },
+    };
+    let (passes, tie) = (found.passes, found.tie);
+    let verdict = verdict(named.is_some(), passes, screening.base_he, margins.misfit);
+    progress(&format!("verdict: {}", verdict.name()));
+    let design = separating_design(&tie.members, &candidates, &pool, &obs, &keys, &labels);
+    let cause_interval = named.as_ref().map_or(vec![], |b| fitted_parameters(b, &pool[b.index], data));
+    let analysis = Analysis {
+        verdict,
+        cause: named,
+        tie: tie.members,
+        tie_checks: tie.checks,
+        candidates,
+        baseline_heldout_error: screening.base_he,
+        screen_gain: screening.screen_gain,
+        baseline_information_criterion: screening.base_ic,
+        baseline_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
+        baseline_scores: screening.base_scores,
+        margins,
+        check: Some(found.check),
+        pool,
+    };
+    Ok(Run {
+        obs,
+        keys,
+        specimens,
+        library: lib.clone(),
+        analysis,
+        baseline: prep.baseline.clone(),
+        extended: found.extended,
+        extended_predictive: found.extended_predictive,
+        gain: found.gain,
+        design,
+        bracket_deg,
+        cause_interval,
+        sigma_estimate: sigmas.estimate,
+        settings: s.clone(),
+        inert: prep.inert.clone(),
+    })
+}
+
+/// What the later stages share: the data, the specimens, the keys and their labels, the
+/// setup of the full runs, the walls' mean course height, the σ rule, the seed of the null
+/// data and the bootstrap, and the preparation.
+struct Ctx<'a> {
+    data: Data<'a>,
+    specimens: &'a [String],
+    keys: &'a Keys,
+    labels: &'a [String],
+    full: &'a Setup,
+    course_m: f64,
+    sigma: SigmaRule<'a>,
+    seed: u64,
+    prep: &'a Prepared,
+}
+
+/// What the analysis found after naming a cause, or not: the posterior predictive check
+/// (of the extended model, else of the baseline) and whether it passes, the extended
+/// model's run and predictive of every observation (the baseline's without a cause), the
+/// gain with its bootstrap interval and the tie.
+struct Findings {
+    check: PredictiveCheck,
+    passes: bool,
+    extended: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
+    extended_predictive: Vec<Predictive>,
+    gain: Option<(f64, f64, f64)>,
+    tie: Tie,
+}
+
+/// Stages 7 and 8 for a named cause `b`: its extended model ([`extended_model`]) checked
+/// on data drawn from its own independent realizations, the gain in held-out error per
+/// specimen on the baseline (`base_per`) with its bootstrap interval, and the tie
+/// ([`tie_checks`]).
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an effect that cannot take its fitted values.
+fn examine_cause(
+    ctx: &Ctx<'_>,
+    b: &Ranked,
+    candidates: &[Ranked],
+    pool: &[Candidate],
+    runs: &[Confirmation],
+    base_per: &[f64],
+    progress: Progress<'_>,
+) -> Result<Findings, DiscrepancyError> {
+    let (data, s, seed) = (ctx.data, &ctx.prep.settings, ctx.seed);
+    progress(&format!("extended model: {} ({} check data sets)", b.name, s.check_replicates));
+    let model = extended_model(ctx, b, &pool[b.index], runs)?;
+    let extended_predictive = (0..data.obs.len()).map(|j| data.predictive(&model.sims, j)).collect();
+    let check_sims = ctx.keys.simulated(&model.check_pool);
+    let src = NullSource {
+        pool: &model.check_pool,
+        keys: &ctx.keys.keys,
+        sims: &check_sims,
+        centre: &model.sims,
+        sigma: ctx.sigma,
+    };
+    let check = predictive_check(data, &model.sims, ctx.specimens, src, s.check_replicates, seed, ctx.labels);
+    let cause_per = fit::per_specimen(&b.scores, data.obs, ctx.specimens);
+    let gain = Some(bootstrap_gain(base_per, &cause_per, s.bootstrap, seed));
+    progress(&format!("tie checks: {} against its challengers", b.name));
+    let tie = tie_checks(ctx, b, candidates, pool, src, s.check_replicates, seed);
+    Ok(Findings { passes: check.passes(), check, extended: model.run, extended_predictive, gain, tie })
+}
+
+/// Stage 1, the design: the key of every observation in the prepared design (its group
+/// and observable).
+///
+/// # Errors
+/// [`DiscrepancyError::Design`] naming the specimen and observable of an observation the
+/// preparation did not provide for.
+fn design_keys(prep: &Prepared, obs: &[Observation]) -> Result<Keys, DiscrepancyError> {
+    let mut keys = prep.keys.clone();
+    keys.of = obs
+        .iter()
+        .map(|o| {
+            let g = prep.setup.groups.iter().position(|g| g.name == o.group).unwrap_or(0);
+            keys.keys.iter().position(|(kg, ko)| *kg == g && ko.same(&o.observable)).ok_or_else(|| {
+                DiscrepancyError::Design { specimen: o.specimen.clone(), observable: o.observable.label() }
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(keys)
+}
+
+/// The measurement σ of an analysis: the stated σ of every observation, the model's
+/// spread per key (the baseline's full run) and the estimate the data give (collapse
+/// angles in degrees, displacements in cm, each with its degrees of freedom).
+#[derive(Debug, Clone, PartialEq)]
+struct Sigmas {
+    stated: Vec<f64>,
+    model_sd: Vec<f64>,
+    estimate: [Option<(f64, usize)>; 2],
+}
+
+impl Sigmas {
+    /// The rule, to apply again to every synthetic data set.
+    fn rule(&self, reading: Reading) -> SigmaRule<'_> {
+        SigmaRule { stated: &self.stated, model_sd: &self.model_sd, reading }
+    }
+}
+
+/// Stage 2, the σ rule: every observation's σ becomes the larger of its stated σ and the
+/// spread the data show beyond the model's ([`SigmaRule`]); `key[j]` is the key of
+/// `obs[j]`, `baseline` the baseline's simulated values per key.
+fn apply_sigma_rule(obs: &mut [Observation], key: &[usize], baseline: &[Simulated], reading: Reading) -> Sigmas {
+    let mut sigmas = Sigmas {
+        stated: obs.iter().map(|o| o.sigma).collect(),
+        model_sd: baseline.iter().map(|x| x.sd).collect(),
+        estimate: [None, None],
+    };
+    sigmas.estimate = sigmas.rule(reading).apply(obs, key);
+    sigmas
+}
+
+/// The screening: the baseline's scores and the library's candidates ranked on their
+/// surrogates.
+#[derive(Debug, Clone)]
+struct Screening {
+    /// The baseline's score of every observation.
+    base_scores: Vec<f64>,
+    /// The baseline's score per specimen.
+    base_per: Vec<f64>,
+    /// The baseline's held-out error (its mean score per specimen; it has no parameter).
+    base_he: f64,
+    /// The baseline's AICc.
+    base_ic: f64,
+    /// The library's candidates, best held-out error first.
+    ranked: Vec<Ranked>,
+    /// The best candidate's gain on the baseline: the statistic the gain margin is
+    /// calibrated on (0 without candidates).
+    screen_gain: f64,
+}
+
+/// Stage 3, screening: the baseline scored and the library's candidates ranked by their
+/// surrogates' held-out error, before pairs and confirmation runs.
+fn screen(lib: &Library, data: Data<'_>, specimens: &[String]) -> Screening {
+    let n = specimens.len().max(1) as f64;
+    let base_scores: Vec<f64> = (0..data.obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
+    let base_per = fit::per_specimen(&base_scores, data.obs, specimens);
+    let base_he = base_per.iter().sum::<f64>() / n;
+    let base_ic = fit::aicc(base_scores.iter().sum(), 0, specimens.len());
+    let ranked = rank(&lib.candidates, data, specimens, &base_per);
+    let screen_gain = ranked.first().map_or(0.0, |r| base_he - r.heldout_error);
+    Screening { base_scores, base_per, base_he, base_ic, ranked, screen_gain }
+}
+
+/// Whether pairs of effects are tried: the best single candidate (`best`, over `n`
+/// specimens) still misfits significantly (its mean score per specimen above the misfit
+/// margin) and gains on the baseline by more than the gain margin.
+fn pairs_wanted(best: &Ranked, n: f64, base_he: f64, margins: &Margins) -> bool {
+    let best_fit = best.scores.iter().sum::<f64>() / n;
+    best_fit > margins.misfit && base_he - best.heldout_error > margins.baseline
+}
+
+/// The ranked pairs admitted beside the single effects: those whose held-out error is
+/// below the best single's less the gain margin (`threshold`) and whose AICc is below the
+/// best single's (`ic`); the whole ranking then sorted again (held-out error, then pool
+/// order).
+fn admit_pairs(ranked: &mut Vec<Ranked>, pairs: Vec<Ranked>, threshold: f64, ic: f64) {
+    ranked.extend(pairs.into_iter().filter(|r| r.heldout_error < threshold && r.information_criterion < ic));
+    sort(ranked);
+}
+
+/// Stage 4, ranking: pairs of the three best one-parameter mechanisms added to the pool
+/// and ranked when [`pairs_wanted`], admitted by [`admit_pairs`]. Returns the pairs added
+/// to the pool.
+fn add_pairs(
+    lib: &Library,
+    data: Data<'_>,
+    specimens: &[String],
+    screening: &Screening,
+    margins: &Margins,
+    pool: &mut Vec<Candidate>,
+    ranked: &mut Vec<Ranked>,
+) -> usize {
+    let n = specimens.len().max(1) as f64;
+    let Some(best) = screening.ranked.first() else { return 0 };
+    if !pairs_wanted(best, n, screening.base_he, margins) {
+        return 0;
+    }
+    let offset = pool.len();
+    let extra = pairs(lib, &screening.ranked);
+    let mut more = rank(&extra, data, specimens, &screening.base_per);
+    for r in &mut more {
+        r.index += offset;
+    }
+    let added = extra.len();
+    pool.extend(extra);
+    admit_pairs(ranked, more, best.heldout_error - margins.baseline, best.information_criterion);
+    added
+}
+
+/// A full run of a candidate at its fitted parameters.
+#[derive(Debug, Clone)]
+struct Confirmation {
+    /// The candidate's index in the pool.
+    candidate: usize,
+    /// The search coordinates of the run.
+    x: Vec<f64>,
+    /// The effects at those coordinates.
+    effects: Vec<Effect>,
+    /// The outcomes, `[group][realization]`.
+    outcomes: Vec<Vec<Outcome>>,
+}
+
+/// The candidates a confirmation round runs: of the two best, those not yet confirmed and
+/// not the scatter hypothesis (which has no model to run), by pool index.
+fn to_confirm(ranked: &[Ranked], is_scatter: impl Fn(usize) -> bool) -> Vec<usize> {
+    ranked.iter().take(2).filter(|r| !r.confirmed && !is_scatter(r.index)).map(|r| r.index).collect()
+}
+
+/// Stage 5, confirmation runs: up to three rounds in which the two best candidates not
+/// yet confirmed ([`to_confirm`]) are run as full ensembles at their fitted parameters
+/// and re-scored with their surrogates re-centred on those runs
+/// ([`Surface::Corrected`]); the ranking is sorted again after each round.
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an effect that cannot take its fitted values.
+fn confirm(
+    ctx: &Ctx<'_>,
+    base_per: &[f64],
+    pool: &mut [Candidate],
+    ranked: &mut [Ranked],
+    progress: Progress<'_>,
+) -> Result<Vec<Confirmation>, DiscrepancyError> {
+    let mut runs = Vec::new();
+    for _round in 0..3 {
+        let todo = to_confirm(ranked, |i| pool[i].is_scatter());
+        if todo.is_empty() {
+            break;
+        }
+        for idx in todo {
+            let pos = ranked.iter().position(|r| r.index == idx).unwrap_or(0);
+            let x = ranked[pos].x.clone();
+            progress(&format!("confirming {} by a full run at its fitted parameters", ranked[pos].name));
+            let effects = effects_of(&pool[idx], &x, ctx.course_m)?;
+            let outcomes = run_models(ctx.full, std::slice::from_ref(&effects), Some(&ctx.prep.baseline)).remove(0);
+            let corrected = Candidate {
+                surface: Surface::Corrected {
+                    inner: Box::new(pool[idx].surface.clone()),
+                    x0: x.clone(),
+                    full: ctx.keys.simulated(&outcomes),
+                },
+                ..pool[idx].clone()
+            };
+            let mut r = score(&corrected, ctx.data, ctx.specimens, idx, base_per);
+            r.confirmed = true;
+            pool[idx] = corrected;
+            ranked[pos] = r;
+            runs.push(Confirmation { candidate: idx, x, effects, outcomes });
+        }
+        sort(ranked);
+    }
+    Ok(runs)
+}
+
+/// Stage 6, the cause: the best candidate that may be named (`eligible`: confirmed by a
+/// full run, the scatter hypothesis, or any without confirmation runs), named when the
+/// screening's gain and its own gain on the baseline both exceed the gain margin and its
+/// AICc is below the baseline's. Re-scoring the best few by full runs and keeping the best
+/// is a selection the null calibration does not repeat, so it may veto an alarm, never
+/// raise one.
+fn name_cause(
+    ranked: &[Ranked],
+    eligible: impl Fn(&Ranked) -> bool,
+    screening: &Screening,
+    gain_margin: f64,
+) -> Option<Ranked> {
+    let best = ranked.iter().find(|r| eligible(r)).cloned();
+    best.filter(|b| {
+        screening.screen_gain > gain_margin
+            && screening.base_he - b.heldout_error > gain_margin
+            && b.information_criterion < screening.base_ic
+    })
+}
+
+/// The extended model of a named cause.
+#[derive(Debug, Clone)]
+struct ExtendedModel {
+    /// Its simulated values per key.
+    sims: Vec<Simulated>,
+    /// Its realizations on the independent layouts, `[group][realization]` (empty groups
+    /// when it is not run: its data are then drawn from its own predictive).
+    check_pool: Vec<Vec<Outcome>>,
+    /// Its effects and full run, when it is run.
+    run: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
+}
+
+/// Stage 7, the extended model: the scatter hypothesis, or any cause without confirmation
+/// runs, is its surrogate at the fitted coordinates; a mechanism is run in full at its
+/// fitted parameters (a confirmation run at the same coordinates is reused; one at other
+/// coordinates, where the re-scored fit moved, is not) and on the independent layouts.
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an effect that cannot take its fitted values.
+fn extended_model(
+    ctx: &Ctx<'_>,
+    cause: &Ranked,
+    c: &Candidate,
+    runs: &[Confirmation],
+) -> Result<ExtendedModel, DiscrepancyError> {
+    let groups = ctx.prep.setup.groups.len();
+    if c.is_scatter() || !ctx.prep.settings.confirm {
+        return Ok(ExtendedModel { sims: c.surface.at(&cause.x), check_pool: vec![vec![]; groups], run: None });
+    }
+    let x = &cause.x;
+    let same = |y: &[f64]| y.len() == x.len() && y.iter().zip(x).all(|(p, q)| (p - q).abs() < 1e-9);
+    let (effects, outs) = match runs.iter().find(|r| r.candidate == cause.index && same(&r.x)) {
+        Some(r) => (r.effects.clone(), r.outcomes.clone()),
+        None => {
+            let e = effects_of(c, x, ctx.course_m)?;
+            let o = run_models(ctx.full, std::slice::from_ref(&e), Some(&ctx.prep.baseline)).remove(0);
+            (e, o)
+        }
+    };
+    let sims = ctx.keys.simulated(&outs);
+    let check_pool =
+        run_models(&ctx.prep.null_setup, std::slice::from_ref(&effects), Some(&ctx.prep.null_pool)).remove(0);
+    Ok(ExtendedModel { sims, check_pool, run: Some((effects, outs)) })
+}
+
+/// The tie of a named cause: its members (the cause first) and every challenger's check.
+#[derive(Debug, Clone, Default, PartialEq)]
+struct Tie {
+    members: Vec<String>,
+    checks: Vec<TieCheck>,
+}
+
+/// The tie of `cause` with `challengers` at their reversal rates ([`TieCheck::new`]).
+fn tie_of(cause: &Ranked, challengers: &[&Ranked], rates: &[f64], obs: &[Observation], specimens: &[String]) -> Tie {
+    let mut tie = Tie { members: vec![cause.name.clone()], checks: vec![] };
+    for (r, &rate) in challengers.iter().zip(rates) {
+        let t = TieCheck::new(cause, r, rate, obs, specimens);
+        if t.tied {
+            tie.members.push(r.name.clone());
+        }
+        tie.checks.push(t);
+    }
+    tie
+}
+
+/// Stage 8, tie checks: the next [`TIE_CHALLENGERS`] candidates after the cause, each
+/// against the cause on data simulated from the cause's own independent realizations
+/// (`src`, [`reversal_rates`]) and on the data (the held-out difference in standard
+/// errors), [`tie_of`].
+fn tie_checks(
+    ctx: &Ctx<'_>,
+    cause: &Ranked,
+    candidates: &[Ranked],
+    pool: &[Candidate],
+    src: NullSource<'_>,
+    replicates: usize,
+    seed: u64,
+) -> Tie {
+    let challengers: Vec<&Ranked> =
+        candidates.iter().filter(|r| r.index != cause.index).take(TIE_CHALLENGERS).collect();
+    let rates = reversal_rates(
+        &pool[cause.index],
+        &challengers.iter().map(|r| &pool[r.index]).collect::<Vec<_>>(),
+        ctx.data,
+        ctx.specimens,
+        src,
+        replicates,
+        seed,
+    );
+    tie_of(cause, &challengers, &rates, ctx.data.obs, ctx.specimens)
+}
+
+/// Stage 9, the verdict: a named cause whose extended model passes its predictive check
+/// explains the data, one that fails it is a partial explanation (`unexplained`); without
+/// a cause, the baseline's held-out error `base_he` above the misfit margin is
+/// `unexplained`, else `no_effect`.
+fn verdict(named: bool, passes: bool, base_he: f64, misfit: f64) -> Verdict {
+    match (named, passes) {
+        (true, true) => Verdict::Explained,
+        (true, false) => Verdict::Unexplained,
+        (false, _) if base_he > misfit => Verdict::Unexplained,
+        (false, _) => Verdict::NoEffect,
+    }
+}
+
+/// What would separate the first two members of a tie ([`super::findings::Design`]);
+/// `None` without a tie. A new specimen is read with the largest σ of each key.
+fn separating_design(
+    tie: &[String],
+    candidates: &[Ranked],
+    pool: &[Candidate],
+    obs: &[Observation],
+    keys: &Keys,
+    labels: &[String],
+) -> Option<super::findings::Design> {
+    if tie.len() < 2 {
+        return None;
+    }
+    let mut key_sigma = vec![0.0f64; keys.keys.len()];
+    for (o, &k) in obs.iter().zip(&keys.of) {
+        key_sigma[k] = key_sigma[k].max(o.sigma);
+    }
+    let a = candidates.iter().find(|r| r.name == tie[0])?;
+    let b = candidates.iter().find(|r| r.name == tie[1])?;
+    design(
+        &pool[a.index].surface.at(&a.x),
+        &pool[b.index].surface.at(&b.x),
+        &key_sigma,
+        labels,
+        (a.name.clone(), b.name.clone()),
+    )
+}
+
+/// The cause's parameters with their 95 % profile intervals on all the data, in the
+/// parameters' units.
+fn fitted_parameters(cause: &Ranked, c: &Candidate, data: Data<'_>) -> Vec<FittedParameter> {
+    let all: Vec<usize> = (0..data.obs.len()).collect();
+    let iv = fit::profile_intervals(&c.surface, data, &all, &cause.x);
+    cause
+        .parameters
+        .iter()
+        .zip(c.params.iter().zip(iv))
+        .map(|((name, value), (p, (lo, hi)))| FittedParameter {
+            name: name.clone(),
+            value: *value,
+            interval: (to_value(p, lo), to_value(p, hi)),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests;
