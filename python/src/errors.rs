@@ -140,9 +140,7 @@ pub fn study_error(e: &StudyError) -> PyErr {
     let place = match e {
         StudyError::Io { path, .. } => Place::file(path),
         StudyError::Parse { path, message } => Place::file(path).parsed(message),
-        StudyError::Invalid { path, key, .. } | StudyError::Record { path, key, .. } => {
-            Place::file(path).with_key(key)
-        }
+        StudyError::Invalid { path, key, .. } | StudyError::Record { path, key, .. } => Place::file(path).with_key(key),
         StudyError::Wall { source, .. } => return generator_error(source),
         StudyError::Measured { path, source } => match source {
             TableError::Value { path, line, column, .. } => {
@@ -189,4 +187,3 @@ pub fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
         }
     }
 }
-

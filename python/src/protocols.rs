@@ -14,7 +14,11 @@ use serde::de::DeserializeOwned;
 
 /// A parameter struct of the library from a Python dict (its serde keys, unknown keys
 /// refused); `what` names it in errors (`tilt parameters`, `solver`).
-pub fn params<T: DeserializeOwned + Default>(py: Python<'_>, obj: Option<&Bound<'_, PyDict>>, what: &str) -> PyResult<T> {
+pub fn params<T: DeserializeOwned + Default>(
+    py: Python<'_>,
+    obj: Option<&Bound<'_, PyDict>>,
+    what: &str,
+) -> PyResult<T> {
     let Some(obj) = obj else { return Ok(T::default()) };
     let text = to_json(py, obj.as_any())?;
     serde_json::from_str(&text).map_err(|e| {

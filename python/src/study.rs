@@ -265,7 +265,13 @@ fn output_error(e: &OutputError) -> PyErr {
 }
 
 /// The dict the Python side turns into a `StudyResult`.
-fn outcome<'py>(py: Python<'py>, st: &Study, dir: &Path, shard: Shard, run: RunOutcome) -> PyResult<Bound<'py, PyDict>> {
+fn outcome<'py>(
+    py: Python<'py>,
+    st: &Study,
+    dir: &Path,
+    shard: Shard,
+    run: RunOutcome,
+) -> PyResult<Bound<'py, PyDict>> {
     let frame = realizations_frame(&run.rows, true).map_err(|e| DrystoneError::new_err(e.to_string()))?;
     let names = PyList::empty(py);
     let dtypes = PyList::empty(py);
@@ -359,7 +365,10 @@ pub fn _discrepancy<'py>(
     let setup = setup_of(&st, s.most_realizations());
     let pool = pool(threads)?;
     let run = py.detach(|| {
-        guard(|| pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library)).map_err(discrepancy_error))
+        guard(|| {
+            pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library))
+                .map_err(discrepancy_error)
+        })
     })?;
     py.check_signals()?;
     if let Some(dir) = &out {
@@ -374,8 +383,14 @@ pub fn _discrepancy<'py>(
                         run.analysis.verdict.name(),
                         run.specimens.len()
                     );
-                    drystone::study::extend::write_extended(&st, effects, &run.cause_interval, &note, &dir.join("extended"))
-                        .map_err(|e| DrystoneError::new_err(e.to_string()))?;
+                    drystone::study::extend::write_extended(
+                        &st,
+                        effects,
+                        &run.cause_interval,
+                        &note,
+                        &dir.join("extended"),
+                    )
+                    .map_err(|e| DrystoneError::new_err(e.to_string()))?;
                 }
                 Ok(())
             })

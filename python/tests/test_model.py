@@ -168,3 +168,30 @@ def test_a_uniform_pressure_has_its_closed_form_resultant():
     assert res.displacement_m.shape == (3,)
     assert res.drift == pytest.approx(res.max_displacement_m / res.height_m, rel=1e-12)
     assert res.to_dict()["equilibrium"] is True
+
+
+def test_the_gil_is_released_while_a_wall_is_tilted(root):
+    # A Python thread keeps counting while the tilting-table test runs: with the GIL held it
+    # could not run for the whole test (seconds), only in the switch intervals around it.
+    import threading
+    import time
+
+    layout = drystone.Wall.from_toml(root / "studies/walls/sbl.toml").generate(seed=20210917)
+    count, stop = [0], [False]
+
+    def spin():
+        while not stop[0]:
+            count[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    time.sleep(0.05)
+    before = count[0]
+    t0 = time.perf_counter()
+    res = drystone.tilt(layout)
+    elapsed = time.perf_counter() - t0
+    during = count[0] - before
+    stop[0] = True
+    t.join()
+    assert res.collapsed and elapsed > 0.2
+    assert during > 100_000, (during, elapsed)
