@@ -47,11 +47,15 @@ def main() -> None:
         g = r["group"]
         meas = measured_by_group[g]
         lo, hi = r["collapse_angle_deg_pred95_lo"], r["collapse_angle_deg_pred95_hi"]
-        inside = "yes" if lo <= meas["mean"] <= hi else f"no ({r['collapse_angle_deg_mean'] - meas['mean']:+.2f}°)"
-        print(
-            f"| {g} | {meas['mean']:.2f} ± {meas['sd']:.2f}° | "
-            f"{r['collapse_angle_deg_mean']:.2f} ± {r['collapse_angle_deg_sd']:.2f}° | {inside} |"
-        )
+        if lo is None or hi is None or lo != lo or hi != hi:
+            inside = "n/a (too few realizations for a band)"
+        elif lo <= meas["mean"] <= hi:
+            inside = "yes"
+        else:
+            inside = f"no ({r['collapse_angle_deg_mean'] - meas['mean']:+.2f}°)"
+        sd = r["collapse_angle_deg_sd"]
+        sd = f"{sd:.2f}" if sd is not None and sd == sd else "n/a"
+        print(f"| {g} | {meas['mean']:.2f} ± {meas['sd']:.2f}° | {r['collapse_angle_deg_mean']:.2f} ± {sd}° | {inside} |")
     _plot(study, s, Path(args.out) / "fragility_py.png")
 
 
