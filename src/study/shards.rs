@@ -158,6 +158,13 @@ pub enum OutputError {
     /// Shards that do not fit together.
     #[error("merge: {0}")]
     Merge(String),
+    /// The caller stopped the run ([`run_into_observed`]); the journal keeps every
+    /// finished item.
+    #[error("interrupted: the finished realizations are kept in {journal} (resume to continue)")]
+    Interrupted {
+        /// The run's journal.
+        journal: PathBuf,
+    },
 }
 
 impl From<FileError> for OutputError {
@@ -284,6 +291,26 @@ pub fn run_into(
     dir: &Path,
     mode: RunMode,
 ) -> Result<RunOutcome, OutputError> {
+    run_into_observed(study, study_arg, shard, dir, mode, &|_| true)
+}
+
+/// As [`run_into`], handing every new row to `observe` (from the worker thread that
+/// computed it) as soon as it is journaled: a progress report, and a way to stop. When
+/// `observe` returns false, no further item starts, the items already running finish and
+/// are journaled, and the run ends with [`OutputError::Interrupted`] without writing the
+/// tables: the journal keeps every finished item, and `resume` continues it. An `observe`
+/// that always returns true makes this [`run_into`], row for row.
+///
+/// # Errors
+/// As [`run_into`]; [`OutputError::Interrupted`] when `observe` stopped the run.
+pub fn run_into_observed(
+    study: &Study,
+    study_arg: &Path,
+    shard: Shard,
+    dir: &Path,
+    mode: RunMode,
+    observe: &(dyn Fn(&RealizationRow) -> bool + Sync),
+) -> Result<RunOutcome, OutputError> {
     let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
@@ -334,7 +361,14 @@ pub fn run_into(
         }
     };
     let resumed = done.len();
-    let rows = run_study_with(study, shard, done, |row| journal.append(row))?;
+    let rows = run_study_with(study, shard, done, |row| {
+        journal.append(row)?;
+        if observe(row) {
+            Ok(())
+        } else {
+            Err(OutputError::Interrupted { journal: path.clone() })
+        }
+    })?;
     let text = write_outputs(study, study_arg, shard, &rows, dir)?;
     Ok(RunOutcome { rows, resumed, text })
 }

@@ -1,0 +1,109 @@
+//! The tilting-table and static lateral load tests of one layout
+//! (`drystone::prelude::{run_tilt, run_lateral}`), with the GIL released while they run.
+//! Each returns a dict: the library's result as its JSON form (`"result"`) beside the
+//! monitor histories as NumPy arrays; the Python side wraps it in a result class.
+
+use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
+use crate::model::{from_json, to_json, PyLayout};
+use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use serde::de::DeserializeOwned;
+
+/// A parameter struct of the library from a Python dict (its serde keys, unknown keys
+/// refused); `what` names it in errors (`tilt parameters`, `solver`).
+pub fn params<T: DeserializeOwned + Default>(
+    py: Python<'_>,
+    obj: Option<&Bound<'_, PyDict>>,
+    what: &str,
+) -> PyResult<T> {
+    let Some(obj) = obj else { return Ok(T::default()) };
+    let text = to_json(py, obj.as_any())?;
+    serde_json::from_str(&text).map_err(|e| {
+        let m = e.to_string();
+        let mut place = Place::default().parsed(&m);
+        place.line = None;
+        let m = m.split(" at line ").next().unwrap_or(&m).to_string();
+        input_error(format!("{what}: {m}"), place)
+    })
+}
+
+/// The solver of a `solver` argument: None (the default penalty solver), a kind name
+/// (`"nscd"`) or a dict of `SolverParams` keys.
+pub fn solver(py: Python<'_>, obj: Option<&Bound<'_, PyAny>>) -> PyResult<SolverParams> {
+    match obj {
+        None => Ok(SolverParams::default()),
+        Some(o) if o.is_none() => Ok(SolverParams::default()),
+        Some(o) => {
+            if let Ok(kind) = o.extract::<String>() {
+                let d = PyDict::new(py);
+                d.set_item("kind", kind)?;
+                params(py, Some(&d), "solver")
+            } else {
+                let d = o.cast::<PyDict>().map_err(|_| {
+                    input_error("solver: expected None, a solver name or a dict of solver parameters", Place::default())
+                })?;
+                params(py, Some(d), "solver")
+            }
+        }
+    }
+}
+
+/// Runs the tilting-table test; see `drystone.tilt`.
+#[pyfunction]
+#[pyo3(signature = (layout, solver = None, params = None))]
+pub fn _tilt<'py>(
+    py: Python<'py>,
+    layout: &Bound<'py, PyLayout>,
+    solver: Option<&Bound<'py, PyAny>>,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let solver = self::solver(py, solver)?;
+    let tp: TiltParams = self::params(py, params, "tilt parameters")?;
+    let l = &layout.get().layout;
+    let r = py.detach(|| guard(|| run_tilt(l, solver, &tp).map_err(|e| tilt_error(&e))))?;
+    py.check_signals()?;
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
+    out.set_item("collapse_angle_deg", r.collapse_angle_deg())?;
+    let n = r.increments.len();
+    let m = r.monitors.len();
+    out.set_item("alpha_deg", PyArray1::from_vec(py, r.increments.iter().map(|i| i.alpha_deg).collect()))?;
+    out.set_item("stable", PyArray1::from_vec(py, r.increments.iter().map(|i| i.stable).collect()))?;
+    out.set_item("increment_steps", PyArray1::from_vec(py, r.increments.iter().map(|i| i.steps).collect()))?;
+    out.set_item(
+        "unbalanced_ratio",
+        PyArray1::from_vec(py, r.increments.iter().map(|i| i.unbalanced_ratio).collect()),
+    )?;
+    let flat: Vec<f64> = r
+        .increments
+        .iter()
+        .flat_map(|i| (0..m).map(move |k| i.displacement_m.get(k).copied().unwrap_or(f64::NAN)))
+        .collect();
+    let disp = Array2::from_shape_vec((n, m), flat).unwrap_or_else(|_| Array2::zeros((0, m)));
+    out.set_item("displacement_m", disp.into_pyarray(py))?;
+    Ok(out)
+}
+
+/// Runs the static lateral load; see `drystone.lateral`.
+#[pyfunction]
+#[pyo3(signature = (layout, solver = None, params = None))]
+pub fn _lateral<'py>(
+    py: Python<'py>,
+    layout: &Bound<'py, PyLayout>,
+    solver: Option<&Bound<'py, PyAny>>,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let solver = self::solver(py, solver)?;
+    let lp: LateralParams = self::params(py, params, "lateral parameters")?;
+    let l = &layout.get().layout;
+    let r = py.detach(|| guard(|| run_lateral(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
+    py.check_signals()?;
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
+    out.set_item("displacement_m", PyArray1::from_vec(py, r.displacement_m.clone()))?;
+    out.set_item("resultant_n", PyArray1::from_vec(py, vec![r.resultant_n.x, r.resultant_n.y, r.resultant_n.z]))?;
+    Ok(out)
+}

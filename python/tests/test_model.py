@@ -1,0 +1,197 @@
+"""Walls, layouts, the tilting table and the lateral load from Python, against closed forms,
+the wall files read independently (tomllib) and the command-line tool."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import drystone
+from conftest import box_layout
+
+tomllib = pytest.importorskip("tomllib") if sys.version_info >= (3, 11) else None
+
+
+def test_generate_is_seeded_and_layouts_round_trip_through_json(root):
+    wall = drystone.Wall.from_toml(root / "studies/walls/sbl.toml")
+    a = wall.generate(seed=20210917, realization=0)
+    again = wall.generate(seed=20210917, realization=0)
+    other = wall.generate(seed=20210917, realization=1)
+    assert a == again and a.to_json() == again.to_json()
+    assert a.to_json() != other.to_json(), "irregular walls differ from one realization to the next"
+    assert (a.seed, a.realization) == (20210917, 0)
+    back = drystone.Layout.from_json(a.to_json())
+    assert back == a and back.to_json() == a.to_json()
+    assert back.seed is None
+    # The arrays describe the same blocks as the JSON text.
+    spec = json.loads(a.to_json())
+    assert a.block_ids == [b["id"] for b in spec["blocks"]]
+    assert a.materials == [b["material"] for b in spec["blocks"]]
+    assert len(a) == len(spec["blocks"]) == len(a.vertices)
+    for arr, b in zip(a.vertices, spec["blocks"]):
+        assert arr.shape == (len(b["vertices"]), 3) and arr.dtype == np.float64
+        assert np.array_equal(arr, np.array(b["vertices"]))
+    off = a.vertex_offsets
+    assert off[0] == 0 and off[-1] == a.vertices_flat.shape[0]
+    assert np.array_equal(a.vertices_flat[off[3] : off[4]], a.vertices[3])
+    assert a.wedge.dtype == np.bool_ and a.wedge.shape == (len(a),)
+    assert a.wedge.any(), "the SBL wall has wedge stones"
+
+
+def test_a_layout_saved_to_a_file_reads_back(tmp_path, root):
+    layout = drystone.Wall.from_toml(root / "studies/walls/cbl.toml").generate(seed=1)
+    layout.save(tmp_path / "l.json")
+    assert drystone.Layout.from_file(tmp_path / "l.json") == layout
+
+
+@pytest.mark.skipif(tomllib is None, reason="tomllib is Python 3.11+")
+def test_the_envelope_of_the_generated_blocks_is_the_wall_file_geometry(root):
+    path = root / "studies/walls/cbl.toml"
+    with open(path, "rb") as f:
+        geometry = tomllib.load(f)["geometry"]
+    wall = drystone.Wall.from_toml(path)
+    assert (wall.length_m, wall.height_m) == (geometry["length_m"], geometry["height_m"])
+    b = wall.generate(seed=20210917).bounds
+    assert b.shape == (2, 3)
+    assert b[1, 0] - b[0, 0] == pytest.approx(geometry["length_m"], abs=1e-9)
+    assert b[1, 1] - b[0, 1] == pytest.approx(geometry["base_width_m"], abs=1e-9)
+    assert b[0, 2] == pytest.approx(0.0, abs=1e-12) and b[1, 2] == pytest.approx(geometry["height_m"], abs=1e-9)
+
+
+@pytest.mark.skipif(tomllib is None, reason="tomllib is Python 3.11+")
+def test_a_wall_from_a_dict_is_the_wall_of_the_file(root):
+    path = root / "studies/walls/sbl.toml"
+    with open(path, "rb") as f:
+        spec = tomllib.load(f)
+    from_dict = drystone.Wall.from_dict(spec, path=path)
+    from_file = drystone.Wall.from_toml(path)
+    assert from_dict.generate(5, 2).to_json() == from_file.generate(5, 2).to_json()
+    spec["geometry"]["lenght_m"] = spec["geometry"].pop("length_m")
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Wall.from_dict(spec, path=path)
+    assert e.value.key == "lenght_m" and "lenght_m" in str(e.value)
+
+
+def test_a_bad_wall_file_names_its_file_key_and_line(tmp_path, root):
+    text = (root / "studies/walls/cbl.toml").read_text()
+    assert "length_m = 1.5" in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("length_m = 1.5", "lenght_m = 1.5", 1))
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Wall.from_toml(bad)
+    line = 1 + text[: text.index("length_m = 1.5")].count("\n")
+    assert (e.value.file, e.value.key, e.value.line) == (str(bad), "lenght_m", line)
+    assert isinstance(e.value, drystone.DrystoneError)
+    bad.write_text(text.replace("length_m = 1.5", "length_m = -1.5", 1))
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Wall.from_toml(bad)
+    assert e.value.key == "geometry.length_m" and str(bad) in str(e.value)
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Wall.from_toml(tmp_path / "missing.toml")
+    assert e.value.file == str(tmp_path / "missing.toml")
+
+
+def test_bad_layouts_and_parameters_are_input_errors():
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Layout.from_json(box_layout(0.3, 0.1, 0.3).replace('"friction_deg"', '"frictoin_deg"'))
+    assert e.value.key == "frictoin_deg"
+    with pytest.raises(drystone.InputError) as e:
+        drystone.Layout.from_json(box_layout(0.3, 0.1, 0.3).replace("1e+11", "-1e+11").replace("100000000000.0", "-1e11"))
+    assert "kn_pa_per_m" in e.value.key
+    layout = drystone.Layout.from_json(box_layout(0.3, 0.1, 0.3))
+    with pytest.raises(drystone.InputError) as e:
+        drystone.tilt(layout, stepdeg=1.0)
+    assert e.value.key == "stepdeg"
+    with pytest.raises(drystone.InputError) as e:
+        drystone.tilt(layout, step_deg=-1.0)
+    assert "step_deg" in str(e.value)
+    with pytest.raises(drystone.InputError):
+        drystone.tilt(layout, solver="no_such_solver")
+
+
+def test_a_block_that_cannot_stand_is_a_solver_error():
+    # A block floating 1 cm above the table touches nothing.
+    text = json.loads(box_layout(0.3, 0.1, 0.3))
+    for v in text["blocks"][0]["vertices"]:
+        v[2] += 0.01
+    with pytest.raises(drystone.SolverError):
+        drystone.tilt(drystone.Layout.from_json(json.dumps(text)))
+
+
+def test_a_stiff_block_topples_at_the_rigid_limit_less_its_elastic_rotation(tmp_path, drystone_bin):
+    # 0.1125 m deep (y), 0.375 m tall: rigid limit tan α = 0.1125 / 0.375 = 0.3, 16.699°;
+    # the no-tension Winkler base joint (Kn 1e11 Pa/m) lowers it to 16.31° (drystone verify).
+    layout = drystone.Layout.from_json(box_layout(0.3, 0.1125, 0.375))
+    res = drystone.tilt(layout, resolution_deg=0.0625)
+    rigid = math.degrees(math.atan(0.1125 / 0.375))
+    assert res.collapsed and res.first_unstable_deg - res.last_stable_deg <= 0.0625 + 1e-9
+    assert res.last_stable_deg <= 16.31 + 0.02 and res.first_unstable_deg >= 16.31 - 0.02
+    assert res.last_stable_deg < rigid
+    assert res.collapse_angle_deg == res.last_stable_deg
+    assert str(res.mechanism) == res.mechanism.kind == "toppling"
+    assert res.mechanism.joint == "table/b0" and res.mechanism.blocks == ["b0"]
+    n = len(res.alpha_deg)
+    assert res.monitors == ["top_left", "top_centre", "top_right"]
+    assert res.displacement_m.shape == (n, 3) and res.stable.shape == (n,)
+    assert res.alpha_deg[0] == 0.0 and np.all(res.displacement_m[0] == 0.0)
+    stable = res.alpha_deg[res.stable]
+    assert np.all(np.diff(stable) > 0) and stable[-1] == res.last_stable_deg
+    # The same numbers as the command-line tool, to the last digit.
+    path = tmp_path / "block.json"
+    layout.save(path)
+    cli = subprocess.run(
+        [str(drystone_bin), "tilt", str(path), "--json", "--resolution-deg", "0.0625"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    expected = json.loads(cli.stdout)
+    got = res.to_dict()
+    for key in ("last_stable_deg", "first_unstable_deg", "collapse_reason", "mechanism", "increments", "steps", "dt_s"):
+        assert got[key] == expected[key], key
+    assert res.collapse_angle_deg == expected["collapse_angle_deg"]
+
+
+def test_a_uniform_pressure_has_its_closed_form_resultant():
+    # 1 kPa on the −y face of a block 0.4 m long and 0.3 m tall: 120 N in +y.
+    layout = drystone.Layout.from_json(box_layout(0.4, 0.15, 0.3))
+    res = drystone.lateral(layout, pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert res.equilibrium and res.collapse_reason is None
+    assert res.resultant_n.shape == (3,)
+    assert abs(res.resultant_n[1]) == pytest.approx(1000.0 * 0.4 * 0.3, rel=1e-9)
+    assert res.weight_n == pytest.approx(2000.0 * 0.4 * 0.15 * 0.3 * 9.81, rel=1e-9)
+    assert res.displacement_m.shape == (3,)
+    assert res.drift == pytest.approx(res.max_displacement_m / res.height_m, rel=1e-12)
+    assert res.to_dict()["equilibrium"] is True
+
+
+def test_the_gil_is_released_while_a_wall_is_tilted(root):
+    # A Python thread keeps counting while the tilting-table test runs: with the GIL held it
+    # could not run for the whole test (seconds), only in the switch intervals around it.
+    import threading
+    import time
+
+    layout = drystone.Wall.from_toml(root / "studies/walls/sbl.toml").generate(seed=20210917)
+    count, stop = [0], [False]
+
+    def spin():
+        while not stop[0]:
+            count[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    time.sleep(0.05)
+    before = count[0]
+    t0 = time.perf_counter()
+    res = drystone.tilt(layout)
+    elapsed = time.perf_counter() - t0
+    during = count[0] - before
+    stop[0] = True
+    t.join()
+    assert res.collapsed and elapsed > 0.2
+    assert during > 100_000, (during, elapsed)
