@@ -38,6 +38,7 @@ pub mod contacts;
 pub mod delassus;
 pub mod local;
 pub mod stepper;
+mod stick;
 
 pub use contacts::ContactPoint;
 pub use stepper::{NscdSimulation, NscdStep};
@@ -61,14 +62,35 @@ pub struct NscdParams {
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).
     pub restitution: f64,
-    /// NSGS convergence tolerance \[1e-7\]: the sweeps over the contact points have
-    /// converged when one changes the velocity of no block point by more than
-    /// `tolerance × g h` (`max_k ‖Δv_k‖ + ‖Δω_k‖ R_k`, R_k the block's radius; g h the
-    /// velocity gravity adds in one step).
+    /// NSGS convergence tolerance \[1e-7\], read by [`Self::norm`].
     pub tolerance: f64,
+    /// The convergence norm of the NSGS sweeps \[`velocity`\] (see [`NsgsNorm`]).
+    pub norm: NsgsNorm,
+    /// The order of the NSGS sweeps \[`forward`\] (see [`SweepOrder`]).
+    pub sweep: SweepOrder,
+    /// Relaxation ω of the NSGS update, in (0, 2) \[1\]: a point's impulse becomes
+    /// `ω r_loc + (1 − ω) r_old`, projected on its Coulomb cone (`r_loc` the exact local
+    /// solution; 1 is plain Gauss–Seidel, as LMGC90's default `RELAX 1.0`).
+    pub relaxation: f64,
+    /// Passes over the points of one contact polygon at each visit of a sweep, ≥ 1 \[1\]:
+    /// more than one is an inexact block Gauss–Seidel over the polygon (its points share
+    /// two bodies and are strongly coupled), stopped early when a pass changes no impulse
+    /// by more than [`Self::tolerance`] of its velocity response.
+    pub polygon_passes: u32,
+    /// Apply the stick-set correction (`stick`: a global regularized solve over the points
+    /// that stick, the coarse level of the iteration) every [`Self::stick_every`] sweeps
+    /// \[false\].
+    pub stick_solve: bool,
+    /// Sweeps between two stick-set corrections, ≥ 1 \[10\].
+    pub stick_every: u32,
+    /// κ of the stick-set correction, dimensionless, > 0 \[1e4\]: the velocity it leaves
+    /// at a point is 1/κ of what the point's own correction cancels.
+    pub stick_stiffness: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
     pub max_iterations: u32,
+    /// The contact points of a face contact polygon \[`vertices`\] (see [`PolygonPoints`]).
+    pub polygon_points: PolygonPoints,
     /// Pairs closer than this get contact points, m \[1e-3\].
     pub contact_margin_m: f64,
     /// Vertices within this distance of the support plane form an edge or vertex feature,
@@ -105,7 +127,15 @@ impl Default for NscdParams {
             theta: 0.5,
             restitution: 0.0,
             tolerance: 1e-7,
+            norm: NsgsNorm::Velocity,
+            sweep: SweepOrder::Forward,
+            relaxation: 1.0,
+            polygon_passes: 1,
+            stick_solve: false,
+            stick_every: 10,
+            stick_stiffness: 1e4,
             max_iterations: 2000,
+            polygon_points: PolygonPoints::Vertices,
             contact_margin_m: 1e-3,
             feature_tolerance_m: 5e-4,
             face_angle_tolerance_deg: 10.0,
@@ -129,6 +159,15 @@ impl NscdParams {
             ("theta", self.theta, (0.5..=1.0).contains(&self.theta), "in [0.5, 1]"),
             ("restitution", self.restitution, (0.0..=1.0).contains(&self.restitution), "in [0, 1]"),
             ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
+            ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation < 2.0, "in (0, 2)"),
+            ("stick_every", self.stick_every as f64, self.stick_every >= 1, ">= 1"),
+            (
+                "stick_stiffness",
+                self.stick_stiffness,
+                self.stick_stiffness > 0.0 && self.stick_stiffness.is_finite(),
+                "> 0",
+            ),
+            ("polygon_passes", self.polygon_passes as f64, self.polygon_passes >= 1, ">= 1"),
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
             ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
             ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
@@ -169,6 +208,54 @@ impl NscdParams {
             fan: crate::dem::contact::geometry::Fan::Vertex,
         }
     }
+}
+
+/// The convergence norm of the NSGS sweeps (the iteration stops at the first sweep whose
+/// norm is at most [`NscdParams::tolerance`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NsgsNorm {
+    /// The largest change of a block point's velocity over a sweep, over `g h` (g h the
+    /// velocity gravity adds in one step): `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k) / (g h)`, R_k the
+    /// block's radius. An absolute norm on the bodies: strict on a large wall, whose
+    /// impulses a sweep moves among nearly equivalent solutions.
+    Velocity,
+    /// The quadratic norm of the change over a sweep of the contact points' own velocity
+    /// responses, relative to their quadratic mean: `sqrt(Σ_α ‖W_αα Δr_α‖²) / sqrt(Σ_α
+    /// ‖W_αα r_α‖²)` (dimensionless; W_αα the point's Delassus block, r_α its impulse,
+    /// Δr_α the change over the sweep). After LMGC90's `Quad` check of its NLGS (the
+    /// quadratic mean of the velocity corrections against that of `W r`), whose usual
+    /// tolerances are 1e-4 to 1e-5: the norm of the impulse change weighted by what it
+    /// does to the contact, relative to the mean impulse, not to a fixed velocity.
+    Quad,
+}
+
+/// The contact points of a face contact polygon.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PolygonPoints {
+    /// One point per vertex: with hard contacts the vertices carry every pressure
+    /// resultant inside the polygon, so the points carry its forces and moments exactly.
+    Vertices,
+    /// At most four points: a polygon of more than four vertices keeps the four that span
+    /// the quadrilateral of largest area (LMGC90's polyhedra likewise reduce a face–face
+    /// contact to at most four points). The moments the points can carry are those of that
+    /// quadrilateral, a subset of the polygon's: the rigid limit can only go down, by the
+    /// share of the polygon's lever arm the dropped corners held.
+    Quad,
+}
+
+/// The order in which the NSGS sweeps visit the contact points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepOrder {
+    /// Every sweep in the points' fixed order (the table's contacts first, then pairs in
+    /// block order: from the base up in a generated wall, whose blocks are numbered course
+    /// by course).
+    Forward,
+    /// Odd sweeps forward, even sweeps backward (symmetric Gauss–Seidel): a correction
+    /// travels up the wall in one sweep and down it in the next.
+    Symmetric,
 }
 
 /// Errors of the non-smooth solver.
