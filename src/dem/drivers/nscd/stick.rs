@@ -149,10 +149,12 @@ impl StickSolver {
                 None
             };
             // Every pair in contact enters the pattern, whatever its status.
-            if rw.a != TABLE && first[rw.a] != usize::MAX && first[rw.b] != usize::MAX {
-                if off.last().map(|(p, _)| *p) != Some(pair_index) {
-                    off.push((pair_index, Matrix6::zeros()));
-                }
+            if rw.a != TABLE
+                && first[rw.a] != usize::MAX
+                && first[rw.b] != usize::MAX
+                && off.last().map(|(p, _)| *p) != Some(pair_index)
+            {
+                off.push((pair_index, Matrix6::zeros()));
             }
             let Some(g) = gain else { continue };
             any = true;
