@@ -12,7 +12,20 @@ use std::collections::BTreeMap;
 
 fn main() {
     let args = common::args(2, "nscd_trace LAYOUT.json TILT_DEG [STEPS]");
-    let layout = common::layout(&args[0]);
+    // `box:B:H`: a box b (y) × h (z), 0.3 m long, friction 60°, on the table.
+    let layout = match args[0].strip_prefix("box:") {
+        Some(dims) => {
+            let d: Vec<f64> = dims.split(':').map(|x| common::number(x, "box:B:H")).collect();
+            drystone::verify::layout_of(
+                vec![drystone::verify::box_vertices([0.0, -d[0] / 2.0, 0.0], [0.3, d[0] / 2.0, d[1]])],
+                1e13,
+                5e12,
+                60.0,
+                drystone::layout::BaseSliding::Free,
+            )
+        }
+        None => common::layout(&args[0]),
+    };
     let tilt: f64 = common::number(&args[1], "TILT_DEG");
     let steps: u64 = args.get(2).map_or(40, |s| common::number(s, "STEPS"));
     let params: NscdParams = match std::env::var("NSCD") {
@@ -37,11 +50,16 @@ fn main() {
     );
     sim.set_tilt(tilt.to_radians());
     let gh = sim.gravity_magnitude() * params.dt_s;
-    println!("step,sweeps,converged,residual_gh,quad,speed_gh,active");
+    println!("step,sweeps,converged,residual_gh,quad,speed_gh,active,power_gh,drop_gh2");
+    let start: Vec<drystone::Vec3> = sim.bodies().iter().map(|b| b.pos).collect();
+    let gdir = drystone::Vec3::new(0.0, tilt.to_radians().sin(), -tilt.to_radians().cos());
+    let mass: f64 = sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum();
     for k in 1..=steps {
         let s = sim.step(|_| drystone::Vec3::zeros()).expect("step");
+        let power: f64 = sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass * b.vel.dot(&gdir)).sum::<f64>() / mass / gh;
+        let drop: f64 = sim.bodies().iter().zip(&start).filter(|(b, _)| !b.fixed).map(|(b, s)| b.mass * (b.pos - s).dot(&gdir)).sum::<f64>() / mass / (gh * params.dt_s);
         println!(
-            "{k},{},{},{:.3e},{:.3e},{:.3e},{}",
+            "{k},{},{},{:.3e},{:.3e},{:.3e},{},{power:.3e},{drop:.3e}",
             s.iterations,
             s.converged,
             s.residual_m_per_s / gh,

@@ -398,6 +398,8 @@ impl NscdSimulation {
         let gh = self.gravity_magnitude * p.dt_s;
         let omega = p.relaxation;
         let (mut residual, mut quad) = (0.0, 0.0);
+        // The sweep from which the adaptive norm also accepts the quadratic one.
+        let quad_after = (p.quad_after_solves / self.points.len().max(1) as f64).ceil().min(u32::MAX as f64) as u32;
         for it in 1..=p.max_iterations {
             self.sweep_vel.copy_from_slice(&self.vel);
             self.sweep_angvel.copy_from_slice(&self.angvel);
@@ -453,11 +455,14 @@ impl NscdSimulation {
                 residual = residual.max(dv);
             }
             quad = if sum_wr > 0.0 { (sum_du / sum_wr).sqrt() } else { sum_du.sqrt() / gh };
-            let norm = match p.norm {
-                NsgsNorm::Velocity => residual / gh,
-                NsgsNorm::Quad => quad,
+            let converged = match p.norm {
+                NsgsNorm::Velocity => residual / gh <= p.tolerance,
+                NsgsNorm::Quad => quad <= p.tolerance,
+                NsgsNorm::Adaptive => {
+                    residual / gh <= p.tolerance || (it >= quad_after && quad <= p.quad_tolerance)
+                }
             };
-            if norm <= p.tolerance {
+            if converged {
                 return (it, true, residual, quad);
             }
             if p.stick_solve && it % p.stick_every == 0 && it < p.max_iterations {
