@@ -20,11 +20,13 @@
 //! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
 //!    points in their fixed order, each solving its local Coulomb problem
 //!    ([`super::local::solve`]) with the current velocities of the other points' bodies
-//!    and writing its impulse change back, until the largest change over a sweep of the
-//!    velocity of a block point, `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k)`, is below `tolerance × g h`
-//!    or [`NscdParams::max_iterations`]. (A norm on the velocities, not on the impulses:
-//!    the impulses of a statically indeterminate wall may drift among equivalent
-//!    solutions while the motion has converged.)
+//!    and writing its impulse change back, until the sweep meets [`NscdParams::norm`]
+//!    (by default [`super::NsgsNorm::Adaptive`]: the largest change over a sweep of the
+//!    velocity of a block point, `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k)`, below `tolerance × g h`,
+//!    or, after `quad_after_solves` local solves, the quadratic norm below
+//!    `quad_tolerance`) or reaches [`NscdParams::max_iterations`]. (A norm on the
+//!    velocities first, not on the impulses: the impulses of a statically indeterminate
+//!    wall may drift among equivalent solutions while the motion has converged.)
 //! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
 //!    vector in the table frame).
 //!
