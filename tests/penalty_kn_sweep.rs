@@ -5,11 +5,13 @@
 //! (26.565°) and the non-smooth solver's bracket of the same block.
 //!
 //! A block on a no-tension Winkler joint topples before the rigid block does: the joint
-//! closes under the downhill edge and the block rotates by θ ∝ Kn^(-1/3) before it loses
-//! equilibrium (`common/winkler.rs`, integrated here independently of the library). So,
-//! as Kn grows, the penalty brackets must rise, never fall by more than the bracket's
-//! width, never end on a step budget, stay below the rigid limit (within the bracket),
-//! and close on it at 1e13.
+//! closes under the downhill edge and the block rotates by θ before it loses equilibrium,
+//! a loss that shrinks as Kn^(-1/3) (`common/winkler.rs`, integrated here independently of
+//! the library: 9.3° at 1e7 Pa/m, 0.09° at 1e13). So, as Kn grows, the penalty brackets
+//! must rise, never fall, never end on a step budget, hold the Winkler reference (within
+//! the allowance of `tests/stiffness_range.rs`, `0.01° + 5°·θ/rad`, for the terms of order
+//! θ it leaves out), their distance to the rigid limit shrinking at every decade, to the
+//! Winkler loss alone at 1e13, where the non-smooth solver's bracket holds the rigid limit.
 
 #[path = "common/winkler.rs"]
 mod winkler;
@@ -40,7 +42,7 @@ fn penalty_bracket(kn: f64) -> (f64, f64) {
 }
 
 #[test]
-fn the_penalty_collapse_tilt_rises_to_the_rigid_limit_as_kn_grows_to_1e13() {
+fn the_penalty_collapse_tilt_rises_towards_the_rigid_limit_as_kn_grows_to_1e13() {
     let rigid = (B / H).atan().to_degrees();
     let l = layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], 1e13, 5e12, 60.0, BaseSliding::Free);
     let nscd = run_tilt_nscd(&l, &NscdParams::default(), &TiltParams { resolution_deg: RESOLUTION_DEG, ..TiltParams::default() })
@@ -50,6 +52,7 @@ fn the_penalty_collapse_tilt_rises_to_the_rigid_limit_as_kn_grows_to_1e13() {
 
     let mut previous: Option<(f64, f64)> = None;
     let mut softest = None;
+    let mut last_loss = f64::INFINITY;
     println!("| Kn (Pa/m) | penalty bracket (°) | Winkler reference (°) | rigid − last stable (°) |");
     for kn in [1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13] {
         let (lo, up) = penalty_bracket(kn);
@@ -57,19 +60,31 @@ fn the_penalty_collapse_tilt_rises_to_the_rigid_limit_as_kn_grows_to_1e13() {
         println!("| {kn:.0e} | [{lo:.4}, {up:.4}] | {:.4} | {:.4} |", winkler.alpha_deg, rigid - lo);
         // Below the rigid limit: a finite joint can only lose capacity.
         assert!(lo <= rigid, "Kn {kn:e}: stable at {lo}° above the rigid limit {rigid}°");
-        // Monotone: a stiffer joint's bracket does not fall below a softer one's (ties
-        // within one bracket width are the bisection's grid).
+        // The Winkler collapse of the same block, within the allowance.
+        let tol = 0.01 + 5.0 * winkler.rotation;
+        assert!(
+            lo <= winkler.alpha_deg + tol && up >= winkler.alpha_deg - tol,
+            "Kn {kn:e}: [{lo}, {up}] misses the Winkler collapse {:.4}° ± {tol:.4}°",
+            winkler.alpha_deg
+        );
+        // Monotone, and closer to the rigid limit at every decade.
         if let Some((plo, pup)) = previous {
             assert!(lo >= plo - 1e-9 && up >= pup - 1e-9, "Kn {kn:e}: [{lo}, {up}] below the softer [{plo}, {pup}]");
+            assert!(rigid - lo < rigid - plo, "Kn {kn:e}: no closer to the rigid limit than at Kn / 10");
         }
         previous = Some((lo, up));
         softest.get_or_insert(lo);
+        last_loss = rigid - winkler.alpha_deg + tol;
     }
     let (lo, up) = previous.expect("swept");
-    // Closed on the rigid limit at 1e13, and on the nscd bracket of the same block.
-    assert!(lo <= rigid && rigid <= up + 1e-9, "Kn 1e13: [{lo}, {up}] misses the rigid limit {rigid}°");
-    assert!((lo - nscd.last_stable_deg).abs() <= RESOLUTION_DEG, "Kn 1e13: {lo}° against nscd {}°", nscd.last_stable_deg);
-    // And the sweep is not flat: at 1e7 the loss is several brackets (the joint rotation).
+    // At 1e13 what separates the penalty bracket from the rigid limit (and the nscd
+    // bracket) is the Winkler loss of the finite joint alone.
+    assert!(rigid - up <= last_loss, "Kn 1e13: [{lo}, {up}] is {}° below the rigid limit", rigid - up);
+    assert!(
+        nscd.last_stable_deg - up <= last_loss,
+        "Kn 1e13: [{lo}, {up}] is {}° below the nscd bracket",
+        nscd.last_stable_deg - up
+    );
     let soft = softest.expect("swept");
     assert!(rigid - soft > 4.0 * RESOLUTION_DEG, "Kn 1e7: loss {}° is not resolved", rigid - soft);
 }
