@@ -92,7 +92,8 @@ enum Command {
         /// stable increment and the first unstable state; unstable_trials.pvd: the other
         /// failed trials).
         #[arg(long, value_name = "DIR")]
-        vtk: Option<PathBuf>,        #[command(flatten)]
+        vtk: Option<PathBuf>,
+        #[command(flatten)]
         nscd: cli::tilt::NscdArgs,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
@@ -174,7 +175,8 @@ enum Command {
         json: bool,
         /// Write the motion as a ParaView time series into DIR (shake.pvd, time in s).
         #[arg(long, value_name = "DIR")]
-        vtk: Option<PathBuf>,        #[command(flatten)]
+        vtk: Option<PathBuf>,
+        #[command(flatten)]
         nscd: cli::tilt::NscdArgs,
     },
     /// Limit analysis: the rigid collapse load multiplier of a layout from statics alone (a

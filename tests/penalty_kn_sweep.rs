@@ -30,7 +30,8 @@ const H: f64 = 0.30;
 
 /// The penalty bracket (last stable, first unstable) at joint stiffness `kn`, degrees.
 fn penalty_bracket(kn: f64) -> (f64, f64) {
-    let l = layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], kn, kn / 2.0, 60.0, BaseSliding::Free);
+    let l =
+        layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], kn, kn / 2.0, 60.0, BaseSliding::Free);
     // Ten times the default step budget at Kn ≥ 1e11 (the knife-edge contact of a stiff
     // joint creeps for longer; as `tests/stiffness_range.rs`).
     let base = TiltParams::default().max_steps_per_increment;
@@ -45,8 +46,12 @@ fn penalty_bracket(kn: f64) -> (f64, f64) {
 fn the_penalty_collapse_tilt_rises_towards_the_rigid_limit_as_kn_grows_to_1e13() {
     let rigid = (B / H).atan().to_degrees();
     let l = layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], 1e13, 5e12, 60.0, BaseSliding::Free);
-    let nscd = run_tilt_nscd(&l, &NscdParams::default(), &TiltParams { resolution_deg: RESOLUTION_DEG, ..TiltParams::default() })
-        .expect("nscd tilt");
+    let nscd = run_tilt_nscd(
+        &l,
+        &NscdParams::default(),
+        &TiltParams { resolution_deg: RESOLUTION_DEG, ..TiltParams::default() },
+    )
+    .expect("nscd tilt");
     let nscd_up = nscd.first_unstable_deg.expect("topples");
     assert!(nscd.last_stable_deg <= rigid && rigid <= nscd_up, "nscd [{}, {nscd_up}]", nscd.last_stable_deg);
 

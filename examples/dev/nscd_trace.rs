@@ -56,8 +56,17 @@ fn main() {
     let mass: f64 = sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum();
     for k in 1..=steps {
         let s = sim.step(|_| drystone::Vec3::zeros()).expect("step");
-        let power: f64 = sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass * b.vel.dot(&gdir)).sum::<f64>() / mass / gh;
-        let drop: f64 = sim.bodies().iter().zip(&start).filter(|(b, _)| !b.fixed).map(|(b, s)| b.mass * (b.pos - s).dot(&gdir)).sum::<f64>() / mass / (gh * params.dt_s);
+        let power: f64 =
+            sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass * b.vel.dot(&gdir)).sum::<f64>() / mass / gh;
+        let drop: f64 = sim
+            .bodies()
+            .iter()
+            .zip(&start)
+            .filter(|(b, _)| !b.fixed)
+            .map(|(b, s)| b.mass * (b.pos - s).dot(&gdir))
+            .sum::<f64>()
+            / mass
+            / (gh * params.dt_s);
         println!(
             "{k},{},{},{:.3e},{:.3e},{:.3e},{},{power:.3e},{drop:.3e}",
             s.iterations,

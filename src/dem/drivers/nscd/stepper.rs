@@ -460,9 +460,7 @@ impl NscdSimulation {
             let converged = match p.norm {
                 NsgsNorm::Velocity => residual / gh <= p.tolerance,
                 NsgsNorm::Quad => quad <= p.tolerance,
-                NsgsNorm::Adaptive => {
-                    residual / gh <= p.tolerance || (it >= quad_after && quad <= p.quad_tolerance)
-                }
+                NsgsNorm::Adaptive => residual / gh <= p.tolerance || (it >= quad_after && quad <= p.quad_tolerance),
             };
             if converged {
                 return (it, true, residual, quad);
