@@ -85,6 +85,8 @@ fn nsgs_options_out_of_range_are_refused_by_key() {
         ("polygon_passes", NscdParams { polygon_passes: 0, ..NscdParams::default() }),
         ("stick_every", NscdParams { stick_every: 0, ..NscdParams::default() }),
         ("stick_stiffness", NscdParams { stick_stiffness: -1.0, ..NscdParams::default() }),
+        ("quad_tolerance", NscdParams { quad_tolerance: 0.0, ..NscdParams::default() }),
+        ("quad_after_solves", NscdParams { quad_after_solves: f64::NAN, ..NscdParams::default() }),
     ] {
         match drystone::dem::drivers::nscd::NscdSimulation::new(&block, &p) {
             Err(NscdError::Parameter(e)) => assert!(e.to_string().contains(key), "{key}: {e}"),

@@ -74,7 +74,8 @@ pub struct NscdParams {
     /// [`NsgsNorm::Adaptive`] also accepts the quadratic norm \[1.5e5\]: a step over P
     /// contact points accepts it after `ceil(quad_after_solves / P)` sweeps. 1.5e5 is 1,250
     /// sweeps of the 13-box wall (120 points; it meets the velocity norm before that in
-    /// every step of its tilt, whose result is the velocity norm's), 62 of the SBL preset
+    /// every step of its tilt, whose result is the velocity norm's; at 500 sweeps or
+    /// fewer its bracket misses t/H by 0.003°, from 750 it holds it), 62 of the SBL preset
     /// wall of seed 20210917 (195 blocks, 2,424 points) and 53 of that of seed 2021 (227
     /// blocks, 2,854 points). Measured on the 227-block wall (BENCHMARKS.md): 2.5e5 costs
     /// 18 % more CPU for a bracket 0.08° lower, 1e6 2.4 times as much for one 0.04° lower.
