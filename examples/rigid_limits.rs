@@ -10,6 +10,9 @@
 //! cargo run --release --example rigid_limits -- --cost a.json b.json  # cost of one trial
 //! ```
 //!
+//! `NSCD='{"norm":"quad","tolerance":1e-5}'` before the command sets solver parameters
+//! (a JSON object of `NscdParams` keys over the defaults).
+//!
 //! `--cost` runs one tilt trial's worth of steps (40, at 10°, released from rest) on each
 //! layout and prints the blocks, contact points, time per step and sweeps per step: the
 //! cost against wall size.
@@ -62,6 +65,15 @@ fn lmgc90(case: &str) -> Option<(f64, f64, f64)> {
     Some((row[2].parse().ok()?, row[3].parse().ok()?, row[6].parse().ok()?))
 }
 
+/// The solver's parameters: the defaults, or the keys of the JSON object in the
+/// environment variable `NSCD` over them (e.g. `NSCD='{"norm":"quad","tolerance":1e-5}'`).
+fn nscd_params() -> NscdParams {
+    match std::env::var("NSCD") {
+        Ok(s) => serde_json::from_str(&s).expect("NSCD: a JSON object of NscdParams keys"),
+        Err(_) => NscdParams::default(),
+    }
+}
+
 /// One trial's steps at 10° on each layout: blocks, points, seconds and sweeps per step.
 fn cost(files: &[String]) {
     use drystone::dem::drivers::nscd::NscdSimulation;
@@ -69,7 +81,7 @@ fn cost(files: &[String]) {
     println!("| --- | --- | --- | --- | --- | --- |");
     for f in files {
         let l = Layout::from_file(Path::new(f)).expect("layout");
-        let params = NscdParams::default();
+        let params = nscd_params();
         let t0 = std::time::Instant::now();
         let mut sim = NscdSimulation::new(&l, &params).expect("simulation");
         sim.set_tilt(10f64.to_radians());
@@ -93,7 +105,7 @@ fn main() {
     if only.first().is_some_and(|a| a == "--cost") {
         return cost(&only[1..]);
     }
-    let params = NscdParams::default();
+    let params = nscd_params();
     let tilt = TiltParams { resolution_deg: 0.05, ..TiltParams::default() };
     println!(
         "| case | exact (°) | nscd bracket (°) | contains exact | LMGC90 (°) | nscd time (s) | LMGC90 time (s) | trials | steps | mechanism |"

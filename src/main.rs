@@ -93,6 +93,8 @@ enum Command {
         /// failed trials).
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
+        #[command(flatten)]
+        nscd: cli::tilt::NscdArgs,
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
@@ -174,6 +176,8 @@ enum Command {
         /// Write the motion as a ParaView time series into DIR (shake.pvd, time in s).
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
+        #[command(flatten)]
+        nscd: cli::tilt::NscdArgs,
     },
     /// Limit analysis: the rigid collapse load multiplier of a layout from statics alone (a
     /// second-order cone program over the contact polygons; tilting table: λ = tan α_max).
@@ -420,8 +424,12 @@ fn run() -> anyhow::Result<ExitCode> {
             no_acceleration,
             no_implicit,
             vtk,
+            nscd,
         } => {
             deprecated(no_acceleration, no_implicit);
+            if nscd.given() && kind != SolverKind::Nscd {
+                anyhow::bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
+            }
             let density_scaling = match density_scaling.as_str() {
                 "block" => DensityScaling::Block { mass_floor: block_mass_floor },
                 "scalar" => DensityScaling::Scalar,
@@ -434,6 +442,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 subcontact_subdivisions: subdivisions,
                 timestep_safety,
                 density_scaling,
+                nscd: nscd.apply(NscdParams::default()),
                 ..SolverParams::default()
             };
             let params = TiltParams {
@@ -468,6 +477,7 @@ fn run() -> anyhow::Result<ExitCode> {
             solver,
             json,
             vtk,
+            nscd: nscd_args,
         } => {
             let args = cli::shake::MotionArgs {
                 record,
@@ -478,7 +488,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 baseline: baseline_correction,
             };
             let motion = cli::shake::motion(&args, dt_s.min(0.001))?;
-            let nscd = NscdParams { dt_s, restitution, ..NscdParams::default() };
+            let nscd = nscd_args.apply(NscdParams { dt_s, restitution, ..NscdParams::default() });
             let solver = SolverParams { kind: solver, nscd, ..SolverParams::default() };
             let params =
                 ShakeParams { duration_s, tail_s, stop_at_collapse: !no_stop_at_collapse, ..ShakeParams::default() };

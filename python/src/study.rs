@@ -10,14 +10,14 @@
 
 use crate::errors::{guard, input_error, study_error, DrystoneError, Place, SolverError};
 use crate::model::{from_json, to_json};
-use drystone::discrepancy::{report, DiscrepancyError, Settings};
+use drystone::discrepancy::{report_json, DiscrepancyError, Settings};
 use drystone::effects::Library;
 use drystone::ensemble::row::RealizationRow;
 use drystone::ensemble::Shard;
 use drystone::io::table::realizations_frame;
-use drystone::study::discrepancy::{observations_of, setup_of};
-use drystone::study::shards::{run_into_observed, OutputError, RunMode, RunOutcome};
+use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
 use drystone::study::Study;
+use drystone::study::{run_into_observed, HeldDir, OutputError, RunMode, RunOutcome};
 use numpy::PyArray1;
 use polars::prelude::{Column, DataType};
 use pyo3::prelude::*;
@@ -156,7 +156,7 @@ impl Note {
             group: r.group.clone(),
             realization: r.realization,
             status: r.status.as_str().to_string(),
-            collapse_angle_deg: r.collapse_angle_deg,
+            collapse_angle_deg: r.collapse.collapse_angle_deg,
         }
     }
 
@@ -363,6 +363,17 @@ pub fn _discrepancy<'py>(
     s.validate().map_err(|e| input_error(format!("{}: {e}", study.display()), place.clone()))?;
     let obs = observations_of(&st, s.sigma).map_err(|e| input_error(&e, place.clone()))?;
     let setup = setup_of(&st, s.most_realizations());
+    // The output directory is held from before the analysis to the end, as by
+    // `drystone discrepancy`: a second command on it is refused.
+    let held = match &out {
+        Some(dir) => Some(py.detach(|| {
+            guard(|| {
+                std::fs::create_dir_all(dir).map_err(|e| DrystoneError::new_err(format!("{}: {e}", dir.display())))?;
+                HeldDir::acquire(dir).map_err(|e| DrystoneError::new_err(e.to_string()))
+            })
+        })?),
+        None => None,
+    };
     let pool = pool(threads)?;
     let run = py.detach(|| {
         guard(|| {
@@ -371,32 +382,12 @@ pub fn _discrepancy<'py>(
         })
     })?;
     py.check_signals()?;
-    if let Some(dir) = &out {
+    if let Some(held) = &held {
         py.detach(|| {
-            guard(|| {
-                std::fs::create_dir_all(dir).map_err(|e| DrystoneError::new_err(format!("{}: {e}", dir.display())))?;
-                report::write(dir, &run, &st.name).map_err(|e| DrystoneError::new_err(e.to_string()))?;
-                if let (Some(c), Some((effects, _))) = (&run.analysis.cause, &run.extended) {
-                    let note = format!(
-                        "{} named by the discrepancy analysis ({}; {} specimens)",
-                        c.name,
-                        run.analysis.verdict.name(),
-                        run.specimens.len()
-                    );
-                    drystone::study::extend::write_extended(
-                        &st,
-                        effects,
-                        &run.cause_interval,
-                        &note,
-                        &dir.join("extended"),
-                    )
-                    .map_err(|e| DrystoneError::new_err(e.to_string()))?;
-                }
-                Ok(())
-            })
+            guard(|| write_discrepancy(held, &st, &run).map(|_| ()).map_err(|e| DrystoneError::new_err(e.to_string())))
         })?;
     }
-    from_json(py, &report::to_json(&run).to_string())
+    from_json(py, &report_json(&run).to_string())
 }
 
 /// The settings with the keys of `d` put over them (unknown keys refused, naming the key).

@@ -1,11 +1,71 @@
 //! `drystone tilt`: the tilting-table test of a layout file.
 
 use anyhow::{Context, Result};
+use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm};
 use drystone::dem::SolverParams;
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
 use std::path::Path;
 use std::process::ExitCode;
+
+/// The non-smooth solver's NSGS settings on the command line (`--solver nscd`; the keys of
+/// a study's `[solver.nscd]` table): each overrides [`NscdParams`]' default when given.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct NscdArgs {
+    /// NSGS convergence norm of `--solver nscd`: `adaptive` (the default: the velocity norm,
+    /// and the quadratic norm too once a step has done --nscd-quad-after-solves local
+    /// solves), `velocity` or `quad` (docs/nscd.md).
+    #[arg(long, value_name = "NORM", value_parser = parse_norm)]
+    pub nscd_norm: Option<NsgsNorm>,
+    /// NSGS tolerance of `--solver nscd` in its norm (velocity: over g h [default 1e-7];
+    /// quad: dimensionless).
+    #[arg(long, value_name = "TOL")]
+    pub nscd_tolerance: Option<f64>,
+    /// The quadratic norm's tolerance of the adaptive norm [default 1e-4].
+    #[arg(long, value_name = "TOL")]
+    pub nscd_quad_tolerance: Option<f64>,
+    /// Local solves of a step after which the adaptive norm accepts the quadratic norm
+    /// [default 1.5e5].
+    #[arg(long, value_name = "SOLVES")]
+    pub nscd_quad_after_solves: Option<f64>,
+    /// Largest number of NSGS sweeps per step [default 2000].
+    #[arg(long, value_name = "SWEEPS")]
+    pub nscd_max_iterations: Option<u32>,
+}
+
+/// `--nscd-norm NAME`.
+fn parse_norm(name: &str) -> Result<NsgsNorm, String> {
+    match name {
+        "adaptive" => Ok(NsgsNorm::Adaptive),
+        "velocity" => Ok(NsgsNorm::Velocity),
+        "quad" => Ok(NsgsNorm::Quad),
+        other => Err(format!("{other:?}: expected adaptive, velocity or quad")),
+    }
+}
+
+impl NscdArgs {
+    /// Some option was given.
+    pub fn given(&self) -> bool {
+        self.nscd_norm.is_some()
+            || self.nscd_tolerance.is_some()
+            || self.nscd_quad_tolerance.is_some()
+            || self.nscd_quad_after_solves.is_some()
+            || self.nscd_max_iterations.is_some()
+    }
+
+    /// `base` with the options given; out-of-range values are refused by the solver
+    /// (`NscdParams::validate`, naming the key).
+    pub fn apply(&self, base: NscdParams) -> NscdParams {
+        NscdParams {
+            norm: self.nscd_norm.unwrap_or(base.norm),
+            tolerance: self.nscd_tolerance.unwrap_or(base.tolerance),
+            quad_tolerance: self.nscd_quad_tolerance.unwrap_or(base.quad_tolerance),
+            quad_after_solves: self.nscd_quad_after_solves.unwrap_or(base.quad_after_solves),
+            max_iterations: self.nscd_max_iterations.unwrap_or(base.max_iterations),
+            ..base
+        }
+    }
+}
 
 /// Runs the test and prints a table, or one JSON object with `json`; with `vtk`, writes
 /// the states of the test as a ParaView time series into that directory.

@@ -14,7 +14,7 @@
 //! order, each polygon's vertices in the narrow phase's order): every sweep of the
 //! Gauss–Seidel loop visits them in that order, so a run is the same bit for bit.
 
-use super::NscdError;
+use super::{NscdError, PolygonPoints};
 use crate::dem::contact::geometry::{block_block, table_block, Patch, PatchKind, PatchParams};
 use crate::dem::materials::JointTable;
 use crate::dem::state::Body;
@@ -83,20 +83,52 @@ impl ContactPoint {
     }
 }
 
-/// The (on A, on B) world points of a patch's contact points: its nodes for a polygon, the
-/// two ends of a widened segment, the centre of a widened point.
-fn patch_points(p: &Patch) -> Vec<(Vec3, Vec3)> {
+/// The (on A, on B) world points of a patch's contact points: its nodes for a polygon (at
+/// most four with [`PolygonPoints::Quad`]), the two ends of a widened segment, the centre
+/// of a widened point.
+fn patch_points(p: &Patch, reduce: PolygonPoints) -> Vec<(Vec3, Vec3)> {
     let n = &p.nodes;
     let mean = |ids: &[usize]| {
         let k = ids.len() as f64;
         ids.iter().fold((Vec3::zeros(), Vec3::zeros()), |(a, b), &i| (a + n[i].on_a / k, b + n[i].on_b / k))
     };
     match p.kind {
+        PatchKind::Face if reduce == PolygonPoints::Quad && n.len() > 4 => {
+            largest_quad(&n.iter().map(|q| 0.5 * (q.on_a + q.on_b)).collect::<Vec<_>>(), &p.normal)
+                .iter()
+                .map(|&i| (n[i].on_a, n[i].on_b))
+                .collect()
+        }
         PatchKind::Face => n.iter().map(|q| (q.on_a, q.on_b)).collect(),
         // The rectangle [p − w, q − w, q + w, p + w] of the narrow phase.
         PatchKind::Edge if n.len() == 4 => vec![mean(&[0, 3]), mean(&[1, 2])],
         _ => vec![mean(&(0..n.len()).collect::<Vec<_>>())],
     }
+}
+
+/// The four vertices of a convex polygon (`v` in order around it, normal `n`) that span
+/// the quadrilateral of largest area, in the polygon's order; the first such in
+/// lexicographic order of the indices (deterministic).
+fn largest_quad(v: &[Vec3], n: &Vec3) -> [usize; 4] {
+    let area = |ids: [usize; 4]| {
+        let (a, b, c, d) = (v[ids[0]], v[ids[1]], v[ids[2]], v[ids[3]]);
+        0.5 * (c - a).cross(&(d - b)).dot(n).abs()
+    };
+    let m = v.len();
+    let mut best = ([0, 1, 2, 3], -1.0);
+    for i in 0..m {
+        for j in i + 1..m {
+            for k in j + 1..m {
+                for l in k + 1..m {
+                    let a = area([i, j, k, l]);
+                    if a > best.1 {
+                        best = ([i, j, k, l], a);
+                    }
+                }
+            }
+        }
+    }
+    best.0
 }
 
 /// Detects the contact points of `bodies` at their current poses. The impulse of each new
@@ -112,6 +144,7 @@ pub(crate) fn detect(
     patch: &PatchParams,
     old: &[ContactPoint],
     carry_m: f64,
+    reduce: PolygonPoints,
 ) -> Result<Vec<ContactPoint>, NscdError> {
     let boxes: Vec<_> = bodies
         .iter()
@@ -162,7 +195,7 @@ pub(crate) fn detect(
             Some(i) => bodies[i].rot_mat.transpose() * p.normal,
         };
         let normal_b = bb.rot_mat.transpose() * p.normal;
-        for (wa, wb) in patch_points(&p) {
+        for (wa, wb) in patch_points(&p, reduce) {
             let on_a = match a {
                 None => wa,
                 Some(i) => bodies[i].to_body(&wa),

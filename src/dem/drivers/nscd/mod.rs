@@ -38,6 +38,7 @@ pub mod contacts;
 pub mod delassus;
 pub mod local;
 pub mod stepper;
+mod stick;
 
 pub use contacts::ContactPoint;
 pub use stepper::{NscdSimulation, NscdStep};
@@ -61,14 +62,49 @@ pub struct NscdParams {
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).
     pub restitution: f64,
-    /// NSGS convergence tolerance \[1e-7\]: the sweeps over the contact points have
-    /// converged when one changes the velocity of no block point by more than
-    /// `tolerance × g h` (`max_k ‖Δv_k‖ + ‖Δω_k‖ R_k`, R_k the block's radius; g h the
-    /// velocity gravity adds in one step).
+    /// NSGS convergence tolerance \[1e-7\], read by [`Self::norm`] (with the default
+    /// [`NsgsNorm::Adaptive`]: the tolerance of its velocity norm, over g h).
     pub tolerance: f64,
+    /// The convergence norm of the NSGS sweeps \[`adaptive`\] (see [`NsgsNorm`]).
+    pub norm: NsgsNorm,
+    /// The quadratic norm's tolerance of [`NsgsNorm::Adaptive`], dimensionless \[1e-4\]
+    /// (LMGC90's usual `Quad` tolerance).
+    pub quad_tolerance: f64,
+    /// The work of a step, in local solves (contact points × sweeps), after which
+    /// [`NsgsNorm::Adaptive`] also accepts the quadratic norm \[1.5e5\]: a step over P
+    /// contact points accepts it after `ceil(quad_after_solves / P)` sweeps. 1.5e5 is 1,250
+    /// sweeps of the 13-box wall (120 points; it meets the velocity norm before that in
+    /// every step of its tilt, whose result is the velocity norm's; at 500 sweeps or
+    /// fewer its bracket misses t/H by 0.003°, from 750 it holds it), 62 of the SBL preset
+    /// wall of seed 20210917 (195 blocks, 2,424 points) and 53 of that of seed 2021 (227
+    /// blocks, 2,854 points). Measured on the 227-block wall (BENCHMARKS.md): 2.5e5 costs
+    /// 18 % more CPU for a bracket 0.08° lower, 1e6 2.4 times as much for one 0.04° lower.
+    pub quad_after_solves: f64,
+    /// The order of the NSGS sweeps \[`forward`\] (see [`SweepOrder`]).
+    pub sweep: SweepOrder,
+    /// Relaxation ω of the NSGS update, in (0, 2) \[1\]: a point's impulse becomes
+    /// `ω r_loc + (1 − ω) r_old`, projected on its Coulomb cone (`r_loc` the exact local
+    /// solution; 1 is plain Gauss–Seidel, as LMGC90's default `RELAX 1.0`).
+    pub relaxation: f64,
+    /// Passes over the points of one contact polygon at each visit of a sweep, ≥ 1 \[1\]:
+    /// more than one is an inexact block Gauss–Seidel over the polygon (its points share
+    /// two bodies and are strongly coupled), stopped early when a pass changes no impulse
+    /// by more than [`Self::tolerance`] of its velocity response.
+    pub polygon_passes: u32,
+    /// Apply the stick-set correction (`stick`: a global regularized solve over the points
+    /// that stick, the coarse level of the iteration) every [`Self::stick_every`] sweeps
+    /// \[false\].
+    pub stick_solve: bool,
+    /// Sweeps between two stick-set corrections, ≥ 1 \[10\].
+    pub stick_every: u32,
+    /// κ of the stick-set correction, dimensionless, > 0 \[1e4\]: the velocity it leaves
+    /// at a point is 1/κ of what the point's own correction cancels.
+    pub stick_stiffness: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
     pub max_iterations: u32,
+    /// The contact points of a face contact polygon \[`vertices`\] (see [`PolygonPoints`]).
+    pub polygon_points: PolygonPoints,
     /// Pairs closer than this get contact points, m \[1e-3\].
     pub contact_margin_m: f64,
     /// Vertices within this distance of the support plane form an edge or vertex feature,
@@ -105,7 +141,17 @@ impl Default for NscdParams {
             theta: 0.5,
             restitution: 0.0,
             tolerance: 1e-7,
+            norm: NsgsNorm::Adaptive,
+            quad_tolerance: 1e-4,
+            quad_after_solves: 1.5e5,
+            sweep: SweepOrder::Forward,
+            relaxation: 1.0,
+            polygon_passes: 1,
+            stick_solve: false,
+            stick_every: 10,
+            stick_stiffness: 1e4,
             max_iterations: 2000,
+            polygon_points: PolygonPoints::Vertices,
             contact_margin_m: 1e-3,
             feature_tolerance_m: 5e-4,
             face_angle_tolerance_deg: 10.0,
@@ -129,6 +175,27 @@ impl NscdParams {
             ("theta", self.theta, (0.5..=1.0).contains(&self.theta), "in [0.5, 1]"),
             ("restitution", self.restitution, (0.0..=1.0).contains(&self.restitution), "in [0, 1]"),
             ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
+            (
+                "quad_tolerance",
+                self.quad_tolerance,
+                self.quad_tolerance > 0.0 && self.quad_tolerance < 1.0,
+                "in (0, 1)",
+            ),
+            (
+                "quad_after_solves",
+                self.quad_after_solves,
+                self.quad_after_solves >= 1.0 && self.quad_after_solves.is_finite(),
+                ">= 1",
+            ),
+            ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation < 2.0, "in (0, 2)"),
+            ("stick_every", self.stick_every as f64, self.stick_every >= 1, ">= 1"),
+            (
+                "stick_stiffness",
+                self.stick_stiffness,
+                self.stick_stiffness > 0.0 && self.stick_stiffness.is_finite(),
+                "> 0",
+            ),
+            ("polygon_passes", self.polygon_passes as f64, self.polygon_passes >= 1, ">= 1"),
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
             ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
             ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
@@ -169,6 +236,71 @@ impl NscdParams {
             fan: crate::dem::contact::geometry::Fan::Vertex,
         }
     }
+}
+
+/// The convergence norm of the NSGS sweeps (the iteration stops at the first sweep whose
+/// norm is at most [`NscdParams::tolerance`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NsgsNorm {
+    /// The largest change of a block point's velocity over a sweep, over `g h` (g h the
+    /// velocity gravity adds in one step): `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k) / (g h)`, R_k the
+    /// block's radius. An absolute norm on the bodies: strict on a large wall, whose
+    /// impulses a sweep moves among nearly equivalent solutions.
+    Velocity,
+    /// The quadratic norm of the change over a sweep of the contact points' own velocity
+    /// responses, relative to their quadratic mean: `sqrt(Σ_α ‖W_αα Δr_α‖²) / sqrt(Σ_α
+    /// ‖W_αα r_α‖²)` (dimensionless; W_αα the point's Delassus block, r_α its impulse,
+    /// Δr_α the change over the sweep). After LMGC90's `Quad` check of its NLGS (the
+    /// quadratic mean of the velocity corrections against that of `W r`), whose usual
+    /// tolerances are 1e-4 to 1e-5: the norm of the impulse change weighted by what it
+    /// does to the contact, relative to the mean impulse, not to a fixed velocity.
+    Quad,
+    /// The velocity norm to [`NscdParams::tolerance`], and, once a step has done
+    /// [`NscdParams::quad_after_solves`] local solves, the quadratic norm to
+    /// [`NscdParams::quad_tolerance`] as well (whichever is met first). The default.
+    ///
+    /// Why both: the velocity norm is the one a tilt trial needs (an absolute bound on the
+    /// velocity the iterate leaves, far below the acceleration of a mechanism a few
+    /// thousandths of a degree past its limit), and on a small wall Gauss–Seidel reaches
+    /// it in tens to hundreds of sweeps; on a wall of hundreds of blocks it does not reach
+    /// it in 2,000 (a correction travels one contact per sweep), and the iterate's noise
+    /// then depends on where the sweeps stopped. The quadratic norm is met in a number of
+    /// sweeps that does not grow with the wall, but it is relative to the mean impulse:
+    /// alone at 1e-4 it leaves the 13-box wall a velocity of a few 1e-3 g h (the wall is
+    /// then called stable 0.003° past its limit) and a single box a noise that grows
+    /// from step to step. The work budget decides which applies: a small wall always meets
+    /// the velocity norm within its budget, a large wall gets a fixed amount of work per
+    /// step towards it and then the quadratic norm.
+    Adaptive,
+}
+
+/// The contact points of a face contact polygon.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PolygonPoints {
+    /// One point per vertex: with hard contacts the vertices carry every pressure
+    /// resultant inside the polygon, so the points carry its forces and moments exactly.
+    Vertices,
+    /// At most four points: a polygon of more than four vertices keeps the four that span
+    /// the quadrilateral of largest area (LMGC90's polyhedra likewise reduce a face–face
+    /// contact to at most four points). The moments the points can carry are those of that
+    /// quadrilateral, a subset of the polygon's: the rigid limit can only go down, by the
+    /// share of the polygon's lever arm the dropped corners held.
+    Quad,
+}
+
+/// The order in which the NSGS sweeps visit the contact points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepOrder {
+    /// Every sweep in the points' fixed order (the table's contacts first, then pairs in
+    /// block order: from the base up in a generated wall, whose blocks are numbered course
+    /// by course).
+    Forward,
+    /// Odd sweeps forward, even sweeps backward (symmetric Gauss–Seidel): a correction
+    /// travels up the wall in one sweep and down it in the next.
+    Symmetric,
 }
 
 /// Errors of the non-smooth solver.

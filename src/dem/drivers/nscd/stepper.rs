@@ -20,11 +20,13 @@
 //! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
 //!    points in their fixed order, each solving its local Coulomb problem
 //!    ([`super::local::solve`]) with the current velocities of the other points' bodies
-//!    and writing its impulse change back, until the largest change over a sweep of the
-//!    velocity of a block point, `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k)`, is below `tolerance × g h`
-//!    or [`NscdParams::max_iterations`]. (A norm on the velocities, not on the impulses:
-//!    the impulses of a statically indeterminate wall may drift among equivalent
-//!    solutions while the motion has converged.)
+//!    and writing its impulse change back, until the sweep meets [`NscdParams::norm`]
+//!    (by default [`super::NsgsNorm::Adaptive`]: the largest change over a sweep of the
+//!    velocity of a block point, `max_k (‖Δv_k‖ + ‖Δω_k‖ R_k)`, below `tolerance × g h`,
+//!    or, after `quad_after_solves` local solves, the quadratic norm below
+//!    `quad_tolerance`) or reaches [`NscdParams::max_iterations`]. (A norm on the
+//!    velocities first, not on the impulses: the impulses of a statically indeterminate
+//!    wall may drift among equivalent solutions while the motion has converged.)
 //! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
 //!    vector in the table frame).
 //!
@@ -35,7 +37,8 @@
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::local;
-use super::{NscdError, NscdParams};
+use super::stick::{Masses, StickSolver};
+use super::{NscdError, NscdParams, NsgsNorm, SweepOrder};
 use crate::dem::materials::JointTable;
 use crate::dem::state::Body;
 use crate::layout::{EndRestraint, Layout};
@@ -51,6 +54,8 @@ pub struct NscdStep {
     pub converged: bool,
     /// The largest change of a block point's velocity over the last sweep, m/s.
     pub residual_m_per_s: f64,
+    /// The quadratic norm of the last sweep ([`super::NsgsNorm::Quad`]), dimensionless.
+    pub quad_residual: f64,
     /// Contact points carrying an impulse at the end of the step.
     pub active: usize,
     /// Contacts were re-detected before the step.
@@ -64,6 +69,12 @@ pub struct NscdStep {
 pub struct NscdSimulation {
     bodies: Vec<Body>,
     points: Vec<ContactPoint>,
+    /// The runs `[start, end)` of points of one pair (one contact polygon), in order.
+    groups: Vec<(usize, usize)>,
+    /// The impulses of a group at the start of its visit (scratch).
+    group_start: Vec<Vec3>,
+    /// The stick-set correction's cached analysis.
+    stick: StickSolver,
     rows: Vec<PointRows>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
@@ -127,6 +138,9 @@ impl NscdSimulation {
             detect_rot: bodies.iter().map(|b| b.rot).collect(),
             bodies,
             points: Vec::new(),
+            groups: Vec::new(),
+            group_start: Vec::new(),
+            stick: StickSolver::default(),
             rows: Vec::new(),
             time: 0.0,
             steps: 0,
@@ -276,7 +290,19 @@ impl NscdSimulation {
 
     fn redetect(&mut self) -> Result<(), NscdError> {
         let carry = self.params.contact_margin_m;
-        self.points = detect(&self.bodies, &self.joints, &self.params.patch(), &self.points, carry)?;
+        self.points =
+            detect(&self.bodies, &self.joints, &self.params.patch(), &self.points, carry, self.params.polygon_points)?;
+        self.stick.reset();
+        self.groups.clear();
+        let mut start = 0;
+        for k in 1..=self.points.len() {
+            if k == self.points.len() || self.points[k].key() != self.points[start].key() {
+                self.groups.push((start, k));
+                start = k;
+            }
+        }
+        let widest = self.groups.iter().map(|(a, b)| b - a).max().unwrap_or(0);
+        self.group_start.resize(widest, Vec3::zeros());
         for (k, b) in self.bodies.iter().enumerate() {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
@@ -301,11 +327,12 @@ impl NscdSimulation {
         self.build_rows();
         let a_g = base(self.time + h) * theta + base(self.time) * (1.0 - theta);
         self.free_velocities(h, a_g);
-        let (iterations, converged, residual) = self.nsgs();
+        let (iterations, converged, residual, quad) = self.nsgs();
         self.advance(h, theta)?;
         let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
         self.iterations += u64::from(iterations);
-        self.last = NscdStep { iterations, converged, residual_m_per_s: residual, active, redetected };
+        self.last =
+            NscdStep { iterations, converged, residual_m_per_s: residual, quad_residual: quad, active, redetected };
         Ok(self.last)
     }
 
@@ -357,25 +384,69 @@ impl NscdSimulation {
         }
     }
 
-    /// Stage 4: warm start and Gauss–Seidel sweeps; returns (sweeps, converged, residual).
-    fn nsgs(&mut self) -> (u32, bool, f64) {
+    /// Stage 4: warm start and Gauss–Seidel sweeps; returns (sweeps, converged, velocity
+    /// residual in m/s, quadratic residual).
+    ///
+    /// A sweep visits the contacts (the runs of points of one pair: one contact polygon)
+    /// in order; within a contact it passes over the points up to
+    /// [`NscdParams::polygon_passes`] times (a block Gauss–Seidel over the polygon, inexact),
+    /// stopping early when a pass changes no impulse by more than `tolerance` of its
+    /// velocity response.
+    fn nsgs(&mut self) -> (u32, bool, f64, f64) {
         for (c, rows) in self.points.iter().zip(&self.rows) {
             rows.apply(&c.impulse, &mut self.vel, &mut self.angvel);
         }
-        let tol = self.params.tolerance * self.gravity_magnitude * self.params.dt_s;
-        let mut residual = 0.0;
-        for it in 1..=self.params.max_iterations {
+        let p = self.params;
+        let gh = self.gravity_magnitude * p.dt_s;
+        let omega = p.relaxation;
+        let (mut residual, mut quad) = (0.0, 0.0);
+        // The sweep from which the adaptive norm also accepts the quadratic one.
+        let quad_after = (p.quad_after_solves / self.points.len().max(1) as f64).ceil().min(u32::MAX as f64) as u32;
+        for it in 1..=p.max_iterations {
             self.sweep_vel.copy_from_slice(&self.vel);
             self.sweep_angvel.copy_from_slice(&self.angvel);
-            for (c, rows) in self.points.iter_mut().zip(&self.rows) {
-                let u = rows.velocity(&self.vel, &self.angvel);
-                let mut q = u - rows.w * c.impulse;
-                q.x += rows.bias;
-                let r = local::solve(&rows.w, &rows.w_inv, &q, rows.mu);
-                let dr = r - c.impulse;
-                if dr != Vec3::zeros() {
-                    rows.apply(&dr, &mut self.vel, &mut self.angvel);
-                    c.impulse = r;
+            let backward = p.sweep == SweepOrder::Symmetric && it % 2 == 0;
+            let (mut sum_du, mut sum_wr) = (0.0f64, 0.0f64);
+            let ng = self.groups.len();
+            for gi in 0..ng {
+                let (g0, g1) = self.groups[if backward { ng - 1 - gi } else { gi }];
+                for k in g0..g1 {
+                    self.group_start[k - g0] = self.points[k].impulse;
+                }
+                for pass in 0..p.polygon_passes {
+                    let mut pass_du = 0.0f64;
+                    let mut pass_wr = 0.0f64;
+                    for idx in g0..g1 {
+                        let k = if backward { g0 + g1 - 1 - idx } else { idx };
+                        let (c, rows) = (&mut self.points[k], &self.rows[k]);
+                        let u = rows.velocity(&self.vel, &self.angvel);
+                        let mut q = u - rows.w * c.impulse;
+                        q.x += rows.bias;
+                        let mut r = local::solve(&rows.w, &rows.w_inv, &q, rows.mu);
+                        if omega != 1.0 {
+                            r = local::project(&(omega * r + (1.0 - omega) * c.impulse), rows.mu);
+                        }
+                        let dr = r - c.impulse;
+                        if dr != Vec3::zeros() {
+                            rows.apply(&dr, &mut self.vel, &mut self.angvel);
+                            c.impulse = r;
+                            if pass + 1 < p.polygon_passes {
+                                pass_du = pass_du.max((rows.w * dr).norm_squared());
+                                pass_wr = pass_wr.max((rows.w * r).norm_squared());
+                            }
+                        }
+                    }
+                    if pass_du <= p.tolerance * p.tolerance * pass_wr {
+                        break;
+                    }
+                }
+                for k in g0..g1 {
+                    let (c, rows) = (&self.points[k], &self.rows[k]);
+                    let dr = c.impulse - self.group_start[k - g0];
+                    if dr != Vec3::zeros() {
+                        sum_du += (rows.w * dr).norm_squared();
+                    }
+                    sum_wr += (rows.w * c.impulse).norm_squared();
                 }
             }
             // The largest change of a block point's velocity over the sweep.
@@ -385,11 +456,28 @@ impl NscdSimulation {
                     + (self.angvel[k] - self.sweep_angvel[k]).norm() * b.radius;
                 residual = residual.max(dv);
             }
-            if residual <= tol {
-                return (it, true, residual);
+            quad = if sum_wr > 0.0 { (sum_du / sum_wr).sqrt() } else { sum_du.sqrt() / gh };
+            let converged = match p.norm {
+                NsgsNorm::Velocity => residual / gh <= p.tolerance,
+                NsgsNorm::Quad => quad <= p.tolerance,
+                NsgsNorm::Adaptive => residual / gh <= p.tolerance || (it >= quad_after && quad <= p.quad_tolerance),
+            };
+            if converged {
+                return (it, true, residual, quad);
+            }
+            if p.stick_solve && it % p.stick_every == 0 && it < p.max_iterations {
+                let masses = Masses { inv_m: &self.inv_m, inv_i: &self.inv_i };
+                self.stick.correct(
+                    &mut self.points,
+                    &self.rows,
+                    &masses,
+                    &mut self.vel,
+                    &mut self.angvel,
+                    p.stick_stiffness,
+                );
             }
         }
-        (self.params.max_iterations, false, residual)
+        (p.max_iterations, false, residual, quad)
     }
 
     /// Stage 5: the θ-update of the poses; the new velocities into the bodies.
