@@ -126,7 +126,7 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
 ///
 /// ```
 /// use drystone::ensemble::Shard;
-/// use drystone::study::{run::run_study, Study};
+/// use drystone::study::{run_study, Study};
 ///
 /// // Three realizations of the source paper's CBL wall on the tilting table.
 /// let walls = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/walls");
@@ -145,12 +145,12 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
 ///     // Every realization collapses below the overturning of the section as one rigid
 ///     // monolith about its toe: tan α = (B/2) / z_c = 0.075 / 0.1674, 24.1° (the paper
 ///     // measured 18.5–19°).
-///     let a = r.collapse_angle_deg.expect("collapsed");
+///     let a = r.collapse.collapse_angle_deg.expect("collapsed");
 ///     assert!(a > 10.0 && a < 24.1, "{a}");
 /// }
 /// // The same rows bit for bit on another run (any thread count; `tests/determinism.rs`).
 /// let again = run_study(&study, Shard::ALL);
-/// assert!(rows.iter().zip(&again).all(|(a, b)| a.collapse_angle_deg == b.collapse_angle_deg));
+/// assert!(rows.iter().zip(&again).all(|(a, b)| a.collapse.collapse_angle_deg == b.collapse.collapse_angle_deg));
 /// # std::fs::remove_dir_all(&dir).ok();
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
