@@ -16,6 +16,7 @@ pub(crate) mod params;
 pub mod solve;
 pub mod state;
 pub mod timestep;
+mod workspace;
 
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use model::WallState;
