@@ -1,5 +1,5 @@
 //! The NSGS options of the non-smooth solver (`NscdParams::{norm, sweep, relaxation,
-//! polygon_passes, polygon_points, stick_solve}`) against the exact rigid limits computed
+//! polygon_passes, polygon_points}`) against the exact rigid limits computed
 //! here: every option is a way of solving the same contact problem, so each must bracket
 //! the closed form as the default does.
 
@@ -26,8 +26,7 @@ fn brackets(name: &str, r: &TiltResult, exact: f64) {
 }
 
 /// The 13-box running-bond wall (t/H = 1/3) and a single box (b/h) bracket their closed
-/// forms under the quadratic norm, symmetric sweeps, polygon passes and the stick-set
-/// correction.
+/// forms under the quadratic norm, symmetric sweeps and polygon passes.
 #[test]
 fn every_sweep_option_brackets_the_exact_rigid_limits() {
     let wall =
@@ -40,7 +39,6 @@ fn every_sweep_option_brackets_the_exact_rigid_limits() {
         ("quad 1e-6", quad),
         ("quad, symmetric sweeps", NscdParams { sweep: SweepOrder::Symmetric, ..quad }),
         ("quad, 3 polygon passes", NscdParams { polygon_passes: 3, ..quad }),
-        ("quad, stick-set correction every 2 sweeps", NscdParams { stick_solve: true, stick_every: 2, ..quad }),
         ("velocity, under-relaxed 0.8", NscdParams { relaxation: 0.8, ..NscdParams::default() }),
     ];
     for (name, p) in options {
@@ -83,8 +81,6 @@ fn nsgs_options_out_of_range_are_refused_by_key() {
     for (key, p) in [
         ("relaxation", NscdParams { relaxation: 2.0, ..NscdParams::default() }),
         ("polygon_passes", NscdParams { polygon_passes: 0, ..NscdParams::default() }),
-        ("stick_every", NscdParams { stick_every: 0, ..NscdParams::default() }),
-        ("stick_stiffness", NscdParams { stick_stiffness: -1.0, ..NscdParams::default() }),
         ("quad_tolerance", NscdParams { quad_tolerance: 0.0, ..NscdParams::default() }),
         ("quad_after_solves", NscdParams { quad_after_solves: f64::NAN, ..NscdParams::default() }),
     ] {

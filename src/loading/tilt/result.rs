@@ -123,7 +123,7 @@ pub enum TiltError {
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
-    /// The layout does not stand as given under gravity alone (see [`super::settle`]).
+    /// The layout does not stand as given under gravity alone (see [`crate::loading::settle`]).
     #[error(transparent)]
     DoesNotStand(SettleError),
     /// A tilt or solver parameter is out of range.

@@ -38,7 +38,6 @@ pub mod contacts;
 pub mod delassus;
 pub mod local;
 pub mod stepper;
-mod stick;
 
 pub use contacts::ContactPoint;
 pub use stepper::{NscdSimulation, NscdStep};
@@ -91,15 +90,6 @@ pub struct NscdParams {
     /// two bodies and are strongly coupled), stopped early when a pass changes no impulse
     /// by more than [`Self::tolerance`] of its velocity response.
     pub polygon_passes: u32,
-    /// Apply the stick-set correction (`stick`: a global regularized solve over the points
-    /// that stick, the coarse level of the iteration) every [`Self::stick_every`] sweeps
-    /// \[false\].
-    pub stick_solve: bool,
-    /// Sweeps between two stick-set corrections, ≥ 1 \[10\].
-    pub stick_every: u32,
-    /// κ of the stick-set correction, dimensionless, > 0 \[1e4\]: the velocity it leaves
-    /// at a point is 1/κ of what the point's own correction cancels.
-    pub stick_stiffness: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
     pub max_iterations: u32,
@@ -147,9 +137,6 @@ impl Default for NscdParams {
             sweep: SweepOrder::Forward,
             relaxation: 1.0,
             polygon_passes: 1,
-            stick_solve: false,
-            stick_every: 10,
-            stick_stiffness: 1e4,
             max_iterations: 2000,
             polygon_points: PolygonPoints::Vertices,
             contact_margin_m: 1e-3,
@@ -188,13 +175,6 @@ impl NscdParams {
                 ">= 1",
             ),
             ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation < 2.0, "in (0, 2)"),
-            ("stick_every", self.stick_every as f64, self.stick_every >= 1, ">= 1"),
-            (
-                "stick_stiffness",
-                self.stick_stiffness,
-                self.stick_stiffness > 0.0 && self.stick_stiffness.is_finite(),
-                "> 0",
-            ),
             ("polygon_passes", self.polygon_passes as f64, self.polygon_passes >= 1, ">= 1"),
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
             ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),

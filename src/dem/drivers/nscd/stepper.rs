@@ -37,7 +37,6 @@
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::local;
-use super::stick::{Masses, StickSolver};
 use super::{NscdError, NscdParams, NsgsNorm, SweepOrder};
 use crate::dem::materials::JointTable;
 use crate::dem::state::Body;
@@ -73,8 +72,6 @@ pub struct NscdSimulation {
     groups: Vec<(usize, usize)>,
     /// The impulses of a group at the start of its visit (scratch).
     group_start: Vec<Vec3>,
-    /// The stick-set correction's cached analysis.
-    stick: StickSolver,
     rows: Vec<PointRows>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
@@ -140,7 +137,6 @@ impl NscdSimulation {
             points: Vec::new(),
             groups: Vec::new(),
             group_start: Vec::new(),
-            stick: StickSolver::default(),
             rows: Vec::new(),
             time: 0.0,
             steps: 0,
@@ -292,7 +288,6 @@ impl NscdSimulation {
         let carry = self.params.contact_margin_m;
         self.points =
             detect(&self.bodies, &self.joints, &self.params.patch(), &self.points, carry, self.params.polygon_points)?;
-        self.stick.reset();
         self.groups.clear();
         let mut start = 0;
         for k in 1..=self.points.len() {
@@ -464,17 +459,6 @@ impl NscdSimulation {
             };
             if converged {
                 return (it, true, residual, quad);
-            }
-            if p.stick_solve && it % p.stick_every == 0 && it < p.max_iterations {
-                let masses = Masses { inv_m: &self.inv_m, inv_i: &self.inv_i };
-                self.stick.correct(
-                    &mut self.points,
-                    &self.rows,
-                    &masses,
-                    &mut self.vel,
-                    &mut self.angvel,
-                    p.stick_stiffness,
-                );
             }
         }
         (p.max_iterations, false, residual, quad)
