@@ -249,3 +249,29 @@ fn a_missing_file_is_named() {
     let e = Wall::from_file_with(&p, &library()).unwrap_err().to_string();
     assert!(e.contains("does_not_exist.toml"), "{e}");
 }
+
+/// Joints softer than a layout accepts (`ρ g / Kn ≤ 0.01`: with ρ 2189 kg/m³ and g 9.81,
+/// Kn ≥ 2.147e6 Pa/m) are refused as the wall file's value, naming the key and the
+/// resulting Kn, not as "a generator bug" when the generated layout is checked.
+#[test]
+fn joints_too_soft_for_their_weight_name_the_key_and_the_kn() {
+    // A family's factor on the material's Kn: 5e7 × 1e-2 = 5e5 Pa/m.
+    let t = GOOD.to_string() + "\n[joints.bed]\nkn_factor = 0.01\n";
+    let msg = error_of("soft_factor.toml", &t, &library());
+    assert!(msg.contains("joints.bed.kn_factor") && msg.contains("Kn = 5e5 Pa/m"), "{msg}");
+    assert!(!msg.contains("generator bug"), "{msg}");
+    // A family's own Kn.
+    let t = GOOD.to_string() + "\n[joints.head]\nkn_pa_per_m = 1e6\n";
+    expect("soft_family.toml", &t, &["joints.head.kn_pa_per_m", "Kn = 1e6 Pa/m", "too soft"]);
+    // The material's Kn.
+    expect(
+        "soft_material.toml",
+        &replace("kn_pa_per_m = 5e7", "kn_pa_per_m = 2e6"),
+        &["materials[shale].kn_pa_per_m", "Kn = 2e6 Pa/m", "Kn ≥ 2.147"],
+    );
+    // Just stiff enough is accepted.
+    let dir = scratch("stiff_enough");
+    let path = dir.join("ok.toml");
+    std::fs::write(&path, replace("kn_pa_per_m = 5e7", "kn_pa_per_m = 2.2e6")).unwrap();
+    Wall::from_file_with(&path, &library()).unwrap();
+}

@@ -38,7 +38,7 @@ pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
             };
             let p = Pulse::from_name(name, a, t)
                 .with_context(|| format!("--pulse {name:?}: expected one-sine or ricker"))?;
-            p.validate().map_err(anyhow::Error::msg)?;
+            p.validate()?;
             p.sampled(dt_s, 0.0)
         }
         (Some(_), Some(_)) => bail!("give either --record or --pulse, not both"),

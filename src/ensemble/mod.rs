@@ -100,7 +100,9 @@ impl Shard {
 /// left (greedy longest-processing-time list scheduling), so a few expensive units do not
 /// leave a thread idle at the end. Every unit being a pure function of itself, the results
 /// do not depend on the costs or on the number of threads. Shows a progress bar on a
-/// terminal (stderr), nothing otherwise.
+/// terminal (stderr); elsewhere (a batch log) a line `LABEL: K/N done, T elapsed` at most
+/// every [`PROGRESS_LINE_INTERVAL_S`] seconds, and a last line if any was printed, so that
+/// a short run stays silent and a long one shows it advances.
 ///
 /// # Panics
 /// If `cost` does not have one entry per unit.
@@ -113,7 +115,9 @@ pub fn run_scheduled<T: Sync, R: Send, F: Fn(&T) -> R + Sync + Send>(
     assert_eq!(work.len(), cost.len(), "one cost per work unit");
     let mut order: Vec<usize> = (0..work.len()).collect();
     order.sort_by(|&a, &b| cost[b].total_cmp(&cost[a]).then(a.cmp(&b)));
-    let bar = if std::io::stderr().is_terminal() {
+    let terminal = std::io::stderr().is_terminal();
+    let lines = (!terminal).then(|| Lines::new(label, work.len()));
+    let bar = if terminal {
         let b = ProgressBar::new(work.len() as u64);
         b.set_style(
             ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
@@ -134,14 +138,65 @@ pub fn run_scheduled<T: Sync, R: Send, F: Fn(&T) -> R + Sync + Send>(
             if let Some(b) = &bar {
                 b.inc(1);
             }
+            if let Some(l) = &lines {
+                l.one_done();
+            }
             (k, r)
         })
         .collect();
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    if let Some(l) = lines {
+        l.finish();
+    }
     done.sort_by_key(|(k, _)| *k);
     done.into_iter().map(|(_, r)| r).collect()
+}
+
+/// Least interval between two progress lines of [`run_scheduled`] off a terminal, s.
+pub const PROGRESS_LINE_INTERVAL_S: f64 = 20.0;
+
+/// The progress lines of [`run_scheduled`] when stderr is not a terminal.
+struct Lines {
+    label: String,
+    total: usize,
+    start: std::time::Instant,
+    /// Units done, time of the last line (`None`: no line yet).
+    state: std::sync::Mutex<(usize, Option<std::time::Instant>)>,
+}
+
+impl Lines {
+    fn new(label: &str, total: usize) -> Lines {
+        Lines {
+            label: label.to_owned(),
+            total,
+            start: std::time::Instant::now(),
+            state: std::sync::Mutex::new((0, None)),
+        }
+    }
+
+    fn line(&self, done: usize) {
+        let elapsed = self.start.elapsed().as_secs_f64();
+        eprintln!("{}: {done}/{} done, {elapsed:.0} s elapsed", self.label, self.total);
+    }
+
+    fn one_done(&self) {
+        let Ok(mut st) = self.state.lock() else { return };
+        st.0 += 1;
+        let since = st.1.unwrap_or(self.start).elapsed().as_secs_f64();
+        if since >= PROGRESS_LINE_INTERVAL_S && st.0 < self.total {
+            self.line(st.0);
+            st.1 = Some(std::time::Instant::now());
+        }
+    }
+
+    fn finish(self) {
+        let Ok(st) = self.state.lock() else { return };
+        if st.1.is_some() {
+            self.line(st.0);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ mod pulse;
 mod read;
 pub mod stochastic;
 
-pub use pulse::Pulse;
+pub use pulse::{Pulse, PulseError};
 pub use read::{read_record, RecordError};
 pub use stochastic::StochasticMotion;
 

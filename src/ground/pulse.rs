@@ -85,13 +85,13 @@ impl Pulse {
     /// Checks the amplitude (finite) and the period (> 0), naming the flag.
     ///
     /// # Errors
-    /// The bad value with its flag's name.
-    pub fn validate(&self) -> Result<(), String> {
+    /// [`PulseError`]: the bad value with its flag's name.
+    pub fn validate(&self) -> Result<(), PulseError> {
         if !self.amplitude_g().is_finite() {
-            return Err(format!("--amplitude-g must be finite, got {}", self.amplitude_g()));
+            return Err(PulseError::Amplitude(self.amplitude_g()));
         }
         if !(self.period_s().is_finite() && self.period_s() > 0.0) {
-            return Err(format!("--period-s must be > 0, got {}", self.period_s()));
+            return Err(PulseError::Period(self.period_s()));
         }
         Ok(())
     }
@@ -110,6 +110,18 @@ impl Pulse {
             vertical_g: None,
         }
     }
+}
+
+/// A pulse that cannot be built, naming the `drystone shake` flag.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PulseError {
+    /// The amplitude is not finite, g.
+    #[error("--amplitude-g must be finite, got {0}")]
+    Amplitude(f64),
+    /// The period is not finite and > 0, s.
+    #[error("--period-s must be > 0, got {0}")]
+    Period(f64),
 }
 
 #[cfg(test)]
@@ -132,6 +144,10 @@ mod tests {
         assert!((m.pga_g() - 0.5).abs() < 1e-4);
         assert!((m.duration_s() - 1.0).abs() < 1e-9);
         assert!(Pulse::from_name("triangle", 1.0, 1.0).is_none());
-        assert!(Pulse::OneSine { amplitude_g: 0.1, period_s: 0.0 }.validate().unwrap_err().contains("--period-s"));
+        assert!(Pulse::OneSine { amplitude_g: 0.1, period_s: 0.0 }
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("--period-s"));
     }
 }

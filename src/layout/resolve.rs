@@ -66,18 +66,18 @@ fn check_family_softness(f: &JointFamilies, materials: &[Material], gravity: f64
     let kn_min = materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
     for fam in JointFamily::ALL {
         let Some(fj) = f.get(fam) else { continue };
-        let (kn, key) = match fj.kn {
-            Some(kn) => (kn, "kn_pa_per_m"),
-            None => (kn_min * fj.kn_factor, "kn_factor"),
+        let (kn, key, value) = match fj.kn {
+            Some(kn) => (kn, "kn_pa_per_m", kn),
+            None => (kn_min * fj.kn_factor, "kn_factor", fj.kn_factor),
         };
         let closure = rho * gravity / kn;
         if closure > MAX_CLOSURE_RATIO {
             return Err(invalid(
                 format!("joint_families.{}.{key}", fam.name()),
-                kn,
+                value,
                 &format!(
-                    "too soft for the density and gravity: the joints would close by ρ g H / Kn = {closure:.3} of \
-                     the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
+                    "too soft for the density and gravity: Kn = {kn:e} Pa/m closes the joints by ρ g H / Kn = \
+                     {closure:.3} of the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
                 ),
             ));
         }

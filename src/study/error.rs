@@ -64,3 +64,83 @@ pub enum StudyError {
         source: TableError,
     },
 }
+
+/// Why a study (or suite) name cannot be used as a directory name
+/// ([`check_name`](super::resolve::check_name)).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum NameError {
+    /// Empty or blank.
+    #[error("must not be empty")]
+    Empty,
+    /// `.` or `..`.
+    #[error("{name:?} is not a usable directory name")]
+    Reserved {
+        /// The name.
+        name: String,
+    },
+    /// A path separator or a control character.
+    #[error(
+        "{name:?} contains {character:?}; a study name is used as a directory name and must not contain / or \\ or control characters"
+    )]
+    Character {
+        /// The name.
+        name: String,
+        /// The first character at fault.
+        character: char,
+    },
+}
+
+/// Why a `[[calibrate]]` step does not fit its study
+/// ([`check_calibration`](super::resolve::check_calibration)); each names the key.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum CalibrationSpecError {
+    /// `parameter` is not one the calibration can search.
+    #[error("parameter: expects kn_pa_per_m or friction_deg, got {0:?}")]
+    Parameter(String),
+    /// `lower`, `upper` not finite with lower < upper.
+    #[error("lower, upper: need finite lower < upper, got {lower} .. {upper}")]
+    Interval {
+        /// `lower` as given.
+        lower: f64,
+        /// `upper` as given.
+        upper: f64,
+    },
+    /// A Kn interval reaching 0 or below, Pa/m.
+    #[error("lower: Kn must be > 0, got {0}")]
+    KnLower(f64),
+    /// A friction-angle interval outside (0, 90) degrees.
+    #[error("lower, upper: φ must be in (0, 90) degrees, got {lower} .. {upper}")]
+    FrictionInterval {
+        /// `lower` as given, degrees.
+        lower: f64,
+        /// `upper` as given, degrees.
+        upper: f64,
+    },
+    /// `tolerance` not a finite number > 0.
+    #[error("tolerance: must be a finite number > 0")]
+    Tolerance,
+    /// `group` or a `carry_to` entry that is no group of the study.
+    #[error("group {0:?} is not a group of the study")]
+    UnknownGroup(String),
+    /// The group has no measured collapse angle to calibrate against.
+    #[error("group {group:?}: no measured collapse angle for {measured:?} in [measured] collapse")]
+    NoMeasurement {
+        /// The step's group.
+        group: String,
+        /// The measured-data group it reads.
+        measured: String,
+    },
+}
+
+/// What a study lacks for the paper comparison it names in `paper`
+/// ([`check_paper`](super::resolve::check_paper)).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{paper} needs {need}")]
+pub struct PaperSpecError {
+    /// The paper study (`joint_arrangement`, `length_height`, `kn_phi`).
+    pub paper: &'static str,
+    /// What it needs, as a phrase (`protocol = "lateral"`, `a sweep over length_m`, ...).
+    pub need: &'static str,
+}

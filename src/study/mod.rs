@@ -97,11 +97,13 @@ mod summary;
 mod sweep;
 mod text;
 
-pub use error::StudyError;
+pub use error::{CalibrationSpecError, NameError, PaperSpecError, StudyError};
 pub use extend::{write_extended, ExtendError, FittedParameter};
 pub use figures::write_vtk_realizations;
-pub use outputs::{verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames};
-pub use provenance::{sha256_hex, InputFile, InputRole, BUILD, VERSION};
+pub use outputs::{
+    verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
+};
+pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::{write_report, ReportError};
 pub use resolve::{Group, Measured, ShakeStudy, Study};
 pub use run::{run_item, run_study, run_study_with};
@@ -111,9 +113,9 @@ pub use shards::{
     RunMode, RunOutcome,
 };
 pub use size::{
-    check_blocks, estimated_blocks, human_bytes, human_seconds, machine_memory, simulation_seconds, SizeEstimate,
-    BYTES_PER_BLOCK, MAX_BLOCKS,
+    check_blocks, estimated_blocks, human_bytes, human_seconds, machine_memory, simulation_seconds, SizeError,
+    SizeEstimate, BYTES_PER_BLOCK, MAX_BLOCKS,
 };
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
 pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
-pub use sweep::{point_label, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
+pub use sweep::{point_label, SweepEntryError, SweepError, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};

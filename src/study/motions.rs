@@ -62,7 +62,7 @@ impl StudySpec {
         };
         let params = spec.params();
         params.validate().map_err(|e| invalid.at(&format!("shake.{}", e.key), e.reason()))?;
-        check_levels(&spec.pga_g).map_err(|r| invalid.at("shake.pga_g", r))?;
+        check_levels(&spec.pga_g).map_err(|r| invalid.at("shake.pga_g", r.to_string()))?;
         let mut motions = Vec::new();
         for (i, r) in spec.records.iter().enumerate() {
             let p = dir.join(r);
@@ -124,16 +124,31 @@ impl StudySpec {
     }
 }
 
+/// Why a shaking study's `[shake] pga_g` levels cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LevelsError {
+    /// No level.
+    #[error("needs at least one PGA level, g")]
+    Empty,
+    /// A level not finite or not > 0, g.
+    #[error("levels must be finite and > 0 g, got {0}")]
+    NotPositive(f64),
+    /// Two levels out of order, g.
+    #[error("levels must increase, got {0} then {1}")]
+    NotIncreasing(f64, f64),
+}
+
 /// PGA levels: at least one, each finite and > 0, strictly increasing.
-fn check_levels(levels: &[f64]) -> Result<(), String> {
+fn check_levels(levels: &[f64]) -> Result<(), LevelsError> {
     if levels.is_empty() {
-        return Err("needs at least one PGA level, g".into());
+        return Err(LevelsError::Empty);
     }
     if let Some(v) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-        return Err(format!("levels must be finite and > 0 g, got {v}"));
+        return Err(LevelsError::NotPositive(*v));
     }
     if let Some(w) = levels.windows(2).find(|w| w[1] <= w[0]) {
-        return Err(format!("levels must increase, got {} then {}", w[0], w[1]));
+        return Err(LevelsError::NotIncreasing(w[0], w[1]));
     }
     Ok(())
 }

@@ -198,25 +198,46 @@ fn digests(dir: &Path) -> Result<Vec<OutputFile>, FileError> {
 /// Checks that every output of a set in `dir` has the digest its manifest records.
 ///
 /// # Errors
-/// A message naming the file: missing, or with another digest (the set was mixed with
-/// another run's files, or altered).
-pub fn verify(dir: &Path, outputs: &[OutputFile]) -> Result<(), String> {
+/// [`VerifyError`] naming the file: missing, or with another digest (the set was mixed
+/// with another run's files, or altered).
+pub fn verify(dir: &Path, outputs: &[OutputFile]) -> Result<(), VerifyError> {
     if outputs.is_empty() {
-        return Err(format!("{}: the manifest records no outputs", dir.join(MANIFEST).display()));
+        return Err(VerifyError::Empty { manifest: dir.join(MANIFEST) });
     }
     for f in outputs {
         let p = dir.join(&f.path);
-        let bytes = std::fs::read(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let bytes = std::fs::read(&p).map_err(FileError::at(&p))?;
         let actual = sha256_hex(&bytes);
         if actual != f.sha256 {
-            return Err(format!(
-                "{}: sha256 {actual}, the manifest records {} (the file is not the one its run wrote)",
-                p.display(),
-                f.sha256
-            ));
+            return Err(VerifyError::Digest { path: p, actual, recorded: f.sha256.clone() });
         }
     }
     Ok(())
+}
+
+/// An output set that is not the one its manifest records ([`verify`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum VerifyError {
+    /// The manifest lists no file.
+    #[error("{}: the manifest records no outputs", manifest.display())]
+    Empty {
+        /// The manifest.
+        manifest: PathBuf,
+    },
+    /// A listed file cannot be read (missing).
+    #[error(transparent)]
+    Read(#[from] FileError),
+    /// A file whose digest differs from the manifest's.
+    #[error("{}: sha256 {actual}, the manifest records {recorded} (the file is not the one its run wrote)", path.display())]
+    Digest {
+        /// The file.
+        path: PathBuf,
+        /// Its digest now.
+        actual: String,
+        /// The manifest's digest.
+        recorded: String,
+    },
 }
 
 #[cfg(test)]
@@ -277,7 +298,7 @@ mod tests {
         set(&dir, &[("a.csv", "new a")], false).unwrap();
         assert!(!dir.join("old.svg").exists());
         std::fs::write(dir.join("a.csv"), "altered").unwrap();
-        let e = verify(&dir, &outputs_of(&dir)).unwrap_err();
+        let e = verify(&dir, &outputs_of(&dir)).unwrap_err().to_string();
         assert!(e.contains("a.csv: sha256") && e.contains("the file is not the one its run wrote"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

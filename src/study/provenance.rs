@@ -9,6 +9,7 @@
 //! file, and merge rebuilds the study from the stored texts ([`materialize`]), so it needs
 //! neither the study file nor its walls where they were.
 
+use crate::files::FileError;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Component, Path, PathBuf};
@@ -124,29 +125,58 @@ fn relative(path: &Path, root: &Path) -> String {
 /// file among them.
 ///
 /// # Errors
-/// A message naming the input or the file that could not be written.
-pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, String> {
+/// [`MaterializeError`] naming the input or the file that could not be written.
+pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, MaterializeError> {
     let mut study = None;
     for f in inputs {
         let rel = Path::new(&f.path);
         let safe = rel.components().all(|c| matches!(c, Component::Normal(_)));
         if !safe || f.path.is_empty() {
-            return Err(format!("stored input path {:?} is not a plain relative path", f.path));
+            return Err(MaterializeError::Path(f.path.clone()));
         }
         if sha256_hex(f.text.as_bytes()) != f.sha256 {
-            return Err(format!("stored {} {} does not match its sha256 {}", f.role.describe(), f.path, f.sha256));
+            return Err(MaterializeError::Digest {
+                role: f.role.describe(),
+                path: f.path.clone(),
+                sha256: f.sha256.clone(),
+            });
         }
         let p = dir.join(rel);
         if let Some(parent) = p.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+            std::fs::create_dir_all(parent).map_err(FileError::at(parent))?;
         }
-        std::fs::write(&p, &f.text).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(&p, &f.text).map_err(FileError::at(&p))?;
         if f.role == InputRole::Study {
             study = Some(p);
         }
     }
     place_distributions(inputs, dir)?;
-    study.ok_or_else(|| "no study file among the stored inputs".to_string())
+    study.ok_or(MaterializeError::NoStudy)
+}
+
+/// Why a manifest's stored inputs cannot be written back ([`materialize`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MaterializeError {
+    /// A stored path that is not plain and relative (it could write outside the directory).
+    #[error("stored input path {0:?} is not a plain relative path")]
+    Path(String),
+    /// A stored text whose digest is not the one recorded beside it.
+    #[error("stored {role} {path} does not match its sha256 {sha256}")]
+    Digest {
+        /// What the input is (`study file`, `wall file`, ...).
+        role: &'static str,
+        /// Its stored path.
+        path: String,
+        /// The digest recorded.
+        sha256: String,
+    },
+    /// No study file among the inputs.
+    #[error("no study file among the stored inputs")]
+    NoStudy,
+    /// Writing a file.
+    #[error(transparent)]
+    File(#[from] FileError),
 }
 
 /// Makes every stored distribution file findable from every stored wall by the lookup of
@@ -155,7 +185,7 @@ pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, String> 
 /// directory: a distribution the run found in the working directory's `distributions/` is
 /// written into that first directory under `dir` (made at `dir/distributions` if there is
 /// none), unless a file of its name is there already. The lookup then never leaves `dir`.
-fn place_distributions(inputs: &[InputFile], dir: &Path) -> Result<(), String> {
+fn place_distributions(inputs: &[InputFile], dir: &Path) -> Result<(), FileError> {
     let dists: Vec<&InputFile> = inputs.iter().filter(|f| f.role == InputRole::Distribution).collect();
     for wall in inputs.iter().filter(|f| f.role == InputRole::Wall) {
         let mut cur = dir.join(&wall.path);
@@ -171,8 +201,8 @@ fn place_distributions(inputs: &[InputFile], dir: &Path) -> Result<(), String> {
             let Some(name) = Path::new(&d.path).file_name() else { continue };
             let p = target.join(name);
             if !p.exists() {
-                std::fs::create_dir_all(&target).map_err(|e| format!("{}: {e}", target.display()))?;
-                std::fs::write(&p, &d.text).map_err(|e| format!("{}: {e}", p.display()))?;
+                std::fs::create_dir_all(&target).map_err(FileError::at(&target))?;
+                std::fs::write(&p, &d.text).map_err(FileError::at(&p))?;
             }
         }
     }
@@ -256,6 +286,6 @@ mod tests {
         let d = first_difference(&x, &[], "A", "B").unwrap();
         assert_eq!(d, "the wall file w.toml is an input of A but not of B");
         let bad = vec![InputFile { path: "../x".into(), ..f("x", "a") }];
-        assert!(materialize(&bad, Path::new("/nonexistent")).unwrap_err().contains("plain relative path"));
+        assert!(materialize(&bad, Path::new("/nonexistent")).unwrap_err().to_string().contains("plain relative path"));
     }
 }

@@ -2,6 +2,7 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
+use super::error::{CalibrationSpecError, NameError, PaperSpecError};
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
 use super::provenance::{self, InputFile, InputRole};
@@ -122,7 +123,7 @@ impl StudySpec {
         let shake = self.resolve_shake(dir, &invalid, &mut files)?;
         let sweep = protocol_sweep(&self.sweep, shake.as_ref());
         self.check_counts(&sweep, &invalid)?;
-        let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason))?;
+        let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason.to_string()))?;
         let mut library = crate::effects::Library::builtin();
         for (i, f) in self.effect_files.iter().enumerate() {
             let p = dir.join(f);
@@ -173,10 +174,10 @@ impl StudySpec {
         study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
         study.discrepancy.validate().map_err(|e| invalid.at("discrepancy", e.to_string()))?;
         for (i, c) in study.calibrate.iter().enumerate() {
-            check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r))?;
+            check_calibration(c, &study).map_err(|r| invalid.at(&format!("calibrate[{i}]"), r.to_string()))?;
         }
         if let Some(p) = study.paper {
-            check_paper(p, &study).map_err(|r| invalid.at("paper", r))?;
+            check_paper(p, &study).map_err(|r| invalid.at("paper", r.to_string()))?;
         }
         Ok(study)
     }
@@ -186,7 +187,7 @@ impl StudySpec {
         if self.version != 1 {
             return Err(invalid.at("version", format!("this drystone reads study version 1, got {}", self.version)));
         }
-        check_name(&self.name).map_err(|r| invalid.at("name", r))?;
+        check_name(&self.name).map_err(|r| invalid.at("name", r.to_string()))?;
         if self.realizations == 0 {
             return Err(invalid.at("realizations", "must be at least 1".into()));
         }
@@ -262,7 +263,7 @@ impl StudySpec {
                 Some(name) => format!("groups[{name}].realizations"),
                 None => "realizations".to_string(),
             };
-            invalid.at(&key, reason)
+            invalid.at(&key, reason.to_string())
         })
     }
 }
@@ -272,15 +273,15 @@ impl StudySpec {
 /// `../../x` is refused rather than written outside the output directory.
 ///
 /// # Errors
-/// What is wrong with it.
-pub fn check_name(name: &str) -> Result<(), String> {
+/// [`NameError`]: what is wrong with it.
+pub fn check_name(name: &str) -> Result<(), NameError> {
     let bad = name.chars().find(|c| matches!(c, '/' | '\\') || c.is_control());
     if name.trim().is_empty() {
-        Err("must not be empty".into())
+        Err(NameError::Empty)
     } else if name == "." || name == ".." {
-        Err(format!("{name:?} is not a usable directory name"))
-    } else if let Some(c) = bad {
-        Err(format!("{name:?} contains {c:?}; a study name is used as a directory name and must not contain / or \\ or control characters"))
+        Err(NameError::Reserved { name: name.into() })
+    } else if let Some(character) = bad {
+        Err(NameError::Character { name: name.into(), character })
     } else {
         Ok(())
     }
@@ -328,7 +329,7 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
     for (k, v) in &g.overrides {
         let key = format!("groups[{}].overrides.{k}", g.name);
         let value = SweepValue::from_toml(v).ok_or_else(|| invalid.at(&key, format!("{v} is not a number or text")))?;
-        SweepKey::parse(k).and_then(|sk| sk.apply(&mut gspec, &value)).map_err(|r| invalid.at(&key, r))?;
+        SweepKey::parse(k).and_then(|sk| sk.apply(&mut gspec, &value)).map_err(|r| invalid.at(&key, r.to_string()))?;
     }
     let source = DistributionSource::default_for(&wall_path);
     let mut walls: Vec<Wall> = Vec::with_capacity(points.len());
@@ -344,10 +345,10 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         resolved.insert(label, walls.len());
         let mut spec = gspec.clone();
         for (k, v) in p {
-            k.apply(&mut spec, v).map_err(|r| invalid.at(&format!("sweep.{k}"), r))?;
+            k.apply(&mut spec, v).map_err(|r| invalid.at(&format!("sweep.{k}"), r.to_string()))?;
         }
         let wall = spec.resolve(&wall_path, &source).map_err(|e| invalid.wall(&g.name, e))?;
-        size::check_blocks(&wall).map_err(|reason| invalid.at(&size_key(g, p), reason))?;
+        size::check_blocks(&wall).map_err(|reason| invalid.at(&size_key(g, p), reason.to_string()))?;
         walls.push(wall);
     }
     Ok(Group {
@@ -500,7 +501,7 @@ impl Study {
             k.apply(&mut spec, v).map_err(|reason| StudyError::Invalid {
                 path: self.path.clone(),
                 key: k.as_str().into(),
-                reason,
+                reason: reason.to_string(),
             })?;
         }
         let source = DistributionSource::default_for(&group.wall_path);
@@ -530,31 +531,31 @@ pub(crate) fn restrained(e: &Ends) -> bool {
 /// Checks a calibration step against a study.
 ///
 /// # Errors
-/// A message naming the bad key.
-pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), String> {
+/// [`CalibrationSpecError`] naming the bad key.
+pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), CalibrationSpecError> {
     if !matches!(c.parameter.as_str(), "kn_pa_per_m" | "friction_deg") {
-        return Err(format!("parameter: expects kn_pa_per_m or friction_deg, got {:?}", c.parameter));
+        return Err(CalibrationSpecError::Parameter(c.parameter.clone()));
     }
     if !(c.lower.is_finite() && c.upper.is_finite() && c.lower < c.upper) {
-        return Err(format!("lower, upper: need finite lower < upper, got {} .. {}", c.lower, c.upper));
+        return Err(CalibrationSpecError::Interval { lower: c.lower, upper: c.upper });
     }
     if c.is_kn() && c.lower <= 0.0 {
-        return Err(format!("lower: Kn must be > 0, got {}", c.lower));
+        return Err(CalibrationSpecError::KnLower(c.lower));
     }
     if !c.is_kn() && (c.lower <= 0.0 || c.upper >= 90.0) {
-        return Err(format!("lower, upper: φ must be in (0, 90) degrees, got {} .. {}", c.lower, c.upper));
+        return Err(CalibrationSpecError::FrictionInterval { lower: c.lower, upper: c.upper });
     }
     if c.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-        return Err("tolerance: must be a finite number > 0".into());
+        return Err(CalibrationSpecError::Tolerance);
     }
     for g in std::iter::once(&c.group).chain(&c.carry_to) {
         if !study.groups.iter().any(|x| &x.name == g) {
-            return Err(format!("group {g:?} is not a group of the study"));
+            return Err(CalibrationSpecError::UnknownGroup(g.clone()));
         }
     }
     let mg = &study.groups.iter().find(|x| x.name == c.group).map(|x| x.measured_group.clone()).unwrap_or_default();
     if !study.measured.collapse.iter().any(|m| &m.group == mg) {
-        return Err(format!("group {:?}: no measured collapse angle for {mg:?} in [measured] collapse", c.group));
+        return Err(CalibrationSpecError::NoMeasurement { group: c.group.clone(), measured: mg.clone() });
     }
     Ok(())
 }
@@ -562,39 +563,45 @@ pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), String>
 /// Checks that a study has what its paper comparison needs.
 ///
 /// # Errors
-/// A message naming what is missing.
-pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), String> {
+/// [`PaperSpecError`] naming what is missing.
+pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
     match p {
         PaperStudy::JointArrangement => {
             if study.protocol != ProtocolKind::Lateral {
-                return Err("joint_arrangement needs protocol = \"lateral\"".into());
+                return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
             }
             if !has(SweepKey::KnPaPerM) {
-                return Err("joint_arrangement needs a sweep over kn_pa_per_m".into());
+                return Err(PaperSpecError { paper: "joint_arrangement", need: "a sweep over kn_pa_per_m" });
             }
         }
         PaperStudy::LengthHeight => {
             if study.protocol != ProtocolKind::Lateral {
-                return Err("length_height needs protocol = \"lateral\"".into());
+                return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
             }
             if !has(SweepKey::LengthM) {
-                return Err("length_height needs a sweep over length_m".into());
+                return Err(PaperSpecError { paper: "length_height", need: "a sweep over length_m" });
             }
             if !ends.iter().any(|&r| r) || ends.iter().all(|&r| r) {
-                return Err("length_height needs groups with restrained and with free ends".into());
+                return Err(PaperSpecError {
+                    paper: "length_height",
+                    need: "groups with restrained and with free ends",
+                });
             }
         }
         PaperStudy::KnPhi => {
             if study.protocol != ProtocolKind::Tilt {
-                return Err("kn_phi needs protocol = \"tilt\"".into());
+                return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
             }
             if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
-                return Err("kn_phi needs a sweep over kn_pa_per_m and friction_deg".into());
+                return Err(PaperSpecError { paper: "kn_phi", need: "a sweep over kn_pa_per_m and friction_deg" });
             }
             if ends.iter().filter(|&&r| !r).count() != 1 || ends.iter().filter(|&&r| r).count() != 1 {
-                return Err("kn_phi needs exactly one group with free ends and one with restrained ends".into());
+                return Err(PaperSpecError {
+                    paper: "kn_phi",
+                    need: "exactly one group with free ends and one with restrained ends",
+                });
             }
         }
     }

@@ -557,7 +557,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
 /// the manifest's realizations; its inputs must be the stored ones.
 fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
     let merge_error = |m: String| OutputError::Merge(m);
-    let path = provenance::materialize(&manifest.inputs, scratch).map_err(merge_error)?;
+    let path = provenance::materialize(&manifest.inputs, scratch).map_err(|e| merge_error(e.to_string()))?;
     let mut study = Study::from_file(&path).map_err(|e| merge_error(format!("the stored study: {e}")))?;
     study.realizations = manifest.realizations;
     let d =

@@ -149,8 +149,8 @@ impl SizeEstimate {
 /// over `points` sweep points. `key` names where the count came from.
 ///
 /// # Errors
-/// A message with the estimate and the limit.
-pub fn check_items(realizations: &[u64], points: f64) -> Result<(), String> {
+/// [`SizeError::Items`] with the estimate and the limit.
+pub fn check_items(realizations: &[u64], points: f64) -> Result<(), SizeError> {
     let total: f64 = realizations.iter().map(|&r| r as f64).sum::<f64>() * points;
     if total <= MAX_ITEMS as f64 {
         return Ok(());
@@ -161,32 +161,67 @@ pub fn check_items(realizations: &[u64], points: f64) -> Result<(), String> {
         let sum: u64 = realizations.iter().fold(0u64, |a, &r| a.saturating_add(r));
         format!("{sum} realizations over the groups × {} sweep point(s)", count(points))
     };
-    Err(format!(
-        "{how} = {} work items (about {} of result rows in memory); the limit is {MAX_ITEMS} work items per study",
-        count(total),
-        human_bytes(total * BYTES_PER_ROW)
-    ))
+    Err(SizeError::Items { how, items: total })
 }
 
 /// Checks the estimated blocks of one wall's layout.
 ///
 /// # Errors
-/// A message with the estimate, the wall values it comes from, and the limit.
-pub fn check_blocks(wall: &Wall) -> Result<(), String> {
-    let n = estimated_blocks(wall);
-    if n <= MAX_BLOCKS {
+/// [`SizeError::Blocks`] with the estimate, the wall values it comes from, and the limit.
+pub fn check_blocks(wall: &Wall) -> Result<(), SizeError> {
+    let blocks = estimated_blocks(wall);
+    if blocks <= MAX_BLOCKS {
         return Ok(());
     }
-    Err(format!(
+    Err(SizeError::Blocks {
+        blocks,
+        length_m: wall.length,
+        height_m: wall.height,
+        course_height_m: wall.course_height.mean(),
+        block_length_m: wall.block_length.mean(),
+    })
+}
+
+/// A study or wall over drystone's size limits ([`MAX_ITEMS`], [`MAX_BLOCKS`]), refused
+/// before any memory is taken.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SizeError {
+    /// More work items than [`MAX_ITEMS`].
+    #[error(
+        "{how} = {} work items (about {} of result rows in memory); the limit is {MAX_ITEMS} work items per study",
+        count(*items),
+        human_bytes(*items * BYTES_PER_ROW)
+    )]
+    Items {
+        /// How the count arises (realizations × groups × sweep points).
+        how: String,
+        /// The number of work items.
+        items: f64,
+    },
+    /// A layout of more blocks than [`MAX_BLOCKS`].
+    #[error(
         "the layout would have about {} blocks (geometry.length_m = {}, geometry.height_m = {}, mean courses.height_m = {}, mean blocks.length_m = {}), about {} per simulation; the limit is {} blocks per layout",
-        count(n.ceil()),
-        compact(wall.length),
-        compact(wall.height),
-        compact(wall.course_height.mean()),
-        compact(wall.block_length.mean()),
-        human_bytes(n * BYTES_PER_BLOCK),
+        count(blocks.ceil()),
+        compact(*length_m),
+        compact(*height_m),
+        compact(*course_height_m),
+        compact(*block_length_m),
+        human_bytes(*blocks * BYTES_PER_BLOCK),
         MAX_BLOCKS
-    ))
+    )]
+    Blocks {
+        /// The estimated number of blocks.
+        blocks: f64,
+        /// `geometry.length_m`, m.
+        length_m: f64,
+        /// `geometry.height_m`, m.
+        height_m: f64,
+        /// The mean of `courses.height_m`, m.
+        course_height_m: f64,
+        /// The mean of `blocks.length_m`, m.
+        block_length_m: f64,
+    },
 }
 
 impl Study {
@@ -202,8 +237,8 @@ impl Study {
     /// changed, e.g. by `--realizations`).
     ///
     /// # Errors
-    /// A message with the estimate and the limit.
-    pub fn check_items(&self) -> Result<(), String> {
+    /// [`SizeError::Items`] with the estimate and the limit.
+    pub fn check_items(&self) -> Result<(), SizeError> {
         let counts: Vec<u64> = (0..self.groups.len()).map(|g| self.group_realizations(g)).collect();
         check_items(&counts, self.points.len() as f64)
     }
@@ -236,23 +271,23 @@ mod tests {
             assert!(e >= n && e <= 3.0 * n, "{kind}: estimate {e}, generated {n}");
             assert!(check_blocks(&w).is_ok());
         }
-        let err = check_blocks(&wall(1e300, 0.05, "continuous")).unwrap_err();
+        let err = check_blocks(&wall(1e300, 0.05, "continuous")).unwrap_err().to_string();
         assert!(err.contains("geometry.length_m = 1e300") && err.contains("limit is 100000"), "{err}");
         assert!(check_blocks(&wall(10_000.0, 0.05, "continuous")).is_err());
-        let err = check_blocks(&wall(1.5, 1e-6, "continuous")).unwrap_err();
+        let err = check_blocks(&wall(1.5, 1e-6, "continuous")).unwrap_err().to_string();
         assert!(err.contains("courses.height_m = 1e-6"), "{err}");
     }
 
     #[test]
     fn item_counts_beyond_the_limit_are_refused_with_the_estimate() {
         assert!(check_items(&[12, 12, 12], 4.0).is_ok());
-        let err = check_items(&[1_000_000_000; 3], 1.0).unwrap_err();
+        let err = check_items(&[1_000_000_000; 3], 1.0).unwrap_err().to_string();
         assert!(
             err.starts_with("1000000000 realizations × 3 group(s) × 1 sweep point(s) = 3000000000 work items"),
             "{err}"
         );
         assert!(err.contains("TiB"), "{err}");
-        let err = check_items(&[1, u64::MAX], 2.0).unwrap_err();
+        let err = check_items(&[1, u64::MAX], 2.0).unwrap_err().to_string();
         assert!(err.contains("realizations over the groups"), "{err}");
         assert_eq!(human_bytes(3.0 * 1024.0 * 1024.0 * 1024.0), "3.0 GiB");
         assert_eq!(count(64_000.0), "64000");

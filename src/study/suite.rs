@@ -92,7 +92,7 @@ impl Suite {
         if spec.version != 1 {
             return Err(invalid("version", format!("this drystone reads suite version 1, got {}", spec.version)));
         }
-        super::resolve::check_name(&spec.name).map_err(|r| invalid("name", r))?;
+        super::resolve::check_name(&spec.name).map_err(|r| invalid("name", r.to_string()))?;
         if spec.studies.is_empty() {
             return Err(invalid("studies", "at least one study is needed".into()));
         }
@@ -117,7 +117,7 @@ impl Suite {
                 }
                 if !full {
                     st.realizations = n;
-                    st.check_items().map_err(|r| invalid(&format!("studies[{i}].realizations"), r))?;
+                    st.check_items().map_err(|r| invalid(&format!("studies[{i}].realizations"), r.to_string()))?;
                 }
             }
             studies.push((e.clone(), p, st));

@@ -8,6 +8,7 @@
 use crate::generator::spec::{ArrangementKind, EndKind, EndsSpec, WallSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use thiserror::Error;
 
 /// End zone given to a wall made `rigid` by the `ends` key when it has none, m: the
 /// paper's SBR ropes sat 0.05 m from each end (Santa-Cruz et al. 2021).
@@ -79,25 +80,25 @@ impl SweepKey {
     /// Parses [`SweepKey::as_str`].
     ///
     /// # Errors
-    /// A message listing the known keys.
-    pub fn parse(text: &str) -> Result<SweepKey, String> {
+    /// [`SweepError::UnknownKey`], which lists the known keys.
+    pub fn parse(text: &str) -> Result<SweepKey, SweepError> {
         SweepKey::ALL.into_iter().find(|k| k.as_str() == text).ok_or_else(|| {
             let known: Vec<&str> = SweepKey::ALL.iter().map(|k| k.as_str()).collect();
-            format!("unknown key; known keys: {}", known.join(", "))
+            SweepError::UnknownKey { known: known.join(", ") }
         })
     }
 
     /// Applies the key with `value` to a wall description.
     ///
     /// # Errors
-    /// A message saying what the key expects.
-    pub fn apply(self, spec: &mut WallSpec, value: &SweepValue) -> Result<(), String> {
+    /// [`SweepError`] saying what the key expects.
+    pub fn apply(self, spec: &mut WallSpec, value: &SweepValue) -> Result<(), SweepError> {
         let num = || match value {
             SweepValue::Number(v) if v.is_finite() => Ok(*v),
-            other => Err(format!("expects a finite number, got {other}")),
+            other => Err(SweepError::Expected { expected: "a finite number", got: other.to_string() }),
         };
         let positive = || match num()? {
-            v if v <= 0.0 => Err(format!("must be > 0, got {v}")),
+            v if v <= 0.0 => Err(SweepError::NotPositive { got: v }),
             v => Ok(v),
         };
         match self {
@@ -133,7 +134,7 @@ impl SweepKey {
     }
 }
 
-fn apply_ends(spec: &mut WallSpec, value: &SweepValue) -> Result<(), String> {
+fn apply_ends(spec: &mut WallSpec, value: &SweepValue) -> Result<(), SweepError> {
     match value {
         SweepValue::Text(s) if s == "free" => spec.restraints.ends = EndsSpec::default(),
         SweepValue::Text(s) if s == "rigid" => {
@@ -142,17 +143,19 @@ fn apply_ends(spec: &mut WallSpec, value: &SweepValue) -> Result<(), String> {
             e.zone_m = Some(e.zone_m.unwrap_or(DEFAULT_END_ZONE_M));
             e.stiffness_n_per_m = None;
         }
-        other => return Err(format!("expects free or rigid, got {other}")),
+        other => return Err(SweepError::Expected { expected: "free or rigid", got: other.to_string() }),
     }
     Ok(())
 }
 
-fn arrangement(value: &SweepValue) -> Result<ArrangementKind, String> {
+fn arrangement(value: &SweepValue) -> Result<ArrangementKind, SweepError> {
     match value {
         SweepValue::Text(s) if s == "continuous" => Ok(ArrangementKind::Continuous),
         SweepValue::Text(s) if s == "discontinuous" => Ok(ArrangementKind::Discontinuous),
         SweepValue::Text(s) if s == "irregular" => Ok(ArrangementKind::Irregular),
-        other => Err(format!("expects continuous, discontinuous or irregular, got {other}")),
+        other => {
+            Err(SweepError::Expected { expected: "continuous, discontinuous or irregular", got: other.to_string() })
+        }
     }
 }
 
@@ -215,13 +218,51 @@ pub fn point_label(p: &[(SweepKey, SweepValue)]) -> String {
     p.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(";")
 }
 
+/// Why a sweep key or value cannot be used (the key itself is named by the caller: the
+/// study file's `sweep.KEY` or `groups[i].overrides.KEY`).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum SweepError {
+    /// Not a key of [`SweepKey::ALL`].
+    #[error("unknown key; known keys: {known}")]
+    UnknownKey {
+        /// The known keys, comma-separated.
+        known: String,
+    },
+    /// A key without values in `[sweep]`.
+    #[error("needs at least one value")]
+    NoValues,
+    /// A TOML value that is neither a number nor text.
+    #[error("{value} is not a number or text")]
+    NotNumberOrText {
+        /// The value as written.
+        value: String,
+    },
+    /// A value of the wrong kind for its key.
+    #[error("expects {expected}, got {got}")]
+    Expected {
+        /// What the key takes.
+        expected: &'static str,
+        /// The value given.
+        got: String,
+    },
+    /// A value that must be positive.
+    #[error("must be > 0, got {got}")]
+    NotPositive {
+        /// The value given.
+        got: f64,
+    },
+}
+
 /// A sweep entry that cannot be used: the key as written and what is wrong.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("sweep.{key}: {reason}")]
 pub struct SweepEntryError {
     /// The key as written in the file.
     pub key: String,
     /// What is wrong.
-    pub reason: String,
+    #[source]
+    pub reason: SweepError,
 }
 
 /// The points of a `[sweep]` table: the cartesian product of its values, keys in the order
@@ -233,14 +274,16 @@ pub struct SweepEntryError {
 pub fn grid(sweep: &BTreeMap<String, Vec<toml::Value>>) -> Result<Vec<SweepPoint>, SweepEntryError> {
     let mut points: Vec<SweepPoint> = vec![Vec::new()];
     for (name, values) in sweep {
-        let error = |reason: String| SweepEntryError { key: name.clone(), reason };
+        let error = |reason: SweepError| SweepEntryError { key: name.clone(), reason };
         if values.is_empty() {
-            return Err(error("needs at least one value".into()));
+            return Err(error(SweepError::NoValues));
         }
         let key = SweepKey::parse(name).map_err(error)?;
         let values = values
             .iter()
-            .map(|v| SweepValue::from_toml(v).ok_or_else(|| error(format!("{v} is not a number or text"))))
+            .map(|v| {
+                SweepValue::from_toml(v).ok_or_else(|| error(SweepError::NotNumberOrText { value: v.to_string() }))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         points = points
             .iter()
@@ -267,7 +310,7 @@ mod tests {
             let json = serde_json::to_string(&k).unwrap();
             assert_eq!(json, format!("\"{}\"", k.as_str()));
         }
-        let err = SweepKey::parse("youngs_modulus").unwrap_err();
+        let err = SweepKey::parse("youngs_modulus").unwrap_err().to_string();
         assert!(err.starts_with("unknown key; known keys: kn_pa_per_m, ks_over_kn"), "{err}");
     }
 

@@ -67,7 +67,8 @@ pub enum CalibrateError {
         /// The step.
         step: usize,
         /// What is wrong.
-        reason: String,
+        #[source]
+        reason: crate::study::CalibrationSpecError,
     },
     /// The step could not run: a wall that no longer checks, no collapse at an end of the
     /// interval, the root finder failed.
@@ -78,7 +79,8 @@ pub enum CalibrateError {
         /// Its group.
         group: String,
         /// What went wrong.
-        reason: String,
+        #[source]
+        reason: StepError,
     },
     /// Writing an output file.
     #[error("{path}: {source}")]
@@ -94,6 +96,27 @@ impl From<crate::io::FileError> for CalibrateError {
     fn from(e: crate::io::FileError) -> Self {
         CalibrateError::Io { path: e.path, source: e.source }
     }
+}
+
+/// Why a calibration step could not run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StepError {
+    /// The wall at a trial value no longer checks (e.g. a Kn so low that the joints close
+    /// beyond the layout's limit).
+    #[error(transparent)]
+    Wall(Box<crate::study::StudyError>),
+    /// No realization collapsed at an end of the interval, so nothing can be matched.
+    #[error("no realization collapsed at an end of the interval {lower} .. {upper}")]
+    NoCollapse {
+        /// The interval's lower end, in the parameter's unit.
+        lower: f64,
+        /// The interval's upper end.
+        upper: f64,
+    },
+    /// Brent's root finder (argmin) failed.
+    #[error("{0}")]
+    Search(argmin::core::Error),
 }
 
 /// The staging directory and manifest of `drystone calibrate`'s set in its output
@@ -245,7 +268,7 @@ fn step(
     gi: usize,
     spec: &CalibrateSpec,
     given: Vec<(SweepKey, SweepValue)>,
-) -> Result<StepResult, String> {
+) -> Result<StepResult, StepError> {
     let measured = measured(study, gi);
     let mut result = StepResult {
         group: spec.group.clone(),
@@ -264,11 +287,11 @@ fn step(
     let problem = Problem::new(study, gi, spec, given, measured.0);
     let (x0, x1) = (spec.to_x(spec.lower), spec.to_x(spec.upper));
     let (e0, e1) = (problem.evaluate(x0), problem.evaluate(x1));
-    if let Some(e) = problem.error() {
-        return Err(e);
+    if let Some(e) = problem.take_error() {
+        return Err(StepError::Wall(Box::new(e)));
     }
     if e0.n == 0 || e1.n == 0 {
-        return Err(format!("no realization collapsed at an end of the interval {} .. {}", spec.lower, spec.upper));
+        return Err(StepError::NoCollapse { lower: spec.lower, upper: spec.upper });
     }
     let se = |e: &Evaluation| if e.n > 1 { e.sd_deg / (e.n as f64).sqrt() } else { 0.0 };
     // What the data can tell apart: the tilt bracket plus twice the standard error of

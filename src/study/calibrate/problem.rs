@@ -1,12 +1,12 @@
 //! One calibration step as a root-finding problem for argmin: every evaluation an ensemble
 //! of the step's group at one parameter value, logged and cached.
 
-use super::{CalibrateSpec, Evaluation, StepResult};
+use super::{CalibrateSpec, Evaluation, StepError, StepResult};
 use crate::ensemble::row::Status;
 use crate::ensemble::Shard;
 use crate::stats;
 use crate::study::run::run_study;
-use crate::study::{Study, SweepKey, SweepValue};
+use crate::study::{Study, StudyError, SweepKey, SweepValue};
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentRoot;
 use std::sync::Mutex;
@@ -18,7 +18,7 @@ pub(super) struct Problem<'a> {
     given: Vec<(SweepKey, SweepValue)>,
     target: f64,
     log: Mutex<Vec<Evaluation>>,
-    error: Mutex<Option<String>>,
+    error: Mutex<Option<StudyError>>,
 }
 
 impl<'a> Problem<'a> {
@@ -35,8 +35,8 @@ impl<'a> Problem<'a> {
     }
 
     /// The first error of an evaluation (a wall that did not resolve), if any.
-    pub(super) fn error(&self) -> Option<String> {
-        self.error.lock().ok().and_then(|e| e.clone())
+    pub(super) fn take_error(&self) -> Option<StudyError> {
+        self.error.lock().ok().and_then(|mut e| e.take())
     }
 
     /// Every evaluation so far, in order.
@@ -70,7 +70,7 @@ impl<'a> Problem<'a> {
             }
             Err(e) => {
                 if let Ok(mut slot) = self.error.lock() {
-                    *slot = Some(e.to_string());
+                    slot.get_or_insert(e);
                 }
                 Evaluation { x, value, mean_deg: f64::NAN, sd_deg: f64::NAN, n: 0 }
             }
@@ -85,15 +85,15 @@ impl<'a> Problem<'a> {
     /// interval and the specimen spread, into `result` (`calibrated`).
     ///
     /// # Errors
-    /// The root finder's message.
-    pub(super) fn search(&self, x0: f64, x1: f64, realizations: u64, result: &mut StepResult) -> Result<(), String> {
+    /// [`StepError::Search`]: the root finder's error.
+    pub(super) fn search(&self, x0: f64, x1: f64, realizations: u64, result: &mut StepResult) -> Result<(), StepError> {
         let spec = self.spec;
         let tol = spec.tolerance.unwrap_or(if spec.is_kn() { 0.02 } else { 0.5 });
         let solver = BrentRoot::new(x0, x1, tol);
         let res = Executor::new(Residual(self), solver)
             .configure(|s| s.param(x1).max_iters(spec.max_iters))
             .run()
-            .map_err(|e| e.to_string())?;
+            .map_err(StepError::Search)?;
         let x = res.state.best_param.or(res.state.param).unwrap_or(0.5 * (x0 + x1));
         let log = self.log();
         let slope = slope_near(&log, x, if spec.is_kn() { 0.3 } else { 10.0 });
