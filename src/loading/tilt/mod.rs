@@ -161,6 +161,7 @@ pub fn run_tilt_observed(
             detections: path.sim.detections(),
             max_density_scale: path.sim.max_density_scale(),
             scalar_fallbacks_deg: path.fallbacks,
+            bracket_reliable: true,
         });
     };
     // Time step of the first failing increment (bisection trials may replace `failed`).
@@ -195,5 +196,6 @@ pub fn run_tilt_observed(
         detections: failed.detections(),
         max_density_scale: failed.max_density_scale().max(stable_sim.max_density_scale()),
         scalar_fallbacks_deg: fallbacks,
+        bracket_reliable: reason != CollapseReason::StepBudget,
     })
 }
