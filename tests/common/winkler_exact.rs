@@ -151,8 +151,7 @@ pub fn residual(blk: &Block, at: Interface, theta: f64, alpha: f64) -> f64 {
     let span = slope.abs() * blk.b + n / (blk.kn * blk.b) + 1.0;
     let c = bisect(-span, span, |a| blk.kn * closed(a, slope, blk.b).0 - n);
     let (i0, i1, len, s1) = closed(c, slope, blk.b);
-    blk.kn * ((1.0 - k) * theta).cos() * i1 - t * ((1.0 - k) * theta).sin() * s1 / len
-        + at.shear_lever * t * i0 / len
+    blk.kn * ((1.0 - k) * theta).cos() * i1 - t * ((1.0 - k) * theta).sin() * s1 / len + at.shear_lever * t * i0 / len
         - 0.5 * blk.h * blk.w * (alpha + theta).sin()
 }
 
