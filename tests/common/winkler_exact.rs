@@ -58,8 +58,9 @@
 //!
 //! # Limits
 //!
-//! - κ = 1, ζ = 0 is the form of `common/winkler.rs` (its joint equations written in the
-//!   block's frame are these), for any θ.
+//! - κ = 1, ζ = 0 is the joint of `common/winkler.rs` (its equations, written in the
+//!   block's frame, are these), but for the slope of the closure, tan θ here, θ there:
+//!   its collapse tilt is lower by tan θ − θ ≈ θ³/3.
 //! - For small θ, `cos → 1`, `sin θ → θ`, the shear's terms drop and (1), (3) become the
 //!   small-rotation Winkler equations with gravity at β = α + θ to the body.
 //! - As Kn → ∞, θ and δ → 0 and α_max → atan(b/h), the rigid limit, from below.
