@@ -70,6 +70,11 @@ enum Command {
         /// Unbalanced-force ratio of equilibrium.
         #[arg(long, default_value_t = TiltParams::default().tolerance)]
         tolerance: f64,
+        /// Step budget of one increment or trial (`max_steps_per_increment` in a study's
+        /// [tilt] table); an increment that runs out of it is undecided (`step_budget`) and
+        /// the result says its bracket is not reliable.
+        #[arg(long, default_value_t = TiltParams::default().max_steps_per_increment)]
+        max_steps: u64,
         /// Start every increment from the last stable state at rest instead of the secant
         /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
         #[arg(long)]
@@ -419,6 +424,7 @@ fn run() -> anyhow::Result<ExitCode> {
             density_scaling,
             block_mass_floor,
             tolerance,
+            max_steps,
             no_predictor,
             solver: kind,
             no_acceleration,
@@ -449,6 +455,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 step_deg,
                 resolution_deg,
                 tolerance,
+                max_steps_per_increment: max_steps,
                 predictor: !no_predictor,
                 accelerate: !no_acceleration,
                 implicit: !no_implicit,

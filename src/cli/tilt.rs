@@ -128,6 +128,9 @@ fn print(layout: &Path, r: &TiltResult) {
             ""
         };
         out!("unstable because  {}{note}", reason.name());
+        if !r.bracket_reliable {
+            out!("bracket           NOT RELIABLE: a step budget is not a collapse; read the collapse angle as a lower bound (raise max_steps_per_increment, or --solver nscd)");
+        }
     }
     out!(
         "mechanism         {} at joint {} ({} blocks moving)",

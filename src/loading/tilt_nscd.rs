@@ -263,6 +263,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
         detections,
         max_density_scale: 1.0,
         scalar_fallbacks_deg: Vec::new(),
+        bracket_reliable: true,
     })
 }
 

@@ -22,8 +22,9 @@
 //!    (nothing above it is known to be stable) without being a collapse.
 //! 3. The bracket (last stable, first unstable) is bisected from the last stable state
 //!    until it is narrower than [`TiltParams::resolution_deg`]. The collapse angle α_max is
-//!    the last stable angle; the critical tilt lies in the bracket (unless its upper end
-//!    is a [`CollapseReason::StepBudget`]).
+//!    the last stable angle; the critical tilt lies in the bracket unless its upper end
+//!    is a [`CollapseReason::StepBudget`], which the result says:
+//!    [`TiltResult::bracket_reliable`] is then false.
 //! 4. The mechanism is read from the motion between the last stable and the collapsed
 //!    state ([`mechanism`]): the joints that failed (large relative motion), the groups of
 //!    blocks they cut loose from the table, the joints between moving and resting bodies,
@@ -161,6 +162,7 @@ pub fn run_tilt_observed(
             detections: path.sim.detections(),
             max_density_scale: path.sim.max_density_scale(),
             scalar_fallbacks_deg: path.fallbacks,
+            bracket_reliable: true,
         });
     };
     // Time step of the first failing increment (bisection trials may replace `failed`).
@@ -195,5 +197,6 @@ pub fn run_tilt_observed(
         detections: failed.detections(),
         max_density_scale: failed.max_density_scale().max(stable_sim.max_density_scale()),
         scalar_fallbacks_deg: fallbacks,
+        bracket_reliable: reason != CollapseReason::StepBudget,
     })
 }

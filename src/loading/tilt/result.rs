@@ -114,6 +114,20 @@ pub struct TiltResult {
     /// scalar, then true masses; see `DensityScaling::Block`); empty if none did.
     #[serde(default)]
     pub scalar_fallbacks_deg: Vec<f64>,
+    /// Whether `[last_stable_deg, first_unstable_deg]` is a bracket of the collapse tilt
+    /// \[true\]: false when the first unstable tilt is an increment or trial whose step
+    /// budget ran out ([`CollapseReason::StepBudget`]: neither an equilibrium nor a collapse
+    /// established; at Kn ≥ 1e11 Pa/m dynamic relaxation may not settle the light
+    /// sub-contacts of a knife-edge joint within it). Nothing above `last_stable_deg` is
+    /// then known to be stable, but the critical tilt may lie above `first_unstable_deg`:
+    /// read the result as a lower bound, or raise `max_steps_per_increment`, or run the
+    /// non-smooth solver (`--solver nscd`). `drystone tilt` prints it, `--json` carries it.
+    #[serde(default = "reliable")]
+    pub bracket_reliable: bool,
+}
+
+fn reliable() -> bool {
+    true
 }
 
 /// Errors of the tilting-table protocol.
