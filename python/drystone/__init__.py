@@ -106,7 +106,9 @@ class TiltResult:
 
     The collapse bracket `[last_stable_deg, first_unstable_deg]` (degrees) holds the
     collapse angle to the resolution; `first_unstable_deg` is None if the wall stood to
-    `max_angle_deg`. Histories, one entry per increment tried (stable ones in increasing
+    `max_angle_deg`. `bracket_reliable` is False when the first unstable trial ran out of
+    its step budget (`collapse_reason == "step_budget"`, at stiff joints): the collapse angle
+    is then a lower bound, not a bracket. Histories, one entry per increment tried (stable ones in increasing
     tilt, then the unstable trials): `alpha_deg` (n,), `stable` (n,) bool, `increment_steps`
     (n,), `unbalanced_ratio` (n,), and `displacement_m` (n, m): the out-of-plane (y)
     displacement of each monitor point since the settled state at 0°, m, in the order of
@@ -117,6 +119,7 @@ class TiltResult:
     first_unstable_deg: Optional[float]
     collapse_angle_deg: float
     collapse_reason: Optional[str]
+    bracket_reliable: bool
     mechanism: Mechanism
     monitors: List[str]
     alpha_deg: np.ndarray
@@ -195,6 +198,7 @@ def tilt(layout: Any, solver: Any = None, **params: Any) -> TiltResult:
         first_unstable_deg=r["first_unstable_deg"],
         collapse_angle_deg=raw["collapse_angle_deg"],
         collapse_reason=r["collapse_reason"],
+        bracket_reliable=r["bracket_reliable"],
         mechanism=Mechanism._from(r["mechanism"]),
         monitors=list(r["monitors"]),
         alpha_deg=raw["alpha_deg"],
