@@ -9,22 +9,21 @@ use crate::dem::{solve_static, DemError, DensityScaling, End, Simulation, Static
 use crate::layout::Layout;
 use crate::loading::monitors::{body_motion, largest_motion, monitor_displacements, BodyPose, MonitorPoint};
 use crate::math::Vec3;
-use crate::units::deg_to_rad;
 
 /// Pose of every body, in body order.
-pub(super) type Pose = Vec<BodyPose>;
+pub(crate) type Pose = Vec<BodyPose>;
 
 /// A predicted increment: translation (m) and rotation vector (rad) per body.
-pub(super) type Prediction = implicit::PoseIncrement;
+pub(crate) type Prediction = implicit::PoseIncrement;
 
-pub(super) fn pose(sim: &Simulation) -> Pose {
+pub(crate) fn pose(sim: &Simulation) -> Pose {
     sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect()
 }
 
 /// The last four stable states (tilt in degrees, pose), oldest first.
 #[derive(Default)]
-pub(super) struct Secant {
-    pub(super) states: Vec<(f64, Pose)>,
+pub(crate) struct Secant {
+    pub(crate) states: Vec<(f64, Pose)>,
 }
 
 /// The predictor extrapolates only a nearly linear or a steadily accelerating response.
@@ -35,14 +34,14 @@ pub(super) struct Secant {
 /// the rate after a steady one is a local slip event (an end stone sliding): a linear jump
 /// would impose that slip again at every increment, and friction would keep it, so the
 /// increment relaxes from rest.
-pub(super) const LINEAR_RESPONSE_RATIO: f64 = 1.2;
+pub(crate) const LINEAR_RESPONSE_RATIO: f64 = 1.2;
 /// See [`LINEAR_RESPONSE_RATIO`].
-pub(super) const STEADY_GROWTH: f64 = 1.05;
+pub(crate) const STEADY_GROWTH: f64 = 1.05;
 /// See [`LINEAR_RESPONSE_RATIO`].
-pub(super) const ACCELERATING_RESPONSE_RATIO: f64 = 2.5;
+pub(crate) const ACCELERATING_RESPONSE_RATIO: f64 = 2.5;
 
 impl Secant {
-    pub(super) fn push(&mut self, alpha: f64, sim: &Simulation) {
+    pub(crate) fn push(&mut self, alpha: f64, sim: &Simulation) {
         self.states.push((alpha, pose(sim)));
         if self.states.len() > 4 {
             self.states.remove(0);
@@ -51,13 +50,13 @@ impl Secant {
 
     /// Largest body motion ([`body_motion`] with a radius of 1 m) per degree of tilt between
     /// two stable states.
-    pub(super) fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
+    pub(crate) fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
         let m = a.1.iter().zip(&b.1).map(|(from, to)| body_motion(from, to, 1.0)).fold(0.0, f64::max);
         m / (b.0 - a.0).abs()
     }
 
     /// Whether the response is smooth enough to extrapolate ([`LINEAR_RESPONSE_RATIO`]).
-    pub(super) fn smooth(&self) -> bool {
+    pub(crate) fn smooth(&self) -> bool {
         let n = self.states.len();
         if n < 3 {
             return false;
@@ -74,7 +73,7 @@ impl Secant {
     /// an increment from the last state to `alpha` (degrees); `None` until three stable
     /// states are known or where the response is not smooth ([`LINEAR_RESPONSE_RATIO`]; a
     /// NaN rate, from a degenerate increment, is not smooth either).
-    pub(super) fn predict(&self, alpha: f64) -> Option<Prediction> {
+    pub(crate) fn predict(&self, alpha: f64) -> Option<Prediction> {
         if !self.smooth() {
             return None;
         }
@@ -93,38 +92,41 @@ impl Secant {
     }
 }
 
-pub(super) enum Stage {
+pub(crate) enum Stage {
     Stable,
     Collapsed(CollapseReason),
 }
 
 /// What one increment or trial came to: its stage, the dynamic-relaxation steps and the
 /// implicit iterations it took.
-pub(super) struct Trial {
-    pub(super) stage: Stage,
-    pub(super) steps: u64,
-    pub(super) iterations: u32,
+pub(crate) struct Trial {
+    pub(crate) stage: Stage,
+    pub(crate) steps: u64,
+    pub(crate) iterations: u32,
 }
 
-pub(super) struct Ctx<'a> {
-    pub(super) params: &'a TiltParams,
+pub(crate) struct Ctx<'a> {
+    pub(crate) params: &'a TiltParams,
+    /// Sets the load of a trial on a state: the tilt α (degrees) of the tilting table, the
+    /// load multiplier λ of the lateral pushover (`loading::lateral_pushover`).
+    pub(crate) load: &'a dyn Fn(&mut Simulation, f64),
     /// The static solve of every increment and trial (its reach set per trial).
-    pub(super) solve: StaticSolve,
-    pub(super) monitors: &'a [MonitorPoint],
-    pub(super) reference: Vec<Vec3>,
-    pub(super) width: f64,
+    pub(crate) solve: StaticSolve,
+    pub(crate) monitors: &'a [MonitorPoint],
+    pub(crate) reference: Vec<Vec3>,
+    pub(crate) width: f64,
     /// [`elastic_scale`], m.
-    pub(super) elastic: f64,
+    pub(crate) elastic: f64,
 }
 
 impl Ctx<'_> {
-    pub(super) fn displacements(&self, sim: &Simulation) -> Vec<f64> {
+    pub(crate) fn displacements(&self, sim: &Simulation) -> Vec<f64> {
         monitor_displacements(sim, self.monitors, &self.reference)
     }
 
     /// Relaxes `sim` at its tilt from `prediction` (applied as one jump) through the solver
     /// seam ([`solve_static`]), with this protocol's collapse criteria as the stop check.
-    pub(super) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
+    pub(crate) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
         let start = pose(sim);
         let inc_limit = self.inc_limit();
         let tot_limit = (self.params.collapse_displacement_fraction * self.width).max(self.elastic);
@@ -155,11 +157,12 @@ impl Ctx<'_> {
 
     /// The per-increment collapse displacement, m: the larger of
     /// [`TiltParams::collapse_increment_fraction`] of the wall width and the elastic scale.
-    pub(super) fn inc_limit(&self) -> f64 {
+    pub(crate) fn inc_limit(&self) -> f64 {
         (self.params.collapse_increment_fraction * self.width).max(self.elastic)
     }
 
-    /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
+    /// One increment or bisection trial: `from` (a stable state) loaded to `alpha_deg` (by
+    /// [`Ctx::load`]: the tilt in degrees, or the load multiplier of the pushover) and
     /// relaxed ([`Ctx::run_stage`]). If the scaled dynamics blow up (a collapse can throw
     /// light soft directions of a block mass into re-closing contacts, and a soft joint's
     /// collapse displacement carries a body far with a scaled time step), the trial again
@@ -167,7 +170,7 @@ impl Ctx<'_> {
     /// masses), which the returned state keeps. Returns the state, the stage, the steps
     /// taken (those of blown-up attempts included) and the implicit iterations of the
     /// attempt kept; `fallbacks` gets `alpha_deg` if the trial fell back.
-    pub(super) fn run_from(
+    pub(crate) fn run_from(
         &self,
         from: &Simulation,
         alpha_deg: f64,
@@ -179,7 +182,7 @@ impl Ctx<'_> {
         loop {
             let mut sim = from.clone();
             sim.set_density_scaling(scaling);
-            sim.set_tilt(deg_to_rad(alpha_deg));
+            (self.load)(&mut sim, alpha_deg);
             let before = sim.state.steps;
             match self.run_stage(&mut sim, prediction.clone()) {
                 Ok(trial) => return Ok((sim, Trial { steps: trial.steps + wasted, ..trial })),
@@ -201,18 +204,18 @@ impl Ctx<'_> {
 
 /// The stable path of a test: the last stable state (every increment and trial starts
 /// from it), its tilt, the secant predictor's states, and the counts.
-pub(super) struct StablePath {
-    pub(super) sim: Simulation,
-    pub(super) last_stable: f64,
-    pub(super) secant: Secant,
-    pub(super) predictor: bool,
-    pub(super) total_steps: u64,
-    pub(super) total_iterations: u64,
-    pub(super) fallbacks: Vec<f64>,
+pub(crate) struct StablePath {
+    pub(crate) sim: Simulation,
+    pub(crate) last_stable: f64,
+    pub(crate) secant: Secant,
+    pub(crate) predictor: bool,
+    pub(crate) total_steps: u64,
+    pub(crate) total_iterations: u64,
+    pub(crate) fallbacks: Vec<f64>,
 }
 
 impl StablePath {
-    pub(super) fn new(settled: Simulation, predictor: bool) -> StablePath {
+    pub(crate) fn new(settled: Simulation, predictor: bool) -> StablePath {
         let mut secant = Secant::default();
         secant.push(0.0, &settled);
         let total_steps = settled.state.steps;
@@ -230,7 +233,7 @@ impl StablePath {
     /// Runs the increment or trial at `alpha_deg` from the last stable state and records it
     /// in `increments`; a stable state becomes the new end of the path (`None`), an
     /// unstable one is returned with its reason.
-    pub(super) fn try_at(
+    pub(crate) fn try_at(
         &mut self,
         ctx: &Ctx<'_>,
         alpha_deg: f64,
@@ -270,7 +273,7 @@ impl StablePath {
 /// followed by relaxation to that criterion (the motion of a collapsing state keeps its
 /// direction; the early motion of a trial still holds the elastic shear of the joints,
 /// which would read as sliding).
-pub(super) fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
+pub(crate) fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
     let now = largest_motion(sim, start);
     let per_unit = largest_body_motion(sim, dpos, drot);
     let scale = (limit - now).max(0.0) / per_unit;
