@@ -108,22 +108,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 _ => "–".to_string(),
             };
             let (c, d, i) = (mean(0), mean(1), mean(2));
-            let len = if *s == 1.0 { "0.5 (irr. 0.4–0.6)".to_string() } else { format!("{:.2} (irr. {:.2}–{:.2})", 0.5 * s, 0.4 * s, 0.6 * s) };
-            println!(
-                "| {len} | {l} | {} | {} | {} | {} | {} |",
-                show(c),
-                show(d),
-                show(i),
-                rel(c, d),
-                rel(i, d)
-            );
+            let len = if *s == 1.0 {
+                "0.5 (irr. 0.4–0.6)".to_string()
+            } else {
+                format!("{:.2} (irr. {:.2}–{:.2})", 0.5 * s, 0.4 * s, 0.6 * s)
+            };
+            println!("| {len} | {l} | {} | {} | {} | {} | {} |", show(c), show(d), show(i), rel(c, d), rel(i, d));
         }
     }
-    println!(
-        "{} runs in {:.1} s on {} threads",
-        runs.len(),
-        t0.elapsed().as_secs_f64(),
-        rayon::current_num_threads()
-    );
+    println!("{} runs in {:.1} s on {} threads", runs.len(), t0.elapsed().as_secs_f64(), rayon::current_num_threads());
     Ok(())
 }

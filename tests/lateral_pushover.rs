@@ -12,6 +12,8 @@ use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, DENSITY};
 use std::path::Path;
 
+mod common;
+
 /// A block L (x) × B (y) × h (z) centred on y = 0 on the table, with the layout's one
 /// material given Kn = `kn`, Ks = Kn / 2, friction `phi_deg`, cohesion `c` and tensile
 /// strength `t` (Pa).
@@ -24,7 +26,12 @@ fn block(l: f64, b: f64, h: f64, kn: f64, phi_deg: f64, c: f64, t: f64) -> Layou
 }
 
 fn uniform(p: f64, resolution: f64) -> LateralParams {
-    LateralParams { pressure_base_pa: p, pressure_top_pa: p, pushover_resolution: resolution, ..LateralParams::default() }
+    LateralParams {
+        pressure_base_pa: p,
+        pressure_top_pa: p,
+        pushover_resolution: resolution,
+        ..LateralParams::default()
+    }
 }
 
 fn push(layout: &Layout, params: &LateralParams) -> LateralPushover {
@@ -194,4 +201,47 @@ fn bad_parameters_are_named() {
     assert!(e.to_string().contains("pushover_resolution"), "{e}");
     let nscd = SolverParams { kind: drystone::dem::SolverKind::Nscd, ..SolverParams::default() };
     assert!(run_lateral_pushover(&layout, nscd, &uniform(1000.0, 0.02)).is_err());
+}
+
+/// A study with `[lateral] pushover = true`: every row has the DEM and the limit
+/// multipliers beside its service displacement, the DEM's below the cohesionless rigid
+/// limit; the tables, the summary and the report carry them, and the Parquet table reads
+/// back bit for bit. A lateral study without it writes no such column.
+#[test]
+fn a_pushover_study_writes_its_multipliers() {
+    use drystone::ensemble::Shard;
+    use drystone::study::{run_study, write_outputs, Study};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = root.join("tests/studies/good/mini_pushover.toml");
+    let study = Study::from_file(&file).expect("study");
+    let rows = run_study(&study, Shard::ALL);
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert!(r.status.is_ok() && r.error.is_empty(), "{r:?}");
+        let p = &r.pushover;
+        let (dem, up, limit) =
+            (p.load_multiplier_dem.unwrap(), p.load_multiplier_dem_unstable.unwrap(), p.load_multiplier_limit.unwrap());
+        assert!(dem > 1.0 && up > dem && dem < limit, "{p:?}");
+        assert!(r.lateral.lateral_disp_max_cm.is_some() && !r.collapse.mechanism.is_empty(), "{r:?}");
+    }
+    // Cohesion (first point) raises the limit analysis' λ; the DEM's joints, with no tensile
+    // strength, lose it where they open, as this wall's do.
+    assert!(rows[0].pushover.load_multiplier_limit > rows[1].pushover.load_multiplier_limit);
+    let dir = common::Scratch::new("pushover-study");
+    write_outputs(&study, &file, Shard::ALL, &rows, &dir).expect("outputs");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let header = read("realizations.csv").lines().next().unwrap().to_string();
+    assert!(header.ends_with("load_multiplier_dem,load_multiplier_dem_unstable,load_multiplier_limit"), "{header}");
+    assert!(read("summary.csv").lines().next().unwrap().contains("load_multiplier_dem_over_limit_mean"));
+    assert!(read("report.md").contains("## Collapse load multiplier of the pressure"));
+    let back = drystone::io::table::read_realizations(&dir.join("realizations.parquet")).unwrap();
+    assert_eq!(back, rows);
+    // Without `pushover`, no such column.
+    let plain = Study::from_file(&root.join("tests/studies/good/mini_lateral.toml")).expect("study");
+    let rows = run_study(&plain, Shard::ALL);
+    let other = common::Scratch::new("pushover-plain");
+    write_outputs(&plain, &file, Shard::ALL, &rows, &other).expect("outputs");
+    let text = std::fs::read_to_string(other.join("realizations.csv")).unwrap();
+    assert!(!text.contains("load_multiplier"), "{}", text.lines().next().unwrap());
+    assert!(!std::fs::read_to_string(other.join("summary.csv")).unwrap().contains("load_multiplier"));
 }

@@ -179,8 +179,7 @@ pub fn run_lateral_pushover_observed(
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);
-    let weight_n =
-        sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
+    let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
     let tilt = TiltParams {
         tolerance: params.tolerance,
         max_steps_per_increment: params.max_steps,

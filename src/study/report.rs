@@ -196,7 +196,8 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
             ]
         }),
     );
-    let _ = writeln!(md);    if cells.iter().any(|c| c.pushover) {
+    let _ = writeln!(md);
+    if cells.iter().any(|c| c.pushover) {
         capacity_table(study, cells, md);
     }
 }
@@ -204,8 +205,11 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
 /// The collapse load multipliers of a pushover study (`[lateral] pushover = true`), by the
 /// DEM pushover and by limit analysis, beside the service displacement.
 fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
-    let _ = writeln!(md, "## Collapse load multiplier of the pressure
-");
+    let _ = writeln!(
+        md,
+        "## Collapse load multiplier of the pressure
+"
+    );
     let _ = writeln!(
         md,
         "λ: the multiple of the pressure above at which the wall collapses. DEM: the last stable λ of the penalty DEM pushover (λ doubled from 1, then bisected to {} of λ; the joints' Kn, Ks, friction, cohesion and tension); limit: limit analysis of the same layout (rigid blocks, the joints' full strength). DEM / limit: the ratio per realization. Service: the top displacement of the service test above (λ = 1).\n",
@@ -226,7 +230,8 @@ fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
         "DEM / limit mean",
         "service [mm]",
     ];
-    let stat = |s: &crate::stats::Summary| [num(s.mean), num(s.sd), num(s.cov), format!("{} .. {}", num(s.min), num(s.max))];
+    let stat =
+        |s: &crate::stats::Summary| [num(s.mean), num(s.sd), num(s.cov), format!("{} .. {}", num(s.min), num(s.max))];
     md_table(
         md,
         &header,

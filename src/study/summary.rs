@@ -116,7 +116,8 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
             let lstream = (1u64 << 32) + stream * 3;
             // Those of the collapse load multipliers: disjoint from both.
             let pstream = (2u64 << 32) + stream * 3;
-            let pushed = |f: fn(&RealizationRow) -> Option<f64>| -> Vec<f64> { cell.iter().filter_map(|r| f(r)).collect() };
+            let pushed =
+                |f: fn(&RealizationRow) -> Option<f64>| -> Vec<f64> { cell.iter().filter_map(|r| f(r)).collect() };
             let ratio: Vec<f64> = cell
                 .iter()
                 .filter_map(|r| Some(r.pushover.load_multiplier_dem? / r.pushover.load_multiplier_limit?))

@@ -1,6 +1,7 @@
 //! The stable path of a tilting-table test: the secant predictor of the next equilibrium,
 //! one increment's solve and its collapse checks, the bisection's trials, and the elastic
-//! displacement scale of the joints.
+//! displacement scale of the joints. The lateral pushover (`loading::lateral_pushover`)
+//! walks the same path in its load multiplier ([`Ctx::load`]).
 
 use super::*;
 use crate::dem::drivers::accelerate::largest_body_motion;
@@ -11,19 +12,19 @@ use crate::loading::monitors::{body_motion, largest_motion, monitor_displacement
 use crate::math::Vec3;
 
 /// Pose of every body, in body order.
-pub(crate) type Pose = Vec<BodyPose>;
+pub(super) type Pose = Vec<BodyPose>;
 
 /// A predicted increment: translation (m) and rotation vector (rad) per body.
-pub(crate) type Prediction = implicit::PoseIncrement;
+pub(super) type Prediction = implicit::PoseIncrement;
 
-pub(crate) fn pose(sim: &Simulation) -> Pose {
+pub(super) fn pose(sim: &Simulation) -> Pose {
     sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect()
 }
 
 /// The last four stable states (tilt in degrees, pose), oldest first.
 #[derive(Default)]
-pub(crate) struct Secant {
-    pub(crate) states: Vec<(f64, Pose)>,
+pub(super) struct Secant {
+    pub(super) states: Vec<(f64, Pose)>,
 }
 
 /// The predictor extrapolates only a nearly linear or a steadily accelerating response.
@@ -34,14 +35,14 @@ pub(crate) struct Secant {
 /// the rate after a steady one is a local slip event (an end stone sliding): a linear jump
 /// would impose that slip again at every increment, and friction would keep it, so the
 /// increment relaxes from rest.
-pub(crate) const LINEAR_RESPONSE_RATIO: f64 = 1.2;
+pub(super) const LINEAR_RESPONSE_RATIO: f64 = 1.2;
 /// See [`LINEAR_RESPONSE_RATIO`].
-pub(crate) const STEADY_GROWTH: f64 = 1.05;
+pub(super) const STEADY_GROWTH: f64 = 1.05;
 /// See [`LINEAR_RESPONSE_RATIO`].
-pub(crate) const ACCELERATING_RESPONSE_RATIO: f64 = 2.5;
+pub(super) const ACCELERATING_RESPONSE_RATIO: f64 = 2.5;
 
 impl Secant {
-    pub(crate) fn push(&mut self, alpha: f64, sim: &Simulation) {
+    pub(super) fn push(&mut self, alpha: f64, sim: &Simulation) {
         self.states.push((alpha, pose(sim)));
         if self.states.len() > 4 {
             self.states.remove(0);
@@ -50,13 +51,13 @@ impl Secant {
 
     /// Largest body motion ([`body_motion`] with a radius of 1 m) per degree of tilt between
     /// two stable states.
-    pub(crate) fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
+    pub(super) fn rate(a: &(f64, Pose), b: &(f64, Pose)) -> f64 {
         let m = a.1.iter().zip(&b.1).map(|(from, to)| body_motion(from, to, 1.0)).fold(0.0, f64::max);
         m / (b.0 - a.0).abs()
     }
 
     /// Whether the response is smooth enough to extrapolate ([`LINEAR_RESPONSE_RATIO`]).
-    pub(crate) fn smooth(&self) -> bool {
+    pub(super) fn smooth(&self) -> bool {
         let n = self.states.len();
         if n < 3 {
             return false;
@@ -73,7 +74,7 @@ impl Secant {
     /// an increment from the last state to `alpha` (degrees); `None` until three stable
     /// states are known or where the response is not smooth ([`LINEAR_RESPONSE_RATIO`]; a
     /// NaN rate, from a degenerate increment, is not smooth either).
-    pub(crate) fn predict(&self, alpha: f64) -> Option<Prediction> {
+    pub(super) fn predict(&self, alpha: f64) -> Option<Prediction> {
         if !self.smooth() {
             return None;
         }
@@ -92,17 +93,17 @@ impl Secant {
     }
 }
 
-pub(crate) enum Stage {
+pub(super) enum Stage {
     Stable,
     Collapsed(CollapseReason),
 }
 
 /// What one increment or trial came to: its stage, the dynamic-relaxation steps and the
 /// implicit iterations it took.
-pub(crate) struct Trial {
-    pub(crate) stage: Stage,
-    pub(crate) steps: u64,
-    pub(crate) iterations: u32,
+pub(super) struct Trial {
+    pub(super) stage: Stage,
+    pub(super) steps: u64,
+    pub(super) iterations: u32,
 }
 
 pub(crate) struct Ctx<'a> {
@@ -120,13 +121,13 @@ pub(crate) struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    pub(crate) fn displacements(&self, sim: &Simulation) -> Vec<f64> {
+    pub(super) fn displacements(&self, sim: &Simulation) -> Vec<f64> {
         monitor_displacements(sim, self.monitors, &self.reference)
     }
 
     /// Relaxes `sim` at its tilt from `prediction` (applied as one jump) through the solver
     /// seam ([`solve_static`]), with this protocol's collapse criteria as the stop check.
-    pub(crate) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
+    pub(super) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
         let start = pose(sim);
         let inc_limit = self.inc_limit();
         let tot_limit = (self.params.collapse_displacement_fraction * self.width).max(self.elastic);
@@ -170,7 +171,7 @@ impl Ctx<'_> {
     /// masses), which the returned state keeps. Returns the state, the stage, the steps
     /// taken (those of blown-up attempts included) and the implicit iterations of the
     /// attempt kept; `fallbacks` gets `alpha_deg` if the trial fell back.
-    pub(crate) fn run_from(
+    pub(super) fn run_from(
         &self,
         from: &Simulation,
         alpha_deg: f64,
@@ -207,11 +208,11 @@ impl Ctx<'_> {
 pub(crate) struct StablePath {
     pub(crate) sim: Simulation,
     pub(crate) last_stable: f64,
-    pub(crate) secant: Secant,
-    pub(crate) predictor: bool,
+    pub(super) secant: Secant,
+    pub(super) predictor: bool,
     pub(crate) total_steps: u64,
-    pub(crate) total_iterations: u64,
-    pub(crate) fallbacks: Vec<f64>,
+    pub(super) total_iterations: u64,
+    pub(super) fallbacks: Vec<f64>,
 }
 
 impl StablePath {
@@ -273,7 +274,7 @@ impl StablePath {
 /// followed by relaxation to that criterion (the motion of a collapsing state keeps its
 /// direction; the early motion of a trial still holds the elastic shear of the joints,
 /// which would read as sliding).
-pub(crate) fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
+pub(super) fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpos: &[Vec3], drot: &[Vec3], limit: f64) {
     let now = largest_motion(sim, start);
     let per_unit = largest_body_motion(sim, dpos, drot);
     let scale = (limit - now).max(0.0) / per_unit;
