@@ -29,9 +29,14 @@
 //! The collapse load multiplier lies in `[lambda_stable, lambda_unstable]` (unless the
 //! upper end is a [`CollapseReason::StepBudget`]). With finite Kn it lies below the rigid
 //! limit of the same layout (`crate::limit`, `drystone limit --protocol lateral`): the
-//! joints open and slide elastically before a mechanism forms, and a cohesive joint that
-//! has slipped or opened keeps no cohesion, whereas limit analysis takes every joint at
-//! its full strength at once.
+//! joints close under the hinges and slide elastically before a mechanism forms (the
+//! no-tension Winkler loss, as Kn^(-1/3) for a block), and a joint keeps no cohesion
+//! where it has slipped or opened, whereas limit analysis takes every joint at its full
+//! strength at once. A joint without tensile strength keeps no cohesion where a
+//! sub-contact has carried no compression (`dem::contact::law::evaluate`), as every
+//! sub-contact of a layout at rest does at its first step: its DEM collapse multiplier is
+//! that of the cohesionless joint, while limit analysis gives its cone c A at any normal
+//! force; the rigid limit of such a wall is limit analysis with c = 0.
 
 use super::lateral::{pressure_loads, LateralError, LateralParams};
 use super::lateral_nscd::MAX_LOAD_MULTIPLIER;
