@@ -111,8 +111,8 @@ fn a_block_overturns_at_the_winkler_multiplier_approaching_statics_as_kn_grows()
 /// λ₁ = (c L B + W tan φ) / (p L h (1 + 3 (h/B) tan φ)) (linear normal traction
 /// σ = W / (L B) ∓ 6 M / (L B²), M = λ p L h · h/2). λ lies between the two. This needs a
 /// tensile strength: a joint without one keeps no cohesion where a sub-contact carries no
-/// compression (`dem::contact::law::evaluate`), as every sub-contact does at its first
-/// step (the block rests on the table at zero closure), so that joint slides at the
+/// compression (`dem::contact::law::evaluate`), as this block's do at their first step
+/// (it is placed on the table at zero closure), so that joint slides at the
 /// cohesionless Coulomb λ = W tan φ / (p L h), as a joint with neither.
 #[test]
 fn a_squat_block_slides_at_coulomb_with_cohesion() {

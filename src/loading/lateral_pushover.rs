@@ -33,8 +33,8 @@
 //! no-tension Winkler loss, as Kn^(-1/3) for a block), and a joint keeps no cohesion
 //! where it has slipped or opened, whereas limit analysis takes every joint at its full
 //! strength at once. A joint without tensile strength keeps no cohesion where a
-//! sub-contact has carried no compression (`dem::contact::law::evaluate`), as every
-//! sub-contact of a layout at rest does at its first step: its DEM collapse multiplier is
+//! sub-contact has carried no compression (`dem::contact::law::evaluate`), as one between
+//! blocks placed just touching does at its first step: its DEM collapse multiplier is then
 //! that of the cohesionless joint, while limit analysis gives its cone c A at any normal
 //! force; the rigid limit of such a wall is limit analysis with c = 0.
 
