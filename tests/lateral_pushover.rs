@@ -278,3 +278,32 @@ fn a_pushover_is_identical_on_1_and_2_threads() {
         }
     }
 }
+
+/// `drystone lateral LAYOUT --pushover --json` prints the fields of the rigid pushover
+/// (`--solver nscd`, the same wall) with the DEM's values, and the collapse reason.
+#[test]
+fn the_cli_pushover_json_has_the_rigid_pushovers_fields() {
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/layouts/running_bond_wall.json");
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .arg("lateral")
+            .arg(&layout)
+            .arg("--json")
+            .args(extra)
+            .output()
+            .expect("runs");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).expect("JSON")
+    };
+    let dem = run(&["--pushover"]);
+    let rigid = run(&["--solver", "nscd"]);
+    for key in rigid.as_object().unwrap().keys().filter(|k| *k != "rigid_joints") {
+        assert!(dem.get(key).is_some(), "{key} missing from {dem}");
+    }
+    assert_eq!(dem["load_multiplier"], dem["lambda_stable"]);
+    let (lo, up) = (dem["lambda_stable"].as_f64().unwrap(), dem["lambda_unstable"].as_f64().unwrap());
+    assert!(lo > 0.0 && up > lo && up - lo <= 0.02 * up + 1e-12, "{dem}");
+    assert!(dem["collapse_reason"].is_string() && dem["mechanism"]["joint"].is_string(), "{dem}");
+    // The rigid limit bounds the DEM's multiplier from above (finite Kn).
+    assert!(lo < rigid["lambda_unstable"].as_f64().unwrap(), "{dem} against {rigid}");
+}
