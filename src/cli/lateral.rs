@@ -151,10 +151,10 @@ fn dem_pushover(
     if let Some(m) = &r.mechanism {
         out!("mechanism         {:?} at joint {} ({} blocks moving)", m.kind, m.joint, m.blocks.len());
     }
-    out!("increments        λ, stable, top displacement max [cm], steps");
+    out!("increments        λ, stable, top displacement max [cm], relaxation steps, implicit iterations");
     for i in &r.increments {
         let max = i.displacement_m.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
-        out!("  {:>10.4} {:<6} {:>10.4} {:>9}", i.load_multiplier, i.stable, max * 100.0, i.steps);
+        out!("  {:>10.4} {:<6} {:>10.4} {:>9} {:>6}", i.load_multiplier, i.stable, max * 100.0, i.steps, i.iterations);
     }
     out!(
         "work              {} trials, {} steps (dt {:.3e} s); wall time {:.2} s",
