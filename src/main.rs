@@ -128,6 +128,15 @@ enum Command {
         /// (lateral.pvd, time = load factor 0 and 1).
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
+        /// Push the wall over: raise the pressure by a load multiplier λ (doubling from 1,
+        /// then bisection) to the collapse; prints the bracket [last stable, first unstable]
+        /// of λ, the collapse reason and the mechanism. With the penalty DEM (the default
+        /// solver); `--solver nscd` always pushes over (rigid blocks).
+        #[arg(long)]
+        pushover: bool,
+        /// Relative width of the pushover's final bracket of λ.
+        #[arg(long, default_value_t = LateralParams::default().pushover_resolution)]
+        pushover_resolution: f64,
     },
     /// Shaking table: the layout on a base that moves with a recorded or a built-in
     /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks);
@@ -463,8 +472,25 @@ fn run() -> anyhow::Result<ExitCode> {
             };
             cli::tilt::run(&layout, solver, &params, json, vtk.as_deref())
         }
-        Command::Lateral { layout, json, pressure_base_pa, pressure_top_pa, tolerance, solver, vtk } => {
-            let params = LateralParams { pressure_base_pa, pressure_top_pa, tolerance, ..LateralParams::default() };
+        Command::Lateral {
+            layout,
+            json,
+            pressure_base_pa,
+            pressure_top_pa,
+            tolerance,
+            solver,
+            vtk,
+            pushover,
+            pushover_resolution,
+        } => {
+            let params = LateralParams {
+                pressure_base_pa,
+                pressure_top_pa,
+                tolerance,
+                pushover,
+                pushover_resolution,
+                ..LateralParams::default()
+            };
             let solver = SolverParams { kind: solver, ..SolverParams::default() };
             cli::lateral::run(&layout, solver, &params, json, vtk.as_deref())
         }

@@ -241,6 +241,7 @@ fn row(index: u64) -> RealizationRow {
             lateral_drift: None,
         },
         shake: Default::default(),
+        pushover: Default::default(),
         steps: 140,
         iterations: 30,
         dt_s: 1.5e-5,

@@ -20,6 +20,9 @@ pub fn run(
     if solver.kind == drystone::dem::SolverKind::Nscd {
         return pushover(layout, &l, solver, params, json);
     }
+    if params.pushover {
+        return dem_pushover(layout, &l, solver, params, json, vtk);
+    }
     let mut rec = Recorder::default();
     let r = run_lateral_observed(&l, solver, params, &mut |a, stable, sim| {
         if vtk.is_some() {
@@ -96,5 +99,70 @@ fn pushover(
     }
     out!("work              {} trials, {} time steps; wall time {:.2} s", r.trials, r.steps, r.wall_time_s);
     out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `lateral --pushover`: the collapse load multiplier λ of the pressure by the penalty DEM
+/// (`loading::lateral_pushover`); with `vtk`, every state as a ParaView series (time = λ).
+fn dem_pushover(
+    path: &Path,
+    layout: &drystone::layout::Layout,
+    solver: SolverParams,
+    params: &LateralParams,
+    json: bool,
+    vtk: Option<&Path>,
+) -> Result<ExitCode> {
+    use drystone::loading::lateral_pushover::run_lateral_pushover_observed;
+    let mut rec = Recorder::default();
+    let r = run_lateral_pushover_observed(layout, solver, params, &mut |a, stable, sim| {
+        if vtk.is_some() {
+            rec.observe(a, stable, sim)
+        }
+    })
+    .with_context(|| format!("DEM pushover of {}", path.display()))?;
+    if let Some(dir) = vtk {
+        let pvd = write_series(dir, "pushover", &rec, &lateral_frames(&rec))?;
+        eprintln!("ParaView series: {}", pvd.display());
+    }
+    if json {
+        let mut v = serde_json::to_value(&r)?;
+        if let Some(o) = v.as_object_mut() {
+            o.insert("load_multiplier".into(), r.lambda_stable.into());
+        }
+        out!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    out!("layout            {}", path.display());
+    out!(
+        "load              {:.0} Pa at the base, {:.0} Pa at the top (λ = 1): resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
+        params.pressure_base_pa,
+        params.pressure_top_pa,
+        r.resultant_n.y,
+        r.resultant_n.y / r.weight_n,
+        r.weight_n,
+        r.loaded_faces
+    );
+    out!(
+        "load multiplier   {:.4} (stable), first unstable {}{}",
+        r.lambda_stable,
+        r.lambda_unstable.map_or("none".into(), |l| format!("{l:.4}")),
+        r.collapse_reason.map_or(String::new(), |c| format!(" ({})", c.name()))
+    );
+    if let Some(m) = &r.mechanism {
+        out!("mechanism         {:?} at joint {} ({} blocks moving)", m.kind, m.joint, m.blocks.len());
+    }
+    out!("increments        λ, stable, top displacement max [cm], relaxation steps, implicit iterations");
+    for i in &r.increments {
+        let max = i.displacement_m.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
+        out!("  {:>10.4} {:<6} {:>10.4} {:>9} {:>6}", i.load_multiplier, i.stable, max * 100.0, i.steps, i.iterations);
+    }
+    out!(
+        "work              {} trials, {} steps (dt {:.3e} s); wall time {:.2} s",
+        r.trials,
+        r.steps,
+        r.dt_s,
+        r.wall_time_s
+    );
+    out!("solver            penalty DEM (Kn, Ks, friction, cohesion and tension of the joints)");
     Ok(ExitCode::SUCCESS)
 }

@@ -319,6 +319,7 @@ mod tests {
                 lateral_drift: None,
             },
             shake: Default::default(),
+            pushover: Default::default(),
             steps: 10,
             iterations: 3,
             dt_s: 1e-4,

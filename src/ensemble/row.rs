@@ -93,6 +93,10 @@ pub struct RealizationRow {
     /// protocols).
     #[serde(default)]
     pub shake: ShakeColumns,
+    /// The collapse load multiplier of the lateral pressure (`[lateral] pushover = true`);
+    /// empty otherwise, and then absent from the tables.
+    #[serde(flatten)]
+    pub pushover: PushoverColumns,
     /// Dynamic-relaxation steps (engine steps).
     pub steps: u64,
     /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
@@ -123,6 +127,7 @@ impl Default for RealizationRow {
             tilt: TiltColumns::default(),
             lateral: LateralColumns::default(),
             shake: ShakeColumns::default(),
+            pushover: PushoverColumns::default(),
             steps: 0,
             iterations: 0,
             dt_s: 0.0,
@@ -207,6 +212,33 @@ pub struct LateralColumns {
     /// Drift, top displacement / H (dimensionless).
     #[serde(with = "exact::opt")]
     pub lateral_drift: Option<f64>,
+}
+
+/// The collapse load multiplier λ of the lateral pressure, a study with `[lateral] pushover
+/// = true` ([`crate::loading::lateral::LateralParams::pushover`]): by the DEM pushover
+/// ([`crate::loading::lateral_pushover`]) and by limit analysis of the same layout. `None`
+/// where not run (and then the columns are left out of the tables and of the journal, so
+/// that the rows of other studies are written as before).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PushoverColumns {
+    /// DEM pushover: the largest λ found stable (the collapse load multiplier).
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "exact::opt")]
+    pub load_multiplier_dem: Option<f64>,
+    /// DEM pushover: the smallest λ found unstable (`None`: stood to the largest λ tried).
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "exact::opt")]
+    pub load_multiplier_dem_unstable: Option<f64>,
+    /// Limit analysis (rigid blocks, `crate::limit::limit_lateral`): the collapse λ.
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "exact::opt")]
+    pub load_multiplier_limit: Option<f64>,
+}
+
+impl PushoverColumns {
+    /// Whether any of the columns holds a value.
+    pub fn any(&self) -> bool {
+        self.load_multiplier_dem.is_some()
+            || self.load_multiplier_dem_unstable.is_some()
+            || self.load_multiplier_limit.is_some()
+    }
 }
 
 /// The shaking-table columns of a row ([`crate::loading::shake::ShakeResult`]); empty
@@ -450,6 +482,11 @@ mod tests {
                 residual_drift: Some(values[7]),
                 blocks_fallen: Some(3),
             },
+            pushover: PushoverColumns {
+                load_multiplier_dem: Some(values[8]),
+                load_multiplier_dem_unstable: None,
+                load_multiplier_limit: Some(values[9]),
+            },
             steps: 77,
             iterations: 5,
             dt_s: values[1],
@@ -473,6 +510,8 @@ mod tests {
         );
         let s = &r.shake;
         v.extend([s.pga_g, s.max_rotation_deg, s.max_drift, s.residual_drift].map(Option::unwrap));
+        v.extend([r.pushover.load_multiplier_dem, r.pushover.load_multiplier_limit].map(Option::unwrap));
+        assert!(r.pushover.load_multiplier_dem_unstable.is_none());
         v.iter().map(|x| x.to_bits()).collect()
     }
 
@@ -503,5 +542,16 @@ mod tests {
         assert_eq!(bits(&back), bits(&r));
         assert_eq!(serde_json::to_string(&back).unwrap(), text);
         assert!(serde_json::from_str::<RealizationRow>(&text.replace("\"-inf\"", "\"minus\"")).is_err());
+    }
+
+    /// A row without a pushover writes no pushover key (the journal lines of the other
+    /// studies are as before), and reads back without one.
+    #[test]
+    fn a_row_without_a_pushover_has_no_pushover_keys() {
+        let r = RealizationRow { pushover: PushoverColumns::default(), ..row(&[1.0; 10]) };
+        let text = serde_json::to_string(&r).unwrap();
+        assert!(!text.contains("load_multiplier"), "{text}");
+        let back: RealizationRow = serde_json::from_str(&text).unwrap();
+        assert!(!back.pushover.any());
     }
 }

@@ -87,7 +87,7 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
             joined_column(name, rows, f)
         }
     };
-    DataFrame::new_infer_height(vec![
+    let mut columns = vec![
         Column::new("index".into(), u(|r| r.index)),
         Column::new("study".into(), s(|r| r.study.clone())),
         Column::new("group".into(), s(|r| r.group.clone())),
@@ -132,7 +132,16 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
         Column::new("iterations".into(), u(|r| r.iterations)),
         Column::new("dt_s".into(), rows.iter().map(|r| r.dt_s).collect::<Vec<f64>>()),
         Column::new("wall_time_s".into(), rows.iter().map(|r| r.wall_time_s).collect::<Vec<f64>>()),
-    ])
+    ];
+    // The collapse load multipliers of a pushover study, after the others; only there.
+    if rows.iter().any(|r| r.pushover.any()) {
+        columns.extend([
+            Column::new("load_multiplier_dem".into(), of(|r| r.pushover.load_multiplier_dem)),
+            Column::new("load_multiplier_dem_unstable".into(), of(|r| r.pushover.load_multiplier_dem_unstable)),
+            Column::new("load_multiplier_limit".into(), of(|r| r.pushover.load_multiplier_limit)),
+        ]);
+    }
+    DataFrame::new_infer_height(columns)
 }
 
 /// Writes `realizations.parquet` and `realizations.csv` into `dir`, each replaced whole
@@ -283,6 +292,10 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
     let rotation = shake_num("max_rotation_deg")?;
     let max_drift = shake_num("max_drift")?;
     let residual = shake_num("residual_drift")?;
+    let pushover_num = |c: &str| if has(c) { r.opts(c) } else { Ok(vec![None; n]) };
+    let lambda_dem = pushover_num("load_multiplier_dem")?;
+    let lambda_dem_up = pushover_num("load_multiplier_dem_unstable")?;
+    let lambda_limit = pushover_num("load_multiplier_limit")?;
     let fallen = if has("blocks_fallen") { r.opt_u64s("blocks_fallen")? } else { vec![None; n] };
     let tilt = r.lists("tilt_deg")?;
     let dl = r.lists("disp_top_left_cm")?;
@@ -343,6 +356,11 @@ pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError>
                 max_drift: max_drift[i],
                 residual_drift: residual[i],
                 blocks_fallen: fallen[i],
+            },
+            pushover: crate::ensemble::row::PushoverColumns {
+                load_multiplier_dem: lambda_dem[i],
+                load_multiplier_dem_unstable: lambda_dem_up[i],
+                load_multiplier_limit: lambda_limit[i],
             },
             steps: steps[i],
             iterations: iterations[i],

@@ -69,6 +69,15 @@ pub struct LateralParams {
     /// Collapse when a top point has moved (in y) more than this fraction of the wall width
     /// \[0.5\].
     pub collapse_displacement_fraction: f64,
+    /// Studies only: after the service test, also find the collapse load multiplier λ of
+    /// this pressure, by the DEM pushover ([`super::lateral_pushover`]) with a penalty
+    /// solver and by limit analysis (`crate::limit::limit_lateral`) of the same layout;
+    /// with `[solver] kind = "limit"`, by limit analysis alone \[false\]. The service test
+    /// and its columns are unchanged by it.
+    pub pushover: bool,
+    /// Relative width `(λ_unstable − λ_stable) / λ_unstable` of the pushover's final
+    /// bracket of λ, in (0, 1) \[0.02\].
+    pub pushover_resolution: f64,
 }
 
 impl Default for LateralParams {
@@ -79,6 +88,8 @@ impl Default for LateralParams {
             tolerance: 1e-4,
             max_steps: 400_000,
             collapse_displacement_fraction: 0.5,
+            pushover: false,
+            pushover_resolution: 0.02,
         }
     }
 }
@@ -100,6 +111,12 @@ impl LateralParams {
                 "> 0",
             ),
             ("max_steps", self.max_steps as f64, self.max_steps > 0, ">= 1"),
+            (
+                "pushover_resolution",
+                self.pushover_resolution,
+                self.pushover_resolution > 0.0 && self.pushover_resolution < 1.0,
+                "in (0, 1)",
+            ),
         ])
     }
 }

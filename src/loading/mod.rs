@@ -1,5 +1,6 @@
 //! Loading protocols: the tilting table ([`tilt`]; at the rigid limit by non-smooth
-//! contact dynamics, [`tilt_nscd`]), the static lateral load ([`lateral`]; its rigid pushover,
+//! contact dynamics, [`tilt_nscd`]), the static lateral load ([`lateral`]; its pushover to
+//! collapse by the penalty DEM, [`lateral_pushover`], and at the rigid limit,
 //! [`lateral_nscd`]) and the shaking table ([`shake`]), run through one seam
 //! ([`protocol::Protocol`]), with the monitor points and motion measures they share
 //! ([`monitors`]) and the reading of
@@ -7,6 +8,7 @@
 
 pub mod lateral;
 pub mod lateral_nscd;
+pub mod lateral_pushover;
 pub mod mechanism;
 pub mod monitors;
 pub mod protocol;

@@ -18,6 +18,7 @@
 //! [lateral]                  # optional, LateralParams (protocol "lateral"; Pa)
 //! pressure_base_pa = 1000.0
 //! pressure_top_pa = 500.0
+//! pushover = false           # true: also the collapse load multiplier (DEM and limit)
 //!
 //! [solver]                   # optional, SolverParams
 //! damping = 0.8

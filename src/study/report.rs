@@ -197,6 +197,54 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
         }),
     );
     let _ = writeln!(md);
+    if cells.iter().any(|c| c.pushover) {
+        capacity_table(study, cells, md);
+    }
+}
+
+/// The collapse load multipliers of a pushover study (`[lateral] pushover = true`), by the
+/// DEM pushover and by limit analysis, beside the service displacement.
+fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
+    let _ = writeln!(
+        md,
+        "## Collapse load multiplier of the pressure
+"
+    );
+    let _ = writeln!(
+        md,
+        "λ: the multiple of the pressure above at which the wall collapses. DEM: the last stable λ of the penalty DEM pushover (λ doubled from 1, then bisected to {} of λ; the joints' Kn, Ks, friction, cohesion and tension); limit: limit analysis of the same layout (rigid blocks, the joints' full strength). DEM / limit: the ratio per realization. Service: the top displacement of the service test above (λ = 1). A joint without tensile strength keeps no cohesion in the DEM where it carries no compression, while limit analysis keeps c A in every joint's cone: for walls with cohesion, the DEM's rigid limit is limit analysis at c = 0 (a `cohesion_pa` sweep).\n",
+        study.lateral.pushover_resolution
+    );
+    let header = [
+        "group",
+        "sweep",
+        "n",
+        "λ DEM mean",
+        "σ",
+        "COV",
+        "min .. max",
+        "λ limit mean",
+        "σ",
+        "COV",
+        "min .. max",
+        "DEM / limit mean",
+        "service [mm]",
+    ];
+    let stat =
+        |s: &crate::stats::Summary| [num(s.mean), num(s.sd), num(s.cov), format!("{} .. {}", num(s.min), num(s.max))];
+    md_table(
+        md,
+        &header,
+        cells.iter().map(|c| {
+            let mut row = vec![c.group.clone(), sweep_label(c).into(), c.n.to_string()];
+            row.extend(stat(&c.lambda_dem));
+            row.extend(stat(&c.lambda_limit));
+            row.push(num(c.lambda_ratio.mean));
+            row.push(num(10.0 * c.lateral_max.mean));
+            row
+        }),
+    );
+    let _ = writeln!(md);
 }
 
 /// The tilting-table part of the report: collapse angles, displacements, measured against

@@ -199,6 +199,12 @@ impl StudySpec {
         };
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
+        if self.lateral.pushover && self.protocol != ProtocolKind::Lateral {
+            return Err(invalid.at(
+                "lateral.pushover",
+                format!("pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})", self.protocol),
+            ));
+        }
         self.solver.validate_static().map_err(range("solver"))?;
         if let Some(name) = self.sweep.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
             return Err(invalid.at(

@@ -53,6 +53,9 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
             }
             match study.loading_at(item.point).run(&layout, study.solver) {
                 ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
+                ProtocolRun::Lateral(Ok(r)) if study.lateral.pushover => {
+                    pushover_row(lateral_row(row, r), study, &layout)
+                }
                 ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
                 ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
                 failed => failed_row(row, failed.does_not_stand(), &failed.error().unwrap_or_default()),
@@ -103,6 +106,9 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
             row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
         }
         ProtocolKind::Lateral => {
+            if study.lateral.pushover {
+                row.pushover.load_multiplier_limit = Some(r.load_multiplier);
+            }
             if r.load_multiplier >= 1.0 {
                 row.status = Status::Stood;
             } else {
@@ -114,6 +120,38 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
                 );
             }
         }
+    }
+    row
+}
+
+/// A lateral study with `[lateral] pushover = true`, after the service test (its row):
+/// the DEM pushover of the same layout ([`crate::loading::lateral_pushover`]) and its
+/// limit analysis ([`crate::limit::limit_lateral`]) into the pushover columns. The
+/// pushover's collapse reason and mechanism go into the collapse and mechanism columns;
+/// the status, the service displacements and the steps stay the service test's. An error
+/// of either is appended to the row's error, its column left empty.
+fn pushover_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
+    use crate::limit::{limit_lateral, LimitParams};
+    use crate::loading::lateral_pushover::run_lateral_pushover;
+    let mut errors = Vec::new();
+    match run_lateral_pushover(layout, study.solver, &study.lateral) {
+        Ok(p) => {
+            row.pushover.load_multiplier_dem = Some(p.lambda_stable);
+            row.pushover.load_multiplier_dem_unstable = p.lambda_unstable;
+            row.collapse.collapse_reason = p.collapse_reason.map(CollapseReason::name).unwrap_or_default().to_string();
+            if let Some(m) = &p.mechanism {
+                mechanism_columns(&mut row.collapse, m);
+            }
+        }
+        Err(e) => errors.push(format!("DEM pushover: {e}")),
+    }
+    match limit_lateral(layout, &study.solver, &study.lateral, &LimitParams::default()) {
+        Ok(r) => row.pushover.load_multiplier_limit = Some(r.load_multiplier),
+        Err(e) => errors.push(format!("limit analysis: {e}")),
+    }
+    if !errors.is_empty() {
+        let sep = if row.error.is_empty() { "" } else { "; " };
+        row.error = format!("{}{sep}{}", row.error, errors.join("; "));
     }
     row
 }

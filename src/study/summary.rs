@@ -47,6 +47,16 @@ pub struct CellSummary {
     pub lateral_centre: Summary,
     /// Static lateral load: drift (top displacement / H).
     pub drift: Summary,
+    /// Whether the cell holds collapse load multipliers (`[lateral] pushover = true`).
+    pub pushover: bool,
+    /// The collapse load multiplier λ of the pressure by the DEM pushover (its last stable
+    /// λ), over the realizations that have one.
+    pub lambda_dem: Summary,
+    /// The collapse load multiplier λ by limit analysis, over the realizations that have
+    /// one.
+    pub lambda_limit: Summary,
+    /// The ratio λ_DEM / λ_limit of each realization that has both.
+    pub lambda_ratio: Summary,
 }
 
 /// A measured-vs-simulated comparison line.
@@ -104,6 +114,14 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
             };
             // Bootstrap streams of the lateral quantities: disjoint from the tilt ones.
             let lstream = (1u64 << 32) + stream * 3;
+            // Those of the collapse load multipliers: disjoint from both.
+            let pstream = (2u64 << 32) + stream * 3;
+            let pushed =
+                |f: fn(&RealizationRow) -> Option<f64>| -> Vec<f64> { cell.iter().filter_map(|r| f(r)).collect() };
+            let ratio: Vec<f64> = cell
+                .iter()
+                .filter_map(|r| Some(r.pushover.load_multiplier_dem? / r.pushover.load_multiplier_limit?))
+                .collect();
             out.push(CellSummary {
                 group: g.name.clone(),
                 group_index: gi,
@@ -130,6 +148,10 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                     lstream + 1,
                 ),
                 drift: stats::summarize(&lateral(|r| r.lateral.lateral_drift), study.seed, lstream + 2),
+                pushover: cell.iter().any(|r| r.pushover.any()),
+                lambda_dem: stats::summarize(&pushed(|r| r.pushover.load_multiplier_dem), study.seed, pstream),
+                lambda_limit: stats::summarize(&pushed(|r| r.pushover.load_multiplier_limit), study.seed, pstream + 1),
+                lambda_ratio: stats::summarize(&ratio, study.seed, pstream + 2),
             });
         }
     }
@@ -258,5 +280,11 @@ pub fn write_summary_csv(cells: &[CellSummary], path: &Path) -> Result<(), Table
     cols.extend(stats_cols("lateral_disp_max_cm", |c| &c.lateral_max));
     cols.extend(stats_cols("lateral_disp_centre_cm", |c| &c.lateral_centre));
     cols.extend(stats_cols("lateral_drift", |c| &c.drift));
+    // The collapse load multipliers of a pushover study, after the others; only there.
+    if cells.iter().any(|c| c.pushover) {
+        cols.extend(stats_cols("load_multiplier_dem", |c| &c.lambda_dem));
+        cols.extend(stats_cols("load_multiplier_limit", |c| &c.lambda_limit));
+        cols.extend(stats_cols("load_multiplier_dem_over_limit", |c| &c.lambda_ratio));
+    }
     SimpleTable { columns: cols }.write_csv(path)
 }

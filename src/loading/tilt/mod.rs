@@ -41,7 +41,7 @@ use crate::layout::Layout;
 use std::time::Instant;
 
 mod params;
-mod path;
+pub(crate) mod path;
 mod result;
 
 pub use params::TiltParams;
@@ -117,7 +117,8 @@ pub fn run_tilt_observed(
         implicit: params.implicit_solve,
         reach: None,
     };
-    let mut ctx = Ctx { params, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
+    let tilt = |sim: &mut Simulation, alpha_deg: f64| sim.set_tilt(crate::units::deg_to_rad(alpha_deg));
+    let mut ctx = Ctx { params, load: &tilt, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());
     settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
     ctx.reference = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();

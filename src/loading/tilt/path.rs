@@ -1,6 +1,7 @@
 //! The stable path of a tilting-table test: the secant predictor of the next equilibrium,
 //! one increment's solve and its collapse checks, the bisection's trials, and the elastic
-//! displacement scale of the joints.
+//! displacement scale of the joints. The lateral pushover (`loading::lateral_pushover`)
+//! walks the same path in its load multiplier ([`Ctx::load`]).
 
 use super::*;
 use crate::dem::drivers::accelerate::largest_body_motion;
@@ -9,7 +10,6 @@ use crate::dem::{solve_static, DemError, DensityScaling, End, Simulation, Static
 use crate::layout::Layout;
 use crate::loading::monitors::{body_motion, largest_motion, monitor_displacements, BodyPose, MonitorPoint};
 use crate::math::Vec3;
-use crate::units::deg_to_rad;
 
 /// Pose of every body, in body order.
 pub(super) type Pose = Vec<BodyPose>;
@@ -106,15 +106,18 @@ pub(super) struct Trial {
     pub(super) iterations: u32,
 }
 
-pub(super) struct Ctx<'a> {
-    pub(super) params: &'a TiltParams,
+pub(crate) struct Ctx<'a> {
+    pub(crate) params: &'a TiltParams,
+    /// Sets the load of a trial on a state: the tilt α (degrees) of the tilting table, the
+    /// load multiplier λ of the lateral pushover (`loading::lateral_pushover`).
+    pub(crate) load: &'a dyn Fn(&mut Simulation, f64),
     /// The static solve of every increment and trial (its reach set per trial).
-    pub(super) solve: StaticSolve,
-    pub(super) monitors: &'a [MonitorPoint],
-    pub(super) reference: Vec<Vec3>,
-    pub(super) width: f64,
+    pub(crate) solve: StaticSolve,
+    pub(crate) monitors: &'a [MonitorPoint],
+    pub(crate) reference: Vec<Vec3>,
+    pub(crate) width: f64,
     /// [`elastic_scale`], m.
-    pub(super) elastic: f64,
+    pub(crate) elastic: f64,
 }
 
 impl Ctx<'_> {
@@ -155,11 +158,12 @@ impl Ctx<'_> {
 
     /// The per-increment collapse displacement, m: the larger of
     /// [`TiltParams::collapse_increment_fraction`] of the wall width and the elastic scale.
-    pub(super) fn inc_limit(&self) -> f64 {
+    pub(crate) fn inc_limit(&self) -> f64 {
         (self.params.collapse_increment_fraction * self.width).max(self.elastic)
     }
 
-    /// One increment or bisection trial: `from` (a stable state) tilted to `alpha_deg` and
+    /// One increment or bisection trial: `from` (a stable state) loaded to `alpha_deg` (by
+    /// [`Ctx::load`]: the tilt in degrees, or the load multiplier of the pushover) and
     /// relaxed ([`Ctx::run_stage`]). If the scaled dynamics blow up (a collapse can throw
     /// light soft directions of a block mass into re-closing contacts, and a soft joint's
     /// collapse displacement carries a body far with a scaled time step), the trial again
@@ -179,7 +183,7 @@ impl Ctx<'_> {
         loop {
             let mut sim = from.clone();
             sim.set_density_scaling(scaling);
-            sim.set_tilt(deg_to_rad(alpha_deg));
+            (self.load)(&mut sim, alpha_deg);
             let before = sim.state.steps;
             match self.run_stage(&mut sim, prediction.clone()) {
                 Ok(trial) => return Ok((sim, Trial { steps: trial.steps + wasted, ..trial })),
@@ -201,18 +205,18 @@ impl Ctx<'_> {
 
 /// The stable path of a test: the last stable state (every increment and trial starts
 /// from it), its tilt, the secant predictor's states, and the counts.
-pub(super) struct StablePath {
-    pub(super) sim: Simulation,
-    pub(super) last_stable: f64,
+pub(crate) struct StablePath {
+    pub(crate) sim: Simulation,
+    pub(crate) last_stable: f64,
     pub(super) secant: Secant,
     pub(super) predictor: bool,
-    pub(super) total_steps: u64,
+    pub(crate) total_steps: u64,
     pub(super) total_iterations: u64,
     pub(super) fallbacks: Vec<f64>,
 }
 
 impl StablePath {
-    pub(super) fn new(settled: Simulation, predictor: bool) -> StablePath {
+    pub(crate) fn new(settled: Simulation, predictor: bool) -> StablePath {
         let mut secant = Secant::default();
         secant.push(0.0, &settled);
         let total_steps = settled.state.steps;
@@ -230,7 +234,7 @@ impl StablePath {
     /// Runs the increment or trial at `alpha_deg` from the last stable state and records it
     /// in `increments`; a stable state becomes the new end of the path (`None`), an
     /// unstable one is returned with its reason.
-    pub(super) fn try_at(
+    pub(crate) fn try_at(
         &mut self,
         ctx: &Ctx<'_>,
         alpha_deg: f64,
