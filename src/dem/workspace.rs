@@ -3,10 +3,11 @@
 //! poses, out-of-balance forces), and the stages of a step as its methods: contact
 //! detection, the contact pass, the load pass, integration.
 
-use super::contact::forces::{contact_forces, NodeScratch};
+use super::contact::forces::{contact_dashpot, contact_forces, effective_mass, NodeScratch};
 use super::contact::geometry as cgeom;
 use super::contact::law::SubContactState;
 use super::contact::types::{Contact, ContactNode, SubContact};
+use super::damping::ContactDamping;
 use super::engine::{DemError, Redetection};
 use super::integrator::{advance, YConstraint};
 use super::materials::JointTable;
@@ -41,6 +42,10 @@ pub(super) struct Workspace {
     pub(super) joints: JointTable,
     /// Per-node scratch of the contact pass.
     pub(super) scratch: Vec<NodeScratch>,
+    /// Normal contact damping (true dynamics only; `None`: none, the default).
+    pub(super) contact_damping: Option<ContactDamping>,
+    /// Per-node lumped areas of the dashpot (scratch).
+    pub(super) node_area: Vec<f64>,
 }
 
 impl Workspace {
@@ -57,6 +62,8 @@ impl Workspace {
             detect_rot: st.bodies.iter().map(|b| b.rot).collect(),
             joints: JointTable::new(layout),
             scratch: Vec::new(),
+            contact_damping: None,
+            node_area: Vec::new(),
         }
     }
 
@@ -209,8 +216,13 @@ impl Workspace {
                 }
             }
         }
-        let Some(dt) = step_for(stiffness.max_eigenvalue(&st.bodies), params.timestep_safety, params.damping) else {
+        let lambda = stiffness.max_eigenvalue(&st.bodies);
+        let Some(dt) = step_for(lambda, params.timestep_safety, params.damping) else {
             return;
+        };
+        let dt = match &self.contact_damping {
+            None => dt,
+            Some(d) => dt * d.step_factor(lambda.sqrt(), slowest_contact(st)),
         };
         // Static solutions take the step of the current masses; dynamics only ever shrink it,
         // so that a run keeps one time base.
@@ -267,6 +279,26 @@ impl Workspace {
             let (fsum, ta, tb) = match c.a {
                 None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch),
                 Some(i) => contact_forces::<true>(c, &bodies[i], bb, dt, quad, &mut self.scratch),
+            };
+            let (fsum, ta, tb) = match &self.contact_damping {
+                None => (fsum, ta, tb),
+                Some(d) => {
+                    let area: f64 = c.subs.iter().map(|s| s.area).sum();
+                    let m = effective_mass(c.a.map(|i| &bodies[i]), bb);
+                    match m {
+                        Some(m) if area > 0.0 => {
+                            let cp = d.dashpot_pressure(c.joint.kn_bound(), area, m);
+                            let (fd, tad, tbd) = match c.a {
+                                None => contact_dashpot::<false>(c, bb, bb, cp, &self.scratch, &mut self.node_area),
+                                Some(i) => {
+                                    contact_dashpot::<true>(c, &bodies[i], bb, cp, &self.scratch, &mut self.node_area)
+                                }
+                            };
+                            (fsum + fd, ta + tad, tb + tbd)
+                        }
+                        _ => (fsum, ta, tb),
+                    }
+                }
             };
             c.force = fsum;
             let mag = fsum.norm();
@@ -354,4 +386,18 @@ impl Workspace {
         let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
         self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
     }
+}
+
+/// The lowest frequency of any contact as a single degree of freedom, `min √(Kn A / m)`
+/// over the contacts with area and a free body (rad/s; infinite without such a contact):
+/// the stiffest-damped contact of [`ContactDamping::step_factor`].
+fn slowest_contact(st: &WallState) -> f64 {
+    st.contacts
+        .iter()
+        .filter_map(|c| {
+            let area: f64 = c.subs.iter().map(|s| s.area).sum();
+            let m = effective_mass(c.a.map(|i| &st.bodies[i]), &st.bodies[c.b])?;
+            (area > 0.0).then(|| (c.joint.kn_bound() * area / m).sqrt())
+        })
+        .fold(f64::INFINITY, f64::min)
 }
