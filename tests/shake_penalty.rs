@@ -167,7 +167,10 @@ fn free_rocking_loses_housners_share_per_impact_with_the_default_restitution() {
     let want = housner_peaks(b, h, theta0, 1)[1];
     let plastic = rock_penalty(b, h, theta0, 0.0, 1)[1];
     let light = rock_penalty(b, h, theta0, 0.5, 1)[1];
-    assert!(plastic < want - 0.05 * theta0 && light > want + 0.1 * theta0, "e 0: {plastic}, e 0.5: {light}, Housner {want}");
+    assert!(
+        plastic < want - 0.05 * theta0 && light > want + 0.1 * theta0,
+        "e 0: {plastic}, e 0.5: {light}, Housner {want}"
+    );
 }
 
 #[test]

@@ -58,7 +58,8 @@ CASES = [
     ("block_pulse_over", "data/layouts/rigid/single_block.json", "one-sine", 3.0, 0.25),
     ("wall13_pulse_rock", "data/layouts/rigid/running_bond_13.json", "one-sine", 0.42, 0.3),
     ("wall13_pulse_over", "data/layouts/rigid/running_bond_13.json", "one-sine", 2.0, 0.3),
-    ("wall13_record_rock", "data/layouts/rigid/running_bond_13.json", RECORD, 0.3, ""),
+    ("wall13_record_still", "data/layouts/rigid/running_bond_13.json", RECORD, 0.3, ""),
+    ("wall13_record_rock", "data/layouts/rigid/running_bond_13.json", RECORD, 0.4, ""),
     ("wall13_record_over", "data/layouts/rigid/running_bond_13.json", RECORD, 0.6, ""),
 ]
 

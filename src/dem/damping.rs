@@ -100,7 +100,7 @@ mod tests {
     fn the_dashpot_of_e_returns_e_times_the_impact_speed() {
         for e in [0.1, 0.3, 0.5, 0.8, 0.95] {
             let d = ContactDamping::from_restitution(e).unwrap();
-            let (m, k) = (2.0, 1e6);
+            let (m, k): (f64, f64) = (2.0, 1e6);
             let c = 2.0 * d.zeta() * (k * m).sqrt();
             let acc = |u: f64, v: f64| (-k * u - c * v) / m;
             let dt = 1e-7;
