@@ -25,11 +25,14 @@
 //! acts across closing and opening contacts: a block in free flight or rocking on an edge
 //! is not damped.
 //!
-//! Time step: the dashpots are stiffness-proportional per contact (`c = β k`, `β = 2ζ/ω_c`,
-//! `ω_c = √(Kn A / m)`), so that a mode of frequency ω has a damping ratio of at most
-//! `ζ_max = ζ ω / min ω_c`; the central-difference scheme with the damping force of the
-//! lagged velocity is stable for `ω_max Δt ≤ 2 (√(1 + ζ_max²) − ζ_max)` (Belytschko &
-//! Hughes 1983, §2.5): [`ContactDamping::step_factor`].
+//! Time step: the central-difference scheme with the damping force of the lagged velocity
+//! is stable for a mode of frequency ω and damping rate d (`ü + d u̇ + ω² u = 0`) when
+//! `ω² Δt² + 2 d Δt ≤ 4`, i.e. `ω Δt ≤ 2 (√(1 + ζ²) − ζ)` with `ζ = d / 2ω` (Belytschko &
+//! Hughes 1983, §2.5). With `ω_max` the assembly's highest frequency and `d_max` the
+//! largest eigenvalue of `M⁻¹ C` (the dashpots assembled as the normal springs of the
+//! stiffness estimate, `dem::workspace`), both upper bounds, the step
+//! `2/ω_max · (√(1 + ζ²) − ζ)`, `ζ = d_max / 2ω_max`, is stable for every mode:
+//! [`ContactDamping::step_factor`].
 
 use crate::range::{check_ranges, OutOfRange};
 
@@ -67,15 +70,15 @@ impl ContactDamping {
         2.0 * self.zeta * (kn * m / area).sqrt()
     }
 
-    /// The factor `√(1 + ζ_max²) − ζ_max` (in (0, 1]) on the undamped critical step, with
-    /// `ζ_max = ζ ω_max / ω_c,min` the largest damping ratio a mode of frequency `ω_max`
-    /// (rad/s) can have when the stiffest-damped contact has the frequency `omega_c_min`
-    /// (rad/s) as a single degree of freedom. 1 without damping.
-    pub fn step_factor(&self, omega_max: f64, omega_c_min: f64) -> f64 {
-        if self.zeta == 0.0 || !(omega_c_min > 0.0) {
+    /// The factor `√(1 + z²) − z` (in (0, 1]) on the undamped critical step `2/ω_max`, with
+    /// `z = d_max / (2 ω_max)`: `omega_max` the assembly's highest frequency (rad/s) and
+    /// `d_max` the largest damping rate of its dashpots, `λ_max(M⁻¹ C)` (1/s). 1 without
+    /// damping.
+    pub fn step_factor(&self, omega_max: f64, d_max: f64) -> f64 {
+        if self.zeta == 0.0 || !(omega_max > 0.0) || !(d_max > 0.0) {
             return 1.0;
         }
-        let z = self.zeta * (omega_max / omega_c_min).max(1.0);
+        let z = d_max / (2.0 * omega_max);
         (1.0 + z * z).sqrt() - z
     }
 }

@@ -5,7 +5,7 @@
 
 use super::contact::forces::{contact_dashpot, contact_forces, effective_mass, NodeScratch};
 use super::contact::geometry as cgeom;
-use super::contact::law::SubContactState;
+use super::contact::law::{JointParams, SubContactState};
 use super::contact::types::{Contact, ContactNode, SubContact};
 use super::damping::ContactDamping;
 use super::engine::{DemError, Redetection};
@@ -15,6 +15,7 @@ use super::model::WallState;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
+use crate::closure::Closure;
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::Vec3;
@@ -222,7 +223,7 @@ impl Workspace {
         };
         let dt = match &self.contact_damping {
             None => dt,
-            Some(d) => dt * d.step_factor(lambda.sqrt(), slowest_contact(st)),
+            Some(d) => dt * d.step_factor(lambda.sqrt(), damping_rate(st, d)),
         };
         // Static solutions take the step of the current masses; dynamics only ever shrink it,
         // so that a run keeps one time base.
@@ -388,16 +389,23 @@ impl Workspace {
     }
 }
 
-/// The lowest frequency of any contact as a single degree of freedom, `min √(Kn A / m)`
-/// over the contacts with area and a free body (rad/s; infinite without such a contact):
-/// the stiffest-damped contact of [`ContactDamping::step_factor`].
-fn slowest_contact(st: &WallState) -> f64 {
-    st.contacts
+/// The largest damping rate of the contact dashpots, `λ_max(M⁻¹ C)` (1/s, an upper
+/// estimate): the dashpots assembled as the normal springs of the time step's stiffness
+/// (`dem::timestep::Stiffness`, the same nodes, areas and arms), each contact's spring
+/// pressure its dashpot pressure `c_p` and no shear, against the true masses.
+fn damping_rate(st: &WallState, d: &ContactDamping) -> f64 {
+    let dashpots: Vec<Contact> = st
+        .contacts
         .iter()
         .filter_map(|c| {
             let area: f64 = c.subs.iter().map(|s| s.area).sum();
             let m = effective_mass(c.a.map(|i| &st.bodies[i]), &st.bodies[c.b])?;
-            (area > 0.0).then(|| (c.joint.kn_bound() * area / m).sqrt())
+            (area > 0.0).then(|| {
+                let kn = d.dashpot_pressure(c.joint.kn_bound(), area, m);
+                let joint = JointParams { kn, ks: 0.0, closure: Closure::Linear, ..c.joint };
+                Contact { joint, ..c.clone() }
+            })
         })
-        .fold(f64::INFINITY, f64::min)
+        .collect();
+    Stiffness::new(&st.bodies, &dashpots).max_eigenvalue(&st.bodies)
 }
