@@ -76,8 +76,12 @@ pub fn run(
     }
     if json {
         let mut v = serde_json::to_value(&r)?;
-        if let (Some(o), SolverKind::Nscd) = (v.as_object_mut(), solver.kind) {
-            o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+        if let Some(o) = v.as_object_mut() {
+            if solver.kind == SolverKind::Nscd {
+                o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+            } else {
+                o.insert("contact_restitution".into(), params.contact_restitution.into());
+            }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
