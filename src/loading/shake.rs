@@ -17,7 +17,7 @@
 //!   impacts dissipate through normal contact dashpots set by a coefficient of restitution
 //!   ([`ShakeParams::contact_restitution`], [`crate::dem::damping`]); the time step is the
 //!   critical step of the joint stiffness and the dashpots times `timestep_safety`
-//!   ([`run_shake_penalty`](super::shake_penalty)). Finite joint stiffness: the joints'
+//!   (`loading::shake_penalty`). Finite joint stiffness: the joints'
 //!   closure and elastic rocking.
 //!
 //! The other penalty kinds (`implicit`, `accelerated`, `relaxation`) are static methods and
