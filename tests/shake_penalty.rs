@@ -308,3 +308,46 @@ fn the_shaking_table_refuses_static_methods_and_a_bad_restitution() {
     let e = run_shake(&l, penalty(), &pulse, &bad).unwrap_err();
     assert!(e.to_string().contains("contact_restitution"), "{e}");
 }
+
+/// `drystone shake --solver penalty`: the JSON names the solver and the restitution it
+/// used (the default, or `--restitution`), a block below its uplift threshold stands, and
+/// a restitution out of range is refused naming the key.
+#[test]
+fn the_command_line_runs_the_penalty_solver_with_its_restitution() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "shake",
+            "data/layouts/single_block.json",
+            "--pulse",
+            "one-sine",
+            "--amplitude-g",
+            "0.2",
+            "--period-s",
+            "0.3",
+            "--tail-s",
+            "0.5",
+            "--solver",
+            "penalty",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .args(&args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("drystone")
+    };
+    for (extra, e) in [(vec![], 0.05), (vec!["--restitution", "0.3"], 0.3)] {
+        let out = run(&extra);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        assert_eq!(v["solver"], "penalty");
+        assert_eq!(v["contact_restitution"].as_f64(), Some(e));
+        // tan α = 0.1125 / 0.375 = 0.3 > 0.2: the block does not rock over.
+        assert_eq!(v["overturned"], false);
+        assert!(v["iterations"] == 0 && v["steps"].as_u64().unwrap() > 1000, "{v}");
+    }
+    let out = run(&["--restitution", "2"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("contact_restitution"), "{err}");
+}
