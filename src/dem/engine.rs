@@ -10,6 +10,8 @@
 //! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
 //!    the two material points, then [`super::contact::law::evaluate`]; forces summed per contact and then per
 //!    body, serially in contact order (so the sum never depends on a thread count).
+//!    With contact damping on (true dynamics: [`Simulation::set_contact_damping`]) each
+//!    contact's normal dashpots are added ([`super::damping`]).
 //! 4. **Loads**: gravity (table frame), end-restraint springs, external forces.
 //! 5. **Damping and integration** ([`super::integrator`]).
 //! 6. **Monitor**: unbalanced-force ratio and kinetic energy ([`super::monitor`]).

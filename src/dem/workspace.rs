@@ -263,8 +263,9 @@ impl Workspace {
 
     /// Stages 2 and 3: clears the force accumulators and evaluates every contact at the
     /// current pose, with the shear increments of the velocities `v Δt` (the motion since
-    /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
-    /// number of contacts carrying force.
+    /// the last evaluation), plus, with contact damping on ([`super::damping`]), each
+    /// contact's normal dashpots against the velocities of the step; returns the sum of the
+    /// contact force magnitudes (N) and the number of contacts carrying force.
     #[inline(always)]
     pub(super) fn contact_pass(&mut self, st: &mut WallState, params: &SolverParams) -> (f64, usize) {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
