@@ -174,14 +174,16 @@ enum Command {
         /// Time step of the solver, s.
         #[arg(long, default_value_t = NscdParams::default().dt_s)]
         dt_s: f64,
-        /// Newton's coefficient of restitution at impacts, in [0, 1].
-        #[arg(long, default_value_t = NscdParams::default().restitution)]
-        restitution: f64,
+        /// Coefficient of restitution at impacts, in [0, 1]: Newton's (nscd) [default: 0], or
+        /// that of the contact dashpots (penalty) [default: 0.05].
+        #[arg(long)]
+        restitution: Option<f64>,
         /// Keep simulating after the first block falls (to the end of the motion and tail).
         #[arg(long)]
         no_stop_at_collapse: bool,
-        /// Solver: `nscd` (non-smooth contact dynamics, the only one that runs the shaking
-        /// table).
+        /// Solver: `nscd` (non-smooth contact dynamics, rigid blocks) or `penalty` (explicit
+        /// dynamics of the joint springs with contact dashpots; its time step comes from
+        /// the joint stiffness, not --dt-s).
         #[arg(long, default_value = "nscd", value_parser = parse_solver)]
         solver: SolverKind,
         /// Print one JSON object instead of a summary.
@@ -521,10 +523,24 @@ fn run() -> anyhow::Result<ExitCode> {
                 baseline: baseline_correction,
             };
             let motion = cli::shake::motion(&args, dt_s.min(0.001))?;
-            let nscd = nscd_args.apply(NscdParams { dt_s, restitution, ..NscdParams::default() });
+            if nscd_args.given() && solver != SolverKind::Nscd {
+                anyhow::bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
+            }
+            let d = ShakeParams::default();
+            let (nscd_e, contact_e) = match (solver, restitution) {
+                (SolverKind::Nscd, Some(e)) => (e, d.contact_restitution),
+                (_, Some(e)) => (NscdParams::default().restitution, e),
+                (_, None) => (NscdParams::default().restitution, d.contact_restitution),
+            };
+            let nscd = nscd_args.apply(NscdParams { dt_s, restitution: nscd_e, ..NscdParams::default() });
             let solver = SolverParams { kind: solver, nscd, ..SolverParams::default() };
-            let params =
-                ShakeParams { duration_s, tail_s, stop_at_collapse: !no_stop_at_collapse, ..ShakeParams::default() };
+            let params = ShakeParams {
+                duration_s,
+                tail_s,
+                stop_at_collapse: !no_stop_at_collapse,
+                contact_restitution: contact_e,
+                ..d
+            };
             cli::shake::run(&layout, &motion, solver, &params, json, vtk.as_deref())
         }
         Command::Limit { layout, protocol, json, pressure_base_pa, pressure_top_pa, associative, svg } => {

@@ -163,11 +163,13 @@ fn a_block_below_the_uplift_threshold_does_not_move() {
     assert_eq!(r.blocks_fallen, 0);
 }
 
-/// The penalty DEM does not run the shaking table, and says so; a bad parameter is named.
+/// A static method of the penalty DEM does not run the shaking table, and says so; a bad
+/// parameter is named.
 #[test]
-fn the_shaking_table_refuses_the_penalty_solver_and_bad_parameters() {
+fn the_shaking_table_refuses_a_static_method_and_bad_parameters() {
     let pulse = Pulse::OneSine { amplitude_g: 0.1, period_s: 0.3 }.sampled(0.001, 0.3);
-    let e = run_shake(&block(0.15, 0.6), SolverParams::default(), &pulse, &ShakeParams::default()).unwrap_err();
+    let relaxation = SolverParams { kind: SolverKind::Relaxation, ..SolverParams::default() };
+    let e = run_shake(&block(0.15, 0.6), relaxation, &pulse, &ShakeParams::default()).unwrap_err();
     assert!(e.to_string().contains("--solver nscd"), "{e}");
     let bad = ShakeParams { fall_rotation_deg: 0.0, ..ShakeParams::default() };
     let e = run_shake(&block(0.15, 0.6), nscd(), &pulse, &bad).unwrap_err();

@@ -1,7 +1,7 @@
 //! `drystone shake`: a layout on a shaking table, under a record or a built-in pulse.
 
 use anyhow::{bail, Context, Result};
-use drystone::dem::SolverParams;
+use drystone::dem::{SolverKind, SolverParams};
 use drystone::ground::{read_record, Motion, Pulse};
 use drystone::io::series::{motion_frames, write_series, Recorder};
 use drystone::loading::shake::{run_shake_observed, ShakeParams, ShakeResult};
@@ -64,9 +64,9 @@ pub fn run(
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut rec = Recorder::default();
-    let r = run_shake_observed(&l, solver, motion, params, &mut |t, sim| {
+    let r = run_shake_observed(&l, solver, motion, params, &mut |t, bodies| {
         if vtk.is_some() {
-            rec.observe_bodies(t, true, sim.bodies(), Vec::new());
+            rec.observe_bodies(t, true, bodies, Vec::new());
         }
     })
     .with_context(|| format!("shaking-table test of {}", layout.display()))?;
@@ -77,16 +77,20 @@ pub fn run(
     if json {
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
-            o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+            if solver.kind == SolverKind::Nscd {
+                o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+            } else {
+                o.insert("contact_restitution".into(), params.contact_restitution.into());
+            }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print(layout, &r);
+        print(layout, &r, params);
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn print(layout: &Path, r: &ShakeResult) {
+fn print(layout: &Path, r: &ShakeResult, params: &ShakeParams) {
     out!("layout            {} ({} blocks, height {:.3} m)", layout.display(), r.blocks, r.height_m);
     out!("motion            {} (PGA {:.3} g)", r.motion, r.pga_g);
     match r.collapse_time_s {
@@ -95,14 +99,28 @@ fn print(layout: &Path, r: &ShakeResult) {
     }
     out!("max rotation      {:.3} deg (about x, the rocking axis)", r.max_rotation_deg);
     out!("drift             max {:.4}, residual {:.4}", r.max_drift, r.residual_drift);
-    out!(
-        "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged), {:.2} s simulated; wall time {:.2} s",
-        r.steps,
-        r.dt_s,
-        r.iterations,
-        r.unconverged_steps,
-        r.simulated_s,
-        r.wall_time_s
-    );
-    out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+    if r.solver == SolverKind::Penalty.name() {
+        out!(
+            "work              {} steps of {:.2e} s, {:.2} s simulated; wall time {:.2} s",
+            r.steps,
+            r.dt_s,
+            r.simulated_s,
+            r.wall_time_s
+        );
+        out!(
+            "solver            penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {})",
+            params.contact_restitution
+        );
+    } else {
+        out!(
+            "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged), {:.2} s simulated; wall time {:.2} s",
+            r.steps,
+            r.dt_s,
+            r.iterations,
+            r.unconverged_steps,
+            r.simulated_s,
+            r.wall_time_s
+        );
+        out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+    }
 }

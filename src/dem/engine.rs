@@ -10,6 +10,8 @@
 //! 3. **Contact geometry and law**: for every sub-contact, its gap and shear increment from
 //!    the two material points, then [`super::contact::law::evaluate`]; forces summed per contact and then per
 //!    body, serially in contact order (so the sum never depends on a thread count).
+//!    With contact damping on (true dynamics: [`Simulation::set_contact_damping`]) each
+//!    contact's normal dashpots are added ([`super::damping`]).
 //! 4. **Loads**: gravity (table frame), end-restraint springs, external forces.
 //! 5. **Damping and integration** ([`super::integrator`]).
 //! 6. **Monitor**: unbalanced-force ratio and kinetic energy ([`super::monitor`]).
@@ -28,6 +30,7 @@
 //! and read its state; nothing outside this module writes the workspace.
 
 pub use super::contact::types::Contact;
+use super::damping::ContactDamping;
 pub use super::dispatch::Isa;
 pub use super::model::WallState;
 use super::monitor::StepStats;
@@ -130,6 +133,21 @@ impl Simulation {
     /// dynamics), for runs that follow true dynamics after a relaxation.
     pub fn set_damping(&mut self, damping: f64) {
         self.params.damping = damping;
+    }
+
+    /// Sets the normal contact damping of true dynamics (a dashpot per contact from a
+    /// coefficient of restitution, [`super::damping`]; `None`: none, the default) and the
+    /// time step for it (the step only shrinks). For dynamics with true masses and no
+    /// local damping (`density_scaling = off`, `damping = 0`): the shaking table with the
+    /// penalty solver.
+    pub fn set_contact_damping(&mut self, damping: Option<ContactDamping>) {
+        self.work.contact_damping = damping;
+        self.update_masses_and_step();
+    }
+
+    /// The normal contact damping ([`Simulation::set_contact_damping`]).
+    pub fn contact_damping(&self) -> Option<ContactDamping> {
+        self.work.contact_damping
     }
 
     /// Fixes the time step (s) until the next re-detection of changed contacts, which sets

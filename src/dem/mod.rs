@@ -4,6 +4,7 @@
 //! run the engine to equilibrium ([`drivers`]).
 
 pub mod contact;
+pub mod damping;
 pub(crate) mod dispatch;
 pub mod drivers;
 pub(crate) mod engine;

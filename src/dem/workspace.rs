@@ -3,10 +3,11 @@
 //! poses, out-of-balance forces), and the stages of a step as its methods: contact
 //! detection, the contact pass, the load pass, integration.
 
-use super::contact::forces::{contact_forces, NodeScratch};
+use super::contact::forces::{contact_dashpot, contact_forces, effective_mass, NodeScratch};
 use super::contact::geometry as cgeom;
-use super::contact::law::SubContactState;
+use super::contact::law::{JointParams, SubContactState};
 use super::contact::types::{Contact, ContactNode, SubContact};
+use super::damping::ContactDamping;
 use super::engine::{DemError, Redetection};
 use super::integrator::{advance, YConstraint};
 use super::materials::JointTable;
@@ -14,6 +15,7 @@ use super::model::WallState;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
 use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
+use crate::closure::Closure;
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::Vec3;
@@ -41,6 +43,10 @@ pub(super) struct Workspace {
     pub(super) joints: JointTable,
     /// Per-node scratch of the contact pass.
     pub(super) scratch: Vec<NodeScratch>,
+    /// Normal contact damping (true dynamics only; `None`: none, the default).
+    pub(super) contact_damping: Option<ContactDamping>,
+    /// Per-node lumped areas of the dashpot (scratch).
+    pub(super) node_area: Vec<f64>,
 }
 
 impl Workspace {
@@ -57,6 +63,8 @@ impl Workspace {
             detect_rot: st.bodies.iter().map(|b| b.rot).collect(),
             joints: JointTable::new(layout),
             scratch: Vec::new(),
+            contact_damping: None,
+            node_area: Vec::new(),
         }
     }
 
@@ -209,8 +217,13 @@ impl Workspace {
                 }
             }
         }
-        let Some(dt) = step_for(stiffness.max_eigenvalue(&st.bodies), params.timestep_safety, params.damping) else {
+        let lambda = stiffness.max_eigenvalue(&st.bodies);
+        let Some(dt) = step_for(lambda, params.timestep_safety, params.damping) else {
             return;
+        };
+        let dt = match &self.contact_damping {
+            None => dt,
+            Some(d) => dt * d.step_factor(lambda.sqrt(), damping_rate(st, d)),
         };
         // Static solutions take the step of the current masses; dynamics only ever shrink it,
         // so that a run keeps one time base.
@@ -250,8 +263,9 @@ impl Workspace {
 
     /// Stages 2 and 3: clears the force accumulators and evaluates every contact at the
     /// current pose, with the shear increments of the velocities `v Δt` (the motion since
-    /// the last evaluation); returns the sum of the contact force magnitudes (N) and the
-    /// number of contacts carrying force.
+    /// the last evaluation), plus, with contact damping on ([`super::damping`]), each
+    /// contact's normal dashpots against the velocities of the step; returns the sum of the
+    /// contact force magnitudes (N) and the number of contacts carrying force.
     #[inline(always)]
     pub(super) fn contact_pass(&mut self, st: &mut WallState, params: &SolverParams) -> (f64, usize) {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
@@ -267,6 +281,26 @@ impl Workspace {
             let (fsum, ta, tb) = match c.a {
                 None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch),
                 Some(i) => contact_forces::<true>(c, &bodies[i], bb, dt, quad, &mut self.scratch),
+            };
+            let (fsum, ta, tb) = match &self.contact_damping {
+                None => (fsum, ta, tb),
+                Some(d) => {
+                    let area: f64 = c.subs.iter().map(|s| s.area).sum();
+                    let m = effective_mass(c.a.map(|i| &bodies[i]), bb);
+                    match m {
+                        Some(m) if area > 0.0 => {
+                            let cp = d.dashpot_pressure(c.joint.kn_bound(), area, m);
+                            let (fd, tad, tbd) = match c.a {
+                                None => contact_dashpot::<false>(c, bb, bb, cp, &self.scratch, &mut self.node_area),
+                                Some(i) => {
+                                    contact_dashpot::<true>(c, &bodies[i], bb, cp, &self.scratch, &mut self.node_area)
+                                }
+                            };
+                            (fsum + fd, ta + tad, tb + tbd)
+                        }
+                        _ => (fsum, ta, tb),
+                    }
+                }
             };
             c.force = fsum;
             let mag = fsum.norm();
@@ -354,4 +388,25 @@ impl Workspace {
         let mean_contact = if active > 0 { sum_contact / active as f64 } else { 0.0 };
         self.stats = StepStats::new(mean_unbalanced, mean_contact, ke, active);
     }
+}
+
+/// The largest damping rate of the contact dashpots, `λ_max(M⁻¹ C)` (1/s, an upper
+/// estimate): the dashpots assembled as the normal springs of the time step's stiffness
+/// (`dem::timestep::Stiffness`, the same nodes, areas and arms), each contact's spring
+/// pressure its dashpot pressure `c_p` and no shear, against the true masses.
+fn damping_rate(st: &WallState, d: &ContactDamping) -> f64 {
+    let dashpots: Vec<Contact> = st
+        .contacts
+        .iter()
+        .filter_map(|c| {
+            let area: f64 = c.subs.iter().map(|s| s.area).sum();
+            let m = effective_mass(c.a.map(|i| &st.bodies[i]), &st.bodies[c.b])?;
+            (area > 0.0).then(|| {
+                let kn = d.dashpot_pressure(c.joint.kn_bound(), area, m);
+                let joint = JointParams { kn, ks: 0.0, closure: Closure::Linear, ..c.joint };
+                Contact { joint, ..c.clone() }
+            })
+        })
+        .collect();
+    Stiffness::new(&st.bodies, &dashpots).max_eigenvalue(&st.bodies)
 }

@@ -5,15 +5,23 @@
 //! The base (the table and every fixed block) accelerates by `a_g(t)` along +y, the
 //! out-of-plane axis, and optionally along +z ([`crate::ground::Motion`]); the wall is
 //! followed in the frame of the table, loaded by its weight and the d'Alembert force
-//! `−m a_g` of every block. Time integration is by non-smooth contact dynamics
-//! (`dem::drivers::nscd`: Moreau–Jean, rigid blocks, Coulomb friction, Newton's impact law
-//! with restitution 0 by default, the impact dissipation of Housner's rocking block). It
-//! is the rigid limit: the joints' Kn and Ks are not used.
+//! `−m a_g` of every block. Two time integrations (docs/shake.md says when each applies):
 //!
-//! The penalty DEM's local damping (0.8) is a relaxation device that would absorb the
-//! motion: it does not run this protocol (`--solver penalty` is refused); a penalty
-//! integration with contact damping set by a restitution coefficient is not part of this
-//! build.
+//! * `nscd` (the default): non-smooth contact dynamics (`dem::drivers::nscd`: Moreau–Jean,
+//!   rigid blocks, Coulomb friction, Newton's impact law with restitution 0 by default, the
+//!   impact dissipation of Housner's rocking block). The rigid limit: the joints' Kn and Ks
+//!   are not used.
+//! * `penalty`: the penalty DEM (`dem::Simulation`: sub-contact springs Kn, Ks, Coulomb
+//!   slip) integrated by explicit central differences with true masses (no density
+//!   scaling) and no local damping (a relaxation device that would absorb the motion); the
+//!   impacts dissipate through normal contact dashpots set by a coefficient of restitution
+//!   ([`ShakeParams::contact_restitution`], [`crate::dem::damping`]); the time step is the
+//!   critical step of the joint stiffness and the dashpots times `timestep_safety`
+//!   (`loading::shake_penalty`). Finite joint stiffness: the joints'
+//!   closure and elastic rocking.
+//!
+//! The other penalty kinds (`implicit`, `accelerated`, `relaxation`) are static methods and
+//! are refused, as is `limit`.
 //!
 //! What is measured, per run: whether the wall **overturned** (a block has fallen: turned
 //! by more than [`ShakeParams::fall_rotation_deg`] from its place, or dropped by more than
@@ -22,11 +30,13 @@
 //! the table over the wall height); the number of fallen blocks.
 //!
 //! Before the motion starts the wall settles under gravity on the still table
-//! ([`ShakeParams::settle_s`]); the motion's time 0 is the end of that settling.
+//! ([`ShakeParams::settle_s`], by the same integration); the motion's time 0 is the end of
+//! that settling.
 
 use super::monitors::{monitor_points_of, MonitorPoint};
 use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
-use crate::dem::{SolverKind, SolverParams};
+use crate::dem::state::Body;
+use crate::dem::{DemError, SolverKind, SolverParams};
 use crate::ground::{Motion, G};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -55,6 +65,18 @@ pub struct ShakeParams {
     pub vertical: bool,
     /// Interval of the recorded history, s \[0.01\].
     pub history_dt_s: f64,
+    /// Coefficient of restitution `e` of the penalty solver's normal contact dashpots
+    /// ([`crate::dem::damping`]), in [0, 1] \[0.05\]: the value whose rocking impacts lose
+    /// Housner's share (`r = 1 − 1.5 sin²α`) for blocks of slenderness 10° to 27° on
+    /// joints of Kn 1e10 to 1e11 Pa/m (docs/shake.md), as `nscd`'s default restitution 0
+    /// does for rigid blocks. Unused by `nscd` (whose Newton restitution is
+    /// `[solver.nscd] restitution`).
+    pub contact_restitution: f64,
+    /// Fraction of the penalty solver's stable step used (on top of its `timestep_safety`),
+    /// in (0, 1] \[0.1\]: the critical step resolves a contact's impact in two or three
+    /// steps, too few for the dashpot's restitution (a dropped block rebounds at 0.87 for
+    /// e = 0.8 at the critical step); a tenth resolves it in about thirty. Unused by `nscd`.
+    pub penalty_step_fraction: f64,
 }
 
 impl Default for ShakeParams {
@@ -67,6 +89,8 @@ impl Default for ShakeParams {
             stop_at_collapse: true,
             vertical: true,
             history_dt_s: 0.01,
+            contact_restitution: 0.05,
+            penalty_step_fraction: 0.1,
         }
     }
 }
@@ -89,6 +113,18 @@ impl ShakeParams {
                 "in (0, 180)",
             ),
             ("history_dt_s", self.history_dt_s, self.history_dt_s > 0.0, "> 0"),
+            (
+                "contact_restitution",
+                self.contact_restitution,
+                (0.0..=1.0).contains(&self.contact_restitution),
+                "in [0, 1]",
+            ),
+            (
+                "penalty_step_fraction",
+                self.penalty_step_fraction,
+                self.penalty_step_fraction > 0.0 && self.penalty_step_fraction <= 1.0,
+                "in (0, 1]",
+            ),
         ])
     }
 }
@@ -110,7 +146,7 @@ pub struct ShakeHistory {
 /// Outcome of a shaking-table run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ShakeResult {
-    /// The solver (`nscd`).
+    /// The solver (`nscd` or `penalty`).
     pub solver: String,
     /// The motion's name.
     pub motion: String,
@@ -135,13 +171,13 @@ pub struct ShakeResult {
     pub height_m: f64,
     /// Simulated time of the motion and tail, s (less where the run stopped at collapse).
     pub simulated_s: f64,
-    /// Time step, s.
+    /// Time step, s (`penalty`: the last one; it only shrinks as contacts change).
     pub dt_s: f64,
     /// Steps taken (settling included).
     pub steps: u64,
-    /// NSGS sweeps in all.
+    /// NSGS sweeps in all (0 for `penalty`).
     pub iterations: u64,
-    /// Steps whose NSGS sweeps did not meet the tolerance.
+    /// Steps whose NSGS sweeps did not meet the tolerance (0 for `penalty`).
     pub unconverged_steps: u64,
     /// Wall-clock time, s (not part of the deterministic output).
     pub wall_time_s: f64,
@@ -156,26 +192,32 @@ pub enum ShakeError {
     /// The non-smooth solver failed (a parameter, a joint with strength, a blow-up).
     #[error(transparent)]
     Nscd(#[from] NscdError),
+    /// The penalty integration blew up (a time step too large for the joints).
+    #[error(transparent)]
+    Dem(#[from] DemError),
     /// A shaking parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
     /// The motion is empty or its sampling interval is not positive.
     #[error("motion {0}: empty, or its sampling interval is not > 0")]
     BadMotion(String),
-    /// The solver chosen cannot run this protocol.
+    /// The solver chosen cannot run this protocol (a static method of the penalty DEM, or
+    /// limit analysis).
     #[error(
-        "solver {0} cannot run the shaking table: its local damping is a relaxation device, not the impact's \
-         dissipation; use --solver nscd (non-smooth contact dynamics)"
+        "solver {} cannot run the shaking table: it finds static states; use --solver nscd (non-smooth contact \
+         dynamics) or --solver penalty (explicit dynamics with contact damping)", .0.name()
     )]
     Unsupported(SolverKind),
 }
 
-/// Runs the shaking-table test of `layout` under `motion` with the non-smooth solver
-/// (`solver.kind` must be [`SolverKind::Nscd`]; its settings are `solver.nscd`).
+/// Runs the shaking-table test of `layout` under `motion`, by non-smooth contact dynamics
+/// (`solver.kind` [`SolverKind::Nscd`], its settings `solver.nscd`) or by the penalty DEM
+/// in explicit dynamics (`solver.kind` [`SolverKind::Penalty`], its joint and contact
+/// settings from `solver`; local damping and density scaling are not used).
 ///
 /// # Errors
-/// [`ShakeError`]: a bad parameter or motion, a solver other than `nscd`, or the solver's
-/// own error (a blow-up becomes a status row in a study).
+/// [`ShakeError`]: a bad parameter or motion, a solver that cannot run the protocol, or the
+/// solver's own error (a blow-up becomes a status row in a study).
 pub fn run_shake(
     layout: &Layout,
     solver: SolverParams,
@@ -185,8 +227,9 @@ pub fn run_shake(
     run_shake_observed(layout, solver, motion, params, &mut |_, _| {})
 }
 
-/// As [`run_shake`], handing the state to `observe(time_s, state)` at every recorded time
-/// of the history (time from the start of the motion). Observing changes nothing.
+/// As [`run_shake`], handing the bodies (layout order, table frame) to
+/// `observe(time_s, bodies)` at every recorded time of the history (time from the start of
+/// the motion). Observing changes nothing.
 ///
 /// # Errors
 /// As [`run_shake`].
@@ -195,20 +238,22 @@ pub fn run_shake_observed(
     solver: SolverParams,
     motion: &Motion,
     params: &ShakeParams,
-    observe: &mut dyn FnMut(f64, &NscdSimulation),
+    observe: &mut dyn FnMut(f64, &[Body]),
 ) -> Result<ShakeResult, ShakeError> {
     params.validate().map_err(ShakeError::Parameter)?;
-    if solver.kind != SolverKind::Nscd {
+    if !matches!(solver.kind, SolverKind::Nscd | SolverKind::Penalty) {
         return Err(ShakeError::Unsupported(solver.kind));
     }
     if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
         return Err(ShakeError::BadMotion(motion.name.clone()));
     }
+    if solver.kind == SolverKind::Penalty {
+        return super::shake_penalty::run_shake_penalty(layout, solver, motion, params, observe);
+    }
     let t0 = Instant::now();
     let nscd = &solver.nscd;
     let mut sim = NscdSimulation::new(layout, nscd)?;
     let h = nscd.dt_s;
-    let height = layout.bounds().extent().z;
     let still = |_: f64| Vec3::zeros();
     let settle_steps = (params.settle_s / h).round() as u64;
     let mut unconverged = 0u64;
@@ -218,94 +263,177 @@ pub fn run_shake_observed(
         }
     }
     let start = sim.time();
-    let monitors: Vec<MonitorPoint> = monitor_points_of(layout, sim.bodies());
-    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.bodies()[m.body].to_world(&m.local)).collect();
-    let places: Vec<(Vec3, nalgebra::UnitQuaternion<f64>, f64)> =
-        sim.bodies().iter().map(|b| (b.pos, b.rot, b.shape.aabb().extent().z)).collect();
-    let motion_s = params.duration_s.map_or(motion.duration_s(), |d| d.min(motion.duration_s()));
+    let mut watch = Watch::new(layout, sim.bodies(), motion, params);
+    let motion_s = watch.motion_s;
     let total = motion_s + params.tail_s;
     let vertical = params.vertical && motion.vertical_g.is_some();
-    let base = |t: f64| -> Vec3 {
-        let tm = t - start;
-        if tm > motion_s {
-            return Vec3::zeros();
-        }
-        let z = if vertical { motion.vertical_at(tm) } else { 0.0 };
-        Vec3::new(0.0, motion.horizontal_at(tm), z) * G
-    };
-    let fall = params.fall_rotation_deg.to_radians();
-    let fallen = |sim: &NscdSimulation| -> usize {
-        sim.bodies()
-            .iter()
-            .zip(&places)
-            .filter(|(b, (pos, rot, hz))| {
-                !b.fixed && ((b.rot * rot.inverse()).angle() > fall || pos.z - b.pos.z > 0.5 * hz)
-            })
-            .count()
-    };
-    let drift = |sim: &NscdSimulation| -> f64 {
-        monitors
-            .iter()
-            .zip(&reference)
-            .map(|(m, r)| (sim.bodies()[m.body].to_world(&m.local) - r).y.abs())
-            .fold(0.0, f64::max)
-            / height
-    };
-    let rocking = |sim: &NscdSimulation| -> f64 {
-        sim.bodies()
-            .iter()
-            .zip(&places)
-            .filter(|(b, _)| !b.fixed)
-            .map(|(b, (_, rot, _))| (b.rot * rot.inverse()).scaled_axis().x.abs())
-            .fold(0.0, f64::max)
-    };
-    let mut history = ShakeHistory::default();
-    let mut next_record = 0.0;
-    let (mut max_rot, mut max_drift) = (0.0_f64, 0.0_f64);
-    let mut collapse_time = None;
+    let base = |t: f64| base_acceleration(motion, motion_s, vertical, t - start);
     let steps = (total / h).ceil() as u64;
     for _ in 0..steps {
         let step = sim.step(base)?;
         if !step.converged {
             unconverged += 1;
         }
-        let t = sim.time() - start;
-        let (rot, dr) = (rocking(&sim), drift(&sim));
-        max_rot = max_rot.max(rot);
-        max_drift = max_drift.max(dr);
-        if t + 1e-12 >= next_record {
-            history.time_s.push(t);
-            history.base_g.push(if t <= motion_s { motion.horizontal_at(t) } else { 0.0 });
-            history.drift.push(dr);
-            history.rotation_deg.push(rot.to_degrees());
-            next_record += params.history_dt_s;
-            observe(t, &sim);
-        }
-        if collapse_time.is_none() && fallen(&sim) > 0 {
-            collapse_time = Some(t);
-            if params.stop_at_collapse {
-                break;
-            }
+        if watch.after_step(sim.time() - start, sim.bodies(), observe) {
+            break;
         }
     }
-    Ok(ShakeResult {
-        solver: SolverKind::Nscd.name().to_string(),
-        motion: motion.name.clone(),
-        pga_g: motion.pga_g(),
-        overturned: collapse_time.is_some(),
-        collapse_time_s: collapse_time,
-        max_rotation_deg: max_rot.to_degrees(),
-        max_drift,
-        residual_drift: drift(&sim),
-        blocks_fallen: fallen(&sim),
-        blocks: layout.blocks.len(),
-        height_m: height,
-        simulated_s: sim.time() - start,
-        dt_s: h,
-        steps: sim.steps(),
-        iterations: sim.iterations(),
-        unconverged_steps: unconverged,
-        wall_time_s: t0.elapsed().as_secs_f64(),
-        history,
-    })
+    Ok(watch.result(
+        SolverKind::Nscd,
+        sim.bodies(),
+        Work {
+            simulated_s: sim.time() - start,
+            dt_s: h,
+            steps: sim.steps(),
+            iterations: sim.iterations(),
+            unconverged_steps: unconverged,
+            wall_time_s: t0.elapsed().as_secs_f64(),
+        },
+    ))
+}
+
+/// The base acceleration (m/s², table frame: y horizontal, z vertical) at time `tm` (s) from
+/// the start of the motion: the motion's components in standard g times [`G`], zero after
+/// `motion_s`; the vertical one only if `vertical`.
+pub(super) fn base_acceleration(motion: &Motion, motion_s: f64, vertical: bool, tm: f64) -> Vec3 {
+    if tm > motion_s {
+        return Vec3::zeros();
+    }
+    let z = if vertical { motion.vertical_at(tm) } else { 0.0 };
+    Vec3::new(0.0, motion.horizontal_at(tm), z) * G
+}
+
+/// The work of a run, for its result.
+pub(super) struct Work {
+    pub(super) simulated_s: f64,
+    pub(super) dt_s: f64,
+    pub(super) steps: u64,
+    pub(super) iterations: u64,
+    pub(super) unconverged_steps: u64,
+    pub(super) wall_time_s: f64,
+}
+
+/// What a run measures, from the bodies after every step of the motion (either solver).
+pub(super) struct Watch<'m> {
+    monitors: Vec<MonitorPoint>,
+    reference: Vec<Vec3>,
+    /// Each body's place when the motion starts: centroid, orientation, height.
+    places: Vec<(Vec3, nalgebra::UnitQuaternion<f64>, f64)>,
+    height: f64,
+    fall: f64,
+    motion: &'m Motion,
+    /// Simulated duration of the motion, s.
+    pub(super) motion_s: f64,
+    history_dt_s: f64,
+    stop_at_collapse: bool,
+    history: ShakeHistory,
+    next_record: f64,
+    max_rot: f64,
+    max_drift: f64,
+    collapse_time: Option<f64>,
+}
+
+impl<'m> Watch<'m> {
+    /// The measures of a run whose motion starts with the bodies `bodies`.
+    pub(super) fn new(layout: &Layout, bodies: &[Body], motion: &'m Motion, params: &ShakeParams) -> Watch<'m> {
+        let monitors: Vec<MonitorPoint> = monitor_points_of(layout, bodies);
+        let reference: Vec<Vec3> = monitors.iter().map(|m| bodies[m.body].to_world(&m.local)).collect();
+        let places = bodies.iter().map(|b| (b.pos, b.rot, b.shape.aabb().extent().z)).collect();
+        Watch {
+            monitors,
+            reference,
+            places,
+            height: layout.bounds().extent().z,
+            fall: params.fall_rotation_deg.to_radians(),
+            motion,
+            motion_s: params.duration_s.map_or(motion.duration_s(), |d| d.min(motion.duration_s())),
+            history_dt_s: params.history_dt_s,
+            stop_at_collapse: params.stop_at_collapse,
+            history: ShakeHistory::default(),
+            next_record: 0.0,
+            max_rot: 0.0,
+            max_drift: 0.0,
+            collapse_time: None,
+        }
+    }
+
+    /// Blocks fallen: turned by more than the fall rotation from their place, or dropped
+    /// by more than half their height.
+    fn fallen(&self, bodies: &[Body]) -> usize {
+        bodies
+            .iter()
+            .zip(&self.places)
+            .filter(|(b, (pos, rot, hz))| {
+                !b.fixed && ((b.rot * rot.inverse()).angle() > self.fall || pos.z - b.pos.z > 0.5 * hz)
+            })
+            .count()
+    }
+
+    /// The drift: the largest |y displacement| of the monitor points over the height.
+    fn drift(&self, bodies: &[Body]) -> f64 {
+        self.monitors
+            .iter()
+            .zip(&self.reference)
+            .map(|(m, r)| (bodies[m.body].to_world(&m.local) - r).y.abs())
+            .fold(0.0, f64::max)
+            / self.height
+    }
+
+    /// The largest |rotation about x| of a free block, rad.
+    fn rocking(&self, bodies: &[Body]) -> f64 {
+        bodies
+            .iter()
+            .zip(&self.places)
+            .filter(|(b, _)| !b.fixed)
+            .map(|(b, (_, rot, _))| (b.rot * rot.inverse()).scaled_axis().x.abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Takes the bodies after a step ending at `t` (s from the start of the motion): the
+    /// maxima, the history (and `observe`) at its times, the first fall. True when the run
+    /// should stop (a block fell and the run stops at collapse).
+    pub(super) fn after_step(&mut self, t: f64, bodies: &[Body], observe: &mut dyn FnMut(f64, &[Body])) -> bool {
+        let (rot, dr) = (self.rocking(bodies), self.drift(bodies));
+        self.max_rot = self.max_rot.max(rot);
+        self.max_drift = self.max_drift.max(dr);
+        if t + 1e-12 >= self.next_record {
+            self.history.time_s.push(t);
+            self.history.base_g.push(if t <= self.motion_s { self.motion.horizontal_at(t) } else { 0.0 });
+            self.history.drift.push(dr);
+            self.history.rotation_deg.push(rot.to_degrees());
+            self.next_record += self.history_dt_s;
+            observe(t, bodies);
+        }
+        if self.collapse_time.is_none() && self.fallen(bodies) > 0 {
+            self.collapse_time = Some(t);
+            if self.stop_at_collapse {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The result of the run that ended with `bodies`.
+    pub(super) fn result(self, solver: SolverKind, bodies: &[Body], work: Work) -> ShakeResult {
+        ShakeResult {
+            solver: solver.name().to_string(),
+            motion: self.motion.name.clone(),
+            pga_g: self.motion.pga_g(),
+            overturned: self.collapse_time.is_some(),
+            collapse_time_s: self.collapse_time,
+            max_rotation_deg: self.max_rot.to_degrees(),
+            max_drift: self.max_drift,
+            residual_drift: self.drift(bodies),
+            blocks_fallen: self.fallen(bodies),
+            blocks: self.places.len(),
+            height_m: self.height,
+            simulated_s: work.simulated_s,
+            dt_s: work.dt_s,
+            steps: work.steps,
+            iterations: work.iterations,
+            unconverged_steps: work.unconverged_steps,
+            wall_time_s: work.wall_time_s,
+            history: self.history,
+        }
+    }
 }

@@ -190,8 +190,8 @@ pub fn write_vtk_realizations(
                         return Ok(None);
                     };
                     let mut rec = Recorder::default();
-                    let mut watch = |t: f64, sim: &crate::dem::drivers::nscd::NscdSimulation| {
-                        rec.observe_bodies(t, true, sim.bodies(), Vec::new());
+                    let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {
+                        rec.observe_bodies(t, true, bodies, Vec::new());
                     };
                     if run_shake_observed(&layout, study.solver, &motion, &params, &mut watch).is_err() {
                         return Ok(None);

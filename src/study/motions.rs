@@ -88,7 +88,13 @@ impl StudySpec {
             if !(p.period_s().is_finite() && p.period_s() > 0.0) {
                 return Err(invalid.at(&key, format!("period_s must be > 0, got {}", p.period_s())));
             }
-            motions.push((key, p.sampled(self.solver.nscd.dt_s, 0.0)));
+            // nscd's own step; the penalty solver's is far smaller and reads the motion by
+            // linear interpolation: 1 ms at most.
+            let dt = match self.solver.kind {
+                crate::dem::SolverKind::Penalty => self.solver.nscd.dt_s.min(1e-3),
+                _ => self.solver.nscd.dt_s,
+            };
+            motions.push((key, p.sampled(dt, 0.0)));
         }
         if motions.is_empty() {
             return Err(invalid.at("shake", "no motions: give records, stochastic = { count = N } or pulses".into()));

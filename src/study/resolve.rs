@@ -220,11 +220,13 @@ impl StudySpec {
                 ));
             }
         }
-        if self.protocol == ProtocolKind::Shake && self.solver.kind != crate::dem::SolverKind::Nscd {
+        if self.protocol == ProtocolKind::Shake
+            && !matches!(self.solver.kind, crate::dem::SolverKind::Nscd | crate::dem::SolverKind::Penalty)
+        {
             return Err(invalid.at(
                 "solver.kind",
                 format!(
-                    "protocol = \"shake\" runs by non-smooth contact dynamics only: set [solver] kind = \"nscd\" (got {:?}; the penalty solver's local damping would absorb the motion)",
+                    "protocol = \"shake\" runs by non-smooth contact dynamics (kind = \"nscd\") or by the penalty DEM in explicit dynamics (kind = \"penalty\"); got {:?}, a static method",
                     self.solver.kind.name()
                 ),
             ));

@@ -79,7 +79,7 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
 fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
     use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams};
     let params = LimitParams::default();
-    // (A shaking study never gets here: it runs by nscd only.)
+    // (A shaking study never gets here: it runs by nscd or penalty.)
     let out = match study.protocol {
         ProtocolKind::Tilt | ProtocolKind::Shake => limit_tilt(layout, &study.solver, &params),
         ProtocolKind::Lateral => limit_lateral(layout, &study.solver, &study.lateral, &params),

@@ -97,6 +97,7 @@ pub struct StudySpec {
 /// pulses = [{ kind = "one-sine", amplitude_g = 1.0, period_s = 0.5 }]  # built-in pulses
 /// baseline_correction = false         # baseline-correct the records
 /// tail_s = 2.0                        # ShakeParams keys
+/// contact_restitution = 0.05          # the penalty solver's contact dashpots
 /// ```
 ///
 /// Motion `i` of `stochastic` is `StochasticMotion::generate(study seed, i)`. Every motion
@@ -144,6 +145,12 @@ pub struct ShakeSpec {
     /// [`ShakeParams::history_dt_s`], s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub history_dt_s: Option<f64>,
+    /// [`ShakeParams::contact_restitution`] (`[solver] kind = "penalty"` only), –.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_restitution: Option<f64>,
+    /// [`ShakeParams::penalty_step_fraction`] (`[solver] kind = "penalty"` only), –.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub penalty_step_fraction: Option<f64>,
 }
 
 impl ShakeSpec {
@@ -158,6 +165,8 @@ impl ShakeSpec {
             stop_at_collapse: self.stop_at_collapse.unwrap_or(d.stop_at_collapse),
             vertical: self.vertical.unwrap_or(d.vertical),
             history_dt_s: self.history_dt_s.unwrap_or(d.history_dt_s),
+            contact_restitution: self.contact_restitution.unwrap_or(d.contact_restitution),
+            penalty_step_fraction: self.penalty_step_fraction.unwrap_or(d.penalty_step_fraction),
         }
     }
 }
