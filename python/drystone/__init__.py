@@ -46,11 +46,13 @@ __all__ = [
     "Mechanism",
     "TiltResult",
     "LateralResult",
+    "PushoverResult",
     "StudyResult",
     "Discrepancy",
     "Effect",
     "tilt",
     "lateral",
+    "pushover",
     "run_study",
     "discrepancy",
     "effects",
@@ -173,6 +175,43 @@ class LateralResult:
         return dict(self._raw)
 
 
+@dataclass(frozen=True)
+class PushoverResult:
+    """The DEM pushover of the lateral pressure (`loading::lateral_pushover::LateralPushover`).
+
+    The pressure of `lateral` scaled by a load multiplier λ, doubled from 1 then bisected:
+    the collapse multiplier lies in `[lambda_stable, lambda_unstable]` (`lambda_unstable`
+    None: the wall stood to the largest multiplier tried). Histories, one entry per
+    increment or trial (the stable ones by λ, then the unstable ones): `load_multiplier`
+    (n,), `stable` (n,) bool, and `displacement_m` (n, m): the y displacement of each
+    monitor from the gravity-only state, m, in the order of `monitors`.
+    """
+
+    lambda_stable: float
+    lambda_unstable: Optional[float]
+    collapse_reason: Optional[str]
+    mechanism: Optional[Mechanism]
+    monitors: List[str]
+    load_multiplier: np.ndarray
+    stable: np.ndarray
+    displacement_m: np.ndarray
+    weight_n: float
+    steps: int
+    dt_s: float
+    wall_time_s: float
+    _raw: Dict[str, Any] = field(repr=False, compare=False)
+
+    @property
+    def collapsed(self) -> bool:
+        """Whether the wall collapsed below the largest multiplier tried."""
+        return self.lambda_unstable is not None
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The library's result as a dict (the `drystone lateral --pushover --json` object,
+        less the fields the command adds)."""
+        return dict(self._raw)
+
+
 def _layout_of(layout: Any) -> Layout:
     if isinstance(layout, Layout):
         return layout
@@ -232,6 +271,33 @@ def lateral(layout: Any, solver: Any = None, **params: Any) -> LateralResult:
         height_m=r["height_m"],
         width_m=r["width_m"],
         resultant_n=raw["resultant_n"],
+        weight_n=r["weight_n"],
+        steps=r["steps"],
+        dt_s=r["dt_s"],
+        wall_time_s=r["wall_time_s"],
+        _raw=r,
+    )
+
+
+def pushover(layout: Any, solver: Any = None, **params: Any) -> PushoverResult:
+    """Pushes the static out-of-plane pressure of `lateral` (`LateralParams` keys, e.g.
+    `pressure_base_pa`, `pressure_top_pa`, `pushover_resolution` [0.02]: the final bracket's
+    width relative to λ) to collapse with the penalty DEM: the joints keep their Kn, Ks,
+    friction, cohesion and tensile strength. `solver` as in `lateral` (a penalty method;
+    the rigid pushover is `drystone lateral --solver nscd` on the command line). Raises
+    `InputError` for a bad key or value, `SolverError` if the layout does not stand.
+    """
+    raw = _native._pushover(_layout_of(layout), solver, params or None)
+    r = raw["result"]
+    return PushoverResult(
+        lambda_stable=r["lambda_stable"],
+        lambda_unstable=r["lambda_unstable"],
+        collapse_reason=r["collapse_reason"],
+        mechanism=Mechanism._from(r["mechanism"]) if r.get("mechanism") else None,
+        monitors=list(r["monitors"]),
+        load_multiplier=raw["load_multiplier"],
+        stable=raw["stable"],
+        displacement_m=raw["displacement_m"],
         weight_n=r["weight_n"],
         steps=r["steps"],
         dt_s=r["dt_s"],

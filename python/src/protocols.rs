@@ -5,6 +5,7 @@
 
 use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
 use crate::model::{from_json, to_json, PyLayout};
+use drystone::loading::lateral_pushover::run_lateral_pushover;
 use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
@@ -98,6 +99,10 @@ pub fn _lateral<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
+    if lp.pushover {
+        let place = Place { key: Some("pushover".into()), ..Place::default() };
+        return Err(input_error("pushover: drystone.lateral is the service test; use drystone.pushover", place));
+    }
     let l = &layout.get().layout;
     let r = py.detach(|| guard(|| run_lateral(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
     py.check_signals()?;
@@ -105,5 +110,38 @@ pub fn _lateral<'py>(
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
     out.set_item("displacement_m", PyArray1::from_vec(py, r.displacement_m.clone()))?;
     out.set_item("resultant_n", PyArray1::from_vec(py, vec![r.resultant_n.x, r.resultant_n.y, r.resultant_n.z]))?;
+    Ok(out)
+}
+
+/// Runs the DEM pushover of the lateral pressure; see `drystone.pushover`.
+#[pyfunction]
+#[pyo3(signature = (layout, solver = None, params = None))]
+pub fn _pushover<'py>(
+    py: Python<'py>,
+    layout: &Bound<'py, PyLayout>,
+    solver: Option<&Bound<'py, PyAny>>,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let solver = self::solver(py, solver)?;
+    let lp: LateralParams = self::params(py, params, "lateral parameters")?;
+    let l = &layout.get().layout;
+    let r = py.detach(|| guard(|| run_lateral_pushover(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
+    py.check_signals()?;
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
+    let n = r.increments.len();
+    let m = r.monitors.len();
+    out.set_item(
+        "load_multiplier",
+        PyArray1::from_vec(py, r.increments.iter().map(|i| i.load_multiplier).collect()),
+    )?;
+    out.set_item("stable", PyArray1::from_vec(py, r.increments.iter().map(|i| i.stable).collect()))?;
+    let flat: Vec<f64> = r
+        .increments
+        .iter()
+        .flat_map(|i| (0..m).map(move |k| i.displacement_m.get(k).copied().unwrap_or(f64::NAN)))
+        .collect();
+    let disp = Array2::from_shape_vec((n, m), flat).unwrap_or_else(|_| Array2::zeros((0, m)));
+    out.set_item("displacement_m", disp.into_pyarray(py))?;
     Ok(out)
 }

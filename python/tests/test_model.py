@@ -171,6 +171,38 @@ def test_a_uniform_pressure_has_its_closed_form_resultant():
     assert res.to_dict()["equilibrium"] is True
 
 
+def test_a_block_pushed_over_collapses_below_its_rigid_statics(tmp_path, drystone_bin):
+    # 1 kPa on the −y face of a block 0.4 m long, 0.2 m deep and 0.6 m tall (ρ 2000, Kn
+    # 1e10 Pa/m): rigid overturning about the toe at λ = W B / (p L h²) = 1.308; the
+    # no-tension joint's closure under the toe lowers it by a few per cent.
+    layout = drystone.Layout.from_json(box_layout(0.4, 0.2, 0.6, kn=1e10))
+    res = drystone.pushover(layout, pressure_base_pa=1000.0, pressure_top_pa=1000.0, pushover_resolution=0.005)
+    rigid = 2000.0 * 0.4 * 0.2 * 0.6 * 9.81 * 0.2 / (1000.0 * 0.4 * 0.6**2)
+    assert res.collapsed and res.collapse_reason is not None
+    assert 0.9 * rigid < res.lambda_stable < res.lambda_unstable < rigid
+    assert res.lambda_unstable - res.lambda_stable <= 0.005 * res.lambda_unstable + 1e-12
+    assert res.mechanism is not None and str(res.mechanism) == "toppling"
+    n = len(res.load_multiplier)
+    assert res.stable.shape == (n,) and res.displacement_m.shape == (n, 3)
+    assert res.load_multiplier[res.stable].max() == res.lambda_stable
+    # The same bracket as the command-line tool.
+    path = tmp_path / "block.json"
+    layout.save(path)
+    cli = subprocess.run(
+        [str(drystone_bin), "lateral", str(path), "--pushover", "--json", "--pushover-resolution", "0.005",
+         "--pressure-base-pa", "1000", "--pressure-top-pa", "1000"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    expected = json.loads(cli.stdout)
+    assert (res.lambda_stable, res.lambda_unstable) == (expected["lambda_stable"], expected["lambda_unstable"])
+    # The service test does not run a pushover silently.
+    with pytest.raises(drystone.InputError) as e:
+        drystone.lateral(layout, pushover=True)
+    assert e.value.key == "pushover"
+
+
 def test_the_gil_is_released_while_a_wall_is_tilted(root):
     # A Python thread keeps counting while the tilting-table test runs: with the GIL held it
     # could not run for the whole test (seconds), only in the switch intervals around it.
