@@ -131,10 +131,7 @@ pub fn _pushover<'py>(
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
     let n = r.increments.len();
     let m = r.monitors.len();
-    out.set_item(
-        "load_multiplier",
-        PyArray1::from_vec(py, r.increments.iter().map(|i| i.load_multiplier).collect()),
-    )?;
+    out.set_item("load_multiplier", PyArray1::from_vec(py, r.increments.iter().map(|i| i.load_multiplier).collect()))?;
     out.set_item("stable", PyArray1::from_vec(py, r.increments.iter().map(|i| i.stable).collect()))?;
     let flat: Vec<f64> = r
         .increments

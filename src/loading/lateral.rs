@@ -223,6 +223,71 @@ pub fn pressure_loads(sim: &Simulation, z0: f64, z1: f64, p0: f64, p1: f64) -> (
     (out, loaded)
 }
 
+/// The start the static lateral load and its pushover share: the layout settled under
+/// gravity at tilt 0 with the solver's density scaling at most scalar (a load past the
+/// wall's capacity collapses it within one solve, and block-scaled collapse dynamics can
+/// blow up: `DensityScaling::Block`), its monitors and their positions then, and the
+/// pressure's loads at λ = 1 (not applied).
+pub(super) struct Prepared {
+    /// The settled simulation.
+    pub sim: Simulation,
+    /// The monitor points.
+    pub monitors: Vec<MonitorPoint>,
+    /// Their world positions in the settled state, m.
+    pub reference: Vec<Vec3>,
+    /// Force (N) and moment about the centroid (N·m) of the pressure on each body at λ = 1.
+    pub loads: Vec<(Vec3, Vec3)>,
+    /// Faces the pressure loads.
+    pub loaded_faces: usize,
+    /// Wall width (y extent), m.
+    pub width: f64,
+    /// Wall height (z extent), m.
+    pub height: f64,
+    /// Weight of the movable blocks, N.
+    pub weight_n: f64,
+    /// The joints' elastic displacement scale before settling
+    /// ([`elastic_scale`](super::tilt::elastic_scale)), m.
+    pub elastic: f64,
+    /// When the test started.
+    pub t0: Instant,
+}
+
+/// Checks the parameters and the solver (a penalty method), settles the layout and hands
+/// the settled state to `observe(0, true, state)`.
+///
+/// # Errors
+/// As [`run_lateral`].
+pub(super) fn prepare(
+    layout: &Layout,
+    solver: SolverParams,
+    params: &LateralParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<Prepared, LateralError> {
+    params.validate().map_err(LateralError::Parameter)?;
+    solver.validate_static().map_err(LateralError::Parameter)?;
+    if !solver.kind.is_penalty() {
+        return Err(LateralError::Unsupported(solver.kind));
+    }
+    let t0 = Instant::now();
+    let mut sim =
+        Simulation::new(layout, SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver });
+    let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
+    let all = layout.bounds();
+    let (width, height) = (all.extent().y, all.extent().z);
+    sim.set_tilt(0.0);
+    let elastic = super::tilt::elastic_scale(layout, &sim);
+    settle(&mut sim, layout, params.tolerance, params.max_steps).map_err(|e| match e {
+        SettleError::Dem(e) => LateralError::Dem(e),
+        other => LateralError::DoesNotStand(other),
+    })?;
+    observe(0.0, true, &sim);
+    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
+    let (loads, loaded_faces) =
+        pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
+    let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
+    Ok(Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
+}
+
 /// Runs the static lateral load test of a layout.
 ///
 /// # Errors
@@ -251,36 +316,14 @@ pub fn run_lateral_observed(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralResult, LateralError> {
-    params.validate().map_err(LateralError::Parameter)?;
-    solver.validate_static().map_err(LateralError::Parameter)?;
-    if !solver.kind.is_penalty() {
-        return Err(LateralError::Unsupported(solver.kind));
-    }
-    let t0 = Instant::now();
-    // Scalar density scaling only: a load past the wall's capacity collapses it within this
-    // one solve, and block-scaled collapse dynamics can blow up (`DensityScaling::Block`).
-    let mut sim =
-        Simulation::new(layout, SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver });
-    let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
-    let all = layout.bounds();
-    let (width, height) = (all.extent().y, all.extent().z);
-    sim.set_tilt(0.0);
-    settle(&mut sim, layout, params.tolerance, params.max_steps).map_err(|e| match e {
-        SettleError::Dem(e) => LateralError::Dem(e),
-        other => LateralError::DoesNotStand(other),
-    })?;
-    observe(0.0, true, &sim);
-    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
-    let (loads, loaded_faces) =
-        pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
+    let Prepared { mut sim, monitors, reference, loads, loaded_faces, width, height, weight_n, t0, .. } =
+        prepare(layout, solver, params, observe)?;
     let mut resultant = Vec3::zeros();
     for (k, (f, m)) in loads.iter().enumerate() {
         sim.state.external_force[k] = *f;
         sim.state.external_torque[k] = *m;
         resultant += f;
     }
-    let weight_n: f64 =
-        sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");

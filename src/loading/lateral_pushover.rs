@@ -22,7 +22,7 @@
 //!    [`LateralParams::collapse_displacement_fraction`] of the wall width, the stability
 //!    indicator with its probe, or the step budget [`LateralParams::max_steps`] with no
 //!    decision), both displacements at least the joints' elastic scale
-//!    ([`elastic_scale`]), and the same reading of the mechanism
+//!    ([`elastic_scale`](super::tilt::elastic_scale)), and the same reading of the mechanism
 //!    ([`crate::loading::mechanism::mechanism`]) from the last stable and the first
 //!    unstable state.
 //!
@@ -38,18 +38,15 @@
 //! that of the cohesionless joint, while limit analysis gives its cone c A at any normal
 //! force; the rigid limit of such a wall is limit analysis with c = 0.
 
-use super::lateral::{pressure_loads, LateralError, LateralParams};
+use super::lateral::{prepare, LateralError, LateralParams, Prepared};
 use super::lateral_nscd::MAX_LOAD_MULTIPLIER;
 use super::mechanism::{mechanism, Mechanism};
-use super::monitors::{monitor_points, MonitorPoint};
-use super::settle::{settle, SettleError};
 use super::tilt::path::{Ctx, StablePath};
-use super::tilt::{elastic_scale, CollapseReason, Increment, TiltParams};
+use super::tilt::{CollapseReason, Increment, TiltParams};
 use crate::dem::{Simulation, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
-use std::time::Instant;
 
 /// The bisection stops below this load multiplier (a wall that cannot carry even this
 /// share of the pressure has `lambda_stable` 0).
@@ -114,7 +111,7 @@ pub struct LateralPushover {
     pub height_m: f64,
     /// Wall width (y extent of the layout), m.
     pub width_m: f64,
-    /// The joints' elastic displacement scale ([`elastic_scale`]), m.
+    /// The joints' elastic displacement scale ([`elastic_scale`](super::tilt::elastic_scale)), m.
     pub elastic_scale_m: f64,
     /// Increments and trials run.
     pub trials: usize,
@@ -161,30 +158,10 @@ pub fn run_lateral_pushover_observed(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralPushover, LateralError> {
-    params.validate().map_err(LateralError::Parameter)?;
-    solver.validate_static().map_err(LateralError::Parameter)?;
-    if !solver.kind.is_penalty() {
-        return Err(LateralError::Unsupported(solver.kind));
-    }
-    let t0 = Instant::now();
     // Scalar density scaling at most, as the static lateral load (its module doc).
-    let mut sim =
-        Simulation::new(layout, SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver });
-    let monitors: Vec<MonitorPoint> = monitor_points(layout, &sim);
-    let all = layout.bounds();
-    let (width, height) = (all.extent().y, all.extent().z);
-    sim.set_tilt(0.0);
-    let elastic = elastic_scale(layout, &sim);
-    settle(&mut sim, layout, params.tolerance, params.max_steps).map_err(|e| match e {
-        SettleError::Dem(e) => LateralError::Dem(e),
-        other => LateralError::DoesNotStand(other),
-    })?;
-    observe(0.0, true, &sim);
-    let reference: Vec<Vec3> = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
-    let (loads, loaded_faces) =
-        pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
+    let Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
+        prepare(layout, solver, params, observe)?;
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);
-    let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
     let tilt = TiltParams {
         tolerance: params.tolerance,
         max_steps_per_increment: params.max_steps,
