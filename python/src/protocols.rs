@@ -69,7 +69,6 @@ pub fn _tilt<'py>(
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
     out.set_item("collapse_angle_deg", r.collapse_angle_deg())?;
-    let n = r.increments.len();
     let m = r.monitors.len();
     out.set_item("alpha_deg", PyArray1::from_vec(py, r.increments.iter().map(|i| i.alpha_deg).collect()))?;
     out.set_item("stable", PyArray1::from_vec(py, r.increments.iter().map(|i| i.stable).collect()))?;
@@ -78,13 +77,8 @@ pub fn _tilt<'py>(
         "unbalanced_ratio",
         PyArray1::from_vec(py, r.increments.iter().map(|i| i.unbalanced_ratio).collect()),
     )?;
-    let flat: Vec<f64> = r
-        .increments
-        .iter()
-        .flat_map(|i| (0..m).map(move |k| i.displacement_m.get(k).copied().unwrap_or(f64::NAN)))
-        .collect();
-    let disp = Array2::from_shape_vec((n, m), flat).unwrap_or_else(|_| Array2::zeros((0, m)));
-    out.set_item("displacement_m", disp.into_pyarray(py))?;
+    let rows: Vec<&[f64]> = r.increments.iter().map(|i| i.displacement_m.as_slice()).collect();
+    out.set_item("displacement_m", matrix(&rows, m).into_pyarray(py))?;
     Ok(out)
 }
 
@@ -129,16 +123,17 @@ pub fn _pushover<'py>(
     py.check_signals()?;
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
-    let n = r.increments.len();
     let m = r.monitors.len();
     out.set_item("load_multiplier", PyArray1::from_vec(py, r.increments.iter().map(|i| i.load_multiplier).collect()))?;
     out.set_item("stable", PyArray1::from_vec(py, r.increments.iter().map(|i| i.stable).collect()))?;
-    let flat: Vec<f64> = r
-        .increments
-        .iter()
-        .flat_map(|i| (0..m).map(move |k| i.displacement_m.get(k).copied().unwrap_or(f64::NAN)))
-        .collect();
-    let disp = Array2::from_shape_vec((n, m), flat).unwrap_or_else(|_| Array2::zeros((0, m)));
-    out.set_item("displacement_m", disp.into_pyarray(py))?;
+    let rows: Vec<&[f64]> = r.increments.iter().map(|i| i.displacement_m.as_slice()).collect();
+    out.set_item("displacement_m", matrix(&rows, m).into_pyarray(py))?;
     Ok(out)
+}
+
+/// The (n, m) matrix of `rows` (n rows of m values; a missing value is NaN).
+fn matrix(rows: &[&[f64]], m: usize) -> Array2<f64> {
+    let flat: Vec<f64> =
+        rows.iter().flat_map(|row| (0..m).map(move |k| row.get(k).copied().unwrap_or(f64::NAN))).collect();
+    Array2::from_shape_vec((rows.len(), m), flat).unwrap_or_else(|_| Array2::zeros((0, m)))
 }
