@@ -1,5 +1,5 @@
 //! The penalty solver against the exact finite-rotation collapse of a block on a
-//! no-tension Winkler joint (issue 39, item 6): blocks from squat (b/h = 2) to slender
+//! no-tension Winkler joint: blocks from squat (b/h = 2) to slender
 //! (b/h = 1/4), Kn from 1e6 to 1e8 Pa/m, each tilted to collapse by the tilting-table
 //! protocol, its bracket (last stable, first unstable) held against `common/winkler_exact.rs`,
 //! the statics of the rotated block derived there independently of the library.

@@ -1,5 +1,5 @@
 //! The penalty solver approaches the rigid limit monotonically as the joint stiffness
-//! grows (issue 39, item 3): a single block b × h = 0.15 × 0.30 m (0.3 m long, φ 60°, so
+//! grows: a single block b × h = 0.15 × 0.30 m (0.3 m long, φ 60°, so
 //! it topples) on the tilting table, Kn from 1e7 to 1e13 Pa/m (Ks = Kn / 2), each
 //! bracketed by the penalty tilt at 1/16°, against the exact rigid limit tan α = b / h
 //! (26.565°) and the non-smooth solver's bracket of the same block.

@@ -1,6 +1,6 @@
 //! At the stiff end of the penalty solver (Kn ≥ 1e11 Pa/m) dynamic relaxation may not
-//! settle the light sub-contacts of a knife-edge joint within an increment's step budget
-//! (issue 39, item 6): such an increment is undecided (`step_budget`), and the tilt result
+//! settle the light sub-contacts of a knife-edge joint within an increment's step budget:
+//! such an increment is undecided (`step_budget`), and the tilt result
 //! must say that its `[last_stable, first_unstable]` is not a bracket. The single block of
 //! `data/layouts/rigid/single_block.json` (0.15 m wide, 0.30 m tall, 2500 kg/m³, Kn 1e13
 //! Pa/m) collapses, on its Winkler joint, 0.09° below the rigid limit atan(1/2) = 26.565°

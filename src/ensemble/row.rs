@@ -218,7 +218,7 @@ pub struct LateralColumns {
 /// = true` ([`crate::loading::lateral::LateralParams::pushover`]): by the DEM pushover
 /// ([`crate::loading::lateral_pushover`]) and by limit analysis of the same layout. `None`
 /// where not run (and then the columns are left out of the tables and of the journal, so
-/// that the rows of other studies are written as before).
+/// that the rows of other studies have the columns they always have).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct PushoverColumns {
     /// DEM pushover: the largest λ found stable (the collapse load multiplier).
@@ -545,7 +545,7 @@ mod tests {
     }
 
     /// A row without a pushover writes no pushover key (the journal lines of the other
-    /// studies are as before), and reads back without one.
+    /// studies keep their keys), and reads back without one.
     #[test]
     fn a_row_without_a_pushover_has_no_pushover_keys() {
         let r = RealizationRow { pushover: PushoverColumns::default(), ..row(&[1.0; 10]) };

@@ -42,7 +42,7 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
 
 /// The observations of a study's measured data (`[measured]`), with the measured group
 /// names mapped to the study's groups: collapse angles, displacements, then observed
-/// mechanisms (none without a `mechanism` file: the observations are then as before).
+/// mechanisms (none without a `mechanism` file: then angles and displacements only).
 ///
 /// # Errors
 /// [`DiscrepancyError::Observations`] naming the study file.
