@@ -446,28 +446,18 @@ impl Resolver<'_> {
         Ok(())
     }
 
-    /// Joints no softer than a layout accepts: `ρ g / Kn ≤`
-    /// [`MAX_CLOSURE_RATIO`](crate::layout::MAX_CLOSURE_RATIO) for every material's Kn and
-    /// every joint family's (`kn_pa_per_m`, or `kn_factor` × the softest material's Kn),
-    /// with the densest material, as the layout checks them. Refused here as the wall
-    /// file's value, naming the key and the resulting Kn, rather than by the check of the
-    /// generated layout.
+    /// Joints no softer than a layout accepts ([`crate::layout::too_soft`] for every
+    /// material's Kn and every joint family's: `kn_pa_per_m`, or `kn_factor` × the softest
+    /// material's Kn, with the densest material), refused here as the wall file's value,
+    /// naming the key and the resulting Kn, rather than by the check of the generated layout.
     fn softness(&self, gravity: f64) -> Result<(), GeneratorError> {
-        use crate::layout::{JointFamily, MAX_CLOSURE_RATIO};
+        use crate::layout::{too_soft, JointFamily};
         let materials = &self.spec.materials;
         let rho = materials.iter().map(|m| m.density_kg_per_m3).fold(0.0, f64::max);
-        let reason = |kn: f64, closure: f64| {
-            format!(
-                "too soft for the density and gravity: Kn = {kn:e} Pa/m closes the joints by ρ g H / Kn = {closure:.3} of \
-                 the wall height H under its own weight (at most {MAX_CLOSURE_RATIO}: Kn ≥ {:.3e} Pa/m here)",
-                rho * gravity / MAX_CLOSURE_RATIO
-            )
-        };
         for m in materials {
-            let closure = m.density_kg_per_m3 * gravity / m.kn_pa_per_m;
-            if closure > MAX_CLOSURE_RATIO {
+            if let Some(reason) = too_soft(m.density_kg_per_m3, gravity, m.kn_pa_per_m) {
                 let key = format!("materials[{}].kn_pa_per_m", m.name);
-                return Err(self.invalid(&key, m.kn_pa_per_m.to_string(), reason(m.kn_pa_per_m, closure)));
+                return Err(self.invalid(&key, m.kn_pa_per_m.to_string(), reason));
             }
         }
         let kn_min = materials.iter().map(|m| m.kn_pa_per_m).fold(f64::INFINITY, f64::min);
@@ -478,10 +468,8 @@ impl Resolver<'_> {
                 (None, Some(f)) => (kn_min * f, "kn_factor", f),
                 (None, None) => continue,
             };
-            let closure = rho * gravity / kn;
-            if closure > MAX_CLOSURE_RATIO {
-                let key = format!("joints.{}.{key}", fam.name());
-                return Err(self.invalid(&key, value.to_string(), reason(kn, closure)));
+            if let Some(reason) = too_soft(rho, gravity, kn) {
+                return Err(self.invalid(&format!("joints.{}.{key}", fam.name()), value.to_string(), reason));
             }
         }
         Ok(())

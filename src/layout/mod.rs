@@ -48,6 +48,7 @@ mod resolve;
 
 pub use crate::closure::{Closure, CLOSURE_RANGE_M};
 pub use joints::{FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, FACTOR_RANGE};
+pub use resolve::too_soft;
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::math::Vec3;

@@ -59,8 +59,23 @@ impl MaterialSpec {
     }
 }
 
+/// Why a joint of normal stiffness `kn` (Pa/m) is too soft under the weight of the densest
+/// material `rho` (kg/m³) at `gravity` (m/s²): `Some(reason)` when it would close by more
+/// than [`MAX_CLOSURE_RATIO`] of the wall's height, `ρ g H / Kn > 0.01 H`, with the Kn it
+/// needs. The one rule of layout files and wall descriptions.
+pub fn too_soft(rho: f64, gravity: f64, kn: f64) -> Option<String> {
+    let closure = rho * gravity / kn;
+    (closure > MAX_CLOSURE_RATIO).then(|| {
+        format!(
+            "too soft for the density and gravity: Kn = {kn:e} Pa/m closes the joints by ρ g H / Kn = {closure:.3} of \
+             the wall height H under its own weight (at most {MAX_CLOSURE_RATIO}: Kn ≥ {:.3e} Pa/m here)",
+            rho * gravity / MAX_CLOSURE_RATIO
+        )
+    })
+}
+
 /// The joints of a family may not be softer than the material rule allows
-/// ([`MAX_CLOSURE_RATIO`]): `ρ g / Kn ≤ 0.01` with the densest material.
+/// ([`too_soft`]) with the densest material.
 fn check_family_softness(f: &JointFamilies, materials: &[Material], gravity: f64) -> Result<(), LayoutError> {
     let rho = materials.iter().map(|m| m.density).fold(0.0, f64::max);
     let kn_min = materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
@@ -70,16 +85,8 @@ fn check_family_softness(f: &JointFamilies, materials: &[Material], gravity: f64
             Some(kn) => (kn, "kn_pa_per_m", kn),
             None => (kn_min * fj.kn_factor, "kn_factor", fj.kn_factor),
         };
-        let closure = rho * gravity / kn;
-        if closure > MAX_CLOSURE_RATIO {
-            return Err(invalid(
-                format!("joint_families.{}.{key}", fam.name()),
-                value,
-                &format!(
-                    "too soft for the density and gravity: Kn = {kn:e} Pa/m closes the joints by ρ g H / Kn = \
-                     {closure:.3} of the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
-                ),
-            ));
+        if let Some(reason) = too_soft(rho, gravity, kn) {
+            return Err(invalid(format!("joint_families.{}.{key}", fam.name()), value, &reason));
         }
     }
     Ok(())
@@ -140,15 +147,11 @@ impl LayoutSpec {
                 return Err(invalid(format!("materials[{}].name", m.name), &m.name, "duplicate material name"));
             }
             let mat = m.resolve()?;
-            let closure = mat.density * gravity / mat.kn;
-            if closure > MAX_CLOSURE_RATIO {
+            if let Some(reason) = too_soft(mat.density, gravity, mat.kn) {
                 return Err(LayoutError::Invalid {
                     key: format!("materials[{}].kn_pa_per_m", m.name),
                     value: mat.kn.to_string(),
-                    reason: format!(
-                        "too soft for the density and gravity: the joints would close by ρ g H / Kn = {closure:.3} of \
-                     the wall height H under its own weight (at most {MAX_CLOSURE_RATIO})"
-                    ),
+                    reason,
                 });
             }
             materials.push(mat);
