@@ -153,7 +153,7 @@ pub fn layout_of(blocks: Vec<Vec<[f64; 3]>>, kn: f64, ks: f64, phi_deg: f64, bas
                 wedge: false,
             })
             .collect(),
-        restraints: RestraintSpec { base_sliding: base, ends: vec![] },
+        restraints: RestraintSpec { base_sliding: base, ends: vec![], ropes: vec![] },
         monitors: vec![],
         joint_families: Default::default(),
     };

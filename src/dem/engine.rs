@@ -12,7 +12,8 @@
 //!    body, serially in contact order (so the sum never depends on a thread count).
 //!    With contact damping on (true dynamics: [`Simulation::set_contact_damping`]) each
 //!    contact's normal dashpots are added ([`super::damping`]).
-//! 4. **Loads**: gravity (table frame), end-restraint springs, external forces.
+//! 4. **Loads**: gravity (table frame), end-restraint springs, rope restraints
+//!    ([`super::rope`]), external forces.
 //! 5. **Damping and integration** ([`super::integrator`]).
 //! 6. **Monitor**: unbalanced-force ratio and kinetic energy ([`super::monitor`]).
 //!

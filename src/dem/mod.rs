@@ -14,6 +14,7 @@ pub mod model;
 pub(crate) mod monitor;
 pub mod motion;
 pub(crate) mod params;
+pub mod rope;
 pub mod solve;
 pub mod state;
 pub mod timestep;

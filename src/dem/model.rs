@@ -7,6 +7,7 @@
 use super::contact::forces::unit;
 use super::contact::law;
 use super::contact::types::{Contact, ContactNode, SubContact};
+use super::rope::RopeLoad;
 use super::state::Body;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::Vec3;
@@ -29,6 +30,8 @@ pub struct WallState {
     pub external_torque: Vec<Vec3>,
     /// End restraint per body.
     pub restraint: Vec<Option<EndRestraint>>,
+    /// The layout's rope restraints with the blocks each bears on ([`super::rope`]).
+    pub ropes: Vec<RopeLoad>,
     /// Simulated time, s.
     pub time: f64,
     /// Steps taken.
@@ -45,7 +48,9 @@ impl WallState {
         for &(i, r) in &layout.end_restraints {
             restraint[i] = Some(r);
         }
+        let ropes = RopeLoad::of_layout(layout, &bodies);
         WallState {
+            ropes,
             bodies,
             contacts: Vec::new(),
             gravity: Vec3::new(0.0, 0.0, -layout.gravity),

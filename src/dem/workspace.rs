@@ -318,11 +318,14 @@ impl Workspace {
         (sum_contact, active)
     }
 
-    /// Stage 4: adds the loads (weight, end-restraint springs, external forces and
-    /// torques) to the contact forces of the last contact pass; returns the sum of the free
-    /// bodies' out-of-balance loads `|F| + |T|/r` (N) and their number.
+    /// Stage 4: adds the loads (weight, end-restraint springs, rope restraints, external
+    /// forces and torques) to the contact forces of the last contact pass; returns the sum
+    /// of the free bodies' out-of-balance loads `|F| + |T|/r` (N) and their number.
     #[inline(always)]
     pub(super) fn load_pass(&mut self, st: &WallState) -> (f64, usize) {
+        for rope in &st.ropes {
+            rope.add_forces(&st.bodies, &mut self.force, &mut self.torque);
+        }
         let mut sum_unbalanced = 0.0;
         let mut free = 0usize;
         for (k, b) in st.bodies.iter().enumerate() {

@@ -287,7 +287,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
                 wedge: p.kind == PieceKind::Wedge,
             })
             .collect(),
-        restraints: RestraintSpec { base_sliding: wall.base, ends },
+        restraints: RestraintSpec { base_sliding: wall.base, ends, ropes: vec![] },
         monitors: vec![],
         joint_families: wall.joints.clone(),
     }

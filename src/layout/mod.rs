@@ -45,10 +45,12 @@
 mod check;
 mod joints;
 mod resolve;
+mod rope;
 
 pub use crate::closure::{Closure, CLOSURE_RANGE_M};
 pub use joints::{FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, JointSpec, FACTOR_RANGE};
 pub use resolve::too_soft;
+pub use rope::{Rope, RopeSpec, ROPE_AXIAL_STIFFNESS_RANGE_N, ROPE_PRETENSION_RANGE_N};
 
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::math::Vec3;
@@ -259,6 +261,10 @@ pub struct RestraintSpec {
     /// End restraints acting in y (out of plane) on named blocks.
     #[serde(default)]
     pub ends: Vec<EndRestraintSpec>,
+    /// Rope restraints: tension-only members bearing on the +y face of one section over a
+    /// height band ([`RopeSpec`]). Default none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ropes: Vec<RopeSpec>,
 }
 
 /// An out-of-plane (y) restraint on a set of blocks, acting at each block's centroid.
@@ -372,6 +378,8 @@ pub struct Layout {
     pub base_sliding: BaseSliding,
     /// End restraints per block index (at most one per block).
     pub end_restraints: Vec<(usize, EndRestraint)>,
+    /// Rope restraints, in file order.
+    pub ropes: Vec<Rope>,
     /// Monitor points.
     pub monitors: Vec<Monitor>,
     /// Joint families with their own properties.

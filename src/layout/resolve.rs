@@ -119,6 +119,8 @@ impl LayoutSpec {
         }
         check_overlaps(&blocks)?;
         let end_restraints = self.resolve_end_restraints(&ids)?;
+        let ropes =
+            self.restraints.ropes.iter().enumerate().map(|(k, r)| r.resolve(k, &blocks)).collect::<Result<_, _>>()?;
         let monitors = self.resolve_monitors(&ids, &blocks)?;
         let joint_families = self.joint_families.resolve("joint_families")?;
         check_family_softness(&joint_families, &materials, gravity)?;
@@ -131,6 +133,7 @@ impl LayoutSpec {
             blocks,
             base_sliding: self.restraints.base_sliding,
             end_restraints,
+            ropes,
             monitors,
             joint_families,
         };

@@ -29,7 +29,9 @@
 //! A fixed block takes any force. A rigid end restraint holds the block's centroid in y:
 //! a free y reaction there, as the DEM holds it. A spring end restraint carries nothing at
 //! the rigid limit (its force grows with a displacement the rigid model does not have) and
-//! is left out. A base held against sliding has no friction cone at the table.
+//! is left out. A base held against sliding has no friction cone at the table. A layout
+//! with rope restraints is refused ([`LimitError::Ropes`]): a rope's pretension acts only
+//! through its deflection, which the rigid model does not have.
 //!
 //! # What is solved exactly
 //!
@@ -191,6 +193,16 @@ pub enum LimitError {
     /// λ is unbounded: the contacts and restraints resist any multiple of the live load.
     #[error("the load multiplier is unbounded: nothing limits the live load (the restraints or contacts resist any multiple of it)")]
     Unbounded,
+    /// The layout has rope restraints: their force depends on the displacement (a taut
+    /// string), which a rigid-plastic limit analysis does not have.
+    #[error(
+        "the layout has {count} rope restraint(s) (restraints.ropes): limit analysis does not model a rope, whose \
+         force grows with the wall's displacement into it; use the penalty or nscd solver"
+    )]
+    Ropes {
+        /// The number of ropes.
+        count: usize,
+    },
     /// No λ balances the dead load.
     #[error("no equilibrium at any load multiplier: the contacts cannot carry the dead load (the mechanism moves block {block} most)")]
     Infeasible {
@@ -245,6 +257,9 @@ pub fn limit_analysis(
 ) -> Result<LimitResult, LimitError> {
     params.validate().map_err(LimitError::Parameter)?;
     contact.validate().map_err(LimitError::Parameter)?;
+    if !layout.ropes.is_empty() {
+        return Err(LimitError::Ropes { count: layout.ropes.len() });
+    }
     let t0 = Instant::now();
     let (mut model, sim) = Model::new(layout, contact);
     if model.free() == 0 {

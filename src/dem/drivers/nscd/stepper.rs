@@ -31,14 +31,16 @@
 //!    vector in the table frame).
 //!
 //! An end restraint that is rigid holds the block's centroid in y (its inverse mass in y
-//! is zero); a spring restraint is a smooth force. Fixed blocks and the table are boundary
-//! bodies (zero inverse mass).
+//! is zero); a spring restraint is a smooth force, and so is a rope restraint
+//! ([`crate::dem::rope`], at the poses of the start of the step). Fixed blocks and the
+//! table are boundary bodies (zero inverse mass).
 
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::local;
 use super::{NscdError, NscdParams, NsgsNorm, SweepOrder};
 use crate::dem::materials::JointTable;
+use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::{Mat3, Vec3};
@@ -81,6 +83,10 @@ pub struct NscdSimulation {
     inv_m: Vec<Vec3>,
     inv_i: Vec<Mat3>,
     spring: Vec<Option<f64>>,
+    ropes: Vec<RopeLoad>,
+    /// The ropes' forces (N) and moments (N·m) per body (scratch of the free velocities).
+    rope_force: Vec<Vec3>,
+    rope_torque: Vec<Vec3>,
     gravity: Vec3,
     gravity_magnitude: f64,
     external_force: Vec<Vec3>,
@@ -125,6 +131,9 @@ impl NscdSimulation {
             inv_i: vec![Mat3::zeros(); n],
             inv_m,
             spring,
+            ropes: RopeLoad::of_layout(layout, &bodies),
+            rope_force: vec![Vec3::zeros(); n],
+            rope_torque: vec![Vec3::zeros(); n],
             gravity: Vec3::new(0.0, 0.0, -layout.gravity),
             gravity_magnitude: layout.gravity,
             external_force: vec![Vec3::zeros(); n],
@@ -363,6 +372,13 @@ impl NscdSimulation {
 
     /// Stage 3: the velocities the smooth forces give by the end of the step.
     fn free_velocities(&mut self, h: f64, a_g: Vec3) {
+        if !self.ropes.is_empty() {
+            self.rope_force.fill(Vec3::zeros());
+            self.rope_torque.fill(Vec3::zeros());
+            for rope in &self.ropes {
+                rope.add_forces(&self.bodies, &mut self.rope_force, &mut self.rope_torque);
+            }
+        }
         for (k, b) in self.bodies.iter().enumerate() {
             if b.fixed {
                 continue;
@@ -373,7 +389,11 @@ impl NscdSimulation {
             }
             let iw = b.rot_mat * b.inertia * b.rot_mat.transpose();
             let w = self.angvel[k];
-            let t = self.external_torque[k] - w.cross(&(iw * w));
+            let mut t = self.external_torque[k] - w.cross(&(iw * w));
+            if !self.ropes.is_empty() {
+                f += self.rope_force[k];
+                t += self.rope_torque[k];
+            }
             self.vel[k] += h * self.inv_m[k].component_mul(&f);
             self.angvel[k] += h * (self.inv_i[k] * t);
         }
