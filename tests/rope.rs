@@ -11,7 +11,8 @@
 //!   path (solved here by a scan, not by the code under test).
 
 use drystone::dem::rope::RopeLoad;
-use drystone::dem::{SolverParams, WallState};
+use drystone::dem::{RunToEquilibrium, SolverParams, WallState};
+use drystone::effects::{effect_rng, Library, Stage};
 use drystone::layout::{BaseSliding, Layout, LayoutSpec, Rope};
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use drystone::math::Vec3;
@@ -153,3 +154,68 @@ fn a_layout_file_s_rope_is_checked_by_name() {
     }
 }
 
+/// A block on the table, end-restrained as the layout file gives it.
+fn held_block(restrained: bool) -> Layout {
+    let ends = if restrained { r#"[{"blocks":["b0"],"kind":"rigid"}]"# } else { "[]" };
+    LayoutSpec::from_json(&format!(
+        r#"{{"version":1,"name":"held block","materials":[{{"name":"m","density_kg_per_m3":2400,"kn_pa_per_m":1e9,
+        "ks_pa_per_m":5e8,"friction_deg":0}}],"table":{{"material":"m"}},
+        "blocks":[{{"id":"b0","material":"m","vertices":[[0,-0.1,0],[0.2,-0.1,0],[0.2,0.1,0],[0,0.1,0],[0,-0.1,0.05],[0.2,-0.1,0.05],[0.2,0.1,0.05],[0,0.1,0.05]]}}],
+        "restraints":{{"ends":{ends}}}}}"#
+    ))
+    .unwrap()
+    .resolve()
+    .unwrap()
+}
+
+fn apply(layout: &mut Layout, e: &str) {
+    let mut rng = effect_rng(0, 0, "test", "e");
+    let e = Library::builtin().parse(e, drystone::effects::REFERENCE_COURSE_HEIGHT_M).unwrap();
+    for stage in [Stage::Layout, Stage::JointLaw, Stage::Restraints] {
+        e.apply_stage(stage, layout, &[], &mut rng).unwrap();
+    }
+}
+
+/// `end_rope` on an end-restrained block on a frictionless table tilted to α: the rigid
+/// restraint becomes two ropes 0.05 m in from the ends, which hold the block where their
+/// taut-string force balances the downhill weight, `W sin α = 2 · 2 T δ / √(s² + δ²)`
+/// (δ solved here by bisection); a wall without end restraints is left as it is.
+#[test]
+fn end_rope_holds_a_block_on_a_frictionless_table_by_the_taut_string() {
+    let (t0, ea) = (50.0, 1e4);
+    let mut l = held_block(true);
+    apply(&mut l, &format!("end_rope={t0}:{ea}"));
+    assert!(l.end_restraints.is_empty(), "the ropes replace the rigid restraint");
+    let xs: Vec<f64> = l.ropes.iter().map(|r| r.x).collect();
+    assert_eq!(xs.len(), 2);
+    assert!((xs[0] - 0.05).abs() < 1e-12 && (xs[1] - 0.15).abs() < 1e-12, "{xs:?}");
+    let s = l.ropes[0].span;
+    let mut sim = drystone::dem::Simulation::new(&l, SolverParams::default());
+    sim.run_to_equilibrium(1e-9, 2_000_000).unwrap();
+    let y0 = sim.state.bodies[0].pos.y;
+    let alpha = 10f64.to_radians();
+    sim.set_tilt(alpha);
+    sim.run_to_equilibrium(1e-9, 4_000_000).unwrap();
+    let load = sim.state.bodies[0].mass * drystone::units::STANDARD_GRAVITY * alpha.sin();
+    let force = |d: f64| {
+        let ll = (s * s + d * d).sqrt();
+        4.0 * (t0 + ea * (ll - s) / s) * d / ll
+    };
+    let (mut lo, mut hi) = (0.0, s);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if force(mid) < load {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let dy = sim.state.bodies[0].pos.y - y0;
+    eprintln!("held by end ropes: moved {dy:e} m, taut string {lo:e} m");
+    assert!((dy - lo).abs() < 2e-3 * lo, "{dy:e} against {lo:e}");
+
+    let free = held_block(false);
+    let mut l = free.clone();
+    apply(&mut l, "end_rope=300:6e4");
+    assert_eq!(l, free, "a wall without end restraints is left alone");
+}

@@ -3,6 +3,7 @@
 //! ([`effect_rng`]) and the application of a model's effects in stage order
 //! ([`apply_all`]).
 
+use super::rope::RopeProperty;
 use super::*;
 use crate::layout::{EndRestraint, FamilyJoint, JointFamily, Layout};
 
@@ -105,6 +106,8 @@ impl Effect {
                         *r = if v.is_finite() { EndRestraint::Spring(v) } else { EndRestraint::Rigid };
                     }
                 }
+                Step::RopePretension { .. } => super::rope::set_end_rope(layout, RopeProperty::Pretension, v),
+                Step::RopeStiffness { .. } => super::rope::set_end_rope(layout, RopeProperty::AxialStiffness, v),
             }
         }
         Ok(())

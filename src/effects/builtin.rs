@@ -82,6 +82,7 @@ pub fn builtin() -> Vec<EffectDef> {
             vec![param("stiffness_n_per_m", "N/m per block", 10.0, 1e6, Scale::Log, f64::INFINITY, false)],
             vec![Step::RestraintSpring { parameter: "stiffness_n_per_m".into() }],
         ),
+        end_rope(),
         def(
             "transverse_dip",
             "bed joints dipping across the thickness, uniform in [-delta, delta] per joint",
@@ -97,4 +98,26 @@ pub fn builtin() -> Vec<EffectDef> {
             vec![Step::BaseStop { parameter: "stop_height_m".into(), friction_deg: None }],
         ),
     ]
+}
+
+/// `end_rope`: the end restraints replaced by a tensioned rope at each end
+/// ([`super::rope`]; docs/rope.md gives the law, the geometry and the ranges' sources).
+fn end_rope() -> EffectDef {
+    def(
+        "end_rope",
+        "rigid ends replaced by a tension-only rope at each end (pretension T0, axial stiffness EA) bearing on the \
+         wall's face over its height: the wall spans between the ropes",
+        "Santa-Cruz et al. (2021), §2.1: \"a rope manually tensioned at the specimen ends\", 1.4 m apart. Ranges are \
+         estimates: T0 50-1500 N, a hand pull of 0.1-0.5 kN, up to about 1.5 kN with a tensioning hitch; EA 1e4-2e5 N, \
+         6-10 mm polypropylene or nylon rope, EA taken as the makers' minimum breaking load (about 6-20 kN) over the \
+         strain at break (about 0.15-0.3), stiffer in the working range",
+        vec![
+            param("pretension_n", "N", 50.0, 1500.0, Scale::Log, f64::INFINITY, false),
+            param("axial_stiffness_n", "N", 1e4, 2e5, Scale::Log, f64::INFINITY, false),
+        ],
+        vec![
+            Step::RopePretension { parameter: "pretension_n".into() },
+            Step::RopeStiffness { parameter: "axial_stiffness_n".into() },
+        ],
+    )
 }

@@ -134,7 +134,8 @@ impl EffectDef {
                 ));
             }
             let p = d.parameters.iter().find(|p| p.name == s.parameter()).map(|p| (p.min, p.max)).unwrap_or_default();
-            let needs_positive = matches!(s, Step::JointFactor { .. } | Step::RestraintSpring { .. });
+            let needs_positive =
+                matches!(s, Step::JointFactor { .. } | Step::RestraintSpring { .. } | Step::RopeStiffness { .. });
             if needs_positive && p.0 <= 0.0 {
                 return Err(bad(
                     format!("steps[{i}]"),
@@ -151,6 +152,9 @@ impl EffectDef {
                         ),
                     ));
                 }
+            }
+            if matches!(s, Step::RopePretension { .. }) && p.0 < 0.0 {
+                return Err(bad(format!("steps[{i}]"), "a pretension needs a parameter range at or above 0".into()));
             }
             if matches!(s, Step::Closure { .. } | Step::Rounding { .. }) && p.0 < 0.0 {
                 return Err(bad(format!("steps[{i}]"), "a length needs a parameter range at or above 0".into()));

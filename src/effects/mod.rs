@@ -19,6 +19,7 @@
 //! | `initial_lean` | ψ (deg) | layout: sheared out of plumb towards +y |
 //! | `edge_rounding` | r (m) | layout: every edge of every block rounded by r |
 //! | `restraint_stiffness` | k (N/m per block) | restraints: rigid ends → springs |
+//! | `end_rope` | T₀ (N), EA (N) | restraints: rigid ends → a tensioned rope at each end |
 //! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
 //! | `base_restraint` | h_s (m) | layout: fixed stops of height h_s on the downhill face of the first course |
 //!
@@ -27,8 +28,8 @@
 //! `range_per_course_height` scale with the wall: they are written for a course height of
 //! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
 //! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
-//! ψ = 0, r = 0, δ = 0, h_s = 0; `joint_closure` and `restraint_stiffness` reach it only in the
-//! limit Vm → ∞, k → ∞).
+//! ψ = 0, r = 0, δ = 0, h_s = 0; `joint_closure`, `restraint_stiffness` and `end_rope` reach it
+//! only in the limit Vm → ∞, k → ∞, T₀ → ∞).
 //!
 //! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
 //! effect), so that a study with an effect and the discrepancy analysis that named it draw
@@ -38,6 +39,7 @@ mod apply;
 mod builtin;
 mod file;
 pub mod geometry;
+pub mod rope;
 
 pub use apply::{apply_all, effect_rng};
 pub use builtin::builtin;
@@ -189,6 +191,18 @@ pub enum Step {
         /// The parameter giving k, N/m.
         parameter: String,
     },
+    /// The end restraints replaced by a tensioned rope at each end ([`rope`]), with
+    /// pretension T₀ (N).
+    RopePretension {
+        /// The parameter giving T₀, N.
+        parameter: String,
+    },
+    /// The end restraints replaced by a tensioned rope at each end ([`rope`]), with axial
+    /// stiffness EA (N).
+    RopeStiffness {
+        /// The parameter giving EA, N.
+        parameter: String,
+    },
     /// Fixed stops of height h_s (m) bearing on the downhill face of every block on the
     /// table ([`geometry::add_base_stops`]).
     BaseStop {
@@ -212,6 +226,8 @@ impl Step {
             | Step::Rounding { parameter }
             | Step::TransverseDip { parameter }
             | Step::RestraintSpring { parameter }
+            | Step::RopePretension { parameter }
+            | Step::RopeStiffness { parameter }
             | Step::BaseStop { parameter, .. } => parameter,
         }
     }
@@ -223,7 +239,9 @@ impl Step {
                 Stage::Layout
             }
             Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
-            Step::RestraintSpring { .. } => Stage::Restraints,
+            Step::RestraintSpring { .. } | Step::RopePretension { .. } | Step::RopeStiffness { .. } => {
+                Stage::Restraints
+            }
         }
     }
 
