@@ -219,3 +219,33 @@ fn end_rope_holds_a_block_on_a_frictionless_table_by_the_taut_string() {
     apply(&mut l, "end_rope=300:6e4");
     assert_eq!(l, free, "a wall without end restraints is left alone");
 }
+
+/// A generated wall with `end_rope` tilts to the same numbers, bit for bit, run after run
+/// and inside rayon pools of 1 and 2 threads (the rope pass is serial, in bearer order).
+#[test]
+fn a_wall_held_by_end_ropes_tilts_bit_for_bit_on_1_and_2_threads() {
+    use rayon::prelude::*;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let wall =
+        drystone::generator::Wall::from_file(&root.join("tests/discrepancy/walls/small_restrained.toml")).unwrap();
+    let mut l = drystone::generator::generate(&wall, 7, 0).unwrap().check().unwrap();
+    apply(&mut l, "end_rope=300:6e4");
+    assert_eq!(l.ropes.len(), 2);
+    let params = TiltParams { step_deg: 2.0, resolution_deg: 0.5, ..TiltParams::default() };
+    let print = || {
+        let r = run_tilt(&l, SolverParams::default(), &params).unwrap();
+        let mut bits = vec![r.collapse_angle_deg().to_bits()];
+        for inc in &r.increments {
+            bits.extend(inc.displacement_m.iter().map(|d| d.to_bits()));
+        }
+        bits
+    };
+    let reference = print();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let prints: Vec<Vec<u64>> = pool.install(|| (0..2).into_par_iter().map(|_| print()).collect());
+        for p in prints {
+            assert_eq!(p, reference, "{threads} threads");
+        }
+    }
+}
