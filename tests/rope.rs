@@ -8,13 +8,16 @@
 //! * the tilting table: a rigid block held by two ropes that press its face (wrap depth d)
 //!   overturns about its toe at the angle where the moments about the toe balance,
 //!   `W R sin(α − α₀ + θ) = 2 F(θ) z_c cos θ`, maximized over the rotation θ along the
-//!   path (solved here by a scan, not by the code under test).
+//!   path (solved here by a scan, not by the code under test), by the penalty engine and by
+//!   non-smooth contact dynamics.
 
+use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::rope::RopeLoad;
 use drystone::dem::{RunToEquilibrium, SolverParams, WallState};
 use drystone::effects::{effect_rng, Library, Stage};
 use drystone::layout::{BaseSliding, Layout, LayoutSpec, Rope};
 use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt_nscd::run_tilt_nscd;
 use drystone::math::Vec3;
 use drystone::verify::{layout_of, rect_block, DENSITY, RIGID_KN};
 
@@ -124,6 +127,13 @@ fn a_block_held_by_ropes_on_the_tilting_table_overturns_where_the_moments_balanc
     eprintln!("held by ropes: simulated {got:.4} deg, statics {want:.4} deg (free block {free:.4} deg)");
     assert!(want > free + 5.0, "the ropes matter in this case");
     assert!((got - want).abs() < 0.25, "{got} against statics {want}");
+    // The same with non-smooth contact dynamics (the rope a smooth force).
+    let nscd =
+        run_tilt_nscd(&layout, &NscdParams::default(), &TiltParams { resolution_deg: 0.0625, ..TiltParams::default() })
+            .expect("stands at 0")
+            .collapse_angle_deg();
+    eprintln!("held by ropes, nscd: {nscd:.4} deg");
+    assert!((nscd - want).abs() < 0.25, "nscd {nscd} against statics {want}");
 }
 
 #[test]
