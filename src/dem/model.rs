@@ -121,7 +121,8 @@ impl WallState {
     }
 
     /// Total energy bookkeeping: (kinetic, gravitational potential relative to the
-    /// reference configuration, elastic energy stored in the joints), J.
+    /// reference configuration, elastic energy stored in the joints), J. The energy
+    /// stored in rope restraints is not counted.
     pub fn energies(&self) -> (f64, f64, f64) {
         let ke: f64 = self.bodies.iter().map(|b| b.kinetic_energy()).sum();
         let pe: f64 = self.bodies.iter().map(|b| -b.mass * self.gravity.dot(&(b.pos - b.pos0))).sum();

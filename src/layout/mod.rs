@@ -37,6 +37,9 @@
 //! on top of that rule (see [`joints`](JointFamily) for how a joint is classified); blocks
 //! may carry their `course` index and a `wedge` flag, which the generator writes.
 //!
+//! `restraints.ropes` holds tensioned ropes bearing on the +y face of one section
+//! ([`RopeSpec`]: a tension-only taut string with a pretension; docs/rope.md).
+//!
 //! A material or a family may give a normal closure law:
 //! `"closure": "linear"` (default), `{"hyperbolic": {"max_closure_m": 1e-3}}` (Bandis et
 //! al. 1983) or `{"seating": {"max_gap_m": 1e-3}}` (uneven beds), with the parameter in
