@@ -55,8 +55,10 @@ fn classes() -> Vec<Edit> {
 }
 
 /// One analysis: the edit, with mechanisms, the answer, (the named cause itself is the
-/// hidden effect or one of its members, named with no tie), the line printed.
-type Row = (Edit, bool, Answer, (bool, bool), String);
+/// hidden effect or one of its members, named with no tie), the line printed, and (the
+/// pseudo-BMA+ weight of the truth, whether the truth is among the models that share the
+/// weight).
+type Row = (Edit, bool, Answer, (bool, bool), String, (f64, bool));
 
 fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
     let lo = if k == 0 { 0.0 } else { Beta::new(k as f64, (n - k + 1) as f64).unwrap().inverse_cdf(0.025) };
@@ -191,13 +193,41 @@ fn main() {
         println!();
         table(&answers, with);
     }
+    println!();
+    println!("The weights: the pseudo-BMA+ weight of the truth (the baseline on null data; else the models made of the class's effects, summed), its mean and range over the data sets, and in how many data sets the truth is among the models that share 90 % of the weight:");
+    println!();
+    println!(
+        "| data | mechanisms | sets | weight of the truth, mean | min – max | truth among the models sharing 90 % |"
+    );
+    println!("| --- | --- | --- | --- | --- | --- |");
+    for &with in &ways {
+        for e in std::iter::once(Edit::None).chain(classes()) {
+            let w: Vec<&(f64, bool)> =
+                answers.iter().filter(|(x, m, ..)| *x == e && *m == with).map(|r| &r.5).collect();
+            if w.is_empty() {
+                continue;
+            }
+            let v: Vec<f64> = w.iter().map(|x| x.0).collect();
+            println!(
+                "| {} | {} | {} | {:.3} | {:.3} – {:.3} | {} of {} |",
+                e.label(),
+                if with { "with" } else { "without" },
+                w.len(),
+                drystone::stats::mean(&v),
+                v.iter().copied().fold(f64::INFINITY, f64::min),
+                v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                w.iter().filter(|x| x.1).count(),
+                w.len()
+            );
+        }
+    }
     if ways.len() == 2 {
         println!();
         println!("| data | sets | named cause is the hidden effect alone, without mechanisms | with mechanisms | false alarms or wrong cause, without | with |");
         println!("| --- | --- | --- | --- | --- | --- |");
         for e in std::iter::once(Edit::None).chain(classes()) {
             let count = |with: bool, f: &dyn Fn(&Answer, &(bool, bool)) -> bool| {
-                answers.iter().filter(|(x, w, a, b, _)| *x == e && *w == with && f(a, b)).count()
+                answers.iter().filter(|(x, w, a, b, ..)| *x == e && *w == with && f(a, b)).count()
             };
             let n = count(false, &|_, _| true);
             if n == 0 {
@@ -257,6 +287,18 @@ fn one(
         run.sigma_estimate,
         missed
     );
+    // The truth: the baseline on null data, else every model made of the class's effects.
+    let truth = |name: &str| {
+        if e == Edit::None {
+            name == "baseline"
+        } else {
+            name != "baseline" && name != "scatter" && name.split('+').all(|m| realwalls::expected(e).contains(&m))
+        }
+    };
+    let w = &a.weights;
+    let truth_weight: f64 = w.models.iter().filter(|m| truth(&m.name)).map(|m| m.pseudo_bma).sum();
+    let truth_shared = w.shared.iter().any(|n| truth(n));
+    let what = format!("{what} | weight of the truth {truth_weight:.3}, shared by {:?}", w.shared);
     eprintln!("{what} -> {got:?}");
     if std::env::var_os("REALWALL_VERBOSE").is_some() {
         let top = &a.candidates[0];
@@ -293,7 +335,7 @@ fn one(
             );
         }
     }
-    (e, with, got, (named, named && a.tie.len() <= 1), what)
+    (e, with, got, (named, named && a.tie.len() <= 1), what, (truth_weight, truth_shared))
 }
 
 /// The power table of the analyses `with` (or without) mechanisms.
@@ -303,8 +345,8 @@ fn table(answers: &[Row], with: bool) {
     for e in std::iter::once(Edit::None).chain(classes()) {
         let mine = || answers.iter().filter(|(x, w, ..)| *x == e && *w == with);
         let v: Vec<&Answer> = mine().map(|(_, _, a, ..)| a).collect();
-        let first = mine().filter(|(_, _, a, f, _)| *a == Answer::Right && f.0).count();
-        let alone = mine().filter(|(_, _, a, f, _)| *a == Answer::Right && f.1).count();
+        let first = mine().filter(|(_, _, a, f, ..)| *a == Answer::Right && f.0).count();
+        let alone = mine().filter(|(_, _, a, f, ..)| *a == Answer::Right && f.1).count();
         let dash = |k: usize| if e == Edit::None { "–".to_string() } else { k.to_string() };
         let c = |a: Answer| v.iter().filter(|x| ***x == a).count();
         let n = v.len();

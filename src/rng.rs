@@ -26,6 +26,8 @@ pub enum Purpose {
     Effect,
     /// Stochastic ground motions (`ground::stochastic`), per motion index.
     GroundMotion,
+    /// The Bayesian bootstrap of the model-discrepancy analysis's model weights.
+    Weights,
 }
 
 impl Purpose {
@@ -37,6 +39,7 @@ impl Purpose {
             Purpose::Discrepancy => 4,
             Purpose::Effect => 5,
             Purpose::GroundMotion => 6,
+            Purpose::Weights => 7,
         }
     }
 }

@@ -131,8 +131,20 @@ fn an_analysis_of_lateral_displacements_finds_the_joint_stiffness_by_its_scaling
     assert_ne!(a.verdict, Verdict::NoEffect);
     let factor = cause.parameters[0].1;
     assert!((factor * 3.0 - 1.0).abs() < 0.15, "kn_scale.factor = {factor}, want about 1/3");
+    // The weights: the displacements three times the model's leave the baseline none; the
+    // hidden cause holds the weight alone, and the displacement separates it from the
+    // baseline.
+    let w = &a.weights;
+    assert_eq!(w.models.len(), 2, "{w:?}");
+    let total: f64 = w.models.iter().map(|m| m.pseudo_bma).sum();
+    assert!((total - 1.0).abs() < 1e-9 && w.of("kn_scale") > 0.99 && w.shared == ["kn_scale"], "{w:?}");
+    let sep = &a.identifiability.pairs[0];
+    assert!(!sep.indistinguishable && sep.keys[0].observable.starts_with("free"), "{sep:?}");
     let run = analyze(&prep, data(1.0), study.seed).unwrap();
     assert_eq!((run.analysis.verdict, run.analysis.cause.as_ref().map(|c| c.name.clone())), (Verdict::NoEffect, None));
+    // At the model's own displacements the baseline shares the weight (`kn_scale` at a
+    // factor near 1 predicts as well, so it may share it too).
+    assert!(run.analysis.weights.shared.iter().any(|n| n == "baseline"), "{:?}", run.analysis.weights);
     // Observables the lateral load does not give.
     let mut angle = data(1.0);
     angle[0].observable = Observable::CollapseAngle;

@@ -463,7 +463,10 @@ class Discrepancy:
     (`explained`, `no_effect` or `unexplained`), `cause` (the named effect, e.g.
     `kn_scale`, or None), `parameters` (the cause's fitted parameters, in their units),
     `tie` (candidates the data cannot separate from the cause), `candidates` (every
-    candidate, best first, with its scores). `to_dict()` gives the whole object.
+    candidate, best first, with its scores), `weights` (the pseudo-BMA+ weight of the
+    baseline and of every candidate, heaviest first), `shared` (the models that share 90 %
+    of that weight). `to_dict()` gives the whole object, with the stacking weights, the
+    weights' intervals and the identifiability of the leading models.
     """
 
     verdict: str
@@ -471,6 +474,8 @@ class Discrepancy:
     parameters: Dict[str, float]
     tie: List[str]
     candidates: List[Dict[str, Any]]
+    weights: Dict[str, float]
+    shared: List[str]
     _raw: Dict[str, Any] = field(repr=False, compare=False)
 
     def to_dict(self) -> Dict[str, Any]:
@@ -506,6 +511,8 @@ def discrepancy(
         parameters=params,
         tie=list(raw.get("tie") or []),
         candidates=list(raw.get("candidates") or []),
+        weights={m["name"]: m["pseudo_bma"] for m in (raw.get("weights") or {}).get("models", [])},
+        shared=list((raw.get("weights") or {}).get("shared") or []),
         _raw=raw,
     )
 

@@ -341,6 +341,13 @@ pub struct Analysis {
     /// The posterior predictive check of the extended model (of the baseline when no cause
     /// is named).
     pub check: Option<PredictiveCheck>,
+    /// The weight of the baseline and of every candidate (`scatter` and pairs included):
+    /// pseudo-BMA+ and stacking on the held-out scores per specimen, with their bootstrap
+    /// intervals, and the models that share the weight ([`super::weights`]).
+    pub weights: super::weights::Weights,
+    /// Which observables of the design separate the models that share the weight, and the
+    /// pairs none separates ([`super::identify`]).
+    pub identifiability: super::identify::Identifiability,
     /// The candidates analysed, pairs included.
     #[serde(skip)]
     pub pool: Vec<Candidate>,

@@ -124,6 +124,7 @@ fn lerp(a: &Simulated, b: &Simulated, t: f64) -> Simulated {
         sd: a.sd + (b.sd - a.sd) * t,
         n: a.n.min(b.n),
         err: a.err + (b.err - a.err) * t,
+        heights: a.heights.lerp(&b.heights, t),
     }
 }
 
@@ -228,6 +229,7 @@ impl Surface {
                             sd: var.max(0.0).sqrt(),
                             n: o.n.min(p.n).min(q.n),
                             err: (p.err * p.err + q.err * q.err).sqrt(),
+                            heights: o.heights.shifted(&[(&p.heights, &o.heights), (&q.heights, &o.heights)]),
                         }
                     })
                     .collect()
@@ -265,6 +267,7 @@ impl Surface {
                         },
                         n: f.n,
                         err: s.err,
+                        heights: f.heights.shifted(&[(&s.heights, &s0.heights)]),
                     })
                     .collect()
             }
@@ -320,6 +323,11 @@ impl Data<'_> {
         let o = &self.obs[j].observable;
         if let Some(q) = self.reading.category_probability(o, &sims[self.key[j]]) {
             return self.weight[j] * super::predictive::category_score(q, self.y[j]);
+        }
+        if let Observable::FailureHeight { width } = o {
+            let sim = &sims[self.key[j]];
+            let e = self.reading.misreading;
+            return self.weight[j] * super::predictive::height_score(sim, self.y[j], *width, self.obs[j].sigma, e);
         }
         let r = self.reading.of(o);
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
@@ -536,9 +544,10 @@ pub fn difference_se(d: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::discrepancy::predictive::Heights;
 
     fn sim(mean: f64) -> Simulated {
-        Simulated { mean, sd: 1.0, n: 4, err: 0.0 }
+        Simulated { mean, sd: 1.0, n: 4, err: 0.0, heights: Heights::NONE }
     }
 
     #[test]
@@ -602,10 +611,12 @@ mod tests {
     #[test]
     fn a_corrected_surface_is_the_full_run_at_its_point_and_the_surrogate_s_shape_elsewhere() {
         let xs = vec![0.0, 0.5, 1.0];
-        let sims: Vec<Vec<Simulated>> =
-            xs.iter().map(|&x| vec![Simulated { mean: 2.0 * x, sd: 1.0 + x, n: 2, err: 0.0 }]).collect();
+        let sims: Vec<Vec<Simulated>> = xs
+            .iter()
+            .map(|&x| vec![Simulated { mean: 2.0 * x, sd: 1.0 + x, n: 2, err: 0.0, heights: Heights::NONE }])
+            .collect();
         let inner = Surface::axis(xs, sims);
-        let full = vec![Simulated { mean: 7.0, sd: 3.0, n: 9, err: 0.0 }];
+        let full = vec![Simulated { mean: 7.0, sd: 3.0, n: 9, err: 0.0, heights: Heights::NONE }];
         let c = Surface::Corrected { inner: Box::new(inner), x0: vec![0.0], full: full.clone() };
         let at0 = c.at(&[0.0])[0];
         assert_eq!((at0.mean, at0.sd, at0.n), (7.0, 3.0, 9));

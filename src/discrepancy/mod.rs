@@ -32,6 +32,7 @@
 mod analysis;
 mod findings;
 mod fit;
+mod identify;
 mod null;
 mod observations;
 mod predictive;
@@ -41,6 +42,7 @@ mod settings;
 mod simulate;
 mod stages;
 mod synthesize;
+mod weights;
 
 /// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
 pub use crate::effects;
@@ -48,12 +50,13 @@ pub use crate::effects;
 pub use analysis::{Analysis, Library, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
 pub use fit::{difference_se, per_specimen, Candidate, Surface};
+pub use identify::{identifiability, Identifiability, KeySeparation, Separation, INDISTINGUISHABLE};
 pub use null::Margins;
 pub use observations::{
     measurement_sigma, mechanism_observations, observations, specimens, Measure, MeasurementSigma, Observable,
     Observation, ObservationError, MIN_SIGMA_DOF,
 };
-pub use predictive::{Predictive, Reading, Simulated};
+pub use predictive::{Heights, Predictive, Reading, Simulated, HEIGHT_BINS};
 pub use prepare::{
     build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_with, searched, InertEffect,
     Keys, Prepared,
@@ -66,6 +69,7 @@ pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,
     write as write_synthetic, Request as SynthesisRequest,
 };
+pub use weights::{weights, ModelWeight, Weights, SHARED};
 
 /// Errors of a discrepancy analysis.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -408,7 +408,13 @@ mod tests {
         let keys = vec![(0usize, Observable::CollapseAngle)];
         let pool_sims = vec![Simulated::from_values(&pool_values)];
         let r_model = 4usize;
-        let centre = vec![Simulated { mean: 20.0, sd: pool_sims[0].sd, n: r_model, err: 0.0 }];
+        let centre = vec![Simulated {
+            mean: 20.0,
+            sd: pool_sims[0].sd,
+            n: r_model,
+            err: 0.0,
+            heights: crate::discrepancy::predictive::Heights::NONE,
+        }];
         let n = 12usize;
         let sigma = 0.3;
         let s2 = pool_values.iter().map(|x| (x - pool_sims[0].mean).powi(2)).sum::<f64>() / 12.0;

@@ -134,6 +134,8 @@ pub fn report_json(run: &Run) -> Value {
         },
         "extended": extended,
         "margins": a.margins,
+        "weights": a.weights,
+        "identifiability": a.identifiability,
         "diagnosis": diagnosis(run, &run.baseline),
         "settings": run.settings,
     })
@@ -160,6 +162,7 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
     verdict_section(&mut md, run);
     diagnosis_section(&mut md, run);
     candidates_section(&mut md, run);
+    weights_section(&mut md, run);
     extended_section(&mut md, run);
     md
 }
@@ -292,6 +295,73 @@ fn candidates_section(md: &mut String, run: &Run) {
         let _ = writeln!(md);
     }
 }
+/// The models' weights and what separates the leading ones.
+fn weights_section(md: &mut String, run: &Run) {
+    let w = &run.analysis.weights;
+    if w.models.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "## Weights of the causes
+"
+    );
+    let _ = writeln!(md, "How much the data favour each model among those compared, from the held-out scores per specimen above: pseudo-BMA+ weights (Bayesian bootstrap over specimens, {} draws; Yao et al. 2018) and stacking weights (the mixture of the models that predicts held-out specimens best), each with its 95 % bootstrap interval. The models that share the weight: {} (the fewest, heaviest first, holding {:.0} % of the pseudo-BMA+ weight). The verdict and its tie do not depend on the weights.\n", w.draws, w.shared.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "), 100.0 * w.shared_share);
+    let _ = writeln!(md, "| model | pseudo-BMA+ weight | 95 % interval | stacking weight | 95 % interval |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    for m in &w.models {
+        let _ = writeln!(
+            md,
+            "| `{}` | {:.3} | [{:.3}, {:.3}] | {:.3} | [{:.3}, {:.3}] |",
+            m.name,
+            m.pseudo_bma,
+            m.pseudo_bma_interval.0,
+            m.pseudo_bma_interval.1,
+            m.stacking,
+            m.stacking_interval.0,
+            m.stacking_interval.1
+        );
+    }
+    let id = &run.analysis.identifiability;
+    if id.pairs.is_empty() {
+        let _ = writeln!(md);
+        return;
+    }
+    let _ = writeln!(md, "\nWhat separates the leading models ({}): the expected log predictive difference per observation (nats; the Kullback–Leibler divergence of the two fitted predictives, weighted as in the score) when the first or the second is true, for the three observables that separate them best, and per replicate of the design (one specimen of every group). A pair below {} nats per replicate both ways is indistinguishable under this design.\n", id.leading.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "), id.threshold);
+    let _ = writeln!(
+        md,
+        "| models | best separating observables (first true / second true) | per replicate | indistinguishable |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- |");
+    for p in &id.pairs {
+        let keys: Vec<String> = p
+            .keys
+            .iter()
+            .take(3)
+            .map(|k| format!("{} ({:.3} / {:.3})", k.observable, k.first_true, k.second_true))
+            .collect();
+        let _ = writeln!(
+            md,
+            "| `{}` – `{}` | {} | {:.3} / {:.3} | {} |",
+            p.models.0,
+            p.models.1,
+            keys.join(", "),
+            p.per_replicate.0,
+            p.per_replicate.1,
+            if p.indistinguishable { "yes" } else { "no" }
+        );
+    }
+    let none = id.indistinguishable();
+    if !none.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nIndistinguishable under this design: {}.",
+            none.iter().map(|(a, b)| format!("`{a}` and `{b}`")).collect::<Vec<_>>().join("; ")
+        );
+    }
+    let _ = writeln!(md);
+}
+
 /// The extended model, when one was run: its gain and its values beside the baseline's.
 fn extended_section(md: &mut String, run: &Run) {
     let a = &run.analysis;

@@ -116,6 +116,8 @@ pub fn analyze_with(
     progress(&format!("verdict: {}", verdict.name()));
     let design = separating_design(&tie.members, &candidates, &pool, &obs, &keys, &labels);
     let cause_interval = named.as_ref().map_or(vec![], |b| fitted_parameters(b, &pool[b.index], data));
+    let (weights, identifiability) =
+        weigh(data, &specimens, &screening.base_scores, &candidates, &pool, &lib.baseline, &labels, s.bootstrap, seed);
     let analysis = Analysis {
         verdict,
         cause: named,
@@ -129,6 +131,8 @@ pub fn analyze_with(
         baseline_scores: screening.base_scores,
         margins,
         check: Some(found.check),
+        weights,
+        identifiability,
         pool,
     };
     Ok(Run {
@@ -557,6 +561,44 @@ fn separating_design(
         labels,
         (a.name.clone(), b.name.clone()),
     )
+}
+
+/// The models' weights ([`super::weights`]) from the held-out scores per specimen of the
+/// baseline (`base_scores`, per observation) and every candidate, and the identifiability
+/// of the models that share the weight ([`super::identify`]: at least the two heaviest, at
+/// most [`super::identify::LEADING`]), each at its fitted parameters.
+#[allow(clippy::too_many_arguments)]
+fn weigh(
+    data: Data<'_>,
+    specimens: &[String],
+    base_scores: &[f64],
+    candidates: &[Ranked],
+    pool: &[Candidate],
+    baseline: &[Simulated],
+    labels: &[String],
+    draws: usize,
+    seed: u64,
+) -> (super::weights::Weights, super::identify::Identifiability) {
+    let mut names = vec!["baseline".to_string()];
+    let mut elpd = vec![fit::per_specimen(base_scores, data.obs, specimens).iter().map(|x| -x).collect::<Vec<f64>>()];
+    for c in candidates {
+        names.push(c.name.clone());
+        elpd.push(fit::per_specimen(&c.scores, data.obs, specimens).iter().map(|x| -x).collect());
+    }
+    let w = super::weights::weights(&names, &elpd, draws, seed);
+    let lead = w.shared.len().clamp(2, super::identify::LEADING).min(w.models.len());
+    let models: Vec<(String, Vec<Simulated>)> = w.models[..lead]
+        .iter()
+        .filter_map(|m| {
+            if m.name == "baseline" {
+                return Some((m.name.clone(), baseline.to_vec()));
+            }
+            let c = candidates.iter().find(|c| c.name == m.name)?;
+            Some((m.name.clone(), pool[c.index].surface.at(&c.x)))
+        })
+        .collect();
+    let id = super::identify::identifiability(&models, data, labels);
+    (w, id)
 }
 
 /// The cause's parameters with their 95 % profile intervals on all the data, in the

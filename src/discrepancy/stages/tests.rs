@@ -46,8 +46,10 @@ fn the_sigma_rule_takes_the_spread_the_data_show_beyond_the_model() {
     obs.push(Observation { specimen: "S0".into(), group: "G".into(), observable: disp, value: 1.0, sigma: 0.01 });
     obs.push(Observation { specimen: "S1".into(), group: "G".into(), observable: disp, value: 3.0, sigma: 0.01 });
     let key = vec![0, 0, 0, 0, 0, 1, 1];
-    let baseline =
-        [Simulated { mean: 14.0, sd: 1.0, n: 9, err: 0.0 }, Simulated { mean: 2.0, sd: 0.1, n: 9, err: 0.0 }];
+    let baseline = [
+        Simulated { mean: 14.0, sd: 1.0, n: 9, err: 0.0, heights: crate::discrepancy::predictive::Heights::NONE },
+        Simulated { mean: 2.0, sd: 0.1, n: 9, err: 0.0, heights: crate::discrepancy::predictive::Heights::NONE },
+    ];
     let s = apply_sigma_rule(&mut obs, &key, &baseline, EXACT);
     let (sd, dof) = s.estimate[0].unwrap();
     assert!((sd - 3.0).abs() < 1e-12 && dof == 4, "{:?}", s.estimate);
@@ -181,7 +183,9 @@ fn screening_scores_the_baseline_and_ranks_the_candidates_by_their_heldout_error
     let weight = vec![1.0; 5];
     let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: EXACT, bracket_deg: 0.0 };
     let specimens = observations::specimens(&obs);
-    let at = |mean: f64| vec![Simulated { mean, sd: 0.0, n: 1, err: 0.0 }];
+    let at = |mean: f64| {
+        vec![Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: crate::discrepancy::predictive::Heights::NONE }]
+    };
     let defs = crate::effects::Library::builtin();
     let candidate = |name: &str, means: [f64; 3]| {
         let def = defs.get(name).unwrap();
