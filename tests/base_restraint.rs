@@ -28,6 +28,8 @@ fn collapse_with_stop(b: f64, h: f64, phi_deg: f64, h_s: f64) -> (f64, usize) {
             scale: Scale::Linear,
             neutral: 0.0,
             range_per_course_height: false,
+            source: String::new(),
+            kinds: vec![],
         }],
         steps: vec![Step::BaseStop { parameter: "h_s".into(), friction_deg: Some(0.0) }],
     };

@@ -147,6 +147,7 @@ fn spec(
         version: 1,
         name: "property".into(),
         description: String::new(),
+        kind: None,
         gravity_m_per_s2: 9.81,
         geometry: GeometrySpec {
             length_m: dims[0],

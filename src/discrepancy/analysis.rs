@@ -235,6 +235,7 @@ pub fn pairs(lib: &Library, ranked: &[Ranked]) -> Vec<Candidate> {
             out.push(Candidate {
                 effects: vec![a.effects[0].clone(), b.effects[0].clone()],
                 params: a.params.iter().chain(&b.params).cloned().collect(),
+                kinds: a.kinds.clone(),
                 surface: Surface::Pair {
                     a: Box::new(a.surface.clone()),
                     b: Box::new(b.surface.clone()),

@@ -31,7 +31,7 @@
 
 use super::observations::{Observable, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
-use crate::effects::{EffectDef, ParamDef, Scale};
+use crate::effects::{EffectDef, ParamDef, Scale, WallKind};
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentOpt;
 use std::sync::Arc;
@@ -413,6 +413,10 @@ pub struct Candidate {
     pub params: Vec<ParamDef>,
     /// The surrogate over their parameters.
     pub surface: Surface,
+    /// The declared kinds of the analysed walls ([`WallKind`]), in order: a parameter with
+    /// a range of a wall's kind takes the value at the same coordinate in that range
+    /// ([`ParamDef::at_for`]). Empty when no wall declares one.
+    pub kinds: Vec<WallKind>,
 }
 
 /// The name of the specimen-scatter hypothesis.
@@ -443,12 +447,34 @@ impl Candidate {
             scale: Scale::Linear,
             neutral: 0.0,
             range_per_course_height: false,
+            source: String::new(),
+            kinds: vec![],
         };
         Candidate {
+            kinds: vec![],
             effects: vec![],
             params: vec![p("angle_sd_deg", "deg", SCATTER_ANGLE_MAX_DEG), p("displacement_cv", "-", SCATTER_DISP_MAX)],
             surface: Surface::Scatter { base, angle, mechanism },
         }
+    }
+
+    /// Parameter values at `x` for each declared kind of the analysed walls that has a range
+    /// of its own for one of them: `(kind, [effect.param → value])`, the parameters
+    /// without a range of the kind at their broad-range value.
+    pub fn values_by_kind(&self, x: &[f64]) -> Vec<(WallKind, Vec<(String, f64)>)> {
+        let names = self.values(x);
+        self.kinds
+            .iter()
+            .filter(|&&k| self.params.iter().any(|p| p.has_kind(k)))
+            .map(|&k| {
+                let v = names
+                    .iter()
+                    .zip(self.params.iter().zip(x))
+                    .map(|((n, _), (p, &xi))| (n.clone(), p.at_for(Some(k), xi)))
+                    .collect();
+                (k, v)
+            })
+            .collect()
     }
 
     /// Parameter values at `x`, as `effect.param` → value.

@@ -5,7 +5,7 @@
 
 use super::analysis::Library;
 use super::effects::{self, Effect, EffectDef};
-use super::fit::{to_value, to_x, Candidate, Surface};
+use super::fit::{to_x, Candidate, Surface};
 use super::observations::{Observable, Observation};
 use super::predictive::Simulated;
 use super::simulate::{run_models, GroupSetup, Outcome, Setup};
@@ -57,14 +57,10 @@ struct Plan {
     nodes: Vec<(Vec<f64>, Option<Effect>)>,
 }
 
-fn effect_at(
-    def: &Arc<EffectDef>,
-    params: &[effects::ParamDef],
-    x: &[f64],
-    course_m: f64,
-) -> Result<Effect, DiscrepancyError> {
-    let values = params.iter().zip(x).map(|(p, &xi)| to_value(p, xi)).collect();
-    Ok(Effect::new(def.clone(), values, course_m)?)
+/// The effect at search coordinates `x` (its values in the broad ranges; a wall of a
+/// declared kind takes them in its own, [`Effect::for_kind`]).
+fn effect_at(def: &Arc<EffectDef>, x: &[f64], course_m: f64) -> Result<Effect, DiscrepancyError> {
+    Ok(Effect::at_search(def.clone(), x, course_m)?)
 }
 
 fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, DiscrepancyError> {
@@ -77,7 +73,7 @@ fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, Discre
         for k in 0..=g {
             let x = k as f64 / g as f64;
             if (x - xn).abs() >= half {
-                nodes.push((vec![x], Some(effect_at(&def, &params, &[x], course_m)?)));
+                nodes.push((vec![x], Some(effect_at(&def, &[x], course_m)?)));
             }
         }
         nodes.push((vec![xn], None));
@@ -87,7 +83,7 @@ fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, Discre
         let axis: Vec<f64> = (0..g).map(|k| k as f64 / (g - 1) as f64).collect();
         for &a in &axis {
             for &b in &axis {
-                nodes.push((vec![a, b], Some(effect_at(&def, &params, &[a, b], course_m)?)));
+                nodes.push((vec![a, b], Some(effect_at(&def, &[a, b], course_m)?)));
             }
         }
     }
@@ -180,7 +176,12 @@ pub fn build_library(
         };
         let x0: Vec<f64> = p.params.iter().map(|q| to_x(q, q.neutral).clamp(0.0, 1.0)).collect();
         let surface = Surface::Corrected { inner: Box::new(surface), x0, full: full_sims.clone() };
-        candidates.push(Candidate { effects: vec![p.def.clone()], params: p.params.clone(), surface });
+        candidates.push(Candidate {
+            effects: vec![p.def.clone()],
+            params: p.params.clone(),
+            surface,
+            kinds: kinds(setup),
+        });
     }
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
@@ -188,6 +189,14 @@ pub fn build_library(
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
     Ok(Library { baseline: full_sims, candidates })
+}
+
+/// The distinct declared kinds of the setup's walls, in order.
+pub fn kinds(setup: &Setup) -> Vec<effects::WallKind> {
+    let mut k: Vec<effects::WallKind> = setup.groups.iter().filter_map(|g| g.wall.kind).collect();
+    k.sort_unstable();
+    k.dedup();
+    k
 }
 
 /// The setup with every group's realizations capped at `n`.
@@ -215,7 +224,7 @@ pub(super) fn effects_of(c: &Candidate, x: &[f64], course_m: f64) -> Result<Vec<
     let mut offset = 0;
     for def in &c.effects {
         let n = def.parameters.len();
-        out.push(effect_at(def, &c.params[offset..offset + n], &x[offset..offset + n], course_m)?);
+        out.push(effect_at(def, &x[offset..offset + n], course_m)?);
         offset += n;
     }
     Ok(out)

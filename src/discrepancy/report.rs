@@ -18,8 +18,43 @@ fn params_json(r: &Ranked) -> Value {
     Value::Object(r.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect())
 }
 
-fn ranked_json(r: &Ranked) -> Value {
-    json!({
+/// Whether a search coordinate is at a bound of its range.
+fn at_bound(x: f64) -> bool {
+    x <= 1e-6 || x >= 1.0 - 1e-6
+}
+
+/// The fitted parameters at a bound of their range (the data would take them further).
+fn bound_names(r: &Ranked) -> Vec<String> {
+    r.parameters.iter().zip(&r.x).filter(|(_, &x)| at_bound(x)).map(|((k, _), _)| k.clone()).collect()
+}
+
+/// The fitted values in the ranges of each declared kind of the analysed walls.
+fn by_kind(run: &Run, r: &Ranked) -> Vec<(crate::effects::WallKind, Vec<(String, f64)>)> {
+    run.analysis.pool.get(r.index).filter(|c| c.name() == r.name).map_or(vec![], |c| c.values_by_kind(&r.x))
+}
+
+/// `parameters`, and `at_bound` (names of the parameters fitted at a bound of their range)
+/// and `parameters_by_kind` (`{kind: {effect.param: value}}`) when not empty.
+fn add_bounds_and_kinds(run: &Run, r: &Ranked, v: &mut Value) {
+    let bound = bound_names(r);
+    if !bound.is_empty() {
+        v["at_bound"] = json!(bound);
+    }
+    let kinds = by_kind(run, r);
+    if !kinds.is_empty() {
+        v["parameters_by_kind"] = Value::Object(
+            kinds
+                .into_iter()
+                .map(|(k, ps)| {
+                    (k.name().to_string(), Value::Object(ps.into_iter().map(|(n, x)| (n, json!(x))).collect()))
+                })
+                .collect(),
+        );
+    }
+}
+
+fn ranked_json(run: &Run, r: &Ranked) -> Value {
+    let mut v = json!({
         "name": r.name,
         "effects": r.name.split('+').collect::<Vec<_>>(),
         "parameters": params_json(r),
@@ -27,7 +62,9 @@ fn ranked_json(r: &Ranked) -> Value {
         "difference_se": r.difference_se,
         "information_criterion": r.information_criterion,
         "confirmed_by_full_run": r.confirmed,
-    })
+    });
+    add_bounds_and_kinds(run, r, &mut v);
+    v
 }
 
 fn observations_json(obs: &[Observation], pred: &[Predictive]) -> Value {
@@ -103,9 +140,12 @@ pub fn diagnosis(run: &Run, outcomes: &[Vec<Outcome>]) -> Vec<DiagnosisRow> {
 /// The JSON object of the command-line contract.
 pub fn report_json(run: &Run) -> Value {
     let a = &run.analysis;
-    let cause = a.cause.as_ref().map(
-        |c| json!({ "name": c.name, "effects": c.name.split('+').collect::<Vec<_>>(), "parameters": params_json(c) }),
-    );
+    let cause = a.cause.as_ref().map(|c| {
+        let mut v =
+            json!({ "name": c.name, "effects": c.name.split('+').collect::<Vec<_>>(), "parameters": params_json(c) });
+        add_bounds_and_kinds(run, c, &mut v);
+        v
+    });
     let extended = a.cause.as_ref().map(|c| {
         let (g, lo, hi) = run.gain.unwrap_or((0.0, 0.0, 0.0));
         json!({
@@ -126,7 +166,7 @@ pub fn report_json(run: &Run) -> Value {
         "tie": a.tie,
         "tie_checks": a.tie_checks,
         "screen_gain": a.screen_gain,
-        "candidates": a.candidates.iter().map(ranked_json).collect::<Vec<_>>(),
+        "candidates": a.candidates.iter().map(|r| ranked_json(run, r)).collect::<Vec<_>>(),
         "baseline": {
             "heldout_error": a.baseline_heldout_error,
             "information_criterion": a.baseline_information_criterion,
@@ -142,14 +182,24 @@ pub fn report_json(run: &Run) -> Value {
 }
 
 /// `name = value` for every fitted parameter, flagging a value at a bound of its range
-/// (the data would take it further: the range, or the effect, does not fit them).
-fn fmt_params(r: &Ranked) -> String {
+/// (the data would take it further: the range, or the effect, does not fit them), with
+/// its value for each declared kind of wall that has a range of its own (`[kind: value]`).
+fn fmt_params(run: &Run, r: &Ranked) -> String {
+    let kinds = by_kind(run, r);
     r.parameters
         .iter()
+        .enumerate()
         .zip(r.x.iter().chain(std::iter::repeat(&0.5)))
-        .map(|((k, v), x)| {
-            let bound = if *x <= 1e-6 || *x >= 1.0 - 1e-6 { " (at a bound of its range)" } else { "" };
-            format!("{k} = {v:.3e}{bound}")
+        .map(|((i, (k, v)), x)| {
+            let bound = if at_bound(*x) { " (at a bound of its range)" } else { "" };
+            let per: Vec<String> = kinds
+                .iter()
+                .filter_map(|(kind, ps)| {
+                    ps.get(i).filter(|(_, pv)| pv != v).map(|(_, pv)| format!("{}: {pv:.3e}", kind.name()))
+                })
+                .collect();
+            let per = if per.is_empty() { String::new() } else { format!(" [{}]", per.join(", ")) };
+            format!("{k} = {v:.3e}{per}{bound}")
         })
         .collect::<Vec<_>>()
         .join(", ")
@@ -174,13 +224,13 @@ fn verdict_section(md: &mut String, run: &Run) {
         (Some(c), _, super::analysis::Verdict::Unexplained) => format!(
             "**unexplained**: the best candidate `{}` ({}) beats the baseline but still misfits the data (posterior predictive check), a partial explanation at most",
             c.name,
-            fmt_params(c)
+            fmt_params(run, c)
         ),
-        (Some(c), 1, _) => format!("**explained** by `{}` ({})", c.name, fmt_params(c)),
+        (Some(c), 1, _) => format!("**explained** by `{}` ({})", c.name, fmt_params(run, c)),
         (Some(c), _, _) => format!(
             "**explained**, best `{}` ({}), but indistinguishable from: {}",
             c.name,
-            fmt_params(c),
+            fmt_params(run, c),
             a.tie[1..].join(", ")
         ),
         (None, _, _) => format!("**{}**", a.verdict.name()),
@@ -259,7 +309,7 @@ fn candidates_section(md: &mut String, run: &Run) {
             "| {} | {} | {} | {:.3} ± {:.3} | {:.1} | {} |",
             i + 1,
             c.name,
-            fmt_params(c),
+            fmt_params(run, c),
             c.heldout_error,
             c.difference_se,
             c.information_criterion,

@@ -36,7 +36,40 @@ impl Effect {
                 });
             }
         }
-        Ok(Effect { def, values })
+        Ok(Effect { def, values, search: None })
+    }
+
+    /// The effect at search coordinates `x` (∈ [0, 1], one per parameter) of its broad
+    /// ranges scaled to a wall of mean course height `course_m` (m): its values are
+    /// [`ParamDef::at`] of them, and a wall of a declared kind takes the values at the same
+    /// coordinates in its own ranges ([`Effect::for_kind`]).
+    ///
+    /// # Errors
+    /// [`EffectError::Arity`] or [`EffectError::OutOfRange`].
+    pub fn at_search(def: Arc<EffectDef>, x: &[f64], course_m: f64) -> Result<Effect, EffectError> {
+        let values = def.params_for(course_m).iter().zip(x).map(|(p, &xi)| p.at(xi)).collect();
+        let mut e = Effect::new(def, values, course_m)?;
+        e.search = Some(SearchPoint { x: x.to_vec(), course_m });
+        Ok(e)
+    }
+
+    /// The effect as it acts on a wall of `kind`: made at a search coordinate
+    /// ([`Effect::at_search`]), each parameter with a range of its own for the kind takes the
+    /// value at that coordinate in it ([`ParamDef::at_for`]); otherwise (no kind, no range
+    /// of the kind, an effect with stated values) unchanged.
+    pub fn for_kind(&self, kind: Option<WallKind>) -> Effect {
+        let (Some(s), Some(k)) = (&self.search, kind) else {
+            return self.clone();
+        };
+        let values = self
+            .def
+            .params_for(s.course_m)
+            .iter()
+            .zip(&s.x)
+            .zip(&self.values)
+            .map(|((p, &x), &v)| if p.has_kind(k) { p.at_for(Some(k), x) } else { v })
+            .collect();
+        Effect { def: self.def.clone(), values, search: self.search.clone() }
     }
 
     /// The effect's name.
@@ -83,6 +116,7 @@ impl Effect {
                     let c = if v > 0.0 { c } else { Closure::Linear };
                     set_closure(layout, *family, c);
                 }
+                Step::Dilatancy { family, .. } => dilate(layout, *family, v.to_radians()),
                 Step::Lean { .. } => geometry::shear_out_of_plumb(layout, v.to_radians()).map_err(geometry)?,
                 Step::Rounding { .. } => geometry::round_edges(layout, v).map_err(geometry)?,
                 Step::TransverseDip { .. } => {
@@ -188,6 +222,29 @@ fn joint_factor(layout: &mut Layout, family: Option<JointFamily>, property: Prop
                     Property::Friction => fj.friction = fj.friction.map(|p| (p.tan() * v).atan()),
                     Property::Cohesion => fj.cohesion = fj.cohesion.map(|c| c * v),
                 }
+            }
+        }
+    }
+}
+
+/// Raises the friction angle of a family (or of every joint) by `i` rad, capped at
+/// [`MAX_FRICTION_DEG`]; a family without its own angle starts from the smallest of the
+/// materials' (the rule of [`Property::Friction`]).
+fn dilate(layout: &mut Layout, family: Option<JointFamily>, i: f64) {
+    let cap = MAX_FRICTION_DEG.to_radians();
+    let raise = |phi: f64| (phi + i).min(cap.max(phi));
+    match family {
+        Some(f) => {
+            let phi0 = layout.materials.iter().map(|m| m.friction).fold(f64::INFINITY, f64::min);
+            let fj = family_mut(layout, f);
+            fj.friction = Some(raise(fj.friction.unwrap_or(phi0)));
+        }
+        None => {
+            for m in &mut layout.materials {
+                m.friction = raise(m.friction);
+            }
+            for fj in layout.joint_families.0.iter_mut().flatten() {
+                fj.friction = fj.friction.map(raise);
             }
         }
     }

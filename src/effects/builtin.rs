@@ -1,18 +1,56 @@
-//! The built-in effect library, written as [`EffectDef`]s like a user's own.
+//! The built-in effect library, written as [`EffectDef`]s like a user's own, each parameter
+//! with its broad plausible range and the narrower ranges of the kinds of wall
+//! ([`WallKind`]), each range with its source. A source that could not be checked against
+//! the publication is marked so; `estimate (reasoning: ...)` states the argument for a
+//! bound no measurement gives. The table of every range is in `docs/discrepancy.md`.
 
-use super::{EffectDef, ParamDef, Property, Scale, Step};
+use super::{EffectDef, KindRange, ParamDef, Property, Scale, Step, WallKind};
 use crate::layout::JointFamily;
 
 fn param(name: &str, unit: &str, min: f64, max: f64, scale: Scale, neutral: f64, per_course: bool) -> ParamDef {
-    ParamDef { name: name.into(), unit: unit.into(), min, max, scale, neutral, range_per_course_height: per_course }
+    ParamDef {
+        name: name.into(),
+        unit: unit.into(),
+        min,
+        max,
+        scale,
+        neutral,
+        range_per_course_height: per_course,
+        source: String::new(),
+        kinds: vec![],
+    }
+}
+
+/// The broad range's source and the ranges of the two kinds (`None`: the broad range).
+fn sourced(
+    mut p: ParamDef,
+    broad: &str,
+    paver: Option<(f64, f64, &str)>,
+    shaped: Option<(f64, f64, &str)>,
+) -> ParamDef {
+    p.source = broad.into();
+    for (kind, r) in [(WallKind::ConcretePaver, paver), (WallKind::ShapedStone, shaped)] {
+        if let Some((min, max, source)) = r {
+            p.kinds.push(KindRange { kind, min, max, source: source.into() });
+        }
+    }
+    p
 }
 
 fn def(name: &str, description: &str, source: &str, parameters: Vec<ParamDef>, steps: Vec<Step>) -> EffectDef {
     EffectDef { name: name.into(), description: description.into(), source: source.into(), parameters, steps }
 }
 
+const NOT_CHECKED: &str = "the publication could not be consulted here: the bound is an estimate of its order";
+
+/// A stiffness factor (Kn and Ks, or Kn alone).
 fn factor() -> ParamDef {
-    param("factor", "-", 0.05, 2.0, Scale::Log, 1.0, false)
+    sourced(
+        param("factor", "-", 0.05, 2.0, Scale::Log, 1.0, false),
+        "estimate (reasoning: a recalibration of the joint stiffness of Santa-Cruz et al. 2021, Table 9, itself back-analysed: from 20 times softer to twice as stiff)",
+        Some((0.2, 2.0, &format!("estimate (reasoning: cast faces mate closely, so the calibrated stiffness of the cobblestones, Table 9 of Santa-Cruz et al. 2021, is not off by more than a factor 5 below; the spread of dry-joint normal stiffness measured on units of one kind, Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+        Some((0.05, 2.0, &format!("broad range (hand-dressed beds seat on a few asperities and can be far softer than a calibration; dry joints of shaped stone: Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+    )
 }
 
 fn stiffness(family: Option<JointFamily>) -> Step {
@@ -46,8 +84,18 @@ pub fn builtin() -> Vec<EffectDef> {
             "hyperbolic normal closure of rough joints: soft at low stress, stiffening as they close",
             "Bandis, Lumsden & Barton (1983), Int. J. Rock Mech. Min. Sci. 20:249; Goodman (1976)",
             vec![
-                param("initial_stiffness_ratio", "-", 0.02, 1.0, Scale::Log, 1.0, false),
-                param("max_closure_m", "m", 1e-4, 5e-3, Scale::Log, f64::INFINITY, true),
+                sourced(
+                    param("initial_stiffness_ratio", "-", 0.02, 1.0, Scale::Log, 1.0, false),
+                    &format!("Kni/Kn of unmated rough joints (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
+                    Some((0.2, 1.0, "estimate (reasoning: cast faces are mated: little closure before full contact, the initial stiffness near the calibrated one)")),
+                    Some((0.02, 1.0, &format!("broad range (dressed faces close as unmated rock joints: Bandis et al. 1983; dry stone joints under normal cycles: Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+                ),
+                sourced(
+                    param("max_closure_m", "m", 1e-4, 5e-3, Scale::Log, f64::INFINITY, true),
+                    &format!("maximum closure Vm of rough joints, tenths of a mm to mm (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
+                    Some((1e-4, 1e-3, "estimate (reasoning: a cast face is flat to a fraction of a mm: Vm of mated joints is tenths of a mm)")),
+                    Some((2e-4, 5e-3, &format!("estimate (reasoning: hand-dressed faces have mm-size asperities; Vlachakis et al. 2023; {NOT_CHECKED})"))),
+                ),
             ],
             vec![
                 Step::JointFactor { family: None, property: Property::Kn, parameter: "initial_stiffness_ratio".into() },
@@ -55,31 +103,63 @@ pub fn builtin() -> Vec<EffectDef> {
             ],
         ),
         def(
+            "shear_stiffness",
+            "Ks of every joint scaled by a factor, Kn kept: the joints shear more (or less) than the calibration lets them",
+            "shear stiffness of dry joints identified separately from the normal one (Savalle, Lourenço & Milani 2022, Appl. Sci. 12:2108; Vlachakis et al. 2023, Constr. Build. Mater. 130880); the CBL's visible shear deformation before collapse (Santa-Cruz et al. 2021, §2.2)",
+            vec![sourced(
+                param("factor", "-", 0.05, 2.0, Scale::Log, 1.0, false),
+                &format!("estimate (reasoning: Ks/Kn of dry joints from a few hundredths to about one, Savalle, Lourenço & Milani 2022, Appl. Sci. 12:2108, and Vlachakis et al. 2023; the calibration of Santa-Cruz et al. 2021, Table 9, has Ks/Kn 0.49; {NOT_CHECKED})"),
+                Some((0.1, 2.0, "estimate (reasoning: the cobblestone calibration's Ks/Kn = 0.49, Santa-Cruz et al. 2021, Table 9; a factor 0.1 brings it to 0.05, below which a mated cast joint would not hold its shear)")),
+                Some((0.05, 2.0, "broad range (rough dressed faces: Ks/Kn as low as a few hundredths)")),
+            )],
+            vec![Step::JointFactor { family: None, property: Property::Ks, parameter: "factor".into() }],
+        ),
+        def(
             "seating_gap",
             "uneven beds: initial gaps up to g0 that close under load",
             "uneven beds of hand-placed stones; uniform asperity heights (Greenwood & Williamson 1966)",
-            vec![param("max_gap_m", "m", 0.0, 3e-3, Scale::Linear, 0.0, true)],
+            vec![sourced(
+                param("max_gap_m", "m", 0.0, 3e-3, Scale::Linear, 0.0, true),
+                "estimate (reasoning: hand-placed stones seat on asperities of mm size; 3 mm at a 50 mm course)",
+                Some((0.0, 5e-4, "estimate (reasoning: a cast paver is flat within a bed to a fraction of a mm; its thickness tolerance of a few mm tilts the whole block rather than opening gaps within a bed)")),
+                Some((0.0, 3e-3, "broad range (hand-dressed beds)")),
+            )],
             vec![Step::Closure { family: None, law: "seating".into(), parameter: "max_gap_m".into() }],
         ),
         def(
             "initial_lean",
             "the wall built out of plumb by psi towards the side it falls to",
             "construction tolerance: walls out of plumb (de Felice 2011, Int. J. Archit. Herit. 5:466)",
-            vec![param("lean_deg", "deg", 0.0, 3.0, Scale::Linear, 0.0, false)],
+            vec![sourced(
+                param("lean_deg", "deg", 0.0, 3.0, Scale::Linear, 0.0, false),
+                &format!("construction out of plumb of dry stone walls (de Felice 2011, Int. J. Archit. Herit. 5:466; {NOT_CHECKED})"),
+                Some((0.0, 1.0, "estimate (reasoning: pavers of one height stacked course on course: 5 mm out of plumb over the 375 mm wall of Santa-Cruz et al. 2021 is 0.76 deg)")),
+                Some((0.0, 3.0, "broad range (de Felice 2011)")),
+            )],
             vec![Step::Lean { parameter: "lean_deg".into() }],
         ),
         def(
             "edge_rounding",
             "every edge of every block rounded by r: pivots move inwards, head joints open at their edges",
             "rounded and crushed block edges (Mehrotra & DeJong 2018, Earthq. Eng. Struct. Dyn. 47:2661)",
-            vec![param("radius_m", "m", 0.0, 0.00625, Scale::Linear, 0.0, true)],
+            vec![sourced(
+                param("radius_m", "m", 0.0, 0.00625, Scale::Linear, 0.0, true),
+                &format!("rounded edges of stones (Mehrotra & DeJong 2018); edge rounding back-analysed for dry stone walls (Brady & Kavanagh 2002, TRL Report 550; {NOT_CHECKED})"),
+                Some((0.0, 0.0025, "estimate (reasoning: cast pavers have sharp or chamfered arrises of a few mm; 2.5 mm at a 50 mm course)")),
+                Some((0.0, 0.00625, &format!("broad range (hammer-dressed edges; Brady & Kavanagh 2002, TRL Report 550; {NOT_CHECKED})"))),
+            )],
             vec![Step::Rounding { parameter: "radius_m".into() }],
         ),
         def(
             "restraint_stiffness",
             "end restraints as springs of finite stiffness instead of rigid",
             "finite stiffness of rope end restraints (Santa-Cruz et al. 2021, SBR set-up)",
-            vec![param("stiffness_n_per_m", "N/m per block", 10.0, 1e6, Scale::Log, f64::INFINITY, false)],
+            vec![sourced(
+                param("stiffness_n_per_m", "N/m per block", 10.0, 1e6, Scale::Log, f64::INFINITY, false),
+                "estimate (reasoning: from a slack rope to a nearly rigid hold; a property of the set-up, not of the stone: no range per kind)",
+                None,
+                None,
+            )],
             vec![Step::RestraintSpring { parameter: "stiffness_n_per_m".into() }],
         ),
         end_rope(),
@@ -87,14 +167,36 @@ pub fn builtin() -> Vec<EffectDef> {
             "transverse_dip",
             "bed joints dipping across the thickness, uniform in [-delta, delta] per joint",
             "stones not cut to the section: bed joints dipping across the thickness (the 'slightly irregular' stones of Santa-Cruz et al. 2021)",
-            vec![param("max_dip_deg", "deg", 0.0, 15.0, Scale::Linear, 0.0, false)],
+            vec![sourced(
+                param("max_dip_deg", "deg", 0.0, 15.0, Scale::Linear, 0.0, false),
+                "estimate (reasoning: the 'slightly irregular' stones of Santa-Cruz et al. 2021, §2.1; the generator's bed segments dip up to 20 deg along the wall, §4.1, a whole bed across the thickness less)",
+                Some((0.0, 5.56, "the paper's geometry: prismatic pavers laid square to the battered face dip at most as the batter, atan(36.5 mm / 375 mm) = 5.56 deg (Santa-Cruz et al. 2021, Table 1: B 150 mm, b 77 mm, H 375 mm)")),
+                Some((0.0, 15.0, "broad range (shaped stones are not cut to the section)")),
+            )],
             vec![Step::TransverseDip { parameter: "max_dip_deg".into() }],
+        ),
+        def(
+            "dilatant_joints",
+            "rough, interlocking bed faces: the bed joints' friction angle raised by the asperity angle i (phi + i)",
+            "Patton (1966), Proc. 1st ISRM Congr. 1:509 (saw-tooth joints: apparent friction phi + i); the interlocking the paper's clump model reproduced the CBL mechanism with (Santa-Cruz et al. 2021, §5.2-5.3)",
+            vec![sourced(
+                param("asperity_deg", "deg", 0.0, 20.0, Scale::Linear, 0.0, false),
+                &format!("asperity angles of rough joints (Patton 1966, saw-tooth tests; {NOT_CHECKED}); 20 deg a coarse interlocking face"),
+                Some((0.0, 5.0, "estimate (reasoning: cast faces flat to about 1 mm over the 100 mm paver width; the interlocking of neighbouring pavers set a few mm apart in height: a few degrees)")),
+                Some((0.0, 20.0, &format!("broad range (apparent friction of pairs of natural stones in tilt tests, Costa et al. 2024, Buildings 14:3744; {NOT_CHECKED})"))),
+            )],
+            vec![Step::Dilatancy { family: Some(JointFamily::Bed), parameter: "asperity_deg".into() }],
         ),
         def(
             "base_restraint",
             "the first course held against rotation by stops of height h_s on the downhill side: it overturns about the stops' top edge, not its toe",
             "Santa-Cruz et al. (2021), §2.1: \"the base of the specimens was restrained with two wooden pieces, to avoid sliding failure\"",
-            vec![param("stop_height_m", "m", 0.0, 0.04, Scale::Linear, 0.0, true)],
+            vec![sourced(
+                param("stop_height_m", "m", 0.0, 0.04, Scale::Linear, 0.0, true),
+                "estimate (reasoning: the wooden pieces of Santa-Cruz et al. 2021, §2.1, are of unstated height; up to 0.8 of a 50 mm course. A property of the set-up: no range per kind)",
+                None,
+                None,
+            )],
             vec![Step::BaseStop { parameter: "stop_height_m".into(), friction_deg: None }],
         ),
     ]
@@ -112,12 +214,62 @@ fn end_rope() -> EffectDef {
          6-10 mm polypropylene or nylon rope, EA taken as the makers' minimum breaking load (about 6-20 kN) over the \
          strain at break (about 0.15-0.3), stiffer in the working range",
         vec![
-            param("pretension_n", "N", 50.0, 1500.0, Scale::Log, f64::INFINITY, false),
-            param("axial_stiffness_n", "N", 1e4, 2e5, Scale::Log, f64::INFINITY, false),
+            sourced(
+                param("pretension_n", "N", 50.0, 1500.0, Scale::Log, f64::INFINITY, false),
+                "estimate (reasoning: a hand pull of 0.1-0.5 kN, up to about 1.5 kN with a tensioning hitch; a \
+                 property of the set-up, not of the stone: no range per kind)",
+                None,
+                None,
+            ),
+            sourced(
+                param("axial_stiffness_n", "N", 1e4, 2e5, Scale::Log, f64::INFINITY, false),
+                "estimate (reasoning: 6-10 mm polypropylene or nylon rope, the makers' minimum breaking load of \
+                 about 6-20 kN over the strain at break of about 0.15-0.3; no range per kind)",
+                None,
+                None,
+            ),
         ],
         vec![
             Step::RopePretension { parameter: "pretension_n".into() },
             Step::RopeStiffness { parameter: "axial_stiffness_n".into() },
         ],
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every parameter has a source for its broad range and for each kind's, every kind's
+    /// range passes the check an effect file's would, and the search coordinate of the
+    /// neutral value is the neutral value for every kind.
+    #[test]
+    fn every_range_has_its_source_and_keeps_the_neutral_point() {
+        for d in builtin() {
+            for p in &d.parameters {
+                assert!(!p.source.is_empty(), "{}.{}", d.name, p.name);
+                p.check_kinds().unwrap_or_else(|e| panic!("{}.{}: {e}", d.name, p.name));
+                let xn = p.position(p.neutral).clamp(0.0, 1.0);
+                for r in &p.kinds {
+                    assert!(!r.source.is_empty(), "{}.{} {:?}", d.name, p.name, r.kind);
+                    assert_eq!(p.at_for(Some(r.kind), 0.0), r.min);
+                    assert!((p.at_for(Some(r.kind), 1.0) - r.max).abs() <= 1e-12 * r.max.abs());
+                    if p.neutral.is_finite() {
+                        let v = p.at_for(Some(r.kind), xn);
+                        assert!((v - p.neutral).abs() <= 1e-12, "{}.{}: {v} at the neutral point", d.name, p.name);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The CBL bound is the batter's angle: atan(36.5/375) in degrees to the two decimals
+    /// written.
+    #[test]
+    fn the_paver_dip_is_the_batter_angle() {
+        let d = builtin().into_iter().find(|d| d.name == "transverse_dip").unwrap();
+        let (_, max, _) = d.parameters[0].range_for(Some(WallKind::ConcretePaver));
+        let batter = (0.5 * (0.150 - 0.077) / 0.375_f64).atan().to_degrees();
+        assert!((max - batter).abs() < 0.005, "{max} vs {batter}");
+    }
 }

@@ -15,14 +15,28 @@
 //! neutral = 1.0
 //!
 //! [[steps]]
-//! kind = "joint_factor"  # joint_factor | closure | lean | rounding | transverse_dip | restraint_spring
+//! kind = "joint_factor"  # joint_factor | closure | dilatancy | lean | rounding | transverse_dip | restraint_spring
 //! family = "base"        # base | bed | head | wedge; absent: every joint
 //! property = "stiffness" # kn | ks | stiffness | friction | cohesion
 //! parameter = "factor"
 //! ```
 //!
+//! A parameter may carry narrower plausible ranges for walls of a declared kind (the wall
+//! description's `kind`), each with its source; a kind without one takes `[min, max]`:
+//!
+//! ```toml
+//! [[parameters.kinds]]
+//! kind = "concrete_paver"  # concrete_paver | shaped_stone
+//! min = 0.3
+//! max = 1.0
+//! source = "our plate-load tests of the pavers"
+//! ```
+//!
+//! A kind's range contains a finite neutral value and ends at it where `[min, max]` does.
+//!
 //! A `closure` step takes `law = "hyperbolic" | "seating"` and a parameter in m; `lean` and
-//! `transverse_dip` take degrees, `rounding` m, `restraint_spring` N/m per block.
+//! `transverse_dip` take degrees, `dilatancy` (a `family` or every joint) the asperity
+//! angle in degrees (at or above 0), `rounding` m, `restraint_spring` N/m per block.
 
 use super::{EffectDef, Scale, Step};
 use crate::closure::Closure;
@@ -121,6 +135,7 @@ impl EffectDef {
                     format!("{} is outside [{}, {}] (infinite is allowed)", p.neutral, p.min, p.max),
                 ));
             }
+            p.check_kinds().map_err(|reason| bad(key("kinds"), reason))?;
         }
         if d.steps.is_empty() {
             return Err(bad("steps".into(), "an effect needs at least one step".into()));
@@ -133,7 +148,13 @@ impl EffectDef {
                     format!("`{}` is not a parameter of the effect ({})", s.parameter(), names.join(", ")),
                 ));
             }
-            let p = d.parameters.iter().find(|p| p.name == s.parameter()).map(|p| (p.min, p.max)).unwrap_or_default();
+            // The lowest value any range of the parameter (broad or of a kind) reaches.
+            let p = d
+                .parameters
+                .iter()
+                .find(|p| p.name == s.parameter())
+                .map(|p| (p.kinds.iter().map(|k| k.min).fold(p.min, f64::min), p.max))
+                .unwrap_or_default();
             let needs_positive =
                 matches!(s, Step::JointFactor { .. } | Step::RestraintSpring { .. } | Step::RopeStiffness { .. });
             if needs_positive && p.0 <= 0.0 {
@@ -158,6 +179,12 @@ impl EffectDef {
             }
             if matches!(s, Step::Closure { .. } | Step::Rounding { .. }) && p.0 < 0.0 {
                 return Err(bad(format!("steps[{i}]"), "a length needs a parameter range at or above 0".into()));
+            }
+            if matches!(s, Step::Dilatancy { .. }) && !(p.0 >= 0.0 && p.1 < 90.0) {
+                return Err(bad(
+                    format!("steps[{i}]"),
+                    "an asperity angle needs a parameter range in [0, 90) deg".into(),
+                ));
             }
         }
         Ok(d)

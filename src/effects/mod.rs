@@ -22,14 +22,22 @@
 //! | `end_rope` | T₀ (N), EA (N) | restraints: rigid ends → a tensioned rope at each end |
 //! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
 //! | `base_restraint` | h_s (m) | layout: fixed stops of height h_s on the downhill face of the first course |
+//! | `shear_stiffness` | factor (–) | joint law: Ks of every joint × factor (Kn kept) |
+//! | `dilatant_joints` | i (deg) | joint law: friction angle of the `bed` joints φ → φ + i (Patton 1966) |
+//!
+//! Every parameter carries a broad plausible range with its source and narrower ranges for
+//! the kinds of wall ([`WallKind`], the wall description's `kind`), each with its source
+//! ([`ParamDef::kinds`]). A user states values within the broad range; the discrepancy
+//! analysis searches each wall within the range of its kind ([`Effect::at_search`],
+//! [`Effect::for_kind`]).
 //!
 //! Every form is deterministic (the same value in every realization) except
 //! `transverse_dip`, whose dips are drawn per bed joint. Length ranges marked
 //! `range_per_course_height` scale with the wall: they are written for a course height of
 //! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
 //! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
-//! ψ = 0, r = 0, δ = 0, h_s = 0; `joint_closure`, `restraint_stiffness` and `end_rope` reach it
-//! only in the limit Vm → ∞, k → ∞, T₀ → ∞).
+//! ψ = 0, r = 0, δ = 0, h_s = 0, i = 0; `joint_closure`, `restraint_stiffness` and `end_rope`
+//! reach it only in the limit Vm → ∞, k → ∞, T₀ → ∞).
 //!
 //! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
 //! effect), so that a study with an effect and the discrepancy analysis that named it draw
@@ -46,6 +54,7 @@ pub use builtin::builtin;
 pub use file::EffectFileError;
 
 use crate::closure::Closure;
+pub use crate::generator::WallKind;
 use crate::generator::{generate, GeneratedWall, Wall};
 use crate::layout::{JointFamily, Layout};
 use rand_chacha::ChaCha8Rng;
@@ -61,6 +70,9 @@ pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
 /// starts) more than the angles: the discrepancy analysis searches them by default only
 /// when the data hold mechanism observations ([`crate::discrepancy::searched`]).
 pub const MECHANISM_EFFECTS: [&str; 1] = ["base_restraint"];
+
+/// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
+pub const MAX_FRICTION_DEG: f64 = 85.0;
 
 /// Where an effect enters the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -105,6 +117,33 @@ pub struct ParamDef {
     /// [`REFERENCE_COURSE_HEIGHT_M`] and scales with the wall's mean course height.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub range_per_course_height: bool,
+    /// Where the broad range `[min, max]` (the range of a wall that declares no kind) comes
+    /// from. Default empty.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub source: String,
+    /// Narrower plausible ranges for walls of a declared kind ([`WallKind`]), each with its
+    /// source. A kind without an entry takes the broad range. Each contains the neutral
+    /// value when it is finite, and ends at it where the broad range does (so that the
+    /// neutral point of a search is the unchanged model for every kind). Default none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub kinds: Vec<KindRange>,
+}
+
+/// The plausible range of a parameter for walls of one kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KindRange {
+    /// The kind of wall.
+    pub kind: WallKind,
+    /// Lower bound, in the parameter's unit (scaled like the broad range when the parameter
+    /// is `range_per_course_height`).
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+    /// Where the range comes from: a measurement, a standard, the paper's text or geometry,
+    /// or `estimate (reasoning: ...)`.
+    #[serde(default)]
+    pub source: String,
 }
 
 fn linear() -> Scale {
@@ -123,8 +162,109 @@ impl ParamDef {
             max: self.max * f,
             neutral: if self.neutral.is_finite() { self.neutral * f } else { self.neutral },
             range_per_course_height: false,
+            kinds: self.kinds.iter().map(|k| KindRange { min: k.min * f, max: k.max * f, ..k.clone() }).collect(),
             ..self.clone()
         }
+    }
+
+    /// The plausible range `(min, max)` and its source for a wall of `kind` (`None`, or a
+    /// kind without its own range: the broad range).
+    pub fn range_for(&self, kind: Option<WallKind>) -> (f64, f64, &str) {
+        match kind.and_then(|k| self.kinds.iter().find(|r| r.kind == k)) {
+            Some(r) => (r.min, r.max, &r.source),
+            None => (self.min, self.max, &self.source),
+        }
+    }
+
+    /// Whether the parameter has a range of its own for `kind`.
+    pub fn has_kind(&self, kind: WallKind) -> bool {
+        self.kinds.iter().any(|r| r.kind == kind)
+    }
+
+    /// The value at search coordinate `x` ∈ [0, 1] of the broad range: `min + x (max − min)`
+    /// on a linear axis, `min (max/min)^x` on a logarithmic one.
+    pub fn at(&self, x: f64) -> f64 {
+        interpolate(self.scale, self.min, self.max, x)
+    }
+
+    /// The search coordinate of a value in the broad range (the inverse of [`ParamDef::at`];
+    /// not clamped).
+    pub fn position(&self, v: f64) -> f64 {
+        match self.scale {
+            Scale::Linear => (v - self.min) / (self.max - self.min),
+            Scale::Log => (v / self.min).ln() / (self.max / self.min).ln(),
+        }
+    }
+
+    /// The value at search coordinate `x` ∈ [0, 1] for a wall of `kind`: the coordinate
+    /// runs over the kind's range piecewise, so that 0 and 1 are the kind's bounds and the
+    /// coordinate of the neutral value in the broad range is the neutral value for every
+    /// kind (the search's unchanged model). A kind without its own range, or `None`:
+    /// [`ParamDef::at`].
+    pub fn at_for(&self, kind: Option<WallKind>, x: f64) -> f64 {
+        let Some(r) = kind.and_then(|k| self.kinds.iter().find(|r| r.kind == k)) else {
+            return self.at(x);
+        };
+        if !self.neutral.is_finite() {
+            return interpolate(self.scale, r.min, r.max, x);
+        }
+        let xn = self.position(self.neutral).clamp(0.0, 1.0);
+        if x <= xn {
+            if xn <= 0.0 {
+                self.neutral
+            } else {
+                interpolate(self.scale, r.min, self.neutral, x / xn)
+            }
+        } else if xn >= 1.0 {
+            self.neutral
+        } else {
+            interpolate(self.scale, self.neutral, r.max, (x - xn) / (1.0 - xn))
+        }
+    }
+
+    /// Checks the kinds' ranges: finite, `min < max`, positive on a log axis, containing a
+    /// finite neutral value and ending at it where the broad range does.
+    ///
+    /// # Errors
+    /// What is wrong, naming the kind.
+    pub fn check_kinds(&self) -> Result<(), String> {
+        for r in &self.kinds {
+            let k = r.kind.name();
+            if !(r.min.is_finite() && r.max.is_finite() && r.min < r.max) {
+                return Err(format!("kind {k}: needs finite min < max, got [{}, {}]", r.min, r.max));
+            }
+            if self.scale == Scale::Log && r.min <= 0.0 {
+                return Err(format!("kind {k}: a log-scale range needs min > 0, got {}", r.min));
+            }
+            if self.neutral.is_finite() {
+                if !(r.min..=r.max).contains(&self.neutral) {
+                    return Err(format!(
+                        "kind {k}: [{}, {}] must contain the neutral value {}",
+                        r.min, r.max, self.neutral
+                    ));
+                }
+                if (self.neutral == self.min && r.min != self.neutral)
+                    || (self.neutral == self.max && r.max != self.neutral)
+                {
+                    return Err(format!(
+                        "kind {k}: [{}, {}] must end at the neutral value {} where the broad range [{}, {}] does",
+                        r.min, r.max, self.neutral, self.min, self.max
+                    ));
+                }
+            }
+            if self.kinds.iter().filter(|o| o.kind == r.kind).count() > 1 {
+                return Err(format!("kind {k} is given twice"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `a + t (b − a)` on a linear axis, `a (b/a)^t` on a logarithmic one.
+fn interpolate(scale: Scale, a: f64, b: f64, t: f64) -> f64 {
+    match scale {
+        Scale::Linear => a + t * (b - a),
+        Scale::Log => a * (b / a).powf(t),
     }
 }
 
@@ -203,6 +343,17 @@ pub enum Step {
         /// The parameter giving EA, N.
         parameter: String,
     },
+    /// Dilatant (rough, interlocking) joints of one family (or of every joint): the
+    /// friction angle raised by the asperity angle i (deg), φ → φ + i, capped at
+    /// [`MAX_FRICTION_DEG`] (Patton 1966: the apparent friction of a joint whose asperities
+    /// ride up at i).
+    Dilatancy {
+        /// The family; absent: every joint.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        family: Option<JointFamily>,
+        /// The parameter giving i, degrees.
+        parameter: String,
+    },
     /// Fixed stops of height h_s (m) bearing on the downhill face of every block on the
     /// table ([`geometry::add_base_stops`]).
     BaseStop {
@@ -229,6 +380,7 @@ impl Step {
             | Step::RopePretension { parameter }
             | Step::RopeStiffness { parameter }
             | Step::BaseStop { parameter, .. } => parameter,
+            Step::Dilatancy { parameter, .. } => parameter,
         }
     }
 
@@ -242,6 +394,7 @@ impl Step {
             Step::RestraintSpring { .. } | Step::RopePretension { .. } | Step::RopeStiffness { .. } => {
                 Stage::Restraints
             }
+            Step::Dilatancy { .. } => Stage::JointLaw,
         }
     }
 
@@ -249,6 +402,7 @@ impl Step {
     pub fn family(&self) -> Option<JointFamily> {
         match self {
             Step::JointFactor { family, .. } | Step::Closure { family, .. } => *family,
+            Step::Dilatancy { family, .. } => *family,
             _ => None,
         }
     }
@@ -370,6 +524,22 @@ pub struct Effect {
     pub def: Arc<EffectDef>,
     /// Parameter values, one per parameter.
     pub values: Vec<f64>,
+    /// Set when the effect was made at a search coordinate of the discrepancy analysis
+    /// ([`Effect::at_search`]): the coordinate and the course height its ranges were scaled
+    /// for. A wall of a declared kind then takes the values at that coordinate in its own
+    /// ranges ([`Effect::for_kind`]); `None` (an effect with stated values, as in a study):
+    /// the values as they are for every wall.
+    #[serde(skip)]
+    pub search: Option<SearchPoint>,
+}
+
+/// The search coordinate an effect was made at ([`Effect::search`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchPoint {
+    /// Coordinates in [0, 1], one per parameter.
+    pub x: Vec<f64>,
+    /// Course height the ranges were scaled for, m.
+    pub course_m: f64,
 }
 
 fn def_name<S: serde::Serializer>(d: &Arc<EffectDef>, s: S) -> Result<S::Ok, S::Error> {
@@ -494,6 +664,8 @@ impl EffectDef {
 
 /// The checked layout of realization `realization` of `wall` (master seed `seed`) in group
 /// `group`, with `effects` applied ([`apply_all`]), and the generated wall it came from.
+/// Effects made at a search coordinate take their values in the ranges of the wall's kind
+/// ([`Effect::for_kind`]).
 ///
 /// # Errors
 /// [`EffectError::Generator`] if the wall cannot be generated or checked; the errors of
@@ -507,6 +679,11 @@ pub fn realize(
 ) -> Result<(GeneratedWall, Layout), EffectError> {
     let generated = generate(wall, seed, realization).map_err(|e| EffectError::Generator(e.to_string()))?;
     let mut layout = generated.check().map_err(|e| EffectError::Generator(e.to_string()))?;
+    if wall.kind.is_some() && effects.iter().any(|e| e.search.is_some()) {
+        let mapped: Vec<Effect> = effects.iter().map(|e| e.for_kind(wall.kind)).collect();
+        apply_all(&mut layout, &generated, group, &mapped)?;
+        return Ok((generated, layout));
+    }
     apply_all(&mut layout, &generated, group, effects)?;
     Ok((generated, layout))
 }

@@ -197,7 +197,7 @@ mod wall;
 
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
 pub use realization::{generate, generate_batch, GeneratedWall, Piece, PieceKind, Samples};
-pub use spec::WallSpec;
+pub use spec::{WallKind, WallSpec};
 pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Wall};
 
 use crate::layout::LayoutError;

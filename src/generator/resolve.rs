@@ -87,6 +87,7 @@ impl WallSpec {
             ends,
             scatter,
             joints: self.joints.clone(),
+            kind: self.kind,
         })
     }
 }

@@ -232,6 +232,32 @@ pub struct ScatterSpec {
     pub friction_offset_deg: Option<DistRef>,
 }
 
+/// What a wall is built of, as far as the plausible ranges of the model's effects depend
+/// on it (the `kind` key of a wall description).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallKind {
+    /// Prismatic blocks cast or sawn to size (concrete pavers, cobblestones, bricks): flat,
+    /// mated faces, sharp arrises, courses of one height.
+    ConcretePaver,
+    /// Shaped, hammer-dressed natural stone: faces dressed by hand, beds that seat on
+    /// their asperities, irregular edges.
+    ShapedStone,
+}
+
+impl WallKind {
+    /// Every kind, in order.
+    pub const ALL: [WallKind; 2] = [WallKind::ConcretePaver, WallKind::ShapedStone];
+
+    /// The name as in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            WallKind::ConcretePaver => "concrete_paver",
+            WallKind::ShapedStone => "shaped_stone",
+        }
+    }
+}
+
 /// Raw wall description (see the module doc of [`super`] for the format).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -244,6 +270,11 @@ pub struct WallSpec {
     /// Free text: what the wall models and where its numbers come from.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub description: String,
+    /// What the wall is built of (`kind = "concrete_paver" | "shaped_stone"`): selects the
+    /// plausible ranges the discrepancy analysis searches the effects' parameters within
+    /// ([`crate::effects::ParamDef::range_for`]). Default none: the broad ranges.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<WallKind>,
     /// Gravity, m/s². Default 9.81.
     #[serde(default = "default_gravity")]
     pub gravity_m_per_s2: f64,

@@ -122,6 +122,9 @@ pub struct Wall {
     pub scatter: Option<Scatter>,
     /// Joint families with their own properties (checked), written into every layout.
     pub joints: crate::layout::JointFamiliesSpec,
+    /// What the wall is built of (the plausible ranges of the effects); `None`: the broad
+    /// ranges.
+    pub kind: Option<super::WallKind>,
 }
 
 impl Wall {

@@ -192,6 +192,7 @@ fn screening_scores_the_baseline_and_ranks_the_candidates_by_their_heldout_error
         Candidate {
             params: def.params_for(0.2),
             effects: vec![def],
+            kinds: vec![],
             surface: Surface::axis(vec![0.0, 0.5, 1.0], means.iter().map(|&m| at(m)).collect()),
         }
     };
