@@ -47,6 +47,24 @@ pub enum HeadGap {
     VoidFraction(f64),
 }
 
+/// The checked section: how the blocks are laid across the thickness.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Section {
+    /// One leaf: every block spans the whole section (default).
+    #[default]
+    Single,
+    /// Two leaves of face stones, with hearting between them if `leaf_width` is given.
+    Double {
+        /// Width of each leaf from its face, m (horizontal); None: the leaves meet at the
+        /// section's centre line.
+        leaf_width: Option<f64>,
+        /// Longest hearting piece along x, m (None: one per face stone).
+        hearting_stone: Option<f64>,
+        /// Through stones: spacing along a course (m) and every how many courses.
+        through: Option<(f64, usize)>,
+    },
+}
+
 /// A checked end restraint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Ends {
@@ -122,6 +140,8 @@ pub struct Wall {
     pub scatter: Option<Scatter>,
     /// Joint families with their own properties (checked), written into every layout.
     pub joints: crate::layout::JointFamiliesSpec,
+    /// The section across the thickness.
+    pub section: Section,
 }
 
 impl Wall {
