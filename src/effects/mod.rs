@@ -21,13 +21,14 @@
 //! | `restraint_stiffness` | k (N/m per block) | restraints: rigid ends → springs |
 //! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
 //! | `base_restraint` | h_s (m) | layout: fixed stops of height h_s on the downhill face of the first course |
+//! | `leaf_split` | f (–) | layout: every block cut into two leaves, the loose +y leaf taking the share f of the width |
 //!
 //! Every form is deterministic (the same value in every realization) except
 //! `transverse_dip`, whose dips are drawn per bed joint. Length ranges marked
 //! `range_per_course_height` scale with the wall: they are written for a course height of
 //! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
 //! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
-//! ψ = 0, r = 0, δ = 0, h_s = 0; `joint_closure` and `restraint_stiffness` reach it only in the
+//! ψ = 0, r = 0, δ = 0, h_s = 0, f = 0; `joint_closure` and `restraint_stiffness` reach it only in the
 //! limit Vm → ∞, k → ∞).
 //!
 //! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
@@ -58,7 +59,7 @@ pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
 /// The built-in effects whose signature is the failure mechanism (where the moving part
 /// starts) more than the angles: the discrepancy analysis searches them by default only
 /// when the data hold mechanism observations ([`crate::discrepancy::searched`]).
-pub const MECHANISM_EFFECTS: [&str; 1] = ["base_restraint"];
+pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 
 /// Where an effect enters the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -200,6 +201,16 @@ pub enum Step {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         friction_deg: Option<f64>,
     },
+    /// The section split into two leaves: every block cut so that the +y leaf takes the
+    /// share f (the parameter, in [0, 1)) of the section's width ([`geometry::split_leaves`]).
+    LeafSplit {
+        /// The parameter giving f, the loose (+y) leaf's share of the width.
+        parameter: String,
+        /// A through stone (left whole) every n stones along each course (staggered course
+        /// to course); absent: none, the leaves are tied by friction only.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        through_stone_every: Option<u32>,
+    },
 }
 
 impl Step {
@@ -212,16 +223,19 @@ impl Step {
             | Step::Rounding { parameter }
             | Step::TransverseDip { parameter }
             | Step::RestraintSpring { parameter }
-            | Step::BaseStop { parameter, .. } => parameter,
+            | Step::BaseStop { parameter, .. }
+            | Step::LeafSplit { parameter, .. } => parameter,
         }
     }
 
     /// Where the step enters the model.
     pub fn stage(&self) -> Stage {
         match self {
-            Step::Lean { .. } | Step::Rounding { .. } | Step::TransverseDip { .. } | Step::BaseStop { .. } => {
-                Stage::Layout
-            }
+            Step::Lean { .. }
+            | Step::Rounding { .. }
+            | Step::TransverseDip { .. }
+            | Step::BaseStop { .. }
+            | Step::LeafSplit { .. } => Stage::Layout,
             Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
             Step::RestraintSpring { .. } => Stage::Restraints,
         }
