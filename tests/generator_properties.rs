@@ -4,11 +4,14 @@
 //! volume within 1 % of the envelope volume × (1 − stated void fraction), every vertex inside
 //! the section envelope, the base course on the table.
 
+use drystone::generator::spec::SectionSpec;
 use drystone::generator::spec::{
     ArrangementKind, ArrangementSpec, Batter, BlocksSpec, CoursesSpec, DistRef, EndKind, EndsSpec, GeometrySpec,
     HeadJointsSpec, RestraintsSpec, WallSpec,
 };
-use drystone::generator::{generate, DistributionSource, DistributionSpec, GeneratedWall, HeadGap, PieceKind, Wall};
+use drystone::generator::{
+    generate, DistributionSource, DistributionSpec, GeneratedWall, HeadGap, PieceKind, Section, SectionPart, Wall,
+};
 use drystone::geometry::sat::separation;
 use drystone::geometry::sweep::sweep_pairs;
 use drystone::layout::{BaseSliding, MaterialSpec};
@@ -71,17 +74,20 @@ fn check_invariants(wall: &Wall, g: &GeneratedWall) -> Result<(), String> {
             return Err(format!("base-course block {} is not a stone standing on the table", p.id));
         }
     }
-    // Course 0 covers the whole length but for the open head joints.
+    // Course 0 covers the whole length but for the open head joints (counted once across
+    // the section: the through stones and the −y leaf).
+    let column = |p: &&drystone::generator::Piece| matches!(p.part, SectionPart::Through | SectionPart::NegativeLeaf);
     let base_len: f64 = g
         .pieces
         .iter()
         .filter(|p| p.course == 0)
+        .filter(column)
         .map(|p| {
             let xs = p.polygon.iter().map(|q| q[0]);
             xs.clone().fold(f64::NEG_INFINITY, f64::max) - xs.fold(f64::INFINITY, f64::min)
         })
         .sum();
-    let n_base = g.pieces.iter().filter(|p| p.course == 0).count() as f64;
+    let n_base = g.pieces.iter().filter(|p| p.course == 0).filter(column).count() as f64;
     let micro = match wall.head_gap {
         HeadGap::Width(w) => w * (n_base - 1.0),
         _ => 0.0,
@@ -168,6 +174,7 @@ fn spec(
         courses: CoursesSpec { height_m: course, min_thickness_fraction: None },
         blocks: BlocksSpec { length_m: block, min_end_fraction: None, material: None, wedge_material: None },
         head_joints: head,
+        section: None,
         materials: vec![MaterialSpec {
             name: "m".into(),
             density_kg_per_m3: 2200.0,
@@ -254,6 +261,176 @@ proptest! {
         let w = s.resolve(p, &DistributionSource::default()).map_err(|e| TestCaseError::fail(e.to_string()))?;
         let g = generate(&w, seed, 0).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         check_invariants(&w, &g).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", s.to_toml())))?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config(32))]
+
+    /// Double-faced sections: two leaves meeting at the centre line or with hearting (cut
+    /// into pieces or not), with or without through stones, on random envelopes, batters
+    /// and arrangements.
+    #[test]
+    fn double_faced_walls_satisfy_the_invariants(
+        seed in any::<u64>(),
+        l in 0.6f64..5.0,
+        h in 0.2f64..1.6,
+        bw in 0.15f64..0.7,
+        taper in 0.4f64..1.0,
+        batter in prop_oneof![Just(Batter::Symmetric), Just(Batter::VerticalNegativeY), Just(Batter::VerticalPositiveY)],
+        kind in prop_oneof![Just(ArrangementKind::Continuous), Just(ArrangementKind::Discontinuous), Just(ArrangementKind::Irregular)],
+        courses in 3usize..8,
+        aspect in 1.0f64..3.0,
+        dip_max in 0.0f64..20.0,
+        leaf in prop_oneof![Just(None), (0.1f64..0.45).prop_map(Some)],
+        hearting in prop_oneof![Just(None), (0.2f64..1.5).prop_map(Some)],
+        through in prop_oneof![Just(None), (0.3f64..2.0, 1u32..3).prop_map(Some)],
+    ) {
+        let hbar = h / courses as f64;
+        let lbar = (aspect * hbar).min(0.5 * l);
+        let top = bw * taper;
+        let mut s = spec([l, h, bw, top], batter, kind, DistRef::Value(hbar), DistRef::Value(lbar), dip_max,
+            HeadJointsSpec::default(), BTreeMap::new());
+        s.section = Some(SectionSpec {
+            leaves: 2,
+            leaf_width_m: leaf.map(|f| f * top),
+            hearting_stone_m: leaf.and(hearting.map(|f| f * lbar)),
+            through_stone_spacing_m: through.map(|(f, _)| f * l),
+            through_stone_every_courses: through.map(|(_, n)| n),
+        });
+        let p = Path::new("property.toml");
+        let w = s.resolve(p, &DistributionSource::default()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let g = generate(&w, seed, 0).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        check_invariants(&w, &g).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", s.to_toml())))?;
+        check_leaves(&w, &g).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", s.to_toml())))?;
+    }
+}
+
+/// Each leaf follows its own face: every vertex of a −y (+y) leaf block lies on the −y
+/// (+y) face or on the plane `leaf_width` inside it (the centre line without hearting);
+/// hearting vertices lie on the two inner planes; the elevation of every course is covered
+/// the same way in each leaf.
+fn check_leaves(wall: &Wall, g: &GeneratedWall) -> Result<(), String> {
+    let Section::Double { leaf_width, .. } = wall.section else { return Err("not double-faced".into()) };
+    let tol = 1e-12 * (wall.length + wall.height);
+    for p in &g.pieces {
+        for v in &p.vertices {
+            let (y0, y1) = wall.faces_at(v[2]);
+            let (ni, pi) = match leaf_width {
+                Some(w) => (y0 + w, y1 - w),
+                None => (0.5 * (y0 + y1), 0.5 * (y0 + y1)),
+            };
+            let on = |ys: [f64; 2]| ys.iter().any(|y| (v[1] - y).abs() <= tol);
+            let ok = match p.part {
+                SectionPart::Through => on([y0, y1]),
+                SectionPart::NegativeLeaf => on([y0, ni]),
+                SectionPart::Hearting => on([ni, pi]),
+                SectionPart::PositiveLeaf => on([pi, y1]),
+            };
+            if !ok {
+                return Err(format!("block {} ({:?}) has a vertex {v:?} off its leaf's planes", p.id, p.part));
+            }
+        }
+    }
+    let area = |part: SectionPart| -> f64 {
+        g.pieces
+            .iter()
+            .filter(|p| p.part == part || p.part == SectionPart::Through)
+            .map(|p| {
+                let n = p.polygon.len();
+                0.5 * (0..n)
+                    .map(|i| {
+                        let (a, b) = (p.polygon[i], p.polygon[(i + 1) % n]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>()
+            })
+            .sum()
+    };
+    let (an, ap) = (area(SectionPart::NegativeLeaf), area(SectionPart::PositiveLeaf));
+    if (an - ap).abs() > 1e-9 * an {
+        return Err(format!("the leaves' elevations differ: {an} vs {ap} m2"));
+    }
+    if leaf_width.is_some() && (area(SectionPart::Hearting) - an).abs() > 1e-9 * an {
+        return Err(format!(
+            "the hearting's elevation differs from the leaves': {} vs {an} m2",
+            area(SectionPart::Hearting)
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn a_double_faced_wall_has_its_leaves_hearting_and_through_stones() {
+    let path = root().join("studies/walls/full_scale_continuous.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let src = DistributionSource::dir(root().join("distributions"));
+    let single = preset("full_scale_continuous");
+    // An explicit single leaf is the default, bit for bit.
+    let one = format!("{text}\n[section]\nleaves = 1\n");
+    let one = WallSpec::from_toml(&one, &path).unwrap().resolve(&path, &src).unwrap();
+    assert_eq!(
+        serde_json::to_string(&generate(&one, 5, 2).unwrap().layout).unwrap(),
+        serde_json::to_string(&generate(&single, 5, 2).unwrap().layout).unwrap()
+    );
+    // Two leaves 0.1 m wide, hearting in pieces of at most 0.2 m, through stones every 1 m
+    // in every other course.
+    let two = format!(
+        "{text}\n[section]\nleaves = 2\nleaf_width_m = 0.1\nhearting_stone_m = 0.2\n\
+         through_stone_spacing_m = 1.0\nthrough_stone_every_courses = 2\n"
+    );
+    let two = WallSpec::from_toml(&two, &path).unwrap().resolve(&path, &src).unwrap();
+    let (g1, g2) = (generate(&single, 5, 2).unwrap(), generate(&two, 5, 2).unwrap());
+    check_invariants(&two, &g2).unwrap();
+    check_leaves(&two, &g2).unwrap();
+    // The same elevation: 5 courses of 8 stones 0.5 m long. Courses 0, 2, 4 hold through
+    // stones over x = 0.5, 1.5, 2.5, 3.5 (courses 0 and 4) or 1, 2, 3 (course 2); every
+    // other stone is cut into two leaves and three hearting pieces of 0.5/3 m.
+    assert_eq!(g1.counts(), (40, 0));
+    let through: Vec<(usize, usize)> = g2
+        .pieces
+        .iter()
+        .filter(|p| p.part == SectionPart::Through)
+        .map(|p| (p.course, (p.polygon.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min) / 0.5).round() as usize))
+        .collect();
+    let expected: Vec<(usize, usize)> = [0, 2, 4]
+        .iter()
+        .flat_map(|&k| if k == 2 { vec![(k, 2), (k, 4), (k, 6)] } else { vec![(k, 1), (k, 3), (k, 5), (k, 7)] })
+        .collect();
+    assert_eq!(through, expected);
+    let cut = 40 - expected.len();
+    assert_eq!(g2.counts().0, expected.len() + cut * 5);
+    assert!(g2.pieces.iter().filter(|p| p.part == SectionPart::Hearting).all(|p| {
+        let xs = p.polygon.iter().map(|q| q[0]);
+        (xs.clone().fold(f64::NEG_INFINITY, f64::max) - xs.fold(f64::INFINITY, f64::min) - 0.5 / 3.0).abs() < 1e-12
+    }));
+    // Volumes: the whole envelope, and each leaf 0.1 m × the elevation.
+    assert!((g2.volume() - single.envelope_volume()).abs() < 1e-12 * single.envelope_volume());
+    let leaf: f64 = g2.pieces.iter().filter(|p| p.part == SectionPart::PositiveLeaf).map(|p| p.volume).sum();
+    assert!((leaf - 0.1 * 4.0 * 1.0 * cut as f64 / 40.0).abs() < 1e-12, "{leaf}");
+}
+
+#[test]
+fn bad_sections_are_refused_with_their_key() {
+    let path = root().join("studies/walls/full_scale_continuous.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let src = DistributionSource::dir(root().join("distributions"));
+    for (section, key) in [
+        ("leaves = 3", "section.leaves"),
+        ("leaves = 1\nleaf_width_m = 0.1", "section.leaf_width_m"),
+        ("leaves = 2\nleaf_width_m = 0.125", "section.leaf_width_m"),
+        ("leaves = 2\nleaf_width_m = -0.1", "section.leaf_width_m"),
+        ("leaves = 2\nhearting_stone_m = 0.2", "section.hearting_stone_m"),
+        ("leaves = 2\nthrough_stone_every_courses = 2", "section.through_stone_every_courses"),
+        (
+            "leaves = 2\nthrough_stone_spacing_m = 1.0\nthrough_stone_every_courses = 0",
+            "section.through_stone_every_courses",
+        ),
+        ("leaves = 2\nthrough_stone_spacing_m = 0", "section.through_stone_spacing_m"),
+    ] {
+        let t = format!("{text}\n[section]\n{section}\n");
+        let e = WallSpec::from_toml(&t, &path).unwrap().resolve(&path, &src).unwrap_err().to_string();
+        assert!(e.contains(key) && e.contains("full_scale_continuous.toml"), "{section}: {e}");
     }
 }
 

@@ -135,6 +135,9 @@ impl Effect {
                     };
                     geometry::add_base_stops(layout, v, material).map_err(geometry)?
                 }
+                Step::LeafSplit { through_stone_every, .. } => {
+                    geometry::split_leaves(layout, v, *through_stone_every).map_err(geometry)?
+                }
                 Step::RestraintSpring { .. } => {
                     for (_, r) in &mut layout.end_restraints {
                         *r = if v.is_finite() { EndRestraint::Spring(v) } else { EndRestraint::Rigid };

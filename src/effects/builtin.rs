@@ -199,6 +199,14 @@ pub fn builtin() -> Vec<EffectDef> {
             )],
             vec![Step::BaseStop { parameter: "stop_height_m".into(), friction_deg: None }],
         ),
+        // Double-faced section: delamination, then overturning of the loose leaf.
+        def(
+            "leaf_split",
+            "the section built as two leaves tied only by friction: every block cut parallel to the faces, the loose leaf on the side the wall falls to taking the share f of the width",
+            "double-faced dry stone walls (pircas): full-scale out-of-plane tests show delamination of the section, then overturning of the loose leaf (Ita, Santa-Cruz et al. 2023, Eng. Struct., doi 10.1016/j.engstruct.2023.116153); the 1:4 walls' 150 mm base of 100 mm wide pavers (Santa-Cruz et al. 2021, Table 1) needs more than one paver across; f up to 1/2: the loose leaf no wider than the other",
+            vec![param("loose_leaf_fraction", "-", 0.0, 0.5, Scale::Linear, 0.0, false)],
+            vec![Step::LeafSplit { parameter: "loose_leaf_fraction".into(), through_stone_every: None }],
+        ),
     ]
 }
 

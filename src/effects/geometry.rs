@@ -234,3 +234,131 @@ pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<
     layout.blocks.extend(stops);
     Ok(())
 }
+
+/// `leaf_split`: the section split into two leaves, as a double-faced wall whose leaves are
+/// tied only by friction (and by through stones, if any). Every block (stones and wedges;
+/// fixed blocks excepted) is cut by the surface that leaves the share `f` (in (0, 1)) of
+/// the section's width on the +y side (the side the wall falls to: the loose leaf) at every
+/// height: `y_c(z) = y₊(z) − f (y₊(z) − y₋(z))`, with `y₋`, `y₊` the wall's faces, taken
+/// affine in z through the extreme y of the blocks' vertices at the base and at the crest
+/// (the trapezoidal section of a generated wall; a plane, vertical for a rectangular or
+/// symmetric section with `f = ½`). Its −y part keeps the block's place (id `IDn`), its +y
+/// part is appended (id `IDp`, same material, course, wedge flag and end restraint). With
+/// `through_every = n ≥ 1`, in course k the stones i = 0, 1, … (left to right) with
+/// `(i + k ⌊n/2⌋) mod n = 0` stay whole (through stones every n stones, staggered course to
+/// course; n = 1: every stone). A part thinner than 1e-6 of the block's volume is not cut
+/// off. `f = 0` changes nothing. Rigid leaves: the +y leaf of width `f b` and height h
+/// tips alone at `tan α = f b / h` (Ita, Santa-Cruz et al. 2023: delamination of the
+/// section, then overturning of the loose leaf).
+///
+/// # Errors
+/// The block whose part could not be built.
+pub fn split_leaves(layout: &mut Layout, f: f64, through_every: Option<u32>) -> Result<(), BlockFailure> {
+    if f.is_nan() || f <= 0.0 || f >= 1.0 {
+        return Ok(());
+    }
+    let wall: Vec<usize> = (0..layout.blocks.len()).filter(|&i| !layout.blocks[i].fixed).collect();
+    if wall.is_empty() {
+        return Ok(());
+    }
+    let verts = || wall.iter().flat_map(|&i| layout.blocks[i].shape.vertices.iter());
+    let (z0, z1) = verts().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v.z), hi.max(v.z)));
+    let tol = 1e-9 * (z1 - z0).max(1e-3);
+    let ys = |z: f64| {
+        verts()
+            .filter(|v| (v.z - z).abs() <= 1e3 * tol)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v.y), hi.max(v.y)))
+    };
+    let ((a0, b0), (a1, b1)) = (ys(z0), ys(z1));
+    // y_c(z) = c0 + m (z − z0).
+    let (c0, c1) = (b0 - f * (b0 - a0), b1 - f * (b1 - a1));
+    let m = if z1 > z0 { (c1 - c0) / (z1 - z0) } else { 0.0 };
+    let side = move |v: &Vec3| v.y - (c0 + m * (v.z - z0));
+    // Through stones.
+    let mut through = vec![false; layout.blocks.len()];
+    if let Some(n) = through_every.filter(|&n| n >= 1).map(|n| n as usize) {
+        let mut courses: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
+        for &i in &wall {
+            let b = &layout.blocks[i];
+            if let (Some(k), false) = (b.course, b.wedge) {
+                courses.entry(k).or_default().push(i);
+            }
+        }
+        for (k, mut stones) in courses {
+            stones.sort_by(|&p, &q| {
+                let (a, b) = (layout.blocks[p].shape.aabb().min, layout.blocks[q].shape.aabb().min);
+                a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+            });
+            for (j, &i) in stones.iter().enumerate() {
+                through[i] = (j + k * (n / 2)) % n == 0;
+            }
+        }
+    }
+    let mut added = Vec::new();
+    for &i in &wall {
+        if through[i] {
+            continue;
+        }
+        let b = &layout.blocks[i];
+        let Some((neg, pos)) = cut(&b.shape, &side, tol).map_err(|e| (b.id.clone(), e))? else { continue };
+        added.push((i, pos));
+        let b = &mut layout.blocks[i];
+        b.shape = neg;
+        b.id.push('n');
+    }
+    for (i, pos) in added {
+        let b = &layout.blocks[i];
+        let id = format!("{}p", b.id.strip_suffix('n').unwrap_or(&b.id));
+        let new = crate::layout::Block {
+            id,
+            material: b.material,
+            shape: pos,
+            fixed: false,
+            course: b.course,
+            wedge: b.wedge,
+        };
+        let j = layout.blocks.len();
+        layout.blocks.push(new);
+        if let Some(&(_, r)) = layout.end_restraints.iter().find(|(k, _)| *k == i) {
+            layout.end_restraints.push((j, r));
+        }
+    }
+    Ok(())
+}
+
+/// The parts of `s` with `side ≤ 0` and `side ≥ 0` (`side` affine), or None if one of them
+/// is empty or thinner than 1e-6 of the volume.
+fn cut(
+    s: &ConvexBlock,
+    side: &impl Fn(&Vec3) -> f64,
+    tol: f64,
+) -> Result<Option<(ConvexBlock, ConvexBlock)>, GeometryError> {
+    let d: Vec<f64> = s.vertices.iter().map(side).collect();
+    if d.iter().all(|&x| x >= -tol) || d.iter().all(|&x| x <= tol) {
+        return Ok(None);
+    }
+    let (mut neg, mut pos) = (Vec::new(), Vec::new());
+    for (v, &x) in s.vertices.iter().zip(&d) {
+        if x <= tol {
+            neg.push(*v);
+        }
+        if x >= -tol {
+            pos.push(*v);
+        }
+    }
+    for &(i, j) in &s.edges {
+        let (di, dj) = (d[i], d[j]);
+        if (di < -tol && dj > tol) || (di > tol && dj < -tol) {
+            let t = di / (di - dj);
+            let p = s.vertices[i] + (s.vertices[j] - s.vertices[i]) * t;
+            neg.push(p);
+            pos.push(p);
+        }
+    }
+    let (n, p) = (hull(&neg)?, hull(&pos)?);
+    let v = s.volume();
+    if n.volume() < 1e-6 * v || p.volume() < 1e-6 * v {
+        return Ok(None);
+    }
+    Ok(Some((n, p)))
+}

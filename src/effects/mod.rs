@@ -22,6 +22,7 @@
 //! | `end_rope` | T₀ (N), EA (N) | restraints: rigid ends → a tensioned rope at each end |
 //! | `transverse_dip` | δ (deg) | layout: bed joints dipping across the thickness, U(−δ, δ) per joint |
 //! | `base_restraint` | h_s (m) | layout: fixed stops of height h_s on the downhill face of the first course |
+//! | `leaf_split` | f (–) | layout: every block cut into two leaves, the loose +y leaf taking the share f of the width |
 //! | `shear_stiffness` | factor (–) | joint law: Ks of every joint × factor (Kn kept) |
 //! | `dilatant_joints` | i (deg) | joint law: friction angle of the `bed` joints φ → φ + i (Patton 1966) |
 //!
@@ -36,7 +37,7 @@
 //! `range_per_course_height` scale with the wall: they are written for a course height of
 //! 0.05 m (the source paper's 1:4 walls) and multiplied by the wall's mean course height /
 //! 0.05 m. An effect at its neutral value reproduces the model unchanged (factor 1, g₀ = 0,
-//! ψ = 0, r = 0, δ = 0, h_s = 0, i = 0; `joint_closure`, `restraint_stiffness` and `end_rope`
+//! ψ = 0, r = 0, δ = 0, h_s = 0, i = 0, f = 0; `joint_closure`, `restraint_stiffness` and `end_rope`
 //! reach it only in the limit Vm → ∞, k → ∞, T₀ → ∞).
 //!
 //! Random draws come from [`effect_rng`]: one stream per (master seed, realization, group,
@@ -69,7 +70,7 @@ pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
 /// The built-in effects whose signature is the failure mechanism (where the moving part
 /// starts) more than the angles: the discrepancy analysis searches them by default only
 /// when the data hold mechanism observations ([`crate::discrepancy::searched`]).
-pub const MECHANISM_EFFECTS: [&str; 1] = ["base_restraint"];
+pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 
 /// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
 pub const MAX_FRICTION_DEG: f64 = 85.0;
@@ -365,6 +366,16 @@ pub enum Step {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         friction_deg: Option<f64>,
     },
+    /// The section split into two leaves: every block cut so that the +y leaf takes the
+    /// share f (the parameter, in [0, 1)) of the section's width ([`geometry::split_leaves`]).
+    LeafSplit {
+        /// The parameter giving f, the loose (+y) leaf's share of the width.
+        parameter: String,
+        /// A through stone (left whole) every n stones along each course (staggered course
+        /// to course); absent: none, the leaves are tied by friction only.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        through_stone_every: Option<u32>,
+    },
 }
 
 impl Step {
@@ -379,7 +390,8 @@ impl Step {
             | Step::RestraintSpring { parameter }
             | Step::RopePretension { parameter }
             | Step::RopeStiffness { parameter }
-            | Step::BaseStop { parameter, .. } => parameter,
+            | Step::BaseStop { parameter, .. }
+            | Step::LeafSplit { parameter, .. } => parameter,
             Step::Dilatancy { parameter, .. } => parameter,
         }
     }
@@ -387,9 +399,11 @@ impl Step {
     /// Where the step enters the model.
     pub fn stage(&self) -> Stage {
         match self {
-            Step::Lean { .. } | Step::Rounding { .. } | Step::TransverseDip { .. } | Step::BaseStop { .. } => {
-                Stage::Layout
-            }
+            Step::Lean { .. }
+            | Step::Rounding { .. }
+            | Step::TransverseDip { .. }
+            | Step::BaseStop { .. }
+            | Step::LeafSplit { .. } => Stage::Layout,
             Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
             Step::RestraintSpring { .. } | Step::RopePretension { .. } | Step::RopeStiffness { .. } => {
                 Stage::Restraints

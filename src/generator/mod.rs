@@ -25,8 +25,9 @@
 //! # The section and the blocks
 //!
 //! The cross-section (y–z) is a trapezoid: width B at z = 0 and b at z = H, faces at
-//! [`Wall::faces_at`] (symmetric batter by default, or one vertical face). Every block is a
-//! *through stone*: it spans the whole thickness, so it is a convex polygon P of the
+//! [`Wall::faces_at`] (symmetric batter by default, or one vertical face). In a single-leaf
+//! section (the default; see [Double-faced sections](#double-faced-sections)) every block
+//! is a *through stone*: it spans the whole thickness, so it is a convex polygon P of the
 //! elevation plane (x–z) extruded in y between the two faces. Its vertices are, for every
 //! vertex (x, z) of P, the points (x, y₋(z), z) and (x, y₊(z), z). The faces are planes and
 //! y₋, y₊ are affine in z, so the block is convex whenever P is, lies inside the envelope
@@ -34,6 +35,22 @@
 //! Its volume is `area(P) × width(z̄)` with z̄ the centroid height of P (the width is affine
 //! in z). The construction is therefore a tiling of the elevation rectangle by convex
 //! polygons.
+//!
+//! # Double-faced sections
+//!
+//! `[section] leaves = 2` cuts every elevation piece across the thickness by planes
+//! parallel to the faces ([`SectionPart`]): a −y leaf between y₋(z) and y₋(z) + w, the
+//! hearting between y₋(z) + w and y₊(z) − w (cut along x into equal pieces no longer than
+//! `hearting_stone_m`), a +y leaf between y₊(z) − w and y₊(z), w = `leaf_width_m`
+//! (measured horizontally; each leaf follows its own face's batter); without `leaf_width_m`
+//! the two leaves meet at the centre line (y₋ + y₊)/2. Every one of these surfaces is
+//! affine in z, so each part is still the polygon (or a vertical slice of it) extruded
+//! between two planes: convex, inside the envelope, and touching its neighbours along
+//! shared planes only; its volume is `area × its width at the centroid height`. Stones
+//! holding the points `(j + ½) s` (s = `through_stone_spacing_m`, shifted by s/2 from one
+//! course with through stones to the next) of every `through_stone_every_courses`-th course
+//! from the base stay whole (through stones); wedges are always cut. The section draws
+//! nothing: the elevation is that of the single-leaf wall, bit for bit.
 //!
 //! # Construction, course by course (bottom up)
 //!
@@ -114,6 +131,8 @@
 //! | `blocks.min_end_fraction` | 0.25 |
 //! | `blocks.material` / `wedge_material` / `restraints.table_material` | first material / block material / block material |
 //! | `head_joints` | closed |
+//! | `section.leaves` | 1 (through stones) |
+//! | `section.leaf_width_m` / `hearting_stone_m` / `through_stone_spacing_m` / `through_stone_every_courses` | leaves meet at the centre line / one hearting piece per stone / no through stones / 1 |
 //! | `restraints.base` / `restraints.ends.kind` | `free` / `free` |
 //! | `gravity_m_per_s2` | 9.81 |
 //!
@@ -152,6 +171,13 @@
 //! friction_deg = 30
 //! cohesion_pa = 1.0e5
 //!
+//! [section]                   # optional; default one leaf of through stones
+//! leaves = 2                  # 1 or 2 (double-faced)
+//! leaf_width_m = 0.10         # each leaf from its face; the hearting between (2w < b)
+//! hearting_stone_m = 0.25     # hearting pieces at most this long along x
+//! through_stone_spacing_m = 1.0   # through stones 1 m apart along a course
+//! through_stone_every_courses = 2 # in every other course from the base
+//!
 //! [restraints]
 //! base = "free"               # or "held"
 //! ends = { kind = "rigid", zone_m = 0.05 }   # "free"; "spring" + stiffness_n_per_m
@@ -183,7 +209,8 @@
 //! # Block ids
 //!
 //! Stones `c{k}s{i}` (course k from 0 at the base, i from 0 at x = 0); wedges `c{k}w{j}`
-//! (the wedges under course k). Layout order: course by course, each course's wedges before
+//! (the wedges under course k). In a double-faced section a cut piece's parts add `n` (−y
+//! leaf), `h0`, `h1`, … (hearting, left to right) and `p` (+y leaf) to its id. Layout order: course by course, each course's wedges before
 //! its stones.
 
 pub mod distribution;
@@ -196,9 +223,9 @@ mod resolve;
 mod wall;
 
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
-pub use realization::{generate, generate_batch, GeneratedWall, Piece, PieceKind, Samples};
+pub use realization::{generate, generate_batch, GeneratedWall, Piece, PieceKind, Samples, SectionPart};
 pub use spec::{WallKind, WallSpec};
-pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Wall};
+pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 
 use crate::layout::LayoutError;
 use std::path::PathBuf;

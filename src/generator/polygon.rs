@@ -169,6 +169,31 @@ fn clip(poly: &[P2], hp: &HalfPlane) -> Vec<P2> {
     out
 }
 
+/// The part of a convex polygon with `x0 ≤ x ≤ x1` (convex; empty or degenerate if the
+/// strip misses it). A crossing is put exactly at x = x0 or x1, with z interpolated along
+/// the edge in its own direction, so two pieces cut by the same line share bit-identical
+/// vertices.
+pub(crate) fn clip_x(poly: &[P2], x0: f64, x1: f64) -> Vec<P2> {
+    let strip = |poly: &[P2], c: f64, keep_below: bool| -> Vec<P2> {
+        let inside = |p: &P2| if keep_below { p[0] <= c } else { p[0] >= c };
+        let n = poly.len();
+        let mut out = Vec::with_capacity(n + 2);
+        for i in 0..n {
+            let (p, q) = (poly[i], poly[(i + 1) % n]);
+            if inside(&p) {
+                out.push(p);
+            }
+            if inside(&p) != inside(&q) && p[0] != c && q[0] != c {
+                let t = (c - p[0]) / (q[0] - p[0]);
+                out.push([c, p[1] + t * (q[1] - p[1])]);
+            }
+        }
+        out
+    };
+    let a = strip(poly, x0, false);
+    strip(&a, x1, true)
+}
+
 /// The convex region `x0 ≤ x ≤ x1` ∩ the half-planes, as a counter-clockwise polygon with
 /// vertices closer than `snap` (m) merged by dropping one of them (which only shrinks the
 /// region) and collinear vertices removed. Empty if the region is.

@@ -9,7 +9,7 @@
 
 use super::build::{self, Elevation, Piece2};
 use super::polygon;
-use super::wall::{Ends, Wall};
+use super::wall::{Ends, Section, Wall};
 use super::GeneratorError;
 use crate::layout::{
     BlockSpec, EndRestraintKind, EndRestraintSpec, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec,
@@ -38,7 +38,8 @@ pub struct Piece {
     pub course: usize,
     /// Elevation polygon (x, z), counter-clockwise, m.
     pub polygon: Vec<[f64; 2]>,
-    /// Block vertices in the table frame, m (two per polygon vertex: −y face, +y face).
+    /// Block vertices in the table frame, m (two per polygon vertex: its −y side, its +y
+    /// side).
     pub vertices: Vec<[f64; 3]>,
     /// Volume, m³.
     pub volume: f64,
@@ -48,6 +49,9 @@ pub struct Piece {
     pub material: String,
     /// Held by an end restraint.
     pub restrained: bool,
+    /// Where it lies across the section (`through` for every block of a single-leaf wall).
+    #[serde(skip_serializing_if = "SectionPart::is_through")]
+    pub part: SectionPart,
 }
 
 /// The values drawn from the laws, as used in the wall (for goodness-of-fit checks).
@@ -176,9 +180,11 @@ pub fn generate_batch(
     range.into_par_iter().map(|i| generate(wall, seed, i)).collect()
 }
 
-/// The elevation's pieces as through stones, in layout order (per course, wedges then
-/// stones, each group left to right), with their ids, volumes, stone or wedge material and
-/// end-zone flag. A wedge whose convex hull is not faithful is dropped (its gap stays open).
+/// The elevation's pieces as blocks between the faces, in layout order (per course, wedges
+/// then stones, each group left to right; a double-faced section puts each piece's parts
+/// in the order −y leaf, hearting left to right, +y leaf), with their ids, volumes, stone
+/// or wedge material and end-zone flag. A wedge (part) whose convex hull is not faithful is
+/// dropped (its gap stays open).
 fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
     let courses = elev.course_tops.len();
     let (mut stone_no, mut wedge_no) = (vec![0usize; courses], vec![0usize; courses]);
@@ -187,44 +193,167 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
     let mut pieces = Vec::with_capacity(elev.pieces.len());
     for i in order {
         let p = &elev.pieces[i];
-        let mut vertices = Vec::with_capacity(2 * p.polygon.len());
-        for &[x, z] in &p.polygon {
-            let (y0, y1) = wall.faces_at(z);
-            vertices.push([x, y0, z]);
-            vertices.push([x, y1, z]);
-        }
-        let a = polygon::area(&p.polygon);
-        let volume = a * wall.width_at(centroid_z(&p.polygon, a));
-        // A wedge can be a thin sliver; keep it only if the hull the DEM will build from its
-        // vertices is the block (quickhull can fail on slivers): else the gap stays open.
-        if p.kind == PieceKind::Wedge && !hull_is_faithful(&vertices, volume) {
-            continue;
-        }
         let (no, letter, material) = match p.kind {
             PieceKind::Stone => (&mut stone_no[p.course], 's', &wall.block_material),
             PieceKind::Wedge => (&mut wedge_no[p.course], 'w', &wall.wedge_material),
         };
-        *no += 1;
-        let id = format!("c{}{letter}{}", p.course, *no - 1);
-        pieces.push(Piece {
-            id,
-            kind: p.kind,
-            course: p.course,
-            polygon: p.polygon.clone(),
-            vertices,
-            volume,
-            dip_deg: p.dip_deg,
-            material: material.clone(),
-            restrained: in_end_zone(wall, p),
-        });
+        let base_id = format!("c{}{letter}{}", p.course, *no);
+        let mut kept = false;
+        for (part, suffix, polygon) in parts(wall, p) {
+            let (lo, hi) = part.bounds();
+            let mut vertices = Vec::with_capacity(2 * polygon.len());
+            for &[x, z] in &polygon {
+                vertices.push([x, lo.y(wall, z), z]);
+                vertices.push([x, hi.y(wall, z), z]);
+            }
+            let a = polygon::area(&polygon);
+            let zc = centroid_z(&polygon, a);
+            let width = match part {
+                SectionPart::Through => wall.width_at(zc),
+                _ => hi.y(wall, zc) - lo.y(wall, zc),
+            };
+            let volume = a * width;
+            // A wedge can be a thin sliver; keep it only if the hull the DEM will build from
+            // its vertices is the block (quickhull can fail on slivers): else the gap stays
+            // open.
+            if p.kind == PieceKind::Wedge && !hull_is_faithful(&vertices, volume) {
+                continue;
+            }
+            kept = true;
+            pieces.push(Piece {
+                id: format!("{base_id}{suffix}"),
+                kind: p.kind,
+                course: p.course,
+                restrained: in_end_zone(wall, &polygon),
+                polygon,
+                vertices,
+                volume,
+                dip_deg: p.dip_deg,
+                material: material.clone(),
+                part,
+            });
+        }
+        if kept {
+            *no += 1;
+        }
     }
     pieces
 }
 
-/// True if the piece reaches into an end-restraint zone (x < zone or x > L − zone).
-fn in_end_zone(wall: &Wall, p: &Piece2) -> bool {
-    let (xmin, xmax) =
-        p.polygon.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[0]), hi.max(q[0])));
+/// Where a block lies across the section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SectionPart {
+    /// Across the whole section, face to face (every block of a single-leaf wall; the
+    /// through stones of a double-faced one).
+    Through,
+    /// The −y leaf of a double-faced section.
+    NegativeLeaf,
+    /// The hearting between the leaves.
+    Hearting,
+    /// The +y leaf (the side the wall falls to).
+    PositiveLeaf,
+}
+
+impl SectionPart {
+    /// True for [`SectionPart::Through`] (not written in the generator's JSON).
+    pub fn is_through(&self) -> bool {
+        *self == SectionPart::Through
+    }
+
+    /// The surfaces that bound the part in y.
+    fn bounds(self) -> (Surface, Surface) {
+        match self {
+            SectionPart::Through => (Surface::NegFace, Surface::PosFace),
+            SectionPart::NegativeLeaf => (Surface::NegFace, Surface::NegInner),
+            SectionPart::Hearting => (Surface::NegInner, Surface::PosInner),
+            SectionPart::PositiveLeaf => (Surface::PosInner, Surface::PosFace),
+        }
+    }
+}
+
+/// A surface across the section, each a plane y(z) affine in z (so a polygon of the
+/// elevation extruded between two of them is convex, and its volume is its area times the
+/// width at its centroid height).
+#[derive(Debug, Clone, Copy)]
+enum Surface {
+    NegFace,
+    PosFace,
+    /// The inner side of the −y leaf: `leaf_width` in from the −y face (parallel to it), or
+    /// the centre line without hearting.
+    NegInner,
+    /// The inner side of the +y leaf.
+    PosInner,
+}
+
+impl Surface {
+    fn y(self, wall: &Wall, z: f64) -> f64 {
+        let (y0, y1) = wall.faces_at(z);
+        let leaf = match wall.section {
+            Section::Double { leaf_width, .. } => leaf_width,
+            Section::Single => None,
+        };
+        match (self, leaf) {
+            (Surface::NegFace, _) => y0,
+            (Surface::PosFace, _) => y1,
+            (Surface::NegInner | Surface::PosInner, None) => 0.5 * (y0 + y1),
+            (Surface::NegInner, Some(w)) => y0 + w,
+            (Surface::PosInner, Some(w)) => y1 - w,
+        }
+    }
+}
+
+/// The parts of one elevation piece across the section, each with its id suffix and its
+/// elevation polygon: the piece itself as a through block (single leaf, or a through stone
+/// of a double-faced wall: see [`is_through_stone`]); else `n` (−y leaf), the hearting
+/// `h0`, `h1`, … (cut along x into equal pieces no longer than the hearting stone size) when
+/// the leaves have a width, and `p` (+y leaf).
+fn parts(wall: &Wall, p: &Piece2) -> Vec<(SectionPart, String, Vec<[f64; 2]>)> {
+    let Section::Double { leaf_width, hearting_stone, through } = wall.section else {
+        return vec![(SectionPart::Through, String::new(), p.polygon.clone())];
+    };
+    let (xmin, xmax) = x_range(&p.polygon);
+    if p.kind == PieceKind::Stone && through.is_some_and(|(s, every)| is_through_stone(p.course, xmin, xmax, s, every))
+    {
+        return vec![(SectionPart::Through, String::new(), p.polygon.clone())];
+    }
+    let mut out = vec![(SectionPart::NegativeLeaf, "n".to_string(), p.polygon.clone())];
+    if leaf_width.is_some() {
+        let n = hearting_stone.map_or(1, |hs| (((xmax - xmin) / hs).ceil() as usize).max(1));
+        let cut = |j: usize| if j == n { xmax } else { xmin + (xmax - xmin) * j as f64 / n as f64 };
+        for j in 0..n {
+            let poly = if n == 1 { p.polygon.clone() } else { polygon::clip_x(&p.polygon, cut(j), cut(j + 1)) };
+            if poly.len() >= 3 && polygon::area(&poly) > 0.0 {
+                out.push((SectionPart::Hearting, format!("h{j}"), poly));
+            }
+        }
+    }
+    out.push((SectionPart::PositiveLeaf, "p".to_string(), p.polygon.clone()));
+    out
+}
+
+/// True if the stone of course `k` over `[xmin, xmax)` is a through stone: course `k` is one
+/// of every `every`-th from the base (t = k / every), and the stone holds one of the points
+/// `(j + ½) s + (t mod 2) s/2`, j = 0, 1, … (through stones `s` apart, staggered by half
+/// their spacing from one such course to the next).
+fn is_through_stone(k: usize, xmin: f64, xmax: f64, s: f64, every: usize) -> bool {
+    if k % every != 0 {
+        return false;
+    }
+    let offset = if (k / every) % 2 == 1 { s } else { 0.5 * s };
+    let j = ((xmin - offset) / s).ceil().max(0.0);
+    offset + j * s < xmax
+}
+
+/// The x extent of a polygon, m.
+fn x_range(poly: &[[f64; 2]]) -> (f64, f64) {
+    poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[0]), hi.max(q[0])))
+}
+
+/// True if the elevation polygon reaches into an end-restraint zone (x < zone or
+/// x > L − zone).
+fn in_end_zone(wall: &Wall, polygon: &[[f64; 2]]) -> bool {
+    let (xmin, xmax) = x_range(polygon);
     match wall.ends {
         Ends::Free => false,
         Ends::Rigid { zone } | Ends::Spring { zone, .. } => xmin < zone || xmax > wall.length - zone,

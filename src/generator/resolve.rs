@@ -9,7 +9,7 @@ use super::spec::{
     DEFAULT_MIN_THICKNESS_FRACTION, DEFAULT_MIN_WEDGE_LENGTH_FRACTION, DEFAULT_MIN_WEDGE_THICKNESS_FRACTION,
     DEFAULT_OVERLAP, WALL_VERSION,
 };
-use super::wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Wall};
+use super::wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 use super::GeneratorError;
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -59,6 +59,7 @@ impl WallSpec {
         r.joints(&arrangement)?;
         r.softness(gravity)?;
         r.inline_distributions()?;
+        let section = r.section(&envelope)?;
 
         Ok(Wall {
             name: if self.name.is_empty() {
@@ -88,6 +89,7 @@ impl WallSpec {
             scatter,
             joints: self.joints.clone(),
             kind: self.kind,
+            section,
         })
     }
 }
@@ -474,6 +476,78 @@ impl Resolver<'_> {
             }
         }
         Ok(())
+    }
+
+    /// `[section]`: one leaf, or two leaves narrower together than the top width.
+    fn section(&self, e: &Envelope) -> Result<Section, GeneratorError> {
+        let Some(s) = &self.spec.section else { return Ok(Section::Single) };
+        let double_only = [
+            ("section.leaf_width_m", s.leaf_width_m.is_some()),
+            ("section.hearting_stone_m", s.hearting_stone_m.is_some()),
+            ("section.through_stone_spacing_m", s.through_stone_spacing_m.is_some()),
+            ("section.through_stone_every_courses", s.through_stone_every_courses.is_some()),
+        ];
+        match s.leaves {
+            1 => {
+                if let Some((key, _)) = double_only.iter().find(|(_, given)| *given) {
+                    return Err(self.invalid(
+                        key,
+                        "(given)".into(),
+                        "applies to a double-faced section (leaves = 2) only",
+                    ));
+                }
+                return Ok(Section::Single);
+            }
+            2 => {}
+            n => return Err(self.invalid("section.leaves", n.to_string(), "must be 1 or 2")),
+        }
+        let leaf_width = match s.leaf_width_m {
+            Some(w) => {
+                let w = self.positive("section.leaf_width_m", w)?;
+                if 2.0 * w >= e.top_width {
+                    return Err(self.invalid(
+                        "section.leaf_width_m",
+                        w.to_string(),
+                        format!(
+                            "two leaves must leave room for the hearting at the top: 2 × {w} m >= top width {} m",
+                            e.top_width
+                        ),
+                    ));
+                }
+                Some(w)
+            }
+            None => None,
+        };
+        let hearting_stone = match s.hearting_stone_m {
+            Some(_) if leaf_width.is_none() => {
+                return Err(self.invalid(
+                    "section.hearting_stone_m",
+                    "(given)".into(),
+                    "needs section.leaf_width_m (without it the leaves meet and there is no hearting)",
+                ))
+            }
+            Some(v) => Some(self.positive("section.hearting_stone_m", v)?),
+            None => None,
+        };
+        let through = match (s.through_stone_spacing_m, s.through_stone_every_courses) {
+            (None, Some(_)) => {
+                return Err(self.invalid(
+                    "section.through_stone_every_courses",
+                    "(given)".into(),
+                    "needs section.through_stone_spacing_m",
+                ))
+            }
+            (None, None) => None,
+            (Some(sp), every) => {
+                let sp = self.positive("section.through_stone_spacing_m", sp)?;
+                let every = every.unwrap_or(1);
+                if every == 0 {
+                    return Err(self.invalid("section.through_stone_every_courses", "0".into(), "must be >= 1"));
+                }
+                Some((sp, every as usize))
+            }
+        };
+        Ok(Section::Double { leaf_width, hearting_stone, through })
     }
 
     fn invalid(&self, key: &str, value: String, reason: impl Into<String>) -> GeneratorError {

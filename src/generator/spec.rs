@@ -256,6 +256,34 @@ impl WallKind {
             WallKind::ShapedStone => "shaped_stone",
         }
     }
+/// `[section]`: how the section is built across its thickness. Absent: one leaf of through
+/// stones (every block spans the whole section).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionSpec {
+    /// Number of leaves: 1 (every block a through stone) or 2 (double-faced: two leaves of
+    /// face stones, hearting between them when `leaf_width_m` is given).
+    pub leaves: u32,
+    /// `leaves = 2` only: width of each leaf, m, measured horizontally (y) from its own
+    /// face and parallel to it (each leaf follows its face's batter); the hearting fills the
+    /// rest of the section (B − 2w at the base, b − 2w at the top, so 2w < b). Default: no
+    /// hearting, the two leaves meet at the section's centre line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub leaf_width_m: Option<f64>,
+    /// With `leaf_width_m`: the hearting (fill between the leaves) is cut along x into
+    /// pieces of equal length at most this long, m (> 0). Default: one hearting piece per
+    /// face stone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hearting_stone_m: Option<f64>,
+    /// `leaves = 2` only: spacing of the through stones along a course, m (> 0): in a
+    /// course with through stones, the stone over each point `(j + ½) s` (shifted by `s/2`
+    /// in every other such course) spans the whole section. Default: no through stones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub through_stone_spacing_m: Option<f64>,
+    /// With `through_stone_spacing_m`: through stones in every n-th course, from the base
+    /// course (n ≥ 1). Default 1 (every course).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub through_stone_every_courses: Option<u32>,
 }
 
 /// Raw wall description (see the module doc of [`super`] for the format).
@@ -289,6 +317,9 @@ pub struct WallSpec {
     /// Open head joints. Default closed.
     #[serde(default)]
     pub head_joints: HeadJointsSpec,
+    /// How the section is built across its thickness. Default: one leaf of through stones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<SectionSpec>,
     /// Materials (the layout file's material fields).
     pub materials: Vec<MaterialSpec>,
     /// Base and end restraints.

@@ -47,6 +47,24 @@ pub enum HeadGap {
     VoidFraction(f64),
 }
 
+/// The checked section: how the blocks are laid across the thickness.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Section {
+    /// One leaf: every block spans the whole section (default).
+    #[default]
+    Single,
+    /// Two leaves of face stones, with hearting between them if `leaf_width` is given.
+    Double {
+        /// Width of each leaf from its face, m (horizontal); None: the leaves meet at the
+        /// section's centre line.
+        leaf_width: Option<f64>,
+        /// Longest hearting piece along x, m (None: one per face stone).
+        hearting_stone: Option<f64>,
+        /// Through stones: spacing along a course (m) and every how many courses.
+        through: Option<(f64, usize)>,
+    },
+}
+
 /// A checked end restraint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Ends {
@@ -125,6 +143,8 @@ pub struct Wall {
     /// What the wall is built of (the plausible ranges of the effects); `None`: the broad
     /// ranges.
     pub kind: Option<super::WallKind>,
+    /// The section across the thickness.
+    pub section: Section,
 }
 
 impl Wall {
