@@ -59,6 +59,8 @@ fn split(layout: &mut Layout, f: f64, through_every: Option<u32>) {
             scale: Scale::Linear,
             neutral: 0.0,
             range_per_course_height: false,
+            source: "test".into(),
+            kinds: vec![],
         }],
         steps: vec![Step::LeafSplit { parameter: "f".into(), through_stone_every: through_every }],
     };

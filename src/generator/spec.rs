@@ -256,6 +256,8 @@ impl WallKind {
             WallKind::ShapedStone => "shaped_stone",
         }
     }
+}
+
 /// `[section]`: how the section is built across its thickness. Absent: one leaf of through
 /// stones (every block spans the whole section).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
