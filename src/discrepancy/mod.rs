@@ -36,6 +36,7 @@ mod null;
 mod observations;
 mod predictive;
 mod prepare;
+mod rank;
 mod report;
 mod settings;
 mod simulate;
