@@ -79,20 +79,8 @@ enum Command {
         /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
         #[arg(long)]
         no_predictor: bool,
-        /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
-        /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
-        /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
-        /// analysis, rigid joints); `kind` in a study's [solver] table.
-        #[arg(long, default_value = "penalty", value_parser = parse_solver)]
-        solver: SolverKind,
-        /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep
-        /// and its stability indicator.
-        #[arg(long, hide = true)]
-        no_acceleration: bool,
-        /// Deprecated (`--solver accelerated`): without the implicit relaxation of each
-        /// increment.
-        #[arg(long, hide = true)]
-        no_implicit: bool,
+        #[command(flatten)]
+        solver: SolverArgs,
         /// Write the states of the test as a ParaView time series into DIR (tilt.pvd: every
         /// stable increment and the first unstable state; unstable_trials.pvd: the other
         /// failed trials).
@@ -360,19 +348,9 @@ enum Command {
         /// Without the secant predictor of the tilting table (`tilt`; for comparison).
         #[arg(long)]
         no_predictor: bool,
-        /// Solver (`tilt`): `penalty` (the default: the penalty DEM with the protocol's own static
-        /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
-        /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
-        /// analysis, rigid joints); `kind` in a study's [solver] table.
-        #[arg(long, default_value = "penalty", value_parser = parse_solver)]
-        solver: SolverKind,
-        /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep.
-        #[arg(long, hide = true)]
-        no_acceleration: bool,
-        /// Deprecated (`--solver accelerated`): without the implicit relaxation of the
-        /// increments.
-        #[arg(long, hide = true)]
-        no_implicit: bool,
+        /// (`tilt`)
+        #[command(flatten)]
+        solver: SolverArgs,
         /// The step compiled for the baseline instruction set (x86-64: SSE2) instead of the
         /// widest one this CPU runs (`cube16`; for comparison: the results are the same
         /// bit for bit, only the speed differs).
@@ -413,12 +391,46 @@ fn parse_solver(name: &str) -> Result<SolverKind, String> {
     name.parse()
 }
 
-/// The deprecation line of the old solver switches (they keep working).
-fn deprecated(no_acceleration: bool, no_implicit: bool) {
-    if no_implicit || no_acceleration {
-        let instead = if no_acceleration && no_implicit { "relaxation" } else { "accelerated" };
-        let flag = if no_implicit { "--no-implicit" } else { "--no-acceleration" };
-        eprintln!("warning: {flag} is deprecated; the solver is chosen with --solver (here: --solver {instead})");
+/// The solver flags of the tilting-table commands (`tilt`, `bench tilt`): the solver and the
+/// deprecated switches of the penalty cascade, which keep working with a deprecation line.
+#[derive(clap::Args, Debug, Clone, Copy)]
+struct SolverArgs {
+    /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
+    /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
+    /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
+    /// analysis, rigid joints); `kind` in a study's [solver] table.
+    #[arg(long, default_value = "penalty", value_parser = parse_solver)]
+    solver: SolverKind,
+    /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep
+    /// and its stability indicator.
+    #[arg(long, hide = true)]
+    no_acceleration: bool,
+    /// Deprecated (`--solver accelerated`): without the implicit relaxation of each
+    /// increment.
+    #[arg(long, hide = true)]
+    no_implicit: bool,
+}
+
+impl SolverArgs {
+    /// The solver kind, after printing the deprecation line of an old switch given.
+    fn kind(self) -> SolverKind {
+        if self.no_implicit || self.no_acceleration {
+            let instead = if self.no_acceleration && self.no_implicit { "relaxation" } else { "accelerated" };
+            let flag = if self.no_implicit { "--no-implicit" } else { "--no-acceleration" };
+            eprintln!("warning: {flag} is deprecated; the solver is chosen with --solver (here: --solver {instead})");
+        }
+        self.solver
+    }
+
+    /// The tilting table's parameters with the old switches applied (`accelerate`,
+    /// `implicit`) and the secant predictor on or off.
+    fn tilt_params(self, predictor: bool) -> TiltParams {
+        TiltParams {
+            predictor,
+            accelerate: !self.no_acceleration,
+            implicit: !self.no_implicit,
+            ..TiltParams::default()
+        }
     }
 }
 
@@ -437,13 +449,11 @@ fn run() -> anyhow::Result<ExitCode> {
             tolerance,
             max_steps,
             no_predictor,
-            solver: kind,
-            no_acceleration,
-            no_implicit,
+            solver: solver_args,
             vtk,
             nscd,
         } => {
-            deprecated(no_acceleration, no_implicit);
+            let kind = solver_args.kind();
             if nscd.given() && kind != SolverKind::Nscd {
                 anyhow::bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
             }
@@ -467,10 +477,7 @@ fn run() -> anyhow::Result<ExitCode> {
                 resolution_deg,
                 tolerance,
                 max_steps_per_increment: max_steps,
-                predictor: !no_predictor,
-                accelerate: !no_acceleration,
-                implicit: !no_implicit,
-                ..TiltParams::default()
+                ..solver_args.tilt_params(!no_predictor)
             };
             cli::tilt::run(&layout, solver, &params, json, vtk.as_deref())
         }
@@ -582,32 +589,17 @@ fn run() -> anyhow::Result<ExitCode> {
             cli::discrepancy::synthesize(&study, effect.as_deref(), seed, specimens, out)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Bench {
-            case,
-            steps,
-            wall,
-            seed,
-            realizations,
-            no_predictor,
-            solver,
-            no_acceleration,
-            no_implicit,
-            portable,
-            json,
-        } => match case.as_str() {
-            "tilt" => {
-                deprecated(no_acceleration, no_implicit);
-                let solver = SolverParams { kind: solver, ..SolverParams::default() };
-                let params = TiltParams {
-                    predictor: !no_predictor,
-                    accelerate: !no_acceleration,
-                    implicit: !no_implicit,
-                    ..TiltParams::default()
-                };
-                cli::bench::tilt(&wall, seed, realizations, solver, &params, json)
+        Command::Bench { case, steps, wall, seed, realizations, no_predictor, solver, portable, json } => {
+            match case.as_str() {
+                "tilt" => {
+                    let solver_kind = solver.kind();
+                    let params = solver.tilt_params(!no_predictor);
+                    let solver = SolverParams { kind: solver_kind, ..SolverParams::default() };
+                    cli::bench::tilt(&wall, seed, realizations, solver, &params, json)
+                }
+                "cube16" => cli::bench::cube16(steps, portable, json),
+                _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
             }
-            "cube16" => cli::bench::cube16(steps, portable, json),
-            _ => anyhow::bail!("unknown benchmark {case:?}; available: cube16, tilt"),
-        },
+        }
     }
 }

@@ -119,3 +119,198 @@ fn the_crate_root_declares_and_re_exports_only() {
         .collect();
     assert!(defining.is_empty(), "src/lib.rs defines items: {defining:?}");
 }
+
+/// The module path of a source file: `src/a/b.rs` and `src/a/b/mod.rs` are `[a, b]`,
+/// `src/lib.rs` is `[]`.
+fn module_of(rel: &Path) -> Vec<String> {
+    let mut parts: Vec<String> = rel.iter().map(|p| p.to_string_lossy().to_string()).collect();
+    let last = parts.pop().unwrap();
+    let stem = last.trim_end_matches(".rs");
+    if stem != "mod" && stem != "lib" {
+        parts.push(stem.to_string());
+    }
+    parts
+}
+
+/// The code of a file outside its `#[cfg(test)]` module, comments cut off each line.
+fn code_of(text: &str) -> String {
+    let code = text.split("#[cfg(test)]").next().unwrap();
+    code.lines().map(|l| l.split("//").next().unwrap()).collect::<Vec<_>>().join("\n")
+}
+
+/// Every path of a use tree that starts at `s` (`a::b::{c, d::{e, self}}`), each as its
+/// segments; `s` begins after the `crate::` or `super::` that anchors it.
+fn expand(s: &str) -> Vec<Vec<String>> {
+    fn tree(s: &[u8], i: &mut usize) -> Vec<Vec<String>> {
+        let mut prefix = Vec::new();
+        loop {
+            while *i < s.len() && s[*i].is_ascii_whitespace() {
+                *i += 1;
+            }
+            if *i < s.len() && s[*i] == b'{' {
+                *i += 1;
+                let mut out = Vec::new();
+                loop {
+                    while *i < s.len() && (s[*i].is_ascii_whitespace() || s[*i] == b',') {
+                        *i += 1;
+                    }
+                    if *i >= s.len() || s[*i] == b'}' {
+                        *i += 1;
+                        break;
+                    }
+                    for mut t in tree(s, i) {
+                        if t.first().is_some_and(|x| x == "self") {
+                            t.remove(0);
+                        }
+                        let mut p = prefix.clone();
+                        p.extend(t);
+                        out.push(p);
+                    }
+                }
+                return out;
+            }
+            let start = *i;
+            while *i < s.len() && (s[*i].is_ascii_alphanumeric() || s[*i] == b'_') {
+                *i += 1;
+            }
+            if start == *i {
+                return vec![prefix];
+            }
+            prefix.push(String::from_utf8_lossy(&s[start..*i]).to_string());
+            if s[*i..].starts_with(b"::") {
+                *i += 2;
+            } else {
+                return vec![prefix];
+            }
+        }
+    }
+    let mut i = 0;
+    tree(s.as_bytes(), &mut i)
+}
+
+/// The crate's source files by module path, and for each its `crate::`/`super::` paths as
+/// absolute module paths (`[dem, engine, Simulation]`).
+type Graph = std::collections::BTreeMap<Vec<String>, (String, Vec<Vec<String>>)>;
+
+fn read_graph(src: &Path) -> Graph {
+    let mut files = Vec::new();
+    sources(src, &mut files);
+    let mut graph = Graph::new();
+    for f in &files {
+        let rel = f.strip_prefix(src).unwrap();
+        if rel == Path::new("main.rs") {
+            continue; // the binary's root: its `crate` is not the library's
+        }
+        let module = module_of(rel);
+        let code = code_of(&std::fs::read_to_string(f).unwrap());
+        let mut paths = Vec::new();
+        let bytes = code.as_bytes();
+        let mut at = 0;
+        while at < code.len() {
+            let rest = &bytes[at..];
+            let (base, skip) = if rest.starts_with(b"crate::") {
+                (Vec::new(), 7)
+            } else if rest.starts_with(b"super::") {
+                // `super` of `a/b.rs` is `a`; of `a/b/mod.rs` (module `a::b`) also `a`.
+                let mut base = module.clone();
+                let mut skip = 0;
+                while bytes[at + skip..].starts_with(b"super::") {
+                    base.pop();
+                    skip += 7;
+                }
+                (base, skip)
+            } else {
+                at += 1;
+                continue;
+            };
+            let preceded = at > 0 && (bytes[at - 1].is_ascii_alphanumeric() || bytes[at - 1] == b'_');
+            if preceded || (rest.starts_with(b"super::") && at >= 2 && &bytes[at - 2..at] == b"::") {
+                at += skip;
+                continue;
+            }
+            for p in expand(&code[at + skip..]) {
+                let mut full = base.clone();
+                full.extend(p);
+                paths.push(full);
+            }
+            at += skip;
+        }
+        graph.insert(module, (format!("src/{}", rel.display()), paths));
+    }
+    graph
+}
+
+/// The file a path names: the deepest module of the path that is a file of the crate (an
+/// item a folder's `mod.rs` re-exports counts as the `mod.rs`'s own, as the path says).
+fn target(graph: &Graph, path: &[String]) -> Vec<String> {
+    let mut m: Vec<String> = Vec::new();
+    for seg in path {
+        let next = [m.clone(), vec![seg.clone()]].concat();
+        if !graph.contains_key(&next) {
+            break;
+        }
+        m = next;
+    }
+    m
+}
+
+/// No two files import each other, directly or round a longer loop, folders included: the
+/// file-level graph of the `crate::` and `super::` paths (each path an arrow to the file of
+/// its deepest module) has no cycle. A folder's `mod.rs` names its children by relative
+/// paths (`mod x; pub use x::Item;`): those are not arrows, so a child may import from it.
+#[test]
+fn no_import_circle_between_files() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let graph = read_graph(&src);
+    let keys: Vec<Vec<String>> = graph.keys().cloned().collect();
+    let index = |m: &Vec<String>| keys.iter().position(|k| k == m).unwrap();
+    let mut edges = vec![std::collections::BTreeSet::new(); keys.len()];
+    let mut arrows = 0;
+    for (i, m) in keys.iter().enumerate() {
+        for p in &graph[m].1 {
+            let t = target(&graph, p);
+            let j = index(&t);
+            if j != i && !t.is_empty() {
+                arrows += usize::from(edges[i].insert(j));
+            }
+        }
+    }
+    assert!(arrows > 200, "only {arrows} arrows between files found: is the scan reading the sources?");
+    // Depth-first search for a back edge; the cycle is the stack from its target.
+    let mut state = vec![0u8; keys.len()];
+    let mut circles = Vec::new();
+    fn visit(
+        v: usize,
+        edges: &[std::collections::BTreeSet<usize>],
+        state: &mut [u8],
+        stack: &mut Vec<usize>,
+        out: &mut Vec<Vec<usize>>,
+    ) {
+        state[v] = 1;
+        stack.push(v);
+        for &w in &edges[v] {
+            if state[w] == 1 {
+                let from = stack.iter().position(|&x| x == w).unwrap();
+                out.push(stack[from..].to_vec());
+            } else if state[w] == 0 {
+                visit(w, edges, state, stack, out);
+            }
+        }
+        stack.pop();
+        state[v] = 2;
+    }
+    for v in 0..keys.len() {
+        if state[v] == 0 {
+            visit(v, &edges, &mut state, &mut Vec::new(), &mut circles);
+        }
+    }
+    let named: Vec<String> = circles
+        .iter()
+        .map(|c| {
+            let mut names: Vec<&str> = c.iter().map(|&i| graph[&keys[i]].0.as_str()).collect();
+            names.push(names[0]);
+            names.join(" -> ")
+        })
+        .collect();
+    assert!(named.is_empty(), "import circles between files:\n{}", named.join("\n"));
+}

@@ -33,51 +33,14 @@
 pub use super::contact::types::Contact;
 use super::damping::ContactDamping;
 pub use super::dispatch::Isa;
+pub use super::error::DemError;
 pub use super::model::WallState;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
+pub use super::workspace::Redetection;
 use super::workspace::Workspace;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::Vec3;
-use thiserror::Error;
-
-/// Engine errors.
-#[derive(Debug, Error, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum DemError {
-    /// A body's state became NaN or infinite: the run blew up.
-    #[error("block {id} has a non-finite state at step {step} (time step {dt_s:e} s): the run blew up")]
-    NonFinite {
-        /// Block id.
-        id: String,
-        /// Step number.
-        step: u64,
-        /// Time step, s.
-        dt_s: f64,
-    },
-}
-
-/// What the re-detection of contacts before a jump or a step did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Redetection {
-    /// No body moved past the re-detection threshold: no detection.
-    None,
-    /// Contacts detected afresh, the same contacts with every patch kept: the inertial
-    /// masses and the time step stand.
-    Unchanged,
-    /// Contacts detected afresh and changed. After [`Simulation::step`] and
-    /// [`Simulation::predict`] the inertial masses and the time step are already those of
-    /// the new contacts; after [`Simulation::predict_deferred`] they are stale until
-    /// [`Simulation::update_masses_and_step`].
-    Changed,
-}
-
-impl Redetection {
-    /// The inertial masses and the time step need an update (contacts changed).
-    pub fn changed(self) -> bool {
-        self == Redetection::Changed
-    }
-}
 
 /// One simulation: the model state, the solver parameters and the engine's workspace.
 #[derive(Debug, Clone)]

@@ -3,7 +3,7 @@
 
 use super::contact::geometry::{Fan, PatchParams};
 use super::contact::law::Quadrature;
-use super::solve::SolverKind;
+use super::method::SolverKind;
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 

@@ -15,127 +15,18 @@
 //! 3. dynamic relaxation with local damping (`dem::drivers::relax`), with the secant
 //!    acceleration of slow creep and its stability indicator, probed along the path ahead.
 //!
-//! Which stages run is the solver's choice ([`SolverKind`], `[solver] kind` in a study,
+//! Which stages run is the solver's choice ([`SolverKind`](super::method::SolverKind), `[solver] kind` in a study,
 //! `--solver` on the command line), resolved against the protocol's own default
-//! ([`SolverKind::cascade`]). A solver that is not a penalty method (non-smooth contact
+//! ([`SolverKind::cascade`](super::method::SolverKind::cascade)). A solver that is not a penalty method (non-smooth contact
 //! dynamics, limit analysis) replaces the whole protocol run, not this function: see
-//! [`SolverKind::is_penalty`].
+//! [`SolverKind::is_penalty`](super::method::SolverKind::is_penalty).
 
 use super::drivers::accelerate::{probe_along, Ahead, SecantAcceleration};
 use super::drivers::implicit::{implicit_relaxation, ImplicitSolve, PoseIncrement, Solved, Unsolved};
 use super::drivers::relax::{dynamic_relaxation, dynamic_relaxation_probed, Relaxed};
+use super::method::Cascade;
 use super::motion::{largest_motion, BodyPose};
 use super::{DemError, Simulation};
-use serde::{Deserialize, Serialize};
-
-/// The solver a protocol runs on: `[solver] kind = "..."` in a study, `--solver NAME` on
-/// `drystone tilt`, `lateral` and `bench`. Default [`SolverKind::Penalty`].
-///
-/// The first four are the penalty DEM (3DEC-style sub-contact springs, Kn and Ks from the
-/// layout) and differ only in how a static state is found ([`Cascade`]); their results
-/// agree within one bracket of the protocol, their costs differ (BENCHMARKS.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SolverKind {
-    /// The penalty DEM with each protocol's default cascade: the tilting table runs the
-    /// implicit iteration, its stall probe and accelerated dynamic relaxation; settling and
-    /// the static lateral load run plain dynamic relaxation.
-    #[default]
-    Penalty,
-    /// The penalty DEM, every stage: implicit iteration → stall probe → accelerated,
-    /// probed dynamic relaxation.
-    Implicit,
-    /// The penalty DEM, accelerated and probed dynamic relaxation without the implicit
-    /// iteration (formerly `--no-implicit`, `implicit = false` in `[tilt]`).
-    Accelerated,
-    /// The penalty DEM, plain dynamic relaxation with local damping (formerly
-    /// `--no-implicit --no-accelerate`).
-    Relaxation,
-    /// Non-smooth contact dynamics (Moreau–Jean; rigid joints: Kn and Ks are not used).
-    Nscd,
-    /// Limit analysis (lower-bound statics of rigid blocks; rigid joints).
-    Limit,
-}
-
-impl SolverKind {
-    /// Every solver kind.
-    pub const ALL: [SolverKind; 6] = [
-        SolverKind::Penalty,
-        SolverKind::Implicit,
-        SolverKind::Accelerated,
-        SolverKind::Relaxation,
-        SolverKind::Nscd,
-        SolverKind::Limit,
-    ];
-
-    /// Its name in files and on the command line (the serde name).
-    pub fn name(self) -> &'static str {
-        match self {
-            SolverKind::Penalty => "penalty",
-            SolverKind::Implicit => "implicit",
-            SolverKind::Accelerated => "accelerated",
-            SolverKind::Relaxation => "relaxation",
-            SolverKind::Nscd => "nscd",
-            SolverKind::Limit => "limit",
-        }
-    }
-
-    /// The kind of a name, `None` for an unknown one.
-    pub fn from_name(name: &str) -> Option<SolverKind> {
-        SolverKind::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// Whether it is the penalty DEM (joints of finite stiffness, static states from
-    /// [`solve_static`]).
-    pub fn is_penalty(self) -> bool {
-        self.cascade(Cascade::FULL).is_some()
-    }
-
-    /// The stages of a static solve for a protocol whose default is `protocol_default`;
-    /// `None` for a solver that is not a penalty method.
-    pub fn cascade(self, protocol_default: Cascade) -> Option<Cascade> {
-        match self {
-            SolverKind::Penalty => Some(protocol_default),
-            SolverKind::Implicit => Some(Cascade::FULL),
-            SolverKind::Accelerated => Some(Cascade { implicit: false, accelerate: true }),
-            SolverKind::Relaxation => Some(Cascade::RELAXATION),
-            SolverKind::Nscd | SolverKind::Limit => None,
-        }
-    }
-}
-
-impl std::fmt::Display for SolverKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for SolverKind {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        SolverKind::from_name(s).ok_or_else(|| {
-            let names: Vec<&str> = SolverKind::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown solver {s:?} (one of {})", names.join(", "))
-        })
-    }
-}
-
-/// The stages of the penalty cascade that a static solve runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Cascade {
-    /// The implicit iteration first (and the probe of its drift where it stalls).
-    pub implicit: bool,
-    /// The secant acceleration and stability indicator in dynamic relaxation.
-    pub accelerate: bool,
-}
-
-impl Cascade {
-    /// Every stage.
-    pub const FULL: Cascade = Cascade { implicit: true, accelerate: true };
-    /// Plain dynamic relaxation.
-    pub const RELAXATION: Cascade = Cascade { implicit: false, accelerate: false };
-}
 
 /// What one static solve is asked.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -357,18 +248,5 @@ mod tests {
         let tight = StaticSolve { tolerance: 1e-14, max_steps: 7, ..solve(Cascade::RELAXATION) };
         let out = solve_static(&mut sim, &tight, &start, |_| None::<()>).unwrap();
         assert_eq!((out.end, out.steps), (End::Budget, 7));
-    }
-
-    /// The names round-trip and the penalty kinds resolve against the protocol's default.
-    #[test]
-    fn solver_names_and_cascades() {
-        for k in SolverKind::ALL {
-            assert_eq!(k.name().parse::<SolverKind>().unwrap(), k);
-        }
-        assert!("rigid".parse::<SolverKind>().unwrap_err().contains("nscd"));
-        assert_eq!(SolverKind::Penalty.cascade(Cascade::RELAXATION), Some(Cascade::RELAXATION));
-        assert_eq!(SolverKind::Implicit.cascade(Cascade::RELAXATION), Some(Cascade::FULL));
-        assert!(!SolverKind::Nscd.is_penalty() && !SolverKind::Limit.is_penalty());
-        assert!(SolverKind::Relaxation.is_penalty());
     }
 }

@@ -8,7 +8,7 @@ use super::contact::geometry as cgeom;
 use super::contact::law::{JointParams, SubContactState};
 use super::contact::types::{Contact, ContactNode, SubContact};
 use super::damping::ContactDamping;
-use super::engine::{DemError, Redetection};
+use super::error::DemError;
 use super::integrator::{advance, YConstraint};
 use super::materials::JointTable;
 use super::model::WallState;
@@ -19,6 +19,28 @@ use crate::closure::Closure;
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
 use crate::math::Vec3;
+
+/// What the re-detection of contacts before a jump or a step did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Redetection {
+    /// No body moved past the re-detection threshold: no detection.
+    None,
+    /// Contacts detected afresh, the same contacts with every patch kept: the inertial
+    /// masses and the time step stand.
+    Unchanged,
+    /// Contacts detected afresh and changed. After `Simulation::step` and
+    /// `Simulation::predict` the inertial masses and the time step are already those of
+    /// the new contacts; after `Simulation::predict_deferred` they are stale until
+    /// `Simulation::update_masses_and_step`.
+    Changed,
+}
+
+impl Redetection {
+    /// The inertial masses and the time step need an update (contacts changed).
+    pub fn changed(self) -> bool {
+        self == Redetection::Changed
+    }
+}
 
 /// The engine's workspace: what a step derives from the state and the parameters, and
 /// caches between steps. Its methods are the stages of the step.

@@ -37,6 +37,7 @@ mod null;
 mod observations;
 mod predictive;
 mod prepare;
+mod rank;
 mod report;
 mod settings;
 mod simulate;

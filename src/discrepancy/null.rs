@@ -11,10 +11,10 @@
 //! baseline (a cause named) and the baseline's score (a significant misfit), so that null
 //! data raise either in at most 5 % of the data sets.
 
-use super::analysis::{rank, Library};
 use super::fit::{per_specimen, Data};
 use super::observations::{Observable, Observation};
 use super::predictive::{Reading, Simulated};
+use super::rank::{rank, Library};
 use super::simulate::Outcome;
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;

@@ -36,7 +36,7 @@
 //! [`check_mechanism_against_study`] that every mechanism row is of a group the study has and
 //! of a specimen the other files know (when they hold any).
 
-use super::table::TableError;
+use super::error::TableError;
 use crate::ensemble::row::Measure;
 use crate::loading::mechanism::{FailureKind, FailureStart};
 use std::collections::BTreeMap;

@@ -6,6 +6,7 @@
 //! Result files are replaced whole ([`replace_file`], [`replace_file_with`], re-exported
 //! from [`crate::files`], which describes how).
 
+mod error;
 pub mod measured;
 pub mod mechanism;
 pub(crate) mod plot;

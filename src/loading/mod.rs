@@ -14,7 +14,6 @@ pub mod monitors;
 pub mod protocol;
 pub mod settle;
 pub mod shake;
-mod shake_penalty;
 pub mod tilt;
 pub mod tilt_nscd;
 

@@ -54,7 +54,8 @@
 use super::mechanism::{mechanism, Mechanism};
 use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
-use super::tilt::{CollapseReason, Increment, TiltError, TiltParams, TiltResult};
+use super::tilt::params::TiltParams;
+use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;

@@ -1,7 +1,7 @@
 //! The error of reading and resolving a study or suite file.
 
 use crate::io::table::TableError;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 /// Study errors, each naming the file and the key at fault.
@@ -143,4 +143,17 @@ pub struct PaperSpecError {
     pub paper: &'static str,
     /// What it needs, as a phrase (`protocol = "lateral"`, `a sweep over length_m`, ...).
     pub need: &'static str,
+}
+
+/// Builds [`StudyError::Invalid`] for one file.
+pub(super) struct Invalid<'a>(pub(super) &'a Path);
+
+impl Invalid<'_> {
+    pub(super) fn at(&self, key: &str, reason: String) -> StudyError {
+        StudyError::Invalid { path: self.0.to_owned(), key: key.into(), reason }
+    }
+
+    pub(super) fn wall(&self, group: &str, source: crate::generator::GeneratorError) -> StudyError {
+        StudyError::Wall { path: self.0.to_owned(), group: group.into(), source: Box::new(source) }
+    }
 }

@@ -87,6 +87,7 @@ mod outputs;
 mod paper;
 mod provenance;
 mod report;
+mod report_error;
 mod resolve;
 mod run;
 mod shaking;
@@ -105,7 +106,8 @@ pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
-pub use report::{write_report, ReportError};
+pub use report::write_report;
+pub use report_error::ReportError;
 pub use resolve::{Group, Measured, ShakeStudy, Study};
 pub use run::{run_item, run_study, run_study_with};
 pub use shaking::{fragilities, GroupFragility};

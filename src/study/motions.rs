@@ -3,8 +3,8 @@
 //! ([`ShakeStudy`]), and the sweep keys `motion` and `pga_g` they add to the study's
 //! points.
 
+use super::error::Invalid;
 use super::provenance::InputRole;
-use super::resolve::Invalid;
 use super::size;
 use super::spec::{ProtocolKind, StudySpec};
 use super::sweep::SweepKey;

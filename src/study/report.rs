@@ -2,46 +2,18 @@
 //! the measured data and, for a study of the source paper, its table or figure. Everything
 //! here is a deterministic function of the rows (in index order) and the study.
 
-use super::paper::{self, PaperError};
+use super::paper;
 use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
 use super::text::{fixed, md_table, sci};
 use super::{ProtocolKind, Study};
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
-use crate::io::table::TableError;
-use crate::io::{replace_file, replace_file_with, FileError};
+use crate::io::{replace_file, replace_file_with};
 use crate::stats;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// Report errors.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum ReportError {
-    /// Writing a table.
-    #[error(transparent)]
-    Table(#[from] TableError),
-    /// Writing a plot.
-    #[error(transparent)]
-    Plot(#[from] plot::PlotError),
-    /// The section of a paper study.
-    #[error(transparent)]
-    Paper(#[from] PaperError),
-    /// Writing a file.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-}
-
-impl From<FileError> for ReportError {
-    fn from(e: FileError) -> Self {
-        ReportError::Io { path: e.path, source: e.source }
-    }
-}
+pub use super::report_error::ReportError;
 
 /// One note per group whose realizations all gave the same values (σ = 0 over more than one
 /// realization, every compared quantity): its band has zero width, which says nothing of how

@@ -2,7 +2,7 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
-use super::error::{CalibrationSpecError, NameError, PaperSpecError};
+use super::error::{CalibrationSpecError, Invalid, NameError, PaperSpecError};
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
 use super::provenance::{self, InputFile, InputRole};
@@ -95,19 +95,6 @@ pub struct Study {
     pub inputs: Vec<InputFile>,
     /// The effect library: the built-ins and the study's effect files.
     pub library: crate::effects::Library,
-}
-
-/// Builds [`StudyError::Invalid`] for one file.
-pub(super) struct Invalid<'a>(pub(super) &'a Path);
-
-impl Invalid<'_> {
-    pub(super) fn at(&self, key: &str, reason: String) -> StudyError {
-        StudyError::Invalid { path: self.0.to_owned(), key: key.into(), reason }
-    }
-
-    fn wall(&self, group: &str, source: crate::generator::GeneratorError) -> StudyError {
-        StudyError::Wall { path: self.0.to_owned(), group: group.into(), source: Box::new(source) }
-    }
 }
 
 impl StudySpec {

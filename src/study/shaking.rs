@@ -11,7 +11,7 @@
 //! function of the rows (in index order) and the study: the bootstrap of group `g` draws
 //! from `rng_for(seed, 2³³ + g, Bootstrap)`, a stream no other summary uses.
 
-use super::report::ReportError;
+use super::report_error::ReportError;
 use super::resolve::ShakeStudy;
 use super::text::{fixed, md_table};
 use super::Study;

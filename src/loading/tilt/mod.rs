@@ -40,9 +40,9 @@ use crate::dem::{Simulation, SolverKind, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use std::time::Instant;
 
-mod params;
+pub(super) mod params;
 pub(crate) mod path;
-mod result;
+pub(super) mod result;
 
 pub use params::TiltParams;
 pub use path::elastic_scale;

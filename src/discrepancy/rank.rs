@@ -1,0 +1,80 @@
+//! The candidates scored and ranked: each candidate's held-out error (leave one specimen
+//! out, [`super::fit::loso`]), its standard error against the baseline and its AICc at the
+//! full-data fit, used by the analysis and by every null data set of its calibration.
+
+use super::fit::{aicc, difference_se, fit, loso, per_specimen, Candidate, Data};
+use super::predictive::{Predictive, Simulated};
+use serde::Serialize;
+
+/// The models' simulated values, ready for analysis: the baseline per key and the
+/// candidates.
+#[derive(Debug, Clone)]
+pub struct Library {
+    /// The baseline's simulated values, per key.
+    pub baseline: Vec<Simulated>,
+    /// The candidates (single effects and the scatter hypothesis).
+    pub candidates: Vec<Candidate>,
+}
+
+/// A ranked candidate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Ranked {
+    /// Candidate name (`a`, `a+b`, `scatter`).
+    pub name: String,
+    /// Fitted parameters on all data, `effect.param` → value.
+    pub parameters: Vec<(String, f64)>,
+    /// Mean held-out score per specimen.
+    pub heldout_error: f64,
+    /// Standard error of the summed held-out difference to the baseline.
+    pub difference_se: f64,
+    /// AICc at the full-data fit.
+    pub information_criterion: f64,
+    /// Scored by a full run at its fitted parameters (not the surrogate alone).
+    pub confirmed: bool,
+    /// Search coordinates of the full-data fit.
+    #[serde(skip)]
+    pub x: Vec<f64>,
+    /// Index into the analysis's candidate pool.
+    #[serde(skip)]
+    pub index: usize,
+    /// Held-out score of every observation.
+    #[serde(skip)]
+    pub scores: Vec<f64>,
+    /// Held-out predictive of every observation.
+    #[serde(skip)]
+    pub predictive: Vec<Predictive>,
+}
+
+/// Held-out error and full-data fit of one candidate.
+pub fn score(c: &Candidate, data: Data<'_>, specimens: &[String], index: usize, base: &[f64]) -> Ranked {
+    let all: Vec<usize> = (0..data.obs.len()).collect();
+    let (x, nlpd) = fit(&c.surface, data, &all);
+    let (scores, predictive) = loso(&c.surface, data, specimens);
+    let per = per_specimen(&scores, data.obs, specimens);
+    let d: Vec<f64> = base.iter().zip(&per).map(|(b, c)| b - c).collect();
+    let n = specimens.len().max(1);
+    Ranked {
+        name: c.name(),
+        parameters: c.values(&x),
+        heldout_error: per.iter().sum::<f64>() / n as f64,
+        difference_se: difference_se(&d) / n as f64,
+        information_criterion: aicc(nlpd, c.surface.dims(), n),
+        confirmed: false,
+        x,
+        index,
+        scores,
+        predictive,
+    }
+}
+
+/// Ranks the candidates on `data`: best held-out error first (ties by pool order).
+pub fn rank(pool: &[Candidate], data: Data<'_>, specimens: &[String], base: &[f64]) -> Vec<Ranked> {
+    let mut r: Vec<Ranked> = pool.iter().enumerate().map(|(i, c)| score(c, data, specimens, i, base)).collect();
+    sort(&mut r);
+    r
+}
+
+/// Sorts by held-out error, then pool order.
+pub fn sort(r: &mut [Ranked]) {
+    r.sort_by(|a, b| a.heldout_error.total_cmp(&b.heldout_error).then(a.index.cmp(&b.index)));
+}
