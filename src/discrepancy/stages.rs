@@ -4,7 +4,8 @@
 //!  observations ─▶ design_keys ─▶ apply_sigma_rule (Sigmas) ─▶ calibrate_margins (Margins)
 //!    ─▶ screen (Screening) ─▶ add_pairs ─▶ confirm (Confirmation runs) ─▶ name_cause
 //!    ─▶ examine_cause: extended_model (ExtendedModel), predictive check, gain,
-//!       tie_checks (Tie) → Findings ─▶ verdict ─▶ separating_design, fitted_parameters ─▶ Run
+//!       tie_checks (Tie) → Findings ─▶ verdict ─▶ separating_design, fitted_parameters,
+//!    weigh (Weights, Identifiability) ─▶ Run
 //! ```
 //!
 //! The stages are those of the method ([`super::analysis`], [`super::null`]): the
@@ -12,7 +13,8 @@
 //! the library's candidates on their surrogates, the pairs when the best single effect
 //! leaves a significant misfit, the full runs of the two best candidates at their fitted
 //! parameters, the cause named when it clears its margins, the extended model with its
-//! posterior predictive check, the tie checks and the verdict.
+//! posterior predictive check, the tie checks and the verdict; beside them, the models'
+//! weights and what separates the leading ones.
 
 use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Library, Ranked};
 use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
