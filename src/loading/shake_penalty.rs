@@ -55,6 +55,7 @@ pub(super) fn run_shake_penalty(
     let damping = ContactDamping::from_restitution(params.contact_restitution).map_err(ShakeError::Parameter)?;
     let mut sim = Simulation::new(layout, sp);
     sim.set_contact_damping(Some(damping));
+    super::shake::check_steps(motion, params, sim.dt())?;
     let weight = sim.state.gravity;
     while sim.state.time < params.settle_s - 0.5 * sim.dt() {
         sim.step()?;
