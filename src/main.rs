@@ -91,6 +91,7 @@ enum Command {
     },
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.
+    #[command(allow_negative_numbers = true)]
     Lateral {
         /// Layout file (JSON).
         layout: PathBuf,
@@ -129,6 +130,7 @@ enum Command {
     /// Shaking table: the layout on a base that moves with a recorded or a built-in
     /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks);
     /// prints whether it overturned, the largest rocking rotation and the drifts.
+    #[command(allow_negative_numbers = true)]
     Shake {
         /// Layout file (JSON).
         layout: PathBuf,
@@ -137,6 +139,10 @@ enum Command {
         /// `accel_cm_s2`; optionally a vertical column `vert_g`, ...).
         #[arg(long, value_name = "FILE")]
         record: Option<PathBuf>,
+        /// The record's columns by name: `time=t,h=acc_x_g,v=acc_z_g` (`time` defaults to
+        /// `time_s`; without `v`, no vertical component).
+        #[arg(long, value_name = "time=COL,h=COL,v=COL")]
+        columns: Option<drystone::ground::ColumnMap>,
         /// Built-in pulse instead of a record: `one-sine` (a = A g sin(2πt/T) for 0 ≤ t ≤ T,
         /// Zhang & Makris 2001) or `ricker` (the Ricker wavelet of period T, peak A at t = T).
         #[arg(long)]
@@ -185,6 +191,7 @@ enum Command {
     },
     /// Limit analysis: the rigid collapse load multiplier of a layout from statics alone (a
     /// second-order cone program over the contact polygons; tilting table: λ = tan α_max).
+    #[command(allow_negative_numbers = true)]
     Limit {
         /// Layout file (JSON).
         layout: PathBuf,
@@ -506,6 +513,7 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Shake {
             layout,
             record,
+            columns,
             pulse,
             amplitude_g,
             period_s,
@@ -528,6 +536,8 @@ fn run() -> anyhow::Result<ExitCode> {
                 period_s,
                 scale_pga_g,
                 baseline: baseline_correction,
+                columns,
+                dt_s,
             };
             let motion = cli::shake::motion(&args, dt_s.min(0.001))?;
             if nscd_args.given() && solver != SolverKind::Nscd {

@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use drystone::dem::{SolverKind, SolverParams};
-use drystone::ground::{read_record, Motion, Pulse};
+use drystone::ground::{read_record_with, ColumnMap, Motion, Pulse, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G};
 use drystone::io::series::{motion_frames, write_series, Recorder};
 use drystone::loading::shake::{run_shake_observed, ShakeParams, ShakeResult};
 use std::path::{Path, PathBuf};
@@ -22,7 +22,15 @@ pub struct MotionArgs {
     pub scale_pga_g: Option<f64>,
     /// Remove the velocity's linear trend (baseline correction).
     pub baseline: bool,
+    /// The record's columns named explicitly (`--columns time=t,h=acc_x_g,v=acc_z_g`).
+    pub columns: Option<ColumnMap>,
+    /// The solver's time step `--dt-s`, s.
+    pub dt_s: f64,
 }
+
+/// Coarsest record sampling interval run without a warning, s \[0.05\]: 20 samples per
+/// second keep content up to 10 Hz, the range of a wall's rocking and of strong motion.
+pub const COARSE_RECORD_DT_S: f64 = 0.05;
 
 /// The motion the arguments describe.
 ///
@@ -30,26 +38,75 @@ pub struct MotionArgs {
 /// A record refused (naming file and line), a pulse without amplitude or period, or both
 /// or neither of `--record` and `--pulse`.
 pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
+    if !(args.dt_s.is_finite() && args.dt_s > 0.0) {
+        bail!("--dt-s must be > 0 (the solver's time step, s), got {}", args.dt_s);
+    }
     let m = match (&args.record, &args.pulse) {
-        (Some(path), None) => read_record(path)?,
+        (Some(path), None) => {
+            if args.amplitude_g.is_some() || args.period_s.is_some() {
+                bail!("--amplitude-g and --period-s shape a built-in --pulse; a --record is scaled with --scale-pga-g");
+            }
+            let m = read_record_with(path, args.columns.as_ref())?;
+            if m.dt_s > COARSE_RECORD_DT_S {
+                eprintln!(
+                    "warning: {} is sampled every {} s ({:.1} samples per second): content above {:.1} Hz is lost",
+                    path.display(),
+                    m.dt_s,
+                    1.0 / m.dt_s,
+                    0.5 / m.dt_s
+                );
+            }
+            m
+        }
         (None, Some(name)) => {
+            if args.columns.is_some() {
+                bail!("--columns names the columns of a --record file; a --pulse has none");
+            }
             let (Some(a), Some(t)) = (args.amplitude_g, args.period_s) else {
                 bail!("--pulse {name} needs --amplitude-g and --period-s");
             };
             let p = Pulse::from_name(name, a, t)
                 .with_context(|| format!("--pulse {name:?}: expected one-sine or ricker"))?;
             p.validate()?;
+            if t / dt_s < MIN_SAMPLES_PER_PERIOD {
+                bail!(
+                    "--period-s {t}: the pulse spans {:.1} steps of {dt_s:e} s, too few to resolve it (at least \
+                     {MIN_SAMPLES_PER_PERIOD}); give --period-s >= {:e} or a smaller --dt-s",
+                    t / dt_s,
+                    MIN_SAMPLES_PER_PERIOD * dt_s
+                );
+            }
+            let span = if name == "ricker" { 2.0 * t } else { t };
+            drystone::ground::check_motion_size((span / dt_s).ceil() + 1.0, span)
+                .map_err(|m| anyhow::anyhow!("--period-s {t} sampled at the step {dt_s:e} s (--dt-s): {m}"))?;
             p.sampled(dt_s, 0.0)
         }
         (Some(_), Some(_)) => bail!("give either --record or --pulse, not both"),
         (None, None) => bail!("give the base motion: --record FILE or --pulse one-sine|ricker"),
     };
     let m = if args.baseline { m.baseline_corrected() } else { m };
-    Ok(match args.scale_pga_g {
+    let m = match args.scale_pga_g {
         Some(p) if !(p.is_finite() && p > 0.0) => bail!("--scale-pga-g must be > 0, got {p}"),
+        Some(p) if m.pga_g() == 0.0 => {
+            bail!("--scale-pga-g {p}: the motion {} has no acceleration (PGA 0): there is nothing to scale", m.name)
+        }
         Some(p) => m.scaled_to_pga(p),
         None => m,
-    })
+    };
+    if m.pga_g() > PLAUSIBLE_PGA_G {
+        eprintln!(
+            "warning: PGA {:.3e} g is implausible for a ground motion (above {PLAUSIBLE_PGA_G} g): check the record's unit \
+             or the pulse's amplitude",
+            m.pga_g()
+        );
+    }
+    Ok(m)
+}
+
+/// Whether the run drives a vertical component: the motion has one and the shaking
+/// parameters drive it.
+fn vertical_applied(motion: &Motion, params: &ShakeParams) -> bool {
+    params.vertical && motion.vertical_g.is_some()
 }
 
 /// Runs the test and prints a summary, or one JSON object with `json`; with `vtk`, writes
@@ -77,6 +134,7 @@ pub fn run(
     if json {
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
+            o.insert("vertical_applied".into(), vertical_applied(motion, params).into());
             if solver.kind == SolverKind::Nscd {
                 o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
             } else {
@@ -86,6 +144,14 @@ pub fn run(
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print(layout, &r, params);
+        match &motion.vertical_g {
+            Some(v) if params.vertical => {
+                let peak = v.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+                out!("vertical          applied (peak {peak:.3} g)");
+            }
+            Some(_) => out!("vertical          not applied (the motion has one)"),
+            None => out!("vertical          none (horizontal motion only)"),
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

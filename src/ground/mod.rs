@@ -17,13 +17,60 @@ mod read;
 pub mod stochastic;
 
 pub use pulse::{Pulse, PulseError};
-pub use read::{read_record, RecordError};
+pub use read::{read_record, read_record_with, ColumnMap, RecordError};
 pub use stochastic::StochasticMotion;
 
 use serde::{Deserialize, Serialize};
 
 /// Standard gravity, m/s² (the unit g of records).
 pub const G: f64 = 9.80665;
+
+/// Most samples a motion may hold per component \[20 000 000\]: 160 MB of `f64`, an hour
+/// of record at 5 kHz. A record file, its resampling, a pulse or a generated motion that
+/// would need more is refused before anything is allocated.
+pub const MAX_MOTION_SAMPLES: f64 = 2e7;
+
+/// Fewest samples (at the step a pulse is sampled at, the solver's) a pulse's period may
+/// span \[10\]: fewer and the pulse is not resolved (a one-sine of two steps samples to
+/// zeros).
+pub const MIN_SAMPLES_PER_PERIOD: f64 = 10.0;
+
+/// Longest motion, s \[3600\]: an hour (the longest strong-motion records last minutes).
+pub const MAX_MOTION_DURATION_S: f64 = 3600.0;
+
+/// Above this PGA, g \[5\], a motion is implausible as a ground motion (the largest
+/// recorded horizontal PGAs are about 3 to 4 g): it is run, with a warning line.
+pub const PLAUSIBLE_PGA_G: f64 = 5.0;
+
+/// What `n` samples of `f64` would take, in words (`"8.0 TB"`), for the refusals of sizes.
+pub fn bytes_in_words(n: f64) -> String {
+    let b = n * 8.0;
+    let (v, unit) = [(1e12, "TB"), (1e9, "GB"), (1e6, "MB"), (1e3, "kB")]
+        .into_iter()
+        .find(|(s, _)| b >= *s)
+        .map_or((b, "B"), |(s, u)| (b / s, u));
+    format!("{v:.1} {unit}")
+}
+
+/// Checks that a motion of `samples` samples per component spanning `duration_s` seconds
+/// is within [`MAX_MOTION_SAMPLES`] and [`MAX_MOTION_DURATION_S`], before it is built.
+///
+/// # Errors
+/// The refusal in words, with what the motion would cost (samples, memory, duration).
+pub fn check_motion_size(samples: f64, duration_s: f64) -> Result<(), String> {
+    if !(duration_s <= MAX_MOTION_DURATION_S) {
+        return Err(format!(
+            "the motion would last {duration_s:.3e} s; the limit is {MAX_MOTION_DURATION_S} s (an hour)"
+        ));
+    }
+    if !(samples <= MAX_MOTION_SAMPLES) {
+        return Err(format!(
+            "the motion would hold {samples:.3e} samples ({} per component); the limit is {MAX_MOTION_SAMPLES:.0e} samples",
+            bytes_in_words(samples)
+        ));
+    }
+    Ok(())
+}
 
 /// A ground acceleration history, uniformly sampled.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -5,18 +5,90 @@
 //! older `5590    .0050    NPTS, DT`), then NPTS accelerations in g, several per line.
 //!
 //! **CSV/TSV** (`.csv`, `.tsv`, `.txt`): lines starting with `#` are comments; the first
-//! other line is the header, comma- or tab-separated: `time_s`, then the horizontal
+//! other line is the header, comma- or tab-separated: `time_s`, then exactly one horizontal
 //! acceleration with its unit in the column name's suffix (`_g`, `_m_s2`, `_cm_s2` or
-//! `_gal`), and optionally a vertical acceleration the same way (a name starting with
-//! `vert` or `z`). Times start at or after 0 and increase strictly; a non-uniform time
-//! column is resampled by linear interpolation at its smallest interval.
+//! `_gal`), and optionally one vertical acceleration the same way, marked vertical by its
+//! name (it starts with `vert` or `z`, or one of its `_`-separated words is `vert`,
+//! `vertical`, `z` or `up`). Any other acceleration column is refused: a second
+//! horizontal component (`accel_h1_g,accel_h2_g`) is not a vertical one. A [`ColumnMap`]
+//! (`--columns time=t,h=acc_x_g,v=acc_z_g`, or `columns = { ... }` in a study's `[shake]`
+//! table) names the columns instead; the others are then ignored. A vertical channel
+//! whose mean is 0.5 g or more in size is refused: gravity is in it (a raw accelerometer
+//! channel), or it is no ground motion. Times start at or after 0 and increase strictly; a
+//! non-uniform time column is resampled by linear interpolation at its smallest interval.
 //!
 //! Every problem is refused naming the file and the line: a missing or unknown unit,
 //! NPTS/DT missing or DT ≤ 0, a value that is not a finite number, fewer or more values
-//! than NPTS, times that do not increase, an empty record.
+//! than NPTS, times that do not increase, an empty record, a record (or its resampling)
+//! longer than [`super::MAX_MOTION_SAMPLES`] samples or [`super::MAX_MOTION_DURATION_S`]
+//! seconds (refused before it is allocated, with what it would take).
 
-use super::{Motion, G};
+use super::{check_motion_size, Motion, G};
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+/// The columns of a CSV/TSV record named explicitly: the time column (seconds; `time_s`
+/// if not given), the horizontal acceleration `h` and optionally the vertical one `v`
+/// (their units by their names' suffixes, as always). Other columns are ignored. On the
+/// command line `--columns time=t,h=acc_x_g,v=acc_z_g` (`time` and `v` optional); in a
+/// study `[shake] columns = { time = "t", h = "acc_x_g", v = "acc_z_g" }`, for every
+/// CSV/TSV record of the study. Not used for AT2 files (one component, in g).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnMap {
+    /// The time column, s \[`time_s`\].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<String>,
+    /// The horizontal acceleration column (along +y, out of plane).
+    pub h: String,
+    /// The vertical acceleration column (along +z, up); `None`: no vertical component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v: Option<String>,
+}
+
+impl std::str::FromStr for ColumnMap {
+    type Err = String;
+
+    /// Parses `time=t,h=acc_x_g,v=acc_z_g` (keys `time`, `h`, `v`, each at most once; `h`
+    /// required).
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (mut time, mut h, mut v) = (None, None, None);
+        for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let Some((key, name)) = part.split_once('=') else {
+                return Err(format!("{part:?} is not KEY=COLUMN (keys time, h, v; e.g. time=t,h=acc_x_g,v=acc_z_g)"));
+            };
+            let (key, name) = (key.trim(), name.trim());
+            if name.is_empty() {
+                return Err(format!("{key}= names no column"));
+            }
+            let slot = match key {
+                "time" | "t" => &mut time,
+                "h" => &mut h,
+                "v" => &mut v,
+                other => return Err(format!("unknown key {other:?}: the keys are time, h and v")),
+            };
+            if slot.replace(name.to_string()).is_some() {
+                return Err(format!("{key} is given twice"));
+            }
+        }
+        let h = h.ok_or_else(|| "no h=COLUMN: the horizontal acceleration column is required".to_string())?;
+        Ok(ColumnMap { time, h, v })
+    }
+}
+
+/// Whether a column's name marks it vertical: it starts with `vert` or `z`, or one of its
+/// words (separated by `_`, `-`, `.` or spaces) is `vert`, `vertical`, `z`, `up` or `ud`.
+fn is_vertical_name(name: &str) -> bool {
+    let n = name.trim().to_ascii_lowercase();
+    n.starts_with("vert")
+        || n.starts_with('z')
+        || n.split(['_', '-', '.', ' ']).any(|w| matches!(w, "vert" | "vertical" | "z" | "up" | "ud"))
+}
+
+/// Largest |mean| of a vertical channel, g \[0.5\]: halfway to the 1 g a raw
+/// accelerometer channel carries at rest; a ground motion's vertical acceleration
+/// averages about 0.
+pub const MAX_VERTICAL_MEAN_G: f64 = 0.5;
 
 /// Why a record file was refused.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -40,12 +112,25 @@ fn err(path: &Path, line: Option<usize>, message: impl Into<String>) -> RecordEr
 /// # Errors
 /// [`RecordError`] naming the file and line (module doc).
 pub fn read_record(path: &Path) -> Result<Motion, RecordError> {
+    read_record_with(path, None)
+}
+
+/// As [`read_record`], with the columns of a CSV/TSV record named by `columns` (see
+/// [`ColumnMap`]); `None`: by the header's names (module doc).
+///
+/// # Errors
+/// As [`read_record`]; also a mapped column missing from the header, or a mapping given
+/// for an AT2 record.
+pub fn read_record_with(path: &Path, columns: Option<&ColumnMap>) -> Result<Motion, RecordError> {
     let text = std::fs::read_to_string(path).map_err(|e| err(path, None, format!("cannot read: {e}")))?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("record").to_string();
     let (dt_s, horizontal_g, vertical_g) = match ext.as_str() {
+        "at2" if columns.is_some() => {
+            return Err(err(path, None, "an AT2 record has one column (in g): a column mapping does not apply to it"))
+        }
         "at2" => parse_at2(path, &text).map(|(dt, a)| (dt, a, None))?,
-        "csv" | "tsv" | "txt" => parse_columns(path, &text)?,
+        "csv" | "tsv" | "txt" => parse_columns(path, &text, columns)?,
         other => {
             return Err(err(
                 path,
@@ -86,6 +171,8 @@ fn parse_at2(path: &Path, text: &str) -> Result<(f64, Vec<f64>), RecordError> {
     if !(dt > 0.0) {
         return Err(err(path, Some(4), format!("DT must be > 0, got {dt}")));
     }
+    check_motion_size(npts as f64, (npts as f64 - 1.0) * dt)
+        .map_err(|m| err(path, Some(4), format!("NPTS = {npts}, DT = {dt} s: {m}")))?;
     let mut values = Vec::with_capacity(npts);
     for (i, l) in lines.iter().enumerate().skip(4) {
         for tok in l.split_whitespace() {
@@ -147,7 +234,7 @@ fn unit_to_g(name: &str) -> Option<f64> {
 
 type Columns = (f64, Vec<f64>, Option<Vec<f64>>);
 
-fn parse_columns(path: &Path, text: &str) -> Result<Columns, RecordError> {
+fn parse_columns(path: &Path, text: &str, map: Option<&ColumnMap>) -> Result<Columns, RecordError> {
     let mut rows = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let Some((hline, header)) = rows.next() else {
         return Err(err(path, None, "the record is empty (no header line)"));
@@ -156,47 +243,90 @@ fn parse_columns(path: &Path, text: &str) -> Result<Columns, RecordError> {
         if l.contains('\t') { l.split('\t') } else { l.split(',') }.map(|s| s.trim().to_string()).collect()
     };
     let names = split(header);
-    if names.len() < 2 || !names[0].eq_ignore_ascii_case("time_s") {
-        return Err(err(
-            path,
-            Some(hline + 1),
-            format!("the header must be `time_s` then the acceleration with its unit (e.g. `time_s,accel_g`), got {header:?}"),
-        ));
-    }
-    let factors: Vec<f64> = names[1..]
-        .iter()
-        .map(|n| {
-            unit_to_g(n).ok_or_else(|| {
-                err(
-                    path,
-                    Some(hline + 1),
-                    format!("column {n:?} states no unit: end its name with _g, _m_s2, _cm_s2 or _gal"),
-                )
-            })
+    let hl = Some(hline + 1);
+    let unit = |k: usize| -> Result<f64, RecordError> {
+        unit_to_g(&names[k]).ok_or_else(|| {
+            err(path, hl, format!("column {:?} states no unit: end its name with _g, _m_s2, _cm_s2 or _gal", names[k]))
         })
-        .collect::<Result<_, _>>()?;
-    if factors.len() > 2 {
-        return Err(err(path, Some(hline + 1), "at most two acceleration columns (horizontal, vertical)"));
-    }
-    let vertical_col = names[1..].iter().position(|n| {
-        let n = n.to_ascii_lowercase();
-        n.starts_with("vert") || n.starts_with('z')
-    });
-    let (hcol, vcol) = match (factors.len(), vertical_col) {
-        (1, Some(_)) => {
-            return Err(err(path, Some(hline + 1), "a vertical column alone: the horizontal one is missing"))
-        }
-        (1, None) => (0, None),
-        (_, Some(v)) => (1 - v, Some(v)),
-        (_, None) => (0, Some(1)),
     };
+    // (time column, horizontal column, vertical column), indices into `names`.
+    let (tcol, hcol, vcol) = match map {
+        Some(m) => {
+            let find = |key: &str, name: &str| -> Result<usize, RecordError> {
+                names.iter().position(|n| n == name).ok_or_else(|| {
+                    err(
+                        path,
+                        hl,
+                        format!("--columns {key}={name}: no such column; the header has {}", names.join(", ")),
+                    )
+                })
+            };
+            let t = find("time", m.time.as_deref().unwrap_or("time_s"))?;
+            let h = find("h", &m.h)?;
+            let v = m.v.as_deref().map(|v| find("v", v)).transpose()?;
+            if h == t || v == Some(t) || v == Some(h) {
+                return Err(err(path, hl, "--columns: time, h and v must name three different columns"));
+            }
+            (t, h, v)
+        }
+        None => {
+            if names.len() < 2 || !names[0].eq_ignore_ascii_case("time_s") {
+                return Err(err(
+                    path,
+                    hl,
+                    format!(
+                        "the header must be `time_s` then the acceleration with its unit (e.g. `time_s,accel_g`), got {header:?}"
+                    ),
+                ));
+            }
+            for k in 1..names.len() {
+                unit(k)?;
+            }
+            let (vert, horiz): (Vec<usize>, Vec<usize>) = (1..names.len()).partition(|&k| is_vertical_name(&names[k]));
+            let quoted = |ks: &[usize]| ks.iter().map(|&k| format!("{:?}", names[k])).collect::<Vec<_>>().join(", ");
+            let fix = "name the columns with --columns time=time_s,h=NAME[,v=NAME] \
+                       (a study: [shake] columns = { h = \"NAME\", v = \"NAME\" })";
+            let hcol = match horiz.as_slice() {
+                [h] => *h,
+                [] => {
+                    return Err(err(
+                        path,
+                        hl,
+                        format!("a vertical column alone ({}): the horizontal one is missing", quoted(&vert)),
+                    ))
+                }
+                _ => {
+                    return Err(err(
+                        path,
+                        hl,
+                        format!(
+                            "{} horizontal acceleration columns ({}): one is the motion, and a column is vertical only \
+                             if its name says so (vert, z or up); {fix}",
+                            horiz.len(),
+                            quoted(&horiz)
+                        ),
+                    ))
+                }
+            };
+            if vert.len() > 1 {
+                return Err(err(
+                    path,
+                    hl,
+                    format!("{} vertical columns ({}): at most one; {fix}", vert.len(), quoted(&vert)),
+                ));
+            }
+            (0, hcol, vert.first().copied())
+        }
+    };
+    let hf = unit(hcol)?;
+    let vf = vcol.map(unit).transpose()?;
     let (mut t, mut h, mut v) = (Vec::new(), Vec::new(), Vec::new());
     for (i, l) in rows {
         let cells = split(l);
         if cells.len() != names.len() {
             return Err(err(path, Some(i + 1), format!("{} columns, the header has {}", cells.len(), names.len())));
         }
-        let time = number(path, i + 1, &cells[0])?;
+        let time = number(path, i + 1, &cells[tcol])?;
         if time < 0.0 {
             return Err(err(path, Some(i + 1), format!("time {time} s is negative")));
         }
@@ -210,21 +340,49 @@ fn parse_columns(path: &Path, text: &str) -> Result<Columns, RecordError> {
             }
         }
         t.push(time);
-        h.push(number(path, i + 1, &cells[1 + hcol])? / factors[hcol]);
-        if let Some(vc) = vcol {
-            v.push(number(path, i + 1, &cells[1 + vc])? / factors[vc]);
+        h.push(number(path, i + 1, &cells[hcol])? / hf);
+        if let (Some(vc), Some(f)) = (vcol, vf) {
+            v.push(number(path, i + 1, &cells[vc])? / f);
         }
     }
     if t.len() < 2 {
         return Err(err(path, None, format!("{} samples: a record needs at least two", t.len())));
     }
+    if let Some(vc) = vcol {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        if !(mean.abs() < MAX_VERTICAL_MEAN_G) {
+            return Err(err(
+                path,
+                None,
+                format!(
+                    "the vertical column {:?} averages {mean:.3} g: it contains gravity (a raw accelerometer channel \
+                     reads about ±1 g at rest; a ground motion's vertical acceleration averages about 0). Subtract \
+                     the static reading from the column, or leave it out (--columns time={},h={})",
+                    names[vc], names[tcol], names[hcol]
+                ),
+            ));
+        }
+    }
     let dt = t.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
     let uniform = t.windows(2).all(|w| ((w[1] - w[0]) / dt - 1.0).abs() < 1e-6) && t[0] == 0.0;
     if uniform {
+        check_motion_size(t.len() as f64, t[t.len() - 1]).map_err(|m| err(path, None, m))?;
         return Ok((dt, h, vcol.map(|_| v)));
     }
     // Resampled from t = 0 at the smallest interval (zero before the first sample).
-    let n = (t[t.len() - 1] / dt).round() as usize + 1;
+    let last = t[t.len() - 1];
+    let samples = (last / dt).round() + 1.0;
+    check_motion_size(samples, last).map_err(|m| {
+        err(
+            path,
+            None,
+            format!(
+                "the times are not uniform and their smallest interval is {dt:e} s: resampled at it to {last} s, {m}; \
+                 resample the record uniformly"
+            ),
+        )
+    })?;
+    let n = samples as usize;
     let resample = |a: &[f64]| -> Vec<f64> {
         let mut j = 0;
         (0..n)

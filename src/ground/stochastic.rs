@@ -88,7 +88,12 @@ impl StochasticMotion {
             ),
             ("envelope_peak_s", self.envelope_peak_s, pos(self.envelope_peak_s), "> 0"),
             ("envelope_shape", self.envelope_shape, pos(self.envelope_shape), "> 0"),
-            ("duration_s", self.duration_s, pos(self.duration_s), "> 0"),
+            (
+                "duration_s",
+                self.duration_s,
+                pos(self.duration_s) && self.duration_s <= super::MAX_MOTION_DURATION_S,
+                "in (0, 3600] (an hour)",
+            ),
             (
                 "dt_s",
                 self.dt_s,
@@ -96,7 +101,14 @@ impl StochasticMotion {
                 "in (0, 0.1 / ground_frequency_hz]",
             ),
             ("pga_g", self.pga_g, pos(self.pga_g), "> 0"),
-        ])
+        ])?;
+        let samples = self.duration_s / self.dt_s;
+        crate::range::check_ranges(&[(
+            "dt_s",
+            self.dt_s,
+            samples <= super::MAX_MOTION_SAMPLES,
+            "at least duration_s / 2e7 (a motion holds at most 2e7 samples, 160 MB)",
+        )])
     }
 
     /// The envelope at time `t_s`, in [0, 1].

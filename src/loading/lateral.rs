@@ -176,6 +176,22 @@ pub enum LateralError {
     Unsupported(crate::dem::SolverKind),
 }
 
+/// Checks that a pushover has a load to multiply: a collapse multiplier of zero pressure
+/// does not exist (the search would double λ to its bound and report that).
+///
+/// # Errors
+/// [`OutOfRange`] for `pressure_base_pa` when both pressures are 0.
+pub fn check_pushover_load(params: &LateralParams) -> Result<(), OutOfRange> {
+    if params.pressure_base_pa == 0.0 && params.pressure_top_pa == 0.0 {
+        return Err(OutOfRange::new(
+            "pressure_base_pa",
+            0.0,
+            "> 0, or pressure_top_pa > 0: a pushover multiplies the pressure, and both are 0",
+        ));
+    }
+    Ok(())
+}
+
 /// The pressure load on each body: (force, moment about the body centroid), world frame,
 /// N and N·m, for bodies in their current positions. Also returns the number of loaded
 /// faces. Fixed bodies get nothing.

@@ -12,9 +12,8 @@
 
 use super::lateral::{pressure_loads, LateralParams};
 use super::mechanism::Mechanism;
-use super::settle::SettleError;
 use super::tilt::TiltError;
-use super::tilt_nscd::{read_mechanism, released, tilt_error};
+use super::tilt_nscd::{read_mechanism, released, stood, tilt_error, touches_something};
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
@@ -62,6 +61,7 @@ pub fn run_lateral_nscd(
     resolution: f64,
 ) -> Result<LateralLimit, TiltError> {
     lateral.validate().map_err(TiltError::Parameter)?;
+    super::lateral::check_pushover_load(lateral).map_err(TiltError::Parameter)?;
     let r: Result<(), OutOfRange> =
         check_ranges(&[("resolution", resolution, resolution > 0.0 && resolution < 1.0, "in (0, 1)")]);
     r.map_err(TiltError::Parameter)?;
@@ -87,14 +87,9 @@ pub fn run_lateral_nscd(
         }
         r
     };
+    touches_something(&base, params)?;
     let first = run(0.0, &base)?;
-    if first.reason.is_some() {
-        return Err(TiltError::DoesNotStand(SettleError::NoEquilibrium {
-            steps: first.steps,
-            ratio: 0.0,
-            damping: 0.0,
-        }));
-    }
+    stood(&base, &first)?;
     let (mut lo, mut stable) = (0.0, first.sim);
     let mut hi: Option<(f64, NscdSimulation)> = None;
     let mut l = 1.0;

@@ -158,6 +158,7 @@ pub fn run_lateral_pushover_observed(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralPushover, LateralError> {
+    super::lateral::check_pushover_load(params).map_err(LateralError::Parameter)?;
     // Scalar density scaling at most, as the static lateral load (its module doc).
     let Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
         prepare(layout, solver, params, observe)?;

@@ -34,11 +34,13 @@
 //! that settling.
 
 use super::monitors::{monitor_points_of, MonitorPoint};
+use super::settle::{settle, SettleError};
+use super::tilt::{TiltError, TiltParams};
 use crate::dem::damping::ContactDamping;
 use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
 use crate::dem::state::Body;
 use crate::dem::{DemError, DensityScaling, Simulation, SolverKind, SolverParams};
-use crate::ground::{Motion, G};
+use crate::ground::{Motion, G, MAX_MOTION_DURATION_S};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
@@ -104,9 +106,19 @@ impl ShakeParams {
     pub fn validate(&self) -> Result<(), OutOfRange> {
         let d = self.duration_s.unwrap_or(1.0);
         check_ranges(&[
-            ("tail_s", self.tail_s, self.tail_s >= 0.0 && self.tail_s.is_finite(), ">= 0"),
-            ("duration_s", d, d > 0.0 && d.is_finite(), "> 0"),
-            ("settle_s", self.settle_s, self.settle_s >= 0.0 && self.settle_s.is_finite(), ">= 0"),
+            (
+                "tail_s",
+                self.tail_s,
+                self.tail_s >= 0.0 && self.tail_s <= MAX_MOTION_DURATION_S,
+                "in [0, 3600] (an hour)",
+            ),
+            ("duration_s", d, d > 0.0 && d <= MAX_MOTION_DURATION_S, "in (0, 3600] (an hour)"),
+            (
+                "settle_s",
+                self.settle_s,
+                self.settle_s >= 0.0 && self.settle_s <= MAX_MOTION_DURATION_S,
+                "in [0, 3600] (an hour)",
+            ),
             (
                 "fall_rotation_deg",
                 self.fall_rotation_deg,
@@ -186,6 +198,30 @@ pub struct ShakeResult {
     pub history: ShakeHistory,
 }
 
+/// Most time steps a shaking-table run may take \[1e8\] (settling, motion and tail): at the
+/// default 1 ms step, 28 hours of simulated time; a run that would take more is refused
+/// before it starts, with its count.
+pub const MAX_SHAKE_STEPS: f64 = 1e8;
+
+/// Checks the step count of a run of `motion` under `params` at the step `dt_s` (s).
+///
+/// # Errors
+/// [`ShakeError::TooLong`] with the count, the step and the simulated time.
+pub fn check_steps(motion: &Motion, params: &ShakeParams, dt_s: f64) -> Result<(), ShakeError> {
+    let motion_s = params.duration_s.map_or(motion.duration_s(), |d| d.min(motion.duration_s()));
+    let simulated = params.settle_s + motion_s + params.tail_s;
+    let steps = simulated / dt_s;
+    if !(steps <= MAX_SHAKE_STEPS) {
+        return Err(ShakeError::TooLong(format!(
+            "{steps:.3e} steps of {dt_s:.3e} s for {simulated:.4e} s simulated (settling {} s, motion {motion_s:.4e} s, \
+             tail {} s); the limit is {MAX_SHAKE_STEPS:.0e} steps: shorten the motion (duration_s), the tail \
+             (tail_s) or lengthen the step",
+            params.settle_s, params.tail_s
+        )));
+    }
+    Ok(())
+}
+
 /// Errors of the shaking-table protocol.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 #[non_exhaustive]
@@ -202,6 +238,13 @@ pub enum ShakeError {
     /// The motion is empty or its sampling interval is not positive.
     #[error("motion {0}: empty, or its sampling interval is not > 0")]
     BadMotion(String),
+    /// The run would take more than [`MAX_SHAKE_STEPS`] steps (the count in words).
+    #[error("the shaking-table run is too long: {0}")]
+    TooLong(String),
+    /// The layout does not stand as given under gravity alone on the still table (the
+    /// tilting table's check at α = 0, [`check_stands`]).
+    #[error(transparent)]
+    DoesNotStand(SettleError),
     /// The solver chosen cannot run this protocol (a static method of the penalty DEM, or
     /// limit analysis).
     #[error(
@@ -248,6 +291,10 @@ pub fn run_shake_observed(
     if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
         return Err(ShakeError::BadMotion(motion.name.clone()));
     }
+    if solver.kind == SolverKind::Nscd && solver.nscd.dt_s > 0.0 {
+        check_steps(motion, params, solver.nscd.dt_s)?;
+    }
+    check_stands(layout, &solver)?;
     if solver.kind == SolverKind::Penalty {
         return run_shake_penalty(layout, solver, motion, params, observe);
     }
@@ -291,6 +338,43 @@ pub fn run_shake_observed(
             wall_time_s: t0.elapsed().as_secs_f64(),
         },
     ))
+}
+
+/// Checks that `layout` stands as given on the still table by the tilting table's rule at
+/// α = 0 for the solver that will shake it: for `nscd`, the rigid check
+/// ([`super::tilt_nscd::check_stands_rigid`]: every free block touches something and the
+/// wall released under gravity comes to rest); for `penalty`, the settling of
+/// [`super::settle::settle`] by dynamic relaxation with the solver's contact settings,
+/// the default local damping and density scaling, and the tilting table's tolerance and
+/// step budget ([`TiltParams`] defaults): no block may move more than the closure of its
+/// joints explains. The check runs on its own copy: the shaking run is not changed by it.
+///
+/// # Errors
+/// [`ShakeError::DoesNotStand`] naming the block (untouched, or moved and how far);
+/// [`ShakeError::Parameter`], [`ShakeError::Nscd`] or [`ShakeError::Dem`] for what the
+/// solver refuses.
+pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
+    let tilt = TiltParams::default();
+    let from_tilt = |e: TiltError| match e {
+        TiltError::DoesNotStand(s) => ShakeError::DoesNotStand(s),
+        TiltError::Dem(d) => ShakeError::Dem(d),
+        TiltError::Nscd(n) => ShakeError::Nscd(n),
+        TiltError::Parameter(p) => ShakeError::Parameter(p),
+        TiltError::Unsupported(k) => ShakeError::Unsupported(k),
+    };
+    match solver.kind {
+        SolverKind::Nscd => super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(from_tilt),
+        _ => {
+            let d = SolverParams::default();
+            let sp = SolverParams { damping: d.damping, density_scaling: d.density_scaling, ..*solver };
+            sp.validate().map_err(ShakeError::Parameter)?;
+            let mut sim = Simulation::new(layout, sp);
+            settle(&mut sim, layout, tilt.tolerance, tilt.max_steps_per_increment).map_err(|e| match e {
+                SettleError::Dem(d) => ShakeError::Dem(d),
+                other => ShakeError::DoesNotStand(other),
+            })
+        }
+    }
 }
 
 /// The base acceleration (m/s², table frame: y horizontal, z vertical) at time `tm` (s) from
@@ -487,6 +571,7 @@ fn run_shake_penalty(
     let damping = ContactDamping::from_restitution(params.contact_restitution).map_err(ShakeError::Parameter)?;
     let mut sim = Simulation::new(layout, sp);
     sim.set_contact_damping(Some(damping));
+    check_steps(motion, params, sim.dt())?;
     let weight = sim.state.gravity;
     while sim.state.time < params.settle_s - 0.5 * sim.dt() {
         sim.step()?;

@@ -94,6 +94,64 @@ fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The first half of the rigid check that a wall stands as given: every free block of
+/// `base` (the reference state) has a contact point.
+///
+/// # Errors
+/// [`TiltError::DoesNotStand`] ([`SettleError::Untouched`]) naming the first free block,
+/// in layout order, that touches nothing within `params.contact_margin_m`.
+pub(crate) fn touches_something(base: &NscdSimulation, params: &NscdParams) -> Result<(), TiltError> {
+    for (k, b) in base.bodies().iter().enumerate() {
+        if !b.fixed && !base.contact_points().iter().any(|c| c.b == k || c.a == Some(k)) {
+            return Err(TiltError::DoesNotStand(SettleError::Untouched {
+                block: b.id.clone(),
+                margin_m: params.contact_margin_m,
+            }));
+        }
+    }
+    Ok(())
+}
+
+/// The second half of the rigid check: the trial `first` released from `base` under
+/// gravity alone (α = 0) came to rest.
+///
+/// # Errors
+/// [`TiltError::DoesNotStand`] ([`SettleError::Moved`]) naming the block that moved most
+/// and how far (m; the rigid tolerance is 0), if the trial did not come to rest.
+pub(crate) fn stood(base: &NscdSimulation, first: &Trial) -> Result<(), TiltError> {
+    if first.reason.is_none() {
+        return Ok(());
+    }
+    let start = poses(base);
+    let (block, moved_m) = first
+        .sim
+        .bodies()
+        .iter()
+        .zip(&start)
+        .map(|(b, s)| (b.id.clone(), body_motion(s, &(b.pos, b.rot), b.radius)))
+        .fold((String::new(), -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+    Err(TiltError::DoesNotStand(SettleError::Moved { block, moved_m, tolerance_m: 0.0 }))
+}
+
+/// The rigid check that `layout` stands as given, the tilting table's at α = 0: every
+/// free block touches something, and the wall released from rest under gravity alone
+/// comes to rest without a block moving more than the per-increment collapse
+/// displacement (a fraction [`TiltParams::collapse_increment_fraction`], default 0.05,
+/// of the wall's width). Changes nothing; the protocols that load a rigid wall run it
+/// before loading.
+///
+/// # Errors
+/// [`TiltError::DoesNotStand`] naming the block (and how far it moved),
+/// [`TiltError::Parameter`] or [`TiltError::Nscd`] for a solver setting the rigid solver
+/// refuses.
+pub fn check_stands_rigid(layout: &Layout, params: &NscdParams) -> Result<(), TiltError> {
+    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    touches_something(&base, params)?;
+    let inc_limit = TiltParams::default().collapse_increment_fraction * layout.bounds().extent().y;
+    let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
+    stood(&base, &first)
+}
+
 /// Runs one trial at `alpha_deg` from `base` (the reference state at rest), warm-started
 /// from `warm`.
 fn trial(base: &NscdSimulation, warm: &NscdSimulation, alpha_deg: f64, inc_limit: f64) -> Result<Trial, NscdError> {
@@ -160,14 +218,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
     tilt.validate().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
-    for (k, b) in base.bodies().iter().enumerate() {
-        if !b.fixed && !base.contact_points().iter().any(|c| c.b == k || c.a == Some(k)) {
-            return Err(TiltError::DoesNotStand(SettleError::Untouched {
-                block: b.id.clone(),
-                margin_m: params.contact_margin_m,
-            }));
-        }
-    }
+    touches_something(&base, params)?;
     // The penalty engine's view of the same layout, for the monitors and the mechanism.
     let reader = Simulation::new(layout, SolverParams::default());
     let monitors = monitor_points(layout, &reader);
@@ -194,17 +245,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
 
     let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
     record(0.0, &first, &mut increments);
-    if first.reason.is_some() {
-        let start = poses(&base);
-        let (block, moved_m) = first
-            .sim
-            .bodies()
-            .iter()
-            .zip(&start)
-            .map(|(b, s)| (b.id.clone(), body_motion(s, &(b.pos, b.rot), b.radius)))
-            .fold((String::new(), -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
-        return Err(TiltError::DoesNotStand(SettleError::Moved { block, moved_m, tolerance_m: 0.0 }));
-    }
+    stood(&base, &first)?;
     let mut stable = first.sim;
     let mut last_stable = 0.0;
     let mut unstable: Option<(f64, CollapseReason, NscdSimulation)> = None;

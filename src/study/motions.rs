@@ -66,10 +66,8 @@ impl StudySpec {
         let mut motions = Vec::new();
         for (i, r) in spec.records.iter().enumerate() {
             let p = dir.join(r);
-            let m = crate::ground::read_record(&p).map_err(|source| StudyError::Record {
-                path: invalid.0.to_owned(),
-                key: format!("shake.records[{i}]"),
-                source,
+            let m = crate::ground::read_record_with(&p, spec.columns.as_ref()).map_err(|source| {
+                StudyError::Record { path: invalid.0.to_owned(), key: format!("shake.records[{i}]"), source }
             })?;
             files.push((InputRole::Record, p));
             motions.push((
@@ -94,6 +92,7 @@ impl StudySpec {
                 crate::dem::SolverKind::Penalty => self.solver.nscd.dt_s.min(1e-3),
                 _ => self.solver.nscd.dt_s,
             };
+            check_pulse(p, dt).map_err(|m| invalid.at(&key, m))?;
             motions.push((key, p.sampled(dt, 0.0)));
         }
         if motions.is_empty() {
@@ -115,6 +114,10 @@ impl StudySpec {
                     format!("two motions are named {:?} (also {other}); motions are told apart by name", m.name),
                 ));
             }
+            if self.solver.kind == crate::dem::SolverKind::Nscd && self.solver.nscd.dt_s > 0.0 {
+                crate::loading::shake::check_steps(m, &params, self.solver.nscd.dt_s)
+                    .map_err(|e| invalid.at(key, e.to_string()))?;
+            }
             if m.pga_g() == 0.0 {
                 return Err(invalid.at(
                     key,
@@ -128,6 +131,23 @@ impl StudySpec {
             levels: spec.pga_g.clone(),
         }))
     }
+}
+
+/// Checks that a pulse sampled every `dt_s` seconds is resolved (its period spans at least
+/// [`crate::ground::MIN_SAMPLES_PER_PERIOD`] samples) and within the motion limits.
+fn check_pulse(p: &crate::ground::Pulse, dt_s: f64) -> Result<(), String> {
+    let t = p.period_s();
+    if t / dt_s < crate::ground::MIN_SAMPLES_PER_PERIOD {
+        return Err(format!(
+            "period_s = {t}: the pulse spans {:.1} steps of {dt_s:e} s, too few to resolve it (at least {}); give \
+             period_s >= {:e} or a smaller [solver.nscd] dt_s",
+            t / dt_s,
+            crate::ground::MIN_SAMPLES_PER_PERIOD,
+            crate::ground::MIN_SAMPLES_PER_PERIOD * dt_s
+        ));
+    }
+    let span = if p.name() == "ricker" { 2.0 * t } else { t };
+    crate::ground::check_motion_size((span / dt_s).ceil() + 1.0, span).map_err(|m| format!("period_s = {t}: {m}"))
 }
 
 /// Why a shaking study's `[shake] pga_g` levels cannot be used.

@@ -112,6 +112,10 @@ pub struct ShakeSpec {
     /// Record files (PEER NGA `.AT2`, `.csv`, `.tsv`), relative to the study file.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub records: Vec<PathBuf>,
+    /// The columns of every CSV/TSV record named explicitly
+    /// (`{ time = "t", h = "acc_x_g", v = "acc_z_g" }`, [`crate::ground::ColumnMap`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub columns: Option<crate::ground::ColumnMap>,
     /// Generated motions: `count` (≥ 1) and any key of
     /// [`crate::ground::StochasticMotion`] (its defaults otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
