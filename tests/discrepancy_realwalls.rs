@@ -102,6 +102,14 @@ fn answer(e: Edit, first: u64) -> (Answer, String) {
 fn null_data_from_edited_files_raise_no_alarm() {
     let (got, what) = answer(Edit::None, 100);
     assert_eq!(got, Answer::NoEffect, "{what}");
+    // The margins' own false-alarm rate on the null data sets (cross-fitted halves), with
+    // every effect of the library searched: at most 5 %.
+    let (st, prep) = prepared();
+    let obs = data_set(st, DATA_SEED, 100, SPECIMENS, Edit::None, NOISE, &TILTS, st.discrepancy.sigma);
+    let m = analyze(prep, obs, 100).unwrap().analysis.margins;
+    let (alarms, sets) = m.false_alarms;
+    eprintln!("false alarms {alarms} of {sets}, 95 % interval {:?}", m.false_alarm_interval);
+    assert!(sets > 0 && alarms as f64 <= 0.05 * sets as f64, "false alarms {alarms} of {sets}");
 }
 
 #[test]
