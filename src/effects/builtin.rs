@@ -204,7 +204,14 @@ pub fn builtin() -> Vec<EffectDef> {
             "leaf_split",
             "the section built as two leaves tied only by friction: every block cut parallel to the faces, the loose leaf on the side the wall falls to taking the share f of the width",
             "double-faced dry stone walls (pircas): full-scale out-of-plane tests show delamination of the section, then overturning of the loose leaf (Ita, Santa-Cruz et al. 2023, Eng. Struct., doi 10.1016/j.engstruct.2023.116153); the 1:4 walls' 150 mm base of 100 mm wide pavers (Santa-Cruz et al. 2021, Table 1) needs more than one paver across; f up to 1/2: the loose leaf no wider than the other",
-            vec![param("loose_leaf_fraction", "-", 0.0, 0.5, Scale::Linear, 0.0, false)],
+            vec![sourced(
+                param("loose_leaf_fraction", "-", 0.0, 0.5, Scale::Linear, 0.0, false),
+                "geometry: from one leaf (f = 0) to two leaves of equal width (f = 1/2, the loose leaf no wider \
+                 than the other); how the 1:4 sections were built is not stated (Santa-Cruz et al. 2021, Table 1): \
+                 no range per kind",
+                None,
+                None,
+            )],
             vec![Step::LeafSplit { parameter: "loose_leaf_fraction".into(), through_stone_every: None }],
         ),
     ]
