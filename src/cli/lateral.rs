@@ -4,7 +4,7 @@ use super::solver::SolverChoice;
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
 use drystone::io::series::{lateral_frames, write_series, Recorder};
-use drystone::loading::lateral::{run_lateral_observed, LateralParams, LateralResult};
+use drystone::loading::lateral::{run_lateral_observed, LateralError, LateralParams, LateralResult};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -81,6 +81,7 @@ pub fn run(
             rec.observe(a, stable, sim)
         }
     })
+    .map_err(hint)
     .with_context(|| format!("static lateral load on {}", layout.display()))?;
     if let Some(dir) = vtk {
         let pvd = write_series(dir, "lateral", &rec, &lateral_frames(&rec))?;
@@ -92,6 +93,17 @@ pub fn run(
         print(layout, params, &r);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's error, with the commands to use instead where the solver cannot run the
+/// load.
+fn hint(e: LateralError) -> anyhow::Error {
+    match e {
+        LateralError::Unsupported(_) => {
+            anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json --protocol lateral`, or `drystone lateral --solver nscd` for the rigid pushover")
+        }
+        e => e.into(),
+    }
 }
 
 fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
@@ -171,6 +183,7 @@ fn dem_pushover(
             rec.observe(a, stable, sim)
         }
     })
+    .map_err(hint)
     .with_context(|| format!("DEM pushover of {}", path.display()))?;
     if let Some(dir) = vtk {
         let pvd = write_series(dir, "pushover", &rec, &lateral_frames(&rec))?;

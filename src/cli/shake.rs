@@ -1,12 +1,14 @@
 //! `drystone shake`: a layout on a shaking table, under a record or a built-in pulse.
 
 use super::solver::NscdArgs;
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{SolverKind, SolverParams};
-use drystone::ground::{read_record_with, ColumnMap, Motion, Pulse, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G};
+use drystone::ground::{
+    read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
+};
 use drystone::io::series::{motion_frames, write_series, Recorder};
-use drystone::loading::shake::{run_shake_observed, ShakeParams, ShakeResult};
+use drystone::loading::shake::{run_shake_observed, ShakeError, ShakeParams, ShakeResult};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -166,7 +168,11 @@ pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
             };
             let p = Pulse::from_name(name, a, t)
                 .with_context(|| format!("--pulse {name:?}: expected one-sine or ricker"))?;
-            p.validate()?;
+            p.validate().map_err(|e| match e {
+                PulseError::Amplitude(v) => anyhow!("--amplitude-g must be finite, got {v}"),
+                PulseError::Period(v) => anyhow!("--period-s must be > 0, got {v}"),
+                e => e.into(),
+            })?;
             if t / dt_s < MIN_SAMPLES_PER_PERIOD {
                 bail!(
                     "--period-s {t}: the pulse spans {:.1} steps of {dt_s:e} s, too few to resolve it (at least \
@@ -224,6 +230,10 @@ pub fn run(
         if vtk.is_some() {
             rec.observe_bodies(t, true, bodies, Vec::new());
         }
+    })
+    .map_err(|e| match e {
+        ShakeError::Unsupported(_) => anyhow!("{e}; on the command line: `--solver nscd` or `--solver penalty`"),
+        e => e.into(),
     })
     .with_context(|| format!("shaking-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {

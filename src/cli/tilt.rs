@@ -5,7 +5,7 @@ use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
-use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
+use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -113,6 +113,10 @@ pub fn run(
         }
     };
     let r = run_tilt_observed(&l, solver, params, &mut observe)
+        .map_err(|e| match e {
+            TiltError::Unsupported(_) => anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json`"),
+            e => e.into(),
+        })
         .with_context(|| format!("tilting-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {
         let (series, others) = tilt_frames(&rec, &r);
