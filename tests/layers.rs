@@ -189,8 +189,31 @@ fn expand(s: &str) -> Vec<Vec<String>> {
 }
 
 /// The crate's source files by module path, and for each its `crate::`/`super::` paths as
-/// absolute module paths (`[dem, engine, Simulation]`).
-type Graph = std::collections::BTreeMap<Vec<String>, (String, Vec<Vec<String>>)>;
+/// absolute module paths (`[dem, engine, Simulation]`) and, for a folder's `mod.rs`, the
+/// items it re-exports from its children (`pub use engine::Simulation;` in `dem/mod.rs`:
+/// `Simulation` → `[dem, engine, Simulation]`).
+type Graph = std::collections::BTreeMap<Vec<String>, (String, Vec<Vec<String>>, Reexports)>;
+
+/// A folder's re-exports: the item's name in the folder → its absolute path.
+type Reexports = std::collections::BTreeMap<String, Vec<String>>;
+
+/// The items a file re-exports from its own children (`pub use child::...;`), by name.
+fn reexports(module: &[String], code: &str, is_child: impl Fn(&str) -> bool) -> Reexports {
+    let mut out = Reexports::new();
+    for (at, _) in code.match_indices("pub use ") {
+        let rest = &code[at + 8..];
+        let first: String = rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        if first.is_empty() || first == "crate" || first == "super" || first == "self" || !is_child(&first) {
+            continue;
+        }
+        for p in expand(rest) {
+            if p.len() >= 2 {
+                out.insert(p.last().unwrap().clone(), [module.to_vec(), p].concat());
+            }
+        }
+    }
+    out
+}
 
 fn read_graph(src: &Path) -> Graph {
     let mut files = Vec::new();
@@ -235,29 +258,45 @@ fn read_graph(src: &Path) -> Graph {
             }
             at += skip;
         }
-        graph.insert(module, (format!("src/{}", rel.display()), paths));
+        let is_child = |name: &str| {
+            let dir = f.parent().unwrap();
+            let root = matches!(f.file_name().unwrap().to_str(), Some("mod.rs" | "lib.rs"));
+            let folder = if root { dir.to_path_buf() } else { dir.join(f.file_stem().unwrap()) };
+            folder.join(format!("{name}.rs")).exists() || folder.join(name).join("mod.rs").exists()
+        };
+        let re = reexports(&module, &code, is_child);
+        graph.insert(module, (format!("src/{}", rel.display()), paths, re));
     }
     graph
 }
 
-/// The file a path names: the deepest module of the path that is a file of the crate (an
-/// item a folder's `mod.rs` re-exports counts as the `mod.rs`'s own, as the path says).
+/// The file a path names: the deepest module of the path that is a file of the crate,
+/// following the re-exports of a folder's `mod.rs` to the child file that defines the item
+/// (`crate::dem::Simulation` names `dem/engine.rs` when `dem/mod.rs` has
+/// `pub use engine::Simulation;`).
 fn target(graph: &Graph, path: &[String]) -> Vec<String> {
     let mut m: Vec<String> = Vec::new();
-    for seg in path {
+    for (i, seg) in path.iter().enumerate() {
         let next = [m.clone(), vec![seg.clone()]].concat();
-        if !graph.contains_key(&next) {
-            break;
+        if graph.contains_key(&next) {
+            m = next;
+            continue;
         }
-        m = next;
+        if let Some(to) = graph.get(&m).and_then(|g| g.2.get(seg)) {
+            if to.as_slice() != path && to.len() > m.len() {
+                return target(graph, &[to.clone(), path[i + 1..].to_vec()].concat());
+            }
+        }
+        break;
     }
     m
 }
 
 /// No two files import each other, directly or round a longer loop, folders included: the
-/// file-level graph of the `crate::` and `super::` paths (each path an arrow to the file of
-/// its deepest module) has no cycle. A folder's `mod.rs` names its children by relative
-/// paths (`mod x; pub use x::Item;`): those are not arrows, so a child may import from it.
+/// file-level graph of the `crate::` and `super::` paths (each path an arrow to the file
+/// that defines its item, through a folder's re-exports) has no cycle. A folder's `mod.rs`
+/// names its children by relative paths (`mod x; pub use x::Item;`): those are not arrows,
+/// so a child may import from it.
 #[test]
 fn no_import_circle_between_files() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");

@@ -5,8 +5,60 @@ use drystone::benchmark::{run_cube16, run_tilt_bench, TiltRun};
 use drystone::dem::{Isa, SolverParams};
 use drystone::generator::{DistributionSource, Wall};
 use drystone::loading::tilt::TiltParams;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// Options of `drystone bench`.
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Which benchmark: `cube16` or `tilt`.
+    case: String,
+    /// Steps to time (`cube16`).
+    #[arg(long, default_value_t = 20_000)]
+    steps: u64,
+    /// Wall description (`tilt`).
+    #[arg(long, default_value = "studies/walls/sbl.toml")]
+    wall: PathBuf,
+    /// Master seed of the wall (`tilt`).
+    #[arg(long, default_value_t = 20210917)]
+    seed: u64,
+    /// Realizations 0..N of the wall, run one after the other (`tilt`). A single
+    /// realization's step count moves by ±10 % with any change of the numerics (the
+    /// near-collapse trials are path-sensitive); compare changes on the total of several.
+    #[arg(long, default_value_t = 1)]
+    realizations: u64,
+    /// Without the secant predictor of the tilting table (`tilt`; for comparison).
+    #[arg(long)]
+    no_predictor: bool,
+    /// (`tilt`)
+    #[command(flatten)]
+    solver: super::solver::SolverArgs,
+    /// The step compiled for the baseline instruction set (x86-64: SSE2) instead of the
+    /// widest one this CPU runs (`cube16`; for comparison: the results are the same
+    /// bit for bit, only the speed differs).
+    #[arg(long)]
+    portable: bool,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `drystone bench`: the benchmark `case` with its options.
+///
+/// # Errors
+/// An unknown benchmark, or those of [`tilt`] and [`cube16`].
+pub fn command(a: BenchArgs) -> Result<ExitCode> {
+    match a.case.as_str() {
+        "tilt" => {
+            let kind = a.solver.kind();
+            let params = a.solver.tilt_params(!a.no_predictor);
+            let solver = SolverParams { kind, ..SolverParams::default() };
+            tilt(&a.wall, a.seed, a.realizations, solver, &params, a.json)
+        }
+        "cube16" => cube16(a.steps, a.portable, a.json),
+        case => bail!("unknown benchmark {case:?}; available: cube16, tilt"),
+    }
+}
 
 /// `bench tilt`: realizations `0..realizations` of the wall, one after the other.
 pub fn tilt(

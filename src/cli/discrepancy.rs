@@ -208,6 +208,34 @@ fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize
     Ok(())
 }
 
+/// Options of `drystone synthesize`.
+#[derive(clap::Args)]
+pub struct SynthesizeArgs {
+    /// Study file (TOML).
+    study: PathBuf,
+    /// Hidden effects, `NAME=VALUE[,NAME=VALUE]` (two-parameter effects `NAME=V1:V2`);
+    /// absent: null data from the baseline model.
+    #[arg(long)]
+    effect: Option<String>,
+    /// Seed of the synthetic specimens and noise.
+    #[arg(long)]
+    seed: u64,
+    /// Specimens per group.
+    #[arg(long, default_value_t = 3)]
+    specimens: u64,
+    /// Output directory. Default: out/<study name>-synthetic-<seed>.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// `drystone synthesize`: [`synthesize`].
+///
+/// # Errors
+/// Those of [`synthesize`].
+pub fn synthesize_command(a: SynthesizeArgs) -> Result<()> {
+    synthesize(&a.study, a.effect.as_deref(), a.seed, a.specimens, a.out)
+}
+
 /// Writes synthetic measured data with hidden effects.
 pub fn synthesize(study: &Path, effects: Option<&str>, seed: u64, specimens: u64, out: Option<PathBuf>) -> Result<()> {
     let st = Study::from_file(study)?;

@@ -7,6 +7,33 @@ use drystone::study::{check_blocks, estimated_blocks, human_bytes, machine_memor
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// Options of `drystone generate`.
+#[derive(clap::Args)]
+pub struct GenerateArgs {
+    /// Wall description, e.g. studies/walls/sbl.toml.
+    wall: PathBuf,
+    /// Master seed.
+    #[arg(long)]
+    seed: u64,
+    /// Realization index.
+    #[arg(long, default_value_t = 0)]
+    realization: u64,
+    /// Output file, format by extension: .json (layout for `drystone tilt`), .vtk (ParaView), .svg (drawing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Directory of named distributions [default: the nearest `distributions/` at or above the wall file].
+    #[arg(long)]
+    distributions: Option<PathBuf>,
+}
+
+/// `drystone generate`: [`run`].
+///
+/// # Errors
+/// Those of [`run`].
+pub fn command(a: GenerateArgs) -> Result<ExitCode> {
+    run(&a.wall, a.seed, a.realization, &a.out, a.distributions)
+}
+
 /// Generates realization `realization` of the wall with master seed `seed`, writes it to
 /// `out` (format by extension) and prints what it holds. A wall whose layout would exceed
 /// `run`'s limits ([`drystone::study::MAX_BLOCKS`] estimated blocks, or more memory

@@ -1,11 +1,63 @@
 //! `drystone lateral`: the static lateral load on a layout file.
 
+use super::solver::SolverChoice;
 use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
 use drystone::io::series::{lateral_frames, write_series, Recorder};
-use drystone::loading::lateral::{run_lateral_observed, LateralParams, LateralResult};
-use std::path::Path;
+use drystone::loading::lateral::{run_lateral_observed, LateralError, LateralParams, LateralResult};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// Options of `drystone lateral`.
+#[derive(clap::Args)]
+pub struct LateralArgs {
+    /// Layout file (JSON).
+    layout: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Pressure at the base of the wall, Pa.
+    #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
+    pressure_base_pa: f64,
+    /// Pressure at the top of the wall, Pa.
+    #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
+    pressure_top_pa: f64,
+    /// Unbalanced-force ratio of equilibrium.
+    #[arg(long, default_value_t = LateralParams::default().tolerance)]
+    tolerance: f64,
+    #[command(flatten)]
+    solver: SolverChoice,
+    /// Write the settled and the loaded state as a ParaView time series into DIR
+    /// (lateral.pvd, time = load factor 0 and 1).
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    /// Push the wall over: raise the pressure by a load multiplier λ (doubling from 1,
+    /// then bisection) to the collapse; prints the bracket [last stable, first unstable]
+    /// of λ, the collapse reason and the mechanism. With the penalty DEM (the default
+    /// solver); `--solver nscd` always pushes over (rigid blocks).
+    #[arg(long)]
+    pushover: bool,
+    /// Relative width of the pushover's final bracket of λ.
+    #[arg(long, default_value_t = LateralParams::default().pushover_resolution)]
+    pushover_resolution: f64,
+}
+
+/// `drystone lateral`: the load's parameters from the options, then [`run`].
+///
+/// # Errors
+/// Those of [`run`].
+pub fn command(a: LateralArgs) -> Result<ExitCode> {
+    let params = LateralParams {
+        pressure_base_pa: a.pressure_base_pa,
+        pressure_top_pa: a.pressure_top_pa,
+        tolerance: a.tolerance,
+        pushover: a.pushover,
+        pushover_resolution: a.pushover_resolution,
+        ..LateralParams::default()
+    };
+    let solver = SolverParams { kind: a.solver.solver, ..SolverParams::default() };
+    run(&a.layout, solver, &params, a.json, a.vtk.as_deref())
+}
 
 /// Solves the load to equilibrium and prints a table, or one JSON object with `json`;
 /// with `vtk`, writes the settled and the loaded state as a ParaView time series there.
@@ -29,6 +81,7 @@ pub fn run(
             rec.observe(a, stable, sim)
         }
     })
+    .map_err(hint)
     .with_context(|| format!("static lateral load on {}", layout.display()))?;
     if let Some(dir) = vtk {
         let pvd = write_series(dir, "lateral", &rec, &lateral_frames(&rec))?;
@@ -40,6 +93,17 @@ pub fn run(
         print(layout, params, &r);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's error, with the commands to use instead where the solver cannot run the
+/// load.
+fn hint(e: LateralError) -> anyhow::Error {
+    match e {
+        LateralError::Unsupported(_) => {
+            anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json --protocol lateral`, or `drystone lateral --solver nscd` for the rigid pushover")
+        }
+        e => e.into(),
+    }
 }
 
 fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
@@ -119,6 +183,7 @@ fn dem_pushover(
             rec.observe(a, stable, sim)
         }
     })
+    .map_err(hint)
     .with_context(|| format!("DEM pushover of {}", path.display()))?;
     if let Some(dir) = vtk {
         let pvd = write_series(dir, "pushover", &rec, &lateral_frames(&rec))?;

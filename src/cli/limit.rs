@@ -6,8 +6,9 @@ use drystone::dem::SolverParams;
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
 use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, Protocol};
+use drystone::loading::lateral::LateralParams;
 use drystone::Vec3;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// The live load of `drystone limit`.
@@ -19,30 +20,39 @@ pub enum ProtocolArg {
     Lateral,
 }
 
-/// What `drystone limit` was asked.
-pub struct LimitArgs<'a> {
-    /// Layout file.
-    pub layout: &'a Path,
-    /// The live load.
-    pub protocol: ProtocolArg,
-    /// Lateral pressure at the base and the top, Pa.
-    pub pressure_pa: (f64, f64),
-    /// The associative answer only.
-    pub associative: bool,
-    /// One JSON object instead of a table.
-    pub json: bool,
-    /// Where to draw the mechanism (SVG).
-    pub svg: Option<&'a Path>,
+/// Options of `drystone limit`.
+#[derive(clap::Args)]
+pub struct LimitArgs {
+    /// Layout file (JSON).
+    layout: PathBuf,
+    /// The live load: the tilting table's weight along +y, or the lateral pressure.
+    #[arg(long, value_enum, default_value = "tilt")]
+    protocol: ProtocolArg,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Lateral pressure at the base of the wall, Pa (`--protocol lateral`).
+    #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
+    pressure_base_pa: f64,
+    /// Lateral pressure at the top of the wall, Pa (`--protocol lateral`).
+    #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
+    pressure_top_pa: f64,
+    /// The associative answer only (no non-associative correction).
+    #[arg(long)]
+    associative: bool,
+    /// Draw the collapse mechanism into this SVG file.
+    #[arg(long, value_name = "FILE")]
+    svg: Option<PathBuf>,
 }
 
 /// Runs the analysis and prints a table, or one JSON object with `json`; with `svg`, draws
 /// the mechanism there as the DEM's mechanism figure is drawn.
 pub fn run(a: &LimitArgs) -> Result<ExitCode> {
-    let l = super::read_layout(a.layout)?;
+    let l = super::read_layout(&a.layout)?;
     let protocol = match a.protocol {
         ProtocolArg::Tilt => Protocol::Tilt,
         ProtocolArg::Lateral => {
-            Protocol::Lateral { pressure_base_pa: a.pressure_pa.0, pressure_top_pa: a.pressure_pa.1 }
+            Protocol::Lateral { pressure_base_pa: a.pressure_base_pa, pressure_top_pa: a.pressure_top_pa }
         }
     };
     let params = LimitParams { non_associative: !a.associative, ..LimitParams::default() };
@@ -51,14 +61,14 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
     if !(r.load_multiplier > 0.0) {
         bail!("limit analysis of {}: {}", a.layout.display(), does_not_stand(&l, &r));
     }
-    if let Some(path) = a.svg {
-        drystone::files::replace_file(path, svg(&l, &r, a.layout).as_bytes())?;
+    if let Some(path) = &a.svg {
+        drystone::files::replace_file(path, svg(&l, &r, &a.layout).as_bytes())?;
         eprintln!("mechanism drawing: {}", path.display());
     }
     if a.json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        print(a.layout, &r);
+        print(&a.layout, &r);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -17,9 +17,19 @@ pub mod generate;
 pub mod lateral;
 pub mod limit;
 pub mod shake;
+pub mod solver;
 pub mod study;
 pub mod tilt;
 pub mod verify;
+
+/// The worker threads of a command that runs realizations in parallel.
+#[derive(clap::Args)]
+pub struct Workers {
+    /// Worker threads: 0 or absent means all cores; more than the cores available is
+    /// reduced to that number. The results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
 
 /// The number of worker threads for `--threads`: absent or 0 means every core available
 /// to the process; more than that is reduced to it (with a warning), since a simulation

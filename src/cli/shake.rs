@@ -1,12 +1,113 @@
 //! `drystone shake`: a layout on a shaking table, under a record or a built-in pulse.
 
-use anyhow::{bail, Context, Result};
+use super::solver::NscdArgs;
+use anyhow::{anyhow, bail, Context, Result};
+use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{SolverKind, SolverParams};
-use drystone::ground::{read_record_with, ColumnMap, Motion, Pulse, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G};
+use drystone::ground::{
+    read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
+};
 use drystone::io::series::{motion_frames, write_series, Recorder};
-use drystone::loading::shake::{run_shake_observed, ShakeParams, ShakeResult};
+use drystone::loading::shake::{run_shake_observed, ShakeError, ShakeParams, ShakeResult};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// Options of `drystone shake`.
+#[derive(clap::Args)]
+pub struct ShakeArgs {
+    /// Layout file (JSON).
+    layout: PathBuf,
+    /// Ground-motion record: PEER NGA `.AT2` (in g), or `.csv`/`.tsv` with columns
+    /// `time_s` and the acceleration with its unit in the name (`accel_g`, `accel_m_s2`,
+    /// `accel_cm_s2`; optionally a vertical column `vert_g`, ...).
+    #[arg(long, value_name = "FILE")]
+    record: Option<PathBuf>,
+    /// The record's columns by name: `time=t,h=acc_x_g,v=acc_z_g` (`time` defaults to
+    /// `time_s`; without `v`, no vertical component).
+    #[arg(long, value_name = "time=COL,h=COL,v=COL")]
+    columns: Option<drystone::ground::ColumnMap>,
+    /// Built-in pulse instead of a record: `one-sine` (a = A g sin(2πt/T) for 0 ≤ t ≤ T,
+    /// Zhang & Makris 2001) or `ricker` (the Ricker wavelet of period T, peak A at t = T).
+    #[arg(long)]
+    pulse: Option<String>,
+    /// Pulse amplitude A, g.
+    #[arg(long)]
+    amplitude_g: Option<f64>,
+    /// Pulse period T, s.
+    #[arg(long)]
+    period_s: Option<f64>,
+    /// Scale the motion (both components) to this peak ground acceleration, g.
+    #[arg(long)]
+    scale_pga_g: Option<f64>,
+    /// Remove the linear trend of the record's velocity (baseline correction).
+    #[arg(long)]
+    baseline_correction: bool,
+    /// Simulate this much of the motion, s [default: all of it].
+    #[arg(long)]
+    duration_s: Option<f64>,
+    /// Free motion after the record ends, s.
+    #[arg(long, default_value_t = ShakeParams::default().tail_s)]
+    tail_s: f64,
+    /// Time step of the solver, s.
+    #[arg(long, default_value_t = NscdParams::default().dt_s)]
+    dt_s: f64,
+    /// Coefficient of restitution at impacts, in [0, 1]: Newton's (nscd) [default: 0], or
+    /// that of the contact dashpots (penalty) [default: 0.05].
+    #[arg(long)]
+    restitution: Option<f64>,
+    /// Keep simulating after the first block falls (to the end of the motion and tail).
+    #[arg(long)]
+    no_stop_at_collapse: bool,
+    /// Solver: `nscd` (non-smooth contact dynamics, rigid blocks) or `penalty` (explicit
+    /// dynamics of the joint springs with contact dashpots; its time step comes from
+    /// the joint stiffness, not --dt-s).
+    #[arg(long, default_value = "nscd", value_parser = super::solver::parse_solver)]
+    solver: SolverKind,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    json: bool,
+    /// Write the motion as a ParaView time series into DIR (shake.pvd, time in s).
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    #[command(flatten)]
+    nscd: NscdArgs,
+}
+
+/// `drystone shake`: the base motion, the solver and the test's parameters from the
+/// options, then [`run`].
+///
+/// # Errors
+/// Those of [`motion`], `--nscd-*` options without `--solver nscd`, or those of [`run`].
+pub fn command(a: ShakeArgs) -> Result<ExitCode> {
+    let args = MotionArgs {
+        record: a.record,
+        pulse: a.pulse,
+        amplitude_g: a.amplitude_g,
+        period_s: a.period_s,
+        scale_pga_g: a.scale_pga_g,
+        baseline: a.baseline_correction,
+        columns: a.columns,
+        dt_s: a.dt_s,
+    };
+    let motion = motion(&args, a.dt_s.min(0.001))?;
+    let d = ShakeParams::default();
+    let (nscd_e, contact_e) = match (a.solver, a.restitution) {
+        (SolverKind::Nscd, Some(e)) => (e, d.contact_restitution),
+        (_, Some(e)) => (NscdParams::default().restitution, e),
+        (_, None) => (NscdParams::default().restitution, d.contact_restitution),
+    };
+    let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
+    let nscd = a.nscd.params_for(a.solver, base)?;
+    let solver = SolverParams { kind: a.solver, nscd, ..SolverParams::default() };
+    let params = ShakeParams {
+        duration_s: a.duration_s,
+        tail_s: a.tail_s,
+        stop_at_collapse: !a.no_stop_at_collapse,
+        contact_restitution: contact_e,
+        ..d
+    };
+    run(&a.layout, &motion, solver, &params, a.json, a.vtk.as_deref())
+}
 
 /// The base motion of `drystone shake`.
 pub struct MotionArgs {
@@ -67,7 +168,11 @@ pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
             };
             let p = Pulse::from_name(name, a, t)
                 .with_context(|| format!("--pulse {name:?}: expected one-sine or ricker"))?;
-            p.validate()?;
+            p.validate().map_err(|e| match e {
+                PulseError::Amplitude(v) => anyhow!("--amplitude-g must be finite, got {v}"),
+                PulseError::Period(v) => anyhow!("--period-s must be > 0, got {v}"),
+                e => e.into(),
+            })?;
             if t / dt_s < MIN_SAMPLES_PER_PERIOD {
                 bail!(
                     "--period-s {t}: the pulse spans {:.1} steps of {dt_s:e} s, too few to resolve it (at least \
@@ -125,6 +230,10 @@ pub fn run(
         if vtk.is_some() {
             rec.observe_bodies(t, true, bodies, Vec::new());
         }
+    })
+    .map_err(|e| match e {
+        ShakeError::Unsupported(_) => anyhow!("{e}; on the command line: `--solver nscd` or `--solver penalty`"),
+        e => e.into(),
     })
     .with_context(|| format!("shaking-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {

@@ -17,31 +17,73 @@ use std::process::ExitCode;
 /// the same).
 pub const ALL_FAILED: u8 = 3;
 
-/// The options of `run`.
-pub struct RunArgs<'a> {
-    /// Study or suite file.
-    pub study: &'a Path,
-    /// `--out`.
-    pub out: Option<PathBuf>,
-    /// `--threads`.
-    pub threads: Option<usize>,
-    /// `--shard`.
-    pub shard: Option<&'a str>,
-    /// `--realizations`.
-    pub realizations: Option<u64>,
-    /// `--full`.
-    pub full: bool,
-    /// `--resume`.
-    pub resume: bool,
-    /// `--force`.
-    pub force: bool,
-    /// `--vtk-realizations`: realizations whose ParaView series are written (none: none).
-    pub vtk_realizations: Vec<u64>,
+/// Options of `drystone run`.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// Study file (TOML).
+    study: PathBuf,
+    /// Output directory, checked writable before anything runs. Default: out/<study name>.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    workers: super::Workers,
+    /// Run only shard K of N (1-based, e.g. 3/8 for a job array); merge with `drystone merge`.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Realizations per group and sweep point, overriding the study file.
+    #[arg(long)]
+    realizations: Option<u64>,
+    /// For a suite (e.g. studies/paper.toml): run every study at its own full size
+    /// instead of the suite's reduced default.
+    #[arg(long)]
+    full: bool,
+    /// Continue the run whose journal is in --out: skip the realizations it holds, run
+    /// the rest. Refused if the journal is of another run (drystone build, seed, study,
+    /// wall, distribution or measured files, realizations, shard) or has a damaged line;
+    /// without a journal, starts afresh. Without --resume, a journal of an unfinished
+    /// run in --out is refused.
+    #[arg(long)]
+    resume: bool,
+    /// Replace a journal in --out that would be refused (another run's, a damaged one,
+    /// or an unfinished one without --resume): its finished realizations are lost.
+    #[arg(long)]
+    force: bool,
+    /// Also write the ParaView time series of these realizations (e.g. 0,3) of every
+    /// group and sweep point into DIR/vtk/ (each is run again with the recording on;
+    /// the rows do not change).
+    #[arg(long, value_name = "I,J,...", value_delimiter = ',')]
+    vtk_realizations: Vec<u64>,
+}
+
+/// Options of `drystone calibrate`.
+#[derive(clap::Args)]
+pub struct CalibrateArgs {
+    /// Study file (TOML) with [[calibrate]] steps.
+    study: PathBuf,
+    /// Output directory. Default: out/<study name>.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    workers: super::Workers,
+    /// Realizations per evaluation, overriding the study file.
+    #[arg(long)]
+    realizations: Option<u64>,
+}
+
+/// Options of `drystone merge`.
+#[derive(clap::Args)]
+pub struct MergeArgs {
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// Shard directories.
+    #[arg(required = true)]
+    shards: Vec<PathBuf>,
 }
 
 /// `run`: a suite, or one study (or one shard of it).
 pub fn run(a: RunArgs) -> Result<ExitCode> {
-    let study = a.study;
+    let study = a.study.as_path();
     if is_suite(study) {
         if a.shard.is_some() || a.realizations.is_some() {
             bail!("{}: --shard and --realizations apply to single studies; a suite takes --full", study.display());
@@ -49,15 +91,15 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
         if !a.vtk_realizations.is_empty() {
             bail!("{}: --vtk-realizations applies to single studies", study.display());
         }
-        return suite(study, a.out, a.threads, a.full, RunMode { resume: a.resume, force: a.force });
+        return suite(study, a.out, a.workers.threads, a.full, RunMode { resume: a.resume, force: a.force });
     }
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
     let st = load(study, a.realizations)?;
-    let shard = a.shard.map_or(Ok(Shard::ALL), Shard::parse)?;
+    let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
-    let threads = thread_count(a.threads);
+    let threads = thread_count(a.workers.threads);
     check_memory(&st, threads)?;
     let pool = pool(Some(threads))?;
     let t0 = std::time::Instant::now();
@@ -170,12 +212,9 @@ fn suite(path: &Path, out: Option<PathBuf>, threads: Option<usize>, full: bool, 
 }
 
 /// `calibrate`: the study's `[[calibrate]]` steps.
-pub fn calibrate(
-    study: &Path,
-    out: Option<PathBuf>,
-    threads: Option<usize>,
-    realizations: Option<u64>,
-) -> Result<ExitCode> {
+pub fn calibrate(a: CalibrateArgs) -> Result<ExitCode> {
+    let CalibrateArgs { study, out, workers, realizations } = a;
+    let (study, threads) = (study.as_path(), workers.threads);
     let st = Study::from_file(study)?;
     if st.calibrate.is_empty() {
         bail!("{}: no [[calibrate]] steps", study.display());
@@ -210,7 +249,8 @@ pub fn calibrate(
 }
 
 /// `merge`: shard directories into what an unsharded run writes.
-pub fn merge(out: &Path, shards: &[PathBuf]) -> Result<ExitCode> {
+pub fn merge(a: MergeArgs) -> Result<ExitCode> {
+    let (out, shards) = (a.out.as_path(), a.shards.as_slice());
     let merged = merge_shards(shards, out)?;
     let failed = merged.rows.iter().filter(|r| !r.status.is_ok()).count();
     out!(

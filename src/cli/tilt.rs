@@ -1,70 +1,99 @@
 //! `drystone tilt`: the tilting-table test of a layout file.
 
-use anyhow::{Context, Result};
-use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm};
-use drystone::dem::SolverParams;
+use super::solver::{NscdArgs, SolverArgs};
+use anyhow::{bail, Context, Result};
+use drystone::dem::drivers::nscd::NscdParams;
+use drystone::dem::{DensityScaling, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
-use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
-use std::path::Path;
+use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The non-smooth solver's NSGS settings on the command line (`--solver nscd`; the keys of
-/// a study's `[solver.nscd]` table): each overrides [`NscdParams`]' default when given.
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct NscdArgs {
-    /// NSGS convergence norm of `--solver nscd`: `adaptive` (the default: the velocity norm,
-    /// and the quadratic norm too once a step has done --nscd-quad-after-solves local
-    /// solves), `velocity` or `quad` (docs/nscd.md).
-    #[arg(long, value_name = "NORM", value_parser = parse_norm)]
-    pub nscd_norm: Option<NsgsNorm>,
-    /// NSGS tolerance of `--solver nscd` in its norm (velocity: over g h [default 1e-7];
-    /// quad: dimensionless).
-    #[arg(long, value_name = "TOL")]
-    pub nscd_tolerance: Option<f64>,
-    /// The quadratic norm's tolerance of the adaptive norm [default 1e-4].
-    #[arg(long, value_name = "TOL")]
-    pub nscd_quad_tolerance: Option<f64>,
-    /// Local solves of a step after which the adaptive norm accepts the quadratic norm
-    /// [default 1.5e5].
-    #[arg(long, value_name = "SOLVES")]
-    pub nscd_quad_after_solves: Option<f64>,
-    /// Largest number of NSGS sweeps per step [default 2000].
-    #[arg(long, value_name = "SWEEPS")]
-    pub nscd_max_iterations: Option<u32>,
+/// Options of `drystone tilt`.
+#[derive(clap::Args)]
+pub struct TiltArgs {
+    /// Layout file (JSON).
+    layout: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Tilt increment, degrees.
+    #[arg(long, default_value_t = TiltParams::default().step_deg)]
+    step_deg: f64,
+    /// Width of the final collapse bracket, degrees.
+    #[arg(long, default_value_t = TiltParams::default().resolution_deg)]
+    resolution_deg: f64,
+    /// Local damping coefficient.
+    #[arg(long, default_value_t = SolverParams::default().damping)]
+    damping: f64,
+    /// Sub-contact subdivisions per fan-triangle edge.
+    #[arg(long, default_value_t = SolverParams::default().subcontact_subdivisions)]
+    subdivisions: u32,
+    /// Fraction of the critical time-step bound used, in (0, 1].
+    #[arg(long, default_value_t = SolverParams::default().timestep_safety)]
+    timestep_safety: f64,
+    /// Density scaling: `block` (6 × 6 per body), `scalar` or `off` (`density_scaling` in
+    /// a study's [solver] table); an increment whose block-scaled dynamics blow up is
+    /// repeated with scalar scaling.
+    #[arg(long, default_value = "block")]
+    density_scaling: String,
+    /// Share of the scalar-scaled mass in each block mass (`block` scaling), in (0, 10].
+    #[arg(long, default_value_t = SolverParams::default().density_scaling.mass_floor())]
+    block_mass_floor: f64,
+    /// Unbalanced-force ratio of equilibrium.
+    #[arg(long, default_value_t = TiltParams::default().tolerance)]
+    tolerance: f64,
+    /// Step budget of one increment or trial (`max_steps_per_increment` in a study's
+    /// [tilt] table); an increment that runs out of it is undecided (`step_budget`) and
+    /// the result says its bracket is not reliable.
+    #[arg(long, default_value_t = TiltParams::default().max_steps_per_increment)]
+    max_steps: u64,
+    /// Start every increment from the last stable state at rest instead of the secant
+    /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
+    #[arg(long)]
+    no_predictor: bool,
+    #[command(flatten)]
+    solver: SolverArgs,
+    /// Write the states of the test as a ParaView time series into DIR (tilt.pvd: every
+    /// stable increment and the first unstable state; unstable_trials.pvd: the other
+    /// failed trials).
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    #[command(flatten)]
+    nscd: NscdArgs,
 }
 
-/// `--nscd-norm NAME`.
-fn parse_norm(name: &str) -> Result<NsgsNorm, String> {
-    match name {
-        "adaptive" => Ok(NsgsNorm::Adaptive),
-        "velocity" => Ok(NsgsNorm::Velocity),
-        "quad" => Ok(NsgsNorm::Quad),
-        other => Err(format!("{other:?}: expected adaptive, velocity or quad")),
-    }
-}
-
-impl NscdArgs {
-    /// Some option was given.
-    pub fn given(&self) -> bool {
-        self.nscd_norm.is_some()
-            || self.nscd_tolerance.is_some()
-            || self.nscd_quad_tolerance.is_some()
-            || self.nscd_quad_after_solves.is_some()
-            || self.nscd_max_iterations.is_some()
-    }
-
-    /// `base` with the options given; out-of-range values are refused by the solver
-    /// (`NscdParams::validate`, naming the key).
-    pub fn apply(&self, base: NscdParams) -> NscdParams {
-        NscdParams {
-            norm: self.nscd_norm.unwrap_or(base.norm),
-            tolerance: self.nscd_tolerance.unwrap_or(base.tolerance),
-            quad_tolerance: self.nscd_quad_tolerance.unwrap_or(base.quad_tolerance),
-            quad_after_solves: self.nscd_quad_after_solves.unwrap_or(base.quad_after_solves),
-            max_iterations: self.nscd_max_iterations.unwrap_or(base.max_iterations),
-            ..base
-        }
-    }
+/// `drystone tilt`: the solver and the test's parameters from the options, then [`run`].
+///
+/// # Errors
+/// `--nscd-*` options without `--solver nscd`, an unknown `--density-scaling`, or an error
+/// of [`run`].
+pub fn command(a: TiltArgs) -> Result<ExitCode> {
+    let kind = a.solver.kind();
+    let nscd = a.nscd.params_for(kind, NscdParams::default())?;
+    let density_scaling = match a.density_scaling.as_str() {
+        "block" => DensityScaling::Block { mass_floor: a.block_mass_floor },
+        "scalar" => DensityScaling::Scalar,
+        "off" => DensityScaling::Off,
+        other => bail!("--density-scaling {other}: expected block, scalar or off"),
+    };
+    let solver = SolverParams {
+        kind,
+        damping: a.damping,
+        subcontact_subdivisions: a.subdivisions,
+        timestep_safety: a.timestep_safety,
+        density_scaling,
+        nscd,
+        ..SolverParams::default()
+    };
+    let params = TiltParams {
+        step_deg: a.step_deg,
+        resolution_deg: a.resolution_deg,
+        tolerance: a.tolerance,
+        max_steps_per_increment: a.max_steps,
+        ..a.solver.tilt_params(!a.no_predictor)
+    };
+    run(&a.layout, solver, &params, a.json, a.vtk.as_deref())
 }
 
 /// Runs the test and prints a table, or one JSON object with `json`; with `vtk`, writes
@@ -84,6 +113,10 @@ pub fn run(
         }
     };
     let r = run_tilt_observed(&l, solver, params, &mut observe)
+        .map_err(|e| match e {
+            TiltError::Unsupported(_) => anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json`"),
+            e => e.into(),
+        })
         .with_context(|| format!("tilting-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {
         let (series, others) = tilt_frames(&rec, &r);

@@ -4,6 +4,22 @@ use anyhow::Result;
 use drystone::verify::{self, Report};
 use std::process::ExitCode;
 
+/// Options of `drystone verify`.
+#[derive(clap::Args)]
+pub struct VerifyArgs {
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `drystone verify`: [`run`].
+///
+/// # Errors
+/// Those of [`run`].
+pub fn command(a: VerifyArgs) -> Result<ExitCode> {
+    run(a.json)
+}
+
 /// Runs every case and prints two tables, or JSON with `json`; status 1 if any case is out
 /// of tolerance.
 pub fn run(json: bool) -> Result<ExitCode> {

@@ -37,6 +37,7 @@ mod null;
 mod observations;
 mod predictive;
 mod prepare;
+mod progress;
 mod rank;
 mod report;
 mod settings;
@@ -62,10 +63,11 @@ pub use prepare::{
     build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_with, searched, InertEffect,
     Keys, Prepared,
 };
+pub use progress::{quiet, Progress};
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};
 pub use settings::Settings;
 pub use simulate::{run_models, run_one, GroupSetup, Outcome, Outcomes, Setup};
-pub use stages::{analyze, analyze_with, quiet, Progress};
+pub use stages::{analyze, analyze_with};
 pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,
     write as write_synthetic, Request as SynthesisRequest,

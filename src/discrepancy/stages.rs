@@ -25,16 +25,9 @@ use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
 use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
+use super::progress::{quiet, Progress};
 use super::simulate::{run_models, Outcome, Setup};
 use super::DiscrepancyError;
-
-/// What an analysis reports as it advances: one line per stage, model or candidate (the
-/// command line prints them on stderr when it is not a terminal, so that a batch log shows
-/// the analysis advancing). Lines have no trailing newline.
-pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
-
-/// A [`Progress`] that says nothing.
-pub fn quiet(_: &str) {}
 
 /// Analyses one data set against prepared forward runs: the margins from null data on
 /// independent layouts, the ranking, the full runs of the two best candidates, the verdict

@@ -7,9 +7,34 @@
 
 use super::polygon::{area, least_line_above, region, top_segments, HalfPlane, Line, Seg, P2};
 use super::wall::{Arrangement, HeadGap, Irregular, Wall};
-use super::{GeneratorError, PieceKind, Samples};
+use super::GeneratorError;
 use rand::distr::Distribution as _;
 use rand::Rng;
+use serde::Serialize;
+
+/// Stone or wedge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PieceKind {
+    /// A block of a course.
+    Stone,
+    /// A wedge stone filling a gap under a stone.
+    Wedge,
+}
+
+/// The values drawn from the laws, as used in the wall (for goodness-of-fit checks).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Samples {
+    /// Course heights drawn and used, bottom up, m (random laws only; the top course(s)
+    /// that take the rest are not included).
+    pub course_heights_m: Vec<f64>,
+    /// Per course, the block lengths drawn and used between the first and the last block,
+    /// left to right, m (irregular only; the end pieces are not included).
+    pub block_lengths_m: Vec<Vec<f64>>,
+    /// Dip of every stone's top segment, degrees, in layout order (0 for continuous and
+    /// discontinuous walls).
+    pub dips_deg: Vec<f64>,
+}
 
 /// One piece in the elevation plane, before extrusion.
 #[derive(Debug, Clone, PartialEq)]

@@ -222,8 +222,9 @@ mod realization;
 mod resolve;
 mod wall;
 
+pub use build::{PieceKind, Samples};
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
-pub use realization::{generate, generate_batch, GeneratedWall, Piece, PieceKind, Samples, SectionPart};
+pub use realization::{generate, generate_batch, GeneratedWall, Piece, SectionPart};
 pub use spec::{WallKind, WallSpec};
 pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 

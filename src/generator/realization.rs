@@ -7,7 +7,7 @@
 //! 3. [`scatter_materials`]: one material per block when the wall has `[scatter]`;
 //! 4. [`layout`]: the layout file with the base and end restraints.
 
-use super::build::{self, Elevation, Piece2};
+use super::build::{self, Elevation, Piece2, PieceKind, Samples};
 use super::polygon;
 use super::wall::{Ends, Section, Wall};
 use super::GeneratorError;
@@ -16,16 +16,6 @@ use crate::layout::{
 };
 use crate::rng::{rng_for, Purpose};
 use serde::Serialize;
-
-/// Stone or wedge.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PieceKind {
-    /// A block of a course.
-    Stone,
-    /// A wedge stone filling a gap under a stone.
-    Wedge,
-}
 
 /// One generated block.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -52,20 +42,6 @@ pub struct Piece {
     /// Where it lies across the section (`through` for every block of a single-leaf wall).
     #[serde(skip_serializing_if = "SectionPart::is_through")]
     pub part: SectionPart,
-}
-
-/// The values drawn from the laws, as used in the wall (for goodness-of-fit checks).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Samples {
-    /// Course heights drawn and used, bottom up, m (random laws only; the top course(s)
-    /// that take the rest are not included).
-    pub course_heights_m: Vec<f64>,
-    /// Per course, the block lengths drawn and used between the first and the last block,
-    /// left to right, m (irregular only; the end pieces are not included).
-    pub block_lengths_m: Vec<Vec<f64>>,
-    /// Dip of every stone's top segment, degrees, in layout order (0 for continuous and
-    /// discontinuous walls).
-    pub dips_deg: Vec<f64>,
 }
 
 /// One generated realization.

@@ -85,7 +85,7 @@ impl Pulse {
     /// Checks the amplitude (finite) and the period (> 0), naming the flag.
     ///
     /// # Errors
-    /// [`PulseError`]: the bad value with its flag's name.
+    /// [`PulseError`]: the bad value with its parameter's name.
     pub fn validate(&self) -> Result<(), PulseError> {
         if !self.amplitude_g().is_finite() {
             return Err(PulseError::Amplitude(self.amplitude_g()));
@@ -112,15 +112,15 @@ impl Pulse {
     }
 }
 
-/// A pulse that cannot be built, naming the `drystone shake` flag.
+/// A pulse that cannot be built, naming the parameter (`amplitude_g`, `period_s`).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum PulseError {
     /// The amplitude is not finite, g.
-    #[error("--amplitude-g must be finite, got {0}")]
+    #[error("amplitude_g must be finite, got {0}")]
     Amplitude(f64),
     /// The period is not finite and > 0, s.
-    #[error("--period-s must be > 0, got {0}")]
+    #[error("period_s must be > 0, got {0}")]
     Period(f64),
 }
 
@@ -148,6 +148,6 @@ mod tests {
             .validate()
             .unwrap_err()
             .to_string()
-            .contains("--period-s"));
+            .contains("period_s must be > 0"));
     }
 }

@@ -172,7 +172,7 @@ pub enum LateralError {
     #[error("parameter {0}")]
     Parameter(OutOfRange),
     /// The solver chosen cannot run this protocol.
-    #[error("solver {0} cannot run the static lateral load here (limit analysis: `drystone limit LAYOUT.json --protocol lateral`; the rigid pushover: `drystone lateral --solver nscd`)")]
+    #[error("solver {0} cannot run the static lateral load here (limit analysis: `limit::limit_analysis` with the lateral protocol; the rigid pushover: solver kind nscd)")]
     Unsupported(crate::dem::SolverKind),
 }
 

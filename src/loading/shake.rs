@@ -248,8 +248,8 @@ pub enum ShakeError {
     /// The solver chosen cannot run this protocol (a static method of the penalty DEM, or
     /// limit analysis).
     #[error(
-        "solver {} cannot run the shaking table: it finds static states; use --solver nscd (non-smooth contact \
-         dynamics) or --solver penalty (explicit dynamics with contact damping)", .0.name()
+        "solver {} cannot run the shaking table: it finds static states; use solver kind nscd (non-smooth \
+         contact dynamics) or penalty (explicit dynamics with contact damping)", .0.name()
     )]
     Unsupported(SolverKind),
 }

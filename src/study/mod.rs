@@ -78,6 +78,7 @@
 pub mod calibrate;
 pub mod discrepancy;
 mod error;
+mod estimate;
 mod extend;
 mod figures;
 mod lock;

@@ -144,7 +144,7 @@ pub enum TiltError {
     #[error("parameter {0}")]
     Parameter(OutOfRange),
     /// The solver chosen cannot run this protocol.
-    #[error("solver {0} cannot run the tilting-table test (limit analysis: `drystone limit LAYOUT.json`, or [solver] kind = \"limit\" in a study)")]
+    #[error("solver {0} cannot run the tilting-table test (limit analysis: `limit::limit_analysis`, or [solver] kind = \"limit\" in a study)")]
     Unsupported(SolverKind),
     /// The non-smooth solver refused the layout (a joint with cohesion or tensile
     /// strength; `loading::tilt_nscd`).

@@ -1,0 +1,134 @@
+//! The solver flags several subcommands share: `--solver` (with the deprecated switches
+//! of the penalty cascade on the tilting-table commands) and the `--nscd-*` settings of
+//! the non-smooth solver.
+
+use anyhow::{bail, Result};
+use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm};
+use drystone::dem::SolverKind;
+use drystone::loading::tilt::TiltParams;
+
+/// `--solver NAME`.
+pub fn parse_solver(name: &str) -> Result<SolverKind, String> {
+    name.parse()
+}
+
+/// `--solver` of the commands whose default is the penalty DEM (`tilt`, `lateral`,
+/// `bench tilt`).
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct SolverChoice {
+    /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
+    /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
+    /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
+    /// analysis, rigid joints); `kind` in a study's [solver] table.
+    #[arg(long, default_value = "penalty", value_parser = parse_solver)]
+    pub solver: SolverKind,
+}
+
+/// The solver flags of the tilting-table commands (`tilt`, `bench tilt`): the solver and the
+/// deprecated switches of the penalty cascade, which keep working with a deprecation line.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct SolverArgs {
+    #[command(flatten)]
+    choice: SolverChoice,
+    /// Deprecated (`--solver relaxation`): without the secant acceleration of slow creep
+    /// and its stability indicator.
+    #[arg(long, hide = true)]
+    no_acceleration: bool,
+    /// Deprecated (`--solver accelerated`): without the implicit relaxation of each
+    /// increment.
+    #[arg(long, hide = true)]
+    no_implicit: bool,
+}
+
+impl SolverArgs {
+    /// The solver kind, after printing the deprecation line of an old switch given.
+    pub fn kind(self) -> SolverKind {
+        if self.no_implicit || self.no_acceleration {
+            let instead = if self.no_acceleration && self.no_implicit { "relaxation" } else { "accelerated" };
+            let flag = if self.no_implicit { "--no-implicit" } else { "--no-acceleration" };
+            eprintln!("warning: {flag} is deprecated; the solver is chosen with --solver (here: --solver {instead})");
+        }
+        self.choice.solver
+    }
+
+    /// The tilting table's parameters with the old switches applied (`accelerate`,
+    /// `implicit`) and the secant predictor on or off.
+    pub fn tilt_params(self, predictor: bool) -> TiltParams {
+        TiltParams {
+            predictor,
+            accelerate: !self.no_acceleration,
+            implicit: !self.no_implicit,
+            ..TiltParams::default()
+        }
+    }
+}
+
+/// The non-smooth solver's NSGS settings on the command line (`--solver nscd`; the keys of
+/// a study's `[solver.nscd]` table): each overrides [`NscdParams`]' default when given.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct NscdArgs {
+    /// NSGS convergence norm of `--solver nscd`: `adaptive` (the default: the velocity norm,
+    /// and the quadratic norm too once a step has done --nscd-quad-after-solves local
+    /// solves), `velocity` or `quad` (docs/nscd.md).
+    #[arg(long, value_name = "NORM", value_parser = parse_norm)]
+    pub nscd_norm: Option<NsgsNorm>,
+    /// NSGS tolerance of `--solver nscd` in its norm (velocity: over g h [default 1e-7];
+    /// quad: dimensionless).
+    #[arg(long, value_name = "TOL")]
+    pub nscd_tolerance: Option<f64>,
+    /// The quadratic norm's tolerance of the adaptive norm [default 1e-4].
+    #[arg(long, value_name = "TOL")]
+    pub nscd_quad_tolerance: Option<f64>,
+    /// Local solves of a step after which the adaptive norm accepts the quadratic norm
+    /// [default 1.5e5].
+    #[arg(long, value_name = "SOLVES")]
+    pub nscd_quad_after_solves: Option<f64>,
+    /// Largest number of NSGS sweeps per step [default 2000].
+    #[arg(long, value_name = "SWEEPS")]
+    pub nscd_max_iterations: Option<u32>,
+}
+
+/// `--nscd-norm NAME`.
+fn parse_norm(name: &str) -> Result<NsgsNorm, String> {
+    match name {
+        "adaptive" => Ok(NsgsNorm::Adaptive),
+        "velocity" => Ok(NsgsNorm::Velocity),
+        "quad" => Ok(NsgsNorm::Quad),
+        other => Err(format!("{other:?}: expected adaptive, velocity or quad")),
+    }
+}
+
+impl NscdArgs {
+    /// Some option was given.
+    pub fn given(&self) -> bool {
+        self.nscd_norm.is_some()
+            || self.nscd_tolerance.is_some()
+            || self.nscd_quad_tolerance.is_some()
+            || self.nscd_quad_after_solves.is_some()
+            || self.nscd_max_iterations.is_some()
+    }
+
+    /// `base` with the options given; out-of-range values are refused by the solver
+    /// (`NscdParams::validate`, naming the key).
+    pub fn apply(&self, base: NscdParams) -> NscdParams {
+        NscdParams {
+            norm: self.nscd_norm.unwrap_or(base.norm),
+            tolerance: self.nscd_tolerance.unwrap_or(base.tolerance),
+            quad_tolerance: self.nscd_quad_tolerance.unwrap_or(base.quad_tolerance),
+            quad_after_solves: self.nscd_quad_after_solves.unwrap_or(base.quad_after_solves),
+            max_iterations: self.nscd_max_iterations.unwrap_or(base.max_iterations),
+            ..base
+        }
+    }
+
+    /// `base` with the options given, for the solver `kind`.
+    ///
+    /// # Errors
+    /// An option given with a solver other than `nscd`, which would ignore it.
+    pub fn params_for(&self, kind: SolverKind, base: NscdParams) -> Result<NscdParams> {
+        if self.given() && kind != SolverKind::Nscd {
+            bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
+        }
+        Ok(self.apply(base))
+    }
+}
