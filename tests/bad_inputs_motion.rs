@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 47;
+const CORPUS_CASES: usize = 50;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -270,6 +270,23 @@ fn resolution_and_messages(count: &mut usize) {
         a.extend_from_slice(solver);
         refused("pushover of zero pressure", drystone(&a), &["pressure_base_pa = 0", "both are 0"], count);
     }
+    // A wedge whose front face slopes 79° from vertical: no face takes the pressure.
+    let wedge = layout("wedge_no_exposed_face.json");
+    for solver in [&["--pushover"][..], &["--solver", "nscd"][..]] {
+        let mut a = vec!["lateral", wedge.to_str().unwrap()];
+        a.extend_from_slice(solver);
+        refused(
+            "pushover of a pressure on no exposed face",
+            drystone(&a),
+            &["pressure_base_pa = 1000", "resolves to no force", "0 loaded faces"],
+            count,
+        );
+    }
+    // The rigid check allows no joint closure: its message gives no tolerance of 0 m.
+    let leaning = layout("leaning_block.json");
+    let (code, out, err) = drystone(&["lateral", leaning.to_str().unwrap(), "--solver", "nscd"]);
+    assert!(!err.contains("0.000e0"), "no zero tolerance in the rigid message: {err}");
+    refused("rigid check of the leaning block", (code, out, err), &["rigid contacts", "did not come to rest"], count);
     refused(
         "lateral --pressure-base-pa -5",
         drystone(&["lateral", s, "--pressure-base-pa", "-5"]),

@@ -171,6 +171,9 @@ pub enum LateralError {
     /// A lateral-load or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
+    /// The pressure of a pushover resolves to no force ([`check_pushover_force`]).
+    #[error(transparent)]
+    NoLoad(NoLoad),
     /// The solver chosen cannot run this protocol.
     #[error("solver {0} cannot run the static lateral load here (limit analysis: `drystone limit LAYOUT.json --protocol lateral`; the rigid pushover: `drystone lateral --solver nscd`)")]
     Unsupported(crate::dem::SolverKind),
@@ -190,6 +193,40 @@ pub fn check_pushover_load(params: &LateralParams) -> Result<(), OutOfRange> {
         ));
     }
     Ok(())
+}
+
+/// Checks that the pressure of a pushover resolves to a load on the wall: at least one
+/// exposed face takes it and the resultant force is not zero (a wall without an exposed
+/// face towards −y, e.g. one whose front faces slope by more than 60° from vertical, takes
+/// no pressure, and a multiplier of no load does not exist).
+///
+/// # Errors
+/// [`NoLoad`] with the pressures, the number of loaded faces and the resultant's norm (N).
+pub fn check_pushover_force(params: &LateralParams, loads: &[(Vec3, Vec3)], loaded_faces: usize) -> Result<(), NoLoad> {
+    let force_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f).norm();
+    if loaded_faces == 0 || !(force_n > 0.0) {
+        return Err(NoLoad {
+            pressure_base_pa: params.pressure_base_pa,
+            pressure_top_pa: params.pressure_top_pa,
+            loaded_faces,
+            force_n,
+        });
+    }
+    Ok(())
+}
+
+/// A pushover's pressure that resolves to no force on the wall ([`check_pushover_force`]).
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[error("the lateral pressure (pressure_base_pa = {pressure_base_pa}, pressure_top_pa = {pressure_top_pa}) resolves to no force on the wall: {loaded_faces} loaded faces, resultant {force_n:.3e} N (the pressure acts on exposed faces whose outward normal is within 60° of −y); a pushover multiplies the load, and there is none")]
+pub struct NoLoad {
+    /// Pressure at the base, Pa.
+    pub pressure_base_pa: f64,
+    /// Pressure at the top, Pa.
+    pub pressure_top_pa: f64,
+    /// Faces the pressure loads.
+    pub loaded_faces: usize,
+    /// Norm of the resultant force, N.
+    pub force_n: f64,
 }
 
 /// The pressure load on each body: (force, moment about the body centroid), world frame,

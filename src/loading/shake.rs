@@ -361,6 +361,12 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
         TiltError::Nscd(n) => ShakeError::Nscd(n),
         TiltError::Parameter(p) => ShakeError::Parameter(p),
         TiltError::Unsupported(k) => ShakeError::Unsupported(k),
+        // No pressure is involved in the rigid check; kept for completeness.
+        TiltError::NoLoad(n) => ShakeError::Parameter(OutOfRange::new(
+            "pressure_base_pa",
+            n.pressure_base_pa,
+            "a pressure that loads the wall",
+        )),
     };
     match solver.kind {
         SolverKind::Nscd => super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(from_tilt),

@@ -150,6 +150,10 @@ pub enum TiltError {
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]
     Nscd(crate::dem::drivers::nscd::NscdError),
+    /// The rigid pushover's pressure resolves to no force on the wall
+    /// ([`crate::loading::lateral::check_pushover_force`]).
+    #[error(transparent)]
+    NoLoad(crate::loading::lateral::NoLoad),
 }
 
 impl TiltError {
