@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 50;
+const CORPUS_CASES: usize = 51;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -353,6 +353,23 @@ fn studies(count: &mut usize) {
         }
         *count += 1;
     }
+    // Limit analysis in a study: a realization built 20° out of plumb (its centroid beyond
+    // its base: tan 20° · 0.25 m = 0.091 m > 0.05 m) gives a failed row with the message,
+    // as a tilting-table row does, not a negative capacity.
+    let effect = "version = 1\nname = \"big_lean\"\ndescription = \"built far out of plumb\"\n[[parameters]]\n\
+                  name = \"lean_deg\"\nunit = \"deg\"\nmin = 0.0\nmax = 30.0\nscale = \"linear\"\nneutral = 0.0\n\
+                  [[steps]]\nkind = \"lean\"\nparameter = \"lean_deg\"\n";
+    std::fs::write(dir.join("big_lean.toml"), effect).unwrap();
+    let text = "version = 1\nname = \"lean\"\nseed = 5\nrealizations = 1\neffect_files = [\"big_lean.toml\"]\n\
+                protocol = \"tilt\"\n[solver]\nkind = \"limit\"\n[[groups]]\nname = \"block\"\nwall = \"block.toml\"\n\
+                effects = { big_lean = { lean_deg = 20.0 } }\n";
+    std::fs::write(dir.join("lean.toml"), text).unwrap();
+    let rows =
+        drystone::study::run_study(&Study::from_file(&dir.join("lean.toml")).unwrap(), drystone::ensemble::Shard::ALL);
+    assert_eq!(rows[0].status.as_str(), "no_initial_equilibrium", "{:?}", rows[0]);
+    assert!(rows[0].error.contains("does not stand as given") && rows[0].error.contains("-0.16"), "{}", rows[0].error);
+    assert_eq!(rows[0].collapse.collapse_angle_deg, None);
+    *count += 1;
     // A mapping in the study reads the record it names.
     let ok = Study::from_file(&study(
         &dir,
