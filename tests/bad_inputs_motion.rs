@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 51;
+const CORPUS_CASES: usize = 54;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -370,6 +370,37 @@ fn studies(count: &mut usize) {
     assert!(rows[0].error.contains("does not stand as given") && rows[0].error.contains("-0.16"), "{}", rows[0].error);
     assert_eq!(rows[0].collapse.collapse_angle_deg, None);
     *count += 1;
+    // A penalty study whose step count (the penalty step of realization 0, from its masses
+    // and stiffnesses: about 8e-6 s at penalty_step_fraction 0.01) passes 1e8 is refused
+    // before the run, with the estimate.
+    let path = study(
+        &dir,
+        "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]\ntail_s = 3000\n\
+         penalty_step_fraction = 0.01",
+    );
+    let text = std::fs::read_to_string(&path).unwrap().replace("kind = \"nscd\"", "kind = \"penalty\"");
+    std::fs::write(&path, text).unwrap();
+    let e = Study::from_file(&path).unwrap_err().to_string();
+    for f in ["by the penalty solver", "realization 0", "too long", "the limit is 1e8 steps"] {
+        assert!(e.contains(f), "{f:?} not in {e}");
+    }
+    *count += 1;
+    // A shaking study warns once per motion about a coarse record and a PGA above 5 g, on
+    // stderr and in the report.
+    std::fs::copy(motion("coarse.AT2"), dir.join("coarse.AT2")).unwrap();
+    let path = study(&dir, "pga_g = [0.2, 6.0]\nrecords = [\"coarse.AT2\"]\ntail_s = 0.2");
+    let out = dir.join("out");
+    let (code, _, err) = drystone(&["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for w in ["motion coarse is sampled every 0.2 s", "motion coarse is scaled to PGA 6.000e0 g, implausible"] {
+        assert_eq!(err.matches(w).count(), 1, "{w:?} once in {err}");
+        assert!(report.contains(w), "{w:?} not in the report");
+        *count += 1;
+    }
+    // A plausible study warns about nothing.
+    let path = study(&dir, "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]");
+    assert!(Study::from_file(&path).unwrap().shake.unwrap().warnings().is_empty());
     // A mapping in the study reads the record it names.
     let ok = Study::from_file(&study(
         &dir,
