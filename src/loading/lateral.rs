@@ -43,6 +43,7 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
+pub use super::tilt::NoLoad;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::motion::poses;
@@ -213,20 +214,6 @@ pub fn check_pushover_force(params: &LateralParams, loads: &[(Vec3, Vec3)], load
         });
     }
     Ok(())
-}
-
-/// A pushover's pressure that resolves to no force on the wall ([`check_pushover_force`]).
-#[derive(Debug, thiserror::Error, Clone, PartialEq)]
-#[error("the lateral pressure (pressure_base_pa = {pressure_base_pa}, pressure_top_pa = {pressure_top_pa}) resolves to no force on the wall: {loaded_faces} loaded faces, resultant {force_n:.3e} N (the pressure acts on exposed faces whose outward normal is within 60° of −y); a pushover multiplies the load, and there is none")]
-pub struct NoLoad {
-    /// Pressure at the base, Pa.
-    pub pressure_base_pa: f64,
-    /// Pressure at the top, Pa.
-    pub pressure_top_pa: f64,
-    /// Faces the pressure loads.
-    pub loaded_faces: usize,
-    /// Norm of the resultant force, N.
-    pub force_n: f64,
 }
 
 /// The pressure load on each body: (force, moment about the body centroid), world frame,
