@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 47;
+const CORPUS_CASES: usize = 54;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -270,6 +270,23 @@ fn resolution_and_messages(count: &mut usize) {
         a.extend_from_slice(solver);
         refused("pushover of zero pressure", drystone(&a), &["pressure_base_pa = 0", "both are 0"], count);
     }
+    // A wedge whose front face slopes 79° from vertical: no face takes the pressure.
+    let wedge = layout("wedge_no_exposed_face.json");
+    for solver in [&["--pushover"][..], &["--solver", "nscd"][..]] {
+        let mut a = vec!["lateral", wedge.to_str().unwrap()];
+        a.extend_from_slice(solver);
+        refused(
+            "pushover of a pressure on no exposed face",
+            drystone(&a),
+            &["pressure_base_pa = 1000", "resolves to no force", "0 loaded faces"],
+            count,
+        );
+    }
+    // The rigid check allows no joint closure: its message gives no tolerance of 0 m.
+    let leaning = layout("leaning_block.json");
+    let (code, out, err) = drystone(&["lateral", leaning.to_str().unwrap(), "--solver", "nscd"]);
+    assert!(!err.contains("0.000e0"), "no zero tolerance in the rigid message: {err}");
+    refused("rigid check of the leaning block", (code, out, err), &["rigid contacts", "did not come to rest"], count);
     refused(
         "lateral --pressure-base-pa -5",
         drystone(&["lateral", s, "--pressure-base-pa", "-5"]),
@@ -336,6 +353,54 @@ fn studies(count: &mut usize) {
         }
         *count += 1;
     }
+    // Limit analysis in a study: a realization built 20° out of plumb (its centroid beyond
+    // its base: tan 20° · 0.25 m = 0.091 m > 0.05 m) gives a failed row with the message,
+    // as a tilting-table row does, not a negative capacity.
+    let effect = "version = 1\nname = \"big_lean\"\ndescription = \"built far out of plumb\"\n[[parameters]]\n\
+                  name = \"lean_deg\"\nunit = \"deg\"\nmin = 0.0\nmax = 30.0\nscale = \"linear\"\nneutral = 0.0\n\
+                  [[steps]]\nkind = \"lean\"\nparameter = \"lean_deg\"\n";
+    std::fs::write(dir.join("big_lean.toml"), effect).unwrap();
+    let text = "version = 1\nname = \"lean\"\nseed = 5\nrealizations = 1\neffect_files = [\"big_lean.toml\"]\n\
+                protocol = \"tilt\"\n[solver]\nkind = \"limit\"\n[[groups]]\nname = \"block\"\nwall = \"block.toml\"\n\
+                effects = { big_lean = { lean_deg = 20.0 } }\n";
+    std::fs::write(dir.join("lean.toml"), text).unwrap();
+    let rows =
+        drystone::study::run_study(&Study::from_file(&dir.join("lean.toml")).unwrap(), drystone::ensemble::Shard::ALL);
+    assert_eq!(rows[0].status.as_str(), "no_initial_equilibrium", "{:?}", rows[0]);
+    assert!(rows[0].error.contains("does not stand as given") && rows[0].error.contains("-0.16"), "{}", rows[0].error);
+    assert_eq!(rows[0].collapse.collapse_angle_deg, None);
+    *count += 1;
+    // A penalty study whose step count (the penalty step of realization 0, from its masses
+    // and stiffnesses: about 8e-6 s at penalty_step_fraction 0.01) passes 1e8 is refused
+    // before the run, with the estimate.
+    let path = study(
+        &dir,
+        "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]\ntail_s = 3000\n\
+         penalty_step_fraction = 0.01",
+    );
+    let text = std::fs::read_to_string(&path).unwrap().replace("kind = \"nscd\"", "kind = \"penalty\"");
+    std::fs::write(&path, text).unwrap();
+    let e = Study::from_file(&path).unwrap_err().to_string();
+    for f in ["by the penalty solver", "realization 0", "too long", "the limit is 1e8 steps"] {
+        assert!(e.contains(f), "{f:?} not in {e}");
+    }
+    *count += 1;
+    // A shaking study warns once per motion about a coarse record and a PGA above 5 g, on
+    // stderr and in the report.
+    std::fs::copy(motion("coarse.AT2"), dir.join("coarse.AT2")).unwrap();
+    let path = study(&dir, "pga_g = [0.2, 6.0]\nrecords = [\"coarse.AT2\"]\ntail_s = 0.2");
+    let out = dir.join("out");
+    let (code, _, err) = drystone(&["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for w in ["motion coarse is sampled every 0.2 s", "motion coarse is scaled to PGA 6.000e0 g, implausible"] {
+        assert_eq!(err.matches(w).count(), 1, "{w:?} once in {err}");
+        assert!(report.contains(w), "{w:?} not in the report");
+        *count += 1;
+    }
+    // A plausible study warns about nothing.
+    let path = study(&dir, "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]");
+    assert!(Study::from_file(&path).unwrap().shake.unwrap().warnings().is_empty());
     // A mapping in the study reads the record it names.
     let ok = Study::from_file(&study(
         &dir,

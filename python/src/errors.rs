@@ -155,11 +155,14 @@ pub fn study_error(e: &StudyError) -> PyErr {
     input_error(e, place)
 }
 
-/// A tilting-table error: bad parameters or a solver that cannot run it are input errors;
+/// A tilting-table error: bad parameters, a solver that cannot run it or a pushover load
+/// that resolves to no force are input errors;
 /// a blow-up or a layout that does not stand is a solver error.
 pub fn tilt_error(e: &TiltError) -> PyErr {
     match e {
-        TiltError::Parameter(_) | TiltError::Unsupported(_) | TiltError::Nscd(_) => input_error(e, Place::default()),
+        TiltError::Parameter(_) | TiltError::Unsupported(_) | TiltError::Nscd(_) | TiltError::NoLoad(_) => {
+            input_error(e, Place::default())
+        }
         _ => SolverError::new_err(e.to_string()),
     }
 }
@@ -167,7 +170,9 @@ pub fn tilt_error(e: &TiltError) -> PyErr {
 /// A static lateral load error, as [`tilt_error`].
 pub fn lateral_error(e: &LateralError) -> PyErr {
     match e {
-        LateralError::Parameter(_) | LateralError::Unsupported(_) => input_error(e, Place::default()),
+        LateralError::Parameter(_) | LateralError::Unsupported(_) | LateralError::NoLoad(_) => {
+            input_error(e, Place::default())
+        }
         _ => SolverError::new_err(e.to_string()),
     }
 }

@@ -131,7 +131,7 @@ pub struct MotionArgs {
 
 /// Coarsest record sampling interval run without a warning, s \[0.05\]: 20 samples per
 /// second keep content up to 10 Hz, the range of a wall's rocking and of strong motion.
-pub const COARSE_RECORD_DT_S: f64 = 0.05;
+pub const COARSE_RECORD_DT_S: f64 = drystone::ground::COARSE_RECORD_DT_S;
 
 /// The motion the arguments describe.
 ///

@@ -102,6 +102,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     let threads = thread_count(a.workers.threads);
     check_memory(&st, threads)?;
     let pool = pool(Some(threads))?;
+    for w in st.shake.as_ref().map(|s| s.warnings()).unwrap_or_default() {
+        eprintln!("warning: {w}");
+    }
     let t0 = std::time::Instant::now();
     let run = pool.install(|| run_into(&st, study, shard, &dir, RunMode { resume: a.resume, force: a.force }))?;
     let elapsed = t0.elapsed().as_secs_f64();

@@ -42,6 +42,10 @@ pub const MAX_MOTION_DURATION_S: f64 = 3600.0;
 /// recorded horizontal PGAs are about 3 to 4 g): it is run, with a warning line.
 pub const PLAUSIBLE_PGA_G: f64 = 5.0;
 
+/// Coarsest sampling interval of a motion run without a warning, s \[0.05\]: 20 samples
+/// per second keep content up to 10 Hz, the range of a wall's rocking and of strong motion.
+pub const COARSE_RECORD_DT_S: f64 = 0.05;
+
 /// What `n` samples of `f64` would take, in words (`"8.0 TB"`), for the refusals of sizes.
 pub fn bytes_in_words(n: f64) -> String {
     let b = n * 8.0;

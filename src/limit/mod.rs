@@ -209,12 +209,59 @@ pub enum LimitError {
         /// The block that moves most in the infeasibility certificate.
         block: String,
     },
+    /// The wall does not stand as given: the load multiplier λ ≤ 0, so the dead load alone
+    /// (λ = 0) already drives the mechanism. No capacity: a protocol reads this as the
+    /// tilting table reads a layout that moves while settling.
+    #[error(
+        "the layout does not stand as given: the load multiplier is {load_multiplier:.4}{} (<= 0: gravity alone \
+         moves the mechanism at joint {joint}, block {block} most, virtual velocity {speed:.3}); no capacity and no \
+         mechanism to draw",
+        angle(*.collapse_angle_deg)
+    )]
+    DoesNotStand {
+        /// The multiplier found (≤ 0, or NaN).
+        load_multiplier: f64,
+        /// Its angle atan λ on the tilting table, degrees; `None` for the lateral load.
+        collapse_angle_deg: Option<f64>,
+        /// The mechanism's governing joint.
+        joint: String,
+        /// The block whose virtual velocity (translation) is largest.
+        block: String,
+        /// That virtual velocity's norm (normalised mechanism, dimensionless scale).
+        speed: f64,
+    },
     /// The solver did not solve the program.
     #[error("the cone program solver stopped with status {status}")]
     Solver {
         /// Clarabel's status.
         status: String,
     },
+}
+
+/// `, collapse angle A deg` for the tilting table's multiplier.
+fn angle(deg: Option<f64>) -> String {
+    deg.map_or(String::new(), |a| format!(", collapse angle {a:.2} deg"))
+}
+
+/// [`LimitError::DoesNotStand`] for a result whose multiplier is not positive, naming the
+/// block whose virtual velocity is largest.
+fn check_stands(layout: &Layout, r: &LimitResult) -> Result<(), LimitError> {
+    if r.load_multiplier > 0.0 {
+        return Ok(());
+    }
+    let (block, speed) = layout
+        .blocks
+        .iter()
+        .zip(&r.velocities)
+        .map(|(b, v)| (b.id.as_str(), v.translation.norm()))
+        .fold(("", -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+    Err(LimitError::DoesNotStand {
+        load_multiplier: r.load_multiplier,
+        collapse_angle_deg: r.collapse_angle_deg,
+        joint: r.mechanism.joint.clone(),
+        block: block.to_string(),
+        speed,
+    })
 }
 
 /// The tilting-table limit analysis of a layout: λ = tan α_max with the dead load of
@@ -224,7 +271,8 @@ pub enum LimitError {
 /// tolerances, degenerate width) detect the contacts; its other fields do not matter.
 ///
 /// # Errors
-/// See [`LimitError`]; a layout that does not stand at α = 0 is no error (λ < 0).
+/// See [`LimitError`]; a layout that does not stand at α = 0 (λ ≤ 0) is
+/// [`LimitError::DoesNotStand`].
 pub fn limit_tilt(layout: &Layout, contact: &SolverParams, params: &LimitParams) -> Result<LimitResult, LimitError> {
     limit_analysis(layout, contact, Protocol::Tilt, params)
 }
@@ -304,7 +352,7 @@ pub fn limit_analysis(
     }
     let weight_n = model.force_scale;
     let solver_time_s = assoc.solve_time_s + non_associative.as_ref().map_or(0.0, |n| n.solve_time_s);
-    Ok(LimitResult {
+    let r = LimitResult {
         protocol,
         load_multiplier,
         collapse_angle_deg: matches!(protocol, Protocol::Tilt).then(|| load_multiplier.atan().to_degrees()),
@@ -323,7 +371,9 @@ pub fn limit_analysis(
         solver_iterations: assoc.iterations,
         solver_time_s,
         wall_time_s: t0.elapsed().as_secs_f64(),
-    })
+    };
+    check_stands(layout, &r)?;
+    Ok(r)
 }
 
 /// Every free block touches something, and every group of blocks joined by contacts

@@ -43,6 +43,7 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
+pub use super::tilt::NoLoad;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::motion::poses;
@@ -171,6 +172,9 @@ pub enum LateralError {
     /// A lateral-load or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
+    /// The pressure of a pushover resolves to no force ([`check_pushover_force`]).
+    #[error(transparent)]
+    NoLoad(NoLoad),
     /// The solver chosen cannot run this protocol.
     #[error("solver {0} cannot run the static lateral load here (limit analysis: `limit::limit_analysis` with the lateral protocol; the rigid pushover: solver kind nscd)")]
     Unsupported(crate::dem::SolverKind),
@@ -188,6 +192,26 @@ pub fn check_pushover_load(params: &LateralParams) -> Result<(), OutOfRange> {
             0.0,
             "> 0, or pressure_top_pa > 0: a pushover multiplies the pressure, and both are 0",
         ));
+    }
+    Ok(())
+}
+
+/// Checks that the pressure of a pushover resolves to a load on the wall: at least one
+/// exposed face takes it and the resultant force is not zero (a wall without an exposed
+/// face towards −y, e.g. one whose front faces slope by more than 60° from vertical, takes
+/// no pressure, and a multiplier of no load does not exist).
+///
+/// # Errors
+/// [`NoLoad`] with the pressures, the number of loaded faces and the resultant's norm (N).
+pub fn check_pushover_force(params: &LateralParams, loads: &[(Vec3, Vec3)], loaded_faces: usize) -> Result<(), NoLoad> {
+    let force_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f).norm();
+    if loaded_faces == 0 || !(force_n > 0.0) {
+        return Err(NoLoad {
+            pressure_base_pa: params.pressure_base_pa,
+            pressure_top_pa: params.pressure_top_pa,
+            loaded_faces,
+            force_n,
+        });
     }
     Ok(())
 }

@@ -53,7 +53,8 @@ pub struct LateralLimit {
 ///
 /// # Errors
 /// As [`super::tilt_nscd::run_tilt_nscd`]; [`TiltError::Parameter`] for a lateral
-/// parameter or `resolution` out of range.
+/// parameter or `resolution` out of range; [`TiltError::NoLoad`] for a pressure that
+/// loads no face.
 pub fn run_lateral_nscd(
     layout: &Layout,
     params: &NscdParams,
@@ -71,6 +72,7 @@ pub fn run_lateral_nscd(
     let b = layout.bounds();
     let (loads, loaded_faces) =
         pressure_loads(&reader, b.min.z, b.max.z, lateral.pressure_base_pa, lateral.pressure_top_pa);
+    super::lateral::check_pushover_force(lateral, &loads, loaded_faces).map_err(TiltError::NoLoad)?;
     let (force, torque): (Vec<Vec3>, Vec<Vec3>) = loads.into_iter().unzip();
     let resultant_n = force.iter().fold(Vec3::zeros(), |s, f| s + f);
     let weight_n = base.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * base.gravity_magnitude();

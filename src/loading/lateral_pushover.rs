@@ -136,7 +136,8 @@ impl LateralPushover {
 /// # Errors
 /// [`LateralError::DoesNotStand`] if the layout does not stand as given under gravity,
 /// [`LateralError::Dem`] if the state blows up (after the fall-backs of the density
-/// scaling), [`LateralError::Parameter`] for bad parameters, [`LateralError::Unsupported`]
+/// scaling), [`LateralError::Parameter`] for bad parameters, [`LateralError::NoLoad`] for
+/// a pressure that loads no face, [`LateralError::Unsupported`]
 /// for a solver that is not a penalty method. A collapse is the result, not an error.
 pub fn run_lateral_pushover(
     layout: &Layout,
@@ -162,6 +163,7 @@ pub fn run_lateral_pushover_observed(
     // Scalar density scaling at most, as the static lateral load (its module doc).
     let Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
         prepare(layout, solver, params, observe)?;
+    super::lateral::check_pushover_force(params, &loads, loaded_faces).map_err(LateralError::NoLoad)?;
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);
     let tilt = TiltParams {
         tolerance: params.tolerance,

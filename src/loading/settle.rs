@@ -63,15 +63,26 @@ pub enum SettleError {
         damping: f64,
     },
     /// A block moved too far while settling.
-    #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity (at most {tolerance_m:.3e} m, what the closure of its joints explains)")]
+    #[error("the layout does not stand as given: block {block} moved {moved_m:.3e} m while settling under gravity ({})", allowed(*.tolerance_m))]
     Moved {
         /// Block id.
         block: String,
         /// Its motion, m.
         moved_m: f64,
-        /// The tolerance, m.
+        /// The tolerance, m (0 for rigid contacts).
         tolerance_m: f64,
     },
+}
+
+/// What motion a settling may show: the joints' closure for a penalty model; none for rigid
+/// contacts (tolerance 0), where any motion under gravity alone means the block is not
+/// supported.
+fn allowed(tolerance_m: f64) -> String {
+    if tolerance_m > 0.0 {
+        format!("at most {tolerance_m:.3e} m, what the closure of its joints explains")
+    } else {
+        "rigid contacts, whose joints do not close: it did not come to rest under gravity alone".to_string()
+    }
 }
 
 /// The likely cause of a failed settling.

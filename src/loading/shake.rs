@@ -361,6 +361,12 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
         TiltError::Nscd(n) => ShakeError::Nscd(n),
         TiltError::Parameter(p) => ShakeError::Parameter(p),
         TiltError::Unsupported(k) => ShakeError::Unsupported(k),
+        // No pressure is involved in the rigid check; kept for completeness.
+        TiltError::NoLoad(n) => ShakeError::Parameter(OutOfRange::new(
+            "pressure_base_pa",
+            n.pressure_base_pa,
+            "a pressure that loads the wall",
+        )),
     };
     match solver.kind {
         SolverKind::Nscd => super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(from_tilt),
@@ -551,16 +557,13 @@ impl<'m> Watch<'m> {
 /// [`run_shake_observed`], which has checked `params` and the motion.
 ///
 /// # Errors
-/// [`ShakeError::Parameter`] for a solver parameter out of range, [`ShakeError::Dem`] if
-/// the integration blows up.
-fn run_shake_penalty(
-    layout: &Layout,
-    solver: SolverParams,
-    motion: &Motion,
-    params: &ShakeParams,
-    observe: &mut dyn FnMut(f64, &[Body]),
-) -> Result<ShakeResult, ShakeError> {
-    let t0 = Instant::now();
+/// The simulation a penalty shaking run starts from: no local damping, no density
+/// scaling, the step `timestep_safety × penalty_step_fraction` of the critical step, the
+/// normal contact damping of `contact_restitution`.
+///
+/// # Errors
+/// [`ShakeError::Parameter`] for a solver parameter out of range.
+fn penalty_simulation(layout: &Layout, solver: SolverParams, params: &ShakeParams) -> Result<Simulation, ShakeError> {
     let sp = SolverParams {
         damping: 0.0,
         density_scaling: DensityScaling::Off,
@@ -571,6 +574,30 @@ fn run_shake_penalty(
     let damping = ContactDamping::from_restitution(params.contact_restitution).map_err(ShakeError::Parameter)?;
     let mut sim = Simulation::new(layout, sp);
     sim.set_contact_damping(Some(damping));
+    Ok(sim)
+}
+
+/// The time step (s) a penalty shaking run of `layout` starts with: the critical step of
+/// its blocks' masses and joint stiffnesses (and contact damping) times
+/// `timestep_safety × penalty_step_fraction`, known before the run (with [`check_steps`], the run's step count).
+///
+/// # Errors
+/// [`ShakeError::Parameter`] for a solver parameter out of range.
+pub fn penalty_step(layout: &Layout, solver: SolverParams, params: &ShakeParams) -> Result<f64, ShakeError> {
+    Ok(penalty_simulation(layout, solver, params)?.dt())
+}
+
+/// [`ShakeError::Parameter`] for a solver parameter out of range, [`ShakeError::Dem`] if
+/// the integration blows up.
+fn run_shake_penalty(
+    layout: &Layout,
+    solver: SolverParams,
+    motion: &Motion,
+    params: &ShakeParams,
+    observe: &mut dyn FnMut(f64, &[Body]),
+) -> Result<ShakeResult, ShakeError> {
+    let t0 = Instant::now();
+    let mut sim = penalty_simulation(layout, solver, params)?;
     check_steps(motion, params, sim.dt())?;
     let weight = sim.state.gravity;
     while sim.state.time < params.settle_s - 0.5 * sim.dt() {

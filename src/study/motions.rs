@@ -29,6 +29,36 @@ pub struct ShakeStudy {
 }
 
 impl ShakeStudy {
+    /// The warnings of the study's motions, one line per motion and cause (without the
+    /// `warning: ` prefix), in motion order: a motion sampled coarser than
+    /// [`crate::ground::COARSE_RECORD_DT_S`] (content above its Nyquist frequency is lost),
+    /// and a motion whose highest level exceeds [`crate::ground::PLAUSIBLE_PGA_G`] (each
+    /// motion is scaled to every level, so its PGA is the level). Empty when none applies.
+    pub fn warnings(&self) -> Vec<String> {
+        let top = self.levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let mut out = Vec::new();
+        for m in &self.motions {
+            if m.dt_s > crate::ground::COARSE_RECORD_DT_S {
+                out.push(format!(
+                    "motion {} is sampled every {} s ({:.1} samples per second): content above {:.1} Hz is lost",
+                    m.name,
+                    m.dt_s,
+                    1.0 / m.dt_s,
+                    0.5 / m.dt_s
+                ));
+            }
+            if top > crate::ground::PLAUSIBLE_PGA_G {
+                out.push(format!(
+                    "motion {} is scaled to PGA {top:.3e} g, implausible for a ground motion (above {} g): check \
+                     shake.pga_g",
+                    m.name,
+                    crate::ground::PLAUSIBLE_PGA_G
+                ));
+            }
+        }
+        out
+    }
+
     /// The motion named `name` scaled to `pga_g`; `None` for an unknown name.
     pub fn motion(&self, name: &str, pga_g: f64) -> Option<Motion> {
         self.motions.iter().find(|m| m.name == name).map(|m| m.scaled_to_pga(pga_g))

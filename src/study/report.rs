@@ -97,6 +97,14 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         printed.push_str(&section);
         md.push_str(&section);
     }
+    let warnings = study.shake.as_ref().map(|s| s.warnings()).unwrap_or_default();
+    if !warnings.is_empty() {
+        let _ = writeln!(md, "## Warnings\n");
+        for w in &warnings {
+            let _ = writeln!(md, "- {w}");
+        }
+        let _ = writeln!(md);
+    }
     let failed: Vec<&RealizationRow> = rows.iter().filter(|r| !r.status.is_ok()).collect();
     if !failed.is_empty() {
         let _ = writeln!(md, "## Failed realizations\n");

@@ -97,6 +97,37 @@ pub struct Study {
     pub library: crate::effects::Library,
 }
 
+/// A penalty shaking study's step count, before the run: the penalty step of each group's
+/// realization 0 (its masses and joint stiffnesses,
+/// [`crate::loading::shake::penalty_step`]) over every motion, within
+/// [`crate::loading::shake::MAX_SHAKE_STEPS`]. A realization that cannot be generated is
+/// left to its row.
+fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyError> {
+    let Some(shake) = &study.shake else { return Ok(()) };
+    if study.solver.kind != crate::dem::SolverKind::Penalty {
+        return Ok(());
+    }
+    for g in &study.groups {
+        let Some(wall) = g.walls.first() else { continue };
+        let Ok((_, layout)) = crate::effects::realize(wall, study.seed, 0, &g.name, &g.effects) else { continue };
+        let dt = crate::loading::shake::penalty_step(&layout, study.solver, &shake.params)
+            .map_err(|e| invalid.at("solver", e.to_string()))?;
+        for m in &shake.motions {
+            crate::loading::shake::check_steps(m, &shake.params, dt).map_err(|e| {
+                invalid.at(
+                    "shake",
+                    format!(
+                        "motion {} on group {} by the penalty solver (its step {dt:.3e} s, from the masses and \
+                         joint stiffnesses of realization 0): {e}",
+                        m.name, g.name
+                    ),
+                )
+            })?;
+        }
+    }
+    Ok(())
+}
+
 impl StudySpec {
     /// Checks the study and resolves every wall and measured file.
     ///
@@ -166,6 +197,7 @@ impl StudySpec {
         if let Some(p) = study.paper {
             check_paper(p, &study).map_err(|r| invalid.at("paper", r.to_string()))?;
         }
+        check_penalty_steps(&study, &invalid)?;
         Ok(study)
     }
 

@@ -75,7 +75,9 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
 /// collapse angle α_max = atan λ (its bracket of zero width, reason `no_equilibrium`: no
 /// statically admissible state exists above it); under the lateral load, whether the wall
 /// carries the pressure (λ ≥ 1: stood; rigid blocks have no displacements) or not
-/// (collapsed, with λ in the error column). The mechanism columns come from the dual.
+/// (collapsed, with λ in the error column). The mechanism columns come from the dual. A
+/// wall that does not stand (λ ≤ 0, [`crate::limit::LimitError::DoesNotStand`]) gives a
+/// `no_initial_equilibrium` row with the message, as the tilting table's rows do.
 fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
     use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams};
     let params = LimitParams::default();
@@ -89,7 +91,10 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
         Err(e) => {
             let stands = !matches!(
                 e,
-                LimitError::Untouched { .. } | LimitError::Floating { .. } | LimitError::Infeasible { .. }
+                LimitError::Untouched { .. }
+                    | LimitError::Floating { .. }
+                    | LimitError::Infeasible { .. }
+                    | LimitError::DoesNotStand { .. }
             );
             row.status = if stands { Status::BlewUp } else { Status::NoInitialEquilibrium };
             row.error = e.to_string();

@@ -47,7 +47,7 @@ pub(super) mod result;
 pub use params::TiltParams;
 pub use path::elastic_scale;
 use path::{Ctx, StablePath};
-pub use result::{CollapseReason, Increment, TiltError, TiltResult};
+pub use result::{CollapseReason, Increment, NoLoad, TiltError, TiltResult};
 
 /// Runs the tilting-table test of a layout to collapse.
 ///

@@ -150,6 +150,10 @@ pub enum TiltError {
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]
     Nscd(crate::dem::drivers::nscd::NscdError),
+    /// The rigid pushover's pressure resolves to no force on the wall
+    /// ([`crate::loading::lateral::check_pushover_force`]).
+    #[error(transparent)]
+    NoLoad(NoLoad),
 }
 
 impl TiltError {
@@ -169,4 +173,18 @@ impl TiltResult {
     pub fn collapse_angle_deg(&self) -> f64 {
         self.last_stable_deg
     }
+}
+
+/// A pushover's pressure that resolves to no force on the wall ([`crate::loading::lateral::check_pushover_force`]).
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[error("the lateral pressure (pressure_base_pa = {pressure_base_pa}, pressure_top_pa = {pressure_top_pa}) resolves to no force on the wall: {loaded_faces} loaded faces, resultant {force_n:.3e} N (the pressure acts on exposed faces whose outward normal is within 60° of −y); a pushover multiplies the load, and there is none")]
+pub struct NoLoad {
+    /// Pressure at the base, Pa.
+    pub pressure_base_pa: f64,
+    /// Pressure at the top, Pa.
+    pub pressure_top_pa: f64,
+    /// Faces the pressure loads.
+    pub loaded_faces: usize,
+    /// Norm of the resultant force, N.
+    pub force_n: f64,
 }
