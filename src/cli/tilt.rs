@@ -6,6 +6,7 @@ use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
+use drystone::loading::tilt_hand::{run_tilt_by_hand, HandTilt};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -61,6 +62,81 @@ pub struct TiltArgs {
     vtk: Option<PathBuf>,
     #[command(flatten)]
     nscd: NscdArgs,
+    #[command(flatten)]
+    hand: HandArgs,
+}
+
+/// The table rolled by hand (`loading::tilt_hand`): each increment run as a motion.
+#[derive(clap::Args)]
+pub struct HandArgs {
+    /// Roll the table by hand: each increment is a start, a roll, a stop and a hold for the
+    /// reading, run by non-smooth contact dynamics in the rotating table's frame (the stops
+    /// kick the wall downhill); needs --solver nscd.
+    #[arg(long)]
+    by_hand: bool,
+    /// Increment between stops, degrees [default: 5, the paper's].
+    #[arg(long)]
+    hand_increment_deg: Option<f64>,
+    /// Angular speed of the roll, degrees per second [default: 2.5].
+    #[arg(long)]
+    hand_rate_deg_s: Option<f64>,
+    /// Duration of each start and stop, s [default: 0.1].
+    #[arg(long)]
+    hand_ramp_s: Option<f64>,
+    /// The table held still at each stop, s [default: 1].
+    #[arg(long)]
+    hand_hold_s: Option<f64>,
+    /// Depth of the table's axis of rotation below its surface, m [default: 0.34].
+    #[arg(long)]
+    table_axis_depth_m: Option<f64>,
+}
+
+impl HandArgs {
+    /// The motion of the table, if `--by-hand` was given.
+    ///
+    /// # Errors
+    /// A `--hand-*` or `--table-axis-depth-m` option without `--by-hand`, or `--by-hand`
+    /// without `--solver nscd`.
+    fn motion(&self, kind: drystone::dem::SolverKind) -> Result<Option<HandTilt>> {
+        let given = [
+            self.hand_increment_deg,
+            self.hand_rate_deg_s,
+            self.hand_ramp_s,
+            self.hand_hold_s,
+            self.table_axis_depth_m,
+        ]
+        .iter()
+        .any(Option::is_some);
+        if !self.by_hand {
+            if given {
+                bail!("the --hand-* and --table-axis-depth-m options set the table rolled by hand: give them with --by-hand");
+            }
+            return Ok(None);
+        }
+        if kind != drystone::dem::SolverKind::Nscd {
+            bail!("--by-hand runs the table's motion by non-smooth contact dynamics: give it with --solver nscd");
+        }
+        let d = HandTilt::default();
+        Ok(Some(HandTilt {
+            increment_deg: self.hand_increment_deg.unwrap_or(d.increment_deg),
+            rate_deg_per_s: self.hand_rate_deg_s.unwrap_or(d.rate_deg_per_s),
+            ramp_s: self.hand_ramp_s.unwrap_or(d.ramp_s),
+            hold_s: self.hand_hold_s.unwrap_or(d.hold_s),
+            axis_depth_m: self.table_axis_depth_m.unwrap_or(d.axis_depth_m),
+        }))
+    }
+}
+
+/// The flag of each field of [`HandTilt`], for its errors.
+fn hand_flag(key: &str) -> &'static str {
+    match key {
+        "increment_deg" => "--hand-increment-deg",
+        "rate_deg_per_s" => "--hand-rate-deg-s",
+        "ramp_s" => "--hand-ramp-s",
+        "hold_s" => "--hand-hold-s",
+        "axis_depth_m" => "--table-axis-depth-m",
+        _ => "",
+    }
 }
 
 /// `drystone tilt`: the solver and the test's parameters from the options, then [`run`].
@@ -71,6 +147,7 @@ pub struct TiltArgs {
 pub fn command(a: TiltArgs) -> Result<ExitCode> {
     let kind = a.solver.kind();
     let nscd = a.nscd.params_for(kind, NscdParams::default())?;
+    let hand = a.hand.motion(kind)?;
     let density_scaling = match a.density_scaling.as_str() {
         "block" => DensityScaling::Block { mass_floor: a.block_mass_floor },
         "scalar" => DensityScaling::Scalar,
@@ -93,7 +170,46 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         max_steps_per_increment: a.max_steps,
         ..a.solver.tilt_params(!a.no_predictor)
     };
+    if let Some(hand) = hand {
+        if a.vtk.is_some() {
+            bail!("--vtk is not written for a table rolled by hand (--by-hand)");
+        }
+        return run_by_hand(&a.layout, &nscd, &params, &hand, a.json);
+    }
     run(&a.layout, solver, &params, a.json, a.vtk.as_deref())
+}
+
+/// Runs the test with the table rolled by hand and prints it as [`run`] does.
+fn run_by_hand(layout: &Path, nscd: &NscdParams, params: &TiltParams, hand: &HandTilt, json: bool) -> Result<ExitCode> {
+    let l = super::read_layout(layout)?;
+    let r = run_tilt_by_hand(&l, nscd, params, hand)
+        .map_err(|e| match e {
+            TiltError::Parameter(p) if !hand_flag(&p.key).is_empty() => {
+                anyhow::anyhow!("{} {}", hand_flag(&p.key), p.reason())
+            }
+            e => e.into(),
+        })
+        .with_context(|| format!("tilting-table test of {} rolled by hand", layout.display()))?;
+    if json {
+        let mut v = serde_json::to_value(&r)?;
+        if let Some(o) = v.as_object_mut() {
+            o.insert("collapse_angle_deg".into(), r.collapse_angle_deg().into());
+            o.insert("by_hand".into(), serde_json::to_value(hand)?);
+        }
+        out!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        out!(
+            "table rolled by hand: {}° increments at {}°/s, starts and stops of {} s (peak {:.3} rad/s²), holds of {} s, axis {} m below the surface",
+            hand.increment_deg,
+            hand.rate_deg_per_s,
+            hand.ramp_s,
+            hand.peak_angular_acceleration(),
+            hand.hold_s,
+            hand.axis_depth_m
+        );
+        print(layout, &r);
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Runs the test and prints a table, or one JSON object with `json`; with `vtk`, writes

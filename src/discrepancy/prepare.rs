@@ -94,8 +94,8 @@ fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, Discre
 /// the built-ins whose signature is the failure mechanism
 /// ([`effects::MECHANISM_EFFECTS`]) when the data hold no mechanism observation
 /// (`mechanism` false): an analysis of angles and displacements alone searches what it
-/// searched before those effects existed. Named in the settings, they are searched
-/// always.
+/// searched before those effects existed, and less the built-ins searched only by name
+/// ([`effects::NAMED_ONLY_EFFECTS`]). Named in the settings, they are searched always.
 ///
 /// # Errors
 /// [`DiscrepancyError::Effect`] for an unknown name.
@@ -109,6 +109,7 @@ pub fn searched(
             .all()
             .into_iter()
             .filter(|d| mechanism || !effects::MECHANISM_EFFECTS.contains(&d.name.as_str()))
+            .filter(|d| !effects::NAMED_ONLY_EFFECTS.contains(&d.name.as_str()))
             .collect());
     }
     Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)

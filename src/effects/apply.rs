@@ -145,6 +145,7 @@ impl Effect {
                 }
                 Step::RopePretension { .. } => super::rope::set_end_rope(layout, RopeProperty::Pretension, v),
                 Step::RopeStiffness { .. } => super::rope::set_end_rope(layout, RopeProperty::AxialStiffness, v),
+                Step::TableOvershoot { .. } => layout.table_overshoot_deg = v,
             }
         }
         Ok(())

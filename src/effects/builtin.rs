@@ -199,6 +199,18 @@ pub fn builtin() -> Vec<EffectDef> {
             )],
             vec![Step::BaseStop { parameter: "stop_height_m".into(), friction_deg: None }],
         ),
+        def(
+            "table_kick",
+            "the table rolled by hand: every stop kicks the wall downhill, read as an overshoot of the table's angle from the first stop on",
+            "Santa-Cruz et al. (2021), §2.1-2.2: a platform on \"a semicircle wooden piece that rolls manually, controlled by a lever and pulley\", tilted \"in increments of 5 deg\" and stopped to read; the kick of a stop is alpha'' (z + d) downhill at height z above the rolling axis (loading::tilt_hand)",
+            vec![sourced(
+                param("overshoot_deg", "deg", 0.0, 5.0, Scale::Linear, 0.0, false),
+                "estimate (reasoning: a stop of a table rolled at 1-5 deg/s that takes 0.05-0.5 s has a peak angular deceleration of 0.035-1.75 rad/s2; at the 1:4 walls' centroid, about 0.53 m above the axis of a semicircle of the platform's half width, that is atan(alpha'' L / g) = 0.1-5.4 deg. A property of the set-up: no range per kind. The dynamic run of the kicks, loading::tilt_hand, is the reference this quasi-static equivalent is checked against)",
+                None,
+                None,
+            )],
+            vec![Step::TableOvershoot { parameter: "overshoot_deg".into() }],
+        ),
         // Double-faced section: delamination, then overturning of the loose leaf.
         def(
             "leaf_split",

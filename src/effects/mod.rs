@@ -72,6 +72,11 @@ pub const REFERENCE_COURSE_HEIGHT_M: f64 = 0.05;
 /// when the data hold mechanism observations ([`crate::discrepancy::searched`]).
 pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 
+/// The built-in effects searched only when a study names them in `[discrepancy] effects`
+/// ([`crate::discrepancy::searched`]): `table_kick` belongs to a table rolled by hand and
+/// moves only the tilting table's angles, as a lean does; a study of such a table names it.
+pub const NAMED_ONLY_EFFECTS: [&str; 1] = ["table_kick"];
+
 /// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
 pub const MAX_FRICTION_DEG: f64 = 85.0;
 
@@ -366,6 +371,13 @@ pub enum Step {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         friction_deg: Option<f64>,
     },
+    /// The table rolled by hand overshoots each stop by Δ (deg): the quasi-static tilting
+    /// tests load the wall at the table's angle plus Δ from the first stop on
+    /// (`Layout::table_overshoot_deg`, [`crate::loading::tilt_hand::effective_tilt_deg`]).
+    TableOvershoot {
+        /// The parameter giving Δ, degrees.
+        parameter: String,
+    },
     /// The section split into two leaves: every block cut so that the +y leaf takes the
     /// share f (the parameter, in [0, 1)) of the section's width ([`geometry::split_leaves`]).
     LeafSplit {
@@ -391,6 +403,7 @@ impl Step {
             | Step::RopePretension { parameter }
             | Step::RopeStiffness { parameter }
             | Step::BaseStop { parameter, .. }
+            | Step::TableOvershoot { parameter }
             | Step::LeafSplit { parameter, .. } => parameter,
             Step::Dilatancy { parameter, .. } => parameter,
         }
@@ -405,9 +418,10 @@ impl Step {
             | Step::BaseStop { .. }
             | Step::LeafSplit { .. } => Stage::Layout,
             Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
-            Step::RestraintSpring { .. } | Step::RopePretension { .. } | Step::RopeStiffness { .. } => {
-                Stage::Restraints
-            }
+            Step::RestraintSpring { .. }
+            | Step::RopePretension { .. }
+            | Step::RopeStiffness { .. }
+            | Step::TableOvershoot { .. } => Stage::Restraints,
             Step::Dilatancy { .. } => Stage::JointLaw,
         }
     }

@@ -134,6 +134,7 @@ impl LayoutSpec {
             base_sliding: self.restraints.base_sliding,
             end_restraints,
             ropes,
+            table_overshoot_deg: 0.0,
             monitors,
             joint_families,
         };

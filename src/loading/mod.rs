@@ -1,5 +1,5 @@
 //! Loading protocols: the tilting table ([`tilt`]; at the rigid limit by non-smooth
-//! contact dynamics, [`tilt_nscd`]), the static lateral load ([`lateral`]; its pushover to
+//! contact dynamics, [`tilt_nscd`]; rolled by hand in kicks, [`tilt_hand`]), the static lateral load ([`lateral`]; its pushover to
 //! collapse by the penalty DEM, [`lateral_pushover`], and at the rigid limit,
 //! [`lateral_nscd`]) and the shaking table ([`shake`]), run through one seam
 //! ([`protocol::Protocol`]), with the monitor points and motion measures they share
@@ -15,6 +15,7 @@ pub mod protocol;
 pub mod settle;
 pub mod shake;
 pub mod tilt;
+pub mod tilt_hand;
 pub mod tilt_nscd;
 
 pub use monitors::Monitor;

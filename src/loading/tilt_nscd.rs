@@ -56,6 +56,7 @@ use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
+use super::tilt_hand::effective_tilt_deg;
 use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
@@ -85,7 +86,7 @@ pub(crate) fn poses(sim: &NscdSimulation) -> Vec<BodyPose> {
 }
 
 /// The largest motion of a free block since `start`, m.
-fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
+pub(crate) fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
     sim.bodies()
         .iter()
         .zip(start)
@@ -226,6 +227,9 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
     let width = layout.bounds().extent().y;
     let inc_limit = tilt.collapse_increment_fraction * width;
     let g_h = base.gravity_magnitude() * params.dt_s;
+    // The table's overshoot (`Layout::table_overshoot_deg`, 0 as built), added as the
+    // penalty path adds it.
+    let overshoot = layout.table_overshoot_deg;
 
     let mut increments = Vec::new();
     let (mut total_steps, mut total_iterations, mut detections) = (0u64, 0u64, 0u64);
@@ -256,7 +260,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
     let mut up = top;
     while up - last_stable > tilt.resolution_deg + 1e-12 {
         let mid = 0.5 * (up + last_stable);
-        let t = trial(&base, &stable, mid, inc_limit).map_err(tilt_error)?;
+        let t = trial(&base, &stable, effective_tilt_deg(mid, overshoot), inc_limit).map_err(tilt_error)?;
         record(mid, &t, &mut increments);
         match t.reason {
             None => {
@@ -270,7 +274,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
         }
     }
     if unstable.is_none() {
-        let t = trial(&base, &stable, top, inc_limit).map_err(tilt_error)?;
+        let t = trial(&base, &stable, effective_tilt_deg(top, overshoot), inc_limit).map_err(tilt_error)?;
         record(top, &t, &mut increments);
         match t.reason {
             None => {

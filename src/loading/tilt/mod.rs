@@ -117,7 +117,10 @@ pub fn run_tilt_observed(
         implicit: params.implicit_solve,
         reach: None,
     };
-    let tilt = |sim: &mut Simulation, alpha_deg: f64| sim.set_tilt(crate::units::deg_to_rad(alpha_deg));
+    let overshoot = layout.table_overshoot_deg;
+    let tilt = |sim: &mut Simulation, alpha_deg: f64| {
+        sim.set_tilt(crate::units::deg_to_rad(super::tilt_hand::effective_tilt_deg(alpha_deg, overshoot)))
+    };
     let mut ctx = Ctx { params, load: &tilt, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());
     settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;

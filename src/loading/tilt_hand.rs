@@ -1,0 +1,369 @@
+//! The tilting table rolled by hand: each increment run as a motion of the table, by
+//! non-smooth contact dynamics (`dem::drivers::nscd`).
+//!
+//! The paper's table is "a semicircle wooden piece that rolls manually, controlled by a
+//! lever and pulley", tilted "in increments of 5°" and stopped "to record" (Santa-Cruz et
+//! al. 2021, §2.1–2.2). The quasi-static test ([`super::tilt::run_tilt`],
+//! [`super::tilt_nscd::run_tilt_nscd`]) assumes the wall sees only the tilted weight; a
+//! table rolled by hand also starts and stops, and every stop kicks the wall downhill. This
+//! protocol runs the kicks instead of assuming them away.
+//!
+//! # The table's motion ([`HandTilt`])
+//!
+//! Increment k goes from `k Δ` to `(k + 1) Δ` (Δ = `increment_deg`): the angular speed
+//! rises linearly from 0 to ω (`rate_deg_per_s`) in `ramp_s`, stays at ω, falls linearly
+//! to 0 in `ramp_s` (the stop), and the table is held still for `hold_s` (the reading).
+//! The angular acceleration is `α̈ = ±ω / ramp_s` during the ramps, 0 otherwise.
+//!
+//! # The wall in the table's frame
+//!
+//! Bodies are followed in the frame of the table (as by the shaking table), which rotates
+//! about the out-of-plane axis x through the **axis point** `A = (·, y_A, −d)`: under the
+//! wall's centre in y, `d = axis_depth_m` below the table's surface (the rolling
+//! semicircle's contact with the floor: for a disc rolling without slip the acceleration
+//! of a point p of the rolling body is `α̈ × (p − C) − ω² (p − O)`, C the contact, O the
+//! centre; the contact's drift along the table, `R α`, is neglected). With the frame's
+//! angular velocity `Ω = −α̇ x̂` (a point above the axis moves downhill, +y, as α grows),
+//! every block of mass m and centroid c gets, besides the weight `m g (0, sin α, −cos α)`:
+//!
+//! * the **Euler force** `−m Ω̇ × (c − A) = m α̈ (0, −(c_z − A_z), c_y − A_y)`: at a stop
+//!   (α̈ < 0) a push downhill growing with the height above the axis, at a start a push
+//!   uphill; and the Euler torque `−I Ω̇ = α̈ I x̂` (I the block's inertia in the table
+//!   frame);
+//! * the **centrifugal force** `m α̇² (0, c_y − A_y, c_z − A_z)` (below 1e-3 g at the
+//!   rates of a hand-rolled table, kept for completeness).
+//!
+//! The Coriolis force `−2 m Ω × v` is left out: at ω ≤ 0.2 rad/s and the speeds of a wall
+//! before collapse it is below 1e-3 of the weight. The weight and the inertial forces are
+//! evaluated at `t + θ h` of every step.
+//!
+//! # Readings and collapse
+//!
+//! At the end of every hold the displacements of the monitor points since α = 0 are read
+//! (a stable [`Increment`] at the increment's angle: the paper's readings). The wall
+//! collapses when a block has moved more than the per-increment collapse displacement
+//! ([`TiltParams::collapse_increment_fraction`] × the wall width) since the start of the
+//! increment; the collapse angle (`last_stable_deg`) is the table's angle when that
+//! motion first passed a fifth of it (the onset the operator sees), `first_unstable_deg`
+//! the angle when it passed the whole. A wall standing after the hold at
+//! [`TiltParams::max_angle_deg`] stood. The mechanism is read as by the rigid tilt, from
+//! the state at the start of the collapsing increment.
+//!
+//! Rigid joints, as [`super::tilt_nscd::run_tilt_nscd`]: the layout's Kn and Ks are not
+//! used. Tested against the sliding block's closed form under a stop
+//! (`tests/tilt_hand.rs`).
+
+use super::mechanism::Mechanism;
+use super::monitors::{monitor_points, MonitorPoint};
+use super::tilt::params::TiltParams;
+use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
+use super::tilt_nscd::{largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something};
+use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
+use crate::dem::{Simulation, SolverParams};
+use crate::layout::Layout;
+use crate::math::Vec3;
+use crate::range::OutOfRange;
+use crate::units::deg_to_rad;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// How the table is rolled by hand (see the module doc). Defaults: the paper's increment
+/// of 5° (Santa-Cruz et al. 2021, §2.2); the rest are estimates of a table rolled by a
+/// lever and pulley (the paper gives no rate): 2.5°/s, a start and a stop of 0.1 s, a
+/// reading of 1 s, the axis 0.34 m below the surface (a semicircle of the platform's half
+/// width, 0.3 m, under a 40 mm platform, §2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HandTilt {
+    /// Increment between stops, degrees (> 0).
+    pub increment_deg: f64,
+    /// Angular speed between the ramps, degrees per second (> 0).
+    pub rate_deg_per_s: f64,
+    /// Duration of the start and of the stop, s (> 0, at most `increment_deg /
+    /// rate_deg_per_s`: the ramps cover the increment at most).
+    pub ramp_s: f64,
+    /// The table held still at each stop for the reading, s (≥ 0).
+    pub hold_s: f64,
+    /// Depth of the table's axis of rotation below its surface, m (≥ 0).
+    pub axis_depth_m: f64,
+}
+
+impl Default for HandTilt {
+    fn default() -> Self {
+        HandTilt { increment_deg: 5.0, rate_deg_per_s: 2.5, ramp_s: 0.1, hold_s: 1.0, axis_depth_m: 0.34 }
+    }
+}
+
+/// The largest number of time steps a run may take (the increments to `max_angle_deg`
+/// with their holds, at the solver's step): beyond it the run is refused before it starts.
+pub const MAX_STEPS: f64 = 2e7;
+
+impl HandTilt {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`OutOfRange`] naming the field (`increment_deg`, `rate_deg_per_s`, `ramp_s`,
+    /// `hold_s`, `axis_depth_m`) whose value is not finite or out of its range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        let check = |key: &str, v: f64, ok: bool, range: &'static str| {
+            if v.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(OutOfRange::new(key, v, range))
+            }
+        };
+        check("increment_deg", self.increment_deg, self.increment_deg > 0.0 && self.increment_deg <= 45.0, "(0, 45]")?;
+        check(
+            "rate_deg_per_s",
+            self.rate_deg_per_s,
+            self.rate_deg_per_s > 0.0 && self.rate_deg_per_s <= 90.0,
+            "(0, 90]",
+        )?;
+        check("hold_s", self.hold_s, (0.0..=600.0).contains(&self.hold_s), "[0, 600]")?;
+        check("axis_depth_m", self.axis_depth_m, (0.0..=100.0).contains(&self.axis_depth_m), "[0, 100]")?;
+        let roll = self.increment_deg / self.rate_deg_per_s;
+        check("ramp_s", self.ramp_s, self.ramp_s > 0.0 && self.ramp_s <= roll, "(0, increment_deg / rate_deg_per_s]")
+    }
+
+    /// Duration of one increment's roll (start, constant speed, stop), s.
+    pub fn roll_s(&self) -> f64 {
+        self.increment_deg / self.rate_deg_per_s
+    }
+
+    /// The table's angle (rad), angular speed (rad/s) and angular acceleration (rad/s²)
+    /// at time `t` (s) into an increment that starts at `start_deg`.
+    pub fn motion(&self, start_deg: f64, t: f64) -> (f64, f64, f64) {
+        let w = deg_to_rad(self.rate_deg_per_s);
+        let a = w / self.ramp_s;
+        let (roll, tau) = (self.roll_s(), self.ramp_s);
+        let a0 = deg_to_rad(start_deg);
+        let delta = deg_to_rad(self.increment_deg);
+        if t <= 0.0 {
+            (a0, 0.0, 0.0)
+        } else if t < tau {
+            (a0 + 0.5 * a * t * t, a * t, a)
+        } else if t < roll - tau {
+            (a0 + 0.5 * w * tau + w * (t - tau), w, 0.0)
+        } else if t < roll {
+            let s = roll - t;
+            (a0 + delta - 0.5 * a * s * s, a * s, -a)
+        } else {
+            (a0 + delta, 0.0, 0.0)
+        }
+    }
+
+    /// The peak angular acceleration of a start or a stop, rad/s² (`ω / ramp_s`).
+    pub fn peak_angular_acceleration(&self) -> f64 {
+        deg_to_rad(self.rate_deg_per_s) / self.ramp_s
+    }
+}
+
+/// The tilt (degrees) at which the quasi-static tests load a wall when the table's angle is
+/// `alpha_deg` and each stop of a table rolled by hand overshoots by `overshoot_deg`
+/// (`Layout::table_overshoot_deg`, set by the effect `table_kick`): `α + Δ min(1, α / 5°)`,
+/// the overshoot in full from the first stop of the paper's 5° increments on, ramped in
+/// below it (a wall at rest on a level table is not kicked). Exactly `alpha_deg` when the
+/// overshoot is 0.
+///
+/// The quasi-static equivalent of the kicks of [`run_tilt_by_hand`]: a stop of peak
+/// angular deceleration `α̈` pushes a block at height `z` above the table's axis downhill
+/// by `α̈ (z + d)`, an extra inclination of about `atan(α̈ (z̄ + d) / g)` at the wall's
+/// centroid height z̄; docs/discrepancy.md compares the two on the paper's walls.
+pub fn effective_tilt_deg(alpha_deg: f64, overshoot_deg: f64) -> f64 {
+    if overshoot_deg == 0.0 {
+        return alpha_deg;
+    }
+    alpha_deg + overshoot_deg * (alpha_deg / HandTilt::default().increment_deg).clamp(0.0, 1.0)
+}
+
+/// Sets the weight and the inertial forces of the rotating table frame (module doc) on
+/// every body of `sim` for the table's angle `alpha` (rad), angular speed `w` (rad/s) and
+/// angular acceleration `acc` (rad/s²), about the axis point `axis` (table frame, m).
+pub fn set_table_motion(sim: &mut NscdSimulation, axis: Vec3, alpha: f64, w: f64, acc: f64) {
+    sim.set_tilt(alpha);
+    let (force, torque): (Vec<Vec3>, Vec<Vec3>) = sim
+        .bodies()
+        .iter()
+        .map(|b| {
+            if b.fixed {
+                return (Vec3::zeros(), Vec3::zeros());
+            }
+            let r = b.pos - axis;
+            let euler = Vec3::new(0.0, -r.z, r.y) * (b.mass * acc);
+            let centrifugal = Vec3::new(0.0, r.y, r.z) * (b.mass * w * w);
+            let iw = b.rot_mat * b.inertia * b.rot_mat.transpose();
+            (euler + centrifugal, iw * Vec3::x() * acc)
+        })
+        .unzip();
+    sim.set_external(&force, &torque);
+}
+
+/// Runs the tilting-table test of `layout` with the table rolled by hand (see the module
+/// doc): `tilt` gives the largest tilt and the per-increment collapse displacement (its
+/// increment, resolution and relaxation settings do not apply: `hand` gives the motion),
+/// `params` the non-smooth solver (time step, NSGS, contact detection). The result is the
+/// same [`TiltResult`] as the quasi-static tests': `increments` holds the readings at the
+/// end of every hold (stable) and the collapse (unstable), `steps` the time steps,
+/// `iterations` the NSGS sweeps, `elastic_scale_m` 0 (rigid joints).
+///
+/// # Errors
+/// [`TiltError::Parameter`] for a field of `hand`, `tilt` or `params` out of range (its
+/// key), or a run longer than [`MAX_STEPS`] steps (`hold_s` named with the count);
+/// [`TiltError::DoesNotStand`] if the wall does not stand as given (the rigid tilt's
+/// check); [`TiltError::Nscd`] for a joint with cohesion; [`TiltError::Dem`] if the state
+/// blows up.
+pub fn run_tilt_by_hand(
+    layout: &Layout,
+    params: &NscdParams,
+    tilt: &TiltParams,
+    hand: &HandTilt,
+) -> Result<TiltResult, TiltError> {
+    tilt.validate().map_err(TiltError::Parameter)?;
+    hand.validate().map_err(TiltError::Parameter)?;
+    let t0 = Instant::now();
+    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    let dt = params.dt_s;
+    let increments_needed = (tilt.max_angle_deg / hand.increment_deg).ceil().max(1.0);
+    let steps_needed = increments_needed * (hand.roll_s() + hand.hold_s) / dt;
+    if steps_needed > MAX_STEPS {
+        return Err(TiltError::Parameter(OutOfRange::new(
+            "hold_s",
+            hand.hold_s,
+            "short enough for a run of at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + hold_s) / dt_s)",
+        )));
+    }
+    touches_something(&base, params)?;
+    let width = layout.bounds().extent().y;
+    let inc_limit = tilt.collapse_increment_fraction * width;
+    // The wall stands as given: the rigid tilt's check at α = 0.
+    let first = released(&base, &base, inc_limit, |sim| sim.set_tilt(0.0)).map_err(tilt_error)?;
+    stood(&base, &first)?;
+
+    let reader = Simulation::new(layout, SolverParams::default());
+    let monitors = monitor_points(layout, &reader);
+    let reference: Vec<Vec3> = monitors.iter().map(|m| base.bodies()[m.body].to_world(&m.local)).collect();
+    let bounds = layout.bounds();
+    let axis = Vec3::new(0.0, 0.5 * (bounds.min.y + bounds.max.y), -hand.axis_depth_m);
+    let g_h = base.gravity_magnitude() * dt;
+    let theta = params.theta;
+
+    let mut sim = base.clone();
+    let mut increments = vec![Increment {
+        alpha_deg: 0.0,
+        stable: true,
+        steps: 0,
+        iterations: 0,
+        displacement_m: vec![0.0; monitors.len()],
+        unbalanced_ratio: 0.0,
+    }];
+    let (mut last_stable, mut first_unstable, mut reason) = (0.0, None, None);
+    let mut mechanism = Mechanism::none();
+    let per_increment = ((hand.roll_s() + hand.hold_s) / dt).round().max(1.0) as u64;
+    let mut k = 0u32;
+    loop {
+        let start_deg = f64::from(k) * hand.increment_deg;
+        if start_deg >= tilt.max_angle_deg - 1e-12 {
+            break;
+        }
+        let at_start = sim.clone();
+        let start = poses(&sim);
+        let (steps0, it0) = (sim.steps(), sim.iterations());
+        let mut onset: Option<f64> = None;
+        let mut collapsed = false;
+        for n in 0..per_increment {
+            let t_mid = (n as f64 + theta) * dt;
+            let (alpha, w, acc) = hand.motion(start_deg, t_mid);
+            set_table_motion(&mut sim, axis, alpha, w, acc);
+            sim.step(|_| Vec3::zeros()).map_err(tilt_error)?;
+            let moved = largest_motion(&sim, &start);
+            let alpha_now = crate::units::rad_to_deg(hand.motion(start_deg, (n + 1) as f64 * dt).0);
+            if onset.is_none() && moved > 0.2 * inc_limit {
+                onset = Some(alpha_now);
+            }
+            if moved > inc_limit {
+                last_stable = onset.unwrap_or(alpha_now);
+                first_unstable = Some(alpha_now);
+                reason = Some(CollapseReason::IncrementDisplacement);
+                mechanism = read_mechanism(&reader, &at_start, &at_start, &sim, inc_limit);
+                collapsed = true;
+                break;
+            }
+        }
+        let end_deg = (start_deg + hand.increment_deg).min(f64::MAX);
+        increments.push(Increment {
+            alpha_deg: if collapsed { first_unstable.unwrap_or(end_deg) } else { end_deg },
+            stable: !collapsed,
+            steps: sim.steps() - steps0,
+            iterations: u32::try_from(sim.iterations() - it0).unwrap_or(u32::MAX),
+            displacement_m: monitors
+                .iter()
+                .zip(&reference)
+                .map(|(m, r): (&MonitorPoint, &Vec3)| (sim.bodies()[m.body].to_world(&m.local) - r).y)
+                .collect(),
+            unbalanced_ratio: sim.last_step().residual_m_per_s / g_h,
+        });
+        if collapsed {
+            break;
+        }
+        last_stable = end_deg;
+        k += 1;
+    }
+    Ok(TiltResult {
+        last_stable_deg: last_stable,
+        first_unstable_deg: first_unstable,
+        collapse_reason: reason,
+        mechanism,
+        monitors: monitors.iter().map(|m| m.name.clone()).collect(),
+        increments,
+        steps: sim.steps(),
+        iterations: sim.iterations(),
+        dt_s: dt,
+        wall_time_s: t0.elapsed().as_secs_f64(),
+        wall_width_m: width,
+        elastic_scale_m: 0.0,
+        detections: sim.detections(),
+        max_density_scale: 1.0,
+        scalar_fallbacks_deg: Vec::new(),
+        bracket_reliable: true,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_motion_covers_the_increment_and_is_continuous() {
+        let h = HandTilt::default();
+        let (a_end, w_end, _) = h.motion(5.0, h.roll_s());
+        assert!((crate::units::rad_to_deg(a_end) - 10.0).abs() < 1e-12);
+        assert_eq!(w_end, 0.0);
+        for &t in &[h.ramp_s, h.roll_s() - h.ramp_s] {
+            let (a1, w1, _) = h.motion(0.0, t - 1e-9);
+            let (a2, w2, _) = h.motion(0.0, t + 1e-9);
+            assert!((a1 - a2).abs() < 1e-9 && (w1 - w2).abs() < 1e-6);
+        }
+        // The speed integrates to the angle (trapezoid over a fine grid).
+        let n = 100_000;
+        let dt = h.roll_s() / n as f64;
+        let s: f64 = (0..n).map(|i| h.motion(0.0, (i as f64 + 0.5) * dt).1 * dt).sum();
+        assert!((s - deg_to_rad(5.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_fields_are_refused_by_name() {
+        let bad = [
+            HandTilt { increment_deg: 0.0, ..HandTilt::default() },
+            HandTilt { rate_deg_per_s: f64::NAN, ..HandTilt::default() },
+            HandTilt { ramp_s: 3.0, ..HandTilt::default() },
+            HandTilt { hold_s: -1.0, ..HandTilt::default() },
+            HandTilt { axis_depth_m: f64::INFINITY, ..HandTilt::default() },
+        ];
+        let keys = ["increment_deg", "rate_deg_per_s", "ramp_s", "hold_s", "axis_depth_m"];
+        for (h, key) in bad.iter().zip(keys) {
+            let e = h.validate().unwrap_err().to_string();
+            assert!(e.contains(key), "{e}");
+        }
+        assert!(HandTilt::default().validate().is_ok());
+    }
+}
