@@ -24,6 +24,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Tilting-table test of a layout to collapse.
+    #[command(allow_negative_numbers = true)]
     Tilt(cli::tilt::TiltArgs),
     /// Static lateral load: a trapezoidal pressure on the wall face (pushing towards +y),
     /// solved to equilibrium; prints the top displacements and the drift.

@@ -95,7 +95,8 @@ fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, Discre
 /// ([`effects::MECHANISM_EFFECTS`]) when the data hold no mechanism observation
 /// (`mechanism` false): an analysis of angles and displacements alone searches what it
 /// searched before those effects existed, and less the built-ins searched only by name
-/// ([`effects::NAMED_ONLY_EFFECTS`]). Named in the settings, they are searched always.
+/// ([`effects::NAMED_ONLY_EFFECTS`]), plus the settings' `also_effects`. Named in the
+/// settings, they are searched always.
 ///
 /// # Errors
 /// [`DiscrepancyError::Effect`] for an unknown name.
@@ -105,12 +106,19 @@ pub fn searched(
     mechanism: bool,
 ) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
     if s.effects.is_empty() {
-        return Ok(library
+        let mut v: Vec<Arc<EffectDef>> = library
             .all()
             .into_iter()
             .filter(|d| mechanism || !effects::MECHANISM_EFFECTS.contains(&d.name.as_str()))
             .filter(|d| !effects::NAMED_ONLY_EFFECTS.contains(&d.name.as_str()))
-            .collect());
+            .collect();
+        for name in &s.also_effects {
+            let d = library.get(name)?;
+            if !v.iter().any(|e| e.name == d.name) {
+                v.push(d);
+            }
+        }
+        return Ok(v);
     }
     Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
 }

@@ -35,6 +35,11 @@ pub struct Settings {
     /// The effects searched, by name \[every built-in and every effect file of the
     /// study\].
     pub effects: Vec<String>,
+    /// Effects searched beside the default ones when `effects` is empty, by name \[none\]:
+    /// the built-ins searched only by name ([`crate::effects::NAMED_ONLY_EFFECTS`], e.g.
+    /// `table_kick` for a table rolled by hand) or effect files. Ignored when `effects`
+    /// lists the search.
+    pub also_effects: Vec<String>,
     /// Rank the specimen-scatter hypothesis beside the mechanisms \[true\].
     pub scatter: bool,
     /// Re-run the two best candidates as full ensembles at their fitted parameters and
@@ -59,6 +64,7 @@ impl Default for Settings {
             check_replicates: 200,
             bootstrap: 2000,
             effects: vec![],
+            also_effects: vec![],
             scatter: true,
             confirm: true,
             sigma: observations::MeasurementSigma::default(),
@@ -130,6 +136,12 @@ impl Settings {
         for e in &self.effects {
             if !seen.insert(e) {
                 return bad("effects", e.clone(), "an effect is listed twice");
+            }
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for e in &self.also_effects {
+            if !seen.insert(e) {
+                return bad("also_effects", e.clone(), "an effect is listed twice");
             }
         }
         Ok(())

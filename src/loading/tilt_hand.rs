@@ -79,8 +79,8 @@ pub struct HandTilt {
     pub increment_deg: f64,
     /// Angular speed between the ramps, degrees per second (> 0).
     pub rate_deg_per_s: f64,
-    /// Duration of the start and of the stop, s (> 0, at most `increment_deg /
-    /// rate_deg_per_s`: the ramps cover the increment at most).
+    /// Duration of the start and of the stop, s (> 0, at most `increment_deg / (2
+    /// rate_deg_per_s)`: the start and the stop fit in the roll).
     pub ramp_s: f64,
     /// The table held still at each stop for the reading, s (≥ 0).
     pub hold_s: f64,
@@ -112,17 +112,27 @@ impl HandTilt {
                 Err(OutOfRange::new(key, v, range))
             }
         };
-        check("increment_deg", self.increment_deg, self.increment_deg > 0.0 && self.increment_deg <= 45.0, "(0, 45]")?;
+        check(
+            "increment_deg",
+            self.increment_deg,
+            self.increment_deg > 0.0 && self.increment_deg <= 45.0,
+            "in (0, 45]",
+        )?;
         check(
             "rate_deg_per_s",
             self.rate_deg_per_s,
             self.rate_deg_per_s > 0.0 && self.rate_deg_per_s <= 90.0,
-            "(0, 90]",
+            "in (0, 90]",
         )?;
-        check("hold_s", self.hold_s, (0.0..=600.0).contains(&self.hold_s), "[0, 600]")?;
-        check("axis_depth_m", self.axis_depth_m, (0.0..=100.0).contains(&self.axis_depth_m), "[0, 100]")?;
+        check("hold_s", self.hold_s, (0.0..=600.0).contains(&self.hold_s), "in [0, 600]")?;
+        check("axis_depth_m", self.axis_depth_m, (0.0..=100.0).contains(&self.axis_depth_m), "in [0, 100]")?;
         let roll = self.increment_deg / self.rate_deg_per_s;
-        check("ramp_s", self.ramp_s, self.ramp_s > 0.0 && self.ramp_s <= roll, "(0, increment_deg / rate_deg_per_s]")
+        check(
+            "ramp_s",
+            self.ramp_s,
+            self.ramp_s > 0.0 && self.ramp_s <= 0.5 * roll,
+            "in (0, increment_deg / (2 rate_deg_per_s)]: the start and the stop within the roll",
+        )
     }
 
     /// Duration of one increment's roll (start, constant speed, stop), s.
@@ -208,7 +218,8 @@ pub fn set_table_motion(sim: &mut NscdSimulation, axis: Vec3, alpha: f64, w: f64
 ///
 /// # Errors
 /// [`TiltError::Parameter`] for a field of `hand`, `tilt` or `params` out of range (its
-/// key), or a run longer than [`MAX_STEPS`] steps (`hold_s` named with the count);
+/// key), a start or stop shorter than 5 time steps (`ramp_s`), or a run longer than
+/// [`MAX_STEPS`] steps (`hold_s` named with the bound);
 /// [`TiltError::DoesNotStand`] if the wall does not stand as given (the rigid tilt's
 /// check); [`TiltError::Nscd`] for a joint with cohesion; [`TiltError::Dem`] if the state
 /// blows up.
@@ -223,6 +234,13 @@ pub fn run_tilt_by_hand(
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
     let dt = params.dt_s;
+    if hand.ramp_s < 5.0 * dt {
+        return Err(TiltError::Parameter(OutOfRange::new(
+            "ramp_s",
+            hand.ramp_s,
+            "at least 5 time steps of the solver (5 dt_s): a shorter start or stop is not resolved",
+        )));
+    }
     let increments_needed = (tilt.max_angle_deg / hand.increment_deg).ceil().max(1.0);
     let steps_needed = increments_needed * (hand.roll_s() + hand.hold_s) / dt;
     if steps_needed > MAX_STEPS {
@@ -355,7 +373,7 @@ mod tests {
         let bad = [
             HandTilt { increment_deg: 0.0, ..HandTilt::default() },
             HandTilt { rate_deg_per_s: f64::NAN, ..HandTilt::default() },
-            HandTilt { ramp_s: 3.0, ..HandTilt::default() },
+            HandTilt { ramp_s: 1.5, ..HandTilt::default() },
             HandTilt { hold_s: -1.0, ..HandTilt::default() },
             HandTilt { axis_depth_m: f64::INFINITY, ..HandTilt::default() },
         ];
