@@ -372,7 +372,7 @@ pub enum Step {
         friction_deg: Option<f64>,
     },
     /// The table rolled by hand overshoots each stop by Δ (deg): the quasi-static tilting
-    /// tests load the wall at the table's angle plus Δ from the first stop on
+    /// tests load the wall to the stop plus Δ at every 5° stop
     /// (`Layout::table_overshoot_deg`, [`crate::loading::tilt_hand::effective_tilt_deg`]).
     TableOvershoot {
         /// The parameter giving Δ, degrees.

@@ -383,9 +383,9 @@ pub struct Layout {
     pub end_restraints: Vec<(usize, EndRestraint)>,
     /// Rope restraints, in file order.
     pub ropes: Vec<Rope>,
-    /// The overshoot of a table rolled by hand, degrees (≥ 0; 0 as built from a file):
-    /// the quasi-static tilting tests load the wall at the table's angle plus this much
-    /// from the first stop on (`loading::tilt_hand::effective_tilt_deg`). Set by the effect
+    /// The overshoot of each stop of a table rolled by hand, degrees (≥ 0; 0 as built from
+    /// a file): the quasi-static tilting tests load the wall to the stop plus this much at
+    /// every 5° stop (`loading::tilt_hand::effective_tilt_deg`). Set by the effect
     /// `table_kick`; the other protocols do not read it.
     pub table_overshoot_deg: f64,
     /// Monitor points.
