@@ -204,8 +204,8 @@ pub fn builtin() -> Vec<EffectDef> {
             "the table rolled by hand: every 5-degree stop kicks the wall downhill as much as an extra inclination would, so a wall whose static limit lies within that of a stop collapses at the stop",
             "Santa-Cruz et al. (2021), section 2.1-2.2: a platform on \"a semicircle wooden piece that rolls manually, controlled by a lever and pulley\", tilted \"in increments of 5 deg\" and stopped to read; a stop of peak angular deceleration a pushes a block at height z above the rolling axis downhill by a (z + d) (loading::tilt_hand, the dynamic run this quasi-static equivalent stands for)",
             vec![sourced(
-                param("overshoot_deg", "deg", 0.0, 3.0, Scale::Linear, 0.0, false),
-                "the dynamic run of the kicks (drystone tilt --solver nscd --by-hand) on the paper's CBL wall: stops of a table rolled at 2.5-5 deg/s that take 0.05-0.1 s (estimates: the paper gives no rate) have a peak push equal to 1.35-5.4 deg of extra inclination at the centroid, 0.53 m above the axis of a semicircle of the platform's half width, and an effective overshoot of 0.1-1.1 and 2.1-3.1 deg (the wall collapsed at the first 1-degree stop within that of its static limit). A property of the set-up: no range per kind",
+                param("overshoot_deg", "deg", 0.0, 2.5, Scale::Linear, 0.0, false),
+                "the dynamic run of the kicks (drystone tilt --solver nscd --by-hand, 1-degree increments) on the paper's CBL and SBL walls: stops of a table rolled at 2.5-5 deg/s that take 0.1-0.05 s (estimates: the paper gives no rate) push as hard as 1.35-5.4 deg of extra inclination at the centroid, 0.53 m above the axis of a semicircle of the platform's half width, and overshoot by 0.14-1.14 and 1.14-2.14 deg (CBL), 0.98-1.98 deg (SBL, the stronger stop): the walls collapsed at the first stop within that of their static limit. 2.5 deg: the strongest stop's bracket rounded up. A property of the set-up: no range per kind",
                 None,
                 None,
             )],

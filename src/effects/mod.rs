@@ -679,9 +679,11 @@ impl EffectDef {
     }
 
     /// Whether the effect can change a wall with these properties (`restrained`: it has end
-    /// restraints): an effect made only of restraint steps cannot act on a free wall.
+    /// restraints): an effect made only of end-restraint steps (springs, ropes) cannot act
+    /// on a free wall; the table's overshoot acts on every wall.
     pub fn acts_on(&self, restrained: bool) -> bool {
-        restrained || self.steps.iter().any(|s| s.stage() != Stage::Restraints)
+        restrained
+            || self.steps.iter().any(|s| s.stage() != Stage::Restraints || matches!(s, Step::TableOvershoot { .. }))
     }
 
     /// Whether it draws random numbers (a `transverse_dip` step).

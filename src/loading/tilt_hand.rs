@@ -183,7 +183,7 @@ impl HandTilt {
 /// wall loaded to `s + Δ` (the elastic part of a transient kick is recovered in the
 /// dynamic run: an upper bound). A stop of peak angular deceleration `α̈` pushes a block at
 /// height z above the table's axis downhill by `α̈ (z + d)`; in the dynamic run the
-/// stops' effective overshoot is 40–60 % of `atan(α̈ (z̄ + d) / g)` at the centroid
+/// stops' effective overshoot is about 20–40 % of `atan(α̈ (z̄ + d) / g)` at the centroid
 /// height z̄ (docs/discrepancy.md, "The table rolled by hand").
 pub fn effective_tilt_deg(alpha_deg: f64, overshoot_deg: f64) -> f64 {
     if overshoot_deg == 0.0 {
