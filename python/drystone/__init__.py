@@ -220,17 +220,22 @@ def _layout_of(layout: Any) -> Layout:
     raise TypeError(f"expected a drystone.Layout or a layout file path, got {type(layout).__name__}")
 
 
-def tilt(layout: Any, solver: Any = None, **params: Any) -> TiltResult:
+def tilt(layout: Any, solver: Any = None, by_hand: Any = None, **params: Any) -> TiltResult:
     """Tilts `layout` (a `Layout` or a layout JSON path) to collapse on the tilting table.
 
     `solver`: None (the penalty DEM), a solver name (`penalty`, `implicit`, `accelerated`,
     `relaxation`, `nscd`) or a dict of solver parameters (`SolverParams` keys, e.g.
     `{"kind": "penalty", "damping": 0.8}`). `params`: `TiltParams` keys, e.g.
-    `step_deg=0.5`, `resolution_deg=0.125`, `max_angle_deg=80`. The GIL is released while it
-    runs. Raises `InputError` for an unknown key or a value out of range, `SolverError` if
-    the layout does not stand at 0° or the engine blows up.
+    `step_deg=0.5`, `resolution_deg=0.125`, `max_angle_deg=80`. `by_hand`: None, True or a
+    dict of `HandTilt` keys (`increment_deg` 5, `rate_deg_per_s` 2.5, `ramp_s` 0.1,
+    `hold_s` 1, `axis_depth_m` 0.34): the table rolled by hand, each increment run as a
+    motion that kicks the wall at its stop (`drystone tilt --by-hand`; with
+    `solver="nscd"` only). The GIL is released while it runs. Raises `InputError` for an
+    unknown key or a value out of range, `SolverError` if the layout does not stand at 0°
+    or the engine blows up.
     """
-    raw = _native._tilt(_layout_of(layout), solver, params or None)
+    hand = None if by_hand is None or by_hand is False else ({} if by_hand is True else dict(by_hand))
+    raw = _native._tilt(_layout_of(layout), solver, params or None, hand)
     r = raw["result"]
     return TiltResult(
         last_stable_deg=r["last_stable_deg"],

@@ -143,7 +143,12 @@ class Study:
     def discrepancy_settings(self) -> Dict[str, Any]:
         """The study's `[discrepancy]` settings with their defaults."""
 
-def _tilt(layout: Layout, solver: Any = None, params: Optional[Dict[str, Any]] = None) -> Dict[str, Any]: ...
+def _tilt(
+    layout: Layout,
+    solver: Any = None,
+    params: Optional[Dict[str, Any]] = None,
+    by_hand: Optional[Dict[str, Any]] = None,
+) -> Dict[str, Any]: ...
 def _lateral(layout: Layout, solver: Any = None, params: Optional[Dict[str, Any]] = None) -> Dict[str, Any]: ...
 def _pushover(layout: Layout, solver: Any = None, params: Optional[Dict[str, Any]] = None) -> Dict[str, Any]: ...
 def _run_study(

@@ -158,6 +158,33 @@ def test_a_stiff_block_topples_at_the_rigid_limit_less_its_elastic_rotation(tmp_
     assert res.collapse_angle_deg == expected["collapse_angle_deg"]
 
 
+def test_a_table_rolled_by_hand_equals_the_command_line(tmp_path, drystone_bin):
+    # A slender block (0.1 m deep, 0.3 m tall) on a table rolled in 2-degree stops: the
+    # kicks topple it at or below its static angle atan(1/3) = 18.43 deg.
+    layout = drystone.Layout.from_json(box_layout(0.2, 0.1, 0.3))
+    hand = {"increment_deg": 2.0, "rate_deg_per_s": 4.0, "ramp_s": 0.05, "hold_s": 0.3}
+    res = drystone.tilt(layout, solver="nscd", by_hand=hand)
+    assert res.first_unstable_deg is not None and res.collapse_angle_deg <= 18.44
+    path = tmp_path / "slender.json"
+    layout.save(path)
+    cli = subprocess.run(
+        [str(drystone_bin), "tilt", str(path), "--json", "--solver", "nscd", "--by-hand",
+         "--hand-increment-deg", "2", "--hand-rate-deg-s", "4", "--hand-ramp-s", "0.05", "--hand-hold-s", "0.3"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    expected = json.loads(cli.stdout)
+    assert expected["by_hand"]["increment_deg"] == 2.0
+    got = res.to_dict()
+    for key in ("last_stable_deg", "first_unstable_deg", "collapse_reason", "mechanism", "increments", "steps"):
+        assert got[key] == expected[key], key
+    with pytest.raises(drystone.InputError, match="nscd"):
+        drystone.tilt(layout, by_hand=True)
+    with pytest.raises(drystone.InputError, match="ramp_s"):
+        drystone.tilt(layout, solver="nscd", by_hand={"ramp_s": 0.0})
+
+
 def test_a_uniform_pressure_has_its_closed_form_resultant():
     # 1 kPa on the −y face of a block 0.4 m long and 0.3 m tall: 120 N in +y.
     layout = drystone.Layout.from_json(box_layout(0.4, 0.15, 0.3))
