@@ -15,8 +15,10 @@
 //! * [`geometry`]: convex polyhedral blocks, mass properties, frames.
 //! * [`layout`]: the layout file (materials, blocks, table, restraints).
 //! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
-//!   local damping).
-//! * [`loading`]: the tilting-table and static lateral load protocols.
+//!   local damping) and the non-smooth contact dynamics solver (`dem::drivers::nscd`).
+//! * [`loading`]: the protocols: the tilting table (quasi-static, at the rigid limit, or
+//!   rolled by hand in kicks), the static lateral load and its pushover, and the shaking
+//!   table under a ground motion ([`ground`]).
 //! * [`limit`]: limit analysis (the rigid collapse load multiplier from statics alone, a
 //!   second-order cone program over the DEM's contact polygons).
 //! * [`generator`]: seeded wall layouts; [`effects`]: named extensions of the model (the
