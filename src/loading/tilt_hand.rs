@@ -56,6 +56,8 @@
 
 use super::mechanism::Mechanism;
 use super::monitors::{monitor_points, MonitorPoint};
+pub use super::tilt::overshoot::effective_tilt_deg;
+use super::tilt::overshoot::PAPER_INCREMENT_DEG;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use super::tilt_nscd::{largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something};
@@ -91,7 +93,13 @@ pub struct HandTilt {
 
 impl Default for HandTilt {
     fn default() -> Self {
-        HandTilt { increment_deg: 5.0, rate_deg_per_s: 2.5, ramp_s: 0.1, hold_s: 1.0, axis_depth_m: 0.34 }
+        HandTilt {
+            increment_deg: PAPER_INCREMENT_DEG,
+            rate_deg_per_s: 2.5,
+            ramp_s: 0.1,
+            hold_s: 1.0,
+            axis_depth_m: 0.34,
+        }
     }
 }
 
@@ -167,34 +175,6 @@ impl HandTilt {
     pub fn peak_angular_acceleration(&self) -> f64 {
         deg_to_rad(self.rate_deg_per_s) / self.ramp_s
     }
-}
-
-/// The tilt (degrees) at which the quasi-static tests load a wall when the table's angle is
-/// `alpha_deg` and each stop of a table rolled by hand in the paper's 5° increments kicks
-/// the wall as much as an extra inclination `overshoot_deg` would (`Layout::table_overshoot_deg`,
-/// set by the effect `table_kick`): `max(α, s + Δ)`, s the last stop at or below α
-/// (`s = 5° ⌊α / 5°⌋`, from the first stop on; a wall on a level table is not kicked).
-/// Exactly `alpha_deg` when the overshoot is 0.
-///
-/// The quasi-static equivalent of the kicks of [`run_tilt_by_hand`]: the wall is loaded to
-/// `s + Δ` at every stop s and the roll adds nothing until the table passes `s + Δ`, so a
-/// wall collapses at a stop when the stop lies within Δ of its static limit, and at its
-/// static limit otherwise, as in the dynamic run; the readings at a stop are those of the
-/// wall loaded to `s + Δ` (the elastic part of a transient kick is recovered in the
-/// dynamic run: an upper bound). A stop of peak angular deceleration `α̈` pushes a block at
-/// height z above the table's axis downhill by `α̈ (z + d)`; in the dynamic run the
-/// stops' effective overshoot is about 20–40 % of `atan(α̈ (z̄ + d) / g)` at the centroid
-/// height z̄ (docs/discrepancy.md, "The table rolled by hand").
-pub fn effective_tilt_deg(alpha_deg: f64, overshoot_deg: f64) -> f64 {
-    if overshoot_deg == 0.0 {
-        return alpha_deg;
-    }
-    let increment = HandTilt::default().increment_deg;
-    let stop = (alpha_deg / increment).floor() * increment;
-    if stop < increment {
-        return alpha_deg;
-    }
-    alpha_deg.max(stop + overshoot_deg)
 }
 
 /// Sets the weight and the inertial forces of the rotating table frame (module doc) on
@@ -377,23 +357,6 @@ mod tests {
         let dt = h.roll_s() / n as f64;
         let s: f64 = (0..n).map(|i| h.motion(0.0, (i as f64 + 0.5) * dt).1 * dt).sum();
         assert!((s - deg_to_rad(5.0)).abs() < 1e-9);
-    }
-
-    #[test]
-    fn the_overshoot_loads_each_stop_to_the_stop_plus_the_overshoot() {
-        assert_eq!(effective_tilt_deg(12.3, 0.0), 12.3);
-        assert_eq!(effective_tilt_deg(4.9, 2.0), 4.9);
-        assert_eq!(effective_tilt_deg(5.0, 2.0), 7.0);
-        assert_eq!(effective_tilt_deg(6.5, 2.0), 7.0);
-        assert_eq!(effective_tilt_deg(7.5, 2.0), 7.5);
-        assert_eq!(effective_tilt_deg(10.0, 2.0), 12.0);
-        // Non-decreasing in α (the bisections rely on it).
-        let mut last = 0.0;
-        for k in 0..4000 {
-            let a = effective_tilt_deg(k as f64 * 0.01, 3.0);
-            assert!(a >= last);
-            last = a;
-        }
     }
 
     #[test]

@@ -40,6 +40,7 @@ use crate::dem::{Simulation, SolverKind, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use std::time::Instant;
 
+pub mod overshoot;
 pub(super) mod params;
 pub(crate) mod path;
 pub(super) mod result;
@@ -119,7 +120,7 @@ pub fn run_tilt_observed(
     };
     let overshoot = layout.table_overshoot_deg;
     let tilt = |sim: &mut Simulation, alpha_deg: f64| {
-        sim.set_tilt(crate::units::deg_to_rad(super::tilt_hand::effective_tilt_deg(alpha_deg, overshoot)))
+        sim.set_tilt(crate::units::deg_to_rad(overshoot::effective_tilt_deg(alpha_deg, overshoot)))
     };
     let mut ctx = Ctx { params, load: &tilt, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());
