@@ -187,3 +187,50 @@ fn kicks_topple_a_slender_block_between_its_static_angle_and_the_peak_kicks_equi
     assert!(alpha <= exact + 0.05, "{alpha} above the static {exact}");
     assert!(alpha >= exact - peak - 2.0, "{alpha} below the peak kick's {}", exact - peak);
 }
+
+/// `[tilt] by_hand` in a study runs the hand-rolled table on every realization: each row's
+/// collapse angle is the one `drystone tilt --solver nscd --by-hand` gives on the same
+/// generated layout (the command line's own path, run as a separate process).
+#[test]
+fn a_study_rolled_by_hand_gives_the_command_lines_angles() {
+    use drystone::ensemble::Shard;
+    use drystone::study::{run_study, Study};
+    use std::process::Command;
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let study = Study::from_file(&root.join("tests/studies/good/mini_by_hand.toml")).expect("a valid study");
+    let rows = run_study(&study, Shard::ALL);
+    assert_eq!(rows.len(), 2);
+    let dir = std::env::temp_dir().join(format!("drystone-by-hand-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    for r in &rows {
+        let layout = dir.join(format!("r{}.json", r.realization));
+        let wall = root.join("tests/studies/walls/tiny_running_bond.toml");
+        let ok = Command::new(bin)
+            .args(["generate", wall.to_str().unwrap(), "--seed", "7", "--realization", &r.realization.to_string()])
+            .args(["--out", layout.to_str().unwrap()])
+            .status()
+            .unwrap();
+        assert!(ok.success());
+        let out = Command::new(bin)
+            .args(["tilt", layout.to_str().unwrap(), "--json", "--solver", "nscd", "--by-hand"])
+            .args([
+                "--hand-increment-deg",
+                "10",
+                "--hand-rate-deg-s",
+                "10",
+                "--hand-hold-s",
+                "0.1",
+                "--resolution-deg",
+                "0.25",
+            ])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(r.collapse.collapse_angle_deg, v["collapse_angle_deg"].as_f64(), "realization {}", r.realization);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    // A study that asks the penalty DEM to roll the table by hand is refused naming the key
+    // (tests/studies/bad/by_hand_penalty.toml).
+}

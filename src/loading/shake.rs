@@ -360,7 +360,7 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
         TiltError::Dem(d) => ShakeError::Dem(d),
         TiltError::Nscd(n) => ShakeError::Nscd(n),
         TiltError::Parameter(p) => ShakeError::Parameter(p),
-        TiltError::Unsupported(k) => ShakeError::Unsupported(k),
+        TiltError::Unsupported(k) | TiltError::HandNeedsNscd(k) => ShakeError::Unsupported(k),
         // No pressure is involved in the rigid check; kept for completeness.
         TiltError::NoLoad(n) => ShakeError::Parameter(OutOfRange::new(
             "pressure_base_pa",

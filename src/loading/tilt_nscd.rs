@@ -54,7 +54,7 @@
 use super::mechanism::{mechanism, Mechanism};
 use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
-use super::tilt::overshoot::effective_tilt_deg;
+use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};

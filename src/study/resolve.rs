@@ -250,6 +250,18 @@ impl StudySpec {
                 ),
             ));
         }
+        if self.protocol == ProtocolKind::Tilt
+            && self.tilt.by_hand.is_some()
+            && self.solver.kind != crate::dem::SolverKind::Nscd
+        {
+            return Err(invalid.at(
+                "tilt.by_hand",
+                format!(
+                    "the table rolled by hand runs by non-smooth contact dynamics: give [solver] kind = \"nscd\" (got {:?})",
+                    self.solver.kind.name()
+                ),
+            ));
+        }
         if self.solver.kind == crate::dem::SolverKind::Nscd {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
             if self.protocol == ProtocolKind::Lateral {

@@ -40,7 +40,7 @@ use crate::dem::{Simulation, SolverKind, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use std::time::Instant;
 
-pub mod overshoot;
+pub mod hand;
 pub(super) mod params;
 pub(crate) mod path;
 pub(super) mod result;
@@ -97,6 +97,12 @@ pub fn run_tilt_observed(
     params: &TiltParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<TiltResult, TiltError> {
+    if let Some(hand) = &params.by_hand {
+        return match solver.kind {
+            SolverKind::Nscd => super::tilt_hand::run_tilt_by_hand(layout, &solver.nscd, params, hand),
+            kind => Err(TiltError::HandNeedsNscd(kind)),
+        };
+    }
     params.validate().map_err(TiltError::Parameter)?;
     match solver.kind {
         SolverKind::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
@@ -120,7 +126,7 @@ pub fn run_tilt_observed(
     };
     let overshoot = layout.table_overshoot_deg;
     let tilt = |sim: &mut Simulation, alpha_deg: f64| {
-        sim.set_tilt(crate::units::deg_to_rad(overshoot::effective_tilt_deg(alpha_deg, overshoot)))
+        sim.set_tilt(crate::units::deg_to_rad(hand::effective_tilt_deg(alpha_deg, overshoot)))
     };
     let mut ctx = Ctx { params, load: &tilt, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());

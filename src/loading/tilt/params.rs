@@ -1,5 +1,6 @@
 //! The tilting table's parameters ([`TiltParams`]).
 
+use super::hand::HandTilt;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::{Cascade, SolverKind};
@@ -50,6 +51,12 @@ pub struct TiltParams {
     pub implicit: bool,
     /// Settings of the implicit iteration.
     pub implicit_solve: ImplicitSolve,
+    /// The table rolled by hand (`loading::tilt_hand`): each increment run as a motion
+    /// whose stop kicks the wall, by non-smooth contact dynamics (`[solver] kind =
+    /// "nscd"` only; `[tilt] by_hand = { rate_deg_per_s = 2.5, ramp_s = 0.1 }`, any key of
+    /// [`HandTilt`] left out takes its default) \[none: the quasi-static test\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_hand: Option<HandTilt>,
 }
 
 impl Default for TiltParams {
@@ -67,6 +74,7 @@ impl Default for TiltParams {
             acceleration: SecantAcceleration::default(),
             implicit: true,
             implicit_solve: ImplicitSolve::default(),
+            by_hand: None,
         }
     }
 }
@@ -113,6 +121,10 @@ impl TiltParams {
             ("max_steps_per_increment", self.max_steps_per_increment as f64, self.max_steps_per_increment > 0, ">= 1"),
         ])?;
         self.acceleration.validate()?;
-        self.implicit_solve.validate()
+        self.implicit_solve.validate()?;
+        if let Some(h) = &self.by_hand {
+            h.validate().map_err(|e| OutOfRange { key: format!("by_hand.{}", e.key), ..e })?;
+        }
+        Ok(())
     }
 }

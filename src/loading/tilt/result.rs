@@ -150,6 +150,10 @@ pub enum TiltError {
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]
     Nscd(crate::dem::drivers::nscd::NscdError),
+    /// The table rolled by hand ([`super::TiltParams::by_hand`]) runs by non-smooth
+    /// contact dynamics only.
+    #[error("the table rolled by hand (by_hand) runs by non-smooth contact dynamics: solver {} cannot run it (solver kind nscd)", .0.name())]
+    HandNeedsNscd(SolverKind),
     /// The rigid pushover's pressure resolves to no force on the wall
     /// ([`crate::loading::lateral::check_pushover_force`]).
     #[error(transparent)]
