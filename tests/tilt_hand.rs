@@ -234,3 +234,17 @@ fn a_study_rolled_by_hand_gives_the_command_lines_angles() {
     // A study that asks the penalty DEM to roll the table by hand is refused naming the key
     // (tests/studies/bad/by_hand_penalty.toml).
 }
+
+/// The last increment stops at the largest tilt: a block that stands to it is read there,
+/// not one increment beyond.
+#[test]
+fn a_wall_that_stands_is_read_at_the_largest_tilt() {
+    let layout = block(0.2, 0.05, 60.0);
+    let hand = HandTilt { hold_s: 0.1, ..HandTilt::default() };
+    let tilt = TiltParams { max_angle_deg: 12.0, ..TiltParams::default() };
+    let r = run_tilt_by_hand(&layout, &NscdParams::default(), &tilt, &hand).expect("runs");
+    assert!(r.first_unstable_deg.is_none());
+    assert_eq!(r.last_stable_deg, 12.0);
+    let stops: Vec<f64> = r.increments.iter().map(|i| i.alpha_deg).collect();
+    assert_eq!(stops, vec![0.0, 5.0, 10.0, 12.0]);
+}

@@ -44,10 +44,12 @@
 //! (a stable [`Increment`] at the increment's angle: the paper's readings). The wall
 //! collapses when a block has moved more than the per-increment collapse displacement
 //! ([`TiltParams::collapse_increment_fraction`] × the wall width) since the start of the
-//! increment; the collapse angle (`last_stable_deg`) is the table's angle when that
-//! motion first passed a fifth of it (the onset the operator sees), `first_unstable_deg`
-//! the angle when it passed the whole. A wall standing after the hold at
-//! [`TiltParams::max_angle_deg`] stood. The mechanism is read as by the rigid tilt, from
+//! increment, or a top point more than [`TiltParams::collapse_displacement_fraction`] × the
+//! width since α = 0 (the quasi-static tests' two criteria); the collapse angle
+//! (`last_stable_deg`) is the table's angle when the increment's motion first passed a
+//! fifth of the per-increment displacement (the onset the operator sees),
+//! `first_unstable_deg` the angle when a criterion was met. The last increment stops at
+//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is read as by the rigid tilt, from
 //! the state at the start of the collapsing increment.
 //!
 //! Rigid joints, as [`super::tilt_nscd::run_tilt_nscd`]: the layout's Kn and Ks are not
@@ -158,13 +160,17 @@ pub fn run_tilt_by_hand(
     }];
     let (mut last_stable, mut first_unstable, mut reason) = (0.0, None, None);
     let mut mechanism = Mechanism::none();
-    let per_increment = ((hand.roll_s() + hand.hold_s) / dt).round().max(1.0) as u64;
+    let total_limit = tilt.collapse_displacement_fraction * width;
     let mut k = 0u32;
     loop {
         let start_deg = f64::from(k) * hand.increment_deg;
         if start_deg >= tilt.max_angle_deg - 1e-12 {
             break;
         }
+        // The last increment stops at the largest tilt.
+        let step = hand.increment_deg.min(tilt.max_angle_deg - start_deg);
+        let hand = &HandTilt { increment_deg: step, ramp_s: hand.ramp_s.min(step / hand.rate_deg_per_s), ..*hand };
+        let per_increment = ((hand.roll_s() + hand.hold_s) / dt).round().max(1.0) as u64;
         let at_start = sim.clone();
         let start = poses(&sim);
         let (steps0, it0) = (sim.steps(), sim.iterations());
@@ -180,10 +186,22 @@ pub fn run_tilt_by_hand(
             if onset.is_none() && moved > 0.2 * inc_limit {
                 onset = Some(alpha_now);
             }
-            if moved > inc_limit {
+            let top_moved = monitors
+                .iter()
+                .zip(&reference)
+                .map(|(m, r)| (sim.bodies()[m.body].to_world(&m.local) - r).y.abs())
+                .fold(0.0, f64::max);
+            let why = if moved > inc_limit {
+                Some(CollapseReason::IncrementDisplacement)
+            } else if top_moved > total_limit {
+                Some(CollapseReason::TotalDisplacement)
+            } else {
+                None
+            };
+            if why.is_some() {
                 last_stable = onset.unwrap_or(alpha_now);
                 first_unstable = Some(alpha_now);
-                reason = Some(CollapseReason::IncrementDisplacement);
+                reason = why;
                 mechanism = read_mechanism(&reader, &at_start, &at_start, &sim, inc_limit);
                 collapsed = true;
                 break;
