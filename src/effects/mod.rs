@@ -49,15 +49,17 @@ mod builtin;
 mod file;
 pub mod geometry;
 pub mod rope;
+mod step;
 
 pub use apply::{apply_all, effect_rng};
 pub use builtin::builtin;
 pub use file::EffectFileError;
+pub use step::{Property, Step};
 
 use crate::closure::Closure;
 pub use crate::generator::WallKind;
 use crate::generator::{generate, GeneratedWall, Wall};
-use crate::layout::{JointFamily, Layout};
+use crate::layout::Layout;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -271,168 +273,6 @@ fn interpolate(scale: Scale, a: f64, b: f64, t: f64) -> f64 {
     match scale {
         Scale::Linear => a + t * (b - a),
         Scale::Log => a * (b / a).powf(t),
-    }
-}
-
-/// A joint property a [`Step::JointFactor`] multiplies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Property {
-    /// Kn.
-    Kn,
-    /// Ks.
-    Ks,
-    /// Kn and Ks (their ratio kept).
-    Stiffness,
-    /// The friction coefficient tan φ.
-    Friction,
-    /// The cohesion c.
-    Cohesion,
-}
-
-/// One primitive of the model, driven by a parameter of the effect (named in files by
-/// `parameter`; held as its index once checked).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Step {
-    /// A factor on a joint property of one family (or of every joint when `family` is
-    /// absent).
-    JointFactor {
-        /// The family; absent: every joint (the materials and every family).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        family: Option<JointFamily>,
-        /// The property.
-        property: Property,
-        /// The parameter giving the factor.
-        parameter: String,
-    },
-    /// A normal closure law on one family (or every joint).
-    Closure {
-        /// The family; absent: every joint.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        family: Option<JointFamily>,
-        /// The law, by its name in files (`hyperbolic`, `seating`: a law of
-        /// [`Closure::with_length`]).
-        law: String,
-        /// The parameter giving Vm or g₀, m.
-        parameter: String,
-    },
-    /// The wall sheared out of plumb by ψ (deg) towards +y.
-    Lean {
-        /// The parameter giving ψ, degrees.
-        parameter: String,
-    },
-    /// Every edge of every block rounded by r (m).
-    Rounding {
-        /// The parameter giving r, m.
-        parameter: String,
-    },
-    /// Bed joints dipping across the thickness, uniform in [−δ, δ] (deg) per joint.
-    TransverseDip {
-        /// The parameter giving δ, degrees.
-        parameter: String,
-    },
-    /// End restraints as springs of stiffness k (N/m per block).
-    RestraintSpring {
-        /// The parameter giving k, N/m.
-        parameter: String,
-    },
-    /// The end restraints replaced by a tensioned rope at each end ([`rope`]), with
-    /// pretension T₀ (N).
-    RopePretension {
-        /// The parameter giving T₀, N.
-        parameter: String,
-    },
-    /// The end restraints replaced by a tensioned rope at each end ([`rope`]), with axial
-    /// stiffness EA (N).
-    RopeStiffness {
-        /// The parameter giving EA, N.
-        parameter: String,
-    },
-    /// Dilatant (rough, interlocking) joints of one family (or of every joint): the
-    /// friction angle raised by the asperity angle i (deg), φ → φ + i, capped at
-    /// [`MAX_FRICTION_DEG`] (Patton 1966: the apparent friction of a joint whose asperities
-    /// ride up at i).
-    Dilatancy {
-        /// The family; absent: every joint.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        family: Option<JointFamily>,
-        /// The parameter giving i, degrees.
-        parameter: String,
-    },
-    /// Fixed stops of height h_s (m) bearing on the downhill face of every block on the
-    /// table ([`geometry::add_base_stops`]).
-    BaseStop {
-        /// The parameter giving h_s, m.
-        parameter: String,
-        /// Friction angle of the stops' joints, degrees; absent: the table's material (the
-        /// joint with a block is then that material's series combination with the block's,
-        /// as between any two materials).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        friction_deg: Option<f64>,
-    },
-    /// The table rolled by hand overshoots each stop by Δ (deg): the quasi-static tilting
-    /// tests load the wall to the stop plus Δ at every 5° stop
-    /// (`Layout::table_overshoot_deg`, [`crate::loading::tilt_hand::effective_tilt_deg`]).
-    TableOvershoot {
-        /// The parameter giving Δ, degrees.
-        parameter: String,
-    },
-    /// The section split into two leaves: every block cut so that the +y leaf takes the
-    /// share f (the parameter, in [0, 1)) of the section's width ([`geometry::split_leaves`]).
-    LeafSplit {
-        /// The parameter giving f, the loose (+y) leaf's share of the width.
-        parameter: String,
-        /// A through stone (left whole) every n stones along each course (staggered course
-        /// to course); absent: none, the leaves are tied by friction only.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        through_stone_every: Option<u32>,
-    },
-}
-
-impl Step {
-    /// The parameter's name.
-    pub fn parameter(&self) -> &str {
-        match self {
-            Step::JointFactor { parameter, .. }
-            | Step::Closure { parameter, .. }
-            | Step::Lean { parameter }
-            | Step::Rounding { parameter }
-            | Step::TransverseDip { parameter }
-            | Step::RestraintSpring { parameter }
-            | Step::RopePretension { parameter }
-            | Step::RopeStiffness { parameter }
-            | Step::BaseStop { parameter, .. }
-            | Step::TableOvershoot { parameter }
-            | Step::LeafSplit { parameter, .. } => parameter,
-            Step::Dilatancy { parameter, .. } => parameter,
-        }
-    }
-
-    /// Where the step enters the model.
-    pub fn stage(&self) -> Stage {
-        match self {
-            Step::Lean { .. }
-            | Step::Rounding { .. }
-            | Step::TransverseDip { .. }
-            | Step::BaseStop { .. }
-            | Step::LeafSplit { .. } => Stage::Layout,
-            Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
-            Step::RestraintSpring { .. }
-            | Step::RopePretension { .. }
-            | Step::RopeStiffness { .. }
-            | Step::TableOvershoot { .. } => Stage::Restraints,
-            Step::Dilatancy { .. } => Stage::JointLaw,
-        }
-    }
-
-    /// The family the step acts on, if it is a joint-law step on one family.
-    pub fn family(&self) -> Option<JointFamily> {
-        match self {
-            Step::JointFactor { family, .. } | Step::Closure { family, .. } => *family,
-            Step::Dilatancy { family, .. } => *family,
-            _ => None,
-        }
     }
 }
 
