@@ -5,9 +5,8 @@
 
 use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
 use crate::model::{from_json, to_json, PyLayout};
-use drystone::dem::SolverKind;
 use drystone::loading::lateral_pushover::run_lateral_pushover;
-use drystone::loading::tilt_hand::{run_tilt_by_hand, HandTilt};
+use drystone::loading::tilt_hand::HandTilt;
 use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
@@ -55,7 +54,7 @@ pub fn solver(py: Python<'_>, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Solver
 }
 
 /// Runs the tilting-table test; see `drystone.tilt`. `by_hand`: a dict of `HandTilt`
-/// keys (the table rolled by hand, `loading::tilt_hand`; the nscd solver only).
+/// keys (the table rolled by hand: `TiltParams::by_hand`, the nscd solver only).
 #[pyfunction]
 #[pyo3(signature = (layout, solver = None, params = None, by_hand = None))]
 pub fn _tilt<'py>(
@@ -66,28 +65,12 @@ pub fn _tilt<'py>(
     by_hand: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = self::solver(py, solver)?;
-    let tp: TiltParams = self::params(py, params, "tilt parameters")?;
-    let hand: Option<HandTilt> = match by_hand {
-        None => None,
-        Some(d) => Some(self::params(py, Some(d), "by_hand")?),
-    };
-    if hand.is_some() && solver.kind != SolverKind::Nscd {
-        let place = Place { key: Some("by_hand".into()), ..Place::default() };
-        return Err(input_error(
-            "by_hand: the table rolled by hand runs by non-smooth contact dynamics: give solver=\"nscd\"",
-            place,
-        ));
+    let mut tp: TiltParams = self::params(py, params, "tilt parameters")?;
+    if let Some(d) = by_hand {
+        tp.by_hand = Some(self::params::<HandTilt>(py, Some(d), "by_hand")?);
     }
     let l = &layout.get().layout;
-    let r = py.detach(|| {
-        guard(|| {
-            match &hand {
-                Some(h) => run_tilt_by_hand(l, &solver.nscd, &tp, h),
-                None => run_tilt(l, solver, &tp),
-            }
-            .map_err(|e| tilt_error(&e))
-        })
-    })?;
+    let r = py.detach(|| guard(|| run_tilt(l, solver, &tp).map_err(|e| tilt_error(&e))))?;
     py.check_signals()?;
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;

@@ -6,7 +6,7 @@ use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
-use drystone::loading::tilt_hand::{run_tilt_by_hand, HandTilt};
+use drystone::loading::tilt_hand::HandTilt;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -182,7 +182,8 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
 /// Runs the test with the table rolled by hand and prints it as [`run`] does.
 fn run_by_hand(layout: &Path, nscd: &NscdParams, params: &TiltParams, hand: &HandTilt, json: bool) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
-    let r = run_tilt_by_hand(&l, nscd, params, hand)
+    let solver = SolverParams { kind: drystone::dem::SolverKind::Nscd, nscd: *nscd, ..SolverParams::default() };
+    let r = drystone::loading::tilt::run_tilt(&l, solver, &TiltParams { by_hand: Some(*hand), ..*params })
         .map_err(|e| match e {
             TiltError::Parameter(p) if !hand_flag(&p.key).is_empty() => {
                 anyhow::anyhow!("{} {}", hand_flag(&p.key), p.reason())

@@ -57,11 +57,13 @@
 //! (`tests/tilt_hand.rs`).
 
 use super::mechanism::Mechanism;
-use super::monitors::{monitor_points, MonitorPoint};
+use super::monitors::monitor_points;
 pub use super::tilt::hand::{effective_tilt_deg, HandTilt, MAX_STEPS};
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
-use super::tilt_nscd::{largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something};
+use super::tilt_nscd::{
+    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something,
+};
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
@@ -176,6 +178,7 @@ pub fn run_tilt_by_hand(
         let (steps0, it0) = (sim.steps(), sim.iterations());
         let mut onset: Option<f64> = None;
         let mut collapsed = false;
+        let mut shown = Vec::new();
         for n in 0..per_increment {
             let t_mid = (n as f64 + theta) * dt;
             let (alpha, w, acc) = hand.motion(start_deg, t_mid);
@@ -186,11 +189,8 @@ pub fn run_tilt_by_hand(
             if onset.is_none() && moved > 0.2 * inc_limit {
                 onset = Some(alpha_now);
             }
-            let top_moved = monitors
-                .iter()
-                .zip(&reference)
-                .map(|(m, r)| (sim.bodies()[m.body].to_world(&m.local) - r).y.abs())
-                .fold(0.0, f64::max);
+            shown = displacements(&sim, &monitors, &reference);
+            let top_moved = shown.iter().fold(0.0, |a: f64, d| a.max(d.abs()));
             let why = if moved > inc_limit {
                 Some(CollapseReason::IncrementDisplacement)
             } else if top_moved > total_limit {
@@ -207,17 +207,13 @@ pub fn run_tilt_by_hand(
                 break;
             }
         }
-        let end_deg = (start_deg + hand.increment_deg).min(f64::MAX);
+        let end_deg = start_deg + hand.increment_deg;
         increments.push(Increment {
             alpha_deg: if collapsed { first_unstable.unwrap_or(end_deg) } else { end_deg },
             stable: !collapsed,
             steps: sim.steps() - steps0,
             iterations: u32::try_from(sim.iterations() - it0).unwrap_or(u32::MAX),
-            displacement_m: monitors
-                .iter()
-                .zip(&reference)
-                .map(|(m, r): (&MonitorPoint, &Vec3)| (sim.bodies()[m.body].to_world(&m.local) - r).y)
-                .collect(),
+            displacement_m: shown,
             unbalanced_ratio: sim.last_step().residual_m_per_s / g_h,
         });
         if collapsed {

@@ -314,7 +314,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
 }
 
 /// Out-of-plane (y) displacement of each monitor point from its reference, m.
-fn displacements(sim: &NscdSimulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
+pub(crate) fn displacements(sim: &NscdSimulation, monitors: &[MonitorPoint], reference: &[Vec3]) -> Vec<f64> {
     monitors.iter().zip(reference).map(|(m, r)| (sim.bodies()[m.body].to_world(&m.local) - r).y).collect()
 }
 
