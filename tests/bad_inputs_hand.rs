@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 15;
+const CORPUS_CASES: usize = 16;
 
 fn layout(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name).to_str().unwrap().to_string()
@@ -75,6 +75,12 @@ fn hostile_inputs_to_the_table_rolled_by_hand_are_refused_by_name() {
         "increments of 0.5° held 600 s",
         run(with(&["--hand-increment-deg", "0.5", "--hand-rate-deg-s", "0.5", "--hand-hold-s", "600"])),
         &["--hand-hold-s", "2e7"],
+        &mut count,
+    );
+    refused(
+        "a roll at 1e-6 °/s",
+        run(with(&["--hand-rate-deg-s", "1e-6", "--hand-ramp-s", "0.1"])),
+        &["--hand-rate-deg-s", "2e7"],
         &mut count,
     );
     refused(

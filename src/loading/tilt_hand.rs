@@ -105,7 +105,8 @@ pub fn set_table_motion(sim: &mut NscdSimulation, axis: Vec3, alpha: f64, w: f64
 /// # Errors
 /// [`TiltError::Parameter`] for a field of `hand`, `tilt` or `params` out of range (its
 /// key), a start or stop shorter than 5 time steps (`ramp_s`), or a run longer than
-/// [`MAX_STEPS`] steps (`hold_s` named with the bound);
+/// [`MAX_STEPS`] steps (`hold_s` or `rate_deg_per_s`, whichever makes it long, named with
+/// the bound);
 /// [`TiltError::DoesNotStand`] if the wall does not stand as given (the rigid tilt's
 /// check); [`TiltError::Nscd`] for a joint with cohesion; [`TiltError::Dem`] if the state
 /// blows up.
@@ -130,10 +131,16 @@ pub fn run_tilt_by_hand(
     let increments_needed = (tilt.max_angle_deg / hand.increment_deg).ceil().max(1.0);
     let steps_needed = increments_needed * (hand.roll_s() + hand.hold_s) / dt;
     if steps_needed > MAX_STEPS {
+        // Named by what makes the run long: the holds or the rolls.
+        let (key, value) = if hand.hold_s >= hand.roll_s() {
+            ("hold_s", hand.hold_s)
+        } else {
+            ("rate_deg_per_s", hand.rate_deg_per_s)
+        };
         return Err(TiltError::Parameter(OutOfRange::new(
-            "hold_s",
-            hand.hold_s,
-            "short enough for a run of at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + hold_s) / dt_s)",
+            key,
+            value,
+            "such that the run takes at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + ramp_s + hold_s) / dt_s)",
         )));
     }
     touches_something(&base, params)?;
