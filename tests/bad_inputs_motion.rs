@@ -400,7 +400,7 @@ fn studies(count: &mut usize) {
     }
     // A plausible study warns about nothing.
     let path = study(&dir, "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]");
-    assert!(Study::from_file(&path).unwrap().shake.unwrap().warnings().is_empty());
+    assert!(Study::from_file(&path).unwrap().protocol.shake().unwrap().warnings().is_empty());
     // A mapping in the study reads the record it names.
     let ok = Study::from_file(&study(
         &dir,

@@ -20,7 +20,10 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
     let rows = run_study(&study, Shard::ALL);
     let setup = setup_of(&study, n);
     let tilt = setup.tilt().expect("a tilting-table study");
-    assert_eq!((tilt.step_deg, tilt.resolution_deg), (study.tilt.step_deg, study.tilt.resolution_deg));
+    assert_eq!((tilt.step_deg, tilt.resolution_deg), {
+        let t = study.protocol.tilt().unwrap();
+        (t.step_deg, t.resolution_deg)
+    });
     let outs = run_models(&setup, &[vec![]], None).remove(0);
     for (g, group) in study.groups.iter().enumerate() {
         let mine: Vec<_> = rows.iter().filter(|r| r.group == group.name).collect();
@@ -35,7 +38,7 @@ fn the_baseline_predictive_means_are_the_study_run_means() {
         assert_eq!(sim.n, n as usize);
         assert!((sim.mean - drystone::stats::mean(&mid)).abs() < 1e-12, "{}: {} vs {:?}", group.name, sim.mean, mid);
         // The displacement at the first tilt step, mean of the three top points.
-        let t = study.tilt.step_deg;
+        let t = study.protocol.tilt().unwrap().step_deg;
         let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: t };
         let sim = Simulated::of(&outs[g], &ob);
         let run: Vec<f64> = mine

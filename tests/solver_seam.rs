@@ -70,3 +70,47 @@ fn every_solver_runs_the_tilting_table_through_the_seam() {
         assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{kind}: [{}, {up}]", r.last_stable_deg);
     }
 }
+
+/// The compatibility table reaches studies: `protocol = "lateral"` with `pushover = true`
+/// and `kind = "nscd"` runs the rigid pushover in every realization (as
+/// `loading::lateral_nscd` alone, bit for bit) and `kind = "limit"` the limit analysis of
+/// the same pressure; the rigid λ by bisection lies within its 1 % bracket of the
+/// associative limit load multiplier's non-associative answer or below it (a lower bound by
+/// dynamics of rigid blocks against the statics' λ), and each row's status says whether
+/// λ ≥ 1.
+#[test]
+fn a_study_runs_the_rigid_pushover_and_limit_analysis_through_the_table() {
+    use drystone::layout::Layout;
+    use drystone::loading::lateral::LateralParams;
+    let wall = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/studies/walls/tiny_running_bond.toml");
+    let dir = std::env::temp_dir().join(format!("drystone-seam-{}-pushover", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |kind: &str| {
+        let text = format!(
+            "version = 1\nname = \"push_{kind}\"\nseed = 3\nrealizations = 2\nprotocol = \"lateral\"\n\
+             [lateral]\npushover = true\npressure_base_pa = 400.0\npressure_top_pa = 400.0\n\
+             [solver]\nkind = \"{kind}\"\n[[groups]]\nname = \"tiny\"\nwall = {wall:?}\n"
+        );
+        let path = dir.join(format!("{kind}.toml"));
+        std::fs::write(&path, text).unwrap();
+        Study::from_file(&path).unwrap()
+    };
+    let (nscd, limit) = (file("nscd"), file("limit"));
+    let (a, b) = (run_study(&nscd, Shard::ALL), run_study(&limit, Shard::ALL));
+    let params =
+        LateralParams { pressure_base_pa: 400.0, pressure_top_pa: 400.0, pushover: true, ..LateralParams::default() };
+    for (i, (rn, rl)) in a.iter().zip(&b).enumerate() {
+        assert!(rn.error.is_empty() || !rn.status.is_ok(), "{rn:?}");
+        let layout: Layout = drystone::effects::realize(&nscd.groups[0].walls[0], 3, i as u64, "tiny", &[]).unwrap().1;
+        let direct =
+            drystone::loading::lateral_nscd::run_lateral_nscd(&layout, &nscd.solver.nscd, &params, 0.01).unwrap();
+        assert_eq!(rn.pushover.load_multiplier_dem, Some(direct.lambda_stable), "{rn:?}");
+        assert_eq!(rn.pushover.load_multiplier_dem_unstable, direct.lambda_unstable);
+        let rigid = direct.lambda_stable;
+        let lim = rl.pushover.load_multiplier_limit.expect("limit λ");
+        assert!(rigid <= lim * 1.02, "nscd λ {rigid} against limit analysis {lim}");
+        assert!(rigid >= 0.8 * lim, "nscd λ {rigid} against limit analysis {lim}");
+        assert_eq!(rn.status == drystone::ensemble::row::Status::Stood, rigid >= 1.0, "{rn:?}");
+        assert_eq!(rl.status == drystone::ensemble::row::Status::Stood, lim >= 1.0, "{rl:?}");
+    }
+}

@@ -160,11 +160,9 @@ pub fn study_error(e: &StudyError) -> PyErr {
 /// a blow-up or a layout that does not stand is a solver error.
 pub fn tilt_error(e: &TiltError) -> PyErr {
     match e {
-        TiltError::Parameter(_)
-        | TiltError::Unsupported(_)
-        | TiltError::HandNeedsNscd(_)
-        | TiltError::Nscd(_)
-        | TiltError::NoLoad(_) => input_error(e, Place::default()),
+        TiltError::Parameter(_) | TiltError::Unsupported(_) | TiltError::Nscd(_) | TiltError::NoLoad(_) => {
+            input_error(e, Place::default())
+        }
         _ => SolverError::new_err(e.to_string()),
     }
 }

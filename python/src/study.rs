@@ -100,7 +100,7 @@ impl PyStudy {
     /// The protocol: `tilt`, `lateral` or `shake`.
     #[getter]
     fn protocol(&self) -> String {
-        serde_json::to_value(self.study.protocol).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
+        self.study.protocol.name().to_string()
     }
 
     /// Group names, in file order.

@@ -1,10 +1,12 @@
 //! `drystone lateral`: the static lateral load on a layout file.
 
 use super::solver::SolverChoice;
-use anyhow::{Context, Result};
-use drystone::dem::SolverParams;
+use anyhow::{bail, Context, Result};
+use drystone::dem::{Method, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
+use drystone::limit::{LimitParams, LiveLoad};
 use drystone::loading::lateral::{run_lateral_observed, LateralError, LateralParams, LateralResult};
+use drystone::loading::support::{check, Loading};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -68,10 +70,30 @@ pub fn run(
     json: bool,
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
-    let l = super::read_layout(layout)?;
-    if solver.kind == drystone::dem::SolverKind::Nscd {
-        return pushover(layout, &l, solver, params, json);
+    match solver.kind.method() {
+        Method::Limit => {
+            if vtk.is_some() {
+                bail!("--vtk draws the states of a DEM run; limit analysis has none");
+            }
+            let load = LiveLoad::Lateral {
+                pressure_base_pa: params.pressure_base_pa,
+                pressure_top_pa: params.pressure_top_pa,
+            };
+            return super::limit::analyse(layout, load, &LimitParams::default(), json, None);
+        }
+        Method::Nscd => {
+            if !params.pushover {
+                eprintln!(
+                    "note: `--solver nscd` runs the rigid pushover; give it with --pushover (without it is deprecated)"
+                );
+            }
+            let params = LateralParams { pushover: true, ..*params };
+            check(Loading::Pushover, solver.kind).map_err(anyhow::Error::from)?;
+            return pushover(layout, &super::read_layout(layout)?, solver, &params, json);
+        }
+        Method::Penalty => {}
     }
+    let l = super::read_layout(layout)?;
     if params.pushover {
         return dem_pushover(layout, &l, solver, params, json, vtk);
     }
@@ -95,13 +117,10 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The library's error, with the commands to use instead where the solver cannot run the
-/// load.
+/// The library's error, with the command-line spelling of the solvers that do run the load.
 fn hint(e: LateralError) -> anyhow::Error {
     match e {
-        LateralError::Unsupported(_) => {
-            anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json --protocol lateral`, or `drystone lateral --solver nscd` for the rigid pushover")
-        }
+        LateralError::Unsupported(_) => anyhow::anyhow!("{e}; on the command line: --solver NAME"),
         e => e.into(),
     }
 }

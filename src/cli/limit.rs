@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use drystone::dem::SolverParams;
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
-use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, Protocol};
+use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, LiveLoad};
 use drystone::loading::lateral::LateralParams;
 use drystone::Vec3;
 use std::path::{Path, PathBuf};
@@ -48,24 +48,36 @@ pub struct LimitArgs {
 /// Runs the analysis and prints a table, or one JSON object with `json`; with `svg`, draws
 /// the mechanism there as the DEM's mechanism figure is drawn.
 pub fn run(a: &LimitArgs) -> Result<ExitCode> {
-    let l = super::read_layout(&a.layout)?;
     let protocol = match a.protocol {
-        ProtocolArg::Tilt => Protocol::Tilt,
+        ProtocolArg::Tilt => LiveLoad::Tilt,
         ProtocolArg::Lateral => {
-            Protocol::Lateral { pressure_base_pa: a.pressure_base_pa, pressure_top_pa: a.pressure_top_pa }
+            LiveLoad::Lateral { pressure_base_pa: a.pressure_base_pa, pressure_top_pa: a.pressure_top_pa }
         }
     };
     let params = LimitParams { non_associative: !a.associative, ..LimitParams::default() };
-    let r = limit_analysis(&l, &SolverParams::default(), protocol, &params)
-        .with_context(|| format!("limit analysis of {}", a.layout.display()))?;
-    if let Some(path) = &a.svg {
-        drystone::files::replace_file(path, svg(&l, &r, &a.layout).as_bytes())?;
+    analyse(&a.layout, protocol, &params, a.json, a.svg.as_deref())
+}
+
+/// The limit analysis of the layout file `layout` under `load`, printed as `drystone limit`
+/// prints it: the command itself, and `drystone tilt` / `lateral` with `--solver limit`.
+pub fn analyse(
+    layout: &Path,
+    load: LiveLoad,
+    params: &LimitParams,
+    json: bool,
+    svg_path: Option<&Path>,
+) -> Result<ExitCode> {
+    let l = super::read_layout(layout)?;
+    let r = limit_analysis(&l, &SolverParams::default(), load, params)
+        .with_context(|| format!("limit analysis of {}", layout.display()))?;
+    if let Some(path) = svg_path {
+        drystone::files::replace_file(path, svg(&l, &r, layout).as_bytes())?;
         eprintln!("mechanism drawing: {}", path.display());
     }
-    if a.json {
+    if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        print(&a.layout, &r);
+        print(layout, &r);
     }
     Ok(ExitCode::SUCCESS)
 }

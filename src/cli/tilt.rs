@@ -113,8 +113,8 @@ impl HandArgs {
             }
             return Ok(None);
         }
-        if kind != drystone::dem::SolverKind::Nscd {
-            bail!("--by-hand runs the table's motion by non-smooth contact dynamics: give it with --solver nscd");
+        if let Err(e) = drystone::loading::support::check(drystone::loading::support::Loading::TiltByHand, kind) {
+            bail!("--by-hand: {e}: give it with --solver nscd");
         }
         let d = HandTilt::default();
         Ok(Some(HandTilt {
@@ -170,6 +170,13 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         max_steps_per_increment: a.max_steps,
         ..a.solver.tilt_params(!a.no_predictor)
     };
+    if kind.method() == drystone::dem::Method::Limit {
+        if a.vtk.is_some() {
+            bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
+        }
+        let params = drystone::limit::LimitParams::default();
+        return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &params, a.json, None);
+    }
     if let Some(hand) = hand {
         if a.vtk.is_some() {
             bail!("--vtk is not written for a table rolled by hand (--by-hand)");
@@ -230,10 +237,6 @@ pub fn run(
         }
     };
     let r = run_tilt_observed(&l, solver, params, &mut observe)
-        .map_err(|e| match e {
-            TiltError::Unsupported(_) => anyhow::anyhow!("{e}; on the command line: `drystone limit LAYOUT.json`"),
-            e => e.into(),
-        })
         .with_context(|| format!("tilting-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {
         let (series, others) = tilt_frames(&rec, &r);

@@ -1,6 +1,9 @@
-//! The solver a protocol runs on ([`SolverKind`]) and the stages of the penalty cascade a
-//! static solve runs ([`Cascade`]): plain data, read by the parameters, the solver seam
-//! (`dem::solve`) and the protocols.
+//! The solver axis: the method a protocol runs by ([`Method`]: the penalty DEM, non-smooth
+//! contact dynamics, limit analysis), its spelling in files and on the command line
+//! ([`SolverKind`]: a method, and for the penalty DEM the stages of its static cascade) and
+//! the stages themselves ([`Cascade`]). Plain data, read by the parameters, the solver seam
+//! (`dem::solve`), the protocols and their one compatibility table
+//! (`loading::support::supports`).
 
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +36,53 @@ pub enum SolverKind {
     Limit,
 }
 
+/// The method a protocol runs by: one axis, whatever the cascade of a penalty solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// The penalty DEM (3DEC-style sub-contact springs, Kn and Ks from the layout): static
+    /// states by its [`Cascade`], motion by explicit dynamics.
+    Penalty,
+    /// Non-smooth contact dynamics (Moreau–Jean time stepping, NSGS; rigid joints).
+    Nscd,
+    /// Limit analysis (lower-bound statics of rigid blocks; rigid joints).
+    Limit,
+}
+
+impl Method {
+    /// Every method.
+    pub const ALL: [Method; 3] = [Method::Penalty, Method::Nscd, Method::Limit];
+
+    /// Its name: the [`SolverKind`] that selects it with the protocol's default cascade.
+    pub fn name(self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The solver kind that selects this method with the protocol's default cascade.
+    pub fn kind(self) -> SolverKind {
+        match self {
+            Method::Penalty => SolverKind::Penalty,
+            Method::Nscd => SolverKind::Nscd,
+            Method::Limit => SolverKind::Limit,
+        }
+    }
+
+    /// What it is, in a phrase (for messages).
+    pub fn describe(self) -> &'static str {
+        match self {
+            Method::Penalty => "the penalty DEM",
+            Method::Nscd => "non-smooth contact dynamics",
+            Method::Limit => "limit analysis",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 impl SolverKind {
     /// Every solver kind.
     pub const ALL: [SolverKind; 6] = [
@@ -61,10 +111,28 @@ impl SolverKind {
         SolverKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
+    /// The method it selects.
+    pub fn method(self) -> Method {
+        match self {
+            SolverKind::Penalty | SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => {
+                Method::Penalty
+            }
+            SolverKind::Nscd => Method::Nscd,
+            SolverKind::Limit => Method::Limit,
+        }
+    }
+
+    /// Whether it names a cascade of its own rather than the protocol's default (the
+    /// penalty kinds other than `penalty`): a setting of static solves, which motion does not
+    /// run.
+    pub fn names_cascade(self) -> bool {
+        self.method() == Method::Penalty && self != SolverKind::Penalty
+    }
+
     /// Whether it is the penalty DEM (joints of finite stiffness, static states from
     /// `dem::solve_static`).
     pub fn is_penalty(self) -> bool {
-        self.cascade(Cascade::FULL).is_some()
+        self.method() == Method::Penalty
     }
 
     /// The stages of a static solve for a protocol whose default is `protocol_default`;
@@ -128,5 +196,10 @@ mod tests {
         assert_eq!(SolverKind::Implicit.cascade(Cascade::RELAXATION), Some(Cascade::FULL));
         assert!(!SolverKind::Nscd.is_penalty() && !SolverKind::Limit.is_penalty());
         assert!(SolverKind::Relaxation.is_penalty());
+        for k in SolverKind::ALL {
+            assert_eq!(k.is_penalty(), k.cascade(Cascade::FULL).is_some(), "{k}");
+            assert_eq!(k.method().kind().method(), k.method());
+        }
+        assert!(SolverKind::Implicit.names_cascade() && !SolverKind::Penalty.names_cascade());
     }
 }

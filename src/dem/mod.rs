@@ -23,8 +23,8 @@ pub mod timestep;
 mod workspace;
 
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
-pub use method::{Cascade, SolverKind};
+pub use method::{Cascade, Method, SolverKind};
 pub use model::WallState;
 pub use monitor::StepStats;
 pub use params::{DensityScaling, SolverParams};
-pub use solve::{solve_static, End, Outcome, RunToEquilibrium, Stage, StaticSolve};
+pub use solve::{solve_static, End, RunToEquilibrium, SolveOutcome, SolveStage, StaticSolve};

@@ -2,8 +2,8 @@
 //! where the solver a user chose is resolved.
 //!
 //! A protocol (settling, a tilting-table increment, the static lateral load) asks for a
-//! static solution with [`solve_static`] and gets one typed [`Outcome`]: how it ended
-//! ([`End`]), which stage ended it ([`Stage`]), the steps and iterations taken, and, where
+//! static solution with [`solve_static`] and gets one typed [`SolveOutcome`]: how it ended
+//! ([`End`]), which stage ended it ([`SolveStage`]), the steps and iterations taken, and, where
 //! the implicit iteration gave up, its cause ([`Unsolved`]). The penalty cascade is owned
 //! here:
 //!
@@ -84,7 +84,7 @@ impl RunToEquilibrium for Simulation {
 
 /// The stage of the cascade that ended a static solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stage {
+pub enum SolveStage {
     /// The implicit iteration (or the probe of its drift).
     Implicit,
     /// Dynamic relaxation.
@@ -108,11 +108,11 @@ pub enum End<R> {
 
 /// The one outcome of a static solve.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Outcome<R> {
+pub struct SolveOutcome<R> {
     /// How it ended.
     pub end: End<R>,
     /// The stage that ended it.
-    pub stage: Stage,
+    pub stage: SolveStage,
     /// Dynamic-relaxation steps taken.
     pub steps: u64,
     /// Implicit iterations taken.
@@ -134,7 +134,7 @@ pub fn solve_static<R>(
     solve: &StaticSolve,
     start: &[BodyPose],
     mut check: impl FnMut(&Simulation) -> Option<R>,
-) -> Result<Outcome<R>, DemError> {
+) -> Result<SolveOutcome<R>, DemError> {
     let mut iterations = 0;
     let mut unsolved = None;
     if solve.cascade.implicit {
@@ -179,11 +179,11 @@ pub fn solve_static<R>(
         Relaxed::Budget(steps) => (End::Budget, steps),
         Relaxed::Unstable(steps, direction) => (End::Unstable(direction), steps),
     };
-    Ok(Outcome { end, stage: Stage::Relaxation, steps, iterations, unsolved })
+    Ok(SolveOutcome { end, stage: SolveStage::Relaxation, steps, iterations, unsolved })
 }
 
-fn implicit_end<R>(end: End<R>, iterations: u32) -> Outcome<R> {
-    Outcome { end, stage: Stage::Implicit, steps: 0, iterations, unsolved: None }
+fn implicit_end<R>(end: End<R>, iterations: u32) -> SolveOutcome<R> {
+    SolveOutcome { end, stage: SolveStage::Implicit, steps: 0, iterations, unsolved: None }
 }
 
 #[cfg(test)]
@@ -219,9 +219,9 @@ mod tests {
             b.mass * 9.81 / (1e8 * 0.3 * 0.2)
         };
         for (cascade, stage) in [
-            (Cascade::FULL, Stage::Implicit),
-            (Cascade { implicit: false, accelerate: true }, Stage::Relaxation),
-            (Cascade::RELAXATION, Stage::Relaxation),
+            (Cascade::FULL, SolveStage::Implicit),
+            (Cascade { implicit: false, accelerate: true }, SolveStage::Relaxation),
+            (Cascade::RELAXATION, SolveStage::Relaxation),
         ] {
             let mut sim = block();
             let start = crate::dem::motion::poses(&sim);
@@ -243,7 +243,7 @@ mod tests {
         let mut sim = block();
         let start = crate::dem::motion::poses(&sim);
         let out = solve_static(&mut sim, &solve(Cascade::FULL), &start, |_| Some("stop")).unwrap();
-        assert_eq!((out.end, out.stage), (End::Stopped("stop"), Stage::Implicit));
+        assert_eq!((out.end, out.stage), (End::Stopped("stop"), SolveStage::Implicit));
         let mut sim = block();
         let tight = StaticSolve { tolerance: 1e-14, max_steps: 7, ..solve(Cascade::RELAXATION) };
         let out = solve_static(&mut sim, &tight, &start, |_| None::<()>).unwrap();

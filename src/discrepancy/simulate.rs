@@ -21,7 +21,7 @@ use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
 use crate::loading::protocol::{Protocol, ProtocolRun};
 use crate::loading::tilt::{TiltParams, TiltResult};
-use crate::loading::Monitor;
+use crate::loading::TopMonitor;
 use crate::units::m_to_cm;
 use serde::Serialize;
 
@@ -184,7 +184,7 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
 /// The observables of a tilting-table run: the collapse angle, its bracket, the left,
 /// centre and right top displacements at every stable tilt and the failure mechanism.
 fn tilt_outcome(t: &TiltResult) -> Outcome {
-    let idx = Monitor::ALL.map(|m| m.index_in(&t.monitors));
+    let idx = TopMonitor::ALL.map(|m| m.index_in(&t.monitors));
     let mut tilt_deg = Vec::new();
     let mut top_cm = Vec::new();
     for inc in t.increments.iter().filter(|i| i.stable) {
@@ -206,7 +206,7 @@ fn tilt_outcome(t: &TiltResult) -> Outcome {
 /// equilibrium (none when it did not: a displacement observation of it is then missing,
 /// as one above a tilting-table collapse). No collapse angle, no mechanism.
 fn lateral_outcome(r: &LateralResult) -> Outcome {
-    let idx = Monitor::ALL.map(|m| m.index_in(&r.monitors));
+    let idx = TopMonitor::ALL.map(|m| m.index_in(&r.monitors));
     let (tilt_deg, top_cm) = if r.equilibrium {
         (vec![0.0], vec![idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(r.displacement_m[i])))])
     } else {

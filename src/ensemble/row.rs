@@ -175,7 +175,7 @@ pub struct CollapseColumns {
 }
 
 /// The tilting table's curves: the top displacements at each stable increment (empty for
-/// the other protocols). The three points are the default [`crate::loading::Monitor`]s.
+/// the other protocols). The three points are the default [`crate::loading::TopMonitor`]s.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct TiltColumns {
     /// Tilt of each stable increment, degrees.

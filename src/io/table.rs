@@ -9,7 +9,7 @@ pub use super::measured::{
     read_measured_collapse, read_measured_displacement, read_measured_mechanism, MeasuredCollapse,
     MeasuredDisplacement, MeasuredMechanism,
 };
-use crate::ensemble::row::{CollapseColumns, LateralColumns, RealizationRow, Status, TiltColumns};
+use crate::ensemble::row::{RealizationRow, Status};
 use polars::prelude::*;
 use std::fs::File;
 use std::path::Path;
@@ -20,84 +20,251 @@ fn pe(path: &Path) -> impl Fn(PolarsError) -> TableError + '_ {
     move |e| TableError::Polars { path: path.to_owned(), message: e.to_string() }
 }
 
-fn list_column(name: &str, rows: &[RealizationRow], f: impl Fn(&RealizationRow) -> &Vec<f64>) -> Column {
-    let series: Vec<Series> = rows.iter().map(|r| Series::new("".into(), f(r).as_slice())).collect();
-    Series::new(name.into(), series.as_slice()).into_column()
+/// A column of the realizations table: how a row writes it and, but for the derived
+/// columns, how a row read back gets it.
+#[derive(Clone, Copy)]
+enum Field {
+    /// An unsigned count (0 for a missing value on reading).
+    Count(fn(&RealizationRow) -> u64, fn(&mut RealizationRow, u64)),
+    /// An optional count.
+    OptCount(fn(&RealizationRow) -> Option<u64>, fn(&mut RealizationRow, Option<u64>)),
+    /// Text ("" for a missing value); the setter checks it (`Err`: the reason).
+    Text(fn(&RealizationRow) -> String, fn(&mut RealizationRow, String) -> Result<(), String>),
+    /// A number (NaN for a missing value on reading).
+    Number(fn(&RealizationRow) -> f64, fn(&mut RealizationRow, f64)),
+    /// An optional number.
+    OptNumber(fn(&RealizationRow) -> Option<f64>, fn(&mut RealizationRow, Option<f64>)),
+    /// A per-increment series: a list column in Parquet, `;`-joined numbers in CSV.
+    Series(fn(&RealizationRow) -> &Vec<f64>, fn(&mut RealizationRow) -> &mut Vec<f64>),
+    /// Derived from other columns when written (a summary of the series); not read.
+    Derived(fn(&RealizationRow) -> Option<f64>),
 }
 
-fn joined_column(name: &str, rows: &[RealizationRow], f: impl Fn(&RealizationRow) -> &Vec<f64>) -> Column {
-    let v: Vec<String> =
-        rows.iter().map(|r| f(r).iter().map(|x| format!("{x}")).collect::<Vec<_>>().join(";")).collect();
-    Column::new(name.into(), v)
+/// Which part of the row a column belongs to: the realization's identity and run, or one
+/// protocol's results.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Part {
+    /// Identity, status and cost: every protocol.
+    Run,
+    /// The collapse and its mechanism: the tilting table, limit analysis, the pushover.
+    Collapse,
+    /// The tilting table's displacement curves.
+    Tilt,
+    /// The static lateral load's displacements.
+    Lateral,
+    /// The shaking table.
+    Shake,
+    /// The pushover's load multipliers (written only when a row has one).
+    Pushover,
 }
 
-/// The realizations as a data frame; `lists` chooses list columns (Parquet) or joined
-/// strings (CSV) for the per-increment series.
-pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
-    let u = |f: fn(&RealizationRow) -> u64| rows.iter().map(f).collect::<Vec<u64>>();
-    let s = |f: fn(&RealizationRow) -> String| rows.iter().map(f).collect::<Vec<String>>();
-    let of = |f: fn(&RealizationRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<Option<f64>>>();
-    let series = |name: &str, f: fn(&RealizationRow) -> &Vec<f64>| {
-        if lists {
-            list_column(name, rows, f)
-        } else {
-            joined_column(name, rows, f)
-        }
-    };
-    let mut columns = vec![
-        Column::new("index".into(), u(|r| r.index)),
-        Column::new("study".into(), s(|r| r.study.clone())),
-        Column::new("group".into(), s(|r| r.group.clone())),
-        Column::new("point".into(), u(|r| r.point)),
-        Column::new("sweep".into(), s(|r| r.sweep.clone())),
-        Column::new("seed".into(), u(|r| r.seed)),
-        Column::new("realization".into(), u(|r| r.realization)),
-        Column::new("status".into(), s(|r| r.status.as_str().to_string())),
-        Column::new("error".into(), s(|r| r.error.clone())),
-        Column::new("blocks".into(), u(|r| r.blocks)),
-        Column::new("collapse_angle_deg".into(), of(|r| r.collapse.collapse_angle_deg)),
-        Column::new("first_unstable_deg".into(), of(|r| r.collapse.first_unstable_deg)),
-        Column::new("collapse_reason".into(), s(|r| r.collapse.collapse_reason.clone())),
-        Column::new("mechanism".into(), s(|r| r.collapse.mechanism.clone())),
-        Column::new("joint".into(), s(|r| r.collapse.joint.clone())),
-        Column::new("moving_blocks".into(), u(|r| r.collapse.moving_blocks)),
-        Column::new("failure_height_fraction".into(), of(|r| r.collapse.failure_height_fraction)),
-        Column::new("mechanism_kind".into(), s(|r| r.collapse.mechanism_kind.clone())),
-        Column::new("mechanism_start".into(), s(|r| r.collapse.mechanism_start.clone())),
-        Column::new("mechanism_extent".into(), of(|r| r.collapse.mechanism_extent)),
-        Column::new("disp_mean_5deg_cm".into(), of(|r| r.disp_mean_at(5.0))),
-        Column::new("disp_mean_10deg_cm".into(), of(|r| r.disp_mean_at(10.0))),
-        Column::new("disp_centre_rel_5deg_cm".into(), of(|r| r.disp_centre_rel_at(5.0))),
-        Column::new("disp_centre_rel_10deg_cm".into(), of(|r| r.disp_centre_rel_at(10.0))),
-        Column::new("lateral_disp_left_cm".into(), of(|r| r.lateral.lateral_disp_left_cm)),
-        Column::new("lateral_disp_centre_cm".into(), of(|r| r.lateral.lateral_disp_centre_cm)),
-        Column::new("lateral_disp_right_cm".into(), of(|r| r.lateral.lateral_disp_right_cm)),
-        Column::new("lateral_disp_max_cm".into(), of(|r| r.lateral.lateral_disp_max_cm)),
-        Column::new("lateral_drift".into(), of(|r| r.lateral.lateral_drift)),
-        Column::new("motion".into(), s(|r| r.shake.motion.clone())),
-        Column::new("pga_g".into(), of(|r| r.shake.pga_g)),
-        Column::new("collapse_time_s".into(), of(|r| r.shake.collapse_time_s)),
-        Column::new("max_rotation_deg".into(), of(|r| r.shake.max_rotation_deg)),
-        Column::new("max_drift".into(), of(|r| r.shake.max_drift)),
-        Column::new("residual_drift".into(), of(|r| r.shake.residual_drift)),
-        Column::new("blocks_fallen".into(), rows.iter().map(|r| r.shake.blocks_fallen).collect::<Vec<Option<u64>>>()),
-        series("tilt_deg", |r| &r.tilt.tilt_deg),
-        series("disp_top_left_cm", |r| &r.tilt.disp_top_left_cm),
-        series("disp_top_centre_cm", |r| &r.tilt.disp_top_centre_cm),
-        series("disp_top_right_cm", |r| &r.tilt.disp_top_right_cm),
-        Column::new("steps".into(), u(|r| r.steps)),
-        Column::new("iterations".into(), u(|r| r.iterations)),
-        Column::new("dt_s".into(), rows.iter().map(|r| r.dt_s).collect::<Vec<f64>>()),
-        Column::new("wall_time_s".into(), rows.iter().map(|r| r.wall_time_s).collect::<Vec<f64>>()),
-    ];
-    // The collapse load multipliers of a pushover study, after the others; only there.
-    if rows.iter().any(|r| r.pushover.any()) {
-        columns.extend([
-            Column::new("load_multiplier_dem".into(), of(|r| r.pushover.load_multiplier_dem)),
-            Column::new("load_multiplier_dem_unstable".into(), of(|r| r.pushover.load_multiplier_dem_unstable)),
-            Column::new("load_multiplier_limit".into(), of(|r| r.pushover.load_multiplier_limit)),
-        ]);
+/// One column: its name, its part, its field, and whether a table may lack it (a column
+/// added after the first tables were written: missing, it reads as empty).
+struct RowColumn {
+    name: &'static str,
+    part: Part,
+    field: Field,
+    optional: bool,
+}
+
+const fn column(name: &'static str, part: Part, field: Field) -> RowColumn {
+    RowColumn { name, part, field, optional: false }
+}
+
+const fn later(name: &'static str, part: Part, field: Field) -> RowColumn {
+    RowColumn { name, part, field, optional: true }
+}
+
+fn status_of(r: &mut RealizationRow, v: String) -> Result<(), String> {
+    r.status = Status::parse(&v).ok_or_else(|| format!("unknown status {v:?}"))?;
+    Ok(())
+}
+
+fn reason_of(r: &mut RealizationRow, v: String) -> Result<(), String> {
+    use crate::loading::tilt::CollapseReason;
+    if !v.is_empty() && CollapseReason::from_name(&v).is_none() {
+        let known: Vec<&str> = CollapseReason::ALL.iter().map(|x| x.name()).collect();
+        return Err(format!("unknown collapse reason `{v}` (known: {})", known.join(", ")));
     }
+    r.collapse.collapse_reason = v;
+    Ok(())
+}
+
+/// The columns of `realizations.parquet` and `.csv`, in their order: the one list the
+/// writer ([`realizations_frame`]) and the reader ([`read_realizations`]) follow. A new
+/// column is one line here (and its field in [`RealizationRow`]).
+const COLUMNS: &[RowColumn] = &[
+    column("index", Part::Run, Field::Count(|r| r.index, |r, v| r.index = v)),
+    column("study", Part::Run, Field::Text(|r| r.study.clone(), |r, v| Ok(r.study = v))),
+    column("group", Part::Run, Field::Text(|r| r.group.clone(), |r, v| Ok(r.group = v))),
+    column("point", Part::Run, Field::Count(|r| r.point, |r, v| r.point = v)),
+    column("sweep", Part::Run, Field::Text(|r| r.sweep.clone(), |r, v| Ok(r.sweep = v))),
+    column("seed", Part::Run, Field::Count(|r| r.seed, |r, v| r.seed = v)),
+    column("realization", Part::Run, Field::Count(|r| r.realization, |r, v| r.realization = v)),
+    column("status", Part::Run, Field::Text(|r| r.status.as_str().to_string(), status_of)),
+    column("error", Part::Run, Field::Text(|r| r.error.clone(), |r, v| Ok(r.error = v))),
+    column("blocks", Part::Run, Field::Count(|r| r.blocks, |r, v| r.blocks = v)),
+    column(
+        "collapse_angle_deg",
+        Part::Collapse,
+        Field::OptNumber(|r| r.collapse.collapse_angle_deg, |r, v| r.collapse.collapse_angle_deg = v),
+    ),
+    column(
+        "first_unstable_deg",
+        Part::Collapse,
+        Field::OptNumber(|r| r.collapse.first_unstable_deg, |r, v| r.collapse.first_unstable_deg = v),
+    ),
+    column("collapse_reason", Part::Collapse, Field::Text(|r| r.collapse.collapse_reason.clone(), reason_of)),
+    column(
+        "mechanism",
+        Part::Collapse,
+        Field::Text(|r| r.collapse.mechanism.clone(), |r, v| Ok(r.collapse.mechanism = v)),
+    ),
+    column("joint", Part::Collapse, Field::Text(|r| r.collapse.joint.clone(), |r, v| Ok(r.collapse.joint = v))),
+    column(
+        "moving_blocks",
+        Part::Collapse,
+        Field::Count(|r| r.collapse.moving_blocks, |r, v| r.collapse.moving_blocks = v),
+    ),
+    later(
+        "failure_height_fraction",
+        Part::Collapse,
+        Field::OptNumber(|r| r.collapse.failure_height_fraction, |r, v| r.collapse.failure_height_fraction = v),
+    ),
+    later(
+        "mechanism_kind",
+        Part::Collapse,
+        Field::Text(|r| r.collapse.mechanism_kind.clone(), |r, v| Ok(r.collapse.mechanism_kind = v)),
+    ),
+    later(
+        "mechanism_start",
+        Part::Collapse,
+        Field::Text(|r| r.collapse.mechanism_start.clone(), |r, v| Ok(r.collapse.mechanism_start = v)),
+    ),
+    later(
+        "mechanism_extent",
+        Part::Collapse,
+        Field::OptNumber(|r| r.collapse.mechanism_extent, |r, v| r.collapse.mechanism_extent = v),
+    ),
+    column("disp_mean_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(5.0))),
+    column("disp_mean_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(10.0))),
+    column("disp_centre_rel_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(5.0))),
+    column("disp_centre_rel_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(10.0))),
+    column(
+        "lateral_disp_left_cm",
+        Part::Lateral,
+        Field::OptNumber(|r| r.lateral.lateral_disp_left_cm, |r, v| r.lateral.lateral_disp_left_cm = v),
+    ),
+    column(
+        "lateral_disp_centre_cm",
+        Part::Lateral,
+        Field::OptNumber(|r| r.lateral.lateral_disp_centre_cm, |r, v| r.lateral.lateral_disp_centre_cm = v),
+    ),
+    column(
+        "lateral_disp_right_cm",
+        Part::Lateral,
+        Field::OptNumber(|r| r.lateral.lateral_disp_right_cm, |r, v| r.lateral.lateral_disp_right_cm = v),
+    ),
+    column(
+        "lateral_disp_max_cm",
+        Part::Lateral,
+        Field::OptNumber(|r| r.lateral.lateral_disp_max_cm, |r, v| r.lateral.lateral_disp_max_cm = v),
+    ),
+    column(
+        "lateral_drift",
+        Part::Lateral,
+        Field::OptNumber(|r| r.lateral.lateral_drift, |r, v| r.lateral.lateral_drift = v),
+    ),
+    later("motion", Part::Shake, Field::Text(|r| r.shake.motion.clone(), |r, v| Ok(r.shake.motion = v))),
+    later("pga_g", Part::Shake, Field::OptNumber(|r| r.shake.pga_g, |r, v| r.shake.pga_g = v)),
+    later(
+        "collapse_time_s",
+        Part::Shake,
+        Field::OptNumber(|r| r.shake.collapse_time_s, |r, v| r.shake.collapse_time_s = v),
+    ),
+    later(
+        "max_rotation_deg",
+        Part::Shake,
+        Field::OptNumber(|r| r.shake.max_rotation_deg, |r, v| r.shake.max_rotation_deg = v),
+    ),
+    later("max_drift", Part::Shake, Field::OptNumber(|r| r.shake.max_drift, |r, v| r.shake.max_drift = v)),
+    later(
+        "residual_drift",
+        Part::Shake,
+        Field::OptNumber(|r| r.shake.residual_drift, |r, v| r.shake.residual_drift = v),
+    ),
+    later("blocks_fallen", Part::Shake, Field::OptCount(|r| r.shake.blocks_fallen, |r, v| r.shake.blocks_fallen = v)),
+    column("tilt_deg", Part::Tilt, Field::Series(|r| &r.tilt.tilt_deg, |r| &mut r.tilt.tilt_deg)),
+    column(
+        "disp_top_left_cm",
+        Part::Tilt,
+        Field::Series(|r| &r.tilt.disp_top_left_cm, |r| &mut r.tilt.disp_top_left_cm),
+    ),
+    column(
+        "disp_top_centre_cm",
+        Part::Tilt,
+        Field::Series(|r| &r.tilt.disp_top_centre_cm, |r| &mut r.tilt.disp_top_centre_cm),
+    ),
+    column(
+        "disp_top_right_cm",
+        Part::Tilt,
+        Field::Series(|r| &r.tilt.disp_top_right_cm, |r| &mut r.tilt.disp_top_right_cm),
+    ),
+    column("steps", Part::Run, Field::Count(|r| r.steps, |r, v| r.steps = v)),
+    column("iterations", Part::Run, Field::Count(|r| r.iterations, |r, v| r.iterations = v)),
+    column("dt_s", Part::Run, Field::Number(|r| r.dt_s, |r, v| r.dt_s = v)),
+    column("wall_time_s", Part::Run, Field::Number(|r| r.wall_time_s, |r, v| r.wall_time_s = v)),
+    later(
+        "load_multiplier_dem",
+        Part::Pushover,
+        Field::OptNumber(|r| r.pushover.load_multiplier_dem, |r, v| r.pushover.load_multiplier_dem = v),
+    ),
+    later(
+        "load_multiplier_dem_unstable",
+        Part::Pushover,
+        Field::OptNumber(
+            |r| r.pushover.load_multiplier_dem_unstable,
+            |r, v| r.pushover.load_multiplier_dem_unstable = v,
+        ),
+    ),
+    later(
+        "load_multiplier_limit",
+        Part::Pushover,
+        Field::OptNumber(|r| r.pushover.load_multiplier_limit, |r, v| r.pushover.load_multiplier_limit = v),
+    ),
+];
+
+/// The column `c` of `rows`; `lists` chooses list columns (Parquet) or joined strings
+/// (CSV) for the series.
+fn write_column(c: &RowColumn, rows: &[RealizationRow], lists: bool) -> Column {
+    let name = c.name.into();
+    match c.field {
+        Field::Count(get, _) => Column::new(name, rows.iter().map(get).collect::<Vec<u64>>()),
+        Field::OptCount(get, _) => Column::new(name, rows.iter().map(get).collect::<Vec<Option<u64>>>()),
+        Field::Text(get, _) => Column::new(name, rows.iter().map(get).collect::<Vec<String>>()),
+        Field::Number(get, _) => Column::new(name, rows.iter().map(get).collect::<Vec<f64>>()),
+        Field::OptNumber(get, _) | Field::Derived(get) => {
+            Column::new(name, rows.iter().map(get).collect::<Vec<Option<f64>>>())
+        }
+        Field::Series(get, _) if lists => {
+            let series: Vec<Series> = rows.iter().map(|r| Series::new("".into(), get(r).as_slice())).collect();
+            Series::new(name, series.as_slice()).into_column()
+        }
+        Field::Series(get, _) => {
+            let v: Vec<String> =
+                rows.iter().map(|r| get(r).iter().map(|x| format!("{x}")).collect::<Vec<_>>().join(";")).collect();
+            Column::new(name, v)
+        }
+    }
+}
+
+/// The realizations as a data frame, in the order of the column list; `lists` chooses
+/// list columns (Parquet) or joined strings (CSV) for the per-increment series. The
+/// pushover's columns are written only when a row has one.
+pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
+    let pushover = rows.iter().any(|r| r.pushover.any());
+    let columns: Vec<Column> =
+        COLUMNS.iter().filter(|c| c.part != Part::Pushover || pushover).map(|c| write_column(c, rows, lists)).collect();
     DataFrame::new_infer_height(columns)
 }
 
@@ -191,139 +358,37 @@ impl Columns<'_> {
     }
 }
 
-/// Reads `realizations.parquet` back into rows (for `drystone merge`).
+/// Reads `realizations.parquet` back into rows (for `drystone merge`), column by column
+/// from the list the writer follows.
 ///
 /// # Errors
-/// [`TableError`] naming the file and column.
+/// [`TableError`] naming the file and column (and the row of a bad value).
 pub fn read_realizations(path: &Path) -> Result<Vec<RealizationRow>, TableError> {
     let f = File::open(path).map_err(|source| TableError::Io { path: path.to_owned(), source })?;
     let df = ParquetReader::new(f).finish().map_err(pe(path))?;
     let r = Columns { df: &df, path };
-    let index = r.u64s("index")?;
-    let study = r.strs("study")?;
-    let group = r.strs("group")?;
-    let point = r.u64s("point")?;
-    let sweep = r.strs("sweep")?;
-    let seed = r.u64s("seed")?;
-    let realization = r.u64s("realization")?;
-    let status = r.strs("status")?;
-    let error = r.strs("error")?;
-    let blocks = r.u64s("blocks")?;
-    let collapse = r.opts("collapse_angle_deg")?;
-    let unstable = r.opts("first_unstable_deg")?;
-    let reason = r.strs("collapse_reason")?;
-    if let Some((i, bad)) = reason
-        .iter()
-        .enumerate()
-        .find(|(_, x)| !x.is_empty() && crate::loading::tilt::CollapseReason::from_name(x).is_none())
-    {
-        let known: Vec<&str> = crate::loading::tilt::CollapseReason::ALL.iter().map(|x| x.name()).collect();
-        return Err(TableError::Column {
-            path: path.to_owned(),
-            column: "collapse_reason".into(),
-            message: format!("row {}: unknown collapse reason `{bad}` (known: {})", i + 1, known.join(", ")),
-        });
-    }
-    let mechanism = r.strs("mechanism")?;
-    let joint = r.strs("joint")?;
-    let moving = r.u64s("moving_blocks")?;
-    // Columns added later: a table written before them reads as without a mechanism.
-    let n = index.len();
-    let has = |c: &str| df.column(c).is_ok();
-    let height = if has("failure_height_fraction") { r.opts("failure_height_fraction")? } else { vec![None; n] };
-    let mkind = if has("mechanism_kind") { r.strs("mechanism_kind")? } else { vec![String::new(); n] };
-    let mstart = if has("mechanism_start") { r.strs("mechanism_start")? } else { vec![String::new(); n] };
-    let extent = if has("mechanism_extent") { r.opts("mechanism_extent")? } else { vec![None; n] };
-    let lat_l = r.opts("lateral_disp_left_cm")?;
-    let lat_c = r.opts("lateral_disp_centre_cm")?;
-    let lat_r = r.opts("lateral_disp_right_cm")?;
-    let lat = r.opts("lateral_disp_max_cm")?;
-    let drift = r.opts("lateral_drift")?;
-    // The shaking table's columns (added later: a table without them reads as rows of
-    // another protocol).
-    let shake_text = |c: &str| if has(c) { r.strs(c) } else { Ok(vec![String::new(); n]) };
-    let shake_num = |c: &str| if has(c) { r.opts(c) } else { Ok(vec![None; n]) };
-    let motion = shake_text("motion")?;
-    let pga = shake_num("pga_g")?;
-    let collapse_time = shake_num("collapse_time_s")?;
-    let rotation = shake_num("max_rotation_deg")?;
-    let max_drift = shake_num("max_drift")?;
-    let residual = shake_num("residual_drift")?;
-    let pushover_num = |c: &str| if has(c) { r.opts(c) } else { Ok(vec![None; n]) };
-    let lambda_dem = pushover_num("load_multiplier_dem")?;
-    let lambda_dem_up = pushover_num("load_multiplier_dem_unstable")?;
-    let lambda_limit = pushover_num("load_multiplier_limit")?;
-    let fallen = if has("blocks_fallen") { r.opt_u64s("blocks_fallen")? } else { vec![None; n] };
-    let tilt = r.lists("tilt_deg")?;
-    let dl = r.lists("disp_top_left_cm")?;
-    let dc = r.lists("disp_top_centre_cm")?;
-    let dr = r.lists("disp_top_right_cm")?;
-    let steps = r.u64s("steps")?;
-    let iterations = r.u64s("iterations")?;
-    let dt = r.f64s("dt_s")?;
-    let wall = r.f64s("wall_time_s")?;
-    let mut rows = Vec::with_capacity(index.len());
-    for i in 0..index.len() {
-        let st = Status::parse(&status[i]).ok_or_else(|| TableError::Column {
-            path: path.to_owned(),
-            column: "status".into(),
-            message: format!("unknown status {:?} in row {i}", status[i]),
-        })?;
-        rows.push(RealizationRow {
-            index: index[i],
-            study: study[i].clone(),
-            group: group[i].clone(),
-            point: point[i],
-            sweep: sweep[i].clone(),
-            seed: seed[i],
-            realization: realization[i],
-            status: st,
-            error: error[i].clone(),
-            blocks: blocks[i],
-            collapse: CollapseColumns {
-                collapse_angle_deg: collapse[i],
-                first_unstable_deg: unstable[i],
-                collapse_reason: reason[i].clone(),
-                mechanism: mechanism[i].clone(),
-                joint: joint[i].clone(),
-                moving_blocks: moving[i],
-                failure_height_fraction: height[i],
-                mechanism_kind: mkind[i].clone(),
-                mechanism_start: mstart[i].clone(),
-                mechanism_extent: extent[i],
-            },
-            tilt: TiltColumns {
-                tilt_deg: tilt[i].clone(),
-                disp_top_left_cm: dl[i].clone(),
-                disp_top_centre_cm: dc[i].clone(),
-                disp_top_right_cm: dr[i].clone(),
-            },
-            lateral: LateralColumns {
-                lateral_disp_left_cm: lat_l[i],
-                lateral_disp_centre_cm: lat_c[i],
-                lateral_disp_right_cm: lat_r[i],
-                lateral_disp_max_cm: lat[i],
-                lateral_drift: drift[i],
-            },
-            shake: crate::ensemble::row::ShakeColumns {
-                motion: motion[i].clone(),
-                pga_g: pga[i],
-                collapse_time_s: collapse_time[i],
-                max_rotation_deg: rotation[i],
-                max_drift: max_drift[i],
-                residual_drift: residual[i],
-                blocks_fallen: fallen[i],
-            },
-            pushover: crate::ensemble::row::PushoverColumns {
-                load_multiplier_dem: lambda_dem[i],
-                load_multiplier_dem_unstable: lambda_dem_up[i],
-                load_multiplier_limit: lambda_limit[i],
-            },
-            steps: steps[i],
-            iterations: iterations[i],
-            dt_s: dt[i],
-            wall_time_s: wall[i],
-        });
+    let mut rows = vec![RealizationRow::default(); df.height()];
+    for c in COLUMNS {
+        if c.optional && df.column(c.name).is_err() {
+            continue;
+        }
+        match c.field {
+            Field::Count(_, set) => r.u64s(c.name)?.into_iter().zip(&mut rows).for_each(|(v, row)| set(row, v)),
+            Field::OptCount(_, set) => r.opt_u64s(c.name)?.into_iter().zip(&mut rows).for_each(|(v, row)| set(row, v)),
+            Field::Text(_, set) => {
+                for (i, (v, row)) in r.strs(c.name)?.into_iter().zip(&mut rows).enumerate() {
+                    set(row, v).map_err(|message| TableError::Column {
+                        path: path.to_owned(),
+                        column: c.name.into(),
+                        message: format!("row {}: {message}", i + 1),
+                    })?;
+                }
+            }
+            Field::Number(_, set) => r.f64s(c.name)?.into_iter().zip(&mut rows).for_each(|(v, row)| set(row, v)),
+            Field::OptNumber(_, set) => r.opts(c.name)?.into_iter().zip(&mut rows).for_each(|(v, row)| set(row, v)),
+            Field::Series(_, set) => r.lists(c.name)?.into_iter().zip(&mut rows).for_each(|(v, row)| *set(row) = v),
+            Field::Derived(_) => {}
+        }
     }
     Ok(rows)
 }

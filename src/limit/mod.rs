@@ -94,7 +94,7 @@ impl LimitParams {
 /// The live load of a limit analysis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Protocol {
+pub enum LiveLoad {
     /// Tilting table: the weight along +y; λ = tan α_max.
     Tilt,
     /// The lateral pressure of [`crate::loading::lateral`]: p0 at the base, p1 at the top.
@@ -122,7 +122,7 @@ pub enum FlowRule {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LimitResult {
     /// The live load.
-    pub protocol: Protocol,
+    pub protocol: LiveLoad,
     /// The collapse load multiplier that holds (see `governing`).
     pub load_multiplier: f64,
     /// Tilting table: α_max = atan(load_multiplier), degrees; `None` for the lateral load.
@@ -274,7 +274,7 @@ fn check_stands(layout: &Layout, r: &LimitResult) -> Result<(), LimitError> {
 /// See [`LimitError`]; a layout that does not stand at α = 0 (λ ≤ 0) is
 /// [`LimitError::DoesNotStand`].
 pub fn limit_tilt(layout: &Layout, contact: &SolverParams, params: &LimitParams) -> Result<LimitResult, LimitError> {
-    limit_analysis(layout, contact, Protocol::Tilt, params)
+    limit_analysis(layout, contact, LiveLoad::Tilt, params)
 }
 
 /// The lateral-pressure limit analysis: λ is the multiplier of the pressure of `lateral`
@@ -289,7 +289,7 @@ pub fn limit_lateral(
     lateral: &LateralParams,
     params: &LimitParams,
 ) -> Result<LimitResult, LimitError> {
-    let p = Protocol::Lateral { pressure_base_pa: lateral.pressure_base_pa, pressure_top_pa: lateral.pressure_top_pa };
+    let p = LiveLoad::Lateral { pressure_base_pa: lateral.pressure_base_pa, pressure_top_pa: lateral.pressure_top_pa };
     limit_analysis(layout, contact, p, params)
 }
 
@@ -300,7 +300,7 @@ pub fn limit_lateral(
 pub fn limit_analysis(
     layout: &Layout,
     contact: &SolverParams,
-    protocol: Protocol,
+    protocol: LiveLoad,
     params: &LimitParams,
 ) -> Result<LimitResult, LimitError> {
     params.validate().map_err(LimitError::Parameter)?;
@@ -316,12 +316,12 @@ pub fn limit_analysis(
     check_support(&model)?;
     let g = layout.gravity;
     match protocol {
-        Protocol::Tilt => {
+        LiveLoad::Tilt => {
             for (k, b) in sim.state.bodies.iter().enumerate() {
                 model.live[k] = (Vec3::new(0.0, g * b.mass, 0.0), Vec3::zeros());
             }
         }
-        Protocol::Lateral { pressure_base_pa, pressure_top_pa } => {
+        LiveLoad::Lateral { pressure_base_pa, pressure_top_pa } => {
             let all = layout.bounds();
             let (loads, _) = pressure_loads(&sim, all.min.z, all.max.z, pressure_base_pa, pressure_top_pa);
             model.live = loads;
@@ -355,7 +355,7 @@ pub fn limit_analysis(
     let r = LimitResult {
         protocol,
         load_multiplier,
-        collapse_angle_deg: matches!(protocol, Protocol::Tilt).then(|| load_multiplier.atan().to_degrees()),
+        collapse_angle_deg: matches!(protocol, LiveLoad::Tilt).then(|| load_multiplier.atan().to_degrees()),
         governing,
         associative: assoc.lambda,
         non_associative,

@@ -43,6 +43,7 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
+use super::support::{Loading, Unsupported};
 pub use super::tilt::NoLoad;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
@@ -175,9 +176,11 @@ pub enum LateralError {
     /// The pressure of a pushover resolves to no force ([`check_pushover_force`]).
     #[error(transparent)]
     NoLoad(NoLoad),
-    /// The solver chosen cannot run this protocol.
-    #[error("solver {0} cannot run the static lateral load here (limit analysis: `limit::limit_analysis` with the lateral protocol; the rigid pushover: solver kind nscd)")]
-    Unsupported(crate::dem::SolverKind),
+    /// The solver chosen does not run the static lateral load or its penalty pushover (the
+    /// table of [`crate::loading::support`]; limit analysis and the rigid pushover run
+    /// through [`crate::loading::protocol::Protocol::run`]).
+    #[error(transparent)]
+    Unsupported(#[from] crate::loading::support::Unsupported),
 }
 
 /// Checks that a pushover has a load to multiply: a collapse multiplier of zero pressure
@@ -306,7 +309,8 @@ pub(super) fn prepare(
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
     if !solver.kind.is_penalty() {
-        return Err(LateralError::Unsupported(solver.kind));
+        let protocol = if params.pushover { Loading::Pushover } else { Loading::Lateral };
+        return Err(Unsupported { protocol, kind: solver.kind }.into());
     }
     let t0 = Instant::now();
     let mut sim =

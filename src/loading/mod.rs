@@ -14,8 +14,9 @@ pub mod monitors;
 pub mod protocol;
 pub mod settle;
 pub mod shake;
+pub mod support;
 pub mod tilt;
 pub mod tilt_hand;
 pub mod tilt_nscd;
 
-pub use monitors::Monitor;
+pub use monitors::TopMonitor;

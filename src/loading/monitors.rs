@@ -11,7 +11,7 @@ pub use crate::dem::motion::{body_motion, largest_motion, BodyPose};
 /// face of the highest movable block at 5 %, 50 % and 95 % of the layout's length (x),
 /// where the paper's tilting-table walls carried their displacement transducers (§2.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Monitor {
+pub enum TopMonitor {
     /// At 5 % of the length from the left end (x min).
     TopLeft,
     /// At mid-length.
@@ -20,30 +20,30 @@ pub enum Monitor {
     TopRight,
 }
 
-impl Monitor {
+impl TopMonitor {
     /// The three default monitors, left to right.
-    pub const ALL: [Monitor; 3] = [Monitor::TopLeft, Monitor::TopCentre, Monitor::TopRight];
+    pub const ALL: [TopMonitor; 3] = [TopMonitor::TopLeft, TopMonitor::TopCentre, TopMonitor::TopRight];
 
     /// The name in results, tables and layout files (`top_left`, `top_centre`, `top_right`).
     pub fn name(self) -> &'static str {
         match self {
-            Monitor::TopLeft => "top_left",
-            Monitor::TopCentre => "top_centre",
-            Monitor::TopRight => "top_right",
+            TopMonitor::TopLeft => "top_left",
+            TopMonitor::TopCentre => "top_centre",
+            TopMonitor::TopRight => "top_right",
         }
     }
 
     /// The monitor of a name, if it is one of the defaults.
-    pub fn from_name(name: &str) -> Option<Monitor> {
-        Monitor::ALL.into_iter().find(|m| m.name() == name)
+    pub fn from_name(name: &str) -> Option<TopMonitor> {
+        TopMonitor::ALL.into_iter().find(|m| m.name() == name)
     }
 
     /// Where along the length it sits, as a fraction of the length from the left end.
     pub fn length_fraction(self) -> f64 {
         match self {
-            Monitor::TopLeft => 0.05,
-            Monitor::TopCentre => 0.5,
-            Monitor::TopRight => 0.95,
+            TopMonitor::TopLeft => 0.05,
+            TopMonitor::TopCentre => 0.5,
+            TopMonitor::TopRight => 0.95,
         }
     }
 
@@ -53,7 +53,7 @@ impl Monitor {
     }
 }
 
-/// Monitor points of a simulation: name, body index, point in the body frame, reference
+/// TopMonitor points of a simulation: name, body index, point in the body frame, reference
 /// position in the table frame.
 #[derive(Debug, Clone)]
 pub(crate) struct MonitorPoint {
@@ -63,7 +63,7 @@ pub(crate) struct MonitorPoint {
 }
 
 /// The monitor points of `layout` in `sim`: the layout's own, or else the default
-/// [`Monitor`]s.
+/// [`TopMonitor`]s.
 pub(crate) fn monitor_points(layout: &Layout, sim: &Simulation) -> Vec<MonitorPoint> {
     monitor_points_of(layout, &sim.state.bodies)
 }
@@ -82,12 +82,12 @@ pub(crate) fn monitor_points_of(layout: &Layout, bodies: &[crate::dem::state::Bo
     let len = x1 - x0;
     // Written out per monitor (not x0 + f·len for all three) so the points are the same
     // bits as they have always been.
-    let at = |m: Monitor| match m {
-        Monitor::TopLeft => x0 + 0.05 * len,
-        Monitor::TopCentre => 0.5 * (x0 + x1),
-        Monitor::TopRight => x1 - 0.05 * len,
+    let at = |m: TopMonitor| match m {
+        TopMonitor::TopLeft => x0 + 0.05 * len,
+        TopMonitor::TopCentre => 0.5 * (x0 + x1),
+        TopMonitor::TopRight => x1 - 0.05 * len,
     };
-    Monitor::ALL
+    TopMonitor::ALL
         .iter()
         .map(|&m| (m.name(), at(m)))
         .filter_map(|(name, x)| {

@@ -2,27 +2,36 @@
 //! command line runs a loading protocol on one realization's layout.
 //!
 //! A [`Protocol`] is a protocol with its parameters; [`Protocol::run`] runs it on a layout
-//! with the chosen solver and returns a [`ProtocolRun`] (the protocol's own result, or the
-//! error that ended it, which a study turns into a status row). Adding a protocol is one
-//! module in `loading/` (its parameters, result and driver), one variant here and in
-//! [`ProtocolRun`], one command in `src/cli/`; see CONTRIBUTING.md.
+//! by the method the solver selects — the penalty DEM, nscd or limit analysis, as the one
+//! compatibility table ([`super::support`]) allows — and returns a [`ProtocolRun`] (the
+//! method's result, or the error that ended it, which a study turns into a status row).
+//! Adding a protocol is one module in `loading/` (its parameters, result and driver), one
+//! variant here and in [`ProtocolRun`], its row of the table; see CONTRIBUTING.md.
 
 use super::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
+use super::lateral_nscd::{run_lateral_nscd, LateralLimit};
+use super::lateral_pushover::{run_lateral_pushover, LateralPushover};
 use super::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
+use super::support::{self, Loading, Unsupported};
 use super::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
-use crate::dem::SolverParams;
+use crate::dem::{Method, SolverParams};
 use crate::layout::Layout;
+use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams, LimitResult};
+
+/// The relative width of the rigid pushover's final bracket of λ (1 %), as
+/// `drystone lateral --solver nscd` runs it.
+pub const RIGID_PUSHOVER_RESOLUTION: f64 = 0.01;
 
 /// A loading protocol with its parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Protocol {
-    /// The tilting table to collapse (`loading::tilt`).
+    /// The tilting table to collapse (`loading::tilt`), quasi-statically or rolled by hand
+    /// (`TiltParams::by_hand`).
     Tilt(TiltParams),
     /// The static lateral (trapezoidal pressure) load, solved to equilibrium
-    /// (`loading::lateral`).
+    /// (`loading::lateral`), or pushed over to collapse (`LateralParams::pushover`).
     Lateral(LateralParams),
-    /// The shaking table under one ground motion (`loading::shake`; non-smooth contact
-    /// dynamics only).
+    /// The shaking table under one ground motion (`loading::shake`).
     Shake {
         /// Shaking-table parameters.
         params: ShakeParams,
@@ -31,15 +40,32 @@ pub enum Protocol {
     },
 }
 
-/// What one run of a protocol came to.
+/// What one run of a protocol came to: the result of the method that ran it, or the error
+/// that ended it. Which variant a run gives is a function of the protocol and the method
+/// ([`Protocol::run`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ProtocolRun {
-    /// The tilting table's result or error.
+    /// The tilting table by the penalty DEM or nscd (quasi-static or rolled by hand).
     Tilt(Result<TiltResult, TiltError>),
-    /// The static lateral load's result or error.
+    /// The static lateral load by the penalty DEM.
     Lateral(Result<LateralResult, LateralError>),
-    /// The shaking table's result or error.
+    /// The lateral pushover by the penalty DEM: the service load (λ = 1) first; if it ran,
+    /// the pushover to collapse and the limit analysis of the same load beside it.
+    Pushover {
+        /// The static lateral load at λ = 1.
+        service: Result<LateralResult, LateralError>,
+        /// The penalty pushover and the rigid limit analysis (`None` when the service load
+        /// did not run).
+        collapse: Option<Box<(Result<LateralPushover, LateralError>, Result<LimitResult, LimitError>)>>,
+    },
+    /// The lateral pushover by nscd: the rigid collapse multiplier by bisection.
+    RigidPushover(Result<LateralLimit, TiltError>),
+    /// The tilting table or the lateral load by limit analysis.
+    Limit(Result<LimitResult, LimitError>),
+    /// The shaking table by nscd or the penalty DEM.
     Shake(Result<ShakeResult, ShakeError>),
+    /// The solver does not run the protocol ([`support::check`]).
+    Unsupported(Unsupported),
 }
 
 impl Protocol {
@@ -52,12 +78,49 @@ impl Protocol {
         }
     }
 
-    /// Runs the protocol on `layout` with the solver `solver`.
-    pub fn run(&self, layout: &Layout, solver: SolverParams) -> ProtocolRun {
+    /// Its row of the compatibility table ([`support::methods`]).
+    pub fn kind(&self) -> Loading {
         match self {
-            Protocol::Tilt(p) => ProtocolRun::Tilt(run_tilt(layout, solver, p)),
-            Protocol::Lateral(p) => ProtocolRun::Lateral(run_lateral(layout, solver, p)),
-            Protocol::Shake { params, motion } => ProtocolRun::Shake(run_shake(layout, solver, motion, params)),
+            Protocol::Tilt(p) if p.by_hand.is_some() => Loading::TiltByHand,
+            Protocol::Tilt(_) => Loading::Tilt,
+            Protocol::Lateral(p) if p.pushover => Loading::Pushover,
+            Protocol::Lateral(_) => Loading::Lateral,
+            Protocol::Shake { .. } => Loading::Shake,
+        }
+    }
+
+    /// Runs the protocol on `layout` with the solver `solver`: the method the solver kind
+    /// selects ([`crate::dem::SolverKind::method`]), if the compatibility table
+    /// ([`support::check`]) lets it run this protocol. Limit analysis runs with its default
+    /// parameters ([`LimitParams::default`]).
+    pub fn run(&self, layout: &Layout, solver: SolverParams) -> ProtocolRun {
+        if let Err(e) = support::check(self.kind(), solver.kind) {
+            return ProtocolRun::Unsupported(e);
+        }
+        let limit = LimitParams::default();
+        // One arm per (protocol, method): a new method or protocol does not compile until
+        // it has its arms here and its row in `support::methods`.
+        match (self, solver.kind.method()) {
+            (Protocol::Tilt(p), Method::Penalty | Method::Nscd) => ProtocolRun::Tilt(run_tilt(layout, solver, p)),
+            (Protocol::Tilt(_), Method::Limit) => ProtocolRun::Limit(limit_tilt(layout, &solver, &limit)),
+            (Protocol::Lateral(p), Method::Penalty) if p.pushover => {
+                let service = run_lateral(layout, solver, p);
+                let collapse = service.is_ok().then(|| {
+                    Box::new((run_lateral_pushover(layout, solver, p), limit_lateral(layout, &solver, p, &limit)))
+                });
+                ProtocolRun::Pushover { service, collapse }
+            }
+            (Protocol::Lateral(p), Method::Penalty) => ProtocolRun::Lateral(run_lateral(layout, solver, p)),
+            (Protocol::Lateral(p), Method::Nscd) => {
+                ProtocolRun::RigidPushover(run_lateral_nscd(layout, &solver.nscd, p, RIGID_PUSHOVER_RESOLUTION))
+            }
+            (Protocol::Lateral(p), Method::Limit) => ProtocolRun::Limit(limit_lateral(layout, &solver, p, &limit)),
+            (Protocol::Shake { params, motion }, Method::Penalty | Method::Nscd) => {
+                ProtocolRun::Shake(run_shake(layout, solver, motion, params))
+            }
+            (Protocol::Shake { .. }, Method::Limit) => {
+                ProtocolRun::Unsupported(Unsupported { protocol: Loading::Shake, kind: solver.kind })
+            }
         }
     }
 }
@@ -69,16 +132,25 @@ impl ProtocolRun {
         matches!(
             self,
             ProtocolRun::Tilt(Err(TiltError::DoesNotStand(_)))
+                | ProtocolRun::RigidPushover(Err(TiltError::DoesNotStand(_)))
                 | ProtocolRun::Lateral(Err(LateralError::DoesNotStand(_)))
+                | ProtocolRun::Pushover { service: Err(LateralError::DoesNotStand(_)), .. }
+                | ProtocolRun::Shake(Err(ShakeError::DoesNotStand(_)))
+                | ProtocolRun::Limit(Err(LimitError::Untouched { .. }
+                    | LimitError::Floating { .. }
+                    | LimitError::Infeasible { .. }
+                    | LimitError::DoesNotStand { .. }))
         )
     }
 
     /// The error that ended the run, if any, as text.
     pub fn error(&self) -> Option<String> {
         match self {
-            ProtocolRun::Tilt(Err(e)) => Some(e.to_string()),
-            ProtocolRun::Lateral(Err(e)) => Some(e.to_string()),
+            ProtocolRun::Tilt(Err(e)) | ProtocolRun::RigidPushover(Err(e)) => Some(e.to_string()),
+            ProtocolRun::Lateral(Err(e)) | ProtocolRun::Pushover { service: Err(e), .. } => Some(e.to_string()),
+            ProtocolRun::Limit(Err(e)) => Some(e.to_string()),
             ProtocolRun::Shake(Err(e)) => Some(e.to_string()),
+            ProtocolRun::Unsupported(e) => Some(e.to_string()),
             _ => None,
         }
     }

@@ -35,6 +35,7 @@
 
 use super::monitors::{monitor_points_of, MonitorPoint};
 use super::settle::{settle, SettleError};
+use super::support::{Loading, Unsupported};
 use super::tilt::{TiltError, TiltParams};
 use crate::dem::damping::ContactDamping;
 use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
@@ -245,13 +246,10 @@ pub enum ShakeError {
     /// tilting table's check at α = 0, [`check_stands`]).
     #[error(transparent)]
     DoesNotStand(SettleError),
-    /// The solver chosen cannot run this protocol (a static method of the penalty DEM, or
-    /// limit analysis).
-    #[error(
-        "solver {} cannot run the shaking table: it finds static states; use solver kind nscd (non-smooth \
-         contact dynamics) or penalty (explicit dynamics with contact damping)", .0.name()
-    )]
-    Unsupported(SolverKind),
+    /// The solver chosen does not run the shaking table (a cascade of static solves of the
+    /// penalty DEM, or limit analysis; the table of [`crate::loading::support`]).
+    #[error(transparent)]
+    Unsupported(#[from] crate::loading::support::Unsupported),
 }
 
 /// Runs the shaking-table test of `layout` under `motion`, by non-smooth contact dynamics
@@ -285,9 +283,7 @@ pub fn run_shake_observed(
     observe: &mut dyn FnMut(f64, &[Body]),
 ) -> Result<ShakeResult, ShakeError> {
     params.validate().map_err(ShakeError::Parameter)?;
-    if !matches!(solver.kind, SolverKind::Nscd | SolverKind::Penalty) {
-        return Err(ShakeError::Unsupported(solver.kind));
-    }
+    crate::loading::support::check(Loading::Shake, solver.kind)?;
     if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
         return Err(ShakeError::BadMotion(motion.name.clone()));
     }
@@ -360,7 +356,7 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
         TiltError::Dem(d) => ShakeError::Dem(d),
         TiltError::Nscd(n) => ShakeError::Nscd(n),
         TiltError::Parameter(p) => ShakeError::Parameter(p),
-        TiltError::Unsupported(k) | TiltError::HandNeedsNscd(k) => ShakeError::Unsupported(k),
+        TiltError::Unsupported(u) => ShakeError::Unsupported(Unsupported { protocol: Loading::Shake, ..u }),
         // No pressure is involved in the rigid check; kept for completeness.
         TiltError::NoLoad(n) => ShakeError::Parameter(OutOfRange::new(
             "pressure_base_pa",

@@ -8,7 +8,7 @@
 //! * [`write_vtk_realizations`]: the ParaView time series of chosen realizations
 //!   (`drystone run --vtk-realizations 0,3`), into `DIR/vtk/GROUP[_pP]_rR/`.
 
-use super::{ProtocolKind, Study};
+use super::{Study, StudyProtocol};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{Item, Shard};
 use crate::generator::generate;
@@ -35,7 +35,8 @@ fn record_tilt(study: &Study, item: &Item) -> Option<(Layout, Recorder, TiltResu
     let wall = &study.groups[item.group].walls[item.point];
     let layout = generate(wall, study.seed, item.realization).and_then(|g| g.check()).ok()?;
     let mut rec = Recorder::default();
-    let r = run_tilt_observed(&layout, study.solver, &study.tilt, &mut |a, s, sim| rec.observe(a, s, sim)).ok()?;
+    let tilt = study.protocol.tilt()?;
+    let r = run_tilt_observed(&layout, study.solver, tilt, &mut |a, s, sim| rec.observe(a, s, sim)).ok()?;
     Some((layout, rec, r))
 }
 
@@ -112,7 +113,7 @@ pub fn mechanism_figures(
     rows: &[RealizationRow],
     dir: &Path,
 ) -> Result<Vec<(String, String)>, FileError> {
-    if study.protocol != ProtocolKind::Tilt {
+    if study.protocol.tilt().is_none() {
         return Ok(vec![]);
     }
     let picks: Vec<(usize, &RealizationRow)> = study
@@ -169,22 +170,22 @@ pub fn write_vtk_realizations(
             };
             let mut rec = Recorder::default();
             let mut observe = |a: f64, s: bool, sim: &crate::dem::Simulation| rec.observe(a, s, sim);
-            match study.protocol {
-                ProtocolKind::Tilt => {
-                    let Ok(r) = run_tilt_observed(&layout, study.solver, &study.tilt, &mut observe) else {
+            match &study.protocol {
+                StudyProtocol::Tilt(tilt) => {
+                    let Ok(r) = run_tilt_observed(&layout, study.solver, tilt, &mut observe) else {
                         return Ok(None);
                     };
                     let (series, others) = tilt_frames(&rec, &r);
                     write_series(&out, "unstable_trials", &rec, &others)?;
                     write_series(&out, "tilt", &rec, &series).map(Some)
                 }
-                ProtocolKind::Lateral => {
-                    if run_lateral_observed(&layout, study.solver, &study.lateral, &mut observe).is_err() {
+                StudyProtocol::Lateral(lateral) => {
+                    if run_lateral_observed(&layout, study.solver, lateral, &mut observe).is_err() {
                         return Ok(None);
                     }
                     write_series(&out, "lateral", &rec, &lateral_frames(&rec)).map(Some)
                 }
-                ProtocolKind::Shake => {
+                StudyProtocol::Shake(_) => {
                     let crate::loading::protocol::Protocol::Shake { params, motion } = study.loading_at(it.point)
                     else {
                         return Ok(None);

@@ -4,7 +4,7 @@
 //! collapse angle, one group per specimen; observed mechanisms of the study's groups and of
 //! specimens the other files know.
 
-use super::{ProtocolKind, Study};
+use super::Study;
 use crate::io::measured::{check_against_study, check_mechanism_against_study, StudyContext};
 use crate::io::table::TableError;
 
@@ -19,7 +19,7 @@ impl Study {
                 .iter()
                 .map(|g| (g.measured_group.clone(), g.walls.iter().map(|w| w.height).fold(0.0, f64::max)))
                 .collect(),
-            step_deg: (self.protocol == ProtocolKind::Tilt).then_some(self.tilt.step_deg),
+            step_deg: self.protocol.tilt().map(|t| t.step_deg),
         }
     }
 

@@ -109,7 +109,7 @@ pub use outputs::{
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;
-pub use resolve::{Group, Measured, ShakeStudy, Study};
+pub use resolve::{Group, Measured, ShakeStudy, Study, StudyProtocol};
 pub use run::{run_item, run_study, run_study_with};
 pub use shaking::{fragilities, GroupFragility};
 pub use shards::{

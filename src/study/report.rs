@@ -5,10 +5,12 @@
 use super::paper;
 use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
 use super::text::{fixed, md_table, sci};
-use super::{ProtocolKind, Study};
+use super::{Study, StudyProtocol};
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
 use crate::io::{replace_file, replace_file_with};
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::TiltParams;
 use crate::stats;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -75,19 +77,16 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     let cells = summarize(study, rows);
     let cmp = comparisons(study, &cells);
     write_summary_csv(&cells, &dir.join("summary.csv"))?;
-    let tilt = study.protocol == ProtocolKind::Tilt;
     let mut md = String::new();
     let _ = writeln!(md, "# Study `{}`\n", study.name);
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description.trim());
     }
     let mut printed = String::new();
-    if tilt {
-        tilt_sections(study, rows, dir, &cells, &cmp, &mut md)?;
-    } else if study.protocol == ProtocolKind::Shake {
-        printed = super::shaking::shake_sections(study, rows, dir, &mut md)?;
-    } else {
-        lateral_sections(study, &cells, &mut md);
+    match &study.protocol {
+        StudyProtocol::Tilt(tilt) => tilt_sections(study, tilt, rows, dir, &cells, &cmp, &mut md)?,
+        StudyProtocol::Lateral(lateral) => lateral_sections(study, lateral, &cells, &mut md),
+        StudyProtocol::Shake(_) => printed = super::shaking::shake_sections(study, rows, dir, &mut md)?,
     }
     if !cmp.is_empty() {
         printed = comparison_text(&cmp);
@@ -97,7 +96,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         printed.push_str(&section);
         md.push_str(&section);
     }
-    let warnings = study.shake.as_ref().map(|s| s.warnings()).unwrap_or_default();
+    let warnings = study.protocol.shake().map(|s| s.warnings()).unwrap_or_default();
     if !warnings.is_empty() {
         let _ = writeln!(md, "## Warnings\n");
         for w in &warnings {
@@ -125,8 +124,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
 }
 
 /// The report of a static lateral load study: top displacement and drift per cell.
-fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
-    let l = &study.lateral;
+fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; equilibrium at unbalanced-force ratio {}; damping {}.\n",
@@ -178,13 +176,13 @@ fn lateral_sections(study: &Study, cells: &[CellSummary], md: &mut String) {
     );
     let _ = writeln!(md);
     if cells.iter().any(|c| c.pushover) {
-        capacity_table(study, cells, md);
+        capacity_table(l, cells, md);
     }
 }
 
 /// The collapse load multipliers of a pushover study (`[lateral] pushover = true`), by the
 /// DEM pushover and by limit analysis, beside the service displacement.
-fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
+fn capacity_table(l: &LateralParams, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
         "## Collapse load multiplier of the pressure
@@ -193,7 +191,7 @@ fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
         "λ: the multiple of the pressure above at which the wall collapses. DEM: the last stable λ of the penalty DEM pushover (λ doubled from 1, then bisected to {} of λ; the joints' Kn, Ks, friction, cohesion and tension); limit: limit analysis of the same layout (rigid blocks, the joints' full strength). DEM / limit: the ratio per realization. Service: the top displacement of the service test above (λ = 1). A joint without tensile strength keeps no cohesion in the DEM where it carries no compression, while limit analysis keeps c A in every joint's cone: for walls with cohesion, the DEM's rigid limit is limit analysis at c = 0 (a `cohesion_pa` sweep).\n",
-        study.lateral.pushover_resolution
+        l.pushover_resolution
     );
     let header = [
         "group",
@@ -231,17 +229,18 @@ fn capacity_table(study: &Study, cells: &[CellSummary], md: &mut String) {
 /// simulated, plots.
 fn tilt_sections(
     study: &Study,
+    tilt: &TiltParams,
     rows: &[RealizationRow],
     dir: &Path,
     cells: &[CellSummary],
     cmp: &[Comparison],
     md: &mut String,
 ) -> Result<(), ReportError> {
-    tilt_plots(study, rows, cells, dir)?;
+    tilt_plots(study, tilt.step_deg, rows, cells, dir)?;
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}, implicit relaxation {}; local damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, study.tilt.step_deg, study.tilt.resolution_deg, study.tilt.tolerance, if study.tilt.predictor { "on" } else { "off" }, if study.tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
+        study.seed, study.realizations, tilt.step_deg, tilt.resolution_deg, tilt.tolerance, if tilt.predictor { "on" } else { "off" }, if tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
     );
     collapse_table(cells, md);
     displacement_table(cells, md);
@@ -270,7 +269,13 @@ fn tilt_sections(
 
 /// The histograms of the collapse angle, the displacement against tilt and the fragility
 /// curves, as SVG files in `dir`.
-fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir: &Path) -> Result<(), ReportError> {
+fn tilt_plots(
+    study: &Study,
+    step_deg: f64,
+    rows: &[RealizationRow],
+    cells: &[CellSummary],
+    dir: &Path,
+) -> Result<(), ReportError> {
     let hist_panels: Vec<HistogramPanel> = cells
         .iter()
         .map(|c| HistogramPanel {
@@ -286,11 +291,11 @@ fn tilt_plots(study: &Study, rows: &[RealizationRow], cells: &[CellSummary], dir
         })
         .collect();
     replace_file_with(&dir.join("collapse_angle_histograms.svg"), |p| -> Result<(), ReportError> {
-        Ok(plot::histograms(p, "collapse angle [deg]", study.tilt.step_deg.max(0.25), &hist_panels)?)
+        Ok(plot::histograms(p, "collapse angle [deg]", step_deg.max(0.25), &hist_panels)?)
     })?;
     replace_file_with(&dir.join("displacement_vs_tilt.svg"), |p| -> Result<(), ReportError> {
         let title = "Out-of-plane top displacement: ensemble mean, 5-95 % band, measured";
-        Ok(plot::bands(p, title, "tilt [deg]", "displacement [cm]", &displacement_series(study, rows))?)
+        Ok(plot::bands(p, title, "tilt [deg]", "displacement [cm]", &displacement_series(study, step_deg, rows))?)
     })?;
     replace_file_with(&dir.join("fragility.svg"), |p| -> Result<(), ReportError> {
         let title = "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)";
@@ -454,14 +459,13 @@ fn misses_section(cmp: &[Comparison], md: &mut String) {
 
 /// Displacement against tilt per group (first sweep point): mean and 5–95 % band over the
 /// realizations still standing at each tilt, with the measured points.
-fn displacement_series(study: &Study, rows: &[RealizationRow]) -> Vec<BandSeries> {
+fn displacement_series(study: &Study, step: f64, rows: &[RealizationRow]) -> Vec<BandSeries> {
     let mut out = Vec::new();
     for (gi, g) in study.groups.iter().enumerate() {
         let measure = measure_of(study, gi);
         let cell: Vec<&RealizationRow> =
             rows.iter().filter(|r| r.group == g.name && r.point == 0 && r.status.is_ok()).collect();
         let max_tilt = cell.iter().flat_map(|r| r.tilt.tilt_deg.iter().copied()).fold(0.0, f64::max);
-        let step = study.tilt.step_deg;
         let n = (max_tilt / step).round() as usize;
         let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
         for k in 0..=n {

@@ -18,6 +18,7 @@ use crate::generator::Wall;
 use crate::ground::Motion;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
 use crate::loading::lateral::LateralParams;
+use crate::loading::support::Loading;
 use crate::loading::tilt::TiltParams;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -55,6 +56,80 @@ pub struct Measured {
     pub paper_dem: Vec<table::PaperDemAngle>,
 }
 
+/// A study's protocol with its parameters: the kind and its table together, so that every
+/// consumer matches on one value (a new protocol is pointed to by the compiler at each).
+#[derive(Debug, Clone)]
+pub enum StudyProtocol {
+    /// The tilting table (`protocol = "tilt"`, its `[tilt]` table).
+    Tilt(TiltParams),
+    /// The static lateral load, or its pushover (`protocol = "lateral"`, `[lateral]`).
+    Lateral(LateralParams),
+    /// The shaking table (`protocol = "shake"`, `[shake]`): its parameters, motions and
+    /// levels.
+    Shake(ShakeStudy),
+}
+
+impl StudyProtocol {
+    /// Its kind, as the study file names it.
+    pub fn kind(&self) -> ProtocolKind {
+        match self {
+            StudyProtocol::Tilt(_) => ProtocolKind::Tilt,
+            StudyProtocol::Lateral(_) => ProtocolKind::Lateral,
+            StudyProtocol::Shake(_) => ProtocolKind::Shake,
+        }
+    }
+
+    /// Its name in study files (`protocol = "..."`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            StudyProtocol::Tilt(_) => "tilt",
+            StudyProtocol::Lateral(_) => "lateral",
+            StudyProtocol::Shake(_) => "shake",
+        }
+    }
+
+    /// Its row of the compatibility table ([`crate::loading::support`]), with the variant
+    /// its table chooses (`tilt.by_hand`, `lateral.pushover`).
+    pub fn loading_kind(&self) -> Loading {
+        match self {
+            StudyProtocol::Tilt(t) if t.by_hand.is_some() => Loading::TiltByHand,
+            StudyProtocol::Tilt(_) => Loading::Tilt,
+            StudyProtocol::Lateral(l) if l.pushover => Loading::Pushover,
+            StudyProtocol::Lateral(_) => Loading::Lateral,
+            StudyProtocol::Shake(_) => Loading::Shake,
+        }
+    }
+
+    /// The tilting table's parameters, for a tilting-table study.
+    pub fn tilt(&self) -> Option<&TiltParams> {
+        match self {
+            StudyProtocol::Tilt(t) => Some(t),
+            StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
+        }
+    }
+
+    /// The lateral load's parameters, for a lateral study.
+    pub fn lateral(&self) -> Option<&LateralParams> {
+        match self {
+            StudyProtocol::Lateral(l) => Some(l),
+            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => None,
+        }
+    }
+
+    /// The shaking table's parameters, motions and levels, for a shaking study.
+    pub fn shake(&self) -> Option<&ShakeStudy> {
+        match self {
+            StudyProtocol::Shake(s) => Some(s),
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => None,
+        }
+    }
+
+    /// Whether it pushes the lateral load over to collapse (`lateral.pushover`).
+    pub fn pushover(&self) -> bool {
+        self.lateral().is_some_and(|l| l.pushover)
+    }
+}
+
 /// A checked study.
 #[derive(Debug, Clone)]
 pub struct Study {
@@ -68,16 +143,10 @@ pub struct Study {
     pub seed: u64,
     /// Realizations per group and point.
     pub realizations: u64,
-    /// Protocol.
-    pub protocol: ProtocolKind,
-    /// Tilting-table parameters.
-    pub tilt: TiltParams,
-    /// Static lateral load parameters.
-    pub lateral: LateralParams,
+    /// The protocol with its parameters.
+    pub protocol: StudyProtocol,
     /// Solver parameters.
     pub solver: SolverParams,
-    /// The shaking table's parameters, motions and levels (protocol `shake` only).
-    pub shake: Option<ShakeStudy>,
     /// Groups.
     pub groups: Vec<Group>,
     /// Sweep points (one empty point without a sweep).
@@ -103,7 +172,7 @@ pub struct Study {
 /// [`crate::loading::shake::MAX_SHAKE_STEPS`]. A realization that cannot be generated is
 /// left to its row.
 fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyError> {
-    let Some(shake) = &study.shake else { return Ok(()) };
+    let StudyProtocol::Shake(shake) = &study.protocol else { return Ok(()) };
     if study.solver.kind != crate::dem::SolverKind::Penalty {
         return Ok(());
     }
@@ -167,17 +236,22 @@ impl StudySpec {
         };
         let inputs = provenance::record(&files)
             .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
+        let protocol = match (self.protocol, shake) {
+            (ProtocolKind::Tilt, _) => StudyProtocol::Tilt(self.tilt),
+            (ProtocolKind::Lateral, _) => StudyProtocol::Lateral(self.lateral),
+            (ProtocolKind::Shake, Some(shake)) => StudyProtocol::Shake(shake),
+            (ProtocolKind::Shake, None) => {
+                return Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
+            }
+        };
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
             path: path.to_owned(),
             seed: self.seed,
             realizations: self.realizations,
-            protocol: self.protocol,
-            tilt: self.tilt,
-            lateral: self.lateral,
+            protocol,
             solver: self.solver,
-            shake,
             groups,
             points,
             measured,
@@ -239,40 +313,27 @@ impl StudySpec {
                 ));
             }
         }
-        if self.protocol == ProtocolKind::Shake
-            && !matches!(self.solver.kind, crate::dem::SolverKind::Nscd | crate::dem::SolverKind::Penalty)
-        {
-            return Err(invalid.at(
-                "solver.kind",
-                format!(
-                    "protocol = \"shake\" runs by non-smooth contact dynamics (kind = \"nscd\") or by the penalty DEM in explicit dynamics (kind = \"penalty\"); got {:?}, a static method",
-                    self.solver.kind.name()
-                ),
-            ));
-        }
-        if self.protocol == ProtocolKind::Tilt
-            && self.tilt.by_hand.is_some()
-            && self.solver.kind != crate::dem::SolverKind::Nscd
-        {
-            return Err(invalid.at(
-                "tilt.by_hand",
-                format!(
-                    "the table rolled by hand runs by non-smooth contact dynamics: give [solver] kind = \"nscd\" (got {:?})",
-                    self.solver.kind.name()
-                ),
-            ));
-        }
+        let loading = self.loading_kind();
+        crate::loading::support::check(loading, self.solver.kind).map_err(|e| {
+            let key = if loading == Loading::TiltByHand { "tilt.by_hand" } else { "solver.kind" };
+            invalid.at(key, format!("{e}: give [solver] kind = one of these"))
+        })?;
         if self.solver.kind == crate::dem::SolverKind::Nscd {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
-            if self.protocol == ProtocolKind::Lateral {
-                return Err(invalid.at(
-                    "solver.kind",
-                    "nscd runs the tilting table (protocol = \"tilt\"); for the lateral load use penalty or limit"
-                        .into(),
-                ));
-            }
         }
         Ok(())
+    }
+
+    /// The study's row of the compatibility table ([`crate::loading::support`]): its
+    /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
+    pub fn loading_kind(&self) -> Loading {
+        match self.protocol {
+            ProtocolKind::Tilt if self.tilt.by_hand.is_some() => Loading::TiltByHand,
+            ProtocolKind::Tilt => Loading::Tilt,
+            ProtocolKind::Lateral if self.lateral.pushover => Loading::Pushover,
+            ProtocolKind::Lateral => Loading::Lateral,
+            ProtocolKind::Shake => Loading::Shake,
+        }
     }
 
     /// The number of sweep points and work items against the limits of [`size`], before
@@ -494,21 +555,20 @@ impl Study {
     /// protocol refuses with an error row.
     pub fn loading_at(&self, point: usize) -> crate::loading::protocol::Protocol {
         use crate::loading::protocol::Protocol;
-        match self.protocol {
-            ProtocolKind::Tilt => Protocol::Tilt(self.tilt),
-            ProtocolKind::Lateral => Protocol::Lateral(self.lateral),
-            ProtocolKind::Shake => {
+        match &self.protocol {
+            StudyProtocol::Tilt(t) => Protocol::Tilt(*t),
+            StudyProtocol::Lateral(l) => Protocol::Lateral(*l),
+            StudyProtocol::Shake(shake) => {
                 let value = |key: SweepKey| self.points.get(point)?.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
                 let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
                 let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
-                let shake = self.shake.as_ref();
-                let motion = shake.and_then(|s| s.motion(&name, pga)).unwrap_or_else(|| Motion {
+                let motion = shake.motion(&name, pga).unwrap_or_else(|| Motion {
                     name,
                     dt_s: 0.0,
                     horizontal_g: vec![],
                     vertical_g: None,
                 });
-                Protocol::Shake { params: shake.map(|s| s.params).unwrap_or_default(), motion: Box::new(motion) }
+                Protocol::Shake { params: shake.params, motion: Box::new(motion) }
             }
         }
     }
@@ -608,7 +668,7 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
     match p {
         PaperStudy::JointArrangement => {
-            if study.protocol != ProtocolKind::Lateral {
+            if study.protocol.kind() != ProtocolKind::Lateral {
                 return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
             }
             if !has(SweepKey::KnPaPerM) {
@@ -616,7 +676,7 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
             }
         }
         PaperStudy::LengthHeight => {
-            if study.protocol != ProtocolKind::Lateral {
+            if study.protocol.kind() != ProtocolKind::Lateral {
                 return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
             }
             if !has(SweepKey::LengthM) {
@@ -630,7 +690,7 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
             }
         }
         PaperStudy::KnPhi => {
-            if study.protocol != ProtocolKind::Tilt {
+            if study.protocol.kind() != ProtocolKind::Tilt {
                 return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
             }
             if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {

@@ -10,12 +10,11 @@
 //! journal), which it does not run again. Every row being a pure function of the study and
 //! its item, the rows are the same whichever items were done before.
 
-use super::{point_label, ProtocolKind, Study, SweepKey};
-use crate::dem::SolverKind;
+use super::{point_label, Study, SweepKey};
 use crate::ensemble::row::{CollapseColumns, RealizationRow, ShakeColumns, Status};
 use crate::ensemble::{self, Item, Shard};
 use crate::loading::lateral::LateralResult;
-use crate::loading::monitors::Monitor;
+use crate::loading::monitors::TopMonitor;
 use crate::loading::protocol::ProtocolRun;
 use crate::loading::shake::ShakeResult;
 use crate::loading::tilt::{CollapseReason, Mechanism, MechanismKind, TiltResult};
@@ -48,17 +47,24 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            if study.solver.kind == SolverKind::Limit && study.protocol != ProtocolKind::Shake {
-                return finish(limit_row(row, study, &layout), t0);
-            }
-            match study.loading_at(item.point).run(&layout, study.solver) {
+            let run = study.loading_at(item.point).run(&layout, study.solver);
+            let does_not_stand = run.does_not_stand();
+            match run {
                 ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
-                ProtocolRun::Lateral(Ok(r)) if study.lateral.pushover => {
-                    pushover_row(lateral_row(row, r), study, &layout)
-                }
                 ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
+                ProtocolRun::Pushover { service: Ok(r), collapse } => {
+                    pushover_row(lateral_row(row, r), collapse.map(|c| *c))
+                }
+                ProtocolRun::RigidPushover(Ok(r)) => rigid_pushover_row(row, r),
+                ProtocolRun::Limit(Ok(r)) => limit_row(row, r, study.protocol.pushover()),
                 ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
-                failed => failed_row(row, failed.does_not_stand(), &failed.error().unwrap_or_default()),
+                ProtocolRun::Limit(Err(e)) => failed_row(row, does_not_stand, &e),
+                failed @ (ProtocolRun::Tilt(Err(_))
+                | ProtocolRun::Lateral(Err(_))
+                | ProtocolRun::Pushover { service: Err(_), .. }
+                | ProtocolRun::RigidPushover(Err(_))
+                | ProtocolRun::Shake(Err(_))
+                | ProtocolRun::Unsupported(_)) => failed_row(row, does_not_stand, &failed.error().unwrap_or_default()),
             }
         }
     };
@@ -75,43 +81,23 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
 /// collapse angle α_max = atan λ (its bracket of zero width, reason `no_equilibrium`: no
 /// statically admissible state exists above it); under the lateral load, whether the wall
 /// carries the pressure (λ ≥ 1: stood; rigid blocks have no displacements) or not
-/// (collapsed, with λ in the error column). The mechanism columns come from the dual. A
-/// wall that does not stand (λ ≤ 0, [`crate::limit::LimitError::DoesNotStand`]) gives a
-/// `no_initial_equilibrium` row with the message, as the tilting table's rows do.
-fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
-    use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams};
-    let params = LimitParams::default();
-    // (A shaking study never gets here: it runs by nscd or penalty.)
-    let out = match study.protocol {
-        ProtocolKind::Tilt | ProtocolKind::Shake => limit_tilt(layout, &study.solver, &params),
-        ProtocolKind::Lateral => limit_lateral(layout, &study.solver, &study.lateral, &params),
-    };
-    let r = match out {
-        Ok(r) => r,
-        Err(e) => {
-            let stands = !matches!(
-                e,
-                LimitError::Untouched { .. }
-                    | LimitError::Floating { .. }
-                    | LimitError::Infeasible { .. }
-                    | LimitError::DoesNotStand { .. }
-            );
-            row.status = if stands { Status::BlewUp } else { Status::NoInitialEquilibrium };
-            row.error = e.to_string();
-            return row;
-        }
-    };
+/// (collapsed, with λ in the error column), and λ in `load_multiplier_limit` for a
+/// pushover. The mechanism columns come from the dual. A wall that does not stand (λ ≤ 0,
+/// [`crate::limit::LimitError::DoesNotStand`]) is a `no_initial_equilibrium` row with the
+/// message ([`failed_row`]), as the tilting table's rows are.
+fn limit_row(mut row: RealizationRow, r: crate::limit::LimitResult, pushover: bool) -> RealizationRow {
+    use crate::limit::LiveLoad;
     mechanism_columns(&mut row.collapse, &r.mechanism);
     row.iterations = u64::from(r.solver_iterations);
-    match study.protocol {
-        ProtocolKind::Tilt | ProtocolKind::Shake => {
+    match r.protocol {
+        LiveLoad::Tilt => {
             row.status = Status::Collapsed;
             row.collapse.collapse_angle_deg = r.collapse_angle_deg;
             row.collapse.first_unstable_deg = r.collapse_angle_deg;
             row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
         }
-        ProtocolKind::Lateral => {
-            if study.lateral.pushover {
+        LiveLoad::Lateral { .. } => {
+            if pushover {
                 row.pushover.load_multiplier_limit = Some(r.load_multiplier);
             }
             if r.load_multiplier >= 1.0 {
@@ -129,17 +115,19 @@ fn limit_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Lay
     row
 }
 
-/// A lateral study with `[lateral] pushover = true`, after the service test (its row):
-/// the DEM pushover of the same layout ([`crate::loading::lateral_pushover`]) and its
-/// limit analysis ([`crate::limit::limit_lateral`]) into the pushover columns. The
-/// pushover's collapse reason and mechanism go into the collapse and mechanism columns;
-/// the status, the service displacements and the steps stay the service test's. An error
-/// of either is appended to the row's error, its column left empty.
-fn pushover_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::Layout) -> RealizationRow {
-    use crate::limit::{limit_lateral, LimitParams};
-    use crate::loading::lateral_pushover::run_lateral_pushover;
+/// The pushover's load multipliers into a row already holding its service load: λ of the
+/// penalty DEM (stable, first unstable, the reason and mechanism of its collapse) and λ of
+/// limit analysis; an error of either is appended to the error column.
+fn pushover_row(
+    mut row: RealizationRow,
+    collapse: Option<(
+        Result<crate::loading::lateral_pushover::LateralPushover, crate::loading::lateral::LateralError>,
+        Result<crate::limit::LimitResult, crate::limit::LimitError>,
+    )>,
+) -> RealizationRow {
+    let Some((dem, limit)) = collapse else { return row };
     let mut errors = Vec::new();
-    match run_lateral_pushover(layout, study.solver, &study.lateral) {
+    match dem {
         Ok(p) => {
             row.pushover.load_multiplier_dem = Some(p.lambda_stable);
             row.pushover.load_multiplier_dem_unstable = p.lambda_unstable;
@@ -150,13 +138,36 @@ fn pushover_row(mut row: RealizationRow, study: &Study, layout: &crate::layout::
         }
         Err(e) => errors.push(format!("DEM pushover: {e}")),
     }
-    match limit_lateral(layout, &study.solver, &study.lateral, &LimitParams::default()) {
+    match limit {
         Ok(r) => row.pushover.load_multiplier_limit = Some(r.load_multiplier),
         Err(e) => errors.push(format!("limit analysis: {e}")),
     }
     if !errors.is_empty() {
         let sep = if row.error.is_empty() { "" } else { "; " };
         row.error = format!("{}{sep}{}", row.error, errors.join("; "));
+    }
+    row
+}
+
+/// The rigid pushover (nscd) into a row: λ stable and first unstable in the DEM
+/// pushover's columns (a non-smooth DEM of rigid blocks), the mechanism, and the status of
+/// the service load: stood if λ ≥ 1 (rigid blocks have no displacements), else collapsed.
+fn rigid_pushover_row(mut row: RealizationRow, r: crate::loading::lateral_nscd::LateralLimit) -> RealizationRow {
+    row.pushover.load_multiplier_dem = Some(r.lambda_stable);
+    row.pushover.load_multiplier_dem_unstable = r.lambda_unstable;
+    if let Some(m) = &r.mechanism {
+        mechanism_columns(&mut row.collapse, m);
+    }
+    row.steps = r.steps;
+    if r.lambda_stable >= 1.0 {
+        row.status = Status::Stood;
+    } else {
+        row.status = Status::Collapsed;
+        row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+        row.error = format!(
+            "the pressure is above the rigid collapse load: load multiplier λ {:.4} (by nscd)",
+            r.lambda_stable
+        );
     }
     row
 }
@@ -305,7 +316,7 @@ fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.collapse.first_unstable_deg = t.first_unstable_deg;
     row.collapse.collapse_reason = t.collapse_reason.map(CollapseReason::name).unwrap_or_default().to_string();
     mechanism_columns(&mut row.collapse, &t.mechanism);
-    let [il, ic, ir] = Monitor::ALL.map(|m| m.index_in(&t.monitors));
+    let [il, ic, ir] = TopMonitor::ALL.map(|m| m.index_in(&t.monitors));
     for inc in t.increments.iter().filter(|i| i.stable) {
         row.tilt.tilt_deg.push(inc.alpha_deg);
         let get = |i: Option<usize>| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]));
@@ -347,7 +358,7 @@ fn lateral_row(mut row: RealizationRow, r: LateralResult) -> RealizationRow {
     match &r.collapse_reason {
         None => {
             row.status = Status::Stood;
-            let [l, c, rt] = Monitor::ALL.map(|m| m.index_in(&r.monitors).map(|i| m_to_cm(r.displacement_m[i])));
+            let [l, c, rt] = TopMonitor::ALL.map(|m| m.index_in(&r.monitors).map(|i| m_to_cm(r.displacement_m[i])));
             (row.lateral.lateral_disp_left_cm, row.lateral.lateral_disp_centre_cm, row.lateral.lateral_disp_right_cm) =
                 (l, c, rt);
             row.lateral.lateral_disp_max_cm = Some(m_to_cm(r.max_displacement_m));

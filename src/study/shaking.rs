@@ -88,7 +88,7 @@ fn static_capacity(study: &Study, g: usize) -> Vec<f64> {
 
 /// The fragility of every group: counts, fit and band, static capacities.
 pub fn fragilities(study: &Study, rows: &[RealizationRow]) -> Vec<GroupFragility> {
-    let Some(shake) = &study.shake else { return vec![] };
+    let Some(shake) = study.protocol.shake() else { return vec![] };
     let grid = intensity_grid(shake);
     (0..study.groups.len())
         .map(|g| {
@@ -141,7 +141,7 @@ pub fn shake_sections(
     dir: &Path,
     md: &mut String,
 ) -> Result<String, ReportError> {
-    let Some(shake) = &study.shake else { return Ok(String::new()) };
+    let Some(shake) = study.protocol.shake() else { return Ok(String::new()) };
     let frag = fragilities(study, rows);
     let p = &shake.params;
     let nscd = &study.solver.nscd;

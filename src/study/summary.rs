@@ -2,7 +2,7 @@
 //! measured-against-simulated [`Comparison`]s, and `summary.csv`. A deterministic function
 //! of the rows (in index order) and the study: the bootstrap streams are numbered by cell.
 
-use super::{point_label, ProtocolKind, Study};
+use super::{point_label, Study};
 use crate::ensemble::row::{Measure, RealizationRow, Status};
 use crate::io::table::{SimpleTable, TableColumn, TableError};
 use crate::stats::{self, LognormalFragility, Summary};
@@ -136,7 +136,7 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
                 measure: measure.name().to_string(),
                 angles,
-                lateral_collapsed: if study.protocol == ProtocolKind::Lateral {
+                lateral_collapsed: if study.protocol.lateral().is_some() {
                     cell.iter().filter(|r| r.status == Status::Collapsed).count()
                 } else {
                     0

@@ -339,7 +339,7 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
         let _ = std::fs::write(format!("{path}-{k}.json"), &json);
     }
     let edited = LayoutSpec::from_json(&json).and_then(|s| s.resolve()).expect("the edited layout reads back");
-    let t = run_tilt(&edited, study.solver, &study.tilt).ok()?;
+    let t = run_tilt(&edited, study.solver, study.protocol.tilt()?).ok()?;
     let find = |n: &str| t.monitors.iter().position(|m| m == n);
     let idx = [find("top_left")?, find("top_centre")?, find("top_right")?];
     let top_cm = t

@@ -36,7 +36,8 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::monitor_points;
 use super::settle::settle;
-use crate::dem::{Simulation, SolverKind, SolverParams, StaticSolve};
+use super::support::{self, Loading, Unsupported};
+use crate::dem::{Method, Simulation, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use std::time::Instant;
 
@@ -98,16 +99,14 @@ pub fn run_tilt_observed(
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<TiltResult, TiltError> {
     if let Some(hand) = &params.by_hand {
-        return match solver.kind {
-            SolverKind::Nscd => super::tilt_hand::run_tilt_by_hand(layout, &solver.nscd, params, hand),
-            kind => Err(TiltError::HandNeedsNscd(kind)),
-        };
+        support::check(Loading::TiltByHand, solver.kind)?;
+        return super::tilt_hand::run_tilt_by_hand(layout, &solver.nscd, params, hand);
     }
     params.validate().map_err(TiltError::Parameter)?;
-    match solver.kind {
-        SolverKind::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
-        kind if !kind.is_penalty() => return Err(TiltError::Unsupported(kind)),
-        _ => {}
+    match solver.kind.method() {
+        Method::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
+        Method::Limit => return Err(Unsupported { protocol: Loading::Tilt, kind: solver.kind }.into()),
+        Method::Penalty => {}
     }
     solver.validate_static().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();

@@ -1,6 +1,6 @@
 //! What a tilting-table test returns ([`TiltResult`]) and why it can fail ([`TiltError`]).
 
-use crate::dem::{DemError, SolverKind};
+use crate::dem::DemError;
 use crate::loading::mechanism::Mechanism;
 use crate::loading::settle::SettleError;
 use crate::range::OutOfRange;
@@ -143,17 +143,15 @@ pub enum TiltError {
     /// A tilt or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
-    /// The solver chosen cannot run this protocol.
-    #[error("solver {0} cannot run the tilting-table test (limit analysis: `limit::limit_analysis`, or [solver] kind = \"limit\" in a study)")]
-    Unsupported(SolverKind),
+    /// The solver chosen does not run this protocol (the table of
+    /// [`crate::loading::support`]; limit analysis runs it through
+    /// [`crate::loading::protocol::Protocol::run`] or `limit::limit_tilt`).
+    #[error(transparent)]
+    Unsupported(#[from] crate::loading::support::Unsupported),
     /// The non-smooth solver refused the layout (a joint with cohesion or tensile
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]
     Nscd(crate::dem::drivers::nscd::NscdError),
-    /// The table rolled by hand ([`super::TiltParams::by_hand`]) runs by non-smooth
-    /// contact dynamics only.
-    #[error("the table rolled by hand (by_hand) runs by non-smooth contact dynamics: solver {} cannot run it (solver kind nscd)", .0.name())]
-    HandNeedsNscd(SolverKind),
     /// The rigid pushover's pressure resolves to no force on the wall
     /// ([`crate::loading::lateral::check_pushover_force`]).
     #[error(transparent)]

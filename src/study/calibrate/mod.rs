@@ -297,7 +297,8 @@ fn step(
     // What the data can tell apart: the tilt bracket plus twice the standard error of
     // the difference between a simulated mean and the measured mean.
     let se_meas = if measured.2 > 1 { measured.1 / (measured.2 as f64).sqrt() } else { 0.0 };
-    let resolution = study.tilt.resolution_deg + 2.0 * (se(&e0).max(se(&e1)).powi(2) + se_meas.powi(2)).sqrt();
+    let resolution = study.protocol.tilt().copied().unwrap_or_default().resolution_deg
+        + 2.0 * (se(&e0).max(se(&e1)).powi(2) + se_meas.powi(2)).sqrt();
     if let Some((outcome, note)) = unidentified(spec, measured.0, resolution, &e0, &e1) {
         result.outcome = outcome.into();
         result.note = note;

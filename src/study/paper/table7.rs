@@ -263,7 +263,7 @@ impl Table7 {
 /// What a change of the collapse angle must exceed to count: the tilt resolution plus twice
 /// the largest standard error of a cell's mean.
 fn noise(study: &Study, cells: &[CellSummary]) -> f64 {
-    study.tilt.resolution_deg
+    study.protocol.tilt().copied().unwrap_or_default().resolution_deg
         + 2.0
             * cells
                 .iter()
