@@ -114,3 +114,40 @@ fn a_study_runs_the_rigid_pushover_and_limit_analysis_through_the_table() {
         assert_eq!(rl.status == drystone::ensemble::row::Status::Stood, lim >= 1.0, "{rl:?}");
     }
 }
+
+/// The command line reads the same table: `tilt --solver limit` and `lateral --solver
+/// limit` are the limit analyses of `drystone limit` (the same load multiplier to the
+/// last digit), `tilt --by-hand` with the penalty solver is refused naming the methods
+/// that run it, and `lateral --solver nscd` without `--pushover` still runs the rigid
+/// pushover, with a deprecation line.
+#[test]
+fn the_command_line_follows_the_table() {
+    use std::process::Command;
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_drystone")).args(args).output().unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let lambda = |json: &str| -> f64 {
+        let v: serde_json::Value = serde_json::from_str(json).expect(json);
+        v["load_multiplier"].as_f64().expect("load_multiplier")
+    };
+    let layout = "data/layouts/single_block.json";
+    let (code, tilt, err) = run(&["tilt", layout, "--solver", "limit", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (_, limit, _) = run(&["limit", layout, "--json"]);
+    assert_eq!(lambda(&tilt).to_bits(), lambda(&limit).to_bits());
+    let (code, lateral, err) = run(&["lateral", layout, "--solver", "limit", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (_, limit, _) = run(&["limit", layout, "--protocol", "lateral", "--json"]);
+    assert_eq!(lambda(&lateral).to_bits(), lambda(&limit).to_bits());
+    let (code, _, err) = run(&["tilt", layout, "--by-hand", "--solver", "penalty"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("rolled by hand") && err.contains("nscd"), "{err}");
+    let (code, out, err) = run(&["lateral", layout, "--solver", "nscd", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("deprecated") && lambda(&out) > 0.0, "{err}");
+}

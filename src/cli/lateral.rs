@@ -97,24 +97,35 @@ pub fn run(
     if params.pushover {
         return dem_pushover(layout, &l, solver, params, json, vtk);
     }
-    let mut rec = Recorder::default();
-    let r = run_lateral_observed(&l, solver, params, &mut |a, stable, sim| {
-        if vtk.is_some() {
-            rec.observe(a, stable, sim)
-        }
-    })
-    .map_err(hint)
-    .with_context(|| format!("static lateral load on {}", layout.display()))?;
-    if let Some(dir) = vtk {
-        let pvd = write_series(dir, "lateral", &rec, &lateral_frames(&rec))?;
-        eprintln!("ParaView series: {}", pvd.display());
-    }
+    let r = recorded(vtk, "lateral", |observe| run_lateral_observed(&l, solver, params, observe))
+        .with_context(|| format!("static lateral load on {}", layout.display()))?;
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
         print(layout, params, &r);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Runs `run` with an observer that records every state when `vtk` is given, and writes
+/// them there as the ParaView series `name` (time = the load factor).
+fn recorded<R>(
+    vtk: Option<&Path>,
+    name: &str,
+    run: impl FnOnce(&mut dyn FnMut(f64, bool, &drystone::dem::Simulation)) -> Result<R, LateralError>,
+) -> Result<R> {
+    let mut rec = Recorder::default();
+    let r = run(&mut |a, stable, sim| {
+        if vtk.is_some() {
+            rec.observe(a, stable, sim)
+        }
+    })
+    .map_err(hint)?;
+    if let Some(dir) = vtk {
+        let pvd = write_series(dir, name, &rec, &lateral_frames(&rec))?;
+        eprintln!("ParaView series: {}", pvd.display());
+    }
+    Ok(r)
 }
 
 /// The library's error, with the command-line spelling of the solvers that do run the load.
@@ -196,18 +207,8 @@ fn dem_pushover(
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     use drystone::loading::lateral_pushover::run_lateral_pushover_observed;
-    let mut rec = Recorder::default();
-    let r = run_lateral_pushover_observed(layout, solver, params, &mut |a, stable, sim| {
-        if vtk.is_some() {
-            rec.observe(a, stable, sim)
-        }
-    })
-    .map_err(hint)
-    .with_context(|| format!("DEM pushover of {}", path.display()))?;
-    if let Some(dir) = vtk {
-        let pvd = write_series(dir, "pushover", &rec, &lateral_frames(&rec))?;
-        eprintln!("ParaView series: {}", pvd.display());
-    }
+    let r = recorded(vtk, "pushover", |observe| run_lateral_pushover_observed(layout, solver, params, observe))
+        .with_context(|| format!("DEM pushover of {}", path.display()))?;
     if json {
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {

@@ -172,10 +172,29 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
         Ok((_, l)) => l,
         Err(e) => return Outcome::failed(e.to_string()),
     };
-    match setup.protocol.run(&layout, setup.solver) {
+    // The observables each protocol's run gives; a run without them (the pushover, limit
+    // analysis, the shaking table: refused by `Setup::check_protocol`) or with an error is a
+    // failed outcome.
+    // The lateral load's observables are the service state's: a pushover study is compared
+    // at its service load, without pushing it over.
+    let service;
+    let protocol = match &setup.protocol {
+        Protocol::Lateral(l) if l.pushover => {
+            service = Protocol::Lateral(crate::loading::lateral::LateralParams { pushover: false, ..*l });
+            &service
+        }
+        p => p,
+    };
+    match protocol.run(&layout, setup.solver) {
         ProtocolRun::Tilt(Ok(t)) => tilt_outcome(&t),
         ProtocolRun::Lateral(Ok(r)) => lateral_outcome(&r),
-        run => Outcome::failed(
+        run @ (ProtocolRun::Tilt(Err(_))
+        | ProtocolRun::Lateral(Err(_))
+        | ProtocolRun::Pushover { .. }
+        | ProtocolRun::RigidPushover(_)
+        | ProtocolRun::Limit(_)
+        | ProtocolRun::Shake(_)
+        | ProtocolRun::Unsupported(_)) => Outcome::failed(
             run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
         ),
     }

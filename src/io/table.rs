@@ -90,148 +90,74 @@ fn reason_of(r: &mut RealizationRow, v: String) -> Result<(), String> {
     Ok(())
 }
 
+/// The [`Field`] of a row's field by its path: `field!(count index)`,
+/// `field!(opt_number collapse.collapse_angle_deg)`, `field!(series tilt.tilt_deg)`.
+macro_rules! field {
+    (count $($f:ident).+) => { Field::Count(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
+    (opt_count $($f:ident).+) => { Field::OptCount(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
+    (text $($f:ident).+) => {
+        Field::Text(|r| r.$($f).+.clone(), |r, v| {
+            r.$($f).+ = v;
+            Ok(())
+        })
+    };
+    (number $($f:ident).+) => { Field::Number(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
+    (opt_number $($f:ident).+) => { Field::OptNumber(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
+    (series $($f:ident).+) => { Field::Series(|r| &r.$($f).+, |r| &mut r.$($f).+) };
+}
+
+#[rustfmt::skip]
 /// The columns of `realizations.parquet` and `.csv`, in their order: the one list the
 /// writer ([`realizations_frame`]) and the reader ([`read_realizations`]) follow. A new
 /// column is one line here (and its field in [`RealizationRow`]).
 const COLUMNS: &[RowColumn] = &[
-    column("index", Part::Run, Field::Count(|r| r.index, |r, v| r.index = v)),
-    column("study", Part::Run, Field::Text(|r| r.study.clone(), |r, v| Ok(r.study = v))),
-    column("group", Part::Run, Field::Text(|r| r.group.clone(), |r, v| Ok(r.group = v))),
-    column("point", Part::Run, Field::Count(|r| r.point, |r, v| r.point = v)),
-    column("sweep", Part::Run, Field::Text(|r| r.sweep.clone(), |r, v| Ok(r.sweep = v))),
-    column("seed", Part::Run, Field::Count(|r| r.seed, |r, v| r.seed = v)),
-    column("realization", Part::Run, Field::Count(|r| r.realization, |r, v| r.realization = v)),
+    column("index", Part::Run, field!(count index)),
+    column("study", Part::Run, field!(text study)),
+    column("group", Part::Run, field!(text group)),
+    column("point", Part::Run, field!(count point)),
+    column("sweep", Part::Run, field!(text sweep)),
+    column("seed", Part::Run, field!(count seed)),
+    column("realization", Part::Run, field!(count realization)),
     column("status", Part::Run, Field::Text(|r| r.status.as_str().to_string(), status_of)),
-    column("error", Part::Run, Field::Text(|r| r.error.clone(), |r, v| Ok(r.error = v))),
-    column("blocks", Part::Run, Field::Count(|r| r.blocks, |r, v| r.blocks = v)),
-    column(
-        "collapse_angle_deg",
-        Part::Collapse,
-        Field::OptNumber(|r| r.collapse.collapse_angle_deg, |r, v| r.collapse.collapse_angle_deg = v),
-    ),
-    column(
-        "first_unstable_deg",
-        Part::Collapse,
-        Field::OptNumber(|r| r.collapse.first_unstable_deg, |r, v| r.collapse.first_unstable_deg = v),
-    ),
+    column("error", Part::Run, field!(text error)),
+    column("blocks", Part::Run, field!(count blocks)),
+    column("collapse_angle_deg", Part::Collapse, field!(opt_number collapse.collapse_angle_deg)),
+    column("first_unstable_deg", Part::Collapse, field!(opt_number collapse.first_unstable_deg)),
     column("collapse_reason", Part::Collapse, Field::Text(|r| r.collapse.collapse_reason.clone(), reason_of)),
-    column(
-        "mechanism",
-        Part::Collapse,
-        Field::Text(|r| r.collapse.mechanism.clone(), |r, v| Ok(r.collapse.mechanism = v)),
-    ),
-    column("joint", Part::Collapse, Field::Text(|r| r.collapse.joint.clone(), |r, v| Ok(r.collapse.joint = v))),
-    column(
-        "moving_blocks",
-        Part::Collapse,
-        Field::Count(|r| r.collapse.moving_blocks, |r, v| r.collapse.moving_blocks = v),
-    ),
-    later(
-        "failure_height_fraction",
-        Part::Collapse,
-        Field::OptNumber(|r| r.collapse.failure_height_fraction, |r, v| r.collapse.failure_height_fraction = v),
-    ),
-    later(
-        "mechanism_kind",
-        Part::Collapse,
-        Field::Text(|r| r.collapse.mechanism_kind.clone(), |r, v| Ok(r.collapse.mechanism_kind = v)),
-    ),
-    later(
-        "mechanism_start",
-        Part::Collapse,
-        Field::Text(|r| r.collapse.mechanism_start.clone(), |r, v| Ok(r.collapse.mechanism_start = v)),
-    ),
-    later(
-        "mechanism_extent",
-        Part::Collapse,
-        Field::OptNumber(|r| r.collapse.mechanism_extent, |r, v| r.collapse.mechanism_extent = v),
-    ),
+    column("mechanism", Part::Collapse, field!(text collapse.mechanism)),
+    column("joint", Part::Collapse, field!(text collapse.joint)),
+    column("moving_blocks", Part::Collapse, field!(count collapse.moving_blocks)),
+    later("failure_height_fraction", Part::Collapse, field!(opt_number collapse.failure_height_fraction)),
+    later("mechanism_kind", Part::Collapse, field!(text collapse.mechanism_kind)),
+    later("mechanism_start", Part::Collapse, field!(text collapse.mechanism_start)),
+    later("mechanism_extent", Part::Collapse, field!(opt_number collapse.mechanism_extent)),
     column("disp_mean_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(5.0))),
     column("disp_mean_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(10.0))),
     column("disp_centre_rel_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(5.0))),
     column("disp_centre_rel_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(10.0))),
-    column(
-        "lateral_disp_left_cm",
-        Part::Lateral,
-        Field::OptNumber(|r| r.lateral.lateral_disp_left_cm, |r, v| r.lateral.lateral_disp_left_cm = v),
-    ),
-    column(
-        "lateral_disp_centre_cm",
-        Part::Lateral,
-        Field::OptNumber(|r| r.lateral.lateral_disp_centre_cm, |r, v| r.lateral.lateral_disp_centre_cm = v),
-    ),
-    column(
-        "lateral_disp_right_cm",
-        Part::Lateral,
-        Field::OptNumber(|r| r.lateral.lateral_disp_right_cm, |r, v| r.lateral.lateral_disp_right_cm = v),
-    ),
-    column(
-        "lateral_disp_max_cm",
-        Part::Lateral,
-        Field::OptNumber(|r| r.lateral.lateral_disp_max_cm, |r, v| r.lateral.lateral_disp_max_cm = v),
-    ),
-    column(
-        "lateral_drift",
-        Part::Lateral,
-        Field::OptNumber(|r| r.lateral.lateral_drift, |r, v| r.lateral.lateral_drift = v),
-    ),
-    later("motion", Part::Shake, Field::Text(|r| r.shake.motion.clone(), |r, v| Ok(r.shake.motion = v))),
-    later("pga_g", Part::Shake, Field::OptNumber(|r| r.shake.pga_g, |r, v| r.shake.pga_g = v)),
-    later(
-        "collapse_time_s",
-        Part::Shake,
-        Field::OptNumber(|r| r.shake.collapse_time_s, |r, v| r.shake.collapse_time_s = v),
-    ),
-    later(
-        "max_rotation_deg",
-        Part::Shake,
-        Field::OptNumber(|r| r.shake.max_rotation_deg, |r, v| r.shake.max_rotation_deg = v),
-    ),
-    later("max_drift", Part::Shake, Field::OptNumber(|r| r.shake.max_drift, |r, v| r.shake.max_drift = v)),
-    later(
-        "residual_drift",
-        Part::Shake,
-        Field::OptNumber(|r| r.shake.residual_drift, |r, v| r.shake.residual_drift = v),
-    ),
-    later("blocks_fallen", Part::Shake, Field::OptCount(|r| r.shake.blocks_fallen, |r, v| r.shake.blocks_fallen = v)),
-    column("tilt_deg", Part::Tilt, Field::Series(|r| &r.tilt.tilt_deg, |r| &mut r.tilt.tilt_deg)),
-    column(
-        "disp_top_left_cm",
-        Part::Tilt,
-        Field::Series(|r| &r.tilt.disp_top_left_cm, |r| &mut r.tilt.disp_top_left_cm),
-    ),
-    column(
-        "disp_top_centre_cm",
-        Part::Tilt,
-        Field::Series(|r| &r.tilt.disp_top_centre_cm, |r| &mut r.tilt.disp_top_centre_cm),
-    ),
-    column(
-        "disp_top_right_cm",
-        Part::Tilt,
-        Field::Series(|r| &r.tilt.disp_top_right_cm, |r| &mut r.tilt.disp_top_right_cm),
-    ),
-    column("steps", Part::Run, Field::Count(|r| r.steps, |r, v| r.steps = v)),
-    column("iterations", Part::Run, Field::Count(|r| r.iterations, |r, v| r.iterations = v)),
-    column("dt_s", Part::Run, Field::Number(|r| r.dt_s, |r, v| r.dt_s = v)),
-    column("wall_time_s", Part::Run, Field::Number(|r| r.wall_time_s, |r, v| r.wall_time_s = v)),
-    later(
-        "load_multiplier_dem",
-        Part::Pushover,
-        Field::OptNumber(|r| r.pushover.load_multiplier_dem, |r, v| r.pushover.load_multiplier_dem = v),
-    ),
-    later(
-        "load_multiplier_dem_unstable",
-        Part::Pushover,
-        Field::OptNumber(
-            |r| r.pushover.load_multiplier_dem_unstable,
-            |r, v| r.pushover.load_multiplier_dem_unstable = v,
-        ),
-    ),
-    later(
-        "load_multiplier_limit",
-        Part::Pushover,
-        Field::OptNumber(|r| r.pushover.load_multiplier_limit, |r, v| r.pushover.load_multiplier_limit = v),
-    ),
+    column("lateral_disp_left_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_left_cm)),
+    column("lateral_disp_centre_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_centre_cm)),
+    column("lateral_disp_right_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_right_cm)),
+    column("lateral_disp_max_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_max_cm)),
+    column("lateral_drift", Part::Lateral, field!(opt_number lateral.lateral_drift)),
+    later("motion", Part::Shake, field!(text shake.motion)),
+    later("pga_g", Part::Shake, field!(opt_number shake.pga_g)),
+    later("collapse_time_s", Part::Shake, field!(opt_number shake.collapse_time_s)),
+    later("max_rotation_deg", Part::Shake, field!(opt_number shake.max_rotation_deg)),
+    later("max_drift", Part::Shake, field!(opt_number shake.max_drift)),
+    later("residual_drift", Part::Shake, field!(opt_number shake.residual_drift)),
+    later("blocks_fallen", Part::Shake, field!(opt_count shake.blocks_fallen)),
+    column("tilt_deg", Part::Tilt, field!(series tilt.tilt_deg)),
+    column("disp_top_left_cm", Part::Tilt, field!(series tilt.disp_top_left_cm)),
+    column("disp_top_centre_cm", Part::Tilt, field!(series tilt.disp_top_centre_cm)),
+    column("disp_top_right_cm", Part::Tilt, field!(series tilt.disp_top_right_cm)),
+    column("steps", Part::Run, field!(count steps)),
+    column("iterations", Part::Run, field!(count iterations)),
+    column("dt_s", Part::Run, field!(number dt_s)),
+    column("wall_time_s", Part::Run, field!(number wall_time_s)),
+    later("load_multiplier_dem", Part::Pushover, field!(opt_number pushover.load_multiplier_dem)),
+    later("load_multiplier_dem_unstable", Part::Pushover, field!(opt_number pushover.load_multiplier_dem_unstable)),
+    later("load_multiplier_limit", Part::Pushover, field!(opt_number pushover.load_multiplier_limit)),
 ];
 
 /// The column `c` of `rows`; `lists` chooses list columns (Parquet) or joined strings
