@@ -53,6 +53,7 @@ __all__ = [
     "tilt",
     "lateral",
     "pushover",
+    "supports",
     "run_study",
     "discrepancy",
     "effects",
@@ -282,6 +283,16 @@ def lateral(layout: Any, solver: Any = None, **params: Any) -> LateralResult:
         wall_time_s=r["wall_time_s"],
         _raw=r,
     )
+
+
+def supports(protocol: str, solver: str) -> Tuple[bool, str]:
+    """Whether the solver kind `solver` (`penalty`, `implicit`, `accelerated`,
+    `relaxation`, `nscd`, `limit`) runs `protocol` (`tilt`, `tilt_by_hand`, `lateral`,
+    `pushover`, `shake`): the library's one compatibility table, which studies, the
+    command line and these functions all ask. Returns `(runs, reason)`, the reason a
+    refusal gives (empty when it runs). Raises `InputError` for an unknown name.
+    """
+    return _native._supports(protocol, solver)
 
 
 def pushover(layout: Any, solver: Any = None, **params: Any) -> PushoverResult:

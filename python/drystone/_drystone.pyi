@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Callable, Dict, List, Optional, Union
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -151,6 +151,7 @@ def _tilt(
 ) -> Dict[str, Any]: ...
 def _lateral(layout: Layout, solver: Any = None, params: Optional[Dict[str, Any]] = None) -> Dict[str, Any]: ...
 def _pushover(layout: Layout, solver: Any = None, params: Optional[Dict[str, Any]] = None) -> Dict[str, Any]: ...
+def _supports(protocol: str, solver: str) -> Tuple[bool, str]: ...
 def _run_study(
     study: str,
     realizations: Optional[int] = None,

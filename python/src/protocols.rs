@@ -143,3 +143,24 @@ fn matrix(rows: &[&[f64]], m: usize) -> Array2<f64> {
         rows.iter().flat_map(|row| (0..m).map(move |k| row.get(k).copied().unwrap_or(f64::NAN))).collect();
     Array2::from_shape_vec((rows.len(), m), flat).unwrap_or_else(|_| Array2::zeros((0, m)))
 }
+
+/// Whether the solver kind `solver` runs the protocol `protocol` (`tilt`, `tilt_by_hand`,
+/// `lateral`, `pushover`, `shake`), by the library's one compatibility table
+/// (`loading::support::check`); see `drystone.supports`. Returns `(runs, reason)`: the
+/// reason a refusal gives, empty when it runs.
+///
+/// # Errors
+/// `InputError` for an unknown protocol or solver name.
+#[pyfunction]
+pub fn _supports(protocol: &str, solver: &str) -> PyResult<(bool, String)> {
+    use drystone::loading::support::{check, Loading};
+    let names: Vec<&str> = Loading::ALL.iter().map(|l| l.name()).collect();
+    let p = Loading::from_name(protocol).ok_or_else(|| {
+        input_error(format!("unknown protocol {protocol:?} (one of {})", names.join(", ")), Place::default())
+    })?;
+    let k: drystone::dem::SolverKind = solver.parse().map_err(|e: String| input_error(e, Place::default()))?;
+    Ok(match check(p, k) {
+        Ok(()) => (true, String::new()),
+        Err(e) => (false, e.to_string()),
+    })
+}

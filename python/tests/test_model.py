@@ -255,3 +255,22 @@ def test_the_gil_is_released_while_a_wall_is_tilted(root):
     t.join()
     assert res.collapsed and elapsed > 0.2
     assert during > 100_000, (during, elapsed)
+
+
+def test_supports_is_the_table_the_solvers_follow():
+    """`drystone.supports` answers as the runs do: a refused pair is refused by the run with
+    the same reason, an accepted one runs; unknown names are input errors."""
+    assert drystone.supports("tilt", "limit") == (True, "")
+    runs, why = drystone.supports("tilt_by_hand", "penalty")
+    assert not runs and "nscd" in why
+    layout = drystone.Layout.from_json(box_layout(0.2, 0.1, 0.2))
+    with pytest.raises(drystone.InputError) as e:
+        drystone.tilt(layout, solver="penalty", by_hand={"increment_deg": 5.0})
+    assert why in str(e.value)
+    runs, why = drystone.supports("shake", "relaxation")
+    assert not runs and "cascade of static solves" in why
+    assert drystone.supports("pushover", "nscd")[0]
+    with pytest.raises(drystone.InputError):
+        drystone.supports("tilting", "penalty")
+    with pytest.raises(drystone.InputError):
+        drystone.supports("tilt", "rigid")

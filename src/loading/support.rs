@@ -29,6 +29,23 @@ impl Loading {
     pub const ALL: [Loading; 5] =
         [Loading::Tilt, Loading::TiltByHand, Loading::Lateral, Loading::Pushover, Loading::Shake];
 
+    /// Its name in the Python package's `drystone.supports` and in tables: `tilt`,
+    /// `tilt_by_hand`, `lateral`, `pushover`, `shake`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Loading::Tilt => "tilt",
+            Loading::TiltByHand => "tilt_by_hand",
+            Loading::Lateral => "lateral",
+            Loading::Pushover => "pushover",
+            Loading::Shake => "shake",
+        }
+    }
+
+    /// The protocol of a name; `None` for an unknown one.
+    pub fn from_name(name: &str) -> Option<Loading> {
+        Loading::ALL.into_iter().find(|l| l.name() == name)
+    }
+
     /// Its name in messages.
     pub fn describe(self) -> &'static str {
         match self {
@@ -167,5 +184,8 @@ mod tests {
         assert!(check(Loading::TiltByHand, SolverKind::Penalty).is_err());
         assert!(check(Loading::Lateral, SolverKind::Nscd).is_err());
         assert!(check(Loading::Pushover, SolverKind::Nscd).is_ok());
+        for p in Loading::ALL {
+            assert_eq!(Loading::from_name(p.name()), Some(p));
+        }
     }
 }
