@@ -151,7 +151,12 @@ impl ProtocolRun {
             ProtocolRun::Limit(Err(e)) => Some(e.to_string()),
             ProtocolRun::Shake(Err(e)) => Some(e.to_string()),
             ProtocolRun::Unsupported(e) => Some(e.to_string()),
-            _ => None,
+            ProtocolRun::Tilt(Ok(_))
+            | ProtocolRun::RigidPushover(Ok(_))
+            | ProtocolRun::Lateral(Ok(_))
+            | ProtocolRun::Pushover { service: Ok(_), .. }
+            | ProtocolRun::Limit(Ok(_))
+            | ProtocolRun::Shake(Ok(_)) => None,
         }
     }
 }
