@@ -113,7 +113,59 @@ pub fn _lateral<'py>(
     Ok(out)
 }
 
-/// Runs the DEM pushover of the lateral pressure; see `drystone.pushover`.
+/// The rigid pushover (nscd) or the limit analysis of the lateral pressure, in the keys
+/// of the penalty pushover's result: λ stable and first unstable (limit analysis: both
+/// λ), the mechanism, the weight and the work; no increments, no monitors.
+fn rigid_pushover<'py>(
+    py: Python<'py>,
+    l: &drystone::layout::Layout,
+    solver: SolverParams,
+    lp: &LateralParams,
+) -> PyResult<Bound<'py, PyDict>> {
+    use drystone::dem::Method;
+    let result = match solver.kind.method() {
+        Method::Limit => {
+            let r = py.detach(|| {
+                guard(|| {
+                    drystone::limit::limit_lateral(l, &solver, lp, &drystone::limit::LimitParams::default())
+                        .map_err(|e| crate::errors::SolverError::new_err(e.to_string()))
+                })
+            })?;
+            serde_json::json!({
+                "lambda_stable": r.load_multiplier, "lambda_unstable": r.load_multiplier,
+                "mechanism": r.mechanism, "weight_n": r.weight_n, "steps": 0,
+                "wall_time_s": r.wall_time_s, "limit_analysis": r,
+            })
+        }
+        _ => {
+            let res = drystone::loading::protocol::RIGID_PUSHOVER_RESOLUTION;
+            let r = py.detach(|| {
+                guard(|| {
+                    drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp, res)
+                        .map_err(|e| tilt_error(&e))
+                })
+            })?;
+            let mut v = serde_json::to_value(&r).unwrap_or_default();
+            v["dt_s"] = solver.nscd.dt_s.into();
+            v
+        }
+    };
+    let mut v = result;
+    v["collapse_reason"] = serde_json::Value::Null;
+    v["monitors"] = serde_json::json!([]);
+    if v.get("dt_s").is_none() {
+        v["dt_s"] = 0.0.into();
+    }
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &v.to_string())?)?;
+    out.set_item("load_multiplier", PyArray1::<f64>::from_vec(py, vec![]))?;
+    out.set_item("stable", PyArray1::<bool>::from_vec(py, vec![]))?;
+    out.set_item("displacement_m", Array2::<f64>::zeros((0, 0)).into_pyarray(py))?;
+    Ok(out)
+}
+
+/// Runs the pushover of the lateral pressure by the solver's method (the penalty DEM's
+/// increments, the rigid pushover of nscd, or limit analysis); see `drystone.pushover`.
 #[pyfunction]
 #[pyo3(signature = (layout, solver = None, params = None))]
 pub fn _pushover<'py>(
@@ -125,6 +177,11 @@ pub fn _pushover<'py>(
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
     let l = &layout.get().layout;
+    if !solver.kind.is_penalty() {
+        drystone::loading::support::check(drystone::loading::support::Loading::Pushover, solver.kind)
+            .map_err(|e| input_error(e, Place::default()))?;
+        return rigid_pushover(py, l, solver, &lp);
+    }
     let r = py.detach(|| guard(|| run_lateral_pushover(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
     py.check_signals()?;
     let out = PyDict::new(py);

@@ -274,3 +274,19 @@ def test_supports_is_the_table_the_solvers_follow():
         drystone.supports("tilting", "penalty")
     with pytest.raises(drystone.InputError):
         drystone.supports("tilt", "rigid")
+
+
+def test_the_pushover_by_nscd_and_by_limit_analysis_meet_the_rigid_statics():
+    # The block of the test above, rigid: overturning about the toe at
+    # λ = W B / (p L h²) = 1.308 (ρ 2000, L 0.4, B 0.2, h 0.6 m, p 1 kPa), by limit analysis
+    # to the solver's tolerance and by nscd's bisection within its 1 % bracket.
+    layout = drystone.Layout.from_json(box_layout(0.4, 0.2, 0.6))
+    rigid = 2000.0 * 0.4 * 0.2 * 0.6 * 9.81 * 0.2 / (1000.0 * 0.4 * 0.6**2)
+    lim = drystone.pushover(layout, solver="limit", pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert lim.lambda_stable == pytest.approx(rigid, rel=1e-4)
+    assert lim.lambda_unstable == lim.lambda_stable and len(lim.load_multiplier) == 0
+    rig = drystone.pushover(layout, solver="nscd", pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert rig.lambda_unstable is not None
+    assert rig.lambda_stable <= rigid * 1.001 and rig.lambda_unstable >= rigid * 0.999
+    assert rig.lambda_unstable - rig.lambda_stable <= 0.011 * rig.lambda_unstable
+    assert rig.mechanism is not None and str(rig.mechanism) == "toppling"
