@@ -21,6 +21,9 @@
 //!   table under a ground motion ([`ground`]).
 //! * [`limit`]: limit analysis (the rigid collapse load multiplier from statics alone, a
 //!   second-order cone program over the DEM's contact polygons).
+//! * [`protocol`]: the seam: a protocol with its parameters, run by the method the solver
+//!   selects (the penalty DEM, non-smooth contact dynamics or limit analysis), as the one
+//!   compatibility table (`loading::support`) allows.
 //! * [`generator`]: seeded wall layouts; [`effects`]: named extensions of the model (the
 //!   built-in library and the user's effect files) applied to a generated layout;
 //!   [`ensemble`], [`stats`], [`study`]: ensembles, statistics, study files and reports.
@@ -83,6 +86,7 @@ pub mod layout;
 pub mod limit;
 pub mod loading;
 pub mod math;
+pub mod protocol;
 pub mod range;
 pub mod rng;
 pub mod stats;

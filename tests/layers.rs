@@ -16,6 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &["dem"],
     &["loading"],
     &["limit"],
+    &["protocol"],
     &["generator"],
     &["verify", "benchmark"],
     &["effects"],

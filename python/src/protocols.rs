@@ -138,7 +138,7 @@ fn rigid_pushover<'py>(
             })
         }
         _ => {
-            let res = drystone::loading::protocol::RIGID_PUSHOVER_RESOLUTION;
+            let res = drystone::protocol::RIGID_PUSHOVER_RESOLUTION;
             let r = py.detach(|| {
                 guard(|| {
                     drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp, res)

@@ -6,7 +6,7 @@
 //! effects gives the same numbers.
 //!
 //! Every realization is loaded by the setup's protocol through the protocol seam
-//! ([`crate::loading::protocol::Protocol`]): the tilting table (the path the paper's data
+//! ([`crate::protocol::Protocol`]): the tilting table (the path the paper's data
 //! take: collapse angle, displacements at every stable tilt, the failure mechanism) or the
 //! static lateral load (the monitors' out-of-plane displacements under the load, as one
 //! state at tilt 0°). The shaking table has no observable here and is refused
@@ -19,9 +19,9 @@ use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
 use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
-use crate::loading::protocol::{Protocol, ProtocolRun};
 use crate::loading::tilt::{TiltParams, TiltResult};
 use crate::loading::TopMonitor;
+use crate::protocol::{Protocol, ProtocolRun};
 use crate::units::m_to_cm;
 use serde::Serialize;
 

@@ -178,7 +178,7 @@ pub enum LateralError {
     NoLoad(NoLoad),
     /// The solver chosen does not run the static lateral load or its penalty pushover (the
     /// table of [`crate::loading::support`]; limit analysis and the rigid pushover run
-    /// through [`crate::loading::protocol::Protocol::run`]).
+    /// through [`crate::protocol::Protocol::run`]).
     #[error(transparent)]
     Unsupported(#[from] crate::loading::support::Unsupported),
 }

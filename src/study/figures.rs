@@ -186,8 +186,7 @@ pub fn write_vtk_realizations(
                     write_series(&out, "lateral", &rec, &lateral_frames(&rec)).map(Some)
                 }
                 StudyProtocol::Shake(_) => {
-                    let crate::loading::protocol::Protocol::Shake { params, motion } = study.loading_at(it.point)
-                    else {
+                    let crate::protocol::Protocol::Shake { params, motion } = study.loading_at(it.point) else {
                         return Ok(None);
                     };
                     let mut rec = Recorder::default();

@@ -544,7 +544,7 @@ fn read_measured(
 impl Study {
     /// The study's loading protocol with its parameters, as the seam runs it (at the first
     /// sweep point; see [`Study::loading_at`]).
-    pub fn loading(&self) -> crate::loading::protocol::Protocol {
+    pub fn loading(&self) -> crate::protocol::Protocol {
         self.loading_at(0)
     }
 
@@ -553,8 +553,8 @@ impl Study {
     /// its PGA level (sweep keys `motion` and `pga_g`). A shaking point whose motion is
     /// missing (a study not made by [`StudySpec::resolve`]) gets an empty motion, which the
     /// protocol refuses with an error row.
-    pub fn loading_at(&self, point: usize) -> crate::loading::protocol::Protocol {
-        use crate::loading::protocol::Protocol;
+    pub fn loading_at(&self, point: usize) -> crate::protocol::Protocol {
+        use crate::protocol::Protocol;
         match &self.protocol {
             StudyProtocol::Tilt(t) => Protocol::Tilt(*t),
             StudyProtocol::Lateral(l) => Protocol::Lateral(*l),

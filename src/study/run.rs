@@ -15,9 +15,9 @@ use crate::ensemble::row::{CollapseColumns, RealizationRow, ShakeColumns, Status
 use crate::ensemble::{self, Item, Shard};
 use crate::loading::lateral::LateralResult;
 use crate::loading::monitors::TopMonitor;
-use crate::loading::protocol::ProtocolRun;
 use crate::loading::shake::ShakeResult;
 use crate::loading::tilt::{CollapseReason, Mechanism, MechanismKind, TiltResult};
+use crate::protocol::ProtocolRun;
 use crate::units::m_to_cm;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;

@@ -145,7 +145,7 @@ pub enum TiltError {
     Parameter(OutOfRange),
     /// The solver chosen does not run this protocol (the table of
     /// [`crate::loading::support`]; limit analysis runs it through
-    /// [`crate::loading::protocol::Protocol::run`] or `limit::limit_tilt`).
+    /// [`crate::protocol::Protocol::run`] or `limit::limit_tilt`).
     #[error(transparent)]
     Unsupported(#[from] crate::loading::support::Unsupported),
     /// The non-smooth solver refused the layout (a joint with cohesion or tensile

@@ -3,20 +3,20 @@
 //!
 //! A [`Protocol`] is a protocol with its parameters; [`Protocol::run`] runs it on a layout
 //! by the method the solver selects — the penalty DEM, nscd or limit analysis, as the one
-//! compatibility table ([`super::support`]) allows — and returns a [`ProtocolRun`] (the
+//! compatibility table ([`crate::loading::support`]) allows — and returns a [`ProtocolRun`] (the
 //! method's result, or the error that ended it, which a study turns into a status row).
 //! Adding a protocol is one module in `loading/` (its parameters, result and driver), one
 //! variant here and in [`ProtocolRun`], its row of the table; see CONTRIBUTING.md.
 
-use super::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
-use super::lateral_nscd::{run_lateral_nscd, LateralLimit};
-use super::lateral_pushover::{run_lateral_pushover, LateralPushover};
-use super::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
-use super::support::{self, Loading, Unsupported};
-use super::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
 use crate::dem::{Method, SolverParams};
 use crate::layout::Layout;
 use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams, LimitResult};
+use crate::loading::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
+use crate::loading::lateral_nscd::{run_lateral_nscd, LateralLimit};
+use crate::loading::lateral_pushover::{run_lateral_pushover, LateralPushover};
+use crate::loading::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
+use crate::loading::support::{self, Loading, Unsupported};
+use crate::loading::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
 
 /// The relative width of the rigid pushover's final bracket of λ (1 %), as
 /// `drystone lateral --solver nscd` runs it.
