@@ -86,6 +86,7 @@ mod measured;
 mod motions;
 mod outputs;
 mod paper;
+mod protocol;
 mod provenance;
 mod report;
 mod report_error;
@@ -106,10 +107,11 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
+pub use protocol::StudyProtocol;
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;
-pub use resolve::{Group, Measured, ShakeStudy, Study, StudyProtocol};
+pub use resolve::{Group, Measured, ShakeStudy, Study};
 pub use run::{run_item, run_study, run_study_with};
 pub use shaking::{fragilities, GroupFragility};
 pub use shards::{
