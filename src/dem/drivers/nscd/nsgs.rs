@@ -90,6 +90,9 @@ pub struct Scratch {
     sweep_vel: Vec<Vec3>,
     sweep_angvel: Vec<Vec3>,
     group_start: Vec<Vec3>,
+    /// Each point's slip multiplier ν at its last slip this step (s/kg; 0: none yet), the
+    /// start of its next slip solve ([`local::solve_from`]).
+    nu: Vec<f64>,
 }
 
 /// The sweeps of one step from the impulses `impulse` (local frames, N·s; the warm start,
@@ -108,6 +111,8 @@ pub fn solve(
     scratch.sweep_vel.resize(vel.len(), Vec3::zeros());
     scratch.sweep_angvel.resize(vel.len(), Vec3::zeros());
     scratch.group_start.resize(plan.widest, Vec3::zeros());
+    scratch.nu.clear();
+    scratch.nu.resize(rows.len(), 0.0);
     // The sweep from which the adaptive norm also accepts the quadratic one.
     let quad_after = (p.quad_after_solves / rows.len().max(1) as f64).ceil().min(u32::MAX as f64) as u32;
     let (mut residual, mut quad) = (0.0, 0.0);
@@ -127,7 +132,7 @@ pub fn solve(
             if track_quad {
                 scratch.group_start[..g1 - g0].copy_from_slice(&impulse[g0..g1]);
             }
-            visit(&rows[g0..g1], &mut impulse[g0..g1], backward, p, vel, angvel, inv_m, inv_i);
+            visit(&rows[g0..g1], &mut impulse[g0..g1], &mut scratch.nu[g0..g1], backward, p, vel, angvel, inv_m, inv_i);
             if track_quad {
                 for ((row, r), r0) in rows[g0..g1].iter().zip(&impulse[g0..g1]).zip(&scratch.group_start) {
                     let dr = r - r0;
@@ -161,12 +166,13 @@ pub fn solve(
 
 /// One visit of a contact polygon (its points `rows`, their impulses `impulse`): up to
 /// [`NscdParams::polygon_passes`] passes over its points (backward if `backward`), the two
-/// bodies' velocities held in registers.
+/// bodies' velocities held in registers; `nu` the points' slip multipliers.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn visit(
     rows: &[PointRows],
     impulse: &mut [Vec3],
+    nu: &mut [f64],
     backward: bool,
     p: &NscdParams,
     vel: &mut [Vec3],
@@ -193,7 +199,7 @@ fn visit(
             let r_old = impulse[k];
             let mut q = u - row.w * r_old;
             q.x += row.bias;
-            let mut r = local::solve(&row.w, &row.w_inv, &q, row.mu);
+            let mut r = local::solve_from(&row.w, &row.w_inv, &q, row.mu, &mut nu[k]);
             if omega != 1.0 {
                 r = local::project(&(omega * r + (1.0 - omega) * r_old), row.mu);
             }
