@@ -213,6 +213,34 @@ mod tests {
         assert!(cases.iter().all(|&c| c > 200), "{cases:?}");
     }
 
+    /// The slip solve started from any multiplier finds the root it finds from the stick
+    /// solution, to the local tolerance, and reports that multiplier.
+    #[test]
+    fn the_slip_root_does_not_depend_on_the_start() {
+        let mut s = 11u64;
+        let mut slips = 0;
+        for _ in 0..5000 {
+            let a = Mat3::from_fn(|_, _| lcg(&mut s));
+            let w = a * a.transpose() + Mat3::identity() * (0.05 + lcg(&mut s).abs());
+            let w_inv = w.try_inverse().unwrap();
+            let q = Vec3::new(lcg(&mut s), lcg(&mut s), lcg(&mut s));
+            let mu = 0.05 + 1.5 * lcg(&mut s).abs();
+            let mut nu0 = 0.0;
+            let r0 = solve_from(&w, &w_inv, &q, mu, &mut nu0);
+            if nu0 == 0.0 {
+                continue;
+            }
+            slips += 1;
+            for start in [1e-3 * nu0, 0.5 * nu0, nu0, 2.0 * nu0, 1e3 * nu0] {
+                let mut nu = start;
+                let r = solve_from(&w, &w_inv, &q, mu, &mut nu);
+                assert!((r - r0).norm() <= 1e-9 * r0.norm(), "start {start}: {r} against {r0}");
+                assert!((nu - nu0).abs() <= 1e-6 * nu0, "start {start}: nu {nu} against {nu0}");
+            }
+        }
+        assert!(slips > 500, "{slips}");
+    }
+
     /// A block pushed along the table harder than μ times its weight slides with
     /// r_t = −μ rₙ along the push (isotropic W).
     #[test]
