@@ -80,8 +80,8 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64, start: &mut f64) -> Option<Vec3> {
     // F and F' at ν: x = r_t(ν) = −(Ŵ + ν I)⁻¹ q̂, dx/dν = −(Ŵ + ν I)⁻¹ x.
     let eval = |nu: f64| {
         let (a, d) = (p + nu, s + nu);
-        let det = a * d - r * r;
-        let solve = |b: [f64; 2]| [(d * b[0] - r * b[1]) / det, (a * b[1] - r * b[0]) / det];
+        let inv_det = 1.0 / (a * d - r * r);
+        let solve = |b: [f64; 2]| [(d * b[0] - r * b[1]) * inv_det, (a * b[1] - r * b[0]) * inv_det];
         let x = solve([-qh[0], -qh[1]]);
         let dx = solve([-x[0], -x[1]]);
         let norm = (x[0] * x[0] + x[1] * x[1]).sqrt();
