@@ -6,7 +6,7 @@
 //! The seam of a variant of the iteration is here and in [`super::local`]: the order of a
 //! sweep is a [`SweepPlan`] (the contact polygons, runs of points of one pair, in the
 //! points' fixed order; [`super::SweepOrder`] reverses every other sweep), the local solve
-//! is [`super::local::solve`], and [`solve`] is the loop that joins them.
+//! is [`super::local::solve_from`], and [`solve`] is the loop that joins them.
 //!
 //! # The work of one point
 //!

@@ -17,8 +17,8 @@
 //!    the frame of the table, which moves with acceleration `a_g(t)`: the table is then a
 //!    boundary body at rest, and every displacement is relative to it), end-restraint
 //!    springs, external loads, and the gyroscopic torque `−ω × I ω`.
-//! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
-//!    points in their fixed order, each solving its local Coulomb problem
+//! 4. **NSGS** ([`super::nsgs`]): the impulses of the last step applied (warm start), then
+//!    sweeps over the points in their fixed order, each solving its local Coulomb problem
 //!    ([`super::local::solve`]) with the current velocities of the other points' bodies
 //!    and writing its impulse change back, until the sweep meets [`NscdParams::norm`]
 //!    (by default [`super::NsgsNorm::Adaptive`]: the largest change over a sweep of the
@@ -55,7 +55,9 @@ pub struct NscdStep {
     pub converged: bool,
     /// The largest change of a block point's velocity over the last sweep, m/s.
     pub residual_m_per_s: f64,
-    /// The quadratic norm of the last sweep ([`super::NsgsNorm::Quad`]), dimensionless.
+    /// The quadratic norm of the last sweep ([`super::NsgsNorm::Quad`]), dimensionless, when
+    /// the stopping rule read it (the quadratic norm; the adaptive one from the sweep that
+    /// admits it); 0 otherwise.
     pub quad_residual: f64,
     /// Contact points carrying an impulse at the end of the step.
     pub active: usize,
