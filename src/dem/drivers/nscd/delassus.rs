@@ -27,28 +27,21 @@ use crate::math::{Mat3, Vec3};
 /// No body: the table side of a table contact.
 pub const TABLE: usize = usize::MAX;
 
-/// The rows of one contact point for one step: frame, lever arms as matrices, the
-/// inverse-mass maps and the diagonal Delassus block with its inverse.
+/// The rows of one contact point for one step: frame, lever arms and the diagonal
+/// Delassus block with its inverse. The inverse masses and inertias are the bodies'
+/// (passed to [`Self::apply`]), so that a point is small.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointRows {
     /// Body A, or [`TABLE`].
     pub a: usize,
     /// Body B.
     pub b: usize,
-    /// Local frame `[n t₁ t₂]`, columns, table frame.
+    /// Local frame `E = [n t₁ t₂]`, columns, table frame.
     pub frame: Mat3,
-    /// `C_A` (columns `r_A × e_k`), m.
-    pub c_a: Mat3,
-    /// `C_B`, m.
-    pub c_b: Mat3,
-    /// `M_A⁻¹ E`, 1/kg.
-    pub m_a: Mat3,
-    /// `M_B⁻¹ E`, 1/kg.
-    pub m_b: Mat3,
-    /// `I_A⁻¹ C_A`, 1/(kg·m).
-    pub i_a: Mat3,
-    /// `I_B⁻¹ C_B`, 1/(kg·m).
-    pub i_b: Mat3,
+    /// Lever arm `r_A = p − x_A`, m (zero for the table).
+    pub r_a: Vec3,
+    /// Lever arm `r_B = p − x_B`, m.
+    pub r_b: Vec3,
     /// The diagonal Delassus block W, s/kg (velocity per impulse).
     pub w: Mat3,
     /// W⁻¹ (zeros if W is singular).
@@ -67,44 +60,45 @@ impl PointRows {
     pub fn new(a: usize, b: usize, p: Vec3, n: Vec3, x: &[Vec3], inv_m: &[Vec3], inv_i: &[Mat3], mu: f64) -> PointRows {
         let (t1, t2) = crate::geometry::polygon::plane_basis(&n);
         let frame = Mat3::from_columns(&[n, t1, t2]);
-        let lever = |k: usize| {
-            let r = p - x[k];
-            Mat3::from_columns(&[r.cross(&n), r.cross(&t1), r.cross(&t2)])
-        };
         let side = |k: usize| {
             if k == TABLE {
-                (Mat3::zeros(), Mat3::zeros(), Mat3::zeros())
+                (Vec3::zeros(), Mat3::zeros(), Mat3::zeros(), Mat3::zeros())
             } else {
-                let c = lever(k);
-                (c, Mat3::from_diagonal(&inv_m[k]) * frame, inv_i[k] * c)
+                let r = p - x[k];
+                let c = Mat3::from_columns(&[r.cross(&n), r.cross(&t1), r.cross(&t2)]);
+                (r, c, Mat3::from_diagonal(&inv_m[k]) * frame, inv_i[k] * c)
             }
         };
-        let (c_a, m_a, i_a) = side(a);
-        let (c_b, m_b, i_b) = side(b);
+        let (r_a, c_a, m_a, i_a) = side(a);
+        let (r_b, c_b, m_b, i_b) = side(b);
         let w = frame.transpose() * (m_a + m_b) + c_a.transpose() * i_a + c_b.transpose() * i_b;
         let w = 0.5 * (w + w.transpose());
         let w_inv = w.try_inverse().unwrap_or_else(Mat3::zeros);
-        PointRows { a, b, frame, c_a, c_b, m_a, m_b, i_a, i_b, w, w_inv, mu, bias: 0.0 }
+        PointRows { a, b, frame, r_a, r_b, w, w_inv, mu, bias: 0.0 }
     }
 
-    /// The relative velocity of B with respect to A at the point, local frame, m/s.
+    /// The relative velocity of B with respect to A at the point, local frame, m/s:
+    /// `Eᵀ((v_B + ω_B × r_B) − (v_A + ω_A × r_A))`.
     #[inline(always)]
     pub fn velocity(&self, vel: &[Vec3], angvel: &[Vec3]) -> Vec3 {
-        let mut u = self.frame.tr_mul(&vel[self.b]) + self.c_b.tr_mul(&angvel[self.b]);
+        let mut d = vel[self.b] + angvel[self.b].cross(&self.r_b);
         if self.a != TABLE {
-            u -= self.frame.tr_mul(&vel[self.a]) + self.c_a.tr_mul(&angvel[self.a]);
+            d -= vel[self.a] + angvel[self.a].cross(&self.r_a);
         }
-        u
+        self.frame.tr_mul(&d)
     }
 
-    /// Applies the impulse `dr` (local, on B; −dr on A) to the bodies' velocities.
+    /// Applies the impulse `dr` (local, on B; −dr on A) to the bodies' velocities, with
+    /// their inverse masses per axis `inv_m` (1/kg) and inverse inertias `inv_i` (table
+    /// frame, 1/(kg·m²)): `Δv_B = M_B⁻¹ E dr`, `Δω_B = I_B⁻¹ (r_B × E dr)`.
     #[inline(always)]
-    pub fn apply(&self, dr: &Vec3, vel: &mut [Vec3], angvel: &mut [Vec3]) {
-        vel[self.b] += self.m_b * dr;
-        angvel[self.b] += self.i_b * dr;
+    pub fn apply(&self, dr: &Vec3, vel: &mut [Vec3], angvel: &mut [Vec3], inv_m: &[Vec3], inv_i: &[Mat3]) {
+        let pw = self.frame * dr;
+        vel[self.b] += inv_m[self.b].component_mul(&pw);
+        angvel[self.b] += inv_i[self.b] * self.r_b.cross(&pw);
         if self.a != TABLE {
-            vel[self.a] -= self.m_a * dr;
-            angvel[self.a] -= self.i_a * dr;
+            vel[self.a] -= inv_m[self.a].component_mul(&pw);
+            angvel[self.a] -= inv_i[self.a] * self.r_a.cross(&pw);
         }
     }
 }
@@ -128,7 +122,7 @@ mod tests {
             let mut e = Vec3::zeros();
             e[k] = 1.0;
             let (mut v, mut w) = ([Vec3::zeros()], [Vec3::zeros()]);
-            rows.apply(&e, &mut v, &mut w);
+            rows.apply(&e, &mut v, &mut w, &inv_m, &inv_i);
             let u = rows.velocity(&v, &w);
             // Direct: impulse P = E e at p on the body.
             let pw = rows.frame * e;

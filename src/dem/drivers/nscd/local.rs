@@ -31,6 +31,15 @@ const LOCAL_TOL: f64 = 1e-13;
 /// The impulse solving the local problem (see the module doc).
 #[inline]
 pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
+    solve_from(w, w_inv, q, mu, &mut 0.0)
+}
+
+/// As [`solve`], with `nu` the slip multiplier ν to start the slip case's Newton iteration
+/// from (≥ 0, s/kg; 0: from the stick solution), set to the root found when the point
+/// slips. The answer is the same root to the local tolerance from any start: the
+/// multiplier of the same point at the previous sweep only saves Newton iterations.
+#[inline]
+pub fn solve_from(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64, nu: &mut f64) -> Vec3 {
     if q.x >= 0.0 {
         return Vec3::zeros();
     }
@@ -38,7 +47,7 @@ pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
     if stick.x > 0.0 && stick.y * stick.y + stick.z * stick.z <= mu * mu * stick.x * stick.x {
         return stick;
     }
-    slip(w, q, mu).unwrap_or_else(|| de_saxce(w, q, mu, stick))
+    slip(w, q, mu, nu).unwrap_or_else(|| de_saxce(w, q, mu, stick))
 }
 
 /// The slip case; `None` if W is not positive definite or no root is found.
@@ -48,8 +57,10 @@ pub fn solve(w: &Mat3, w_inv: &Mat3, q: &Vec3, mu: f64) -> Vec3 {
 /// and `q̂ = q_t − W_tn qₙ/Wₙₙ`. Slip opposite to the friction, `u_t = −ν r_t` (ν ≥ 0),
 /// gives `r_t(ν) = −(Ŵ + ν I)⁻¹ q̂`, and ν is the root of
 /// `F(ν) = ‖r_t(ν)‖ − μ rₙ(ν)`: `F(0) > 0` (the stick impulse is outside the cone) and
-/// `F(∞) = −μ r̂ₙ < 0`. Safeguarded Newton on a bracket.
-fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
+/// `F(∞) = −μ r̂ₙ < 0`. Newton from `start` (0 if not positive), safeguarded on a bracket
+/// `[lo, hi]` with `F(lo) > 0 ≥ F(hi)`: the upper end is found by doubling when Newton
+/// does not give one; bisection when a Newton step leaves the bracket.
+fn slip(w: &Mat3, q: &Vec3, mu: f64, start: &mut f64) -> Option<Vec3> {
     let wnn = w[(0, 0)];
     if wnn.is_nan() || wnn <= 0.0 {
         return None;
@@ -69,8 +80,8 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
     // F and F' at ν: x = r_t(ν) = −(Ŵ + ν I)⁻¹ q̂, dx/dν = −(Ŵ + ν I)⁻¹ x.
     let eval = |nu: f64| {
         let (a, d) = (p + nu, s + nu);
-        let det = a * d - r * r;
-        let solve = |b: [f64; 2]| [(d * b[0] - r * b[1]) / det, (a * b[1] - r * b[0]) / det];
+        let inv_det = 1.0 / (a * d - r * r);
+        let solve = |b: [f64; 2]| [(d * b[0] - r * b[1]) * inv_det, (a * b[1] - r * b[0]) * inv_det];
         let x = solve([-qh[0], -qh[1]]);
         let dx = solve([-x[0], -x[1]]);
         let norm = (x[0] * x[0] + x[1] * x[1]).sqrt();
@@ -80,20 +91,13 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
         let df = dnorm + mu * (c[0] * dx[0] + c[1] * dx[1]);
         (f, df, x, rn)
     };
-    let l1 = p.max(s) + r.abs();
+    let l1 = (p.max(s) + r.abs()).max(1e-300);
     let scale = rn_hat * mu.max(1e-3);
-    let (mut lo, mut hi) = (0.0f64, l1.max(1e-300));
-    let mut guard = 0;
-    while eval(hi).0 > 0.0 {
-        hi *= 4.0;
-        guard += 1;
-        if guard > 200 {
-            return None;
-        }
-    }
-    let mut nu = 0.0;
-    for _ in 0..200 {
-        let (f, df, ..) = eval(nu);
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    let mut nu = if *start > 0.0 && start.is_finite() { *start } else { 0.0 };
+    let mut at = eval(nu);
+    for _ in 0..400 {
+        let (f, df, ..) = at;
         if f.abs() <= LOCAL_TOL * scale {
             break;
         }
@@ -103,15 +107,24 @@ fn slip(w: &Mat3, q: &Vec3, mu: f64) -> Option<Vec3> {
             hi = nu;
         }
         let newton = nu - f / df;
-        nu = if df != 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
-        if hi - lo <= LOCAL_TOL * hi {
+        nu = if df != 0.0 && newton > lo && newton < hi {
+            newton
+        } else if hi.is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            (2.0 * lo).max(l1)
+        };
+        if hi.is_finite() && hi - lo <= LOCAL_TOL * hi {
+            at = eval(nu);
             break;
         }
+        at = eval(nu);
     }
-    let (_, _, x, rn) = eval(nu);
-    if rn.is_nan() || rn <= 0.0 {
+    let (_, _, x, rn) = at;
+    if !(rn > 0.0) || !x[0].is_finite() || !x[1].is_finite() {
         return None;
     }
+    *start = nu;
     Some(Vec3::new(rn, x[0], x[1]))
 }
 
@@ -198,6 +211,34 @@ mod tests {
             cases[k] += 1;
         }
         assert!(cases.iter().all(|&c| c > 200), "{cases:?}");
+    }
+
+    /// The slip solve started from any multiplier finds the root it finds from the stick
+    /// solution, to the local tolerance, and reports that multiplier.
+    #[test]
+    fn the_slip_root_does_not_depend_on_the_start() {
+        let mut s = 11u64;
+        let mut slips = 0;
+        for _ in 0..5000 {
+            let a = Mat3::from_fn(|_, _| lcg(&mut s));
+            let w = a * a.transpose() + Mat3::identity() * (0.05 + lcg(&mut s).abs());
+            let w_inv = w.try_inverse().unwrap();
+            let q = Vec3::new(lcg(&mut s), lcg(&mut s), lcg(&mut s));
+            let mu = 0.05 + 1.5 * lcg(&mut s).abs();
+            let mut nu0 = 0.0;
+            let r0 = solve_from(&w, &w_inv, &q, mu, &mut nu0);
+            if nu0 == 0.0 {
+                continue;
+            }
+            slips += 1;
+            for start in [1e-3 * nu0, 0.5 * nu0, nu0, 2.0 * nu0, 1e3 * nu0] {
+                let mut nu = start;
+                let r = solve_from(&w, &w_inv, &q, mu, &mut nu);
+                assert!((r - r0).norm() <= 1e-9 * r0.norm(), "start {start}: {r} against {r0}");
+                assert!((nu - nu0).abs() <= 1e-6 * nu0, "start {start}: nu {nu} against {nu0}");
+            }
+        }
+        assert!(slips > 500, "{slips}");
     }
 
     /// A block pushed along the table harder than μ times its weight slides with

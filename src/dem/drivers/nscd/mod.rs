@@ -21,6 +21,8 @@
 //!   the bodies' velocities to the point's relative velocity).
 //! * [`local`]: the local 3D Coulomb problem of one contact point (separation, stick or
 //!   slip, exact; De Saxcé's projection as a fallback).
+//! * [`nsgs`]: the Gauss–Seidel sweeps of one step (their order, [`nsgs::SweepPlan`];
+//!   the visit of a contact polygon; the stopping rule).
 //! * [`stepper`]: [`NscdSimulation`], the θ-scheme step with a prescribed base
 //!   acceleration and its NSGS loop.
 //!
@@ -37,6 +39,7 @@
 pub mod contacts;
 pub mod delassus;
 pub mod local;
+pub mod nsgs;
 pub mod stepper;
 
 pub use contacts::ContactPoint;

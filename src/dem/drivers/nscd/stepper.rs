@@ -17,8 +17,8 @@
 //!    the frame of the table, which moves with acceleration `a_g(t)`: the table is then a
 //!    boundary body at rest, and every displacement is relative to it), end-restraint
 //!    springs, external loads, and the gyroscopic torque `−ω × I ω`.
-//! 4. **NSGS**: the impulses of the last step applied (warm start), then sweeps over the
-//!    points in their fixed order, each solving its local Coulomb problem
+//! 4. **NSGS** ([`super::nsgs`]): the impulses of the last step applied (warm start), then
+//!    sweeps over the points in their fixed order, each solving its local Coulomb problem
 //!    ([`super::local::solve`]) with the current velocities of the other points' bodies
 //!    and writing its impulse change back, until the sweep meets [`NscdParams::norm`]
 //!    (by default [`super::NsgsNorm::Adaptive`]: the largest change over a sweep of the
@@ -37,8 +37,8 @@
 
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
-use super::local;
-use super::{NscdError, NscdParams, NsgsNorm, SweepOrder};
+use super::nsgs::{self, BodyState, SweepPlan};
+use super::{NscdError, NscdParams};
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
@@ -55,7 +55,9 @@ pub struct NscdStep {
     pub converged: bool,
     /// The largest change of a block point's velocity over the last sweep, m/s.
     pub residual_m_per_s: f64,
-    /// The quadratic norm of the last sweep ([`super::NsgsNorm::Quad`]), dimensionless.
+    /// The quadratic norm of the last sweep ([`super::NsgsNorm::Quad`]), dimensionless, when
+    /// the stopping rule read it (the quadratic norm; the adaptive one from the sweep that
+    /// admits it); 0 otherwise.
     pub quad_residual: f64,
     /// Contact points carrying an impulse at the end of the step.
     pub active: usize,
@@ -70,15 +72,15 @@ pub struct NscdStep {
 pub struct NscdSimulation {
     bodies: Vec<Body>,
     points: Vec<ContactPoint>,
-    /// The runs `[start, end)` of points of one pair (one contact polygon), in order.
-    groups: Vec<(usize, usize)>,
-    /// The impulses of a group at the start of its visit (scratch).
-    group_start: Vec<Vec3>,
+    /// The order of the NSGS sweeps (the contact polygons), built at each detection.
+    plan: SweepPlan,
+    /// The impulses of the points during the sweeps (scratch, N·s).
+    impulse: Vec<Vec3>,
+    nsgs_scratch: nsgs::Scratch,
     rows: Vec<PointRows>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
-    sweep_vel: Vec<Vec3>,
-    sweep_angvel: Vec<Vec3>,
+    radius: Vec<f64>,
     x: Vec<Vec3>,
     inv_m: Vec<Vec3>,
     inv_i: Vec<Mat3>,
@@ -125,8 +127,7 @@ impl NscdSimulation {
         let mut sim = NscdSimulation {
             vel: vec![Vec3::zeros(); n],
             angvel: vec![Vec3::zeros(); n],
-            sweep_vel: vec![Vec3::zeros(); n],
-            sweep_angvel: vec![Vec3::zeros(); n],
+            radius: bodies.iter().map(|b| b.radius).collect(),
             x: bodies.iter().map(|b| b.pos).collect(),
             inv_i: vec![Mat3::zeros(); n],
             inv_m,
@@ -144,8 +145,9 @@ impl NscdSimulation {
             detect_rot: bodies.iter().map(|b| b.rot).collect(),
             bodies,
             points: Vec::new(),
-            groups: Vec::new(),
-            group_start: Vec::new(),
+            plan: SweepPlan::default(),
+            impulse: Vec::new(),
+            nsgs_scratch: nsgs::Scratch::default(),
             rows: Vec::new(),
             time: 0.0,
             steps: 0,
@@ -297,16 +299,7 @@ impl NscdSimulation {
         let carry = self.params.contact_margin_m;
         self.points =
             detect(&self.bodies, &self.joints, &self.params.patch(), &self.points, carry, self.params.polygon_points)?;
-        self.groups.clear();
-        let mut start = 0;
-        for k in 1..=self.points.len() {
-            if k == self.points.len() || self.points[k].key() != self.points[start].key() {
-                self.groups.push((start, k));
-                start = k;
-            }
-        }
-        let widest = self.groups.iter().map(|(a, b)| b - a).max().unwrap_or(0);
-        self.group_start.resize(widest, Vec3::zeros());
+        self.plan = SweepPlan::new(self.points.iter().map(ContactPoint::key));
         for (k, b) in self.bodies.iter().enumerate() {
             self.detect_pos[k] = b.pos;
             self.detect_rot[k] = b.rot;
@@ -399,89 +392,29 @@ impl NscdSimulation {
         }
     }
 
-    /// Stage 4: warm start and Gauss–Seidel sweeps; returns (sweeps, converged, velocity
-    /// residual in m/s, quadratic residual).
-    ///
-    /// A sweep visits the contacts (the runs of points of one pair: one contact polygon)
-    /// in order; within a contact it passes over the points up to
-    /// [`NscdParams::polygon_passes`] times (a block Gauss–Seidel over the polygon, inexact),
-    /// stopping early when a pass changes no impulse by more than `tolerance` of its
-    /// velocity response.
+    /// Stage 4: the warm start (the impulses of the last step applied) and the NSGS
+    /// sweeps ([`nsgs::solve`]); returns (sweeps, converged, velocity residual in m/s,
+    /// quadratic residual).
     fn nsgs(&mut self) -> (u32, bool, f64, f64) {
-        for (c, rows) in self.points.iter().zip(&self.rows) {
-            rows.apply(&c.impulse, &mut self.vel, &mut self.angvel);
+        self.impulse.clear();
+        self.impulse.extend(self.points.iter().map(|c| c.impulse));
+        for (r, rows) in self.impulse.iter().zip(&self.rows) {
+            rows.apply(r, &mut self.vel, &mut self.angvel, &self.inv_m, &self.inv_i);
         }
-        let p = self.params;
-        let gh = self.gravity_magnitude * p.dt_s;
-        let omega = p.relaxation;
-        let (mut residual, mut quad) = (0.0, 0.0);
-        // The sweep from which the adaptive norm also accepts the quadratic one.
-        let quad_after = (p.quad_after_solves / self.points.len().max(1) as f64).ceil().min(u32::MAX as f64) as u32;
-        for it in 1..=p.max_iterations {
-            self.sweep_vel.copy_from_slice(&self.vel);
-            self.sweep_angvel.copy_from_slice(&self.angvel);
-            let backward = p.sweep == SweepOrder::Symmetric && it % 2 == 0;
-            let (mut sum_du, mut sum_wr) = (0.0f64, 0.0f64);
-            let ng = self.groups.len();
-            for gi in 0..ng {
-                let (g0, g1) = self.groups[if backward { ng - 1 - gi } else { gi }];
-                for k in g0..g1 {
-                    self.group_start[k - g0] = self.points[k].impulse;
-                }
-                for pass in 0..p.polygon_passes {
-                    let mut pass_du = 0.0f64;
-                    let mut pass_wr = 0.0f64;
-                    for idx in g0..g1 {
-                        let k = if backward { g0 + g1 - 1 - idx } else { idx };
-                        let (c, rows) = (&mut self.points[k], &self.rows[k]);
-                        let u = rows.velocity(&self.vel, &self.angvel);
-                        let mut q = u - rows.w * c.impulse;
-                        q.x += rows.bias;
-                        let mut r = local::solve(&rows.w, &rows.w_inv, &q, rows.mu);
-                        if omega != 1.0 {
-                            r = local::project(&(omega * r + (1.0 - omega) * c.impulse), rows.mu);
-                        }
-                        let dr = r - c.impulse;
-                        if dr != Vec3::zeros() {
-                            rows.apply(&dr, &mut self.vel, &mut self.angvel);
-                            c.impulse = r;
-                            if pass + 1 < p.polygon_passes {
-                                pass_du = pass_du.max((rows.w * dr).norm_squared());
-                                pass_wr = pass_wr.max((rows.w * r).norm_squared());
-                            }
-                        }
-                    }
-                    if pass_du <= p.tolerance * p.tolerance * pass_wr {
-                        break;
-                    }
-                }
-                for k in g0..g1 {
-                    let (c, rows) = (&self.points[k], &self.rows[k]);
-                    let dr = c.impulse - self.group_start[k - g0];
-                    if dr != Vec3::zeros() {
-                        sum_du += (rows.w * dr).norm_squared();
-                    }
-                    sum_wr += (rows.w * c.impulse).norm_squared();
-                }
-            }
-            // The largest change of a block point's velocity over the sweep.
-            residual = 0.0f64;
-            for (k, b) in self.bodies.iter().enumerate() {
-                let dv = (self.vel[k] - self.sweep_vel[k]).norm()
-                    + (self.angvel[k] - self.sweep_angvel[k]).norm() * b.radius;
-                residual = residual.max(dv);
-            }
-            quad = if sum_wr > 0.0 { (sum_du / sum_wr).sqrt() } else { sum_du.sqrt() / gh };
-            let converged = match p.norm {
-                NsgsNorm::Velocity => residual / gh <= p.tolerance,
-                NsgsNorm::Quad => quad <= p.tolerance,
-                NsgsNorm::Adaptive => residual / gh <= p.tolerance || (it >= quad_after && quad <= p.quad_tolerance),
-            };
-            if converged {
-                return (it, true, residual, quad);
-            }
+        let gh = self.gravity_magnitude * self.params.dt_s;
+        let bodies = BodyState {
+            vel: &mut self.vel,
+            angvel: &mut self.angvel,
+            inv_m: &self.inv_m,
+            inv_i: &self.inv_i,
+            radius: &self.radius,
+        };
+        let out =
+            nsgs::solve(&self.plan, &self.rows, &mut self.impulse, bodies, &self.params, gh, &mut self.nsgs_scratch);
+        for (c, r) in self.points.iter_mut().zip(&self.impulse) {
+            c.impulse = *r;
         }
-        (p.max_iterations, false, residual, quad)
+        (out.sweeps, out.converged, out.residual_m_per_s, out.quad)
     }
 
     /// Stage 5: the θ-update of the poses; the new velocities into the bodies.
