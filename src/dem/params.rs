@@ -179,24 +179,18 @@ impl SolverParams {
                 self.timestep_safety > 0.0 && self.timestep_safety <= 1.0,
                 "in (0, 1]",
             ),
-            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
-            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
-            (
-                "face_angle_tolerance_deg",
-                self.face_angle_tolerance_deg,
-                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
-                "in (0, 45)",
-            ),
+        ])?;
+        check_ranges(&super::contact::geometry::detection_ranges(
+            self.contact_margin_m,
+            self.feature_tolerance_m,
+            self.face_angle_tolerance_deg,
+            self.redetect_fraction,
+        ))?;
+        check_ranges(&[
             (
                 "degenerate_width_fraction",
                 self.degenerate_width_fraction,
                 self.degenerate_width_fraction > 0.0 && self.degenerate_width_fraction <= 1.0,
-                "in (0, 1]",
-            ),
-            (
-                "redetect_fraction",
-                self.redetect_fraction,
-                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
                 "in (0, 1]",
             ),
             (

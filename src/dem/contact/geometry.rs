@@ -49,6 +49,30 @@ pub struct PatchParams {
     pub fan: Fan,
 }
 
+/// The ranges of the contact-detection parameters that both engines take, under the same
+/// keys (the penalty DEM's `SolverParams`, nscd's `NscdParams`): the margin and the feature
+/// tolerance (m, > 0), the face angle tolerance (degrees, in (0, 45)) and the fraction of
+/// the margin a body moves before contacts are re-detected (in (0, 1]). One rule, checked
+/// with [`crate::range::check_ranges`] by each engine's `validate`.
+pub fn detection_ranges(
+    contact_margin_m: f64,
+    feature_tolerance_m: f64,
+    face_angle_tolerance_deg: f64,
+    redetect_fraction: f64,
+) -> [(&'static str, f64, bool, &'static str); 4] {
+    [
+        ("contact_margin_m", contact_margin_m, contact_margin_m > 0.0, "> 0"),
+        ("feature_tolerance_m", feature_tolerance_m, feature_tolerance_m > 0.0, "> 0"),
+        (
+            "face_angle_tolerance_deg",
+            face_angle_tolerance_deg,
+            face_angle_tolerance_deg > 0.0 && face_angle_tolerance_deg < 45.0,
+            "in (0, 45)",
+        ),
+        ("redetect_fraction", redetect_fraction, redetect_fraction > 0.0 && redetect_fraction <= 1.0, "in (0, 1]"),
+    ]
+}
+
 /// A node of the sub-contact mesh: two surface points straight across the mid-plane, in
 /// the frame of the blocks given to the narrow phase (the world frame).
 #[derive(Debug, Clone, Copy, PartialEq)]

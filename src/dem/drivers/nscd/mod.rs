@@ -180,20 +180,14 @@ impl NscdParams {
             ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation < 2.0, "in (0, 2)"),
             ("polygon_passes", self.polygon_passes as f64, self.polygon_passes >= 1, ">= 1"),
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
-            ("contact_margin_m", self.contact_margin_m, self.contact_margin_m > 0.0, "> 0"),
-            ("feature_tolerance_m", self.feature_tolerance_m, self.feature_tolerance_m > 0.0, "> 0"),
-            (
-                "face_angle_tolerance_deg",
-                self.face_angle_tolerance_deg,
-                self.face_angle_tolerance_deg > 0.0 && self.face_angle_tolerance_deg < 45.0,
-                "in (0, 45)",
-            ),
-            (
-                "redetect_fraction",
-                self.redetect_fraction,
-                self.redetect_fraction > 0.0 && self.redetect_fraction <= 1.0,
-                "in (0, 1]",
-            ),
+        ])?;
+        check_ranges(&crate::dem::contact::geometry::detection_ranges(
+            self.contact_margin_m,
+            self.feature_tolerance_m,
+            self.face_angle_tolerance_deg,
+            self.redetect_fraction,
+        ))?;
+        check_ranges(&[
             ("trial_steps", self.trial_steps as f64, self.trial_steps >= 4, ">= 4"),
             (
                 "rest_velocity_ratio",
