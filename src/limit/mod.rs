@@ -332,10 +332,25 @@ pub fn limit_analysis(
     if live.norm() <= 1e-12 * model.force_scale && live_moment <= 1e-12 * model.force_scale * model.length_scale {
         return Err(LimitError::NoLiveLoad);
     }
-    let assoc = model.solve(Friction::Associative);
+    // The kinematic program gives λ and the mechanism; where the mechanism slides and
+    // the non-associative iteration is to run, the static program gives the normal forces
+    // the iteration starts from (its interior-point forces, not the kinematic program's
+    // multipliers, so that the iteration is the one of the static program alone).
+    let (mut assoc, kinematic) = match model.solve_kinematic() {
+        Some(s) => (s, true),
+        None => (model.solve(Friction::Associative), false),
+    };
     check_status(&model, &assoc)?;
     let (mut mechanism, mut joints, mut velocities) = mechanism::read(&model, &assoc.velocity);
-    let slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    let mut slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    if slides && params.non_associative && kinematic {
+        let solve_time_s = assoc.solve_time_s;
+        assoc = model.solve(Friction::Associative);
+        assoc.solve_time_s += solve_time_s;
+        check_status(&model, &assoc)?;
+        (mechanism, joints, velocities) = mechanism::read(&model, &assoc.velocity);
+        slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    }
     let mut governing = FlowRule::Associative;
     let mut load_multiplier = assoc.lambda;
     let mut non_associative = None;
