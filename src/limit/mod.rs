@@ -10,9 +10,10 @@
 //! inside its Coulomb cone. The contacts are those of the DEM's own detection
 //! ([`crate::dem::Simulation::new`] on the layout at rest: the contact polygons of
 //! [`crate::dem::contact::geometry`]); the forces act at the polygons' vertices
-//! ([`model`] states the program). Clarabel solves it; the dual variables of the block
-//! equations are the blocks' virtual velocities at collapse, read as a mechanism
-//! ([`mechanism`]). Associative friction makes λ an upper estimate where sliding governs;
+//! ([`model`] states the program). Clarabel solves it, as its dual (the kinematic
+//! program, whose unknowns are the blocks' virtual velocities) unless the static program's
+//! forces are needed; the dual variables of the block equations are the blocks' virtual
+//! velocities at collapse, read as a mechanism ([`mechanism`]). Associative friction makes λ an upper estimate where sliding governs;
 //! [`flow`] corrects it (Gilbert, Casapulla & Ahmed 2006).
 //!
 //! # Protocols
@@ -150,9 +151,12 @@ pub struct LimitResult {
     pub contacts: usize,
     /// Contact points (polygon vertices).
     pub contact_points: usize,
-    /// Clarabel's status of the associative program (`Solved` or `AlmostSolved`).
+    /// Clarabel's status of the associative program (`Solved` or `AlmostSolved`): of the
+    /// static program where it was solved (a mechanism that slides with the
+    /// non-associative correction on, or a joint that slips with μ = 0), else of the
+    /// kinematic one.
     pub status: String,
-    /// Interior-point iterations of the associative program.
+    /// Interior-point iterations of the associative program (as `status`).
     pub solver_iterations: u32,
     /// Clarabel's own time over every program solved (associative and non-associative), s.
     pub solver_time_s: f64,

@@ -22,6 +22,19 @@
 //! friction fixed ([`Friction::Fixed`], the non-associative iteration), the cone's radius is
 //! `μ N̂_k + c A_k` for given normal forces N̂. Maximise λ.
 //!
+//! # Its dual, the kinematic program
+//!
+//! [`Model::solve_kinematic`] solves the associative program through its dual (Livesley
+//! 1978; Ferris & Tin-Loi 2001, "Limit analysis of frictional block assemblies as a
+//! mathematical program with complementarity constraints", Int. J. Mech. Sci. 43:209):
+//! unknowns the virtual velocities u of the free blocks (six each), minimise the power of
+//! the dead load `−D·u` plus the dissipation of cohesion and tensile strength, subject to
+//! `L·u = 1`, no y velocity at a rigid end restraint, no tangential relative velocity at a
+//! joint held against slip, and at every point the relative velocity `w = (w_n, w_t1, w_t2)`
+//! of B against A in the dual Coulomb cone `w_n − y ≥ μ ‖w_t‖` (y ≥ 0 the opening taken by
+//! the tensile strength, where the joint has one or cohesion). Its optimum is λ; the
+//! contact forces are its cones' multipliers.
+//!
 //! Forces are scaled by the total weight of the free blocks and moments by that weight times
 //! a length (the largest block radius) so that the program is of order one.
 
@@ -321,7 +334,7 @@ impl Model {
             .flat_map(|j| j.points.clone().map(move |p| (j, p)))
             .map(|(j, p)| (j, p, self.point_columns(j, p)))
             .collect();
-        for (j, _, c) in cols.iter().filter(|(j, _, _)| !j.can_slip) {
+        for (_, _, c) in cols.iter().filter(|(j, _, _)| !j.can_slip) {
             for d in 1..3 {
                 for (r, cc) in c.iter().flatten() {
                     for e in 0..6 {
@@ -331,7 +344,6 @@ impl Model {
                 b.push(0.0);
                 row += 1;
             }
-            let _ = j;
         }
         let nzero = row;
         // Nonnegative: the opening of a joint held against slip (its dissipation T A w_n in
@@ -388,10 +400,8 @@ impl Model {
             return None;
         }
         let mut normal = vec![0.0; self.points.len()];
-        let mut nn = nzero;
-        for (j, p, _) in cols.iter().filter(|(j, _, _)| !j.can_slip) {
+        for (nn, (j, p, _)) in (nzero..).zip(cols.iter().filter(|(j, _, _)| !j.can_slip)) {
             normal[*p] = sol.z[nn] - j.tension * self.points[*p].area / fs;
-            nn += 1;
         }
         let mut sc = nzero + nnonneg;
         for (j, p, _) in cols.iter().filter(|(j, _, _)| j.can_slip) {
