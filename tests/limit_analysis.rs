@@ -90,6 +90,32 @@ fn a_squat_block_slides_at_phi_with_the_non_associative_answer() {
 }
 
 #[test]
+fn a_cohesive_block_slides_at_tan_phi_plus_c_a_over_w_whatever_its_tensile_strength() {
+    // Coulomb with cohesion on the base: the shear capacity is μ W + c A, and sliding opens
+    // nothing, so the tensile strength adds nothing: λ = tan φ + c A / W. The block is squat
+    // (tipping at b/h = 4, far above), and associative sliding of a single block on the
+    // table does no work against any other normal force, so the associative λ is exact.
+    let (b, h, len, phi) = (0.4, 0.1, 0.3, 20.0f64);
+    for (c, t) in [(400.0, 0.0), (400.0, 10_000.0), (0.0, 10_000.0), (1_000.0, 50.0)] {
+        let mut l = layout_of(vec![block(b, h, 0.0, 0.0)], KN, KN / 2.0, phi, BaseSliding::Free);
+        for m in &mut l.materials {
+            m.cohesion = c;
+            m.tensile_strength = t;
+        }
+        let w = l.materials[0].density * l.gravity * b * h * len;
+        let want = phi.to_radians().tan() + c * b * len / w;
+        let p = LimitParams { non_associative: false, ..LimitParams::default() };
+        let r = limit_tilt(&l, &SolverParams::default(), &p).expect("limit analysis");
+        assert!(
+            (r.load_multiplier - want).abs() < 1e-6 * want,
+            "c {c} Pa, T {t} Pa: λ {} against tan φ + c A / W = {want}",
+            r.load_multiplier
+        );
+        assert_eq!(r.joints[0].mode, JointMode::Slide, "c {c} Pa, T {t} Pa");
+    }
+}
+
+#[test]
 fn trapezoid_monoliths_tip_at_their_closed_form() {
     for (bb, tt, hh) in [(0.15, 0.077, 0.375), (0.45, 0.25, 1.0), (0.3, 0.1, 0.5)] {
         let l = layout_of(vec![trapezoid_block(bb, tt, hh)], KN, KN / 2.0, 40.0, BaseSliding::Free);

@@ -10,9 +10,10 @@
 //! inside its Coulomb cone. The contacts are those of the DEM's own detection
 //! ([`crate::dem::Simulation::new`] on the layout at rest: the contact polygons of
 //! [`crate::dem::contact::geometry`]); the forces act at the polygons' vertices
-//! ([`model`] states the program). Clarabel solves it; the dual variables of the block
-//! equations are the blocks' virtual velocities at collapse, read as a mechanism
-//! ([`mechanism`]). Associative friction makes λ an upper estimate where sliding governs;
+//! ([`model`] states the program). Clarabel solves it, as its dual (the kinematic
+//! program, whose unknowns are the blocks' virtual velocities) unless the static program's
+//! forces are needed; the dual variables of the block equations are the blocks' virtual
+//! velocities at collapse, read as a mechanism ([`mechanism`]). Associative friction makes λ an upper estimate where sliding governs;
 //! [`flow`] corrects it (Gilbert, Casapulla & Ahmed 2006).
 //!
 //! # Protocols
@@ -150,9 +151,12 @@ pub struct LimitResult {
     pub contacts: usize,
     /// Contact points (polygon vertices).
     pub contact_points: usize,
-    /// Clarabel's status of the associative program (`Solved` or `AlmostSolved`).
+    /// Clarabel's status of the associative program (`Solved` or `AlmostSolved`): of the
+    /// static program where it was solved (a mechanism that slides with the
+    /// non-associative correction on, or a joint that slips with μ = 0), else of the
+    /// kinematic one.
     pub status: String,
-    /// Interior-point iterations of the associative program.
+    /// Interior-point iterations of the associative program (as `status`).
     pub solver_iterations: u32,
     /// Clarabel's own time over every program solved (associative and non-associative), s.
     pub solver_time_s: f64,
@@ -332,10 +336,25 @@ pub fn limit_analysis(
     if live.norm() <= 1e-12 * model.force_scale && live_moment <= 1e-12 * model.force_scale * model.length_scale {
         return Err(LimitError::NoLiveLoad);
     }
-    let assoc = model.solve(Friction::Associative);
+    // The kinematic program gives λ and the mechanism; where the mechanism slides and
+    // the non-associative iteration is to run, the static program gives the normal forces
+    // the iteration starts from (its interior-point forces, not the kinematic program's
+    // multipliers, so that the iteration is the one of the static program alone).
+    let (mut assoc, kinematic) = match model.solve_kinematic() {
+        Some(s) => (s, true),
+        None => (model.solve(Friction::Associative), false),
+    };
     check_status(&model, &assoc)?;
     let (mut mechanism, mut joints, mut velocities) = mechanism::read(&model, &assoc.velocity);
-    let slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    let mut slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    if slides && params.non_associative && kinematic {
+        let solve_time_s = assoc.solve_time_s;
+        assoc = model.solve(Friction::Associative);
+        assoc.solve_time_s += solve_time_s;
+        check_status(&model, &assoc)?;
+        (mechanism, joints, velocities) = mechanism::read(&model, &assoc.velocity);
+        slides = joints.iter().any(|j| j.mode == JointMode::Slide);
+    }
     let mut governing = FlowRule::Associative;
     let mut load_multiplier = assoc.lambda;
     let mut non_associative = None;

@@ -22,6 +22,19 @@
 //! friction fixed ([`Friction::Fixed`], the non-associative iteration), the cone's radius is
 //! `μ N̂_k + c A_k` for given normal forces N̂. Maximise λ.
 //!
+//! # Its dual, the kinematic program
+//!
+//! [`Model::solve_kinematic`] solves the associative program through its dual (Livesley
+//! 1978; Ferris & Tin-Loi 2001, "Limit analysis of frictional block assemblies as a
+//! mathematical program with complementarity constraints", Int. J. Mech. Sci. 43:209):
+//! unknowns the virtual velocities u of the free blocks (six each), minimise the power of
+//! the dead load `−D·u` plus the dissipation of cohesion and tensile strength, subject to
+//! `L·u = 1`, no y velocity at a rigid end restraint, no tangential relative velocity at a
+//! joint held against slip, and at every point the relative velocity `w = (w_n, w_t1, w_t2)`
+//! of B against A in the dual Coulomb cone `w_n − y ≥ μ ‖w_t‖` (y ≥ 0 the opening taken by
+//! the tensile strength, where the joint has one or cohesion). Its optimum is λ; the
+//! contact forces are its cones' multipliers.
+//!
 //! Forces are scaled by the total weight of the free blocks and moments by that weight times
 //! a length (the largest block radius) so that the program is of order one.
 
@@ -222,6 +235,201 @@ impl Model {
         self.row_of.iter().flatten().count()
     }
 
+    /// The coefficients of a contact point's local force components on the scaled
+    /// equations: for each body of the joint with equations (B with +1, A with −1), its
+    /// equation block and, per direction d of the frame, the six coefficients of that
+    /// force component on the block's force and moment equations.
+    fn point_columns(&self, j: &Joint, p: usize) -> [Option<(usize, [[f64; 6]; 3])>; 2] {
+        let x = self.points[p].x;
+        let ls = self.length_scale;
+        let mut out = [None, None];
+        for (slot, (body, sign)) in [(Some(j.b), 1.0), (j.a, -1.0)].into_iter().enumerate() {
+            let Some(k) = body else { continue };
+            let Some(r) = self.row_of[k] else { continue };
+            let arm = (x - self.centroid[k]) / ls;
+            let mut c = [[0.0; 6]; 3];
+            for (d, e) in j.frame.iter().enumerate() {
+                let m = arm.cross(e);
+                for q in 0..3 {
+                    c[d][q] = sign * e[q];
+                    c[d][3 + q] = sign * m[q];
+                }
+            }
+            out[slot] = Some((r, c));
+        }
+        out
+    }
+
+    /// Solves the associative program through its dual, the kinematic program: the
+    /// blocks' virtual velocities u (six per free block) minimising the power of the dead
+    /// load plus the joints' dissipation, with the live load's power 1, every rigid end
+    /// restraint's y velocity zero and the relative velocity w of every contact point in
+    /// the dual Coulomb cone `w_n ≥ μ ‖w_t‖` (Livesley 1978; Ferris & Tin-Loi 2001). Its
+    /// optimum is the same λ; its unknowns are the 6 per block rather than the 3 per
+    /// contact point, so the interior-point method factors a system of about half the
+    /// size. The contact forces are the multipliers of the cones.
+    ///
+    /// `None` where it does not apply: a joint that can slip with μ ≤ 0, or a status other
+    /// than solved (the caller then solves the static program, whose certificates name
+    /// the blocks).
+    pub fn solve_kinematic(&self) -> Option<Solution> {
+        if self.joints.iter().any(|j| j.can_slip && j.mu <= 0.0) {
+            return None;
+        }
+        let nf = self.free();
+        let neq = 6 * nf;
+        let (fs, ls) = (self.force_scale, self.length_scale);
+        // Variables: u, then one y per point of a slipping joint with cohesion or tension
+        // (the multiplier of its f_n ≥ −T A).
+        let needs_y = |j: &Joint| j.can_slip && (j.tension != 0.0 || j.cohesion != 0.0);
+        let mut y_of = vec![usize::MAX; self.points.len()];
+        let mut nvar = neq;
+        for j in self.joints.iter().filter(|j| needs_y(j)) {
+            for p in j.points.clone() {
+                y_of[p] = nvar;
+                nvar += 1;
+            }
+        }
+        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut push = |r: usize, c: usize, v: f64| {
+            if v != 0.0 {
+                ri.push(r);
+                ci.push(c);
+                vv.push(v);
+            }
+        };
+        let mut q = vec![0.0; nvar];
+        let mut b = Vec::new();
+        // The dead load's power: q_u = −D (scaled).
+        for (k, row) in self.row_of.iter().enumerate() {
+            let Some(r) = row else { continue };
+            let (df, dm) = self.dead[k];
+            for d in 0..3 {
+                q[6 * r + d] = -df[d] / fs;
+                q[6 * r + 3 + d] = -dm[d] / (fs * ls);
+            }
+        }
+        // Zero cone: the live load's power is 1; held ends do not move in y; a joint held
+        // against slip has no tangential relative velocity.
+        let mut row = 0;
+        for (k, r) in self.row_of.iter().enumerate() {
+            let Some(r) = r else { continue };
+            let (lf, lm) = self.live[k];
+            for d in 0..3 {
+                push(row, 6 * r + d, lf[d] / fs);
+                push(row, 6 * r + 3 + d, lm[d] / (fs * ls));
+            }
+        }
+        b.push(1.0);
+        row += 1;
+        for &k in &self.held_y {
+            let r = self.row_of[k].expect("held bodies are free");
+            push(row, 6 * r + 1, 1.0);
+            b.push(0.0);
+            row += 1;
+        }
+        let cols: Vec<_> = self
+            .joints
+            .iter()
+            .flat_map(|j| j.points.clone().map(move |p| (j, p)))
+            .map(|(j, p)| (j, p, self.point_columns(j, p)))
+            .collect();
+        for (_, _, c) in cols.iter().filter(|(j, _, _)| !j.can_slip) {
+            for d in 1..3 {
+                for (r, cc) in c.iter().flatten() {
+                    for e in 0..6 {
+                        push(row, 6 * r + e, cc[d][e]);
+                    }
+                }
+                b.push(0.0);
+                row += 1;
+            }
+        }
+        let nzero = row;
+        // Nonnegative: the opening of a joint held against slip (its dissipation T A w_n in
+        // the objective), and the y.
+        for (j, p, c) in cols.iter().filter(|(j, _, _)| !j.can_slip) {
+            let ta = j.tension * self.points[*p].area / fs;
+            for (r, cc) in c.iter().flatten() {
+                for e in 0..6 {
+                    push(row, 6 * r + e, -cc[0][e]);
+                    q[6 * r + e] += ta * cc[0][e];
+                }
+            }
+            b.push(0.0);
+            row += 1;
+        }
+        for (_, p, _) in cols.iter().filter(|(j, _, _)| needs_y(j)) {
+            push(row, y_of[*p], -1.0);
+            b.push(0.0);
+            row += 1;
+        }
+        let nnonneg = row - nzero;
+        // Second-order cones: (w_n − y, μ w_t1, μ w_t2), and the cohesion's dissipation
+        // c A (w_n − y) / μ with the tension's T A y.
+        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(nzero)];
+        if nnonneg > 0 {
+            cones.push(NonnegativeConeT(nnonneg));
+        }
+        for (j, p, c) in cols.iter().filter(|(j, _, _)| j.can_slip) {
+            let y = y_of[*p];
+            let area = self.points[*p].area / fs;
+            let ca = j.cohesion * area / j.mu;
+            for (r, cc) in c.iter().flatten() {
+                for e in 0..6 {
+                    push(row, 6 * r + e, -cc[0][e]);
+                    push(row + 1, 6 * r + e, -j.mu * cc[1][e]);
+                    push(row + 2, 6 * r + e, -j.mu * cc[2][e]);
+                    q[6 * r + e] += ca * cc[0][e];
+                }
+            }
+            if y != usize::MAX {
+                push(row, y, 1.0);
+                q[y] = j.tension * area - ca;
+            }
+            b.extend([0.0, 0.0, 0.0]);
+            row += 3;
+            cones.push(SecondOrderConeT(3));
+        }
+        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        let p = CscMatrix::zeros((nvar, nvar));
+        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, kinematic_settings()).ok()?;
+        solver.solve();
+        let sol = &solver.solution;
+        if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+            return None;
+        }
+        let mut normal = vec![0.0; self.points.len()];
+        for (nn, (j, p, _)) in (nzero..).zip(cols.iter().filter(|(j, _, _)| !j.can_slip)) {
+            normal[*p] = sol.z[nn] - j.tension * self.points[*p].area / fs;
+        }
+        let mut sc = nzero + nnonneg;
+        for (j, p, _) in cols.iter().filter(|(j, _, _)| j.can_slip) {
+            let ca = if y_of[*p] != usize::MAX { j.cohesion * self.points[*p].area / (fs * j.mu) } else { 0.0 };
+            normal[*p] = sol.z[sc] - ca;
+            sc += 3;
+        }
+        let velocity = self
+            .row_of
+            .iter()
+            .map(|r| match r {
+                Some(r) => {
+                    let u = &sol.x[6 * r..6 * r + 6];
+                    (Vec3::new(u[0], u[1], u[2]), Vec3::new(u[3], u[4], u[5]) / ls)
+                }
+                None => (Vec3::zeros(), Vec3::zeros()),
+            })
+            .collect();
+        Some(Solution {
+            status: sol.status,
+            lambda: -sol.z[0],
+            normal,
+            velocity,
+            iterations: sol.iterations,
+            solve_time_s: sol.solve_time,
+        })
+    }
+
     /// Solves the program with the given friction bounds.
     pub fn solve(&self, friction: Friction) -> Solution {
         let nf = self.free();
@@ -329,7 +537,7 @@ impl Model {
         };
         let mut q = vec![0.0; nvar];
         q[0] = -1.0;
-        let settings = DefaultSettings { verbose: false, max_iter: 200, max_threads: 1, ..DefaultSettings::default() };
+        let settings = settings();
         let mut solver = match DefaultSolver::new(&p, &q, &a, &b, &cones, settings) {
             Ok(s) => s,
             Err(_) => {
@@ -366,3 +574,26 @@ impl Model {
         }
     }
 }
+
+/// Clarabel's settings: quiet, one thread, at most 200 iterations, clarabel's own
+/// tolerances (1e-8) for the static program.
+fn settings() -> DefaultSettings<f64> {
+    DefaultSettings { verbose: false, max_iter: 200, max_threads: 1, ..DefaultSettings::default() }
+}
+
+/// The kinematic program's settings: gap and feasibility to 1e-10 (its λ is the dual
+/// objective, which at clarabel's 1e-8 can sit 1e-6 from the optimum on ill-conditioned
+/// walls; one or two more iterations bring it within 1e-9), and no iterative refinement
+/// (the factorisation of its smaller system is accurate enough at that tolerance).
+fn kinematic_settings() -> DefaultSettings<f64> {
+    DefaultSettings {
+        tol_feas: KINEMATIC_TOLERANCE,
+        tol_gap_abs: KINEMATIC_TOLERANCE,
+        tol_gap_rel: KINEMATIC_TOLERANCE,
+        iterative_refinement_enable: false,
+        ..settings()
+    }
+}
+
+/// Clarabel's feasibility and gap tolerances for the kinematic program.
+const KINEMATIC_TOLERANCE: f64 = 1e-10;
