@@ -255,6 +255,7 @@ fn predictions(
     setup: &Setup,
     f: &FollowUp,
     cs: &[Contender],
+    cache: &mut std::collections::BTreeMap<String, super::simulate::Outcomes>,
 ) -> Result<(Vec<Vec<Simulated>>, usize), DiscrepancyError> {
     let a = &run.analysis;
     let existing = setup.groups.iter().position(|g| g.name == f.group);
@@ -301,8 +302,18 @@ fn predictions(
     }
     let base_idx = models.len();
     models.push(vec![]);
-    let outcomes = run_models(&one, &models, None);
-    let runs: usize = outcomes.iter().map(|m| m[0].len()).sum();
+    // The runs of an existing group serve every follow-up of it (the same contenders).
+    let (outcomes, runs) = match cache.get(&f.group).filter(|_| f.new_group.is_none()) {
+        Some(o) => (o.clone(), 0),
+        None => {
+            let o = run_models(&one, &models, None);
+            let runs: usize = o.iter().map(|m| m[0].len()).sum();
+            if f.new_group.is_none() {
+                cache.insert(f.group.clone(), o.clone());
+            }
+            (o, runs)
+        }
+    };
     let sims_of =
         |outs: &[Outcome]| -> Vec<Simulated> { f.observables.iter().map(|o| Simulated::of(outs, o)).collect() };
     let base = sims_of(&outcomes[base_idx][0]);
@@ -345,9 +356,10 @@ pub fn design(
     let ladder = ds.ladder();
     let mut ranked = Vec::new();
     let mut total_runs = 0;
+    let mut cache = std::collections::BTreeMap::new();
     for (i, f) in menu.into_iter().enumerate() {
         progress(&format!("follow-up {}: {}", i + 1, f.name));
-        let (sims, runs) = predictions(run, setup, &f, &cs)?;
+        let (sims, runs) = predictions(run, setup, &f, &cs, &mut cache)?;
         total_runs += runs;
         let sigma: Vec<f64> = f.observables.iter().map(|o| sigma_of(run, o)).collect();
         let problem = Problem {
