@@ -170,8 +170,8 @@ pub struct Ranked {
 pub struct Plan {
     /// The contenders, heaviest first.
     pub contenders: Vec<Contender>,
-    /// The probability that the cause is named alone on the first campaign alone (the
-    /// heaviest contender's share of the weight reaching 90 %): 1 or 0.
+    /// Whether the heaviest contender alone holds 90 % of the weight on the first campaign
+    /// (the cause is named alone before any follow-up).
     pub alone_now: bool,
     /// The follow-ups, best first.
     pub ranked: Vec<Ranked>,
