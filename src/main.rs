@@ -69,6 +69,11 @@ enum Command {
     /// hidden effects applied, tilted to collapse, with measurement noise; written in the
     /// format of the paper's data files (a power analysis for planning tests).
     Synthesize(cli::discrepancy::SynthesizeArgs),
+    /// The next experiment: runs the discrepancy analysis, then ranks follow-up tests on the
+    /// tilting table (more specimens, the mechanism read, both monitors, walls of another
+    /// height, length or restraint) by the probability that the cause is then named alone,
+    /// and writes the best as a study with empty measured-file templates.
+    Design(cli::design::DesignArgs),
     /// Benchmarks: `cube16` (the paper's Table 6 element-cost case: `--steps` engine steps of
     /// 16 boxes) or `tilt` (tilting-table tests to collapse of a generated wall, one after
     /// the other on one thread: by default the SBL preset, seed 20210917, realization 0;
@@ -114,6 +119,7 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Generate(a) => cli::generate::command(a),
         Command::Discrepancy(a) => cli::discrepancy::discrepancy(a).map(|()| ExitCode::SUCCESS),
         Command::Synthesize(a) => cli::discrepancy::synthesize_command(a).map(|()| ExitCode::SUCCESS),
+        Command::Design(a) => cli::design::command(a).map(|()| ExitCode::SUCCESS),
         Command::Bench(a) => cli::bench::command(a),
     }
 }

@@ -52,14 +52,14 @@ pub struct DiscrepancyArgs {
     pub json: bool,
 }
 
-fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+pub(crate) fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let n = threads.unwrap_or(0);
     let n = if n == 0 { 0 } else { n.min(4 * std::thread::available_parallelism().map_or(1, |c| c.get())) };
     Ok(rayon::ThreadPoolBuilder::new().num_threads(n).build()?)
 }
 
 /// Replaces the study's measured data by the two files of `dir` (as `synthesize` writes).
-fn use_measured_dir(st: &mut Study, dir: &Path) -> Result<()> {
+pub(crate) fn use_measured_dir(st: &mut Study, dir: &Path) -> Result<()> {
     let c = dir.join("tilting_table_collapse.csv");
     let d = dir.join("tilting_table_displacement.csv");
     st.measured.collapse = read_measured_collapse(&c)?;

@@ -12,6 +12,7 @@ macro_rules! out {
 }
 
 pub mod bench;
+pub mod design;
 pub mod discrepancy;
 pub mod generate;
 pub mod lateral;

@@ -66,6 +66,10 @@ pub struct Run {
     pub settings: Settings,
     /// The effects that change nothing in a group ([`super::Prepared::inert`]).
     pub inert: Vec<super::InertEffect>,
+    /// The next experiment, when one was designed ([`super::design::design`]; `drystone
+    /// design`): the report then has its section and the JSON its `followup`. `None` from
+    /// an analysis alone.
+    pub followup: Option<super::design::Plan>,
 }
 
 /// What would separate two tied candidates.

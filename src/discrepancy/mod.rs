@@ -30,6 +30,7 @@
 //! effect parameters in the units of their [`crate::effects::ParamDef`]s.
 
 mod analysis;
+pub mod design;
 mod findings;
 mod fit;
 mod identify;

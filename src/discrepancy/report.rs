@@ -156,7 +156,7 @@ pub fn report_json(run: &Run) -> Value {
             "observations": observations_json(&run.obs, &run.extended_predictive),
         })
     });
-    json!({
+    let mut v = json!({
         "verdict": a.verdict.name(),
         "cause": cause,
         "partial": a.verdict == super::analysis::Verdict::Unexplained && a.cause.is_some(),
@@ -178,7 +178,11 @@ pub fn report_json(run: &Run) -> Value {
         "identifiability": a.identifiability,
         "diagnosis": diagnosis(run, &run.baseline),
         "settings": run.settings,
-    })
+    });
+    if let (Some(plan), Some(m)) = (&run.followup, v.as_object_mut()) {
+        m.insert("followup".into(), json!(plan));
+    }
+    v
 }
 
 /// `name = value` for every fitted parameter, flagging a value at a bound of its range
@@ -214,6 +218,9 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
     candidates_section(&mut md, run);
     weights_section(&mut md, run);
     extended_section(&mut md, run);
+    if let Some(plan) = &run.followup {
+        md.push_str(&super::design::markdown(plan));
+    }
     md
 }
 

@@ -146,6 +146,7 @@ pub fn analyze_with(
         sigma_estimate: sigmas.estimate,
         settings: s.clone(),
         inert: prep.inert.clone(),
+        followup: None,
     })
 }
 

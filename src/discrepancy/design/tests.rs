@@ -1,0 +1,130 @@
+use super::*;
+use crate::discrepancy::predictive::Heights;
+
+fn sim(mean: f64, sd: f64) -> Simulated {
+    Simulated { mean, sd, n: 9, err: 0.0, heights: Heights::NONE }
+}
+
+fn tied(n: usize) -> Vec<Contender> {
+    ["a", "b"].iter().map(|&name| Contender { name: name.into(), prior: 0.5, elpd: vec![-1.0; n] }).collect()
+}
+
+fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: u64) -> Vec<Chance> {
+    let sigma = vec![0.25; keys.len()];
+    let p = Problem { contenders: cs, sims, keys, sigma: &sigma, reading: Reading::default(), bracket_deg: 0.125 };
+    p.chances(&[1, 3, 8], 100, 100, seed)
+}
+
+/// A constructed tie: two models that predict the first campaign alike. A follow-up where
+/// their collapse angles differ by 3° (six predictive σ) names the truth alone almost
+/// always after three specimens; one where they predict the same cannot, whatever the
+/// number of specimens; the ranking puts the separating one first.
+#[test]
+fn a_follow_up_that_separates_the_tie_ranks_before_one_that_cannot() {
+    let cs = tied(6);
+    let keys = [Observable::CollapseAngle];
+    let separating = chance(&cs, &[vec![sim(20.0, 0.3)], vec![sim(23.0, 0.3)]], &keys, 1);
+    let blind = chance(&cs, &[vec![sim(20.0, 0.3)], vec![sim(20.0, 0.3)]], &keys, 1);
+    let at = |v: &[Chance], n: usize| v.iter().find(|c| c.specimens == n).unwrap().clone();
+    assert!(at(&separating, 3).alone > 0.95, "{separating:?}");
+    assert!(at(&separating, 1).alone <= at(&separating, 8).alone + 1e-12);
+    assert!(at(&blind, 8).alone < 0.05, "{blind:?}");
+    // Either way the truth stays among the models that share the weight.
+    assert!(at(&blind, 8).right > 0.95 && at(&separating, 3).right > 0.95);
+    let rank = |name: &str, chances: Vec<Chance>| Ranked {
+        followup: FollowUp {
+            name: name.into(),
+            kind: FollowUpKind::MoreSpecimens,
+            group: "G".into(),
+            from_group: "G".into(),
+            observables: keys.to_vec(),
+            new_group: None,
+            new_spec: None,
+            edit: WallEdit::default(),
+        },
+        at_budget: at(&chances, 3),
+        to_target: chances.iter().find(|c| c.alone >= 0.8).map(|c| c.specimens),
+        chances,
+        runs: 0,
+    };
+    let mut v = vec![rank("blind", blind), rank("separating", separating)];
+    sort_ranked(&mut v);
+    assert_eq!(v[0].followup.name, "separating");
+    assert_eq!(v[0].to_target, Some(1));
+    assert_eq!(v[1].to_target, None);
+}
+
+/// A first campaign that already favours `a` strongly: `a` as the truth is named alone
+/// with any follow-up; `b` as the truth needs a follow-up that separates them.
+#[test]
+fn the_first_campaign_counts_in_the_weights() {
+    let mut cs = tied(6);
+    cs[0].elpd = vec![0.0; 6];
+    cs[0].prior = 0.99;
+    cs[1].prior = 0.01;
+    let keys = [Observable::CollapseAngle];
+    let blind = chance(&cs, &[vec![sim(20.0, 0.3)], vec![sim(20.0, 0.3)]], &keys, 2);
+    let c = &blind[1];
+    assert!(c.alone_by_truth[0] > 0.95 && c.alone_by_truth[1] < 0.05, "{c:?}");
+    assert!((c.alone - (0.99 * c.alone_by_truth[0] + 0.01 * c.alone_by_truth[1])).abs() < 1e-12);
+}
+
+/// Mechanism readings drawn from a model: one kind and one start seen per specimen, the
+/// failure height rounded to its reading width within the wall; models whose failures
+/// differ (table joint against mid-height) are separated by them.
+#[test]
+fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures() {
+    let keys = mechanism_keys(0.125);
+    let low = Heights::of(&[0.0; 9]);
+    let high = Heights::of(&[0.5; 9]);
+    let model = |h: Heights, topple: f64| -> Vec<Simulated> {
+        keys.iter()
+            .map(|o| match o {
+                Observable::FailureHeight { .. } => Simulated { heights: h, ..sim(0.0, 0.0) },
+                Observable::MechanismKind { kind } => {
+                    sim(if *kind == FailureKind::Toppling { topple } else { (1.0 - topple) / 3.0 }, 0.0)
+                }
+                Observable::MechanismStart { start } => {
+                    sim(if *start == FailureStart::Uniform { 1.0 } else { 0.0 }, 0.0)
+                }
+                _ => unreachable!(),
+            })
+            .collect()
+    };
+    let sims = vec![model(low, 1.0), model(high, 0.0)];
+    let cs = tied(4);
+    let sigma = vec![0.05; keys.len()];
+    let p = Problem {
+        contenders: &cs,
+        sims: &sims,
+        keys: &keys,
+        sigma: &sigma,
+        reading: Reading::default(),
+        bracket_deg: 0.0,
+    };
+    let mut rng = rng_for(3, 0, Purpose::Discrepancy);
+    for t in 0..2 {
+        for _ in 0..50 {
+            let s = p.draw_specimen(t, &mut rng);
+            let kinds = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismKind { .. })).count();
+            let starts = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismStart { .. })).count();
+            assert_eq!((kinds, starts), (1, 1), "{s:?}");
+            let (_, h) = s.iter().find(|(k, _)| *k == 0).unwrap();
+            assert!((0.0..=1.0).contains(h) && ((h / 0.125).round() * 0.125 - h).abs() < 1e-12, "{h}");
+        }
+    }
+    // Each specimen's readings carry at most the misreading floor's evidence: eight
+    // specimens name the truth alone, one cannot.
+    let c = p.chances(&[1, 8], 100, 100, 4);
+    assert!(c[1].alone > 0.95 && c[0].alone < c[1].alone, "{c:?}");
+}
+
+#[test]
+fn bad_design_settings_name_their_key() {
+    let s = DesignSettings { specimens: 0, ..DesignSettings::default() };
+    assert!(s.validate().unwrap_err().to_string().contains("design.specimens"));
+    let s = DesignSettings { target: 1.0, ..DesignSettings::default() };
+    assert!(s.validate().unwrap_err().to_string().contains("design.target"));
+    assert!(DesignSettings::default().validate().is_ok());
+    assert_eq!(DesignSettings::default().ladder(), vec![1, 2, 3, 5, 8, 12]);
+}
