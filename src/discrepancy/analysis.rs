@@ -31,7 +31,7 @@ use super::fit::{difference_se, per_specimen, Candidate, Data, Surface};
 use super::null::{draw_data, quantile, Margins, NullSource};
 use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};
-pub use super::rank::{rank, score, sort, Library, Ranked};
+pub use super::rank::{rank, score, sort, Models, Ranked};
 use crate::rng::{rng_for, Purpose};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -149,7 +149,7 @@ pub fn reversal_rates(
 }
 
 /// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
-pub fn pairs(lib: &Library, ranked: &[Ranked]) -> Vec<Candidate> {
+pub fn pairs(lib: &Models, ranked: &[Ranked]) -> Vec<Candidate> {
     let top: Vec<&Candidate> = ranked
         .iter()
         .map(|r| &lib.candidates[r.index])

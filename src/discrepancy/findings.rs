@@ -3,7 +3,7 @@
 //! the bootstrap interval of the gain.
 
 use super::analysis::Analysis;
-use super::analysis::Library;
+use super::analysis::Models;
 use super::effects::Effect;
 use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};
@@ -34,7 +34,7 @@ pub struct Run {
     /// The specimens, in first-seen order.
     pub specimens: Vec<String>,
     /// The surrogate library.
-    pub library: Library,
+    pub library: Models,
     /// The analysis.
     pub analysis: Analysis,
     /// The baseline's full run, `[group][realization]`.

@@ -50,7 +50,7 @@ mod weights;
 /// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
 pub use crate::effects;
 
-pub use analysis::{Analysis, Library, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
+pub use analysis::{Analysis, Models, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
 pub use fit::{difference_se, per_specimen, Candidate, Surface};
 pub use identify::{identifiability, Identifiability, KeySeparation, Separation, INDISTINGUISHABLE};

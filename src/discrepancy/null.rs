@@ -14,7 +14,7 @@
 use super::fit::{per_specimen, Data};
 use super::observations::{Observable, Observation};
 use super::predictive::{Reading, Simulated};
-use super::rank::{rank, Library};
+use super::rank::{rank, Models};
 use super::simulate::Outcome;
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;
@@ -282,7 +282,7 @@ fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: 
 }
 
 /// The baseline's held-out (plain) score per specimen.
-pub fn baseline_per_specimen(lib: &Library, data: Data<'_>, specimens: &[String]) -> Vec<f64> {
+pub fn baseline_per_specimen(lib: &Models, data: Data<'_>, specimens: &[String]) -> Vec<f64> {
     let n = data.obs.len();
     let scores: Vec<f64> = (0..n).map(|j| data.score(&lib.baseline, j)).collect();
     per_specimen(&scores, data.obs, specimens)
@@ -304,7 +304,7 @@ pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
 /// `seed`, `Purpose::Discrepancy`, one stream per replicate): the gain and misfit margins
 /// together (`joint_margins`).
 pub fn calibrate_margins(
-    lib: &Library,
+    lib: &Models,
     data0: Data<'_>,
     specimens: &[String],
     replicates: usize,

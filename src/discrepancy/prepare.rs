@@ -3,7 +3,7 @@
 //! library ([`build_library`]) and the baseline on independent layouts (the null pool),
 //! gathered in a [`Prepared`] by [`prepare`].
 
-use super::analysis::Library;
+use super::analysis::Models;
 use super::effects::{self, Effect, EffectDef};
 use super::fit::{to_x, Candidate, Surface};
 use super::observations::{Observable, Observation};
@@ -145,7 +145,7 @@ pub fn build_library(
     baseline: &[Vec<Outcome>],
     s: &Settings,
     defs: &[Arc<EffectDef>],
-) -> Result<Library, DiscrepancyError> {
+) -> Result<Models, DiscrepancyError> {
     let course_m = course_height(setup);
     let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
     let models: Vec<Vec<Effect>> =
@@ -197,7 +197,7 @@ pub fn build_library(
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
-    Ok(Library { baseline: full_sims, candidates })
+    Ok(Models { baseline: full_sims, candidates })
 }
 
 /// The distinct declared kinds of the setup's walls, in order.
@@ -257,7 +257,7 @@ pub struct Prepared {
     /// The baseline's full run.
     pub baseline: Vec<Vec<Outcome>>,
     /// The surrogate library.
-    pub library: Library,
+    pub library: Models,
     /// The baseline on independent layouts, `[group][realization]`.
     pub null_pool: Vec<Vec<Outcome>>,
     /// The setup of the independent layouts.

@@ -9,7 +9,7 @@ use serde::Serialize;
 /// The models' simulated values, ready for analysis: the baseline per key and the
 /// candidates.
 #[derive(Debug, Clone)]
-pub struct Library {
+pub struct Models {
     /// The baseline's simulated values, per key.
     pub baseline: Vec<Simulated>,
     /// The candidates (single effects and the scatter hypothesis).

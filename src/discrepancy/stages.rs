@@ -16,7 +16,7 @@
 //! posterior predictive check, the tie checks and the verdict; beside them, the models'
 //! weights and what separates the leading ones.
 
-use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Library, Ranked};
+use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Models, Ranked};
 use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
@@ -285,7 +285,7 @@ struct Screening {
 
 /// Stage 3, screening: the baseline scored and the library's candidates ranked by their
 /// surrogates' held-out error, before pairs and confirmation runs.
-fn screen(lib: &Library, data: Data<'_>, specimens: &[String]) -> Screening {
+fn screen(lib: &Models, data: Data<'_>, specimens: &[String]) -> Screening {
     let n = specimens.len().max(1) as f64;
     let base_scores: Vec<f64> = (0..data.obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
     let base_per = fit::per_specimen(&base_scores, data.obs, specimens);
@@ -317,7 +317,7 @@ fn admit_pairs(ranked: &mut Vec<Ranked>, pairs: Vec<Ranked>, threshold: f64, ic:
 /// and ranked when [`pairs_wanted`], admitted by [`admit_pairs`]. Returns the pairs added
 /// to the pool.
 fn add_pairs(
-    lib: &Library,
+    lib: &Models,
     data: Data<'_>,
     specimens: &[String],
     screening: &Screening,

@@ -196,7 +196,7 @@ fn screening_scores_the_baseline_and_ranks_the_candidates_by_their_heldout_error
             surface: Surface::axis(vec![0.0, 0.5, 1.0], means.iter().map(|&m| at(m)).collect()),
         }
     };
-    let lib = Library {
+    let lib = Models {
         baseline: at(20.0),
         candidates: vec![candidate("kn_scale", [20.0; 3]), candidate("initial_lean", [20.0, 21.0, 22.0])],
     };
