@@ -18,9 +18,10 @@
 #[path = "../tests/realwalls/mod.rs"]
 mod realwalls;
 
-use drystone::discrepancy::design::{design, menu, write_followup, DesignSettings};
+use drystone::discrepancy::design::{design, DesignSettings};
 use drystone::discrepancy::{analyze, prepare, quiet};
 use drystone::study::discrepancy::setup_of;
+use drystone::study::followup::{menu, write_followup};
 use drystone::study::Study;
 use realwalls::{
     classify, data_set, data_set_with_mechanism, expected, mechanism_observations_via_file, Answer, Edit,

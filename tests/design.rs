@@ -7,10 +7,11 @@
 
 mod realwalls;
 
-use drystone::discrepancy::design::{design, menu, write_followup, DesignSettings, FollowUpKind};
+use drystone::discrepancy::design::{design, DesignSettings, FollowUpKind};
 use drystone::discrepancy::{analyze, prepare, quiet, report_json, report_markdown};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement, read_measured_mechanism};
 use drystone::study::discrepancy::setup_of;
+use drystone::study::followup::{menu, write_followup};
 use drystone::study::Study;
 use realwalls::{data_set, Edit, Noise};
 use std::path::PathBuf;

@@ -73,7 +73,7 @@ pub fn command(a: DesignArgs) -> Result<()> {
     let progress = super::discrepancy::progress_lines("design");
     let mut run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
     let t1 = t0.elapsed().as_secs_f64();
-    let menu = design::menu(&st, &setup, &run)?;
+    let menu = drystone::study::followup::menu(&st, &setup, &run)?;
     let plan = pool.install(|| design::design(&run, &setup, menu, &ds, st.seed, &progress))?;
     let t2 = t0.elapsed().as_secs_f64() - t1;
     run.followup = Some(plan.clone());
@@ -85,7 +85,7 @@ pub fn command(a: DesignArgs) -> Result<()> {
         .with_context(|| ddir.join("design.json").display().to_string())?;
     std::fs::write(ddir.join("design.md"), design::markdown(&plan))
         .with_context(|| ddir.join("design.md").display().to_string())?;
-    let files = design::write_followup(&st, &plan, &ddir.join("followup"), ds.specimens)?;
+    let files = drystone::study::followup::write_followup(&st, &plan, &ddir.join("followup"), ds.specimens)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&drystone::discrepancy::report_json(&run))?);
         return Ok(());

@@ -81,6 +81,7 @@ mod error;
 mod estimate;
 mod extend;
 mod figures;
+pub mod followup;
 mod lock;
 mod measured;
 mod motions;

@@ -4,65 +4,13 @@
 //! group of the same study (analysed together with the first campaign).
 
 use super::mechanism_keys;
+use super::plan::{FollowUp, FollowUpKind, WallEdit};
 use crate::discrepancy::observations::{Measure, Observable};
 use crate::discrepancy::simulate::{GroupSetup, Setup};
 use crate::discrepancy::{DiscrepancyError, Run};
 use crate::generator::spec::{EndKind, EndsSpec, WallSpec};
 use crate::generator::DistributionSource;
-use crate::study::Study;
-use serde::Serialize;
-
-/// What a follow-up changes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FollowUpKind {
-    /// More specimens of a group, read as the first campaign read it.
-    MoreSpecimens,
-    /// Specimens of a group with the failure mechanism read (height, kind, start).
-    Mechanism,
-    /// Specimens of a group with both top measures read at more tilts.
-    Monitors,
-    /// Walls of another height (an extra group).
-    Height,
-    /// Walls of another length (an extra group).
-    Length,
-    /// Walls with the other end restraint (free ↔ rigid; an extra group).
-    Restraint,
-}
-
-/// How a follow-up's walls differ from its group's.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
-pub struct WallEdit {
-    /// Factor on the height (courses of the same law).
-    pub height_factor: Option<f64>,
-    /// Factor on the length.
-    pub length_factor: Option<f64>,
-    /// The other end restraint: `Some(true)` rigid ends (zone 0.05 m), `Some(false)` free.
-    pub rigid_ends: Option<bool>,
-}
-
-/// One follow-up test.
-#[derive(Debug, Clone, Serialize)]
-pub struct FollowUp {
-    /// What it is, e.g. `SBL walls 1.5 × taller (SBL_tall)`.
-    pub name: String,
-    /// Its kind.
-    pub kind: FollowUpKind,
-    /// The group its specimens belong to (an existing group, or the new one).
-    pub group: String,
-    /// The group of the first campaign it starts from.
-    pub from_group: String,
-    /// The observables read on each specimen (the kinds and starts: one of them is seen).
-    pub observables: Vec<Observable>,
-    /// The new group (walls of another height, length or restraint), if any.
-    #[serde(skip)]
-    pub new_group: Option<GroupSetup>,
-    /// Its wall description (to write the follow-up study).
-    #[serde(skip)]
-    pub new_spec: Option<WallSpec>,
-    /// How its walls differ.
-    pub edit: WallEdit,
-}
+use std::path::Path;
 
 /// The tilts a monitor follow-up reads: those of the first campaign's displacements, else
 /// 5° and 10° (where the table's steps reach them).
@@ -84,6 +32,18 @@ fn monitor_tilts(run: &Run, setup: &Setup) -> Vec<f64> {
     t
 }
 
+/// A group's wall as the study describes it: its name, its wall description (overrides
+/// applied) and the file it came from (for its named distributions).
+#[derive(Debug, Clone, Copy)]
+pub struct GroupWall<'a> {
+    /// The group's name.
+    pub name: &'a str,
+    /// Its wall description, with the group's overrides applied.
+    pub spec: &'a WallSpec,
+    /// The wall description file.
+    pub wall_path: &'a Path,
+}
+
 /// The menu of tilting-table follow-ups of an analysed study (see the module
 /// documentation): per group, more specimens; the mechanism read (unless its specimens
 /// were read for height, kind and start already); both monitors at the campaign's tilts
@@ -93,7 +53,7 @@ fn monitor_tilts(run: &Run, setup: &Setup) -> Vec<f64> {
 /// # Errors
 /// [`DiscrepancyError::Protocol`] for a protocol other than the tilting table;
 /// [`DiscrepancyError::Design`] for a wall edit the generator refuses.
-pub fn menu(study: &Study, setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, DiscrepancyError> {
+pub fn menu(walls: &[GroupWall<'_>], setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, DiscrepancyError> {
     if setup.tilt().is_none() {
         return Err(DiscrepancyError::Protocol {
             protocol: setup.protocol.name(),
@@ -103,7 +63,7 @@ pub fn menu(study: &Study, setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, Di
     let tilts = monitor_tilts(run, setup);
     let mut out = Vec::new();
     for (gi, g) in setup.groups.iter().enumerate() {
-        let Some(sg) = study.groups.iter().find(|s| s.name == g.name) else { continue };
+        let Some(sg) = walls.iter().find(|s| s.name == g.name) else { continue };
         let read: Vec<Observable> = run.keys.keys.iter().filter(|(kg, _)| *kg == gi).map(|(_, o)| *o).collect();
         if read.is_empty() {
             continue;
@@ -174,14 +134,12 @@ pub fn menu(study: &Study, setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, Di
             ),
         ];
         for (kind, suffix, edit) in edits {
-            let spec = edited(&sg.spec, &edit);
-            if kind == FollowUpKind::Restraint
-                && study.groups.iter().any(|o| o.name != g.name && same_wall(&o.spec, &spec))
-            {
+            let spec = edited(sg.spec, &edit);
+            if kind == FollowUpKind::Restraint && walls.iter().any(|o| o.name != g.name && same_wall(o.spec, &spec)) {
                 continue;
             }
             let name = format!("{}_{suffix}", g.name);
-            let wall = spec.resolve(&sg.wall_path, &DistributionSource::default_for(&sg.wall_path)).map_err(|e| {
+            let wall = spec.resolve(sg.wall_path, &DistributionSource::default_for(sg.wall_path)).map_err(|e| {
                 DiscrepancyError::Design { specimen: name.clone(), observable: format!("wall edit refused: {e}") }
             })?;
             let first = crate::generator::generate(&wall, setup.seed, 0).ok().and_then(|w| w.check().ok());

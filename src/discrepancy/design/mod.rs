@@ -44,11 +44,11 @@
 //! so the probabilities are those of the weights, the part of the answer the follow-up is
 //! meant to change.
 
-mod followup;
 mod menu;
+mod plan;
 
-pub use followup::{write_followup, FollowUpFiles, TEMPLATE_DIR};
-pub use menu::{menu, FollowUp, FollowUpKind, WallEdit};
+pub use menu::{menu, GroupWall};
+pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, Ranked, WallEdit};
 
 use super::fit::{per_specimen, specimen_weights, Data};
 use super::observations::{Observable, Observation};
@@ -59,30 +59,9 @@ use crate::loading::mechanism::{FailureKind, FailureStart};
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;
 use rand_distr::{Distribution, Exp1, StandardNormal, StudentT};
-use serde::Serialize;
 
 /// The most contenders a design compares.
 pub const MAX_CONTENDERS: usize = 5;
-
-/// Settings of a design.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct DesignSettings {
-    /// Specimens of each follow-up: the budget every follow-up is compared at \[3\].
-    pub specimens: usize,
-    /// Simulated follow-ups per contender taken as the truth \[200\].
-    pub replicates: usize,
-    /// Bayesian-bootstrap draws of each simulated data set's weights \[200\].
-    pub draws: usize,
-    /// The probability of naming the cause alone a follow-up should reach; the report
-    /// gives the fewest specimens that reach it \[0.8\].
-    pub target: f64,
-}
-
-impl Default for DesignSettings {
-    fn default() -> Self {
-        DesignSettings { specimens: 3, replicates: 200, draws: 200, target: 0.8 }
-    }
-}
 
 impl DesignSettings {
     /// Checks the ranges.
@@ -122,71 +101,6 @@ impl DesignSettings {
 
 /// The most specimens of one follow-up.
 pub const MAX_SPECIMENS: usize = 64;
-
-/// A model the design compares: its name, its prior weight and its held-out log score per
-/// specimen of the first campaign (nats).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Contender {
-    /// `baseline`, a candidate (`a`, `a+b`) or `scatter`.
-    pub name: String,
-    /// Pseudo-BMA+ weight on the first campaign, renormalized over the contenders.
-    pub prior: f64,
-    /// Held-out log predictive density per specimen of the first campaign.
-    #[serde(skip)]
-    pub elpd: Vec<f64>,
-}
-
-/// The probability of the answer after a follow-up of `specimens` specimens.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Chance {
-    /// Specimens of the follow-up.
-    pub specimens: usize,
-    /// Probability that the true cause alone holds 90 % of the weight.
-    pub alone: f64,
-    /// Probability that the true cause is among the models that share the weight.
-    pub right: f64,
-    /// The probability of `alone` for each contender taken as the truth (contender order).
-    pub alone_by_truth: Vec<f64>,
-}
-
-/// One follow-up, with its probabilities.
-#[derive(Debug, Clone, Serialize)]
-pub struct Ranked {
-    /// The follow-up.
-    pub followup: FollowUp,
-    /// The probabilities at every specimen count of the ladder, fewest first.
-    pub chances: Vec<Chance>,
-    /// The probability at the budget ([`DesignSettings::specimens`]).
-    pub at_budget: Chance,
-    /// The fewest specimens of the ladder that reach [`DesignSettings::target`], if any.
-    pub to_target: Option<usize>,
-    /// Forward runs this follow-up needed (0: the fitted surrogates sufficed).
-    pub runs: usize,
-}
-
-/// The design: the contenders, the probability with no follow-up, and every follow-up
-/// ranked best first.
-#[derive(Debug, Clone, Serialize)]
-pub struct Plan {
-    /// The contenders, heaviest first.
-    pub contenders: Vec<Contender>,
-    /// Whether the heaviest contender alone holds 90 % of the weight on the first campaign
-    /// (the cause is named alone before any follow-up).
-    pub alone_now: bool,
-    /// The follow-ups, best first.
-    pub ranked: Vec<Ranked>,
-    /// The settings.
-    pub settings: DesignSettings,
-    /// Forward runs made in all.
-    pub runs: usize,
-}
-
-impl Plan {
-    /// The best follow-up.
-    pub fn best(&self) -> Option<&Ranked> {
-        self.ranked.first()
-    }
-}
 
 /// The contenders of an analysis: the models that share the weight and the members of the
 /// tie, heaviest first, at most [`MAX_CONTENDERS`], with their priors and held-out scores.

@@ -3,8 +3,10 @@
 //! its measured files (the first campaign's, to which the follow-up's rows are added), and
 //! empty templates of the follow-up's rows in the formats `[measured]` reads.
 
-use super::{FollowUp, FollowUpKind, Plan};
-use crate::discrepancy::observations::Observable;
+use crate::discrepancy::design::{FollowUp, FollowUpKind, GroupWall, Plan};
+use crate::discrepancy::Observable;
+use crate::discrepancy::Setup;
+use crate::discrepancy::{DiscrepancyError, Run};
 use crate::io::measured::MECHANISM_FILE;
 use crate::study::Study;
 use std::path::{Path, PathBuf};
@@ -249,4 +251,15 @@ fn readme(study: &Study, plan: &Plan, f: &FollowUp, specimens: &[(String, String
     }
     s += "\nThen add the rows to the files under `measured/` (the first campaign's) and run\n`drystone discrepancy followup_study.toml`: both campaigns are analysed together, each specimen on its own wall.\n";
     s
+}
+
+/// The design's menu of follow-ups for a study's groups ([`crate::discrepancy::design::menu`]
+/// on the study's walls).
+///
+/// # Errors
+/// As [`crate::discrepancy::design::menu`].
+pub fn menu(study: &Study, setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, DiscrepancyError> {
+    let walls: Vec<GroupWall<'_>> =
+        study.groups.iter().map(|g| GroupWall { name: &g.name, spec: &g.spec, wall_path: &g.wall_path }).collect();
+    crate::discrepancy::design::menu(&walls, setup, run)
 }

@@ -1,0 +1,145 @@
+//! The design's types: the follow-ups of the menu ([`FollowUp`]), the settings, the
+//! contenders and their chances, and the [`Plan`] a discrepancy run carries (plain data,
+//! imported by the run's findings and by the design's own files).
+
+use crate::discrepancy::observations::Observable;
+use crate::discrepancy::simulate::GroupSetup;
+use crate::generator::spec::WallSpec;
+use serde::Serialize;
+
+/// What a follow-up changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FollowUpKind {
+    /// More specimens of a group, read as the first campaign read it.
+    MoreSpecimens,
+    /// Specimens of a group with the failure mechanism read (height, kind, start).
+    Mechanism,
+    /// Specimens of a group with both top measures read at more tilts.
+    Monitors,
+    /// Walls of another height (an extra group).
+    Height,
+    /// Walls of another length (an extra group).
+    Length,
+    /// Walls with the other end restraint (free ↔ rigid; an extra group).
+    Restraint,
+}
+
+/// How a follow-up's walls differ from its group's.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct WallEdit {
+    /// Factor on the height (courses of the same law).
+    pub height_factor: Option<f64>,
+    /// Factor on the length.
+    pub length_factor: Option<f64>,
+    /// The other end restraint: `Some(true)` rigid ends (zone 0.05 m), `Some(false)` free.
+    pub rigid_ends: Option<bool>,
+}
+
+/// One follow-up test.
+#[derive(Debug, Clone, Serialize)]
+pub struct FollowUp {
+    /// What it is, e.g. `SBL walls 1.5 × taller (SBL_tall)`.
+    pub name: String,
+    /// Its kind.
+    pub kind: FollowUpKind,
+    /// The group its specimens belong to (an existing group, or the new one).
+    pub group: String,
+    /// The group of the first campaign it starts from.
+    pub from_group: String,
+    /// The observables read on each specimen (the kinds and starts: one of them is seen).
+    pub observables: Vec<Observable>,
+    /// The new group (walls of another height, length or restraint), if any.
+    #[serde(skip)]
+    pub new_group: Option<GroupSetup>,
+    /// Its wall description (to write the follow-up study).
+    #[serde(skip)]
+    pub new_spec: Option<WallSpec>,
+    /// How its walls differ.
+    pub edit: WallEdit,
+}
+
+/// Settings of a design.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DesignSettings {
+    /// Specimens of each follow-up: the budget every follow-up is compared at \[3\].
+    pub specimens: usize,
+    /// Simulated follow-ups per contender taken as the truth \[200\].
+    pub replicates: usize,
+    /// Bayesian-bootstrap draws of each simulated data set's weights \[200\].
+    pub draws: usize,
+    /// The probability of naming the cause alone a follow-up should reach; the report
+    /// gives the fewest specimens that reach it \[0.8\].
+    pub target: f64,
+}
+
+impl Default for DesignSettings {
+    fn default() -> Self {
+        DesignSettings { specimens: 3, replicates: 200, draws: 200, target: 0.8 }
+    }
+}
+
+/// A model the design compares: its name, its prior weight and its held-out log score per
+/// specimen of the first campaign (nats).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contender {
+    /// `baseline`, a candidate (`a`, `a+b`) or `scatter`.
+    pub name: String,
+    /// Pseudo-BMA+ weight on the first campaign, renormalized over the contenders.
+    pub prior: f64,
+    /// Held-out log predictive density per specimen of the first campaign.
+    #[serde(skip)]
+    pub elpd: Vec<f64>,
+}
+
+/// The probability of the answer after a follow-up of `specimens` specimens.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Chance {
+    /// Specimens of the follow-up.
+    pub specimens: usize,
+    /// Probability that the true cause alone holds 90 % of the weight.
+    pub alone: f64,
+    /// Probability that the true cause is among the models that share the weight.
+    pub right: f64,
+    /// The probability of `alone` for each contender taken as the truth (contender order).
+    pub alone_by_truth: Vec<f64>,
+}
+
+/// One follow-up, with its probabilities.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ranked {
+    /// The follow-up.
+    pub followup: FollowUp,
+    /// The probabilities at every specimen count of the ladder, fewest first.
+    pub chances: Vec<Chance>,
+    /// The probability at the budget (`DesignSettings::specimens`).
+    pub at_budget: Chance,
+    /// The fewest specimens of the ladder that reach `DesignSettings::target`, if any.
+    pub to_target: Option<usize>,
+    /// Forward runs this follow-up needed (0: the fitted surrogates sufficed).
+    pub runs: usize,
+}
+
+/// The design: the contenders, the probability with no follow-up, and every follow-up
+/// ranked best first.
+#[derive(Debug, Clone, Serialize)]
+pub struct Plan {
+    /// The contenders, heaviest first.
+    pub contenders: Vec<Contender>,
+    /// Whether the heaviest contender alone holds 90 % of the weight on the first campaign
+    /// (the cause is named alone before any follow-up).
+    pub alone_now: bool,
+    /// The follow-ups, best first.
+    pub ranked: Vec<Ranked>,
+    /// The settings.
+    pub settings: DesignSettings,
+    /// Forward runs made in all.
+    pub runs: usize,
+}
+
+impl Plan {
+    /// The best follow-up.
+    pub fn best(&self) -> Option<&Ranked> {
+        self.ranked.first()
+    }
+}
