@@ -100,3 +100,35 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     assert!(Study::from_file(&best.study).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `drystone design`'s own options out of range are refused before anything runs, exit
+/// status 2, each naming its key and range; an unreadable measured directory names the
+/// file.
+#[test]
+fn bad_design_options_are_refused_naming_the_key() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let study = root.join("tests/discrepancy/study.toml");
+    let out = std::env::temp_dir().join(format!("drystone-design-bad-{}", std::process::id()));
+    let cases: [(&[&str], &str); 6] = [
+        (&["--specimens", "0"], "specimens = 0: in [1, 64]"),
+        (&["--specimens", "65"], "specimens = 65: in [1, 64]"),
+        (&["--target", "1"], "target = 1: in (0, 1)"),
+        (&["--target", "0"], "target = 0: in (0, 1)"),
+        (&["--replicates", "9"], "replicates = 9: in [10, 100000]"),
+        (&["--measured", "/nonexistent-measured-dir"], "/nonexistent-measured-dir"),
+    ];
+    for (args, want) in cases {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .arg("design")
+            .arg(&study)
+            .arg("--out")
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
