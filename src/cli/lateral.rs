@@ -6,7 +6,7 @@ use drystone::dem::{Method, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
 use drystone::limit::{LimitParams, LiveLoad};
 use drystone::loading::lateral::{run_lateral_observed, LateralError, LateralParams, LateralResult};
-use drystone::loading::support::{check, Loading};
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -88,7 +88,6 @@ pub fn run(
                 );
             }
             let params = LateralParams { pushover: true, ..*params };
-            check(Loading::Pushover, solver.kind).map_err(anyhow::Error::from)?;
             return pushover(layout, &super::read_layout(layout)?, solver, &params, json);
         }
         Method::Penalty => {}

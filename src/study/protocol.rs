@@ -7,6 +7,7 @@ use super::spec::ProtocolKind;
 use crate::loading::lateral::LateralParams;
 use crate::loading::support::Loading;
 use crate::loading::tilt::TiltParams;
+use crate::protocol::Protocol;
 
 /// A study's protocol with its parameters: the kind and its table together, so that every
 /// consumer matches on one value (a new protocol is pointed to by the compiler at each).
@@ -44,10 +45,8 @@ impl StudyProtocol {
     /// its table chooses (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading_kind(&self) -> Loading {
         match self {
-            StudyProtocol::Tilt(t) if t.by_hand.is_some() => Loading::TiltByHand,
-            StudyProtocol::Tilt(_) => Loading::Tilt,
-            StudyProtocol::Lateral(l) if l.pushover => Loading::Pushover,
-            StudyProtocol::Lateral(_) => Loading::Lateral,
+            StudyProtocol::Tilt(t) => Protocol::Tilt(*t).kind(),
+            StudyProtocol::Lateral(l) => Protocol::Lateral(*l).kind(),
             StudyProtocol::Shake(_) => Loading::Shake,
         }
     }

@@ -252,11 +252,10 @@ impl StudySpec {
     /// The study's row of the compatibility table ([`crate::loading::support`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading_kind(&self) -> Loading {
+        use crate::protocol::Protocol;
         match self.protocol {
-            ProtocolKind::Tilt if self.tilt.by_hand.is_some() => Loading::TiltByHand,
-            ProtocolKind::Tilt => Loading::Tilt,
-            ProtocolKind::Lateral if self.lateral.pushover => Loading::Pushover,
-            ProtocolKind::Lateral => Loading::Lateral,
+            ProtocolKind::Tilt => Protocol::Tilt(self.tilt).kind(),
+            ProtocolKind::Lateral => Protocol::Lateral(self.lateral).kind(),
             ProtocolKind::Shake => Loading::Shake,
         }
     }
