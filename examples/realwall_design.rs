@@ -123,16 +123,22 @@ fn main() {
             let cause2 = b.cause.as_ref().map(|c| c.name.clone());
             let got2 = classify(e, b.verdict.name(), cause2.as_deref(), &b.tie);
             let now = alone(e, cause2.as_deref(), &b.tie);
+            // The weights' own answer: the hidden cause alone holds 90 % of the weight.
+            let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
             after += usize::from(now);
             println!(
-                "{} #{i}: {line0} -> follow-up {} (P alone {:.2}) -> {}: {} {cause2:?} tie {:?}; alone {} ({:.0} s)",
+                "{} #{i}: {line0} -> follow-up {} (P alone {:.2}, by the weights {:.2}) -> {}: {} {cause2:?} tie {:?} \
+                 shared {:?}; alone {} (by the weights {}) ({:.0} s)",
                 e.label(),
                 best.followup.name,
                 best.at_budget.alone,
+                best.at_budget.weights_alone,
                 b.verdict.name(),
                 got_name(got2),
                 b.tie,
+                b.weights.shared,
                 now,
+                by_weights,
                 t0.elapsed().as_secs_f64()
             );
             let _ = std::fs::remove_dir_all(&dir);

@@ -56,6 +56,8 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     }
     for r in &plan.ranked {
         assert!((0.0..=1.0).contains(&r.at_budget.alone) && r.at_budget.alone <= r.at_budget.right + 1e-12);
+        // Naming alone asks the weights' criterion and the tie check's two tests.
+        assert!(r.at_budget.alone <= r.at_budget.weights_alone + 1e-12);
         // The surrogates answer for more specimens of a group; the others need runs.
         assert_eq!(r.followup.kind == FollowUpKind::MoreSpecimens, r.runs == 0 && r.followup.new_group.is_none());
     }

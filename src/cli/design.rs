@@ -102,12 +102,13 @@ pub fn command(a: DesignArgs) -> Result<()> {
     );
     let c: Vec<String> = plan.contenders.iter().map(|c| format!("{} {:.2}", c.name, c.prior)).collect();
     println!("contenders: {}", c.join(", "));
-    println!("{:<70} {:>8} {:>8} {:>10}", "follow-up", "alone", "right", "to target");
+    println!("{:<70} {:>8} {:>8} {:>8} {:>10}", "follow-up", "alone", "weights", "right", "to target");
     for r in &plan.ranked {
         println!(
-            "{:<70} {:>8.2} {:>8.2} {:>10}",
+            "{:<70} {:>8.2} {:>8.2} {:>8.2} {:>10}",
             r.followup.name,
             r.at_budget.alone,
+            r.at_budget.weights_alone,
             r.at_budget.right,
             r.to_target.map_or("-".to_string(), |n| n.to_string())
         );

@@ -31,18 +31,21 @@
 //!    first campaign), pseudo-BMA+ weights over the contenders on all specimens (Yao,
 //!    Vehtari, Simpson & Gelman 2018, Bayesian Analysis 13:917; the same Bayesian
 //!    bootstrap as [`super::weights`]).
-//! 5. **Named alone**: the truth alone holds [`super::SHARED`] (90 %) of the weight. The
-//!    probability that the cause is then named alone is the average over the contenders
-//!    as truth, weighted by their prior weights; "right" is the truth among the models
-//!    that share the weight.
+//! 5. **Named alone**: the truth alone holds [`super::SHARED`] (90 %) of the weight, and
+//!    the two tests of the analysis's tie check clear every other contender on both
+//!    campaigns (the held-out difference per specimen at least two standard errors; a
+//!    reversal rate, the share of the truth's simulated follow-ups in which the other
+//!    scores at least as well, under 5 %). The probability that the cause is then named
+//!    alone is the average over the contenders as truth, weighted by their prior weights;
+//!    the weights' criterion alone is reported beside it; "right" is the truth among the
+//!    models that share the weight.
 //!
 //! The follow-ups are ranked by that probability at the same number of specimens
 //! ([`DesignSettings::specimens`]), then by the fewest specimens that reach
 //! [`DesignSettings::target`]. What this does not repeat: the full analysis of each
 //! simulated data set (a refit of the parameters on both campaigns, the margins, the
 //! confirmation runs, the tie checks); the parameters stay at the first campaign's fit,
-//! so the probabilities are those of the weights, the part of the answer the follow-up is
-//! meant to change.
+//! so a refit that lets a contender absorb the follow-up's data is not foreseen.
 
 mod menu;
 mod plan;
@@ -449,11 +452,27 @@ impl Problem<'_> {
     /// The probabilities at every specimen count of `ladder`, from `replicates` simulated
     /// follow-ups per contender taken as the truth (the largest count drawn, the smaller
     /// counts its first specimens), weights from `draws` Bayesian-bootstrap draws.
+    ///
+    /// A simulated follow-up names the truth alone when the truth alone holds
+    /// [`super::SHARED`] of the weight **and** both tests of the analysis's tie check
+    /// ([`super::analysis::TieCheck`]) clear every other contender on both campaigns: the
+    /// held-out difference per specimen at least [`TieCheck::STANDARD_ERRORS`] standard
+    /// errors, and the reversal rate (the share of the truth's simulated follow-ups in
+    /// which the other contender's total score is at least the truth's) under
+    /// [`TieCheck::REVERSAL_RATE`]. The weights' criterion alone is kept beside it
+    /// ([`Chance::weights_alone`]).
+    ///
+    /// [`TieCheck::STANDARD_ERRORS`]: super::analysis::TieCheck::STANDARD_ERRORS
+    /// [`TieCheck::REVERSAL_RATE`]: super::analysis::TieCheck::REVERSAL_RATE
     pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
+        use super::analysis::TieCheck;
         let k = self.contenders.len();
         let nmax = ladder.iter().copied().max().unwrap_or(0);
         let mut alone = vec![vec![0usize; k]; ladder.len()];
+        let mut by_weights = vec![vec![0usize; k]; ladder.len()];
         let mut right = vec![vec![0usize; k]; ladder.len()];
+        // [ladder][truth][other]: replicates in which `other` scores at least the truth.
+        let mut reversed = vec![vec![vec![0usize; k]; k]; ladder.len()];
         for t in 0..k {
             let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
             for _ in 0..replicates {
@@ -468,21 +487,41 @@ impl Problem<'_> {
                         .collect();
                     let w = pseudo_bma(&elpd, draws, &mut rng);
                     let (a, r) = named(&w, t);
-                    alone[li][t] += usize::from(a);
+                    let mut separated = true;
+                    for c in (0..k).filter(|&c| c != t) {
+                        let d: Vec<f64> = elpd[t].iter().zip(&elpd[c]).map(|(x, y)| x - y).collect();
+                        let difference: f64 = d.iter().sum();
+                        reversed[li][t][c] += usize::from(difference <= 0.0);
+                        separated &= difference >= TieCheck::STANDARD_ERRORS * super::fit::difference_se(&d);
+                    }
+                    by_weights[li][t] += usize::from(a);
+                    alone[li][t] += usize::from(a && separated);
                     right[li][t] += usize::from(r);
                 }
             }
         }
         let reps = replicates.max(1) as f64;
+        let prior = |t: usize| self.contenders[t].prior;
         ladder
             .iter()
             .enumerate()
             .map(|(li, &n)| {
-                let by: Vec<f64> = alone[li].iter().map(|&a| a as f64 / reps).collect();
-                let prior = |t: usize| self.contenders[t].prior;
+                let by: Vec<f64> = (0..k)
+                    .map(|t| {
+                        let reversible = (0..k)
+                            .filter(|&c| c != t)
+                            .any(|c| reversed[li][t][c] as f64 / reps >= TieCheck::REVERSAL_RATE);
+                        if reversible {
+                            0.0
+                        } else {
+                            alone[li][t] as f64 / reps
+                        }
+                    })
+                    .collect();
                 Chance {
                     specimens: n,
                     alone: (0..k).map(|t| prior(t) * by[t]).sum(),
+                    weights_alone: (0..k).map(|t| prior(t) * by_weights[li][t] as f64 / reps).sum(),
                     right: (0..k).map(|t| prior(t) * right[li][t] as f64 / reps).sum(),
                     alone_by_truth: by,
                 }
@@ -550,7 +589,9 @@ pub fn markdown(plan: &Plan) -> String {
         "Contenders (the models that share the weight and the tie, with their pseudo-BMA+ weights on the first campaign): {}. \
          Each follow-up: {} specimens, {} simulated data sets per contender taken as the truth, drawn from its predictive at \
          its fitted parameters and weighed with the first campaign's held-out scores (pseudo-BMA+, {} bootstrap draws). \
-         *Alone*: the truth alone holds 90 % of the weight; *right*: it is among the models that do. {} forward runs.\n",
+         *Alone*: the truth alone holds 90 % of the weight and the tie check's two tests (2 standard errors, reversal \
+         rate under 5 %) clear every other contender; *weights alone*: the first condition only; *right*: the truth is \
+         among the models that share the weight. {} forward runs.\n",
         names.join(", "),
         plan.settings.specimens,
         plan.settings.replicates,
@@ -560,18 +601,19 @@ pub fn markdown(plan: &Plan) -> String {
     let truths: Vec<String> = plan.contenders.iter().map(|c| format!("alone if `{}`", c.name)).collect();
     let _ = writeln!(
         md,
-        "| follow-up | P(named alone) | P(right) | {} | specimens to {:.0} % | runs |",
+        "| follow-up | P(named alone) | P(weights alone) | P(right) | {} | specimens to {:.0} % | runs |",
         truths.join(" | "),
         100.0 * plan.settings.target
     );
-    let _ = writeln!(md, "| --- | --- | --- |{} --- | --- |", " --- |".repeat(truths.len()));
+    let _ = writeln!(md, "| --- | --- | --- | --- |{} --- | --- |", " --- |".repeat(truths.len()));
     for r in &plan.ranked {
         let by: Vec<String> = r.at_budget.alone_by_truth.iter().map(|p| format!("{p:.2}")).collect();
         let _ = writeln!(
             md,
-            "| {} | {:.2} | {:.2} | {} | {} | {} |",
+            "| {} | {:.2} | {:.2} | {:.2} | {} | {} | {} |",
             r.followup.name,
             r.at_budget.alone,
+            r.at_budget.weights_alone,
             r.at_budget.right,
             by.join(" | "),
             r.to_target.map_or(format!("> {}", 4 * plan.settings.specimens), |n| n.to_string()),

@@ -97,8 +97,12 @@ pub struct Contender {
 pub struct Chance {
     /// Specimens of the follow-up.
     pub specimens: usize,
-    /// Probability that the true cause alone holds 90 % of the weight.
+    /// Probability that the true cause is named alone: it alone holds 90 % of the weight
+    /// and both tests of the tie check clear every other contender ([`super::Problem::chances`]).
     pub alone: f64,
+    /// Probability that the true cause alone holds 90 % of the weight (the weights'
+    /// criterion without the tie check; at least [`Self::alone`]).
+    pub weights_alone: f64,
     /// Probability that the true cause is among the models that share the weight.
     pub right: f64,
     /// The probability of `alone` for each contender taken as the truth (contender order).
