@@ -61,14 +61,14 @@ impl Verdict {
     }
 }
 
-/// Challengers checked against a named cause for a tie ([`reversal_rates`]).
+/// Challengers checked against a named cause for a tie ([`TieCheck`]).
 pub const TIE_CHALLENGERS: usize = 4;
 
 /// One challenger checked against the named cause for a tie. It is in the tie when either
 /// test fails to separate the two:
 ///
 /// * **the design**: it beats the cause (lower held-out error) on 5 % or more of data
-///   simulated from the cause's own independent realizations ([`reversal_rates`]); this
+///   simulated from the cause's own independent realizations (the reversal rate); this
 ///   assumes the cause's model is exactly right;
 /// * **the data**: its summed held-out difference to the cause, over specimens, is less
 ///   than two standard errors of that difference, `sqrt(n · var(dᵢ))` over the
@@ -272,10 +272,10 @@ pub struct Analysis {
     pub check: Option<PredictiveCheck>,
     /// The weight of the baseline and of every candidate (`scatter` and pairs included):
     /// pseudo-BMA+ and stacking on the held-out scores per specimen, with their bootstrap
-    /// intervals, and the models that share the weight ([`super::weights`]).
+    /// intervals, and the models that share the weight ([`super::weights()`]).
     pub weights: super::weights::Weights,
     /// Which observables of the design separate the models that share the weight, and the
-    /// pairs none separates ([`super::identify`]).
+    /// pairs none separates ([`super::identifiability`]).
     pub identifiability: super::identify::Identifiability,
     /// The candidates analysed, pairs included.
     #[serde(skip)]

@@ -455,17 +455,17 @@ impl Problem<'_> {
     ///
     /// A simulated follow-up names the truth alone when the truth alone holds
     /// [`super::SHARED`] of the weight **and** both tests of the analysis's tie check
-    /// ([`super::analysis::TieCheck`]) clear every other contender on both campaigns: the
+    /// ([`super::TieCheck`]) clear every other contender on both campaigns: the
     /// held-out difference per specimen at least [`TieCheck::STANDARD_ERRORS`] standard
     /// errors, and the reversal rate (the share of the truth's simulated follow-ups in
     /// which the other contender's total score is at least the truth's) under
     /// [`TieCheck::REVERSAL_RATE`]. The weights' criterion alone is kept beside it
     /// ([`Chance::weights_alone`]).
     ///
-    /// [`TieCheck::STANDARD_ERRORS`]: super::analysis::TieCheck::STANDARD_ERRORS
-    /// [`TieCheck::REVERSAL_RATE`]: super::analysis::TieCheck::REVERSAL_RATE
+    /// [`TieCheck::STANDARD_ERRORS`]: super::TieCheck::STANDARD_ERRORS
+    /// [`TieCheck::REVERSAL_RATE`]: super::TieCheck::REVERSAL_RATE
     pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
-        use super::analysis::TieCheck;
+        use super::TieCheck;
         let k = self.contenders.len();
         let nmax = ladder.iter().copied().max().unwrap_or(0);
         let mut alone = vec![vec![0usize; k]; ladder.len()];
