@@ -300,13 +300,15 @@ pub fn design(
 }
 
 /// Best first: the probability of naming the cause alone at the budget, then the fewest
-/// specimens to the target, then the fewest runs, then menu order.
+/// specimens to the target, then the weights' probability of naming it alone, then the
+/// probability of a right answer, then the fewest runs, then menu order.
 fn sort_ranked(v: &mut [Ranked]) {
     v.sort_by(|a, b| {
         b.at_budget
             .alone
             .total_cmp(&a.at_budget.alone)
             .then(a.to_target.unwrap_or(usize::MAX).cmp(&b.to_target.unwrap_or(usize::MAX)))
+            .then(b.at_budget.weights_alone.total_cmp(&a.at_budget.weights_alone))
             .then(b.at_budget.right.total_cmp(&a.at_budget.right))
             .then(a.runs.cmp(&b.runs))
     });
