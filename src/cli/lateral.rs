@@ -171,13 +171,11 @@ fn pushover(
     let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params, 0.01)
         .with_context(|| format!("rigid pushover of {}", path.display()))?;
     if json {
-        let mut v = serde_json::to_value(&r)?;
-        if let Some(o) = v.as_object_mut() {
-            o.insert("load_multiplier".into(), r.lambda_stable.into());
-            o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
-        }
-        out!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return pushover_json(
+            &r,
+            r.lambda_stable,
+            &[("rigid_joints", "the joints' Kn and Ks are not used (rigid blocks)")],
+        );
     }
     out!("layout            {}", path.display());
     out!(
@@ -195,6 +193,20 @@ fn pushover(
     Ok(ExitCode::SUCCESS)
 }
 
+/// Prints a pushover's result `r` as one JSON object, with its stable load multiplier
+/// `lambda` as `load_multiplier` and the `notes` as keys of their own.
+fn pushover_json(r: &impl serde::Serialize, lambda: f64, notes: &[(&str, &str)]) -> Result<ExitCode> {
+    let mut v = serde_json::to_value(r)?;
+    if let Some(o) = v.as_object_mut() {
+        o.insert("load_multiplier".into(), lambda.into());
+        for (key, note) in notes {
+            o.insert((*key).into(), (*note).into());
+        }
+    }
+    out!("{}", serde_json::to_string_pretty(&v)?);
+    Ok(ExitCode::SUCCESS)
+}
+
 /// `lateral --pushover`: the collapse load multiplier λ of the pressure by the penalty DEM
 /// (`loading::lateral_pushover`); with `vtk`, every state as a ParaView series (time = λ).
 fn dem_pushover(
@@ -209,12 +221,7 @@ fn dem_pushover(
     let r = recorded(vtk, "pushover", |observe| run_lateral_pushover_observed(layout, solver, params, observe))
         .with_context(|| format!("DEM pushover of {}", path.display()))?;
     if json {
-        let mut v = serde_json::to_value(&r)?;
-        if let Some(o) = v.as_object_mut() {
-            o.insert("load_multiplier".into(), r.lambda_stable.into());
-        }
-        out!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return pushover_json(&r, r.lambda_stable, &[]);
     }
     out!("layout            {}", path.display());
     out!(
