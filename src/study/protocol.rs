@@ -1,9 +1,9 @@
 //! A study's protocol with its parameters ([`StudyProtocol`]): the kind the file names and
 //! its table together. Every decision a study takes per protocol is an exhaustive match on
-//! it, here (the table read from the file and written back, the protocol of each sweep
-//! point, its row of the compatibility table, its warnings, what its summary counts), in
-//! the run's row function ([`super::run::run_item`]), the report's sections and the VTK
-//! figures: a new protocol is pointed to by the compiler at each.
+//! it here: the table read from the file and written back, the protocol of each sweep
+//! point, the row its run fills (the row functions of [`super::run`]), the report's
+//! sections ([`super::report`], [`super::shaking`]), the VTK series ([`super::figures`]),
+//! its warnings and what its summary counts. The compiler points to each at a new protocol.
 
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
