@@ -135,17 +135,23 @@ fn hint(e: LateralError) -> anyhow::Error {
     }
 }
 
-fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
-    out!("layout            {}", layout.display());
+/// The load line of a lateral run: the pressures (`at`: the load multiplier they are given
+/// at, if any), their resultant in y against the weight, and the faces they load.
+fn print_load(params: &LateralParams, at: &str, resultant_y: f64, weight_n: f64, loaded_faces: usize) {
     out!(
-        "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
+        "load              {:.0} Pa at the base, {:.0} Pa at the top{at}: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
         params.pressure_base_pa,
         params.pressure_top_pa,
-        r.resultant_n.y,
-        r.resultant_n.y / r.weight_n,
-        r.weight_n,
-        r.loaded_faces
+        resultant_y,
+        resultant_y / weight_n,
+        weight_n,
+        loaded_faces
     );
+}
+
+fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
+    out!("layout            {}", layout.display());
+    print_load(params, "", r.resultant_n.y, r.weight_n, r.loaded_faces);
     match &r.collapse_reason {
         None => out!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
         Some(why) => out!("equilibrium       NO: collapsed ({why})"),
@@ -224,15 +230,7 @@ fn dem_pushover(
         return pushover_json(&r, r.lambda_stable, &[]);
     }
     out!("layout            {}", path.display());
-    out!(
-        "load              {:.0} Pa at the base, {:.0} Pa at the top (λ = 1): resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
-        params.pressure_base_pa,
-        params.pressure_top_pa,
-        r.resultant_n.y,
-        r.resultant_n.y / r.weight_n,
-        r.weight_n,
-        r.loaded_faces
-    );
+    print_load(params, " (λ = 1)", r.resultant_n.y, r.weight_n, r.loaded_faces);
     out!(
         "load multiplier   {:.4} (stable), first unstable {}{}",
         r.lambda_stable,
