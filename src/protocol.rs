@@ -14,9 +14,12 @@ use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams, LimitResu
 use crate::loading::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
 use crate::loading::lateral_nscd::{run_lateral_nscd, LateralLimit};
 use crate::loading::lateral_pushover::{run_lateral_pushover, LateralPushover};
+use crate::loading::mechanism::MechanismReading;
+use crate::loading::monitors::TopMonitor;
 use crate::loading::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
 use crate::loading::support::{self, Loading, Unsupported};
 use crate::loading::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
+use crate::units::m_to_cm;
 
 /// The relative width of the rigid pushover's final bracket of λ (1 %), as
 /// `drystone lateral --solver nscd` runs it.
@@ -68,6 +71,26 @@ pub enum ProtocolRun {
     Unsupported(Unsupported),
 }
 
+/// What a run gives to compare with measured data (`drystone discrepancy`): the collapse
+/// angle with its bracket, the top displacements at every stable state, the failure
+/// mechanism ([`ProtocolRun::observed`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Observed {
+    /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` under the
+    /// lateral load (no collapse angle).
+    pub collapse_deg: Option<f64>,
+    /// The first unstable tilt above α_max, degrees (`None` if the wall stood).
+    pub first_unstable_deg: Option<f64>,
+    /// Stable tilts, degrees (under the lateral load: `[0.0]`, the equilibrium under the
+    /// load, or none if the wall found none).
+    pub tilt_deg: Vec<f64>,
+    /// Left, centre and right top displacements at each stable tilt, cm (out of plane, +y:
+    /// the side the wall falls to; NaN for a point the layout has no monitor at).
+    pub top_cm: Vec<[f64; 3]>,
+    /// The failure mechanism as a person would read it (`None` if the wall stood).
+    pub mechanism: Option<MechanismReading>,
+}
+
 impl Protocol {
     /// The protocol's name in study files (`protocol = "..."`) and tables.
     pub fn name(&self) -> &'static str {
@@ -86,6 +109,28 @@ impl Protocol {
             Protocol::Lateral(p) if p.pushover => Loading::Pushover,
             Protocol::Lateral(_) => Loading::Lateral,
             Protocol::Shake { .. } => Loading::Shake,
+        }
+    }
+
+    /// The tilting table's parameters, for the tilting table.
+    pub fn tilt(&self) -> Option<&TiltParams> {
+        match self {
+            Protocol::Tilt(t) => Some(t),
+            Protocol::Lateral(_) | Protocol::Shake { .. } => None,
+        }
+    }
+
+    /// The protocol run to compare with measured data ([`ProtocolRun::observed`]): the
+    /// tilting table as it is; the lateral load at its service level (λ = 1: a pushover is
+    /// compared without pushing it over). The shaking table has no observable to compare.
+    ///
+    /// # Errors
+    /// Why the protocol has nothing to compare.
+    pub fn observed(&self) -> Result<Protocol, &'static str> {
+        match self {
+            Protocol::Tilt(t) => Ok(Protocol::Tilt(*t)),
+            Protocol::Lateral(l) => Ok(Protocol::Lateral(LateralParams { pushover: false, ..*l })),
+            Protocol::Shake { .. } => Err("the discrepancy analysis compares collapse angles and displacements of the tilting table or of the lateral load; the shaking table has neither"),
         }
     }
 
@@ -129,18 +174,42 @@ impl ProtocolRun {
     /// Whether the run ended in an error because the layout did not stand as given under
     /// gravity alone (as opposed to a blow-up or a bad parameter).
     pub fn does_not_stand(&self) -> bool {
-        matches!(
-            self,
-            ProtocolRun::Tilt(Err(TiltError::DoesNotStand(_)))
-                | ProtocolRun::RigidPushover(Err(TiltError::DoesNotStand(_)))
-                | ProtocolRun::Lateral(Err(LateralError::DoesNotStand(_)))
-                | ProtocolRun::Pushover { service: Err(LateralError::DoesNotStand(_)), .. }
-                | ProtocolRun::Shake(Err(ShakeError::DoesNotStand(_)))
-                | ProtocolRun::Limit(Err(LimitError::Untouched { .. }
+        match self {
+            ProtocolRun::Tilt(r) => matches!(r, Err(TiltError::DoesNotStand(_))),
+            ProtocolRun::RigidPushover(r) => matches!(r, Err(TiltError::DoesNotStand(_))),
+            ProtocolRun::Lateral(r) | ProtocolRun::Pushover { service: r, .. } => {
+                matches!(r, Err(LateralError::DoesNotStand(_)))
+            }
+            ProtocolRun::Shake(r) => matches!(r, Err(ShakeError::DoesNotStand(_))),
+            ProtocolRun::Limit(r) => matches!(
+                r,
+                Err(LimitError::Untouched { .. }
                     | LimitError::Floating { .. }
                     | LimitError::Infeasible { .. }
-                    | LimitError::DoesNotStand { .. }))
-        )
+                    | LimitError::DoesNotStand { .. })
+            ),
+            ProtocolRun::Unsupported(_) => false,
+        }
+    }
+
+    /// What the run gives to compare with measured data: the tilting table's collapse angle,
+    /// its bracket, the top displacements at every stable tilt and the failure mechanism; the
+    /// lateral load's top displacements under the load, as one state at tilt 0° when the wall
+    /// found an equilibrium (none when it did not: a displacement observation of it is then
+    /// missing, as one above a tilting-table collapse). `None` for a run that ended in an
+    /// error or gives nothing to compare (limit analysis, the pushover, the shaking table).
+    pub fn observed(&self) -> Option<Observed> {
+        match self {
+            ProtocolRun::Tilt(Ok(t)) => Some(tilt_observed(t)),
+            ProtocolRun::Lateral(Ok(r)) => Some(lateral_observed(r)),
+            ProtocolRun::Tilt(Err(_))
+            | ProtocolRun::Lateral(Err(_))
+            | ProtocolRun::Pushover { .. }
+            | ProtocolRun::RigidPushover(_)
+            | ProtocolRun::Limit(_)
+            | ProtocolRun::Shake(_)
+            | ProtocolRun::Unsupported(_) => None,
+        }
     }
 
     /// The error that ended the run, if any, as text.
@@ -159,6 +228,36 @@ impl ProtocolRun {
             | ProtocolRun::Shake(Ok(_)) => None,
         }
     }
+}
+
+/// The observables of a tilting-table run ([`ProtocolRun::observed`]).
+fn tilt_observed(t: &TiltResult) -> Observed {
+    let idx = TopMonitor::ALL.map(|m| m.index_in(&t.monitors));
+    let mut tilt_deg = Vec::new();
+    let mut top_cm = Vec::new();
+    for inc in t.increments.iter().filter(|i| i.stable) {
+        tilt_deg.push(inc.alpha_deg);
+        top_cm.push(idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]))));
+    }
+    Observed {
+        collapse_deg: Some(t.collapse_angle_deg()),
+        first_unstable_deg: t.first_unstable_deg,
+        tilt_deg,
+        top_cm,
+        mechanism: t.mechanism.reading,
+    }
+}
+
+/// The observables of a lateral-load run ([`ProtocolRun::observed`]): no collapse angle, no
+/// mechanism.
+fn lateral_observed(r: &LateralResult) -> Observed {
+    let idx = TopMonitor::ALL.map(|m| m.index_in(&r.monitors));
+    let (tilt_deg, top_cm) = if r.equilibrium {
+        (vec![0.0], vec![idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(r.displacement_m[i])))])
+    } else {
+        (vec![], vec![])
+    };
+    Observed { collapse_deg: None, first_unstable_deg: None, tilt_deg, top_cm, mechanism: None }
 }
 
 #[cfg(test)]

@@ -135,17 +135,23 @@ fn hint(e: LateralError) -> anyhow::Error {
     }
 }
 
-fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
-    out!("layout            {}", layout.display());
+/// The load line of a lateral run: the pressures (`at`: the load multiplier they are given
+/// at, if any), their resultant in y against the weight, and the faces they load.
+fn print_load(params: &LateralParams, at: &str, resultant_y: f64, weight_n: f64, loaded_faces: usize) {
     out!(
-        "load              {:.0} Pa at the base, {:.0} Pa at the top: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
+        "load              {:.0} Pa at the base, {:.0} Pa at the top{at}: resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
         params.pressure_base_pa,
         params.pressure_top_pa,
-        r.resultant_n.y,
-        r.resultant_n.y / r.weight_n,
-        r.weight_n,
-        r.loaded_faces
+        resultant_y,
+        resultant_y / weight_n,
+        weight_n,
+        loaded_faces
     );
+}
+
+fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
+    out!("layout            {}", layout.display());
+    print_load(params, "", r.resultant_n.y, r.weight_n, r.loaded_faces);
     match &r.collapse_reason {
         None => out!("equilibrium       yes (unbalanced-force ratio {:.2e})", r.unbalanced_ratio),
         Some(why) => out!("equilibrium       NO: collapsed ({why})"),
@@ -171,13 +177,11 @@ fn pushover(
     let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params, 0.01)
         .with_context(|| format!("rigid pushover of {}", path.display()))?;
     if json {
-        let mut v = serde_json::to_value(&r)?;
-        if let Some(o) = v.as_object_mut() {
-            o.insert("load_multiplier".into(), r.lambda_stable.into());
-            o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
-        }
-        out!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return pushover_json(
+            &r,
+            r.lambda_stable,
+            &[("rigid_joints", "the joints' Kn and Ks are not used (rigid blocks)")],
+        );
     }
     out!("layout            {}", path.display());
     out!(
@@ -195,6 +199,20 @@ fn pushover(
     Ok(ExitCode::SUCCESS)
 }
 
+/// Prints a pushover's result `r` as one JSON object, with its stable load multiplier
+/// `lambda` as `load_multiplier` and the `notes` as keys of their own.
+fn pushover_json(r: &impl serde::Serialize, lambda: f64, notes: &[(&str, &str)]) -> Result<ExitCode> {
+    let mut v = serde_json::to_value(r)?;
+    if let Some(o) = v.as_object_mut() {
+        o.insert("load_multiplier".into(), lambda.into());
+        for (key, note) in notes {
+            o.insert((*key).into(), (*note).into());
+        }
+    }
+    out!("{}", serde_json::to_string_pretty(&v)?);
+    Ok(ExitCode::SUCCESS)
+}
+
 /// `lateral --pushover`: the collapse load multiplier λ of the pressure by the penalty DEM
 /// (`loading::lateral_pushover`); with `vtk`, every state as a ParaView series (time = λ).
 fn dem_pushover(
@@ -209,23 +227,10 @@ fn dem_pushover(
     let r = recorded(vtk, "pushover", |observe| run_lateral_pushover_observed(layout, solver, params, observe))
         .with_context(|| format!("DEM pushover of {}", path.display()))?;
     if json {
-        let mut v = serde_json::to_value(&r)?;
-        if let Some(o) = v.as_object_mut() {
-            o.insert("load_multiplier".into(), r.lambda_stable.into());
-        }
-        out!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return pushover_json(&r, r.lambda_stable, &[]);
     }
     out!("layout            {}", path.display());
-    out!(
-        "load              {:.0} Pa at the base, {:.0} Pa at the top (λ = 1): resultant {:.1} N in y ({:.3} of the weight {:.1} N), {} loaded faces",
-        params.pressure_base_pa,
-        params.pressure_top_pa,
-        r.resultant_n.y,
-        r.resultant_n.y / r.weight_n,
-        r.weight_n,
-        r.loaded_faces
-    );
+    print_load(params, " (λ = 1)", r.resultant_n.y, r.weight_n, r.loaded_faces);
     out!(
         "load multiplier   {:.4} (stable), first unstable {}{}",
         r.lambda_stable,

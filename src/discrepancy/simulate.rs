@@ -5,8 +5,9 @@
 //! made by [`crate::effects::realize`], as a study's run makes them: a study with the same
 //! effects gives the same numbers.
 //!
-//! Every realization is loaded by the setup's protocol through the protocol seam
-//! ([`crate::protocol::Protocol`]): the tilting table (the path the paper's data
+//! Every realization is loaded by the setup's protocol through the protocol seam, which
+//! also says what each protocol gives to compare ([`Protocol::observed`],
+//! [`crate::protocol::ProtocolRun::observed`]): the tilting table (the path the paper's data
 //! take: collapse angle, displacements at every stable tilt, the failure mechanism) or the
 //! static lateral load (the monitors' out-of-plane displacements under the load, as one
 //! state at tilt 0°). The shaking table has no observable here and is refused
@@ -17,12 +18,9 @@ use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
-use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
-use crate::loading::tilt::{TiltParams, TiltResult};
-use crate::loading::TopMonitor;
-use crate::protocol::{Protocol, ProtocolRun};
-use crate::units::m_to_cm;
+use crate::loading::tilt::TiltParams;
+use crate::protocol::Protocol;
 use serde::Serialize;
 
 /// One group of walls the model is run for.
@@ -61,12 +59,9 @@ pub struct Setup {
 }
 
 impl Setup {
-    /// The tilting table's parameters, for a tilting-table setup.
+    /// The tilting table's parameters, for a tilting-table setup ([`Protocol::tilt`]).
     pub fn tilt(&self) -> Option<&TiltParams> {
-        match &self.protocol {
-            Protocol::Tilt(t) => Some(t),
-            _ => None,
-        }
+        self.protocol.tilt()
     }
 
     /// Width of a simulated collapse angle's bracket, degrees: the tilting table's
@@ -93,12 +88,9 @@ impl Setup {
     /// # Errors
     /// [`super::DiscrepancyError::Protocol`] naming it.
     pub fn check_protocol(&self) -> Result<(), super::DiscrepancyError> {
-        match self.protocol {
-            Protocol::Tilt(_) | Protocol::Lateral(_) => Ok(()),
-            Protocol::Shake { .. } => Err(super::DiscrepancyError::Protocol {
-                protocol: self.protocol.name(),
-                reason: "the discrepancy analysis compares collapse angles and displacements of the tilting table or of the lateral load; the shaking table has neither",
-            }),
+        match self.protocol.observed() {
+            Ok(_) => Ok(()),
+            Err(reason) => Err(super::DiscrepancyError::Protocol { protocol: self.protocol.name(), reason }),
         }
     }
 }
@@ -172,66 +164,24 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
         Ok((_, l)) => l,
         Err(e) => return Outcome::failed(e.to_string()),
     };
-    // The observables each protocol's run gives; a run without them (the pushover, limit
-    // analysis, the shaking table: refused by `Setup::check_protocol`) or with an error is a
+    // The observables of the protocol's run ([`Protocol::observed`], refused by
+    // `Setup::check_protocol` when it has none); a run without them or with an error is a
     // failed outcome.
-    // The lateral load's observables are the service state's: a pushover study is compared
-    // at its service load, without pushing it over.
-    let service;
-    let protocol = match &setup.protocol {
-        Protocol::Lateral(l) if l.pushover => {
-            service = Protocol::Lateral(crate::loading::lateral::LateralParams { pushover: false, ..*l });
-            &service
-        }
-        p => p,
-    };
-    match protocol.run(&layout, setup.solver) {
-        ProtocolRun::Tilt(Ok(t)) => tilt_outcome(&t),
-        ProtocolRun::Lateral(Ok(r)) => lateral_outcome(&r),
-        run @ (ProtocolRun::Tilt(Err(_))
-        | ProtocolRun::Lateral(Err(_))
-        | ProtocolRun::Pushover { .. }
-        | ProtocolRun::RigidPushover(_)
-        | ProtocolRun::Limit(_)
-        | ProtocolRun::Shake(_)
-        | ProtocolRun::Unsupported(_)) => Outcome::failed(
+    let protocol = setup.protocol.observed().unwrap_or_else(|_| setup.protocol.clone());
+    let run = protocol.run(&layout, setup.solver);
+    match run.observed() {
+        Some(o) => Outcome {
+            collapse_deg: o.collapse_deg,
+            first_unstable_deg: o.first_unstable_deg,
+            tilt_deg: o.tilt_deg,
+            top_cm: o.top_cm,
+            error: None,
+            mechanism: o.mechanism,
+        },
+        None => Outcome::failed(
             run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
         ),
     }
-}
-
-/// The observables of a tilting-table run: the collapse angle, its bracket, the left,
-/// centre and right top displacements at every stable tilt and the failure mechanism.
-fn tilt_outcome(t: &TiltResult) -> Outcome {
-    let idx = TopMonitor::ALL.map(|m| m.index_in(&t.monitors));
-    let mut tilt_deg = Vec::new();
-    let mut top_cm = Vec::new();
-    for inc in t.increments.iter().filter(|i| i.stable) {
-        tilt_deg.push(inc.alpha_deg);
-        top_cm.push(idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(inc.displacement_m[i]))));
-    }
-    Outcome {
-        collapse_deg: Some(t.collapse_angle_deg()),
-        first_unstable_deg: t.first_unstable_deg,
-        tilt_deg,
-        top_cm,
-        error: None,
-        mechanism: t.mechanism.reading,
-    }
-}
-
-/// The observables of a lateral-load run: the left, centre and right top out-of-plane
-/// displacements under the load, as one state at tilt 0° when the wall found an
-/// equilibrium (none when it did not: a displacement observation of it is then missing,
-/// as one above a tilting-table collapse). No collapse angle, no mechanism.
-fn lateral_outcome(r: &LateralResult) -> Outcome {
-    let idx = TopMonitor::ALL.map(|m| m.index_in(&r.monitors));
-    let (tilt_deg, top_cm) = if r.equilibrium {
-        (vec![0.0], vec![idx.map(|i| i.map_or(f64::NAN, |i| m_to_cm(r.displacement_m[i])))])
-    } else {
-        (vec![], vec![])
-    };
-    Outcome { collapse_deg: None, first_unstable_deg: None, tilt_deg, top_cm, error: None, mechanism: None }
 }
 
 /// The outcomes of several models: `[model][group][realization]`.

@@ -134,20 +134,6 @@ impl Recorder {
     /// Records `sim` at `time` (the observer of `run_tilt_observed` and
     /// `run_lateral_observed`).
     pub fn observe(&mut self, time: f64, stable: bool, sim: &Simulation) {
-        if self.blocks.is_empty() {
-            self.blocks = sim
-                .state
-                .bodies
-                .iter()
-                .map(|b| RecordedBlock {
-                    id: b.id.clone(),
-                    material: b.material,
-                    fixed: b.fixed,
-                    shape: b.shape.clone(),
-                    radius: b.radius,
-                })
-                .collect();
-        }
         let mut subs = Vec::new();
         for (ci, c) in sim.state.contacts.iter().enumerate() {
             let normal = sim.state.contact_normal(c);
@@ -166,8 +152,7 @@ impl Recorder {
                 });
             }
         }
-        let poses = sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
-        self.states.push(RecordedState { time, stable, poses, subs });
+        self.observe_bodies(time, stable, &sim.state.bodies, subs);
     }
 }
 
@@ -207,13 +192,7 @@ pub fn motion_frames(rec: &Recorder) -> Vec<Frame> {
         .iter()
         .enumerate()
         .map(|(k, s)| {
-            let m: Vec<f64> = first
-                .poses
-                .iter()
-                .zip(&s.poses)
-                .zip(&rec.blocks)
-                .map(|((a, b), blk)| motion(a, b, blk.radius))
-                .collect();
+            let m = block_motions(rec, first, s);
             let max = m.iter().cloned().fold(0.0, f64::max);
             let moving =
                 m.iter().zip(&rec.blocks).map(|(d, b)| !b.fixed && max > 1e-6 && *d > MECHANISM_SHARE * max).collect();
@@ -238,6 +217,11 @@ pub struct Frame {
 /// The angle of the rotation `q`, rad, in \[0, π\].
 fn angle(q: &nalgebra::UnitQuaternion<f64>) -> f64 {
     2.0 * q.imag().norm().atan2(q.scalar().abs())
+}
+
+/// Each block's motion ([`motion`]) from the state `from` to the state `to`.
+fn block_motions(rec: &Recorder, from: &RecordedState, to: &RecordedState) -> Vec<f64> {
+    from.poses.iter().zip(&to.poses).zip(&rec.blocks).map(|((a, b), blk)| motion(a, b, blk.radius)).collect()
 }
 
 /// Motion of a block of radius `r` between two poses, m (as the tilt's collapse criterion).
@@ -292,13 +276,7 @@ pub fn lateral_frames(rec: &Recorder) -> Vec<Frame> {
             if s.stable || k == 0 {
                 return Frame { state: k, moving: vec![false; nb] };
             }
-            let m: Vec<f64> = rec.states[0]
-                .poses
-                .iter()
-                .zip(&s.poses)
-                .zip(&rec.blocks)
-                .map(|((a, b), blk)| motion(a, b, blk.radius))
-                .collect();
+            let m = block_motions(rec, &rec.states[0], s);
             let max = m.iter().cloned().fold(0.0, f64::max);
             let moving = m.iter().zip(&rec.blocks).map(|(d, b)| !b.fixed && *d > MECHANISM_SHARE * max).collect();
             Frame { state: k, moving }

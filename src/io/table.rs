@@ -9,7 +9,9 @@ pub use super::measured::{
     read_measured_collapse, read_measured_displacement, read_measured_mechanism, MeasuredCollapse,
     MeasuredDisplacement, MeasuredMechanism,
 };
-use crate::ensemble::row::{RealizationRow, Status};
+use crate::ensemble::row::{
+    CollapseColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns, Status, TiltColumns,
+};
 use polars::prelude::*;
 use std::fs::File;
 use std::path::Path;
@@ -106,10 +108,69 @@ macro_rules! field {
     (series $($f:ident).+) => { Field::Series(|r| &r.$($f).+, |r| &mut r.$($f).+) };
 }
 
+/// Every field of a row by name, each column group's too: a destructuring without `..`, so
+/// that the compiler points here at a new field of [`RealizationRow`] or of one of its
+/// groups, whose column then joins [`COLUMNS`] below (a series of the tilting table's is
+/// also read by the derived columns).
+const _FIELDS: fn(&RealizationRow) = |r| {
+    let RealizationRow {
+        index: _,
+        study: _,
+        group: _,
+        point: _,
+        sweep: _,
+        seed: _,
+        realization: _,
+        status: _,
+        error: _,
+        blocks: _,
+        collapse,
+        tilt,
+        lateral,
+        shake,
+        pushover,
+        steps: _,
+        iterations: _,
+        dt_s: _,
+        wall_time_s: _,
+    } = r;
+    let CollapseColumns {
+        collapse_angle_deg: _,
+        first_unstable_deg: _,
+        collapse_reason: _,
+        mechanism: _,
+        joint: _,
+        moving_blocks: _,
+        failure_height_fraction: _,
+        mechanism_kind: _,
+        mechanism_start: _,
+        mechanism_extent: _,
+    } = collapse;
+    let TiltColumns { tilt_deg: _, disp_top_left_cm: _, disp_top_centre_cm: _, disp_top_right_cm: _ } = tilt;
+    let LateralColumns {
+        lateral_disp_left_cm: _,
+        lateral_disp_centre_cm: _,
+        lateral_disp_right_cm: _,
+        lateral_disp_max_cm: _,
+        lateral_drift: _,
+    } = lateral;
+    let ShakeColumns {
+        motion: _,
+        pga_g: _,
+        collapse_time_s: _,
+        max_rotation_deg: _,
+        max_drift: _,
+        residual_drift: _,
+        blocks_fallen: _,
+    } = shake;
+    let PushoverColumns { load_multiplier_dem: _, load_multiplier_dem_unstable: _, load_multiplier_limit: _ } =
+        pushover;
+};
+
 #[rustfmt::skip]
 /// The columns of `realizations.parquet` and `.csv`, in their order: the one list the
 /// writer ([`realizations_frame`]) and the reader ([`read_realizations`]) follow. A new
-/// column is one line here (and its field in [`RealizationRow`]).
+/// column is one line here (and its field in [`RealizationRow`], which `_FIELDS` names).
 const COLUMNS: &[RowColumn] = &[
     column("index", Part::Run, field!(count index)),
     column("study", Part::Run, field!(text study)),

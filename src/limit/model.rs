@@ -230,6 +230,21 @@ impl Model {
         (model, sim)
     }
 
+    /// Each body's velocity (translation, rotation over the length scale `ls`) from the
+    /// six entries of its row in `v`, a solution vector; zero for a held body.
+    fn velocities(&self, v: &[f64], ls: f64) -> Vec<(Vec3, Vec3)> {
+        self.row_of
+            .iter()
+            .map(|r| match r {
+                Some(r) => {
+                    let u = &v[6 * r..6 * r + 6];
+                    (Vec3::new(u[0], u[1], u[2]), Vec3::new(u[3], u[4], u[5]) / ls)
+                }
+                None => (Vec3::zeros(), Vec3::zeros()),
+            })
+            .collect()
+    }
+
     /// Number of free bodies.
     pub fn free(&self) -> usize {
         self.row_of.iter().flatten().count()
@@ -409,17 +424,7 @@ impl Model {
             normal[*p] = sol.z[sc] - ca;
             sc += 3;
         }
-        let velocity = self
-            .row_of
-            .iter()
-            .map(|r| match r {
-                Some(r) => {
-                    let u = &sol.x[6 * r..6 * r + 6];
-                    (Vec3::new(u[0], u[1], u[2]), Vec3::new(u[3], u[4], u[5]) / ls)
-                }
-                None => (Vec3::zeros(), Vec3::zeros()),
-            })
-            .collect();
+        let velocity = self.velocities(&sol.x, ls);
         Some(Solution {
             status: sol.status,
             lambda: -sol.z[0],
@@ -553,17 +558,7 @@ impl Model {
         };
         solver.solve();
         let sol = &solver.solution;
-        let velocity = self
-            .row_of
-            .iter()
-            .map(|r| match r {
-                Some(r) => {
-                    let z = &sol.z[6 * r..6 * r + 6];
-                    (Vec3::new(z[0], z[1], z[2]), Vec3::new(z[3], z[4], z[5]) / ls)
-                }
-                None => (Vec3::zeros(), Vec3::zeros()),
-            })
-            .collect();
+        let velocity = self.velocities(&sol.z, ls);
         Solution {
             status: sol.status,
             lambda: sol.x[0],

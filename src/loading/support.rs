@@ -29,6 +29,18 @@ impl Loading {
     pub const ALL: [Loading; 5] =
         [Loading::Tilt, Loading::TiltByHand, Loading::Lateral, Loading::Pushover, Loading::Shake];
 
+    /// Its place in [`Loading::ALL`]: an exhaustive match, so that the compiler points to a
+    /// new variant here, beside the list it joins (checked at compile time).
+    const fn place(self) -> usize {
+        match self {
+            Loading::Tilt => 0,
+            Loading::TiltByHand => 1,
+            Loading::Lateral => 2,
+            Loading::Pushover => 3,
+            Loading::Shake => 4,
+        }
+    }
+
     /// Its name in the Python package's `drystone.supports` and in tables: `tilt`,
     /// `tilt_by_hand`, `lateral`, `pushover`, `shake`.
     pub fn name(self) -> &'static str {
@@ -66,6 +78,15 @@ impl Loading {
         }
     }
 }
+
+// `Loading::ALL` lists every variant once, in the order of `Loading::place`.
+const _: () = {
+    let mut i = 0;
+    while i < Loading::ALL.len() {
+        assert!(Loading::ALL[i].place() == i, "Loading::ALL lists every variant once, in order");
+        i += 1;
+    }
+};
 
 /// Whether `method` runs `protocol`, and what it gives there (`None`: it does not).
 ///

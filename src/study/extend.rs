@@ -14,11 +14,13 @@
 //! DIR/extended_study.toml` gives the ensemble the analysis reported for the extended model
 //! at the same seed.
 
-use super::spec::{EffectsSpec, GroupSpec, MeasuredSpec, StudySpec};
+use super::spec::{EffectsSpec, GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
 use super::Study;
 use crate::effects::Effect;
 use crate::generator::DistributionSpec;
 use crate::io::FileError;
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::TiltParams;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -146,15 +148,15 @@ pub fn write_extended(
             measured.displacement = rel;
         }
     }
-    let spec = StudySpec {
+    let mut spec = StudySpec {
         version: 1,
         name: format!("{}_extended", study.name),
         description: format!("{} Extended: {note}", study.description.trim()),
         seed: study.seed,
         realizations: study.realizations,
-        protocol: study.protocol.kind(),
-        tilt: study.protocol.tilt().copied().unwrap_or_default(),
-        lateral: study.protocol.lateral().copied().unwrap_or_default(),
+        protocol: ProtocolKind::default(),
+        tilt: TiltParams::default(),
+        lateral: LateralParams::default(),
         shake: None,
         solver: study.solver,
         groups,
@@ -167,6 +169,7 @@ pub fn write_extended(
         effects: BTreeMap::new(),
         effect_files,
     };
+    study.protocol.write_into(&mut spec);
     let mut t = String::new();
     let _ = writeln!(t, "# The extended model of `{}`: {note}", study.name);
     for p in fitted {

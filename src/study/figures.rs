@@ -8,7 +8,7 @@
 //! * [`write_vtk_realizations`]: the ParaView time series of chosen realizations
 //!   (`drystone run --vtk-realizations 0,3`), into `DIR/vtk/GROUP[_pP]_rR/`.
 
-use super::{Study, StudyProtocol};
+use super::Study;
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{Item, Shard};
 use crate::generator::generate;
@@ -18,9 +18,9 @@ use crate::io::series::{
 };
 use crate::io::{replace_file, FileError};
 use crate::layout::Layout;
-use crate::loading::lateral::run_lateral_observed;
+use crate::loading::lateral::{run_lateral_observed, LateralParams};
 use crate::loading::shake::run_shake_observed;
-use crate::loading::tilt::{run_tilt_observed, MechanismKind, TiltResult};
+use crate::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -168,37 +168,7 @@ pub fn write_vtk_realizations(
             let Ok(layout) = generate(wall, study.seed, it.realization).and_then(|g| g.check()) else {
                 return Ok(None);
             };
-            let mut rec = Recorder::default();
-            let mut observe = |a: f64, s: bool, sim: &crate::dem::Simulation| rec.observe(a, s, sim);
-            match &study.protocol {
-                StudyProtocol::Tilt(tilt) => {
-                    let Ok(r) = run_tilt_observed(&layout, study.solver, tilt, &mut observe) else {
-                        return Ok(None);
-                    };
-                    let (series, others) = tilt_frames(&rec, &r);
-                    write_series(&out, "unstable_trials", &rec, &others)?;
-                    write_series(&out, "tilt", &rec, &series).map(Some)
-                }
-                StudyProtocol::Lateral(lateral) => {
-                    if run_lateral_observed(&layout, study.solver, lateral, &mut observe).is_err() {
-                        return Ok(None);
-                    }
-                    write_series(&out, "lateral", &rec, &lateral_frames(&rec)).map(Some)
-                }
-                StudyProtocol::Shake(_) => {
-                    let crate::protocol::Protocol::Shake { params, motion } = study.loading_at(it.point) else {
-                        return Ok(None);
-                    };
-                    let mut rec = Recorder::default();
-                    let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {
-                        rec.observe_bodies(t, true, bodies, Vec::new());
-                    };
-                    if run_shake_observed(&layout, study.solver, &motion, &params, &mut watch).is_err() {
-                        return Ok(None);
-                    }
-                    write_series(&out, "shake", &rec, &motion_frames(&rec)).map(Some)
-                }
-            }
+            study.protocol.write_series(study, it.point, &layout, &out)
         })
         .collect();
     let mut files = Vec::new();
@@ -206,4 +176,60 @@ pub fn write_vtk_realizations(
         files.extend(w?);
     }
     Ok(files)
+}
+
+/// The tilting table's time series of one realization, run again with every state
+/// recorded: the stable path (`tilt`) and the unstable trials (`unstable_trials`) into `out`;
+/// `None` if the run fails.
+pub(super) fn tilt_series(
+    study: &Study,
+    tilt: &TiltParams,
+    layout: &Layout,
+    out: &Path,
+) -> Result<Option<PathBuf>, SeriesError> {
+    let mut rec = Recorder::default();
+    let mut observe = |a: f64, s: bool, sim: &crate::dem::Simulation| rec.observe(a, s, sim);
+    let Ok(r) = run_tilt_observed(layout, study.solver, tilt, &mut observe) else {
+        return Ok(None);
+    };
+    let (series, others) = tilt_frames(&rec, &r);
+    write_series(out, "unstable_trials", &rec, &others)?;
+    write_series(out, "tilt", &rec, &series).map(Some)
+}
+
+/// The lateral load's time series of one realization (`lateral`) into `out`; `None` if
+/// the run fails.
+pub(super) fn lateral_series(
+    study: &Study,
+    lateral: &LateralParams,
+    layout: &Layout,
+    out: &Path,
+) -> Result<Option<PathBuf>, SeriesError> {
+    let mut rec = Recorder::default();
+    let mut observe = |a: f64, s: bool, sim: &crate::dem::Simulation| rec.observe(a, s, sim);
+    if run_lateral_observed(layout, study.solver, lateral, &mut observe).is_err() {
+        return Ok(None);
+    }
+    write_series(out, "lateral", &rec, &lateral_frames(&rec)).map(Some)
+}
+
+/// The shaking table's time series of one realization at sweep point `point` (its motion
+/// and level, `shake`) into `out`; `None` if the run fails.
+pub(super) fn shake_series(
+    study: &Study,
+    point: usize,
+    layout: &Layout,
+    out: &Path,
+) -> Result<Option<PathBuf>, SeriesError> {
+    let crate::protocol::Protocol::Shake { params, motion } = study.loading_at(point) else {
+        return Ok(None);
+    };
+    let mut rec = Recorder::default();
+    let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {
+        rec.observe_bodies(t, true, bodies, Vec::new());
+    };
+    if run_shake_observed(layout, study.solver, &motion, &params, &mut watch).is_err() {
+        return Ok(None);
+    }
+    write_series(out, "shake", &rec, &motion_frames(&rec)).map(Some)
 }

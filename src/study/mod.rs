@@ -112,7 +112,7 @@ pub use protocol::StudyProtocol;
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;
-pub use resolve::{Group, Measured, ShakeStudy, Study};
+pub use resolve::{Group, Measured, ShakeStudy};
 pub use run::{run_item, run_study, run_study_with};
 pub use shaking::{fragilities, GroupFragility};
 pub use shards::{
@@ -126,3 +126,39 @@ pub use size::{
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
 pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
 pub use sweep::{point_label, SweepEntryError, SweepError, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
+
+/// A checked study.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// Name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// The study file.
+    pub path: std::path::PathBuf,
+    /// Master seed.
+    pub seed: u64,
+    /// Realizations per group and point.
+    pub realizations: u64,
+    /// The protocol with its parameters.
+    pub protocol: protocol::StudyProtocol,
+    /// Solver parameters.
+    pub solver: crate::dem::SolverParams,
+    /// Groups.
+    pub groups: Vec<resolve::Group>,
+    /// Sweep points (one empty point without a sweep).
+    pub points: Vec<sweep::SweepPoint>,
+    /// Measured data.
+    pub measured: resolve::Measured,
+    /// The paper's study reproduced, if any.
+    pub paper: Option<spec::PaperStudy>,
+    /// Calibration steps.
+    pub calibrate: Vec<spec::CalibrateSpec>,
+    /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
+    pub discrepancy: crate::discrepancy::Settings,
+    /// The files the study was resolved from (study, effect files, walls, distributions,
+    /// measured data), with their hashes and texts: the provenance a run records.
+    pub inputs: Vec<provenance::InputFile>,
+    /// The effect library: the built-ins and the study's effect files.
+    pub library: crate::effects::Library,
+}

@@ -1,13 +1,30 @@
 //! A study's protocol with its parameters ([`StudyProtocol`]): the kind the file names and
-//! its table together, so that the resolver, the run, the report and the figures each
-//! match on one value.
+//! its table together. Every decision a study takes per protocol is an exhaustive match on
+//! it here: the table read from the file and written back, the protocol of each sweep
+//! point, the row its run fills (the row functions of [`super::run`]), the report's
+//! sections ([`super::report`], [`super::shaking`]), the VTK series ([`super::figures`]),
+//! its warnings and what its summary counts. The compiler points to each at a new protocol.
 
+use super::error::Invalid;
+use super::figures::{lateral_series, shake_series, tilt_series};
 use super::motions::ShakeStudy;
-use super::spec::ProtocolKind;
+use super::report::{lateral_sections, tilt_sections};
+use super::report_error::ReportError;
+use super::run::{failed_row, lateral_row, limit_row, pushover_row, rigid_pushover_row, shake_row, tilt_row};
+use super::shaking::shake_sections;
+use super::spec::{ProtocolKind, StudySpec};
+use super::summary::{CellSummary, Comparison};
+use super::sweep::{SweepKey, SweepValue};
+use super::{Study, StudyError};
+use crate::ensemble::row::RealizationRow;
+use crate::ground::Motion;
+use crate::io::series::SeriesError;
+use crate::layout::Layout;
 use crate::loading::lateral::LateralParams;
 use crate::loading::support::Loading;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::Protocol;
+use crate::protocol::{Protocol, ProtocolRun};
+use std::path::{Path, PathBuf};
 
 /// A study's protocol with its parameters: the kind and its table together, so that every
 /// consumer matches on one value (a new protocol is pointed to by the compiler at each).
@@ -23,6 +40,38 @@ pub enum StudyProtocol {
 }
 
 impl StudyProtocol {
+    /// The protocol a study file names, with its table (`shake`: the `[shake]` table already
+    /// resolved, [`StudySpec::resolve_shake`]).
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] naming the table a protocol needs and the file lacks.
+    pub(super) fn from_spec(
+        spec: &StudySpec,
+        shake: Option<ShakeStudy>,
+        invalid: &Invalid,
+    ) -> Result<StudyProtocol, StudyError> {
+        match (spec.protocol, shake) {
+            (ProtocolKind::Tilt, _) => Ok(StudyProtocol::Tilt(spec.tilt)),
+            (ProtocolKind::Lateral, _) => Ok(StudyProtocol::Lateral(spec.lateral)),
+            (ProtocolKind::Shake, Some(shake)) => Ok(StudyProtocol::Shake(shake)),
+            (ProtocolKind::Shake, None) => {
+                Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
+            }
+        }
+    }
+
+    /// Its table written back into a study file (`drystone discrepancy`'s extended study):
+    /// the kind and the tilting table's or the lateral load's parameters. A shaking study's
+    /// motions are not written (the analysis refuses the shaking table).
+    pub(super) fn write_into(&self, spec: &mut StudySpec) {
+        spec.protocol = self.kind();
+        match self {
+            StudyProtocol::Tilt(t) => spec.tilt = *t,
+            StudyProtocol::Lateral(l) => spec.lateral = *l,
+            StudyProtocol::Shake(_) => spec.shake = None,
+        }
+    }
+
     /// Its kind, as the study file names it.
     pub fn kind(&self) -> ProtocolKind {
         match self {
@@ -32,22 +81,125 @@ impl StudyProtocol {
         }
     }
 
-    /// Its name in study files (`protocol = "..."`).
+    /// Its name in study files (`protocol = "..."`), as the protocol seam names it
+    /// ([`Protocol::name`]).
     pub fn name(&self) -> &'static str {
-        match self {
-            StudyProtocol::Tilt(_) => "tilt",
-            StudyProtocol::Lateral(_) => "lateral",
-            StudyProtocol::Shake(_) => "shake",
-        }
+        self.at(&[]).name()
     }
 
     /// Its row of the compatibility table ([`crate::loading::support`]), with the variant
-    /// its table chooses (`tilt.by_hand`, `lateral.pushover`).
+    /// its table chooses (`tilt.by_hand`, `lateral.pushover`): its protocol's
+    /// ([`Protocol::kind`]).
     pub fn loading_kind(&self) -> Loading {
+        self.at(&[]).kind()
+    }
+
+    /// The protocol run at a sweep point with the values `point`: the tilting table or the
+    /// lateral load with the study's parameters, or the shaking table under the point's
+    /// motion scaled to its PGA level (sweep keys `motion` and `pga_g`). A shaking point
+    /// whose motion is missing (a study not made by [`StudySpec::resolve`]) gets an empty
+    /// motion, which the protocol refuses with an error row.
+    pub fn at(&self, point: &[(SweepKey, SweepValue)]) -> Protocol {
         match self {
-            StudyProtocol::Tilt(t) => Protocol::Tilt(*t).kind(),
-            StudyProtocol::Lateral(l) => Protocol::Lateral(*l).kind(),
-            StudyProtocol::Shake(_) => Loading::Shake,
+            StudyProtocol::Tilt(t) => Protocol::Tilt(*t),
+            StudyProtocol::Lateral(l) => Protocol::Lateral(*l),
+            StudyProtocol::Shake(shake) => {
+                let value = |key: SweepKey| point.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
+                let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
+                let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
+                let motion = shake.motion(&name, pga).unwrap_or_else(|| Motion {
+                    name,
+                    dt_s: 0.0,
+                    horizontal_g: vec![],
+                    vertical_g: None,
+                });
+                Protocol::Shake { params: shake.params, motion: Box::new(motion) }
+            }
+        }
+    }
+
+    /// A realization's row (`row`: its identification and block count) filled with what its
+    /// run at sweep point `point` gave: one row function per kind of run
+    /// ([`super::run`]), an error as a status row.
+    pub(super) fn row(&self, study: &Study, point: usize, row: RealizationRow, run: ProtocolRun) -> RealizationRow {
+        let does_not_stand = run.does_not_stand();
+        match run {
+            ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
+            ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
+            ProtocolRun::Pushover { service: Ok(r), collapse } => {
+                pushover_row(lateral_row(row, r), collapse.map(|c| *c))
+            }
+            ProtocolRun::RigidPushover(Ok(r)) => rigid_pushover_row(row, r),
+            ProtocolRun::Limit(Ok(r)) => limit_row(row, r, self.pushover()),
+            ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(point, SweepKey::PgaG)),
+            ProtocolRun::Limit(Err(e)) => failed_row(row, does_not_stand, &e),
+            failed @ (ProtocolRun::Tilt(Err(_))
+            | ProtocolRun::Lateral(Err(_))
+            | ProtocolRun::Pushover { service: Err(_), .. }
+            | ProtocolRun::RigidPushover(Err(_))
+            | ProtocolRun::Shake(Err(_))
+            | ProtocolRun::Unsupported(_)) => failed_row(row, does_not_stand, &failed.error().unwrap_or_default()),
+        }
+    }
+
+    /// Its sections of the report (`report.md`, with their plots in `dir`); returns what
+    /// `drystone run` prints of them.
+    ///
+    /// # Errors
+    /// [`ReportError`] naming the file.
+    pub(super) fn report_sections(
+        &self,
+        study: &Study,
+        rows: &[RealizationRow],
+        dir: &Path,
+        cells: &[CellSummary],
+        cmp: &[Comparison],
+        md: &mut String,
+    ) -> Result<String, ReportError> {
+        match self {
+            StudyProtocol::Tilt(tilt) => tilt_sections(study, tilt, rows, dir, cells, cmp, md).map(|()| String::new()),
+            StudyProtocol::Lateral(lateral) => {
+                lateral_sections(study, lateral, cells, md);
+                Ok(String::new())
+            }
+            StudyProtocol::Shake(shake) => shake_sections(study, shake, rows, dir, md),
+        }
+    }
+
+    /// The ParaView time series of one realization (`layout`, at sweep point `point`), run
+    /// again with the recording on, into `out`; `None` if the run fails.
+    ///
+    /// # Errors
+    /// [`SeriesError`] naming the file that could not be written.
+    pub(super) fn write_series(
+        &self,
+        study: &Study,
+        point: usize,
+        layout: &Layout,
+        out: &Path,
+    ) -> Result<Option<PathBuf>, SeriesError> {
+        match self {
+            StudyProtocol::Tilt(tilt) => tilt_series(study, tilt, layout, out),
+            StudyProtocol::Lateral(lateral) => lateral_series(study, lateral, layout, out),
+            StudyProtocol::Shake(_) => shake_series(study, point, layout, out),
+        }
+    }
+
+    /// What the study warns of before it runs and in its report (a shaking study's motions
+    /// that cannot reach its levels).
+    pub fn warnings(&self) -> Vec<String> {
+        match self {
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => vec![],
+            StudyProtocol::Shake(s) => s.warnings(),
+        }
+    }
+
+    /// Whether its summary counts the walls that collapsed under the load (the lateral
+    /// load: a collapse is an outcome of the service load, not a collapse angle).
+    pub fn counts_collapses_under_load(&self) -> bool {
+        match self {
+            StudyProtocol::Lateral(_) => true,
+            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => false,
         }
     }
 
@@ -56,14 +208,6 @@ impl StudyProtocol {
         match self {
             StudyProtocol::Tilt(t) => Some(t),
             StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
-        }
-    }
-
-    /// The lateral load's parameters, for a lateral study.
-    pub fn lateral(&self) -> Option<&LateralParams> {
-        match self {
-            StudyProtocol::Lateral(l) => Some(l),
-            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => None,
         }
     }
 
@@ -77,6 +221,18 @@ impl StudyProtocol {
 
     /// Whether it pushes the lateral load over to collapse (`lateral.pushover`).
     pub fn pushover(&self) -> bool {
-        self.lateral().is_some_and(|l| l.pushover)
+        self.loading_kind() == Loading::Pushover
+    }
+}
+
+impl StudySpec {
+    /// The study's row of the compatibility table ([`crate::loading::support`]): its
+    /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
+    pub fn loading_kind(&self) -> Loading {
+        match self.protocol {
+            ProtocolKind::Tilt => Protocol::Tilt(self.tilt).kind(),
+            ProtocolKind::Lateral => Protocol::Lateral(self.lateral).kind(),
+            ProtocolKind::Shake => Loading::Shake,
+        }
     }
 }

@@ -5,7 +5,7 @@
 use super::paper;
 use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
 use super::text::{fixed, md_table, sci};
-use super::{Study, StudyProtocol};
+use super::Study;
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
 use crate::io::{replace_file, replace_file_with};
@@ -82,12 +82,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description.trim());
     }
-    let mut printed = String::new();
-    match &study.protocol {
-        StudyProtocol::Tilt(tilt) => tilt_sections(study, tilt, rows, dir, &cells, &cmp, &mut md)?,
-        StudyProtocol::Lateral(lateral) => lateral_sections(study, lateral, &cells, &mut md),
-        StudyProtocol::Shake(_) => printed = super::shaking::shake_sections(study, rows, dir, &mut md)?,
-    }
+    let mut printed = study.protocol.report_sections(study, rows, dir, &cells, &cmp, &mut md)?;
     if !cmp.is_empty() {
         printed = comparison_text(&cmp);
     }
@@ -96,7 +91,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         printed.push_str(&section);
         md.push_str(&section);
     }
-    let warnings = study.protocol.shake().map(|s| s.warnings()).unwrap_or_default();
+    let warnings = study.protocol.warnings();
     if !warnings.is_empty() {
         let _ = writeln!(md, "## Warnings\n");
         for w in &warnings {
@@ -124,7 +119,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
 }
 
 /// The report of a static lateral load study: top displacement and drift per cell.
-fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSummary], md: &mut String) {
+pub(super) fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; equilibrium at unbalanced-force ratio {}; damping {}.\n",
@@ -227,7 +222,7 @@ fn capacity_table(l: &LateralParams, cells: &[CellSummary], md: &mut String) {
 
 /// The tilting-table part of the report: collapse angles, displacements, measured against
 /// simulated, plots.
-fn tilt_sections(
+pub(super) fn tilt_sections(
     study: &Study,
     tilt: &TiltParams,
     rows: &[RealizationRow],

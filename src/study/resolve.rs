@@ -5,18 +5,16 @@
 use super::error::{CalibrationSpecError, Invalid, NameError, PaperSpecError};
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
+use super::paper::restrained;
 use super::protocol::StudyProtocol;
-use super::provenance::{self, InputFile, InputRole};
+use super::provenance::{self, InputRole};
 use super::size;
 use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
-use super::StudyError;
-use crate::dem::SolverParams;
+use super::{Study, StudyError};
 use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::WallSpec;
-use crate::generator::Ends;
 use crate::generator::Wall;
-use crate::ground::Motion;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
 use crate::loading::support::Loading;
 use std::collections::BTreeMap;
@@ -53,42 +51,6 @@ pub struct Measured {
     pub mechanism: Vec<table::MeasuredMechanism>,
     /// The paper's DEM collapse angles (Table 7).
     pub paper_dem: Vec<table::PaperDemAngle>,
-}
-
-/// A checked study.
-#[derive(Debug, Clone)]
-pub struct Study {
-    /// Name.
-    pub name: String,
-    /// Description.
-    pub description: String,
-    /// The study file.
-    pub path: PathBuf,
-    /// Master seed.
-    pub seed: u64,
-    /// Realizations per group and point.
-    pub realizations: u64,
-    /// The protocol with its parameters.
-    pub protocol: StudyProtocol,
-    /// Solver parameters.
-    pub solver: SolverParams,
-    /// Groups.
-    pub groups: Vec<Group>,
-    /// Sweep points (one empty point without a sweep).
-    pub points: Vec<SweepPoint>,
-    /// Measured data.
-    pub measured: Measured,
-    /// The paper's study reproduced, if any.
-    pub paper: Option<PaperStudy>,
-    /// Calibration steps.
-    pub calibrate: Vec<CalibrateSpec>,
-    /// Model-discrepancy settings (defaults where the file has no `[discrepancy]`).
-    pub discrepancy: crate::discrepancy::Settings,
-    /// The files the study was resolved from (study, effect files, walls, distributions,
-    /// measured data), with their hashes and texts: the provenance a run records.
-    pub inputs: Vec<InputFile>,
-    /// The effect library: the built-ins and the study's effect files.
-    pub library: crate::effects::Library,
 }
 
 /// A penalty shaking study's step count, before the run: the penalty step of each group's
@@ -161,14 +123,7 @@ impl StudySpec {
         };
         let inputs = provenance::record(&files)
             .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
-        let protocol = match (self.protocol, shake) {
-            (ProtocolKind::Tilt, _) => StudyProtocol::Tilt(self.tilt),
-            (ProtocolKind::Lateral, _) => StudyProtocol::Lateral(self.lateral),
-            (ProtocolKind::Shake, Some(shake)) => StudyProtocol::Shake(shake),
-            (ProtocolKind::Shake, None) => {
-                return Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
-            }
-        };
+        let protocol = StudyProtocol::from_spec(self, shake, &invalid)?;
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
@@ -247,17 +202,6 @@ impl StudySpec {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
         }
         Ok(())
-    }
-
-    /// The study's row of the compatibility table ([`crate::loading::support`]): its
-    /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
-    pub fn loading_kind(&self) -> Loading {
-        use crate::protocol::Protocol;
-        match self.protocol {
-            ProtocolKind::Tilt => Protocol::Tilt(self.tilt).kind(),
-            ProtocolKind::Lateral => Protocol::Lateral(self.lateral).kind(),
-            ProtocolKind::Shake => Loading::Shake,
-        }
     }
 
     /// The number of sweep points and work items against the limits of [`size`], before
@@ -472,29 +416,10 @@ impl Study {
         self.loading_at(0)
     }
 
-    /// The loading protocol of sweep point `point`: the tilting table or the lateral load
-    /// with the study's parameters, or the shaking table under the point's motion scaled to
-    /// its PGA level (sweep keys `motion` and `pga_g`). A shaking point whose motion is
-    /// missing (a study not made by [`StudySpec::resolve`]) gets an empty motion, which the
-    /// protocol refuses with an error row.
+    /// The loading protocol of sweep point `point` ([`StudyProtocol::at`] with the point's
+    /// values).
     pub fn loading_at(&self, point: usize) -> crate::protocol::Protocol {
-        use crate::protocol::Protocol;
-        match &self.protocol {
-            StudyProtocol::Tilt(t) => Protocol::Tilt(*t),
-            StudyProtocol::Lateral(l) => Protocol::Lateral(*l),
-            StudyProtocol::Shake(shake) => {
-                let value = |key: SweepKey| self.points.get(point)?.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
-                let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
-                let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
-                let motion = shake.motion(&name, pga).unwrap_or_else(|| Motion {
-                    name,
-                    dt_s: 0.0,
-                    horizontal_g: vec![],
-                    vertical_g: None,
-                });
-                Protocol::Shake { params: shake.params, motion: Box::new(motion) }
-            }
-        }
+        self.protocol.at(self.points.get(point).map_or(&[], Vec::as_slice))
     }
 
     /// Reads and resolves a study file.
@@ -544,11 +469,6 @@ impl Study {
     pub fn sweep_number(&self, point: usize, key: SweepKey) -> Option<f64> {
         self.points[point].iter().find(|(k, _)| *k == key).and_then(|(_, v)| v.number())
     }
-}
-
-/// Whether a wall's ends are held.
-pub(crate) fn restrained(e: &Ends) -> bool {
-    !matches!(e, Ends::Free)
 }
 
 /// Checks a calibration step against a study.

@@ -17,7 +17,6 @@ use crate::loading::lateral::LateralResult;
 use crate::loading::monitors::TopMonitor;
 use crate::loading::shake::ShakeResult;
 use crate::loading::tilt::{CollapseReason, Mechanism, MechanismKind, TiltResult};
-use crate::protocol::ProtocolRun;
 use crate::units::m_to_cm;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -48,24 +47,7 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Ok((_, layout)) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
             let run = study.loading_at(item.point).run(&layout, study.solver);
-            let does_not_stand = run.does_not_stand();
-            match run {
-                ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
-                ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
-                ProtocolRun::Pushover { service: Ok(r), collapse } => {
-                    pushover_row(lateral_row(row, r), collapse.map(|c| *c))
-                }
-                ProtocolRun::RigidPushover(Ok(r)) => rigid_pushover_row(row, r),
-                ProtocolRun::Limit(Ok(r)) => limit_row(row, r, study.protocol.pushover()),
-                ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
-                ProtocolRun::Limit(Err(e)) => failed_row(row, does_not_stand, &e),
-                failed @ (ProtocolRun::Tilt(Err(_))
-                | ProtocolRun::Lateral(Err(_))
-                | ProtocolRun::Pushover { service: Err(_), .. }
-                | ProtocolRun::RigidPushover(Err(_))
-                | ProtocolRun::Shake(Err(_))
-                | ProtocolRun::Unsupported(_)) => failed_row(row, does_not_stand, &failed.error().unwrap_or_default()),
-            }
+            study.protocol.row(study, item.point, row, run)
         }
     };
     finish(row, t0)
@@ -85,7 +67,7 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
 /// pushover. The mechanism columns come from the dual. A wall that does not stand (λ ≤ 0,
 /// [`crate::limit::LimitError::DoesNotStand`]) is a `no_initial_equilibrium` row with the
 /// message ([`failed_row`]), as the tilting table's rows are.
-fn limit_row(mut row: RealizationRow, r: crate::limit::LimitResult, pushover: bool) -> RealizationRow {
+pub(super) fn limit_row(mut row: RealizationRow, r: crate::limit::LimitResult, pushover: bool) -> RealizationRow {
     use crate::limit::LiveLoad;
     mechanism_columns(&mut row.collapse, &r.mechanism);
     row.iterations = u64::from(r.solver_iterations);
@@ -118,7 +100,7 @@ fn limit_row(mut row: RealizationRow, r: crate::limit::LimitResult, pushover: bo
 /// The pushover's load multipliers into a row already holding its service load: λ of the
 /// penalty DEM (stable, first unstable, the reason and mechanism of its collapse) and λ of
 /// limit analysis; an error of either is appended to the error column.
-fn pushover_row(
+pub(super) fn pushover_row(
     mut row: RealizationRow,
     collapse: Option<(
         Result<crate::loading::lateral_pushover::LateralPushover, crate::loading::lateral::LateralError>,
@@ -152,7 +134,10 @@ fn pushover_row(
 /// The rigid pushover (nscd) into a row: λ stable and first unstable in the DEM
 /// pushover's columns (a non-smooth DEM of rigid blocks), the mechanism, and the status of
 /// the service load: stood if λ ≥ 1 (rigid blocks have no displacements), else collapsed.
-fn rigid_pushover_row(mut row: RealizationRow, r: crate::loading::lateral_nscd::LateralLimit) -> RealizationRow {
+pub(super) fn rigid_pushover_row(
+    mut row: RealizationRow,
+    r: crate::loading::lateral_nscd::LateralLimit,
+) -> RealizationRow {
     row.pushover.load_multiplier_dem = Some(r.lambda_stable);
     row.pushover.load_multiplier_dem_unstable = r.lambda_unstable;
     if let Some(m) = &r.mechanism {
@@ -303,14 +288,14 @@ fn mechanism_columns(c: &mut CollapseColumns, m: &Mechanism) {
 
 /// The row of a protocol that failed: the layout did not stand as given (`does_not_stand`)
 /// or the run blew up, with the message.
-fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::Display) -> RealizationRow {
+pub(super) fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::Display) -> RealizationRow {
     row.status = if does_not_stand { Status::NoInitialEquilibrium } else { Status::BlewUp };
     row.error = e.to_string();
     row
 }
 
 /// A tilting-table outcome into the row.
-fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
+pub(super) fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
     row.status = if t.first_unstable_deg.is_some() { Status::Collapsed } else { Status::Stood };
     row.collapse.collapse_angle_deg = t.first_unstable_deg.map(|_| t.collapse_angle_deg());
     row.collapse.first_unstable_deg = t.first_unstable_deg;
@@ -334,7 +319,7 @@ fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow {
 /// motion's name and its PGA level (`level`, the point's `pga_g` exactly; the motion's own
 /// PGA otherwise), the collapse time, the largest rocking rotation, the drifts and the
 /// fallen blocks.
-fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f64>) -> RealizationRow {
+pub(super) fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f64>) -> RealizationRow {
     row.status = if r.overturned { Status::Collapsed } else { Status::Stood };
     row.shake = ShakeColumns {
         motion: r.motion,
@@ -352,7 +337,7 @@ fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f64>) -> Rea
 }
 
 /// A static lateral load outcome into the row.
-fn lateral_row(mut row: RealizationRow, r: LateralResult) -> RealizationRow {
+pub(super) fn lateral_row(mut row: RealizationRow, r: LateralResult) -> RealizationRow {
     row.steps = r.steps;
     row.dt_s = r.dt_s;
     match &r.collapse_reason {

@@ -11,8 +11,8 @@
 //! function of the rows (in index order) and the study: the bootstrap of group `g` draws
 //! from `rng_for(seed, 2³³ + g, Bootstrap)`, a stream no other summary uses.
 
+use super::motions::ShakeStudy;
 use super::report_error::ReportError;
-use super::resolve::ShakeStudy;
 use super::text::{fixed, md_table};
 use super::Study;
 use crate::ensemble::row::{RealizationRow, Status};
@@ -137,11 +137,11 @@ fn capacity_text(c: &[f64]) -> String {
 /// [`ReportError`] naming the file.
 pub fn shake_sections(
     study: &Study,
+    shake: &ShakeStudy,
     rows: &[RealizationRow],
     dir: &Path,
     md: &mut String,
 ) -> Result<String, ReportError> {
-    let Some(shake) = study.protocol.shake() else { return Ok(String::new()) };
     let frag = fragilities(study, rows);
     let p = &shake.params;
     let nscd = &study.solver.nscd;

@@ -136,7 +136,7 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                 disp10: stats::summarize(&d10, study.seed, stream * 3 + 2),
                 measure: measure.name().to_string(),
                 angles,
-                lateral_collapsed: if study.protocol.lateral().is_some() {
+                lateral_collapsed: if study.protocol.counts_collapses_under_load() {
                     cell.iter().filter(|r| r.status == Status::Collapsed).count()
                 } else {
                     0

@@ -32,6 +32,21 @@ fn monitor_tilts(run: &Run, setup: &Setup) -> Vec<f64> {
     t
 }
 
+/// A follow-up on the group's own walls (`group`): more specimens, or other readings of
+/// them.
+fn on_own_walls(group: &str, name: String, kind: FollowUpKind, observables: Vec<Observable>) -> FollowUp {
+    FollowUp {
+        name,
+        kind,
+        group: group.to_string(),
+        from_group: group.to_string(),
+        observables,
+        new_group: None,
+        new_spec: None,
+        edit: WallEdit::default(),
+    }
+}
+
 /// A group's wall as the study describes it: its name, its wall description (overrides
 /// applied) and the file it came from (for its named distributions).
 #[derive(Debug, Clone, Copy)]
@@ -71,30 +86,22 @@ pub fn menu(walls: &[GroupWall<'_>], setup: &Setup, run: &Run) -> Result<Vec<Fol
         let width = (g.course_m / g.wall.height).clamp(0.01, 1.0);
         let angle_and_disp: Vec<Observable> = read.iter().copied().filter(|o| !o.is_mechanism()).collect();
         let has_mech = read.iter().filter(|o| o.is_mechanism()).count();
-        out.push(FollowUp {
-            name: format!("more {} specimens", g.name),
-            kind: FollowUpKind::MoreSpecimens,
-            group: g.name.clone(),
-            from_group: g.name.clone(),
-            observables: read.clone(),
-            new_group: None,
-            new_spec: None,
-            edit: WallEdit::default(),
-        });
+        out.push(on_own_walls(
+            &g.name,
+            format!("more {} specimens", g.name),
+            FollowUpKind::MoreSpecimens,
+            read.clone(),
+        ));
         let mech = mechanism_keys(width);
         if has_mech < mech.len() {
             let mut obs = angle_and_disp.clone();
             obs.extend(mech.iter().copied());
-            out.push(FollowUp {
-                name: format!("{} specimens with the failure mechanism read", g.name),
-                kind: FollowUpKind::Mechanism,
-                group: g.name.clone(),
-                from_group: g.name.clone(),
-                observables: obs,
-                new_group: None,
-                new_spec: None,
-                edit: WallEdit::default(),
-            });
+            out.push(on_own_walls(
+                &g.name,
+                format!("{} specimens with the failure mechanism read", g.name),
+                FollowUpKind::Mechanism,
+                obs,
+            ));
         }
         let monitors: Vec<Observable> = tilts
             .iter()
@@ -104,16 +111,12 @@ pub fn menu(walls: &[GroupWall<'_>], setup: &Setup, run: &Run) -> Result<Vec<Fol
             let mut obs: Vec<Observable> =
                 read.iter().copied().filter(|o| matches!(o, Observable::CollapseAngle)).collect();
             obs.extend(monitors);
-            out.push(FollowUp {
-                name: format!("{} specimens with both top measures read at {:?} deg", g.name, tilts),
-                kind: FollowUpKind::Monitors,
-                group: g.name.clone(),
-                from_group: g.name.clone(),
-                observables: obs,
-                new_group: None,
-                new_spec: None,
-                edit: WallEdit::default(),
-            });
+            out.push(on_own_walls(
+                &g.name,
+                format!("{} specimens with both top measures read at {:?} deg", g.name, tilts),
+                FollowUpKind::Monitors,
+                obs,
+            ));
         }
         // Walls of another kind, as extra groups: the first campaign's readings, and the
         // mechanism.

@@ -19,14 +19,19 @@ pub mod table8;
 
 pub use super::spec::PaperStudy;
 
-use super::resolve::restrained;
 use super::summary::CellSummary;
 use super::Study;
 use crate::generator::Arrangement;
+use crate::generator::Ends;
 use crate::io::plot::{BandSeries, PlotError};
 use crate::io::table::TableError;
 use crate::io::FileError;
 use std::path::Path;
+
+/// Whether a wall's ends are held.
+pub(crate) fn restrained(e: &Ends) -> bool {
+    !matches!(e, Ends::Free)
+}
 
 /// Errors of writing a paper study's table or figure.
 #[derive(Debug, thiserror::Error)]
