@@ -57,17 +57,25 @@ fn table() -> Vec<Row> {
 
 #[test]
 fn nscd_overturns_and_rocks_as_lmgc90_on_a_pulse_and_a_record() {
+    use rayon::prelude::*;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let rows = table();
     assert!(rows.len() >= 4, "the table has its rows");
-    for row in rows {
-        let layout = Layout::from_file(&root.join(&row.layout)).expect("layout");
-        let motion = match row.period_s {
-            Some(t) => Pulse::OneSine { amplitude_g: row.amplitude_g, period_s: t }.sampled(1e-3, 0.0),
-            None => read_record(&root.join(&row.motion)).expect("record").scaled_to_pga(row.amplitude_g),
-        };
-        let solver = SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() };
-        let r = run_shake(&layout, solver, &motion, &ShakeParams::default()).expect("runs");
+    // The rows are independent runs: on every core, one row per task, checked in order.
+    let runs: Vec<_> = rows
+        .par_iter()
+        .with_max_len(1)
+        .map(|row| {
+            let layout = Layout::from_file(&root.join(&row.layout)).expect("layout");
+            let motion = match row.period_s {
+                Some(t) => Pulse::OneSine { amplitude_g: row.amplitude_g, period_s: t }.sampled(1e-3, 0.0),
+                None => read_record(&root.join(&row.motion)).expect("record").scaled_to_pga(row.amplitude_g),
+            };
+            let solver = SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() };
+            run_shake(&layout, solver, &motion, &ShakeParams::default()).expect("runs")
+        })
+        .collect();
+    for (row, r) in rows.iter().zip(runs) {
         eprintln!(
             "{}: drystone {} at {:?} s, {:.3}°; LMGC90 {} at {:?} s, {:.3}°",
             row.case,

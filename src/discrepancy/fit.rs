@@ -362,23 +362,82 @@ impl CostFunction for Along<'_> {
 }
 
 /// Fits the surface's parameters to the observations `which`: returns the best `x` and its
-/// summed score.
+/// summed score. The analysis fits through [`fit_folds`], which gives the same results.
+#[cfg(test)]
 pub fn fit(surface: &Surface, data: Data<'_>, which: &[usize]) -> (Vec<f64>, f64) {
     let cost = |x: &[f64]| data.nlpd(&surface.at(x), which);
-    let (mut best, mut best_cost) = (vec![0.0; surface.dims()], f64::INFINITY);
-    let n = if surface.dims() == 1 { 101 } else { 21 };
-    let scan: Vec<Vec<f64>> = if surface.dims() == 1 {
+    let mut best = (vec![0.0; surface.dims()], f64::INFINITY);
+    for x in scan_points(surface) {
+        let c = cost(&x);
+        if c < best.1 {
+            best = (x, c);
+        }
+    }
+    polish(surface, data, which, best)
+}
+
+/// Fits the surface's parameters to each set of observations of `folds`: returns each
+/// fold's best `x` and its summed score. A scan of the axis (101 points; 21 × 21 on a
+/// grid), then a polish of the best point with Brent's method, coordinate by coordinate.
+/// The score of every observation at every scan point is computed once for all folds and
+/// summed per fold in the fold's order, as [`Data::nlpd`] sums it (the same results, bit
+/// for bit, as scanning each fold on its own); the polish is each fold's own.
+pub fn fit_folds(surface: &Surface, data: Data<'_>, folds: &[&[usize]]) -> Vec<(Vec<f64>, f64)> {
+    let scan = scan_points(surface);
+    let mut used = vec![false; data.obs.len()];
+    for &j in folds.iter().flat_map(|f| f.iter()) {
+        used[j] = true;
+    }
+    let table: Vec<Vec<f64>> = scan
+        .iter()
+        .map(|x| {
+            let sims = surface.at(x);
+            (0..data.obs.len()).map(|j| if used[j] { data.score(&sims, j) } else { 0.0 }).collect()
+        })
+        .collect();
+    folds
+        .iter()
+        .map(|which| {
+            let mut best = (vec![0.0; surface.dims()], f64::INFINITY);
+            for (x, row) in scan.iter().zip(&table) {
+                let c: f64 = which.iter().map(|&j| row[j]).sum();
+                if c < best.1 {
+                    best = (x.clone(), c);
+                }
+            }
+            polish(surface, data, which, best)
+        })
+        .collect()
+}
+
+/// The points a fit scans: 101 on the axis of a one-parameter surface, 21 × 21 on a grid.
+fn scan_points(surface: &Surface) -> Vec<Vec<f64>> {
+    let n = scan_size(surface);
+    if surface.dims() == 1 {
         (0..n).map(|i| vec![i as f64 / (n - 1) as f64]).collect()
     } else {
         (0..n * n).map(|k| vec![(k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64]).collect()
-    };
-    for x in scan {
-        let c = cost(&x);
-        if c < best_cost {
-            (best, best_cost) = (x, c);
-        }
     }
-    let h = 1.0 / (n - 1) as f64;
+}
+
+fn scan_size(surface: &Surface) -> usize {
+    if surface.dims() == 1 {
+        101
+    } else {
+        21
+    }
+}
+
+/// The polish of a scan's best point `(x, cost)` with Brent's method, coordinate by
+/// coordinate, within one scan interval of it.
+fn polish(
+    surface: &Surface,
+    data: Data<'_>,
+    which: &[usize],
+    (mut best, mut best_cost): (Vec<f64>, f64),
+) -> (Vec<f64>, f64) {
+    let cost = |x: &[f64]| data.nlpd(&surface.at(x), which);
+    let h = 1.0 / (scan_size(surface) - 1) as f64;
     for _sweep in 0..surface.dims() {
         for axis in 0..surface.dims() {
             let lo = (best[axis] - h).max(0.0);
@@ -525,22 +584,27 @@ pub fn profile_intervals(surface: &Surface, data: Data<'_>, which: &[usize], x: 
 
 /// Leave-one-specimen-out cross-validation of a surface: for every specimen, fit on the
 /// others and score the specimen's observations. Returns the held-out score of every
-/// observation and the held-out predictive of every observation.
-pub fn loso(surface: &Surface, data: Data<'_>, specimens: &[String]) -> (Vec<f64>, Vec<Predictive>) {
+/// observation, the held-out predictive of every observation and the fit on every
+/// observation (`x` and its summed score), all from one scan ([`fit_folds`]).
+pub fn loso(surface: &Surface, data: Data<'_>, specimens: &[String]) -> (Vec<f64>, Vec<Predictive>, (Vec<f64>, f64)) {
     let n = data.obs.len();
     let mut score = vec![0.0; n];
     let mut pred = vec![Predictive { mean: f64::NAN, sd: f64::NAN, dof: f64::NAN }; n];
-    for s in specimens {
-        let train: Vec<usize> = (0..n).filter(|&j| &data.obs[j].specimen != s).collect();
+    let all: Vec<usize> = (0..n).collect();
+    let trains: Vec<Vec<usize>> =
+        specimens.iter().map(|s| (0..n).filter(|&j| &data.obs[j].specimen != s).collect()).collect();
+    let folds: Vec<&[usize]> = trains.iter().map(Vec::as_slice).chain([all.as_slice()]).collect();
+    let mut fits = fit_folds(surface, data, &folds);
+    let whole = fits.pop().expect("the full-data fit");
+    for (s, (x, _)) in specimens.iter().zip(fits) {
         let test: Vec<usize> = (0..n).filter(|&j| &data.obs[j].specimen == s).collect();
-        let (x, _) = fit(surface, data, &train);
         let sims = surface.at(&x);
         for j in test {
             pred[j] = data.predictive(&sims, j);
             score[j] = data.score(&sims, j);
         }
     }
-    (score, pred)
+    (score, pred, whole)
 }
 
 /// AICc = 2k − 2 ln L + 2k(k+1)/(n − k − 1) (Hurvich & Tsai 1989) from the summed score at
@@ -626,7 +690,8 @@ mod tests {
         // 0.004° off against a predictive σ of 1.1°).
         assert!((x[0] - 0.6).abs() < 1e-3, "{x:?}");
         let specimens: Vec<String> = obs.iter().map(|o| o.specimen.clone()).collect();
-        let (_, pred) = loso(&s, data, &specimens);
+        let (_, pred, whole) = loso(&s, data, &specimens);
+        assert_eq!(whole, fit(&s, data, &all), "the full-data fit of the shared scan");
         for p in pred {
             assert!((p.mean - 12.4).abs() < 1e-3, "{p:?}");
         }

@@ -2,7 +2,7 @@
 //! out, [`super::fit::loso`]), its standard error against the baseline and its AICc at the
 //! full-data fit, used by the analysis and by every null data set of its calibration.
 
-use super::fit::{aicc, difference_se, fit, loso, per_specimen, Candidate, Data};
+use super::fit::{aicc, difference_se, loso, per_specimen, Candidate, Data};
 use super::predictive::{Predictive, Simulated};
 use serde::Serialize;
 
@@ -47,9 +47,8 @@ pub struct Ranked {
 
 /// Held-out error and full-data fit of one candidate.
 pub fn score(c: &Candidate, data: Data<'_>, specimens: &[String], index: usize, base: &[f64]) -> Ranked {
-    let all: Vec<usize> = (0..data.obs.len()).collect();
-    let (x, nlpd) = fit(&c.surface, data, &all);
-    let (scores, predictive) = loso(&c.surface, data, specimens);
+    // The full-data fit and the held-out fits share one scan of the surface.
+    let (scores, predictive, (x, nlpd)) = loso(&c.surface, data, specimens);
     let per = per_specimen(&scores, data.obs, specimens);
     let d: Vec<f64> = base.iter().zip(&per).map(|(b, c)| b - c).collect();
     let n = specimens.len().max(1);
