@@ -3,7 +3,7 @@
 //! the non-smooth solver.
 
 use anyhow::{bail, Result};
-use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm};
+use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm, RestRule};
 use drystone::dem::SolverKind;
 use drystone::loading::tilt::TiltParams;
 
@@ -67,6 +67,11 @@ impl SolverArgs {
 /// a study's `[solver.nscd]` table): each overrides [`NscdParams`]' default when given.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct NscdArgs {
+    /// What a step of a wall at rest does with `--solver nscd`: `certify` (the default: by
+    /// statics where the contacts carry the load inside the reduced Coulomb cones, without
+    /// sweeps) or `solve` (always sweep) (docs/nscd.md).
+    #[arg(long, value_name = "RULE", value_parser = parse_rest)]
+    pub nscd_rest: Option<RestRule>,
     /// NSGS convergence norm of `--solver nscd`: `adaptive` (the default: the velocity norm,
     /// and the quadratic norm too once a step has done --nscd-quad-after-solves local
     /// solves), `velocity` or `quad` (docs/nscd.md).
@@ -88,6 +93,15 @@ pub struct NscdArgs {
     pub nscd_max_iterations: Option<u32>,
 }
 
+/// `--nscd-rest NAME`.
+fn parse_rest(name: &str) -> Result<RestRule, String> {
+    match name {
+        "certify" => Ok(RestRule::Certify),
+        "solve" => Ok(RestRule::Solve),
+        other => Err(format!("{other:?}: expected certify or solve")),
+    }
+}
+
 /// `--nscd-norm NAME`.
 fn parse_norm(name: &str) -> Result<NsgsNorm, String> {
     match name {
@@ -102,6 +116,7 @@ impl NscdArgs {
     /// Some option was given.
     pub fn given(&self) -> bool {
         self.nscd_norm.is_some()
+            || self.nscd_rest.is_some()
             || self.nscd_tolerance.is_some()
             || self.nscd_quad_tolerance.is_some()
             || self.nscd_quad_after_solves.is_some()
@@ -112,6 +127,7 @@ impl NscdArgs {
     /// (`NscdParams::validate`, naming the key).
     pub fn apply(&self, base: NscdParams) -> NscdParams {
         NscdParams {
+            rest: self.nscd_rest.unwrap_or(base.rest),
             norm: self.nscd_norm.unwrap_or(base.norm),
             tolerance: self.nscd_tolerance.unwrap_or(base.tolerance),
             quad_tolerance: self.nscd_quad_tolerance.unwrap_or(base.quad_tolerance),

@@ -67,7 +67,7 @@ pub fn run_lateral_nscd(
         check_ranges(&[("resolution", resolution, resolution > 0.0 && resolution < 1.0, "in (0, 1)")]);
     r.map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
-    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     let reader = Simulation::new(layout, SolverParams::default());
     let b = layout.bounds();
     let (loads, loaded_faces) =

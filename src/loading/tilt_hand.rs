@@ -119,7 +119,7 @@ pub fn run_tilt_by_hand(
     hand.validate().map_err(TiltError::Parameter)?;
     tilt.validate().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
-    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     let dt = params.dt_s;
     if hand.ramp_s < 5.0 * dt {
         return Err(TiltError::Parameter(OutOfRange::new(

@@ -146,7 +146,7 @@ pub(crate) fn stood(base: &NscdSimulation, first: &Trial) -> Result<(), TiltErro
 /// [`TiltError::Parameter`] or [`TiltError::Nscd`] for a solver setting the rigid solver
 /// refuses.
 pub fn check_stands_rigid(layout: &Layout, params: &NscdParams) -> Result<(), TiltError> {
-    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     touches_something(&base, params)?;
     let inc_limit = TiltParams::default().collapse_increment_fraction * layout.bounds().extent().y;
     let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
@@ -218,7 +218,7 @@ pub(crate) fn released(
 pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) -> Result<TiltResult, TiltError> {
     tilt.validate().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
-    let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
+    let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     touches_something(&base, params)?;
     // The penalty engine's view of the same layout, for the monitors and the mechanism.
     let reader = Simulation::new(layout, SolverParams::default());

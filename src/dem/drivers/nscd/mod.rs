@@ -40,6 +40,7 @@ pub mod contacts;
 pub mod delassus;
 pub mod local;
 pub mod nsgs;
+pub mod rest;
 pub mod stepper;
 
 pub use contacts::ContactPoint;
@@ -64,6 +65,8 @@ pub struct NscdParams {
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).
     pub restitution: f64,
+    /// What a step of a wall at rest does \[`certify`\] (see [`RestRule`]).
+    pub rest: RestRule,
     /// NSGS convergence tolerance \[1e-7\], read by [`Self::norm`] (with the default
     /// [`NsgsNorm::Adaptive`]: the tolerance of its velocity norm, over g h).
     pub tolerance: f64,
@@ -133,6 +136,7 @@ impl Default for NscdParams {
             dt_s: 1e-3,
             theta: 0.5,
             restitution: 0.0,
+            rest: RestRule::Certify,
             tolerance: 1e-7,
             norm: NsgsNorm::Adaptive,
             quad_tolerance: 1e-4,
@@ -212,6 +216,30 @@ impl NscdParams {
             subcontact_subdivisions: 1,
             fan: crate::dem::contact::geometry::Fan::Vertex,
         }
+    }
+}
+
+/// What a step does when every block is at rest (slower than
+/// [`NscdParams::rest_velocity_ratio`] `× g h`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestRule {
+    /// Certify the rest by statics where the contacts carry the step's load inside the
+    /// reduced Coulomb cones (the step is then solved exactly, without sweeps; [`rest`]),
+    /// and sweep otherwise. The default. The tilting table's and the pushover's release
+    /// trials never certify (their verdict is the dynamics' own, [`NscdParams::for_trials`]).
+    Certify,
+    /// Always sweep.
+    Solve,
+}
+
+impl NscdParams {
+    /// These parameters for a release trial of the tilting table, the table rolled by hand
+    /// or the pushover: [`RestRule::Solve`] (a trial asks whether the released wall moves,
+    /// which the sweeps answer; statics would answer another question, the limit
+    /// analysis's).
+    pub fn for_trials(&self) -> NscdParams {
+        NscdParams { rest: RestRule::Solve, ..*self }
     }
 }
 

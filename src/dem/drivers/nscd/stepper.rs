@@ -38,7 +38,8 @@
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::nsgs::{self, BodyState, SweepPlan};
-use super::{NscdError, NscdParams};
+use super::rest::{Certificate, Statics};
+use super::{NscdError, NscdParams, RestRule};
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
@@ -59,6 +60,9 @@ pub struct NscdStep {
     /// the stopping rule read it (the quadratic norm; the adaptive one from the sweep that
     /// admits it); 0 otherwise.
     pub quad_residual: f64,
+    /// The step was certified at rest by statics ([`super::rest`]): no sweeps, every block
+    /// still at rest.
+    pub certified: bool,
     /// Contact points carrying an impulse at the end of the step.
     pub active: usize,
     /// Contacts were re-detected before the step.
@@ -102,7 +106,19 @@ pub struct NscdSimulation {
     iterations: u64,
     detections: u64,
     last: NscdStep,
+    /// The rest certificate of the current contact points, poses and dead load, with the
+    /// poses, gravity and external loads it was made at.
+    certificate: Option<(Certificate, Vec<Vec3>, Vec3, Vec<Vec3>, Vec<Vec3>)>,
+    /// Steps certified at rest, and cone programs solved for certificates.
+    certified_steps: u64,
+    certificate_programs: u64,
+    /// The step at which the last certificate was made (a new one waits
+    /// [`RECERTIFY_STEPS`] steps).
+    certificate_step: Option<u64>,
 }
+
+/// Steps between two attempts at a new rest certificate (each is two cone programs).
+const RECERTIFY_STEPS: u64 = 100;
 
 impl NscdSimulation {
     /// The simulation of a checked layout at rest in its reference configuration, gravity
@@ -154,6 +170,10 @@ impl NscdSimulation {
             iterations: 0,
             detections: 0,
             last: NscdStep::default(),
+            certificate: None,
+            certified_steps: 0,
+            certificate_programs: 0,
+            certificate_step: None,
         };
         sim.redetect()?;
         Ok(sim)
@@ -198,6 +218,12 @@ impl NscdSimulation {
     /// What the last step did.
     pub fn last_step(&self) -> NscdStep {
         self.last
+    }
+
+    /// Steps certified at rest by statics ([`super::rest`]) so far, and the cone programs
+    /// their certificates took.
+    pub fn certified_steps(&self) -> (u64, u64) {
+        (self.certified_steps, self.certificate_programs)
     }
 
     /// Magnitude of gravity, m/s².
@@ -323,14 +349,144 @@ impl NscdSimulation {
         self.load_state();
         self.build_rows();
         let a_g = base(self.time + h) * theta + base(self.time) * (1.0 - theta);
+        if self.params.rest == RestRule::Certify && self.at_rest() {
+            if let Some(step) = self.certified(a_g, h, redetected) {
+                return Ok(step);
+            }
+        }
         self.free_velocities(h, a_g);
         let (iterations, converged, residual, quad) = self.nsgs();
         self.advance(h, theta)?;
         let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
         self.iterations += u64::from(iterations);
-        self.last =
-            NscdStep { iterations, converged, residual_m_per_s: residual, quad_residual: quad, active, redetected };
+        self.last = NscdStep {
+            iterations,
+            converged,
+            residual_m_per_s: residual,
+            quad_residual: quad,
+            certified: false,
+            active,
+            redetected,
+        };
         Ok(self.last)
+    }
+
+    /// Every free block slower than [`NscdParams::rest_velocity_ratio`] `× g h`.
+    fn at_rest(&self) -> bool {
+        let v_rest = self.params.rest_velocity_ratio * self.gravity_magnitude * self.params.dt_s;
+        self.bodies.iter().all(|b| b.fixed || b.vel.norm() + b.angvel.norm() * b.radius <= v_rest)
+    }
+
+    /// The step of a wall at rest under the base acceleration `a_g`, certified by statics
+    /// ([`super::rest`]), or `None` (the step is then swept). The certificate is that of the
+    /// current contact points, poses and dead load; a new one is made when they changed,
+    /// at most once per [`RECERTIFY_STEPS`] steps.
+    fn certified(&mut self, a_g: Vec3, h: f64, redetected: bool) -> Option<NscdStep> {
+        let valid = !redetected
+            && self.certificate.as_ref().is_some_and(|(_, pos, g, f, t)| {
+                *g == self.gravity
+                    && *f == self.external_force
+                    && *t == self.external_torque
+                    && pos.len() == self.bodies.len()
+                    && pos.iter().zip(&self.bodies).all(|(p, b)| *p == b.pos)
+            });
+        if !valid {
+            if self.certificate_step.is_some_and(|s| self.steps < s + RECERTIFY_STEPS) {
+                return None;
+            }
+            self.certificate_step = Some(self.steps);
+            let pos = self.bodies.iter().map(|b| b.pos).collect();
+            self.certificate = Some((
+                Certificate::default(),
+                pos,
+                self.gravity,
+                self.external_force.clone(),
+                self.external_torque.clone(),
+            ));
+        }
+        let dead = self.dead_loads();
+        let mass: Vec<f64> = self.bodies.iter().map(|b| b.mass).collect();
+        let free: Vec<bool> = self.bodies.iter().map(|b| !b.fixed).collect();
+        let held_y: Vec<bool> = self.inv_m.iter().zip(&self.bodies).map(|(m, b)| !b.fixed && m.y == 0.0).collect();
+        let statics = Statics {
+            rows: &self.rows,
+            mass: &mass,
+            free: &free,
+            held_y: &held_y,
+            dead: &dead,
+            length_scale: self.radius.iter().fold(0.0, |m, r| m.max(*r)),
+            gravity: self.gravity_magnitude,
+            closing: self.params.theta * h,
+            gap_tolerance: super::rest::GAP_TOLERANCE,
+        };
+        let (cert, ..) = self.certificate.as_mut()?;
+        let before = cert.programs;
+        let forces = cert.forces(&statics, a_g);
+        self.certificate_programs += u64::from(cert.programs - before);
+        let forces = forces?;
+        // The impulses must lie in the full cones (they lie in the reduced ones to the
+        // program's tolerance) and act only at closed points.
+        let admissible = forces.iter().zip(&self.rows).all(|(f, r)| {
+            *f == Vec3::zeros()
+                || (r.bias * self.params.theta * h <= super::rest::GAP_TOLERANCE
+                    && f.x >= 0.0
+                    && (f.y * f.y + f.z * f.z).sqrt() <= r.mu * f.x)
+        });
+        if !admissible {
+            return None;
+        }
+        for (c, f) in self.points.iter_mut().zip(&forces) {
+            c.impulse = f * h;
+        }
+        for b in &mut self.bodies {
+            b.vel = Vec3::zeros();
+            b.angvel = Vec3::zeros();
+        }
+        self.time += h;
+        self.steps += 1;
+        self.certified_steps += 1;
+        let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
+        self.last = NscdStep {
+            iterations: 0,
+            converged: true,
+            residual_m_per_s: 0.0,
+            quad_residual: 0.0,
+            certified: true,
+            active,
+            redetected,
+        };
+        Some(self.last)
+    }
+
+    /// The dead load of every body at rest: weight, external loads, end-restraint springs
+    /// and ropes at the current poses (N, and N·m about the centroid; table frame).
+    fn dead_loads(&mut self) -> Vec<(Vec3, Vec3)> {
+        if !self.ropes.is_empty() {
+            self.rope_force.fill(Vec3::zeros());
+            self.rope_torque.fill(Vec3::zeros());
+            for rope in &self.ropes {
+                rope.add_forces(&self.bodies, &mut self.rope_force, &mut self.rope_torque);
+            }
+        }
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(k, b)| {
+                if b.fixed {
+                    return (Vec3::zeros(), Vec3::zeros());
+                }
+                let mut f = self.gravity * b.mass + self.external_force[k];
+                if let Some(kk) = self.spring[k] {
+                    f.y -= kk * (b.pos.y - b.pos0.y);
+                }
+                let mut t = self.external_torque[k];
+                if !self.ropes.is_empty() {
+                    f += self.rope_force[k];
+                    t += self.rope_torque[k];
+                }
+                (f, t)
+            })
+            .collect()
     }
 
     /// Copies the bodies' poses, velocities and inverse inertias into the work arrays.
