@@ -578,10 +578,12 @@ fn settings() -> DefaultSettings<f64> {
 
 /// The kinematic program's settings: gap and feasibility to 1e-10 (its λ is the dual
 /// objective, which at clarabel's 1e-8 can sit 1e-6 from the optimum on ill-conditioned
-/// walls; one or two more iterations bring it within 1e-9), and no iterative refinement
-/// (the factorisation of its smaller system is accurate enough at that tolerance).
+/// walls; one or two more iterations bring it within 1e-9), no iterative refinement
+/// (the factorisation of its smaller system is accurate enough at that tolerance), and
+/// steps of up to [`KINEMATIC_STEP_FRACTION`] of the way to the cone boundary.
 fn kinematic_settings() -> DefaultSettings<f64> {
     DefaultSettings {
+        max_step_fraction: KINEMATIC_STEP_FRACTION,
         tol_feas: KINEMATIC_TOLERANCE,
         tol_gap_abs: KINEMATIC_TOLERANCE,
         tol_gap_rel: KINEMATIC_TOLERANCE,
@@ -592,3 +594,9 @@ fn kinematic_settings() -> DefaultSettings<f64> {
 
 /// Clarabel's feasibility and gap tolerances for the kinematic program.
 const KINEMATIC_TOLERANCE: f64 = 1e-10;
+
+/// The largest fraction of the step to the cone boundary the interior-point method takes in
+/// the kinematic program (clarabel's default 0.99). Closer to the boundary, it ends in
+/// fewer iterations: 351 against 375 on 32 generated walls (30 SBL, one CBL, one SBR), every
+/// λ the same within 1e-9 relative.
+const KINEMATIC_STEP_FRACTION: f64 = 0.999;
