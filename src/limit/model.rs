@@ -38,6 +38,7 @@
 //! Forces are scaled by the total weight of the free blocks and moments by that weight times
 //! a length (the largest block radius) so that the program is of order one.
 
+use super::csc::csc_from_entries;
 use crate::dem::{Simulation, SolverParams};
 use crate::geometry::polygon::plane_basis;
 use crate::layout::{EndRestraint, Layout};
@@ -406,7 +407,7 @@ impl Model {
             row += 3;
             cones.push(SecondOrderConeT(3));
         }
-        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, ri, ci, vv);
         let p = CscMatrix::zeros((nvar, nvar));
         let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, kinematic_settings()).ok()?;
         solver.solve();
@@ -528,7 +529,7 @@ impl Model {
                 cones.push(SecondOrderConeT(3));
             }
         }
-        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, ri, ci, vv);
         // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
         // unique (the least-squares one among the optimal), so that the non-associative
         // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
