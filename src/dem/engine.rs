@@ -222,12 +222,48 @@ impl Simulation {
             b.vel = d / dt;
             b.angvel = w / dt;
         }
-        self.work.contact_pass(&mut self.state, &self.params);
+        self.jump_contact_pass();
         for b in &mut self.state.bodies {
             b.vel = Vec3::zeros();
             b.angvel = Vec3::zeros();
         }
         r
+    }
+
+    /// The contact pass of a jump, compiled per instruction set as the step is (the widest
+    /// one this CPU runs; the same bits as the baseline's, see [`Simulation::step`]).
+    fn jump_contact_pass(&mut self) {
+        match Isa::best() {
+            // SAFETY: `Isa::best` returns only a variant this CPU supports.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { self.contact_pass_avx512() },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { self.contact_pass_avx2() },
+            _ => {
+                self.work.contact_pass(&mut self.state, &self.params);
+            }
+        }
+    }
+
+    /// The contact pass compiled with AVX-512.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F, AVX-512VL, AVX2 and FMA ([`Isa::Avx512`] available).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx2,fma")]
+    unsafe fn contact_pass_avx512(&mut self) {
+        self.work.contact_pass(&mut self.state, &self.params);
+    }
+
+    /// The contact pass compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 and FMA ([`Isa::Avx2`] available).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn contact_pass_avx2(&mut self) {
+        self.work.contact_pass(&mut self.state, &self.params);
     }
 
     /// The out-of-balance statistics of the state [`Simulation::predict`] has just placed

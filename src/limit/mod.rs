@@ -40,6 +40,7 @@
 //! margin at rest, open or closed; edge and vertex contacts are the DEM's nominal thin
 //! rectangles ([`crate::dem::SolverParams::degenerate_width_fraction`]).
 
+mod csc;
 pub mod flow;
 pub mod mechanism;
 pub(crate) mod model;

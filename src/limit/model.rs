@@ -38,6 +38,7 @@
 //! Forces are scaled by the total weight of the free blocks and moments by that weight times
 //! a length (the largest block radius) so that the program is of order one.
 
+use super::csc::csc_from_entries;
 use crate::dem::{Simulation, SolverParams};
 use crate::geometry::polygon::plane_basis;
 use crate::layout::{EndRestraint, Layout};
@@ -406,7 +407,7 @@ impl Model {
             row += 3;
             cones.push(SecondOrderConeT(3));
         }
-        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, ri, ci, vv);
         let p = CscMatrix::zeros((nvar, nvar));
         let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, kinematic_settings()).ok()?;
         solver.solve();
@@ -528,7 +529,7 @@ impl Model {
                 cones.push(SecondOrderConeT(3));
             }
         }
-        let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, ri, ci, vv);
         // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
         // unique (the least-squares one among the optimal), so that the non-associative
         // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
@@ -578,10 +579,12 @@ fn settings() -> DefaultSettings<f64> {
 
 /// The kinematic program's settings: gap and feasibility to 1e-10 (its λ is the dual
 /// objective, which at clarabel's 1e-8 can sit 1e-6 from the optimum on ill-conditioned
-/// walls; one or two more iterations bring it within 1e-9), and no iterative refinement
-/// (the factorisation of its smaller system is accurate enough at that tolerance).
+/// walls; one or two more iterations bring it within 1e-9), no iterative refinement
+/// (the factorisation of its smaller system is accurate enough at that tolerance), and
+/// steps of up to [`KINEMATIC_STEP_FRACTION`] of the way to the cone boundary.
 fn kinematic_settings() -> DefaultSettings<f64> {
     DefaultSettings {
+        max_step_fraction: KINEMATIC_STEP_FRACTION,
         tol_feas: KINEMATIC_TOLERANCE,
         tol_gap_abs: KINEMATIC_TOLERANCE,
         tol_gap_rel: KINEMATIC_TOLERANCE,
@@ -592,3 +595,9 @@ fn kinematic_settings() -> DefaultSettings<f64> {
 
 /// Clarabel's feasibility and gap tolerances for the kinematic program.
 const KINEMATIC_TOLERANCE: f64 = 1e-10;
+
+/// The largest fraction of the step to the cone boundary the interior-point method takes in
+/// the kinematic program (clarabel's default 0.99). Closer to the boundary, it ends in
+/// fewer iterations: 351 against 375 on 32 generated walls (30 SBL, one CBL, one SBR), every
+/// λ the same within 1e-9 relative.
+const KINEMATIC_STEP_FRACTION: f64 = 0.999;

@@ -12,7 +12,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, Par, Side};
 use nalgebra::Matrix6;
 use std::cell::RefCell;
@@ -57,27 +57,35 @@ pub(super) struct Factor {
     values: Vec<f64>,
 }
 
-thread_local! {
-    /// The symbolic factorization of the last sparsity pattern factorized on this thread
-    /// (column pointers, row indices): the pattern changes only when contacts are
-    /// re-detected. A cache hit gives the same ordering as a fresh analysis, so the results
-    /// never depend on it.
-    static SYMBOLIC: RefCell<Option<(Vec<usize>, Vec<usize>, Rc<SymbolicCholesky<usize>>)>> =
-        const { RefCell::new(None) };
+/// The assembly pattern of `K` on this thread: the (row, column) of every entry in the
+/// order the assembly lists them, the compressed sparse column pattern they make with the
+/// order to read the values in ([`Argsort`]: duplicates summed in list order, as
+/// [`SparseColMat::try_new_from_triplets`] sums them), and the pattern's symbolic Cholesky
+/// factorization. The pattern changes only when contacts are re-detected; a hit gives
+/// the same matrix and the same ordering as a fresh analysis, bit for bit, so the results
+/// never depend on it.
+struct Pattern {
+    entries: Vec<Pair<usize, usize>>,
+    matrix: SymbolicSparseColMat<usize>,
+    argsort: Argsort<usize>,
+    cholesky: Rc<SymbolicCholesky<usize>>,
 }
 
-/// The symbolic Cholesky factorization (approximate minimum degree ordering, simplicial) of
-/// the pattern of `a`, from the thread's cache when the pattern is the last one.
-fn symbolic_of(a: &SparseColMat<usize, f64>) -> Result<Rc<SymbolicCholesky<usize>>, String> {
-    let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
-    if let Some(hit) = SYMBOLIC.with_borrow(|c| {
-        c.as_ref().filter(|(p, r, _)| p.as_slice() == cp && r.as_slice() == ri).map(|(_, _, s)| Rc::clone(s))
-    }) {
+thread_local! {
+    /// The last pattern factorized on this thread.
+    static PATTERN: RefCell<Option<Rc<Pattern>>> = const { RefCell::new(None) };
+}
+
+/// The pattern of the entries listed, from the thread's cache when it is the last one.
+fn pattern_of(n: usize, entries: &[Pair<usize, usize>]) -> Result<Rc<Pattern>, String> {
+    if let Some(hit) = PATTERN.with_borrow(|c| c.as_ref().filter(|p| p.entries == entries).map(Rc::clone)) {
         return Ok(hit);
     }
-    let symbolic = Rc::new(
+    let (matrix, argsort) =
+        SymbolicSparseColMat::try_new_from_indices(n, n, entries).map_err(|e| format!("assembly: {e:?}"))?;
+    let cholesky = Rc::new(
         factorize_symbolic_cholesky(
-            a.symbolic(),
+            matrix.as_ref(),
             Side::Lower,
             SymmetricOrdering::Amd,
             CholeskySymbolicParams {
@@ -87,8 +95,9 @@ fn symbolic_of(a: &SparseColMat<usize, f64>) -> Result<Rc<SymbolicCholesky<usize
         )
         .map_err(|e| format!("symbolic Cholesky factorization: {e:?}"))?,
     );
-    SYMBOLIC.with_borrow_mut(|c| *c = Some((cp.to_vec(), ri.to_vec(), Rc::clone(&symbolic))));
-    Ok(symbolic)
+    let pattern = Rc::new(Pattern { entries: entries.to_vec(), matrix, argsort, cholesky });
+    PATTERN.with_borrow_mut(|c| *c = Some(Rc::clone(&pattern)));
+    Ok(pattern)
 }
 
 impl Factor {
@@ -116,7 +125,12 @@ impl Factor {
             ));
         }
         let is_held = |k: usize, r: usize| dofs.held[k] && r == 1;
-        let mut entries = Vec::with_capacity(21 * nb + 36 * off.len());
+        let cap = 21 * nb + 36 * off.len();
+        let (mut entries, mut vals) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+        let mut push = |row: usize, col: usize, v: f64| {
+            entries.push(Pair { row, col });
+            vals.push(v);
+        };
         for k in 0..nb {
             let f0 = dofs.first[k];
             if f0 == usize::MAX {
@@ -128,14 +142,14 @@ impl Factor {
             }
             for r in 0..6 {
                 if is_held(k, r) {
-                    entries.push(Triplet::new(f0 + r, f0 + r, 1.0));
+                    push(f0 + r, f0 + r, 1.0);
                     continue;
                 }
                 let floor = if r < 3 { tmax } else { rmax } * 1e-9;
-                entries.push(Triplet::new(f0 + r, f0 + r, kk[(r, r)] * (1.0 + 1e-6) + floor));
+                push(f0 + r, f0 + r, kk[(r, r)] * (1.0 + 1e-6) + floor);
                 for c in 0..r {
                     if !is_held(k, c) {
-                        entries.push(Triplet::new(f0 + r, f0 + c, kk[(r, c)]));
+                        push(f0 + r, f0 + c, kk[(r, c)]);
                     }
                 }
             }
@@ -151,14 +165,15 @@ impl Factor {
                         (fb + r, fa + c, kab[(c, r)], is_held(*b, r), is_held(*a, c))
                     };
                     if !(hr || hc) {
-                        entries.push(Triplet::new(row, col, v));
+                        push(row, col, v);
                     }
                 }
             }
         }
-        let a = SparseColMat::<usize, f64>::try_new_from_triplets(dofs.n, dofs.n, &entries)
+        let pattern = pattern_of(dofs.n, &entries)?;
+        let a = SparseColMat::new_from_argsort(pattern.matrix.clone(), &pattern.argsort, &vals)
             .map_err(|e| format!("assembly: {e:?}"))?;
-        let symbolic = symbolic_of(&a)?;
+        let symbolic = Rc::clone(&pattern.cholesky);
         let mut values = vec![0.0f64; symbolic.len_val()];
         let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()))
             .map_err(|e| format!("workspace: {e:?}"))?;
