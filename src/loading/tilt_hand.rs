@@ -49,8 +49,10 @@
 //! (`last_stable_deg`) is the table's angle when the increment's motion first passed a
 //! fifth of the per-increment displacement (the onset the operator sees),
 //! `first_unstable_deg` the angle when a criterion was met. The last increment stops at
-//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is read as by the rigid tilt, from
-//! the state at the start of the collapsing increment.
+//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is
+//! read as by the rigid tilt, from the state at the start of the collapsing increment (its
+//! load-carrying joints from that state's impulses; for the first increment, those of the
+//! check at α = 0).
 //!
 //! Rigid joints, as [`super::tilt_nscd::run_tilt_nscd`]: the layout's Kn and Ks are not
 //! used. Tested against the sliding block's closed form under a stop
@@ -62,7 +64,7 @@ pub use super::tilt::hand::{effective_tilt_deg, HandTilt, MAX_STEPS};
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use super::tilt_nscd::{
-    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something,
+    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something, TrialLimits,
 };
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
@@ -147,7 +149,9 @@ pub fn run_tilt_by_hand(
     let width = layout.bounds().extent().y;
     let inc_limit = tilt.collapse_increment_fraction * width;
     // The wall stands as given: the rigid tilt's check at α = 0.
-    let first = released(&base, &base, inc_limit, |sim| sim.set_tilt(0.0)).map_err(tilt_error)?;
+    let total_limit = tilt.collapse_displacement_fraction * width;
+    let limits = TrialLimits::of(layout, &base, inc_limit, total_limit);
+    let first = released(&base, &base, &limits, |sim| sim.set_tilt(0.0)).map_err(tilt_error)?;
     stood(&base, &first)?;
 
     let reader = Simulation::new(layout, SolverParams::default());
@@ -169,7 +173,6 @@ pub fn run_tilt_by_hand(
     }];
     let (mut last_stable, mut first_unstable, mut reason) = (0.0, None, None);
     let mut mechanism = Mechanism::none();
-    let total_limit = tilt.collapse_displacement_fraction * width;
     let mut k = 0u32;
     loop {
         let start_deg = f64::from(k) * hand.increment_deg;
@@ -209,7 +212,11 @@ pub fn run_tilt_by_hand(
                 last_stable = onset.unwrap_or(alpha_now);
                 first_unstable = Some(alpha_now);
                 reason = why;
-                mechanism = read_mechanism(&reader, &at_start, &at_start, &sim, inc_limit);
+                // The load-carrying joints from the impulses of the state at the start of
+                // the increment; the first increment starts from the reference, never
+                // stepped, whose impulses are those of the check at α = 0.
+                let carrying = if k == 0 { &first.sim } else { &at_start };
+                mechanism = read_mechanism(&reader, &at_start, carrying, &sim, inc_limit);
                 collapsed = true;
                 break;
             }
