@@ -77,7 +77,8 @@ pub fn run_lateral_nscd(
     let resultant_n = force.iter().fold(Vec3::zeros(), |s, f| s + f);
     let weight_n = base.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * base.gravity_magnitude();
     let inc_limit = 0.05 * b.extent().y;
-    let limits = TrialLimits::of(layout, &base, inc_limit, TiltParams::default().collapse_displacement_fraction * b.extent().y);
+    let limits =
+        TrialLimits::of(layout, &base, inc_limit, TiltParams::default().collapse_displacement_fraction * b.extent().y);
     let scaled =
         |l: f64| (force.iter().map(|f| f * l).collect::<Vec<_>>(), torque.iter().map(|t| t * l).collect::<Vec<_>>());
     let (mut trials, mut steps) = (0usize, 0u64);
