@@ -132,3 +132,56 @@ fn the_critical_step_includes_the_rope_s_geometric_stiffness() {
     let lambda = k.body_eigenvalues()[0];
     assert!(lambda >= 2.0 * t0 / (s * m) * (1.0 - 1e-9), "λ {lambda} below 2 T₀/(s m) = {}", 2.0 * t0 / (s * m));
 }
+
+/// The generated small wall with its ends held (`tests/discrepancy/walls/small_restrained.toml`,
+/// seed 7), with `effect` applied (none: the rigid ends).
+fn small_wall(effect: Option<&str>) -> Layout {
+    use drystone::effects::{effect_rng, Library, Stage, REFERENCE_COURSE_HEIGHT_M};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let wall =
+        drystone::generator::Wall::from_file(&root.join("tests/discrepancy/walls/small_restrained.toml")).unwrap();
+    let mut l = drystone::generator::generate(&wall, 7, 0).unwrap().check().unwrap();
+    if let Some(e) = effect {
+        let mut rng = effect_rng(0, 0, "test", "e");
+        let e = Library::builtin().parse(e, REFERENCE_COURSE_HEIGHT_M).unwrap();
+        for stage in [Stage::Layout, Stage::JointLaw, Stage::Restraints] {
+            e.apply_stage(stage, &mut l, &[], &mut rng).unwrap();
+        }
+    }
+    l
+}
+
+/// `end_rope` across its documented ranges (T₀ 50–1500 N, EA 1e4–2e5 N) on a wall whose
+/// ends are held: a rope can only hold the wall more than free ends and less than rigid
+/// ones, and a tighter rope more than a slacker one, by either solver. Under nscd the rope
+/// acts from the middle of its range (it used to give the free wall's row there).
+#[test]
+fn end_rope_holds_a_wall_between_free_and_rigid_ends_by_both_solvers() {
+    let tilt = TiltParams { step_deg: 1.0, resolution_deg: 0.25, ..TiltParams::default() };
+    let mut free = small_wall(None);
+    free.end_restraints.clear();
+    let rigid = small_wall(None);
+    let res = tilt.resolution_deg;
+    for solver in ["penalty", "nscd"] {
+        let run = |l: &Layout| match solver {
+            "penalty" => run_tilt(l, SolverParams::default(), &tilt).unwrap().collapse_angle_deg(),
+            _ => run_tilt_nscd(l, &NscdParams::default(), &tilt).unwrap().collapse_angle_deg(),
+        };
+        let (lo, hi) = (run(&free), run(&rigid));
+        eprintln!("{solver}: free ends {lo:.3}°, rigid ends {hi:.3}°");
+        assert!(hi > lo + 4.0 * res, "{solver}: the case needs the ends to matter");
+        for ea in [1e4, 2e5] {
+            let mut last = lo - res;
+            for t0 in [50.0, 300.0, 1500.0] {
+                let got = run(&small_wall(Some(&format!("end_rope={t0}:{ea}"))));
+                eprintln!("{solver}: end_rope T0 {t0} N, EA {ea} N: {got:.3}°");
+                assert!(got >= last - 2.0 * res, "{solver} T0 {t0} EA {ea}: {got}° below {last}° of a slacker rope");
+                assert!(got >= lo - 2.0 * res && got <= hi + 2.0 * res, "{solver}: {got}° outside [{lo}, {hi}]");
+                if t0 == 300.0 && ea == 2e5 {
+                    assert!(got > lo + 2.0 * res, "{solver}: a rope of {t0} N acts ({got}° against free {lo}°)");
+                }
+                last = got;
+            }
+        }
+    }
+}
