@@ -123,28 +123,7 @@ pub fn run_tilt_by_hand(
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, params).map_err(tilt_error)?;
     let dt = params.dt_s;
-    if hand.ramp_s < 5.0 * dt {
-        return Err(TiltError::Parameter(OutOfRange::new(
-            "ramp_s",
-            hand.ramp_s,
-            "at least 5 time steps of the solver (5 dt_s): a shorter start or stop is not resolved",
-        )));
-    }
-    let increments_needed = (tilt.max_angle_deg / hand.increment_deg).ceil().max(1.0);
-    let steps_needed = increments_needed * (hand.roll_s() + hand.hold_s) / dt;
-    if steps_needed > MAX_STEPS {
-        // Named by what makes the run long: the holds or the rolls.
-        let (key, value) = if hand.hold_s >= hand.roll_s() {
-            ("hold_s", hand.hold_s)
-        } else {
-            ("rate_deg_per_s", hand.rate_deg_per_s)
-        };
-        return Err(TiltError::Parameter(OutOfRange::new(
-            key,
-            value,
-            "such that the run takes at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + ramp_s + hold_s) / dt_s)",
-        )));
-    }
+    hand.check_run(dt, tilt.max_angle_deg).map_err(TiltError::Parameter)?;
     touches_something(&base, params)?;
     let width = layout.bounds().extent().y;
     let inc_limit = tilt.collapse_increment_fraction * width;

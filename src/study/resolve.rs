@@ -114,6 +114,9 @@ impl StudySpec {
             }
             let mut group = resolve_group(g, dir, &points, &invalid)?;
             group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
+            if self.solver.kind == crate::dem::SolverKind::Limit {
+                self.check_limit_ropes(g, &group, &invalid)?;
+            }
             groups.push(group);
         }
         files.extend(groups.iter().flat_map(group_files));
@@ -201,7 +204,33 @@ impl StudySpec {
         if self.solver.kind == crate::dem::SolverKind::Nscd {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
         }
+        if let Some(hand) = &self.tilt.by_hand {
+            // What `drystone tilt --by-hand` refuses before it runs, refused before any
+            // realization does.
+            hand.check_run(self.solver.nscd.dt_s, self.tilt.max_angle_deg).map_err(range("tilt.by_hand"))?;
+        }
         Ok(())
+    }
+
+    /// Limit analysis refuses a layout with ropes (`LimitError::Ropes`, as `drystone tilt
+    /// --solver limit` does): a group whose realization 0 has ropes is refused here, before
+    /// any realization runs, naming the effect that adds them (the group's own, then the
+    /// study's `end_rope`) or else the group's effects.
+    fn check_limit_ropes(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
+        let Some(wall) = group.walls.first() else { return Ok(()) };
+        let Ok((_, layout)) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects) else { return Ok(()) };
+        if layout.ropes.is_empty() {
+            return Ok(());
+        }
+        let key = if g.effects.contains_key("end_rope") {
+            format!("groups[{}].effects.end_rope", g.name)
+        } else if self.effects.contains_key("end_rope") {
+            "effects.end_rope".to_string()
+        } else {
+            format!("groups[{}].effects", g.name)
+        };
+        let e = crate::limit::LimitError::Ropes { count: layout.ropes.len() };
+        Err(invalid.at(&key, e.to_string()))
     }
 
     /// The number of sweep points and work items against the limits of [`size`], before

@@ -83,6 +83,40 @@ impl HandTilt {
         )
     }
 
+    /// Checks the motion against the solver's time step `dt_s` (s) and the largest tilt
+    /// `max_angle_deg` (degrees): a start or a stop of at least 5 steps, and a run of at
+    /// most [`MAX_STEPS`] steps (`⌈max_angle_deg / increment_deg⌉ × (roll_s + hold_s) /
+    /// dt_s`). The fields must be valid ([`Self::validate`]).
+    ///
+    /// # Errors
+    /// [`OutOfRange`] naming `ramp_s` (shorter than 5 steps), or `hold_s` or
+    /// `rate_deg_per_s`, whichever makes the run long, with the bound.
+    pub fn check_run(&self, dt_s: f64, max_angle_deg: f64) -> Result<(), OutOfRange> {
+        if self.ramp_s < 5.0 * dt_s {
+            return Err(OutOfRange::new(
+                "ramp_s",
+                self.ramp_s,
+                "at least 5 time steps of the solver (5 dt_s): a shorter start or stop is not resolved",
+            ));
+        }
+        let increments_needed = (max_angle_deg / self.increment_deg).ceil().max(1.0);
+        let steps_needed = increments_needed * (self.roll_s() + self.hold_s) / dt_s;
+        if steps_needed > MAX_STEPS {
+            // Named by what makes the run long: the holds or the rolls.
+            let (key, value) = if self.hold_s >= self.roll_s() {
+                ("hold_s", self.hold_s)
+            } else {
+                ("rate_deg_per_s", self.rate_deg_per_s)
+            };
+            return Err(OutOfRange::new(
+                key,
+                value,
+                "such that the run takes at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + ramp_s + hold_s) / dt_s)",
+            ));
+        }
+        Ok(())
+    }
+
     /// Duration of one increment's roll (start, constant speed, stop), s: `Δ / ω +
     /// ramp_s` (the trapezoid of speeds covers the increment).
     pub fn roll_s(&self) -> f64 {

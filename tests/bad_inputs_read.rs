@@ -1,0 +1,91 @@
+//! Hostile studies refused when they are read: every value the command line refuses
+//! (`drystone tilt --by-hand`, `drystone tilt --solver limit`, the rope, the section
+//! sizes) is refused by `drystone run` before any realization runs, with exit status 2
+//! and a message naming the file, the key and the value; never a column of `blew_up`
+//! rows. `CORPUS_CASES` counts them.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The number of cases of this corpus.
+const CORPUS_CASES: usize = 4;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A study of `body` (its tables after `protocol`) on `wall` (a path under the crate
+/// root), written to `dir/name.toml`.
+fn study(dir: &Path, name: &str, wall: &str, body: &str) -> PathBuf {
+    let text = format!(
+        "version = 1\nname = \"{name}\"\nseed = 7\nrealizations = 2\nprotocol = \"tilt\"\n{body}\n\n[[groups]]\nname = \"G\"\nwall = \"{}\"\n",
+        root().join(wall).display()
+    );
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Runs `drystone run study --out dir/out-NAME`; the exit status and stderr.
+fn run(study: &Path, dir: &Path) -> (i32, String, PathBuf) {
+    let out = dir.join(format!("out-{}", study.file_stem().unwrap().to_str().unwrap()));
+    let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["run", study.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stderr).into_owned(), out)
+}
+
+fn refused(case: &str, study: &Path, dir: &Path, fragments: &[&str], count: &mut usize) {
+    let (code, err, out) = run(study, dir);
+    assert_eq!(code, 2, "{case}: exit {code}, {err}");
+    for f in fragments {
+        assert!(err.contains(f), "{case}: {f:?} not in {err}");
+    }
+    assert!(err.contains(study.file_name().unwrap().to_str().unwrap()), "{case}: the file is named: {err}");
+    assert!(!err.contains("panicked"), "{case}: {err}");
+    // Nothing ran: no journal of realizations.
+    let journal = out.join("journal.jsonl");
+    let rows = std::fs::read_to_string(&journal).map(|t| t.lines().count()).unwrap_or(0);
+    assert_eq!(rows, 0, "{case}: {rows} realizations ran");
+    *count += 1;
+}
+
+const TINY: &str = "tests/studies/walls/tiny_running_bond.toml";
+const RESTRAINED: &str = "tests/discrepancy/walls/small_restrained.toml";
+
+#[test]
+fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
+    let dir = std::env::temp_dir().join(format!("drystone-bad-read-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut count = 0;
+    let nscd = "[solver]\nkind = \"nscd\"\n";
+    // The hand-rolled table: a run of about 1e8 steps, a stop of 2 ms (two steps of the
+    // default 1 ms), a stop under 5 steps of a longer `dt_s`.
+    let s = study(
+        &dir,
+        "hold_600",
+        TINY,
+        &format!("{nscd}\n[tilt]\nby_hand = {{ increment_deg = 0.5, rate_deg_per_s = 0.5, hold_s = 600.0 }}"),
+    );
+    refused("increments of 0.5° held 600 s", &s, &dir, &["tilt.by_hand.hold_s", "600", "2e7"], &mut count);
+    let s = study(&dir, "ramp_2ms", TINY, &format!("{nscd}\n[tilt]\nby_hand = {{ ramp_s = 0.002 }}"));
+    refused("a stop of 2 ms", &s, &dir, &["tilt.by_hand.ramp_s", "0.002", "5 time steps"], &mut count);
+    let s = study(
+        &dir,
+        "ramp_under_5_steps",
+        TINY,
+        "[solver]\nkind = \"nscd\"\nnscd = { dt_s = 0.01 }\n\n[tilt]\nby_hand = { ramp_s = 0.04 }",
+    );
+    refused("a stop of 4 steps of dt_s", &s, &dir, &["tilt.by_hand.ramp_s", "0.04", "5 time steps"], &mut count);
+    // Limit analysis of a wall held by ropes, refused as `drystone tilt --solver limit` does.
+    let s = study(
+        &dir,
+        "limit_end_rope",
+        RESTRAINED,
+        "[solver]\nkind = \"limit\"\n\n[effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }",
+    );
+    refused("limit analysis with end_rope", &s, &dir, &["effects.end_rope", "rope restraint"], &mut count);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(count, CORPUS_CASES);
+}
