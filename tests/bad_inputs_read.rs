@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 4;
+const CORPUS_CASES: usize = 8;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -86,6 +86,36 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
         "[solver]\nkind = \"limit\"\n\n[effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }",
     );
     refused("limit analysis with end_rope", &s, &dir, &["effects.end_rope", "rope restraint"], &mut count);
+    // Section sizes below the thinnest piece: refused by name by `generate` and when a
+    // study is read, never a layout grown past memory or called a generator bug.
+    let tiny = std::fs::read_to_string(root().join(TINY)).unwrap();
+    for (name, section, key, value) in [
+        ("leaf_1e-9", "leaf_width_m = 1e-9", "section.leaf_width_m", "0.000000001"),
+        ("leaf_1e-4", "leaf_width_m = 1e-4", "section.leaf_width_m", "0.0001"),
+        ("hearting_1e-9", "leaf_width_m = 0.02\nhearting_stone_m = 1e-9", "section.hearting_stone_m", "0.000000001"),
+    ] {
+        let wall = dir.join(format!("{name}.toml"));
+        std::fs::write(&wall, format!("{tiny}\n[section]\nleaves = 2\n{section}\n")).unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .args(["generate", wall.to_str().unwrap(), "--seed", "1", "--out"])
+            .arg(dir.join(format!("{name}.json")))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert_eq!(o.status.code(), Some(2), "generate {name}: {err}");
+        assert!(err.contains(key) && err.contains(value), "generate {name}: {err}");
+        assert!(!err.contains("generator bug"), "{name}: {err}");
+        if name == "hearting_1e-9" {
+            let text = format!(
+                "version = 1\nname = \"{name}\"\nseed = 7\nrealizations = 2\nprotocol = \"tilt\"\n\n[[groups]]\nname = \"G\"\nwall = \"{}\"\n",
+                wall.display()
+            );
+            let s = dir.join(format!("study_{name}.toml"));
+            std::fs::write(&s, text).unwrap();
+            refused("a study of hearting pieces of 1e-9 m", &s, &dir, &[key, value], &mut count);
+        }
+        count += 1;
+    }
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(count, CORPUS_CASES);
 }

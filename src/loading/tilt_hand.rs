@@ -70,7 +70,6 @@ use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
-use crate::range::OutOfRange;
 use std::time::Instant;
 
 /// Sets the weight and the inertial forces of the rotating table frame (module doc) on
