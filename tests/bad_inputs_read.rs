@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 8;
+const CORPUS_CASES: usize = 9;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -86,6 +86,17 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
         "[solver]\nkind = \"limit\"\n\n[effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }",
     );
     refused("limit analysis with end_rope", &s, &dir, &["effects.end_rope", "rope restraint"], &mut count);
+    // `table_kick` (the quasi-static equivalent of the stops' kicks) with the table rolled by
+    // hand (which runs the kicks and does not read it): refused by name, not dropped.
+    let s = study(
+        &dir,
+        "hand_table_kick",
+        TINY,
+        &format!(
+            "{nscd}\n[tilt]\nby_hand = {{ increment_deg = 10.0 }}\n\n[effects]\ntable_kick = {{ overshoot_deg = 1.0 }}"
+        ),
+    );
+    refused("table_kick with by_hand", &s, &dir, &["effects.table_kick", "by_hand"], &mut count);
     // Section sizes below the thinnest piece: refused by name by `generate` and when a
     // study is read, never a layout grown past memory or called a generator bug.
     let tiny = std::fs::read_to_string(root().join(TINY)).unwrap();

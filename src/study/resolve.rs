@@ -114,9 +114,7 @@ impl StudySpec {
             }
             let mut group = resolve_group(g, dir, &points, &invalid)?;
             group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
-            if self.solver.kind == crate::dem::SolverKind::Limit {
-                self.check_limit_ropes(g, &group, &invalid)?;
-            }
+            self.check_realized(g, &group, &invalid)?;
             groups.push(group);
         }
         files.extend(groups.iter().flat_map(group_files));
@@ -212,25 +210,50 @@ impl StudySpec {
         Ok(())
     }
 
-    /// Limit analysis refuses a layout with ropes (`LimitError::Ropes`, as `drystone tilt
-    /// --solver limit` does): a group whose realization 0 has ropes is refused here, before
-    /// any realization runs, naming the effect that adds them (the group's own, then the
-    /// study's `end_rope`) or else the group's effects.
-    fn check_limit_ropes(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
-        let Some(wall) = group.walls.first() else { return Ok(()) };
-        let Ok((_, layout)) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects) else { return Ok(()) };
-        if layout.ropes.is_empty() {
+    /// What the protocol's run would refuse or drop on the group's realization 0,
+    /// refused here before any realization runs:
+    ///
+    /// * ropes under `[solver] kind = "limit"` (`LimitError::Ropes`, as `drystone tilt
+    ///   --solver limit` refuses them): limit analysis has no displacement for a rope;
+    /// * a table overshoot (`table_kick`) with `[tilt] by_hand`: the hand-rolled table runs
+    ///   the kicks of its stops, of which `table_kick` is the quasi-static equivalent; both
+    ///   would count them twice, and the hand-rolled run does not read it.
+    ///
+    /// Each is named by the effect that sets it (the group's own, then the study's), or
+    /// else the group's effects.
+    fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
+        let limit = self.solver.kind == crate::dem::SolverKind::Limit;
+        let by_hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+        if !(limit || by_hand) || group.effects.is_empty() {
             return Ok(());
         }
-        let key = if g.effects.contains_key("end_rope") {
-            format!("groups[{}].effects.end_rope", g.name)
-        } else if self.effects.contains_key("end_rope") {
-            "effects.end_rope".to_string()
-        } else {
-            format!("groups[{}].effects", g.name)
+        let Some(wall) = group.walls.first() else { return Ok(()) };
+        let Ok((_, layout)) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects) else { return Ok(()) };
+        let key = |effect: &str| {
+            if g.effects.contains_key(effect) {
+                format!("groups[{}].effects.{effect}", g.name)
+            } else if self.effects.contains_key(effect) {
+                format!("effects.{effect}")
+            } else {
+                format!("groups[{}].effects", g.name)
+            }
         };
-        let e = crate::limit::LimitError::Ropes { count: layout.ropes.len() };
-        Err(invalid.at(&key, e.to_string()))
+        if limit && !layout.ropes.is_empty() {
+            let e = crate::limit::LimitError::Ropes { count: layout.ropes.len() };
+            return Err(invalid.at(&key("end_rope"), e.to_string()));
+        }
+        if by_hand && layout.table_overshoot_deg != 0.0 {
+            return Err(invalid.at(
+                &key("table_kick"),
+                format!(
+                    "sets a table overshoot of {} degrees, the quasi-static equivalent of the kicks of a table \
+                     rolled by hand; [tilt] by_hand runs those kicks themselves and does not read it (drop the \
+                     effect, or drop by_hand to test the kicks quasi-statically)",
+                    layout.table_overshoot_deg
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The number of sweep points and work items against the limits of [`size`], before
