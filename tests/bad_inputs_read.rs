@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 9;
+const CORPUS_CASES: usize = 11;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -49,6 +49,18 @@ fn refused(case: &str, study: &Path, dir: &Path, fragments: &[&str], count: &mut
     let rows = std::fs::read_to_string(&journal).map(|t| t.lines().count()).unwrap_or(0);
     assert_eq!(rows, 0, "{case}: {rows} realizations ran");
     *count += 1;
+}
+
+/// A block 0.09 × 0.3 × 0.4 m (y, z, x) on the table, its base held, with one rope of
+/// the given values at mid-length over its height.
+fn rope_block(values: &str) -> String {
+    format!(
+        r#"{{"version": 1, "name": "block held by a rope", "materials": [{{"name": "m", "density_kg_per_m3": 2200,
+        "kn_pa_per_m": 1e9, "ks_pa_per_m": 5e8, "friction_deg": 30}}], "table": {{"material": "m"}},
+        "blocks": [{{"id": "b0", "material": "m", "vertices": [[0,-0.045,0],[0.4,-0.045,0],[0.4,0.045,0],[0,0.045,0],
+        [0,-0.045,0.3],[0.4,-0.045,0.3],[0.4,0.045,0.3],[0,0.045,0.3]]}}],
+        "restraints": {{"base_sliding": "held", "ropes": [{{"x_m": 0.2, "band_m": [0.0, 0.3], {values}}}]}}}}"#
+    )
 }
 
 const TINY: &str = "tests/studies/walls/tiny_running_bond.toml";
@@ -97,6 +109,35 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
         ),
     );
     refused("table_kick with by_hand", &s, &dir, &["effects.table_kick", "by_hand"], &mut count);
+    // Rope values in range that would blow the run up: refused by the rope's key.
+    for (name, rope, key, value) in [
+        (
+            "rope_span_1e-200",
+            r#""pretension_n": 300, "axial_stiffness_n": 6e4, "span_m": 1e-200"#,
+            "restraints.ropes[0].span_m",
+            "1e-200",
+        ),
+        (
+            "rope_wrap_9cm_1e6",
+            r#""pretension_n": 1e6, "axial_stiffness_n": 6e4, "span_m": 0.1, "wrap_depth_m": 0.09"#,
+            "restraints.ropes[0].wrap_depth_m",
+            "0.09",
+        ),
+    ] {
+        let layout = dir.join(format!("{name}.json"));
+        std::fs::write(&layout, rope_block(rope)).unwrap();
+        for solver in ["penalty", "nscd"] {
+            let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+                .args(["tilt", layout.to_str().unwrap(), "--solver", solver])
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&o.stderr).into_owned();
+            assert_eq!(o.status.code(), Some(2), "{name} {solver}: {err}");
+            assert!(err.contains(key) && err.contains(value), "{name} {solver}: {err}");
+            assert!(!err.contains("blew up"), "{name} {solver}: {err}");
+        }
+        count += 1;
+    }
     // Section sizes below the thinnest piece: refused by name by `generate` and when a
     // study is read, never a layout grown past memory or called a generator bug.
     let tiny = std::fs::read_to_string(root().join(TINY)).unwrap();
