@@ -91,7 +91,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         printed.push_str(&section);
         md.push_str(&section);
     }
-    let warnings = study.protocol.warnings();
+    let warnings = study.warnings();
     if !warnings.is_empty() {
         let _ = writeln!(md, "## Warnings\n");
         for w in &warnings {

@@ -108,6 +108,7 @@ impl StudySpec {
         }
         let mut names = std::collections::BTreeSet::new();
         let mut groups = Vec::new();
+        let mut read_warnings = self.ignored_settings();
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));
@@ -115,6 +116,7 @@ impl StudySpec {
             let mut group = resolve_group(g, dir, &points, &invalid)?;
             group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
             self.check_realized(g, &group, &invalid)?;
+            read_warnings.extend(self.idle_end_rope(g, &group));
             groups.push(group);
         }
         files.extend(groups.iter().flat_map(group_files));
@@ -141,6 +143,7 @@ impl StudySpec {
             discrepancy: self.discrepancy.clone().unwrap_or_default(),
             inputs,
             library,
+            read_warnings,
         };
         crate::discrepancy::searched(&study.discrepancy, &study.library, true)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
@@ -208,6 +211,58 @@ impl StudySpec {
             hand.check_run(self.solver.nscd.dt_s, self.tilt.max_angle_deg).map_err(range("tilt.by_hand"))?;
         }
         Ok(())
+    }
+
+    /// Settings the study accepts but does not read: `[tilt] step_deg` and
+    /// `resolution_deg` with `[tilt] by_hand` (the hand's increments are the path), and
+    /// `discrepancy.also_effects` beside `discrepancy.effects` (which names every
+    /// candidate). One message per setting, naming its key.
+    fn ignored_settings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let d = crate::loading::tilt::TiltParams::default();
+        if self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt {
+            for (key, v, default) in [
+                ("tilt.step_deg", self.tilt.step_deg, d.step_deg),
+                ("tilt.resolution_deg", self.tilt.resolution_deg, d.resolution_deg),
+            ] {
+                if v != default {
+                    out.push(format!(
+                        "{key} = {v} is not read with [tilt] by_hand: the table rolled by hand tilts by its \
+                         increment_deg and reads the collapse from the motion"
+                    ));
+                }
+            }
+        }
+        if let Some(dis) = &self.discrepancy {
+            if !dis.effects.is_empty() && !dis.also_effects.is_empty() {
+                out.push(format!(
+                    "discrepancy.also_effects = {:?} is not read: discrepancy.effects names every candidate \
+                     (add them there)",
+                    dis.also_effects
+                ));
+            }
+        }
+        out
+    }
+
+    /// A warning when the group's `end_rope` (the group's own or the study's) acts on a
+    /// wall without end restraints, where it changes nothing (docs/rope.md).
+    fn idle_end_rope(&self, g: &GroupSpec, group: &Group) -> Option<String> {
+        let key = if g.effects.contains_key("end_rope") {
+            format!("groups[{}].effects.end_rope", g.name)
+        } else if self.effects.contains_key("end_rope") {
+            "effects.end_rope".to_string()
+        } else {
+            return None;
+        };
+        let wall = group.walls.first()?;
+        let (_, layout) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects).ok()?;
+        layout.ropes.is_empty().then(|| {
+            format!(
+                "{key} changes nothing on group {}: its wall has no end restraints for the ropes to replace",
+                g.name
+            )
+        })
     }
 
     /// What the protocol's run would refuse or drop on the group's realization 0,
@@ -462,6 +517,15 @@ fn read_measured(
 }
 
 impl Study {
+    /// What the study warns of before it runs and in its report's "Warnings": the
+    /// protocol's (a shaking study's motions that cannot reach its levels), then the inputs
+    /// it accepts but does not use ([`Study::read_warnings`]).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = self.protocol.warnings();
+        w.extend(self.read_warnings.iter().cloned());
+        w
+    }
+
     /// The study's loading protocol with its parameters, as the seam runs it (at the first
     /// sweep point; see [`Study::loading_at`]).
     pub fn loading(&self) -> crate::protocol::Protocol {
