@@ -197,3 +197,30 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `drystone tilt --by-hand` names every penalty or quasi-static option it does not read.
+#[test]
+fn options_the_table_rolled_by_hand_does_not_read_are_warned_of() {
+    let stack = root().join("tests/bad_inputs/stable_stack.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .arg("tilt")
+        .arg(&stack)
+        .args(["--solver", "nscd", "--by-hand", "--hand-increment-deg", "10", "--hand-hold-s", "0.1"])
+        .args(["--step-deg", "1", "--resolution-deg", "0.5", "--max-steps", "1000", "--damping", "0.5"])
+        .args(["--density-scaling", "off", "--timestep-safety", "0.5", "--no-predictor"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    for flag in [
+        "--step-deg",
+        "--resolution-deg",
+        "--max-steps",
+        "--damping",
+        "--density-scaling",
+        "--timestep-safety",
+        "--no-predictor",
+    ] {
+        assert!(err.lines().any(|l| l.starts_with(&format!("warning: {flag} "))), "{flag}: {err}");
+    }
+}
