@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 11;
+const CORPUS_CASES: usize = 16;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -109,6 +109,37 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
         ),
     );
     refused("table_kick with by_hand", &s, &dir, &["effects.table_kick", "by_hand"], &mut count);
+    // The discrepancy settings: an unknown name under the list that gives it, a σ of 1e300.
+    let s = study(&dir, "also_unknown", TINY, "[discrepancy]\nalso_effects = [\"table_kik\"]");
+    refused("also_effects naming no effect", &s, &dir, &["discrepancy.also_effects[0]", "table_kik"], &mut count);
+    let s = study(&dir, "sigma_1e300", TINY, "[discrepancy]\nsigma = { angle_deg = 1e300 }");
+    refused("sigma.angle_deg = 1e300", &s, &dir, &["sigma.angle_deg", "1e300"], &mut count);
+    // Flags named by themselves, values with a minus sign included.
+    let stack = root().join("tests/bad_inputs/stable_stack.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .arg("tilt")
+        .arg(&stack)
+        .args(["--solver", "nscd", "--by-hand", "--hand-increment-deg", "1e-300"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--hand-increment-deg") && !err.contains("--hand-ramp-s"), "{err}");
+    count += 1;
+    for (flag, value) in [("--specimens", "-1"), ("--target", "-0.5")] {
+        let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .arg("design")
+            .arg(root().join("studies/tilting_table.toml"))
+            .args([flag, value, "--out"])
+            .arg(dir.join("design"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(err.contains(flag) && err.contains(value), "{flag} {value}: {err}");
+        assert!(!err.contains("unexpected argument") && !err.contains("discrepancy.design"), "{err}");
+        count += 1;
+    }
     // Rope values in range that would blow the run up: refused by the rope's key.
     for (name, rope, key, value) in [
         (
@@ -212,6 +243,17 @@ fn options_the_table_rolled_by_hand_does_not_read_are_warned_of() {
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     assert_eq!(o.status.code(), Some(0), "{err}");
+    // A start or stop that pushes the top at hundreds of g is run, with the plausibility
+    // warning the shaking table gives above 5 g.
+    let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .arg("tilt")
+        .arg(&stack)
+        .args(["--solver", "nscd", "--by-hand", "--hand-increment-deg", "10", "--hand-hold-s", "0.1"])
+        .args(["--table-axis-depth-m", "100", "--hand-ramp-s", "0.005", "--hand-rate-deg-s", "10"])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(e.lines().any(|l| l.starts_with("warning:") && l.contains("implausible") && l.contains("5 g")), "{e}");
     for flag in [
         "--step-deg",
         "--resolution-deg",

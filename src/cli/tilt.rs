@@ -197,6 +197,12 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
                  dynamics over its own increments (--hand-increment-deg)"
             );
         }
+        if let Ok(l) = drystone::layout::Layout::from_file(&a.layout) {
+            let keys = "--hand-rate-deg-s, --hand-ramp-s, --table-axis-depth-m";
+            if let Some(w) = hand.plausibility_warning(l.bounds().max.z, l.gravity, keys) {
+                eprintln!("warning: {w}");
+            }
+        }
         return run_by_hand(&a.layout, &nscd, &params, &hand, a.json);
     }
     run(&a.layout, solver, &params, a.json, a.vtk.as_deref())

@@ -117,6 +117,12 @@ impl StudySpec {
             group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
             self.check_realized(g, &group, &invalid)?;
             read_warnings.extend(self.idle_end_rope(g, &group));
+            if let (Some(hand), Some(wall)) = (&self.tilt.by_hand, group.walls.first()) {
+                let keys = "tilt.by_hand.rate_deg_per_s, ramp_s, axis_depth_m";
+                let g0 = crate::units::STANDARD_GRAVITY;
+                read_warnings
+                    .extend(hand.plausibility_warning(wall.height, g0, keys).map(|w| format!("group {}: {w}", g.name)));
+            }
             groups.push(group);
         }
         files.extend(groups.iter().flat_map(group_files));
@@ -145,6 +151,14 @@ impl StudySpec {
             library,
             read_warnings,
         };
+        // Each name under the list that gives it.
+        for (list, names) in
+            [("effects", &study.discrepancy.effects), ("also_effects", &study.discrepancy.also_effects)]
+        {
+            for (i, n) in names.iter().enumerate() {
+                study.library.get(n).map_err(|e| invalid.at(&format!("discrepancy.{list}[{i}]"), e.to_string()))?;
+            }
+        }
         crate::discrepancy::searched(&study.discrepancy, &study.library, true)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
         study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;

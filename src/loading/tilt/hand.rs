@@ -43,6 +43,9 @@ impl Default for HandTilt {
     }
 }
 
+/// The smallest increment of a table rolled by hand, degrees.
+pub const MIN_INCREMENT_DEG: f64 = 0.01;
+
 /// The largest number of time steps a run may take (the increments to `max_angle_deg`
 /// with their holds, at the solver's step): beyond it the run is refused before it starts.
 pub const MAX_STEPS: f64 = 2e7;
@@ -64,8 +67,8 @@ impl HandTilt {
         check(
             "increment_deg",
             self.increment_deg,
-            self.increment_deg > 0.0 && self.increment_deg <= 45.0,
-            "in (0, 45]",
+            (MIN_INCREMENT_DEG..=45.0).contains(&self.increment_deg),
+            "in [0.01, 45] (a table rolled by hand moves by whole degrees; below 0.01° no start or stop fits the roll)",
         )?;
         check(
             "rate_deg_per_s",
@@ -143,6 +146,29 @@ impl HandTilt {
         } else {
             (a0 + delta, 0.0, 0.0)
         }
+    }
+
+    /// The peak acceleration of a start or a stop at the top of a wall `height_m` high
+    /// (m), in units of `gravity` (m/s²): `α̈ (d + H) / g`, `d` the axis depth.
+    pub fn peak_top_acceleration_g(&self, height_m: f64, gravity: f64) -> f64 {
+        self.peak_angular_acceleration() * (self.axis_depth_m + height_m) / gravity
+    }
+
+    /// A warning when the starts and stops push the top of a wall `height_m` high (m)
+    /// harder than [`crate::ground::PLAUSIBLE_PGA_G`] (the shaking table's plausibility
+    /// bound): a table rolled by hand does not do that; `None` otherwise. `keys` names the
+    /// settings (e.g. `--hand-rate-deg-s, --hand-ramp-s, --table-axis-depth-m`).
+    pub fn plausibility_warning(&self, height_m: f64, gravity: f64, keys: &str) -> Option<String> {
+        let a = self.peak_top_acceleration_g(height_m, gravity);
+        (a > crate::ground::PLAUSIBLE_PGA_G).then(|| {
+            format!(
+                "the starts and stops push the top of the wall with {a:.3e} g (α̈ = {:.3e} rad/s² at {:.3} m above \
+                 the axis), implausible for a table rolled by hand (above {} g): check {keys}",
+                self.peak_angular_acceleration(),
+                self.axis_depth_m + height_m,
+                crate::ground::PLAUSIBLE_PGA_G
+            )
+        })
     }
 
     /// The peak angular acceleration of a start or a stop, rad/s² (`ω / ramp_s`).
