@@ -222,7 +222,7 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     assert_eq!(code, 0, "{err}");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     let warnings = report.split("## Warnings").nth(1).unwrap_or_else(|| panic!("no Warnings section: {report}"));
-    for key in ["effects.end_rope", "tilt.step_deg", "discrepancy.also_effects"] {
+    for key in ["effects.end_rope", "tilt.step_deg", "discrepancy.also_effects", "discrepancy: table_kick"] {
         assert!(err.lines().any(|l| l.starts_with("warning:") && l.contains(key)), "{key} not warned on stderr: {err}");
         assert!(warnings.contains(key), "{key} not in the report's Warnings");
     }

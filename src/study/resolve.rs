@@ -248,6 +248,14 @@ impl StudySpec {
             }
         }
         if let Some(dis) = &self.discrepancy {
+            let hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+            if hand && dis.effects.iter().chain(&dis.also_effects).any(|e| e == "table_kick") {
+                out.push(
+                    "discrepancy: table_kick is the quasi-static equivalent of the kicks [tilt] by_hand already runs; \
+                     the hand-rolled realizations do not read it (its candidate changes nothing)"
+                        .to_string(),
+                );
+            }
             if !dis.effects.is_empty() && !dis.also_effects.is_empty() {
                 out.push(format!(
                     "discrepancy.also_effects = {:?} is not read: discrepancy.effects names every candidate \
