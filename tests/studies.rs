@@ -154,3 +154,20 @@ fn a_failed_realization_becomes_a_row_and_the_ensemble_goes_on() {
     let report = String::from_utf8(read(&dir.join("report.md"))).unwrap();
     assert!(report.contains("no_initial_equilibrium"), "{report}");
 }
+
+/// The fragility figure tells the simulation from the test: the ensemble's empirical points
+/// are labelled `simulated`, and the measured specimens of the group (data/paper, 3 CBL
+/// walls) are drawn and labelled `measured`, once per group at the first sweep point.
+#[test]
+fn the_fragility_figure_labels_simulated_points_and_draws_the_measured_specimens() {
+    let s = mini();
+    let arg = root().join("tests/studies/good/mini_sweep.toml");
+    let rows = run_study(&s, Shard::ALL);
+    let dir = tmp("fragility");
+    write_outputs(&s, &arg, Shard::ALL, &rows, &dir).unwrap();
+    let svg = String::from_utf8(read(&dir.join("fragility.svg"))).unwrap();
+    let simulated = svg.lines().filter(|l| l.ends_with(" simulated")).count();
+    let measured = svg.lines().filter(|l| l.ends_with(" measured")).count();
+    assert!(simulated >= 2, "the ensembles' points are labelled simulated ({simulated})");
+    assert_eq!(measured, 2, "one measured legend entry per group at the first sweep point");
+}

@@ -248,3 +248,19 @@ fn a_wall_that_stands_is_read_at_the_largest_tilt() {
     let stops: Vec<f64> = r.increments.iter().map(|i| i.alpha_deg).collect();
     assert_eq!(stops, vec![0.0, 5.0, 10.0, 12.0]);
 }
+
+/// A slender block (b/h = 1/15: it topples at atan(b/h) = 3.8°, inside the first 5°
+/// increment) rolled by hand: the mechanism of a wall that fails in the first increment is
+/// read like any other's, the block toppling about its toe on the table, not "none".
+#[test]
+fn a_block_that_topples_in_the_first_increment_has_its_mechanism() {
+    use drystone::loading::tilt::MechanismKind;
+    let (b, h) = (0.02f64, 0.3f64);
+    let layout = block(b, h, 40.0);
+    let r = run_tilt_by_hand(&layout, &NscdParams::default(), &TiltParams::default(), &HandTilt::default()).unwrap();
+    assert!(r.collapse_angle_deg() < 5.0, "fails in the first increment: {}", r.collapse_angle_deg());
+    assert_eq!(r.mechanism.kind, MechanismKind::Toppling, "{:?}", r.mechanism);
+    assert_eq!(r.mechanism.joint, "table/b0");
+    let reading = r.mechanism.reading.expect("a reading");
+    assert_eq!(reading.failure_height_fraction, 0.0);
+}

@@ -23,14 +23,14 @@ pub struct DesignArgs {
     #[arg(long)]
     pub measured: Option<PathBuf>,
     /// Specimens of each follow-up (the budget they are compared at).
-    #[arg(long, default_value_t = DesignSettings::default().specimens)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = DesignSettings::default().specimens)]
     pub specimens: usize,
     /// Simulated follow-ups per contender taken as the truth.
-    #[arg(long, default_value_t = DesignSettings::default().replicates)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = DesignSettings::default().replicates)]
     pub replicates: usize,
     /// Probability of naming the cause alone a follow-up should reach (the report gives
     /// the fewest specimens that reach it).
-    #[arg(long, default_value_t = DesignSettings::default().target)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = DesignSettings::default().target)]
     pub target: f64,
     /// Score the analysis's candidates by their surrogates only (no full runs of the best
     /// two), as `drystone discrepancy --no-confirm`.
@@ -56,7 +56,14 @@ pub fn command(a: DesignArgs) -> Result<()> {
     s.validate().with_context(|| a.study.display().to_string())?;
     let ds =
         DesignSettings { specimens: a.specimens, replicates: a.replicates, target: a.target, ..Default::default() };
-    ds.validate().context("drystone design")?;
+    // Named by the flag that sets it (the settings' keys, `design.KEY`, are no file's).
+    ds.validate().map_err(|e| match e {
+        drystone::discrepancy::DiscrepancyError::Setting { key, value, reason } => {
+            let flag = key.strip_prefix("design.").unwrap_or(key).replace('_', "-");
+            anyhow::anyhow!("drystone design: --{flag} {value}: must be {reason}")
+        }
+        other => anyhow::Error::new(other).context("drystone design"),
+    })?;
     if st.loading().name() != "tilt" {
         bail!(
             "{}: `drystone design` plans tilting-table follow-ups; this study's protocol is {}",

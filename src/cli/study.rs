@@ -102,7 +102,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     let threads = thread_count(a.workers.threads);
     check_memory(&st, threads)?;
     let pool = pool(Some(threads))?;
-    for w in st.protocol.warnings() {
+    for w in st.warnings() {
         eprintln!("warning: {w}");
     }
     let t0 = std::time::Instant::now();

@@ -181,6 +181,28 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         if a.vtk.is_some() {
             bail!("--vtk is not written for a table rolled by hand (--by-hand)");
         }
+        let (dt, ds) = (TiltParams::default(), SolverParams::default());
+        let ignored = [
+            ("--step-deg", a.step_deg != dt.step_deg),
+            ("--resolution-deg", a.resolution_deg != dt.resolution_deg),
+            ("--max-steps", a.max_steps != dt.max_steps_per_increment),
+            ("--damping", a.damping != ds.damping),
+            ("--density-scaling", density_scaling != ds.density_scaling),
+            ("--timestep-safety", a.timestep_safety != ds.timestep_safety),
+            ("--no-predictor", a.no_predictor),
+        ];
+        for (flag, _) in ignored.iter().filter(|(_, given)| *given) {
+            eprintln!(
+                "warning: {flag} is not read with --by-hand: the table rolled by hand runs non-smooth contact \
+                 dynamics over its own increments (--hand-increment-deg)"
+            );
+        }
+        if let Ok(l) = drystone::layout::Layout::from_file(&a.layout) {
+            let keys = "--hand-rate-deg-s, --hand-ramp-s, --table-axis-depth-m";
+            if let Some(w) = hand.plausibility_warning(l.bounds().max.z, l.gravity, keys) {
+                eprintln!("warning: {w}");
+            }
+        }
         return run_by_hand(&a.layout, &nscd, &params, &hand, a.json);
     }
     run(&a.layout, solver, &params, a.json, a.vtk.as_deref())

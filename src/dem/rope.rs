@@ -73,6 +73,29 @@ pub fn rope_law(rope: &Rope, delta: f64) -> (f64, f64) {
     (t, 2.0 * t * delta / l)
 }
 
+/// An upper bound (N/m) of the rope's tangent stiffness `dF/dδ̄` over the deflections
+/// `[lo, hi]` (m, `0 ≤ lo ≤ hi`), and of its secant stiffness `F/δ̄` there:
+///
+/// ```text
+/// dF/dδ̄ = 2 T s² / L³ + 2 EA δ̄² / (L² L_ref)     (T > 0; 0 where the rope is slack)
+///       ≤ max(2 T/L at lo, at hi) + 2 EA hi² / (L(hi)² L_ref)
+/// ```
+///
+/// (`2 T / L` is monotone in δ̄, its derivative has the sign of `EA − T₀`; `δ̄² / L²`
+/// increases). At `δ̄ = 0` with `d = 0` it is the taut string's geometric stiffness
+/// `2 T₀ / s`; the second term is the axial one, up to `2 EA / L_ref` for deflections
+/// comparable with the span.
+pub fn stiffness_bound(rope: &Rope, lo: f64, hi: f64) -> f64 {
+    let s = rope.span;
+    let l_ref = (s * s + rope.wrap_depth * rope.wrap_depth).sqrt();
+    let geometric = |d: f64| {
+        let l = (s * s + d * d).sqrt();
+        2.0 * (rope.pretension + rope.axial_stiffness * (l - l_ref) / l_ref).max(0.0) / l
+    };
+    let axial = 2.0 * rope.axial_stiffness * hi * hi / ((s * s + hi * hi) * l_ref);
+    geometric(lo).max(geometric(hi)) + axial
+}
+
 impl RopeLoad {
     /// The ropes of `layout` with their bearers among `bodies` (at their poses as built).
     pub fn of_layout(layout: &Layout, bodies: &[Body]) -> Vec<RopeLoad> {
@@ -119,6 +142,12 @@ impl RopeLoad {
             sum += b.height * self.penetration(b, bodies).0.max(0.0);
         }
         sum / self.covered
+    }
+
+    /// The bearer's point (m, table frame) at the bodies' current poses, relative to the
+    /// bearing body's centroid.
+    pub fn arm(&self, b: &RopeBearer, bodies: &[Body]) -> Vec3 {
+        bodies[b.body].to_world(&b.point) - bodies[b.body].pos
     }
 
     /// Adds the rope's force on each block it presses, and its moment about the block's

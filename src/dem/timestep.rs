@@ -35,7 +35,9 @@
 //! per node and side.
 
 use super::contact::types::Contact;
+use super::rope::{stiffness_bound, RopeLoad};
 use super::state::Body;
+use crate::layout::EndRestraint;
 use crate::math::{Mat3, Vec3};
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
 
@@ -152,6 +154,51 @@ impl Stiffness {
         let mut k = Stiffness { diag, touched, off, body_lambdas: Vec::new() };
         k.body_lambdas = k.diagonal_eigenvalues(bodies);
         k
+    }
+
+    /// Adds the restraints' springs to the diagonal blocks of the bodies they hold, at the
+    /// current poses: a spring end restraint of stiffness `k` (N/m) on the body's y
+    /// translation, and for each rope a spring in y at each bearer's point `p_b` (arm
+    /// `r_b` from the centroid; generalized direction `(ŷ, r_b × ŷ)`) of stiffness
+    /// `w_b K`, with `w_b = h_b / Σ h` the bearer's share of the band and `K` the rope's
+    /// tangent stiffness bound over the deflections `[δ̄ − reach, δ̄ + reach]`
+    /// ([`super::rope::stiffness_bound`]; `reach`, m, the motion allowed before the next
+    /// update). A lone bearer gets the rope's whole `dF/dδ̄`; the coupling of several
+    /// bearers through their shared tension (rank one, at most `w_b` times the axial
+    /// term) is left to the step's margin. Without the springs the step of a layout
+    /// whose restraints are stiffer than its contacts is unstable: a rope of 1e6 N over
+    /// 0.1 m legs adds `2 T₀ / s` = 2e7 N/m. Rigid end restraints hold the dof and add
+    /// nothing. `reach_m` ≥ 0.
+    pub fn add_restraints(
+        &mut self,
+        bodies: &[Body],
+        restraint: &[Option<EndRestraint>],
+        ropes: &[RopeLoad],
+        reach_m: f64,
+    ) {
+        for (k, r) in restraint.iter().enumerate() {
+            if let (Some(EndRestraint::Spring(ky)), false) = (r, bodies[k].fixed) {
+                self.diag[k][(1, 1)] += ky;
+                self.touched[k] = true;
+            }
+        }
+        for rope in ropes {
+            if rope.covered <= 0.0 {
+                continue;
+            }
+            let d = rope.deflection(bodies);
+            let kr = stiffness_bound(&rope.rope, (d - reach_m).max(0.0), d + reach_m);
+            for b in &rope.bearers {
+                if bodies[b.body].fixed || !(kr > 0.0) {
+                    continue;
+                }
+                let m = rope.arm(b, bodies).cross(&Vec3::y());
+                let g = Vector6::new(0.0, 1.0, 0.0, m.x, m.y, m.z);
+                self.diag[b.body] += g * g.transpose() * (kr * b.height / rope.covered);
+                self.touched[b.body] = true;
+            }
+        }
+        self.body_lambdas = self.diagonal_eigenvalues(bodies);
     }
 
     /// `M^{-1/2}` of a body's inertial mass (6 × 6, table frame): with `scaled`, as the

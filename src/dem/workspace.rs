@@ -69,6 +69,9 @@ pub(super) struct Workspace {
     pub(super) contact_damping: Option<ContactDamping>,
     /// Per-node lumped areas of the dashpot (scratch).
     pub(super) node_area: Vec<f64>,
+    /// Each rope's deflection δ̄ (m) at the last update of the time step: the centre of
+    /// the window its stiffness bound covers.
+    pub(super) rope_window: Vec<f64>,
 }
 
 impl Workspace {
@@ -87,6 +90,7 @@ impl Workspace {
             scratch: Vec::new(),
             contact_damping: None,
             node_area: Vec::new(),
+            rope_window: Vec::new(),
         }
     }
 
@@ -223,7 +227,13 @@ impl Workspace {
     /// Sets the inertial masses (density scaling, scalar or block) and the time step from
     /// the stiffness of the current contacts at the current poses.
     pub(super) fn update_masses_and_step(&mut self, st: &mut WallState, params: &SolverParams) {
-        let stiffness = Stiffness::new(&st.bodies, &st.contacts);
+        let mut stiffness = Stiffness::new(&st.bodies, &st.contacts);
+        // A rope's deflection is checked at every detection (`rope_left_window`), and a
+        // bearer moves at most the re-detection threshold between two: the bound covers
+        // twice that either side.
+        let reach = params.redetect_fraction * params.contact_margin_m;
+        stiffness.add_restraints(&st.bodies, &st.restraint, &st.ropes, 2.0 * reach);
+        self.rope_window = st.ropes.iter().map(|r| r.deflection(&st.bodies)).collect();
         if params.density_scaling.is_on() {
             let (target, scale) = density_scaling(stiffness.body_eigenvalues());
             for (b, s) in st.bodies.iter_mut().zip(&scale) {
@@ -252,6 +262,14 @@ impl Workspace {
         self.dt = if params.density_scaling.is_on() { dt } else { self.dt.min(dt) };
     }
 
+    /// Whether a rope's deflection has left the window `[δ̄ − reach, δ̄ + reach]` its
+    /// stiffness bound was taken over at the last update of the time step
+    /// ([`Stiffness::add_restraints`]).
+    fn rope_left_window(&self, st: &WallState, params: &SolverParams) -> bool {
+        let reach = params.redetect_fraction * params.contact_margin_m;
+        st.ropes.iter().zip(&self.rope_window).any(|(r, &d0)| (r.deflection(&st.bodies) - d0).abs() > reach)
+    }
+
     /// Whether a body moved, since the last detection, more than
     /// [`SolverParams::redetect_fraction`] of the contact margin (translation plus rotation
     /// times its radius).
@@ -276,7 +294,11 @@ impl Workspace {
         if !self.needs_detection(st, params) {
             return Redetection::None;
         }
-        let r = self.detect(st, params, false);
+        let mut r = self.detect(st, params, false);
+        if r == Redetection::Unchanged && self.rope_left_window(st, params) {
+            // The contacts stand but a rope's stiffness bound no longer covers its deflection.
+            r = Redetection::Changed;
+        }
         if r.changed() && !deferred {
             self.update_masses_and_step(st, params);
         }

@@ -505,7 +505,7 @@ fn band(
         lo.push(m - s);
         hi.push(m + s);
     }
-    BandSeries { label: label.to_string(), x, mid, lo, hi, measured, points_label: None }
+    BandSeries { label: label.to_string(), x, mid, lo, hi, measured, points_label: None, specimens: vec![] }
 }
 
 /// Errors of writing the discrepancy outputs.

@@ -132,6 +132,18 @@ impl Settings {
                 return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
             }
         }
+        // The measurement σ divides every residual: positive, finite and of the scale of a
+        // reading (the angle and the displacement as `reading`, a failure height as a
+        // fraction of the wall's height).
+        for (key, v, hi, range) in [
+            ("sigma.angle_deg", self.sigma.angle_deg, 10.0, "must be in (0, 10] degrees"),
+            ("sigma.displacement_cm", self.sigma.displacement_cm, 10.0, "must be in (0, 10] cm"),
+            ("sigma.failure_height", self.sigma.failure_height, 1.0, "must be in (0, 1] (a fraction of the height)"),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= hi) {
+                return bad(key, v.to_string(), range);
+            }
+        }
         let mut seen = std::collections::BTreeSet::new();
         for e in &self.effects {
             if !seen.insert(e) {

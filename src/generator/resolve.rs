@@ -14,6 +14,19 @@ use super::GeneratorError;
 use std::collections::BTreeSet;
 use std::path::Path;
 
+/// The thinnest leaf, hearting and hearting piece a double-faced section may have, m
+/// (`section.leaf_width_m`, the hearting's width at the top, `section.hearting_stone_m`):
+/// twice the solvers' default contact margin (1 mm), so that the two faces of a piece are
+/// told apart by contact detection. Thinner pieces are slivers no solver resolves.
+pub const MIN_SECTION_PIECE_M: f64 = 2e-3;
+
+fn thinner_than_a_piece() -> String {
+    format!(
+        "must be at least {MIN_SECTION_PIECE_M} m: a piece of a double-faced section thinner than twice the \
+         solvers' contact margin (1 mm) is a sliver no solver resolves"
+    )
+}
+
 impl Wall {
     /// Reads and checks a wall file, finding named distributions with
     /// [`DistributionSource::default_for`].
@@ -478,7 +491,9 @@ impl Resolver<'_> {
         Ok(())
     }
 
-    /// `[section]`: one leaf, or two leaves narrower together than the top width.
+    /// `[section]`: one leaf, or two leaves narrower together than the top width, each
+    /// leaf, the hearting between them and a hearting piece at least
+    /// [`MIN_SECTION_PIECE_M`].
     fn section(&self, e: &Envelope) -> Result<Section, GeneratorError> {
         let Some(s) = &self.spec.section else { return Ok(Section::Single) };
         let double_only = [
@@ -504,6 +519,21 @@ impl Resolver<'_> {
         let leaf_width = match s.leaf_width_m {
             Some(w) => {
                 let w = self.positive("section.leaf_width_m", w)?;
+                if w < MIN_SECTION_PIECE_M {
+                    return Err(self.invalid("section.leaf_width_m", w.to_string(), thinner_than_a_piece()));
+                }
+                if e.top_width - 2.0 * w < MIN_SECTION_PIECE_M && 2.0 * w < e.top_width {
+                    return Err(self.invalid(
+                        "section.leaf_width_m",
+                        w.to_string(),
+                        format!(
+                            "leaves the hearting {} m wide at the top (top width {} m − 2 × {w} m), {}",
+                            e.top_width - 2.0 * w,
+                            e.top_width,
+                            thinner_than_a_piece()
+                        ),
+                    ));
+                }
                 if 2.0 * w >= e.top_width {
                     return Err(self.invalid(
                         "section.leaf_width_m",
@@ -526,7 +556,13 @@ impl Resolver<'_> {
                     "needs section.leaf_width_m (without it the leaves meet and there is no hearting)",
                 ))
             }
-            Some(v) => Some(self.positive("section.hearting_stone_m", v)?),
+            Some(v) => {
+                let v = self.positive("section.hearting_stone_m", v)?;
+                if v < MIN_SECTION_PIECE_M {
+                    return Err(self.invalid("section.hearting_stone_m", v.to_string(), thinner_than_a_piece()));
+                }
+                Some(v)
+            }
             None => None,
         };
         let through = match (s.through_stone_spacing_m, s.through_stone_every_courses) {

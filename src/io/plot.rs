@@ -120,8 +120,12 @@ pub struct BandSeries {
     pub hi: Vec<f64>,
     /// Measured points (x, y).
     pub measured: Vec<(f64, f64)>,
-    /// Legend suffix of the points \[`measured`\] (e.g. `paper` for a reference result).
+    /// Legend suffix of the points \[`measured`\] (e.g. `paper` for a reference result,
+    /// `simulated` for the ensemble's own empirical points).
     pub points_label: Option<String>,
+    /// Measured specimens (x, y), drawn as hollow circles in the series' colour and
+    /// labelled `LABEL measured` (empty: none).
+    pub specimens: Vec<(f64, f64)>,
 }
 
 /// One model's standardized residuals, one per observation (non-finite ones are not
@@ -196,10 +200,14 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
     let e = err(path);
     let root = SVGBackend::new(path, (720, 460)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
-    let xs: Vec<f64> = series.iter().flat_map(|s| s.x.iter().copied().chain(s.measured.iter().map(|m| m.0))).collect();
+    let points = |s: &BandSeries| s.measured.iter().chain(s.specimens.iter()).copied().collect::<Vec<_>>();
+    let xs: Vec<f64> =
+        series.iter().flat_map(|s| s.x.iter().copied().chain(points(s).into_iter().map(|m| m.0))).collect();
     let ys: Vec<f64> = series
         .iter()
-        .flat_map(|s| s.lo.iter().chain(s.hi.iter()).chain(s.mid.iter()).copied().chain(s.measured.iter().map(|m| m.1)))
+        .flat_map(|s| {
+            s.lo.iter().chain(s.hi.iter()).chain(s.mid.iter()).copied().chain(points(s).into_iter().map(|m| m.1))
+        })
         .filter(|v| v.is_finite())
         .collect();
     if xs.is_empty() || ys.is_empty() {
@@ -241,6 +249,13 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
                 .map_err(|x| e(x.to_string()))?
                 .label(format!("{} {}", s.label, s.points_label.as_deref().unwrap_or("measured")))
                 .legend(move |(x, y)| Circle::new((x + 6, y), 4, c.filled()));
+        }
+        if !s.specimens.is_empty() {
+            chart
+                .draw_series(s.specimens.iter().map(|&(x, y)| Circle::new((x, y), 5, c.stroke_width(2))))
+                .map_err(|x| e(x.to_string()))?
+                .label(format!("{} measured", s.label))
+                .legend(move |(x, y)| Circle::new((x + 6, y), 5, c.stroke_width(2)));
         }
     }
     chart

@@ -119,8 +119,10 @@ impl LayoutSpec {
         }
         check_overlaps(&blocks)?;
         let end_restraints = self.resolve_end_restraints(&ids)?;
-        let ropes =
+        let ropes: Vec<_> =
             self.restraints.ropes.iter().enumerate().map(|(k, r)| r.resolve(k, &blocks)).collect::<Result<_, _>>()?;
+        let densities: Vec<f64> = materials.iter().map(|m| m.density).collect();
+        super::rope::check_as_built(&ropes, &blocks, &densities, gravity)?;
         let monitors = self.resolve_monitors(&ids, &blocks)?;
         let joint_families = self.joint_families.resolve("joint_families")?;
         check_family_softness(&joint_families, &materials, gravity)?;

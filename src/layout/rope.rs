@@ -82,6 +82,48 @@ impl Rope {
     }
 }
 
+/// The shortest leg a rope may have, m (`span_m`): the solvers' default contact margin.
+pub const MIN_ROPE_SPAN_M: f64 = 1e-3;
+
+/// Checks that no rope pushes the wall over as built: a rope with a wrap depth d presses
+/// the face with `F₀ = 2 T₀ d / √(s² + d²)` (N, towards −y) at the middle `z_c` of its
+/// band within the wall's height; a wall of weight `W` (its free blocks, N) on a level
+/// table resists that push about its uphill toe with a moment of at most `W B` (`B` the
+/// free blocks' extent in y, m), so `F₀ z_c > W B` topples it before any load.
+///
+/// # Errors
+/// [`LayoutError::Invalid`] naming `restraints.ropes[k].wrap_depth_m`, with the push and
+/// the wall's resisting moment.
+pub fn check_as_built(ropes: &[Rope], blocks: &[Block], densities: &[f64], gravity: f64) -> Result<(), LayoutError> {
+    let free: Vec<&Block> = blocks.iter().filter(|b| !b.fixed).collect();
+    let weight: f64 = free.iter().map(|b| b.shape.volume() * densities[b.material] * gravity).sum();
+    let (mut y0, mut y1, mut z0, mut z1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for b in &free {
+        let bb = b.shape.aabb();
+        (y0, y1, z0, z1) = (y0.min(bb.min.y), y1.max(bb.max.y), z0.min(bb.min.z), z1.max(bb.max.z));
+    }
+    for (k, r) in ropes.iter().enumerate() {
+        let push = 2.0 * r.pretension * r.wrap_depth / (r.span * r.span + r.wrap_depth * r.wrap_depth).sqrt();
+        let zc = 0.5 * (r.z_lo.max(z0) + r.z_hi.min(z1));
+        if push * zc > weight * (y1 - y0) {
+            return Err(invalid(
+                format!("restraints.ropes[{k}].wrap_depth_m"),
+                r.wrap_depth,
+                &format!(
+                    "with pretension_n = {} the rope pushes the wall as built with 2 T₀ d / √(s² + d²) = {push:.4e} N \
+                     at {zc:.3} m, a moment of {:.4e} N·m against the {:.4e} N·m its weight ({weight:.4e} N) over \
+                     its width ({:.3} m) can resist: it topples before any load (reduce the wrap depth or the pretension)",
+                    r.pretension,
+                    push * zc,
+                    weight * (y1 - y0),
+                    y1 - y0
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 impl RopeSpec {
     /// Checks the values against `blocks` (the rope must bear on at least one free block).
     ///
@@ -109,8 +151,17 @@ impl RopeSpec {
         }
         let pretension = in_range("pretension_n", self.pretension_n, ROPE_PRETENSION_RANGE_N)?;
         let axial_stiffness = in_range("axial_stiffness_n", self.axial_stiffness_n, ROPE_AXIAL_STIFFNESS_RANGE_N)?;
-        if !(self.span_m.is_finite() && self.span_m > 0.0) {
-            return Err(invalid(key("span_m"), self.span_m, "must be a finite number > 0"));
+        if !(self.span_m.is_finite() && self.span_m >= MIN_ROPE_SPAN_M) {
+            let v = self.span_m;
+            let shown = if v == 0.0 || (1e-4..1e6).contains(&v.abs()) { v.to_string() } else { format!("{v:e}") };
+            return Err(invalid(
+                key("span_m"),
+                shown,
+                &format!(
+                    "must be a finite number of at least {MIN_ROPE_SPAN_M} m (a leg shorter than the solvers' \
+                     contact margin stretches without bound under a deflection the contacts allow)"
+                ),
+            ));
         }
         let d = self.wrap_depth_m;
         if !(d.is_finite() && 0.0 <= d && d < self.span_m) {

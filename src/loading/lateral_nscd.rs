@@ -12,8 +12,8 @@
 
 use super::lateral::{pressure_loads, LateralParams};
 use super::mechanism::Mechanism;
-use super::tilt::TiltError;
-use super::tilt_nscd::{read_mechanism, released, stood, tilt_error, touches_something};
+use super::tilt::{TiltError, TiltParams};
+use super::tilt_nscd::{read_mechanism, released, stood, tilt_error, touches_something, TrialLimits};
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
@@ -77,12 +77,14 @@ pub fn run_lateral_nscd(
     let resultant_n = force.iter().fold(Vec3::zeros(), |s, f| s + f);
     let weight_n = base.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * base.gravity_magnitude();
     let inc_limit = 0.05 * b.extent().y;
+    let limits =
+        TrialLimits::of(layout, &base, inc_limit, TiltParams::default().collapse_displacement_fraction * b.extent().y);
     let scaled =
         |l: f64| (force.iter().map(|f| f * l).collect::<Vec<_>>(), torque.iter().map(|t| t * l).collect::<Vec<_>>());
     let (mut trials, mut steps) = (0usize, 0u64);
     let mut run = |l: f64, warm: &NscdSimulation| {
         let (f, t) = scaled(l);
-        let r = released(&base, warm, inc_limit, |s| s.set_external(&f, &t)).map_err(tilt_error);
+        let r = released(&base, warm, &limits, |s| s.set_external(&f, &t)).map_err(tilt_error);
         if let Ok(tr) = &r {
             trials += 1;
             steps += tr.steps;

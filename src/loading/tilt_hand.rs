@@ -49,8 +49,10 @@
 //! (`last_stable_deg`) is the table's angle when the increment's motion first passed a
 //! fifth of the per-increment displacement (the onset the operator sees),
 //! `first_unstable_deg` the angle when a criterion was met. The last increment stops at
-//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is read as by the rigid tilt, from
-//! the state at the start of the collapsing increment.
+//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is
+//! read as by the rigid tilt, from the state at the start of the collapsing increment (its
+//! load-carrying joints from that state's impulses; for the first increment, those of the
+//! check at α = 0).
 //!
 //! Rigid joints, as [`super::tilt_nscd::run_tilt_nscd`]: the layout's Kn and Ks are not
 //! used. Tested against the sliding block's closed form under a stop
@@ -62,13 +64,12 @@ pub use super::tilt::hand::{effective_tilt_deg, HandTilt, MAX_STEPS};
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use super::tilt_nscd::{
-    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something,
+    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something, TrialLimits,
 };
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
-use crate::range::OutOfRange;
 use std::time::Instant;
 
 /// Sets the weight and the inertial forces of the rotating table frame (module doc) on
@@ -121,33 +122,14 @@ pub fn run_tilt_by_hand(
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     let dt = params.dt_s;
-    if hand.ramp_s < 5.0 * dt {
-        return Err(TiltError::Parameter(OutOfRange::new(
-            "ramp_s",
-            hand.ramp_s,
-            "at least 5 time steps of the solver (5 dt_s): a shorter start or stop is not resolved",
-        )));
-    }
-    let increments_needed = (tilt.max_angle_deg / hand.increment_deg).ceil().max(1.0);
-    let steps_needed = increments_needed * (hand.roll_s() + hand.hold_s) / dt;
-    if steps_needed > MAX_STEPS {
-        // Named by what makes the run long: the holds or the rolls.
-        let (key, value) = if hand.hold_s >= hand.roll_s() {
-            ("hold_s", hand.hold_s)
-        } else {
-            ("rate_deg_per_s", hand.rate_deg_per_s)
-        };
-        return Err(TiltError::Parameter(OutOfRange::new(
-            key,
-            value,
-            "such that the run takes at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + ramp_s + hold_s) / dt_s)",
-        )));
-    }
+    hand.check_run(dt, tilt.max_angle_deg).map_err(TiltError::Parameter)?;
     touches_something(&base, params)?;
     let width = layout.bounds().extent().y;
     let inc_limit = tilt.collapse_increment_fraction * width;
     // The wall stands as given: the rigid tilt's check at α = 0.
-    let first = released(&base, &base, inc_limit, |sim| sim.set_tilt(0.0)).map_err(tilt_error)?;
+    let total_limit = tilt.collapse_displacement_fraction * width;
+    let limits = TrialLimits::of(layout, &base, inc_limit, total_limit);
+    let first = released(&base, &base, &limits, |sim| sim.set_tilt(0.0)).map_err(tilt_error)?;
     stood(&base, &first)?;
 
     let reader = Simulation::new(layout, SolverParams::default());
@@ -169,7 +151,6 @@ pub fn run_tilt_by_hand(
     }];
     let (mut last_stable, mut first_unstable, mut reason) = (0.0, None, None);
     let mut mechanism = Mechanism::none();
-    let total_limit = tilt.collapse_displacement_fraction * width;
     let mut k = 0u32;
     loop {
         let start_deg = f64::from(k) * hand.increment_deg;
@@ -209,7 +190,11 @@ pub fn run_tilt_by_hand(
                 last_stable = onset.unwrap_or(alpha_now);
                 first_unstable = Some(alpha_now);
                 reason = why;
-                mechanism = read_mechanism(&reader, &at_start, &at_start, &sim, inc_limit);
+                // The load-carrying joints from the impulses of the state at the start of
+                // the increment; the first increment starts from the reference, never
+                // stepped, whose impulses are those of the check at α = 0.
+                let carrying = if k == 0 { &first.sim } else { &at_start };
+                mechanism = read_mechanism(&reader, &at_start, carrying, &sim, inc_limit);
                 collapsed = true;
                 break;
             }

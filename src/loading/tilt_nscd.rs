@@ -31,6 +31,35 @@
 //! Gauss–Seidel noise of a converged equilibrium (below 1e-6 g h on the 13-box wall; a
 //! few 1e-4 g h on the SBL wall).
 //!
+//! # A wall held by ropes
+//!
+//! A rope ([`crate::dem::rope`]) is compliant: its force develops only as the wall moves
+//! into it, so a rope-held wall's equilibrium is displaced from the reference and depends
+//! on the path, and a block released from rest first accelerates as if free, for about a
+//! quarter period of the rope's mode, before the rope catches it. The rigid trial's window
+//! (`trial_steps`, 40 steps) would call that motion a mechanism. A layout with ropes
+//! ([`TrialLimits::of`]) therefore follows the penalty path's increments:
+//!
+//! * α grows by [`TiltParams::step_deg`], each trial starting at rest from the last stable
+//!   trial's state (the equilibrium of the tilt before), and the first unstable increment
+//!   is bisected from that state to [`TiltParams::resolution_deg`];
+//! * a trial's window is [`ROPE_PERIODS`] periods `2π/√λ` of the slowest rope-held block
+//!   (λ its largest eigenvalue of the ropes' stiffness against its mass), at least
+//!   `trial_steps` and at most [`ROPE_TRIAL_MAX_STEPS`];
+//! * the motion is kinetically damped (Cundall's kinetic damping of dynamic relaxation):
+//!   when the kinetic energy passes a peak, the wall is passing its equilibrium and every
+//!   block is stopped there, so that the release converges on the equilibrium instead of
+//!   oscillating about it;
+//! * a trial is unstable, as an increment of the penalty path, once a block has moved more
+//!   than the per-increment collapse displacement since the trial's start, or more than
+//!   [`TiltParams::collapse_displacement_fraction`] × the width since the reference
+//!   ([`CollapseReason::TotalDisplacement`]), or by the growth test at the end of the
+//!   window; stable at rest as a rigid trial.
+//!
+//! The wall then stands where the taut-string statics of docs/rope.md balance it, and
+//! fails at the first maximum of the tilt along its path (a snap to a distant branch is a
+//! per-increment collapse, as on the penalty path).
+//!
 //! # The bisection
 //!
 //! A trial at α = 0 (the layout must stand as given), then bisection of
@@ -58,6 +87,8 @@ use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
+use crate::dem::rope::RopeLoad;
+use crate::dem::timestep::Stiffness;
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -148,23 +179,93 @@ pub(crate) fn stood(base: &NscdSimulation, first: &Trial) -> Result<(), TiltErro
 pub fn check_stands_rigid(layout: &Layout, params: &NscdParams) -> Result<(), TiltError> {
     let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     touches_something(&base, params)?;
-    let inc_limit = TiltParams::default().collapse_increment_fraction * layout.bounds().extent().y;
-    let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
+    let d = TiltParams::default();
+    let width = layout.bounds().extent().y;
+    let limits =
+        TrialLimits::of(layout, &base, d.collapse_increment_fraction * width, d.collapse_displacement_fraction * width);
+    let first = trial(&base, &base, 0.0, &limits).map_err(tilt_error)?;
     stood(&base, &first)
 }
 
 /// Runs one trial at `alpha_deg` from `base` (the reference state at rest), warm-started
 /// from `warm`.
-fn trial(base: &NscdSimulation, warm: &NscdSimulation, alpha_deg: f64, inc_limit: f64) -> Result<Trial, NscdError> {
-    released(base, warm, inc_limit, |sim| sim.set_tilt(deg_to_rad(alpha_deg)))
+fn trial(
+    base: &NscdSimulation,
+    warm: &NscdSimulation,
+    alpha_deg: f64,
+    limits: &TrialLimits,
+) -> Result<Trial, NscdError> {
+    released(base, warm, limits, |sim| sim.set_tilt(deg_to_rad(alpha_deg)))
+}
+
+/// Periods of the slowest rope mode a trial of a wall held by ropes runs at most
+/// (module doc, "A wall held by ropes").
+pub const ROPE_PERIODS: f64 = 8.0;
+
+/// The most steps of one trial of a wall held by ropes, whatever its ropes' periods.
+pub const ROPE_TRIAL_MAX_STEPS: u32 = 50_000;
+
+/// What ends a trial (module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct TrialLimits {
+    /// A rigid trial is unstable once a block has moved this far since its start, m (the
+    /// per-increment collapse displacement).
+    pub(crate) increment_m: f64,
+    /// `Some` for a wall held by ropes.
+    pub(crate) rope: Option<RopeTrial>,
+}
+
+/// A trial of a wall held by ropes (module doc, "A wall held by ropes").
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RopeTrial {
+    /// Steps of the trial: [`ROPE_PERIODS`] periods of the slowest rope mode, at least the
+    /// rigid trial's `trial_steps`, at most [`ROPE_TRIAL_MAX_STEPS`].
+    pub(crate) steps: u32,
+    /// Unstable once a block has moved this far since the reference state, m: the
+    /// quasi-static tests' total collapse displacement.
+    pub(crate) total_m: f64,
+    /// The reference state's poses (as built).
+    pub(crate) reference: Vec<BodyPose>,
+}
+
+impl TrialLimits {
+    /// The limits of the trials of `layout` from `base` (its reference state): the
+    /// per-increment collapse displacement `increment_m` (m) and, if the layout has ropes
+    /// bearing on a free block, the rope trial with the total collapse displacement
+    /// `total_m` (m) and a window of [`ROPE_PERIODS`] periods `2π/√λ` of the slowest
+    /// rope-held block, `λ` its largest eigenvalue of the ropes' stiffness at the
+    /// deflection as built ([`crate::dem::timestep::Stiffness::add_restraints`]) against its
+    /// mass (rad²/s²).
+    pub(crate) fn of(layout: &Layout, base: &NscdSimulation, increment_m: f64, total_m: f64) -> TrialLimits {
+        let bodies = base.bodies();
+        let ropes = RopeLoad::of_layout(layout, bodies);
+        let rope = if ropes.iter().any(|r| !r.bearers.is_empty()) {
+            let mut k = Stiffness::new(bodies, &[]);
+            k.add_restraints(bodies, &vec![None; bodies.len()], &ropes, 0.0);
+            let lambda = k.body_eigenvalues().iter().copied().filter(|l| *l > 0.0).fold(f64::INFINITY, f64::min);
+            let dt = base.params().dt_s;
+            let p = base.params().trial_steps;
+            let steps = if lambda.is_finite() {
+                let n = (ROPE_PERIODS * std::f64::consts::TAU / lambda.sqrt() / dt).ceil();
+                n.clamp(f64::from(p), f64::from(ROPE_TRIAL_MAX_STEPS.max(p))) as u32
+            } else {
+                p
+            };
+            Some(RopeTrial { steps, total_m, reference: poses(base) })
+        } else {
+            None
+        };
+        TrialLimits { increment_m, rope }
+    }
 }
 
 /// Runs one trial (see the module doc) from `base` (the reference state at rest) loaded by
-/// `load`, warm-started from `warm`.
+/// `load`, warm-started from `warm`, with the limits `limits` (a wall held by ropes: the
+/// module doc's "A wall held by ropes").
 pub(crate) fn released(
     base: &NscdSimulation,
     warm: &NscdSimulation,
-    inc_limit: f64,
+    limits: &TrialLimits,
     load: impl FnOnce(&mut NscdSimulation),
 ) -> Result<Trial, NscdError> {
     let p = *base.params();
@@ -174,18 +275,36 @@ pub(crate) fn released(
     let start = poses(&sim);
     let (steps0, it0) = (sim.steps(), sim.iterations());
     let v_rest = p.rest_velocity_ratio * sim.gravity_magnitude() * p.dt_s;
-    let n = p.trial_steps as usize;
+    let n = limits.rope.as_ref().map_or(p.trial_steps, |r| r.steps) as usize;
     let mut speeds = Vec::with_capacity(n);
     let mut at_rest = 0u32;
     let mut reason = None;
+    let mut energy = 0.0;
     for _ in 0..n {
         sim.step(|_| Vec3::zeros())?;
-        if largest_motion(&sim, &start) > inc_limit {
+        if largest_motion(&sim, &start) > limits.increment_m {
             reason = Some(CollapseReason::IncrementDisplacement);
             break;
         }
+        if let Some(r) = &limits.rope {
+            if largest_motion(&sim, &r.reference) > r.total_m {
+                reason = Some(CollapseReason::TotalDisplacement);
+                break;
+            }
+        }
         let speed = sim.max_point_speed();
         speeds.push(speed);
+        if limits.rope.is_some() {
+            // Kinetic damping: the ropes' force develops as the wall moves into them; at a
+            // peak of the kinetic energy the wall passes its equilibrium, stopped there.
+            let e = sim.kinetic_energy();
+            if e < energy {
+                sim.stop();
+                energy = 0.0;
+            } else {
+                energy = e;
+            }
+        }
         at_rest = if speed < v_rest { at_rest + 1 } else { 0 };
         if at_rest >= p.rest_steps {
             break;
@@ -226,6 +345,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
     let reference: Vec<Vec3> = monitors.iter().map(|m| base.bodies()[m.body].to_world(&m.local)).collect();
     let width = layout.bounds().extent().y;
     let inc_limit = tilt.collapse_increment_fraction * width;
+    let limits = TrialLimits::of(layout, &base, inc_limit, tilt.collapse_displacement_fraction * width);
     let g_h = base.gravity_magnitude() * params.dt_s;
     // The table's overshoot (`Layout::table_overshoot_deg`, 0 as built), added as the
     // penalty path adds it.
@@ -247,20 +367,51 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
         });
     };
 
-    let first = trial(&base, &base, 0.0, inc_limit).map_err(tilt_error)?;
+    let first = trial(&base, &base, 0.0, &limits).map_err(tilt_error)?;
     record(0.0, &first, &mut increments);
     stood(&base, &first)?;
     let mut stable = first.sim;
     let mut last_stable = 0.0;
     let mut unstable: Option<(f64, CollapseReason, NscdSimulation)> = None;
+    // The state the collapsing trial started from (the reference for rigid trials).
+    let mut from = base.clone();
+    if limits.rope.is_some() {
+        // A compliant wall follows the path (module doc, "A wall held by ropes").
+        stable.stop();
+        let mut up: Option<f64> = None;
+        loop {
+            let next = match up {
+                None => (last_stable + tilt.step_deg).min(tilt.max_angle_deg),
+                Some(u) if u - last_stable > tilt.resolution_deg + 1e-12 => 0.5 * (u + last_stable),
+                Some(_) => break,
+            };
+            if up.is_none() && next <= last_stable {
+                break;
+            }
+            let t = trial(&stable, &stable, effective_tilt_deg(next, overshoot), &limits).map_err(tilt_error)?;
+            record(next, &t, &mut increments);
+            match t.reason {
+                None => {
+                    last_stable = next;
+                    stable = t.sim;
+                    stable.stop();
+                }
+                Some(r) => {
+                    up = Some(next);
+                    from = stable.clone();
+                    unstable = Some((next, r, t.sim));
+                }
+            }
+        }
+    }
     // Rigid trials do not depend on the path (each starts from the reference state):
     // bisection of [0, max_angle_deg], the largest tilt itself tried only if every trial
     // below it stood.
     let top = tilt.max_angle_deg;
-    let mut up = top;
+    let mut up = if limits.rope.is_some() { last_stable } else { top };
     while up - last_stable > tilt.resolution_deg + 1e-12 {
         let mid = 0.5 * (up + last_stable);
-        let t = trial(&base, &stable, effective_tilt_deg(mid, overshoot), inc_limit).map_err(tilt_error)?;
+        let t = trial(&base, &stable, effective_tilt_deg(mid, overshoot), &limits).map_err(tilt_error)?;
         record(mid, &t, &mut increments);
         match t.reason {
             None => {
@@ -273,8 +424,8 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
             }
         }
     }
-    if unstable.is_none() {
-        let t = trial(&base, &stable, effective_tilt_deg(top, overshoot), inc_limit).map_err(tilt_error)?;
+    if unstable.is_none() && limits.rope.is_none() {
+        let t = trial(&base, &stable, effective_tilt_deg(top, overshoot), &limits).map_err(tilt_error)?;
         record(top, &t, &mut increments);
         match t.reason {
             None => {
@@ -289,7 +440,7 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
     // wall stood to the largest tilt).
     let (first_unstable_deg, collapse_reason, mechanism) = match unstable {
         Some((up, reason, failed)) => {
-            (Some(up), Some(reason), read_mechanism(&reader, &base, &stable, &failed, inc_limit))
+            (Some(up), Some(reason), read_mechanism(&reader, &from, &stable, &failed, inc_limit))
         }
         None => (None, None, Mechanism::none()),
     };

@@ -161,4 +161,7 @@ pub struct Study {
     pub inputs: Vec<provenance::InputFile>,
     /// The effect library: the built-ins and the study's effect files.
     pub library: crate::effects::Library,
+    /// Inputs the study accepts but does not use, found when it was read (each names its
+    /// key); [`Study::warnings`] adds the protocol's.
+    pub read_warnings: Vec<String>,
 }

@@ -91,7 +91,7 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
         printed.push_str(&section);
         md.push_str(&section);
     }
-    let warnings = study.protocol.warnings();
+    let warnings = study.warnings();
     if !warnings.is_empty() {
         let _ = writeln!(md, "## Warnings\n");
         for w in &warnings {
@@ -293,8 +293,8 @@ fn tilt_plots(
         Ok(plot::bands(p, title, "tilt [deg]", "displacement [cm]", &displacement_series(study, step_deg, rows))?)
     })?;
     replace_file_with(&dir.join("fragility.svg"), |p| -> Result<(), ReportError> {
-        let title = "Fragility P(collapse | tilt): fitted lognormal (line), empirical (points)";
-        Ok(plot::bands(p, title, "tilt [deg]", "P(collapse)", &fragility_series(cells))?)
+        let title = "Fragility P(collapse | tilt): fitted lognormal (line), simulated (points), measured (rings)";
+        Ok(plot::bands(p, title, "tilt [deg]", "P(collapse)", &fragility_series(study, cells))?)
     })
 }
 
@@ -489,12 +489,16 @@ fn displacement_series(study: &Study, step: f64, rows: &[RealizationRow]) -> Vec
             hi,
             measured,
             points_label: None,
+            specimens: vec![],
         });
     }
     out
 }
 
-fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
+/// The fitted fragility of each cell with the ensemble's empirical points (labelled
+/// `simulated`) and, at the first sweep point, the measured specimens' empirical points of
+/// its group (labelled `measured`).
+fn fragility_series(study: &Study, cells: &[CellSummary]) -> Vec<BandSeries> {
     cells
         .iter()
         .filter_map(|c| {
@@ -505,6 +509,16 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
             let mut s = c.angles.clone();
             s.sort_by(f64::total_cmp);
             let measured = s.iter().map(|&a| (a, stats::empirical_fragility(&c.angles, a))).collect();
+            let tested: Vec<f64> = study
+                .measured
+                .collapse
+                .iter()
+                .filter(|m| m.group == study.groups[c.group_index].measured_group && c.point == 0)
+                .map(|m| m.collapse_angle_deg)
+                .collect();
+            let mut sorted = tested.clone();
+            sorted.sort_by(f64::total_cmp);
+            let specimens = sorted.iter().map(|&a| (a, stats::empirical_fragility(&tested, a))).collect();
             Some(BandSeries {
                 label: cell_title(c),
                 x,
@@ -512,7 +526,8 @@ fn fragility_series(cells: &[CellSummary]) -> Vec<BandSeries> {
                 lo: p.clone(),
                 hi: p,
                 measured,
-                points_label: None,
+                points_label: Some("simulated".into()),
+                specimens,
             })
         })
         .collect()

@@ -108,12 +108,21 @@ impl StudySpec {
         }
         let mut names = std::collections::BTreeSet::new();
         let mut groups = Vec::new();
+        let mut read_warnings = self.ignored_settings();
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));
             }
             let mut group = resolve_group(g, dir, &points, &invalid)?;
             group.effects = group_effects(&self.effects, g, &group, &library, &invalid)?;
+            self.check_realized(g, &group, &invalid)?;
+            read_warnings.extend(self.idle_end_rope(g, &group));
+            if let (Some(hand), Some(wall)) = (&self.tilt.by_hand, group.walls.first()) {
+                let keys = "tilt.by_hand.rate_deg_per_s, ramp_s, axis_depth_m";
+                let g0 = crate::units::STANDARD_GRAVITY;
+                read_warnings
+                    .extend(hand.plausibility_warning(wall.height, g0, keys).map(|w| format!("group {}: {w}", g.name)));
+            }
             groups.push(group);
         }
         files.extend(groups.iter().flat_map(group_files));
@@ -140,7 +149,16 @@ impl StudySpec {
             discrepancy: self.discrepancy.clone().unwrap_or_default(),
             inputs,
             library,
+            read_warnings,
         };
+        // Each name under the list that gives it.
+        for (list, names) in
+            [("effects", &study.discrepancy.effects), ("also_effects", &study.discrepancy.also_effects)]
+        {
+            for (i, n) in names.iter().enumerate() {
+                study.library.get(n).map_err(|e| invalid.at(&format!("discrepancy.{list}[{i}]"), e.to_string()))?;
+            }
+        }
         crate::discrepancy::searched(&study.discrepancy, &study.library, true)
             .map_err(|e| invalid.at("discrepancy.effects", e.to_string()))?;
         study.check_measured().map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
@@ -200,6 +218,117 @@ impl StudySpec {
         })?;
         if self.solver.kind == crate::dem::SolverKind::Nscd {
             self.solver.nscd.validate().map_err(range("solver.nscd"))?;
+        }
+        if let Some(hand) = &self.tilt.by_hand {
+            // What `drystone tilt --by-hand` refuses before it runs, refused before any
+            // realization does.
+            hand.check_run(self.solver.nscd.dt_s, self.tilt.max_angle_deg).map_err(range("tilt.by_hand"))?;
+        }
+        Ok(())
+    }
+
+    /// Settings the study accepts but does not read: `[tilt] step_deg` and
+    /// `resolution_deg` with `[tilt] by_hand` (the hand's increments are the path), and
+    /// `discrepancy.also_effects` beside `discrepancy.effects` (which names every
+    /// candidate). One message per setting, naming its key.
+    fn ignored_settings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let d = crate::loading::tilt::TiltParams::default();
+        if self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt {
+            for (key, v, default) in [
+                ("tilt.step_deg", self.tilt.step_deg, d.step_deg),
+                ("tilt.resolution_deg", self.tilt.resolution_deg, d.resolution_deg),
+            ] {
+                if v != default {
+                    out.push(format!(
+                        "{key} = {v} is not read with [tilt] by_hand: the table rolled by hand tilts by its \
+                         increment_deg and reads the collapse from the motion"
+                    ));
+                }
+            }
+        }
+        if let Some(dis) = &self.discrepancy {
+            let hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+            if hand && dis.effects.iter().chain(&dis.also_effects).any(|e| e == "table_kick") {
+                out.push(
+                    "discrepancy: table_kick is the quasi-static equivalent of the kicks [tilt] by_hand already runs; \
+                     the hand-rolled realizations do not read it (its candidate changes nothing)"
+                        .to_string(),
+                );
+            }
+            if !dis.effects.is_empty() && !dis.also_effects.is_empty() {
+                out.push(format!(
+                    "discrepancy.also_effects = {:?} is not read: discrepancy.effects names every candidate \
+                     (add them there)",
+                    dis.also_effects
+                ));
+            }
+        }
+        out
+    }
+
+    /// A warning when the group's `end_rope` (the group's own or the study's) acts on a
+    /// wall without end restraints, where it changes nothing (docs/rope.md).
+    fn idle_end_rope(&self, g: &GroupSpec, group: &Group) -> Option<String> {
+        let key = if g.effects.contains_key("end_rope") {
+            format!("groups[{}].effects.end_rope", g.name)
+        } else if self.effects.contains_key("end_rope") {
+            "effects.end_rope".to_string()
+        } else {
+            return None;
+        };
+        let wall = group.walls.first()?;
+        let (_, layout) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects).ok()?;
+        layout.ropes.is_empty().then(|| {
+            format!(
+                "{key} changes nothing on group {}: its wall has no end restraints for the ropes to replace",
+                g.name
+            )
+        })
+    }
+
+    /// What the protocol's run would refuse or drop on the group's realization 0,
+    /// refused here before any realization runs:
+    ///
+    /// * ropes under `[solver] kind = "limit"` (`LimitError::Ropes`, as `drystone tilt
+    ///   --solver limit` refuses them): limit analysis has no displacement for a rope;
+    /// * a table overshoot (`table_kick`) with `[tilt] by_hand`: the hand-rolled table runs
+    ///   the kicks of its stops, of which `table_kick` is the quasi-static equivalent; both
+    ///   would count them twice, and the hand-rolled run does not read it.
+    ///
+    /// Each is named by the effect that sets it (the group's own, then the study's), or
+    /// else the group's effects.
+    fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
+        let limit = self.solver.kind == crate::dem::SolverKind::Limit;
+        let by_hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+        if !(limit || by_hand) || group.effects.is_empty() {
+            return Ok(());
+        }
+        let Some(wall) = group.walls.first() else { return Ok(()) };
+        let Ok((_, layout)) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects) else { return Ok(()) };
+        let key = |effect: &str| {
+            if g.effects.contains_key(effect) {
+                format!("groups[{}].effects.{effect}", g.name)
+            } else if self.effects.contains_key(effect) {
+                format!("effects.{effect}")
+            } else {
+                format!("groups[{}].effects", g.name)
+            }
+        };
+        if limit && !layout.ropes.is_empty() {
+            let e = crate::limit::LimitError::Ropes { count: layout.ropes.len() };
+            return Err(invalid.at(&key("end_rope"), e.to_string()));
+        }
+        if by_hand && layout.table_overshoot_deg != 0.0 {
+            return Err(invalid.at(
+                &key("table_kick"),
+                format!(
+                    "sets a table overshoot of {} degrees, the quasi-static equivalent of the kicks of a table \
+                     rolled by hand; [tilt] by_hand runs those kicks themselves and does not read it (drop the \
+                     effect, or drop by_hand to test the kicks quasi-statically)",
+                    layout.table_overshoot_deg
+                ),
+            ));
         }
         Ok(())
     }
@@ -410,6 +539,15 @@ fn read_measured(
 }
 
 impl Study {
+    /// What the study warns of before it runs and in its report's "Warnings": the
+    /// protocol's (a shaking study's motions that cannot reach its levels), then the inputs
+    /// it accepts but does not use ([`Study::read_warnings`]).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = self.protocol.warnings();
+        w.extend(self.read_warnings.iter().cloned());
+        w
+    }
+
     /// The study's loading protocol with its parameters, as the seam runs it (at the first
     /// sweep point; see [`Study::loading_at`]).
     pub fn loading(&self) -> crate::protocol::Protocol {

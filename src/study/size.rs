@@ -33,13 +33,22 @@ pub const BYTES_PER_BLOCK: f64 = 32_768.0;
 /// `ceil(L / l̄) + 2` (l̄ the mean block length), and for an irregular wall up to two
 /// wedge gaps per stone, each cut into `ceil(l_max / w̄)` wedges (w̄ the mean wedge length,
 /// at least the shortest wedge kept; one wedge per gap without a wedge length law).
-/// Infinite when a mean is not a positive number.
+/// A double-faced section (`[section] leaves = 2`) cuts each of them into two leaves and,
+/// with a hearting, `ceil(l_max / hearting_stone_m)` hearting pieces (one without
+/// `hearting_stone_m`). Infinite when a mean is not a positive number.
 pub fn estimated_blocks(wall: &Wall) -> f64 {
     let per = |total: f64, mean: f64| if mean > 0.0 && mean.is_finite() { total / mean } else { f64::INFINITY };
     let lbar = wall.block_length.mean();
     let courses = per(wall.height, wall.course_height.mean()).round().max(1.0) + 1.0;
     let stones = courses * (per(wall.length, lbar).ceil() + 2.0);
-    match &wall.arrangement {
+    let cuts = match &wall.section {
+        crate::generator::Section::Single => 1.0,
+        crate::generator::Section::Double { leaf_width: None, .. } => 2.0,
+        crate::generator::Section::Double { leaf_width: Some(_), hearting_stone, .. } => {
+            2.0 + hearting_stone.map_or(1.0, |h| per(wall.block_length.practical_max(), h).ceil().max(1.0))
+        }
+    };
+    cuts * match &wall.arrangement {
         Arrangement::Irregular(ir) => {
             let shortest = ir.min_wedge_length.max(1e-6 * lbar);
             let per_gap = ir

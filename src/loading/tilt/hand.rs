@@ -43,6 +43,9 @@ impl Default for HandTilt {
     }
 }
 
+/// The smallest increment of a table rolled by hand, degrees.
+pub const MIN_INCREMENT_DEG: f64 = 0.01;
+
 /// The largest number of time steps a run may take (the increments to `max_angle_deg`
 /// with their holds, at the solver's step): beyond it the run is refused before it starts.
 pub const MAX_STEPS: f64 = 2e7;
@@ -64,8 +67,8 @@ impl HandTilt {
         check(
             "increment_deg",
             self.increment_deg,
-            self.increment_deg > 0.0 && self.increment_deg <= 45.0,
-            "in (0, 45]",
+            (MIN_INCREMENT_DEG..=45.0).contains(&self.increment_deg),
+            "in [0.01, 45] (a table rolled by hand moves by whole degrees; below 0.01° no start or stop fits the roll)",
         )?;
         check(
             "rate_deg_per_s",
@@ -81,6 +84,40 @@ impl HandTilt {
             self.ramp_s > 0.0 && self.ramp_s <= self.increment_deg / self.rate_deg_per_s,
             "in (0, increment_deg / rate_deg_per_s]: the start and the stop within the roll",
         )
+    }
+
+    /// Checks the motion against the solver's time step `dt_s` (s) and the largest tilt
+    /// `max_angle_deg` (degrees): a start or a stop of at least 5 steps, and a run of at
+    /// most [`MAX_STEPS`] steps (`⌈max_angle_deg / increment_deg⌉ × (roll_s + hold_s) /
+    /// dt_s`). The fields must be valid ([`Self::validate`]).
+    ///
+    /// # Errors
+    /// [`OutOfRange`] naming `ramp_s` (shorter than 5 steps), or `hold_s` or
+    /// `rate_deg_per_s`, whichever makes the run long, with the bound.
+    pub fn check_run(&self, dt_s: f64, max_angle_deg: f64) -> Result<(), OutOfRange> {
+        if self.ramp_s < 5.0 * dt_s {
+            return Err(OutOfRange::new(
+                "ramp_s",
+                self.ramp_s,
+                "at least 5 time steps of the solver (5 dt_s): a shorter start or stop is not resolved",
+            ));
+        }
+        let increments_needed = (max_angle_deg / self.increment_deg).ceil().max(1.0);
+        let steps_needed = increments_needed * (self.roll_s() + self.hold_s) / dt_s;
+        if steps_needed > MAX_STEPS {
+            // Named by what makes the run long: the holds or the rolls.
+            let (key, value) = if self.hold_s >= self.roll_s() {
+                ("hold_s", self.hold_s)
+            } else {
+                ("rate_deg_per_s", self.rate_deg_per_s)
+            };
+            return Err(OutOfRange::new(
+                key,
+                value,
+                "such that the run takes at most 2e7 time steps (increments to max_angle_deg × (increment_deg / rate_deg_per_s + ramp_s + hold_s) / dt_s)",
+            ));
+        }
+        Ok(())
     }
 
     /// Duration of one increment's roll (start, constant speed, stop), s: `Δ / ω +
@@ -109,6 +146,29 @@ impl HandTilt {
         } else {
             (a0 + delta, 0.0, 0.0)
         }
+    }
+
+    /// The peak acceleration of a start or a stop at the top of a wall `height_m` high
+    /// (m), in units of `gravity` (m/s²): `α̈ (d + H) / g`, `d` the axis depth.
+    pub fn peak_top_acceleration_g(&self, height_m: f64, gravity: f64) -> f64 {
+        self.peak_angular_acceleration() * (self.axis_depth_m + height_m) / gravity
+    }
+
+    /// A warning when the starts and stops push the top of a wall `height_m` high (m)
+    /// harder than [`crate::ground::PLAUSIBLE_PGA_G`] (the shaking table's plausibility
+    /// bound): a table rolled by hand does not do that; `None` otherwise. `keys` names the
+    /// settings (e.g. `--hand-rate-deg-s, --hand-ramp-s, --table-axis-depth-m`).
+    pub fn plausibility_warning(&self, height_m: f64, gravity: f64, keys: &str) -> Option<String> {
+        let a = self.peak_top_acceleration_g(height_m, gravity);
+        (a > crate::ground::PLAUSIBLE_PGA_G).then(|| {
+            format!(
+                "the starts and stops push the top of the wall with {a:.3e} g (α̈ = {:.3e} rad/s² at {:.3} m above \
+                 the axis), implausible for a table rolled by hand (above {} g): check {keys}",
+                self.peak_angular_acceleration(),
+                self.axis_depth_m + height_m,
+                crate::ground::PLAUSIBLE_PGA_G
+            )
+        })
     }
 
     /// The peak angular acceleration of a start or a stop, rad/s² (`ω / ramp_s`).

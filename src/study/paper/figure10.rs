@@ -166,6 +166,7 @@ fn figure(d: Figure10, dir: &Path) -> Result<(), PaperError> {
             hi: d.irregular.iter().zip(&d.irregular_sd).map(|(m, s)| m + s).collect(),
             measured: vec![],
             points_label: None,
+            specimens: vec![],
         },
     ];
     super::plot_bands(

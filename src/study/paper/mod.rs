@@ -88,5 +88,14 @@ fn arrangement_name(a: &Arrangement) -> &'static str {
 
 /// A curve without a band (`lo` = `mid` = `hi`).
 fn curve(label: String, x: Vec<f64>, y: Vec<f64>) -> BandSeries {
-    BandSeries { label, x, mid: y.clone(), lo: y.clone(), hi: y, measured: vec![], points_label: None }
+    BandSeries {
+        label,
+        x,
+        mid: y.clone(),
+        lo: y.clone(),
+        hi: y,
+        measured: vec![],
+        points_label: None,
+        specimens: vec![],
+    }
 }

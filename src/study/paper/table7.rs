@@ -231,6 +231,7 @@ impl Table7 {
                     hi: y,
                     measured: meas,
                     points_label: Some("paper".into()),
+                    specimens: vec![],
                 });
             }
         }
