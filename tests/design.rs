@@ -112,11 +112,11 @@ fn bad_design_options_are_refused_naming_the_key() {
     let study = root.join("tests/discrepancy/study.toml");
     let out = std::env::temp_dir().join(format!("drystone-design-bad-{}", std::process::id()));
     let cases: [(&[&str], &str); 6] = [
-        (&["--specimens", "0"], "specimens = 0: in [1, 64]"),
-        (&["--specimens", "65"], "specimens = 65: in [1, 64]"),
-        (&["--target", "1"], "target = 1: in (0, 1)"),
-        (&["--target", "0"], "target = 0: in (0, 1)"),
-        (&["--replicates", "9"], "replicates = 9: in [10, 100000]"),
+        (&["--specimens", "0"], "--specimens 0: must be in [1, 64]"),
+        (&["--specimens", "65"], "--specimens 65: must be in [1, 64]"),
+        (&["--target", "1"], "--target 1: must be in (0, 1)"),
+        (&["--target", "0"], "--target 0: must be in (0, 1)"),
+        (&["--replicates", "9"], "--replicates 9: must be in [10, 100000]"),
         (&["--measured", "/nonexistent-measured-dir"], "/nonexistent-measured-dir"),
     ];
     for (args, want) in cases {
