@@ -317,3 +317,31 @@ fn bad_shaking_inputs_are_refused_naming_file_and_key() {
     assert!(text.contains("shake") && text.contains("protocol = \"shake\""), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A shaking study without `[solver] kind` shakes by the non-smooth solver, as `drystone
+/// shake` does; a tilting study without it keeps the penalty DEM; a shaking study that
+/// names the penalty DEM keeps it.
+#[test]
+fn a_shaking_study_shakes_by_nscd_unless_it_names_another_solver() {
+    let dir = scratch("default-solver");
+    std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
+    let write = |name: &str, body: &str| {
+        let path = dir.join(name);
+        std::fs::write(
+            &path,
+            format!(
+                "version = 1\nname = \"block_shake\"\nseed = 5\nrealizations = 1\n{body}\n[[groups]]\nname = \
+                 \"block\"\nwall = \"block.toml\"\n"
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let table = "[shake]\npga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]";
+    let shake = Study::from_file(&write("shake.toml", &format!("protocol = \"shake\"\n{table}"))).unwrap();
+    assert_eq!(shake.solver.kind, drystone::dem::SolverKind::Nscd);
+    let penalty = write("penalty.toml", &format!("protocol = \"shake\"\n[solver]\nkind = \"penalty\"\n{table}"));
+    assert_eq!(Study::from_file(&penalty).unwrap().solver.kind, drystone::dem::SolverKind::Penalty);
+    let tilt = Study::from_file(&write("tilt.toml", "")).unwrap();
+    assert_eq!(tilt.solver.kind, drystone::dem::SolverKind::Penalty);
+}

@@ -52,7 +52,9 @@ pub struct StudySpec {
     /// Shaking-table parameters and motions (protocol `shake`; see [`ShakeSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<ShakeSpec>,
-    /// Solver parameters.
+    /// Solver parameters. Without `kind`: the penalty DEM, except a shaking study
+    /// (`protocol = "shake"`), which shakes by `nscd` as `drystone shake` does
+    /// ([`StudySpec::from_file`]).
     #[serde(default)]
     pub solver: SolverParams,
     /// Groups (≥ 1).
@@ -232,7 +234,20 @@ impl StudySpec {
     /// [`StudyError::Io`], [`StudyError::Parse`].
     pub fn from_file(path: &Path) -> Result<Self, StudyError> {
         let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io { path: path.to_owned(), source })?;
-        toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })
+        let mut spec: StudySpec =
+            toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })?;
+        // A shaking study without `[solver] kind` shakes by the non-smooth solver, as
+        // `drystone shake` does (docs/shake.md); every other protocol's default is the
+        // penalty DEM's.
+        let kind_given = text
+            .parse::<toml::Table>()
+            .ok()
+            .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
+            .unwrap_or(false);
+        if spec.protocol == ProtocolKind::Shake && !kind_given {
+            spec.solver.kind = crate::dem::SolverKind::Nscd;
+        }
+        Ok(spec)
     }
 }
 
