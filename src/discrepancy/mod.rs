@@ -102,7 +102,7 @@ pub enum DiscrepancyError {
     },
     /// A measured displacement at a tilt the analysis's tilt steps do not reach.
     #[error(
-        "specimen {specimen}: displacement at {tilt_deg} deg is not a multiple of discrepancy.step_deg = {step_deg}"
+        "specimen {specimen}: displacement at {tilt_deg} deg is not a multiple of the study's tilt.step_deg = {step_deg}"
     )]
     Tilt {
         /// The specimen.
