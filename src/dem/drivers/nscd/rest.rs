@@ -106,41 +106,60 @@ pub struct Certificate {
 }
 
 impl Certificate {
+    /// The axes `forces(a_g)` reads: those along which `a_g` (m/s², table frame) has a
+    /// component, or y for the field at rest when it has none.
+    fn axes_of(a_g: Vec3) -> impl Iterator<Item = usize> {
+        let any = a_g != Vec3::zeros();
+        (0..3).filter(move |&d| if any { a_g[d] != 0.0 } else { d == 1 })
+    }
+
+    /// Whether [`Self::forces`] of `a_g` needs cone programs not solved yet (then call
+    /// [`Self::prepare`] first).
+    pub fn needs_programs(&self, a_g: Vec3) -> bool {
+        Self::axes_of(a_g).any(|d| self.axes[d].is_none())
+    }
+
+    /// Solves the cone programs of the axes `a_g` needs (two per axis, once).
+    pub fn prepare(&mut self, statics: &Statics<'_>, a_g: Vec3) {
+        for d in Self::axes_of(a_g) {
+            self.axis(statics, d);
+        }
+    }
+
     /// The contact forces (N, local frames, per point) that carry the base acceleration
     /// `a_g` (m/s², table frame) with the blocks at rest, or `None` if `a_g` is outside the
-    /// certified range (or the dead load alone is not certified).
-    pub fn forces(&mut self, statics: &Statics<'_>, a_g: Vec3) -> Option<Vec<Vec3>> {
+    /// certified range, the dead load alone is not certified, or the axes it needs have
+    /// not been prepared ([`Self::prepare`]).
+    pub fn forces(&self, a_g: Vec3) -> Option<Vec<Vec3>> {
         let mut weight_sum = 0.0;
-        let mut parts: Vec<(f64, usize, bool)> = Vec::new();
+        let mut parts: Vec<(f64, &Vec<Vec3>)> = Vec::new();
         // The field at a = 0 comes from the first axis used (y if none is).
         let mut zero_axis = None;
-        for d in 0..3 {
+        for d in Self::axes_of(a_g) {
+            let axis = self.axes[d].as_ref()?.as_ref()?;
+            zero_axis.get_or_insert(axis);
             if a_g[d] == 0.0 {
                 continue;
             }
-            let axis = self.axis(statics, d)?;
-            let (w, plus) = if a_g[d] > 0.0 { (a_g[d] / axis.plus, true) } else { (a_g[d] / axis.minus, false) };
+            let (w, field) =
+                if a_g[d] > 0.0 { (a_g[d] / axis.plus, &axis.f_plus) } else { (a_g[d] / axis.minus, &axis.f_minus) };
             if !w.is_finite() {
                 return None;
             }
             weight_sum += w;
-            parts.push((w, d, plus));
-            zero_axis.get_or_insert(d);
+            parts.push((w, field));
         }
         if weight_sum > 1.0 {
             return None;
         }
-        let z = zero_axis.unwrap_or(1);
-        let axis0 = self.axis(statics, z)?;
+        let axis0 = zero_axis?;
         // f₀ = (−a₋ f₊ + a₊ f₋)/(a₊ − a₋), the field at a = 0 on the axis's segment.
         let span = axis0.plus - axis0.minus;
         let (c_plus, c_minus) = if span > 0.0 { (-axis0.minus / span, axis0.plus / span) } else { (0.5, 0.5) };
         let rest = 1.0 - weight_sum;
         let mut f: Vec<Vec3> =
             axis0.f_plus.iter().zip(&axis0.f_minus).map(|(p, m)| (p * c_plus + m * c_minus) * rest).collect();
-        for (w, d, plus) in parts {
-            let axis = self.axes[d].as_ref()?.as_ref()?;
-            let field = if plus { &axis.f_plus } else { &axis.f_minus };
+        for (w, field) in parts {
             for (fi, g) in f.iter_mut().zip(field) {
                 *fi += g * w;
             }
@@ -149,7 +168,7 @@ impl Certificate {
     }
 
     /// The range of axis `d`, computed on first use.
-    fn axis(&mut self, statics: &Statics<'_>, d: usize) -> Option<&Axis> {
+    fn axis(&mut self, statics: &Statics<'_>, d: usize) {
         if self.axes[d].is_none() {
             let plus = largest(statics, d, 1.0);
             let minus = largest(statics, d, -1.0);
@@ -161,7 +180,6 @@ impl Certificate {
                 _ => None,
             });
         }
-        self.axes[d].as_ref()?.as_ref()
     }
 }
 

@@ -387,8 +387,7 @@ impl NscdSimulation {
 
     /// Every free block slower than [`NscdParams::rest_velocity_ratio`] `× g h`.
     fn at_rest(&self) -> bool {
-        let v_rest = self.params.rest_velocity_ratio * self.gravity_magnitude * self.params.dt_s;
-        self.bodies.iter().all(|b| b.fixed || b.vel.norm() + b.angvel.norm() * b.radius <= v_rest)
+        self.max_point_speed() <= self.params.rest_velocity_ratio * self.gravity_magnitude * self.params.dt_s
     }
 
     /// The step of a wall at rest under the base acceleration `a_g`, certified by statics
@@ -418,26 +417,12 @@ impl NscdSimulation {
                 self.external_torque.clone(),
             ));
         }
-        let dead = self.dead_loads();
-        let mass: Vec<f64> = self.bodies.iter().map(|b| b.mass).collect();
-        let free: Vec<bool> = self.bodies.iter().map(|b| !b.fixed).collect();
-        let held_y: Vec<bool> = self.inv_m.iter().zip(&self.bodies).map(|(m, b)| !b.fixed && m.y == 0.0).collect();
-        let statics = Statics {
-            rows: &self.rows,
-            mass: &mass,
-            free: &free,
-            held_y: &held_y,
-            dead: &dead,
-            length_scale: self.radius.iter().fold(0.0, |m, r| m.max(*r)),
-            gravity: self.gravity_magnitude,
-            closing: self.params.theta * h,
-            gap_tolerance: super::rest::GAP_TOLERANCE,
-        };
-        let (cert, ..) = self.certificate.as_mut()?;
-        let before = cert.programs;
-        let forces = cert.forces(&statics, a_g);
-        self.certificate_programs += u64::from(cert.programs - before);
-        let forces = forces?;
+        let (cert, ..) = self.certificate.as_ref()?;
+        if cert.needs_programs(a_g) {
+            self.prepare_certificate(a_g);
+        }
+        let (cert, ..) = self.certificate.as_ref()?;
+        let forces = cert.forces(a_g)?;
         // The impulses must lie in the full cones (they lie in the reduced ones to the
         // program's tolerance) and act only at closed points.
         let admissible = forces.iter().zip(&self.rows).all(|(f, r)| {
@@ -472,35 +457,39 @@ impl NscdSimulation {
         Some(self.last)
     }
 
-    /// The dead load of every body at rest: weight, external loads, end-restraint springs
-    /// and ropes at the current poses (N, and N·m about the centroid; table frame).
-    fn dead_loads(&mut self) -> Vec<(Vec3, Vec3)> {
-        if !self.ropes.is_empty() {
-            self.rope_force.fill(Vec3::zeros());
-            self.rope_torque.fill(Vec3::zeros());
-            for rope in &self.ropes {
-                rope.add_forces(&self.bodies, &mut self.rope_force, &mut self.rope_torque);
-            }
-        }
-        self.bodies
-            .iter()
-            .enumerate()
-            .map(|(k, b)| {
-                if b.fixed {
-                    return (Vec3::zeros(), Vec3::zeros());
+    /// Solves the cone programs the certificate needs for `a_g`, with the statics of the
+    /// wall at rest: the dead load of every body (weight, external loads, end-restraint
+    /// springs and ropes at the current poses), its masses and restraints.
+    fn prepare_certificate(&mut self, a_g: Vec3) {
+        self.rope_loads();
+        let dead: Vec<(Vec3, Vec3)> = (0..self.bodies.len())
+            .map(|k| {
+                if self.bodies[k].fixed {
+                    (Vec3::zeros(), Vec3::zeros())
+                } else {
+                    self.smooth_load(k, Vec3::zeros(), Vec3::zeros())
                 }
-                let mut f = self.gravity * b.mass + self.external_force[k];
-                if let Some(kk) = self.spring[k] {
-                    f.y -= kk * (b.pos.y - b.pos0.y);
-                }
-                let mut t = self.external_torque[k];
-                if !self.ropes.is_empty() {
-                    f += self.rope_force[k];
-                    t += self.rope_torque[k];
-                }
-                (f, t)
             })
-            .collect()
+            .collect();
+        let mass: Vec<f64> = self.bodies.iter().map(|b| b.mass).collect();
+        let free: Vec<bool> = self.bodies.iter().map(|b| !b.fixed).collect();
+        let held_y: Vec<bool> = self.inv_m.iter().zip(&self.bodies).map(|(m, b)| !b.fixed && m.y == 0.0).collect();
+        let statics = Statics {
+            rows: &self.rows,
+            mass: &mass,
+            free: &free,
+            held_y: &held_y,
+            dead: &dead,
+            length_scale: self.radius.iter().fold(0.0, |m, r| m.max(*r)),
+            gravity: self.gravity_magnitude,
+            closing: self.params.theta * self.params.dt_s,
+            gap_tolerance: super::rest::GAP_TOLERANCE,
+        };
+        if let Some((cert, ..)) = self.certificate.as_mut() {
+            let before = cert.programs;
+            cert.prepare(&statics, a_g);
+            self.certificate_programs += u64::from(cert.programs - before);
+        }
     }
 
     /// Copies the bodies' poses, velocities and inverse inertias into the work arrays.
@@ -535,6 +524,20 @@ impl NscdSimulation {
 
     /// Stage 3: the velocities the smooth forces give by the end of the step.
     fn free_velocities(&mut self, h: f64, a_g: Vec3) {
+        self.rope_loads();
+        for k in 0..self.bodies.len() {
+            if self.bodies[k].fixed {
+                continue;
+            }
+            let (f, t) = self.smooth_load(k, a_g, self.angvel[k]);
+            self.vel[k] += h * self.inv_m[k].component_mul(&f);
+            self.angvel[k] += h * (self.inv_i[k] * t);
+        }
+    }
+
+    /// The ropes' forces and moments on every body at the current poses, into
+    /// `rope_force` and `rope_torque` (nothing without ropes).
+    fn rope_loads(&mut self) {
         if !self.ropes.is_empty() {
             self.rope_force.fill(Vec3::zeros());
             self.rope_torque.fill(Vec3::zeros());
@@ -542,24 +545,25 @@ impl NscdSimulation {
                 rope.add_forces(&self.bodies, &mut self.rope_force, &mut self.rope_torque);
             }
         }
-        for (k, b) in self.bodies.iter().enumerate() {
-            if b.fixed {
-                continue;
-            }
-            let mut f = (self.gravity - a_g) * b.mass + self.external_force[k];
-            if let Some(kk) = self.spring[k] {
-                f.y -= kk * (b.pos.y - b.pos0.y);
-            }
-            let iw = b.rot_mat * b.inertia * b.rot_mat.transpose();
-            let w = self.angvel[k];
-            let mut t = self.external_torque[k] - w.cross(&(iw * w));
-            if !self.ropes.is_empty() {
-                f += self.rope_force[k];
-                t += self.rope_torque[k];
-            }
-            self.vel[k] += h * self.inv_m[k].component_mul(&f);
-            self.angvel[k] += h * (self.inv_i[k] * t);
+    }
+
+    /// The smooth load on free body `k` (N, and N·m about its centroid; table frame): its
+    /// weight and the d'Alembert force of the base acceleration `a_g`, the external load,
+    /// its end-restraint spring, the ropes (from [`Self::rope_loads`]) and the gyroscopic
+    /// torque `−ω × I ω` of the angular velocity `w`.
+    fn smooth_load(&self, k: usize, a_g: Vec3, w: Vec3) -> (Vec3, Vec3) {
+        let b = &self.bodies[k];
+        let mut f = (self.gravity - a_g) * b.mass + self.external_force[k];
+        if let Some(kk) = self.spring[k] {
+            f.y -= kk * (b.pos.y - b.pos0.y);
         }
+        let iw = b.rot_mat * b.inertia * b.rot_mat.transpose();
+        let mut t = self.external_torque[k] - w.cross(&(iw * w));
+        if !self.ropes.is_empty() {
+            f += self.rope_force[k];
+            t += self.rope_torque[k];
+        }
+        (f, t)
     }
 
     /// Stage 4: the warm start (the impulses of the last step applied) and the NSGS
