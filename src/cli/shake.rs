@@ -288,11 +288,12 @@ fn print(layout: &Path, r: &ShakeResult, params: &ShakeParams) {
         );
     } else {
         out!(
-            "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged), {:.2} s simulated; wall time {:.2} s",
+            "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {:.2} s simulated; wall time {:.2} s",
             r.steps,
             r.dt_s,
             r.iterations,
             r.unconverged_steps,
+            r.max_natural_residual,
             r.simulated_s,
             r.wall_time_s
         );

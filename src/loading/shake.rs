@@ -193,6 +193,12 @@ pub struct ShakeResult {
     pub iterations: u64,
     /// Steps whose NSGS sweeps did not meet the tolerance (0 for `penalty`).
     pub unconverged_steps: u64,
+    /// The largest natural-map residual of a step of the motion (`nscd`; 0 for `penalty`),
+    /// dimensionless: how far the worst step's impulses are from a solution of its
+    /// Signorini–Coulomb problem, whatever the stopping rule
+    /// (`dem::drivers::nscd::nsgs::natural_residual`; docs/nscd.md).
+    #[serde(default)]
+    pub max_natural_residual: f64,
     /// Wall-clock time, s (not part of the deterministic output).
     pub wall_time_s: f64,
     /// The recorded history.
@@ -313,11 +319,13 @@ pub fn run_shake_observed(
     let vertical = params.vertical && motion.vertical_g.is_some();
     let base = |t: f64| base_acceleration(motion, motion_s, vertical, t - start);
     let steps = (total / h).ceil() as u64;
+    let mut natural = 0.0f64;
     for _ in 0..steps {
         let step = sim.step(base)?;
         if !step.converged {
             unconverged += 1;
         }
+        natural = natural.max(step.natural_residual);
         if watch.after_step(sim.time() - start, sim.bodies(), observe) {
             break;
         }
@@ -331,6 +339,7 @@ pub fn run_shake_observed(
             steps: sim.steps(),
             iterations: sim.iterations(),
             unconverged_steps: unconverged,
+            max_natural_residual: natural,
             wall_time_s: t0.elapsed().as_secs_f64(),
         },
     ))
@@ -397,6 +406,7 @@ pub(super) struct Work {
     pub(super) steps: u64,
     pub(super) iterations: u64,
     pub(super) unconverged_steps: u64,
+    pub(super) max_natural_residual: f64,
     pub(super) wall_time_s: f64,
 }
 
@@ -519,6 +529,7 @@ impl<'m> Watch<'m> {
             steps: work.steps,
             iterations: work.iterations,
             unconverged_steps: work.unconverged_steps,
+            max_natural_residual: work.max_natural_residual,
             wall_time_s: work.wall_time_s,
             history: self.history,
         }
@@ -620,6 +631,7 @@ fn run_shake_penalty(
             steps: sim.state.steps,
             iterations: 0,
             unconverged_steps: 0,
+            max_natural_residual: 0.0,
             wall_time_s: t0.elapsed().as_secs_f64(),
         },
     ))

@@ -18,6 +18,7 @@
 //! Delassus block and inverse, μ and the Signorini term are read, so the points of a wall
 //! of a few thousand fit in a core's second-level cache.
 
+use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::local;
 use super::{NscdParams, NsgsNorm, SweepOrder};
@@ -226,5 +227,48 @@ fn visit(
     if has_a {
         vel[a] = va;
         angvel[a] = wa;
+    }
+}
+
+/// The natural-map residual of a step's contact problem at the impulses `impulse` (local
+/// frames, N·s) and the bodies' velocities `vel`, `angvel` consistent with them,
+/// dimensionless; `gh` is g h (m/s), the floor of its denominator (a wall in free flight).
+///
+/// Per point α, De Saxcé's natural map of the Signorini–Coulomb conditions (De Saxcé &
+/// Feng 1998; the residual of Acary, Brémond & Huber 2018 and of the FCLIB benchmarks):
+///
+/// ```text
+/// φ_α = r_α − proj_{K_μ}(r_α − ρ_α (u_α + μ ‖u_{t,α}‖ e_n)),    ρ_α = 1 / w̄_α,  w̄_α = tr W_αα / 3
+/// ```
+///
+/// zero exactly when the point's impulse and relative velocity (with the Signorini term)
+/// satisfy Signorini and Coulomb, whatever method made them. It is weighted into a
+/// velocity (`w̄_α φ_α`, m/s) and taken relative to the velocities the impulses produce,
+/// as LMGC90's quadratic norm is: `‖(w̄_α φ_α)‖₂ / max(‖(W_αα r_α)‖₂, g h)`. A point held
+/// against slip (`base_sliding = "held"`) has no tangential law: its tangential part is
+/// `ρ_α u_t`.
+pub fn natural_residual(rows: &[PointRows], impulse: &[Vec3], vel: &[Vec3], angvel: &[Vec3], gh: f64) -> f64 {
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for (row, r) in rows.iter().zip(impulse) {
+        let wbar = row.w.trace() / 3.0;
+        if !(wbar > 0.0) {
+            continue;
+        }
+        let mut u = row.velocity(vel, angvel);
+        u.x += row.bias;
+        let rho = 1.0 / wbar;
+        let phi = if row.mu >= HELD_FRICTION {
+            Vec3::new(r.x - (r.x - rho * u.x).max(0.0), rho * u.y, rho * u.z)
+        } else {
+            let ut = (u.y * u.y + u.z * u.z).sqrt();
+            r - local::project(&(r - rho * Vec3::new(u.x + row.mu * ut, u.y, u.z)), row.mu)
+        };
+        num += wbar * wbar * phi.norm_squared();
+        den += (row.w * r).norm_squared();
+    }
+    if num == 0.0 {
+        0.0
+    } else {
+        num.sqrt() / den.sqrt().max(gh)
     }
 }

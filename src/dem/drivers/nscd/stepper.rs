@@ -60,6 +60,10 @@ pub struct NscdStep {
     /// the stopping rule read it (the quadratic norm; the adaptive one from the sweep that
     /// admits it); 0 otherwise.
     pub quad_residual: f64,
+    /// The natural-map residual of the step's contact problem at its end
+    /// ([`nsgs::natural_residual`]), dimensionless: how far the impulses are from a
+    /// solution, whatever the stopping rule (0 for a certified step, exact).
+    pub natural_residual: f64,
     /// The step was certified at rest by statics ([`super::rest`]): no sweeps, every block
     /// still at rest.
     pub certified: bool,
@@ -370,6 +374,8 @@ impl NscdSimulation {
         }
         self.free_velocities(h, a_g);
         let (iterations, converged, residual, quad) = self.nsgs();
+        let gh = self.gravity_magnitude * h;
+        let natural = nsgs::natural_residual(&self.rows, &self.impulse, &self.vel, &self.angvel, gh);
         self.advance(h, theta)?;
         let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
         self.iterations += u64::from(iterations);
@@ -378,6 +384,7 @@ impl NscdSimulation {
             converged,
             residual_m_per_s: residual,
             quad_residual: quad,
+            natural_residual: natural,
             certified: false,
             active,
             redetected,
@@ -450,6 +457,7 @@ impl NscdSimulation {
             converged: true,
             residual_m_per_s: 0.0,
             quad_residual: 0.0,
+            natural_residual: 0.0,
             certified: true,
             active,
             redetected,

@@ -1,0 +1,62 @@
+//! The natural-map residual of a step of the non-smooth solver
+//! (`dem::drivers::nscd::nsgs::natural_residual`, reported per step as
+//! `NscdStep::natural_residual` and per shaking run as `ShakeResult::max_natural_residual`):
+//! zero at a solution of the step's Signorini–Coulomb problem, whatever method made it.
+//!
+//! References, independent of the stopping rule under test:
+//!
+//! * a block sliding on the table under a constant base acceleration above μ g (Newmark's
+//!   sliding block): four points, solved by the sweeps to the velocity norm's 1e-7 g h, so
+//!   every step is a solution to rounding and its residual must vanish;
+//! * a step of the SBL preset wall under a base acceleration above its capacity cut after
+//!   one sweep is far from a solution (a correction has crossed one contact), and the same
+//!   step solved by the default rule is much closer.
+
+use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation};
+use drystone::generator::{generate, Wall};
+use drystone::layout::BaseSliding;
+use drystone::units::STANDARD_GRAVITY as G;
+use drystone::verify::{box_vertices, layout_of};
+use drystone::Vec3;
+use std::path::PathBuf;
+
+/// Every step of a block sliding under 0.6 g (μ = tan 20° = 0.36; a wide, low block that
+/// cannot tip) meets the natural map to 1e-6 (the sweeps stop at a velocity change of 1e-7 g h), and the block does slide.
+#[test]
+fn a_sliding_block_solves_every_step_exactly() {
+    let layout = layout_of(vec![box_vertices([0.0, -0.3, 0.0], [0.2, 0.3, 0.1])], 1e13, 5e12, 20.0, BaseSliding::Free);
+    let mut sim = NscdSimulation::new(&layout, &NscdParams::default()).unwrap();
+    for k in 0..100 {
+        let step = sim.step(|_| Vec3::new(0.0, 0.6 * G, 0.0)).unwrap();
+        assert!(!step.certified, "step {k} certified above the sliding capacity");
+        assert!(step.natural_residual < 1e-6, "step {k}: natural-map residual {:e}", step.natural_residual);
+    }
+    // Relative to the table the block slides back at (0.6 − μ) g (Newmark 1965).
+    let mu = 20f64.to_radians().tan();
+    let expected = -(0.6 - mu) * G * sim.time();
+    let v = sim.bodies()[0].vel.y;
+    assert!((v - expected).abs() < 1e-6 * expected.abs() + 1e-9, "slip velocity {v} against {expected}");
+}
+
+/// On the SBL preset wall under 0.8 g (capacity about 0.45 g) the first step cut after one
+/// sweep leaves a residual above 1e-2; solved by the default rule, at least ten times less.
+#[test]
+fn a_step_cut_short_on_a_large_wall_is_far_from_a_solution() {
+    let wall = Wall::from_file(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("studies/walls/sbl.toml")).unwrap();
+    let layout = generate(&wall, 20210917, 0).unwrap().check().unwrap();
+    let cut = NscdParams { max_iterations: 1, ..NscdParams::default() };
+    let mut sim = NscdSimulation::new(&layout, &cut).unwrap();
+    let one = sim.step(|_| Vec3::new(0.0, 0.8 * G, 0.0)).unwrap();
+    assert!(!one.converged && one.iterations == 1);
+    assert!(one.natural_residual > 1e-2, "one sweep: natural-map residual {:e}", one.natural_residual);
+    let mut sim = NscdSimulation::new(&layout, &NscdParams::default()).unwrap();
+    let full = sim.step(|_| Vec3::new(0.0, 0.8 * G, 0.0)).unwrap();
+    assert!(full.iterations > 1);
+    assert!(
+        full.natural_residual * 10.0 < one.natural_residual,
+        "default rule: {:e} after {} sweeps against {:e} after one",
+        full.natural_residual,
+        full.iterations,
+        one.natural_residual
+    );
+}
