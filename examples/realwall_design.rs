@@ -92,7 +92,7 @@ fn main() {
             run.followup = Some(plan.clone());
             let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
             let _ = std::fs::remove_dir_all(&dir);
-            let files = write_followup(&st, &plan, &dir, SPECIMENS as usize).unwrap().unwrap();
+            let files = write_followup(&st, &plan, &dir, SPECIMENS as usize, None).unwrap().unwrap();
             let fst = Study::from_file(&files.study).expect("the follow-up study reads");
             // The follow-up's specimens from the hidden truth walls: fresh realizations of the
             // follow-up's group, edited by the same hidden edit.

@@ -7,8 +7,8 @@
 
 mod realwalls;
 
-use drystone::discrepancy::design::{design, DesignSettings, FollowUpKind};
-use drystone::discrepancy::{analyze, prepare, quiet, report_json, report_markdown};
+use drystone::discrepancy::design::{design, Chance, DesignSettings, FollowUp, FollowUpKind, Plan, Ranked, WallEdit};
+use drystone::discrepancy::{analyze, prepare, quiet, report_json, report_markdown, Observable};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement, read_measured_mechanism};
 use drystone::study::discrepancy::setup_of;
 use drystone::study::followup::{menu, write_followup};
@@ -73,7 +73,7 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     let _ = std::fs::remove_dir_all(&dir);
     let mut tall = plan.clone();
     tall.ranked.sort_by_key(|r| r.followup.kind != FollowUpKind::Height);
-    let files = write_followup(&st, &tall, &dir.join("tall"), 4).unwrap().unwrap();
+    let files = write_followup(&st, &tall, &dir.join("tall"), 4, None).unwrap().unwrap();
     let fst = Study::from_file(&files.study).unwrap();
     let names: Vec<&str> = fst.groups.iter().map(|g| g.name.as_str()).collect();
     assert_eq!(names, ["FREE", "HELD", "FREE_tall"]);
@@ -98,9 +98,105 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     std::fs::write(&files.measured[0], text).unwrap();
     let filled = Study::from_file(&files.study).unwrap();
     assert_eq!(filled.measured.collapse.iter().filter(|c| c.group == "FREE_tall").count(), 4);
-    let best = write_followup(&st, &plan, &dir.join("best"), 3).unwrap().unwrap();
+    let best = write_followup(&st, &plan, &dir.join("best"), 3, None).unwrap().unwrap();
     assert!(Study::from_file(&best.study).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A plan whose best follow-up is three more walls of group FREE, read as before (made by
+/// hand: writing the follow-up does not look at the probabilities).
+fn more_free_walls() -> Plan {
+    let chance = Chance { specimens: 3, alone: 0.5, weights_alone: 0.6, right: 0.9, alone_by_truth: vec![] };
+    let followup = FollowUp {
+        name: "3 more FREE walls".into(),
+        kind: FollowUpKind::MoreSpecimens,
+        group: "FREE".into(),
+        from_group: "FREE".into(),
+        observables: vec![Observable::CollapseAngle],
+        new_group: None,
+        new_spec: None,
+        edit: WallEdit::default(),
+    };
+    Plan {
+        contenders: vec![],
+        alone_now: false,
+        ranked: vec![Ranked { followup, chances: vec![chance.clone()], at_budget: chance, to_target: None, runs: 0 }],
+        settings: DesignSettings::default(),
+        runs: 0,
+    }
+}
+
+/// The follow-up's `measured/` holds the first campaign's files the analysis read: the
+/// files the study's `[measured]` table names, or, with `--measured DIR`, the directory's
+/// (rows other than the table's; a file the directory lacks is written header-only, not
+/// taken from the table), and the written follow-up study reads those rows.
+#[test]
+fn the_follow_up_copies_the_measured_files_the_analysis_read() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let walls = root.join("tests/discrepancy/walls");
+    let tmp = std::env::temp_dir().join(format!("design-measured-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let write = |rel: &str, text: &str| {
+        let p = tmp.join(rel);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let study_text = format!(
+        "version = 1\nname = \"measured_source\"\nseed = 7\nrealizations = 2\nprotocol = \"tilt\"\n\n\
+         [tilt]\nstep_deg = 1.0\nresolution_deg = 0.25\n\n\
+         [[groups]]\nname = \"FREE\"\nwall = \"{}\"\n\n\
+         [[groups]]\nname = \"HELD\"\nwall = \"{}\"\n\n\
+         [measured]\ncollapse = \"table/tilting_table_collapse.csv\"\n\
+         displacement = \"table/tilting_table_displacement.csv\"\n",
+        walls.join("small_free.toml").display(),
+        walls.join("small_restrained.toml").display()
+    );
+    let study = write("study/study.toml", &study_text);
+    let table_collapse = "specimen,group,collapse_angle_deg\nT1,FREE,24.5\nT2,FREE,25.0\nT3,HELD,31.5\n";
+    let table_displacement =
+        "specimen,group,measure,tilt_deg,displacement_cm\nT1,FREE,mean_of_left_center_right,5,0.1\n";
+    write("study/table/tilting_table_collapse.csv", table_collapse);
+    write("study/table/tilting_table_displacement.csv", table_displacement);
+    // The directory `--measured` names: other specimens and angles, a mechanism file and
+    // no displacement file.
+    let dir_collapse = "specimen,group,collapse_angle_deg\nD1,FREE,21.0\nD2,FREE,22.5\nD3,HELD,28.0\nD4,HELD,29.5\n";
+    let dir_mechanism = "specimen,group,failure_height_fraction,failure_height_low,failure_height_high,kind,start,extent_fraction,source\n\
+                         D1,FREE,0.5,0.25,0.75,toppling,end,,seen\n";
+    write("lab/tilting_table_collapse.csv", dir_collapse);
+    write("lab/tilting_table_mechanism.csv", dir_mechanism);
+    let lab = tmp.join("lab");
+    let st = Study::from_file(&study).unwrap();
+    let plan = more_free_walls();
+    let read = |p: &PathBuf| std::fs::read_to_string(p).unwrap();
+    let specimens = |st: &Study| st.measured.collapse.iter().map(|c| c.specimen.clone()).collect::<Vec<_>>();
+
+    // The study's own [measured] table.
+    let own = write_followup(&st, &plan, &tmp.join("own"), 3, None).unwrap().unwrap();
+    assert_eq!(read(&own.measured[0]), table_collapse);
+    assert_eq!(read(&own.measured[1]), table_displacement);
+    assert_eq!(read(&own.measured[2]).lines().count(), 1, "the study has no mechanism file: header only");
+    let fst = Study::from_file(&own.study).unwrap();
+    assert_eq!(specimens(&fst), ["T1", "T2", "T3"]);
+    assert_eq!(fst.measured.displacement.len(), 1);
+
+    // `--measured DIR`: the directory's rows, none of the table's.
+    let from_dir = write_followup(&st, &plan, &tmp.join("dir"), 3, Some(&lab)).unwrap().unwrap();
+    assert_eq!(read(&from_dir.measured[0]), dir_collapse);
+    assert_eq!(read(&from_dir.measured[1]), "specimen,group,measure,tilt_deg,displacement_cm\n");
+    assert_eq!(read(&from_dir.measured[2]), dir_mechanism);
+    for f in &from_dir.measured {
+        assert!(!read(f).contains("T1,"), "{}: a row of the study's table", f.display());
+    }
+    let fst = Study::from_file(&from_dir.study).unwrap();
+    assert_eq!(specimens(&fst), ["D1", "D2", "D3", "D4"]);
+    assert!(fst.measured.displacement.is_empty());
+    assert_eq!(fst.measured.mechanism.len(), 1);
+    assert_eq!(fst.measured.mechanism[0].specimen, "D1");
+    // The templates and specimens do not depend on where the data came from.
+    assert_eq!(own.specimens, from_dir.specimens);
+    assert_eq!(read(&own.templates[0]), read(&from_dir.templates[0]));
+    let _ = std::fs::remove_dir_all(&tmp);
 }
 
 /// `drystone design`'s own options out of range are refused before anything runs, exit

@@ -264,3 +264,45 @@ fn a_block_that_topples_in_the_first_increment_has_its_mechanism() {
     let reading = r.mechanism.reading.expect("a reading");
     assert_eq!(reading.failure_height_fraction, 0.0);
 }
+
+/// The library refuses a hand-rolled motion it cannot run as asked, before anything runs,
+/// as the command line (`--hand-*`) and the study reader (`tilt.by_hand.*`) do: starts and
+/// stops longer than the roll (the table would pass the increment), a roll or holds so
+/// slow that the largest tilt is not reached within 2e7 steps, a stop shorter than 5 time
+/// steps. Each is `TiltError::Parameter` naming the field of `HandTilt`, the error
+/// `HandTilt::validate` or `HandTilt::check_run` gives the callers; `run_tilt`'s dispatch
+/// gives the same.
+#[test]
+fn a_hand_rolled_motion_out_of_range_is_refused_by_the_library_naming_the_field() {
+    use drystone::dem::SolverKind;
+    use drystone::loading::tilt::TiltError;
+    let layout = block(0.2, 0.05, 30.0);
+    let nscd = NscdParams::default();
+    let tilt = TiltParams::default();
+    let d = HandTilt::default();
+    let cases = [
+        (HandTilt { ramp_s: 5.0, ..d }, "ramp_s", "within the roll", false),
+        (HandTilt { rate_deg_per_s: 1e-6, ..d }, "rate_deg_per_s", "2e7", true),
+        (HandTilt { increment_deg: 0.5, rate_deg_per_s: 0.5, hold_s: 600.0, ..d }, "hold_s", "2e7", true),
+        (HandTilt { ramp_s: 2.0 * nscd.dt_s, ..d }, "ramp_s", "5 time steps", true),
+    ];
+    for (hand, key, words, by_run) in cases {
+        // What the callers check.
+        let theirs =
+            if by_run { hand.check_run(nscd.dt_s, tilt.max_angle_deg) } else { hand.validate() }.expect_err(key);
+        let solver = SolverParams { kind: SolverKind::Nscd, nscd, ..SolverParams::default() };
+        for r in [
+            run_tilt_by_hand(&layout, &nscd, &tilt, &hand),
+            run_tilt(&layout, solver, &TiltParams { by_hand: Some(hand), ..tilt }),
+        ] {
+            match r {
+                Err(TiltError::Parameter(p)) => {
+                    assert_eq!(p.key, key, "{hand:?}");
+                    assert!(p.allowed.contains(words), "{hand:?}: {p}");
+                    assert_eq!(p, theirs);
+                }
+                other => panic!("{hand:?}: {other:?}"),
+            }
+        }
+    }
+}

@@ -92,7 +92,13 @@ pub fn command(a: DesignArgs) -> Result<()> {
         .with_context(|| ddir.join("design.json").display().to_string())?;
     std::fs::write(ddir.join("design.md"), design::markdown(&plan))
         .with_context(|| ddir.join("design.md").display().to_string())?;
-    let files = drystone::study::followup::write_followup(&st, &plan, &ddir.join("followup"), ds.specimens)?;
+    let files = drystone::study::followup::write_followup(
+        &st,
+        &plan,
+        &ddir.join("followup"),
+        ds.specimens,
+        a.measured.as_deref(),
+    )?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&drystone::discrepancy::report_json(&run))?);
         return Ok(());

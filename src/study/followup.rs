@@ -70,6 +70,12 @@ fn copy_or_header(from: Option<PathBuf>, to: &Path, header: &str) -> Result<(), 
 /// `README.md` (what to test and read). `specimens` new specimens are named
 /// `<group>_F1`, `<group>_F2`, ….
 ///
+/// `measured_dir` is the directory the first campaign's data were read from instead of the
+/// study's `[measured]` files (`--measured DIR`, its files named as `drystone synthesize`
+/// writes them): `measured/` then copies its files (a missing displacement or mechanism
+/// file is written header-only, as the analysis read none); without it, the files the
+/// study's `[measured]` table names.
+///
 /// # Errors
 /// [`crate::discrepancy::DiscrepancyError::Design`] naming a file that cannot be read or
 /// written; `None` in the plan is not an error (nothing is written, `Ok(None)`).
@@ -78,6 +84,7 @@ pub fn write_followup(
     plan: &Plan,
     dir: &Path,
     specimens: usize,
+    measured_dir: Option<&Path>,
 ) -> Result<Option<FollowUpFiles>, crate::discrepancy::DiscrepancyError> {
     let Some(best) = plan.best() else { return Ok(None) };
     let f = &best.followup;
@@ -146,15 +153,21 @@ pub fn write_followup(
             }
         }
     }
-    // The measured files: the first campaign's, and the templates of the follow-up's rows.
+    // The measured files: the first campaign's (those the analysis read: the measured
+    // directory's when given, else the study's own), and the templates of the follow-up's
+    // rows.
     let measured_spec = doc.get("measured").and_then(|v| v.as_table()).cloned().unwrap_or_default();
-    let original = |key: &str| measured_spec.get(key).and_then(|v| v.as_str()).map(|s| base.join(s));
     let names = ["tilting_table_collapse.csv", "tilting_table_displacement.csv", MECHANISM_FILE];
+    let original = |i: usize, key: &str| match measured_dir {
+        // The collapse file is always read from the directory; the others when present.
+        Some(m) => Some(m.join(names[i])).filter(|p| i == 0 || p.exists()),
+        None => measured_spec.get(key).and_then(|v| v.as_str()).map(|s| base.join(s)),
+    };
     let headers = [COLLAPSE_HEADER, DISPLACEMENT_HEADER, MECHANISM_HEADER];
     let measured = names.map(|n| dir.join("measured").join(n));
     let templates = names.map(|n| dir.join(TEMPLATE_DIR).join(n));
     for (i, key) in ["collapse", "displacement", "mechanism"].into_iter().enumerate() {
-        copy_or_header(original(key), &measured[i], headers[i])?;
+        copy_or_header(original(i, key), &measured[i], headers[i])?;
     }
     let mut m = measured_spec.clone();
     for (i, key) in ["collapse", "displacement", "mechanism"].into_iter().enumerate() {
