@@ -3,7 +3,7 @@
 //! the non-smooth solver.
 
 use anyhow::{bail, Result};
-use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm, RestRule};
+use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
 use drystone::dem::SolverKind;
 use drystone::loading::tilt::TiltParams;
 
@@ -88,9 +88,17 @@ pub struct NscdArgs {
     /// [default 1.5e5].
     #[arg(long, value_name = "SOLVES")]
     pub nscd_quad_after_solves: Option<f64>,
-    /// Largest number of NSGS sweeps per step [default 2000].
+    /// Largest number of NSGS sweeps (and APGD iterations) per step [default 2000].
     #[arg(long, value_name = "SWEEPS")]
     pub nscd_max_iterations: Option<u32>,
+    /// The method of a step of motion with `--solver nscd`: `apgd` (the default: the
+    /// sweeps, then the accelerated projected gradient to the natural-map residual) or
+    /// `nsgs` (the sweeps alone, stopped by --nscd-norm) (docs/nscd.md).
+    #[arg(long, value_name = "METHOD", value_parser = parse_step_solver)]
+    pub nscd_step_solver: Option<StepSolver>,
+    /// The natural-map residual every step of motion meets with `apgd` [default 1e-4].
+    #[arg(long, value_name = "TOL")]
+    pub nscd_natural_tolerance: Option<f64>,
 }
 
 /// `--nscd-rest NAME`.
@@ -99,6 +107,15 @@ fn parse_rest(name: &str) -> Result<RestRule, String> {
         "certify" => Ok(RestRule::Certify),
         "solve" => Ok(RestRule::Solve),
         other => Err(format!("{other:?}: expected certify or solve")),
+    }
+}
+
+/// `--nscd-step-solver NAME`.
+fn parse_step_solver(name: &str) -> Result<StepSolver, String> {
+    match name {
+        "apgd" => Ok(StepSolver::Apgd),
+        "nsgs" => Ok(StepSolver::Nsgs),
+        other => Err(format!("{other:?}: expected apgd or nsgs")),
     }
 }
 
@@ -121,6 +138,8 @@ impl NscdArgs {
             || self.nscd_quad_tolerance.is_some()
             || self.nscd_quad_after_solves.is_some()
             || self.nscd_max_iterations.is_some()
+            || self.nscd_step_solver.is_some()
+            || self.nscd_natural_tolerance.is_some()
     }
 
     /// `base` with the options given; out-of-range values are refused by the solver
@@ -133,6 +152,8 @@ impl NscdArgs {
             quad_tolerance: self.nscd_quad_tolerance.unwrap_or(base.quad_tolerance),
             quad_after_solves: self.nscd_quad_after_solves.unwrap_or(base.quad_after_solves),
             max_iterations: self.nscd_max_iterations.unwrap_or(base.max_iterations),
+            step_solver: self.nscd_step_solver.unwrap_or(base.step_solver),
+            natural_tolerance: self.nscd_natural_tolerance.unwrap_or(base.natural_tolerance),
             ..base
         }
     }

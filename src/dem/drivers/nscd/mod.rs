@@ -36,6 +36,7 @@
 //! with `b` the gap and restitution term of [`stepper`]; Coulomb: `‖r_t‖ ≤ μ rₙ`, and
 //! `r_t = −μ rₙ u_t/‖u_t‖` when `u_t ≠ 0`.
 
+pub mod apgd;
 pub mod contacts;
 pub mod delassus;
 pub mod local;
@@ -96,6 +97,20 @@ pub struct NscdParams {
     /// two bodies and are strongly coupled), stopped early when a pass changes no impulse
     /// by more than [`Self::tolerance`] of its velocity response.
     pub polygon_passes: u32,
+    /// The method of a step of motion \[`apgd`\] (see [`StepSolver`]). The release trials
+    /// of the tilting table, the table rolled by hand and the pushover always use
+    /// [`StepSolver::Nsgs`] ([`Self::for_trials`]).
+    pub step_solver: StepSolver,
+    /// The natural-map residual a step of motion must meet with [`StepSolver::Apgd`],
+    /// dimensionless \[1e-4\] ([`nsgs::natural_residual`]: LMGC90's usual tolerance, here on
+    /// the residual of the Coulomb problem itself rather than on the change over a sweep).
+    pub natural_tolerance: f64,
+    /// The work of a step, in local solves (contact points × sweeps), that
+    /// [`StepSolver::Apgd`] gives the NSGS sweeps before it takes over \[1.5e4\]: a small
+    /// wall meets the sweeps' own norm within it and is solved exactly as by
+    /// [`StepSolver::Nsgs`] (a block: 3,750 sweeps of 4 points; the 13-box wall: 125); the
+    /// SBL preset wall (2,424 points) gets 7 sweeps.
+    pub apgd_after_solves: f64,
     /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
     /// last iterate and counts as unconverged ([`NscdStep::converged`]).
     pub max_iterations: u32,
@@ -144,6 +159,9 @@ impl Default for NscdParams {
             sweep: SweepOrder::Forward,
             relaxation: 1.0,
             polygon_passes: 1,
+            step_solver: StepSolver::Apgd,
+            natural_tolerance: 1e-4,
+            apgd_after_solves: 1.5e4,
             max_iterations: 2000,
             polygon_points: PolygonPoints::Vertices,
             contact_margin_m: 1e-3,
@@ -184,6 +202,18 @@ impl NscdParams {
             ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation < 2.0, "in (0, 2)"),
             ("polygon_passes", self.polygon_passes as f64, self.polygon_passes >= 1, ">= 1"),
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
+            (
+                "natural_tolerance",
+                self.natural_tolerance,
+                self.natural_tolerance > 0.0 && self.natural_tolerance < 1.0,
+                "in (0, 1)",
+            ),
+            (
+                "apgd_after_solves",
+                self.apgd_after_solves,
+                self.apgd_after_solves >= 0.0 && !self.apgd_after_solves.is_nan(),
+                ">= 0",
+            ),
         ])?;
         check_ranges(&crate::dem::contact::geometry::detection_ranges(
             self.contact_margin_m,
@@ -239,8 +269,22 @@ impl NscdParams {
     /// which the sweeps answer; statics would answer another question, the limit
     /// analysis's).
     pub fn for_trials(&self) -> NscdParams {
-        NscdParams { rest: RestRule::Solve, ..*self }
+        NscdParams { rest: RestRule::Solve, step_solver: StepSolver::Nsgs, ..*self }
     }
+}
+
+/// The method of a step of motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StepSolver {
+    /// The NSGS sweeps alone, stopped by [`NscdParams::norm`] or at
+    /// [`NscdParams::max_iterations`] sweeps.
+    Nsgs,
+    /// The NSGS sweeps for [`NscdParams::apgd_after_solves`] local solves (stopped by their
+    /// norm), then the accelerated projected gradient ([`apgd`]) until the natural-map
+    /// residual is at most [`NscdParams::natural_tolerance`]; at most
+    /// [`NscdParams::max_iterations`] sweeps and iterations in all. The default for motion.
+    Apgd,
 }
 
 /// The convergence norm of the NSGS sweeps (the iteration stops at the first sweep whose

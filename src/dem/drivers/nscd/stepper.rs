@@ -35,11 +35,12 @@
 //! ([`crate::dem::rope`], at the poses of the start of the step). Fixed blocks and the
 //! table are boundary bodies (zero inverse mass).
 
+use super::apgd;
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::nsgs::{self, BodyState, SweepPlan};
 use super::rest::{Certificate, Statics};
-use super::{NscdError, NscdParams, RestRule};
+use super::{NscdError, NscdParams, RestRule, StepSolver};
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
@@ -85,6 +86,7 @@ pub struct NscdSimulation {
     /// The impulses of the points during the sweeps (scratch, N·s).
     impulse: Vec<Vec3>,
     nsgs_scratch: nsgs::Scratch,
+    apgd: apgd::Scratch,
     rows: Vec<PointRows>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
@@ -170,6 +172,7 @@ impl NscdSimulation {
             plan: SweepPlan::default(),
             impulse: Vec::new(),
             nsgs_scratch: nsgs::Scratch::default(),
+            apgd: apgd::Scratch::default(),
             rows: Vec::new(),
             time: 0.0,
             steps: 0,
@@ -591,8 +594,54 @@ impl NscdSimulation {
             inv_i: &self.inv_i,
             radius: &self.radius,
         };
-        let out =
-            nsgs::solve(&self.plan, &self.rows, &mut self.impulse, bodies, &self.params, gh, &mut self.nsgs_scratch);
+        let out = match self.params.step_solver {
+            StepSolver::Nsgs => {
+                nsgs::solve(&self.plan, &self.rows, &mut self.impulse, bodies, &self.params, gh, &mut self.nsgs_scratch)
+            }
+            StepSolver::Apgd => {
+                let p = &self.params;
+                let sweeps =
+                    (p.apgd_after_solves / self.rows.len().max(1) as f64).ceil().min(f64::from(p.max_iterations));
+                let first = NscdParams { max_iterations: sweeps as u32, ..*p };
+                let swept = if first.max_iterations == 0 {
+                    None
+                } else {
+                    Some(nsgs::solve(
+                        &self.plan,
+                        &self.rows,
+                        &mut self.impulse,
+                        bodies,
+                        &first,
+                        gh,
+                        &mut self.nsgs_scratch,
+                    ))
+                };
+                match swept {
+                    Some(out) if out.converged => out,
+                    _ => {
+                        let done = swept.map_or(0, |o| o.sweeps);
+                        let bodies = BodyState {
+                            vel: &mut self.vel,
+                            angvel: &mut self.angvel,
+                            inv_m: &self.inv_m,
+                            inv_i: &self.inv_i,
+                            radius: &self.radius,
+                        };
+                        let left = p.max_iterations.saturating_sub(done);
+                        let out = apgd::solve(
+                            &self.rows,
+                            &mut self.impulse,
+                            bodies,
+                            p.natural_tolerance,
+                            left,
+                            gh,
+                            &mut self.apgd,
+                        );
+                        nsgs::Outcome { sweeps: done + out.sweeps, ..out }
+                    }
+                }
+            }
+        };
         for (c, r) in self.points.iter_mut().zip(&self.impulse) {
             c.impulse = *r;
         }
