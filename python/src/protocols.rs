@@ -5,6 +5,7 @@
 
 use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
 use crate::model::{from_json, to_json, PyLayout};
+use drystone::dem::Method;
 use drystone::loading::lateral_pushover::run_lateral_pushover;
 use drystone::loading::tilt_hand::HandTilt;
 use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
@@ -113,43 +114,50 @@ pub fn _lateral<'py>(
     Ok(out)
 }
 
-/// The rigid pushover (nscd) or the limit analysis of the lateral pressure, in the keys
-/// of the penalty pushover's result: λ stable and first unstable (limit analysis: both
-/// λ), the mechanism, the weight and the work; no increments, no monitors.
-fn rigid_pushover<'py>(
-    py: Python<'py>,
+/// The limit analysis of the lateral pressure, in the keys of the penalty pushover's
+/// result ([`rigid_pushover`]): λ stable and first unstable both λ.
+fn limit_pushover(
+    py: Python<'_>,
     l: &drystone::layout::Layout,
-    solver: SolverParams,
+    solver: &SolverParams,
     lp: &LateralParams,
-) -> PyResult<Bound<'py, PyDict>> {
-    use drystone::dem::Method;
-    let result = match solver.kind.method() {
-        Method::Limit => {
-            let r = py.detach(|| {
-                guard(|| {
-                    drystone::limit::limit_lateral(l, &solver, lp, &drystone::limit::LimitParams::default())
-                        .map_err(|e| crate::errors::SolverError::new_err(e.to_string()))
-                })
-            })?;
-            serde_json::json!({
-                "lambda_stable": r.load_multiplier, "lambda_unstable": r.load_multiplier,
-                "mechanism": r.mechanism, "weight_n": r.weight_n, "steps": 0,
-                "wall_time_s": r.wall_time_s, "limit_analysis": r,
-            })
-        }
-        _ => {
-            let res = drystone::protocol::RIGID_PUSHOVER_RESOLUTION;
-            let r = py.detach(|| {
-                guard(|| {
-                    drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp, res)
-                        .map_err(|e| tilt_error(&e))
-                })
-            })?;
-            let mut v = serde_json::to_value(&r).unwrap_or_default();
-            v["dt_s"] = solver.nscd.dt_s.into();
-            v
-        }
-    };
+) -> PyResult<serde_json::Value> {
+    let r = py.detach(|| {
+        guard(|| {
+            drystone::limit::limit_lateral(l, solver, lp, &drystone::limit::LimitParams::default())
+                .map_err(|e| crate::errors::SolverError::new_err(e.to_string()))
+        })
+    })?;
+    Ok(serde_json::json!({
+        "lambda_stable": r.load_multiplier, "lambda_unstable": r.load_multiplier,
+        "mechanism": r.mechanism, "weight_n": r.weight_n, "steps": 0,
+        "wall_time_s": r.wall_time_s, "limit_analysis": r,
+    }))
+}
+
+/// The rigid pushover of the lateral pressure by nscd (bisection of λ), with its step.
+fn nscd_pushover(
+    py: Python<'_>,
+    l: &drystone::layout::Layout,
+    solver: &SolverParams,
+    lp: &LateralParams,
+) -> PyResult<serde_json::Value> {
+    let res = drystone::protocol::RIGID_PUSHOVER_RESOLUTION;
+    let r = py.detach(|| {
+        guard(|| {
+            drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp, res).map_err(|e| tilt_error(&e))
+        })
+    })?;
+    let mut v = serde_json::to_value(&r).unwrap_or_default();
+    v["dt_s"] = solver.nscd.dt_s.into();
+    Ok(v)
+}
+
+/// The rigid pushover (nscd) or the limit analysis of the lateral pressure (`result`, from
+/// [`nscd_pushover`] or [`limit_pushover`]), in the keys of the penalty pushover's result:
+/// λ stable and first unstable (limit analysis: both λ), the mechanism, the weight and the
+/// work; no increments, no monitors.
+fn rigid_pushover(py: Python<'_>, result: serde_json::Value) -> PyResult<Bound<'_, PyDict>> {
     let mut v = result;
     v["collapse_reason"] = serde_json::Value::Null;
     v["monitors"] = serde_json::json!([]);
@@ -177,10 +185,20 @@ pub fn _pushover<'py>(
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
     let l = &layout.get().layout;
-    if !solver.kind.is_penalty() {
+    let check = || {
         drystone::loading::support::check(drystone::loading::support::Loading::Pushover, solver.kind)
-            .map_err(|e| input_error(e, Place::default()))?;
-        return rigid_pushover(py, l, solver, &lp);
+            .map_err(|e| input_error(e, Place::default()))
+    };
+    match solver.kind.method() {
+        Method::Penalty => {}
+        Method::Nscd => {
+            check()?;
+            return rigid_pushover(py, nscd_pushover(py, l, &solver, &lp)?);
+        }
+        Method::Limit => {
+            check()?;
+            return rigid_pushover(py, limit_pushover(py, l, &solver, &lp)?);
+        }
     }
     let r = py.detach(|| guard(|| run_lateral_pushover(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
     py.check_signals()?;

@@ -91,10 +91,16 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     };
     let motion = motion(&args, a.dt_s.min(0.001))?;
     let d = ShakeParams::default();
-    let (nscd_e, contact_e) = match (a.solver, a.restitution) {
-        (SolverKind::Nscd, Some(e)) => (e, d.contact_restitution),
-        (_, Some(e)) => (NscdParams::default().restitution, e),
-        (_, None) => (NscdParams::default().restitution, d.contact_restitution),
+    let nscd_default = NscdParams::default().restitution;
+    let (nscd_e, contact_e) = match a.solver {
+        SolverKind::Nscd => (a.restitution.unwrap_or(nscd_default), d.contact_restitution),
+        SolverKind::Penalty => (nscd_default, a.restitution.unwrap_or(d.contact_restitution)),
+        // Not shaking solvers: `run_shake_observed` refuses them (`support::check`), after it
+        // has checked the shaking parameters; `--restitution` is read as the penalty solver
+        // reads it so that its range is checked first, as before.
+        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
+            (nscd_default, a.restitution.unwrap_or(d.contact_restitution))
+        }
     };
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
@@ -244,15 +250,22 @@ pub fn run(
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
             o.insert("vertical_applied".into(), vertical_applied(motion, params).into());
-            if solver.kind == SolverKind::Nscd {
-                o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
-            } else {
-                o.insert("contact_restitution".into(), params.contact_restitution.into());
+            match solver.kind {
+                SolverKind::Nscd => {
+                    o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
+                }
+                SolverKind::Penalty => {
+                    o.insert("contact_restitution".into(), params.contact_restitution.into());
+                }
+                // `run_shake_observed` refused these (`support::check`) before there was a result.
+                SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
+                    unreachable!("run_shake_observed refused solver {} (support::check)", solver.kind)
+                }
             }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print(layout, &r, params);
+        print(layout, &r, solver.kind, params);
         match &motion.vertical_g {
             Some(v) if params.vertical => {
                 let peak = v.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
@@ -265,7 +278,7 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-fn print(layout: &Path, r: &ShakeResult, params: &ShakeParams) {
+fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams) {
     out!("layout            {} ({} blocks, height {:.3} m)", layout.display(), r.blocks, r.height_m);
     out!("motion            {} (PGA {:.3} g)", r.motion, r.pga_g);
     match r.collapse_time_s {
@@ -274,29 +287,36 @@ fn print(layout: &Path, r: &ShakeResult, params: &ShakeParams) {
     }
     out!("max rotation      {:.3} deg (about x, the rocking axis)", r.max_rotation_deg);
     out!("drift             max {:.4}, residual {:.4}", r.max_drift, r.residual_drift);
-    if r.solver == SolverKind::Penalty.name() {
-        out!(
-            "work              {} steps of {:.2e} s, {:.2} s simulated; wall time {:.2} s",
-            r.steps,
-            r.dt_s,
-            r.simulated_s,
-            r.wall_time_s
-        );
-        out!(
-            "solver            penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {})",
-            params.contact_restitution
-        );
-    } else {
-        out!(
-            "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {:.2} s simulated; wall time {:.2} s",
-            r.steps,
-            r.dt_s,
-            r.iterations,
-            r.unconverged_steps,
-            r.max_natural_residual,
-            r.simulated_s,
-            r.wall_time_s
-        );
-        out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+    match kind {
+        SolverKind::Penalty => {
+            out!(
+                "work              {} steps of {:.2e} s, {:.2} s simulated; wall time {:.2} s",
+                r.steps,
+                r.dt_s,
+                r.simulated_s,
+                r.wall_time_s
+            );
+            out!(
+                "solver            penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {})",
+                params.contact_restitution
+            );
+        }
+        SolverKind::Nscd => {
+            out!(
+                "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {:.2} s simulated; wall time {:.2} s",
+                r.steps,
+                r.dt_s,
+                r.iterations,
+                r.unconverged_steps,
+                r.max_natural_residual,
+                r.simulated_s,
+                r.wall_time_s
+            );
+            out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
+        }
+        // `run_shake_observed` refused these (`support::check`) before there was a result.
+        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
+            unreachable!("run_shake_observed refused solver {kind} (support::check)")
+        }
     }
 }

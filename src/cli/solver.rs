@@ -163,8 +163,17 @@ impl NscdArgs {
     /// # Errors
     /// An option given with a solver other than `nscd`, which would ignore it.
     pub fn params_for(&self, kind: SolverKind, base: NscdParams) -> Result<NscdParams> {
-        if self.given() && kind != SolverKind::Nscd {
-            bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
+        match kind {
+            SolverKind::Nscd => {}
+            SolverKind::Penalty
+            | SolverKind::Implicit
+            | SolverKind::Accelerated
+            | SolverKind::Relaxation
+            | SolverKind::Limit => {
+                if self.given() {
+                    bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
+                }
+            }
         }
         Ok(self.apply(base))
     }

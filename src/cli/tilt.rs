@@ -3,7 +3,7 @@
 use super::solver::{NscdArgs, SolverArgs};
 use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::{DensityScaling, SolverParams};
+use drystone::dem::{DensityScaling, Method, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_hand::HandTilt;
@@ -170,12 +170,15 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         max_steps_per_increment: a.max_steps,
         ..a.solver.tilt_params(!a.no_predictor)
     };
-    if kind.method() == drystone::dem::Method::Limit {
-        if a.vtk.is_some() {
-            bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
+    match kind.method() {
+        Method::Limit => {
+            if a.vtk.is_some() {
+                bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
+            }
+            let params = drystone::limit::LimitParams::default();
+            return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &params, a.json, None);
         }
-        let params = drystone::limit::LimitParams::default();
-        return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &params, a.json, None);
+        Method::Penalty | Method::Nscd => {}
     }
     if let Some(hand) = hand {
         if a.vtk.is_some() {

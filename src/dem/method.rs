@@ -126,13 +126,19 @@ impl SolverKind {
     /// penalty kinds other than `penalty`): a setting of static solves, which motion does not
     /// run.
     pub fn names_cascade(self) -> bool {
-        self.method() == Method::Penalty && self != SolverKind::Penalty
+        match self {
+            SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => true,
+            SolverKind::Penalty | SolverKind::Nscd | SolverKind::Limit => false,
+        }
     }
 
     /// Whether it is the penalty DEM (joints of finite stiffness, static states from
     /// `dem::solve_static`).
     pub fn is_penalty(self) -> bool {
-        self.method() == Method::Penalty
+        match self.method() {
+            Method::Penalty => true,
+            Method::Nscd | Method::Limit => false,
+        }
     }
 
     /// The stages of a static solve for a protocol whose default is `protocol_default`;

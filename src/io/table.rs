@@ -60,6 +60,17 @@ enum Part {
     Pushover,
 }
 
+impl Part {
+    /// Whether its columns are written to a table whose rows have (`pushover`) or lack the
+    /// pushover's load multipliers.
+    fn written(self, pushover: bool) -> bool {
+        match self {
+            Part::Pushover => pushover,
+            Part::Run | Part::Collapse | Part::Tilt | Part::Lateral | Part::Shake => true,
+        }
+    }
+}
+
 /// One column: its name, its part, its field, and whether a table may lack it (a column
 /// added after the first tables were written: missing, it reads as empty).
 struct RowColumn {
@@ -251,7 +262,7 @@ fn write_column(c: &RowColumn, rows: &[RealizationRow], lists: bool) -> Column {
 pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
     let pushover = rows.iter().any(|r| r.pushover.any());
     let columns: Vec<Column> =
-        COLUMNS.iter().filter(|c| c.part != Part::Pushover || pushover).map(|c| write_column(c, rows, lists)).collect();
+        COLUMNS.iter().filter(|c| c.part.written(pushover)).map(|c| write_column(c, rows, lists)).collect();
     DataFrame::new_infer_height(columns)
 }
 

@@ -375,7 +375,10 @@ pub fn limit_analysis(
     let r = LimitResult {
         protocol,
         load_multiplier,
-        collapse_angle_deg: matches!(protocol, LiveLoad::Tilt).then(|| load_multiplier.atan().to_degrees()),
+        collapse_angle_deg: match protocol {
+            LiveLoad::Tilt => Some(load_multiplier.atan().to_degrees()),
+            LiveLoad::Lateral { .. } => None,
+        },
         governing,
         associative: assoc.lambda,
         non_associative,

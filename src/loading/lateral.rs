@@ -49,7 +49,7 @@ use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::motion::poses;
 use crate::dem::{solve_static, Cascade, End, StaticSolve};
-use crate::dem::{DemError, Simulation, SolverParams};
+use crate::dem::{DemError, Method, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
@@ -308,9 +308,12 @@ pub(super) fn prepare(
 ) -> Result<Prepared, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
-    if !solver.kind.is_penalty() {
-        let protocol = if params.pushover { Loading::Pushover } else { Loading::Lateral };
-        return Err(Unsupported { protocol, kind: solver.kind }.into());
+    match solver.kind.method() {
+        Method::Penalty => {}
+        Method::Nscd | Method::Limit => {
+            let protocol = if params.pushover { Loading::Pushover } else { Loading::Lateral };
+            return Err(Unsupported { protocol, kind: solver.kind }.into());
+        }
     }
     let t0 = Instant::now();
     let mut sim =

@@ -293,13 +293,35 @@ pub fn run_shake_observed(
     if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
         return Err(ShakeError::BadMotion(motion.name.clone()));
     }
-    if solver.kind == SolverKind::Nscd && solver.nscd.dt_s > 0.0 {
-        check_steps(motion, params, solver.nscd.dt_s)?;
+    match solver.kind {
+        SolverKind::Penalty => {
+            check_stands(layout, &solver)?;
+            run_shake_penalty(layout, solver, motion, params, observe)
+        }
+        SolverKind::Nscd => {
+            if solver.nscd.dt_s > 0.0 {
+                check_steps(motion, params, solver.nscd.dt_s)?;
+            }
+            check_stands(layout, &solver)?;
+            run_shake_nscd(layout, solver, motion, params, observe)
+        }
+        // Refused by `support::check` above (a cascade of static solves on a motion; limit
+        // analysis has no motion).
+        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
+            Err(Unsupported { protocol: Loading::Shake, kind: solver.kind }.into())
+        }
     }
-    check_stands(layout, &solver)?;
-    if solver.kind == SolverKind::Penalty {
-        return run_shake_penalty(layout, solver, motion, params, observe);
-    }
+}
+
+/// The shaking table by non-smooth contact dynamics ([`run_shake_observed`], once the
+/// motion's steps and the wall's standing are checked).
+fn run_shake_nscd(
+    layout: &Layout,
+    solver: SolverParams,
+    motion: &Motion,
+    params: &ShakeParams,
+    observe: &mut dyn FnMut(f64, &[Body]),
+) -> Result<ShakeResult, ShakeError> {
     let t0 = Instant::now();
     let nscd = &solver.nscd;
     let mut sim = NscdSimulation::new(layout, nscd)?;
@@ -357,7 +379,7 @@ pub fn run_shake_observed(
 /// # Errors
 /// [`ShakeError::DoesNotStand`] naming the block (untouched, or moved and how far);
 /// [`ShakeError::Parameter`], [`ShakeError::Nscd`] or [`ShakeError::Dem`] for what the
-/// solver refuses.
+/// solver refuses; [`ShakeError::Unsupported`] for limit analysis, which does not shake.
 pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
     let tilt = TiltParams::default();
     let from_tilt = |e: TiltError| match e {
@@ -375,7 +397,7 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
     };
     match solver.kind {
         SolverKind::Nscd => super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(from_tilt),
-        _ => {
+        SolverKind::Penalty | SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => {
             let d = SolverParams::default();
             let sp = SolverParams { damping: d.damping, density_scaling: d.density_scaling, ..*solver };
             sp.validate().map_err(ShakeError::Parameter)?;
@@ -385,6 +407,9 @@ pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeE
                 other => ShakeError::DoesNotStand(other),
             })
         }
+        // Limit analysis does not shake: `run_shake_observed` refuses it (`support::check`)
+        // before it checks the wall; a direct call gets the same refusal.
+        SolverKind::Limit => Err(Unsupported { protocol: Loading::Shake, kind: solver.kind }.into()),
     }
 }
 

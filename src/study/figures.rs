@@ -221,8 +221,9 @@ pub(super) fn shake_series(
     layout: &Layout,
     out: &Path,
 ) -> Result<Option<PathBuf>, SeriesError> {
-    let crate::protocol::Protocol::Shake { params, motion } = study.loading_at(point) else {
-        return Ok(None);
+    let (params, motion) = match study.loading_at(point) {
+        crate::protocol::Protocol::Shake { params, motion } => (params, motion),
+        crate::protocol::Protocol::Tilt(_) | crate::protocol::Protocol::Lateral(_) => return Ok(None),
     };
     let mut rec = Recorder::default();
     let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {

@@ -9,8 +9,10 @@ use super::size;
 use super::spec::{ProtocolKind, StudySpec};
 use super::sweep::SweepKey;
 use super::StudyError;
+use crate::dem::SolverKind;
 use crate::ground::Motion;
 use crate::loading::shake::ShakeParams;
+use crate::loading::support::{Loading, Unsupported};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -84,11 +86,27 @@ impl StudySpec {
                         .into(),
                 ))
             }
-            (Some(_), p) if p != ProtocolKind::Shake => {
+            (Some(_), ProtocolKind::Tilt | ProtocolKind::Lateral) => {
                 return Err(invalid.at("shake", "the [shake] table is read only with protocol = \"shake\"".into()))
             }
-            (None, _) => return Ok(None),
-            (Some(s), _) => s,
+            (None, ProtocolKind::Tilt | ProtocolKind::Lateral) => return Ok(None),
+            (Some(s), ProtocolKind::Shake) => s,
+        };
+        // The step pulses are sampled at (nscd's own; the penalty solver's is far smaller and
+        // reads the motion by linear interpolation: 1 ms at most) and the step each motion is
+        // checked against here (nscd's; the penalty solver's, from the realizations' masses
+        // and stiffnesses, by `check_penalty_steps` once the groups are resolved).
+        let (pulse_dt, nscd_dt) = match self.solver.kind {
+            SolverKind::Nscd => (self.solver.nscd.dt_s, Some(self.solver.nscd.dt_s).filter(|&dt| dt > 0.0)),
+            SolverKind::Penalty => (self.solver.nscd.dt_s.min(1e-3), None),
+            // Refused by `check_scalars` before this (`support::check`: a cascade of static
+            // solves on a motion; limit analysis has no motion).
+            SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
+                return Err(super::resolve::unsupported(
+                    invalid,
+                    Unsupported { protocol: Loading::Shake, kind: self.solver.kind },
+                ));
+            }
         };
         let params = spec.params();
         params.validate().map_err(|e| invalid.at(&format!("shake.{}", e.key), e.reason()))?;
@@ -116,14 +134,8 @@ impl StudySpec {
             if !(p.period_s().is_finite() && p.period_s() > 0.0) {
                 return Err(invalid.at(&key, format!("period_s must be > 0, got {}", p.period_s())));
             }
-            // nscd's own step; the penalty solver's is far smaller and reads the motion by
-            // linear interpolation: 1 ms at most.
-            let dt = match self.solver.kind {
-                crate::dem::SolverKind::Penalty => self.solver.nscd.dt_s.min(1e-3),
-                _ => self.solver.nscd.dt_s,
-            };
-            check_pulse(p, dt).map_err(|m| invalid.at(&key, m))?;
-            motions.push((key, p.sampled(dt, 0.0)));
+            check_pulse(p, pulse_dt).map_err(|m| invalid.at(&key, m))?;
+            motions.push((key, p.sampled(pulse_dt, 0.0)));
         }
         if motions.is_empty() {
             return Err(invalid.at("shake", "no motions: give records, stochastic = { count = N } or pulses".into()));
@@ -144,9 +156,8 @@ impl StudySpec {
                     format!("two motions are named {:?} (also {other}); motions are told apart by name", m.name),
                 ));
             }
-            if self.solver.kind == crate::dem::SolverKind::Nscd && self.solver.nscd.dt_s > 0.0 {
-                crate::loading::shake::check_steps(m, &params, self.solver.nscd.dt_s)
-                    .map_err(|e| invalid.at(key, e.to_string()))?;
+            if let Some(dt) = nscd_dt {
+                crate::loading::shake::check_steps(m, &params, dt).map_err(|e| invalid.at(key, e.to_string()))?;
             }
             if m.pga_g() == 0.0 {
                 return Err(invalid.at(

@@ -221,7 +221,10 @@ impl StudyProtocol {
 
     /// Whether it pushes the lateral load over to collapse (`lateral.pushover`).
     pub fn pushover(&self) -> bool {
-        self.loading_kind() == Loading::Pushover
+        match self.loading_kind() {
+            Loading::Pushover => true,
+            Loading::Tilt | Loading::TiltByHand | Loading::Lateral | Loading::Shake => false,
+        }
     }
 }
 

@@ -12,11 +12,12 @@ use super::size;
 use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::{Study, StudyError};
+use crate::dem::SolverKind;
 use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::WallSpec;
 use crate::generator::Wall;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
-use crate::loading::support::Loading;
+use crate::loading::support::{Loading, Unsupported};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -53,15 +54,34 @@ pub struct Measured {
     pub paper_dem: Vec<table::PaperDemAngle>,
 }
 
+/// The refusal of a study's `[solver] kind` for its protocol ([`crate::loading::support::check`]),
+/// at the key that chooses them (`tilt.by_hand` for the table rolled by hand, else
+/// `solver.kind`).
+pub(super) fn unsupported(invalid: &Invalid, e: Unsupported) -> StudyError {
+    let key = match e.protocol {
+        Loading::TiltByHand => "tilt.by_hand",
+        Loading::Tilt | Loading::Lateral | Loading::Pushover | Loading::Shake => "solver.kind",
+    };
+    invalid.at(key, format!("{e}: give [solver] kind = one of these"))
+}
+
 /// A penalty shaking study's step count, before the run: the penalty step of each group's
 /// realization 0 (its masses and joint stiffnesses,
 /// [`crate::loading::shake::penalty_step`]) over every motion, within
 /// [`crate::loading::shake::MAX_SHAKE_STEPS`]. A realization that cannot be generated is
 /// left to its row.
 fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyError> {
-    let StudyProtocol::Shake(shake) = &study.protocol else { return Ok(()) };
-    if study.solver.kind != crate::dem::SolverKind::Penalty {
-        return Ok(());
+    let shake = match &study.protocol {
+        StudyProtocol::Shake(shake) => shake,
+        StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => return Ok(()),
+    };
+    match study.solver.kind {
+        SolverKind::Penalty => {}
+        // nscd's step is the study's own, checked against every motion as they are read
+        // (`StudySpec::resolve_shake`).
+        SolverKind::Nscd => return Ok(()),
+        // Refused on the shaking table by `check_scalars` (`support::check`).
+        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => return Ok(()),
     }
     for g in &study.groups {
         let Some(wall) = g.walls.first() else { continue };
@@ -190,11 +210,19 @@ impl StudySpec {
         };
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
-        if self.lateral.pushover && self.protocol != ProtocolKind::Lateral {
-            return Err(invalid.at(
-                "lateral.pushover",
-                format!("pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})", self.protocol),
-            ));
+        match self.protocol {
+            ProtocolKind::Lateral => {}
+            ProtocolKind::Tilt | ProtocolKind::Shake => {
+                if self.lateral.pushover {
+                    return Err(invalid.at(
+                        "lateral.pushover",
+                        format!(
+                            "pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})",
+                            self.protocol
+                        ),
+                    ));
+                }
+            }
         }
         self.solver.validate_static().map_err(range("solver"))?;
         if let Some(name) = self.sweep.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
@@ -211,13 +239,14 @@ impl StudySpec {
                 ));
             }
         }
-        let loading = self.loading_kind();
-        crate::loading::support::check(loading, self.solver.kind).map_err(|e| {
-            let key = if loading == Loading::TiltByHand { "tilt.by_hand" } else { "solver.kind" };
-            invalid.at(key, format!("{e}: give [solver] kind = one of these"))
-        })?;
-        if self.solver.kind == crate::dem::SolverKind::Nscd {
-            self.solver.nscd.validate().map_err(range("solver.nscd"))?;
+        crate::loading::support::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
+        match self.solver.kind {
+            SolverKind::Nscd => self.solver.nscd.validate().map_err(range("solver.nscd"))?,
+            SolverKind::Penalty
+            | SolverKind::Implicit
+            | SolverKind::Accelerated
+            | SolverKind::Relaxation
+            | SolverKind::Limit => {}
         }
         if let Some(hand) = &self.tilt.by_hand {
             // What `drystone tilt --by-hand` refuses before it runs, refused before any
@@ -227,6 +256,15 @@ impl StudySpec {
         Ok(())
     }
 
+    /// Whether the study rolls the tilting table by hand (protocol `tilt` with
+    /// `[tilt] by_hand`).
+    fn rolled_by_hand(&self) -> bool {
+        match self.protocol {
+            ProtocolKind::Tilt => self.tilt.by_hand.is_some(),
+            ProtocolKind::Lateral | ProtocolKind::Shake => false,
+        }
+    }
+
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
     /// `resolution_deg` with `[tilt] by_hand` (the hand's increments are the path), and
     /// `discrepancy.also_effects` beside `discrepancy.effects` (which names every
@@ -234,7 +272,7 @@ impl StudySpec {
     fn ignored_settings(&self) -> Vec<String> {
         let mut out = Vec::new();
         let d = crate::loading::tilt::TiltParams::default();
-        if self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt {
+        if self.rolled_by_hand() {
             for (key, v, default) in [
                 ("tilt.step_deg", self.tilt.step_deg, d.step_deg),
                 ("tilt.resolution_deg", self.tilt.resolution_deg, d.resolution_deg),
@@ -248,7 +286,7 @@ impl StudySpec {
             }
         }
         if let Some(dis) = &self.discrepancy {
-            let hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+            let hand = self.rolled_by_hand();
             if hand && dis.effects.iter().chain(&dis.also_effects).any(|e| e == "table_kick") {
                 out.push(
                     "discrepancy: table_kick is the quasi-static equivalent of the kicks [tilt] by_hand already runs; \
@@ -299,8 +337,15 @@ impl StudySpec {
     /// Each is named by the effect that sets it (the group's own, then the study's), or
     /// else the group's effects.
     fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
-        let limit = self.solver.kind == crate::dem::SolverKind::Limit;
-        let by_hand = self.tilt.by_hand.is_some() && self.protocol == ProtocolKind::Tilt;
+        let limit = match self.solver.kind {
+            SolverKind::Limit => true,
+            SolverKind::Penalty
+            | SolverKind::Implicit
+            | SolverKind::Accelerated
+            | SolverKind::Relaxation
+            | SolverKind::Nscd => false,
+        };
+        let by_hand = self.rolled_by_hand();
         if !(limit || by_hand) || group.effects.is_empty() {
             return Ok(());
         }
@@ -650,16 +695,22 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
     match p {
         PaperStudy::JointArrangement => {
-            if study.protocol.kind() != ProtocolKind::Lateral {
-                return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
+            match study.protocol {
+                StudyProtocol::Lateral(_) => {}
+                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
+                    return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
+                }
             }
             if !has(SweepKey::KnPaPerM) {
                 return Err(PaperSpecError { paper: "joint_arrangement", need: "a sweep over kn_pa_per_m" });
             }
         }
         PaperStudy::LengthHeight => {
-            if study.protocol.kind() != ProtocolKind::Lateral {
-                return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
+            match study.protocol {
+                StudyProtocol::Lateral(_) => {}
+                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
+                    return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
+                }
             }
             if !has(SweepKey::LengthM) {
                 return Err(PaperSpecError { paper: "length_height", need: "a sweep over length_m" });
@@ -672,8 +723,11 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
             }
         }
         PaperStudy::KnPhi => {
-            if study.protocol.kind() != ProtocolKind::Tilt {
-                return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
+            match study.protocol {
+                StudyProtocol::Tilt(_) => {}
+                StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
+                    return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
+                }
             }
             if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
                 return Err(PaperSpecError { paper: "kn_phi", need: "a sweep over kn_pa_per_m and friction_deg" });

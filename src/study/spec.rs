@@ -244,8 +244,13 @@ impl StudySpec {
             .ok()
             .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
             .unwrap_or(false);
-        if spec.protocol == ProtocolKind::Shake && !kind_given {
-            spec.solver.kind = crate::dem::SolverKind::Nscd;
+        match spec.protocol {
+            ProtocolKind::Shake => {
+                if !kind_given {
+                    spec.solver.kind = crate::dem::SolverKind::Nscd;
+                }
+            }
+            ProtocolKind::Tilt | ProtocolKind::Lateral => {}
         }
         Ok(spec)
     }
