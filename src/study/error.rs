@@ -1,6 +1,7 @@
 //! The error of reading and resolving a study or suite file.
 
 use crate::io::table::TableError;
+use crate::loading::support::{Loading, Unsupported};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -156,4 +157,15 @@ impl Invalid<'_> {
     pub(super) fn wall(&self, group: &str, source: crate::generator::GeneratorError) -> StudyError {
         StudyError::Wall { path: self.0.to_owned(), group: group.into(), source: Box::new(source) }
     }
+}
+
+/// The refusal of a study's `[solver] kind` for its protocol ([`crate::loading::support::check`]),
+/// at the key that chooses them (`tilt.by_hand` for the table rolled by hand, else
+/// `solver.kind`).
+pub(super) fn unsupported(invalid: &Invalid, e: Unsupported) -> StudyError {
+    let key = match e.protocol {
+        Loading::TiltByHand => "tilt.by_hand",
+        Loading::Tilt | Loading::Lateral | Loading::Pushover | Loading::Shake => "solver.kind",
+    };
+    invalid.at(key, format!("{e}: give [solver] kind = one of these"))
 }

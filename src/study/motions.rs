@@ -102,7 +102,7 @@ impl StudySpec {
             // Refused by `check_scalars` before this (`support::check`: a cascade of static
             // solves on a motion; limit analysis has no motion).
             SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-                return Err(super::resolve::unsupported(
+                return Err(super::error::unsupported(
                     invalid,
                     Unsupported { protocol: Loading::Shake, kind: self.solver.kind },
                 ));

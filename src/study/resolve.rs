@@ -2,6 +2,7 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
+use super::error::unsupported;
 use super::error::{CalibrationSpecError, Invalid, NameError, PaperSpecError};
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
@@ -17,7 +18,6 @@ use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::WallSpec;
 use crate::generator::Wall;
 use crate::io::table::{self, MeasuredCollapse, MeasuredDisplacement};
-use crate::loading::support::{Loading, Unsupported};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -52,17 +52,6 @@ pub struct Measured {
     pub mechanism: Vec<table::MeasuredMechanism>,
     /// The paper's DEM collapse angles (Table 7).
     pub paper_dem: Vec<table::PaperDemAngle>,
-}
-
-/// The refusal of a study's `[solver] kind` for its protocol ([`crate::loading::support::check`]),
-/// at the key that chooses them (`tilt.by_hand` for the table rolled by hand, else
-/// `solver.kind`).
-pub(super) fn unsupported(invalid: &Invalid, e: Unsupported) -> StudyError {
-    let key = match e.protocol {
-        Loading::TiltByHand => "tilt.by_hand",
-        Loading::Tilt | Loading::Lateral | Loading::Pushover | Loading::Shake => "solver.kind",
-    };
-    invalid.at(key, format!("{e}: give [solver] kind = one of these"))
 }
 
 /// A penalty shaking study's step count, before the run: the penalty step of each group's

@@ -23,6 +23,10 @@
 //!   slip, exact; De Saxcé's projection as a fallback).
 //! * [`nsgs`]: the Gauss–Seidel sweeps of one step (their order, [`nsgs::SweepPlan`];
 //!   the visit of a contact polygon; the stopping rule).
+//! * [`apgd`]: the accelerated projected gradient of a step of motion (Nesterov's method
+//!   with De Saxcé's shift), stopped by the natural-map residual
+//!   ([`nsgs::natural_residual`]).
+//! * [`rest`]: the rest certificate of a wall at rest (statics in the reduced cones).
 //! * [`stepper`]: [`NscdSimulation`], the θ-scheme step with a prescribed base
 //!   acceleration and its NSGS loop.
 //!

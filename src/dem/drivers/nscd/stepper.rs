@@ -26,7 +26,12 @@
 //!    or, after `quad_after_solves` local solves, the quadratic norm below
 //!    `quad_tolerance`) or reaches [`NscdParams::max_iterations`]. (A norm on the
 //!    velocities first, not on the impulses: the impulses of a statically indeterminate
-//!    wall may drift among equivalent solutions while the motion has converged.)
+//!    wall may drift among equivalent solutions while the motion has converged.) With
+//!    [`super::StepSolver::Apgd`] (the default; trials use the sweeps alone) the sweeps get
+//!    [`NscdParams::apgd_after_solves`] local solves, and a step they leave unconverged
+//!    continues by the accelerated projected gradient ([`super::apgd`]) until the
+//!    natural-map residual is at most [`NscdParams::natural_tolerance`]. A step of a wall
+//!    at rest under a load it carries is certified by statics instead ([`super::rest`]).
 //! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
 //!    vector in the table frame).
 //!
