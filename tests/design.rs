@@ -7,7 +7,9 @@
 
 mod realwalls;
 
-use drystone::discrepancy::design::{design, Chance, DesignSettings, FollowUp, FollowUpKind, Plan, Ranked, WallEdit};
+use drystone::discrepancy::design::{
+    design, Chance, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit,
+};
 use drystone::discrepancy::{analyze, prepare, quiet, report_json, report_markdown, Observable};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement, read_measured_mechanism};
 use drystone::study::discrepancy::setup_of;
@@ -120,7 +122,13 @@ fn more_free_walls() -> Plan {
     Plan {
         contenders: vec![],
         alone_now: false,
-        ranked: vec![Ranked { followup, chances: vec![chance.clone()], at_budget: chance, to_target: None, runs: 0 }],
+        ranked: vec![RankedFollowUp {
+            followup,
+            chances: vec![chance.clone()],
+            at_budget: chance,
+            to_target: None,
+            runs: 0,
+        }],
         settings: DesignSettings::default(),
         runs: 0,
     }

@@ -46,7 +46,7 @@ pub struct KeySeparation {
 
 /// How the design separates two models.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Separation {
+pub struct PairSeparation {
     /// The two models.
     pub models: (String, String),
     /// Every key, the best separating first (largest `first_true + second_true`).
@@ -65,8 +65,8 @@ pub struct Identifiability {
     /// [`LEADING`]).
     pub leading: Vec<String>,
     /// Every pair of them.
-    pub pairs: Vec<Separation>,
-    /// The threshold of [`Separation::indistinguishable`], nats per replicate.
+    pub pairs: Vec<PairSeparation>,
+    /// The threshold of [`PairSeparation::indistinguishable`], nats per replicate.
     pub threshold: f64,
 }
 
@@ -144,7 +144,7 @@ pub fn identifiability(models: &[(String, Vec<Simulated>)], data: Data<'_>, labe
                 ks.push(KeySeparation { observable: labels[k].clone(), first_true: x, second_true: y });
             }
             ks.sort_by(|p, q| (q.first_true + q.second_true).total_cmp(&(p.first_true + p.second_true)));
-            pairs.push(Separation {
+            pairs.push(PairSeparation {
                 models: (models[i].0.clone(), models[j].0.clone()),
                 keys: ks,
                 per_replicate: (ra, rb),

@@ -53,7 +53,7 @@ pub use crate::effects;
 pub use analysis::{Analysis, Models, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
 pub use fit::{difference_se, per_specimen, Candidate, Surface};
-pub use identify::{identifiability, Identifiability, KeySeparation, Separation, INDISTINGUISHABLE};
+pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
 pub use null::Margins;
 pub use observations::{
     measurement_sigma, mechanism_observations, observations, specimens, Measure, MeasurementSigma, Observable,

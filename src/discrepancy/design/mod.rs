@@ -51,7 +51,7 @@ mod menu;
 mod plan;
 
 pub use menu::{menu, GroupWall};
-pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, Ranked, WallEdit};
+pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 
 use super::fit::{per_specimen, specimen_weights, Data};
 use super::observations::{Observable, Observation};
@@ -291,7 +291,7 @@ pub fn design(
         let at_budget =
             chances.iter().find(|c| c.specimens == ds.specimens).cloned().expect("the budget is on the ladder");
         let to_target = chances.iter().find(|c| c.alone >= ds.target).map(|c| c.specimens);
-        ranked.push(Ranked { followup: f, chances, at_budget, to_target, runs });
+        ranked.push(RankedFollowUp { followup: f, chances, at_budget, to_target, runs });
     }
     sort_ranked(&mut ranked);
     let alone_now =
@@ -302,7 +302,7 @@ pub fn design(
 /// Best first: the probability of naming the cause alone at the budget, then the fewest
 /// specimens to the target, then the weights' probability of naming it alone, then the
 /// probability of a right answer, then the fewest runs, then menu order.
-fn sort_ranked(v: &mut [Ranked]) {
+fn sort_ranked(v: &mut [RankedFollowUp]) {
     v.sort_by(|a, b| {
         b.at_budget
             .alone

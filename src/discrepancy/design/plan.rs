@@ -111,7 +111,7 @@ pub struct Chance {
 
 /// One follow-up, with its probabilities.
 #[derive(Debug, Clone, Serialize)]
-pub struct Ranked {
+pub struct RankedFollowUp {
     /// The follow-up.
     pub followup: FollowUp,
     /// The probabilities at every specimen count of the ladder, fewest first.
@@ -134,7 +134,7 @@ pub struct Plan {
     /// (the cause is named alone before any follow-up).
     pub alone_now: bool,
     /// The follow-ups, best first.
-    pub ranked: Vec<Ranked>,
+    pub ranked: Vec<RankedFollowUp>,
     /// The settings.
     pub settings: DesignSettings,
     /// Forward runs made in all.
@@ -143,7 +143,7 @@ pub struct Plan {
 
 impl Plan {
     /// The best follow-up.
-    pub fn best(&self) -> Option<&Ranked> {
+    pub fn best(&self) -> Option<&RankedFollowUp> {
         self.ranked.first()
     }
 }

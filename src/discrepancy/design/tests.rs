@@ -40,7 +40,7 @@ fn a_follow_up_that_separates_the_tie_ranks_before_one_that_cannot() {
     assert!(at(&blind, 8).weights_alone < 0.05 && at(&blind, 8).alone == 0.0, "{blind:?}");
     // Either way the truth stays among the models that share the weight.
     assert!(at(&blind, 8).right > 0.95 && at(&separating, 3).right > 0.95);
-    let rank = |name: &str, chances: Vec<Chance>| Ranked {
+    let rank = |name: &str, chances: Vec<Chance>| RankedFollowUp {
         followup: FollowUp {
             name: name.into(),
             kind: FollowUpKind::MoreSpecimens,

@@ -52,7 +52,7 @@
 use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::local;
-use super::nsgs::{natural_residual, BodyState, Outcome};
+use super::nsgs::{natural_residual, BodyState, SweepOutcome};
 use crate::math::Vec3;
 
 /// Iterations between two readings of the natural-map residual and two updates of the
@@ -148,7 +148,7 @@ impl Scratch {
 /// warm start, already applied to `bodies`' velocities), until the natural-map residual is
 /// at most `tolerance` or `max_iterations` iterations; `gh` is g h (m/s). The impulses and
 /// velocities left are the last iterate's when it converged, else those of least residual.
-/// `Outcome::sweeps` counts iterations; `Outcome::quad` is the natural-map residual.
+/// `SweepOutcome::sweeps` counts iterations; `SweepOutcome::quad` is the natural-map residual.
 pub fn solve(
     rows: &[PointRows],
     impulse: &mut [Vec3],
@@ -157,7 +157,7 @@ pub fn solve(
     max_iterations: u32,
     gh: f64,
     st: &mut Scratch,
-) -> Outcome {
+) -> SweepOutcome {
     let m = rows.len();
     // The free velocities: the warm start taken back out.
     st.vfree.clear();
@@ -190,7 +190,7 @@ pub fn solve(
     st.best.clone_from(&st.last);
     let finish = |st: &Scratch, impulse: &mut [Vec3], sweeps: u32, converged: bool, residual: f64| {
         impulse.copy_from_slice(if converged { &st.last } else { &st.best });
-        Outcome { sweeps, converged, residual_m_per_s: 0.0, quad: residual }
+        SweepOutcome { sweeps, converged, residual_m_per_s: 0.0, quad: residual }
     };
     if residual <= tolerance {
         return finish(st, impulse, 0, true, residual);

@@ -74,7 +74,7 @@ pub struct BodyState<'a> {
 
 /// What the sweeps of a step did.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Outcome {
+pub struct SweepOutcome {
     /// Sweeps taken.
     pub sweeps: u32,
     /// The last sweep met the stopping rule.
@@ -107,7 +107,7 @@ pub fn solve(
     p: &NscdParams,
     gh: f64,
     scratch: &mut Scratch,
-) -> Outcome {
+) -> SweepOutcome {
     let BodyState { vel, angvel, inv_m, inv_i, radius } = bodies;
     scratch.sweep_vel.resize(vel.len(), Vec3::zeros());
     scratch.sweep_angvel.resize(vel.len(), Vec3::zeros());
@@ -159,10 +159,10 @@ pub fn solve(
             NsgsNorm::Adaptive => residual / gh <= p.tolerance || (track_quad && quad <= p.quad_tolerance),
         };
         if converged {
-            return Outcome { sweeps: it, converged: true, residual_m_per_s: residual, quad };
+            return SweepOutcome { sweeps: it, converged: true, residual_m_per_s: residual, quad };
         }
     }
-    Outcome { sweeps: p.max_iterations, converged: false, residual_m_per_s: residual, quad }
+    SweepOutcome { sweeps: p.max_iterations, converged: false, residual_m_per_s: residual, quad }
 }
 
 /// One visit of a contact polygon (its points `rows`, their impulses `impulse`): up to

@@ -642,7 +642,7 @@ impl NscdSimulation {
                             gh,
                             &mut self.apgd,
                         );
-                        nsgs::Outcome { sweeps: done + out.sweeps, ..out }
+                        nsgs::SweepOutcome { sweeps: done + out.sweeps, ..out }
                     }
                 }
             }
