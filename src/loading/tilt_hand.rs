@@ -49,7 +49,8 @@
 //! (`last_stable_deg`) is the table's angle when the increment's motion first passed a
 //! fifth of the per-increment displacement (the onset the operator sees),
 //! `first_unstable_deg` the angle when a criterion was met. The last increment stops at
-//! [`TiltParams::max_angle_deg`]; a wall standing after its hold stood. The mechanism is
+//! [`TiltParams::max_angle_deg`] (a short one rolled slower with the same start and stop,
+//! [`HandTilt::increment_of`]); a wall standing after its hold stood. The mechanism is
 //! read as by the rigid tilt, from the state at the start of the collapsing increment (its
 //! load-carrying joints from that state's impulses; for the first increment, those of the
 //! check at α = 0).
@@ -157,9 +158,9 @@ pub fn run_tilt_by_hand(
         if start_deg >= tilt.max_angle_deg - 1e-12 {
             break;
         }
-        // The last increment stops at the largest tilt.
+        // The last increment stops at the largest tilt (rolled slower if it is short).
         let step = hand.increment_deg.min(tilt.max_angle_deg - start_deg);
-        let hand = &HandTilt { increment_deg: step, ramp_s: hand.ramp_s.min(step / hand.rate_deg_per_s), ..*hand };
+        let hand = &hand.increment_of(step);
         let per_increment = ((hand.roll_s() + hand.hold_s) / dt).round().max(1.0) as u64;
         let at_start = sim.clone();
         let start = poses(&sim);

@@ -171,6 +171,17 @@ impl HandTilt {
         })
     }
 
+    /// The motion of one increment of `step_deg` degrees (0 < `step_deg` ≤ `increment_deg`;
+    /// the last increment, which stops at the largest tilt, may be shorter): the same start
+    /// and stop (`ramp_s`), and the speed lowered to `step_deg / ramp_s` where the full speed
+    /// would not leave room for them (`step_deg / rate_deg_per_s < ramp_s`). The peak angular
+    /// acceleration is then never above a full increment's, and the start and the stop keep
+    /// the steps [`Self::check_run`] asked for; a step that fits at full speed is rolled
+    /// exactly as a full increment.
+    pub fn increment_of(&self, step_deg: f64) -> HandTilt {
+        HandTilt { increment_deg: step_deg, rate_deg_per_s: self.rate_deg_per_s.min(step_deg / self.ramp_s), ..*self }
+    }
+
     /// The peak angular acceleration of a start or a stop, rad/s² (`ω / ramp_s`).
     pub fn peak_angular_acceleration(&self) -> f64 {
         deg_to_rad(self.rate_deg_per_s) / self.ramp_s
@@ -243,6 +254,31 @@ mod tests {
         let dt = h.roll_s() / n as f64;
         let s: f64 = (0..n).map(|i| h.motion(0.0, (i as f64 + 0.5) * dt).1 * dt).sum();
         assert!((s - deg_to_rad(5.0)).abs() < 1e-9);
+    }
+
+    /// A short last increment (30.01° in 5° increments: 0.01°) is rolled slower with the
+    /// same start and stop: it covers its step exactly (the speed integrates to it, as the
+    /// trapezoid's area `ω (Δ/ω)`), its peak angular acceleration is at most a full
+    /// increment's, and a step that fits at full speed is rolled as a full increment.
+    #[test]
+    fn a_short_last_increment_is_rolled_slower_not_harder() {
+        let h = HandTilt::default();
+        for step in [0.01, 0.1, 0.25, 1.0, 4.99, 5.0] {
+            let last = h.increment_of(step);
+            assert_eq!(last.ramp_s, h.ramp_s);
+            assert!(last.validate().is_ok(), "step {step}: {:?}", last.validate());
+            assert!(last.peak_angular_acceleration() <= h.peak_angular_acceleration() * (1.0 + 1e-12));
+            let (a_end, w_end, _) = last.motion(30.0, last.roll_s());
+            assert!((crate::units::rad_to_deg(a_end) - (30.0 + step)).abs() < 1e-9, "step {step}");
+            assert_eq!(w_end, 0.0);
+            let n = 20_000;
+            let dt = last.roll_s() / n as f64;
+            let s: f64 = (0..n).map(|i| last.motion(0.0, (i as f64 + 0.5) * dt).1 * dt).sum();
+            assert!((s - deg_to_rad(step)).abs() < 1e-9 * deg_to_rad(step).max(1.0), "step {step}: {s}");
+            if step / h.rate_deg_per_s >= h.ramp_s {
+                assert_eq!(last.rate_deg_per_s, h.rate_deg_per_s);
+            }
+        }
     }
 
     #[test]
