@@ -152,7 +152,7 @@ impl Scratch {
 pub fn solve(
     rows: &[PointRows],
     impulse: &mut [Vec3],
-    mut b: BodyState<'_>,
+    b: &mut BodyState<'_>,
     tolerance: f64,
     max_iterations: u32,
     gh: f64,
@@ -180,11 +180,11 @@ pub fn solve(
     st.last.clear();
     st.last.extend(rows.iter().zip(impulse.iter()).map(|(row, r)| project(r, row.mu)));
     let last = std::mem::take(&mut st.last);
-    st.velocities(rows, &last, &mut b);
+    st.velocities(rows, &last, b);
     st.last = last;
     st.shift.clear();
     st.shift.resize(m, 0.0);
-    st.update_shift(rows, &b);
+    st.update_shift(rows, b);
     let mut residual = natural_residual(rows, &st.last, b.vel, b.angvel, gh);
     let mut best = residual;
     st.best.clone_from(&st.last);
@@ -200,7 +200,7 @@ pub fn solve(
     for it in 1..=max_iterations {
         // The gradient at y: its relative velocities with the shift.
         let y = std::mem::take(&mut st.y);
-        let f_y = st.velocities(rows, &y, &mut b) + st.linear(&y);
+        let f_y = st.velocities(rows, &y, b) + st.linear(&y);
         st.grad.clear();
         for (k, row) in rows.iter().enumerate() {
             let mut u = row.velocity(b.vel, b.angvel);
@@ -219,7 +219,7 @@ pub fn solve(
                 d_d += st.wbar[k] * d.norm_squared();
                 candidate.push(c);
             }
-            let f_c = st.velocities(rows, &candidate, &mut b) + st.linear(&candidate);
+            let f_c = st.velocities(rows, &candidate, b) + st.linear(&candidate);
             if f_c <= f_y + g_d + 0.5 * lipschitz * d_d + 1e-14 * f_y.abs() {
                 break;
             }
@@ -253,11 +253,11 @@ pub fn solve(
                 best = residual;
                 st.best.copy_from_slice(&st.last);
             }
-            st.update_shift(rows, &b);
+            st.update_shift(rows, b);
         }
     }
     let best_impulse = std::mem::take(&mut st.best);
-    st.velocities(rows, &best_impulse, &mut b);
+    st.velocities(rows, &best_impulse, b);
     st.best = best_impulse;
     finish(st, impulse, max_iterations, false, best)
 }

@@ -103,12 +103,13 @@ pub fn solve(
     plan: &SweepPlan,
     rows: &[PointRows],
     impulse: &mut [Vec3],
-    bodies: BodyState<'_>,
+    bodies: &mut BodyState<'_>,
     p: &NscdParams,
     gh: f64,
     scratch: &mut Scratch,
 ) -> SweepOutcome {
     let BodyState { vel, angvel, inv_m, inv_i, radius } = bodies;
+    let (vel, angvel): (&mut [Vec3], &mut [Vec3]) = (vel, angvel);
     scratch.sweep_vel.resize(vel.len(), Vec3::zeros());
     scratch.sweep_angvel.resize(vel.len(), Vec3::zeros());
     scratch.group_start.resize(plan.widest, Vec3::zeros());

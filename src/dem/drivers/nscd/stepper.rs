@@ -381,9 +381,7 @@ impl NscdSimulation {
             }
         }
         self.free_velocities(h, a_g);
-        let (iterations, converged, residual, quad) = self.nsgs();
-        let gh = self.gravity_magnitude * h;
-        let natural = nsgs::natural_residual(&self.rows, &self.impulse, &self.vel, &self.angvel, gh);
+        let (iterations, converged, residual, quad, natural) = self.nsgs();
         self.advance(h, theta)?;
         let active = self.points.iter().filter(|p| p.impulse.x > 0.0).count();
         self.iterations += u64::from(iterations);
@@ -583,74 +581,71 @@ impl NscdSimulation {
     }
 
     /// Stage 4: the warm start (the impulses of the last step applied) and the NSGS
-    /// sweeps ([`nsgs::solve`]); returns (sweeps, converged, velocity residual in m/s,
-    /// quadratic residual).
-    fn nsgs(&mut self) -> (u32, bool, f64, f64) {
+    /// sweeps ([`nsgs::solve`]), then the gradient ([`apgd::solve`]) by
+    /// [`NscdParams::step_solver`]; returns (sweeps and iterations, converged, velocity
+    /// residual in m/s, quadratic residual, natural-map residual).
+    fn nsgs(&mut self) -> (u32, bool, f64, f64, f64) {
         self.impulse.clear();
         self.impulse.extend(self.points.iter().map(|c| c.impulse));
         for (r, rows) in self.impulse.iter().zip(&self.rows) {
             rows.apply(r, &mut self.vel, &mut self.angvel, &self.inv_m, &self.inv_i);
         }
         let gh = self.gravity_magnitude * self.params.dt_s;
-        let bodies = BodyState {
+        let mut bodies = BodyState {
             vel: &mut self.vel,
             angvel: &mut self.angvel,
             inv_m: &self.inv_m,
             inv_i: &self.inv_i,
             radius: &self.radius,
         };
-        let out = match self.params.step_solver {
+        let p = &self.params;
+        // The natural-map residual, when the gradient's stopping rule read it.
+        let mut natural = None;
+        let out = match p.step_solver {
             StepSolver::Nsgs => {
-                nsgs::solve(&self.plan, &self.rows, &mut self.impulse, bodies, &self.params, gh, &mut self.nsgs_scratch)
+                nsgs::solve(&self.plan, &self.rows, &mut self.impulse, &mut bodies, p, gh, &mut self.nsgs_scratch)
             }
             StepSolver::Apgd => {
-                let p = &self.params;
                 let sweeps =
                     (p.apgd_after_solves / self.rows.len().max(1) as f64).ceil().min(f64::from(p.max_iterations));
                 let first = NscdParams { max_iterations: sweeps as u32, ..*p };
-                let swept = if first.max_iterations == 0 {
-                    None
-                } else {
-                    Some(nsgs::solve(
+                let swept = (first.max_iterations > 0).then(|| {
+                    nsgs::solve(
                         &self.plan,
                         &self.rows,
                         &mut self.impulse,
-                        bodies,
+                        &mut bodies,
                         &first,
                         gh,
                         &mut self.nsgs_scratch,
-                    ))
-                };
+                    )
+                });
                 match swept {
                     Some(out) if out.converged => out,
                     _ => {
                         let done = swept.map_or(0, |o| o.sweeps);
-                        let bodies = BodyState {
-                            vel: &mut self.vel,
-                            angvel: &mut self.angvel,
-                            inv_m: &self.inv_m,
-                            inv_i: &self.inv_i,
-                            radius: &self.radius,
-                        };
                         let left = p.max_iterations.saturating_sub(done);
                         let out = apgd::solve(
                             &self.rows,
                             &mut self.impulse,
-                            bodies,
+                            &mut bodies,
                             p.natural_tolerance,
                             left,
                             gh,
                             &mut self.apgd,
                         );
+                        natural = Some(out.quad);
                         nsgs::SweepOutcome { sweeps: done + out.sweeps, ..out }
                     }
                 }
             }
         };
+        let natural =
+            natural.unwrap_or_else(|| nsgs::natural_residual(&self.rows, &self.impulse, &self.vel, &self.angvel, gh));
         for (c, r) in self.points.iter_mut().zip(&self.impulse) {
             c.impulse = *r;
         }
-        (out.sweeps, out.converged, out.residual_m_per_s, out.quad)
+        (out.sweeps, out.converged, out.residual_m_per_s, out.quad, natural)
     }
 
     /// Stage 5: the θ-update of the poses; the new velocities into the bodies.
