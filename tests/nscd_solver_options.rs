@@ -73,7 +73,8 @@ fn four_point_polygons_keep_the_limit_of_a_block_on_its_extreme_corners() {
     brackets("hexagonal prism, four points", &run(&hex, &p), exact);
 }
 
-/// Relaxation outside (0, 2) and zero polygon passes are refused, naming the key.
+/// Relaxation outside (0, 2), zero polygon passes and tolerances and budgets out of their
+/// ranges (a natural-map tolerance below 1e-12 included) are refused, naming the key.
 #[test]
 fn nsgs_options_out_of_range_are_refused_by_key() {
     let block =
@@ -83,6 +84,9 @@ fn nsgs_options_out_of_range_are_refused_by_key() {
         ("polygon_passes", NscdParams { polygon_passes: 0, ..NscdParams::default() }),
         ("quad_tolerance", NscdParams { quad_tolerance: 0.0, ..NscdParams::default() }),
         ("quad_after_solves", NscdParams { quad_after_solves: f64::NAN, ..NscdParams::default() }),
+        ("natural_tolerance", NscdParams { natural_tolerance: 1e-300, ..NscdParams::default() }),
+        ("natural_tolerance", NscdParams { natural_tolerance: 1.0, ..NscdParams::default() }),
+        ("apgd_after_solves", NscdParams { apgd_after_solves: -1.0, ..NscdParams::default() }),
     ] {
         match drystone::dem::drivers::nscd::NscdSimulation::new(&block, &p) {
             Err(NscdError::Parameter(e)) => assert!(e.to_string().contains(key), "{key}: {e}"),

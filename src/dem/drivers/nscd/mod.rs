@@ -106,7 +106,7 @@ pub struct NscdParams {
     /// [`StepSolver::Nsgs`] ([`Self::for_trials`]).
     pub step_solver: StepSolver,
     /// The natural-map residual a step of motion must meet with [`StepSolver::Apgd`],
-    /// dimensionless \[1e-4\] ([`nsgs::natural_residual`]: LMGC90's usual tolerance, here on
+    /// dimensionless, in \[1e-12, 1) \[1e-4\] ([`nsgs::natural_residual`]: LMGC90's usual tolerance, here on
     /// the residual of the Coulomb problem itself rather than on the change over a sweep).
     pub natural_tolerance: f64,
     /// The work of a step, in local solves (contact points × sweeps), that
@@ -209,8 +209,8 @@ impl NscdParams {
             (
                 "natural_tolerance",
                 self.natural_tolerance,
-                self.natural_tolerance > 0.0 && self.natural_tolerance < 1.0,
-                "in (0, 1)",
+                (1e-12..1.0).contains(&self.natural_tolerance),
+                "in [1e-12, 1) (a relative residual in f64 is not met below about 1e-12: every step would run to max_iterations)",
             ),
             (
                 "apgd_after_solves",
