@@ -10,7 +10,7 @@
 
 use crate::dem::{Method, SolverParams};
 use crate::layout::Layout;
-use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitParams, LimitResult};
+use crate::limit::{limit_lateral, limit_tilt, LimitError, LimitResult};
 use crate::loading::lateral::{run_lateral, LateralError, LateralParams, LateralResult};
 use crate::loading::lateral_nscd::{run_lateral_nscd, LateralLimit};
 use crate::loading::lateral_pushover::{run_lateral_pushover, LateralPushover};
@@ -136,13 +136,13 @@ impl Protocol {
 
     /// Runs the protocol on `layout` with the solver `solver`: the method the solver kind
     /// selects ([`crate::dem::SolverKind::method`]), if the compatibility table
-    /// ([`support::check`]) lets it run this protocol. Limit analysis runs with its default
-    /// parameters ([`LimitParams::default`]).
+    /// ([`support::check`]) lets it run this protocol. Limit analysis runs with
+    /// `solver.limit`.
     pub fn run(&self, layout: &Layout, solver: SolverParams) -> ProtocolRun {
         if let Err(e) = support::check(self.kind(), solver.kind) {
             return ProtocolRun::Unsupported(e);
         }
-        let limit = LimitParams::default();
+        let limit = solver.limit;
         // One arm per (protocol, method): a new method or protocol does not compile until
         // it has its arms here and its row in `support::methods`.
         match (self, solver.kind.method()) {

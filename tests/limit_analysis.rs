@@ -213,3 +213,38 @@ fn bad_layouts_are_clear_errors_naming_the_block() {
     let e = limit_tilt(&l, &SolverParams::default(), &p).unwrap_err();
     assert!(matches!(e, LimitError::Parameter(ref o) if o.key == "relaxation"), "{e}");
 }
+
+#[test]
+fn the_solvers_limit_table_reaches_limit_analysis_through_the_protocol_seam() {
+    // `SolverParams::limit` (a study's `[solver.limit]`, Python's `"limit"` key, the
+    // `--limit-*` options) is what the seam runs: associative only, the squat block's
+    // answer is marked associative; with the default, the correction runs.
+    use drystone::dem::SolverKind;
+    use drystone::loading::tilt::TiltParams;
+    use drystone::protocol::{Protocol, ProtocolRun};
+    let l = layout_of(vec![block(0.4, 0.1, 0.0, 0.0)], KN, KN / 2.0, 25.0, BaseSliding::Free);
+    let run = |limit: LimitParams| {
+        let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
+        match Protocol::Tilt(TiltParams::default()).run(&l, solver) {
+            ProtocolRun::Limit(r) => r.expect("limit analysis"),
+            other => panic!("expected a limit analysis, got {other:?}"),
+        }
+    };
+    let full = run(LimitParams::default());
+    assert_eq!(full.governing, FlowRule::NonAssociative);
+    assert!(full.non_associative.is_some());
+    let assoc = run(LimitParams { non_associative: false, ..LimitParams::default() });
+    assert_eq!(assoc.governing, FlowRule::Associative);
+    assert!(assoc.non_associative.is_none());
+    assert_deg("associative through the seam", deg(&assoc), 25.0);
+    // Out of range: refused naming the key, not run with a silently different value.
+    let solver = SolverParams {
+        kind: SolverKind::Limit,
+        limit: LimitParams { relaxation: 0.0, ..LimitParams::default() },
+        ..SolverParams::default()
+    };
+    match Protocol::Tilt(TiltParams::default()).run(&l, solver) {
+        ProtocolRun::Limit(Err(e)) => assert!(e.to_string().contains("relaxation"), "{e}"),
+        other => panic!("expected the parameter refused, got {other:?}"),
+    }
+}

@@ -124,7 +124,7 @@ fn limit_pushover(
 ) -> PyResult<serde_json::Value> {
     let r = py.detach(|| {
         guard(|| {
-            drystone::limit::limit_lateral(l, solver, lp, &drystone::limit::LimitParams::default())
+            drystone::limit::limit_lateral(l, solver, lp, &solver.limit)
                 .map_err(|e| crate::errors::SolverError::new_err(e.to_string()))
         })
     })?;

@@ -290,3 +290,17 @@ def test_the_pushover_by_nscd_and_by_limit_analysis_meet_the_rigid_statics():
     assert rig.lambda_stable <= rigid * 1.001 and rig.lambda_unstable >= rigid * 0.999
     assert rig.lambda_unstable - rig.lambda_stable <= 0.011 * rig.lambda_unstable
     assert rig.mechanism is not None and str(rig.mechanism) == "toppling"
+
+
+def test_limit_analysis_parameters_are_reached_from_the_solver_dict():
+    """The `limit` key of a solver dict is limit analysis's parameters (`[solver.limit]` in a
+    study): a value out of range is refused naming the key, a good one runs."""
+    layout = drystone.Layout.from_json(box_layout(0.4, 0.2, 0.6))
+    rigid = 2000.0 * 0.4 * 0.2 * 0.6 * 9.81 * 0.2 / (1000.0 * 0.4 * 0.6**2)
+    solver = {"kind": "limit", "limit": {"non_associative": False, "max_iterations": 3}}
+    lim = drystone.pushover(layout, solver=solver, pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert lim.lambda_stable == pytest.approx(rigid, rel=1e-4)
+    bad = {"kind": "limit", "limit": {"relaxation": 2.0}}
+    with pytest.raises(Exception) as e:
+        drystone.pushover(layout, solver=bad, pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert "relaxation" in str(e.value)

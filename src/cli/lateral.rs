@@ -29,6 +29,8 @@ pub struct LateralArgs {
     tolerance: f64,
     #[command(flatten)]
     solver: SolverChoice,
+    #[command(flatten)]
+    limit: super::solver::LimitFlags,
     /// Write the settled and the loaded state as a ParaView time series into DIR
     /// (lateral.pvd, time = load factor 0 and 1).
     #[arg(long, value_name = "DIR")]
@@ -57,7 +59,9 @@ pub fn command(a: LateralArgs) -> Result<ExitCode> {
         pushover_resolution: a.pushover_resolution,
         ..LateralParams::default()
     };
-    let solver = SolverParams { kind: a.solver.solver, ..SolverParams::default() };
+    let kind = a.solver.solver;
+    let limit = a.limit.params_for(kind, LimitParams::default())?;
+    let solver = SolverParams { kind, limit, ..SolverParams::default() };
     run(&a.layout, solver, &params, a.json, a.vtk.as_deref())
 }
 
@@ -79,7 +83,7 @@ pub fn run(
                 pressure_base_pa: params.pressure_base_pa,
                 pressure_top_pa: params.pressure_top_pa,
             };
-            return super::limit::analyse(layout, load, &LimitParams::default(), json, None);
+            return super::limit::analyse(layout, load, &solver, json, None);
         }
         Method::Nscd => {
             if !params.pushover {

@@ -2,7 +2,7 @@
 //! from statics alone).
 
 use anyhow::{Context, Result};
-use drystone::dem::SolverParams;
+use drystone::dem::{SolverKind, SolverParams};
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
 use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, LiveLoad};
@@ -37,9 +37,12 @@ pub struct LimitArgs {
     /// Lateral pressure at the top of the wall, Pa (`--protocol lateral`).
     #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
     pressure_top_pa: f64,
-    /// The associative answer only (no non-associative correction).
+    /// The associative answer only (no non-associative correction); the same as
+    /// --limit-associative.
     #[arg(long)]
     associative: bool,
+    #[command(flatten)]
+    limit: super::solver::LimitFlags,
     /// Draw the collapse mechanism into this SVG file.
     #[arg(long, value_name = "FILE")]
     svg: Option<PathBuf>,
@@ -54,21 +57,24 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
             LiveLoad::Lateral { pressure_base_pa: a.pressure_base_pa, pressure_top_pa: a.pressure_top_pa }
         }
     };
-    let params = LimitParams { non_associative: !a.associative, ..LimitParams::default() };
-    analyse(&a.layout, protocol, &params, a.json, a.svg.as_deref())
+    let mut limit = a.limit.apply(LimitParams::default());
+    limit.non_associative &= !a.associative;
+    let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
+    analyse(&a.layout, protocol, &solver, a.json, a.svg.as_deref())
 }
 
-/// The limit analysis of the layout file `layout` under `load`, printed as `drystone limit`
+/// The limit analysis of the layout file `layout` under `load` with the contact settings and
+/// the limit analysis's parameters of `solver` (`solver.limit`), printed as `drystone limit`
 /// prints it: the command itself, and `drystone tilt` / `lateral` with `--solver limit`.
 pub fn analyse(
     layout: &Path,
     load: LiveLoad,
-    params: &LimitParams,
+    solver: &SolverParams,
     json: bool,
     svg_path: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
-    let r = limit_analysis(&l, &SolverParams::default(), load, params)
+    let r = limit_analysis(&l, solver, load, &solver.limit)
         .with_context(|| format!("limit analysis of {}", layout.display()))?;
     if let Some(path) = svg_path {
         drystone::files::replace_file(path, svg(&l, &r, layout).as_bytes())?;

@@ -4,7 +4,7 @@
 
 use anyhow::{bail, Result};
 use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
-use drystone::dem::SolverKind;
+use drystone::dem::{LimitParams, SolverKind};
 use drystone::loading::tilt::TiltParams;
 
 /// `--solver NAME`.
@@ -99,6 +99,69 @@ pub struct NscdArgs {
     /// The natural-map residual every step of motion meets with `apgd` [default 1e-4].
     #[arg(long, value_name = "TOL")]
     pub nscd_natural_tolerance: Option<f64>,
+}
+
+/// Limit analysis's settings on the command line (`--solver limit`, `drystone limit`; the
+/// keys of a study's `[solver.limit]` table): each overrides [`LimitParams`]' default when
+/// given.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct LimitFlags {
+    /// Limit analysis: the associative answer only, without the non-associative correction
+    /// (`non_associative = false`).
+    #[arg(long)]
+    pub limit_associative: bool,
+    /// Limit analysis: the largest number of cone programs of the non-associative
+    /// iteration [default 20].
+    #[arg(long, value_name = "N")]
+    pub limit_max_iterations: Option<u32>,
+    /// Limit analysis: the under-relaxation of the normal forces in the non-associative
+    /// iteration, in (0, 1] [default 0.5].
+    #[arg(long, value_name = "OMEGA")]
+    pub limit_relaxation: Option<f64>,
+    /// Limit analysis: the non-associative iteration's tolerance on λ [default 1e-5].
+    #[arg(long, value_name = "TOL")]
+    pub limit_tolerance: Option<f64>,
+}
+
+impl LimitFlags {
+    /// Some option was given.
+    pub fn given(&self) -> bool {
+        self.limit_associative
+            || self.limit_max_iterations.is_some()
+            || self.limit_relaxation.is_some()
+            || self.limit_tolerance.is_some()
+    }
+
+    /// `base` with the options given; out-of-range values are refused by the analysis
+    /// (`LimitParams::validate`, naming the key).
+    pub fn apply(&self, base: LimitParams) -> LimitParams {
+        LimitParams {
+            non_associative: base.non_associative && !self.limit_associative,
+            max_iterations: self.limit_max_iterations.unwrap_or(base.max_iterations),
+            relaxation: self.limit_relaxation.unwrap_or(base.relaxation),
+            tolerance: self.limit_tolerance.unwrap_or(base.tolerance),
+        }
+    }
+
+    /// `base` with the options given, for the solver `kind`.
+    ///
+    /// # Errors
+    /// An option given with a solver other than `limit`, which would ignore it.
+    pub fn params_for(&self, kind: SolverKind, base: LimitParams) -> Result<LimitParams> {
+        match kind {
+            SolverKind::Limit => {}
+            SolverKind::Penalty
+            | SolverKind::Implicit
+            | SolverKind::Accelerated
+            | SolverKind::Relaxation
+            | SolverKind::Nscd => {
+                if self.given() {
+                    bail!("the --limit-* options set limit analysis: give them with --solver limit");
+                }
+            }
+        }
+        Ok(self.apply(base))
+    }
 }
 
 /// `--nscd-rest NAME`.

@@ -1,6 +1,6 @@
 //! `drystone tilt`: the tilting-table test of a layout file.
 
-use super::solver::{NscdArgs, SolverArgs};
+use super::solver::{LimitFlags, NscdArgs, SolverArgs};
 use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, Method, SolverParams};
@@ -62,6 +62,8 @@ pub struct TiltArgs {
     vtk: Option<PathBuf>,
     #[command(flatten)]
     nscd: NscdArgs,
+    #[command(flatten)]
+    limit: LimitFlags,
     #[command(flatten)]
     hand: HandArgs,
 }
@@ -147,6 +149,7 @@ fn hand_flag(key: &str) -> &'static str {
 pub fn command(a: TiltArgs) -> Result<ExitCode> {
     let kind = a.solver.kind();
     let nscd = a.nscd.params_for(kind, NscdParams::default())?;
+    let limit = a.limit.params_for(kind, drystone::dem::LimitParams::default())?;
     let hand = a.hand.motion(kind)?;
     let density_scaling = match a.density_scaling.as_str() {
         "block" => DensityScaling::Block { mass_floor: a.block_mass_floor },
@@ -161,6 +164,7 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         timestep_safety: a.timestep_safety,
         density_scaling,
         nscd,
+        limit,
         ..SolverParams::default()
     };
     let params = TiltParams {
@@ -175,8 +179,7 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
             if a.vtk.is_some() {
                 bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
             }
-            let params = drystone::limit::LimitParams::default();
-            return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &params, a.json, None);
+            return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &solver, a.json, None);
         }
         Method::Penalty | Method::Nscd => {}
     }

@@ -26,5 +26,5 @@ pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use method::{Cascade, Method, SolverKind};
 pub use model::WallState;
 pub use monitor::StepStats;
-pub use params::{DensityScaling, SolverParams};
+pub use params::{DensityScaling, LimitParams, SolverParams};
 pub use solve::{solve_static, End, RunToEquilibrium, SolveOutcome, SolveStage, StaticSolve};

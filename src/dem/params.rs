@@ -56,6 +56,45 @@ impl DensityScaling {
     }
 }
 
+/// Parameters of a limit analysis (`kind = "limit"`; a `[solver.limit]` table in a study,
+/// the `limit` key of a Python solver dict, `--limit-*` on the command line). Defaults in
+/// brackets. The method itself is `crate::limit` (Gilbert, Casapulla & Ahmed 2006 for the
+/// non-associative iteration); the parameters live beside the other methods' so that every
+/// caller reaches them through [`SolverParams`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LimitParams {
+    /// Run the non-associative correction when the associative mechanism slides \[true\].
+    pub non_associative: bool,
+    /// Largest number of cone programs of the non-associative iteration \[20\].
+    pub max_iterations: u32,
+    /// Under-relaxation ω of the normal forces in the iteration, in (0, 1] \[0.5\].
+    pub relaxation: f64,
+    /// The iteration has converged when λ changes by less than this, relative to
+    /// max(1, |λ|), twice in a row \[1e-5\].
+    pub tolerance: f64,
+}
+
+impl Default for LimitParams {
+    fn default() -> Self {
+        LimitParams { non_associative: true, max_iterations: 20, relaxation: 0.5, tolerance: 1e-5 }
+    }
+}
+
+impl LimitParams {
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
+            ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation <= 1.0, "in (0, 1]"),
+            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
+        ])
+    }
+}
+
 /// Solver parameters. Every field has a documented default (`SolverParams::default()`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -100,6 +139,9 @@ pub struct SolverParams {
     /// Settings of the non-smooth contact-dynamics solver (`kind = "nscd"`; a
     /// `[solver.nscd]` table in a study), unused by the penalty DEM.
     pub nscd: super::drivers::nscd::NscdParams,
+    /// Settings of limit analysis (`kind = "limit"`; a `[solver.limit]` table in a study),
+    /// unused by the other solvers.
+    pub limit: LimitParams,
 }
 
 impl Default for SolverParams {
@@ -118,6 +160,7 @@ impl Default for SolverParams {
             patch_reuse_fraction: 0.1,
             density_scaling: DensityScaling::Block { mass_floor: 0.05 },
             nscd: super::drivers::nscd::NscdParams::default(),
+            limit: LimitParams::default(),
         }
     }
 }

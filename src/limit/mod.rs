@@ -50,48 +50,14 @@ use crate::layout::Layout;
 use crate::loading::lateral::{pressure_loads, LateralParams};
 use crate::loading::mechanism::Mechanism;
 use crate::math::Vec3;
-use crate::range::{check_ranges, OutOfRange};
+use crate::range::OutOfRange;
 use clarabel::solver::SolverStatus;
+pub use crate::dem::LimitParams;
 pub use flow::NonAssociative;
 pub use mechanism::{BlockVelocity, JointMode, LimitJoint};
 use model::{Friction, Model, Solution};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
-
-/// Parameters of a limit analysis. Defaults in brackets.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct LimitParams {
-    /// Run the non-associative correction when the associative mechanism slides \[true\].
-    pub non_associative: bool,
-    /// Largest number of cone programs of the non-associative iteration \[20\].
-    pub max_iterations: u32,
-    /// Under-relaxation ω of the normal forces in the iteration, in (0, 1] \[0.5\].
-    pub relaxation: f64,
-    /// The iteration has converged when λ changes by less than this, relative to
-    /// max(1, |λ|), twice in a row \[1e-5\].
-    pub tolerance: f64,
-}
-
-impl Default for LimitParams {
-    fn default() -> Self {
-        LimitParams { non_associative: true, max_iterations: 20, relaxation: 0.5, tolerance: 1e-5 }
-    }
-}
-
-impl LimitParams {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// The first parameter out of its range, with the range.
-    pub fn validate(&self) -> Result<(), OutOfRange> {
-        check_ranges(&[
-            ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
-            ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation <= 1.0, "in (0, 1]"),
-            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
-        ])
-    }
-}
 
 /// The live load of a limit analysis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -237,6 +237,9 @@ impl StudySpec {
             | SolverKind::Relaxation
             | SolverKind::Limit => {}
         }
+        // Limit analysis runs beside the other methods too (the shaking study's static
+        // capacity), so its table is checked whatever the kind.
+        self.solver.limit.validate().map_err(range("solver.limit"))?;
         if let Some(hand) = &self.tilt.by_hand {
             // What `drystone tilt --by-hand` refuses before it runs, refused before any
             // realization does.

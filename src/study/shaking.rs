@@ -74,7 +74,7 @@ pub fn group_counts(
 fn static_capacity(study: &Study, g: usize) -> Vec<f64> {
     let group = &study.groups[g];
     let Some(wall) = group.walls.first() else { return vec![] };
-    let params = crate::limit::LimitParams::default();
+    let params = study.solver.limit;
     (0..study.group_realizations(g))
         .into_par_iter()
         .map(|r| {
