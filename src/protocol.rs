@@ -21,10 +21,6 @@ use crate::loading::support::{self, Loading, Unsupported};
 use crate::loading::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
 use crate::units::m_to_cm;
 
-/// The relative width of the rigid pushover's final bracket of λ (1 %), as
-/// `drystone lateral --solver nscd` runs it.
-pub const RIGID_PUSHOVER_RESOLUTION: f64 = 0.01;
-
 /// A loading protocol with its parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Protocol {
@@ -157,7 +153,7 @@ impl Protocol {
             }
             (Protocol::Lateral(p), Method::Penalty) => ProtocolRun::Lateral(run_lateral(layout, solver, p)),
             (Protocol::Lateral(p), Method::Nscd) => {
-                ProtocolRun::RigidPushover(run_lateral_nscd(layout, &solver.nscd, p, RIGID_PUSHOVER_RESOLUTION))
+                ProtocolRun::RigidPushover(run_lateral_nscd(layout, &solver.nscd, p))
             }
             (Protocol::Lateral(p), Method::Limit) => ProtocolRun::Limit(limit_lateral(layout, &solver, p, &limit)),
             (Protocol::Shake { params, motion }, Method::Penalty | Method::Nscd) => {

@@ -492,7 +492,7 @@ pub fn run_all() -> Report {
 }
 
 /// Normal stiffnesses of the sweep of [`stiffness_sweep`], Pa/m: 1e7 to 1e11 by decades
-/// (`tests/stiffness_range.rs` covers 2.5e6 to 1e13 with its own reference).
+/// (`tests/suite/stiffness_range.rs` covers 2.5e6 to 1e13 with its own reference).
 pub const SWEEP_KN: [f64; 5] = [1e7, 1e8, 1e9, 1e10, 1e11];
 
 /// The block 0.15 × 0.30 m (b × h) on a Winkler joint across [`SWEEP_KN`] (φ = 60°,

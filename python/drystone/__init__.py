@@ -297,11 +297,11 @@ def supports(protocol: str, solver: str) -> Tuple[bool, str]:
 
 def pushover(layout: Any, solver: Any = None, **params: Any) -> PushoverResult:
     """Pushes the static out-of-plane pressure of `lateral` (`LateralParams` keys, e.g.
-    `pressure_base_pa`, `pressure_top_pa`, `pushover_resolution` [0.02]: the final bracket's
-    width relative to λ) to collapse. `solver` as in `lateral`: a penalty method (the
+    `pressure_base_pa`, `pressure_top_pa`, `pushover_resolution`: the final bracket's
+    width relative to λ, 0.02 with a penalty method and 0.01 with `"nscd"` when not given) to collapse. `solver` as in `lateral`: a penalty method (the
     default: the joints keep their Kn, Ks, friction, cohesion and tensile strength; the
     histories hold every increment), `"nscd"` (the rigid pushover: λ bisected to 1 % by
-    non-smooth contact dynamics of rigid blocks) or `"limit"` (limit analysis: λ stable and
+    non-smooth contact dynamics of rigid blocks, or to `pushover_resolution`) or `"limit"` (limit analysis: λ stable and
     unstable both its load multiplier); the last two have no histories. Raises
     `InputError` for a bad key or value, `SolverError` if the layout does not stand.
     """

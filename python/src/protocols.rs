@@ -142,11 +142,8 @@ fn nscd_pushover(
     solver: &SolverParams,
     lp: &LateralParams,
 ) -> PyResult<serde_json::Value> {
-    let res = drystone::protocol::RIGID_PUSHOVER_RESOLUTION;
     let r = py.detach(|| {
-        guard(|| {
-            drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp, res).map_err(|e| tilt_error(&e))
-        })
+        guard(|| drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp).map_err(|e| tilt_error(&e)))
     })?;
     let mut v = serde_json::to_value(&r).unwrap_or_default();
     v["dt_s"] = solver.nscd.dt_s.into();

@@ -41,9 +41,10 @@ pub struct LateralArgs {
     /// solver); `--solver nscd` always pushes over (rigid blocks).
     #[arg(long)]
     pushover: bool,
-    /// Relative width of the pushover's final bracket of λ.
-    #[arg(long, default_value_t = LateralParams::default().pushover_resolution)]
-    pushover_resolution: f64,
+    /// Relative width of the pushover's final bracket of λ, in (0, 1) [default 0.02 with
+    /// the penalty DEM, 0.01 with --solver nscd].
+    #[arg(long, value_name = "FRACTION")]
+    pushover_resolution: Option<f64>,
 }
 
 /// `drystone lateral`: the load's parameters from the options, then [`run`].
@@ -170,7 +171,8 @@ fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
 }
 
 /// `lateral --solver nscd`: the rigid pushover, the collapse load multiplier λ of the
-/// pressure by non-smooth contact dynamics (bisection to 1 % of λ).
+/// pressure by non-smooth contact dynamics (bisection to --pushover-resolution, 1 % of λ by
+/// default).
 fn pushover(
     path: &Path,
     layout: &drystone::layout::Layout,
@@ -178,7 +180,7 @@ fn pushover(
     params: &LateralParams,
     json: bool,
 ) -> Result<ExitCode> {
-    let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params, 0.01)
+    let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params)
         .with_context(|| format!("rigid pushover of {}", path.display()))?;
     if json {
         return pushover_json(

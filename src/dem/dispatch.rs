@@ -1,7 +1,7 @@
 //! CPU feature dispatch: the engine's step is compiled once per instruction set and the
 //! widest one this CPU runs is chosen at run time. Every copy performs the same IEEE-754
 //! operations in the same order (Rust never fuses a multiply and an add unless asked), so
-//! all give the same bits (`tests/dispatch.rs`).
+//! all give the same bits (`tests/suite/dispatch.rs`).
 
 /// An instruction set the engine's step is compiled for (see
 /// [`super::engine::Simulation::step`]).

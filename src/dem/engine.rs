@@ -291,7 +291,7 @@ impl Simulation {
     /// [`Isa::best`]). All three perform the same IEEE-754 operations in the same order (Rust
     /// never fuses a multiply and an add on its own, and square root and division are
     /// correctly rounded in every instruction set), so the results are the same bit for bit
-    /// on any x86-64 machine; only the speed may differ. Tested by `tests/dispatch.rs`.
+    /// on any x86-64 machine; only the speed may differ. Tested by `tests/suite/dispatch.rs`.
     ///
     /// # Errors
     /// [`DemError::NonFinite`] if a body's state blows up.

@@ -412,7 +412,7 @@ pub fn block_masses(
 ///
 /// Local damping scales a component's force by `1 + α` while the force opposes the
 /// velocity, so the undamped limit `ω Δt < 2` becomes `ω √(1 + α) Δt < 2` (a single
-/// oscillator with α = 0.8 diverges from `ω Δt ≈ 1.49`; `tests/timestep.rs`).
+/// oscillator with α = 0.8 diverges from `ω Δt ≈ 1.49`; `tests/suite/timestep.rs`).
 pub fn step_for(lambda: f64, safety: f64, alpha: f64) -> Option<f64> {
     (lambda > 0.0).then(|| safety * 2.0 / (lambda.sqrt() * (1.0 + alpha).sqrt()))
 }

@@ -45,6 +45,7 @@ pub mod flow;
 pub mod mechanism;
 pub(crate) mod model;
 
+pub use crate::dem::LimitParams;
 use crate::dem::SolverParams;
 use crate::layout::Layout;
 use crate::loading::lateral::{pressure_loads, LateralParams};
@@ -52,7 +53,6 @@ use crate::loading::mechanism::Mechanism;
 use crate::math::Vec3;
 use crate::range::OutOfRange;
 use clarabel::solver::SolverStatus;
-pub use crate::dem::LimitParams;
 pub use flow::NonAssociative;
 pub use mechanism::{BlockVelocity, JointMode, LimitJoint};
 use model::{Friction, Model, Solution};

@@ -78,8 +78,11 @@ pub struct LateralParams {
     /// and its columns are unchanged by it.
     pub pushover: bool,
     /// Relative width `(λ_unstable − λ_stable) / λ_unstable` of the pushover's final
-    /// bracket of λ, in (0, 1) \[0.02\].
-    pub pushover_resolution: f64,
+    /// bracket of λ, in (0, 1); unset, each method's own: \[0.02\] for the penalty DEM's
+    /// pushover ([`PENALTY_PUSHOVER_RESOLUTION`]), \[0.01\] for the rigid pushover by nscd
+    /// ([`RIGID_PUSHOVER_RESOLUTION`]). See [`Self::pushover_resolution_of`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pushover_resolution: Option<f64>,
 }
 
 impl Default for LateralParams {
@@ -91,7 +94,7 @@ impl Default for LateralParams {
             max_steps: 400_000,
             collapse_displacement_fraction: 0.5,
             pushover: false,
-            pushover_resolution: 0.02,
+            pushover_resolution: None,
         }
     }
 }
@@ -115,13 +118,32 @@ impl LateralParams {
             ("max_steps", self.max_steps as f64, self.max_steps > 0, ">= 1"),
             (
                 "pushover_resolution",
-                self.pushover_resolution,
-                self.pushover_resolution > 0.0 && self.pushover_resolution < 1.0,
+                self.pushover_resolution.unwrap_or(PENALTY_PUSHOVER_RESOLUTION),
+                self.pushover_resolution.is_none_or(|r| r > 0.0 && r < 1.0),
                 "in (0, 1)",
             ),
         ])
     }
+
+    /// The pushover's final bracket width for `method`: [`Self::pushover_resolution`] when
+    /// set, else the method's default; `None` for limit analysis, which has no bracket (its
+    /// λ is the program's optimum).
+    pub fn pushover_resolution_of(&self, method: Method) -> Option<f64> {
+        match method {
+            Method::Penalty => Some(self.pushover_resolution.unwrap_or(PENALTY_PUSHOVER_RESOLUTION)),
+            Method::Nscd => Some(self.pushover_resolution.unwrap_or(RIGID_PUSHOVER_RESOLUTION)),
+            Method::Limit => None,
+        }
+    }
 }
+
+/// The penalty DEM pushover's default bracket width (2 % of λ): each of its trials is a
+/// static solve of the elastic joints to the unbalanced-force ratio.
+pub const PENALTY_PUSHOVER_RESOLUTION: f64 = 0.02;
+
+/// The rigid pushover's default bracket width (1 % of λ), as `drystone lateral --solver
+/// nscd`, a study and Python run it.
+pub const RIGID_PUSHOVER_RESOLUTION: f64 = 0.01;
 
 /// Outcome of a static lateral load.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

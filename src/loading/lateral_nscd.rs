@@ -18,7 +18,7 @@ use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
-use crate::range::{check_ranges, OutOfRange};
+
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -49,23 +49,22 @@ pub struct LateralLimit {
 }
 
 /// Runs the rigid pushover of a layout under the lateral pressure of `lateral` (see the
-/// module doc); `resolution` is the relative width of the final bracket of λ, in (0, 1).
+/// module doc), bisected until the bracket's relative width is at most
+/// `lateral.pushover_resolution` (unset: [`super::lateral::RIGID_PUSHOVER_RESOLUTION`]).
 ///
 /// # Errors
 /// As [`super::tilt_nscd::run_tilt_nscd`]; [`TiltError::Parameter`] for a lateral
-/// parameter or `resolution` out of range; [`TiltError::NoLoad`] for a pressure that
+/// parameter out of range; [`TiltError::NoLoad`] for a pressure that
 /// loads no face.
 pub fn run_lateral_nscd(
     layout: &Layout,
     params: &NscdParams,
     lateral: &LateralParams,
-    resolution: f64,
 ) -> Result<LateralLimit, TiltError> {
     lateral.validate().map_err(TiltError::Parameter)?;
     super::lateral::check_pushover_load(lateral).map_err(TiltError::Parameter)?;
-    let r: Result<(), OutOfRange> =
-        check_ranges(&[("resolution", resolution, resolution > 0.0 && resolution < 1.0, "in (0, 1)")]);
-    r.map_err(TiltError::Parameter)?;
+    let resolution =
+        lateral.pushover_resolution_of(crate::dem::Method::Nscd).unwrap_or(super::lateral::RIGID_PUSHOVER_RESOLUTION);
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     let reader = Simulation::new(layout, SolverParams::default());

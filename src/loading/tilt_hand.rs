@@ -57,7 +57,7 @@
 //!
 //! Rigid joints, as [`super::tilt_nscd::run_tilt_nscd`]: the layout's Kn and Ks are not
 //! used. Tested against the sliding block's closed form under a stop
-//! (`tests/tilt_hand.rs`).
+//! (`tests/suite/tilt_hand.rs`).
 
 use super::mechanism::Mechanism;
 use super::monitors::monitor_points;

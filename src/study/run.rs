@@ -187,7 +187,7 @@ pub(super) fn rigid_pushover_row(
 ///     let a = r.collapse.collapse_angle_deg.expect("collapsed");
 ///     assert!(a > 10.0 && a < 24.1, "{a}");
 /// }
-/// // The same rows bit for bit on another run (any thread count; `tests/determinism.rs`).
+/// // The same rows bit for bit on another run (any thread count; `tests/suite/determinism.rs`).
 /// let again = run_study(&study, Shard::ALL);
 /// assert!(rows.iter().zip(&again).all(|(a, b)| a.collapse.collapse_angle_deg == b.collapse.collapse_angle_deg));
 /// # std::fs::remove_dir_all(&dir).ok();

@@ -25,7 +25,7 @@
 //!   `[measured] mechanism`) and read back by the library's reader
 //!   ([`mechanism_observations_via_file`]).
 //!
-//! Used by `tests/discrepancy_realwalls.rs` (the reduced set CI runs) and by
+//! Used by `tests/suite/discrepancy_realwalls.rs` (the reduced set CI runs) and by
 //! `examples/realwall_power.rs` (the power table of BENCHMARKS.md).
 #![allow(dead_code)]
 

@@ -65,7 +65,7 @@ pub struct NscdParams {
     /// `h (θ v⁺ + (1 − θ) v⁻)` and the smooth forces act at `t + θ h`. 0.5 (LMGC90's
     /// choice) conserves the energy of free flight; the impulse law is on the end-of-step
     /// velocity `v⁺` for every θ, so Housner's impact ratio does not depend on it
-    /// (`tests/nscd_motion.rs` checks 0.5 and 1).
+    /// (`tests/suite/nscd_motion.rs` checks 0.5 and 1).
     pub theta: f64,
     /// Newton's coefficient of restitution e, in \[0, 1\] \[0\]: `uₙ⁺ ≥ −e uₙ⁻` at an impact
     /// (0: no bounce, the rocking block's impact of Housner 1963).

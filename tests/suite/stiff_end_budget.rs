@@ -7,8 +7,7 @@
 //! (`common/winkler_exact.rs`); on a budget of 20 000 steps the penalty protocol stops on
 //! undecided increments half a degree below that.
 
-#[path = "common/winkler_exact.rs"]
-mod winkler_exact;
+use crate::winkler_exact;
 
 use drystone::dem::SolverParams;
 use drystone::layout::Layout;

@@ -20,14 +20,12 @@
 //!
 //! Kn 1e6 Pa/m takes blocks of 800 kg/m³ (a layout refuses joints closing by more than
 //! 1 % of its height under its own weight, ρ g / Kn ≤ 0.01); the others 2200 kg/m³.
-//! `cargo test --release --test penalty_exact_winkler -- --nocapture` prints the table of
+//! `cargo test --release --test suite penalty_exact_winkler:: -- --nocapture` prints the table of
 //! BENCHMARKS.md; `-- --ignored` runs the full sweep (more stiffnesses and sizes, and the
 //! bracket at 1/128°).
 
-#[path = "common/winkler.rs"]
-mod winkler;
-#[path = "common/winkler_exact.rs"]
-mod winkler_exact;
+use crate::winkler;
+use crate::winkler_exact;
 
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;

@@ -4,7 +4,7 @@
 use drystone::layout::LayoutSpec;
 use std::process::Command;
 
-mod common;
+use crate::common;
 
 fn good() -> serde_json::Value {
     serde_json::json!({

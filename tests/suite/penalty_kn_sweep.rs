@@ -9,12 +9,11 @@
 //! a loss that shrinks as Kn^(-1/3) (`common/winkler.rs`, integrated here independently of
 //! the library: 9.3° at 1e7 Pa/m, 0.09° at 1e13). So, as Kn grows, the penalty brackets
 //! must rise, never fall, never end on a step budget, hold the Winkler reference (within
-//! the allowance of `tests/stiffness_range.rs`, `0.01° + 5°·θ/rad`, for the terms of order
+//! the allowance of `tests/suite/stiffness_range.rs`, `0.01° + 5°·θ/rad`, for the terms of order
 //! θ it leaves out), their distance to the rigid limit shrinking at every decade, to the
 //! Winkler loss alone at 1e13, where the non-smooth solver's bracket holds the rigid limit.
 
-#[path = "common/winkler.rs"]
-mod winkler;
+use crate::winkler;
 
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::SolverParams;
@@ -33,7 +32,7 @@ fn penalty_bracket(kn: f64) -> (f64, f64) {
     let l =
         layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], kn, kn / 2.0, 60.0, BaseSliding::Free);
     // Ten times the default step budget at Kn ≥ 1e11 (the knife-edge contact of a stiff
-    // joint creeps for longer; as `tests/stiffness_range.rs`).
+    // joint creeps for longer; as `tests/suite/stiffness_range.rs`).
     let base = TiltParams::default().max_steps_per_increment;
     let budget = if kn >= 1e11 { 10 * base } else { base };
     let p = TiltParams { resolution_deg: RESOLUTION_DEG, max_steps_per_increment: budget, ..TiltParams::default() };

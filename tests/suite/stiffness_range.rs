@@ -14,8 +14,7 @@
 //! on a step budget. The default test runs a reduced set; `cargo test --release --test
 //! stiffness_range -- --ignored` runs the full sweep.
 
-#[path = "common/winkler.rs"]
-mod winkler;
+use crate::winkler;
 
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;

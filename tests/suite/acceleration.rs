@@ -9,7 +9,7 @@ use drystone::layout::Layout;
 use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 fn running_bond_wall() -> Layout {
     Layout::from_file(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/layouts/running_bond_wall.json"))).unwrap()

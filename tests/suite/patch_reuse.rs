@@ -11,7 +11,7 @@ use drystone::layout::Layout;
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 fn wall() -> Layout {
     Layout::from_file(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/layouts/running_bond_wall.json"))).unwrap()

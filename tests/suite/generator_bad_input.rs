@@ -4,7 +4,7 @@
 use drystone::generator::{DistributionSource, Wall};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 const GOOD: &str = r#"
 version = 1

@@ -68,7 +68,7 @@ fn scratch(name: &str) -> PathBuf {
 /// A shaking study of the block in `dir` with the given `[shake]` lines and solver kind.
 ///
 /// The solver's step is 2.5e-4 s: 600 steps over the shortest pulse (0.15 s, ω_p/p ≈ 8),
-/// whose overturning a coarser step misses near the boundary (`tests/shake.rs`).
+/// whose overturning a coarser step misses near the boundary (`tests/suite/shake.rs`).
 fn block_study(dir: &Path, shake: &str, solver: &str) -> PathBuf {
     std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
     let text = format!(

@@ -5,7 +5,7 @@
 //! and the files are (the ranking itself is tested on constructed ties in
 //! `src/discrepancy/design/tests.rs`).
 
-mod realwalls;
+use crate::realwalls;
 
 use drystone::discrepancy::design::{
     design, Chance, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit,

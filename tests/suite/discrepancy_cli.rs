@@ -1,7 +1,7 @@
 //! `drystone discrepancy` and `drystone synthesize` on bad input: a clear message naming the
 //! file, key, group or effect, exit status 2, no panic.
 
-mod common;
+use crate::common;
 
 use common::Scratch;
 use std::path::{Path, PathBuf};

@@ -163,8 +163,19 @@ fn a_pushed_block_topples_or_slides_at_its_load_multiplier() {
             layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [l, b / 2.0, h])], 1e13, 5e12, phi, BaseSliding::Free);
         let w = drystone::verify::DENSITY * b * h * l * layout.gravity;
         let exact = (w * b / (p * l * h * h)).min(phi.to_radians().tan() * w / (p * l * h));
-        let lat = LateralParams { pressure_base_pa: p, pressure_top_pa: p, ..LateralParams::default() };
-        let r = run_lateral_nscd(&layout, &NscdParams::default(), &lat, 5e-3).expect("pushover");
+        let lat = LateralParams {
+            pressure_base_pa: p,
+            pressure_top_pa: p,
+            pushover_resolution: Some(5e-3),
+            ..LateralParams::default()
+        };
+        let r = run_lateral_nscd(&layout, &NscdParams::default(), &lat).expect("pushover");
+        let up_ = r.lambda_unstable.expect("collapses");
+        assert!(
+            up_ - r.lambda_stable <= 5e-3 * up_,
+            "the bracket of the resolution given: [{}, {up_}]",
+            r.lambda_stable
+        );
         let up = r.lambda_unstable.expect("collapses");
         assert!(r.lambda_stable <= exact && exact <= up, "{b} × {h}: λ [{}, {up}], exact {exact}", r.lambda_stable);
         assert!((r.resultant_n.y - p * l * h).abs() < 1e-9 * p * l * h, "{:?}", r.resultant_n);

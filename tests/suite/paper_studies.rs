@@ -8,7 +8,7 @@ use drystone::study::run_study;
 use drystone::study::Study;
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -10,7 +10,7 @@ use drystone::layout::{Closure, Layout};
 use drystone::loading::tilt::{run_tilt, TiltParams};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 fn layout(name: &str) -> Layout {
     Layout::from_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/layouts").join(name)).unwrap()

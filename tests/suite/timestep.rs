@@ -16,7 +16,7 @@ use drystone::Vec3;
 use nalgebra::DMatrix;
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 
 /// `λ_max(M^{-1/2} K M^{-1/2})` by dense assembly, one spring at a time.
 fn dense_max_eigenvalue(sim: &Simulation) -> f64 {

@@ -8,8 +8,7 @@
 //! the Winkler loss of the governing joint at that Kn (from the collapse of a block on a
 //! Winkler joint, `common/winkler.rs`) plus 0.05°.
 
-#[path = "common/winkler.rs"]
-mod winkler;
+use crate::winkler;
 
 use drystone::dem::SolverParams;
 use drystone::layout::Layout;

@@ -12,7 +12,7 @@ use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, DENSITY};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 /// A block L (x) × B (y) × h (z) centred on y = 0 on the table, with the layout's one
 /// material given Kn = `kn`, Ks = Kn / 2, friction `phi_deg`, cohesion `c` and tensile
@@ -29,7 +29,7 @@ fn uniform(p: f64, resolution: f64) -> LateralParams {
     LateralParams {
         pressure_base_pa: p,
         pressure_top_pa: p,
-        pushover_resolution: resolution,
+        pushover_resolution: Some(resolution),
         ..LateralParams::default()
     }
 }
@@ -306,4 +306,16 @@ fn the_cli_pushover_json_has_the_rigid_pushovers_fields() {
     assert!(dem["collapse_reason"].is_string() && dem["mechanism"]["joint"].is_string(), "{dem}");
     // The rigid limit bounds the DEM's multiplier from above (finite Kn).
     assert!(lo < rigid["lambda_unstable"].as_f64().unwrap(), "{dem} against {rigid}");
+    // The rigid pushover's bracket: 1 % of λ by default, and `--pushover-resolution` when
+    // given (a wider bracket ends the bisection sooner, around the same limit).
+    let width = |v: &serde_json::Value| {
+        let (lo, up) = (v["lambda_stable"].as_f64().unwrap(), v["lambda_unstable"].as_f64().unwrap());
+        (lo, up, (up - lo) / up)
+    };
+    let (rlo, rup, w) = width(&rigid);
+    assert!(w <= 0.01 + 1e-12, "{rigid}");
+    let coarse = run(&["--solver", "nscd", "--pushover-resolution", "0.1"]);
+    let (clo, cup, cw) = width(&coarse);
+    assert!(cw <= 0.1 + 1e-12 && cw > 0.01, "the resolution given is the one run: {coarse}");
+    assert!(clo <= rup && cup >= rlo, "the brackets overlap: {coarse} against {rigid}");
 }

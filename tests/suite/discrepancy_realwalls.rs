@@ -11,10 +11,10 @@
 //! analyses: 131 s of wall time, 259 s of CPU, on 2 idle cores):
 //!
 //! ```sh
-//! cargo test --release --test discrepancy_realwalls -- --ignored
+//! cargo test --release --test suite discrepancy_realwalls:: -- --ignored
 //! ```
 
-mod realwalls;
+use crate::realwalls;
 
 use drystone::discrepancy::{analyze, prepare, Prepared};
 use drystone::study::Study;

@@ -102,8 +102,7 @@ fn a_study_runs_the_rigid_pushover_and_limit_analysis_through_the_table() {
     for (i, (rn, rl)) in a.iter().zip(&b).enumerate() {
         assert!(rn.error.is_empty() || !rn.status.is_ok(), "{rn:?}");
         let layout: Layout = drystone::effects::realize(&nscd.groups[0].walls[0], 3, i as u64, "tiny", &[]).unwrap().1;
-        let direct =
-            drystone::loading::lateral_nscd::run_lateral_nscd(&layout, &nscd.solver.nscd, &params, 0.01).unwrap();
+        let direct = drystone::loading::lateral_nscd::run_lateral_nscd(&layout, &nscd.solver.nscd, &params).unwrap();
         assert_eq!(rn.pushover.load_multiplier_dem, Some(direct.lambda_stable), "{rn:?}");
         assert_eq!(rn.pushover.load_multiplier_dem_unstable, direct.lambda_unstable);
         let rigid = direct.lambda_stable;

@@ -7,7 +7,7 @@ use drystone::study::{read_shards, write_outputs};
 use drystone::study::{run_item, run_study};
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

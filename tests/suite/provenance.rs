@@ -8,7 +8,7 @@ use drystone::study::sha256_hex;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 
 const BIN: &str = env!("CARGO_BIN_EXE_drystone");
 

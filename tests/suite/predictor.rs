@@ -10,7 +10,7 @@ use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 /// A 0.2 × 0.2 × 0.1 m block on the table: after a predicted sideways jump d (well inside
 /// the elastic range), the shear springs of its base carry Ks · A · d against the jump, as
