@@ -5,7 +5,7 @@
 //!   the candidate fitted to the other specimens only ([`super::fit::loso`]). The held-out
 //!   error is the mean held-out score per specimen. The baseline has no parameter: its
 //!   held-out error is its plain score. Differences carry their standard error over
-//!   specimens ([`super::fit::difference_se`]).
+//!   specimens ([`super::compare::difference_se`]).
 //! * **Information criterion.** AICc at the full-data fit, n = specimens.
 //! * **Null calibration.** Null data sets are drawn under the baseline from layouts the
 //!   library never saw (a master seed of their own): each null specimen is one such
@@ -27,7 +27,8 @@
 //!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
 //!   the gain and the verdict use those scores.
 
-use super::fit::{difference_se, per_specimen, Candidate, Data, Surface};
+use super::compare::{difference_se, per_specimen};
+use super::fit::{Candidate, Data, Surface};
 use super::null::{draw_data, quantile, Margins, NullSource};
 use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};

@@ -294,24 +294,6 @@ pub struct Data<'a> {
     pub bracket_deg: f64,
 }
 
-/// The weights that make a specimen's displacements one observation and its mechanism
-/// another: 1 for a collapse angle, `1/k` for each of a specimen's `k` displacements, `1/k`
-/// for each of its `k` mechanism observations (failure height, kind, start: one
-/// mechanism seen, read three ways).
-pub fn specimen_weights(obs: &[Observation]) -> Vec<f64> {
-    let share = |o: &Observation, like: &dyn Fn(&Observable) -> bool| {
-        let k = obs.iter().filter(|p| p.specimen == o.specimen && like(&p.observable)).count();
-        1.0 / k.max(1) as f64
-    };
-    obs.iter()
-        .map(|o| match o.observable {
-            Observable::CollapseAngle => 1.0,
-            Observable::Displacement { .. } => share(o, &|p| matches!(p, Observable::Displacement { .. })),
-            _ => share(o, &Observable::is_mechanism),
-        })
-        .collect()
-}
-
 impl Data<'_> {
     /// Weighted score of the observations `which` under the simulated values `sims`.
     pub fn nlpd(&self, sims: &[Simulated], which: &[usize]) -> f64 {
@@ -605,30 +587,6 @@ pub fn loso(surface: &Surface, data: Data<'_>, specimens: &[String]) -> (Vec<f64
         }
     }
     (score, pred, whole)
-}
-
-/// AICc = 2k − 2 ln L + 2k(k+1)/(n − k − 1) (Hurvich & Tsai 1989) from the summed score at
-/// the full-data fit, `k` parameters and `n` specimens (the independent units).
-pub fn aicc(nlpd: f64, k: usize, n: usize) -> f64 {
-    let (k, n) = (k as f64, n as f64);
-    let corr = if n - k - 1.0 > 0.0 { 2.0 * k * (k + 1.0) / (n - k - 1.0) } else { f64::INFINITY };
-    2.0 * k + 2.0 * nlpd + corr
-}
-
-/// Per-specimen sums of per-observation scores (`specimens` order).
-pub fn per_specimen(scores: &[f64], obs: &[Observation], specimens: &[String]) -> Vec<f64> {
-    specimens.iter().map(|s| (0..obs.len()).filter(|&j| &obs[j].specimen == s).map(|j| scores[j]).sum()).collect()
-}
-
-/// The standard error of the summed difference of two models' held-out scores over `n`
-/// specimens, `sqrt(n · var(dᵢ))` (Vehtari, Gelman & Gabry 2017; ArviZ `compare`'s `dse`),
-/// from the per-specimen differences `d`.
-pub fn difference_se(d: &[f64]) -> f64 {
-    if d.len() < 2 {
-        return f64::INFINITY;
-    }
-    let n = d.len() as f64;
-    n.sqrt() * crate::stats::sd(d)
 }
 
 #[cfg(test)]

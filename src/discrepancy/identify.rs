@@ -4,7 +4,7 @@
 //! For two models `a` and `b` at their fitted parameters, the expected log predictive
 //! difference of one observation of key `k` when `a` is true is the Kullback–Leibler
 //! divergence of their predictives there, `D_k(a‖b) = E_a[ln p_a(y) − ln p_b(y)]` (nats,
-//! ≥ 0), times the observation's weight in the score ([`super::fit::specimen_weights`]):
+//! ≥ 0), times the observation's weight in the score ([`super::compare::specimen_weights`]):
 //! the evidence for `a` one such reading adds on average (Lindley 1956, Ann. Math. Stat.
 //! 27:986; the design criterion of Box & Hill 1967, Technometrics 9:57, for telling models
 //! apart). Per key:

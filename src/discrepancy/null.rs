@@ -11,7 +11,8 @@
 //! baseline (a cause named) and the baseline's score (a significant misfit), so that null
 //! data raise either in at most 5 % of the data sets.
 
-use super::fit::{per_specimen, Data};
+use super::compare::per_specimen;
+use super::fit::Data;
 use super::observations::{Observable, Observation};
 use super::predictive::{Reading, Simulated};
 use super::rank::{rank, Models};

@@ -2,7 +2,8 @@
 //! out, [`super::fit::loso`]), its standard error against the baseline and its AICc at the
 //! full-data fit, used by the analysis and by every null data set of its calibration.
 
-use super::fit::{aicc, difference_se, loso, per_specimen, Candidate, Data};
+use super::compare::{aicc, difference_se, per_specimen};
+use super::fit::{loso, Candidate, Data};
 use super::predictive::{Predictive, Simulated};
 use serde::Serialize;
 

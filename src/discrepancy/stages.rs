@@ -18,9 +18,10 @@
 
 use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Models, Ranked};
 use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
+use super::compare::{self, specimen_weights};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
-use super::fit::{self, specimen_weights, to_value, Candidate, Data, Surface};
+use super::fit::{self, to_value, Candidate, Data, Surface};
 use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
 use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
@@ -207,7 +208,7 @@ fn examine_cause(
         sigma: ctx.sigma,
     };
     let check = predictive_check(data, &model.sims, ctx.specimens, src, s.check_replicates, seed, ctx.labels);
-    let cause_per = fit::per_specimen(&b.scores, data.obs, ctx.specimens);
+    let cause_per = compare::per_specimen(&b.scores, data.obs, ctx.specimens);
     let gain = Some(bootstrap_gain(base_per, &cause_per, s.bootstrap, seed));
     progress(&format!("tie checks: {} against its challengers", b.name));
     let tie = tie_checks(ctx, b, candidates, pool, src, s.check_replicates, seed);
@@ -288,9 +289,9 @@ struct Screening {
 fn screen(lib: &Models, data: Data<'_>, specimens: &[String]) -> Screening {
     let n = specimens.len().max(1) as f64;
     let base_scores: Vec<f64> = (0..data.obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
-    let base_per = fit::per_specimen(&base_scores, data.obs, specimens);
+    let base_per = compare::per_specimen(&base_scores, data.obs, specimens);
     let base_he = base_per.iter().sum::<f64>() / n;
-    let base_ic = fit::aicc(base_scores.iter().sum(), 0, specimens.len());
+    let base_ic = compare::aicc(base_scores.iter().sum(), 0, specimens.len());
     let ranked = rank(&lib.candidates, data, specimens, &base_per);
     let screen_gain = ranked.first().map_or(0.0, |r| base_he - r.heldout_error);
     Screening { base_scores, base_per, base_he, base_ic, ranked, screen_gain }
@@ -576,10 +577,11 @@ fn weigh(
     seed: u64,
 ) -> (super::weights::Weights, super::identify::Identifiability) {
     let mut names = vec!["baseline".to_string()];
-    let mut elpd = vec![fit::per_specimen(base_scores, data.obs, specimens).iter().map(|x| -x).collect::<Vec<f64>>()];
+    let mut elpd =
+        vec![compare::per_specimen(base_scores, data.obs, specimens).iter().map(|x| -x).collect::<Vec<f64>>()];
     for c in candidates {
         names.push(c.name.clone());
-        elpd.push(fit::per_specimen(&c.scores, data.obs, specimens).iter().map(|x| -x).collect());
+        elpd.push(compare::per_specimen(&c.scores, data.obs, specimens).iter().map(|x| -x).collect());
     }
     let w = super::weights::weights(&names, &elpd, draws, seed);
     let lead = w.shared.len().clamp(2, super::identify::LEADING).min(w.models.len());

@@ -3,7 +3,7 @@
 //!
 //! Two weights per model, both from the held-out (leave-one-specimen-out) log predictive
 //! density `elpd_ik = −score_ik` of specimen `i` under model `k` (a specimen's readings
-//! summed with their weights, [`super::fit::specimen_weights`]):
+//! summed with their weights, [`super::compare::specimen_weights`]):
 //!
 //! * **pseudo-BMA+** (Yao, Vehtari, Simpson & Gelman 2018, Bayesian Analysis 13:917, §3.4):
 //!   `w_k ∝ exp(n Σ_i α_i elpd_ik)` averaged over Bayesian-bootstrap draws `α ~

@@ -76,6 +76,7 @@
 //! [`paper`] (the source paper's tables and figures), [`calibrate`] and [`suite`].
 
 pub mod calibrate;
+mod checks;
 pub mod discrepancy;
 mod error;
 mod estimate;

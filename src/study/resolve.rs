@@ -2,15 +2,16 @@
 //! generated from its description with the group's overrides and each sweep point applied,
 //! every measured file read, before anything runs.
 
+use super::checks::{check_calibration, check_name, check_paper};
 use super::error::unsupported;
-use super::error::{CalibrationSpecError, Invalid, NameError, PaperSpecError};
+use super::error::Invalid;
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
-use super::paper::restrained;
+
 use super::protocol::StudyProtocol;
 use super::provenance::{self, InputRole};
 use super::size;
-use super::spec::{CalibrateSpec, GroupSpec, MeasuredSpec, PaperStudy, ProtocolKind, StudySpec};
+use super::spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::{Study, StudyError};
 use crate::dem::SolverKind;
@@ -402,25 +403,6 @@ impl StudySpec {
     }
 }
 
-/// A study (or suite) name is used as a directory name (the default output `out/<name>`,
-/// a suite's `DIR/<name>`): it must be one plain path component, so a name such as
-/// `../../x` is refused rather than written outside the output directory.
-///
-/// # Errors
-/// [`NameError`]: what is wrong with it.
-pub fn check_name(name: &str) -> Result<(), NameError> {
-    let bad = name.chars().find(|c| matches!(c, '/' | '\\') || c.is_control());
-    if name.trim().is_empty() {
-        Err(NameError::Empty)
-    } else if name == "." || name == ".." {
-        Err(NameError::Reserved { name: name.into() })
-    } else if let Some(character) = bad {
-        Err(NameError::Character { name: name.into(), character })
-    } else {
-        Ok(())
-    }
-}
-
 /// The input files of a group: its wall description and the distribution files its walls
 /// use (at every sweep point).
 fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
@@ -644,93 +626,4 @@ impl Study {
     pub fn sweep_number(&self, point: usize, key: SweepKey) -> Option<f64> {
         self.points[point].iter().find(|(k, _)| *k == key).and_then(|(_, v)| v.number())
     }
-}
-
-/// Checks a calibration step against a study.
-///
-/// # Errors
-/// [`CalibrationSpecError`] naming the bad key.
-pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), CalibrationSpecError> {
-    if !matches!(c.parameter.as_str(), "kn_pa_per_m" | "friction_deg") {
-        return Err(CalibrationSpecError::Parameter(c.parameter.clone()));
-    }
-    if !(c.lower.is_finite() && c.upper.is_finite() && c.lower < c.upper) {
-        return Err(CalibrationSpecError::Interval { lower: c.lower, upper: c.upper });
-    }
-    if c.is_kn() && c.lower <= 0.0 {
-        return Err(CalibrationSpecError::KnLower(c.lower));
-    }
-    if !c.is_kn() && (c.lower <= 0.0 || c.upper >= 90.0) {
-        return Err(CalibrationSpecError::FrictionInterval { lower: c.lower, upper: c.upper });
-    }
-    if c.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-        return Err(CalibrationSpecError::Tolerance);
-    }
-    for g in std::iter::once(&c.group).chain(&c.carry_to) {
-        if !study.groups.iter().any(|x| &x.name == g) {
-            return Err(CalibrationSpecError::UnknownGroup(g.clone()));
-        }
-    }
-    let mg = &study.groups.iter().find(|x| x.name == c.group).map(|x| x.measured_group.clone()).unwrap_or_default();
-    if !study.measured.collapse.iter().any(|m| &m.group == mg) {
-        return Err(CalibrationSpecError::NoMeasurement { group: c.group.clone(), measured: mg.clone() });
-    }
-    Ok(())
-}
-
-/// Checks that a study has what its paper comparison needs.
-///
-/// # Errors
-/// [`PaperSpecError`] naming what is missing.
-pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
-    let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
-    let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
-    match p {
-        PaperStudy::JointArrangement => {
-            match study.protocol {
-                StudyProtocol::Lateral(_) => {}
-                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
-                }
-            }
-            if !has(SweepKey::KnPaPerM) {
-                return Err(PaperSpecError { paper: "joint_arrangement", need: "a sweep over kn_pa_per_m" });
-            }
-        }
-        PaperStudy::LengthHeight => {
-            match study.protocol {
-                StudyProtocol::Lateral(_) => {}
-                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
-                }
-            }
-            if !has(SweepKey::LengthM) {
-                return Err(PaperSpecError { paper: "length_height", need: "a sweep over length_m" });
-            }
-            if !ends.iter().any(|&r| r) || ends.iter().all(|&r| r) {
-                return Err(PaperSpecError {
-                    paper: "length_height",
-                    need: "groups with restrained and with free ends",
-                });
-            }
-        }
-        PaperStudy::KnPhi => {
-            match study.protocol {
-                StudyProtocol::Tilt(_) => {}
-                StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
-                }
-            }
-            if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
-                return Err(PaperSpecError { paper: "kn_phi", need: "a sweep over kn_pa_per_m and friction_deg" });
-            }
-            if ends.iter().filter(|&&r| !r).count() != 1 || ends.iter().filter(|&&r| r).count() != 1 {
-                return Err(PaperSpecError {
-                    paper: "kn_phi",
-                    need: "exactly one group with free ends and one with restrained ends",
-                });
-            }
-        }
-    }
-    Ok(())
 }

@@ -92,7 +92,7 @@ impl Suite {
         if spec.version != 1 {
             return Err(invalid("version", format!("this drystone reads suite version 1, got {}", spec.version)));
         }
-        super::resolve::check_name(&spec.name).map_err(|r| invalid("name", r.to_string()))?;
+        super::checks::check_name(&spec.name).map_err(|r| invalid("name", r.to_string()))?;
         if spec.studies.is_empty() {
             return Err(invalid("studies", "at least one study is needed".into()));
         }

@@ -53,7 +53,8 @@ mod plan;
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 
-use super::fit::{per_specimen, specimen_weights, Data};
+use super::compare::{per_specimen, specimen_weights};
+use super::fit::Data;
 use super::observations::{Observable, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::simulate::{run_models, Outcome, Setup};
@@ -494,7 +495,7 @@ impl Problem<'_> {
                         let d: Vec<f64> = elpd[t].iter().zip(&elpd[c]).map(|(x, y)| x - y).collect();
                         let difference: f64 = d.iter().sum();
                         reversed[li][t][c] += usize::from(difference <= 0.0);
-                        separated &= difference >= TieCheck::STANDARD_ERRORS * super::fit::difference_se(&d);
+                        separated &= difference >= TieCheck::STANDARD_ERRORS * super::compare::difference_se(&d);
                     }
                     by_weights[li][t] += usize::from(a);
                     alone[li][t] += usize::from(a && separated);

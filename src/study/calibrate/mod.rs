@@ -50,7 +50,7 @@ pub use report::{markdown, write_calibration};
 
 pub use super::spec::CalibrateSpec;
 
-use super::resolve::check_calibration;
+use super::checks::check_calibration;
 use super::{Study, SweepKey, SweepValue};
 use crate::stats;
 use problem::Problem;
