@@ -47,3 +47,21 @@ pub fn difference_se(d: &[f64]) -> f64 {
     let n = d.len() as f64;
     n.sqrt() * crate::stats::sd(d)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn difference_se_is_sqrt_n_times_sd() {
+        let d = [1.0, 2.0, 3.0, 4.0];
+        assert!((difference_se(&d) - 2.0 * crate::stats::sd(&d)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn aicc_adds_the_small_sample_correction() {
+        // k = 1, n = 4: 2 + 2·3 + 2·1·2/(4 − 2) = 10 (Hurvich & Tsai 1989).
+        assert!((aicc(3.0, 1, 4) - 10.0).abs() < 1e-12);
+        assert!(aicc(3.0, 3, 4).is_infinite());
+    }
+}

@@ -675,10 +675,4 @@ mod tests {
         assert!((at1.sd - 12f64.sqrt()).abs() < 1e-12, "{at1:?}");
         assert_eq!(at1.n, 9);
     }
-
-    #[test]
-    fn difference_se_is_sqrt_n_times_sd() {
-        let d = [1.0, 2.0, 3.0, 4.0];
-        assert!((difference_se(&d) - 2.0 * crate::stats::sd(&d)).abs() < 1e-12);
-    }
 }
