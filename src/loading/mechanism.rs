@@ -48,6 +48,38 @@ impl Mechanism {
 /// or a group of blocks as moving (its largest body motion) in [`mechanism`].
 pub const MECHANISM_SHARE: f64 = 0.25;
 
+/// The root of `i` in the union-find forest `parent` (path halving).
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// Joins the groups of `i` and `j`, the lower index the root.
+fn join(parent: &mut [usize], i: usize, j: usize) {
+    let (ri, rj) = (root(parent, i), root(parent, j));
+    if ri != rj {
+        parent[ri.max(rj)] = ri.min(rj);
+    }
+}
+
+/// The kind of a mechanism from the kinds of its joints: none without joints, sliding or
+/// toppling when every joint agrees, else mixed.
+fn overall_kind(kinds: impl Iterator<Item = MechanismKind> + Clone) -> MechanismKind {
+    let mut all = kinds.clone().peekable();
+    if all.peek().is_none() {
+        MechanismKind::None
+    } else if kinds.clone().all(|k| k == MechanismKind::Sliding) {
+        MechanismKind::Sliding
+    } else if kinds.clone().all(|k| k == MechanismKind::Toppling) {
+        MechanismKind::Toppling
+    } else {
+        MechanismKind::Mixed
+    }
+}
+
 /// The collapse mechanism from the motion between a stable and a failed state of the same
 /// simulation.
 ///
@@ -108,19 +140,6 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
     let max_relative = motions.iter().map(|m| m.relative).fold(0.0, f64::max);
     // Rigid groups: union-find over the bodies and the ground (index nb) through intact joints.
     let mut parent: Vec<usize> = (0..=nb).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    fn join(parent: &mut [usize], i: usize, j: usize) {
-        let (ri, rj) = (root(parent, i), root(parent, j));
-        if ri != rj {
-            parent[ri.max(rj)] = ri.min(rj);
-        }
-    }
     for (k, b) in stable.state.bodies.iter().enumerate() {
         if b.fixed {
             join(&mut parent, k, nb);
@@ -158,15 +177,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         })
         .collect();
     joints.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let kind = if joints.is_empty() {
-        MechanismKind::None
-    } else if joints.iter().all(|j| j.2 == MechanismKind::Sliding) {
-        MechanismKind::Sliding
-    } else if joints.iter().all(|j| j.2 == MechanismKind::Toppling) {
-        MechanismKind::Toppling
-    } else {
-        MechanismKind::Mixed
-    };
+    let kind = overall_kind(joints.iter().map(|j| j.2));
     let motions: Vec<BlockMotion> = stable
         .state
         .bodies

@@ -95,6 +95,18 @@ pub fn set_table_motion(sim: &mut NscdSimulation, axis: Vec3, alpha: f64, w: f64
     sim.set_external(&force, &torque);
 }
 
+/// Why an increment collapsed, if it did: a block moved more than `inc_limit` (m) within
+/// the increment, or a top monitor more than `total_limit` (m) from the reference.
+fn collapse_reason(moved: f64, inc_limit: f64, top_moved: f64, total_limit: f64) -> Option<CollapseReason> {
+    if moved > inc_limit {
+        Some(CollapseReason::IncrementDisplacement)
+    } else if top_moved > total_limit {
+        Some(CollapseReason::TotalDisplacement)
+    } else {
+        None
+    }
+}
+
 /// Runs the tilting-table test of `layout` with the table rolled by hand (see the module
 /// doc): `tilt` gives the largest tilt and the per-increment collapse displacement (its
 /// increment, resolution and relaxation settings do not apply: `hand` gives the motion),
@@ -180,13 +192,7 @@ pub fn run_tilt_by_hand(
             }
             shown = displacements(&sim, &monitors, &reference);
             let top_moved = shown.iter().fold(0.0, |a: f64, d| a.max(d.abs()));
-            let why = if moved > inc_limit {
-                Some(CollapseReason::IncrementDisplacement)
-            } else if top_moved > total_limit {
-                Some(CollapseReason::TotalDisplacement)
-            } else {
-                None
-            };
+            let why = collapse_reason(moved, inc_limit, top_moved, total_limit);
             if why.is_some() {
                 last_stable = onset.unwrap_or(alpha_now);
                 first_unstable = Some(alpha_now);

@@ -183,13 +183,11 @@ impl Certificate {
     }
 }
 
-/// The largest base acceleration (m/s², along `sign` times axis d) carried at rest inside
-/// the reduced cones, and its forces (N per point, local frames); `None` if the program
-/// has no solution (not even the dead load is carried).
-fn largest(s: &Statics<'_>, d: usize, sign: f64) -> Option<(f64, Vec<Vec3>)> {
+/// The equation rows of the statics: six per free body, less the y translation a rigid end
+/// restraint holds (it takes any force); `(row of each body's force and moment components
+/// or usize::MAX, their number, the free bodies' weight in N)`.
+fn equation_rows(s: &Statics<'_>) -> (Vec<[usize; 6]>, usize, f64) {
     let nb = s.mass.len();
-    // Equation rows: six per free body, less the y translation a rigid end restraint holds
-    // (it takes any force).
     let mut eq = vec![[usize::MAX; 6]; nb];
     let mut neq = 0;
     let mut force_scale = 0.0;
@@ -204,6 +202,15 @@ fn largest(s: &Statics<'_>, d: usize, sign: f64) -> Option<(f64, Vec<Vec3>)> {
             force_scale += s.mass[k] * s.gravity;
         }
     }
+    (eq, neq, force_scale)
+}
+
+/// The largest base acceleration (m/s², along `sign` times axis d) carried at rest inside
+/// the reduced cones, and its forces (N per point, local frames); `None` if the program
+/// has no solution (not even the dead load is carried).
+fn largest(s: &Statics<'_>, d: usize, sign: f64) -> Option<(f64, Vec<Vec3>)> {
+    let nb = s.mass.len();
+    let (eq, neq, force_scale) = equation_rows(s);
     if neq == 0 || !(force_scale > 0.0) {
         return None;
     }
