@@ -65,7 +65,8 @@ pub use super::tilt::hand::{effective_tilt_deg, HandTilt, MAX_STEPS};
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use super::tilt_nscd::{
-    displacements, largest_motion, poses, read_mechanism, released, stood, tilt_error, touches_something, TrialLimits,
+    displacements, largest_motion, poses, read_mechanism, released, rigid_result, stood, tilt_error, touches_something,
+    Bracket, RigidWork, TrialLimits,
 };
 use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
@@ -221,22 +222,13 @@ pub fn run_tilt_by_hand(
         last_stable = end_deg;
         k += 1;
     }
-    Ok(TiltResult {
+    let bracket = Bracket {
         last_stable_deg: last_stable,
         first_unstable_deg: first_unstable,
         collapse_reason: reason,
         mechanism,
-        monitors: monitors.iter().map(|m| m.name.clone()).collect(),
-        increments,
-        steps: sim.steps(),
-        iterations: sim.iterations(),
-        dt_s: dt,
-        wall_time_s: t0.elapsed().as_secs_f64(),
-        wall_width_m: width,
-        elastic_scale_m: 0.0,
-        detections: sim.detections(),
-        max_density_scale: 1.0,
-        scalar_fallbacks_deg: Vec::new(),
-        bracket_reliable: true,
-    })
+    };
+    let work =
+        RigidWork { steps: sim.steps(), iterations: sim.iterations(), detections: sim.detections(), dt_s: dt, t0 };
+    Ok(rigid_result(bracket, &monitors, increments, work, width))
 }

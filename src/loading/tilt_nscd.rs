@@ -444,24 +444,57 @@ pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) ->
         }
         None => (None, None, Mechanism::none()),
     };
-    Ok(TiltResult {
-        last_stable_deg: last_stable,
-        first_unstable_deg,
-        collapse_reason,
-        mechanism,
+    let bracket = Bracket { last_stable_deg: last_stable, first_unstable_deg, collapse_reason, mechanism };
+    let work = RigidWork { steps: total_steps, iterations: total_iterations, detections, dt_s: params.dt_s, t0 };
+    Ok(rigid_result(bracket, &monitors, increments, work, width))
+}
+
+/// The bracket of a rigid tilt: the last stable and first unstable tilts (degrees), why the
+/// upper end failed and the mechanism read there.
+pub(crate) struct Bracket {
+    pub last_stable_deg: f64,
+    pub first_unstable_deg: Option<f64>,
+    pub collapse_reason: Option<CollapseReason>,
+    pub mechanism: Mechanism,
+}
+
+/// The work of a rigid tilt: its steps, solver iterations, contact detections, time step
+/// (s) and start.
+pub(crate) struct RigidWork {
+    pub steps: u64,
+    pub iterations: u64,
+    pub detections: u64,
+    pub dt_s: f64,
+    pub t0: Instant,
+}
+
+/// The result of a tilt of rigid blocks (by nscd, quasi-statically or rolled by hand): no
+/// elastic scale, no density scaling, a bracket always reliable (its trials are motions).
+pub(crate) fn rigid_result(
+    bracket: Bracket,
+    monitors: &[MonitorPoint],
+    increments: Vec<Increment>,
+    work: RigidWork,
+    width_m: f64,
+) -> TiltResult {
+    TiltResult {
+        last_stable_deg: bracket.last_stable_deg,
+        first_unstable_deg: bracket.first_unstable_deg,
+        collapse_reason: bracket.collapse_reason,
+        mechanism: bracket.mechanism,
         monitors: monitors.iter().map(|m| m.name.clone()).collect(),
         increments,
-        steps: total_steps,
-        iterations: total_iterations,
-        dt_s: params.dt_s,
-        wall_time_s: t0.elapsed().as_secs_f64(),
-        wall_width_m: width,
+        steps: work.steps,
+        iterations: work.iterations,
+        dt_s: work.dt_s,
+        wall_time_s: work.t0.elapsed().as_secs_f64(),
+        wall_width_m: width_m,
         elastic_scale_m: 0.0,
-        detections,
+        detections: work.detections,
         max_density_scale: 1.0,
         scalar_fallbacks_deg: Vec::new(),
         bracket_reliable: true,
-    })
+    }
 }
 
 /// Out-of-plane (y) displacement of each monitor point from its reference, m.
