@@ -142,6 +142,33 @@ pub(crate) struct Solution {
     pub solve_time_s: f64,
 }
 
+impl Solution {
+    /// The solution of a program clarabel could not set up: λ NaN, nothing else.
+    fn failed() -> Solution {
+        Solution {
+            status: SolverStatus::NumericalError,
+            lambda: f64::NAN,
+            normal: Vec::new(),
+            velocity: Vec::new(),
+            iterations: 0,
+            solve_time_s: 0.0,
+        }
+    }
+}
+
+/// The static program's quadratic term: none with associative friction; with friction
+/// fixed, `FIXED_REGULARISATION ‖f‖²` over the force columns `col_pt..nvar`.
+fn quadratic_term(friction: Friction, col_pt: usize, nvar: usize) -> CscMatrix<f64> {
+    match friction {
+        Friction::Associative => CscMatrix::zeros((nvar, nvar)),
+        Friction::Fixed(_) => {
+            let eps = FIXED_REGULARISATION;
+            let cols: Vec<usize> = (col_pt..nvar).collect();
+            CscMatrix::new_from_triplets(nvar, nvar, cols.clone(), cols, vec![eps; nvar - col_pt])
+        }
+    }
+}
+
 impl Model {
     /// The model of a layout's contacts as the DEM detects them at rest (`contact`: the
     /// narrow phase's parameters; one sub-contact triangle per polygon edge fanned from a
@@ -533,29 +560,12 @@ impl Model {
         // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
         // unique (the least-squares one among the optimal), so that the non-associative
         // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
-        let p = match friction {
-            Friction::Associative => CscMatrix::zeros((nvar, nvar)),
-            Friction::Fixed(_) => {
-                let eps = FIXED_REGULARISATION;
-                let cols: Vec<usize> = (col_pt..nvar).collect();
-                CscMatrix::new_from_triplets(nvar, nvar, cols.clone(), cols, vec![eps; nvar - col_pt])
-            }
-        };
+        let p = quadratic_term(friction, col_pt, nvar);
         let mut q = vec![0.0; nvar];
         q[0] = -1.0;
         let settings = settings();
-        let mut solver = match DefaultSolver::new(&p, &q, &a, &b, &cones, settings) {
-            Ok(s) => s,
-            Err(_) => {
-                return Solution {
-                    status: SolverStatus::NumericalError,
-                    lambda: f64::NAN,
-                    normal: Vec::new(),
-                    velocity: Vec::new(),
-                    iterations: 0,
-                    solve_time_s: 0.0,
-                }
-            }
+        let Ok(mut solver) = DefaultSolver::new(&p, &q, &a, &b, &cones, settings) else {
+            return Solution::failed();
         };
         solver.solve();
         let sol = &solver.solution;
