@@ -142,6 +142,25 @@ pub(crate) struct Solution {
     pub solve_time_s: f64,
 }
 
+/// The triplets of a program's constraint matrix, in the order pushed; zero values are
+/// left out.
+#[derive(Debug, Default)]
+struct Entries {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl Entries {
+    fn push(&mut self, r: usize, c: usize, v: f64) {
+        if v != 0.0 {
+            self.rows.push(r);
+            self.cols.push(c);
+            self.vals.push(v);
+        }
+    }
+}
+
 impl Solution {
     /// The solution of a program clarabel could not set up: λ NaN, nothing else.
     fn failed() -> Solution {
@@ -303,6 +322,63 @@ impl Model {
         out
     }
 
+    /// The columns of the kinematic program's y variables (one per point of a joint
+    /// `needs_y` says carries cohesion or tension), numbered from `first`; `usize::MAX`
+    /// elsewhere. Returns them and the number of variables.
+    fn tension_columns(&self, first: usize, needs_y: impl Fn(&Joint) -> bool) -> (Vec<usize>, usize) {
+        let mut y_of = vec![usize::MAX; self.points.len()];
+        let mut nvar = first;
+        for j in self.joints.iter().filter(|j| needs_y(j)) {
+            for p in j.points.clone() {
+                y_of[p] = nvar;
+                nvar += 1;
+            }
+        }
+        (y_of, nvar)
+    }
+
+    /// The kinematic program's linear objective over `nvar` variables: the dead load's
+    /// power, `q_u = −D` (forces over the force scale, moments over force × length scale).
+    fn dead_power(&self, nvar: usize) -> Vec<f64> {
+        let (fs, ls) = (self.force_scale, self.length_scale);
+        let mut q = vec![0.0; nvar];
+        for (k, row) in self.row_of.iter().enumerate() {
+            let Some(r) = row else { continue };
+            let (df, dm) = self.dead[k];
+            for d in 0..3 {
+                q[6 * r + d] = -df[d] / fs;
+                q[6 * r + 3 + d] = -dm[d] / (fs * ls);
+            }
+        }
+        q
+    }
+
+    /// The normal force of every point (over the force scale) from the kinematic
+    /// program's duals `z`: a joint held against slip's from its non-negative row (rows
+    /// from `nzero`, in `points`' order) less its tension T A; a slipping joint's from its
+    /// cone's first row (cones from `nzero + nnonneg`) less c A / μ where it has a y.
+    fn kinematic_normals<'j>(
+        &self,
+        z: &[f64],
+        points: impl Iterator<Item = (&'j Joint, usize)> + Clone,
+        nzero: usize,
+        nnonneg: usize,
+        y_of: &[usize],
+    ) -> Vec<f64> {
+        let fs = self.force_scale;
+        let mut normal = vec![0.0; self.points.len()];
+        for (nn, (j, p)) in (nzero..).zip(points.clone().filter(|(j, _)| !j.can_slip)) {
+            normal[p] = z[nn] - j.tension * self.points[p].area / fs;
+        }
+        let mut sc = nzero + nnonneg;
+        for (j, p) in points.filter(|(j, _)| j.can_slip) {
+            let ca = if y_of[p] != usize::MAX { j.cohesion * self.points[p].area / (fs * j.mu) } else { 0.0 };
+            normal[p] = z[sc] - ca;
+            sc += 3;
+        }
+        normal
+    }
+
     /// Solves the associative program through its dual, the kinematic program: the
     /// blocks' virtual velocities u (six per free block) minimising the power of the dead
     /// load plus the joints' dissipation, with the live load's power 1, every rigid end
@@ -325,33 +401,11 @@ impl Model {
         // Variables: u, then one y per point of a slipping joint with cohesion or tension
         // (the multiplier of its f_n ≥ −T A).
         let needs_y = |j: &Joint| j.can_slip && (j.tension != 0.0 || j.cohesion != 0.0);
-        let mut y_of = vec![usize::MAX; self.points.len()];
-        let mut nvar = neq;
-        for j in self.joints.iter().filter(|j| needs_y(j)) {
-            for p in j.points.clone() {
-                y_of[p] = nvar;
-                nvar += 1;
-            }
-        }
-        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
-        let mut push = |r: usize, c: usize, v: f64| {
-            if v != 0.0 {
-                ri.push(r);
-                ci.push(c);
-                vv.push(v);
-            }
-        };
-        let mut q = vec![0.0; nvar];
+        let (y_of, nvar) = self.tension_columns(neq, needs_y);
+        let mut entries = Entries::default();
+        let mut push = |r: usize, c: usize, v: f64| entries.push(r, c, v);
+        let mut q = self.dead_power(nvar);
         let mut b = Vec::new();
-        // The dead load's power: q_u = −D (scaled).
-        for (k, row) in self.row_of.iter().enumerate() {
-            let Some(r) = row else { continue };
-            let (df, dm) = self.dead[k];
-            for d in 0..3 {
-                q[6 * r + d] = -df[d] / fs;
-                q[6 * r + 3 + d] = -dm[d] / (fs * ls);
-            }
-        }
         // Zero cone: the live load's power is 1; held ends do not move in y; a joint held
         // against slip has no tangential relative velocity.
         let mut row = 0;
@@ -434,7 +488,7 @@ impl Model {
             row += 3;
             cones.push(SecondOrderConeT(3));
         }
-        let a = csc_from_entries(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, entries.rows, entries.cols, entries.vals);
         let p = CscMatrix::zeros((nvar, nvar));
         let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, kinematic_settings()).ok()?;
         solver.solve();
@@ -442,16 +496,8 @@ impl Model {
         if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
             return None;
         }
-        let mut normal = vec![0.0; self.points.len()];
-        for (nn, (j, p, _)) in (nzero..).zip(cols.iter().filter(|(j, _, _)| !j.can_slip)) {
-            normal[*p] = sol.z[nn] - j.tension * self.points[*p].area / fs;
-        }
-        let mut sc = nzero + nnonneg;
-        for (j, p, _) in cols.iter().filter(|(j, _, _)| j.can_slip) {
-            let ca = if y_of[*p] != usize::MAX { j.cohesion * self.points[*p].area / (fs * j.mu) } else { 0.0 };
-            normal[*p] = sol.z[sc] - ca;
-            sc += 3;
-        }
+        let points = cols.iter().map(|(j, p, _)| (*j, *p));
+        let normal = self.kinematic_normals(&sol.z, points, nzero, nnonneg, &y_of);
         let velocity = self.velocities(&sol.x, ls);
         Some(Solution {
             status: sol.status,
@@ -472,14 +518,8 @@ impl Model {
         let col_pt = 1 + nh;
         let nvar = col_pt + 3 * np;
         let (fs, ls) = (self.force_scale, self.length_scale);
-        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
-        let mut push = |r: usize, c: usize, v: f64| {
-            if v != 0.0 {
-                ri.push(r);
-                ci.push(c);
-                vv.push(v);
-            }
-        };
+        let mut entries = Entries::default();
+        let mut push = |r: usize, c: usize, v: f64| entries.push(r, c, v);
         let mut b = vec![0.0; neq];
         // Loads: dead on the right-hand side, live in λ's column.
         for (k, row) in self.row_of.iter().enumerate() {
@@ -556,7 +596,7 @@ impl Model {
                 cones.push(SecondOrderConeT(3));
             }
         }
-        let a = csc_from_entries(row, nvar, ri, ci, vv);
+        let a = csc_from_entries(row, nvar, entries.rows, entries.cols, entries.vals);
         // With friction fixed, a small quadratic term ε‖f‖² makes the force distribution
         // unique (the least-squares one among the optimal), so that the non-associative
         // iteration maps N̂ to one N; it lowers λ by at most ε Σ f² (forces of order 1/np).
