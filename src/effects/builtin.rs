@@ -57,8 +57,16 @@ fn stiffness(family: Option<JointFamily>) -> Step {
     Step::JointFactor { family, property: Property::Stiffness, parameter: "factor".into() }
 }
 
-/// The built-in effects, in library order.
+/// The built-in effects, in library order: [`joint_effects`], then [`wall_effects`].
 pub fn builtin() -> Vec<EffectDef> {
+    let mut all = joint_effects();
+    all.extend(wall_effects());
+    all
+}
+
+/// The effects on the joints' laws: every joint's Kn and Ks, one family's, the closure
+/// law, the shear stiffness and a seating gap (library order).
+fn joint_effects() -> Vec<EffectDef> {
     let family = |f: JointFamily, what: &str| {
         def(
             &format!("{}_stiffness", f.name()),
@@ -126,6 +134,14 @@ pub fn builtin() -> Vec<EffectDef> {
             )],
             vec![Step::Closure { family: None, law: "seating".into(), parameter: "max_gap_m".into() }],
         ),
+    ]
+}
+
+/// The effects on the wall as built and as held: its lean, its stones' edges, its end
+/// restraints and ropes, its joints' dip and dilatancy, the base's restraint, the table's
+/// kick and a leaf split (library order after [`joint_effects`]).
+fn wall_effects() -> Vec<EffectDef> {
+    vec![
         def(
             "initial_lean",
             "the wall built out of plumb by psi towards the side it falls to",
