@@ -80,7 +80,7 @@ pub struct LateralParams {
     /// Relative width `(λ_unstable − λ_stable) / λ_unstable` of the pushover's final
     /// bracket of λ, in (0, 1); unset, each method's own: \[0.02\] for the penalty DEM's
     /// pushover ([`PENALTY_PUSHOVER_RESOLUTION`]), \[0.01\] for the rigid pushover by nscd
-    /// ([`RIGID_PUSHOVER_RESOLUTION`]). See [`Self::pushover_resolution_of`].
+    /// ([`RIGID_PUSHOVER_RESOLUTION`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pushover_resolution: Option<f64>,
 }
@@ -125,15 +125,16 @@ impl LateralParams {
         ])
     }
 
-    /// The pushover's final bracket width for `method`: [`Self::pushover_resolution`] when
-    /// set, else the method's default; `None` for limit analysis, which has no bracket (its
-    /// λ is the program's optimum).
-    pub fn pushover_resolution_of(&self, method: Method) -> Option<f64> {
-        match method {
-            Method::Penalty => Some(self.pushover_resolution.unwrap_or(PENALTY_PUSHOVER_RESOLUTION)),
-            Method::Nscd => Some(self.pushover_resolution.unwrap_or(RIGID_PUSHOVER_RESOLUTION)),
-            Method::Limit => None,
-        }
+    /// The penalty DEM pushover's final bracket width: [`Self::pushover_resolution`] when
+    /// set, else [`PENALTY_PUSHOVER_RESOLUTION`].
+    pub fn penalty_pushover_resolution(&self) -> f64 {
+        self.pushover_resolution.unwrap_or(PENALTY_PUSHOVER_RESOLUTION)
+    }
+
+    /// The rigid pushover's final bracket width: [`Self::pushover_resolution`] when set,
+    /// else [`RIGID_PUSHOVER_RESOLUTION`].
+    pub fn rigid_pushover_resolution(&self) -> f64 {
+        self.pushover_resolution.unwrap_or(RIGID_PUSHOVER_RESOLUTION)
     }
 }
 

@@ -18,7 +18,6 @@ use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
-
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -63,8 +62,7 @@ pub fn run_lateral_nscd(
 ) -> Result<LateralLimit, TiltError> {
     lateral.validate().map_err(TiltError::Parameter)?;
     super::lateral::check_pushover_load(lateral).map_err(TiltError::Parameter)?;
-    let resolution =
-        lateral.pushover_resolution_of(crate::dem::Method::Nscd).unwrap_or(super::lateral::RIGID_PUSHOVER_RESOLUTION);
+    let resolution = lateral.rigid_pushover_resolution();
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
     let reader = Simulation::new(layout, SolverParams::default());

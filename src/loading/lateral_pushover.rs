@@ -201,8 +201,7 @@ pub fn run_lateral_pushover_observed(
     let mut mech = None;
     let mut bracket = (path.last_stable, None, None);
     if let Some((mut up, mut reason, mut failed)) = first_unstable {
-        let penalty_resolution = params.pushover_resolution_of(crate::dem::Method::Penalty).unwrap_or(0.02);
-        while up - path.last_stable > penalty_resolution * up && up > MIN_LOAD_MULTIPLIER {
+        while up - path.last_stable > params.penalty_pushover_resolution() * up && up > MIN_LOAD_MULTIPLIER {
             let mid = 0.5 * (up + path.last_stable);
             if let Some((r, trial)) = path.try_at(&ctx, mid, &mut increments, observe)? {
                 (up, reason, failed) = (mid, r, trial);

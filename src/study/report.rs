@@ -186,7 +186,7 @@ fn capacity_table(l: &LateralParams, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
         "λ: the multiple of the pressure above at which the wall collapses. DEM: the last stable λ of the penalty DEM pushover (λ doubled from 1, then bisected to {} of λ; the joints' Kn, Ks, friction, cohesion and tension); limit: limit analysis of the same layout (rigid blocks, the joints' full strength). DEM / limit: the ratio per realization. Service: the top displacement of the service test above (λ = 1). A joint without tensile strength keeps no cohesion in the DEM where it carries no compression, while limit analysis keeps c A in every joint's cone: for walls with cohesion, the DEM's rigid limit is limit analysis at c = 0 (a `cohesion_pa` sweep).\n",
-        l.pushover_resolution_of(crate::dem::Method::Penalty).unwrap_or(crate::loading::lateral::PENALTY_PUSHOVER_RESOLUTION)
+        l.penalty_pushover_resolution()
     );
     let header = [
         "group",
