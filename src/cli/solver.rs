@@ -115,7 +115,7 @@ pub struct LimitFlags {
     #[arg(long, value_name = "N")]
     pub limit_max_iterations: Option<u32>,
     /// Limit analysis: the under-relaxation of the normal forces in the non-associative
-    /// iteration, in (0, 1] [default 0.5].
+    /// iteration, in [0.1, 1] [default 0.5].
     #[arg(long, value_name = "OMEGA")]
     pub limit_relaxation: Option<f64>,
     /// Limit analysis: the non-associative iteration's tolerance on λ [default 1e-5].

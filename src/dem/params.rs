@@ -68,7 +68,10 @@ pub struct LimitParams {
     pub non_associative: bool,
     /// Largest number of cone programs of the non-associative iteration \[20\].
     pub max_iterations: u32,
-    /// Under-relaxation ω of the normal forces in the iteration, in (0, 1] \[0.5\].
+    /// Under-relaxation ω of the normal forces in the iteration, in [0.1, 1] \[0.5\]. The
+    /// iteration stops when λ changes by less than `tolerance` twice, and a change is
+    /// proportional to ω: a smaller ω would stop it near the associative answer, a silently
+    /// wrong λ.
     pub relaxation: f64,
     /// The iteration has converged when λ changes by less than this, relative to
     /// max(1, |λ|), twice in a row \[1e-5\].
@@ -89,7 +92,7 @@ impl LimitParams {
     pub fn validate(&self) -> Result<(), OutOfRange> {
         check_ranges(&[
             ("max_iterations", self.max_iterations as f64, self.max_iterations >= 1, ">= 1"),
-            ("relaxation", self.relaxation, self.relaxation > 0.0 && self.relaxation <= 1.0, "in (0, 1]"),
+            ("relaxation", self.relaxation, (0.1..=1.0).contains(&self.relaxation), "in [0.1, 1]"),
             ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
         ])
     }

@@ -36,10 +36,14 @@ fn limit_options_reach_the_analysis_from_every_command() {
 
 #[test]
 fn limit_options_out_of_range_or_without_the_solver_are_refused() {
-    let out = drystone(&["tilt", WALL, "--solver", "limit", "--limit-relaxation", "1.5"]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("relaxation") && err.contains("(0, 1]"), "{err}");
+    // Above 1, and so small that λ's change per iteration would meet the tolerance before
+    // λ settles.
+    for bad in ["1.5", "1e-12"] {
+        let out = drystone(&["tilt", WALL, "--solver", "limit", "--limit-relaxation", bad]);
+        assert!(!out.status.success(), "{bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("relaxation") && err.contains("[0.1, 1]"), "{bad}: {err}");
+    }
     for cmd in ["tilt", "lateral"] {
         let out = drystone(&[cmd, WALL, "--limit-associative"]);
         assert!(!out.status.success(), "{cmd}");
