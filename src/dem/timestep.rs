@@ -176,10 +176,14 @@ impl Stiffness {
         ropes: &[RopeLoad],
         reach_m: f64,
     ) {
+        // The bodies whose diagonal block a restraint changes: only their eigenvalues are
+        // taken again (the others' blocks, and so their eigenvalues, stand).
+        let mut changed = vec![false; bodies.len()];
         for (k, r) in restraint.iter().enumerate() {
             if let (Some(EndRestraint::Spring(ky)), false) = (r, bodies[k].fixed) {
                 self.diag[k][(1, 1)] += ky;
                 self.touched[k] = true;
+                changed[k] = true;
             }
         }
         for rope in ropes {
@@ -196,9 +200,14 @@ impl Stiffness {
                 let g = Vector6::new(0.0, 1.0, 0.0, m.x, m.y, m.z);
                 self.diag[b.body] += g * g.transpose() * (kr * b.height / rope.covered);
                 self.touched[b.body] = true;
+                changed[b.body] = true;
             }
         }
-        self.body_lambdas = self.diagonal_eigenvalues(bodies);
+        for (i, b) in bodies.iter().enumerate() {
+            if changed[i] {
+                self.body_lambdas[i] = self.body_eigenvalue(i, b);
+            }
+        }
     }
 
     /// `M^{-1/2}` of a body's inertial mass (6 × 6, table frame): with `scaled`, as the
@@ -213,7 +222,7 @@ impl Stiffness {
         for k in 0..3 {
             s[(k, k)] = r / b.mass.sqrt();
         }
-        s.fixed_view_mut::<3, 3>(3, 3).copy_from(&(b.rot_mat * inv_sqrt(&b.inertia) * b.rot_mat.transpose() * r));
+        s.fixed_view_mut::<3, 3>(3, 3).copy_from(&(b.rot_mat * b.inv_sqrt_inertia * b.rot_mat.transpose() * r));
         s
     }
 
@@ -230,19 +239,16 @@ impl Stiffness {
     }
 
     fn diagonal_eigenvalues(&self, bodies: &[Body]) -> Vec<f64> {
-        bodies
-            .iter()
-            .enumerate()
-            .map(
-                |(i, b)| {
-                    if b.fixed || !self.touched[i] {
-                        0.0
-                    } else {
-                        self.block_eigenvalue(i, &Self::mass_root(b, false))
-                    }
-                },
-            )
-            .collect()
+        bodies.iter().enumerate().map(|(i, b)| self.body_eigenvalue(i, b)).collect()
+    }
+
+    /// Body `i`'s entry of [`Stiffness::body_eigenvalues`].
+    fn body_eigenvalue(&self, i: usize, b: &Body) -> f64 {
+        if b.fixed || !self.touched[i] {
+            0.0
+        } else {
+            self.block_eigenvalue(i, &Self::mass_root(b, false))
+        }
     }
 
     /// The largest eigenvalue `λ = ω²` (rad²/s²) of the whole assembly against the
