@@ -56,7 +56,10 @@
 //! degree ordering, run sequentially; the simplicial factorization and the sparse
 //! triangular solves are scalar code (no runtime choice of SIMD kernels), so a test gives
 //! the same bits on any number of threads and any x86-64 machine, as the explicit step
-//! does.
+//! does. The numeric factorization is faer's up-looking algorithm with what it derives
+//! from the pattern alone (the permuted matrix's structure, each row's elimination reach)
+//! computed once per pattern rather than at every factorization: the same operations in
+//! the same order, the same factor bit for bit.
 
 mod anderson;
 mod stiffness;

@@ -9,10 +9,12 @@ use crate::layout::EndRestraint;
 use crate::math::{Mat3, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::utils::{permute_self_adjoint_scratch, permute_self_adjoint_to_unsorted};
+use faer::sparse::{Argsort, Pair, SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Mat, Par, Side};
 use nalgebra::Matrix6;
 use std::cell::RefCell;
@@ -69,6 +71,132 @@ struct Pattern {
     matrix: SymbolicSparseColMat<usize>,
     argsort: Argsort<usize>,
     cholesky: Rc<SymbolicCholesky<usize>>,
+    /// The numeric factorization's schedule for this pattern (`None`: faer's own numeric
+    /// factorization, for a symbolic factorization other than a permuted simplicial one).
+    schedule: Option<Schedule>,
+}
+
+/// What faer's simplicial up-looking numeric Cholesky factorization derives from the
+/// pattern alone and recomputes at every factorization, computed once per pattern: the
+/// upper triangle of the permuted matrix `P A Pᵀ` (column pointers and row indices in the
+/// order faer's permutation lists them, and for each entry the index of its value in
+/// `A`'s compressed values), and each row's elimination reach (the columns `j < k` with
+/// `L_kj ≠ 0`, in the topological order faer's `ereach` visits them). With these,
+/// [`Schedule::factorize`] performs faer's floating-point operations in faer's order: the
+/// factor is the same bit for bit.
+struct Schedule {
+    /// Column pointers of the permuted upper triangle, `n + 1`.
+    a_ptr: Vec<usize>,
+    /// Row index (permuted) of each entry of the permuted upper triangle.
+    a_row: Vec<usize>,
+    /// Index in `A`'s compressed values of each entry of the permuted upper triangle.
+    a_src: Vec<usize>,
+    /// Row `k`'s reach is `reach[reach_ptr[k]..reach_ptr[k + 1]]`.
+    reach_ptr: Vec<usize>,
+    reach: Vec<usize>,
+    /// Column pointers (`n + 1`) and row indices of `L` (faer's simplicial symbolic factor:
+    /// the diagonal first, then the rows in increasing order).
+    l_ptr: Vec<usize>,
+    l_row: Vec<usize>,
+}
+
+impl Schedule {
+    /// The schedule of the pattern `matrix` (lower triangle) under `cholesky`; `None`
+    /// unless `cholesky` is simplicial with a fill-reducing permutation.
+    fn new(matrix: &SymbolicSparseColMat<usize>, cholesky: &SymbolicCholesky<usize>) -> Option<Schedule> {
+        let (SymbolicCholeskyRaw::Simplicial(simplicial), Some(perm)) = (cholesky.raw(), cholesky.perm()) else {
+            return None;
+        };
+        let n = matrix.nrows();
+        let nnz = matrix.row_idx().len();
+        // The permutation of faer's numeric factorization applied to the values 0, 1, 2, …:
+        // each permuted entry carries the index of its source (exact in f64 below 2⁵³).
+        let index: Vec<f64> = (0..nnz).map(|i| i as f64).collect();
+        let (mut src, mut a_ptr, mut a_row) = (vec![0.0; nnz], vec![0usize; n + 1], vec![0usize; nnz]);
+        let mut mem = MemBuffer::new(permute_self_adjoint_scratch::<usize>(n));
+        let permuted = permute_self_adjoint_to_unsorted(
+            &mut src,
+            &mut a_ptr,
+            &mut a_row,
+            SparseColMatRef::new(matrix.as_ref(), &index),
+            perm,
+            Side::Lower,
+            Side::Upper,
+            MemStack::new(&mut mem),
+        );
+        let a_nnz = permuted.compute_nnz();
+        let a_src: Vec<usize> = src[..a_nnz].iter().map(|&v| v as usize).collect();
+        a_row.truncate(a_nnz);
+        let (l_ptr, l_row) = (simplicial.col_ptr().to_vec(), simplicial.row_idx().to_vec());
+        // The elimination tree: a column's parent is its first row below the diagonal.
+        let parent: Vec<usize> =
+            (0..n).map(|j| if l_ptr[j + 1] > l_ptr[j] + 1 { l_row[l_ptr[j] + 1] } else { usize::MAX }).collect();
+        // faer's `ereach`, row by row.
+        let (mut reach_ptr, mut reach) = (vec![0usize; n + 1], Vec::with_capacity(l_row.len() - n));
+        let mut visited = vec![usize::MAX; n];
+        let mut stack = vec![0usize; n];
+        for k in 0..n {
+            let mut top = n;
+            visited[k] = k;
+            for &i0 in &a_row[a_ptr[k]..a_ptr[k + 1]] {
+                if i0 >= k {
+                    continue;
+                }
+                let (mut i, mut len) = (i0, 0);
+                while visited[i] != k {
+                    stack[len] = i;
+                    len += 1;
+                    visited[i] = k;
+                    i = parent[i];
+                }
+                stack.copy_within(..len, top - len);
+                top -= len;
+            }
+            reach.extend_from_slice(&stack[top..]);
+            reach_ptr[k + 1] = reach.len();
+        }
+        Some(Schedule { a_ptr, a_row, a_src, reach_ptr, reach, l_ptr, l_row })
+    }
+
+    /// The values of `L` for the compressed values `a` of `A`: faer's
+    /// `factorize_simplicial_numeric_llt` (no regularization) on the permuted matrix,
+    /// operation for operation.
+    ///
+    /// # Errors
+    /// A pivot not positive, as faer reports it (`NonPositivePivot { index }`, 1-based).
+    fn factorize(&self, a: &[f64]) -> Result<Vec<f64>, String> {
+        let n = self.a_ptr.len() - 1;
+        let (lp, lr) = (&self.l_ptr, &self.l_row);
+        let mut l = vec![0.0f64; lr.len()];
+        let mut x = vec![0.0f64; n];
+        // The next free position of each column of `L`, less one.
+        let mut cur: Vec<usize> = lp[..n].to_vec();
+        for k in 0..n {
+            for p in self.a_ptr[k]..self.a_ptr[k + 1] {
+                x[self.a_row[p]] += a[self.a_src[p]];
+            }
+            let mut d = x[k];
+            x[k] = 0.0;
+            for &j in &self.reach[self.reach_ptr[k]..self.reach_ptr[k + 1]] {
+                let j_start = lp[j];
+                cur[j] += 1;
+                let at = cur[j];
+                let xj = x[j];
+                x[j] = 0.0;
+                let lkj = xj * (1.0 / l[j_start]);
+                for (&i, &lij) in lr[j_start + 1..at].iter().zip(&l[j_start + 1..at]) {
+                    x[i] -= lij * lkj;
+                }
+                d -= lkj * lkj;
+                l[at] = lkj;
+            }
+            if !(d > 0.0) {
+                return Err(format!("NonPositivePivot {{ index: {} }}", k + 1));
+            }
+            l[lp[k]] = d.sqrt();
+        }
+        Ok(l)
+    }
 }
 
 thread_local! {
@@ -95,7 +223,8 @@ fn pattern_of(n: usize, entries: &[Pair<usize, usize>]) -> Result<Rc<Pattern>, S
         )
         .map_err(|e| format!("symbolic Cholesky factorization: {e:?}"))?,
     );
-    let pattern = Rc::new(Pattern { entries: entries.to_vec(), matrix, argsort, cholesky });
+    let schedule = Schedule::new(&matrix, &cholesky);
+    let pattern = Rc::new(Pattern { entries: entries.to_vec(), matrix, argsort, cholesky, schedule });
     PATTERN.with_borrow_mut(|c| *c = Some(Rc::clone(&pattern)));
     Ok(pattern)
 }
@@ -174,6 +303,10 @@ impl Factor {
         let a = SparseColMat::new_from_argsort(pattern.matrix.clone(), &pattern.argsort, &vals)
             .map_err(|e| format!("assembly: {e:?}"))?;
         let symbolic = Rc::clone(&pattern.cholesky);
+        if let Some(schedule) = &pattern.schedule {
+            let values = schedule.factorize(a.val()).map_err(|e| format!("numeric Cholesky factorization: {e}"))?;
+            return Ok(Factor { symbolic, values });
+        }
         let mut values = vec![0.0f64; symbolic.len_val()];
         let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()))
             .map_err(|e| format!("workspace: {e:?}"))?;
