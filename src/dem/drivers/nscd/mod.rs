@@ -26,6 +26,9 @@
 //! * [`apgd`]: the accelerated projected gradient of a step of motion (Nesterov's method
 //!   with De Saxcé's shift), stopped by the natural-map residual
 //!   ([`nsgs::natural_residual`]).
+//! * [`cone`]: the finisher of the steps the gradient leaves at its limit: the step as
+//!   one cone program per value of De Saxcé's shift (an interior point, Clarabel), the
+//!   shift updated by Anderson's acceleration.
 //! * [`rest`]: the rest certificate of a wall at rest (statics in the reduced cones).
 //! * [`stepper`]: [`NscdSimulation`], the θ-scheme step with a prescribed base
 //!   acceleration and its NSGS loop.
@@ -41,6 +44,7 @@
 //! `r_t = −μ rₙ u_t/‖u_t‖` when `u_t ≠ 0`.
 
 pub mod apgd;
+pub mod cone;
 pub mod contacts;
 pub mod delassus;
 pub mod local;
@@ -115,8 +119,11 @@ pub struct NscdParams {
     /// [`StepSolver::Nsgs`] (a block: 3,750 sweeps of 4 points; the 13-box wall: 125); the
     /// SBL preset wall (2,424 points) gets 7 sweeps.
     pub apgd_after_solves: f64,
-    /// Largest number of NSGS sweeps per step \[2000\]; a step that reaches it keeps its
-    /// last iterate and counts as unconverged ([`NscdStep::converged`]).
+    /// Largest number of NSGS sweeps and gradient iterations per step \[2000\]. With
+    /// [`StepSolver::Apgd`] a step that reaches it is finished by cone programs
+    /// ([`cone::solve`]) and counts as unconverged ([`NscdStep::converged`]) only if they
+    /// too leave the natural-map residual above [`Self::natural_tolerance`]; with
+    /// [`StepSolver::Nsgs`] it keeps its last iterate and counts as unconverged.
     pub max_iterations: u32,
     /// The contact points of a face contact polygon \[`vertices`\] (see [`PolygonPoints`]).
     pub polygon_points: PolygonPoints,

@@ -40,11 +40,11 @@
 //! ([`crate::dem::rope`], at the poses of the start of the step). Fixed blocks and the
 //! table are boundary bodies (zero inverse mass).
 
-use super::apgd;
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
 use super::nsgs::{self, BodyState, SweepPlan};
 use super::rest::{Certificate, Statics};
+use super::{apgd, cone};
 use super::{NscdError, NscdParams, RestRule, StepSolver};
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
@@ -582,7 +582,8 @@ impl NscdSimulation {
 
     /// Stage 4: the warm start (the impulses of the last step applied) and the NSGS
     /// sweeps ([`nsgs::solve`]), then the gradient ([`apgd::solve`]) by
-    /// [`NscdParams::step_solver`]; returns (sweeps and iterations, converged, velocity
+    /// [`NscdParams::step_solver`], and a step the gradient leaves at its limit finished
+    /// by [`cone::solve`]; returns (sweeps and iterations, converged, velocity
     /// residual in m/s, quadratic residual, natural-map residual).
     fn nsgs(&mut self) -> (u32, bool, f64, f64, f64) {
         self.impulse.clear();
@@ -634,6 +635,15 @@ impl NscdSimulation {
                             gh,
                             &mut self.apgd,
                         );
+                        // The steps the gradient leaves at its limit: finished as cone
+                        // programs (the sweeps count the gradient's iterations).
+                        let out = if out.converged {
+                            out
+                        } else {
+                            let finished =
+                                cone::solve(&self.rows, &mut self.impulse, &mut bodies, p.natural_tolerance, gh);
+                            nsgs::SweepOutcome { sweeps: out.sweeps, ..finished }
+                        };
                         natural = Some(out.quad);
                         nsgs::SweepOutcome { sweeps: done + out.sweeps, ..out }
                     }
