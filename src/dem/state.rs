@@ -33,7 +33,7 @@ pub struct Body {
     /// Inverse of `inertia`.
     pub inv_inertia: Mat3,
     /// `inertia^{-1/2}` (body frame, kg^{-1/2}·m^{-1}), kept for the time step's mass roots
-    /// ([`super::timestep::inv_sqrt`] of `inertia`, computed once).
+    /// ([`crate::math::inv_sqrt`] of `inertia`, computed once).
     pub inv_sqrt_inertia: Mat3,
     /// Smallest principal moment of inertia, kg·m².
     pub min_inertia: f64,
@@ -87,7 +87,7 @@ impl Body {
             mass: mp.mass,
             inertia: mp.inertia,
             inv_inertia,
-            inv_sqrt_inertia: super::timestep::inv_sqrt(&mp.inertia),
+            inv_sqrt_inertia: crate::math::inv_sqrt(&mp.inertia),
             min_inertia,
             radius,
             fixed,

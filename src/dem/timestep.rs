@@ -39,18 +39,11 @@ use super::rope::{stiffness_bound, RopeLoad};
 use super::state::Body;
 use crate::layout::EndRestraint;
 use crate::math::{Mat3, Vec3};
-use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
+use nalgebra::{DMatrix, Matrix6, Vector6};
 
 /// `[a]×`, the cross-product matrix: `[a]× b = a × b`.
 fn skew(a: &Vec3) -> Mat3 {
     Mat3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
-}
-
-/// `I^{-1/2}` of a symmetric positive-definite inertia tensor.
-pub fn inv_sqrt(i: &Matrix3<f64>) -> Matrix3<f64> {
-    let e = i.symmetric_eigen();
-    let d = Matrix3::from_diagonal(&e.eigenvalues.map(|v| if v > 0.0 { 1.0 / v.sqrt() } else { 0.0 }));
-    e.eigenvectors * d * e.eigenvectors.transpose()
 }
 
 /// The 6 × 6 block coupling side `p` to side `q` of one contact's springs:
@@ -495,8 +488,8 @@ mod tests {
         let s = Matrix6::from_diagonal(&Vector6::new(1.0 / m.sqrt(), 1.0 / m.sqrt(), 1.0 / m.sqrt(), 1.0, 1.0, 1.0));
         let l = (s * k6 * s).symmetric_eigenvalues().iter().cloned().fold(0.0, f64::max);
         assert!((l - 25.0).abs() < 1e-12);
-        let i = Matrix3::from_diagonal(&Vec3::new(4.0, 9.0, 16.0));
-        let r = inv_sqrt(&i);
+        let i = crate::math::Mat3::from_diagonal(&Vec3::new(4.0, 9.0, 16.0));
+        let r = crate::math::inv_sqrt(&i);
         assert!((r[(1, 1)] - 1.0 / 3.0).abs() < 1e-14);
     }
 }

@@ -7,11 +7,12 @@
 
 use drystone::dem::integrator::{advance, YConstraint};
 use drystone::dem::state::Body;
-use drystone::dem::timestep::{inv_sqrt, Stiffness};
+use drystone::dem::timestep::Stiffness;
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{DensityScaling, Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use drystone::geometry::ConvexBlock;
+use drystone::math::inv_sqrt;
 use drystone::Vec3;
 use nalgebra::DMatrix;
 use std::path::PathBuf;
