@@ -20,6 +20,7 @@ use crate::loading::shake::{run_shake, ShakeError, ShakeParams, ShakeResult};
 use crate::loading::support::{self, Loading, Unsupported};
 use crate::loading::tilt::{run_tilt, TiltError, TiltParams, TiltResult};
 use crate::units::m_to_cm;
+use serde::Serialize;
 
 /// A loading protocol with its parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,7 +71,7 @@ pub enum ProtocolRun {
 /// What a run gives to compare with measured data (`drystone discrepancy`): the collapse
 /// angle with its bracket, the top displacements at every stable state, the failure
 /// mechanism ([`ProtocolRun::observed`]).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Observed {
     /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` under the
     /// lateral load (no collapse angle).
@@ -84,6 +85,7 @@ pub struct Observed {
     /// the side the wall falls to; NaN for a point the layout has no monitor at).
     pub top_cm: Vec<[f64; 3]>,
     /// The failure mechanism as a person would read it (`None` if the wall stood).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub mechanism: Option<MechanismReading>,
 }
 

@@ -382,16 +382,10 @@ fn joint_margins(runs: &[(f64, f64)]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::Observed;
 
     fn angle_outcome(a: f64) -> Outcome {
-        Outcome {
-            collapse_deg: Some(a),
-            first_unstable_deg: None,
-            tilt_deg: vec![],
-            top_cm: vec![],
-            error: None,
-            mechanism: None,
-        }
+        Outcome { observed: Observed { collapse_deg: Some(a), ..Observed::default() }, error: None }
     }
 
     /// One group, collapse angles only: a pool of 12 independent realizations whose mean is

@@ -485,7 +485,7 @@ fn band(
     label: &str,
     measured: Vec<(f64, f64)>,
 ) -> BandSeries {
-    let mut tilts: Vec<f64> = outcomes.iter().flat_map(|o| o.tilt_deg.iter().copied()).collect();
+    let mut tilts: Vec<f64> = outcomes.iter().flat_map(|o| o.observed.tilt_deg.iter().copied()).collect();
     tilts.sort_by(f64::total_cmp);
     tilts.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let (mut x, mut mid, mut lo, mut hi) = (vec![], vec![], vec![], vec![]);
@@ -493,7 +493,7 @@ fn band(
         let ob = Observable::Displacement { measure, tilt_deg: t };
         let v: Vec<f64> = outcomes
             .iter()
-            .filter(|o| o.tilt_deg.iter().any(|u| (u - t).abs() < 1e-9))
+            .filter(|o| o.observed.tilt_deg.iter().any(|u| (u - t).abs() < 1e-9))
             .filter_map(|o| o.value(&ob))
             .collect();
         if v.len() * 2 < outcomes.len().max(1) {

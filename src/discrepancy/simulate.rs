@@ -18,9 +18,8 @@ use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
-use crate::loading::mechanism::MechanismReading;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::Protocol;
+use crate::protocol::{Observed, Protocol};
 use serde::Serialize;
 
 /// One group of walls the model is run for.
@@ -95,45 +94,28 @@ impl Setup {
     }
 }
 
-/// The outcome of one realization of one model.
+/// The outcome of one realization of one model: what its run gave to compare with
+/// measured data ([`Observed`], empty for a failed run) and why it failed, if it did.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outcome {
-    /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` if the run
-    /// failed, and under the lateral load (no collapse angle).
-    pub collapse_deg: Option<f64>,
-    /// The first unstable tilt above α_max, degrees (`None` if the wall stood or failed).
-    pub first_unstable_deg: Option<f64>,
-    /// Stable tilts, degrees (under the lateral load: `[0.0]`, the equilibrium under the
-    /// load, or none if the wall found none).
-    pub tilt_deg: Vec<f64>,
-    /// Left, centre and right top displacements at each stable tilt, cm (out of plane, +y:
-    /// the side the wall falls to).
-    pub top_cm: Vec<[f64; 3]>,
+    /// The run's observables: collapse angle and bracket, stable tilts, top displacements,
+    /// the mechanism's reading (`Observed::collapse_deg` is `None` under the lateral load).
+    #[serde(flatten)]
+    pub observed: Observed,
     /// Why the run failed, if it did.
     pub error: Option<String>,
-    /// The failure mechanism as a person would read it (`None` if the wall stood or the
-    /// run failed).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub mechanism: Option<MechanismReading>,
 }
 
 impl Outcome {
     fn failed(error: String) -> Outcome {
-        Outcome {
-            collapse_deg: None,
-            first_unstable_deg: None,
-            tilt_deg: vec![],
-            top_cm: vec![],
-            error: Some(error),
-            mechanism: None,
-        }
+        Outcome { observed: Observed::default(), error: Some(error) }
     }
 
     /// The collapse angle as the middle of its bracket (last stable, first unstable),
     /// degrees: the unbiased point value of an angle known to lie in the bracket.
     pub fn collapse_mid_deg(&self) -> Option<f64> {
-        let a = self.collapse_deg?;
-        Some(self.first_unstable_deg.map_or(a, |b| 0.5 * (a + b)))
+        let a = self.observed.collapse_deg?;
+        Some(self.observed.first_unstable_deg.map_or(a, |b| 0.5 * (a + b)))
     }
 
     /// The value of an observable (degrees or cm); `None` for a failed run, and for a
@@ -145,13 +127,15 @@ impl Outcome {
         match *obs {
             Observable::CollapseAngle => self.collapse_mid_deg(),
             Observable::Displacement { measure, tilt_deg } => {
-                let i = self.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9)?;
-                let [l, c, r] = self.top_cm[i];
+                let i = self.observed.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9)?;
+                let [l, c, r] = self.observed.top_cm[i];
                 Some(measure.of(l, c, r))
             }
-            Observable::FailureHeight { .. } => self.mechanism.map(|m| m.failure_height_fraction),
-            Observable::MechanismKind { kind } => self.mechanism.map(|m| f64::from(u8::from(m.kind == kind))),
-            Observable::MechanismStart { start } => self.mechanism.map(|m| f64::from(u8::from(start.matches(m.start)))),
+            Observable::FailureHeight { .. } => self.observed.mechanism.map(|m| m.failure_height_fraction),
+            Observable::MechanismKind { kind } => self.observed.mechanism.map(|m| f64::from(u8::from(m.kind == kind))),
+            Observable::MechanismStart { start } => {
+                self.observed.mechanism.map(|m| f64::from(u8::from(start.matches(m.start))))
+            }
         }
     }
 }
@@ -170,14 +154,7 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
     let protocol = setup.protocol.observed().unwrap_or_else(|_| setup.protocol.clone());
     let run = protocol.run(&layout, setup.solver);
     match run.observed() {
-        Some(o) => Outcome {
-            collapse_deg: o.collapse_deg,
-            first_unstable_deg: o.first_unstable_deg,
-            tilt_deg: o.tilt_deg,
-            top_cm: o.top_cm,
-            error: None,
-            mechanism: o.mechanism,
-        },
+        Some(observed) => Outcome { observed, error: None },
         None => Outcome::failed(
             run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
         ),

@@ -111,7 +111,7 @@ pub fn synthesize(setup: &Setup, req: &Request) -> (Vec<MeasuredCollapse>, Vec<M
                         }
                     }
                     Observable::Displacement { measure, tilt_deg }
-                        if o.tilt_deg.iter().any(|t| (t - tilt_deg).abs() < 1e-9) =>
+                        if o.observed.tilt_deg.iter().any(|t| (t - tilt_deg).abs() < 1e-9) =>
                     {
                         if let Some(v) = o.value(obs) {
                             disp.push(MeasuredDisplacement {

@@ -75,14 +75,14 @@ fn the_lateral_load_gives_the_study_run_displacements_under_the_load() {
             [row.lateral.lateral_disp_left_cm, row.lateral.lateral_disp_centre_cm, row.lateral.lateral_disp_right_cm]
                 .map(Option::unwrap);
         let o = &outs[g][0];
-        assert_eq!(o.tilt_deg, [0.0], "{}", group.name);
-        assert_eq!(o.top_cm, [want], "{}", group.name);
-        assert_eq!((o.collapse_deg, o.value(&Observable::CollapseAngle)), (None, None));
+        assert_eq!(o.observed.tilt_deg, [0.0], "{}", group.name);
+        assert_eq!(o.observed.top_cm, [want], "{}", group.name);
+        assert_eq!((o.observed.collapse_deg, o.value(&Observable::CollapseAngle)), (None, None));
         let sim = Simulated::of(&outs[g], &ob);
         assert!((sim.mean - (want[0] + want[1] + want[2]) / 3.0).abs() < 1e-15, "{}: {sim:?}", group.name);
     }
     // The free wall moves towards +y, the side the pressure pushes it to.
-    assert!(outs[1][0].top_cm[0][1] > 0.0, "{:?}", outs[1][0]);
+    assert!(outs[1][0].observed.top_cm[0][1] > 0.0, "{:?}", outs[1][0]);
 }
 
 /// Measured displacements of the free wall under the lateral load three times the model's

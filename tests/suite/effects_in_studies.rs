@@ -36,11 +36,11 @@ fn a_study_with_effects_reproduces_the_discrepancy_ensemble_bit_for_bit() {
     for r in &rows {
         let g = study.groups.iter().position(|g| g.name == r.group).unwrap();
         let i = r.realization as usize;
-        assert_eq!(r.collapse.collapse_angle_deg, engine[g][i].collapse_deg, "{} r{}", r.group, r.realization);
+        assert_eq!(r.collapse.collapse_angle_deg, engine[g][i].observed.collapse_deg, "{} r{}", r.group, r.realization);
         if g == 0 {
-            assert_eq!(r.collapse.collapse_angle_deg, candidate[0][i].collapse_deg, "candidate path, r{i}");
+            assert_eq!(r.collapse.collapse_angle_deg, candidate[0][i].observed.collapse_deg, "candidate path, r{i}");
         }
-        if r.collapse.collapse_angle_deg != baseline[g][i].collapse_deg {
+        if r.collapse.collapse_angle_deg != baseline[g][i].observed.collapse_deg {
             changed += 1;
         }
     }
@@ -72,7 +72,7 @@ fn the_written_extended_study_runs_the_extended_model() {
     for r in &rows {
         let g = ext.groups.iter().position(|g| g.name == r.group).unwrap();
         assert_eq!(
-            r.collapse.collapse_angle_deg, engine[g][r.realization as usize].collapse_deg,
+            r.collapse.collapse_angle_deg, engine[g][r.realization as usize].observed.collapse_deg,
             "{} r{}",
             r.group, r.realization
         );
