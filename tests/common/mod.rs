@@ -89,3 +89,16 @@ pub fn assert_same_tilt_result(
     }
     limit
 }
+
+/// The property tests' random-number seed: fixed (20210917), so that a test run is the
+/// same run on every machine and a failure reproduces; `DRYSTONE_PROPTEST_SEED=N` for
+/// another fixed seed, `DRYSTONE_PROPTEST_SEED=random` for a fresh one per run (a soak,
+/// with `DRYSTONE_PROPTEST_CASES`).
+pub fn proptest_seed() -> proptest::test_runner::RngSeed {
+    use proptest::test_runner::RngSeed;
+    match std::env::var("DRYSTONE_PROPTEST_SEED").ok().as_deref() {
+        Some("random") => RngSeed::Random,
+        Some(s) => s.parse().map(RngSeed::Fixed).unwrap_or(RngSeed::Fixed(20210917)),
+        None => RngSeed::Fixed(20210917),
+    }
+}

@@ -141,7 +141,12 @@ fn the_wall_fuzzing_reaches_the_generator() {
 }
 
 fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        rng_seed: crate::common::proptest_seed(),
+        ..ProptestConfig::default()
+    }
 }
 
 proptest! {

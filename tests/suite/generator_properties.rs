@@ -101,7 +101,12 @@ fn check_invariants(wall: &Wall, g: &GeneratedWall) -> Result<(), String> {
 /// `cases` cases (or `DRYSTONE_PROPTEST_CASES` for a longer soak), no regression files.
 fn config(cases: u32) -> ProptestConfig {
     let cases = std::env::var("DRYSTONE_PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(cases);
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        rng_seed: crate::common::proptest_seed(),
+        ..ProptestConfig::default()
+    }
 }
 
 fn run(name: &str, seed: u64, realization: u64) -> Result<(), TestCaseError> {
