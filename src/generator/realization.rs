@@ -174,7 +174,7 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
             PieceKind::Wedge => (&mut wedge_no[p.course], 'w', &wall.wedge_material),
         };
         let base_id = format!("c{}{letter}{}", p.course, *no);
-        let mut kept = false;
+        let mut built = Vec::new();
         for (part, suffix, polygon) in parts(wall, p) {
             let (lo, hi) = part.bounds();
             let mut vertices = Vec::with_capacity(2 * polygon.len());
@@ -190,13 +190,14 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
             };
             let volume = a * width;
             // A wedge can be a thin sliver; keep it only if the hull the DEM will build from
-            // its vertices is the block (quickhull can fail on slivers): else the gap stays
-            // open.
+            // the vertices of every part across the section is the block (quickhull can fail
+            // on slivers): else the gap stays open through the whole section (a sliver kept
+            // in a leaf and dropped from the hearting would leave their elevations unequal).
             if p.kind == PieceKind::Wedge && !hull_is_faithful(&vertices, volume) {
-                continue;
+                built.clear();
+                break;
             }
-            kept = true;
-            pieces.push(Piece {
+            built.push(Piece {
                 id: format!("{base_id}{suffix}"),
                 kind: p.kind,
                 course: p.course,
@@ -209,9 +210,10 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
                 part,
             });
         }
-        if kept {
+        if !built.is_empty() {
             *no += 1;
         }
+        pieces.append(&mut built);
     }
     pieces
 }

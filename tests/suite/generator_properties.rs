@@ -604,3 +604,69 @@ fn a_stated_void_fraction_is_the_realized_void_under_steep_beds() {
         println!("{name}: largest excess void over the stated {f}: {worst:.4}");
     }
 }
+
+/// A case the property above once drew (a double-faced irregular wall of 28.6 mm courses
+/// and stones with leaves 22.4 mm wide): sliver wedges whose hull the leaves kept and the
+/// hearting dropped, so the hearting's elevation came 5.8e-6 m² short of the leaves'. A
+/// wedge is now kept or dropped through the whole section.
+#[test]
+fn a_sliver_wedge_is_kept_or_dropped_through_the_whole_section() {
+    let dir = crate::common::Scratch::new("sliver-wedge");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("wall.toml");
+    std::fs::write(&path, SLIVER_CASE).unwrap();
+    let w = drystone::generator::Wall::from_file(&path).unwrap();
+    let g = generate(&w, 5240284217772058972, 0).unwrap();
+    check_invariants(&w, &g).unwrap();
+    check_leaves(&w, &g).unwrap();
+}
+
+const SLIVER_CASE: &str = r#"
+version = 1
+name = "property"
+gravity_m_per_s2 = 9.81
+
+[geometry]
+length_m = 1.1047570210993758
+height_m = 0.2
+base_width_m = 0.5598072189629594
+top_width_m = 0.22392288758518375
+batter = "symmetric"
+
+[arrangement]
+kind = "irregular"
+dip_deg = "dip"
+
+[courses]
+height_m = 0.028571428571428574
+
+[blocks]
+length_m = 0.028571428571428574
+
+[head_joints]
+
+[section]
+leaves = 2
+leaf_width_m = 0.022392288758518376
+
+[[materials]]
+name = "m"
+density_kg_per_m3 = 2200.0
+kn_pa_per_m = 50000000.0
+ks_pa_per_m = 25000000.0
+friction_deg = 35.0
+cohesion_pa = 0.0
+tensile_strength_pa = 0.0
+
+[restraints]
+base = "held"
+
+[restraints.ends]
+kind = "free"
+
+[distributions.dip]
+unit = "deg"
+kind = "uniform"
+min = -7.160043558826364
+max = 7.160043558826364
+"#;
