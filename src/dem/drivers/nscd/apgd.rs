@@ -92,9 +92,10 @@ fn project(r: &Vec3, mu: f64) -> Vec3 {
     }
 }
 
-/// De Saxcé's shift of a point at relative velocity `u`.
+/// De Saxcé's shift `μ ‖u_t‖` of a point at relative velocity `u` (local frame, m/s); 0 at
+/// a point held against slip.
 #[inline]
-fn shift_of(u: &Vec3, mu: f64) -> f64 {
+pub(super) fn shift_of(u: &Vec3, mu: f64) -> f64 {
     if mu >= HELD_FRICTION {
         0.0
     } else {

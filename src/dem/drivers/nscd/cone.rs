@@ -60,6 +60,7 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::{DMatrix, DVector};
 
+use super::apgd::shift_of;
 use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::nsgs::{natural_residual, BodyState, SweepOutcome};
@@ -128,15 +129,6 @@ pub fn solve(rows: &[PointRows], impulse: &mut [Vec3], b: &mut BodyState<'_>, to
     b.vel.copy_from_slice(&best_v);
     b.angvel.copy_from_slice(&best_w);
     SweepOutcome { sweeps: programs, converged: best <= tolerance, residual_m_per_s: 0.0, quad: best }
-}
-
-/// De Saxcé's shift of a point at relative velocity `u` (0 at a held point), m/s.
-fn shift_of(u: &Vec3, mu: f64) -> f64 {
-    if mu >= HELD_FRICTION {
-        0.0
-    } else {
-        mu * (u.y * u.y + u.z * u.z).sqrt()
-    }
 }
 
 /// The program of one step: `P`, `A` and the cones (fixed), the free velocities and the
