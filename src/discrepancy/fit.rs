@@ -308,8 +308,8 @@ impl Data<'_> {
         }
         if let Observable::FailureHeight { width } = o {
             let sim = &sims[self.key[j]];
-            let e = self.reading.misreading;
-            return self.weight[j] * super::predictive::height_score(sim, self.y[j], *width, self.obs[j].sigma, e);
+            let r = &self.reading;
+            return self.weight[j] * super::predictive::height_score(sim, self.y[j], *width, self.obs[j].sigma, r);
         }
         let r = self.reading.of(o);
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
@@ -640,7 +640,7 @@ mod tests {
         let y = vec![12.4; 6];
         let key = vec![0usize; 6];
         let weight = vec![1.0; 6];
-        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6, misreading: 0.1 };
+        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6, misreading: 0.1, neighbour_joint: 0.0 };
         let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let all: Vec<usize> = (0..6).collect();
         let (x, _) = fit(&s, data, &all);

@@ -111,7 +111,7 @@ fn divergence(data: Data<'_>, a: &[Simulated], b: &[Simulated], j: usize) -> f64
                     let y = ((i as f64 + 0.5) * w).min(1.0);
                     // The score is −ln q + ln(width of the clipped interval).
                     let (lo, hi) = ((y - 0.5 * w).max(0.0), (y + 0.5 * w).min(1.0));
-                    (-(height_score(s, y, w, o.sigma, data.reading.misreading) - (hi - lo).ln())).exp()
+                    (-(height_score(s, y, w, o.sigma, &data.reading) - (hi - lo).ln())).exp()
                 })
                 .collect()
         };

@@ -187,6 +187,10 @@ pub fn draw_data(
             // A realization that fell before the tilt gives no displacement: the specimen
             // is read at its predictive mean there (rare; keeps the design balanced).
             let v = v.filter(|v| v.is_finite()).unwrap_or(if p.mean.is_finite() { p.mean } else { 0.0 });
+            let v = match obs[j].observable {
+                Observable::FailureHeight { width } => reading.neighbour_read(v, width, rng.random()),
+                _ => v,
+            };
             y[j] = reading.round(&obs[j].observable, v);
         }
     }
@@ -432,7 +436,7 @@ mod tests {
             .collect();
         let key = vec![0usize; n];
         let weight = vec![1.0; n];
-        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9, misreading: 0.1 };
+        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9, misreading: 0.1, neighbour_joint: 0.0 };
         let data = Data { obs: &obs, y: &y0, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let stated = vec![sigma; n];
         // A model spread larger than any data spread: the σ estimate never exceeds the

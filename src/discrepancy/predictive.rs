@@ -28,10 +28,20 @@
 //! the surrogate's error added in quadrature) truncated to [0, 1], and mixed with a
 //! misreading component: with probability `ε` (\[0.1\], the readings' misreading
 //! probability) the reading belongs to none of the simulated failures and is uniform over
-//! the height. A reading interval `[a, b]` (clipped to [0, 1]) has probability
-//! `q = (1 − ε) Σ_i m_i K_i([a, b]) / K_i([0, 1]) + ε (b − a)` (`m_i` the bin shares,
-//! `K_i` the kernel's mass about bin centre `c_i`; the uniform alone when no realization
-//! gave a height) and the score `−ln q + ln (b − a)`. The misreading component bounds the
+//! the height. The joint read need not be the one the model calls the failing joint:
+//! observers differ in which block they call the lowest of the moving part (the lowest that
+//! moved at all, or the lowest that moved with the rest), by about a course. A reading of
+//! the joint `y` with interval `[a, b] = y ± w/2` (clipped to [0, 1]) stands for the failing
+//! joint `y` with probability `1 − 2d` and for each neighbouring joint `y ± w` with
+//! probability `d` (\[0.25\], `Reading::neighbour_joint`; a neighbour off the wall gives its
+//! share to `y`). Its probability is
+//! `q = (1 − ε) Σ_s d_s Σ_i m_i K_i([a, b] + s) / K_i([0, 1]) + ε (b − a)` (`s` ∈ {0, ±w},
+//! `d_0 = 1 − 2d`, `d_±w = d`; `m_i` the bin shares, `K_i` the kernel's mass about bin
+//! centre `c_i`; the uniform alone when no realization gave a height) and the score
+//! `−ln q + ln (b − a)`. A model whose failures sit one course from the readings then
+//! loses about `ln 2` per specimen, not the several nats a kernel of one twentieth of the
+//! height would charge: a difference of definition between the reader and the model is
+//! not evidence for a cause, a failure several courses away still is. The misreading component bounds the
 //! score of a specimen failing where no realization did (at most `−ln ε`), so one odd
 //! reading cannot sink a cause, and a floor keeps every joint possible (a kernel density
 //! mixture with a defensive component: Hesterberg 1995, Technometrics 37:185). A kind or a start is a
@@ -128,15 +138,13 @@ impl Heights {
         Heights(h)
     }
 
-    /// The probability of a failure height read in `[a, b]` (fractions): the kernel
-    /// density of the shares (Gaussian of standard deviation `sd`, each bin's kernel
-    /// truncated to [0, 1]) mixed with weight `e` with the uniform (module documentation);
-    /// the uniform alone when empty.
-    pub fn probability(&self, a: f64, b: f64, sd: f64, e: f64) -> f64 {
+    /// The kernel mass of the shares in `[a, b]` (fractions, clipped to [0, 1]): each
+    /// bin's Gaussian of standard deviation `sd` truncated to [0, 1] (module
+    /// documentation); 0 when empty or when the clipped interval is empty.
+    pub fn mass(&self, a: f64, b: f64, sd: f64) -> f64 {
         let (a, b) = (a.max(0.0), b.min(1.0));
-        let w = (b - a).max(0.0);
-        if self.is_empty() {
-            return w;
+        if self.is_empty() || !(b > a) {
+            return 0.0;
         }
         let phi = |z: f64| 0.5 * statrs::function::erf::erfc(-z / std::f64::consts::SQRT_2);
         let sd = sd.max(1e-6);
@@ -150,7 +158,36 @@ impl Heights {
             let whole = phi((1.0 - c) / sd) - phi(-c / sd);
             p += m * (phi((b - c) / sd) - phi((a - c) / sd)).max(0.0) / whole.max(1e-300);
         }
-        (1.0 - e) * p + e * w
+        p
+    }
+
+    /// The probability of a failure height read as the joint `y ± w/2` (fractions): the
+    /// joint read is the failing joint with probability `1 − 2 d`, the joint one reading
+    /// width `w` below or above it with probability `d` each (`d` =
+    /// [`Reading::neighbour_joint`]; a neighbour off the wall gives its share to the joint
+    /// read), each the kernel mass ([`Heights::mass`]) of its interval, all mixed with
+    /// weight `e` ([`Reading::misreading`]) with the uniform over the clipped interval
+    /// (module documentation); the uniform alone when empty.
+    pub fn probability(&self, y: f64, w: f64, sd: f64, reading: &Reading) -> f64 {
+        let (a, b) = ((y - 0.5 * w).max(0.0), (y + 0.5 * w).min(1.0));
+        let width = (b - a).max(0.0);
+        if self.is_empty() {
+            return width;
+        }
+        let d = reading.neighbour_joint;
+        let mut centre = 1.0 - 2.0 * d;
+        let mut p = 0.0;
+        for shift in [-w, w] {
+            let (lo, hi) = ((y + shift - 0.5 * w).max(0.0), (y + shift + 0.5 * w).min(1.0));
+            if d > 0.0 && hi > lo {
+                p += d * self.mass(lo, hi, sd);
+            } else {
+                centre += d;
+            }
+        }
+        p += centre * self.mass(a, b, sd);
+        let e = reading.misreading;
+        (1.0 - e) * p + e * width
     }
 }
 
@@ -194,11 +231,17 @@ pub struct Reading {
     /// a failure height belongs to none of the simulated failures (uniform over the
     /// height) \[0.1\].
     pub misreading: f64,
+    /// Share of a failure-height reading that belongs to each neighbouring bed joint, one
+    /// reading interval below or above the joint read \[0.25\]: observers differ in which
+    /// joint they call the bottom of the moving part (the lowest block that moved at all,
+    /// or the lowest that moved with the rest), by about a course; half of a reading's
+    /// mass stays on the joint read. 0: the joint read is the failing joint.
+    pub neighbour_joint: f64,
 }
 
 impl Default for Reading {
     fn default() -> Self {
-        Reading { angle_deg: 0.5, displacement_cm: 0.1, misreading: 0.1 }
+        Reading { angle_deg: 0.5, displacement_cm: 0.1, misreading: 0.1, neighbour_joint: 0.25 }
     }
 }
 
@@ -226,6 +269,23 @@ impl Reading {
                 let r = self.of(o);
                 (v / r).round() * r
             }
+        }
+    }
+
+    /// A failure height `v` (fraction) as a reader of interval width `w` names it, for a
+    /// uniform draw `u` in [0, 1): one joint below with probability
+    /// [`Reading::neighbour_joint`], one above with the same, else `v` (the draws of the
+    /// likelihood's reading model; module documentation). `v` itself when `w` is 0.
+    pub fn neighbour_read(&self, v: f64, w: f64, u: f64) -> f64 {
+        let d = self.neighbour_joint;
+        if !(w > 0.0) {
+            v
+        } else if u < d {
+            v - w
+        } else if u < 2.0 * d {
+            v + w
+        } else {
+            v
         }
     }
 
@@ -343,13 +403,14 @@ pub fn category_score(q: f64, y: f64) -> f64 {
 
 /// The score of a failure height read as `y ± w/2` (fractions of the wall's height)
 /// against the realizations' distribution `sim.heights`: kernel σ `sqrt(sigma² + err²)`,
-/// misreading probability `e`; `−ln q + ln w` (module documentation). `w` of 0 is read as
-/// 0.01.
-pub fn height_score(sim: &Simulated, y: f64, w: f64, sigma: f64, e: f64) -> f64 {
-    let w = if w > 0.0 { w } else { 0.01 };
+/// the reading's neighbouring joints and misreading as `reading` has them
+/// ([`Heights::probability`]); `−ln q + ln w` (module documentation). `w` of 0 is read as
+/// 0.01, with no neighbouring joints.
+pub fn height_score(sim: &Simulated, y: f64, w: f64, sigma: f64, reading: &Reading) -> f64 {
+    let (w, reading) = if w > 0.0 { (w, *reading) } else { (0.01, Reading { neighbour_joint: 0.0, ..*reading }) };
     let (a, b) = ((y - 0.5 * w).max(0.0), (y + 0.5 * w).min(1.0));
     let sd = (sigma * sigma + sim.err * sim.err).sqrt();
-    let q = sim.heights.probability(a, b, sd, e);
+    let q = sim.heights.probability(y, w, sd, &reading);
     if !(q > 0.0) || !(b > a) {
         return NLPD_MISSING;
     }
@@ -410,6 +471,7 @@ mod tests {
         assert!((h.0[0] - 0.8).abs() < 1e-15 && (h.0[15] - 0.2).abs() < 1e-15);
         let sim = Simulated { heights: h, ..Simulated::from_values(&v) };
         let (sd, e, w) = (0.05, 0.1, 0.125);
+        let r = Reading { misreading: e, neighbour_joint: 0.0, ..Reading::default() };
         let n = Normal::new(0.0, 1.0).unwrap();
         let k = |a: f64, b: f64, c: f64| {
             (n.cdf((b - c) / sd) - n.cdf((a - c) / sd)) / (n.cdf((1.0 - c) / sd) - n.cdf(-c / sd))
@@ -417,13 +479,13 @@ mod tests {
         // Reading at the upper joint: [0.6875, 0.8125].
         let (a, b) = (0.75 - w / 2.0, 0.75 + w / 2.0);
         let q = 0.9 * (0.8 * k(a, b, 0.0) + 0.2 * k(a, b, 0.75)) + e * w;
-        let got = height_score(&sim, 0.75, w, sd, e);
+        let got = height_score(&sim, 0.75, w, sd, &r);
         assert!((got - (-q.ln() + w.ln())).abs() < 1e-12, "{got}");
         // Reading at the table joint: [0, 0.0625] (clipped).
         let q0 = 0.9 * (0.8 * k(0.0, 0.0625, 0.0) + 0.2 * k(0.0, 0.0625, 0.75)) + e * 0.0625;
-        assert!((height_score(&sim, 0.0, w, sd, e) - (-q0.ln() + 0.0625f64.ln())).abs() < 1e-12);
+        assert!((height_score(&sim, 0.0, w, sd, &r) - (-q0.ln() + 0.0625f64.ln())).abs() < 1e-12);
         // Nowhere near a simulated failure: bounded by the misreading floor.
-        let odd = height_score(&sim, 0.4, w, sd, e);
+        let odd = height_score(&sim, 0.4, w, sd, &r);
         assert!(odd <= -(e * w).ln() + w.ln() + 1e-9 && odd > got, "{odd}");
         // The Student-t about the mean (0.15, sd 0.32) spreads its mass: the upper joint
         // scores better under the joint distribution than under it.
@@ -435,12 +497,64 @@ mod tests {
         assert!(got < t.score(0.75, w), "{got} vs {}", t.score(0.75, w));
         // No realization failed with a mechanism: the uniform, score 0.
         let none = Simulated::from_values(&[]);
-        assert!(height_score(&none, 0.5, w, sd, e).abs() < 1e-12);
+        assert!(height_score(&none, 0.5, w, sd, &r).abs() < 1e-12);
         // Mixtures: interpolation keeps a distribution; a shift renormalizes.
         let m = h.lerp(&Heights::of(&[0.5]), 0.25);
         assert!((m.0.iter().sum::<f64>() - 1.0).abs() < 1e-12 && (m.0[10] - 0.25).abs() < 1e-15);
         let s = Heights::of(&[0.0]).shifted(&[(&Heights::of(&[0.75]), &Heights::of(&[0.0]))]);
         assert_eq!(s, Heights::of(&[0.75]));
+    }
+
+    /// The reading's neighbouring joints: against realizations that all failed at the
+    /// joint 0.5 of the height, a reading of that joint and a reading one interval (a
+    /// course) above it, with half the mass on the joint read and a quarter on each
+    /// neighbour, match the closed form of the three shifted kernels; the reading a course
+    /// off costs `ln((1 − 2d) K₀ + d K₁) − ln(d K₀ + …)`, about `ln 2` for a narrow kernel,
+    /// where without the neighbours it costs several nats; a neighbour off the wall gives
+    /// its share to the joint read.
+    #[test]
+    fn a_failure_height_read_a_course_off_costs_what_the_neighbouring_joint_is_worth() {
+        use statrs::distribution::{ContinuousCDF, Normal};
+        let v = [0.5; 10];
+        let sim = Simulated { heights: Heights::of(&v), ..Simulated::from_values(&v) };
+        let (sd, w) = (0.05, 0.25);
+        let n = Normal::new(0.0, 1.0).unwrap();
+        let k = |a: f64, b: f64| {
+            let (a, b) = (a.max(0.0), b.min(1.0));
+            (n.cdf((b - 0.5) / sd) - n.cdf((a - 0.5) / sd)) / (n.cdf(0.5 / sd) - n.cdf(-0.5 / sd))
+        };
+        let r = Reading::default();
+        let (e, d) = (r.misreading, r.neighbour_joint);
+        let q = |y: f64| {
+            let c = (1.0 - 2.0 * d) * k(y - w / 2.0, y + w / 2.0);
+            let nb = d * k(y - 1.5 * w, y - 0.5 * w) + d * k(y + 0.5 * w, y + 1.5 * w);
+            (1.0 - e) * (c + nb) + e * w
+        };
+        let at = height_score(&sim, 0.5, w, sd, &r);
+        let off = height_score(&sim, 0.75, w, sd, &r);
+        assert!((at - (-q(0.5).ln() + w.ln())).abs() < 1e-12, "{at}");
+        assert!((off - (-q(0.75).ln() + w.ln())).abs() < 1e-12, "{off}");
+        let cost = off - at;
+        assert!(cost > 0.5 && cost < 0.8, "a course off costs {cost}");
+        let strict = Reading { neighbour_joint: 0.0, ..r };
+        let cost0 = height_score(&sim, 0.75, w, sd, &strict) - height_score(&sim, 0.5, w, sd, &strict);
+        assert!(cost0 > 2.0, "without the neighbours a course off costs {cost0}");
+        // Two courses off: the misreading floor `−ln ε`, with or without the neighbours.
+        let (far, far0) = (height_score(&sim, 1.0, w, sd, &r), height_score(&sim, 1.0, w, sd, &strict));
+        assert!((far - far0).abs() < 0.15 && far <= far0, "{far} {far0}");
+        // At the table joint the neighbour below is off the wall: its share stays on the
+        // joint read, so the probabilities of the readings 0, 0.25, ... still sum to 1.
+        let total: f64 = [0.0, 0.25, 0.5, 0.75, 1.0]
+            .iter()
+            .map(|&y| {
+                let (a, b) = ((y - w / 2.0f64).max(0.0), (y + w / 2.0f64).min(1.0));
+                (-(height_score(&sim, y, w, sd, &r) - (b - a).ln())).exp()
+            })
+            .sum();
+        assert!((total - 1.0).abs() < 1e-9, "{total}");
+        // The reader's draws: below, above, or the joint, in the shares of the model.
+        assert_eq!((r.neighbour_read(0.5, w, 0.1), r.neighbour_read(0.5, w, 0.3)), (0.25, 0.75));
+        assert_eq!((r.neighbour_read(0.5, w, 0.6), r.neighbour_read(0.5, 0.0, 0.1)), (0.5, 0.5));
     }
 
     #[test]

@@ -125,6 +125,10 @@ impl Settings {
         if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
             return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");
         }
+        let d = self.reading.neighbour_joint;
+        if !(d.is_finite() && (0.0..0.5).contains(&d)) {
+            return bad("reading.neighbour_joint", d.to_string(), "must be in [0, 0.5)");
+        }
         for (key, v) in
             [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
         {

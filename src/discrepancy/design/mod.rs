@@ -372,6 +372,7 @@ impl Problem<'_> {
                         let z: f64 = StandardNormal.sample(rng);
                         (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
                     };
+                    let v = self.reading.neighbour_read(v, *width, rng.random());
                     out.push((k, self.reading.round(&Observable::FailureHeight { width: *width }, v)));
                 }
                 _ => {
