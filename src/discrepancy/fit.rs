@@ -315,6 +315,26 @@ impl Data<'_> {
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
     }
 
+    /// Whether the absolute checks of fit read observation `j`: the collapse angles and
+    /// the displacements, not the mechanism readings. The misfit margin and the posterior
+    /// predictive check compare a model's score on the data with its score on data drawn
+    /// from itself; a mechanism reading drawn from a realization is read by the product's
+    /// own rule (`loading::mechanism::read_mechanism`), a specimen's by a person whose rule
+    /// differs from it (which block is the lowest that moved, what counts as toppling or a
+    /// centre start), so on mechanism readings such a check would test the reader, not the
+    /// model. The readings enter the comparisons between models (the ranking, the gain
+    /// margin, the tie checks, the weights), where a reader's rule costs every model alike.
+    pub fn fit_checked(&self, j: usize) -> bool {
+        !self.obs[j].observable.is_mechanism()
+    }
+
+    /// Every observation's score `scores` with those the absolute checks do not read
+    /// ([`Data::fit_checked`]) set to 0 (sums over it are those of the checked
+    /// observations, in the same order).
+    pub fn checked_scores(&self, scores: &[f64]) -> Vec<f64> {
+        scores.iter().enumerate().map(|(j, &s)| if self.fit_checked(j) { s } else { 0.0 }).collect()
+    }
+
     /// The predictive distribution of observation `j` (of a category's indicator:
     /// [`Predictive::category`]).
     pub fn predictive(&self, sims: &[Simulated], j: usize) -> Predictive {

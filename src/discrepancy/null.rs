@@ -286,13 +286,6 @@ fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: 
     out
 }
 
-/// The baseline's held-out (plain) score per specimen.
-pub fn baseline_per_specimen(lib: &Models, data: Data<'_>, specimens: &[String]) -> Vec<f64> {
-    let n = data.obs.len();
-    let scores: Vec<f64> = (0..n).map(|j| data.score(&lib.baseline, j)).collect();
-    per_specimen(&scores, data.obs, specimens)
-}
-
 /// The 95 % Clopper–Pearson interval of a binomial proportion `k / n`.
 pub fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
     use statrs::distribution::{Beta, ContinuousCDF};
@@ -323,11 +316,13 @@ pub fn calibrate_margins(
             let mut rng = rng_for(seed, b as u64, Purpose::Discrepancy);
             let (y, o) = draw_data(data0, specimens, source, data0.reading, &mut rng);
             let data = Data { obs: &o, y: &y, ..data0 };
-            let base = baseline_per_specimen(lib, data, specimens);
+            let scores: Vec<f64> = (0..o.len()).map(|j| data.score(&lib.baseline, j)).collect();
+            let base = per_specimen(&scores, data.obs, specimens);
             let base_he = base.iter().sum::<f64>() / n;
             let ranked = rank(&lib.candidates, data, specimens, &base);
             let best = ranked.first().map_or(base_he, |r| r.heldout_error);
-            (base_he - best, base_he)
+            let misfit = per_specimen(&data.checked_scores(&scores), data.obs, specimens).iter().sum::<f64>() / n;
+            (base_he - best, misfit)
         })
         .collect();
     let (baseline, misfit) = joint_margins(&runs);
@@ -461,6 +456,56 @@ mod tests {
         let se_mean = (want / reps as f64).sqrt();
         assert!((m - 20.0).abs() < 4.0 * se_mean, "mean {m}, want 20 ± {se_mean}");
         assert!((var / want - 1.0).abs() < 0.05, "var {var}, want {want}");
+    }
+
+    /// The absolute check of fit reads the angles, not the mechanism readings: twelve
+    /// specimens whose collapse angles are drawn like the model's realizations pass the
+    /// posterior predictive check; the same specimens each read as having slid, where every
+    /// realization toppled (a reader whose rule is not the model's), give the same score
+    /// (bit for bit) and still pass, while the readings cost that model in a comparison
+    /// (their score is large).
+    #[test]
+    fn mechanism_readings_the_model_never_shows_do_not_fail_the_predictive_check() {
+        use crate::discrepancy::analysis::predictive_check;
+        use crate::loading::mechanism::FailureKind;
+        let values: Vec<f64> = (0..12).map(|i| 20.0 + (i as f64 - 5.5) * 0.3).collect();
+        let pool = vec![values.iter().map(|&a| angle_outcome(a)).collect::<Vec<_>>()];
+        let sliding = Observable::MechanismKind { kind: FailureKind::Sliding };
+        let keys = vec![(0usize, Observable::CollapseAngle), (0usize, sliding)];
+        // Every realization toppled: none shows sliding (indicator 0 in all 12).
+        let sims = vec![Simulated::from_values(&values), Simulated::from_values(&[0.0; 12])];
+        let angles: Vec<Observation> = (0..12)
+            .map(|i| Observation {
+                specimen: format!("S{i}"),
+                group: "G".into(),
+                observable: Observable::CollapseAngle,
+                value: 20.0 + ((i * 7) % 12) as f64 * 0.25 - 1.4,
+                sigma: 0.3,
+            })
+            .collect();
+        let mut both = angles.clone();
+        both.extend(angles.iter().map(|o| Observation { observable: sliding, value: 1.0, sigma: 1.0, ..o.clone() }));
+        let reading = Reading { angle_deg: 0.25, displacement_cm: 0.1, misreading: 0.1, neighbour_joint: 0.25 };
+        let check = |obs: &[Observation]| {
+            let key: Vec<usize> = obs.iter().map(|o| usize::from(o.observable != Observable::CollapseAngle)).collect();
+            let y: Vec<f64> = obs.iter().map(|o| o.value).collect();
+            let weight = crate::discrepancy::compare::specimen_weights(obs);
+            let data = Data { obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.25 };
+            let stated: Vec<f64> = obs.iter().map(|o| o.sigma).collect();
+            let model_sd = vec![10.0, 10.0];
+            let rule = SigmaRule { stated: &stated, model_sd: &model_sd, reading };
+            let source = NullSource { pool: &pool, keys: &keys, sims: &sims, centre: &sims, sigma: rule };
+            let specimens: Vec<String> = (0..12).map(|i| format!("S{i}")).collect();
+            let labels = vec!["G alpha_max".to_string(), "G kind=sliding".to_string()];
+            let readings: f64 = (12..obs.len()).map(|j| data.score(&sims, j)).sum();
+            (predictive_check(data, &sims, &specimens, source, 400, 7, &labels), readings)
+        };
+        let (alone, _) = check(&angles);
+        let (with, cost) = check(&both);
+        assert!(alone.passes() && with.passes(), "{alone:?} {with:?}");
+        assert_eq!(alone.score.to_bits(), with.score.to_bits());
+        assert!(cost > 12.0 * 2.0, "the readings cost {cost}");
+        assert!(with.missed.iter().any(|(k, _)| k == "G kind=sliding"), "{:?}", with.missed);
     }
 
     /// The two alarms set together: on independent gains and misfit scores the union of

@@ -108,7 +108,7 @@ pub fn analyze_with(
         },
     };
     let (passes, tie) = (found.passes, found.tie);
-    let verdict = verdict(named.is_some(), passes, screening.base_he, margins.misfit);
+    let verdict = verdict(named.is_some(), passes, screening.base_misfit, margins.misfit);
     progress(&format!("verdict: {}", verdict.name()));
     let design = separating_design(&tie.members, &candidates, &pool, &obs, &keys, &labels);
     let cause_interval = named.as_ref().map_or(vec![], |b| fitted_parameters(b, &pool[b.index], data));
@@ -275,6 +275,9 @@ struct Screening {
     base_per: Vec<f64>,
     /// The baseline's held-out error (its mean score per specimen; it has no parameter).
     base_he: f64,
+    /// Its score per specimen on the observations the misfit margin reads
+    /// ([`Data::fit_checked`]: angles and displacements).
+    base_misfit: f64,
     /// The baseline's AICc.
     base_ic: f64,
     /// The library's candidates, best held-out error first.
@@ -291,17 +294,19 @@ fn screen(lib: &Models, data: Data<'_>, specimens: &[String]) -> Screening {
     let base_scores: Vec<f64> = (0..data.obs.len()).map(|j| data.score(&lib.baseline, j)).collect();
     let base_per = compare::per_specimen(&base_scores, data.obs, specimens);
     let base_he = base_per.iter().sum::<f64>() / n;
+    let base_misfit =
+        compare::per_specimen(&data.checked_scores(&base_scores), data.obs, specimens).iter().sum::<f64>() / n;
     let base_ic = compare::aicc(base_scores.iter().sum(), 0, specimens.len());
     let ranked = rank(&lib.candidates, data, specimens, &base_per);
     let screen_gain = ranked.first().map_or(0.0, |r| base_he - r.heldout_error);
-    Screening { base_scores, base_per, base_he, base_ic, ranked, screen_gain }
+    Screening { base_scores, base_per, base_he, base_misfit, base_ic, ranked, screen_gain }
 }
 
-/// Whether pairs of effects are tried: the best single candidate (`best`, over `n`
-/// specimens) still misfits significantly (its mean score per specimen above the misfit
-/// margin) and gains on the baseline by more than the gain margin.
-fn pairs_wanted(best: &Ranked, n: f64, base_he: f64, margins: &Margins) -> bool {
-    let best_fit = best.scores.iter().sum::<f64>() / n;
+/// Whether pairs of effects are tried: the best single candidate (`best`) still misfits
+/// significantly (`best_fit`, its mean score per specimen on the observations the misfit
+/// margin reads, [`Data::fit_checked`], above the margin) and gains on the baseline by
+/// more than the gain margin.
+fn pairs_wanted(best: &Ranked, best_fit: f64, base_he: f64, margins: &Margins) -> bool {
     best_fit > margins.misfit && base_he - best.heldout_error > margins.baseline
 }
 
@@ -328,7 +333,8 @@ fn add_pairs(
 ) -> usize {
     let n = specimens.len().max(1) as f64;
     let Some(best) = screening.ranked.first() else { return 0 };
-    if !pairs_wanted(best, n, screening.base_he, margins) {
+    let best_fit = data.checked_scores(&best.scores).iter().sum::<f64>() / n;
+    if !pairs_wanted(best, best_fit, screening.base_he, margins) {
         return 0;
     }
     let offset = pool.len();
@@ -521,7 +527,8 @@ fn tie_checks(
 
 /// Stage 9, the verdict: a named cause whose extended model passes its predictive check
 /// explains the data, one that fails it is a partial explanation (`unexplained`); without
-/// a cause, the baseline's held-out error `base_he` above the misfit margin is
+/// a cause, the baseline's score `base_he` on the observations the misfit margin reads
+/// ([`Data::fit_checked`]) above the margin is
 /// `unexplained`, else `no_effect`.
 fn verdict(named: bool, passes: bool, base_he: f64, misfit: f64) -> Verdict {
     match (named, passes) {
