@@ -177,11 +177,12 @@ pub fn pairs(lib: &Models, ranked: &[Ranked]) -> Vec<Candidate> {
 }
 
 /// The posterior predictive check of a model on the data: its score per specimen (at its
-/// full-data fit) on the collapse angles and displacements ([`Data::fit_checked`]: not
-/// the mechanism readings, which a person reads by a rule of their own) against the 95th
+/// full-data fit) on the collapse angles, displacements and failure heights
+/// ([`Data::fit_checked`]: not the mechanism's kind and start, which a person classifies
+/// by a convention of their own) against the 95th
 /// percentile of the same score on `replicates` data sets drawn from the model's own
 /// independent realizations; the observables it misses are listed over every key, the
-/// mechanism's included.
+/// kinds and starts included.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PredictiveCheck {
     /// The data's score per specimen.

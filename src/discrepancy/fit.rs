@@ -315,17 +315,21 @@ impl Data<'_> {
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
     }
 
-    /// Whether the absolute checks of fit read observation `j`: the collapse angles and
-    /// the displacements, not the mechanism readings. The misfit margin and the posterior
-    /// predictive check compare a model's score on the data with its score on data drawn
-    /// from itself; a mechanism reading drawn from a realization is read by the product's
-    /// own rule (`loading::mechanism::read_mechanism`), a specimen's by a person whose rule
-    /// differs from it (which block is the lowest that moved, what counts as toppling or a
-    /// centre start), so on mechanism readings such a check would test the reader, not the
-    /// model. The readings enter the comparisons between models (the ranking, the gain
-    /// margin, the tie checks, the weights), where a reader's rule costs every model alike.
+    /// Whether the absolute checks of fit read observation `j`: the collapse angles, the
+    /// displacements and the failure heights, not the categorical readings of the
+    /// mechanism (kind, start). The misfit margin and the posterior predictive check
+    /// compare a model's score on the data with its score on data drawn from itself; a
+    /// realization's kind and start are classified by the product's own rule
+    /// (`loading::mechanism::read_mechanism`: a share of the largest motion, joints that
+    /// open or slide), a specimen's by a person whose rule differs from it (what counts as
+    /// toppling or as mixed, as a centre start or a uniform one), so on them such a check
+    /// would test the reader's convention, not the model. A failure height is a place on
+    /// the wall, read alike by any rule up to a neighbouring joint, which its likelihood
+    /// allows for ([`super::predictive::Reading::neighbour_joint`]). The categories enter
+    /// the comparisons between models (the ranking, the gain margin, the tie checks, the
+    /// weights), where a reader's convention costs every model alike.
     pub fn fit_checked(&self, j: usize) -> bool {
-        !self.obs[j].observable.is_mechanism()
+        !matches!(self.obs[j].observable, Observable::MechanismKind { .. } | Observable::MechanismStart { .. })
     }
 
     /// Every observation's score `scores` with those the absolute checks do not read

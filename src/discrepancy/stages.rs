@@ -276,7 +276,7 @@ struct Screening {
     /// The baseline's held-out error (its mean score per specimen; it has no parameter).
     base_he: f64,
     /// Its score per specimen on the observations the misfit margin reads
-    /// ([`Data::fit_checked`]: angles and displacements).
+    /// ([`Data::fit_checked`]: angles, displacements and failure heights).
     base_misfit: f64,
     /// The baseline's AICc.
     base_ic: f64,
