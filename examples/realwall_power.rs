@@ -4,7 +4,7 @@
 //! rounded readings), analysed against one prepared set of forward runs.
 //!
 //! ```sh
-//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP] [FIRST_NULL | LIST] [CLASSES] [FIRST_SET] [without | with | both]
+//! cargo run --release --example realwall_power -- [DATA_SETS_PER_EFFECT] [NULL_DATA_SETS] [SPECIMENS_PER_GROUP] [FIRST_NULL | LIST] [CLASSES] [FIRST_SET] [without | with | both] [product | independent | both]
 //! cargo run --release --example realwall_power -- effects     # the edits' effect on the specimens
 //! ```
 //!
@@ -21,6 +21,18 @@
 //! mechanism data, the mechanism keys and `base_restraint` join the search). `both` ends
 //! with a table of how often the named cause is the hidden effect alone, without and
 //! with the mechanisms.
+//!
+//! The eighth argument (or `REALWALL_OBSERVER`; the argument wins) says who reads the
+//! mechanisms: `product` (the default: each specimen's own `TiltResult::mechanism`
+//! reading, misread at [`MISREADING`]), `independent` (the test bed's independent
+//! observer, which shares no code with the product's reading, misread at
+//! [`INDEPENDENT_MISREADING`], its height too), or `both`: every data set with mechanisms
+//! analysed once per observer (the same specimens, noise and analysis seed; one
+//! preparation serves both). With `both` and `both`, each data set is analysed three
+//! ways, and every data set whose answer with an observer's readings differs from its
+//! answer without mechanisms gets a diagnosis: the held-out scores of the truth and of
+//! the named cause (or the best candidate) summed per kind of observable, the margins, the
+//! tie checks and the predictive check of each way, and which of them turned the answer.
 
 #[path = "../tests/realwalls/mod.rs"]
 mod realwalls;
@@ -29,8 +41,8 @@ use drystone::discrepancy::{analyze, prepare};
 use drystone::study::Study;
 use rayon::prelude::*;
 use realwalls::{
-    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template, specimen, Answer,
-    Edit, MechanismNoise, Noise,
+    classify, data_set, data_set_observed, mechanism_observations_via_file, mechanism_template, specimen, Answer, Edit,
+    MechanismNoise, Noise, Observer,
 };
 use statrs::distribution::{Beta, ContinuousCDF};
 use std::path::PathBuf;
@@ -42,6 +54,38 @@ const DATA_SEED: u64 = 0x5eed_da7a;
 /// The observers' misreading probability of a kind, and of a start (the engine's stated
 /// `reading.misreading` is also 0.1).
 const MISREADING: f64 = 0.1;
+/// The independent observer's misreading probability of a height (one course up or down),
+/// of a kind and of a start.
+const INDEPENDENT_MISREADING: f64 = 0.15;
+
+/// How a data set is analysed: angles and displacements only, or with the mechanisms as
+/// an observer read them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Way {
+    Without,
+    With(Observer),
+}
+
+impl Way {
+    fn label(self) -> &'static str {
+        match self {
+            Way::Without => "without",
+            Way::With(Observer::Product) => "with (product observer)",
+            Way::With(Observer::Independent) => "with (independent observer)",
+        }
+    }
+
+    fn short(self) -> &'static str {
+        match self {
+            Way::Without => "without",
+            Way::With(o) => o.name(),
+        }
+    }
+
+    fn with(self) -> bool {
+        self != Way::Without
+    }
+}
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -54,11 +98,11 @@ fn classes() -> Vec<Edit> {
     ]
 }
 
-/// One analysis: the edit, with mechanisms, the answer, (the named cause itself is the
-/// hidden effect or one of its members, named with no tie), the line printed, and (the
+/// One analysis: the edit, the way, the answer, (the named cause itself is the hidden
+/// effect or one of its members, named with no tie), the line printed, and (the
 /// pseudo-BMA+ weight of the truth, whether the truth is among the models that share the
 /// weight).
-type Row = (Edit, bool, Answer, (bool, bool), String, (f64, bool));
+type Row = (Edit, Way, Answer, (bool, bool), String, (f64, bool));
 
 fn clopper_pearson(k: usize, n: usize) -> (f64, f64) {
     let lo = if k == 0 { 0.0 } else { Beta::new(k as f64, (n - k + 1) as f64).unwrap().inverse_cdf(0.025) };
@@ -90,12 +134,20 @@ fn main() {
                     let h = (r.failure_height_fraction * 100.0).round() / 100.0;
                     *seen.entry(format!("{h} {} {}", r.kind.name(), r.start.name())).or_insert(0usize) += 1;
                 }
+                let mut independent = std::collections::BTreeMap::new();
+                for r in rows.iter().filter_map(|s| s.independent) {
+                    let h = (r.height_fraction * 100.0).round() / 100.0;
+                    let start = r.start.map_or("-", |s| s.name());
+                    *independent.entry(format!("{h} {} {start}", r.kind.name())).or_insert(0usize) += 1;
+                }
                 let d5: Vec<f64> = rows
                     .iter()
                     .filter_map(|s| s.top_cm.iter().find(|(t, _)| (*t - 5.0).abs() < 1e-9).map(|(_, v)| v[1]))
                     .collect();
+                let rot: Vec<f64> = rows.iter().filter_map(|s| s.independent.map(|r| r.rotation_deg)).collect();
+                let moving: Vec<f64> = rows.iter().filter_map(|s| s.independent.map(|r| r.moving as f64)).collect();
                 println!(
-                    "{:<32} {:<5} alpha mean {:6.2} sd {:5.2} | centre disp at 5 deg {:.4} cm (n {}) {:.1} s | mechanisms {:?}",
+                    "{:<32} {:<5} alpha mean {:6.2} sd {:5.2} | centre disp at 5 deg {:.4} cm (n {}) {:.1} s | mechanisms {:?} | independent observer {:?}, mean rotation {:.2} deg (max {:.2}), moving blocks {:.1}",
                     e.label(),
                     g.name,
                     drystone::stats::mean(&a),
@@ -103,7 +155,11 @@ fn main() {
                     drystone::stats::mean(&d5),
                     rows.len(),
                     t0.elapsed().as_secs_f64(),
-                    seen
+                    seen,
+                    independent,
+                    drystone::stats::mean(&rot),
+                    rot.iter().copied().fold(0.0, f64::max),
+                    drystone::stats::mean(&moving)
                 );
             }
         }
@@ -126,10 +182,21 @@ fn main() {
         args.get(4).filter(|a| *a != "all").map(|a| a.split(',').filter_map(|x| x.trim().parse().ok()).collect());
     let first_set: usize = args.get(5).and_then(|a| a.parse().ok()).unwrap_or(0);
     let mode = args.get(6).map_or("without", String::as_str);
-    let ways: Vec<bool> = match mode {
-        "without" => vec![false],
-        "with" => vec![true],
-        "both" => vec![false, true],
+    let who = args.get(7).cloned().or_else(|| std::env::var("REALWALL_OBSERVER").ok()).unwrap_or("product".into());
+    let observers: Vec<Observer> = match who.as_str() {
+        "product" => vec![Observer::Product],
+        "independent" => vec![Observer::Independent],
+        "both" => vec![Observer::Product, Observer::Independent],
+        other => {
+            eprintln!("the observer (eighth argument, or REALWALL_OBSERVER) is `product`, `independent` or `both`, not `{other}`");
+            std::process::exit(2);
+        }
+    };
+    let with_ways = observers.iter().map(|&o| Way::With(o));
+    let ways: Vec<Way> = match mode {
+        "without" => vec![Way::Without],
+        "with" => with_ways.collect(),
+        "both" => std::iter::once(Way::Without).chain(with_ways).collect(),
         other => {
             eprintln!("the seventh argument is `without`, `with` or `both`, not `{other}`");
             std::process::exit(2);
@@ -139,8 +206,10 @@ fn main() {
     let t0 = std::time::Instant::now();
     let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
     let setup = drystone::study::discrepancy::setup_of(&st, s.most_realizations());
-    // One preparation per way: with mechanism data the template holds every mechanism key.
-    let preps: Vec<_> = ways
+    // One preparation without and one with mechanism data (the template then holds every
+    // mechanism key; every observer's data sets share it).
+    let kinds: Vec<bool> = [false, true].into_iter().filter(|&w| ways.iter().any(|x| x.with() == w)).collect();
+    let preps: Vec<(bool, drystone::discrepancy::Prepared)> = kinds
         .iter()
         .map(|&with| {
             let mut t = template.clone();
@@ -153,9 +222,10 @@ fn main() {
                 if with { "with mechanisms" } else { "without" },
                 t0.elapsed().as_secs_f64()
             );
-            p
+            (with, p)
         })
         .collect();
+    let prep_of = |w: Way| &preps.iter().find(|p| p.0 == w.with()).expect("a preparation").1;
     let files = std::env::temp_dir().join(format!("realwall_power-{}", std::process::id()));
     // (edit, its class, data set index): a data set's specimens depend on its class and
     // index only, not on how many data sets the run has.
@@ -166,32 +236,128 @@ fn main() {
         }
         jobs.extend((first_set..first_set + per).map(|i| (e, c + 1, i)));
     }
-    // (edit, with mechanisms, answer, (the named cause itself is the hidden effect or one
-    // of its members, named with no tie), line)
-    let answers: Vec<Row> = jobs
+    let seen: Vec<(Observer, MechanismNoise)> = observers
         .iter()
-        .flat_map(|&(e, c, i)| {
-            let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
-            let seen = MechanismNoise { misreading: MISREADING };
-            let ds = data_set_with_mechanism(&st, DATA_SEED, first, specimens, e, NOISE, seen, &TILTS, s.sigma);
-            let mut out = Vec::new();
-            for (&with, prep) in ways.iter().zip(&preps) {
-                let mut obs = ds.obs.clone();
-                if with {
-                    let dir = files.join(format!("{c}-{i}"));
-                    obs.extend(mechanism_observations_via_file(&st, &dir, &ds.mechanism, s.sigma));
-                }
-                out.push(one(prep, obs, e, with, i, first));
-            }
-            out
+        .map(|&o| {
+            let m = if o == Observer::Product { MISREADING } else { INDEPENDENT_MISREADING };
+            (o, MechanismNoise { misreading: m })
         })
         .collect();
+    let mut answers: Vec<Row> = Vec::new();
+    let mut diagnoses: Vec<String> = Vec::new();
+    // (edit, observer, the rows as read) for the table of readings.
+    let mut readings: Vec<(Edit, Observer, Vec<drystone::io::measured::MeasuredMechanism>)> = Vec::new();
+    for &(e, c, i) in &jobs {
+        let first = 1_000 + 100 * i as u64 + 100_000 * c as u64;
+        let ds = data_set_observed(&st, DATA_SEED, first, specimens, e, NOISE, &seen, &TILTS, s.sigma);
+        for ((o, _), rows) in seen.iter().zip(&ds.mechanisms) {
+            readings.push((e, *o, rows.clone()));
+        }
+        let mut done: Vec<(Way, Row, Diag)> = Vec::new();
+        for &way in &ways {
+            let mut obs = ds.obs.clone();
+            if let Way::With(o) = way {
+                let k = seen.iter().position(|x| x.0 == o).expect("an observer's rows");
+                let dir = files.join(format!("{c}-{i}-{}", o.name()));
+                obs.extend(mechanism_observations_via_file(&st, &dir, &ds.mechanisms[k], s.sigma));
+            }
+            let (row, diag) = one(prep_of(way), obs, e, way, i, first);
+            done.push((way, row, diag));
+        }
+        if let Some((_, base, d0)) = done.iter().find(|d| d.0 == Way::Without) {
+            for (way, row, d) in done.iter().filter(|d| d.0.with()) {
+                if row.2 != base.2 || d.verdict != d0.verdict || d.cause != d0.cause || row.3 != base.3 {
+                    let text = diagnose(e, i, *way, (base, d0), (row, d));
+                    eprintln!("{text}");
+                    diagnoses.push(text);
+                }
+            }
+        }
+        answers.extend(done.into_iter().map(|d| d.1));
+    }
     let _ = std::fs::remove_dir_all(&files);
-    for &with in &ways {
+    for &way in &ways {
         println!();
-        println!("{}", if with { "With the mechanisms:" } else { "Without the mechanisms:" });
+        println!("{}:", way.label());
         println!();
-        table(&answers, with);
+        table(&answers, way);
+    }
+    if ways.len() > 1 {
+        println!();
+        println!("Every way side by side (right / of which the named cause itself / of which with no tie / of which a partial explanation (verdict `unexplained`, the predictive check failed) / unexplained / no_effect / wrong cause):");
+        println!();
+        let head: Vec<&str> = ways.iter().map(|w| w.short()).collect();
+        println!("| data | sets | {} |", head.join(" | "));
+        println!("|{}", " --- |".repeat(2 + ways.len()));
+        for e in std::iter::once(Edit::None).chain(classes()) {
+            let cells: Vec<String> = ways
+                .iter()
+                .map(|&w| {
+                    let mine: Vec<&Row> = answers.iter().filter(|r| r.0 == e && r.1 == w).collect();
+                    let c = |a: Answer| mine.iter().filter(|r| r.2 == a).count();
+                    let itself = mine.iter().filter(|r| r.2 == Answer::Right && r.3 .0).count();
+                    let alone = mine.iter().filter(|r| r.2 == Answer::Right && r.3 .1).count();
+                    let partial =
+                        mine.iter().filter(|r| r.2 == Answer::Right && r.4.contains("): unexplained")).count();
+                    format!(
+                        "{} / {itself} / {alone} / {partial} / {} / {} / {}",
+                        c(Answer::Right),
+                        c(Answer::Unexplained),
+                        c(Answer::NoEffect),
+                        c(Answer::Wrong)
+                    )
+                })
+                .collect();
+            let n = answers.iter().filter(|r| r.0 == e && r.1 == ways[0]).count();
+            if n > 0 {
+                println!("| {} | {n} | {} |", e.label(), cells.join(" | "));
+            }
+        }
+    }
+    if observers.len() > 1 || ways.iter().any(|w| w.with()) {
+        println!();
+        println!("The mechanisms as each observer read them (after misreadings; failure height as a fraction of the wall's height):");
+        println!();
+        println!("| data | observer | free: mean height, at the table joint | free: kinds | held: mean height, at the table joint | held: kinds | held: starts |");
+        println!("| --- | --- | --- | --- | --- | --- | --- |");
+        for e in std::iter::once(Edit::None).chain(classes()) {
+            for &o in &observers {
+                let rows: Vec<&drystone::io::measured::MeasuredMechanism> =
+                    readings.iter().filter(|r| r.0 == e && r.1 == o).flat_map(|r| r.2.iter()).collect();
+                if rows.is_empty() {
+                    continue;
+                }
+                let part = |held: bool| {
+                    let mine: Vec<_> = rows.iter().filter(|r| (r.group == "HELD") == held).collect();
+                    let h: Vec<f64> = mine.iter().filter_map(|r| r.failure_height.map(|x| x.0)).collect();
+                    let count = |names: Vec<&str>| {
+                        let mut m = std::collections::BTreeMap::new();
+                        for n in names {
+                            *m.entry(n).or_insert(0usize) += 1;
+                        }
+                        let mut v: Vec<(&str, usize)> = m.into_iter().collect();
+                        v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+                        v.iter().map(|(n, k)| format!("{n} {k}")).collect::<Vec<_>>().join(", ")
+                    };
+                    (
+                        format!("{:.2}, {}", drystone::stats::mean(&h), h.iter().filter(|x| **x == 0.0).count()),
+                        count(mine.iter().filter_map(|r| r.kind.map(|k| k.name())).collect()),
+                        count(mine.iter().filter_map(|r| r.start.map(|k| k.name())).collect()),
+                    )
+                };
+                let (free, held) = (part(false), part(true));
+                println!(
+                    "| {} | {} | {} | {} | {} | {} | {} |",
+                    e.label(),
+                    o.name(),
+                    free.0,
+                    free.1,
+                    held.0,
+                    held.1,
+                    held.2
+                );
+            }
+        }
     }
     println!();
     println!("The weights: the pseudo-BMA+ weight of the truth (the baseline on null data; else the models made of the class's effects, summed), its mean and range over the data sets, and in how many data sets the truth is among the models that share 90 % of the weight:");
@@ -200,10 +366,9 @@ fn main() {
         "| data | mechanisms | sets | weight of the truth, mean | min – max | truth among the models sharing 90 % |"
     );
     println!("| --- | --- | --- | --- | --- | --- |");
-    for &with in &ways {
+    for &way in &ways {
         for e in std::iter::once(Edit::None).chain(classes()) {
-            let w: Vec<&(f64, bool)> =
-                answers.iter().filter(|(x, m, ..)| *x == e && *m == with).map(|r| &r.5).collect();
+            let w: Vec<&(f64, bool)> = answers.iter().filter(|(x, m, ..)| *x == e && *m == way).map(|r| &r.5).collect();
             if w.is_empty() {
                 continue;
             }
@@ -211,7 +376,7 @@ fn main() {
             println!(
                 "| {} | {} | {} | {:.3} | {:.3} – {:.3} | {} of {} |",
                 e.label(),
-                if with { "with" } else { "without" },
+                way.short(),
                 w.len(),
                 drystone::stats::mean(&v),
                 v.iter().copied().fold(f64::INFINITY, f64::min),
@@ -221,15 +386,20 @@ fn main() {
             );
         }
     }
-    if ways.len() == 2 {
+    if ways.len() > 1 && ways[0] == Way::Without {
         println!();
-        println!("| data | sets | named cause is the hidden effect alone, without mechanisms | with mechanisms | false alarms or wrong cause, without | with |");
-        println!("| --- | --- | --- | --- | --- | --- |");
+        let others: Vec<Way> = ways[1..].to_vec();
+        let head: Vec<String> = others.iter().map(|w| format!("alone, {}", w.short())).collect();
+        let bad: Vec<String> = others.iter().map(|w| format!("bad, {}", w.short())).collect();
+        println!("The named cause is the hidden effect alone, and false alarms or wrong causes (bad), per way:");
+        println!();
+        println!("| data | sets | alone, without | {} | bad, without | {} |", head.join(" | "), bad.join(" | "));
+        println!("|{}", " --- |".repeat(4 + 2 * others.len()));
         for e in std::iter::once(Edit::None).chain(classes()) {
-            let count = |with: bool, f: &dyn Fn(&Answer, &(bool, bool)) -> bool| {
-                answers.iter().filter(|(x, w, a, b, ..)| *x == e && *w == with && f(a, b)).count()
+            let count = |way: Way, f: &dyn Fn(&Answer, &(bool, bool)) -> bool| {
+                answers.iter().filter(|(x, w, a, b, ..)| *x == e && *w == way && f(a, b)).count()
             };
-            let n = count(false, &|_, _| true);
+            let n = count(Way::Without, &|_, _| true);
             if n == 0 {
                 continue;
             }
@@ -242,17 +412,116 @@ fn main() {
                 }
             };
             let dash = |k: usize| if e == Edit::None { "–".to_string() } else { k.to_string() };
-            println!(
-                "| {} | {n} | {} | {} | {} | {} |",
-                e.label(),
-                dash(count(false, &alone)),
-                dash(count(true, &alone)),
-                count(false, &bad),
-                count(true, &bad)
-            );
+            let alones: Vec<String> = ways.iter().map(|&w| dash(count(w, &alone))).collect();
+            let bads: Vec<String> = ways.iter().map(|&w| count(w, &bad).to_string()).collect();
+            println!("| {} | {n} | {} | {} |", e.label(), alones.join(" | "), bads.join(" | "));
+        }
+    }
+    if !diagnoses.is_empty() {
+        println!();
+        println!("Data sets whose answer with an observer's mechanisms differs from the answer without (answer class, named cause or its tie):");
+        for d in &diagnoses {
+            println!();
+            println!("{d}");
         }
     }
     eprintln!("total {:.0} s", t0.elapsed().as_secs_f64());
+}
+
+/// The kinds of observable the diagnosis splits scores by.
+const KINDS: [&str; 5] = ["angle", "displacements", "failure height", "kind", "start"];
+
+fn kind_of(o: &drystone::discrepancy::Observable) -> usize {
+    use drystone::discrepancy::Observable as O;
+    match o {
+        O::CollapseAngle => 0,
+        O::Displacement { .. } => 1,
+        O::FailureHeight { .. } => 2,
+        O::MechanismKind { .. } => 3,
+        O::MechanismStart { .. } => 4,
+    }
+}
+
+/// Scores summed per kind of observable.
+fn split(scores: &[f64], obs: &[drystone::discrepancy::Observation]) -> [f64; 5] {
+    let mut out = [0.0; 5];
+    for (s, o) in scores.iter().zip(obs) {
+        out[kind_of(&o.observable)] += s;
+    }
+    out
+}
+
+fn fmt_split(v: &[f64; 5]) -> String {
+    KINDS.iter().zip(v).filter(|(_, x)| **x != 0.0).map(|(k, x)| format!("{k} {x:.2}")).collect::<Vec<_>>().join(", ")
+}
+
+fn fmt_split3(v: &[f64; 5]) -> String {
+    KINDS
+        .iter()
+        .zip(v)
+        .filter(|(_, x)| x.abs() > 5e-4)
+        .map(|(k, x)| format!("{k} {x:.3}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// What the diagnosis needs of one analysis.
+struct Diag {
+    verdict: String,
+    cause: Option<String>,
+    tie: Vec<String>,
+    /// The baseline's scores summed per kind; its held-out error and AICc.
+    baseline: ([f64; 5], f64, f64),
+    /// The truth (best-ranked model of the class's effects; the baseline on null data):
+    /// name, rank (0: first), held-out error, scores per kind.
+    truth: Option<(String, usize, f64, [f64; 5])>,
+    /// The named cause, or the best candidate: name, held-out error, AICc, scores per kind.
+    top: Option<(String, f64, f64, [f64; 5])>,
+    /// Gain margin, misfit margin, the screening gain.
+    margins: (f64, f64, f64),
+    tie_checks: Vec<drystone::discrepancy::TieCheck>,
+    check: Option<drystone::discrepancy::PredictiveCheck>,
+    /// The checked model's score per specimen split by kind of observable (angles and
+    /// displacements from their predictive, kinds and starts from their probability, the
+    /// failure height the rest of the check's score).
+    check_split: Option<[f64; 5]>,
+    specimens: usize,
+}
+
+/// The predictive check's score per specimen split by kind of observable: the extended
+/// model's predictive of each observation (angles and displacements scored as the
+/// analysis scores them, a displacement weighted 1/k for k per specimen; a kind or a start
+/// `−ln q` with q its predictive mean), the failure heights the remainder of the check's
+/// score (zero without mechanism data, up to rounding: a test of the split).
+fn check_split(run: &drystone::discrepancy::Run) -> Option<[f64; 5]> {
+    let c = run.analysis.check.as_ref()?;
+    let n = run.specimens.len().max(1) as f64;
+    let reading = run.settings.reading;
+    let mut out = [0.0; 5];
+    for (o, p) in run.obs.iter().zip(&run.extended_predictive) {
+        let k = kind_of(&o.observable);
+        let v = match k {
+            0 => p.score(o.value, reading.of(&o.observable)),
+            1 => {
+                let per =
+                    run.obs.iter().filter(|x| x.specimen == o.specimen && kind_of(&x.observable) == 1).count().max(1)
+                        as f64;
+                p.score(o.value, reading.of(&o.observable)) / per
+            }
+            3 | 4 => {
+                let q = p.mean.clamp(1e-12, 1.0 - 1e-12);
+                if o.value >= 0.5 {
+                    -q.ln()
+                } else {
+                    -(1.0 - q).ln()
+                }
+            }
+            _ => 0.0,
+        };
+        out[k] += v / n;
+    }
+    out[2] = c.score - (out[0] + out[1] + out[3] + out[4]);
+    Some(out)
 }
 
 /// Analyses one data set's observations and classifies the answer.
@@ -260,10 +529,10 @@ fn one(
     prep: &drystone::discrepancy::Prepared,
     obs: Vec<drystone::discrepancy::Observation>,
     e: Edit,
-    with: bool,
+    way: Way,
     i: usize,
     first: u64,
-) -> Row {
+) -> (Row, Diag) {
     let run = analyze(prep, obs, first).unwrap();
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(|c| c.name.clone());
@@ -273,9 +542,9 @@ fn one(
     let gain = a.candidates.first().map_or(0.0, |b| a.baseline_heldout_error - b.heldout_error);
     let missed = a.check.as_ref().map(|c| c.missed.clone()).unwrap_or_default();
     let what = format!(
-        "{} #{i}{}: {} {:?} tie {:?} | base {:.2} (misfit margin {:.2}) best gain {:.2}, on the surrogates {:.2} (margin {:.2}) sigma {:?} missed {:?}",
+        "{} #{i} ({}): {} {:?} tie {:?} | base {:.2} (misfit margin {:.2}) best gain {:.2}, on the surrogates {:.2} (margin {:.2}) sigma {:?} missed {:?}",
         e.label(),
-        if with { " (with mechanisms)" } else { "" },
+        way.short(),
         a.verdict.name(),
         cause,
         a.tie,
@@ -300,6 +569,32 @@ fn one(
     let truth_shared = w.shared.iter().any(|n| truth(n));
     let what = format!("{what} | weight of the truth {truth_weight:.3}, shared by {:?}", w.shared);
     eprintln!("{what} -> {got:?}");
+    let baseline = (split(&a.baseline_scores, &run.obs), a.baseline_heldout_error, a.baseline_information_criterion);
+    let diag = Diag {
+        verdict: a.verdict.name().to_string(),
+        cause: cause.clone(),
+        tie: a.tie.clone(),
+        baseline,
+        truth: if e == Edit::None {
+            Some(("baseline".into(), usize::MAX, a.baseline_heldout_error, baseline.0))
+        } else {
+            a.candidates
+                .iter()
+                .enumerate()
+                .find(|(_, c)| truth(&c.name))
+                .map(|(k, c)| (c.name.clone(), k, c.heldout_error, split(&c.scores, &run.obs)))
+        },
+        top: a
+            .cause
+            .as_ref()
+            .or(a.candidates.first())
+            .map(|c| (c.name.clone(), c.heldout_error, c.information_criterion, split(&c.scores, &run.obs))),
+        margins: (m.baseline, m.misfit, a.screen_gain),
+        tie_checks: a.tie_checks.clone(),
+        check: a.check.clone(),
+        check_split: check_split(&run),
+        specimens: run.specimens.len(),
+    };
     if std::env::var_os("REALWALL_VERBOSE").is_some() {
         let top = &a.candidates[0];
         let ps = |sc: &[f64]| drystone::discrepancy::per_specimen(sc, &run.obs, &run.specimens);
@@ -335,15 +630,132 @@ fn one(
             );
         }
     }
-    (e, with, got, (named, named && a.tie.len() <= 1), what, (truth_weight, truth_shared))
+    ((e, way, got, (named, named && a.tie.len() <= 1), what, (truth_weight, truth_shared)), diag)
 }
 
-/// The power table of the analyses `with` (or without) mechanisms.
-fn table(answers: &[Row], with: bool) {
+/// One way's state in a diagnosis: the verdict, the scores per kind, the margins, the tie
+/// checks and the predictive check.
+fn describe(way: Way, row: &Row, d: &Diag) -> String {
+    let n = d.specimens.max(1) as f64;
+    let mut t = format!("  {}: {:?}, {} {:?} tie {:?}\n", way.label(), row.2, d.verdict, d.cause, d.tie);
+    t += &format!(
+        "    baseline: held-out {:.3} per specimen (sum {:.2}: {}), AICc {:.2}\n",
+        d.baseline.1,
+        d.baseline.1 * n,
+        fmt_split(&d.baseline.0),
+        d.baseline.2
+    );
+    if let Some((name, rank, he, sp)) = &d.truth {
+        let rank = if *rank == usize::MAX { "-".to_string() } else { (rank + 1).to_string() };
+        t += &format!("    truth {name} (rank {rank}): held-out {he:.3} (sum {:.2}: {})\n", he * n, fmt_split(sp));
+    } else {
+        t += "    truth: no model of the class's effects among the candidates\n";
+    }
+    if let Some((name, he, ic, sp)) = &d.top {
+        let named = if d.cause.is_some() { "named" } else { "best candidate" };
+        t += &format!("    {named} {name}: held-out {he:.3} (sum {:.2}: {}), AICc {ic:.2}\n", he * n, fmt_split(sp));
+        if let Some((tn, _, _, tsp)) = &d.truth {
+            if tn != name {
+                let diff: [f64; 5] = std::array::from_fn(|k| tsp[k] - sp[k]);
+                t += &format!(
+                    "    truth minus {name} per kind (> 0: {name} scores better): {} (total {:.2})\n",
+                    fmt_split(&diff),
+                    diff.iter().sum::<f64>()
+                );
+            }
+        }
+        t += &format!(
+            "    margins: gain {:.3} (gain margin {:.3}), screening gain {:.3}; baseline {:.3} (misfit margin {:.3}); AICc {} the baseline's\n",
+            d.baseline.1 - he,
+            d.margins.0,
+            d.margins.2,
+            d.baseline.1,
+            d.margins.1,
+            if *ic < d.baseline.2 { "below" } else { "not below" }
+        );
+    }
+    for c in &d.tie_checks {
+        t += &format!(
+            "    tie check {}: reversal {:.2}, difference {:.2} ± {:.2} -> {}\n",
+            c.name,
+            c.reversal_rate,
+            c.difference,
+            c.difference_se,
+            if c.tied { "tied" } else { "separated" }
+        );
+    }
+    if let Some(c) = &d.check {
+        t += &format!(
+            "    predictive check: score {:.3} vs envelope {:.3} ({}), per specimen by kind {}, missed {:?}\n",
+            c.score,
+            c.envelope,
+            if c.passes() { "passes" } else { "fails" },
+            d.check_split.as_ref().map_or(String::new(), |v| format!("[{}]", fmt_split3(v))),
+            c.missed
+        );
+    }
+    t
+}
+
+/// Why the answer with mechanisms (`b`) differs from the answer without (`a`).
+fn turned_by(a: &Diag, b: &Diag) -> Vec<String> {
+    let mut why = Vec::new();
+    let gain_ok = |d: &Diag| {
+        d.top
+            .as_ref()
+            .is_some_and(|t| d.margins.2 > d.margins.0 && d.baseline.1 - t.1 > d.margins.0 && t.2 < d.baseline.2)
+    };
+    match (&a.cause, &b.cause) {
+        (Some(_), None) | (None, Some(_)) => why.push(format!(
+            "margins: a cause named {} the mechanisms and not {} (gain clears its margin without: {}, with: {})",
+            if a.cause.is_some() { "without" } else { "with" },
+            if a.cause.is_some() { "with" } else { "without" },
+            gain_ok(a),
+            gain_ok(b)
+        )),
+        (Some(x), Some(y)) if x != y => why.push(format!("likelihood: the ranking puts {y} first instead of {x}")),
+        _ => {}
+    }
+    if a.cause.is_none() && b.cause.is_none() && a.verdict != b.verdict {
+        why.push(format!(
+            "misfit margin: baseline {:.3} vs margin {:.3} without, {:.3} vs {:.3} with",
+            a.baseline.1, a.margins.1, b.baseline.1, b.margins.1
+        ));
+    }
+    let tie_changed = (a.cause == b.cause && a.tie != b.tie) || a.tie.len() != b.tie.len();
+    if a.cause.is_some() && b.cause.is_some() && tie_changed {
+        why.push(format!("tie checks: tie {:?} without, {:?} with", a.tie, b.tie));
+    }
+    let passes = |d: &Diag| d.check.as_ref().map(|c| c.passes());
+    if a.cause.is_some() && b.cause.is_some() && passes(a) != passes(b) {
+        why.push(format!(
+            "predictive check: {} without, {} with",
+            passes(a).map_or("none", |p| if p { "passes" } else { "fails" }),
+            passes(b).map_or("none", |p| if p { "passes" } else { "fails" })
+        ));
+    }
+    if why.is_empty() {
+        why.push("nothing but the answer's class (the same cause, tie and check)".into());
+    }
+    why
+}
+
+/// The diagnosis of one data set whose answer with `way`'s mechanisms differs from its
+/// answer without.
+fn diagnose(e: Edit, i: usize, way: Way, without: (&Row, &Diag), with: (&Row, &Diag)) -> String {
+    let mut t = format!("{} #{i}: {:?} without, {:?} {}\n", e.label(), without.0 .2, with.0 .2, way.label());
+    t += &describe(Way::Without, without.0, without.1);
+    t += &describe(way, with.0, with.1);
+    t += &format!("  turned by: {}", turned_by(without.1, with.1).join("; "));
+    t
+}
+
+/// The power table of the analyses made one way.
+fn table(answers: &[Row], way: Way) {
     println!("| data | sets | right (alone or in a tie) | of which the named cause itself | of which with no tie | unexplained | no_effect | wrong cause | rate that matters, 95 % CI |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for e in std::iter::once(Edit::None).chain(classes()) {
-        let mine = || answers.iter().filter(|(x, w, ..)| *x == e && *w == with);
+        let mine = || answers.iter().filter(|(x, w, ..)| *x == e && *w == way);
         let v: Vec<&Answer> = mine().map(|(_, _, a, ..)| a).collect();
         let first = mine().filter(|(_, _, a, f, ..)| *a == Answer::Right && f.0).count();
         let alone = mine().filter(|(_, _, a, f, ..)| *a == Answer::Right && f.1).count();

@@ -25,6 +25,31 @@
 //!   `[measured] mechanism`) and read back by the library's reader
 //!   ([`mechanism_observations_via_file`]).
 //!
+//! - a second, **independent** observer ([`Observer::Independent`]) reads the same runs by
+//!   a rule of its own that shares no code with the product's mechanism reading
+//!   (`drystone::loading::mechanism`: neither `read_mechanism`, `mechanism`, its shares nor
+//!   its block motion): the tilt is run with `run_tilt_observed` (the same parameters, so
+//!   the angles and displacements are bit-identical), keeping the last state handed over
+//!   as stable at `last_stable_deg` and the last unstable state handed over at
+//!   `first_unstable_deg`; each non-fixed block's displacement is the distance its
+//!   centroid moved between the two; the **moving part** is every block that moved at
+//!   least [`INDEPENDENT_MOVING_SHARE`] (0.2) of the largest displacement (a fixed
+//!   fraction, no grouping by joints). It reads
+//!   - the **failure height**: the lowest base of the moving blocks (their lowest vertex z
+//!     in the layout file, α = 0) over the wall's height (its blocks' vertices), to the
+//!     nearest bed joint of the specimen's nominal courses (as the product observer's
+//!     height), ± half a mean course;
+//!   - the **start**, held walls only: `centre` if the mean centroid x of the moving
+//!     blocks lies in the middle fifth of the wall's length, else `end`; a free wall gets
+//!     no start;
+//!   - the **kind**: `toppling` if the moving blocks' mean rotation between the two
+//!     states exceeds [`INDEPENDENT_TOPPLING_DEG`] (2°), else `sliding`; `bending` for a
+//!     held wall read `centre` whose end blocks (the first and last block of every
+//!     course along the length) are not moving;
+//!   - misread at its own rate (0.15 in the power table): the height one course up or
+//!     down (half the rate each, kept on the wall), the kind and the start each replaced
+//!     by another category drawn uniformly, from a random stream of its own.
+//!
 //! Used by `tests/suite/discrepancy_realwalls.rs` (the reduced set CI runs) and by
 //! `examples/realwall_power.rs` (the power table of BENCHMARKS.md).
 #![allow(dead_code)]
@@ -37,7 +62,7 @@ use drystone::io::measured::{
 };
 use drystone::layout::LayoutSpec;
 use drystone::loading::mechanism::{FailureKind, FailureStart, MechanismReading};
-use drystone::loading::tilt::run_tilt;
+use drystone::loading::tilt::run_tilt_observed;
 use drystone::study::Study;
 use parry3d_f64::math::Vector as PVec;
 use rand::{RngExt, SeedableRng};
@@ -99,11 +124,61 @@ pub struct Noise {
 /// bed joint of the specimen's own (nominal) courses, with a reading interval of ± half its
 /// mean course height (clamped to [0, 1]); the kind and the start each replaced, with
 /// probability `misreading`, by another category drawn uniformly (kinds: `toppling`,
-/// `sliding`, `bending`, `mixed`; starts: `end`, `centre`, `uniform`).
+/// `sliding`, `bending`, `mixed`; starts: `end`, `centre`, `uniform`). The independent
+/// observer ([`Observer::Independent`]) also reads its height one bed joint up or down
+/// with this probability.
 #[derive(Debug, Clone, Copy)]
 pub struct MechanismNoise {
     /// Probability of misreading the kind, and independently the start, in [0, 1).
     pub misreading: f64,
+}
+
+/// Who reads the specimens' mechanisms (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Observer {
+    /// The product's own reading of each run (`TiltResult::mechanism`'s reading), the
+    /// height to the nearest bed joint, the kind and the start misread.
+    Product,
+    /// The independent observer: a rule of its own on the run's last stable and first
+    /// unstable states, sharing no code with the product's reading.
+    Independent,
+}
+
+impl Observer {
+    /// `product` or `independent`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Observer::Product => "product",
+            Observer::Independent => "independent",
+        }
+    }
+}
+
+/// Share of the largest block displacement at or above which a block is part of the
+/// independent observer's moving part.
+pub const INDEPENDENT_MOVING_SHARE: f64 = 0.2;
+
+/// Mean rotation of the moving blocks, degrees, above which the independent observer
+/// reads `toppling` (else `sliding`).
+pub const INDEPENDENT_TOPPLING_DEG: f64 = 2.0;
+
+/// Share of the wall's length, about its middle, where the independent observer reads a
+/// start as `centre` (the middle fifth).
+pub const INDEPENDENT_CENTRE_SPAN: f64 = 0.2;
+
+/// A specimen's mechanism as the independent observer reads it, before misreading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IndependentReading {
+    /// The lowest base of the moving blocks over the wall's height (not rounded).
+    pub height_fraction: f64,
+    /// `toppling`, `sliding` or `bending`.
+    pub kind: FailureKind,
+    /// `centre` or `end` for a held wall; `None` for a free one.
+    pub start: Option<FailureStart>,
+    /// Blocks in the moving part.
+    pub moving: usize,
+    /// The moving blocks' mean rotation between the two states, degrees.
+    pub rotation_deg: f64,
 }
 
 fn round_to(v: f64, step: f64) -> f64 {
@@ -325,6 +400,9 @@ pub struct Specimen {
     /// The mechanism read from the edited wall's own run (`None`: nothing moved or the
     /// wall stood).
     pub mechanism: Option<MechanismReading>,
+    /// The mechanism as the independent observer reads the same run (`None`: the wall
+    /// stood or nothing moved).
+    pub independent: Option<IndependentReading>,
     /// The specimen's bed joints (the table, then its nominal course tops but the last) as
     /// fractions of its height, and its mean course height over its height.
     pub beds: (Vec<f64>, f64),
@@ -339,7 +417,13 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
         let _ = std::fs::write(format!("{path}-{k}.json"), &json);
     }
     let edited = LayoutSpec::from_json(&json).and_then(|s| s.resolve()).expect("the edited layout reads back");
-    let t = run_tilt(&edited, study.solver, study.protocol.tilt()?).ok()?;
+    // Every state handed over: (α, stable, each body's id, fixed, centroid and orientation).
+    let mut states = Vec::new();
+    let t = run_tilt_observed(&edited, study.solver, study.protocol.tilt()?, &mut |alpha, stable, sim| {
+        let bodies: Vec<_> = sim.state.bodies.iter().map(|b| (b.id.clone(), b.fixed, b.pos, b.rot)).collect();
+        states.push((alpha, stable, bodies));
+    })
+    .ok()?;
     let find = |n: &str| t.monitors.iter().position(|m| m == n);
     let idx = [find("top_left")?, find("top_centre")?, find("top_right")?];
     let top_cm = t
@@ -353,13 +437,110 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
     let h = tops.last().copied().unwrap_or(1.0);
     let beds = std::iter::once(0.0).chain(tops[..tops.len().saturating_sub(1)].iter().map(|z| z / h)).collect();
     let beds = (beds, 1.0 / tops.len().max(1) as f64);
+    let independent = t.first_unstable_deg.and_then(|up| {
+        let stable = states.iter().rev().find(|s| s.1 && s.0 == t.last_stable_deg)?;
+        let unstable = states.iter().rev().find(|s| !s.1 && s.0 == up)?;
+        let blocks: Vec<LayoutBlock> = serde_json::from_str::<Value>(&json).expect("layout JSON")["blocks"]
+            .as_array()
+            .expect("blocks")
+            .iter()
+            .map(|b| LayoutBlock {
+                id: b["id"].as_str().expect("block id").to_string(),
+                vertices: vertices(b),
+                course: b["course"].as_u64().map(|c| c as usize),
+            })
+            .collect();
+        let motions: Vec<(String, f64, f64, f64)> = stable
+            .2
+            .iter()
+            .zip(&unstable.2)
+            .filter(|(a, _)| !a.1)
+            .map(|(a, b)| {
+                assert_eq!(a.0, b.0, "the bodies are in the same order in both states");
+                (a.0.clone(), (b.2 - a.2).norm(), a.3.angle_to(&b.3).to_degrees(), a.2.x)
+            })
+            .collect();
+        read_independently(&blocks, &motions, held)
+    });
     Some(Specimen {
         held,
         bracket: (t.last_stable_deg, t.first_unstable_deg.unwrap_or(t.last_stable_deg)),
         top_cm,
         mechanism: t.mechanism.reading,
+        independent,
         beds,
     })
+}
+
+/// A block of the layout file as the independent observer sees it (α = 0).
+#[derive(Debug, Clone)]
+pub struct LayoutBlock {
+    /// Its id.
+    pub id: String,
+    /// Its vertices, m.
+    pub vertices: Vec<[f64; 3]>,
+    /// Its course, if the file gives it.
+    pub course: Option<usize>,
+}
+
+/// The independent observer's reading (module documentation) from the layout file's
+/// blocks and, for every non-fixed body, (id, its centroid's displacement between the last
+/// stable and the first unstable state (m), its rotation between them (degrees), its
+/// centroid x in the last stable state); `None` when nothing moved.
+pub fn read_independently(
+    blocks: &[LayoutBlock],
+    motions: &[(String, f64, f64, f64)],
+    held: bool,
+) -> Option<IndependentReading> {
+    let mine: Vec<&LayoutBlock> = blocks.iter().filter(|b| motions.iter().any(|m| m.0 == b.id)).collect();
+    let all = |f: &dyn Fn(&[f64; 3]) -> f64| mine.iter().flat_map(|b| b.vertices.iter().map(f)).collect::<Vec<f64>>();
+    let lo = |v: Vec<f64>| v.into_iter().fold(f64::INFINITY, f64::min);
+    let hi = |v: Vec<f64>| v.into_iter().fold(f64::NEG_INFINITY, f64::max);
+    let (z0, z1) = (lo(all(&|p| p[2])), hi(all(&|p| p[2])));
+    let (x0, x1) = (lo(all(&|p| p[0])), hi(all(&|p| p[0])));
+    let largest = motions.iter().map(|m| m.1).fold(0.0, f64::max);
+    if !(largest > 0.0 && z1 > z0 && x1 > x0) {
+        return None;
+    }
+    let moving: Vec<&(String, f64, f64, f64)> =
+        motions.iter().filter(|m| m.1 >= INDEPENDENT_MOVING_SHARE * largest).collect();
+    let is_moving = |id: &str| moving.iter().any(|m| m.0 == id);
+    let bottom = mine
+        .iter()
+        .filter(|b| is_moving(&b.id))
+        .flat_map(|b| b.vertices.iter().map(|p| p[2]))
+        .fold(f64::INFINITY, f64::min);
+    let height_fraction = ((bottom - z0) / (z1 - z0)).clamp(0.0, 1.0);
+    let n = moving.len() as f64;
+    let rotation_deg = moving.iter().map(|m| m.2).sum::<f64>() / n;
+    let xc = moving.iter().map(|m| m.3).sum::<f64>() / n;
+    let start = held.then(|| {
+        if (xc - 0.5 * (x0 + x1)).abs() <= 0.5 * INDEPENDENT_CENTRE_SPAN * (x1 - x0) {
+            FailureStart::Centre
+        } else {
+            FailureStart::End
+        }
+    });
+    // The end blocks: the first and the last block of every course along the length (of
+    // the whole wall when the file gives no courses), by their centroid x.
+    let centre_x = |b: &LayoutBlock| b.vertices.iter().map(|p| p[0]).sum::<f64>() / b.vertices.len() as f64;
+    let mut courses: Vec<Option<usize>> = mine.iter().map(|b| b.course).collect();
+    courses.sort();
+    courses.dedup();
+    let ends_move = courses.iter().any(|c| {
+        let row: Vec<&LayoutBlock> = mine.iter().copied().filter(|b| b.course == *c).collect();
+        let first = row.iter().copied().min_by(|a, b| centre_x(a).total_cmp(&centre_x(b)));
+        let last = row.iter().copied().max_by(|a, b| centre_x(a).total_cmp(&centre_x(b)));
+        [first, last].into_iter().flatten().any(|b| is_moving(&b.id))
+    });
+    let kind = if start == Some(FailureStart::Centre) && !ends_move {
+        FailureKind::Bending
+    } else if rotation_deg > INDEPENDENT_TOPPLING_DEG {
+        FailureKind::Toppling
+    } else {
+        FailureKind::Sliding
+    };
+    Some(IndependentReading { height_fraction, kind, start, moving: moving.len(), rotation_deg })
 }
 
 /// The observations of one data set: `n` specimens per group of `study`, realizations
@@ -407,13 +588,42 @@ pub fn data_set_with_mechanism(
     tilts_deg: &[f64],
     sigma: MeasurementSigma,
 ) -> DataSet {
+    let mut o = data_set_observed(study, seed, first, n, e, noise, &[(Observer::Product, seen)], tilts_deg, sigma);
+    DataSet { obs: o.obs, mechanism: o.mechanisms.remove(0) }
+}
+
+/// A data set read by several observers: the angle and displacement observations, and
+/// the mechanism rows of each observer (in the order asked for).
+#[derive(Debug, Clone)]
+pub struct Observed {
+    /// Collapse angles and displacements (as [`data_set`]).
+    pub obs: Vec<Observation>,
+    /// The rows of the measured mechanism file as each observer read them.
+    pub mechanisms: Vec<Vec<MeasuredMechanism>>,
+}
+
+/// [`data_set`] and the specimens' mechanisms as each of `seen`'s observers reads them,
+/// each misreading at its own rate from a stream of its own (the angles, the displacements
+/// and every other observer's readings do not depend on it).
+#[allow(clippy::too_many_arguments)]
+pub fn data_set_observed(
+    study: &Study,
+    seed: u64,
+    first: u64,
+    n: u64,
+    e: Edit,
+    noise: Noise,
+    seen: &[(Observer, MechanismNoise)],
+    tilts_deg: &[f64],
+    sigma: MeasurementSigma,
+) -> Observed {
     use rayon::prelude::*;
     let todo: Vec<(usize, u64)> =
         (0..study.groups.len()).flat_map(|gi| (first..first + n).map(move |k| (gi, k))).collect();
     let tilted: Vec<Option<Specimen>> =
         todo.par_iter().map(|&(gi, k)| specimen(study, &study.groups[gi].walls[0], seed, k, e)).collect();
     let mut obs = Vec::new();
-    let mut mechanism = Vec::new();
+    let mut mechanisms = vec![Vec::new(); seen.len()];
     for (&(gi, k), s) in todo.iter().zip(tilted) {
         let g = &study.groups[gi];
         let Some(s) = s else { continue };
@@ -445,12 +655,30 @@ pub fn data_set_with_mechanism(
                 sigma: sigma.displacement_cm,
             });
         }
-        if let Some(r) = s.mechanism {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x6d65_6368_0000_0000 ^ (k << 8) ^ gi as u64);
-            mechanism.push(read_as_seen(&r, &s.beds, seen, &mut rng, name, g.measured_group.clone()));
+        for (&(observer, noise), rows) in seen.iter().zip(&mut mechanisms) {
+            let group = g.measured_group.clone();
+            match observer {
+                Observer::Product => {
+                    if let Some(r) = s.mechanism {
+                        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x6d65_6368_0000_0000 ^ (k << 8) ^ gi as u64);
+                        rows.push(read_as_seen(&r, &s.beds, noise, &mut rng, name.clone(), group));
+                    }
+                }
+                Observer::Independent => {
+                    if let Some(r) = s.independent {
+                        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x696e_6465_7000_0000 ^ (k << 8) ^ gi as u64);
+                        rows.push(read_independent_as_seen(&r, &s.beds, noise, &mut rng, name.clone(), group));
+                    }
+                }
+            }
         }
     }
-    DataSet { obs, mechanism }
+    Observed { obs, mechanisms }
+}
+
+/// The index of the bed joint of `beds` nearest the height fraction `f`.
+fn nearest_bed(beds: &[f64], f: f64) -> usize {
+    (0..beds.len()).min_by(|&a, &b| (beds[a] - f).abs().total_cmp(&(beds[b] - f).abs())).unwrap_or(0)
 }
 
 /// A realization's mechanism as an observer reads it ([`MechanismNoise`]); four draws
@@ -464,7 +692,7 @@ fn read_as_seen(
     group: String,
 ) -> MeasuredMechanism {
     let f = r.failure_height_fraction;
-    let v = beds.0.iter().copied().min_by(|a, b| (a - f).abs().total_cmp(&(b - f).abs())).unwrap_or(f);
+    let v = beds.0.get(nearest_bed(&beds.0, f)).copied().unwrap_or(f);
     let half = 0.5 * beds.1;
     let kind = misread(&FailureKind::ALL, r.kind, seen.misreading, rng);
     let start = misread(&FailureStart::SIMULATED, r.start, seen.misreading, rng);
@@ -476,6 +704,41 @@ fn read_as_seen(
         start: Some(start),
         extent: None,
         source: "tests/realwalls: the edited wall's own run, read to the nearest bed joint, misread".into(),
+        ..Default::default()
+    }
+}
+
+/// The independent observer's reading as seen ([`Observer::Independent`]): the height to
+/// the nearest bed joint, read one joint up or down with probability `misreading / 2`
+/// each (kept on the wall); the kind and the start each replaced with probability
+/// `misreading` by another category drawn uniformly. Six draws from `rng` whatever the
+/// outcome (a free wall's missing start too).
+fn read_independent_as_seen(
+    r: &IndependentReading,
+    beds: &(Vec<f64>, f64),
+    seen: MechanismNoise,
+    rng: &mut ChaCha8Rng,
+    specimen: String,
+    group: String,
+) -> MeasuredMechanism {
+    let (u, up): (f64, bool) = (rng.random_range(0.0..1.0), rng.random_range(0.0..1.0) < 0.5);
+    let mut i = nearest_bed(&beds.0, r.height_fraction);
+    if u < seen.misreading && !beds.0.is_empty() {
+        i = if up { (i + 1).min(beds.0.len() - 1) } else { i.saturating_sub(1) };
+    }
+    let v = beds.0.get(i).copied().unwrap_or(r.height_fraction);
+    let half = 0.5 * beds.1;
+    let kind = misread(&FailureKind::ALL, r.kind, seen.misreading, rng);
+    let start = misread(&FailureStart::SIMULATED, r.start.unwrap_or(FailureStart::End), seen.misreading, rng);
+    MeasuredMechanism {
+        specimen,
+        group,
+        failure_height: Some((v, (v - half).max(0.0), (v + half).min(1.0))),
+        kind: Some(kind),
+        start: r.start.map(|_| start),
+        extent: None,
+        source: "tests/realwalls: the independent observer (centroid motions), to the nearest bed joint, misread"
+            .into(),
         ..Default::default()
     }
 }

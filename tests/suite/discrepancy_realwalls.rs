@@ -17,10 +17,11 @@
 use crate::realwalls;
 
 use drystone::discrepancy::{analyze, prepare, Prepared};
+use drystone::loading::mechanism::{FailureKind, FailureStart};
 use drystone::study::Study;
 use realwalls::{
-    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template, Answer, Edit,
-    MechanismNoise, Noise,
+    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template,
+    read_independently, Answer, Edit, LayoutBlock, MechanismNoise, Noise,
 };
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -108,6 +109,54 @@ fn analysed(e: Edit, first: u64) -> (Answer, String, (usize, usize), (f64, f64))
 fn answer(e: Edit, first: u64) -> (Answer, String) {
     let (got, what, _, _) = analysed(e, first);
     (got, what)
+}
+
+/// The independent observer's rule on a hand-made wall of 4 courses of 4 blocks (0.1 m
+/// cubes, length 0.4 m, height 0.4 m): each block's (centroid displacement, rotation in
+/// degrees) from `motion(course, column)`.
+fn read_by_hand(held: bool, motion: impl Fn(usize, usize) -> (f64, f64)) -> Option<realwalls::IndependentReading> {
+    let mut blocks = Vec::new();
+    let mut motions = Vec::new();
+    for c in 0..4 {
+        for k in 0..4 {
+            let (x, z) = (0.1 * k as f64, 0.1 * c as f64);
+            let id = format!("b{c}{k}");
+            let vertices = (0..8)
+                .map(|v| [x + 0.1 * (v & 1) as f64, 0.1 * ((v >> 1) & 1) as f64, z + 0.1 * (v >> 2) as f64])
+                .collect();
+            blocks.push(LayoutBlock { id: id.clone(), vertices, course: Some(c) });
+            let (d, r) = motion(c, k);
+            motions.push((id, d, r, x + 0.05));
+        }
+    }
+    read_independently(&blocks, &motions, held)
+}
+
+/// The independent observer: the moving part is every block that moved at least 0.2 of
+/// the largest displacement; the height its lowest base; toppling above 2° of mean
+/// rotation, else sliding; bending for a held wall moving in its middle fifth with its end
+/// blocks resting; no start for a free wall.
+#[test]
+fn the_independent_observer_reads_by_its_own_rule() {
+    // The top two courses overturn along the whole length (3°), the rest stays.
+    let r = read_by_hand(false, |c, _| if c >= 2 { (0.01 * c as f64, 3.0) } else { (0.0, 0.0) }).unwrap();
+    assert!((r.height_fraction - 0.5).abs() < 1e-12, "{r:?}");
+    assert_eq!((r.kind, r.start, r.moving), (FailureKind::Toppling, None, 8));
+    // The whole wall slides on the table (rotation 0.5°); blocks below 0.2 of the largest
+    // motion are not part of it.
+    let r = read_by_hand(true, |c, k| (if c == 0 && k == 0 { 0.001 } else { 0.01 }, 0.5)).unwrap();
+    assert!((r.height_fraction - 0.0).abs() < 1e-12, "{r:?}");
+    assert_eq!((r.kind, r.start, r.moving), (FailureKind::Sliding, Some(FailureStart::Centre), 15));
+    // A held wall bulging in its two middle columns above the base course: bending from
+    // the centre, whatever the rotation.
+    let r = read_by_hand(true, |c, k| if c >= 1 && (k == 1 || k == 2) { (0.01, 5.0) } else { (0.0, 0.0) }).unwrap();
+    assert!((r.height_fraction - 0.25).abs() < 1e-12, "{r:?}");
+    assert_eq!((r.kind, r.start), (FailureKind::Bending, Some(FailureStart::Centre)));
+    // The left end falls: an end start, toppling.
+    let r = read_by_hand(true, |c, k| if c >= 2 && k == 0 { (0.02, 4.0) } else { (0.0, 0.0) }).unwrap();
+    assert_eq!((r.kind, r.start), (FailureKind::Toppling, Some(FailureStart::End)));
+    // Nothing moved: no reading.
+    assert_eq!(read_by_hand(true, |_, _| (0.0, 0.0)), None);
 }
 
 #[test]
