@@ -7,8 +7,11 @@
 //!
 //! With the specimens' failure mechanisms (read from each edited wall's own run, misread at
 //! 10 %, written as the measured mechanism file and read back), one data set whose hidden
-//! effect moves the failure: the slow case, ignored by default (two preparations and two
-//! analyses: 131 s of wall time, 259 s of CPU, on 2 idle cores):
+//! effect moves the failure; and with the readings of an observer whose rule shares no
+//! code with the product's (`realwalls::Observer::Independent`), a rounding and a null
+//! data set that must keep their verdicts: the slow cases, ignored by default (two
+//! preparations, shared, and two or four analyses each: 131 s of wall time, 259 s of CPU,
+//! on 2 idle cores for the first):
 //!
 //! ```sh
 //! cargo test --release --test suite discrepancy_realwalls:: -- --ignored
@@ -20,8 +23,8 @@ use drystone::discrepancy::{analyze, prepare, Prepared};
 use drystone::loading::mechanism::{FailureKind, FailureStart};
 use drystone::study::Study;
 use realwalls::{
-    classify, data_set, data_set_with_mechanism, mechanism_observations_via_file, mechanism_template,
-    read_independently, Answer, Edit, LayoutBlock, MechanismNoise, Noise,
+    classify, data_set, data_set_observed, data_set_with_mechanism, mechanism_observations_via_file,
+    mechanism_template, read_independently, Answer, Edit, LayoutBlock, MechanismNoise, Noise, Observer,
 };
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -213,4 +216,42 @@ fn with_the_mechanisms_rounded_edges_are_named_first() {
     assert_eq!(without.0, Answer::Right, "{}", without.2);
     assert_eq!(with.0, Answer::Right, "{} (without the mechanisms: {})", with.2, without.2);
     assert!(with.1, "the rounding is not named first: {} (without the mechanisms: {})", with.2, without.2);
+}
+
+/// The verdicts of one data set without mechanisms and with the independent observer's
+/// readings (a rule that shares no code with the product's reading, misread at 15 %), the
+/// same specimens, noise and analysis seed.
+fn verdicts_with_the_independent_observer(e: Edit, first: u64) -> [(String, Answer, String); 2] {
+    let st = &prepared().0;
+    let sigma = st.discrepancy.sigma;
+    let seen = [(Observer::Independent, MechanismNoise { misreading: 0.15 })];
+    let mut ds = data_set_observed(st, DATA_SEED, first, SPECIMENS, e, NOISE, &seen, &TILTS, sigma);
+    let dir = std::env::temp_dir().join(format!("discrepancy_realwalls-ind-{}-{first}", std::process::id()));
+    let mut with = ds.obs.clone();
+    with.extend(mechanism_observations_via_file(st, &dir, &ds.mechanisms.remove(0), sigma));
+    let _ = std::fs::remove_dir_all(&dir);
+    [(&prepared().1, ds.obs), (prepared_with_mechanisms(), with)].map(|(prep, obs)| {
+        let run = analyze(prep, obs, first).unwrap();
+        let a = &run.analysis;
+        let cause = a.cause.as_ref().map(|c| c.name.clone());
+        let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
+        (a.verdict.name().to_string(), got, format!("{}: {} {cause:?} tie {:?}", e.label(), a.verdict.name(), a.tie))
+    })
+}
+
+/// Readings that never hurt, on readings the product did not make: the independent
+/// observer calls most toppling free walls `sliding` and most held walls' centre failures
+/// `bending`, categories no realization shows. The rounding data set #1 and the null data
+/// set #0 of BENCHMARKS.md's reduced table keep their verdicts (`explained`, `no_effect`)
+/// with those readings, where the absolute checks of fit once read the categories and
+/// turned them `unexplained`.
+#[test]
+#[ignore = "two preparations and four analyses: several minutes on 2 cores (see the module doc)"]
+fn the_independent_observers_readings_keep_the_verdicts() {
+    let [without, with] = verdicts_with_the_independent_observer(Edit::Round(0.004), 201_100);
+    assert_eq!((without.0.as_str(), without.1), ("explained", Answer::Right), "{}", without.2);
+    assert_eq!((with.0.as_str(), with.1), ("explained", Answer::Right), "{} (without: {})", with.2, without.2);
+    let [without, with] = verdicts_with_the_independent_observer(Edit::None, 1_000);
+    assert_eq!(without.0, "no_effect", "{}", without.2);
+    assert_eq!(with.0, "no_effect", "{} (without: {})", with.2, without.2);
 }
