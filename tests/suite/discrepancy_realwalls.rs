@@ -246,7 +246,7 @@ fn verdicts_with_the_independent_observer(e: Edit, first: u64) -> [(String, Answ
 /// with those readings, where the absolute checks of fit once read the categories and
 /// turned them `unexplained`.
 #[test]
-#[ignore = "two preparations and four analyses: several minutes on 2 cores (see the module doc)"]
+#[ignore = "two preparations and four analyses: 178 s on 2 cores (see the module doc)"]
 fn the_independent_observers_readings_keep_the_verdicts() {
     let [without, with] = verdicts_with_the_independent_observer(Edit::Round(0.004), 201_100);
     assert_eq!((without.0.as_str(), without.1), ("explained", Answer::Right), "{}", without.2);
