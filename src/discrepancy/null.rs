@@ -458,7 +458,8 @@ mod tests {
         assert!((var / want - 1.0).abs() < 0.05, "var {var}, want {want}");
     }
 
-    /// The absolute check of fit reads the angles, not the mechanism readings: twelve
+    /// The absolute check of fit does not read the mechanism's kind (a reader's
+    /// convention; it reads angles, displacements and failure heights): twelve
     /// specimens whose collapse angles are drawn like the model's realizations pass the
     /// posterior predictive check; the same specimens each read as having slid, where every
     /// realization toppled (a reader whose rule is not the model's), give the same score
