@@ -547,7 +547,7 @@ pub fn read_independently(
 /// `first..first + n` of a master seed the analysis never uses, edited by `e`. Collapse
 /// angle and the displacement at `tilts_deg` (the centre minus the mean of the ends for
 /// held walls, the mean of the three top points for free ones); `sigma` is the σ the
-/// engine is told (not the data's). The same as [`data_set_with_mechanism`]'s
+/// engine is told (not the data's). The same as [`data_set_observed`]'s
 /// observations, without the mechanisms.
 #[allow(clippy::too_many_arguments)] // the data set's coordinates, each a plain number
 pub fn data_set(
@@ -560,7 +560,7 @@ pub fn data_set(
     tilts_deg: &[f64],
     sigma: MeasurementSigma,
 ) -> Vec<Observation> {
-    data_set_with_mechanism(study, seed, first, n, e, noise, MechanismNoise { misreading: 0.0 }, tilts_deg, sigma).obs
+    data_set_observed(study, seed, first, n, e, noise, &[], tilts_deg, sigma).obs
 }
 
 /// A data set: the angle and displacement observations, and the mechanisms as seen (one

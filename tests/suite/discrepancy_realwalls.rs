@@ -23,8 +23,8 @@ use drystone::discrepancy::{analyze, prepare, Prepared};
 use drystone::loading::mechanism::{FailureKind, FailureStart};
 use drystone::study::Study;
 use realwalls::{
-    classify, data_set, data_set_observed, data_set_with_mechanism, mechanism_observations_via_file,
-    mechanism_template, read_independently, Answer, Edit, LayoutBlock, MechanismNoise, Noise, Observer,
+    classify, data_set, data_set_observed, mechanism_observations_via_file, mechanism_template, read_independently,
+    Answer, Edit, LayoutBlock, MechanismNoise, Noise, Observer,
 };
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -69,25 +69,26 @@ fn prepared_with_mechanisms() -> &'static Prepared {
     })
 }
 
-/// The answer on one data set without and with its mechanism file (the same specimens,
-/// noise and analysis seed): (answer, the named cause is the hidden effect, tied or not,
-/// what was named).
-fn answers_both_ways(e: Edit, first: u64) -> [(Answer, bool, String); 2] {
+/// One data set analysed without and with its mechanism file as `seen`'s observer reads
+/// it (the same specimens, noise and analysis seed): (verdict, answer, the named cause is
+/// the hidden effect, tied or not, what was named).
+fn both_ways(e: Edit, first: u64, seen: (Observer, MechanismNoise)) -> [(String, Answer, bool, String); 2] {
     let st = &prepared().0;
     let sigma = st.discrepancy.sigma;
-    let seen = MechanismNoise { misreading: 0.1 };
-    let ds = data_set_with_mechanism(st, DATA_SEED, first, SPECIMENS, e, NOISE, seen, &TILTS, sigma);
-    let dir = std::env::temp_dir().join(format!("discrepancy_realwalls-{}-{first}", std::process::id()));
+    let mut ds = data_set_observed(st, DATA_SEED, first, SPECIMENS, e, NOISE, &[seen], &TILTS, sigma);
+    let dir =
+        std::env::temp_dir().join(format!("discrepancy_realwalls-{}-{}-{first}", seen.0.name(), std::process::id()));
     let mut with = ds.obs.clone();
-    with.extend(mechanism_observations_via_file(st, &dir, &ds.mechanism, sigma));
+    with.extend(mechanism_observations_via_file(st, &dir, &ds.mechanisms.remove(0), sigma));
     let _ = std::fs::remove_dir_all(&dir);
     [(&prepared().1, ds.obs), (prepared_with_mechanisms(), with)].map(|(prep, obs)| {
         let run = analyze(prep, obs, first).unwrap();
         let a = &run.analysis;
         let cause = a.cause.as_ref().map(|c| c.name.clone());
-        let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
+        let verdict = a.verdict.name();
+        let got = classify(e, verdict, cause.as_deref(), &a.tie);
         let named = cause.as_deref().is_some_and(|c| c.split('+').all(|m| realwalls::expected(e).contains(&m)));
-        (got, named, format!("{}: {} {cause:?} tie {:?}", e.label(), a.verdict.name(), a.tie))
+        (verdict.to_string(), got, named, format!("{}: {verdict} {cause:?} tie {:?}", e.label(), a.tie))
     })
 }
 
@@ -212,31 +213,11 @@ fn spring_end_restraints_are_named_restraint_stiffness() {
 #[test]
 #[ignore = "two preparations and two analyses: 131 s on 2 idle cores (see the module doc)"]
 fn with_the_mechanisms_rounded_edges_are_named_first() {
-    let [without, with] = answers_both_ways(Edit::Round(0.004), 201_100);
-    assert_eq!(without.0, Answer::Right, "{}", without.2);
-    assert_eq!(with.0, Answer::Right, "{} (without the mechanisms: {})", with.2, without.2);
-    assert!(with.1, "the rounding is not named first: {} (without the mechanisms: {})", with.2, without.2);
-}
-
-/// The verdicts of one data set without mechanisms and with the independent observer's
-/// readings (a rule that shares no code with the product's reading, misread at 15 %), the
-/// same specimens, noise and analysis seed.
-fn verdicts_with_the_independent_observer(e: Edit, first: u64) -> [(String, Answer, String); 2] {
-    let st = &prepared().0;
-    let sigma = st.discrepancy.sigma;
-    let seen = [(Observer::Independent, MechanismNoise { misreading: 0.15 })];
-    let mut ds = data_set_observed(st, DATA_SEED, first, SPECIMENS, e, NOISE, &seen, &TILTS, sigma);
-    let dir = std::env::temp_dir().join(format!("discrepancy_realwalls-ind-{}-{first}", std::process::id()));
-    let mut with = ds.obs.clone();
-    with.extend(mechanism_observations_via_file(st, &dir, &ds.mechanisms.remove(0), sigma));
-    let _ = std::fs::remove_dir_all(&dir);
-    [(&prepared().1, ds.obs), (prepared_with_mechanisms(), with)].map(|(prep, obs)| {
-        let run = analyze(prep, obs, first).unwrap();
-        let a = &run.analysis;
-        let cause = a.cause.as_ref().map(|c| c.name.clone());
-        let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
-        (a.verdict.name().to_string(), got, format!("{}: {} {cause:?} tie {:?}", e.label(), a.verdict.name(), a.tie))
-    })
+    let product = (Observer::Product, MechanismNoise { misreading: 0.1 });
+    let [without, with] = both_ways(Edit::Round(0.004), 201_100, product);
+    assert_eq!(without.1, Answer::Right, "{}", without.3);
+    assert_eq!(with.1, Answer::Right, "{} (without the mechanisms: {})", with.3, without.3);
+    assert!(with.2, "the rounding is not named first: {} (without the mechanisms: {})", with.3, without.3);
 }
 
 /// Readings that never hurt, on readings the product did not make: the independent
@@ -248,10 +229,12 @@ fn verdicts_with_the_independent_observer(e: Edit, first: u64) -> [(String, Answ
 #[test]
 #[ignore = "two preparations and four analyses: 178 s on 2 cores (see the module doc)"]
 fn the_independent_observers_readings_keep_the_verdicts() {
-    let [without, with] = verdicts_with_the_independent_observer(Edit::Round(0.004), 201_100);
-    assert_eq!((without.0.as_str(), without.1), ("explained", Answer::Right), "{}", without.2);
-    assert_eq!((with.0.as_str(), with.1), ("explained", Answer::Right), "{} (without: {})", with.2, without.2);
-    let [without, with] = verdicts_with_the_independent_observer(Edit::None, 1_000);
-    assert_eq!(without.0, "no_effect", "{}", without.2);
-    assert_eq!(with.0, "no_effect", "{} (without: {})", with.2, without.2);
+    // Read by a rule that shares no code with the product's, misread at 15 %.
+    let independent = (Observer::Independent, MechanismNoise { misreading: 0.15 });
+    let [without, with] = both_ways(Edit::Round(0.004), 201_100, independent);
+    assert_eq!((without.0.as_str(), without.1), ("explained", Answer::Right), "{}", without.3);
+    assert_eq!((with.0.as_str(), with.1), ("explained", Answer::Right), "{} (without: {})", with.3, without.3);
+    let [without, with] = both_ways(Edit::None, 1_000, independent);
+    assert_eq!(without.0, "no_effect", "{}", without.3);
+    assert_eq!(with.0, "no_effect", "{} (without: {})", with.3, without.3);
 }
