@@ -19,7 +19,8 @@
 
 use drystone::dem::SolverParams;
 use drystone::generator::{generate, DistributionSource, Wall, WallSpec};
-use drystone::loading::lateral::{run_lateral, LateralParams};
+use drystone::loading::lateral::LateralParams;
+use drystone::protocol::run_lateral;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

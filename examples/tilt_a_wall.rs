@@ -9,7 +9,8 @@
 
 use drystone::dem::SolverParams;
 use drystone::generator::{generate, Wall};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

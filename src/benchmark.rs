@@ -9,7 +9,8 @@
 use crate::dem::{Isa, Simulation, SolverParams};
 use crate::generator::{generate, GeneratorError, Wall};
 use crate::layout::{BaseSliding, Layout};
-use crate::loading::tilt::{run_tilt, TiltError, TiltParams};
+use crate::loading::tilt::{TiltError, TiltParams};
+use crate::protocol::run_tilt;
 use crate::verify::{box_vertices, layout_of};
 use serde::Serialize;
 use std::time::Instant;

@@ -108,8 +108,9 @@ pub mod prelude {
     pub use crate::ensemble::Shard;
     pub use crate::generator::{generate, Wall};
     pub use crate::layout::{Layout, LayoutSpec};
-    pub use crate::loading::lateral::{run_lateral, LateralParams};
-    pub use crate::loading::tilt::{run_tilt, TiltParams, TiltResult};
+    pub use crate::loading::lateral::LateralParams;
+    pub use crate::loading::tilt::{TiltParams, TiltResult};
+    pub use crate::protocol::{run_lateral, run_tilt};
     pub use crate::study::run_study;
     pub use crate::study::Study;
 }

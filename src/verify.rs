@@ -38,7 +38,8 @@
 
 use crate::dem::{DensityScaling, RunToEquilibrium, SolverParams};
 use crate::layout::{BaseSliding, BlockSpec, Layout, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
-use crate::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
+use crate::loading::tilt::{MechanismKind, TiltParams, TiltResult};
+use crate::protocol::run_tilt;
 
 /// The tilt protocol of the verification cases: the defaults with the collapse bracket
 /// bisected to 1/16° (the cases are single blocks and small stacks, cheap to refine).

@@ -10,7 +10,8 @@ mod common;
 
 use drystone::dem::{DensityScaling, SolverParams};
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{box_vertices, layout_of, RIGID_KN};
 fn main() {
     let (b, h) = (0.15, 0.15);

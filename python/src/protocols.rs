@@ -5,10 +5,9 @@
 
 use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
 use crate::model::{from_json, to_json, PyLayout};
-use drystone::dem::Method;
-use drystone::loading::lateral_pushover::run_lateral_pushover;
 use drystone::loading::tilt_hand::HandTilt;
 use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
+use drystone::protocol::{run as run_protocol, Pushover, PushoverRun};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
@@ -116,42 +115,16 @@ pub fn _lateral<'py>(
 
 /// The limit analysis of the lateral pressure, in the keys of the penalty pushover's
 /// result ([`rigid_pushover`]): λ stable and first unstable both λ.
-fn limit_pushover(
-    py: Python<'_>,
-    l: &drystone::layout::Layout,
-    solver: &SolverParams,
-    lp: &LateralParams,
-) -> PyResult<serde_json::Value> {
-    let r = py.detach(|| {
-        guard(|| {
-            drystone::limit::limit_lateral(l, solver, lp, &solver.limit)
-                .map_err(|e| crate::errors::SolverError::new_err(e.to_string()))
-        })
-    })?;
-    Ok(serde_json::json!({
+fn limit_pushover(r: drystone::limit::LimitResult) -> serde_json::Value {
+    serde_json::json!({
         "lambda_stable": r.load_multiplier, "lambda_unstable": r.load_multiplier,
         "mechanism": r.mechanism, "weight_n": r.weight_n, "steps": 0,
         "wall_time_s": r.wall_time_s, "limit_analysis": r,
-    }))
-}
-
-/// The rigid pushover of the lateral pressure by nscd (bisection of λ), with its step.
-fn nscd_pushover(
-    py: Python<'_>,
-    l: &drystone::layout::Layout,
-    solver: &SolverParams,
-    lp: &LateralParams,
-) -> PyResult<serde_json::Value> {
-    let r = py.detach(|| {
-        guard(|| drystone::loading::lateral_nscd::run_lateral_nscd(l, &solver.nscd, lp).map_err(|e| tilt_error(&e)))
-    })?;
-    let mut v = serde_json::to_value(&r).unwrap_or_default();
-    v["dt_s"] = solver.nscd.dt_s.into();
-    Ok(v)
+    })
 }
 
 /// The rigid pushover (nscd) or the limit analysis of the lateral pressure (`result`, from
-/// [`nscd_pushover`] or [`limit_pushover`]), in the keys of the penalty pushover's result:
+/// the rigid pushover with its step, or [`limit_pushover`]), in the keys of the penalty pushover's result:
 /// λ stable and first unstable (limit analysis: both λ), the mechanism, the weight and the
 /// work; no increments, no monitors.
 fn rigid_pushover(py: Python<'_>, result: serde_json::Value) -> PyResult<Bound<'_, PyDict>> {
@@ -182,22 +155,28 @@ pub fn _pushover<'py>(
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
     let l = &layout.get().layout;
-    let check = || {
-        drystone::loading::support::check(drystone::loading::support::Loading::Pushover, solver.kind)
-            .map_err(|e| input_error(e, Place::default()))
+    // The one choice of a method: the protocol seam (`drystone::protocol::run`).
+    let run = py.detach(|| {
+        guard(|| run_protocol(&Pushover(lp), l, solver, &mut ()).map_err(|e| input_error(e, Place::default())))
+    })?;
+    let r = match run {
+        PushoverRun::Penalty { service, collapse } => {
+            service.map_err(|e| lateral_error(&e))?;
+            match collapse {
+                Some(c) => c.0.map_err(|e| lateral_error(&e))?,
+                None => return Err(crate::errors::DrystoneError::new_err("the pushover did not run")),
+            }
+        }
+        PushoverRun::Rigid(r) => {
+            let mut v = serde_json::to_value(r.map_err(|e| tilt_error(&e))?).unwrap_or_default();
+            v["dt_s"] = solver.nscd.dt_s.into();
+            return rigid_pushover(py, v);
+        }
+        PushoverRun::Limit(r) => {
+            let r = r.map_err(|e| crate::errors::SolverError::new_err(e.to_string()))?;
+            return rigid_pushover(py, limit_pushover(r));
+        }
     };
-    match solver.kind.method() {
-        Method::Penalty => {}
-        Method::Nscd => {
-            check()?;
-            return rigid_pushover(py, nscd_pushover(py, l, &solver, &lp)?);
-        }
-        Method::Limit => {
-            check()?;
-            return rigid_pushover(py, limit_pushover(py, l, &solver, &lp)?);
-        }
-    }
-    let r = py.detach(|| guard(|| run_lateral_pushover(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
     py.check_signals()?;
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
@@ -218,14 +197,14 @@ fn matrix(rows: &[&[f64]], m: usize) -> Array2<f64> {
 
 /// Whether the solver kind `solver` runs the protocol `protocol` (`tilt`, `tilt_by_hand`,
 /// `lateral`, `pushover`, `shake`), by the library's one compatibility table
-/// (`loading::support::check`); see `drystone.supports`. Returns `(runs, reason)`: the
+/// (`protocol::check`); see `drystone.supports`. Returns `(runs, reason)`: the
 /// reason a refusal gives, empty when it runs.
 ///
 /// # Errors
 /// `InputError` for an unknown protocol or solver name.
 #[pyfunction]
 pub fn _supports(protocol: &str, solver: &str) -> PyResult<(bool, String)> {
-    use drystone::loading::support::{check, Loading};
+    use drystone::protocol::{check, Loading};
     let names: Vec<&str> = Loading::ALL.iter().map(|l| l.name()).collect();
     let p = Loading::from_name(protocol).ok_or_else(|| {
         input_error(format!("unknown protocol {protocol:?} (one of {})", names.join(", ")), Place::default())

@@ -5,7 +5,8 @@ use anyhow::{bail, Context, Result};
 use drystone::dem::{Method, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
 use drystone::limit::{LimitParams, LiveLoad};
-use drystone::loading::lateral::{run_lateral_observed, LateralError, LateralParams, LateralResult};
+use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
+use drystone::protocol::run_lateral_observed;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

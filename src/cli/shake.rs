@@ -8,7 +8,8 @@ use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
 use drystone::io::series::{motion_frames, write_series, Recorder};
-use drystone::loading::shake::{run_shake_observed, ShakeError, ShakeParams, ShakeResult};
+use drystone::loading::shake::{ShakeError, ShakeParams, ShakeResult};
+use drystone::protocol::run_shake_observed;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

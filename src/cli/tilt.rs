@@ -5,8 +5,9 @@ use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, Method, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
-use drystone::loading::tilt::{run_tilt_observed, MechanismKind, TiltError, TiltParams, TiltResult};
+use drystone::loading::tilt::{MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_hand::HandTilt;
+use drystone::protocol::{run_tilt, run_tilt_observed, Loading};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -115,7 +116,7 @@ impl HandArgs {
             }
             return Ok(None);
         }
-        if let Err(e) = drystone::loading::support::check(drystone::loading::support::Loading::TiltByHand, kind) {
+        if let Err(e) = drystone::protocol::check(Loading::TiltByHand, kind) {
             bail!("--by-hand: {e}: give it with --solver nscd");
         }
         let d = HandTilt::default();
@@ -218,7 +219,7 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
 fn run_by_hand(layout: &Path, nscd: &NscdParams, params: &TiltParams, hand: &HandTilt, json: bool) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let solver = SolverParams { kind: drystone::dem::SolverKind::Nscd, nscd: *nscd, ..SolverParams::default() };
-    let r = drystone::loading::tilt::run_tilt(&l, solver, &TiltParams { by_hand: Some(*hand), ..*params })
+    let r = run_tilt(&l, solver, &TiltParams { by_hand: Some(*hand), ..*params })
         .map_err(|e| match e {
             TiltError::Parameter(p) if !hand_flag(&p.key).is_empty() => {
                 anyhow::anyhow!("{} {}", hand_flag(&p.key), p.reason())

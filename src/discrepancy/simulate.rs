@@ -19,7 +19,7 @@ use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::{Observed, Protocol};
+use crate::protocol::{Observed, Protocol, RunOutcome};
 use serde::Serialize;
 
 /// One group of walls the model is run for.

@@ -43,13 +43,12 @@
 
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
-use super::support::{Loading, Unsupported};
 pub use super::tilt::NoLoad;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::motion::poses;
 use crate::dem::{solve_static, Cascade, End, StaticSolve};
-use crate::dem::{DemError, Method, Simulation, SolverParams};
+use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
@@ -199,11 +198,11 @@ pub enum LateralError {
     /// The pressure of a pushover resolves to no force ([`check_pushover_force`]).
     #[error(transparent)]
     NoLoad(NoLoad),
-    /// The solver chosen does not run the static lateral load or its penalty pushover (the
-    /// table of [`crate::loading::support`]; limit analysis and the rigid pushover run
-    /// through [`crate::protocol::Protocol::run`]).
-    #[error(transparent)]
-    Unsupported(#[from] crate::loading::support::Unsupported),
+    /// The solver chosen does not give the static lateral load's equilibrium
+    /// (`protocol::run_lateral`): the protocol seam's refusal (`protocol::Unsupported`), as
+    /// text.
+    #[error("{0}")]
+    Unsupported(String),
 }
 
 /// Checks that a pushover has a load to multiply: a collapse multiplier of zero pressure
@@ -318,11 +317,11 @@ pub(super) struct Prepared {
     pub t0: Instant,
 }
 
-/// Checks the parameters and the solver (a penalty method), settles the layout and hands
-/// the settled state to `observe(0, true, state)`.
+/// Checks the parameters and the solver's settings, settles the layout and hands the
+/// settled state to `observe(0, true, state)`.
 ///
 /// # Errors
-/// As [`run_lateral`].
+/// As [`run_lateral_penalty`].
 pub(super) fn prepare(
     layout: &Layout,
     solver: SolverParams,
@@ -331,13 +330,6 @@ pub(super) fn prepare(
 ) -> Result<Prepared, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
-    match solver.kind.method() {
-        Method::Penalty => {}
-        Method::Nscd | Method::Limit => {
-            let protocol = if params.pushover { Loading::Pushover } else { Loading::Lateral };
-            return Err(Unsupported { protocol, kind: solver.kind }.into());
-        }
-    }
     let t0 = Instant::now();
     let mut sim =
         Simulation::new(layout, SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver });
@@ -358,29 +350,21 @@ pub(super) fn prepare(
     Ok(Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
 }
 
-/// Runs the static lateral load test of a layout.
+/// The static lateral load test of a layout by the penalty DEM: the driver of the lateral
+/// load's penalty way (`protocol::lateral`), which the protocol seam calls once it has
+/// chosen the method (`solver.kind` names the cascade of static solves; the default is
+/// plain dynamic relaxation). The states of the test go to `observe(load_factor, stable,
+/// state)`: the settled state under gravity alone (load factor 0), then the state at the
+/// end of the loaded solve (load factor 1; stable if it is an equilibrium). Observing
+/// changes nothing in the test. Run it through `protocol::run_lateral` (or
+/// `protocol::Protocol::run`), which chooses the method.
 ///
 /// # Errors
 /// [`LateralError::DoesNotStand`] if the layout does not stand as given under gravity,
 /// [`LateralError::Dem`] if the state blows up, [`LateralError::Parameter`] for bad
 /// parameters. A wall that collapses under the load is a result (`equilibrium` false), not
 /// an error.
-pub fn run_lateral(
-    layout: &Layout,
-    solver: SolverParams,
-    params: &LateralParams,
-) -> Result<LateralResult, LateralError> {
-    run_lateral_observed(layout, solver, params, &mut |_, _, _| {})
-}
-
-/// As [`run_lateral`], handing the states of the test to `observe(load_factor, stable,
-/// state)`: the settled state under gravity alone (load factor 0), then the state at the
-/// end of the loaded solve (load factor 1; stable if it is an equilibrium). Observing
-/// changes nothing in the test.
-///
-/// # Errors
-/// As [`run_lateral`].
-pub fn run_lateral_observed(
+pub fn run_lateral_penalty(
     layout: &Layout,
     solver: SolverParams,
     params: &LateralParams,

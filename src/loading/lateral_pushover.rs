@@ -131,14 +131,16 @@ impl LateralPushover {
 }
 
 /// Runs the DEM pushover of a layout under the lateral pressure of `params` (see the module
-/// doc) with a penalty solver.
+/// doc) by the penalty DEM: the driver of the pushover's penalty way (`protocol::pushover`),
+/// which the protocol seam calls once it has chosen the method (`solver.kind` names the
+/// cascade of static solves). Run a pushover through `protocol::Protocol::run`, which
+/// chooses the method.
 ///
 /// # Errors
 /// [`LateralError::DoesNotStand`] if the layout does not stand as given under gravity,
 /// [`LateralError::Dem`] if the state blows up (after the fall-backs of the density
 /// scaling), [`LateralError::Parameter`] for bad parameters, [`LateralError::NoLoad`] for
-/// a pressure that loads no face, [`LateralError::Unsupported`]
-/// for a solver that is not a penalty method. A collapse is the result, not an error.
+/// a pressure that loads no face. A collapse is the result, not an error.
 pub fn run_lateral_pushover(
     layout: &Layout,
     solver: SolverParams,

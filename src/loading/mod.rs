@@ -1,9 +1,7 @@
 //! Loading protocols: the tilting table ([`tilt`]; at the rigid limit by non-smooth
 //! contact dynamics, [`tilt_nscd`]; rolled by hand in kicks, [`tilt_hand`]), the static lateral load ([`lateral`]; its pushover to
 //! collapse by the penalty DEM, [`lateral_pushover`], and at the rigid limit,
-//! [`lateral_nscd`]) and the shaking table ([`shake`]), the one table of which method runs
-//! which ([`support`]; the seam that runs them, [`crate::protocol::Protocol`], is the layer
-//! above limit analysis), with the monitor points and motion measures they share
+//! [`lateral_nscd`]) and the shaking table ([`shake`]), with the monitor points and motion measures they share
 //! ([`monitors`]) and the reading of
 //! the collapse mechanism ([`mechanism`]).
 
@@ -14,7 +12,6 @@ pub mod mechanism;
 pub mod monitors;
 pub mod settle;
 pub mod shake;
-pub mod support;
 pub mod tilt;
 pub mod tilt_hand;
 pub mod tilt_nscd;

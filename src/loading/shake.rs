@@ -35,7 +35,6 @@
 
 use super::monitors::{monitor_points_of, MonitorPoint};
 use super::settle::{settle, SettleError};
-use super::support::{Loading, Unsupported};
 use super::tilt::{TiltError, TiltParams};
 use crate::dem::damping::ContactDamping;
 use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
@@ -249,73 +248,78 @@ pub enum ShakeError {
     #[error("the shaking-table run is too long: {0}")]
     TooLong(String),
     /// The layout does not stand as given under gravity alone on the still table (the
-    /// tilting table's check at α = 0, [`check_stands`]).
+    /// tilting table's check at α = 0, [`check_stands_rigid`], [`check_stands_penalty`]).
     #[error(transparent)]
     DoesNotStand(SettleError),
-    /// The solver chosen does not run the shaking table (a cascade of static solves of the
-    /// penalty DEM, or limit analysis; the table of [`crate::loading::support`]).
-    #[error(transparent)]
-    Unsupported(#[from] crate::loading::support::Unsupported),
+    /// The solver chosen does not shake (`protocol::run_shake`): the protocol seam's refusal
+    /// (`protocol::Unsupported`: a cascade of static solves of the penalty DEM, or limit
+    /// analysis), as text.
+    #[error("{0}")]
+    Unsupported(String),
 }
 
-/// Runs the shaking-table test of `layout` under `motion`, by non-smooth contact dynamics
-/// (`solver.kind` [`SolverKind::Nscd`], its settings `solver.nscd`) or by the penalty DEM
-/// in explicit dynamics (`solver.kind` [`SolverKind::Penalty`], its joint and contact
-/// settings from `solver`; local damping and density scaling are not used).
+/// Checks what every shaking run checks first, whatever its method: the parameters and
+/// the motion (not empty, a positive sampling interval).
 ///
 /// # Errors
-/// [`ShakeError`]: a bad parameter or motion, a solver that cannot run the protocol, or the
-/// solver's own error (a blow-up becomes a status row in a study).
-pub fn run_shake(
-    layout: &Layout,
-    solver: SolverParams,
-    motion: &Motion,
-    params: &ShakeParams,
-) -> Result<ShakeResult, ShakeError> {
-    run_shake_observed(layout, solver, motion, params, &mut |_, _| {})
+/// [`ShakeError::Parameter`], [`ShakeError::BadMotion`].
+fn check_shake(motion: &Motion, params: &ShakeParams) -> Result<(), ShakeError> {
+    params.validate().map_err(ShakeError::Parameter)?;
+    if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
+        return Err(ShakeError::BadMotion(motion.name.clone()));
+    }
+    Ok(())
 }
 
-/// As [`run_shake`], handing the bodies (layout order, table frame) to
+/// The shaking-table test of `layout` under `motion` by the penalty DEM in explicit
+/// dynamics (its joint and contact settings from `solver`; local damping and density
+/// scaling are not used; contact dashpots of `params.contact_restitution`): the driver of
+/// the shaking table's penalty way (`protocol::shake`), which the protocol seam calls once
+/// it has chosen the method. The bodies (layout order, table frame) go to
 /// `observe(time_s, bodies)` at every recorded time of the history (time from the start of
-/// the motion). Observing changes nothing.
+/// the motion). Observing changes nothing. Run a shaking test through
+/// `protocol::run_shake` (or `protocol::Protocol::run`), which chooses the method.
 ///
 /// # Errors
-/// As [`run_shake`].
-pub fn run_shake_observed(
+/// [`ShakeError`]: a bad parameter or motion, a wall that does not stand
+/// ([`check_stands_penalty`]), a run too long, a blow-up (a study's status row).
+pub fn run_shake_penalty(
     layout: &Layout,
     solver: SolverParams,
     motion: &Motion,
     params: &ShakeParams,
     observe: &mut dyn FnMut(f64, &[Body]),
 ) -> Result<ShakeResult, ShakeError> {
-    params.validate().map_err(ShakeError::Parameter)?;
-    crate::loading::support::check(Loading::Shake, solver.kind)?;
-    if motion.horizontal_g.is_empty() || !(motion.dt_s > 0.0) {
-        return Err(ShakeError::BadMotion(motion.name.clone()));
-    }
-    match solver.kind {
-        SolverKind::Penalty => {
-            check_stands(layout, &solver)?;
-            run_shake_penalty(layout, solver, motion, params, observe)
-        }
-        SolverKind::Nscd => {
-            if solver.nscd.dt_s > 0.0 {
-                check_steps(motion, params, solver.nscd.dt_s)?;
-            }
-            check_stands(layout, &solver)?;
-            run_shake_nscd(layout, solver, motion, params, observe)
-        }
-        // Refused by `support::check` above (a cascade of static solves on a motion; limit
-        // analysis has no motion).
-        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-            Err(Unsupported { protocol: Loading::Shake, kind: solver.kind }.into())
-        }
-    }
+    check_shake(motion, params)?;
+    check_stands_penalty(layout, &solver)?;
+    shake_penalty(layout, solver, motion, params, observe)
 }
 
-/// The shaking table by non-smooth contact dynamics ([`run_shake_observed`], once the
+/// The shaking-table test of `layout` under `motion` by non-smooth contact dynamics
+/// (Moreau–Jean, its settings `solver.nscd`): the driver of the shaking table's nscd way
+/// (`protocol::shake`), observed as [`run_shake_penalty`].
+///
+/// # Errors
+/// [`ShakeError`]: a bad parameter or motion, a run too long ([`check_steps`]), a wall that
+/// does not stand ([`check_stands_rigid`]), the solver's own error.
+pub fn run_shake_nscd(
+    layout: &Layout,
+    solver: SolverParams,
+    motion: &Motion,
+    params: &ShakeParams,
+    observe: &mut dyn FnMut(f64, &[Body]),
+) -> Result<ShakeResult, ShakeError> {
+    check_shake(motion, params)?;
+    if solver.nscd.dt_s > 0.0 {
+        check_steps(motion, params, solver.nscd.dt_s)?;
+    }
+    check_stands_rigid(layout, &solver)?;
+    shake_nscd(layout, solver, motion, params, observe)
+}
+
+/// The shaking table by non-smooth contact dynamics ([`run_shake_nscd`], once the
 /// motion's steps and the wall's standing are checked).
-fn run_shake_nscd(
+fn shake_nscd(
     layout: &Layout,
     solver: SolverParams,
     motion: &Motion,
@@ -368,49 +372,51 @@ fn run_shake_nscd(
 }
 
 /// Checks that `layout` stands as given on the still table by the tilting table's rule at
-/// α = 0 for the solver that will shake it: for `nscd`, the rigid check
+/// α = 0 for non-smooth contact dynamics: the rigid check
 /// ([`super::tilt_nscd::check_stands_rigid`]: every free block touches something and the
-/// wall released under gravity comes to rest); for `penalty`, the settling of
-/// [`super::settle::settle`] by dynamic relaxation with the solver's contact settings,
-/// the default local damping and density scaling, and the tilting table's tolerance and
-/// step budget ([`TiltParams`] defaults): no block may move more than the closure of its
-/// joints explains. The check runs on its own copy: the shaking run is not changed by it.
+/// wall released under gravity comes to rest), with `solver.nscd`. The check runs on its
+/// own copy: the shaking run is not changed by it.
 ///
 /// # Errors
 /// [`ShakeError::DoesNotStand`] naming the block (untouched, or moved and how far);
 /// [`ShakeError::Parameter`], [`ShakeError::Nscd`] or [`ShakeError::Dem`] for what the
-/// solver refuses; [`ShakeError::Unsupported`] for limit analysis, which does not shake.
-pub fn check_stands(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
-    let tilt = TiltParams::default();
-    let from_tilt = |e: TiltError| match e {
+/// solver refuses.
+pub fn check_stands_rigid(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
+    super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(|e| match e {
         TiltError::DoesNotStand(s) => ShakeError::DoesNotStand(s),
         TiltError::Dem(d) => ShakeError::Dem(d),
         TiltError::Nscd(n) => ShakeError::Nscd(n),
         TiltError::Parameter(p) => ShakeError::Parameter(p),
-        TiltError::Unsupported(u) => ShakeError::Unsupported(Unsupported { protocol: Loading::Shake, ..u }),
+        TiltError::Unsupported(u) => ShakeError::Unsupported(u),
         // No pressure is involved in the rigid check; kept for completeness.
         TiltError::NoLoad(n) => ShakeError::Parameter(OutOfRange::new(
             "pressure_base_pa",
             n.pressure_base_pa,
             "a pressure that loads the wall",
         )),
-    };
-    match solver.kind {
-        SolverKind::Nscd => super::tilt_nscd::check_stands_rigid(layout, &solver.nscd).map_err(from_tilt),
-        SolverKind::Penalty | SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => {
-            let d = SolverParams::default();
-            let sp = SolverParams { damping: d.damping, density_scaling: d.density_scaling, ..*solver };
-            sp.validate().map_err(ShakeError::Parameter)?;
-            let mut sim = Simulation::new(layout, sp);
-            settle(&mut sim, layout, tilt.tolerance, tilt.max_steps_per_increment).map_err(|e| match e {
-                SettleError::Dem(d) => ShakeError::Dem(d),
-                other => ShakeError::DoesNotStand(other),
-            })
-        }
-        // Limit analysis does not shake: `run_shake_observed` refuses it (`support::check`)
-        // before it checks the wall; a direct call gets the same refusal.
-        SolverKind::Limit => Err(Unsupported { protocol: Loading::Shake, kind: solver.kind }.into()),
-    }
+    })
+}
+
+/// Checks that `layout` stands as given on the still table by the tilting table's rule at
+/// α = 0 for the penalty DEM: the settling of [`super::settle::settle`] by dynamic
+/// relaxation with the solver's contact settings, the default local damping and density
+/// scaling, and the tilting table's tolerance and step budget ([`TiltParams`] defaults): no
+/// block may move more than the closure of its joints explains. The check runs on its own
+/// copy: the shaking run is not changed by it.
+///
+/// # Errors
+/// [`ShakeError::DoesNotStand`] naming the block (moved, and how far);
+/// [`ShakeError::Parameter`] or [`ShakeError::Dem`] for what the solver refuses.
+pub fn check_stands_penalty(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
+    let tilt = TiltParams::default();
+    let d = SolverParams::default();
+    let sp = SolverParams { damping: d.damping, density_scaling: d.density_scaling, ..*solver };
+    sp.validate().map_err(ShakeError::Parameter)?;
+    let mut sim = Simulation::new(layout, sp);
+    settle(&mut sim, layout, tilt.tolerance, tilt.max_steps_per_increment).map_err(|e| match e {
+        SettleError::Dem(d) => ShakeError::Dem(d),
+        other => ShakeError::DoesNotStand(other),
+    })
 }
 
 /// The base acceleration (m/s², table frame: y horizontal, z vertical) at time `tm` (s) from
@@ -621,7 +627,7 @@ pub fn penalty_step(layout: &Layout, solver: SolverParams, params: &ShakeParams)
 
 /// [`ShakeError::Parameter`] for a solver parameter out of range, [`ShakeError::Dem`] if
 /// the integration blows up.
-fn run_shake_penalty(
+fn shake_penalty(
     layout: &Layout,
     solver: SolverParams,
     motion: &Motion,

@@ -1,7 +1,7 @@
 //! The error of reading and resolving a study or suite file.
 
 use crate::io::table::TableError;
-use crate::loading::support::{Loading, Unsupported};
+use crate::protocol::{Loading, Unsupported};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 

@@ -18,9 +18,9 @@ use crate::io::series::{
 };
 use crate::io::{replace_file, FileError};
 use crate::layout::Layout;
-use crate::loading::lateral::{run_lateral_observed, LateralParams};
-use crate::loading::shake::run_shake_observed;
-use crate::loading::tilt::{run_tilt_observed, MechanismKind, TiltParams, TiltResult};
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::{MechanismKind, TiltParams, TiltResult};
+use crate::protocol::{run_lateral_observed, run_shake_observed, run_tilt_observed, Protocol, Shake};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -221,9 +221,9 @@ pub(super) fn shake_series(
     layout: &Layout,
     out: &Path,
 ) -> Result<Option<PathBuf>, SeriesError> {
-    let (params, motion) = match study.loading_at(point) {
-        crate::protocol::Protocol::Shake { params, motion } => (params, motion),
-        crate::protocol::Protocol::Tilt(_) | crate::protocol::Protocol::Lateral(_) => return Ok(None),
+    let Shake { params, motion } = match study.loading_at(point) {
+        Protocol::Shake(shake) => shake,
+        Protocol::Tilt(_) | Protocol::TiltByHand(_) | Protocol::Lateral(_) | Protocol::Pushover(_) => return Ok(None),
     };
     let mut rec = Recorder::default();
     let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {

@@ -12,7 +12,7 @@ use super::StudyError;
 use crate::dem::SolverKind;
 use crate::ground::Motion;
 use crate::loading::shake::ShakeParams;
-use crate::loading::support::{Loading, Unsupported};
+use crate::protocol::{Loading, Unsupported};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

@@ -21,9 +21,8 @@ use crate::ground::Motion;
 use crate::io::series::SeriesError;
 use crate::layout::Layout;
 use crate::loading::lateral::LateralParams;
-use crate::loading::support::Loading;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::{Protocol, ProtocolRun};
+use crate::protocol::{LateralRun, Loading, Protocol, ProtocolRun, PushoverRun, RunOutcome, Shake, TiltRun};
 use std::path::{Path, PathBuf};
 
 /// A study's protocol with its parameters: the kind and its table together, so that every
@@ -101,8 +100,8 @@ impl StudyProtocol {
     /// motion, which the protocol refuses with an error row.
     pub fn at(&self, point: &[(SweepKey, SweepValue)]) -> Protocol {
         match self {
-            StudyProtocol::Tilt(t) => Protocol::Tilt(*t),
-            StudyProtocol::Lateral(l) => Protocol::Lateral(*l),
+            StudyProtocol::Tilt(t) => Protocol::tilting(*t),
+            StudyProtocol::Lateral(l) => Protocol::lateral(*l),
             StudyProtocol::Shake(shake) => {
                 let value = |key: SweepKey| point.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
                 let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
@@ -113,7 +112,7 @@ impl StudyProtocol {
                     horizontal_g: vec![],
                     vertical_g: None,
                 });
-                Protocol::Shake { params: shake.params, motion: Box::new(motion) }
+                Protocol::Shake(Shake { params: shake.params, motion: Box::new(motion) })
             }
         }
     }
@@ -123,22 +122,27 @@ impl StudyProtocol {
     /// ([`super::run`]), an error as a status row.
     pub(super) fn row(&self, study: &Study, point: usize, row: RealizationRow, run: ProtocolRun) -> RealizationRow {
         let does_not_stand = run.does_not_stand();
+        let error = run.error().unwrap_or_default();
         match run {
-            ProtocolRun::Tilt(Ok(t)) => tilt_row(row, t),
-            ProtocolRun::Lateral(Ok(r)) => lateral_row(row, r),
-            ProtocolRun::Pushover { service: Ok(r), collapse } => {
+            ProtocolRun::Tilt(TiltRun::Path(Ok(t))) | ProtocolRun::TiltByHand(Ok(t)) => tilt_row(row, t),
+            ProtocolRun::Tilt(TiltRun::Limit(Ok(r))) | ProtocolRun::Lateral(LateralRun::Limit(Ok(r))) => {
+                limit_row(row, r, false)
+            }
+            ProtocolRun::Pushover(PushoverRun::Limit(Ok(r))) => limit_row(row, r, true),
+            ProtocolRun::Lateral(LateralRun::Dem(Ok(r))) => lateral_row(row, r),
+            ProtocolRun::Pushover(PushoverRun::Penalty { service: Ok(r), collapse }) => {
                 pushover_row(lateral_row(row, r), collapse.map(|c| *c))
             }
-            ProtocolRun::RigidPushover(Ok(r)) => rigid_pushover_row(row, r),
-            ProtocolRun::Limit(Ok(r)) => limit_row(row, r, self.pushover()),
+            ProtocolRun::Pushover(PushoverRun::Rigid(Ok(r))) => rigid_pushover_row(row, r),
             ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(point, SweepKey::PgaG)),
-            ProtocolRun::Limit(Err(e)) => failed_row(row, does_not_stand, &e),
-            failed @ (ProtocolRun::Tilt(Err(_))
-            | ProtocolRun::Lateral(Err(_))
-            | ProtocolRun::Pushover { service: Err(_), .. }
-            | ProtocolRun::RigidPushover(Err(_))
+            ProtocolRun::Tilt(TiltRun::Path(Err(_)) | TiltRun::Limit(Err(_)))
+            | ProtocolRun::TiltByHand(Err(_))
+            | ProtocolRun::Lateral(LateralRun::Dem(Err(_)) | LateralRun::Limit(Err(_)))
+            | ProtocolRun::Pushover(
+                PushoverRun::Penalty { service: Err(_), .. } | PushoverRun::Rigid(Err(_)) | PushoverRun::Limit(Err(_)),
+            )
             | ProtocolRun::Shake(Err(_))
-            | ProtocolRun::Unsupported(_)) => failed_row(row, does_not_stand, &failed.error().unwrap_or_default()),
+            | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
         }
     }
 
@@ -233,8 +237,8 @@ impl StudySpec {
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading_kind(&self) -> Loading {
         match self.protocol {
-            ProtocolKind::Tilt => Protocol::Tilt(self.tilt).kind(),
-            ProtocolKind::Lateral => Protocol::Lateral(self.lateral).kind(),
+            ProtocolKind::Tilt => Protocol::tilting(self.tilt).kind(),
+            ProtocolKind::Lateral => Protocol::lateral(self.lateral).kind(),
             ProtocolKind::Shake => Loading::Shake,
         }
     }

@@ -229,7 +229,7 @@ impl StudySpec {
                 ));
             }
         }
-        crate::loading::support::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
+        crate::protocol::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
         match self.solver.kind {
             SolverKind::Nscd => self.solver.nscd.validate().map_err(range("solver.nscd"))?,
             SolverKind::Penalty

@@ -62,7 +62,7 @@ use drystone::io::measured::{
 };
 use drystone::layout::LayoutSpec;
 use drystone::loading::mechanism::{FailureKind, FailureStart, MechanismReading};
-use drystone::loading::tilt::run_tilt_observed;
+use drystone::protocol::run_tilt_observed;
 use drystone::study::Study;
 use parry3d_f64::math::Vector as PVec;
 use rand::{RngExt, SeedableRng};

@@ -6,7 +6,8 @@ use drystone::dem::drivers::relax::{dynamic_relaxation, Relaxed};
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
-use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};
+use drystone::loading::tilt::{CollapseReason, TiltParams};
+use drystone::protocol::run_tilt;
 use std::path::Path;
 
 use crate::common;

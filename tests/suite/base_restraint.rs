@@ -9,7 +9,8 @@
 use drystone::dem::SolverParams;
 use drystone::effects::{Effect, EffectDef, ParamDef, Scale, Stage, Step};
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block, RIGID_KN};
 use std::sync::Arc;
 

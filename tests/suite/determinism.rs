@@ -4,7 +4,8 @@
 
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::Layout;
-use drystone::loading::tilt::{run_tilt, TiltParams, TiltResult};
+use drystone::loading::tilt::{TiltParams, TiltResult};
+use drystone::protocol::run_tilt;
 use rayon::prelude::*;
 use std::path::Path;
 

@@ -8,7 +8,8 @@ use drystone::dem::RunToEquilibrium;
 use drystone::dem::SolverParams;
 use drystone::effects::{effect_rng, EffectDef, Library, Stage};
 use drystone::layout::{BaseSliding, Closure, JointFamily, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block};
 use std::path::Path;
 

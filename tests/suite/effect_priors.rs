@@ -7,7 +7,8 @@
 use drystone::dem::{RunToEquilibrium, SolverParams};
 use drystone::effects::{effect_rng, realize, Effect, EffectDef, Library, Stage, WallKind};
 use drystone::layout::{BaseSliding, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block};
 use std::path::Path;
 

@@ -7,7 +7,8 @@ use drystone::dem::drivers::implicit::{implicit_relaxation, ImplicitSolve, Solve
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{Closure, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use std::path::Path;
 
 use crate::common;

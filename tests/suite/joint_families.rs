@@ -9,7 +9,8 @@ use drystone::dem::contact::law::contract::representative_laws;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::generator::{generate, Wall, WallSpec};
 use drystone::layout::{Closure, JointFamily, JointSpec, Layout, LayoutSpec};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

@@ -3,7 +3,8 @@
 use drystone::dem::{Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use drystone::layout::BaseSliding;
-use drystone::loading::lateral::{pressure_loads, run_lateral, LateralParams};
+use drystone::loading::lateral::{pressure_loads, LateralParams};
+use drystone::protocol::run_lateral;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, DENSITY};
 use std::path::Path;

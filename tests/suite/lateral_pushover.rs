@@ -4,10 +4,11 @@
 use drystone::dem::SolverParams;
 use drystone::layout::{BaseSliding, Layout};
 use drystone::limit::{limit_lateral, LimitParams};
-use drystone::loading::lateral::{run_lateral, LateralParams};
+use drystone::loading::lateral::LateralParams;
 use drystone::loading::lateral_pushover::{run_lateral_pushover, LateralPushover};
 use drystone::loading::mechanism::MechanismKind;
 use drystone::loading::tilt::CollapseReason;
+use drystone::protocol::run_lateral;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, DENSITY};
 use std::path::Path;

@@ -20,7 +20,8 @@ use drystone::dem::SolverParams;
 use drystone::effects::{Effect, EffectDef, Library, ParamDef, Scale, Stage, Step};
 use drystone::geometry::sat::separation;
 use drystone::layout::{BaseSliding, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{box_vertices, layout_of, RIGID_KN};
 use std::sync::Arc;
 

@@ -221,12 +221,12 @@ fn the_solvers_limit_table_reaches_limit_analysis_through_the_protocol_seam() {
     // answer is marked associative; with the default, the correction runs.
     use drystone::dem::SolverKind;
     use drystone::loading::tilt::TiltParams;
-    use drystone::protocol::{Protocol, ProtocolRun};
+    use drystone::protocol::{Protocol, ProtocolRun, TiltRun};
     let l = layout_of(vec![block(0.4, 0.1, 0.0, 0.0)], KN, KN / 2.0, 25.0, BaseSliding::Free);
     let run = |limit: LimitParams| {
         let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
-        match Protocol::Tilt(TiltParams::default()).run(&l, solver) {
-            ProtocolRun::Limit(r) => r.expect("limit analysis"),
+        match Protocol::tilting(TiltParams::default()).run(&l, solver) {
+            ProtocolRun::Tilt(TiltRun::Limit(r)) => r.expect("limit analysis"),
             other => panic!("expected a limit analysis, got {other:?}"),
         }
     };
@@ -243,8 +243,8 @@ fn the_solvers_limit_table_reaches_limit_analysis_through_the_protocol_seam() {
         limit: LimitParams { relaxation: 0.0, ..LimitParams::default() },
         ..SolverParams::default()
     };
-    match Protocol::Tilt(TiltParams::default()).run(&l, solver) {
-        ProtocolRun::Limit(Err(e)) => assert!(e.to_string().contains("relaxation"), "{e}"),
+    match Protocol::tilting(TiltParams::default()).run(&l, solver) {
+        ProtocolRun::Tilt(TiltRun::Limit(Err(e))) => assert!(e.to_string().contains("relaxation"), "{e}"),
         other => panic!("expected the parameter refused, got {other:?}"),
     }
 }

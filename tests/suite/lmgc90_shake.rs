@@ -20,7 +20,8 @@
 use drystone::dem::{SolverKind, SolverParams};
 use drystone::ground::{read_record, Pulse};
 use drystone::layout::Layout;
-use drystone::loading::shake::{run_shake, ShakeParams};
+use drystone::loading::shake::ShakeParams;
+use drystone::protocol::run_shake;
 use std::path::Path;
 
 struct Row {

@@ -8,7 +8,8 @@
 
 use drystone::dem::SolverParams;
 use drystone::layout::Layout;
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use std::path::Path;
 
 use crate::common;

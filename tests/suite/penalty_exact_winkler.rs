@@ -29,7 +29,8 @@ use crate::winkler_exact;
 
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};
+use drystone::loading::tilt::{CollapseReason, TiltParams};
+use drystone::protocol::run_tilt;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of};
 use winkler_exact::{Block, Interface};

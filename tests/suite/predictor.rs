@@ -5,7 +5,8 @@
 use drystone::dem::RunToEquilibrium;
 use drystone::dem::{Simulation, SolverParams};
 use drystone::layout::{BaseSliding, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;
 use std::path::Path;

@@ -16,9 +16,10 @@ use drystone::dem::rope::RopeLoad;
 use drystone::dem::{RunToEquilibrium, SolverParams, WallState};
 use drystone::effects::{effect_rng, Library, Stage};
 use drystone::layout::{BaseSliding, Layout, LayoutSpec, Rope};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_nscd::run_tilt_nscd;
 use drystone::math::Vec3;
+use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block, DENSITY, RIGID_KN};
 
 /// A block b × h × l (y, z, x) on the table with two ropes at x = l/6 and 5 l/6 over its

@@ -16,8 +16,9 @@ use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::timestep::Stiffness;
 use drystone::dem::{SolverParams, WallState};
 use drystone::layout::{BaseSliding, Layout, Rope};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block, DENSITY};
 
 /// Joint stiffness, Pa/m: a stone joint (the rope is soft beside it, the block near rigid).

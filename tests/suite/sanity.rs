@@ -4,9 +4,11 @@
 
 use drystone::dem::{DensityScaling, SolverParams};
 use drystone::layout::{Layout, LayoutError, LayoutSpec};
-use drystone::loading::lateral::{run_lateral, LateralError, LateralParams};
+use drystone::loading::lateral::{LateralError, LateralParams};
 use drystone::loading::settle::SettleError;
-use drystone::loading::tilt::{run_tilt, TiltError, TiltParams};
+use drystone::loading::tilt::{TiltError, TiltParams};
+use drystone::protocol::run_lateral;
+use drystone::protocol::run_tilt;
 
 /// A box `[x0, x1] × [y0, y1] × [z0, z1]` as a block of material `m`.
 fn block(id: &str, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2], [z0, z1]: [f64; 2]) -> String {

@@ -8,7 +8,8 @@ use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{SolverKind, SolverParams};
 use drystone::ground::{Pulse, G};
 use drystone::layout::{BaseSliding, Layout};
-use drystone::loading::shake::{run_shake, ShakeParams};
+use drystone::loading::shake::ShakeParams;
+use drystone::protocol::run_shake;
 use drystone::verify::{box_vertices, layout_of};
 
 /// A block 0.2 m along x, `b` wide (y) and `h` tall on the table, friction 85° (μ 11: rocking,

@@ -4,7 +4,8 @@
 use drystone::dem::{SolverKind, SolverParams};
 use drystone::ensemble::Shard;
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_tilt;
 use drystone::study::{run_study, Study};
 use drystone::verify::{box_vertices, layout_of};
 use std::path::{Path, PathBuf};

@@ -11,7 +11,8 @@ use crate::winkler_exact;
 
 use drystone::dem::SolverParams;
 use drystone::layout::Layout;
-use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams};
+use drystone::loading::tilt::{CollapseReason, TiltParams};
+use drystone::protocol::run_tilt;
 use drystone::units::STANDARD_GRAVITY as G;
 use std::path::Path;
 use std::process::Command;

@@ -18,7 +18,8 @@ use crate::winkler;
 
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, CollapseReason, TiltParams, TiltResult};
+use drystone::loading::tilt::{CollapseReason, TiltParams, TiltResult};
+use drystone::protocol::run_tilt;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, trapezoid_block, DENSITY};
 use winkler::Collapse;

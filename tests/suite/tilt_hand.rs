@@ -24,9 +24,10 @@ use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::SolverParams;
 use drystone::effects::{Effect, Library, Stage};
 use drystone::layout::{BaseSliding, Layout};
-use drystone::loading::tilt::{run_tilt, TiltParams};
+use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_hand::{run_tilt_by_hand, HandTilt};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::protocol::run_tilt;
 use drystone::verify::{box_vertices, layout_of, RIGID_KN};
 
 const G: f64 = 9.81;

@@ -167,7 +167,8 @@ fn local_damping_lowers_the_stable_step_by_the_square_root_of_one_plus_alpha() {
 #[test]
 fn block_scaling_reaches_the_same_equilibria_in_fewer_steps() {
     use drystone::layout::Layout;
-    use drystone::loading::tilt::{run_tilt, TiltParams, TiltResult};
+    use drystone::loading::tilt::{TiltParams, TiltResult};
+    use drystone::protocol::run_tilt;
     let l = Layout::from_file(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/layouts/running_bond_wall.json"))
         .unwrap();
     // Density scaling acts on dynamic relaxation: without the implicit relaxation.
@@ -208,7 +209,8 @@ fn block_scaling_reaches_the_same_equilibria_in_fewer_steps() {
 #[test]
 fn a_blown_up_block_scaled_increment_is_repeated_with_scalar_scaling() {
     use drystone::layout::BaseSliding;
-    use drystone::loading::tilt::{run_tilt, TiltParams};
+    use drystone::loading::tilt::TiltParams;
+    use drystone::protocol::run_tilt;
     use drystone::verify::{layout_of, rect_block};
     let l = layout_of(vec![rect_block(0.1125, 0.375, 0.3)], 5e7, 2.5e7, 60.0, BaseSliding::Free);
     let tilt = TiltParams { step_deg: 10.0, implicit: false, ..TiltParams::default() };

@@ -4,7 +4,8 @@
 use drystone::dem::contact::law::Quadrature;
 use drystone::dem::SolverParams;
 use drystone::layout::BaseSliding;
-use drystone::loading::tilt::{run_tilt, MechanismKind, TiltParams, TiltResult};
+use drystone::loading::tilt::{MechanismKind, TiltParams, TiltResult};
+use drystone::protocol::run_tilt;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::*;
 

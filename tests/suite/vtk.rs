@@ -5,8 +5,10 @@ use drystone::dem::SolverParams;
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::io::series::{lateral_frames, tilt_frames, write_series, Recorder};
 use drystone::layout::Layout;
-use drystone::loading::lateral::{run_lateral_observed, LateralParams};
-use drystone::loading::tilt::{run_tilt_observed, TiltParams};
+use drystone::loading::lateral::LateralParams;
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::run_lateral_observed;
+use drystone::protocol::run_tilt_observed;
 use std::path::{Path, PathBuf};
 use vtkio::model::{Attribute, DataSet, IOBuffer, Piece, UnstructuredGridPiece};
 

@@ -36,8 +36,7 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::monitor_points;
 use super::settle::settle;
-use super::support::{self, Loading, Unsupported};
-use crate::dem::{Method, Simulation, SolverParams, StaticSolve};
+use crate::dem::{Simulation, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use std::time::Instant;
 
@@ -51,63 +50,29 @@ pub use path::elastic_scale;
 use path::{Ctx, StablePath};
 pub use result::{CollapseReason, Increment, NoLoad, TiltError, TiltResult};
 
-/// Runs the tilting-table test of a layout to collapse.
-///
-/// The returned bracket `[last_stable_deg, first_unstable_deg]` contains the collapse
-/// angle α_max to `params.resolution_deg`.
-///
-/// ```
-/// use drystone::dem::SolverParams;
-/// use drystone::layout::BaseSliding;
-/// use drystone::loading::tilt::{run_tilt, TiltParams};
-/// use drystone::verify::{box_vertices, layout_of};
-///
-/// // A block 0.1125 m deep (y) and 0.375 m tall on stiff joints (Kn 1e11 Pa/m, φ 60°)
-/// // topples near the rigid limit tan α = b / h = 0.3 (16.70°), below it by the elastic
-/// // rotation of its base joint (the no-tension Winkler solution: 16.31°, `drystone verify`).
-/// let block = box_vertices([0.0, -0.05625, 0.0], [0.3, 0.05625, 0.375]);
-/// let layout = layout_of(vec![block], 1e11, 5e10, 60.0, BaseSliding::Free);
-/// let params = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
-/// let r = run_tilt(&layout, SolverParams::default(), &params)?;
-/// let up = r.first_unstable_deg.unwrap();
-/// assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{} {up}", r.last_stable_deg);
-/// // The load multiplier at collapse, λ = tan α_max, against the rigid limit b / h.
-/// assert!((r.collapse_angle_deg().to_radians().tan() - 0.3).abs() < 0.01);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
+/// The tilting-table test of a layout to collapse by the penalty DEM: the driver of the
+/// tilting table's penalty way (`protocol::tilt`), which the protocol seam calls once it has
+/// chosen the method. `solver.kind` names the cascade of static solves
+/// ([`TiltParams::cascade`]); `params.by_hand` is not read (the table rolled by hand is a
+/// protocol of its own, run by nscd). Every state of the test goes to
+/// `observe(alpha_deg, stable, state)` as it is reached: the settled state at α = 0, then
+/// every increment and bisection trial in the order tried (the unstable ones in the state
+/// their mechanism is read from); the last unstable state handed over at
+/// `first_unstable_deg` is the first unstable state of the result. Observing changes
+/// nothing in the test. Run a tilt through `protocol::run_tilt` (or
+/// `protocol::Protocol::run`), which chooses the method from `solver.kind`.
 ///
 /// # Errors
 /// [`TiltError::DoesNotStand`] if the layout does not stand as given at α = 0 (a block
 /// touching nothing, no equilibrium, or a block that moved while settling),
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
-pub fn run_tilt(layout: &Layout, solver: SolverParams, params: &TiltParams) -> Result<TiltResult, TiltError> {
-    run_tilt_observed(layout, solver, params, &mut |_, _, _| {})
-}
-
-/// As [`run_tilt`], handing every state of the test to `observe(alpha_deg, stable, state)`
-/// as it is reached: the settled state at α = 0, then every increment and bisection trial
-/// in the order tried (the unstable ones in the state their mechanism is read from). The
-/// last unstable state handed over at `first_unstable_deg` is the first unstable state of
-/// the result. Observing changes nothing in the test.
-///
-/// # Errors
-/// As [`run_tilt`].
-pub fn run_tilt_observed(
+pub fn run_tilt_penalty(
     layout: &Layout,
     solver: SolverParams,
     params: &TiltParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<TiltResult, TiltError> {
-    if let Some(hand) = &params.by_hand {
-        support::check(Loading::TiltByHand, solver.kind)?;
-        return super::tilt_hand::run_tilt_by_hand(layout, &solver.nscd, params, hand);
-    }
     params.validate().map_err(TiltError::Parameter)?;
-    match solver.kind.method() {
-        Method::Nscd => return super::tilt_nscd::run_tilt_nscd(layout, &solver.nscd, params),
-        Method::Limit => return Err(Unsupported { protocol: Loading::Tilt, kind: solver.kind }.into()),
-        Method::Penalty => {}
-    }
     solver.validate_static().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);

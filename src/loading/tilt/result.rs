@@ -143,11 +143,11 @@ pub enum TiltError {
     /// A tilt or solver parameter is out of range.
     #[error("parameter {0}")]
     Parameter(OutOfRange),
-    /// The solver chosen does not run this protocol (the table of
-    /// [`crate::loading::support`]; limit analysis runs it through
-    /// [`crate::protocol::Protocol::run`] or `limit::limit_tilt`).
-    #[error(transparent)]
-    Unsupported(#[from] crate::loading::support::Unsupported),
+    /// The solver chosen does not give the tilting table's path (`protocol::run_tilt`): the
+    /// protocol seam's refusal (`protocol::Unsupported`), or limit analysis, which gives the
+    /// collapse load multiplier instead (`protocol::Protocol::run`); the reason as text.
+    #[error("{0}")]
+    Unsupported(String),
     /// The non-smooth solver refused the layout (a joint with cohesion or tensile
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]

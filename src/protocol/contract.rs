@@ -1,0 +1,149 @@
+//! The contract every loading protocol keeps ([`LoadingProtocol`]), what a run gives
+//! ([`RunOutcome`]), who watches it ([`Observer`]) and the refusal of a solver that does not
+//! run a protocol ([`Unsupported`]).
+//!
+//! A protocol is one module of this folder: a type holding its parameters, the result of
+//! one run whatever method ran it, and one exhaustive match over [`Method`] that is both its
+//! row of the compatibility table and its dispatch ([`LoadingProtocol::way`]): the
+//! choice of a method is made there and nowhere else. The registry in `protocol/mod.rs`
+//! lists the protocols once and makes every enum that names them.
+
+use super::observed::Observed;
+use crate::dem::state::Body;
+use crate::dem::{Method, Simulation, SolverKind, SolverParams};
+use crate::layout::Layout;
+
+/// Who watches a run: the command line's recorders, the study's ParaView series, a
+/// benchmark's counters, the Python package's callbacks. Observing changes nothing in the
+/// run. Both methods default to doing nothing; `()` observes nothing.
+pub trait Observer {
+    /// A static state of a quasi-static protocol as it is reached (the penalty DEM): the
+    /// tilting table at `at` degrees, the lateral load at load multiplier `at` (0 for the
+    /// settled state before the load); `stable` whether the state is in equilibrium (an
+    /// unstable one is handed over in the state its mechanism is read from).
+    fn state(&mut self, at: f64, stable: bool, sim: &Simulation) {
+        let _ = (at, stable, sim);
+    }
+
+    /// An instant of a motion (the shaking table): `time_s` from the start of the motion,
+    /// the bodies in layout order, in the table frame.
+    fn instant(&mut self, time_s: f64, bodies: &[Body]) {
+        let _ = (time_s, bodies);
+    }
+}
+
+impl Observer for () {}
+
+/// An observer made of a closure over the static states ([`Observer::state`]).
+pub struct States<F: FnMut(f64, bool, &Simulation)>(pub F);
+
+impl<F: FnMut(f64, bool, &Simulation)> Observer for States<F> {
+    fn state(&mut self, at: f64, stable: bool, sim: &Simulation) {
+        (self.0)(at, stable, sim)
+    }
+}
+
+/// An observer made of a closure over the instants of a motion ([`Observer::instant`]).
+pub struct Instants<F: FnMut(f64, &[Body])>(pub F);
+
+impl<F: FnMut(f64, &[Body])> Observer for Instants<F> {
+    fn instant(&mut self, time_s: f64, bodies: &[Body]) {
+        (self.0)(time_s, bodies)
+    }
+}
+
+/// One way a method runs a protocol: what it gives there (its cell of the compatibility
+/// table) and the driver that runs it.
+pub struct Way<P: LoadingProtocol> {
+    /// What the method gives for the protocol, in a phrase (the table's cell).
+    pub what: &'static str,
+    /// Runs the protocol `P` on a layout with the solver's settings, handing its states to
+    /// the observer. Called only once the seam has checked the solver
+    /// ([`super::check`]).
+    pub run: fn(&P, &Layout, &SolverParams, &mut dyn Observer) -> P::Run,
+}
+
+/// A loading protocol: one module of `protocol/`, registered once in `protocol/mod.rs`.
+pub trait LoadingProtocol: Sized {
+    /// Its name in tables and in the Python package's `drystone.supports`.
+    const NAME: &'static str;
+    /// The name a study file gives it (`protocol = "..."`; the hand-rolled table and the
+    /// pushover are chosen within the tilting table's and the lateral load's tables).
+    const STUDY_NAME: &'static str;
+    /// What it is, in a phrase (for messages).
+    const DESCRIPTION: &'static str;
+    /// Whether it is a motion (a time history) rather than a sequence of static states: a
+    /// penalty cascade, a setting of static solves, does not apply to it.
+    const MOTION: bool;
+    /// What one run gives, whatever method ran it.
+    type Run: RunOutcome;
+
+    /// How `method` runs the protocol, `None` if it does not: the protocol's row of the
+    /// compatibility table and its dispatch, one exhaustive match over the methods.
+    fn way(method: Method) -> Option<Way<Self>>;
+
+    /// The protocol to run to compare with measured data (`drystone discrepancy`), or why
+    /// it has nothing to compare.
+    ///
+    /// # Errors
+    /// The reason, in a sentence.
+    fn compared(&self) -> Result<super::Protocol, &'static str>;
+
+    /// The tilting table's parameters, for a protocol that tilts the table (the
+    /// discrepancy analysis reads its increment and resolution); `None` by default.
+    fn tilt(&self) -> Option<&crate::loading::tilt::TiltParams> {
+        None
+    }
+}
+
+/// What a run of a protocol gives, whatever method ran it.
+pub trait RunOutcome {
+    /// What the run gives to compare with measured data ([`Observed`]); `None` for a run
+    /// that ended in an error or gives nothing to compare.
+    fn observed(&self) -> Option<Observed>;
+    /// The error that ended the run, if any, as text.
+    fn error(&self) -> Option<String>;
+    /// Whether the run ended because the layout did not stand as given under gravity alone
+    /// (as opposed to a blow-up or a bad parameter).
+    fn does_not_stand(&self) -> bool;
+}
+
+/// A solver that does not run a protocol, with the methods that do (the compatibility
+/// table's row of the protocol, [`super::methods`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.message())]
+pub struct Unsupported {
+    /// The protocol asked.
+    pub protocol: super::Loading,
+    /// The solver asked.
+    pub kind: SolverKind,
+}
+
+impl Unsupported {
+    fn message(&self) -> String {
+        let ways: Vec<String> = Method::ALL
+            .into_iter()
+            .filter_map(|m| super::methods(self.protocol, m).map(|what| format!("{} ({what})", m.name())))
+            .collect();
+        let why = if super::supports(self.protocol, self.kind.method()) {
+            "names a cascade of static solves, which a motion does not run".to_string()
+        } else {
+            format!("is {}", self.kind.method().describe())
+        };
+        format!(
+            "{} runs by solver kind {}; solver {} {why}",
+            self.protocol.describe(),
+            join_or(&ways),
+            self.kind.name()
+        )
+    }
+}
+
+/// `a`, `a or b`, `a, b or c`.
+fn join_or(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [a] => a.clone(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}

@@ -1,0 +1,336 @@
+//! The protocol seam: one type through which a study, the discrepancy analysis, the
+//! command line, the benchmarks and the Python package run a loading protocol on one
+//! realization's layout.
+//!
+//! A protocol is one module of this folder behind one trait ([`LoadingProtocol`]): a type
+//! holding its parameters, the result of a run whatever method ran it ([`RunOutcome`]), and
+//! one exhaustive match over the methods that is both its row of the compatibility table
+//! and its dispatch ([`LoadingProtocol::way`]). The registry below lists the protocols once
+//! and makes every enum that names them: [`Loading`] (the table's rows), [`Protocol`] (a
+//! protocol with its parameters) and [`ProtocolRun`] (what a run gave). [`run`] is the one
+//! place a method is chosen: it checks the solver against the table ([`check`]) and calls
+//! the protocol's way for the solver's method, handing its states to an [`Observer`].
+//! Adding a protocol is its module here, its line in the registry and the drivers it calls
+//! (CONTRIBUTING.md).
+
+mod contract;
+pub mod lateral;
+mod observed;
+mod outcomes;
+pub mod pushover;
+pub mod shake;
+pub mod tilt;
+pub mod tilt_by_hand;
+
+pub use contract::{Instants, LoadingProtocol, Observer, RunOutcome, States, Unsupported, Way};
+pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
+pub use observed::Observed;
+pub use pushover::{Pushover, PushoverRun};
+pub use shake::{run_shake, run_shake_observed, Shake};
+pub use tilt::{run_tilt, run_tilt_observed, Tilt, TiltRun};
+pub use tilt_by_hand::TiltByHand;
+
+use crate::dem::{Method, SolverKind, SolverParams};
+use crate::layout::Layout;
+use crate::loading::lateral::LateralParams;
+use crate::loading::tilt::TiltParams;
+
+/// A protocol the registry lists, with its row of the compatibility table
+/// ([`Loading`]); implemented by the registry for every protocol it lists.
+pub trait Registered: LoadingProtocol {
+    /// Its row of the compatibility table.
+    const LOADING: Loading;
+}
+
+/// Makes, from the one list of protocols, every enum that names them and their dispatch.
+macro_rules! registry {
+    ($($(#[doc = $doc:literal])* $variant:ident($ty:ty)),+ $(,)?) => {
+        /// A protocol, as a row of the compatibility table ([`methods`]).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum Loading {
+            $($(#[doc = $doc])* $variant,)+
+        }
+
+        impl Loading {
+            /// Every protocol, in the registry's order.
+            pub const ALL: [Loading; [$(Loading::$variant),+].len()] = [$(Loading::$variant),+];
+
+            /// Its name in the Python package's `drystone.supports` and in tables
+            /// ([`LoadingProtocol::NAME`]).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Loading::$variant => <$ty as LoadingProtocol>::NAME,)+
+                }
+            }
+
+            /// What it is, in a phrase (for messages).
+            pub fn describe(self) -> &'static str {
+                match self {
+                    $(Loading::$variant => <$ty as LoadingProtocol>::DESCRIPTION,)+
+                }
+            }
+
+            /// Whether it is a motion (a time history) rather than a sequence of static
+            /// states: a penalty cascade, a setting of static solves, does not apply to it.
+            pub fn is_motion(self) -> bool {
+                match self {
+                    $(Loading::$variant => <$ty as LoadingProtocol>::MOTION,)+
+                }
+            }
+
+            /// The protocol of a name; `None` for an unknown one.
+            pub fn from_name(name: &str) -> Option<Loading> {
+                Loading::ALL.into_iter().find(|l| l.name() == name)
+            }
+        }
+
+        $(impl Registered for $ty {
+            const LOADING: Loading = Loading::$variant;
+        })+
+
+        /// Whether `method` runs `protocol`, and what it gives there (`None`: it does not):
+        /// the protocol's [`LoadingProtocol::way`].
+        ///
+        /// | protocol | penalty DEM | nscd | limit analysis |
+        /// | --- | --- | --- | --- |
+        /// | tilt | collapse angle (bisection of static states) | rigid collapse angle | α_max = atan λ |
+        /// | tilt by hand | – | the rolled table's motion | – |
+        /// | lateral | equilibrium under the load | – | whether λ ≥ 1 |
+        /// | pushover | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
+        /// | shake | explicit dynamics with contact damping | Moreau–Jean time stepping | – |
+        pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
+            match protocol {
+                $(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+
+            }
+        }
+
+        /// A loading protocol with its parameters.
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum Protocol {
+            $($(#[doc = $doc])* $variant($ty),)+
+        }
+
+        /// What one run of a protocol came to: what the protocol's run gave (the result of
+        /// the method that ran it, or the error that ended it, which a study turns into a
+        /// status row), or the solver's refusal.
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum ProtocolRun {
+            $($(#[doc = $doc])* $variant(<$ty as LoadingProtocol>::Run),)+
+            /// The solver does not run the protocol ([`check`]).
+            Unsupported(Unsupported),
+        }
+
+        impl Protocol {
+            /// Its row of the compatibility table.
+            pub fn kind(&self) -> Loading {
+                match self {
+                    $(Protocol::$variant(_) => Loading::$variant,)+
+                }
+            }
+
+            /// Its name in study files (`protocol = "..."`; [`LoadingProtocol::STUDY_NAME`]).
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Protocol::$variant(_) => <$ty as LoadingProtocol>::STUDY_NAME,)+
+                }
+            }
+
+            /// The protocol run to compare with measured data
+            /// ([`LoadingProtocol::compared`]).
+            ///
+            /// # Errors
+            /// Why the protocol has nothing to compare.
+            pub fn observed(&self) -> Result<Protocol, &'static str> {
+                match self {
+                    $(Protocol::$variant(p) => p.compared(),)+
+                }
+            }
+
+            /// The tilting table's parameters, for a protocol that tilts the table.
+            pub fn tilt(&self) -> Option<&TiltParams> {
+                match self {
+                    $(Protocol::$variant(p) => p.tilt(),)+
+                }
+            }
+
+            /// Runs the protocol on `layout` with the solver `solver`, handing its states
+            /// to `observer` ([`run`]).
+            pub fn run_observed(&self, layout: &Layout, solver: SolverParams, observer: &mut dyn Observer) -> ProtocolRun {
+                match self {
+                    $(Protocol::$variant(p) => {
+                        run(p, layout, solver, observer).map_or_else(ProtocolRun::Unsupported, ProtocolRun::$variant)
+                    })+
+                }
+            }
+        }
+
+        impl RunOutcome for ProtocolRun {
+            fn observed(&self) -> Option<Observed> {
+                match self {
+                    $(ProtocolRun::$variant(r) => r.observed(),)+
+                    ProtocolRun::Unsupported(_) => None,
+                }
+            }
+            fn error(&self) -> Option<String> {
+                match self {
+                    $(ProtocolRun::$variant(r) => r.error(),)+
+                    ProtocolRun::Unsupported(e) => Some(e.to_string()),
+                }
+            }
+            fn does_not_stand(&self) -> bool {
+                match self {
+                    $(ProtocolRun::$variant(r) => r.does_not_stand(),)+
+                    ProtocolRun::Unsupported(_) => false,
+                }
+            }
+        }
+    };
+}
+
+registry! {
+    /// The tilting table, tilted quasi-statically to collapse ([`tilt`]).
+    Tilt(Tilt),
+    /// The tilting table rolled by hand in increments ([`tilt_by_hand`]): a motion.
+    TiltByHand(TiltByHand),
+    /// The static lateral (trapezoidal pressure) load at its service level ([`lateral`]).
+    Lateral(Lateral),
+    /// The lateral load pushed over to collapse ([`pushover`]): its load multiplier λ.
+    Pushover(Pushover),
+    /// The shaking table under a ground motion ([`shake`]): a motion.
+    Shake(Shake),
+}
+
+/// Runs protocol `p` on `layout` with the solver `solver`: the one place a method is
+/// chosen. The solver is checked against the compatibility table ([`check`]), then the
+/// protocol's way for the solver's method ([`LoadingProtocol::way`]) runs, handing its
+/// states to `observer`.
+///
+/// # Errors
+/// [`Unsupported`] when the solver does not run the protocol.
+pub fn run<P: Registered>(
+    p: &P,
+    layout: &Layout,
+    solver: SolverParams,
+    observer: &mut dyn Observer,
+) -> Result<P::Run, Unsupported> {
+    check(P::LOADING, solver.kind)?;
+    let way = P::way(solver.kind.method()).ok_or(Unsupported { protocol: P::LOADING, kind: solver.kind })?;
+    Ok((way.run)(p, layout, &solver, observer))
+}
+
+/// Whether `method` runs `protocol` ([`methods`]).
+pub fn supports(protocol: Loading, method: Method) -> bool {
+    methods(protocol, method).is_some()
+}
+
+/// Checks that the solver `kind` runs `protocol`: its method is in the table, and a motion
+/// is not given a cascade of static solves (`implicit`, `accelerated`, `relaxation`).
+///
+/// # Errors
+/// [`Unsupported`], naming the methods that run the protocol.
+pub fn check(protocol: Loading, kind: SolverKind) -> Result<(), Unsupported> {
+    let cascade_on_motion = protocol.is_motion() && kind.names_cascade();
+    if supports(protocol, kind.method()) && !cascade_on_motion {
+        Ok(())
+    } else {
+        Err(Unsupported { protocol, kind })
+    }
+}
+
+impl Protocol {
+    /// The tilting table with its parameters `[tilt]`: rolled by hand when
+    /// `params.by_hand` is set ([`TiltByHand`]), else tilted quasi-statically ([`Tilt`]).
+    pub fn tilting(params: TiltParams) -> Protocol {
+        match params.by_hand {
+            Some(hand) => Protocol::TiltByHand(TiltByHand { tilt: params, hand }),
+            None => Protocol::Tilt(Tilt(params)),
+        }
+    }
+
+    /// The lateral load with its parameters `[lateral]`: pushed over to collapse when
+    /// `params.pushover` is set ([`Pushover`]), else at its service level ([`Lateral`]).
+    pub fn lateral(params: LateralParams) -> Protocol {
+        if params.pushover {
+            Protocol::Pushover(Pushover(params))
+        } else {
+            Protocol::Lateral(Lateral(params))
+        }
+    }
+
+    /// Runs the protocol on `layout` with the solver `solver`, observing nothing
+    /// ([`Protocol::run_observed`]).
+    pub fn run(&self, layout: &Layout, solver: SolverParams) -> ProtocolRun {
+        self.run_observed(layout, solver, &mut ())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::BaseSliding;
+    use crate::loading::lateral::run_lateral_penalty;
+    use crate::loading::tilt::run_tilt_penalty;
+    use crate::verify::{box_vertices, layout_of};
+
+    /// Both protocols run through the seam as their drivers run alone, bit for bit; a block
+    /// floating above the table is refused by either as a layout that does not stand.
+    #[test]
+    fn the_seam_runs_each_protocol_as_its_driver_runs_alone() {
+        let l = layout_of(vec![box_vertices([0.0, -0.05, 0.0], [0.2, 0.05, 0.2])], 1e9, 5e8, 35.0, BaseSliding::Free);
+        let tilt = TiltParams { resolution_deg: 0.5, ..TiltParams::default() };
+        let ProtocolRun::Tilt(TiltRun::Path(Ok(a))) = Protocol::tilting(tilt).run(&l, SolverParams::default()) else {
+            panic!()
+        };
+        let b = run_tilt_penalty(&l, SolverParams::default(), &tilt, &mut |_, _, _| {}).unwrap();
+        assert_eq!(
+            (a.last_stable_deg, a.first_unstable_deg, a.steps),
+            (b.last_stable_deg, b.first_unstable_deg, b.steps)
+        );
+        let lateral = LateralParams::default();
+        let ProtocolRun::Lateral(LateralRun::Dem(Ok(c))) = Protocol::lateral(lateral).run(&l, SolverParams::default())
+        else {
+            panic!()
+        };
+        let d = run_lateral_penalty(&l, SolverParams::default(), &lateral, &mut |_, _, _| {}).unwrap();
+        assert_eq!((c.displacement_m, c.steps), (d.displacement_m, d.steps));
+        let floating =
+            layout_of(vec![box_vertices([0.0, -0.05, 0.1], [0.2, 0.05, 0.3])], 1e9, 5e8, 35.0, BaseSliding::Free);
+        for p in [Protocol::tilting(tilt), Protocol::lateral(lateral)] {
+            let run = p.run(&floating, SolverParams::default());
+            assert!(run.does_not_stand(), "{}: {:?}", p.name(), run.error());
+            assert!(run.error().unwrap().contains("touches nothing"), "{:?}", run.error());
+        }
+    }
+
+    /// Every protocol runs by at least one method; the motions by no static cascade; every
+    /// refusal names the methods that do run the protocol; the names round-trip.
+    #[test]
+    fn the_table_is_whole_and_its_refusals_name_the_way() {
+        for p in Loading::ALL {
+            assert!(Method::ALL.into_iter().any(|m| supports(p, m)), "{p:?}");
+            for k in SolverKind::ALL {
+                match check(p, k) {
+                    Ok(()) => assert!(supports(p, k.method()) && !(p.is_motion() && k.names_cascade())),
+                    Err(e) => {
+                        let text = e.to_string();
+                        assert!(text.contains(p.describe()) && text.contains(k.name()), "{text}");
+                        for m in Method::ALL.into_iter().filter(|&m| supports(p, m)) {
+                            assert!(text.contains(m.name()), "{text}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(check(Loading::Shake, SolverKind::Relaxation)
+            .unwrap_err()
+            .to_string()
+            .contains("cascade of static solves"));
+        assert!(check(Loading::Tilt, SolverKind::Relaxation).is_ok());
+        assert!(check(Loading::TiltByHand, SolverKind::Penalty).is_err());
+        assert!(check(Loading::Lateral, SolverKind::Nscd).is_err());
+        assert!(check(Loading::Pushover, SolverKind::Nscd).is_ok());
+        for p in Loading::ALL {
+            assert_eq!(Loading::from_name(p.name()), Some(p));
+        }
+    }
+}

@@ -1,0 +1,45 @@
+//! The tilting table rolled by hand in increments (`tilt.by_hand`): each increment run as a
+//! motion whose stop kicks the wall, by non-smooth contact dynamics
+//! (`loading::tilt_hand`). A motion: no cascade of static solves applies.
+
+use super::contract::{LoadingProtocol, Way};
+use super::Protocol;
+use crate::dem::Method;
+use crate::loading::tilt::hand::HandTilt;
+use crate::loading::tilt::{TiltError, TiltParams, TiltResult};
+use crate::loading::tilt_hand::run_tilt_by_hand;
+
+/// The tilting table rolled by hand: the tilting table's parameters and the hand's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TiltByHand {
+    /// The tilting table's parameters (`[tilt]`: the increment, resolution, largest tilt).
+    pub tilt: TiltParams,
+    /// How the hand rolls the table (`[tilt] by_hand = { ... }`).
+    pub hand: HandTilt,
+}
+
+impl LoadingProtocol for TiltByHand {
+    const NAME: &'static str = "tilt_by_hand";
+    const STUDY_NAME: &'static str = "tilt";
+    const DESCRIPTION: &'static str = "the tilting table rolled by hand (tilt.by_hand)";
+    const MOTION: bool = true;
+    type Run = Result<TiltResult, TiltError>;
+
+    fn way(method: Method) -> Option<Way<Self>> {
+        match method {
+            Method::Nscd => Some(Way {
+                what: "non-smooth contact dynamics",
+                run: |p, layout, solver, _| run_tilt_by_hand(layout, &solver.nscd, &p.tilt, &p.hand),
+            }),
+            Method::Penalty | Method::Limit => None,
+        }
+    }
+
+    fn compared(&self) -> Result<Protocol, &'static str> {
+        Ok(Protocol::TiltByHand(*self))
+    }
+
+    fn tilt(&self) -> Option<&TiltParams> {
+        Some(&self.tilt)
+    }
+}
