@@ -2,11 +2,13 @@
 
 use super::solver::SolverChoice;
 use anyhow::{bail, Context, Result};
-use drystone::dem::{Method, SolverParams};
+use drystone::dem::{SolverKind, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
-use drystone::limit::{LimitParams, LiveLoad};
+use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
-use drystone::protocol::run_lateral_observed;
+use drystone::loading::lateral_nscd::LateralLimit;
+use drystone::loading::lateral_pushover::LateralPushover;
+use drystone::protocol::{Lateral, LateralRun, Observer, Pushover, PushoverRun, Unsupported};
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -76,61 +78,75 @@ pub fn run(
     json: bool,
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
-    match solver.kind.method() {
-        Method::Limit => {
-            if vtk.is_some() {
-                bail!("--vtk draws the states of a DEM run; limit analysis has none");
-            }
-            let load = LiveLoad::Lateral {
-                pressure_base_pa: params.pressure_base_pa,
-                pressure_top_pa: params.pressure_top_pa,
-            };
-            return super::limit::analyse(layout, load, &solver, json, None);
-        }
-        Method::Nscd => {
-            if !params.pushover {
-                eprintln!(
-                    "note: `--solver nscd` runs the rigid pushover; give it with --pushover (without it is deprecated)"
-                );
-            }
-            let params = LateralParams { pushover: true, ..*params };
-            return pushover(layout, &super::read_layout(layout)?, solver, &params, json);
-        }
-        Method::Penalty => {}
-    }
     let l = super::read_layout(layout)?;
-    if params.pushover {
-        return dem_pushover(layout, &l, solver, params, json, vtk);
+    let mut params = *params;
+    if solver.kind == SolverKind::Nscd && !params.pushover {
+        // nscd runs the rigid pushover only; this spelling kept working with a note.
+        eprintln!("note: `--solver nscd` runs the rigid pushover; give it with --pushover (without it is deprecated)");
+        params.pushover = true;
     }
-    let r = recorded(vtk, "lateral", |observe| run_lateral_observed(&l, solver, params, observe))
-        .with_context(|| format!("static lateral load on {}", layout.display()))?;
+    let mut rec = Recorder::default();
+    let observer: &mut dyn Observer = if vtk.is_some() { &mut rec } else { &mut () };
+    let unsupported = |e: Unsupported| anyhow::anyhow!("{e}; on the command line: --solver NAME");
+    // The one choice of a method: the protocol seam.
+    if params.pushover {
+        let run = drystone::protocol::run(&Pushover(params), &l, solver, observer).map_err(unsupported)?;
+        return match run {
+            PushoverRun::Penalty { service, collapse } => {
+                service.map_err(hint).with_context(|| format!("static lateral load on {}", layout.display()))?;
+                let pushed = collapse.map(|c| c.0).context("the pushover did not run")?;
+                let r = pushed.map_err(hint).with_context(|| format!("DEM pushover of {}", layout.display()))?;
+                recorded(vtk, "pushover", &rec)?;
+                dem_pushover(layout, &r, &params, json)
+            }
+            PushoverRun::Rigid(r) => {
+                no_states(vtk)?;
+                let r = r.with_context(|| format!("rigid pushover of {}", layout.display()))?;
+                rigid_pushover(layout, &r, &params, json)
+            }
+            PushoverRun::Limit(r) => {
+                no_states(vtk)?;
+                let r = r.with_context(|| format!("limit analysis of {}", layout.display()))?;
+                super::limit::report(layout, &l, &r, json, None)
+            }
+        };
+    }
+    let r = match drystone::protocol::run(&Lateral(params), &l, solver, observer).map_err(unsupported)? {
+        LateralRun::Dem(r) => {
+            r.map_err(hint).with_context(|| format!("static lateral load on {}", layout.display()))?
+        }
+        LateralRun::Limit(r) => {
+            no_states(vtk)?;
+            let r = r.with_context(|| format!("limit analysis of {}", layout.display()))?;
+            return super::limit::report(layout, &l, &r, json, None);
+        }
+    };
+    recorded(vtk, "lateral", &rec)?;
     if json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        print(layout, params, &r);
+        print(layout, &params, &r);
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// Runs `run` with an observer that records every state when `vtk` is given, and writes
-/// them there as the ParaView series `name` (time = the load factor).
-fn recorded<R>(
-    vtk: Option<&Path>,
-    name: &str,
-    run: impl FnOnce(&mut dyn FnMut(f64, bool, &drystone::dem::Simulation)) -> Result<R, LateralError>,
-) -> Result<R> {
-    let mut rec = Recorder::default();
-    let r = run(&mut |a, stable, sim| {
-        if vtk.is_some() {
-            rec.observe(a, stable, sim)
-        }
-    })
-    .map_err(hint)?;
+/// Refuses `--vtk` for a run that has no DEM states to draw (nscd's rigid pushover, limit
+/// analysis).
+fn no_states(vtk: Option<&Path>) -> Result<()> {
+    if vtk.is_some() {
+        bail!("--vtk draws the states of a DEM run; the rigid pushover and limit analysis have none");
+    }
+    Ok(())
+}
+
+/// Writes the states `rec` recorded as the ParaView series `name` (time = the load factor)
+/// into `vtk`, when it is given.
+fn recorded(vtk: Option<&Path>, name: &str, rec: &Recorder) -> Result<()> {
     if let Some(dir) = vtk {
-        let pvd = write_series(dir, name, &rec, &lateral_frames(&rec))?;
+        let pvd = write_series(dir, name, rec, &lateral_frames(rec))?;
         eprintln!("ParaView series: {}", pvd.display());
     }
-    Ok(r)
+    Ok(())
 }
 
 /// The library's error, with the command-line spelling of the solvers that do run the load.
@@ -171,21 +187,13 @@ fn print(layout: &Path, params: &LateralParams, r: &LateralResult) {
     out!("steps             {}  (dt {:.3e} s, wall time {:.2} s)", r.steps, r.dt_s, r.wall_time_s);
 }
 
-/// `lateral --solver nscd`: the rigid pushover, the collapse load multiplier λ of the
-/// pressure by non-smooth contact dynamics (bisection to --pushover-resolution, 1 % of λ by
-/// default).
-fn pushover(
-    path: &Path,
-    layout: &drystone::layout::Layout,
-    solver: SolverParams,
-    params: &LateralParams,
-    json: bool,
-) -> Result<ExitCode> {
-    let r = drystone::loading::lateral_nscd::run_lateral_nscd(layout, &solver.nscd, params)
-        .with_context(|| format!("rigid pushover of {}", path.display()))?;
+/// `lateral --pushover --solver nscd`: prints the rigid pushover `r`, the collapse load
+/// multiplier λ of the pressure by non-smooth contact dynamics (bisection to
+/// --pushover-resolution, 1 % of λ by default).
+fn rigid_pushover(path: &Path, r: &LateralLimit, params: &LateralParams, json: bool) -> Result<ExitCode> {
     if json {
         return pushover_json(
-            &r,
+            r,
             r.lambda_stable,
             &[("rigid_joints", "the joints' Kn and Ks are not used (rigid blocks)")],
         );
@@ -220,21 +228,11 @@ fn pushover_json(r: &impl serde::Serialize, lambda: f64, notes: &[(&str, &str)])
     Ok(ExitCode::SUCCESS)
 }
 
-/// `lateral --pushover`: the collapse load multiplier λ of the pressure by the penalty DEM
-/// (`loading::lateral_pushover`); with `vtk`, every state as a ParaView series (time = λ).
-fn dem_pushover(
-    path: &Path,
-    layout: &drystone::layout::Layout,
-    solver: SolverParams,
-    params: &LateralParams,
-    json: bool,
-    vtk: Option<&Path>,
-) -> Result<ExitCode> {
-    use drystone::loading::lateral_pushover::run_lateral_pushover_observed;
-    let r = recorded(vtk, "pushover", |observe| run_lateral_pushover_observed(layout, solver, params, observe))
-        .with_context(|| format!("DEM pushover of {}", path.display()))?;
+/// `lateral --pushover`: prints the DEM pushover `r`, the collapse load multiplier λ of the
+/// pressure by the penalty DEM (`loading::lateral_pushover`).
+fn dem_pushover(path: &Path, r: &LateralPushover, params: &LateralParams, json: bool) -> Result<ExitCode> {
     if json {
-        return pushover_json(&r, r.lambda_stable, &[]);
+        return pushover_json(r, r.lambda_stable, &[]);
     }
     out!("layout            {}", path.display());
     print_load(params, " (λ = 1)", r.resultant_n.y, r.weight_n, r.loaded_faces);

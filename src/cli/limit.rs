@@ -76,14 +76,24 @@ pub fn analyse(
     let l = super::read_layout(layout)?;
     let r = limit_analysis(&l, solver, load, &solver.limit)
         .with_context(|| format!("limit analysis of {}", layout.display()))?;
+    report(layout, &l, &r, json, svg_path)
+}
+
+/// Prints the limit analysis `r` of the layout `l` (read from `layout`) as `drystone limit`
+/// prints it: a table, or one JSON object with `json`; with `svg_path`, the mechanism drawn
+/// there.
+///
+/// # Errors
+/// The SVG file that could not be written.
+pub fn report(layout: &Path, l: &Layout, r: &LimitResult, json: bool, svg_path: Option<&Path>) -> Result<ExitCode> {
     if let Some(path) = svg_path {
-        drystone::files::replace_file(path, svg(&l, &r, layout).as_bytes())?;
+        drystone::files::replace_file(path, svg(l, r, layout).as_bytes())?;
         eprintln!("mechanism drawing: {}", path.display());
     }
     if json {
-        out!("{}", serde_json::to_string_pretty(&r)?);
+        out!("{}", serde_json::to_string_pretty(r)?);
     } else {
-        print(layout, &r);
+        print(layout, r);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -3,11 +3,11 @@
 use super::solver::{LimitFlags, NscdArgs, SolverArgs};
 use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::{DensityScaling, Method, SolverParams};
+use drystone::dem::{DensityScaling, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_hand::HandTilt;
-use drystone::protocol::{run_tilt, run_tilt_observed, Loading};
+use drystone::protocol::{run_tilt, Loading, Observer, Tilt, TiltRun};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -175,15 +175,6 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         max_steps_per_increment: a.max_steps,
         ..a.solver.tilt_params(!a.no_predictor)
     };
-    match kind.method() {
-        Method::Limit => {
-            if a.vtk.is_some() {
-                bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
-            }
-            return super::limit::analyse(&a.layout, drystone::limit::LiveLoad::Tilt, &solver, a.json, None);
-        }
-        Method::Penalty | Method::Nscd => {}
-    }
     if let Some(hand) = hand {
         if a.vtk.is_some() {
             bail!("--vtk is not written for a table rolled by hand (--by-hand)");
@@ -260,13 +251,20 @@ pub fn run(
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut rec = Recorder::default();
-    let mut observe = |a: f64, stable: bool, sim: &drystone::dem::Simulation| {
-        if vtk.is_some() {
-            rec.observe(a, stable, sim)
+    let observer: &mut dyn Observer = if vtk.is_some() { &mut rec } else { &mut () };
+    // The one choice of a method: the protocol seam.
+    let run = drystone::protocol::run(&Tilt(*params), &l, solver, observer)
+        .map_err(|e| anyhow::anyhow!("{e}; on the command line: --solver NAME"))?;
+    let r = match run {
+        TiltRun::Path(r) => r.with_context(|| format!("tilting-table test of {}", layout.display()))?,
+        TiltRun::Limit(r) => {
+            if vtk.is_some() {
+                bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
+            }
+            let r = r.with_context(|| format!("limit analysis of {}", layout.display()))?;
+            return super::limit::report(layout, &l, &r, json, None);
         }
     };
-    let r = run_tilt_observed(&l, solver, params, &mut observe)
-        .with_context(|| format!("tilting-table test of {}", layout.display()))?;
     if let Some(dir) = vtk {
         let (series, others) = tilt_frames(&rec, &r);
         let pvd = write_series(dir, "tilt", &rec, &series)?;

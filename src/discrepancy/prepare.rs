@@ -276,22 +276,29 @@ pub struct Prepared {
 pub(super) fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<(), DiscrepancyError> {
     s.validate()?;
     setup.check_protocol()?;
+    let gives = setup.protocol.observables();
     for o in obs {
-        match (setup.tilt(), o.observable) {
-            (Some(t), Observable::Displacement { tilt_deg, .. }) if !setup.reaches_tilt(tilt_deg) => {
-                return Err(DiscrepancyError::Tilt { specimen: o.specimen.clone(), tilt_deg, step_deg: t.step_deg });
+        let given = match o.observable {
+            Observable::CollapseAngle => gives.collapse_bracket_deg.is_some(),
+            Observable::Displacement { tilt_deg, .. } => {
+                if !gives.reaches_tilt(tilt_deg) {
+                    return Err(match gives.state_step_deg {
+                        Some(step_deg) => DiscrepancyError::Tilt { specimen: o.specimen.clone(), tilt_deg, step_deg },
+                        None => DiscrepancyError::LateralTilt { specimen: o.specimen.clone(), tilt_deg },
+                    });
+                }
+                true
             }
-            (None, Observable::Displacement { tilt_deg, .. }) if !setup.reaches_tilt(tilt_deg) => {
-                return Err(DiscrepancyError::LateralTilt { specimen: o.specimen.clone(), tilt_deg });
+            Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => {
+                gives.mechanism
             }
-            (None, Observable::Displacement { .. }) | (Some(_), _) => {}
-            (None, _) => {
-                return Err(DiscrepancyError::Observable {
-                    specimen: o.specimen.clone(),
-                    observable: o.observable.label(),
-                    protocol: setup.protocol.name(),
-                })
-            }
+        };
+        if !given {
+            return Err(DiscrepancyError::Observable {
+                specimen: o.specimen.clone(),
+                observable: o.observable.label(),
+                protocol: setup.protocol.name(),
+            });
         }
     }
     Ok(())

@@ -63,22 +63,17 @@ impl Setup {
         self.protocol.tilt()
     }
 
-    /// Width of a simulated collapse angle's bracket, degrees: the tilting table's
-    /// resolution; 0 for the lateral load (no collapse angle).
+    /// Width of a simulated collapse angle's bracket, degrees (the protocol's
+    /// [`crate::protocol::Observables`]: the tilting table's resolution); 0 for a protocol
+    /// with no collapse angle.
     pub fn bracket_deg(&self) -> f64 {
-        self.tilt().map_or(0.0, |t| t.resolution_deg)
+        self.protocol.observables().collapse_bracket_deg.unwrap_or(0.0)
     }
 
-    /// The tilts at which the protocol gives displacements, degrees: multiples of the
-    /// tilting table's step; the lateral load's one state at tilt 0.
+    /// Whether the protocol gives displacements at tilt `tilt_deg`, degrees (the tilting
+    /// table: multiples of its step; the lateral load: its one state at tilt 0).
     pub fn reaches_tilt(&self, tilt_deg: f64) -> bool {
-        match self.tilt() {
-            Some(t) => {
-                let k = (tilt_deg / t.step_deg).round();
-                (k * t.step_deg - tilt_deg).abs() <= 1e-9
-            }
-            None => tilt_deg == 0.0,
-        }
+        self.protocol.observables().reaches_tilt(tilt_deg)
     }
 
     /// Refuses a protocol the analysis cannot compare with measured data (the shaking

@@ -130,9 +130,21 @@ pub struct Recorder {
     pub states: Vec<RecordedState>,
 }
 
+/// The recorder as a protocol's observer (`protocol::Observer`): every static state with
+/// its sub-contacts ([`Recorder::observe`]), every instant of a motion as the blocks' poses
+/// ([`Recorder::observe_bodies`], stable, no sub-contacts).
+impl crate::protocol::Observer for Recorder {
+    fn state(&mut self, at: f64, stable: bool, sim: &Simulation) {
+        self.observe(at, stable, sim);
+    }
+
+    fn instant(&mut self, time_s: f64, bodies: &[crate::dem::state::Body]) {
+        self.observe_bodies(time_s, true, bodies, Vec::new());
+    }
+}
+
 impl Recorder {
-    /// Records `sim` at `time` (the observer of `run_tilt_observed` and
-    /// `run_lateral_observed`).
+    /// Records `sim` at `time` (a static state handed to a protocol's observer).
     pub fn observe(&mut self, time: f64, stable: bool, sim: &Simulation) {
         let mut subs = Vec::new();
         for (ci, c) in sim.state.contacts.iter().enumerate() {

@@ -89,10 +89,42 @@ pub trait LoadingProtocol: Sized {
     /// The reason, in a sentence.
     fn compared(&self) -> Result<super::Protocol, &'static str>;
 
+    /// What the protocol's run gives to compare with measured data, for the discrepancy
+    /// analysis to check each observation against ([`Observables`]).
+    fn observables(&self) -> Observables;
+
     /// The tilting table's parameters, for a protocol that tilts the table (the
     /// discrepancy analysis reads its increment and resolution); `None` by default.
     fn tilt(&self) -> Option<&crate::loading::tilt::TiltParams> {
         None
+    }
+}
+
+/// What a protocol's run gives to compare with measured data (`drystone discrepancy`):
+/// which observables exist and at which states.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observables {
+    /// Width of the bracket of a simulated collapse angle, degrees; `None`: the protocol
+    /// gives no collapse angle (its collapse-angle observations are refused).
+    pub collapse_bracket_deg: Option<f64>,
+    /// The step of the tilts at which the run gives displacements, degrees (a displacement
+    /// observation at a tilt off its multiples is refused); `None`: one state, at tilt 0
+    /// (the equilibrium under a load).
+    pub state_step_deg: Option<f64>,
+    /// Whether the run reads a failure mechanism (its failure height, kind and start).
+    pub mechanism: bool,
+}
+
+impl Observables {
+    /// Whether the run gives displacements at tilt `tilt_deg`, degrees.
+    pub fn reaches_tilt(&self, tilt_deg: f64) -> bool {
+        match self.state_step_deg {
+            Some(step) => {
+                let k = (tilt_deg / step).round();
+                (k * step - tilt_deg).abs() <= 1e-9
+            }
+            None => tilt_deg == 0.0,
+        }
     }
 }
 

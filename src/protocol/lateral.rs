@@ -2,7 +2,7 @@
 //! equilibrium by the penalty DEM (`loading::lateral`), or checked by limit analysis
 //! (whether the collapse load multiplier reaches 1, `limit::limit_lateral`).
 
-use super::contract::{LoadingProtocol, RunOutcome, States, Way};
+use super::contract::{LoadingProtocol, Observables, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::{run, Protocol};
 use crate::dem::{Method, Simulation, SolverParams};
@@ -52,6 +52,12 @@ impl LoadingProtocol for Lateral {
 
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::Lateral(*self))
+    }
+
+    /// The displacements of the one equilibrium under the load, at tilt 0; no collapse
+    /// angle, no mechanism.
+    fn observables(&self) -> Observables {
+        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false }
     }
 }
 

@@ -22,7 +22,7 @@ pub mod shake;
 pub mod tilt;
 pub mod tilt_by_hand;
 
-pub use contract::{Instants, LoadingProtocol, Observer, RunOutcome, States, Unsupported, Way};
+pub use contract::{Instants, LoadingProtocol, Observables, Observer, RunOutcome, States, Unsupported, Way};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
 pub use observed::Observed;
 pub use pushover::{Pushover, PushoverRun};
@@ -143,6 +143,14 @@ macro_rules! registry {
             pub fn observed(&self) -> Result<Protocol, &'static str> {
                 match self {
                     $(Protocol::$variant(p) => p.compared(),)+
+                }
+            }
+
+            /// What its run gives to compare with measured data
+            /// ([`LoadingProtocol::observables`]).
+            pub fn observables(&self) -> Observables {
+                match self {
+                    $(Protocol::$variant(p) => p.observables(),)+
                 }
             }
 

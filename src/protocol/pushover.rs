@@ -4,7 +4,7 @@
 //! the rigid limit by nscd in bisection (`loading::lateral_nscd`), or by limit analysis
 //! (`limit::limit_lateral`).
 
-use super::contract::{LoadingProtocol, RunOutcome, Way};
+use super::contract::{LoadingProtocol, Observables, RunOutcome, Way};
 use super::lateral::Lateral;
 use super::observed::Observed;
 use super::Protocol;
@@ -78,6 +78,11 @@ impl LoadingProtocol for Pushover {
     /// pushing it over.
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::Lateral(Lateral(LateralParams { pushover: false, ..self.0 })))
+    }
+
+    /// Those of the lateral load at its service level ([`Pushover::compared`]).
+    fn observables(&self) -> Observables {
+        Lateral(self.0).observables()
     }
 }
 

@@ -2,7 +2,7 @@
 //! explicit dynamics with contact dashpots, or by non-smooth contact dynamics (Moreau–Jean).
 //! A motion: no cascade of static solves applies; limit analysis does not shake.
 
-use super::contract::{Instants, LoadingProtocol, Way};
+use super::contract::{Instants, LoadingProtocol, Observables, Way};
 use super::{run, Protocol};
 use crate::dem::state::Body;
 use crate::dem::{Method, SolverParams};
@@ -42,6 +42,12 @@ impl LoadingProtocol for Shake {
             }),
             Method::Limit => None,
         }
+    }
+
+    /// None to compare (the discrepancy analysis refuses the shaking table,
+    /// [`Shake::compared`]).
+    fn observables(&self) -> Observables {
+        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false }
     }
 
     fn compared(&self) -> Result<Protocol, &'static str> {

@@ -3,7 +3,7 @@
 //! the rigid limit by non-smooth contact dynamics (`loading::tilt_nscd`), or by limit
 //! analysis (α_max = atan λ, `limit::limit_tilt`).
 
-use super::contract::{LoadingProtocol, RunOutcome, States, Way};
+use super::contract::{LoadingProtocol, Observables, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::tilt_by_hand::TiltByHand;
 use super::{run, Protocol};
@@ -58,6 +58,10 @@ impl LoadingProtocol for Tilt {
         Ok(Protocol::Tilt(*self))
     }
 
+    fn observables(&self) -> Observables {
+        Observables::of_tilt(&self.0)
+    }
+
     fn tilt(&self) -> Option<&TiltParams> {
         Some(&self.0)
     }
@@ -81,6 +85,14 @@ impl RunOutcome for TiltRun {
             TiltRun::Path(r) => r.does_not_stand(),
             TiltRun::Limit(r) => r.does_not_stand(),
         }
+    }
+}
+
+impl Observables {
+    /// The tilting table's: the collapse angle to its resolution, displacements at the
+    /// multiples of its increment, the mechanism.
+    pub fn of_tilt(t: &TiltParams) -> Observables {
+        Observables { collapse_bracket_deg: Some(t.resolution_deg), state_step_deg: Some(t.step_deg), mechanism: true }
     }
 }
 

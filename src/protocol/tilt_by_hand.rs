@@ -2,7 +2,7 @@
 //! motion whose stop kicks the wall, by non-smooth contact dynamics
 //! (`loading::tilt_hand`). A motion: no cascade of static solves applies.
 
-use super::contract::{LoadingProtocol, Way};
+use super::contract::{LoadingProtocol, Observables, Way};
 use super::Protocol;
 use crate::dem::Method;
 use crate::loading::tilt::hand::HandTilt;
@@ -37,6 +37,10 @@ impl LoadingProtocol for TiltByHand {
 
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::TiltByHand(*self))
+    }
+
+    fn observables(&self) -> Observables {
+        Observables::of_tilt(&self.tilt)
     }
 
     fn tilt(&self) -> Option<&TiltParams> {
