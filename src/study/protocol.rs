@@ -1,9 +1,14 @@
 //! A study's protocol with its parameters ([`StudyProtocol`]): the kind the file names and
-//! its table together. Every decision a study takes per protocol is an exhaustive match on
-//! it here: the table read from the file and written back, the protocol of each sweep
-//! point, the row its run fills (the row functions of [`super::run`]), the report's
+//! its table together. The decisions a study takes per protocol are exhaustive matches on
+//! it here: the table read from the file and written back, the protocol of each sweep point
+//! (a [`crate::protocol::Protocol`]), the row its run fills (a match on
+//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`]), the report's
 //! sections ([`super::report`], [`super::shaking`]), the VTK series ([`super::figures`]),
-//! its warnings and what its summary counts. The compiler points to each at a new protocol.
+//! its warnings and what its summary counts; the compiler points to each at a new protocol.
+//! Elsewhere in the study a key that only one protocol reads asks its accessor
+//! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
+//! and the sweep keys (`checks.rs`, `resolve.rs`), the paper's comparison and the
+//! calibration (which compare collapse angles), the measured data's tilt step.
 
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
