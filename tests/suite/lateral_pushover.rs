@@ -201,15 +201,18 @@ fn a_small_wall_pushed_over_approaches_limit_analysis() {
     assert!((extrapolated - rigid).abs() < 0.02 * rigid, "{extrapolated} against {rigid} ({dem:?})");
 }
 
-/// Bad input: a resolution out of (0, 1) names the parameter; a solver that is not a
-/// penalty method is refused.
+/// Bad input: a resolution out of (0, 1) names the parameter; the static lateral load by nscd
+/// is refused at the protocol seam.
 #[test]
 fn bad_parameters_are_named() {
     let layout = block(0.4, 0.2, 0.6, 1e8, 40.0, 0.0, 0.0);
     let e = run_lateral_pushover(&layout, SolverParams::default(), &uniform(1000.0, 1.5)).unwrap_err();
     assert!(e.to_string().contains("pushover_resolution"), "{e}");
+    // The static lateral load by nscd is refused at the seam, naming the solvers that run it.
     let nscd = SolverParams { kind: drystone::dem::SolverKind::Nscd, ..SolverParams::default() };
-    assert!(run_lateral_pushover(&layout, nscd, &uniform(1000.0, 0.02)).is_err());
+    let e = drystone::protocol::run_lateral(&layout, nscd, &uniform(1000.0, 0.02)).unwrap_err();
+    assert!(matches!(e, drystone::loading::lateral::LateralError::Unsupported(_)), "{e}");
+    assert!(e.to_string().contains("penalty") && e.to_string().contains("nscd"), "{e}");
 }
 
 /// A study with `[lateral] pushover = true`: every row has the DEM and the limit
