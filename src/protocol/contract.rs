@@ -75,6 +75,9 @@ pub trait LoadingProtocol: Sized {
     /// Whether it is a motion (a time history) rather than a sequence of static states: a
     /// penalty cascade, a setting of static solves, does not apply to it.
     const MOTION: bool;
+    /// The study key a refusal of the solver is reported at: the key that chose this
+    /// protocol over the one that would run (`tilt.by_hand`), or `solver.kind`.
+    const REFUSAL_KEY: &'static str = "solver.kind";
     /// What one run gives, whatever method ran it.
     type Run: RunOutcome;
 
@@ -92,6 +95,12 @@ pub trait LoadingProtocol: Sized {
     /// What the protocol's run gives to compare with measured data, for the discrepancy
     /// analysis to check each observation against ([`Observables`]).
     fn observables(&self) -> Observables;
+
+    /// The shaking table's parameters and motion, for a protocol that shakes the table;
+    /// `None` by default.
+    fn shaking(&self) -> Option<(&crate::loading::shake::ShakeParams, &crate::ground::Motion)> {
+        None
+    }
 
     /// The tilting table's parameters, for a protocol that tilts the table (the
     /// discrepancy analysis reads its increment and resolution); `None` by default.

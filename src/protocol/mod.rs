@@ -78,6 +78,14 @@ macro_rules! registry {
                 }
             }
 
+            /// The study key a refusal of the solver is reported at
+            /// ([`LoadingProtocol::REFUSAL_KEY`]).
+            pub fn refusal_key(self) -> &'static str {
+                match self {
+                    $(Loading::$variant => <$ty as LoadingProtocol>::REFUSAL_KEY,)+
+                }
+            }
+
             /// The protocol of a name; `None` for an unknown one.
             pub fn from_name(name: &str) -> Option<Loading> {
                 Loading::ALL.into_iter().find(|l| l.name() == name)
@@ -151,6 +159,14 @@ macro_rules! registry {
             pub fn observables(&self) -> Observables {
                 match self {
                     $(Protocol::$variant(p) => p.observables(),)+
+                }
+            }
+
+            /// The shaking table's parameters and motion, for a protocol that shakes the
+            /// table ([`LoadingProtocol::shaking`]).
+            pub fn shaking(&self) -> Option<(&crate::loading::shake::ShakeParams, &crate::ground::Motion)> {
+                match self {
+                    $(Protocol::$variant(p) => p.shaking(),)+
                 }
             }
 

@@ -50,6 +50,10 @@ impl LoadingProtocol for Shake {
         Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false }
     }
 
+    fn shaking(&self) -> Option<(&ShakeParams, &Motion)> {
+        Some((&self.params, &self.motion))
+    }
+
     fn compared(&self) -> Result<Protocol, &'static str> {
         Err("the discrepancy analysis compares collapse angles and displacements of the tilting table or of the lateral load; the shaking table has neither")
     }

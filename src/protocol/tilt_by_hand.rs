@@ -23,6 +23,7 @@ impl LoadingProtocol for TiltByHand {
     const STUDY_NAME: &'static str = "tilt";
     const DESCRIPTION: &'static str = "the tilting table rolled by hand (tilt.by_hand)";
     const MOTION: bool = true;
+    const REFUSAL_KEY: &'static str = "tilt.by_hand";
     type Run = Result<TiltResult, TiltError>;
 
     fn way(method: Method) -> Option<Way<Self>> {

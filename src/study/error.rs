@@ -1,7 +1,7 @@
 //! The error of reading and resolving a study or suite file.
 
 use crate::io::table::TableError;
-use crate::protocol::{Loading, Unsupported};
+use crate::protocol::Unsupported;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -159,13 +159,10 @@ impl Invalid<'_> {
     }
 }
 
-/// The refusal of a study's `[solver] kind` for its protocol ([`crate::loading::support::check`]),
-/// at the key that chooses them (`tilt.by_hand` for the table rolled by hand, else
-/// `solver.kind`).
+/// The refusal of a study's `[solver] kind` for its protocol ([`crate::protocol::check`]),
+/// at the key that chooses them ([`crate::protocol::Loading::refusal_key`]: `tilt.by_hand` for the table
+/// rolled by hand, else `solver.kind`).
 pub(super) fn unsupported(invalid: &Invalid, e: Unsupported) -> StudyError {
-    let key = match e.protocol {
-        Loading::TiltByHand => "tilt.by_hand",
-        Loading::Tilt | Loading::Lateral | Loading::Pushover | Loading::Shake => "solver.kind",
-    };
+    let key = e.protocol.refusal_key();
     invalid.at(key, format!("{e}: give [solver] kind = one of these"))
 }

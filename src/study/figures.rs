@@ -20,7 +20,7 @@ use crate::io::{replace_file, FileError};
 use crate::layout::Layout;
 use crate::loading::lateral::LateralParams;
 use crate::loading::tilt::{MechanismKind, TiltParams, TiltResult};
-use crate::protocol::{run_lateral_observed, run_shake_observed, run_tilt_observed, Protocol, Shake};
+use crate::protocol::{run_lateral_observed, run_tilt_observed, RunOutcome};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -221,15 +221,12 @@ pub(super) fn shake_series(
     layout: &Layout,
     out: &Path,
 ) -> Result<Option<PathBuf>, SeriesError> {
-    let Shake { params, motion } = match study.loading_at(point) {
-        Protocol::Shake(shake) => shake,
-        Protocol::Tilt(_) | Protocol::TiltByHand(_) | Protocol::Lateral(_) | Protocol::Pushover(_) => return Ok(None),
-    };
+    let protocol = study.loading_at(point);
+    if protocol.shaking().is_none() {
+        return Ok(None);
+    }
     let mut rec = Recorder::default();
-    let mut watch = |t: f64, bodies: &[crate::dem::state::Body]| {
-        rec.observe_bodies(t, true, bodies, Vec::new());
-    };
-    if run_shake_observed(layout, study.solver, &motion, &params, &mut watch).is_err() {
+    if protocol.run_observed(layout, study.solver, &mut rec).error().is_some() {
         return Ok(None);
     }
     write_series(out, "shake", &rec, &motion_frames(&rec)).map(Some)

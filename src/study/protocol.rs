@@ -227,14 +227,6 @@ impl StudyProtocol {
             StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => None,
         }
     }
-
-    /// Whether it pushes the lateral load over to collapse (`lateral.pushover`).
-    pub fn pushover(&self) -> bool {
-        match self.loading_kind() {
-            Loading::Pushover => true,
-            Loading::Tilt | Loading::TiltByHand | Loading::Lateral | Loading::Shake => false,
-        }
-    }
 }
 
 impl StudySpec {
