@@ -50,8 +50,18 @@ pub enum Method {
 }
 
 impl Method {
-    /// Every method.
+    /// Every method (checked at compile time against [`Method::place`]).
     pub const ALL: [Method; 3] = [Method::Penalty, Method::Nscd, Method::Limit];
+
+    /// Its place in [`Method::ALL`]: an exhaustive match, so that the compiler points to a
+    /// new variant here, beside the list it joins.
+    const fn place(self) -> usize {
+        match self {
+            Method::Penalty => 0,
+            Method::Nscd => 1,
+            Method::Limit => 2,
+        }
+    }
 
     /// Its name: the [`SolverKind`] that selects it with the protocol's default cascade.
     pub fn name(self) -> &'static str {
@@ -84,7 +94,7 @@ impl std::fmt::Display for Method {
 }
 
 impl SolverKind {
-    /// Every solver kind.
+    /// Every solver kind (checked at compile time against [`SolverKind::place`]).
     pub const ALL: [SolverKind; 6] = [
         SolverKind::Penalty,
         SolverKind::Implicit,
@@ -93,6 +103,19 @@ impl SolverKind {
         SolverKind::Nscd,
         SolverKind::Limit,
     ];
+
+    /// Its place in [`SolverKind::ALL`]: an exhaustive match, so that the compiler points
+    /// to a new variant here, beside the list it joins.
+    const fn place(self) -> usize {
+        match self {
+            SolverKind::Penalty => 0,
+            SolverKind::Implicit => 1,
+            SolverKind::Accelerated => 2,
+            SolverKind::Relaxation => 3,
+            SolverKind::Nscd => 4,
+            SolverKind::Limit => 5,
+        }
+    }
 
     /// Its name in files and on the command line (the serde name).
     pub fn name(self) -> &'static str {
@@ -153,6 +176,20 @@ impl SolverKind {
         }
     }
 }
+
+// `Method::ALL` and `SolverKind::ALL` list every variant once, in the order of `place`.
+const _: () = {
+    let mut i = 0;
+    while i < Method::ALL.len() {
+        assert!(Method::ALL[i].place() == i, "Method::ALL lists every variant once, in order");
+        i += 1;
+    }
+    let mut i = 0;
+    while i < SolverKind::ALL.len() {
+        assert!(SolverKind::ALL[i].place() == i, "SolverKind::ALL lists every variant once, in order");
+        i += 1;
+    }
+};
 
 impl std::fmt::Display for SolverKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
