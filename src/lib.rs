@@ -23,7 +23,7 @@
 //!   second-order cone program over the DEM's contact polygons).
 //! * [`protocol`]: the seam: a protocol with its parameters, run by the method the solver
 //!   selects (the penalty DEM, non-smooth contact dynamics or limit analysis), as the one
-//!   compatibility table (`loading::support`) allows.
+//!   compatibility table (`protocol::methods`) allows.
 //! * [`generator`]: seeded wall layouts; [`effects`]: named extensions of the model (the
 //!   built-in library and the user's effect files) applied to a generated layout;
 //!   [`ensemble`], [`stats`], [`study`]: ensembles, statistics, study files and reports.

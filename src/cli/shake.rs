@@ -96,7 +96,7 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let (nscd_e, contact_e) = match a.solver {
         SolverKind::Nscd => (a.restitution.unwrap_or(nscd_default), d.contact_restitution),
         SolverKind::Penalty => (nscd_default, a.restitution.unwrap_or(d.contact_restitution)),
-        // Not shaking solvers: `run_shake_observed` refuses them (`support::check`), after it
+        // Not shaking solvers: the protocol seam refuses them (`protocol::check`), after it
         // has checked the shaking parameters; `--restitution` is read as the penalty solver
         // reads it so that its range is checked first, as before.
         SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
@@ -258,9 +258,9 @@ pub fn run(
                 SolverKind::Penalty => {
                     o.insert("contact_restitution".into(), params.contact_restitution.into());
                 }
-                // `run_shake_observed` refused these (`support::check`) before there was a result.
+                // the protocol seam refused these (`protocol::check`) before there was a result.
                 SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-                    unreachable!("run_shake_observed refused solver {} (support::check)", solver.kind)
+                    unreachable!("the protocol seam refused solver {} (support::check)", solver.kind)
                 }
             }
         }
@@ -315,9 +315,9 @@ fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams)
             );
             out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
         }
-        // `run_shake_observed` refused these (`support::check`) before there was a result.
+        // the protocol seam refused these (`protocol::check`) before there was a result.
         SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-            unreachable!("run_shake_observed refused solver {kind} (support::check)")
+            unreachable!("the protocol seam refused solver {kind} (support::check)")
         }
     }
 }

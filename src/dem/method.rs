@@ -3,7 +3,7 @@
 //! ([`SolverKind`]: a method, and for the penalty DEM the stages of its static cascade) and
 //! the stages themselves ([`Cascade`]). Plain data, read by the parameters, the solver seam
 //! (`dem::solve`), the protocols and their one compatibility table
-//! (`loading::support::supports`).
+//! (`protocol::supports`).
 
 use serde::{Deserialize, Serialize};
 
@@ -50,7 +50,7 @@ pub enum Method {
 }
 
 impl Method {
-    /// Every method (checked at compile time against [`Method::place`]).
+    /// Every method (checked at compile time against `Method::place`).
     pub const ALL: [Method; 3] = [Method::Penalty, Method::Nscd, Method::Limit];
 
     /// Its place in [`Method::ALL`]: an exhaustive match, so that the compiler points to a
@@ -94,7 +94,7 @@ impl std::fmt::Display for Method {
 }
 
 impl SolverKind {
-    /// Every solver kind (checked at compile time against [`SolverKind::place`]).
+    /// Every solver kind (checked at compile time against `SolverKind::place`).
     pub const ALL: [SolverKind; 6] = [
         SolverKind::Penalty,
         SolverKind::Implicit,

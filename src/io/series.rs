@@ -4,8 +4,8 @@
 //!
 //! # What is recorded
 //!
-//! [`Recorder::observe`] takes the states a protocol hands to its observer
-//! (`loading::tilt::run_tilt_observed`, `loading::lateral::run_lateral_observed`): the pose of
+//! A [`Recorder`] is a protocol's observer (`protocol::Observer`, through `protocol::run`):
+//! [`Recorder::observe`] takes the static states a protocol hands over: the pose of
 //! every block and the force of every sub-contact. [`tilt_frames`] orders a tilt's states as
 //! a series: the settled state at α = 0, every stable increment and stable bisection trial in
 //! increasing α, and last the first unstable state (the state the mechanism is read from).

@@ -592,7 +592,7 @@ impl<'m> Watch<'m> {
 /// step settings (`contact_margin_m`, `subcontact_subdivisions`, `quadrature`,
 /// `timestep_safety` times [`ShakeParams::penalty_step_fraction`], ...) with local damping 0 and density scaling off whatever `solver`
 /// says, and dashpots of restitution [`ShakeParams::contact_restitution`]. Called by
-/// [`run_shake_observed`], which has checked `params` and the motion.
+/// [`run_shake_penalty`], which has checked `params` and the motion.
 ///
 /// # Errors
 /// The simulation a penalty shaking run starts from: no local damping, no density

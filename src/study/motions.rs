@@ -99,7 +99,7 @@ impl StudySpec {
         let (pulse_dt, nscd_dt) = match self.solver.kind {
             SolverKind::Nscd => (self.solver.nscd.dt_s, Some(self.solver.nscd.dt_s).filter(|&dt| dt > 0.0)),
             SolverKind::Penalty => (self.solver.nscd.dt_s.min(1e-3), None),
-            // Refused by `check_scalars` before this (`support::check`: a cascade of static
+            // Refused by `check_scalars` before this (`protocol::check`: a cascade of static
             // solves on a motion; limit analysis has no motion).
             SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
                 return Err(super::error::unsupported(

@@ -91,7 +91,7 @@ impl StudyProtocol {
         self.at(&[]).name()
     }
 
-    /// Its row of the compatibility table ([`crate::loading::support`]), with the variant
+    /// Its row of the compatibility table ([`crate::protocol::methods`]), with the variant
     /// its table chooses (`tilt.by_hand`, `lateral.pushover`): its protocol's
     /// ([`Protocol::kind`]).
     pub fn loading_kind(&self) -> Loading {
@@ -230,7 +230,7 @@ impl StudyProtocol {
 }
 
 impl StudySpec {
-    /// The study's row of the compatibility table ([`crate::loading::support`]): its
+    /// The study's row of the compatibility table ([`crate::protocol::methods`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading_kind(&self) -> Loading {
         match self.protocol {

@@ -70,7 +70,7 @@ fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyErro
         // nscd's step is the study's own, checked against every motion as they are read
         // (`StudySpec::resolve_shake`).
         SolverKind::Nscd => return Ok(()),
-        // Refused on the shaking table by `check_scalars` (`support::check`).
+        // Refused on the shaking table by `check_scalars` (`protocol::check`).
         SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => return Ok(()),
     }
     for g in &study.groups {
