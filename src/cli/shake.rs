@@ -62,7 +62,7 @@ pub struct ShakeArgs {
     /// Solver: `nscd` (non-smooth contact dynamics, rigid blocks) or `penalty` (explicit
     /// dynamics of the joint springs with contact dashpots; its time step comes from
     /// the joint stiffness, not --dt-s).
-    #[arg(long, default_value = "nscd", value_parser = super::solver::parse_solver)]
+    #[arg(long, default_value_t = drystone::protocol::Loading::Shake.default_solver(), value_parser = super::solver::parse_solver)]
     solver: SolverKind,
     /// Print one JSON object instead of a summary.
     #[arg(long)]

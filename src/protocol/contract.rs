@@ -75,6 +75,10 @@ pub trait LoadingProtocol: Sized {
     /// Whether it is a motion (a time history) rather than a sequence of static states: a
     /// penalty cascade, a setting of static solves, does not apply to it.
     const MOTION: bool;
+    /// The solver that runs it when none is named: a study without `[solver] kind`, the
+    /// command line without `--solver` (the penalty DEM unless the protocol says
+    /// otherwise).
+    const DEFAULT_SOLVER: SolverKind = SolverKind::Penalty;
     /// The study key a refusal of the solver is reported at: the key that chose this
     /// protocol over the one that would run (`tilt.by_hand`), or `solver.kind`.
     const REFUSAL_KEY: &'static str = "solver.kind";

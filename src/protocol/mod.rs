@@ -78,6 +78,14 @@ macro_rules! registry {
                 }
             }
 
+            /// The solver that runs it when none is named
+            /// ([`LoadingProtocol::DEFAULT_SOLVER`]).
+            pub fn default_solver(self) -> SolverKind {
+                match self {
+                    $(Loading::$variant => <$ty as LoadingProtocol>::DEFAULT_SOLVER,)+
+                }
+            }
+
             /// The study key a refusal of the solver is reported at
             /// ([`LoadingProtocol::REFUSAL_KEY`]).
             pub fn refusal_key(self) -> &'static str {

@@ -5,7 +5,7 @@
 use super::contract::{Instants, LoadingProtocol, Observables, Way};
 use super::{run, Protocol};
 use crate::dem::state::Body;
-use crate::dem::{Method, SolverParams};
+use crate::dem::{Method, SolverKind, SolverParams};
 use crate::ground::Motion;
 use crate::layout::Layout;
 use crate::loading::shake::{run_shake_nscd, run_shake_penalty, ShakeError, ShakeParams, ShakeResult};
@@ -24,6 +24,9 @@ impl LoadingProtocol for Shake {
     const STUDY_NAME: &'static str = "shake";
     const DESCRIPTION: &'static str = "the shaking table";
     const MOTION: bool = true;
+    /// Non-smooth contact dynamics: rocking and impacts of rigid blocks without the
+    /// penalty DEM's contact dashpots to calibrate (docs/shake.md).
+    const DEFAULT_SOLVER: SolverKind = SolverKind::Nscd;
     type Run = Result<ShakeResult, ShakeError>;
 
     fn way(method: Method) -> Option<Way<Self>> {

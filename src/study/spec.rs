@@ -236,21 +236,16 @@ impl StudySpec {
         let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io { path: path.to_owned(), source })?;
         let mut spec: StudySpec =
             toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })?;
-        // A shaking study without `[solver] kind` shakes by the non-smooth solver, as
-        // `drystone shake` does (docs/shake.md); every other protocol's default is the
-        // penalty DEM's.
+        // Without `[solver] kind` a study runs by its protocol's default solver
+        // (`protocol::Loading::default_solver`), as the command line does: the shaking
+        // table's is nscd (docs/shake.md), every other protocol's the penalty DEM.
         let kind_given = text
             .parse::<toml::Table>()
             .ok()
             .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
             .unwrap_or(false);
-        match spec.protocol {
-            ProtocolKind::Shake => {
-                if !kind_given {
-                    spec.solver.kind = crate::dem::SolverKind::Nscd;
-                }
-            }
-            ProtocolKind::Tilt | ProtocolKind::Lateral => {}
+        if !kind_given {
+            spec.solver.kind = spec.loading_kind().default_solver();
         }
         Ok(spec)
     }
