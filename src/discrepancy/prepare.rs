@@ -4,8 +4,9 @@
 //! gathered in a [`Prepared`] by [`prepare`].
 
 use super::analysis::Models;
+use super::candidate::Candidate;
 use super::effects::{self, Effect, EffectDef};
-use super::fit::{to_x, Candidate, Surface};
+use super::fit::{to_x, Surface};
 use super::observations::{Observable, Observation};
 use super::predictive::Simulated;
 use super::simulate::{run_models, GroupSetup, Outcome, Setup};

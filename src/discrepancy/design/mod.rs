@@ -240,7 +240,7 @@ fn predictions(
         .zip(&which)
         .map(|(c, w)| match w {
             Some(m) => sims_of(&outcomes[*m][0]),
-            None if c.name == super::fit::SCATTER => {
+            None if c.name == super::candidate::SCATTER => {
                 let r = a.candidates.iter().find(|r| r.name == c.name).expect("scatter is a candidate");
                 let angle = f.observables.iter().map(|o| matches!(o, Observable::CollapseAngle)).collect();
                 let mechanism = f.observables.iter().map(Observable::is_mechanism).collect();
