@@ -43,7 +43,11 @@ type XyChart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf
 ///
 /// # Errors
 /// Plotters' message.
-fn legend_box<'b>(chart: &mut XyChart<'b, 'b>, position: Option<SeriesLabelPosition>, opacity: f64) -> Result<(), String> {
+fn legend_box<'b>(
+    chart: &mut XyChart<'b, 'b>,
+    position: Option<SeriesLabelPosition>,
+    opacity: f64,
+) -> Result<(), String> {
     let mut labels = chart.configure_series_labels();
     if let Some(p) = position {
         labels.position(p);
