@@ -87,7 +87,7 @@ impl Settings {
     }
 
     /// The most realizations any of its runs takes per group (grids, full runs, independent
-    /// layouts): what a [`simulate::Setup`] for the analysis must allow.
+    /// layouts): what a [`simulate::Setup`](super::Setup) for the analysis must allow.
     pub fn most_realizations(&self) -> u64 {
         self.realizations.max(self.extension_realizations).max(self.null_realizations)
     }
