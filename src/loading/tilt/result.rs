@@ -20,8 +20,9 @@ pub enum CollapseReason {
     /// acceleration's stability indicator, `dem::drivers::accelerate`), and no equilibrium on the
     /// path ahead up to the collapse displacement (the indicator's probe).
     NegativeStiffness,
-    /// The step budget of the increment ([`TiltParams::max_steps_per_increment`](super::TiltParams::max_steps_per_increment)) ran out
-    /// before an equilibrium or a collapse was established: not a collapse, an undecided
+    /// The step budget of the increment
+    /// ([`TiltParams::max_steps_per_increment`](super::TiltParams::max_steps_per_increment)) ran out before an
+    /// equilibrium or a collapse was established: not a collapse, an undecided
     /// increment (the critical tilt may lie above it).
     StepBudget,
 }
