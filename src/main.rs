@@ -31,8 +31,8 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Lateral(cli::lateral::LateralArgs),
     /// Shaking table: the layout on a base that moves with a recorded or a built-in
-    /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks);
-    /// prints whether it overturned, the largest rocking rotation and the drifts.
+    /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks;
+    /// `--solver penalty`: the penalty DEM in explicit dynamics); prints whether it overturned, the largest rocking rotation and the drifts.
     #[command(allow_negative_numbers = true)]
     Shake(cli::shake::ShakeArgs),
     /// Limit analysis: the rigid collapse load multiplier of a layout from statics alone (a

@@ -148,20 +148,26 @@ impl LimitFlags {
     /// # Errors
     /// An option given with a solver other than `limit`, which would ignore it.
     pub fn params_for(&self, kind: SolverKind, base: LimitParams) -> Result<LimitParams> {
-        match kind {
-            SolverKind::Limit => {}
-            SolverKind::Penalty
-            | SolverKind::Implicit
-            | SolverKind::Accelerated
-            | SolverKind::Relaxation
-            | SolverKind::Nscd => {
-                if self.given() {
-                    bail!("the --limit-* options set limit analysis: give them with --solver limit");
-                }
-            }
-        }
+        only_with(
+            kind,
+            SolverKind::Limit,
+            self.given(),
+            "the --limit-* options set limit analysis: give them with --solver limit",
+        )?;
         Ok(self.apply(base))
     }
+}
+
+/// Refuses a solver's own options (`given`) with another solver: `kind` is the solver chosen,
+/// `own` the one the options set.
+///
+/// # Errors
+/// `message` when the options are given and `kind` is not `own` (it would ignore them).
+fn only_with(kind: SolverKind, own: SolverKind, given: bool, message: &str) -> Result<()> {
+    if given && kind != own {
+        bail!("{message}");
+    }
+    Ok(())
 }
 
 /// `--nscd-rest NAME`.
@@ -226,18 +232,12 @@ impl NscdArgs {
     /// # Errors
     /// An option given with a solver other than `nscd`, which would ignore it.
     pub fn params_for(&self, kind: SolverKind, base: NscdParams) -> Result<NscdParams> {
-        match kind {
-            SolverKind::Nscd => {}
-            SolverKind::Penalty
-            | SolverKind::Implicit
-            | SolverKind::Accelerated
-            | SolverKind::Relaxation
-            | SolverKind::Limit => {
-                if self.given() {
-                    bail!("the --nscd-* options set the non-smooth solver: give them with --solver nscd");
-                }
-            }
-        }
+        only_with(
+            kind,
+            SolverKind::Nscd,
+            self.given(),
+            "the --nscd-* options set the non-smooth solver: give them with --solver nscd",
+        )?;
         Ok(self.apply(base))
     }
 }

@@ -27,8 +27,9 @@
 //!   surrogates re-centred on those runs ([`super::fit::Surface::Corrected`]); the ranking,
 //!   the gain and the verdict use those scores.
 
+use super::candidate::Candidate;
 use super::compare::{difference_se, per_specimen};
-use super::fit::{Candidate, Data, Surface};
+use super::fit::{Data, Surface};
 use super::null::{draw_data, quantile, Margins, NullSource};
 use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};

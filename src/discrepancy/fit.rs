@@ -31,10 +31,9 @@
 
 use super::observations::{Observable, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
-use crate::effects::{EffectDef, ParamDef, Scale, WallKind};
+use crate::effects::{ParamDef, Scale};
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentOpt;
-use std::sync::Arc;
 
 /// Largest specimen scatter of the collapse angle the `scatter` hypothesis considers, deg.
 pub const SCATTER_ANGLE_MAX_DEG: f64 = 4.0;
@@ -466,99 +465,6 @@ fn polish(
         }
     }
     (best, best_cost)
-}
-
-/// A candidate explanation: one effect, a pair, or the specimen scatter, with its
-/// surrogate.
-#[derive(Debug, Clone)]
-pub struct Candidate {
-    /// The effects (empty for the scatter hypothesis).
-    pub effects: Vec<Arc<EffectDef>>,
-    /// The parameters, in coordinate order, with their ranges for the analysed walls.
-    pub params: Vec<ParamDef>,
-    /// The surrogate over their parameters.
-    pub surface: Surface,
-    /// The declared kinds of the analysed walls ([`WallKind`]), in order: a parameter with
-    /// a range of a wall's kind takes the value at the same coordinate in that range
-    /// ([`ParamDef::at_for`]). Empty when no wall declares one.
-    pub kinds: Vec<WallKind>,
-}
-
-/// The name of the specimen-scatter hypothesis.
-pub const SCATTER: &str = "scatter";
-
-impl Candidate {
-    /// `a+b` style name, or `scatter`.
-    pub fn name(&self) -> String {
-        if self.effects.is_empty() {
-            return SCATTER.into();
-        }
-        self.effects.iter().map(|e| e.name.as_str()).collect::<Vec<_>>().join("+")
-    }
-
-    /// The specimen-scatter hypothesis (no mechanism).
-    pub fn is_scatter(&self) -> bool {
-        self.effects.is_empty()
-    }
-
-    /// The scatter hypothesis on a baseline (`angle`: each key a collapse angle;
-    /// `mechanism`: each key a mechanism observation, left as the baseline has it).
-    pub fn scatter(base: Vec<Simulated>, angle: Vec<bool>, mechanism: Vec<bool>) -> Candidate {
-        let p = |name: &str, unit: &str, max: f64| ParamDef {
-            name: name.into(),
-            unit: unit.into(),
-            min: 0.0,
-            max,
-            scale: Scale::Linear,
-            neutral: 0.0,
-            range_per_course_height: false,
-            source: String::new(),
-            kinds: vec![],
-        };
-        Candidate {
-            kinds: vec![],
-            effects: vec![],
-            params: vec![p("angle_sd_deg", "deg", SCATTER_ANGLE_MAX_DEG), p("displacement_cv", "-", SCATTER_DISP_MAX)],
-            surface: Surface::Scatter { base, angle, mechanism },
-        }
-    }
-
-    /// Parameter values at `x` for each declared kind of the analysed walls that has a range
-    /// of its own for one of them: `(kind, [effect.param → value])`, the parameters
-    /// without a range of the kind at their broad-range value.
-    pub fn values_by_kind(&self, x: &[f64]) -> Vec<(WallKind, Vec<(String, f64)>)> {
-        let names = self.values(x);
-        self.kinds
-            .iter()
-            .filter(|&&k| self.params.iter().any(|p| p.has_kind(k)))
-            .map(|&k| {
-                let v = names
-                    .iter()
-                    .zip(self.params.iter().zip(x))
-                    .map(|((n, _), (p, &xi))| (n.clone(), p.at_for(Some(k), xi)))
-                    .collect();
-                (k, v)
-            })
-            .collect()
-    }
-
-    /// Parameter values at `x`, as `effect.param` → value.
-    pub fn values(&self, x: &[f64]) -> Vec<(String, f64)> {
-        let mut names = Vec::new();
-        if self.effects.is_empty() {
-            names.extend(self.params.iter().map(|p| format!("{SCATTER}.{}", p.name)));
-        } else {
-            let mut k = 0;
-            for e in &self.effects {
-                for p in &e.parameters {
-                    names.push(format!("{}.{}", e.name, p.name));
-                    k += 1;
-                }
-            }
-            debug_assert_eq!(k, self.params.len());
-        }
-        names.into_iter().zip(self.params.iter().zip(x)).map(|(n, (p, &xi))| (n, to_value(p, xi))).collect()
-    }
 }
 
 /// The profile interval of every coordinate of a fit at `x`: along each axis (the others

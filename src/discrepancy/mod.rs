@@ -30,6 +30,7 @@
 //! effect parameters in the units of their [`crate::effects::ParamDef`]s.
 
 mod analysis;
+mod candidate;
 mod compare;
 pub mod design;
 mod findings;
@@ -52,9 +53,10 @@ mod weights;
 pub use crate::effects;
 
 pub use analysis::{Analysis, Models, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
+pub use candidate::Candidate;
 pub use compare::{difference_se, per_specimen};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
-pub use fit::{Candidate, Surface};
+pub use fit::Surface;
 pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
 pub use null::Margins;
 pub use observations::{

@@ -4,8 +4,9 @@
 //! gathered in a [`Prepared`] by [`prepare`].
 
 use super::analysis::Models;
+use super::candidate::Candidate;
 use super::effects::{self, Effect, EffectDef};
-use super::fit::{to_x, Candidate, Surface};
+use super::fit::{to_x, Surface};
 use super::observations::{Observable, Observation};
 use super::predictive::Simulated;
 use super::simulate::{run_models, GroupSetup, Outcome, Setup};
@@ -24,7 +25,7 @@ pub struct Keys {
 
 impl Keys {
     /// The keys of `obs` for the setup's groups (observations of a group the setup does not
-    /// have are an error of the caller, caught by [`observations::observations`]).
+    /// have are an error of the caller, caught by [`observations::observations`](super::observations::observations)).
     pub fn new(setup: &Setup, obs: &[Observation]) -> Keys {
         let mut keys: Vec<(usize, Observable)> = Vec::new();
         let mut of = Vec::with_capacity(obs.len());
@@ -247,7 +248,7 @@ pub fn key_labels(setup: &Setup, keys: &Keys) -> Vec<String> {
 /// The data-independent part of an analysis: the baseline's full run, the surrogate
 /// library, and the baseline on independent layouts (the null pool), for the observable
 /// keys of a design. Many data sets of the same design are analysed against one
-/// [`Prepared`] ([`analyze`]).
+/// [`Prepared`] ([`analyze`](super::analyze)).
 #[derive(Debug, Clone)]
 pub struct Prepared {
     /// The setup.

@@ -2,8 +2,9 @@
 //! out, [`super::fit::loso`]), its standard error against the baseline and its AICc at the
 //! full-data fit, used by the analysis and by every null data set of its calibration.
 
+use super::candidate::Candidate;
 use super::compare::{aicc, difference_se, per_specimen};
-use super::fit::{loso, Candidate, Data};
+use super::fit::{loso, Data};
 use super::predictive::{Predictive, Simulated};
 use serde::Serialize;
 

@@ -87,7 +87,7 @@ impl Settings {
     }
 
     /// The most realizations any of its runs takes per group (grids, full runs, independent
-    /// layouts): what a [`simulate::Setup`] for the analysis must allow.
+    /// layouts): what a [`simulate::Setup`](super::Setup) for the analysis must allow.
     pub fn most_realizations(&self) -> u64 {
         self.realizations.max(self.extension_realizations).max(self.null_realizations)
     }
@@ -98,29 +98,20 @@ impl Settings {
     /// [`DiscrepancyError::Setting`] naming the key.
     pub fn validate(&self) -> Result<(), DiscrepancyError> {
         let bad = |key, value: String, reason| Err(DiscrepancyError::Setting { key, value, reason });
-        if !(1..=10_000).contains(&self.realizations) {
-            return bad("realizations", self.realizations.to_string(), "must be in [1, 10000]");
-        }
-        if !(1..=10_000).contains(&self.extension_realizations) {
-            return bad("extension_realizations", self.extension_realizations.to_string(), "must be in [1, 10000]");
-        }
-        if !(1..=20).contains(&self.grid_points) {
-            return bad("grid_points", self.grid_points.to_string(), "must be in [1, 20]");
-        }
-        if !(2..=10).contains(&self.grid_points_2d) {
-            return bad("grid_points_2d", self.grid_points_2d.to_string(), "must be in [2, 10]");
-        }
-        if !(20..=100_000).contains(&self.null_replicates) {
-            return bad("null_replicates", self.null_replicates.to_string(), "must be in [20, 100000]");
-        }
-        if !(100..=1_000_000).contains(&self.bootstrap) {
-            return bad("bootstrap", self.bootstrap.to_string(), "must be in [100, 1000000]");
-        }
-        if !(1..=10_000).contains(&self.null_realizations) {
-            return bad("null_realizations", self.null_realizations.to_string(), "must be in [1, 10000]");
-        }
-        if !(20..=100_000).contains(&self.check_replicates) {
-            return bad("check_replicates", self.check_replicates.to_string(), "must be in [20, 100000]");
+        // The counts: (key, value, lowest, highest, the range as the error states it).
+        for (key, v, lo, hi, range) in [
+            ("realizations", self.realizations, 1, 10_000, "must be in [1, 10000]"),
+            ("extension_realizations", self.extension_realizations, 1, 10_000, "must be in [1, 10000]"),
+            ("grid_points", self.grid_points as u64, 1, 20, "must be in [1, 20]"),
+            ("grid_points_2d", self.grid_points_2d as u64, 2, 10, "must be in [2, 10]"),
+            ("null_replicates", self.null_replicates as u64, 20, 100_000, "must be in [20, 100000]"),
+            ("bootstrap", self.bootstrap as u64, 100, 1_000_000, "must be in [100, 1000000]"),
+            ("null_realizations", self.null_realizations, 1, 10_000, "must be in [1, 10000]"),
+            ("check_replicates", self.check_replicates as u64, 20, 100_000, "must be in [20, 100000]"),
+        ] {
+            if !(lo..=hi).contains(&v) {
+                return bad(key, v.to_string(), range);
+            }
         }
         if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
             return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");

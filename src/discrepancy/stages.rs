@@ -18,10 +18,11 @@
 
 use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Models, Ranked};
 use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
+use super::candidate::Candidate;
 use super::compare::{self, specimen_weights};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
-use super::fit::{self, to_value, Candidate, Data, Surface};
+use super::fit::{self, to_value, Data, Surface};
 use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
 use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};

@@ -228,6 +228,20 @@ pub use realization::{generate, generate_batch, GeneratedWall, Piece, SectionPar
 pub use spec::{WallKind, WallSpec};
 pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 
+/// The wall of a test: the description `text` (TOML) with one material `m` (2000 kg/m³,
+/// Kn 1e8 Pa/m, Ks 5e7 Pa/m, φ 30°) appended, resolved with the built-in distributions.
+///
+/// # Panics
+/// A description that does not resolve.
+#[cfg(test)]
+pub(crate) fn test_wall(text: &str) -> Wall {
+    let text = format!(
+        "{text}[[materials]]\nname = \"m\"\ndensity_kg_per_m3 = 2000\nkn_pa_per_m = 1e8\nks_pa_per_m = 5e7\nfriction_deg = 30\n"
+    );
+    let p = std::path::Path::new("t.toml");
+    WallSpec::from_toml(&text, p).unwrap().resolve(p, &DistributionSource::default()).unwrap()
+}
+
 use crate::layout::LayoutError;
 use std::path::PathBuf;
 use thiserror::Error;

@@ -232,97 +232,120 @@ fn unit_to_g(name: &str) -> Option<f64> {
     }
 }
 
+/// A column file's record: the time step (s), the horizontal acceleration and the vertical
+/// one if the file has it (g, one value a step).
 type Columns = (f64, Vec<f64>, Option<Vec<f64>>);
 
+/// The cells of a column file's line, trimmed: split at tabs if it has any, else at commas.
+fn cells(l: &str) -> Vec<String> {
+    if l.contains('\t') { l.split('\t') } else { l.split(',') }.map(|s| s.trim().to_string()).collect()
+}
+
+/// The size in g of the unit of column `name` (header line `hl`), by its name's suffix.
+/// Errors: the name states no unit.
+fn column_unit(path: &Path, hl: Option<usize>, name: &str) -> Result<f64, RecordError> {
+    unit_to_g(name).ok_or_else(|| {
+        err(path, hl, format!("column {name:?} states no unit: end its name with _g, _m_s2, _cm_s2 or _gal"))
+    })
+}
+
+/// The (time, horizontal, vertical) columns, indices into `names`, that `--columns` names
+/// (the time column `time_s` unless it names one). Errors: a name not in the header, or two
+/// roles given one column.
+fn mapped_columns(
+    path: &Path,
+    hl: Option<usize>,
+    names: &[String],
+    m: &ColumnMap,
+) -> Result<(usize, usize, Option<usize>), RecordError> {
+    let find = |key: &str, name: &str| -> Result<usize, RecordError> {
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            err(path, hl, format!("--columns {key}={name}: no such column; the header has {}", names.join(", ")))
+        })
+    };
+    let t = find("time", m.time.as_deref().unwrap_or("time_s"))?;
+    let h = find("h", &m.h)?;
+    let v = m.v.as_deref().map(|v| find("v", v)).transpose()?;
+    if h == t || v == Some(t) || v == Some(h) {
+        return Err(err(path, hl, "--columns: time, h and v must name three different columns"));
+    }
+    Ok((t, h, v))
+}
+
+/// The (time, horizontal, vertical) columns of a header without `--columns`: `time_s`
+/// first, then one horizontal column and at most one vertical one (its name says so, see
+/// `is_vertical_name`), every acceleration column with its unit. Errors: any other header.
+fn named_columns(
+    path: &Path,
+    hl: Option<usize>,
+    names: &[String],
+    header: &str,
+) -> Result<(usize, usize, Option<usize>), RecordError> {
+    if names.len() < 2 || !names[0].eq_ignore_ascii_case("time_s") {
+        return Err(err(
+            path,
+            hl,
+            format!(
+                "the header must be `time_s` then the acceleration with its unit (e.g. `time_s,accel_g`), got {header:?}"
+            ),
+        ));
+    }
+    for name in &names[1..] {
+        column_unit(path, hl, name)?;
+    }
+    let (vert, horiz): (Vec<usize>, Vec<usize>) = (1..names.len()).partition(|&k| is_vertical_name(&names[k]));
+    let quoted = |ks: &[usize]| ks.iter().map(|&k| format!("{:?}", names[k])).collect::<Vec<_>>().join(", ");
+    let fix = "name the columns with --columns time=time_s,h=NAME[,v=NAME] \
+               (a study: [shake] columns = { h = \"NAME\", v = \"NAME\" })";
+    let hcol = match horiz.as_slice() {
+        [h] => *h,
+        [] => {
+            return Err(err(
+                path,
+                hl,
+                format!("a vertical column alone ({}): the horizontal one is missing", quoted(&vert)),
+            ))
+        }
+        _ => {
+            return Err(err(
+                path,
+                hl,
+                format!(
+                    "{} horizontal acceleration columns ({}): one is the motion, and a column is vertical only \
+                     if its name says so (vert, z or up); {fix}",
+                    horiz.len(),
+                    quoted(&horiz)
+                ),
+            ))
+        }
+    };
+    if vert.len() > 1 {
+        return Err(err(path, hl, format!("{} vertical columns ({}): at most one; {fix}", vert.len(), quoted(&vert))));
+    }
+    Ok((0, hcol, vert.first().copied()))
+}
+
+/// A column file (CSV or TSV; `#` lines and blank lines skipped): a header naming the
+/// columns, then one sample a line, the columns chosen by `map` or by their names.
+/// Errors: a header or line that does not fit, times not increasing, a vertical column that
+/// contains gravity, or a record too long.
 fn parse_columns(path: &Path, text: &str, map: Option<&ColumnMap>) -> Result<Columns, RecordError> {
     let mut rows = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let Some((hline, header)) = rows.next() else {
         return Err(err(path, None, "the record is empty (no header line)"));
     };
-    let split = |l: &str| -> Vec<String> {
-        if l.contains('\t') { l.split('\t') } else { l.split(',') }.map(|s| s.trim().to_string()).collect()
-    };
-    let names = split(header);
+    let names = cells(header);
     let hl = Some(hline + 1);
-    let unit = |k: usize| -> Result<f64, RecordError> {
-        unit_to_g(&names[k]).ok_or_else(|| {
-            err(path, hl, format!("column {:?} states no unit: end its name with _g, _m_s2, _cm_s2 or _gal", names[k]))
-        })
-    };
     // (time column, horizontal column, vertical column), indices into `names`.
     let (tcol, hcol, vcol) = match map {
-        Some(m) => {
-            let find = |key: &str, name: &str| -> Result<usize, RecordError> {
-                names.iter().position(|n| n == name).ok_or_else(|| {
-                    err(
-                        path,
-                        hl,
-                        format!("--columns {key}={name}: no such column; the header has {}", names.join(", ")),
-                    )
-                })
-            };
-            let t = find("time", m.time.as_deref().unwrap_or("time_s"))?;
-            let h = find("h", &m.h)?;
-            let v = m.v.as_deref().map(|v| find("v", v)).transpose()?;
-            if h == t || v == Some(t) || v == Some(h) {
-                return Err(err(path, hl, "--columns: time, h and v must name three different columns"));
-            }
-            (t, h, v)
-        }
-        None => {
-            if names.len() < 2 || !names[0].eq_ignore_ascii_case("time_s") {
-                return Err(err(
-                    path,
-                    hl,
-                    format!(
-                        "the header must be `time_s` then the acceleration with its unit (e.g. `time_s,accel_g`), got {header:?}"
-                    ),
-                ));
-            }
-            for k in 1..names.len() {
-                unit(k)?;
-            }
-            let (vert, horiz): (Vec<usize>, Vec<usize>) = (1..names.len()).partition(|&k| is_vertical_name(&names[k]));
-            let quoted = |ks: &[usize]| ks.iter().map(|&k| format!("{:?}", names[k])).collect::<Vec<_>>().join(", ");
-            let fix = "name the columns with --columns time=time_s,h=NAME[,v=NAME] \
-                       (a study: [shake] columns = { h = \"NAME\", v = \"NAME\" })";
-            let hcol = match horiz.as_slice() {
-                [h] => *h,
-                [] => {
-                    return Err(err(
-                        path,
-                        hl,
-                        format!("a vertical column alone ({}): the horizontal one is missing", quoted(&vert)),
-                    ))
-                }
-                _ => {
-                    return Err(err(
-                        path,
-                        hl,
-                        format!(
-                            "{} horizontal acceleration columns ({}): one is the motion, and a column is vertical only \
-                             if its name says so (vert, z or up); {fix}",
-                            horiz.len(),
-                            quoted(&horiz)
-                        ),
-                    ))
-                }
-            };
-            if vert.len() > 1 {
-                return Err(err(
-                    path,
-                    hl,
-                    format!("{} vertical columns ({}): at most one; {fix}", vert.len(), quoted(&vert)),
-                ));
-            }
-            (0, hcol, vert.first().copied())
-        }
+        Some(m) => mapped_columns(path, hl, &names, m)?,
+        None => named_columns(path, hl, &names, header)?,
     };
-    let hf = unit(hcol)?;
-    let vf = vcol.map(unit).transpose()?;
+    let hf = column_unit(path, hl, &names[hcol])?;
+    let vf = vcol.map(|k| column_unit(path, hl, &names[k])).transpose()?;
     let (mut t, mut h, mut v) = (Vec::new(), Vec::new(), Vec::new());
     for (i, l) in rows {
-        let cells = split(l);
+        let cells = cells(l);
         if cells.len() != names.len() {
             return Err(err(path, Some(i + 1), format!("{} columns, the header has {}", cells.len(), names.len())));
         }
@@ -363,11 +386,20 @@ fn parse_columns(path: &Path, text: &str, map: Option<&ColumnMap>) -> Result<Col
             ));
         }
     }
+    uniform(path, &t, h, vcol.map(|_| v))
+}
+
+/// The record on a uniform time step from its samples at times `t` (s, increasing, at
+/// least two) of the horizontal acceleration `h` and the vertical one `v` (g): as they are
+/// when the times are uniform from 0, else resampled linearly from t = 0 at the smallest
+/// interval (zero before the first sample). Errors: the record is too long (see
+/// `check_motion_size`).
+fn uniform(path: &Path, t: &[f64], h: Vec<f64>, v: Option<Vec<f64>>) -> Result<Columns, RecordError> {
     let dt = t.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
     let uniform = t.windows(2).all(|w| ((w[1] - w[0]) / dt - 1.0).abs() < 1e-6) && t[0] == 0.0;
     if uniform {
         check_motion_size(t.len() as f64, t[t.len() - 1]).map_err(|m| err(path, None, m))?;
-        return Ok((dt, h, vcol.map(|_| v)));
+        return Ok((dt, h, v));
     }
     // Resampled from t = 0 at the smallest interval (zero before the first sample).
     let last = t[t.len() - 1];
@@ -402,7 +434,7 @@ fn parse_columns(path: &Path, text: &str, map: Option<&ColumnMap>) -> Result<Col
             })
             .collect()
     };
-    Ok((dt, resample(&h), vcol.map(|_| resample(&v))))
+    Ok((dt, resample(&h), v.as_deref().map(resample)))
 }
 
 #[cfg(test)]

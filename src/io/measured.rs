@@ -197,9 +197,24 @@ impl Csv {
     }
 }
 
+/// Every specimen of the collapse data with its group and where it was first read.
+///
+/// # Errors
+/// [`TableError::Value`] for a specimen in two groups ([`one_group`]).
+fn collapse_groups(collapse: &[MeasuredCollapse]) -> Result<SpecimenGroups, TableError> {
+    let mut groups = BTreeMap::new();
+    for c in collapse {
+        one_group(&mut groups, &c.specimen, &c.group, &c.file, c.line)?;
+    }
+    Ok(groups)
+}
+
+/// Specimen → (its group, the file and the line it was first read at).
+type SpecimenGroups = BTreeMap<String, (String, PathBuf, usize)>;
+
 /// Records `specimen`'s group and refuses a second group.
 fn one_group(
-    seen: &mut BTreeMap<String, (String, PathBuf, usize)>,
+    seen: &mut SpecimenGroups,
     specimen: &str,
     group: &str,
     path: &Path,
@@ -312,10 +327,7 @@ pub fn check_against_study(
     displacement: &[MeasuredDisplacement],
     study: &StudyContext,
 ) -> Result<(), TableError> {
-    let mut groups = BTreeMap::new();
-    for c in collapse {
-        one_group(&mut groups, &c.specimen, &c.group, &c.file, c.line)?;
-    }
+    let mut groups = collapse_groups(collapse)?;
     for d in displacement {
         let bad = |column: &str, m: String| value_error(&d.file, d.line, column, m);
         one_group(&mut groups, &d.specimen, &d.group, &d.file, d.line)?;
@@ -387,6 +399,20 @@ pub struct MeasuredMechanism {
     pub line: usize,
 }
 
+/// An optional category cell of column `column`: empty is `None`, else the category `parse`
+/// names.
+///
+/// # Errors
+/// A name `parse` does not know, the message listing the `known` names.
+fn category<T>(
+    cell: Option<&str>,
+    column: &str,
+    parse: fn(&str) -> Option<T>,
+    known: &[&str],
+) -> Result<Option<T>, String> {
+    cell.map(|k| parse(k).ok_or_else(|| format!("unknown {column} `{k}` (known: {})", known.join(", ")))).transpose()
+}
+
 /// Reads observed failure mechanisms: columns `specimen`, `group`,
 /// `failure_height_fraction`, `failure_height_low`, `failure_height_high`, `kind`, `start`;
 /// optional `extent_fraction` and `source`. Empty fields are missing observations.
@@ -426,24 +452,20 @@ pub fn read_measured_mechanism(path: &Path) -> Result<Vec<MeasuredMechanism>, Ta
                 return Err(bad(h[2], "empty: a failure height needs its reading interval (low and high)".into()))
             }
         };
-        let kind = match csv.optional(row, "kind") {
-            None => None,
-            Some(k) => Some(FailureKind::from_name(k).ok_or_else(|| {
-                bad(
-                    "kind",
-                    format!("unknown kind `{k}` (known: {})", FailureKind::ALL.map(FailureKind::name).join(", ")),
-                )
-            })?),
-        };
-        let start = match csv.optional(row, "start") {
-            None => None,
-            Some(k) => Some(FailureStart::from_name(k).ok_or_else(|| {
-                bad(
-                    "start",
-                    format!("unknown start `{k}` (known: {})", FailureStart::ALL.map(FailureStart::name).join(", ")),
-                )
-            })?),
-        };
+        let kind = category(
+            csv.optional(row, "kind"),
+            "kind",
+            FailureKind::from_name,
+            &FailureKind::ALL.map(FailureKind::name),
+        )
+        .map_err(|m| bad("kind", m))?;
+        let start = category(
+            csv.optional(row, "start"),
+            "start",
+            FailureStart::from_name,
+            &FailureStart::ALL.map(FailureStart::name),
+        )
+        .map_err(|m| bad("start", m))?;
         let extent = csv.optional_number(line, row, "extent_fraction", |e| e > 0.0 && e <= 1.0, "in (0, 1]")?;
         if let Some(first) = out.iter().find(|m| m.specimen == specimen) {
             return Err(bad(
@@ -479,10 +501,7 @@ pub fn check_mechanism_against_study(
     displacement: &[MeasuredDisplacement],
     study: &StudyContext,
 ) -> Result<(), TableError> {
-    let mut groups = BTreeMap::new();
-    for c in collapse {
-        one_group(&mut groups, &c.specimen, &c.group, &c.file, c.line)?;
-    }
+    let mut groups = collapse_groups(collapse)?;
     for d in displacement {
         one_group(&mut groups, &d.specimen, &d.group, &d.file, d.line)?;
     }

@@ -126,29 +126,36 @@ fn joint_points(layout: &Layout, joint: &str, moving: &[bool]) -> Option<(Vec<Ve
     (!pts.is_empty()).then_some((pts, Some(carrier)))
 }
 
-/// The SVG text of a mechanism drawing (module documentation). Blocks beyond the lengths of
-/// `poses`, `displacement_m` or `moving` are drawn at rest.
-pub fn mechanism_svg(f: &MechanismFigure) -> String {
-    let layout = f.layout;
-    let n = layout.blocks.len();
-    let at_rest = (Vec3::zeros(), UnitQuaternion::identity());
-    let mut poses: Vec<BodyPose> = Vec::with_capacity(n);
-    for (i, b) in layout.blocks.iter().enumerate() {
-        let c = b.shape.mass_properties(1.0).centroid;
-        poses.push(f.poses.get(i).copied().unwrap_or((c + at_rest.0, at_rest.1)));
+/// The figure's per-block inputs completed to every block of the layout: blocks beyond the
+/// lengths of the figure's `poses`, `displacement_m` or `moving` at rest (pose at their
+/// layout centroid, displacement 0 m, not moving).
+struct Completed {
+    poses: Vec<BodyPose>,
+    moving: Vec<bool>,
+    disp: Vec<f64>,
+}
+
+impl Completed {
+    /// The inputs of `f`, one entry per block of its layout.
+    fn of(f: &MechanismFigure) -> Completed {
+        let layout = f.layout;
+        let n = layout.blocks.len();
+        let at_rest = (Vec3::zeros(), UnitQuaternion::identity());
+        let mut poses: Vec<BodyPose> = Vec::with_capacity(n);
+        for (i, b) in layout.blocks.iter().enumerate() {
+            let c = b.shape.mass_properties(1.0).centroid;
+            poses.push(f.poses.get(i).copied().unwrap_or((c + at_rest.0, at_rest.1)));
+        }
+        let moving: Vec<bool> = (0..n).map(|i| f.moving.get(i).copied().unwrap_or(false)).collect();
+        let disp: Vec<f64> = (0..n).map(|i| f.displacement_m.get(i).copied().unwrap_or(0.0)).collect();
+        Completed { poses, moving, disp }
     }
-    let moving: Vec<bool> = (0..n).map(|i| f.moving.get(i).copied().unwrap_or(false)).collect();
-    let disp: Vec<f64> = (0..n).map(|i| f.displacement_m.get(i).copied().unwrap_or(0.0)).collect();
-    let ff = MechanismFigure { poses: &poses, moving: &moving, displacement_m: &disp, ..*f };
-    let all = layout.bounds();
-    let (h, l) = (all.extent().z, all.extent().x);
-    let dmax = disp.iter().zip(&moving).filter(|(_, m)| **m).map(|(d, _)| *d).fold(0.0, f64::max);
-    let largest = disp.iter().cloned().fold(0.0, f64::max);
-    let k = nice_factor(0.08 * h / largest);
-    let drawn = drawn_blocks(&ff, k);
-    let reference: Vec<Vec<Vec3>> = layout.blocks.iter().map(|b| b.shape.vertices.clone()).collect();
-    // The joint, carried by the pose (magnified) of its resting side.
-    let joint = joint_points(layout, f.joint, &moving).map(|(pts, carrier)| match carrier {
+}
+
+/// The governing joint's points (m), carried by the pose (magnified by `k`) of its resting
+/// side; `None` when the joint is not found.
+fn magnified_joint(layout: &Layout, joint: &str, moving: &[bool], poses: &[BodyPose], k: f64) -> Option<Vec<Vec3>> {
+    joint_points(layout, joint, moving).map(|(pts, carrier)| match carrier {
         None => pts,
         Some(i) => {
             let c = layout.blocks[i].shape.mass_properties(1.0).centroid;
@@ -157,48 +164,143 @@ pub fn mechanism_svg(f: &MechanismFigure) -> String {
             let p = c + (pos - c) * k;
             pts.iter().map(|v| p + r * (v - c)).collect()
         }
-    });
+    })
+}
+
+/// Every block's outline in both views, (x, z) in the elevation and (y, z) in the section at
+/// x = `xc`, m: as drawn (`drawn`, displaced) and at rest (`*_ref`, the layout's vertices).
+/// An outline of fewer than three points is not drawn.
+struct Outlines {
+    elev: Vec<Vec<[f64; 2]>>,
+    elev_ref: Vec<Vec<[f64; 2]>>,
+    sec: Vec<Vec<[f64; 2]>>,
+    sec_ref: Vec<Vec<[f64; 2]>>,
+}
+
+impl Outlines {
+    /// The outlines of the blocks of `layout` drawn at `drawn`, the section cut at `xc` (m).
+    fn new(layout: &Layout, drawn: &[Vec<Vec3>], xc: f64) -> Outlines {
+        let reference: Vec<Vec<Vec3>> = layout.blocks.iter().map(|b| b.shape.vertices.clone()).collect();
+        let elevation = |v: &Vec<Vec3>| hull2d(&v.iter().map(|p| [p.x, p.z]).collect::<Vec<_>>(), 1e-12);
+        Outlines {
+            elev: drawn.iter().map(elevation).collect(),
+            elev_ref: reference.iter().map(elevation).collect(),
+            sec: drawn.iter().zip(&layout.blocks).map(|(v, b)| section(v, &b.shape.edges, xc)).collect(),
+            sec_ref: reference.iter().zip(&layout.blocks).map(|(v, b)| section(v, &b.shape.edges, xc)).collect(),
+        }
+    }
+}
+
+/// The page: where the elevation and the section stand, px, and the scale from metres.
+struct Page {
+    /// px per m.
+    s: f64,
+    /// Left (and right) margin, px.
+    margin: f64,
+    /// The page's height, px.
+    height: f64,
+    /// The page's width, px.
+    width: f64,
+    /// The height of the title block above the views, px.
+    top: f64,
+    /// The elevation's x range, m.
+    ex0: f64,
+    ex1: f64,
+    /// The section's y range, m.
+    sy0: f64,
+    sy1: f64,
+    /// The top of both views, m.
+    z1: f64,
+    /// The left edge of the section, px.
+    sx_off: f64,
+}
+
+impl Page {
+    /// The page that holds both views of `outlines` (the section's y range that of `all`
+    /// when no block is cut), the wall's length `l` (m) drawn 900 px long.
+    fn new(outlines: &Outlines, all: &crate::geometry::Aabb, l: f64) -> Page {
+        // Extents of both views (m).
+        let ext = |polys: &[&Vec<Vec<[f64; 2]>>]| {
+            polys
+                .iter()
+                .flat_map(|p| p.iter().flatten())
+                .fold((f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY), |(a, b, c, d), q| {
+                    (a.min(q[0]), b.max(q[0]), c.min(q[1]), d.max(q[1]))
+                })
+        };
+        let (ex0, ex1, ez0, ez1) = ext(&[&outlines.elev, &outlines.elev_ref]);
+        let (sy0, sy1, sz0, sz1) = ext(&[&outlines.sec, &outlines.sec_ref]);
+        let (sy0, sy1) = if sy0.is_finite() { (sy0, sy1) } else { (all.min.y, all.max.y) };
+        let (z0, z1) = (ez0.min(sz0).min(0.0), ez1.max(sz1));
+        let s = 900.0 / l.max(1e-9);
+        let (margin, gap, top) = (40.0, 80.0, 80.0);
+        // The section's label is wider than a narrow section.
+        let width = margin + (ex1 - ex0) * s + gap + ((sy1 - sy0) * s).max(200.0) + margin;
+        let height = top + (z1 - z0) * s + 110.0;
+        let sx_off = margin + (ex1 - ex0) * s + gap + (0.5 * (200.0 - (sy1 - sy0) * s)).max(0.0);
+        Page { s, margin, height, width, top, ex0, ex1, sy0, sy1, z1, sx_off }
+    }
+
+    /// The page x (px) of an elevation's x (m).
+    fn ex(&self, x: f64) -> f64 {
+        self.margin + (x - self.ex0) * self.s
+    }
+
+    /// The page y (px) of a height z (m), in both views.
+    fn zz(&self, z: f64) -> f64 {
+        self.top + (self.z1 - z) * self.s
+    }
+
+    /// The page x (px) of a section's y (m).
+    fn sy(&self, y: f64) -> f64 {
+        self.sx_off + (y - self.sy0) * self.s
+    }
+
+    /// The points attribute of a polygon, its first coordinate placed by `fx`, its second a
+    /// height.
+    fn points(&self, p: &[[f64; 2]], fx: &dyn Fn(f64) -> f64) -> String {
+        p.iter().map(|q| format!("{:.2},{:.2}", fx(q[0]), self.zz(q[1]))).collect::<Vec<_>>().join(" ")
+    }
+}
+
+/// The SVG text of a mechanism drawing (module documentation). Blocks beyond the lengths of
+/// `poses`, `displacement_m` or `moving` are drawn at rest.
+pub fn mechanism_svg(f: &MechanismFigure) -> String {
+    let layout = f.layout;
+    let Completed { poses, moving, disp } = Completed::of(f);
+    let ff = MechanismFigure { poses: &poses, moving: &moving, displacement_m: &disp, ..*f };
+    let all = layout.bounds();
+    let (h, l) = (all.extent().z, all.extent().x);
+    let dmax = disp.iter().zip(&moving).filter(|(_, m)| **m).map(|(d, _)| *d).fold(0.0, f64::max);
+    let largest = disp.iter().cloned().fold(0.0, f64::max);
+    let k = nice_factor(0.08 * h / largest);
+    let drawn = drawn_blocks(&ff, k);
+    let joint = magnified_joint(layout, f.joint, &moving, &poses, k);
     let xc = joint.as_ref().map_or(0.5 * (all.min.x + all.max.x), |p| {
         let (lo, hi) = p.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v.x), b.max(v.x)));
         0.5 * (lo + hi)
     });
-    let elev: Vec<Vec<[f64; 2]>> =
-        drawn.iter().map(|v| hull2d(&v.iter().map(|p| [p.x, p.z]).collect::<Vec<_>>(), 1e-12)).collect();
-    let elev_ref: Vec<Vec<[f64; 2]>> =
-        reference.iter().map(|v| hull2d(&v.iter().map(|p| [p.x, p.z]).collect::<Vec<_>>(), 1e-12)).collect();
-    let sec: Vec<Vec<[f64; 2]>> =
-        drawn.iter().zip(&layout.blocks).map(|(v, b)| section(v, &b.shape.edges, xc)).collect();
-    let sec_ref: Vec<Vec<[f64; 2]>> =
-        reference.iter().zip(&layout.blocks).map(|(v, b)| section(v, &b.shape.edges, xc)).collect();
-    // Extents of both views (m).
-    let ext = |polys: &[&Vec<Vec<[f64; 2]>>]| {
-        polys
-            .iter()
-            .flat_map(|p| p.iter().flatten())
-            .fold((f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY), |(a, b, c, d), q| {
-                (a.min(q[0]), b.max(q[0]), c.min(q[1]), d.max(q[1]))
-            })
-    };
-    let (ex0, ex1, ez0, ez1) = ext(&[&elev, &elev_ref]);
-    let (sy0, sy1, sz0, sz1) = ext(&[&sec, &sec_ref]);
-    let (sy0, sy1) = if sy0.is_finite() { (sy0, sy1) } else { (all.min.y, all.max.y) };
-    let (z0, z1) = (ez0.min(sz0).min(0.0), ez1.max(sz1));
-    let s = 900.0 / l.max(1e-9);
-    let (margin, gap, top) = (40.0, 80.0, 80.0);
-    // The section's label is wider than a narrow section.
-    let width = margin + (ex1 - ex0) * s + gap + ((sy1 - sy0) * s).max(200.0) + margin;
-    let height = top + (z1 - z0) * s + 110.0;
-    let ex = |x: f64| margin + (x - ex0) * s;
-    let zz = |z: f64| top + (z1 - z) * s;
-    let sx_off = margin + (ex1 - ex0) * s + gap + (0.5 * (200.0 - (sy1 - sy0) * s)).max(0.0);
-    let sy = |y: f64| sx_off + (y - sy0) * s;
-    let stroke = (0.6f64).max((s * 0.0015).min(1.2));
+    let outlines = Outlines::new(layout, &drawn, xc);
+    let page = Page::new(&outlines, &all, l);
     let fill = |i: usize| if moving[i] { heat(if dmax > 0.0 { disp[i] / dmax } else { 0.0 }) } else { RESTING.into() };
-    let pts = |p: &[[f64; 2]], fx: &dyn Fn(f64) -> f64| {
-        p.iter().map(|q| format!("{:.2},{:.2}", fx(q[0]), zz(q[1]))).collect::<Vec<_>>().join(" ")
-    };
 
     let mut o = String::new();
+    heading(&mut o, f, &page, k, &moving);
+    blocks(&mut o, &ff, &page, &outlines, &drawn, &fill);
+    if let Some(p) = &joint {
+        joint_lines(&mut o, &page, p);
+    }
+    table_and_labels(&mut o, &page, xc);
+    legend(&mut o, page.margin, page.height, dmax);
+    o.push_str("</svg>\n");
+    o
+}
+
+/// The opening of the SVG: the page, the title, the subtitle and the line naming the
+/// magnification `k`, the number of moving blocks and the governing joint.
+fn heading(o: &mut String, f: &MechanismFigure, page: &Page, k: f64, moving: &[bool]) {
+    let (width, height, margin) = (page.width, page.height, page.margin);
+    let n = f.layout.blocks.len();
     let _ = writeln!(
         o,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.1} {height:.1}" font-family="sans-serif" font-size="13">"#
@@ -213,6 +315,24 @@ pub fn mechanism_svg(f: &MechanismFigure) -> String {
         moving.iter().filter(|m| **m).count(),
         esc(if f.joint.is_empty() { "none" } else { f.joint })
     );
+}
+
+/// The blocks of both views (`f` completed to every block): the elevation's far blocks
+/// (large y) first, each filled by `fill` and titled with its id (and its displacement in
+/// the elevation), then the moving blocks' outlines at rest dashed.
+fn blocks(
+    o: &mut String,
+    f: &MechanismFigure,
+    page: &Page,
+    outlines: &Outlines,
+    drawn: &[Vec<Vec3>],
+    fill: &dyn Fn(usize) -> String,
+) {
+    let (layout, moving, disp) = (f.layout, f.moving, f.displacement_m);
+    let n = layout.blocks.len();
+    let Outlines { elev, elev_ref, sec, sec_ref } = outlines;
+    let stroke = (0.6f64).max((page.s * 0.0015).min(1.2));
+    let (ex, sy) = (|x: f64| page.ex(x), |y: f64| page.sy(y));
     // Elevation: far blocks (large y) first.
     let mut order: Vec<usize> = (0..n).collect();
     let mean_y = |i: usize| drawn[i].iter().map(|v| v.y).sum::<f64>() / drawn[i].len().max(1) as f64;
@@ -223,91 +343,101 @@ pub fn mechanism_svg(f: &MechanismFigure) -> String {
             let _ = writeln!(
                 o,
                 r##"<polygon points="{}" fill="{}" stroke="#333" stroke-width="{stroke:.2}"><title>{} {:.2} cm</title></polygon>"##,
-                pts(&elev[i], &ex),
+                page.points(&elev[i], &ex),
                 fill(i),
                 esc(&layout.blocks[i].id),
                 100.0 * disp[i]
             );
         }
     }
-    for i in (0..n).filter(|&i| moving[i] && elev_ref[i].len() >= 3) {
-        let _ = writeln!(
-            o,
-            r##"<polygon points="{}" fill="none" stroke="#555" stroke-width="{stroke:.2}" stroke-dasharray="5 3"/>"##,
-            pts(&elev_ref[i], &ex)
-        );
-    }
+    dashed_at_rest(o, page, elev_ref, moving, stroke, &ex);
     // Section.
     for i in 0..n {
         if sec[i].len() >= 3 {
             let _ = writeln!(
                 o,
                 r##"<polygon points="{}" fill="{}" stroke="#333" stroke-width="{stroke:.2}"><title>{}</title></polygon>"##,
-                pts(&sec[i], &sy),
+                page.points(&sec[i], &sy),
                 fill(i),
                 esc(&layout.blocks[i].id)
             );
         }
     }
-    for i in (0..n).filter(|&i| moving[i] && sec_ref[i].len() >= 3) {
+    dashed_at_rest(o, page, sec_ref, moving, stroke, &sy);
+    let _ = writeln!(o, "</g>");
+}
+
+/// The outlines at rest of the moving blocks of one view, dashed, their first coordinate
+/// placed by `fx`.
+fn dashed_at_rest(
+    o: &mut String,
+    page: &Page,
+    outlines: &[Vec<[f64; 2]>],
+    moving: &[bool],
+    stroke: f64,
+    fx: &dyn Fn(f64) -> f64,
+) {
+    for i in (0..outlines.len()).filter(|&i| moving[i] && outlines[i].len() >= 3) {
         let _ = writeln!(
             o,
             r##"<polygon points="{}" fill="none" stroke="#555" stroke-width="{stroke:.2}" stroke-dasharray="5 3"/>"##,
-            pts(&sec_ref[i], &sy)
+            page.points(&outlines[i], fx)
         );
     }
-    let _ = writeln!(o, "</g>");
-    // The governing joint: its extent along each view's horizontal axis.
-    if let Some(p) = &joint {
-        let line = |key: &dyn Fn(&Vec3) -> f64, fx: &dyn Fn(f64) -> f64| {
-            let lo = p.iter().min_by(|a, b| key(a).total_cmp(&key(b)));
-            let hi = p.iter().max_by(|a, b| key(a).total_cmp(&key(b)));
-            if let (Some(a), Some(b)) = (lo, hi) {
-                // The line, and a ring around its middle so that a short joint shows too.
-                format!(
-                    r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{JOINT}" stroke-width="4" stroke-linecap="round"/><circle cx="{:.2}" cy="{:.2}" r="9" fill="none" stroke="{JOINT}" stroke-width="2"/>"#,
-                    fx(key(a)),
-                    zz(a.z),
-                    fx(key(b)),
-                    zz(b.z),
-                    0.5 * (fx(key(a)) + fx(key(b))),
-                    0.5 * (zz(a.z) + zz(b.z))
-                )
-            } else {
-                String::new()
-            }
-        };
-        let _ = writeln!(o, "{}", line(&|v| v.x, &ex));
-        let _ = writeln!(o, "{}", line(&|v| v.y, &sy));
-    }
-    // Table, cut line, view labels.
-    let base = zz(0.0) + 1.0;
+}
+
+/// The governing joint (its points `p`, m): its extent along each view's horizontal axis, a
+/// thick line with a ring around its middle so that a short joint shows too.
+fn joint_lines(o: &mut String, page: &Page, p: &[Vec3]) {
+    let line = |key: &dyn Fn(&Vec3) -> f64, fx: &dyn Fn(f64) -> f64| {
+        let lo = p.iter().min_by(|a, b| key(a).total_cmp(&key(b)));
+        let hi = p.iter().max_by(|a, b| key(a).total_cmp(&key(b)));
+        if let (Some(a), Some(b)) = (lo, hi) {
+            format!(
+                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{JOINT}" stroke-width="4" stroke-linecap="round"/><circle cx="{:.2}" cy="{:.2}" r="9" fill="none" stroke="{JOINT}" stroke-width="2"/>"#,
+                fx(key(a)),
+                page.zz(a.z),
+                fx(key(b)),
+                page.zz(b.z),
+                0.5 * (fx(key(a)) + fx(key(b))),
+                0.5 * (page.zz(a.z) + page.zz(b.z))
+            )
+        } else {
+            String::new()
+        }
+    };
+    let _ = writeln!(o, "{}", line(&|v| v.x, &|x| page.ex(x)));
+    let _ = writeln!(o, "{}", line(&|v| v.y, &|y| page.sy(y)));
+}
+
+/// The table under both views, the section's cut line at x = `xc` (m) on the elevation, and
+/// the views' labels.
+fn table_and_labels(o: &mut String, page: &Page, xc: f64) {
+    let (ex0, ex1, sy0, sy1) = (page.ex0, page.ex1, page.sy0, page.sy1);
+    let base = page.zz(0.0) + 1.0;
     let _ = writeln!(
         o,
         r##"<line x1="{:.1}" y1="{base:.1}" x2="{:.1}" y2="{base:.1}" stroke="#000" stroke-width="2"/><line x1="{:.1}" y1="{base:.1}" x2="{:.1}" y2="{base:.1}" stroke="#000" stroke-width="2"/>"##,
-        ex(ex0) - 10.0,
-        ex(ex1) + 10.0,
-        sy(sy0) - 10.0,
-        sy(sy1) + 10.0
+        page.ex(ex0) - 10.0,
+        page.ex(ex1) + 10.0,
+        page.sy(sy0) - 10.0,
+        page.sy(sy1) + 10.0
     );
     let _ = writeln!(
         o,
         r##"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="#888" stroke-dasharray="4 3"/>"##,
-        zz(z1) - 8.0,
+        page.zz(page.z1) - 8.0,
         base + 8.0,
-        x = ex(xc)
+        x = page.ex(xc)
     );
     let _ = writeln!(
         o,
         r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">front elevation (x along the wall, z up)</text><text x="{:.1}" y="{:.1}" text-anchor="middle">section x = {xc:.3} m (+y →)</text>"#,
-        ex(0.5 * (ex0 + ex1)),
+        page.ex(0.5 * (ex0 + ex1)),
         base + 22.0,
-        sy(0.5 * (sy0 + sy1)),
+        page.sy(0.5 * (sy0 + sy1)),
         base + 22.0
     );
-    legend(&mut o, margin, height, dmax);
-    o.push_str("</svg>\n");
-    o
 }
 
 /// The colour bar (0 to `dmax`, in cm) and the keys, along the bottom edge.

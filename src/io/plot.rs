@@ -3,6 +3,7 @@
 //! standardized residuals of observations against models (the discrepancy report's),
 //! fragility curves (empirical and fitted lognormal), and x–y curves with a ±σ band.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -32,6 +33,45 @@ const PALETTE: [RGBColor; 6] = [
 /// The colour of series `i`.
 pub fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
+}
+
+/// An x–y chart of an SVG drawing.
+type XyChart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The legend of `chart`'s labelled series: at `position` (`None`: plotters' default), on
+/// white of opacity `opacity`, framed in black.
+///
+/// # Errors
+/// Plotters' message.
+fn legend_box<'b>(
+    chart: &mut XyChart<'b, 'b>,
+    position: Option<SeriesLabelPosition>,
+    opacity: f64,
+) -> Result<(), String> {
+    let mut labels = chart.configure_series_labels();
+    if let Some(p) = position {
+        labels.position(p);
+    }
+    labels.background_style(WHITE.mix(opacity)).border_style(BLACK).draw().map_err(|x| x.to_string())
+}
+
+/// The points `(x, y)` of a curve whose `y` is finite.
+fn finite_points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    x.iter().zip(y).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect()
+}
+
+/// A shaded band between `lo` and `hi` over `x` (their finite values: along `hi`, back
+/// along `lo`) in colour `c`; nothing when fewer than three points remain.
+///
+/// # Errors
+/// Plotters' message.
+fn draw_band(chart: &mut XyChart, x: &[f64], lo: &[f64], hi: &[f64], c: RGBColor) -> Result<(), String> {
+    let mut poly = finite_points(x, hi);
+    poly.extend(x.iter().zip(lo).rev().filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)));
+    if poly.len() >= 3 {
+        chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.18).filled()))).map_err(|x| x.to_string())?;
+    }
+    Ok(())
 }
 
 /// One histogram panel: simulated values and measured values (vertical lines).
@@ -95,12 +135,7 @@ pub fn histograms(path: &Path, x_label: &str, bin: f64, panels: &[HistogramPanel
                 .label("measured")
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 12, y)], BLACK.stroke_width(2)));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|x| e(x.to_string()))?;
+        legend_box(&mut chart, None, 0.8).map_err(&e)?;
     }
     root.present().map_err(|x| e(x.to_string()))
 }
@@ -182,12 +217,7 @@ pub fn residuals(path: &Path, title: &str, labels: &[String], series: &[Residual
             .label(s.label.clone())
             .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|x| e(x.to_string()))?;
+    legend_box(&mut chart, None, 0.8).map_err(&e)?;
     root.present().map_err(|x| e(x.to_string()))?;
     Ok(())
 }
@@ -228,16 +258,8 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
     chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw().map_err(|x| e(x.to_string()))?;
     for (k, s) in series.iter().enumerate() {
         let c = colour(k);
-        let mut poly: Vec<(f64, f64)> =
-            s.x.iter().zip(&s.hi).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
-        poly.extend(s.x.iter().zip(&s.lo).rev().filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)));
-        if poly.len() >= 3 {
-            chart
-                .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.18).filled())))
-                .map_err(|x| e(x.to_string()))?;
-        }
-        let line: Vec<(f64, f64)> =
-            s.x.iter().zip(&s.mid).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
+        draw_band(&mut chart, &s.x, &s.lo, &s.hi, c).map_err(&e)?;
+        let line = finite_points(&s.x, &s.mid);
         chart
             .draw_series(LineSeries::new(line, c.stroke_width(2)))
             .map_err(|x| e(x.to_string()))?
@@ -258,13 +280,7 @@ pub fn bands(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[B
                 .legend(move |(x, y)| Circle::new((x + 6, y), 5, c.stroke_width(2)));
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|x| e(x.to_string()))?;
+    legend_box(&mut chart, Some(SeriesLabelPosition::UpperLeft), 0.85).map_err(&e)?;
     root.present().map_err(|x| e(x.to_string()))
 }
 
@@ -380,14 +396,7 @@ pub fn ida_and_fragility(
                 .label(format!("{} static capacity (tilt, λ g)", f.label))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], col.stroke_width(1)));
         }
-        let mut poly: Vec<(f64, f64)> =
-            f.x.iter().zip(&f.hi).filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)).collect();
-        poly.extend(f.x.iter().zip(&f.lo).rev().filter(|(_, y)| y.is_finite()).map(|(x, y)| (*x, *y)));
-        if poly.len() >= 3 {
-            chart
-                .draw_series(std::iter::once(Polygon::new(poly, col.mix(0.18).filled())))
-                .map_err(|x| e(x.to_string()))?;
-        }
+        draw_band(&mut chart, &f.x, &f.lo, &f.hi, col).map_err(&e)?;
         if !f.x.is_empty() {
             let line: Vec<(f64, f64)> = f.x.iter().zip(&f.p).map(|(x, y)| (*x, *y)).collect();
             chart
@@ -402,12 +411,6 @@ pub fn ida_and_fragility(
             .label(format!("{} observed", f.label))
             .legend(move |(x, y)| Circle::new((x + 6, y), 4, col.filled()));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|x| e(x.to_string()))?;
+    legend_box(&mut chart, Some(SeriesLabelPosition::LowerRight), 0.85).map_err(&e)?;
     root.present().map_err(|x| e(x.to_string()))
 }

@@ -1,7 +1,7 @@
 //! The collapse load multiplier of the lateral pressure by the penalty DEM (pushover).
 //!
 //! The pressure of [`LateralParams`] (trapezoidal over the height, on the exposed faces
-//! facing −y, computed once on the settled configuration by [`pressure_loads`], as the
+//! facing −y, computed once on the settled configuration by [`pressure_loads`](super::lateral::pressure_loads), as the
 //! static lateral load does) is scaled by a load multiplier λ and applied as a dead load
 //! with gravity straight down. The joints are the layout's: finite Kn and Ks, friction,
 //! cohesion and tensile strength, which drop to zero for good where a joint fails (see

@@ -68,25 +68,23 @@ pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), Calibra
 pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
+    // The protocol each comparison is made under.
+    let lateral = matches!(study.protocol, StudyProtocol::Lateral(_));
+    let (paper, protocol_fits, protocol) = match p {
+        PaperStudy::JointArrangement => ("joint_arrangement", lateral, "protocol = \"lateral\""),
+        PaperStudy::LengthHeight => ("length_height", lateral, "protocol = \"lateral\""),
+        PaperStudy::KnPhi => ("kn_phi", matches!(study.protocol, StudyProtocol::Tilt(_)), "protocol = \"tilt\""),
+    };
+    if !protocol_fits {
+        return Err(PaperSpecError { paper, need: protocol });
+    }
     match p {
         PaperStudy::JointArrangement => {
-            match study.protocol {
-                StudyProtocol::Lateral(_) => {}
-                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "joint_arrangement", need: "protocol = \"lateral\"" });
-                }
-            }
             if !has(SweepKey::KnPaPerM) {
                 return Err(PaperSpecError { paper: "joint_arrangement", need: "a sweep over kn_pa_per_m" });
             }
         }
         PaperStudy::LengthHeight => {
-            match study.protocol {
-                StudyProtocol::Lateral(_) => {}
-                StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "length_height", need: "protocol = \"lateral\"" });
-                }
-            }
             if !has(SweepKey::LengthM) {
                 return Err(PaperSpecError { paper: "length_height", need: "a sweep over length_m" });
             }
@@ -98,12 +96,6 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
             }
         }
         PaperStudy::KnPhi => {
-            match study.protocol {
-                StudyProtocol::Tilt(_) => {}
-                StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
-                    return Err(PaperSpecError { paper: "kn_phi", need: "protocol = \"tilt\"" });
-                }
-            }
             if !has(SweepKey::KnPaPerM) || !has(SweepKey::FrictionDeg) {
                 return Err(PaperSpecError { paper: "kn_phi", need: "a sweep over kn_pa_per_m and friction_deg" });
             }

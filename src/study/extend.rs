@@ -56,16 +56,7 @@ fn wall_text(study: &Study, group: usize) -> Result<String, ExtendError> {
     let g = &study.groups[group];
     let mut spec = g.spec.clone();
     if let Some(w) = g.walls.first() {
-        let mut dists = vec![&w.course_height, &w.block_length];
-        if let crate::generator::Arrangement::Irregular(ir) = &w.arrangement {
-            dists.push(&ir.dip);
-            dists.extend(ir.wedge_length.as_ref());
-        }
-        if let Some(s) = &w.scatter {
-            dists.extend(s.kn_factor.as_ref());
-            dists.extend(s.friction_offset.as_ref());
-        }
-        for d in dists {
+        for d in super::resolve::wall_distributions(w) {
             if d.source.as_os_str().is_empty() || d.source == g.wall_path || spec.distributions.contains_key(&d.name) {
                 continue;
             }

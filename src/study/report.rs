@@ -150,23 +150,14 @@ pub(super) fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSu
         &header,
         cells.iter().map(|c| {
             let s = &c.lateral_max;
-            vec![
-                c.group.clone(),
-                sweep_label(c).into(),
-                c.n.to_string(),
-                c.failed.to_string(),
-                c.lateral_collapsed.to_string(),
-                mm(s.mean),
-                mm(s.sd),
-                num(s.cov),
-                mm(s.min),
-                mm(s.max),
-                format!("{} .. {}", mm(s.mean_ci95.0), mm(s.mean_ci95.1)),
+            let head = [c.n.to_string(), c.failed.to_string(), c.lateral_collapsed.to_string()];
+            let tail = [
                 format!("{} .. {}", num(s.cov_boot95.0), num(s.cov_boot95.1)),
                 mm(c.lateral_centre.mean),
                 sci(c.drift.mean),
                 sci(c.drift.sd),
-            ]
+            ];
+            cell_row(c, head, spread_cells(s, mm), tail)
         }),
     );
     let _ = writeln!(md);
@@ -322,24 +313,36 @@ fn collapse_table(cells: &[CellSummary], md: &mut String) {
         &header,
         cells.iter().map(|c| {
             let s = &c.collapse;
-            vec![
-                c.group.clone(),
-                sweep_label(c).into(),
-                s.n.to_string(),
-                c.failed.to_string(),
-                c.stood.to_string(),
-                num(s.mean),
-                num(s.sd),
-                num(s.cov),
-                num(s.min),
-                num(s.max),
-                format!("{} .. {}", num(s.mean_ci95.0), num(s.mean_ci95.1)),
+            let head = [s.n.to_string(), c.failed.to_string(), c.stood.to_string()];
+            let tail = [
                 format!("{} .. {}", num(s.sd_boot95.0), num(s.sd_boot95.1)),
                 c.fragility.map_or("–".into(), |f| format!("{:.2}, {:.3}", f.median, f.beta)),
                 load_multiplier(s.mean, s.mean_ci95),
-            ]
+            ];
+            cell_row(c, head, spread_cells(s, num), tail)
         }),
     );
+}
+
+/// A statistic's mean, σ, COV, min, max and the 95 % interval of its mean, each value but
+/// the COV (`num`) written by `f`.
+fn spread_cells(s: &crate::stats::Summary, f: impl Fn(f64) -> String) -> [String; 6] {
+    [f(s.mean), f(s.sd), num(s.cov), f(s.min), f(s.max), format!("{} .. {}", f(s.mean_ci95.0), f(s.mean_ci95.1))]
+}
+
+/// A cell's row of a statistics table: its group and sweep, then `head` (its counts), the
+/// `spread` of its statistic ([`spread_cells`]) and the table's own `tail` columns.
+fn cell_row<const H: usize, const T: usize>(
+    c: &CellSummary,
+    head: [String; H],
+    spread: [String; 6],
+    tail: [String; T],
+) -> Vec<String> {
+    let mut row = vec![c.group.clone(), sweep_label(c).into()];
+    row.extend(head);
+    row.extend(spread);
+    row.extend(tail);
+    row
 }
 
 /// The load multiplier of a tilting-table collapse angle (degrees), λ = tan α_max: the

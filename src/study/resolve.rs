@@ -417,8 +417,9 @@ fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
     files
 }
 
-/// Every distribution of a resolved wall.
-fn wall_distributions(w: &Wall) -> Vec<&crate::generator::Distribution> {
+/// Every distribution of a resolved wall: its course height and block length, an irregular
+/// wall's dip and wedge length, its scatter's Kn factor and friction offset.
+pub(super) fn wall_distributions(w: &Wall) -> Vec<&crate::generator::Distribution> {
     let mut v = vec![&w.course_height, &w.block_length];
     if let crate::generator::Arrangement::Irregular(ir) = &w.arrangement {
         v.push(&ir.dip);
@@ -536,25 +537,27 @@ fn read_measured(
     path: &Path,
     files: &mut Vec<(InputRole, PathBuf)>,
 ) -> Result<Measured, StudyError> {
-    let err = |source| StudyError::Measured { path: path.to_owned(), source };
-    let mut measured = Measured::default();
-    if let Some(c) = &m.collapse {
-        measured.collapse = table::read_measured_collapse(&dir.join(c)).map_err(err)?;
-        files.push((InputRole::Measured, dir.join(c)));
-    }
-    if let Some(d) = &m.displacement {
-        measured.displacement = table::read_measured_displacement(&dir.join(d)).map_err(err)?;
-        files.push((InputRole::Measured, dir.join(d)));
-    }
-    if let Some(d) = &m.mechanism {
-        measured.mechanism = table::read_measured_mechanism(&dir.join(d)).map_err(err)?;
-        files.push((InputRole::Measured, dir.join(d)));
-    }
-    if let Some(d) = &m.paper_dem {
-        measured.paper_dem = table::read_paper_dem(&dir.join(d)).map_err(err)?;
-        files.push((InputRole::Measured, dir.join(d)));
-    }
-    Ok(measured)
+    Ok(Measured {
+        collapse: read_measured_file(&m.collapse, dir, path, files, table::read_measured_collapse)?,
+        displacement: read_measured_file(&m.displacement, dir, path, files, table::read_measured_displacement)?,
+        mechanism: read_measured_file(&m.mechanism, dir, path, files, table::read_measured_mechanism)?,
+        paper_dem: read_measured_file(&m.paper_dem, dir, path, files, table::read_paper_dem)?,
+    })
+}
+
+/// The rows of the measured file `name` of the study file `path` (relative to `dir`; none:
+/// no rows) as `read` reads them; the file goes into `files`.
+fn read_measured_file<T>(
+    name: &Option<PathBuf>,
+    dir: &Path,
+    path: &Path,
+    files: &mut Vec<(InputRole, PathBuf)>,
+    read: fn(&Path) -> Result<Vec<T>, table::TableError>,
+) -> Result<Vec<T>, StudyError> {
+    let Some(name) = name else { return Ok(Vec::new()) };
+    let rows = read(&dir.join(name)).map_err(|source| StudyError::Measured { path: path.to_owned(), source })?;
+    files.push((InputRole::Measured, dir.join(name)));
+    Ok(rows)
 }
 
 impl Study {

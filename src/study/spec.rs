@@ -21,7 +21,8 @@ pub enum ProtocolKind {
     /// The static lateral (trapezoidal pressure) load, solved to equilibrium.
     Lateral,
     /// The shaking table: each realization under each motion of `[shake]` scaled to each
-    /// PGA level (incremental dynamic analysis), by non-smooth contact dynamics.
+    /// PGA level (incremental dynamic analysis), by the study's solver: non-smooth contact
+    /// dynamics (`nscd`) unless `[solver] kind` names `penalty` (see [`StudySpec::solver`]).
     Shake,
 }
 
@@ -53,8 +54,8 @@ pub struct StudySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<ShakeSpec>,
     /// Solver parameters. Without `kind`: the penalty DEM, except a shaking study
-    /// (`protocol = "shake"`), which shakes by `nscd` as `drystone shake` does
-    /// ([`StudySpec::from_file`]).
+    /// (`protocol = "shake"`) read by [`StudySpec::from_file`], which shakes by `nscd` as
+    /// `drystone shake` does; a spec deserialized by other means keeps the penalty DEM.
     #[serde(default)]
     pub solver: SolverParams,
     /// Groups (≥ 1).

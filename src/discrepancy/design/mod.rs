@@ -18,8 +18,8 @@
 //!    (more specimens of a group), the fitted surrogate of each contender, as the
 //!    analysis scored it; on keys it does not have (a mechanism not read, a monitor not
 //!    read, a new wall), a run of each contender at its fitted parameters on the follow-up's
-//!    walls ([`Settings::extension_realizations`] realizations, the analysis's layouts:
-//!    common random numbers), with the scatter hypothesis on the baseline's run.
+//!    walls ([`Settings::extension_realizations`](super::Settings::extension_realizations)
+//!    realizations, the analysis's layouts: common random numbers), with the scatter hypothesis on the baseline's run.
 //! 3. **Simulated follow-ups**: for each contender taken as the truth, `replicates` data
 //!    sets of the follow-up's specimens drawn from its own predictive (Student-t of each
 //!    angle and displacement, the failure height from its distribution over the height
@@ -240,7 +240,7 @@ fn predictions(
         .zip(&which)
         .map(|(c, w)| match w {
             Some(m) => sims_of(&outcomes[*m][0]),
-            None if c.name == super::fit::SCATTER => {
+            None if c.name == super::candidate::SCATTER => {
                 let r = a.candidates.iter().find(|r| r.name == c.name).expect("scatter is a candidate");
                 let angle = f.observables.iter().map(|o| matches!(o, Observable::CollapseAngle)).collect();
                 let mechanism = f.observables.iter().map(Observable::is_mechanism).collect();

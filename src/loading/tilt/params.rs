@@ -31,12 +31,12 @@ pub struct TiltParams {
     /// from the last stable state at rest.
     pub predictor: bool,
     /// Collapse when a top point has moved (in y) since α = 0 more than this fraction of the
-    /// wall width, or the elastic displacement scale of the joints ([`elastic_scale`]) if
+    /// wall width, or the elastic displacement scale of the joints ([`elastic_scale`](super::elastic_scale)) if
     /// that is larger \[0.5\].
     pub collapse_displacement_fraction: f64,
     /// Collapse when, within one increment, a block moves (centroid motion plus rotation
     /// times its radius) more than this fraction of the wall width, or the elastic
-    /// displacement scale of the joints ([`elastic_scale`]) if that is larger \[0.05\]. Also
+    /// displacement scale of the joints ([`elastic_scale`](super::elastic_scale)) if that is larger \[0.05\]. Also
     /// the reach of the probe that confirms the stability indicator.
     pub collapse_increment_fraction: f64,
     /// Deprecated: choose the solver instead (`[solver] kind = "relaxation"`, `--solver

@@ -93,15 +93,16 @@ impl Secant {
     }
 }
 
-pub(super) enum Stage {
+/// How an increment or trial ended: the wall stood, or it collapsed and why.
+pub(super) enum StageEnd {
     Stable,
     Collapsed(CollapseReason),
 }
 
 /// What one increment or trial came to: its stage, the dynamic-relaxation steps and the
 /// implicit iterations it took.
-pub(super) struct Trial {
-    pub(super) stage: Stage,
+pub(super) struct StageRun {
+    pub(super) stage: StageEnd,
     pub(super) steps: u64,
     pub(super) iterations: u32,
 }
@@ -127,7 +128,7 @@ impl Ctx<'_> {
 
     /// Relaxes `sim` at its tilt from `prediction` (applied as one jump) through the solver
     /// seam ([`solve_static`]), with this protocol's collapse criteria as the stop check.
-    pub(super) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<Trial, DemError> {
+    pub(super) fn run_stage(&self, sim: &mut Simulation, prediction: Option<Prediction>) -> Result<StageRun, DemError> {
         let start = pose(sim);
         let inc_limit = self.inc_limit();
         let tot_limit = (self.params.collapse_displacement_fraction * self.width).max(self.elastic);
@@ -145,15 +146,15 @@ impl Ctx<'_> {
         }
         let out = solve_static(sim, &self.solve, &start, check)?;
         let stage = match out.end {
-            End::Equilibrium => Stage::Stable,
-            End::Stopped(reason) => Stage::Collapsed(reason),
-            End::Budget => Stage::Collapsed(CollapseReason::StepBudget),
+            End::Equilibrium => StageEnd::Stable,
+            End::Stopped(reason) => StageEnd::Collapsed(reason),
+            End::Budget => StageEnd::Collapsed(CollapseReason::StepBudget),
             End::Unstable((dpos, drot)) => {
                 extrapolate_collapse(sim, &start, &dpos, &drot, inc_limit);
-                Stage::Collapsed(CollapseReason::NegativeStiffness)
+                StageEnd::Collapsed(CollapseReason::NegativeStiffness)
             }
         };
-        Ok(Trial { stage, steps: out.steps, iterations: out.iterations })
+        Ok(StageRun { stage, steps: out.steps, iterations: out.iterations })
     }
 
     /// The per-increment collapse displacement, m: the larger of
@@ -177,7 +178,7 @@ impl Ctx<'_> {
         alpha_deg: f64,
         prediction: Option<Prediction>,
         fallbacks: &mut Vec<f64>,
-    ) -> Result<(Simulation, Trial), DemError> {
+    ) -> Result<(Simulation, StageRun), DemError> {
         let mut wasted = 0;
         let mut scaling = from.params().density_scaling;
         loop {
@@ -186,7 +187,7 @@ impl Ctx<'_> {
             (self.load)(&mut sim, alpha_deg);
             let before = sim.state.steps;
             match self.run_stage(&mut sim, prediction.clone()) {
-                Ok(trial) => return Ok((sim, Trial { steps: trial.steps + wasted, ..trial })),
+                Ok(trial) => return Ok((sim, StageRun { steps: trial.steps + wasted, ..trial })),
                 Err(DemError::NonFinite { .. }) if scaling.is_on() => {
                     wasted += sim.state.steps - before;
                     if fallbacks.last() != Some(&alpha_deg) {
@@ -242,27 +243,27 @@ impl StablePath {
         observe: &mut dyn FnMut(f64, bool, &Simulation),
     ) -> Result<Option<(CollapseReason, Simulation)>, DemError> {
         let prediction = if self.predictor { self.secant.predict(alpha_deg) } else { None };
-        let (next, Trial { stage, steps, iterations }) =
+        let (next, StageRun { stage, steps, iterations }) =
             ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
         self.total_steps += steps;
         self.total_iterations += u64::from(iterations);
         increments.push(Increment {
             alpha_deg,
-            stable: matches!(stage, Stage::Stable),
+            stable: matches!(stage, StageEnd::Stable),
             steps,
             iterations,
             displacement_m: ctx.displacements(&next),
             unbalanced_ratio: next.stats().unbalanced_ratio,
         });
-        observe(alpha_deg, matches!(stage, Stage::Stable), &next);
+        observe(alpha_deg, matches!(stage, StageEnd::Stable), &next);
         Ok(match stage {
-            Stage::Stable => {
+            StageEnd::Stable => {
                 self.last_stable = alpha_deg;
                 self.secant.push(alpha_deg, &next);
                 self.sim = next;
                 None
             }
-            Stage::Collapsed(reason) => Some((reason, next)),
+            StageEnd::Collapsed(reason) => Some((reason, next)),
         })
     }
 }

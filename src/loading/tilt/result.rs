@@ -20,8 +20,9 @@ pub enum CollapseReason {
     /// acceleration's stability indicator, `dem::drivers::accelerate`), and no equilibrium on the
     /// path ahead up to the collapse displacement (the indicator's probe).
     NegativeStiffness,
-    /// The step budget of the increment ([`TiltParams::max_steps_per_increment`]) ran out
-    /// before an equilibrium or a collapse was established: not a collapse, an undecided
+    /// The step budget of the increment
+    /// ([`TiltParams::max_steps_per_increment`](super::TiltParams::max_steps_per_increment)) ran out before an
+    /// equilibrium or a collapse was established: not a collapse, an undecided
     /// increment (the critical tilt may lie above it).
     StepBudget,
 }
@@ -101,7 +102,7 @@ pub struct TiltResult {
     pub wall_time_s: f64,
     /// Wall width used by the collapse criteria, m.
     pub wall_width_m: f64,
-    /// Elastic displacement scale of the joints ([`elastic_scale`]), m: the collapse
+    /// Elastic displacement scale of the joints ([`elastic_scale`](super::elastic_scale)), m: the collapse
     /// displacements are never below it.
     #[serde(default)]
     pub elastic_scale_m: f64,

@@ -53,7 +53,7 @@ pub use super::spec::CalibrateSpec;
 use super::checks::check_calibration;
 use super::{Study, SweepKey, SweepValue};
 use crate::stats;
-use problem::Problem;
+use problem::RootProblem;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -284,7 +284,7 @@ fn step(
         evaluations: Vec::new(),
         note: String::new(),
     };
-    let problem = Problem::new(study, gi, spec, given, measured.0);
+    let problem = RootProblem::new(study, gi, spec, given, measured.0);
     let (x0, x1) = (spec.to_x(spec.lower), spec.to_x(spec.upper));
     let (e0, e1) = (problem.evaluate(x0), problem.evaluate(x1));
     if let Some(e) = problem.take_error() {

@@ -11,7 +11,9 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentRoot;
 use std::sync::Mutex;
 
-pub(super) struct Problem<'a> {
+/// One calibration step's root-finding problem: the parameter value at which the group's
+/// mean collapse angle meets the target, with the log of every evaluation and its first error.
+pub(super) struct RootProblem<'a> {
     study: &'a Study,
     group: usize,
     spec: &'a CalibrateSpec,
@@ -21,7 +23,7 @@ pub(super) struct Problem<'a> {
     error: Mutex<Option<StudyError>>,
 }
 
-impl<'a> Problem<'a> {
+impl<'a> RootProblem<'a> {
     /// The step `spec` on group `group` with the values `given` in force, aiming at the
     /// mean collapse angle `target`, degrees.
     pub(super) fn new(
@@ -30,8 +32,8 @@ impl<'a> Problem<'a> {
         spec: &'a CalibrateSpec,
         given: Vec<(SweepKey, SweepValue)>,
         target: f64,
-    ) -> Problem<'a> {
-        Problem { study, group, spec, given, target, log: Mutex::new(Vec::new()), error: Mutex::new(None) }
+    ) -> RootProblem<'a> {
+        RootProblem { study, group, spec, given, target, log: Mutex::new(Vec::new()), error: Mutex::new(None) }
     }
 
     /// The first error of an evaluation (a wall that did not resolve), if any.
@@ -149,7 +151,7 @@ fn slope_near(log: &[Evaluation], x: f64, window: f64) -> f64 {
 
 /// The cost function handed to argmin: a borrow of the problem, so that its log can be
 /// read after the run.
-struct Residual<'a, 'b>(&'a Problem<'b>);
+struct Residual<'a, 'b>(&'a RootProblem<'b>);
 
 impl CostFunction for Residual<'_, '_> {
     type Param = f64;

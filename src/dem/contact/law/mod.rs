@@ -411,16 +411,20 @@ mod tests {
         }
     }
 
+    /// One evaluation of a fresh, unbonded sub-contact on a horizontal joint: every node at
+    /// gap `gap` (m, negative in contact), the shear increment `du_shear` (m), area `area`
+    /// (m²). Returns the forces and the state after.
+    fn flat_contact(p: &JointParams, gap: f64, du_shear: Vec3, area: f64) -> (SubContactForce, SubContactState) {
+        let mut s = SubContactState::new(false);
+        let f =
+            evaluate(p, Quadrature::Exact, &mut s, &Kinematics { normal: Vec3::z(), gaps: [gap; 3], du_shear, area });
+        (f, s)
+    }
+
     #[test]
     fn elastic_forces_match_kn_a_un_and_ks_a_du() {
         let p = JointParams::coulomb(5e7, 2.5e7, 35f64.to_radians(), 0.0, 0.0);
-        let mut s = SubContactState::new(false);
-        let f = evaluate(
-            &p,
-            Quadrature::Exact,
-            &mut s,
-            &Kinematics { normal: Vec3::z(), gaps: [-1e-3; 3], du_shear: Vec3::y() * 1e-6, area: 0.02 },
-        );
+        let (f, _) = flat_contact(&p, -1e-3, Vec3::y() * 1e-6, 0.02);
         assert!((f.force.z - 5e7 * 0.02 * 1e-3).abs() < 1e-9);
         assert!((f.force.y + 2.5e7 * 0.02 * 1e-6).abs() < 1e-12);
     }
@@ -464,14 +468,8 @@ mod tests {
     fn held_joint_never_slips() {
         let mut p = JointParams::coulomb(1e8, 1e8, 10f64.to_radians(), 0.0, 0.0);
         p.can_slip = false;
-        let mut s = SubContactState::new(false);
-        let f = evaluate(
-            &p,
-            Quadrature::Exact,
-            &mut s,
-            &Kinematics { normal: Vec3::z(), gaps: [-1e-6; 3], du_shear: Vec3::x() * 1e-3, area: 1.0 },
-        )
-        .force;
+        let (f, s) = flat_contact(&p, -1e-6, Vec3::x() * 1e-3, 1.0);
+        let f = f.force;
         assert!((f.x + 1e8 * 1e-3).abs() < 1e-6);
         assert!(!s.slipping);
     }

@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 use std::collections::VecDeque;
 
 /// Anderson mixing (type II, mixing parameter 1) over the last `depth` iterates.
-pub(super) struct Anderson {
+pub(super) struct AndersonMixing {
     depth: usize,
     /// `(Δx_i, f_{i+1} − f_i)` of the last iterations, oldest first.
     history: VecDeque<(Vec<f64>, Vec<f64>)>,
@@ -13,9 +13,9 @@ pub(super) struct Anderson {
     last: Option<(Vec<f64>, Vec<f64>)>,
 }
 
-impl Anderson {
-    pub(super) fn new(depth: usize) -> Anderson {
-        Anderson { depth, history: VecDeque::new(), last: None }
+impl AndersonMixing {
+    pub(super) fn new(depth: usize) -> AndersonMixing {
+        AndersonMixing { depth, history: VecDeque::new(), last: None }
     }
 
     /// The step from the preconditioned residual `f` (flattened, m).
@@ -75,7 +75,7 @@ mod tests {
         let b = nalgebra::Vector3::new(1.0, -1.0, 0.5);
         let exact = a.try_inverse().unwrap() * b;
         let run = |depth: usize| {
-            let mut mixing = Anderson::new(depth);
+            let mut mixing = AndersonMixing::new(depth);
             let mut x = nalgebra::Vector3::zeros();
             for it in 0..2000 {
                 let f = b - a * x;

@@ -66,7 +66,7 @@ mod stiffness;
 
 use crate::dem::engine::Simulation;
 use crate::math::Vec3;
-use anderson::Anderson;
+use anderson::AndersonMixing;
 use serde::{Deserialize, Serialize};
 use stiffness::{Dofs, Factor};
 
@@ -193,7 +193,7 @@ fn iterate<R>(
     let start = (sim.clone(), *stale);
     let limit = 10.0 * sim.stats().unbalanced_ratio.max(tol);
     let depth = settings.anderson_depth as usize;
-    let mut mixing = Anderson::new(depth);
+    let mut mixing = AndersonMixing::new(depth);
     let mut factor: Option<Factor> = None;
     let mut since = 0;
     let mut detections = sim.detections();
@@ -220,7 +220,7 @@ fn iterate<R>(
             since = 0;
             detections = sim.detections();
             // Differences taken under another preconditioner do not mix.
-            mixing = Anderson::new(depth);
+            mixing = AndersonMixing::new(depth);
         }
         let f = factor.as_ref().expect("set above");
         since += 1;

@@ -61,7 +61,7 @@ pub const SHIFT_EVERY: u32 = 5;
 
 /// Scratch of the iteration, kept across steps to avoid allocations.
 #[derive(Debug, Clone, Default)]
-pub struct Scratch {
+pub struct ApgdScratch {
     vfree: Vec<Vec3>,
     wfree: Vec<Vec3>,
     /// Relative velocity of every point in the free motion, with Signorini's term.
@@ -103,7 +103,7 @@ pub(super) fn shift_of(u: &Vec3, mu: f64) -> f64 {
     }
 }
 
-impl Scratch {
+impl ApgdScratch {
     /// Sets the bodies' velocities to those of the impulses `r` (the free velocities plus
     /// `M⁻¹ Hᵀ r`) and returns `½ rᵀ W r`, J (the kinetic energy of the velocity change).
     fn velocities(&mut self, rows: &[PointRows], r: &[Vec3], b: &mut BodyState<'_>) -> f64 {
@@ -157,7 +157,7 @@ pub fn solve(
     tolerance: f64,
     max_iterations: u32,
     gh: f64,
-    st: &mut Scratch,
+    st: &mut ApgdScratch,
 ) -> SweepOutcome {
     let m = rows.len();
     // The free velocities: the warm start taken back out.
@@ -189,7 +189,7 @@ pub fn solve(
     let mut residual = natural_residual(rows, &st.last, b.vel, b.angvel, gh);
     let mut best = residual;
     st.best.clone_from(&st.last);
-    let finish = |st: &Scratch, impulse: &mut [Vec3], sweeps: u32, converged: bool, residual: f64| {
+    let finish = |st: &ApgdScratch, impulse: &mut [Vec3], sweeps: u32, converged: bool, residual: f64| {
         impulse.copy_from_slice(if converged { &st.last } else { &st.best });
         SweepOutcome { sweeps, converged, residual_m_per_s: 0.0, quad: residual }
     };

@@ -87,7 +87,7 @@ pub struct SweepOutcome {
 
 /// Scratch of the iteration, kept across steps to avoid allocations.
 #[derive(Debug, Clone, Default)]
-pub struct Scratch {
+pub struct NsgsScratch {
     sweep_vel: Vec<Vec3>,
     sweep_angvel: Vec<Vec3>,
     group_start: Vec<Vec3>,
@@ -106,7 +106,7 @@ pub fn solve(
     bodies: &mut BodyState<'_>,
     p: &NscdParams,
     gh: f64,
-    scratch: &mut Scratch,
+    scratch: &mut NsgsScratch,
 ) -> SweepOutcome {
     let BodyState { vel, angvel, inv_m, inv_i, radius } = bodies;
     let (vel, angvel): (&mut [Vec3], &mut [Vec3]) = (vel, angvel);
