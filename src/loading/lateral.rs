@@ -293,7 +293,7 @@ pub fn pressure_loads(sim: &Simulation, z0: f64, z1: f64, p0: f64, p1: f64) -> (
 /// wall's capacity collapses it within one solve, and block-scaled collapse dynamics can
 /// blow up: `DensityScaling::Block`), its monitors and their positions then, and the
 /// pressure's loads at λ = 1 (not applied).
-pub(super) struct Prepared {
+pub(super) struct SettledUnderLoad {
     /// The settled simulation.
     pub sim: Simulation,
     /// The monitor points.
@@ -327,7 +327,7 @@ pub(super) fn prepare(
     solver: SolverParams,
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
-) -> Result<Prepared, LateralError> {
+) -> Result<SettledUnderLoad, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
     solver.validate_static().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
@@ -347,7 +347,7 @@ pub(super) fn prepare(
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
     let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
-    Ok(Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
+    Ok(SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
 }
 
 /// The static lateral load test of a layout by the penalty DEM: the driver of the lateral
@@ -370,7 +370,7 @@ pub fn run_lateral_penalty(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralResult, LateralError> {
-    let Prepared { mut sim, monitors, reference, loads, loaded_faces, width, height, weight_n, t0, .. } =
+    let SettledUnderLoad { mut sim, monitors, reference, loads, loaded_faces, width, height, weight_n, t0, .. } =
         prepare(layout, solver, params, observe)?;
     let mut resultant = Vec3::zeros();
     for (k, (f, m)) in loads.iter().enumerate() {

@@ -38,7 +38,7 @@
 //! that of the cohesionless joint, while limit analysis gives its cone c A at any normal
 //! force; the rigid limit of such a wall is limit analysis with c = 0.
 
-use super::lateral::{prepare, LateralError, LateralParams, Prepared};
+use super::lateral::{prepare, LateralError, LateralParams, SettledUnderLoad};
 use super::lateral_nscd::MAX_LOAD_MULTIPLIER;
 use super::mechanism::{mechanism, Mechanism};
 use super::tilt::path::{Ctx, StablePath};
@@ -163,7 +163,7 @@ pub fn run_lateral_pushover_observed(
 ) -> Result<LateralPushover, LateralError> {
     super::lateral::check_pushover_load(params).map_err(LateralError::Parameter)?;
     // Scalar density scaling at most, as the static lateral load (its module doc).
-    let Prepared { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
+    let SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
         prepare(layout, solver, params, observe)?;
     super::lateral::check_pushover_force(params, &loads, loaded_faces).map_err(LateralError::NoLoad)?;
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);

@@ -53,9 +53,10 @@ pub struct StudySpec {
     /// Shaking-table parameters and motions (protocol `shake`; see [`ShakeSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<ShakeSpec>,
-    /// Solver parameters. Without `kind`: the penalty DEM, except a shaking study
-    /// (`protocol = "shake"`) read by [`StudySpec::from_file`], which shakes by `nscd` as
-    /// `drystone shake` does; a spec deserialized by other means keeps the penalty DEM.
+    /// Solver parameters. Without `kind`, a study read by [`StudySpec::from_file`] runs by
+    /// its protocol's default solver (`protocol::Loading::default_solver`, as the command
+    /// line does): `nscd` for the shaking table, the penalty DEM for every other protocol;
+    /// a spec deserialized by other means keeps the penalty DEM.
     #[serde(default)]
     pub solver: SolverParams,
     /// Groups (≥ 1).
