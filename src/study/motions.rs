@@ -78,19 +78,20 @@ impl StudySpec {
         invalid: &Invalid,
         files: &mut Vec<(InputRole, PathBuf)>,
     ) -> Result<Option<ShakeStudy>, StudyError> {
-        let spec = match (&self.shake, self.protocol) {
-            (None, ProtocolKind::Shake) => {
+        // The `[shake]` table is read by the shaking table alone.
+        let spec = match (&self.shake, self.protocol == ProtocolKind::Shake) {
+            (None, true) => {
                 return Err(invalid.at(
                     "shake",
                     "protocol = \"shake\" needs a [shake] table with pga_g levels and motions (records, stochastic or pulses)"
                         .into(),
                 ))
             }
-            (Some(_), ProtocolKind::Tilt | ProtocolKind::Lateral) => {
+            (Some(_), false) => {
                 return Err(invalid.at("shake", "the [shake] table is read only with protocol = \"shake\"".into()))
             }
-            (None, ProtocolKind::Tilt | ProtocolKind::Lateral) => return Ok(None),
-            (Some(s), ProtocolKind::Shake) => s,
+            (None, false) => return Ok(None),
+            (Some(s), true) => s,
         };
         // The step pulses are sampled at (nscd's own; the penalty solver's is far smaller and
         // reads the motion by linear interpolation: 1 ms at most) and the step each motion is

@@ -61,9 +61,8 @@ pub struct Measured {
 /// [`crate::loading::shake::MAX_SHAKE_STEPS`]. A realization that cannot be generated is
 /// left to its row.
 fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyError> {
-    let shake = match &study.protocol {
-        StudyProtocol::Shake(shake) => shake,
-        StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => return Ok(()),
+    let Some(shake) = study.protocol.shake() else {
+        return Ok(());
     };
     match study.solver.kind {
         SolverKind::Penalty => {}
@@ -200,19 +199,12 @@ impl StudySpec {
         };
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
-        match self.protocol {
-            ProtocolKind::Lateral => {}
-            ProtocolKind::Tilt | ProtocolKind::Shake => {
-                if self.lateral.pushover {
-                    return Err(invalid.at(
-                        "lateral.pushover",
-                        format!(
-                            "pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})",
-                            self.protocol
-                        ),
-                    ));
-                }
-            }
+        // `[lateral] pushover` chooses the pushover within the lateral load only.
+        if self.lateral.pushover && self.protocol != ProtocolKind::Lateral {
+            return Err(invalid.at(
+                "lateral.pushover",
+                format!("pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})", self.protocol),
+            ));
         }
         self.solver.validate_static().map_err(range("solver"))?;
         if let Some(name) = self.sweep.keys().find(|k| SweepKey::parse(k).is_ok_and(SweepKey::acts_on_protocol)) {
@@ -252,10 +244,7 @@ impl StudySpec {
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
     /// `[tilt] by_hand`).
     fn rolled_by_hand(&self) -> bool {
-        match self.protocol {
-            ProtocolKind::Tilt => self.tilt.by_hand.is_some(),
-            ProtocolKind::Lateral | ProtocolKind::Shake => false,
-        }
+        self.loading_kind() == crate::protocol::Loading::TiltByHand
     }
 
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
