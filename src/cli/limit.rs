@@ -5,8 +5,10 @@ use anyhow::{Context, Result};
 use drystone::dem::{SolverKind, SolverParams};
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
-use drystone::limit::{limit_analysis, FlowRule, LimitParams, LimitResult, LiveLoad};
+use drystone::limit::{FlowRule, LimitParams, LimitResult};
 use drystone::loading::lateral::LateralParams;
+use drystone::loading::tilt::TiltParams;
+use drystone::protocol::{Lateral, LateralRun, Tilt, TiltRun};
 use drystone::Vec3;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -51,32 +53,31 @@ pub struct LimitArgs {
 /// Runs the analysis and prints a table, or one JSON object with `json`; with `svg`, draws
 /// the mechanism there as the DEM's mechanism figure is drawn.
 pub fn run(a: &LimitArgs) -> Result<ExitCode> {
-    let protocol = match a.protocol {
-        ProtocolArg::Tilt => LiveLoad::Tilt,
-        ProtocolArg::Lateral => {
-            LiveLoad::Lateral { pressure_base_pa: a.pressure_base_pa, pressure_top_pa: a.pressure_top_pa }
-        }
-    };
     let mut limit = a.limit.apply(LimitParams::default());
     limit.non_associative &= !a.associative;
     let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
-    analyse(&a.layout, protocol, &solver, a.json, a.svg.as_deref())
-}
-
-/// The limit analysis of the layout file `layout` under `load` with the contact settings and
-/// the limit analysis's parameters of `solver` (`solver.limit`), printed as `drystone limit`
-/// prints it: the command itself, and `drystone tilt` / `lateral` with `--solver limit`.
-pub fn analyse(
-    layout: &Path,
-    load: LiveLoad,
-    solver: &SolverParams,
-    json: bool,
-    svg_path: Option<&Path>,
-) -> Result<ExitCode> {
-    let l = super::read_layout(layout)?;
-    let r = limit_analysis(&l, solver, load, &solver.limit)
-        .with_context(|| format!("limit analysis of {}", layout.display()))?;
-    report(layout, &l, &r, json, svg_path)
+    let l = super::read_layout(&a.layout)?;
+    // The protocol by limit analysis, through the protocol seam.
+    let run = match a.protocol {
+        ProtocolArg::Tilt => match drystone::protocol::run(&Tilt(TiltParams::default()), &l, solver, &mut ())? {
+            TiltRun::Limit(r) => Some(r),
+            TiltRun::Path(_) => None,
+        },
+        ProtocolArg::Lateral => {
+            let lateral = LateralParams {
+                pressure_base_pa: a.pressure_base_pa,
+                pressure_top_pa: a.pressure_top_pa,
+                ..LateralParams::default()
+            };
+            match drystone::protocol::run(&Lateral(lateral), &l, solver, &mut ())? {
+                LateralRun::Limit(r) => Some(r),
+                LateralRun::Dem(_) => None,
+            }
+        }
+    };
+    let r = run.context("the seam ran another method than limit analysis")?;
+    let r = r.with_context(|| format!("limit analysis of {}", a.layout.display()))?;
+    report(&a.layout, &l, &r, a.json, a.svg.as_deref())
 }
 
 /// Prints the limit analysis `r` of the layout `l` (read from `layout`) as `drystone limit`

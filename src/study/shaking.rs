@@ -74,14 +74,21 @@ pub fn group_counts(
 fn static_capacity(study: &Study, g: usize) -> Vec<f64> {
     let group = &study.groups[g];
     let Some(wall) = group.walls.first() else { return vec![] };
-    let params = study.solver.limit;
+    // The tilting table by limit analysis, through the protocol seam.
+    let solver = crate::dem::SolverParams { kind: crate::dem::SolverKind::Limit, ..study.solver };
+    let tilt = crate::protocol::Tilt(crate::loading::tilt::TiltParams::default());
+    let capacity = |run: crate::protocol::TiltRun| match run {
+        crate::protocol::TiltRun::Limit(r) => r.ok().map(|l| l.load_multiplier),
+        crate::protocol::TiltRun::Path(_) => None,
+    };
     (0..study.group_realizations(g))
         .into_par_iter()
         .map(|r| {
             crate::effects::realize(wall, study.seed, r, &group.name, &group.effects)
                 .ok()
-                .and_then(|(_, layout)| crate::limit::limit_tilt(&layout, &study.solver, &params).ok())
-                .map_or(f64::NAN, |l| l.load_multiplier)
+                .and_then(|(_, layout)| crate::protocol::run(&tilt, &layout, solver, &mut ()).ok())
+                .and_then(capacity)
+                .unwrap_or(f64::NAN)
         })
         .collect()
 }
