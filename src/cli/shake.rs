@@ -3,7 +3,7 @@
 use super::solver::NscdArgs;
 use anyhow::{anyhow, bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::{SolverKind, SolverParams};
+use drystone::dem::{Method, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
@@ -251,17 +251,16 @@ pub fn run(
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
             o.insert("vertical_applied".into(), vertical_applied(motion, params).into());
-            match solver.kind {
-                SolverKind::Nscd => {
+            // What the method that shook it reads of the joints (limit analysis does not
+            // shake: the seam refused it before there was a result).
+            match solver.kind.method() {
+                Method::Nscd => {
                     o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
                 }
-                SolverKind::Penalty => {
+                Method::Penalty => {
                     o.insert("contact_restitution".into(), params.contact_restitution.into());
                 }
-                // the protocol seam refused these (`protocol::check`) before there was a result.
-                SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-                    unreachable!("the protocol seam refused solver {} (support::check)", solver.kind)
-                }
+                Method::Limit => {}
             }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
@@ -288,8 +287,8 @@ fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams)
     }
     out!("max rotation      {:.3} deg (about x, the rocking axis)", r.max_rotation_deg);
     out!("drift             max {:.4}, residual {:.4}", r.max_drift, r.residual_drift);
-    match kind {
-        SolverKind::Penalty => {
+    match kind.method() {
+        Method::Penalty => {
             out!(
                 "work              {} steps of {:.2e} s, {:.2} s simulated; wall time {:.2} s",
                 r.steps,
@@ -302,7 +301,7 @@ fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams)
                 params.contact_restitution
             );
         }
-        SolverKind::Nscd => {
+        Method::Nscd => {
             out!(
                 "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {:.2} s simulated; wall time {:.2} s",
                 r.steps,
@@ -315,9 +314,7 @@ fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams)
             );
             out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
         }
-        // the protocol seam refused these (`protocol::check`) before there was a result.
-        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-            unreachable!("the protocol seam refused solver {kind} (support::check)")
-        }
+        // Limit analysis does not shake: the seam refused it before there was a result.
+        Method::Limit => out!("solver            {kind}"),
     }
 }
