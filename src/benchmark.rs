@@ -193,7 +193,7 @@ pub fn run_tilt_bench(
         runs.push(run);
     }
     Ok(TiltBench {
-        predictor: params.predictor,
+        predictor: crate::dem::with_moved(solver, &params.moved()).penalty.predictor,
         accelerate: params.cascade(solver.kind).accelerate,
         implicit: params.cascade(solver.kind).implicit,
         solver: solver.kind.name().to_string(),

@@ -8,7 +8,7 @@
 
 mod common;
 
-use drystone::dem::{DensityScaling, SolverParams};
+use drystone::dem::{DensityScaling, PenaltyParams, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::TiltParams;
 use drystone::protocol::run_tilt;
@@ -24,9 +24,10 @@ fn main() {
     for (block, pred) in [(false, true), (true, true), (false, false), (true, false)] {
         let s = SolverParams {
             density_scaling: if block { SolverParams::default().density_scaling } else { DensityScaling::Scalar },
+            penalty: PenaltyParams { predictor: pred, ..PenaltyParams::default() },
             ..SolverParams::default()
         };
-        let t = TiltParams { resolution_deg: 0.0625, predictor: pred, ..TiltParams::default() };
+        let t = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
         let r = run_tilt(&l, s, &t).unwrap();
         let inc: Vec<String> = r
             .increments

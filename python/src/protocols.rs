@@ -32,6 +32,17 @@ pub fn params<T: DeserializeOwned + Default>(
     })
 }
 
+/// A Python `DeprecationWarning` for each penalty setting given under a protocol's former
+/// key (`drystone::dem::MovedKey`: `tolerance=` of `drystone.tilt` is now the `penalty`
+/// dict of the solver); the library still applies it.
+fn warn_moved(py: Python<'_>, moved: &[drystone::dem::MovedKey], table: &str) -> PyResult<()> {
+    for m in moved {
+        let text = std::ffi::CString::new(m.warning(table)).unwrap_or_default();
+        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(), &text, 2)?;
+    }
+    Ok(())
+}
+
 /// The solver of a `solver` argument: None (the default penalty solver), a kind name
 /// (`"nscd"`) or a dict of `SolverParams` keys.
 pub fn solver(py: Python<'_>, obj: Option<&Bound<'_, PyAny>>) -> PyResult<SolverParams> {
@@ -66,6 +77,7 @@ pub fn _tilt<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = self::solver(py, solver)?;
     let mut tp: TiltParams = self::params(py, params, "tilt parameters")?;
+    warn_moved(py, &tp.moved(), "tilt")?;
     if let Some(d) = by_hand {
         tp.by_hand = Some(self::params::<HandTilt>(py, Some(d), "by_hand")?);
     }
@@ -99,6 +111,7 @@ pub fn _lateral<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
+    warn_moved(py, &lp.moved(), "lateral")?;
     if lp.pushover {
         let place = Place { key: Some("pushover".into()), ..Place::default() };
         return Err(input_error("pushover: drystone.lateral is the service test; use drystone.pushover", place));
@@ -154,6 +167,7 @@ pub fn _pushover<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = self::solver(py, solver)?;
     let lp: LateralParams = self::params(py, params, "lateral parameters")?;
+    warn_moved(py, &lp.moved(), "lateral")?;
     let l = &layout.get().layout;
     // The one choice of a method: the protocol seam (`drystone::protocol::run`).
     let run = py.detach(|| {

@@ -114,6 +114,22 @@ def test_bad_layouts_and_parameters_are_input_errors():
         drystone.tilt(layout, solver="no_such_solver")
 
 
+def test_the_former_penalty_keys_of_a_tilt_warn_and_run_as_the_solvers_own():
+    # `tolerance`, `max_steps_per_increment` and `predictor` moved to the solver's `penalty`
+    # dict; given as tilt parameters they still set it, with a DeprecationWarning.
+    layout = drystone.Layout.from_json(box_layout(0.3, 0.1, 0.3, kn=1e8))
+    with pytest.warns(DeprecationWarning, match="tilt.tolerance is deprecated"):
+        old = drystone.tilt(layout, step_deg=2.0, resolution_deg=0.5, tolerance=1e-6, predictor=False)
+    new = drystone.tilt(
+        layout, solver={"penalty": {"tolerance": 1e-6, "predictor": False}}, step_deg=2.0, resolution_deg=0.5
+    )
+    default = drystone.tilt(layout, step_deg=2.0, resolution_deg=0.5)
+    assert old.collapse_angle_deg == new.collapse_angle_deg
+    assert np.array_equal(old.displacement_m, new.displacement_m)
+    assert np.array_equal(old.increment_steps, new.increment_steps)
+    assert not np.array_equal(old.increment_steps, default.increment_steps)
+
+
 def test_a_block_that_cannot_stand_is_a_solver_error():
     # A block floating 1 cm above the table touches nothing.
     text = json.loads(box_layout(0.3, 0.1, 0.3))

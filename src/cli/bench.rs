@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Result};
 use drystone::benchmark::{run_cube16, run_tilt_bench, TiltRun};
-use drystone::dem::{Isa, SolverParams};
+use drystone::dem::{Isa, PenaltyParams, SolverParams};
 use drystone::generator::{DistributionSource, Wall};
 use drystone::loading::tilt::TiltParams;
 use std::path::{Path, PathBuf};
@@ -51,8 +51,9 @@ pub fn command(a: BenchArgs) -> Result<ExitCode> {
     match a.case.as_str() {
         "tilt" => {
             let kind = a.solver.kind();
-            let params = a.solver.tilt_params(!a.no_predictor);
-            let solver = SolverParams { kind, ..SolverParams::default() };
+            let params = a.solver.tilt_params();
+            let penalty = PenaltyParams { predictor: !a.no_predictor, ..PenaltyParams::default() };
+            let solver = SolverParams { kind, penalty, ..SolverParams::default() };
             tilt(&a.wall, a.seed, a.realizations, solver, &params, a.json)
         }
         "cube16" => cube16(a.steps, a.portable, a.json),
@@ -78,7 +79,7 @@ pub fn tilt(
             "tilt: {}, seed {seed}, realizations 0..{realizations}, one thread, solver {}, predictor {}, acceleration {}, implicit {}",
             wall.display(),
             solver.kind,
-            if params.predictor { "on" } else { "off" },
+            if solver.penalty.predictor { "on" } else { "off" },
             if params.cascade(solver.kind).accelerate { "on" } else { "off" },
             if params.cascade(solver.kind).implicit { "on" } else { "off" }
         );

@@ -2,7 +2,7 @@
 
 use super::solver::SolverChoice;
 use anyhow::{bail, Context, Result};
-use drystone::dem::{SolverKind, SolverParams};
+use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
 use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
@@ -28,7 +28,7 @@ pub struct LateralArgs {
     #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
     pressure_top_pa: f64,
     /// Unbalanced-force ratio of equilibrium.
-    #[arg(long, default_value_t = LateralParams::default().tolerance)]
+    #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
     tolerance: f64,
     #[command(flatten)]
     solver: SolverChoice,
@@ -58,14 +58,14 @@ pub fn command(a: LateralArgs) -> Result<ExitCode> {
     let params = LateralParams {
         pressure_base_pa: a.pressure_base_pa,
         pressure_top_pa: a.pressure_top_pa,
-        tolerance: a.tolerance,
         pushover: a.pushover,
         pushover_resolution: a.pushover_resolution,
         ..LateralParams::default()
     };
     let kind = a.solver.solver;
     let limit = a.limit.params_for(kind, LimitParams::default())?;
-    let solver = SolverParams { kind, limit, ..SolverParams::default() };
+    let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };
+    let solver = SolverParams { kind, limit, penalty, ..SolverParams::default() };
     run(&a.layout, solver, &params, a.json, a.vtk.as_deref())
 }
 

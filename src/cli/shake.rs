@@ -3,7 +3,7 @@
 use super::solver::NscdArgs;
 use anyhow::{anyhow, bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::{Method, SolverKind, SolverParams};
+use drystone::dem::{Method, PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
@@ -93,26 +93,23 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let motion = motion(&args, a.dt_s.min(0.001))?;
     let d = ShakeParams::default();
     let nscd_default = NscdParams::default().restitution;
+    let contact_default = PenaltyParams::default().contact_restitution;
     let (nscd_e, contact_e) = match a.solver {
-        SolverKind::Nscd => (a.restitution.unwrap_or(nscd_default), d.contact_restitution),
-        SolverKind::Penalty => (nscd_default, a.restitution.unwrap_or(d.contact_restitution)),
+        SolverKind::Nscd => (a.restitution.unwrap_or(nscd_default), contact_default),
+        SolverKind::Penalty => (nscd_default, a.restitution.unwrap_or(contact_default)),
         // Not shaking solvers: the protocol seam refuses them (`protocol::check`), after it
         // has checked the shaking parameters; `--restitution` is read as the penalty solver
         // reads it so that its range is checked first, as before.
         SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-            (nscd_default, a.restitution.unwrap_or(d.contact_restitution))
+            (nscd_default, a.restitution.unwrap_or(contact_default))
         }
     };
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
-    let solver = SolverParams { kind: a.solver, nscd, ..SolverParams::default() };
-    let params = ShakeParams {
-        duration_s: a.duration_s,
-        tail_s: a.tail_s,
-        stop_at_collapse: !a.no_stop_at_collapse,
-        contact_restitution: contact_e,
-        ..d
-    };
+    let penalty = PenaltyParams { contact_restitution: contact_e, ..PenaltyParams::default() };
+    let solver = SolverParams { kind: a.solver, nscd, penalty, ..SolverParams::default() };
+    let params =
+        ShakeParams { duration_s: a.duration_s, tail_s: a.tail_s, stop_at_collapse: !a.no_stop_at_collapse, ..d };
     run(&a.layout, &motion, solver, &params, a.json, a.vtk.as_deref())
 }
 
@@ -258,14 +255,14 @@ pub fn run(
                     o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
                 }
                 Method::Penalty => {
-                    o.insert("contact_restitution".into(), params.contact_restitution.into());
+                    o.insert("contact_restitution".into(), solver.penalty.contact_restitution.into());
                 }
                 Method::Limit => {}
             }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print(layout, &r, solver.kind, params);
+        print(layout, &r, &solver);
         match &motion.vertical_g {
             Some(v) if params.vertical => {
                 let peak = v.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
@@ -278,7 +275,8 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams) {
+fn print(layout: &Path, r: &ShakeResult, solver: &SolverParams) {
+    let kind = solver.kind;
     out!("layout            {} ({} blocks, height {:.3} m)", layout.display(), r.blocks, r.height_m);
     out!("motion            {} (PGA {:.3} g)", r.motion, r.pga_g);
     match r.collapse_time_s {
@@ -298,7 +296,7 @@ fn print(layout: &Path, r: &ShakeResult, kind: SolverKind, params: &ShakeParams)
             );
             out!(
                 "solver            penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {})",
-                params.contact_restitution
+                solver.penalty.contact_restitution
             );
         }
         Method::Nscd => {

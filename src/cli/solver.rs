@@ -52,14 +52,9 @@ impl SolverArgs {
     }
 
     /// The tilting table's parameters with the old switches applied (`accelerate`,
-    /// `implicit`) and the secant predictor on or off.
-    pub fn tilt_params(self, predictor: bool) -> TiltParams {
-        TiltParams {
-            predictor,
-            accelerate: !self.no_acceleration,
-            implicit: !self.no_implicit,
-            ..TiltParams::default()
-        }
+    /// `implicit`).
+    pub fn tilt_params(self) -> TiltParams {
+        TiltParams { accelerate: !self.no_acceleration, implicit: !self.no_implicit, ..TiltParams::default() }
     }
 }
 

@@ -3,7 +3,7 @@
 use super::solver::{LimitFlags, NscdArgs, SolverArgs};
 use anyhow::{bail, Context, Result};
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::{DensityScaling, SolverParams};
+use drystone::dem::{DensityScaling, PenaltyParams, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_hand::HandTilt;
@@ -43,15 +43,16 @@ pub struct TiltArgs {
     #[arg(long, default_value_t = SolverParams::default().density_scaling.mass_floor())]
     block_mass_floor: f64,
     /// Unbalanced-force ratio of equilibrium.
-    #[arg(long, default_value_t = TiltParams::default().tolerance)]
+    #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
     tolerance: f64,
-    /// Step budget of one increment or trial (`max_steps_per_increment` in a study's
-    /// [tilt] table); an increment that runs out of it is undecided (`step_budget`) and
-    /// the result says its bracket is not reliable.
-    #[arg(long, default_value_t = TiltParams::default().max_steps_per_increment)]
+    /// Step budget of one increment or trial (`max_steps` in a study's [solver.penalty]
+    /// table); an increment that runs out of it is undecided (`step_budget`) and the
+    /// result says its bracket is not reliable.
+    #[arg(long, default_value_t = PenaltyParams::default().max_steps)]
     max_steps: u64,
     /// Start every increment from the last stable state at rest instead of the secant
-    /// prediction of its equilibrium (`predictor = false` in a study's [tilt] table).
+    /// prediction of its equilibrium (`predictor = false` in a study's [solver.penalty]
+    /// table).
     #[arg(long)]
     no_predictor: bool,
     #[command(flatten)]
@@ -164,17 +165,17 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         subcontact_subdivisions: a.subdivisions,
         timestep_safety: a.timestep_safety,
         density_scaling,
+        penalty: PenaltyParams {
+            tolerance: a.tolerance,
+            max_steps: a.max_steps,
+            predictor: !a.no_predictor,
+            ..PenaltyParams::default()
+        },
         nscd,
         limit,
         ..SolverParams::default()
     };
-    let params = TiltParams {
-        step_deg: a.step_deg,
-        resolution_deg: a.resolution_deg,
-        tolerance: a.tolerance,
-        max_steps_per_increment: a.max_steps,
-        ..a.solver.tilt_params(!a.no_predictor)
-    };
+    let params = TiltParams { step_deg: a.step_deg, resolution_deg: a.resolution_deg, ..a.solver.tilt_params() };
     if let Some(hand) = hand {
         if a.vtk.is_some() {
             bail!("--vtk is not written for a table rolled by hand (--by-hand)");
@@ -183,7 +184,7 @@ pub fn command(a: TiltArgs) -> Result<ExitCode> {
         let ignored = [
             ("--step-deg", a.step_deg != dt.step_deg),
             ("--resolution-deg", a.resolution_deg != dt.resolution_deg),
-            ("--max-steps", a.max_steps != dt.max_steps_per_increment),
+            ("--max-steps", a.max_steps != ds.penalty.max_steps),
             ("--damping", a.damping != ds.damping),
             ("--density-scaling", density_scaling != ds.density_scaling),
             ("--timestep-safety", a.timestep_safety != ds.timestep_safety),
@@ -309,7 +310,7 @@ fn print(layout: &Path, r: &TiltResult) {
         };
         out!("unstable because  {}{note}", reason.name());
         if !r.bracket_reliable {
-            out!("bracket           NOT RELIABLE: a step budget is not a collapse; read the collapse angle as a lower bound (raise max_steps_per_increment, or --solver nscd)");
+            out!("bracket           NOT RELIABLE: a step budget is not a collapse; read the collapse angle as a lower bound (raise --max-steps, or --solver nscd)");
         }
     }
     out!(

@@ -4,6 +4,7 @@
 use super::contact::geometry::{Fan, PatchParams};
 use super::contact::law::Quadrature;
 use super::method::SolverKind;
+use super::penalty::{MovedKey, PenaltyParams};
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 
@@ -54,6 +55,15 @@ impl DensityScaling {
             _ => 1.0,
         }
     }
+}
+
+/// `solver` with the former keys `moved` applied to its penalty settings.
+pub fn with_moved(solver: SolverParams, moved: &[MovedKey]) -> SolverParams {
+    let mut s = solver;
+    for m in moved {
+        m.value.apply(&mut s.penalty);
+    }
+    s
 }
 
 /// Parameters of a limit analysis (`kind = "limit"`; a `[solver.limit]` table in a study,
@@ -139,6 +149,9 @@ pub struct SolverParams {
     pub patch_reuse_fraction: f64,
     /// Density scaling for static solutions. Default `Block { mass_floor: 0.05 }`.
     pub density_scaling: DensityScaling,
+    /// Settings of the penalty DEM's solves (a `[solver.penalty]` table in a study), unused
+    /// by nscd and limit analysis.
+    pub penalty: PenaltyParams,
     /// Settings of the non-smooth contact-dynamics solver (`kind = "nscd"`; a
     /// `[solver.nscd]` table in a study), unused by the penalty DEM.
     pub nscd: super::drivers::nscd::NscdParams,
@@ -162,6 +175,7 @@ impl Default for SolverParams {
             redetect_fraction: 0.5,
             patch_reuse_fraction: 0.1,
             density_scaling: DensityScaling::Block { mass_floor: 0.05 },
+            penalty: PenaltyParams::default(),
             nscd: super::drivers::nscd::NscdParams::default(),
             limit: LimitParams::default(),
         }
@@ -217,6 +231,7 @@ impl SolverParams {
     /// # Errors
     /// The first parameter out of its range, with the range.
     pub fn validate(&self) -> Result<(), OutOfRange> {
+        self.penalty.validate().map_err(|e| OutOfRange { key: format!("penalty.{}", e.key), ..e })?;
         check_ranges(&[
             ("damping", self.damping, (0.0..1.0).contains(&self.damping), "in [0, 1)"),
             (

@@ -49,6 +49,20 @@ pub struct StaticSolve {
 }
 
 impl StaticSolve {
+    /// The static solve of the penalty settings `penalty` (its tolerance, step budget,
+    /// acceleration and implicit settings) with the stages `cascade` and the probes' reach
+    /// `reach` (m; `None`: no probes).
+    pub fn of(penalty: &super::PenaltyParams, cascade: Cascade, reach: Option<f64>) -> StaticSolve {
+        StaticSolve {
+            cascade,
+            tolerance: penalty.tolerance,
+            max_steps: penalty.max_steps,
+            acceleration: penalty.acceleration,
+            implicit: penalty.implicit_solve,
+            reach,
+        }
+    }
+
     /// Plain dynamic relaxation to `tolerance` within `max_steps` steps, no probes: the
     /// settling under gravity of every protocol.
     pub fn relaxation(tolerance: f64, max_steps: u64) -> StaticSolve {

@@ -3,11 +3,11 @@
 //! to equilibrium; the output is the out-of-plane top displacement and the drift.
 //!
 //! 1. Gravity only: the layout settles to equilibrium (unbalanced-force ratio below
-//!    [`LateralParams::tolerance`]); this is the reference state of every displacement.
+//!    [`PenaltyParams::tolerance`](crate::dem::PenaltyParams::tolerance)); this is the reference state of every displacement.
 //! 2. The pressure is applied at once as a dead load, computed on the reference
 //!    configuration, and the model is solved to equilibrium again.
 //! 3. Collapse: a top point moves more than [`LateralParams::collapse_displacement_fraction`]
-//!    of the wall width, or no equilibrium within [`LateralParams::max_steps`] steps.
+//!    of the wall width, or no equilibrium within [`PenaltyParams::max_steps`](crate::dem::PenaltyParams::max_steps) steps.
 //!
 //! # The load
 //!
@@ -44,10 +44,8 @@
 use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
 pub use super::tilt::NoLoad;
-use crate::dem::drivers::accelerate::SecantAcceleration;
-use crate::dem::drivers::implicit::ImplicitSolve;
 use crate::dem::motion::poses;
-use crate::dem::{solve_static, Cascade, End, StaticSolve};
+use crate::dem::{solve_static, Cascade, End, MovedKey, MovedValue, PenaltyParams};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -63,10 +61,6 @@ pub struct LateralParams {
     pub pressure_base_pa: f64,
     /// Pressure at the top of the wall (its highest point), Pa \[500\].
     pub pressure_top_pa: f64,
-    /// Equilibrium when the unbalanced-force ratio is below this \[1e-4\].
-    pub tolerance: f64,
-    /// Step budget of the settling under gravity and of the loaded solve, each \[400000\].
-    pub max_steps: u64,
     /// Collapse when a top point has moved (in y) more than this fraction of the wall width
     /// \[0.5\].
     pub collapse_displacement_fraction: f64,
@@ -82,6 +76,14 @@ pub struct LateralParams {
     /// ([`RIGID_PUSHOVER_RESOLUTION`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pushover_resolution: Option<f64>,
+    /// Deprecated: `[solver.penalty] tolerance` (`crate::dem::PenaltyParams::tolerance`),
+    /// which this key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Deprecated: `[solver.penalty] max_steps` (`crate::dem::PenaltyParams::max_steps`),
+    /// which this key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
 }
 
 impl Default for LateralParams {
@@ -89,11 +91,11 @@ impl Default for LateralParams {
         LateralParams {
             pressure_base_pa: 1000.0,
             pressure_top_pa: 500.0,
-            tolerance: 1e-4,
-            max_steps: 400_000,
             collapse_displacement_fraction: 0.5,
             pushover: false,
             pushover_resolution: None,
+            tolerance: None,
+            max_steps: None,
         }
     }
 }
@@ -107,21 +109,32 @@ impl LateralParams {
         check_ranges(&[
             ("pressure_base_pa", self.pressure_base_pa, self.pressure_base_pa >= 0.0, ">= 0"),
             ("pressure_top_pa", self.pressure_top_pa, self.pressure_top_pa >= 0.0, ">= 0"),
-            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
             (
                 "collapse_displacement_fraction",
                 self.collapse_displacement_fraction,
                 self.collapse_displacement_fraction > 0.0,
                 "> 0",
             ),
-            ("max_steps", self.max_steps as f64, self.max_steps > 0, ">= 1"),
             (
                 "pushover_resolution",
                 self.pushover_resolution.unwrap_or(PENALTY_PUSHOVER_RESOLUTION),
                 self.pushover_resolution.is_none_or(|r| r > 0.0 && r < 1.0),
                 "in (0, 1)",
             ),
-        ])
+        ])?;
+        self.moved().iter().try_for_each(MovedKey::check)
+    }
+
+    /// The penalty settings written under this table's former keys (deprecated; see
+    /// [`MovedKey`]), in field order.
+    pub fn moved(&self) -> Vec<MovedKey> {
+        [
+            self.tolerance.map(|v| MovedKey::new("tolerance", MovedValue::Tolerance(v))),
+            self.max_steps.map(|v| MovedKey::new("max_steps", MovedValue::MaxSteps(v))),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
     }
 
     /// The penalty DEM pushover's final bracket width: [`Self::pushover_resolution`] when
@@ -315,6 +328,9 @@ pub(super) struct SettledUnderLoad {
     pub elastic: f64,
     /// When the test started.
     pub t0: Instant,
+    /// The penalty DEM's settings, with the table's former keys applied
+    /// ([`LateralParams::moved`]).
+    pub penalty: PenaltyParams,
 }
 
 /// Checks the parameters and the solver's settings, settles the layout and hands the
@@ -329,6 +345,7 @@ pub(super) fn prepare(
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<SettledUnderLoad, LateralError> {
     params.validate().map_err(LateralError::Parameter)?;
+    let solver = crate::dem::with_moved(solver, &params.moved());
     solver.validate_static().map_err(LateralError::Parameter)?;
     let t0 = Instant::now();
     let mut sim =
@@ -338,7 +355,7 @@ pub(super) fn prepare(
     let (width, height) = (all.extent().y, all.extent().z);
     sim.set_tilt(0.0);
     let elastic = super::tilt::elastic_scale(layout, &sim);
-    settle(&mut sim, layout, params.tolerance, params.max_steps).map_err(|e| match e {
+    settle(&mut sim, layout, solver.penalty.tolerance, solver.penalty.max_steps).map_err(|e| match e {
         SettleError::Dem(e) => LateralError::Dem(e),
         other => LateralError::DoesNotStand(other),
     })?;
@@ -347,7 +364,20 @@ pub(super) fn prepare(
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
     let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
-    Ok(SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
+    let penalty = solver.penalty;
+    Ok(SettledUnderLoad {
+        sim,
+        monitors,
+        reference,
+        loads,
+        loaded_faces,
+        width,
+        height,
+        weight_n,
+        elastic,
+        t0,
+        penalty,
+    })
 }
 
 /// The static lateral load test of a layout by the penalty DEM: the driver of the lateral
@@ -370,8 +400,19 @@ pub fn run_lateral_penalty(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralResult, LateralError> {
-    let SettledUnderLoad { mut sim, monitors, reference, loads, loaded_faces, width, height, weight_n, t0, .. } =
-        prepare(layout, solver, params, observe)?;
+    let SettledUnderLoad {
+        mut sim,
+        monitors,
+        reference,
+        loads,
+        loaded_faces,
+        width,
+        height,
+        weight_n,
+        t0,
+        penalty,
+        ..
+    } = prepare(layout, solver, params, observe)?;
     let mut resultant = Vec3::zeros();
     for (k, (f, m)) in loads.iter().enumerate() {
         sim.state.external_force[k] = *f;
@@ -383,14 +424,11 @@ pub fn run_lateral_penalty(
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
     // The static lateral load's default is plain dynamic relaxation; a penalty solver
     // with more stages probes up to the collapse displacement.
-    let solve = StaticSolve {
-        cascade: solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION),
-        tolerance: params.tolerance,
-        max_steps: params.max_steps,
-        acceleration: SecantAcceleration::default(),
-        implicit: ImplicitSolve::default(),
-        reach: Some(limit),
-    };
+    let solve = crate::dem::StaticSolve::of(
+        &penalty,
+        solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION),
+        Some(limit),
+    );
     let start = poses(&sim);
     let reason = match solve_static(&mut sim, &solve, &start, check)?.end {
         End::Equilibrium => None,

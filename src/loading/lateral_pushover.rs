@@ -20,7 +20,7 @@
 //!    accelerated and probed dynamic relaxation), the same collapse criteria (a block moving
 //!    more than the per-increment collapse displacement, a top point more than
 //!    [`LateralParams::collapse_displacement_fraction`] of the wall width, the stability
-//!    indicator with its probe, or the step budget [`LateralParams::max_steps`] with no
+//!    indicator with its probe, or the step budget [`PenaltyParams::max_steps`](crate::dem::PenaltyParams::max_steps) with no
 //!    decision), both displacements at least the joints' elastic scale
 //!    ([`elastic_scale`](super::tilt::elastic_scale)), and the same reading of the mechanism
 //!    ([`crate::loading::mechanism::mechanism`]) from the last stable and the first
@@ -43,7 +43,7 @@ use super::lateral_nscd::MAX_LOAD_MULTIPLIER;
 use super::mechanism::{mechanism, Mechanism};
 use super::tilt::path::{Ctx, StablePath};
 use super::tilt::{CollapseReason, Increment, TiltParams};
-use crate::dem::{Simulation, SolverParams, StaticSolve};
+use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
@@ -163,34 +163,34 @@ pub fn run_lateral_pushover_observed(
 ) -> Result<LateralPushover, LateralError> {
     super::lateral::check_pushover_load(params).map_err(LateralError::Parameter)?;
     // Scalar density scaling at most, as the static lateral load (its module doc).
-    let SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
-        prepare(layout, solver, params, observe)?;
+    let SettledUnderLoad {
+        sim,
+        monitors,
+        reference,
+        loads,
+        loaded_faces,
+        width,
+        height,
+        weight_n,
+        elastic,
+        t0,
+        penalty,
+    } = prepare(layout, solver, params, observe)?;
     super::lateral::check_pushover_force(params, &loads, loaded_faces).map_err(LateralError::NoLoad)?;
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);
-    let tilt = TiltParams {
-        tolerance: params.tolerance,
-        max_steps_per_increment: params.max_steps,
-        collapse_displacement_fraction: params.collapse_displacement_fraction,
-        ..TiltParams::default()
-    };
+    let tilt =
+        TiltParams { collapse_displacement_fraction: params.collapse_displacement_fraction, ..TiltParams::default() };
     let scale = |sim: &mut Simulation, lambda: f64| {
         for (k, (f, m)) in loads.iter().enumerate() {
             sim.state.external_force[k] = f * lambda;
             sim.state.external_torque[k] = m * lambda;
         }
     };
-    let solve = StaticSolve {
-        cascade: tilt.cascade(solver.kind),
-        tolerance: tilt.tolerance,
-        max_steps: tilt.max_steps_per_increment,
-        acceleration: tilt.acceleration,
-        implicit: tilt.implicit_solve,
-        reach: None,
-    };
+    let solve = crate::dem::StaticSolve::of(&penalty, tilt.cascade(solver.kind), None);
     let mut ctx = Ctx { params: &tilt, load: &scale, solve, monitors: &monitors, reference, width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());
     let mut increments = Vec::new();
-    let mut path = StablePath::new(sim, tilt.predictor);
+    let mut path = StablePath::new(sim, penalty.predictor);
     let mut first_unstable = None;
     let mut lambda = 1.0;
     while lambda <= MAX_LOAD_MULTIPLIER {

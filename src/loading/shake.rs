@@ -15,7 +15,7 @@
 //!   slip) integrated by explicit central differences with true masses (no density
 //!   scaling) and no local damping (a relaxation device that would absorb the motion); the
 //!   impacts dissipate through normal contact dashpots set by a coefficient of restitution
-//!   ([`ShakeParams::contact_restitution`], [`crate::dem::damping`]); the time step is the
+//!   ([`crate::dem::PenaltyParams::contact_restitution`], [`crate::dem::damping`]); the time step is the
 //!   critical step of the joint stiffness and the dashpots times `timestep_safety`
 //!   (`run_shake_penalty` below). Finite joint stiffness: the joints'
 //!   closure and elastic rocking.
@@ -35,11 +35,11 @@
 
 use super::monitors::{monitor_points_of, MonitorPoint};
 use super::settle::{settle, SettleError};
-use super::tilt::{TiltError, TiltParams};
+use super::tilt::TiltError;
 use crate::dem::damping::ContactDamping;
 use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
 use crate::dem::state::Body;
-use crate::dem::{DemError, DensityScaling, Simulation, SolverKind, SolverParams};
+use crate::dem::{DemError, DensityScaling, MovedKey, MovedValue, Simulation, SolverKind, SolverParams};
 use crate::ground::{Motion, G, MAX_MOTION_DURATION_S};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -68,18 +68,16 @@ pub struct ShakeParams {
     pub vertical: bool,
     /// Interval of the recorded history, s \[0.01\].
     pub history_dt_s: f64,
-    /// Coefficient of restitution `e` of the penalty solver's normal contact dashpots
-    /// ([`crate::dem::damping`]), in [0, 1] \[0.05\]: the value whose rocking impacts lose
-    /// Housner's share (`r = 1 − 1.5 sin²α`) for blocks of slenderness 10° to 27° on
-    /// joints of Kn 1e10 to 1e11 Pa/m (docs/shake.md), as `nscd`'s default restitution 0
-    /// does for rigid blocks. Unused by `nscd` (whose Newton restitution is
-    /// `[solver.nscd] restitution`).
-    pub contact_restitution: f64,
-    /// Fraction of the penalty solver's stable step used (on top of its `timestep_safety`),
-    /// in (0, 1] \[0.1\]: the critical step resolves a contact's impact in two or three
-    /// steps, too few for the dashpot's restitution (a dropped block rebounds at 0.87 for
-    /// e = 0.8 at the critical step); a tenth resolves it in about thirty. Unused by `nscd`.
-    pub penalty_step_fraction: f64,
+    /// Deprecated: `[solver.penalty] contact_restitution`
+    /// (`crate::dem::PenaltyParams::contact_restitution`), which this key still sets, with
+    /// a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_restitution: Option<f64>,
+    /// Deprecated: `[solver.penalty] step_fraction`
+    /// (`crate::dem::PenaltyParams::step_fraction`), which this key still sets, with a
+    /// warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub penalty_step_fraction: Option<f64>,
 }
 
 impl Default for ShakeParams {
@@ -92,8 +90,8 @@ impl Default for ShakeParams {
             stop_at_collapse: true,
             vertical: true,
             history_dt_s: 0.01,
-            contact_restitution: 0.05,
-            penalty_step_fraction: 0.1,
+            contact_restitution: None,
+            penalty_step_fraction: None,
         }
     }
 }
@@ -126,19 +124,20 @@ impl ShakeParams {
                 "in (0, 180)",
             ),
             ("history_dt_s", self.history_dt_s, self.history_dt_s > 0.0, "> 0"),
-            (
-                "contact_restitution",
-                self.contact_restitution,
-                (0.0..=1.0).contains(&self.contact_restitution),
-                "in [0, 1]",
-            ),
-            (
-                "penalty_step_fraction",
-                self.penalty_step_fraction,
-                self.penalty_step_fraction > 0.0 && self.penalty_step_fraction <= 1.0,
-                "in (0, 1]",
-            ),
-        ])
+        ])?;
+        self.moved().iter().try_for_each(MovedKey::check)
+    }
+
+    /// The penalty settings written under this table's former keys (deprecated; see
+    /// [`MovedKey`]), in field order.
+    pub fn moved(&self) -> Vec<MovedKey> {
+        [
+            self.contact_restitution.map(|v| MovedKey::new("contact_restitution", MovedValue::ContactRestitution(v))),
+            self.penalty_step_fraction.map(|v| MovedKey::new("penalty_step_fraction", MovedValue::StepFraction(v))),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
     }
 }
 
@@ -273,7 +272,7 @@ fn check_shake(motion: &Motion, params: &ShakeParams) -> Result<(), ShakeError> 
 
 /// The shaking-table test of `layout` under `motion` by the penalty DEM in explicit
 /// dynamics (its joint and contact settings from `solver`; local damping and density
-/// scaling are not used; contact dashpots of `params.contact_restitution`): the driver of
+/// scaling are not used; contact dashpots of `solver.penalty.contact_restitution`): the driver of
 /// the shaking table's penalty way (`protocol::shake`), which the protocol seam calls once
 /// it has chosen the method. The bodies (layout order, table frame) go to
 /// `observe(time_s, bodies)` at every recorded time of the history (time from the start of
@@ -400,7 +399,7 @@ pub fn check_stands_rigid(layout: &Layout, solver: &SolverParams) -> Result<(), 
 /// Checks that `layout` stands as given on the still table by the tilting table's rule at
 /// α = 0 for the penalty DEM: the settling of [`super::settle::settle`] by dynamic
 /// relaxation with the solver's contact settings, the default local damping and density
-/// scaling, and the tilting table's tolerance and step budget ([`TiltParams`] defaults): no
+/// scaling, and the solver's static tolerance and step budget ([`SolverParams::penalty`]): no
 /// block may move more than the closure of its joints explains. The check runs on its own
 /// copy: the shaking run is not changed by it.
 ///
@@ -408,12 +407,11 @@ pub fn check_stands_rigid(layout: &Layout, solver: &SolverParams) -> Result<(), 
 /// [`ShakeError::DoesNotStand`] naming the block (moved, and how far);
 /// [`ShakeError::Parameter`] or [`ShakeError::Dem`] for what the solver refuses.
 pub fn check_stands_penalty(layout: &Layout, solver: &SolverParams) -> Result<(), ShakeError> {
-    let tilt = TiltParams::default();
     let d = SolverParams::default();
     let sp = SolverParams { damping: d.damping, density_scaling: d.density_scaling, ..*solver };
     sp.validate().map_err(ShakeError::Parameter)?;
     let mut sim = Simulation::new(layout, sp);
-    settle(&mut sim, layout, tilt.tolerance, tilt.max_steps_per_increment).map_err(|e| match e {
+    settle(&mut sim, layout, sp.penalty.tolerance, sp.penalty.max_steps).map_err(|e| match e {
         SettleError::Dem(d) => ShakeError::Dem(d),
         other => ShakeError::DoesNotStand(other),
     })
@@ -578,7 +576,7 @@ impl<'m> Watch<'m> {
 // body force `m (g − a_g(t))` at the start of each step (time `tⁿ` of the scheme's
 // positions). The time step is the critical step of the assembly's joint stiffness
 // (its highest frequency against the true masses, `dem::timestep`) times
-// `timestep_safety` (0.95), `ShakeParams::penalty_step_fraction` (0.1: a contact's
+// `timestep_safety` (0.95), `PenaltyParams::step_fraction` (0.1: a contact's
 // impact in about thirty steps) and the dashpots' factor
 // (`ContactDamping::step_factor`); it only shrinks as contacts
 // change.
@@ -590,26 +588,31 @@ impl<'m> Watch<'m> {
 /// Runs the shaking-table test by the penalty DEM in explicit dynamics: the joints of the
 /// layout (Kn, Ks, friction, cohesion and tension as given), `solver`'s contact and
 /// step settings (`contact_margin_m`, `subcontact_subdivisions`, `quadrature`,
-/// `timestep_safety` times [`ShakeParams::penalty_step_fraction`], ...) with local damping 0 and density scaling off whatever `solver`
-/// says, and dashpots of restitution [`ShakeParams::contact_restitution`]. Called by
+/// `timestep_safety` times [`crate::dem::PenaltyParams::step_fraction`], ...) with local damping 0 and
+/// density scaling off whatever `solver` says, and dashpots of restitution
+/// [`crate::dem::PenaltyParams::contact_restitution`] (the table's former keys applied,
+/// [`ShakeParams::moved`]). Called by
 /// [`run_shake_penalty`], which has checked `params` and the motion.
 ///
 /// # Errors
 /// The simulation a penalty shaking run starts from: no local damping, no density
-/// scaling, the step `timestep_safety × penalty_step_fraction` of the critical step, the
-/// normal contact damping of `contact_restitution`.
+/// scaling, the step `timestep_safety × step_fraction` of the critical step, the normal
+/// contact damping of `contact_restitution` ([`crate::dem::PenaltyParams`]).
 ///
 /// # Errors
 /// [`ShakeError::Parameter`] for a solver parameter out of range.
 fn penalty_simulation(layout: &Layout, solver: SolverParams, params: &ShakeParams) -> Result<Simulation, ShakeError> {
+    let solver = crate::dem::with_moved(solver, &params.moved());
+    solver.validate().map_err(ShakeError::Parameter)?;
+    let p = solver.penalty;
     let sp = SolverParams {
         damping: 0.0,
         density_scaling: DensityScaling::Off,
-        timestep_safety: solver.timestep_safety * params.penalty_step_fraction,
+        timestep_safety: solver.timestep_safety * p.step_fraction,
         ..solver
     };
     sp.validate().map_err(ShakeError::Parameter)?;
-    let damping = ContactDamping::from_restitution(params.contact_restitution).map_err(ShakeError::Parameter)?;
+    let damping = ContactDamping::from_restitution(p.contact_restitution).map_err(ShakeError::Parameter)?;
     let mut sim = Simulation::new(layout, sp);
     sim.set_contact_damping(Some(damping));
     Ok(sim)
@@ -617,7 +620,7 @@ fn penalty_simulation(layout: &Layout, solver: SolverParams, params: &ShakeParam
 
 /// The time step (s) a penalty shaking run of `layout` starts with: the critical step of
 /// its blocks' masses and joint stiffnesses (and contact damping) times
-/// `timestep_safety × penalty_step_fraction`, known before the run (with [`check_steps`], the run's step count).
+/// `timestep_safety × step_fraction` ([`crate::dem::PenaltyParams`]), known before the run (with [`check_steps`], the run's step count).
 ///
 /// # Errors
 /// [`ShakeError::Parameter`] for a solver parameter out of range.

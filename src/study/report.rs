@@ -123,7 +123,7 @@ pub(super) fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSu
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; equilibrium at unbalanced-force ratio {}; damping {}.\n",
-        study.seed, study.realizations, l.pressure_base_pa, l.pressure_top_pa, l.tolerance, study.solver.damping
+        study.seed, study.realizations, l.pressure_base_pa, l.pressure_top_pa, study.solver.penalty.tolerance, study.solver.damping
     );
     let _ = writeln!(md, "## Top displacement under the lateral load\n");
     let _ = writeln!(md, "Top displacement: the largest of the three top points (left, centre, right), in mm; drift = top displacement / H. Statistics over the realizations that reached equilibrium.\n");
@@ -226,7 +226,7 @@ pub(super) fn tilt_sections(
     let _ = writeln!(
         md,
         "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}, implicit relaxation {}; local damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, tilt.step_deg, tilt.resolution_deg, tilt.tolerance, if tilt.predictor { "on" } else { "off" }, if tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
+        study.seed, study.realizations, tilt.step_deg, tilt.resolution_deg, study.solver.penalty.tolerance, if study.solver.penalty.predictor { "on" } else { "off" }, if tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
     );
     collapse_table(cells, md);
     displacement_table(cells, md);

@@ -118,6 +118,9 @@ impl StudySpec {
         let mut names = std::collections::BTreeSet::new();
         let mut groups = Vec::new();
         let mut read_warnings = self.ignored_settings();
+        let (table, moved) = self.moved_keys();
+        read_warnings.extend(moved.iter().map(|m| m.warning(table)));
+        let solver = crate::dem::with_moved(self.solver, &moved);
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));
@@ -149,7 +152,7 @@ impl StudySpec {
             seed: self.seed,
             realizations: self.realizations,
             protocol,
-            solver: self.solver,
+            solver,
             groups,
             points,
             measured,
@@ -239,6 +242,17 @@ impl StudySpec {
             hand.check_run(self.solver.nscd.dt_s, self.tilt.max_angle_deg).map_err(range("tilt.by_hand"))?;
         }
         Ok(())
+    }
+
+    /// The penalty settings the study's protocol table writes under their former keys
+    /// (deprecated; [`crate::dem::MovedKey`]), with the table's name. Only the table of
+    /// the study's protocol is read.
+    fn moved_keys(&self) -> (&'static str, Vec<crate::dem::MovedKey>) {
+        match self.protocol {
+            ProtocolKind::Tilt => ("tilt", self.tilt.moved()),
+            ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
+            ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
+        }
     }
 
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with

@@ -53,7 +53,11 @@ pub struct StudySpec {
     /// Shaking-table parameters and motions (protocol `shake`; see [`ShakeSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<ShakeSpec>,
-    /// Solver parameters. Without `kind`, a study read by [`StudySpec::from_file`] runs by
+    /// Solver parameters: the method (`kind`) and its settings (`[solver.penalty]`,
+    /// `[solver.nscd]`, `[solver.limit]`). The penalty settings the protocol's table
+    /// still accepts under their former keys (`[tilt] tolerance`, ...; deprecated,
+    /// `crate::dem::MovedKey`) are applied here when the study is resolved, with a warning.
+    /// Without `kind`, a study read by [`StudySpec::from_file`] runs by
     /// its protocol's default solver (`protocol::Loading::default_solver`, as the command
     /// line does): `nscd` for the shaking table, the penalty DEM for every other protocol;
     /// a spec deserialized by other means keeps the penalty DEM.
@@ -101,7 +105,6 @@ pub struct StudySpec {
 /// pulses = [{ kind = "one-sine", amplitude_g = 1.0, period_s = 0.5 }]  # built-in pulses
 /// baseline_correction = false         # baseline-correct the records
 /// tail_s = 2.0                        # ShakeParams keys
-/// contact_restitution = 0.05          # the penalty solver's contact dashpots
 /// ```
 ///
 /// Motion `i` of `stochastic` is `StochasticMotion::generate(study seed, i)`. Every motion
@@ -153,10 +156,10 @@ pub struct ShakeSpec {
     /// [`ShakeParams::history_dt_s`], s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub history_dt_s: Option<f64>,
-    /// [`ShakeParams::contact_restitution`] (`[solver] kind = "penalty"` only), –.
+    /// Deprecated: `[solver.penalty] contact_restitution` ([`ShakeParams::contact_restitution`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_restitution: Option<f64>,
-    /// [`ShakeParams::penalty_step_fraction`] (`[solver] kind = "penalty"` only), –.
+    /// Deprecated: `[solver.penalty] step_fraction` ([`ShakeParams::penalty_step_fraction`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub penalty_step_fraction: Option<f64>,
 }
@@ -173,8 +176,8 @@ impl ShakeSpec {
             stop_at_collapse: self.stop_at_collapse.unwrap_or(d.stop_at_collapse),
             vertical: self.vertical.unwrap_or(d.vertical),
             history_dt_s: self.history_dt_s.unwrap_or(d.history_dt_s),
-            contact_restitution: self.contact_restitution.unwrap_or(d.contact_restitution),
-            penalty_step_fraction: self.penalty_step_fraction.unwrap_or(d.penalty_step_fraction),
+            contact_restitution: self.contact_restitution,
+            penalty_step_fraction: self.penalty_step_fraction,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The static lateral load protocol against closed-form statics.
 
-use drystone::dem::{Simulation, SolverParams};
+use drystone::dem::{PenaltyParams, Simulation, SolverParams};
 use drystone::generator::{generate, Wall};
 use drystone::layout::BaseSliding;
 use drystone::loading::lateral::{pressure_loads, LateralParams};
@@ -19,8 +19,12 @@ fn block_under_uniform_pressure_moves_as_the_winkler_closed_form() {
     let (kn, ks) = (1e8, 5e7);
     let p = 500.0;
     let layout = layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [l, b / 2.0, h])], kn, ks, 40.0, BaseSliding::Free);
-    let params = LateralParams { pressure_base_pa: p, pressure_top_pa: p, tolerance: 1e-7, ..LateralParams::default() };
-    let r = run_lateral(&layout, SolverParams::default(), &params).expect("stands");
+    let params = LateralParams { pressure_base_pa: p, pressure_top_pa: p, ..LateralParams::default() };
+    let solver = SolverParams {
+        penalty: PenaltyParams { tolerance: 1e-7, ..PenaltyParams::default() },
+        ..SolverParams::default()
+    };
+    let r = run_lateral(&layout, solver, &params).expect("stands");
     assert!(r.equilibrium, "{r:?}");
     let f = p * l * h;
     let w = DENSITY * G * l * b * h;

@@ -156,7 +156,9 @@ fn a_squat_block_slides_at_coulomb_with_cohesion() {
 #[test]
 fn the_first_increment_is_the_service_load() {
     let layout = block(0.5, 0.3, 0.6, 1e8, 40.0, 0.0, 0.0);
-    let params = LateralParams { tolerance: 1e-6, ..uniform(500.0, 0.02) };
+    // The table's former key `tolerance` (deprecated: `[solver.penalty] tolerance`) still
+    // sets the tolerance of both runs.
+    let params = LateralParams { tolerance: Some(1e-6), ..uniform(500.0, 0.02) };
     let service = run_lateral(&layout, SolverParams::default(), &params).expect("stands");
     let r = push(&layout, &params);
     let d = r.service_displacement_m().expect("λ = 1 stable");

@@ -47,6 +47,7 @@ mod limit_cli;
 mod lmgc90_rigid_limits;
 mod lmgc90_shake;
 mod mechanism;
+mod moved_keys;
 mod nscd_cli;
 mod nscd_motion;
 mod nscd_residual;

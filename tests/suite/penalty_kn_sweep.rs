@@ -16,7 +16,7 @@
 use crate::winkler;
 
 use drystone::dem::drivers::nscd::NscdParams;
-use drystone::dem::SolverParams;
+use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{CollapseReason, TiltParams};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
@@ -34,10 +34,14 @@ fn penalty_bracket(kn: f64) -> (f64, f64) {
         layout_of(vec![box_vertices([0.0, -B / 2.0, 0.0], [0.3, B / 2.0, H])], kn, kn / 2.0, 60.0, BaseSliding::Free);
     // Ten times the default step budget at Kn ≥ 1e11 (the knife-edge contact of a stiff
     // joint creeps for longer; as `tests/suite/stiffness_range.rs`).
-    let base = TiltParams::default().max_steps_per_increment;
+    let base = PenaltyParams::default().max_steps;
     let budget = if kn >= 1e11 { 10 * base } else { base };
-    let p = TiltParams { resolution_deg: RESOLUTION_DEG, max_steps_per_increment: budget, ..TiltParams::default() };
-    let r = run_tilt(&l, SolverParams::default(), &p).expect("stands at α = 0");
+    let p = TiltParams { resolution_deg: RESOLUTION_DEG, ..TiltParams::default() };
+    let solver = SolverParams {
+        penalty: PenaltyParams { max_steps: budget, ..PenaltyParams::default() },
+        ..SolverParams::default()
+    };
+    let r = run_tilt(&l, solver, &p).expect("stands at α = 0");
     assert_ne!(r.collapse_reason, Some(CollapseReason::StepBudget), "Kn {kn:e}: a step budget is not a bracket");
     (r.last_stable_deg, r.first_unstable_deg.expect("collapses"))
 }

@@ -1,9 +1,9 @@
-//! The secant predictor of the tilting-table protocol (`TiltParams::predictor`,
+//! The secant predictor of the tilting-table protocol (`PenaltyParams::predictor`,
 //! `Simulation::predict`): the joints follow a predicted jump as they follow a step, and the
 //! predictor changes how fast each increment reaches equilibrium, not where it ends.
 
 use drystone::dem::RunToEquilibrium;
-use drystone::dem::{Simulation, SolverParams};
+use drystone::dem::{PenaltyParams, Simulation, SolverParams};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::TiltParams;
 use drystone::protocol::run_tilt;
@@ -57,7 +57,11 @@ fn the_predictor_changes_the_steps_not_the_result() {
     // counts iterations, not steps).
     let params = TiltParams { step_deg: 1.0, resolution_deg: 0.25, implicit: false, ..TiltParams::default() };
     let with = run_tilt(&l, SolverParams::default(), &params).unwrap();
-    let without = run_tilt(&l, SolverParams::default(), &TiltParams { predictor: false, ..params }).unwrap();
+    let off = SolverParams {
+        penalty: PenaltyParams { predictor: false, ..PenaltyParams::default() },
+        ..SolverParams::default()
+    };
+    let without = run_tilt(&l, off, &params).unwrap();
     assert_eq!(with.collapse_angle_deg(), without.collapse_angle_deg());
     assert_eq!(with.first_unstable_deg, without.first_unstable_deg);
     let limit = common::assert_same_tilt_result(&with, &without, 0.0);

@@ -24,7 +24,7 @@
 //! rotation towards +y about the +y bottom edge (the rotation vector's −x).
 
 use drystone::dem::damping::ContactDamping;
-use drystone::dem::{DensityScaling, SolverKind, SolverParams};
+use drystone::dem::{DensityScaling, PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{Motion, Pulse, G as G_RECORD};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::shake::ShakeParams;
@@ -52,7 +52,7 @@ fn dynamics(layout: &Layout, e: f64) -> drystone::dem::Simulation {
     let p = SolverParams {
         damping: 0.0,
         density_scaling: DensityScaling::Off,
-        timestep_safety: d.timestep_safety * ShakeParams::default().penalty_step_fraction,
+        timestep_safety: d.timestep_safety * PenaltyParams::default().step_fraction,
         ..d
     };
     let mut sim = drystone::dem::Simulation::new(layout, p);
@@ -144,7 +144,7 @@ fn housner_peaks(b: f64, h: f64, theta0: f64, impacts: usize) -> Vec<f64> {
 
 #[test]
 fn free_rocking_loses_housners_share_per_impact_with_the_default_restitution() {
-    let e = ShakeParams::default().contact_restitution;
+    let e = PenaltyParams::default().contact_restitution;
     for (b, h) in [(0.1, 0.6), (0.15, 0.6), (0.2, 0.55), (0.15, 0.3)] {
         let alpha = f64::atan(b / h);
         let theta0 = 0.6 * alpha;
@@ -305,7 +305,12 @@ fn the_shaking_table_refuses_static_methods_and_a_bad_restitution() {
         let e = run_shake(&l, s, &pulse, &ShakeParams::default()).unwrap_err();
         assert!(e.to_string().contains("penalty (explicit dynamics") && e.to_string().contains("nscd ("), "{e}");
     }
-    let bad = ShakeParams { contact_restitution: 1.5, ..ShakeParams::default() };
+    // Out of range in the method's settings, and under the table's former key.
+    let mut bad = penalty();
+    bad.penalty.contact_restitution = 1.5;
+    let e = run_shake(&l, bad, &pulse, &ShakeParams::default()).unwrap_err();
+    assert!(e.to_string().contains("penalty.contact_restitution"), "{e}");
+    let bad = ShakeParams { contact_restitution: Some(1.5), ..ShakeParams::default() };
     let e = run_shake(&l, penalty(), &pulse, &bad).unwrap_err();
     assert!(e.to_string().contains("contact_restitution"), "{e}");
 }

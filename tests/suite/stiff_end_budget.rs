@@ -9,7 +9,7 @@
 
 use crate::winkler_exact;
 
-use drystone::dem::SolverParams;
+use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::layout::Layout;
 use drystone::loading::tilt::{CollapseReason, TiltParams};
 use drystone::protocol::run_tilt;
@@ -35,8 +35,12 @@ fn exact() -> f64 {
 fn a_step_budget_at_kn_1e13_is_not_reported_as_a_bracket() {
     let l = layout();
     assert_eq!(l.materials[0].kn, 1e13);
-    let p = TiltParams { resolution_deg: 0.0625, max_steps_per_increment: BUDGET, ..TiltParams::default() };
-    let r = run_tilt(&l, SolverParams::default(), &p).expect("stands");
+    let p = TiltParams { resolution_deg: 0.0625, ..TiltParams::default() };
+    let s = SolverParams {
+        penalty: PenaltyParams { max_steps: BUDGET, ..PenaltyParams::default() },
+        ..SolverParams::default()
+    };
+    let r = run_tilt(&l, s, &p).expect("stands");
     let up = r.first_unstable_deg.expect("an unstable trial");
     assert_eq!(r.collapse_reason, Some(CollapseReason::StepBudget));
     assert!(!r.bracket_reliable, "a step budget read as a bracket: [{}, {up}]", r.last_stable_deg);
@@ -48,7 +52,7 @@ fn a_step_budget_at_kn_1e13_is_not_reported_as_a_bracket() {
     let mut soft = layout();
     soft.materials[0].kn = 1e9;
     soft.materials[0].ks = 5e8;
-    let r = run_tilt(&soft, SolverParams::default(), &p).expect("stands");
+    let r = run_tilt(&soft, s, &p).expect("stands");
     let up = r.first_unstable_deg.expect("topples");
     assert_ne!(r.collapse_reason, Some(CollapseReason::StepBudget));
     assert!(r.bracket_reliable);

@@ -16,7 +16,7 @@
 
 use crate::winkler;
 
-use drystone::dem::SolverParams;
+use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{CollapseReason, TiltParams, TiltResult};
 use drystone::protocol::run_tilt;
@@ -31,7 +31,7 @@ const RESOLUTION_DEG: f64 = 0.0625;
 /// relaxation of a knife-edge contact on such joints can creep for more than the default
 /// budget; see BENCHMARKS.md).
 fn budget(kn: f64) -> u64 {
-    let base = TiltParams::default().max_steps_per_increment;
+    let base = PenaltyParams::default().max_steps;
     if kn >= 1e11 {
         10 * base
     } else {
@@ -41,8 +41,9 @@ fn budget(kn: f64) -> u64 {
 
 fn tilt(blocks: Vec<Vec<[f64; 3]>>, kn: f64, phi_deg: f64) -> TiltResult {
     let l = layout_of(blocks, kn, kn / 2.0, phi_deg, BaseSliding::Free);
-    let p = TiltParams { resolution_deg: RESOLUTION_DEG, max_steps_per_increment: budget(kn), ..TiltParams::default() };
-    run_tilt(&l, SolverParams::default(), &p).expect("stands at α = 0")
+    let p = TiltParams { resolution_deg: RESOLUTION_DEG, ..TiltParams::default() };
+    let penalty = PenaltyParams { max_steps: budget(kn), ..PenaltyParams::default() };
+    run_tilt(&l, SolverParams { penalty, ..SolverParams::default() }, &p).expect("stands at α = 0")
 }
 
 /// Asserts that the bracket of `r` contains `exact` (degrees) within `tol` (degrees).

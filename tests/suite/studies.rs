@@ -140,7 +140,8 @@ fn shards_merge_into_exactly_the_unsharded_run() {
 fn a_failed_realization_becomes_a_row_and_the_ensemble_goes_on() {
     let mut s = mini();
     let drystone::study::StudyProtocol::Tilt(tilt) = &mut s.protocol else { panic!("a tilting-table study") };
-    tilt.max_steps_per_increment = 5; // no equilibrium at alpha = 0 in 5 steps
+    let _ = tilt;
+    s.solver.penalty.max_steps = 5; // no equilibrium at alpha = 0 in 5 steps
     let rows = run_study(&s, Shard::parse("1/4").unwrap());
     assert_eq!(rows.len(), 2);
     for r in &rows {

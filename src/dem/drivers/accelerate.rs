@@ -47,54 +47,9 @@
 
 use crate::dem::engine::Simulation;
 use crate::math::Vec3;
-use crate::range::{check_ranges, OutOfRange};
 use nalgebra::UnitQuaternion;
-use serde::{Deserialize, Serialize};
 
-/// Settings of the secant acceleration. Defaults in brackets.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SecantAcceleration {
-    /// Steps before the first window \[256\].
-    pub warmup: u64,
-    /// Steps per window \[128\].
-    pub window: u64,
-    /// Largest jump, in windows of motion \[32\].
-    pub max_scale: f64,
-    /// Least cosine between the motions of two successive windows for them to count as
-    /// moving the same way \[0.9\].
-    pub min_alignment: f64,
-    /// Successive windows of negative stiffness, each with a larger out-of-balance force
-    /// along the motion than the window before, that make the state unstable \[3\].
-    pub negative_windows: u32,
-}
-
-impl Default for SecantAcceleration {
-    fn default() -> Self {
-        SecantAcceleration { warmup: 256, window: 128, max_scale: 32.0, min_alignment: 0.9, negative_windows: 3 }
-    }
-}
-
-impl SecantAcceleration {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// The first setting out of its range, with the range.
-    pub fn validate(&self) -> Result<(), OutOfRange> {
-        check_ranges(&[
-            ("acceleration.warmup", self.warmup as f64, true, ">= 0"),
-            ("acceleration.window", self.window as f64, self.window >= 1, ">= 1"),
-            ("acceleration.max_scale", self.max_scale, self.max_scale >= 1.0, ">= 1"),
-            (
-                "acceleration.min_alignment",
-                self.min_alignment,
-                self.min_alignment > -1.0 && self.min_alignment <= 1.0,
-                "in (-1, 1]",
-            ),
-            ("acceleration.negative_windows", self.negative_windows as f64, self.negative_windows >= 1, ">= 1"),
-        ])
-    }
-}
+pub use crate::dem::penalty::SecantAcceleration;
 
 /// What the accelerator did at a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,10 +1,10 @@
 //! The tilting-table protocol (Santa-Cruz et al. 2021, §2.2 and §5.3).
 //!
 //! 1. Gravity only (α = 0): the layout settles to equilibrium (unbalanced-force ratio below
-//!    [`TiltParams::tolerance`]); this is the reference state of every displacement.
+//!    [`PenaltyParams::tolerance`](crate::dem::PenaltyParams::tolerance)); this is the reference state of every displacement.
 //! 2. α grows by [`TiltParams::step_deg`]; after each increment the model is solved to
 //!    equilibrium (starting from the secant prediction of that equilibrium:
-//!    [`TiltParams::predictor`]; slow creep near collapse accelerated by secant steps along
+//!    [`PenaltyParams::predictor`](crate::dem::PenaltyParams::predictor); slow creep near collapse accelerated by secant steps along
 //!    the motion: [`TiltParams::accelerate`]), or declared unstable when the wall has no
 //!    equilibrium near the increment's path: the stiffness along a persistent motion turns
 //!    negative while the out-of-balance force along it grows (the stability indicator of
@@ -17,7 +17,7 @@
 //!    [`TiltParams::collapse_displacement_fraction`]) and the elastic displacement scale
 //!    of the layout's joints ([`elastic_scale`]), so that the elastic rotation of soft
 //!    joints is never taken for a mechanism. An increment that reaches neither an
-//!    equilibrium nor a collapse within [`TiltParams::max_steps_per_increment`] steps is
+//!    equilibrium nor a collapse within [`PenaltyParams::max_steps`](crate::dem::PenaltyParams::max_steps) steps is
 //!    reported as such ([`CollapseReason::StepBudget`]): it bounds the bracket from above
 //!    (nothing above it is known to be stable) without being a collapse.
 //! 3. The bracket (last stable, first unstable) is bisected from the last stable state
@@ -36,7 +36,7 @@
 pub use super::mechanism::{mechanism, Mechanism, MechanismKind};
 use super::monitors::monitor_points;
 use super::settle::settle;
-use crate::dem::{Simulation, SolverParams, StaticSolve};
+use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use std::time::Instant;
 
@@ -73,28 +73,23 @@ pub fn run_tilt_penalty(
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<TiltResult, TiltError> {
     params.validate().map_err(TiltError::Parameter)?;
+    let solver = crate::dem::with_moved(solver, &params.moved());
     solver.validate_static().map_err(TiltError::Parameter)?;
+    let penalty = solver.penalty;
     let t0 = Instant::now();
     let mut sim = Simulation::new(layout, solver);
     let monitors = monitor_points(layout, &sim);
     let width = layout.bounds().extent().y;
     sim.set_tilt(0.0);
     let elastic = elastic_scale(layout, &sim);
-    let solve = StaticSolve {
-        cascade: params.cascade(solver.kind),
-        tolerance: params.tolerance,
-        max_steps: params.max_steps_per_increment,
-        acceleration: params.acceleration,
-        implicit: params.implicit_solve,
-        reach: None,
-    };
+    let solve = crate::dem::StaticSolve::of(&penalty, params.cascade(solver.kind), None);
     let overshoot = layout.table_overshoot_deg;
     let tilt = |sim: &mut Simulation, alpha_deg: f64| {
         sim.set_tilt(crate::units::deg_to_rad(hand::effective_tilt_deg(alpha_deg, overshoot)))
     };
     let mut ctx = Ctx { params, load: &tilt, solve, monitors: &monitors, reference: Vec::new(), width, elastic };
     ctx.solve.reach = Some(ctx.inc_limit());
-    settle(&mut sim, layout, params.tolerance, params.max_steps_per_increment).map_err(TiltError::from_settle)?;
+    settle(&mut sim, layout, penalty.tolerance, penalty.max_steps).map_err(TiltError::from_settle)?;
     ctx.reference = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
     let mut increments = vec![Increment {
         alpha_deg: 0.0,
@@ -105,7 +100,7 @@ pub fn run_tilt_penalty(
         unbalanced_ratio: sim.stats().unbalanced_ratio,
     }];
     observe(0.0, true, &sim);
-    let mut path = StablePath::new(sim, params.predictor);
+    let mut path = StablePath::new(sim, penalty.predictor);
     let mut first_unstable: Option<(f64, CollapseReason, Simulation)> = None;
     let mut k = 1;
     loop {

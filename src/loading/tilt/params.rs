@@ -3,7 +3,7 @@
 use super::hand::HandTilt;
 use crate::dem::drivers::accelerate::SecantAcceleration;
 use crate::dem::drivers::implicit::ImplicitSolve;
-use crate::dem::{Cascade, SolverKind};
+use crate::dem::{Cascade, MovedKey, MovedValue, SolverKind};
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 
@@ -21,15 +21,6 @@ pub struct TiltParams {
     pub resolution_deg: f64,
     /// Largest tilt tried, degrees \[80\].
     pub max_angle_deg: f64,
-    /// Equilibrium when the unbalanced-force ratio is below this \[1e-4\].
-    pub tolerance: f64,
-    /// Step budget of one increment (and of the initial settling) \[400000\].
-    pub max_steps_per_increment: u64,
-    /// Start each increment from the secant prediction of its equilibrium \[true\]: the
-    /// motion between the last two stable states, scaled to the new tilt increment, applied
-    /// as one jump before relaxing (see `Simulation::predict`). Off: each increment starts
-    /// from the last stable state at rest.
-    pub predictor: bool,
     /// Collapse when a top point has moved (in y) since α = 0 more than this fraction of the
     /// wall width, or the elastic displacement scale of the joints ([`elastic_scale`](super::elastic_scale)) if
     /// that is larger \[0.5\].
@@ -43,14 +34,30 @@ pub struct TiltParams {
     /// relaxation`). `false` turns the secant acceleration of slow creep and its stability
     /// indicator off in whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
     pub accelerate: bool,
-    /// Settings of that acceleration.
-    pub acceleration: SecantAcceleration,
     /// Deprecated: choose the solver instead (`[solver] kind = "accelerated"`, `--solver
     /// accelerated`). `false` turns the implicit iteration of each increment off in
     /// whichever penalty solver runs ([`TiltParams::cascade`]) \[true\].
     pub implicit: bool,
-    /// Settings of the implicit iteration.
-    pub implicit_solve: ImplicitSolve,
+    /// Deprecated: `[solver.penalty] tolerance` ([`PenaltyParams::tolerance`](crate::dem::PenaltyParams::tolerance)), which this
+    /// key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Deprecated: `[solver.penalty] max_steps` ([`PenaltyParams::max_steps`](crate::dem::PenaltyParams::max_steps)), which this
+    /// key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_steps_per_increment: Option<u64>,
+    /// Deprecated: `[solver.penalty] predictor` ([`PenaltyParams::predictor`](crate::dem::PenaltyParams::predictor)), which this
+    /// key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub predictor: Option<bool>,
+    /// Deprecated: `[solver.penalty] acceleration` ([`PenaltyParams::acceleration`](crate::dem::PenaltyParams::acceleration)), which
+    /// this key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub acceleration: Option<SecantAcceleration>,
+    /// Deprecated: `[solver.penalty] implicit_solve` ([`PenaltyParams::implicit_solve`](crate::dem::PenaltyParams::implicit_solve)),
+    /// which this key still sets, with a warning \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub implicit_solve: Option<ImplicitSolve>,
     /// The table rolled by hand (`loading::tilt_hand`): each increment run as a motion
     /// whose stop kicks the wall, by non-smooth contact dynamics (`[solver] kind =
     /// "nscd"` only; `[tilt] by_hand = { rate_deg_per_s = 2.5, ramp_s = 0.1 }`, any key of
@@ -65,16 +72,16 @@ impl Default for TiltParams {
             step_deg: 0.5,
             resolution_deg: 0.125,
             max_angle_deg: 80.0,
-            tolerance: 1e-4,
-            max_steps_per_increment: 400_000,
-            predictor: true,
             collapse_displacement_fraction: 0.5,
             collapse_increment_fraction: 0.05,
             accelerate: true,
-            acceleration: SecantAcceleration::default(),
             implicit: true,
-            implicit_solve: ImplicitSolve::default(),
             by_hand: None,
+            tolerance: None,
+            max_steps_per_increment: None,
+            predictor: None,
+            acceleration: None,
+            implicit_solve: None,
         }
     }
 }
@@ -91,6 +98,21 @@ impl TiltParams {
         Cascade { implicit: c.implicit && self.implicit, accelerate: c.accelerate && self.accelerate }
     }
 
+    /// The penalty settings written under this table's former keys (deprecated; see
+    /// [`MovedKey`]), in field order.
+    pub fn moved(&self) -> Vec<MovedKey> {
+        [
+            self.tolerance.map(|v| MovedKey::new("tolerance", MovedValue::Tolerance(v))),
+            self.max_steps_per_increment.map(|v| MovedKey::new("max_steps_per_increment", MovedValue::MaxSteps(v))),
+            self.predictor.map(|v| MovedKey::new("predictor", MovedValue::Predictor(v))),
+            self.acceleration.map(|v| MovedKey::new("acceleration", MovedValue::Acceleration(v))),
+            self.implicit_solve.map(|v| MovedKey::new("implicit_solve", MovedValue::ImplicitSolve(v))),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
+    }
+
     /// Checks ranges.
     ///
     /// # Errors
@@ -105,7 +127,6 @@ impl TiltParams {
                 "in (0, step_deg]",
             ),
             ("max_angle_deg", self.max_angle_deg, self.max_angle_deg > 0.0 && self.max_angle_deg < 90.0, "in (0, 90)"),
-            ("tolerance", self.tolerance, self.tolerance > 0.0 && self.tolerance < 1.0, "in (0, 1)"),
             (
                 "collapse_displacement_fraction",
                 self.collapse_displacement_fraction,
@@ -118,10 +139,10 @@ impl TiltParams {
                 self.collapse_increment_fraction > 0.0,
                 "> 0",
             ),
-            ("max_steps_per_increment", self.max_steps_per_increment as f64, self.max_steps_per_increment > 0, ">= 1"),
         ])?;
-        self.acceleration.validate()?;
-        self.implicit_solve.validate()?;
+        for m in self.moved() {
+            m.check()?;
+        }
         if let Some(h) = &self.by_hand {
             h.validate().map_err(|e| OutOfRange { key: format!("by_hand.{}", e.key), ..e })?;
         }

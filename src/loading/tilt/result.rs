@@ -21,7 +21,7 @@ pub enum CollapseReason {
     /// path ahead up to the collapse displacement (the indicator's probe).
     NegativeStiffness,
     /// The step budget of the increment
-    /// ([`TiltParams::max_steps_per_increment`](super::TiltParams::max_steps_per_increment)) ran out before an
+    /// ([`PenaltyParams::max_steps`](crate::dem::PenaltyParams::max_steps)) ran out before an
     /// equilibrium or a collapse was established: not a collapse, an undecided
     /// increment (the critical tilt may lie above it).
     StepBudget,
@@ -121,7 +121,7 @@ pub struct TiltResult {
     /// established; at Kn ≥ 1e11 Pa/m dynamic relaxation may not settle the light
     /// sub-contacts of a knife-edge joint within it). Nothing above `last_stable_deg` is
     /// then known to be stable, but the critical tilt may lie above `first_unstable_deg`:
-    /// read the result as a lower bound, or raise `max_steps_per_increment`, or run the
+    /// read the result as a lower bound, or raise `[solver.penalty] max_steps`, or run the
     /// non-smooth solver (`--solver nscd`). `drystone tilt` prints it, `--json` carries it.
     #[serde(default = "reliable")]
     pub bracket_reliable: bool,

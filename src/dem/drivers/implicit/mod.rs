@@ -67,56 +67,13 @@ mod stiffness;
 use crate::dem::engine::Simulation;
 use crate::math::Vec3;
 use anderson::AndersonMixing;
-use serde::{Deserialize, Serialize};
 use stiffness::{Dofs, Factor};
 
-/// Settings of the implicit iteration.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ImplicitSolve {
-    /// Iterations at most before dynamic relaxation takes over (default 1000).
-    pub max_iterations: u32,
-    /// Differences kept by the Anderson mixing, m (default 4; 0: the plain preconditioned
-    /// iteration `Δx = K⁻¹ R`).
-    pub anderson_depth: u32,
-    /// Iterations between two factorizations of the stiffness when no contact is
-    /// re-detected (default 32).
-    pub refactor_every: u32,
-    /// Iterations without progress after which the iteration gives up and dynamic
-    /// relaxation takes over (default 100; see [`Unsolved::Stalled`]). Progress is an
-    /// unbalanced-force ratio below [`STALL_PROGRESS`] times the lowest one reached so far.
-    pub stall_window: u32,
-}
+pub use crate::dem::penalty::ImplicitSolve;
 
 /// The fraction of the lowest unbalanced-force ratio reached so far that an iterate must
 /// go below to count as progress ([`ImplicitSolve::stall_window`]).
 pub const STALL_PROGRESS: f64 = 0.9;
-
-impl Default for ImplicitSolve {
-    fn default() -> Self {
-        ImplicitSolve { max_iterations: 1000, anderson_depth: 4, refactor_every: 32, stall_window: 100 }
-    }
-}
-
-impl ImplicitSolve {
-    /// Checks the settings.
-    ///
-    /// # Errors
-    /// The first key out of range, by name.
-    pub fn validate(&self) -> Result<(), crate::range::OutOfRange> {
-        crate::range::check_ranges(&[
-            (
-                "implicit_solve.max_iterations",
-                self.max_iterations as f64,
-                (1..=1_000_000).contains(&self.max_iterations),
-                "in [1, 1000000]",
-            ),
-            ("implicit_solve.anderson_depth", self.anderson_depth as f64, self.anderson_depth <= 50, "in [0, 50]"),
-            ("implicit_solve.refactor_every", self.refactor_every as f64, self.refactor_every >= 1, ">= 1"),
-            ("implicit_solve.stall_window", self.stall_window as f64, self.stall_window >= 1, ">= 1"),
-        ])
-    }
-}
 
 /// How an implicit relaxation ended.
 #[derive(Debug, Clone, PartialEq)]

@@ -139,8 +139,11 @@ pub struct NscdParams {
     /// Contacts are re-detected when a body has moved this fraction of the margin since
     /// the last detection (translation plus rotation times its radius) \[0.5\].
     pub redetect_fraction: f64,
-    /// Steps of one tilt trial released from rest \[40\] (see `loading::tilt_nscd`): the
-    /// window over which the growth of the motion is judged.
+    /// Steps of one trial released from rest \[40\] (see `loading::tilt_nscd`): the
+    /// window over which the growth of the motion is judged. This and the next three are
+    /// the method's test of a static state, read by every protocol it runs statically (the
+    /// tilting table's trials, the rigid pushover's), as the tolerance and step budget of
+    /// [`crate::dem::PenaltyParams`] are the penalty DEM's.
     pub trial_steps: u32,
     /// A trial is at rest, and stable at once, when the largest speed of any block point
     /// (`|v| + |ω| R`) is below `rest_velocity_ratio × g h` \[1e-5\] for
