@@ -118,8 +118,11 @@ def test_the_former_penalty_keys_of_a_tilt_warn_and_run_as_the_solvers_own():
     # `tolerance`, `max_steps_per_increment` and `predictor` moved to the solver's `penalty`
     # dict; given as tilt parameters they still set it, with a DeprecationWarning.
     layout = drystone.Layout.from_json(box_layout(0.3, 0.1, 0.3, kn=1e8))
-    with pytest.warns(DeprecationWarning, match="tilt.tolerance is deprecated"):
+    with pytest.warns(DeprecationWarning) as record:
         old = drystone.tilt(layout, step_deg=2.0, resolution_deg=0.5, tolerance=1e-6, predictor=False)
+    said = sorted(str(w.message).split(" is deprecated")[0] for w in record)
+    assert said == ["tilt.predictor", "tilt.tolerance"]
+    assert all("solver.penalty" in str(w.message) for w in record)
     new = drystone.tilt(
         layout, solver={"penalty": {"tolerance": 1e-6, "predictor": False}}, step_deg=2.0, resolution_deg=0.5
     )

@@ -45,7 +45,7 @@ use super::monitors::{monitor_displacements, monitor_points, MonitorPoint};
 use super::settle::{settle, SettleError};
 pub use super::tilt::NoLoad;
 use crate::dem::motion::poses;
-use crate::dem::{solve_static, Cascade, End, MovedKey, MovedValue, PenaltyParams};
+use crate::dem::{solve_static, Cascade, End, MovedKey, MovedValue};
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -328,9 +328,6 @@ pub(super) struct SettledUnderLoad {
     pub elastic: f64,
     /// When the test started.
     pub t0: Instant,
-    /// The penalty DEM's settings, with the table's former keys applied
-    /// ([`LateralParams::moved`]).
-    pub penalty: PenaltyParams,
 }
 
 /// Checks the parameters and the solver's settings, settles the layout and hands the
@@ -364,20 +361,7 @@ pub(super) fn prepare(
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
     let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
-    let penalty = solver.penalty;
-    Ok(SettledUnderLoad {
-        sim,
-        monitors,
-        reference,
-        loads,
-        loaded_faces,
-        width,
-        height,
-        weight_n,
-        elastic,
-        t0,
-        penalty,
-    })
+    Ok(SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
 }
 
 /// The static lateral load test of a layout by the penalty DEM: the driver of the lateral
@@ -400,19 +384,9 @@ pub fn run_lateral_penalty(
     params: &LateralParams,
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralResult, LateralError> {
-    let SettledUnderLoad {
-        mut sim,
-        monitors,
-        reference,
-        loads,
-        loaded_faces,
-        width,
-        height,
-        weight_n,
-        t0,
-        penalty,
-        ..
-    } = prepare(layout, solver, params, observe)?;
+    let SettledUnderLoad { mut sim, monitors, reference, loads, loaded_faces, width, height, weight_n, t0, .. } =
+        prepare(layout, solver, params, observe)?;
+    let penalty = crate::dem::with_moved(solver, &params.moved()).penalty;
     let mut resultant = Vec3::zeros();
     for (k, (f, m)) in loads.iter().enumerate() {
         sim.state.external_force[k] = *f;

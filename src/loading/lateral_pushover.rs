@@ -163,19 +163,9 @@ pub fn run_lateral_pushover_observed(
 ) -> Result<LateralPushover, LateralError> {
     super::lateral::check_pushover_load(params).map_err(LateralError::Parameter)?;
     // Scalar density scaling at most, as the static lateral load (its module doc).
-    let SettledUnderLoad {
-        sim,
-        monitors,
-        reference,
-        loads,
-        loaded_faces,
-        width,
-        height,
-        weight_n,
-        elastic,
-        t0,
-        penalty,
-    } = prepare(layout, solver, params, observe)?;
+    let SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 } =
+        prepare(layout, solver, params, observe)?;
+    let penalty = crate::dem::with_moved(solver, &params.moved()).penalty;
     super::lateral::check_pushover_force(params, &loads, loaded_faces).map_err(LateralError::NoLoad)?;
     let resultant_n = loads.iter().fold(Vec3::zeros(), |s, (f, _)| s + f);
     let tilt =
