@@ -137,6 +137,12 @@ impl LateralParams {
         .collect()
     }
 
+    /// These parameters without the former keys ([`Self::moved`]), once they are applied
+    /// to the solver's settings.
+    pub fn without_moved(self) -> LateralParams {
+        LateralParams { tolerance: None, max_steps: None, ..self }
+    }
+
     /// The penalty DEM pushover's final bracket width: [`Self::pushover_resolution`] when
     /// set, else [`PENALTY_PUSHOVER_RESOLUTION`].
     pub fn penalty_pushover_resolution(&self) -> f64 {

@@ -128,6 +128,12 @@ impl ShakeParams {
         self.moved().iter().try_for_each(MovedKey::check)
     }
 
+    /// These parameters without the former keys ([`Self::moved`]), once they are applied
+    /// to the solver's settings.
+    pub fn without_moved(self) -> ShakeParams {
+        ShakeParams { contact_restitution: None, penalty_step_fraction: None, ..self }
+    }
+
     /// The penalty settings written under this table's former keys (deprecated; see
     /// [`MovedKey`]), in field order.
     pub fn moved(&self) -> Vec<MovedKey> {

@@ -45,7 +45,8 @@ pub enum StudyProtocol {
 
 impl StudyProtocol {
     /// The protocol a study file names, with its table (`shake`: the `[shake]` table already
-    /// resolved, [`StudySpec::resolve_shake`]).
+    /// resolved, [`StudySpec::resolve_shake`]), without the table's former keys of the
+    /// penalty settings (the resolved study's solver holds them).
     ///
     /// # Errors
     /// [`StudyError::Invalid`] naming the table a protocol needs and the file lacks.
@@ -55,9 +56,12 @@ impl StudyProtocol {
         invalid: &Invalid,
     ) -> Result<StudyProtocol, StudyError> {
         match (spec.protocol, shake) {
-            (ProtocolKind::Tilt, _) => Ok(StudyProtocol::Tilt(spec.tilt)),
-            (ProtocolKind::Lateral, _) => Ok(StudyProtocol::Lateral(spec.lateral)),
-            (ProtocolKind::Shake, Some(shake)) => Ok(StudyProtocol::Shake(shake)),
+            (ProtocolKind::Tilt, _) => Ok(StudyProtocol::Tilt(spec.tilt.without_moved())),
+            (ProtocolKind::Lateral, _) => Ok(StudyProtocol::Lateral(spec.lateral.without_moved())),
+            (ProtocolKind::Shake, Some(mut shake)) => {
+                shake.params = shake.params.without_moved();
+                Ok(StudyProtocol::Shake(shake))
+            }
             (ProtocolKind::Shake, None) => {
                 Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
             }

@@ -113,6 +113,19 @@ impl TiltParams {
         .collect()
     }
 
+    /// These parameters without the former keys ([`Self::moved`]), once they are applied
+    /// to the solver's settings.
+    pub fn without_moved(self) -> TiltParams {
+        TiltParams {
+            tolerance: None,
+            max_steps_per_increment: None,
+            predictor: None,
+            acceleration: None,
+            implicit_solve: None,
+            ..self
+        }
+    }
+
     /// Checks ranges.
     ///
     /// # Errors
