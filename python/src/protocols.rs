@@ -78,6 +78,10 @@ pub fn _tilt<'py>(
     let solver = self::solver(py, solver)?;
     let mut tp: TiltParams = self::params(py, params, "tilt parameters")?;
     warn_moved(py, &tp.moved(), "tilt")?;
+    for w in tp.cascade_warnings("tilt") {
+        let text = std::ffi::CString::new(w).unwrap_or_default();
+        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(), &text, 2)?;
+    }
     if let Some(d) = by_hand {
         tp.by_hand = Some(self::params::<HandTilt>(py, Some(d), "by_hand")?);
     }

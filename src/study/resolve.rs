@@ -120,6 +120,9 @@ impl StudySpec {
         let mut read_warnings = self.ignored_settings();
         let (table, moved) = self.moved_keys();
         read_warnings.extend(moved.iter().map(|m| m.warning(table)));
+        if self.protocol == ProtocolKind::Tilt {
+            read_warnings.extend(self.tilt.cascade_warnings("tilt"));
+        }
         let solver = crate::dem::with_moved(self.solver, &moved);
         for g in &self.groups {
             if !names.insert(g.name.clone()) {

@@ -101,6 +101,13 @@ fn a_study_with_the_former_keys_warns_and_sets_the_methods_settings() {
     let n = load(&new).unwrap();
     assert_eq!(n.solver, s.solver);
     assert!(!n.warnings().iter().any(|l| l.contains("deprecated")), "{:?}", n.warnings());
+    // The cascade's switches turned off are the solver's stages: a warning naming the kind.
+    let off = load(&text.replace("[tilt]\n", "[tilt]\nimplicit = false\n")).unwrap();
+    assert!(
+        off.warnings().iter().any(|l| l.contains("tilt.implicit = false is deprecated") && l.contains("accelerated")),
+        "{:?}",
+        off.warnings()
+    );
     let bad = load(&text.replace("[tilt]\n", "[tilt]\ntolerance = 2.0\n")).unwrap_err().to_string();
     assert!(bad.contains("tilt.tolerance"), "{bad}");
     let bad = load(&format!("{text}\n[solver.penalty]\ntolerance = 2.0\n")).unwrap_err().to_string();

@@ -113,6 +113,28 @@ impl TiltParams {
         .collect()
     }
 
+    /// The deprecation lines (without `warning: `) of the switches of the penalty cascade
+    /// turned off ([`Self::accelerate`], [`Self::implicit`]: the stages are the solver's,
+    /// `[solver] kind`), with the table's name `table`; none when both are on.
+    pub fn cascade_warnings(&self, table: &str) -> Vec<String> {
+        let instead = match (self.implicit, self.accelerate) {
+            (false, true) => "kind = \"accelerated\"",
+            (false, false) => "kind = \"relaxation\"",
+            (true, false) => "no kind turns the acceleration off alone",
+            (true, true) => return Vec::new(),
+        };
+        [("accelerate", self.accelerate), ("implicit", self.implicit)]
+            .into_iter()
+            .filter(|(_, on)| !on)
+            .map(|(key, _)| {
+                format!(
+                    "{table}.{key} = false is deprecated: the stages of the penalty DEM are chosen with \
+                     [solver] kind ({instead}); it still turns its stage off"
+                )
+            })
+            .collect()
+    }
+
     /// These parameters without the former keys ([`Self::moved`]), once they are applied
     /// to the solver's settings.
     pub fn without_moved(self) -> TiltParams {
