@@ -15,7 +15,7 @@
 //! Frames: the table frame (y out of plane); the base accelerates along +y. Housner's θ > 0
 //! is a rotation towards +y about the +y bottom edge (the rotation vector's −x).
 
-use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation};
+use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation, StepSolver};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of};
@@ -209,6 +209,60 @@ fn pulse_nscd(b: f64, h: f64, a_g: f64, tp: f64, fallen: f64) -> bool {
         }
     }
     false
+}
+
+/// The block of [`block`] with its table joint held against sliding (`base_sliding =
+/// "held"`, as the CBL preset's timber stops) under a one-sine pulse of amplitude `a_g` (g)
+/// and period `tp` (s) by `params`: whether it overturns within `tp + 4` s, the largest
+/// natural-map residual of a step (as `apgd` reads a held point: see the test below) and
+/// the number of unconverged steps.
+fn held_pulse(b: f64, h: f64, params: &NscdParams, a_g: f64, tp: f64, fallen: f64) -> (bool, f64, u32) {
+    let l = layout_of(vec![box_vertices([0.0, -b / 2.0, 0.0], [0.2, b / 2.0, h])], 1e13, 5e12, 88.0, BaseSliding::Held);
+    let mut sim = NscdSimulation::new(&l, params).expect("simulation");
+    let w = 2.0 * std::f64::consts::PI / tp;
+    let base = |t: f64| if t <= tp { Vec3::new(0.0, a_g * G * (w * t).sin(), 0.0) } else { Vec3::zeros() };
+    let (mut worst, mut unconverged) = (0.0f64, 0);
+    while sim.time() < tp + 4.0 {
+        let s = sim.step(base).expect("step");
+        worst = worst.max(s.natural_residual);
+        unconverged += u32::from(!s.converged);
+        if theta_of(&sim).abs() >= fallen {
+            return (true, worst, unconverged);
+        }
+    }
+    (false, worst, unconverged)
+}
+
+/// A block whose table joint is held against sliding rocks on its edge as a free one does
+/// (the edge it pivots on cannot slide, the other lifts off free): under one-sine pulses
+/// 10 % either side of the rocking equation's overturning amplitude it overturns or not
+/// as the equation says, each step solved by the Gauss–Seidel sweeps (whose local law is
+/// Coulomb's at μ = `HELD_FRICTION`: a lifted point carries nothing), every step converged.
+#[test]
+fn a_held_block_rocks_and_overturns_as_the_rocking_equation_says_by_the_sweeps() {
+    let (b, h) = (0.15, 0.6);
+    let (alpha, p) = housner(b, h);
+    let fallen = std::f64::consts::FRAC_PI_4;
+    let sweeps = NscdParams { dt_s: 5e-4, step_solver: StepSolver::Nsgs, ..NscdParams::default() };
+    for ratio in [2.0, 4.0] {
+        let w = ratio * p;
+        let tp = 2.0 * std::f64::consts::PI / w;
+        let reference = |a: f64| {
+            let ag = move |t: f64| if t <= tp { a * G * (w * t).sin() } else { 0.0 };
+            rock_reference(alpha, p, 0.0, &ag, tp + 4.0, fallen).1
+        };
+        let mut a = alpha.tan();
+        while !reference(a) {
+            a *= 1.01;
+        }
+        for amp in [0.9 * a / 1.01, a / 0.9] {
+            let want = reference(amp);
+            let (got, worst, unconverged) = held_pulse(b, h, &sweeps, amp, tp, fallen);
+            eprintln!("ω_p/p {ratio}, {amp:.4} g: {got} (equation {want}), natural-map residual {worst:.1e}");
+            assert_eq!(got, want, "ω_p/p {ratio}, amplitude {amp:.4} g");
+            assert_eq!(unconverged, 0, "ω_p/p {ratio}, amplitude {amp:.4} g");
+        }
+    }
 }
 
 /// Overturning or not under one-sine pulses, as the rocking equation says, 10 % of the
