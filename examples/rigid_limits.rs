@@ -17,10 +17,10 @@
 //! layout and prints the blocks, contact points, time per step and sweeps per step: the
 //! cost against wall size.
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::NscdParams;
 use drystone::verify::{box_vertices, layout_of, trapezoid_block};
 use std::path::Path;
 
@@ -76,7 +76,7 @@ fn nscd_params() -> NscdParams {
 
 /// One trial's steps at 10° on each layout: blocks, points, seconds and sweeps per step.
 fn cost(files: &[String]) {
-    use drystone::dem::drivers::nscd::NscdSimulation;
+    use drystone::nscd::NscdSimulation;
     println!("| layout | blocks | contact points | s per step | sweeps per step | s per trial (40 steps) |");
     println!("| --- | --- | --- | --- | --- | --- |");
     for f in files {

@@ -15,7 +15,7 @@
 //! * [`geometry`]: convex polyhedral blocks, mass properties, frames.
 //! * [`layout`]: the layout file (materials, blocks, table, restraints).
 //! * [`dem`]: the DEM engine (3DEC-style sub-contacts, Coulomb joints, central differences,
-//!   local damping) and the non-smooth contact dynamics solver (`dem::drivers::nscd`).
+//!   local damping) and the non-smooth contact dynamics solver (`nscd`).
 //! * [`loading`]: the protocols: the tilting table (quasi-static, at the rigid limit, or
 //!   rolled by hand in kicks), the static lateral load and its pushover, and the shaking
 //!   table under a ground motion ([`ground`]).
@@ -86,6 +86,7 @@ pub mod layout;
 pub mod limit;
 pub mod loading;
 pub mod math;
+pub mod nscd;
 pub mod protocol;
 pub mod range;
 pub mod rng;

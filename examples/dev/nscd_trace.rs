@@ -7,7 +7,7 @@
 
 mod common;
 
-use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation};
+use drystone::nscd::{NscdParams, NscdSimulation};
 use std::collections::BTreeMap;
 
 fn main() {

@@ -2,13 +2,13 @@
 
 use super::solver::NscdArgs;
 use anyhow::{anyhow, bail, Context, Result};
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{Method, PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
 use drystone::io::series::{motion_frames, write_series, Recorder};
 use drystone::loading::shake::{ShakeError, ShakeParams, ShakeResult};
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_shake_observed;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

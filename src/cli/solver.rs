@@ -3,9 +3,9 @@
 //! the non-smooth solver.
 
 use anyhow::{bail, Result};
-use drystone::dem::drivers::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
 use drystone::dem::{LimitParams, SolverKind};
 use drystone::loading::tilt::TiltParams;
+use drystone::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
 
 /// `--solver NAME`.
 pub fn parse_solver(name: &str) -> Result<SolverKind, String> {

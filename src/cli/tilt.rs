@@ -2,11 +2,11 @@
 
 use super::solver::{LimitFlags, NscdArgs, SolverArgs};
 use anyhow::{bail, Context, Result};
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{DensityScaling, PenaltyParams, SolverParams};
 use drystone::io::series::{tilt_frames, write_series, Recorder};
 use drystone::loading::tilt::{MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_hand::HandTilt;
+use drystone::nscd::NscdParams;
 use drystone::protocol::{run_tilt, Loading, Observer, Tilt, TiltRun};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -15,6 +15,7 @@ pub mod method;
 pub mod model;
 pub(crate) mod monitor;
 pub mod motion;
+pub mod nscd_params;
 pub(crate) mod params;
 pub mod penalty;
 pub mod rope;

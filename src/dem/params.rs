@@ -154,7 +154,7 @@ pub struct SolverParams {
     pub penalty: PenaltyParams,
     /// Settings of the non-smooth contact-dynamics solver (`kind = "nscd"`; a
     /// `[solver.nscd]` table in a study), unused by the penalty DEM.
-    pub nscd: super::drivers::nscd::NscdParams,
+    pub nscd: super::nscd_params::NscdParams,
     /// Settings of limit analysis (`kind = "limit"`; a `[solver.limit]` table in a study),
     /// unused by the other solvers.
     pub limit: LimitParams,
@@ -176,7 +176,7 @@ impl Default for SolverParams {
             patch_reuse_fraction: 0.1,
             density_scaling: DensityScaling::Block { mass_floor: 0.05 },
             penalty: PenaltyParams::default(),
-            nscd: super::drivers::nscd::NscdParams::default(),
+            nscd: super::nscd_params::NscdParams::default(),
             limit: LimitParams::default(),
         }
     }

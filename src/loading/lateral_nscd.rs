@@ -1,5 +1,5 @@
 //! The collapse load multiplier of the lateral pressure at the rigid limit (pushover), by
-//! non-smooth contact dynamics (`dem::drivers::nscd`).
+//! non-smooth contact dynamics (`nscd`).
 //!
 //! The pressure of [`LateralParams`] (trapezoidal over the height, on the exposed faces
 //! facing −y, computed on the reference configuration as [`super::lateral`] does, by
@@ -14,10 +14,10 @@ use super::lateral::{pressure_loads, LateralParams};
 use super::mechanism::Mechanism;
 use super::tilt::{TiltError, TiltParams};
 use super::tilt_nscd::{read_mechanism, released, stood, tilt_error, touches_something, TrialLimits};
-use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
+use crate::nscd::{NscdParams, NscdSimulation};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 

@@ -7,7 +7,7 @@
 //! followed in the frame of the table, loaded by its weight and the d'Alembert force
 //! `−m a_g` of every block. Two time integrations (docs/shake.md says when each applies):
 //!
-//! * `nscd` (the default): non-smooth contact dynamics (`dem::drivers::nscd`: Moreau–Jean,
+//! * `nscd` (the default): non-smooth contact dynamics (`nscd`: Moreau–Jean,
 //!   rigid blocks, Coulomb friction, Newton's impact law with restitution 0 by default, the
 //!   impact dissipation of Housner's rocking block). The rigid limit: the joints' Kn and Ks
 //!   are not used.
@@ -37,12 +37,12 @@ use super::monitors::{monitor_points_of, MonitorPoint};
 use super::settle::{settle, SettleError};
 use super::tilt::TiltError;
 use crate::dem::damping::ContactDamping;
-use crate::dem::drivers::nscd::{NscdError, NscdSimulation};
 use crate::dem::state::Body;
 use crate::dem::{DemError, DensityScaling, MovedKey, MovedValue, Simulation, SolverKind, SolverParams};
 use crate::ground::{Motion, G, MAX_MOTION_DURATION_S};
 use crate::layout::Layout;
 use crate::math::Vec3;
+use crate::nscd::{NscdError, NscdSimulation};
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -200,7 +200,7 @@ pub struct ShakeResult {
     /// The largest natural-map residual of a step of the motion (`nscd`; 0 for `penalty`),
     /// dimensionless: how far the worst step's impulses are from a solution of its
     /// Signorini–Coulomb problem, whatever the stopping rule
-    /// (`dem::drivers::nscd::nsgs::natural_residual`; docs/nscd.md).
+    /// (`nscd::nsgs::natural_residual`; docs/nscd.md).
     #[serde(default)]
     pub max_natural_residual: f64,
     /// Wall-clock time, s (not part of the deterministic output).

@@ -1,5 +1,5 @@
 //! The tilting table rolled by hand: each increment run as a motion of the table, by
-//! non-smooth contact dynamics (`dem::drivers::nscd`).
+//! non-smooth contact dynamics (`nscd`).
 //!
 //! The paper's table is "a semicircle wooden piece that rolls manually, controlled by a
 //! lever and pulley", tilted "in increments of 5°" and stopped "to record" (Santa-Cruz et
@@ -68,10 +68,10 @@ use super::tilt_nscd::{
     displacements, largest_motion, poses, read_mechanism, released, rigid_result, stood, tilt_error, touches_something,
     Bracket, RigidWork, TrialLimits,
 };
-use crate::dem::drivers::nscd::{NscdParams, NscdSimulation};
 use crate::dem::{Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
+use crate::nscd::{NscdParams, NscdSimulation};
 use std::time::Instant;
 
 /// Sets the weight and the inertial forces of the rotating table frame (module doc) on

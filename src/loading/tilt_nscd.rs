@@ -1,5 +1,5 @@
 //! The tilting-table test at the rigid limit, by non-smooth contact dynamics
-//! (`dem::drivers::nscd`): a static bisection of trials released from rest.
+//! (`nscd`): a static bisection of trials released from rest.
 //!
 //! Every joint is rigid (the layout's Kn and Ks are not used); friction is the layout's.
 //! The result is the same [`TiltResult`] as the penalty solver's [`super::tilt::run_tilt`]
@@ -86,12 +86,12 @@ use super::settle::SettleError;
 use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
-use crate::dem::drivers::nscd::{NscdError, NscdParams, NscdSimulation};
 use crate::dem::rope::RopeLoad;
 use crate::dem::timestep::Stiffness;
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
 use crate::math::Vec3;
+use crate::nscd::{NscdError, NscdParams, NscdSimulation};
 use crate::units::deg_to_rad;
 use std::time::Instant;
 

@@ -14,6 +14,7 @@ const LAYERS: &[&[&str]] = &[
     &["geometry"],
     &["layout"],
     &["dem"],
+    &["nscd"],
     &["loading"],
     &["limit"],
     &["protocol"],

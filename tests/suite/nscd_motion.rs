@@ -1,4 +1,4 @@
-//! The non-smooth solver (`dem::drivers::nscd`) in motion, against references integrated
+//! The non-smooth solver (`nscd`) in motion, against references integrated
 //! here, independently of the solver under test:
 //!
 //! * free rocking of a rigid block released from a tilt (Housner 1963, BSSA 53:403): the
@@ -15,8 +15,8 @@
 //! Frames: the table frame (y out of plane); the base accelerates along +y. Housner's θ > 0
 //! is a rotation towards +y about the +y bottom edge (the rotation vector's −x).
 
-use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation, StepSolver};
 use drystone::layout::{BaseSliding, Layout};
+use drystone::nscd::{NscdParams, NscdSimulation, StepSolver};
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;

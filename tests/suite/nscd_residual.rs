@@ -1,5 +1,5 @@
 //! The natural-map residual of a step of the non-smooth solver
-//! (`dem::drivers::nscd::nsgs::natural_residual`, reported per step as
+//! (`nscd::nsgs::natural_residual`, reported per step as
 //! `NscdStep::natural_residual` and per shaking run as `ShakeResult::max_natural_residual`):
 //! zero at a solution of the step's Signorini–Coulomb problem, whatever method made it.
 //!
@@ -14,9 +14,9 @@
 //! * a run of the 13-box wall solved ten times tighter (the natural map at 1e-5), for the
 //!   rocking the default leaves.
 
-use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation, StepSolver};
 use drystone::generator::{generate, Wall};
 use drystone::layout::BaseSliding;
+use drystone::nscd::{NscdParams, NscdSimulation, StepSolver};
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;
@@ -65,7 +65,7 @@ fn a_step_cut_short_on_a_large_wall_is_far_from_a_solution() {
 
 /// The finisher alone (the gradient given no iteration: `max_iterations` 1 leaves the
 /// sweeps one and the gradient none, so every step is solved by the cone programs of
-/// `dem::drivers::nscd::cone`) solves Newmark's sliding block: every step meets the
+/// `nscd::cone`) solves Newmark's sliding block: every step meets the
 /// natural map at the default 1e-4 and the block slides back at (0.6 − μ) g (Newmark 1965),
 /// to 1e-4 (the residual is relative to the step's velocities).
 #[test]

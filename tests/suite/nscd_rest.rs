@@ -1,4 +1,4 @@
-//! The rest certificate of the non-smooth solver (`dem::drivers::nscd::rest`): a step of a
+//! The rest certificate of the non-smooth solver (`nscd::rest`): a step of a
 //! wall at rest is solved by statics where its contacts carry the load inside the reduced
 //! Coulomb cones (`tan φ* = sin φ`), and by the sweeps otherwise.
 //!
@@ -11,8 +11,8 @@
 //!   one-sine pulses that cross the block's and a 13-box wall's capacity in both directions
 //!   must give the same verdict and the same largest rotation.
 
-use drystone::dem::drivers::nscd::{NscdParams, NscdSimulation, RestRule, StepSolver};
 use drystone::layout::{BaseSliding, Layout};
+use drystone::nscd::{NscdParams, NscdSimulation, RestRule, StepSolver};
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of};
 use drystone::Vec3;

@@ -3,10 +3,10 @@
 //! computed here) and LMGC90's bisections of the same layouts
 //! (`data/lmgc90_rigid_limits.csv`, made by `scripts/lmgc90/rigid_limits.py`).
 
-use drystone::dem::drivers::nscd::{NscdError, NscdParams};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::{MechanismKind, TiltError, TiltParams, TiltResult};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::{NscdError, NscdParams};
 use drystone::verify::{box_vertices, layout_of};
 use std::path::Path;
 

@@ -3,10 +3,10 @@
 //! here: every option is a way of solving the same contact problem, so each must bracket
 //! the closed form as the default does.
 
-use drystone::dem::drivers::nscd::{NscdError, NscdParams, NsgsNorm, PolygonPoints, SweepOrder};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::{TiltParams, TiltResult};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::{NscdError, NscdParams, NsgsNorm, PolygonPoints, SweepOrder};
 use drystone::verify::{box_vertices, layout_of};
 use std::path::Path;
 
@@ -88,7 +88,7 @@ fn nsgs_options_out_of_range_are_refused_by_key() {
         ("natural_tolerance", NscdParams { natural_tolerance: 1.0, ..NscdParams::default() }),
         ("apgd_after_solves", NscdParams { apgd_after_solves: -1.0, ..NscdParams::default() }),
     ] {
-        match drystone::dem::drivers::nscd::NscdSimulation::new(&block, &p) {
+        match drystone::nscd::NscdSimulation::new(&block, &p) {
             Err(NscdError::Parameter(e)) => assert!(e.to_string().contains(key), "{key}: {e}"),
             other => panic!("{key}: expected a parameter error, got {other:?}"),
         }

@@ -15,11 +15,11 @@
 
 use crate::winkler;
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::layout::BaseSliding;
 use drystone::loading::tilt::{CollapseReason, TiltParams};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_tilt;
 use drystone::units::STANDARD_GRAVITY as G;
 use drystone::verify::{box_vertices, layout_of, DENSITY};

@@ -11,7 +11,6 @@
 //!   path (solved here by a scan, not by the code under test), by the penalty engine and by
 //!   non-smooth contact dynamics.
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::rope::RopeLoad;
 use drystone::dem::{RunToEquilibrium, SolverParams, WallState};
 use drystone::effects::{effect_rng, Library, Stage};
@@ -19,6 +18,7 @@ use drystone::layout::{BaseSliding, Layout, LayoutSpec, Rope};
 use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_nscd::run_tilt_nscd;
 use drystone::math::Vec3;
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block, DENSITY, RIGID_KN};
 

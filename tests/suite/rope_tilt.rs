@@ -12,12 +12,12 @@
 //! collapse angle (solved here by a scan, not by the code under test); a maximum above
 //! the largest tilt tried (80°) means the block stands to it.
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::timestep::Stiffness;
 use drystone::dem::{SolverParams, WallState};
 use drystone::layout::{BaseSliding, Layout, Rope};
 use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_tilt;
 use drystone::verify::{layout_of, rect_block, DENSITY};
 

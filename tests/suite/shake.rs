@@ -4,11 +4,11 @@
 //! at amplitudes 10 % below and above its overturning boundary; and a block on a still base
 //! or under a pulse below the uplift threshold `g tan α` does not move.
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::{SolverKind, SolverParams};
 use drystone::ground::{Pulse, G};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::shake::ShakeParams;
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_shake;
 use drystone::verify::{box_vertices, layout_of};
 

@@ -20,13 +20,13 @@
 //!   slender block rolled by hand topples no later than the static `atan(b/h)` and no earlier
 //!   than the angle the stops' peak push would give as a sustained inclination.
 
-use drystone::dem::drivers::nscd::NscdParams;
 use drystone::dem::SolverParams;
 use drystone::effects::{Effect, Library, Stage};
 use drystone::layout::{BaseSliding, Layout};
 use drystone::loading::tilt::TiltParams;
 use drystone::loading::tilt_hand::{run_tilt_by_hand, HandTilt};
 use drystone::loading::tilt_nscd::run_tilt_nscd;
+use drystone::nscd::NscdParams;
 use drystone::protocol::run_tilt;
 use drystone::verify::{box_vertices, layout_of, RIGID_KN};
 

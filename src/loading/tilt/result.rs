@@ -152,7 +152,7 @@ pub enum TiltError {
     /// The non-smooth solver refused the layout (a joint with cohesion or tensile
     /// strength; `loading::tilt_nscd`).
     #[error(transparent)]
-    Nscd(crate::dem::drivers::nscd::NscdError),
+    Nscd(crate::nscd::NscdError),
     /// The rigid pushover's pressure resolves to no force on the wall
     /// ([`crate::loading::lateral::check_pushover_force`]).
     #[error(transparent)]

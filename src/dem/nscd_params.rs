@@ -1,59 +1,7 @@
-//! Non-smooth contact dynamics (NSCD) of rigid blocks: the Moreau–Jean time stepping with
-//! hard unilateral contacts and Coulomb friction, solved by non-linear Gauss–Seidel
-//! (Moreau 1988; Jean 1999, Comput. Methods Appl. Mech. Eng. 177:235; Acary & Brogliato
-//! 2008, *Numerical Methods for Nonsmooth Dynamical Systems*, ch. 10 and 12). LMGC90 and
-//! Siconos are the reference codes of the method; this is drystone's own implementation.
-//!
-//! Every joint is rigid: the layout's Kn, Ks and closure law are not used; its friction
-//! angle φ (material rule and joint families, as the penalty engine reads them) is.
-//! Cohesion and tensile strength are refused ([`NscdError::Cohesion`], naming the joint).
-//!
-//! # The parts
-//!
-//! * [`contacts`]: contact points and their local frames from drystone's own detection
-//!   (sweep and prune, the separating-axis narrow phase and its contact polygon,
-//!   `dem::contact::geometry`): one point per vertex of each contact polygon (a segment
-//!   contact: its two ends; a point contact: the point). With hard contacts the vertices
-//!   of the polygon carry every admissible pressure resultant inside it, so the reduced
-//!   set carries the same forces and moments as the polygon (as LMGC90's polyhedra do).
-//! * [`delassus`]: the blocks of the Delassus operator `W = H M⁻¹ Hᵀ` of the rigid
-//!   bodies (the diagonal 3 × 3 block of each contact point, and the rows `H` that map
-//!   the bodies' velocities to the point's relative velocity).
-//! * [`local`]: the local 3D Coulomb problem of one contact point (separation, stick or
-//!   slip, exact; De Saxcé's projection as a fallback).
-//! * [`nsgs`]: the Gauss–Seidel sweeps of one step (their order, [`nsgs::SweepPlan`];
-//!   the visit of a contact polygon; the stopping rule).
-//! * [`apgd`]: the accelerated projected gradient of a step of motion (Nesterov's method
-//!   with De Saxcé's shift), stopped by the natural-map residual
-//!   ([`nsgs::natural_residual`]).
-//! * [`cone`]: the finisher of the steps the gradient leaves at its limit: the step as
-//!   one cone program per value of De Saxcé's shift (an interior point, Clarabel), the
-//!   shift updated by Anderson's acceleration.
-//! * [`rest`]: the rest certificate of a wall at rest (statics in the reduced cones).
-//! * [`stepper`]: [`NscdSimulation`], the θ-scheme step with a prescribed base
-//!   acceleration and its NSGS loop.
-//!
-//! # Frames and signs
-//!
-//! The table frame (x along the wall, y out of plane, z up). At each contact point the
-//! local frame is (n, t₁, t₂), `n` the unit normal from body A (the table, or the lower
-//! index) to body B and (t₁, t₂) = `geometry::polygon::plane_basis(n)`. `u` is the
-//! velocity of B relative to A at the point in that frame (m/s), `r` the impulse on B over
-//! the step in that frame (N·s; A gets −r). Signorini: `uₙ + b ≥ 0, rₙ ≥ 0, (uₙ + b) rₙ = 0`
-//! with `b` the gap and restitution term of [`stepper`]; Coulomb: `‖r_t‖ ≤ μ rₙ`, and
-//! `r_t = −μ rₙ u_t/‖u_t‖` when `u_t ≠ 0`.
-
-pub mod apgd;
-pub mod cone;
-pub mod contacts;
-pub mod delassus;
-pub mod local;
-pub mod nsgs;
-pub mod rest;
-pub mod stepper;
-
-pub use contacts::ContactPoint;
-pub use stepper::{NscdSimulation, NscdStep};
+//! The non-smooth contact-dynamics solver's settings ([`NscdParams`], a study's
+//! `[solver.nscd]` table) and their choices (the rest rule, the step solver, the sweeps'
+//! norm and order, the points of a contact polygon): plain data beside the other methods'
+//! settings in [`super::SolverParams`], read by the solver (`crate::nscd`).
 
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
@@ -110,7 +58,7 @@ pub struct NscdParams {
     /// [`StepSolver::Nsgs`] ([`Self::for_trials`]).
     pub step_solver: StepSolver,
     /// The natural-map residual a step of motion must meet with [`StepSolver::Apgd`],
-    /// dimensionless, in \[1e-12, 1) \[1e-4\] ([`nsgs::natural_residual`]: LMGC90's usual tolerance, here on
+    /// dimensionless, in \[1e-12, 1) \[1e-4\] ([`crate::nscd::nsgs::natural_residual`]: LMGC90's usual tolerance, here on
     /// the residual of the Coulomb problem itself rather than on the change over a sweep).
     pub natural_tolerance: f64,
     /// The work of a step, in local solves (contact points × sweeps), that
@@ -121,7 +69,7 @@ pub struct NscdParams {
     pub apgd_after_solves: f64,
     /// Largest number of NSGS sweeps and gradient iterations per step \[2000\]. With
     /// [`StepSolver::Apgd`] a step that reaches it is finished by cone programs
-    /// ([`cone::solve`]) and counts as unconverged ([`NscdStep::converged`]) only if they
+    /// ([`crate::nscd::cone::solve`]) and counts as unconverged ([`crate::nscd::NscdStep::converged`]) only if they
     /// too leave the natural-map residual above [`Self::natural_tolerance`]; with
     /// [`StepSolver::Nsgs`] it keeps its last iterate and counts as unconverged.
     pub max_iterations: u32,
@@ -364,38 +312,4 @@ pub enum SweepOrder {
     /// Odd sweeps forward, even sweeps backward (symmetric Gauss–Seidel): a correction
     /// travels up the wall in one sweep and down it in the next.
     Symmetric,
-}
-
-/// Errors of the non-smooth solver.
-#[derive(Debug, thiserror::Error, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum NscdError {
-    /// A parameter is out of range.
-    #[error("nscd parameter {0}")]
-    Parameter(OutOfRange),
-    /// A joint has cohesion or tensile strength: the solver's joints are cohesionless
-    /// Coulomb contacts.
-    #[error(
-        "joint {joint} has cohesion {cohesion_pa} Pa and tensile strength {tensile_strength_pa} Pa: the nscd solver \
-         models rigid cohesionless Coulomb joints; set both to 0 for this joint's material or family, or use the \
-         penalty solver"
-    )]
-    Cohesion {
-        /// The joint, `table/ID` or `ID_A/ID_B`.
-        joint: String,
-        /// Its cohesion, Pa.
-        cohesion_pa: f64,
-        /// Its tensile strength, Pa.
-        tensile_strength_pa: f64,
-    },
-    /// A body's state became NaN or infinite.
-    #[error("block {id} has a non-finite state at step {step} (time step {dt_s:e} s): the run blew up")]
-    NonFinite {
-        /// Block id.
-        id: String,
-        /// Step number.
-        step: u64,
-        /// Time step, s.
-        dt_s: f64,
-    },
 }
