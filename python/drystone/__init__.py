@@ -226,8 +226,11 @@ def tilt(layout: Any, solver: Any = None, by_hand: Any = None, **params: Any) ->
 
     `solver`: None (the penalty DEM), a solver name (`penalty`, `implicit`, `accelerated`,
     `relaxation`, `nscd`) or a dict of solver parameters (`SolverParams` keys, e.g.
-    `{"kind": "penalty", "damping": 0.8}`). `params`: `TiltParams` keys, e.g.
-    `step_deg=0.5`, `resolution_deg=0.125`, `max_angle_deg=80`. `by_hand`: None, True or a
+    `{"kind": "penalty", "damping": 0.8}`; the penalty DEM's solve settings in its
+    `penalty` dict: `{"penalty": {"tolerance": 1e-4, "max_steps": 400000, "predictor":
+    True}}`). `params`: `TiltParams` keys, e.g. `step_deg=0.5`, `resolution_deg=0.125`,
+    `max_angle_deg=80` (`tolerance`, `max_steps_per_increment` and `predictor` still work
+    here, with a `DeprecationWarning`). `by_hand`: None, True or a
     dict of `HandTilt` keys (`increment_deg` 5, `rate_deg_per_s` 2.5, `ramp_s` 0.1,
     `hold_s` 1, `axis_depth_m` 0.34): the table rolled by hand, each increment run as a
     motion that kicks the wall at its stop (`drystone tilt --by-hand`; with
