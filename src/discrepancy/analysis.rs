@@ -17,7 +17,8 @@
 //!   null data raise either in at most 5 % of the data sets. The false-alarm rate of
 //!   margins set this way is measured by cross-fitting (margins from one half of the null
 //!   data sets, alarms on the other) and reported with its Clopper–Pearson interval.
-//! * **Ties.** Each of the next four candidates after a named cause is in the tie when the
+//! * **Ties.** Each of the next four candidates after a named cause, and every later
+//!   candidate within the data test's bound, is in the tie when the
 //!   design cannot separate it from the cause (it beats the cause on 5 % or more of data
 //!   simulated from the cause's own independent realizations, [`reversal_rates`]) or the
 //!   data cannot (its held-out difference to the cause is under two standard errors),
@@ -63,7 +64,10 @@ impl Verdict {
     }
 }
 
-/// Challengers checked against a named cause for a tie ([`TieCheck`]).
+/// Challengers always checked against a named cause for a tie, the best after it
+/// ([`TieCheck`]); a later candidate is checked too when the data cannot tell it from the
+/// cause (its held-out difference under [`TieCheck::STANDARD_ERRORS`] standard errors), so
+/// that a model the data tie to the cause is never left out for its rank.
 pub const TIE_CHALLENGERS: usize = 4;
 
 /// One challenger checked against the named cause for a tie. It is in the tie when either
@@ -254,8 +258,8 @@ pub struct Analysis {
     /// cause is unique. A challenger is in the tie when the design cannot separate it from
     /// the cause or the data cannot ([`TieCheck`]).
     pub tie: Vec<String>,
-    /// The challengers checked for the tie (the next best candidates, at most
-    /// [`TIE_CHALLENGERS`]), each with both tests.
+    /// The challengers checked for the tie (the [`TIE_CHALLENGERS`] next best candidates,
+    /// and every later one within the data test's bound), each with both tests.
     pub tie_checks: Vec<TieCheck>,
     /// All candidates, best first.
     pub candidates: Vec<Ranked>,

@@ -108,6 +108,13 @@ impl SigmaRule<'_> {
 /// err together). Under the null hypothesis the measured data differ from the model by
 /// the specimens' spread and by the model's own sampling error; the synthetic data do by
 /// the same two, whatever the pool's mean happens to be.
+///
+/// Mechanism readings are read by the likelihood's reading model
+/// ([`super::predictive`]): a kind or a start misread at [`Reading::misreading`], a
+/// failure height uniform over the wall at the same rate, else possibly a neighbouring
+/// joint ([`Reading::neighbour_read`]). The replicates of the predictive check, the null
+/// calibration and the tie check's reversal rates are thus read as the likelihood says
+/// readings are, as the design's simulated campaigns are (`super::design`).
 pub fn draw_data(
     data0: Data<'_>,
     specimens: &[String],
@@ -187,8 +194,19 @@ pub fn draw_data(
             // A realization that fell before the tilt gives no displacement: the specimen
             // is read at its predictive mean there (rare; keeps the design balanced).
             let v = v.filter(|v| v.is_finite()).unwrap_or(if p.mean.is_finite() { p.mean } else { 0.0 });
+            // A failure height is read as the likelihood's reading model has it
+            // (`predictive::Heights::probability`): with probability ε it belongs to none
+            // of the simulated failures (uniform over the height), else a neighbouring
+            // joint may be named.
             let v = match obs[j].observable {
-                Observable::FailureHeight { width } => reading.neighbour_read(v, width, rng.random()),
+                Observable::FailureHeight { width } => {
+                    let (misread, anywhere, neighbour): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+                    if misread < reading.misreading {
+                        anywhere
+                    } else {
+                        reading.neighbour_read(v, width, neighbour)
+                    }
+                }
                 _ => v,
             };
             y[j] = reading.round(&obs[j].observable, v);

@@ -499,10 +499,12 @@ fn tie_of(cause: &Ranked, challengers: &[&Ranked], rates: &[f64], obs: &[Observa
     tie
 }
 
-/// Stage 8, tie checks: the next [`TIE_CHALLENGERS`] candidates after the cause, each
-/// against the cause on data simulated from the cause's own independent realizations
-/// (`src`, [`reversal_rates`]) and on the data (the held-out difference in standard
-/// errors), [`tie_of`].
+/// Stage 8, tie checks: the next [`TIE_CHALLENGERS`] candidates after the cause, and every
+/// later one whose held-out difference to the cause is under the data test's bound
+/// ([`TieCheck::STANDARD_ERRORS`] standard errors: a model the data cannot tell from the
+/// cause is in the tie whatever its rank), each against the cause on data simulated from
+/// the cause's own independent realizations (`src`, [`reversal_rates`]) and on the data,
+/// [`tie_of`].
 fn tie_checks(
     ctx: &Ctx<'_>,
     cause: &Ranked,
@@ -512,8 +514,14 @@ fn tie_checks(
     replicates: usize,
     seed: u64,
 ) -> Tie {
-    let challengers: Vec<&Ranked> =
-        candidates.iter().filter(|r| r.index != cause.index).take(TIE_CHALLENGERS).collect();
+    let within = |r: &Ranked| TieCheck::new(cause, r, 0.0, ctx.data.obs, ctx.specimens).tied;
+    let challengers: Vec<&Ranked> = candidates
+        .iter()
+        .filter(|r| r.index != cause.index)
+        .enumerate()
+        .filter(|(k, r)| *k < TIE_CHALLENGERS || within(r))
+        .map(|(_, r)| r)
+        .collect();
     let rates = reversal_rates(
         &pool[cause.index],
         &challengers.iter().map(|r| &pool[r.index]).collect::<Vec<_>>(),

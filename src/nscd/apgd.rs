@@ -49,7 +49,6 @@
 //! it is at most [`super::NscdParams::natural_tolerance`], or keeps the iterate of least
 //! residual when the budget runs out.
 
-use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::local;
 use super::nsgs::{natural_residual, BodyState, SweepOutcome};
@@ -81,26 +80,17 @@ pub struct ApgdScratch {
     best: Vec<Vec3>,
 }
 
-/// Projection on the cone of a point: Coulomb's, or the half-space `rₙ ≥ 0` of a point
-/// held against slip.
+/// Projection on Coulomb's cone of a point (a held point's too, at
+/// [`super::contacts::HELD_FRICTION`]).
 #[inline]
 fn project(r: &Vec3, mu: f64) -> Vec3 {
-    if mu >= HELD_FRICTION {
-        Vec3::new(r.x.max(0.0), r.y, r.z)
-    } else {
-        local::project(r, mu)
-    }
+    local::project(r, mu)
 }
 
-/// De Saxcé's shift `μ ‖u_t‖` of a point at relative velocity `u` (local frame, m/s); 0 at
-/// a point held against slip.
+/// De Saxcé's shift `μ ‖u_t‖` of a point at relative velocity `u` (local frame, m/s).
 #[inline]
 pub(super) fn shift_of(u: &Vec3, mu: f64) -> f64 {
-    if mu >= HELD_FRICTION {
-        0.0
-    } else {
-        mu * (u.y * u.y + u.z * u.z).sqrt()
-    }
+    mu * (u.y * u.y + u.z * u.z).sqrt()
 }
 
 impl ApgdScratch {

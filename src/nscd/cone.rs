@@ -20,22 +20,14 @@
 //! program per step; Acary, Brémond & Huber 2018 for the shift):
 //!
 //! ```text
-//! min ½ δᵀ M δ + Σ_held ½ (1/ε_α) ‖w_α‖²
-//! s.t. (uₙ + b + s_α, μ u_t) ∈ K_SOC          Coulomb points (second-order cone of dimension 3)
-//!      u_t − w_t = 0,  uₙ + b − wₙ ≥ 0       points held against slip (the table's joint)
+//! min ½ δᵀ M δ
+//! s.t. (uₙ + b + s_α, μ u_t) ∈ K_SOC          every point (second-order cone of dimension 3)
 //! ```
 //!
-//! with `u = u_f + H δ` the point's relative velocity, `M` the bodies' masses and inertias
-//! (table frame) and `w` a compliance slip of the held points. The multipliers `z` of the
-//! cones give the impulses: `r = (z₀, μ z₁, μ z₂)` at a Coulomb point (the dual of the
-//! scaled cone is Coulomb's cone), `r = z` at a held point. The compliance
-//! `ε_α = HELD_COMPLIANCE · w̄_α` makes a held point's impulse unique: without it the
-//! table's tangential impulses of a block standing on several held points are free in a
-//! self-equilibrated pair, which the interior point fills (up to 1e2 N·s on the 13-box
-//! wall against normal impulses of 0.25 N·s, carried into the next step's warm start) and
-//! which slows it down (76–100 iterations a solve on the SBL wall against 25–28). It moves
-//! a held point's velocity by `ε_α r_α`, a 1e-4 part of its own impulse's velocity, below
-//! the tolerance.
+//! with `u = u_f + H δ` the point's relative velocity and `M` the bodies' masses and
+//! inertias (table frame). The multipliers `z` of the cones give the impulses:
+//! `r = (z₀, μ z₁, μ z₂)` (the dual of the scaled cone is Coulomb's cone). A point held
+//! against slip is a Coulomb point at [`super::contacts::HELD_FRICTION`].
 //!
 //! Solved by Clarabel (Goulart & Chen 2024; the interior point of [`crate::limit`]),
 //! built once per step; each update of the shift only rewrites `b`.
@@ -61,14 +53,9 @@ use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, S
 use nalgebra::{DMatrix, DVector};
 
 use super::apgd::shift_of;
-use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::nsgs::{natural_residual, BodyState, SweepOutcome};
 use crate::math::Vec3;
-
-/// The compliance of a held point, as a fraction of its own `w̄_α = tr W_αα / 3` (s/kg):
-/// `ε_α = HELD_COMPLIANCE · w̄_α`.
-pub const HELD_COMPLIANCE: f64 = 1e-4;
 
 /// Anderson's memory: the number of past shift updates combined.
 pub const SHIFT_MEMORY: usize = 5;
@@ -160,8 +147,7 @@ impl Program {
                 u
             })
             .collect();
-        // Columns: the free axes of each body (translation per axis, rotation as a whole),
-        // then three compliance slips per held point.
+        // Columns: the free axes of each body (translation per axis, rotation as a whole).
         let mut col = vec![[usize::MAX; 6]; b.vel.len()];
         let mut n = 0;
         for (k, c) in col.iter_mut().enumerate() {
@@ -204,24 +190,10 @@ impl Program {
         let (mut ai, mut aj, mut av) = (Vec::new(), Vec::new(), Vec::new());
         let mut cones = Vec::with_capacity(rows.len());
         for (k, row) in rows.iter().enumerate() {
-            let held = row.mu >= HELD_FRICTION;
-            let scale = if held { [1.0, 1.0, 1.0] } else { [1.0, row.mu, row.mu] };
-            // Rows of a point: a held point's tangential rows (zero cone), then its normal
-            // row (nonnegative); a Coulomb point's three rows, one second-order cone.
-            let order: [usize; 3] = if held { [1, 2, 0] } else { [0, 1, 2] };
-            let slip = held.then(|| {
-                let first = n;
-                let eps = HELD_COMPLIANCE * row.w.trace() / 3.0;
-                for c in 0..3 {
-                    pi.push(first + c);
-                    pj.push(first + c);
-                    pv.push(1.0 / eps);
-                }
-                n += 3;
-                first
-            });
-            for (slot, &c) in order.iter().enumerate() {
-                let line = 3 * k + slot;
+            // A point's three rows, one second-order cone.
+            let scale = [1.0, row.mu, row.mu];
+            for c in 0..3 {
+                let line = 3 * k + c;
                 let e = row.frame.column(c).into_owned();
                 let sides = [(row.b, row.r_b, 1.0), (row.a, row.r_a, -1.0)];
                 for &(body, arm, sign) in sides.iter().take(if row.a == TABLE { 1 } else { 2 }) {
@@ -235,18 +207,8 @@ impl Program {
                         }
                     }
                 }
-                if let Some(first) = slip {
-                    ai.push(line);
-                    aj.push(first + c);
-                    av.push(1.0);
-                }
             }
-            if held {
-                cones.push(SupportedConeT::ZeroConeT(2));
-                cones.push(SupportedConeT::NonnegativeConeT(1));
-            } else {
-                cones.push(SupportedConeT::SecondOrderConeT(3));
-            }
+            cones.push(SupportedConeT::SecondOrderConeT(3));
         }
         let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
         let a = CscMatrix::new_from_triplets(3 * rows.len(), n, ai, aj, av);
@@ -257,11 +219,7 @@ impl Program {
     fn rhs(&self, rows: &[PointRows], shift: &[f64]) -> Vec<f64> {
         let mut out = Vec::with_capacity(3 * rows.len());
         for ((row, u), s) in rows.iter().zip(&self.uf).zip(shift) {
-            if row.mu >= HELD_FRICTION {
-                out.extend([u.y, u.z, u.x]);
-            } else {
-                out.extend([u.x + s, row.mu * u.y, row.mu * u.z]);
-            }
+            out.extend([u.x + s, row.mu * u.y, row.mu * u.z]);
         }
         out
     }
@@ -297,11 +255,7 @@ impl Program {
     fn impulses(&self, rows: &[PointRows], z: &[f64], impulse: &mut [Vec3], b: &mut BodyState<'_>) {
         for (k, row) in rows.iter().enumerate() {
             let z = &z[3 * k..3 * k + 3];
-            impulse[k] = if row.mu >= HELD_FRICTION {
-                Vec3::new(z[2], z[0], z[1])
-            } else {
-                Vec3::new(z[0], row.mu * z[1], row.mu * z[2])
-            };
+            impulse[k] = Vec3::new(z[0], row.mu * z[1], row.mu * z[2]);
         }
         b.vel.copy_from_slice(&self.vfree);
         b.angvel.copy_from_slice(&self.wfree);

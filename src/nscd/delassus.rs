@@ -46,7 +46,7 @@ pub struct PointRows {
     pub w: Mat3,
     /// W⁻¹ (zeros if W is singular).
     pub w_inv: Mat3,
-    /// Friction coefficient μ.
+    /// Friction coefficient μ ([`super::contacts::HELD_FRICTION`] at a held point).
     pub mu: f64,
     /// Normal term b of Signorini's condition `uₙ + b ≥ 0`, m/s.
     pub bias: f64,

@@ -18,7 +18,6 @@
 //! Delassus block and inverse, μ and the Signorini term are read, so the points of a wall
 //! of a few thousand fit in a core's second-level cache.
 
-use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use super::local;
 use super::{NscdParams, NsgsNorm, SweepOrder};
@@ -246,8 +245,8 @@ fn visit(
 /// satisfy Signorini and Coulomb, whatever method made them. It is weighted into a
 /// velocity (`w̄_α φ_α`, m/s) and taken relative to the velocities the impulses produce,
 /// as LMGC90's quadratic norm is: `‖(w̄_α φ_α)‖₂ / max(‖(W_αα r_α)‖₂, g h)`. A point held
-/// against slip (`base_sliding = "held"`) has no tangential law: its tangential part is
-/// `ρ_α u_t`.
+/// against slip (`base_sliding = "held"`) is a Coulomb point at
+/// [`super::contacts::HELD_FRICTION`].
 pub fn natural_residual(rows: &[PointRows], impulse: &[Vec3], vel: &[Vec3], angvel: &[Vec3], gh: f64) -> f64 {
     let (mut num, mut den) = (0.0f64, 0.0f64);
     for (row, r) in rows.iter().zip(impulse) {
@@ -258,12 +257,8 @@ pub fn natural_residual(rows: &[PointRows], impulse: &[Vec3], vel: &[Vec3], angv
         let mut u = row.velocity(vel, angvel);
         u.x += row.bias;
         let rho = 1.0 / wbar;
-        let phi = if row.mu >= HELD_FRICTION {
-            Vec3::new(r.x - (r.x - rho * u.x).max(0.0), rho * u.y, rho * u.z)
-        } else {
-            let ut = (u.y * u.y + u.z * u.z).sqrt();
-            r - local::project(&(r - rho * Vec3::new(u.x + row.mu * ut, u.y, u.z)), row.mu)
-        };
+        let ut = (u.y * u.y + u.z * u.z).sqrt();
+        let phi = r - local::project(&(r - rho * Vec3::new(u.x + row.mu * ut, u.y, u.z)), row.mu);
         num += wbar * wbar * phi.norm_squared();
         den += (row.w * r).norm_squared();
     }

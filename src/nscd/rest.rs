@@ -39,7 +39,6 @@
 //! one set of contact points at one set of poses: any re-detection, motion, change of
 //! tilt or of external load starts a new certificate.
 
-use super::contacts::HELD_FRICTION;
 use super::delassus::{PointRows, TABLE};
 use crate::math::Vec3;
 use clarabel::algebra::CscMatrix;
@@ -266,7 +265,7 @@ fn largest(s: &Statics<'_>, d: usize, sign: f64) -> Option<(f64, Vec<Vec3>)> {
             }
         }
     }
-    // λ ≤ CAP_G, then fₙ ≥ 0 where the point is held against slip, then the cones.
+    // λ ≤ CAP_G, then the cones.
     let mut row = neq;
     let push2 = |r: usize, c: usize, v: f64, ri: &mut Vec<usize>, ci: &mut Vec<usize>, vv: &mut Vec<f64>| {
         ri.push(r);
@@ -276,18 +275,11 @@ fn largest(s: &Statics<'_>, d: usize, sign: f64) -> Option<(f64, Vec<Vec3>)> {
     push2(row, 0, 1.0, &mut ri, &mut ci, &mut vv);
     b.push(CAP_G);
     row += 1;
-    for (k, r) in s.rows.iter().enumerate() {
-        if col_of[k] != usize::MAX && r.mu >= HELD_FRICTION {
-            push2(row, col_of[k], -1.0, &mut ri, &mut ci, &mut vv);
-            b.push(0.0);
-            row += 1;
-        }
-    }
     let mut cones: Vec<SupportedConeT<f64>> =
         vec![SupportedConeT::ZeroConeT(neq), SupportedConeT::NonnegativeConeT(row - neq)];
     for (k, r) in s.rows.iter().enumerate() {
         let c0 = col_of[k];
-        if c0 == usize::MAX || r.mu >= HELD_FRICTION {
+        if c0 == usize::MAX {
             continue;
         }
         push2(row, c0, -reduced_friction(r.mu), &mut ri, &mut ci, &mut vv);

@@ -85,22 +85,26 @@ fn a_rocking_block_is_the_same_with_and_without_the_certificate() {
     }
 }
 
-/// The 13-box running-bond wall under pulses below and above its capacity in both
-/// directions, stepped by the sweeps alone at a fine step (0.25 ms, velocity tolerance
-/// 1e-9 g h): the same verdict and largest rotation (to 3 % or 0.01°) with and without
-/// the certificate. The sweeps make the two runs comparable step for step; they do not
-/// solve this wall's rocking steps (docs/nscd.md, "A step of motion": the default solver
-/// rocks it about 6.8° after the 0.6 g pulse, with a residual 500 times smaller, and its
-/// rocking is sensitive to the start of the motion: 5.3° to 7.3° with the rest swept).
+/// The 13-box running-bond wall under pulses below its capacity (0.15 g: every step
+/// certified) and just above it in both directions (±0.45 g: it leaves its rest and rocks
+/// a few hundredths of a degree), stepped by the sweeps alone at a fine step (0.25 ms,
+/// velocity tolerance 1e-9 g h): the same verdict and largest rotation (to 3 % or 0.01°)
+/// with and without the certificate. The sweeps make the two runs comparable step for
+/// step. Not further above its capacity: from 0.5 g this wall's rocking depends on the last
+/// digits of every step (its largest rotation after ±0.5 g spans 0.26° to 1.0° between runs
+/// whose every step meets the natural-map residual 1e-4 and that differ only in the time
+/// step or in the certificate; docs/nscd.md, "A step of motion"), so it would test the
+/// wall's sensitivity, not the certificate, which the block above checks into rocking.
 #[test]
 fn a_wall_under_pulses_is_the_same_with_and_without_the_certificate() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/layouts/running_bond_wall.json");
     let wall = Layout::from_file(&path).unwrap();
     let fine = NscdParams { dt_s: 2.5e-4, tolerance: 1e-9, step_solver: StepSolver::Nsgs, ..NscdParams::default() };
-    for amp in [0.15, 0.6, -0.6] {
+    for amp in [0.15, 0.45, -0.45] {
         let (solved, fell_s, _) = pulse(&wall, NscdParams { rest: RestRule::Solve, ..fine }, amp, 0.3, 0.8);
         let (certified, fell_c, steps) = pulse(&wall, fine, amp, 0.3, 0.8);
         assert!(steps > 0, "amplitude {amp} g: no step certified");
+        assert!(amp.abs() < 0.3 || steps < 3200, "amplitude {amp} g: every step certified");
         assert_eq!(fell_s, fell_c, "amplitude {amp} g: verdicts differ");
         let tol = (0.03 * solved.max(certified)).max(0.01f64.to_radians());
         assert!((solved - certified).abs() <= tol, "amplitude {amp} g: peak {certified} rad certified, {solved} swept");
