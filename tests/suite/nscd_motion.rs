@@ -279,11 +279,10 @@ fn held_block_against_the_rocking_equation(params: &NscdParams, natural: Option<
 /// The same held block with each step solved by the accelerated projected gradient from
 /// its first iteration (`apgd_after_solves` 0, as the steps of every wall of more than about
 /// ten blocks are after a few sweeps): it must overturn as the rocking equation says, and
-/// meet the natural-map residual. Today the gradient holds a lifted held point sideways
-/// (docs/shake.md, "A limit of `nscd` on a base held against sliding"): the block stands
-/// tilted where the equation overturns it. Run with `--ignored`; the fix makes it pass.
+/// meet the natural-map residual. A lifted held point must be free for it to (a gradient
+/// that held it sideways left the block standing tilted at 1.6° where the equation
+/// overturns it).
 #[test]
-#[ignore = "the gradient step holds a lifted held point sideways (docs/shake.md); the fix makes this pass"]
 fn a_held_block_rocks_and_overturns_as_the_rocking_equation_says_by_the_gradient() {
     let gradient = NscdParams { dt_s: 5e-4, apgd_after_solves: 0.0, ..NscdParams::default() };
     held_block_against_the_rocking_equation(&gradient, Some(gradient.natural_tolerance));
