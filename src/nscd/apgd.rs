@@ -80,13 +80,6 @@ pub struct ApgdScratch {
     best: Vec<Vec3>,
 }
 
-/// Projection on Coulomb's cone of a point (a held point's too, at
-/// [`super::contacts::HELD_FRICTION`]).
-#[inline]
-fn project(r: &Vec3, mu: f64) -> Vec3 {
-    local::project(r, mu)
-}
-
 /// De Saxcé's shift `μ ‖u_t‖` of a point at relative velocity `u` (local frame, m/s).
 #[inline]
 pub(super) fn shift_of(u: &Vec3, mu: f64) -> f64 {
@@ -169,7 +162,7 @@ pub fn solve(
         st.wbar.push((row.w.trace() / 3.0).max(f64::MIN_POSITIVE));
     }
     st.last.clear();
-    st.last.extend(rows.iter().zip(impulse.iter()).map(|(row, r)| project(r, row.mu)));
+    st.last.extend(rows.iter().zip(impulse.iter()).map(|(row, r)| local::project(r, row.mu)));
     let last = std::mem::take(&mut st.last);
     st.velocities(rows, &last, b);
     st.last = last;
@@ -204,7 +197,7 @@ pub fn solve(
             candidate.clear();
             let (mut g_d, mut d_d) = (0.0, 0.0);
             for k in 0..m {
-                let c = project(&(y[k] - st.grad[k] / (lipschitz * st.wbar[k])), rows[k].mu);
+                let c = local::project(&(y[k] - st.grad[k] / (lipschitz * st.wbar[k])), rows[k].mu);
                 let d = c - y[k];
                 g_d += st.grad[k].dot(&d);
                 d_d += st.wbar[k] * d.norm_squared();
