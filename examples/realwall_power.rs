@@ -676,11 +676,15 @@ fn describe(way: Way, row: &Row, d: &Diag) -> String {
     }
     for c in &d.tie_checks {
         t += &format!(
-            "    tie check {}: reversal {:.2}, difference {:.2} ± {:.2} -> {}\n",
+            "    tie check {}: reversal {:.2}, difference {:.2} ± {:.2}{} -> {}\n",
             c.name,
             c.reversal_rate,
             c.difference,
             c.difference_se,
+            c.on_measures.as_ref().map_or(String::new(), |m| format!(
+                "; measures: reversal {:.2}, difference {:.2} ± {:.2}, readings {:.2} ± {:.2}",
+                m.reversal_rate, m.difference, m.difference_se, m.readings_difference, m.readings_difference_se
+            )),
             if c.tied { "tied" } else { "separated" }
         );
     }

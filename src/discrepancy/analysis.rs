@@ -32,7 +32,6 @@ use super::candidate::Candidate;
 use super::compare::{difference_se, per_specimen};
 use super::fit::{Data, Surface};
 use super::null::{draw_data, quantile, Margins, NullSource};
-use super::observations::Observation;
 use super::predictive::{Predictive, Simulated};
 pub use super::rank::{rank, score, sort, Models, Ranked};
 use crate::rng::{rng_for, Purpose};
@@ -82,6 +81,17 @@ pub const TIE_CHALLENGERS: usize = 4;
 ///   This needs no model to be right: when the data lie between two models, or off both,
 ///   the per-specimen differences scatter more than either model's own data would make
 ///   them.
+///
+/// With readings of the failure mechanism (failure height, kind, start) the same two tests
+/// are also made on the measures alone (collapse angles and displacements,
+/// [`Data::pins`]), and the challenger is out of the tie when they separate it there and
+/// the readings' own difference does not favour it beyond the data bound (it is at least
+/// −[`TieCheck::STANDARD_ERRORS`] of its standard errors): readings that cannot tell the
+/// two models apart add the scatter of a person's reading to every specimen's difference
+/// and would otherwise undo a separation the angles made. Readings that point to the
+/// challenger keep it in; readings that clear it where the angles cannot, clear it. So the
+/// tie with the readings is never larger than the tie without them unless the readings
+/// themselves favour a challenger.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TieCheck {
     /// The challenger's name.
@@ -93,8 +103,41 @@ pub struct TieCheck {
     pub difference: f64,
     /// Standard error of that difference.
     pub difference_se: f64,
+    /// With readings of the mechanism: the tests on the measures alone and the readings'
+    /// own difference (`None` on angles and displacements alone).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub on_measures: Option<MeasuresCheck>,
     /// In the tie.
     pub tied: bool,
+}
+
+/// The tie check of one challenger on the measures alone, beside the readings that were
+/// left out of it ([`TieCheck`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuresCheck {
+    /// Rate at which it beats the cause on the measures of data simulated from the cause,
+    /// in [0, 1].
+    pub reversal_rate: f64,
+    /// Its summed held-out score minus the cause's on the measures.
+    pub difference: f64,
+    /// Standard error of that difference.
+    pub difference_se: f64,
+    /// The same difference on the readings of the mechanism (< 0: they favour the
+    /// challenger).
+    pub readings_difference: f64,
+    /// Standard error of the readings' difference.
+    pub readings_difference_se: f64,
+}
+
+/// Reversal rates of a challenger against the cause ([`reversal_rates`]): on every
+/// observation, and on the measures alone ([`Data::pins`]; the same where every
+/// observation is a measure).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reversal {
+    /// On every observation.
+    pub all: f64,
+    /// On the measures alone.
+    pub measures: f64,
 }
 
 impl TieCheck {
@@ -104,21 +147,54 @@ impl TieCheck {
     pub const STANDARD_ERRORS: f64 = 2.0;
 
     /// The check of `challenger` against `cause` (held-out scores per observation of
-    /// `obs`, summed per specimen) at reversal rate `reversal_rate`.
+    /// `data`, summed per specimen) at reversal rates `reversal`.
     pub fn new(
         cause: &Ranked,
         challenger: &Ranked,
-        reversal_rate: f64,
-        obs: &[Observation],
+        reversal: Reversal,
+        data: Data<'_>,
         specimens: &[String],
     ) -> TieCheck {
+        let obs = data.obs;
+        let diffs = |keep: &dyn Fn(usize) -> bool| -> (f64, f64) {
+            let masked = |r: &Ranked| -> Vec<f64> {
+                r.scores.iter().enumerate().map(|(j, &x)| if keep(j) { x } else { 0.0 }).collect()
+            };
+            let a = per_specimen(&masked(challenger), obs, specimens);
+            let b = per_specimen(&masked(cause), obs, specimens);
+            let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
+            (d.iter().sum(), difference_se(&d))
+        };
         let a = per_specimen(&challenger.scores, obs, specimens);
         let b = per_specimen(&cause.scores, obs, specimens);
         let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
         let difference: f64 = d.iter().sum();
         let difference_se = difference_se(&d);
-        let tied = reversal_rate >= Self::REVERSAL_RATE || difference < Self::STANDARD_ERRORS * difference_se;
-        TieCheck { name: challenger.name.clone(), reversal_rate, difference, difference_se, tied }
+        let separated = reversal.all < Self::REVERSAL_RATE && difference >= Self::STANDARD_ERRORS * difference_se;
+        let on_measures = (0..obs.len()).any(|j| !data.pins(j)).then(|| {
+            let (difference, difference_se) = diffs(&|j| data.pins(j));
+            let (readings_difference, readings_difference_se) = diffs(&|j| !data.pins(j));
+            MeasuresCheck {
+                reversal_rate: reversal.measures,
+                difference,
+                difference_se,
+                readings_difference,
+                readings_difference_se,
+            }
+        });
+        let separated_on_measures = on_measures.as_ref().is_some_and(|m| {
+            m.reversal_rate < Self::REVERSAL_RATE
+                && m.difference >= Self::STANDARD_ERRORS * m.difference_se
+                && m.readings_difference >= -Self::STANDARD_ERRORS * m.readings_difference_se
+        });
+        TieCheck {
+            name: challenger.name.clone(),
+            reversal_rate: reversal.all,
+            difference,
+            difference_se,
+            on_measures,
+            tied: !(separated || separated_on_measures),
+        }
     }
 }
 
@@ -127,7 +203,8 @@ impl TieCheck {
 /// independent realizations) and read as the data are. A challenger that beats the true
 /// model on 5 % or more of its data cannot be told from it by this design: the two are a
 /// tie (a Monte Carlo version of the reversal probability of Vehtari, Gelman & Gabry 2017,
-/// §5, for the design at hand).
+/// §5, for the design at hand). The rate on the measures alone ([`Data::pins`]) compares
+/// the held-out scores of the collapse angles and displacements of the same data sets.
 pub fn reversal_rates(
     winner: &Candidate,
     challengers: &[&Candidate],
@@ -136,22 +213,35 @@ pub fn reversal_rates(
     source: NullSource<'_>,
     replicates: usize,
     seed: u64,
-) -> Vec<f64> {
+) -> Vec<Reversal> {
     if challengers.is_empty() || replicates == 0 {
-        return vec![0.0; challengers.len()];
+        return vec![Reversal { all: 0.0, measures: 0.0 }; challengers.len()];
     }
     let zero = vec![0.0; specimens.len()];
-    let wins: Vec<Vec<bool>> = (0..replicates)
+    let wins: Vec<Vec<(bool, bool)>> = (0..replicates)
         .into_par_iter()
         .map(|b| {
             let mut rng = rng_for(seed ^ 0x71e5_71e5_0000_0001, b as u64, Purpose::Discrepancy);
             let (y, o) = draw_data(data0, specimens, source, data0.reading, &mut rng);
             let data = Data { obs: &o, y: &y, ..data0 };
-            let w = score(winner, data, specimens, 0, &zero).heldout_error;
-            challengers.iter().map(|c| score(c, data, specimens, 0, &zero).heldout_error < w).collect()
+            let on_measures = |r: &Ranked| -> f64 {
+                r.scores.iter().enumerate().filter(|&(j, _)| data.pins(j)).map(|(_, s)| s).sum()
+            };
+            let w = score(winner, data, specimens, 0, &zero);
+            let wm = on_measures(&w);
+            challengers
+                .iter()
+                .map(|c| {
+                    let r = score(c, data, specimens, 0, &zero);
+                    (r.heldout_error < w.heldout_error, on_measures(&r) < wm)
+                })
+                .collect()
         })
         .collect();
-    (0..challengers.len()).map(|k| wins.iter().filter(|w| w[k]).count() as f64 / replicates as f64).collect()
+    let rate = |k: usize, pick: fn(&(bool, bool)) -> bool| {
+        wins.iter().filter(|w| pick(&w[k])).count() as f64 / replicates as f64
+    };
+    (0..challengers.len()).map(|k| Reversal { all: rate(k, |w| w.0), measures: rate(k, |w| w.1) }).collect()
 }
 
 /// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
@@ -296,7 +386,7 @@ pub struct Analysis {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::discrepancy::observations::Observable;
+    use crate::discrepancy::observations::{Observable, Observation};
 
     fn ranked(name: &str, scores: Vec<f64>) -> Ranked {
         Ranked {
@@ -313,37 +403,87 @@ mod tests {
         }
     }
 
+    fn observations(kinds: &[Observable]) -> Vec<Observation> {
+        (0..4 * kinds.len())
+            .map(|j| Observation {
+                specimen: format!("S{}", j / kinds.len()),
+                group: "G".into(),
+                observable: kinds[j % kinds.len()],
+                value: 0.0,
+                sigma: 1.0,
+            })
+            .collect()
+    }
+
+    fn data<'a>(obs: &'a [Observation], zeros: &'a [f64], keys: &'a [usize]) -> Data<'a> {
+        let reading = crate::discrepancy::predictive::Reading {
+            angle_deg: 0.5,
+            displacement_cm: 0.1,
+            misreading: 0.1,
+            neighbour_joint: 0.25,
+        };
+        Data { obs, y: zeros, key: keys, weight: zeros, reading, bracket_deg: 0.5 }
+    }
+
+    fn rate(all: f64) -> Reversal {
+        Reversal { all, measures: all }
+    }
+
     /// The tie check's data test is the summed difference against two of its standard
     /// errors, `sqrt(n · var(dᵢ))` over specimens (two observations per specimen here,
     /// summed first); its design test is the reversal rate against 5 %.
     #[test]
     fn a_challenger_is_tied_when_the_design_or_the_data_cannot_separate_it() {
-        let obs: Vec<Observation> = (0..8)
-            .map(|j| Observation {
-                specimen: format!("S{}", j / 2),
-                group: "G".into(),
-                observable: Observable::CollapseAngle,
-                value: 0.0,
-                sigma: 1.0,
-            })
-            .collect();
+        let obs = observations(&[Observable::CollapseAngle, Observable::CollapseAngle]);
+        let (zeros, keys) = (vec![0.0; 8], vec![0; 8]);
+        let data = data(&obs, &zeros, &keys);
         let specimens = crate::discrepancy::observations::specimens(&obs);
         assert_eq!(specimens.len(), 4);
         let cause = ranked("a", vec![0.0; 8]);
         // Per-specimen differences 1, 3, 1, 3: sum 8, sd 2/√3, se = √4 · sd = 2.309.
         let close = ranked("b", vec![0.5, 0.5, 1.0, 2.0, 0.0, 1.0, 3.0, 0.0]);
-        let t = TieCheck::new(&cause, &close, 0.0, &obs, &specimens);
+        let t = TieCheck::new(&cause, &close, rate(0.0), data, &specimens);
         let se = 2.0 * (4.0f64 / 3.0).sqrt();
         assert!((t.difference - 8.0).abs() < 1e-12 && (t.difference_se - se).abs() < 1e-12, "{t:?}");
-        assert!(!t.tied, "8 > 2 × {se}: separated by the data, and the design (rate 0)");
+        assert!(!t.tied && t.on_measures.is_none(), "8 > 2 × {se}: separated by the data, and the design (rate 0)");
         // The same mean difference with a wide spread: 8 < 2 se.
         let wide = ranked("c", vec![-2.0, 0.0, 5.0, 0.0, -3.0, 0.0, 8.0, 0.0]);
-        let t = TieCheck::new(&cause, &wide, 0.0, &obs, &specimens);
+        let t = TieCheck::new(&cause, &wide, rate(0.0), data, &specimens);
         assert!((t.difference - 8.0).abs() < 1e-12 && t.difference < 2.0 * t.difference_se && t.tied, "{t:?}");
         // Separated by the data, not by the design.
-        let t = TieCheck::new(&cause, &close, 0.05, &obs, &specimens);
+        let t = TieCheck::new(&cause, &close, rate(0.05), data, &specimens);
         assert!(t.tied);
-        let t = TieCheck::new(&cause, &close, 0.049, &obs, &specimens);
+        let t = TieCheck::new(&cause, &close, rate(0.049), data, &specimens);
         assert!(!t.tied);
+    }
+
+    /// With a reading of the mechanism per specimen: readings that scatter without favouring
+    /// either model do not undo the angles' separation, readings that favour the challenger
+    /// beyond two standard errors keep it in the tie, and the design test on the measures
+    /// still holds.
+    #[test]
+    fn readings_that_cannot_tell_two_models_apart_do_not_undo_the_angles_separation() {
+        let obs = observations(&[Observable::CollapseAngle, Observable::FailureHeight { width: 0.1 }]);
+        let (zeros, keys) = (vec![0.0; 8], vec![0; 8]);
+        let data = data(&obs, &zeros, &keys);
+        let specimens = crate::discrepancy::observations::specimens(&obs);
+        let cause = ranked("a", vec![0.0; 8]);
+        // Angles: 2, 3, 2, 3 (sum 10, se = 2 · sd = 2 · 0.577 = 1.155): separated.
+        // Readings: +4, −4, +4, −4 (sum 0, se = 2 · 4.619 = 9.24): no side taken.
+        // Together: 6, −1, 6, −1 (sum 10, se = 2 · 4.041 = 8.08): 10 < 16.2, tied.
+        let noisy = ranked("b", vec![2.0, 4.0, 3.0, -4.0, 2.0, 4.0, 3.0, -4.0]);
+        let t = TieCheck::new(&cause, &noisy, rate(0.0), data, &specimens);
+        assert!(t.difference < 2.0 * t.difference_se, "{t:?}");
+        let m = t.on_measures.clone().expect("readings present");
+        assert!((m.difference - 10.0).abs() < 1e-12 && (m.readings_difference).abs() < 1e-12, "{m:?}");
+        assert!(!t.tied, "{t:?}");
+        // The same angles, readings that favour the challenger by 3 on every specimen but
+        // one (−3, −3, −3, −2: sum −11, se = 2 · 0.5 = 1): in the tie.
+        let favoured = ranked("c", vec![2.0, -3.0, 3.0, -3.0, 2.0, -3.0, 3.0, -2.0]);
+        let t = TieCheck::new(&cause, &favoured, rate(0.0), data, &specimens);
+        assert!(t.tied, "{t:?}");
+        // The noisy readings again, the design unable to separate on the measures.
+        let t = TieCheck::new(&cause, &noisy, Reversal { all: 0.0, measures: 0.05 }, data, &specimens);
+        assert!(t.tied, "{t:?}");
     }
 }

@@ -331,6 +331,28 @@ impl Data<'_> {
         !matches!(self.obs[j].observable, Observable::MechanismKind { .. } | Observable::MechanismStart { .. })
     }
 
+    /// Whether observation `j` is a measure that pins a model's parameters: a collapse
+    /// angle or a top displacement, read by an instrument of stated σ. A model's parameters
+    /// are fitted to these alone ([`loso`], [`profile_intervals`]); the readings of the
+    /// failure mechanism (failure height, kind, start) are scored at that fit and so enter
+    /// the comparisons between models (the ranking, the margins, the tie checks, the
+    /// weights) without moving a parameter. A person reads a mechanism by a rule of their
+    /// own (where the moving part starts, what counts as toppling), and a rule that sits a
+    /// course higher than the product's, read alike on every specimen, would otherwise pull
+    /// a stiffness or a lean the angles pin off its value, and the model would then fail its
+    /// predictive check on the angles (the independent observer's readings in
+    /// `examples/realwall_power.rs` showed it: restraint stiffness pulled until the held
+    /// walls' α_max missed by 4 σ). On angles and displacements alone every observation
+    /// pins, and the fits are those of a fit to all.
+    pub fn pins(&self, j: usize) -> bool {
+        self.obs[j].observable.pins()
+    }
+
+    /// The observations that pin the parameters ([`Data::pins`]) among `which`.
+    pub fn pinning(&self, which: &[usize]) -> Vec<usize> {
+        which.iter().copied().filter(|&j| self.pins(j)).collect()
+    }
+
     /// Every observation's score `scores` with those the absolute checks do not read
     /// ([`Data::fit_checked`]) set to 0 (sums over it are those of the checked
     /// observations, in the same order).
@@ -495,19 +517,25 @@ pub fn profile_intervals(surface: &Surface, data: Data<'_>, which: &[usize], x: 
 }
 
 /// Leave-one-specimen-out cross-validation of a surface: for every specimen, fit on the
-/// others and score the specimen's observations. Returns the held-out score of every
-/// observation, the held-out predictive of every observation and the fit on every
-/// observation (`x` and its summed score), all from one scan ([`fit_folds`]).
+/// others' measures ([`Data::pins`]) and score the specimen's observations, readings of
+/// the mechanism included. Returns the held-out score of every observation, the held-out
+/// predictive of every observation and the fit on every specimen's measures (`x` and the
+/// summed score of every observation there), all from one scan ([`fit_folds`]).
 pub fn loso(surface: &Surface, data: Data<'_>, specimens: &[String]) -> (Vec<f64>, Vec<Predictive>, (Vec<f64>, f64)) {
     let n = data.obs.len();
     let mut score = vec![0.0; n];
     let mut pred = vec![Predictive { mean: f64::NAN, sd: f64::NAN, dof: f64::NAN }; n];
     let all: Vec<usize> = (0..n).collect();
+    let pinning = data.pinning(&all);
     let trains: Vec<Vec<usize>> =
-        specimens.iter().map(|s| (0..n).filter(|&j| &data.obs[j].specimen != s).collect()).collect();
-    let folds: Vec<&[usize]> = trains.iter().map(Vec::as_slice).chain([all.as_slice()]).collect();
+        specimens.iter().map(|s| pinning.iter().copied().filter(|&j| &data.obs[j].specimen != s).collect()).collect();
+    let folds: Vec<&[usize]> = trains.iter().map(Vec::as_slice).chain([pinning.as_slice()]).collect();
     let mut fits = fit_folds(surface, data, &folds);
-    let whole = fits.pop().expect("the full-data fit");
+    let mut whole = fits.pop().expect("the full-data fit");
+    if pinning.len() < n {
+        // Fitted on the measures, scored on every observation (the AICc's likelihood).
+        whole.1 = data.nlpd(&surface.at(&whole.0), &all);
+    }
     for (s, (x, _)) in specimens.iter().zip(fits) {
         let test: Vec<usize> = (0..n).filter(|&j| &data.obs[j].specimen == s).collect();
         let sims = surface.at(&x);

@@ -333,19 +333,40 @@ fn candidates_section(md: &mut String, run: &Run) {
     let _ = writeln!(md, "\nMargins from {} null data sets drawn from the baseline on independent layouts, read as the data are: a cause must beat the baseline by {:.3} (held-out error), on the surrogates as the null data sets were scored (here the best does by {:.3}) and again after the confirmation runs; the baseline's misfit is significant above {:.3} (the two margins set together, so that a new null data set raises either alarm with probability at most 5 %: (u + 2)/(n + 1) for u of the n null sets above either). False alarms of margins set on one half of the null data sets, counted on the other half, both ways, {} data sets: {} ({:.1} %, 95 % Clopper–Pearson interval [{:.1} %, {:.1} %]).\n", m.replicates, m.baseline, a.screen_gain, m.misfit, m.false_alarms.1, m.false_alarms.0, 100.0 * m.false_alarms.0 as f64 / m.false_alarms.1.max(1) as f64, 100.0 * m.false_alarm_interval.0, 100.0 * m.false_alarm_interval.1);
     if !a.tie_checks.is_empty() {
         let _ = writeln!(md, "Ties: a challenger is in the tie when it beats the cause on 5 % or more of {} data sets simulated from the cause's own independent layouts, read as the data are (the design cannot separate them), or when its held-out difference to the cause is under two standard errors (the data cannot).\n", a.check.as_ref().map_or(0, |c| c.replicates));
-        let _ = writeln!(
-            md,
-            "| challenger | beats the cause on its data | held-out difference (sum) | standard error | in the tie |"
-        );
-        let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
-        for t in &a.tie_checks {
+        let readings = a.tie_checks.iter().any(|t| t.on_measures.is_some());
+        if readings {
+            let _ = writeln!(md, "With the mechanism read, the same tests are made on the collapse angles and displacements alone: a challenger they separate is out of the tie unless the readings' own held-out difference favours it by more than two of its standard errors (readings that cannot tell two models apart do not undo the angles' separation).\n");
             let _ = writeln!(
                 md,
-                "| `{}` | {:.1} % | {:.2} | {:.2} | {} |",
+                "| challenger | beats the cause on its data | held-out difference (sum) | standard error | on the measures: beats the cause | difference | standard error | the readings' difference | standard error | in the tie |"
+            );
+            let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+        } else {
+            let _ = writeln!(
+                md,
+                "| challenger | beats the cause on its data | held-out difference (sum) | standard error | in the tie |"
+            );
+            let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+        }
+        for t in &a.tie_checks {
+            let measures = t.on_measures.as_ref().map_or(String::new(), |m| {
+                format!(
+                    " {:.1} % | {:.2} | {:.2} | {:.2} | {:.2} |",
+                    100.0 * m.reversal_rate,
+                    m.difference,
+                    m.difference_se,
+                    m.readings_difference,
+                    m.readings_difference_se
+                )
+            });
+            let _ = writeln!(
+                md,
+                "| `{}` | {:.1} % | {:.2} | {:.2} |{} {} |",
                 t.name,
                 100.0 * t.reversal_rate,
                 t.difference,
                 t.difference_se,
+                measures,
                 if t.tied { "yes" } else { "no" }
             );
         }

@@ -17,7 +17,7 @@
 //! weights and what separates the leading ones.
 
 use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Models, Ranked};
-use super::analysis::{PredictiveCheck, TieCheck, Verdict, TIE_CHALLENGERS};
+use super::analysis::{PredictiveCheck, Reversal, TieCheck, Verdict, TIE_CHALLENGERS};
 use super::candidate::Candidate;
 use super::compare::{self, specimen_weights};
 use super::effects::Effect;
@@ -487,10 +487,10 @@ struct Tie {
 }
 
 /// The tie of `cause` with `challengers` at their reversal rates ([`TieCheck::new`]).
-fn tie_of(cause: &Ranked, challengers: &[&Ranked], rates: &[f64], obs: &[Observation], specimens: &[String]) -> Tie {
+fn tie_of(cause: &Ranked, challengers: &[&Ranked], rates: &[Reversal], data: Data<'_>, specimens: &[String]) -> Tie {
     let mut tie = Tie { members: vec![cause.name.clone()], checks: vec![] };
     for (r, &rate) in challengers.iter().zip(rates) {
-        let t = TieCheck::new(cause, r, rate, obs, specimens);
+        let t = TieCheck::new(cause, r, rate, data, specimens);
         if t.tied {
             tie.members.push(r.name.clone());
         }
@@ -514,7 +514,8 @@ fn tie_checks(
     replicates: usize,
     seed: u64,
 ) -> Tie {
-    let within = |r: &Ranked| TieCheck::new(cause, r, 0.0, ctx.data.obs, ctx.specimens).tied;
+    let none = Reversal { all: 0.0, measures: 0.0 };
+    let within = |r: &Ranked| TieCheck::new(cause, r, none, ctx.data, ctx.specimens).tied;
     let challengers: Vec<&Ranked> = candidates
         .iter()
         .filter(|r| r.index != cause.index)
@@ -531,7 +532,7 @@ fn tie_checks(
         replicates,
         seed,
     );
-    tie_of(cause, &challengers, &rates, ctx.data.obs, ctx.specimens)
+    tie_of(cause, &challengers, &rates, ctx.data, ctx.specimens)
 }
 
 /// Stage 9, the verdict: a named cause whose extended model passes its predictive check
@@ -615,11 +616,11 @@ fn weigh(
     (w, id)
 }
 
-/// The cause's parameters with their 95 % profile intervals on all the data, in the
-/// parameters' units.
+/// The cause's parameters with their 95 % profile intervals on the measures that pin them
+/// ([`Data::pins`]), in the parameters' units.
 fn fitted_parameters(cause: &Ranked, c: &Candidate, data: Data<'_>) -> Vec<FittedParameter> {
     let all: Vec<usize> = (0..data.obs.len()).collect();
-    let iv = fit::profile_intervals(&c.surface, data, &all, &cause.x);
+    let iv = fit::profile_intervals(&c.surface, data, &data.pinning(&all), &cause.x);
     cause
         .parameters
         .iter()

@@ -127,17 +127,23 @@ pub fn contenders(run: &Run) -> Vec<Contender> {
     }
     names.sort_by(|x, y| a.weights.of(y).total_cmp(&a.weights.of(x)));
     names.truncate(MAX_CONTENDERS);
-    let elpd_of = |name: &str| -> Option<Vec<f64>> {
+    let elpd_of = |name: &str| -> Option<(Vec<f64>, Vec<f64>)> {
         let scores = if name == "baseline" {
             a.baseline_scores.clone()
         } else {
             a.candidates.iter().find(|c| c.name == name)?.scores.clone()
         };
-        Some(per_specimen(&scores, &run.obs, &run.specimens).iter().map(|s| -s).collect())
+        let measures: Vec<f64> =
+            scores.iter().enumerate().map(|(j, &s)| if run.obs[j].observable.pins() { s } else { 0.0 }).collect();
+        let elpd = |s: &[f64]| per_specimen(s, &run.obs, &run.specimens).iter().map(|s| -s).collect();
+        Some((elpd(&scores), elpd(&measures)))
     };
     let mut out: Vec<Contender> = names
         .iter()
-        .filter_map(|n| Some(Contender { name: n.clone(), prior: a.weights.of(n), elpd: elpd_of(n)? }))
+        .filter_map(|n| {
+            let (elpd, elpd_measures) = elpd_of(n)?;
+            Some(Contender { name: n.clone(), prior: a.weights.of(n), elpd, elpd_measures })
+        })
         .collect();
     let total: f64 = out.iter().map(|c| c.prior).sum();
     for c in &mut out {
@@ -428,8 +434,9 @@ impl Problem<'_> {
     }
 
     /// The log predictive score of each of `specimens` (each its observations) under
-    /// every contender: `[contender][specimen]`, nats.
-    fn elpd(&self, specimens: &[Vec<(usize, f64)>]) -> Vec<Vec<f64>> {
+    /// every contender, on every observation and on the measures alone
+    /// ([`Observable::pins`]): two `[contender][specimen]`, nats.
+    fn elpd(&self, specimens: &[Vec<(usize, f64)>]) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
         let mut obs = Vec::new();
         let mut key = Vec::new();
         let mut y = Vec::new();
@@ -444,13 +451,16 @@ impl Problem<'_> {
         let weight = specimen_weights(&obs);
         let data =
             Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: self.reading, bracket_deg: self.bracket_deg };
+        let elpd = |scores: &[f64]| per_specimen(scores, &obs, &names).iter().map(|s| -s).collect();
         self.sims
             .iter()
             .map(|sims| {
                 let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(sims, j)).collect();
-                per_specimen(&scores, &obs, &names).iter().map(|s| -s).collect()
+                let measures: Vec<f64> =
+                    scores.iter().enumerate().map(|(j, &s)| if data.pins(j) { s } else { 0.0 }).collect();
+                (elpd(&scores), elpd(&measures))
             })
-            .collect()
+            .unzip()
     }
 
     /// The probabilities at every specimen count of `ladder`, from `replicates` simulated
@@ -458,49 +468,69 @@ impl Problem<'_> {
     /// counts its first specimens), weights from `draws` Bayesian-bootstrap draws.
     ///
     /// A simulated follow-up names the truth alone when the truth alone holds
-    /// [`super::SHARED`] of the weight **and** both tests of the analysis's tie check
-    /// ([`super::TieCheck`]) clear every other contender on both campaigns: the
+    /// [`super::SHARED`] of the weight **and** the analysis's tie check
+    /// ([`super::TieCheck`]) clears every other contender on both campaigns: the
     /// held-out difference per specimen at least [`TieCheck::STANDARD_ERRORS`] standard
     /// errors, and the reversal rate (the share of the truth's simulated follow-ups in
     /// which the other contender's total score is at least the truth's) under
-    /// [`TieCheck::REVERSAL_RATE`]. The weights' criterion alone is kept beside it
-    /// ([`Chance::weights_alone`]).
+    /// [`TieCheck::REVERSAL_RATE`]; with readings of the mechanism, either on every
+    /// observation or on the measures alone with the readings not favouring the other
+    /// beyond the data bound, as the analysis clears a challenger. The weights' criterion
+    /// alone is kept beside it ([`Chance::weights_alone`]).
     ///
     /// [`TieCheck::STANDARD_ERRORS`]: super::TieCheck::STANDARD_ERRORS
     /// [`TieCheck::REVERSAL_RATE`]: super::TieCheck::REVERSAL_RATE
     pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
         use super::TieCheck;
+        let bound = TieCheck::STANDARD_ERRORS;
         let k = self.contenders.len();
         let nmax = ladder.iter().copied().max().unwrap_or(0);
-        let mut alone = vec![vec![0usize; k]; ladder.len()];
         let mut by_weights = vec![vec![0usize; k]; ladder.len()];
         let mut right = vec![vec![0usize; k]; ladder.len()];
-        // [ladder][truth][other]: replicates in which `other` scores at least the truth.
-        let mut reversed = vec![vec![vec![0usize; k]; k]; ladder.len()];
+        // [ladder][truth][other]: replicates in which `other` scores at least the truth, on
+        // every observation and on the measures.
+        let mut reversed = vec![vec![vec![(0usize, 0usize); k]; k]; ladder.len()];
+        // [ladder][truth]: per replicate named alone by the weights, and per other whether
+        // the data test separates it on every observation and on the measures.
+        let mut seps: Vec<Vec<Vec<(bool, Vec<(bool, bool)>)>>> = vec![vec![Vec::new(); k]; ladder.len()];
+        let both =
+            |first: &[f64], new: &[f64], n: usize| -> Vec<f64> { first.iter().chain(&new[..n]).copied().collect() };
         for t in 0..k {
             let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
             for _ in 0..replicates {
                 let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &mut rng)).collect();
-                let new = self.elpd(&specimens);
+                let (new, new_measures) = self.elpd(&specimens);
                 for (li, &n) in ladder.iter().enumerate() {
-                    let elpd: Vec<Vec<f64>> = self
-                        .contenders
-                        .iter()
-                        .zip(&new)
-                        .map(|(c, e)| c.elpd.iter().chain(&e[..n]).copied().collect())
-                        .collect();
+                    let elpd: Vec<Vec<f64>> =
+                        self.contenders.iter().zip(&new).map(|(c, e)| both(&c.elpd, e, n)).collect();
+                    let measures: Vec<Vec<f64>> =
+                        self.contenders.iter().zip(&new_measures).map(|(c, e)| both(&c.elpd_measures, e, n)).collect();
                     let w = pseudo_bma(&elpd, draws, &mut rng);
                     let (a, r) = named(&w, t);
-                    let mut separated = true;
-                    for c in (0..k).filter(|&c| c != t) {
-                        let d: Vec<f64> = elpd[t].iter().zip(&elpd[c]).map(|(x, y)| x - y).collect();
-                        let difference: f64 = d.iter().sum();
-                        reversed[li][t][c] += usize::from(difference <= 0.0);
-                        separated &= difference >= TieCheck::STANDARD_ERRORS * super::compare::difference_se(&d);
+                    let mut sep = Vec::with_capacity(k);
+                    for c in 0..k {
+                        if c == t {
+                            sep.push((true, true));
+                            continue;
+                        }
+                        let diff =
+                            |e: &[Vec<f64>]| -> Vec<f64> { e[t].iter().zip(&e[c]).map(|(x, y)| x - y).collect() };
+                        let (d, dm) = (diff(&elpd), diff(&measures));
+                        let dr: Vec<f64> = d.iter().zip(&dm).map(|(x, y)| x - y).collect();
+                        let (sum, sum_m, sum_r) =
+                            (d.iter().sum::<f64>(), dm.iter().sum::<f64>(), dr.iter().sum::<f64>());
+                        let se = super::compare::difference_se;
+                        reversed[li][t][c].0 += usize::from(sum <= 0.0);
+                        reversed[li][t][c].1 += usize::from(sum_m <= 0.0);
+                        let readings = dr.iter().any(|&x| x != 0.0);
+                        sep.push((
+                            sum >= bound * se(&d),
+                            readings && sum_m >= bound * se(&dm) && sum_r >= -bound * se(&dr),
+                        ));
                     }
                     by_weights[li][t] += usize::from(a);
-                    alone[li][t] += usize::from(a && separated);
                     right[li][t] += usize::from(r);
+                    seps[li][t].push((a, sep));
                 }
             }
         }
@@ -512,14 +542,23 @@ impl Problem<'_> {
             .map(|(li, &n)| {
                 let by: Vec<f64> = (0..k)
                     .map(|t| {
-                        let reversible = (0..k)
-                            .filter(|&c| c != t)
-                            .any(|c| reversed[li][t][c] as f64 / reps >= TieCheck::REVERSAL_RATE);
-                        if reversible {
-                            0.0
-                        } else {
-                            alone[li][t] as f64 / reps
-                        }
+                        let clear = |c: usize| {
+                            let (all, measures) = reversed[li][t][c];
+                            (
+                                (all as f64 / reps) < TieCheck::REVERSAL_RATE,
+                                (measures as f64 / reps) < TieCheck::REVERSAL_RATE,
+                            )
+                        };
+                        let clear: Vec<(bool, bool)> = (0..k).map(clear).collect();
+                        let alone = seps[li][t]
+                            .iter()
+                            .filter(|(a, sep)| {
+                                *a && (0..k)
+                                    .filter(|&c| c != t)
+                                    .all(|c| (sep[c].0 && clear[c].0) || (sep[c].1 && clear[c].1))
+                            })
+                            .count();
+                        alone as f64 / reps
                     })
                     .collect();
                 Chance {

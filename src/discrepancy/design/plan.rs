@@ -90,6 +90,10 @@ pub struct Contender {
     /// Held-out log predictive density per specimen of the first campaign.
     #[serde(skip)]
     pub elpd: Vec<f64>,
+    /// The same on the measures alone (collapse angles and displacements,
+    /// [`crate::discrepancy::Data::pins`]; `elpd` where nothing else is read).
+    #[serde(skip)]
+    pub elpd_measures: Vec<f64>,
 }
 
 /// The probability of the answer after a follow-up of `specimens` specimens.

@@ -6,7 +6,10 @@ fn sim(mean: f64, sd: f64) -> Simulated {
 }
 
 fn tied(n: usize) -> Vec<Contender> {
-    ["a", "b"].iter().map(|&name| Contender { name: name.into(), prior: 0.5, elpd: vec![-1.0; n] }).collect()
+    ["a", "b"]
+        .iter()
+        .map(|&name| Contender { name: name.into(), prior: 0.5, elpd: vec![-1.0; n], elpd_measures: vec![-1.0; n] })
+        .collect()
 }
 
 fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: u64) -> Vec<Chance> {

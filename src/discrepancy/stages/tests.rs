@@ -147,7 +147,10 @@ fn the_tie_holds_the_challengers_the_design_or_the_data_cannot_separate() {
     b.scores = vec![0.5, 0.5, 1.0, 2.0, 0.0, 1.0, 3.0, 0.0];
     let mut c = ranked("c", 2, 0.0, 0.0);
     c.scores = vec![-2.0, 0.0, 5.0, 0.0, -3.0, 0.0, 8.0, 0.0];
-    let tie = tie_of(&cause, &[&b, &c], &[0.0, 0.0], &obs, &specimens);
+    let (zeros, keys) = (vec![0.0; 8], vec![0; 8]);
+    let data = Data { obs: &obs, y: &zeros, key: &keys, weight: &zeros, reading: EXACT, bracket_deg: 0.5 };
+    let rates = |b: f64| [Reversal { all: b, measures: b }, Reversal { all: 0.0, measures: 0.0 }];
+    let tie = tie_of(&cause, &[&b, &c], &rates(0.0), data, &specimens);
     assert_eq!(tie.members, ["a", "c"]);
     assert_eq!(tie.checks.len(), 2);
     assert!((tie.checks[0].difference_se - 4.0 / 3.0f64.sqrt()).abs() < 1e-12, "{:?}", tie.checks[0]);
@@ -157,7 +160,7 @@ fn the_tie_holds_the_challengers_the_design_or_the_data_cannot_separate() {
         (d.iter().map(|x| (x - m).powi(2)).sum::<f64>() / 3.0).sqrt()
     };
     assert!((tie.checks[1].difference_se - 2.0 * sd_c).abs() < 1e-12, "{:?}", tie.checks[1]);
-    let tie = tie_of(&cause, &[&b, &c], &[0.05, 0.0], &obs, &specimens);
+    let tie = tie_of(&cause, &[&b, &c], &rates(0.05), data, &specimens);
     assert_eq!(tie.members, ["a", "b", "c"]);
 }
 
