@@ -149,6 +149,16 @@ pub fn draw_data(
         }
     }
     let scale = spread_scale(data0, source, reading, rng);
+    // The readings of the mechanism draw from a stream of their own (the same position,
+    // another ChaCha stream; the measures' stream is not advanced by it), so that the
+    // collapse angles and displacements of a replicate are the same with and without
+    // readings (common random numbers: the tie check's test on the measures alone,
+    // `TieCheck::on_measures`, then sees the replicates the analysis without readings saw).
+    let mut readings_rng = {
+        let mut r = rng.clone();
+        r.set_stream(rng.get_stream() ^ 0x6d65_6368_616e_6973);
+        r
+    };
     let mut y: Vec<f64> = vec![0.0; obs.len()];
     for s in specimens {
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| &obs[j].specimen == s).collect();
@@ -157,6 +167,7 @@ pub fn draw_data(
         let pick = (source.pool[g].len() >= 3).then(|| rng.random_range(0..source.pool[g].len()));
         let shared: f64 = StandardNormal.sample(rng);
         for j in idx {
+            let rng: &mut ChaCha8Rng = if obs[j].observable.pins() { &mut *rng } else { &mut readings_rng };
             let z: f64 = StandardNormal.sample(rng);
             let k = data0.key[j];
             if let Some(category) = obs[j].observable.category() {
