@@ -89,9 +89,10 @@ pub const TIE_CHALLENGERS: usize = 4;
 /// −[`TieCheck::STANDARD_ERRORS`] of its standard errors): readings that cannot tell the
 /// two models apart add the scatter of a person's reading to every specimen's difference
 /// and would otherwise undo a separation the angles made. Readings that point to the
-/// challenger keep it in; readings that clear it where the angles cannot, clear it. So the
-/// tie with the readings is never larger than the tie without them unless the readings
-/// themselves favour a challenger.
+/// challenger keep it in; readings that clear it where the angles cannot, clear it. With
+/// the same cause, a model the measures separate from it is in the tie with the readings
+/// only when the readings favour it (the synthetic data's measures are those drawn without
+/// readings, [`super::null::draw_data`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TieCheck {
     /// The challenger's name.
