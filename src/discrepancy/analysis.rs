@@ -84,7 +84,7 @@ pub const TIE_CHALLENGERS: usize = 4;
 ///
 /// With readings of the failure mechanism (failure height, kind, start) the same two tests
 /// are also made on the measures alone (collapse angles and displacements,
-/// [`Data::pins`]), and the challenger is out of the tie when they separate it there and
+/// [`super::Observable::pins`]), and the challenger is out of the tie when they separate it there and
 /// the readings' own difference does not favour it beyond the data bound (it is at least
 /// −[`TieCheck::STANDARD_ERRORS`] of its standard errors): readings that cannot tell the
 /// two models apart add the scatter of a person's reading to every specimen's difference
@@ -92,7 +92,7 @@ pub const TIE_CHALLENGERS: usize = 4;
 /// challenger keep it in; readings that clear it where the angles cannot, clear it. With
 /// the same cause, a model the measures separate from it is in the tie with the readings
 /// only when the readings favour it (the synthetic data's measures are those drawn without
-/// readings, [`super::null::draw_data`]).
+/// readings: the readings of a synthetic data set draw from a random stream of their own).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TieCheck {
     /// The challenger's name.
@@ -131,7 +131,7 @@ pub struct MeasuresCheck {
 }
 
 /// Reversal rates of a challenger against the cause ([`reversal_rates`]): on every
-/// observation, and on the measures alone ([`Data::pins`]; the same where every
+/// observation, and on the measures alone ([`super::Observable::pins`]; the same where every
 /// observation is a measure).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reversal {
@@ -204,7 +204,7 @@ impl TieCheck {
 /// independent realizations) and read as the data are. A challenger that beats the true
 /// model on 5 % or more of its data cannot be told from it by this design: the two are a
 /// tie (a Monte Carlo version of the reversal probability of Vehtari, Gelman & Gabry 2017,
-/// §5, for the design at hand). The rate on the measures alone ([`Data::pins`]) compares
+/// §5, for the design at hand). The rate on the measures alone ([`super::Observable::pins`]) compares
 /// the held-out scores of the collapse angles and displacements of the same data sets.
 pub fn reversal_rates(
     winner: &Candidate,

@@ -52,7 +52,9 @@ mod weights;
 /// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
 pub use crate::effects;
 
-pub use analysis::{Analysis, Models, PredictiveCheck, Ranked, TieCheck, Verdict, TIE_CHALLENGERS};
+pub use analysis::{
+    Analysis, MeasuresCheck, Models, PredictiveCheck, Ranked, Reversal, TieCheck, Verdict, TIE_CHALLENGERS,
+};
 pub use candidate::Candidate;
 pub use compare::{difference_se, per_specimen};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};

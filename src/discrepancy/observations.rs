@@ -55,7 +55,7 @@ pub enum Observable {
 impl Observable {
     /// Whether it is a measure that pins a model's parameters (a collapse angle or a top
     /// displacement, read by an instrument of stated σ), not a reading of the failure
-    /// mechanism (height, kind, start; see [`super::fit::Data::pins`]).
+    /// mechanism (height, kind, start; see `fit::Data::pins`).
     pub fn pins(&self) -> bool {
         matches!(self, Observable::CollapseAngle | Observable::Displacement { .. })
     }

@@ -91,7 +91,7 @@ pub struct Contender {
     #[serde(skip)]
     pub elpd: Vec<f64>,
     /// The same on the measures alone (collapse angles and displacements,
-    /// [`crate::discrepancy::Data::pins`]; `elpd` where nothing else is read).
+    /// [`crate::discrepancy::Observable::pins`]; `elpd` where nothing else is read).
     #[serde(skip)]
     pub elpd_measures: Vec<f64>,
 }
