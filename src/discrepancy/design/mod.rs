@@ -35,7 +35,9 @@
 //!    the two tests of the analysis's tie check clear every other contender on both
 //!    campaigns (the held-out difference per specimen at least two standard errors; a
 //!    reversal rate, the share of the truth's simulated follow-ups in which the other
-//!    scores at least as well, under 5 %). The probability that the cause is then named
+//!    scores at least as well, under 5 %), on every observation or, with mechanism
+//!    readings, on the angles and displacements alone with the readings not favouring the
+//!    other (as [`super::TieCheck`] clears a challenger). The probability that the cause is then named
 //!    alone is the average over the contenders as truth, weighted by their prior weights;
 //!    the weights' criterion alone is reported beside it; "right" is the truth among the
 //!    models that share the weight.
