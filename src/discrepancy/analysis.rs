@@ -156,25 +156,20 @@ impl TieCheck {
         data: Data<'_>,
         specimens: &[String],
     ) -> TieCheck {
-        let obs = data.obs;
-        let diffs = |keep: &dyn Fn(usize) -> bool| -> (f64, f64) {
-            let masked = |r: &Ranked| -> Vec<f64> {
-                r.scores.iter().enumerate().map(|(j, &x)| if keep(j) { x } else { 0.0 }).collect()
-            };
-            let a = per_specimen(&masked(challenger), obs, specimens);
-            let b = per_specimen(&masked(cause), obs, specimens);
+        // The summed per-specimen difference of two score vectors and its standard error.
+        let compare = |ours: &[f64], theirs: &[f64]| -> (f64, f64) {
+            let a = per_specimen(ours, data.obs, specimens);
+            let b = per_specimen(theirs, data.obs, specimens);
             let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
             (d.iter().sum(), difference_se(&d))
         };
-        let a = per_specimen(&challenger.scores, obs, specimens);
-        let b = per_specimen(&cause.scores, obs, specimens);
-        let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
-        let difference: f64 = d.iter().sum();
-        let difference_se = difference_se(&d);
+        let (difference, difference_se) = compare(&challenger.scores, &cause.scores);
         let separated = reversal.all < Self::REVERSAL_RATE && difference >= Self::STANDARD_ERRORS * difference_se;
-        let on_measures = (0..obs.len()).any(|j| !data.pins(j)).then(|| {
-            let (difference, difference_se) = diffs(&|j| data.pins(j));
-            let (readings_difference, readings_difference_se) = diffs(&|j| !data.pins(j));
+        let on_measures = (0..data.obs.len()).any(|j| !data.pins(j)).then(|| {
+            let (ours_m, ours_r) = data.split_scores(&challenger.scores);
+            let (theirs_m, theirs_r) = data.split_scores(&cause.scores);
+            let (difference, difference_se) = compare(&ours_m, &theirs_m);
+            let (readings_difference, readings_difference_se) = compare(&ours_r, &theirs_r);
             MeasuresCheck {
                 reversal_rate: reversal.measures,
                 difference,
@@ -225,9 +220,7 @@ pub fn reversal_rates(
             let mut rng = rng_for(seed ^ 0x71e5_71e5_0000_0001, b as u64, Purpose::Discrepancy);
             let (y, o) = draw_data(data0, specimens, source, data0.reading, &mut rng);
             let data = Data { obs: &o, y: &y, ..data0 };
-            let on_measures = |r: &Ranked| -> f64 {
-                r.scores.iter().enumerate().filter(|&(j, _)| data.pins(j)).map(|(_, s)| s).sum()
-            };
+            let on_measures = |r: &Ranked| -> f64 { data.split_scores(&r.scores).0.iter().sum() };
             let w = score(winner, data, specimens, 0, &zero);
             let wm = on_measures(&w);
             challengers

@@ -357,7 +357,14 @@ impl Data<'_> {
     /// ([`Data::fit_checked`]) set to 0 (sums over it are those of the checked
     /// observations, in the same order).
     pub fn checked_scores(&self, scores: &[f64]) -> Vec<f64> {
-        scores.iter().enumerate().map(|(j, &s)| if self.fit_checked(j) { s } else { 0.0 }).collect()
+        masked(scores, |j| self.fit_checked(j))
+    }
+
+    /// Every observation's score `scores` split into the measures' ([`Data::pins`]) and
+    /// the readings', each with the other's set to 0 (sums over either are those of its
+    /// observations, in the same order).
+    pub fn split_scores(&self, scores: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        (masked(scores, |j| self.pins(j)), masked(scores, |j| !self.pins(j)))
     }
 
     /// The predictive distribution of observation `j` (of a category's indicator:
@@ -368,6 +375,11 @@ impl Data<'_> {
             None => Predictive::new(&sims[self.key[j]], &self.obs[j], self.bracket_deg),
         }
     }
+}
+
+/// `scores` with every entry `keep` refuses set to 0.
+fn masked(scores: &[f64], keep: impl Fn(usize) -> bool) -> Vec<f64> {
+    scores.iter().enumerate().map(|(j, &s)| if keep(j) { s } else { 0.0 }).collect()
 }
 
 struct Along<'a> {

@@ -458,9 +458,7 @@ impl Problem<'_> {
             .iter()
             .map(|sims| {
                 let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(sims, j)).collect();
-                let measures: Vec<f64> =
-                    scores.iter().enumerate().map(|(j, &s)| if data.pins(j) { s } else { 0.0 }).collect();
-                (elpd(&scores), elpd(&measures))
+                (elpd(&scores), elpd(&data.split_scores(&scores).0))
             })
             .unzip()
     }
