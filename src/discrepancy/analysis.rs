@@ -377,6 +377,17 @@ pub struct Analysis {
     pub pool: Vec<Candidate>,
 }
 
+impl Analysis {
+    /// The cause named alone, the one meaning of "named alone" across the product (the
+    /// report, `drystone design`'s probabilities and its follow-up's promise): a cause is
+    /// named and the tie check clears every challenger ([`Analysis::tie`] holds the cause
+    /// only). The pseudo-BMA+ weights are reported beside it; a model holding
+    /// [`super::SHARED`] of the weight is not by itself named alone.
+    pub fn named_alone(&self) -> Option<&str> {
+        self.cause.as_ref().filter(|_| self.tie.len() <= 1).map(|c| c.name.as_str())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

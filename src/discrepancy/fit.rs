@@ -450,7 +450,7 @@ pub fn fit_folds(surface: &Surface, data: Data<'_>, folds: &[&[usize]]) -> Vec<(
 }
 
 /// The points a fit scans: 101 on the axis of a one-parameter surface, 21 × 21 on a grid.
-fn scan_points(surface: &Surface) -> Vec<Vec<f64>> {
+pub(super) fn scan_points(surface: &Surface) -> Vec<Vec<f64>> {
     let n = scan_size(surface);
     if surface.dims() == 1 {
         (0..n).map(|i| vec![i as f64 / (n - 1) as f64]).collect()

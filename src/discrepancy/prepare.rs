@@ -52,10 +52,12 @@ impl Keys {
 /// The grid of one effect: node coordinates and their effects (`None` marks the node
 /// taken from the baseline).
 #[derive(Debug, Clone)]
-struct Plan {
-    def: Arc<EffectDef>,
-    params: Vec<effects::ParamDef>,
-    nodes: Vec<(Vec<f64>, Option<Effect>)>,
+pub(super) struct Plan {
+    pub(super) def: Arc<EffectDef>,
+    pub(super) params: Vec<effects::ParamDef>,
+    /// The grid's nodes: search coordinates, and the effect there (`None`: the node of
+    /// the neutral value, the baseline's run).
+    pub(super) nodes: Vec<(Vec<f64>, Option<Effect>)>,
 }
 
 /// The effect at search coordinates `x` (its values in the broad ranges; a wall of a
@@ -64,7 +66,10 @@ fn effect_at(def: &Arc<EffectDef>, x: &[f64], course_m: f64) -> Result<Effect, D
     Ok(Effect::at_search(def.clone(), x, course_m)?)
 }
 
-fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, DiscrepancyError> {
+/// The surrogate grid of one effect: its nodes ([`Settings::grid_points`] intervals on one
+/// axis, the node nearest the neutral value the baseline's; [`Settings::grid_points_2d`]
+/// nodes per axis on two).
+pub(super) fn plan(def: Arc<EffectDef>, s: &Settings, course_m: f64) -> Result<Plan, DiscrepancyError> {
     let params = def.params_for(course_m);
     let mut nodes = Vec::new();
     if params.len() == 1 {
@@ -134,6 +139,29 @@ pub fn course_height(setup: &Setup) -> f64 {
     }
 }
 
+impl Plan {
+    /// The surrogate on the node values `sims` (`(coordinates, values per key)` in the
+    /// nodes' order): an axis on one parameter, a tensor grid on two.
+    pub(super) fn surface(&self, sims: Vec<(Vec<f64>, Vec<Simulated>)>) -> Surface {
+        if self.params.len() == 1 {
+            Surface::axis(sims.iter().map(|(x, _)| x[0]).collect(), sims.into_iter().map(|(_, s)| s).collect())
+        } else {
+            let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
+            x1.dedup();
+            let mut x2: Vec<f64> = sims.iter().map(|(x, _)| x[1]).collect();
+            x2.sort_by(f64::total_cmp);
+            x2.dedup();
+            Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
+        }
+    }
+
+    /// The search coordinates of the effect's neutral values (where its grid is re-centred
+    /// on the baseline's full run).
+    pub(super) fn neutral(&self) -> Vec<f64> {
+        self.params.iter().map(|q| to_x(q, q.neutral).clamp(0.0, 1.0)).collect()
+    }
+}
+
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
 /// numbers) re-centred on the full baseline at the effect's neutral point
@@ -174,18 +202,8 @@ pub fn build_library(
                 (x.clone(), sims)
             })
             .collect();
-        let surface = if p.params.len() == 1 {
-            Surface::axis(sims.iter().map(|(x, _)| x[0]).collect(), sims.into_iter().map(|(_, s)| s).collect())
-        } else {
-            let mut x1: Vec<f64> = sims.iter().map(|(x, _)| x[0]).collect();
-            x1.dedup();
-            let mut x2: Vec<f64> = sims.iter().map(|(x, _)| x[1]).collect();
-            x2.sort_by(f64::total_cmp);
-            x2.dedup();
-            Surface::Grid { x1, x2, sims: sims.into_iter().map(|(_, s)| s).collect() }
-        };
-        let x0: Vec<f64> = p.params.iter().map(|q| to_x(q, q.neutral).clamp(0.0, 1.0)).collect();
-        let surface = Surface::Corrected { inner: Box::new(surface), x0, full: full_sims.clone() };
+        let surface = p.surface(sims);
+        let surface = Surface::Corrected { inner: Box::new(surface), x0: p.neutral(), full: full_sims.clone() };
         candidates.push(Candidate {
             effects: vec![p.def.clone()],
             params: p.params.clone(),

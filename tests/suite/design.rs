@@ -52,14 +52,15 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     let ds = DesignSettings { specimens: 3, replicates: 20, draws: 50, target: 0.8 };
     let plan = design(&run, &setup, picked, &ds, 300, &quiet).unwrap();
     assert_eq!(plan.ranked.len(), 3);
-    assert!(plan.contenders.len() >= 2 && (plan.contenders.iter().map(|c| c.prior).sum::<f64>() - 1.0).abs() < 1e-9);
+    assert!(plan.truths >= 2 && plan.truths <= plan.contenders.len());
+    let truths = &plan.contenders[..plan.truths];
+    assert!((truths.iter().map(|c| c.prior).sum::<f64>() - 1.0).abs() < 1e-9);
     for w in plan.ranked.windows(2) {
         assert!(w[0].at_budget.alone >= w[1].at_budget.alone, "ranked best first");
     }
     for r in &plan.ranked {
-        assert!((0.0..=1.0).contains(&r.at_budget.alone) && r.at_budget.alone <= r.at_budget.right + 1e-12);
-        // Naming alone asks the weights' criterion and the tie check's two tests.
-        assert!(r.at_budget.alone <= r.at_budget.weights_alone + 1e-12);
+        assert!((0.0..=1.0).contains(&r.at_budget.alone) && (0.0..=1.0).contains(&r.at_budget.right));
+        assert_eq!(r.at_budget.alone_by_truth.len(), plan.truths);
         // The surrogates answer for more specimens of a group; the others need runs.
         assert_eq!(r.followup.kind == FollowUpKind::MoreSpecimens, r.runs == 0 && r.followup.new_group.is_none());
     }
@@ -121,6 +122,7 @@ fn more_free_walls() -> Plan {
     };
     Plan {
         contenders: vec![],
+        truths: 0,
         alone_now: false,
         ranked: vec![RankedFollowUp {
             followup,

@@ -101,15 +101,17 @@ pub struct Contender {
 pub struct Chance {
     /// Specimens of the follow-up.
     pub specimens: usize,
-    /// Probability that the true cause is named alone: it alone holds 90 % of the weight
-    /// and both tests of the tie check clear every other contender ([`super::Problem::chances`]).
+    /// Probability that the true cause is named alone: both tests of the tie check clear
+    /// every other contender after every contender is refit on both campaigns
+    /// ([`super::Problem::chances`]), the verdict's criterion.
     pub alone: f64,
-    /// Probability that the true cause alone holds 90 % of the weight (the weights'
-    /// criterion without the tie check; at least [`Self::alone`]).
+    /// Probability that the true cause alone holds 90 % of the pseudo-BMA+ weight (the
+    /// weights' concentration, reported beside the verdict's criterion).
     pub weights_alone: f64,
     /// Probability that the true cause is among the models that share the weight.
     pub right: f64,
-    /// The probability of `alone` for each contender taken as the truth (contender order).
+    /// The probability of `alone` for each contender taken as the truth (contender order,
+    /// the first [`Plan::truths`]).
     pub alone_by_truth: Vec<f64>,
 }
 
@@ -132,10 +134,13 @@ pub struct RankedFollowUp {
 /// ranked best first.
 #[derive(Debug, Clone, Serialize)]
 pub struct Plan {
-    /// The contenders, heaviest first.
+    /// The contenders, heaviest first: the first [`Plan::truths`] are taken as the truth,
+    /// every one is refit and scored on every simulated follow-up.
     pub contenders: Vec<Contender>,
-    /// Whether the heaviest contender alone holds 90 % of the weight on the first campaign
-    /// (the cause is named alone before any follow-up).
+    /// How many contenders, the first, are taken as the truth.
+    pub truths: usize,
+    /// Whether the first campaign already names the cause alone (the verdict names a cause
+    /// and its tie holds no other model, [`crate::discrepancy::Analysis::named_alone`]).
     pub alone_now: bool,
     /// The follow-ups, best first.
     pub ranked: Vec<RankedFollowUp>,

@@ -1,0 +1,416 @@
+//! The preposterior problem of one follow-up: simulated follow-ups drawn from each
+//! contender taken as the truth, every contender refit on both campaigns
+//! ([`super::refit`]), and the answer the analysis would give.
+
+use super::plan::{Chance, Contender};
+use super::refit::Refit;
+use crate::discrepancy::compare::{difference_se, per_specimen, specimen_weights};
+use crate::discrepancy::fit::Data;
+use crate::discrepancy::observations::{Observable, Observation};
+use crate::discrepancy::predictive::{Predictive, Reading, Simulated};
+use crate::discrepancy::TieCheck;
+use crate::rng::{rng_for, Purpose};
+use rand::RngExt;
+use rand_distr::{Distribution, Exp1, StandardNormal, StudentT};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The preposterior problem of one follow-up: the contenders, their predictions of each
+/// key at their first-campaign fits (`sims[contender][key]`, what the simulated follow-ups
+/// are drawn from), their refits (`refits[contender]`, `None` or an empty slice: scored at
+/// `sims` with the first campaign's own held-out scores), the keys, each key's reading σ,
+/// the readings' resolutions and the simulated angle's bracket (degrees).
+#[derive(Debug, Clone, Copy)]
+pub struct Problem<'a> {
+    /// The contenders.
+    pub contenders: &'a [Contender],
+    /// `[contender][key]` at the first campaign's fit.
+    pub sims: &'a [Vec<Simulated>],
+    /// `[contender]`: the refit on both campaigns, or `None` (no parameters). Empty: no
+    /// contender is refit.
+    pub refits: &'a [Option<Refit<'a>>],
+    /// How many contenders, the first ones, are taken as the truth (the others are
+    /// challengers only; at most `contenders.len()`).
+    pub truths: usize,
+    /// The keys read on each specimen (mechanism categories: one of them is seen).
+    pub keys: &'a [Observable],
+    /// The σ of each key's reading.
+    pub sigma: &'a [f64],
+    /// The readings' resolutions and misreading probability.
+    pub reading: Reading,
+    /// Width of a simulated collapse angle's bracket, degrees.
+    pub bracket_deg: f64,
+}
+
+/// One contender's scores of a simulated follow-up's specimens: per specimen, the measures'
+/// and every observation's summed score (nats, lower is better); refit, one row per scan
+/// point.
+enum NewScores {
+    Fixed { pins: Vec<f64>, all: Vec<f64> },
+    Scan { pins: Vec<Vec<f64>>, all: Vec<Vec<f64>> },
+}
+
+/// What one truth's replicates give, per ladder count.
+struct Tally {
+    /// `[ladder]`: replicates named alone by the weights.
+    by_weights: Vec<usize>,
+    /// `[ladder]`: replicates with the truth among the models that share the weight.
+    right: Vec<usize>,
+    /// `[ladder][other]`: replicates in which `other` scores at least the truth, on every
+    /// observation and on the measures.
+    reversed: Vec<Vec<(usize, usize)>>,
+    /// `[ladder][replicate][other]`: whether the data test separates `other` from the
+    /// truth on every observation and on the measures.
+    seps: Vec<Vec<Vec<(bool, bool)>>>,
+}
+
+/// The score of one reading (key, value bits) at every scan point of one contender,
+/// computed once (the readings are rounded, so values repeat across replicates).
+type ScoreCache = HashMap<(usize, u64), Vec<f64>>;
+
+impl Problem<'_> {
+    /// One simulated specimen from contender `t`: its observations (key index, value).
+    pub(super) fn draw_specimen(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
+        let sims = &self.sims[t];
+        let mut out = Vec::new();
+        let mut kinds = Vec::new();
+        let mut starts = Vec::new();
+        for (k, o) in self.keys.iter().enumerate() {
+            let sim = &sims[k];
+            match o {
+                Observable::MechanismKind { .. } => kinds.push(k),
+                Observable::MechanismStart { .. } => starts.push(k),
+                Observable::FailureHeight { width } => {
+                    if sim.heights.is_empty() {
+                        continue;
+                    }
+                    let v = if rng.random::<f64>() < self.reading.misreading {
+                        rng.random::<f64>()
+                    } else {
+                        let u: f64 = rng.random();
+                        let mut acc = 0.0;
+                        let last = (sim.heights.0.len() - 1) as f64;
+                        let mut c = 1.0;
+                        for (i, m) in sim.heights.0.iter().enumerate() {
+                            acc += m;
+                            if u <= acc {
+                                c = i as f64 / last;
+                                break;
+                            }
+                        }
+                        let z: f64 = StandardNormal.sample(rng);
+                        (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
+                    };
+                    let v = self.reading.neighbour_read(v, *width, rng.random());
+                    out.push((k, self.reading.round(&Observable::FailureHeight { width: *width }, v)));
+                }
+                _ => {
+                    if !sim.mean.is_finite() {
+                        continue;
+                    }
+                    let p = Predictive::new(sim, &self.template(k), self.bracket_deg);
+                    let z: f64 = if p.dof < 1e4 {
+                        StudentT::new(p.dof.max(1.0)).map_or(0.0, |d| d.sample(rng))
+                    } else {
+                        StandardNormal.sample(rng)
+                    };
+                    out.push((k, self.reading.round(o, p.mean + p.sd * z)));
+                }
+            }
+        }
+        for group in [kinds, starts] {
+            if group.is_empty() {
+                continue;
+            }
+            // The seen category, by the smoothed and misread probabilities.
+            let q: Vec<f64> = group
+                .iter()
+                .map(|&k| self.reading.category_probability(&self.keys[k], &sims[k]).unwrap_or(0.0))
+                .collect();
+            let total: f64 = q.iter().sum();
+            if !(total > 0.0) {
+                continue;
+            }
+            let mut u = rng.random::<f64>() * total;
+            let mut pick = group[group.len() - 1];
+            for (&k, q) in group.iter().zip(&q) {
+                if u < *q {
+                    pick = k;
+                    break;
+                }
+                u -= q;
+            }
+            out.push((pick, 1.0));
+        }
+        out
+    }
+
+    /// An observation of key `k` with its σ (its value set later).
+    fn template(&self, k: usize) -> Observation {
+        Observation {
+            specimen: String::new(),
+            group: String::new(),
+            observable: self.keys[k],
+            value: 0.0,
+            sigma: self.sigma[k],
+        }
+    }
+
+    fn refit(&self, c: usize) -> Option<&Refit<'_>> {
+        self.refits.get(c).and_then(Option::as_ref)
+    }
+
+    /// Every contender's scores of the simulated `specimens` (each its observations):
+    /// at its first-campaign fit, or at every scan point when it is refit (`caches`, one
+    /// per contender, keeps each reading's row of scores).
+    fn new_scores(&self, specimens: &[Vec<(usize, f64)>], caches: &mut [ScoreCache]) -> Vec<NewScores> {
+        let mut obs = Vec::new();
+        let mut key = Vec::new();
+        let mut y = Vec::new();
+        let names: Vec<String> = (0..specimens.len()).map(|i| format!("s{i}")).collect();
+        let mut of = Vec::new();
+        for (i, s) in specimens.iter().enumerate() {
+            for &(k, v) in s {
+                obs.push(Observation { specimen: names[i].clone(), value: v, ..self.template(k) });
+                key.push(k);
+                y.push(v);
+                of.push(i);
+            }
+        }
+        let weight = specimen_weights(&obs);
+        let data =
+            Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: self.reading, bracket_deg: self.bracket_deg };
+        let pins: Vec<bool> = (0..obs.len()).map(|j| data.pins(j)).collect();
+        (0..self.contenders.len())
+            .map(|c| match self.refit(c) {
+                None => {
+                    let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(&self.sims[c], j)).collect();
+                    NewScores::Fixed {
+                        all: per_specimen(&scores, &obs, &names),
+                        pins: per_specimen(&data.split_scores(&scores).0, &obs, &names),
+                    }
+                }
+                Some(r) => {
+                    let points = r.scan.len();
+                    let mut pins_t = vec![vec![0.0; specimens.len()]; points];
+                    let mut all_t = vec![vec![0.0; specimens.len()]; points];
+                    let unit = vec![1.0; obs.len()];
+                    let unweighted = Data { weight: &unit, ..data };
+                    for j in 0..obs.len() {
+                        let row = caches[c]
+                            .entry((key[j], y[j].to_bits()))
+                            .or_insert_with(|| r.scan.iter().map(|sims| unweighted.score(sims, j)).collect());
+                        for p in 0..points {
+                            let s = weight[j] * row[p];
+                            all_t[p][of[j]] += s;
+                            if pins[j] {
+                                pins_t[p][of[j]] += s;
+                            }
+                        }
+                    }
+                    NewScores::Scan { pins: pins_t, all: all_t }
+                }
+            })
+            .collect()
+    }
+
+    /// Contender `c`'s held-out log scores per specimen of both campaigns with the first
+    /// `n` simulated specimens, on every observation and on the measures: `(elpd,
+    /// elpd_measures)`, nats. Refit, each specimen is scored at the fit on the others'
+    /// measures (the scan point of least summed score, the first of equals).
+    fn heldout(&self, c: usize, new: &NewScores, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let con = &self.contenders[c];
+        match (new, self.refit(c)) {
+            (NewScores::Fixed { pins, all }, _) => (
+                con.elpd.iter().copied().chain(all[..n].iter().map(|s| -s)).collect(),
+                con.elpd_measures.iter().copied().chain(pins[..n].iter().map(|s| -s)).collect(),
+            ),
+            (NewScores::Scan { pins, all }, Some(r)) => {
+                let first = r.first;
+                let s1 = first.pins.first().map_or(0, Vec::len);
+                let total: Vec<f64> = (0..r.scan.len())
+                    .map(|p| first.pins[p].iter().sum::<f64>() + pins[p][..n].iter().sum::<f64>())
+                    .collect();
+                let at =
+                    |t: &[Vec<f64>], u: &[Vec<f64>], p: usize, s: usize| if s < s1 { t[p][s] } else { u[p][s - s1] };
+                let mut elpd = Vec::with_capacity(s1 + n);
+                let mut measures = Vec::with_capacity(s1 + n);
+                for s in 0..s1 + n {
+                    let mut best = (0, f64::INFINITY);
+                    for (p, tot) in total.iter().enumerate() {
+                        let v = tot - at(&first.pins, pins, p, s);
+                        if v < best.1 {
+                            best = (p, v);
+                        }
+                    }
+                    elpd.push(-at(&first.all, all, best.0, s));
+                    measures.push(-at(&first.pins, pins, best.0, s));
+                }
+                (elpd, measures)
+            }
+            (NewScores::Scan { .. }, None) => unreachable!("scan scores are made for refit contenders only"),
+        }
+    }
+
+    /// One truth's replicates: for every ladder count, the weights' answer and the tie
+    /// check's two tests against every other contender.
+    fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Tally {
+        let bound = TieCheck::STANDARD_ERRORS;
+        let k = self.contenders.len();
+        let nmax = ladder.iter().copied().max().unwrap_or(0);
+        let mut tally = Tally {
+            by_weights: vec![0; ladder.len()],
+            right: vec![0; ladder.len()],
+            reversed: vec![vec![(0, 0); k]; ladder.len()],
+            seps: vec![Vec::with_capacity(replicates); ladder.len()],
+        };
+        let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
+        let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
+        for _ in 0..replicates {
+            let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &mut rng)).collect();
+            let new = self.new_scores(&specimens, &mut caches);
+            for (li, &n) in ladder.iter().enumerate() {
+                let (elpd, measures): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+                    (0..k).map(|c| self.heldout(c, &new[c], n)).unzip();
+                let w = pseudo_bma(&elpd, draws, &mut rng);
+                let (a, r) = named(&w, t);
+                let mut sep = Vec::with_capacity(k);
+                for c in 0..k {
+                    if c == t {
+                        sep.push((true, true));
+                        continue;
+                    }
+                    let diff = |e: &[Vec<f64>]| -> Vec<f64> { e[t].iter().zip(&e[c]).map(|(x, y)| x - y).collect() };
+                    let (d, dm) = (diff(&elpd), diff(&measures));
+                    let dr: Vec<f64> = d.iter().zip(&dm).map(|(x, y)| x - y).collect();
+                    let (sum, sum_m, sum_r) = (d.iter().sum::<f64>(), dm.iter().sum::<f64>(), dr.iter().sum::<f64>());
+                    tally.reversed[li][c].0 += usize::from(sum <= 0.0);
+                    tally.reversed[li][c].1 += usize::from(sum_m <= 0.0);
+                    let readings = dr.iter().any(|&x| x != 0.0);
+                    // A difference of exactly zero (both models score every specimen alike,
+                    // as two models at a common floor can on a simulated specimen) separates
+                    // nothing, whatever its standard error.
+                    sep.push((
+                        sum > 0.0 && sum >= bound * difference_se(&d),
+                        readings
+                            && sum_m > 0.0
+                            && sum_m >= bound * difference_se(&dm)
+                            && sum_r >= -bound * difference_se(&dr),
+                    ));
+                }
+                tally.by_weights[li] += usize::from(a);
+                tally.right[li] += usize::from(r);
+                tally.seps[li].push(sep);
+            }
+        }
+        tally
+    }
+
+    /// The probabilities at every specimen count of `ladder`, from `replicates` simulated
+    /// follow-ups per contender taken as the truth (the first [`Problem::truths`]; the
+    /// largest count drawn, the smaller counts its first specimens), weights from `draws`
+    /// Bayesian-bootstrap draws. The truths run in parallel, each on its own random stream:
+    /// the result does not depend on the number of threads.
+    ///
+    /// **Named alone** is the verdict's criterion, the analysis's tie check
+    /// ([`TieCheck`]): the truth is named alone when both tests clear every other
+    /// contender on both campaigns, the held-out difference per specimen at least
+    /// [`TieCheck::STANDARD_ERRORS`] standard errors, and the reversal rate (the share of
+    /// the truth's simulated follow-ups in which the other contender's total score is at
+    /// least the truth's) under [`TieCheck::REVERSAL_RATE`]; with readings of the
+    /// mechanism, either on every observation or on the measures alone with the readings
+    /// not favouring the other beyond the data bound, as the analysis clears a challenger.
+    /// The weights' concentration (the truth alone holding [`crate::discrepancy::SHARED`]
+    /// of the pseudo-BMA+ weight) is kept beside it ([`Chance::weights_alone`]).
+    pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
+        let k = self.contenders.len();
+        let truths = self.truths.clamp(1, k.max(1)).min(k);
+        let tallies: Vec<Tally> =
+            (0..truths).into_par_iter().map(|t| self.tally(t, ladder, replicates, draws, seed)).collect();
+        let reps = replicates.max(1) as f64;
+        let total: f64 = self.contenders[..truths].iter().map(|c| c.prior).sum();
+        let prior = |t: usize| if total > 0.0 { self.contenders[t].prior / total } else { 1.0 / truths as f64 };
+        ladder
+            .iter()
+            .enumerate()
+            .map(|(li, &n)| {
+                let by: Vec<f64> = tallies
+                    .iter()
+                    .enumerate()
+                    .map(|(t, tally)| {
+                        let clear: Vec<(bool, bool)> = tally.reversed[li]
+                            .iter()
+                            .map(|&(all, measures)| {
+                                (
+                                    (all as f64 / reps) < TieCheck::REVERSAL_RATE,
+                                    (measures as f64 / reps) < TieCheck::REVERSAL_RATE,
+                                )
+                            })
+                            .collect();
+                        let alone = tally.seps[li]
+                            .iter()
+                            .filter(|sep| {
+                                (0..k).filter(|&c| c != t).all(|c| (sep[c].0 && clear[c].0) || (sep[c].1 && clear[c].1))
+                            })
+                            .count();
+                        alone as f64 / reps
+                    })
+                    .collect();
+                let mean = |f: &dyn Fn(&Tally) -> f64| -> f64 {
+                    tallies.iter().enumerate().map(|(t, tally)| prior(t) * f(tally)).sum()
+                };
+                Chance {
+                    specimens: n,
+                    alone: (0..truths).map(|t| prior(t) * by[t]).sum(),
+                    weights_alone: mean(&|tally| tally.by_weights[li] as f64 / reps),
+                    right: mean(&|tally| tally.right[li] as f64 / reps),
+                    alone_by_truth: by,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Whether contender `t` alone holds [`crate::discrepancy::SHARED`] of the weights `w` (alone), and
+/// whether it is among the fewest heaviest that hold it (right).
+fn named(w: &[f64], t: usize) -> (bool, bool) {
+    let mut order: Vec<usize> = (0..w.len()).collect();
+    order.sort_by(|&a, &b| w[b].total_cmp(&w[a]).then(a.cmp(&b)));
+    let mut held = 0.0;
+    let mut shared = Vec::new();
+    for &m in &order {
+        shared.push(m);
+        held += w[m];
+        if held >= crate::discrepancy::SHARED - 1e-12 {
+            break;
+        }
+    }
+    (shared == [t], shared.contains(&t))
+}
+
+/// Pseudo-BMA+ weights of the models with log scores per specimen `elpd[k][i]`: `w_k ∝
+/// exp(n Σ_i α_i elpd_ik)` averaged over `draws` Bayesian-bootstrap draws `α ~
+/// Dirichlet(1, …, 1)` (as [`crate::discrepancy::weights`]).
+fn pseudo_bma(elpd: &[Vec<f64>], draws: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
+    let k = elpd.len();
+    let n = elpd.first().map_or(0, Vec::len);
+    let mut w = vec![0.0; k];
+    let mut z = vec![0.0; k];
+    let mut a = vec![0.0; n];
+    for _ in 0..draws.max(1) {
+        for x in a.iter_mut() {
+            *x = Exp1.sample(rng);
+        }
+        let s: f64 = a.iter().sum();
+        for (zk, e) in z.iter_mut().zip(elpd) {
+            *zk = n as f64 * e.iter().zip(&a).map(|(x, a)| x * a).sum::<f64>() / s;
+        }
+        let m = z.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+        let e: Vec<f64> = z.iter().map(|x| if x.is_finite() { (x - m).exp() } else { 0.0 }).collect();
+        let total: f64 = e.iter().sum();
+        for (wk, ek) in w.iter_mut().zip(&e) {
+            *wk += ek / total / draws.max(1) as f64;
+        }
+    }
+    w
+}

@@ -1,0 +1,260 @@
+//! Each contender's predictions of a follow-up over its whole parameter range, so that a
+//! simulated follow-up is analysed as the user's analysis of both campaigns will analyse
+//! it: every contender refit on both campaigns, leave one specimen out.
+//!
+//! **Where the predictions come from.** On the keys the first campaign already has (more
+//! specimens of a group read as before), a contender's own first-campaign surrogate. On
+//! keys it does not have (the mechanism or a monitor not read, walls of another height,
+//! length or end restraint), a grid of runs on the follow-up's walls built as the
+//! analysis builds its library ([`crate::discrepancy::Settings::grid_points`] nodes per
+//! axis at [`crate::discrepancy::Settings::realizations`] layouts, the baseline at
+//! [`crate::discrepancy::Settings::extension_realizations`], each grid re-centred on it at
+//! the effect's neutral value; a pair additive about that baseline; the scatter hypothesis
+//! on it). One grid per effect and wall serves every contender, every follow-up of that
+//! wall and every simulated replicate (common random numbers: the analysis's layouts).
+//!
+//! **The refit.** The summed score of every observation at every scan point of a
+//! contender's parameters (101 on one axis, 21 × 21 on two, the points
+//! [`crate::discrepancy::Surface`]'s fits scan) is tabulated once for the first campaign
+//! and once per simulated follow-up; each leave-one-specimen-out fold, on the measures
+//! ([`Observable::pins`]) of both campaigns, is then a sum over that table and its
+//! minimum. The analysis polishes the scan's best point with Brent's method; the design
+//! keeps the scan's point (0.01 of the range on one axis, 0.05 on two), which moves a
+//! held-out score by far less than a specimen's own.
+//!
+//! What the design still does not repeat of the user's analysis: the full runs that
+//! confirm the two best candidates at their fitted points (on the follow-up's walls the
+//! contenders are scored on their grids), the margins and the pairs the ranking may add.
+
+use super::plan::{Contender, FollowUp};
+use crate::discrepancy::candidate::{Candidate, SCATTER};
+use crate::discrepancy::compare::{per_specimen, specimen_weights};
+use crate::discrepancy::fit::{scan_points, Data, Surface};
+use crate::discrepancy::observations::Observable;
+use crate::discrepancy::predictive::Simulated;
+use crate::discrepancy::prepare::{course_height, plan, with_realizations};
+use crate::discrepancy::simulate::{run_models, GroupSetup, Outcome, Setup};
+use crate::discrepancy::{DiscrepancyError, Run};
+use std::collections::BTreeMap;
+
+/// A contender's first-campaign scores at every scan point of its parameters: per scan
+/// point and specimen (the analysis's specimen order), the summed score of the specimen's
+/// measures ([`Observable::pins`]) and of all its observations, nats.
+#[derive(Debug, Clone)]
+pub struct FirstScores {
+    /// `[point][specimen]`, the measures.
+    pub pins: Vec<Vec<f64>>,
+    /// `[point][specimen]`, every observation.
+    pub all: Vec<Vec<f64>>,
+}
+
+/// A contender refit on both campaigns: its predictions of the follow-up's keys at every
+/// scan point (`[point][key]`) and its first campaign's scores there.
+#[derive(Debug, Clone, Copy)]
+pub struct Refit<'a> {
+    /// `[point][key]` on the follow-up's keys.
+    pub scan: &'a [Vec<Simulated>],
+    /// The first campaign's scores at the same points.
+    pub first: &'a FirstScores,
+}
+
+/// The candidate of a contender, with its fit on the first campaign (`None`: the
+/// baseline).
+fn candidate_of<'r>(run: &'r Run, c: &Contender) -> Option<(&'r Candidate, &'r [f64])> {
+    let a = &run.analysis;
+    let r = a.candidates.iter().find(|r| r.name == c.name)?;
+    Some((&a.pool[r.index], &r.x))
+}
+
+/// The first campaign's scores of every contender with parameters, tabulated at its scan
+/// points (`None`: the baseline, which has none).
+pub fn first_scores(run: &Run, cs: &[Contender]) -> Vec<Option<FirstScores>> {
+    let y: Vec<f64> = run.obs.iter().map(|o| o.value).collect();
+    let weight = specimen_weights(&run.obs);
+    let data = Data {
+        obs: &run.obs,
+        y: &y,
+        key: &run.keys.of,
+        weight: &weight,
+        reading: run.settings.reading,
+        bracket_deg: run.bracket_deg,
+    };
+    cs.iter()
+        .map(|c| {
+            let (cand, _) = candidate_of(run, c)?;
+            let (mut pins, mut all) = (Vec::new(), Vec::new());
+            for x in scan_points(&cand.surface) {
+                let sims = cand.surface.at(&x);
+                let scores: Vec<f64> = (0..run.obs.len()).map(|j| data.score(&sims, j)).collect();
+                all.push(per_specimen(&scores, &run.obs, &run.specimens));
+                pins.push(per_specimen(&data.split_scores(&scores).0, &run.obs, &run.specimens));
+            }
+            Some(FirstScores { pins, all })
+        })
+        .collect()
+}
+
+/// Every contender's predictions of one follow-up: at its first-campaign fit
+/// (`at_fit[contender][key]`, what a simulated follow-up is drawn from) and at every scan
+/// point of its parameters (`scan[contender]`, `None` for the baseline), with the forward
+/// runs made for them.
+#[derive(Debug, Clone)]
+pub struct Predictions {
+    /// `[contender][key]` at the first campaign's fit.
+    pub at_fit: Vec<Vec<Simulated>>,
+    /// `[contender][point][key]`.
+    pub scan: Vec<Option<Vec<Vec<Simulated>>>>,
+    /// Forward runs made for this follow-up (0: its wall's grids were run before, or the
+    /// first campaign's surrogates answer).
+    pub runs: usize,
+}
+
+/// The runs of one wall: the baseline's (the full run) and every effect's grid nodes
+/// (`None`: the node of the neutral value, the baseline's first layouts).
+#[derive(Debug, Clone, Default)]
+pub struct WallRuns {
+    base: Vec<Outcome>,
+    grid_realizations: usize,
+    nodes: BTreeMap<String, Vec<(Vec<f64>, Option<Vec<Outcome>>)>>,
+}
+
+/// The runs of the follow-ups' walls, by group name (shared by every follow-up of a wall).
+pub type RunCache = BTreeMap<String, WallRuns>;
+
+/// The predictions of every contender for the keys of follow-up `f` (module
+/// documentation). `setup` is the analysis's.
+///
+/// # Errors
+/// [`DiscrepancyError::Effect`] for an effect that cannot take a node's values,
+/// [`DiscrepancyError::Design`] for a follow-up of an unknown group.
+pub fn predictions(
+    run: &Run,
+    setup: &Setup,
+    f: &FollowUp,
+    cs: &[Contender],
+    cache: &mut RunCache,
+) -> Result<Predictions, DiscrepancyError> {
+    let existing = setup.groups.iter().position(|g| g.name == f.group);
+    // Keys the first campaign has for this group: the fitted surrogates answer.
+    if let Some(g) = existing.filter(|_| f.new_group.is_none()) {
+        let idx: Option<Vec<usize>> =
+            f.observables.iter().map(|o| run.keys.keys.iter().position(|(kg, ko)| *kg == g && ko.same(o))).collect();
+        if let Some(idx) = idx {
+            let pick = |all: Vec<Simulated>| -> Vec<Simulated> { idx.iter().map(|&k| all[k]).collect() };
+            let mut at_fit = Vec::new();
+            let mut scan = Vec::new();
+            for c in cs {
+                match candidate_of(run, c) {
+                    Some((cand, x)) => {
+                        at_fit.push(pick(cand.surface.at(x)));
+                        scan.push(Some(scan_points(&cand.surface).iter().map(|p| pick(cand.surface.at(p))).collect()));
+                    }
+                    None => {
+                        at_fit.push(pick(run.library.baseline.clone()));
+                        scan.push(None);
+                    }
+                }
+            }
+            return Ok(Predictions { at_fit, scan, runs: 0 });
+        }
+    }
+    let group = match (&f.new_group, existing) {
+        (Some(g), _) => g.clone(),
+        (None, Some(g)) => setup.groups[g].clone(),
+        (None, None) => return Err(DiscrepancyError::Design { specimen: f.group.clone(), observable: f.name.clone() }),
+    };
+    let runs = wall_runs(run, setup, &group, cs, cache)?;
+    let wall = &cache[&group.name];
+    let sims_of =
+        |outs: &[Outcome]| -> Vec<Simulated> { f.observables.iter().map(|o| Simulated::of(outs, o)).collect() };
+    let full = sims_of(&wall.base);
+    let base_grid = sims_of(&wall.base[..wall.grid_realizations.min(wall.base.len())]);
+    let course_m = course_height(setup);
+    // One effect's surface on the follow-up's keys: its grid re-centred on the baseline.
+    let single = |def: &std::sync::Arc<crate::effects::EffectDef>| -> Result<Surface, DiscrepancyError> {
+        let p = plan(def.clone(), &run.settings, course_m)?;
+        let nodes = &wall.nodes[&def.name];
+        let sims: Vec<(Vec<f64>, Vec<Simulated>)> =
+            nodes.iter().map(|(x, o)| (x.clone(), o.as_deref().map_or_else(|| base_grid.clone(), sims_of))).collect();
+        Ok(Surface::Corrected { inner: Box::new(p.surface(sims)), x0: p.neutral(), full: full.clone() })
+    };
+    let mut at_fit = Vec::new();
+    let mut scan = Vec::new();
+    for c in cs {
+        let Some((cand, x)) = candidate_of(run, c) else {
+            at_fit.push(full.clone());
+            scan.push(None);
+            continue;
+        };
+        let surface = match cand.effects.as_slice() {
+            [] => {
+                debug_assert_eq!(c.name, SCATTER);
+                let angle = f.observables.iter().map(|o| matches!(o, Observable::CollapseAngle)).collect();
+                let mechanism = f.observables.iter().map(Observable::is_mechanism).collect();
+                Surface::Scatter { base: full.clone(), angle, mechanism }
+            }
+            [a] => single(a)?,
+            [a, b] => Surface::Pair { a: Box::new(single(a)?), b: Box::new(single(b)?), base: full.clone() },
+            _ => return Err(DiscrepancyError::Design { specimen: f.group.clone(), observable: c.name.clone() }),
+        };
+        at_fit.push(surface.at(x));
+        scan.push(Some(scan_points(&surface).iter().map(|p| surface.at(p)).collect()));
+    }
+    Ok(Predictions { at_fit, scan, runs })
+}
+
+/// Runs, once per wall, the baseline and the grid of every effect of the contenders on
+/// `group`'s walls, into `cache`; returns the runs made now.
+fn wall_runs(
+    run: &Run,
+    setup: &Setup,
+    group: &GroupSetup,
+    cs: &[Contender],
+    cache: &mut RunCache,
+) -> Result<usize, DiscrepancyError> {
+    let s = &run.settings;
+    let course_m = course_height(setup);
+    let mut defs = Vec::new();
+    for c in cs {
+        if let Some((cand, _)) = candidate_of(run, c) {
+            for d in &cand.effects {
+                if !defs.iter().any(|x: &std::sync::Arc<crate::effects::EffectDef>| x.name == d.name) {
+                    defs.push(d.clone());
+                }
+            }
+        }
+    }
+    let mut made = 0;
+    let one = Setup { groups: vec![group.clone()], ..setup.clone() };
+    let full = with_realizations(&one, s.extension_realizations.max(1));
+    let grid = with_realizations(&one, s.realizations.max(1));
+    let wall = cache.entry(group.name.clone()).or_default();
+    if wall.base.is_empty() {
+        let o = run_models(&full, &[vec![]], None);
+        wall.base = o[0][0].clone();
+        made += wall.base.len();
+    }
+    wall.grid_realizations = grid.groups[0].realizations as usize;
+    let base_grid = vec![wall.base[..wall.grid_realizations.min(wall.base.len())].to_vec()];
+    let todo: Vec<_> = defs.into_iter().filter(|d| !wall.nodes.contains_key(&d.name)).collect();
+    let plans = todo.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<Vec<_>, _>>()?;
+    let models: Vec<Vec<crate::effects::Effect>> =
+        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
+    if models.is_empty() {
+        return Ok(made);
+    }
+    let outcomes = run_models(&grid, &models, Some(&base_grid));
+    let mut next = outcomes.into_iter();
+    for p in &plans {
+        // An effect that cannot act on these walls reuses the baseline's runs: none made.
+        let acts = p.def.acts_on(group.restrained);
+        let mut nodes = Vec::new();
+        for (x, e) in &p.nodes {
+            let o = e.as_ref().map(|_| next.next().map(|mut m| m.swap_remove(0)).unwrap_or_default());
+            made += o.as_ref().filter(|_| acts).map_or(0, Vec::len);
+            nodes.push((x.clone(), o));
+        }
+        wall.nodes.insert(p.def.name.clone(), nodes);
+    }
+    Ok(made)
+}
