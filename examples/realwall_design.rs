@@ -1,19 +1,27 @@
-//! The designed follow-up on data it did not make: for every data set of the test bed
-//! (`tests/discrepancy/study.toml`, data made by `tests/realwalls/mod.rs`: layouts edited as
-//! files, noise at a σ the engine is not told, rounded readings) whose hidden cause is not
-//! named alone, `drystone design`'s best follow-up is written as a study, the follow-up's
-//! specimens are made the same independent way (the follow-up's walls generated with the
-//! data's seed, edited as files with the same hidden edit, tilted, readings rounded; the
-//! mechanism read from each edited wall's own run and misread at 10 % when the follow-up
-//! reads it), and both campaigns are analysed together on the written study. Prints one
-//! line per data set and the column "alone after the designed follow-up".
+//! The designed follow-up calibrated on data it did not make: every data set of the test
+//! bed (`tests/discrepancy/study.toml`, data made by `tests/realwalls/mod.rs`: layouts
+//! edited as files, noise at a σ the engine is not told, rounded readings), nulls included,
+//! is analysed; `drystone design` picks its best follow-up and states the probability that
+//! the cause is then named alone; the follow-up's specimens are made the same independent
+//! way (the follow-up's walls generated with the data's seed, edited as files with the same
+//! hidden edit, tilted, readings rounded; the mechanism read from each edited wall's own
+//! run and misread at 10 % when the follow-up reads it), and both campaigns are analysed
+//! together on the written study. Each data set is one row appended to a CSV file, so the
+//! column runs in parts, resumed (a row already in the file is skipped) and merged.
 //!
 //! ```sh
-//! cargo run --release --example realwall_design -- [DATA_SETS_PER_CLASS] [FIRST_SET] [CLASSES]
+//! cargo run --release --example realwall_design -- run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES]
+//! cargo run --release --example realwall_design -- summary OUT.csv [MORE.csv ...]
 //! ```
 //!
-//! `CLASSES`: indices into the classes (`0,2`), default all; `FIRST_SET`: the first data
-//! set's index (data set `i` of class `c` uses the specimens `1000 c + 100 + 10 i ..`).
+//! `CLASSES`: indices into the classes (`0,2`; 0–5 the hidden effects, 6 null data),
+//! default all; `FIRST_SET`: the first data set's index (data set `i` of class `c` uses the
+//! specimens `1000 c + 100 + 10 i ..`). `summary` prints the reliability table of the
+//! design's promise (the predicted probability of naming the cause alone, in bins, against
+//! the observed frequency), its Brier score, the alone-after-follow-up column per class,
+//! the false-alarm rate on null data, and the same split by whether the follow-up reads the
+//! mechanism. Which figures are independent: the observed columns (data made outside the
+//! engine, analysed by it); the predicted probabilities are the design's own.
 
 #[path = "../tests/realwalls/mod.rs"]
 mod realwalls;
@@ -23,17 +31,16 @@ use drystone::discrepancy::{analyze, prepare, quiet};
 use drystone::study::discrepancy::setup_of;
 use drystone::study::followup::{menu, write_followup};
 use drystone::study::Study;
-use realwalls::{
-    classify, data_set, data_set_with_mechanism, expected, mechanism_observations_via_file, Answer, Edit,
-    MechanismNoise, Noise,
-};
-use std::path::PathBuf;
+use realwalls::{data_set, data_set_with_mechanism, expected, mechanism_observations_via_file, Edit, MechanismNoise, Noise};
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 const NOISE: Noise =
     Noise { angle_deg: 0.4, displacement_cm: 0.01, angle_reading_deg: 0.25, displacement_reading_cm: 0.01 };
 const TILTS: [f64; 2] = [5.0, 10.0];
 const DATA_SEED: u64 = 0x5eed_da7a;
 const SPECIMENS: u64 = 5;
+const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds";
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -43,19 +50,36 @@ fn classes() -> Vec<Edit> {
         Edit::SoftBase(5e6),
         Edit::Springs(150.0),
         Edit::LeanRound(1.5, 0.004),
+        Edit::None,
     ]
 }
 
-/// The hidden cause named with no tie.
+/// The hidden cause named with no tie (the verdict's criterion, the design's "named alone").
 fn alone(e: Edit, cause: Option<&str>, tie: &[String]) -> bool {
-    cause.is_some_and(|c| c.split('+').all(|m| expected(e).contains(&m))) && tie.len() <= 1
+    e != Edit::None && cause.is_some_and(|c| c.split('+').all(|m| expected(e).contains(&m))) && tie.len() <= 1
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let n: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(1);
-    let first_set: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(0);
-    let only: Option<Vec<usize>> = args.get(2).map(|a| a.split(',').filter_map(|x| x.parse().ok()).collect());
+    match args.first().map(String::as_str) {
+        Some("run") if args.len() >= 2 => run(&args[1..]),
+        Some("summary") if args.len() >= 2 => summary(&args[1..]),
+        _ => {
+            eprintln!("usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | summary FILE.csv ...");
+            std::process::exit(2);
+        }
+    }
+}
+
+fn run(args: &[String]) {
+    let out = PathBuf::from(&args[0]);
+    let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1);
+    let first_set: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(0);
+    let only: Option<Vec<usize>> = args.get(3).map(|a| a.split(',').filter_map(|x| x.parse().ok()).collect());
+    let done: Vec<(String, usize)> = read_rows(&out).iter().map(|r| (r[0].clone(), r[1].parse().unwrap_or(0))).collect();
+    if !out.exists() {
+        std::fs::write(&out, format!("{HEADER}\n")).unwrap();
+    }
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
     let s = st.discrepancy.clone();
@@ -63,29 +87,20 @@ fn main() {
     let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
     let prep = prepare(&setup, &template, &s, &st.library).unwrap();
     let ds = DesignSettings { specimens: SPECIMENS as usize, replicates: 100, ..DesignSettings::default() };
-    let mut table: Vec<(String, usize, usize, usize)> = Vec::new();
     for (ci, e) in classes().into_iter().enumerate() {
         if only.as_ref().is_some_and(|o| !o.contains(&ci)) {
             continue;
         }
-        let (mut sets, mut before, mut after) = (0, 0, 0);
         for i in first_set..first_set + n {
+            if done.contains(&(e.label(), i)) {
+                continue;
+            }
             let first = 1000 * ci as u64 + 100 + 10 * i as u64;
             let t0 = std::time::Instant::now();
             let obs = data_set(&st, DATA_SEED, first, SPECIMENS, e, NOISE, &TILTS, s.sigma);
             let mut run = analyze(&prep, obs.clone(), first).unwrap();
             let a = &run.analysis;
-            let cause = a.cause.as_ref().map(|c| c.name.clone());
-            let got = classify(e, a.verdict.name(), cause.as_deref(), &a.tie);
-            let was = alone(e, cause.as_deref(), &a.tie);
-            sets += 1;
-            before += usize::from(was);
-            let line0 = format!("{}: {} {cause:?} tie {:?}", a.verdict.name(), got_name(got), a.tie);
-            if was || a.cause.is_none() {
-                after += usize::from(was);
-                println!("{} #{i}: {line0}; no follow-up ({:.0} s)", e.label(), t0.elapsed().as_secs_f64());
-                continue;
-            }
+            let was = alone(e, a.cause.as_ref().map(|c| c.name.as_str()), &a.tie);
             let m = menu(&st, &setup, &run).unwrap();
             let plan = design(&run, &setup, m, &ds, first, &quiet).unwrap();
             let best = plan.best().unwrap().clone();
@@ -121,42 +136,100 @@ fn main() {
             let run2 = analyze(&fprep, both, first).unwrap();
             let b = &run2.analysis;
             let cause2 = b.cause.as_ref().map(|c| c.name.clone());
-            let got2 = classify(e, b.verdict.name(), cause2.as_deref(), &b.tie);
             let now = alone(e, cause2.as_deref(), &b.tie);
-            // The weights' own answer: the hidden cause alone holds 90 % of the weight.
             let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
-            after += usize::from(now);
-            println!(
-                "{} #{i}: {line0} -> follow-up {} (P alone {:.2}, by the weights {:.2}) -> {}: {} {cause2:?} tie {:?} \
-                 shared {:?}; alone {} (by the weights {}) ({:.0} s)",
+            let alarm = e == Edit::None && b.verdict.name() != "no_effect";
+            let row = format!(
+                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0}",
                 e.label(),
-                best.followup.name,
+                best.followup.name.replace('"', "'"),
                 best.at_budget.alone,
                 best.at_budget.weights_alone,
                 b.verdict.name(),
-                got_name(got2),
-                b.tie,
-                b.weights.shared,
-                now,
-                by_weights,
+                cause2.as_deref().unwrap_or("-"),
+                b.tie.len(),
                 t0.elapsed().as_secs_f64()
             );
+            println!("{row}");
+            let mut f = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
+            writeln!(f, "{row}").unwrap();
             let _ = std::fs::remove_dir_all(&dir);
         }
-        table.push((e.label(), sets, before, after));
-    }
-    println!("\n| hidden in the walls | data sets | alone (first campaign) | alone after the designed follow-up |");
-    println!("| --- | --- | --- | --- |");
-    for (l, sets, b, a) in table {
-        println!("| {l} | {sets} | {b} | {a} |");
     }
 }
 
-fn got_name(a: Answer) -> &'static str {
-    match a {
-        Answer::NoEffect => "no_effect",
-        Answer::Unexplained => "unexplained",
-        Answer::Right => "right",
-        Answer::Wrong => "WRONG",
+/// The rows of a CSV written by `run` (fields split on commas outside quotes).
+fn read_rows(path: &Path) -> Vec<Vec<String>> {
+    let Ok(text) = std::fs::read_to_string(path) else { return vec![] };
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let mut fields = vec![String::new()];
+            let mut quoted = false;
+            for ch in l.chars() {
+                match ch {
+                    '"' => quoted = !quoted,
+                    ',' if !quoted => fields.push(String::new()),
+                    c => fields.last_mut().unwrap().push(c),
+                }
+            }
+            fields
+        })
+        .collect()
+}
+
+fn summary(files: &[String]) {
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    for f in files {
+        for r in read_rows(Path::new(f)) {
+            if !rows.iter().any(|x| x[0] == r[0] && x[1] == r[1]) {
+                rows.push(r);
+            }
+        }
     }
+    let flag = |r: &Vec<String>, k: usize| r[k] == "true";
+    let p = |r: &Vec<String>| r[5].parse::<f64>().unwrap_or(f64::NAN);
+    let effect: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] != "null").collect();
+    let nulls: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "null").collect();
+    let table = |title: &str, set: &[&Vec<String>]| {
+        println!("\n{title}: {} effect data sets\n", set.len());
+        println!("| predicted P(named alone) | data sets | mean predicted | observed alone | |predicted − observed| |");
+        println!("| --- | --- | --- | --- | --- |");
+        for b in 0..5 {
+            let (lo, hi) = (b as f64 * 0.2, (b + 1) as f64 * 0.2);
+            let inb: Vec<&&Vec<String>> =
+                set.iter().filter(|r| p(r) >= lo && (p(r) < hi || (b == 4 && p(r) <= 1.0))).collect();
+            if inb.is_empty() {
+                println!("| {lo:.1}–{hi:.1} | 0 | – | – | – |");
+                continue;
+            }
+            let mp = inb.iter().map(|r| p(r)).sum::<f64>() / inb.len() as f64;
+            let obs = inb.iter().filter(|r| flag(r, 10)).count() as f64 / inb.len() as f64;
+            println!("| {lo:.1}–{hi:.1} | {} | {mp:.2} | {obs:.2} | {:.2} |", inb.len(), (mp - obs).abs());
+        }
+        let brier =
+            set.iter().map(|r| (p(r) - f64::from(u8::from(flag(r, 10)))).powi(2)).sum::<f64>() / set.len().max(1) as f64;
+        let promised: Vec<&&Vec<String>> = set.iter().filter(|r| p(r) >= 0.8).collect();
+        let kept = promised.iter().filter(|r| flag(r, 10)).count();
+        println!("\nBrier score {brier:.3}; promised at least 0.8: {} data sets, named alone after {kept}.", promised.len());
+    };
+    table("All follow-ups", &effect);
+    let with: Vec<&Vec<String>> = effect.iter().copied().filter(|r| flag(r, 4)).collect();
+    let without: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !flag(r, 4)).collect();
+    table("Follow-ups that read the mechanism", &with);
+    table("Follow-ups that do not read the mechanism", &without);
+    println!("\n| hidden in the walls | data sets | alone (first campaign) | mean predicted | alone after the follow-up |");
+    println!("| --- | --- | --- | --- | --- |");
+    let mut labels: Vec<&String> = effect.iter().map(|r| &r[0]).collect();
+    labels.dedup();
+    for l in labels {
+        let set: Vec<&&Vec<String>> = effect.iter().filter(|r| &r[0] == l).collect();
+        let mp = set.iter().map(|r| p(r)).sum::<f64>() / set.len() as f64;
+        let before = set.iter().filter(|r| flag(r, 2)).count();
+        let after = set.iter().filter(|r| flag(r, 10)).count();
+        println!("| {l} | {} | {before} | {mp:.2} | {after} |", set.len());
+    }
+    let alarms = nulls.iter().filter(|r| flag(r, 12)).count();
+    println!("\nNull data: {} data sets, {alarms} false alarms after the follow-up.", nulls.len());
 }
