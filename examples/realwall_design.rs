@@ -31,7 +31,9 @@ use drystone::discrepancy::{analyze, prepare, quiet};
 use drystone::study::discrepancy::setup_of;
 use drystone::study::followup::{menu, write_followup};
 use drystone::study::Study;
-use realwalls::{data_set, data_set_with_mechanism, expected, mechanism_observations_via_file, Edit, MechanismNoise, Noise};
+use realwalls::{
+    data_set, data_set_with_mechanism, expected, mechanism_observations_via_file, Edit, MechanismNoise, Noise,
+};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -65,7 +67,9 @@ fn main() {
         Some("run") if args.len() >= 2 => run(&args[1..]),
         Some("summary") if args.len() >= 2 => summary(&args[1..]),
         _ => {
-            eprintln!("usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | summary FILE.csv ...");
+            eprintln!(
+                "usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | summary FILE.csv ..."
+            );
             std::process::exit(2);
         }
     }
@@ -76,7 +80,8 @@ fn run(args: &[String]) {
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1);
     let first_set: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(0);
     let only: Option<Vec<usize>> = args.get(3).map(|a| a.split(',').filter_map(|x| x.parse().ok()).collect());
-    let done: Vec<(String, usize)> = read_rows(&out).iter().map(|r| (r[0].clone(), r[1].parse().unwrap_or(0))).collect();
+    let done: Vec<(String, usize)> =
+        read_rows(&out).iter().map(|r| (r[0].clone(), r[1].parse().unwrap_or(0))).collect();
     if !out.exists() {
         std::fs::write(&out, format!("{HEADER}\n")).unwrap();
     }
@@ -208,18 +213,23 @@ fn summary(files: &[String]) {
             let obs = inb.iter().filter(|r| flag(r, 10)).count() as f64 / inb.len() as f64;
             println!("| {lo:.1}–{hi:.1} | {} | {mp:.2} | {obs:.2} | {:.2} |", inb.len(), (mp - obs).abs());
         }
-        let brier =
-            set.iter().map(|r| (p(r) - f64::from(u8::from(flag(r, 10)))).powi(2)).sum::<f64>() / set.len().max(1) as f64;
+        let brier = set.iter().map(|r| (p(r) - f64::from(u8::from(flag(r, 10)))).powi(2)).sum::<f64>()
+            / set.len().max(1) as f64;
         let promised: Vec<&&Vec<String>> = set.iter().filter(|r| p(r) >= 0.8).collect();
         let kept = promised.iter().filter(|r| flag(r, 10)).count();
-        println!("\nBrier score {brier:.3}; promised at least 0.8: {} data sets, named alone after {kept}.", promised.len());
+        println!(
+            "\nBrier score {brier:.3}; promised at least 0.8: {} data sets, named alone after {kept}.",
+            promised.len()
+        );
     };
     table("All follow-ups", &effect);
     let with: Vec<&Vec<String>> = effect.iter().copied().filter(|r| flag(r, 4)).collect();
     let without: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !flag(r, 4)).collect();
     table("Follow-ups that read the mechanism", &with);
     table("Follow-ups that do not read the mechanism", &without);
-    println!("\n| hidden in the walls | data sets | alone (first campaign) | mean predicted | alone after the follow-up |");
+    println!(
+        "\n| hidden in the walls | data sets | alone (first campaign) | mean predicted | alone after the follow-up |"
+    );
     println!("| --- | --- | --- | --- | --- |");
     let mut labels: Vec<&String> = effect.iter().map(|r| &r[0]).collect();
     labels.dedup();

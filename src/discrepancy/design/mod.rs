@@ -57,7 +57,7 @@ mod refit;
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 pub use problem::Problem;
-pub use refit::{FirstScores, Refit};
+pub use refit::{first_scores, heldout, FirstScores, Refit};
 
 use super::compare::per_specimen;
 use super::observations::Observable;

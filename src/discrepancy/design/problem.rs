@@ -225,29 +225,7 @@ impl Problem<'_> {
                 con.elpd.iter().copied().chain(all[..n].iter().map(|s| -s)).collect(),
                 con.elpd_measures.iter().copied().chain(pins[..n].iter().map(|s| -s)).collect(),
             ),
-            (NewScores::Scan { pins, all }, Some(r)) => {
-                let first = r.first;
-                let s1 = first.pins.first().map_or(0, Vec::len);
-                let total: Vec<f64> = (0..r.scan.len())
-                    .map(|p| first.pins[p].iter().sum::<f64>() + pins[p][..n].iter().sum::<f64>())
-                    .collect();
-                let at =
-                    |t: &[Vec<f64>], u: &[Vec<f64>], p: usize, s: usize| if s < s1 { t[p][s] } else { u[p][s - s1] };
-                let mut elpd = Vec::with_capacity(s1 + n);
-                let mut measures = Vec::with_capacity(s1 + n);
-                for s in 0..s1 + n {
-                    let mut best = (0, f64::INFINITY);
-                    for (p, tot) in total.iter().enumerate() {
-                        let v = tot - at(&first.pins, pins, p, s);
-                        if v < best.1 {
-                            best = (p, v);
-                        }
-                    }
-                    elpd.push(-at(&first.all, all, best.0, s));
-                    measures.push(-at(&first.pins, pins, best.0, s));
-                }
-                (elpd, measures)
-            }
+            (NewScores::Scan { pins, all }, Some(r)) => super::refit::heldout(r.first, pins, all, n),
             (NewScores::Scan { .. }, None) => unreachable!("scan scores are made for refit contenders only"),
         }
     }

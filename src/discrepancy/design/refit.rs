@@ -94,6 +94,33 @@ pub fn first_scores(run: &Run, cs: &[Contender]) -> Vec<Option<FirstScores>> {
         .collect()
 }
 
+/// A contender's held-out log scores per specimen of both campaigns, refit leave one
+/// specimen out on the measures: the first campaign's specimens, then the first `n` of a
+/// follow-up whose summed scores per scan point and specimen are `new_pins` (measures) and
+/// `new_all` (every observation), `[point][specimen]` (unread when `n` is 0). Each
+/// specimen is scored at the scan point of least summed score of the others' measures
+/// (the first of equals). Returns `(elpd, elpd_measures)`, nats, one per specimen.
+pub fn heldout(first: &FirstScores, new_pins: &[Vec<f64>], new_all: &[Vec<f64>], n: usize) -> (Vec<f64>, Vec<f64>) {
+    let s1 = first.pins.first().map_or(0, Vec::len);
+    let new_sum = |p: usize| if n == 0 { 0.0 } else { new_pins[p][..n].iter().sum::<f64>() };
+    let total: Vec<f64> = (0..first.pins.len()).map(|p| first.pins[p].iter().sum::<f64>() + new_sum(p)).collect();
+    let at = |t: &[Vec<f64>], u: &[Vec<f64>], p: usize, s: usize| if s < s1 { t[p][s] } else { u[p][s - s1] };
+    let mut elpd = Vec::with_capacity(s1 + n);
+    let mut measures = Vec::with_capacity(s1 + n);
+    for s in 0..s1 + n {
+        let mut best = (0, f64::INFINITY);
+        for (p, tot) in total.iter().enumerate() {
+            let v = tot - at(&first.pins, new_pins, p, s);
+            if v < best.1 {
+                best = (p, v);
+            }
+        }
+        elpd.push(-at(&first.all, new_all, best.0, s));
+        measures.push(-at(&first.pins, new_pins, best.0, s));
+    }
+    (elpd, measures)
+}
+
 /// Every contender's predictions of one follow-up: at its first-campaign fit
 /// (`at_fit[contender][key]`, what a simulated follow-up is drawn from) and at every scan
 /// point of its parameters (`scan[contender]`, `None` for the baseline), with the forward
