@@ -102,7 +102,7 @@ pub enum BenchError {
 /// One tilting-table test of the tilt benchmark. Fields in alphabetical order (the order of
 /// the keys of `drystone bench tilt --json`).
 #[derive(Debug, Clone, Serialize)]
-pub struct TiltRun {
+pub struct BenchmarkRun {
     /// Blocks of the layout.
     pub blocks: usize,
     /// Collapse angle (last stable tilt), degrees.
@@ -140,7 +140,7 @@ pub struct TiltBench {
     /// Realizations run.
     pub realizations: u64,
     /// Each test.
-    pub runs: Vec<TiltRun>,
+    pub runs: Vec<BenchmarkRun>,
     /// Master seed of the wall.
     pub seed: u64,
     /// The solver (`SolverKind` name).
@@ -168,7 +168,7 @@ pub fn run_tilt_bench(
     realizations: u64,
     solver: SolverParams,
     params: &TiltParams,
-    mut on_run: impl FnMut(&TiltRun),
+    mut on_run: impl FnMut(&BenchmarkRun),
 ) -> Result<TiltBench, BenchError> {
     let mut runs = Vec::new();
     let (mut steps, mut iterations, mut time) = (0u64, 0u64, 0.0);
@@ -178,7 +178,7 @@ pub fn run_tilt_bench(
         steps += r.steps;
         iterations += r.iterations;
         time += r.wall_time_s;
-        let run = TiltRun {
+        let run = BenchmarkRun {
             blocks: layout.blocks.len(),
             collapse_angle_deg: r.collapse_angle_deg(),
             dt_s: r.dt_s,

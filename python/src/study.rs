@@ -17,7 +17,7 @@ use drystone::ensemble::Shard;
 use drystone::io::table::realizations_frame;
 use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
 use drystone::study::Study;
-use drystone::study::{run_into_observed, HeldDir, OutputError, RunMode, RunOutcome};
+use drystone::study::{run_into_observed, HeldDir, OutputError, RunMode, StudyRun};
 use numpy::PyArray1;
 use polars::prelude::{Column, DataType};
 use pyo3::prelude::*;
@@ -265,13 +265,7 @@ fn output_error(e: &OutputError) -> PyErr {
 }
 
 /// The dict the Python side turns into a `StudyResult`.
-fn outcome<'py>(
-    py: Python<'py>,
-    st: &Study,
-    dir: &Path,
-    shard: Shard,
-    run: RunOutcome,
-) -> PyResult<Bound<'py, PyDict>> {
+fn outcome<'py>(py: Python<'py>, st: &Study, dir: &Path, shard: Shard, run: StudyRun) -> PyResult<Bound<'py, PyDict>> {
     let frame = realizations_frame(&run.rows, true).map_err(|e| DrystoneError::new_err(e.to_string()))?;
     let names = PyList::empty(py);
     let dtypes = PyList::empty(py);

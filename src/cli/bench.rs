@@ -1,7 +1,7 @@
 //! `drystone bench`: the benchmarks of [`drystone::benchmark`], printed.
 
 use anyhow::{bail, Result};
-use drystone::benchmark::{run_cube16, run_tilt_bench, TiltRun};
+use drystone::benchmark::{run_cube16, run_tilt_bench, BenchmarkRun};
 use drystone::dem::{Isa, PenaltyParams, SolverParams};
 use drystone::generator::{DistributionSource, Wall};
 use drystone::loading::tilt::TiltParams;
@@ -84,7 +84,7 @@ pub fn tilt(
             if params.cascade(solver.kind).implicit { "on" } else { "off" }
         );
     }
-    let print_run = |r: &TiltRun| {
+    let print_run = |r: &BenchmarkRun| {
         if !json {
             out!(
                 "  realization {} ({} blocks): alpha_max {:.4} deg (first unstable {}), {} steps of {:.3e} s, {} implicit iterations, {:.2} s{}",

@@ -118,7 +118,7 @@ pub use run::{run_item, run_study, run_study_with};
 pub use shaking::{fragilities, GroupFragility};
 pub use shards::{
     check_writable, merge, read_shards, run_into, run_into_observed, write_outputs, Manifest, Merged, OutputError,
-    RunMode, RunOutcome,
+    RunMode, StudyRun,
 };
 pub use size::{
     check_blocks, estimated_blocks, human_bytes, human_seconds, machine_memory, simulation_seconds, SizeError,

@@ -257,7 +257,7 @@ pub struct RunMode {
 
 /// What [`run_into`] did.
 #[derive(Debug, Clone)]
-pub struct RunOutcome {
+pub struct StudyRun {
     /// Every row of the shard, in item order.
     pub rows: Vec<RealizationRow>,
     /// How many of them came from the journal of an earlier run.
@@ -290,7 +290,7 @@ pub fn run_into(
     shard: Shard,
     dir: &Path,
     mode: RunMode,
-) -> Result<RunOutcome, OutputError> {
+) -> Result<StudyRun, OutputError> {
     run_into_observed(study, study_arg, shard, dir, mode, &|_| true)
 }
 
@@ -310,7 +310,7 @@ pub fn run_into_observed(
     dir: &Path,
     mode: RunMode,
     observe: &(dyn Fn(&RealizationRow) -> bool + Sync),
-) -> Result<RunOutcome, OutputError> {
+) -> Result<StudyRun, OutputError> {
     let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
@@ -370,7 +370,7 @@ pub fn run_into_observed(
         }
     })?;
     let text = write_outputs(study, study_arg, shard, &rows, dir)?;
-    Ok(RunOutcome { rows, resumed, text })
+    Ok(StudyRun { rows, resumed, text })
 }
 
 /// Rows checked against the items of a shard of the study: each one an item of the shard
