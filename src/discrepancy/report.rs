@@ -164,6 +164,7 @@ pub fn report_json(run: &Run) -> Value {
         "design": run.design,
         "cause_interval": run.cause_interval,
         "tie": a.tie,
+        "named_alone": a.named_alone(),
         "tie_checks": a.tie_checks,
         "screen_gain": a.screen_gain,
         "candidates": a.candidates.iter().map(|r| ranked_json(run, r)).collect::<Vec<_>>(),
@@ -243,6 +244,15 @@ fn verdict_section(md: &mut String, run: &Run) {
         (None, _, _) => format!("**{}**", a.verdict.name()),
     };
     let _ = writeln!(md, "Verdict: {verdict}.\n");
+    match (a.named_alone(), &a.cause) {
+        (Some(c), _) => {
+            let _ = writeln!(md, "Named alone: `{c}` (the tie check clears every challenger; the one meaning of \"named alone\", which `drystone design` predicts).\n");
+        }
+        (None, Some(_)) => {
+            let _ = writeln!(md, "Not named alone: the tie holds {} models.\n", a.tie.len());
+        }
+        (None, None) => {}
+    }
     if let Some(ch) = &a.check {
         let _ = writeln!(md, "Posterior predictive check of the {} model: score {:.3} per specimen on the collapse angles, displacements and failure heights against {:.3}, the 95th percentile of the same score on {} data sets simulated from its own independent layouts ({}).{}\n",
             if a.verdict == super::analysis::Verdict::NoEffect || a.cause.is_none() { "baseline" } else { "extended" },
