@@ -113,9 +113,14 @@ pub fn command(a: DesignArgs) -> Result<()> {
         pool.current_num_threads(),
         dir.display()
     );
-    let c: Vec<String> = plan.contenders.iter().map(|c| format!("{} {:.2}", c.name, c.prior)).collect();
-    println!("contenders: {}", c.join(", "));
-    println!("{:<70} {:>8} {:>8} {:>8} {:>10}", "follow-up", "alone", "weights", "right", "to target");
+    let (truths, others) = plan.contenders.split_at(plan.truths.min(plan.contenders.len()));
+    let c: Vec<String> = truths.iter().map(|c| format!("{} {:.2}", c.name, c.prior)).collect();
+    println!("contenders (taken as the truth): {}", c.join(", "));
+    if !others.is_empty() {
+        let o: Vec<&str> = others.iter().map(|c| c.name.as_str()).collect();
+        println!("refit beside them: {}", o.join(", "));
+    }
+    println!("{:<70} {:>8} {:>8} {:>8} {:>10}", "follow-up", "alone", "90% wt", "right", "to target");
     for r in &plan.ranked {
         println!(
             "{:<70} {:>8.2} {:>8.2} {:>8.2} {:>10}",
