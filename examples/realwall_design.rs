@@ -42,7 +42,7 @@ const NOISE: Noise =
 const TILTS: [f64; 2] = [5.0, 10.0];
 const DATA_SEED: u64 = 0x5eed_da7a;
 const SPECIMENS: u64 = 5;
-const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds";
+const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared";
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -106,6 +106,7 @@ fn run(args: &[String]) {
             let mut run = analyze(&prep, obs.clone(), first).unwrap();
             let a = &run.analysis;
             let was = alone(e, a.cause.as_ref().map(|c| c.name.as_str()), &a.tie);
+            let first_tie = a.tie.clone();
             let m = menu(&st, &setup, &run).unwrap();
             let plan = design(&run, &setup, m, &ds, first, &quiet).unwrap();
             let best = plan.best().unwrap().clone();
@@ -145,7 +146,7 @@ fn run(args: &[String]) {
             let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
             let alarm = e == Edit::None && b.verdict.name() != "no_effect";
             let row = format!(
-                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0}",
+                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{}",
                 e.label(),
                 best.followup.name.replace('"', "'"),
                 best.at_budget.alone,
@@ -153,7 +154,10 @@ fn run(args: &[String]) {
                 b.verdict.name(),
                 cause2.as_deref().unwrap_or("-"),
                 b.tie.len(),
-                t0.elapsed().as_secs_f64()
+                t0.elapsed().as_secs_f64(),
+                first_tie.join(";"),
+                b.tie.join(";"),
+                b.weights.shared.join(";")
             );
             println!("{row}");
             let mut f = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
