@@ -56,8 +56,8 @@ mod refit;
 
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
-pub use problem::Problem;
-pub use refit::{first_scores, heldout, FirstScores, Refit};
+pub use problem::{FirstCampaign, Problem};
+pub use refit::{first_design, first_scores, heldout, FirstDesign, FirstScores, Refit};
 
 use super::compare::per_specimen;
 use super::observations::Observable;
@@ -212,6 +212,7 @@ pub fn design(
     ds.validate()?;
     let (cs, truths) = contenders(run);
     let first = refit::first_scores(run, &cs);
+    let first_design = refit::first_design(run, &cs);
     let ladder = ds.ladder();
     let mut ranked = Vec::new();
     let mut total_runs = 0;
@@ -232,6 +233,12 @@ pub fn design(
             sims: &pred.at_fit,
             refits: &refits,
             truths,
+            first: Some(FirstCampaign {
+                keys: &first_design.keys,
+                sigma: &first_design.sigma,
+                specimens: &first_design.specimens,
+                at_fit: &first_design.at_fit,
+            }),
             keys: &f.observables,
             sigma: &sigma,
             reading: run.settings.reading,

@@ -32,6 +32,11 @@ pub struct Problem<'a> {
     /// How many contenders, the first ones, are taken as the truth (the others are
     /// challengers only; at most `contenders.len()`).
     pub truths: usize,
+    /// The first campaign's design, to draw it anew from each truth for the reversal
+    /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
+    /// the reversal rates are read on the simulated follow-ups beside the first
+    /// campaign's data.
+    pub first: Option<FirstCampaign<'a>>,
     /// The keys read on each specimen (mechanism categories: one of them is seen).
     pub keys: &'a [Observable],
     /// The σ of each key's reading.
@@ -40,6 +45,31 @@ pub struct Problem<'a> {
     pub reading: Reading,
     /// Width of a simulated collapse angle's bracket, degrees.
     pub bracket_deg: f64,
+}
+
+/// The first campaign as a design: its keys, each key's σ, the keys each specimen reads
+/// (a mechanism's kind and start: every category of its group, one of them seen), and
+/// every contender's predictions of them at its fit (`[contender][key]`, what a truth's
+/// first campaign is drawn from) and, refit, at every scan point ([`Refit::first`]).
+#[derive(Debug, Clone, Copy)]
+pub struct FirstCampaign<'a> {
+    /// The first campaign's keys.
+    pub keys: &'a [Observable],
+    /// The σ of each key's reading.
+    pub sigma: &'a [f64],
+    /// The keys each specimen reads.
+    pub specimens: &'a [Vec<usize>],
+    /// `[contender][key]` at the first campaign's fit.
+    pub at_fit: &'a [Vec<Simulated>],
+}
+
+/// A space of keys: what a simulated specimen is drawn on and scored on.
+#[derive(Debug, Clone, Copy)]
+struct Space<'a> {
+    keys: &'a [Observable],
+    sigma: &'a [f64],
+    reading: Reading,
+    bracket_deg: f64,
 }
 
 /// One contender's scores of a simulated follow-up's specimens: per specimen, the measures'
@@ -69,147 +99,47 @@ struct Tally {
 type ScoreCache = HashMap<(usize, u64), Vec<f64>>;
 
 impl Problem<'_> {
-    /// One simulated specimen from contender `t`: its observations (key index, value).
-    pub(super) fn draw_specimen(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
-        let sims = &self.sims[t];
-        let mut out = Vec::new();
-        let mut kinds = Vec::new();
-        let mut starts = Vec::new();
-        for (k, o) in self.keys.iter().enumerate() {
-            let sim = &sims[k];
-            match o {
-                Observable::MechanismKind { .. } => kinds.push(k),
-                Observable::MechanismStart { .. } => starts.push(k),
-                Observable::FailureHeight { width } => {
-                    if sim.heights.is_empty() {
-                        continue;
-                    }
-                    let v = if rng.random::<f64>() < self.reading.misreading {
-                        rng.random::<f64>()
-                    } else {
-                        let u: f64 = rng.random();
-                        let mut acc = 0.0;
-                        let last = (sim.heights.0.len() - 1) as f64;
-                        let mut c = 1.0;
-                        for (i, m) in sim.heights.0.iter().enumerate() {
-                            acc += m;
-                            if u <= acc {
-                                c = i as f64 / last;
-                                break;
-                            }
-                        }
-                        let z: f64 = StandardNormal.sample(rng);
-                        (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
-                    };
-                    let v = self.reading.neighbour_read(v, *width, rng.random());
-                    out.push((k, self.reading.round(&Observable::FailureHeight { width: *width }, v)));
-                }
-                _ => {
-                    if !sim.mean.is_finite() {
-                        continue;
-                    }
-                    let p = Predictive::new(sim, &self.template(k), self.bracket_deg);
-                    let z: f64 = if p.dof < 1e4 {
-                        StudentT::new(p.dof.max(1.0)).map_or(0.0, |d| d.sample(rng))
-                    } else {
-                        StandardNormal.sample(rng)
-                    };
-                    out.push((k, self.reading.round(o, p.mean + p.sd * z)));
-                }
-            }
-        }
-        for group in [kinds, starts] {
-            if group.is_empty() {
-                continue;
-            }
-            // The seen category, by the smoothed and misread probabilities.
-            let q: Vec<f64> = group
-                .iter()
-                .map(|&k| self.reading.category_probability(&self.keys[k], &sims[k]).unwrap_or(0.0))
-                .collect();
-            let total: f64 = q.iter().sum();
-            if !(total > 0.0) {
-                continue;
-            }
-            let mut u = rng.random::<f64>() * total;
-            let mut pick = group[group.len() - 1];
-            for (&k, q) in group.iter().zip(&q) {
-                if u < *q {
-                    pick = k;
-                    break;
-                }
-                u -= q;
-            }
-            out.push((pick, 1.0));
-        }
-        out
+    fn space(&self) -> Space<'_> {
+        Space { keys: self.keys, sigma: self.sigma, reading: self.reading, bracket_deg: self.bracket_deg }
     }
 
-    /// An observation of key `k` with its σ (its value set later).
-    fn template(&self, k: usize) -> Observation {
-        Observation {
-            specimen: String::new(),
-            group: String::new(),
-            observable: self.keys[k],
-            value: 0.0,
-            sigma: self.sigma[k],
-        }
+    /// One simulated specimen of the follow-up from contender `t`: its observations (key
+    /// index, value).
+    pub(super) fn draw_specimen(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
+        let all: Vec<usize> = (0..self.keys.len()).collect();
+        self.space().draw(&self.sims[t], &all, rng)
     }
 
     fn refit(&self, c: usize) -> Option<&Refit<'_>> {
         self.refits.get(c).and_then(Option::as_ref)
     }
 
-    /// Every contender's scores of the simulated `specimens` (each its observations):
-    /// at its first-campaign fit, or at every scan point when it is refit (`caches`, one
-    /// per contender, keeps each reading's row of scores).
+    /// Every contender's scores of the simulated follow-up `specimens`: at its
+    /// first-campaign fit, or at every scan point when it is refit (`caches`, one per
+    /// contender).
     fn new_scores(&self, specimens: &[Vec<(usize, f64)>], caches: &mut [ScoreCache]) -> Vec<NewScores> {
-        let mut obs = Vec::new();
-        let mut key = Vec::new();
-        let mut y = Vec::new();
-        let names: Vec<String> = (0..specimens.len()).map(|i| format!("s{i}")).collect();
-        let mut of = Vec::new();
-        for (i, s) in specimens.iter().enumerate() {
-            for &(k, v) in s {
-                obs.push(Observation { specimen: names[i].clone(), value: v, ..self.template(k) });
-                key.push(k);
-                y.push(v);
-                of.push(i);
-            }
-        }
-        let weight = specimen_weights(&obs);
-        let data =
-            Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: self.reading, bracket_deg: self.bracket_deg };
-        let pins: Vec<bool> = (0..obs.len()).map(|j| data.pins(j)).collect();
+        let space = self.space();
         (0..self.contenders.len())
-            .map(|c| match self.refit(c) {
-                None => {
-                    let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(&self.sims[c], j)).collect();
-                    NewScores::Fixed {
-                        all: per_specimen(&scores, &obs, &names),
-                        pins: per_specimen(&data.split_scores(&scores).0, &obs, &names),
-                    }
-                }
-                Some(r) => {
-                    let points = r.scan.len();
-                    let mut pins_t = vec![vec![0.0; specimens.len()]; points];
-                    let mut all_t = vec![vec![0.0; specimens.len()]; points];
-                    let unit = vec![1.0; obs.len()];
-                    let unweighted = Data { weight: &unit, ..data };
-                    for j in 0..obs.len() {
-                        let row = caches[c]
-                            .entry((key[j], y[j].to_bits()))
-                            .or_insert_with(|| r.scan.iter().map(|sims| unweighted.score(sims, j)).collect());
-                        for p in 0..points {
-                            let s = weight[j] * row[p];
-                            all_t[p][of[j]] += s;
-                            if pins[j] {
-                                pins_t[p][of[j]] += s;
-                            }
-                        }
-                    }
-                    NewScores::Scan { pins: pins_t, all: all_t }
-                }
+            .map(|c| space.scores(specimens, &self.sims[c], self.refit(c).map(|r| r.scan), &mut caches[c]))
+            .collect()
+    }
+
+    /// Every contender's scores of a first campaign drawn anew from truth `t`.
+    fn first_scores_drawn(
+        &self,
+        first: &FirstCampaign<'_>,
+        t: usize,
+        caches: &mut [ScoreCache],
+        rng: &mut rand_chacha::ChaCha8Rng,
+    ) -> Vec<NewScores> {
+        let space =
+            Space { keys: first.keys, sigma: first.sigma, reading: self.reading, bracket_deg: self.bracket_deg };
+        let specimens: Vec<Vec<(usize, f64)>> =
+            first.specimens.iter().map(|which| space.draw(&first.at_fit[t], which, rng)).collect();
+        (0..self.contenders.len())
+            .map(|c| {
+                let scan = self.refit(c).map(|r| r.first.scan.as_slice());
+                space.scores(&specimens, &first.at_fit[c], scan, &mut caches[c])
             })
             .collect()
     }
@@ -225,7 +155,9 @@ impl Problem<'_> {
                 con.elpd.iter().copied().chain(all[..n].iter().map(|s| -s)).collect(),
                 con.elpd_measures.iter().copied().chain(pins[..n].iter().map(|s| -s)).collect(),
             ),
-            (NewScores::Scan { pins, all }, Some(r)) => super::refit::heldout(r.first, pins, all, n),
+            (NewScores::Scan { pins, all }, Some(r)) => {
+                super::refit::heldout(&r.first.pins, &r.first.all, pins, all, n)
+            }
             (NewScores::Scan { .. }, None) => unreachable!("scan scores are made for refit contenders only"),
         }
     }
@@ -243,11 +175,28 @@ impl Problem<'_> {
             seps: vec![Vec::with_capacity(replicates); ladder.len()],
         };
         let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
+        let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
         for _ in 0..replicates {
             let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &mut rng)).collect();
             let new = self.new_scores(&specimens, &mut caches);
+            // Both campaigns drawn from the truth, for the reversal rates.
+            let drawn = self.first.as_ref().map(|f| self.first_scores_drawn(f, t, &mut first_caches, &mut rng));
             for (li, &n) in ladder.iter().enumerate() {
+                if let Some(drawn) = &drawn {
+                    // The analysis's reversal: a challenger whose held-out score on data
+                    // drawn from the cause beats the cause's (its held-out error lower).
+                    let totals: Vec<(f64, f64)> = (0..k)
+                        .map(|c| {
+                            let (e, m) = synthetic_heldout(&drawn[c], &new[c], n);
+                            (e.iter().sum(), m.iter().sum())
+                        })
+                        .collect();
+                    for c in 0..k {
+                        tally.reversed[li][c].0 += usize::from(c != t && totals[c].0 > totals[t].0);
+                        tally.reversed[li][c].1 += usize::from(c != t && totals[c].1 > totals[t].1);
+                    }
+                }
                 let (elpd, measures): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
                     (0..k).map(|c| self.heldout(c, &new[c], n)).unzip();
                 let w = pseudo_bma(&elpd, draws, &mut rng);
@@ -262,8 +211,10 @@ impl Problem<'_> {
                     let (d, dm) = (diff(&elpd), diff(&measures));
                     let dr: Vec<f64> = d.iter().zip(&dm).map(|(x, y)| x - y).collect();
                     let (sum, sum_m, sum_r) = (d.iter().sum::<f64>(), dm.iter().sum::<f64>(), dr.iter().sum::<f64>());
-                    tally.reversed[li][c].0 += usize::from(sum <= 0.0);
-                    tally.reversed[li][c].1 += usize::from(sum_m <= 0.0);
+                    if drawn.is_none() {
+                        tally.reversed[li][c].0 += usize::from(sum <= 0.0);
+                        tally.reversed[li][c].1 += usize::from(sum_m <= 0.0);
+                    }
                     let readings = dr.iter().any(|&x| x != 0.0);
                     // A difference of exactly zero (both models score every specimen alike,
                     // as two models at a common floor can on a simulated specimen) separates
@@ -349,6 +300,20 @@ impl Problem<'_> {
     }
 }
 
+/// A contender's held-out scores per specimen on a first campaign drawn anew and the
+/// first `n` specimens of a simulated follow-up: `(elpd, elpd_measures)`, nats.
+fn synthetic_heldout(first: &NewScores, new: &NewScores, n: usize) -> (Vec<f64>, Vec<f64>) {
+    match (first, new) {
+        (NewScores::Scan { pins: fp, all: fa }, NewScores::Scan { pins, all }) => {
+            super::refit::heldout(fp, fa, pins, all, n)
+        }
+        (NewScores::Fixed { pins: fp, all: fa }, NewScores::Fixed { pins, all }) => {
+            (fa.iter().chain(&all[..n]).map(|s| -s).collect(), fp.iter().chain(&pins[..n]).map(|s| -s).collect())
+        }
+        _ => unreachable!("a contender is refit on both campaigns or on neither"),
+    }
+}
+
 /// Whether contender `t` alone holds [`crate::discrepancy::SHARED`] of the weights `w` (alone), and
 /// whether it is among the fewest heaviest that hold it (right).
 fn named(w: &[f64], t: usize) -> (bool, bool) {
@@ -391,4 +356,147 @@ fn pseudo_bma(elpd: &[Vec<f64>], draws: usize, rng: &mut rand_chacha::ChaCha8Rng
         }
     }
     w
+}
+
+impl Space<'_> {
+    /// One simulated specimen from the predictions `sims` (`[key]`) reading the keys
+    /// `which`: its observations (key index, value).
+    fn draw(&self, sims: &[Simulated], which: &[usize], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
+        let mut out = Vec::new();
+        let mut kinds = Vec::new();
+        let mut starts = Vec::new();
+        for &k in which {
+            let (o, sim) = (&self.keys[k], &sims[k]);
+            match o {
+                Observable::MechanismKind { .. } => kinds.push(k),
+                Observable::MechanismStart { .. } => starts.push(k),
+                Observable::FailureHeight { width } => {
+                    if sim.heights.is_empty() {
+                        continue;
+                    }
+                    let v = if rng.random::<f64>() < self.reading.misreading {
+                        rng.random::<f64>()
+                    } else {
+                        let u: f64 = rng.random();
+                        let mut acc = 0.0;
+                        let last = (sim.heights.0.len() - 1) as f64;
+                        let mut c = 1.0;
+                        for (i, m) in sim.heights.0.iter().enumerate() {
+                            acc += m;
+                            if u <= acc {
+                                c = i as f64 / last;
+                                break;
+                            }
+                        }
+                        let z: f64 = StandardNormal.sample(rng);
+                        (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
+                    };
+                    let v = self.reading.neighbour_read(v, *width, rng.random());
+                    out.push((k, self.reading.round(&Observable::FailureHeight { width: *width }, v)));
+                }
+                _ => {
+                    if !sim.mean.is_finite() {
+                        continue;
+                    }
+                    let p = Predictive::new(sim, &self.template(k), self.bracket_deg);
+                    let z: f64 = if p.dof < 1e4 {
+                        StudentT::new(p.dof.max(1.0)).map_or(0.0, |d| d.sample(rng))
+                    } else {
+                        StandardNormal.sample(rng)
+                    };
+                    out.push((k, self.reading.round(o, p.mean + p.sd * z)));
+                }
+            }
+        }
+        for group in [kinds, starts] {
+            if group.is_empty() {
+                continue;
+            }
+            // The seen category, by the smoothed and misread probabilities.
+            let q: Vec<f64> = group
+                .iter()
+                .map(|&k| self.reading.category_probability(&self.keys[k], &sims[k]).unwrap_or(0.0))
+                .collect();
+            let total: f64 = q.iter().sum();
+            if !(total > 0.0) {
+                continue;
+            }
+            let mut u = rng.random::<f64>() * total;
+            let mut pick = group[group.len() - 1];
+            for (&k, q) in group.iter().zip(&q) {
+                if u < *q {
+                    pick = k;
+                    break;
+                }
+                u -= q;
+            }
+            out.push((pick, 1.0));
+        }
+        out
+    }
+
+    /// An observation of key `k` with its σ (its value set later).
+    fn template(&self, k: usize) -> Observation {
+        Observation {
+            specimen: String::new(),
+            group: String::new(),
+            observable: self.keys[k],
+            value: 0.0,
+            sigma: self.sigma[k],
+        }
+    }
+
+    /// The scores of the simulated `specimens` (each its observations) under one
+    /// contender: at `fixed`, or at every scan point of `scan` (`cache` keeps each
+    /// reading's row of scores).
+    fn scores(
+        &self,
+        specimens: &[Vec<(usize, f64)>],
+        fixed: &[Simulated],
+        scan: Option<&[Vec<Simulated>]>,
+        cache: &mut ScoreCache,
+    ) -> NewScores {
+        let mut obs = Vec::new();
+        let mut key = Vec::new();
+        let mut y = Vec::new();
+        let names: Vec<String> = (0..specimens.len()).map(|i| format!("s{i}")).collect();
+        let mut of = Vec::new();
+        for (i, s) in specimens.iter().enumerate() {
+            for &(k, v) in s {
+                obs.push(Observation { specimen: names[i].clone(), value: v, ..self.template(k) });
+                key.push(k);
+                y.push(v);
+                of.push(i);
+            }
+        }
+        let weight = specimen_weights(&obs);
+        let data =
+            Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: self.reading, bracket_deg: self.bracket_deg };
+        let Some(scan) = scan else {
+            let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(fixed, j)).collect();
+            return NewScores::Fixed {
+                all: per_specimen(&scores, &obs, &names),
+                pins: per_specimen(&data.split_scores(&scores).0, &obs, &names),
+            };
+        };
+        let points = scan.len();
+        let mut pins_t = vec![vec![0.0; specimens.len()]; points];
+        let mut all_t = vec![vec![0.0; specimens.len()]; points];
+        let unit = vec![1.0; obs.len()];
+        let unweighted = Data { weight: &unit, ..data };
+        for j in 0..obs.len() {
+            let pins = data.pins(j);
+            let row = cache
+                .entry((key[j], y[j].to_bits()))
+                .or_insert_with(|| scan.iter().map(|sims| unweighted.score(sims, j)).collect());
+            for p in 0..points {
+                let s = weight[j] * row[p];
+                all_t[p][of[j]] += s;
+                if pins {
+                    pins_t[p][of[j]] += s;
+                }
+            }
+        }
+        NewScores::Scan { pins: pins_t, all: all_t }
+    }
 }

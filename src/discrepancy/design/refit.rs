@@ -46,6 +46,8 @@ pub struct FirstScores {
     pub pins: Vec<Vec<f64>>,
     /// `[point][specimen]`, every observation.
     pub all: Vec<Vec<f64>>,
+    /// `[point][key]`: the contender's predictions of the first campaign's keys there.
+    pub scan: Vec<Vec<Simulated>>,
 }
 
 /// A contender refit on both campaigns: its predictions of the follow-up's keys at every
@@ -82,43 +84,118 @@ pub fn first_scores(run: &Run, cs: &[Contender]) -> Vec<Option<FirstScores>> {
     cs.iter()
         .map(|c| {
             let (cand, _) = candidate_of(run, c)?;
-            let (mut pins, mut all) = (Vec::new(), Vec::new());
+            let (mut pins, mut all, mut scan) = (Vec::new(), Vec::new(), Vec::new());
             for x in scan_points(&cand.surface) {
                 let sims = cand.surface.at(&x);
+                scan.push(sims.clone());
                 let scores: Vec<f64> = (0..run.obs.len()).map(|j| data.score(&sims, j)).collect();
                 all.push(per_specimen(&scores, &run.obs, &run.specimens));
                 pins.push(per_specimen(&data.split_scores(&scores).0, &run.obs, &run.specimens));
             }
-            Some(FirstScores { pins, all })
+            Some(FirstScores { pins, all, scan })
         })
         .collect()
 }
 
 /// A contender's held-out log scores per specimen of both campaigns, refit leave one
-/// specimen out on the measures: the first campaign's specimens, then the first `n` of a
-/// follow-up whose summed scores per scan point and specimen are `new_pins` (measures) and
-/// `new_all` (every observation), `[point][specimen]` (unread when `n` is 0). Each
-/// specimen is scored at the scan point of least summed score of the others' measures
-/// (the first of equals). Returns `(elpd, elpd_measures)`, nats, one per specimen.
-pub fn heldout(first: &FirstScores, new_pins: &[Vec<f64>], new_all: &[Vec<f64>], n: usize) -> (Vec<f64>, Vec<f64>) {
-    let s1 = first.pins.first().map_or(0, Vec::len);
+/// specimen out on the measures: the first campaign's specimens, whose summed scores per
+/// scan point and specimen are `first_pins` (measures) and `first_all` (every
+/// observation), `[point][specimen]`, then the first `n` of a follow-up's, `new_pins` and
+/// `new_all` (unread when `n` is 0). Each specimen is scored at the scan point of least
+/// summed score of the others' measures (the first of equals). Returns `(elpd,
+/// elpd_measures)`, nats, one per specimen.
+pub fn heldout(
+    first_pins: &[Vec<f64>],
+    first_all: &[Vec<f64>],
+    new_pins: &[Vec<f64>],
+    new_all: &[Vec<f64>],
+    n: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let s1 = first_pins.first().map_or(0, Vec::len);
     let new_sum = |p: usize| if n == 0 { 0.0 } else { new_pins[p][..n].iter().sum::<f64>() };
-    let total: Vec<f64> = (0..first.pins.len()).map(|p| first.pins[p].iter().sum::<f64>() + new_sum(p)).collect();
+    let total: Vec<f64> = (0..first_pins.len()).map(|p| first_pins[p].iter().sum::<f64>() + new_sum(p)).collect();
     let at = |t: &[Vec<f64>], u: &[Vec<f64>], p: usize, s: usize| if s < s1 { t[p][s] } else { u[p][s - s1] };
     let mut elpd = Vec::with_capacity(s1 + n);
     let mut measures = Vec::with_capacity(s1 + n);
     for s in 0..s1 + n {
         let mut best = (0, f64::INFINITY);
         for (p, tot) in total.iter().enumerate() {
-            let v = tot - at(&first.pins, new_pins, p, s);
+            let v = tot - at(first_pins, new_pins, p, s);
             if v < best.1 {
                 best = (p, v);
             }
         }
-        elpd.push(-at(&first.all, new_all, best.0, s));
-        measures.push(-at(&first.pins, new_pins, best.0, s));
+        elpd.push(-at(first_all, new_all, best.0, s));
+        measures.push(-at(first_pins, new_pins, best.0, s));
     }
     (elpd, measures)
+}
+
+/// The first campaign as a design ([`super::problem::FirstCampaign`], owned): its keys,
+/// each key's σ (the largest the analysis used for it), the keys each specimen reads (a
+/// mechanism's kind and start: every category of its group), and every contender's
+/// predictions of the keys at its fit.
+#[derive(Debug, Clone)]
+pub struct FirstDesign {
+    /// The keys.
+    pub keys: Vec<Observable>,
+    /// The σ of each key.
+    pub sigma: Vec<f64>,
+    /// The keys each specimen reads, in the analysis's specimen order.
+    pub specimens: Vec<Vec<usize>>,
+    /// `[contender][key]` at the first campaign's fit.
+    pub at_fit: Vec<Vec<Simulated>>,
+}
+
+/// The first campaign's design for the contenders `cs` of `run`.
+pub fn first_design(run: &Run, cs: &[Contender]) -> FirstDesign {
+    let keys: Vec<Observable> = run.keys.keys.iter().map(|(_, o)| *o).collect();
+    let mut sigma = vec![0.0f64; keys.len()];
+    for (o, &k) in run.obs.iter().zip(&run.keys.of) {
+        sigma[k] = sigma[k].max(o.sigma);
+    }
+    let family = |o: &Observable| match o {
+        Observable::MechanismKind { .. } => 1,
+        Observable::MechanismStart { .. } => 2,
+        _ => 0,
+    };
+    let specimens = run
+        .specimens
+        .iter()
+        .map(|name| {
+            let mut which: Vec<usize> = Vec::new();
+            for (o, &k) in run.obs.iter().zip(&run.keys.of) {
+                if &o.specimen != name {
+                    continue;
+                }
+                let f = family(&o.observable);
+                if f == 0 {
+                    which.push(k);
+                } else {
+                    let g = run.keys.keys[k].0;
+                    which.extend(
+                        run.keys
+                            .keys
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, (kg, ko))| *kg == g && family(ko) == f)
+                            .map(|(i, _)| i),
+                    );
+                }
+            }
+            which.sort_unstable();
+            which.dedup();
+            which
+        })
+        .collect();
+    let at_fit = cs
+        .iter()
+        .map(|c| match candidate_of(run, c) {
+            Some((cand, x)) => cand.surface.at(x),
+            None => run.library.baseline.clone(),
+        })
+        .collect();
+    FirstDesign { keys, sigma, specimens, at_fit }
 }
 
 /// Every contender's predictions of one follow-up: at its first-campaign fit
