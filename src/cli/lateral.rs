@@ -2,7 +2,7 @@
 
 use super::solver::SolverChoice;
 use anyhow::{bail, Context, Result};
-use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
+use drystone::dem::{Method, PenaltyParams, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
 use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
@@ -80,8 +80,12 @@ pub fn run(
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut params = *params;
-    if solver.kind == SolverKind::Nscd && !params.pushover {
-        // nscd runs the rigid pushover only; this spelling kept working with a note.
+    // nscd runs the rigid pushover only; this spelling kept working with a note.
+    let pushover_only = match solver.kind.method() {
+        Method::Nscd => true,
+        Method::Penalty | Method::Limit => false,
+    };
+    if pushover_only && !params.pushover {
         eprintln!("note: `--solver nscd` runs the rigid pushover; give it with --pushover (without it is deprecated)");
         params.pushover = true;
     }
