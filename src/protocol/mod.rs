@@ -456,6 +456,27 @@ mod tests {
         }
     }
 
+    /// Limit analysis's live loads (`limit::LiveLoad`, below the registry: the load with
+    /// its values) are spelled as the kinds whose runs give them (`protocol` of
+    /// `drystone limit --json`): an exhaustive match, so that a new live load is given its
+    /// kind here.
+    #[test]
+    fn the_live_loads_are_spelled_as_their_kinds() {
+        use crate::limit::LiveLoad;
+        let kind = |l: &LiveLoad| match l {
+            LiveLoad::Tilt => ProtocolKind::Tilt,
+            LiveLoad::Lateral { .. } => ProtocolKind::Lateral,
+        };
+        for l in [LiveLoad::Tilt, LiveLoad::Lateral { pressure_base_pa: 1e3, pressure_top_pa: 5e2 }] {
+            let v = serde_json::to_value(l).unwrap();
+            let tag = match &v {
+                serde_json::Value::String(s) => s.clone(),
+                other => other.as_object().and_then(|o| o.keys().next().cloned()).unwrap_or_default(),
+            };
+            assert_eq!(tag, kind(&l).name(), "{v}");
+        }
+    }
+
     /// Every kind's name is its spelling in study files (serde) and on the command line
     /// (`FromStr`); its rows are the protocols of its kind, the first the one its table
     /// chooses by default; every protocol names its study file's kind.
