@@ -2,7 +2,7 @@
 //! from statics alone).
 
 use anyhow::{Context, Result};
-use clap::builder::TypedValueParser;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use drystone::dem::{Method, SolverKind, SolverParams};
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
@@ -16,11 +16,15 @@ use std::process::ExitCode;
 
 /// `--protocol NAME` of `drystone limit`: the protocols of the registry
 /// ([`ProtocolKind`]) that limit analysis runs by the compatibility table
-/// ([`drystone::protocol::methods`]): `tilt` and `lateral`.
+/// ([`drystone::protocol::methods`]), `tilt` and `lateral`, each described in `--help` as
+/// the protocol its study-file name runs.
 fn limit_protocol() -> impl TypedValueParser<Value = ProtocolKind> {
     let runs = |k: &ProtocolKind| k.loadings().iter().any(|&l| supports(l, Method::Limit));
-    let names: Vec<&'static str> = ProtocolKind::ALL.into_iter().filter(runs).map(ProtocolKind::name).collect();
-    clap::builder::PossibleValuesParser::new(names).try_map(|name| name.parse::<ProtocolKind>())
+    let values = ProtocolKind::ALL.into_iter().filter(runs).map(|k| {
+        let what = k.loadings().first().map_or("", |l| l.describe());
+        PossibleValue::new(k.name()).help(what)
+    });
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<ProtocolKind>())
 }
 
 /// Options of `drystone limit`.
