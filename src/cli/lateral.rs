@@ -2,13 +2,13 @@
 
 use super::solver::SolverChoice;
 use anyhow::{bail, Context, Result};
-use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
+use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::io::series::{lateral_frames, write_series, Recorder};
 use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
 use drystone::loading::lateral_nscd::LateralLimit;
 use drystone::loading::lateral_pushover::LateralPushover;
-use drystone::protocol::{Lateral, LateralRun, Observer, Pushover, PushoverRun, Unsupported};
+use drystone::protocol::{supports, Lateral, LateralRun, Loading, Observer, Pushover, PushoverRun, Unsupported};
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -80,9 +80,15 @@ pub fn run(
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
     let mut params = *params;
-    if solver.kind == SolverKind::Nscd && !params.pushover {
-        // nscd runs the rigid pushover only; this spelling kept working with a note.
-        eprintln!("note: `--solver nscd` runs the rigid pushover; give it with --pushover (without it is deprecated)");
+    // A method that runs the pushover but not the service load (by the compatibility
+    // table: nscd, the rigid pushover) runs the pushover without --pushover too, a spelling
+    // kept working with a note.
+    let method = solver.kind.method();
+    if !params.pushover && !supports(Loading::Lateral, method) && supports(Loading::Pushover, method) {
+        eprintln!(
+            "note: `--solver {}` runs the rigid pushover; give it with --pushover (without it is deprecated)",
+            solver.kind.name()
+        );
         params.pushover = true;
     }
     let mut rec = Recorder::default();

@@ -2,24 +2,29 @@
 //! from statics alone).
 
 use anyhow::{Context, Result};
-use drystone::dem::{SolverKind, SolverParams};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use drystone::dem::{Method, SolverKind, SolverParams};
 use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
 use drystone::limit::{FlowRule, LimitParams, LimitResult};
 use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
-use drystone::protocol::{Lateral, LateralRun, Tilt, TiltRun};
+use drystone::protocol::{supports, Lateral, LateralRun, Loading, ProtocolKind, Tilt, TiltRun, Unsupported};
 use drystone::Vec3;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The live load of `drystone limit`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ProtocolArg {
-    /// Tilting table: λ = tan α_max.
-    Tilt,
-    /// The lateral pressure of `drystone lateral`: λ multiplies it.
-    Lateral,
+/// `--protocol NAME` of `drystone limit`: the protocols of the registry
+/// ([`ProtocolKind`]) that limit analysis runs by the compatibility table
+/// ([`drystone::protocol::methods`]), `tilt` and `lateral`, each described in `--help` as
+/// the protocol its study-file name runs.
+fn limit_protocol() -> impl TypedValueParser<Value = ProtocolKind> {
+    let runs = |k: &ProtocolKind| k.loadings().iter().any(|&l| supports(l, Method::Limit));
+    let values = ProtocolKind::ALL.into_iter().filter(runs).map(|k| {
+        let what = k.loadings().first().map_or("", |l| l.describe());
+        PossibleValue::new(k.name()).help(what)
+    });
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<ProtocolKind>())
 }
 
 /// Options of `drystone limit`.
@@ -27,9 +32,10 @@ pub enum ProtocolArg {
 pub struct LimitArgs {
     /// Layout file (JSON).
     layout: PathBuf,
-    /// The live load: the tilting table's weight along +y, or the lateral pressure.
-    #[arg(long, value_enum, default_value = "tilt")]
-    protocol: ProtocolArg,
+    /// The live load: `tilt`, the tilting table's weight along +y (λ = tan α_max), or
+    /// `lateral`, the lateral pressure of `drystone lateral` (λ multiplies it).
+    #[arg(long, value_parser = limit_protocol(), default_value = "tilt")]
+    protocol: ProtocolKind,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -59,11 +65,11 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
     let l = super::read_layout(&a.layout)?;
     // The protocol by limit analysis, through the protocol seam.
     let run = match a.protocol {
-        ProtocolArg::Tilt => match drystone::protocol::run(&Tilt(TiltParams::default()), &l, solver, &mut ())? {
+        ProtocolKind::Tilt => match drystone::protocol::run(&Tilt(TiltParams::default()), &l, solver, &mut ())? {
             TiltRun::Limit(r) => Some(r),
             TiltRun::Path(_) => None,
         },
-        ProtocolArg::Lateral => {
+        ProtocolKind::Lateral => {
             let lateral = LateralParams {
                 pressure_base_pa: a.pressure_base_pa,
                 pressure_top_pa: a.pressure_top_pa,
@@ -74,6 +80,8 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
                 LateralRun::Dem(_) => None,
             }
         }
+        // Not offered by `--protocol`: limit analysis does not shake the table.
+        ProtocolKind::Shake => return Err(Unsupported { protocol: Loading::Shake, kind: SolverKind::Limit }.into()),
     };
     let r = run.context("the seam ran another method than limit analysis")?;
     let r = r.with_context(|| format!("limit analysis of {}", a.layout.display()))?;

@@ -12,6 +12,7 @@ pub use super::measured::{
 use crate::ensemble::row::{
     CollapseColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns, Status, TiltColumns,
 };
+use crate::protocol::Loading;
 use polars::prelude::*;
 use std::fs::File;
 use std::path::Path;
@@ -42,50 +43,38 @@ enum Field {
     Derived(fn(&RealizationRow) -> Option<f64>),
 }
 
-/// Which part of the row a column belongs to: the realization's identity and run, or one
-/// protocol's results.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Part {
-    /// Identity, status and cost: every protocol.
-    Run,
-    /// The collapse and its mechanism: the tilting table, limit analysis, the pushover.
-    Collapse,
-    /// The tilting table's displacement curves.
-    Tilt,
-    /// The static lateral load's displacements.
-    Lateral,
-    /// The shaking table.
-    Shake,
-    /// The pushover's load multipliers (written only when a row has one).
-    Pushover,
-}
-
-impl Part {
-    /// Whether its columns are written to a table whose rows have (`pushover`) or lack the
-    /// pushover's load multipliers.
-    fn written(self, pushover: bool) -> bool {
-        match self {
-            Part::Pushover => pushover,
-            Part::Run | Part::Collapse | Part::Tilt | Part::Lateral | Part::Shake => true,
-        }
+/// Whether the columns of `protocol` (a column's [`RowColumn::protocol`]) are written to a
+/// table whose rows have (`pushover`) or lack the pushover's load multipliers: the
+/// pushover's own columns only to the former.
+fn written(protocol: Option<Loading>, pushover: bool) -> bool {
+    match protocol {
+        Some(Loading::Pushover) => pushover,
+        Some(Loading::Tilt | Loading::TiltByHand | Loading::Lateral | Loading::Shake) | None => true,
     }
 }
 
-/// One column: its name, its part, its field, and whether a table may lack it (a column
-/// added after the first tables were written: missing, it reads as empty).
+/// One column: its name, the protocol whose results it holds, its field, and whether a
+/// table may lack it (a column added after the first tables were written: missing, it
+/// reads as empty).
 struct RowColumn {
     name: &'static str,
-    part: Part,
+    /// The protocol whose results the column holds (its row of the compatibility table:
+    /// the tilting table's curves, which its hand-rolled form fills too, the lateral load's
+    /// displacements, which the pushover fills at its service level, the shaking table's,
+    /// the pushover's load multipliers); `None` for the columns of every row (identity,
+    /// status and cost) and for the collapse and its mechanism, which the tilting table,
+    /// limit analysis and the pushover fill.
+    protocol: Option<Loading>,
     field: Field,
     optional: bool,
 }
 
-const fn column(name: &'static str, part: Part, field: Field) -> RowColumn {
-    RowColumn { name, part, field, optional: false }
+const fn column(name: &'static str, protocol: Option<Loading>, field: Field) -> RowColumn {
+    RowColumn { name, protocol, field, optional: false }
 }
 
-const fn later(name: &'static str, part: Part, field: Field) -> RowColumn {
-    RowColumn { name, part, field, optional: true }
+const fn later(name: &'static str, protocol: Option<Loading>, field: Field) -> RowColumn {
+    RowColumn { name, protocol, field, optional: true }
 }
 
 fn status_of(r: &mut RealizationRow, v: String) -> Result<(), String> {
@@ -183,53 +172,53 @@ const _FIELDS: fn(&RealizationRow) = |r| {
 /// writer ([`realizations_frame`]) and the reader ([`read_realizations`]) follow. A new
 /// column is one line here (and its field in [`RealizationRow`], which `_FIELDS` names).
 const COLUMNS: &[RowColumn] = &[
-    column("index", Part::Run, field!(count index)),
-    column("study", Part::Run, field!(text study)),
-    column("group", Part::Run, field!(text group)),
-    column("point", Part::Run, field!(count point)),
-    column("sweep", Part::Run, field!(text sweep)),
-    column("seed", Part::Run, field!(count seed)),
-    column("realization", Part::Run, field!(count realization)),
-    column("status", Part::Run, Field::Text(|r| r.status.as_str().to_string(), status_of)),
-    column("error", Part::Run, field!(text error)),
-    column("blocks", Part::Run, field!(count blocks)),
-    column("collapse_angle_deg", Part::Collapse, field!(opt_number collapse.collapse_angle_deg)),
-    column("first_unstable_deg", Part::Collapse, field!(opt_number collapse.first_unstable_deg)),
-    column("collapse_reason", Part::Collapse, Field::Text(|r| r.collapse.collapse_reason.clone(), reason_of)),
-    column("mechanism", Part::Collapse, field!(text collapse.mechanism)),
-    column("joint", Part::Collapse, field!(text collapse.joint)),
-    column("moving_blocks", Part::Collapse, field!(count collapse.moving_blocks)),
-    later("failure_height_fraction", Part::Collapse, field!(opt_number collapse.failure_height_fraction)),
-    later("mechanism_kind", Part::Collapse, field!(text collapse.mechanism_kind)),
-    later("mechanism_start", Part::Collapse, field!(text collapse.mechanism_start)),
-    later("mechanism_extent", Part::Collapse, field!(opt_number collapse.mechanism_extent)),
-    column("disp_mean_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(5.0))),
-    column("disp_mean_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_mean_at(10.0))),
-    column("disp_centre_rel_5deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(5.0))),
-    column("disp_centre_rel_10deg_cm", Part::Tilt, Field::Derived(|r| r.disp_centre_rel_at(10.0))),
-    column("lateral_disp_left_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_left_cm)),
-    column("lateral_disp_centre_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_centre_cm)),
-    column("lateral_disp_right_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_right_cm)),
-    column("lateral_disp_max_cm", Part::Lateral, field!(opt_number lateral.lateral_disp_max_cm)),
-    column("lateral_drift", Part::Lateral, field!(opt_number lateral.lateral_drift)),
-    later("motion", Part::Shake, field!(text shake.motion)),
-    later("pga_g", Part::Shake, field!(opt_number shake.pga_g)),
-    later("collapse_time_s", Part::Shake, field!(opt_number shake.collapse_time_s)),
-    later("max_rotation_deg", Part::Shake, field!(opt_number shake.max_rotation_deg)),
-    later("max_drift", Part::Shake, field!(opt_number shake.max_drift)),
-    later("residual_drift", Part::Shake, field!(opt_number shake.residual_drift)),
-    later("blocks_fallen", Part::Shake, field!(opt_count shake.blocks_fallen)),
-    column("tilt_deg", Part::Tilt, field!(series tilt.tilt_deg)),
-    column("disp_top_left_cm", Part::Tilt, field!(series tilt.disp_top_left_cm)),
-    column("disp_top_centre_cm", Part::Tilt, field!(series tilt.disp_top_centre_cm)),
-    column("disp_top_right_cm", Part::Tilt, field!(series tilt.disp_top_right_cm)),
-    column("steps", Part::Run, field!(count steps)),
-    column("iterations", Part::Run, field!(count iterations)),
-    column("dt_s", Part::Run, field!(number dt_s)),
-    column("wall_time_s", Part::Run, field!(number wall_time_s)),
-    later("load_multiplier_dem", Part::Pushover, field!(opt_number pushover.load_multiplier_dem)),
-    later("load_multiplier_dem_unstable", Part::Pushover, field!(opt_number pushover.load_multiplier_dem_unstable)),
-    later("load_multiplier_limit", Part::Pushover, field!(opt_number pushover.load_multiplier_limit)),
+    column("index", None, field!(count index)),
+    column("study", None, field!(text study)),
+    column("group", None, field!(text group)),
+    column("point", None, field!(count point)),
+    column("sweep", None, field!(text sweep)),
+    column("seed", None, field!(count seed)),
+    column("realization", None, field!(count realization)),
+    column("status", None, Field::Text(|r| r.status.as_str().to_string(), status_of)),
+    column("error", None, field!(text error)),
+    column("blocks", None, field!(count blocks)),
+    column("collapse_angle_deg", None, field!(opt_number collapse.collapse_angle_deg)),
+    column("first_unstable_deg", None, field!(opt_number collapse.first_unstable_deg)),
+    column("collapse_reason", None, Field::Text(|r| r.collapse.collapse_reason.clone(), reason_of)),
+    column("mechanism", None, field!(text collapse.mechanism)),
+    column("joint", None, field!(text collapse.joint)),
+    column("moving_blocks", None, field!(count collapse.moving_blocks)),
+    later("failure_height_fraction", None, field!(opt_number collapse.failure_height_fraction)),
+    later("mechanism_kind", None, field!(text collapse.mechanism_kind)),
+    later("mechanism_start", None, field!(text collapse.mechanism_start)),
+    later("mechanism_extent", None, field!(opt_number collapse.mechanism_extent)),
+    column("disp_mean_5deg_cm", Some(Loading::Tilt), Field::Derived(|r| r.disp_mean_at(5.0))),
+    column("disp_mean_10deg_cm", Some(Loading::Tilt), Field::Derived(|r| r.disp_mean_at(10.0))),
+    column("disp_centre_rel_5deg_cm", Some(Loading::Tilt), Field::Derived(|r| r.disp_centre_rel_at(5.0))),
+    column("disp_centre_rel_10deg_cm", Some(Loading::Tilt), Field::Derived(|r| r.disp_centre_rel_at(10.0))),
+    column("lateral_disp_left_cm", Some(Loading::Lateral), field!(opt_number lateral.lateral_disp_left_cm)),
+    column("lateral_disp_centre_cm", Some(Loading::Lateral), field!(opt_number lateral.lateral_disp_centre_cm)),
+    column("lateral_disp_right_cm", Some(Loading::Lateral), field!(opt_number lateral.lateral_disp_right_cm)),
+    column("lateral_disp_max_cm", Some(Loading::Lateral), field!(opt_number lateral.lateral_disp_max_cm)),
+    column("lateral_drift", Some(Loading::Lateral), field!(opt_number lateral.lateral_drift)),
+    later("motion", Some(Loading::Shake), field!(text shake.motion)),
+    later("pga_g", Some(Loading::Shake), field!(opt_number shake.pga_g)),
+    later("collapse_time_s", Some(Loading::Shake), field!(opt_number shake.collapse_time_s)),
+    later("max_rotation_deg", Some(Loading::Shake), field!(opt_number shake.max_rotation_deg)),
+    later("max_drift", Some(Loading::Shake), field!(opt_number shake.max_drift)),
+    later("residual_drift", Some(Loading::Shake), field!(opt_number shake.residual_drift)),
+    later("blocks_fallen", Some(Loading::Shake), field!(opt_count shake.blocks_fallen)),
+    column("tilt_deg", Some(Loading::Tilt), field!(series tilt.tilt_deg)),
+    column("disp_top_left_cm", Some(Loading::Tilt), field!(series tilt.disp_top_left_cm)),
+    column("disp_top_centre_cm", Some(Loading::Tilt), field!(series tilt.disp_top_centre_cm)),
+    column("disp_top_right_cm", Some(Loading::Tilt), field!(series tilt.disp_top_right_cm)),
+    column("steps", None, field!(count steps)),
+    column("iterations", None, field!(count iterations)),
+    column("dt_s", None, field!(number dt_s)),
+    column("wall_time_s", None, field!(number wall_time_s)),
+    later("load_multiplier_dem", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_dem)),
+    later("load_multiplier_dem_unstable", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_dem_unstable)),
+    later("load_multiplier_limit", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_limit)),
 ];
 
 /// The column `c` of `rows`; `lists` chooses list columns (Parquet) or joined strings
@@ -262,7 +251,7 @@ fn write_column(c: &RowColumn, rows: &[RealizationRow], lists: bool) -> Column {
 pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
     let pushover = rows.iter().any(|r| r.pushover.any());
     let columns: Vec<Column> =
-        COLUMNS.iter().filter(|c| c.part.written(pushover)).map(|c| write_column(c, rows, lists)).collect();
+        COLUMNS.iter().filter(|c| written(c.protocol, pushover)).map(|c| write_column(c, rows, lists)).collect();
     DataFrame::new_infer_height(columns)
 }
 

@@ -63,13 +63,13 @@ pub struct Way<P: LoadingProtocol> {
     pub run: fn(&P, &Layout, &SolverParams, &mut dyn Observer) -> P::Run,
 }
 
-/// A loading protocol: one module of `protocol/`, registered once in `protocol/mod.rs`.
+/// A loading protocol: one module of `protocol/`, registered once in `protocol/mod.rs`
+/// under the name a study file and the command line give it (its [`super::ProtocolKind`]:
+/// the hand-rolled table and the pushover are chosen within the tilting table's and the
+/// lateral load's tables).
 pub trait LoadingProtocol: Sized {
     /// Its name in tables and in the Python package's `drystone.supports`.
     const NAME: &'static str;
-    /// The name a study file gives it (`protocol = "..."`; the hand-rolled table and the
-    /// pushover are chosen within the tilting table's and the lateral load's tables).
-    const STUDY_NAME: &'static str;
     /// What it is, in a phrase (for messages).
     const DESCRIPTION: &'static str;
     /// Whether it is a motion (a time history) rather than a sequence of static states: a

@@ -27,7 +27,6 @@ pub enum LateralRun {
 
 impl LoadingProtocol for Lateral {
     const NAME: &'static str = "lateral";
-    const STUDY_NAME: &'static str = "lateral";
     const DESCRIPTION: &'static str = "the static lateral load";
     const MOTION: bool = false;
     type Run = LateralRun;

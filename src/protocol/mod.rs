@@ -6,8 +6,9 @@
 //! holding its parameters, the result of a run whatever method ran it ([`RunOutcome`]), and
 //! one exhaustive match over the methods that is both its row of the compatibility table
 //! and its dispatch ([`LoadingProtocol::way`]). The registry below lists the protocols once
-//! and makes every enum that names them: [`Loading`] (the table's rows), [`Protocol`] (a
-//! protocol with its parameters) and [`ProtocolRun`] (what a run gave). [`run`] is the one
+//! and makes every enum that names them: [`ProtocolKind`] (the name a study file and the
+//! command line give), [`Loading`] (the table's rows), [`Protocol`] (a protocol with its
+//! parameters) and [`ProtocolRun`] (what a run gave). [`run`] is the one
 //! place a method is chosen: it checks the solver against the table ([`check`]) and calls
 //! the protocol's way for the solver's method, handing its states to an [`Observer`].
 //! Adding a protocol is its module here, its line in the registry and the drivers it calls
@@ -43,30 +44,77 @@ pub trait Registered: LoadingProtocol {
 }
 
 /// Makes, from the one list of protocols, every enum that names them and their dispatch.
+///
+/// The list is grouped by the name a study file and the command line give (`protocol =
+/// "tilt"`, `--protocol tilt`): a [`ProtocolKind`] with its name, then its protocols, the
+/// first the one its table chooses by default (the hand-rolled table and the pushover are
+/// chosen within the tilting table's and the lateral load's tables).
 macro_rules! registry {
-    ($($(#[doc = $doc:literal])* $variant:ident($ty:ty)),+ $(,)?) => {
+    ($(
+        $(#[doc = $kdoc:literal])*
+        $kind:ident = $name:literal {
+            $($(#[doc = $doc:literal])* $variant:ident($ty:ty)),+ $(,)?
+        }
+    ),+ $(,)?) => {
+        /// A protocol as a study file and the command line name it (`protocol = "tilt"`,
+        /// `drystone limit --protocol tilt`): its name is its spelling in either ([`ProtocolKind::name`],
+        /// serde's and the command line's alike). Each kind is one or more rows of the
+        /// compatibility table ([`ProtocolKind::loadings`]), the one its table chooses
+        /// ([`Protocol::tilting`], [`Protocol::lateral`]) being run.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        pub enum ProtocolKind {
+            $($(#[doc = $kdoc])* #[serde(rename = $name)] $kind,)+
+        }
+
+        impl ProtocolKind {
+            /// Every kind, in the registry's order.
+            pub const ALL: [ProtocolKind; [$(ProtocolKind::$kind),+].len()] = [$(ProtocolKind::$kind),+];
+
+            /// Its name in study files (`protocol = "..."`) and on the command line.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(ProtocolKind::$kind => $name,)+
+                }
+            }
+
+            /// Its rows of the compatibility table, in the registry's order: the first is
+            /// run unless its table chooses another (`tilt.by_hand`, `lateral.pushover`).
+            pub fn loadings(self) -> &'static [Loading] {
+                match self {
+                    $(ProtocolKind::$kind => &[$(Loading::$variant),+],)+
+                }
+            }
+        }
+
         /// A protocol, as a row of the compatibility table ([`methods`]).
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
         pub enum Loading {
-            $($(#[doc = $doc])* $variant,)+
+            $($($(#[doc = $doc])* $variant,)+)+
         }
 
         impl Loading {
             /// Every protocol, in the registry's order.
-            pub const ALL: [Loading; [$(Loading::$variant),+].len()] = [$(Loading::$variant),+];
+            pub const ALL: [Loading; [$($(Loading::$variant),+),+].len()] = [$($(Loading::$variant),+),+];
+
+            /// The name a study file and the command line give it: its [`ProtocolKind`].
+            pub fn kind(self) -> ProtocolKind {
+                match self {
+                    $($(Loading::$variant => ProtocolKind::$kind,)+)+
+                }
+            }
 
             /// Its name in the Python package's `drystone.supports` and in tables
             /// ([`LoadingProtocol::NAME`]).
             pub fn name(self) -> &'static str {
                 match self {
-                    $(Loading::$variant => <$ty as LoadingProtocol>::NAME,)+
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::NAME,)+)+
                 }
             }
 
             /// What it is, in a phrase (for messages).
             pub fn describe(self) -> &'static str {
                 match self {
-                    $(Loading::$variant => <$ty as LoadingProtocol>::DESCRIPTION,)+
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::DESCRIPTION,)+)+
                 }
             }
 
@@ -74,7 +122,7 @@ macro_rules! registry {
             /// states: a penalty cascade, a setting of static solves, does not apply to it.
             pub fn is_motion(self) -> bool {
                 match self {
-                    $(Loading::$variant => <$ty as LoadingProtocol>::MOTION,)+
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::MOTION,)+)+
                 }
             }
 
@@ -82,7 +130,7 @@ macro_rules! registry {
             /// ([`LoadingProtocol::DEFAULT_SOLVER`]).
             pub fn default_solver(self) -> SolverKind {
                 match self {
-                    $(Loading::$variant => <$ty as LoadingProtocol>::DEFAULT_SOLVER,)+
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::DEFAULT_SOLVER,)+)+
                 }
             }
 
@@ -90,7 +138,7 @@ macro_rules! registry {
             /// ([`LoadingProtocol::REFUSAL_KEY`]).
             pub fn refusal_key(self) -> &'static str {
                 match self {
-                    $(Loading::$variant => <$ty as LoadingProtocol>::REFUSAL_KEY,)+
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::REFUSAL_KEY,)+)+
                 }
             }
 
@@ -100,9 +148,9 @@ macro_rules! registry {
             }
         }
 
-        $(impl Registered for $ty {
+        $($(impl Registered for $ty {
             const LOADING: Loading = Loading::$variant;
-        })+
+        })+)+
 
         /// Whether `method` runs `protocol`, and what it gives there (`None`: it does not):
         /// the protocol's [`LoadingProtocol::way`].
@@ -116,14 +164,14 @@ macro_rules! registry {
         /// | shake | explicit dynamics with contact damping | Moreau–Jean time stepping | – |
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
-                $(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+
+                $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+
             }
         }
 
         /// A loading protocol with its parameters.
         #[derive(Debug, Clone, PartialEq)]
         pub enum Protocol {
-            $($(#[doc = $doc])* $variant($ty),)+
+            $($($(#[doc = $doc])* $variant($ty),)+)+
         }
 
         /// What one run of a protocol came to: what the protocol's run gave (the result of
@@ -131,7 +179,7 @@ macro_rules! registry {
         /// status row), or the solver's refusal.
         #[derive(Debug, Clone, PartialEq)]
         pub enum ProtocolRun {
-            $($(#[doc = $doc])* $variant(<$ty as LoadingProtocol>::Run),)+
+            $($($(#[doc = $doc])* $variant(<$ty as LoadingProtocol>::Run),)+)+
             /// The solver does not run the protocol ([`check`]).
             Unsupported(Unsupported),
         }
@@ -140,15 +188,14 @@ macro_rules! registry {
             /// Its row of the compatibility table.
             pub fn kind(&self) -> Loading {
                 match self {
-                    $(Protocol::$variant(_) => Loading::$variant,)+
+                    $($(Protocol::$variant(_) => Loading::$variant,)+)+
                 }
             }
 
-            /// Its name in study files (`protocol = "..."`; [`LoadingProtocol::STUDY_NAME`]).
+            /// Its name in study files (`protocol = "..."`): its kind's
+            /// ([`ProtocolKind::name`]).
             pub fn name(&self) -> &'static str {
-                match self {
-                    $(Protocol::$variant(_) => <$ty as LoadingProtocol>::STUDY_NAME,)+
-                }
+                self.kind().kind().name()
             }
 
             /// The protocol run to compare with measured data
@@ -158,7 +205,7 @@ macro_rules! registry {
             /// Why the protocol has nothing to compare.
             pub fn observed(&self) -> Result<Protocol, &'static str> {
                 match self {
-                    $(Protocol::$variant(p) => p.compared(),)+
+                    $($(Protocol::$variant(p) => p.compared(),)+)+
                 }
             }
 
@@ -166,7 +213,7 @@ macro_rules! registry {
             /// ([`LoadingProtocol::observables`]).
             pub fn observables(&self) -> Observables {
                 match self {
-                    $(Protocol::$variant(p) => p.observables(),)+
+                    $($(Protocol::$variant(p) => p.observables(),)+)+
                 }
             }
 
@@ -174,14 +221,14 @@ macro_rules! registry {
             /// table ([`LoadingProtocol::shaking`]).
             pub fn shaking(&self) -> Option<(&crate::loading::shake::ShakeParams, &crate::ground::Motion)> {
                 match self {
-                    $(Protocol::$variant(p) => p.shaking(),)+
+                    $($(Protocol::$variant(p) => p.shaking(),)+)+
                 }
             }
 
             /// The tilting table's parameters, for a protocol that tilts the table.
             pub fn tilt(&self) -> Option<&TiltParams> {
                 match self {
-                    $(Protocol::$variant(p) => p.tilt(),)+
+                    $($(Protocol::$variant(p) => p.tilt(),)+)+
                 }
             }
 
@@ -189,9 +236,9 @@ macro_rules! registry {
             /// to `observer` ([`run`]).
             pub fn run_observed(&self, layout: &Layout, solver: SolverParams, observer: &mut dyn Observer) -> ProtocolRun {
                 match self {
-                    $(Protocol::$variant(p) => {
+                    $($(Protocol::$variant(p) => {
                         run(p, layout, solver, observer).map_or_else(ProtocolRun::Unsupported, ProtocolRun::$variant)
-                    })+
+                    })+)+
                 }
             }
         }
@@ -199,19 +246,19 @@ macro_rules! registry {
         impl RunOutcome for ProtocolRun {
             fn observed(&self) -> Option<Observed> {
                 match self {
-                    $(ProtocolRun::$variant(r) => r.observed(),)+
+                    $($(ProtocolRun::$variant(r) => r.observed(),)+)+
                     ProtocolRun::Unsupported(_) => None,
                 }
             }
             fn error(&self) -> Option<String> {
                 match self {
-                    $(ProtocolRun::$variant(r) => r.error(),)+
+                    $($(ProtocolRun::$variant(r) => r.error(),)+)+
                     ProtocolRun::Unsupported(e) => Some(e.to_string()),
                 }
             }
             fn does_not_stand(&self) -> bool {
                 match self {
-                    $(ProtocolRun::$variant(r) => r.does_not_stand(),)+
+                    $($(ProtocolRun::$variant(r) => r.does_not_stand(),)+)+
                     ProtocolRun::Unsupported(_) => false,
                 }
             }
@@ -220,16 +267,59 @@ macro_rules! registry {
 }
 
 registry! {
-    /// The tilting table, tilted quasi-statically to collapse ([`tilt`]).
-    Tilt(Tilt),
-    /// The tilting table rolled by hand in increments ([`tilt_by_hand`]): a motion.
-    TiltByHand(TiltByHand),
-    /// The static lateral (trapezoidal pressure) load at its service level ([`lateral`]).
-    Lateral(Lateral),
-    /// The lateral load pushed over to collapse ([`pushover`]): its load multiplier λ.
-    Pushover(Pushover),
-    /// The shaking table under a ground motion ([`shake`]): a motion.
-    Shake(Shake),
+    /// The tilting table (`[tilt]`): tilted to collapse, or rolled by hand (`by_hand`).
+    Tilt = "tilt" {
+        /// The tilting table, tilted quasi-statically to collapse ([`tilt`]).
+        Tilt(Tilt),
+        /// The tilting table rolled by hand in increments ([`tilt_by_hand`]): a motion.
+        TiltByHand(TiltByHand),
+    },
+    /// The static lateral (trapezoidal pressure) load (`[lateral]`): at its service level,
+    /// or pushed over to collapse (`pushover`).
+    Lateral = "lateral" {
+        /// The static lateral (trapezoidal pressure) load at its service level ([`lateral`]).
+        Lateral(Lateral),
+        /// The lateral load pushed over to collapse ([`pushover`]): its load multiplier λ.
+        Pushover(Pushover),
+    },
+    /// The shaking table (`[shake]`): each realization under each motion scaled to each
+    /// PGA level (incremental dynamic analysis).
+    Shake = "shake" {
+        /// The shaking table under a ground motion ([`shake`]): a motion.
+        Shake(Shake),
+    },
+}
+
+impl Default for ProtocolKind {
+    /// The tilting table: a study file without `protocol`.
+    fn default() -> ProtocolKind {
+        ProtocolKind::Tilt
+    }
+}
+
+impl ProtocolKind {
+    /// The kind of a name (`tilt`, `lateral`, `shake`); `None` for an unknown one.
+    pub fn from_name(name: &str) -> Option<ProtocolKind> {
+        ProtocolKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+impl std::fmt::Display for ProtocolKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ProtocolKind {
+    type Err = String;
+
+    /// [`ProtocolKind::from_name`], with an error naming the kinds.
+    fn from_str(name: &str) -> Result<ProtocolKind, String> {
+        ProtocolKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = ProtocolKind::ALL.into_iter().map(ProtocolKind::name).collect();
+            format!("unknown protocol {name:?} (one of {})", names.join(", "))
+        })
+    }
 }
 
 /// Runs protocol `p` on `layout` with the solver `solver`: the one place a method is
@@ -363,6 +453,52 @@ mod tests {
         assert!(check(Loading::Pushover, SolverKind::Nscd).is_ok());
         for p in Loading::ALL {
             assert_eq!(Loading::from_name(p.name()), Some(p));
+        }
+    }
+
+    /// Limit analysis's live loads (`limit::LiveLoad`, below the registry: the load with
+    /// its values) are spelled as the kinds whose runs give them (`protocol` of
+    /// `drystone limit --json`): an exhaustive match, so that a new live load is given its
+    /// kind here.
+    #[test]
+    fn the_live_loads_are_spelled_as_their_kinds() {
+        use crate::limit::LiveLoad;
+        let kind = |l: &LiveLoad| match l {
+            LiveLoad::Tilt => ProtocolKind::Tilt,
+            LiveLoad::Lateral { .. } => ProtocolKind::Lateral,
+        };
+        for l in [LiveLoad::Tilt, LiveLoad::Lateral { pressure_base_pa: 1e3, pressure_top_pa: 5e2 }] {
+            let v = serde_json::to_value(l).unwrap();
+            let tag = match &v {
+                serde_json::Value::String(s) => s.clone(),
+                other => other.as_object().and_then(|o| o.keys().next().cloned()).unwrap_or_default(),
+            };
+            assert_eq!(tag, kind(&l).name(), "{v}");
+        }
+    }
+
+    /// Every kind's name is its spelling in study files (serde) and on the command line
+    /// (`FromStr`); its rows are the protocols of its kind, the first the one its table
+    /// chooses by default; every protocol names its study file's kind.
+    #[test]
+    fn the_kinds_are_named_once_and_hold_their_rows() {
+        for k in ProtocolKind::ALL {
+            assert_eq!(toml::Value::try_from(k).unwrap().as_str(), Some(k.name()), "{k:?}");
+            assert_eq!(toml::Value::String(k.name().into()).try_into::<ProtocolKind>().unwrap(), k);
+            assert_eq!(k.name().parse::<ProtocolKind>(), Ok(k));
+            assert!(k.loadings().iter().all(|l| l.kind() == k), "{k:?}");
+        }
+        assert_eq!(ProtocolKind::ALL.map(ProtocolKind::name), ["tilt", "lateral", "shake"]);
+        assert_eq!(ProtocolKind::default(), ProtocolKind::Tilt);
+        assert!("pushover".parse::<ProtocolKind>().unwrap_err().contains("tilt, lateral, shake"));
+        for p in Loading::ALL {
+            assert!(p.kind().loadings().contains(&p), "{p:?}");
+        }
+        let tilt = TiltParams::default();
+        assert_eq!(Protocol::tilting(tilt).kind(), ProtocolKind::Tilt.loadings()[0]);
+        assert_eq!(Protocol::lateral(LateralParams::default()).kind(), ProtocolKind::Lateral.loadings()[0]);
+        for p in [Protocol::tilting(tilt), Protocol::lateral(LateralParams::default())] {
+            assert_eq!(p.name(), p.kind().kind().name());
         }
     }
 }

@@ -43,7 +43,6 @@ pub enum PushoverRun {
 
 impl LoadingProtocol for Pushover {
     const NAME: &'static str = "pushover";
-    const STUDY_NAME: &'static str = "lateral";
     const DESCRIPTION: &'static str = "the lateral pushover (lateral.pushover)";
     const MOTION: bool = false;
     type Run = PushoverRun;

@@ -21,7 +21,6 @@ pub struct Shake {
 
 impl LoadingProtocol for Shake {
     const NAME: &'static str = "shake";
-    const STUDY_NAME: &'static str = "shake";
     const DESCRIPTION: &'static str = "the shaking table";
     const MOTION: bool = true;
     /// Non-smooth contact dynamics: rocking and impacts of rigid blocks without the

@@ -30,7 +30,6 @@ pub enum TiltRun {
 
 impl LoadingProtocol for Tilt {
     const NAME: &'static str = "tilt";
-    const STUDY_NAME: &'static str = "tilt";
     const DESCRIPTION: &'static str = "the tilting table";
     const MOTION: bool = false;
     type Run = TiltRun;

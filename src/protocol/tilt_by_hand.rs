@@ -20,7 +20,6 @@ pub struct TiltByHand {
 
 impl LoadingProtocol for TiltByHand {
     const NAME: &'static str = "tilt_by_hand";
-    const STUDY_NAME: &'static str = "tilt";
     const DESCRIPTION: &'static str = "the tilting table rolled by hand (tilt.by_hand)";
     const MOTION: bool = true;
     const REFUSAL_KEY: &'static str = "tilt.by_hand";

@@ -5,8 +5,7 @@
 
 use super::error::{CalibrationSpecError, NameError, PaperSpecError};
 use super::paper::restrained;
-use super::protocol::StudyProtocol;
-use super::spec::{CalibrateSpec, PaperStudy};
+use super::spec::{CalibrateSpec, PaperStudy, ProtocolKind};
 use super::sweep::SweepKey;
 use super::Study;
 
@@ -69,11 +68,11 @@ pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
     // The protocol each comparison is made under.
-    let lateral = matches!(study.protocol, StudyProtocol::Lateral(_));
+    let lateral = study.protocol.kind() == ProtocolKind::Lateral;
     let (paper, protocol_fits, protocol) = match p {
         PaperStudy::JointArrangement => ("joint_arrangement", lateral, "protocol = \"lateral\""),
         PaperStudy::LengthHeight => ("length_height", lateral, "protocol = \"lateral\""),
-        PaperStudy::KnPhi => ("kn_phi", matches!(study.protocol, StudyProtocol::Tilt(_)), "protocol = \"tilt\""),
+        PaperStudy::KnPhi => ("kn_phi", study.protocol.kind() == ProtocolKind::Tilt, "protocol = \"tilt\""),
     };
     if !protocol_fits {
         return Err(PaperSpecError { paper, need: protocol });

@@ -15,7 +15,9 @@ use super::figures::{lateral_series, shake_series, tilt_series};
 use super::motions::ShakeStudy;
 use super::report::{lateral_sections, tilt_sections};
 use super::report_error::ReportError;
-use super::run::{failed_row, lateral_row, limit_row, pushover_row, rigid_pushover_row, shake_row, tilt_row};
+use super::run::{
+    failed_row, lateral_row, limit_lateral_row, limit_tilt_row, pushover_row, rigid_pushover_row, shake_row, tilt_row,
+};
 use super::shaking::shake_sections;
 use super::spec::{ProtocolKind, StudySpec};
 use super::summary::{CellSummary, Comparison};
@@ -134,10 +136,9 @@ impl StudyProtocol {
         let error = run.error().unwrap_or_default();
         match run {
             ProtocolRun::Tilt(TiltRun::Path(Ok(t))) | ProtocolRun::TiltByHand(Ok(t)) => tilt_row(row, t),
-            ProtocolRun::Tilt(TiltRun::Limit(Ok(r))) | ProtocolRun::Lateral(LateralRun::Limit(Ok(r))) => {
-                limit_row(row, r, false)
-            }
-            ProtocolRun::Pushover(PushoverRun::Limit(Ok(r))) => limit_row(row, r, true),
+            ProtocolRun::Tilt(TiltRun::Limit(Ok(r))) => limit_tilt_row(row, r),
+            ProtocolRun::Lateral(LateralRun::Limit(Ok(r))) => limit_lateral_row(row, r, false),
+            ProtocolRun::Pushover(PushoverRun::Limit(Ok(r))) => limit_lateral_row(row, r, true),
             ProtocolRun::Lateral(LateralRun::Dem(Ok(r))) => lateral_row(row, r),
             ProtocolRun::Pushover(PushoverRun::Penalty { service: Ok(r), collapse }) => {
                 pushover_row(lateral_row(row, r), collapse.map(|c| *c))

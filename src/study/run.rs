@@ -59,40 +59,44 @@ fn finish(mut row: RealizationRow, t0: Instant) -> RealizationRow {
     row
 }
 
-/// A realization by limit analysis (`[solver] kind = "limit"`): on the tilting table the
+/// A realization of the tilting table by limit analysis (`[solver] kind = "limit"`): the
 /// collapse angle α_max = atan λ (its bracket of zero width, reason `no_equilibrium`: no
-/// statically admissible state exists above it); under the lateral load, whether the wall
-/// carries the pressure (λ ≥ 1: stood; rigid blocks have no displacements) or not
-/// (collapsed, with λ in the error column), and λ in `load_multiplier_limit` for a
-/// pushover. The mechanism columns come from the dual. A wall that does not stand (λ ≤ 0,
-/// [`crate::limit::LimitError::DoesNotStand`]) is a `no_initial_equilibrium` row with the
-/// message ([`failed_row`]), as the tilting table's rows are.
-pub(super) fn limit_row(mut row: RealizationRow, r: crate::limit::LimitResult, pushover: bool) -> RealizationRow {
-    use crate::limit::LiveLoad;
+/// statically admissible state exists above it), the mechanism columns from the dual. A
+/// wall that does not stand (λ ≤ 0, [`crate::limit::LimitError::DoesNotStand`]) is a
+/// `no_initial_equilibrium` row with the message ([`failed_row`]), as the tilting table's
+/// rows are.
+pub(super) fn limit_tilt_row(mut row: RealizationRow, r: crate::limit::LimitResult) -> RealizationRow {
     mechanism_columns(&mut row.collapse, &r.mechanism);
     row.iterations = u64::from(r.solver_iterations);
-    match r.protocol {
-        LiveLoad::Tilt => {
-            row.status = Status::Collapsed;
-            row.collapse.collapse_angle_deg = r.collapse_angle_deg;
-            row.collapse.first_unstable_deg = r.collapse_angle_deg;
-            row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
-        }
-        LiveLoad::Lateral { .. } => {
-            if pushover {
-                row.pushover.load_multiplier_limit = Some(r.load_multiplier);
-            }
-            if r.load_multiplier >= 1.0 {
-                row.status = Status::Stood;
-            } else {
-                row.status = Status::Collapsed;
-                row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
-                row.error = format!(
-                    "the pressure is {:.3} times the rigid collapse load (load multiplier λ)",
-                    1.0 / r.load_multiplier
-                );
-            }
-        }
+    row.status = Status::Collapsed;
+    row.collapse.collapse_angle_deg = r.collapse_angle_deg;
+    row.collapse.first_unstable_deg = r.collapse_angle_deg;
+    row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+    row
+}
+
+/// A realization of the lateral load by limit analysis: whether the wall carries the
+/// pressure (λ ≥ 1: stood; rigid blocks have no displacements) or not (collapsed, with λ
+/// in the error column), and λ in `load_multiplier_limit` for a `pushover`; the mechanism
+/// columns from the dual. A wall that does not stand is a failed row as in
+/// [`limit_tilt_row`].
+pub(super) fn limit_lateral_row(
+    mut row: RealizationRow,
+    r: crate::limit::LimitResult,
+    pushover: bool,
+) -> RealizationRow {
+    mechanism_columns(&mut row.collapse, &r.mechanism);
+    row.iterations = u64::from(r.solver_iterations);
+    if pushover {
+        row.pushover.load_multiplier_limit = Some(r.load_multiplier);
+    }
+    if r.load_multiplier >= 1.0 {
+        row.status = Status::Stood;
+    } else {
+        row.status = Status::Collapsed;
+        row.collapse.collapse_reason = CollapseReason::NoEquilibrium.name().to_string();
+        row.error =
+            format!("the pressure is {:.3} times the rigid collapse load (load multiplier λ)", 1.0 / r.load_multiplier);
     }
     row
 }

@@ -11,20 +11,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The loading protocol.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ProtocolKind {
-    /// The tilting table to collapse.
-    #[default]
-    Tilt,
-    /// The static lateral (trapezoidal pressure) load, solved to equilibrium.
-    Lateral,
-    /// The shaking table: each realization under each motion of `[shake]` scaled to each
-    /// PGA level (incremental dynamic analysis), by the study's solver: non-smooth contact
-    /// dynamics (`nscd`) unless `[solver] kind` names `penalty` (see [`StudySpec::solver`]).
-    Shake,
-}
+/// The loading protocol a study file names (`protocol = "tilt"`): the protocol registry's
+/// [`crate::protocol::ProtocolKind`].
+pub use crate::protocol::ProtocolKind;
 
 /// Raw study file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
