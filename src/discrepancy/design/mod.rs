@@ -34,8 +34,9 @@
 //! 5. **Named alone**, the verdict's criterion ([`super::Analysis::named_alone`]): the two
 //!    tests of the analysis's tie check clear every other contender on both campaigns (the
 //!    held-out difference per specimen at least two standard errors; a reversal rate, the
-//!    share of the truth's simulated follow-ups in which the other scores at least as
-//!    well, under 5 %), on every observation or, with mechanism readings, on the angles and
+//!    share of data sets drawn from the truth on both campaigns, the first campaign's
+//!    design drawn anew as the analysis draws it, in which the other's held-out score
+//!    beats the truth's, under 5 %), on every observation or, with mechanism readings, on the angles and
 //!    displacements alone with the readings not favouring the other (as
 //!    [`super::TieCheck`] clears a challenger). The probability that the cause is then
 //!    named alone is the average over the truths, weighted by their prior weights. Beside

@@ -245,8 +245,11 @@ impl Problem<'_> {
     /// ([`TieCheck`]): the truth is named alone when both tests clear every other
     /// contender on both campaigns, the held-out difference per specimen at least
     /// [`TieCheck::STANDARD_ERRORS`] standard errors, and the reversal rate (the share of
-    /// the truth's simulated follow-ups in which the other contender's total score is at
-    /// least the truth's) under [`TieCheck::REVERSAL_RATE`]; with readings of the
+    /// data sets drawn from the truth on both campaigns, [`Problem::first`] drawn anew
+    /// beside each simulated follow-up, in which the other contender's held-out score
+    /// beats the truth's; without [`Problem::first`], the share of the simulated
+    /// follow-ups beside the first campaign's data in which it scores at least as well)
+    /// under [`TieCheck::REVERSAL_RATE`]; with readings of the
     /// mechanism, either on every observation or on the measures alone with the readings
     /// not favouring the other beyond the data bound, as the analysis clears a challenger.
     /// The weights' concentration (the truth alone holding [`crate::discrepancy::SHARED`]
