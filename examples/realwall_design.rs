@@ -221,6 +221,9 @@ fn summary(files: &[String]) {
             / set.len().max(1) as f64;
         let promised: Vec<&&Vec<String>> = set.iter().filter(|r| p(r) >= 0.8).collect();
         let kept = promised.iter().filter(|r| flag(r, 10)).count();
+        if set.is_empty() {
+            return;
+        }
         println!(
             "\nBrier score {brier:.3}; promised at least 0.8: {} data sets, named alone after {kept}.",
             promised.len()
