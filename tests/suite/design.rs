@@ -22,15 +22,22 @@ use std::path::PathBuf;
 const NOISE: Noise =
     Noise { angle_deg: 0.4, displacement_cm: 0.01, angle_reading_deg: 0.25, displacement_reading_cm: 0.01 };
 
-#[test]
-fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
+/// The test bed's study with small ensembles: `grid_points` intervals, the `effects`
+/// searched, the scatter hypothesis on or off, no confirmation runs.
+fn small_test_bed(grid_points: usize, effects: &[&str], scatter: bool) -> (Study, drystone::discrepancy::Settings) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
     let mut s = st.discrepancy.clone();
     (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
-    (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (2, 20, 20, 100);
-    s.effects = vec!["initial_lean".into(), "edge_rounding".into()];
-    (s.scatter, s.confirm) = (false, false);
+    (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (grid_points, 20, 20, 100);
+    s.effects = effects.iter().map(|e| e.to_string()).collect();
+    (s.scatter, s.confirm) = (scatter, false);
+    (st, s)
+}
+
+#[test]
+fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
+    let (st, s) = small_test_bed(2, &["initial_lean", "edge_rounding"], false);
     let obs = data_set(&st, 0x5eed_da7a, 300, 3, Edit::Lean(1.5), NOISE, &[5.0, 10.0], s.sigma);
     let setup = setup_of(&st, s.most_realizations());
     let prep = prepare(&setup, &obs, &s, &st.library).unwrap();
@@ -122,13 +129,7 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
 /// independent path: `fit::fit_folds` and argmin's Brent method on the surrogates.
 #[test]
 fn the_refit_without_a_follow_up_is_the_analysis_s_own_held_out_fit() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
-    let mut s = st.discrepancy.clone();
-    (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
-    (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 20, 20, 100);
-    s.effects = vec!["initial_lean".into(), "edge_rounding".into(), "kn_scale".into()];
-    (s.scatter, s.confirm) = (true, false);
+    let (st, s) = small_test_bed(4, &["initial_lean", "edge_rounding", "kn_scale"], true);
     let obs = data_set(&st, 0x5eed_da7a, 310, 3, Edit::Round(0.004), NOISE, &[5.0, 10.0], s.sigma);
     let setup = setup_of(&st, s.most_realizations());
     let prep = prepare(&setup, &obs, &s, &st.library).unwrap();

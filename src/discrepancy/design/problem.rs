@@ -144,22 +144,19 @@ impl Problem<'_> {
             .collect()
     }
 
-    /// Contender `c`'s held-out log scores per specimen of both campaigns with the first
-    /// `n` simulated specimens, on every observation and on the measures: `(elpd,
-    /// elpd_measures)`, nats. Refit, each specimen is scored at the fit on the others'
-    /// measures (the scan point of least summed score, the first of equals).
-    fn heldout(&self, c: usize, new: &NewScores, n: usize) -> (Vec<f64>, Vec<f64>) {
-        let con = &self.contenders[c];
-        match (new, self.refit(c)) {
-            (NewScores::Fixed { pins, all }, _) => (
-                con.elpd.iter().copied().chain(all[..n].iter().map(|s| -s)).collect(),
-                con.elpd_measures.iter().copied().chain(pins[..n].iter().map(|s| -s)).collect(),
-            ),
-            (NewScores::Scan { pins, all }, Some(r)) => {
-                super::refit::heldout(&r.first.pins, &r.first.all, pins, all, n)
-            }
-            (NewScores::Scan { .. }, None) => unreachable!("scan scores are made for refit contenders only"),
-        }
+    /// Every contender's scores of the first campaign's data, as [`NewScores`]: its
+    /// held-out scores per specimen, or, refit, its tables at the scan points.
+    fn first_campaign_scores(&self) -> Vec<NewScores> {
+        let neg = |v: &[f64]| v.iter().map(|x| -x).collect();
+        (0..self.contenders.len())
+            .map(|c| match self.refit(c) {
+                Some(r) => NewScores::Scan { pins: r.first.pins.clone(), all: r.first.all.clone() },
+                None => {
+                    let con = &self.contenders[c];
+                    NewScores::Fixed { pins: neg(&con.elpd_measures), all: neg(&con.elpd) }
+                }
+            })
+            .collect()
     }
 
     /// One truth's replicates: for every ladder count, the weights' answer and the tie
@@ -176,6 +173,7 @@ impl Problem<'_> {
         };
         let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
+        let real = self.first_campaign_scores();
         let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
         for _ in 0..replicates {
             let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &mut rng)).collect();
@@ -188,7 +186,7 @@ impl Problem<'_> {
                     // drawn from the cause beats the cause's (its held-out error lower).
                     let totals: Vec<(f64, f64)> = (0..k)
                         .map(|c| {
-                            let (e, m) = synthetic_heldout(&drawn[c], &new[c], n);
+                            let (e, m) = heldout_both(&drawn[c], &new[c], n);
                             (e.iter().sum(), m.iter().sum())
                         })
                         .collect();
@@ -198,7 +196,7 @@ impl Problem<'_> {
                     }
                 }
                 let (elpd, measures): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
-                    (0..k).map(|c| self.heldout(c, &new[c], n)).unzip();
+                    (0..k).map(|c| heldout_both(&real[c], &new[c], n)).unzip();
                 let w = pseudo_bma(&elpd, draws, &mut rng);
                 let (a, r) = named(&w, t);
                 let mut sep = Vec::with_capacity(k);
@@ -303,9 +301,11 @@ impl Problem<'_> {
     }
 }
 
-/// A contender's held-out scores per specimen on a first campaign drawn anew and the
-/// first `n` specimens of a simulated follow-up: `(elpd, elpd_measures)`, nats.
-fn synthetic_heldout(first: &NewScores, new: &NewScores, n: usize) -> (Vec<f64>, Vec<f64>) {
+/// A contender's held-out log scores per specimen of both campaigns: the first campaign's
+/// scores `first` (its data's or data drawn anew) and the first `n` specimens of a
+/// simulated follow-up, `new`. Refit, each specimen is scored at the fit on the others'
+/// measures ([`super::refit::heldout`]). Returns `(elpd, elpd_measures)`, nats.
+fn heldout_both(first: &NewScores, new: &NewScores, n: usize) -> (Vec<f64>, Vec<f64>) {
     match (first, new) {
         (NewScores::Scan { pins: fp, all: fa }, NewScores::Scan { pins, all }) => {
             super::refit::heldout(fp, fa, pins, all, n)
