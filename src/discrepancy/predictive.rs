@@ -257,7 +257,7 @@ impl Reading {
     }
 
     /// `v` rounded to the resolution of `o` (a failure height also kept in [0, 1]; a
-    /// category's indicator as it is).
+    /// category's indicator, or a reading of resolution 0, as it is).
     pub fn round(&self, o: &Observable, v: f64) -> f64 {
         match o {
             Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => v,
@@ -267,7 +267,11 @@ impl Reading {
             }
             _ => {
                 let r = self.of(o);
-                (v / r).round() * r
+                if r > 0.0 {
+                    (v / r).round() * r
+                } else {
+                    v
+                }
             }
         }
     }

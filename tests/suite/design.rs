@@ -174,6 +174,7 @@ fn more_free_walls() -> Plan {
     Plan {
         contenders: vec![],
         truths: 0,
+        inadequacy: vec![],
         alone_now: false,
         ranked: vec![RankedFollowUp {
             followup,

@@ -50,11 +50,13 @@
 //! the two best candidates at their fitted points; the refit keeps the scan's point
 //! without the analysis's polish ([`refit`]).
 
+mod inadequacy;
 mod menu;
 mod plan;
 mod problem;
 mod refit;
 
+pub use inadequacy::{inadequacy, CHECK_LEVEL};
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 pub use problem::{FirstCampaign, Problem};
@@ -214,6 +216,7 @@ pub fn design(
     let (cs, truths) = contenders(run);
     let first = refit::first_scores(run, &cs);
     let first_design = refit::first_design(run, &cs);
+    let inadequacy = inadequacy::inadequacy(run, &first_design);
     let ladder = ds.ladder();
     let mut ranked = Vec::new();
     let mut total_runs = 0;
@@ -234,6 +237,7 @@ pub fn design(
             sims: &pred.at_fit,
             refits: &refits,
             truths,
+            inadequacy: &inadequacy,
             first: Some(FirstCampaign {
                 keys: &first_design.keys,
                 sigma: &first_design.sigma,
@@ -253,7 +257,7 @@ pub fn design(
     }
     sort_ranked(&mut ranked);
     let alone_now = run.analysis.named_alone().is_some();
-    Ok(Plan { contenders: cs, truths, alone_now, ranked, settings: *ds, runs: total_runs })
+    Ok(Plan { contenders: cs, truths, inadequacy, alone_now, ranked, settings: *ds, runs: total_runs })
 }
 
 /// Best first: the probability of naming the cause alone at the budget, then the fewest
@@ -287,6 +291,27 @@ pub fn markdown(plan: &Plan) -> String {
     let _ = writeln!(md, "\n## The next experiment\n");
     let truths = &plan.contenders[..plan.truths.min(plan.contenders.len())];
     let names: Vec<String> = truths.iter().map(|c| format!("`{}` {:.2}", c.name, c.prior)).collect();
+    let biased: Vec<String> = truths
+        .iter()
+        .zip(&plan.inadequacy)
+        .filter(|(_, &v)| v > 0.0)
+        .map(|(c, v)| format!("`{}` ×{:.2}", c.name, (1.0 + v).sqrt()))
+        .collect();
+    let biased = if biased.is_empty() {
+        format!(
+            " No truth misses the first campaign beyond its predictive spread ({:.0} % χ² check): the follow-ups are \
+             drawn from the models alone.",
+            100.0 * CHECK_LEVEL
+        )
+    } else {
+        format!(
+            " Truths that miss the first campaign beyond their predictive spread ({:.0} % χ² check; the root mean \
+             square standardized residual): {}; the follow-ups drawn from them carry a model discrepancy of that \
+             size, a bias per key shared by every specimen.",
+            100.0 * CHECK_LEVEL,
+            biased.join(", ")
+        )
+    };
     let others: Vec<String> = plan.contenders[truths.len()..].iter().map(|c| format!("`{}`", c.name)).collect();
     let others = if others.is_empty() { String::new() } else { format!(" Refit beside them: {}.", others.join(", ")) };
     let _ = writeln!(
@@ -297,12 +322,13 @@ pub fn markdown(plan: &Plan) -> String {
          one specimen out, on the follow-up's walls from a grid run there) and scored as the analysis scores it. \
          *Named alone*: the tie check's two tests (2 standard errors, reversal rate under 5 %) clear every other \
          contender, the verdict's criterion; *90 % weight*: the truth alone holds 90 % of the pseudo-BMA+ weight ({} \
-         bootstrap draws); *right*: the truth is among the models that share the weight. {} forward runs.\n",
+         bootstrap draws); *right*: the truth is among the models that share the weight.{} {} forward runs.\n",
         names.join(", "),
         others,
         plan.settings.specimens,
         plan.settings.replicates,
         plan.settings.draws,
+        biased,
         plan.runs
     );
     let truths: Vec<String> = truths.iter().map(|c| format!("alone if `{}`", c.name)).collect();

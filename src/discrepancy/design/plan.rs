@@ -139,6 +139,10 @@ pub struct Plan {
     pub contenders: Vec<Contender>,
     /// How many contenders, the first, are taken as the truth.
     pub truths: usize,
+    /// `[contender]`: the model discrepancy the first campaign shows beside it, carried into
+    /// the follow-ups drawn from it ([`super::inadequacy`]: the variance of a bias per key,
+    /// in units of the key's predictive variance; 0: none).
+    pub inadequacy: Vec<f64>,
     /// Whether the first campaign already names the cause alone (the verdict names a cause
     /// and its tie holds no other model, [`crate::discrepancy::Analysis::named_alone`]).
     pub alone_now: bool,

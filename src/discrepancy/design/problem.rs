@@ -32,6 +32,11 @@ pub struct Problem<'a> {
     /// How many contenders, the first ones, are taken as the truth (the others are
     /// challengers only; at most `contenders.len()`).
     pub truths: usize,
+    /// `[contender]`: the model discrepancy the first campaign shows beside it taken as the
+    /// truth ([`inadequacy`]), the variance of a follow-up's bias per key in units of the
+    /// key's predictive variance (0: none, the follow-up drawn from the model alone). Empty:
+    /// none for every contender.
+    pub inadequacy: &'a [f64],
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
     /// the reversal rates are read on the simulated follow-ups beside the first
@@ -103,11 +108,29 @@ impl Problem<'_> {
         Space { keys: self.keys, sigma: self.sigma, reading: self.reading, bracket_deg: self.bracket_deg }
     }
 
-    /// One simulated specimen of the follow-up from contender `t`: its observations (key
-    /// index, value).
-    pub(super) fn draw_specimen(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
+    /// One simulated specimen of the follow-up from contender `t` with the follow-up's
+    /// biases `bias` (`[key]`, in units of each key's predictive standard deviation; empty:
+    /// none): its observations (key index, value).
+    pub(super) fn draw_specimen(&self, t: usize, bias: &[f64], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
         let all: Vec<usize> = (0..self.keys.len()).collect();
-        self.space().draw(&self.sims[t], &all, rng)
+        self.space().draw(&self.sims[t], &all, bias, rng)
+    }
+
+    /// The biases of one simulated follow-up drawn from contender `t` (`[key]`, in units
+    /// of each key's predictive standard deviation): `N(0, inadequacy[t])` per key, shared
+    /// by every specimen of the follow-up, as the walls of a campaign share the way they
+    /// differ from the model. Empty, drawing nothing, when `t` shows no discrepancy.
+    pub(super) fn draw_bias(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
+        let v = self.inadequacy.get(t).copied().unwrap_or(0.0);
+        if !(v > 0.0) {
+            return Vec::new();
+        }
+        (0..self.keys.len())
+            .map(|_| {
+                let z: f64 = StandardNormal.sample(rng);
+                v.sqrt() * z
+            })
+            .collect()
     }
 
     fn refit(&self, c: usize) -> Option<&Refit<'_>> {
@@ -135,7 +158,7 @@ impl Problem<'_> {
         let space =
             Space { keys: first.keys, sigma: first.sigma, reading: self.reading, bracket_deg: self.bracket_deg };
         let specimens: Vec<Vec<(usize, f64)>> =
-            first.specimens.iter().map(|which| space.draw(&first.at_fit[t], which, rng)).collect();
+            first.specimens.iter().map(|which| space.draw(&first.at_fit[t], which, &[], rng)).collect();
         (0..self.contenders.len())
             .map(|c| {
                 let scan = self.refit(c).map(|r| r.first.scan.as_slice());
@@ -176,7 +199,8 @@ impl Problem<'_> {
         let real = self.first_campaign_scores();
         let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
         for _ in 0..replicates {
-            let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &mut rng)).collect();
+            let bias = self.draw_bias(t, &mut rng);
+            let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &bias, &mut rng)).collect();
             let new = self.new_scores(&specimens, &mut caches);
             // Both campaigns drawn from the truth, for the reversal rates.
             let drawn = self.first.as_ref().map(|f| self.first_scores_drawn(f, t, &mut first_caches, &mut rng));
@@ -363,8 +387,16 @@ fn pseudo_bma(elpd: &[Vec<f64>], draws: usize, rng: &mut rand_chacha::ChaCha8Rng
 
 impl Space<'_> {
     /// One simulated specimen from the predictions `sims` (`[key]`) reading the keys
-    /// `which`: its observations (key index, value).
-    fn draw(&self, sims: &[Simulated], which: &[usize], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
+    /// `which`, each measure shifted by its bias `bias[key]` predictive standard deviations
+    /// (empty: none; the mechanism's readings are not biased): its observations (key index,
+    /// value).
+    fn draw(
+        &self,
+        sims: &[Simulated],
+        which: &[usize],
+        bias: &[f64],
+        rng: &mut rand_chacha::ChaCha8Rng,
+    ) -> Vec<(usize, f64)> {
         let mut out = Vec::new();
         let mut kinds = Vec::new();
         let mut starts = Vec::new();
@@ -407,7 +439,8 @@ impl Space<'_> {
                     } else {
                         StandardNormal.sample(rng)
                     };
-                    out.push((k, self.reading.round(o, p.mean + p.sd * z)));
+                    let b = bias.get(k).copied().unwrap_or(0.0);
+                    out.push((k, self.reading.round(o, p.mean + p.sd * (z + b))));
                 }
             }
         }

@@ -20,6 +20,7 @@ fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: 
         contenders: cs,
         sims,
         refits: &[],
+        inadequacy: &[],
         truths: cs.len(),
         first: None,
         keys,
@@ -119,6 +120,7 @@ fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures()
         contenders: &cs,
         sims: &sims,
         refits: &[],
+        inadequacy: &[],
         truths: 2,
         first: None,
         keys: &keys,
@@ -129,7 +131,7 @@ fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures()
     let mut rng = rng_for(3, 0, Purpose::Discrepancy);
     for t in 0..2 {
         for _ in 0..50 {
-            let s = p.draw_specimen(t, &mut rng);
+            let s = p.draw_specimen(t, &[], &mut rng);
             let kinds = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismKind { .. })).count();
             let starts = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismStart { .. })).count();
             assert_eq!((kinds, starts), (1, 1), "{s:?}");
@@ -171,6 +173,7 @@ fn a_contender_refit_on_both_campaigns_absorbs_a_follow_up_it_could_fit() {
         contenders: &cs,
         sims: &sims,
         refits,
+        inadequacy: &[],
         truths: 2,
         first: None,
         keys: &keys,
@@ -209,6 +212,7 @@ fn the_reversal_rates_draw_both_campaigns_from_the_truth_as_the_analysis_does() 
         contenders: &cs,
         sims: &sims,
         refits: &[],
+        inadequacy: &[],
         truths: 1,
         first,
         keys: &keys,
@@ -230,4 +234,84 @@ fn bad_design_settings_name_their_key() {
     assert!(s.validate().unwrap_err().to_string().contains("design.target"));
     assert!(DesignSettings::default().validate().is_ok());
     assert_eq!(DesignSettings::default().ladder(), vec![1, 2, 3, 5, 8, 12]);
+}
+
+/// The model discrepancy is a bias shared by a follow-up's specimens: over many simulated
+/// follow-ups of `n` specimens, the variance of a follow-up's mean reading is the
+/// predictive variance `s²` times `v + 1/n` (`v` the inadequacy), and the variance of a
+/// reading about its own follow-up's mean is `s² (1 − 1/n)`, the closed forms of a random
+/// effect. Exact readings (no rounding), a Gaussian predictive (`n` of the simulation
+/// below 2: no model spread), so `s² = σ² + bracket²/12`.
+#[test]
+fn the_discrepancy_is_a_bias_the_follow_up_s_specimens_share() {
+    let cs = tied(4);
+    let keys = [Observable::CollapseAngle];
+    let sims = vec![vec![Simulated { mean: 20.0, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE }]];
+    let sigma = [0.3];
+    let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+    let v = 3.0;
+    let p = Problem {
+        contenders: &cs[..1],
+        sims: &sims,
+        refits: &[],
+        inadequacy: &[v],
+        truths: 1,
+        first: None,
+        keys: &keys,
+        sigma: &sigma,
+        reading: exact,
+        bracket_deg: 0.6,
+    };
+    let s2 = 0.3f64 * 0.3 + 0.6 * 0.6 / 12.0;
+    let (n, reps) = (8usize, 4000usize);
+    let mut rng = rng_for(11, 0, Purpose::Discrepancy);
+    let (mut means, mut within) = (Vec::new(), 0.0);
+    for _ in 0..reps {
+        let bias = p.draw_bias(0, &mut rng);
+        assert_eq!(bias.len(), 1);
+        let y: Vec<f64> = (0..n).map(|_| p.draw_specimen(0, &bias, &mut rng)[0].1).collect();
+        let m = y.iter().sum::<f64>() / n as f64;
+        within += y.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1) as f64;
+        means.push(m);
+    }
+    let mbar = means.iter().sum::<f64>() / reps as f64;
+    let between = means.iter().map(|x| (x - mbar).powi(2)).sum::<f64>() / (reps - 1) as f64;
+    let within = within / reps as f64;
+    // Sampling error of a variance from 4000 draws: about 2.2 % (√(2/4000)); 8 % bounds.
+    assert!((between / (s2 * (v + 1.0 / n as f64)) - 1.0).abs() < 0.08, "{between} vs {}", s2 * (v + 0.125));
+    assert!((within / s2 - 1.0).abs() < 0.08, "{within} vs {s2}");
+    assert!((mbar - 20.0).abs() < 0.1, "{mbar}");
+    // No discrepancy: nothing is drawn, and the stream is the model's alone.
+    let q = Problem { inadequacy: &[0.0], ..p };
+    assert!(q.draw_bias(0, &mut rng).is_empty());
+}
+
+/// Two models 1.5° apart (about four predictive σ): eight specimens drawn from either model
+/// alone name it alone almost always. Where the first campaign shows each missing its data
+/// by a bias of two predictive σ (inadequacy 4), a follow-up's shared bias carries the truth
+/// toward the other model often enough that the design promises far less, as a real
+/// campaign whose walls differ from the models gives.
+#[test]
+fn a_discrepancy_the_first_campaign_shows_lowers_the_promise() {
+    let cs = tied(6);
+    let keys = [Observable::CollapseAngle];
+    let sims = [vec![sim(20.0, 0.3)], vec![sim(21.5, 0.3)]];
+    let sigma = vec![0.25];
+    let p = Problem {
+        contenders: &cs,
+        sims: &sims,
+        refits: &[],
+        inadequacy: &[],
+        truths: 2,
+        first: None,
+        keys: &keys,
+        sigma: &sigma,
+        reading: Reading::default(),
+        bracket_deg: 0.125,
+    };
+    let plain = p.chances(&[8], 200, 100, 5)[0].clone();
+    let biased = Problem { inadequacy: &[4.0, 4.0], ..p }.chances(&[8], 200, 100, 5)[0].clone();
+    assert!(plain.alone > 0.9, "{plain:?}");
+    assert!(biased.alone < plain.alone - 0.3, "{biased:?} vs {plain:?}");
+    assert!(biased.right < plain.right, "{biased:?} vs {plain:?}");
 }
