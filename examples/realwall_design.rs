@@ -10,12 +10,14 @@
 //! column runs in parts, resumed (a row already in the file is skipped) and merged.
 //!
 //! ```sh
-//! cargo run --release --example realwall_design -- run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES]
+//! cargo run --release --example realwall_design -- run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] [--without-mechanism]
 //! cargo run --release --example realwall_design -- summary OUT.csv [MORE.csv ...]
 //! ```
 //!
 //! `CLASSES`: indices into the classes (`0,2`; 0–5 the hidden effects, 6 null data),
-//! default all; `FIRST_SET`: the first data set's index (data set `i` of class `c` uses the
+//! default all; `--without-mechanism`: the best follow-up that does not read the failure
+//! mechanism is made instead of the best one (the column without the mechanism; write it to
+//! a file of its own). `FIRST_SET`: the first data set's index (data set `i` of class `c` uses the
 //! specimens `1000 c + 100 + 10 i ..`). `summary` prints the reliability table of the
 //! design's promise (the predicted probability of naming the cause alone, in bins, against
 //! the observed frequency), its Brier score, the alone-after-follow-up column per class,
@@ -42,7 +44,7 @@ const NOISE: Noise =
 const TILTS: [f64; 2] = [5.0, 10.0];
 const DATA_SEED: u64 = 0x5eed_da7a;
 const SPECIMENS: u64 = 5;
-const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared";
+const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared,discrepancy";
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -76,6 +78,8 @@ fn main() {
 }
 
 fn run(args: &[String]) {
+    let without_mechanism = args.iter().any(|a| a == "--without-mechanism");
+    let args: Vec<String> = args.iter().filter(|a| !a.starts_with("--")).cloned().collect();
     let out = PathBuf::from(&args[0]);
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1);
     let first_set: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(0);
@@ -108,7 +112,19 @@ fn run(args: &[String]) {
             let was = alone(e, a.cause.as_ref().map(|c| c.name.as_str()), &a.tie);
             let first_tie = a.tie.clone();
             let m = menu(&st, &setup, &run).unwrap();
-            let plan = design(&run, &setup, m, &ds, first, &quiet).unwrap();
+            let mut plan = design(&run, &setup, m, &ds, first, &quiet).unwrap();
+            if without_mechanism {
+                // The best follow-up that does not read the mechanism, made as the best.
+                let reads = |r: &drystone::discrepancy::design::RankedFollowUp| {
+                    r.followup.observables.iter().any(|o| o.is_mechanism())
+                };
+                let Some(k) = plan.ranked.iter().position(|r| !reads(r)) else {
+                    eprintln!("{} #{i}: no follow-up without the mechanism", e.label());
+                    continue;
+                };
+                let chosen = plan.ranked.remove(k);
+                plan.ranked.insert(0, chosen);
+            }
             let best = plan.best().unwrap().clone();
             run.followup = Some(plan.clone());
             let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
@@ -146,7 +162,7 @@ fn run(args: &[String]) {
             let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
             let alarm = e == Edit::None && b.verdict.name() != "no_effect";
             let row = format!(
-                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{}",
+                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{}",
                 e.label(),
                 best.followup.name.replace('"', "'"),
                 best.at_budget.alone,
@@ -157,7 +173,8 @@ fn run(args: &[String]) {
                 t0.elapsed().as_secs_f64(),
                 first_tie.join(";"),
                 b.tie.join(";"),
-                b.weights.shared.join(";")
+                b.weights.shared.join(";"),
+                plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";")
             );
             println!("{row}");
             let mut f = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
