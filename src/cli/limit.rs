@@ -8,8 +8,7 @@ use drystone::io::mechanism::{mechanism_svg, MechanismFigure};
 use drystone::layout::Layout;
 use drystone::limit::{FlowRule, LimitParams, LimitResult};
 use drystone::loading::lateral::LateralParams;
-use drystone::loading::tilt::TiltParams;
-use drystone::protocol::{supports, Lateral, LateralRun, Loading, ProtocolKind, Tilt, TiltRun, Unsupported};
+use drystone::protocol::{supports, Protocol, ProtocolKind, ProtocolRun, RunOutcome, Unsupported};
 use drystone::Vec3;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -64,25 +63,19 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
     let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
     let l = super::read_layout(&a.layout)?;
     // The protocol by limit analysis, through the protocol seam.
-    let run = match a.protocol {
-        ProtocolKind::Tilt => match drystone::protocol::run(&Tilt(TiltParams::default()), &l, solver, &mut ())? {
-            TiltRun::Limit(r) => Some(r),
-            TiltRun::Path(_) => None,
-        },
-        ProtocolKind::Lateral => {
-            let lateral = LateralParams {
-                pressure_base_pa: a.pressure_base_pa,
-                pressure_top_pa: a.pressure_top_pa,
-                ..LateralParams::default()
-            };
-            match drystone::protocol::run(&Lateral(lateral), &l, solver, &mut ())? {
-                LateralRun::Limit(r) => Some(r),
-                LateralRun::Dem(_) => None,
-            }
-        }
-        // Not offered by `--protocol`: limit analysis does not shake the table.
-        ProtocolKind::Shake => return Err(Unsupported { protocol: Loading::Shake, kind: SolverKind::Limit }.into()),
+    let lateral = LateralParams {
+        pressure_base_pa: a.pressure_base_pa,
+        pressure_top_pa: a.pressure_top_pa,
+        ..LateralParams::default()
     };
+    // A kind without a live load is not offered by `--protocol`.
+    let protocol = Protocol::live_load(a.protocol, lateral)
+        .ok_or(Unsupported { protocol: a.protocol.loadings()[0], kind: SolverKind::Limit })?;
+    let run = protocol.run(&l, solver);
+    if let ProtocolRun::Unsupported(e) = run {
+        return Err(e.into());
+    }
+    let run = run.limit().cloned();
     let r = run.context("the seam ran another method than limit analysis")?;
     let r = r.with_context(|| format!("limit analysis of {}", a.layout.display()))?;
     report(&a.layout, &l, &r, a.json, a.svg.as_deref())

@@ -85,6 +85,16 @@ impl Method {
             Method::Limit => "limit analysis",
         }
     }
+
+    /// Whether it runs a layout with ropes (`end_rope`): the penalty DEM and nscd carry a
+    /// rope's tension along its displacement; limit analysis has no displacement for a
+    /// rope and refuses the layout (`limit::LimitError::Ropes`).
+    pub fn runs_ropes(self) -> bool {
+        match self {
+            Method::Penalty | Method::Nscd => true,
+            Method::Limit => false,
+        }
+    }
 }
 
 impl std::fmt::Display for Method {

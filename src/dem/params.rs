@@ -209,6 +209,20 @@ impl SolverParams {
         }
     }
 
+    /// Checks the settings of the method [`Self::kind`] selects beyond those every run
+    /// reads ([`Self::validate`]): nscd's table (keys `nscd.*`) for nscd; nothing more for
+    /// the penalty DEM (its table is [`Self::validate`]'s) and limit analysis (whose table a
+    /// study checks whatever the kind: it runs beside the other methods).
+    ///
+    /// # Errors
+    /// The first parameter out of its range, with the range.
+    pub fn validate_method(&self) -> Result<(), OutOfRange> {
+        match self.kind.method() {
+            super::Method::Nscd => self.nscd.validate().map_err(|e| OutOfRange { key: format!("nscd.{}", e.key), ..e }),
+            super::Method::Penalty | super::Method::Limit => Ok(()),
+        }
+    }
+
     /// Checks ranges for a static solution by dynamic relaxation (the settling, the tilting
     /// table, the static lateral load): those of [`Self::validate`], and local damping in
     /// (0, 1). Without damping the relaxation does not converge, and the undamped explicit

@@ -43,13 +43,32 @@ enum Field {
     Derived(fn(&RealizationRow) -> Option<f64>),
 }
 
-/// Whether the columns of `protocol` (a column's [`RowColumn::protocol`]) are written to a
-/// table whose rows have (`pushover`) or lack the pushover's load multipliers: the
-/// pushover's own columns only to the former.
-fn written(protocol: Option<Loading>, pushover: bool) -> bool {
+/// Whether the columns of `protocol` (a column's [`RowColumn::protocol`]) are written to
+/// the table of `rows`: every column of every protocol, but a protocol's whose columns are
+/// optional ([`Loading::optional_columns`]: the pushover's load multipliers) only when a
+/// row holds one of them.
+fn written(protocol: Option<Loading>, rows: &[RealizationRow]) -> bool {
     match protocol {
-        Some(Loading::Pushover) => pushover,
-        Some(Loading::Tilt | Loading::TiltByHand | Loading::Lateral | Loading::Shake) | None => true,
+        Some(p) if p.optional_columns() => {
+            COLUMNS.iter().filter(|c| c.protocol == Some(p)).any(|c| rows.iter().any(|r| c.field.holds(r)))
+        }
+        Some(_) | None => true,
+    }
+}
+
+impl Field {
+    /// Whether row `r` holds a value in this column (a count always does; a number unless
+    /// NaN; text and a series unless empty).
+    fn holds(&self, r: &RealizationRow) -> bool {
+        match self {
+            Field::Count(..) => true,
+            Field::OptCount(get, _) => get(r).is_some(),
+            Field::Text(get, _) => !get(r).is_empty(),
+            Field::Number(get, _) => !get(r).is_nan(),
+            Field::OptNumber(get, _) => get(r).is_some(),
+            Field::Series(get, _) => !get(r).is_empty(),
+            Field::Derived(get) => get(r).is_some(),
+        }
     }
 }
 
@@ -247,11 +266,10 @@ fn write_column(c: &RowColumn, rows: &[RealizationRow], lists: bool) -> Column {
 
 /// The realizations as a data frame, in the order of the column list; `lists` chooses
 /// list columns (Parquet) or joined strings (CSV) for the per-increment series. The
-/// pushover's columns are written only when a row has one.
+/// pushover's columns are written only when a row has one ([`Loading::optional_columns`]).
 pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<DataFrame> {
-    let pushover = rows.iter().any(|r| r.pushover.any());
     let columns: Vec<Column> =
-        COLUMNS.iter().filter(|c| written(c.protocol, pushover)).map(|c| write_column(c, rows, lists)).collect();
+        COLUMNS.iter().filter(|c| written(c.protocol, rows)).map(|c| write_column(c, rows, lists)).collect();
     DataFrame::new_infer_height(columns)
 }
 

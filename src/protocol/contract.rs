@@ -82,6 +82,11 @@ pub trait LoadingProtocol: Sized {
     /// The study key a refusal of the solver is reported at: the key that chose this
     /// protocol over the one that would run (`tilt.by_hand`), or `solver.kind`.
     const REFUSAL_KEY: &'static str = "solver.kind";
+    /// Whether its columns of the realizations table (`io::table`) are written only to a
+    /// table a row of which holds one of them (the pushover's load multipliers, which a
+    /// study of the lateral load at its service level leaves out), rather than to every
+    /// table \[false\].
+    const OPTIONAL_COLUMNS: bool = false;
     /// What one run gives, whatever method ran it.
     type Run: RunOutcome;
 
@@ -151,6 +156,12 @@ pub trait RunOutcome {
     /// Whether the run ended because the layout did not stand as given under gravity alone
     /// (as opposed to a blow-up or a bad parameter).
     fn does_not_stand(&self) -> bool;
+    /// What limit analysis gave, for a run by limit analysis (the collapse load multiplier
+    /// of the protocol's live load, `drystone limit`); `None` for a run by another method
+    /// (the default).
+    fn limit(&self) -> Option<&Result<crate::limit::LimitResult, crate::limit::LimitError>> {
+        None
+    }
 }
 
 /// A solver that does not run a protocol, with the methods that do (the compatibility

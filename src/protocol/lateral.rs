@@ -79,6 +79,12 @@ impl RunOutcome for LateralRun {
             LateralRun::Limit(r) => r.does_not_stand(),
         }
     }
+    fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
+        match self {
+            LateralRun::Limit(r) => Some(r),
+            LateralRun::Dem(_) => None,
+        }
+    }
 }
 
 /// Runs the static lateral load test of a layout at its service level by the penalty DEM

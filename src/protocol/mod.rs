@@ -126,6 +126,14 @@ macro_rules! registry {
                 }
             }
 
+            /// Whether its columns of the realizations table are written only to a table a
+            /// row of which holds one of them ([`LoadingProtocol::OPTIONAL_COLUMNS`]).
+            pub fn optional_columns(self) -> bool {
+                match self {
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::OPTIONAL_COLUMNS,)+)+
+                }
+            }
+
             /// The solver that runs it when none is named
             /// ([`LoadingProtocol::DEFAULT_SOLVER`]).
             pub fn default_solver(self) -> SolverKind {
@@ -262,6 +270,12 @@ macro_rules! registry {
                     ProtocolRun::Unsupported(_) => false,
                 }
             }
+            fn limit(&self) -> Option<&Result<crate::limit::LimitResult, crate::limit::LimitError>> {
+                match self {
+                    $($(ProtocolRun::$variant(r) => r.limit(),)+)+
+                    ProtocolRun::Unsupported(_) => None,
+                }
+            }
         }
     };
 }
@@ -376,6 +390,18 @@ impl Protocol {
             Protocol::Pushover(Pushover(params))
         } else {
             Protocol::Lateral(Lateral(params))
+        }
+    }
+
+    /// The protocol of kind `kind` whose live load limit analysis multiplies
+    /// (`drystone limit --protocol`): the tilting table, its weight along +y (λ = tan
+    /// α_max), or the lateral load `lateral` (λ multiplies its pressure); `None` for a kind
+    /// without a live load of limit analysis (the shaking table).
+    pub fn live_load(kind: ProtocolKind, lateral: LateralParams) -> Option<Protocol> {
+        match kind {
+            ProtocolKind::Tilt => Some(Protocol::Tilt(Tilt(TiltParams::default()))),
+            ProtocolKind::Lateral => Some(Protocol::Lateral(Lateral(lateral))),
+            ProtocolKind::Shake => None,
         }
     }
 

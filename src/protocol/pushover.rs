@@ -45,6 +45,7 @@ impl LoadingProtocol for Pushover {
     const NAME: &'static str = "pushover";
     const DESCRIPTION: &'static str = "the lateral pushover (lateral.pushover)";
     const MOTION: bool = false;
+    const OPTIONAL_COLUMNS: bool = true;
     type Run = PushoverRun;
 
     fn way(method: Method) -> Option<Way<Self>> {
@@ -102,6 +103,12 @@ impl RunOutcome for PushoverRun {
             PushoverRun::Penalty { service, .. } => service.does_not_stand(),
             PushoverRun::Rigid(r) => r.does_not_stand(),
             PushoverRun::Limit(r) => r.does_not_stand(),
+        }
+    }
+    fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
+        match self {
+            PushoverRun::Limit(r) => Some(r),
+            PushoverRun::Penalty { .. } | PushoverRun::Rigid(_) => None,
         }
     }
 }

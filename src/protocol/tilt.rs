@@ -85,6 +85,12 @@ impl RunOutcome for TiltRun {
             TiltRun::Limit(r) => r.does_not_stand(),
         }
     }
+    fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
+        match self {
+            TiltRun::Limit(r) => Some(r),
+            TiltRun::Path(_) => None,
+        }
+    }
 }
 
 impl Observables {

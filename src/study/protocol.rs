@@ -235,6 +235,17 @@ impl StudyProtocol {
 }
 
 impl StudySpec {
+    /// The penalty settings the study's protocol table writes under their former keys
+    /// (deprecated; [`crate::dem::MovedKey`]), with the table's name. Only the table of
+    /// the study's protocol is read.
+    pub(super) fn moved_keys(&self) -> (&'static str, Vec<crate::dem::MovedKey>) {
+        match self.protocol {
+            ProtocolKind::Tilt => ("tilt", self.tilt.moved()),
+            ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
+            ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
+        }
+    }
+
     /// The study's row of the compatibility table ([`crate::protocol::methods`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading_kind(&self) -> Loading {

@@ -228,14 +228,7 @@ impl StudySpec {
             }
         }
         crate::protocol::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
-        match self.solver.kind {
-            SolverKind::Nscd => self.solver.nscd.validate().map_err(range("solver.nscd"))?,
-            SolverKind::Penalty
-            | SolverKind::Implicit
-            | SolverKind::Accelerated
-            | SolverKind::Relaxation
-            | SolverKind::Limit => {}
-        }
+        self.solver.validate_method().map_err(range("solver"))?;
         // Limit analysis runs beside the other methods too (the shaking study's static
         // capacity), so its table is checked whatever the kind.
         self.solver.limit.validate().map_err(range("solver.limit"))?;
@@ -245,17 +238,6 @@ impl StudySpec {
             hand.check_run(self.solver.nscd.dt_s, self.tilt.max_angle_deg).map_err(range("tilt.by_hand"))?;
         }
         Ok(())
-    }
-
-    /// The penalty settings the study's protocol table writes under their former keys
-    /// (deprecated; [`crate::dem::MovedKey`]), with the table's name. Only the table of
-    /// the study's protocol is read.
-    fn moved_keys(&self) -> (&'static str, Vec<crate::dem::MovedKey>) {
-        match self.protocol {
-            ProtocolKind::Tilt => ("tilt", self.tilt.moved()),
-            ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
-            ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
-        }
     }
 
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
@@ -336,16 +318,9 @@ impl StudySpec {
     /// Each is named by the effect that sets it (the group's own, then the study's), or
     /// else the group's effects.
     fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
-        let limit = match self.solver.kind {
-            SolverKind::Limit => true,
-            SolverKind::Penalty
-            | SolverKind::Implicit
-            | SolverKind::Accelerated
-            | SolverKind::Relaxation
-            | SolverKind::Nscd => false,
-        };
+        let refuses_ropes = !self.solver.kind.method().runs_ropes();
         let by_hand = self.rolled_by_hand();
-        if !(limit || by_hand) || group.effects.is_empty() {
+        if !(refuses_ropes || by_hand) || group.effects.is_empty() {
             return Ok(());
         }
         let Some(wall) = group.walls.first() else { return Ok(()) };
@@ -359,7 +334,7 @@ impl StudySpec {
                 format!("groups[{}].effects", g.name)
             }
         };
-        if limit && !layout.ropes.is_empty() {
+        if refuses_ropes && !layout.ropes.is_empty() {
             let e = crate::limit::LimitError::Ropes { count: layout.ropes.len() };
             return Err(invalid.at(&key("end_rope"), e.to_string()));
         }
