@@ -12,7 +12,7 @@
 //! manner of the discrepancy term of Kennedy and O'Hagan (2001, *J. R. Stat. Soc. B* 63,
 //! 425–464).
 
-use super::refit::FirstDesign;
+use super::refit::{FirstDesign, FirstValues};
 use crate::discrepancy::fit::Data;
 use crate::discrepancy::predictive::Simulated;
 use crate::discrepancy::Run;
@@ -35,16 +35,8 @@ pub const CHECK_LEVEL: f64 = 0.95;
 /// does not tell it from the reading σ). A fit on the same data makes `S` small, so the
 /// check errs toward no discrepancy.
 pub fn inadequacy(run: &Run, first: &FirstDesign) -> Vec<f64> {
-    let y: Vec<f64> = run.obs.iter().map(|o| o.value).collect();
-    let weight = crate::discrepancy::compare::specimen_weights(&run.obs);
-    let data = Data {
-        obs: &run.obs,
-        y: &y,
-        key: &run.keys.of,
-        weight: &weight,
-        reading: run.settings.reading,
-        bracket_deg: run.bracket_deg,
-    };
+    let values = FirstValues::of(run);
+    let data = values.data(run);
     first.at_fit.iter().map(|sims| excess(&data, sims)).collect()
 }
 

@@ -68,19 +68,37 @@ fn candidate_of<'r>(run: &'r Run, c: &Contender) -> Option<(&'r Candidate, &'r [
     Some((&a.pool[r.index], &r.x))
 }
 
+/// The first campaign's readings and their weights (a specimen's displacements share one),
+/// owned, for a [`Data`] view of the analysis's observations.
+pub(super) struct FirstValues {
+    y: Vec<f64>,
+    weight: Vec<f64>,
+}
+
+impl FirstValues {
+    /// The readings and weights of `run`'s observations.
+    pub(super) fn of(run: &Run) -> FirstValues {
+        FirstValues { y: run.obs.iter().map(|o| o.value).collect(), weight: specimen_weights(&run.obs) }
+    }
+
+    /// The analysis's data: `run`'s observations with these readings and weights.
+    pub(super) fn data<'a>(&'a self, run: &'a Run) -> Data<'a> {
+        Data {
+            obs: &run.obs,
+            y: &self.y,
+            key: &run.keys.of,
+            weight: &self.weight,
+            reading: run.settings.reading,
+            bracket_deg: run.bracket_deg,
+        }
+    }
+}
+
 /// The first campaign's scores of every contender with parameters, tabulated at its scan
 /// points (`None`: the baseline, which has none).
 pub fn first_scores(run: &Run, cs: &[Contender]) -> Vec<Option<FirstScores>> {
-    let y: Vec<f64> = run.obs.iter().map(|o| o.value).collect();
-    let weight = specimen_weights(&run.obs);
-    let data = Data {
-        obs: &run.obs,
-        y: &y,
-        key: &run.keys.of,
-        weight: &weight,
-        reading: run.settings.reading,
-        bracket_deg: run.bracket_deg,
-    };
+    let values = FirstValues::of(run);
+    let data = values.data(run);
     cs.iter()
         .map(|c| {
             let (cand, _) = candidate_of(run, c)?;

@@ -14,9 +14,16 @@ fn tied(n: usize) -> Vec<Contender> {
         .collect()
 }
 
-fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: u64) -> Vec<Chance> {
-    let sigma = vec![0.25; keys.len()];
-    let p = Problem {
+/// A problem of the contenders `cs` with the predictions `sims`, the keys `keys` and their
+/// σ: every contender a truth, none refit, no discrepancy, no first campaign drawn, the
+/// default reading, a 0.125° bracket (the tests change what they test).
+fn problem<'a>(
+    cs: &'a [Contender],
+    sims: &'a [Vec<Simulated>],
+    keys: &'a [Observable],
+    sigma: &'a [f64],
+) -> Problem<'a> {
+    Problem {
         contenders: cs,
         sims,
         refits: &[],
@@ -24,11 +31,15 @@ fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: 
         truths: cs.len(),
         first: None,
         keys,
-        sigma: &sigma,
+        sigma,
         reading: Reading::default(),
         bracket_deg: 0.125,
-    };
-    p.chances(&[1, 3, 8], 100, 100, seed)
+    }
+}
+
+fn chance(cs: &[Contender], sims: &[Vec<Simulated>], keys: &[Observable], seed: u64) -> Vec<Chance> {
+    let sigma = vec![0.25; keys.len()];
+    problem(cs, sims, keys, &sigma).chances(&[1, 3, 8], 100, 100, seed)
 }
 
 /// A constructed tie: two models that predict the first campaign's six specimens alike. A
@@ -116,18 +127,7 @@ fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures()
     let sims = vec![model(low, 1.0), model(high, 0.0)];
     let cs = tied(4);
     let sigma = vec![0.05; keys.len()];
-    let p = Problem {
-        contenders: &cs,
-        sims: &sims,
-        refits: &[],
-        inadequacy: &[],
-        truths: 2,
-        first: None,
-        keys: &keys,
-        sigma: &sigma,
-        reading: Reading::default(),
-        bracket_deg: 0.0,
-    };
+    let p = Problem { bracket_deg: 0.0, ..problem(&cs, &sims, &keys, &sigma) };
     let mut rng = rng_for(3, 0, Purpose::Discrepancy);
     for t in 0..2 {
         for _ in 0..50 {
@@ -169,18 +169,7 @@ fn a_contender_refit_on_both_campaigns_absorbs_a_follow_up_it_could_fit() {
     };
     let refits = vec![None, Some(Refit { scan: &scan, first: &first })];
     let sigma = vec![0.25];
-    let problem = |refits| Problem {
-        contenders: &cs,
-        sims: &sims,
-        refits,
-        inadequacy: &[],
-        truths: 2,
-        first: None,
-        keys: &keys,
-        sigma: &sigma,
-        reading: Reading::default(),
-        bracket_deg: 0.125,
-    };
+    let problem = |refits| Problem { refits, ..problem(&cs, &sims, &keys, &sigma) };
     let held = problem(&[]).chances(&[8], 100, 100, 5);
     let refit = problem(&refits).chances(&[8], 100, 100, 5);
     assert!(held[0].alone_by_truth[0] > 0.95, "{held:?}");
@@ -208,18 +197,7 @@ fn the_reversal_rates_draw_both_campaigns_from_the_truth_as_the_analysis_does() 
     let sigma = vec![0.25];
     let specimens = vec![vec![0usize]; 6];
     let first = FirstCampaign { keys: &keys, sigma: &sigma, specimens: &specimens, at_fit: &sims };
-    let problem = |first| Problem {
-        contenders: &cs,
-        sims: &sims,
-        refits: &[],
-        inadequacy: &[],
-        truths: 1,
-        first,
-        keys: &keys,
-        sigma: &sigma,
-        reading: Reading::default(),
-        bracket_deg: 0.125,
-    };
+    let problem = |first| Problem { truths: 1, first, ..problem(&cs, &sims, &keys, &sigma) };
     let beside = problem(None).chances(&[1], 200, 50, 6);
     let drawn = problem(Some(first)).chances(&[1], 200, 50, 6);
     assert!(beside[0].alone > 0.95, "{beside:?}");
@@ -250,18 +228,7 @@ fn the_discrepancy_is_a_bias_the_follow_up_s_specimens_share() {
     let sigma = [0.3];
     let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
     let v = 3.0;
-    let p = Problem {
-        contenders: &cs[..1],
-        sims: &sims,
-        refits: &[],
-        inadequacy: &[v],
-        truths: 1,
-        first: None,
-        keys: &keys,
-        sigma: &sigma,
-        reading: exact,
-        bracket_deg: 0.6,
-    };
+    let p = Problem { inadequacy: &[v], reading: exact, bracket_deg: 0.6, ..problem(&cs[..1], &sims, &keys, &sigma) };
     let s2 = 0.3f64 * 0.3 + 0.6 * 0.6 / 12.0;
     let (n, reps) = (8usize, 4000usize);
     let mut rng = rng_for(11, 0, Purpose::Discrepancy);
@@ -297,18 +264,7 @@ fn a_discrepancy_the_first_campaign_shows_lowers_the_promise() {
     let keys = [Observable::CollapseAngle];
     let sims = [vec![sim(20.0, 0.3)], vec![sim(21.5, 0.3)]];
     let sigma = vec![0.25];
-    let p = Problem {
-        contenders: &cs,
-        sims: &sims,
-        refits: &[],
-        inadequacy: &[],
-        truths: 2,
-        first: None,
-        keys: &keys,
-        sigma: &sigma,
-        reading: Reading::default(),
-        bracket_deg: 0.125,
-    };
+    let p = problem(&cs, &sims, &keys, &sigma);
     let plain = p.chances(&[8], 200, 100, 5)[0].clone();
     let biased = Problem { inadequacy: &[4.0, 4.0], ..p }.chances(&[8], 200, 100, 5)[0].clone();
     assert!(plain.alone > 0.9, "{plain:?}");
