@@ -10,18 +10,8 @@ use std::path::PathBuf;
 /// Options of `drystone design`.
 #[derive(clap::Args)]
 pub struct DesignArgs {
-    /// Study file (TOML) with [measured] data, on the tilting table.
-    pub study: PathBuf,
-    /// Output directory. Default: out/<study name>-design.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Worker threads: 0 or absent means all cores. The results do not depend on it.
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Directory with measured data in the paper's format, used instead of the study's
-    /// [measured] files.
-    #[arg(long)]
-    pub measured: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: super::discrepancy::AnalysisInput,
     /// Specimens of each follow-up (the budget they are compared at).
     #[arg(long, allow_hyphen_values = true, default_value_t = DesignSettings::default().specimens)]
     pub specimens: usize,
@@ -45,15 +35,15 @@ pub struct DesignArgs {
 /// section "The next experiment"), `design/design.json` and the best follow-up as a study
 /// under `design/followup/`.
 pub fn command(a: DesignArgs) -> Result<()> {
-    let mut st = Study::from_file(&a.study)?;
-    if let Some(dir) = &a.measured {
+    let mut st = Study::from_file(&a.input.study)?;
+    if let Some(dir) = &a.input.measured {
         super::discrepancy::use_measured_dir(&mut st, dir)?;
     }
     let mut s: Settings = st.discrepancy.clone();
     if a.no_confirm {
         s.confirm = false;
     }
-    s.validate().with_context(|| a.study.display().to_string())?;
+    s.validate().with_context(|| a.input.study.display().to_string())?;
     let ds =
         DesignSettings { specimens: a.specimens, replicates: a.replicates, target: a.target, ..Default::default() };
     // Named by the flag that sets it (the settings' keys, `design.KEY`, are no file's).
@@ -67,15 +57,15 @@ pub fn command(a: DesignArgs) -> Result<()> {
     if st.loading().name() != "tilt" {
         bail!(
             "{}: `drystone design` plans tilting-table follow-ups; this study's protocol is {}",
-            a.study.display(),
+            a.input.study.display(),
             st.loading().name()
         );
     }
     let obs = observations_of(&st, s.sigma)?;
     let setup = setup_of(&st, s.most_realizations());
-    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-design", st.name)));
+    let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-design", st.name)));
     let held = HeldDir::acquire(&dir)?;
-    let pool = super::discrepancy::pool(a.threads)?;
+    let pool = super::discrepancy::pool(a.input.threads)?;
     let t0 = std::time::Instant::now();
     let progress = super::discrepancy::progress_lines("design");
     let mut run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
@@ -97,7 +87,7 @@ pub fn command(a: DesignArgs) -> Result<()> {
         &plan,
         &ddir.join("followup"),
         ds.specimens,
-        a.measured.as_deref(),
+        a.input.measured.as_deref(),
     )?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&drystone::discrepancy::report_json(&run))?);

@@ -14,25 +14,33 @@ use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
 const MAX_SYNTHESIZE_SECONDS: f64 = 3600.0;
 use std::path::{Path, PathBuf};
 
-/// Options of `drystone discrepancy`.
+/// The study, output directory, threads and measured data of `drystone discrepancy` and
+/// `drystone design`.
 #[derive(clap::Args)]
-pub struct DiscrepancyArgs {
+pub struct AnalysisInput {
     /// Study file (TOML) with [measured] data (and an optional [discrepancy] table).
     pub study: PathBuf,
-    /// Output directory. Default: out/<study name>-discrepancy.
+    /// Output directory. Default: out/<study name>-discrepancy, or out/<study
+    /// name>-design for `drystone design`.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Worker threads: 0 or absent means all cores; more than the cores available is
-    /// reduced to that number. The results do not depend on it.
+    /// Worker threads: 0 or absent means all cores. The results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Realizations per group on the fitting grids, overriding the study file.
-    #[arg(long)]
-    pub realizations: Option<u64>,
     /// Directory with measured data in the paper's format (as `drystone synthesize`
     /// writes), used instead of the study's [measured] files.
     #[arg(long)]
     pub measured: Option<PathBuf>,
+}
+
+/// Options of `drystone discrepancy`.
+#[derive(clap::Args)]
+pub struct DiscrepancyArgs {
+    #[command(flatten)]
+    pub input: AnalysisInput,
+    /// Realizations per group on the fitting grids, overriding the study file.
+    #[arg(long)]
+    pub realizations: Option<u64>,
     /// Directory of data sets of one design (subdirectories, each with the measured files):
     /// the forward runs are made once and every set is analysed against them, one JSON
     /// line per set (a power study).
@@ -87,8 +95,8 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
-    let mut st = Study::from_file(&a.study)?;
-    if let Some(dir) = &a.measured {
+    let mut st = Study::from_file(&a.input.study)?;
+    if let Some(dir) = &a.input.measured {
         use_measured_dir(&mut st, dir)?;
     }
     let mut s: Settings = st.discrepancy.clone();
@@ -105,16 +113,16 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     if a.no_confirm {
         s.confirm = false;
     }
-    s.validate().with_context(|| a.study.display().to_string())?;
+    s.validate().with_context(|| a.input.study.display().to_string())?;
     if let Some(dir) = &a.measured_sets {
-        return measured_sets(&mut st, &s, dir, a.threads);
+        return measured_sets(&mut st, &s, dir, a.input.threads);
     }
     let obs = observations_of(&st, s.sigma)?;
     let setup = setup_of(&st, s.most_realizations());
-    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
+    let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     // The directory is held from here to the end: a second command on it is refused.
     let held = HeldDir::acquire(&dir)?;
-    let pool = pool(a.threads)?;
+    let pool = pool(a.input.threads)?;
     let t0 = std::time::Instant::now();
     let progress = progress_lines("discrepancy");
     let run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
