@@ -21,12 +21,8 @@ pub struct LateralArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
-    /// Pressure at the base of the wall, Pa.
-    #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
-    pressure_base_pa: f64,
-    /// Pressure at the top of the wall, Pa.
-    #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
-    pressure_top_pa: f64,
+    #[command(flatten)]
+    pressure: super::solver::Pressure,
     /// Unbalanced-force ratio of equilibrium.
     #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
     tolerance: f64,
@@ -55,13 +51,11 @@ pub struct LateralArgs {
 /// # Errors
 /// Those of [`run`].
 pub fn command(a: LateralArgs) -> Result<ExitCode> {
-    let params = LateralParams {
-        pressure_base_pa: a.pressure_base_pa,
-        pressure_top_pa: a.pressure_top_pa,
+    let params = a.pressure.apply(LateralParams {
         pushover: a.pushover,
         pushover_resolution: a.pushover_resolution,
         ..LateralParams::default()
-    };
+    });
     let kind = a.solver.solver;
     let limit = a.limit.params_for(kind, LimitParams::default())?;
     let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };

@@ -38,12 +38,9 @@ pub struct LimitArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
-    /// Lateral pressure at the base of the wall, Pa (`--protocol lateral`).
-    #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
-    pressure_base_pa: f64,
-    /// Lateral pressure at the top of the wall, Pa (`--protocol lateral`).
-    #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
-    pressure_top_pa: f64,
+    // The lateral pressure (`--protocol lateral`).
+    #[command(flatten)]
+    pressure: super::solver::Pressure,
     /// The associative answer only (no non-associative correction); the same as
     /// --limit-associative.
     #[arg(long)]
@@ -63,11 +60,7 @@ pub fn run(a: &LimitArgs) -> Result<ExitCode> {
     let solver = SolverParams { kind: SolverKind::Limit, limit, ..SolverParams::default() };
     let l = super::read_layout(&a.layout)?;
     // The protocol by limit analysis, through the protocol seam.
-    let lateral = LateralParams {
-        pressure_base_pa: a.pressure_base_pa,
-        pressure_top_pa: a.pressure_top_pa,
-        ..LateralParams::default()
-    };
+    let lateral = a.pressure.apply(LateralParams::default());
     // A kind without a live load is not offered by `--protocol`.
     let protocol = Protocol::live_load(a.protocol, lateral)
         .ok_or(Unsupported { protocol: a.protocol.loadings()[0], kind: SolverKind::Limit })?;

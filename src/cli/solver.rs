@@ -4,6 +4,7 @@
 
 use anyhow::{bail, Result};
 use drystone::dem::{LimitParams, SolverKind};
+use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
 use drystone::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
 
@@ -14,6 +15,25 @@ pub fn parse_solver(name: &str) -> Result<SolverKind, String> {
 
 /// `--solver` of the commands whose default is the penalty DEM (`tilt`, `lateral`,
 /// `bench tilt`).
+/// The lateral load's trapezoidal pressure (`drystone lateral`, `drystone limit --protocol
+/// lateral`), Pa; defaults those of `[lateral]`.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct Pressure {
+    /// Lateral pressure at the base of the wall, Pa.
+    #[arg(long, default_value_t = LateralParams::default().pressure_base_pa)]
+    pub pressure_base_pa: f64,
+    /// Lateral pressure at the top of the wall, Pa.
+    #[arg(long, default_value_t = LateralParams::default().pressure_top_pa)]
+    pub pressure_top_pa: f64,
+}
+
+impl Pressure {
+    /// The lateral load `base` with this pressure.
+    pub fn apply(self, base: LateralParams) -> LateralParams {
+        LateralParams { pressure_base_pa: self.pressure_base_pa, pressure_top_pa: self.pressure_top_pa, ..base }
+    }
+}
+
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct SolverChoice {
     /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
