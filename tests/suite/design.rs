@@ -175,6 +175,7 @@ fn more_free_walls() -> Plan {
         contenders: vec![],
         truths: 0,
         inadequacy: vec![],
+        transfer: vec![],
         alone_now: false,
         ranked: vec![RankedFollowUp {
             followup,

@@ -12,7 +12,7 @@
 //! manner of the discrepancy term of Kennedy and O'Hagan (2001, *J. R. Stat. Soc. B* 63,
 //! 425–464).
 
-use super::refit::{FirstDesign, FirstValues};
+use super::refit::{FirstDesign, FirstScores, FirstValues};
 use crate::discrepancy::fit::Data;
 use crate::discrepancy::predictive::Simulated;
 use crate::discrepancy::Run;
@@ -35,16 +35,27 @@ pub const CHECK_LEVEL: f64 = 0.95;
 /// does not tell it from the reading σ). A fit on the same data makes `S` small, so the
 /// check errs toward no discrepancy.
 pub fn inadequacy(run: &Run, first: &FirstDesign) -> Vec<f64> {
-    let values = FirstValues::of(run);
-    let data = values.data(run);
-    first.at_fit.iter().map(|sims| excess(&data, sims)).collect()
+    residual_check(run, first).into_iter().map(|(s, n)| discrepancy_of(s, n)).collect()
 }
 
-/// The discrepancy of the predictions `sims` (`[key]`) on `data` ([`inadequacy`]).
-fn excess(data: &Data<'_>, sims: &[Simulated]) -> f64 {
+/// `[contender]`: `(S, n)` of [`inadequacy`], the weighted sum of the measures' squared
+/// standardized residuals at the contender's first-campaign fit and their weighted count.
+pub fn residual_check(run: &Run, first: &FirstDesign) -> Vec<(f64, f64)> {
+    let values = FirstValues::of(run);
+    let data = values.data(run);
+    first.at_fit.iter().map(|sims| squares(&data, sims)).collect()
+}
+
+/// `(S, n)` of the predictions `sims` (`[key]`) on `data` ([`inadequacy`]).
+fn squares(data: &Data<'_>, sims: &[Simulated]) -> (f64, f64) {
+    squares_where(data, sims, |_| true)
+}
+
+/// `(S, n)` of the predictions `sims` on the observations `j` of `data` that `keep` keeps.
+fn squares_where(data: &Data<'_>, sims: &[Simulated], keep: impl Fn(usize) -> bool) -> (f64, f64) {
     let (mut s, mut n) = (0.0, 0.0);
     for (j, o) in data.obs.iter().enumerate() {
-        if o.observable.is_mechanism() || !sims[data.key[j]].mean.is_finite() {
+        if !keep(j) || o.observable.is_mechanism() || !sims[data.key[j]].mean.is_finite() {
             continue;
         }
         let z = data.predictive(sims, j).z(data.y[j]);
@@ -53,7 +64,74 @@ fn excess(data: &Data<'_>, sims: &[Simulated]) -> f64 {
             n += data.weight[j];
         }
     }
-    discrepancy_of(s, n)
+    (s, n)
+}
+
+/// `[contender]`: the model discrepancy of a contender carried to walls of a kind the first
+/// campaign did not test, in units of the key's predictive variance, from how it carries
+/// to a wall kind it was not fitted on (leave one group out).
+///
+/// For each group `g` of the first campaign, the contender is refit on the measures of the
+/// other groups' specimens (the scan point of least summed score, `first[c].pins`) and its
+/// predictions there (`first[c].scan`) score `g`'s measures: `S'`, the weighted sum of their
+/// squared standardized residuals over every group, on `n` weighted readings. Beside the
+/// fit on every group (`S`, [`residual_check`]) the excess `S'/n − S/n`, where positive, is
+/// the share of the predictive variance that moving to an unseen kind of wall adds: the
+/// bias the contender carries to the follow-up's new walls. A contender with no parameters
+/// (the baseline) or a campaign of one group: 0.
+pub fn transfer(run: &Run, first: &[Option<FirstScores>], design: &FirstDesign) -> Vec<f64> {
+    let values = FirstValues::of(run);
+    let data = values.data(run);
+    let mut names: Vec<&str> = run.obs.iter().map(|o| o.group.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    let index = |g: &str| names.iter().position(|n| *n == g).unwrap_or(0);
+    let obs_group: Vec<usize> = run.obs.iter().map(|o| index(&o.group)).collect();
+    let specimen_group: Vec<usize> = run
+        .specimens
+        .iter()
+        .map(|name| run.obs.iter().find(|o| &o.specimen == name).map_or(0, |o| index(&o.group)))
+        .collect();
+    first
+        .iter()
+        .zip(&design.at_fit)
+        .map(|(scores, at_fit)| match scores {
+            Some(fs) => carried(&data, fs, at_fit, &specimen_group, &obs_group, names.len()),
+            None => 0.0,
+        })
+        .collect()
+}
+
+/// The discrepancy one contender carries to an unseen kind of wall ([`transfer`]): its
+/// scores and scan predictions `fs`, its predictions at its fit on every group `at_fit`,
+/// the group of each specimen and of each observation of `data` (indices below `groups`).
+fn carried(
+    data: &Data<'_>,
+    fs: &FirstScores,
+    at_fit: &[Simulated],
+    specimen_group: &[usize],
+    obs_group: &[usize],
+    groups: usize,
+) -> f64 {
+    if groups < 2 || fs.pins.is_empty() {
+        return 0.0;
+    }
+    let (s_in, n_in) = squares(data, at_fit);
+    let (mut s_out, mut n_out) = (0.0, 0.0);
+    for g in 0..groups {
+        let others: Vec<usize> = (0..specimen_group.len()).filter(|&i| specimen_group[i] != g).collect();
+        let best = (0..fs.pins.len())
+            .map(|p| (p, others.iter().map(|&i| fs.pins[p][i]).sum::<f64>()))
+            .fold((0, f64::INFINITY), |b, (p, v)| if v < b.1 { (p, v) } else { b });
+        let (s, n) = squares_where(data, &fs.scan[best.0], |j| obs_group[j] == g);
+        s_out += s;
+        n_out += n;
+    }
+    if n_in > 0.0 && n_out > 0.0 {
+        (s_out / n_out - s_in / n_in).max(0.0)
+    } else {
+        0.0
+    }
 }
 
 /// The discrepancy of a weighted sum of squared standardized residuals `s` on the weighted
@@ -73,6 +151,9 @@ pub fn discrepancy_of(s: f64, n: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::discrepancy::observations::{Observable, Observation};
+    use crate::discrepancy::predictive::Heights;
+    use crate::discrepancy::Reading;
 
     /// The gate is χ²'s 95th percentile (closed form for 2 degrees of freedom:
     /// `−2 ln 0.05 = 5.991`), and above it the discrepancy is the excess of the mean
@@ -84,5 +165,46 @@ mod tests {
         assert!((discrepancy_of(bound + 1e-6, 2.0) - (bound / 2.0 - 1.0)).abs() < 1e-6);
         assert_eq!(discrepancy_of(100.0, 0.5), 0.0);
         assert_eq!(discrepancy_of(f64::NAN, 10.0), 0.0);
+    }
+
+    fn obs(specimen: &str, group: &str, value: f64) -> Observation {
+        Observation {
+            specimen: specimen.into(),
+            group: group.into(),
+            observable: Observable::CollapseAngle,
+            value,
+            sigma: 0.5,
+        }
+    }
+
+    fn at(mean: f64) -> Simulated {
+        Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE }
+    }
+
+    /// Two groups of two specimens each, one key a group (predictive σ exactly 0.5: one
+    /// realization, no bracket, exact readings). Group A reads 20°, group B 24°. A contender
+    /// whose two scan points predict (20°, 22°) and (22°, 24°) fits either group at one point
+    /// and misses the other there by 2° (4 σ): refit on B it predicts A at 22°, refit on A it
+    /// predicts B at 22°, so every held-out group's residual is 4 σ (`S'/n = 16`) where the fit
+    /// on both, (20°, 24°), leaves none: it carries 16 predictive variances to an unseen wall.
+    /// A contender whose scan points both fit both groups carries none; one group alone
+    /// cannot tell.
+    #[test]
+    fn a_contender_that_misses_a_group_it_was_not_fitted_on_carries_the_miss_to_new_walls() {
+        let o = [obs("A1", "A", 20.0), obs("A2", "A", 20.0), obs("B1", "B", 24.0), obs("B2", "B", 24.0)];
+        let y: Vec<f64> = o.iter().map(|x| x.value).collect();
+        let (key, weight) = ([0, 0, 1, 1], [1.0; 4]);
+        let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+        let data = Data { obs: &o, y: &y, key: &key, weight: &weight, reading: exact, bracket_deg: 0.0 };
+        let scan = vec![vec![at(20.0), at(22.0)], vec![at(22.0), at(24.0)]];
+        // Scores of the measures per scan point and specimen: lower where the group fits.
+        let pins = vec![vec![0.0, 0.0, 8.0, 8.0], vec![8.0, 8.0, 0.0, 0.0]];
+        let fs = FirstScores { pins: pins.clone(), all: pins, scan };
+        let fit = [at(20.0), at(24.0)];
+        let v = carried(&data, &fs, &fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2);
+        assert!((v - 16.0).abs() < 1e-9, "{v}");
+        let flat = FirstScores { scan: vec![fit.to_vec(), fit.to_vec()], ..fs.clone() };
+        assert_eq!(carried(&data, &flat, &fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2), 0.0);
+        assert_eq!(carried(&data, &fs, &fit, &[0, 0, 0, 0], &[0, 0, 0, 0], 1), 0.0);
     }
 }

@@ -56,7 +56,7 @@ mod plan;
 mod problem;
 mod refit;
 
-pub use inadequacy::{inadequacy, CHECK_LEVEL};
+pub use inadequacy::{inadequacy, residual_check, transfer, CHECK_LEVEL};
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 pub use problem::{FirstCampaign, Problem};
@@ -217,6 +217,10 @@ pub fn design(
     let first = refit::first_scores(run, &cs);
     let first_design = refit::first_design(run, &cs);
     let inadequacy = inadequacy::inadequacy(run, &first_design);
+    let transfer = inadequacy::transfer(run, &first, &first_design);
+    // On walls of a kind the first campaign did not test, the discrepancy the contender
+    // shows on its own walls and the one it carries to an unseen kind.
+    let on_new_walls: Vec<f64> = inadequacy.iter().zip(&transfer).map(|(a, b)| a + b).collect();
     let ladder = ds.ladder();
     let mut ranked = Vec::new();
     let mut total_runs = 0;
@@ -237,7 +241,7 @@ pub fn design(
             sims: &pred.at_fit,
             refits: &refits,
             truths,
-            inadequacy: &inadequacy,
+            inadequacy: if f.new_group.is_some() { &on_new_walls } else { &inadequacy },
             first: Some(FirstCampaign {
                 keys: &first_design.keys,
                 sigma: &first_design.sigma,
@@ -257,7 +261,7 @@ pub fn design(
     }
     sort_ranked(&mut ranked);
     let alone_now = run.analysis.named_alone().is_some();
-    Ok(Plan { contenders: cs, truths, inadequacy, alone_now, ranked, settings: *ds, runs: total_runs })
+    Ok(Plan { contenders: cs, truths, inadequacy, transfer, alone_now, ranked, settings: *ds, runs: total_runs })
 }
 
 /// Best first: the probability of naming the cause alone at the budget, then the fewest
@@ -291,27 +295,26 @@ pub fn markdown(plan: &Plan) -> String {
     let _ = writeln!(md, "\n## The next experiment\n");
     let truths = &plan.contenders[..plan.truths.min(plan.contenders.len())];
     let names: Vec<String> = truths.iter().map(|c| format!("`{}` {:.2}", c.name, c.prior)).collect();
-    let biased: Vec<String> = truths
-        .iter()
-        .zip(&plan.inadequacy)
-        .filter(|(_, &v)| v > 0.0)
-        .map(|(c, v)| format!("`{}` ×{:.2}", c.name, (1.0 + v).sqrt()))
-        .collect();
-    let biased = if biased.is_empty() {
-        format!(
-            " No truth misses the first campaign beyond its predictive spread ({:.0} % χ² check): the follow-ups are \
-             drawn from the models alone.",
-            100.0 * CHECK_LEVEL
-        )
-    } else {
-        format!(
-            " Truths that miss the first campaign beyond their predictive spread ({:.0} % χ² check; the root mean \
-             square standardized residual): {}; the follow-ups drawn from them carry a model discrepancy of that \
-             size, a bias per key shared by every specimen.",
-            100.0 * CHECK_LEVEL,
-            biased.join(", ")
-        )
+    let carried = |v: &[f64], extra: &[f64]| -> Vec<String> {
+        truths
+            .iter()
+            .enumerate()
+            .map(|(t, c)| (c, v.get(t).copied().unwrap_or(0.0) + extra.get(t).copied().unwrap_or(0.0)))
+            .filter(|(_, v)| *v > 0.0)
+            .map(|(c, v)| format!("`{}` ×{:.2}", c.name, (1.0 + v).sqrt()))
+            .collect()
     };
+    let (own, new_walls) = (carried(&plan.inadequacy, &[]), carried(&plan.inadequacy, &plan.transfer));
+    let list = |v: &[String]| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+    let biased = format!(
+        " Model discrepancy carried by the follow-ups drawn from a truth (a bias per key shared by their specimens, as \
+         the root of the predictive variance it multiplies): on the first campaign's walls, where the truth misses \
+         them beyond its predictive spread ({:.0} % χ² check), {}; on walls of a new kind, beside that, as far as it \
+         misses a group of the first campaign when refit on the others, {}.",
+        100.0 * CHECK_LEVEL,
+        list(&own),
+        list(&new_walls)
+    );
     let others: Vec<String> = plan.contenders[truths.len()..].iter().map(|c| format!("`{}`", c.name)).collect();
     let others = if others.is_empty() { String::new() } else { format!(" Refit beside them: {}.", others.join(", ")) };
     let _ = writeln!(
