@@ -1,5 +1,5 @@
 //! The model discrepancy a first campaign shows beside each contender, carried into the
-//! simulated follow-ups ([`inadequacy`]).
+//! simulated follow-ups ([`inadequacy`], [`Inadequacy`]).
 //!
 //! A follow-up drawn from a contender's model alone assumes that the walls the laboratory
 //! will build behave as that model predicts, to the reading σ. Real walls differ from every
@@ -23,36 +23,57 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 /// this quantile of χ² on their weighted count.
 pub const CHECK_LEVEL: f64 = 0.95;
 
-/// `[contender]`: the variance of a follow-up's bias per key, in units of the key's
-/// predictive variance, that the first campaign shows beside each contender of `first`
-/// (its predictions at its fit, `first.at_fit`).
-///
-/// For one contender, with `z_j` the standardized residual of measure `j` (a collapse
-/// angle or a displacement; not the mechanism's readings) at the contender's fit
-/// ([`Data::predictive`]) and `w_j` its weight (a specimen's displacements share one),
-/// `S = Σ w_j z_j²` on `n = Σ w_j`: when `S` exceeds the [`CHECK_LEVEL`] quantile of χ²
-/// on `n` degrees of freedom, the discrepancy is `S / n − 1`; else 0 (the first campaign
-/// does not tell it from the reading σ). A fit on the same data makes `S` small, so the
-/// check errs toward no discrepancy.
-pub fn inadequacy(run: &Run, first: &FirstDesign) -> Vec<f64> {
-    residual_check(run, first).into_iter().map(|(s, n)| discrepancy_of(s, n)).collect()
+/// The model discrepancy each contender shows on the first campaign, in units of a key's
+/// predictive variance: the variance of the bias per key a follow-up drawn from it carries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inadequacy {
+    /// `[contender]`: on the first campaign's walls. With `z_j` the standardized residual
+    /// of measure `j` (a collapse angle or a displacement; not the mechanism's readings) at
+    /// the contender's fit ([`Data::predictive`]) and `w_j` its weight (a specimen's
+    /// displacements share one), `S = Σ w_j z_j²` on `n = Σ w_j`: when `S` exceeds the
+    /// [`CHECK_LEVEL`] quantile of χ² on `n` degrees of freedom, `S / n − 1`; else 0 (the
+    /// first campaign does not tell it from the reading σ). A fit on the same data makes
+    /// `S` small, so the check errs toward no discrepancy.
+    pub own: Vec<f64>,
+    /// `[contender]`: added on walls of a kind the first campaign did not test, from how
+    /// the contender carries to a kind of wall it was not fitted on (leave one group out).
+    /// For each group `g`, the contender is refit on the measures of the other groups'
+    /// specimens (the scan point of least summed score, [`FirstScores::pins`], the first of
+    /// equals) and its predictions there ([`FirstScores::scan`]) score `g`'s measures: `S'`
+    /// over every group on the same `n`. The excess `S'/n − S/n`, where positive, is the
+    /// share of the predictive variance that moving to an unseen kind of wall adds. 0 for a
+    /// contender without parameters (the baseline) or a campaign of one group.
+    pub transfer: Vec<f64>,
 }
 
-/// `[contender]`: `(S, n)` of [`inadequacy`], the weighted sum of the measures' squared
-/// standardized residuals at the contender's first-campaign fit and their weighted count.
-pub fn residual_check(run: &Run, first: &FirstDesign) -> Vec<(f64, f64)> {
+/// The discrepancy of every contender (`first`: its scores at its scan points, `None` for
+/// the baseline; `design`: its predictions at its fit), [`Inadequacy`].
+pub fn inadequacy(run: &Run, first: &[Option<FirstScores>], design: &FirstDesign) -> Inadequacy {
     let values = FirstValues::of(run);
     let data = values.data(run);
-    first.at_fit.iter().map(|sims| squares(&data, sims)).collect()
+    let mut names: Vec<&str> = run.obs.iter().map(|o| o.group.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    let index = |g: &str| names.iter().position(|n| *n == g).unwrap_or(0);
+    let obs_group: Vec<usize> = run.obs.iter().map(|o| index(&o.group)).collect();
+    let specimen_group: Vec<usize> = run
+        .specimens
+        .iter()
+        .map(|name| run.obs.iter().find(|o| &o.specimen == name).map_or(0, |o| index(&o.group)))
+        .collect();
+    let (mut own, mut transfer) = (Vec::new(), Vec::new());
+    for (scores, at_fit) in first.iter().zip(&design.at_fit) {
+        let fit = squares(&data, at_fit, |_| true);
+        own.push(discrepancy_of(fit.0, fit.1));
+        transfer
+            .push(scores.as_ref().map_or(0.0, |fs| carried(&data, fs, fit, &specimen_group, &obs_group, names.len())));
+    }
+    Inadequacy { own, transfer }
 }
 
-/// `(S, n)` of the predictions `sims` (`[key]`) on `data` ([`inadequacy`]).
-fn squares(data: &Data<'_>, sims: &[Simulated]) -> (f64, f64) {
-    squares_where(data, sims, |_| true)
-}
-
-/// `(S, n)` of the predictions `sims` on the observations `j` of `data` that `keep` keeps.
-fn squares_where(data: &Data<'_>, sims: &[Simulated], keep: impl Fn(usize) -> bool) -> (f64, f64) {
+/// `(S, n)` of the predictions `sims` (`[key]`) on the observations `j` of `data` that
+/// `keep` keeps ([`Inadequacy::own`]).
+fn squares(data: &Data<'_>, sims: &[Simulated], keep: impl Fn(usize) -> bool) -> (f64, f64) {
     let (mut s, mut n) = (0.0, 0.0);
     for (j, o) in data.obs.iter().enumerate() {
         if !keep(j) || o.observable.is_mechanism() || !sims[data.key[j]].mean.is_finite() {
@@ -67,48 +88,14 @@ fn squares_where(data: &Data<'_>, sims: &[Simulated], keep: impl Fn(usize) -> bo
     (s, n)
 }
 
-/// `[contender]`: the model discrepancy of a contender carried to walls of a kind the first
-/// campaign did not test, in units of the key's predictive variance, from how it carries
-/// to a wall kind it was not fitted on (leave one group out).
-///
-/// For each group `g` of the first campaign, the contender is refit on the measures of the
-/// other groups' specimens (the scan point of least summed score, `first[c].pins`) and its
-/// predictions there (`first[c].scan`) score `g`'s measures: `S'`, the weighted sum of their
-/// squared standardized residuals over every group, on `n` weighted readings. Beside the
-/// fit on every group (`S`, [`residual_check`]) the excess `S'/n − S/n`, where positive, is
-/// the share of the predictive variance that moving to an unseen kind of wall adds: the
-/// bias the contender carries to the follow-up's new walls. A contender with no parameters
-/// (the baseline) or a campaign of one group: 0.
-pub fn transfer(run: &Run, first: &[Option<FirstScores>], design: &FirstDesign) -> Vec<f64> {
-    let values = FirstValues::of(run);
-    let data = values.data(run);
-    let mut names: Vec<&str> = run.obs.iter().map(|o| o.group.as_str()).collect();
-    names.sort_unstable();
-    names.dedup();
-    let index = |g: &str| names.iter().position(|n| *n == g).unwrap_or(0);
-    let obs_group: Vec<usize> = run.obs.iter().map(|o| index(&o.group)).collect();
-    let specimen_group: Vec<usize> = run
-        .specimens
-        .iter()
-        .map(|name| run.obs.iter().find(|o| &o.specimen == name).map_or(0, |o| index(&o.group)))
-        .collect();
-    first
-        .iter()
-        .zip(&design.at_fit)
-        .map(|(scores, at_fit)| match scores {
-            Some(fs) => carried(&data, fs, at_fit, &specimen_group, &obs_group, names.len()),
-            None => 0.0,
-        })
-        .collect()
-}
-
-/// The discrepancy one contender carries to an unseen kind of wall ([`transfer`]): its
-/// scores and scan predictions `fs`, its predictions at its fit on every group `at_fit`,
-/// the group of each specimen and of each observation of `data` (indices below `groups`).
+/// The discrepancy one contender carries to an unseen kind of wall
+/// ([`Inadequacy::transfer`]): its scores and scan predictions `fs`, `(S, n)` at its fit on
+/// every group `fit`, the group of each specimen and of each observation of `data`
+/// (indices below `groups`).
 fn carried(
     data: &Data<'_>,
     fs: &FirstScores,
-    at_fit: &[Simulated],
+    fit: (f64, f64),
     specimen_group: &[usize],
     obs_group: &[usize],
     groups: usize,
@@ -116,17 +103,17 @@ fn carried(
     if groups < 2 || fs.pins.is_empty() {
         return 0.0;
     }
-    let (s_in, n_in) = squares(data, at_fit);
     let (mut s_out, mut n_out) = (0.0, 0.0);
     for g in 0..groups {
         let others: Vec<usize> = (0..specimen_group.len()).filter(|&i| specimen_group[i] != g).collect();
         let best = (0..fs.pins.len())
             .map(|p| (p, others.iter().map(|&i| fs.pins[p][i]).sum::<f64>()))
             .fold((0, f64::INFINITY), |b, (p, v)| if v < b.1 { (p, v) } else { b });
-        let (s, n) = squares_where(data, &fs.scan[best.0], |j| obs_group[j] == g);
+        let (s, n) = squares(data, &fs.scan[best.0], |j| obs_group[j] == g);
         s_out += s;
         n_out += n;
     }
+    let (s_in, n_in) = fit;
     if n_in > 0.0 && n_out > 0.0 {
         (s_out / n_out - s_in / n_in).max(0.0)
     } else {
@@ -135,7 +122,7 @@ fn carried(
 }
 
 /// The discrepancy of a weighted sum of squared standardized residuals `s` on the weighted
-/// count `n` ([`inadequacy`]).
+/// count `n` ([`Inadequacy::own`]).
 pub fn discrepancy_of(s: f64, n: f64) -> f64 {
     if !(n >= 1.0) {
         return 0.0;
@@ -201,10 +188,12 @@ mod tests {
         let pins = vec![vec![0.0, 0.0, 8.0, 8.0], vec![8.0, 8.0, 0.0, 0.0]];
         let fs = FirstScores { pins: pins.clone(), all: pins, scan };
         let fit = [at(20.0), at(24.0)];
-        let v = carried(&data, &fs, &fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2);
+        let at_fit = squares(&data, &fit, |_| true);
+        assert_eq!(at_fit, (0.0, 4.0));
+        let v = carried(&data, &fs, at_fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2);
         assert!((v - 16.0).abs() < 1e-9, "{v}");
         let flat = FirstScores { scan: vec![fit.to_vec(), fit.to_vec()], ..fs.clone() };
-        assert_eq!(carried(&data, &flat, &fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2), 0.0);
-        assert_eq!(carried(&data, &fs, &fit, &[0, 0, 0, 0], &[0, 0, 0, 0], 1), 0.0);
+        assert_eq!(carried(&data, &flat, at_fit, &[0, 0, 1, 1], &[0, 0, 1, 1], 2), 0.0);
+        assert_eq!(carried(&data, &fs, at_fit, &[0, 0, 0, 0], &[0, 0, 0, 0], 1), 0.0);
     }
 }

@@ -56,7 +56,7 @@ mod plan;
 mod problem;
 mod refit;
 
-pub use inadequacy::{inadequacy, residual_check, transfer, CHECK_LEVEL};
+pub use inadequacy::{inadequacy, Inadequacy, CHECK_LEVEL};
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, WallEdit};
 pub use problem::{FirstCampaign, Problem};
@@ -216,8 +216,7 @@ pub fn design(
     let (cs, truths) = contenders(run);
     let first = refit::first_scores(run, &cs);
     let first_design = refit::first_design(run, &cs);
-    let inadequacy = inadequacy::inadequacy(run, &first_design);
-    let transfer = inadequacy::transfer(run, &first, &first_design);
+    let Inadequacy { own: inadequacy, transfer } = inadequacy::inadequacy(run, &first, &first_design);
     // On walls of a kind the first campaign did not test, the discrepancy the contender
     // shows on its own walls and the one it carries to an unseen kind.
     let on_new_walls: Vec<f64> = inadequacy.iter().zip(&transfer).map(|(a, b)| a + b).collect();

@@ -140,12 +140,12 @@ pub struct Plan {
     /// How many contenders, the first, are taken as the truth.
     pub truths: usize,
     /// `[contender]`: the model discrepancy the first campaign shows beside it, carried into
-    /// the follow-ups drawn from it ([`super::inadequacy`]: the variance of a bias per key,
+    /// the follow-ups drawn from it ([`super::Inadequacy::own`]: the variance of a bias per key,
     /// in units of the key's predictive variance; 0: none).
     pub inadequacy: Vec<f64>,
     /// `[contender]`: the model discrepancy it carries to walls of a kind the first campaign
     /// did not test, beside `inadequacy` on a follow-up of new walls
-    /// ([`super::transfer`]: leave one group out; same units).
+    /// ([`super::Inadequacy::transfer`]: leave one group out; same units).
     pub transfer: Vec<f64>,
     /// Whether the first campaign already names the cause alone (the verdict names a cause
     /// and its tie holds no other model, [`crate::discrepancy::Analysis::named_alone`]).

@@ -32,10 +32,11 @@ pub struct Problem<'a> {
     /// How many contenders, the first ones, are taken as the truth (the others are
     /// challengers only; at most `contenders.len()`).
     pub truths: usize,
-    /// `[contender]`: the model discrepancy the first campaign shows beside it taken as the
-    /// truth ([`inadequacy`]), the variance of a follow-up's bias per key in units of the
-    /// key's predictive variance (0: none, the follow-up drawn from the model alone). Empty:
-    /// none for every contender.
+    /// `[contender]`: the model discrepancy the follow-up carries when drawn from it taken
+    /// as the truth ([`super::Inadequacy`]: its own walls', plus what it carries to walls of
+    /// a new kind on a follow-up of such walls), the variance of the bias per key in units
+    /// of the key's predictive variance (0: none, the follow-up drawn from the model alone).
+    /// Empty: none for every contender.
     pub inadequacy: &'a [f64],
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
