@@ -249,17 +249,19 @@ pub fn limit_tilt(layout: &Layout, contact: &SolverParams, params: &LimitParams)
 }
 
 /// The lateral-pressure limit analysis: λ is the multiplier of the pressure of `lateral`
-/// (`pressure_base_pa`, `pressure_top_pa`; its other fields do not matter) on top of the
-/// weight.
+/// (`pressure_base_pa`, `pressure_top_pa`; its other fields are checked, not read) on top
+/// of the weight.
 ///
 /// # Errors
-/// As [`limit_tilt`].
+/// As [`limit_tilt`]; [`LimitError::Parameter`] for a parameter of `lateral` the lateral
+/// load refuses ([`LateralParams::validate`]: a pressure below 0 or not finite).
 pub fn limit_lateral(
     layout: &Layout,
     contact: &SolverParams,
     lateral: &LateralParams,
     params: &LimitParams,
 ) -> Result<LimitResult, LimitError> {
+    lateral.validate().map_err(LimitError::Parameter)?;
     let p = LiveLoad::Lateral { pressure_base_pa: lateral.pressure_base_pa, pressure_top_pa: lateral.pressure_top_pa };
     limit_analysis(layout, contact, p, params)
 }

@@ -208,6 +208,14 @@ fn bad_layouts_are_clear_errors_naming_the_block() {
     let lat = LateralParams { pressure_base_pa: 0.0, pressure_top_pa: 0.0, ..LateralParams::default() };
     let e = limit_lateral(&l, &SolverParams::default(), &lat, &LimitParams::default()).unwrap_err();
     assert_eq!(e, LimitError::NoLiveLoad);
+    // A pressure the lateral load refuses (below 0, not finite) is refused by name, not
+    // solved (a negative base pressure gave a λ; NaN and ∞ a solver failure).
+    for (base, top) in [(-5.0, 500.0), (f64::NAN, 500.0), (1000.0, f64::INFINITY)] {
+        let lat = LateralParams { pressure_base_pa: base, pressure_top_pa: top, ..LateralParams::default() };
+        let e = limit_lateral(&l, &SolverParams::default(), &lat, &LimitParams::default()).unwrap_err();
+        let key = if base == 1000.0 { "pressure_top_pa" } else { "pressure_base_pa" };
+        assert!(matches!(e, LimitError::Parameter(ref o) if o.key == key), "{base} {top}: {e}");
+    }
     // Bad parameters.
     let p = LimitParams { relaxation: 0.0, ..LimitParams::default() };
     let e = limit_tilt(&l, &SolverParams::default(), &p).unwrap_err();
