@@ -241,6 +241,7 @@ pub fn design(
             refits: &refits,
             truths,
             inadequacy: if f.new_group.is_some() { &on_new_walls } else { &inadequacy },
+            unseen_walls: f.new_group.is_some(),
             first: Some(FirstCampaign {
                 keys: &first_design.keys,
                 sigma: &first_design.sigma,

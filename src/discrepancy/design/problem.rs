@@ -38,6 +38,10 @@ pub struct Problem<'a> {
     /// of the key's predictive variance (0: none, the follow-up drawn from the model alone).
     /// Empty: none for every contender.
     pub inadequacy: &'a [f64],
+    /// The follow-up builds walls of a kind the first campaign did not test: each truth's
+    /// follow-ups carry, beside `inadequacy`, the contenders' disagreement on those walls
+    /// ([`Problem::bias_variances`]).
+    pub unseen_walls: bool,
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
     /// the reversal rates are read on the simulated follow-ups beside the first
@@ -117,17 +121,62 @@ impl Problem<'_> {
         self.space().draw(&self.sims[t], &all, bias, rng)
     }
 
-    /// The biases of one simulated follow-up drawn from contender `t` (`[key]`, in units
-    /// of each key's predictive standard deviation): `N(0, inadequacy[t])` per key, shared
-    /// by every specimen of the follow-up, as the walls of a campaign share the way they
-    /// differ from the model. Empty, drawing nothing, when `t` shows no discrepancy.
-    pub(super) fn draw_bias(&self, t: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
-        let v = self.inadequacy.get(t).copied().unwrap_or(0.0);
-        if !(v > 0.0) {
-            return Vec::new();
+    /// The variance of the bias per key (`[key]`, in units of the key's predictive variance
+    /// under contender `t`) that a follow-up drawn from `t` carries: `inadequacy[t]`, and on
+    /// walls of a new kind ([`Problem::unseen_walls`]) the contenders' disagreement there,
+    /// the between-model variance of the model average over the truths
+    /// `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign weights, `m_c`: their
+    /// predicted means of the key, `m̄ = Σ_c w_c m_c`). Every truth fits the first campaign
+    /// comparably, so on walls it did not test any of them, the cause's model included, may
+    /// be off by as much as they disagree (the between-model part of a Bayesian model
+    /// average's predictive variance; Hoeting et al. 1999, *Statist. Sci.* 14, 382–417).
+    /// 0 for the mechanism's readings and failure heights (not biased). Empty when every key
+    /// is 0, so nothing is drawn.
+    pub(super) fn bias_variances(&self, t: usize) -> Vec<f64> {
+        let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
+        let space = self.space();
+        let v: Vec<f64> = (0..self.keys.len())
+            .map(|k| {
+                let sim = &self.sims[t][k];
+                if self.keys[k].is_mechanism()
+                    || matches!(self.keys[k], Observable::FailureHeight { .. })
+                    || !sim.mean.is_finite()
+                {
+                    return 0.0;
+                }
+                if !self.unseen_walls {
+                    return own;
+                }
+                let sd = Predictive::new(sim, &space.template(k), self.bracket_deg).sd;
+                let truths = self.truths.min(self.contenders.len()).min(self.sims.len());
+                let (mut w, mut m, mut m2) = (0.0, 0.0, 0.0);
+                for c in 0..truths {
+                    let (p, x) = (self.contenders[c].prior, self.sims[c][k].mean);
+                    if p > 0.0 && x.is_finite() {
+                        w += p;
+                        m += p * x;
+                        m2 += p * x * x;
+                    }
+                }
+                let between = if w > 0.0 && sd > 0.0 { ((m2 / w - (m / w).powi(2)).max(0.0)) / (sd * sd) } else { 0.0 };
+                own + between
+            })
+            .collect();
+        if v.iter().all(|x| !(*x > 0.0)) {
+            Vec::new()
+        } else {
+            v
         }
-        (0..self.keys.len())
-            .map(|_| {
+    }
+
+    /// The biases of one simulated follow-up (`[key]`, in units of each key's predictive
+    /// standard deviation): `N(0, variances[key])` per key ([`Problem::bias_variances`]),
+    /// shared by every specimen of the follow-up, as the walls of a campaign share the way
+    /// they differ from the model. Empty, drawing nothing, when `variances` is empty.
+    pub(super) fn draw_bias(variances: &[f64], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
+        variances
+            .iter()
+            .map(|v| {
                 let z: f64 = StandardNormal.sample(rng);
                 v.sqrt() * z
             })
@@ -199,8 +248,9 @@ impl Problem<'_> {
         let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let real = self.first_campaign_scores();
         let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
+        let variances = self.bias_variances(t);
         for _ in 0..replicates {
-            let bias = self.draw_bias(t, &mut rng);
+            let bias = Self::draw_bias(&variances, &mut rng);
             let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &bias, &mut rng)).collect();
             let new = self.new_scores(&specimens, &mut caches);
             // Both campaigns drawn from the truth, for the reversal rates.

@@ -28,6 +28,7 @@ fn problem<'a>(
         sims,
         refits: &[],
         inadequacy: &[],
+        unseen_walls: false,
         truths: cs.len(),
         first: None,
         keys,
@@ -233,8 +234,10 @@ fn the_discrepancy_is_a_bias_the_follow_up_s_specimens_share() {
     let (n, reps) = (8usize, 4000usize);
     let mut rng = rng_for(11, 0, Purpose::Discrepancy);
     let (mut means, mut within) = (Vec::new(), 0.0);
+    let variances = p.bias_variances(0);
+    assert_eq!(variances, vec![v]);
     for _ in 0..reps {
-        let bias = p.draw_bias(0, &mut rng);
+        let bias = Problem::draw_bias(&variances, &mut rng);
         assert_eq!(bias.len(), 1);
         let y: Vec<f64> = (0..n).map(|_| p.draw_specimen(0, &bias, &mut rng)[0].1).collect();
         let m = y.iter().sum::<f64>() / n as f64;
@@ -250,7 +253,7 @@ fn the_discrepancy_is_a_bias_the_follow_up_s_specimens_share() {
     assert!((mbar - 20.0).abs() < 0.1, "{mbar}");
     // No discrepancy: nothing is drawn, and the stream is the model's alone.
     let q = Problem { inadequacy: &[0.0], ..p };
-    assert!(q.draw_bias(0, &mut rng).is_empty());
+    assert!(q.bias_variances(0).is_empty());
 }
 
 /// Two models 1.5° apart (about four predictive σ): eight specimens drawn from either model
@@ -270,4 +273,38 @@ fn a_discrepancy_the_first_campaign_shows_lowers_the_promise() {
     assert!(plain.alone > 0.9, "{plain:?}");
     assert!(biased.alone < plain.alone - 0.3, "{biased:?} vs {plain:?}");
     assert!(biased.right < plain.right, "{biased:?} vs {plain:?}");
+}
+
+/// On walls of a new kind the follow-up drawn from either of two models 1.5° apart, equally
+/// weighted, carries their disagreement: the between-model variance `(1.5/2)² = 0.5625`
+/// deg² in units of the truth's predictive variance (exact readings, no bracket, one
+/// realization: `σ² = 0.09`), 6.25, added to what the first campaign shows (here 1); the
+/// mechanism's reading carries none. The same follow-up on walls the first campaign
+/// tested carries only the latter, and on new walls the promise falls.
+#[test]
+fn on_walls_of_a_new_kind_the_truth_carries_the_contenders_disagreement() {
+    let cs = tied(6);
+    let keys = [
+        Observable::CollapseAngle,
+        Observable::MechanismKind { kind: crate::loading::mechanism::FailureKind::Toppling },
+    ];
+    let one = |mean| Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE };
+    let sims = [vec![one(20.0), one(1.0)], vec![one(21.5), one(1.0)]];
+    let sigma = [0.3, 0.0];
+    let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+    let seen =
+        Problem { inadequacy: &[1.0, 1.0], reading: exact, bracket_deg: 0.0, ..problem(&cs, &sims, &keys, &sigma) };
+    let unseen = Problem { unseen_walls: true, ..seen };
+    assert_eq!(seen.bias_variances(0), vec![1.0, 0.0]);
+    for t in 0..2 {
+        let v = unseen.bias_variances(t);
+        assert!((v[0] - (1.0 + 0.5625 / 0.09)).abs() < 1e-9, "{v:?}");
+        assert_eq!(v[1], 0.0);
+    }
+    let keys1 = [Observable::CollapseAngle];
+    let sims1 = [vec![one(20.0)], vec![one(21.5)]];
+    let seen1 = Problem { inadequacy: &[], keys: &keys1, sims: &sims1, sigma: &sigma[..1], ..seen };
+    let near = seen1.chances(&[8], 200, 100, 5)[0].clone();
+    let far = Problem { unseen_walls: true, ..seen1 }.chances(&[8], 200, 100, 5)[0].clone();
+    assert!(far.alone < near.alone - 0.2, "{far:?} vs {near:?}");
 }
