@@ -2,7 +2,7 @@
 
 use super::solver::NscdArgs;
 use anyhow::{anyhow, bail, Context, Result};
-use drystone::dem::{Method, PenaltyParams, SolverKind, SolverParams};
+use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
@@ -10,6 +10,7 @@ use drystone::io::series::{motion_frames, write_series, Recorder};
 use drystone::loading::shake::{ShakeError, ShakeParams, ShakeResult};
 use drystone::nscd::NscdParams;
 use drystone::protocol::run_shake_observed;
+use drystone::protocol::shake::{method_notes, restitutions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -92,18 +93,7 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     };
     let motion = motion(&args, a.dt_s.min(0.001))?;
     let d = ShakeParams::default();
-    let nscd_default = NscdParams::default().restitution;
-    let contact_default = PenaltyParams::default().contact_restitution;
-    let (nscd_e, contact_e) = match a.solver {
-        SolverKind::Nscd => (a.restitution.unwrap_or(nscd_default), contact_default),
-        SolverKind::Penalty => (nscd_default, a.restitution.unwrap_or(contact_default)),
-        // Not shaking solvers: the protocol seam refuses them (`protocol::check`), after it
-        // has checked the shaking parameters; `--restitution` is read as the penalty solver
-        // reads it so that its range is checked first, as before.
-        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-            (nscd_default, a.restitution.unwrap_or(contact_default))
-        }
-    };
+    let (nscd_e, contact_e) = restitutions(a.solver, a.restitution);
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
     let penalty = PenaltyParams { contact_restitution: contact_e, ..PenaltyParams::default() };
@@ -248,16 +238,8 @@ pub fn run(
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
             o.insert("vertical_applied".into(), vertical_applied(motion, params).into());
-            // What the method that shook it reads of the joints (limit analysis does not
-            // shake: the seam refused it before there was a result).
-            match solver.kind.method() {
-                Method::Nscd => {
-                    o.insert("rigid_joints".into(), "the joints' Kn and Ks are not used (rigid blocks)".into());
-                }
-                Method::Penalty => {
-                    o.insert("contact_restitution".into(), solver.penalty.contact_restitution.into());
-                }
-                Method::Limit => {}
+            if let Some((key, value)) = method_notes(&solver, &r).json {
+                o.insert(key.into(), value);
             }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
@@ -276,7 +258,6 @@ pub fn run(
 }
 
 fn print(layout: &Path, r: &ShakeResult, solver: &SolverParams) {
-    let kind = solver.kind;
     out!("layout            {} ({} blocks, height {:.3} m)", layout.display(), r.blocks, r.height_m);
     out!("motion            {} (PGA {:.3} g)", r.motion, r.pga_g);
     match r.collapse_time_s {
@@ -285,34 +266,9 @@ fn print(layout: &Path, r: &ShakeResult, solver: &SolverParams) {
     }
     out!("max rotation      {:.3} deg (about x, the rocking axis)", r.max_rotation_deg);
     out!("drift             max {:.4}, residual {:.4}", r.max_drift, r.residual_drift);
-    match kind.method() {
-        Method::Penalty => {
-            out!(
-                "work              {} steps of {:.2e} s, {:.2} s simulated; wall time {:.2} s",
-                r.steps,
-                r.dt_s,
-                r.simulated_s,
-                r.wall_time_s
-            );
-            out!(
-                "solver            penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {})",
-                solver.penalty.contact_restitution
-            );
-        }
-        Method::Nscd => {
-            out!(
-                "work              {} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {:.2} s simulated; wall time {:.2} s",
-                r.steps,
-                r.dt_s,
-                r.iterations,
-                r.unconverged_steps,
-                r.max_natural_residual,
-                r.simulated_s,
-                r.wall_time_s
-            );
-            out!("solver            nscd (rigid blocks: the joints' Kn and Ks are not used)");
-        }
-        // Limit analysis does not shake: the seam refused it before there was a result.
-        Method::Limit => out!("solver            {kind}"),
+    let notes = method_notes(solver, r);
+    if !notes.work.is_empty() {
+        out!("work              {}", notes.work);
     }
+    out!("solver            {}", notes.solver);
 }

@@ -93,3 +93,90 @@ pub fn run_shake(
 ) -> Result<ShakeResult, ShakeError> {
     run_shake_observed(layout, solver, motion, params, &mut |_, _| {})
 }
+
+/// How the method a solver selects steps through a motion, for the checks a study makes
+/// before it runs ([`step_rule`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepRule {
+    /// The step at which a study's step pulses are sampled, s: nscd's own step; for the
+    /// penalty DEM, whose step is far smaller and reads the motion by linear interpolation,
+    /// nscd's step capped at 1 ms.
+    pub pulse_dt_s: f64,
+    /// The method's own fixed step, s, that every motion is checked against as it is read
+    /// (nscd's `dt_s`, when positive); `None` otherwise.
+    pub fixed_dt_s: Option<f64>,
+    /// Whether the step follows from each realization's masses and joint stiffnesses (the
+    /// penalty DEM's critical step), so that a study checks it once the groups are resolved.
+    pub from_walls: bool,
+}
+
+/// The step rule of the solver `solver` on the shaking table ([`StepRule`]); `None` for a
+/// solver that does not shake (a cascade of static solves, limit analysis: refused by
+/// [`super::check`]).
+pub fn step_rule(solver: &SolverParams) -> Option<StepRule> {
+    let dt = solver.nscd.dt_s;
+    match solver.kind {
+        SolverKind::Nscd => {
+            Some(StepRule { pulse_dt_s: dt, fixed_dt_s: Some(dt).filter(|&d| d > 0.0), from_walls: false })
+        }
+        SolverKind::Penalty => Some(StepRule { pulse_dt_s: dt.min(1e-3), fixed_dt_s: None, from_walls: true }),
+        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => None,
+    }
+}
+
+/// The restitution coefficients `(nscd's, the penalty DEM's contact dashpots')` with the
+/// impacts' restitution `e` (`--restitution`, `None`: the defaults) set where the method
+/// the solver kind `kind` selects reads it on the shaking table. A kind that does not
+/// shake reads it as the penalty DEM does, so that its range is checked before the seam
+/// refuses the kind ([`super::check`]).
+pub fn restitutions(kind: SolverKind, e: Option<f64>) -> (f64, f64) {
+    let nscd = crate::nscd::NscdParams::default().restitution;
+    let contact = crate::dem::PenaltyParams::default().contact_restitution;
+    match kind {
+        SolverKind::Nscd => (e.unwrap_or(nscd), contact),
+        SolverKind::Penalty
+        | SolverKind::Implicit
+        | SolverKind::Accelerated
+        | SolverKind::Relaxation
+        | SolverKind::Limit => (nscd, e.unwrap_or(contact)),
+    }
+}
+
+/// What a shaking-table run's report says of the method that ran it: its work and solver
+/// lines, and the field its JSON report adds (`drystone shake`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MethodNotes {
+    /// The steps taken and the time they took, in a line.
+    pub work: String,
+    /// The method and what it reads of the joints, in a line.
+    pub solver: String,
+    /// The JSON report's field on the joints (name, value), if any.
+    pub json: Option<(&'static str, serde_json::Value)>,
+}
+
+/// The notes of the result `r` run by `solver` ([`MethodNotes`]).
+pub fn method_notes(solver: &SolverParams, r: &ShakeResult) -> MethodNotes {
+    let time = format!("{:.2} s simulated; wall time {:.2} s", r.simulated_s, r.wall_time_s);
+    match solver.kind.method() {
+        Method::Penalty => {
+            let e = solver.penalty.contact_restitution;
+            MethodNotes {
+                work: format!("{} steps of {:.2e} s, {time}", r.steps, r.dt_s),
+                solver: format!(
+                    "penalty (explicit dynamics, the joints' Kn and Ks, contact dashpots of restitution {e})"
+                ),
+                json: Some(("contact_restitution", e.into())),
+            }
+        }
+        Method::Nscd => MethodNotes {
+            work: format!(
+                "{} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {time}",
+                r.steps, r.dt_s, r.iterations, r.unconverged_steps, r.max_natural_residual
+            ),
+            solver: "nscd (rigid blocks: the joints' Kn and Ks are not used)".into(),
+            json: Some(("rigid_joints", "the joints' Kn and Ks are not used (rigid blocks)".into())),
+        },
+        // Limit analysis does not shake: the seam refuses it before there is a result.
+        Method::Limit => MethodNotes { work: String::new(), solver: solver.kind.to_string(), json: None },
+    }
+}

@@ -9,7 +9,6 @@ use super::size;
 use super::spec::{ProtocolKind, StudySpec};
 use super::sweep::SweepKey;
 use super::StudyError;
-use crate::dem::SolverKind;
 use crate::ground::Motion;
 use crate::loading::shake::ShakeParams;
 use crate::protocol::{Loading, Unsupported};
@@ -97,18 +96,15 @@ impl StudySpec {
         // reads the motion by linear interpolation: 1 ms at most) and the step each motion is
         // checked against here (nscd's; the penalty solver's, from the realizations' masses
         // and stiffnesses, by `check_penalty_steps` once the groups are resolved).
-        let (pulse_dt, nscd_dt) = match self.solver.kind {
-            SolverKind::Nscd => (self.solver.nscd.dt_s, Some(self.solver.nscd.dt_s).filter(|&dt| dt > 0.0)),
-            SolverKind::Penalty => (self.solver.nscd.dt_s.min(1e-3), None),
+        let Some(rule) = crate::protocol::shake::step_rule(&self.solver) else {
             // Refused by `check_scalars` before this (`protocol::check`: a cascade of static
             // solves on a motion; limit analysis has no motion).
-            SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => {
-                return Err(super::error::unsupported(
-                    invalid,
-                    Unsupported { protocol: Loading::Shake, kind: self.solver.kind },
-                ));
-            }
+            return Err(super::error::unsupported(
+                invalid,
+                Unsupported { protocol: Loading::Shake, kind: self.solver.kind },
+            ));
         };
+        let (pulse_dt, nscd_dt) = (rule.pulse_dt_s, rule.fixed_dt_s);
         let params = spec.params();
         params.validate().map_err(|e| invalid.at(&format!("shake.{}", e.key), e.reason()))?;
         check_levels(&spec.pga_g).map_err(|r| invalid.at("shake.pga_g", r.to_string()))?;

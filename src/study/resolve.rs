@@ -14,7 +14,6 @@ use super::size;
 use super::spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::{Study, StudyError};
-use crate::dem::SolverKind;
 use crate::generator::distribution::DistributionSource;
 use crate::generator::spec::WallSpec;
 use crate::generator::Wall;
@@ -64,13 +63,11 @@ fn check_penalty_steps(study: &Study, invalid: &Invalid) -> Result<(), StudyErro
     let Some(shake) = study.protocol.shake() else {
         return Ok(());
     };
-    match study.solver.kind {
-        SolverKind::Penalty => {}
-        // nscd's step is the study's own, checked against every motion as they are read
-        // (`StudySpec::resolve_shake`).
-        SolverKind::Nscd => return Ok(()),
-        // Refused on the shaking table by `check_scalars` (`protocol::check`).
-        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => return Ok(()),
+    // nscd's step is the study's own, checked against every motion as they are read
+    // (`StudySpec::resolve_shake`); a solver that does not shake is refused by
+    // `check_scalars` (`protocol::check`).
+    if !crate::protocol::shake::step_rule(&study.solver).is_some_and(|r| r.from_walls) {
+        return Ok(());
     }
     for g in &study.groups {
         let Some(wall) = g.walls.first() else { continue };
