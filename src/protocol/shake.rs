@@ -1,6 +1,10 @@
 //! The shaking table under one ground motion (`loading::shake`): by the penalty DEM in
 //! explicit dynamics with contact dashpots, or by non-smooth contact dynamics (Moreau–Jean).
-//! A motion: no cascade of static solves applies; limit analysis does not shake.
+//! A motion: no cascade of static solves applies; limit analysis does not shake. Beside
+//! its row of the compatibility table ([`Shake::way`]), what differs by method on the
+//! shaking table is here too: the step a study checks each motion against
+//! ([`step_rule`]), the coefficient `--restitution` sets ([`restitutions`]) and what a run's
+//! report says of the method ([`method_notes`]).
 
 use super::contract::{Instants, LoadingProtocol, Observables, Way};
 use super::{run, Protocol};
