@@ -198,7 +198,7 @@ impl NscdParams {
 
     /// The narrow phase's share: drystone's detection with one point per polygon vertex
     /// (no subdivision, fanned from a vertex) and a negligible widening of segment and
-    /// point contacts (their points are merged back, [`contacts`]).
+    /// point contacts (their points are merged back, `nscd::contacts`).
     pub fn patch(&self) -> crate::dem::contact::geometry::PatchParams {
         crate::dem::contact::geometry::PatchParams {
             contact_margin_m: self.contact_margin_m,
@@ -217,7 +217,7 @@ impl NscdParams {
 #[serde(rename_all = "snake_case")]
 pub enum RestRule {
     /// Certify the rest by statics where the contacts carry the step's load inside the
-    /// reduced Coulomb cones (the step is then solved exactly, without sweeps; [`rest`]),
+    /// reduced Coulomb cones (the step is then solved exactly, without sweeps; `nscd::rest`),
     /// and sweep otherwise. The default. The tilting table's and the pushover's release
     /// trials never certify (their verdict is the dynamics' own, [`NscdParams::for_trials`]).
     Certify,
@@ -243,7 +243,7 @@ pub enum StepSolver {
     /// [`NscdParams::max_iterations`] sweeps.
     Nsgs,
     /// The NSGS sweeps for [`NscdParams::apgd_after_solves`] local solves (stopped by their
-    /// norm), then the accelerated projected gradient ([`apgd`]) until the natural-map
+    /// norm), then the accelerated projected gradient (`nscd::apgd`) until the natural-map
     /// residual is at most [`NscdParams::natural_tolerance`]; at most
     /// [`NscdParams::max_iterations`] sweeps and iterations in all. The default for motion.
     Apgd,

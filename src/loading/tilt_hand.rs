@@ -3,7 +3,7 @@
 //!
 //! The paper's table is "a semicircle wooden piece that rolls manually, controlled by a
 //! lever and pulley", tilted "in increments of 5°" and stopped "to record" (Santa-Cruz et
-//! al. 2021, §2.1–2.2). The quasi-static test ([`super::tilt::run_tilt`],
+//! al. 2021, §2.1–2.2). The quasi-static test ([`super::tilt::run_tilt_penalty`],
 //! [`super::tilt_nscd::run_tilt_nscd`]) assumes the wall sees only the tilted weight; a
 //! table rolled by hand also starts and stops, and every stop kicks the wall downhill. This
 //! protocol runs the kicks instead of assuming them away.
@@ -112,7 +112,7 @@ fn collapse_reason(moved: f64, inc_limit: f64, top_moved: f64, total_limit: f64)
 /// doc): `tilt` gives the largest tilt and the per-increment collapse displacement (its
 /// increment, resolution and relaxation settings do not apply: `hand` gives the motion),
 /// `params` the non-smooth solver (time step, NSGS, contact detection); `tilt.by_hand` is
-/// not read (`hand` is the motion; [`super::tilt::run_tilt`] passes `tilt.by_hand`). The result is the
+/// not read (`hand` is the motion; [`crate::protocol::run_tilt`] passes `tilt.by_hand`). The result is the
 /// same [`TiltResult`] as the quasi-static tests': `increments` holds the readings at the
 /// end of every hold (stable) and the collapse (unstable), `steps` the time steps,
 /// `iterations` the NSGS sweeps, `elastic_scale_m` 0 (rigid joints).

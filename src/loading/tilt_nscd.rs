@@ -2,7 +2,7 @@
 //! (`nscd`): a static bisection of trials released from rest.
 //!
 //! Every joint is rigid (the layout's Kn and Ks are not used); friction is the layout's.
-//! The result is the same [`TiltResult`] as the penalty solver's [`super::tilt::run_tilt`]
+//! The result is the same [`TiltResult`] as the penalty solver's [`super::tilt::run_tilt_penalty`]
 //! (the same JSON and CSV fields).
 //!
 //! # A trial
