@@ -3,9 +3,9 @@
 //! run a protocol ([`Unsupported`]).
 //!
 //! A protocol is one module of this folder: a type holding its parameters, the result of
-//! one run whatever method ran it, and one exhaustive match over [`Method`] that is both its
-//! row of the compatibility table and its dispatch ([`LoadingProtocol::way`]): the
-//! choice of a method is made there and nowhere else. The registry in `protocol/mod.rs`
+//! one run whatever method ran it, and the list of the methods that run it, each with its
+//! driver, that is both its row of the compatibility table and its dispatch
+//! ([`LoadingProtocol::WAYS`]): the choice of a method is made there and nowhere else. The registry in `protocol/mod.rs`
 //! lists the protocols once and makes every enum that names them.
 
 use super::observed::Observed;
@@ -52,9 +52,11 @@ impl<F: FnMut(f64, &[Body])> Observer for Instants<F> {
     }
 }
 
-/// One way a method runs a protocol: what it gives there (its cell of the compatibility
-/// table) and the driver that runs it.
+/// One way a method runs a protocol: the method, what it gives there (its cell of the
+/// compatibility table) and the driver that runs it.
 pub struct Way<P: LoadingProtocol> {
+    /// The method.
+    pub method: Method,
     /// What the method gives for the protocol, in a phrase (the table's cell).
     pub what: &'static str,
     /// Runs the protocol `P` on a layout with the solver's settings, handing its states to
@@ -67,7 +69,7 @@ pub struct Way<P: LoadingProtocol> {
 /// under the name a study file and the command line give it (its [`super::ProtocolKind`]:
 /// the hand-rolled table and the pushover are chosen within the tilting table's and the
 /// lateral load's tables).
-pub trait LoadingProtocol: Sized {
+pub trait LoadingProtocol: Sized + 'static {
     /// Its name in tables and in the Python package's `drystone.supports`.
     const NAME: &'static str;
     /// What it is, in a phrase (for messages).
@@ -90,9 +92,16 @@ pub trait LoadingProtocol: Sized {
     /// What one run gives, whatever method ran it.
     type Run: RunOutcome;
 
-    /// How `method` runs the protocol, `None` if it does not: the protocol's row of the
-    /// compatibility table and its dispatch, one exhaustive match over the methods.
-    fn way(method: Method) -> Option<Way<Self>>;
+    /// Its row of the compatibility table and its dispatch: the methods that run it, each
+    /// once ([`Way`]: what it gives there and the driver it runs). A method the row does not
+    /// list does not run the protocol: the seam refuses it by name ([`Unsupported`]), it is
+    /// never sent down another method's driver.
+    const WAYS: &'static [Way<Self>];
+
+    /// How `method` runs the protocol ([`LoadingProtocol::WAYS`]), `None` if it does not.
+    fn way(method: Method) -> Option<&'static Way<Self>> {
+        Self::WAYS.iter().find(|w| w.method == method)
+    }
 
     /// The protocol to run to compare with measured data (`drystone discrepancy`), or why
     /// it has nothing to compare.

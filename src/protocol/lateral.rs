@@ -31,23 +31,20 @@ impl LoadingProtocol for Lateral {
     const MOTION: bool = false;
     type Run = LateralRun;
 
-    fn way(method: Method) -> Option<Way<Self>> {
-        match method {
-            Method::Penalty => Some(Way {
-                what: "the penalty DEM, any cascade",
-                run: |p, layout, solver, observer| {
-                    LateralRun::Dem(run_lateral_penalty(layout, *solver, &p.0, &mut |a, s, sim| {
-                        observer.state(a, s, sim)
-                    }))
-                },
-            }),
-            Method::Limit => Some(Way {
-                what: "limit analysis: whether the load multiplier reaches 1",
-                run: |p, layout, solver, _| LateralRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
-            }),
-            Method::Nscd => None,
-        }
-    }
+    const WAYS: &'static [Way<Self>] = &[
+        Way {
+            method: Method::Penalty,
+            what: "the penalty DEM, any cascade",
+            run: |p, layout, solver, observer| {
+                LateralRun::Dem(run_lateral_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
+            },
+        },
+        Way {
+            method: Method::Limit,
+            what: "limit analysis: whether the load multiplier reaches 1",
+            run: |p, layout, solver, _| LateralRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
+        },
+    ];
 
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::Lateral(*self))

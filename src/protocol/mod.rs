@@ -4,9 +4,9 @@
 //!
 //! A protocol is one module of this folder behind one trait ([`LoadingProtocol`]): a type
 //! holding its parameters, the result of a run whatever method ran it ([`RunOutcome`]), and
-//! one exhaustive match over the methods that is both its row of the compatibility table
-//! and its dispatch ([`LoadingProtocol::way`]). The registry below lists the protocols once
-//! and makes every enum that names them: [`ProtocolKind`] (the name a study file and the
+//! the list of the methods that run it, each with its driver, that is both its row of the
+//! compatibility table and its dispatch ([`LoadingProtocol::WAYS`]). The registry below
+//! lists the protocols once and makes every enum that names them: [`ProtocolKind`] (the name a study file and the
 //! command line give), [`Loading`] (the table's rows), [`Protocol`] (a protocol with its
 //! parameters) and [`ProtocolRun`] (what a run gave). [`run`] is the one
 //! place a method is chosen: it checks the solver against the table ([`check`]) and calls
@@ -161,7 +161,7 @@ macro_rules! registry {
         })+)+
 
         /// Whether `method` runs `protocol`, and what it gives there (`None`: it does not):
-        /// the protocol's [`LoadingProtocol::way`].
+        /// the protocol's row ([`LoadingProtocol::WAYS`]).
         ///
         /// | protocol | penalty DEM | nscd | limit analysis |
         /// | --- | --- | --- | --- |
@@ -173,6 +173,14 @@ macro_rules! registry {
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+
+            }
+        }
+
+        /// The methods `protocol`'s row lists ([`LoadingProtocol::WAYS`], in its order; each
+        /// once, which the registry's test checks).
+        pub fn listed(protocol: Loading) -> Vec<Method> {
+            match protocol {
+                $($(Loading::$variant => <$ty as LoadingProtocol>::WAYS.iter().map(|w| w.method).collect(),)+)+
             }
         }
 
@@ -338,7 +346,7 @@ impl std::str::FromStr for ProtocolKind {
 
 /// Runs protocol `p` on `layout` with the solver `solver`: the one place a method is
 /// chosen. The solver is checked against the compatibility table ([`check`]), then the
-/// protocol's way for the solver's method ([`LoadingProtocol::way`]) runs, handing its
+/// protocol's way for the solver's method ([`LoadingProtocol::WAYS`]) runs, handing its
 /// states to `observer`.
 ///
 /// # Errors
@@ -456,6 +464,12 @@ mod tests {
     fn the_table_is_whole_and_its_refusals_name_the_way() {
         for p in Loading::ALL {
             assert!(Method::ALL.into_iter().any(|m| supports(p, m)), "{p:?}");
+            // Each method at most once in a row: the first would shadow the second.
+            let mut row = listed(p);
+            let n = row.len();
+            row.sort_by_key(|m| m.name());
+            row.dedup();
+            assert_eq!(row.len(), n, "{p:?} lists a method twice");
             for k in SolverKind::ALL {
                 match check(p, k) {
                     Ok(()) => assert!(supports(p, k.method()) && !(p.is_motion() && k.names_cascade())),

@@ -48,31 +48,32 @@ impl LoadingProtocol for Pushover {
     const OPTIONAL_COLUMNS: bool = true;
     type Run = PushoverRun;
 
-    fn way(method: Method) -> Option<Way<Self>> {
-        Some(match method {
-            Method::Penalty => Way {
-                what: "the penalty DEM, any cascade",
-                run: |p, layout, solver, observer| {
-                    let service = run_lateral_penalty(layout, *solver, &p.0, &mut |_, _, _| {});
-                    let collapse = service.is_ok().then(|| {
-                        let pushed = run_lateral_pushover_observed(layout, *solver, &p.0, &mut |a, s, sim| {
-                            observer.state(a, s, sim)
-                        });
-                        Box::new((pushed, limit_lateral(layout, solver, &p.0, &solver.limit)))
+    const WAYS: &'static [Way<Self>] = &[
+        Way {
+            method: Method::Penalty,
+            what: "the penalty DEM, any cascade",
+            run: |p, layout, solver, observer| {
+                let service = run_lateral_penalty(layout, *solver, &p.0, &mut |_, _, _| {});
+                let collapse = service.is_ok().then(|| {
+                    let pushed = run_lateral_pushover_observed(layout, *solver, &p.0, &mut |a, s, sim| {
+                        observer.state(a, s, sim)
                     });
-                    PushoverRun::Penalty { service, collapse }
-                },
+                    Box::new((pushed, limit_lateral(layout, solver, &p.0, &solver.limit)))
+                });
+                PushoverRun::Penalty { service, collapse }
             },
-            Method::Nscd => Way {
-                what: "non-smooth contact dynamics, rigid joints",
-                run: |p, layout, solver, _| PushoverRun::Rigid(run_lateral_nscd(layout, &solver.nscd, &p.0)),
-            },
-            Method::Limit => Way {
-                what: "limit analysis, rigid joints",
-                run: |p, layout, solver, _| PushoverRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
-            },
-        })
-    }
+        },
+        Way {
+            method: Method::Nscd,
+            what: "non-smooth contact dynamics, rigid joints",
+            run: |p, layout, solver, _| PushoverRun::Rigid(run_lateral_nscd(layout, &solver.nscd, &p.0)),
+        },
+        Way {
+            method: Method::Limit,
+            what: "limit analysis, rigid joints",
+            run: |p, layout, solver, _| PushoverRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
+        },
+    ];
 
     /// The lateral load at its service level (λ = 1): a pushover is compared without
     /// pushing it over.

@@ -32,23 +32,22 @@ impl LoadingProtocol for Shake {
     const DEFAULT_SOLVER: SolverKind = SolverKind::Nscd;
     type Run = Result<ShakeResult, ShakeError>;
 
-    fn way(method: Method) -> Option<Way<Self>> {
-        match method {
-            Method::Penalty => Some(Way {
-                what: "explicit dynamics with contact damping",
-                run: |p, layout, solver, observer| {
-                    run_shake_penalty(layout, *solver, &p.motion, &p.params, &mut |t, b| observer.instant(t, b))
-                },
-            }),
-            Method::Nscd => Some(Way {
-                what: "non-smooth contact dynamics",
-                run: |p, layout, solver, observer| {
-                    run_shake_nscd(layout, *solver, &p.motion, &p.params, &mut |t, b| observer.instant(t, b))
-                },
-            }),
-            Method::Limit => None,
-        }
-    }
+    const WAYS: &'static [Way<Self>] = &[
+        Way {
+            method: Method::Penalty,
+            what: "explicit dynamics with contact damping",
+            run: |p, layout, solver, observer| {
+                run_shake_penalty(layout, *solver, &p.motion, &p.params, &mut |t, b| observer.instant(t, b))
+            },
+        },
+        Way {
+            method: Method::Nscd,
+            what: "non-smooth contact dynamics",
+            run: |p, layout, solver, observer| {
+                run_shake_nscd(layout, *solver, &p.motion, &p.params, &mut |t, b| observer.instant(t, b))
+            },
+        },
+    ];
 
     /// None to compare (the discrepancy analysis refuses the shaking table,
     /// [`Shake::compared`]).

@@ -34,24 +34,25 @@ impl LoadingProtocol for Tilt {
     const MOTION: bool = false;
     type Run = TiltRun;
 
-    fn way(method: Method) -> Option<Way<Self>> {
-        Some(match method {
-            Method::Penalty => Way {
-                what: "the penalty DEM, any cascade",
-                run: |p, layout, solver, observer| {
-                    TiltRun::Path(run_tilt_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
-                },
+    const WAYS: &'static [Way<Self>] = &[
+        Way {
+            method: Method::Penalty,
+            what: "the penalty DEM, any cascade",
+            run: |p, layout, solver, observer| {
+                TiltRun::Path(run_tilt_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
             },
-            Method::Nscd => Way {
-                what: "non-smooth contact dynamics, rigid joints",
-                run: |p, layout, solver, _| TiltRun::Path(run_tilt_nscd(layout, &solver.nscd, &p.0)),
-            },
-            Method::Limit => Way {
-                what: "limit analysis, rigid joints",
-                run: |_, layout, solver, _| TiltRun::Limit(limit_tilt(layout, solver, &solver.limit)),
-            },
-        })
-    }
+        },
+        Way {
+            method: Method::Nscd,
+            what: "non-smooth contact dynamics, rigid joints",
+            run: |p, layout, solver, _| TiltRun::Path(run_tilt_nscd(layout, &solver.nscd, &p.0)),
+        },
+        Way {
+            method: Method::Limit,
+            what: "limit analysis, rigid joints",
+            run: |_, layout, solver, _| TiltRun::Limit(limit_tilt(layout, solver, &solver.limit)),
+        },
+    ];
 
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::Tilt(*self))

@@ -25,15 +25,11 @@ impl LoadingProtocol for TiltByHand {
     const REFUSAL_KEY: &'static str = "tilt.by_hand";
     type Run = Result<TiltResult, TiltError>;
 
-    fn way(method: Method) -> Option<Way<Self>> {
-        match method {
-            Method::Nscd => Some(Way {
-                what: "non-smooth contact dynamics",
-                run: |p, layout, solver, _| run_tilt_by_hand(layout, &solver.nscd, &p.tilt, &p.hand),
-            }),
-            Method::Penalty | Method::Limit => None,
-        }
-    }
+    const WAYS: &'static [Way<Self>] = &[Way {
+        method: Method::Nscd,
+        what: "non-smooth contact dynamics",
+        run: |p, layout, solver, _| run_tilt_by_hand(layout, &solver.nscd, &p.tilt, &p.hand),
+    }];
 
     fn compared(&self) -> Result<Protocol, &'static str> {
         Ok(Protocol::TiltByHand(*self))
