@@ -293,3 +293,15 @@ fn bad_design_options_are_refused_naming_the_key() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// Where no follow-up of the menu reaches the target within four times the budget, the
+/// report says the contenders are not told apart at an affordable size; where one does,
+/// it does not.
+#[test]
+fn the_report_says_when_no_affordable_follow_up_separates_the_contenders() {
+    let mut plan = more_free_walls();
+    let md = drystone::discrepancy::design::markdown(&plan);
+    assert!(md.contains("No follow-up of the menu names the cause alone"), "{md}");
+    plan.ranked[0].to_target = Some(8);
+    assert!(!drystone::discrepancy::design::markdown(&plan).contains("No follow-up of the menu"));
+}

@@ -310,7 +310,8 @@ pub fn markdown(plan: &Plan) -> String {
         " Model discrepancy carried by the follow-ups drawn from a truth (a bias per key shared by their specimens, as \
          the root of the predictive variance it multiplies): on the first campaign's walls, where the truth misses \
          them beyond its predictive spread ({:.0} % χ² check), {}; on walls of a new kind, beside that, as far as it \
-         misses a group of the first campaign when refit on the others, {}.",
+         misses a group of the first campaign when refit on the others, {}, and for every truth the contenders' \
+         disagreement on those walls (the variance of their predictions there about their weighted mean).",
         100.0 * CHECK_LEVEL,
         list(&own),
         list(&new_walls)
@@ -357,6 +358,15 @@ pub fn markdown(plan: &Plan) -> String {
         );
     }
     if let Some(b) = plan.best() {
+        if plan.ranked.iter().all(|r| r.to_target.is_none()) {
+            let _ = writeln!(
+                md,
+                "\nNo follow-up of the menu names the cause alone with probability {:.2} within {} specimens: the \
+                 contenders are not told apart by these tests at an affordable size.",
+                plan.settings.target,
+                4 * plan.settings.specimens
+            );
+        }
         let _ = writeln!(
             md,
             "\nBest: **{}**, {} specimens: the cause named alone with probability {:.2}. Written as a study with \
