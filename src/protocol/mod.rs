@@ -6,13 +6,13 @@
 //! holding its parameters, the result of a run whatever method ran it ([`RunOutcome`]), and
 //! the list of the methods that run it, each with its driver, that is both its row of the
 //! compatibility table and its dispatch ([`LoadingProtocol::WAYS`]). The registry below
-//! lists the protocols once and makes every enum that names them: [`ProtocolKind`] (the name a study file and the
-//! command line give), [`Loading`] (the table's rows), [`Protocol`] (a protocol with its
-//! parameters) and [`ProtocolRun`] (what a run gave). [`run`] is the one
-//! place a method is chosen: it checks the solver against the table ([`check`]) and calls
-//! the protocol's way for the solver's method, handing its states to an [`Observer`].
-//! Adding a protocol is its module here, its line in the registry and the drivers it calls
-//! (CONTRIBUTING.md).
+//! lists the protocols once and makes every enum that names them: [`ProtocolKind`] (the
+//! name a study file and the command line give), [`Loading`] (the table's rows),
+//! [`Protocol`] (a protocol with its parameters) and [`ProtocolRun`] (what a run gave).
+//! [`run`] is the one place a method is chosen: it checks the solver against the table
+//! ([`check`]) and calls the protocol's way for the solver's method, handing its states to
+//! an [`Observer`]. Adding a protocol is its module here, its line in the registry and the
+//! drivers it calls (CONTRIBUTING.md).
 
 mod contract;
 pub mod lateral;
