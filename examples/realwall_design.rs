@@ -255,8 +255,12 @@ fn summary(files: &[String]) {
         "\n| hidden in the walls | data sets | alone (first campaign) | mean predicted | alone after the follow-up |"
     );
     println!("| --- | --- | --- | --- | --- |");
-    let mut labels: Vec<&String> = effect.iter().map(|r| &r[0]).collect();
-    labels.dedup();
+    let mut labels: Vec<&String> = Vec::new();
+    for r in &effect {
+        if !labels.contains(&&r[0]) {
+            labels.push(&r[0]);
+        }
+    }
     for l in labels {
         let set: Vec<&&Vec<String>> = effect.iter().filter(|r| &r[0] == l).collect();
         let mp = set.iter().map(|r| p(r)).sum::<f64>() / set.len() as f64;
