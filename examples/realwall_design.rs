@@ -251,6 +251,13 @@ fn summary(files: &[String]) {
     let without: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !flag(r, 4)).collect();
     table("Follow-ups that read the mechanism", &with);
     table("Follow-ups that do not read the mechanism", &without);
+    // A follow-up of walls of a new kind is named "<group> walls ..." by the menu; more
+    // specimens of a first-campaign group are not.
+    let new_walls = |r: &&Vec<String>| r[3].contains(" walls ");
+    let same: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !new_walls(r)).collect();
+    let new: Vec<&Vec<String>> = effect.iter().copied().filter(new_walls).collect();
+    table("Follow-ups on the first campaign's walls", &same);
+    table("Follow-ups on walls of a new kind", &new);
     println!(
         "\n| hidden in the walls | data sets | alone (first campaign) | mean predicted | alone after the follow-up |"
     );
