@@ -130,7 +130,7 @@ pub struct MeasuresCheck {
     pub readings_difference_se: f64,
 }
 
-/// Reversal rates of a challenger against the cause ([`reversal_rates`]): on every
+/// Reversal rates of a challenger against the cause (`reversal_rates`): on every
 /// observation, and on the measures alone ([`super::Observable::pins`]; the same where every
 /// observation is a measure).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -267,7 +267,7 @@ pub fn pairs(lib: &Models, ranked: &[Ranked]) -> Vec<Candidate> {
 
 /// The posterior predictive check of a model on the data: its score per specimen (at its
 /// full-data fit) on the collapse angles, displacements and failure heights
-/// ([`Data::fit_checked`]: not the mechanism's kind and start, which a person classifies
+/// (`Data::fit_checked`: not the mechanism's kind and start, which a person classifies
 /// by a convention of their own) against the 95th
 /// percentile of the same score on `replicates` data sets drawn from the model's own
 /// independent realizations; the observables it misses are listed over every key, the

@@ -62,7 +62,7 @@ pub struct PairSeparation {
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
 pub struct Identifiability {
     /// The models examined (the models that share the weight, at least two and at most
-    /// [`LEADING`]).
+    /// `LEADING`).
     pub leading: Vec<String>,
     /// Every pair of them.
     pub pairs: Vec<PairSeparation>,

@@ -388,7 +388,7 @@ impl Predictive {
 
     /// The predictive of a category's indicator read "seen" with probability `q`: mean `q`,
     /// standard deviation `√(q (1 − q))` (for residuals; the score is
-    /// [`category_score`]).
+    /// `category_score`).
     pub fn category(q: f64) -> Predictive {
         Predictive { mean: q, sd: (q * (1.0 - q)).sqrt().max(1e-9), dof: GAUSSIAN_DOF }
     }

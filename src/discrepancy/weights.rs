@@ -64,7 +64,7 @@ pub struct Weights {
     /// The share the models in [`Weights::shared`] hold at least ([`SHARED`]).
     pub shared_share: f64,
     /// Bayesian-bootstrap draws of the pseudo-BMA+ weights (of the stacking weights at most
-    /// [`STACKING_DRAWS`]).
+    /// `STACKING_DRAWS`).
     pub draws: usize,
 }
 

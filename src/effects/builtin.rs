@@ -57,7 +57,7 @@ fn stiffness(family: Option<JointFamily>) -> Step {
     Step::JointFactor { family, property: Property::Stiffness, parameter: "factor".into() }
 }
 
-/// The built-in effects, in library order: [`joint_effects`], then [`wall_effects`].
+/// The built-in effects, in library order: `joint_effects`, then `wall_effects`.
 pub fn builtin() -> Vec<EffectDef> {
     let mut all = joint_effects();
     all.extend(wall_effects());

@@ -10,7 +10,7 @@
 //! inside its Coulomb cone. The contacts are those of the DEM's own detection
 //! ([`crate::dem::Simulation::new`] on the layout at rest: the contact polygons of
 //! [`crate::dem::contact::geometry`]); the forces act at the polygons' vertices
-//! ([`model`] states the program). Clarabel solves it, as its dual (the kinematic
+//! (`model` states the program). Clarabel solves it, as its dual (the kinematic
 //! program, whose unknowns are the blocks' virtual velocities) unless the static program's
 //! forces are needed; the dual variables of the block equations are the blocks' virtual
 //! velocities at collapse, read as a mechanism ([`mechanism`]). Associative friction makes λ an upper estimate where sliding governs;

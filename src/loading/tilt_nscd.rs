@@ -38,7 +38,7 @@
 //! on the path, and a block released from rest first accelerates as if free, for about a
 //! quarter period of the rope's mode, before the rope catches it. The rigid trial's window
 //! (`trial_steps`, 40 steps) would call that motion a mechanism. A layout with ropes
-//! ([`TrialLimits::of`]) therefore follows the penalty path's increments:
+//! (`TrialLimits::of`) therefore follows the penalty path's increments:
 //!
 //! * α grows by [`TiltParams::step_deg`], each trial starting at rest from the last stable
 //!   trial's state (the equilibrium of the tilt before), and the first unstable increment

@@ -67,7 +67,7 @@ pub enum StudyError {
 }
 
 /// Why a study (or suite) name cannot be used as a directory name
-/// ([`check_name`](super::checks::check_name)).
+/// (`check_name`).
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 #[non_exhaustive]
 pub enum NameError {
@@ -93,7 +93,7 @@ pub enum NameError {
 }
 
 /// Why a `[[calibrate]]` step does not fit its study
-/// ([`check_calibration`](super::checks::check_calibration)); each names the key.
+/// (`check_calibration`); each names the key.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum CalibrationSpecError {
@@ -136,7 +136,7 @@ pub enum CalibrationSpecError {
 }
 
 /// What a study lacks for the paper comparison it names in `paper`
-/// ([`check_paper`](super::checks::check_paper)).
+/// (`check_paper`).
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 #[error("{paper} needs {need}")]
 pub struct PaperSpecError {

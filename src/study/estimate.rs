@@ -13,7 +13,7 @@ impl Study {
         SizeEstimate { items, largest_layout_blocks: blocks }
     }
 
-    /// Checks the number of work items against [`MAX_ITEMS`](super::size::MAX_ITEMS) (after the realizations were
+    /// Checks the number of work items against `MAX_ITEMS` (after the realizations were
     /// changed, e.g. by `--realizations`).
     ///
     /// # Errors

@@ -53,7 +53,7 @@
 //! A shaking study (`protocol = "shake"`, `[solver] kind = "nscd"`) runs every realization
 //! under every motion of its `[shake]` table scaled to every PGA level (incremental
 //! dynamic analysis; [`ShakeSpec`]); its report fits the fragility against PGA and draws
-//! the static capacity of the same walls beside it ([`shaking`]):
+//! the static capacity of the same walls beside it (`shaking`):
 //!
 //! ```toml
 //! protocol = "shake"
@@ -68,12 +68,12 @@
 //!
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 //!
-//! The modules, in the order a study goes through them: [`spec`] (the file as written),
-//! [`resolve`] (checked into a [`Study`], with [`size`] its limits and [`provenance`] the
-//! files it was read from), [`sweep`] (the keys and their effect), [`run`] (one row per
-//! realization), [`shaking`] (the report of a shaking study), [`shards`] (the run directory, its journal, shards and their merge),
-//! [`summary`] (statistics per group and sweep point), [`report`] (`report.md` and plots),
-//! [`paper`] (the source paper's tables and figures), [`calibrate`] and [`suite`].
+//! The modules, in the order a study goes through them: `spec` (the file as written),
+//! `resolve` (checked into a [`Study`], with `size` its limits and `provenance` the
+//! files it was read from), `sweep` (the keys and their effect), `run` (one row per
+//! realization), `shaking` (the report of a shaking study), `shards` (the run directory, its journal, shards and their merge),
+//! `summary` (statistics per group and sweep point), `report` (`report.md` and plots),
+//! `paper` (the source paper's tables and figures), [`calibrate`] and `suite`.
 
 pub mod calibrate;
 mod checks;

@@ -60,11 +60,11 @@ pub struct SetNames {
 }
 
 impl SetNames {
-    /// A run's set: [`STAGING`], [`MANIFEST`].
+    /// A run's set: `STAGING`, `MANIFEST`.
     pub const RUN: SetNames = SetNames { staging: STAGING, manifest: MANIFEST };
 }
 
-/// [`write_set`] with the staging directory and manifest of `names`.
+/// `write_set` with the staging directory and manifest of `names`.
 ///
 /// # Errors
 /// `write`'s error, or [`FileError`] naming the file.
@@ -115,7 +115,7 @@ pub struct CommandManifest {
     pub outputs: Vec<OutputFile>,
 }
 
-/// An output directory held by this command: its lock ([`DirLock`], one writer per
+/// An output directory held by this command: its lock (`DirLock`, one writer per
 /// directory, taken before anything is computed, released when dropped) and its sets
 /// written whole ([`write_named_set`]). Two commands on one `--out`: the second is
 /// refused naming the first, and nothing of theirs is mixed.
@@ -129,8 +129,8 @@ impl HeldDir {
     /// Creates `dir` if needed and takes its lock without waiting.
     ///
     /// # Errors
-    /// [`LockError::Held`] naming the directory and the process holding it, or
-    /// [`LockError::File`] naming the file.
+    /// `LockError::Held` naming the directory and the process holding it, or
+    /// `LockError::File` naming the file.
     pub fn acquire(dir: &Path) -> Result<HeldDir, LockError> {
         let lock = DirLock::acquire(dir)?;
         Ok(HeldDir { dir: dir.to_owned(), _lock: lock })

@@ -154,7 +154,7 @@ pub fn materialize(inputs: &[InputFile], dir: &Path) -> Result<PathBuf, Material
     study.ok_or(MaterializeError::NoStudy)
 }
 
-/// Why a manifest's stored inputs cannot be written back ([`materialize`]).
+/// Why a manifest's stored inputs cannot be written back (`materialize`).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum MaterializeError {

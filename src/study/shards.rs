@@ -64,7 +64,7 @@ pub struct Manifest {
     #[serde(default)]
     pub inputs: Vec<InputFile>,
     /// The outputs of the set this manifest completes, with their SHA-256
-    /// ([`super::outputs`]); empty in a journal header.
+    /// (`super::outputs`); empty in a journal header.
     #[serde(default)]
     pub outputs: Vec<OutputFile>,
 }
@@ -188,7 +188,7 @@ pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
 
 /// Writes a run's outputs into `dir` (created if needed): the tables and the manifest, and,
 /// for a complete run, `summary.csv`, `report.md` and the plots, as one set
-/// ([`outputs::write_set`]: staged, then committed with `manifest.json`, which records the
+/// (`outputs::write_set`: staged, then committed with `manifest.json`, which records the
 /// digest of every output, written last). Returns the comparison text for a complete run.
 ///
 /// # Errors
@@ -267,7 +267,7 @@ pub struct StudyRun {
 }
 
 /// Runs a shard of a study into `dir` with its journal: checks that `dir` is writable,
-/// takes the directory's lock ([`DirLock`]: one writer per directory), opens the journal
+/// takes the directory's lock (`DirLock`: one writer per directory), opens the journal
 /// (continuing it with `resume`), runs the items not yet finished on the
 /// current rayon pool, each row journaled as soon as it is computed, and writes the
 /// outputs.
@@ -522,7 +522,7 @@ pub struct Merged {
     pub text: Option<String>,
 }
 
-/// Merges shard directories into `out` (under its lock, [`DirLock`]): [`read_shards`]; the
+/// Merges shard directories into `out` (under its lock, `DirLock`): [`read_shards`]; the
 /// study rebuilt from the input files stored in the manifest (written under `out/.inputs/`
 /// while it resolves, then removed: the study file need not exist any more, nor be where
 /// it was); every row checked against the rebuilt study's items (study name, seed, group,

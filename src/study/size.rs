@@ -190,12 +190,12 @@ pub fn check_blocks(wall: &Wall) -> Result<(), SizeError> {
     })
 }
 
-/// A study or wall over drystone's size limits ([`MAX_ITEMS`], [`MAX_BLOCKS`]), refused
+/// A study or wall over drystone's size limits (`MAX_ITEMS`, [`MAX_BLOCKS`]), refused
 /// before any memory is taken.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SizeError {
-    /// More work items than [`MAX_ITEMS`].
+    /// More work items than `MAX_ITEMS`.
     #[error(
         "{how} = {} work items (about {} of result rows in memory); the limit is {MAX_ITEMS} work items per study",
         count(*items),

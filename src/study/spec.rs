@@ -62,7 +62,7 @@ pub struct StudySpec {
     #[serde(default)]
     pub measured: Option<MeasuredSpec>,
     /// Which of the source paper's studies this reproduces: adds its comparison to the
-    /// report (see [`paper`](super::paper)).
+    /// report (see `paper`).
     #[serde(default)]
     pub paper: Option<PaperStudy>,
     /// Calibration steps (`drystone calibrate`; see [`calibrate`](super::calibrate)).

@@ -177,7 +177,7 @@ pub fn run_suite(suite: &Suite, dir: &Path, progress: impl FnMut(&str)) -> Resul
 
 /// As [`run_suite`], each ensemble with its journal in `DIR/<study name>/` (continued or
 /// replaced as `mode` says, see [`run_into`]); `DIR` is locked
-/// ([`DirLock`](super::lock::DirLock)) and every output directory is checked writable
+/// (`DirLock`) and every output directory is checked writable
 /// first.
 ///
 /// # Errors

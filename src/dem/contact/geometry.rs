@@ -53,7 +53,7 @@ pub struct PatchParams {
 /// keys (the penalty DEM's `SolverParams`, nscd's `NscdParams`): the margin and the feature
 /// tolerance (m, > 0), the face angle tolerance (degrees, in (0, 45)) and the fraction of
 /// the margin a body moves before contacts are re-detected (in (0, 1]). One rule, checked
-/// with [`crate::range::check_ranges`] by each engine's `validate`.
+/// with `crate::range::check_ranges` by each engine's `validate`.
 pub fn detection_ranges(
     contact_margin_m: f64,
     feature_tolerance_m: f64,

@@ -29,7 +29,7 @@ pub const CHECK_LEVEL: f64 = 0.95;
 pub struct Inadequacy {
     /// `[contender]`: on the first campaign's walls. With `z_j` the standardized residual
     /// of measure `j` (a collapse angle or a displacement; not the mechanism's readings) at
-    /// the contender's fit ([`Data::predictive`]) and `w_j` its weight (a specimen's
+    /// the contender's fit (`Data::predictive`) and `w_j` its weight (a specimen's
     /// displacements share one), `S = Σ w_j z_j²` on `n = Σ w_j`: when `S` exceeds the
     /// [`CHECK_LEVEL`] quantile of χ² on `n` degrees of freedom, `S / n − 1`; else 0 (the
     /// first campaign does not tell it from the reading σ). A fit on the same data makes

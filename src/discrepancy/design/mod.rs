@@ -15,7 +15,7 @@
 //!    pseudo-BMA+ weight, renormalized over them); beside them, up to [`MAX_CHALLENGERS`]
 //!    in all, the rest of the tie and the candidates ranked next to the cause, which the
 //!    user's tie check of both campaigns will examine ([`contenders`]).
-//! 2. **Their predictions of the follow-up over their whole range** ([`refit`]): on the
+//! 2. **Their predictions of the follow-up over their whole range** (`refit`): on the
 //!    keys the first campaign already has (more specimens of a group), each contender's
 //!    own surrogate; on keys it does not have (a mechanism not read, a monitor not read, a
 //!    new wall), a grid of runs on the follow-up's walls built as the analysis builds its
@@ -48,7 +48,7 @@
 //! [`DesignSettings::target`]. What this does not repeat of the user's analysis: the
 //! margins from null data, the pairs the ranking may add, and the full runs that confirm
 //! the two best candidates at their fitted points; the refit keeps the scan's point
-//! without the analysis's polish ([`refit`]).
+//! without the analysis's polish (`refit`).
 
 mod inadequacy;
 mod menu;

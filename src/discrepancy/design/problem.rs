@@ -40,7 +40,7 @@ pub struct Problem<'a> {
     pub inadequacy: &'a [f64],
     /// The follow-up builds walls of a kind the first campaign did not test: each truth's
     /// follow-ups carry, beside `inadequacy`, the contenders' disagreement on those walls
-    /// ([`Problem::bias_variances`]).
+    /// (`Problem::bias_variances`).
     pub unseen_walls: bool,
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
