@@ -183,6 +183,7 @@ fn more_free_walls() -> Plan {
             at_budget: chance,
             to_target: None,
             runs: 0,
+            disagreement: vec![],
         }],
         settings: DesignSettings::default(),
         runs: 0,

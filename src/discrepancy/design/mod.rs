@@ -253,11 +253,13 @@ pub fn design(
             reading: run.settings.reading,
             bracket_deg: run.bracket_deg,
         };
+        let disagreement: Vec<Vec<f64>> =
+            if problem.unseen_walls { (0..truths).map(|t| problem.disagreement(t)).collect() } else { Vec::new() };
         let chances = problem.chances(&ladder, ds.replicates, ds.draws, stream_seed(seed, i));
         let at_budget =
             chances.iter().find(|c| c.specimens == ds.specimens).cloned().expect("the budget is on the ladder");
         let to_target = chances.iter().find(|c| c.alone >= ds.target).map(|c| c.specimens);
-        ranked.push(RankedFollowUp { followup: f, chances, at_budget, to_target, runs: pred.runs });
+        ranked.push(RankedFollowUp { followup: f, chances, at_budget, to_target, runs: pred.runs, disagreement });
     }
     sort_ranked(&mut ranked);
     let alone_now = run.analysis.named_alone().is_some();

@@ -128,6 +128,11 @@ pub struct RankedFollowUp {
     pub to_target: Option<usize>,
     /// Forward runs this follow-up needed (0: the fitted surrogates sufficed).
     pub runs: usize,
+    /// `[truth][key]` of the follow-up's keys (`followup.observables`): the contenders'
+    /// disagreement on walls of a new kind that the follow-ups drawn from each truth carry
+    /// (`Problem::disagreement`, in units of the key's predictive variance under the
+    /// truth); empty for a follow-up of the first campaign's walls.
+    pub disagreement: Vec<Vec<f64>>,
 }
 
 /// The design: the contenders, the probability with no follow-up, and every follow-up

@@ -121,21 +121,15 @@ impl Problem<'_> {
         self.space().draw(&self.sims[t], &all, bias, rng)
     }
 
-    /// The variance of the bias per key (`[key]`, in units of the key's predictive variance
-    /// under contender `t`) that a follow-up drawn from `t` carries: `inadequacy[t]`, and on
-    /// walls of a new kind ([`Problem::unseen_walls`]) the contenders' disagreement there,
-    /// the between-model variance of the model average over the truths
-    /// `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign weights, `m_c`: their
-    /// predicted means of the key, `m̄ = Σ_c w_c m_c`). Every truth fits the first campaign
-    /// comparably, so on walls it did not test any of them, the cause's model included, may
-    /// be off by as much as they disagree (the between-model part of a Bayesian model
-    /// average's predictive variance; Hoeting et al. 1999, *Statist. Sci.* 14, 382–417).
-    /// 0 for the mechanism's readings and failure heights (not biased). Empty when every key
-    /// is 0, so nothing is drawn.
-    pub(super) fn bias_variances(&self, t: usize) -> Vec<f64> {
-        let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
+    /// The contenders' disagreement on the follow-up's keys (`[key]`, in units of the key's
+    /// predictive variance under contender `t`): the between-model variance of the model
+    /// average over the truths `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign
+    /// weights, `m_c`: their predicted means of the key, `m̄ = Σ_c w_c m_c`). 0 for the
+    /// mechanism's readings and failure heights (not biased) and a key `t` does not predict.
+    pub fn disagreement(&self, t: usize) -> Vec<f64> {
         let space = self.space();
-        let v: Vec<f64> = (0..self.keys.len())
+        let truths = self.truths.min(self.contenders.len()).min(self.sims.len());
+        (0..self.keys.len())
             .map(|k| {
                 let sim = &self.sims[t][k];
                 if self.keys[k].is_mechanism()
@@ -144,11 +138,7 @@ impl Problem<'_> {
                 {
                     return 0.0;
                 }
-                if !self.unseen_walls {
-                    return own;
-                }
                 let sd = Predictive::new(sim, &space.template(k), self.bracket_deg).sd;
-                let truths = self.truths.min(self.contenders.len()).min(self.sims.len());
                 let (mut w, mut m, mut m2) = (0.0, 0.0, 0.0);
                 for c in 0..truths {
                     let (p, x) = (self.contenders[c].prior, self.sims[c][k].mean);
@@ -158,8 +148,38 @@ impl Problem<'_> {
                         m2 += p * x * x;
                     }
                 }
-                let between = if w > 0.0 && sd > 0.0 { ((m2 / w - (m / w).powi(2)).max(0.0)) / (sd * sd) } else { 0.0 };
-                own + between
+                if w > 0.0 && sd > 0.0 {
+                    (m2 / w - (m / w).powi(2)).max(0.0) / (sd * sd)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// The variance of the bias per key (`[key]`, in units of the key's predictive variance
+    /// under contender `t`) that a follow-up drawn from `t` carries: `inadequacy[t]`, and on
+    /// walls of a new kind ([`Problem::unseen_walls`]) the contenders' disagreement there
+    /// ([`Problem::disagreement`]). Every truth fits the first campaign comparably, so on
+    /// walls it did not test any of them, the cause's model included, may be off by as much
+    /// as they disagree (the between-model part of a Bayesian model average's predictive
+    /// variance; Hoeting et al. 1999, *Statist. Sci.* 14, 382–417). 0 for the mechanism's
+    /// readings and failure heights (not biased). Empty when every key is 0, so nothing is
+    /// drawn.
+    pub fn bias_variances(&self, t: usize) -> Vec<f64> {
+        let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
+        let between = if self.unseen_walls { self.disagreement(t) } else { vec![0.0; self.keys.len()] };
+        let v: Vec<f64> = (0..self.keys.len())
+            .map(|k| {
+                let o = &self.keys[k];
+                if o.is_mechanism()
+                    || matches!(o, Observable::FailureHeight { .. })
+                    || !self.sims[t][k].mean.is_finite()
+                {
+                    0.0
+                } else {
+                    own + between[k]
+                }
             })
             .collect();
         if v.iter().all(|x| !(*x > 0.0)) {

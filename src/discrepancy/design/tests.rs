@@ -78,6 +78,7 @@ fn a_follow_up_that_separates_the_tie_ranks_before_one_that_cannot() {
         },
         at_budget: at(&chances, 3),
         to_target: chances.iter().find(|c| c.alone >= 0.8).map(|c| c.specimens),
+        disagreement: vec![],
         chances,
         runs: 0,
     };
@@ -297,6 +298,8 @@ fn on_walls_of_a_new_kind_the_truth_carries_the_contenders_disagreement() {
     let unseen = Problem { unseen_walls: true, ..seen };
     assert_eq!(seen.bias_variances(0), vec![1.0, 0.0]);
     for t in 0..2 {
+        assert!((unseen.disagreement(t)[0] - 0.5625 / 0.09).abs() < 1e-9);
+        assert_eq!(unseen.disagreement(t)[1], 0.0);
         let v = unseen.bias_variances(t);
         assert!((v[0] - (1.0 + 0.5625 / 0.09)).abs() < 1e-9, "{v:?}");
         assert_eq!(v[1], 0.0);
