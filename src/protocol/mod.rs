@@ -176,9 +176,10 @@ macro_rules! registry {
             }
         }
 
-        /// The methods `protocol`'s row lists ([`LoadingProtocol::WAYS`], in its order; each
-        /// once, which the registry's test checks).
-        pub fn listed(protocol: Loading) -> Vec<Method> {
+        /// The methods `protocol`'s row lists ([`LoadingProtocol::WAYS`], in its order), for
+        /// the registry's test that each is listed once.
+        #[cfg(test)]
+        fn listed(protocol: Loading) -> Vec<Method> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::WAYS.iter().map(|w| w.method).collect(),)+)+
             }

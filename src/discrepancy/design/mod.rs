@@ -338,6 +338,8 @@ pub fn markdown(plan: &Plan) -> String {
         plan.runs
     );
     let truths: Vec<String> = truths.iter().map(|c| format!("alone if `{}`", c.name)).collect();
+    // The most specimens the ladder tries (`DesignSettings::ladder`).
+    let most = plan.settings.ladder().last().copied().unwrap_or(plan.settings.specimens);
     let _ = writeln!(
         md,
         "| follow-up | P(named alone) | P(90 % weight) | P(right) | {} | specimens to {:.0} % | runs |",
@@ -355,7 +357,7 @@ pub fn markdown(plan: &Plan) -> String {
             r.at_budget.weights_alone,
             r.at_budget.right,
             by.join(" | "),
-            r.to_target.map_or(format!("> {}", 4 * plan.settings.specimens), |n| n.to_string()),
+            r.to_target.map_or(format!("> {most}"), |n| n.to_string()),
             r.runs
         );
     }
@@ -365,8 +367,7 @@ pub fn markdown(plan: &Plan) -> String {
                 md,
                 "\nNo follow-up of the menu names the cause alone with probability {:.2} within {} specimens: the \
                  contenders are not told apart by these tests at an affordable size.",
-                plan.settings.target,
-                4 * plan.settings.specimens
+                plan.settings.target, most
             );
         }
         let _ = writeln!(

@@ -121,6 +121,14 @@ impl Problem<'_> {
         self.space().draw(&self.sims[t], &all, bias, rng)
     }
 
+    /// Whether key `k` of a follow-up drawn from contender `t` carries a bias: an angle or a
+    /// displacement `t` predicts (not the mechanism's readings, nor the failure height,
+    /// which are drawn from their categories).
+    fn biased(&self, t: usize, k: usize) -> bool {
+        let o = &self.keys[k];
+        !(o.is_mechanism() || matches!(o, Observable::FailureHeight { .. }) || !self.sims[t][k].mean.is_finite())
+    }
+
     /// The contenders' disagreement on the follow-up's keys (`[key]`, in units of the key's
     /// predictive variance under contender `t`): the between-model variance of the model
     /// average over the truths `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign
@@ -132,10 +140,7 @@ impl Problem<'_> {
         (0..self.keys.len())
             .map(|k| {
                 let sim = &self.sims[t][k];
-                if self.keys[k].is_mechanism()
-                    || matches!(self.keys[k], Observable::FailureHeight { .. })
-                    || !sim.mean.is_finite()
-                {
+                if !self.biased(t, k) {
                     return 0.0;
                 }
                 let sd = Predictive::new(sim, &space.template(k), self.bracket_deg).sd;
@@ -169,19 +174,8 @@ impl Problem<'_> {
     pub fn bias_variances(&self, t: usize) -> Vec<f64> {
         let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
         let between = if self.unseen_walls { self.disagreement(t) } else { vec![0.0; self.keys.len()] };
-        let v: Vec<f64> = (0..self.keys.len())
-            .map(|k| {
-                let o = &self.keys[k];
-                if o.is_mechanism()
-                    || matches!(o, Observable::FailureHeight { .. })
-                    || !self.sims[t][k].mean.is_finite()
-                {
-                    0.0
-                } else {
-                    own + between[k]
-                }
-            })
-            .collect();
+        let v: Vec<f64> =
+            (0..self.keys.len()).map(|k| if self.biased(t, k) { own + between[k] } else { 0.0 }).collect();
         if v.iter().all(|x| !(*x > 0.0)) {
             Vec::new()
         } else {
