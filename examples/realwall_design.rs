@@ -7,7 +7,10 @@
 //! hidden edit, tilted, readings rounded; the mechanism read from each edited wall's own
 //! run and misread at 10 % when the follow-up reads it), and both campaigns are analysed
 //! together on the written study. Each data set is one row appended to a CSV file, so the
-//! column runs in parts, resumed (a row already in the file is skipped) and merged.
+//! column runs in parts, resumed (a row already in the file is skipped) and merged; each
+//! data set's design (`design.json`'s content: every follow-up's probabilities at every
+//! specimen count and by truth) is kept in `OUT.plans/CLASS-SET.json`, so other readings of
+//! the design can be scored without a rerun.
 //!
 //! ```sh
 //! cargo run --release --example realwall_design -- run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] [--without-mechanism]
@@ -22,7 +25,8 @@
 //! design's promise (the predicted probability of naming the cause alone, in bins, against
 //! the observed frequency), its Brier score, the alone-after-follow-up column per class,
 //! the false-alarm rate on null data, and the same split by whether the follow-up reads the
-//! mechanism. Which figures are independent: the observed columns (data made outside the
+//! mechanism, and how often the design said that no follow-up reaches the target (column
+//! `says_none`) while the cause was then named alone. Which figures are independent: the observed columns (data made outside the
 //! engine, analysed by it); the predicted probabilities are the design's own.
 
 #[path = "../tests/realwalls/mod.rs"]
@@ -44,7 +48,7 @@ const NOISE: Noise =
 const TILTS: [f64; 2] = [5.0, 10.0];
 const DATA_SEED: u64 = 0x5eed_da7a;
 const SPECIMENS: u64 = 5;
-const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared,discrepancy";
+const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared,discrepancy,says_none";
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -126,6 +130,15 @@ fn run(args: &[String]) {
                 plan.ranked.insert(0, chosen);
             }
             let best = plan.best().unwrap().clone();
+            // The design says no follow-up of its menu reaches the target within its ladder.
+            let says_none = plan.ranked.iter().all(|r| r.to_target.is_none());
+            // The plan kept beside the CSV, to score other readings of it without a rerun.
+            let plans = out.with_extension("plans");
+            let _ = std::fs::create_dir_all(&plans);
+            let _ = std::fs::write(
+                plans.join(format!("{}-{i}.json", e.label().replace(' ', "_"))),
+                serde_json::to_string(&plan).unwrap_or_default(),
+            );
             run.followup = Some(plan.clone());
             let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
             let _ = std::fs::remove_dir_all(&dir);
@@ -162,7 +175,7 @@ fn run(args: &[String]) {
             let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
             let alarm = e == Edit::None && b.verdict.name() != "no_effect";
             let row = format!(
-                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{}",
+                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{},{says_none}",
                 e.label(),
                 best.followup.name.replace('"', "'"),
                 best.at_budget.alone,
@@ -275,6 +288,16 @@ fn summary(files: &[String]) {
         let after = set.iter().filter(|r| flag(r, 10)).count();
         println!("| {l} | {} | {before} | {mp:.2} | {after} |", set.len());
     }
+    // Rows written before the column existed do not say.
+    let said: Vec<&&Vec<String>> = effect.iter().filter(|r| r.get(18).is_some()).collect();
+    let none: Vec<&&Vec<String>> = said.iter().copied().filter(|r| flag(r, 18)).collect();
+    println!(
+        "\nThe design said no follow-up reaches the target: {} of {} effect data sets that record it; the cause then \
+         named alone after {} of them (the statement holds when it is not).",
+        none.len(),
+        said.len(),
+        none.iter().filter(|r| flag(r, 10)).count()
+    );
     let alarms = nulls.iter().filter(|r| flag(r, 12)).count();
     println!("\nNull data: {} data sets, {alarms} false alarms after the follow-up.", nulls.len());
 }
