@@ -376,6 +376,13 @@ pub fn markdown(plan: &Plan) -> String {
              empty measured-file templates in `design/followup/`.",
             b.followup.name, plan.settings.specimens, b.at_budget.alone
         );
+        let _ = writeln!(
+            md,
+            "\nThese probabilities take the truth to be one of the contenders, off by the discrepancy the first \
+             campaign shows. Real walls can differ from every contender in ways the first campaign does not show: on \
+             an independent test bed of walls edited as real walls differ, the cause was named alone less often than \
+             promised (docs/discrepancy.md, \"On data it did not make\"). Read them as optimistic."
+        );
     }
     md
 }
