@@ -231,7 +231,9 @@ fn summary(files: &[String]) {
     let p = |r: &Vec<String>| r[5].parse::<f64>().unwrap_or(f64::NAN);
     let effect: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] != "null").collect();
     let nulls: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "null").collect();
-    let table = |title: &str, set: &[&Vec<String>]| {
+    // The reliability table of the probabilities in column `pc` against the outcomes in `oc`.
+    let table_of = |title: &str, set: &[&Vec<String>], pc: usize, oc: usize| {
+        let p = |r: &Vec<String>| r[pc].parse::<f64>().unwrap_or(f64::NAN);
         println!("\n{title}: {} effect data sets\n", set.len());
         println!("| predicted P(named alone) | data sets | mean predicted | observed alone | |predicted − observed| |");
         println!("| --- | --- | --- | --- | --- |");
@@ -244,13 +246,13 @@ fn summary(files: &[String]) {
                 continue;
             }
             let mp = inb.iter().map(|r| p(r)).sum::<f64>() / inb.len() as f64;
-            let obs = inb.iter().filter(|r| flag(r, 10)).count() as f64 / inb.len() as f64;
+            let obs = inb.iter().filter(|r| flag(r, oc)).count() as f64 / inb.len() as f64;
             println!("| {lo:.1}–{hi:.1} | {} | {mp:.2} | {obs:.2} | {:.2} |", inb.len(), (mp - obs).abs());
         }
-        let brier = set.iter().map(|r| (p(r) - f64::from(u8::from(flag(r, 10)))).powi(2)).sum::<f64>()
+        let brier = set.iter().map(|r| (p(r) - f64::from(u8::from(flag(r, oc)))).powi(2)).sum::<f64>()
             / set.len().max(1) as f64;
         let promised: Vec<&&Vec<String>> = set.iter().filter(|r| p(r) >= 0.8).collect();
-        let kept = promised.iter().filter(|r| flag(r, 10)).count();
+        let kept = promised.iter().filter(|r| flag(r, oc)).count();
         if set.is_empty() {
             return;
         }
@@ -259,7 +261,9 @@ fn summary(files: &[String]) {
             promised.len()
         );
     };
+    let table = |title: &str, set: &[&Vec<String>]| table_of(title, set, 5, 10);
     table("All follow-ups", &effect);
+    table_of("By the weights' criterion (the truth alone holding 90 % of the weight), all follow-ups", &effect, 6, 11);
     let with: Vec<&Vec<String>> = effect.iter().copied().filter(|r| flag(r, 4)).collect();
     let without: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !flag(r, 4)).collect();
     table("Follow-ups that read the mechanism", &with);
