@@ -293,7 +293,7 @@ fn summary(files: &[String]) {
         println!("| {l} | {} | {before} | {mp:.2} | {after} |", set.len());
     }
     // Rows written before the column existed do not say.
-    let said: Vec<&&Vec<String>> = effect.iter().filter(|r| r.get(18).is_some()).collect();
+    let said: Vec<&&Vec<String>> = effect.iter().filter(|r| r.get(18).is_some_and(|v| !v.is_empty())).collect();
     let none: Vec<&&Vec<String>> = said.iter().copied().filter(|r| flag(r, 18)).collect();
     println!(
         "\nThe design said no follow-up reaches the target: {} of {} effect data sets that record it; the cause then \
