@@ -135,10 +135,13 @@ fn run(args: &[String]) {
             // The plan kept beside the CSV, to score other readings of it without a rerun.
             let plans = out.with_extension("plans");
             let _ = std::fs::create_dir_all(&plans);
-            let _ = std::fs::write(
-                plans.join(format!("{}-{i}.json", e.label().replace(' ', "_"))),
-                serde_json::to_string(&plan).unwrap_or_default(),
-            );
+            // The class's label made a file name ("table Kn 5.0e6 Pa/m" → "table_Kn_5.0e6_Pa_m").
+            let stem: String =
+                e.label().chars().map(|c| if c.is_alphanumeric() || c == '.' { c } else { '_' }).collect();
+            let kept = plans.join(format!("{stem}-{i}.json"));
+            if let Err(err) = std::fs::write(&kept, serde_json::to_string(&plan).unwrap_or_default()) {
+                eprintln!("{}: {err} (the design is not kept)", kept.display());
+            }
             run.followup = Some(plan.clone());
             let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
             let _ = std::fs::remove_dir_all(&dir);
