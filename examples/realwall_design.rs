@@ -23,11 +23,14 @@
 //! a file of its own). `FIRST_SET`: the first data set's index (data set `i` of class `c` uses the
 //! specimens `1000 c + 100 + 10 i ..`). `summary` prints the reliability table of the
 //! design's promise (the predicted probability of naming the cause alone, in bins, against
-//! the observed frequency), its Brier score, the alone-after-follow-up column per class,
-//! the false-alarm rate on null data, and the same split by whether the follow-up reads the
-//! mechanism, and how often the design said that no follow-up reaches the target (column
-//! `says_none`) while the cause was then named alone. Which figures are independent: the observed columns (data made outside the
-//! engine, analysed by it); the predicted probabilities are the design's own.
+//! the observed frequency) and its Brier score, the same for the weights' criterion, the
+//! alone-after-follow-up column per class, the false-alarm rate on null data, the same
+//! split by whether the follow-up reads the mechanism and by whether it adds walls of a
+//! new kind, and how often the design said that no follow-up reaches the target (column
+//! `says_none`) while the cause was then named alone. Which figures are independent: the
+//! observed columns (data made outside the engine, analysed by it); the predicted
+//! probabilities are the design's own. The column measured is in
+//! `docs/calibration/design_column.csv` (docs/discrepancy.md, "On data it did not make").
 
 #[path = "../tests/realwalls/mod.rs"]
 mod realwalls;
