@@ -295,8 +295,8 @@ fn bad_design_options_are_refused_naming_the_key() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// Where no follow-up of the menu reaches the target within four times the budget, the
-/// report says the contenders are not told apart at an affordable size; where one does,
+/// Where no follow-up of the menu reaches the target within the most specimens its ladder
+/// tries (`DesignSettings::ladder`), the report says the contenders are not told apart at an affordable size; where one does,
 /// it does not.
 #[test]
 fn the_report_says_when_no_affordable_follow_up_separates_the_contenders() {
