@@ -296,8 +296,8 @@ fn bad_design_options_are_refused_naming_the_key() {
 }
 
 /// Where no follow-up of the menu reaches the target within the most specimens its ladder
-/// tries (`DesignSettings::ladder`), the report says the contenders are not told apart at an affordable size; where one does,
-/// it does not.
+/// tries (`DesignSettings::ladder`), the report says the contenders are not told apart at
+/// an affordable size; where one does, it does not.
 #[test]
 fn the_report_says_when_no_affordable_follow_up_separates_the_contenders() {
     let mut plan = more_free_walls();
