@@ -30,6 +30,12 @@ enum Command {
     /// solved to equilibrium; prints the top displacements and the drift.
     #[command(allow_negative_numbers = true)]
     Lateral(cli::lateral::LateralArgs),
+    /// In-plane shear–compression test: a loading beam on the top course under a constant
+    /// vertical stress, its horizontal displacement imposed (monotonic or in growing
+    /// cycles); prints the peak force, the drift at the peak, the initial stiffness and the
+    /// mechanism (`--solver limit`: the peak force by limit analysis).
+    #[command(name = "in-plane", allow_negative_numbers = true)]
+    InPlane(cli::inplane::InPlaneArgs),
     /// Shaking table: the layout on a base that moves with a recorded or a built-in
     /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks;
     /// `--solver penalty`: the penalty DEM in explicit dynamics); prints whether it overturned, the largest rocking rotation and the drifts.
@@ -110,6 +116,7 @@ fn run() -> anyhow::Result<ExitCode> {
     match Cli::parse().command {
         Command::Tilt(a) => cli::tilt::command(a),
         Command::Lateral(a) => cli::lateral::command(a),
+        Command::InPlane(a) => cli::inplane::command(a),
         Command::Shake(a) => cli::shake::command(a),
         Command::Limit(a) => cli::limit::run(&a),
         Command::Run(a) => cli::study::run(a),

@@ -15,6 +15,7 @@ pub mod bench;
 pub mod design;
 pub mod discrepancy;
 pub mod generate;
+pub mod inplane;
 pub mod lateral;
 pub mod limit;
 pub mod shake;
@@ -51,6 +52,25 @@ fn thread_count(threads: Option<usize>) -> usize {
 /// A rayon pool of [`thread_count`] workers.
 fn pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
     Ok(rayon::ThreadPoolBuilder::new().num_threads(thread_count(threads)).build()?)
+}
+
+/// Checks before a run that an output file can be written where it is asked: its folder
+/// exists (a run is not spent on an output it cannot write).
+///
+/// # Errors
+/// Naming the file and its folder.
+pub fn check_writable(path: &std::path::Path) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if !dir.is_dir() {
+        anyhow::bail!("cannot write {}: its folder {} does not exist", path.display(), dir.display());
+    }
+    if path.is_dir() {
+        anyhow::bail!("cannot write {}: it is a folder", path.display());
+    }
+    Ok(())
 }
 
 /// Reads and checks a layout file; an error of its contents names the file (read and parse

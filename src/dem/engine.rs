@@ -159,6 +159,7 @@ impl Simulation {
         if self.state.restraint[k] == Some(EndRestraint::Rigid) {
             f.y = 0.0;
         }
+        // A constrained body's held components were taken out in the load stage.
         (f, self.work.torque[k])
     }
 
@@ -208,9 +209,17 @@ impl Simulation {
             if st.restraint[k] == Some(EndRestraint::Rigid) {
                 d.y = 0.0;
             }
+            let mut w = drot[k];
+            if let Some(c) = &st.constraints[k] {
+                c.hold_velocities(&mut d, &mut w);
+            }
+            let before = b.pos;
             b.pos += d;
-            b.rotate(drot[k]);
-            jump[k] = (d, drot[k]);
+            b.rotate(w);
+            if let Some(c) = &st.constraints[k] {
+                c.place(b);
+            }
+            jump[k] = (b.pos - before, w);
         }
         // Re-detection may change the time step (density scaling): the velocities below
         // use the step the contact pass will use.

@@ -18,6 +18,7 @@
 //! kinetic energy in proportion to the unbalanced force and vanishes at equilibrium: it is a
 //! device for static solutions, not physical damping.
 
+use super::constraint::DofConstraint;
 use super::state::Body;
 use crate::math::Vec3;
 
@@ -89,6 +90,42 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
     // With density scaling s the inertia is s·I: ω̇ = I⁻¹(T/s − ω × Iω).
     b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
     b.rotate(b.angvel * dt);
+}
+
+/// Advances one body with per-degree-of-freedom constraints by one step
+/// ([`super::constraint`]): `force` and `torque` are the out-of-balance loads with the
+/// held components already taken out and the reaction's moment added
+/// ([`DofConstraint::react`]). The scalar inertial mass is used (block density scaling
+/// does not apply to a constrained body); the held velocities are zeroed before the pose
+/// is updated, and the anchor is put back on its targets after the rotation; the held
+/// translations' velocities are then those of that placement, so that the joints see the
+/// imposed motion.
+#[inline(always)]
+pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, c: &DofConstraint) {
+    if b.fixed {
+        b.vel = Vec3::zeros();
+        b.angvel = Vec3::zeros();
+        return;
+    }
+    let f = damp(force, &b.vel, damping);
+    b.vel += f * (dt * b.inertia_scale_inv / b.mass);
+    let t = damp(torque, &b.angvel, damping);
+    let r = b.rot_mat;
+    let iw_w = r * (b.inertia * (r.tr_mul(&b.angvel)));
+    let gyro = b.angvel.cross(&iw_w);
+    b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
+    c.hold_velocities(&mut b.vel, &mut b.angvel);
+    let before = b.pos;
+    b.pos += b.vel * dt;
+    b.rotate(b.angvel * dt);
+    c.place(b);
+    // The held axes' velocities are those of the anchor's placement (a moved target, the
+    // rotation's lever): the contact pass reads the joints' shear increments as `v Δt`.
+    for i in 0..3 {
+        if c.translation[i].is_some() {
+            b.vel[i] = (b.pos[i] - before[i]) / dt;
+        }
+    }
 }
 
 /// The new velocities `(v, ω)` of a body with block density scaling: the force and torque

@@ -3,6 +3,7 @@
 //! workspace ([`Simulation`], whose `step` gives the step order), the monitor, and the drivers that
 //! run the engine to equilibrium ([`drivers`]).
 
+pub mod constraint;
 pub mod contact;
 pub mod damping;
 pub(crate) mod dispatch;
@@ -24,6 +25,7 @@ pub mod state;
 pub mod timestep;
 mod workspace;
 
+pub use constraint::DofConstraint;
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use method::{Cascade, Method, SolverKind};
 pub use model::WallState;

@@ -9,7 +9,7 @@ use super::contact::law::{JointParams, SubContactState};
 use super::contact::types::{Contact, ContactNode, SubContact};
 use super::damping::ContactDamping;
 use super::error::DemError;
-use super::integrator::{advance, YConstraint};
+use super::integrator::{advance, advance_constrained, YConstraint};
 use super::materials::JointTable;
 use super::model::WallState;
 use super::monitor::StepStats;
@@ -381,6 +381,9 @@ impl Workspace {
             if let Some(EndRestraint::Spring(kk)) = st.restraint[k] {
                 f.y -= kk * (b.pos.y - b.pos0.y);
             }
+            if let Some(c) = &st.constraints[k] {
+                c.react(b, &mut f, &mut self.torque[k]);
+            }
             self.force[k] = f;
             let mut fu = f;
             if st.restraint[k] == Some(EndRestraint::Rigid) {
@@ -410,7 +413,10 @@ impl Workspace {
             } else {
                 YConstraint::Free
             };
-            advance(b, self.force[k], self.torque[k], dt, damping, y);
+            match &st.constraints[k] {
+                None => advance(b, self.force[k], self.torque[k], dt, damping, y),
+                Some(c) => advance_constrained(b, self.force[k], self.torque[k], dt, damping, c),
+            }
             if !(b.pos.iter().all(|v| v.is_finite())
                 && b.angvel.iter().all(|v| v.is_finite())
                 && b.vel.iter().all(|v| v.is_finite()))

@@ -7,6 +7,7 @@
 //! from [`crate::files`], which describes how).
 
 mod error;
+pub mod inplane;
 pub mod measured;
 pub mod mechanism;
 pub(crate) mod plot;
@@ -18,6 +19,7 @@ pub mod vtk;
 use crate::generator::{GeneratedWall, GeneratorError, PieceKind, Wall};
 
 pub use crate::files::{replace_file, replace_file_with, sync_dir, temporary_name, FileError};
+pub use plot::PlotError;
 
 /// Output formats of `drystone generate`, chosen by the file extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -42,6 +42,7 @@
 
 mod csc;
 pub mod flow;
+pub mod inplane;
 pub mod mechanism;
 pub(crate) mod model;
 
@@ -71,6 +72,15 @@ pub enum LiveLoad {
         pressure_base_pa: f64,
         /// Pressure at its highest point, Pa.
         pressure_top_pa: f64,
+    },
+    /// The in-plane shear–compression test ([`inplane::limit_in_plane`]): a horizontal
+    /// force on the loading beam at the shear span, under the constant vertical force; the
+    /// live load is `N_total` along +x, so λ = V / N_total.
+    InPlane {
+        /// The applied vertical stress, MPa.
+        sigma0_mpa: f64,
+        /// The height of the horizontal force, m.
+        shear_span_m: f64,
     },
 }
 
@@ -276,6 +286,34 @@ pub fn limit_analysis(
     protocol: LiveLoad,
     params: &LimitParams,
 ) -> Result<LimitResult, LimitError> {
+    let g = layout.gravity;
+    limit_with(layout, contact, protocol, params, |model, sim| match protocol {
+        LiveLoad::Tilt => {
+            for (k, b) in sim.state.bodies.iter().enumerate() {
+                model.live[k] = (Vec3::new(0.0, g * b.mass, 0.0), Vec3::zeros());
+            }
+        }
+        LiveLoad::Lateral { pressure_base_pa, pressure_top_pa } => {
+            let all = layout.bounds();
+            let (loads, _) = pressure_loads(sim, all.min.z, all.max.z, pressure_base_pa, pressure_top_pa);
+            model.live = loads;
+        }
+        // Its loads and held degrees of freedom are the rig's (`inplane::limit_in_plane`).
+        LiveLoad::InPlane { .. } => {}
+    })
+    .map(|(r, _)| r)
+}
+
+/// The limit analysis of a layout whose live load (and any extra dead load or held degree
+/// of freedom) `loads` sets on the model built from the layout at rest; returns the result
+/// and the model (its joints, for a protocol's own reading of the mechanism).
+pub(crate) fn limit_with(
+    layout: &Layout,
+    contact: &SolverParams,
+    protocol: LiveLoad,
+    params: &LimitParams,
+    loads: impl FnOnce(&mut Model, &crate::dem::Simulation),
+) -> Result<(LimitResult, Model), LimitError> {
     params.validate().map_err(LimitError::Parameter)?;
     contact.validate().map_err(LimitError::Parameter)?;
     if !layout.ropes.is_empty() {
@@ -287,19 +325,7 @@ pub fn limit_analysis(
         return Err(LimitError::NoFreeBlock);
     }
     check_support(&model)?;
-    let g = layout.gravity;
-    match protocol {
-        LiveLoad::Tilt => {
-            for (k, b) in sim.state.bodies.iter().enumerate() {
-                model.live[k] = (Vec3::new(0.0, g * b.mass, 0.0), Vec3::zeros());
-            }
-        }
-        LiveLoad::Lateral { pressure_base_pa, pressure_top_pa } => {
-            let all = layout.bounds();
-            let (loads, _) = pressure_loads(&sim, all.min.z, all.max.z, pressure_base_pa, pressure_top_pa);
-            model.live = loads;
-        }
-    }
+    loads(&mut model, &sim);
     let live: Vec3 = model.row_of.iter().zip(&model.live).filter(|(r, _)| r.is_some()).map(|(_, l)| l.0).sum();
     let live_moment: f64 = model.live.iter().map(|l| l.1.norm()).sum();
     if live.norm() <= 1e-12 * model.force_scale && live_moment <= 1e-12 * model.force_scale * model.length_scale {
@@ -345,7 +371,7 @@ pub fn limit_analysis(
         load_multiplier,
         collapse_angle_deg: match protocol {
             LiveLoad::Tilt => Some(load_multiplier.atan().to_degrees()),
-            LiveLoad::Lateral { .. } => None,
+            LiveLoad::Lateral { .. } | LiveLoad::InPlane { .. } => None,
         },
         governing,
         associative: assoc.lambda,
@@ -364,7 +390,7 @@ pub fn limit_analysis(
         wall_time_s: t0.elapsed().as_secs_f64(),
     };
     check_stands(layout, &r)?;
-    Ok(r)
+    Ok((r, model))
 }
 
 /// Every free block touches something, and every group of blocks joined by contacts

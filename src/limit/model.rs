@@ -98,8 +98,11 @@ pub(crate) struct Model {
     pub joints: Vec<Joint>,
     /// Contact points.
     pub points: Vec<Point>,
-    /// Bodies with a rigid end restraint (a free y reaction at the centroid).
-    pub held_y: Vec<usize>,
+    /// Held degrees of freedom, each a free reaction: (body, dof) with dof 0–2 a
+    /// translation at the centroid along x, y, z and 3–5 a rotation about x, y, z (a rigid
+    /// end restraint holds dof 1; a protocol's per-degree-of-freedom constraints add
+    /// theirs).
+    pub held: Vec<(usize, usize)>,
     /// Dead load per body: force (N) and moment about the centroid (N·m), table frame.
     pub dead: Vec<(Vec3, Vec3)>,
     /// Live load per body, as `dead`.
@@ -247,11 +250,11 @@ impl Model {
                 z,
             });
         }
-        let held_y = layout
+        let held = layout
             .end_restraints
             .iter()
             .filter(|(i, r)| *r == EndRestraint::Rigid && !st.bodies[*i].fixed)
-            .map(|(i, _)| *i)
+            .map(|(i, _)| (*i, 1))
             .collect();
         let model = Model {
             ids: st.bodies.iter().map(|b| b.id.clone()).collect(),
@@ -268,7 +271,7 @@ impl Model {
                 .collect(),
             joints,
             points,
-            held_y,
+            held,
             dead,
             live: vec![(Vec3::zeros(), Vec3::zeros()); n],
             force_scale: if weight > 0.0 { weight } else { 1.0 },
@@ -419,9 +422,9 @@ impl Model {
         }
         b.push(1.0);
         row += 1;
-        for &k in &self.held_y {
+        for &(k, d) in &self.held {
             let r = self.row_of[k].expect("held bodies are free");
-            push(row, 6 * r + 1, 1.0);
+            push(row, 6 * r + d, 1.0);
             b.push(0.0);
             row += 1;
         }
@@ -513,7 +516,7 @@ impl Model {
     pub fn solve(&self, friction: Friction) -> Solution {
         let nf = self.free();
         let neq = 6 * nf;
-        let nh = self.held_y.len();
+        let nh = self.held.len();
         let np = self.points.len();
         let col_pt = 1 + nh;
         let nvar = col_pt + 3 * np;
@@ -533,9 +536,9 @@ impl Model {
                 push(6 * r + 3 + d, 0, lm[d] / (fs * ls));
             }
         }
-        for (h, &k) in self.held_y.iter().enumerate() {
+        for (h, &(k, d)) in self.held.iter().enumerate() {
             let r = self.row_of[k].expect("held bodies are free");
-            push(6 * r + 1, 1 + h, 1.0);
+            push(6 * r + d, 1 + h, 1.0);
         }
         // Contact forces: on B as given, on A the opposite.
         for j in &self.joints {

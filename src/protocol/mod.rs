@@ -15,6 +15,7 @@
 //! drivers it calls (CONTRIBUTING.md).
 
 mod contract;
+pub mod inplane;
 pub mod lateral;
 mod observed;
 mod outcomes;
@@ -24,6 +25,7 @@ pub mod tilt;
 pub mod tilt_by_hand;
 
 pub use contract::{Instants, LoadingProtocol, Observables, Observer, RunOutcome, States, Unsupported, Way};
+pub use inplane::{InPlane, InPlaneRun};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
 pub use observed::Observed;
 pub use pushover::{Pushover, PushoverRun};
@@ -170,6 +172,7 @@ macro_rules! registry {
         /// | lateral | equilibrium under the load | – | whether λ ≥ 1 |
         /// | pushover | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
         /// | shake | explicit dynamics with contact damping | Moreau–Jean time stepping | – |
+        /// | in_plane | force–displacement curve | – | peak force and mechanism |
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+
@@ -311,6 +314,12 @@ registry! {
         /// The shaking table under a ground motion ([`shake`]): a motion.
         Shake(Shake),
     },
+    /// The in-plane shear–compression test (`[in_plane]`): a loading beam under a constant
+    /// vertical force, its horizontal displacement imposed (monotonic or cyclic).
+    InPlane = "in_plane" {
+        /// The in-plane shear–compression test ([`inplane`]).
+        InPlane(InPlane),
+    },
 }
 
 impl Default for ProtocolKind {
@@ -410,7 +419,9 @@ impl Protocol {
         match kind {
             ProtocolKind::Tilt => Some(Protocol::Tilt(Tilt(TiltParams::default()))),
             ProtocolKind::Lateral => Some(Protocol::Lateral(Lateral(lateral))),
-            ProtocolKind::Shake => None,
+            // The in-plane test's live load needs its vertical stress and shear span:
+            // `drystone in-plane --solver limit`.
+            ProtocolKind::Shake | ProtocolKind::InPlane => None,
         }
     }
 
@@ -507,8 +518,13 @@ mod tests {
         let kind = |l: &LiveLoad| match l {
             LiveLoad::Tilt => ProtocolKind::Tilt,
             LiveLoad::Lateral { .. } => ProtocolKind::Lateral,
+            LiveLoad::InPlane { .. } => ProtocolKind::InPlane,
         };
-        for l in [LiveLoad::Tilt, LiveLoad::Lateral { pressure_base_pa: 1e3, pressure_top_pa: 5e2 }] {
+        for l in [
+            LiveLoad::Tilt,
+            LiveLoad::Lateral { pressure_base_pa: 1e3, pressure_top_pa: 5e2 },
+            LiveLoad::InPlane { sigma0_mpa: 0.5, shear_span_m: 1.325 },
+        ] {
             let v = serde_json::to_value(l).unwrap();
             let tag = match &v {
                 serde_json::Value::String(s) => s.clone(),
@@ -529,9 +545,9 @@ mod tests {
             assert_eq!(k.name().parse::<ProtocolKind>(), Ok(k));
             assert!(k.loadings().iter().all(|l| l.kind() == k), "{k:?}");
         }
-        assert_eq!(ProtocolKind::ALL.map(ProtocolKind::name), ["tilt", "lateral", "shake"]);
+        assert_eq!(ProtocolKind::ALL.map(ProtocolKind::name), ["tilt", "lateral", "shake", "in_plane"]);
         assert_eq!(ProtocolKind::default(), ProtocolKind::Tilt);
-        assert!("pushover".parse::<ProtocolKind>().unwrap_err().contains("tilt, lateral, shake"));
+        assert!("pushover".parse::<ProtocolKind>().unwrap_err().contains("tilt, lateral, shake, in_plane"));
         for p in Loading::ALL {
             assert!(p.kind().loadings().contains(&p), "{p:?}");
         }

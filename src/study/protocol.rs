@@ -67,6 +67,12 @@ impl StudyProtocol {
             (ProtocolKind::Shake, None) => {
                 Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
             }
+            (ProtocolKind::InPlane, _) => Err(invalid.at(
+                "protocol",
+                "protocol = \"in_plane\" is run by its own study (`drystone run` reads it: study::inplane); \
+                 this command does not run it"
+                    .into(),
+            )),
         }
     }
 
@@ -153,6 +159,9 @@ impl StudyProtocol {
             )
             | ProtocolRun::Shake(Err(_))
             | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
+            // Never built from a study of this kind (`from_spec` refuses it): its study is
+            // its own (study::inplane).
+            ProtocolRun::InPlane(_) => failed_row(row, false, &"the in-plane test runs by its own study"),
         }
     }
 
@@ -243,6 +252,7 @@ impl StudySpec {
             ProtocolKind::Tilt => ("tilt", self.tilt.moved()),
             ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
             ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
+            ProtocolKind::InPlane => ("in_plane", Vec::new()),
         }
     }
 
@@ -253,6 +263,7 @@ impl StudySpec {
             ProtocolKind::Tilt => Protocol::tilting(self.tilt).kind(),
             ProtocolKind::Lateral => Protocol::lateral(self.lateral).kind(),
             ProtocolKind::Shake => Loading::Shake,
+            ProtocolKind::InPlane => Loading::InPlane,
         }
     }
 }

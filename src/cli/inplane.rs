@@ -1,0 +1,303 @@
+//! `drystone in-plane`: the in-plane shear–compression test of a layout file.
+
+use super::solver::SolverChoice;
+use anyhow::{bail, Context, Result};
+use drystone::dem::{PenaltyParams, SolverParams};
+use drystone::io::inplane::crack_map_svg;
+use drystone::limit::inplane::InPlaneLimit;
+use drystone::limit::LimitParams;
+use drystone::loading::inplane::{
+    mechanism_joints, BeamRotation, DirectionResult, History, InPlaneParams, InPlaneResult, Rig,
+};
+use drystone::protocol::{InPlane, InPlaneRun, States, Unsupported};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Options of `drystone in-plane`.
+#[derive(clap::Args)]
+pub struct InPlaneArgs {
+    /// Layout file (JSON).
+    layout: PathBuf,
+    /// Vertical stress applied through the loading beam, MPa (the wall's self-weight comes
+    /// on top).
+    #[arg(long, value_name = "MPA")]
+    sigma0_mpa: f64,
+    /// Shear span H0: the height above the base at which the horizontal force acts, m (at
+    /// least the wall's height; the beam's rotation is free). Not read with
+    /// `--beam-rotation fixed`.
+    #[arg(long, value_name = "M")]
+    shear_span_m: Option<f64>,
+    /// The largest drift, %.
+    #[arg(long, value_name = "PCT", default_value_t = InPlaneParams::default().drift_pct)]
+    drift_pct: f64,
+    /// Cycles of growing amplitude (each amplitude `--cycles` times) instead of a monotonic
+    /// push.
+    #[arg(long)]
+    cyclic: bool,
+    /// The cyclic amplitudes, drift %, growing (default: 0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1,
+    /// 1.5, 2, 2.5, 3, 4 … up to --drift-pct).
+    #[arg(long, value_name = "PCT,PCT,...", value_delimiter = ',')]
+    amplitudes_pct: Option<Vec<f64>>,
+    /// Cycles per amplitude.
+    #[arg(long, default_value_t = InPlaneParams::default().cycles)]
+    cycles: u32,
+    /// The loading beam's rotation: `free` (cantilever, the force at the shear span) or
+    /// `fixed` (double-fixed).
+    #[arg(long, value_enum, default_value = "free")]
+    beam_rotation: Rotation,
+    /// The imposed displacement's increment per static solve, mm.
+    #[arg(long, value_name = "MM", default_value_t = InPlaneParams::default().step_mm)]
+    step_mm: f64,
+    /// Unbalanced-force ratio of equilibrium of each static solve.
+    #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
+    tolerance: f64,
+    #[command(flatten)]
+    solver: SolverChoice,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Write the force–displacement curve as CSV (top_mm, drift_pct, force_kn, converged).
+    #[arg(long, value_name = "FILE")]
+    curve: Option<PathBuf>,
+    /// Draw the mechanism over the wall (SVG; the moving joints red, the blocks moving with
+    /// the beam shaded).
+    #[arg(long, value_name = "FILE")]
+    svg: Option<PathBuf>,
+}
+
+/// The beam's rotation on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Rotation {
+    Free,
+    Fixed,
+}
+
+/// `drystone in-plane`.
+///
+/// # Errors
+/// A bad option or layout (named), a refused solver, a run that fails, an output that
+/// cannot be written.
+pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
+    let params = InPlaneParams {
+        sigma0_mpa: a.sigma0_mpa,
+        shear_span_m: a.shear_span_m,
+        drift_pct: a.drift_pct,
+        history: if a.cyclic { History::Cyclic } else { History::Monotonic },
+        amplitudes_pct: a.amplitudes_pct.clone(),
+        cycles: a.cycles,
+        beam_rotation: match a.beam_rotation {
+            Rotation::Free => BeamRotation::Free,
+            Rotation::Fixed => BeamRotation::Fixed,
+        },
+        step_mm: a.step_mm,
+    };
+    if a.amplitudes_pct.is_some() && !a.cyclic {
+        bail!("--amplitudes-pct gives the cycles' amplitudes: add --cyclic");
+    }
+    params.validate().map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
+    for p in [&a.curve, &a.svg].into_iter().flatten() {
+        super::check_writable(p)?;
+    }
+    let l = super::read_layout(&a.layout)?;
+    let kind = a.solver.solver;
+    let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };
+    let solver = SolverParams { kind, penalty, limit: LimitParams::default(), ..SolverParams::default() };
+    let unsupported = |e: Unsupported| anyhow::anyhow!("{e}; on the command line: --solver NAME");
+    let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});
+    let run = drystone::protocol::run(&InPlane(params.clone()), &l, solver, &mut observe).map_err(unsupported)?;
+    let what = || format!("in-plane test of {}", a.layout.display());
+    match run {
+        InPlaneRun::Penalty(r) => {
+            let r = r.with_context(what)?;
+            if let Some(p) = &a.curve {
+                write_curve(p, &r)?;
+            }
+            if let Some(p) = &a.svg {
+                let rig = Rig::build(&l, &params)?;
+                let sim = drystone::dem::Simulation::new(&rig.layout, solver);
+                let joints = mechanism_joints(&sim);
+                let title = format!(
+                    "{}: {} at drift {:.2} %",
+                    a.layout.display(),
+                    r.mechanism.kind.name(),
+                    r.positive.map_or(0.0, |d| d.ultimate_drift_pct.max(d.drift_at_peak_pct))
+                );
+                let svg = crack_map_svg(&rig.layout, &r.poses_at_reading, &joints, &r.mechanism, &title);
+                drystone::io::replace_file(p, svg.as_bytes())?;
+            }
+            if a.json {
+                out!("{}", serde_json::to_string_pretty(&penalty_json(&r))?);
+            } else {
+                print_penalty(&a.layout, &params, &r);
+            }
+        }
+        InPlaneRun::Limit(r) => {
+            if a.curve.is_some() || a.svg.is_some() {
+                // The limit analysis has no curve; its mechanism is drawn at a nominal motion.
+                if a.curve.is_some() {
+                    bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
+                }
+            }
+            let r = r.with_context(what)?;
+            if let Some(p) = &a.svg {
+                let rig = Rig::build(&l, &params)?;
+                let sim = drystone::dem::Simulation::new(&rig.layout, solver);
+                let joints = mechanism_joints(&sim);
+                // The mechanism at a virtual displacement of 2 % of the wall's height.
+                let k = 0.02 * rig.height_m / r.limit.velocities[rig.beam].translation.x.abs().max(1e-300);
+                let poses: Vec<_> = sim
+                    .state
+                    .bodies
+                    .iter()
+                    .zip(&r.limit.velocities)
+                    .map(|(b, v)| (b.pos + v.translation * k, v.rotation * k))
+                    .collect();
+                let title = format!("{}: limit analysis, {}", a.layout.display(), r.mechanism.kind.name());
+                let svg = crack_map_svg(&rig.layout, &poses, &joints, &r.mechanism, &title);
+                drystone::io::replace_file(p, svg.as_bytes())?;
+            }
+            if a.json {
+                out!("{}", serde_json::to_string_pretty(&limit_json(&r))?);
+            } else {
+                print_limit(&a.layout, &r);
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn dir_json(d: &Option<DirectionResult>) -> serde_json::Value {
+    match d {
+        Some(d) => json!({
+            "peak_force_kn": d.peak_force_kn,
+            "drift_at_peak_pct": d.drift_at_peak_pct,
+            "ultimate_drift_pct": d.ultimate_drift_pct,
+            "ultimate_by_drop": d.dropped,
+            "initial_stiffness_kn_per_mm": d.initial_stiffness_kn_per_mm,
+        }),
+        None => serde_json::Value::Null,
+    }
+}
+
+/// The penalty DEM's JSON: the positive direction's outputs at the top level, then both
+/// directions, the mechanism, the forces and the curve.
+fn penalty_json(r: &InPlaneResult) -> serde_json::Value {
+    let p = r.positive;
+    json!({
+        "method": "penalty",
+        "peak_force_kn": p.map(|d| d.peak_force_kn),
+        "drift_at_peak_pct": p.map(|d| d.drift_at_peak_pct),
+        "ultimate_drift_pct": p.map(|d| d.ultimate_drift_pct),
+        "initial_stiffness_kn_per_mm": p.map(|d| d.initial_stiffness_kn_per_mm),
+        "mechanism": r.mechanism.kind.name(),
+        "failure_type": r.mechanism.kind.failure_type(),
+        "positive": dir_json(&r.positive),
+        "negative": dir_json(&r.negative),
+        "mechanism_detail": r.mechanism,
+        "vertical_force_kn": r.vertical_force_kn,
+        "n_total_kn": r.n_total_kn,
+        "rocking_force_kn": r.rocking_force_kn,
+        "shear_span_m": r.shear_span_m,
+        "length_m": r.length_m,
+        "height_m": r.height_m,
+        "thickness_m": r.thickness_m,
+        "unconverged_increments": r.unconverged,
+        "increments": r.curve.len() - 1,
+        "steps": r.steps,
+        "dt_s": r.dt_s,
+        "wall_time_s": r.wall_time_s,
+        "curve": r.curve,
+    })
+}
+
+fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
+    json!({
+        "method": "limit",
+        "peak_force_kn": r.peak_force_kn,
+        "drift_at_peak_pct": null,
+        "initial_stiffness_kn_per_mm": null,
+        "mechanism": r.mechanism.kind.name(),
+        "failure_type": r.mechanism.kind.failure_type(),
+        "load_multiplier": r.limit.load_multiplier,
+        "governing": r.limit.governing,
+        "mechanism_detail": r.mechanism,
+        "vertical_force_kn": r.vertical_force_kn,
+        "n_total_kn": r.n_total_kn,
+        "rocking_force_kn": r.rocking_force_kn,
+        "shear_span_m": r.shear_span_m,
+        "wall_time_s": r.limit.wall_time_s,
+    })
+}
+
+fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult) {
+    out!("in-plane test of {} (penalty DEM)", layout.display());
+    out!(
+        "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; H0 {:.3} m",
+        r.length_m,
+        r.height_m,
+        r.thickness_m,
+        params.sigma0_mpa,
+        r.vertical_force_kn,
+        r.n_total_kn,
+        r.shear_span_m
+    );
+    for (name, d) in [("positive", r.positive), ("negative", r.negative)] {
+        if let Some(d) = d {
+            out!(
+                "  {name}: peak {:.2} kN at drift {:.2} %; ultimate drift {:.2} %{}; initial stiffness {:.2} kN/mm",
+                d.peak_force_kn,
+                d.drift_at_peak_pct,
+                d.ultimate_drift_pct,
+                if d.dropped { " (20 % drop)" } else { " (largest drift run)" },
+                d.initial_stiffness_kn_per_mm
+            );
+        }
+    }
+    out!(
+        "  mechanism: {} (opening share {:.2}, crack {}, {} joints, {} blocks move with the beam)",
+        r.mechanism.kind.name(),
+        r.mechanism.opening_share,
+        r.mechanism.crack,
+        r.mechanism.joints.len(),
+        r.mechanism.moving_blocks.len()
+    );
+    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!(
+        "  {} increments, {} unconverged; {} steps, dt {:.2e} s; {:.2} s",
+        r.curve.len() - 1,
+        r.unconverged,
+        r.steps,
+        r.dt_s,
+        r.wall_time_s
+    );
+}
+
+fn print_limit(layout: &Path, r: &InPlaneLimit) {
+    out!("in-plane test of {} (limit analysis)", layout.display());
+    out!(
+        "  peak horizontal force {:.2} kN (lambda = V / N_total = {:.4}, {:?} flow rule); N_total {:.1} kN; H0 {:.3} m",
+        r.peak_force_kn,
+        r.limit.load_multiplier,
+        r.limit.governing,
+        r.n_total_kn,
+        r.shear_span_m
+    );
+    out!(
+        "  mechanism: {} (opening share {:.2}, crack {}, {} joints)",
+        r.mechanism.kind.name(),
+        r.mechanism.opening_share,
+        r.mechanism.crack,
+        r.mechanism.joints.len()
+    );
+    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+}
+
+fn write_curve(path: &Path, r: &InPlaneResult) -> Result<()> {
+    let mut s = String::from("top_mm,drift_pct,force_kn,converged\n");
+    for p in &r.curve {
+        s.push_str(&format!("{},{},{},{}\n", p.top_mm, p.drift_pct, p.force_kn, p.converged));
+    }
+    drystone::io::replace_file(path, s.as_bytes()).with_context(|| format!("curve {}", path.display()))?;
+    Ok(())
+}

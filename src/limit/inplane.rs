@@ -1,0 +1,93 @@
+//! The in-plane shear–compression test by limit analysis: the largest horizontal force the
+//! wall carries under the constant vertical force, and its mechanism.
+//!
+//! The rig is the penalty DEM's ([`crate::loading::inplane::Rig`]): the loading beam on the
+//! top course. Dead load: every block's weight, and on the beam the applied vertical force
+//! `N = σ0 L t` in place of its weight. Live load: a horizontal force `N_total` (the axial
+//! force at the base) along +x on the beam at the shear span `H0`, that is at the centroid
+//! with the moment `(H0 − z_beam) N_total` about y; so λ = V / N_total, and the peak force is
+//! `λ N_total`. The beam's out-of-plane degrees of freedom (y, rotations about x and z) are
+//! held, and its rotation about y with [`BeamRotation::Fixed`] (free reactions of the
+//! program: [`super::model`]). A monolithic wall gives `V = N_total L / (2 H0)` (rocking
+//! about the toe) or `μ N_total` (sliding), whichever is smaller (`drystone verify`).
+
+use super::{limit_with, LimitError, LimitParams, LimitResult, LiveLoad};
+use crate::dem::SolverParams;
+use crate::layout::Layout;
+use crate::loading::inplane::{
+    read_mechanism, BeamRotation, InPlaneError, InPlaneMechanism, InPlaneParams, MechanismJoint, Rig,
+};
+use crate::math::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// What limit analysis gives for the in-plane test.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InPlaneLimit {
+    /// The peak horizontal force `λ N_total`, kN.
+    pub peak_force_kn: f64,
+    /// The axial force at the base, self-weight included, kN.
+    pub n_total_kn: f64,
+    /// The applied vertical force, kN.
+    pub vertical_force_kn: f64,
+    /// The rigid rocking capacity of the monolithic wall, kN (a reference).
+    pub rocking_force_kn: f64,
+    /// The height of the horizontal force, m.
+    pub shear_span_m: f64,
+    /// The mechanism read from the collapse velocities ([`read_mechanism`]).
+    pub mechanism: InPlaneMechanism,
+    /// The limit analysis (λ = V / N_total, the flow rule, the joints, the velocities).
+    pub limit: LimitResult,
+}
+
+/// The limit analysis of the in-plane test of `wall` (see the module doc).
+///
+/// # Errors
+/// The rig's refusals ([`InPlaneError`]: parameters, the shear span, a top course not
+/// level); a limit analysis error as [`InPlaneError::Unsupported`] with its message (a wall
+/// that does not stand, an unbounded program).
+pub fn limit_in_plane(
+    wall: &Layout,
+    contact: &SolverParams,
+    params: &InPlaneParams,
+    limit: &LimitParams,
+) -> Result<InPlaneLimit, InPlaneError> {
+    let rig = Rig::build(wall, params)?;
+    let beam = rig.beam;
+    let n_total = rig.n_total_n();
+    let tag = LiveLoad::InPlane { sigma0_mpa: params.sigma0_mpa, shear_span_m: rig.anchor_z_m };
+    let (r, model) = limit_with(&rig.layout, contact, tag, limit, |model, sim| {
+        let zc = sim.state.bodies[beam].pos.z;
+        model.dead[beam] = (Vec3::new(0.0, 0.0, -rig.vertical_force_n), Vec3::zeros());
+        model.live[beam] = (Vec3::new(n_total, 0.0, 0.0), Vec3::new(0.0, (rig.anchor_z_m - zc) * n_total, 0.0));
+        model.held.extend([(beam, 1), (beam, 3), (beam, 5)]);
+        if params.beam_rotation == BeamRotation::Fixed {
+            model.held.push((beam, 4));
+        }
+    })
+    .map_err(|e: LimitError| InPlaneError::Unsupported(format!("limit analysis: {e}")))?;
+    let joints: Vec<MechanismJoint> = model
+        .joints
+        .iter()
+        .map(|j| MechanismJoint {
+            a: j.a,
+            b: j.b,
+            name: j.name.clone(),
+            normal: j.frame[0],
+            points: j.points.clone().map(|p| model.points[p].x).collect(),
+        })
+        .collect();
+    let v = &r.velocities;
+    let scale = v[beam].translation.x.abs();
+    let mechanism = read_mechanism(&joints, &model.ids, beam, scale, |k, x| {
+        v[k].translation + v[k].rotation.cross(&(x - model.centroid[k]))
+    });
+    Ok(InPlaneLimit {
+        peak_force_kn: r.load_multiplier * n_total * 1e-3,
+        n_total_kn: n_total * 1e-3,
+        vertical_force_kn: rig.vertical_force_n * 1e-3,
+        rocking_force_kn: rig.rocking_force_n(params.beam_rotation) * 1e-3,
+        shear_span_m: rig.anchor_z_m,
+        mechanism,
+        limit: r,
+    })
+}

@@ -1,0 +1,979 @@
+//! The in-plane shear–compression test of a wall (the masonry laboratory's most common wall
+//! test; Vasconcelos & Lourenço 2009, J. Struct. Eng. 135(10):1269; Vanin et al. 2017, Bull.
+//! Earthquake Eng. 15:5435 for the database's definitions of its outputs).
+//!
+//! # The rig
+//!
+//! The wall stands on the table (the fixed foundation; its base course's joint is the table
+//! joint of the layout, with the bed joints' law). A rigid **loading beam** is laid on the
+//! top course ([`Rig::build`]): a block `loading_beam` over the wall's whole length and
+//! thickness, of the top course's material (so the beam–wall joint has the bed joints' law),
+//! as deep as twice the distance from the wall's top to the shear span (at most a quarter of
+//! the wall's height, at least a twentieth). Its degrees of freedom
+//! ([`crate::dem::constraint`]):
+//!
+//! * **vertical**: free, under a constant force `N = σ0 · L · t` (the applied stress times the
+//!   wall's plan area), the beam's own weight included in it; the wall's self-weight comes on
+//!   top, so the axial force at the base is `N_total = N + W_wall`;
+//! * **horizontal (x)**: held at the actuator's point, the *shear span* `H0` above the base
+//!   (the anchor), and moved by the imposed displacement, quasi-statically: one static solve
+//!   (dynamic relaxation to the penalty tolerance) per increment. The actuator's force `V`
+//!   is the reaction of that hold;
+//! * **rotation in the plane (about y)**: free (cantilever: the horizontal force acts at
+//!   `H0`, where the moment is zero, the tests' case) or held (double-fixed, no shear span);
+//! * **out of plane** (y, and the rotations about x and z): held by the rig's guides.
+//!
+//! # The history
+//!
+//! Monotonic to a drift ([`InPlaneParams::drift_pct`]), or cycles of growing amplitude
+//! ([`History::Cyclic`]: each amplitude [`InPlaneParams::cycles`] times, 0 → +a → −a → 0).
+//! Drift is the top displacement over the wall's height (the database's); the top
+//! displacement is the beam's at the wall's top.
+//!
+//! # The outputs (the database's definitions, Vanin et al. 2017)
+//!
+//! The curve (top displacement mm, drift %, force kN). Per direction: the peak force and the
+//! drift where it was reached; the ultimate drift, where the force on the envelope (the
+//! points at a new largest drift of the direction) first falls below 80 % of the peak past
+//! it, or the largest drift run; the initial stiffness, the secant at 15 % of the peak
+//! (kN/mm). The mechanism ([`InPlaneMechanism`], read from the blocks' motion): rocking
+//! about a toe, sliding of a bed joint, a stepped diagonal (shear) crack, or mixed.
+//!
+//! # Closed forms
+//!
+//! A monolithic wall rocking about its toe carries `V = N_total · L / (2 H0)`; a wall whose
+//! joints slide before it rocks carries `V = μ N_total` (μ of the sliding joint); a one-block
+//! wall on a linear joint of normal and shear stiffness Kn, Ks has the elastic stiffness
+//! [`one_block_stiffness`] (`drystone verify`, `tests/suite/inplane.rs`).
+
+use super::settle::{settle, SettleError};
+use crate::dem::contact::types::Contact;
+use crate::dem::motion::poses;
+use crate::dem::{solve_static, DemError, DofConstraint, End, Simulation, SolverParams, StaticSolve};
+use crate::geometry::ConvexBlock;
+use crate::layout::{Block, Layout};
+use crate::math::Vec3;
+use crate::range::{check_ranges, OutOfRange};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// The id of the loading beam's block in the rig's layout.
+pub const BEAM_ID: &str = "loading_beam";
+
+/// The drop of the force past the peak that defines the ultimate drift (Vanin et al. 2017):
+/// 20 %.
+pub const ULTIMATE_DROP: f64 = 0.2;
+
+/// The share of the peak force at which the initial (secant) stiffness is read (Vanin et
+/// al. 2017): 15 %.
+pub const STIFFNESS_SHARE: f64 = 0.15;
+
+/// How far below the wall's top a block's top may lie and still carry the beam, as a share
+/// of the wall's height \[0.002\] (2.4 mm on a 1.2 m wall: sawn stone's tolerance).
+pub const LEVEL_TOLERANCE_FRACTION: f64 = 0.002;
+
+/// The share of the wall's length the blocks carrying the beam must cover \[0.8\].
+pub const BEARING_SHARE: f64 = 0.8;
+
+/// A joint takes part in the mechanism when its largest relative motion is at least this
+/// share of the beam's \[0.05\].
+pub const ACTIVE_JOINT_SHARE: f64 = 0.05;
+
+/// The loading history.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum History {
+    /// Monotonic, towards +x, to [`InPlaneParams::drift_pct`].
+    #[default]
+    Monotonic,
+    /// Cycles of growing amplitude ([`InPlaneParams::amplitudes_pct`], each
+    /// [`InPlaneParams::cycles`] times: 0 → +a → −a → 0).
+    Cyclic,
+}
+
+/// The loading beam's rotation in the wall's plane.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BeamRotation {
+    /// Free: the horizontal force acts at the shear span `H0` (cantilever; the tests').
+    #[default]
+    Free,
+    /// Held: double-fixed (double curvature); no shear span.
+    Fixed,
+}
+
+/// The in-plane test's parameters (`[in_plane]` in a study). Defaults in brackets.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InPlaneParams {
+    /// Vertical stress applied through the beam, MPa, > 0 (the wall's self-weight comes on
+    /// top) \[0.5\].
+    pub sigma0_mpa: f64,
+    /// Shear span `H0`: the height above the base at which the horizontal force acts, m,
+    /// at least the wall's height; with a free beam rotation it is required, with a held
+    /// one it is not read \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_span_m: Option<f64>,
+    /// The largest drift, %, in (0, 50] \[3\].
+    pub drift_pct: f64,
+    /// The history \[monotonic\].
+    pub history: History,
+    /// The cyclic history's amplitudes, drift %, strictly growing and each at most
+    /// `drift_pct`; unset: 0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1, 1.5, 2, 2.5, 3, 4, 5 … %
+    /// up to `drift_pct` ([`InPlaneParams::amplitudes`]) \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitudes_pct: Option<Vec<f64>>,
+    /// Cycles per amplitude, ≥ 1 \[2\].
+    pub cycles: u32,
+    /// The beam's rotation \[free\].
+    pub beam_rotation: BeamRotation,
+    /// The displacement increment of one static solve, mm, > 0 \[0.25\]; the first 2.5 mm
+    /// of a monotonic run and the cycles of small amplitude take a fifth of it
+    /// ([`InPlaneParams::path`]).
+    pub step_mm: f64,
+}
+
+impl Default for InPlaneParams {
+    fn default() -> Self {
+        InPlaneParams {
+            sigma0_mpa: 0.5,
+            shear_span_m: None,
+            drift_pct: 3.0,
+            history: History::Monotonic,
+            amplitudes_pct: None,
+            cycles: 2,
+            beam_rotation: BeamRotation::Free,
+            step_mm: 0.25,
+        }
+    }
+}
+
+/// The default ladder of cyclic amplitudes, drift %.
+const LADDER_PCT: [f64; 11] = [0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0];
+
+impl InPlaneParams {
+    /// Checks the ranges that need no layout.
+    ///
+    /// # Errors
+    /// The first key out of its range, named.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        check_ranges(&[
+            ("sigma0_mpa", self.sigma0_mpa, self.sigma0_mpa > 0.0, "> 0 (the vertical stress applied, MPa)"),
+            ("drift_pct", self.drift_pct, self.drift_pct > 0.0 && self.drift_pct <= 50.0, "in (0, 50]"),
+            ("step_mm", self.step_mm, self.step_mm > 0.0, "> 0"),
+            ("cycles", f64::from(self.cycles), self.cycles >= 1, ">= 1"),
+        ])?;
+        if let (BeamRotation::Free, Some(h0)) = (self.beam_rotation, self.shear_span_m) {
+            check_ranges(&[("shear_span_m", h0, h0 > 0.0, "> 0")])?;
+        }
+        if self.beam_rotation == BeamRotation::Free && self.shear_span_m.is_none() {
+            return Err(OutOfRange::new(
+                "shear_span_m",
+                f64::NAN,
+                "given: a free beam rotation needs the height of the horizontal force (H0, m)",
+            ));
+        }
+        if let Some(a) = &self.amplitudes_pct {
+            if a.is_empty() {
+                return Err(OutOfRange::new("amplitudes_pct", f64::NAN, "not empty"));
+            }
+            for (i, &v) in a.iter().enumerate() {
+                check_ranges(&[("amplitudes_pct", v, v > 0.0 && v <= self.drift_pct, "in (0, drift_pct]")])?;
+                if i > 0 && v <= a[i - 1] {
+                    return Err(OutOfRange::new(
+                        "amplitudes_pct",
+                        v,
+                        "strictly growing: a cyclic history whose amplitude does not grow",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The cyclic amplitudes, drift %: the given ones, or the default ladder up to
+    /// `drift_pct` (ending at `drift_pct`).
+    pub fn amplitudes(&self) -> Vec<f64> {
+        if let Some(a) = &self.amplitudes_pct {
+            return a.clone();
+        }
+        let mut a: Vec<f64> = LADDER_PCT.iter().copied().filter(|&v| v < self.drift_pct - 1e-9).collect();
+        let mut next = 4.0;
+        while a.last().is_some_and(|&l| l >= 3.0) && next < self.drift_pct - 1e-9 {
+            a.push(next);
+            next += 1.0;
+        }
+        a.push(self.drift_pct);
+        a
+    }
+
+    /// The imposed displacements of the beam's anchor, m from the start, one per static
+    /// solve, for a wall of height `height_m`: monotonic, increments of a fifth of
+    /// `step_mm` up to 10 steps, then `step_mm`; cyclic, each quarter cycle in increments
+    /// of `step_mm` or a quarter of the amplitude, whichever is smaller.
+    pub fn path(&self, height_m: f64) -> Vec<f64> {
+        let step = self.step_mm * 1e-3;
+        let mut path = Vec::new();
+        let mut at = 0.0;
+        let mut go = |path: &mut Vec<f64>, to: f64, inc: f64| {
+            let n = ((to - at).abs() / inc).ceil().max(1.0) as usize;
+            let from = at;
+            for k in 1..=n {
+                path.push(from + (to - from) * k as f64 / n as f64);
+            }
+            at = to;
+        };
+        match self.history {
+            History::Monotonic => {
+                let target = self.drift_pct / 100.0 * height_m;
+                let fine = (10.0 * step).min(target);
+                go(&mut path, fine, step / 5.0);
+                if target > fine {
+                    go(&mut path, target, step);
+                }
+            }
+            History::Cyclic => {
+                for a in self.amplitudes() {
+                    let amp = a / 100.0 * height_m;
+                    let inc = step.min(amp / 4.0);
+                    for _ in 0..self.cycles {
+                        go(&mut path, amp, inc);
+                        go(&mut path, -amp, inc);
+                        go(&mut path, 0.0, inc);
+                    }
+                }
+            }
+        }
+        path
+    }
+}
+
+/// Errors of the in-plane test.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum InPlaneError {
+    /// A parameter out of its range.
+    #[error("in_plane.{0}")]
+    Parameter(OutOfRange),
+    /// A solver setting out of its range.
+    #[error("solver: {0}")]
+    Solver(OutOfRange),
+    /// The shear span is below the wall's top.
+    #[error(
+        "in_plane.shear_span_m = {shear_span_m} m is below the wall's height {height_m} m: the horizontal force acts on the beam, on top of the wall"
+    )]
+    ShearSpan {
+        /// The shear span given, m.
+        shear_span_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+    },
+    /// The top course is not level enough to carry the beam.
+    #[error(
+        "the top course is not level enough to carry the loading beam: block {block} tops at {top_m:.4} m, {below_mm:.1} mm below the wall's top {height_m:.4} m, and the blocks within {tolerance_mm:.1} mm of the top cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed)"
+    )]
+    NotLevel {
+        /// The highest block below the level band.
+        block: String,
+        /// Its top, m.
+        top_m: f64,
+        /// How far below the top, mm.
+        below_mm: f64,
+        /// The wall's height, m.
+        height_m: f64,
+        /// The level tolerance, mm.
+        tolerance_mm: f64,
+        /// The share of the length covered by level blocks, %.
+        covered_pct: f64,
+        /// The share needed, %.
+        need_pct: f64,
+    },
+    /// The layout does not stand under gravity alone.
+    #[error(transparent)]
+    DoesNotStand(SettleError),
+    /// The wall does not stand under the vertical force.
+    #[error(
+        "the wall does not stand under the vertical force of {force_kn:.1} kN: block {block} moved {moved_mm:.2} mm (at most {allowed_mm:.2} mm, what its joints' closure explains){}", if *.equilibrium { "" } else { ", and no equilibrium was reached" }
+    )]
+    UnderVerticalForce {
+        /// The block that moved most.
+        block: String,
+        /// How far, mm.
+        moved_mm: f64,
+        /// The tolerance, mm.
+        allowed_mm: f64,
+        /// The vertical force, kN.
+        force_kn: f64,
+        /// Whether the relaxation reached equilibrium.
+        equilibrium: bool,
+    },
+    /// The engine blew up.
+    #[error(transparent)]
+    Dem(#[from] DemError),
+    /// The layout's geometry is degenerate for the beam.
+    #[error("the loading beam cannot be built on this layout: {0}")]
+    Beam(String),
+    /// The method chosen does not run this form of the test (the protocol seam's
+    /// refusal, or a setting the method cannot state), as text.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// The rig: the wall's layout with the loading beam, and what the test needs of them.
+#[derive(Debug, Clone)]
+pub struct Rig {
+    /// The layout with the beam as its last block.
+    pub layout: Layout,
+    /// The beam's block index.
+    pub beam: usize,
+    /// Wall length L (x extent), height H (z extent), thickness t (y extent), m.
+    pub length_m: f64,
+    /// See `length_m`.
+    pub height_m: f64,
+    /// See `length_m`.
+    pub thickness_m: f64,
+    /// The wall's lowest x, m (the toes are at `x_min` and `x_min + L`).
+    pub x_min: f64,
+    /// The applied vertical force `σ0 L t`, N.
+    pub vertical_force_n: f64,
+    /// The wall's self-weight (the beam excluded), N.
+    pub wall_weight_n: f64,
+    /// The beam's weight, N (part of `vertical_force_n`).
+    pub beam_weight_n: f64,
+    /// The height of the horizontal force (the anchor), m: `H0`, or the beam's centroid
+    /// with a held rotation.
+    pub anchor_z_m: f64,
+    /// The beam's centroid height, m.
+    pub beam_z_m: f64,
+}
+
+impl Rig {
+    /// The axial force at the base, `N + W_wall`, N.
+    pub fn n_total_n(&self) -> f64 {
+        self.vertical_force_n + self.wall_weight_n
+    }
+
+    /// Builds the rig on `wall`: checks the shear span and the top course's level, and lays
+    /// the beam (see the module doc).
+    ///
+    /// # Errors
+    /// [`InPlaneError::Parameter`], [`InPlaneError::ShearSpan`], [`InPlaneError::NotLevel`]
+    /// naming the block, [`InPlaneError::Beam`].
+    pub fn build(wall: &Layout, params: &InPlaneParams) -> Result<Rig, InPlaneError> {
+        params.validate().map_err(InPlaneError::Parameter)?;
+        if wall.blocks.iter().any(|b| b.id == BEAM_ID) {
+            return Err(InPlaneError::Beam(format!("the layout already has a block named {BEAM_ID}")));
+        }
+        let bounds = wall.bounds();
+        let e = bounds.extent();
+        let (length, thickness, height) = (e.x, e.y, e.z);
+        if !(length > 0.0 && thickness > 0.0 && height > 0.0) {
+            return Err(InPlaneError::Beam("the layout has no extent".into()));
+        }
+        let top = bounds.max.z;
+        // The top course: the blocks within the level tolerance of the top carry the beam.
+        let tol = LEVEL_TOLERANCE_FRACTION * height;
+        let mut spans: Vec<(f64, f64)> = Vec::new();
+        let mut highest_low: Option<(f64, &Block)> = None;
+        let band = top - 0.5 * wall.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+        for b in &wall.blocks {
+            let bb = b.shape.aabb();
+            if bb.max.z >= top - tol {
+                spans.push((bb.min.x, bb.max.x));
+            } else if bb.max.z > band && highest_low.is_none_or(|(z, _)| bb.max.z > z) {
+                highest_low = Some((bb.max.z, b));
+            }
+        }
+        spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut covered = 0.0;
+        let mut reach = f64::NEG_INFINITY;
+        for (a, b) in spans {
+            let a = a.max(reach);
+            if b > a {
+                covered += b - a;
+            }
+            reach = reach.max(b);
+        }
+        if covered < BEARING_SHARE * length {
+            let (z, b) = highest_low.map_or((f64::NAN, "(none)".to_string()), |(z, b)| (z, b.id.clone()));
+            return Err(InPlaneError::NotLevel {
+                block: b,
+                top_m: z,
+                below_mm: (top - z) * 1e3,
+                height_m: top,
+                tolerance_mm: tol * 1e3,
+                covered_pct: 100.0 * covered / length,
+                need_pct: 100.0 * BEARING_SHARE,
+            });
+        }
+        let (depth, anchor_z) = match params.beam_rotation {
+            BeamRotation::Free => {
+                let h0 = params.shear_span_m.expect("validated");
+                if h0 < top - 1e-9 {
+                    return Err(InPlaneError::ShearSpan { shear_span_m: h0, height_m: top });
+                }
+                ((2.0 * (h0 - top)).clamp(0.05 * height, 0.25 * height), h0)
+            }
+            BeamRotation::Fixed => (0.1 * height, top + 0.05 * height),
+        };
+        let (x0, x1, y0, y1) = (bounds.min.x, bounds.max.x, bounds.min.y, bounds.max.y);
+        let corners: Vec<Vec3> = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+            .iter()
+            .flat_map(|&(x, y)| [Vec3::new(x, y, top), Vec3::new(x, y, top + depth)])
+            .collect();
+        let shape = ConvexBlock::from_vertices(&corners).map_err(|e| InPlaneError::Beam(e.to_string()))?;
+        // The beam's material: that of the highest block (the top course's), so that the
+        // beam–wall joint has the bed joints' law.
+        let material = wall
+            .blocks
+            .iter()
+            .max_by(|a, b| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z))
+            .map_or(0, |b| b.material);
+        let g = wall.gravity;
+        let volume = |s: &ConvexBlock| s.volume();
+        let wall_weight: f64 = wall
+            .blocks
+            .iter()
+            .filter(|b| !b.fixed)
+            .map(|b| wall.materials[b.material].density * volume(&b.shape))
+            .sum::<f64>()
+            * g;
+        let beam_weight = wall.materials[material].density * volume(&shape) * g;
+        let mut layout = wall.clone();
+        layout.blocks.push(Block {
+            id: BEAM_ID.to_string(),
+            material,
+            shape,
+            fixed: false,
+            course: None,
+            wedge: false,
+        });
+        let beam = layout.blocks.len() - 1;
+        Ok(Rig {
+            layout,
+            beam,
+            length_m: length,
+            height_m: top,
+            thickness_m: thickness,
+            x_min: x0,
+            vertical_force_n: params.sigma0_mpa * 1e6 * length * thickness,
+            wall_weight_n: wall_weight,
+            beam_weight_n: beam_weight,
+            anchor_z_m: anchor_z,
+            beam_z_m: top + 0.5 * depth,
+        })
+    }
+
+    /// The beam's constraint at its pose in `sim` (see the module doc): x held at the
+    /// anchor, y and the rotations about x and z held, the rotation about y held if
+    /// `rotation` is [`BeamRotation::Fixed`].
+    pub fn constraint(&self, sim: &Simulation, rotation: BeamRotation) -> DofConstraint {
+        let b = &sim.state.bodies[self.beam];
+        let anchor = Vec3::new(0.0, 0.0, self.anchor_z_m - b.pos.z);
+        let c = DofConstraint { anchor, ..DofConstraint::free() }
+            .hold_translation(b, 0)
+            .hold_translation(b, 1)
+            .hold_rotation(0)
+            .hold_rotation(2);
+        match rotation {
+            BeamRotation::Free => c,
+            BeamRotation::Fixed => c.hold_rotation(1),
+        }
+    }
+
+    /// The rigid rocking capacity of the monolithic wall, `N_total L / (2 H0)`, N (with a
+    /// held rotation, `N_total L / H`: double curvature).
+    pub fn rocking_force_n(&self, rotation: BeamRotation) -> f64 {
+        match rotation {
+            BeamRotation::Free => self.n_total_n() * self.length_m / (2.0 * self.anchor_z_m),
+            BeamRotation::Fixed => self.n_total_n() * self.length_m / self.height_m,
+        }
+    }
+}
+
+/// The elastic stiffness (N/m) of a one-block wall of length `l`, thickness `t` and height
+/// `h` on one linear joint of normal and shear stiffness `kn`, `ks` (Pa/m), loaded by a
+/// horizontal force at height `h0` above the joint with the block's rotation free, the top
+/// displacement read at `h`: shear `1 / (Ks L t)` plus the joint's rotation `V h0 / (Kn I)`
+/// (I = t L³ / 12) times the lever `h`: `1 / k = 1 / (Ks L t) + h0 h / (Kn t L³ / 12)`.
+/// The block is rigid (the DEM's blocks are) and the joint stays closed (the vertical
+/// force keeps it so while `V h0 < N L / 6`).
+pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64) -> f64 {
+    let i = t * l.powi(3) / 12.0;
+    1.0 / (1.0 / (ks * l * t) + h0 * h / (kn * i))
+}
+
+/// One point of the force–displacement curve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CurvePoint {
+    /// The beam's horizontal displacement at the wall's top, mm (+x positive).
+    pub top_mm: f64,
+    /// Drift, %: `top_mm` over the wall's height.
+    pub drift_pct: f64,
+    /// The actuator's horizontal force, kN (positive towards +x).
+    pub force_kn: f64,
+    /// Whether the static solve reached equilibrium (the unbalanced-force ratio below the
+    /// tolerance) within its step budget.
+    pub converged: bool,
+}
+
+/// What one direction of loading gave (the database's definitions).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DirectionResult {
+    /// The peak force, kN (its magnitude).
+    pub peak_force_kn: f64,
+    /// The drift at the peak, % (its magnitude).
+    pub drift_at_peak_pct: f64,
+    /// The ultimate drift, % (magnitude): where the envelope's force first falls below
+    /// 80 % of the peak past it, or the largest drift run.
+    pub ultimate_drift_pct: f64,
+    /// Whether the ultimate drift is the 20 % drop (true) or the largest drift run.
+    pub dropped: bool,
+    /// The initial stiffness, secant at 15 % of the peak, kN/mm.
+    pub initial_stiffness_kn_per_mm: f64,
+}
+
+/// The kind of an in-plane mechanism.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MechanismKind {
+    /// The joints that move open: the wall above them rotates about a toe (flexural; the
+    /// database's failure type 1).
+    Rocking,
+    /// One bed joint slides (shear; type 0).
+    Sliding,
+    /// The joints that move slide along a stepped crack through bed and head joints at
+    /// several courses (diagonal shear; type 0).
+    Diagonal,
+    /// Opening and sliding in comparable shares (type 0.5).
+    Mixed,
+    /// No joint moved past the threshold.
+    None,
+}
+
+impl MechanismKind {
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            MechanismKind::Rocking => "rocking",
+            MechanismKind::Sliding => "sliding",
+            MechanismKind::Diagonal => "diagonal",
+            MechanismKind::Mixed => "mixed",
+            MechanismKind::None => "none",
+        }
+    }
+
+    /// The database's failure type: 1 flexural, 0.5 mixed, 0 shear (Vanin et al. 2017);
+    /// `None` for no mechanism.
+    pub fn failure_type(self) -> Option<f64> {
+        match self {
+            MechanismKind::Rocking => Some(1.0),
+            MechanismKind::Mixed => Some(0.5),
+            MechanismKind::Sliding | MechanismKind::Diagonal => Some(0.0),
+            MechanismKind::None => None,
+        }
+    }
+}
+
+/// The mechanism read from the blocks' motion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InPlaneMechanism {
+    /// Its kind.
+    pub kind: MechanismKind,
+    /// The share of the moving joints' relative motion that is opening (normal), in [0, 1].
+    pub opening_share: f64,
+    /// The crack's shape: `horizontal` (bed joints at one level), `stepped` (bed and head
+    /// joints at several levels), or `none`.
+    pub crack: String,
+    /// The moving joints (`ID_A/ID_B`, `table/ID`), in contact order.
+    pub joints: Vec<String>,
+    /// The heights of the moving bed joints, m, lowest first.
+    pub bed_levels_m: Vec<f64>,
+    /// The blocks that move with the beam (rigidly joined to it by joints that do not
+    /// move), the beam excluded.
+    pub moving_blocks: Vec<String>,
+}
+
+/// A joint for the mechanism reading: its bodies, normal and points (table frame).
+#[derive(Debug, Clone)]
+pub struct MechanismJoint {
+    /// Body A (`None`: the table).
+    pub a: Option<usize>,
+    /// Body B.
+    pub b: usize,
+    /// `ID_A/ID_B` or `table/ID`.
+    pub name: String,
+    /// Unit normal A → B.
+    pub normal: Vec3,
+    /// Points on the joint, m.
+    pub points: Vec<Vec3>,
+}
+
+/// The joints of a simulation's current contacts, for [`read_mechanism`].
+pub fn mechanism_joints(sim: &Simulation) -> Vec<MechanismJoint> {
+    let st = &sim.state;
+    st.contacts
+        .iter()
+        .map(|c: &Contact| MechanismJoint {
+            a: c.a,
+            b: c.b,
+            name: st.joint_name(c),
+            normal: st.contact_normal(c),
+            points: c
+                .nodes
+                .iter()
+                .map(|nd| {
+                    let (pa, pb) = st.node_points(c, nd);
+                    0.5 * (pa + pb)
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// Reads the mechanism of a motion of the blocks: `motion(k, x)` is the displacement (or
+/// virtual velocity) of body k's material point at `x` (table frame), `ids` the bodies' ids,
+/// `beam` the beam's index and `scale` the beam's motion (the relative motions are compared
+/// with it). A joint moves when its largest relative motion reaches [`ACTIVE_JOINT_SHARE`]
+/// of `scale`; the joints that do not move join the blocks into rigid groups, and the
+/// crack is the moving joints around the beam's group (bed joints: a normal within 45° of z;
+/// head joints: within 45° of x). Rocking where at least two thirds of the crack's relative
+/// motion is opening, shear (sliding on one bed level without head joints, diagonal
+/// otherwise) where at most a third is, mixed between.
+pub fn read_mechanism(
+    joints: &[MechanismJoint],
+    ids: &[String],
+    beam: usize,
+    scale: f64,
+    motion: impl Fn(usize, &Vec3) -> Vec3,
+) -> InPlaneMechanism {
+    let n = ids.len();
+    // Union of the bodies joined by joints that do not move (index n: the table).
+    let mut parent: Vec<usize> = (0..=n).collect();
+    fn root(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    // Per moving joint: its index, opening and sliding (sums over its points).
+    let mut moving: Vec<(usize, f64, f64)> = Vec::new();
+    for (i, j) in joints.iter().enumerate() {
+        let mut largest = 0.0_f64;
+        let (mut jo, mut js) = (0.0, 0.0);
+        for x in &j.points {
+            let ua = j.a.map_or(Vec3::zeros(), |a| motion(a, x));
+            let d = motion(j.b, x) - ua;
+            let dn = d.dot(&j.normal);
+            jo += dn.abs();
+            js += (d - j.normal * dn).norm();
+            largest = largest.max(d.norm());
+        }
+        if scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale {
+            moving.push((i, jo, js));
+        } else {
+            let (ra, rb) = (root(&mut parent, j.a.unwrap_or(n)), root(&mut parent, j.b));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    // The crack: the moving joints around the group that moves with the beam (joints
+    // inside it, or between blocks left behind, are not its crack).
+    let rb = root(&mut parent, beam);
+    let (mut open, mut slide) = (0.0, 0.0);
+    let mut active = Vec::new();
+    let mut levels: Vec<f64> = Vec::new();
+    let mut heads = 0usize;
+    for &(i, jo, js) in &moving {
+        let j = &joints[i];
+        if (root(&mut parent, j.a.unwrap_or(n)) == rb) == (root(&mut parent, j.b) == rb) {
+            continue;
+        }
+        open += jo;
+        slide += js;
+        active.push(j.name.clone());
+        if j.normal.z.abs() >= std::f64::consts::FRAC_1_SQRT_2 {
+            let z = j.points.iter().map(|p| p.z).sum::<f64>() / j.points.len().max(1) as f64;
+            levels.push(z);
+        } else if j.normal.x.abs() >= std::f64::consts::FRAC_1_SQRT_2 {
+            heads += 1;
+        }
+    }
+    levels.sort_by(f64::total_cmp);
+    let mut distinct: Vec<f64> = Vec::new();
+    for z in levels {
+        if distinct.last().is_none_or(|&l| z - l > 0.01) {
+            distinct.push(z);
+        }
+    }
+    let moving_blocks = (0..n).filter(|&k| k != beam && root(&mut parent, k) == rb).map(|k| ids[k].clone()).collect();
+    let share = if open + slide > 0.0 { open / (open + slide) } else { 0.0 };
+    let kind = if active.is_empty() {
+        MechanismKind::None
+    } else if share >= 2.0 / 3.0 {
+        MechanismKind::Rocking
+    } else if share <= 1.0 / 3.0 {
+        if distinct.len() <= 1 && heads == 0 {
+            MechanismKind::Sliding
+        } else {
+            MechanismKind::Diagonal
+        }
+    } else {
+        MechanismKind::Mixed
+    };
+    let crack = if active.is_empty() {
+        "none"
+    } else if distinct.len() <= 1 && heads == 0 {
+        "horizontal"
+    } else {
+        "stepped"
+    };
+    InPlaneMechanism {
+        kind,
+        opening_share: share,
+        crack: crack.to_string(),
+        joints: active,
+        bed_levels_m: distinct,
+        moving_blocks,
+    }
+}
+
+/// The outcome of an in-plane test by the penalty DEM.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InPlaneResult {
+    /// The force–displacement curve, one point per static solve (the first the state under
+    /// the vertical force).
+    pub curve: Vec<CurvePoint>,
+    /// The positive direction (+x).
+    pub positive: Option<DirectionResult>,
+    /// The negative direction (cyclic histories).
+    pub negative: Option<DirectionResult>,
+    /// The mechanism at the largest positive drift.
+    pub mechanism: InPlaneMechanism,
+    /// The bodies' poses there (centroid m, rotation as a scaled axis rad), layout order
+    /// with the beam last, for drawing.
+    #[serde(skip)]
+    pub poses_at_reading: Vec<(Vec3, Vec3)>,
+    /// The applied vertical force `σ0 L t`, kN.
+    pub vertical_force_kn: f64,
+    /// The axial force at the base, self-weight included, kN.
+    pub n_total_kn: f64,
+    /// The rigid rocking capacity `N_total L / (2 H0)`, kN (a reference, not a result).
+    pub rocking_force_kn: f64,
+    /// Wall length, height, thickness, m.
+    pub length_m: f64,
+    /// See `length_m`.
+    pub height_m: f64,
+    /// See `length_m`.
+    pub thickness_m: f64,
+    /// The height of the horizontal force, m.
+    pub shear_span_m: f64,
+    /// Static solves that ended at the step budget rather than in equilibrium.
+    pub unconverged: usize,
+    /// Engine steps, settling included.
+    pub steps: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Wall-clock time, s.
+    pub wall_time_s: f64,
+}
+
+/// The per-direction outputs of a curve (see the module doc); `sign` +1 or −1.
+pub fn direction(curve: &[CurvePoint], sign: f64) -> Option<DirectionResult> {
+    // The envelope: the points at a new largest drift of the direction.
+    let mut env: Vec<(f64, f64)> = vec![(0.0, 0.0)];
+    let mut reach = 0.0;
+    for p in curve {
+        let (d, f) = (sign * p.top_mm, sign * p.force_kn);
+        if d > reach + 1e-12 {
+            reach = d;
+            env.push((d, f));
+        }
+    }
+    if env.len() < 2 {
+        return None;
+    }
+    let (ip, &(dp, fp)) = env.iter().enumerate().max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))?;
+    if !(fp > 0.0) {
+        return None;
+    }
+    let (mut du, mut dropped) = (reach, false);
+    if let Some(&(d, _)) = env[ip..].iter().find(|&&(_, f)| f < (1.0 - ULTIMATE_DROP) * fp) {
+        du = d;
+        dropped = true;
+    }
+    let f15 = STIFFNESS_SHARE * fp;
+    let mut k = f64::NAN;
+    for w in env.windows(2) {
+        let ((d0, f0), (d1, f1)) = (w[0], w[1]);
+        if f1 >= f15 {
+            let d = if f1 > f0 { d0 + (d1 - d0) * (f15 - f0) / (f1 - f0) } else { d1 };
+            k = f15 / d;
+            break;
+        }
+    }
+    let h = curve.iter().find(|p| p.top_mm != 0.0).map_or(f64::NAN, |p| p.drift_pct / p.top_mm);
+    Some(DirectionResult {
+        peak_force_kn: fp,
+        drift_at_peak_pct: dp * h,
+        ultimate_drift_pct: du * h,
+        dropped,
+        initial_stiffness_kn_per_mm: k,
+    })
+}
+
+/// The in-plane test of a wall by the penalty DEM: the driver of the protocol's penalty
+/// way (`protocol::inplane`). `observe(drift_pct, converged, state)` sees the state under
+/// the vertical force (drift 0) and every increment's.
+///
+/// # Errors
+/// See [`InPlaneError`]: bad parameters, a top course not level, a wall that does not stand
+/// under gravity or under the vertical force (naming the block), a blow-up.
+pub fn run_in_plane_penalty(
+    wall: &Layout,
+    solver: SolverParams,
+    params: &InPlaneParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<InPlaneResult, InPlaneError> {
+    let t0 = Instant::now();
+    let rig = Rig::build(wall, params)?;
+    solver.validate_static().map_err(InPlaneError::Solver)?;
+    let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
+    let mut sim = Simulation::new(&rig.layout, solver);
+    let (tol, budget) = (solver.penalty.tolerance, solver.penalty.max_steps);
+    let bi = rig.beam;
+    sim.state.constraints[bi] = Some(rig.constraint(&sim, params.beam_rotation));
+    settle(&mut sim, &rig.layout, tol, budget).map_err(|e| match e {
+        SettleError::Dem(e) => InPlaneError::Dem(e),
+        other => InPlaneError::DoesNotStand(other),
+    })?;
+    // The vertical force, the beam's weight part of it.
+    let start = poses(&sim);
+    sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
+    let relax = StaticSolve::relaxation(tol, budget);
+    let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
+    // What the joints' closure under the vertical stress explains, twice, on top of the
+    // settling's tolerance: a stack of H / h_min joints each closing σ0 / Kn.
+    let h_min = rig.layout.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+    let kn_min = rig.layout.materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
+    let allowed = super::settle::settle_tolerance(&rig.layout)
+        + 2.0 * (rig.height_m / h_min).ceil() * params.sigma0_mpa * 1e6 / kn_min;
+    let worst = sim
+        .state
+        .bodies
+        .iter()
+        .zip(&start)
+        .map(|(b, (x0, _))| (b.id.clone(), (b.pos - x0).norm()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((block, moved)) = worst {
+        if out.end != End::Equilibrium || moved > allowed {
+            return Err(InPlaneError::UnderVerticalForce {
+                block,
+                moved_mm: moved * 1e3,
+                allowed_mm: allowed * 1e3,
+                force_kn: rig.vertical_force_n * 1e-3,
+                equilibrium: out.end == End::Equilibrium,
+            });
+        }
+    }
+    observe(0.0, true, &sim);
+    let reference = poses(&sim);
+    let ref_joints = mechanism_joints(&sim);
+    let beam_ref = sim.state.bodies[bi].clone();
+    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.height_m));
+    let top_x0 = beam_ref.to_world(&top_local).x;
+    let anchor_x0 = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref).x;
+    let force = |sim: &Simulation| -> f64 {
+        let mut fx = 0.0;
+        for c in &sim.state.contacts {
+            if c.b == bi {
+                fx += c.force.x;
+            }
+            if c.a == Some(bi) {
+                fx -= c.force.x;
+            }
+        }
+        -fx
+    };
+    let mut curve = vec![CurvePoint { top_mm: 0.0, drift_pct: 0.0, force_kn: force(&sim) * 1e-3, converged: true }];
+    let mut unconverged = 0;
+    let mut reading = (f64::NEG_INFINITY, reference.clone());
+    // The secant predictor: each increment starts from the last one's motion scaled to its
+    // own (the first from a motion growing linearly with height), so that the joints are
+    // not made to slip by the jump of the beam alone (a joint's shear law is incremental:
+    // a jump of the beam's target alone would be one step's shear increment at its joints).
+    let mut last: Option<(Vec<Vec3>, Vec<Vec3>, f64)> = None;
+    let mut u_prev = 0.0;
+    for u in params.path(rig.height_m) {
+        let du = u - u_prev;
+        u_prev = u;
+        if let Some(c) = sim.state.constraints[bi].as_mut() {
+            c.set_target(0, anchor_x0 + u);
+        }
+        let start = poses(&sim);
+        let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = match &last {
+            Some((dp, dr, d0)) if *d0 != 0.0 => {
+                // No body is predicted to move more than the beam's increment (the last
+                // solve's relaxation left no creep to extrapolate).
+                let k = du / d0;
+                let cap = du.abs();
+                let clip = |v: Vec3, r: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
+                (
+                    dp.iter().map(|v| clip(v * k, 1.0)).collect(),
+                    dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect(),
+                )
+            }
+            _ => sim
+                .state
+                .bodies
+                .iter()
+                .map(|b| (Vec3::new(du * (b.pos.z / rig.anchor_z_m).clamp(0.0, 1.0), 0.0, 0.0), Vec3::zeros()))
+                .unzip(),
+        };
+        sim.predict(&dpos, &drot);
+        let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
+        let now = poses(&sim);
+        last = Some((
+            now.iter().zip(&start).map(|(a, b)| a.0 - b.0).collect(),
+            now.iter().zip(&start).map(|(a, b)| (a.1 * b.1.inverse()).scaled_axis()).collect(),
+            du,
+        ));
+        let converged = out.end == End::Equilibrium;
+        unconverged += usize::from(!converged);
+        let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
+        let drift = 100.0 * top / rig.height_m;
+        curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: force(&sim) * 1e-3, converged });
+        observe(drift, converged, &sim);
+        if top >= reading.0 {
+            reading = (top, poses(&sim));
+        }
+    }
+    let (scale, at) = (reading.0, reading.1);
+    let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
+    let motion = |k: usize, x: &Vec3| -> Vec3 {
+        let (p0, q0) = reference[k];
+        let (p1, q1) = at[k];
+        p1 + (q1 * q0.inverse()) * (x - p0) - x
+    };
+    let mechanism = read_mechanism(&ref_joints, &ids, bi, scale.max(0.0), motion);
+    Ok(InPlaneResult {
+        positive: direction(&curve, 1.0),
+        negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
+        curve,
+        mechanism,
+        poses_at_reading: at.iter().map(|(p, q)| (*p, q.scaled_axis())).collect(),
+        vertical_force_kn: rig.vertical_force_n * 1e-3,
+        n_total_kn: rig.n_total_n() * 1e-3,
+        rocking_force_kn: rig.rocking_force_n(params.beam_rotation) * 1e-3,
+        length_m: rig.length_m,
+        height_m: rig.height_m,
+        thickness_m: rig.thickness_m,
+        shear_span_m: rig.anchor_z_m,
+        unconverged,
+        steps: sim.state.steps,
+        dt_s: sim.dt(),
+        wall_time_s: t0.elapsed().as_secs_f64(),
+    })
+}

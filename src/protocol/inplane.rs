@@ -1,0 +1,81 @@
+//! The in-plane shear–compression test: a loading beam on the top course under a constant
+//! vertical force, its horizontal displacement imposed quasi-statically (monotonic or in
+//! growing cycles); by the penalty DEM (the force–displacement curve,
+//! `loading::inplane`) or by limit analysis (the peak force and its mechanism,
+//! `limit::inplane`). Non-smooth contact dynamics does not run it: its rigid blocks have no
+//! elastic stiffness and its loading beam has no imposed displacement, so it is refused by
+//! name.
+
+use super::contract::{LoadingProtocol, Observables, RunOutcome, Way};
+use super::observed::Observed;
+use super::Protocol;
+use crate::dem::Method;
+use crate::limit::inplane::{limit_in_plane, InPlaneLimit};
+use crate::loading::inplane::{run_in_plane_penalty, InPlaneError, InPlaneParams, InPlaneResult};
+
+/// The in-plane test with its parameters (`[in_plane]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InPlane(pub InPlaneParams);
+
+/// What an in-plane run gives.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InPlaneRun {
+    /// The penalty DEM: the force–displacement curve, its per-direction outputs and the
+    /// mechanism.
+    Penalty(Result<InPlaneResult, InPlaneError>),
+    /// Limit analysis: the peak horizontal force under the vertical force, and the
+    /// mechanism.
+    Limit(Result<InPlaneLimit, InPlaneError>),
+}
+
+impl LoadingProtocol for InPlane {
+    const NAME: &'static str = "in_plane";
+    const DESCRIPTION: &'static str = "the in-plane shear-compression test";
+    const MOTION: bool = false;
+    type Run = InPlaneRun;
+
+    const WAYS: &'static [Way<Self>] = &[
+        Way {
+            method: Method::Penalty,
+            what: "force-displacement curve (static solve per increment of the imposed displacement)",
+            run: |p, layout, solver, observer| {
+                InPlaneRun::Penalty(run_in_plane_penalty(layout, *solver, &p.0, &mut |a, s, sim| {
+                    observer.state(a, s, sim)
+                }))
+            },
+        },
+        Way {
+            method: Method::Limit,
+            what: "peak horizontal force under the vertical force, and the mechanism",
+            run: |p, layout, solver, _| InPlaneRun::Limit(limit_in_plane(layout, solver, &p.0, &solver.limit)),
+        },
+    ];
+
+    fn compared(&self) -> Result<Protocol, &'static str> {
+        Err("the in-plane test's observables (peak force, drift at peak, initial stiffness, mechanism) are compared by its own study report, not yet by the discrepancy analysis")
+    }
+
+    /// No collapse angle, no tilt states, no out-of-plane mechanism.
+    fn observables(&self) -> Observables {
+        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false }
+    }
+}
+
+impl RunOutcome for InPlaneRun {
+    fn observed(&self) -> Option<Observed> {
+        None
+    }
+    fn error(&self) -> Option<String> {
+        match self {
+            InPlaneRun::Penalty(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
+            _ => None,
+        }
+    }
+    fn does_not_stand(&self) -> bool {
+        matches!(
+            self,
+            InPlaneRun::Penalty(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
+                | InPlaneRun::Limit(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
+        )
+    }
+}
