@@ -46,7 +46,10 @@ pub struct InPlaneArgs {
     /// `fixed` (double-fixed).
     #[arg(long, value_enum, default_value = "free")]
     beam_rotation: Rotation,
-    /// The imposed displacement's increment per static solve, mm.
+    /// Static solves per quarter cycle of a cyclic history.
+    #[arg(long, default_value_t = InPlaneParams::default().quarter_increments)]
+    quarter_increments: u32,
+    /// The imposed displacement's increment per static solve of a monotonic run, mm.
     #[arg(long, value_name = "MM", default_value_t = InPlaneParams::default().step_mm)]
     step_mm: f64,
     /// Unbalanced-force ratio of equilibrium of each static solve.
@@ -91,6 +94,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
             Rotation::Fixed => BeamRotation::Fixed,
         },
         step_mm: a.step_mm,
+        quarter_increments: a.quarter_increments,
     };
     if a.amplitudes_pct.is_some() && !a.cyclic {
         bail!("--amplitudes-pct gives the cycles' amplitudes: add --cyclic");

@@ -128,9 +128,13 @@ pub struct InPlaneParams {
     /// The beam's rotation \[free\].
     pub beam_rotation: BeamRotation,
     /// The displacement increment of one static solve, mm, > 0 \[0.25\]; the first 2.5 mm
-    /// of a monotonic run and the cycles of small amplitude take a fifth of it
-    /// ([`InPlaneParams::path`]).
+    /// of a monotonic run take a fifth of it ([`InPlaneParams::path`]).
     pub step_mm: f64,
+    /// The fewest static solves of a quarter cycle (0 → a, a → 0, …) of a cyclic history,
+    /// ≥ 2 \[8\]: a quarter cycle takes increments of `step_mm` or a `quarter_increments`-th
+    /// of its amplitude, whichever is smaller (the first increments of a run and of each
+    /// reversal are finer still, see the driver).
+    pub quarter_increments: u32,
 }
 
 impl Default for InPlaneParams {
@@ -144,6 +148,7 @@ impl Default for InPlaneParams {
             cycles: 2,
             beam_rotation: BeamRotation::Free,
             step_mm: 0.25,
+            quarter_increments: 8,
         }
     }
 }
@@ -162,6 +167,7 @@ impl InPlaneParams {
             ("drift_pct", self.drift_pct, self.drift_pct > 0.0 && self.drift_pct <= 50.0, "in (0, 50]"),
             ("step_mm", self.step_mm, self.step_mm > 0.0, "> 0"),
             ("cycles", f64::from(self.cycles), self.cycles >= 1, ">= 1"),
+            ("quarter_increments", f64::from(self.quarter_increments), self.quarter_increments >= 2, ">= 2"),
         ])?;
         if let (BeamRotation::Free, Some(h0)) = (self.beam_rotation, self.shear_span_m) {
             check_ranges(&[("shear_span_m", h0, h0 > 0.0, "> 0")])?;
@@ -208,9 +214,10 @@ impl InPlaneParams {
     }
 
     /// The imposed displacements of the beam's anchor, m from the start, one per static
-    /// solve, for a wall of height `height_m`: monotonic, increments of a fifth of
+    /// solve, the drifts acting over the lever `height_m` (the driver gives the shear span
+    /// with the beam's rotation free, the wall's height with it held): monotonic, increments of a fifth of
     /// `step_mm` up to 10 steps, then `step_mm`; cyclic, each quarter cycle in increments
-    /// of `step_mm` or a quarter of the amplitude, whichever is smaller.
+    /// of `step_mm` or a `quarter_increments`-th of the amplitude, whichever is smaller.
     pub fn path(&self, height_m: f64) -> Vec<f64> {
         let step = self.step_mm * 1e-3;
         let mut path = Vec::new();
@@ -235,7 +242,7 @@ impl InPlaneParams {
             History::Cyclic => {
                 for a in self.amplitudes() {
                     let amp = a / 100.0 * height_m;
-                    let inc = step.min(amp / 4.0);
+                    let inc = step.min(amp / f64::from(self.quarter_increments));
                     for _ in 0..self.cycles {
                         go(&mut path, amp, inc);
                         go(&mut path, -amp, inc);
@@ -481,26 +488,58 @@ impl Rig {
         }
     }
 
-    /// The rigid rocking capacity of the monolithic wall, `N_total L / (2 H0)`, N (with a
-    /// held rotation, `N_total L / H`: double curvature).
+    /// The rigid rocking capacity of the monolithic wall, N: `N_total L / (2 H0)` with the
+    /// beam's rotation free; with it held (double curvature: the wall turns about its toe
+    /// and bears on the level beam at its opposite top corner), `(N L + W L / 2) / H`.
     pub fn rocking_force_n(&self, rotation: BeamRotation) -> f64 {
         match rotation {
             BeamRotation::Free => self.n_total_n() * self.length_m / (2.0 * self.anchor_z_m),
-            BeamRotation::Fixed => self.n_total_n() * self.length_m / self.height_m,
+            BeamRotation::Fixed => (self.vertical_force_n + 0.5 * self.wall_weight_n) * self.length_m / self.height_m,
         }
     }
 }
 
 /// The elastic stiffness (N/m) of a one-block wall of length `l`, thickness `t` and height
-/// `h` on one linear joint of normal and shear stiffness `kn`, `ks` (Pa/m), loaded by a
-/// horizontal force at height `h0` above the joint with the block's rotation free, the top
-/// displacement read at `h`: shear `1 / (Ks L t)` plus the joint's rotation `V h0 / (Kn I)`
-/// (I = t L³ / 12) times the lever `h`: `1 / k = 1 / (Ks L t) + h0 h / (Kn t L³ / 12)`.
-/// The block is rigid (the DEM's blocks are) and the joint stays closed (the vertical
-/// force keeps it so while `V h0 < N L / 6`).
-pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64) -> f64 {
-    let i = t * l.powi(3) / 12.0;
-    1.0 / (1.0 / (ks * l * t) + h0 * h / (kn * i))
+/// `h` (weight `w`, N) on a linear joint of normal and shear stiffness `kn`, `ks` (Pa/m),
+/// under the loading beam (its centroid, where the horizontal force and the vertical force
+/// `n` (N, the beam's weight included) act, at the shear span `h0`) on a joint of the same
+/// law, the beam's rotation free; the top displacement read on the beam at the wall's top.
+///
+/// Small displacements with the vertical loads staying vertical (first-order P–Δ). The
+/// unknowns: the force V, the base joint's rotation θ and the beam joint's ψ (about their
+/// centres; rotational stiffness `Kn I`, I = t L³ / 12), each joint's shear slip `V / (Ks A)`
+/// (A = L t). For an imposed beam displacement `u = 2 V / (Ks A) + θ h + (θ + ψ)(h0 − h)`:
+///
+/// ```text
+/// Kn I θ = V h0 + n u + w (V / (Ks A) + θ h / 2)                    (base joint)
+/// Kn I ψ = V (h0 − h) + n (V / (Ks A) + (θ + ψ)(h0 − h))              (beam joint)
+/// ```
+///
+/// and the stiffness is `V / (2 V / (Ks A) + θ h)`. Without vertical load it is
+/// `1 / (2 / (Ks A) + h0 h / (Kn I))`. The block is rigid (the DEM's blocks are) and the
+/// joints stay closed (while `V h0 < N_total L / 6`).
+#[allow(clippy::too_many_arguments)]
+pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64, n: f64, w: f64) -> f64 {
+    let (a, i) = (l * t, t * l.powi(3) / 12.0);
+    let (kr, c) = (kn * i, 1.0 / (ks * a));
+    let e = h0 - h;
+    // Unknowns (V, θ, ψ) for u = 1: rows base joint, beam joint, kinematics.
+    let m = nalgebra::Matrix3::new(
+        -(h0 + w * c),
+        kr - w * h / 2.0,
+        0.0,
+        -(e + n * c),
+        -n * e,
+        kr - n * e,
+        2.0 * c,
+        h + e,
+        e,
+    );
+    let rhs = nalgebra::Vector3::new(n, 0.0, 1.0);
+    match m.lu().solve(&rhs) {
+        Some(x) => x[0] / (2.0 * x[0] * c + x[1] * h),
+        None => f64::NAN,
+    }
 }
 
 /// One point of the force–displacement curve.
@@ -906,48 +945,76 @@ pub fn run_in_plane_penalty(
     // a jump of the beam's target alone would be one step's shear increment at its joints).
     let mut last: Option<(Vec<Vec3>, Vec<Vec3>, f64)> = None;
     let mut u_prev = 0.0;
-    for u in params.path(rig.height_m) {
-        let du = u - u_prev;
-        u_prev = u;
-        if let Some(c) = sim.state.constraints[bi].as_mut() {
-            c.set_target(0, anchor_x0 + u);
-        }
-        let start = poses(&sim);
-        let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = match &last {
-            Some((dp, dr, d0)) if *d0 != 0.0 => {
-                // No body is predicted to move more than the beam's increment (the last
-                // solve's relaxation left no creep to extrapolate).
-                let k = du / d0;
-                let cap = du.abs();
-                let clip = |v: Vec3, r: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
-                (
-                    dp.iter().map(|v| clip(v * k, 1.0)).collect(),
-                    dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect(),
-                )
+    // The first increment, and the first after a reversal, are a quarter of the smallest
+    // slip displacement of the joints under the vertical stress (μ σ0 / Ks), so that a
+    // predictor that is not yet the path's own does not make a joint slip; each converged
+    // increment doubles the next, up to the path's.
+    let first = 0.25
+        * rig
+            .layout
+            .materials
+            .iter()
+            .map(|m| m.friction.tan().max(1e-3) * params.sigma0_mpa * 1e6 / m.ks)
+            .fold(f64::INFINITY, f64::min);
+    let mut allowed = first;
+    // The drift history is imposed at the actuator: a drift d moves it by d H0 (free
+    // rotation: a rotation of the wall about its base reads the drift d at its top) or
+    // d H (the beam held level).
+    let lever = match params.beam_rotation {
+        BeamRotation::Free => rig.anchor_z_m,
+        BeamRotation::Fixed => rig.height_m,
+    };
+    for u in params.path(lever) {
+        while (u - u_prev).abs() > 1e-15 {
+            let du = (u - u_prev).clamp(-allowed, allowed);
+            if last.as_ref().is_some_and(|l| l.2 * du < 0.0) {
+                // A reversal: the last motion is no predictor of the unloading.
+                last = None;
+                allowed = first;
+                continue;
             }
-            _ => sim
-                .state
-                .bodies
-                .iter()
-                .map(|b| (Vec3::new(du * (b.pos.z / rig.anchor_z_m).clamp(0.0, 1.0), 0.0, 0.0), Vec3::zeros()))
-                .unzip(),
-        };
-        sim.predict(&dpos, &drot);
-        let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
-        let now = poses(&sim);
-        last = Some((
-            now.iter().zip(&start).map(|(a, b)| a.0 - b.0).collect(),
-            now.iter().zip(&start).map(|(a, b)| (a.1 * b.1.inverse()).scaled_axis()).collect(),
-            du,
-        ));
-        let converged = out.end == End::Equilibrium;
-        unconverged += usize::from(!converged);
-        let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
-        let drift = 100.0 * top / rig.height_m;
-        curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: force(&sim) * 1e-3, converged });
-        observe(drift, converged, &sim);
-        if top >= reading.0 {
-            reading = (top, poses(&sim));
+            u_prev = if (u - u_prev).abs() <= allowed { u } else { u_prev + du };
+            allowed = (2.0 * allowed).min(params.step_mm * 1e-3);
+            if let Some(c) = sim.state.constraints[bi].as_mut() {
+                c.set_target(0, anchor_x0 + u_prev);
+            }
+            let start = poses(&sim);
+            let (dpos, drot): (Vec<Vec3>, Vec<Vec3>) = match &last {
+                Some((dp, dr, d0)) if *d0 != 0.0 => {
+                    // No body is predicted to move more than the beam's increment (the
+                    // last solve's relaxation left no creep to extrapolate).
+                    let k = du / d0;
+                    let cap = du.abs();
+                    let clip = |v: Vec3, r: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
+                    (
+                        dp.iter().map(|v| clip(v * k, 1.0)).collect(),
+                        dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect(),
+                    )
+                }
+                _ => sim
+                    .state
+                    .bodies
+                    .iter()
+                    .map(|b| (Vec3::new(du * (b.pos.z / rig.anchor_z_m).clamp(0.0, 1.0), 0.0, 0.0), Vec3::zeros()))
+                    .unzip(),
+            };
+            sim.predict(&dpos, &drot);
+            let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
+            let now = poses(&sim);
+            last = Some((
+                now.iter().zip(&start).map(|(a, b)| a.0 - b.0).collect(),
+                now.iter().zip(&start).map(|(a, b)| (a.1 * b.1.inverse()).scaled_axis()).collect(),
+                du,
+            ));
+            let converged = out.end == End::Equilibrium;
+            unconverged += usize::from(!converged);
+            let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
+            let drift = 100.0 * top / rig.height_m;
+            curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: force(&sim) * 1e-3, converged });
+            observe(drift, converged, &sim);
+            if top >= reading.0 {
+                reading = (top, poses(&sim));
+            }
         }
     }
     let (scale, at) = (reading.0, reading.1);

@@ -36,6 +36,7 @@ mod generator_presets;
 mod generator_properties;
 mod generator_stats;
 mod implicit;
+mod inplane;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;

@@ -1,0 +1,230 @@
+//! The in-plane shear–compression test (`loading::inplane`, `limit::inplane`,
+//! `drystone in-plane`) against closed forms computed here by hand: a monolithic wall
+//! rocking about its toe (`V = N_total L / (2 H0)`; double-fixed `(N L + W L / 2) / H`),
+//! sliding on its base (`V = μ N_total`), its elastic stiffness on penalty joints; the two
+//! directions of a cyclic history of a symmetric wall; bit-for-bit repetition; the refusals
+//! of bad input by name.
+
+use drystone::dem::SolverParams;
+use drystone::layout::Layout;
+use drystone::limit::inplane::limit_in_plane;
+use drystone::loading::inplane::{
+    run_in_plane_penalty, BeamRotation, History, InPlaneError, InPlaneParams, MechanismKind,
+};
+use drystone::verify::{box_vertices, inplane_block, layout_of, DENSITY, RIGID_KN};
+use std::process::Command;
+
+const G: f64 = drystone::units::STANDARD_GRAVITY;
+/// The wall: L × t × H = 1.0 × 0.2 × 1.2 m; σ0 = 0.5 MPa; H0 = 1.325 m.
+const L: f64 = 1.0;
+const T: f64 = 0.2;
+const H: f64 = 1.2;
+const H0: f64 = 1.325;
+const SIGMA0: f64 = 0.5e6;
+
+fn params(drift_pct: f64) -> InPlaneParams {
+    InPlaneParams { sigma0_mpa: SIGMA0 * 1e-6, shear_span_m: Some(H0), drift_pct, ..InPlaneParams::default() }
+}
+
+/// The applied force and the wall's weight, N.
+fn forces() -> (f64, f64) {
+    (SIGMA0 * L * T, DENSITY * G * L * T * H)
+}
+
+#[test]
+fn a_monolith_rocks_about_its_toe_at_its_closed_form() {
+    let (n, w) = forces();
+    let v = (n + w) * L / (2.0 * H0);
+    let wall = inplane_block(45.0, RIGID_KN);
+    let s = SolverParams::default();
+    let la = limit_in_plane(&wall, &s, &params(1.0), &s.limit).unwrap();
+    assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);
+    assert_eq!(la.mechanism.kind, MechanismKind::Rocking, "{:?}", la.mechanism);
+    let dem = run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+    assert!((peak / v - 1.0).abs() < 0.02, "DEM peak {peak} N vs {v} N");
+    assert_eq!(dem.unconverged, 0);
+    // The mechanism, at the granite joints' stiffness.
+    let dem = run_in_plane_penalty(&inplane_block(45.0, 1e10), s, &params(1.0), &mut |_, _, _| {}).unwrap();
+    assert_eq!(dem.mechanism.kind, MechanismKind::Rocking, "{:?}", dem.mechanism);
+    assert_eq!(dem.mechanism.joints, vec!["table/wall".to_string()]);
+}
+
+#[test]
+fn a_monolith_with_the_beam_held_level_rocks_in_double_curvature() {
+    let (n, w) = forces();
+    let v = (n * L + w * L / 2.0) / H;
+    let wall = inplane_block(45.0, RIGID_KN);
+    let s = SolverParams::default();
+    let p = InPlaneParams { beam_rotation: BeamRotation::Fixed, shear_span_m: None, ..params(1.0) };
+    let la = limit_in_plane(&wall, &s, &p, &s.limit).unwrap();
+    assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);
+}
+
+#[test]
+fn a_monolith_on_a_slippery_base_slides_at_mu_n() {
+    let (n, w) = forces();
+    let mu = 0.2;
+    let v = mu * (n + w);
+    let wall = inplane_block(mu.atan().to_degrees(), RIGID_KN);
+    let s = SolverParams::default();
+    let la = limit_in_plane(&wall, &s, &params(1.0), &s.limit).unwrap();
+    assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);
+    assert_eq!(la.mechanism.kind, MechanismKind::Sliding, "{:?}", la.mechanism);
+    let dem = run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+    assert!((peak / v - 1.0).abs() < 0.02, "DEM peak {peak} N vs {v} N");
+    assert_eq!(dem.mechanism.kind, MechanismKind::Sliding, "{:?}", dem.mechanism);
+}
+
+/// The block on its base joint under the beam on a joint of the same law, small
+/// displacements, vertical loads staying vertical (first-order P–Δ), derived here: with
+/// slips s = V/(Ks A) at both joints and rotations θ (base) and ψ (beam joint) about the
+/// joints' centres, the beam's centroid (at H0, where V and N act) moves
+/// u = 2s + θH + (θ+ψ)(H0−H); moments about the base and the beam joint's centres:
+/// Kn I θ = V H0 + N u + W (s + θ H/2) and Kn I ψ = V (H0−H) + N (s + (θ+ψ)(H0−H)); the
+/// reading on the beam at H moves 2s + θH.
+#[test]
+fn the_elastic_stiffness_of_one_block_is_its_closed_form() {
+    let (n, w) = forces();
+    for kn in [1e8, 1e9, 1e10, 1e11] {
+        let ks = kn / 2.5;
+        let (a, i) = (L * T, T * L * L * L / 12.0);
+        let (kr, e) = (kn * i, H0 - H);
+        // θ and ψ per unit V from the two moment equations with u eliminated:
+        // u = 2V/(Ks A) + θH + (θ+ψ)e.
+        // [kr − N H − W H/2 − N e, −N e] [θ]   [H0 + 2N/(Ks A) + W/(Ks A)]
+        // [−N e,          kr − N e] [ψ] = [e + N/(Ks A)              ] V
+        let m = nalgebra::Matrix2::new(kr - n * H - w * H / 2.0 - n * e, -n * e, -n * e, kr - n * e);
+        let rhs = nalgebra::Vector2::new(H0 + 2.0 * n / (ks * a) + w / (ks * a), e + n / (ks * a));
+        let x = m.lu().solve(&rhs).unwrap();
+        let k = 1.0 / (2.0 / (ks * a) + x[0] * H);
+        let wall = inplane_block(45.0, kn);
+        // To half the force that decompresses the base (V H0 = N_total L / 6): a force well
+        // above the equilibrium tolerance's share of the contact forces.
+        let drift_pct = 100.0 * 0.5 * (n + w) * L / (6.0 * H0) / k / H;
+        let p = InPlaneParams { step_mm: drift_pct * H * 10.0 / 20.0, ..params(drift_pct) };
+        let r = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+        let sim = r.positive.unwrap().initial_stiffness_kn_per_mm * 1e6;
+        assert!((sim / k - 1.0).abs() < 0.01, "Kn {kn:e}: {sim} N/m vs {k} N/m");
+    }
+}
+
+#[test]
+fn a_cyclic_history_loads_a_symmetric_wall_alike_both_ways() {
+    let wall = inplane_block(45.0, 1e10);
+    let p = InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.1, 0.3]), ..params(0.3) };
+    let r = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    let (pos, neg) = (r.positive.unwrap(), r.negative.unwrap());
+    assert!((pos.peak_force_kn / neg.peak_force_kn - 1.0).abs() < 0.02, "{pos:?} vs {neg:?}");
+    // The imposed history: two cycles an amplitude, 0 → a → −a → 0, at two amplitudes.
+    let path = p.path(H0);
+    let turns = path.windows(3).filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0).count();
+    assert_eq!(turns, 2 * 2 * 2, "direction changes of the history");
+    assert_eq!(path.last().copied(), Some(0.0));
+    let top = r.curve.iter().map(|c| c.drift_pct).fold(0.0_f64, f64::max);
+    let bottom = r.curve.iter().map(|c| c.drift_pct).fold(0.0_f64, f64::min);
+    assert!((top - 0.3).abs() < 0.01 && (bottom + 0.3).abs() < 0.01, "drifts {bottom} to {top} %");
+}
+
+#[test]
+fn a_run_repeats_bit_for_bit() {
+    let wall = inplane_block(45.0, 1e10);
+    let p = params(0.2);
+    let a = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    let b = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    assert_eq!(a.curve, b.curve);
+    assert_eq!(a.steps, b.steps);
+}
+
+fn refused(wall: &Layout, p: InPlaneParams) -> String {
+    let e = run_in_plane_penalty(wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap_err();
+    let s = SolverParams::default();
+    let la = limit_in_plane(wall, &s, &p, &s.limit).unwrap_err();
+    assert_eq!(e.to_string(), la.to_string(), "both methods refuse alike");
+    e.to_string()
+}
+
+#[test]
+fn bad_input_is_refused_by_name_before_any_run() {
+    let wall = inplane_block(45.0, 1e9);
+    for (p, key) in [
+        (InPlaneParams { sigma0_mpa: 0.0, ..params(1.0) }, "sigma0_mpa"),
+        (InPlaneParams { sigma0_mpa: -1.0, ..params(1.0) }, "sigma0_mpa"),
+        (InPlaneParams { sigma0_mpa: f64::NAN, ..params(1.0) }, "sigma0_mpa"),
+        (InPlaneParams { sigma0_mpa: f64::INFINITY, ..params(1.0) }, "sigma0_mpa"),
+        (params(0.0), "drift_pct"),
+        (params(50.5), "drift_pct"),
+        (InPlaneParams { shear_span_m: None, ..params(1.0) }, "shear_span_m"),
+        (InPlaneParams { shear_span_m: Some(1.0), ..params(1.0) }, "shear_span_m"),
+        (InPlaneParams { step_mm: 0.0, ..params(1.0) }, "step_mm"),
+        (
+            InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5, 0.5]), ..params(1.0) },
+            "amplitudes_pct",
+        ),
+        (
+            InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5, 2.0]), ..params(1.0) },
+            "amplitudes_pct",
+        ),
+    ] {
+        let e = refused(&wall, p.clone());
+        assert!(e.contains(key), "{p:?}: {e}");
+    }
+    // A top course with a block 30 mm low carries the beam on too little of its length.
+    let low = layout_of(
+        vec![box_vertices([0.0, -0.1, 0.0], [0.5, 0.1, 1.2]), box_vertices([0.5, -0.1, 0.0], [1.0, 0.1, 1.17])],
+        1e9,
+        4e8,
+        35.0,
+        drystone::layout::BaseSliding::Free,
+    );
+    let e = refused(&low, params(1.0));
+    assert!(e.contains("not level") && e.contains("b1"), "{e}");
+    assert!(matches!(
+        run_in_plane_penalty(&low, SolverParams::default(), &params(1.0), &mut |_, _, _| {}),
+        Err(InPlaneError::NotLevel { .. })
+    ));
+}
+
+#[test]
+fn the_command_line_prints_the_keys_and_refuses_by_flag() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let spec = drystone::verify::inplane_block(45.0, 1e10);
+    let _ = spec;
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    for solver in ["penalty", "limit"] {
+        let o = Command::new(bin)
+            .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
+            .args(["--drift-pct", "0.5", "--solver", solver, "--json"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for key in ["peak_force_kn", "drift_at_peak_pct", "initial_stiffness_kn_per_mm", "mechanism"] {
+            assert!(j.get(key).is_some(), "{solver}: no {key} in {j}");
+        }
+        assert_eq!(j["mechanism"], "rocking", "{solver}");
+    }
+    for (args, needle) in [
+        (vec!["--sigma0-mpa", "-1", "--shear-span-m", "1.325"], "--sigma0-mpa"),
+        (vec!["--sigma0-mpa", "0.5", "--shear-span-m", "0.9"], "shear_span_m"),
+        (vec!["--sigma0-mpa", "0.5"], "--shear-span-m"),
+        (vec!["--sigma0-mpa", "0.5", "--shear-span-m", "1.325", "--solver", "nscd"], "limit"),
+        (vec!["--sigma0-mpa", "0.5", "--shear-span-m", "1.325", "--svg", "/nonexistent/x.svg"], "/nonexistent"),
+    ] {
+        let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
