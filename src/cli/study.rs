@@ -96,6 +96,10 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
+    if drystone::study::inplane::is_in_plane(study) {
+        let study = study.to_path_buf();
+        return run_in_plane(&study, a);
+    }
     let st = load(study, a.realizations)?;
     let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
@@ -267,4 +271,38 @@ pub fn merge(a: MergeArgs) -> Result<ExitCode> {
         out!("{t}");
     }
     Ok(failures(merged.rows.len(), failed))
+}
+
+/// `drystone run` on an in-plane study (`protocol = "in_plane"`): its own runner and
+/// outputs (`drystone::study::inplane`).
+fn run_in_plane(study: &Path, a: RunArgs) -> Result<ExitCode> {
+    for (given, flag) in [
+        (a.shard.is_some(), "--shard"),
+        (a.realizations.is_some(), "--realizations"),
+        (!a.vtk_realizations.is_empty(), "--vtk-realizations"),
+        (a.resume, "--resume"),
+    ] {
+        if given {
+            bail!("{}: {flag} does not apply to an in-plane study (protocol = \"in_plane\")", study.display());
+        }
+    }
+    let spec = drystone::study::inplane::load(study)?;
+    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
+    let threads = thread_count(a.workers.threads);
+    let pool = pool(Some(threads))?;
+    let run = pool.install(|| drystone::study::inplane::run(study, &dir))?;
+    let failed = run.rows.iter().filter(|r| r.status != "ok").count();
+    out!(
+        "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
+        spec.name,
+        run.rows.len(),
+        failed,
+        threads,
+        run.wall_time_s,
+        dir.display()
+    );
+    if failed > 0 {
+        eprintln!("warning: {failed} realizations failed; their rows carry the error");
+    }
+    Ok(if failed == run.rows.len() { ExitCode::from(3) } else { ExitCode::SUCCESS })
 }

@@ -78,9 +78,16 @@ pub fn limit_in_plane(
         .collect();
     let v = &r.velocities;
     let scale = v[beam].translation.x.abs();
-    let mechanism = read_mechanism(&joints, &model.ids, beam, scale, |k, x| {
-        v[k].translation + v[k].rotation.cross(&(x - model.centroid[k]))
-    });
+    let anchor = Vec3::new(model.centroid[beam].x, model.centroid[beam].y, rig.anchor_z_m);
+    let mechanism = read_mechanism(
+        &joints,
+        &model.ids,
+        beam,
+        anchor,
+        scale,
+        |k, x| v[k].translation + v[k].rotation.cross(&(x - model.centroid[k])),
+        |k| v[k].rotation.y,
+    );
     Ok(InPlaneLimit {
         peak_force_kn: r.load_multiplier * n_total * 1e-3,
         n_total_kn: n_total * 1e-3,

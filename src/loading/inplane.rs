@@ -576,15 +576,15 @@ pub struct DirectionResult {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MechanismKind {
-    /// The joints that move open: the wall above them rotates about a toe (flexural; the
-    /// database's failure type 1).
+    /// The part that moves with the beam rotates about a toe (flexural; the database's
+    /// failure type 1), above a horizontal or a stepped crack.
     Rocking,
     /// One bed joint slides (shear; type 0).
     Sliding,
-    /// The joints that move slide along a stepped crack through bed and head joints at
-    /// several courses (diagonal shear; type 0).
+    /// The part that moves with the beam translates along a stepped crack through bed and
+    /// head joints at several courses (diagonal shear; type 0).
     Diagonal,
-    /// Opening and sliding in comparable shares (type 0.5).
+    /// Rotation and translation in comparable shares (type 0.5).
     Mixed,
     /// No joint moved past the threshold.
     None,
@@ -619,7 +619,11 @@ impl MechanismKind {
 pub struct InPlaneMechanism {
     /// Its kind.
     pub kind: MechanismKind,
-    /// The share of the moving joints' relative motion that is opening (normal), in [0, 1].
+    /// The share of the beam's horizontal motion that the moving part's rotation (about y,
+    /// the mean of its blocks') about the crack's foot explains, in [0, 1]: 1 for a rotation
+    /// about a toe, 0 for a translation.
+    pub rotation_share: f64,
+    /// The share of the crack's relative motion that is opening (normal), in [0, 1].
     pub opening_share: f64,
     /// The crack's shape: `horizontal` (bed joints at one level), `stepped` (bed and head
     /// joints at several levels), or `none`.
@@ -676,15 +680,20 @@ pub fn mechanism_joints(sim: &Simulation) -> Vec<MechanismJoint> {
 /// with it). A joint moves when its largest relative motion reaches [`ACTIVE_JOINT_SHARE`]
 /// of `scale`; the joints that do not move join the blocks into rigid groups, and the
 /// crack is the moving joints around the beam's group (bed joints: a normal within 45° of z;
-/// head joints: within 45° of x). Rocking where at least two thirds of the crack's relative
-/// motion is opening, shear (sliding on one bed level without head joints, diagonal
-/// otherwise) where at most a third is, mixed between.
+/// head joints: within 45° of x). `rotation(k)` is body k's rotation about y and `anchor`
+/// the actuator's point (table frame): the mechanism is rocking where the group's rotation
+/// about the crack's foot explains at least two thirds of the beam's motion at the anchor
+/// (a rotation about a toe, whatever the crack's steps), shear (sliding on one bed level
+/// without head joints, diagonal otherwise) where it explains at most a third (a
+/// translation along the crack), mixed between.
 pub fn read_mechanism(
     joints: &[MechanismJoint],
     ids: &[String],
     beam: usize,
+    anchor: Vec3,
     scale: f64,
     motion: impl Fn(usize, &Vec3) -> Vec3,
+    rotation: impl Fn(usize) -> f64,
 ) -> InPlaneMechanism {
     let n = ids.len();
     // Union of the bodies joined by joints that do not move (index n: the table).
@@ -749,11 +758,18 @@ pub fn read_mechanism(
     }
     let moving_blocks = (0..n).filter(|&k| k != beam && root(&mut parent, k) == rb).map(|k| ids[k].clone()).collect();
     let share = if open + slide > 0.0 { open / (open + slide) } else { 0.0 };
+    // How much of the beam's motion the moving part's rotation about the crack's foot
+    // explains: 1 for a rotation about a toe, 0 for a translation.
+    let group: Vec<usize> = (0..n).filter(|&k| root(&mut parent, k) == rb).collect();
+    let theta = group.iter().map(|&k| rotation(k)).sum::<f64>() / group.len().max(1) as f64;
+    let foot = distinct.first().copied().unwrap_or(0.0).min(anchor.z);
+    let u = motion(beam, &anchor).x;
+    let rotating = if u.abs() > 0.0 { (theta.abs() * (anchor.z - foot) / u.abs()).min(1.0) } else { 0.0 };
     let kind = if active.is_empty() {
         MechanismKind::None
-    } else if share >= 2.0 / 3.0 {
+    } else if rotating >= 2.0 / 3.0 {
         MechanismKind::Rocking
-    } else if share <= 1.0 / 3.0 {
+    } else if rotating <= 1.0 / 3.0 {
         if distinct.len() <= 1 && heads == 0 {
             MechanismKind::Sliding
         } else {
@@ -771,6 +787,7 @@ pub fn read_mechanism(
     };
     InPlaneMechanism {
         kind,
+        rotation_share: rotating,
         opening_share: share,
         crack: crack.to_string(),
         joints: active,
@@ -1024,7 +1041,9 @@ pub fn run_in_plane_penalty(
         let (p1, q1) = at[k];
         p1 + (q1 * q0.inverse()) * (x - p0) - x
     };
-    let mechanism = read_mechanism(&ref_joints, &ids, bi, scale.max(0.0), motion);
+    let anchor = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref);
+    let turn = |k: usize| (at[k].1 * reference[k].1.inverse()).scaled_axis().y;
+    let mechanism = read_mechanism(&ref_joints, &ids, bi, anchor, scale.max(0.0), motion, turn);
     Ok(InPlaneResult {
         positive: direction(&curve, 1.0),
         negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },

@@ -83,6 +83,7 @@ mod estimate;
 mod extend;
 mod figures;
 pub mod followup;
+pub mod inplane;
 mod lock;
 mod measured;
 mod motions;

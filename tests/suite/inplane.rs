@@ -228,3 +228,81 @@ fn the_command_line_prints_the_keys_and_refuses_by_flag() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The bundled specimens: 14 rows; the README's first check, that a monolith's rocking
+/// capacity `N_total L / (2 H0)` is 0.377 N_total and the measured positive peaks lie at
+/// 0.34–0.37 N_total, holds on the table as read.
+#[test]
+fn the_bundled_specimens_are_read_whole() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    let s = drystone::study::inplane::read_specimens(&root.join("walls.csv"), Some(&root.join("envelopes"))).unwrap();
+    assert_eq!(s.len(), 14);
+    assert_eq!(s.iter().filter(|s| s.loading == "Cyclic").count(), 10);
+    for sp in &s {
+        assert!(!sp.envelope.is_empty(), "{}: no envelope", sp.unit);
+        let n_total = sp.sigma0_mpa * 1e3 * 1.0 * 0.2 + 20.0 * 1.0 * 1.2 * 0.2;
+        let ratio = sp.vmax_pos_kn / n_total;
+        assert!((0.33..=0.38).contains(&ratio), "{}: V/N = {ratio}", sp.unit);
+    }
+    assert!((1.0_f64 / (2.0 * 1.325) - 0.377).abs() < 5e-4);
+}
+
+/// A small in-plane study runs, writes its rows, statistics, comparison, figures and report,
+/// and repeats bit for bit.
+#[test]
+fn an_in_plane_study_writes_its_outputs() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-study-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let study = dir.join("study.toml");
+    std::fs::write(
+        &study,
+        format!(
+            r#"version = 1
+name = "small"
+seed = 7
+realizations = 2
+protocol = "in_plane"
+[in_plane]
+shear_span_m = 1.325
+drift_pct = 0.6
+[[groups]]
+name = "0.5 MPa"
+wall = "{}"
+sigma0_mpa = 0.5
+specimens = ["WS.100"]
+[measured]
+walls = "{}"
+envelopes = "{}"
+"#,
+            root.join("studies/walls/granite_vasconcelos.toml").display(),
+            root.join("data/inplane_granite/walls.csv").display(),
+            root.join("data/inplane_granite/envelopes").display()
+        ),
+    )
+    .unwrap();
+    let a = drystone::study::inplane::run(&study, &dir.join("a")).unwrap();
+    let b = drystone::study::inplane::run(&study, &dir.join("b")).unwrap();
+    assert_eq!(a.rows.len(), 2);
+    assert!(a.rows.iter().all(|r| r.status == "ok"), "{:?}", a.rows);
+    for f in ["realizations.csv", "realizations.jsonl", "summary.csv", "comparison.csv", "report.md"] {
+        assert!(dir.join("a").join(f).exists(), "{f}");
+    }
+    assert!(dir.join("a/curves_0_5_mpa.svg").exists() && dir.join("a/mechanism_0_5_mpa.svg").exists());
+    let csv = |d: &str| {
+        std::fs::read_to_string(dir.join(d).join("realizations.csv"))
+            .unwrap()
+            .lines()
+            .map(|l| l.rsplitn(3, ',').nth(2).unwrap_or_default().to_string())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(csv("a"), csv("b"), "bit for bit, the wall-clock column aside");
+    assert_eq!(b.rows[0].peak_pos_kn.to_bits(), a.rows[0].peak_pos_kn.to_bits());
+    let comparison = std::fs::read_to_string(dir.join("a/comparison.csv")).unwrap();
+    assert!(comparison.contains("WS.100,peak_pos_kn,37,"), "{comparison}");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, std::fs::read_to_string(&study).unwrap().replace("\"WS.100\"", "\"WS.999\"")).unwrap();
+    let e = drystone::study::inplane::run(&bad, &dir.join("c")).unwrap_err().to_string();
+    assert!(e.contains("groups[0].specimens") && e.contains("WS.999"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

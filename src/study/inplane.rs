@@ -1,0 +1,808 @@
+//! The study of the in-plane shear–compression test (`protocol = "in_plane"`): groups of
+//! generated walls, each under its vertical stress and loading history, run as ensembles
+//! by the penalty DEM (and by limit analysis beside it), compared with measured specimens.
+//!
+//! The protocol owns its outputs here: its study file's keys ([`InPlaneStudySpec`]), its
+//! rows (`realizations.csv`, one per realization, and `realizations.jsonl`, each row synced
+//! as it finishes so that nothing finished is lost if the run is stopped), its statistics
+//! (`summary.csv`: per group and observable the ensemble's mean, σ, COV and 95 % band), its
+//! comparison with the measured specimens (`comparison.csv`), its figures (the ensemble's
+//! force–drift curves over the measured envelopes, `curves_<group>.svg`; the mechanism of
+//! realization 0 drawn over the wall, `mechanism_<group>.svg`) and its report (`report.md`).
+//!
+//! # The study file
+//!
+//! ```toml
+//! version = 1
+//! name = "inplane_granite"
+//! seed = 20090301
+//! realizations = 8
+//! protocol = "in_plane"
+//!
+//! [in_plane]                 # every group's test (loading::inplane::InPlaneParams)
+//! shear_span_m = 1.325
+//! drift_pct = 3.25
+//!
+//! [[groups]]
+//! name = "0.5 MPa monotonic"
+//! wall = "walls/granite_vasconcelos.toml"
+//! sigma0_mpa = 0.5
+//! history = "monotonic"      # or "cyclic"
+//! specimens = ["WS.100"]     # rows of the measured file compared with this group
+//! realizations = 8           # optional: the study's by default
+//!
+//! [measured]
+//! walls = "../data/inplane_granite/walls.csv"          # the database's columns
+//! envelopes = "../data/inplane_granite/envelopes"      # envelope_<unit>_<source>.csv
+//! crackmaps = "../data/inplane_granite/crackmaps"      # optional: linked in the report
+//! ```
+//!
+//! Realization i of group g is the wall generated with the study's seed and index
+//! `g · 10000 + i` (`generator::generate`): the same bits on any thread count.
+
+use crate::dem::SolverParams;
+use crate::generator::{generate, DistributionSource, Wall};
+use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
+use crate::limit::inplane::limit_in_plane;
+use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, InPlaneResult, Rig};
+use crate::stats::{mean, quantile, sd};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The in-plane study file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InPlaneStudySpec {
+    /// Format version: 1.
+    pub version: u32,
+    /// The study's name (the output folder's by default).
+    pub name: String,
+    /// What it is, with the sources of its parameters.
+    #[serde(default)]
+    pub description: String,
+    /// Master seed.
+    pub seed: u64,
+    /// Realizations per group (a group may give its own), ≥ 1.
+    pub realizations: u64,
+    /// `"in_plane"`.
+    pub protocol: String,
+    /// The test's parameters shared by the groups (`sigma0_mpa` and `history` are the
+    /// groups').
+    #[serde(default)]
+    pub in_plane: InPlaneParams,
+    /// The groups.
+    pub groups: Vec<InPlaneGroupSpec>,
+    /// The measured specimens.
+    #[serde(default)]
+    pub measured: Option<InPlaneMeasuredSpec>,
+}
+
+/// One group: a wall under one vertical stress and history.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InPlaneGroupSpec {
+    /// Its name.
+    pub name: String,
+    /// The wall file, relative to the study file.
+    pub wall: PathBuf,
+    /// The vertical stress applied, MPa.
+    pub sigma0_mpa: f64,
+    /// The history.
+    #[serde(default)]
+    pub history: History,
+    /// The measured specimens compared with it (`unit` of the measured file).
+    #[serde(default)]
+    pub specimens: Vec<String>,
+    /// Its realizations (the study's when absent).
+    #[serde(default)]
+    pub realizations: Option<u64>,
+}
+
+/// Where the measured specimens are.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InPlaneMeasuredSpec {
+    /// The specimens' table (the Stone Masonry Database's columns: `unit`, `loading`,
+    /// `Vmax_pos_kN`, `dmax_pos_pct`, …), relative to the study file.
+    pub walls: PathBuf,
+    /// The folder of the envelopes `envelope_<unit without dots>_<source>.csv`.
+    #[serde(default)]
+    pub envelopes: Option<PathBuf>,
+    /// The folder of the crack maps (PNG), linked in the report.
+    #[serde(default)]
+    pub crackmaps: Option<PathBuf>,
+}
+
+/// Errors of the in-plane study, each naming its file and key.
+#[derive(Debug, thiserror::Error)]
+pub enum InPlaneStudyError {
+    /// A file could not be read or parsed.
+    #[error("{path}: {message}")]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// A key's value is refused.
+    #[error("{path}: {key}: {message}")]
+    Invalid {
+        /// The study file.
+        path: PathBuf,
+        /// The key.
+        key: String,
+        /// Why.
+        message: String,
+    },
+    /// An output could not be written.
+    #[error("{0}")]
+    Write(String),
+}
+
+/// Whether a study file names the in-plane protocol (`protocol = "in_plane"`).
+pub fn is_in_plane(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.get("protocol").and_then(|p| p.as_str()) == Some("in_plane"))
+}
+
+/// One measured specimen (the database's row).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Specimen {
+    /// Its name.
+    pub unit: String,
+    /// Its source.
+    pub reference: String,
+    /// `Cyclic` or `Monotonic`.
+    pub loading: String,
+    /// Vertical stress applied, MPa.
+    pub sigma0_mpa: f64,
+    /// Peak force and drift at the peak, +, kN and %.
+    pub vmax_pos_kn: f64,
+    /// See `vmax_pos_kn`.
+    pub dmax_pos_pct: f64,
+    /// The same, −, kN and % (NaN for monotonic tests).
+    pub vmax_neg_kn: f64,
+    /// See `vmax_neg_kn`.
+    pub dmax_neg_pct: f64,
+    /// Ultimate drift +, − (%).
+    pub du_pos_pct: f64,
+    /// See `du_pos_pct`.
+    pub du_neg_pct: f64,
+    /// Initial stiffness +, − (kN/mm).
+    pub kel_pos: f64,
+    /// See `kel_pos`.
+    pub kel_neg: f64,
+    /// The failure modes the authors reported.
+    pub modes: String,
+    /// The database's failure type (1 flexural, 0.5 mixed, 0 shear).
+    pub failure_type: f64,
+    /// The envelope (drift %, force kN), if found.
+    pub envelope: Vec<(f64, f64)>,
+}
+
+/// Reads the database's table of specimens (a CSV with a header; quoted fields).
+///
+/// # Errors
+/// Naming the file, the line and the column.
+pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Specimen>, InPlaneStudyError> {
+    let err = |message: String| InPlaneStudyError::File { path: path.to_owned(), message };
+    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    let mut lines = text.lines().enumerate();
+    let header = split_csv(lines.next().ok_or_else(|| err("empty file".into()))?.1.trim_start_matches('\u{feff}'));
+    let col = |name: &str| header.iter().position(|h| h == name).ok_or_else(|| err(format!("no column {name}")));
+    let c = [
+        "unit",
+        "reference",
+        "loading",
+        "sigma0_applied_MPa",
+        "Vmax_pos_kN",
+        "dmax_pos_pct",
+        "Vmax_neg_kN",
+        "dmax_neg_pct",
+        "du_pos_pct",
+        "du_neg_pct",
+        "Kel_pos_kN_per_mm",
+        "Kel_neg_kN_per_mm",
+        "failure_modes_reported",
+        "failure_type",
+    ]
+    .map(col);
+    let c: Vec<usize> = c.into_iter().collect::<Result<_, _>>()?;
+    let mut out = Vec::new();
+    for (i, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f = split_csv(line);
+        let get = |k: usize| f.get(c[k]).cloned().unwrap_or_default();
+        let num = |k: usize| -> Result<f64, InPlaneStudyError> {
+            let s = get(k);
+            if s.trim().is_empty() {
+                return Ok(f64::NAN);
+            }
+            s.trim()
+                .parse::<f64>()
+                .map_err(|_| err(format!("line {}: column {}: {s:?} is not a number", i + 1, header[c[k]])))
+        };
+        let mut s = Specimen {
+            unit: get(0),
+            reference: get(1),
+            loading: get(2),
+            sigma0_mpa: num(3)?,
+            vmax_pos_kn: num(4)?,
+            dmax_pos_pct: num(5)?,
+            vmax_neg_kn: num(6)?,
+            dmax_neg_pct: num(7)?,
+            du_pos_pct: num(8)?,
+            du_neg_pct: num(9)?,
+            kel_pos: num(10)?,
+            kel_neg: num(11)?,
+            modes: get(12),
+            failure_type: num(13)?,
+            envelope: Vec::new(),
+        };
+        if let Some(dir) = envelopes {
+            // `envelope_<unit without dots>_<first author><year>.csv`, the database's names.
+            let p = dir.join(format!("envelope_{}.csv", file_stem(&s)));
+            if p.exists() {
+                s.envelope = read_envelope(&p)?;
+            }
+        }
+        out.push(s);
+    }
+    Ok(out)
+}
+
+/// Reads an envelope file: four header lines (unit, reference, columns, units), then
+/// `top_displacement mm, horizontal_force kN, drift %` a line; returns (drift %, force kN).
+///
+/// # Errors
+/// Naming the file and the line.
+pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
+    let err = |message: String| InPlaneStudyError::File { path: path.to_owned(), message };
+    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    let mut pts = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(4) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f = split_csv(line);
+        let v: Vec<f64> = f
+            .iter()
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| err(format!("line {}: {line:?} is not three numbers", i + 1)))?;
+        if v.len() < 3 {
+            return Err(err(format!("line {}: {line:?} is not three numbers", i + 1)));
+        }
+        pts.push((v[2], v[1]));
+    }
+    Ok(pts)
+}
+
+/// The database's file stem of a specimen: `<unit without dots>_<first author><year>`
+/// (`WS1.100`, "Vasconcelos and Lourenço (2009)" → `WS1100_Vasconcelos2009`).
+fn file_stem(s: &Specimen) -> String {
+    let unit: String = s.unit.chars().filter(|c| *c != '.').collect();
+    let author = s.reference.split_whitespace().next().unwrap_or_default();
+    let year: String = s.reference.chars().filter(char::is_ascii_digit).collect();
+    format!("{unit}_{author}{year}")
+}
+
+fn split_csv(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    for ch in line.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            c => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+/// One realization's row.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct InPlaneRow {
+    /// Group name.
+    pub group: String,
+    /// Realization index within the group.
+    pub realization: u64,
+    /// The generator's index (`g · 10000 + i`).
+    pub index: u64,
+    /// `ok` or `error`.
+    pub status: String,
+    /// The error, if any.
+    pub error: String,
+    /// Peak force, drift at peak, ultimate drift, initial stiffness, + direction.
+    pub peak_pos_kn: f64,
+    /// See `peak_pos_kn`.
+    pub drift_at_peak_pos_pct: f64,
+    /// See `peak_pos_kn`.
+    pub ultimate_drift_pos_pct: f64,
+    /// See `peak_pos_kn`.
+    pub stiffness_pos_kn_per_mm: f64,
+    /// The same, − direction (NaN for monotonic runs).
+    pub peak_neg_kn: f64,
+    /// See `peak_neg_kn`.
+    pub drift_at_peak_neg_pct: f64,
+    /// See `peak_neg_kn`.
+    pub ultimate_drift_neg_pct: f64,
+    /// See `peak_neg_kn`.
+    pub stiffness_neg_kn_per_mm: f64,
+    /// The mechanism's kind.
+    pub mechanism: String,
+    /// The database's failure type of the mechanism.
+    pub failure_type: f64,
+    /// The share of the crack's motion that is opening.
+    pub opening_share: f64,
+    /// Limit analysis's peak force, kN.
+    pub limit_peak_kn: f64,
+    /// Limit analysis's mechanism.
+    pub limit_mechanism: String,
+    /// The rigid rocking capacity N_total L / (2 H0), kN.
+    pub rocking_kn: f64,
+    /// Static solves that did not reach equilibrium.
+    pub unconverged: usize,
+    /// Wall-clock time, s.
+    pub wall_time_s: f64,
+    /// The curve (drift %, force kN), not written to the CSV.
+    #[serde(skip)]
+    pub curve: Vec<(f64, f64)>,
+    /// The poses at the mechanism's reading and the mechanism, for the report's drawing.
+    #[serde(skip)]
+    pub drawing: Option<(Vec<(crate::math::Vec3, crate::math::Vec3)>, crate::loading::inplane::InPlaneMechanism)>,
+}
+
+/// The observables compared, with their row accessors.
+const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 7] = [
+    ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
+    ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
+    ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
+    ("drift_at_peak_neg_pct", "drift at peak − (%)", |r| r.drift_at_peak_neg_pct, |s| s.dmax_neg_pct),
+    ("ultimate_drift_pos_pct", "ultimate drift + (%)", |r| r.ultimate_drift_pos_pct, |s| s.du_pos_pct),
+    ("stiffness_pos_kn_per_mm", "initial stiffness + (kN/mm)", |r| r.stiffness_pos_kn_per_mm, |s| s.kel_pos),
+    ("failure_type", "failure type (1 rocking, 0.5 mixed, 0 shear)", |r| r.failure_type, |s| s.failure_type),
+];
+
+/// What a run of the study gave.
+#[derive(Debug, Clone)]
+pub struct InPlaneStudyRun {
+    /// The rows, group by group, realization by realization.
+    pub rows: Vec<InPlaneRow>,
+    /// The report's text.
+    pub report: String,
+    /// Wall-clock time, s.
+    pub wall_time_s: f64,
+}
+
+/// Reads and checks an in-plane study file.
+///
+/// # Errors
+/// Naming the file and the key.
+pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InPlaneStudyError::File { path: path.to_owned(), message: e.to_string() })?;
+    let spec: InPlaneStudySpec =
+        toml::from_str(&text).map_err(|e| InPlaneStudyError::File { path: path.to_owned(), message: e.to_string() })?;
+    let bad =
+        |key: &str, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key: key.into(), message };
+    if spec.version != 1 {
+        return Err(bad("version", format!("{} is not a known version (1)", spec.version)));
+    }
+    if spec.protocol != "in_plane" {
+        return Err(bad("protocol", format!("{:?}: this reader runs \"in_plane\"", spec.protocol)));
+    }
+    if spec.realizations == 0 {
+        return Err(bad("realizations", "must be at least 1".into()));
+    }
+    if spec.groups.is_empty() {
+        return Err(bad("groups", "at least one [[groups]] table".into()));
+    }
+    for (g, group) in spec.groups.iter().enumerate() {
+        let p = InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
+        p.validate().map_err(|e| bad(&format!("groups[{g}] ({}): in_plane", group.name), e.to_string()))?;
+        if group.realizations == Some(0) {
+            return Err(bad(&format!("groups[{g}].realizations"), "must be at least 1".into()));
+        }
+        let wall = path.parent().unwrap_or(Path::new(".")).join(&group.wall);
+        if !wall.exists() {
+            return Err(bad(&format!("groups[{g}].wall"), format!("{} does not exist", wall.display())));
+        }
+    }
+    Ok(spec)
+}
+
+/// Runs the study `path` into `out` (see the module doc) on the current rayon pool.
+///
+/// # Errors
+/// A bad study file, wall or measured file (named), an output that cannot be written.
+pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError> {
+    let t0 = std::time::Instant::now();
+    let spec = load(path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let werr = |p: &Path, e: &dyn std::fmt::Display| InPlaneStudyError::Write(format!("{}: {e}", p.display()));
+    std::fs::create_dir_all(out).map_err(|e| werr(out, &e))?;
+    let specimens = match &spec.measured {
+        Some(m) => read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?,
+        None => Vec::new(),
+    };
+    for (g, group) in spec.groups.iter().enumerate() {
+        if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
+            return Err(InPlaneStudyError::Invalid {
+                path: path.to_owned(),
+                key: format!("groups[{g}].specimens"),
+                message: format!("{s} is not a unit of the measured file"),
+            });
+        }
+    }
+    let walls: Vec<Wall> = spec
+        .groups
+        .iter()
+        .map(|g| {
+            let p = base.join(&g.wall);
+            Wall::from_file_with(&p, &DistributionSource::default_for(&p))
+                .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
+        })
+        .collect::<Result<_, _>>()?;
+    let items: Vec<(usize, u64)> = spec
+        .groups
+        .iter()
+        .enumerate()
+        .flat_map(|(g, group)| (0..group.realizations.unwrap_or(spec.realizations)).map(move |i| (g, i)))
+        .collect();
+    let journal_path = out.join("realizations.jsonl");
+    let journal = std::sync::Mutex::new(std::fs::File::create(&journal_path).map_err(|e| werr(&journal_path, &e))?);
+    let solver = SolverParams::default();
+    let mut rows: Vec<InPlaneRow> = items
+        .par_iter()
+        .map(|&(g, i)| {
+            let group = &spec.groups[g];
+            let params =
+                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
+            let row = realization(&walls[g], spec.seed, g, i, group, &params, solver);
+            if let Ok(mut f) = journal.lock() {
+                let _ = writeln!(f, "{}", serde_json::to_string(&row).unwrap_or_default());
+                let _ = f.sync_data();
+            }
+            row
+        })
+        .collect();
+    rows.sort_by_key(|r| r.index);
+    write_rows(&out.join("realizations.csv"), &rows)?;
+    let report = report(&spec, path, out, &rows, &specimens, &walls, solver, t0.elapsed().as_secs_f64())?;
+    Ok(InPlaneStudyRun { rows, report, wall_time_s: t0.elapsed().as_secs_f64() })
+}
+
+fn nan_dir() -> (f64, f64, f64, f64) {
+    (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
+}
+
+/// One realization: the generated wall, its test by the penalty DEM and by limit analysis.
+fn realization(
+    wall: &Wall,
+    seed: u64,
+    g: usize,
+    i: u64,
+    group: &InPlaneGroupSpec,
+    params: &InPlaneParams,
+    solver: SolverParams,
+) -> InPlaneRow {
+    let t0 = std::time::Instant::now();
+    let index = g as u64 * 10_000 + i;
+    let mut row = InPlaneRow {
+        group: group.name.clone(),
+        realization: i,
+        index,
+        status: "error".into(),
+        error: String::new(),
+        peak_pos_kn: f64::NAN,
+        drift_at_peak_pos_pct: f64::NAN,
+        ultimate_drift_pos_pct: f64::NAN,
+        stiffness_pos_kn_per_mm: f64::NAN,
+        peak_neg_kn: f64::NAN,
+        drift_at_peak_neg_pct: f64::NAN,
+        ultimate_drift_neg_pct: f64::NAN,
+        stiffness_neg_kn_per_mm: f64::NAN,
+        mechanism: String::new(),
+        failure_type: f64::NAN,
+        opening_share: f64::NAN,
+        limit_peak_kn: f64::NAN,
+        limit_mechanism: String::new(),
+        rocking_kn: f64::NAN,
+        unconverged: 0,
+        wall_time_s: 0.0,
+        curve: Vec::new(),
+        drawing: None,
+    };
+    let layout =
+        match generate(wall, seed, index).map_err(|e| e.to_string()).and_then(|w| w.check().map_err(|e| e.to_string()))
+        {
+            Ok(l) => l,
+            Err(e) => {
+                row.error = e;
+                return row;
+            }
+        };
+    match crate::protocol::run(&crate::protocol::InPlane(params.clone()), &layout, solver, &mut ()) {
+        Ok(crate::protocol::InPlaneRun::Penalty(Ok(r))) => fill(&mut row, &r),
+        Ok(crate::protocol::InPlaneRun::Penalty(Err(e)) | crate::protocol::InPlaneRun::Limit(Err(e))) => {
+            row.error = e.to_string()
+        }
+        Ok(crate::protocol::InPlaneRun::Limit(Ok(_))) => row.error = "limit analysis gives no curve".into(),
+        Err(e) => row.error = e.to_string(),
+    }
+    if let Ok(l) = limit_in_plane(&layout, &solver, params, &solver.limit) {
+        row.limit_peak_kn = l.peak_force_kn;
+        row.limit_mechanism = l.mechanism.kind.name().into();
+    }
+    row.wall_time_s = t0.elapsed().as_secs_f64();
+    row
+}
+
+fn fill(row: &mut InPlaneRow, r: &InPlaneResult) {
+    row.status = "ok".into();
+    let d = |x: Option<crate::loading::inplane::DirectionResult>| {
+        x.map_or(nan_dir(), |d| {
+            (d.peak_force_kn, d.drift_at_peak_pct, d.ultimate_drift_pct, d.initial_stiffness_kn_per_mm)
+        })
+    };
+    (row.peak_pos_kn, row.drift_at_peak_pos_pct, row.ultimate_drift_pos_pct, row.stiffness_pos_kn_per_mm) =
+        d(r.positive);
+    (row.peak_neg_kn, row.drift_at_peak_neg_pct, row.ultimate_drift_neg_pct, row.stiffness_neg_kn_per_mm) =
+        d(r.negative);
+    row.mechanism = r.mechanism.kind.name().into();
+    row.failure_type = r.mechanism.kind.failure_type().unwrap_or(f64::NAN);
+    row.opening_share = r.mechanism.opening_share;
+    row.rocking_kn = r.rocking_force_kn;
+    row.unconverged = r.unconverged;
+    row.curve = r.curve.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
+    row.drawing = Some((r.poses_at_reading.clone(), r.mechanism.clone()));
+}
+
+fn write_rows(path: &Path, rows: &[InPlaneRow]) -> Result<(), InPlaneStudyError> {
+    let mut s = String::from(
+        "group,realization,index,status,peak_pos_kn,drift_at_peak_pos_pct,ultimate_drift_pos_pct,stiffness_pos_kn_per_mm,\
+         peak_neg_kn,drift_at_peak_neg_pct,ultimate_drift_neg_pct,stiffness_neg_kn_per_mm,mechanism,failure_type,\
+         opening_share,limit_peak_kn,limit_mechanism,rocking_kn,unconverged,wall_time_s,error\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},\"{}\"",
+            r.group,
+            r.realization,
+            r.index,
+            r.status,
+            r.peak_pos_kn,
+            r.drift_at_peak_pos_pct,
+            r.ultimate_drift_pos_pct,
+            r.stiffness_pos_kn_per_mm,
+            r.peak_neg_kn,
+            r.drift_at_peak_neg_pct,
+            r.ultimate_drift_neg_pct,
+            r.stiffness_neg_kn_per_mm,
+            r.mechanism,
+            r.failure_type,
+            r.opening_share,
+            r.limit_peak_kn,
+            r.limit_mechanism,
+            r.rocking_kn,
+            r.unconverged,
+            r.wall_time_s,
+            r.error.replace('"', "'")
+        );
+    }
+    crate::io::replace_file(path, s.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
+}
+
+/// Mean, σ, COV and the 95 % band (2.5 % and 97.5 % quantiles) of the finite values.
+fn stats(x: &[f64]) -> (usize, f64, f64, f64, f64, f64) {
+    let v: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
+    let (m, s) = (mean(&v), sd(&v));
+    (v.len(), m, s, s / m, quantile(&v, 0.025), quantile(&v, 0.975))
+}
+
+fn f(v: f64, d: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.d$}")
+    } else {
+        "–".into()
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn report(
+    spec: &InPlaneStudySpec,
+    path: &Path,
+    out: &Path,
+    rows: &[InPlaneRow],
+    specimens: &[Specimen],
+    walls: &[Wall],
+    solver: SolverParams,
+    elapsed_s: f64,
+) -> Result<String, InPlaneStudyError> {
+    let mut md = String::new();
+    let mut summary = String::from("group,observable,n,mean,sd,cov,band_lo,band_hi\n");
+    let mut comparison = String::from(
+        "group,specimen,observable,measured,sim_mean,sim_sd,band_lo,band_hi,inside_band,ratio_measured_to_mean\n",
+    );
+    let _ = writeln!(md, "# {}\n", spec.name);
+    let _ = writeln!(md, "{}\n", spec.description.trim());
+    let ok = rows.iter().filter(|r| r.status == "ok").count();
+    let _ = writeln!(
+        md,
+        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: the penalty DEM \
+         (dynamic relaxation to the unbalanced-force ratio {:e} per increment of the imposed displacement), and limit \
+         analysis beside it. Shear span {} m, largest drift {} %.\n",
+        path.display(),
+        spec.seed,
+        rows.len(),
+        rows.len() - ok,
+        elapsed_s,
+        solver.penalty.tolerance,
+        spec.in_plane.shear_span_m.map_or("–".into(), |h| h.to_string()),
+        spec.in_plane.drift_pct
+    );
+    for (g, group) in spec.groups.iter().enumerate() {
+        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == group.name && r.status == "ok").collect();
+        let ms: Vec<&Specimen> =
+            group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
+        let slug: String =
+            group.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+        let _ = writeln!(md, "## {}\n", group.name);
+        let _ = writeln!(
+            md,
+            "σ0 = {} MPa, {} history, wall `{}`; {} realizations; measured: {}.\n",
+            group.sigma0_mpa,
+            match group.history {
+                History::Monotonic => "monotonic",
+                History::Cyclic => "cyclic",
+            },
+            group.wall.display(),
+            rs.len(),
+            if ms.is_empty() {
+                "none".to_string()
+            } else {
+                ms.iter().map(|m| m.unit.clone()).collect::<Vec<_>>().join(", ")
+            }
+        );
+        let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
+        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+        for (key, label, get, meas) in OBSERVABLES {
+            let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
+            let (n, m, s, cov, lo, hi) = stats(&x);
+            if n == 0 {
+                continue;
+            }
+            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", group.name);
+            let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
+            let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
+            for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
+                let _ = writeln!(
+                    comparison,
+                    "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
+                    group.name,
+                    sp.unit,
+                    v >= lo && v <= hi,
+                    v / m
+                );
+            }
+            let _ = writeln!(
+                md,
+                "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
+                if measured.is_empty() {
+                    "–".into()
+                } else {
+                    measured.iter().map(|v| f(*v, 2)).collect::<Vec<_>>().join(", ")
+                },
+                f(m, 2),
+                f(s, 2),
+                f(cov, 3),
+                f(lo, 2),
+                f(hi, 2),
+                if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
+            );
+        }
+        let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
+        for r in &rs {
+            *kinds.entry(r.mechanism.as_str()).or_default() += 1;
+        }
+        let la: Vec<f64> = rs.iter().map(|r| r.limit_peak_kn).collect();
+        let (_, la_m, _, _, _, _) = stats(&la);
+        let mut la_kinds: BTreeMap<&str, usize> = BTreeMap::new();
+        for r in &rs {
+            *la_kinds.entry(r.limit_mechanism.as_str()).or_default() += 1;
+        }
+        let rock = rs.first().map_or(f64::NAN, |r| r.rocking_kn);
+        let _ = writeln!(
+            md,
+            "\nMechanism (penalty DEM): {}; measured: {}. Limit analysis: peak {} kN (mean), mechanism {}. The \
+             monolith's rigid rocking capacity N_total L / (2 H0) is {} kN.\n",
+            kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
+            if ms.is_empty() {
+                "–".into()
+            } else {
+                ms.iter().map(|m| format!("{} ({})", m.modes, m.unit)).collect::<Vec<_>>().join(", ")
+            },
+            f(la_m, 2),
+            la_kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
+            f(rock, 2)
+        );
+        // The curves over the measured envelopes.
+        let mut curves: Vec<ForceDriftCurve> = rs
+            .iter()
+            .enumerate()
+            .map(|(k, r)| ForceDriftCurve {
+                label: (k == 0).then(|| "simulated (each realization)".to_string()),
+                colour: 0,
+                measured: false,
+                points: r.curve.clone(),
+            })
+            .collect();
+        for (k, m) in ms.iter().enumerate() {
+            if !m.envelope.is_empty() {
+                curves.push(ForceDriftCurve {
+                    label: Some(format!("{} envelope (measured)", m.unit)),
+                    colour: k + 1,
+                    measured: true,
+                    points: m.envelope.clone(),
+                });
+            }
+        }
+        let svg = out.join(format!("curves_{slug}.svg"));
+        force_drift(&svg, &group.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+        let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
+        // The mechanism of realization 0 beside the measured crack map.
+        if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
+            let params =
+                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
+            let layout = generate(&walls[g], spec.seed, r0.index)
+                .map_err(|e| e.to_string())
+                .and_then(|w| w.check().map_err(|e| e.to_string()));
+            if let Ok(rig) =
+                layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
+            {
+                {
+                    let sim = crate::dem::Simulation::new(&rig.layout, solver);
+                    let svg = crack_map_svg(
+                        &rig.layout,
+                        poses,
+                        &mechanism_joints(&sim),
+                        mechanism,
+                        &format!("{}: realization 0, {}", group.name, mechanism.kind.name()),
+                    );
+                    let p = out.join(format!("mechanism_{slug}.svg"));
+                    crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+                    let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
+                    if let Some(dir) = spec.measured.as_ref().and_then(|m| m.crackmaps.as_ref()) {
+                        for m in &ms {
+                            let name = format!("crackmap_{}.png", file_stem(m));
+                            let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
+                            if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
+                                let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
+                            }
+                        }
+                    }
+                    md.push_str("\n\n");
+                }
+            }
+        }
+    }
+    let w = |name: &str, text: &str| {
+        crate::io::replace_file(&out.join(name), text.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
+    };
+    w("summary.csv", &summary)?;
+    w("comparison.csv", &comparison)?;
+    w("report.md", &md)?;
+    Ok(md)
+}
