@@ -53,6 +53,7 @@ __all__ = [
     "tilt",
     "lateral",
     "pushover",
+    "in_plane",
     "supports",
     "run_study",
     "discrepancy",
@@ -286,6 +287,21 @@ def lateral(layout: Any, solver: Any = None, **params: Any) -> LateralResult:
         wall_time_s=r["wall_time_s"],
         _raw=r,
     )
+
+
+def in_plane(layout: Any, solver: Any = None, **params: Any) -> Dict[str, Any]:
+    """The in-plane shear-compression test of `layout`: a loading beam on the top course
+    under the vertical stress `sigma0_mpa` (MPa), its horizontal displacement imposed at the
+    shear span `shear_span_m` (m) to `drift_pct` (%), monotonic or `history="cyclic"`
+    (`InPlaneParams` keys: `amplitudes_pct`, `cycles`, `beam_rotation`, `step_mm`,
+    `quarter_increments`). By the penalty DEM (the default): a dict with the arrays
+    `top_mm`, `drift_pct`, `force_kn` (the curve) and `result` (per direction the peak
+    force kN, the drift at the peak %, the ultimate drift %, the initial stiffness kN/mm;
+    the mechanism). `solver="limit"`: `result` holds the peak force by limit analysis and
+    its mechanism. Raises `InputError` for a bad parameter or layout, `SolverError` for a
+    solver that does not run it (nscd) or a run that fails.
+    """
+    return dict(_native._in_plane(_layout_of(layout), solver, params or None))
 
 
 def supports(protocol: str, solver: str) -> Tuple[bool, str]:

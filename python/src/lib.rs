@@ -24,6 +24,7 @@ fn _drystone(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(protocols::_tilt, m)?)?;
     m.add_function(wrap_pyfunction!(protocols::_lateral, m)?)?;
     m.add_function(wrap_pyfunction!(protocols::_pushover, m)?)?;
+    m.add_function(wrap_pyfunction!(protocols::_in_plane, m)?)?;
     m.add_function(wrap_pyfunction!(protocols::_supports, m)?)?;
     m.add_function(wrap_pyfunction!(study::_run_study, m)?)?;
     m.add_function(wrap_pyfunction!(study::_discrepancy, m)?)?;
