@@ -250,8 +250,7 @@ pub fn _in_plane<'py>(
     let l = &layout.get().layout;
     let run = py.detach(|| {
         guard(|| {
-            run_protocol(&InPlane(ip), l, solver, &mut ())
-                .map_err(|e| drystone_python_solver_error(&e.to_string()))
+            run_protocol(&InPlane(ip), l, solver, &mut ()).map_err(|e| drystone_python_solver_error(&e.to_string()))
         })
     })?;
     py.check_signals()?;

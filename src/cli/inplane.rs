@@ -207,6 +207,7 @@ fn penalty_json(r: &InPlaneResult) -> serde_json::Value {
         "height_m": r.height_m,
         "thickness_m": r.thickness_m,
         "unconverged_increments": r.unconverged,
+        "retried_increments": r.retried,
         "increments": r.curve.len() - 1,
         "steps": r.steps,
         "dt_s": r.dt_s,

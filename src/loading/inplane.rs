@@ -828,6 +828,9 @@ pub struct InPlaneResult {
     pub shear_span_m: f64,
     /// Static solves that ended at the step budget rather than in equilibrium.
     pub unconverged: usize,
+    /// Increments whose relaxation blew up from the predicted state and were solved again
+    /// from their start, warming up from the smallest increment.
+    pub retried: usize,
     /// Engine steps, settling included.
     pub steps: u64,
     /// Time step, s.
@@ -974,6 +977,7 @@ pub fn run_in_plane_penalty(
             .map(|m| m.friction.tan().max(1e-3) * params.sigma0_mpa * 1e6 / m.ks)
             .fold(f64::INFINITY, f64::min);
     let mut allowed = first;
+    let mut retried = 0usize;
     // The drift history is imposed at the actuator: a drift d moves it by d H0 (free
     // rotation: a rotation of the wall about its base reads the drift d at its top) or
     // d H (the beam held level).
@@ -1015,8 +1019,25 @@ pub fn run_in_plane_penalty(
                     .map(|b| (Vec3::new(du * (b.pos.z / rig.anchor_z_m).clamp(0.0, 1.0), 0.0, 0.0), Vec3::zeros()))
                     .unzip(),
             };
+            let before = sim.clone();
             sim.predict(&dpos, &drot);
-            let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
+            let out = match solve_static(&mut sim, &relax, &start, |_| None::<()>) {
+                Ok(out) => out,
+                // A predicted jump the dynamics of the relaxation could not take: the
+                // increment again from its start, warming up from the smallest one.
+                Err(DemError::NonFinite { .. }) if last.is_some() || allowed > first => {
+                    sim = before;
+                    u_prev -= du;
+                    if let Some(c) = sim.state.constraints[bi].as_mut() {
+                        c.set_target(0, anchor_x0 + u_prev);
+                    }
+                    last = None;
+                    allowed = first;
+                    retried += 1;
+                    continue;
+                }
+                Err(e) => return Err(e.into()),
+            };
             let now = poses(&sim);
             last = Some((
                 now.iter().zip(&start).map(|(a, b)| a.0 - b.0).collect(),
@@ -1058,6 +1079,7 @@ pub fn run_in_plane_penalty(
         thickness_m: rig.thickness_m,
         shear_span_m: rig.anchor_z_m,
         unconverged,
+        retried,
         steps: sim.state.steps,
         dt_s: sim.dt(),
         wall_time_s: t0.elapsed().as_secs_f64(),
