@@ -345,3 +345,41 @@ fn a_shaking_study_shakes_by_nscd_unless_it_names_another_solver() {
     let tilt = Study::from_file(&write("tilt.toml", "")).unwrap();
     assert_eq!(tilt.solver.kind, drystone::dem::SolverKind::Penalty);
 }
+
+/// A shaking study by `nscd` says how many steps missed the natural-map tolerance, as
+/// `drystone shake` does: `realizations.csv` has the columns `unconverged_steps` and
+/// `max_natural_residual`, and the report a line with their sum over the runs. The sweeps
+/// cut at one per step (`step_solver = "nsgs"`, `max_iterations = 1`) cannot solve the
+/// block's rocking impacts, so the count is positive; by its definition it is at most the
+/// steps taken, and it is zero exactly when the largest residual meets the tolerance.
+#[test]
+fn a_shaking_study_counts_its_unconverged_steps_in_its_rows_and_report() {
+    let dir = scratch("unconverged");
+    std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
+    let text = "version = 1\nname = \"block_shake\"\nseed = 5\nrealizations = 1\nprotocol = \"shake\"\n\
+                [solver]\nkind = \"nscd\"\n[solver.nscd]\nstep_solver = \"nsgs\"\nmax_iterations = 1\n\
+                [shake]\npga_g = [0.6]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.3 }]\n\
+                tail_s = 0.5\n[[groups]]\nname = \"block\"\nwall = \"block.toml\"\n";
+    let path = dir.join("study.toml");
+    std::fs::write(&path, text).unwrap();
+    let study = Study::from_file(&path).unwrap();
+    let out = dir.join("out");
+    run_into(&study, &path, Shard::ALL, &out, RunMode::default()).unwrap();
+    let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let cell =
+        |name: &str| row[header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("{name} in {header:?}"))];
+    let unconverged: u64 = cell("unconverged_steps").parse().unwrap();
+    let steps: u64 = cell("steps").parse().unwrap();
+    let worst: f64 = cell("max_natural_residual").parse().unwrap();
+    assert!(unconverged > 0 && unconverged <= steps, "{unconverged} of {steps} steps unconverged");
+    assert!(worst > study.solver.nscd.natural_tolerance, "largest residual {worst:e} with {unconverged} unconverged");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains(&format!("{unconverged} of {steps} steps, in 1 of 1 run(s)")),
+        "no count of unconverged steps in the report: {report}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
