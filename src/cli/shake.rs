@@ -6,7 +6,7 @@ use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
-use drystone::io::series::{motion_frames, write_series, Recorder};
+use drystone::io::series::{check_series_dir, motion_frames, write_series, Recorder};
 use drystone::loading::shake::{ShakeError, ShakeParams, ShakeResult};
 use drystone::nscd::NscdParams;
 use drystone::protocol::run_shake_observed;
@@ -100,6 +100,9 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let solver = SolverParams { kind: a.solver, nscd, penalty, ..SolverParams::default() };
     let params =
         ShakeParams { duration_s: a.duration_s, tail_s: a.tail_s, stop_at_collapse: !a.no_stop_at_collapse, ..d };
+    if let Some(w) = duration_warning(&motion, a.duration_s) {
+        eprintln!("warning: {w}");
+    }
     run(&a.layout, &motion, solver, &params, a.json, a.vtk.as_deref())
 }
 
@@ -202,6 +205,20 @@ pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
     Ok(m)
 }
 
+/// The warning for `--duration-s` longer than the motion, which is simulated to its end
+/// only (then the tail), or `None`.
+pub fn duration_warning(motion: &Motion, duration_s: Option<f64>) -> Option<String> {
+    let d = duration_s?;
+    (d > motion.duration_s() * (1.0 + 1e-9) + 1e-12).then(|| {
+        format!(
+            "--duration-s {d} is longer than the motion {} ({} s): its {} s are simulated, then --tail-s of free motion",
+            motion.name,
+            motion.duration_s(),
+            motion.duration_s()
+        )
+    })
+}
+
 /// Whether the run drives a vertical component: the motion has one and the shaking
 /// parameters drive it.
 fn vertical_applied(motion: &Motion, params: &ShakeParams) -> bool {
@@ -219,6 +236,9 @@ pub fn run(
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
+    if let Some(dir) = vtk {
+        check_series_dir(dir).context("--vtk: the ParaView series cannot be written there")?;
+    }
     let mut rec = Recorder::default();
     let r = run_shake_observed(&l, solver, motion, params, &mut |t, bodies| {
         if vtk.is_some() {
