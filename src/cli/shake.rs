@@ -81,6 +81,7 @@ pub struct ShakeArgs {
 /// # Errors
 /// Those of [`motion`], `--nscd-*` options without `--solver nscd`, or those of [`run`].
 pub fn command(a: ShakeArgs) -> Result<ExitCode> {
+    let from_record = a.record.is_some();
     let args = MotionArgs {
         record: a.record,
         pulse: a.pulse,
@@ -102,6 +103,13 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
         ShakeParams { duration_s: a.duration_s, tail_s: a.tail_s, stop_at_collapse: !a.no_stop_at_collapse, ..d };
     if let Some(w) = duration_warning(&motion, a.duration_s) {
         eprintln!("warning: {w}");
+    }
+    if from_record && a.solver.method() == drystone::dem::Method::Nscd && a.dt_s > motion.dt_s * (1.0 + 1e-9) {
+        eprintln!(
+            "warning: the solver's step --dt-s {} s is coarser than the record's sampling {} s: each step receives the \
+             record's mean over it (its impulse), and a peak shorter than the step is spread over the step",
+            a.dt_s, motion.dt_s
+        );
     }
     run(&a.layout, &motion, solver, &params, a.json, a.vtk.as_deref())
 }

@@ -357,10 +357,13 @@ fn shake_nscd(
     let motion_s = watch.motion_s;
     let total = motion_s + params.tail_s;
     let vertical = params.vertical && motion.vertical_g.is_some();
-    let base = |t: f64| base_acceleration(motion, motion_s, vertical, t - start);
+    // The record's mean over each step, not its values at the step's ends: a step coarser
+    // than the record's sampling receives its impulse exactly (a short peak is neither
+    // multiplied to the step's length nor missed between two steps).
+    let mean = |t0: f64, t1: f64| base_mean(motion, motion_s, vertical, t0 - start, t1 - start);
     let steps = (total / h).ceil() as u64;
     for _ in 0..steps {
-        let step = sim.step(base)?;
+        let step = sim.step_mean(mean)?;
         if !(step.natural_residual <= tolerance) {
             unconverged += 1;
         }
@@ -440,6 +443,22 @@ pub(super) fn base_acceleration(motion: &Motion, motion_s: f64, vertical: bool, 
     }
     let z = if vertical { motion.vertical_at(tm) } else { 0.0 };
     Vec3::new(0.0, motion.horizontal_at(tm), z) * G
+}
+
+/// The mean base acceleration over `[t0, t1]` (m/s², table frame; s from the start of the
+/// motion), as [`base_acceleration`]: the motion's mean over the part of the interval
+/// before `motion_s` ([`Motion::horizontal_mean`]), zero after, over the whole interval.
+pub(super) fn base_mean(motion: &Motion, motion_s: f64, vertical: bool, t0: f64, t1: f64) -> Vec3 {
+    if !(t1 > t0) {
+        return base_acceleration(motion, motion_s, vertical, t0);
+    }
+    let hi = t1.min(motion_s);
+    if !(hi > t0) {
+        return Vec3::zeros();
+    }
+    let share = (hi - t0) / (t1 - t0);
+    let z = if vertical { motion.vertical_mean(t0, hi) } else { 0.0 };
+    Vec3::new(0.0, motion.horizontal_mean(t0, hi), z) * (G * share)
 }
 
 /// The work of a run, for its result.

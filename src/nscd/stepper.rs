@@ -360,12 +360,25 @@ impl NscdSimulation {
     /// [`NscdError::Cohesion`] at a re-detection that meets a joint with strength,
     /// [`NscdError::NonFinite`] if a body's state blows up.
     pub fn step(&mut self, base: impl Fn(f64) -> Vec3) -> Result<NscdStep, NscdError> {
+        let theta = self.params.theta;
+        self.step_mean(|t0, t1| base(t1) * theta + base(t0) * (1.0 - theta))
+    }
+
+    /// One step as [`Self::step`], with the base acceleration of the step given as
+    /// `mean(t, t + h)` (m/s², table frame): what acts over the step from `t` to `t + h`, as
+    /// a record's mean over it ([`crate::ground::Motion::horizontal_mean`]), so that a step
+    /// longer than the record's sampling receives its impulse exactly. [`Self::step`] is
+    /// this with the θ-weighted values at the step's ends.
+    ///
+    /// # Errors
+    /// As [`Self::step`].
+    pub fn step_mean(&mut self, mean: impl Fn(f64, f64) -> Vec3) -> Result<NscdStep, NscdError> {
         let (h, theta) = (self.params.dt_s, self.params.theta);
         let redetected = self.needs_detection();
         if redetected {
             self.redetect()?;
         }
-        let a_g = base(self.time + h) * theta + base(self.time) * (1.0 - theta);
+        let a_g = mean(self.time, self.time + h);
         // After a certified step the poses are those the rows were built at; if every
         // velocity was zero then too, the rows would be rebuilt identical.
         let reuse = self.rows_at_rest && self.last.certified && !redetected;

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 58;
+const CORPUS_CASES: usize = 59;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -267,6 +267,13 @@ fn resolution_and_messages(count: &mut usize) {
     std::fs::write(&bom, "\u{feff}time_s,accel_g\n0,0\n0.01,0.1\n0.02,0\n").unwrap();
     let (code, _, err) = shake(l, &["--record", bom.to_str().unwrap()]);
     assert_eq!(code, 0, "a record with a byte-order mark: {err}");
+    assert!(!err.contains("coarser than the record"), "{err}");
+    *count += 1;
+    // A solver step coarser than the record's sampling runs on the record's mean over each
+    // step, with a warning naming both.
+    let (code, _, err) = shake(l, &["--record", bom.to_str().unwrap(), "--dt-s", "0.02"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("--dt-s 0.02 s is coarser than the record's sampling 0.01 s"), "{err}");
     *count += 1;
     let _ = std::fs::remove_file(&bom);
     refused(
