@@ -97,6 +97,11 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let (nscd_e, contact_e) = restitutions(a.solver, a.restitution);
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
+    if a.solver == SolverKind::Nscd {
+        for (key, why) in nscd.motion_cost_warnings() {
+            eprintln!("warning: --nscd-{} {why}", key.replace('_', "-"));
+        }
+    }
     let penalty = PenaltyParams { contact_restitution: contact_e, ..PenaltyParams::default() };
     let solver = SolverParams { kind: a.solver, nscd, penalty, ..SolverParams::default() };
     let params =

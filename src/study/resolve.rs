@@ -265,6 +265,15 @@ impl StudySpec {
         }
         if self.protocol == ProtocolKind::Shake {
             out.extend(self.ignored_by_shaking());
+            if self.solver.kind.method() == crate::dem::Method::Nscd {
+                out.extend(
+                    self.solver
+                        .nscd
+                        .motion_cost_warnings()
+                        .into_iter()
+                        .map(|(k, why)| format!("solver.nscd.{k} {why}")),
+                );
+            }
         }
         if self.solver.kind.method() == crate::dem::Method::Penalty {
             // The penalty DEM does not run the non-smooth solver (the command line refuses

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 59;
+const CORPUS_CASES: usize = 61;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -269,6 +269,15 @@ fn resolution_and_messages(count: &mut usize) {
     assert_eq!(code, 0, "a record with a byte-order mark: {err}");
     assert!(!err.contains("coarser than the record"), "{err}");
     *count += 1;
+    // Settings of a step of motion that cost more than they save run with a warning naming
+    // the flag: a natural-map tolerance below the rounding floor, an iteration cap that
+    // sends the capped steps to the cone programs.
+    for (flag, value) in [("--nscd-natural-tolerance", "1e-12"), ("--nscd-max-iterations", "20")] {
+        let (code, _, err) = shake(l, &with_pulse(&["--tail-s", "0", flag, value]));
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains(&format!("warning: {flag} = {value}")), "{flag} {value}: {err}");
+        *count += 1;
+    }
     // A solver step coarser than the record's sampling runs on the record's mean over each
     // step, with a warning naming both.
     let (code, _, err) = shake(l, &["--record", bom.to_str().unwrap(), "--dt-s", "0.02"]);

@@ -417,6 +417,13 @@ fn a_shaking_study_warns_of_the_keys_it_does_not_read() {
     assert!(w.iter().any(|m| m.starts_with("solver.nscd.natural_tolerance is not read")), "{w:?}");
     assert!(!w.iter().any(|m| m.contains("solver.nscd.dt_s")), "the pulses are sampled at dt_s: {w:?}");
     assert!(warnings(body("nscd", "")).is_empty());
+    // Settings that cost more than they save: a natural-map tolerance below what rounding
+    // leaves, an iteration cap that sends the capped steps to the cone programs.
+    let costly = body("nscd", "").replace("natural_tolerance = 1e-5", "natural_tolerance = 1e-12\nmax_iterations = 20");
+    let w = warnings(costly);
+    for key in ["solver.nscd.natural_tolerance = 1e-12", "solver.nscd.max_iterations = 20"] {
+        assert!(w.iter().any(|m| m.starts_with(key)), "{key} not warned of: {w:?}");
+    }
     // `drystone discrepancy` and `design` print them too (before they refuse a study with
     // no measured data).
     let path = dir.join("study.toml");
