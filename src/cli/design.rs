@@ -39,6 +39,10 @@ pub fn command(a: DesignArgs) -> Result<()> {
     if let Some(dir) = &a.input.measured {
         super::discrepancy::use_measured_dir(&mut st, dir)?;
     }
+    // The study's inputs it accepts and does not read, as `drystone run` warns of them.
+    for w in st.warnings() {
+        eprintln!("warning: {w}");
+    }
     let mut s: Settings = st.discrepancy.clone();
     if a.no_confirm {
         s.confirm = false;

@@ -99,6 +99,10 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     if let Some(dir) = &a.input.measured {
         use_measured_dir(&mut st, dir)?;
     }
+    // The study's inputs it accepts and does not read, as `drystone run` warns of them.
+    for w in st.warnings() {
+        eprintln!("warning: {w}");
+    }
     let mut s: Settings = st.discrepancy.clone();
     if a.thorough {
         s.thorough();

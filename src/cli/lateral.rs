@@ -3,7 +3,7 @@
 use super::solver::SolverChoice;
 use anyhow::{bail, Context, Result};
 use drystone::dem::{PenaltyParams, SolverParams};
-use drystone::io::series::{lateral_frames, write_series, Recorder};
+use drystone::io::series::{check_series_dir, lateral_frames, write_series, Recorder};
 use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
 use drystone::loading::lateral_nscd::LateralLimit;
@@ -73,6 +73,9 @@ pub fn run(
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
+    if let Some(dir) = vtk {
+        check_series_dir(dir).context("--vtk: the ParaView series cannot be written there")?;
+    }
     let mut params = *params;
     // A method that runs the pushover but not the service load (by the compatibility
     // table: nscd, the rigid pushover) runs the pushover without --pushover too, a spelling

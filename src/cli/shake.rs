@@ -6,7 +6,7 @@ use drystone::dem::{PenaltyParams, SolverKind, SolverParams};
 use drystone::ground::{
     read_record_with, ColumnMap, Motion, Pulse, PulseError, MIN_SAMPLES_PER_PERIOD, PLAUSIBLE_PGA_G,
 };
-use drystone::io::series::{motion_frames, write_series, Recorder};
+use drystone::io::series::{check_series_dir, motion_frames, write_series, Recorder};
 use drystone::loading::shake::{ShakeError, ShakeParams, ShakeResult};
 use drystone::nscd::NscdParams;
 use drystone::protocol::run_shake_observed;
@@ -81,6 +81,7 @@ pub struct ShakeArgs {
 /// # Errors
 /// Those of [`motion`], `--nscd-*` options without `--solver nscd`, or those of [`run`].
 pub fn command(a: ShakeArgs) -> Result<ExitCode> {
+    let from_record = a.record.is_some();
     let args = MotionArgs {
         record: a.record,
         pulse: a.pulse,
@@ -96,10 +97,25 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let (nscd_e, contact_e) = restitutions(a.solver, a.restitution);
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
+    if a.solver == SolverKind::Nscd {
+        for (key, why) in nscd.motion_cost_warnings() {
+            eprintln!("warning: --nscd-{} {why}", key.replace('_', "-"));
+        }
+    }
     let penalty = PenaltyParams { contact_restitution: contact_e, ..PenaltyParams::default() };
     let solver = SolverParams { kind: a.solver, nscd, penalty, ..SolverParams::default() };
     let params =
         ShakeParams { duration_s: a.duration_s, tail_s: a.tail_s, stop_at_collapse: !a.no_stop_at_collapse, ..d };
+    if let Some(w) = duration_warning(&motion, a.duration_s) {
+        eprintln!("warning: {w}");
+    }
+    if from_record && a.solver.method() == drystone::dem::Method::Nscd && a.dt_s > motion.dt_s * (1.0 + 1e-9) {
+        eprintln!(
+            "warning: the solver's step --dt-s {} s is coarser than the record's sampling {} s: each step receives the \
+             record's mean over it (its impulse), and a peak shorter than the step is spread over the step",
+            a.dt_s, motion.dt_s
+        );
+    }
     run(&a.layout, &motion, solver, &params, a.json, a.vtk.as_deref())
 }
 
@@ -202,6 +218,20 @@ pub fn motion(args: &MotionArgs, dt_s: f64) -> Result<Motion> {
     Ok(m)
 }
 
+/// The warning for `--duration-s` longer than the motion, which is simulated to its end
+/// only (then the tail), or `None`.
+pub fn duration_warning(motion: &Motion, duration_s: Option<f64>) -> Option<String> {
+    let d = duration_s?;
+    (d > motion.duration_s() * (1.0 + 1e-9) + 1e-12).then(|| {
+        format!(
+            "--duration-s {d} is longer than the motion {} ({} s): its {} s are simulated, then --tail-s of free motion",
+            motion.name,
+            motion.duration_s(),
+            motion.duration_s()
+        )
+    })
+}
+
 /// Whether the run drives a vertical component: the motion has one and the shaking
 /// parameters drive it.
 fn vertical_applied(motion: &Motion, params: &ShakeParams) -> bool {
@@ -219,6 +249,9 @@ pub fn run(
     vtk: Option<&Path>,
 ) -> Result<ExitCode> {
     let l = super::read_layout(layout)?;
+    if let Some(dir) = vtk {
+        check_series_dir(dir).context("--vtk: the ParaView series cannot be written there")?;
+    }
     let mut rec = Recorder::default();
     let r = run_shake_observed(&l, solver, motion, params, &mut |t, bodies| {
         if vtk.is_some() {

@@ -118,6 +118,14 @@ impl HandArgs {
             return Ok(None);
         }
         if let Err(e) = drystone::protocol::check(Loading::TiltByHand, kind) {
+            // `penalty` is also what no --solver gives: the message does not say the user
+            // named it.
+            if kind == drystone::dem::SolverKind::Penalty {
+                bail!(
+                    "--by-hand: the table rolled by hand runs by non-smooth contact dynamics only: give it with \
+                     --solver nscd (tilt's solver is the penalty DEM unless --solver names another)"
+                );
+            }
             bail!("--by-hand: {e}: give it with --solver nscd");
         }
         let d = HandTilt::default();

@@ -379,12 +379,17 @@ pub struct Analysis {
 
 impl Analysis {
     /// The cause named alone, the one meaning of "named alone" across the product (the
-    /// report, `drystone design`'s probabilities and its follow-up's promise): a cause is
-    /// named and the tie check clears every challenger ([`Analysis::tie`] holds the cause
-    /// only). The pseudo-BMA+ weights are reported beside it; a model holding
+    /// report, `drystone design`'s probabilities and its follow-up's promise): the verdict
+    /// is `explained` (a cause is named and the extended model passes its check) and the
+    /// tie check clears every challenger ([`Analysis::tie`] holds the cause only). The
+    /// partial explanation an `unexplained` verdict carries in [`Analysis::cause`] is not
+    /// named, alone or not. The pseudo-BMA+ weights are reported beside it; a model holding
     /// [`super::SHARED`] of the weight is not by itself named alone.
     pub fn named_alone(&self) -> Option<&str> {
-        self.cause.as_ref().filter(|_| self.tie.len() <= 1).map(|c| c.name.as_str())
+        self.cause
+            .as_ref()
+            .filter(|_| self.verdict == Verdict::Explained && self.tie.len() <= 1)
+            .map(|c| c.name.as_str())
     }
 }
 
@@ -428,6 +433,45 @@ mod tests {
             neighbour_joint: 0.25,
         };
         Data { obs, y: zeros, key: keys, weight: zeros, reading, bracket_deg: 0.5 }
+    }
+
+    /// An analysis with the verdict `verdict`, the cause `cause` and a tie of it alone.
+    fn analysis(verdict: Verdict, cause: Option<&str>) -> Analysis {
+        Analysis {
+            verdict,
+            cause: cause.map(|c| ranked(c, vec![])),
+            tie: cause.map(str::to_string).into_iter().collect(),
+            tie_checks: vec![],
+            candidates: vec![],
+            baseline_heldout_error: 0.0,
+            baseline_information_criterion: 0.0,
+            baseline_predictive: vec![],
+            baseline_scores: vec![],
+            screen_gain: 0.0,
+            margins: Margins {
+                baseline: 0.0,
+                misfit: 0.0,
+                replicates: 0,
+                false_alarms: (0, 0),
+                false_alarm_interval: (0.0, 0.0),
+            },
+            check: None,
+            weights: Default::default(),
+            identifiability: Default::default(),
+            pool: vec![],
+        }
+    }
+
+    /// Named alone is the verdict's: an `explained` verdict with a tie of one names its
+    /// cause alone; the best candidate an `unexplained` verdict carries as a partial
+    /// explanation (its extended model fails the predictive check) is not named at all, tie
+    /// of one or not; `no_effect` names nothing.
+    #[test]
+    fn only_an_explained_verdict_names_a_cause_alone() {
+        assert_eq!(analysis(Verdict::Explained, Some("a")).named_alone(), Some("a"));
+        assert_eq!(analysis(Verdict::Unexplained, Some("a")).named_alone(), None);
+        assert_eq!(analysis(Verdict::Unexplained, None).named_alone(), None);
+        assert_eq!(analysis(Verdict::NoEffect, None).named_alone(), None);
     }
 
     fn rate(all: f64) -> Reversal {

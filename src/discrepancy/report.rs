@@ -248,6 +248,13 @@ fn verdict_section(md: &mut String, run: &Run) {
         (Some(c), _) => {
             let _ = writeln!(md, "Named alone: `{c}` (the tie check clears every challenger; the one meaning of \"named alone\", which `drystone design` predicts).\n");
         }
+        (None, Some(_)) if a.verdict != super::analysis::Verdict::Explained => {
+            let _ = writeln!(
+                md,
+                "Not named alone: the verdict is {}, the best candidate only a partial explanation.\n",
+                a.verdict.name()
+            );
+        }
         (None, Some(_)) => {
             let _ = writeln!(md, "Not named alone: the tie holds {} models.\n", a.tie.len());
         }

@@ -267,6 +267,13 @@ pub struct ShakeColumns {
     pub residual_drift: Option<f64>,
     /// Blocks fallen at the end of the run.
     pub blocks_fallen: Option<u64>,
+    /// Steps whose natural-map residual is above the solver's `natural_tolerance`,
+    /// settling included (`nscd`; `None` for `penalty`).
+    pub unconverged_steps: Option<u64>,
+    /// The largest natural-map residual of a step, settling included (`nscd`; `None` for
+    /// `penalty`), dimensionless.
+    #[serde(with = "exact::opt")]
+    pub max_natural_residual: Option<f64>,
 }
 
 /// A displacement measure of the top of the wall.
@@ -481,6 +488,8 @@ mod tests {
                 max_drift: Some(values[6]),
                 residual_drift: Some(values[7]),
                 blocks_fallen: Some(3),
+                unconverged_steps: Some(7),
+                max_natural_residual: Some(values[5]),
             },
             pushover: PushoverColumns {
                 load_multiplier_dem: Some(values[8]),

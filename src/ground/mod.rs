@@ -112,6 +112,21 @@ impl Motion {
         self.vertical_g.as_deref().map_or(0.0, |v| interpolate(v, self.dt_s, t_s))
     }
 
+    /// The mean horizontal acceleration over `[t0_s, t1_s]`, g: the integral of the
+    /// linear interpolation between samples (0 before the start and after the end) over the
+    /// interval, divided by its length; the value at `t0_s` for an empty interval. A solver
+    /// step longer than the sampling interval given this mean receives the record's
+    /// impulse over the step exactly, however short its peaks.
+    pub fn horizontal_mean(&self, t0_s: f64, t1_s: f64) -> f64 {
+        mean(&self.horizontal_g, self.dt_s, t0_s, t1_s)
+    }
+
+    /// The mean vertical acceleration over `[t0_s, t1_s]`, g, as
+    /// [`Motion::horizontal_mean`] (0 without a vertical component).
+    pub fn vertical_mean(&self, t0_s: f64, t1_s: f64) -> f64 {
+        self.vertical_g.as_deref().map_or(0.0, |v| mean(v, self.dt_s, t0_s, t1_s))
+    }
+
     /// Both components multiplied by `factor`.
     pub fn scaled(&self, factor: f64) -> Motion {
         Motion {
@@ -183,6 +198,34 @@ fn interpolate(a: &[f64], dt: f64, t: f64) -> f64 {
     a[k] * (1.0 - f) + a[k + 1] * f
 }
 
+/// The mean of the linear interpolation of `a` (samples every `dt`, 0 outside them) over
+/// `[t0, t1]`: the trapezoid rule on each sampling interval's part inside, exact for the
+/// piecewise-linear interpolant; `interpolate(a, dt, t0)` when `t1 ≤ t0`.
+fn mean(a: &[f64], dt: f64, t0: f64, t1: f64) -> f64 {
+    if !(t1 > t0) {
+        return interpolate(a, dt, t0);
+    }
+    let end = a.len().saturating_sub(1) as f64 * dt;
+    let (lo, hi) = (t0.max(0.0), t1.min(end));
+    if !(hi > lo) {
+        return 0.0;
+    }
+    let mut k = (lo / dt).floor() as usize;
+    let mut sum = 0.0;
+    while k + 1 < a.len() && (k as f64) * dt < hi {
+        let (s0, s1) = ((k as f64 * dt).max(lo), ((k + 1) as f64 * dt).min(hi));
+        if s1 > s0 {
+            let at = |s: f64| {
+                let f = (s / dt - k as f64).clamp(0.0, 1.0);
+                a[k] * (1.0 - f) + a[k + 1] * f
+            };
+            sum += 0.5 * (at(s0) + at(s1)) * (s1 - s0);
+        }
+        k += 1;
+    }
+    sum / (t1 - t0)
+}
+
 /// `a` minus the slope of the least-squares line through its velocity: the velocity's
 /// linear trend `c0 + c1 t` comes from a constant acceleration offset `c1` (and an initial
 /// velocity `c0`, which a base at rest does not have); removing `c1` is the correction.
@@ -227,6 +270,31 @@ mod tests {
         let s = m.scaled_to_pga(0.6);
         assert!((s.pga_g() - 0.6).abs() < 1e-15);
         assert_eq!(m.truncated(0.015).horizontal_g.len(), 2);
+    }
+
+    /// The mean over an interval conserves the record's impulse: over steps of any length,
+    /// aligned with the samples or not, the means times the steps sum to the integral of
+    /// the linear interpolation, `dt (Σ a − (a₀ + a_last) / 2)` (the trapezoid rule); one
+    /// sample of 5 g in a record of 5 ms gives 0.025 g·s, whether the step is 1 ms or
+    /// 50 ms. Within one sampling interval the mean is the interpolation's at the midpoint.
+    #[test]
+    fn the_mean_over_a_step_conserves_the_record_s_impulse() {
+        let spike = Motion { name: "spike".into(), dt_s: 0.005, horizontal_g: vec![0.0, 5.0, 0.0], vertical_g: None };
+        for h in [0.001f64, 0.003, 0.005, 0.0071, 0.05] {
+            let impulse: f64 =
+                (0..(0.2 / h) as usize).map(|k| spike.horizontal_mean(k as f64 * h, (k + 1) as f64 * h) * h).sum();
+            assert!((impulse - 0.025).abs() < 1e-12, "step {h}: impulse {impulse} g·s against 0.025");
+        }
+        let m = ramp();
+        let exact = m.dt_s * (0.0 + 0.1 - 0.3 + 0.2 - (0.0 + 0.2) / 2.0);
+        for h in [0.004f64, 0.01, 0.013, 1.0] {
+            let impulse: f64 =
+                (0..(0.1 / h).ceil() as usize).map(|k| m.horizontal_mean(k as f64 * h, (k + 1) as f64 * h) * h).sum();
+            assert!((impulse - exact).abs() < 1e-14, "step {h}: {impulse} against {exact}");
+        }
+        assert!((m.horizontal_mean(0.012, 0.018) - m.horizontal_at(0.015)).abs() < 1e-14);
+        assert_eq!(m.horizontal_mean(0.02, 0.02), m.horizontal_at(0.02));
+        assert_eq!(m.horizontal_mean(0.5, 0.6), 0.0);
     }
 
     /// A constant offset of the acceleration (a record whose zero line drifted) is what

@@ -123,14 +123,16 @@ pub fn read_record(path: &Path) -> Result<Motion, RecordError> {
 /// for an AT2 record.
 pub fn read_record_with(path: &Path, columns: Option<&ColumnMap>) -> Result<Motion, RecordError> {
     let text = std::fs::read_to_string(path).map_err(|e| err(path, None, format!("cannot read: {e}")))?;
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("record").to_string();
     let (dt_s, horizontal_g, vertical_g) = match ext.as_str() {
         "at2" if columns.is_some() => {
             return Err(err(path, None, "an AT2 record has one column (in g): a column mapping does not apply to it"))
         }
-        "at2" => parse_at2(path, &text).map(|(dt, a)| (dt, a, None))?,
-        "csv" | "tsv" | "txt" => parse_columns(path, &text, columns)?,
+        "at2" => parse_at2(path, text).map(|(dt, a)| (dt, a, None))?,
+        "csv" | "tsv" | "txt" => parse_columns(path, text, columns)?,
         other => {
             return Err(err(
                 path,
@@ -495,5 +497,18 @@ ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=     7, DT=   .0050 SEC\n  .1000000
         assert!((u.dt_s - 0.01).abs() < 1e-15);
         assert_eq!(u.horizontal_g.len(), 4);
         assert!((u.horizontal_g[2] - 0.2).abs() < 1e-12);
+    }
+
+    /// A UTF-8 byte-order mark before the header (as spreadsheets save a CSV) reads as the
+    /// same record without it, in a column file and in an AT2 file.
+    #[test]
+    fn a_byte_order_mark_before_the_header_is_read_past() {
+        let text = "time_s,accel_g\n0,0.1\n0.01,-0.2\n";
+        let plain = read_record(&write("plain.csv", text)).unwrap();
+        let marked = read_record(&write("plain_bom.csv", &format!("\u{feff}{text}"))).unwrap();
+        assert_eq!(marked.horizontal_g, vec![0.1, -0.2]);
+        assert_eq!(Motion { name: plain.name.clone(), ..marked }, plain);
+        let at2 = read_record(&write("bom.AT2", &format!("\u{feff}{AT2}"))).unwrap();
+        assert_eq!(at2.horizontal_g.len(), 7);
     }
 }

@@ -388,6 +388,20 @@ fn write_vtu(path: &Path, data: Vtk) -> Result<(), SeriesError> {
     Ok(replace_file(path, &bytes)?)
 }
 
+/// Checks before a run that a series can be written into `dir`: the directory is made
+/// (as [`write_series`] makes it) and a file written there and removed, so that a path
+/// that cannot hold the series (a file, a read-only place) is refused before the run
+/// rather than after it.
+///
+/// # Errors
+/// [`FileError`] naming `dir` (or the probe file in it).
+pub fn check_series_dir(dir: &Path) -> Result<(), FileError> {
+    std::fs::create_dir_all(dir).map_err(FileError::at(dir))?;
+    let probe = dir.join(format!(".drystone-series-check-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(FileError::at(&probe))?;
+    std::fs::remove_file(&probe).map_err(FileError::at(&probe))
+}
+
 /// Writes the series `frames` of `rec` into `dir` (created if missing) as `NAME.pvd` and two
 /// `.vtu` files per frame (module documentation). Returns the `.pvd` path.
 ///

@@ -181,6 +181,8 @@ const _FIELDS: fn(&RealizationRow) = |r| {
         max_drift: _,
         residual_drift: _,
         blocks_fallen: _,
+        unconverged_steps: _,
+        max_natural_residual: _,
     } = shake;
     let PushoverColumns { load_multiplier_dem: _, load_multiplier_dem_unstable: _, load_multiplier_limit: _ } =
         pushover;
@@ -227,6 +229,8 @@ const COLUMNS: &[RowColumn] = &[
     later("max_drift", Some(Loading::Shake), field!(opt_number shake.max_drift)),
     later("residual_drift", Some(Loading::Shake), field!(opt_number shake.residual_drift)),
     later("blocks_fallen", Some(Loading::Shake), field!(opt_count shake.blocks_fallen)),
+    later("unconverged_steps", Some(Loading::Shake), field!(opt_count shake.unconverged_steps)),
+    later("max_natural_residual", Some(Loading::Shake), field!(opt_number shake.max_natural_residual)),
     column("tilt_deg", Some(Loading::Tilt), field!(series tilt.tilt_deg)),
     column("disp_top_left_cm", Some(Loading::Tilt), field!(series tilt.disp_top_left_cm)),
     column("disp_top_centre_cm", Some(Loading::Tilt), field!(series tilt.disp_top_centre_cm)),

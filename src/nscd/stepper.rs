@@ -28,9 +28,10 @@
 //!    velocities first, not on the impulses: the impulses of a statically indeterminate
 //!    wall may drift among equivalent solutions while the motion has converged.) With
 //!    [`super::StepSolver::Apgd`] (the default; trials use the sweeps alone) the sweeps get
-//!    [`NscdParams::apgd_after_solves`] local solves, and a step they leave unconverged
-//!    continues by the accelerated projected gradient ([`super::apgd`]) until the
-//!    natural-map residual is at most [`NscdParams::natural_tolerance`]. A step of a wall
+//!    [`NscdParams::apgd_after_solves`] local solves, and a step they leave with a
+//!    natural-map residual above [`NscdParams::natural_tolerance`] (whether or not they met
+//!    their own norm) continues by the accelerated projected gradient ([`super::apgd`])
+//!    until the residual is at most that tolerance. A step of a wall
 //!    at rest under a load it carries is certified by statics instead ([`super::rest`]).
 //! 5. **Positions**: `x⁺ = x⁻ + h (θ v⁺ + (1 − θ) v⁻)`, the rotation likewise (rotation
 //!    vector in the table frame).
@@ -58,7 +59,9 @@ use nalgebra::UnitQuaternion;
 pub struct NscdStep {
     /// NSGS sweeps.
     pub iterations: u32,
-    /// The sweeps met the tolerance.
+    /// The step met its solver's criterion: with [`super::StepSolver::Apgd`], its
+    /// natural-map residual is at most [`NscdParams::natural_tolerance`] (a certified step
+    /// is exact); with [`super::StepSolver::Nsgs`], the sweeps met their norm.
     pub converged: bool,
     /// The largest change of a block point's velocity over the last sweep, m/s.
     pub residual_m_per_s: f64,
@@ -357,12 +360,25 @@ impl NscdSimulation {
     /// [`NscdError::Cohesion`] at a re-detection that meets a joint with strength,
     /// [`NscdError::NonFinite`] if a body's state blows up.
     pub fn step(&mut self, base: impl Fn(f64) -> Vec3) -> Result<NscdStep, NscdError> {
+        let theta = self.params.theta;
+        self.step_mean(|t0, t1| base(t1) * theta + base(t0) * (1.0 - theta))
+    }
+
+    /// One step as [`Self::step`], with the base acceleration of the step given as
+    /// `mean(t, t + h)` (m/s², table frame): what acts over the step from `t` to `t + h`, as
+    /// a record's mean over it ([`crate::ground::Motion::horizontal_mean`]), so that a step
+    /// longer than the record's sampling receives its impulse exactly. [`Self::step`] is
+    /// this with the θ-weighted values at the step's ends.
+    ///
+    /// # Errors
+    /// As [`Self::step`].
+    pub fn step_mean(&mut self, mean: impl Fn(f64, f64) -> Vec3) -> Result<NscdStep, NscdError> {
         let (h, theta) = (self.params.dt_s, self.params.theta);
         let redetected = self.needs_detection();
         if redetected {
             self.redetect()?;
         }
-        let a_g = base(self.time + h) * theta + base(self.time) * (1.0 - theta);
+        let a_g = mean(self.time, self.time + h);
         // After a certified step the poses are those the rows were built at; if every
         // velocity was zero then too, the rows would be rebuilt identical.
         let reuse = self.rows_at_rest && self.last.certified && !redetected;
@@ -621,8 +637,19 @@ impl NscdSimulation {
                         &mut self.nsgs_scratch,
                     )
                 });
+                // The sweeps' own norm is not the criterion of a step of motion: a step
+                // they end is converged only if its natural-map residual meets
+                // `natural_tolerance`, else the gradient takes it from there.
+                let solved = match &swept {
+                    Some(out) if out.converged => {
+                        let r = nsgs::natural_residual(&self.rows, &self.impulse, bodies.vel, bodies.angvel, gh);
+                        natural = Some(r);
+                        r <= p.natural_tolerance
+                    }
+                    _ => false,
+                };
                 match swept {
-                    Some(out) if out.converged => out,
+                    Some(out) if solved => out,
                     _ => {
                         let done = swept.map_or(0, |o| o.sweeps);
                         let left = p.max_iterations.saturating_sub(done);

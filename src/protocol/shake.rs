@@ -173,8 +173,8 @@ pub fn method_notes(solver: &SolverParams, r: &ShakeResult) -> MethodNotes {
         }
         Method::Nscd => MethodNotes {
             work: format!(
-                "{} steps of {:.1e} s ({} NSGS sweeps, {} unconverged, largest natural-map residual {:.1e}), {time}",
-                r.steps, r.dt_s, r.iterations, r.unconverged_steps, r.max_natural_residual
+                "{} steps of {:.1e} s ({} NSGS sweeps, {} unconverged: natural-map residual above {:.0e}, largest {:.1e}, settling included), {time}",
+                r.steps, r.dt_s, r.iterations, r.unconverged_steps, solver.nscd.natural_tolerance, r.max_natural_residual
             ),
             solver: "nscd (rigid blocks: the joints' Kn and Ks are not used)".into(),
             json: Some(("rigid_joints", "the joints' Kn and Ks are not used (rigid blocks)".into())),

@@ -201,15 +201,27 @@ pub enum LevelsError {
     /// Two levels out of order, g.
     #[error("levels must increase, got {0} then {1}")]
     NotIncreasing(f64, f64),
+    /// A level above [`MAX_LEVEL_PGA_G`], g.
+    #[error("levels must be at most {MAX_LEVEL_PGA_G} g (no ground motion comes near; check the unit), got {0:e}")]
+    TooLarge(f64),
 }
 
-/// PGA levels: at least one, each finite and > 0, strictly increasing.
+/// The largest PGA level a shaking study accepts, g \[100\]: twenty times the level it
+/// warns about ([`crate::ground::PLAUSIBLE_PGA_G`]); far above it the d'Alembert force
+/// swamps gravity by orders of magnitude and every run ends `blew_up` or at once.
+pub const MAX_LEVEL_PGA_G: f64 = 100.0;
+
+/// PGA levels: at least one, each finite, > 0 and at most [`MAX_LEVEL_PGA_G`], strictly
+/// increasing.
 fn check_levels(levels: &[f64]) -> Result<(), LevelsError> {
     if levels.is_empty() {
         return Err(LevelsError::Empty);
     }
     if let Some(v) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(LevelsError::NotPositive(*v));
+    }
+    if let Some(v) = levels.iter().find(|v| **v > MAX_LEVEL_PGA_G) {
+        return Err(LevelsError::TooLarge(*v));
     }
     if let Some(w) = levels.windows(2).find(|w| w[1] <= w[0]) {
         return Err(LevelsError::NotIncreasing(w[0], w[1]));

@@ -263,6 +263,33 @@ impl StudySpec {
                 }
             }
         }
+        if self.protocol == ProtocolKind::Shake {
+            out.extend(self.ignored_by_shaking());
+            if self.solver.kind.method() == crate::dem::Method::Nscd {
+                out.extend(
+                    self.solver
+                        .nscd
+                        .motion_cost_warnings()
+                        .into_iter()
+                        .map(|(k, why)| format!("solver.nscd.{k} {why}")),
+                );
+            }
+        }
+        if self.solver.kind.method() == crate::dem::Method::Penalty {
+            // The penalty DEM does not run the non-smooth solver (the command line refuses
+            // `--nscd-*` without `--solver nscd`); a shaking study samples its pulses at
+            // `dt_s` whatever the method, so that key is read.
+            let read = |k: &str| self.protocol == ProtocolKind::Shake && k == "dt_s";
+            for key in changed_keys(&self.solver.nscd, &crate::dem::nscd_params::NscdParams::default()) {
+                if !read(&key) {
+                    out.push(format!(
+                        "solver.nscd.{key} is not read with solver.kind = \"{}\": the penalty DEM does not run the \
+                         non-smooth solver (give kind = \"nscd\", or drop the key)",
+                        self.solver.kind.name()
+                    ));
+                }
+            }
+        }
         if let Some(dis) = &self.discrepancy {
             let hand = self.rolled_by_hand();
             if hand && dis.effects.iter().chain(&dis.also_effects).any(|e| e == "table_kick") {
@@ -277,6 +304,36 @@ impl StudySpec {
                     "discrepancy.also_effects = {:?} is not read: discrepancy.effects names every candidate \
                      (add them there)",
                     dis.also_effects
+                ));
+            }
+        }
+        out
+    }
+
+    /// What a shaking study (protocol `shake`) accepts and does not read, one message per
+    /// key: `[tilt] by_hand`, the keys of `[lateral]` set away from their defaults,
+    /// `[measured]` (a shaking study has no measured data to compare) and the effect
+    /// `table_kick` (a tilting table's overshoot) in the study's or a group's effects.
+    fn ignored_by_shaking(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let not_read =
+            |key: &str, why: &str| format!("{key} is not read by a shaking study (protocol = \"shake\"): {why}");
+        if self.tilt.by_hand.is_some() {
+            out.push(not_read("tilt.by_hand", "the table rolled by hand is a tilting-table protocol"));
+        }
+        for key in changed_keys(&self.lateral, &crate::loading::lateral::LateralParams::default()) {
+            out.push(not_read(&format!("lateral.{key}"), "the lateral load is another protocol"));
+        }
+        if self.measured.is_some() {
+            out.push(not_read("measured", "a shaking study has no measured data to compare (no row reads it)"));
+        }
+        let kicks = std::iter::once(("effects".to_string(), &self.effects))
+            .chain(self.groups.iter().map(|g| (format!("groups[{}].effects", g.name), &g.effects)));
+        for (key, effects) in kicks {
+            if effects.contains_key("table_kick") {
+                out.push(not_read(
+                    &format!("{key}.table_kick"),
+                    "it sets the tilting table's overshoot, which the shaking table does not have",
                 ));
             }
         }
@@ -379,6 +436,17 @@ impl StudySpec {
             invalid.at(&key, reason.to_string())
         })
     }
+}
+
+/// The keys of `value` whose values differ from `default`'s, in their serde spelling (a
+/// settings table of a study file against its defaults).
+fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
+    let (Ok(toml::Value::Table(v)), Ok(toml::Value::Table(d))) =
+        (toml::Value::try_from(value), toml::Value::try_from(default))
+    else {
+        return Vec::new();
+    };
+    v.iter().filter(|(k, x)| d.get(*k) != Some(*x)).map(|(k, _)| k.clone()).collect()
 }
 
 /// The input files of a group: its wall description and the distribution files its walls

@@ -325,6 +325,9 @@ pub(super) fn tilt_row(mut row: RealizationRow, t: TiltResult) -> RealizationRow
 /// fallen blocks.
 pub(super) fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f64>) -> RealizationRow {
     row.status = if r.overturned { Status::Collapsed } else { Status::Stood };
+    // The non-smooth solver's count of steps above its natural-map tolerance; the penalty
+    // DEM's explicit steps have none to count.
+    let nscd = r.solver == crate::dem::SolverKind::Nscd.name();
     row.shake = ShakeColumns {
         motion: r.motion,
         pga_g: Some(level.unwrap_or(r.pga_g)),
@@ -333,6 +336,8 @@ pub(super) fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f
         max_drift: Some(r.max_drift),
         residual_drift: Some(r.residual_drift),
         blocks_fallen: Some(r.blocks_fallen as u64),
+        unconverged_steps: nscd.then_some(r.unconverged_steps),
+        max_natural_residual: nscd.then_some(r.max_natural_residual),
     };
     row.steps = r.steps;
     row.iterations = r.iterations;

@@ -167,6 +167,7 @@ pub fn shake_sections(
         nscd.tolerance,
         nscd.max_iterations
     );
+    convergence_line(study, rows, md);
     let table = fragility_text(&frag, md);
     write_tables(&frag, dir)?;
     let ida = ida_curves(study, rows);
@@ -189,6 +190,26 @@ pub fn shake_sections(
     })?;
     let _ = writeln!(md, "![IDA curves and fragility against PGA, static capacity beside it](shaking.svg)\n");
     Ok(table)
+}
+
+/// The line of the report on the steps of the runs (`nscd`) whose natural-map residual is
+/// above the solver's `natural_tolerance` (the `unconverged_steps` column), settling
+/// included, with the largest residual; none for rows that hold no count (`penalty`).
+fn convergence_line(study: &Study, rows: &[RealizationRow], md: &mut String) {
+    let counted: Vec<&RealizationRow> = rows.iter().filter(|r| r.shake.unconverged_steps.is_some()).collect();
+    if counted.is_empty() {
+        return;
+    }
+    let unconverged: u64 = counted.iter().filter_map(|r| r.shake.unconverged_steps).sum();
+    let steps: u64 = counted.iter().map(|r| r.steps).sum();
+    let runs = counted.iter().filter(|r| r.shake.unconverged_steps.is_some_and(|n| n > 0)).count();
+    let worst = counted.iter().filter_map(|r| r.shake.max_natural_residual).fold(0.0f64, f64::max);
+    let _ = writeln!(
+        md,
+        "Unconverged steps (natural-map residual above {:.0e}, settling included): {unconverged} of {steps} steps, in {runs} of {} run(s); largest natural-map residual {worst:.1e}.\n",
+        study.solver.nscd.natural_tolerance,
+        counted.len()
+    );
 }
 
 /// The cells of one group's line of the fragility table: group, counts per level, θ and

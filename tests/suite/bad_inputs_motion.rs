@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus (every refusal and warning asserted below).
-const CORPUS_CASES: usize = 54;
+const CORPUS_CASES: usize = 61;
 
 fn layout(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name)
@@ -249,6 +249,42 @@ fn resolution_and_messages(count: &mut usize) {
     let (code, _, err) = shake(l, &PULSE);
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("warning"), "a plausible pulse runs without a warning: {err}");
+    // A duration past the motion's end simulates the motion only: said, not silent.
+    let (code, _, err) = shake(l, &with_pulse(&["--duration-s", "100"]));
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("warning: --duration-s 100 is longer than the motion"), "{err}");
+    *count += 1;
+    // A --vtk path that cannot hold the series (an existing file) is refused before the run.
+    let scratch = std::env::temp_dir().join(format!("drystone-vtk-file-{}", std::process::id()));
+    std::fs::write(&scratch, "not a directory").unwrap();
+    let started = std::time::Instant::now();
+    let (code, out, err) = shake(l, &with_pulse(&["--tail-s", "30", "--vtk", scratch.to_str().unwrap()]));
+    assert!(started.elapsed().as_secs_f64() < 20.0 && out.is_empty(), "the run went ahead: {out}");
+    refused("--vtk at a file", (code, out, err), &["--vtk", "cannot be written"], count);
+    let _ = std::fs::remove_file(&scratch);
+    // A record saved with a UTF-8 byte-order mark (as spreadsheets save CSV) reads.
+    let bom = std::env::temp_dir().join(format!("drystone-bom-{}.csv", std::process::id()));
+    std::fs::write(&bom, "\u{feff}time_s,accel_g\n0,0\n0.01,0.1\n0.02,0\n").unwrap();
+    let (code, _, err) = shake(l, &["--record", bom.to_str().unwrap()]);
+    assert_eq!(code, 0, "a record with a byte-order mark: {err}");
+    assert!(!err.contains("coarser than the record"), "{err}");
+    *count += 1;
+    // Settings of a step of motion that cost more than they save run with a warning naming
+    // the flag: a natural-map tolerance below the rounding floor, an iteration cap that
+    // sends the capped steps to the cone programs.
+    for (flag, value) in [("--nscd-natural-tolerance", "1e-12"), ("--nscd-max-iterations", "20")] {
+        let (code, _, err) = shake(l, &with_pulse(&["--tail-s", "0", flag, value]));
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains(&format!("warning: {flag} = {value}")), "{flag} {value}: {err}");
+        *count += 1;
+    }
+    // A solver step coarser than the record's sampling runs on the record's mean over each
+    // step, with a warning naming both.
+    let (code, _, err) = shake(l, &["--record", bom.to_str().unwrap(), "--dt-s", "0.02"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("--dt-s 0.02 s is coarser than the record's sampling 0.01 s"), "{err}");
+    *count += 1;
+    let _ = std::fs::remove_file(&bom);
     refused(
         "--solver penalty --dt-s 0",
         shake(l, &with_pulse(&["--solver", "penalty", "--dt-s", "0"])),
@@ -321,7 +357,7 @@ fn studies(count: &mut usize) {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let err = |shake: &str| Study::from_file(&study(&dir, shake)).unwrap_err().to_string();
-    let cases: [(&str, &[&str]); 8] = [
+    let cases: [(&str, &[&str]); 9] = [
         (
             "pga_g = [0.2]\nrecords = [\"two_horizontal.csv\"]",
             &["shake.records[0]", "2 horizontal acceleration columns"],
@@ -344,6 +380,10 @@ fn studies(count: &mut usize) {
         (
             "pga_g = [0.2]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 1e6 }]",
             &["shake.pulses[0]", "period_s = 1000000", "3600 s"],
+        ),
+        (
+            "pga_g = [1e300]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }]",
+            &["shake.pga_g", "at most 100 g", "1e300"],
         ),
     ];
     for (shake, fragments) in cases {

@@ -176,3 +176,24 @@ fn the_shaking_table_refuses_a_static_method_and_bad_parameters() {
     let e = run_shake(&block(0.15, 0.6), nscd(), &pulse, &bad).unwrap_err();
     assert!(e.to_string().contains("fall_rotation_deg"), "{e}");
 }
+
+/// A record is integrated at its own sampling whatever the solver's step: each step
+/// receives the record's mean over it, so the impulse of a short peak is neither
+/// multiplied to the step's length nor lost between two steps. One sample of 5 g at the
+/// start of a 5 ms record (impulse 0.0125 g·s by the trapezoid rule) does not overturn the
+/// block of `data/layouts/single_block.json` (b/h 0.3) at a 50 ms step, as it does not at
+/// 1 ms; read at the step's ends, the 50 ms step gave it half the peak for the whole
+/// step, ten times the impulse, and overturned it.
+#[test]
+fn a_record_is_integrated_at_its_own_sampling_whatever_the_solver_s_step() {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/layouts/single_block.json");
+    let layout = Layout::from_file(&path).unwrap();
+    let spike =
+        drystone::ground::Motion { name: "spike".into(), dt_s: 0.005, horizontal_g: vec![5.0, 0.0], vertical_g: None };
+    let params = ShakeParams { tail_s: 3.0, ..ShakeParams::default() };
+    for dt in [1e-3, 0.05] {
+        let r = run_shake(&layout, nscd_at(dt), &spike, &params).unwrap();
+        assert!(!r.overturned, "step {dt} s: overturned by one 5 ms sample: {:.2}°", r.max_rotation_deg);
+        assert!(r.max_rotation_deg < 5.0, "step {dt} s: {:.2}°", r.max_rotation_deg);
+    }
+}

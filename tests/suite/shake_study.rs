@@ -345,3 +345,93 @@ fn a_shaking_study_shakes_by_nscd_unless_it_names_another_solver() {
     let tilt = Study::from_file(&write("tilt.toml", "")).unwrap();
     assert_eq!(tilt.solver.kind, drystone::dem::SolverKind::Penalty);
 }
+
+/// A shaking study by `nscd` says how many steps missed the natural-map tolerance, as
+/// `drystone shake` does: `realizations.csv` has the columns `unconverged_steps` and
+/// `max_natural_residual`, and the report a line with their sum over the runs. The sweeps
+/// cut at one per step (`step_solver = "nsgs"`, `max_iterations = 1`) cannot solve the
+/// block's rocking impacts, so the count is positive; by its definition it is at most the
+/// steps taken, and it is zero exactly when the largest residual meets the tolerance.
+#[test]
+fn a_shaking_study_counts_its_unconverged_steps_in_its_rows_and_report() {
+    let dir = scratch("unconverged");
+    std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
+    let text = "version = 1\nname = \"block_shake\"\nseed = 5\nrealizations = 1\nprotocol = \"shake\"\n\
+                [solver]\nkind = \"nscd\"\n[solver.nscd]\nstep_solver = \"nsgs\"\nmax_iterations = 1\n\
+                [shake]\npga_g = [0.6]\npulses = [{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.3 }]\n\
+                tail_s = 0.5\n[[groups]]\nname = \"block\"\nwall = \"block.toml\"\n";
+    let path = dir.join("study.toml");
+    std::fs::write(&path, text).unwrap();
+    let study = Study::from_file(&path).unwrap();
+    let out = dir.join("out");
+    run_into(&study, &path, Shard::ALL, &out, RunMode::default()).unwrap();
+    let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let cell =
+        |name: &str| row[header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("{name} in {header:?}"))];
+    let unconverged: u64 = cell("unconverged_steps").parse().unwrap();
+    let steps: u64 = cell("steps").parse().unwrap();
+    let worst: f64 = cell("max_natural_residual").parse().unwrap();
+    assert!(unconverged > 0 && unconverged <= steps, "{unconverged} of {steps} steps unconverged");
+    assert!(worst > study.solver.nscd.natural_tolerance, "largest residual {worst:e} with {unconverged} unconverged");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains(&format!("{unconverged} of {steps} steps, in 1 of 1 run(s)")),
+        "no count of unconverged steps in the report: {report}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A shaking study names by key every setting it accepts and does not read, as `drystone
+/// run`, `discrepancy` and `design` print them: `[tilt] by_hand`, a `[lateral]` key,
+/// `[measured]`, the tilting table's `table_kick` effect, and, by the penalty DEM, a
+/// `[solver.nscd]` key other than the pulses' sampling step `dt_s` (the command line
+/// refuses `--nscd-*` without `--solver nscd`); the same study without them warns of none.
+#[test]
+fn a_shaking_study_warns_of_the_keys_it_does_not_read() {
+    let dir = scratch("ignored-keys");
+    std::fs::write(dir.join("block.toml"), BLOCK).unwrap();
+    let body = |solver: &str, extra: &str| {
+        format!(
+            "version = 1\nname = \"block_shake\"\nseed = 5\nrealizations = 1\nprotocol = \"shake\"\n{extra}\n\
+             [solver]\nkind = \"{solver}\"\n[solver.nscd]\ndt_s = 5e-4\nnatural_tolerance = 1e-5\n\
+             [shake]\npga_g = [0.2]\npulses = [{{ kind = \"one-sine\", amplitude_g = 1.0, period_s = 0.5 }}]\n\
+             [[groups]]\nname = \"block\"\nwall = \"block.toml\"\n"
+        )
+    };
+    let warnings = |text: String| {
+        let path = dir.join("study.toml");
+        std::fs::write(&path, text).unwrap();
+        Study::from_file(&path).unwrap().warnings()
+    };
+    let extra = "[effects]\ntable_kick = { overshoot_deg = 1.0 }\n[tilt]\nby_hand = { increment_deg = 5.0 }\n\
+                 [lateral]\npressure_base_pa = 2000.0\n[measured]\n";
+    let w = warnings(body("nscd", extra));
+    for key in ["tilt.by_hand", "lateral.pressure_base_pa", "measured", "effects.table_kick"] {
+        assert!(w.iter().any(|m| m.starts_with(&format!("{key} is not read"))), "{key} not warned of: {w:?}");
+    }
+    assert!(!w.iter().any(|m| m.contains("solver.nscd")), "nscd reads its table: {w:?}");
+    let w = warnings(body("penalty", ""));
+    assert!(w.iter().any(|m| m.starts_with("solver.nscd.natural_tolerance is not read")), "{w:?}");
+    assert!(!w.iter().any(|m| m.contains("solver.nscd.dt_s")), "the pulses are sampled at dt_s: {w:?}");
+    assert!(warnings(body("nscd", "")).is_empty());
+    // Settings that cost more than they save: a natural-map tolerance below what rounding
+    // leaves, an iteration cap that sends the capped steps to the cone programs.
+    let costly = body("nscd", "").replace("natural_tolerance = 1e-5", "natural_tolerance = 1e-12\nmax_iterations = 20");
+    let w = warnings(costly);
+    for key in ["solver.nscd.natural_tolerance = 1e-12", "solver.nscd.max_iterations = 20"] {
+        assert!(w.iter().any(|m| m.starts_with(key)), "{key} not warned of: {w:?}");
+    }
+    // `drystone discrepancy` and `design` print them too (before they refuse a study with
+    // no measured data).
+    let path = dir.join("study.toml");
+    std::fs::write(&path, body("nscd", extra)).unwrap();
+    for command in ["discrepancy", "design"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drystone")).arg(command).arg(&path).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("warning: tilt.by_hand is not read"), "{command}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
