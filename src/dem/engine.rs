@@ -213,13 +213,15 @@ impl Simulation {
             if let Some(c) = &st.constraints[k] {
                 c.hold_velocities(&mut d, &mut w);
             }
-            let before = b.pos;
             b.pos += d;
             b.rotate(w);
             if let Some(c) = &st.constraints[k] {
+                // The anchor's placement is part of the jump the joints see.
+                let before = b.pos - d;
                 c.place(b);
+                d = b.pos - before;
             }
-            jump[k] = (b.pos - before, w);
+            jump[k] = (d, w);
         }
         // Re-detection may change the time step (density scaling): the velocities below
         // use the step the contact pass will use.
