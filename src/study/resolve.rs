@@ -633,6 +633,16 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
+        if super::inplane::is_in_plane(path) {
+            return Err(StudyError::Invalid {
+                path: path.to_owned(),
+                key: "protocol".into(),
+                reason: "\"in_plane\" is a study of its own, run by `drystone run` (docs/inplane.md); \
+                         this command does not read it (the discrepancy analysis does not yet take the \
+                         in-plane test's observables)"
+                    .into(),
+            });
+        }
         StudySpec::from_file(path)?.resolve(path)
     }
 

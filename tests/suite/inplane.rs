@@ -300,6 +300,9 @@ envelopes = "{}"
     assert_eq!(b.rows[0].peak_pos_kn.to_bits(), a.rows[0].peak_pos_kn.to_bits());
     let comparison = std::fs::read_to_string(dir.join("a/comparison.csv")).unwrap();
     assert!(comparison.contains("WS.100,peak_pos_kn,37,"), "{comparison}");
+    // The tilt-shaped study reader (run's others, discrepancy, design) refuses it by name.
+    let e = drystone::study::Study::from_file(&study).unwrap_err().to_string();
+    assert!(e.contains("protocol") && e.contains("in_plane") && e.contains("drystone run"), "{e}");
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, std::fs::read_to_string(&study).unwrap().replace("\"WS.100\"", "\"WS.999\"")).unwrap();
     let e = drystone::study::inplane::run(&bad, &dir.join("c")).unwrap_err().to_string();
