@@ -638,7 +638,7 @@ impl Study {
                 path: path.to_owned(),
                 key: "protocol".into(),
                 reason: "\"in_plane\" is a study of its own, run by `drystone run` (docs/inplane.md); \
-                         this command does not read it (the discrepancy analysis does not yet take the \
+                         this command does not read it (the discrepancy analysis does not take the \
                          in-plane test's observables)"
                     .into(),
             });
