@@ -38,7 +38,7 @@
 //!
 //! An end restraint that is rigid holds the block's centroid in y (its inverse mass in y
 //! is zero); a spring restraint is a smooth force, and so is a rope restraint
-//! ([`crate::dem::rope`], at the poses of the start of the step). Fixed blocks and the
+//! ([`crate::dem::rope`], at the poses advanced by `(1 − θ) h v⁻`). Fixed blocks and the
 //! table are boundary bodies (zero inverse mass).
 
 use super::contacts::{detect, ContactPoint};
