@@ -103,6 +103,9 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
     }
+    if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
+        bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
+    }
     let l = super::read_layout(&a.layout)?;
     let kind = a.solver.solver;
     let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };
@@ -137,12 +140,6 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
             }
         }
         InPlaneRun::Limit(r) => {
-            if a.curve.is_some() || a.svg.is_some() {
-                // The limit analysis has no curve; its mechanism is drawn at a nominal motion.
-                if a.curve.is_some() {
-                    bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
-                }
-            }
             let r = r.with_context(what)?;
             if let Some(p) = &a.svg {
                 let rig = Rig::build(&l, &params)?;

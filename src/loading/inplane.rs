@@ -60,6 +60,9 @@ use std::time::Instant;
 /// The id of the loading beam's block in the rig's layout.
 pub const BEAM_ID: &str = "loading_beam";
 
+/// The most static solves a history may take (some 100 s of CPU on the granite wall).
+pub const MAX_INCREMENTS: usize = 100_000;
+
 /// The drop of the force past the peak that defines the ultimate drift (Vanin et al. 2017):
 /// 20 %.
 pub const ULTIMATE_DROP: f64 = 0.2;
@@ -163,7 +166,12 @@ impl InPlaneParams {
     /// The first key out of its range, named.
     pub fn validate(&self) -> Result<(), OutOfRange> {
         check_ranges(&[
-            ("sigma0_mpa", self.sigma0_mpa, self.sigma0_mpa > 0.0, "> 0 (the vertical stress applied, MPa)"),
+            (
+                "sigma0_mpa",
+                self.sigma0_mpa,
+                self.sigma0_mpa > 0.0 && self.sigma0_mpa <= 1e3,
+                "in (0, 1000] (the vertical stress applied, MPa; above any stone's compressive strength past that)",
+            ),
             ("drift_pct", self.drift_pct, self.drift_pct > 0.0 && self.drift_pct <= 50.0, "in (0, 50]"),
             ("step_mm", self.step_mm, self.step_mm > 0.0, "> 0"),
             ("cycles", f64::from(self.cycles), self.cycles >= 1, ">= 1"),
@@ -193,6 +201,26 @@ impl InPlaneParams {
                     ));
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// Checks that the path of a wall of height `height_m` (the lever of
+    /// [`InPlaneParams::path`]) is at most [`MAX_INCREMENTS`] static solves.
+    ///
+    /// # Errors
+    /// Naming `step_mm` with the count.
+    pub fn check_path(&self, height_m: f64) -> Result<(), OutOfRange> {
+        let travel: f64 = match self.history {
+            History::Monotonic => self.drift_pct / 100.0 * height_m,
+            History::Cyclic => 4.0 * f64::from(self.cycles) * self.amplitudes().iter().sum::<f64>() / 100.0 * height_m,
+        };
+        if travel / (self.step_mm * 1e-3) > MAX_INCREMENTS as f64 {
+            return Err(OutOfRange::new(
+                "step_mm",
+                self.step_mm,
+                "large enough that the history is at most 100000 static solves (with drift_pct, amplitudes_pct and cycles)",
+            ));
         }
         Ok(())
     }
@@ -423,6 +451,11 @@ impl Rig {
             }
             BeamRotation::Fixed => (0.1 * height, top + 0.05 * height),
         };
+        let lever = match params.beam_rotation {
+            BeamRotation::Free => anchor_z,
+            BeamRotation::Fixed => top,
+        };
+        params.check_path(lever).map_err(InPlaneError::Parameter)?;
         let (x0, x1, y0, y1) = (bounds.min.x, bounds.max.x, bounds.min.y, bounds.max.y);
         let corners: Vec<Vec3> = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
             .iter()
