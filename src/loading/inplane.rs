@@ -479,6 +479,14 @@ impl Rig {
             .sum::<f64>()
             * g;
         let beam_weight = wall.materials[material].density * volume(&shape) * g;
+        let vertical_force_n = params.sigma0_mpa * 1e6 * length * thickness;
+        if vertical_force_n < beam_weight {
+            return Err(InPlaneError::Parameter(OutOfRange::new(
+                "sigma0_mpa",
+                params.sigma0_mpa,
+                "at least the loading beam's own weight over the wall's plan area (the beam is part of the applied force)",
+            )));
+        }
         let mut layout = wall.clone();
         layout.blocks.push(Block {
             id: BEAM_ID.to_string(),
@@ -496,7 +504,7 @@ impl Rig {
             height_m: top,
             thickness_m: thickness,
             x_min: x0,
-            vertical_force_n: params.sigma0_mpa * 1e6 * length * thickness,
+            vertical_force_n,
             wall_weight_n: wall_weight,
             beam_weight_n: beam_weight,
             anchor_z_m: anchor_z,

@@ -161,6 +161,7 @@ fn bad_input_is_refused_by_name_before_any_run() {
         (InPlaneParams { step_mm: 1e-12, ..params(1.0) }, "step_mm"),
         (InPlaneParams { history: History::Cyclic, ..params(50.0) }, "step_mm"),
         (InPlaneParams { sigma0_mpa: 1e9, ..params(1.0) }, "sigma0_mpa"),
+        (InPlaneParams { sigma0_mpa: 1e-12, ..params(1.0) }, "sigma0_mpa"),
         (
             InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5, 0.5]), ..params(1.0) },
             "amplitudes_pct",
