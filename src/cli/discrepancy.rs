@@ -95,6 +95,9 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
+    if drystone::study::inplane::is_in_plane(&a.input.study) {
+        return in_plane_discrepancy(a);
+    }
     let mut st = Study::from_file(&a.input.study)?;
     if let Some(dir) = &a.input.measured {
         use_measured_dir(&mut st, dir)?;
@@ -104,19 +107,7 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let mut s: Settings = st.discrepancy.clone();
-    if a.thorough {
-        s.thorough();
-    }
-    if let Some(n) = a.realizations {
-        if n == 0 {
-            bail!("--realizations must be at least 1");
-        }
-        s.realizations = n;
-        s.extension_realizations = s.extension_realizations.max(n + 3);
-    }
-    if a.no_confirm {
-        s.confirm = false;
-    }
+    apply_options(&a, &mut s)?;
     s.validate().with_context(|| a.input.study.display().to_string())?;
     if let Some(dir) = &a.measured_sets {
         return measured_sets(&mut st, &s, dir, a.input.threads);
@@ -135,15 +126,24 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
         return Ok(());
     }
+    print_summary(&run, &st.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
+    if let Some(p) = extended_study {
+        println!("extended model: drystone run {}", p.display());
+    }
+    Ok(())
+}
+
+/// The summary `drystone discrepancy` prints: verdict, cause, gain and the candidates.
+fn print_summary(run: &drystone::discrepancy::Run, name: &str, threads: usize, seconds: f64, dir: &Path) {
     let an = &run.analysis;
     println!(
         "discrepancy {}: {} observations of {} specimens, {} candidates, {} threads, {:.1} s -> {}",
-        st.name,
+        name,
         run.obs.len(),
         run.specimens.len(),
         an.candidates.len(),
-        pool.current_num_threads(),
-        t0.elapsed().as_secs_f64(),
+        threads,
+        seconds,
         dir.display()
     );
     println!("verdict: {}", an.verdict.name());
@@ -173,9 +173,59 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         println!("{:<28} {:>14.3} {:>10.1}  {}", c.name, c.heldout_error, c.information_criterion, p.join(", "));
     }
     println!("report: {}", dir.join("discrepancy.md").display());
-    if let Some(p) = extended_study {
-        println!("extended model: drystone run {}", p.display());
+}
+
+/// The settings of `a` applied to `s` (`--thorough`, `--realizations`, `--no-confirm`).
+fn apply_options(a: &DiscrepancyArgs, s: &mut Settings) -> Result<()> {
+    if a.thorough {
+        s.thorough();
     }
+    if let Some(n) = a.realizations {
+        if n == 0 {
+            bail!("--realizations must be at least 1");
+        }
+        s.realizations = n;
+        s.extension_realizations = s.extension_realizations.max(n + 3);
+    }
+    if a.no_confirm {
+        s.confirm = false;
+    }
+    Ok(())
+}
+
+/// `drystone discrepancy` on an in-plane study: its stress levels as groups, its specimens'
+/// first direction as observations (`study::inplane_discrepancy`); the report as for any
+/// study, without an extended study file (the in-plane study file takes no effects).
+fn in_plane_discrepancy(a: DiscrepancyArgs) -> Result<()> {
+    if a.input.measured.is_some() || a.measured_sets.is_some() {
+        bail!(
+            "{}: --measured and --measured-sets read the tilting table's files; an in-plane study reads its specimens from [measured] walls",
+            a.input.study.display()
+        );
+    }
+    let mut input = drystone::study::inplane_discrepancy::analysis_of(&a.input.study)?;
+    apply_options(&a, &mut input.settings)?;
+    let s = input.settings.clone();
+    s.validate().with_context(|| a.input.study.display().to_string())?;
+    for g in &mut input.setup.groups {
+        g.realizations = s.most_realizations();
+    }
+    let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", input.name)));
+    let held = HeldDir::acquire(&dir)?;
+    let pool = pool(a.input.threads)?;
+    let t0 = std::time::Instant::now();
+    let progress = progress_lines("discrepancy");
+    let run = pool.install(|| {
+        drystone::discrepancy::run_with(&input.setup, input.obs.clone(), &s, input.seed, &input.library, &progress)
+    })?;
+    held.write_set(drystone::study::discrepancy::OUTPUT_SET, "discrepancy", &input.name, |staging| {
+        drystone::discrepancy::write_report(staging, &run, &input.name)
+    })?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
+        return Ok(());
+    }
+    print_summary(&run, &input.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
     Ok(())
 }
 

@@ -58,7 +58,7 @@ impl ClosureLaw for Hyperbolic {
         }
     }
 
-    fn kink(&self) -> f64 {
+    fn kink(&self, _kn: f64) -> f64 {
         HYPERBOLIC_CAP * self.max_closure_m
     }
 

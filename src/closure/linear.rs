@@ -27,7 +27,7 @@ impl ClosureLaw for Linear {
         0.5 * kn * u * u
     }
 
-    fn kink(&self) -> f64 {
+    fn kink(&self, _kn: f64) -> f64 {
         f64::INFINITY
     }
 

@@ -5,8 +5,9 @@
 //!
 //! One law per file, each a [`ClosureLaw`]: [`Linear`] (the Winkler joint of 3DEC and of the
 //! source paper), [`Hyperbolic`] (Bandis, Lumsden & Barton 1983) and [`Seating`] (uneven
-//! beds). [`Closure`] is the choice a layout file makes — `"linear"` (default),
-//! `{"hyperbolic": {"max_closure_m": V}}`, `{"seating": {"max_gap_m": G}}` — read into it
+//! beds) and [`Crushing`] (faces crushing at their strength). [`Closure`] is the choice a
+//! layout file makes — `"linear"` (default), `{"hyperbolic": {"max_closure_m": V}}`,
+//! `{"seating": {"max_gap_m": G}}`, `{"crushing": {"strength_pa": F}}` — read into it
 //! directly, and what the DEM's normal kernel (`dem::contact::law::normal`) integrates over
 //! a sub-contact.
 //!
@@ -23,10 +24,12 @@
 //! A law that is linear in tension (`q = Kn u` for `u < 0`, used while a joint carries
 //! tension) is the rule: every law here is.
 
+mod crushing;
 mod hyperbolic;
 mod linear;
 mod seating;
 
+pub use crushing::{Crushing, STRENGTH_RANGE_PA};
 pub use hyperbolic::{Hyperbolic, HYPERBOLIC_CAP};
 pub use linear::Linear;
 pub use seating::Seating;
@@ -70,9 +73,9 @@ pub trait ClosureLaw {
     /// Strain energy per unit area at closure `u > 0`, `∫₀ᵘ q ds`, J/m².
     fn energy_density(&self, kn: f64, u: f64) -> f64;
 
-    /// The closure (m) where the pressure has a kink (`f64::INFINITY`: none); the
-    /// quadrature over a sub-contact splits there.
-    fn kink(&self) -> f64;
+    /// The closure (m) where the pressure has a kink for a joint of stiffness `kn` (Pa/m;
+    /// `f64::INFINITY`: none); the quadrature over a sub-contact splits there.
+    fn kink(&self, kn: f64) -> f64;
 
     /// Checks the law's parameters; `key` names the `closure` key they sit under.
     ///
@@ -110,6 +113,8 @@ pub enum Closure {
     Hyperbolic(Hyperbolic),
     /// [`Seating`]: initial gaps uniform in `[0, g₀]` that close under load.
     Seating(Seating),
+    /// [`Crushing`]: `q = min(Kn u, fc)`, the faces crushing at their strength.
+    Crushing(Crushing),
 }
 
 /// `$body` with `$l` bound to the law of `$c` (one arm per variant of [`Closure`]).
@@ -122,6 +127,7 @@ macro_rules! each_law {
             }
             Closure::Hyperbolic($l) => $body,
             Closure::Seating($l) => $body,
+            Closure::Crushing($l) => $body,
         }
     };
 }
@@ -186,8 +192,8 @@ impl Closure {
     }
 
     /// See [`ClosureLaw::kink`].
-    pub fn kink(&self) -> f64 {
-        each_law!(self, l => l.kink())
+    pub fn kink(&self, kn: f64) -> f64 {
+        each_law!(self, l => l.kink(kn))
     }
 
     /// Checks the law's parameters and returns it; `key` names the `closure` key.
@@ -211,6 +217,7 @@ impl Closure {
         match (self, other) {
             (Closure::Hyperbolic(a), Closure::Hyperbolic(b)) => Closure::Hyperbolic(a.combine(b)),
             (Closure::Seating(a), Closure::Seating(b)) => Closure::Seating(a.combine(b)),
+            (Closure::Crushing(a), Closure::Crushing(b)) => Closure::Crushing(a.combine(b)),
             (c, _) => *c,
         }
     }

@@ -47,7 +47,7 @@ impl ClosureLaw for Seating {
         }
     }
 
-    fn kink(&self) -> f64 {
+    fn kink(&self, _kn: f64) -> f64 {
         self.max_gap_m
     }
 

@@ -19,7 +19,13 @@ pub fn specimen_weights(obs: &[Observation]) -> Vec<f64> {
         .map(|o| match o.observable {
             Observable::CollapseAngle => 1.0,
             Observable::Displacement { .. } => share(o, &|p| matches!(p, Observable::Displacement { .. })),
-            _ => share(o, &Observable::is_mechanism),
+            // The in-plane test's three measures are three observables of one curve, each
+            // weighed alone like a collapse angle.
+            Observable::InPlane { .. } => 1.0,
+            Observable::FailureHeight { .. }
+            | Observable::MechanismKind { .. }
+            | Observable::MechanismStart { .. }
+            | Observable::InPlaneMode { .. } => share(o, &Observable::is_mechanism),
         })
         .collect()
 }

@@ -61,7 +61,7 @@ pub struct Run {
     /// ([`super::measurement_sigma`]). The analysis uses the larger of it and the
     /// setting: data that scatter more than the model and the stated σ together are not
     /// evidence for a mechanism.
-    pub sigma_estimate: [Option<(f64, usize)>; 2],
+    pub sigma_estimate: [Option<(f64, usize)>; super::observations::MEASURE_FAMILIES],
     /// The settings.
     pub settings: Settings,
     /// The effects that change nothing in a group ([`super::Prepared::inert`]).

@@ -13,7 +13,7 @@
 
 use super::compare::per_specimen;
 use super::fit::Data;
-use super::observations::{Observable, Observation};
+use super::observations::{Observable, Observation, MEASURE_FAMILIES};
 use super::predictive::{Reading, Simulated};
 use super::rank::{rank, Models};
 use super::simulate::Outcome;
@@ -83,14 +83,14 @@ pub struct SigmaRule<'a> {
 impl SigmaRule<'_> {
     /// Sets `obs[j].sigma` from the data (`obs[j].value`, keys `key`); returns the estimate
     /// of collapse angles and of displacements, each with its degrees of freedom.
-    pub fn apply(&self, obs: &mut [Observation], key: &[usize]) -> [Option<(f64, usize)>; 2] {
-        let est = [true, false].map(|angle| {
-            let r = if angle { self.reading.angle_deg } else { self.reading.displacement_cm };
-            super::observations::measurement_sigma(obs, key, self.model_sd, r, angle)
+    pub fn apply(&self, obs: &mut [Observation], key: &[usize]) -> [Option<(f64, usize)>; MEASURE_FAMILIES] {
+        let est = std::array::from_fn(|family| {
+            let r = self.reading.of_family(family);
+            super::observations::measurement_sigma(obs, key, self.model_sd, r, family)
         });
         for (o, &stated) in obs.iter_mut().zip(self.stated) {
             // A mechanism observation keeps its stated σ.
-            o.sigma = est.get(kind_of(&o.observable)).copied().flatten().map_or(stated, |(sd, _)| stated.max(sd));
+            o.sigma = o.observable.family().and_then(|f| est[f]).map_or(stated, |(sd, _)| stated.max(sd));
         }
         est
     }
@@ -243,13 +243,10 @@ fn misread(seen: bool, category: (usize, usize), e: f64, u: f64) -> bool {
     }
 }
 
-/// 0 for a collapse angle, 1 for a displacement, 2 for a mechanism observation.
+/// Its family of measures ([`Observable::family`]), [`MEASURE_FAMILIES`] for a reading of
+/// the mechanism.
 fn kind_of(o: &Observable) -> usize {
-    match o {
-        Observable::CollapseAngle => 0,
-        Observable::Displacement { .. } => 1,
-        _ => 2,
-    }
+    o.family().unwrap_or(MEASURE_FAMILIES)
 }
 
 /// The factor on a synthetic data set's deviations from the model's mean, per kind
@@ -266,9 +263,14 @@ fn kind_of(o: &Observable) -> usize {
 /// distribution of the scores is then that of data as dispersed as the measured ones, and
 /// a spread alone (no shift of a mean) is not evidence for a mechanism. 1 below
 /// [`super::observations::MIN_SIGMA_DOF`] degrees of freedom.
-fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: &mut ChaCha8Rng) -> [f64; 3] {
+fn spread_scale(
+    data0: Data<'_>,
+    source: NullSource<'_>,
+    reading: Reading,
+    rng: &mut ChaCha8Rng,
+) -> [f64; MEASURE_FAMILIES + 1] {
     let obs = data0.obs;
-    let mut acc = [(0.0f64, 0.0f64, 0usize); 2]; // (Σ ν_k s_k² / v_k, unused, ν)
+    let mut acc = [(0.0f64, 0.0f64, 0usize); MEASURE_FAMILIES]; // (Σ ν_k s_k² / v_k, unused, ν)
     for (k, (g, o)) in source.keys.iter().enumerate() {
         if o.is_mechanism() {
             continue; // drawn as the realizations have them (factor 1)
@@ -296,16 +298,20 @@ fn spread_scale(data0: Data<'_>, source: NullSource<'_>, reading: Reading, rng: 
             continue;
         }
         let kind = kind_of(o);
-        let r = if kind == 0 { reading.angle_deg } else { reading.displacement_cm };
+        let r = reading.of_family(kind);
         let dof = idx.len() - 1;
         let s2 = (ss / dof as f64 - r * r / 12.0).max(1e-3 * v);
         let a = &mut acc[kind];
         a.0 += dof as f64 * s2 / v;
         a.2 += dof;
     }
-    let mut out = [1.0; 3];
+    let mut out = [1.0; MEASURE_FAMILIES + 1];
     for (kind, (ratio, _, nu)) in acc.into_iter().enumerate() {
-        // One χ² draw per kind whether used or not: the stream does not depend on the data.
+        // One χ² draw for each of the tilting table's kinds whether used or not, and for
+        // each in-plane family the design holds: the stream does not depend on the data.
+        if kind >= 2 && !source.keys.iter().any(|(_, o)| o.family() == Some(kind)) {
+            continue;
+        }
         let chi2: f64 = rand_distr::ChiSquared::new(nu.max(1) as f64).map_or(1.0, |c| c.sample(rng));
         if nu < super::observations::MIN_SIGMA_DOF {
             continue;

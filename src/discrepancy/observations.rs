@@ -14,6 +14,7 @@
 //! a misreading probability ([`super::predictive`]). The extent is not scored.
 
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement, MeasuredMechanism};
+use crate::loading::inplane::MechanismKind as InPlaneMode;
 use crate::loading::mechanism::{FailureKind, FailureStart};
 use serde::Serialize;
 use std::fmt;
@@ -50,14 +51,79 @@ pub enum Observable {
         /// The start.
         start: FailureStart,
     },
+    /// A measure of the in-plane shear–compression test (peak force kN, drift at the peak
+    /// %, initial stiffness kN/mm), of the first direction loaded.
+    InPlane {
+        /// The measure.
+        quantity: InPlaneQuantity,
+    },
+    /// Whether the in-plane mechanism was of this mode (value 1 or 0): rocking, sliding,
+    /// diagonal or mixed (`loading::inplane::read_mechanism`; the database's failure type 1
+    /// is rocking, 0 sliding or diagonal, 0.5 mixed).
+    InPlaneMode {
+        /// The mode.
+        mode: InPlaneMode,
+    },
 }
+
+/// A measure of the in-plane shear–compression test (`loading::inplane`'s per-direction
+/// outputs, as the Stone Masonry Database defines them, Vanin et al. 2017).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InPlaneQuantity {
+    /// The peak horizontal force, kN.
+    PeakForce,
+    /// The drift at the peak force, %.
+    DriftAtPeak,
+    /// The initial stiffness, the secant at 15 % of the peak, kN/mm.
+    InitialStiffness,
+}
+
+impl InPlaneQuantity {
+    /// Every measure, in report order.
+    pub const ALL: [InPlaneQuantity; 3] =
+        [InPlaneQuantity::PeakForce, InPlaneQuantity::DriftAtPeak, InPlaneQuantity::InitialStiffness];
+
+    /// Its name: `peak_force_kn`, `drift_at_peak_pct`, `initial_stiffness_kn_per_mm`.
+    pub fn name(self) -> &'static str {
+        match self {
+            InPlaneQuantity::PeakForce => "peak_force_kn",
+            InPlaneQuantity::DriftAtPeak => "drift_at_peak_pct",
+            InPlaneQuantity::InitialStiffness => "initial_stiffness_kn_per_mm",
+        }
+    }
+
+    /// Its unit.
+    pub fn unit(self) -> &'static str {
+        match self {
+            InPlaneQuantity::PeakForce => "kN",
+            InPlaneQuantity::DriftAtPeak => "%",
+            InPlaneQuantity::InitialStiffness => "kN/mm",
+        }
+    }
+}
+
+/// The families of measures ([`Observable::family`]): collapse angles, displacements and
+/// the in-plane test's peak forces, drifts and stiffnesses.
+pub const MEASURE_FAMILIES: usize = 5;
+
+/// The in-plane modes a realization is read as (`InPlaneMode::None`, no mechanism, is not
+/// one: such a run gives no mode).
+pub const IN_PLANE_MODES: [InPlaneMode; 4] =
+    [InPlaneMode::Rocking, InPlaneMode::Sliding, InPlaneMode::Diagonal, InPlaneMode::Mixed];
 
 impl Observable {
     /// Whether it is a measure that pins a model's parameters (a collapse angle or a top
     /// displacement, read by an instrument of stated σ), not a reading of the failure
     /// mechanism (height, kind, start; see `fit::Data::pins`).
     pub fn pins(&self) -> bool {
-        matches!(self, Observable::CollapseAngle | Observable::Displacement { .. })
+        match self {
+            Observable::CollapseAngle | Observable::Displacement { .. } | Observable::InPlane { .. } => true,
+            Observable::FailureHeight { .. }
+            | Observable::MechanismKind { .. }
+            | Observable::MechanismStart { .. }
+            | Observable::InPlaneMode { .. } => false,
+        }
     }
 
     /// Short label: `alpha_max`, `disp@5`.
@@ -68,15 +134,35 @@ impl Observable {
             Observable::FailureHeight { .. } => "failure_height".into(),
             Observable::MechanismKind { kind } => format!("kind={}", kind.name()),
             Observable::MechanismStart { start } => format!("start={}", start.name()),
+            Observable::InPlane { quantity } => quantity.name().into(),
+            Observable::InPlaneMode { mode } => format!("mode={}", mode.name()),
         }
     }
 
-    /// An observation of the failure mechanism (failure height, kind or start).
+    /// Its family of measures: the observables whose measurement σ and spread the analysis
+    /// estimates together (0 collapse angles, 1 displacements, 2 in-plane peak forces, 3
+    /// in-plane drifts, 4 in-plane stiffnesses; [`MEASURE_FAMILIES`] of them); `None` for
+    /// a reading of the mechanism.
+    pub fn family(&self) -> Option<usize> {
+        match self {
+            Observable::CollapseAngle => Some(0),
+            Observable::Displacement { .. } => Some(1),
+            Observable::InPlane { quantity } => Some(match quantity {
+                InPlaneQuantity::PeakForce => 2,
+                InPlaneQuantity::DriftAtPeak => 3,
+                InPlaneQuantity::InitialStiffness => 4,
+            }),
+            Observable::FailureHeight { .. }
+            | Observable::MechanismKind { .. }
+            | Observable::MechanismStart { .. }
+            | Observable::InPlaneMode { .. } => None,
+        }
+    }
+
+    /// An observation of the failure mechanism (failure height, kind or start; the
+    /// in-plane mode).
     pub fn is_mechanism(&self) -> bool {
-        matches!(
-            self,
-            Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. }
-        )
+        !self.pins()
     }
 
     /// A category (kind or start): `(m, K)`, the simulated categories the observed one
@@ -85,7 +171,11 @@ impl Observable {
         match self {
             Observable::MechanismKind { .. } => Some((1, FailureKind::ALL.len())),
             Observable::MechanismStart { start } => Some((start.covers(), FailureStart::SIMULATED.len())),
-            _ => None,
+            Observable::InPlaneMode { .. } => Some((1, IN_PLANE_MODES.len())),
+            Observable::CollapseAngle
+            | Observable::Displacement { .. }
+            | Observable::FailureHeight { .. }
+            | Observable::InPlane { .. } => None,
         }
     }
 
@@ -95,7 +185,10 @@ impl Observable {
             Observable::CollapseAngle => "deg",
             Observable::Displacement { .. } => "cm",
             Observable::FailureHeight { .. } => "H",
-            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => "-",
+            Observable::InPlane { quantity } => quantity.unit(),
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } | Observable::InPlaneMode { .. } => {
+                "-"
+            }
         }
     }
 
@@ -110,6 +203,8 @@ impl Observable {
             (Observable::FailureHeight { .. }, Observable::FailureHeight { .. }) => true,
             (Observable::MechanismKind { kind: a }, Observable::MechanismKind { kind: b }) => a == b,
             (Observable::MechanismStart { start: a }, Observable::MechanismStart { start: b }) => a == b,
+            (Observable::InPlane { quantity: a }, Observable::InPlane { quantity: b }) => a == b,
+            (Observable::InPlaneMode { mode: a }, Observable::InPlaneMode { mode: b }) => a == b,
             _ => false,
         }
     }
@@ -149,11 +244,28 @@ pub struct MeasurementSigma {
     /// the paper's walls (9 courses) beyond the reading interval; also the smoothing width
     /// of the realizations' few values.
     pub failure_height: f64,
+    /// In-plane peak force, kN \[0.5\]: estimate (reasoning: a load cell of the 100-200 kN
+    /// class read to about 1 % of the walls' 16-96 kN peaks; the papers give no precision).
+    pub force_kn: f64,
+    /// In-plane drift, % \[0.05\]: estimate (reasoning: the top displacement of a 1.2 m wall
+    /// read to about 0.6 mm by its transducers and the digitized curves).
+    pub drift_pct: f64,
+    /// In-plane initial stiffness, kN/mm \[2\]: estimate (reasoning: the secant at 15 % of the
+    /// peak divides 2-14 kN by 0.1-0.6 mm of displacement, so a 0.02 mm reading error is
+    /// 3-20 % of the 9-36 kN/mm the walls show).
+    pub stiffness_kn_per_mm: f64,
 }
 
 impl Default for MeasurementSigma {
     fn default() -> Self {
-        MeasurementSigma { angle_deg: 0.5, displacement_cm: 0.5, failure_height: 0.05 }
+        MeasurementSigma {
+            angle_deg: 0.5,
+            displacement_cm: 0.5,
+            failure_height: 0.05,
+            force_kn: 0.5,
+            drift_pct: 0.05,
+            stiffness_kn_per_mm: 2.0,
+        }
     }
 }
 
@@ -355,8 +467,8 @@ pub fn specimens(obs: &[Observation]) -> Vec<String> {
 /// Pooled degrees of freedom below which [`measurement_sigma`] gives no estimate.
 pub const MIN_SIGMA_DOF: usize = 4;
 
-/// The measurement σ of one kind of observable (collapse angles or displacements) as the
-/// data show it: for every observable key (group and observable) with at least two
+/// The measurement σ of one family of measures ([`Observable::family`]: collapse angles,
+/// displacements, or one of the in-plane measures) as the data show it: for every observable key (group and observable) with at least two
 /// specimens, the specimens' sample variance minus the model's realization variance there
 /// (what the model's layouts explain) minus the reading's rounding variance r²/12 (the
 /// likelihood takes readings as intervals), pooled over the keys with the weights of their
@@ -368,26 +480,19 @@ pub const MIN_SIGMA_DOF: usize = 4;
 /// degrees of freedom.
 ///
 /// `obs[j]` belongs to key `key[j]`; `model_sd[k]` is the model's realization standard
-/// deviation at key `k`; `angle` selects collapse angles (true) or displacements.
+/// deviation at key `k`; `family` selects the measures ([`Observable::family`]).
 pub fn measurement_sigma(
     obs: &[Observation],
     key: &[usize],
     model_sd: &[f64],
     reading: f64,
-    angle: bool,
+    family: usize,
 ) -> Option<(f64, usize)> {
     // Per key: (n − 1, sample variance, model variance).
     let mut terms: Vec<(f64, f64, f64)> = Vec::new();
     for (k, sd) in model_sd.iter().enumerate() {
         let y: Vec<f64> = (0..obs.len())
-            .filter(|&j| {
-                key[j] == k
-                    && match obs[j].observable {
-                        Observable::CollapseAngle => angle,
-                        Observable::Displacement { .. } => !angle,
-                        _ => false,
-                    }
-            })
+            .filter(|&j| key[j] == k && obs[j].observable.family() == Some(family))
             .map(|j| obs[j].value)
             .collect();
         if y.len() < 2 || !sd.is_finite() {
@@ -448,18 +553,18 @@ mod tests {
         o.extend(b.iter().map(|v| obs("b", *v)));
         let key = [0, 0, 0, 0, 1, 1, 1, 1];
         let s2 = 2.0 / 3.0; // sample variance of (−1, 0, 1, 0)
-        let (sd, dof) = measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap();
+        let (sd, dof) = measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap();
         assert_eq!(dof, 6);
         assert!((sd - (s2 - 0.25f64).sqrt()).abs() < 1e-12, "{sd}");
         // A mean shift of key 1 by 5: the same estimate.
         for v in &mut o[4..] {
             v.value += 5.0;
         }
-        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap().1, 6);
-        assert!((measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, true).unwrap().0 - sd).abs() < 1e-12);
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap().1, 6);
+        assert!((measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap().0 - sd).abs() < 1e-12);
         // The model's spread covers the data's: zero excess.
-        assert_eq!(measurement_sigma(&o, &key, &[2.0, 2.0], 0.0, true).unwrap().0, 0.0);
+        assert_eq!(measurement_sigma(&o, &key, &[2.0, 2.0], 0.0, 0).unwrap().0, 0.0);
         // Displacements asked for: none here.
-        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, false), None);
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 1), None);
     }
 }

@@ -52,7 +52,7 @@
 //! uniformly), `q = (1 − ε) p + ε (1 − p) m / (K − 1)`. Its score is `−ln q` where the
 //! category was seen, `−ln (1 − q)` where it was not (synthetic data sets).
 
-use super::observations::{Observable, Observation};
+use super::observations::{InPlaneQuantity, Observable, Observation};
 use super::simulate::Outcome;
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -237,11 +237,26 @@ pub struct Reading {
     /// or the lowest that moved with the rest), by about a course; half of a reading's
     /// mass stays on the joint read. 0: the joint read is the failing joint.
     pub neighbour_joint: f64,
+    /// In-plane peak forces read to this, kN \[0.1\] (the Stone Masonry Database's digits,
+    /// Vanin et al. 2017).
+    pub force_kn: f64,
+    /// In-plane drifts read to this, % \[0.01\] (the database's digits).
+    pub drift_pct: f64,
+    /// In-plane initial stiffnesses read to this, kN/mm \[0.1\] (the database's digits).
+    pub stiffness_kn_per_mm: f64,
 }
 
 impl Default for Reading {
     fn default() -> Self {
-        Reading { angle_deg: 0.5, displacement_cm: 0.1, misreading: 0.1, neighbour_joint: 0.25 }
+        Reading {
+            angle_deg: 0.5,
+            displacement_cm: 0.1,
+            misreading: 0.1,
+            neighbour_joint: 0.25,
+            force_kn: 0.1,
+            drift_pct: 0.01,
+            stiffness_kn_per_mm: 0.1,
+        }
     }
 }
 
@@ -252,7 +267,27 @@ impl Reading {
             Observable::CollapseAngle => self.angle_deg,
             Observable::Displacement { .. } => self.displacement_cm,
             Observable::FailureHeight { width } => *width,
-            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => 0.0,
+            Observable::InPlane { quantity } => match quantity {
+                InPlaneQuantity::PeakForce => self.force_kn,
+                InPlaneQuantity::DriftAtPeak => self.drift_pct,
+                InPlaneQuantity::InitialStiffness => self.stiffness_kn_per_mm,
+            },
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } | Observable::InPlaneMode { .. } => {
+                0.0
+            }
+        }
+    }
+
+    /// The resolution of a family of measures ([`Observable::family`]; 0 for the
+    /// mechanism's readings).
+    pub fn of_family(&self, family: usize) -> f64 {
+        match family {
+            0 => self.angle_deg,
+            1 => self.displacement_cm,
+            2 => self.force_kn,
+            3 => self.drift_pct,
+            4 => self.stiffness_kn_per_mm,
+            _ => 0.0,
         }
     }
 
@@ -260,12 +295,12 @@ impl Reading {
     /// category's indicator, or a reading of resolution 0, as it is).
     pub fn round(&self, o: &Observable, v: f64) -> f64 {
         match o {
-            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => v,
+            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } | Observable::InPlaneMode { .. } => v,
             Observable::FailureHeight { width } => {
                 let r = if *width > 0.0 { (v / width).round() * width } else { v };
                 r.clamp(0.0, 1.0)
             }
-            _ => {
+            Observable::CollapseAngle | Observable::Displacement { .. } | Observable::InPlane { .. } => {
                 let r = self.of(o);
                 if r > 0.0 {
                     (v / r).round() * r
@@ -327,10 +362,7 @@ impl Predictive {
     /// width of a simulated collapse angle's bracket (degrees; 0 for displacements).
     pub fn new(sim: &Simulated, obs: &Observation, bracket: f64) -> Predictive {
         let r = sim.n.max(1) as f64;
-        let b2 = match obs.observable {
-            Observable::CollapseAngle => bracket * bracket / 12.0,
-            _ => 0.0,
-        };
+        let b2 = if obs.observable == Observable::CollapseAngle { bracket * bracket / 12.0 } else { 0.0 };
         let model = sim.sd * sim.sd * (1.0 + 1.0 / r);
         let var = model + b2 + obs.sigma * obs.sigma + sim.err * sim.err;
         let dof = if sim.n >= 2 && model > 0.0 {

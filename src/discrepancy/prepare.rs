@@ -299,6 +299,7 @@ pub(super) fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<
     for o in obs {
         let given = match o.observable {
             Observable::CollapseAngle => gives.collapse_bracket_deg.is_some(),
+            Observable::Displacement { .. } if gives.in_plane => false,
             Observable::Displacement { tilt_deg, .. } => {
                 if !gives.reaches_tilt(tilt_deg) {
                     return Err(match gives.state_step_deg {
@@ -311,6 +312,7 @@ pub(super) fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<
             Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => {
                 gives.mechanism
             }
+            Observable::InPlane { .. } | Observable::InPlaneMode { .. } => gives.in_plane,
         };
         if !given {
             return Err(DiscrepancyError::Observable {

@@ -280,6 +280,19 @@ fn verdict_section(md: &mut String, run: &Run) {
         None => format!("{setting} {unit} ({what}: the setting; too few specimens per group for an estimate)"),
     }
     };
+    if run.obs.iter().any(|o| matches!(o.observable, Observable::InPlane { .. })) {
+        let _ = writeln!(
+            md,
+            "Measurement σ used: {}, {}, {}; readings taken as intervals of {} kN, {} % and {} kN/mm.\n",
+            used(2, s.sigma.force_kn, "kN", "peak forces"),
+            used(3, s.sigma.drift_pct, "%", "drifts at the peak"),
+            used(4, s.sigma.stiffness_kn_per_mm, "kN/mm", "initial stiffnesses"),
+            s.reading.force_kn,
+            s.reading.drift_pct,
+            s.reading.stiffness_kn_per_mm
+        );
+        return;
+    }
     let _ = writeln!(
         md,
         "Measurement σ used: {}, {}; readings taken as intervals of {} deg and {} cm.\n",

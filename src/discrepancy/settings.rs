@@ -120,9 +120,13 @@ impl Settings {
         if !(d.is_finite() && (0.0..0.5).contains(&d)) {
             return bad("reading.neighbour_joint", d.to_string(), "must be in [0, 0.5)");
         }
-        for (key, v) in
-            [("reading.angle_deg", self.reading.angle_deg), ("reading.displacement_cm", self.reading.displacement_cm)]
-        {
+        for (key, v) in [
+            ("reading.angle_deg", self.reading.angle_deg),
+            ("reading.displacement_cm", self.reading.displacement_cm),
+            ("reading.force_kn", self.reading.force_kn),
+            ("reading.drift_pct", self.reading.drift_pct),
+            ("reading.stiffness_kn_per_mm", self.reading.stiffness_kn_per_mm),
+        ] {
             if !(v.is_finite() && (0.0..=10.0).contains(&v)) {
                 return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
             }
@@ -134,6 +138,9 @@ impl Settings {
             ("sigma.angle_deg", self.sigma.angle_deg, 10.0, "must be in (0, 10] degrees"),
             ("sigma.displacement_cm", self.sigma.displacement_cm, 10.0, "must be in (0, 10] cm"),
             ("sigma.failure_height", self.sigma.failure_height, 1.0, "must be in (0, 1] (a fraction of the height)"),
+            ("sigma.force_kn", self.sigma.force_kn, 1e4, "must be in (0, 10000] kN"),
+            ("sigma.drift_pct", self.sigma.drift_pct, 50.0, "must be in (0, 50] %"),
+            ("sigma.stiffness_kn_per_mm", self.sigma.stiffness_kn_per_mm, 1e4, "must be in (0, 10000] kN/mm"),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= hi) {
                 return bad(key, v.to_string(), range);

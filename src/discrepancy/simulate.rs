@@ -13,7 +13,7 @@
 //! state at tilt 0°). The shaking table has no observable here and is refused
 //! ([`Setup::check_protocol`]).
 
-use super::observations::Observable;
+use super::observations::{InPlaneQuantity, Observable};
 use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
@@ -41,6 +41,9 @@ pub struct GroupSetup {
     pub effects: Vec<Effect>,
     /// Mean course height of the wall, m (scales the effects' length ranges).
     pub course_m: f64,
+    /// The group's own loading protocol, of the setup's kind with this group's parameters
+    /// (the in-plane test's vertical stress); `None`: the setup's.
+    pub protocol: Option<Protocol>,
 }
 
 /// What the model is run with: groups, master seed, solver and loading protocol.
@@ -131,6 +134,19 @@ impl Outcome {
             Observable::MechanismStart { start } => {
                 self.observed.mechanism.map(|m| f64::from(u8::from(start.matches(m.start))))
             }
+            Observable::InPlane { quantity } => {
+                let m = self.observed.in_plane?;
+                let v = match quantity {
+                    InPlaneQuantity::PeakForce => m.peak_force_kn,
+                    InPlaneQuantity::DriftAtPeak => m.drift_at_peak_pct,
+                    InPlaneQuantity::InitialStiffness => m.initial_stiffness_kn_per_mm,
+                };
+                v.is_finite().then_some(v)
+            }
+            Observable::InPlaneMode { mode } => {
+                let m = self.observed.in_plane?;
+                (m.mode != crate::loading::inplane::MechanismKind::None).then_some(f64::from(u8::from(m.mode == mode)))
+            }
         }
     }
 }
@@ -146,7 +162,8 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
     // The observables of the protocol's run ([`Protocol::observed`], refused by
     // `Setup::check_protocol` when it has none); a run without them or with an error is a
     // failed outcome.
-    let protocol = setup.protocol.observed().unwrap_or_else(|_| setup.protocol.clone());
+    let own = g.protocol.as_ref().unwrap_or(&setup.protocol);
+    let protocol = own.observed().unwrap_or_else(|_| own.clone());
     let run = protocol.run(&layout, setup.solver);
     match run.observed() {
         Some(observed) => Outcome { observed, error: None },

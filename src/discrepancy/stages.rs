@@ -243,7 +243,7 @@ fn design_keys(prep: &Prepared, obs: &[Observation]) -> Result<Keys, Discrepancy
 struct Sigmas {
     stated: Vec<f64>,
     model_sd: Vec<f64>,
-    estimate: [Option<(f64, usize)>; 2],
+    estimate: [Option<(f64, usize)>; super::observations::MEASURE_FAMILIES],
 }
 
 impl Sigmas {
@@ -260,7 +260,7 @@ fn apply_sigma_rule(obs: &mut [Observation], key: &[usize], baseline: &[Simulate
     let mut sigmas = Sigmas {
         stated: obs.iter().map(|o| o.sigma).collect(),
         model_sd: baseline.iter().map(|x| x.sd).collect(),
-        estimate: [None, None],
+        estimate: [None; super::observations::MEASURE_FAMILIES],
     };
     sigmas.estimate = sigmas.rule(reading).apply(obs, key);
     sigmas

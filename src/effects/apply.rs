@@ -116,6 +116,15 @@ impl Effect {
                     let c = if v > 0.0 { c } else { Closure::Linear };
                     set_closure(layout, *family, c);
                 }
+                Step::Crushing { family, .. } => {
+                    // An infinite strength (the neutral value) is the linear joint.
+                    let c = if v.is_finite() {
+                        Closure::Crushing(crate::closure::Crushing { strength_pa: v * 1e6 })
+                    } else {
+                        Closure::Linear
+                    };
+                    set_closure(layout, *family, c);
+                }
                 Step::Dilatancy { family, .. } => dilate(layout, *family, v.to_radians()),
                 Step::Lean { .. } => geometry::shear_out_of_plumb(layout, v.to_radians()).map_err(geometry)?,
                 Step::Rounding { .. } => geometry::round_edges(layout, v).map_err(geometry)?,

@@ -123,6 +123,18 @@ fn joint_effects() -> Vec<EffectDef> {
             vec![Step::JointFactor { family: None, property: Property::Ks, parameter: "factor".into() }],
         ),
         def(
+            "toe_crushing",
+            "the faces of every joint crush at a compressive strength fc (q = min(Kn u, fc)): a rocking toe bears the vertical force on a stress block of width N / (fc t) instead of an edge",
+            "toe crushing of rocking dry-joint walls in in-plane tests (Vasconcelos & Lourenço 2009, J. Struct. Eng. 135:1269: 'R, TC' at 0.5-1.25 MPa); the compression cap of interface models of dry-joint masonry (Lourenço & Rots 1997, J. Eng. Mech. 123:660)",
+            vec![sourced(
+                param("strength_mpa", "MPa", 5.0, 69.2, Scale::Log, f64::INFINITY, false),
+                &format!("the upper bound is the granite's uniaxial compressive strength, 69.2 MPa (Vasconcelos & Lourenço 2009, the stone of their walls; the database's fc_unit_MPa); estimate (reasoning: a dry joint's edge carries a line load on a corner that spalls well below the stone's strength: down to a fourteenth of it, 5 MPa; {NOT_CHECKED})"),
+                None,
+                None,
+            )],
+            vec![Step::Crushing { family: None, parameter: "strength_mpa".into() }],
+        ),
+        def(
             "seating_gap",
             "uneven beds: initial gaps up to g0 that close under load",
             "uneven beds of hand-placed stones; uniform asperity heights (Greenwood & Williamson 1966)",

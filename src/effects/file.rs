@@ -155,8 +155,13 @@ impl EffectDef {
                 .find(|p| p.name == s.parameter())
                 .map(|p| (p.kinds.iter().map(|k| k.min).fold(p.min, f64::min), p.max))
                 .unwrap_or_default();
-            let needs_positive =
-                matches!(s, Step::JointFactor { .. } | Step::RestraintSpring { .. } | Step::RopeStiffness { .. });
+            let needs_positive = matches!(
+                s,
+                Step::JointFactor { .. }
+                    | Step::RestraintSpring { .. }
+                    | Step::RopeStiffness { .. }
+                    | Step::Crushing { .. }
+            );
             if needs_positive && p.0 <= 0.0 {
                 return Err(bad(
                     format!("steps[{i}]"),

@@ -77,7 +77,10 @@ pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 /// The built-in effects searched only when a study names them in `[discrepancy] effects`
 /// ([`crate::discrepancy::searched`]): `table_kick` belongs to a table rolled by hand and
 /// moves only the tilting table's angles, as a lean does; a study of such a table names it.
-pub const NAMED_ONLY_EFFECTS: [&str; 1] = ["table_kick"];
+/// `toe_crushing` acts only where joints bear stresses of MPa (the in-plane test's toe
+/// under its vertical force), not under a wall's own weight; a study of such a test names
+/// it.
+pub const NAMED_ONLY_EFFECTS: [&str; 2] = ["table_kick", "toe_crushing"];
 
 /// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
 pub const MAX_FRICTION_DEG: f64 = 85.0;

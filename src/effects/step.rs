@@ -48,6 +48,16 @@ pub enum Step {
         /// The parameter giving Vm or g₀, m.
         parameter: String,
     },
+    /// The faces of one family (or of every joint) crushing at the compressive strength
+    /// fc (MPa): the closure law [`crate::closure::Crushing`], `q = min(Kn u, fc)`; an
+    /// infinite fc is the linear joint.
+    Crushing {
+        /// The family; absent: every joint.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        family: Option<JointFamily>,
+        /// The parameter giving fc, MPa.
+        parameter: String,
+    },
     /// The wall sheared out of plumb by ψ (deg) towards +y.
     Lean {
         /// The parameter giving ψ, degrees.
@@ -127,6 +137,7 @@ impl Step {
         match self {
             Step::JointFactor { parameter, .. }
             | Step::Closure { parameter, .. }
+            | Step::Crushing { parameter, .. }
             | Step::Lean { parameter }
             | Step::Rounding { parameter }
             | Step::TransverseDip { parameter }
@@ -148,7 +159,7 @@ impl Step {
             | Step::TransverseDip { .. }
             | Step::BaseStop { .. }
             | Step::LeafSplit { .. } => Stage::Layout,
-            Step::JointFactor { .. } | Step::Closure { .. } => Stage::JointLaw,
+            Step::JointFactor { .. } | Step::Closure { .. } | Step::Crushing { .. } => Stage::JointLaw,
             Step::RestraintSpring { .. }
             | Step::RopePretension { .. }
             | Step::RopeStiffness { .. }
@@ -160,7 +171,7 @@ impl Step {
     /// The family the step acts on, if it is a joint-law step on one family.
     pub fn family(&self) -> Option<JointFamily> {
         match self {
-            Step::JointFactor { family, .. } | Step::Closure { family, .. } => *family,
+            Step::JointFactor { family, .. } | Step::Closure { family, .. } | Step::Crushing { family, .. } => *family,
             Step::Dilatancy { family, .. } => *family,
             _ => None,
         }

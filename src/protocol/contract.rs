@@ -140,6 +140,9 @@ pub struct Observables {
     pub state_step_deg: Option<f64>,
     /// Whether the run reads a failure mechanism (its failure height, kind and start).
     pub mechanism: bool,
+    /// Whether the run gives the in-plane test's measures (peak force, drift at the peak,
+    /// initial stiffness) and mode.
+    pub in_plane: bool,
 }
 
 impl Observables {

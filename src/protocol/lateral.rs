@@ -53,7 +53,7 @@ impl LoadingProtocol for Lateral {
     /// The displacements of the one equilibrium under the load, at tilt 0; no collapse
     /// angle, no mechanism.
     fn observables(&self) -> Observables {
-        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false }
+        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false, in_plane: false }
     }
 }
 

@@ -98,7 +98,12 @@ impl Observables {
     /// The tilting table's: the collapse angle to its resolution, displacements at the
     /// multiples of its increment, the mechanism.
     pub fn of_tilt(t: &TiltParams) -> Observables {
-        Observables { collapse_bracket_deg: Some(t.resolution_deg), state_step_deg: Some(t.step_deg), mechanism: true }
+        Observables {
+            collapse_bracket_deg: Some(t.resolution_deg),
+            state_step_deg: Some(t.step_deg),
+            mechanism: true,
+            in_plane: false,
+        }
     }
 }
 

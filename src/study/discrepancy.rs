@@ -34,6 +34,7 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
                 deterministic,
                 effects: g.effects.clone(),
                 course_m,
+                protocol: None,
             }
         })
         .collect();

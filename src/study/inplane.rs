@@ -79,6 +79,10 @@ pub struct InPlaneStudySpec {
     /// The measured specimens.
     #[serde(default)]
     pub measured: Option<InPlaneMeasuredSpec>,
+    /// The settings of its discrepancy analysis (`drystone discrepancy`;
+    /// [`super::inplane_discrepancy`]).
+    #[serde(default)]
+    pub discrepancy: Option<crate::discrepancy::Settings>,
 }
 
 /// One group: a wall under one vertical stress and history.

@@ -84,6 +84,7 @@ mod extend;
 mod figures;
 pub mod followup;
 pub mod inplane;
+pub mod inplane_discrepancy;
 mod lock;
 mod measured;
 mod motions;

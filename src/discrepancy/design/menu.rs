@@ -166,6 +166,7 @@ pub fn menu(walls: &[GroupWall<'_>], setup: &Setup, run: &Run) -> Result<Vec<Fol
                     restrained,
                     deterministic: g.deterministic,
                     effects: g.effects.clone(),
+                    protocol: g.protocol.clone(),
                 }),
                 new_spec: Some(spec),
                 edit,

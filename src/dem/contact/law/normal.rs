@@ -307,7 +307,7 @@ fn level_integrals(u: [f64; 3], area: f64, lower: f64, breaks: &[f64], g: impl F
 
 /// The kinks of a law's pressure (the hyperbolic cap), closures in m.
 fn breaks(p: &NormalParams) -> [f64; 1] {
-    [p.closure.kink()]
+    [p.closure.kink(p.kn)]
 }
 
 /// `∫ q(u) λᵢ dA` over the compressed part (the whole triangle when the joint carries
