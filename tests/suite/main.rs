@@ -37,6 +37,7 @@ mod generator_properties;
 mod generator_stats;
 mod implicit;
 mod inplane;
+mod inplane_discrepancy;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;
