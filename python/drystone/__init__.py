@@ -153,7 +153,8 @@ class LateralResult:
 
     `equilibrium`: the wall carried the load (else `collapse_reason`). `displacement_m`
     (m,): the y displacement of each monitor point from the gravity-only state, m, in the
-    order of `monitors`; `max_displacement_m`, `drift` (max displacement / height);
+    order of `monitors`; `max_displacement_m`, `drift` (max displacement / height; these
+    and `height_m`, `width_m` None by limit analysis, which has no displacements);
     `resultant_n` (3,): the resultant of the pressure, N, table frame.
     """
 
@@ -161,10 +162,10 @@ class LateralResult:
     collapse_reason: Optional[str]
     monitors: List[str]
     displacement_m: np.ndarray
-    max_displacement_m: float
-    drift: float
-    height_m: float
-    width_m: float
+    max_displacement_m: Optional[float]
+    drift: Optional[float]
+    height_m: Optional[float]
+    width_m: Optional[float]
     resultant_n: np.ndarray
     weight_n: float
     steps: int
@@ -226,7 +227,7 @@ def tilt(layout: Any, solver: Any = None, by_hand: Any = None, **params: Any) ->
     """Tilts `layout` (a `Layout` or a layout JSON path) to collapse on the tilting table.
 
     `solver`: None (the penalty DEM), a solver name (`penalty`, `implicit`, `accelerated`,
-    `relaxation`, `nscd`) or a dict of solver parameters (`SolverParams` keys, e.g.
+    `relaxation`, `nscd`, `limit`) or a dict of solver parameters (`SolverParams` keys, e.g.
     `{"kind": "penalty", "damping": 0.8}`; the penalty DEM's solve settings in its
     `penalty` dict: `{"penalty": {"tolerance": 1e-4, "max_steps": 400000, "predictor":
     True}}`). `params`: `TiltParams` keys, e.g. `step_deg=0.5`, `resolution_deg=0.125`,
@@ -235,9 +236,12 @@ def tilt(layout: Any, solver: Any = None, by_hand: Any = None, **params: Any) ->
     dict of `HandTilt` keys (`increment_deg` 5, `rate_deg_per_s` 2.5, `ramp_s` 0.1,
     `hold_s` 1, `axis_depth_m` 0.34): the table rolled by hand, each increment run as a
     motion that kicks the wall at its stop (`drystone tilt --by-hand`; with
-    `solver="nscd"` only). The GIL is released while it runs. Raises `InputError` for an
-    unknown key or a value out of range, `SolverError` if the layout does not stand at 0°
-    or the engine blows up.
+    `solver="nscd"` only). With `solver="limit"`, limit analysis: `last_stable_deg`,
+    `first_unstable_deg` and `collapse_angle_deg` all α_max = atan λ, the mechanism of the
+    dual, no histories (`to_dict()["limit_analysis"]`: the whole analysis). Every solver
+    `supports("tilt", solver)` admits runs here. The GIL is released while it runs. Raises
+    `InputError` for an unknown key or a value out of range or a solver that does not run
+    the test, `SolverError` if the layout does not stand at 0° or the engine blows up.
     """
     hand = None if by_hand is None or by_hand is False else ({} if by_hand is True else dict(by_hand))
     raw = _native._tilt(_layout_of(layout), solver, params or None, hand)
@@ -267,7 +271,10 @@ def lateral(layout: Any, solver: Any = None, **params: Any) -> LateralResult:
     """Loads `layout` with a static out-of-plane pressure (linear from `pressure_base_pa`
     at the base to `pressure_top_pa` at the top, Pa; `LateralParams` keys) and solves for
     its equilibrium. `solver` as in `tilt`. A wall that does not carry the load is a result
-    (`equilibrium` False), not an error.
+    (`equilibrium` False), not an error. With `solver="limit"`, limit analysis of rigid
+    blocks: `equilibrium` whether the collapse load multiplier λ reaches 1, no displacements
+    (`max_displacement_m`, `drift`, `height_m` and `width_m` None, no monitors;
+    `to_dict()["limit_analysis"]`: the whole analysis).
     """
     raw = _native._lateral(_layout_of(layout), solver, params or None)
     r = raw["result"]
@@ -307,9 +314,11 @@ def in_plane(layout: Any, solver: Any = None, **params: Any) -> Dict[str, Any]:
 def supports(protocol: str, solver: str) -> Tuple[bool, str]:
     """Whether the solver kind `solver` (`penalty`, `implicit`, `accelerated`,
     `relaxation`, `nscd`, `limit`) runs `protocol` (`tilt`, `tilt_by_hand`, `lateral`,
-    `pushover`, `shake`): the library's one compatibility table, which studies, the
-    command line and these functions all ask. Returns `(runs, reason)`, the reason a
-    refusal gives (empty when it runs). Raises `InputError` for an unknown name.
+    `pushover`, `shake`, `in_plane`): the library's one compatibility table, which studies,
+    the command line and these functions all ask (`tilt`, `lateral`, `pushover` and
+    `in_plane` run every solver it admits; `tilt_by_hand` is `tilt` with `by_hand`). Returns
+    `(runs, reason)`, the reason a refusal gives (empty when it runs). Raises `InputError`
+    for an unknown name.
     """
     return _native._supports(protocol, solver)
 

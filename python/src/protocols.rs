@@ -5,9 +5,11 @@
 
 use crate::errors::{guard, input_error, lateral_error, tilt_error, Place};
 use crate::model::{from_json, to_json, PyLayout};
+use drystone::loading::lateral::LateralError;
+use drystone::loading::tilt::TiltError;
 use drystone::loading::tilt_hand::HandTilt;
-use drystone::prelude::{run_lateral, run_tilt, LateralParams, SolverParams, TiltParams};
-use drystone::protocol::{run as run_protocol, Pushover, PushoverRun};
+use drystone::prelude::{run_tilt, LateralParams, SolverParams, TiltParams};
+use drystone::protocol::{run as run_protocol, Lateral, LateralRun, Pushover, PushoverRun, Tilt, TiltRun};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
@@ -86,8 +88,26 @@ pub fn _tilt<'py>(
         tp.by_hand = Some(self::params::<HandTilt>(py, Some(d), "by_hand")?);
     }
     let l = &layout.get().layout;
-    let r = py.detach(|| guard(|| run_tilt(l, solver, &tp).map_err(|e| tilt_error(&e))))?;
+    // The one choice of a method: the protocol seam (`drystone::protocol::run`), which runs
+    // every method `drystone.supports("tilt", ...)` admits; the table rolled by hand is
+    // its own protocol (`run_tilt` chooses it from `by_hand`).
+    let run = py.detach(|| {
+        guard(|| {
+            Ok(match tp.by_hand {
+                Some(_) => TiltRun::Path(run_tilt(l, solver, &tp)),
+                None => run_protocol(&Tilt(tp), l, solver, &mut ())
+                    .unwrap_or_else(|e| TiltRun::Path(Err(TiltError::Unsupported(e.to_string())))),
+            })
+        })
+    })?;
     py.check_signals()?;
+    let r = match run {
+        TiltRun::Path(r) => r.map_err(|e| tilt_error(&e))?,
+        TiltRun::Limit(r) => {
+            let r = r.map_err(|e| crate::errors::SolverError::new_err(e.to_string()))?;
+            return limit_tilt(py, &r);
+        }
+    };
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
     out.set_item("collapse_angle_deg", r.collapse_angle_deg())?;
@@ -101,6 +121,31 @@ pub fn _tilt<'py>(
     )?;
     let rows: Vec<&[f64]> = r.increments.iter().map(|i| i.displacement_m.as_slice()).collect();
     out.set_item("displacement_m", matrix(&rows, m).into_pyarray(py))?;
+    Ok(out)
+}
+
+/// The tilting table by limit analysis, in the keys of the path's result (`drystone.tilt`
+/// with `solver="limit"`): the last stable and first unstable tilts both α_max = atan λ
+/// (a bracket of zero width, reason `no_equilibrium`: no statically admissible state
+/// exists above it, as a study's row has it), the mechanism from the dual, the interior-point
+/// iterations; no increments, no monitors; `limit_analysis`: the whole analysis.
+fn limit_tilt<'py>(py: Python<'py>, r: &drystone::limit::LimitResult) -> PyResult<Bound<'py, PyDict>> {
+    let alpha = r.collapse_angle_deg.unwrap_or(f64::NAN);
+    let v = serde_json::json!({
+        "last_stable_deg": alpha, "first_unstable_deg": alpha,
+        "collapse_reason": drystone::loading::tilt::CollapseReason::NoEquilibrium.name(),
+        "bracket_reliable": true, "mechanism": r.mechanism, "monitors": [], "increments": [],
+        "steps": 0, "iterations": r.solver_iterations, "dt_s": 0.0, "wall_time_s": r.wall_time_s,
+        "limit_analysis": r,
+    });
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &v.to_string())?)?;
+    out.set_item("collapse_angle_deg", alpha)?;
+    out.set_item("alpha_deg", PyArray1::<f64>::from_vec(py, vec![]))?;
+    out.set_item("stable", PyArray1::<bool>::from_vec(py, vec![]))?;
+    out.set_item("increment_steps", PyArray1::<u64>::from_vec(py, vec![]))?;
+    out.set_item("unbalanced_ratio", PyArray1::<f64>::from_vec(py, vec![]))?;
+    out.set_item("displacement_m", Array2::<f64>::zeros((0, 0)).into_pyarray(py))?;
     Ok(out)
 }
 
@@ -121,12 +166,48 @@ pub fn _lateral<'py>(
         return Err(input_error("pushover: drystone.lateral is the service test; use drystone.pushover", place));
     }
     let l = &layout.get().layout;
-    let r = py.detach(|| guard(|| run_lateral(l, solver, &lp).map_err(|e| lateral_error(&e))))?;
+    // The one choice of a method: the protocol seam, which runs every method
+    // `drystone.supports("lateral", ...)` admits.
+    let run = py.detach(|| {
+        guard(|| {
+            Ok(run_protocol(&Lateral(lp), l, solver, &mut ())
+                .unwrap_or_else(|e| LateralRun::Dem(Err(LateralError::Unsupported(e.to_string())))))
+        })
+    })?;
     py.check_signals()?;
+    let r = match run {
+        LateralRun::Dem(r) => r.map_err(|e| lateral_error(&e))?,
+        LateralRun::Limit(r) => {
+            let r = r.map_err(|e| crate::errors::SolverError::new_err(e.to_string()))?;
+            return limit_lateral(py, &r);
+        }
+    };
     let out = PyDict::new(py);
     out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
     out.set_item("displacement_m", PyArray1::from_vec(py, r.displacement_m.clone()))?;
     out.set_item("resultant_n", PyArray1::from_vec(py, vec![r.resultant_n.x, r.resultant_n.y, r.resultant_n.z]))?;
+    Ok(out)
+}
+
+/// The static lateral load by limit analysis, in the keys of the penalty DEM's result
+/// (`drystone.lateral` with `solver="limit"`): whether the wall carries the pressure
+/// (λ ≥ 1, as a study's row has it; else reason `no_equilibrium`), the pressure's resultant
+/// and the weight; rigid blocks have no displacements (`None`), no monitors;
+/// `limit_analysis`: the whole analysis (λ, the mechanism).
+fn limit_lateral<'py>(py: Python<'py>, r: &drystone::limit::LimitResult) -> PyResult<Bound<'py, PyDict>> {
+    let carries = r.load_multiplier >= 1.0;
+    let v = serde_json::json!({
+        "equilibrium": carries,
+        "collapse_reason": (!carries).then_some(drystone::loading::tilt::CollapseReason::NoEquilibrium.name()),
+        "monitors": [], "displacement_m": [], "max_displacement_m": null, "drift": null,
+        "height_m": null, "width_m": null, "resultant_n": r.live_load_n, "weight_n": r.weight_n,
+        "steps": 0, "dt_s": 0.0, "wall_time_s": r.wall_time_s, "limit_analysis": r,
+    });
+    let out = PyDict::new(py);
+    out.set_item("result", from_json(py, &v.to_string())?)?;
+    out.set_item("displacement_m", PyArray1::<f64>::from_vec(py, vec![]))?;
+    let f = r.live_load_n;
+    out.set_item("resultant_n", PyArray1::from_vec(py, vec![f.x, f.y, f.z]))?;
     Ok(out)
 }
 

@@ -295,6 +295,68 @@ def test_supports_is_the_table_the_solvers_follow():
         drystone.supports("tilt", "rigid")
 
 
+SOLVERS = ("penalty", "implicit", "accelerated", "relaxation", "nscd", "limit")
+
+
+def test_every_solver_supports_admits_runs_and_every_other_is_refused_with_its_reason():
+    """`drystone.supports(protocol, solver)` is what the functions do, pair by pair: an
+    admitted solver runs (limit analysis too), a refused one raises the reason `supports`
+    gives."""
+    layout = drystone.Layout.from_json(box_layout(0.2, 0.1, 0.2))
+    runs = {
+        "tilt": lambda k: drystone.tilt(layout, solver=k, step_deg=2.0, resolution_deg=1.0),
+        "lateral": lambda k: drystone.lateral(layout, solver=k, pressure_base_pa=100.0, pressure_top_pa=100.0),
+        "pushover": lambda k: drystone.pushover(
+            layout, solver=k, pressure_base_pa=1000.0, pressure_top_pa=1000.0, pushover_resolution=0.1
+        ),
+    }
+    for protocol, run in runs.items():
+        for k in SOLVERS:
+            admitted, why = drystone.supports(protocol, k)
+            if admitted:
+                run(k)
+            else:
+                with pytest.raises(drystone.DrystoneError) as e:
+                    run(k)
+                assert why in str(e.value), (protocol, k)
+
+
+def test_the_tilting_table_and_the_lateral_load_by_limit_analysis():
+    """`tilt(solver="limit")`: α_max = atan λ at the rigid limit b / h, the command line's to
+    the last digit; `lateral(solver="limit")`: whether λ reaches 1."""
+    layout = drystone.Layout.from_json(box_layout(0.3, 0.1125, 0.375))
+    res = drystone.tilt(layout, solver="limit")
+    rigid = math.degrees(math.atan(0.1125 / 0.375))
+    assert res.collapse_angle_deg == pytest.approx(rigid, rel=1e-4)
+    assert res.last_stable_deg == res.first_unstable_deg == res.collapse_angle_deg
+    assert res.collapsed and res.collapse_reason == "no_equilibrium" and str(res.mechanism) == "toppling"
+    assert len(res.alpha_deg) == 0 and res.displacement_m.shape == (0, 0)
+    assert res.to_dict()["limit_analysis"]["load_multiplier"] == pytest.approx(0.3, rel=1e-4)
+    # λ = W B / (p L h²) = 1.308 at 1 kPa (the pushover's block): carried; at 2 kPa not.
+    block = drystone.Layout.from_json(box_layout(0.4, 0.2, 0.6))
+    held = drystone.lateral(block, solver="limit", pressure_base_pa=1000.0, pressure_top_pa=1000.0)
+    assert held.equilibrium and held.collapse_reason is None and held.max_displacement_m is None
+    assert held.resultant_n[1] == pytest.approx(1000.0 * 0.4 * 0.6, rel=1e-9)
+    fell = drystone.lateral(block, solver="limit", pressure_base_pa=2000.0, pressure_top_pa=2000.0)
+    assert not fell.equilibrium and fell.collapse_reason == "no_equilibrium"
+
+
+def test_the_tilting_table_by_limit_analysis_is_the_command_lines(tmp_path, drystone_bin):
+    layout = drystone.Layout.from_json(box_layout(0.3, 0.1125, 0.375))
+    path = tmp_path / "block.json"
+    layout.save(path)
+    cli = subprocess.run(
+        [str(drystone_bin), "tilt", str(path), "--solver", "limit", "--json"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    expected = json.loads(cli.stdout)
+    res = drystone.tilt(layout, solver="limit")
+    assert res.collapse_angle_deg == expected["collapse_angle_deg"]
+    assert res.to_dict()["limit_analysis"]["load_multiplier"] == expected["load_multiplier"]
+
+
 def test_the_pushover_by_nscd_and_by_limit_analysis_meet_the_rigid_statics():
     # The block of the test above, rigid: overturning about the toe at
     # λ = W B / (p L h²) = 1.308 (ρ 2000, L 0.4, B 0.2, h 0.6 m, p 1 kPa), by limit analysis

@@ -4,86 +4,131 @@
 //! the stages themselves ([`Cascade`]). Plain data, read by the parameters, the solver seam
 //! (`dem::solve`), the protocols and their one compatibility table
 //! (`protocol::supports`).
+//!
+//! Both enums, their lists ([`Method::ALL`], [`SolverKind::ALL`]), their names (serde's,
+//! [`SolverKind::name`], `FromStr`, hence `--solver` and the Python package's
+//! `drystone.supports`) and the method of each kind are made by one list, the
+//! `solvers!` invocation below: a method or a kind is added there, once, and the
+//! compiler points to every exhaustive match that must say what it does.
 
 use serde::{Deserialize, Serialize};
 
-/// The solver a protocol runs on: `[solver] kind = "..."` in a study, `--solver NAME` on
-/// `drystone tilt`, `lateral` and `bench`. Default [`SolverKind::Penalty`].
+/// Makes, from the one list of methods and their kinds, [`Method`] and [`SolverKind`] with
+/// their lists, names and the method of each kind.
 ///
-/// The first four are the penalty DEM (3DEC-style sub-contact springs, Kn and Ks from the
-/// layout) and differ only in how a static state is found ([`Cascade`]); their results
-/// agree within one bracket of the protocol, their costs differ (BENCHMARKS.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SolverKind {
-    /// The penalty DEM with each protocol's default cascade: the tilting table runs the
-    /// implicit iteration, its stall probe and accelerated dynamic relaxation; settling and
-    /// the static lateral load run plain dynamic relaxation.
-    #[default]
-    Penalty,
-    /// The penalty DEM, every stage: implicit iteration → stall probe → accelerated,
-    /// probed dynamic relaxation.
-    Implicit,
-    /// The penalty DEM, accelerated and probed dynamic relaxation without the implicit
-    /// iteration (formerly `--no-implicit`, `implicit = false` in `[tilt]`).
-    Accelerated,
-    /// The penalty DEM, plain dynamic relaxation with local damping (formerly
-    /// `--no-implicit --no-accelerate`).
-    Relaxation,
-    /// Non-smooth contact dynamics (Moreau–Jean; rigid joints: Kn and Ks are not used).
-    Nscd,
-    /// Limit analysis (lower-bound statics of rigid blocks; rigid joints).
-    Limit,
+/// Each method is listed with a phrase naming it in messages, then its solver kinds with
+/// their names in files and on the command line; its first kind selects it with the
+/// protocol's default cascade ([`Method::kind`]).
+macro_rules! solvers {
+    ($(
+        $(#[doc = $mdoc:literal])*
+        $method:ident = $describe:literal {
+            $($(#[$kattr:meta])* $kind:ident = $name:literal),+ $(,)?
+        }
+    ),+ $(,)?) => {
+        /// The method a protocol runs by: one axis, whatever the cascade of a penalty
+        /// solve.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum Method {
+            $($(#[doc = $mdoc])* $method,)+
+        }
+
+        impl Method {
+            /// Every method, in the order of the list.
+            pub const ALL: [Method; [$(Method::$method),+].len()] = [$(Method::$method),+];
+
+            /// What it is, in a phrase (for messages).
+            pub fn describe(self) -> &'static str {
+                match self {
+                    $(Method::$method => $describe,)+
+                }
+            }
+
+            /// The solver kind that selects this method with the protocol's default
+            /// cascade: the first of its kinds.
+            pub fn kind(self) -> SolverKind {
+                match self {
+                    $(Method::$method => [$(SolverKind::$kind),+][0],)+
+                }
+            }
+
+            /// The solver kinds that select it, in the order of the list.
+            pub fn kinds(self) -> &'static [SolverKind] {
+                match self {
+                    $(Method::$method => &[$(SolverKind::$kind),+],)+
+                }
+            }
+        }
+
+        /// The solver a protocol runs on: `[solver] kind = "..."` in a study, `--solver
+        /// NAME` on `drystone tilt`, `lateral` and `bench`. Default [`SolverKind::Penalty`].
+        ///
+        /// The first four are the penalty DEM (3DEC-style sub-contact springs, Kn and Ks
+        /// from the layout) and differ only in how a static state is found ([`Cascade`]);
+        /// their results agree within one bracket of the protocol, their costs differ
+        /// (BENCHMARKS.md).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash, Serialize, Deserialize)]
+        pub enum SolverKind {
+            $($($(#[$kattr])* #[serde(rename = $name)] $kind,)+)+
+        }
+
+        impl SolverKind {
+            /// Every solver kind, in the order of the list.
+            pub const ALL: [SolverKind; [$($(SolverKind::$kind),+),+].len()] = [$($(SolverKind::$kind),+),+];
+
+            /// Its name in files and on the command line (the serde name).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($(SolverKind::$kind => $name,)+)+
+                }
+            }
+
+            /// The method it selects.
+            pub fn method(self) -> Method {
+                match self {
+                    $($(SolverKind::$kind => Method::$method,)+)+
+                }
+            }
+        }
+    };
 }
 
-/// The method a protocol runs by: one axis, whatever the cascade of a penalty solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Method {
+solvers! {
     /// The penalty DEM (3DEC-style sub-contact springs, Kn and Ks from the layout): static
     /// states by its [`Cascade`], motion by explicit dynamics.
-    Penalty,
+    Penalty = "the penalty DEM" {
+        /// The penalty DEM with each protocol's default cascade: the tilting table runs the
+        /// implicit iteration, its stall probe and accelerated dynamic relaxation; settling
+        /// and the static lateral load run plain dynamic relaxation.
+        #[default]
+        Penalty = "penalty",
+        /// The penalty DEM, every stage: implicit iteration → stall probe → accelerated,
+        /// probed dynamic relaxation.
+        Implicit = "implicit",
+        /// The penalty DEM, accelerated and probed dynamic relaxation without the implicit
+        /// iteration (formerly `--no-implicit`, `implicit = false` in `[tilt]`).
+        Accelerated = "accelerated",
+        /// The penalty DEM, plain dynamic relaxation with local damping (formerly
+        /// `--no-implicit --no-accelerate`).
+        Relaxation = "relaxation",
+    },
     /// Non-smooth contact dynamics (Moreau–Jean time stepping, NSGS; rigid joints).
-    Nscd,
+    Nscd = "non-smooth contact dynamics" {
+        /// Non-smooth contact dynamics (Moreau–Jean; rigid joints: Kn and Ks are not used).
+        Nscd = "nscd",
+    },
     /// Limit analysis (lower-bound statics of rigid blocks; rigid joints).
-    Limit,
+    Limit = "limit analysis" {
+        /// Limit analysis (lower-bound statics of rigid blocks; rigid joints).
+        Limit = "limit",
+    },
 }
 
 impl Method {
-    /// Every method (checked at compile time against `Method::place`).
-    pub const ALL: [Method; 3] = [Method::Penalty, Method::Nscd, Method::Limit];
-
-    /// Its place in [`Method::ALL`]: an exhaustive match, so that the compiler points to a
-    /// new variant here, beside the list it joins.
-    const fn place(self) -> usize {
-        match self {
-            Method::Penalty => 0,
-            Method::Nscd => 1,
-            Method::Limit => 2,
-        }
-    }
-
     /// Its name: the [`SolverKind`] that selects it with the protocol's default cascade.
     pub fn name(self) -> &'static str {
         self.kind().name()
-    }
-
-    /// The solver kind that selects this method with the protocol's default cascade.
-    pub fn kind(self) -> SolverKind {
-        match self {
-            Method::Penalty => SolverKind::Penalty,
-            Method::Nscd => SolverKind::Nscd,
-            Method::Limit => SolverKind::Limit,
-        }
-    }
-
-    /// What it is, in a phrase (for messages).
-    pub fn describe(self) -> &'static str {
-        match self {
-            Method::Penalty => "the penalty DEM",
-            Method::Nscd => "non-smooth contact dynamics",
-            Method::Limit => "limit analysis",
-        }
     }
 
     /// Whether it runs a layout with ropes (`end_rope`): the penalty DEM and nscd carry a
@@ -104,55 +149,9 @@ impl std::fmt::Display for Method {
 }
 
 impl SolverKind {
-    /// Every solver kind (checked at compile time against `SolverKind::place`).
-    pub const ALL: [SolverKind; 6] = [
-        SolverKind::Penalty,
-        SolverKind::Implicit,
-        SolverKind::Accelerated,
-        SolverKind::Relaxation,
-        SolverKind::Nscd,
-        SolverKind::Limit,
-    ];
-
-    /// Its place in [`SolverKind::ALL`]: an exhaustive match, so that the compiler points
-    /// to a new variant here, beside the list it joins.
-    const fn place(self) -> usize {
-        match self {
-            SolverKind::Penalty => 0,
-            SolverKind::Implicit => 1,
-            SolverKind::Accelerated => 2,
-            SolverKind::Relaxation => 3,
-            SolverKind::Nscd => 4,
-            SolverKind::Limit => 5,
-        }
-    }
-
-    /// Its name in files and on the command line (the serde name).
-    pub fn name(self) -> &'static str {
-        match self {
-            SolverKind::Penalty => "penalty",
-            SolverKind::Implicit => "implicit",
-            SolverKind::Accelerated => "accelerated",
-            SolverKind::Relaxation => "relaxation",
-            SolverKind::Nscd => "nscd",
-            SolverKind::Limit => "limit",
-        }
-    }
-
     /// The kind of a name, `None` for an unknown one.
     pub fn from_name(name: &str) -> Option<SolverKind> {
         SolverKind::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// The method it selects.
-    pub fn method(self) -> Method {
-        match self {
-            SolverKind::Penalty | SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => {
-                Method::Penalty
-            }
-            SolverKind::Nscd => Method::Nscd,
-            SolverKind::Limit => Method::Limit,
-        }
     }
 
     /// Whether it names a cascade of its own rather than the protocol's default (the
@@ -186,20 +185,6 @@ impl SolverKind {
         }
     }
 }
-
-// `Method::ALL` and `SolverKind::ALL` list every variant once, in the order of `place`.
-const _: () = {
-    let mut i = 0;
-    while i < Method::ALL.len() {
-        assert!(Method::ALL[i].place() == i, "Method::ALL lists every variant once, in order");
-        i += 1;
-    }
-    let mut i = 0;
-    while i < SolverKind::ALL.len() {
-        assert!(SolverKind::ALL[i].place() == i, "SolverKind::ALL lists every variant once, in order");
-        i += 1;
-    }
-};
 
 impl std::fmt::Display for SolverKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -254,5 +239,31 @@ mod tests {
             assert_eq!(k.method().kind().method(), k.method());
         }
         assert!(SolverKind::Implicit.names_cascade() && !SolverKind::Penalty.names_cascade());
+    }
+
+    /// The one list makes every spelling agree: a kind's serde name (a study file) is its
+    /// name (`--solver`, `drystone.supports`), every kind is in `ALL` once and belongs to
+    /// the kinds of its method, and a method's name is its first kind's.
+    #[test]
+    fn one_list_names_every_kind_and_method_once() {
+        for k in SolverKind::ALL {
+            assert_eq!(toml::Value::try_from(k).unwrap().as_str(), Some(k.name()), "{k:?}");
+            assert_eq!(toml::Value::String(k.name().into()).try_into::<SolverKind>().unwrap(), k);
+            assert_eq!(SolverKind::ALL.iter().filter(|&&j| j == k).count(), 1, "{k:?}");
+            assert!(k.method().kinds().contains(&k), "{k:?}");
+        }
+        let listed: Vec<SolverKind> = Method::ALL.iter().flat_map(|m| m.kinds().iter().copied()).collect();
+        assert_eq!(listed, SolverKind::ALL);
+        for m in Method::ALL {
+            assert_eq!(toml::Value::try_from(m).unwrap().as_str(), Some(m.name()), "{m:?}");
+            assert_eq!(m.kind(), m.kinds()[0]);
+            assert_eq!(m.kind().cascade(Cascade::RELAXATION), m.kind().is_penalty().then_some(Cascade::RELAXATION));
+        }
+        assert_eq!(
+            SolverKind::ALL.map(SolverKind::name),
+            ["penalty", "implicit", "accelerated", "relaxation", "nscd", "limit"]
+        );
+        assert_eq!(Method::ALL.map(Method::name), ["penalty", "nscd", "limit"]);
+        assert_eq!(SolverKind::default(), SolverKind::Penalty);
     }
 }

@@ -101,6 +101,14 @@ impl Default for LateralParams {
 }
 
 impl LateralParams {
+    /// The stages of the static solve of the load with the solver `kind`: the static
+    /// lateral load's default is plain dynamic relaxation ([`Cascade::RELAXATION`]); a
+    /// penalty solver with more stages probes up to the collapse displacement.
+    /// `Cascade::RELAXATION` for a solver that is not a penalty method.
+    pub fn cascade(&self, kind: crate::dem::SolverKind) -> Cascade {
+        kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION)
+    }
+
     /// Checks ranges.
     ///
     /// # Errors
@@ -402,13 +410,7 @@ pub fn run_lateral_penalty(
     let disp = |sim: &Simulation| monitor_displacements(sim, &monitors, &reference);
     let limit = params.collapse_displacement_fraction * width;
     let check = |sim: &Simulation| disp(sim).iter().any(|d| d.abs() > limit).then_some("total_displacement");
-    // The static lateral load's default is plain dynamic relaxation; a penalty solver
-    // with more stages probes up to the collapse displacement.
-    let solve = crate::dem::StaticSolve::of(
-        &penalty,
-        solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION),
-        Some(limit),
-    );
+    let solve = crate::dem::StaticSolve::of(&penalty, params.cascade(solver.kind), Some(limit));
     let start = poses(&sim);
     let reason = match solve_static(&mut sim, &solve, &start, check)?.end {
         End::Equilibrium => None,

@@ -34,14 +34,14 @@ impl LoadingProtocol for Lateral {
     const WAYS: &'static [Way<Self>] = &[
         Way {
             method: Method::Penalty,
-            what: "the penalty DEM, any cascade",
+            what: "equilibrium under the load",
             run: |p, layout, solver, observer| {
                 LateralRun::Dem(run_lateral_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
             },
         },
         Way {
             method: Method::Limit,
-            what: "limit analysis: whether the load multiplier reaches 1",
+            what: "whether λ ≥ 1",
             run: |p, layout, solver, _| LateralRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
         },
     ];

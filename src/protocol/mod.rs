@@ -163,16 +163,17 @@ macro_rules! registry {
         })+)+
 
         /// Whether `method` runs `protocol`, and what it gives there (`None`: it does not):
-        /// the protocol's row ([`LoadingProtocol::WAYS`]).
+        /// the protocol's row ([`LoadingProtocol::WAYS`]). The table below, as README.md's,
+        /// is the registry's: a test generates it and prints it to paste when a copy differs.
         ///
-        /// | protocol | penalty DEM | nscd | limit analysis |
+        /// | protocol | the penalty DEM (`penalty`, `implicit`, `accelerated`, `relaxation`) | non-smooth contact dynamics (`nscd`) | limit analysis (`limit`) |
         /// | --- | --- | --- | --- |
-        /// | tilt | collapse angle (bisection of static states) | rigid collapse angle | α_max = atan λ |
-        /// | tilt by hand | – | the rolled table's motion | – |
-        /// | lateral | equilibrium under the load | – | whether λ ≥ 1 |
-        /// | pushover | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
-        /// | shake | explicit dynamics with contact damping | Moreau–Jean time stepping | – |
-        /// | in_plane | force–displacement curve | – | peak force and mechanism |
+        /// | `tilt`: the tilting table | collapse angle (bisection of static states) | rigid collapse angle | α_max = atan λ |
+        /// | `tilt_by_hand`: the tilting table rolled by hand (tilt.by_hand) | – | the rolled table's motion | – |
+        /// | `lateral`: the static lateral load | equilibrium under the load | – | whether λ ≥ 1 |
+        /// | `pushover`: the lateral pushover (lateral.pushover) | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
+        /// | `shake`: the shaking table | explicit dynamics with contact damping (`penalty` only) | Moreau–Jean time stepping | – |
+        /// | `in_plane`: the in-plane shear-compression test | force-displacement curve (static solve per increment of the imposed displacement) | – | peak horizontal force under the vertical force, and the mechanism |
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+
@@ -505,6 +506,67 @@ mod tests {
         assert!(check(Loading::Pushover, SolverKind::Nscd).is_ok());
         for p in Loading::ALL {
             assert_eq!(Loading::from_name(p.name()), Some(p));
+        }
+    }
+
+    /// The compatibility table as the doc of [`methods`] and README.md show it, generated
+    /// from the registry: a row per protocol (its name and what it is), a column per method
+    /// (what it is and the solver kinds that select it), each cell what the method gives
+    /// ([`Way::what`]), with the kinds [`check`] admits when it admits only some.
+    fn table() -> Vec<String> {
+        let cell = |s: &str| s.replace('|', "\\|");
+        let kinds = |ks: &mut dyn Iterator<Item = SolverKind>| {
+            ks.map(|k| format!("`{}`", k.name())).collect::<Vec<_>>().join(", ")
+        };
+        let mut header = vec!["protocol".to_string()];
+        header.extend(Method::ALL.map(|m| format!("{} ({})", m.describe(), kinds(&mut m.kinds().iter().copied()))));
+        let mut lines = vec![format!("| {} |", header.join(" | ")), format!("|{}", " --- |".repeat(header.len()))];
+        for p in Loading::ALL {
+            let mut row = vec![format!("`{}`: {}", p.name(), p.describe())];
+            row.extend(Method::ALL.map(|m| match methods(p, m) {
+                None => "–".to_string(),
+                Some(what) => {
+                    let admitted: Vec<SolverKind> =
+                        m.kinds().iter().copied().filter(|&k| check(p, k).is_ok()).collect();
+                    if admitted.len() == m.kinds().len() {
+                        cell(what)
+                    } else {
+                        format!("{} ({} only)", cell(what), kinds(&mut admitted.into_iter()))
+                    }
+                }
+            }));
+            lines.push(format!("| {} |", row.join(" | ")));
+        }
+        lines
+    }
+
+    /// The table's lines in `text`: the first run of lines that, with `prefix` and the
+    /// indentation before it removed, start with `| protocol |` and then `|`.
+    fn copy_in(text: &str, prefix: &str) -> Vec<String> {
+        let strip = |l: &str| l.trim_start().strip_prefix(prefix).map(str::trim_end).map(str::to_string);
+        text.lines()
+            .map(strip)
+            .skip_while(|l| !l.as_deref().is_some_and(|l| l.starts_with("| protocol |")))
+            .take_while(|l| l.as_deref().is_some_and(|l| l.starts_with('|')))
+            .flatten()
+            .collect()
+    }
+
+    /// The copies of the compatibility table in this module's doc (of [`methods`]) and in
+    /// README.md are the registry's ([`LoadingProtocol::WAYS`]): a method added to a
+    /// protocol's row, or a protocol to the registry, fails here with the text to paste.
+    #[test]
+    fn the_table_in_the_doc_and_the_readme_is_the_registrys() {
+        let expected = table();
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        for (file, prefix, indent) in [("src/protocol/mod.rs", "/// ", "        /// "), ("README.md", "", "  ")] {
+            let text = std::fs::read_to_string(root.join(file)).unwrap();
+            let copy = copy_in(&text, prefix);
+            assert!(
+                copy == expected,
+                "the compatibility table in {file} is not the registry's; paste this in its place:\n\n{}\n",
+                expected.iter().map(|l| format!("{indent}{l}")).collect::<Vec<_>>().join("\n")
+            );
         }
     }
 

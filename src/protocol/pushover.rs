@@ -51,7 +51,7 @@ impl LoadingProtocol for Pushover {
     const WAYS: &'static [Way<Self>] = &[
         Way {
             method: Method::Penalty,
-            what: "the penalty DEM, any cascade",
+            what: "λ by increments (and λ of limit analysis beside it)",
             run: |p, layout, solver, observer| {
                 let service = run_lateral_penalty(layout, *solver, &p.0, &mut |_, _, _| {});
                 let collapse = service.is_ok().then(|| {
@@ -65,12 +65,12 @@ impl LoadingProtocol for Pushover {
         },
         Way {
             method: Method::Nscd,
-            what: "non-smooth contact dynamics, rigid joints",
+            what: "rigid λ by bisection",
             run: |p, layout, solver, _| PushoverRun::Rigid(run_lateral_nscd(layout, &solver.nscd, &p.0)),
         },
         Way {
             method: Method::Limit,
-            what: "limit analysis, rigid joints",
+            what: "λ",
             run: |p, layout, solver, _| PushoverRun::Limit(limit_lateral(layout, solver, &p.0, &solver.limit)),
         },
     ];

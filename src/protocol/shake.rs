@@ -42,7 +42,7 @@ impl LoadingProtocol for Shake {
         },
         Way {
             method: Method::Nscd,
-            what: "non-smooth contact dynamics",
+            what: "Moreau–Jean time stepping",
             run: |p, layout, solver, observer| {
                 run_shake_nscd(layout, *solver, &p.motion, &p.params, &mut |t, b| observer.instant(t, b))
             },
@@ -142,6 +142,28 @@ pub fn restitutions(kind: SolverKind, e: Option<f64>) -> (f64, f64) {
         | SolverKind::Accelerated
         | SolverKind::Relaxation
         | SolverKind::Limit => (nscd, e.unwrap_or(contact)),
+    }
+}
+
+/// What a shaking study's report says of the solver that ran it (`[solver] kind`): the
+/// method and its settings, in a clause.
+pub fn study_notes(solver: &SolverParams) -> String {
+    let kind = solver.kind;
+    let method = kind.method().describe();
+    match kind.method() {
+        Method::Penalty => format!(
+            "solver `{kind}`: {method}, explicit dynamics with contact dashpots of restitution {} (the joints' Kn and Ks as given)",
+            solver.penalty.contact_restitution
+        ),
+        Method::Nscd => {
+            let nscd = &solver.nscd;
+            format!(
+                "solver `{kind}`: {method}, time step {} s, restitution {}, NSGS tolerance {} in at most {} sweeps per step (rigid blocks: the joints' Kn and Ks are not used)",
+                nscd.dt_s, nscd.restitution, nscd.tolerance, nscd.max_iterations
+            )
+        }
+        // Limit analysis does not shake: the seam refuses it before any run.
+        Method::Limit => format!("solver `{kind}`: {method}"),
     }
 }
 

@@ -37,19 +37,19 @@ impl LoadingProtocol for Tilt {
     const WAYS: &'static [Way<Self>] = &[
         Way {
             method: Method::Penalty,
-            what: "the penalty DEM, any cascade",
+            what: "collapse angle (bisection of static states)",
             run: |p, layout, solver, observer| {
                 TiltRun::Path(run_tilt_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
             },
         },
         Way {
             method: Method::Nscd,
-            what: "non-smooth contact dynamics, rigid joints",
+            what: "rigid collapse angle",
             run: |p, layout, solver, _| TiltRun::Path(run_tilt_nscd(layout, &solver.nscd, &p.0)),
         },
         Way {
             method: Method::Limit,
-            what: "limit analysis, rigid joints",
+            what: "α_max = atan λ",
             run: |_, layout, solver, _| TiltRun::Limit(limit_tilt(layout, solver, &solver.limit)),
         },
     ];

@@ -27,7 +27,7 @@ impl LoadingProtocol for TiltByHand {
 
     const WAYS: &'static [Way<Self>] = &[Way {
         method: Method::Nscd,
-        what: "non-smooth contact dynamics",
+        what: "the rolled table's motion",
         run: |p, layout, solver, _| run_tilt_by_hand(layout, &solver.nscd, &p.tilt, &p.hand),
     }];
 

@@ -1,6 +1,7 @@
 //! Pictures of single realizations of a study, made by running a realization again with its
 //! states recorded (`io::series::Recorder`); a realization is a pure function of the study
-//! and its item, so the run gives the same result as its row.
+//! and its item, and its layout is made as its row's (`study::run::realize_item`: the
+//! group's effects applied), so the run gives the same result as its row.
 //!
 //! * [`mechanism_figures`]: per group, the collapse mechanism of one representative
 //!   realization at its first unstable state (`mechanism_GROUP.svg`, `io::mechanism`), for
@@ -11,7 +12,6 @@
 use super::Study;
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::{Item, Shard};
-use crate::generator::generate;
 use crate::io::mechanism::{mechanism_svg, MechanismFigure};
 use crate::io::series::{
     block_motion, lateral_frames, motion_frames, tilt_frames, write_series, Recorder, SeriesError,
@@ -29,11 +29,11 @@ pub fn file_stem(name: &str) -> String {
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect()
 }
 
-/// The layout of an item and its tilt run with every state recorded; `None` if the layout
-/// cannot be generated or the run fails (the row says why).
+/// The layout of an item, with its group's effects as its row's run has them
+/// ([`super::run::realize_item`]), and its tilt run with every state recorded; `None` if the
+/// layout cannot be made or the run fails (the row says why).
 fn record_tilt(study: &Study, item: &Item) -> Option<(Layout, Recorder, TiltResult)> {
-    let wall = &study.groups[item.group].walls[item.point];
-    let layout = generate(wall, study.seed, item.realization).and_then(|g| g.check()).ok()?;
+    let layout = super::run::realize_item(study, item).ok()?;
     let mut rec = Recorder::default();
     let tilt = study.protocol.tilt()?;
     let r = run_tilt_observed(&layout, study.solver, tilt, &mut |a, s, sim| rec.observe(a, s, sim)).ok()?;
@@ -164,8 +164,7 @@ pub fn write_vtk_realizations(
             let point = if study.points.len() > 1 { format!("_p{}", it.point) } else { String::new() };
             let out = dir.join("vtk").join(format!("{group}{point}_r{}", it.realization));
             // (A shaking study's points are its motions and levels: `_pP` names them.)
-            let wall = &study.groups[it.group].walls[it.point];
-            let Ok(layout) = generate(wall, study.seed, it.realization).and_then(|g| g.check()) else {
+            let Ok(layout) = super::run::realize_item(study, it) else {
                 return Ok(None);
             };
             study.protocol.write_series(study, it.point, &layout, &out)

@@ -6,6 +6,7 @@ use super::paper;
 use super::summary::{comparison_text, comparisons, measure_of, summarize, write_summary_csv, CellSummary, Comparison};
 use super::text::{fixed, md_table, sci};
 use super::Study;
+use crate::dem::Cascade;
 use crate::ensemble::row::RealizationRow;
 use crate::io::plot::{self, BandSeries, HistogramPanel};
 use crate::io::{replace_file, replace_file_with};
@@ -44,6 +45,31 @@ fn degenerate_groups(cmp: &[Comparison]) -> Vec<String> {
             })
         })
         .collect()
+}
+
+/// The solver that ran a study of static states, as the study file names it (`[solver]
+/// kind`), with its method and, for the penalty DEM, the stages its static solves ran
+/// (`cascade`: the protocol's, with the kind's choice applied) and its settings.
+pub(super) fn solver_text(study: &Study, cascade: Cascade) -> String {
+    let kind = study.solver.kind;
+    let method = kind.method().describe();
+    if !kind.is_penalty() {
+        return format!("solver `{kind}`: {method}");
+    }
+    let stages = match (cascade.implicit, cascade.accelerate) {
+        (true, true) => "the implicit iteration, then accelerated dynamic relaxation",
+        (true, false) => "the implicit iteration, then plain dynamic relaxation",
+        (false, true) => "accelerated dynamic relaxation, without the implicit iteration",
+        (false, false) => "plain dynamic relaxation",
+    };
+    let on = |b: bool| if b { "on" } else { "off" };
+    format!(
+        "solver `{kind}`: {method}, static states by {stages}, equilibrium at unbalanced-force ratio {}, secant predictor {}, local damping {}, sub-contact subdivisions {}",
+        study.solver.penalty.tolerance,
+        on(study.solver.penalty.predictor),
+        study.solver.damping,
+        study.solver.subcontact_subdivisions
+    )
 }
 
 fn num(v: f64) -> String {
@@ -122,8 +148,12 @@ pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Resul
 pub(super) fn lateral_sections(study: &Study, l: &LateralParams, cells: &[CellSummary], md: &mut String) {
     let _ = writeln!(
         md,
-        "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; equilibrium at unbalanced-force ratio {}; damping {}.\n",
-        study.seed, study.realizations, l.pressure_base_pa, l.pressure_top_pa, study.solver.penalty.tolerance, study.solver.damping
+        "Master seed {}; {} realization(s) per group and sweep point unless the group fixes its own; protocol: static lateral load, trapezoidal pressure {} Pa at the base to {} Pa at the top, normal to the loaded face, pushing towards +y; {}.\n",
+        study.seed,
+        study.realizations,
+        l.pressure_base_pa,
+        l.pressure_top_pa,
+        solver_text(study, l.cascade(study.solver.kind))
     );
     let _ = writeln!(md, "## Top displacement under the lateral load\n");
     let _ = writeln!(md, "Top displacement: the largest of the three top points (left, centre, right), in mm; drift = top displacement / H. Statistics over the realizations that reached equilibrium.\n");
@@ -225,8 +255,12 @@ pub(super) fn tilt_sections(
     tilt_plots(study, tilt.step_deg, rows, cells, dir)?;
     let _ = writeln!(
         md,
-        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°, equilibrium at unbalanced-force ratio {}, secant predictor {}, implicit relaxation {}; local damping {}; sub-contact subdivisions {}.\n",
-        study.seed, study.realizations, tilt.step_deg, tilt.resolution_deg, study.solver.penalty.tolerance, if study.solver.penalty.predictor { "on" } else { "off" }, if tilt.implicit { "on" } else { "off" }, study.solver.damping, study.solver.subcontact_subdivisions
+        "Master seed {}; {} realization(s) per group and sweep point; protocol: tilting table, tilt step {}°, collapse bracket {}°; {}.\n",
+        study.seed,
+        study.realizations,
+        tilt.step_deg,
+        tilt.resolution_deg,
+        solver_text(study, tilt.cascade(study.solver.kind))
     );
     collapse_table(cells, md);
     displacement_table(cells, md);

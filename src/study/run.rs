@@ -13,6 +13,7 @@
 use super::{point_label, Study, SweepKey};
 use crate::ensemble::row::{CollapseColumns, RealizationRow, ShakeColumns, Status};
 use crate::ensemble::{self, Item, Shard};
+use crate::layout::Layout;
 use crate::loading::lateral::LateralResult;
 use crate::loading::monitors::TopMonitor;
 use crate::loading::shake::ShakeResult;
@@ -39,18 +40,29 @@ fn cost(study: &Study, item: &Item) -> f64 {
 /// generation of the layout.
 pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
     let t0 = Instant::now();
-    let group = &study.groups[item.group];
-    let wall = &group.walls[item.point];
     let base = empty_row(study, item);
-    let row = match crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects) {
+    let row = match realize_item(study, item) {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
-        Ok((_, layout)) => {
+        Ok(layout) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
             let run = study.loading_at(item.point).run(&layout, study.solver);
             study.protocol.row(study, item.point, row, run)
         }
     };
     finish(row, t0)
+}
+
+/// The layout of an item: realization `item.realization` (master seed `study.seed`) of its
+/// group's wall at its sweep point, with the group's effects applied
+/// ([`crate::effects::realize`]). The one layout every run of the item is made of: its row
+/// ([`run_item`]), its mechanism figure and its ParaView series (`study::figures`).
+///
+/// # Errors
+/// Why the layout cannot be generated, checked or given its effects.
+pub(super) fn realize_item(study: &Study, item: &Item) -> Result<Layout, crate::effects::EffectError> {
+    let group = &study.groups[item.group];
+    let wall = &group.walls[item.point];
+    crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects).map(|(_, layout)| layout)
 }
 
 /// The row with its wall time since `t0`.

@@ -151,10 +151,10 @@ pub fn shake_sections(
 ) -> Result<String, ReportError> {
     let frag = fragilities(study, rows);
     let p = &shake.params;
-    let nscd = &study.solver.nscd;
+    let method = crate::protocol::shake::study_notes(&study.solver);
     let _ = writeln!(
         md,
-        "Master seed {}; {} realization(s) per group; protocol: shaking table (base acceleration along +y), {} motion(s) × {} PGA level(s) (incremental dynamic analysis: each motion scaled to each level); motion simulated {}, then {} s of free motion; a block has fallen past {}° of rotation; non-smooth contact dynamics, time step {} s, restitution {}, NSGS tolerance {} in at most {} sweeps per step (rigid blocks: the joints' Kn and Ks are not used).\n",
+        "Master seed {}; {} realization(s) per group; protocol: shaking table (base acceleration along +y), {} motion(s) × {} PGA level(s) (incremental dynamic analysis: each motion scaled to each level); motion simulated {}, then {} s of free motion; a block has fallen past {}° of rotation; {method}.\n",
         study.seed,
         study.realizations,
         shake.motions.len(),
@@ -162,10 +162,6 @@ pub fn shake_sections(
         p.duration_s.map_or("whole".to_string(), |d| format!("for {d} s at most")),
         p.tail_s,
         p.fall_rotation_deg,
-        nscd.dt_s,
-        nscd.restitution,
-        nscd.tolerance,
-        nscd.max_iterations
     );
     convergence_line(study, rows, md);
     let table = fragility_text(&frag, md);

@@ -187,6 +187,7 @@ fn a_rigid_block_collapses_at_each_level_as_the_rocking_equation_says() {
     run_into(&study, &dir.join("study.toml"), Shard::ALL, &out, RunMode::default()).unwrap();
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## Fragility against PGA") && report.contains("shaking.svg"), "{report}");
+    assert!(report.contains("; solver `nscd`: non-smooth contact dynamics, time step "), "{report}");
     assert!(out.join("shaking.svg").exists() && out.join("fragility.csv").exists());
     let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
     let header = csv.lines().next().unwrap();
@@ -221,6 +222,16 @@ fn a_penalty_shaking_study_collapses_as_the_rocking_equation_says() {
             }
         }
     }
+    // The report names the method that ran, not nscd's settings.
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    drystone::study::write_report(&study, &rows, &out).unwrap();
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("; solver `penalty`: the penalty DEM, explicit dynamics with contact dashpots"),
+        "{report}"
+    );
+    assert!(!report.contains("NSGS"), "{report}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -178,3 +178,42 @@ fn the_fragility_figure_labels_simulated_points_and_draws_the_measured_specimens
     assert!(simulated >= 2, "the ensembles' points are labelled simulated ({simulated})");
     assert_eq!(measured, 2, "one measured legend entry per group at the first sweep point");
 }
+
+/// The report names the solver that ran and the stages its static solves ran, whatever
+/// spelled them: `accelerated` is not reported as the implicit iteration, the deprecated
+/// `[tilt] implicit = false` under `penalty` reports what it runs, and a method without
+/// static solves is reported without the penalty DEM's settings.
+#[test]
+fn the_report_names_the_solver_and_the_stages_it_ran() {
+    use drystone::dem::SolverKind;
+    let arg = root().join("tests/studies/good/mini_sweep.toml");
+    let report = |kind: SolverKind, implicit: bool| {
+        let mut s = mini();
+        s.solver.kind = kind;
+        s.solver.penalty.max_steps = 5; // every realization stops at once: the report is of the study
+        let drystone::study::StudyProtocol::Tilt(tilt) = &mut s.protocol else { panic!("a tilting-table study") };
+        tilt.implicit = implicit;
+        let rows = run_study(&s, Shard::parse("1/4").unwrap());
+        let dir = tmp(&format!("report-{kind}-{implicit}"));
+        write_outputs(&s, &arg, Shard::ALL, &rows, &dir).unwrap();
+        String::from_utf8(read(&dir.join("report.md"))).unwrap()
+    };
+    let accelerated = report(SolverKind::Accelerated, true);
+    assert!(
+        accelerated.contains(
+            "solver `accelerated`: the penalty DEM, static states by accelerated dynamic relaxation, without the implicit iteration"
+        ),
+        "{accelerated}"
+    );
+    assert!(!accelerated.contains("implicit relaxation on"), "{accelerated}");
+    let penalty = report(SolverKind::Penalty, true);
+    assert!(
+        penalty.contains("solver `penalty`: the penalty DEM, static states by the implicit iteration, then accelerated dynamic relaxation, equilibrium at unbalanced-force ratio"),
+        "{penalty}"
+    );
+    let deprecated = report(SolverKind::Penalty, false);
+    assert!(deprecated.contains("solver `penalty`: the penalty DEM, static states by accelerated dynamic relaxation, without the implicit iteration"), "{deprecated}");
+    let rigid = report(SolverKind::Limit, true);
+    assert!(rigid.contains("solver `limit`: limit analysis."), "{rigid}");
+    assert!(!rigid.contains("secant predictor"), "{rigid}");
+}
