@@ -431,6 +431,7 @@ mod tests {
             displacement_cm: 0.1,
             misreading: 0.1,
             neighbour_joint: 0.25,
+            ..Default::default()
         };
         Data { obs, y: zeros, key: keys, weight: zeros, reading, bracket_deg: 0.5 }
     }

@@ -610,7 +610,13 @@ mod tests {
         let y = vec![12.4; 6];
         let key = vec![0usize; 6];
         let weight = vec![1.0; 6];
-        let reading = Reading { angle_deg: 1e-6, displacement_cm: 1e-6, misreading: 0.1, neighbour_joint: 0.0 };
+        let reading = Reading {
+            angle_deg: 1e-6,
+            displacement_cm: 1e-6,
+            misreading: 0.1,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        };
         let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let all: Vec<usize> = (0..6).collect();
         let (x, _) = fit(&s, data, &all);

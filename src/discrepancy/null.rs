@@ -466,7 +466,13 @@ mod tests {
             .collect();
         let key = vec![0usize; n];
         let weight = vec![1.0; n];
-        let reading = Reading { angle_deg: 1e-9, displacement_cm: 1e-9, misreading: 0.1, neighbour_joint: 0.0 };
+        let reading = Reading {
+            angle_deg: 1e-9,
+            displacement_cm: 1e-9,
+            misreading: 0.1,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        };
         let data = Data { obs: &obs, y: &y0, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
         let stated = vec![sigma; n];
         // A model spread larger than any data spread: the σ estimate never exceeds the
@@ -521,7 +527,13 @@ mod tests {
             .collect();
         let mut both = angles.clone();
         both.extend(angles.iter().map(|o| Observation { observable: sliding, value: 1.0, sigma: 1.0, ..o.clone() }));
-        let reading = Reading { angle_deg: 0.25, displacement_cm: 0.1, misreading: 0.1, neighbour_joint: 0.25 };
+        let reading = Reading {
+            angle_deg: 0.25,
+            displacement_cm: 0.1,
+            misreading: 0.1,
+            neighbour_joint: 0.25,
+            ..Reading::default()
+        };
         let check = |obs: &[Observation]| {
             let key: Vec<usize> = obs.iter().map(|o| usize::from(o.observable != Observable::CollapseAngle)).collect();
             let y: Vec<f64> = obs.iter().map(|o| o.value).collect();

@@ -104,7 +104,13 @@ fn an_analysis_of_lateral_displacements_finds_the_joint_stiffness_by_its_scaling
         bootstrap: 100,
         effects: vec!["kn_scale".into()],
         scatter: false,
-        reading: Reading { angle_deg: 0.5, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 },
+        reading: Reading {
+            angle_deg: 0.5,
+            displacement_cm: 0.0,
+            misreading: 0.0,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        },
         ..Settings::default()
     };
     let setup = setup_of(&study, s.most_realizations());

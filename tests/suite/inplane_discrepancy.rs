@@ -79,7 +79,11 @@ fn a_softer_joint_hidden_in_in_plane_data_is_named() {
     let run = drystone::discrepancy::run(&setup, obs, &s, 11, &Library::builtin()).unwrap();
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(|c| c.name.clone());
-    assert!(cause.as_deref().is_some_and(|c| c.starts_with("kn_scale")), "named {cause:?}, verdict {}", a.verdict.name());
+    assert!(
+        cause.as_deref().is_some_and(|c| c.starts_with("kn_scale")),
+        "named {cause:?}, verdict {}",
+        a.verdict.name()
+    );
     let factor = run.cause_interval.iter().find(|p| p.name == "kn_scale.factor").expect("the factor's interval");
     assert!(
         factor.interval.0 <= HIDDEN && HIDDEN <= factor.interval.1,

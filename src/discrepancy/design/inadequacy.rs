@@ -181,7 +181,13 @@ mod tests {
         let o = [obs("A1", "A", 20.0), obs("A2", "A", 20.0), obs("B1", "B", 24.0), obs("B2", "B", 24.0)];
         let y: Vec<f64> = o.iter().map(|x| x.value).collect();
         let (key, weight) = ([0, 0, 1, 1], [1.0; 4]);
-        let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+        let exact = Reading {
+            angle_deg: 0.0,
+            displacement_cm: 0.0,
+            misreading: 0.0,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        };
         let data = Data { obs: &o, y: &y, key: &key, weight: &weight, reading: exact, bracket_deg: 0.0 };
         let scan = vec![vec![at(20.0), at(22.0)], vec![at(22.0), at(24.0)]];
         // Scores of the measures per scan point and specimen: lower where the group fits.

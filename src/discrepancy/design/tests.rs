@@ -228,7 +228,8 @@ fn the_discrepancy_is_a_bias_the_follow_up_s_specimens_share() {
     let keys = [Observable::CollapseAngle];
     let sims = vec![vec![Simulated { mean: 20.0, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE }]];
     let sigma = [0.3];
-    let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+    let exact =
+        Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0, ..Reading::default() };
     let v = 3.0;
     let p = Problem { inadequacy: &[v], reading: exact, bracket_deg: 0.6, ..problem(&cs[..1], &sims, &keys, &sigma) };
     let s2 = 0.3f64 * 0.3 + 0.6 * 0.6 / 12.0;
@@ -292,7 +293,8 @@ fn on_walls_of_a_new_kind_the_truth_carries_the_contenders_disagreement() {
     let one = |mean| Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE };
     let sims = [vec![one(20.0), one(1.0)], vec![one(21.5), one(1.0)]];
     let sigma = [0.3, 0.0];
-    let exact = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+    let exact =
+        Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0, ..Reading::default() };
     let seen =
         Problem { inadequacy: &[1.0, 1.0], reading: exact, bracket_deg: 0.0, ..problem(&cs, &sims, &keys, &sigma) };
     let unseen = Problem { unseen_walls: true, ..seen };

@@ -38,7 +38,15 @@ fn margins(baseline: f64, misfit: f64) -> Margins {
     Margins { baseline, misfit, replicates: 0, false_alarms: (0, 0), false_alarm_interval: (0.0, 1.0) }
 }
 
-const EXACT: Reading = Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0 };
+const EXACT: Reading = Reading {
+    angle_deg: 0.0,
+    displacement_cm: 0.0,
+    misreading: 0.0,
+    neighbour_joint: 0.0,
+    force_kn: 0.0,
+    drift_pct: 0.0,
+    stiffness_kn_per_mm: 0.0,
+};
 
 /// Five collapse angles 10, 12, 14, 16, 18° of one group: sample variance 40/4 = 10 deg²;
 /// the model's spread there 1° (variance 1) and exact readings: the data show
