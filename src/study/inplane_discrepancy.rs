@@ -136,10 +136,12 @@ pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
                     });
                 }
             }
-            let mode = match s.failure_type {
-                t if t == 1.0 => Some(MechanismKind::Rocking),
-                t if t == 0.5 => Some(MechanismKind::Mixed),
-                _ => None,
+            let mode = if s.failure_type == 1.0 {
+                Some(MechanismKind::Rocking)
+            } else if s.failure_type == 0.5 {
+                Some(MechanismKind::Mixed)
+            } else {
+                None
             };
             if let Some(mode) = mode {
                 obs.push(Observation {
