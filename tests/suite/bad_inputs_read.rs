@@ -208,7 +208,9 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
 
 /// Inputs a study accepts but does not use are named in a warning on stderr and in the
 /// report's "Warnings": `end_rope` on a wall without end restraints, `[tilt] step_deg`
-/// with the table rolled by hand, `discrepancy.also_effects` beside `discrepancy.effects`.
+/// with the table rolled by hand, `discrepancy.also_effects` beside `discrepancy.effects`,
+/// a `[solver.penalty]` key with `kind = "nscd"` (as a `[solver.nscd]` key with the
+/// penalty DEM); `drystone discrepancy` and `design` print them too.
 #[test]
 fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     let dir = std::env::temp_dir().join(format!("drystone-ignored-{}", std::process::id()));
@@ -217,7 +219,7 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
         &dir,
         "ignored",
         TINY,
-        "[solver]\nkind = \"nscd\"\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
+        "[solver]\nkind = \"nscd\"\n\n[solver.penalty]\nmax_steps = 1000\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
          [effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }\n\n\
          [discrepancy]\neffects = [\"end_rope\"]\nalso_effects = [\"table_kick\"]",
     );
@@ -225,9 +227,25 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     assert_eq!(code, 0, "{err}");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     let warnings = report.split("## Warnings").nth(1).unwrap_or_else(|| panic!("no Warnings section: {report}"));
-    for key in ["effects.end_rope", "tilt.step_deg", "discrepancy.also_effects", "discrepancy: table_kick"] {
+    for key in [
+        "effects.end_rope",
+        "tilt.step_deg",
+        "discrepancy.also_effects",
+        "discrepancy: table_kick",
+        "solver.penalty.max_steps",
+    ] {
         assert!(err.lines().any(|l| l.starts_with("warning:") && l.contains(key)), "{key} not warned on stderr: {err}");
         assert!(warnings.contains(key), "{key} not in the report's Warnings");
+    }
+    // `drystone discrepancy` and `design` read the same study and warn the same (before
+    // they refuse a study without measured data).
+    for command in ["discrepancy", "design"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_drystone")).arg(command).arg(&s).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.lines().any(|l| l.starts_with("warning: solver.penalty.max_steps is not read")),
+            "{command}: {err}"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }
