@@ -159,6 +159,11 @@ fn hand_flag(key: &str) -> &'static str {
 pub fn command(a: TiltArgs) -> Result<ExitCode> {
     let kind = a.solver.kind();
     let nscd = a.nscd.params_for(kind, NscdParams::default())?;
+    a.nscd.refuse_motion_options(if a.hand.by_hand {
+        "the table rolled by hand (tilt --by-hand)"
+    } else {
+        "the tilting table (tilt)"
+    })?;
     let limit = a.limit.params_for(kind, drystone::dem::LimitParams::default())?;
     let hand = a.hand.motion(kind)?;
     let density_scaling = match a.density_scaling.as_str() {

@@ -210,7 +210,8 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
 /// report's "Warnings": `end_rope` on a wall without end restraints, `[tilt] step_deg`
 /// with the table rolled by hand, `discrepancy.also_effects` beside `discrepancy.effects`,
 /// a `[solver.penalty]` key with `kind = "nscd"` (as a `[solver.nscd]` key with the
-/// penalty DEM); `drystone discrepancy` and `design` print them too.
+/// penalty DEM), a `[solver.nscd]` key of a step of motion in a tilting study (its
+/// release trials do not read it); `drystone discrepancy` and `design` print them too.
 #[test]
 fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     let dir = std::env::temp_dir().join(format!("drystone-ignored-{}", std::process::id()));
@@ -219,7 +220,7 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
         &dir,
         "ignored",
         TINY,
-        "[solver]\nkind = \"nscd\"\n\n[solver.penalty]\nmax_steps = 1000\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
+        "[solver]\nkind = \"nscd\"\n\n[solver.penalty]\nmax_steps = 1000\n\n[solver.nscd]\nnatural_tolerance = 1e-5\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
          [effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }\n\n\
          [discrepancy]\neffects = [\"end_rope\"]\nalso_effects = [\"table_kick\"]",
     );
@@ -233,6 +234,7 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
         "discrepancy.also_effects",
         "discrepancy: table_kick",
         "solver.penalty.max_steps",
+        "solver.nscd.natural_tolerance",
     ] {
         assert!(err.lines().any(|l| l.starts_with("warning:") && l.contains(key)), "{key} not warned on stderr: {err}");
         assert!(warnings.contains(key), "{key} not in the report's Warnings");
