@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 17;
+const CORPUS_CASES: usize = 18;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -116,7 +116,17 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
     refused("sigma.angle_deg = 1e300", &s, &dir, &["sigma.angle_deg", "1e300"], &mut count);
     // A reading's share on each neighbouring joint of 0.6 (more than the joint read keeps).
     let s = study(&dir, "neighbour_joint", TINY, "[discrepancy]\nreading = { neighbour_joint = 0.6 }");
-    refused("reading.neighbour_joint = 0.6", &s, &dir, &["reading.neighbour_joint", "0.6", "[0, 0.5)"], &mut count);
+    refused("reading.neighbour_joint = 0.6", &s, &dir, &["reading.neighbour_joint", "0.6", "[0, 1/3)"], &mut count);
+    // 0.4 on each neighbour leaves the joint read 0.2: a reading at the failing joint would
+    // score worse than one a course off. Refused with the range that keeps it highest.
+    let s = study(&dir, "neighbour_joint_04", TINY, "[discrepancy]\nreading = { neighbour_joint = 0.4 }");
+    refused(
+        "reading.neighbour_joint = 0.4",
+        &s,
+        &dir,
+        &["reading.neighbour_joint", "0.4", "[0, 1/3)", "a course off"],
+        &mut count,
+    );
     // Flags named by themselves, values with a minus sign included.
     let stack = root().join("tests/bad_inputs/stable_stack.json");
     let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
