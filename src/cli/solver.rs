@@ -242,6 +242,31 @@ impl NscdArgs {
         }
     }
 
+    /// Refuses the options of a step of motion (`--nscd-step-solver`,
+    /// `--nscd-natural-tolerance`, `--nscd-rest`) for a command whose nscd runs only
+    /// release trials (`what`: the tilting table, the table rolled by hand), which take
+    /// the NSGS sweeps alone and never certify rest (`NscdParams::for_trials`): they set
+    /// the shaking table's steps.
+    ///
+    /// # Errors
+    /// The first of those options given, by name.
+    pub fn refuse_motion_options(&self, what: &str) -> Result<()> {
+        for (flag, given) in [
+            ("--nscd-step-solver", self.nscd_step_solver.is_some()),
+            ("--nscd-natural-tolerance", self.nscd_natural_tolerance.is_some()),
+            ("--nscd-rest", self.nscd_rest.is_some()),
+        ] {
+            if given {
+                bail!(
+                    "{flag} sets a step of motion of the shaking table (drystone shake; solver.nscd in a shaking \
+                     study) and is not read by {what}: its release trials take the NSGS sweeps alone (--nscd-norm, \
+                     --nscd-tolerance, --nscd-max-iterations) and never certify rest (docs/nscd.md); drop {flag}"
+                );
+            }
+        }
+        Ok(())
+    }
+
     /// `base` with the options given, for the solver `kind`.
     ///
     /// # Errors

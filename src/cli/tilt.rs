@@ -159,6 +159,11 @@ fn hand_flag(key: &str) -> &'static str {
 pub fn command(a: TiltArgs) -> Result<ExitCode> {
     let kind = a.solver.kind();
     let nscd = a.nscd.params_for(kind, NscdParams::default())?;
+    a.nscd.refuse_motion_options(if a.hand.by_hand {
+        "the table rolled by hand (tilt --by-hand)"
+    } else {
+        "the tilting table (tilt)"
+    })?;
     let limit = a.limit.params_for(kind, drystone::dem::LimitParams::default())?;
     let hand = a.hand.motion(kind)?;
     let density_scaling = match a.density_scaling.as_str() {
@@ -244,7 +249,7 @@ fn run_by_hand(layout: &Path, nscd: &NscdParams, params: &TiltParams, hand: &Han
             hand.hold_s,
             hand.axis_depth_m
         );
-        print(layout, &r);
+        print(layout, &r, true);
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -288,7 +293,7 @@ pub fn run(
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print(layout, &r);
+        print(layout, &r, solver.kind.method() == drystone::dem::Method::Nscd);
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -303,7 +308,9 @@ fn mechanism_name(k: MechanismKind) -> &'static str {
     }
 }
 
-fn print(layout: &Path, r: &TiltResult) {
+/// Prints the result `r` of the test of `layout`; `rigid` for a run by nscd (quasi-static
+/// or rolled by hand), whose work is time steps and NSGS sweeps.
+fn print(layout: &Path, r: &TiltResult, rigid: bool) {
     out!("layout            {}", layout.display());
     out!(
         "collapse angle    {:.2} deg (last stable), first unstable {}",
@@ -327,13 +334,24 @@ fn print(layout: &Path, r: &TiltResult) {
         r.mechanism.joint,
         r.mechanism.blocks.len()
     );
-    out!(
-        "work              {} implicit iterations, {} steps of dynamic relaxation (dt {:.3e} s); wall time {:.2} s",
-        r.iterations,
-        r.steps,
-        r.dt_s,
-        r.wall_time_s
-    );
+    if rigid {
+        // nscd's result counts time steps of its release trials and NSGS sweeps.
+        out!(
+            "work              {} time steps of non-smooth contact dynamics (dt {:.3e} s), {} NSGS sweeps; wall time {:.2} s",
+            r.steps,
+            r.dt_s,
+            r.iterations,
+            r.wall_time_s
+        );
+    } else {
+        out!(
+            "work              {} implicit iterations, {} steps of dynamic relaxation (dt {:.3e} s); wall time {:.2} s",
+            r.iterations,
+            r.steps,
+            r.dt_s,
+            r.wall_time_s
+        );
+    }
     if !r.scalar_fallbacks_deg.is_empty() {
         let at: Vec<String> = r.scalar_fallbacks_deg.iter().map(|a| format!("{a:.3}")).collect();
         out!(

@@ -5,6 +5,11 @@ use super::predictive::Reading;
 use super::DiscrepancyError;
 use serde::{Deserialize, Serialize};
 
+/// The largest share of a failure-height reading on each neighbouring joint, exclusive
+/// ([`super::predictive::Reading::neighbour_joint`]): the joint read keeps `1 − 2d`, which
+/// stays above each neighbour's `d` only below 1/3.
+pub const NEIGHBOUR_JOINT_MAX: f64 = 1.0 / 3.0;
+
 /// Settings of a discrepancy analysis. Defaults in brackets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -116,9 +121,17 @@ impl Settings {
         if !(self.reading.misreading.is_finite() && (0.0..0.5).contains(&self.reading.misreading)) {
             return bad("reading.misreading", self.reading.misreading.to_string(), "must be in [0, 0.5)");
         }
+        // The joint read keeps 1 − 2d of a reading, each neighbour d: below 1/3 the
+        // failing joint's share is the largest, so that a reading at it scores better than
+        // one a course off.
         let d = self.reading.neighbour_joint;
-        if !(d.is_finite() && (0.0..0.5).contains(&d)) {
-            return bad("reading.neighbour_joint", d.to_string(), "must be in [0, 0.5)");
+        if !(d.is_finite() && (0.0..NEIGHBOUR_JOINT_MAX).contains(&d)) {
+            return bad(
+                "reading.neighbour_joint",
+                d.to_string(),
+                "must be in [0, 1/3): the joint read keeps 1 − 2 d of a reading and each neighbour d, so from \
+                 1/3 up a reading at the failing joint would score no better than one a course off",
+            );
         }
         for (key, v) in [
             ("reading.angle_deg", self.reading.angle_deg),

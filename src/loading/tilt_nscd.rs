@@ -45,7 +45,9 @@
 //!   is bisected from that state to [`TiltParams::resolution_deg`];
 //! * a trial's window is [`ROPE_PERIODS`] periods `2π/√λ` of the slowest rope-held block
 //!   (λ its largest eigenvalue of the ropes' stiffness against its mass), at least
-//!   `trial_steps` and at most [`ROPE_TRIAL_MAX_STEPS`];
+//!   `trial_steps` and at most [`ROPE_TRIAL_MAX_STEPS`]; a rope with no stiffness as built
+//!   (no pretension, just touching the face) is taken at its stiffness over the deflections
+//!   a trial reaches, its elongation's ([`TrialLimits::of`]);
 //! * the motion is kinetically damped (Cundall's kinetic damping of dynamic relaxation):
 //!   when the kinetic energy passes a peak, the wall is passing its equilibrium and every
 //!   block is stopped there, so that the release converges on the equilibrium instead of
@@ -58,7 +60,9 @@
 //!
 //! The wall then stands where the taut-string statics of docs/rope.md balance it, and
 //! fails at the first maximum of the tilt along its path (a snap to a distant branch is a
-//! per-increment collapse, as on the penalty path).
+//! per-increment collapse, as on the penalty path). A soft rope that lets the rigid wall tip
+//! at its free limit before it catches it gives that limit (docs/rope.md: the penalty DEM's
+//! elastic joints lean into the rope first, and its answer there depends on their stiffness).
 //!
 //! # The bisection
 //!
@@ -86,7 +90,7 @@ use super::settle::SettleError;
 use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
-use crate::dem::rope::RopeLoad;
+use crate::dem::rope::{stiffness_bound, RopeLoad};
 use crate::dem::timestep::Stiffness;
 use crate::dem::{DemError, Simulation, SolverParams};
 use crate::layout::Layout;
@@ -236,12 +240,24 @@ impl TrialLimits {
     /// rope-held block, `λ` its largest eigenvalue of the ropes' stiffness at the
     /// deflection as built ([`crate::dem::timestep::Stiffness::add_restraints`]) against its
     /// mass (rad²/s²).
+    ///
+    /// A rope without pretension that just touches the face as built (`T₀ = 0`, `d = 0`)
+    /// has no stiffness there: its force `EA δ̄³ / s³` is all elongation and grows only as
+    /// the wall moves into it. The ropes' stiffness is then bounded over the deflections a
+    /// stable trial reaches, up to `increment_m` ([`crate::dem::rope::stiffness_bound`]:
+    /// the elongation's `2 EA δ̄² / (L² L_ref)` in it), so that the window lasts while the
+    /// rope catches the wall instead of the rigid trial's `trial_steps`.
     pub(crate) fn of(layout: &Layout, base: &NscdSimulation, increment_m: f64, total_m: f64) -> TrialLimits {
         let bodies = base.bodies();
         let ropes = RopeLoad::of_layout(layout, bodies);
         let rope = if ropes.iter().any(|r| !r.bearers.is_empty()) {
+            let slack = ropes.iter().any(|r| {
+                let d = r.deflection(bodies);
+                !r.bearers.is_empty() && !(stiffness_bound(&r.rope, d, d) > 0.0)
+            });
+            let reach = if slack { increment_m } else { 0.0 };
             let mut k = Stiffness::new(bodies, &[]);
-            k.add_restraints(bodies, &vec![None; bodies.len()], &ropes, 0.0);
+            k.add_restraints(bodies, &vec![None; bodies.len()], &ropes, reach);
             let lambda = k.body_eigenvalues().iter().copied().filter(|l| *l > 0.0).fold(f64::INFINITY, f64::min);
             let dt = base.params().dt_s;
             let p = base.params().trial_steps;

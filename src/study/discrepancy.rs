@@ -5,7 +5,7 @@ use super::extend::ExtendError;
 use super::outputs::{HeldDir, SetNames};
 use super::Study;
 use crate::discrepancy::{mechanism_observations, observations, write_report, DiscrepancyError, GroupSetup};
-use crate::discrepancy::{MeasurementSigma, Observation, Run, Setup, WriteError};
+use crate::discrepancy::{MeasurementSigma, Observation, ObservationError, Run, Setup, WriteError};
 use crate::io::FileError;
 use std::path::PathBuf;
 
@@ -46,17 +46,34 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
 /// mechanisms (none without a `mechanism` file: then angles and displacements only).
 ///
 /// # Errors
-/// [`DiscrepancyError::Observations`] naming the study file.
+/// [`DiscrepancyError::Observations`] naming the file and line of the row at fault (a
+/// group the study does not have: the file it was read from, the study's `[measured]`
+/// table or `--measured DIR`), else the study file.
 pub fn observations_of(study: &Study, sigma: MeasurementSigma) -> Result<Vec<Observation>, DiscrepancyError> {
     let groups: Vec<(String, String)> =
         study.groups.iter().map(|g| (g.measured_group.clone(), g.name.clone())).collect();
     let file = format!("{} [measured]", study.path.display());
-    let mut obs = observations(&study.measured.collapse, &study.measured.displacement, &groups, sigma, &file)
-        .map_err(|source| DiscrepancyError::Observations { file: file.clone(), source })?;
-    obs.extend(
-        mechanism_observations(&study.measured.mechanism, &groups, sigma)
-            .map_err(|source| DiscrepancyError::Observations { file, source })?,
-    );
+    let m = &study.measured;
+    // The row a group error names: its own file and line.
+    let located = |source: ObservationError| {
+        let file = match &source {
+            ObservationError::UnknownGroup { group, specimen, .. } => {
+                let row = |s: &String, g: &String| s == specimen && g == group;
+                m.collapse
+                    .iter()
+                    .filter(|c| row(&c.specimen, &c.group))
+                    .map(|c| (&c.file, c.line))
+                    .chain(m.displacement.iter().filter(|d| row(&d.specimen, &d.group)).map(|d| (&d.file, d.line)))
+                    .chain(m.mechanism.iter().filter(|x| row(&x.specimen, &x.group)).map(|x| (&x.file, x.line)))
+                    .next()
+                    .map_or_else(|| file.clone(), |(f, line)| format!("{} line {line}", f.display()))
+            }
+            _ => file.clone(),
+        };
+        DiscrepancyError::Observations { file, source }
+    };
+    let mut obs = observations(&m.collapse, &m.displacement, &groups, sigma, &file).map_err(located)?;
+    obs.extend(mechanism_observations(&m.mechanism, &groups, sigma).map_err(located)?);
     Ok(obs)
 }
 

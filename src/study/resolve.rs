@@ -246,7 +246,8 @@ impl StudySpec {
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
     /// `resolution_deg` with `[tilt] by_hand` (the hand's increments are the path), and
     /// `discrepancy.also_effects` beside `discrepancy.effects` (which names every
-    /// candidate). One message per setting, naming its key.
+    /// candidate), `[solver.nscd]` keys by the penalty DEM and `[solver.penalty]` keys by
+    /// nscd. One message per setting, naming its key.
     fn ignored_settings(&self) -> Vec<String> {
         let mut out = Vec::new();
         let d = crate::loading::tilt::TiltParams::default();
@@ -288,6 +289,32 @@ impl StudySpec {
                         self.solver.kind.name()
                     ));
                 }
+            }
+        }
+        if self.solver.kind.method() == crate::dem::Method::Nscd {
+            // Non-smooth contact dynamics runs none of the penalty DEM's static solves or
+            // its motion (the command line's penalty options are refused or warned of
+            // with `--solver nscd`): the reverse of the case above.
+            // Only a shaking study runs steps of motion; the tilting table's, the hand's
+            // and the pushover's release trials take the sweeps alone and never certify
+            // rest (`NscdParams::for_trials`), as `drystone tilt` refuses these options.
+            if self.protocol != ProtocolKind::Shake {
+                let motion = ["rest", "step_solver", "natural_tolerance", "apgd_after_solves"];
+                let nscd = crate::dem::nscd_params::NscdParams::default();
+                for key in changed_keys(&self.solver.nscd, &nscd).into_iter().filter(|k| motion.contains(&k.as_str())) {
+                    out.push(format!(
+                        "solver.nscd.{key} is not read by protocol = \"{}\": it sets a step of motion of a shaking \
+                         study, and this protocol's release trials take the NSGS sweeps alone and never certify rest",
+                        self.protocol.name()
+                    ));
+                }
+            }
+            for key in changed_keys(&self.solver.penalty, &crate::dem::PenaltyParams::default()) {
+                out.push(format!(
+                    "solver.penalty.{key} is not read with solver.kind = \"{}\": non-smooth contact dynamics does \
+                     not run the penalty DEM (give kind = \"penalty\", or drop the key)",
+                    self.solver.kind.name()
+                ));
             }
         }
         if let Some(dis) = &self.discrepancy {

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 16;
+const CORPUS_CASES: usize = 22;
 
 fn layout(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs").join(name).to_str().unwrap().to_string()
@@ -94,6 +94,24 @@ fn hostile_inputs_to_the_table_rolled_by_hand_are_refused_by_name() {
         &["does not stand as given", "block leaning moved"],
         &mut count,
     );
+    // The options of a step of motion (the shaking table's) are refused by name by the
+    // tilting table and the table rolled by hand, whose release trials do not read them.
+    for (flag, value) in
+        [("--nscd-step-solver", "nsgs"), ("--nscd-natural-tolerance", "1e-6"), ("--nscd-rest", "solve")]
+    {
+        refused(
+            &format!("{flag} with --by-hand"),
+            run(with(&[flag, value])),
+            &[flag, "table rolled by hand", "drystone shake"],
+            &mut count,
+        );
+        refused(
+            &format!("{flag} with the tilt by nscd"),
+            tilt(&[&stack, "--solver", "nscd", flag, value]),
+            &[flag, "tilting table", "drystone shake"],
+            &mut count,
+        );
+    }
     // A valid control runs.
     let (code, out, err) = run(with(&["--hand-increment-deg", "10", "--hand-hold-s", "0.1"]));
     assert_eq!(code, 0, "{err}");

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 17;
+const CORPUS_CASES: usize = 18;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -116,7 +116,17 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
     refused("sigma.angle_deg = 1e300", &s, &dir, &["sigma.angle_deg", "1e300"], &mut count);
     // A reading's share on each neighbouring joint of 0.6 (more than the joint read keeps).
     let s = study(&dir, "neighbour_joint", TINY, "[discrepancy]\nreading = { neighbour_joint = 0.6 }");
-    refused("reading.neighbour_joint = 0.6", &s, &dir, &["reading.neighbour_joint", "0.6", "[0, 0.5)"], &mut count);
+    refused("reading.neighbour_joint = 0.6", &s, &dir, &["reading.neighbour_joint", "0.6", "[0, 1/3)"], &mut count);
+    // 0.4 on each neighbour leaves the joint read 0.2: a reading at the failing joint would
+    // score worse than one a course off. Refused with the range that keeps it highest.
+    let s = study(&dir, "neighbour_joint_04", TINY, "[discrepancy]\nreading = { neighbour_joint = 0.4 }");
+    refused(
+        "reading.neighbour_joint = 0.4",
+        &s,
+        &dir,
+        &["reading.neighbour_joint", "0.4", "[0, 1/3)", "a course off"],
+        &mut count,
+    );
     // Flags named by themselves, values with a minus sign included.
     let stack = root().join("tests/bad_inputs/stable_stack.json");
     let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
@@ -208,7 +218,10 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
 
 /// Inputs a study accepts but does not use are named in a warning on stderr and in the
 /// report's "Warnings": `end_rope` on a wall without end restraints, `[tilt] step_deg`
-/// with the table rolled by hand, `discrepancy.also_effects` beside `discrepancy.effects`.
+/// with the table rolled by hand, `discrepancy.also_effects` beside `discrepancy.effects`,
+/// a `[solver.penalty]` key with `kind = "nscd"` (as a `[solver.nscd]` key with the
+/// penalty DEM), a `[solver.nscd]` key of a step of motion in a tilting study (its
+/// release trials do not read it); `drystone discrepancy` and `design` print them too.
 #[test]
 fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     let dir = std::env::temp_dir().join(format!("drystone-ignored-{}", std::process::id()));
@@ -217,7 +230,7 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
         &dir,
         "ignored",
         TINY,
-        "[solver]\nkind = \"nscd\"\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
+        "[solver]\nkind = \"nscd\"\n\n[solver.penalty]\nmax_steps = 1000\n\n[solver.nscd]\nnatural_tolerance = 1e-5\n\n[tilt]\nstep_deg = 1.0\nby_hand = { increment_deg = 10.0, rate_deg_per_s = 10.0, hold_s = 0.1 }\n\n\
          [effects]\nend_rope = { pretension_n = 300.0, axial_stiffness_n = 6.0e4 }\n\n\
          [discrepancy]\neffects = [\"end_rope\"]\nalso_effects = [\"table_kick\"]",
     );
@@ -225,9 +238,26 @@ fn inputs_accepted_but_ignored_are_warned_of_by_key() {
     assert_eq!(code, 0, "{err}");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     let warnings = report.split("## Warnings").nth(1).unwrap_or_else(|| panic!("no Warnings section: {report}"));
-    for key in ["effects.end_rope", "tilt.step_deg", "discrepancy.also_effects", "discrepancy: table_kick"] {
+    for key in [
+        "effects.end_rope",
+        "tilt.step_deg",
+        "discrepancy.also_effects",
+        "discrepancy: table_kick",
+        "solver.penalty.max_steps",
+        "solver.nscd.natural_tolerance",
+    ] {
         assert!(err.lines().any(|l| l.starts_with("warning:") && l.contains(key)), "{key} not warned on stderr: {err}");
         assert!(warnings.contains(key), "{key} not in the report's Warnings");
+    }
+    // `drystone discrepancy` and `design` read the same study and warn the same (before
+    // they refuse a study without measured data).
+    for command in ["discrepancy", "design"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_drystone")).arg(command).arg(&s).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.lines().any(|l| l.starts_with("warning: solver.penalty.max_steps is not read")),
+            "{command}: {err}"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }

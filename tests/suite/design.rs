@@ -311,3 +311,33 @@ fn the_report_says_when_no_affordable_follow_up_separates_the_contenders() {
     plan.ranked[0].to_target = Some(8);
     assert!(!drystone::discrepancy::design::markdown(&plan).contains("No follow-up of the menu"));
 }
+
+/// `drystone design --measured DIR` (and `discrepancy --measured DIR`) with a group the
+/// study does not have names DIR's file and line, not the study file's `[measured]`
+/// table, which was not read.
+#[test]
+fn measured_rows_of_a_foreign_group_are_refused_naming_the_directory_s_file() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let study = root.join("tests/discrepancy/study.toml");
+    let tmp = std::env::temp_dir().join(format!("drystone-design-foreign-{}", std::process::id()));
+    let lab = tmp.join("lab");
+    std::fs::create_dir_all(&lab).unwrap();
+    let csv = lab.join("tilting_table_collapse.csv");
+    std::fs::write(&csv, "specimen,group,collapse_angle_deg\nD1,FREE,21.0\nD2,ALIEN,22.5\n").unwrap();
+    for command in ["design", "discrepancy"] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .arg(command)
+            .arg(&study)
+            .arg("--measured")
+            .arg(&lab)
+            .args(["--out", tmp.join("out").to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{command}: {err}");
+        assert!(err.contains("ALIEN"), "{command}: {err}");
+        assert!(err.contains(&format!("{} line 3", csv.display())), "{command}: DIR's file not named: {err}");
+        assert!(!err.contains("[measured]"), "{command}: names the study's table: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+}

@@ -67,3 +67,23 @@ fn nscd_options_out_of_range_or_without_the_solver_are_refused() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("max_iterations"), "{err}");
 }
+
+/// `drystone tilt --solver nscd` (and `--by-hand`) says its work in nscd's words: time
+/// steps of non-smooth contact dynamics and NSGS sweeps, not the penalty DEM's implicit
+/// iterations and steps of dynamic relaxation.
+#[test]
+fn the_tilt_by_nscd_describes_its_work_in_its_own_words() {
+    let stack = "tests/bad_inputs/stable_stack.json";
+    for extra in [&[][..], &["--by-hand", "--hand-increment-deg", "10", "--hand-hold-s", "0.1"][..]] {
+        let out = drystone(&[&["tilt", stack, "--solver", "nscd"][..], extra].concat());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let work = text.lines().find(|l| l.starts_with("work")).unwrap_or_else(|| panic!("no work line: {text}"));
+        assert!(work.contains("time steps of non-smooth contact dynamics") && work.contains("NSGS sweeps"), "{work}");
+        assert!(!work.contains("dynamic relaxation") && !work.contains("implicit"), "{extra:?}: {work}");
+    }
+    // The penalty DEM keeps its own.
+    let out = drystone(&["tilt", stack, "--step-deg", "5", "--resolution-deg", "1"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("steps of dynamic relaxation"), "{text}");
+}

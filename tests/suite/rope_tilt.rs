@@ -186,3 +186,22 @@ fn end_rope_holds_a_wall_between_free_and_rigid_ends_by_both_solvers() {
         }
     }
 }
+
+/// A rope without pretension that just touches the face (T₀ = 0, d = 0) pulls only by its
+/// elongation, `F ≈ EA δ³ / s³`: no stiffness as built, a stiff one a few millimetres on. A
+/// stiff rope (EA 1e6 N) catches the block within the per-increment collapse displacement
+/// once it tips past its free limit (16.70°), and it stands to the largest tilt (80°) by
+/// the penalty engine and by nscd. Before the nscd trial's window was sized by the rope's
+/// stiffness over the deflections a trial reaches (it was sized by the pretension's alone,
+/// none at T₀ = 0: the rigid trial's 40 steps), nscd called the tipping a mechanism and
+/// gave the free block's 16.625°.
+#[test]
+fn a_rope_without_pretension_holds_the_block_by_its_elongation_by_both_solvers() {
+    let layout = block_with_rope(0.0, 1e6, 0.1, 0.0);
+    let free = (B / H).atan().to_degrees();
+    let penalty = run_tilt(&layout, SolverParams::default(), &tilt()).expect("stands at 0").collapse_angle_deg();
+    let nscd = run_tilt_nscd(&layout, &NscdParams::default(), &tilt()).expect("stands at 0");
+    eprintln!("T0 0, EA 1e6: penalty {penalty:.3}°, nscd {:.3}° (free block {free:.3}°)", nscd.collapse_angle_deg());
+    assert!(penalty >= 80.0, "penalty {penalty}°");
+    assert!(nscd.collapse_angle_deg() >= 80.0, "nscd {}°: {:?}", nscd.collapse_angle_deg(), nscd.collapse_reason);
+}
