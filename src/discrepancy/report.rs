@@ -261,7 +261,12 @@ fn verdict_section(md: &mut String, run: &Run) {
         (None, None) => {}
     }
     if let Some(ch) = &a.check {
-        let _ = writeln!(md, "Posterior predictive check of the {} model: score {:.3} per specimen on the collapse angles, displacements and failure heights against {:.3}, the 95th percentile of the same score on {} data sets simulated from its own independent layouts ({}).{}\n",
+        let measures = if run.obs.iter().any(|o| matches!(o.observable, Observable::InPlane { .. })) {
+            "the peak forces, drifts and stiffnesses"
+        } else {
+            "the collapse angles, displacements and failure heights"
+        };
+        let _ = writeln!(md, "Posterior predictive check of the {} model: score {:.3} per specimen on {measures} against {:.3}, the 95th percentile of the same score on {} data sets simulated from its own independent layouts ({}).{}\n",
             if a.verdict == super::analysis::Verdict::NoEffect || a.cause.is_none() { "baseline" } else { "extended" },
             ch.score, ch.envelope, ch.replicates, if ch.passes() { "passes" } else { "fails" },
             if ch.missed.is_empty() { String::new() } else {
