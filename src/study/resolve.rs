@@ -664,9 +664,8 @@ impl Study {
             return Err(StudyError::Invalid {
                 path: path.to_owned(),
                 key: "protocol".into(),
-                reason: "\"in_plane\" is a study of its own, run by `drystone run` (docs/inplane.md); \
-                         this command does not read it (the discrepancy analysis does not take the \
-                         in-plane test's observables)"
+                reason: "\"in_plane\" is a study of its own, run by `drystone run` and analysed by \
+                         `drystone discrepancy` (docs/inplane.md); this command does not read it"
                     .into(),
             });
         }
