@@ -73,6 +73,28 @@ fn a_monolith_on_crushing_faces_rocks_on_its_stress_block() {
     assert_eq!(dem.unconverged, 0);
 }
 
+/// A wall whose faces crush below the vertical stress (0.3 MPa under 0.5 MPa) cannot carry
+/// the beam's force: the run says so before any displacement, naming the block that moved
+/// most.
+#[test]
+fn a_wall_that_cannot_carry_the_vertical_force_says_so_naming_the_block() {
+    use drystone::closure::{Closure, Crushing};
+    let mut wall = inplane_block(45.0, 1e10);
+    for m in &mut wall.materials {
+        m.closure = Closure::Crushing(Crushing { strength_pa: 0.3e6 });
+    }
+    let s = SolverParams::default();
+    match run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}) {
+        Err(e @ InPlaneError::UnderVerticalForce { .. }) => {
+            let text = e.to_string();
+            // The block that moved most is named (here the beam, sinking with the wall).
+            assert!(text.contains("does not stand under the vertical force of 100.0 kN: block "), "{text}");
+            assert!(text.contains("no equilibrium was reached"), "{text}");
+        }
+        other => panic!("expected the vertical force refused, got {other:?}"),
+    }
+}
+
 #[test]
 fn a_monolith_with_the_beam_held_level_rocks_in_double_curvature() {
     let (n, w) = forces();
