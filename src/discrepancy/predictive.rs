@@ -52,7 +52,7 @@
 //! uniformly), `q = (1 − ε) p + ε (1 − p) m / (K − 1)`. Its score is `−ln q` where the
 //! category was seen, `−ln (1 − q)` where it was not (synthetic data sets).
 
-use super::observations::{InPlaneQuantity, Observable, Observation};
+use super::observations::{Observable, Observation};
 use super::simulate::Outcome;
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -263,18 +263,10 @@ impl Default for Reading {
 impl Reading {
     /// The resolution of an observable's readings.
     pub fn of(&self, o: &Observable) -> f64 {
-        match o {
-            Observable::CollapseAngle => self.angle_deg,
-            Observable::Displacement { .. } => self.displacement_cm,
-            Observable::FailureHeight { width } => *width,
-            Observable::InPlane { quantity } => match quantity {
-                InPlaneQuantity::PeakForce => self.force_kn,
-                InPlaneQuantity::DriftAtPeak => self.drift_pct,
-                InPlaneQuantity::InitialStiffness => self.stiffness_kn_per_mm,
-            },
-            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } | Observable::InPlaneMode { .. } => {
-                0.0
-            }
+        match (o, o.family()) {
+            (Observable::FailureHeight { width }, _) => *width,
+            (_, Some(family)) => self.of_family(family),
+            (_, None) => 0.0,
         }
     }
 
