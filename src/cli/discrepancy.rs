@@ -172,6 +172,9 @@ fn print_summary(run: &drystone::discrepancy::Run, name: &str, threads: usize, s
         let p: Vec<String> = c.parameters.iter().map(|(k, v)| format!("{k} = {v:.3e}")).collect();
         println!("{:<28} {:>14.3} {:>10.1}  {}", c.name, c.heldout_error, c.information_criterion, p.join(", "));
     }
+    let runs: Vec<String> = an.forward_runs.iter().map(|r| format!("{} {}", r.stage, r.runs)).collect();
+    let total: usize = an.forward_runs.iter().map(|r| r.runs).sum();
+    println!("forward runs: {total} ({})", runs.join(", "));
     println!("report: {}", dir.join("discrepancy.md").display());
 }
 

@@ -372,6 +372,9 @@ pub struct Analysis {
     /// Which observables of the design separate the models that share the weight, and the
     /// pairs none separates ([`super::identifiability`]).
     pub identifiability: super::identify::Identifiability,
+    /// The forward runs made, by stage (those of the preparation included, which many
+    /// analyses of one design share).
+    pub forward_runs: Vec<super::simulate::StageRuns>,
     /// The candidates analysed, pairs included.
     #[serde(skip)]
     pub pool: Vec<Candidate>,
@@ -459,6 +462,7 @@ mod tests {
             check: None,
             weights: Default::default(),
             identifiability: Default::default(),
+            forward_runs: vec![],
             pool: vec![],
         }
     }

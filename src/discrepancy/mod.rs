@@ -73,7 +73,7 @@ pub use prepare::{
 pub use progress::{quiet, Progress};
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};
 pub use settings::Settings;
-pub use simulate::{run_models, run_one, GroupSetup, Outcome, Outcomes, Setup};
+pub use simulate::{forward_runs, run_models, run_one, GroupSetup, Outcome, Outcomes, Setup, StageRuns};
 pub use stages::{analyze, analyze_with};
 pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,

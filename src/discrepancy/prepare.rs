@@ -9,7 +9,7 @@ use super::effects::{self, Effect, EffectDef};
 use super::fit::{to_x, Surface};
 use super::observations::{Observable, Observation};
 use super::predictive::Simulated;
-use super::simulate::{run_models, GroupSetup, Outcome, Setup};
+use super::simulate::{forward_runs, run_models, GroupSetup, Outcome, Setup, StageRuns};
 use super::{DiscrepancyError, Settings};
 use std::sync::Arc;
 
@@ -162,6 +162,19 @@ impl Plan {
     }
 }
 
+/// The surrogate grids' plans of `defs` and the models run at their nodes (every node but
+/// the neutral one, which is the baseline's), in plan order.
+fn grid_models(
+    setup: &Setup,
+    s: &Settings,
+    defs: &[Arc<EffectDef>],
+) -> Result<(Vec<Plan>, Vec<Vec<Effect>>), DiscrepancyError> {
+    let course_m = course_height(setup);
+    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
+    let models = plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
+    Ok((plans, models))
+}
+
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
 /// numbers) re-centred on the full baseline at the effect's neutral point
@@ -175,10 +188,7 @@ pub fn build_library(
     s: &Settings,
     defs: &[Arc<EffectDef>],
 ) -> Result<Models, DiscrepancyError> {
-    let course_m = course_height(setup);
-    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
-    let models: Vec<Vec<Effect>> =
-        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
+    let (plans, models) = grid_models(setup, s, defs)?;
     let grid_setup = with_realizations(setup, s.realizations);
     let base_grid: Vec<Vec<Outcome>> = baseline
         .iter()
@@ -286,6 +296,9 @@ pub struct Prepared {
     /// The effects that change nothing in a group (the group's own or a candidate): the
     /// analysis reuses the baseline's outcomes for a candidate there.
     pub inert: Vec<InertEffect>,
+    /// The forward runs made, by stage: the baseline's full run, the surrogate grids and
+    /// the null pool.
+    pub forward_runs: Vec<StageRuns>,
 }
 
 /// Checks the settings, the setup's protocol ([`Setup::check_protocol`]) and the
@@ -380,7 +393,14 @@ pub fn prepare_with(
     let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
     progress(&format!("null pool: the baseline on independent layouts ({})", realizations_of(&null_setup)));
     let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
+    let grid_runs = forward_runs(&with_realizations(setup, s.realizations), &grid_models(setup, s, &defs)?.1, true);
+    let forward_runs = vec![
+        StageRuns::new("baseline", forward_runs(&full, &[vec![]], false)),
+        StageRuns::new("surrogate grids", grid_runs),
+        StageRuns::new("null pool", forward_runs(&null_setup, &[vec![]], false)),
+    ];
     Ok(Prepared {
+        forward_runs,
         setup: setup.clone(),
         keys,
         baseline,

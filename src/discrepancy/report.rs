@@ -178,6 +178,7 @@ pub fn report_json(run: &Run) -> Value {
         "weights": a.weights,
         "identifiability": a.identifiability,
         "diagnosis": diagnosis(run, &run.baseline),
+        "forward_runs": a.forward_runs,
         "settings": run.settings,
     });
     if let (Some(plan), Some(m)) = (&run.followup, v.as_object_mut()) {
@@ -222,7 +223,27 @@ pub fn report_markdown(run: &Run, study: &str) -> String {
     if let Some(plan) = &run.followup {
         md.push_str(&super::design::markdown(plan));
     }
+    runs_section(&mut md, run);
     md
+}
+
+/// The forward runs the analysis made, by stage, and their total.
+fn runs_section(md: &mut String, run: &Run) {
+    let runs = &run.analysis.forward_runs;
+    if runs.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "## Forward runs
+"
+    );
+    let _ = writeln!(md, "| stage | runs |\n| --- | --- |");
+    for r in runs {
+        let _ = writeln!(md, "| {} | {} |", r.stage, r.runs);
+    }
+    let total: usize = runs.iter().map(|r| r.runs).sum();
+    let _ = writeln!(md, "| total | {total} |\n");
 }
 
 /// The verdict, its predictive check, what would separate a tie and the measurement σ used.

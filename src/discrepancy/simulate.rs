@@ -173,6 +173,55 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
     }
 }
 
+/// Whether a model acts on a group: the baseline (no effect) always, a model when one of
+/// its effects acts on the group's ends (`EffectDef::acts_on`).
+fn acts(m: &[Effect], g: &GroupSetup) -> bool {
+    m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained))
+}
+
+/// The forward runs [`run_models`] makes, `(model, group, realization)` in its order: every
+/// realization of every group a model acts on (every group when nothing is `reused`), one
+/// realization of a deterministic group whose effects draw nothing.
+fn tasks(setup: &Setup, models: &[Vec<Effect>], reused: bool) -> Vec<(usize, usize, u64)> {
+    let mut tasks = Vec::new();
+    for (mi, m) in models.iter().enumerate() {
+        for (gi, g) in setup.groups.iter().enumerate() {
+            if reused && !acts(m, g) {
+                continue;
+            }
+            let random = m.iter().chain(&g.effects).any(|e| e.def.is_random());
+            let n = if g.deterministic && !random { g.realizations.min(1) } else { g.realizations };
+            for r in 0..n {
+                tasks.push((mi, gi, r));
+            }
+        }
+    }
+    tasks
+}
+
+/// The forward runs of one stage of an analysis: protocol runs of one wall, each a
+/// realization of a group under a model (`drystone discrepancy`'s report lists them).
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct StageRuns {
+    /// The stage: `baseline`, `surrogate grids`, `null pool`, `confirmation`, `extended model`.
+    pub stage: String,
+    /// Forward runs made.
+    pub runs: usize,
+}
+
+impl StageRuns {
+    /// `runs` forward runs of `stage`.
+    pub fn new(stage: &str, runs: usize) -> StageRuns {
+        StageRuns { stage: stage.to_string(), runs }
+    }
+}
+
+/// The number of forward runs (protocol runs of one wall) [`run_models`] makes for these
+/// arguments (`reused`: an outcome to reuse is given), without running them.
+pub fn forward_runs(setup: &Setup, models: &[Vec<Effect>], reused: bool) -> usize {
+    tasks(setup, models, reused).len()
+}
+
 /// The outcomes of several models: `[model][group][realization]`.
 pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 
@@ -181,20 +230,7 @@ pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 /// a group (e.g. `restraint_stiffness` on free walls) reuses `reuse`'s outcomes for it
 /// (`reuse[group]`, the baseline's), when given.
 pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Outcome>]>) -> Outcomes {
-    let acts = |m: &[Effect], g: &GroupSetup| m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained));
-    let mut tasks = Vec::new();
-    for (mi, m) in models.iter().enumerate() {
-        for (gi, g) in setup.groups.iter().enumerate() {
-            if reuse.is_some() && !acts(m, g) {
-                continue;
-            }
-            let random = models[mi].iter().chain(&g.effects).any(|e| e.def.is_random());
-            let n = if g.deterministic && !random { g.realizations.min(1) } else { g.realizations };
-            for r in 0..n {
-                tasks.push((mi, gi, r));
-            }
-        }
-    }
+    let tasks = tasks(setup, models, reuse.is_some());
     // Restrained walls creep longest near collapse: schedule them first.
     let items: Vec<Item> = tasks
         .iter()

@@ -28,7 +28,7 @@ use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
 use super::progress::{quiet, Progress};
-use super::simulate::{run_models, Outcome, Setup};
+use super::simulate::{forward_runs, run_models, Outcome, Setup, StageRuns};
 use super::DiscrepancyError;
 
 /// Analyses one data set against prepared forward runs: the margins from null data on
@@ -106,8 +106,13 @@ pub fn analyze_with(
             extended_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
             gain: None,
             tie: Tie::default(),
+            runs: 0,
         },
     };
+    let mut stage_runs = prep.forward_runs.clone();
+    let confirmation: usize = runs.iter().map(|r| forward_runs(&full, std::slice::from_ref(&r.effects), true)).sum();
+    stage_runs.push(StageRuns::new("confirmation", confirmation));
+    stage_runs.push(StageRuns::new("extended model", found.runs));
     let (passes, tie) = (found.passes, found.tie);
     let verdict = verdict(named.is_some(), passes, screening.base_misfit, margins.misfit);
     progress(&format!("verdict: {}", verdict.name()));
@@ -130,6 +135,7 @@ pub fn analyze_with(
         check: Some(found.check),
         weights,
         identifiability,
+        forward_runs: stage_runs,
         pool,
     };
     Ok(Run {
@@ -178,6 +184,9 @@ struct Findings {
     extended_predictive: Vec<Predictive>,
     gain: Option<(f64, f64, f64)>,
     tie: Tie,
+    /// Forward runs of the extended model (its full run unless a confirmation run is
+    /// reused, and its realizations on the independent layouts).
+    runs: usize,
 }
 
 /// Stages 7 and 8 for a named cause `b`: its extended model ([`extended_model`]) checked
@@ -213,7 +222,8 @@ fn examine_cause(
     let gain = Some(bootstrap_gain(base_per, &cause_per, s.bootstrap, seed));
     progress(&format!("tie checks: {} against its challengers", b.name));
     let tie = tie_checks(ctx, b, candidates, pool, src, s.check_replicates, seed);
-    Ok(Findings { passes: check.passes(), check, extended: model.run, extended_predictive, gain, tie })
+    let runs = model.runs;
+    Ok(Findings { passes: check.passes(), check, extended: model.run, extended_predictive, gain, tie, runs })
 }
 
 /// Stage 1, the design: the key of every observation in the prepared design (its group
@@ -444,6 +454,8 @@ struct ExtendedModel {
     check_pool: Vec<Vec<Outcome>>,
     /// Its effects and full run, when it is run.
     run: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,
+    /// Forward runs made for it.
+    runs: usize,
 }
 
 /// Stage 7, the extended model: the scatter hypothesis, or any cause without confirmation
@@ -461,22 +473,29 @@ fn extended_model(
 ) -> Result<ExtendedModel, DiscrepancyError> {
     let groups = ctx.prep.setup.groups.len();
     if c.is_scatter() || !ctx.prep.settings.confirm {
-        return Ok(ExtendedModel { sims: c.surface.at(&cause.x), check_pool: vec![vec![]; groups], run: None });
+        return Ok(ExtendedModel {
+            sims: c.surface.at(&cause.x),
+            check_pool: vec![vec![]; groups],
+            run: None,
+            runs: 0,
+        });
     }
     let x = &cause.x;
     let same = |y: &[f64]| y.len() == x.len() && y.iter().zip(x).all(|(p, q)| (p - q).abs() < 1e-9);
-    let (effects, outs) = match runs.iter().find(|r| r.candidate == cause.index && same(&r.x)) {
-        Some(r) => (r.effects.clone(), r.outcomes.clone()),
+    let (effects, outs, full_runs) = match runs.iter().find(|r| r.candidate == cause.index && same(&r.x)) {
+        Some(r) => (r.effects.clone(), r.outcomes.clone(), 0),
         None => {
             let e = effects_of(c, x, ctx.course_m)?;
             let o = run_models(ctx.full, std::slice::from_ref(&e), Some(&ctx.prep.baseline)).remove(0);
-            (e, o)
+            let n = forward_runs(ctx.full, std::slice::from_ref(&e), true);
+            (e, o, n)
         }
     };
     let sims = ctx.keys.simulated(&outs);
     let check_pool =
         run_models(&ctx.prep.null_setup, std::slice::from_ref(&effects), Some(&ctx.prep.null_pool)).remove(0);
-    Ok(ExtendedModel { sims, check_pool, run: Some((effects, outs)) })
+    let runs = full_runs + forward_runs(&ctx.prep.null_setup, std::slice::from_ref(&effects), true);
+    Ok(ExtendedModel { sims, check_pool, run: Some((effects, outs)), runs })
 }
 
 /// The tie of a named cause: its members (the cause first) and every challenger's check.

@@ -135,6 +135,26 @@ fn an_analysis_of_lateral_displacements_finds_the_joint_stiffness_by_its_scaling
     let prep = prepare(&setup, &data(3.0), &s, &study.library).unwrap();
     let run = analyze(&prep, data(3.0), study.seed).unwrap();
     let a = &run.analysis;
+    // The forward runs by stage, counted by hand: one realization of each group for the
+    // baseline and the null pool; kn_scale's grid of 4 intervals on its log range has its
+    // neutral factor 1 at the middle node, which the baseline gives: 4 nodes run on every
+    // group; a confirmation run of every confirmed candidate on every group; the extended
+    // model at its re-scored fit (which moved from the coordinates confirmed) runs anew on
+    // every group and on the independent layouts.
+    let groups = setup.groups.len();
+    let confirmed = a.candidates.iter().filter(|c| c.confirmed).count();
+    let runs: Vec<(&str, usize)> = a.forward_runs.iter().map(|r| (r.stage.as_str(), r.runs)).collect();
+    assert_eq!(
+        runs,
+        [
+            ("baseline", groups),
+            ("surrogate grids", 4 * groups),
+            ("null pool", groups),
+            ("confirmation", confirmed * groups),
+            ("extended model", 2 * groups)
+        ],
+        "{groups} groups, {confirmed} confirmed"
+    );
     let cause = a.cause.as_ref().expect("a cause named");
     assert_eq!(cause.name, "kn_scale");
     assert_ne!(a.verdict, Verdict::NoEffect);

@@ -29,6 +29,7 @@ mod discrepancy_realwalls;
 mod dispatch;
 mod effect_priors;
 mod effects_in_studies;
+mod fine_reference;
 mod fuzz;
 mod generator_bad_input;
 mod generator_golden;
