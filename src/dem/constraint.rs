@@ -29,10 +29,12 @@
 //! zeroed and the anchor is put back on its target after the rotation of the step). A
 //! constrained body moves by its scalar inertial mass: the block density scaling's 6 × 6
 //! mass matrix couples held and free degrees of freedom, so a protocol that constrains a
-//! body runs scalar density scaling ([`super::DensityScaling::without_block`]). The static
-//! cascade's implicit iteration and secant acceleration extrapolate poses without the
-//! constraints: a solve of a constrained state runs plain dynamic relaxation
-//! ([`super::solve_static`] drops the other stages).
+//! body runs scalar density scaling ([`super::DensityScaling::without_block`]). Every stage
+//! of the static cascade ([`super::solve_static`]) holds them: the implicit iteration's
+//! stiffness leaves the held degrees of freedom out (a held translation taken at the
+//! centroid), and its jumps, like those of the secant acceleration, are
+//! [`super::Simulation::predict`]'s, which zero the held components and put the anchor back
+//! on its target.
 
 use super::state::Body;
 use crate::math::Vec3;

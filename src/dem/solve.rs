@@ -151,9 +151,6 @@ pub fn solve_static<R>(
 ) -> Result<SolveOutcome<R>, DemError> {
     let mut iterations = 0;
     let mut unsolved = None;
-    // The implicit iteration and the secant acceleration extrapolate poses without the
-    // per-degree-of-freedom constraints (`dem::constraint`): a constrained state is relaxed.
-    let solve = &if sim.state.constrained() { StaticSolve { cascade: Cascade::RELAXATION, ..*solve } } else { *solve };
     if solve.cascade.implicit {
         match implicit_relaxation(sim, solve.tolerance, &solve.implicit, &mut check) {
             Solved::Equilibrium(it) => return Ok(implicit_end(End::Equilibrium, it)),

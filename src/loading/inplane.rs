@@ -49,7 +49,7 @@
 use super::settle::{settle, SettleError};
 use crate::dem::contact::types::Contact;
 use crate::dem::motion::poses;
-use crate::dem::{solve_static, DemError, DofConstraint, End, Simulation, SolverParams, StaticSolve};
+use crate::dem::{solve_static, Cascade, DemError, DofConstraint, End, Simulation, SolverParams, StaticSolve};
 use crate::geometry::ConvexBlock;
 use crate::layout::{Block, Layout};
 use crate::math::Vec3;
@@ -952,7 +952,15 @@ pub fn run_in_plane_penalty(
     // The vertical force, the beam's weight part of it.
     let start = poses(&sim);
     sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
-    let relax = StaticSolve::relaxation(tol, budget);
+    // The static solves: the solver's stages over the protocol's own, every stage of the
+    // penalty cascade for a monotonic push (the implicit iteration holds the beam's
+    // constrained degrees of freedom), dynamic relaxation for a cyclic history, whose
+    // reversals the implicit iteration does not always bring to equilibrium.
+    let own = match params.history {
+        History::Monotonic => Cascade::FULL,
+        History::Cyclic => Cascade::RELAXATION,
+    };
+    let relax = StaticSolve::of(&solver.penalty, solver.kind.cascade(own).unwrap_or(Cascade::RELAXATION), None);
     let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
     // What the joints' closure under the vertical stress explains, twice, on top of the
     // settling's tolerance: a stack of H / h_min joints each closing σ0 / Kn.

@@ -25,8 +25,12 @@ use std::rc::Rc;
 pub(super) struct Dofs {
     /// First unknown of each body (`usize::MAX` for a fixed body).
     first: Vec<usize>,
-    /// Whether a body's y translation is held (rigid end restraint).
-    held: Vec<bool>,
+    /// Which of a body's six degrees of freedom (x, y, z translation of the centroid, then
+    /// rotation about x, y, z; table frame) are held: the y translation of a rigid end
+    /// restraint, and the held translations and rotations of a per-degree-of-freedom
+    /// constraint ([`crate::dem::DofConstraint`]; a held translation anchored off the
+    /// centroid is taken as held at the centroid, the jumps put the anchor back).
+    held: Vec<[bool; 6]>,
     /// Number of unknowns.
     pub(super) n: usize,
 }
@@ -47,7 +51,23 @@ impl Dofs {
                 }
             })
             .collect();
-        let held = sim.state.restraint.iter().map(|r| *r == Some(EndRestraint::Rigid)).collect();
+        let held = sim
+            .state
+            .restraint
+            .iter()
+            .zip(&sim.state.constraints)
+            .map(|(r, c)| {
+                let mut h = [false; 6];
+                h[1] = *r == Some(EndRestraint::Rigid);
+                if let Some(c) = c {
+                    for i in 0..3 {
+                        h[i] |= c.translation[i].is_some();
+                        h[i + 3] |= c.rotation[i];
+                    }
+                }
+                h
+            })
+            .collect();
         Dofs { first, held, n }
     }
 }
@@ -253,7 +273,7 @@ impl Factor {
                 "no stiffness on the free bodies (largest diagonal entries {tmax:e} N/m, {rmax:e} N·m)"
             ));
         }
-        let is_held = |k: usize, r: usize| dofs.held[k] && r == 1;
+        let is_held = |k: usize, r: usize| dofs.held[k][r];
         let cap = 21 * nb + 36 * off.len();
         let (mut entries, mut vals) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
         let mut push = |row: usize, col: usize, v: f64| {
@@ -338,8 +358,10 @@ impl Factor {
                 rhs[(f0 + r, 0)] = f[r];
                 rhs[(f0 + 3 + r, 0)] = t[r];
             }
-            if dofs.held[k] {
-                rhs[(f0 + 1, 0)] = 0.0;
+            for (r, &held) in dofs.held[k].iter().enumerate() {
+                if held {
+                    rhs[(f0 + r, 0)] = 0.0;
+                }
             }
         }
         let llt = LltRef::new(&self.symbolic, &self.values);
