@@ -126,7 +126,7 @@ impl Problem<'_> {
     /// which are drawn from their categories).
     fn biased(&self, t: usize, k: usize) -> bool {
         let o = &self.keys[k];
-        !(o.is_mechanism() || !self.sims[t][k].mean.is_finite())
+        !o.is_mechanism() && self.sims[t][k].mean.is_finite()
     }
 
     /// The contenders' disagreement on the follow-up's keys (`[key]`, in units of the key's
