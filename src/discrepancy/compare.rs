@@ -4,28 +4,22 @@
 //! once gives one collapse angle, several displacements and one mechanism, read three
 //! ways).
 
-use super::observations::{Observable, Observation};
+use super::observations::{Observation, Share};
 
 /// The weights that make a specimen's displacements one observation and its mechanism
-/// another: 1 for a collapse angle, `1/k` for each of a specimen's `k` displacements, `1/k`
-/// for each of its `k` mechanism observations (failure height, kind, start: one
-/// mechanism seen, read three ways).
+/// another ([`Share`]): 1 for a collapse angle or an in-plane measure (the in-plane test's
+/// three measures are three observables of one curve, each weighed alone like a collapse
+/// angle), `1/k` for each of a specimen's `k` displacements, `1/k` for each of its `k`
+/// mechanism observations (failure height, kind, start, mode: one mechanism seen, read
+/// several ways).
 pub fn specimen_weights(obs: &[Observation]) -> Vec<f64> {
-    let share = |o: &Observation, like: &dyn Fn(&Observable) -> bool| {
-        let k = obs.iter().filter(|p| p.specimen == o.specimen && like(&p.observable)).count();
-        1.0 / k.max(1) as f64
-    };
     obs.iter()
-        .map(|o| match o.observable {
-            Observable::CollapseAngle => 1.0,
-            Observable::Displacement { .. } => share(o, &|p| matches!(p, Observable::Displacement { .. })),
-            // The in-plane test's three measures are three observables of one curve, each
-            // weighed alone like a collapse angle.
-            Observable::InPlane { .. } => 1.0,
-            Observable::FailureHeight { .. }
-            | Observable::MechanismKind { .. }
-            | Observable::MechanismStart { .. }
-            | Observable::InPlaneMode { .. } => share(o, &Observable::is_mechanism),
+        .map(|o| match o.observable.share() {
+            Share::Own => 1.0,
+            share @ (Share::Displacements | Share::Mechanism) => {
+                let k = obs.iter().filter(|p| p.specimen == o.specimen && p.observable.share() == share).count();
+                1.0 / k.max(1) as f64
+            }
         })
         .collect()
 }

@@ -29,7 +29,7 @@
 //! `1/k` for `k` displacements, its collapse angle 1; the information criterion counts
 //! specimens.
 
-use super::observations::{Observable, Observation};
+use super::observations::Observation;
 use super::predictive::{Predictive, Reading, Simulated};
 use crate::effects::{ParamDef, Scale};
 use argmin::core::{CostFunction, Executor};
@@ -305,10 +305,10 @@ impl Data<'_> {
         if let Some(q) = self.reading.category_probability(o, &sims[self.key[j]]) {
             return self.weight[j] * super::predictive::category_score(q, self.y[j]);
         }
-        if let Observable::FailureHeight { width } = o {
+        if let Some(width) = o.place_width() {
             let sim = &sims[self.key[j]];
             let r = &self.reading;
-            return self.weight[j] * super::predictive::height_score(sim, self.y[j], *width, self.obs[j].sigma, r);
+            return self.weight[j] * super::predictive::height_score(sim, self.y[j], width, self.obs[j].sigma, r);
         }
         let r = self.reading.of(o);
         self.weight[j] * self.predictive(sims, j).score(self.y[j], r)
@@ -328,7 +328,7 @@ impl Data<'_> {
     /// the comparisons between models (the ranking, the gain margin, the tie checks, the
     /// weights), where a reader's convention costs every model alike.
     pub fn fit_checked(&self, j: usize) -> bool {
-        !matches!(self.obs[j].observable, Observable::MechanismKind { .. } | Observable::MechanismStart { .. })
+        self.obs[j].observable.fit_checked()
     }
 
     /// Whether observation `j` is a measure that pins a model's parameters: a collapse
@@ -562,6 +562,7 @@ pub fn loso(surface: &Surface, data: Data<'_>, specimens: &[String]) -> (Vec<f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::discrepancy::observations::Observable;
     use crate::discrepancy::predictive::Heights;
 
     fn sim(mean: f64) -> Simulated {

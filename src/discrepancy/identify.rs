@@ -22,7 +22,6 @@
 //! design: more than a hundred replicates would give one nat of evidence on average.
 
 use super::fit::Data;
-use super::observations::Observable;
 use super::predictive::{height_score, Simulated};
 use serde::Serialize;
 
@@ -102,7 +101,7 @@ fn divergence(data: Data<'_>, a: &[Simulated], b: &[Simulated], j: usize) -> f64
     ) {
         return discrete_kl(&[qa, 1.0 - qa], &[qb, 1.0 - qb]);
     }
-    if let Observable::FailureHeight { width } = o.observable {
+    if let Some(width) = o.observable.place_width() {
         let w = if width > 0.0 { width } else { 0.05 };
         let bins = (1.0 / w).ceil() as usize;
         let prob = |s: &Simulated| -> Vec<f64> {
@@ -158,7 +157,7 @@ pub fn identifiability(models: &[(String, Vec<Simulated>)], data: Data<'_>, labe
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::discrepancy::observations::Observation;
+    use crate::discrepancy::observations::{Observable, Observation};
     use crate::discrepancy::predictive::{Heights, Reading};
 
     fn sim(mean: f64, sd: f64) -> Simulated {

@@ -62,8 +62,8 @@ pub use fit::Surface;
 pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
 pub use null::Margins;
 pub use observations::{
-    measurement_sigma, mechanism_observations, observations, specimens, InPlaneQuantity, Measure, MeasurementSigma,
-    Observable, Observation, ObservationError, IN_PLANE_MODES, MIN_SIGMA_DOF,
+    measurement_sigma, mechanism_observations, observations, specimens, CategorySet, Family, InPlaneQuantity, Measure,
+    MeasurementSigma, Observable, Observation, ObservationError, Scale, Share, IN_PLANE_MODES, MIN_SIGMA_DOF,
 };
 pub use predictive::{Heights, Predictive, Reading, Simulated, HEIGHT_BINS};
 pub use prepare::{

@@ -13,7 +13,7 @@
 
 use super::compare::per_specimen;
 use super::fit::Data;
-use super::observations::{Observable, Observation, MEASURE_FAMILIES};
+use super::observations::{Family, Observable, Observation, Share, MEASURE_FAMILIES};
 use super::predictive::{Reading, Simulated};
 use super::rank::{rank, Models};
 use super::simulate::Outcome;
@@ -84,13 +84,13 @@ impl SigmaRule<'_> {
     /// Sets `obs[j].sigma` from the data (`obs[j].value`, keys `key`); returns the estimate
     /// of collapse angles and of displacements, each with its degrees of freedom.
     pub fn apply(&self, obs: &mut [Observation], key: &[usize]) -> [Option<(f64, usize)>; MEASURE_FAMILIES] {
-        let est = std::array::from_fn(|family| {
+        let est = Family::ALL.map(|family| {
             let r = self.reading.of_family(family);
             super::observations::measurement_sigma(obs, key, self.model_sd, r, family)
         });
         for (o, &stated) in obs.iter_mut().zip(self.stated) {
             // A mechanism observation keeps its stated σ.
-            o.sigma = o.observable.family().and_then(|f| est[f]).map_or(stated, |(sd, _)| stated.max(sd));
+            o.sigma = o.observable.family().and_then(|f| est[f.index()]).map_or(stated, |(sd, _)| stated.max(sd));
         }
         est
     }
@@ -197,9 +197,7 @@ pub fn draw_data(
                 }),
                 None => Some({
                     let f = scale[kind_of(&obs[j].observable)];
-                    p.mean
-                        + f * p.sd
-                            * if matches!(obs[j].observable, Observable::Displacement { .. }) { shared } else { z }
+                    p.mean + f * p.sd * if obs[j].observable.share() == Share::Displacements { shared } else { z }
                 }),
             };
             // A realization that fell before the tilt gives no displacement: the specimen
@@ -209,8 +207,8 @@ pub fn draw_data(
             // (`predictive::Heights::probability`): with probability ε it belongs to none
             // of the simulated failures (uniform over the height), else a neighbouring
             // joint may be named.
-            let v = match obs[j].observable {
-                Observable::FailureHeight { width } => {
+            let v = match obs[j].observable.place_width() {
+                Some(width) => {
                     let (misread, anywhere, neighbour): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
                     if misread < reading.misreading {
                         anywhere
@@ -218,7 +216,7 @@ pub fn draw_data(
                         reading.neighbour_read(v, width, neighbour)
                     }
                 }
-                _ => v,
+                None => v,
             };
             y[j] = reading.round(&obs[j].observable, v);
         }
@@ -246,7 +244,7 @@ fn misread(seen: bool, category: (usize, usize), e: f64, u: f64) -> bool {
 /// Its family of measures ([`Observable::family`]), [`MEASURE_FAMILIES`] for a reading of
 /// the mechanism.
 fn kind_of(o: &Observable) -> usize {
-    o.family().unwrap_or(MEASURE_FAMILIES)
+    o.family().map_or(MEASURE_FAMILIES, Family::index)
 }
 
 /// The factor on a synthetic data set's deviations from the model's mean, per kind
@@ -272,9 +270,9 @@ fn spread_scale(
     let obs = data0.obs;
     let mut acc = [(0.0f64, 0.0f64, 0usize); MEASURE_FAMILIES]; // (Σ ν_k s_k² / v_k, unused, ν)
     for (k, (g, o)) in source.keys.iter().enumerate() {
-        if o.is_mechanism() {
-            continue; // drawn as the realizations have them (factor 1)
-        }
+        let Some(family) = o.family() else {
+            continue; // a reading of the mechanism: drawn as the realizations have them (factor 1)
+        };
         let idx: Vec<usize> = (0..obs.len()).filter(|&j| data0.key[j] == k).collect();
         if idx.len() < 2 {
             continue;
@@ -297,8 +295,8 @@ fn spread_scale(
         if !(v > 0.0) {
             continue;
         }
-        let kind = kind_of(o);
-        let r = reading.of_family(kind);
+        let kind = family.index();
+        let r = reading.of_family(family);
         let dof = idx.len() - 1;
         let s2 = (ss / dof as f64 - r * r / 12.0).max(1e-3 * v);
         let a = &mut acc[kind];
@@ -306,12 +304,13 @@ fn spread_scale(
         a.2 += dof;
     }
     let mut out = [1.0; MEASURE_FAMILIES + 1];
-    for (kind, (ratio, _, nu)) in acc.into_iter().enumerate() {
-        // One χ² draw for each of the tilting table's kinds whether used or not, and for
+    for (family, (ratio, _, nu)) in Family::ALL.into_iter().zip(acc) {
+        // One χ² draw for each of the tilting table's families whether used or not, and for
         // each in-plane family the design holds: the stream does not depend on the data.
-        if kind >= 2 && !source.keys.iter().any(|(_, o)| o.family() == Some(kind)) {
+        if !family.always_drawn() && !source.keys.iter().any(|(_, o)| o.family() == Some(family)) {
             continue;
         }
+        let kind = family.index();
         let chi2: f64 = rand_distr::ChiSquared::new(nu.max(1) as f64).map_or(1.0, |c| c.sample(rng));
         if nu < super::observations::MIN_SIGMA_DOF {
             continue;

@@ -16,6 +16,7 @@
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement, MeasuredMechanism};
 use crate::loading::inplane::MechanismKind as InPlaneMode;
 use crate::loading::mechanism::{FailureKind, FailureStart};
+use crate::protocol::Output;
 use serde::Serialize;
 use std::fmt;
 
@@ -103,9 +104,138 @@ impl InPlaneQuantity {
     }
 }
 
-/// The families of measures ([`Observable::family`]): collapse angles, displacements and
-/// the in-plane test's peak forces, drifts and stiffnesses.
-pub const MEASURE_FAMILIES: usize = 5;
+impl InPlaneQuantity {
+    /// Its family of measures.
+    pub fn family(self) -> Family {
+        match self {
+            InPlaneQuantity::PeakForce => Family::PeakForce,
+            InPlaneQuantity::DriftAtPeak => Family::DriftAtPeak,
+            InPlaneQuantity::InitialStiffness => Family::InitialStiffness,
+        }
+    }
+}
+
+/// A family of measures: the observables whose measurement σ and spread the analysis
+/// estimates together, each read to its resolution ([`super::predictive::Reading::of_family`])
+/// with its stated σ ([`MeasurementSigma::of_family`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// Collapse angles, degrees.
+    CollapseAngle,
+    /// Top displacements, cm.
+    Displacement,
+    /// In-plane peak forces, kN.
+    PeakForce,
+    /// In-plane drifts at the peak, %.
+    DriftAtPeak,
+    /// In-plane initial stiffnesses, kN/mm.
+    InitialStiffness,
+}
+
+impl Family {
+    /// Every family, in the order of its index (the arrays of per-family estimates).
+    pub const ALL: [Family; 5] =
+        [Family::CollapseAngle, Family::Displacement, Family::PeakForce, Family::DriftAtPeak, Family::InitialStiffness];
+
+    /// Its index in [`Family::ALL`] (0 collapse angles, 1 displacements, 2 in-plane peak
+    /// forces, 3 drifts, 4 stiffnesses).
+    pub fn index(self) -> usize {
+        match self {
+            Family::CollapseAngle => 0,
+            Family::Displacement => 1,
+            Family::PeakForce => 2,
+            Family::DriftAtPeak => 3,
+            Family::InitialStiffness => 4,
+        }
+    }
+
+    /// Whether the null data draw its spread's factor whether or not the design holds it
+    /// (the tilting table's families: their draws come first in the stream), or only when
+    /// it does (the in-plane test's).
+    pub fn always_drawn(self) -> bool {
+        match self {
+            Family::CollapseAngle | Family::Displacement => true,
+            Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness => false,
+        }
+    }
+}
+
+/// The families of measures ([`Family`]): collapse angles, displacements and the in-plane
+/// test's peak forces, drifts and stiffnesses.
+pub const MEASURE_FAMILIES: usize = Family::ALL.len();
+
+/// A set of categories of which a specimen shows one (its indicators read together).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CategorySet {
+    /// The failure's kind ([`FailureKind`]).
+    FailureKind,
+    /// Where the failure started ([`FailureStart`]).
+    FailureStart,
+    /// The in-plane mechanism's mode ([`IN_PLANE_MODES`]).
+    InPlaneMode,
+}
+
+impl CategorySet {
+    /// Every set, in the order a specimen's categories are drawn.
+    pub const ALL: [CategorySet; 3] = [CategorySet::FailureKind, CategorySet::FailureStart, CategorySet::InPlaneMode];
+
+    /// Its index in [`CategorySet::ALL`].
+    pub fn index(self) -> usize {
+        match self {
+            CategorySet::FailureKind => 0,
+            CategorySet::FailureStart => 1,
+            CategorySet::InPlaneMode => 2,
+        }
+    }
+
+    /// Whether the absolute checks of fit read it (`fit::Data::fit_checked`): not the
+    /// tilting table's kind and start, which a person names by a rule of their own; the
+    /// in-plane mode, the database's failure type, is read.
+    pub fn fit_checked(self) -> bool {
+        match self {
+            CategorySet::FailureKind | CategorySet::FailureStart => false,
+            CategorySet::InPlaneMode => true,
+        }
+    }
+}
+
+/// How an observable is read and scored.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Scale {
+    /// A measure of a family: an instrument's reading of stated σ, rounded to the family's
+    /// resolution; it pins a model's parameters.
+    Measure(Family),
+    /// A place on the wall (the failure height, a fraction of the height) read as an
+    /// interval of width `width` about the value, a neighbouring joint possibly named.
+    Place {
+        /// The interval's width.
+        width: f64,
+    },
+    /// A category of a set (value 1: seen), covering `covers` of the set's `of` simulated
+    /// categories.
+    Category {
+        /// The set.
+        set: CategorySet,
+        /// The simulated categories the observed one covers.
+        covers: usize,
+        /// The simulated categories of the set.
+        of: usize,
+    },
+}
+
+/// Which of a specimen's observations count as one between them in the comparison of
+/// models ([`super::compare::specimen_weights`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Share {
+    /// An observation alone (weight 1): a collapse angle, an in-plane measure.
+    Own,
+    /// One of the specimen's displacements, one curve between them (weight 1/k); their
+    /// null draws share one deviate.
+    Displacements,
+    /// One reading of the specimen's mechanism (failure height, kind, start, mode: one
+    /// mechanism seen, read several ways; weight 1/k).
+    Mechanism,
+}
 
 /// The in-plane modes a realization is read as (`InPlaneMode::None`, no mechanism, is not
 /// one: such a run gives no mode).
@@ -113,16 +243,51 @@ pub const IN_PLANE_MODES: [InPlaneMode; 4] =
     [InPlaneMode::Rocking, InPlaneMode::Sliding, InPlaneMode::Diagonal, InPlaneMode::Mixed];
 
 impl Observable {
-    /// Whether it is a measure that pins a model's parameters (a collapse angle or a top
-    /// displacement, read by an instrument of stated σ), not a reading of the failure
-    /// mechanism (height, kind, start; see `fit::Data::pins`).
-    pub fn pins(&self) -> bool {
+    /// How it is read and scored: the one mapping of the observables to their family of
+    /// measures, reading interval or category, from which [`Observable::pins`],
+    /// [`Observable::family`], [`Observable::category`] and the like follow.
+    pub fn scale(&self) -> Scale {
+        match *self {
+            Observable::CollapseAngle => Scale::Measure(Family::CollapseAngle),
+            Observable::Displacement { .. } => Scale::Measure(Family::Displacement),
+            Observable::InPlane { quantity } => Scale::Measure(quantity.family()),
+            Observable::FailureHeight { width } => Scale::Place { width },
+            Observable::MechanismKind { .. } => {
+                Scale::Category { set: CategorySet::FailureKind, covers: 1, of: FailureKind::ALL.len() }
+            }
+            Observable::MechanismStart { start } => Scale::Category {
+                set: CategorySet::FailureStart,
+                covers: start.covers(),
+                of: FailureStart::SIMULATED.len(),
+            },
+            Observable::InPlaneMode { .. } => {
+                Scale::Category { set: CategorySet::InPlaneMode, covers: 1, of: IN_PLANE_MODES.len() }
+            }
+        }
+    }
+
+    /// The protocol's output it is read from: a protocol lists the outputs it gives
+    /// ([`crate::protocol::Observables::outputs`]), and an observation of another is
+    /// refused.
+    pub fn output(&self) -> Output {
         match self {
-            Observable::CollapseAngle | Observable::Displacement { .. } | Observable::InPlane { .. } => true,
-            Observable::FailureHeight { .. }
-            | Observable::MechanismKind { .. }
-            | Observable::MechanismStart { .. }
-            | Observable::InPlaneMode { .. } => false,
+            Observable::CollapseAngle => Output::CollapseAngle,
+            Observable::Displacement { .. } => Output::Displacements,
+            Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => {
+                Output::Mechanism
+            }
+            Observable::InPlane { .. } => Output::InPlaneMeasures,
+            Observable::InPlaneMode { .. } => Output::InPlaneMode,
+        }
+    }
+
+    /// Whether it is a measure that pins a model's parameters (a collapse angle, a top
+    /// displacement, an in-plane measure, read by an instrument of stated σ), not a
+    /// reading of the failure mechanism (height, kind, start, mode; see `fit::Data::pins`).
+    pub fn pins(&self) -> bool {
+        match self.scale() {
+            Scale::Measure(_) => true,
+            Scale::Place { .. } | Scale::Category { .. } => false,
         }
     }
 
@@ -139,24 +304,18 @@ impl Observable {
         }
     }
 
-    /// Its family of measures: the observables whose measurement σ and spread the analysis
-    /// estimates together (0 collapse angles, 1 displacements, 2 in-plane peak forces, 3
-    /// in-plane drifts, 4 in-plane stiffnesses; [`MEASURE_FAMILIES`] of them); `None` for
-    /// a reading of the mechanism.
-    pub fn family(&self) -> Option<usize> {
-        match self {
-            Observable::CollapseAngle => Some(0),
-            Observable::Displacement { .. } => Some(1),
-            Observable::InPlane { quantity } => Some(match quantity {
-                InPlaneQuantity::PeakForce => 2,
-                InPlaneQuantity::DriftAtPeak => 3,
-                InPlaneQuantity::InitialStiffness => 4,
-            }),
-            Observable::FailureHeight { .. }
-            | Observable::MechanismKind { .. }
-            | Observable::MechanismStart { .. }
-            | Observable::InPlaneMode { .. } => None,
+    /// Its family of measures ([`Family`]); `None` for a reading of the mechanism.
+    pub fn family(&self) -> Option<Family> {
+        match self.scale() {
+            Scale::Measure(family) => Some(family),
+            Scale::Place { .. } | Scale::Category { .. } => None,
         }
+    }
+
+    /// Whether it is the collapse angle: a measure of degrees whose simulated value is the
+    /// middle of a bracket, scattered by an added σ.
+    pub fn is_angle(&self) -> bool {
+        self.family() == Some(Family::CollapseAngle)
     }
 
     /// An observation of the failure mechanism (failure height, kind or start; the
@@ -165,18 +324,68 @@ impl Observable {
         !self.pins()
     }
 
-    /// A category (kind or start): `(m, K)`, the simulated categories the observed one
+    /// A category (kind, start, mode): `(m, K)`, the simulated categories the observed one
     /// covers and the simulated categories in all; `None` for a number.
     pub fn category(&self) -> Option<(usize, usize)> {
-        match self {
-            Observable::MechanismKind { .. } => Some((1, FailureKind::ALL.len())),
-            Observable::MechanismStart { start } => Some((start.covers(), FailureStart::SIMULATED.len())),
-            Observable::InPlaneMode { .. } => Some((1, IN_PLANE_MODES.len())),
-            Observable::CollapseAngle
-            | Observable::Displacement { .. }
-            | Observable::FailureHeight { .. }
-            | Observable::InPlane { .. } => None,
+        match self.scale() {
+            Scale::Category { covers, of, .. } => Some((covers, of)),
+            Scale::Measure(_) | Scale::Place { .. } => None,
         }
+    }
+
+    /// The set of categories it is one of; `None` for a number.
+    pub fn category_set(&self) -> Option<CategorySet> {
+        match self.scale() {
+            Scale::Category { set, .. } => Some(set),
+            Scale::Measure(_) | Scale::Place { .. } => None,
+        }
+    }
+
+    /// The width of the interval a place on the wall is read as (the failure height);
+    /// `None` for a measure or a category.
+    pub fn place_width(&self) -> Option<f64> {
+        match self.scale() {
+            Scale::Place { width } => Some(width),
+            Scale::Measure(_) | Scale::Category { .. } => None,
+        }
+    }
+
+    /// Which of a specimen's observations it counts as one with ([`Share`]).
+    pub fn share(&self) -> Share {
+        match self.scale() {
+            Scale::Measure(Family::Displacement) => Share::Displacements,
+            Scale::Measure(
+                Family::CollapseAngle | Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness,
+            ) => Share::Own,
+            Scale::Place { .. } | Scale::Category { .. } => Share::Mechanism,
+        }
+    }
+
+    /// Whether the absolute checks of fit read it (`fit::Data::fit_checked`): every
+    /// number, and the categories whose set is checked ([`CategorySet::fit_checked`]).
+    pub fn fit_checked(&self) -> bool {
+        match self.scale() {
+            Scale::Measure(_) | Scale::Place { .. } => true,
+            Scale::Category { set, .. } => set.fit_checked(),
+        }
+    }
+
+    /// The measure and the tilt of a top displacement; `None` for another observable.
+    pub fn displacement(&self) -> Option<(Measure, f64)> {
+        match *self {
+            Observable::Displacement { measure, tilt_deg } => Some((measure, tilt_deg)),
+            Observable::CollapseAngle
+            | Observable::FailureHeight { .. }
+            | Observable::MechanismKind { .. }
+            | Observable::MechanismStart { .. }
+            | Observable::InPlane { .. }
+            | Observable::InPlaneMode { .. } => None,
+        }
+    }
+
+    /// The tilt a displacement is read at, degrees; `None` for another observable.
+    pub fn tilt_deg(&self) -> Option<f64> {
+        self.displacement().map(|(_, t)| t)
     }
 
     /// Unit of its values.
@@ -194,18 +403,18 @@ impl Observable {
 
     /// The same observable (same kind, measure and tilt).
     pub fn same(&self, other: &Observable) -> bool {
-        match (self, other) {
-            (Observable::CollapseAngle, Observable::CollapseAngle) => true,
-            (
-                Observable::Displacement { measure: a, tilt_deg: t },
-                Observable::Displacement { measure: b, tilt_deg: u },
-            ) => a == b && (t - u).abs() < 1e-9,
-            (Observable::FailureHeight { .. }, Observable::FailureHeight { .. }) => true,
-            (Observable::MechanismKind { kind: a }, Observable::MechanismKind { kind: b }) => a == b,
-            (Observable::MechanismStart { start: a }, Observable::MechanismStart { start: b }) => a == b,
-            (Observable::InPlane { quantity: a }, Observable::InPlane { quantity: b }) => a == b,
-            (Observable::InPlaneMode { mode: a }, Observable::InPlaneMode { mode: b }) => a == b,
-            _ => false,
+        match *self {
+            Observable::CollapseAngle => matches!(other, Observable::CollapseAngle),
+            Observable::Displacement { measure: a, tilt_deg: t } => {
+                other.displacement().is_some_and(|(b, u)| a == b && (t - u).abs() < 1e-9)
+            }
+            Observable::FailureHeight { .. } => matches!(other, Observable::FailureHeight { .. }),
+            Observable::MechanismKind { kind: a } => matches!(*other, Observable::MechanismKind { kind: b } if a == b),
+            Observable::MechanismStart { start: a } => {
+                matches!(*other, Observable::MechanismStart { start: b } if a == b)
+            }
+            Observable::InPlane { quantity: a } => matches!(*other, Observable::InPlane { quantity: b } if a == b),
+            Observable::InPlaneMode { mode: a } => matches!(*other, Observable::InPlaneMode { mode: b } if a == b),
         }
     }
 }
@@ -254,6 +463,19 @@ pub struct MeasurementSigma {
     /// peak divides 2-14 kN by 0.1-0.6 mm of displacement, so a 0.02 mm reading error is
     /// 3-20 % of the 9-36 kN/mm the walls show).
     pub stiffness_kn_per_mm: f64,
+}
+
+impl MeasurementSigma {
+    /// The stated σ of a family of measures.
+    pub fn of_family(&self, family: Family) -> f64 {
+        match family {
+            Family::CollapseAngle => self.angle_deg,
+            Family::Displacement => self.displacement_cm,
+            Family::PeakForce => self.force_kn,
+            Family::DriftAtPeak => self.drift_pct,
+            Family::InitialStiffness => self.stiffness_kn_per_mm,
+        }
+    }
 }
 
 impl Default for MeasurementSigma {
@@ -486,7 +708,7 @@ pub fn measurement_sigma(
     key: &[usize],
     model_sd: &[f64],
     reading: f64,
-    family: usize,
+    family: Family,
 ) -> Option<(f64, usize)> {
     // Per key: (n − 1, sample variance, model variance).
     let mut terms: Vec<(f64, f64, f64)> = Vec::new();
@@ -553,18 +775,18 @@ mod tests {
         o.extend(b.iter().map(|v| obs("b", *v)));
         let key = [0, 0, 0, 0, 1, 1, 1, 1];
         let s2 = 2.0 / 3.0; // sample variance of (−1, 0, 1, 0)
-        let (sd, dof) = measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap();
+        let (sd, dof) = measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, Family::CollapseAngle).unwrap();
         assert_eq!(dof, 6);
         assert!((sd - (s2 - 0.25f64).sqrt()).abs() < 1e-12, "{sd}");
         // A mean shift of key 1 by 5: the same estimate.
         for v in &mut o[4..] {
             v.value += 5.0;
         }
-        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap().1, 6);
-        assert!((measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 0).unwrap().0 - sd).abs() < 1e-12);
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, Family::CollapseAngle).unwrap().1, 6);
+        assert!((measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, Family::CollapseAngle).unwrap().0 - sd).abs() < 1e-12);
         // The model's spread covers the data's: zero excess.
-        assert_eq!(measurement_sigma(&o, &key, &[2.0, 2.0], 0.0, 0).unwrap().0, 0.0);
+        assert_eq!(measurement_sigma(&o, &key, &[2.0, 2.0], 0.0, Family::CollapseAngle).unwrap().0, 0.0);
         // Displacements asked for: none here.
-        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, 1), None);
+        assert_eq!(measurement_sigma(&o, &key, &[0.5, 0.5], 0.0, Family::Displacement), None);
     }
 }

@@ -52,7 +52,7 @@
 //! uniformly), `q = (1 − ε) p + ε (1 − p) m / (K − 1)`. Its score is `−ln q` where the
 //! category was seen, `−ln (1 − q)` where it was not (synthetic data sets).
 
-use super::observations::{Observable, Observation};
+use super::observations::{Family, Observable, Observation, Scale};
 use super::simulate::Outcome;
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -198,7 +198,7 @@ impl Simulated {
     pub fn of(outcomes: &[Outcome], obs: &Observable) -> Simulated {
         let v: Vec<f64> = outcomes.iter().filter_map(|o| o.value(obs)).filter(|x| x.is_finite()).collect();
         let mut s = Simulated::from_values(&v);
-        if matches!(obs, Observable::FailureHeight { .. }) {
+        if obs.place_width().is_some() {
             s.heights = Heights::of(&v);
         }
         s
@@ -263,37 +263,35 @@ impl Default for Reading {
 impl Reading {
     /// The resolution of an observable's readings.
     pub fn of(&self, o: &Observable) -> f64 {
-        match (o, o.family()) {
-            (Observable::FailureHeight { width }, _) => *width,
-            (_, Some(family)) => self.of_family(family),
-            (_, None) => 0.0,
+        match o.scale() {
+            Scale::Place { width } => width,
+            Scale::Measure(family) => self.of_family(family),
+            Scale::Category { .. } => 0.0,
         }
     }
 
-    /// The resolution of a family of measures ([`Observable::family`]; 0 for the
-    /// mechanism's readings).
-    pub fn of_family(&self, family: usize) -> f64 {
+    /// The resolution of a family of measures ([`Observable::family`]).
+    pub fn of_family(&self, family: Family) -> f64 {
         match family {
-            0 => self.angle_deg,
-            1 => self.displacement_cm,
-            2 => self.force_kn,
-            3 => self.drift_pct,
-            4 => self.stiffness_kn_per_mm,
-            _ => 0.0,
+            Family::CollapseAngle => self.angle_deg,
+            Family::Displacement => self.displacement_cm,
+            Family::PeakForce => self.force_kn,
+            Family::DriftAtPeak => self.drift_pct,
+            Family::InitialStiffness => self.stiffness_kn_per_mm,
         }
     }
 
     /// `v` rounded to the resolution of `o` (a failure height also kept in [0, 1]; a
     /// category's indicator, or a reading of resolution 0, as it is).
     pub fn round(&self, o: &Observable, v: f64) -> f64 {
-        match o {
-            Observable::MechanismKind { .. } | Observable::MechanismStart { .. } | Observable::InPlaneMode { .. } => v,
-            Observable::FailureHeight { width } => {
-                let r = if *width > 0.0 { (v / width).round() * width } else { v };
+        match o.scale() {
+            Scale::Category { .. } => v,
+            Scale::Place { width } => {
+                let r = if width > 0.0 { (v / width).round() * width } else { v };
                 r.clamp(0.0, 1.0)
             }
-            Observable::CollapseAngle | Observable::Displacement { .. } | Observable::InPlane { .. } => {
-                let r = self.of(o);
+            Scale::Measure(family) => {
+                let r = self.of_family(family);
                 if r > 0.0 {
                     (v / r).round() * r
                 } else {
@@ -354,7 +352,7 @@ impl Predictive {
     /// width of a simulated collapse angle's bracket (degrees; 0 for displacements).
     pub fn new(sim: &Simulated, obs: &Observation, bracket: f64) -> Predictive {
         let r = sim.n.max(1) as f64;
-        let b2 = if obs.observable == Observable::CollapseAngle { bracket * bracket / 12.0 } else { 0.0 };
+        let b2 = if obs.observable.is_angle() { bracket * bracket / 12.0 } else { 0.0 };
         let model = sim.sd * sim.sd * (1.0 + 1.0 / r);
         let var = model + b2 + obs.sigma * obs.sigma + sim.err * sim.err;
         let dof = if sim.n >= 2 && model > 0.0 {

@@ -222,7 +222,7 @@ pub fn build_library(
         });
     }
     if s.scatter {
-        let angle = keys.keys.iter().map(|(_, o)| matches!(o, Observable::CollapseAngle)).collect();
+        let angle = keys.keys.iter().map(|(_, o)| o.is_angle()).collect();
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
@@ -310,29 +310,20 @@ pub(super) fn check(setup: &Setup, obs: &[Observation], s: &Settings) -> Result<
     setup.check_protocol()?;
     let gives = setup.protocol.observables();
     for o in obs {
-        let given = match o.observable {
-            Observable::CollapseAngle => gives.collapse_bracket_deg.is_some(),
-            Observable::Displacement { .. } if gives.in_plane => false,
-            Observable::Displacement { tilt_deg, .. } => {
-                if !gives.reaches_tilt(tilt_deg) {
-                    return Err(match gives.state_step_deg {
-                        Some(step_deg) => DiscrepancyError::Tilt { specimen: o.specimen.clone(), tilt_deg, step_deg },
-                        None => DiscrepancyError::LateralTilt { specimen: o.specimen.clone(), tilt_deg },
-                    });
-                }
-                true
-            }
-            Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => {
-                gives.mechanism
-            }
-            Observable::InPlane { .. } | Observable::InPlaneMode { .. } => gives.in_plane,
-        };
-        if !given {
+        if !gives.gives(o.observable.output()) {
             return Err(DiscrepancyError::Observable {
                 specimen: o.specimen.clone(),
                 observable: o.observable.label(),
                 protocol: setup.protocol.name(),
             });
+        }
+        if let Some(tilt_deg) = o.observable.tilt_deg() {
+            if !gives.reaches_tilt(tilt_deg) {
+                return Err(match gives.state_step_deg {
+                    Some(step_deg) => DiscrepancyError::Tilt { specimen: o.specimen.clone(), tilt_deg, step_deg },
+                    None => DiscrepancyError::LateralTilt { specimen: o.specimen.clone(), tilt_deg },
+                });
+            }
         }
     }
     Ok(())

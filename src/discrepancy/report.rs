@@ -4,12 +4,13 @@
 //! bands and the measured points).
 
 use super::analysis::Ranked;
-use super::observations::{Observable, Observation};
+use super::observations::{Family, Observable, Observation};
 use super::predictive::Predictive;
 use super::simulate::Outcome;
 use super::Run;
 use crate::io::plot::{bands, residuals, BandSeries, PlotError, ResidualSeries};
 use crate::io::FileError;
+use crate::protocol::Output;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -282,7 +283,7 @@ fn verdict_section(md: &mut String, run: &Run) {
         (None, None) => {}
     }
     if let Some(ch) = &a.check {
-        let measures = if run.obs.iter().any(|o| matches!(o.observable, Observable::InPlane { .. })) {
+        let measures = if in_plane(run) {
             "the peak forces, drifts and stiffnesses"
         } else {
             "the collapse angles, displacements and failure heights"
@@ -299,20 +300,20 @@ fn verdict_section(md: &mut String, run: &Run) {
             d.candidates.0, d.candidates.1, d.observable, d.effect_size, d.specimens);
     }
     let s = &run.settings;
-    let used = |i: usize, setting: f64, unit: &str, what: &str| {
-        match run.sigma_estimate[i] {
+    let used = |family: Family, setting: f64, unit: &str, what: &str| {
+        match run.sigma_estimate[family.index()] {
         Some((sd, dof)) if sd > setting => format!("{sd:.3} {unit} ({what}: the spread the specimens show beyond the model's, {dof} degrees of freedom, larger than the setting {setting} {unit})"),
         Some((sd, dof)) => format!("{setting} {unit} ({what}: the setting; the specimens' spread beyond the model's is {sd:.3} {unit}, {dof} degrees of freedom)"),
         None => format!("{setting} {unit} ({what}: the setting; too few specimens per group for an estimate)"),
     }
     };
-    if run.obs.iter().any(|o| matches!(o.observable, Observable::InPlane { .. })) {
+    if in_plane(run) {
         let _ = writeln!(
             md,
             "Measurement σ used: {}, {}, {}; readings taken as intervals of {} kN, {} % and {} kN/mm.\n",
-            used(2, s.sigma.force_kn, "kN", "peak forces"),
-            used(3, s.sigma.drift_pct, "%", "drifts at the peak"),
-            used(4, s.sigma.stiffness_kn_per_mm, "kN/mm", "initial stiffnesses"),
+            used(Family::PeakForce, s.sigma.force_kn, "kN", "peak forces"),
+            used(Family::DriftAtPeak, s.sigma.drift_pct, "%", "drifts at the peak"),
+            used(Family::InitialStiffness, s.sigma.stiffness_kn_per_mm, "kN/mm", "initial stiffnesses"),
             s.reading.force_kn,
             s.reading.drift_pct,
             s.reading.stiffness_kn_per_mm
@@ -322,8 +323,8 @@ fn verdict_section(md: &mut String, run: &Run) {
     let _ = writeln!(
         md,
         "Measurement σ used: {}, {}; readings taken as intervals of {} deg and {} cm.\n",
-        used(0, s.sigma.angle_deg, "deg", "collapse angles"),
-        used(1, s.sigma.displacement_cm, "cm", "displacements"),
+        used(Family::CollapseAngle, s.sigma.angle_deg, "deg", "collapse angles"),
+        used(Family::Displacement, s.sigma.displacement_cm, "cm", "displacements"),
         s.reading.angle_deg,
         s.reading.displacement_cm
     );
@@ -531,10 +532,16 @@ fn extended_section(md: &mut String, run: &Run) {
     }
 }
 
+/// Whether the observations are the in-plane test's (its measures, not the tilting
+/// table's or the lateral load's).
+fn in_plane(run: &Run) -> bool {
+    run.obs.iter().any(|o| o.observable.output() == Output::InPlaneMeasures)
+}
+
 fn displacement_groups(run: &Run) -> Vec<String> {
     let mut v: Vec<String> = Vec::new();
     for o in &run.obs {
-        if matches!(o.observable, Observable::Displacement { .. }) && !v.contains(&o.group) {
+        if o.observable.family() == Some(Family::Displacement) && !v.contains(&o.group) {
             v.push(o.group.clone());
         }
     }
@@ -618,20 +625,16 @@ pub fn write_report(dir: &Path, run: &Run, study: &str) -> Result<(), WriteError
         else {
             continue;
         };
-        let Some(measure) = run.obs.iter().find_map(|o| match o.observable {
-            Observable::Displacement { measure, .. } if o.group == g => Some(measure),
-            _ => None,
-        }) else {
+        let Some(measure) =
+            run.obs.iter().filter(|o| o.group == g).find_map(|o| o.observable.displacement().map(|(m, _)| m))
+        else {
             continue;
         };
         let measured: Vec<(f64, f64)> = run
             .obs
             .iter()
             .filter(|o| o.group == g)
-            .filter_map(|o| match o.observable {
-                Observable::Displacement { tilt_deg, .. } => Some((tilt_deg, o.value)),
-                _ => None,
-            })
+            .filter_map(|o| o.observable.tilt_deg().map(|t| (t, o.value)))
             .collect();
         let mut series = vec![band(&run.baseline[group_index], measure, "baseline", measured.clone())];
         if let Some((effects, outs)) = &run.extended {

@@ -127,25 +127,47 @@ pub trait LoadingProtocol: Sized + 'static {
     }
 }
 
+/// A kind of output a protocol's run gives to compare with measured data
+/// (`drystone discrepancy`): each observable of the analysis is of one
+/// (`discrepancy::Observable::output`), and a protocol lists those it gives
+/// ([`Observables::outputs`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Output {
+    /// The collapse angle α_max, read from the bracket of the run's collapse.
+    CollapseAngle,
+    /// The top displacements at the run's states (the stable tilts, or the one equilibrium
+    /// under a load).
+    Displacements,
+    /// The failure mechanism as a person reads it: its failure height, kind and start.
+    Mechanism,
+    /// The in-plane test's measures of its first direction loaded: peak force, drift at the
+    /// peak, initial stiffness.
+    InPlaneMeasures,
+    /// The in-plane mechanism's mode.
+    InPlaneMode,
+}
+
 /// What a protocol's run gives to compare with measured data (`drystone discrepancy`):
-/// which observables exist and at which states.
+/// which observables exist ([`Output`]) and at which states.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Observables {
+    /// What the run gives; an observation of another output is refused.
+    pub outputs: &'static [Output],
     /// Width of the bracket of a simulated collapse angle, degrees; `None`: the protocol
-    /// gives no collapse angle (its collapse-angle observations are refused).
+    /// gives no collapse angle (and does not list [`Output::CollapseAngle`]).
     pub collapse_bracket_deg: Option<f64>,
     /// The step of the tilts at which the run gives displacements, degrees (a displacement
     /// observation at a tilt off its multiples is refused); `None`: one state, at tilt 0
     /// (the equilibrium under a load).
     pub state_step_deg: Option<f64>,
-    /// Whether the run reads a failure mechanism (its failure height, kind and start).
-    pub mechanism: bool,
-    /// Whether the run gives the in-plane test's measures (peak force, drift at the peak,
-    /// initial stiffness) and mode.
-    pub in_plane: bool,
 }
 
 impl Observables {
+    /// Whether the run gives `output`.
+    pub fn gives(&self, output: Output) -> bool {
+        self.outputs.contains(&output)
+    }
+
     /// Whether the run gives displacements at tilt `tilt_deg`, degrees.
     pub fn reaches_tilt(&self, tilt_deg: f64) -> bool {
         match self.state_step_deg {

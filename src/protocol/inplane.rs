@@ -6,7 +6,7 @@
 //! elastic stiffness and its loading beam has no imposed displacement, so it is refused by
 //! name.
 
-use super::contract::{LoadingProtocol, Observables, RunOutcome, Way};
+use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
 use super::observed::Observed;
 use super::Protocol;
 use crate::dem::Method;
@@ -64,7 +64,11 @@ impl LoadingProtocol for InPlane {
 
     /// No collapse angle, no tilt states, no out-of-plane mechanism.
     fn observables(&self) -> Observables {
-        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false, in_plane: true }
+        Observables {
+            outputs: &[Output::InPlaneMeasures, Output::InPlaneMode],
+            collapse_bracket_deg: None,
+            state_step_deg: None,
+        }
     }
 }
 
@@ -80,7 +84,7 @@ impl RunOutcome for InPlaneRun {
     fn error(&self) -> Option<String> {
         match self {
             InPlaneRun::Penalty(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
-            _ => None,
+            InPlaneRun::Penalty(Ok(_)) | InPlaneRun::Limit(Ok(_)) => None,
         }
     }
     fn does_not_stand(&self) -> bool {

@@ -2,7 +2,7 @@
 //! equilibrium by the penalty DEM (`loading::lateral`), or checked by limit analysis
 //! (whether the collapse load multiplier reaches 1, `limit::limit_lateral`).
 
-use super::contract::{LoadingProtocol, Observables, RunOutcome, States, Way};
+use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::{run, Protocol};
 use crate::dem::{Method, Simulation, SolverParams};
@@ -53,7 +53,7 @@ impl LoadingProtocol for Lateral {
     /// The displacements of the one equilibrium under the load, at tilt 0; no collapse
     /// angle, no mechanism.
     fn observables(&self) -> Observables {
-        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false, in_plane: false }
+        Observables { outputs: &[Output::Displacements], collapse_bracket_deg: None, state_step_deg: None }
     }
 }
 

@@ -24,7 +24,7 @@ pub mod shake;
 pub mod tilt;
 pub mod tilt_by_hand;
 
-pub use contract::{Instants, LoadingProtocol, Observables, Observer, RunOutcome, States, Unsupported, Way};
+pub use contract::{Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way};
 pub use inplane::{InPlane, InPlaneRun};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
 pub use observed::{InPlaneObserved, Observed};

@@ -52,7 +52,7 @@ impl LoadingProtocol for Shake {
     /// None to compare (the discrepancy analysis refuses the shaking table,
     /// [`Shake::compared`]).
     fn observables(&self) -> Observables {
-        Observables { collapse_bracket_deg: None, state_step_deg: None, mechanism: false, in_plane: false }
+        Observables { outputs: &[], collapse_bracket_deg: None, state_step_deg: None }
     }
 
     fn shaking(&self) -> Option<(&ShakeParams, &Motion)> {

@@ -3,7 +3,7 @@
 //! the rigid limit by non-smooth contact dynamics (`loading::tilt_nscd`), or by limit
 //! analysis (α_max = atan λ, `limit::limit_tilt`).
 
-use super::contract::{LoadingProtocol, Observables, RunOutcome, States, Way};
+use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::tilt_by_hand::TiltByHand;
 use super::{run, Protocol};
@@ -99,10 +99,9 @@ impl Observables {
     /// multiples of its increment, the mechanism.
     pub fn of_tilt(t: &TiltParams) -> Observables {
         Observables {
+            outputs: &[Output::CollapseAngle, Output::Displacements, Output::Mechanism],
             collapse_bracket_deg: Some(t.resolution_deg),
             state_step_deg: Some(t.step_deg),
-            mechanism: true,
-            in_plane: false,
         }
     }
 }

@@ -200,16 +200,13 @@ pub fn write_followup(
 /// What the laboratory reads on each specimen, as sentences.
 fn readings(f: &FollowUp) -> Vec<String> {
     let mut out = Vec::new();
-    if f.observables.iter().any(|o| matches!(o, Observable::CollapseAngle)) {
+    if f.observables.iter().any(Observable::is_angle) {
         out.push("the collapse angle (degrees): `templates/tilting_table_collapse.csv`".to_string());
     }
     let disp: Vec<String> = f
         .observables
         .iter()
-        .filter_map(|o| match o {
-            Observable::Displacement { measure, tilt_deg } => Some(format!("{} at {tilt_deg}°", measure.name())),
-            _ => None,
-        })
+        .filter_map(|o| o.displacement().map(|(measure, tilt_deg)| format!("{} at {tilt_deg}°", measure.name())))
         .collect();
     if !disp.is_empty() {
         out.push(format!(

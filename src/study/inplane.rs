@@ -573,38 +573,38 @@ fn fill(row: &mut InPlaneRow, r: &InPlaneResult) {
     row.drawing = Some((r.poses_at_reading.clone(), r.mechanism.clone()));
 }
 
+/// The columns of `realizations.csv` of an in-plane study, in their order, each with its
+/// cell: the one list the header and the rows follow (a test checks that every field of
+/// [`InPlaneRow`] the rows serialize is one of them).
+const ROW_COLUMNS: &[(&str, fn(&InPlaneRow) -> String)] = &[
+    ("group", |r| format!("\"{}\"", r.group)),
+    ("realization", |r| r.realization.to_string()),
+    ("index", |r| r.index.to_string()),
+    ("status", |r| r.status.clone()),
+    ("peak_pos_kn", |r| r.peak_pos_kn.to_string()),
+    ("drift_at_peak_pos_pct", |r| r.drift_at_peak_pos_pct.to_string()),
+    ("ultimate_drift_pos_pct", |r| r.ultimate_drift_pos_pct.to_string()),
+    ("stiffness_pos_kn_per_mm", |r| r.stiffness_pos_kn_per_mm.to_string()),
+    ("peak_neg_kn", |r| r.peak_neg_kn.to_string()),
+    ("drift_at_peak_neg_pct", |r| r.drift_at_peak_neg_pct.to_string()),
+    ("ultimate_drift_neg_pct", |r| r.ultimate_drift_neg_pct.to_string()),
+    ("stiffness_neg_kn_per_mm", |r| r.stiffness_neg_kn_per_mm.to_string()),
+    ("mechanism", |r| r.mechanism.clone()),
+    ("failure_type", |r| r.failure_type.to_string()),
+    ("opening_share", |r| r.opening_share.to_string()),
+    ("limit_peak_kn", |r| r.limit_peak_kn.to_string()),
+    ("limit_mechanism", |r| r.limit_mechanism.clone()),
+    ("rocking_kn", |r| r.rocking_kn.to_string()),
+    ("unconverged", |r| r.unconverged.to_string()),
+    ("wall_time_s", |r| format!("{:.3}", r.wall_time_s)),
+    ("error", |r| format!("\"{}\"", r.error.replace('"', "'"))),
+];
+
 fn write_rows(path: &Path, rows: &[InPlaneRow]) -> Result<(), InPlaneStudyError> {
-    let mut s = String::from(
-        "group,realization,index,status,peak_pos_kn,drift_at_peak_pos_pct,ultimate_drift_pos_pct,stiffness_pos_kn_per_mm,\
-         peak_neg_kn,drift_at_peak_neg_pct,ultimate_drift_neg_pct,stiffness_neg_kn_per_mm,mechanism,failure_type,\
-         opening_share,limit_peak_kn,limit_mechanism,rocking_kn,unconverged,wall_time_s,error\n",
-    );
+    let mut s = ROW_COLUMNS.iter().map(|(name, _)| *name).collect::<Vec<_>>().join(",");
+    s.push('\n');
     for r in rows {
-        let _ = writeln!(
-            s,
-            "\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},\"{}\"",
-            r.group,
-            r.realization,
-            r.index,
-            r.status,
-            r.peak_pos_kn,
-            r.drift_at_peak_pos_pct,
-            r.ultimate_drift_pos_pct,
-            r.stiffness_pos_kn_per_mm,
-            r.peak_neg_kn,
-            r.drift_at_peak_neg_pct,
-            r.ultimate_drift_neg_pct,
-            r.stiffness_neg_kn_per_mm,
-            r.mechanism,
-            r.failure_type,
-            r.opening_share,
-            r.limit_peak_kn,
-            r.limit_mechanism,
-            r.rocking_kn,
-            r.unconverged,
-            r.wall_time_s,
-            r.error.replace('"', "'")
-        );
+        let _ = writeln!(s, "{}", ROW_COLUMNS.iter().map(|(_, cell)| cell(r)).collect::<Vec<_>>().join(","));
     }
     crate::io::replace_file(path, s.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
 }
@@ -809,4 +809,47 @@ fn report(
     w("comparison.csv", &comparison)?;
     w("report.md", &md)?;
     Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field of a row the rows serialize is a column of `realizations.csv`
+    /// ([`ROW_COLUMNS`]), and every column a field: a field added to [`InPlaneRow`]
+    /// without its column fails here.
+    #[test]
+    fn every_field_of_an_in_plane_row_is_a_column() {
+        let row = InPlaneRow {
+            group: "G".into(),
+            realization: 0,
+            index: 0,
+            status: "ok".into(),
+            error: String::new(),
+            peak_pos_kn: 1.0,
+            drift_at_peak_pos_pct: 1.0,
+            ultimate_drift_pos_pct: 1.0,
+            stiffness_pos_kn_per_mm: 1.0,
+            peak_neg_kn: 1.0,
+            drift_at_peak_neg_pct: 1.0,
+            ultimate_drift_neg_pct: 1.0,
+            stiffness_neg_kn_per_mm: 1.0,
+            mechanism: String::new(),
+            failure_type: 1.0,
+            opening_share: 1.0,
+            limit_peak_kn: 1.0,
+            limit_mechanism: String::new(),
+            rocking_kn: 1.0,
+            unconverged: 0,
+            wall_time_s: 0.0,
+            curve: Vec::new(),
+            drawing: None,
+        };
+        let serde_json::Value::Object(fields) = serde_json::to_value(&row).unwrap() else { panic!() };
+        let mut fields: Vec<&str> = fields.keys().map(String::as_str).collect();
+        let mut columns: Vec<&str> = ROW_COLUMNS.iter().map(|(name, _)| *name).collect();
+        fields.sort_unstable();
+        columns.sort_unstable();
+        assert_eq!(fields, columns);
+    }
 }

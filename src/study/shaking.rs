@@ -9,7 +9,8 @@
 //! Outputs: `fragility.csv` (one row per group and level), `static_capacity.csv` (one row
 //! per group and realization), `shaking.svg` and the report's sections. A deterministic
 //! function of the rows (in index order) and the study: the bootstrap of group `g` draws
-//! from `rng_for(seed, 2³³ + g, Bootstrap)`, a stream no other summary uses.
+//! from `rng_for(seed, 2³³ + g, Bootstrap)`, its block of streams
+//! ([`super::summary::StreamBlock`]).
 
 use super::motions::ShakeStudy;
 use super::report_error::ReportError;
@@ -27,8 +28,9 @@ use std::path::Path;
 /// Bootstrap replicates of the fragility band.
 pub const BOOTSTRAP_REPLICATES: usize = 1000;
 
-/// The first bootstrap stream of the fragility bands (group `g` draws from this plus `g`).
-const STREAM: u64 = 1 << 33;
+/// The first bootstrap stream of the fragility bands (group `g` draws from this plus `g`):
+/// the study's block of them ([`super::summary::StreamBlock::Shaking`]).
+const STREAM: u64 = super::summary::StreamBlock::Shaking.base();
 
 /// The fragility of one group.
 #[derive(Debug, Clone)]

@@ -15,14 +15,7 @@ use std::path::Path;
 /// The tilts a monitor follow-up reads: those of the first campaign's displacements, else
 /// 5° and 10° (where the table's steps reach them).
 fn monitor_tilts(run: &Run, setup: &Setup) -> Vec<f64> {
-    let mut t: Vec<f64> = run
-        .obs
-        .iter()
-        .filter_map(|o| match o.observable {
-            Observable::Displacement { tilt_deg, .. } => Some(tilt_deg),
-            _ => None,
-        })
-        .collect();
+    let mut t: Vec<f64> = run.obs.iter().filter_map(|o| o.observable.tilt_deg()).collect();
     if t.is_empty() {
         t = vec![5.0, 10.0];
     }
@@ -108,8 +101,7 @@ pub fn menu(walls: &[GroupWall<'_>], setup: &Setup, run: &Run) -> Result<Vec<Fol
             .flat_map(|&t| Measure::ALL.map(|measure| Observable::Displacement { measure, tilt_deg: t }))
             .collect();
         if monitors.iter().any(|m| !read.iter().any(|o| o.same(m))) {
-            let mut obs: Vec<Observable> =
-                read.iter().copied().filter(|o| matches!(o, Observable::CollapseAngle)).collect();
+            let mut obs: Vec<Observable> = read.iter().copied().filter(Observable::is_angle).collect();
             obs.extend(monitors);
             out.push(on_own_walls(
                 &g.name,

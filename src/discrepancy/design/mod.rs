@@ -63,7 +63,7 @@ pub use problem::{FirstCampaign, Problem};
 pub use refit::{first_design, first_scores, heldout, FirstDesign, FirstScores, Refit};
 
 use super::compare::per_specimen;
-use super::observations::Observable;
+use super::observations::{Observable, Scale};
 use super::simulate::Setup;
 use super::{DiscrepancyError, Run};
 use crate::loading::mechanism::{FailureKind, FailureStart};
@@ -187,11 +187,11 @@ fn sigma_of(run: &Run, o: &Observable) -> f64 {
         return used;
     }
     let s = run.settings.sigma;
-    match o {
-        Observable::CollapseAngle => s.angle_deg,
-        Observable::Displacement { .. } => s.displacement_cm,
-        Observable::FailureHeight { .. } => s.failure_height,
-        _ => 1.0,
+    match o.scale() {
+        Scale::Measure(family) => s.of_family(family),
+        Scale::Place { .. } => s.failure_height,
+        // A category's indicator is scored by its misreading, not by a σ.
+        Scale::Category { .. } => 1.0,
     }
 }
 

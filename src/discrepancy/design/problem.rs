@@ -6,7 +6,7 @@ use super::plan::{Chance, Contender};
 use super::refit::Refit;
 use crate::discrepancy::compare::{difference_se, per_specimen, specimen_weights};
 use crate::discrepancy::fit::Data;
-use crate::discrepancy::observations::{Observable, Observation};
+use crate::discrepancy::observations::{CategorySet, Observable, Observation, Scale};
 use crate::discrepancy::predictive::{Predictive, Reading, Simulated};
 use crate::discrepancy::TieCheck;
 use crate::rng::{rng_for, Purpose};
@@ -126,7 +126,7 @@ impl Problem<'_> {
     /// which are drawn from their categories).
     fn biased(&self, t: usize, k: usize) -> bool {
         let o = &self.keys[k];
-        !(o.is_mechanism() || matches!(o, Observable::FailureHeight { .. }) || !self.sims[t][k].mean.is_finite())
+        !o.is_mechanism() && self.sims[t][k].mean.is_finite()
     }
 
     /// The contenders' disagreement on the follow-up's keys (`[key]`, in units of the key's
@@ -463,14 +463,13 @@ impl Space<'_> {
         rng: &mut rand_chacha::ChaCha8Rng,
     ) -> Vec<(usize, f64)> {
         let mut out = Vec::new();
-        let mut kinds = Vec::new();
-        let mut starts = Vec::new();
+        // The keys of each set of categories ([`CategorySet::ALL`]'s order), drawn as one.
+        let mut sets: [Vec<usize>; CategorySet::ALL.len()] = Default::default();
         for &k in which {
             let (o, sim) = (&self.keys[k], &sims[k]);
-            match o {
-                Observable::MechanismKind { .. } => kinds.push(k),
-                Observable::MechanismStart { .. } => starts.push(k),
-                Observable::FailureHeight { width } => {
+            match o.scale() {
+                Scale::Category { set, .. } => sets[set.index()].push(k),
+                Scale::Place { width } => {
                     if sim.heights.is_empty() {
                         continue;
                     }
@@ -491,10 +490,10 @@ impl Space<'_> {
                         let z: f64 = StandardNormal.sample(rng);
                         (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
                     };
-                    let v = self.reading.neighbour_read(v, *width, rng.random());
-                    out.push((k, self.reading.round(&Observable::FailureHeight { width: *width }, v)));
+                    let v = self.reading.neighbour_read(v, width, rng.random());
+                    out.push((k, self.reading.round(o, v)));
                 }
-                _ => {
+                Scale::Measure(_) => {
                     if !sim.mean.is_finite() {
                         continue;
                     }
@@ -509,7 +508,7 @@ impl Space<'_> {
                 }
             }
         }
-        for group in [kinds, starts] {
+        for group in sets {
             if group.is_empty() {
                 continue;
             }

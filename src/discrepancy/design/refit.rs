@@ -172,11 +172,9 @@ pub fn first_design(run: &Run, cs: &[Contender]) -> FirstDesign {
     for (o, &k) in run.obs.iter().zip(&run.keys.of) {
         sigma[k] = sigma[k].max(o.sigma);
     }
-    let family = |o: &Observable| match o {
-        Observable::MechanismKind { .. } => 1,
-        Observable::MechanismStart { .. } => 2,
-        _ => 0,
-    };
+    // A specimen's categories are read as one of their set (every key of the set: its
+    // kind, its start); a number alone.
+    let family = |o: &Observable| o.category_set().map_or(0, |s| s.index() + 1);
     let specimens = run
         .specimens
         .iter()
@@ -311,7 +309,7 @@ pub fn predictions(
         let surface = match cand.effects.as_slice() {
             [] => {
                 debug_assert_eq!(c.name, SCATTER);
-                let angle = f.observables.iter().map(|o| matches!(o, Observable::CollapseAngle)).collect();
+                let angle = f.observables.iter().map(Observable::is_angle).collect();
                 let mechanism = f.observables.iter().map(Observable::is_mechanism).collect();
                 Surface::Scatter { base: full.clone(), angle, mechanism }
             }

@@ -1,6 +1,6 @@
 use super::*;
 use crate::discrepancy::predictive::Heights;
-use crate::discrepancy::{Reading, Simulated};
+use crate::discrepancy::{CategorySet, Reading, Simulated};
 use crate::rng::{rng_for, Purpose};
 
 fn sim(mean: f64, sd: f64) -> Simulated {
@@ -122,7 +122,10 @@ fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures()
                 Observable::MechanismStart { start } => {
                     sim(if *start == FailureStart::Uniform { 1.0 } else { 0.0 }, 0.0)
                 }
-                _ => unreachable!(),
+                Observable::CollapseAngle
+                | Observable::Displacement { .. }
+                | Observable::InPlane { .. }
+                | Observable::InPlaneMode { .. } => unreachable!("{o}: not a key of the mechanism"),
             })
             .collect()
     };
@@ -134,8 +137,8 @@ fn mechanism_follow_ups_draw_one_category_each_and_separate_different_failures()
     for t in 0..2 {
         for _ in 0..50 {
             let s = p.draw_specimen(t, &[], &mut rng);
-            let kinds = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismKind { .. })).count();
-            let starts = s.iter().filter(|(k, _)| matches!(keys[*k], Observable::MechanismStart { .. })).count();
+            let of = |set| s.iter().filter(|(k, _)| keys[*k].category_set() == Some(set)).count();
+            let (kinds, starts) = (of(CategorySet::FailureKind), of(CategorySet::FailureStart));
             assert_eq!((kinds, starts), (1, 1), "{s:?}");
             let (_, h) = s.iter().find(|(k, _)| *k == 0).unwrap();
             assert!((0.0..=1.0).contains(h) && ((h / 0.125).round() * 0.125 - h).abs() < 1e-12, "{h}");
