@@ -98,10 +98,9 @@ solvers! {
     /// The penalty DEM (3DEC-style sub-contact springs, Kn and Ks from the layout): static
     /// states by its [`Cascade`], motion by explicit dynamics.
     Penalty = "the penalty DEM" {
-        /// The penalty DEM with each protocol's default cascade: the tilting table and the
-        /// in-plane test's monotonic push run the implicit iteration, its stall probe (the
-        /// tilting table) and accelerated dynamic relaxation; settling, the static lateral
-        /// load and the in-plane test's cycles run plain dynamic relaxation.
+        /// The penalty DEM with each protocol's default cascade: the tilting table runs the
+        /// implicit iteration, its stall probe and accelerated dynamic relaxation; settling
+        /// and the static lateral load run plain dynamic relaxation.
         #[default]
         Penalty = "penalty",
         /// The penalty DEM, every stage: implicit iteration → stall probe → accelerated,
