@@ -248,23 +248,46 @@ fn visit(
 /// against slip (`base_sliding = "held"`) is a Coulomb point at
 /// [`super::contacts::HELD_FRICTION`].
 pub fn natural_residual(rows: &[PointRows], impulse: &[Vec3], vel: &[Vec3], angvel: &[Vec3], gh: f64) -> f64 {
-    let (mut num, mut den) = (0.0f64, 0.0f64);
+    let mut sum = NaturalSum::default();
     for (row, r) in rows.iter().zip(impulse) {
-        let wbar = row.w.trace() / 3.0;
-        if !(wbar > 0.0) {
-            continue;
-        }
         let mut u = row.velocity(vel, angvel);
         u.x += row.bias;
+        sum.add(row, r, &u);
+    }
+    sum.residual(gh)
+}
+
+/// The sums of [`natural_residual`] point by point, for a loop that already has each
+/// point's relative velocity: the same additions in the same order give the same value
+/// bit for bit.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct NaturalSum {
+    num: f64,
+    den: f64,
+}
+
+impl NaturalSum {
+    /// Adds the point `row` at the impulse `r` and the relative velocity `u` (local frame,
+    /// m/s, Signorini's term added to uₙ).
+    #[inline(always)]
+    pub(super) fn add(&mut self, row: &PointRows, r: &Vec3, u: &Vec3) {
+        let wbar = row.w.trace() / 3.0;
+        if !(wbar > 0.0) {
+            return;
+        }
         let rho = 1.0 / wbar;
         let ut = (u.y * u.y + u.z * u.z).sqrt();
         let phi = r - local::project(&(r - rho * Vec3::new(u.x + row.mu * ut, u.y, u.z)), row.mu);
-        num += wbar * wbar * phi.norm_squared();
-        den += (row.w * r).norm_squared();
+        self.num += wbar * wbar * phi.norm_squared();
+        self.den += (row.w * r).norm_squared();
     }
-    if num == 0.0 {
-        0.0
-    } else {
-        num.sqrt() / den.sqrt().max(gh)
+
+    /// The residual of the points added; `gh` (m/s) the floor of its denominator.
+    pub(super) fn residual(&self, gh: f64) -> f64 {
+        if self.num == 0.0 {
+            0.0
+        } else {
+            self.num.sqrt() / self.den.sqrt().max(gh)
+        }
     }
 }
