@@ -356,3 +356,34 @@ envelopes = "{}"
     assert!(e.contains("groups[0].specimens") && e.contains("WS.999"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The implicit iteration (`--solver implicit`) holds the beam's constrained degrees of
+/// freedom (its stiffness leaves them out, its jumps put the anchor back on its target):
+/// the monolith rocks about its toe and slides on a slippery base at the closed forms
+/// above, every increment converged, and its elastic stiffness is the closed form's.
+#[test]
+fn the_implicit_iteration_holds_the_beam_at_the_closed_forms() {
+    let s = SolverParams { kind: drystone::dem::SolverKind::Implicit, ..SolverParams::default() };
+    let (n, w) = forces();
+    let rocking = (n + w) * L / (2.0 * H0);
+    let dem = run_in_plane_penalty(&inplane_block(45.0, RIGID_KN), s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+    assert!((peak / rocking - 1.0).abs() < 0.02, "rocking: {peak} N vs {rocking} N");
+    assert_eq!(dem.unconverged, 0);
+    let mu = 0.2;
+    let sliding = mu * (n + w);
+    let wall = inplane_block(mu.atan().to_degrees(), RIGID_KN);
+    let dem = run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+    assert!((peak / sliding - 1.0).abs() < 0.02, "sliding: {peak} N vs {sliding} N");
+    assert_eq!(dem.mechanism.kind, MechanismKind::Sliding, "{:?}", dem.mechanism);
+    // The same wall by dynamic relaxation (the default) gives the same initial stiffness.
+    let wall = inplane_block(45.0, 1e9);
+    let p = InPlaneParams { step_mm: 0.05, ..params(0.1) };
+    let implicit = run_in_plane_penalty(&wall, s, &p, &mut |_, _, _| {}).unwrap();
+    let relaxed = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    let (a, b) =
+        (implicit.positive.unwrap().initial_stiffness_kn_per_mm, relaxed.positive.unwrap().initial_stiffness_kn_per_mm);
+    assert!((a / b - 1.0).abs() < 0.01, "implicit {a} kN/mm vs relaxation {b} kN/mm");
+    assert_eq!(implicit.unconverged, 0);
+}
