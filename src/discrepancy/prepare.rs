@@ -162,34 +162,26 @@ impl Plan {
     }
 }
 
-/// The surrogate grids' plans of `defs` and the models run at their nodes (every node but
-/// the neutral one, which is the baseline's), in plan order.
-fn grid_models(
-    setup: &Setup,
-    s: &Settings,
-    defs: &[Arc<EffectDef>],
-) -> Result<(Vec<Plan>, Vec<Vec<Effect>>), DiscrepancyError> {
-    let course_m = course_height(setup);
-    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
-    let models = plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
-    Ok((plans, models))
-}
-
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
 /// numbers) re-centred on the full baseline at the effect's neutral point
 /// ([`Surface::Corrected`]), and the scatter hypothesis. The baseline and every candidate
 /// are thereby scored with the same number of realizations: a candidate does not gain on
-/// the baseline by being estimated from more layouts.
+/// the baseline by being estimated from more layouts. Returns the library and the number of
+/// forward runs its grids made.
 pub fn build_library(
     setup: &Setup,
     keys: &Keys,
     baseline: &[Vec<Outcome>],
     s: &Settings,
     defs: &[Arc<EffectDef>],
-) -> Result<Models, DiscrepancyError> {
-    let (plans, models) = grid_models(setup, s, defs)?;
+) -> Result<(Models, usize), DiscrepancyError> {
+    let course_m = course_height(setup);
+    let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
+    let models: Vec<Vec<Effect>> =
+        plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
     let grid_setup = with_realizations(setup, s.realizations);
+    let runs = forward_runs(&grid_setup, &models, true);
     let base_grid: Vec<Vec<Outcome>> = baseline
         .iter()
         .zip(&grid_setup.groups)
@@ -226,7 +218,7 @@ pub fn build_library(
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
-    Ok(Models { baseline: full_sims, candidates })
+    Ok((Models { baseline: full_sims, candidates }, runs))
 }
 
 /// The distinct declared kinds of the setup's walls, in order.
@@ -380,11 +372,10 @@ pub fn prepare_with(
         names.join(", "),
         realizations_of(&with_realizations(setup, s.realizations))
     ));
-    let lib = build_library(setup, &keys, &baseline, s, &defs)?;
+    let (lib, grid_runs) = build_library(setup, &keys, &baseline, s, &defs)?;
     let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
     progress(&format!("null pool: the baseline on independent layouts ({})", realizations_of(&null_setup)));
     let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
-    let grid_runs = forward_runs(&with_realizations(setup, s.realizations), &grid_models(setup, s, &defs)?.1, true);
     let forward_runs = vec![
         StageRuns::new("baseline", forward_runs(&full, &[vec![]], false)),
         StageRuns::new("surrogate grids", grid_runs),

@@ -222,8 +222,15 @@ fn examine_cause(
     let gain = Some(bootstrap_gain(base_per, &cause_per, s.bootstrap, seed));
     progress(&format!("tie checks: {} against its challengers", b.name));
     let tie = tie_checks(ctx, b, candidates, pool, src, s.check_replicates, seed);
-    let runs = model.runs;
-    Ok(Findings { passes: check.passes(), check, extended: model.run, extended_predictive, gain, tie, runs })
+    Ok(Findings {
+        passes: check.passes(),
+        check,
+        extended: model.run,
+        extended_predictive,
+        gain,
+        tie,
+        runs: model.runs,
+    })
 }
 
 /// Stage 1, the design: the key of every observation in the prepared design (its group
