@@ -132,7 +132,15 @@ pub struct Patch {
     pub triangles: Vec<Triangle>,
 }
 
-fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &PatchParams, outward_sign: f64) -> Vec<Vec3> {
+/// The feature of `blk` on its support plane `n·x = h` (see the module doc, step 2): its
+/// vertices, and the index of its face when the feature is a face.
+fn support_plane_feature(
+    blk: &ConvexBlock,
+    n: &Vec3,
+    h: f64,
+    s: &PatchParams,
+    outward_sign: f64,
+) -> (Vec<Vec3>, Option<usize>) {
     // outward_sign = +1: A's side (support max along n); -1: B's side (support min along n).
     let cos_tol = s.face_angle_tolerance_rad.cos();
     let mut best: Option<(f64, usize)> = None;
@@ -148,14 +156,38 @@ fn support_plane_feature(blk: &ConvexBlock, n: &Vec3, h: f64, s: &PatchParams, o
         }
     }
     if let Some((_, k)) = best {
-        return blk.faces[k].vertices.iter().map(|&i| blk.vertices[i]).collect();
+        return (blk.faces[k].vertices.iter().map(|&i| blk.vertices[i]).collect(), Some(k));
     }
-    blk.vertices.iter().filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance_m).copied().collect()
+    let vertices = blk
+        .vertices
+        .iter()
+        .filter(|v| (outward_sign * (h - n.dot(v))).abs() <= s.feature_tolerance_m)
+        .copied()
+        .collect();
+    (vertices, None)
 }
 
 fn min_edge(blk: &ConvexBlock) -> f64 {
     let e = blk.aabb().extent();
     e.x.min(e.y).min(e.z)
+}
+
+/// Ray from `x` along `n`: the parameter where it crosses the plane of the feature's face
+/// `face` (a face feature), or else where it leaves the block through the faces facing `n`
+/// (sign +1) or enters through the faces facing `−n` (sign −1).
+///
+/// A node of a face–face patch lies on the boundary of a feature's face wherever the patch
+/// polygon's corner is one of the face's own (up to rounding, and by a nanometre where the
+/// block leans on the ray). A side face almost parallel to the ray would then bound the
+/// ray at `ε / (n·normal)` for an offset ε of the node outside it: up to the feature
+/// tolerance away from the face, a normal gap of that size where the joint is closed. The
+/// node's surface point is the face's plane, as for the nodes inside it.
+fn surface_param(blk: &ConvexBlock, face: Option<usize>, x: &Vec3, n: &Vec3, sign: f64) -> f64 {
+    if let Some(k) = face {
+        let f = &blk.faces[k];
+        return (f.offset - f.normal.dot(x)) / f.normal.dot(n);
+    }
+    ray_param(blk, x, n, sign)
 }
 
 /// Ray from `x` along `n`: the parameter where it leaves the block through the faces facing
@@ -182,15 +214,15 @@ pub fn block_block(a: &ConvexBlock, b: &ConvexBlock, s: &PatchParams) -> Option<
     let n = sep.normal;
     let h_a = a.vertices.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
     let h_b = b.vertices.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min);
-    let fa = support_plane_feature(a, &n, h_a, s, 1.0);
-    let fb = support_plane_feature(b, &n, h_b, s, -1.0);
+    let (fa, face_a) = support_plane_feature(a, &n, h_a, s, 1.0);
+    let (fb, face_b) = support_plane_feature(b, &n, h_b, s, -1.0);
     let width = s.degenerate_width_fraction * min_edge(a).min(min_edge(b));
     // The surface point of a feature lies between the feature's extremes along n.
     let lo_a = fa.iter().map(|v| n.dot(v)).fold(f64::INFINITY, f64::min) - s.feature_tolerance_m;
     let hi_b = fb.iter().map(|v| n.dot(v)).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance_m;
     let surfaces = |x: &Vec3| {
-        let ta = ray_param(a, x, &n, 1.0).clamp(lo_a - n.dot(x), h_a - n.dot(x));
-        let tb = ray_param(b, x, &n, -1.0).clamp(h_b - n.dot(x), hi_b - n.dot(x));
+        let ta = surface_param(a, face_a, x, &n, 1.0).clamp(lo_a - n.dot(x), h_a - n.dot(x));
+        let tb = surface_param(b, face_b, x, &n, -1.0).clamp(h_b - n.dot(x), hi_b - n.dot(x));
         (x + n * ta, x + n * tb)
     };
     build_patch(&fa, &fb, &n, 0.5 * (h_a + h_b), h_b - h_a, width, s, surfaces)
@@ -203,11 +235,11 @@ pub fn table_block(b: &ConvexBlock, s: &PatchParams) -> Option<Patch> {
     if h_b > s.contact_margin_m {
         return None;
     }
-    let fb = support_plane_feature(b, &n, h_b, s, -1.0);
+    let (fb, face_b) = support_plane_feature(b, &n, h_b, s, -1.0);
     let width = s.degenerate_width_fraction * min_edge(b);
     let hi_b = fb.iter().map(|v| v.z).fold(f64::NEG_INFINITY, f64::max) + s.feature_tolerance_m;
     let surfaces = |x: &Vec3| {
-        let tb = ray_param(b, x, &n, -1.0).clamp(h_b - x.z, hi_b - x.z);
+        let tb = surface_param(b, face_b, x, &n, -1.0).clamp(h_b - x.z, hi_b - x.z);
         (Vec3::new(x.x, x.y, 0.0), x + n * tb)
     };
     // The table's feature: B's feature projected (the table is unbounded).
@@ -396,6 +428,47 @@ mod tests {
         let max = gaps.iter().cloned().fold(0.0, f64::max);
         assert!((max - 0.1 * 0.01f64.sin()).abs() < 1e-6, "{max}");
         assert!(gaps.iter().all(|g| *g > -1e-12));
+    }
+
+    /// Two stacked blocks pressed 50 µm into each other and leaning by tens of µrad, the
+    /// upper shifted along the bed so that the patch's corners are its own: every node's
+    /// normal gap is the distance between the two bed faces' planes along the normal (the
+    /// faces are planar), and the joint is closed at every node. A side face almost
+    /// parallel to the normal must not set a node's surface point.
+    #[test]
+    fn leaning_stacked_blocks_give_every_node_the_gap_between_the_bed_planes() {
+        let s = crate::dem::params::SolverParams::default().patch();
+        let mut worst: f64 = 0.0;
+        for (k, (ta, tb)) in [(6e-5, 2e-5), (-4e-5, 9e-5), (1.1e-4, 0.0), (3e-5, -7e-5)].into_iter().enumerate() {
+            for shift in [0.1, 0.0489, 0.1 + 1e-7 * k as f64] {
+                let ra = nalgebra::Rotation3::from_axis_angle(&Vec3::y_axis(), ta);
+                let rb = nalgebra::Rotation3::from_axis_angle(&Vec3::y_axis(), tb);
+                let a0 = cube(Vec3::new(0.8, -0.1, 0.0), Vec3::new(0.2, 0.2, 0.15));
+                let b0 = cube(Vec3::new(0.8 + shift, -0.1, 0.15 - 5e-5), Vec3::new(0.2, 0.2, 0.15));
+                let ca = Vec3::new(0.9, 0.0, 0.075);
+                let cb = Vec3::new(0.9 + shift, 0.0, 0.225);
+                let a = a0.transformed(|v| ca + ra * (v - ca), ra.matrix());
+                let b = b0.transformed(|v| cb + rb * (v - cb), rb.matrix());
+                let p = block_block(&a, &b, &s).unwrap();
+                assert_eq!(p.kind, PatchKind::Face);
+                // The bed planes: A's top (normal ra z through ra's image of a top point), B's
+                // bottom (normal −rb z).
+                let (na, da) = (ra * Vec3::z(), (ra * Vec3::z()).dot(&(ca + ra * (Vec3::new(0.9, 0.0, 0.15) - ca))));
+                let (nb, db) = (
+                    rb * Vec3::z(),
+                    (rb * Vec3::z()).dot(&(cb + rb * (Vec3::new(0.9 + shift, 0.0, 0.15 - 5e-5) - cb))),
+                );
+                let n = p.normal;
+                for q in &p.nodes {
+                    let x = 0.5 * (q.on_a + q.on_b);
+                    let gap = (q.on_b - q.on_a).dot(&n);
+                    let expected = (db - nb.dot(&x)) / nb.dot(&n) - (da - na.dot(&x)) / na.dot(&n);
+                    assert!(gap < 0.0, "tilts {ta} {tb}, shift {shift}: an open node {gap} in a closed joint");
+                    worst = worst.max((gap - expected).abs());
+                }
+            }
+        }
+        assert!(worst < 1e-12, "{worst}");
     }
 
     #[test]
