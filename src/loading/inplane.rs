@@ -954,8 +954,7 @@ pub fn run_in_plane_penalty(
     sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
     // The static solves: the solver's stages over the protocol's own, dynamic relaxation.
     // The implicit iteration holds the beam's constrained degrees of freedom (`--solver
-    // implicit`), but it leaves increments after a reversal unconverged, and its initial
-    // stiffness at 0.875 MPa follows another path of the joints' slip (BENCHMARKS.md).
+    // implicit`), but it leaves increments after a reversal unconverged (BENCHMARKS.md).
     let relax =
         StaticSolve::of(&solver.penalty, solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION), None);
     let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
