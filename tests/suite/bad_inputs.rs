@@ -61,3 +61,18 @@ fn demanding_valid_inputs_run_or_say_why() {
     let (code, err) = tilt("stable_stack.json", &[]);
     assert_eq!(code, 0, "{err}");
 }
+
+/// A tolerance below what rounding lets relaxation reach is named as such: the layout
+/// stands, and the message says so with the tolerance it can reach; a layout that does not
+/// stand keeps its own message.
+#[test]
+fn an_unreachable_tolerance_is_named_not_blamed_on_the_layout() {
+    let (code, err) = tilt("stable_stack.json", &["--tolerance", "1e-15", "--max-steps", "20000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("the layout stands, but the tolerance 1e-15 is below"), "{err}");
+    assert!(err.contains("give a tolerance of at least"), "{err}");
+    assert!(!err.contains("does not stand"), "{err}");
+    let (code, err) = tilt("overhanging_top_block.json", &["--tolerance", "1e-15", "--max-steps", "20000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("does not stand"), "{err}");
+}
