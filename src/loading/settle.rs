@@ -149,7 +149,8 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         (r, _) => r?,
     };
     let ratio = sim.stats().unbalanced_ratio;
-    let no_equilibrium = || SettleError::NoEquilibrium { steps: max_steps, ratio, tolerance, damping: sim.params().damping };
+    let no_equilibrium =
+        || SettleError::NoEquilibrium { steps: max_steps, ratio, tolerance, damping: sim.params().damping };
     // A settling stalled at the rounding floor has come to rest: whether where it was laid
     // (the tolerance is what failed) or elsewhere (the layout did not stand) is the motion's.
     if !settled && !(ratio <= ROUNDING_FLOOR_RATIO) {
