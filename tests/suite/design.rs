@@ -72,6 +72,13 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
         // The surrogates answer for more specimens of a group; the others need runs.
         assert_eq!(r.followup.kind == FollowUpKind::MoreSpecimens, r.runs == 0 && r.followup.new_group.is_none());
     }
+    // The promise is re-estimated on fresh replicates, its interval holds it, and the
+    // ranking's own estimate is kept beside it.
+    let r = plan.reported.as_ref().expect("a menu: a re-estimate");
+    assert_eq!(r.selected, plan.ranked[0].at_budget.alone);
+    assert_eq!((r.specimens, r.replicates, r.chance.alone_by_truth.len()), (3, 20, plan.truths));
+    assert!(r.interval.0 <= r.chance.alone && r.chance.alone <= r.interval.1, "{r:?}");
+    assert_eq!(plan.promise(), Some(r.chance.alone));
     // The report's section and the JSON's `followup`, only when designed.
     assert!(!report_markdown(&run, "t").contains("The next experiment"));
     assert!(report_json(&run).get("followup").is_none());
@@ -90,6 +97,8 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     run.followup = Some(plan.clone());
     assert!(report_markdown(&run, "t").contains("## The next experiment"));
     assert!(report_json(&run)["followup"]["ranked"].as_array().is_some_and(|a| a.len() == 3));
+    assert!(report_json(&run)["followup"]["reported"]["interval"].as_array().is_some_and(|a| a.len() == 2));
+    assert!(drystone::discrepancy::design::markdown(&plan).contains("Monte Carlo interval"));
 
     // Write the follow-up the tall walls would be (whatever ranked first) and the best one.
     let dir = std::env::temp_dir().join(format!("design-test-{}", std::process::id()));
@@ -189,9 +198,11 @@ fn more_free_walls() -> Plan {
             to_target: None,
             runs: 0,
             disagreement: vec![],
+            menu_index: 0,
         }],
         settings: DesignSettings::default(),
         runs: 0,
+        reported: None,
     }
 }
 

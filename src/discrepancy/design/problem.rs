@@ -73,6 +73,36 @@ pub struct FirstCampaign<'a> {
     pub at_fit: &'a [Vec<Simulated>],
 }
 
+/// The random streams of one follow-up's simulated data: truth `t` draws from
+/// `rng_for(seed, t, purpose)` ([`crate::rng::rng_for`]). The ranking draws on
+/// [`Stream::select`] ([`Purpose::Discrepancy`]), the re-estimate of the chosen follow-up
+/// on [`Stream::report`] ([`Purpose::DesignReport`]): same seed, disjoint ChaCha streams
+/// (`t × 16 + 4` against `t × 16 + 8`), so no replicate that chose a follow-up scores it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stream {
+    /// The master seed (the follow-up's, derived from the analysis's).
+    pub seed: u64,
+    /// The purpose that names the stream.
+    pub purpose: Purpose,
+}
+
+impl Stream {
+    /// The streams that rank the menu.
+    pub fn select(seed: u64) -> Stream {
+        Stream { seed, purpose: Purpose::Discrepancy }
+    }
+
+    /// The streams that re-estimate the chosen follow-up.
+    pub fn report(seed: u64) -> Stream {
+        Stream { seed, purpose: Purpose::DesignReport }
+    }
+
+    /// Truth `t`'s generator.
+    pub fn rng(&self, t: usize) -> rand_chacha::ChaCha8Rng {
+        rng_for(self.seed, t as u64, self.purpose)
+    }
+}
+
 /// A space of keys: what a simulated specimen is drawn on and scored on.
 #[derive(Debug, Clone, Copy)]
 struct Space<'a> {
@@ -248,7 +278,7 @@ impl Problem<'_> {
 
     /// One truth's replicates: for every ladder count, the weights' answer and the tie
     /// check's two tests against every other contender.
-    fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Tally {
+    fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, stream: Stream) -> Tally {
         let bound = TieCheck::STANDARD_ERRORS;
         let k = self.contenders.len();
         let nmax = ladder.iter().copied().max().unwrap_or(0);
@@ -261,7 +291,7 @@ impl Problem<'_> {
         let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let real = self.first_campaign_scores();
-        let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
+        let mut rng = stream.rng(t);
         let variances = self.bias_variances(t);
         for _ in 0..replicates {
             let bias = Self::draw_bias(&variances, &mut rng);
@@ -342,10 +372,16 @@ impl Problem<'_> {
     /// The weights' concentration (the truth alone holding [`crate::discrepancy::SHARED`]
     /// of the pseudo-BMA+ weight) is kept beside it ([`Chance::weights_alone`]).
     pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
+        self.chances_on(ladder, replicates, draws, Stream::select(seed))
+    }
+
+    /// [`Problem::chances`] on the random streams `stream`: truth `t`'s simulated
+    /// follow-ups are drawn from `stream.rng(t)` alone, whatever the thread that runs it.
+    pub fn chances_on(&self, ladder: &[usize], replicates: usize, draws: usize, stream: Stream) -> Vec<Chance> {
         let k = self.contenders.len();
         let truths = self.truths.clamp(1, k.max(1)).min(k);
         let tallies: Vec<Tally> =
-            (0..truths).into_par_iter().map(|t| self.tally(t, ladder, replicates, draws, seed)).collect();
+            (0..truths).into_par_iter().map(|t| self.tally(t, ladder, replicates, draws, stream)).collect();
         let reps = replicates.max(1) as f64;
         let total: f64 = self.contenders[..truths].iter().map(|c| c.prior).sum();
         let prior = |t: usize| if total > 0.0 { self.contenders[t].prior / total } else { 1.0 / truths as f64 };
