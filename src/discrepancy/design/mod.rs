@@ -218,9 +218,6 @@ pub fn design(
     let first = refit::first_scores(run, &cs);
     let first_design = refit::first_design(run, &cs);
     let Inadequacy { own: inadequacy, transfer } = inadequacy::inadequacy(run, &first, &first_design);
-    // On walls of a kind the first campaign did not test, the discrepancy the contender
-    // shows on its own walls and the one it carries to an unseen kind.
-    let on_new_walls: Vec<f64> = inadequacy.iter().zip(&transfer).map(|(a, b)| a + b).collect();
     let shared = Shared {
         run,
         cs: &cs,
@@ -228,7 +225,7 @@ pub fn design(
         first: &first,
         first_design: &first_design,
         inadequacy: &inadequacy,
-        on_new_walls: &on_new_walls,
+        transfer: &transfer,
     };
     let ladder = ds.ladder();
     let mut ranked = Vec::new();
@@ -239,8 +236,9 @@ pub fn design(
         let pred = refit::predictions(run, setup, &f, &cs, &mut cache)?;
         total_runs += pred.runs;
         let (chances, disagreement) = shared.with_problem(&f, &pred, |problem| {
+            let unseen = (0..problem.keys.len()).any(|k| problem.unseen(k));
             let disagreement: Vec<Vec<f64>> =
-                if problem.unseen_walls { (0..truths).map(|t| problem.disagreement(t)).collect() } else { Vec::new() };
+                if unseen { (0..truths).map(|t| problem.disagreement(t)).collect() } else { Vec::new() };
             (problem.chances_on(&ladder, ds.replicates, ds.draws, Stream::select(stream_seed(seed, i))), disagreement)
         });
         let at_budget =
@@ -310,7 +308,7 @@ struct Shared<'a> {
     first: &'a [Option<FirstScores>],
     first_design: &'a FirstDesign,
     inadequacy: &'a [f64],
-    on_new_walls: &'a [f64],
+    transfer: &'a [f64],
 }
 
 impl Shared<'_> {
@@ -325,13 +323,28 @@ impl Shared<'_> {
             .collect();
         let sigma: Vec<f64> = f.observables.iter().map(|o| sigma_of(run, o)).collect();
         let fd = self.first_design;
+        // The first campaign's group of the follow-up's walls (none on new walls), and the
+        // follow-up's keys it did not read there.
+        let group = run
+            .obs
+            .iter()
+            .zip(&run.keys.of)
+            .find(|(o, _)| f.new_group.is_none() && o.group == f.group)
+            .map(|(_, &k)| run.keys.keys[k].0);
+        let unseen: Vec<bool> = f
+            .observables
+            .iter()
+            .map(|o| group.is_none_or(|g| !run.keys.keys.iter().any(|(kg, ko)| *kg == g && ko.same(o))))
+            .collect();
         let problem = Problem {
             contenders: self.cs,
             sims: &pred.at_fit,
             refits: &refits,
             truths: self.truths,
-            inadequacy: if f.new_group.is_some() { self.on_new_walls } else { self.inadequacy },
+            inadequacy: self.inadequacy,
             unseen_walls: f.new_group.is_some(),
+            unseen_keys: &unseen,
+            transfer: self.transfer,
             first: Some(FirstCampaign {
                 keys: &fd.keys,
                 sigma: &fd.sigma,

@@ -30,6 +30,8 @@ fn problem<'a>(
         refits: &[],
         inadequacy: &[],
         unseen_walls: false,
+        unseen_keys: &[],
+        transfer: &[],
         truths: cs.len(),
         first: None,
         keys,
@@ -383,4 +385,76 @@ fn the_design_s_probabilities_do_not_depend_on_the_thread_count() {
     assert_eq!(bits(&one.0), bits(&four.0));
     assert_eq!(bits(&one.1), bits(&four.1));
     assert_ne!(one.0[1], one.1[0], "the report streams are not the selecting ones");
+}
+
+/// A key the first campaign did not read carries discrepancy per key, as walls of a new
+/// kind do: of a follow-up reading the collapse angle (read before) and a displacement
+/// (never read) on the first campaign's walls, the angle carries what the first campaign
+/// shows (`inadequacy`, 1) and the displacement that, the discrepancy carried to what was
+/// not fitted (`transfer`, 2) and the contenders' disagreement there (two models 0.3 cm
+/// apart, equally weighted: (0.15)² / 0.01 = 2.25 predictive variances).
+#[test]
+fn a_measure_the_first_campaign_did_not_read_carries_discrepancy_of_its_own() {
+    use crate::discrepancy::observations::Measure;
+    let cs = tied(6);
+    let disp = Observable::Displacement { measure: Measure::ALL[1], tilt_deg: 10.0 };
+    let keys = [Observable::CollapseAngle, disp];
+    let one = |mean| Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE };
+    let sims = [vec![one(20.0), one(1.0)], vec![one(20.0), one(1.3)]];
+    let sigma = [0.3, 0.1];
+    let exact =
+        Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0, ..Reading::default() };
+    let seen = Problem {
+        inadequacy: &[1.0, 1.0],
+        transfer: &[2.0, 2.0],
+        reading: exact,
+        bracket_deg: 0.0,
+        ..problem(&cs, &sims, &keys, &sigma)
+    };
+    assert_eq!(seen.bias_variances(0), vec![1.0, 1.0]);
+    let unseen = Problem { unseen_keys: &[false, true], ..seen };
+    let v = unseen.bias_variances(0);
+    assert_eq!(v[0], 1.0);
+    assert!((v[1] - (1.0 + 2.0 + 0.0225 / 0.01)).abs() < 1e-9, "{v:?}");
+}
+
+/// The mechanism a first campaign never read: two equally weighted models whose failures
+/// differ (table joint, toppling, against mid-height, sliding). Read on walls whose
+/// mechanism the first campaign read, eight specimens name either truth alone; where it
+/// did not, each simulated follow-up reads the mechanism of a model drawn by the priors, so
+/// half of them show the other model's failure: the weights go to the truth in about half
+/// of them, the other model beats the truth in far more than 5 % of the data sets drawn
+/// from it, and the tie check clears neither: the design promises nothing.
+#[test]
+fn a_mechanism_the_first_campaign_did_not_read_is_as_uncertain_as_the_models_disagree() {
+    let keys = mechanism_keys(0.125);
+    let model = |h: f64, kind: FailureKind| -> Vec<Simulated> {
+        keys.iter()
+            .map(|o| match o {
+                Observable::FailureHeight { .. } => Simulated { heights: Heights::of(&[h; 9]), ..sim(0.0, 0.0) },
+                Observable::MechanismKind { kind: k } => sim(if *k == kind { 1.0 } else { 0.0 }, 0.0),
+                Observable::MechanismStart { start } => {
+                    sim(if *start == FailureStart::Uniform { 1.0 } else { 0.0 }, 0.0)
+                }
+                _ => unreachable!(),
+            })
+            .collect()
+    };
+    let sims = vec![model(0.0, FailureKind::Toppling), model(0.5, FailureKind::Sliding)];
+    let cs = tied(4);
+    let sigma = vec![0.05; keys.len()];
+    let seen = Problem { bracket_deg: 0.0, ..problem(&cs, &sims, &keys, &sigma) };
+    let all = vec![true; keys.len()];
+    let unseen = Problem { unseen_keys: &all, ..seen };
+    let mut rng = rng_for(3, 0, Purpose::Discrepancy);
+    assert_eq!(seen.mechanism_source(&mut rng), None);
+    let drawn: Vec<usize> = (0..400).filter_map(|_| unseen.mechanism_source(&mut rng)).collect();
+    assert_eq!(drawn.len(), 400);
+    let share = drawn.iter().filter(|&&c| c == 1).count() as f64 / 400.0;
+    assert!((share - 0.5).abs() < 0.1, "{share}");
+    let near = seen.chances(&[8], 200, 100, 4)[0].clone();
+    let far = unseen.chances(&[8], 200, 100, 4)[0].clone();
+    assert!(near.alone > 0.95, "{near:?}");
+    assert_eq!(far.alone, 0.0, "{far:?}");
+    assert!((far.weights_alone - 0.5).abs() < 0.1, "{far:?}");
 }
