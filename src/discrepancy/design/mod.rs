@@ -55,14 +55,15 @@ mod menu;
 mod plan;
 mod problem;
 mod refit;
+mod truths;
 
 pub use inadequacy::{inadequacy, Inadequacy, CHECK_LEVEL};
 pub use menu::{menu, GroupWall};
 pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, Reported, WallEdit};
 pub use problem::{FirstCampaign, Problem, Stream};
 pub use refit::{first_design, first_scores, heldout, FirstDesign, FirstScores, Refit};
+pub use truths::{contenders, pairs_possible, Made, OUTSIDE_PRIOR};
 
-use super::compare::per_specimen;
 use super::observations::{Observable, Scale};
 use super::simulate::Setup;
 use super::{DiscrepancyError, Run};
@@ -113,71 +114,6 @@ impl DesignSettings {
 
 /// The most specimens of one follow-up.
 pub const MAX_SPECIMENS: usize = 64;
-
-/// The contenders of an analysis, heaviest first, with their priors and held-out scores,
-/// and how many of them, the first, are taken as the truth.
-///
-/// The truths: the models that share the weight and the members of the tie, at most
-/// [`MAX_CONTENDERS`] (with one model holding the weight, the runner-up too). Beside them,
-/// up to [`MAX_CHALLENGERS`] in all, the models the user's analysis of both campaigns
-/// will check for a tie: the rest of the tie and the
-/// [`TIE_CHALLENGERS`](crate::discrepancy::TIE_CHALLENGERS) candidates ranked next to the
-/// cause. Every contender is refit and scored on every simulated follow-up; the priors are
-/// the pseudo-BMA+ weights renormalized over the truths.
-pub fn contenders(run: &Run) -> (Vec<Contender>, usize) {
-    let a = &run.analysis;
-    let mut names: Vec<String> = a.weights.shared.clone();
-    for t in &a.tie {
-        if !names.contains(t) {
-            names.push(t.clone());
-        }
-    }
-    if names.len() < 2 {
-        // One model holds the weight: the runner-up still shows what a follow-up keeps.
-        for m in &a.weights.models {
-            if !names.contains(&m.name) {
-                names.push(m.name.clone());
-                break;
-            }
-        }
-    }
-    names.sort_by(|x, y| a.weights.of(y).total_cmp(&a.weights.of(x)));
-    let mut extra: Vec<String> = names.split_off(names.len().min(MAX_CONTENDERS));
-    let truths = names.len();
-    for r in a.candidates.iter().take(1 + super::TIE_CHALLENGERS) {
-        if !extra.contains(&r.name) {
-            extra.push(r.name.clone());
-        }
-    }
-    extra.retain(|n| !names.contains(n));
-    extra.sort_by(|x, y| a.weights.of(y).total_cmp(&a.weights.of(x)));
-    names.extend(extra);
-    names.truncate(MAX_CHALLENGERS);
-    let elpd_of = |name: &str| -> Option<(Vec<f64>, Vec<f64>)> {
-        let scores = if name == "baseline" {
-            a.baseline_scores.clone()
-        } else {
-            a.candidates.iter().find(|c| c.name == name)?.scores.clone()
-        };
-        let measures: Vec<f64> =
-            scores.iter().enumerate().map(|(j, &s)| if run.obs[j].observable.pins() { s } else { 0.0 }).collect();
-        let elpd = |s: &[f64]| per_specimen(s, &run.obs, &run.specimens).iter().map(|s| -s).collect();
-        Some((elpd(&scores), elpd(&measures)))
-    };
-    let mut out: Vec<Contender> = names
-        .iter()
-        .filter_map(|n| {
-            let (elpd, elpd_measures) = elpd_of(n)?;
-            Some(Contender { name: n.clone(), prior: a.weights.of(n), elpd, elpd_measures })
-        })
-        .collect();
-    let truths = truths.min(out.len());
-    let total: f64 = out[..truths].iter().map(|c| c.prior).sum();
-    for c in &mut out {
-        c.prior = if total > 0.0 { c.prior / total } else { 1.0 / truths.max(1) as f64 };
-    }
-    (out, truths)
-}
 
 /// The σ of a new reading of `o`: the largest σ the analysis used for an observation of
 /// the same kind (after its σ rule), else the settings'.
@@ -390,7 +326,17 @@ pub fn markdown(plan: &Plan) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "\n## The next experiment\n");
     let truths = &plan.contenders[..plan.truths.min(plan.contenders.len())];
-    let names: Vec<String> = truths.iter().map(|c| format!("`{}` {:.2}", c.name, c.prior)).collect();
+    let names: Vec<String> = truths
+        .iter()
+        .map(|c| {
+            format!(
+                "`{}` {:.2}{}",
+                c.name,
+                c.prior,
+                if c.outside { " (outside the analysis's contenders)" } else { "" }
+            )
+        })
+        .collect();
     let carried = |v: &[f64], extra: &[f64]| -> Vec<String> {
         truths
             .iter()
@@ -417,12 +363,16 @@ pub fn markdown(plan: &Plan) -> String {
     let _ = writeln!(
         md,
         "Contenders taken as the truth (the models that share the weight and the tie, with their pseudo-BMA+ weights \
-         on the first campaign): {}.{} Each follow-up: {} specimens, {} simulated data sets per truth, drawn from its \
+         on the first campaign scaled to {:.2}; beside them, sharing {:.2}, the pair of the two best single effects \
+         where the analysis of both campaigns could admit a pair, and the best effect the first campaign did not rank \
+         among the contenders, so that none of the analysis's contenders is part of the promise): {}.{} Each follow-up: {} specimens, {} simulated data sets per truth, drawn from its \
          predictive at its fitted parameters; on each, every contender is refit on both campaigns over its range (leave \
          one specimen out, on the follow-up's walls from a grid run there) and scored as the analysis scores it. \
          *Named alone*: the tie check's two tests (2 standard errors, reversal rate under 5 %) clear every other \
          contender, the verdict's criterion; *90 % weight*: the truth alone holds 90 % of the pseudo-BMA+ weight ({} \
          bootstrap draws); *right*: the truth is among the models that share the weight.{} {} forward runs.\n",
+        1.0 - OUTSIDE_PRIOR,
+        OUTSIDE_PRIOR,
         names.join(", "),
         others,
         plan.settings.specimens,
@@ -491,8 +441,8 @@ pub fn markdown(plan: &Plan) -> String {
         }
         let _ = writeln!(
             md,
-            "\nThese probabilities take the truth to be one of the contenders, off by the discrepancy the first \
-             campaign shows. Real walls can differ from every contender in ways the first campaign does not show: on \
+            "\nThese probabilities take the truth to be one of the truths above, off by the discrepancy the first \
+             campaign shows and, on what it did not read, by as much as the models disagree there. Real walls can differ from every contender in ways the first campaign does not show: on \
              an independent test bed of walls edited as real walls differ, the cause was named alone less often than \
              promised (docs/discrepancy.md, \"On data it did not make\"). Read them as optimistic."
         );

@@ -81,12 +81,21 @@ impl Default for DesignSettings {
 
 /// A model the design compares: its name, its prior weight and its held-out log score per
 /// specimen of the first campaign (nats).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Contender {
     /// `baseline`, a candidate (`a`, `a+b`) or `scatter`.
     pub name: String,
-    /// Pseudo-BMA+ weight on the first campaign, renormalized over the contenders.
+    /// Its prior as a truth ([`super::contenders`]): the pseudo-BMA+ weight on the first
+    /// campaign renormalized over the analysis's contenders to `1 − OUTSIDE_PRIOR`, or a
+    /// share of [`super::OUTSIDE_PRIOR`] for a truth outside them.
     pub prior: f64,
+    /// A truth outside the analysis's contenders (the pair of the best singles, an effect
+    /// not ranked among them), its prior a share of [`super::OUTSIDE_PRIOR`].
+    pub outside: bool,
+    /// The candidate the design built for it (a pair the analysis did not try), with its
+    /// first-campaign fit; `None`: the analysis's own.
+    #[serde(skip)]
+    pub made: Option<std::sync::Arc<super::Made>>,
     /// Held-out log predictive density per specimen of the first campaign.
     #[serde(skip)]
     pub elpd: Vec<f64>,

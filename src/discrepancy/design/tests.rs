@@ -11,7 +11,14 @@ fn sim(mean: f64, sd: f64) -> Simulated {
 fn tied(n: usize) -> Vec<Contender> {
     ["a", "b"]
         .iter()
-        .map(|&name| Contender { name: name.into(), prior: 0.5, elpd: vec![-1.0; n], elpd_measures: vec![-1.0; n] })
+        .map(|&name| Contender {
+            name: name.into(),
+            prior: 0.5,
+            elpd: vec![-1.0; n],
+            elpd_measures: vec![-1.0; n],
+            outside: false,
+            made: None,
+        })
         .collect()
 }
 
