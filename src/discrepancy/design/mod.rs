@@ -12,7 +12,7 @@
 //!
 //! 1. **The contenders**: taken as the truth, the models that share the weight and the
 //!    members of the tie, at most [`MAX_CONTENDERS`], each with its prior weight (its
-//!    pseudo-BMA+ weight, renormalized over them); beside them, up to [`MAX_CHALLENGERS`]
+//!    pseudo-BMA+ weight, renormalized over them), and the truths outside them; beside them, up to [`MAX_CHALLENGERS`]
 //!    in all, the rest of the tie and the candidates ranked next to the cause, which the
 //!    user's tie check of both campaigns will examine ([`contenders`]).
 //! 2. **Their predictions of the follow-up over their whole range** (`refit`): on the
@@ -45,10 +45,22 @@
 //!
 //! The follow-ups are ranked by that probability at the same number of specimens
 //! ([`DesignSettings::specimens`]), then by the fewest specimens that reach
-//! [`DesignSettings::target`]. What this does not repeat of the user's analysis: the
-//! margins from null data, the pairs the ranking may add, and the full runs that confirm
-//! the two best candidates at their fitted points; the refit keeps the scan's point
-//! without the analysis's polish (`refit`).
+//! [`DesignSettings::target`]. The best one is then **re-estimated** at the budget on
+//! fresh simulated follow-ups, drawn on random streams disjoint from those that ranked the
+//! menu ([`Stream`]), since the best of many estimates runs high even when each is unbiased
+//! (the optimizer's curse, Smith & Winkler 2006, *Management Science* 52, 311–322): that
+//! estimate, with its Wilson interval, is the promise ([`Plan::reported`]).
+//!
+//! The truths are wider than the analysis's contenders ([`contenders`]): the pair of the
+//! two best singles wherever both campaigns could admit a pair, and an effect the first
+//! campaign did not rank among them, sharing [`OUTSIDE_PRIOR`]. Keys the first campaign did
+//! not read carry model discrepancy per key ([`Problem::bias_variances`],
+//! [`Problem::mechanism_source`]).
+//!
+//! What this does not repeat of the user's analysis: the margins from null data, the
+//! pairs of the third-best single the ranking may add, and the full runs that confirm the
+//! two best candidates at their fitted points; the refit keeps the scan's point without
+//! the analysis's polish (`refit`).
 
 mod inadequacy;
 mod menu;
@@ -441,10 +453,12 @@ pub fn markdown(plan: &Plan) -> String {
         }
         let _ = writeln!(
             md,
-            "\nThese probabilities take the truth to be one of the truths above, off by the discrepancy the first \
-             campaign shows and, on what it did not read, by as much as the models disagree there. Real walls can differ from every contender in ways the first campaign does not show: on \
-             an independent test bed of walls edited as real walls differ, the cause was named alone less often than \
-             promised (docs/discrepancy.md, \"On data it did not make\"). Read them as optimistic."
+            "\nThese probabilities take the truth to be one of the truths above (the analysis's contenders and, \
+             sharing {:.2} of the prior, the truths outside them), off by the discrepancy the first campaign shows \
+             and, on what it did not read, by as much as the models disagree there. Real walls can differ from every \
+             one of them in ways the first campaign does not show (docs/discrepancy.md, \"On data it did not make\", \
+             scores the promise on walls the engine did not make).",
+            OUTSIDE_PRIOR
         );
     }
     md
