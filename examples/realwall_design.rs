@@ -2,7 +2,9 @@
 //! bed (`tests/discrepancy/study.toml`, data made by `tests/realwalls/mod.rs`: layouts
 //! edited as files, noise at a σ the engine is not told, rounded readings), nulls included,
 //! is analysed; `drystone design` picks its best follow-up and states the probability that
-//! the cause is then named alone; the follow-up's specimens are made the same independent
+//! the cause is then named alone (re-estimated on simulations independent of those that
+//! picked it, column `p_alone`; the ranking's own estimate in `p_selected`, the
+//! re-estimate's 95 % interval in `p_low`, `p_high`); the follow-up's specimens are made the same independent
 //! way (the follow-up's walls generated with the data's seed, edited as files with the same
 //! hidden edit, tilted, readings rounded; the mechanism read from each edited wall's own
 //! run and misread at 10 % when the follow-up reads it), and both campaigns are analysed
@@ -51,7 +53,7 @@ const NOISE: Noise =
 const TILTS: [f64; 2] = [5.0, 10.0];
 const DATA_SEED: u64 = 0x5eed_da7a;
 const SPECIMENS: u64 = 5;
-const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared,discrepancy,says_none";
+const HEADER: &str = "class,set,first_alone,followup,reads_mechanism,p_alone,p_weights,verdict,cause,tie,alone,weights_alone,alarm,seconds,first_tie,tie_members,weights_shared,discrepancy,says_none,p_selected,p_low,p_high";
 
 fn classes() -> Vec<Edit> {
     vec![
@@ -131,6 +133,11 @@ fn run(args: &[String]) {
                 };
                 let chosen = plan.ranked.remove(k);
                 plan.ranked.insert(0, chosen);
+                if k > 0 {
+                    // The re-estimate is the design's best's: this column reports the
+                    // ranking's own estimate of the follow-up it makes instead.
+                    plan.reported = None;
+                }
             }
             let best = plan.best().unwrap().clone();
             // The design says no follow-up of its menu reaches the target within its ladder.
@@ -181,11 +188,11 @@ fn run(args: &[String]) {
             let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
             let alarm = e == Edit::None && b.verdict.name() != "no_effect";
             let row = format!(
-                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{},{says_none}",
+                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{},{says_none},{:.4},{:.4},{:.4}",
                 e.label(),
                 best.followup.name.replace('"', "'"),
-                best.at_budget.alone,
-                best.at_budget.weights_alone,
+                plan.promise().unwrap_or(best.at_budget.alone),
+                plan.reported.as_ref().map_or(best.at_budget.weights_alone, |r| r.chance.weights_alone),
                 b.verdict.name(),
                 cause2.as_deref().unwrap_or("-"),
                 b.tie.len(),
@@ -193,7 +200,10 @@ fn run(args: &[String]) {
                 first_tie.join(";"),
                 b.tie.join(";"),
                 b.weights.shared.join(";"),
-                plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";")
+                plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";"),
+                best.at_budget.alone,
+                plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0),
+                plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1),
             );
             println!("{row}");
             let mut f = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
@@ -269,6 +279,29 @@ fn summary(files: &[String]) {
     };
     let table = |title: &str, set: &[&Vec<String>]| table_of(title, set, 5, 10);
     table("All follow-ups", &effect);
+    // Rows that record the ranking's own estimate (column `p_selected`) beside the promise.
+    let both: Vec<&Vec<String>> =
+        effect.iter().copied().filter(|r| r.get(19).is_some_and(|v| v.parse::<f64>().is_ok())).collect();
+    if !both.is_empty() {
+        table_of(
+            "The ranking's own estimate of the chosen follow-up (selecting replicates), same data sets",
+            &both,
+            19,
+            10,
+        );
+        let covered = both
+            .iter()
+            .filter(|r| {
+                let (lo, hi) = (r[20].parse::<f64>().unwrap_or(f64::NAN), r[21].parse::<f64>().unwrap_or(f64::NAN));
+                let sel = r[19].parse::<f64>().unwrap_or(f64::NAN);
+                sel >= lo && sel <= hi
+            })
+            .count();
+        println!(
+            "\nThe ranking's estimate inside the re-estimate's 95 % interval: {covered} of {} data sets.",
+            both.len()
+        );
+    }
     table_of("By the weights' criterion (the truth alone holding 90 % of the weight), all follow-ups", &effect, 6, 11);
     let with: Vec<&Vec<String>> = effect.iter().copied().filter(|r| flag(r, 4)).collect();
     let without: Vec<&Vec<String>> = effect.iter().copied().filter(|r| !flag(r, 4)).collect();

@@ -28,6 +28,11 @@ pub enum Purpose {
     GroundMotion,
     /// The Bayesian bootstrap of the model-discrepancy analysis's model weights.
     Weights,
+    /// The design's re-estimate of the follow-up it chose: simulated follow-ups drawn
+    /// on streams disjoint from the [`Purpose::Discrepancy`] streams that ranked the menu,
+    /// so the probability reported is not the maximum of the ranking's estimates (the
+    /// optimizer's curse, Smith & Winkler 2006, *Management Science* 52, 311–322).
+    DesignReport,
 }
 
 impl Purpose {
@@ -40,6 +45,7 @@ impl Purpose {
             Purpose::Effect => 5,
             Purpose::GroundMotion => 6,
             Purpose::Weights => 7,
+            Purpose::DesignReport => 8,
         }
     }
 }

@@ -125,6 +125,19 @@ pub fn command(a: DesignArgs) -> Result<()> {
             r.to_target.map_or("-".to_string(), |n| n.to_string())
         );
     }
+    if let (Some(b), Some(r)) = (plan.best(), &plan.reported) {
+        println!(
+            "promise of the best ({}): named alone {:.2} ({:.0} % interval {:.2}-{:.2}), re-estimated on {} fresh \
+             replicates per truth (ranking's estimate {:.2})",
+            b.followup.name,
+            r.chance.alone,
+            100.0 * design::Reported::LEVEL,
+            r.interval.0,
+            r.interval.1,
+            r.replicates,
+            r.selected
+        );
+    }
     if let Some(f) = files {
         println!(
             "follow-up study: {} (templates in {})",

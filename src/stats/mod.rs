@@ -86,6 +86,23 @@ fn quantile_sorted(s: &[f64], p: f64) -> f64 {
     s[lo] + (h - lo as f64) * (s[hi] - s[lo])
 }
 
+/// The Wilson score interval of a binomial proportion: `p` observed in `n` trials (`n`
+/// may be fractional, an effective count), at the two-sided normal quantile `z` (1.96 for
+/// 95 %). Returns `(low, high)` within \[0, 1\], containing `p`; `(0, 1)` when `n` is not
+/// positive. Wilson, *J. Am. Stat. Assoc.* 22 (1927) 209–212; preferred to the Wald
+/// interval near 0 and 1, where a design's probabilities sit (Brown, Cai & DasGupta,
+/// *Statist. Sci.* 16 (2001) 101–133).
+pub fn wilson(p: f64, n: f64, z: f64) -> (f64, f64) {
+    if !(n > 0.0) || !p.is_finite() {
+        return (0.0, 1.0);
+    }
+    let p = p.clamp(0.0, 1.0);
+    let z2 = z * z;
+    let centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+    let half = z / (1.0 + z2 / n) * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
+    ((centre - half).clamp(0.0, p), (centre + half).clamp(p, 1.0))
+}
+
 /// The two-sided 95 % Student t quantile with `dof` degrees of freedom.
 pub fn t95(dof: f64) -> f64 {
     StudentsT::new(0.0, 1.0, dof).map(|t| t.inverse_cdf(0.975)).unwrap_or(f64::NAN)
@@ -231,6 +248,21 @@ mod tests {
         // numpy.quantile([2,4,4,4,5,5,7,9], 0.25) = 4.0, 0.95 -> 8.3
         assert!((quantile(&x, 0.25) - 4.0).abs() < 1e-15);
         assert!((quantile(&x, 0.95) - 8.3).abs() < 1e-12);
+    }
+
+    /// Hand values: 50 of 100 gives 0.5 ± 0.0962 (R `prop.test(50, 100, correct = FALSE)`:
+    /// 0.4038–0.5962); 0 of 10 gives (0, z²/(n + z²)) = (0, 0.2775); a fractional count is
+    /// accepted, no count gives (0, 1).
+    #[test]
+    fn wilson_interval_matches_hand_values() {
+        let (lo, hi) = wilson(0.5, 100.0, 1.96);
+        assert!((lo - 0.403_83).abs() < 1e-4 && (hi - 0.596_17).abs() < 1e-4, "{lo} {hi}");
+        let (lo, hi) = wilson(0.0, 10.0, 1.96);
+        assert_eq!(lo, 0.0);
+        assert!((hi - 3.8416 / 13.8416).abs() < 1e-12, "{hi}");
+        let (lo, hi) = wilson(0.9, 37.5, 1.96);
+        assert!(lo < 0.9 && hi > 0.9 && hi <= 1.0);
+        assert_eq!(wilson(0.3, 0.0, 1.96), (0.0, 1.0));
     }
 
     #[test]

@@ -227,7 +227,13 @@ fn readings(f: &FollowUp) -> Vec<String> {
 fn readme(study: &Study, plan: &Plan, f: &FollowUp, specimens: &[(String, String)]) -> String {
     let mut s = format!("# Follow-up of {}\n\n", study.name);
     s += &format!("**{}** ({} specimens", f.name, specimens.len());
-    if let Some(b) = plan.best() {
+    if let Some(r) = &plan.reported {
+        s += &format!(
+            "): the probability that the cause is then named alone is {:.2} (95 % Monte Carlo interval {:.2}–{:.2}, \
+             re-estimated on simulations independent of those that chose it; right, alone or shared: {:.2}).\n\n",
+            r.chance.alone, r.interval.0, r.interval.1, r.chance.right
+        );
+    } else if let Some(b) = plan.best() {
         s += &format!(
             "): the probability that the cause is then named alone is {:.2} (right, alone or shared: {:.2}).\n\n",
             b.at_budget.alone, b.at_budget.right

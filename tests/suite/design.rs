@@ -8,8 +8,8 @@
 use crate::realwalls;
 
 use drystone::discrepancy::design::{
-    contenders, design, first_scores, heldout, Chance, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp,
-    WallEdit,
+    contenders, design, first_scores, heldout, pairs_possible, Chance, Contender, DesignSettings, FollowUp,
+    FollowUpKind, Plan, RankedFollowUp, WallEdit, OUTSIDE_PRIOR,
 };
 use drystone::discrepancy::{analyze, prepare, quiet, report_json, report_markdown, Observable};
 use drystone::io::table::{read_measured_collapse, read_measured_displacement, read_measured_mechanism};
@@ -63,6 +63,15 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     assert!(plan.truths >= 2 && plan.truths <= plan.contenders.len());
     let truths = &plan.contenders[..plan.truths];
     assert!((truths.iter().map(|c| c.prior).sum::<f64>() - 1.0).abs() < 1e-9);
+    // The prior over truths is wider than the analysis's: an effect it did not rank among
+    // its contenders, and the pair of the best singles wherever both campaigns could admit
+    // a pair, sharing the stated weight, each simulated as a truth (a probability of its
+    // own) and refit as a challenger.
+    let outside: Vec<&Contender> = truths.iter().filter(|c| c.outside).collect();
+    assert!(!outside.is_empty(), "{truths:?}");
+    assert!((outside.iter().map(|c| c.prior).sum::<f64>() - OUTSIDE_PRIOR).abs() < 1e-9);
+    assert_eq!(pairs_possible(&run), truths.iter().any(|c| c.name.contains('+')), "{truths:?}");
+    assert!(pairs_possible(&run), "lean walls: the best single gains on the baseline, two singles to pair");
     for w in plan.ranked.windows(2) {
         assert!(w[0].at_budget.alone >= w[1].at_budget.alone, "ranked best first");
     }
@@ -72,6 +81,13 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
         // The surrogates answer for more specimens of a group; the others need runs.
         assert_eq!(r.followup.kind == FollowUpKind::MoreSpecimens, r.runs == 0 && r.followup.new_group.is_none());
     }
+    // The promise is re-estimated on fresh replicates, its interval holds it, and the
+    // ranking's own estimate is kept beside it.
+    let r = plan.reported.as_ref().expect("a menu: a re-estimate");
+    assert_eq!(r.selected, plan.ranked[0].at_budget.alone);
+    assert_eq!((r.specimens, r.replicates, r.chance.alone_by_truth.len()), (3, 20, plan.truths));
+    assert!(r.interval.0 <= r.chance.alone && r.chance.alone <= r.interval.1, "{r:?}");
+    assert_eq!(plan.promise(), Some(r.chance.alone));
     // The report's section and the JSON's `followup`, only when designed.
     assert!(!report_markdown(&run, "t").contains("The next experiment"));
     assert!(report_json(&run).get("followup").is_none());
@@ -90,6 +106,8 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     run.followup = Some(plan.clone());
     assert!(report_markdown(&run, "t").contains("## The next experiment"));
     assert!(report_json(&run)["followup"]["ranked"].as_array().is_some_and(|a| a.len() == 3));
+    assert!(report_json(&run)["followup"]["reported"]["interval"].as_array().is_some_and(|a| a.len() == 2));
+    assert!(drystone::discrepancy::design::markdown(&plan).contains("Monte Carlo interval"));
 
     // Write the follow-up the tall walls would be (whatever ranked first) and the best one.
     let dir = std::env::temp_dir().join(format!("design-test-{}", std::process::id()));
@@ -148,6 +166,10 @@ fn the_refit_without_a_follow_up_is_the_analysis_s_own_held_out_fit() {
             assert_eq!(c.name, "baseline");
             continue;
         };
+        if c.made.is_some() {
+            // A pair the design built: its held-out scores are this refit's own.
+            continue;
+        }
         let (elpd, measures) = heldout(&f.pins, &f.all, &[], &[], 0);
         assert_eq!(elpd.len(), c.elpd.len());
         // Measured: at most 0.045 nats (kn_scale's steepest specimen), most under 0.02.
@@ -189,9 +211,11 @@ fn more_free_walls() -> Plan {
             to_target: None,
             runs: 0,
             disagreement: vec![],
+            menu_index: 0,
         }],
         settings: DesignSettings::default(),
         runs: 0,
+        reported: None,
     }
 }
 

@@ -81,12 +81,21 @@ impl Default for DesignSettings {
 
 /// A model the design compares: its name, its prior weight and its held-out log score per
 /// specimen of the first campaign (nats).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Contender {
     /// `baseline`, a candidate (`a`, `a+b`) or `scatter`.
     pub name: String,
-    /// Pseudo-BMA+ weight on the first campaign, renormalized over the contenders.
+    /// Its prior as a truth ([`super::contenders`]): the pseudo-BMA+ weight on the first
+    /// campaign renormalized over the analysis's contenders to `1 − OUTSIDE_PRIOR`, or a
+    /// share of [`super::OUTSIDE_PRIOR`] for a truth outside them.
     pub prior: f64,
+    /// A truth outside the analysis's contenders (the pair of the best singles, an effect
+    /// not ranked among them), its prior a share of [`super::OUTSIDE_PRIOR`].
+    pub outside: bool,
+    /// The candidate the design built for it (a pair the analysis did not try), with its
+    /// first-campaign fit; `None`: the analysis's own.
+    #[serde(skip)]
+    pub made: Option<std::sync::Arc<super::Made>>,
     /// Held-out log predictive density per specimen of the first campaign.
     #[serde(skip)]
     pub elpd: Vec<f64>,
@@ -133,6 +142,38 @@ pub struct RankedFollowUp {
     /// (`Problem::disagreement`, in units of the key's predictive variance under the
     /// truth); empty for a follow-up of the first campaign's walls.
     pub disagreement: Vec<Vec<f64>>,
+    /// Its place in the menu (0-based): names its random streams.
+    pub menu_index: usize,
+}
+
+/// The chosen follow-up's probability of naming the cause alone, re-estimated at the
+/// budget on simulated follow-ups independent of those that ranked the menu
+/// ([`super::Stream::report`]): the maximum of the ranking's estimates is biased upward
+/// even when each is unbiased (the optimizer's curse, Smith & Winkler 2006, *Management
+/// Science* 52, 311–322); an estimate on fresh replicates is not.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reported {
+    /// Specimens of the follow-up (the budget).
+    pub specimens: usize,
+    /// Fresh simulated follow-ups per truth.
+    pub replicates: usize,
+    /// The re-estimated probabilities at the budget (`alone`, `weights_alone`, `right`,
+    /// by truth), the prior-weighted mean over the truths.
+    pub chance: Chance,
+    /// The Monte Carlo interval of `chance.alone`: the Wilson score interval
+    /// ([`crate::stats::wilson`]) at [`Reported::LEVEL`] on the effective count `n_eff`.
+    pub interval: (f64, f64),
+    /// The effective count of the interval: `replicates / Σ_t w_t²` (`w_t` the truths'
+    /// normalized priors; Kish's effective sample size of a weighted mean of proportions
+    /// each from `replicates` draws, Kish 1965, *Survey Sampling*).
+    pub effective_replicates: f64,
+    /// The ranking's own estimate at the budget (the selecting replicates), beside it.
+    pub selected: f64,
+}
+
+impl Reported {
+    /// The two-sided level of [`Reported::interval`].
+    pub const LEVEL: f64 = 0.95;
 }
 
 /// The design: the contenders, the probability with no follow-up, and every follow-up
@@ -161,11 +202,20 @@ pub struct Plan {
     pub settings: DesignSettings,
     /// Forward runs made in all.
     pub runs: usize,
+    /// The best follow-up's probability re-estimated on fresh replicates, with its
+    /// interval: the promise the design reports (`None`: an empty menu).
+    pub reported: Option<Reported>,
 }
 
 impl Plan {
     /// The best follow-up.
     pub fn best(&self) -> Option<&RankedFollowUp> {
         self.ranked.first()
+    }
+
+    /// The probability the design promises for its best follow-up: the re-estimate
+    /// ([`Plan::reported`]), else the ranking's estimate at the budget.
+    pub fn promise(&self) -> Option<f64> {
+        self.reported.as_ref().map(|r| r.chance.alone).or_else(|| self.best().map(|b| b.at_budget.alone))
     }
 }

@@ -38,10 +38,19 @@ pub struct Problem<'a> {
     /// of the key's predictive variance (0: none, the follow-up drawn from the model alone).
     /// Empty: none for every contender.
     pub inadequacy: &'a [f64],
-    /// The follow-up builds walls of a kind the first campaign did not test: each truth's
-    /// follow-ups carry, beside `inadequacy`, the contenders' disagreement on those walls
-    /// (`Problem::bias_variances`).
+    /// The follow-up builds walls of a kind the first campaign did not test: every key is
+    /// unseen ([`Problem::unseen`]).
     pub unseen_walls: bool,
+    /// `[key]`: a key the first campaign did not read on the follow-up's walls (the
+    /// mechanism, the other top measure, a tilt not read). Empty: none beyond
+    /// `unseen_walls`. Each truth's follow-ups carry, on an unseen measure, `transfer` and
+    /// the contenders' disagreement there beside `inadequacy`
+    /// ([`Problem::bias_variances`]); on an unseen mechanism reading, the mechanism of a
+    /// model drawn from the truths by their priors ([`Problem::mechanism_source`]).
+    pub unseen_keys: &'a [bool],
+    /// `[contender]`: the discrepancy it carries to a key the first campaign did not read
+    /// ([`super::Inadequacy::transfer`], same units as `inadequacy`). Empty: none.
+    pub transfer: &'a [f64],
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
     /// the reversal rates are read on the simulated follow-ups beside the first
@@ -71,6 +80,36 @@ pub struct FirstCampaign<'a> {
     pub specimens: &'a [Vec<usize>],
     /// `[contender][key]` at the first campaign's fit.
     pub at_fit: &'a [Vec<Simulated>],
+}
+
+/// The random streams of one follow-up's simulated data: truth `t` draws from
+/// `rng_for(seed, t, purpose)` ([`crate::rng::rng_for`]). The ranking draws on
+/// [`Stream::select`] ([`Purpose::Discrepancy`]), the re-estimate of the chosen follow-up
+/// on [`Stream::report`] ([`Purpose::DesignReport`]): same seed, disjoint ChaCha streams
+/// (`t × 16 + 4` against `t × 16 + 8`), so no replicate that chose a follow-up scores it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stream {
+    /// The master seed (the follow-up's, derived from the analysis's).
+    pub seed: u64,
+    /// The purpose that names the stream.
+    pub purpose: Purpose,
+}
+
+impl Stream {
+    /// The streams that rank the menu.
+    pub fn select(seed: u64) -> Stream {
+        Stream { seed, purpose: Purpose::Discrepancy }
+    }
+
+    /// The streams that re-estimate the chosen follow-up.
+    pub fn report(seed: u64) -> Stream {
+        Stream { seed, purpose: Purpose::DesignReport }
+    }
+
+    /// Truth `t`'s generator.
+    pub fn rng(&self, t: usize) -> rand_chacha::ChaCha8Rng {
+        rng_for(self.seed, t as u64, self.purpose)
+    }
 }
 
 /// A space of keys: what a simulated specimen is drawn on and scored on.
@@ -116,9 +155,15 @@ impl Problem<'_> {
     /// One simulated specimen of the follow-up from contender `t` with the follow-up's
     /// biases `bias` (`[key]`, in units of each key's predictive standard deviation; empty:
     /// none): its observations (key index, value).
+    #[cfg(test)]
     pub(super) fn draw_specimen(&self, t: usize, bias: &[f64], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
         let all: Vec<usize> = (0..self.keys.len()).collect();
         self.space().draw(&self.sims[t], &all, bias, rng)
+    }
+
+    /// Whether key `k` is one the first campaign did not read on the follow-up's walls.
+    pub fn unseen(&self, k: usize) -> bool {
+        self.unseen_walls || self.unseen_keys.get(k).copied().unwrap_or(false)
     }
 
     /// Whether key `k` of a follow-up drawn from contender `t` carries a bias: an angle or a
@@ -134,9 +179,31 @@ impl Problem<'_> {
     /// average over the truths `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign
     /// weights, `m_c`: their predicted means of the key, `m̄ = Σ_c w_c m_c`). 0 for the
     /// mechanism's readings and failure heights (not biased) and a key `t` does not predict.
+    ///
+    /// A floor: the same variance over every contender the follow-up refits (the truths and
+    /// the challengers, the library's plausible models, equally weighted), so that a truth
+    /// that holds nearly all the weight, or the only truth, still carries the spread of the
+    /// models that fit the first campaign on keys none of them was fitted on.
     pub fn disagreement(&self, t: usize) -> Vec<f64> {
         let space = self.space();
-        let truths = self.truths.min(self.contenders.len()).min(self.sims.len());
+        let n = self.contenders.len().min(self.sims.len());
+        let truths = self.truths.min(n);
+        let between = |k: usize, of: &dyn Fn(usize) -> f64, upto: usize| -> f64 {
+            let (mut w, mut m, mut m2) = (0.0, 0.0, 0.0);
+            for c in 0..upto {
+                let (p, x) = (of(c), self.sims[c][k].mean);
+                if p > 0.0 && x.is_finite() {
+                    w += p;
+                    m += p * x;
+                    m2 += p * x * x;
+                }
+            }
+            if w > 0.0 {
+                (m2 / w - (m / w).powi(2)).max(0.0)
+            } else {
+                0.0
+            }
+        };
         (0..self.keys.len())
             .map(|k| {
                 let sim = &self.sims[t][k];
@@ -144,17 +211,10 @@ impl Problem<'_> {
                     return 0.0;
                 }
                 let sd = Predictive::new(sim, &space.template(k), self.bracket_deg).sd;
-                let (mut w, mut m, mut m2) = (0.0, 0.0, 0.0);
-                for c in 0..truths {
-                    let (p, x) = (self.contenders[c].prior, self.sims[c][k].mean);
-                    if p > 0.0 && x.is_finite() {
-                        w += p;
-                        m += p * x;
-                        m2 += p * x * x;
-                    }
-                }
-                if w > 0.0 && sd > 0.0 {
-                    (m2 / w - (m / w).powi(2)).max(0.0) / (sd * sd)
+                let weighted = between(k, &|c| self.contenders[c].prior, truths);
+                let floor = between(k, &|_| 1.0, n);
+                if sd > 0.0 {
+                    weighted.max(floor) / (sd * sd)
                 } else {
                     0.0
                 }
@@ -171,11 +231,22 @@ impl Problem<'_> {
     /// variance; Hoeting et al. 1999, *Statist. Sci.* 14, 382–417). 0 for the mechanism's
     /// readings and failure heights (not biased). Empty when every key is 0, so nothing is
     /// drawn.
+    ///
+    /// Per key: a key the first campaign did not read ([`Problem::unseen`]: walls of a new
+    /// kind, the other top measure, a tilt not read) carries `transfer[t]` and the
+    /// disagreement there beside `inadequacy[t]`; a key it read carries `inadequacy[t]`.
     pub fn bias_variances(&self, t: usize) -> Vec<f64> {
         let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
-        let between = if self.unseen_walls { self.disagreement(t) } else { vec![0.0; self.keys.len()] };
-        let v: Vec<f64> =
-            (0..self.keys.len()).map(|k| if self.biased(t, k) { own + between[k] } else { 0.0 }).collect();
+        let carried = self.transfer.get(t).copied().unwrap_or(0.0).max(0.0);
+        let any = (0..self.keys.len()).any(|k| self.unseen(k));
+        let between = if any { self.disagreement(t) } else { vec![0.0; self.keys.len()] };
+        let v: Vec<f64> = (0..self.keys.len())
+            .map(|k| match (self.biased(t, k), self.unseen(k)) {
+                (false, _) => 0.0,
+                (true, false) => own,
+                (true, true) => own + carried + between[k],
+            })
+            .collect();
         if v.iter().all(|x| !(*x > 0.0)) {
             Vec::new()
         } else {
@@ -195,6 +266,49 @@ impl Problem<'_> {
                 v.sqrt() * z
             })
             .collect()
+    }
+
+    /// Whether key `k` is a mechanism reading (a kind, a start, a failure height) the
+    /// first campaign did not read.
+    fn unseen_mechanism(&self, k: usize) -> bool {
+        self.keys[k].is_mechanism() && self.unseen(k)
+    }
+
+    /// The model whose mechanism one simulated follow-up drawn from a truth reads, where
+    /// the first campaign did not read it: a truth drawn by the priors (the truth itself
+    /// included). No model was checked against a failure no one watched, so the truth's
+    /// mechanism there is as uncertain as the models that fit the first campaign disagree
+    /// about it (the model average's draw, Hoeting et al. 1999, *Statist. Sci.* 14,
+    /// 382–417), shared by the follow-up's specimens as a wall kind's mechanism is.
+    /// `None`, drawing nothing, when the follow-up reads no unseen mechanism key.
+    pub fn mechanism_source(&self, rng: &mut rand_chacha::ChaCha8Rng) -> Option<usize> {
+        if !(0..self.keys.len()).any(|k| self.unseen_mechanism(k)) {
+            return None;
+        }
+        let truths = self.truths.clamp(1, self.contenders.len().max(1)).min(self.contenders.len());
+        let total: f64 = self.contenders[..truths].iter().map(|c| c.prior.max(0.0)).sum();
+        let mut u = rng.random::<f64>() * total;
+        for (c, con) in self.contenders[..truths].iter().enumerate() {
+            if u < con.prior.max(0.0) {
+                return Some(c);
+            }
+            u -= con.prior.max(0.0);
+        }
+        Some(truths.saturating_sub(1))
+    }
+
+    /// The predictions a follow-up drawn from truth `t` is drawn from: `t`'s, with its
+    /// unseen mechanism keys read from `source` ([`Problem::mechanism_source`]).
+    fn drawn_from(&self, t: usize, source: Option<usize>) -> Vec<Simulated> {
+        let mut row = self.sims[t].clone();
+        if let Some(c) = source {
+            for (k, x) in row.iter_mut().enumerate() {
+                if self.unseen_mechanism(k) {
+                    *x = self.sims[c][k];
+                }
+            }
+        }
+        row
     }
 
     fn refit(&self, c: usize) -> Option<&Refit<'_>> {
@@ -248,7 +362,7 @@ impl Problem<'_> {
 
     /// One truth's replicates: for every ladder count, the weights' answer and the tie
     /// check's two tests against every other contender.
-    fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Tally {
+    fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, stream: Stream) -> Tally {
         let bound = TieCheck::STANDARD_ERRORS;
         let k = self.contenders.len();
         let nmax = ladder.iter().copied().max().unwrap_or(0);
@@ -261,11 +375,15 @@ impl Problem<'_> {
         let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let real = self.first_campaign_scores();
-        let mut rng = rng_for(seed, t as u64, Purpose::Discrepancy);
+        let mut rng = stream.rng(t);
         let variances = self.bias_variances(t);
         for _ in 0..replicates {
             let bias = Self::draw_bias(&variances, &mut rng);
-            let specimens: Vec<Vec<(usize, f64)>> = (0..nmax).map(|_| self.draw_specimen(t, &bias, &mut rng)).collect();
+            let source = self.mechanism_source(&mut rng);
+            let row = self.drawn_from(t, source);
+            let all: Vec<usize> = (0..self.keys.len()).collect();
+            let specimens: Vec<Vec<(usize, f64)>> =
+                (0..nmax).map(|_| self.space().draw(&row, &all, &bias, &mut rng)).collect();
             let new = self.new_scores(&specimens, &mut caches);
             // Both campaigns drawn from the truth, for the reversal rates.
             let drawn = self.first.as_ref().map(|f| self.first_scores_drawn(f, t, &mut first_caches, &mut rng));
@@ -342,10 +460,16 @@ impl Problem<'_> {
     /// The weights' concentration (the truth alone holding [`crate::discrepancy::SHARED`]
     /// of the pseudo-BMA+ weight) is kept beside it ([`Chance::weights_alone`]).
     pub fn chances(&self, ladder: &[usize], replicates: usize, draws: usize, seed: u64) -> Vec<Chance> {
+        self.chances_on(ladder, replicates, draws, Stream::select(seed))
+    }
+
+    /// [`Problem::chances`] on the random streams `stream`: truth `t`'s simulated
+    /// follow-ups are drawn from `stream.rng(t)` alone, whatever the thread that runs it.
+    pub fn chances_on(&self, ladder: &[usize], replicates: usize, draws: usize, stream: Stream) -> Vec<Chance> {
         let k = self.contenders.len();
         let truths = self.truths.clamp(1, k.max(1)).min(k);
         let tallies: Vec<Tally> =
-            (0..truths).into_par_iter().map(|t| self.tally(t, ladder, replicates, draws, seed)).collect();
+            (0..truths).into_par_iter().map(|t| self.tally(t, ladder, replicates, draws, stream)).collect();
         let reps = replicates.max(1) as f64;
         let total: f64 = self.contenders[..truths].iter().map(|c| c.prior).sum();
         let prior = |t: usize| if total > 0.0 { self.contenders[t].prior / total } else { 1.0 / truths as f64 };

@@ -62,7 +62,10 @@ pub struct Refit<'a> {
 
 /// The candidate of a contender, with its fit on the first campaign (`None`: the
 /// baseline).
-fn candidate_of<'r>(run: &'r Run, c: &Contender) -> Option<(&'r Candidate, &'r [f64])> {
+fn candidate_of<'r>(run: &'r Run, c: &'r Contender) -> Option<(&'r Candidate, &'r [f64])> {
+    if let Some(m) = &c.made {
+        return Some((&m.candidate, &m.x));
+    }
     let a = &run.analysis;
     let r = a.candidates.iter().find(|r| r.name == c.name)?;
     Some((&a.pool[r.index], &r.x))
@@ -99,20 +102,22 @@ impl FirstValues {
 pub fn first_scores(run: &Run, cs: &[Contender]) -> Vec<Option<FirstScores>> {
     let values = FirstValues::of(run);
     let data = values.data(run);
-    cs.iter()
-        .map(|c| {
-            let (cand, _) = candidate_of(run, c)?;
-            let (mut pins, mut all, mut scan) = (Vec::new(), Vec::new(), Vec::new());
-            for x in scan_points(&cand.surface) {
-                let sims = cand.surface.at(&x);
-                scan.push(sims.clone());
-                let scores: Vec<f64> = (0..run.obs.len()).map(|j| data.score(&sims, j)).collect();
-                all.push(per_specimen(&scores, &run.obs, &run.specimens));
-                pins.push(per_specimen(&data.split_scores(&scores).0, &run.obs, &run.specimens));
-            }
-            Some(FirstScores { pins, all, scan })
-        })
-        .collect()
+    cs.iter().map(|c| Some(scan_table(run, &data, candidate_of(run, c)?.0).0)).collect()
+}
+
+/// One candidate's first-campaign scores at every scan point of its parameters
+/// ([`FirstScores`]) and the scan points (search coordinates).
+pub(super) fn scan_table(run: &Run, data: &Data<'_>, cand: &Candidate) -> (FirstScores, Vec<Vec<f64>>) {
+    let (mut pins, mut all, mut scan) = (Vec::new(), Vec::new(), Vec::new());
+    let points = scan_points(&cand.surface);
+    for x in &points {
+        let sims = cand.surface.at(x);
+        let scores: Vec<f64> = (0..run.obs.len()).map(|j| data.score(&sims, j)).collect();
+        scan.push(sims);
+        all.push(per_specimen(&scores, &run.obs, &run.specimens));
+        pins.push(per_specimen(&data.split_scores(&scores).0, &run.obs, &run.specimens));
+    }
+    (FirstScores { pins, all, scan }, points)
 }
 
 /// A contender's held-out log scores per specimen of both campaigns, refit leave one
