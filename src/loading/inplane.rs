@@ -345,6 +345,9 @@ pub enum InPlaneError {
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
+    /// The non-smooth solver refused the layout or blew up.
+    #[error(transparent)]
+    Nscd(#[from] crate::nscd::NscdError),
     /// The layout's geometry is degenerate for the beam.
     #[error("the loading beam cannot be built on this layout: {0}")]
     Beam(String),
@@ -516,7 +519,12 @@ impl Rig {
     /// anchor, y and the rotations about x and z held, the rotation about y held if
     /// `rotation` is [`BeamRotation::Fixed`].
     pub fn constraint(&self, sim: &Simulation, rotation: BeamRotation) -> DofConstraint {
-        let b = &sim.state.bodies[self.beam];
+        self.constraint_of(&sim.state.bodies[self.beam], rotation)
+    }
+
+    /// The beam's constraint at the pose of its body `b` (any engine's; see
+    /// [`Rig::constraint`]).
+    pub fn constraint_of(&self, b: &crate::dem::state::Body, rotation: BeamRotation) -> DofConstraint {
         let anchor = Vec3::new(0.0, 0.0, self.anchor_z_m - b.pos.z);
         let c = DofConstraint { anchor, ..DofConstraint::free() }
             .hold_translation(b, 0)
