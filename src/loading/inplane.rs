@@ -845,7 +845,8 @@ pub fn read_mechanism(
     }
 }
 
-/// The outcome of an in-plane test by the penalty DEM.
+/// The outcome of an in-plane test by the penalty DEM or by non-smooth contact dynamics
+/// ([`super::inplane_nscd`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InPlaneResult {
     /// The force–displacement curve, one point per static solve (the first the state under
@@ -875,7 +876,8 @@ pub struct InPlaneResult {
     pub thickness_m: f64,
     /// The height of the horizontal force, m.
     pub shear_span_m: f64,
-    /// Static solves that ended at the step budget rather than in equilibrium.
+    /// Static solves that ended at the step budget rather than in equilibrium (nscd:
+    /// increments with a step whose contact problem did not meet its criterion).
     pub unconverged: usize,
     /// Increments whose relaxation blew up from the predicted state and were solved again
     /// from their start, warming up from the smallest increment.
