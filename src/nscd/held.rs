@@ -88,7 +88,7 @@ impl Held {
             let turn = -e.cross(&a);
             for i in 0..3 {
                 if constraint.translation[i].is_some() {
-                    n[i] = 0.0 * turn[i];
+                    n[i] = turn[i];
                 }
             }
             columns.push(n);
