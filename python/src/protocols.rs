@@ -345,10 +345,11 @@ pub fn _in_plane<'py>(
             _ => drystone_python_solver_error(&e.to_string()),
         }
     };
+    let method = if matches!(run, InPlaneRun::Nscd(_)) { "nscd" } else { "penalty" };
     match run {
-        InPlaneRun::Penalty(r) => {
+        InPlaneRun::Penalty(r) | InPlaneRun::Nscd(r) => {
             let r = r.map_err(|e| failed(&e))?;
-            out.set_item("method", "penalty")?;
+            out.set_item("method", method)?;
             out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
             out.set_item("top_mm", PyArray1::from_vec(py, r.curve.iter().map(|c| c.top_mm).collect()))?;
             out.set_item("drift_pct", PyArray1::from_vec(py, r.curve.iter().map(|c| c.drift_pct).collect()))?;

@@ -114,8 +114,13 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});
     let run = drystone::protocol::run(&InPlane(params.clone()), &l, solver, &mut observe).map_err(unsupported)?;
     let what = || format!("in-plane test of {}", a.layout.display());
+    let (method, engine) = if matches!(run, InPlaneRun::Nscd(_)) {
+        ("nscd", "non-smooth contact dynamics")
+    } else {
+        ("penalty", "penalty DEM")
+    };
     match run {
-        InPlaneRun::Penalty(r) => {
+        InPlaneRun::Penalty(r) | InPlaneRun::Nscd(r) => {
             let r = r.with_context(what)?;
             if let Some(p) = &a.curve {
                 write_curve(p, &r)?;
@@ -134,9 +139,9 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                out!("{}", serde_json::to_string_pretty(&penalty_json(&r))?);
+                out!("{}", serde_json::to_string_pretty(&penalty_json(&r, method))?);
             } else {
-                print_penalty(&a.layout, &params, &r);
+                print_penalty(&a.layout, &params, &r, engine);
             }
         }
         InPlaneRun::Limit(r) => {
@@ -181,12 +186,12 @@ fn dir_json(d: &Option<DirectionResult>) -> serde_json::Value {
     }
 }
 
-/// The penalty DEM's JSON: the positive direction's outputs at the top level, then both
-/// directions, the mechanism, the forces and the curve.
-fn penalty_json(r: &InPlaneResult) -> serde_json::Value {
+/// The JSON of a curve (the penalty DEM's or nscd's, `method`): the positive direction's
+/// outputs at the top level, then both directions, the mechanism, the forces and the curve.
+fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
     let p = r.positive;
     json!({
-        "method": "penalty",
+        "method": method,
         "peak_force_kn": p.map(|d| d.peak_force_kn),
         "drift_at_peak_pct": p.map(|d| d.drift_at_peak_pct),
         "ultimate_drift_pct": p.map(|d| d.ultimate_drift_pct),
@@ -232,8 +237,8 @@ fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
     })
 }
 
-fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult) {
-    out!("in-plane test of {} (penalty DEM)", layout.display());
+fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engine: &str) {
+    out!("in-plane test of {} ({engine})", layout.display());
     out!(
         "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; H0 {:.3} m",
         r.length_m,

@@ -345,6 +345,9 @@ pub enum InPlaneError {
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
+    /// The non-smooth solver refused the layout or blew up.
+    #[error(transparent)]
+    Nscd(#[from] crate::nscd::NscdError),
     /// The layout's geometry is degenerate for the beam.
     #[error("the loading beam cannot be built on this layout: {0}")]
     Beam(String),
@@ -516,7 +519,12 @@ impl Rig {
     /// anchor, y and the rotations about x and z held, the rotation about y held if
     /// `rotation` is [`BeamRotation::Fixed`].
     pub fn constraint(&self, sim: &Simulation, rotation: BeamRotation) -> DofConstraint {
-        let b = &sim.state.bodies[self.beam];
+        self.constraint_of(&sim.state.bodies[self.beam], rotation)
+    }
+
+    /// The beam's constraint at the pose of its body `b` (any engine's; see
+    /// [`Rig::constraint`]).
+    pub fn constraint_of(&self, b: &crate::dem::state::Body, rotation: BeamRotation) -> DofConstraint {
         let anchor = Vec3::new(0.0, 0.0, self.anchor_z_m - b.pos.z);
         let c = DofConstraint { anchor, ..DofConstraint::free() }
             .hold_translation(b, 0)
@@ -837,7 +845,8 @@ pub fn read_mechanism(
     }
 }
 
-/// The outcome of an in-plane test by the penalty DEM.
+/// The outcome of an in-plane test by the penalty DEM or by non-smooth contact dynamics
+/// ([`super::inplane_nscd`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InPlaneResult {
     /// The force–displacement curve, one point per static solve (the first the state under
@@ -867,7 +876,8 @@ pub struct InPlaneResult {
     pub thickness_m: f64,
     /// The height of the horizontal force, m.
     pub shear_span_m: f64,
-    /// Static solves that ended at the step budget rather than in equilibrium.
+    /// Static solves that ended at the step budget rather than in equilibrium (nscd:
+    /// increments with a step whose contact problem did not meet its criterion).
     pub unconverged: usize,
     /// Increments whose relaxation blew up from the predicted state and were solved again
     /// from their start, warming up from the smallest increment.

@@ -217,8 +217,13 @@ impl BodySums {
     fn energy(&self, b: &BodyState<'_>) -> f64 {
         let mut twice = 0.0;
         for k in 0..self.impulse.len() {
-            let dv = b.inv_m[k].component_mul(&self.impulse[k]);
-            let dw = b.inv_i[k] * self.moment[k];
+            let mut dv = b.inv_m[k].component_mul(&self.impulse[k]);
+            let mut dw = b.inv_i[k] * self.moment[k];
+            if let Some(h) = &b.held[k] {
+                let (hv, hw) = h.apply(&self.impulse[k], &self.moment[k]);
+                dv += hv;
+                dw += hw;
+            }
             twice += self.impulse[k].dot(&dv) + self.moment[k].dot(&dw);
         }
         0.5 * twice
@@ -229,6 +234,11 @@ impl BodySums {
         for k in 0..self.impulse.len() {
             b.vel[k] = vfree[k] + b.inv_m[k].component_mul(&self.impulse[k]);
             b.angvel[k] = wfree[k] + b.inv_i[k] * self.moment[k];
+            if let Some(h) = &b.held[k] {
+                let (hv, hw) = h.apply(&self.impulse[k], &self.moment[k]);
+                b.vel[k] += hv;
+                b.angvel[k] += hw;
+            }
         }
     }
 
@@ -276,7 +286,7 @@ pub fn solve(
     st.wfree.extend_from_slice(b.angvel);
     for (row, r) in rows.iter().zip(impulse.iter()) {
         if *r != Vec3::zeros() {
-            row.apply(&-r, &mut st.vfree, &mut st.wfree, b.inv_m, b.inv_i);
+            row.apply(&-r, &mut st.vfree, &mut st.wfree, b.inv_m, b.inv_i, b.held);
         }
     }
     st.points.clear();
@@ -428,7 +438,15 @@ mod tests {
         for tolerance in [1e-4, 1e-8] {
             let (mut vel, mut angvel) = (vfree.to_vec(), wfree.to_vec());
             let radius = [0.2, 0.1];
-            let mut b = BodyState { vel: &mut vel, angvel: &mut angvel, inv_m: &inv_m, inv_i: &inv_i, radius: &radius };
+            let held = [None, None];
+            let mut b = BodyState {
+                vel: &mut vel,
+                angvel: &mut angvel,
+                inv_m: &inv_m,
+                inv_i: &inv_i,
+                held: &held,
+                radius: &radius,
+            };
             let mut impulse = vec![Vec3::zeros(); rows.len()];
             let mut st = ApgdScratch::default();
             let out = solve(&rows, &mut impulse, &mut b, tolerance, 2000, gh, &mut st);
@@ -438,7 +456,7 @@ mod tests {
             assert!(again <= tolerance);
             let (mut v, mut w) = (vfree.to_vec(), wfree.to_vec());
             for (row, r) in rows.iter().zip(&impulse) {
-                row.apply(r, &mut v, &mut w, &inv_m, &inv_i);
+                row.apply(r, &mut v, &mut w, &inv_m, &inv_i, &[None, None]);
             }
             for k in 0..2 {
                 assert!((v[k] - b.vel[k]).norm() + (w[k] - b.angvel[k]).norm() < 1e-12, "body {k}");

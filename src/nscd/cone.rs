@@ -132,12 +132,17 @@ struct Program {
 }
 
 impl Program {
-    /// Assembles the program, or `None` without a free degree of freedom.
+    /// Assembles the program, or `None` without a free degree of freedom or with a
+    /// constrained body ([`super::held`]: its mass matrix on the free directions is not
+    /// stated here, and the step keeps the gradient's impulses).
     fn new(rows: &[PointRows], impulse: &[Vec3], b: &BodyState<'_>) -> Option<Program> {
+        if b.held.iter().any(Option::is_some) {
+            return None;
+        }
         let mut vfree = b.vel.to_vec();
         let mut wfree = b.angvel.to_vec();
         for (row, r) in rows.iter().zip(impulse) {
-            row.apply(&-r, &mut vfree, &mut wfree, b.inv_m, b.inv_i);
+            row.apply(&-r, &mut vfree, &mut wfree, b.inv_m, b.inv_i, b.held);
         }
         let uf = rows
             .iter()
@@ -260,7 +265,7 @@ impl Program {
         b.vel.copy_from_slice(&self.vfree);
         b.angvel.copy_from_slice(&self.wfree);
         for (row, r) in rows.iter().zip(impulse.iter()) {
-            row.apply(r, b.vel, b.angvel, b.inv_m, b.inv_i);
+            row.apply(r, b.vel, b.angvel, b.inv_m, b.inv_i, b.held);
         }
     }
 }

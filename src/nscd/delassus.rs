@@ -22,6 +22,7 @@
 //! velocities up to date instead (each point reads `u` from them and writes its impulse
 //! change back), which is the same iteration on `W` at the cost of the points only.
 
+use super::held::Held;
 use crate::math::{Mat3, Vec3};
 
 /// No body: the table side of a table contact.
@@ -88,17 +89,60 @@ impl PointRows {
         self.frame.tr_mul(&d)
     }
 
+    /// Adds to the diagonal block the terms of a constrained body on either side (its
+    /// mobility `K` in `held`, [`Held::block`]; its `inv_m` and `inv_i` are zero, so that
+    /// [`Self::new`] left it out) and inverts it again. A point between free bodies is left
+    /// as it is.
+    pub fn couple(&mut self, held: &[Option<Held>]) {
+        let mut w = self.w;
+        let mut changed = false;
+        if let Some(h) = &held[self.b] {
+            w += h.block(&self.frame, &self.r_b);
+            changed = true;
+        }
+        if self.a != TABLE {
+            if let Some(h) = &held[self.a] {
+                w += h.block(&self.frame, &self.r_a);
+                changed = true;
+            }
+        }
+        if changed {
+            self.w = 0.5 * (w + w.transpose());
+            self.w_inv = self.w.try_inverse().unwrap_or_else(Mat3::zeros);
+        }
+    }
+
     /// Applies the impulse `dr` (local, on B; −dr on A) to the bodies' velocities, with
     /// their inverse masses per axis `inv_m` (1/kg) and inverse inertias `inv_i` (table
-    /// frame, 1/(kg·m²)): `Δv_B = M_B⁻¹ E dr`, `Δω_B = I_B⁻¹ (r_B × E dr)`.
+    /// frame, 1/(kg·m²)): `Δv_B = M_B⁻¹ E dr`, `Δω_B = I_B⁻¹ (r_B × E dr)`; a constrained
+    /// body (`held`, [`super::held`]) moves by its mobility `K` instead.
     #[inline(always)]
-    pub fn apply(&self, dr: &Vec3, vel: &mut [Vec3], angvel: &mut [Vec3], inv_m: &[Vec3], inv_i: &[Mat3]) {
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply(
+        &self,
+        dr: &Vec3,
+        vel: &mut [Vec3],
+        angvel: &mut [Vec3],
+        inv_m: &[Vec3],
+        inv_i: &[Mat3],
+        held: &[Option<Held>],
+    ) {
         let pw = self.frame * dr;
         vel[self.b] += inv_m[self.b].component_mul(&pw);
         angvel[self.b] += inv_i[self.b] * self.r_b.cross(&pw);
+        if let Some(h) = &held[self.b] {
+            let (dv, dw) = h.apply(&pw, &self.r_b.cross(&pw));
+            vel[self.b] += dv;
+            angvel[self.b] += dw;
+        }
         if self.a != TABLE {
             vel[self.a] -= inv_m[self.a].component_mul(&pw);
             angvel[self.a] -= inv_i[self.a] * self.r_a.cross(&pw);
+            if let Some(h) = &held[self.a] {
+                let (dv, dw) = h.apply(&pw, &self.r_a.cross(&pw));
+                vel[self.a] -= dv;
+                angvel[self.a] -= dw;
+            }
         }
     }
 }
@@ -122,7 +166,7 @@ mod tests {
             let mut e = Vec3::zeros();
             e[k] = 1.0;
             let (mut v, mut w) = ([Vec3::zeros()], [Vec3::zeros()]);
-            rows.apply(&e, &mut v, &mut w, &inv_m, &inv_i);
+            rows.apply(&e, &mut v, &mut w, &inv_m, &inv_i, &[None]);
             let u = rows.velocity(&v, &w);
             // Direct: impulse P = E e at p on the body.
             let pw = rows.frame * e;

@@ -19,6 +19,9 @@
 //! * [`delassus`]: the blocks of the Delassus operator `W = H M⁻¹ Hᵀ` of the rigid
 //!   bodies (the diagonal 3 × 3 block of each contact point, and the rows `H` that map
 //!   the bodies' velocities to the point's relative velocity).
+//! * [`held`]: the mobility of a body whose degrees of freedom are constrained (held
+//!   translations at an anchor, an imposed displacement, held rotations): its held
+//!   directions eliminated from the velocity unknowns, its imposed velocity a known term.
 //! * [`local`]: the local 3D Coulomb problem of one contact point (separation, stick or
 //!   slip, exact; De Saxcé's projection as a fallback).
 //! * [`nsgs`]: the Gauss–Seidel sweeps of one step (their order, [`nsgs::SweepPlan`];
@@ -47,6 +50,7 @@ pub mod apgd;
 pub mod cone;
 pub mod contacts;
 pub mod delassus;
+pub mod held;
 pub mod local;
 pub mod nsgs;
 pub mod rest;

@@ -19,6 +19,7 @@
 //! of a few thousand fit in a core's second-level cache.
 
 use super::delassus::{PointRows, TABLE};
+use super::held::Held;
 use super::local;
 use super::{NscdParams, NsgsNorm, SweepOrder};
 use crate::math::{Mat3, Vec3};
@@ -67,6 +68,9 @@ pub struct BodyState<'a> {
     pub inv_m: &'a [Vec3],
     /// Inverse inertias (zeros for fixed blocks).
     pub inv_i: &'a [Mat3],
+    /// The mobility of each constrained body ([`Held`]; its `inv_m` and `inv_i` are zero),
+    /// `None` for the others.
+    pub held: &'a [Option<Held>],
     /// Radii.
     pub radius: &'a [f64],
 }
@@ -107,7 +111,7 @@ pub fn solve(
     gh: f64,
     scratch: &mut NsgsScratch,
 ) -> SweepOutcome {
-    let BodyState { vel, angvel, inv_m, inv_i, radius } = bodies;
+    let BodyState { vel, angvel, inv_m, inv_i, held, radius } = bodies;
     let (vel, angvel): (&mut [Vec3], &mut [Vec3]) = (vel, angvel);
     scratch.sweep_vel.resize(vel.len(), Vec3::zeros());
     scratch.sweep_angvel.resize(vel.len(), Vec3::zeros());
@@ -133,7 +137,16 @@ pub fn solve(
             if track_quad {
                 scratch.group_start[..g1 - g0].copy_from_slice(&impulse[g0..g1]);
             }
-            visit(&rows[g0..g1], &mut impulse[g0..g1], &mut scratch.nu[g0..g1], backward, p, vel, angvel, inv_m, inv_i);
+            visit(
+                &rows[g0..g1],
+                &mut impulse[g0..g1],
+                &mut scratch.nu[g0..g1],
+                backward,
+                p,
+                vel,
+                angvel,
+                (inv_m, inv_i, held),
+            );
             if track_quad {
                 for ((row, r), r0) in rows[g0..g1].iter().zip(&impulse[g0..g1]).zip(&scratch.group_start) {
                     let dr = r - r0;
@@ -178,8 +191,7 @@ fn visit(
     p: &NscdParams,
     vel: &mut [Vec3],
     angvel: &mut [Vec3],
-    inv_m: &[Vec3],
-    inv_i: &[Mat3],
+    (inv_m, inv_i, held): (&[Vec3], &[Mat3], &[Option<Held>]),
 ) {
     let (a, b) = (rows[0].a, rows[0].b);
     let has_a = a != TABLE;
@@ -187,6 +199,7 @@ fn visit(
     let (mut va, mut wa, ma, ia) =
         if has_a { (vel[a], angvel[a], inv_m[a], inv_i[a]) } else { (z, z, z, Mat3::zeros()) };
     let (mut vb, mut wb, mb, ib) = (vel[b], angvel[b], inv_m[b], inv_i[b]);
+    let (ha, hb) = (if has_a { held[a].as_ref() } else { None }, held[b].as_ref());
     let omega = p.relaxation;
     let n = rows.len();
     for pass in 0..p.polygon_passes {
@@ -211,6 +224,16 @@ fn visit(
                 wb += ib * row.r_b.cross(&pw);
                 va -= ma.component_mul(&pw);
                 wa -= ia * row.r_a.cross(&pw);
+                if let Some(h) = hb {
+                    let (dv, dw) = h.apply(&pw, &row.r_b.cross(&pw));
+                    vb += dv;
+                    wb += dw;
+                }
+                if let Some(h) = ha {
+                    let (dv, dw) = h.apply(&pw, &row.r_a.cross(&pw));
+                    va -= dv;
+                    wa -= dw;
+                }
                 impulse[k] = r;
                 if !last {
                     pass_du = pass_du.max((row.w * dr).norm_squared());

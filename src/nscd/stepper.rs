@@ -43,10 +43,12 @@
 
 use super::contacts::{detect, ContactPoint};
 use super::delassus::{PointRows, TABLE};
+use super::held::Held;
 use super::nsgs::{self, BodyState, SweepPlan};
 use super::rest::{Certificate, Statics};
 use super::{apgd, cone};
 use super::{NscdError, NscdParams, RestRule, StepSolver};
+use crate::dem::constraint::DofConstraint;
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
@@ -102,6 +104,10 @@ pub struct NscdSimulation {
     x: Vec<Vec3>,
     inv_m: Vec<Vec3>,
     inv_i: Vec<Mat3>,
+    /// Per-degree-of-freedom constraints per body ([`Self::constrain`]).
+    constraints: Vec<Option<DofConstraint>>,
+    /// The mobility of each constrained body over the current step ([`Held`]).
+    held: Vec<Option<Held>>,
     spring: Vec<Option<f64>>,
     ropes: Vec<RopeLoad>,
     /// The ropes' forces (N) and moments (N·m) per body (scratch of the free velocities).
@@ -166,6 +172,8 @@ impl NscdSimulation {
             x: bodies.iter().map(|b| b.pos).collect(),
             inv_i: vec![Mat3::zeros(); n],
             inv_m,
+            constraints: vec![None; n],
+            held: vec![None; n],
             spring,
             ropes: RopeLoad::of_layout(layout, &bodies),
             rope_force: vec![Vec3::zeros(); n],
@@ -264,6 +272,36 @@ impl NscdSimulation {
     pub fn set_external(&mut self, force: &[Vec3], torque: &[Vec3]) {
         self.external_force.copy_from_slice(force);
         self.external_torque.copy_from_slice(torque);
+    }
+
+    /// Constrains the degrees of freedom of body `i` (not fixed) by `constraint`
+    /// ([`super::held`]): its held translations and rotations leave the velocity unknowns,
+    /// and a held translation's target, moved by [`Self::constraint_mut`] between steps, is
+    /// an imposed displacement that each step reaches at the velocity it implies. The
+    /// constraint states every held degree of freedom of the body: it takes the place of a
+    /// rigid end restraint's hold of `y` on the same body.
+    ///
+    /// # Panics
+    /// If `i` is out of range.
+    pub fn constrain(&mut self, i: usize, constraint: DofConstraint) {
+        self.constraints[i] = Some(constraint);
+        self.inv_m[i] = Vec3::zeros();
+        self.rows_at_rest = false;
+    }
+
+    /// The constraint of body `i`, if any.
+    pub fn constraint(&self, i: usize) -> Option<&DofConstraint> {
+        self.constraints[i].as_ref()
+    }
+
+    /// The constraint of body `i`, to move its targets ([`DofConstraint::set_target`]).
+    pub fn constraint_mut(&mut self, i: usize) -> Option<&mut DofConstraint> {
+        self.constraints[i].as_mut()
+    }
+
+    /// Whether some body is constrained per degree of freedom.
+    fn constrained(&self) -> bool {
+        self.constraints.iter().any(Option::is_some)
     }
 
     /// Kinetic energy, J (relative to the table).
@@ -428,6 +466,10 @@ impl NscdSimulation {
     /// current contact points, poses and dead load; a new one is made when they changed,
     /// at most once per [`RECERTIFY_STEPS`] steps.
     fn certified(&mut self, a_g: Vec3, h: f64, redetected: bool) -> Option<NscdStep> {
+        // The statics of the certificate know no per-degree-of-freedom constraint.
+        if self.constrained() {
+            return None;
+        }
         let valid = !redetected
             && self.certificate.as_ref().is_some_and(|(_, pos, g, f, t)| {
                 *g == self.gravity
@@ -534,11 +576,18 @@ impl NscdSimulation {
             self.angvel[k] = b.angvel;
             self.inv_i[k] = if b.fixed { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
         }
+        for (k, c) in self.constraints.iter().enumerate() {
+            if let Some(c) = c {
+                self.inv_i[k] = Mat3::zeros();
+                self.held[k] = Some(Held::new(c, &self.bodies[k], self.params.dt_s));
+            }
+        }
     }
 
     /// Stage 2: rows and Signorini terms of every point at the start of the step.
     fn build_rows(&mut self) {
         let (h, theta, e) = (self.params.dt_s, self.params.theta, self.params.restitution);
+        let constrained = self.constrained();
         self.rows.clear();
         for c in &self.points {
             let (pa, pb) = c.world_points(&self.bodies);
@@ -552,6 +601,9 @@ impl NscdSimulation {
                 bias += e * un;
             }
             rows.bias = bias;
+            if constrained {
+                rows.couple(&self.held);
+            }
             self.rows.push(rows);
         }
     }
@@ -564,6 +616,13 @@ impl NscdSimulation {
                 continue;
             }
             let (f, t) = self.smooth_load(k, a_g, self.angvel[k]);
+            if let Some(held) = &self.held[k] {
+                let (v, w) = held.project(&self.vel[k], &self.angvel[k]);
+                let (dv, dw) = held.apply(&(h * f), &(h * t));
+                self.vel[k] = v + dv;
+                self.angvel[k] = w + dw;
+                continue;
+            }
             self.vel[k] += h * self.inv_m[k].component_mul(&f);
             self.angvel[k] += h * (self.inv_i[k] * t);
         }
@@ -638,7 +697,7 @@ impl NscdSimulation {
         self.impulse.clear();
         self.impulse.extend(self.points.iter().map(|c| c.impulse));
         for (r, rows) in self.impulse.iter().zip(&self.rows) {
-            rows.apply(r, &mut self.vel, &mut self.angvel, &self.inv_m, &self.inv_i);
+            rows.apply(r, &mut self.vel, &mut self.angvel, &self.inv_m, &self.inv_i, &self.held);
         }
         let gh = self.gravity_magnitude * self.params.dt_s;
         let mut bodies = BodyState {
@@ -646,6 +705,7 @@ impl NscdSimulation {
             angvel: &mut self.angvel,
             inv_m: &self.inv_m,
             inv_i: &self.inv_i,
+            held: &self.held,
             radius: &self.radius,
         };
         let p = &self.params;
@@ -729,6 +789,9 @@ impl NscdSimulation {
             b.rotate(h * (theta * w + (1.0 - theta) * b.angvel));
             b.vel = v;
             b.angvel = w;
+            if let Some(c) = &self.constraints[k] {
+                c.place(b);
+            }
             if !(b.pos.iter().all(|c| c.is_finite())
                 && v.iter().all(|c| c.is_finite())
                 && w.iter().all(|c| c.is_finite()))

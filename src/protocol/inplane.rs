@@ -1,10 +1,9 @@
 //! The in-plane shear–compression test: a loading beam on the top course under a constant
 //! vertical force, its horizontal displacement imposed quasi-statically (monotonic or in
 //! growing cycles); by the penalty DEM (the force–displacement curve,
-//! `loading::inplane`) or by limit analysis (the peak force and its mechanism,
-//! `limit::inplane`). Non-smooth contact dynamics does not run it: its rigid blocks have no
-//! elastic stiffness and its loading beam has no imposed displacement, so it is refused by
-//! name.
+//! `loading::inplane`), by non-smooth contact dynamics (the rigid blocks' curve, the beam's
+//! degrees of freedom constrained in the contact dynamics, `loading::inplane_nscd`) or by
+//! limit analysis (the peak force and its mechanism, `limit::inplane`).
 
 use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
 use super::observed::Observed;
@@ -12,6 +11,7 @@ use super::Protocol;
 use crate::dem::Method;
 use crate::limit::inplane::{limit_in_plane, InPlaneLimit};
 use crate::loading::inplane::{run_in_plane_penalty, InPlaneError, InPlaneParams, InPlaneResult};
+use crate::loading::inplane_nscd::run_in_plane_nscd;
 
 /// The in-plane test with its parameters (`[in_plane]`).
 #[derive(Debug, Clone, PartialEq)]
@@ -23,6 +23,9 @@ pub enum InPlaneRun {
     /// The penalty DEM: the force–displacement curve, its per-direction outputs and the
     /// mechanism.
     Penalty(Result<InPlaneResult, InPlaneError>),
+    /// Non-smooth contact dynamics: the rigid blocks' force–displacement curve (the beam
+    /// driven at a constant speed), its per-direction outputs and the mechanism.
+    Nscd(Result<InPlaneResult, InPlaneError>),
     /// Limit analysis: the peak horizontal force under the vertical force, and the
     /// mechanism.
     Limit(Result<InPlaneLimit, InPlaneError>),
@@ -43,6 +46,11 @@ impl LoadingProtocol for InPlane {
                     observer.state(a, s, sim)
                 }))
             },
+        },
+        Way {
+            method: Method::Nscd,
+            what: "rigid blocks' force-displacement curve (the beam driven at constant speed)",
+            run: |p, layout, solver, _| InPlaneRun::Nscd(run_in_plane_nscd(layout, &solver.nscd, &p.0)),
         },
         Way {
             method: Method::Limit,
@@ -73,24 +81,25 @@ impl LoadingProtocol for InPlane {
 }
 
 impl RunOutcome for InPlaneRun {
-    /// The penalty DEM's measures of the first direction and its mode
+    /// The penalty DEM's and nscd's measures of the first direction and its mode
     /// ([`Observed::of_in_plane`]); limit analysis gives no curve to compare.
     fn observed(&self) -> Option<Observed> {
         match self {
-            InPlaneRun::Penalty(Ok(r)) => Observed::of_in_plane(r),
-            InPlaneRun::Penalty(Err(_)) | InPlaneRun::Limit(_) => None,
+            InPlaneRun::Penalty(Ok(r)) | InPlaneRun::Nscd(Ok(r)) => Observed::of_in_plane(r),
+            InPlaneRun::Penalty(Err(_)) | InPlaneRun::Nscd(Err(_)) | InPlaneRun::Limit(_) => None,
         }
     }
     fn error(&self) -> Option<String> {
         match self {
-            InPlaneRun::Penalty(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
-            InPlaneRun::Penalty(Ok(_)) | InPlaneRun::Limit(Ok(_)) => None,
+            InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
+            InPlaneRun::Penalty(Ok(_)) | InPlaneRun::Nscd(Ok(_)) | InPlaneRun::Limit(Ok(_)) => None,
         }
     }
     fn does_not_stand(&self) -> bool {
         matches!(
             self,
             InPlaneRun::Penalty(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
+                | InPlaneRun::Nscd(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
                 | InPlaneRun::Limit(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
         )
     }

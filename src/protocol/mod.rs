@@ -173,7 +173,7 @@ macro_rules! registry {
         /// | `lateral`: the static lateral load | equilibrium under the load | – | whether λ ≥ 1 |
         /// | `pushover`: the lateral pushover (lateral.pushover) | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
         /// | `shake`: the shaking table | explicit dynamics with contact damping (`penalty` only) | Moreau–Jean time stepping | – |
-        /// | `in_plane`: the in-plane shear-compression test | force-displacement curve (static solve per increment of the imposed displacement) | – | peak horizontal force under the vertical force, and the mechanism |
+        /// | `in_plane`: the in-plane shear-compression test | force-displacement curve (static solve per increment of the imposed displacement) | rigid blocks' force-displacement curve (the beam driven at constant speed) | peak horizontal force under the vertical force, and the mechanism |
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+

@@ -538,10 +538,14 @@ fn realization(
             }
         };
     match crate::protocol::run(&crate::protocol::InPlane(params.clone()), &layout, solver, &mut ()) {
-        Ok(crate::protocol::InPlaneRun::Penalty(Ok(r))) => fill(&mut row, &r),
-        Ok(crate::protocol::InPlaneRun::Penalty(Err(e)) | crate::protocol::InPlaneRun::Limit(Err(e))) => {
-            row.error = e.to_string()
+        Ok(crate::protocol::InPlaneRun::Penalty(Ok(r)) | crate::protocol::InPlaneRun::Nscd(Ok(r))) => {
+            fill(&mut row, &r)
         }
+        Ok(
+            crate::protocol::InPlaneRun::Penalty(Err(e))
+            | crate::protocol::InPlaneRun::Nscd(Err(e))
+            | crate::protocol::InPlaneRun::Limit(Err(e)),
+        ) => row.error = e.to_string(),
         Ok(crate::protocol::InPlaneRun::Limit(Ok(_))) => row.error = "limit analysis gives no curve".into(),
         Err(e) => row.error = e.to_string(),
     }
