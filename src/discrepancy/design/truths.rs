@@ -18,7 +18,7 @@
 //!   challenger too.
 //! - **the best single effect the first campaign did not rank among the contenders**.
 
-use super::plan::Contender;
+use super::plan::{Contender, Made};
 use super::refit::{heldout, scan_table, FirstValues};
 use crate::discrepancy::candidate::{Candidate, SCATTER};
 use crate::discrepancy::compare::per_specimen;
@@ -35,16 +35,6 @@ use std::sync::Arc;
 /// stated, not fitted: no data set of the test bed chose it, so the calibration column
 /// scores it on data it did not choose.
 pub const OUTSIDE_PRIOR: f64 = 0.2;
-
-/// A contender the design builds beside the analysis's pool (a pair of single effects the
-/// analysis did not try): its candidate and its first-campaign fit (search coordinates).
-#[derive(Debug, Clone)]
-pub struct Made {
-    /// The candidate (the additive surrogate of two single effects).
-    pub candidate: Candidate,
-    /// Its fit on the first campaign: the scan point of least summed score.
-    pub x: Vec<f64>,
-}
 
 /// The contenders of an analysis, the truths first, with their priors and held-out scores,
 /// and how many of them, the first, are taken as the truth.
