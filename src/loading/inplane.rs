@@ -1110,17 +1110,64 @@ pub fn run_in_plane_penalty(
             }
         }
     }
-    let (scale, at) = (reading.0, reading.1);
     let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
+    let anchor = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref);
+    let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor, &reference, &reading);
+    let work = Work { unconverged, retried, steps: sim.state.steps, dt_s: sim.dt(), t0 };
+    Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
+}
+
+/// The poses of the bodies: centroid (m) and rotation, in the simulation's body order.
+pub(crate) type Poses = Vec<(Vec3, nalgebra::UnitQuaternion<f64>)>;
+
+/// The mechanism read between the poses under the vertical force (`reference`) and those at
+/// the largest positive top displacement (`reading`: the displacement, m, and the poses);
+/// `anchor` the beam's anchor (m, world) under the vertical force. The drivers' shared
+/// reading (`run_in_plane_penalty`, `inplane_nscd::run_in_plane_nscd`).
+pub(crate) fn mechanism_at_reading(
+    ref_joints: &[MechanismJoint],
+    ids: &[String],
+    beam: usize,
+    anchor: Vec3,
+    reference: &Poses,
+    reading: &(f64, Poses),
+) -> InPlaneMechanism {
+    let (scale, at) = (reading.0, &reading.1);
     let motion = |k: usize, x: &Vec3| -> Vec3 {
         let (p0, q0) = reference[k];
         let (p1, q1) = at[k];
         p1 + (q1 * q0.inverse()) * (x - p0) - x
     };
-    let anchor = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref);
     let turn = |k: usize| (at[k].1 * reference[k].1.inverse()).scaled_axis().y;
-    let mechanism = read_mechanism(&ref_joints, &ids, bi, anchor, scale.max(0.0), motion, turn);
-    Ok(InPlaneResult {
+    read_mechanism(ref_joints, ids, beam, anchor, scale.max(0.0), motion, turn)
+}
+
+/// What a driver's run cost, for its [`InPlaneResult`].
+pub(crate) struct Work {
+    /// Static solves (increments) that did not converge.
+    pub unconverged: usize,
+    /// Increments solved again from their start.
+    pub retried: usize,
+    /// Engine steps.
+    pub steps: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// When the run started.
+    pub t0: Instant,
+}
+
+/// The result of a driver's run: the curve's per-direction outputs (the negative direction
+/// of a cyclic history only), the mechanism, the poses at the reading and the rig's
+/// references.
+pub(crate) fn result_of(
+    rig: &Rig,
+    params: &InPlaneParams,
+    curve: Vec<CurvePoint>,
+    mechanism: InPlaneMechanism,
+    at: &Poses,
+    work: Work,
+) -> InPlaneResult {
+    InPlaneResult {
         positive: direction(&curve, 1.0),
         negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
         curve,
@@ -1133,10 +1180,10 @@ pub fn run_in_plane_penalty(
         height_m: rig.height_m,
         thickness_m: rig.thickness_m,
         shear_span_m: rig.anchor_z_m,
-        unconverged,
-        retried,
-        steps: sim.state.steps,
-        dt_s: sim.dt(),
-        wall_time_s: t0.elapsed().as_secs_f64(),
-    })
+        unconverged: work.unconverged,
+        retried: work.retried,
+        steps: work.steps,
+        dt_s: work.dt_s,
+        wall_time_s: work.t0.elapsed().as_secs_f64(),
+    }
 }

@@ -27,7 +27,7 @@
 //! (`tests/suite/inplane.rs`).
 
 use super::inplane::{
-    direction, read_mechanism, History, InPlaneError, InPlaneParams, InPlaneResult, MechanismJoint, Rig,
+    mechanism_at_reading, result_of, InPlaneError, InPlaneParams, InPlaneResult, MechanismJoint, Rig, Work,
 };
 use super::inplane::{BeamRotation, CurvePoint};
 use crate::layout::Layout;
@@ -178,32 +178,8 @@ pub fn run_in_plane_nscd(
             reading = (top, poses(&sim));
         }
     }
-    let (scale, at) = (reading.0, reading.1);
     let ids: Vec<String> = sim.bodies().iter().map(|b| b.id.clone()).collect();
-    let motion = |k: usize, x: &Vec3| -> Vec3 {
-        let (p0, q0) = reference[k];
-        let (p1, q1) = at[k];
-        p1 + (q1 * q0.inverse()) * (x - p0) - x
-    };
-    let turn = |k: usize| (at[k].1 * reference[k].1.inverse()).scaled_axis().y;
-    let mechanism = read_mechanism(&ref_joints, &ids, bi, anchor_ref, scale.max(0.0), motion, turn);
-    Ok(InPlaneResult {
-        positive: direction(&curve, 1.0),
-        negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
-        curve,
-        mechanism,
-        poses_at_reading: at.iter().map(|(p, q)| (*p, q.scaled_axis())).collect(),
-        vertical_force_kn: rig.vertical_force_n * 1e-3,
-        n_total_kn: rig.n_total_n() * 1e-3,
-        rocking_force_kn: rig.rocking_force_n(params.beam_rotation) * 1e-3,
-        length_m: rig.length_m,
-        height_m: rig.height_m,
-        thickness_m: rig.thickness_m,
-        shear_span_m: rig.anchor_z_m,
-        unconverged,
-        retried: 0,
-        steps: sim.steps(),
-        dt_s: h,
-        wall_time_s: t0.elapsed().as_secs_f64(),
-    })
+    let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor_ref, &reference, &reading);
+    let work = Work { unconverged, retried: 0, steps: sim.steps(), dt_s: h, t0 };
+    Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
 }
