@@ -155,6 +155,8 @@ impl Effect {
                 Step::RopePretension { .. } => super::rope::set_end_rope(layout, RopeProperty::Pretension, v),
                 Step::RopeStiffness { .. } => super::rope::set_end_rope(layout, RopeProperty::AxialStiffness, v),
                 Step::TableOvershoot { .. } => layout.table_overshoot_deg = v,
+                Step::JackTilt { .. } => layout.vertical_load_rig.inverse_jack_length_per_m = v,
+                Step::RigFriction { .. } => layout.vertical_load_rig.friction = v,
             }
         }
         Ok(())

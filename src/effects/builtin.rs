@@ -151,7 +151,8 @@ fn joint_effects() -> Vec<EffectDef> {
 
 /// The effects on the wall as built and as held: its lean, its stones' edges, its end
 /// restraints and ropes, its joints' dip and dilatancy, the base's restraint, the table's
-/// kick and a leaf split (library order after [`joint_effects`]).
+/// kick, a leaf split and the in-plane rig's vertical load (library order after
+/// [`joint_effects`]).
 fn wall_effects() -> Vec<EffectDef> {
     vec![
         def(
@@ -253,6 +254,32 @@ fn wall_effects() -> Vec<EffectDef> {
                 None,
             )],
             vec![Step::LeafSplit { parameter: "loose_leaf_fraction".into(), through_stone_every: None }],
+        ),
+        // The in-plane rig's vertical load: what the horizontal actuator carries besides
+        // the wall's shear.
+        def(
+            "jack_tilt",
+            "the in-plane rig's vertical load applied by a jack (or tie rods) hinged at a distance L from the loading beam: as the beam moves by u the jack leans by u/L, and its force N pulls the beam back by N u/L, which the horizontal actuator carries on top of the wall's shear",
+            "statics of a force applied between two hinges (a pendulum): a vertical jack or tie rod of length L whose end follows the beam's displacement u is inclined by u/L; shear-compression rigs apply the vertical load by jacks against a reaction frame or by rods to the strong floor, and the rig of the granite walls is not described in the data (Vanin et al. 2017 database; Vasconcelos & Lourenço 2009) in enough detail to fix L",
+            vec![sourced(
+                param("inverse_length_per_m", "1/m", 0.0, 1.0, Scale::Linear, 0.0, false),
+                "estimate (reasoning: from 0, a load that does not lean (a jack on rollers, or hinges far apart), to 1/m, hinges 1 m apart: a jack and its load cell between a reaction frame and the beam, or rods from the floor beside a wall about 1.2 m high, are at least that long. A property of the set-up, not of the stone: no range per kind)",
+                None,
+                None,
+            )],
+            vec![Step::JackTilt { parameter: "inverse_length_per_m".into() }],
+        ),
+        def(
+            "rig_friction",
+            "the in-plane rig's vertical load bearing on the loading beam through rollers or a sliding bearing of friction coefficient mu_r: the bearing resists the beam's motion by mu_r N, which the horizontal actuator carries on top of the wall's shear",
+            "Coulomb friction of the bearing that lets the beam move under the vertical load (steel rollers, PTFE sliding bearings); the rig of the granite walls is not described in the data (Vanin et al. 2017 database; Vasconcelos & Lourenço 2009) in enough detail to fix it",
+            vec![sourced(
+                param("friction", "-", 0.0, 0.05, Scale::Linear, 0.0, false),
+                &format!("estimate (reasoning: rolling friction of steel rollers of a few thousandths up to a PTFE sliding bearing at low pressure or a worn bearing, about 0.05; {NOT_CHECKED}. A property of the set-up: no range per kind)"),
+                None,
+                None,
+            )],
+            vec![Step::RigFriction { parameter: "friction".into() }],
         ),
     ]
 }

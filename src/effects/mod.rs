@@ -25,6 +25,10 @@
 //! | `leaf_split` | f (–) | layout: every block cut into two leaves, the loose +y leaf taking the share f of the width |
 //! | `shear_stiffness` | factor (–) | joint law: Ks of every joint × factor (Kn kept) |
 //! | `dilatant_joints` | i (deg) | joint law: friction angle of the `bed` joints φ → φ + i (Patton 1966) |
+//! | `toe_crushing` | fc (MPa) | joint law: faces crushing at fc, `q = min(Kn u, fc)` |
+//! | `table_kick` | Δ (deg) | the tilting table: each 5° stop loads the wall to the stop plus Δ |
+//! | `jack_tilt` | 1/L (1/m) | the in-plane rig: the actuator carries `N u / L` more |
+//! | `rig_friction` | μ_r (–) | the in-plane rig: the actuator carries `μ_r N` more, against the motion |
 //!
 //! Every parameter carries a broad plausible range with its source and narrower ranges for
 //! the kinds of wall ([`WallKind`], the wall description's `kind`), each with its source
@@ -79,8 +83,9 @@ pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 /// moves only the tilting table's angles, as a lean does; a study of such a table names it.
 /// `toe_crushing` acts only where joints bear stresses of MPa (the in-plane test's toe
 /// under its vertical force), not under a wall's own weight; a study of such a test names
-/// it.
-pub const NAMED_ONLY_EFFECTS: [&str; 2] = ["table_kick", "toe_crushing"];
+/// it. `jack_tilt` and `rig_friction` belong to the in-plane rig's vertical load and move
+/// only the force its actuator reads.
+pub const NAMED_ONLY_EFFECTS: [&str; 4] = ["table_kick", "toe_crushing", "jack_tilt", "rig_friction"];
 
 /// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
 pub const MAX_FRICTION_DEG: f64 = 85.0;
@@ -526,7 +531,10 @@ impl EffectDef {
     /// on a free wall; the table's overshoot acts on every wall.
     pub fn acts_on(&self, restrained: bool) -> bool {
         restrained
-            || self.steps.iter().any(|s| s.stage() != Stage::Restraints || matches!(s, Step::TableOvershoot { .. }))
+            || self.steps.iter().any(|s| {
+                s.stage() != Stage::Restraints
+                    || matches!(s, Step::TableOvershoot { .. } | Step::JackTilt { .. } | Step::RigFriction { .. })
+            })
     }
 
     /// Whether it draws random numbers (a `transverse_dip` step).

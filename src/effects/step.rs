@@ -119,6 +119,19 @@ pub enum Step {
         /// The parameter giving Δ, degrees.
         parameter: String,
     },
+    /// The in-plane rig's vertical load applied by a jack (or tie rods) hinged `L` from the
+    /// beam: the actuator carries `N u / L` more (`Layout::vertical_load_rig`).
+    JackTilt {
+        /// The parameter giving `1/L`, 1/m.
+        parameter: String,
+    },
+    /// The in-plane rig's vertical load bearing on the beam through rollers or a sliding
+    /// bearing of friction `μ_r`: the actuator carries `μ_r N` more, against the beam's
+    /// motion (`Layout::vertical_load_rig`).
+    RigFriction {
+        /// The parameter giving `μ_r`.
+        parameter: String,
+    },
     /// The section split into two leaves: every block cut so that the +y leaf takes the
     /// share f (the parameter, in [0, 1)) of the section's width ([`super::geometry::split_leaves`]).
     LeafSplit {
@@ -146,6 +159,8 @@ impl Step {
             | Step::RopeStiffness { parameter }
             | Step::BaseStop { parameter, .. }
             | Step::TableOvershoot { parameter }
+            | Step::JackTilt { parameter }
+            | Step::RigFriction { parameter }
             | Step::LeafSplit { parameter, .. } => parameter,
             Step::Dilatancy { parameter, .. } => parameter,
         }
@@ -163,7 +178,9 @@ impl Step {
             Step::RestraintSpring { .. }
             | Step::RopePretension { .. }
             | Step::RopeStiffness { .. }
-            | Step::TableOvershoot { .. } => Stage::Restraints,
+            | Step::TableOvershoot { .. }
+            | Step::JackTilt { .. }
+            | Step::RigFriction { .. } => Stage::Restraints,
             Step::Dilatancy { .. } => Stage::JointLaw,
         }
     }

@@ -388,10 +388,53 @@ pub struct Layout {
     /// every 5° stop (`loading::tilt_hand::effective_tilt_deg`). Set by the effect
     /// `table_kick`; the other protocols do not read it.
     pub table_overshoot_deg: f64,
+    /// The in-plane rig's vertical-load system as the horizontal actuator feels it (zero as
+    /// built from a file: an ideal vertical force). Set by the effects `jack_tilt` and
+    /// `rig_friction`; read by the in-plane test's drivers (`loading::inplane`), the other
+    /// protocols do not read it.
+    pub vertical_load_rig: VerticalLoadRig,
     /// Monitor points.
     pub monitors: Vec<Monitor>,
     /// Joint families with their own properties.
     pub joint_families: JointFamilies,
+}
+
+/// How the in-plane rig's vertical-load system loads the beam horizontally: a force on the
+/// beam along x that the horizontal actuator carries on top of the wall's shear, so that the
+/// force it reads is `V = V_wall + N (u / L + μ_r sgn(u̇))`, with `N = σ0 L t` the applied
+/// vertical force (the loading beam's weight part of it, as the rig applies it), `u` the
+/// beam's displacement at the wall's top and `u̇` the sense of its last increment. Both zero: an ideal vertical force.
+///
+/// * `inverse_jack_length_per_m` (`1/L`, 1/m, ≥ 0): a jack, or tie rods, hinged at a
+///   distance `L` from the beam leans by `u / L` as the beam moves, and its force then pulls
+///   the beam back by `N u / L` (the pendulum of a vertical load applied between
+///   hinges);
+/// * `friction` (`μ_r`, ≥ 0): a vertical load that bears on the beam through rollers or a
+///   sliding bearing resists the beam's motion by `μ_r N`.
+///
+/// The beam's horizontal motion is imposed, so these forces leave the wall's state as it is
+/// and move only the force read (`loading::inplane::result_of`); limit analysis, which has no
+/// displacement, reads the friction alone.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct VerticalLoadRig {
+    /// `1/L`, 1/m: the jack's hinges `L` apart (0: no lean).
+    pub inverse_jack_length_per_m: f64,
+    /// `μ_r`, the bearing's friction coefficient (0: none).
+    pub friction: f64,
+}
+
+impl VerticalLoadRig {
+    /// Whether it is the ideal vertical force (both zero).
+    pub fn is_ideal(&self) -> bool {
+        self.inverse_jack_length_per_m == 0.0 && self.friction == 0.0
+    }
+
+    /// The horizontal force the actuator carries for the rig, N (along +x, the sense of the
+    /// actuator's push) under the vertical force `n_n` (N): `n_n (u_m / L + μ_r sense)`, `sense` the sign of the
+    /// beam's last increment (−1, 0 or +1).
+    pub fn actuator_force_n(&self, n_n: f64, u_m: f64, sense: f64) -> f64 {
+        n_n * (u_m * self.inverse_jack_length_per_m + self.friction * sense)
+    }
 }
 
 impl LayoutSpec {

@@ -137,6 +137,7 @@ impl LayoutSpec {
             end_restraints,
             ropes,
             table_overshoot_deg: 0.0,
+            vertical_load_rig: super::VerticalLoadRig::default(),
             monitors,
             joint_families,
         };

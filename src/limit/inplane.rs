@@ -9,7 +9,9 @@
 //! `λ N_total`. The beam's out-of-plane degrees of freedom (y, rotations about x and z) are
 //! held, and its rotation about y with [`BeamRotation::Fixed`] (free reactions of the
 //! program: [`super::model`]). A monolithic wall gives `V = N_total L / (2 H0)` (rocking
-//! about the toe) or `μ N_total` (sliding), whichever is smaller (`drystone verify`).
+//! about the toe) or `μ N_total` (sliding), whichever is smaller (`drystone verify`). The
+//! rig's vertical-load system (`Layout::vertical_load_rig`) adds its bearing's friction
+//! `μ_r N` to the peak; the lean of its jack needs a displacement and adds nothing.
 
 use super::{limit_with, LimitError, LimitParams, LimitResult, LiveLoad};
 use crate::dem::SolverParams;
@@ -23,7 +25,7 @@ use serde::{Deserialize, Serialize};
 /// What limit analysis gives for the in-plane test.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InPlaneLimit {
-    /// The peak horizontal force `λ N_total`, kN.
+    /// The peak horizontal force `λ N_total` (plus the rig's bearing friction, if any), kN.
     pub peak_force_kn: f64,
     /// The axial force at the base, self-weight included, kN.
     pub n_total_kn: f64,
@@ -88,8 +90,11 @@ pub fn limit_in_plane(
         |k, x| v[k].translation + v[k].rotation.cross(&(x - model.centroid[k])),
         |k| v[k].rotation.y,
     );
+    // The rig's vertical load: its bearing's friction resists the beam's motion; its lean
+    // needs a displacement, which the collapse of rigid blocks does not have.
+    let rig_friction_n = rig.layout.vertical_load_rig.actuator_force_n(rig.vertical_force_n, 0.0, 1.0);
     Ok(InPlaneLimit {
-        peak_force_kn: r.load_multiplier * n_total * 1e-3,
+        peak_force_kn: (r.load_multiplier * n_total + rig_friction_n) * 1e-3,
         n_total_kn: n_total * 1e-3,
         vertical_force_kn: rig.vertical_force_n * 1e-3,
         rocking_force_kn: rig.rocking_force_n(params.beam_rotation) * 1e-3,

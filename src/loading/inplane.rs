@@ -537,6 +537,31 @@ impl Rig {
         }
     }
 
+    /// Adds to each point of `curve` the force the horizontal actuator carries for the
+    /// rig's vertical-load system (`Layout::vertical_load_rig`: `N (u / L + μ_r sgn(u̇))`,
+    /// N the applied vertical force `σ0 L t`, u the point's top displacement, u̇'s sense that of the increment that led
+    /// to it, none at the first point); nothing for an ideal vertical force.
+    pub fn add_vertical_load_rig(&self, curve: &mut [CurvePoint]) {
+        let r = self.layout.vertical_load_rig;
+        if r.is_ideal() {
+            return;
+        }
+        let n = self.vertical_force_n;
+        let mut last = None;
+        for p in curve.iter_mut() {
+            let sense = last.map_or(0.0, |u0: f64| {
+                let du: f64 = p.top_mm - u0;
+                if du == 0.0 {
+                    0.0
+                } else {
+                    du.signum()
+                }
+            });
+            last = Some(p.top_mm);
+            p.force_kn += 1e-3 * r.actuator_force_n(n, 1e-3 * p.top_mm, sense);
+        }
+    }
+
     /// The rigid rocking capacity of the monolithic wall, N: `N_total L / (2 H0)` with the
     /// beam's rotation free; with it held (double curvature: the wall turns about its toe
     /// and bears on the level beam at its opposite top corner), `(N L + W L / 2) / H`.
@@ -1162,11 +1187,12 @@ pub(crate) struct Work {
 pub(crate) fn result_of(
     rig: &Rig,
     params: &InPlaneParams,
-    curve: Vec<CurvePoint>,
+    mut curve: Vec<CurvePoint>,
     mechanism: InPlaneMechanism,
     at: &Poses,
     work: Work,
 ) -> InPlaneResult {
+    rig.add_vertical_load_rig(&mut curve);
     InPlaneResult {
         positive: direction(&curve, 1.0),
         negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },

@@ -392,6 +392,8 @@ impl StudySpec {
     ///
     /// * ropes under `[solver] kind = "limit"` (`LimitError::Ropes`, as `drystone tilt
     ///   --solver limit` refuses them): limit analysis has no displacement for a rope;
+    /// * an effect on the in-plane rig's vertical load (`jack_tilt`, `rig_friction`) in a
+    ///   study of another protocol, which would not read it;
     /// * a table overshoot (`table_kick`) with `[tilt] by_hand`: the hand-rolled table runs
     ///   the kicks of its stops, of which `table_kick` is the quasi-static equivalent; both
     ///   would count them twice, and the hand-rolled run does not read it.
@@ -401,7 +403,32 @@ impl StudySpec {
     fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
         let refuses_ropes = !self.solver.kind.method().runs_ropes();
         let by_hand = self.rolled_by_hand();
-        if !(refuses_ropes || by_hand) || group.effects.is_empty() {
+        let in_plane = self.loading_kind() == crate::protocol::Loading::InPlane;
+        if group.effects.is_empty() {
+            return Ok(());
+        }
+        if !in_plane {
+            if let Some(e) = group.effects.iter().find(|e| {
+                e.def.steps.iter().any(|s| {
+                    matches!(s, crate::effects::Step::JackTilt { .. } | crate::effects::Step::RigFriction { .. })
+                })
+            }) {
+                let name = &e.def.name;
+                let at = if g.effects.contains_key(name) {
+                    format!("groups[{}].effects.{name}", g.name)
+                } else {
+                    format!("effects.{name}")
+                };
+                return Err(invalid.at(
+                    &at,
+                    format!(
+                        "acts on the in-plane test's vertical load (the force its horizontal actuator reads); the {} does not read it (drop the effect, or run the study with protocol = \"in_plane\")",
+                        self.loading_kind().describe()
+                    ),
+                ));
+            }
+        }
+        if !(refuses_ropes || by_hand) {
             return Ok(());
         }
         let Some(wall) = group.walls.first() else { return Ok(()) };

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The number of cases of this corpus.
-const CORPUS_CASES: usize = 18;
+const CORPUS_CASES: usize = 19;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -109,6 +109,10 @@ fn values_the_command_line_refuses_are_refused_when_a_study_is_read() {
         ),
     );
     refused("table_kick with by_hand", &s, &dir, &["effects.table_kick", "by_hand"], &mut count);
+    // An effect on the in-plane rig's vertical load in a tilting-table study, which has no
+    // such rig: refused by name, not run as the plain wall.
+    let s = study(&dir, "tilt_jack_tilt", TINY, "[effects]\njack_tilt = { inverse_length_per_m = 0.5 }");
+    refused("jack_tilt on the tilting table", &s, &dir, &["effects.jack_tilt", "in_plane"], &mut count);
     // The discrepancy settings: an unknown name under the list that gives it, a σ of 1e300.
     let s = study(&dir, "also_unknown", TINY, "[discrepancy]\nalso_effects = [\"table_kik\"]");
     refused("also_effects naming no effect", &s, &dir, &["discrepancy.also_effects[0]", "table_kik"], &mut count);

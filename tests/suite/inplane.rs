@@ -426,3 +426,61 @@ fn nscd_slides_a_monolith_on_a_slippery_base_at_mu_n() {
     assert!((peak / v - 1.0).abs() < 0.01, "nscd peak {peak} N vs {v} N");
     assert_eq!(kind, MechanismKind::Sliding);
 }
+
+/// The rig's vertical load (`Layout::vertical_load_rig`, the effects `rig_friction` and
+/// `jack_tilt`) against the closed forms of a monolith sliding on a base of μ = 0.2: the
+/// wall's shear is `μ N_total` while it slides, so the actuator reads `μ N_total + μ_r
+/// N_jack` both ways of a cyclic history (the bearing resisting each way's motion), and
+/// `μ N_total + N_jack u / L` at the largest displacement u of a monotonic push (the
+/// leaning jack pulling the beam back); limit analysis, without displacement, adds the
+/// friction alone to the rocking capacity. `N_jack` is the applied vertical force `σ0 L t`.
+#[test]
+fn the_rigs_vertical_load_adds_its_bearing_friction_and_its_jacks_lean_to_the_actuators_force() {
+    let (n, w) = forces();
+    let mu: f64 = 0.2;
+    let s = SolverParams::default();
+    let base = inplane_block(mu.atan().to_degrees(), 1e10);
+    let plain = run_in_plane_penalty(&base, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let n_jack = n;
+    // Friction, both ways.
+    let mu_r = 0.03;
+    let mut wall = base.clone();
+    wall.vertical_load_rig.friction = mu_r;
+    let p = InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5]), ..params(0.5) };
+    let r = run_in_plane_penalty(&wall, s, &p, &mut |_, _, _| {}).unwrap();
+    let v = mu * (n + w) + mu_r * n_jack;
+    for (way, d) in [("positive", r.positive.unwrap()), ("negative", r.negative.unwrap())] {
+        assert!((d.peak_force_kn * 1e3 / v - 1.0).abs() < 0.01, "{way}: {} kN vs {v} N", d.peak_force_kn);
+    }
+    assert_eq!(r.unconverged, 0);
+    // The leaning jack, hinges 1.5 m apart: the force grows with the displacement while the
+    // wall slides, and the peak is at the largest displacement.
+    let inv_l = 1.0 / 1.5;
+    let mut wall = base.clone();
+    wall.vertical_load_rig.inverse_jack_length_per_m = inv_l;
+    let r = run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let last = r.curve.last().unwrap();
+    let v = mu * (n + w) + n_jack * last.top_mm * 1e-3 * inv_l;
+    let d = r.positive.unwrap();
+    assert!((d.peak_force_kn * 1e3 / v - 1.0).abs() < 0.01, "leaning jack: {} kN vs {v} N", d.peak_force_kn);
+    assert!(
+        (d.drift_at_peak_pct - last.drift_pct).abs() < 1e-9,
+        "peak at {} % of {} %",
+        d.drift_at_peak_pct,
+        last.drift_pct
+    );
+    assert!(plain.positive.unwrap().drift_at_peak_pct < 0.9 * last.drift_pct);
+    // The wall's state is the plain run's: the curves differ by N_jack u / L alone.
+    assert_eq!(r.curve.len(), plain.curve.len());
+    for (a, b) in r.curve.iter().zip(&plain.curve) {
+        assert_eq!(a.top_mm, b.top_mm);
+        let extra = (a.force_kn - b.force_kn) * 1e3;
+        assert!((extra - n_jack * a.top_mm * 1e-3 * inv_l).abs() < 1e-6 * v, "{extra} N at {} mm", a.top_mm);
+    }
+    // Limit analysis: the rocking capacity plus the friction.
+    let mut wall = inplane_block(45.0, RIGID_KN);
+    wall.vertical_load_rig = drystone::layout::VerticalLoadRig { inverse_jack_length_per_m: inv_l, friction: mu_r };
+    let la = limit_in_plane(&wall, &s, &params(1.0), &s.limit).unwrap();
+    let v = (n + w) * L / (2.0 * H0) + mu_r * n_jack;
+    assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);
+}
