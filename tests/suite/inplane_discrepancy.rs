@@ -39,27 +39,24 @@ fn round(v: f64, r: f64) -> f64 {
     (v / r).round() * r
 }
 
-#[test]
-fn a_softer_joint_hidden_in_in_plane_data_is_named() {
-    let wall = Wall::from_file(Path::new(WALL)).unwrap();
-    let mut soft = wall.clone();
-    for m in &mut soft.materials {
-        m.kn_pa_per_m *= HIDDEN;
-        m.ks_pa_per_m *= HIDDEN;
-    }
-    let solver = SolverParams::default();
+/// A reading of a made specimen: its measure, value, the database's digit and the σ stated.
+type Reading = (InPlaneQuantity, f64, f64, f64);
+
+/// The made specimens' observations (three a stress, the readings `read` gives of each,
+/// rounded to their digits) and the model's groups (the wall as described, pushed by
+/// `push`) at the stresses `sigmas`.
+fn campaign(
+    wall: &Wall,
+    sigmas: &[f64],
+    push: impl Fn(f64) -> InPlaneParams,
+    read: impl Fn(f64, usize) -> Vec<Reading>,
+) -> (Vec<Observation>, Vec<GroupSetup>) {
     let mut obs = Vec::new();
     let mut groups = Vec::new();
-    for sigma in [0.5, 1.0] {
+    for &sigma in sigmas {
         let name = format!("{sigma} MPa");
         for i in 0..3 {
-            let layout = generate(&soft, 4242, i).unwrap().check().unwrap();
-            let r = run_in_plane_penalty(&layout, solver, &params(sigma), &mut |_, _, _| {}).unwrap();
-            let d = r.positive.unwrap();
-            for (quantity, v, res, sd) in [
-                (InPlaneQuantity::PeakForce, d.peak_force_kn, 0.1, 0.5),
-                (InPlaneQuantity::InitialStiffness, d.initial_stiffness_kn_per_mm, 0.1, 2.0),
-            ] {
+            for (quantity, v, res, sd) in read(sigma, i) {
                 obs.push(Observation {
                     specimen: format!("S{sigma}-{i}"),
                     group: name.clone(),
@@ -71,74 +68,7 @@ fn a_softer_joint_hidden_in_in_plane_data_is_named() {
         }
         groups.push(GroupSetup {
             name,
-            course_m: drystone::effects::course_height_of(&wall),
-            wall: wall.clone(),
-            realizations: 4,
-            restrained: false,
-            deterministic: false,
-            effects: vec![],
-            protocol: Some(Protocol::InPlane(InPlane(params(sigma)))),
-        });
-    }
-    let setup = Setup { groups, seed: 7, solver, protocol: Protocol::InPlane(InPlane(params(0.5))) };
-    let mut s = Settings::default();
-    (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
-    (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 40, 40, 200);
-    s.effects = vec!["kn_scale".into(), "toe_crushing".into()];
-    let run = drystone::discrepancy::run(&setup, obs, &s, 11, &Library::builtin()).unwrap();
-    let a = &run.analysis;
-    let cause = a.cause.as_ref().map(|c| c.name.clone());
-    assert!(
-        cause.as_deref().is_some_and(|c| c.starts_with("kn_scale")),
-        "named {cause:?}, verdict {}",
-        a.verdict.name()
-    );
-    let factor = run.cause_interval.iter().find(|p| p.name == "kn_scale.factor").expect("the factor's interval");
-    assert!(
-        factor.interval.0 <= HIDDEN && HIDDEN <= factor.interval.1,
-        "kn_scale.factor {} {:?} does not hold the hidden {HIDDEN}",
-        factor.value,
-        factor.interval
-    );
-}
-
-/// The hidden 1/L of the leaning jack, per m.
-const HIDDEN_INVERSE_LENGTH: f64 = 0.4;
-
-#[test]
-fn a_leaning_jack_hidden_in_in_plane_data_is_named() {
-    let wall = Wall::from_file(Path::new(WALL)).unwrap();
-    let solver = SolverParams::default();
-    let push = |sigma0_mpa: f64| InPlaneParams { drift_pct: 2.0, ..params(sigma0_mpa) };
-    let mut obs = Vec::new();
-    let mut groups = Vec::new();
-    for sigma in [0.5, 0.875] {
-        let name = format!("{sigma} MPa");
-        for i in 0..3 {
-            let layout = generate(&wall, 4343, i).unwrap().check().unwrap();
-            let r = run_in_plane_penalty(&layout, solver, &push(sigma), &mut |_, _, _| {}).unwrap();
-            // The jack: N = σ0 L t of the wall's plan, pulling the beam back by N u / L.
-            let n_kn = sigma * 1e3 * r.length_m * r.thickness_m;
-            let (peak, drift) = r
-                .curve
-                .iter()
-                .map(|p| (p.force_kn + n_kn * p.top_mm * 1e-3 * HIDDEN_INVERSE_LENGTH, p.drift_pct))
-                .fold((f64::NEG_INFINITY, 0.0), |best, p| if p.0 > best.0 { p } else { best });
-            for (quantity, v, res, sd) in
-                [(InPlaneQuantity::PeakForce, peak, 0.1, 0.5), (InPlaneQuantity::DriftAtPeak, drift, 0.01, 0.15)]
-            {
-                obs.push(Observation {
-                    specimen: format!("S{sigma}-{i}"),
-                    group: name.clone(),
-                    observable: Observable::InPlane { quantity },
-                    value: round(v, res),
-                    sigma: sd,
-                });
-            }
-        }
-        groups.push(GroupSetup {
-            name,
-            course_m: drystone::effects::course_height_of(&wall),
+            course_m: drystone::effects::course_height_of(wall),
             wall: wall.clone(),
             realizations: 4,
             restrained: false,
@@ -147,24 +77,71 @@ fn a_leaning_jack_hidden_in_in_plane_data_is_named() {
             protocol: Some(Protocol::InPlane(InPlane(push(sigma)))),
         });
     }
-    let setup = Setup { groups, seed: 7, solver, protocol: Protocol::InPlane(InPlane(push(0.5))) };
+    (obs, groups)
+}
+
+/// The analysis of `obs` against `groups` (small settings: 2 realizations a node, 4 grid
+/// intervals, 40 null data sets) searching `effects`; asserts that it names `effect` with
+/// the interval of its parameter `param` holding `hidden`.
+fn names(obs: Vec<Observation>, groups: Vec<GroupSetup>, effects: &[&str], effect: &str, param: &str, hidden: f64) {
+    let protocol = groups[0].protocol.clone().expect("set");
+    let setup = Setup { groups, seed: 7, solver: SolverParams::default(), protocol };
     let mut s = Settings::default();
     (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
     (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 40, 40, 200);
-    s.effects = vec!["rig_friction".into(), "jack_tilt".into()];
+    s.effects = effects.iter().map(|e| e.to_string()).collect();
     let run = drystone::discrepancy::run(&setup, obs, &s, 11, &Library::builtin()).unwrap();
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(|c| c.name.clone());
+    assert!(cause.as_deref().is_some_and(|c| c.starts_with(effect)), "named {cause:?}, verdict {}", a.verdict.name());
+    let name = format!("{effect}.{param}");
+    let p = run.cause_interval.iter().find(|p| p.name == name).expect("the parameter's interval");
     assert!(
-        cause.as_deref().is_some_and(|c| c.starts_with("jack_tilt")),
-        "named {cause:?}, verdict {}",
-        a.verdict.name()
-    );
-    let p = run.cause_interval.iter().find(|p| p.name == "jack_tilt.inverse_length_per_m").expect("1/L's interval");
-    assert!(
-        p.interval.0 <= HIDDEN_INVERSE_LENGTH && HIDDEN_INVERSE_LENGTH <= p.interval.1,
-        "jack_tilt 1/L {} {:?} does not hold the hidden {HIDDEN_INVERSE_LENGTH}",
+        p.interval.0 <= hidden && hidden <= p.interval.1,
+        "{name} {} {:?} does not hold the hidden {hidden}",
         p.value,
         p.interval
     );
+}
+
+#[test]
+fn a_softer_joint_hidden_in_in_plane_data_is_named() {
+    let wall = Wall::from_file(Path::new(WALL)).unwrap();
+    let mut soft = wall.clone();
+    for m in &mut soft.materials {
+        m.kn_pa_per_m *= HIDDEN;
+        m.ks_pa_per_m *= HIDDEN;
+    }
+    let (obs, groups) = campaign(&wall, &[0.5, 1.0], params, |sigma, i| {
+        let layout = generate(&soft, 4242, i as u64).unwrap().check().unwrap();
+        let r = run_in_plane_penalty(&layout, SolverParams::default(), &params(sigma), &mut |_, _, _| {}).unwrap();
+        let d = r.positive.unwrap();
+        vec![
+            (InPlaneQuantity::PeakForce, d.peak_force_kn, 0.1, 0.5),
+            (InPlaneQuantity::InitialStiffness, d.initial_stiffness_kn_per_mm, 0.1, 2.0),
+        ]
+    });
+    names(obs, groups, &["kn_scale", "toe_crushing"], "kn_scale", "factor", HIDDEN);
+}
+
+/// The hidden 1/L of the leaning jack, per m.
+const HIDDEN_INVERSE_LENGTH: f64 = 0.4;
+
+#[test]
+fn a_leaning_jack_hidden_in_in_plane_data_is_named() {
+    let wall = Wall::from_file(Path::new(WALL)).unwrap();
+    let push = |sigma0_mpa: f64| InPlaneParams { drift_pct: 2.0, ..params(sigma0_mpa) };
+    let (obs, groups) = campaign(&wall, &[0.5, 0.875], push, |sigma, i| {
+        let layout = generate(&wall, 4343, i as u64).unwrap().check().unwrap();
+        let r = run_in_plane_penalty(&layout, SolverParams::default(), &push(sigma), &mut |_, _, _| {}).unwrap();
+        // The jack: N = σ0 L t of the wall's plan, pulling the beam back by N u / L.
+        let n_kn = sigma * 1e3 * r.length_m * r.thickness_m;
+        let (peak, drift) = r
+            .curve
+            .iter()
+            .map(|p| (p.force_kn + n_kn * p.top_mm * 1e-3 * HIDDEN_INVERSE_LENGTH, p.drift_pct))
+            .fold((f64::NEG_INFINITY, 0.0), |best, p| if p.0 > best.0 { p } else { best });
+        vec![(InPlaneQuantity::PeakForce, peak, 0.1, 0.5), (InPlaneQuantity::DriftAtPeak, drift, 0.01, 0.15)]
+    });
+    names(obs, groups, &["rig_friction", "jack_tilt"], "jack_tilt", "inverse_length_per_m", HIDDEN_INVERSE_LENGTH);
 }
