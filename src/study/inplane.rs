@@ -30,6 +30,10 @@
 //! history = "monotonic"      # or "cyclic"
 //! specimens = ["WS.100"]     # rows of the measured file compared with this group
 //! realizations = 8           # optional: the study's by default
+//! effects = { seating_gap = { max_gap_m = 4.2e-4 } }  # optional: on top of the study's
+//!
+//! [effects]                  # optional: every group's model extended (crate::effects)
+//! jack_tilt = { inverse_length_per_m = 0.54 }
 //!
 //! [measured]
 //! walls = "../data/inplane_granite/walls.csv"          # the database's columns
@@ -38,10 +42,11 @@
 //! ```
 //!
 //! Realization i of group g is the wall generated with the study's seed and index
-//! `g · 10000 + i` (`generator::generate`): the same bits on any thread count.
+//! `g · 10000 + i` (`generator::generate`), with the group's effects applied
+//! (`effects::realize`): the same bits on any thread count.
 
 use crate::dem::SolverParams;
-use crate::generator::{generate, DistributionSource, Wall};
+use crate::generator::{DistributionSource, Wall};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
 use crate::limit::inplane::limit_in_plane;
 use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, InPlaneResult, Rig};
@@ -76,6 +81,11 @@ pub struct InPlaneStudySpec {
     pub in_plane: InPlaneParams,
     /// The groups.
     pub groups: Vec<InPlaneGroupSpec>,
+    /// Effects applied to every group's model (`[effects] NAME = { PARAM = VALUE }`, as in a
+    /// tilting-table study: [`crate::effects`]), e.g. the extended model a discrepancy
+    /// analysis fitted. Default none.
+    #[serde(default)]
+    pub effects: super::spec::EffectsSpec,
     /// The measured specimens.
     #[serde(default)]
     pub measured: Option<InPlaneMeasuredSpec>,
@@ -104,6 +114,10 @@ pub struct InPlaneGroupSpec {
     /// Its realizations (the study's when absent).
     #[serde(default)]
     pub realizations: Option<u64>,
+    /// Effects applied to this group's model on top of the study's `effects` (a value
+    /// given here replaces the study's for that effect). Default none.
+    #[serde(default)]
+    pub effects: super::spec::EffectsSpec,
 }
 
 /// Where the measured specimens are.
@@ -426,6 +440,51 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
     Ok(spec)
 }
 
+/// The effects of group `g`'s model, each with the key that states it: the study's
+/// `effects` the group does not restate, then the group's own.
+pub fn stated_effects(spec: &InPlaneStudySpec, g: usize) -> Vec<(String, &str, &BTreeMap<String, f64>)> {
+    let group = &spec.groups[g];
+    let mut v: Vec<(String, &str, &BTreeMap<String, f64>)> = spec
+        .effects
+        .iter()
+        .filter(|(n, _)| !group.effects.contains_key(*n))
+        .map(|(n, values)| (format!("effects.{n}"), n.as_str(), values))
+        .collect();
+    v.extend(group.effects.iter().map(|(n, values)| (format!("groups[{g}].effects.{n}"), n.as_str(), values)));
+    v
+}
+
+/// The effects of group `g`'s model ([`stated_effects`]) resolved in the built-in library
+/// for its wall, applied to every realization ([`crate::effects::realize`]).
+///
+/// # Errors
+/// [`InPlaneStudyError::Invalid`] naming the effect's key: an unknown effect or parameter,
+/// a value out of its range, an effect that cannot act on realization 0 of the wall.
+pub fn group_effects(
+    spec: &InPlaneStudySpec,
+    path: &Path,
+    g: usize,
+    wall: &Wall,
+) -> Result<Vec<crate::effects::Effect>, InPlaneStudyError> {
+    let library = crate::effects::Library::builtin();
+    let course_m = crate::effects::course_height_of(wall);
+    let bad =
+        |key: &str, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key: key.into(), message };
+    let stated = stated_effects(spec, g);
+    let effects: Vec<crate::effects::Effect> = stated
+        .iter()
+        .map(|(key, name, values)| library.from_values(name, values, course_m).map_err(|e| bad(key, e.to_string())))
+        .collect::<Result<_, _>>()?;
+    if let Some((key, ..)) = stated.first() {
+        if let Err(e) = crate::effects::realize(wall, spec.seed, 0, &spec.groups[g].name, &effects) {
+            if !matches!(e, crate::effects::EffectError::Generator(_)) {
+                return Err(bad(key, e.to_string()));
+            }
+        }
+    }
+    Ok(effects)
+}
+
 /// Runs the study `path` into `out` (see the module doc) on the current rayon pool.
 ///
 /// # Errors
@@ -458,6 +517,8 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
                 .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
         })
         .collect::<Result<_, _>>()?;
+    let effects: Vec<Vec<crate::effects::Effect>> =
+        (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
     let items: Vec<(usize, u64)> = spec
         .groups
         .iter()
@@ -473,7 +534,7 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
             let group = &spec.groups[g];
             let params =
                 InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
-            let row = realization(&walls[g], spec.seed, g, i, group, &params, solver);
+            let row = realization(&walls[g], &effects[g], spec.seed, g, i, group, &params, solver);
             if let Ok(mut f) = journal.lock() {
                 let _ = writeln!(f, "{}", serde_json::to_string(&row).unwrap_or_default());
                 let _ = f.sync_data();
@@ -483,7 +544,7 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
         .collect();
     rows.sort_by_key(|r| r.index);
     write_rows(&out.join("realizations.csv"), &rows)?;
-    let report = report(&spec, path, out, &rows, &specimens, &walls, solver, t0.elapsed().as_secs_f64())?;
+    let report = report(&spec, path, out, &rows, &specimens, &walls, &effects, solver, t0.elapsed().as_secs_f64())?;
     Ok(InPlaneStudyRun { rows, report, wall_time_s: t0.elapsed().as_secs_f64() })
 }
 
@@ -491,9 +552,23 @@ fn nan_dir() -> (f64, f64, f64, f64) {
     (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
 }
 
-/// One realization: the generated wall, its test by the penalty DEM and by limit analysis.
+/// The layout of realization `index` of a group's wall with its effects.
+fn realized(
+    wall: &Wall,
+    effects: &[crate::effects::Effect],
+    seed: u64,
+    index: u64,
+    group: &str,
+) -> Result<crate::layout::Layout, String> {
+    crate::effects::realize(wall, seed, index, group, effects).map(|(_, l)| l).map_err(|e| e.to_string())
+}
+
+/// One realization: the generated wall with its group's effects, its test by the penalty
+/// DEM and by limit analysis.
+#[allow(clippy::too_many_arguments)]
 fn realization(
     wall: &Wall,
+    effects: &[crate::effects::Effect],
     seed: u64,
     g: usize,
     i: u64,
@@ -528,15 +603,13 @@ fn realization(
         curve: Vec::new(),
         drawing: None,
     };
-    let layout =
-        match generate(wall, seed, index).map_err(|e| e.to_string()).and_then(|w| w.check().map_err(|e| e.to_string()))
-        {
-            Ok(l) => l,
-            Err(e) => {
-                row.error = e;
-                return row;
-            }
-        };
+    let layout = match realized(wall, effects, seed, index, &group.name) {
+        Ok(l) => l,
+        Err(e) => {
+            row.error = e;
+            return row;
+        }
+    };
     match crate::protocol::run(&crate::protocol::InPlane(params.clone()), &layout, solver, &mut ()) {
         Ok(crate::protocol::InPlaneRun::Penalty(Ok(r)) | crate::protocol::InPlaneRun::Nscd(Ok(r))) => {
             fill(&mut row, &r)
@@ -636,6 +709,7 @@ fn report(
     rows: &[InPlaneRow],
     specimens: &[Specimen],
     walls: &[Wall],
+    effects: &[Vec<crate::effects::Effect>],
     solver: SolverParams,
     elapsed_s: f64,
 ) -> Result<String, InPlaneStudyError> {
@@ -668,6 +742,16 @@ fn report(
         let slug: String =
             group.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
         let _ = writeln!(md, "## {}\n", group.name);
+        if !effects[g].is_empty() {
+            let stated: Vec<String> = stated_effects(spec, g)
+                .iter()
+                .map(|(_, name, values)| {
+                    let v: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                    format!("`{name}` ({})", v.join(", "))
+                })
+                .collect();
+            let _ = writeln!(md, "The model extended by {}.\n", stated.join(", "));
+        }
         let _ = writeln!(
             md,
             "σ0 = {} MPa, {} history, wall `{}`; {} realizations; measured: {}.\n",
@@ -774,9 +858,7 @@ fn report(
         if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
             let params =
                 InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
-            let layout = generate(&walls[g], spec.seed, r0.index)
-                .map_err(|e| e.to_string())
-                .and_then(|w| w.check().map_err(|e| e.to_string()));
+            let layout = realized(&walls[g], &effects[g], spec.seed, r0.index, &group.name);
             if let Ok(rig) =
                 layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
             {

@@ -22,7 +22,7 @@
 
 use super::inplane::{load, read_specimens, InPlaneStudyError};
 use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Settings, Setup};
-use crate::generator::{generate, DistributionSource, Wall};
+use crate::generator::{DistributionSource, Wall};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
 use std::path::Path;
@@ -67,6 +67,7 @@ pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
     let realizations = settings.most_realizations();
     let mut groups: Vec<GroupSetup> = Vec::new();
     let mut walls_of: Vec<std::path::PathBuf> = Vec::new();
+    let mut effects_of: Vec<usize> = Vec::new();
     let mut obs = Vec::new();
     for (g, group) in spec.groups.iter().enumerate() {
         let name = stress_group(group.sigma0_mpa);
@@ -81,12 +82,25 @@ pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
                     ),
                 ))
             }
+            Some(k)
+                if super::inplane::stated_effects(&spec, effects_of[k]) != super::inplane::stated_effects(&spec, g) =>
+            {
+                return Err(bad(
+                    format!("groups[{g}].effects"),
+                    format!(
+                        "the groups of {name} must share one model for the analysis (groups[{}]'s effects)",
+                        effects_of[k]
+                    ),
+                ))
+            }
             Some(_) => {}
             None => {
                 let p = base.join(&group.wall);
                 let wall = Wall::from_file_with(&p, &DistributionSource::default_for(&p))
                     .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })?;
-                let layout = |r: u64| generate(&wall, spec.seed, r).ok().and_then(|w| w.check().ok());
+                let effects = super::inplane::group_effects(&spec, path, g, &wall)?;
+                let layout =
+                    |r: u64| crate::effects::realize(&wall, spec.seed, r, &name, &effects).ok().map(|(_, l)| l);
                 let first = layout(0);
                 let deterministic = first.is_some() && first == layout(1);
                 let params = InPlaneParams {
@@ -101,10 +115,11 @@ pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
                     realizations,
                     restrained: false,
                     deterministic,
-                    effects: vec![],
+                    effects,
                     protocol: Some(Protocol::InPlane(InPlane(params))),
                 });
                 walls_of.push(group.wall.clone());
+                effects_of.push(g);
             }
         }
         for unit in &group.specimens {

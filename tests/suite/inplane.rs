@@ -354,6 +354,39 @@ envelopes = "{}"
     std::fs::write(&bad, std::fs::read_to_string(&study).unwrap().replace("\"WS.100\"", "\"WS.999\"")).unwrap();
     let e = drystone::study::inplane::run(&bad, &dir.join("c")).unwrap_err().to_string();
     assert!(e.contains("groups[0].specimens") && e.contains("WS.999"), "{e}");
+    // The model extended by the study's effects: the same walls, the force read with the
+    // leaning jack's N u / L on top (N = σ0 L t of the 1.0 × 0.2 m plan), named in the report.
+    let text = std::fs::read_to_string(&study).unwrap();
+    let extended = dir.join("extended.toml");
+    std::fs::write(
+        &extended,
+        text.replace("[in_plane]", "[effects]\njack_tilt = { inverse_length_per_m = 0.5 }\n\n[in_plane]"),
+    )
+    .unwrap();
+    let e = drystone::study::inplane::run(&extended, &dir.join("e")).unwrap();
+    for (x, a) in e.rows.iter().zip(&a.rows) {
+        assert_eq!(x.curve.len(), a.curve.len());
+        // (drift %, kN): the extra force over the drift is N H / (100 L), the same at every
+        // point, with H the wall's height (about 1.2 m).
+        for (p, q) in x.curve.iter().zip(&a.curve).filter(|(p, _)| p.0 > 0.05) {
+            assert_eq!(p.0, q.0);
+            let per_pct = (p.1 - q.1) / p.0;
+            let expected = 0.5e3 * 1.0 * 0.2 * 0.5 / 100.0;
+            assert!(
+                (per_pct / expected - 1.2).abs() < 0.02,
+                "{per_pct} kN per % against {expected} kN per % per m of height"
+            );
+        }
+    }
+    let report = std::fs::read_to_string(dir.join("e/report.md")).unwrap();
+    assert!(report.contains("extended by `jack_tilt` (inverse_length_per_m = 0.5)"), "{report}");
+    std::fs::write(
+        &extended,
+        text.replace("[in_plane]", "[effects]\njack_tilt = { inverse_length_per_m = 7.0 }\n\n[in_plane]"),
+    )
+    .unwrap();
+    let err = drystone::study::inplane::run(&extended, &dir.join("f")).unwrap_err().to_string();
+    assert!(err.contains("effects.jack_tilt") && err.contains('7'), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
