@@ -447,7 +447,8 @@ mod tests {
     fn the_seam_runs_each_protocol_as_its_driver_runs_alone() {
         let l = layout_of(vec![box_vertices([0.0, -0.05, 0.0], [0.2, 0.05, 0.2])], 1e9, 5e8, 35.0, BaseSliding::Free);
         let tilt = TiltParams { resolution_deg: 0.5, ..TiltParams::default() };
-        let ProtocolRun::Tilt(TiltRun::Path(Ok(a))) = Protocol::tilting(tilt).run(&l, SolverParams::default()) else {
+        let ProtocolRun::Tilt(TiltRun::Penalty(Ok(a))) = Protocol::tilting(tilt).run(&l, SolverParams::default())
+        else {
             panic!()
         };
         let b = run_tilt_penalty(&l, SolverParams::default(), &tilt, &mut |_, _, _| {}).unwrap();
@@ -456,7 +457,8 @@ mod tests {
             (b.last_stable_deg, b.first_unstable_deg, b.steps)
         );
         let lateral = LateralParams::default();
-        let ProtocolRun::Lateral(LateralRun::Dem(Ok(c))) = Protocol::lateral(lateral).run(&l, SolverParams::default())
+        let ProtocolRun::Lateral(LateralRun::Penalty(Ok(c))) =
+            Protocol::lateral(lateral).run(&l, SolverParams::default())
         else {
             panic!()
         };
@@ -468,6 +470,23 @@ mod tests {
             let run = p.run(&floating, SolverParams::default());
             assert!(run.does_not_stand(), "{}: {:?}", p.name(), run.error());
             assert!(run.error().unwrap().contains("touches nothing"), "{:?}", run.error());
+        }
+    }
+
+    /// A run's variant is the method that ran it (`TiltRun::method` and the others: their
+    /// variants are named as [`Method`]'s), for every method the row lists.
+    #[test]
+    fn a_runs_variant_is_the_method_that_ran_it() {
+        let l = layout_of(vec![box_vertices([0.0, -0.05, 0.0], [0.2, 0.05, 0.2])], 1e9, 5e8, 35.0, BaseSliding::Free);
+        let tilt = Tilt(TiltParams { resolution_deg: 0.5, ..TiltParams::default() });
+        let lateral = Lateral(LateralParams::default());
+        for m in Method::ALL {
+            let solver = SolverParams { kind: m.kind(), ..SolverParams::default() };
+            assert_eq!(run(&tilt, &l, solver, &mut ()).map(|r| r.method()), Ok(m));
+            match run(&lateral, &l, solver, &mut ()) {
+                Ok(r) => assert_eq!(r.method(), m),
+                Err(_) => assert!(!supports(Loading::Lateral, m), "{m}"),
+            }
         }
     }
 

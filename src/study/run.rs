@@ -150,7 +150,7 @@ pub(super) fn pushover_row(
 /// The rigid pushover (nscd) into a row: λ stable and first unstable in the DEM
 /// pushover's columns (a non-smooth DEM of rigid blocks), the mechanism, and the status of
 /// the service load: stood if λ ≥ 1 (rigid blocks have no displacements), else collapsed.
-pub(super) fn rigid_pushover_row(
+pub(super) fn nscd_pushover_row(
     mut row: RealizationRow,
     r: crate::loading::lateral_nscd::LateralLimit,
 ) -> RealizationRow {
