@@ -105,9 +105,9 @@ impl StudyProtocol {
 
     /// Its row of the compatibility table ([`crate::protocol::methods`]), with the variant
     /// its table chooses (`tilt.by_hand`, `lateral.pushover`): its protocol's
-    /// ([`Protocol::kind`]).
-    pub fn loading_kind(&self) -> Loading {
-        self.at(&[]).kind()
+    /// ([`Protocol::loading`]).
+    pub fn loading(&self) -> Loading {
+        self.at(&[]).loading()
     }
 
     /// The protocol run at a sweep point with the values `point`: the tilting table or the
@@ -260,10 +260,10 @@ impl StudySpec {
 
     /// The study's row of the compatibility table ([`crate::protocol::methods`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
-    pub fn loading_kind(&self) -> Loading {
+    pub fn loading(&self) -> Loading {
         match self.protocol {
-            ProtocolKind::Tilt => Protocol::tilting(self.tilt).kind(),
-            ProtocolKind::Lateral => Protocol::lateral(self.lateral).kind(),
+            ProtocolKind::Tilt => Protocol::tilting(self.tilt).loading(),
+            ProtocolKind::Lateral => Protocol::lateral(self.lateral).loading(),
             ProtocolKind::Shake => Loading::Shake,
             ProtocolKind::InPlane => Loading::InPlane,
         }

@@ -224,7 +224,7 @@ impl StudySpec {
                 ));
             }
         }
-        crate::protocol::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
+        crate::protocol::check(self.loading(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
         self.solver.validate_method().map_err(range("solver"))?;
         // Limit analysis runs beside the other methods too (the shaking study's static
         // capacity), so its table is checked whatever the kind.
@@ -240,7 +240,7 @@ impl StudySpec {
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
     /// `[tilt] by_hand`).
     fn rolled_by_hand(&self) -> bool {
-        self.loading_kind() == crate::protocol::Loading::TiltByHand
+        self.loading() == crate::protocol::Loading::TiltByHand
     }
 
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
@@ -643,15 +643,9 @@ impl Study {
         w
     }
 
-    /// The study's loading protocol with its parameters, as the seam runs it (at the first
-    /// sweep point; see [`Study::loading_at`]).
-    pub fn loading(&self) -> crate::protocol::Protocol {
-        self.loading_at(0)
-    }
-
-    /// The loading protocol of sweep point `point` ([`StudyProtocol::at`] with the point's
-    /// values).
-    pub fn loading_at(&self, point: usize) -> crate::protocol::Protocol {
+    /// The protocol with its parameters that sweep point `point` runs, as the seam runs it
+    /// ([`StudyProtocol::at`] with the point's values; point 0 without a sweep).
+    pub fn protocol_at(&self, point: usize) -> crate::protocol::Protocol {
         self.protocol.at(self.points.get(point).map_or(&[], Vec::as_slice))
     }
 

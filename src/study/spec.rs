@@ -243,7 +243,7 @@ impl StudySpec {
             .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
             .unwrap_or(false);
         if !kind_given {
-            spec.solver.kind = spec.loading_kind().default_solver();
+            spec.solver.kind = spec.loading().default_solver();
         }
         Ok(spec)
     }

@@ -233,8 +233,8 @@ fn a_protocol_named_or_chosen_by_its_table_is_the_same_study() {
         let (mut a, mut b) = (Study::from_file(&path(old)).unwrap(), Study::from_file(&path(new)).unwrap());
         // The files themselves (their provenance) differ; everything read from them is the same.
         (a.inputs, b.inputs) = (Vec::new(), Vec::new());
-        assert_eq!(a.loading().kind(), protocol);
-        assert_eq!(b.loading().kind(), protocol);
+        assert_eq!(a.protocol_at(0).loading(), protocol);
+        assert_eq!(b.protocol_at(0).loading(), protocol);
         let shown = |s: &Study, n: &str| format!("{s:?}").replace(&format!("{n}.toml"), "STUDY.toml");
         assert_eq!(shown(&a, old), shown(&b, new), "{new}");
         assert!(b.warnings().iter().all(|w| !w.contains("deprecated")), "{:?}", b.warnings());
