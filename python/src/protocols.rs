@@ -89,20 +89,20 @@ pub fn _tilt<'py>(
     }
     let l = &layout.get().layout;
     // The one choice of a method: the protocol seam (`drystone::protocol::run`), which runs
-    // every method `drystone.supports("tilt", ...)` admits; the table rolled by hand is
-    // its own protocol (`run_tilt` chooses it from `by_hand`).
+    // every method `drystone.supports("tilt", ...)` admits and refuses the others by the
+    // same check; the table rolled by hand is its own protocol (`run_tilt` chooses it from
+    // `by_hand`), run by nscd, the one method it admits.
     let run = py.detach(|| {
         guard(|| {
             Ok(match tp.by_hand {
-                Some(_) => TiltRun::Path(run_tilt(l, solver, &tp)),
-                None => run_protocol(&Tilt(tp), l, solver, &mut ())
-                    .unwrap_or_else(|e| TiltRun::Path(Err(TiltError::Unsupported(e.to_string())))),
+                Some(_) => run_tilt(l, solver, &tp).map(|r| TiltRun::Nscd(Ok(r))),
+                None => run_protocol(&Tilt(tp), l, solver, &mut ()).map_err(|e| TiltError::Unsupported(e.to_string())),
             })
         })
     })?;
     py.check_signals()?;
-    let r = match run {
-        TiltRun::Path(r) => r.map_err(|e| tilt_error(&e))?,
+    let r = match run.map_err(|e| tilt_error(&e))? {
+        TiltRun::Penalty(r) | TiltRun::Nscd(r) => r.map_err(|e| tilt_error(&e))?,
         TiltRun::Limit(r) => {
             let r = r.map_err(|e| crate::errors::SolverError::new_err(e.to_string()))?;
             return limit_tilt(py, &r);
@@ -167,16 +167,15 @@ pub fn _lateral<'py>(
     }
     let l = &layout.get().layout;
     // The one choice of a method: the protocol seam, which runs every method
-    // `drystone.supports("lateral", ...)` admits.
+    // `drystone.supports("lateral", ...)` admits and refuses the others by the same check.
     let run = py.detach(|| {
         guard(|| {
-            Ok(run_protocol(&Lateral(lp), l, solver, &mut ())
-                .unwrap_or_else(|e| LateralRun::Dem(Err(LateralError::Unsupported(e.to_string())))))
+            Ok(run_protocol(&Lateral(lp), l, solver, &mut ()).map_err(|e| LateralError::Unsupported(e.to_string())))
         })
     })?;
     py.check_signals()?;
-    let r = match run {
-        LateralRun::Dem(r) => r.map_err(|e| lateral_error(&e))?,
+    let r = match run.map_err(|e| lateral_error(&e))? {
+        LateralRun::Penalty(r) => r.map_err(|e| lateral_error(&e))?,
         LateralRun::Limit(r) => {
             let r = r.map_err(|e| crate::errors::SolverError::new_err(e.to_string()))?;
             return limit_lateral(py, &r);
@@ -266,7 +265,7 @@ pub fn _pushover<'py>(
                 None => return Err(crate::errors::DrystoneError::new_err("the pushover did not run")),
             }
         }
-        PushoverRun::Rigid(r) => {
+        PushoverRun::Nscd(r) => {
             let mut v = serde_json::to_value(r.map_err(|e| tilt_error(&e))?).unwrap_or_default();
             v["dt_s"] = solver.nscd.dt_s.into();
             return rigid_pushover(py, v);
@@ -345,7 +344,7 @@ pub fn _in_plane<'py>(
             _ => drystone_python_solver_error(&e.to_string()),
         }
     };
-    let method = if matches!(run, InPlaneRun::Nscd(_)) { "nscd" } else { "penalty" };
+    let method = run.method().name();
     match run {
         InPlaneRun::Penalty(r) | InPlaneRun::Nscd(r) => {
             let r = r.map_err(|e| failed(&e))?;
@@ -357,7 +356,7 @@ pub fn _in_plane<'py>(
         }
         InPlaneRun::Limit(r) => {
             let r = r.map_err(|e| failed(&e))?;
-            out.set_item("method", "limit")?;
+            out.set_item("method", method)?;
             out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
         }
     }

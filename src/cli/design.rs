@@ -58,11 +58,11 @@ pub fn command(a: DesignArgs) -> Result<()> {
         }
         other => anyhow::Error::new(other).context("drystone design"),
     })?;
-    if st.loading().name() != "tilt" {
+    if st.protocol_at(0).name() != "tilt" {
         bail!(
             "{}: `drystone design` plans tilting-table follow-ups; this study's protocol is {}",
             a.input.study.display(),
-            st.loading().name()
+            st.protocol_at(0).name()
         );
     }
     let obs = observations_of(&st, s.sigma)?;

@@ -102,7 +102,7 @@ pub fn run(
                 recorded(vtk, "pushover", &rec)?;
                 dem_pushover(layout, &r, &params, json)
             }
-            PushoverRun::Rigid(r) => {
+            PushoverRun::Nscd(r) => {
                 no_states(vtk)?;
                 let r = r.with_context(|| format!("rigid pushover of {}", layout.display()))?;
                 rigid_pushover(layout, &r, &params, json)
@@ -115,7 +115,7 @@ pub fn run(
         };
     }
     let r = match drystone::protocol::run(&Lateral(params), &l, solver, observer).map_err(unsupported)? {
-        LateralRun::Dem(r) => {
+        LateralRun::Penalty(r) => {
             r.map_err(hint).with_context(|| format!("static lateral load on {}", layout.display()))?
         }
         LateralRun::Limit(r) => {

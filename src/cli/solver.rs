@@ -13,8 +13,6 @@ pub fn parse_solver(name: &str) -> Result<SolverKind, String> {
     name.parse()
 }
 
-/// `--solver` of the commands whose default is the penalty DEM (`tilt`, `lateral`,
-/// `bench tilt`).
 /// The lateral load's trapezoidal pressure (`drystone lateral`, `drystone limit --protocol
 /// lateral`), Pa; defaults those of `[lateral]`.
 #[derive(clap::Args, Debug, Clone, Copy)]
@@ -34,6 +32,8 @@ impl Pressure {
     }
 }
 
+/// `--solver` of the commands whose default is the penalty DEM (`tilt`, `lateral`,
+/// `in-plane`, `bench tilt`).
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct SolverChoice {
     /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static

@@ -270,7 +270,9 @@ pub fn run(
     let run = drystone::protocol::run(&Tilt(*params), &l, solver, observer)
         .map_err(|e| anyhow::anyhow!("{e}; on the command line: --solver NAME"))?;
     let r = match run {
-        TiltRun::Path(r) => r.with_context(|| format!("tilting-table test of {}", layout.display()))?,
+        TiltRun::Penalty(r) | TiltRun::Nscd(r) => {
+            r.with_context(|| format!("tilting-table test of {}", layout.display()))?
+        }
         TiltRun::Limit(r) => {
             if vtk.is_some() {
                 bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");

@@ -221,10 +221,13 @@ pub struct LateralColumns {
 /// that the rows of other studies have the columns they always have).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct PushoverColumns {
-    /// DEM pushover: the largest λ found stable (the collapse load multiplier).
+    /// The pushover by a method that steps (the penalty DEM, or nscd: the column keeps
+    /// its `_dem` name from before nscd ran it): the largest λ found stable (the collapse
+    /// load multiplier).
     #[serde(default, skip_serializing_if = "Option::is_none", with = "exact::opt")]
     pub load_multiplier_dem: Option<f64>,
-    /// DEM pushover: the smallest λ found unstable (`None`: stood to the largest λ tried).
+    /// The pushover by a method that steps (the penalty DEM or nscd): the smallest λ found
+    /// unstable (`None`: stood to the largest λ tried).
     #[serde(default, skip_serializing_if = "Option::is_none", with = "exact::opt")]
     pub load_multiplier_dem_unstable: Option<f64>,
     /// Limit analysis (rigid blocks, `crate::limit::limit_lateral`): the collapse λ.

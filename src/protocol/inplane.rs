@@ -80,6 +80,17 @@ impl LoadingProtocol for InPlane {
     }
 }
 
+impl InPlaneRun {
+    /// The method that ran it: its variant's name.
+    pub fn method(&self) -> Method {
+        match self {
+            InPlaneRun::Penalty(_) => Method::Penalty,
+            InPlaneRun::Nscd(_) => Method::Nscd,
+            InPlaneRun::Limit(_) => Method::Limit,
+        }
+    }
+}
+
 impl RunOutcome for InPlaneRun {
     /// The penalty DEM's and nscd's measures of the first direction and its mode
     /// ([`Observed::of_in_plane`]); limit analysis gives no curve to compare.

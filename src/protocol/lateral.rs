@@ -20,7 +20,7 @@ pub struct Lateral(pub LateralParams);
 #[derive(Debug, Clone, PartialEq)]
 pub enum LateralRun {
     /// The penalty DEM: the displacements under the load, or the collapse under it.
-    Dem(Result<LateralResult, LateralError>),
+    Penalty(Result<LateralResult, LateralError>),
     /// Limit analysis: the collapse load multiplier λ (the wall stands the load if λ ≥ 1).
     Limit(Result<LimitResult, LimitError>),
 }
@@ -36,7 +36,9 @@ impl LoadingProtocol for Lateral {
             method: Method::Penalty,
             what: "equilibrium under the load",
             run: |p, layout, solver, observer| {
-                LateralRun::Dem(run_lateral_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
+                LateralRun::Penalty(run_lateral_penalty(layout, *solver, &p.0, &mut |a, s, sim| {
+                    observer.state(a, s, sim)
+                }))
             },
         },
         Way {
@@ -57,29 +59,39 @@ impl LoadingProtocol for Lateral {
     }
 }
 
+impl LateralRun {
+    /// The method that ran it: its variant's name.
+    pub fn method(&self) -> Method {
+        match self {
+            LateralRun::Penalty(_) => Method::Penalty,
+            LateralRun::Limit(_) => Method::Limit,
+        }
+    }
+}
+
 impl RunOutcome for LateralRun {
     fn observed(&self) -> Option<Observed> {
         match self {
-            LateralRun::Dem(r) => r.observed(),
+            LateralRun::Penalty(r) => r.observed(),
             LateralRun::Limit(r) => r.observed(),
         }
     }
     fn error(&self) -> Option<String> {
         match self {
-            LateralRun::Dem(r) => r.error(),
+            LateralRun::Penalty(r) => r.error(),
             LateralRun::Limit(r) => r.error(),
         }
     }
     fn does_not_stand(&self) -> bool {
         match self {
-            LateralRun::Dem(r) => r.does_not_stand(),
+            LateralRun::Penalty(r) => r.does_not_stand(),
             LateralRun::Limit(r) => r.does_not_stand(),
         }
     }
     fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
         match self {
             LateralRun::Limit(r) => Some(r),
-            LateralRun::Dem(_) => None,
+            LateralRun::Penalty(_) => None,
         }
     }
 }
@@ -115,7 +127,7 @@ pub fn run_lateral_observed(
     observe: &mut dyn FnMut(f64, bool, &Simulation),
 ) -> Result<LateralResult, LateralError> {
     match run(&Lateral(*params), layout, solver, &mut States(observe)) {
-        Ok(LateralRun::Dem(r)) => r,
+        Ok(LateralRun::Penalty(r)) => r,
         Ok(LateralRun::Limit(_)) => Err(LateralError::Unsupported(
             "limit analysis gives the lateral load's collapse load multiplier, not its equilibrium: \
              run `Protocol::Lateral` through `Protocol::run` for it"

@@ -13,6 +13,29 @@
 //! ([`check`]) and calls the protocol's way for the solver's method, handing its states to
 //! an [`Observer`]. Adding a protocol is its module here, its line in the registry and the
 //! drivers it calls (CONTRIBUTING.md).
+//!
+//! # Words: `kind`, `loading`, `method`
+//!
+//! Each means one thing across the protocols, the solvers and the studies:
+//!
+//! * **kind**: a name a file or the command line gives. [`ProtocolKind`] (`protocol =
+//!   "tilt"`, `--protocol`; [`Loading::kind`], `study::StudyProtocol::kind`) and
+//!   [`SolverKind`] (`[solver] kind`, `--solver`; [`Method::kind`], the first kind of a
+//!   method; [`Unsupported::kind`]). Elsewhere a `kind` field or enum names a category of its
+//!   own type (`MechanismKind`, `FailureKind`, `WallKind`, `PieceKind`, `EndRestraintKind`),
+//!   never a protocol or a solver.
+//! * **loading**: a [`Loading`], a protocol without its parameters (a row of the
+//!   compatibility table): [`Protocol::loading`], `study::StudyProtocol::loading`,
+//!   `study::StudySpec::loading`, [`ProtocolKind::loadings`]. A protocol with its
+//!   parameters is a [`Protocol`] (`study::Study::protocol_at`). Two uses keep the word for
+//!   something else: the folder `src/loading/` (`crate::loading`, the drivers: the physics
+//!   of each protocol) and the column `loading` of the in-plane test's measured specimens
+//!   (`Cyclic` or `Monotonic`, the history of the imposed displacement:
+//!   `study::inplane::Specimen::loading`, a file key).
+//! * **method**: a [`Method`] (the penalty DEM, nscd, limit analysis); a run's variants
+//!   are named by it ([`TiltRun::method`], [`LateralRun::method`], [`PushoverRun::method`],
+//!   [`InPlaneRun::method`]). The realizations table's `load_multiplier_dem` columns keep
+//!   their name from before nscd filled them: the pushover by a method that steps.
 
 mod contract;
 pub mod inplane;
@@ -206,8 +229,8 @@ macro_rules! registry {
         }
 
         impl Protocol {
-            /// Its row of the compatibility table.
-            pub fn kind(&self) -> Loading {
+            /// Its row of the compatibility table, without its parameters.
+            pub fn loading(&self) -> Loading {
                 match self {
                     $($(Protocol::$variant(_) => Loading::$variant,)+)+
                 }
@@ -216,7 +239,7 @@ macro_rules! registry {
             /// Its name in study files (`protocol = "..."`): its kind's
             /// ([`ProtocolKind::name`]).
             pub fn name(&self) -> &'static str {
-                self.kind().kind().name()
+                self.loading().kind().name()
             }
 
             /// The protocol run to compare with measured data
@@ -447,7 +470,8 @@ mod tests {
     fn the_seam_runs_each_protocol_as_its_driver_runs_alone() {
         let l = layout_of(vec![box_vertices([0.0, -0.05, 0.0], [0.2, 0.05, 0.2])], 1e9, 5e8, 35.0, BaseSliding::Free);
         let tilt = TiltParams { resolution_deg: 0.5, ..TiltParams::default() };
-        let ProtocolRun::Tilt(TiltRun::Path(Ok(a))) = Protocol::tilting(tilt).run(&l, SolverParams::default()) else {
+        let ProtocolRun::Tilt(TiltRun::Penalty(Ok(a))) = Protocol::tilting(tilt).run(&l, SolverParams::default())
+        else {
             panic!()
         };
         let b = run_tilt_penalty(&l, SolverParams::default(), &tilt, &mut |_, _, _| {}).unwrap();
@@ -456,7 +480,8 @@ mod tests {
             (b.last_stable_deg, b.first_unstable_deg, b.steps)
         );
         let lateral = LateralParams::default();
-        let ProtocolRun::Lateral(LateralRun::Dem(Ok(c))) = Protocol::lateral(lateral).run(&l, SolverParams::default())
+        let ProtocolRun::Lateral(LateralRun::Penalty(Ok(c))) =
+            Protocol::lateral(lateral).run(&l, SolverParams::default())
         else {
             panic!()
         };
@@ -468,6 +493,23 @@ mod tests {
             let run = p.run(&floating, SolverParams::default());
             assert!(run.does_not_stand(), "{}: {:?}", p.name(), run.error());
             assert!(run.error().unwrap().contains("touches nothing"), "{:?}", run.error());
+        }
+    }
+
+    /// A run's variant is the method that ran it (`TiltRun::method` and the others: their
+    /// variants are named as [`Method`]'s), for every method the row lists.
+    #[test]
+    fn a_runs_variant_is_the_method_that_ran_it() {
+        let l = layout_of(vec![box_vertices([0.0, -0.05, 0.0], [0.2, 0.05, 0.2])], 1e9, 5e8, 35.0, BaseSliding::Free);
+        let tilt = Tilt(TiltParams { resolution_deg: 0.5, ..TiltParams::default() });
+        let lateral = Lateral(LateralParams::default());
+        for m in Method::ALL {
+            let solver = SolverParams { kind: m.kind(), ..SolverParams::default() };
+            assert_eq!(run(&tilt, &l, solver, &mut ()).map(|r| r.method()), Ok(m));
+            match run(&lateral, &l, solver, &mut ()) {
+                Ok(r) => assert_eq!(r.method(), m),
+                Err(_) => assert!(!supports(Loading::Lateral, m), "{m}"),
+            }
         }
     }
 
@@ -614,10 +656,10 @@ mod tests {
             assert!(p.kind().loadings().contains(&p), "{p:?}");
         }
         let tilt = TiltParams::default();
-        assert_eq!(Protocol::tilting(tilt).kind(), ProtocolKind::Tilt.loadings()[0]);
-        assert_eq!(Protocol::lateral(LateralParams::default()).kind(), ProtocolKind::Lateral.loadings()[0]);
+        assert_eq!(Protocol::tilting(tilt).loading(), ProtocolKind::Tilt.loadings()[0]);
+        assert_eq!(Protocol::lateral(LateralParams::default()).loading(), ProtocolKind::Lateral.loadings()[0]);
         for p in [Protocol::tilting(tilt), Protocol::lateral(LateralParams::default())] {
-            assert_eq!(p.name(), p.kind().kind().name());
+            assert_eq!(p.name(), p.loading().kind().name());
         }
     }
 }

@@ -36,7 +36,7 @@ pub enum PushoverRun {
         collapse: Option<Box<Collapse>>,
     },
     /// nscd: the rigid collapse multiplier by bisection.
-    Rigid(Result<LateralLimit, TiltError>),
+    Nscd(Result<LateralLimit, TiltError>),
     /// Limit analysis: the collapse load multiplier λ.
     Limit(Result<LimitResult, LimitError>),
 }
@@ -66,7 +66,7 @@ impl LoadingProtocol for Pushover {
         Way {
             method: Method::Nscd,
             what: "rigid λ by bisection",
-            run: |p, layout, solver, _| PushoverRun::Rigid(run_lateral_nscd(layout, &solver.nscd, &p.0)),
+            run: |p, layout, solver, _| PushoverRun::Nscd(run_lateral_nscd(layout, &solver.nscd, &p.0)),
         },
         Way {
             method: Method::Limit,
@@ -87,6 +87,17 @@ impl LoadingProtocol for Pushover {
     }
 }
 
+impl PushoverRun {
+    /// The method that ran it: its variant's name.
+    pub fn method(&self) -> Method {
+        match self {
+            PushoverRun::Penalty { .. } => Method::Penalty,
+            PushoverRun::Nscd(_) => Method::Nscd,
+            PushoverRun::Limit(_) => Method::Limit,
+        }
+    }
+}
+
 impl RunOutcome for PushoverRun {
     /// Nothing: a pushover is compared at its service level ([`Pushover::compared`]).
     fn observed(&self) -> Option<Observed> {
@@ -95,21 +106,21 @@ impl RunOutcome for PushoverRun {
     fn error(&self) -> Option<String> {
         match self {
             PushoverRun::Penalty { service, .. } => service.error(),
-            PushoverRun::Rigid(r) => r.error(),
+            PushoverRun::Nscd(r) => r.error(),
             PushoverRun::Limit(r) => r.error(),
         }
     }
     fn does_not_stand(&self) -> bool {
         match self {
             PushoverRun::Penalty { service, .. } => service.does_not_stand(),
-            PushoverRun::Rigid(r) => r.does_not_stand(),
+            PushoverRun::Nscd(r) => r.does_not_stand(),
             PushoverRun::Limit(r) => r.does_not_stand(),
         }
     }
     fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
         match self {
             PushoverRun::Limit(r) => Some(r),
-            PushoverRun::Penalty { .. } | PushoverRun::Rigid(_) => None,
+            PushoverRun::Penalty { .. } | PushoverRun::Nscd(_) => None,
         }
     }
 }

@@ -21,9 +21,12 @@ pub struct Tilt(pub TiltParams);
 /// multiplier of limit analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TiltRun {
-    /// The tilting path by the penalty DEM or nscd: the collapse bracket, the stable states
-    /// and the mechanism.
-    Path(Result<TiltResult, TiltError>),
+    /// The penalty DEM: the tilting path (the collapse bracket, the stable states and the
+    /// mechanism).
+    Penalty(Result<TiltResult, TiltError>),
+    /// Non-smooth contact dynamics: the rigid blocks' tilting path, in the penalty DEM's
+    /// result.
+    Nscd(Result<TiltResult, TiltError>),
     /// Limit analysis: α_max = atan λ.
     Limit(Result<LimitResult, LimitError>),
 }
@@ -39,13 +42,13 @@ impl LoadingProtocol for Tilt {
             method: Method::Penalty,
             what: "collapse angle (bisection of static states)",
             run: |p, layout, solver, observer| {
-                TiltRun::Path(run_tilt_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
+                TiltRun::Penalty(run_tilt_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim)))
             },
         },
         Way {
             method: Method::Nscd,
             what: "rigid collapse angle",
-            run: |p, layout, solver, _| TiltRun::Path(run_tilt_nscd(layout, &solver.nscd, &p.0)),
+            run: |p, layout, solver, _| TiltRun::Nscd(run_tilt_nscd(layout, &solver.nscd, &p.0)),
         },
         Way {
             method: Method::Limit,
@@ -67,29 +70,40 @@ impl LoadingProtocol for Tilt {
     }
 }
 
+impl TiltRun {
+    /// The method that ran it: its variant's name.
+    pub fn method(&self) -> Method {
+        match self {
+            TiltRun::Penalty(_) => Method::Penalty,
+            TiltRun::Nscd(_) => Method::Nscd,
+            TiltRun::Limit(_) => Method::Limit,
+        }
+    }
+}
+
 impl RunOutcome for TiltRun {
     fn observed(&self) -> Option<Observed> {
         match self {
-            TiltRun::Path(r) => r.observed(),
+            TiltRun::Penalty(r) | TiltRun::Nscd(r) => r.observed(),
             TiltRun::Limit(r) => r.observed(),
         }
     }
     fn error(&self) -> Option<String> {
         match self {
-            TiltRun::Path(r) => r.error(),
+            TiltRun::Penalty(r) | TiltRun::Nscd(r) => r.error(),
             TiltRun::Limit(r) => r.error(),
         }
     }
     fn does_not_stand(&self) -> bool {
         match self {
-            TiltRun::Path(r) => r.does_not_stand(),
+            TiltRun::Penalty(r) | TiltRun::Nscd(r) => r.does_not_stand(),
             TiltRun::Limit(r) => r.does_not_stand(),
         }
     }
     fn limit(&self) -> Option<&Result<LimitResult, LimitError>> {
         match self {
             TiltRun::Limit(r) => Some(r),
-            TiltRun::Path(_) => None,
+            TiltRun::Penalty(_) | TiltRun::Nscd(_) => None,
         }
     }
 }
@@ -163,7 +177,7 @@ pub fn run_tilt_observed(
         return run(&TiltByHand { tilt: *params, hand }, layout, solver, &mut observer).map_err(refused)?;
     }
     match run(&Tilt(*params), layout, solver, &mut observer).map_err(refused)? {
-        TiltRun::Path(r) => r,
+        TiltRun::Penalty(r) | TiltRun::Nscd(r) => r,
         TiltRun::Limit(_) => Err(TiltError::Unsupported(
             "limit analysis gives the tilting table's collapse load multiplier, not its path: \
              run `Protocol::Tilt` through `Protocol::run` for it"

@@ -220,7 +220,7 @@ pub(super) fn shake_series(
     layout: &Layout,
     out: &Path,
 ) -> Result<Option<PathBuf>, SeriesError> {
-    let protocol = study.loading_at(point);
+    let protocol = study.protocol_at(point);
     if protocol.shaking().is_none() {
         return Ok(None);
     }

@@ -176,7 +176,8 @@ pub struct Specimen {
     pub unit: String,
     /// Its source.
     pub reference: String,
-    /// `Cyclic` or `Monotonic`.
+    /// `Cyclic` or `Monotonic`: the history of the imposed displacement (the measured file's
+    /// column; not a `protocol::Loading`).
     pub loading: String,
     /// Vertical stress applied, MPa.
     pub sigma0_mpa: f64,

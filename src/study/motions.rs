@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 /// The shaking-table part of a checked study (protocol `shake`): its parameters, its
 /// motions as read or generated (unscaled) and its PGA levels. The study's points carry
 /// the sweep keys `motion` (a motion's name) and `pga_g` (a level): see
-/// [`Study::loading_at`](super::Study::loading_at).
+/// [`Study::protocol_at`](super::Study::protocol_at).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShakeStudy {
     /// Shaking-table parameters.

@@ -16,7 +16,7 @@ use super::motions::ShakeStudy;
 use super::report::{lateral_sections, tilt_sections};
 use super::report_error::ReportError;
 use super::run::{
-    failed_row, lateral_row, limit_lateral_row, limit_tilt_row, pushover_row, rigid_pushover_row, shake_row, tilt_row,
+    failed_row, lateral_row, limit_lateral_row, limit_tilt_row, nscd_pushover_row, pushover_row, shake_row, tilt_row,
 };
 use super::shaking::shake_sections;
 use super::spec::{ProtocolKind, StudySpec};
@@ -105,9 +105,9 @@ impl StudyProtocol {
 
     /// Its row of the compatibility table ([`crate::protocol::methods`]), with the variant
     /// its table chooses (`tilt.by_hand`, `lateral.pushover`): its protocol's
-    /// ([`Protocol::kind`]).
-    pub fn loading_kind(&self) -> Loading {
-        self.at(&[]).kind()
+    /// ([`Protocol::loading`]).
+    pub fn loading(&self) -> Loading {
+        self.at(&[]).loading()
     }
 
     /// The protocol run at a sweep point with the values `point`: the tilting table or the
@@ -141,21 +141,23 @@ impl StudyProtocol {
         let does_not_stand = run.does_not_stand();
         let error = run.error().unwrap_or_default();
         match run {
-            ProtocolRun::Tilt(TiltRun::Path(Ok(t))) | ProtocolRun::TiltByHand(Ok(t)) => tilt_row(row, t),
+            ProtocolRun::Tilt(TiltRun::Penalty(Ok(t)) | TiltRun::Nscd(Ok(t))) | ProtocolRun::TiltByHand(Ok(t)) => {
+                tilt_row(row, t)
+            }
             ProtocolRun::Tilt(TiltRun::Limit(Ok(r))) => limit_tilt_row(row, r),
             ProtocolRun::Lateral(LateralRun::Limit(Ok(r))) => limit_lateral_row(row, r, false),
             ProtocolRun::Pushover(PushoverRun::Limit(Ok(r))) => limit_lateral_row(row, r, true),
-            ProtocolRun::Lateral(LateralRun::Dem(Ok(r))) => lateral_row(row, r),
+            ProtocolRun::Lateral(LateralRun::Penalty(Ok(r))) => lateral_row(row, r),
             ProtocolRun::Pushover(PushoverRun::Penalty { service: Ok(r), collapse }) => {
                 pushover_row(lateral_row(row, r), collapse.map(|c| *c))
             }
-            ProtocolRun::Pushover(PushoverRun::Rigid(Ok(r))) => rigid_pushover_row(row, r),
+            ProtocolRun::Pushover(PushoverRun::Nscd(Ok(r))) => nscd_pushover_row(row, r),
             ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(point, SweepKey::PgaG)),
-            ProtocolRun::Tilt(TiltRun::Path(Err(_)) | TiltRun::Limit(Err(_)))
+            ProtocolRun::Tilt(TiltRun::Penalty(Err(_)) | TiltRun::Nscd(Err(_)) | TiltRun::Limit(Err(_)))
             | ProtocolRun::TiltByHand(Err(_))
-            | ProtocolRun::Lateral(LateralRun::Dem(Err(_)) | LateralRun::Limit(Err(_)))
+            | ProtocolRun::Lateral(LateralRun::Penalty(Err(_)) | LateralRun::Limit(Err(_)))
             | ProtocolRun::Pushover(
-                PushoverRun::Penalty { service: Err(_), .. } | PushoverRun::Rigid(Err(_)) | PushoverRun::Limit(Err(_)),
+                PushoverRun::Penalty { service: Err(_), .. } | PushoverRun::Nscd(Err(_)) | PushoverRun::Limit(Err(_)),
             )
             | ProtocolRun::Shake(Err(_))
             | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
@@ -258,10 +260,10 @@ impl StudySpec {
 
     /// The study's row of the compatibility table ([`crate::protocol::methods`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
-    pub fn loading_kind(&self) -> Loading {
+    pub fn loading(&self) -> Loading {
         match self.protocol {
-            ProtocolKind::Tilt => Protocol::tilting(self.tilt).kind(),
-            ProtocolKind::Lateral => Protocol::lateral(self.lateral).kind(),
+            ProtocolKind::Tilt => Protocol::tilting(self.tilt).loading(),
+            ProtocolKind::Lateral => Protocol::lateral(self.lateral).loading(),
             ProtocolKind::Shake => Loading::Shake,
             ProtocolKind::InPlane => Loading::InPlane,
         }

@@ -224,7 +224,7 @@ impl StudySpec {
                 ));
             }
         }
-        crate::protocol::check(self.loading_kind(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
+        crate::protocol::check(self.loading(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
         self.solver.validate_method().map_err(range("solver"))?;
         // Limit analysis runs beside the other methods too (the shaking study's static
         // capacity), so its table is checked whatever the kind.
@@ -240,7 +240,7 @@ impl StudySpec {
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
     /// `[tilt] by_hand`).
     fn rolled_by_hand(&self) -> bool {
-        self.loading_kind() == crate::protocol::Loading::TiltByHand
+        self.loading() == crate::protocol::Loading::TiltByHand
     }
 
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
@@ -403,7 +403,7 @@ impl StudySpec {
     fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
         let refuses_ropes = !self.solver.kind.method().runs_ropes();
         let by_hand = self.rolled_by_hand();
-        let in_plane = self.loading_kind() == crate::protocol::Loading::InPlane;
+        let in_plane = self.loading() == crate::protocol::Loading::InPlane;
         if group.effects.is_empty() {
             return Ok(());
         }
@@ -423,7 +423,7 @@ impl StudySpec {
                     &at,
                     format!(
                         "acts on the in-plane test's vertical load (the force its horizontal actuator reads); the {} does not read it (drop the effect, or run the study with protocol = \"in_plane\")",
-                        self.loading_kind().describe()
+                        self.loading().describe()
                     ),
                 ));
             }
@@ -670,15 +670,9 @@ impl Study {
         w
     }
 
-    /// The study's loading protocol with its parameters, as the seam runs it (at the first
-    /// sweep point; see [`Study::loading_at`]).
-    pub fn loading(&self) -> crate::protocol::Protocol {
-        self.loading_at(0)
-    }
-
-    /// The loading protocol of sweep point `point` ([`StudyProtocol::at`] with the point's
-    /// values).
-    pub fn loading_at(&self, point: usize) -> crate::protocol::Protocol {
+    /// The protocol with its parameters that sweep point `point` runs, as the seam runs it
+    /// ([`StudyProtocol::at`] with the point's values; point 0 without a sweep).
+    pub fn protocol_at(&self, point: usize) -> crate::protocol::Protocol {
         self.protocol.at(self.points.get(point).map_or(&[], Vec::as_slice))
     }
 

@@ -45,7 +45,7 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok(layout) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            let run = study.loading_at(item.point).run(&layout, study.solver);
+            let run = study.protocol_at(item.point).run(&layout, study.solver);
             study.protocol.row(study, item.point, row, run)
         }
     };
@@ -150,7 +150,7 @@ pub(super) fn pushover_row(
 /// The rigid pushover (nscd) into a row: λ stable and first unstable in the DEM
 /// pushover's columns (a non-smooth DEM of rigid blocks), the mechanism, and the status of
 /// the service load: stood if λ ≥ 1 (rigid blocks have no displacements), else collapsed.
-pub(super) fn rigid_pushover_row(
+pub(super) fn nscd_pushover_row(
     mut row: RealizationRow,
     r: crate::loading::lateral_nscd::LateralLimit,
 ) -> RealizationRow {

@@ -81,7 +81,7 @@ fn static_capacity(study: &Study, g: usize) -> Vec<f64> {
     let tilt = crate::protocol::Tilt(crate::loading::tilt::TiltParams::default());
     let capacity = |run: crate::protocol::TiltRun| match run {
         crate::protocol::TiltRun::Limit(r) => r.ok().map(|l| l.load_multiplier),
-        crate::protocol::TiltRun::Path(_) => None,
+        crate::protocol::TiltRun::Penalty(_) | crate::protocol::TiltRun::Nscd(_) => None,
     };
     (0..study.group_realizations(g))
         .into_par_iter()

@@ -228,8 +228,12 @@ impl StudySpec {
     /// [`StudyError::Io`], [`StudyError::Parse`].
     pub fn from_file(path: &Path) -> Result<Self, StudyError> {
         let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io { path: path.to_owned(), source })?;
-        let mut spec: StudySpec =
-            toml::from_str(&text).map_err(|e| StudyError::Parse { path: path.to_owned(), message: e.to_string() })?;
+        let parse = |message: String| StudyError::Parse { path: path.to_owned(), message };
+        let mut spec: StudySpec = match text.parse::<toml::Table>().ok().and_then(|t| by_protocol_name(t).transpose()) {
+            // `protocol = "tilt_by_hand"` or `"pushover"`: read as its kind with its table's choice.
+            Some(table) => table.map_err(parse)?.try_into().map_err(|e: toml::de::Error| parse(e.to_string()))?,
+            None => toml::from_str(&text).map_err(|e| parse(e.to_string()))?,
+        };
         // Without `[solver] kind` a study runs by its protocol's default solver
         // (`protocol::Loading::default_solver`), as the command line does: the shaking
         // table's is nscd (docs/shake.md), every other protocol's the penalty DEM.
@@ -239,10 +243,51 @@ impl StudySpec {
             .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
             .unwrap_or(false);
         if !kind_given {
-            spec.solver.kind = spec.loading_kind().default_solver();
+            spec.solver.kind = spec.loading().default_solver();
         }
         Ok(spec)
     }
+}
+
+/// The key of its kind's table that chooses a protocol within its kind, and the value that
+/// chooses it (`[tilt] by_hand`: a table, its keys' defaults; `[lateral] pushover = true`);
+/// `None` for the first protocol of its kind, which its kind's name chooses. A study file
+/// names either the protocol (`protocol = "tilt_by_hand"`, `"pushover"`: its
+/// [`Loading::name`](crate::protocol::Loading::name), as `drystone.supports` does) or its
+/// kind with this key (the former spelling, still read).
+pub fn chosen_by(protocol: crate::protocol::Loading) -> Option<(&'static str, &'static str, toml::Value)> {
+    use crate::protocol::Loading;
+    match protocol {
+        Loading::TiltByHand => Some(("tilt", "by_hand", toml::Value::Table(toml::Table::new()))),
+        Loading::Pushover => Some(("lateral", "pushover", toml::Value::Boolean(true))),
+        Loading::Tilt | Loading::Lateral | Loading::Shake | Loading::InPlane => None,
+    }
+}
+
+/// A study file that names a protocol within a kind (`protocol = "tilt_by_hand"`,
+/// `"pushover"`) rewritten as its kind with its table's choice ([`chosen_by`]): the same
+/// study as the former spelling. `None` for a file that names a kind (or no protocol).
+///
+/// # Errors
+/// The protocol's choice contradicted by its table (`protocol = "pushover"` with `[lateral]
+/// pushover = false`).
+fn by_protocol_name(mut table: toml::Table) -> Result<Option<toml::Table>, String> {
+    let Some(name) = table.get("protocol").and_then(toml::Value::as_str).map(str::to_owned) else { return Ok(None) };
+    let Some(protocol) = crate::protocol::Loading::from_name(&name) else { return Ok(None) };
+    let Some((kind_table, key, value)) = chosen_by(protocol) else { return Ok(None) };
+    table.insert("protocol".into(), toml::Value::String(protocol.kind().name().into()));
+    let t = table.entry(kind_table).or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    let Some(t) = t.as_table_mut() else { return Err(format!("[{kind_table}] is not a table")) };
+    match t.get(key) {
+        None => {
+            t.insert(key.into(), value);
+        }
+        Some(given) if given.same_type(&value) && (given.is_table() || *given == value) => {}
+        Some(given) => {
+            return Err(format!("protocol = {name:?} with [{kind_table}] {key} = {given}: the protocol chooses {key}"))
+        }
+    }
+    Ok(Some(table))
 }
 
 /// Which of the source paper's studies a study file reproduces (`paper = "…"` in the study

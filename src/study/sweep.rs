@@ -127,7 +127,7 @@ impl SweepKey {
             SweepKey::LengthM => spec.geometry.length_m = num()?,
             SweepKey::Ends => apply_ends(spec, value)?,
             SweepKey::Arrangement => spec.arrangement.kind = arrangement(value)?,
-            // The protocol's keys leave the wall as it is (`Study::loading_at` reads them).
+            // The protocol's keys leave the wall as it is (`Study::protocol_at` reads them).
             SweepKey::Motion | SweepKey::PgaG => {}
         }
         Ok(())

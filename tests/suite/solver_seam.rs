@@ -151,3 +151,37 @@ fn the_command_line_follows_the_table() {
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("deprecated") && lambda(&out) > 0.0, "{err}");
 }
+
+/// Every solver kind of the one list (`SolverKind::ALL`) is accepted by `--solver` of each
+/// command that takes it (clap reads it through `FromStr`: a name it refuses is "invalid
+/// value", a name it accepts gets past the options to the missing input), and the Python
+/// package's tests run every one of them (`SOLVERS` of `python/tests/test_model.py`, the
+/// names `drystone.supports` parses through the same `FromStr`).
+#[test]
+fn every_solver_kind_is_accepted_by_the_command_line_and_the_python_tests() {
+    use std::process::Command;
+    let commands: [&[&str]; 5] = [
+        &["tilt", "/nonexistent/layout.json"],
+        &["lateral", "/nonexistent/layout.json"],
+        &["shake", "/nonexistent/layout.json"],
+        &["in-plane", "/nonexistent/layout.json"],
+        &["bench", "no_such_case"],
+    ];
+    let refused = |args: &[&str], name: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_drystone")).args(args).args(["--solver", name]).output().unwrap();
+        assert!(!out.status.success(), "{args:?} --solver {name} ran");
+        String::from_utf8_lossy(&out.stderr).contains("invalid value")
+    };
+    for args in commands {
+        for k in SolverKind::ALL {
+            assert_eq!(k.name().parse::<SolverKind>(), Ok(k));
+            assert!(!refused(args, k.name()), "{args:?} --solver {} refused by the command line", k.name());
+        }
+        assert!(refused(args, "rigid"), "{args:?} --solver rigid accepted");
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("python/tests/test_model.py")).unwrap();
+    let line = text.lines().find(|l| l.starts_with("SOLVERS = (")).expect("SOLVERS in test_model.py");
+    let listed: Vec<&str> = line.split('"').skip(1).step_by(2).collect();
+    assert_eq!(listed, SolverKind::ALL.map(SolverKind::name), "python/tests/test_model.py's SOLVERS");
+}

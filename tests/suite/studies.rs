@@ -217,3 +217,26 @@ fn the_report_names_the_solver_and_the_stages_it_ran() {
     assert!(rigid.contains("solver `limit`: limit analysis."), "{rigid}");
     assert!(!rigid.contains("secant predictor"), "{rigid}");
 }
+
+/// A protocol within a kind is named in a study file (`protocol = "tilt_by_hand"`,
+/// `"pushover"`, its `drystone.supports` name) or chosen by its kind's table (`[tilt]
+/// by_hand`, `[lateral] pushover = true`, the former spelling, still read): both spellings
+/// resolve to the same study, and run the same protocol by the same default solver.
+#[test]
+fn a_protocol_named_or_chosen_by_its_table_is_the_same_study() {
+    use drystone::protocol::Loading;
+    for (old, new, protocol) in [
+        ("mini_by_hand", "mini_by_hand_named", Loading::TiltByHand),
+        ("mini_pushover", "mini_pushover_named", Loading::Pushover),
+    ] {
+        let path = |n: &str| root().join(format!("tests/studies/good/{n}.toml"));
+        let (mut a, mut b) = (Study::from_file(&path(old)).unwrap(), Study::from_file(&path(new)).unwrap());
+        // The files themselves (their provenance) differ; everything read from them is the same.
+        (a.inputs, b.inputs) = (Vec::new(), Vec::new());
+        assert_eq!(a.protocol_at(0).loading(), protocol);
+        assert_eq!(b.protocol_at(0).loading(), protocol);
+        let shown = |s: &Study, n: &str| format!("{s:?}").replace(&format!("{n}.toml"), "STUDY.toml");
+        assert_eq!(shown(&a, old), shown(&b, new), "{new}");
+        assert!(b.warnings().iter().all(|w| !w.contains("deprecated")), "{:?}", b.warnings());
+    }
+}
