@@ -403,7 +403,8 @@ pub struct Layout {
 /// beam along x that the horizontal actuator carries on top of the wall's shear, so that the
 /// force it reads is `V = V_wall + N (u / L + μ_r sgn(u̇))`, with `N = σ0 L t` the applied
 /// vertical force (the loading beam's weight part of it, as the rig applies it), `u` the
-/// beam's displacement at the wall's top and `u̇` the sense of its last increment. Both zero: an ideal vertical force.
+/// beam's displacement at the wall's top and `u̇` the sense of its last increment. Both
+/// zero: an ideal vertical force.
 ///
 /// * `inverse_jack_length_per_m` (`1/L`, 1/m, ≥ 0): a jack, or tie rods, hinged at a
 ///   distance `L` from the beam leans by `u / L` as the beam moves, and its force then pulls
@@ -430,8 +431,8 @@ impl VerticalLoadRig {
     }
 
     /// The horizontal force the actuator carries for the rig, N (along +x, the sense of the
-    /// actuator's push) under the vertical force `n_n` (N): `n_n (u_m / L + μ_r sense)`, `sense` the sign of the
-    /// beam's last increment (−1, 0 or +1).
+    /// actuator's push) under the vertical force `n_n` (N): `n_n (u_m / L + μ_r sense)`,
+    /// `sense` the sign of the beam's last increment (−1, 0 or +1).
     pub fn actuator_force_n(&self, n_n: f64, u_m: f64, sense: f64) -> f64 {
         n_n * (u_m * self.inverse_jack_length_per_m + self.friction * sense)
     }

@@ -539,8 +539,9 @@ impl Rig {
 
     /// Adds to each point of `curve` the force the horizontal actuator carries for the
     /// rig's vertical-load system (`Layout::vertical_load_rig`: `N (u / L + μ_r sgn(u̇))`,
-    /// N the applied vertical force `σ0 L t`, u the point's top displacement, u̇'s sense that of the increment that led
-    /// to it, none at the first point); nothing for an ideal vertical force.
+    /// N the applied vertical force `σ0 L t`, u the point's top displacement, u̇'s sense
+    /// that of the increment that led to it, none at the first point); nothing for an
+    /// ideal vertical force.
     pub fn add_vertical_load_rig(&self, curve: &mut [CurvePoint]) {
         let r = self.layout.vertical_load_rig;
         if r.is_ideal() {
@@ -549,8 +550,9 @@ impl Rig {
         let n = self.vertical_force_n;
         let mut last = None;
         for p in curve.iter_mut() {
+            // The sense of the increment that led to the point (0 at the first, or none).
             let sense = last.map_or(0.0, |u0: f64| {
-                let du: f64 = p.top_mm - u0;
+                let du = p.top_mm - u0;
                 if du == 0.0 {
                     0.0
                 } else {
