@@ -1,9 +1,10 @@
 //! Per-degree-of-freedom constraints of a body: which of its six degrees of freedom are
 //! held, and where a held translation acts.
 //!
-//! A body is free ([`None`] in [`super::WallState::constraints`]), fixed
-//! ([`super::state::Body::fixed`]: every degree of freedom held at its reference pose), or
-//! constrained per degree of freedom by a [`DofConstraint`]:
+//! What holds a body is its [`Hold`] ([`super::state::Body::hold`]): nothing
+//! ([`Hold::Free`]), every degree of freedom at its reference pose ([`Hold::Fixed`]: the
+//! tilting table's base, a layout's fixed block), or some of them by a [`DofConstraint`]
+//! ([`Hold::Dof`]):
 //!
 //! * a **held translation** along a table axis i holds the table coordinate i of one
 //!   body-frame point `p` (the *anchor*) at a target value `x_i`: the reaction `R_i` is
@@ -38,6 +39,48 @@
 
 use super::state::Body;
 use crate::math::Vec3;
+
+/// What holds one body (see the module doc): the one vocabulary the penalty DEM, the
+/// non-smooth solver and limit analysis read for a body's degrees of freedom.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Hold {
+    /// Every degree of freedom free (a block of the wall).
+    #[default]
+    Free,
+    /// Every degree of freedom held at the reference pose: the body never moves (the
+    /// tilting table's base, a block a layout marks `fixed`).
+    Fixed,
+    /// Some degrees of freedom held, a translation possibly imposed (the in-plane test's
+    /// loading beam).
+    Dof(DofConstraint),
+}
+
+impl Hold {
+    /// Every degree of freedom held ([`Hold::Fixed`]).
+    #[inline]
+    pub fn is_fixed(&self) -> bool {
+        matches!(self, Hold::Fixed)
+    }
+
+    /// The per-degree-of-freedom constraint, if that is what holds the body.
+    #[inline]
+    pub fn dof(&self) -> Option<&DofConstraint> {
+        match self {
+            Hold::Dof(c) => Some(c),
+            Hold::Free | Hold::Fixed => None,
+        }
+    }
+
+    /// The per-degree-of-freedom constraint, to move its targets
+    /// ([`DofConstraint::set_target`]).
+    #[inline]
+    pub fn dof_mut(&mut self) -> Option<&mut DofConstraint> {
+        match self {
+            Hold::Dof(c) => Some(c),
+            Hold::Free | Hold::Fixed => None,
+        }
+    }
+}
 
 /// The held degrees of freedom of one body (see the module doc). Table frame throughout.
 #[derive(Debug, Clone, Copy, PartialEq)]
