@@ -10,6 +10,7 @@ pub(crate) mod dispatch;
 pub mod drivers;
 pub(crate) mod engine;
 mod error;
+pub mod hold;
 pub mod integrator;
 pub(crate) mod materials;
 pub mod method;

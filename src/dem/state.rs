@@ -1,6 +1,6 @@
 //! Rigid bodies: mass properties, pose and velocities.
 
-use super::constraint::Hold;
+use super::hold::Hold;
 use crate::geometry::ConvexBlock;
 use crate::math::{Mat3, Vec3};
 use nalgebra::UnitQuaternion;
