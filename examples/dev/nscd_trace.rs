@@ -53,16 +53,16 @@ fn main() {
     println!("step,sweeps,converged,residual_gh,quad,speed_gh,active,power_gh,drop_gh2");
     let start: Vec<drystone::Vec3> = sim.bodies().iter().map(|b| b.pos).collect();
     let gdir = drystone::Vec3::new(0.0, tilt.to_radians().sin(), -tilt.to_radians().cos());
-    let mass: f64 = sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum();
+    let mass: f64 = sim.bodies().iter().filter(|b| !b.fixed()).map(|b| b.mass).sum();
     for k in 1..=steps {
         let s = sim.step(|_| drystone::Vec3::zeros()).expect("step");
         let power: f64 =
-            sim.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass * b.vel.dot(&gdir)).sum::<f64>() / mass / gh;
+            sim.bodies().iter().filter(|b| !b.fixed()).map(|b| b.mass * b.vel.dot(&gdir)).sum::<f64>() / mass / gh;
         let drop: f64 = sim
             .bodies()
             .iter()
             .zip(&start)
-            .filter(|(b, _)| !b.fixed)
+            .filter(|(b, _)| !b.fixed())
             .map(|(b, s)| b.mass * (b.pos - s).dot(&gdir))
             .sum::<f64>()
             / mass
@@ -83,7 +83,7 @@ fn main() {
         .bodies()
         .iter()
         .enumerate()
-        .filter(|(_, b)| !b.fixed)
+        .filter(|(_, b)| !b.fixed())
         .map(|(k, b)| ((b.vel.norm() + b.angvel.norm() * b.radius) / gh, k))
         .collect();
     speeds.sort_by(|a, b| b.0.total_cmp(&a.0));

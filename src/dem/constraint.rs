@@ -1,9 +1,10 @@
 //! Per-degree-of-freedom constraints of a body: which of its six degrees of freedom are
 //! held, and where a held translation acts.
 //!
-//! A body is free ([`None`] in [`super::WallState::constraints`]), fixed
-//! ([`super::state::Body::fixed`]: every degree of freedom held at its reference pose), or
-//! constrained per degree of freedom by a [`DofConstraint`]:
+//! What holds a body is its [`Hold`] ([`super::state::Body::hold`]): nothing
+//! ([`Hold::Free`]), every degree of freedom at its reference pose ([`Hold::Fixed`]: the
+//! tilting table's base, a layout's fixed block), or some of them by a [`DofConstraint`]
+//! ([`Hold::Dof`]):
 //!
 //! * a **held translation** along a table axis i holds the table coordinate i of one
 //!   body-frame point `p` (the *anchor*) at a target value `x_i`: the reaction `R_i` is
@@ -36,28 +37,11 @@
 //! [`super::Simulation::predict`]'s, which zero the held components and put the anchor back
 //! on its target.
 
+pub use super::hold::{DofConstraint, Hold};
 use super::state::Body;
 use crate::math::Vec3;
 
-/// The held degrees of freedom of one body (see the module doc). Table frame throughout.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DofConstraint {
-    /// The anchor: the body-frame point (m, from the centroid) at which held translations
-    /// act.
-    pub anchor: Vec3,
-    /// Per table axis (x, y, z): the coordinate (m) at which the anchor is held, `None`
-    /// where the translation is free.
-    pub translation: [Option<f64>; 3],
-    /// Per table axis (x, y, z): whether the rotation about it is held.
-    pub rotation: [bool; 3],
-}
-
 impl DofConstraint {
-    /// No degree of freedom held, anchor at the centroid.
-    pub fn free() -> DofConstraint {
-        DofConstraint { anchor: Vec3::zeros(), translation: [None; 3], rotation: [false; 3] }
-    }
-
     /// Holds the translation along table axis `axis` (0 x, 1 y, 2 z) with the anchor where
     /// it is now on `body`.
     ///
@@ -66,23 +50,6 @@ impl DofConstraint {
     pub fn hold_translation(mut self, body: &Body, axis: usize) -> DofConstraint {
         self.translation[axis] = Some(self.anchor_world(body)[axis]);
         self
-    }
-
-    /// Holds the rotation about table axis `axis` (0 x, 1 y, 2 z).
-    ///
-    /// # Panics
-    /// If `axis > 2`.
-    pub fn hold_rotation(mut self, axis: usize) -> DofConstraint {
-        self.rotation[axis] = true;
-        self
-    }
-
-    /// Moves the target of a held translation (an imposed displacement), m. A free axis
-    /// stays free.
-    pub fn set_target(&mut self, axis: usize, value: f64) {
-        if self.translation[axis].is_some() {
-            self.translation[axis] = Some(value);
-        }
     }
 
     /// The anchor of `body` in the table frame, m.
@@ -109,19 +76,6 @@ impl DofConstraint {
             }
         }
         reaction
-    }
-
-    /// Zeroes the held components of a velocity `v` and an angular velocity `w`.
-    #[inline]
-    pub fn hold_velocities(&self, v: &mut Vec3, w: &mut Vec3) {
-        for i in 0..3 {
-            if self.translation[i].is_some() {
-                v[i] = 0.0;
-            }
-            if self.rotation[i] {
-                w[i] = 0.0;
-            }
-        }
     }
 
     /// Puts the anchor of `body` back on its targets (moving the centroid along the held

@@ -152,7 +152,7 @@ impl Simulation {
     /// damping (zero for a fixed body; the y force of a rigidly end-restrained body is held
     /// and reads zero).
     pub fn unbalanced(&self, k: usize) -> (Vec3, Vec3) {
-        if self.state.bodies[k].fixed {
+        if self.state.bodies[k].fixed() {
             return (Vec3::zeros(), Vec3::zeros());
         }
         let mut f = self.work.force[k];
@@ -202,7 +202,7 @@ impl Simulation {
         assert_eq!(drot.len(), st.bodies.len(), "one rotation per body");
         let mut jump = vec![(Vec3::zeros(), Vec3::zeros()); st.bodies.len()];
         for (k, b) in st.bodies.iter_mut().enumerate() {
-            if b.fixed {
+            if b.fixed() {
                 continue;
             }
             let mut d = dpos[k];
@@ -210,12 +210,13 @@ impl Simulation {
                 d.y = 0.0;
             }
             let mut w = drot[k];
-            if let Some(c) = &st.constraints[k] {
+            let constraint = b.hold.dof().copied();
+            if let Some(c) = &constraint {
                 c.hold_velocities(&mut d, &mut w);
             }
             b.pos += d;
             b.rotate(w);
-            if let Some(c) = &st.constraints[k] {
+            if let Some(c) = &constraint {
                 // The anchor's placement is part of the jump the joints see.
                 let before = b.pos - d;
                 c.place(b);

@@ -64,7 +64,7 @@ impl SignumOrZero for f64 {
 /// the table frame and include every load. Fixed bodies do not move.
 #[inline(always)]
 pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y: YConstraint) {
-    if b.fixed {
+    if b.fixed() {
         b.vel = Vec3::zeros();
         b.angvel = Vec3::zeros();
         return;
@@ -102,7 +102,7 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
 /// imposed motion.
 #[inline(always)]
 pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, c: &DofConstraint) {
-    if b.fixed {
+    if b.fixed() {
         b.vel = Vec3::zeros();
         b.angvel = Vec3::zeros();
         return;

@@ -10,6 +10,7 @@ pub(crate) mod dispatch;
 pub mod drivers;
 pub(crate) mod engine;
 mod error;
+pub mod hold;
 pub mod integrator;
 pub(crate) mod materials;
 pub mod method;
@@ -25,7 +26,7 @@ pub mod state;
 pub mod timestep;
 mod workspace;
 
-pub use constraint::DofConstraint;
+pub use constraint::{DofConstraint, Hold};
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use method::{Cascade, Method, SolverKind};
 pub use model::WallState;

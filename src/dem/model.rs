@@ -32,9 +32,6 @@ pub struct WallState {
     pub restraint: Vec<Option<EndRestraint>>,
     /// The layout's rope restraints with the blocks each bears on ([`super::rope`]).
     pub ropes: Vec<RopeLoad>,
-    /// Per-degree-of-freedom constraint per body ([`super::constraint`]; `None`: free, or
-    /// fixed by [`Body::fixed`]); none as built from a layout, a protocol sets them.
-    pub constraints: Vec<Option<super::constraint::DofConstraint>>,
     /// Simulated time, s.
     pub time: f64,
     /// Steps taken.
@@ -61,7 +58,6 @@ impl WallState {
             external_force: vec![Vec3::zeros(); n],
             external_torque: vec![Vec3::zeros(); n],
             restraint,
-            constraints: vec![None; n],
             time: 0.0,
             steps: 0,
         }
@@ -69,7 +65,7 @@ impl WallState {
 
     /// Whether some body has a per-degree-of-freedom constraint.
     pub fn constrained(&self) -> bool {
-        self.constraints.iter().any(Option::is_some)
+        self.bodies.iter().any(|b| b.hold.dof().is_some())
     }
 
     /// Sets the table tilt α (rad): gravity becomes `g (0, sin α, −cos α)` in the table

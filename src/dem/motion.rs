@@ -35,7 +35,7 @@ pub fn largest_motion(sim: &Simulation, start: &[BodyPose]) -> f64 {
         .bodies
         .iter()
         .zip(start)
-        .filter(|(b, _)| !b.fixed)
+        .filter(|(b, _)| !b.fixed())
         .map(|(b, from)| body_motion(from, &(b.pos, b.rot), b.radius))
         .fold(0.0, f64::max)
 }

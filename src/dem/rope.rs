@@ -107,7 +107,7 @@ impl RopeLoad {
                     .blocks
                     .iter()
                     .enumerate()
-                    .filter(|(k, _)| !bodies[*k].fixed)
+                    .filter(|(k, _)| !bodies[*k].fixed())
                     .filter_map(|(k, b)| {
                         let h = rope.bearing_height(b);
                         (h > 0.0).then(|| {

@@ -1,5 +1,6 @@
 //! Rigid bodies: mass properties, pose and velocities.
 
+use super::hold::Hold;
 use crate::geometry::ConvexBlock;
 use crate::math::{Mat3, Vec3};
 use nalgebra::UnitQuaternion;
@@ -39,8 +40,10 @@ pub struct Body {
     pub min_inertia: f64,
     /// Distance from the centroid to the farthest vertex, m.
     pub radius: f64,
-    /// Never moves.
-    pub fixed: bool,
+    /// What holds the body ([`Hold`]): free, fixed (never moves) or constrained per degree
+    /// of freedom. Built [`Hold::Fixed`] for a block the layout marks `fixed`, else
+    /// [`Hold::Free`]; a protocol sets a [`Hold::Dof`].
+    pub hold: Hold,
     /// Index of the block's material in the layout.
     pub material: usize,
     /// 1/s for the density scaling factor s > 0 of the inertial mass and inertia (1: none).
@@ -73,6 +76,12 @@ pub fn bodies_of(layout: &crate::layout::Layout) -> Vec<Body> {
 }
 
 impl Body {
+    /// Never moves: every degree of freedom held ([`Hold::Fixed`]).
+    #[inline]
+    pub fn fixed(&self) -> bool {
+        self.hold.is_fixed()
+    }
+
     /// A body at rest in its reference configuration from a block given in the table frame.
     pub fn new(id: String, shape_world: &ConvexBlock, density: f64, material: usize, fixed: bool) -> Body {
         let mp = shape_world.mass_properties(density);
@@ -90,7 +99,7 @@ impl Body {
             inv_sqrt_inertia: crate::math::inv_sqrt(&mp.inertia),
             min_inertia,
             radius,
-            fixed,
+            hold: if fixed { Hold::Fixed } else { Hold::Free },
             material,
             inertia_scale_inv: 1.0,
             block_mass: None,

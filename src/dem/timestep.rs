@@ -129,8 +129,8 @@ impl Stiffness {
             if w == 0.0 {
                 continue;
             }
-            let free_b = !bodies[c.b].fixed;
-            let free_a = c.a.filter(|&i| !bodies[i].fixed);
+            let free_b = !bodies[c.b].fixed();
+            let free_a = c.a.filter(|&i| !bodies[i].fixed());
             if free_b {
                 diag[c.b] += block(&c0, &n, ks, beta, w, &sb, &sb, &rbb);
                 touched[c.b] = true;
@@ -173,7 +173,7 @@ impl Stiffness {
         // taken again (the others' blocks, and so their eigenvalues, stand).
         let mut changed = vec![false; bodies.len()];
         for (k, r) in restraint.iter().enumerate() {
-            if let (Some(EndRestraint::Spring(ky)), false) = (r, bodies[k].fixed) {
+            if let (Some(EndRestraint::Spring(ky)), false) = (r, bodies[k].fixed()) {
                 self.diag[k][(1, 1)] += ky;
                 self.touched[k] = true;
                 changed[k] = true;
@@ -186,7 +186,7 @@ impl Stiffness {
             let d = rope.deflection(bodies);
             let kr = stiffness_bound(&rope.rope, (d - reach_m).max(0.0), d + reach_m);
             for b in &rope.bearers {
-                if bodies[b.body].fixed || !(kr > 0.0) {
+                if bodies[b.body].fixed() || !(kr > 0.0) {
                     continue;
                 }
                 let m = rope.arm(b, bodies).cross(&Vec3::y());
@@ -237,7 +237,7 @@ impl Stiffness {
 
     /// Body `i`'s entry of [`Stiffness::body_eigenvalues`].
     fn body_eigenvalue(&self, i: usize, b: &Body) -> f64 {
-        if b.fixed || !self.touched[i] {
+        if b.fixed() || !self.touched[i] {
             0.0
         } else {
             self.block_eigenvalue(i, &Self::mass_root(b, false))
@@ -256,7 +256,7 @@ impl Stiffness {
     /// dense eigenvalue on the SBL wall), capped by the bound `2 max λ_body` (scaled).
     pub fn max_eigenvalue(&self, bodies: &[Body]) -> f64 {
         const LANCZOS_STEPS: usize = 16;
-        let free: Vec<usize> = (0..bodies.len()).filter(|&i| self.touched[i] && !bodies[i].fixed).collect();
+        let free: Vec<usize> = (0..bodies.len()).filter(|&i| self.touched[i] && !bodies[i].fixed()).collect();
         if free.is_empty() {
             return 0.0;
         }
@@ -377,7 +377,7 @@ pub fn block_masses(
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            if b.fixed || !stiffness.touched[i] || target <= 0.0 {
+            if b.fixed() || !stiffness.touched[i] || target <= 0.0 {
                 return None;
             }
             let s = 1.0 / b.inertia_scale_inv;

@@ -120,7 +120,7 @@ impl Workspace {
         let mut fresh: Vec<(Option<usize>, usize)> = Vec::new();
         // Table contacts first (key 0), then pairs in (i, j) order.
         for j in 0..st.bodies.len() {
-            if st.bodies[j].fixed {
+            if st.bodies[j].fixed() {
                 continue;
             }
             match st.reusable(None, j, reuse_tol) {
@@ -130,7 +130,7 @@ impl Workspace {
             }
         }
         for (i, j) in sweep_pairs(&boxes, settings.contact_margin_m) {
-            if st.bodies[i].fixed && st.bodies[j].fixed {
+            if st.bodies[i].fixed() && st.bodies[j].fixed() {
                 continue;
             }
             match st.reusable(Some(i), j, reuse_tol) {
@@ -276,7 +276,7 @@ impl Workspace {
     pub(super) fn needs_detection(&self, st: &WallState, params: &SolverParams) -> bool {
         let limit = params.redetect_fraction * params.contact_margin_m;
         st.bodies.iter().enumerate().any(|(k, b)| {
-            if b.fixed {
+            if b.fixed() {
                 return false;
             }
             let dx = (b.pos - self.detect_pos[k]).norm();
@@ -373,7 +373,7 @@ impl Workspace {
         let mut sum_unbalanced = 0.0;
         let mut free = 0usize;
         for (k, b) in st.bodies.iter().enumerate() {
-            if b.fixed {
+            if b.fixed() {
                 continue;
             }
             let mut f = self.force[k] + st.gravity * b.mass + st.external_force[k];
@@ -381,7 +381,7 @@ impl Workspace {
             if let Some(EndRestraint::Spring(kk)) = st.restraint[k] {
                 f.y -= kk * (b.pos.y - b.pos0.y);
             }
-            if let Some(c) = &st.constraints[k] {
+            if let Some(c) = b.hold.dof() {
                 c.react(b, &mut f, &mut self.torque[k]);
             }
             self.force[k] = f;
@@ -413,9 +413,9 @@ impl Workspace {
             } else {
                 YConstraint::Free
             };
-            match &st.constraints[k] {
+            match b.hold.dof().copied() {
                 None => advance(b, self.force[k], self.torque[k], dt, damping, y),
-                Some(c) => advance_constrained(b, self.force[k], self.torque[k], dt, damping, c),
+                Some(c) => advance_constrained(b, self.force[k], self.torque[k], dt, damping, &c),
             }
             if !(b.pos.iter().all(|v| v.is_finite())
                 && b.angvel.iter().all(|v| v.is_finite())

@@ -185,7 +185,7 @@ impl Recorder {
                 .map(|b| RecordedBlock {
                     id: b.id.clone(),
                     material: b.material,
-                    fixed: b.fixed,
+                    fixed: b.fixed(),
                     shape: b.shape.clone(),
                     radius: b.radius,
                 })

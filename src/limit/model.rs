@@ -209,7 +209,7 @@ impl Model {
         let mut row_of = vec![None; n];
         let mut free = 0;
         for (k, b) in st.bodies.iter().enumerate() {
-            if !b.fixed {
+            if !b.fixed() {
                 row_of[k] = Some(free);
                 free += 1;
             }
@@ -217,7 +217,7 @@ impl Model {
         let g = layout.gravity;
         let dead: Vec<(Vec3, Vec3)> =
             st.bodies.iter().map(|b| (Vec3::new(0.0, 0.0, -g * b.mass), Vec3::zeros())).collect();
-        let weight: f64 = st.bodies.iter().filter(|b| !b.fixed).map(|b| g * b.mass).sum();
+        let weight: f64 = st.bodies.iter().filter(|b| !b.fixed()).map(|b| g * b.mass).sum();
         let mut joints = Vec::with_capacity(st.contacts.len());
         let mut points = Vec::new();
         for c in &st.contacts {
@@ -253,7 +253,7 @@ impl Model {
         let held = layout
             .end_restraints
             .iter()
-            .filter(|(i, r)| *r == EndRestraint::Rigid && !st.bodies[*i].fixed)
+            .filter(|(i, r)| *r == EndRestraint::Rigid && !st.bodies[*i].fixed())
             .map(|(i, _)| (*i, 1))
             .collect();
         let model = Model {
@@ -266,7 +266,7 @@ impl Model {
                 .iter()
                 .map(|b| {
                     let bb = b.world_shape().aabb();
-                    ((bb.min.x, bb.max.x), (bb.min.z, bb.max.z), b.fixed)
+                    ((bb.min.x, bb.max.x), (bb.min.z, bb.max.z), b.fixed())
                 })
                 .collect(),
             joints,

@@ -49,7 +49,7 @@
 use super::settle::{settle, SettleError};
 use crate::dem::contact::types::Contact;
 use crate::dem::motion::poses;
-use crate::dem::{solve_static, Cascade, DemError, DofConstraint, End, Simulation, SolverParams, StaticSolve};
+use crate::dem::{solve_static, Cascade, DemError, DofConstraint, End, Hold, Simulation, SolverParams, StaticSolve};
 use crate::geometry::ConvexBlock;
 use crate::layout::{Block, Layout};
 use crate::math::Vec3;
@@ -981,7 +981,7 @@ pub fn run_in_plane_penalty(
     let mut sim = Simulation::new(&rig.layout, solver);
     let (tol, budget) = (solver.penalty.tolerance, solver.penalty.max_steps);
     let bi = rig.beam;
-    sim.state.constraints[bi] = Some(rig.constraint(&sim, params.beam_rotation));
+    sim.state.bodies[bi].hold = Hold::Dof(rig.constraint(&sim, params.beam_rotation));
     settle(&mut sim, &rig.layout, tol, budget).map_err(|e| match e {
         SettleError::Dem(e) => InPlaneError::Dem(e),
         other => InPlaneError::DoesNotStand(other),
@@ -1025,7 +1025,7 @@ pub fn run_in_plane_penalty(
     let beam_ref = sim.state.bodies[bi].clone();
     let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.height_m));
     let top_x0 = beam_ref.to_world(&top_local).x;
-    let anchor_x0 = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref).x;
+    let anchor_x0 = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref).x;
     let force = |sim: &Simulation| -> f64 {
         let mut fx = 0.0;
         for c in &sim.state.contacts {
@@ -1078,7 +1078,7 @@ pub fn run_in_plane_penalty(
             }
             u_prev = if (u - u_prev).abs() <= allowed { u } else { u_prev + du };
             allowed = (2.0 * allowed).min(params.step_mm * 1e-3);
-            if let Some(c) = sim.state.constraints[bi].as_mut() {
+            if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
                 c.set_target(0, anchor_x0 + u_prev);
             }
             let start = poses(&sim);
@@ -1110,7 +1110,7 @@ pub fn run_in_plane_penalty(
                 Err(DemError::NonFinite { .. }) if last.is_some() || allowed > first => {
                     sim = before;
                     u_prev -= du;
-                    if let Some(c) = sim.state.constraints[bi].as_mut() {
+                    if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
                         c.set_target(0, anchor_x0 + u_prev);
                     }
                     last = None;
@@ -1138,7 +1138,7 @@ pub fn run_in_plane_penalty(
         }
     }
     let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
-    let anchor = sim.state.constraints[bi].expect("set").anchor_world(&beam_ref);
+    let anchor = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref);
     let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor, &reference, &reading);
     let work = Work { unconverged, retried, steps: sim.state.steps, dt_s: sim.dt(), t0 };
     Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))

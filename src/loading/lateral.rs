@@ -282,7 +282,7 @@ pub fn pressure_loads(sim: &Simulation, z0: f64, z1: f64, p0: f64, p1: f64) -> (
     let mut loaded = 0;
     const PROBE_M: f64 = 2e-3;
     for (i, (b, s)) in sim.state.bodies.iter().zip(&shapes).enumerate() {
-        if b.fixed {
+        if b.fixed() {
             continue;
         }
         for f in &s.faces {
@@ -374,7 +374,8 @@ pub(super) fn prepare(
     let reference: Vec<Vec3> = monitors.iter().map(|m| sim.state.bodies[m.body].to_world(&m.local)).collect();
     let (loads, loaded_faces) =
         pressure_loads(&sim, all.min.z, all.max.z, params.pressure_base_pa, params.pressure_top_pa);
-    let weight_n = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
+    let weight_n =
+        sim.state.bodies.iter().filter(|b| !b.fixed()).map(|b| b.mass).sum::<f64>() * sim.state.gravity.norm();
     Ok(SettledUnderLoad { sim, monitors, reference, loads, loaded_faces, width, height, weight_n, elastic, t0 })
 }
 

@@ -72,7 +72,7 @@ pub fn run_lateral_nscd(
     super::lateral::check_pushover_force(lateral, &loads, loaded_faces).map_err(TiltError::NoLoad)?;
     let (force, torque): (Vec<Vec3>, Vec<Vec3>) = loads.into_iter().unzip();
     let resultant_n = force.iter().fold(Vec3::zeros(), |s, f| s + f);
-    let weight_n = base.bodies().iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * base.gravity_magnitude();
+    let weight_n = base.bodies().iter().filter(|b| !b.fixed()).map(|b| b.mass).sum::<f64>() * base.gravity_magnitude();
     let inc_limit = 0.05 * b.extent().y;
     let limits =
         TrialLimits::of(layout, &base, inc_limit, TiltParams::default().collapse_displacement_fraction * b.extent().y);

@@ -141,7 +141,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
     // Rigid groups: union-find over the bodies and the ground (index nb) through intact joints.
     let mut parent: Vec<usize> = (0..=nb).collect();
     for (k, b) in stable.state.bodies.iter().enumerate() {
-        if b.fixed {
+        if b.fixed() {
             join(&mut parent, k, nb);
         }
     }
@@ -186,7 +186,7 @@ pub fn mechanism(stable: &Simulation, failed: &Simulation) -> Mechanism {
         .zip(&moving)
         .map(|((b, &d), &m)| {
             let bb = b.world_shape().aabb();
-            BlockMotion { x: (bb.min.x, bb.max.x), z: (bb.min.z, bb.max.z), moved: d, moving: m, fixed: b.fixed }
+            BlockMotion { x: (bb.min.x, bb.max.x), z: (bb.min.z, bb.max.z), moved: d, moving: m, fixed: b.fixed() }
         })
         .collect();
     let reading = read_mechanism(&motions, kind);

@@ -129,7 +129,7 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
             touched[a] = true;
         }
     }
-    if let Some(k) = (0..sim.state.bodies.len()).find(|&k| !sim.state.bodies[k].fixed && !touched[k]) {
+    if let Some(k) = (0..sim.state.bodies.len()).find(|&k| !sim.state.bodies[k].fixed() && !touched[k]) {
         return Err(SettleError::Untouched {
             block: sim.state.bodies[k].id.clone(),
             margin_m: sim.params().contact_margin_m,
@@ -162,7 +162,7 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         .bodies
         .iter()
         .zip(&start)
-        .filter(|(b, _)| !b.fixed)
+        .filter(|(b, _)| !b.fixed())
         .map(|(b, from)| (b, body_motion(from, &(b.pos, b.rot), b.radius)))
         .max_by(|x, y| x.1.total_cmp(&y.1));
     if let Some((b, moved_m)) = worst {

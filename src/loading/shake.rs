@@ -523,7 +523,7 @@ impl<'m> Watch<'m> {
             .iter()
             .zip(&self.places)
             .filter(|(b, (pos, rot, hz))| {
-                !b.fixed && ((b.rot * rot.inverse()).angle() > self.fall || pos.z - b.pos.z > 0.5 * hz)
+                !b.fixed() && ((b.rot * rot.inverse()).angle() > self.fall || pos.z - b.pos.z > 0.5 * hz)
             })
             .count()
     }
@@ -543,7 +543,7 @@ impl<'m> Watch<'m> {
         bodies
             .iter()
             .zip(&self.places)
-            .filter(|(b, _)| !b.fixed)
+            .filter(|(b, _)| !b.fixed())
             .map(|(b, (_, rot, _))| (b.rot * rot.inverse()).scaled_axis().x.abs())
             .fold(0.0, f64::max)
     }

@@ -83,7 +83,7 @@ pub fn set_table_motion(sim: &mut NscdSimulation, axis: Vec3, alpha: f64, w: f64
         .bodies()
         .iter()
         .map(|b| {
-            if b.fixed {
+            if b.fixed() {
                 return (Vec3::zeros(), Vec3::zeros());
             }
             let r = b.pos - axis;

@@ -125,7 +125,7 @@ pub(crate) fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
     sim.bodies()
         .iter()
         .zip(start)
-        .filter(|(b, _)| !b.fixed)
+        .filter(|(b, _)| !b.fixed())
         .map(|(b, s)| body_motion(s, &(b.pos, b.rot), b.radius))
         .fold(0.0, f64::max)
 }
@@ -138,7 +138,7 @@ pub(crate) fn largest_motion(sim: &NscdSimulation, start: &[BodyPose]) -> f64 {
 /// in layout order, that touches nothing within `params.contact_margin_m`.
 pub(crate) fn touches_something(base: &NscdSimulation, params: &NscdParams) -> Result<(), TiltError> {
     for (k, b) in base.bodies().iter().enumerate() {
-        if !b.fixed && !base.contact_points().iter().any(|c| c.b == k || c.a == Some(k)) {
+        if !b.fixed() && !base.contact_points().iter().any(|c| c.b == k || c.a == Some(k)) {
             return Err(TiltError::DoesNotStand(SettleError::Untouched {
                 block: b.id.clone(),
                 margin_m: params.contact_margin_m,

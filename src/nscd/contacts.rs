@@ -171,13 +171,13 @@ pub(crate) fn detect(
         })
         .collect();
     let mut pairs: Vec<(Option<usize>, usize)> = (0..bodies.len())
-        .filter(|&j| !bodies[j].fixed && boxes[j].min.z <= patch.contact_margin_m)
+        .filter(|&j| !bodies[j].fixed() && boxes[j].min.z <= patch.contact_margin_m)
         .map(|j| (None, j))
         .collect();
     pairs.extend(
         sweep_pairs(&boxes, patch.contact_margin_m)
             .into_iter()
-            .filter(|&(i, j)| !(bodies[i].fixed && bodies[j].fixed))
+            .filter(|&(i, j)| !(bodies[i].fixed() && bodies[j].fixed()))
             .map(|(i, j)| (Some(i), j)),
     );
     let shapes: Vec<_> = bodies.iter().map(|b| b.world_shape()).collect();

@@ -48,7 +48,7 @@ use super::nsgs::{self, BodyState, SweepPlan};
 use super::rest::{Certificate, Statics};
 use super::{apgd, cone};
 use super::{NscdError, NscdParams, RestRule, StepSolver};
-use crate::dem::constraint::DofConstraint;
+use crate::dem::constraint::{DofConstraint, Hold};
 use crate::dem::materials::JointTable;
 use crate::dem::rope::RopeLoad;
 use crate::dem::state::Body;
@@ -104,8 +104,6 @@ pub struct NscdSimulation {
     x: Vec<Vec3>,
     inv_m: Vec<Vec3>,
     inv_i: Vec<Mat3>,
-    /// Per-degree-of-freedom constraints per body ([`Self::constrain`]).
-    constraints: Vec<Option<DofConstraint>>,
     /// The mobility of each constrained body over the current step ([`Held`]).
     held: Vec<Option<Held>>,
     spring: Vec<Option<f64>>,
@@ -158,7 +156,7 @@ impl NscdSimulation {
         let n = bodies.len();
         let mut spring = vec![None; n];
         let mut inv_m: Vec<Vec3> =
-            bodies.iter().map(|b| if b.fixed { Vec3::zeros() } else { Vec3::repeat(1.0 / b.mass) }).collect();
+            bodies.iter().map(|b| if b.fixed() { Vec3::zeros() } else { Vec3::repeat(1.0 / b.mass) }).collect();
         for &(i, r) in &layout.end_restraints {
             match r {
                 EndRestraint::Rigid => inv_m[i].y = 0.0,
@@ -172,7 +170,6 @@ impl NscdSimulation {
             x: bodies.iter().map(|b| b.pos).collect(),
             inv_i: vec![Mat3::zeros(); n],
             inv_m,
-            constraints: vec![None; n],
             held: vec![None; n],
             spring,
             ropes: RopeLoad::of_layout(layout, &bodies),
@@ -284,24 +281,24 @@ impl NscdSimulation {
     /// # Panics
     /// If `i` is out of range.
     pub fn constrain(&mut self, i: usize, constraint: DofConstraint) {
-        self.constraints[i] = Some(constraint);
+        self.bodies[i].hold = Hold::Dof(constraint);
         self.inv_m[i] = Vec3::zeros();
         self.rows_at_rest = false;
     }
 
     /// The constraint of body `i`, if any.
     pub fn constraint(&self, i: usize) -> Option<&DofConstraint> {
-        self.constraints[i].as_ref()
+        self.bodies[i].hold.dof()
     }
 
     /// The constraint of body `i`, to move its targets ([`DofConstraint::set_target`]).
     pub fn constraint_mut(&mut self, i: usize) -> Option<&mut DofConstraint> {
-        self.constraints[i].as_mut()
+        self.bodies[i].hold.dof_mut()
     }
 
     /// Whether some body is constrained per degree of freedom.
     fn constrained(&self) -> bool {
-        self.constraints.iter().any(Option::is_some)
+        self.bodies.iter().any(|b| b.hold.dof().is_some())
     }
 
     /// Kinetic energy, J (relative to the table).
@@ -311,7 +308,7 @@ impl NscdSimulation {
 
     /// The largest speed of a point of a free block, `|v| + |ω| R` (R its radius), m/s.
     pub fn max_point_speed(&self) -> f64 {
-        self.bodies.iter().filter(|b| !b.fixed).map(|b| b.vel.norm() + b.angvel.norm() * b.radius).fold(0.0, f64::max)
+        self.bodies.iter().filter(|b| !b.fixed()).map(|b| b.vel.norm() + b.angvel.norm() * b.radius).fold(0.0, f64::max)
     }
 
     /// Rotation of body `i` from its reference configuration, as a rotation vector (rad,
@@ -373,7 +370,7 @@ impl NscdSimulation {
     fn needs_detection(&self) -> bool {
         let limit = self.params.redetect_fraction * self.params.contact_margin_m;
         self.bodies.iter().enumerate().any(|(k, b)| {
-            if b.fixed {
+            if b.fixed() {
                 return false;
             }
             let dx = (b.pos - self.detect_pos[k]).norm();
@@ -432,7 +429,7 @@ impl NscdSimulation {
         self.load_state();
         self.build_rows();
         self.rows_at_rest =
-            self.bodies.iter().all(|b| b.fixed || (b.vel == Vec3::zeros() && b.angvel == Vec3::zeros()));
+            self.bodies.iter().all(|b| b.fixed() || (b.vel == Vec3::zeros() && b.angvel == Vec3::zeros()));
         if !reuse && self.params.rest == RestRule::Certify && self.at_rest() {
             if let Some(step) = self.certified(a_g, h, redetected) {
                 return Ok(step);
@@ -540,7 +537,7 @@ impl NscdSimulation {
         self.rope_loads();
         let dead: Vec<(Vec3, Vec3)> = (0..self.bodies.len())
             .map(|k| {
-                if self.bodies[k].fixed {
+                if self.bodies[k].fixed() {
                     (Vec3::zeros(), Vec3::zeros())
                 } else {
                     self.smooth_load(k, Vec3::zeros(), Vec3::zeros())
@@ -548,8 +545,8 @@ impl NscdSimulation {
             })
             .collect();
         let mass: Vec<f64> = self.bodies.iter().map(|b| b.mass).collect();
-        let free: Vec<bool> = self.bodies.iter().map(|b| !b.fixed).collect();
-        let held_y: Vec<bool> = self.inv_m.iter().zip(&self.bodies).map(|(m, b)| !b.fixed && m.y == 0.0).collect();
+        let free: Vec<bool> = self.bodies.iter().map(|b| !b.fixed()).collect();
+        let held_y: Vec<bool> = self.inv_m.iter().zip(&self.bodies).map(|(m, b)| !b.fixed() && m.y == 0.0).collect();
         let statics = Statics {
             rows: &self.rows,
             mass: &mass,
@@ -574,12 +571,12 @@ impl NscdSimulation {
             self.x[k] = b.pos;
             self.vel[k] = b.vel;
             self.angvel[k] = b.angvel;
-            self.inv_i[k] = if b.fixed { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
+            self.inv_i[k] = if b.fixed() { Mat3::zeros() } else { b.rot_mat * b.inv_inertia * b.rot_mat.transpose() };
         }
-        for (k, c) in self.constraints.iter().enumerate() {
-            if let Some(c) = c {
+        for (k, b) in self.bodies.iter().enumerate() {
+            if let Some(c) = b.hold.dof() {
                 self.inv_i[k] = Mat3::zeros();
-                self.held[k] = Some(Held::new(c, &self.bodies[k], self.params.dt_s));
+                self.held[k] = Some(Held::new(c, b, self.params.dt_s));
             }
         }
     }
@@ -612,7 +609,7 @@ impl NscdSimulation {
     fn free_velocities(&mut self, h: f64, a_g: Vec3) {
         self.rope_loads_predicted(h);
         for k in 0..self.bodies.len() {
-            if self.bodies[k].fixed {
+            if self.bodies[k].fixed() {
                 continue;
             }
             let (f, t) = self.smooth_load(k, a_g, self.angvel[k]);
@@ -657,7 +654,7 @@ impl NscdSimulation {
             p.pos = b.pos;
             p.rot = b.rot;
             p.rot_mat = b.rot_mat;
-            if !b.fixed && c > 0.0 {
+            if !b.fixed() && c > 0.0 {
                 p.pos += c * b.vel;
                 p.rotate(c * b.angvel);
             }
@@ -781,7 +778,7 @@ impl NscdSimulation {
     /// Stage 5: the θ-update of the poses; the new velocities into the bodies.
     fn advance(&mut self, h: f64, theta: f64) -> Result<(), NscdError> {
         for (k, b) in self.bodies.iter_mut().enumerate() {
-            if b.fixed {
+            if b.fixed() {
                 continue;
             }
             let (v, w) = (self.vel[k], self.angvel[k]);
@@ -789,7 +786,7 @@ impl NscdSimulation {
             b.rotate(h * (theta * w + (1.0 - theta) * b.angvel));
             b.vel = v;
             b.angvel = w;
-            if let Some(c) = &self.constraints[k] {
+            if let Some(c) = b.hold.dof().copied() {
                 c.place(b);
             }
             if !(b.pos.iter().all(|c| c.is_finite())

@@ -420,7 +420,7 @@ pub fn specimen(study: &Study, wall: &Wall, seed: u64, k: u64, e: Edit) -> Optio
     // Every state handed over: (α, stable, each body's id, fixed, centroid and orientation).
     let mut states = Vec::new();
     let t = run_tilt_observed(&edited, study.solver, study.protocol.tilt()?, &mut |alpha, stable, sim| {
-        let bodies: Vec<_> = sim.state.bodies.iter().map(|b| (b.id.clone(), b.fixed, b.pos, b.rot)).collect();
+        let bodies: Vec<_> = sim.state.bodies.iter().map(|b| (b.id.clone(), b.fixed(), b.pos, b.rot)).collect();
         states.push((alpha, stable, bodies));
     })
     .ok()?;

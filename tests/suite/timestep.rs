@@ -33,11 +33,11 @@ fn dense_max_eigenvalue(sim: &Simulation) -> f64 {
                 for (kk, d) in [(c.joint.kn * w, nrm), (c.joint.ks * w, t1), (c.joint.ks * w, t2)] {
                     let mut g: Vec<(usize, [f64; 6])> = Vec::new();
                     let b = &sim.state.bodies[c.b];
-                    if !b.fixed {
+                    if !b.fixed() {
                         let m = (b.rot_mat * nd.on_b).cross(&d);
                         g.push((c.b, [d.x, d.y, d.z, m.x, m.y, m.z]));
                     }
-                    if let Some(ia) = c.a.filter(|&ia| !sim.state.bodies[ia].fixed) {
+                    if let Some(ia) = c.a.filter(|&ia| !sim.state.bodies[ia].fixed()) {
                         let m = (sim.state.bodies[ia].rot_mat * nd.on_a).cross(&d);
                         g.push((ia, [-d.x, -d.y, -d.z, -m.x, -m.y, -m.z]));
                     }
@@ -64,7 +64,7 @@ fn mass_root(sim: &Simulation) -> DMatrix<f64> {
     let n = sim.state.bodies.len();
     let mut s = DMatrix::<f64>::zeros(6 * n, 6 * n);
     for (i, b) in sim.state.bodies.iter().enumerate() {
-        if b.fixed {
+        if b.fixed() {
             continue;
         }
         if let Some(bm) = &b.block_mass {

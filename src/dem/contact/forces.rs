@@ -77,7 +77,7 @@ pub(crate) fn contact_forces<const PAIR: bool>(
 /// free body's mass where the other is the table or fixed (`None` where both are fixed).
 #[inline(always)]
 pub(crate) fn effective_mass(a: Option<&Body>, b: &Body) -> Option<f64> {
-    match (a.filter(|a| !a.fixed), b.fixed) {
+    match (a.filter(|a| !a.fixed()), b.fixed()) {
         (Some(a), false) => Some(a.mass * b.mass / (a.mass + b.mass)),
         (Some(a), true) => Some(a.mass),
         (None, false) => Some(b.mass),

@@ -91,7 +91,7 @@ pub fn largest_body_motion(sim: &Simulation, dpos: &[Vec3], drot: &[Vec3]) -> f6
         .bodies
         .iter()
         .zip(dpos.iter().zip(drot))
-        .filter(|(b, _)| !b.fixed)
+        .filter(|(b, _)| !b.fixed())
         .map(|(b, (d, r))| d.norm() + r.norm() * b.radius)
         .fold(0.0, f64::max)
 }
@@ -217,7 +217,7 @@ impl Accelerator {
         let Some((pose0, g0)) = self.last.replace((pose.clone(), g.clone())) else { return Creep::Continue };
         let mut dx = Vec::with_capacity(g.len());
         for (k, ((x1, q1), (x0, q0))) in pose.iter().zip(&pose0).enumerate() {
-            if sim.state.bodies[k].fixed {
+            if sim.state.bodies[k].fixed() {
                 dx.extend_from_slice(&[0.0; 6]);
                 continue;
             }

@@ -299,7 +299,7 @@ pub(super) fn extrapolate_collapse(sim: &mut Simulation, start: &[BodyPose], dpo
 /// millimetres, below the fixed fractions of the wall width; at Kn of the order of 1e6
 /// Pa/m it is centimetres, the rotation of the joints before collapse.
 pub fn elastic_scale(layout: &Layout, sim: &Simulation) -> f64 {
-    let weight: f64 = sim.state.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum::<f64>() * layout.gravity;
+    let weight: f64 = sim.state.bodies.iter().filter(|b| !b.fixed()).map(|b| b.mass).sum::<f64>() * layout.gravity;
     let ext = layout.bounds().extent();
     let area = ext.x * ext.y;
     let kn = sim

@@ -43,7 +43,7 @@ impl Dofs {
             .bodies
             .iter()
             .map(|b| {
-                if b.fixed {
+                if b.fixed() {
                     usize::MAX
                 } else {
                     n += 6;
@@ -55,11 +55,11 @@ impl Dofs {
             .state
             .restraint
             .iter()
-            .zip(&sim.state.constraints)
-            .map(|(r, c)| {
+            .zip(&sim.state.bodies)
+            .map(|(r, b)| {
                 let mut h = [false; 6];
                 h[1] = *r == Some(EndRestraint::Rigid);
-                if let Some(c) = c {
+                if let Some(c) = b.hold.dof() {
                     for i in 0..3 {
                         h[i] |= c.translation[i].is_some();
                         h[i + 3] |= c.rotation[i];
@@ -423,8 +423,8 @@ fn spring_stiffness(sim: &Simulation) -> (Vec<Matrix6<f64>>, BTreeMap<(usize, us
             continue;
         }
         let nn = n * n.transpose();
-        let free_b = !sim.state.bodies[c.b].fixed;
-        let free_a = c.a.filter(|&i| !sim.state.bodies[i].fixed);
+        let free_b = !sim.state.bodies[c.b].fixed();
+        let free_a = c.a.filter(|&i| !sim.state.bodies[i].fixed());
         // The normal springs (C₀ = n nᵀ) and the shear springs (C₀ = I − n nᵀ).
         for (part, c0, ks, beta) in [(0, nn, 0.0, 1.0), (1, Mat3::identity() - nn, 1.0, -1.0)] {
             let (mut wsum, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());
