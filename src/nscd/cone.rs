@@ -174,16 +174,18 @@ struct Program {
     wfree: Vec<Vec3>,
     /// Each point's free relative velocity with Signorini's term, local frame.
     uf: Vec<Vec3>,
+    /// The equality rows of the constrained bodies' held degrees of freedom (after the
+    /// points' rows).
+    equalities: usize,
 }
 
 impl Program {
-    /// Assembles the program, or `None` without a free degree of freedom or with a
-    /// constrained body ([`super::held`]: its mass matrix on the free directions is not
-    /// stated here, and the step keeps the gradient's impulses).
+    /// Assembles the program, or `None` without a free degree of freedom. A body
+    /// constrained per degree of freedom ([`super::held`]) has its six velocity changes as
+    /// unknowns, its whole mass matrix in `P` and its held degrees of freedom as equality
+    /// rows `G δ = 0` (a zero cone): the program's optimum is then the velocity change
+    /// `K Hᵀ r` of its mobility `K` (Acary & Brogliato 2008, §10.1).
     fn new(rows: &[PointRows], impulse: &[Vec3], b: &BodyState<'_>) -> Option<Program> {
-        if b.held.iter().any(Option::is_some) {
-            return None;
-        }
         let mut vfree = b.vel.to_vec();
         let mut wfree = b.angvel.to_vec();
         for (row, r) in rows.iter().zip(impulse) {
@@ -201,6 +203,13 @@ impl Program {
         let mut col = vec![[usize::MAX; 6]; b.vel.len()];
         let mut n = 0;
         for (k, c) in col.iter_mut().enumerate() {
+            if b.held[k].is_some() {
+                for slot in c.iter_mut() {
+                    *slot = n;
+                    n += 1;
+                }
+                continue;
+            }
             for i in 0..3 {
                 if b.inv_m[k][i] > 0.0 {
                     c[i] = n;
@@ -219,6 +228,19 @@ impl Program {
         }
         let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
         for (k, c) in col.iter().enumerate() {
+            if let Some(h) = &b.held[k] {
+                let m = h.mass();
+                for i in 0..6 {
+                    for j in i..6 {
+                        if m[(i, j)] != 0.0 || m[(j, i)] != 0.0 {
+                            pi.push(c[i]);
+                            pj.push(c[j]);
+                            pv.push(0.5 * (m[(i, j)] + m[(j, i)]));
+                        }
+                    }
+                }
+                continue;
+            }
             for i in 0..3 {
                 if c[i] != usize::MAX {
                     pi.push(c[i]);
@@ -260,17 +282,37 @@ impl Program {
             }
             cones.push(SupportedConeT::SecondOrderConeT(3));
         }
+        // The held degrees of freedom: G δ = 0, one zero cone after the points' cones.
+        let mut line = 3 * rows.len();
+        for (k, h) in b.held.iter().enumerate() {
+            let Some(h) = h else { continue };
+            for g in h.rows() {
+                for (dof, gv) in g.iter().enumerate() {
+                    if *gv != 0.0 {
+                        ai.push(line);
+                        aj.push(col[k][dof]);
+                        av.push(*gv);
+                    }
+                }
+                line += 1;
+            }
+        }
+        let equalities = line - 3 * rows.len();
+        if equalities > 0 {
+            cones.push(SupportedConeT::ZeroConeT(equalities));
+        }
         let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
-        let a = CscMatrix::new_from_triplets(3 * rows.len(), n, ai, aj, av);
-        Some(Program { p, a, cones, vfree, wfree, uf })
+        let a = CscMatrix::new_from_triplets(line, n, ai, aj, av);
+        Some(Program { p, a, cones, vfree, wfree, uf, equalities })
     }
 
     /// The right-hand side `b` (Clarabel's `A x + s = b`) at the shift `shift` (m/s).
     fn rhs(&self, rows: &[PointRows], shift: &[f64]) -> Vec<f64> {
-        let mut out = Vec::with_capacity(3 * rows.len());
+        let mut out = Vec::with_capacity(3 * rows.len() + self.equalities);
         for ((row, u), s) in rows.iter().zip(&self.uf).zip(shift) {
             out.extend([u.x + s, row.mu * u.y, row.mu * u.z]);
         }
+        out.resize(3 * rows.len() + self.equalities, 0.0);
         out
     }
 

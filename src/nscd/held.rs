@@ -58,6 +58,12 @@ pub struct Held {
     pub imposed: Vec3,
     /// The body's mass matrix `M = diag(m I, I_c)`, table frame (kg, kg·m²).
     mass: Matrix6<f64>,
+    /// The rows `G` of the constraint on a velocity change `δq = (δv, δω)`, `G δq = 0`:
+    /// `(e_i, a × e_i)` per held translation i (the anchor's velocity along i), `(0, e_j)`
+    /// per held rotation j; the first [`Self::held_rows`] are set.
+    rows: [Vector6<f64>; 6],
+    /// The number of held degrees of freedom.
+    held_rows: usize,
 }
 
 impl Held {
@@ -68,6 +74,21 @@ impl Held {
         let anchor = body.pos + a;
         let mut columns: Vec<Vector6<f64>> = Vec::with_capacity(6);
         let mut imposed = Vec3::zeros();
+        let (mut rows, mut held_rows) = ([Vector6::zeros(); 6], 0);
+        for i in 0..3 {
+            if constraint.translation[i].is_some() {
+                let e = Vec3::ith(i, 1.0);
+                let m = a.cross(&e);
+                rows[held_rows] = Vector6::new(e.x, e.y, e.z, m.x, m.y, m.z);
+                held_rows += 1;
+            }
+        }
+        for j in 0..3 {
+            if constraint.rotation[j] {
+                rows[held_rows][3 + j] = 1.0;
+                held_rows += 1;
+            }
+        }
         for i in 0..3 {
             match constraint.translation[i] {
                 None => {
@@ -116,7 +137,21 @@ impl Held {
             ww: k.fixed_view::<3, 3>(3, 3).into_owned(),
             imposed,
             mass,
+            rows,
+            held_rows,
         }
+    }
+
+    /// The body's mass matrix `M = diag(m I, I_c)`, table frame (kg, kg·m²).
+    pub fn mass(&self) -> &Matrix6<f64> {
+        &self.mass
+    }
+
+    /// The constraint's rows `G` (`G δq = 0` for every velocity change the constraint
+    /// allows, `δq = (δv, δω)` in m/s and rad/s, table frame): one per held degree of
+    /// freedom.
+    pub fn rows(&self) -> &[Vector6<f64>] {
+        &self.rows[..self.held_rows]
     }
 
     /// The velocity change `K (p, m)` of an impulse `p` (N·s, at the centroid) and an
