@@ -21,11 +21,7 @@ fn _drystone(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyWall>()?;
     m.add_class::<model::PyLayout>()?;
     m.add_class::<study::PyStudy>()?;
-    m.add_function(wrap_pyfunction!(protocols::_tilt, m)?)?;
-    m.add_function(wrap_pyfunction!(protocols::_lateral, m)?)?;
-    m.add_function(wrap_pyfunction!(protocols::_pushover, m)?)?;
-    m.add_function(wrap_pyfunction!(protocols::_in_plane, m)?)?;
-    m.add_function(wrap_pyfunction!(protocols::_supports, m)?)?;
+    protocols::register(m)?;
     m.add_function(wrap_pyfunction!(study::_run_study, m)?)?;
     m.add_function(wrap_pyfunction!(study::_discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(study::_effects, m)?)?;

@@ -16,6 +16,17 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde::de::DeserializeOwned;
 
+/// Adds the loading protocols' functions to the module: one per protocol, and
+/// `_supports` (which method runs which protocol).
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(_tilt, m)?)?;
+    m.add_function(wrap_pyfunction!(_lateral, m)?)?;
+    m.add_function(wrap_pyfunction!(_pushover, m)?)?;
+    m.add_function(wrap_pyfunction!(_in_plane, m)?)?;
+    m.add_function(wrap_pyfunction!(_supports, m)?)?;
+    Ok(())
+}
+
 /// A parameter struct of the library from a Python dict (its serde keys, unknown keys
 /// refused); `what` names it in errors (`tilt parameters`, `solver`).
 pub fn params<T: DeserializeOwned + Default>(

@@ -18,11 +18,10 @@
 //! * an **applied force** is not a constraint: it is the body's external force
 //!   ([`super::WallState::external_force`], at the centroid) and its external torque.
 //!
-//! The in-plane shear–compression test's loading beam is the example: its horizontal
-//! translation held at the actuator's height (the shear span `H0`) and moved step by step,
-//! its vertical translation free under the constant vertical force, its rotation in the
-//! wall's plane free (cantilever) or held (double-fixed), and its out-of-plane degrees of
-//! freedom held by the rig's guides (`loading::inplane`).
+//! A test rig combines them: a loading beam, say, with one translation held at the
+//! actuator's point and moved step by step, another free under a constant applied force and
+//! the rest held by the rig's guides; each loading protocol's module states its rig's
+//! degrees of freedom.
 //!
 //! The engine applies a constraint in its load stage (the held components leave the
 //! out-of-balance force, so that the unbalanced-force ratio measures only what can move,

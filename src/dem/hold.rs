@@ -13,8 +13,8 @@ pub enum Hold {
     /// Every degree of freedom held at the reference pose: the body never moves (the
     /// tilting table's base, a block a layout marks `fixed`).
     Fixed,
-    /// Some degrees of freedom held, a translation possibly imposed (the in-plane test's
-    /// loading beam).
+    /// Some degrees of freedom held, a translation possibly imposed (a loading beam that a
+    /// protocol drives).
     Dof(DofConstraint),
 }
 

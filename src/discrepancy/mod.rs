@@ -36,6 +36,7 @@ pub mod design;
 mod findings;
 mod fit;
 mod identify;
+mod inplane;
 mod null;
 mod observations;
 mod predictive;
@@ -60,10 +61,11 @@ pub use compare::{difference_se, per_specimen};
 pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
 pub use fit::Surface;
 pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
+pub use inplane::{InPlaneQuantity, IN_PLANE_MODES};
 pub use null::Margins;
 pub use observations::{
-    measurement_sigma, mechanism_observations, observations, specimens, CategorySet, Family, InPlaneQuantity, Measure,
-    MeasurementSigma, Observable, Observation, ObservationError, Scale, Share, IN_PLANE_MODES, MIN_SIGMA_DOF,
+    measurement_sigma, mechanism_observations, observations, specimens, CategorySet, Family, Measure, MeasurementSigma,
+    Observable, Observation, ObservationError, Scale, Share, MIN_SIGMA_DOF,
 };
 pub use predictive::{Heights, Predictive, Reading, Simulated, HEIGHT_BINS};
 pub use prepare::{

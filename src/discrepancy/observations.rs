@@ -13,10 +13,11 @@
 //! indicator (value 1: the specimen showed it; 0 only in synthetic data sets) scored with
 //! a misreading probability ([`super::predictive`]). The extent is not scored.
 
+use super::inplane::{InPlaneQuantity, IN_PLANE_MODES};
 use crate::io::table::{MeasuredCollapse, MeasuredDisplacement, MeasuredMechanism};
 use crate::loading::inplane::MechanismKind as InPlaneMode;
 use crate::loading::mechanism::{FailureKind, FailureStart};
-use crate::protocol::Output;
+use crate::protocol::{Observed, Output};
 use serde::Serialize;
 use std::fmt;
 
@@ -65,43 +66,6 @@ pub enum Observable {
         /// The mode.
         mode: InPlaneMode,
     },
-}
-
-/// A measure of the in-plane shear–compression test (`loading::inplane`'s per-direction
-/// outputs, as the Stone Masonry Database defines them, Vanin et al. 2017).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum InPlaneQuantity {
-    /// The peak horizontal force, kN.
-    PeakForce,
-    /// The drift at the peak force, %.
-    DriftAtPeak,
-    /// The initial stiffness, the secant at 15 % of the peak, kN/mm.
-    InitialStiffness,
-}
-
-impl InPlaneQuantity {
-    /// Every measure, in report order.
-    pub const ALL: [InPlaneQuantity; 3] =
-        [InPlaneQuantity::PeakForce, InPlaneQuantity::DriftAtPeak, InPlaneQuantity::InitialStiffness];
-
-    /// Its name: `peak_force_kn`, `drift_at_peak_pct`, `initial_stiffness_kn_per_mm`.
-    pub fn name(self) -> &'static str {
-        match self {
-            InPlaneQuantity::PeakForce => "peak_force_kn",
-            InPlaneQuantity::DriftAtPeak => "drift_at_peak_pct",
-            InPlaneQuantity::InitialStiffness => "initial_stiffness_kn_per_mm",
-        }
-    }
-
-    /// Its unit.
-    pub fn unit(self) -> &'static str {
-        match self {
-            InPlaneQuantity::PeakForce => "kN",
-            InPlaneQuantity::DriftAtPeak => "%",
-            InPlaneQuantity::InitialStiffness => "kN/mm",
-        }
-    }
 }
 
 impl InPlaneQuantity {
@@ -237,10 +201,34 @@ pub enum Share {
     Mechanism,
 }
 
-/// The in-plane modes a realization is read as (`InPlaneMode::None`, no mechanism, is not
-/// one: such a run gives no mode).
-pub const IN_PLANE_MODES: [InPlaneMode; 4] =
-    [InPlaneMode::Rocking, InPlaneMode::Sliding, InPlaneMode::Diagonal, InPlaneMode::Mixed];
+impl Observable {
+    /// Its value in a run's observables (degrees, cm, a fraction, kN, % or kN/mm; 1 or 0
+    /// for a category): the collapse angle as the middle of its bracket (last stable, first
+    /// unstable: the unbiased point value of an angle known to lie in the bracket); `None`
+    /// for a displacement at a tilt the realization did not stand to (the chance of
+    /// standing is carried by the collapse angle), for a mechanism of a wall that stood and
+    /// for a measure the protocol did not give.
+    pub fn of(&self, observed: &Observed) -> Option<f64> {
+        match *self {
+            Observable::CollapseAngle => {
+                let a = observed.collapse_deg?;
+                Some(observed.first_unstable_deg.map_or(a, |b| 0.5 * (a + b)))
+            }
+            Observable::Displacement { measure, tilt_deg } => {
+                let i = observed.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9)?;
+                let [l, c, r] = observed.top_cm[i];
+                Some(measure.of(l, c, r))
+            }
+            Observable::FailureHeight { .. } => observed.mechanism.map(|m| m.failure_height_fraction),
+            Observable::MechanismKind { kind } => observed.mechanism.map(|m| f64::from(u8::from(m.kind == kind))),
+            Observable::MechanismStart { start } => {
+                observed.mechanism.map(|m| f64::from(u8::from(start.matches(m.start))))
+            }
+            Observable::InPlane { quantity } => quantity.of(observed.in_plane.as_ref()?),
+            Observable::InPlaneMode { mode } => super::inplane::mode_value(mode, observed.in_plane.as_ref()?),
+        }
+    }
+}
 
 impl Observable {
     /// How it is read and scored: the one mapping of the observables to their family of

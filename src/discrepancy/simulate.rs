@@ -13,7 +13,7 @@
 //! state at tilt 0°). The shaking table has no observable here and is refused
 //! ([`Setup::check_protocol`]).
 
-use super::observations::{InPlaneQuantity, Observable};
+use super::observations::Observable;
 use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
@@ -41,8 +41,8 @@ pub struct GroupSetup {
     pub effects: Vec<Effect>,
     /// Mean course height of the wall, m (scales the effects' length ranges).
     pub course_m: f64,
-    /// The group's own loading protocol, of the setup's kind with this group's parameters
-    /// (the in-plane test's vertical stress); `None`: the setup's.
+    /// The group's own loading protocol, of the setup's kind with this group's parameters;
+    /// `None`: the setup's.
     pub protocol: Option<Protocol>,
 }
 
@@ -112,42 +112,13 @@ impl Outcome {
     /// The collapse angle as the middle of its bracket (last stable, first unstable),
     /// degrees: the unbiased point value of an angle known to lie in the bracket.
     pub fn collapse_mid_deg(&self) -> Option<f64> {
-        let a = self.observed.collapse_deg?;
-        Some(self.observed.first_unstable_deg.map_or(a, |b| 0.5 * (a + b)))
+        Observable::CollapseAngle.of(&self.observed)
     }
 
-    /// The value of an observable (degrees or cm); `None` for a failed run, and for a
-    /// displacement at a tilt the realization did not stand to (the chance of standing is
-    /// carried by the collapse angle), and for a mechanism of a wall that stood; a kind or
-    /// a start is 1 where the realization showed it, else 0.
+    /// The value of an observable ([`Observable::of`]); `None` for a failed run.
     pub fn value(&self, obs: &Observable) -> Option<f64> {
         self.error.is_none().then_some(())?;
-        match *obs {
-            Observable::CollapseAngle => self.collapse_mid_deg(),
-            Observable::Displacement { measure, tilt_deg } => {
-                let i = self.observed.tilt_deg.iter().position(|t| (t - tilt_deg).abs() < 1e-9)?;
-                let [l, c, r] = self.observed.top_cm[i];
-                Some(measure.of(l, c, r))
-            }
-            Observable::FailureHeight { .. } => self.observed.mechanism.map(|m| m.failure_height_fraction),
-            Observable::MechanismKind { kind } => self.observed.mechanism.map(|m| f64::from(u8::from(m.kind == kind))),
-            Observable::MechanismStart { start } => {
-                self.observed.mechanism.map(|m| f64::from(u8::from(start.matches(m.start))))
-            }
-            Observable::InPlane { quantity } => {
-                let m = self.observed.in_plane?;
-                let v = match quantity {
-                    InPlaneQuantity::PeakForce => m.peak_force_kn,
-                    InPlaneQuantity::DriftAtPeak => m.drift_at_peak_pct,
-                    InPlaneQuantity::InitialStiffness => m.initial_stiffness_kn_per_mm,
-                };
-                v.is_finite().then_some(v)
-            }
-            Observable::InPlaneMode { mode } => {
-                let m = self.observed.in_plane?;
-                (m.mode != crate::loading::inplane::MechanismKind::None).then_some(f64::from(u8::from(m.mode == mode)))
-            }
-        }
+        obs.of(&self.observed)
     }
 }
 

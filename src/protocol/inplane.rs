@@ -6,6 +6,7 @@
 //! limit analysis (the peak force and its mechanism, `limit::inplane`).
 
 use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
+use super::inplane_observed::InPlaneObserved;
 use super::observed::Observed;
 use super::Protocol;
 use crate::dem::Method;
@@ -113,5 +114,22 @@ impl RunOutcome for InPlaneRun {
                 | InPlaneRun::Nscd(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
                 | InPlaneRun::Limit(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
         )
+    }
+}
+
+impl Observed {
+    /// The observables of an in-plane run by the penalty DEM: the measures of its first
+    /// direction (+x) and its mode; `None` when the run has no +x branch.
+    pub fn of_in_plane(r: &InPlaneResult) -> Option<Observed> {
+        let d = r.positive.as_ref()?;
+        Some(Observed {
+            in_plane: Some(InPlaneObserved {
+                peak_force_kn: d.peak_force_kn,
+                drift_at_peak_pct: d.drift_at_peak_pct,
+                initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
+                mode: r.mechanism.kind,
+            }),
+            ..Observed::default()
+        })
     }
 }

@@ -39,6 +39,7 @@
 
 mod contract;
 pub mod inplane;
+mod inplane_observed;
 pub mod lateral;
 mod observed;
 mod outcomes;
@@ -49,8 +50,9 @@ pub mod tilt_by_hand;
 
 pub use contract::{Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way};
 pub use inplane::{InPlane, InPlaneRun};
+pub use inplane_observed::InPlaneObserved;
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
-pub use observed::{InPlaneObserved, Observed};
+pub use observed::Observed;
 pub use pushover::{Pushover, PushoverRun};
 pub use shake::{run_shake, run_shake_observed, Shake};
 pub use tilt::{run_tilt, run_tilt_observed, Tilt, TiltRun};

@@ -2,7 +2,7 @@
 //! its bracket, the top displacements at every stable state and the failure mechanism, as
 //! the tilting table and the lateral load give them.
 
-use crate::loading::inplane::{InPlaneResult, MechanismKind};
+use super::inplane_observed::InPlaneObserved;
 use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
 use crate::loading::monitors::TopMonitor;
@@ -35,20 +35,6 @@ pub struct Observed {
     pub in_plane: Option<InPlaneObserved>,
 }
 
-/// What an in-plane run gives to compare with measured data: the measures of the first
-/// direction loaded (+x) and the mode read from the blocks (`loading::inplane`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct InPlaneObserved {
-    /// The peak horizontal force, kN.
-    pub peak_force_kn: f64,
-    /// The drift at the peak, %.
-    pub drift_at_peak_pct: f64,
-    /// The initial stiffness, the secant at 15 % of the peak, kN/mm.
-    pub initial_stiffness_kn_per_mm: f64,
-    /// The mechanism's mode (`none`: no joint moved past the threshold).
-    pub mode: MechanismKind,
-}
-
 impl Observed {
     /// The observables of a tilting-table run: its collapse angle, bracket, the top
     /// displacements at every stable tilt and the mechanism's reading.
@@ -66,7 +52,7 @@ impl Observed {
             tilt_deg,
             top_cm,
             mechanism: t.mechanism.reading,
-            in_plane: None,
+            ..Observed::default()
         }
     }
 
@@ -81,21 +67,13 @@ impl Observed {
         } else {
             (vec![], vec![])
         };
-        Observed { collapse_deg: None, first_unstable_deg: None, tilt_deg, top_cm, mechanism: None, in_plane: None }
-    }
-
-    /// The observables of an in-plane run by the penalty DEM: the measures of its first
-    /// direction (+x) and its mode; `None` when the run has no +x branch.
-    pub fn of_in_plane(r: &InPlaneResult) -> Option<Observed> {
-        let d = r.positive.as_ref()?;
-        Some(Observed {
-            in_plane: Some(InPlaneObserved {
-                peak_force_kn: d.peak_force_kn,
-                drift_at_peak_pct: d.drift_at_peak_pct,
-                initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
-                mode: r.mechanism.kind,
-            }),
+        Observed {
+            collapse_deg: None,
+            first_unstable_deg: None,
+            tilt_deg,
+            top_cm,
+            mechanism: None,
             ..Observed::default()
-        })
+        }
     }
 }

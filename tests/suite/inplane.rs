@@ -12,7 +12,8 @@ use drystone::loading::inplane::{
     run_in_plane_penalty, BeamRotation, History, InPlaneError, InPlaneParams, MechanismKind,
 };
 use drystone::loading::inplane_nscd::run_in_plane_nscd;
-use drystone::verify::{box_vertices, inplane_block, layout_of, DENSITY, RIGID_KN};
+use drystone::verify::inplane::inplane_block;
+use drystone::verify::{box_vertices, layout_of, DENSITY, RIGID_KN};
 use std::process::Command;
 
 const G: f64 = drystone::units::STANDARD_GRAVITY;
