@@ -50,7 +50,7 @@ pub mod tilt_by_hand;
 pub use contract::{Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way};
 pub use inplane::{InPlane, InPlaneRun};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
-pub use observed::{InPlaneObserved, Observed};
+pub use observed::{InPlaneObserved, InPlaneReading, Observed};
 pub use pushover::{Pushover, PushoverRun};
 pub use shake::{run_shake, run_shake_observed, Shake};
 pub use tilt::{run_tilt, run_tilt_observed, Tilt, TiltRun};

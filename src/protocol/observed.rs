@@ -2,13 +2,15 @@
 //! its bracket, the top displacements at every stable state and the failure mechanism, as
 //! the tilting table and the lateral load give them.
 
-use crate::loading::inplane::{InPlaneResult, MechanismKind};
+use crate::layout::VerticalLoadRig;
+use crate::loading::inplane::{read_curve, CurvePoint, DirectionResult, InPlaneResult, MechanismKind};
 use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
 use crate::loading::monitors::TopMonitor;
 use crate::loading::tilt::TiltResult;
 use crate::units::m_to_cm;
 use serde::Serialize;
+use std::sync::Arc;
 
 /// What a run gives to compare with measured data (`drystone discrepancy`): the collapse
 /// angle with its bracket, the top displacements at every stable state, the failure
@@ -33,6 +35,26 @@ pub struct Observed {
     /// for the other protocols).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub in_plane: Option<InPlaneObserved>,
+    /// What an in-plane run's readings are made from ([`InPlaneReading`]), to read them again
+    /// under another vertical-load system ([`Observed::reread`]); `None` for the other
+    /// protocols. Not written out.
+    #[serde(skip)]
+    pub in_plane_reading: Option<Arc<InPlaneReading>>,
+}
+
+/// What an in-plane run's readings are made from: the curve of the wall's own shear, the
+/// applied vertical force and the vertical-load system of the run, and the mode read from
+/// the blocks (which the system does not move).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InPlaneReading {
+    /// The curve of the wall's own shear ([`InPlaneResult::wall_curve`]).
+    pub wall_curve: Vec<CurvePoint>,
+    /// The applied vertical force `σ0 L t`, N.
+    pub vertical_force_n: f64,
+    /// The run's vertical-load system.
+    pub rig: VerticalLoadRig,
+    /// The mechanism's mode.
+    pub mode: MechanismKind,
 }
 
 /// What an in-plane run gives to compare with measured data: the measures of the first
@@ -67,6 +89,7 @@ impl Observed {
             top_cm,
             mechanism: t.mechanism.reading,
             in_plane: None,
+            in_plane_reading: None,
         }
     }
 
@@ -81,21 +104,53 @@ impl Observed {
         } else {
             (vec![], vec![])
         };
-        Observed { collapse_deg: None, first_unstable_deg: None, tilt_deg, top_cm, mechanism: None, in_plane: None }
+        Observed {
+            collapse_deg: None,
+            first_unstable_deg: None,
+            tilt_deg,
+            top_cm,
+            mechanism: None,
+            in_plane: None,
+            in_plane_reading: None,
+        }
     }
 
     /// The observables of an in-plane run by the penalty DEM: the measures of its first
     /// direction (+x) and its mode; `None` when the run has no +x branch.
     pub fn of_in_plane(r: &InPlaneResult) -> Option<Observed> {
-        let d = r.positive.as_ref()?;
+        let reading = InPlaneReading {
+            wall_curve: r.wall_curve.clone(),
+            vertical_force_n: r.vertical_force_n,
+            rig: r.vertical_load_rig,
+            mode: r.mechanism.kind,
+        };
+        Observed::of_direction(r.positive.as_ref()?, Arc::new(reading))
+    }
+
+    fn of_direction(d: &DirectionResult, reading: Arc<InPlaneReading>) -> Option<Observed> {
         Some(Observed {
             in_plane: Some(InPlaneObserved {
                 peak_force_kn: d.peak_force_kn,
                 drift_at_peak_pct: d.drift_at_peak_pct,
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
-                mode: r.mechanism.kind,
+                mode: reading.mode,
             }),
+            in_plane_reading: Some(reading),
             ..Observed::default()
         })
+    }
+
+    /// The observables of the same in-plane run read under the vertical-load system `rig`
+    /// instead of its own: its curve of the wall's own shear with `rig`'s force added
+    /// ([`read_curve`], the run's own computation), the mode as it was. Bit for bit those of
+    /// a run made with `rig` (the beam's motion is imposed: the system does not move the
+    /// wall). `None` when the observables are not an in-plane run's
+    /// ([`Observed::in_plane_reading`]); `Some(None)` when the curve read so has no +x
+    /// branch.
+    pub fn reread(&self, rig: VerticalLoadRig) -> Option<Option<Observed>> {
+        let r = self.in_plane_reading.as_ref()?;
+        let reading = Arc::new(InPlaneReading { rig, ..(**r).clone() });
+        let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n);
+        Some(positive.and_then(|d| Observed::of_direction(&d, reading)))
     }
 }
