@@ -181,7 +181,7 @@ fn acts(m: &[Effect], g: &GroupSetup) -> bool {
 
 /// Whether the setup's runs can be read again under another vertical-load system of the
 /// in-plane rig ([`Observed::reread`]): the in-plane test's.
-fn rereads(setup: &Setup) -> bool {
+pub(super) fn rereads(setup: &Setup) -> bool {
     setup.protocol.loading().kind() == crate::protocol::ProtocolKind::InPlane
 }
 
@@ -334,13 +334,18 @@ pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Out
                 Source::Reused => reuse.unwrap_or(&empty),
             };
             let reads: Vec<Effect> = m.iter().filter(|e| e.def.acts_on_readings_only()).cloned().collect();
-            from.iter()
-                .zip(&setup.groups)
-                .map(|(outs, g)| {
-                    let own = g.protocol.as_ref().unwrap_or(&setup.protocol).name();
-                    outs.iter().map(|o| reread(o, &reads, g.wall.kind, own)).collect()
-                })
-                .collect()
+            reread_outcomes(setup, from, &reads)
         })
+        .collect()
+}
+
+/// One model's outcomes (`[group][realization]`) read again with `reads`, effects that act
+/// on the readings only: what runs of the model with them give, bit for bit, on the
+/// in-plane test ([`rereads`]); a run of another protocol, or a failed run, as it is.
+pub(super) fn reread_outcomes(setup: &Setup, outcomes: &[Vec<Outcome>], reads: &[Effect]) -> Vec<Vec<Outcome>> {
+    outcomes
+        .iter()
+        .zip(&setup.groups)
+        .map(|(outs, g)| outs.iter().map(|o| reread(o, reads, g.wall.kind, setup.protocol.name())).collect())
         .collect()
 }
