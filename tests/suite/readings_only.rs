@@ -96,3 +96,68 @@ fn a_run_with_a_readings_only_effect_is_the_run_without_it_read_again() {
     let peak = |o: &Outcome| o.observed.in_plane.map(|m| m.peak_force_kn).unwrap_or(f64::NAN);
     assert!(peak(&reread[1][0][0]) > peak(&base[0][0]), "{} vs {}", peak(&reread[1][0][0]), peak(&base[0][0]));
 }
+
+/// The surrogate library of an in-plane setup: an effect on the readings only has no grid
+/// runs, and its pairs with every other searched effect (of one parameter, and of two:
+/// `joint_closure`, a three-coordinate grid) stand on the partner's runs, equal at every
+/// node to the partner's run read again.
+#[test]
+fn readings_only_effects_pair_with_every_effect_on_its_runs() {
+    use drystone::discrepancy::{build_library, InPlaneQuantity, Keys, Observable, Observation, Settings};
+    let setup = setup();
+    let obs: Vec<Observation> = ["monotonic", "cyclic"]
+        .iter()
+        .flat_map(|g| {
+            [InPlaneQuantity::PeakForce, InPlaneQuantity::DriftAtPeak].map(|quantity| Observation {
+                specimen: format!("{g}-1"),
+                group: g.to_string(),
+                observable: Observable::InPlane { quantity },
+                value: 1.0,
+                sigma: 0.5,
+            })
+        })
+        .collect();
+    let keys = Keys::new(&setup, &obs);
+    let mut s = Settings::default();
+    (s.realizations, s.grid_points, s.grid_points_2d, s.scatter) = (1, 2, 2, false);
+    let lib = Library::builtin();
+    let defs: Vec<_> = ["kn_scale", "joint_closure", "jack_tilt", "rig_friction"].map(|n| lib.get(n).unwrap()).into();
+    let base = run_models(&setup, &[vec![]], None).remove(0);
+    let (models, runs) = build_library(&setup, &keys, &base, &s, &defs).unwrap();
+    // kn_scale: 2 nodes off its neutral one; joint_closure: 2 × 2 nodes; 2 groups × 1
+    // realization each; nothing for jack_tilt and rig_friction.
+    assert_eq!(runs, (2 + 4) * 2);
+    let names: Vec<String> = models.readings_pairs.iter().map(|c| c.name()).collect();
+    assert_eq!(
+        names,
+        [
+            "jack_tilt+kn_scale",
+            "jack_tilt+joint_closure",
+            "jack_tilt+rig_friction",
+            "rig_friction+kn_scale",
+            "rig_friction+joint_closure"
+        ]
+    );
+    let dims: Vec<usize> = models.readings_pairs.iter().map(|c| c.surface.dims()).collect();
+    assert_eq!(dims, [2, 3, 2, 2, 3]);
+    let close = |a: f64, b: f64| (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+    // At the readings' neutral point the pair is its partner.
+    let single = |n: &str| models.candidates.iter().find(|c| c.name() == n).unwrap();
+    let pair = &models.readings_pairs[1];
+    for x in [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [0.0, 0.3, 0.7]] {
+        let (a, b) = (pair.surface.at(&x), single("joint_closure").surface.at(&x[1..]));
+        for (p, q) in a.iter().zip(&b) {
+            assert!(close(p.mean, q.mean), "{x:?}: {p:?} vs {q:?}");
+        }
+    }
+    // And with the partner at its neutral point, the single effect on the readings.
+    let jack = &models.readings_pairs[0];
+    let p = &single("kn_scale").params[0];
+    let xn = (p.neutral / p.min).ln() / (p.max / p.min).ln();
+    for r in [0.0, 0.5, 1.0] {
+        let (a, b) = (jack.surface.at(&[r, xn]), single("jack_tilt").surface.at(&[r]));
+        for (p, q) in a.iter().zip(&b) {
+            assert!(close(p.mean, q.mean), "{r}: {p:?} vs {q:?}");
+        }
+    }
+}
