@@ -665,6 +665,44 @@ mod tests {
         }
     }
 
+    /// The three-coordinate grid (an effect on the readings only beside a two-parameter
+    /// one) is exact on a trilinear function, its nodes and the scan cover the cube.
+    #[test]
+    fn a_three_coordinate_grid_interpolates_trilinearly() {
+        let f = |a: f64, b: f64, c: f64| 1.0 + 2.0 * a - 3.0 * b + 0.5 * c + a * b * c;
+        let (x1, x2, x3) = (vec![0.0, 0.5, 1.0], vec![0.0, 1.0], vec![0.0, 0.25, 1.0]);
+        let mut sims = Vec::new();
+        for &a in &x1 {
+            for &b in &x2 {
+                for &c in &x3 {
+                    sims.push(vec![sim(f(a, b, c))]);
+                }
+            }
+        }
+        let s = Surface::Grid3 { x1, x2, x3, sims };
+        assert_eq!(s.dims(), 3);
+        for x in [[0.0, 0.0, 0.0], [0.5, 1.0, 0.25], [0.3, 0.6, 0.9], [1.0, 0.2, 0.1]] {
+            let v = s.at(&x)[0].mean;
+            // Linear along every axis within a cell (a b c is linear in each alone).
+            let (a, b, c) = (x[0], x[1], x[2]);
+            let ca = if a <= 0.5 { (0.0, 0.5) } else { (0.5, 1.0) };
+            let cc = if c <= 0.25 { (0.0, 0.25) } else { (0.25, 1.0) };
+            let (ta, tc) = ((a - ca.0) / (ca.1 - ca.0), (c - cc.0) / (cc.1 - cc.0));
+            let mut want = 0.0;
+            for (wa, va) in [(1.0 - ta, ca.0), (ta, ca.1)] {
+                for (wb, vb) in [(1.0 - b, 0.0), (b, 1.0)] {
+                    for (wc, vc) in [(1.0 - tc, cc.0), (tc, cc.1)] {
+                        want += wa * wb * wc * f(va, vb, vc);
+                    }
+                }
+            }
+            assert!((v - want).abs() < 1e-12, "{x:?}: {v} vs {want}");
+        }
+        let scan = scan_points(&s);
+        assert_eq!(scan.len(), 11 * 11 * 11);
+        assert_eq!((scan[0].clone(), scan[scan.len() - 1].clone()), (vec![0.0; 3], vec![1.0; 3]));
+    }
+
     /// A surface re-centred on a full run: the full run's values at its point, the
     /// surrogate's changes elsewhere (mean and variance), the full run's size everywhere.
     #[test]
