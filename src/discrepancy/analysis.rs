@@ -238,12 +238,17 @@ pub fn reversal_rates(
     (0..challengers.len()).map(|k| Reversal { all: rate(k, |w| w.0), measures: rate(k, |w| w.1) }).collect()
 }
 
-/// Pairs of the three best one-parameter mechanisms, with the additive surrogate.
+/// Pairs of the three best one-parameter mechanisms that move the wall, with the additive
+/// surrogate, then every pair of an effect on the readings only with another searched
+/// effect, on its partner's runs read again ([`Models::readings_pairs`]).
 pub fn pairs(lib: &Models, ranked: &[Ranked]) -> Vec<Candidate> {
+    // An effect on the readings only pairs with every effect on its partner's runs
+    // (`Models::readings_pairs`): it takes no place among the three.
+    let paired = |c: &Candidate| c.effects[0].acts_on_readings_only() && !lib.readings_pairs.is_empty();
     let top: Vec<&Candidate> = ranked
         .iter()
         .map(|r| &lib.candidates[r.index])
-        .filter(|c| c.effects.len() == 1 && c.surface.dims() == 1)
+        .filter(|c| c.effects.len() == 1 && c.surface.dims() == 1 && !paired(c))
         .take(3)
         .collect();
     let mut out = Vec::new();
@@ -262,6 +267,7 @@ pub fn pairs(lib: &Models, ranked: &[Ranked]) -> Vec<Candidate> {
             });
         }
     }
+    out.extend(lib.readings_pairs.iter().cloned());
     out
 }
 

@@ -17,13 +17,17 @@
 //! pretending to precision.
 //!
 //! A pair of effects is screened with the additive surrogate `m = m₀ + (m_a − m₀) + (m_b −
-//! m₀)`, `s² = s₀² + (s_a² − s₀²) + (s_b² − s₀²)`. The `scatter` hypothesis has no DEM
+//! m₀)`, `s² = s₀² + (s_a² − s₀²) + (s_b² − s₀²)`. A pair with an effect that acts on the
+//! readings only (`jack_tilt`, `rig_friction`) is not additive: its surrogate is a tensor
+//! grid over both effects' parameters (the readings' coordinate first; two or three
+//! coordinates), each node the partner's run at its node read again at the readings'
+//! node, which needs no run. The `scatter` hypothesis has no DEM
 //! run: it adds a specimen-to-specimen spread `τ` to the baseline's predictive (two
 //! parameters: `τ` of the collapse angle, 0–[`SCATTER_ANGLE_MAX_DEG`]°, and of the
 //! displacements as a fraction of the baseline's mean, 0–[`SCATTER_DISP_MAX`]).
 //!
 //! A fit minimises the summed score of the training observations over `x`: a scan of the
-//! axis (101 points; 21 × 21 on a grid) and a polish of the best point with Brent's method
+//! axis (101 points; 21 × 21 on a grid; 11 × 11 × 11 on three coordinates) and a polish of the best point with Brent's method
 //! (argmin's `BrentOpt`), coordinate by coordinate. A specimen's observations are one joint
 //! observation: its displacements (one stiffness seen at several tilts) are weighted
 //! `1/k` for `k` displacements, its collapse angle 1; the information criterion counts
@@ -80,6 +84,19 @@ pub enum Surface {
         /// Second coordinate's nodes, increasing.
         x2: Vec<f64>,
         /// `[i * x2.len() + j][key]`.
+        sims: Vec<Vec<Simulated>>,
+    },
+    /// Three parameters on a tensor grid: an effect that acts on the readings only (first
+    /// coordinate) paired with a two-parameter effect, every node the partner's run read
+    /// again ([`crate::effects::EffectDef::acts_on_readings_only`]).
+    Grid3 {
+        /// First coordinate's nodes, increasing.
+        x1: Vec<f64>,
+        /// Second coordinate's nodes, increasing.
+        x2: Vec<f64>,
+        /// Third coordinate's nodes, increasing.
+        x3: Vec<f64>,
+        /// `[(i * x2.len() + j) * x3.len() + k][key]`.
         sims: Vec<Vec<Simulated>>,
     },
     /// Two one-parameter effects combined additively about the baseline.
@@ -198,6 +215,7 @@ impl Surface {
         match self {
             Surface::Axis { .. } => 1,
             Surface::Grid { .. } | Surface::Pair { .. } | Surface::Scatter { .. } => 2,
+            Surface::Grid3 { .. } => 3,
             Surface::Corrected { inner, .. } => inner.dims(),
         }
     }
@@ -216,6 +234,17 @@ impl Surface {
                     })
                     .collect();
                 along(x1, &rows, &loo_misses(x1, &rows), x[0])
+            }
+            Surface::Grid3 { x1, x2, x3, sims } => {
+                // Interpolate along x3 on every (x1, x2) line, then as a grid on (x1, x2).
+                let (n2, n3) = (x2.len(), x3.len());
+                let plane: Vec<Vec<Simulated>> = (0..x1.len() * n2)
+                    .map(|ij| {
+                        let line: Vec<Vec<Simulated>> = (0..n3).map(|k| sims[ij * n3 + k].clone()).collect();
+                        along(x3, &line, &loo_misses(x3, &line), x[2])
+                    })
+                    .collect();
+                Surface::Grid { x1: x1.clone(), x2: x2.clone(), sims: plane }.at(&x[..2])
             }
             Surface::Pair { a, b, base } => {
                 let (sa, sb) = (a.at(&x[..1]), b.at(&x[1..2]));
@@ -449,21 +478,25 @@ pub fn fit_folds(surface: &Surface, data: Data<'_>, folds: &[&[usize]]) -> Vec<(
         .collect()
 }
 
-/// The points a fit scans: 101 on the axis of a one-parameter surface, 21 × 21 on a grid.
+/// The points a fit scans: 101 on the axis of a one-parameter surface, 21 × 21 on a grid,
+/// 11 × 11 × 11 on a three-parameter grid ([`Surface::Grid3`]).
 pub(super) fn scan_points(surface: &Surface) -> Vec<Vec<f64>> {
     let n = scan_size(surface);
+    let at = |i: usize| i as f64 / (n - 1) as f64;
     if surface.dims() == 1 {
-        (0..n).map(|i| vec![i as f64 / (n - 1) as f64]).collect()
+        (0..n).map(|i| vec![at(i)]).collect()
+    } else if surface.dims() == 3 {
+        (0..n * n * n).map(|k| vec![at(k / (n * n)), at(k / n % n), at(k % n)]).collect()
     } else {
         (0..n * n).map(|k| vec![(k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64]).collect()
     }
 }
 
 fn scan_size(surface: &Surface) -> usize {
-    if surface.dims() == 1 {
-        101
-    } else {
-        21
+    match surface.dims() {
+        1 => 101,
+        3 => 11,
+        _ => 21,
     }
 }
 
@@ -630,6 +663,44 @@ mod tests {
         for p in pred {
             assert!((p.mean - 12.4).abs() < 1e-3, "{p:?}");
         }
+    }
+
+    /// The three-coordinate grid (an effect on the readings only beside a two-parameter
+    /// one) is exact on a trilinear function, its nodes and the scan cover the cube.
+    #[test]
+    fn a_three_coordinate_grid_interpolates_trilinearly() {
+        let f = |a: f64, b: f64, c: f64| 1.0 + 2.0 * a - 3.0 * b + 0.5 * c + a * b * c;
+        let (x1, x2, x3) = (vec![0.0, 0.5, 1.0], vec![0.0, 1.0], vec![0.0, 0.25, 1.0]);
+        let mut sims = Vec::new();
+        for &a in &x1 {
+            for &b in &x2 {
+                for &c in &x3 {
+                    sims.push(vec![sim(f(a, b, c))]);
+                }
+            }
+        }
+        let s = Surface::Grid3 { x1, x2, x3, sims };
+        assert_eq!(s.dims(), 3);
+        for x in [[0.0, 0.0, 0.0], [0.5, 1.0, 0.25], [0.3, 0.6, 0.9], [1.0, 0.2, 0.1]] {
+            let v = s.at(&x)[0].mean;
+            // Linear along every axis within a cell (a b c is linear in each alone).
+            let (a, b, c) = (x[0], x[1], x[2]);
+            let ca = if a <= 0.5 { (0.0, 0.5) } else { (0.5, 1.0) };
+            let cc = if c <= 0.25 { (0.0, 0.25) } else { (0.25, 1.0) };
+            let (ta, tc) = ((a - ca.0) / (ca.1 - ca.0), (c - cc.0) / (cc.1 - cc.0));
+            let mut want = 0.0;
+            for (wa, va) in [(1.0 - ta, ca.0), (ta, ca.1)] {
+                for (wb, vb) in [(1.0 - b, 0.0), (b, 1.0)] {
+                    for (wc, vc) in [(1.0 - tc, cc.0), (tc, cc.1)] {
+                        want += wa * wb * wc * f(va, vb, vc);
+                    }
+                }
+            }
+            assert!((v - want).abs() < 1e-12, "{x:?}: {v} vs {want}");
+        }
+        let scan = scan_points(&s);
+        assert_eq!(scan.len(), 11 * 11 * 11);
+        assert_eq!((scan[0].clone(), scan[scan.len() - 1].clone()), (vec![0.0; 3], vec![1.0; 3]));
     }
 
     /// A surface re-centred on a full run: the full run's values at its point, the

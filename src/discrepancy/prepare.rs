@@ -9,7 +9,7 @@ use super::effects::{self, Effect, EffectDef};
 use super::fit::{to_x, Surface};
 use super::observations::{Observable, Observation};
 use super::predictive::Simulated;
-use super::simulate::{forward_runs, run_models, GroupSetup, Outcome, Setup, StageRuns};
+use super::simulate::{forward_runs, reread_outcomes, rereads, run_models, GroupSetup, Outcome, Setup, StageRuns};
 use super::{DiscrepancyError, Settings};
 use std::sync::Arc;
 
@@ -190,19 +190,28 @@ pub fn build_library(
     let outcomes = run_models(&grid_setup, &models, Some(&base_grid));
     let base_sims = keys.simulated(&base_grid);
     let full_sims = keys.simulated(baseline);
-    let mut next = outcomes.iter();
+    let mut next = outcomes.into_iter();
+    // Every plan's nodes with their outcomes (the neutral node's the baseline's).
+    let nodes: Vec<Vec<Node>> = plans
+        .iter()
+        .map(|p| {
+            p.nodes
+                .iter()
+                .map(|(x, e)| {
+                    let outs = match e {
+                        Some(_) => next.next().unwrap_or_default(),
+                        None => base_grid.clone(),
+                    };
+                    (x.clone(), e.clone(), outs)
+                })
+                .collect()
+        })
+        .collect();
     let mut candidates = Vec::new();
-    for p in &plans {
-        let sims: Vec<(Vec<f64>, Vec<Simulated>)> = p
-            .nodes
+    for (p, nodes) in plans.iter().zip(&nodes) {
+        let sims: Vec<(Vec<f64>, Vec<Simulated>)> = nodes
             .iter()
-            .map(|(x, e)| {
-                let sims = match e {
-                    Some(_) => keys.simulated(next.next().map(|v| v.as_slice()).unwrap_or(&[])),
-                    None => base_sims.clone(),
-                };
-                (x.clone(), sims)
-            })
+            .map(|(x, e, outs)| (x.clone(), if e.is_some() { keys.simulated(outs) } else { base_sims.clone() }))
             .collect();
         let surface = p.surface(sims);
         let surface = Surface::Corrected { inner: Box::new(surface), x0: p.neutral(), full: full_sims.clone() };
@@ -213,12 +222,73 @@ pub fn build_library(
             kinds: kinds(setup),
         });
     }
+    let readings_pairs =
+        if rereads(setup) { readings_pairs(&grid_setup, keys, &plans, &nodes, &full_sims) } else { vec![] };
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| o.is_angle()).collect();
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
-    Ok((Models { baseline: full_sims, candidates }, runs))
+    Ok((Models { baseline: full_sims, candidates, readings_pairs }, runs))
+}
+
+/// A grid node with its outcomes: search coordinates, the effect there (`None`: the
+/// neutral node, the baseline's run) and the outcomes, `[group][realization]`.
+type Node = (Vec<f64>, Option<Effect>, Vec<Vec<Outcome>>);
+
+/// The pairs of every one-parameter effect that acts on the readings only (`r`) with every
+/// other plan of one or two parameters (`p`; another effect on the readings only once, the
+/// later with the earlier): a tensor grid over `r`'s coordinate then `p`'s, every node
+/// `p`'s outcomes at its node read again with `r`'s effect at its node (none at `r`'s
+/// neutral node), re-centred on the baseline's full run at both neutral points as the
+/// single effects are. No run: the outcomes are those of `p`'s grid.
+fn readings_pairs(
+    grid_setup: &Setup,
+    keys: &Keys,
+    plans: &[Plan],
+    nodes: &[Vec<Node>],
+    full_sims: &[Simulated],
+) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    for (ri, r) in plans.iter().enumerate() {
+        if !r.def.acts_on_readings_only() || r.params.len() != 1 {
+            continue;
+        }
+        for (pi, p) in plans.iter().enumerate() {
+            if pi == ri || (p.def.acts_on_readings_only() && pi < ri) || p.params.len() > 2 {
+                continue;
+            }
+            let mut sims = Vec::new();
+            for (_, er, _) in &nodes[ri] {
+                for (_, _, outs) in &nodes[pi] {
+                    let o = match er {
+                        Some(e) => reread_outcomes(grid_setup, outs, std::slice::from_ref(e)),
+                        None => outs.clone(),
+                    };
+                    sims.push(keys.simulated(&o));
+                }
+            }
+            let xr: Vec<f64> = nodes[ri].iter().map(|(x, _, _)| x[0]).collect();
+            let mut xp1: Vec<f64> = nodes[pi].iter().map(|(x, _, _)| x[0]).collect();
+            xp1.dedup();
+            let inner = if p.params.len() == 1 {
+                Surface::Grid { x1: xr, x2: xp1, sims }
+            } else {
+                let mut xp2: Vec<f64> = nodes[pi].iter().map(|(x, _, _)| x[1]).collect();
+                xp2.sort_by(f64::total_cmp);
+                xp2.dedup();
+                Surface::Grid3 { x1: xr, x2: xp1, x3: xp2, sims }
+            };
+            let x0: Vec<f64> = r.neutral().into_iter().chain(p.neutral()).collect();
+            out.push(Candidate {
+                effects: vec![r.def.clone(), p.def.clone()],
+                params: r.params.iter().chain(&p.params).cloned().collect(),
+                surface: Surface::Corrected { inner: Box::new(inner), x0, full: full_sims.to_vec() },
+                kinds: kinds(grid_setup),
+            });
+        }
+    }
+    out
 }
 
 /// The distinct declared kinds of the setup's walls, in order.

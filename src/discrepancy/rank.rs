@@ -16,6 +16,12 @@ pub struct Models {
     pub baseline: Vec<Simulated>,
     /// The candidates (single effects and the scatter hypothesis).
     pub candidates: Vec<Candidate>,
+    /// The pairs of every effect that acts on the readings only with every other searched
+    /// effect (`jack_tilt+joint_closure`, …), each on its partner's grid read again at the
+    /// readings' nodes (no run of their own, [`super::fit::Surface::Grid`] or
+    /// [`super::fit::Surface::Grid3`]); tried beside the additive pairs when pairs are
+    /// tried. Empty on protocols other than the in-plane test.
+    pub readings_pairs: Vec<Candidate>,
 }
 
 /// A ranked candidate.

@@ -150,9 +150,57 @@ fn acts(m: &[Effect], g: &GroupSetup) -> bool {
     m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained))
 }
 
-/// The forward runs [`run_models`] makes, `(model, group, realization)` in its order: every
-/// realization of every group a model acts on (every group when nothing is `reused`), one
-/// realization of a deterministic group whose effects draw nothing.
+/// Whether the setup's runs can be read again under another vertical-load system of the
+/// in-plane rig ([`Observed::reread`]): the in-plane test's.
+pub(super) fn rereads(setup: &Setup) -> bool {
+    setup.protocol.loading().kind() == crate::protocol::ProtocolKind::InPlane
+}
+
+/// Where a model's outcomes come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Source {
+    /// Its own runs: entry `k` of the models run.
+    Run(usize),
+    /// Entry `k` of the models run, read again with the model's effects that act on the
+    /// readings only ([`crate::effects::EffectDef::acts_on_readings_only`]).
+    Reread(usize),
+    /// The outcomes to reuse (the baseline's), read again with those effects.
+    Reused,
+}
+
+/// The schedule of [`run_models`]: the models run (each model's effects that move the wall,
+/// in first-seen order, without repeats) and where each model's outcomes come from. On the
+/// in-plane test a model's effects that act on the readings only make no run: the model is
+/// the run of its other effects (the baseline's, when they are none and the baseline's
+/// outcomes are given) read again. Elsewhere every model is run as it is.
+fn schedule(setup: &Setup, models: &[Vec<Effect>], reused: bool) -> (Vec<Vec<Effect>>, Vec<Source>) {
+    let split = rereads(setup);
+    let mut run: Vec<Vec<Effect>> = Vec::new();
+    let mut sources = Vec::with_capacity(models.len());
+    for m in models {
+        let reads = split && m.iter().any(|e| e.def.acts_on_readings_only());
+        let wall: Vec<Effect> =
+            if reads { m.iter().filter(|e| !e.def.acts_on_readings_only()).cloned().collect() } else { m.clone() };
+        if reads && wall.is_empty() && reused {
+            sources.push(Source::Reused);
+            continue;
+        }
+        let k = match run.iter().position(|r| *r == wall) {
+            Some(k) if reads => k,
+            _ => {
+                run.push(wall);
+                run.len() - 1
+            }
+        };
+        sources.push(if reads { Source::Reread(k) } else { Source::Run(k) });
+    }
+    (run, sources)
+}
+
+/// The forward runs [`run_models`] makes, `(model run, group, realization)` in its order,
+/// for the models run of its [`schedule`]: every realization of every group a model acts
+/// on (every group when nothing is `reused`), one realization of a deterministic group
+/// whose effects draw nothing.
 fn tasks(setup: &Setup, models: &[Vec<Effect>], reused: bool) -> Vec<(usize, usize, u64)> {
     let mut tasks = Vec::new();
     for (mi, m) in models.iter().enumerate() {
@@ -190,18 +238,40 @@ impl StageRuns {
 /// The number of forward runs (protocol runs of one wall) [`run_models`] makes for these
 /// arguments (`reused`: an outcome to reuse is given), without running them.
 pub fn forward_runs(setup: &Setup, models: &[Vec<Effect>], reused: bool) -> usize {
-    tasks(setup, models, reused).len()
+    let (run, _) = schedule(setup, models, reused);
+    tasks(setup, &run, reused).len()
 }
 
 /// The outcomes of several models: `[model][group][realization]`.
 pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 
+/// One outcome read again with `reads`, the effects of a model that act on the readings
+/// only, on top of the vertical-load system it was run with, for a wall of declared kind
+/// `kind`: what a run with them gives, bit for bit ([`Observed::reread`]). A failed run
+/// stays failed; a run read again without a +x branch fails as a run would.
+fn reread(o: &Outcome, reads: &[Effect], kind: Option<crate::effects::WallKind>, protocol: &str) -> Outcome {
+    let Some(r) = o.observed.in_plane_reading.as_ref().filter(|_| o.error.is_none()) else {
+        return o.clone();
+    };
+    let rig = reads.iter().fold(r.rig, |rig, e| e.on_rig(rig, kind));
+    match o.observed.reread(rig) {
+        Some(Some(observed)) => Outcome { observed, error: None },
+        Some(None) => Outcome::failed(format!("protocol {protocol}: no observables")),
+        None => o.clone(),
+    }
+}
+
 /// Runs every model on every group and realization, in parallel on the current rayon pool;
 /// the result does not depend on the number of threads. A model whose effects cannot act on
 /// a group (e.g. `restraint_stiffness` on free walls) reuses `reuse`'s outcomes for it
-/// (`reuse[group]`, the baseline's), when given.
+/// (`reuse[group]`, the baseline's), when given. On the in-plane test a model's effects
+/// that act on the readings only (`jack_tilt`, `rig_friction`) make no run: its outcomes
+/// are those of its other effects (run once for all the models that share them, or
+/// `reuse`'s when there are none) read again ([`schedule`]), the same numbers as its own
+/// runs would give.
 pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Outcome>]>) -> Outcomes {
-    let tasks = tasks(setup, models, reuse.is_some());
+    let (run, sources) = schedule(setup, models, reuse.is_some());
+    let tasks = tasks(setup, &run, reuse.is_some());
     // Restrained walls creep longest near collapse: schedule them first.
     let items: Vec<Item> = tasks
         .iter()
@@ -210,19 +280,43 @@ pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Out
         .collect();
     let cost: Vec<f64> = tasks.iter().map(|&(_, gi, _)| if setup.groups[gi].restrained { 2.0 } else { 1.0 }).collect();
     let results: Vec<Outcome> =
-        run_scheduled(&items, &cost, "discrepancy", |it| run_one(setup, it.group, it.realization, &models[it.point]));
-    let mut out: Outcomes = models.iter().map(|_| setup.groups.iter().map(|_| Vec::new()).collect()).collect();
+        run_scheduled(&items, &cost, "discrepancy", |it| run_one(setup, it.group, it.realization, &run[it.point]));
+    let mut ran: Outcomes = run.iter().map(|_| setup.groups.iter().map(|_| Vec::new()).collect()).collect();
     for ((mi, gi, _), o) in tasks.into_iter().zip(results) {
-        out[mi][gi].push(o);
+        ran[mi][gi].push(o);
     }
     if let Some(base) = reuse {
-        for (mi, m) in models.iter().enumerate() {
+        for (mi, m) in run.iter().enumerate() {
             for (gi, g) in setup.groups.iter().enumerate() {
                 if !acts(m, g) {
-                    out[mi][gi] = base[gi].clone();
+                    ran[mi][gi] = base[gi].clone();
                 }
             }
         }
     }
-    out
+    let empty: Vec<Vec<Outcome>> = setup.groups.iter().map(|_| Vec::new()).collect();
+    models
+        .iter()
+        .zip(&sources)
+        .map(|(m, src)| {
+            let from = match *src {
+                Source::Run(k) => return ran[k].clone(),
+                Source::Reread(k) => &ran[k],
+                Source::Reused => reuse.unwrap_or(&empty),
+            };
+            let reads: Vec<Effect> = m.iter().filter(|e| e.def.acts_on_readings_only()).cloned().collect();
+            reread_outcomes(setup, from, &reads)
+        })
+        .collect()
+}
+
+/// One model's outcomes (`[group][realization]`) read again with `reads`, effects that act
+/// on the readings only: what runs of the model with them give, bit for bit, on the
+/// in-plane test ([`rereads`]); a run of another protocol, or a failed run, as it is.
+pub(super) fn reread_outcomes(setup: &Setup, outcomes: &[Vec<Outcome>], reads: &[Effect]) -> Vec<Vec<Outcome>> {
+    outcomes
+        .iter()
+        .zip(&setup.groups)
+        .map(|(outs, g)| outs.iter().map(|o| reread(o, reads, g.wall.kind, setup.protocol.name())).collect())
+        .collect()
 }

@@ -83,6 +83,22 @@ impl Effect {
         format!("{}={}", self.def.name, v.join(":"))
     }
 
+    /// `rig` with this effect's steps on the in-plane rig's vertical-load system applied
+    /// ([`Step::set_rig`], as [`Effect::apply_stage`] applies them to a layout), for a wall
+    /// of declared kind `kind` ([`Effect::for_kind`], as [`realize`] maps the values).
+    pub fn on_rig(
+        &self,
+        rig: crate::layout::VerticalLoadRig,
+        kind: Option<WallKind>,
+    ) -> crate::layout::VerticalLoadRig {
+        let e = if kind.is_some() && self.search.is_some() { self.for_kind(kind) } else { self.clone() };
+        let mut rig = rig;
+        for step in e.def.steps.iter().filter(|s| s.acts_on_readings_only()) {
+            step.set_rig(&mut rig, e.value(step.parameter()));
+        }
+        rig
+    }
+
     fn value(&self, parameter: &str) -> f64 {
         let i = self.def.parameters.iter().position(|p| p.name == parameter).unwrap_or(0);
         self.values[i]
@@ -155,8 +171,7 @@ impl Effect {
                 Step::RopePretension { .. } => super::rope::set_end_rope(layout, RopeProperty::Pretension, v),
                 Step::RopeStiffness { .. } => super::rope::set_end_rope(layout, RopeProperty::AxialStiffness, v),
                 Step::TableOvershoot { .. } => layout.table_overshoot_deg = v,
-                Step::JackTilt { .. } => layout.vertical_load_rig.inverse_jack_length_per_m = v,
-                Step::RigFriction { .. } => layout.vertical_load_rig.friction = v,
+                Step::JackTilt { .. } | Step::RigFriction { .. } => step.set_rig(&mut layout.vertical_load_rig, v),
             }
         }
         Ok(())

@@ -537,6 +537,16 @@ impl EffectDef {
             })
     }
 
+    /// Whether it acts only on the readings of a run, not on the wall's motion: every step
+    /// is one of the in-plane rig's vertical-load system ([`Step::acts_on_readings_only`]:
+    /// `jack_tilt`, `rig_friction`, or an effect of a file made of such steps). Derived
+    /// from the steps, so a file's effect has it by what it does. The discrepancy analysis
+    /// makes no run for such an effect: the model with it is the model without it, its
+    /// runs read again ([`crate::protocol::Observed::reread`]).
+    pub fn acts_on_readings_only(&self) -> bool {
+        !self.steps.is_empty() && self.steps.iter().all(Step::acts_on_readings_only)
+    }
+
     /// Whether it draws random numbers (a `transverse_dip` step).
     pub fn is_random(&self) -> bool {
         self.steps.iter().any(|s| matches!(s, Step::TransverseDip { .. }))

@@ -166,6 +166,25 @@ impl Step {
         }
     }
 
+    /// Whether the step acts only on the readings of a run, not on the wall's motion: the
+    /// in-plane rig's vertical-load system (`JackTilt`, `RigFriction`), a force the
+    /// displacement-controlled beam carries on top of the wall's shear. A run with such a
+    /// step is a run without it read again ([`crate::protocol::Observed::reread`]).
+    pub fn acts_on_readings_only(&self) -> bool {
+        matches!(self, Step::JackTilt { .. } | Step::RigFriction { .. })
+    }
+
+    /// Sets the vertical-load system's part this step gives to `v` (the step's parameter
+    /// value); nothing for a step that is not one of its parts
+    /// ([`Step::acts_on_readings_only`]). The one place these steps enter a layout.
+    pub fn set_rig(&self, rig: &mut crate::layout::VerticalLoadRig, v: f64) {
+        match self {
+            Step::JackTilt { .. } => rig.inverse_jack_length_per_m = v,
+            Step::RigFriction { .. } => rig.friction = v,
+            _ => {}
+        }
+    }
+
     /// Where the step enters the model.
     pub fn stage(&self) -> Stage {
         match self {

@@ -51,7 +51,7 @@ use crate::dem::contact::types::Contact;
 use crate::dem::motion::poses;
 use crate::dem::{solve_static, Cascade, DemError, DofConstraint, End, Hold, Simulation, SolverParams, StaticSolve};
 use crate::geometry::ConvexBlock;
-use crate::layout::{Block, Layout};
+use crate::layout::{Block, Layout, VerticalLoadRig};
 use crate::math::Vec3;
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
@@ -543,25 +543,7 @@ impl Rig {
     /// that of the increment that led to it, none at the first point); nothing for an
     /// ideal vertical force.
     pub fn add_vertical_load_rig(&self, curve: &mut [CurvePoint]) {
-        let r = self.layout.vertical_load_rig;
-        if r.is_ideal() {
-            return;
-        }
-        let n = self.vertical_force_n;
-        let mut last = None;
-        for p in curve.iter_mut() {
-            // The sense of the increment that led to the point (0 at the first, or none).
-            let sense = last.map_or(0.0, |u0: f64| {
-                let du = p.top_mm - u0;
-                if du == 0.0 {
-                    0.0
-                } else {
-                    du.signum()
-                }
-            });
-            last = Some(p.top_mm);
-            p.force_kn += 1e-3 * r.actuator_force_n(n, 1e-3 * p.top_mm, sense);
-        }
+        add_rig_force(self.layout.vertical_load_rig, self.vertical_force_n, curve);
     }
 
     /// The rigid rocking capacity of the monolithic wall, N: `N_total L / (2 H0)` with the
@@ -573,6 +555,49 @@ impl Rig {
             BeamRotation::Fixed => (self.vertical_force_n + 0.5 * self.wall_weight_n) * self.length_m / self.height_m,
         }
     }
+}
+
+/// Adds to each point of `curve` the force the horizontal actuator carries for the rig's
+/// vertical-load system `r` under the applied vertical force `n` (N): `n (u / L + μ_r
+/// sgn(u̇))`, u the point's top displacement, u̇'s sense that of the increment that led to
+/// it, none at the first point; nothing for an ideal vertical force. The one place the
+/// rig's force enters a curve: [`Rig::add_vertical_load_rig`] in a run, [`read_curve`] on a
+/// run's curve of the wall's own shear.
+pub fn add_rig_force(r: VerticalLoadRig, n: f64, curve: &mut [CurvePoint]) {
+    if r.is_ideal() {
+        return;
+    }
+    let mut last = None;
+    for p in curve.iter_mut() {
+        // The sense of the increment that led to the point (0 at the first, or none).
+        let sense = last.map_or(0.0, |u0: f64| {
+            let du = p.top_mm - u0;
+            if du == 0.0 {
+                0.0
+            } else {
+                du.signum()
+            }
+        });
+        last = Some(p.top_mm);
+        p.force_kn += 1e-3 * r.actuator_force_n(n, 1e-3 * p.top_mm, sense);
+    }
+}
+
+/// The force read and the first direction's outputs (+x, [`direction`]) of a run's curve of
+/// the wall's own shear (`wall_curve`, [`InPlaneResult::wall_curve`]) under the rig's
+/// vertical-load system `rig` and the applied vertical force `vertical_force_n` (N): the
+/// same computation as the run's own ([`Rig::add_vertical_load_rig`], then [`direction`]),
+/// so that a run with `rig` and a run without it read here give the same numbers, bit for
+/// bit.
+pub fn read_curve(
+    wall_curve: &[CurvePoint],
+    rig: VerticalLoadRig,
+    vertical_force_n: f64,
+) -> (Vec<CurvePoint>, Option<DirectionResult>) {
+    let mut curve = wall_curve.to_vec();
+    add_rig_force(rig, vertical_force_n, &mut curve);
+    let positive = direction(&curve, 1.0);
+    (curve, positive)
 }
 
 /// The elastic stiffness (N/m) of a one-block wall of length `l`, thickness `t` and height
@@ -915,6 +940,21 @@ pub struct InPlaneResult {
     pub dt_s: f64,
     /// Wall-clock time, s.
     pub wall_time_s: f64,
+    /// The curve of the wall's own shear: `curve` before the rig's vertical-load system
+    /// added its force (the same as `curve` for an ideal vertical force). With
+    /// `vertical_load_rig` it gives the force read under any other such system without a
+    /// new run ([`read_curve`]: the beam's motion is imposed, so the system leaves the
+    /// wall's motion as it is). Not written to the results (empty when read from them).
+    #[serde(skip)]
+    pub wall_curve: Vec<CurvePoint>,
+    /// The rig's vertical-load system the run had (`Layout::vertical_load_rig`). Not
+    /// written to the results (ideal when read from them).
+    #[serde(skip)]
+    pub vertical_load_rig: VerticalLoadRig,
+    /// The applied vertical force `σ0 L t`, N, as the rig's system reads it (0 when read
+    /// from the results).
+    #[serde(skip)]
+    pub vertical_force_n: f64,
 }
 
 /// The per-direction outputs of a curve (see the module doc); `sign` +1 or −1.
@@ -1194,11 +1234,15 @@ pub(crate) fn result_of(
     at: &Poses,
     work: Work,
 ) -> InPlaneResult {
+    let wall_curve = curve.clone();
     rig.add_vertical_load_rig(&mut curve);
     InPlaneResult {
         positive: direction(&curve, 1.0),
         negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
         curve,
+        wall_curve,
+        vertical_load_rig: rig.layout.vertical_load_rig,
+        vertical_force_n: rig.vertical_force_n,
         mechanism,
         poses_at_reading: at.iter().map(|(p, q)| (*p, q.scaled_axis())).collect(),
         vertical_force_kn: rig.vertical_force_n * 1e-3,

@@ -6,13 +6,16 @@
 //! limit analysis (the peak force and its mechanism, `limit::inplane`).
 
 use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
-use super::inplane_observed::InPlaneObserved;
+use super::inplane_observed::{InPlaneObserved, InPlaneReading};
 use super::observed::Observed;
 use super::Protocol;
 use crate::dem::Method;
+use crate::layout::VerticalLoadRig;
 use crate::limit::inplane::{limit_in_plane, InPlaneLimit};
+use crate::loading::inplane::{read_curve, DirectionResult};
 use crate::loading::inplane::{run_in_plane_penalty, InPlaneError, InPlaneParams, InPlaneResult};
 use crate::loading::inplane_nscd::run_in_plane_nscd;
+use std::sync::Arc;
 
 /// The in-plane test with its parameters (`[in_plane]`).
 #[derive(Debug, Clone, PartialEq)]
@@ -121,15 +124,39 @@ impl Observed {
     /// The observables of an in-plane run by the penalty DEM: the measures of its first
     /// direction (+x) and its mode; `None` when the run has no +x branch.
     pub fn of_in_plane(r: &InPlaneResult) -> Option<Observed> {
-        let d = r.positive.as_ref()?;
+        let reading = InPlaneReading {
+            wall_curve: r.wall_curve.clone(),
+            vertical_force_n: r.vertical_force_n,
+            rig: r.vertical_load_rig,
+            mode: r.mechanism.kind,
+        };
+        Observed::of_direction(r.positive.as_ref()?, Arc::new(reading))
+    }
+
+    fn of_direction(d: &DirectionResult, reading: Arc<InPlaneReading>) -> Option<Observed> {
         Some(Observed {
             in_plane: Some(InPlaneObserved {
                 peak_force_kn: d.peak_force_kn,
                 drift_at_peak_pct: d.drift_at_peak_pct,
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
-                mode: r.mechanism.kind,
+                mode: reading.mode,
             }),
+            in_plane_reading: Some(reading),
             ..Observed::default()
         })
+    }
+
+    /// The observables of the same in-plane run read under the vertical-load system `rig`
+    /// instead of its own: its curve of the wall's own shear with `rig`'s force added
+    /// ([`read_curve`], the run's own computation), the mode as it was. Bit for bit those of
+    /// a run made with `rig` (the beam's motion is imposed: the system does not move the
+    /// wall). `None` when the observables are not an in-plane run's
+    /// ([`Observed::in_plane_reading`]); `Some(None)` when the curve read so has no +x
+    /// branch.
+    pub fn reread(&self, rig: VerticalLoadRig) -> Option<Option<Observed>> {
+        let r = self.in_plane_reading.as_ref()?;
+        let reading = Arc::new(InPlaneReading { rig, ..(**r).clone() });
+        let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n);
+        Some(positive.and_then(|d| Observed::of_direction(&d, reading)))
     }
 }

@@ -1,7 +1,9 @@
 //! What an in-plane run gives to compare with measured data ([`InPlaneObserved`], a part of
-//! [`super::Observed`]; made by [`super::Observed::of_in_plane`]).
+//! [`super::Observed`]; made by [`super::Observed::of_in_plane`]), and what its readings are
+//! made from ([`InPlaneReading`], to read them again: [`super::Observed::reread`]).
 
-use crate::loading::inplane::MechanismKind;
+use crate::layout::VerticalLoadRig;
+use crate::loading::inplane::{CurvePoint, MechanismKind};
 use serde::Serialize;
 
 /// What an in-plane run gives to compare with measured data: the measures of the first
@@ -15,5 +17,20 @@ pub struct InPlaneObserved {
     /// The initial stiffness, the secant at 15 % of the peak, kN/mm.
     pub initial_stiffness_kn_per_mm: f64,
     /// The mechanism's mode (`none`: no joint moved past the threshold).
+    pub mode: MechanismKind,
+}
+
+/// What an in-plane run's readings are made from: the curve of the wall's own shear, the
+/// applied vertical force and the vertical-load system of the run, and the mode read from
+/// the blocks (which the system does not move).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InPlaneReading {
+    /// The curve of the wall's own shear ([`crate::loading::inplane::InPlaneResult::wall_curve`]).
+    pub wall_curve: Vec<CurvePoint>,
+    /// The applied vertical force `σ0 L t`, N.
+    pub vertical_force_n: f64,
+    /// The run's vertical-load system.
+    pub rig: VerticalLoadRig,
+    /// The mechanism's mode.
     pub mode: MechanismKind,
 }

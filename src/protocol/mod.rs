@@ -50,7 +50,7 @@ pub mod tilt_by_hand;
 
 pub use contract::{Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way};
 pub use inplane::{InPlane, InPlaneRun};
-pub use inplane_observed::InPlaneObserved;
+pub use inplane_observed::{InPlaneObserved, InPlaneReading};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
 pub use observed::Observed;
 pub use pushover::{Pushover, PushoverRun};

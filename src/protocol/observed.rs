@@ -2,13 +2,14 @@
 //! its bracket, the top displacements at every stable state and the failure mechanism, as
 //! the tilting table and the lateral load give them.
 
-use super::inplane_observed::InPlaneObserved;
+use super::inplane_observed::{InPlaneObserved, InPlaneReading};
 use crate::loading::lateral::LateralResult;
 use crate::loading::mechanism::MechanismReading;
 use crate::loading::monitors::TopMonitor;
 use crate::loading::tilt::TiltResult;
 use crate::units::m_to_cm;
 use serde::Serialize;
+use std::sync::Arc;
 
 /// What a run gives to compare with measured data (`drystone discrepancy`): the collapse
 /// angle with its bracket, the top displacements at every stable state, the failure
@@ -33,6 +34,11 @@ pub struct Observed {
     /// for the other protocols).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub in_plane: Option<InPlaneObserved>,
+    /// What an in-plane run's readings are made from ([`InPlaneReading`]), to read them again
+    /// under another vertical-load system ([`Observed::reread`]); `None` for the other
+    /// protocols. Not written out.
+    #[serde(skip)]
+    pub in_plane_reading: Option<Arc<InPlaneReading>>,
 }
 
 impl Observed {

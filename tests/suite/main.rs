@@ -63,6 +63,7 @@ mod penalty_exact_winkler;
 mod penalty_kn_sweep;
 mod predictor;
 mod provenance;
+mod readings_only;
 mod resume;
 mod rope;
 mod rope_tilt;
