@@ -221,14 +221,43 @@ fn in_plane_discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let run = pool.install(|| {
         drystone::discrepancy::run_with(&input.setup, input.obs.clone(), &s, input.seed, &input.library, &progress)
     })?;
+    // The cyclic loops, a reading the fit did not use, of the baseline and the tie.
+    let loops =
+        pool.install(|| drystone::study::inplane_loops::check_loops(&a.input.study, &input, &run, &progress))?;
     held.write_set(drystone::study::discrepancy::OUTPUT_SET, "discrepancy", &input.name, |staging| {
-        drystone::discrepancy::write_report(staging, &run, &input.name)
+        drystone::discrepancy::write_report(staging, &run, &input.name)?;
+        if let Some(l) = &loops {
+            let md = staging.join("discrepancy.md");
+            let mut text = std::fs::read_to_string(&md).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
+            text.push('\n');
+            text.push_str(&l.markdown());
+            std::fs::write(&md, text).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
+            let js = staging.join("loops.json");
+            std::fs::write(&js, serde_json::to_string_pretty(l)?).map_err(|e| anyhow::anyhow!("{}: {e}", js.display()))?;
+        }
+        Ok::<(), anyhow::Error>(())
     })?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
+        let mut v = serde_json::to_value(report_json(&run))?;
+        if let (Some(l), Some(o)) = (&loops, v.as_object_mut()) {
+            o.insert("loops".into(), serde_json::to_value(l)?);
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     print_summary(&run, &input.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
+    if let Some(l) = &loops {
+        println!("the cyclic loops (a reading the fit did not use), the loops' damping ratio, χ² over the stresses:");
+        for m in &l.models {
+            println!(
+                "  {:<32} χ² {:>8.1}  p {:.2e}  {}",
+                m.name,
+                m.chi2,
+                m.p_value,
+                if drystone::study::inplane_loops::LoopCheck::fits(m) { "fits the loops" } else { "does not fit the loops" }
+            );
+        }
+    }
     Ok(())
 }
 

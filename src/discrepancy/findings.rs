@@ -72,6 +72,25 @@ pub struct Run {
     pub followup: Option<super::design::Plan>,
 }
 
+impl Run {
+    /// The effects of the candidate `name` (a ranked candidate's name, `a+b` for a pair) at
+    /// its parameters fitted to all the data, for a group of course height `course_m` (m;
+    /// the length scale of its effects' parameters, `effects::course_height_of`); `None` for
+    /// a name the analysis did not rank (the baseline included: it has no effect).
+    ///
+    /// # Errors
+    /// A parameter the effect refuses (it does not happen for a fit within the ranges).
+    pub fn fitted_effects(&self, name: &str, course_m: f64) -> Result<Option<Vec<Effect>>, super::DiscrepancyError> {
+        let Some(r) = self.analysis.candidates.iter().find(|r| r.name == name) else {
+            return Ok(None);
+        };
+        let Some(c) = self.analysis.pool.get(r.index) else {
+            return Ok(None);
+        };
+        super::prepare::effects_of(c, &r.x, course_m).map(Some)
+    }
+}
+
 /// What would separate two tied candidates.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Design {

@@ -6,6 +6,7 @@
 //! the collapse mechanism ([`mechanism`]).
 
 pub mod inplane;
+pub mod inplane_loops;
 pub mod inplane_nscd;
 pub mod lateral;
 pub mod lateral_nscd;

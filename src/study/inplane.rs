@@ -50,6 +50,7 @@ use crate::generator::{DistributionSource, Wall};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
 use crate::limit::inplane::limit_in_plane;
 use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, InPlaneResult, Rig};
+use crate::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
 use crate::stats::{mean, quantile, sd};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -133,6 +134,10 @@ pub struct InPlaneMeasuredSpec {
     /// The folder of the crack maps (PNG), linked in the report.
     #[serde(default)]
     pub crackmaps: Option<PathBuf>,
+    /// The folder of the whole measured curves `FD_<unit without dots>_<source>.csv` (the
+    /// database's), read for the cyclic specimens' loops ([`Specimen::damping_ratio`]).
+    #[serde(default)]
+    pub curves: Option<PathBuf>,
 }
 
 /// Errors of the in-plane study, each naming its file and key.
@@ -203,6 +208,13 @@ pub struct Specimen {
     pub failure_type: f64,
     /// The envelope (drift %, force kN), if found.
     pub envelope: Vec<(f64, f64)>,
+    /// The wall's height, mm (the column `H_mm`; NaN where the table has none).
+    pub height_mm: f64,
+    /// The equivalent viscous damping ratio of its loops
+    /// ([`crate::loading::inplane_loops::loop_damping_ratio`] of its whole measured curve, the
+    /// cycles of at least [`LOOP_MIN_DRIFT_PCT`] % of `height_mm`); NaN for a monotonic test
+    /// or without the curve ([`read_loops`]).
+    pub damping_ratio: f64,
 }
 
 /// Reads the database's table of specimens (a CSV with a header; quoted fields).
@@ -233,6 +245,7 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
     ]
     .map(col);
     let c: Vec<usize> = c.into_iter().collect::<Result<_, _>>()?;
+    let height = header.iter().position(|h| h == "H_mm");
     let mut out = Vec::new();
     for (i, line) in lines {
         if line.trim().is_empty() {
@@ -265,6 +278,16 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             modes: get(12),
             failure_type: num(13)?,
             envelope: Vec::new(),
+            height_mm: match height {
+                Some(k) => {
+                    let v = f.get(k).map(|x| x.trim().to_string()).unwrap_or_default();
+                    v.parse::<f64>().map_err(|_| {
+                        err(format!("line {}: column H_mm: {v:?} is not a number", i + 1))
+                    })?
+                }
+                None => f64::NAN,
+            },
+            damping_ratio: f64::NAN,
         };
         if let Some(dir) = envelopes {
             // `envelope_<unit without dots>_<first author><year>.csv`, the database's names.
@@ -303,6 +326,44 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
         pts.push((v[2], v[1]));
     }
     Ok(pts)
+}
+
+/// Sets each cyclic specimen's [`Specimen::damping_ratio`] from its whole measured curve in
+/// `dir` (`FD_<unit without dots>_<source>.csv`: three header lines and a units line, then
+/// `top_displacement mm, horizontal_force kN, drift %` a line, `NaN` lines between digitized
+/// segments), read on the top displacement over the wall's height. A specimen without a
+/// curve file or a height keeps NaN.
+///
+/// # Errors
+/// A curve file that cannot be read or holds a line that is not numbers, naming the file
+/// and the line.
+pub fn read_loops(specimens: &mut [Specimen], dir: &Path) -> Result<(), InPlaneStudyError> {
+    for s in specimens.iter_mut() {
+        let p = dir.join(format!("FD_{}.csv", file_stem(s)));
+        if !p.exists() || !s.height_mm.is_finite() {
+            continue;
+        }
+        let err = |message: String| InPlaneStudyError::File { path: p.clone(), message };
+        let text = std::fs::read_to_string(&p).map_err(|e| err(e.to_string()))?;
+        let mut curve = Vec::new();
+        for (i, line) in text.lines().enumerate().skip(4) {
+            if line.trim().is_empty() {
+                continue;
+            }
+            let v: Vec<f64> = split_csv(line)
+                .iter()
+                .take(2)
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| err(format!("line {}: {line:?} is not numbers", i + 1)))?;
+            if v.len() < 2 {
+                return Err(err(format!("line {}: {line:?} is not two numbers", i + 1)));
+            }
+            curve.push((100.0 * v[0] / s.height_mm, v[1]));
+        }
+        s.damping_ratio = loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT);
+    }
+    Ok(())
 }
 
 /// The database's file stem of a specimen: `<unit without dots>_<first author><year>`
@@ -370,6 +431,9 @@ pub struct InPlaneRow {
     pub limit_mechanism: String,
     /// The rigid rocking capacity N_total L / (2 H0), kN.
     pub rocking_kn: f64,
+    /// The equivalent viscous damping ratio of its loops (the cycles of at least
+    /// [`LOOP_MIN_DRIFT_PCT`] % drift, [`loop_damping_ratio`]); NaN for a monotonic run.
+    pub damping_ratio: f64,
     /// Static solves that did not reach equilibrium.
     pub unconverged: usize,
     /// Wall-clock time, s.
@@ -383,7 +447,7 @@ pub struct InPlaneRow {
 }
 
 /// The observables compared, with their row accessors.
-const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 7] = [
+const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 8] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
     ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
     ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
@@ -391,6 +455,7 @@ const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 
     ("ultimate_drift_pos_pct", "ultimate drift + (%)", |r| r.ultimate_drift_pos_pct, |s| s.du_pos_pct),
     ("stiffness_pos_kn_per_mm", "initial stiffness + (kN/mm)", |r| r.stiffness_pos_kn_per_mm, |s| s.kel_pos),
     ("failure_type", "failure type (1 rocking, 0.5 mixed, 0 shear)", |r| r.failure_type, |s| s.failure_type),
+    ("damping_ratio", "loops' equivalent damping ratio, cycles ≥ 1 % drift", |r| r.damping_ratio, |s| s.damping_ratio),
 ];
 
 /// What a run of the study gave.
@@ -497,7 +562,13 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
     let werr = |p: &Path, e: &dyn std::fmt::Display| InPlaneStudyError::Write(format!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| werr(out, &e))?;
     let specimens = match &spec.measured {
-        Some(m) => read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?,
+        Some(m) => {
+            let mut s = read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?;
+            if let Some(c) = &m.curves {
+                read_loops(&mut s, &base.join(c))?;
+            }
+            s
+        }
         None => Vec::new(),
     };
     for (g, group) in spec.groups.iter().enumerate() {
@@ -599,6 +670,7 @@ fn realization(
         limit_peak_kn: f64::NAN,
         limit_mechanism: String::new(),
         rocking_kn: f64::NAN,
+        damping_ratio: f64::NAN,
         unconverged: 0,
         wall_time_s: 0.0,
         curve: Vec::new(),
@@ -648,6 +720,7 @@ fn fill(row: &mut InPlaneRow, r: &InPlaneResult) {
     row.rocking_kn = r.rocking_force_kn;
     row.unconverged = r.unconverged;
     row.curve = r.curve.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
+    row.damping_ratio = loop_damping_ratio(&row.curve, LOOP_MIN_DRIFT_PCT);
     row.drawing = Some((r.poses_at_reading.clone(), r.mechanism.clone()));
 }
 
@@ -673,6 +746,7 @@ const ROW_COLUMNS: &[(&str, fn(&InPlaneRow) -> String)] = &[
     ("limit_peak_kn", |r| r.limit_peak_kn.to_string()),
     ("limit_mechanism", |r| r.limit_mechanism.clone()),
     ("rocking_kn", |r| r.rocking_kn.to_string()),
+    ("damping_ratio", |r| r.damping_ratio.to_string()),
     ("unconverged", |r| r.unconverged.to_string()),
     ("wall_time_s", |r| format!("{:.3}", r.wall_time_s)),
     ("error", |r| format!("\"{}\"", r.error.replace('"', "'"))),
@@ -772,6 +846,7 @@ fn report(
         let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
         let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
         for (key, label, get, meas) in OBSERVABLES {
+            let d = if key == "damping_ratio" { 3 } else { 2 };
             let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
             let (n, m, s, cov, lo, hi) = stats(&x);
             if n == 0 {
@@ -796,13 +871,13 @@ fn report(
                 if measured.is_empty() {
                     "–".into()
                 } else {
-                    measured.iter().map(|v| f(*v, 2)).collect::<Vec<_>>().join(", ")
+                    measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
                 },
-                f(m, 2),
-                f(s, 2),
+                f(m, d),
+                f(s, d),
                 f(cov, 3),
-                f(lo, 2),
-                f(hi, 2),
+                f(lo, d),
+                f(hi, d),
                 if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
             );
         }

@@ -85,6 +85,7 @@ mod figures;
 pub mod followup;
 pub mod inplane;
 pub mod inplane_discrepancy;
+pub mod inplane_loops;
 mod lock;
 mod measured;
 mod motions;

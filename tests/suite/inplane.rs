@@ -518,3 +518,53 @@ fn the_rigs_vertical_load_adds_its_bearing_friction_and_its_jacks_lean_to_the_ac
     let v = (n + w) * L / (2.0 * H0) + mu_r * n_jack;
     assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);
 }
+
+/// The loops of a cyclic history (`loading::inplane_loops`) against what each mechanism
+/// dissipates, by hand: a monolith rocking on its toe is elastic and dissipates nothing; one
+/// sliding on its base is a rectangle of height `2 μ N_total`, `E_d = 4 μ N_total (a − u_y)`
+/// with `u_y` its elastic displacement before the slip, so `ξ_eq → (1 − u_y / a) / π`; the
+/// rig's bearing under the rocking monolith adds `μ_r N` against each way's motion, `4 μ_r N a`
+/// a cycle of amplitude `a` (the curve read at the increments' ends loses the trapezoid across
+/// the force's change of sign, `μ_r N h` a reversal, `h` the top's first move after it: the
+/// rocked wall unloads elastically there, h ≈ 0.03 mm of a ≈ 3 mm, under 1 %).
+#[test]
+fn the_loops_of_a_cyclic_history_dissipate_what_their_mechanism_does() {
+    use drystone::loading::inplane_loops::cycles;
+    let (n, w) = forces();
+    let s = SolverParams::default();
+    let p = InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.25, 0.5]), ..params(0.5) };
+    let loops = |wall: &Layout| {
+        let r = run_in_plane_penalty(wall, s, &p, &mut |_, _, _| {}).unwrap();
+        assert_eq!(r.unconverged, 0);
+        let curve: Vec<(f64, f64)> = r.curve.iter().map(|c| (c.top_mm, c.force_kn)).collect();
+        (cycles(&curve), r)
+    };
+    // Rocking: elastic.
+    let rocking = inplane_block(45.0, 1e10);
+    let (c, _) = loops(&rocking);
+    assert_eq!(c.len(), 3, "{c:?}");
+    for cy in &c {
+        assert!(cy.damping_ratio.abs() < 0.005, "rocking: {cy:?}");
+    }
+    // Rocking with the rig's bearing: its friction's work, cycle by cycle.
+    let mu_r = 0.03;
+    let mut wall = rocking.clone();
+    wall.vertical_load_rig.friction = mu_r;
+    let (cf, r) = loops(&wall);
+    assert_eq!(cf.len(), c.len());
+    for (a, b) in cf.iter().zip(&c) {
+        let by_hand = mu_r * n * 1e-3 * 4.0 * a.amplitude; // kN mm
+        let extra = a.dissipated - b.dissipated;
+        assert!((extra / by_hand - 1.0).abs() < 0.01, "{extra} kN mm vs {by_hand} (amplitude {} mm)", a.amplitude);
+    }
+    assert!(r.positive.is_some());
+    // Sliding: the rectangle less the elastic part.
+    let mu: f64 = 0.2;
+    let (cs, r) = loops(&inplane_block(mu.atan().to_degrees(), 1e10));
+    let k = r.positive.unwrap().initial_stiffness_kn_per_mm; // kN/mm
+    let u_y = mu * (n + w) * 1e-3 / k; // mm
+    for cy in &cs {
+        let by_hand = (1.0 - u_y / cy.amplitude) / std::f64::consts::PI;
+        assert!((cy.damping_ratio / by_hand - 1.0).abs() < 0.05, "sliding: {cy:?} vs ξ {by_hand}");
+    }
+}

@@ -39,6 +39,7 @@ mod generator_stats;
 mod implicit;
 mod inplane;
 mod inplane_discrepancy;
+mod inplane_loops;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;

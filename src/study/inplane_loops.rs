@@ -1,0 +1,323 @@
+//! The loops of the cyclic specimens, a reading the in-plane analysis does not fit, as a
+//! check of its leading models (`drystone discrepancy` on an in-plane study).
+//!
+//! The analysis fits each specimen's first direction pushed monotonically
+//! ([`super::inplane_discrepancy`]); the whole cyclic curves the database holds are left
+//! out of it, and their hysteresis loops tell apart what its observables do not: a force
+//! that depends on the displacement alone (a leaning jack's `N u / L`, the joints' closure)
+//! dissipates nothing over a cycle, a friction against the motion (the rig's bearing, `μ_r
+//! N`) dissipates `4 μ_r N a` a cycle of amplitude `a`. The reading is the loops' equivalent
+//! viscous damping ratio ([`crate::loading::inplane_loops`]) over the cycles of at least
+//! [`LOOP_MIN_DRIFT_PCT`] % drift.
+//!
+//! Each model checked (the baseline and the models in the analysis's tie, at their
+//! parameters fitted to all the data) is run cyclic, the study's history, at each stress
+//! of the study's cyclic specimens, on [`LOOP_REALIZATIONS`] of the analysis's own layouts
+//! of that group (`effects::realize`, the group's effects and the model's). Per group, the
+//! measured reading is the median of the specimens' (one badly digitized loop does not move
+//! it), its standard error `1.2533 σ / √n` with `σ` the specimens' spread within their
+//! groups pooled over the groups (Shamos's estimator, 1.0483 times the median absolute
+//! difference of the pairs of specimens of one group: robust to one bad loop, and usable
+//! with three specimens a group, where the median absolute deviation is not); the
+//! model's is the mean of its realizations, with their standard error. The statistic is
+//! `χ² = Σ_g z_g²`, `z_g` the difference over the two errors combined, on as many degrees
+//! of freedom as groups; a model fits the loops when its χ² is below the 95th percentile.
+//! Nothing of the check enters the analysis's ranking: it is reported beside it.
+
+use super::inplane::{load, read_loops, read_specimens, InPlaneStudyError};
+use super::inplane_discrepancy::{stress_group, InPlaneAnalysis};
+use crate::discrepancy::Run;
+use crate::effects::Effect;
+use crate::loading::inplane::{History, InPlaneParams};
+use crate::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
+use rayon::prelude::*;
+use serde::Serialize;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Realizations per group and model of the check: the simulated readings of one group
+/// spread by a few percent of their value (0.0001–0.0007 of 0.008–0.011 on the granite
+/// walls), a tenth of the measured specimens' spread, so two realizations give the model's
+/// mean and a spread to carry.
+pub const LOOP_REALIZATIONS: u64 = 2;
+
+/// One group (stress) of the check.
+#[derive(Debug, Clone, Serialize)]
+pub struct LoopGroup {
+    /// The analysis's group, `0.5 MPa`.
+    pub group: String,
+    /// The specimens' readings, `(unit, ξ_eq)`; those without a reading (no curve) left out.
+    pub measured: Vec<(String, f64)>,
+    /// The model's readings, one per realization (NaN for a run that failed).
+    pub simulated: Vec<f64>,
+    /// `(median measured − mean simulated) / combined standard error`.
+    pub z: f64,
+}
+
+/// One model of the check.
+#[derive(Debug, Clone, Serialize)]
+pub struct LoopModel {
+    /// `baseline` or the candidate's name.
+    pub name: String,
+    /// Its fitted parameters, `effect.param = value` (none for the baseline).
+    pub parameters: Vec<(String, f64)>,
+    /// Per group.
+    pub groups: Vec<LoopGroup>,
+    /// `Σ z²` over the groups.
+    pub chi2: f64,
+    /// The probability of a χ² as large under the model (degrees of freedom: the groups).
+    pub p_value: f64,
+}
+
+/// What the check found.
+#[derive(Debug, Clone, Serialize)]
+pub struct LoopCheck {
+    /// The smallest drift amplitude of the cycles read, %.
+    pub min_drift_pct: f64,
+    /// The measured readings' spread within their groups (σ, pooled; Shamos's estimator).
+    pub measured_sigma: f64,
+    /// The models, in the order checked (the baseline first, then the tie's order).
+    pub models: Vec<LoopModel>,
+    /// The cyclic runs made.
+    pub runs: usize,
+}
+
+impl LoopCheck {
+    /// Whether a model fits the loops (its χ²'s p-value at least 0.05).
+    pub fn fits(m: &LoopModel) -> bool {
+        m.p_value >= 0.05
+    }
+
+    /// The report's section (Markdown).
+    pub fn markdown(&self) -> String {
+        let mut md = String::new();
+        let _ = writeln!(md, "## The cyclic loops: a reading the fit did not use\n");
+        let _ = writeln!(
+            md,
+            "The loops' equivalent viscous damping ratio ξ_eq = E_d / (4π E_s), the median over the cycles of at \
+             least {} % drift, of each cyclic specimen's whole measured curve and of each model run cyclic (the \
+             study's history) at its fitted parameters, {} layouts a stress ({} runs). A friction against the motion \
+             (`rig_friction`) dissipates `4 μ_r N a` a cycle, a force of the displacement alone (`jack_tilt`, the \
+             joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
+             over the standard errors (the specimens' spread σ = {:.4}, pooled); a model fits the loops when Σ z² is \
+             below the χ² 95th percentile.\n",
+            self.min_drift_pct,
+            LOOP_REALIZATIONS,
+            self.runs,
+            self.measured_sigma
+        );
+        let Some(first) = self.models.first() else {
+            return md;
+        };
+        let mut head = String::from("| model |");
+        let mut rule = String::from("| --- |");
+        for g in &first.groups {
+            let _ = write!(head, " {} (z) |", g.group);
+            rule.push_str(" --- |");
+        }
+        head.push_str(" χ² | p | fits the loops |");
+        rule.push_str(" --- | --- | --- |");
+        let _ = writeln!(md, "{head}\n{rule}");
+        let mut measured = String::from("| measured (median of the specimens) |");
+        for g in &first.groups {
+            let v: Vec<f64> = g.measured.iter().map(|(_, x)| *x).collect();
+            let _ = write!(measured, " {:.4} ({}) |", median(&v), v.len());
+        }
+        measured.push_str(" | | |");
+        let _ = writeln!(md, "{measured}");
+        for m in &self.models {
+            let mut line = format!("| `{}` |", m.name);
+            for g in &m.groups {
+                let _ = write!(line, " {:.4} ({:+.1}) |", crate::stats::mean(&finite(&g.simulated)), g.z);
+            }
+            let _ = write!(line, " {:.1} | {:.2e} | {} |", m.chi2, m.p_value, if Self::fits(m) { "yes" } else { "no" });
+            let _ = writeln!(md, "{line}");
+        }
+        let _ = writeln!(md);
+        md
+    }
+}
+
+fn finite(x: &[f64]) -> Vec<f64> {
+    x.iter().copied().filter(|v| v.is_finite()).collect()
+}
+
+fn median(x: &[f64]) -> f64 {
+    let mut v = finite(x);
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    }
+}
+
+/// The check of the loops (module documentation) of the baseline and the models in `run`'s
+/// tie, for the in-plane study `path` analysed as `input`; `None` when the study has no
+/// cyclic specimen with a measured curve (`[measured] curves`).
+///
+/// # Errors
+/// The study or its measured files unreadable (named), a fitted parameter refused.
+pub fn check_loops(
+    path: &Path,
+    input: &InPlaneAnalysis,
+    run: &Run,
+    progress: crate::discrepancy::Progress<'_>,
+) -> Result<Option<LoopCheck>, InPlaneStudyError> {
+    let spec = load(path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let Some(m) = &spec.measured else {
+        return Ok(None);
+    };
+    let Some(curves) = &m.curves else {
+        return Ok(None);
+    };
+    let mut specimens = read_specimens(&base.join(&m.walls), None)?;
+    read_loops(&mut specimens, &base.join(curves))?;
+    // The analysis's groups with cyclic specimens read, and those readings.
+    let mut groups: Vec<MeasuredLoops> = Vec::new();
+    for g in spec.groups.iter().filter(|g| g.history == History::Cyclic) {
+        let name = stress_group(g.sigma0_mpa);
+        let Some(k) = input.setup.groups.iter().position(|x| x.name == name) else {
+            continue;
+        };
+        let read: Vec<(String, f64)> = g
+            .specimens
+            .iter()
+            .filter_map(|u| specimens.iter().find(|s| &s.unit == u))
+            .filter(|s| s.damping_ratio.is_finite())
+            .map(|s| (s.unit.clone(), s.damping_ratio))
+            .collect();
+        if read.is_empty() {
+            continue;
+        }
+        match groups.iter_mut().find(|(j, _, _)| *j == k) {
+            Some((_, _, r)) => r.extend(read),
+            None => groups.push((k, g.sigma0_mpa, read)),
+        }
+    }
+    if groups.is_empty() {
+        return Ok(None);
+    }
+    // The models: the baseline, then the tie.
+    let course_m = crate::discrepancy::course_height(&input.setup);
+    let mut models: Vec<LoopCandidate> = vec![("baseline".into(), vec![], vec![])];
+    for name in &run.analysis.tie {
+        let effects = run
+            .fitted_effects(name, course_m)
+            .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
+        let Some(effects) = effects else { continue };
+        let parameters = run
+            .analysis
+            .candidates
+            .iter()
+            .find(|r| &r.name == name)
+            .map(|r| r.parameters.clone())
+            .unwrap_or_default();
+        models.push((name.clone(), parameters, effects));
+    }
+    let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, history: History::Cyclic, ..spec.in_plane.clone() };
+    Ok(Some(check_models(&input.setup, &params, &groups, &models, progress)?))
+}
+
+/// A measured group of the check: the index of the analysis's group, its vertical stress
+/// (MPa), and its specimens' readings `(unit, ξ_eq)`.
+pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>);
+
+/// A model of the check: its name, its parameters (`effect.param`, value) and its effects.
+pub type LoopCandidate = (String, Vec<(String, f64)>, Vec<Effect>);
+
+/// The check's core (module documentation): each model of `models` run by `params(σ0)`
+/// (a cyclic test) on [`LOOP_REALIZATIONS`] layouts of each measured group of `setup`
+/// (`effects::realize` with the group's effects and the model's), its loops read and set
+/// against `measured`.
+///
+/// # Errors
+/// `groups` empty (no measured group), or fewer than two specimens in every group (no
+/// spread to read).
+pub fn check_models(
+    setup: &crate::discrepancy::Setup,
+    params: &(dyn Fn(f64) -> InPlaneParams + Sync),
+    groups: &[MeasuredLoops],
+    models: &[LoopCandidate],
+    progress: crate::discrepancy::Progress<'_>,
+) -> Result<LoopCheck, InPlaneStudyError> {
+    if groups.is_empty() {
+        return Err(InPlaneStudyError::Write("the loops: no measured group".into()));
+    }
+    // The specimens' spread within their groups, pooled: Shamos's estimator, 1.0483 times
+    // the median of the absolute differences of the pairs of one group.
+    let differences: Vec<f64> = groups
+        .iter()
+        .flat_map(|(_, _, r)| {
+            (0..r.len()).flat_map(move |i| (i + 1..r.len()).map(move |j| (r[i].1 - r[j].1).abs()))
+        })
+        .collect();
+    let measured_sigma = 1.0483 * median(&differences);
+    if !measured_sigma.is_finite() {
+        return Err(InPlaneStudyError::Write("the loops: no group with two specimens read".into()));
+    }
+    let solver = setup.solver;
+    let jobs: Vec<(usize, usize, u64)> = (0..models.len())
+        .flat_map(|mi| (0..groups.len()).flat_map(move |gi| (0..LOOP_REALIZATIONS).map(move |r| (mi, gi, r))))
+        .collect();
+    progress(&format!(
+        "the cyclic loops: {} models at {} stresses, {} cyclic runs",
+        models.len(),
+        groups.len(),
+        jobs.len()
+    ));
+    let readings: Vec<f64> = jobs
+        .par_iter()
+        .map(|&(mi, gi, r)| {
+            let (k, sigma0, _) = &groups[gi];
+            let g = &setup.groups[*k];
+            let all: Vec<Effect> = g.effects.iter().chain(&models[mi].2).cloned().collect();
+            let Ok((_, layout)) = crate::effects::realize(&g.wall, setup.seed, r, &g.name, &all) else {
+                return f64::NAN;
+            };
+            match crate::protocol::run(&crate::protocol::InPlane(params(*sigma0)), &layout, solver, &mut ()) {
+                Ok(crate::protocol::InPlaneRun::Penalty(Ok(res)) | crate::protocol::InPlaneRun::Nscd(Ok(res))) => {
+                    let curve: Vec<(f64, f64)> = res.curve.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
+                    loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT)
+                }
+                _ => f64::NAN,
+            }
+        })
+        .collect();
+    let dof = groups.len() as f64;
+    let chi = ChiSquared::new(dof).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    let out: Vec<LoopModel> = models
+        .iter()
+        .enumerate()
+        .map(|(mi, (name, parameters, _))| {
+            let per: Vec<LoopGroup> = groups
+                .iter()
+                .enumerate()
+                .map(|(gi, (k, _, read))| {
+                    let simulated: Vec<f64> = jobs
+                        .iter()
+                        .zip(&readings)
+                        .filter(|((m, g, _), _)| *m == mi && *g == gi)
+                        .map(|(_, v)| *v)
+                        .collect();
+                    let sim = finite(&simulated);
+                    let meas: Vec<f64> = read.iter().map(|(_, x)| *x).collect();
+                    let se_meas = 1.2533 * measured_sigma / (meas.len() as f64).sqrt();
+                    let se_sim = if sim.len() > 1 { crate::stats::sd(&sim) / (sim.len() as f64).sqrt() } else { 0.0 };
+                    let z = (median(&meas) - crate::stats::mean(&sim)) / se_meas.hypot(se_sim);
+                    LoopGroup { group: setup.groups[*k].name.clone(), measured: read.clone(), simulated, z }
+                })
+                .collect();
+            let chi2: f64 = per.iter().map(|g| g.z * g.z).sum();
+            let p_value = if chi2.is_finite() { 1.0 - chi.cdf(chi2) } else { 0.0 };
+            LoopModel { name: name.clone(), parameters: parameters.clone(), groups: per, chi2, p_value }
+        })
+        .collect();
+    Ok(LoopCheck { min_drift_pct: LOOP_MIN_DRIFT_PCT, measured_sigma, models: out, runs: jobs.len() })
+}

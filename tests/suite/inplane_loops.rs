@@ -1,0 +1,100 @@
+//! The check of the cyclic loops (`study::inplane_loops`), a reading the in-plane analysis
+//! does not fit, on loops made by an independent path.
+//!
+//! The "measured" specimens are the granite wall (generated on a seed of their own) run
+//! cyclic by the penalty DEM, with a bearing's friction `μ_r N sgn(u̇)` (μ_r = 0.03, N =
+//! σ0 L t) added here to each point's force (the sense of each increment read from the
+//! curve in this file, not through the effect's code), then digitized as the database's
+//! curves are: displacement to 0.01 mm, force to 0.1 kN. The check runs three models at
+//! their parameters: the plain wall, the wall with `rig_friction` at the hidden value, and
+//! with `jack_tilt` (a force of the displacement alone, which dissipates nothing). The
+//! loops must keep the friction and refuse the other two.
+
+use drystone::dem::SolverParams;
+use drystone::discrepancy::{GroupSetup, Setup};
+use drystone::effects::Library;
+use drystone::generator::{generate, Wall};
+use drystone::loading::inplane::{run_in_plane_penalty, History, InPlaneParams};
+use drystone::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
+use drystone::protocol::{InPlane, Protocol};
+use drystone::study::inplane_loops::{check_models, LoopCheck, LoopCandidate};
+use std::path::Path;
+
+const WALL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/walls/granite_vasconcelos.toml");
+/// The hidden bearing friction.
+const MU_R: f64 = 0.03;
+const SIGMA0_MPA: f64 = 0.5;
+
+/// Two cycles at 1.25 % drift: every full cycle read by the check.
+fn cyclic(sigma0_mpa: f64) -> InPlaneParams {
+    InPlaneParams {
+        sigma0_mpa,
+        shear_span_m: Some(1.325),
+        drift_pct: 1.25,
+        history: History::Cyclic,
+        amplitudes_pct: Some(vec![1.25]),
+        ..InPlaneParams::default()
+    }
+}
+
+fn round(v: f64, r: f64) -> f64 {
+    (v / r).round() * r
+}
+
+#[test]
+fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_without_it() {
+    let wall = Wall::from_file(Path::new(WALL)).unwrap();
+    assert!(1.25 >= LOOP_MIN_DRIFT_PCT);
+    let measured: Vec<(String, f64)> = (0..3)
+        .map(|i| {
+            let layout = generate(&wall, 4545, i).unwrap().check().unwrap();
+            let r = run_in_plane_penalty(&layout, SolverParams::default(), &cyclic(SIGMA0_MPA), &mut |_, _, _| {})
+                .unwrap();
+            let n_kn = SIGMA0_MPA * 1e3 * r.length_m * r.thickness_m;
+            let mut last = 0.0;
+            let curve: Vec<(f64, f64)> = r
+                .curve
+                .iter()
+                .map(|p| {
+                    let du = p.top_mm - last;
+                    last = p.top_mm;
+                    let sense = if du > 0.0 { 1.0 } else if du < 0.0 { -1.0 } else { 0.0 };
+                    let top = round(p.top_mm, 0.01);
+                    (100.0 * top / (r.height_m * 1e3), round(p.force_kn + MU_R * n_kn * sense, 0.1))
+                })
+                .collect();
+            (format!("S{i}"), loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT))
+        })
+        .collect();
+    let course_m = drystone::effects::course_height_of(&wall);
+    let group = GroupSetup {
+        name: format!("{SIGMA0_MPA} MPa"),
+        course_m,
+        wall: wall.clone(),
+        realizations: 2,
+        restrained: false,
+        deterministic: false,
+        effects: vec![],
+        protocol: Some(Protocol::InPlane(InPlane(cyclic(SIGMA0_MPA)))),
+    };
+    let protocol = group.protocol.clone().unwrap();
+    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol };
+    let lib = Library::builtin();
+    let model = |name: &str, effect: Option<&str>| -> LoopCandidate {
+        (name.into(), vec![], effect.map(|e| vec![lib.parse(e, course_m).unwrap()]).unwrap_or_default())
+    };
+    let models = [
+        model("baseline", None),
+        model("rig_friction", Some(&format!("rig_friction={MU_R}"))),
+        model("jack_tilt", Some("jack_tilt=0.4")),
+    ];
+    let check =
+        check_models(&setup, &cyclic, &[(0, SIGMA0_MPA, measured.clone())], &models, &drystone::discrepancy::quiet)
+            .unwrap();
+    assert_eq!(check.runs, 3 * 2);
+    let fits: Vec<bool> = check.models.iter().map(LoopCheck::fits).collect();
+    let z: Vec<f64> = check.models.iter().map(|m| m.groups[0].z).collect();
+    assert_eq!(fits, [false, true, false], "measured {measured:?}, z {z:?}, σ {}", check.measured_sigma);
+    // The plain wall and the jack dissipate too little: the loops sit above them.
+    assert!(z[0] > 0.0 && z[2] > 0.0, "{z:?}");
+}
