@@ -157,18 +157,18 @@ fn median(x: &[f64]) -> f64 {
     }
 }
 
-/// The check of the loops (module documentation) of the baseline and the models in `run`'s
-/// tie, for the in-plane study `path` analysed as `input`; `None` when the study has no
-/// cyclic specimen with a measured curve (`[measured] curves`).
+/// The measured loops of an in-plane study `path` analysed as `input`: per analysis group
+/// with cyclic specimens whose curves are read (`[measured] curves`), its index, stress and
+/// readings; and the cyclic test of a stress (the study's history). `None` when the study
+/// reads no curve or no cyclic specimen has one.
 ///
 /// # Errors
-/// The study or its measured files unreadable (named), a fitted parameter refused.
-pub fn check_loops(
+/// The study or its measured files unreadable, naming the file.
+#[allow(clippy::type_complexity)]
+pub fn measured_loops(
     path: &Path,
     input: &InPlaneAnalysis,
-    run: &Run,
-    progress: crate::discrepancy::Progress<'_>,
-) -> Result<Option<LoopCheck>, InPlaneStudyError> {
+) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
     let spec = load(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let Some(m) = &spec.measured else {
@@ -179,7 +179,6 @@ pub fn check_loops(
     };
     let mut specimens = read_specimens(&base.join(&m.walls), None)?;
     read_loops(&mut specimens, &base.join(curves))?;
-    // The analysis's groups with cyclic specimens read, and those readings.
     let mut groups: Vec<MeasuredLoops> = Vec::new();
     for g in spec.groups.iter().filter(|g| g.history == History::Cyclic) {
         let name = stress_group(g.sigma0_mpa);
@@ -201,9 +200,25 @@ pub fn check_loops(
             None => groups.push((k, g.sigma0_mpa, read)),
         }
     }
-    if groups.is_empty() {
+    let test = InPlaneParams { history: History::Cyclic, ..spec.in_plane.clone() };
+    Ok((!groups.is_empty()).then_some((groups, test)))
+}
+
+/// The check of the loops (module documentation) of the baseline and the models in `run`'s
+/// tie, for the in-plane study `path` analysed as `input`; `None` when the study has no
+/// cyclic specimen with a measured curve (`[measured] curves`).
+///
+/// # Errors
+/// The study or its measured files unreadable (named), a fitted parameter refused.
+pub fn check_loops(
+    path: &Path,
+    input: &InPlaneAnalysis,
+    run: &Run,
+    progress: crate::discrepancy::Progress<'_>,
+) -> Result<Option<LoopCheck>, InPlaneStudyError> {
+    let Some((groups, test)) = measured_loops(path, input)? else {
         return Ok(None);
-    }
+    };
     // The models: the baseline, then the tie.
     let course_m = crate::discrepancy::course_height(&input.setup);
     let mut models: Vec<LoopCandidate> = vec![("baseline".into(), vec![], vec![])];
@@ -221,7 +236,7 @@ pub fn check_loops(
             .unwrap_or_default();
         models.push((name.clone(), parameters, effects));
     }
-    let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, history: History::Cyclic, ..spec.in_plane.clone() };
+    let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, ..test.clone() };
     Ok(Some(check_models(&input.setup, &params, &groups, &models, progress)?))
 }
 
