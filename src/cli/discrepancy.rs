@@ -6,6 +6,7 @@ use drystone::discrepancy::{write_synthetic, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
+use drystone::study::own::OwnStudy;
 use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
@@ -95,8 +96,8 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
-    if drystone::study::inplane::is_in_plane(&a.input.study) {
-        return in_plane_discrepancy(a);
+    if let Some(own) = drystone::study::own::own_study_of(&a.input.study) {
+        return own_discrepancy(own, a);
     }
     let mut st = Study::from_file(&a.input.study)?;
     if let Some(dir) = &a.input.measured {
@@ -196,17 +197,19 @@ fn apply_options(a: &DiscrepancyArgs, s: &mut Settings) -> Result<()> {
     Ok(())
 }
 
-/// `drystone discrepancy` on an in-plane study: its stress levels as groups, its specimens'
-/// first direction as observations (`study::inplane_discrepancy`); the report as for any
-/// study, without an extended study file (the in-plane study file takes no effects).
-fn in_plane_discrepancy(a: DiscrepancyArgs) -> Result<()> {
+/// `drystone discrepancy` on a study of its own (a protocol's: `drystone::study::own`): its
+/// groups and observations as its study reads them; the report as for any study, without
+/// an extended study file.
+fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     if a.input.measured.is_some() || a.measured_sets.is_some() {
         bail!(
-            "{}: --measured and --measured-sets read the tilting table's files; an in-plane study reads its specimens from [measured] walls",
-            a.input.study.display()
+            "{}: --measured and --measured-sets read the tilting table's files; {} {}",
+            a.input.study.display(),
+            own.what,
+            own.measured
         );
     }
-    let mut input = drystone::study::inplane_discrepancy::analysis_of(&a.input.study)?;
+    let mut input = (own.analysis)(&a.input.study)?;
     apply_options(&a, &mut input.settings)?;
     let s = input.settings.clone();
     s.validate().with_context(|| a.input.study.display().to_string())?;

@@ -89,6 +89,7 @@ mod lock;
 mod measured;
 mod motions;
 mod outputs;
+pub mod own;
 mod paper;
 mod protocol;
 mod provenance;

@@ -681,13 +681,16 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
-        if super::inplane::is_in_plane(path) {
+        if let Some(own) = super::own::own_study_of(path) {
             return Err(StudyError::Invalid {
                 path: path.to_owned(),
                 key: "protocol".into(),
-                reason: "\"in_plane\" is a study of its own, run by `drystone run` and analysed by \
-                         `drystone discrepancy` (docs/inplane.md); this command does not read it"
-                    .into(),
+                reason: format!(
+                    "\"{}\" is a study of its own, run by `drystone run` and analysed by `drystone discrepancy` \
+                     ({}); this command does not read it",
+                    own.kind.name(),
+                    own.doc
+                ),
             });
         }
         StudySpec::from_file(path)?.resolve(path)
