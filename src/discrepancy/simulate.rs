@@ -150,10 +150,11 @@ fn acts(m: &[Effect], g: &GroupSetup) -> bool {
     m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained))
 }
 
-/// Whether the setup's runs can be read again under another vertical-load system of the
-/// in-plane rig ([`Observed::reread`]): the in-plane test's.
+/// Whether the setup's runs can be read again under another vertical-load system
+/// ([`Observed::reread`]): its protocol's drivers read the layout's
+/// ([`crate::protocol::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]).
 pub(super) fn rereads(setup: &Setup) -> bool {
-    setup.protocol.loading().kind() == crate::protocol::ProtocolKind::InPlane
+    setup.protocol.loading().reads_vertical_load_rig()
 }
 
 /// Where a model's outcomes come from.

@@ -5,7 +5,7 @@
 //! degrees of freedom constrained in the contact dynamics, `loading::inplane_nscd`) or by
 //! limit analysis (the peak force and its mechanism, `limit::inplane`).
 
-use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
+use super::contract::{ChosenBy, LoadingProtocol, Observables, Output, RunOutcome, Way};
 use super::inplane_observed::{InPlaneObserved, InPlaneReading};
 use super::observed::Observed;
 use super::Protocol;
@@ -39,6 +39,8 @@ impl LoadingProtocol for InPlane {
     const NAME: &'static str = "in_plane";
     const DESCRIPTION: &'static str = "the in-plane shear-compression test";
     const MOTION: bool = false;
+    const CHOSEN_BY: Option<ChosenBy> = None;
+    const READS_VERTICAL_LOAD_RIG: bool = true;
     type Run = InPlaneRun;
 
     const WAYS: &'static [Way<Self>] = &[
@@ -77,7 +79,7 @@ impl LoadingProtocol for InPlane {
     /// No collapse angle, no tilt states, no out-of-plane mechanism.
     fn observables(&self) -> Observables {
         Observables {
-            outputs: &[Output::InPlaneMeasures, Output::InPlaneMode],
+            outputs: &[Output::CurveMeasures, Output::MechanismMode],
             collapse_bracket_deg: None,
             state_step_deg: None,
         }
