@@ -251,7 +251,7 @@ pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 /// `kind`: what a run with them gives, bit for bit ([`Observed::reread`]). A failed run
 /// stays failed; a run read again without a +x branch fails as a run would.
 fn reread(o: &Outcome, reads: &[Effect], kind: Option<crate::effects::WallKind>, protocol: &str) -> Outcome {
-    let Some(r) = o.observed.in_plane_reading.as_ref().filter(|_| o.error.is_none()) else {
+    let Some(r) = o.observed.rig_reading.as_ref().filter(|_| o.error.is_none()) else {
         return o.clone();
     };
     let rig = reads.iter().fold(r.rig, |rig, e| e.on_rig(rig, kind));

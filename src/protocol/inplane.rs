@@ -143,7 +143,7 @@ impl Observed {
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
                 mode: reading.mode,
             }),
-            in_plane_reading: Some(reading),
+            rig_reading: Some(reading),
             ..Observed::default()
         })
     }
@@ -153,10 +153,10 @@ impl Observed {
     /// ([`read_curve`], the run's own computation), the mode as it was. Bit for bit those of
     /// a run made with `rig` (the beam's motion is imposed: the system does not move the
     /// wall). `None` when the observables are not an in-plane run's
-    /// ([`Observed::in_plane_reading`]); `Some(None)` when the curve read so has no +x
+    /// ([`Observed::rig_reading`]); `Some(None)` when the curve read so has no +x
     /// branch.
     pub fn reread(&self, rig: VerticalLoadRig) -> Option<Option<Observed>> {
-        let r = self.in_plane_reading.as_ref()?;
+        let r = self.rig_reading.as_ref()?;
         let reading = Arc::new(InPlaneReading { rig, ..(**r).clone() });
         let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n);
         Some(positive.and_then(|d| Observed::of_direction(&d, reading)))
