@@ -96,7 +96,7 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
-    if let Some(own) = drystone::study::own::own_study_of(&a.input.study) {
+    if let Some(own) = drystone::study::own_study_of(&a.input.study) {
         return own_discrepancy(own, a);
     }
     let mut st = Study::from_file(&a.input.study)?;

@@ -97,7 +97,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
-    if let Some(own) = drystone::study::own::own_study_of(study) {
+    if let Some(own) = drystone::study::own_study_of(study) {
         let study = study.to_path_buf();
         return run_own(own, &study, a);
     }

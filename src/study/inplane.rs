@@ -45,7 +45,6 @@
 //! `g · 10000 + i` (`generator::generate`), with the group's effects applied
 //! (`effects::realize`): the same bits on any thread count.
 
-use super::own::{OwnAnalysis, OwnStudy, OwnStudyError, OwnStudyRun};
 use crate::dem::SolverParams;
 use crate::generator::{DistributionSource, Wall};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
@@ -168,39 +167,6 @@ pub fn is_in_plane(path: &Path) -> bool {
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
         .is_some_and(|t| t.get("protocol").and_then(|p| p.as_str()) == Some("in_plane"))
-}
-
-/// The in-plane test's study of its own, as `drystone run` and `drystone discrepancy` run
-/// and analyse it.
-pub const STUDY: OwnStudy = OwnStudy {
-    kind: crate::protocol::ProtocolKind::InPlane,
-    what: "an in-plane study",
-    doc: "docs/inplane.md",
-    measured: "reads its specimens from [measured] walls",
-    name: own_name,
-    run: own_run,
-    analysis: own_analysis,
-};
-
-fn boxed(e: InPlaneStudyError) -> OwnStudyError {
-    OwnStudyError(Box::new(e))
-}
-
-fn own_name(path: &Path) -> Result<String, OwnStudyError> {
-    load(path).map(|s| s.name).map_err(boxed)
-}
-
-fn own_run(path: &Path, out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
-    let run = run(path, out).map_err(boxed)?;
-    Ok(OwnStudyRun {
-        realizations: run.rows.len(),
-        failed: run.rows.iter().filter(|r| r.status != "ok").count(),
-        wall_time_s: run.wall_time_s,
-    })
-}
-
-fn own_analysis(path: &Path) -> Result<OwnAnalysis, OwnStudyError> {
-    super::inplane_discrepancy::analysis_of(path).map_err(boxed)
 }
 
 /// One measured specimen (the database's row).

@@ -85,6 +85,7 @@ mod figures;
 pub mod followup;
 pub mod inplane;
 pub mod inplane_discrepancy;
+mod inplane_entry;
 mod lock;
 mod measured;
 mod motions;
@@ -112,7 +113,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::StudyProtocol;
+pub use protocol::{own_study_of, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

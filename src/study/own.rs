@@ -2,7 +2,7 @@
 //! statistics, figures and report, run by `drystone run` and analysed by `drystone
 //! discrepancy` through the entry points their study module gives here. The ensemble study
 //! ([`super::Study`]) refuses their files; the command line hands them over by their
-//! `protocol` key ([`own_study_of`]), and the kind's entry is its arm of
+//! `protocol` key ([`super::own_study_of`]), and the kind's entry is its arm of
 //! [`super::protocol::own_study`] (the compiler points to it at a new kind).
 
 use super::spec::ProtocolKind;
@@ -70,10 +70,4 @@ pub fn kind_of(path: &Path) -> Option<ProtocolKind> {
     let text = std::fs::read_to_string(path).ok()?;
     let table = text.parse::<toml::Table>().ok()?;
     table.get("protocol")?.as_str().and_then(ProtocolKind::from_name)
-}
-
-/// The study of its own of the protocol a study file names; `None` for a file of the
-/// ensemble study (or one that cannot be read, whose errors that study reports).
-pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
-    kind_of(path).and_then(super::protocol::own_study)
 }

@@ -251,8 +251,15 @@ impl StudyProtocol {
 pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     match kind {
         ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake => None,
-        ProtocolKind::InPlane => Some(&super::inplane::STUDY),
+        ProtocolKind::InPlane => Some(&super::inplane_entry::STUDY),
     }
+}
+
+/// The study of its own of the protocol a study file names ([`own_study`] of its
+/// [`super::own::kind_of`]); `None` for a file of the ensemble study (or one that cannot be
+/// read, whose errors that study reports).
+pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
+    super::own::kind_of(path).and_then(own_study)
 }
 
 impl StudySpec {

@@ -689,7 +689,7 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
-        if let Some(own) = super::own::own_study_of(path) {
+        if let Some(own) = super::protocol::own_study_of(path) {
             return Err(StudyError::Invalid {
                 path: path.to_owned(),
                 key: "protocol".into(),
