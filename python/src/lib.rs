@@ -4,6 +4,7 @@
 //! (`drystone::prelude`), the results its own result types as dicts and NumPy arrays.
 
 mod errors;
+mod inplane;
 mod model;
 mod protocols;
 mod study;
@@ -22,6 +23,7 @@ fn _drystone(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyLayout>()?;
     m.add_class::<study::PyStudy>()?;
     protocols::register(m)?;
+    inplane::register(m)?;
     m.add_function(wrap_pyfunction!(study::_run_study, m)?)?;
     m.add_function(wrap_pyfunction!(study::_discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(study::_effects, m)?)?;

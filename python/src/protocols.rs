@@ -22,7 +22,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_tilt, m)?)?;
     m.add_function(wrap_pyfunction!(_lateral, m)?)?;
     m.add_function(wrap_pyfunction!(_pushover, m)?)?;
-    m.add_function(wrap_pyfunction!(_in_plane, m)?)?;
     m.add_function(wrap_pyfunction!(_supports, m)?)?;
     Ok(())
 }
@@ -325,56 +324,7 @@ pub fn _supports(protocol: &str, solver: &str) -> PyResult<(bool, String)> {
     })
 }
 
-/// Runs the in-plane shear–compression test; see `drystone.in_plane`. By the penalty DEM
-/// (the curve) or limit analysis (`solver="limit"`: the peak force and the mechanism).
-#[pyfunction]
-#[pyo3(signature = (layout, solver = None, params = None))]
-pub fn _in_plane<'py>(
-    py: Python<'py>,
-    layout: &Bound<'py, PyLayout>,
-    solver: Option<&Bound<'py, PyAny>>,
-    params: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    use drystone::protocol::{InPlane, InPlaneRun};
-    let solver = self::solver(py, solver)?;
-    let ip: drystone::loading::inplane::InPlaneParams = self::params(py, params, "in-plane parameters")?;
-    let l = &layout.get().layout;
-    let run = py.detach(|| {
-        guard(|| {
-            run_protocol(&InPlane(ip), l, solver, &mut ()).map_err(|e| drystone_python_solver_error(&e.to_string()))
-        })
-    })?;
-    py.check_signals()?;
-    let out = PyDict::new(py);
-    let failed = |e: &drystone::loading::inplane::InPlaneError| {
-        use drystone::loading::inplane::InPlaneError as E;
-        match e {
-            E::Parameter(_) | E::ShearSpan { .. } | E::NotLevel { .. } | E::Solver(_) | E::Beam(_) => {
-                input_error(e.to_string(), Place::default())
-            }
-            _ => drystone_python_solver_error(&e.to_string()),
-        }
-    };
-    let method = run.method().name();
-    match run {
-        InPlaneRun::Penalty(r) | InPlaneRun::Nscd(r) => {
-            let r = r.map_err(|e| failed(&e))?;
-            out.set_item("method", method)?;
-            out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
-            out.set_item("top_mm", PyArray1::from_vec(py, r.curve.iter().map(|c| c.top_mm).collect()))?;
-            out.set_item("drift_pct", PyArray1::from_vec(py, r.curve.iter().map(|c| c.drift_pct).collect()))?;
-            out.set_item("force_kn", PyArray1::from_vec(py, r.curve.iter().map(|c| c.force_kn).collect()))?;
-        }
-        InPlaneRun::Limit(r) => {
-            let r = r.map_err(|e| failed(&e))?;
-            out.set_item("method", method)?;
-            out.set_item("result", from_json(py, &serde_json::to_string(&r).unwrap_or_default())?)?;
-        }
-    }
-    Ok(out)
-}
-
 /// A solver's refusal or a failed run, as `drystone.SolverError`.
-fn drystone_python_solver_error(message: &str) -> PyErr {
+pub fn drystone_python_solver_error(message: &str) -> PyErr {
     crate::errors::SolverError::new_err(message.to_string())
 }

@@ -6,6 +6,7 @@ use drystone::discrepancy::{write_synthetic, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
 use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
+use drystone::study::own::OwnStudy;
 use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
@@ -95,8 +96,8 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
-    if drystone::study::inplane::is_in_plane(&a.input.study) {
-        return in_plane_discrepancy(a);
+    if let Some(own) = drystone::study::own_study_of(&a.input.study) {
+        return own_discrepancy(own, a);
     }
     let mut st = Study::from_file(&a.input.study)?;
     if let Some(dir) = &a.input.measured {
@@ -196,17 +197,19 @@ fn apply_options(a: &DiscrepancyArgs, s: &mut Settings) -> Result<()> {
     Ok(())
 }
 
-/// `drystone discrepancy` on an in-plane study: its stress levels as groups, its specimens'
-/// first direction as observations (`study::inplane_discrepancy`); the report as for any
-/// study, without an extended study file (the in-plane study file takes no effects).
-fn in_plane_discrepancy(a: DiscrepancyArgs) -> Result<()> {
+/// `drystone discrepancy` on a study of its own (a protocol's: `drystone::study::own`): its
+/// groups and observations as its study reads them; the report as for any study, without
+/// an extended study file.
+fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     if a.input.measured.is_some() || a.measured_sets.is_some() {
         bail!(
-            "{}: --measured and --measured-sets read the tilting table's files; an in-plane study reads its specimens from [measured] walls",
-            a.input.study.display()
+            "{}: --measured and --measured-sets read the tilting table's files; {} {}",
+            a.input.study.display(),
+            own.what,
+            own.measured
         );
     }
-    let mut input = drystone::study::inplane_discrepancy::analysis_of(&a.input.study)?;
+    let mut input = (own.analysis)(&a.input.study)?;
     apply_options(&a, &mut input.settings)?;
     let s = input.settings.clone();
     s.validate().with_context(|| a.input.study.display().to_string())?;
@@ -221,42 +224,36 @@ fn in_plane_discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let run = pool.install(|| {
         drystone::discrepancy::run_with(&input.setup, input.obs.clone(), &s, input.seed, &input.library, &progress)
     })?;
-    // The cyclic loops, a reading the fit did not use, of the baseline and the tie.
-    let loops =
-        pool.install(|| drystone::study::inplane_loops::check_loops(&a.input.study, &input, &run, &progress))?;
+    // The study's own check after the analysis, on readings the fit did not use.
+    let check = match own.check {
+        Some(f) => pool.install(|| f(&a.input.study, &input, &run, &progress))?,
+        None => None,
+    };
     held.write_set(drystone::study::discrepancy::OUTPUT_SET, "discrepancy", &input.name, |staging| {
         drystone::discrepancy::write_report(staging, &run, &input.name)?;
-        if let Some(l) = &loops {
+        if let Some(c) = &check {
             let md = staging.join("discrepancy.md");
             let mut text = std::fs::read_to_string(&md).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
             text.push('\n');
-            text.push_str(&l.markdown());
+            text.push_str(&c.markdown);
             std::fs::write(&md, text).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
-            let js = staging.join("loops.json");
-            std::fs::write(&js, serde_json::to_string_pretty(l)?).map_err(|e| anyhow::anyhow!("{}: {e}", js.display()))?;
+            let js = staging.join(format!("{}.json", c.key));
+            std::fs::write(&js, serde_json::to_string_pretty(&c.json)?)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", js.display()))?;
         }
         Ok::<(), anyhow::Error>(())
     })?;
     if a.json {
         let mut v = serde_json::to_value(report_json(&run))?;
-        if let (Some(l), Some(o)) = (&loops, v.as_object_mut()) {
-            o.insert("loops".into(), serde_json::to_value(l)?);
+        if let (Some(c), Some(o)) = (&check, v.as_object_mut()) {
+            o.insert(c.key.into(), c.json.clone());
         }
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     print_summary(&run, &input.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
-    if let Some(l) = &loops {
-        println!("the cyclic loops (a reading the fit did not use), the loops' damping ratio, χ² over the stresses:");
-        for m in &l.models {
-            println!(
-                "  {:<32} χ² {:>8.1}  p {:.2e}  {}",
-                m.name,
-                m.chi2,
-                m.p_value,
-                if drystone::study::inplane_loops::LoopCheck::fits(m) { "fits the loops" } else { "does not fit the loops" }
-            );
-        }
+    for line in check.iter().flat_map(|c| &c.summary) {
+        println!("{line}");
     }
     Ok(())
 }

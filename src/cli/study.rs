@@ -4,6 +4,7 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate_with, write_calibration, OUTPUT_SET as CALIBRATION_SET};
+use drystone::study::own::OwnStudy;
 use drystone::study::write_vtk_realizations;
 use drystone::study::HeldDir;
 use drystone::study::Study;
@@ -96,9 +97,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
-    if drystone::study::inplane::is_in_plane(study) {
+    if let Some(own) = drystone::study::own_study_of(study) {
         let study = study.to_path_buf();
-        return run_in_plane(&study, a);
+        return run_own(own, &study, a);
     }
     let st = load(study, a.realizations)?;
     let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
@@ -273,9 +274,9 @@ pub fn merge(a: MergeArgs) -> Result<ExitCode> {
     Ok(failures(merged.rows.len(), failed))
 }
 
-/// `drystone run` on an in-plane study (`protocol = "in_plane"`): its own runner and
-/// outputs (`drystone::study::inplane`).
-fn run_in_plane(study: &Path, a: RunArgs) -> Result<ExitCode> {
+/// `drystone run` on a study of its own (a protocol's: `drystone::study::own`): its own
+/// runner and outputs.
+fn run_own(own: &OwnStudy, study: &Path, a: RunArgs) -> Result<ExitCode> {
     for (given, flag) in [
         (a.shard.is_some(), "--shard"),
         (a.realizations.is_some(), "--realizations"),
@@ -283,19 +284,19 @@ fn run_in_plane(study: &Path, a: RunArgs) -> Result<ExitCode> {
         (a.resume, "--resume"),
     ] {
         if given {
-            bail!("{}: {flag} does not apply to an in-plane study (protocol = \"in_plane\")", study.display());
+            bail!("{}: {flag} does not apply to {} (protocol = \"{}\")", study.display(), own.what, own.kind.name());
         }
     }
-    let spec = drystone::study::inplane::load(study)?;
-    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
+    let name = (own.name)(study)?;
+    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&name));
     let threads = thread_count(a.workers.threads);
     let pool = pool(Some(threads))?;
-    let run = pool.install(|| drystone::study::inplane::run(study, &dir))?;
-    let failed = run.rows.iter().filter(|r| r.status != "ok").count();
+    let run = pool.install(|| (own.run)(study, &dir))?;
+    let failed = run.failed;
     out!(
         "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
-        spec.name,
-        run.rows.len(),
+        name,
+        run.realizations,
         failed,
         threads,
         run.wall_time_s,
@@ -304,5 +305,5 @@ fn run_in_plane(study: &Path, a: RunArgs) -> Result<ExitCode> {
     if failed > 0 {
         eprintln!("warning: {failed} realizations failed; their rows carry the error");
     }
-    Ok(if failed == run.rows.len() { ExitCode::from(3) } else { ExitCode::SUCCESS })
+    Ok(if failed == run.realizations { ExitCode::from(3) } else { ExitCode::SUCCESS })
 }

@@ -264,8 +264,8 @@ impl Observable {
             Observable::FailureHeight { .. } | Observable::MechanismKind { .. } | Observable::MechanismStart { .. } => {
                 Output::Mechanism
             }
-            Observable::InPlane { .. } => Output::InPlaneMeasures,
-            Observable::InPlaneMode { .. } => Output::InPlaneMode,
+            Observable::InPlane { .. } => Output::CurveMeasures,
+            Observable::InPlaneMode { .. } => Output::MechanismMode,
         }
     }
 

@@ -283,7 +283,7 @@ fn verdict_section(md: &mut String, run: &Run) {
         (None, None) => {}
     }
     if let Some(ch) = &a.check {
-        let measures = if in_plane(run) {
+        let measures = if curve_measures(run) {
             "the peak forces, drifts and stiffnesses"
         } else {
             "the collapse angles, displacements and failure heights"
@@ -307,7 +307,7 @@ fn verdict_section(md: &mut String, run: &Run) {
         None => format!("{setting} {unit} ({what}: the setting; too few specimens per group for an estimate)"),
     }
     };
-    if in_plane(run) {
+    if curve_measures(run) {
         let _ = writeln!(
             md,
             "Measurement σ used: {}, {}, {}; readings taken as intervals of {} kN, {} % and {} kN/mm.\n",
@@ -532,10 +532,10 @@ fn extended_section(md: &mut String, run: &Run) {
     }
 }
 
-/// Whether the observations are the in-plane test's (its measures, not the tilting
-/// table's or the lateral load's).
-fn in_plane(run: &Run) -> bool {
-    run.obs.iter().any(|o| o.observable.output() == Output::InPlaneMeasures)
+/// Whether the observations are a force–displacement curve's measures
+/// ([`Output::CurveMeasures`]), not collapse angles and displacements.
+fn curve_measures(run: &Run) -> bool {
+    run.obs.iter().any(|o| o.observable.output() == Output::CurveMeasures)
 }
 
 fn displacement_groups(run: &Run) -> Vec<String> {

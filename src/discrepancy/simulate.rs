@@ -150,10 +150,11 @@ fn acts(m: &[Effect], g: &GroupSetup) -> bool {
     m.is_empty() || m.iter().any(|e| e.def.acts_on(g.restrained))
 }
 
-/// Whether the setup's runs can be read again under another vertical-load system of the
-/// in-plane rig ([`Observed::reread`]): the in-plane test's.
+/// Whether the setup's runs can be read again under another vertical-load system
+/// ([`Observed::reread`]): its protocol's drivers read the layout's
+/// ([`crate::protocol::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]).
 pub(super) fn rereads(setup: &Setup) -> bool {
-    setup.protocol.loading().kind() == crate::protocol::ProtocolKind::InPlane
+    setup.protocol.loading().reads_vertical_load_rig()
 }
 
 /// Where a model's outcomes come from.
@@ -250,7 +251,7 @@ pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 /// `kind`: what a run with them gives, bit for bit ([`Observed::reread`]). A failed run
 /// stays failed; a run read again without a +x branch fails as a run would.
 fn reread(o: &Outcome, reads: &[Effect], kind: Option<crate::effects::WallKind>, protocol: &str) -> Outcome {
-    let Some(r) = o.observed.in_plane_reading.as_ref().filter(|_| o.error.is_none()) else {
+    let Some(r) = o.observed.rig_reading.as_ref().filter(|_| o.error.is_none()) else {
         return o.clone();
     };
     let rig = reads.iter().fold(r.rig, |rig, e| e.on_rig(rig, kind));

@@ -388,10 +388,10 @@ pub struct Layout {
     /// every 5° stop (`loading::tilt_hand::effective_tilt_deg`). Set by the effect
     /// `table_kick`; the other protocols do not read it.
     pub table_overshoot_deg: f64,
-    /// The in-plane rig's vertical-load system as the horizontal actuator feels it (zero as
-    /// built from a file: an ideal vertical force). Set by the effects `jack_tilt` and
-    /// `rig_friction`; read by the in-plane test's drivers (`loading::inplane`), the other
-    /// protocols do not read it.
+    /// The vertical-load system of a loading beam's rig as the horizontal actuator feels it
+    /// (zero as built from a file: an ideal vertical force). Set by the effects `jack_tilt`
+    /// and `rig_friction`; read by the drivers of the protocols that load a beam (those that
+    /// state `LoadingProtocol::READS_VERTICAL_LOAD_RIG`), the other protocols do not read it.
     pub vertical_load_rig: VerticalLoadRig,
     /// Monitor points.
     pub monitors: Vec<Monitor>,
@@ -399,7 +399,7 @@ pub struct Layout {
     pub joint_families: JointFamilies,
 }
 
-/// How the in-plane rig's vertical-load system loads the beam horizontally: a force on the
+/// How a loading beam rig's vertical-load system loads the beam horizontally: a force on the
 /// beam along x that the horizontal actuator carries on top of the wall's shear, so that the
 /// force it reads is `V = V_wall + N (u / L + μ_r sgn(u̇))`, with `N = σ0 L t` the applied
 /// vertical force (the loading beam's weight part of it, as the rig applies it), `u` the
@@ -414,7 +414,7 @@ pub struct Layout {
 ///   sliding bearing resists the beam's motion by `μ_r N`.
 ///
 /// The beam's horizontal motion is imposed, so these forces leave the wall's state as it is
-/// and move only the force read (`loading::inplane::result_of`); limit analysis, which has no
+/// and move only the force read (the driver's reading of its result); limit analysis, which has no
 /// displacement, reads the friction alone.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct VerticalLoadRig {

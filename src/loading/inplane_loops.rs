@@ -71,11 +71,8 @@ pub fn cycles(curve: &[(f64, f64)]) -> Vec<Cycle> {
                 last = Some(p);
             }
             let strain_energy = (hi.1 * hi.0 + lo.1 * lo.0) / 2.0;
-            let damping_ratio = if strain_energy > 0.0 {
-                dissipated / (4.0 * std::f64::consts::PI * strain_energy)
-            } else {
-                f64::NAN
-            };
+            let damping_ratio =
+                if strain_energy > 0.0 { dissipated / (4.0 * std::f64::consts::PI * strain_energy) } else { f64::NAN };
             Cycle { amplitude: (hi.0 - lo.0) / 2.0, dissipated, strain_energy, damping_ratio }
         })
         .collect()
@@ -183,7 +180,8 @@ mod tests {
         let mut gappy = pts.clone();
         gappy.insert(20, (f64::NAN, f64::NAN));
         let scaled: Vec<(f64, f64)> = pts.iter().map(|&(u, f)| (u * 12.0, f * 1e-3)).collect();
-        let (a, b, c) = (loop_damping_ratio(&pts, 0.5), loop_damping_ratio(&gappy, 0.5), loop_damping_ratio(&scaled, 6.0));
+        let (a, b, c) =
+            (loop_damping_ratio(&pts, 0.5), loop_damping_ratio(&gappy, 0.5), loop_damping_ratio(&scaled, 6.0));
         assert!((a - b).abs() < 1e-12 && (a - c).abs() < 1e-12, "{a} {b} {c}");
         assert!(loop_damping_ratio(&[(0.0, 0.0), (1.0, 1.0), (2.0, 1.5)], 0.0).is_nan());
     }

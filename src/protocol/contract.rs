@@ -89,6 +89,16 @@ pub trait LoadingProtocol: Sized + 'static {
     /// study of the lateral load at its service level leaves out), rather than to every
     /// table \[false\].
     const OPTIONAL_COLUMNS: bool = false;
+    /// Whether its drivers read the layout's vertical-load rig
+    /// ([`crate::layout::Layout::vertical_load_rig`], set by the effects that act on the
+    /// readings only), so that its runs can be read again under another one
+    /// ([`super::Observed::reread`]) \[false\]. A study of a protocol that does not read it
+    /// refuses those effects.
+    const READS_VERTICAL_LOAD_RIG: bool = false;
+    /// The key of its kind's table that chooses it within its kind, and the value that
+    /// chooses it ([`ChosenBy`]); `None` for the first protocol of its kind, which its
+    /// kind's name chooses.
+    const CHOSEN_BY: Option<ChosenBy>;
     /// What one run gives, whatever method ran it.
     type Run: RunOutcome;
 
@@ -127,6 +137,27 @@ pub trait LoadingProtocol: Sized + 'static {
     }
 }
 
+/// The key of a kind's table that chooses a protocol within its kind (`[tilt] by_hand`,
+/// `[lateral] pushover = true`) and the value that chooses it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChosenBy {
+    /// The kind's table (`tilt`).
+    pub table: &'static str,
+    /// Its key (`by_hand`).
+    pub key: &'static str,
+    /// The value that chooses the protocol.
+    pub value: Choice,
+}
+
+/// The value of a key that chooses a protocol within its kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Choice {
+    /// A table of its own, its keys' defaults (`[tilt.by_hand]`).
+    Table,
+    /// `true` (`pushover = true`).
+    True,
+}
+
 /// A kind of output a protocol's run gives to compare with measured data
 /// (`drystone discrepancy`): each observable of the analysis is of one
 /// (`discrepancy::Observable::output`), and a protocol lists those it gives
@@ -140,11 +171,12 @@ pub enum Output {
     Displacements,
     /// The failure mechanism as a person reads it: its failure height, kind and start.
     Mechanism,
-    /// The in-plane test's measures of its first direction loaded: peak force, drift at the
-    /// peak, initial stiffness.
-    InPlaneMeasures,
-    /// The in-plane mechanism's mode.
-    InPlaneMode,
+    /// The measures of a force–displacement curve's first direction loaded: peak force,
+    /// drift at the peak, initial stiffness.
+    CurveMeasures,
+    /// The mode of the mechanism at the peak of a force–displacement curve (sliding,
+    /// rocking, diagonal or mixed).
+    MechanismMode,
 }
 
 /// What a protocol's run gives to compare with measured data (`drystone discrepancy`):

@@ -5,7 +5,7 @@
 //! degrees of freedom constrained in the contact dynamics, `loading::inplane_nscd`) or by
 //! limit analysis (the peak force and its mechanism, `limit::inplane`).
 
-use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, Way};
+use super::contract::{ChosenBy, LoadingProtocol, Observables, Output, RunOutcome, Way};
 use super::inplane_observed::{InPlaneObserved, InPlaneReading};
 use super::observed::Observed;
 use super::Protocol;
@@ -39,6 +39,8 @@ impl LoadingProtocol for InPlane {
     const NAME: &'static str = "in_plane";
     const DESCRIPTION: &'static str = "the in-plane shear-compression test";
     const MOTION: bool = false;
+    const CHOSEN_BY: Option<ChosenBy> = None;
+    const READS_VERTICAL_LOAD_RIG: bool = true;
     type Run = InPlaneRun;
 
     const WAYS: &'static [Way<Self>] = &[
@@ -77,7 +79,7 @@ impl LoadingProtocol for InPlane {
     /// No collapse angle, no tilt states, no out-of-plane mechanism.
     fn observables(&self) -> Observables {
         Observables {
-            outputs: &[Output::InPlaneMeasures, Output::InPlaneMode],
+            outputs: &[Output::CurveMeasures, Output::MechanismMode],
             collapse_bracket_deg: None,
             state_step_deg: None,
         }
@@ -141,7 +143,7 @@ impl Observed {
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
                 mode: reading.mode,
             }),
-            in_plane_reading: Some(reading),
+            rig_reading: Some(reading),
             ..Observed::default()
         })
     }
@@ -151,10 +153,10 @@ impl Observed {
     /// ([`read_curve`], the run's own computation), the mode as it was. Bit for bit those of
     /// a run made with `rig` (the beam's motion is imposed: the system does not move the
     /// wall). `None` when the observables are not an in-plane run's
-    /// ([`Observed::in_plane_reading`]); `Some(None)` when the curve read so has no +x
+    /// ([`Observed::rig_reading`]); `Some(None)` when the curve read so has no +x
     /// branch.
     pub fn reread(&self, rig: VerticalLoadRig) -> Option<Option<Observed>> {
-        let r = self.in_plane_reading.as_ref()?;
+        let r = self.rig_reading.as_ref()?;
         let reading = Arc::new(InPlaneReading { rig, ..(**r).clone() });
         let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n);
         Some(positive.and_then(|d| Observed::of_direction(&d, reading)))

@@ -2,7 +2,7 @@
 //! equilibrium by the penalty DEM (`loading::lateral`), or checked by limit analysis
 //! (whether the collapse load multiplier reaches 1, `limit::limit_lateral`).
 
-use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, States, Way};
+use super::contract::{ChosenBy, LoadingProtocol, Observables, Output, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::{run, Protocol};
 use crate::dem::{Method, Simulation, SolverParams};
@@ -29,6 +29,7 @@ impl LoadingProtocol for Lateral {
     const NAME: &'static str = "lateral";
     const DESCRIPTION: &'static str = "the static lateral load";
     const MOTION: bool = false;
+    const CHOSEN_BY: Option<ChosenBy> = None;
     type Run = LateralRun;
 
     const WAYS: &'static [Way<Self>] = &[

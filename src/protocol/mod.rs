@@ -48,7 +48,9 @@ pub mod shake;
 pub mod tilt;
 pub mod tilt_by_hand;
 
-pub use contract::{Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way};
+pub use contract::{
+    Choice, ChosenBy, Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way,
+};
 pub use inplane::{InPlane, InPlaneRun};
 pub use inplane_observed::{InPlaneObserved, InPlaneReading};
 pub use lateral::{run_lateral, run_lateral_observed, Lateral, LateralRun};
@@ -174,6 +176,22 @@ macro_rules! registry {
             pub fn refusal_key(self) -> &'static str {
                 match self {
                     $($(Loading::$variant => <$ty as LoadingProtocol>::REFUSAL_KEY,)+)+
+                }
+            }
+
+            /// Whether its drivers read the layout's vertical-load rig, and its runs can be
+            /// read again under another one ([`LoadingProtocol::READS_VERTICAL_LOAD_RIG`]).
+            pub fn reads_vertical_load_rig(self) -> bool {
+                match self {
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::READS_VERTICAL_LOAD_RIG,)+)+
+                }
+            }
+
+            /// The key of its kind's table that chooses it within its kind, and its value
+            /// ([`LoadingProtocol::CHOSEN_BY`]); `None` for the first of its kind.
+            pub fn chosen_by(self) -> Option<ChosenBy> {
+                match self {
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::CHOSEN_BY,)+)+
                 }
             }
 

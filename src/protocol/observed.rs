@@ -34,11 +34,12 @@ pub struct Observed {
     /// for the other protocols).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub in_plane: Option<InPlaneObserved>,
-    /// What an in-plane run's readings are made from ([`InPlaneReading`]), to read them again
-    /// under another vertical-load system ([`Observed::reread`]); `None` for the other
-    /// protocols. Not written out.
+    /// What the readings of a run under a vertical-load rig are made from
+    /// ([`InPlaneReading`]), to read them again under another vertical-load system
+    /// ([`Observed::reread`]); `None` for a protocol that reads no rig
+    /// ([`super::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]). Not written out.
     #[serde(skip)]
-    pub in_plane_reading: Option<Arc<InPlaneReading>>,
+    pub rig_reading: Option<Arc<InPlaneReading>>,
 }
 
 impl Observed {

@@ -4,7 +4,7 @@
 //! the rigid limit by nscd in bisection (`loading::lateral_nscd`), or by limit analysis
 //! (`limit::limit_lateral`).
 
-use super::contract::{LoadingProtocol, Observables, RunOutcome, Way};
+use super::contract::{Choice, ChosenBy, LoadingProtocol, Observables, RunOutcome, Way};
 use super::lateral::Lateral;
 use super::observed::Observed;
 use super::Protocol;
@@ -45,6 +45,7 @@ impl LoadingProtocol for Pushover {
     const NAME: &'static str = "pushover";
     const DESCRIPTION: &'static str = "the lateral pushover (lateral.pushover)";
     const MOTION: bool = false;
+    const CHOSEN_BY: Option<ChosenBy> = Some(ChosenBy { table: "lateral", key: "pushover", value: Choice::True });
     const OPTIONAL_COLUMNS: bool = true;
     type Run = PushoverRun;
 

@@ -6,7 +6,7 @@
 //! ([`step_rule`]), the coefficient `--restitution` sets ([`restitutions`]) and what a run's
 //! report says of the method ([`method_notes`]).
 
-use super::contract::{Instants, LoadingProtocol, Observables, Way};
+use super::contract::{ChosenBy, Instants, LoadingProtocol, Observables, Way};
 use super::{run, Protocol};
 use crate::dem::state::Body;
 use crate::dem::{Method, SolverKind, SolverParams};
@@ -27,6 +27,7 @@ impl LoadingProtocol for Shake {
     const NAME: &'static str = "shake";
     const DESCRIPTION: &'static str = "the shaking table";
     const MOTION: bool = true;
+    const CHOSEN_BY: Option<ChosenBy> = None;
     /// Non-smooth contact dynamics: rocking and impacts of rigid blocks without the
     /// penalty DEM's contact dashpots to calibrate (docs/shake.md).
     const DEFAULT_SOLVER: SolverKind = SolverKind::Nscd;

@@ -3,7 +3,7 @@
 //! the rigid limit by non-smooth contact dynamics (`loading::tilt_nscd`), or by limit
 //! analysis (α_max = atan λ, `limit::limit_tilt`).
 
-use super::contract::{LoadingProtocol, Observables, Output, RunOutcome, States, Way};
+use super::contract::{ChosenBy, LoadingProtocol, Observables, Output, RunOutcome, States, Way};
 use super::observed::Observed;
 use super::tilt_by_hand::TiltByHand;
 use super::{run, Protocol};
@@ -35,6 +35,7 @@ impl LoadingProtocol for Tilt {
     const NAME: &'static str = "tilt";
     const DESCRIPTION: &'static str = "the tilting table";
     const MOTION: bool = false;
+    const CHOSEN_BY: Option<ChosenBy> = None;
     type Run = TiltRun;
 
     const WAYS: &'static [Way<Self>] = &[

@@ -2,7 +2,7 @@
 //! motion whose stop kicks the wall, by non-smooth contact dynamics
 //! (`loading::tilt_hand`). A motion: no cascade of static solves applies.
 
-use super::contract::{LoadingProtocol, Observables, Way};
+use super::contract::{Choice, ChosenBy, LoadingProtocol, Observables, Way};
 use super::Protocol;
 use crate::dem::Method;
 use crate::loading::tilt::hand::HandTilt;
@@ -22,6 +22,7 @@ impl LoadingProtocol for TiltByHand {
     const NAME: &'static str = "tilt_by_hand";
     const DESCRIPTION: &'static str = "the tilting table rolled by hand (tilt.by_hand)";
     const MOTION: bool = true;
+    const CHOSEN_BY: Option<ChosenBy> = Some(ChosenBy { table: "tilt", key: "by_hand", value: Choice::Table });
     const REFUSAL_KEY: &'static str = "tilt.by_hand";
     type Run = Result<TiltResult, TiltError>;
 

@@ -281,9 +281,7 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             height_mm: match height {
                 Some(k) => {
                     let v = f.get(k).map(|x| x.trim().to_string()).unwrap_or_default();
-                    v.parse::<f64>().map_err(|_| {
-                        err(format!("line {}: column H_mm: {v:?} is not a number", i + 1))
-                    })?
+                    v.parse::<f64>().map_err(|_| err(format!("line {}: column H_mm: {v:?} is not a number", i + 1)))?
                 }
                 None => f64::NAN,
             },
@@ -1002,6 +1000,7 @@ mod tests {
             limit_peak_kn: 1.0,
             limit_mechanism: String::new(),
             rocking_kn: 1.0,
+            damping_ratio: 1.0,
             unconverged: 0,
             wall_time_s: 0.0,
             curve: Vec::new(),

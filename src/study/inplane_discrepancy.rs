@@ -21,28 +21,12 @@
 //! specimen is loaded after the damage of the first and is left to the study's cyclic runs.
 
 use super::inplane::{load, read_specimens, InPlaneStudyError};
-use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Settings, Setup};
+use super::own::OwnAnalysis;
+use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
 use crate::generator::{DistributionSource, Wall};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
 use std::path::Path;
-
-/// What the analysis of an in-plane study runs on.
-#[derive(Debug, Clone)]
-pub struct InPlaneAnalysis {
-    /// The study's name.
-    pub name: String,
-    /// Its master seed.
-    pub seed: u64,
-    /// The groups (one per vertical stress), the solver and the test.
-    pub setup: Setup,
-    /// The measured specimens' observations.
-    pub obs: Vec<Observation>,
-    /// The study's `[discrepancy]` settings (defaults where absent).
-    pub settings: Settings,
-    /// The effect library (the built-ins).
-    pub library: crate::effects::Library,
-}
 
 /// The name of the analysis's group of vertical stress `sigma0` (MPa): `0.5 MPa`.
 pub fn stress_group(sigma0_mpa: f64) -> String {
@@ -54,7 +38,7 @@ pub fn stress_group(sigma0_mpa: f64) -> String {
 /// # Errors
 /// A bad study, wall or measured file, or a specimen whose stress is not its group's,
 /// naming the file and the key.
-pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
+pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     let spec = load(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let bad = |key: String, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key, message };
@@ -174,7 +158,7 @@ pub fn analysis_of(path: &Path) -> Result<InPlaneAnalysis, InPlaneStudyError> {
     }
     let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
     let setup = Setup { groups, seed: spec.seed, solver: crate::dem::SolverParams::default(), protocol };
-    Ok(InPlaneAnalysis {
+    Ok(OwnAnalysis {
         name: spec.name,
         seed: spec.seed,
         setup,

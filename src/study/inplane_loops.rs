@@ -25,7 +25,8 @@
 //! Nothing of the check enters the analysis's ranking: it is reported beside it.
 
 use super::inplane::{load, read_loops, read_specimens, InPlaneStudyError};
-use super::inplane_discrepancy::{stress_group, InPlaneAnalysis};
+use super::inplane_discrepancy::stress_group;
+use super::own::OwnAnalysis;
 use crate::discrepancy::Run;
 use crate::effects::Effect;
 use crate::loading::inplane::{History, InPlaneParams};
@@ -102,10 +103,7 @@ impl LoopCheck {
              joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
              over the standard errors (the specimens' spread σ = {:.4}, pooled); a model fits the loops when Σ z² is \
              below the χ² 95th percentile.\n",
-            self.min_drift_pct,
-            LOOP_REALIZATIONS,
-            self.runs,
-            self.measured_sigma
+            self.min_drift_pct, LOOP_REALIZATIONS, self.runs, self.measured_sigma
         );
         let Some(first) = self.models.first() else {
             return md;
@@ -167,7 +165,7 @@ fn median(x: &[f64]) -> f64 {
 #[allow(clippy::type_complexity)]
 pub fn measured_loops(
     path: &Path,
-    input: &InPlaneAnalysis,
+    input: &OwnAnalysis,
 ) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
     let spec = load(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
@@ -212,7 +210,7 @@ pub fn measured_loops(
 /// The study or its measured files unreadable (named), a fitted parameter refused.
 pub fn check_loops(
     path: &Path,
-    input: &InPlaneAnalysis,
+    input: &OwnAnalysis,
     run: &Run,
     progress: crate::discrepancy::Progress<'_>,
 ) -> Result<Option<LoopCheck>, InPlaneStudyError> {
@@ -227,13 +225,8 @@ pub fn check_loops(
             .fitted_effects(name, course_m)
             .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
         let Some(effects) = effects else { continue };
-        let parameters = run
-            .analysis
-            .candidates
-            .iter()
-            .find(|r| &r.name == name)
-            .map(|r| r.parameters.clone())
-            .unwrap_or_default();
+        let parameters =
+            run.analysis.candidates.iter().find(|r| &r.name == name).map(|r| r.parameters.clone()).unwrap_or_default();
         models.push((name.clone(), parameters, effects));
     }
     let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, ..test.clone() };
@@ -269,9 +262,7 @@ pub fn check_models(
     // the median of the absolute differences of the pairs of one group.
     let differences: Vec<f64> = groups
         .iter()
-        .flat_map(|(_, _, r)| {
-            (0..r.len()).flat_map(move |i| (i + 1..r.len()).map(move |j| (r[i].1 - r[j].1).abs()))
-        })
+        .flat_map(|(_, _, r)| (0..r.len()).flat_map(move |i| (i + 1..r.len()).map(move |j| (r[i].1 - r[j].1).abs())))
         .collect();
     let measured_sigma = 1.0483 * median(&differences);
     if !measured_sigma.is_finite() {

@@ -85,11 +85,13 @@ mod figures;
 pub mod followup;
 pub mod inplane;
 pub mod inplane_discrepancy;
+mod inplane_entry;
 pub mod inplane_loops;
 mod lock;
 mod measured;
 mod motions;
 mod outputs;
+pub mod own;
 mod paper;
 mod protocol;
 mod provenance;
@@ -112,7 +114,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::StudyProtocol;
+pub use protocol::{own_study_of, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

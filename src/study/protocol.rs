@@ -13,6 +13,7 @@
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
 use super::motions::ShakeStudy;
+use super::own::OwnStudy;
 use super::report::{lateral_sections, tilt_sections};
 use super::report_error::ReportError;
 use super::run::{
@@ -243,6 +244,22 @@ impl StudyProtocol {
             StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => None,
         }
     }
+}
+
+/// The study of its own of a kind ([`super::own`]), which `drystone run` and `drystone
+/// discrepancy` hand its files to; `None` for a kind the ensemble study runs.
+pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
+    match kind {
+        ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake => None,
+        ProtocolKind::InPlane => Some(&super::inplane_entry::STUDY),
+    }
+}
+
+/// The study of its own of the protocol a study file names ([`own_study`] of its
+/// [`super::own::kind_of`]); `None` for a file of the ensemble study (or one that cannot be
+/// read, whose errors that study reports).
+pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
+    super::own::kind_of(path).and_then(own_study)
 }
 
 impl StudySpec {

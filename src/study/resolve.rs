@@ -392,8 +392,9 @@ impl StudySpec {
     ///
     /// * ropes under `[solver] kind = "limit"` (`LimitError::Ropes`, as `drystone tilt
     ///   --solver limit` refuses them): limit analysis has no displacement for a rope;
-    /// * an effect on the in-plane rig's vertical load (`jack_tilt`, `rig_friction`) in a
-    ///   study of another protocol, which would not read it;
+    /// * an effect on a rig's vertical load (`jack_tilt`, `rig_friction`) in a study of a
+    ///   protocol that does not read it
+    ///   ([`crate::protocol::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]);
     /// * a table overshoot (`table_kick`) with `[tilt] by_hand`: the hand-rolled table runs
     ///   the kicks of its stops, of which `table_kick` is the quasi-static equivalent; both
     ///   would count them twice, and the hand-rolled run does not read it.
@@ -403,11 +404,11 @@ impl StudySpec {
     fn check_realized(&self, g: &GroupSpec, group: &Group, invalid: &Invalid) -> Result<(), StudyError> {
         let refuses_ropes = !self.solver.kind.method().runs_ropes();
         let by_hand = self.rolled_by_hand();
-        let in_plane = self.loading() == crate::protocol::Loading::InPlane;
+        let reads_rig = self.loading().reads_vertical_load_rig();
         if group.effects.is_empty() {
             return Ok(());
         }
-        if !in_plane {
+        if !reads_rig {
             if let Some(e) = group.effects.iter().find(|e| {
                 e.def.steps.iter().any(|s| {
                     matches!(s, crate::effects::Step::JackTilt { .. } | crate::effects::Step::RigFriction { .. })
@@ -419,11 +420,18 @@ impl StudySpec {
                 } else {
                     format!("effects.{name}")
                 };
+                let readers: Vec<crate::protocol::Loading> =
+                    crate::protocol::Loading::ALL.into_iter().filter(|l| l.reads_vertical_load_rig()).collect();
+                let what: Vec<&str> = readers.iter().map(|l| l.describe()).collect();
+                let kinds: Vec<String> =
+                    readers.iter().map(|l| format!("protocol = \"{}\"", l.kind().name())).collect();
                 return Err(invalid.at(
                     &at,
                     format!(
-                        "acts on the in-plane test's vertical load (the force its horizontal actuator reads); the {} does not read it (drop the effect, or run the study with protocol = \"in_plane\")",
-                        self.loading().describe()
+                        "acts on the vertical load of {} (the force its horizontal actuator reads); the {} does not read it (drop the effect, or run the study with {})",
+                        what.join(" or "),
+                        self.loading().describe(),
+                        kinds.join(" or ")
                     ),
                 ));
             }
@@ -681,13 +689,16 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
-        if super::inplane::is_in_plane(path) {
+        if let Some(own) = super::protocol::own_study_of(path) {
             return Err(StudyError::Invalid {
                 path: path.to_owned(),
                 key: "protocol".into(),
-                reason: "\"in_plane\" is a study of its own, run by `drystone run` and analysed by \
-                         `drystone discrepancy` (docs/inplane.md); this command does not read it"
-                    .into(),
+                reason: format!(
+                    "\"{}\" is a study of its own, run by `drystone run` and analysed by `drystone discrepancy` \
+                     ({}); this command does not read it",
+                    own.kind.name(),
+                    own.doc
+                ),
             });
         }
         StudySpec::from_file(path)?.resolve(path)

@@ -254,14 +254,17 @@ impl StudySpec {
 /// `None` for the first protocol of its kind, which its kind's name chooses. A study file
 /// names either the protocol (`protocol = "tilt_by_hand"`, `"pushover"`: its
 /// [`Loading::name`](crate::protocol::Loading::name), as `drystone.supports` does) or its
-/// kind with this key (the former spelling, still read).
+/// kind with this key (the former spelling, still read). The protocol states it
+/// ([`crate::protocol::LoadingProtocol::CHOSEN_BY`]).
 pub fn chosen_by(protocol: crate::protocol::Loading) -> Option<(&'static str, &'static str, toml::Value)> {
-    use crate::protocol::Loading;
-    match protocol {
-        Loading::TiltByHand => Some(("tilt", "by_hand", toml::Value::Table(toml::Table::new()))),
-        Loading::Pushover => Some(("lateral", "pushover", toml::Value::Boolean(true))),
-        Loading::Tilt | Loading::Lateral | Loading::Shake | Loading::InPlane => None,
-    }
+    use crate::protocol::Choice;
+    protocol.chosen_by().map(|c| {
+        let value = match c.value {
+            Choice::Table => toml::Value::Table(toml::Table::new()),
+            Choice::True => toml::Value::Boolean(true),
+        };
+        (c.table, c.key, value)
+    })
 }
 
 /// A study file that names a protocol within a kind (`protocol = "tilt_by_hand"`,

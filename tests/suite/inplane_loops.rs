@@ -17,7 +17,7 @@ use drystone::generator::{generate, Wall};
 use drystone::loading::inplane::{run_in_plane_penalty, History, InPlaneParams};
 use drystone::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
 use drystone::protocol::{InPlane, Protocol};
-use drystone::study::inplane_loops::{check_models, LoopCheck, LoopCandidate};
+use drystone::study::inplane_loops::{check_models, LoopCandidate, LoopCheck};
 use std::path::Path;
 
 const WALL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/walls/granite_vasconcelos.toml");
@@ -48,8 +48,8 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
     let measured: Vec<(String, f64)> = (0..3)
         .map(|i| {
             let layout = generate(&wall, 4545, i).unwrap().check().unwrap();
-            let r = run_in_plane_penalty(&layout, SolverParams::default(), &cyclic(SIGMA0_MPA), &mut |_, _, _| {})
-                .unwrap();
+            let r =
+                run_in_plane_penalty(&layout, SolverParams::default(), &cyclic(SIGMA0_MPA), &mut |_, _, _| {}).unwrap();
             let n_kn = SIGMA0_MPA * 1e3 * r.length_m * r.thickness_m;
             let mut last = 0.0;
             let curve: Vec<(f64, f64)> = r
@@ -58,7 +58,13 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
                 .map(|p| {
                     let du = p.top_mm - last;
                     last = p.top_mm;
-                    let sense = if du > 0.0 { 1.0 } else if du < 0.0 { -1.0 } else { 0.0 };
+                    let sense = if du > 0.0 {
+                        1.0
+                    } else if du < 0.0 {
+                        -1.0
+                    } else {
+                        0.0
+                    };
                     let top = round(p.top_mm, 0.01);
                     (100.0 * top / (r.height_m * 1e3), round(p.force_kn + MU_R * n_kn * sense, 0.1))
                 })

@@ -1,0 +1,68 @@
+//! The in-plane study's entry points ([`STUDY`]): what `drystone run` and `drystone
+//! discrepancy` call to run and analyse a study file of `protocol = "in_plane"`
+//! ([`super::own`]).
+
+use super::inplane::{load, run, InPlaneStudyError};
+use super::inplane_discrepancy::analysis_of;
+use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
+use std::path::Path;
+
+/// The in-plane test's study of its own, as `drystone run` and `drystone discrepancy` run
+/// and analyse it.
+pub const STUDY: OwnStudy = OwnStudy {
+    kind: crate::protocol::ProtocolKind::InPlane,
+    what: "an in-plane study",
+    doc: "docs/inplane.md",
+    measured: "reads its specimens from [measured] walls",
+    name: own_name,
+    run: own_run,
+    analysis: own_analysis,
+    check: Some(own_check),
+};
+
+fn boxed(e: InPlaneStudyError) -> OwnStudyError {
+    OwnStudyError(Box::new(e))
+}
+
+fn own_name(path: &Path) -> Result<String, OwnStudyError> {
+    load(path).map(|s| s.name).map_err(boxed)
+}
+
+fn own_run(path: &Path, out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
+    let run = run(path, out).map_err(boxed)?;
+    Ok(OwnStudyRun {
+        realizations: run.rows.len(),
+        failed: run.rows.iter().filter(|r| r.status != "ok").count(),
+        wall_time_s: run.wall_time_s,
+    })
+}
+
+fn own_analysis(path: &Path) -> Result<OwnAnalysis, OwnStudyError> {
+    analysis_of(path).map_err(boxed)
+}
+
+/// The cyclic loops of the baseline and the tie ([`super::inplane_loops::check_loops`]).
+fn own_check(
+    path: &Path,
+    input: &OwnAnalysis,
+    run: &crate::discrepancy::Run,
+    progress: crate::discrepancy::Progress<'_>,
+) -> Result<Option<OwnCheck>, OwnStudyError> {
+    let Some(l) = super::inplane_loops::check_loops(path, input, run, progress).map_err(boxed)? else {
+        return Ok(None);
+    };
+    let mut summary =
+        vec!["the cyclic loops (a reading the fit did not use): the loops' damping ratio, χ² over the stresses"
+            .to_string()];
+    for m in &l.models {
+        summary.push(format!(
+            "  {:<36} χ² {:>8.1}  p {:.2e}  {}",
+            m.name,
+            m.chi2,
+            m.p_value,
+            if super::inplane_loops::LoopCheck::fits(m) { "fits the loops" } else { "does not fit the loops" }
+        ));
+    }
+    let json = serde_json::to_value(&l).map_err(|e| OwnStudyError(Box::new(e)))?;
+    Ok(Some(OwnCheck { key: "loops", markdown: l.markdown(), json, summary }))
+}
