@@ -90,12 +90,21 @@ pub const LOOP_MIN_DRIFT_PCT: f64 = 1.0;
 /// reading), the median so that one badly digitized loop does not move it. NaN when no
 /// such cycle has a damping ratio (a monotonic curve, a test that stopped earlier).
 pub fn loop_damping_ratio(curve: &[(f64, f64)], min_amplitude: f64) -> f64 {
-    let xi: Vec<f64> = cycles(curve)
+    let mut xi: Vec<f64> = cycles(curve)
         .into_iter()
         .filter(|c| c.amplitude >= min_amplitude && c.damping_ratio.is_finite())
         .map(|c| c.damping_ratio)
         .collect();
-    crate::stats::quantile(&xi, 0.5)
+    if xi.is_empty() {
+        return f64::NAN;
+    }
+    xi.sort_by(f64::total_cmp);
+    let n = xi.len();
+    if n % 2 == 1 {
+        xi[n / 2]
+    } else {
+        (xi[n / 2 - 1] + xi[n / 2]) / 2.0
+    }
 }
 
 #[cfg(test)]
