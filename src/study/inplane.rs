@@ -299,12 +299,13 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
     Ok(out)
 }
 
-/// Reads an envelope file: four header lines (unit, reference, columns, units), then
-/// `top_displacement mm, horizontal_force kN, drift %` a line; returns (drift %, force kN).
+/// Reads a curve file of the database (an envelope or a whole curve): four header lines
+/// (unit, reference, columns, units), then `top_displacement mm, horizontal_force kN,
+/// drift %` a line (`NaN` where a digitized segment breaks); returns the rows in order.
 ///
 /// # Errors
 /// Naming the file and the line.
-pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
+fn read_points(path: &Path) -> Result<Vec<[f64; 3]>, InPlaneStudyError> {
     let err = |message: String| InPlaneStudyError::File { path: path.to_owned(), message };
     let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
     let mut pts = Vec::new();
@@ -312,8 +313,7 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
         if line.trim().is_empty() {
             continue;
         }
-        let f = split_csv(line);
-        let v: Vec<f64> = f
+        let v: Vec<f64> = split_csv(line)
             .iter()
             .map(|x| x.trim().parse::<f64>())
             .collect::<Result<_, _>>()
@@ -321,44 +321,40 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
         if v.len() < 3 {
             return Err(err(format!("line {}: {line:?} is not three numbers", i + 1)));
         }
-        pts.push((v[2], v[1]));
+        pts.push([v[0], v[1], v[2]]);
     }
     Ok(pts)
 }
 
-/// Sets each cyclic specimen's [`Specimen::damping_ratio`] from its whole measured curve in
-/// `dir` (`FD_<unit without dots>_<source>.csv`: three header lines and a units line, then
-/// `top_displacement mm, horizontal_force kN, drift %` a line, `NaN` lines between digitized
-/// segments), read on the top displacement over the wall's height. A specimen without a
-/// curve file or a height keeps NaN.
+/// Reads an envelope file ([`read_points`]'s format); returns (drift %, force kN).
 ///
 /// # Errors
-/// A curve file that cannot be read or holds a line that is not numbers, naming the file
-/// and the line.
+/// Naming the file and the line.
+pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
+    Ok(read_points(path)?.into_iter().map(|p| (p[2], p[1])).collect())
+}
+
+/// Sets each cyclic specimen's [`Specimen::damping_ratio`] from its whole measured curve in
+/// `dir` (`FD_<unit without dots>_<source>.csv`, [`read_points`]'s format), read on the top
+/// displacement over the wall's height. A specimen without a curve file or a height keeps
+/// NaN.
+///
+/// # Errors
+/// `dir` not a folder, or a curve file that cannot be read or holds a line that is not
+/// numbers, naming the folder or the file and the line.
 pub fn read_loops(specimens: &mut [Specimen], dir: &Path) -> Result<(), InPlaneStudyError> {
+    if !dir.is_dir() {
+        return Err(InPlaneStudyError::File {
+            path: dir.to_owned(),
+            message: "[measured] curves: not a folder of the measured curves".into(),
+        });
+    }
     for s in specimens.iter_mut() {
         let p = dir.join(format!("FD_{}.csv", file_stem(s)));
         if !p.exists() || !s.height_mm.is_finite() {
             continue;
         }
-        let err = |message: String| InPlaneStudyError::File { path: p.clone(), message };
-        let text = std::fs::read_to_string(&p).map_err(|e| err(e.to_string()))?;
-        let mut curve = Vec::new();
-        for (i, line) in text.lines().enumerate().skip(4) {
-            if line.trim().is_empty() {
-                continue;
-            }
-            let v: Vec<f64> = split_csv(line)
-                .iter()
-                .take(2)
-                .map(|x| x.trim().parse::<f64>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| err(format!("line {}: {line:?} is not numbers", i + 1)))?;
-            if v.len() < 2 {
-                return Err(err(format!("line {}: {line:?} is not two numbers", i + 1)));
-            }
-            curve.push((100.0 * v[0] / s.height_mm, v[1]));
-        }
+        let curve: Vec<(f64, f64)> = read_points(&p)?.into_iter().map(|q| (100.0 * q[0] / s.height_mm, q[1])).collect();
         s.damping_ratio = loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT);
     }
     Ok(())

@@ -293,6 +293,15 @@ fn the_bundled_specimens_are_read_whole() {
         assert!((0.33..=0.38).contains(&ratio), "{}: V/N = {ratio}", sp.unit);
     }
     assert!((1.0_f64 / (2.0 * 1.325) - 0.377).abs() < 5e-4);
+    // The whole curves: every cyclic specimen's loops read, no monotonic one's; a folder
+    // that is not there is refused by name.
+    let mut s = s;
+    drystone::study::inplane::read_loops(&mut s, &root.join("curves")).unwrap();
+    for sp in &s {
+        assert_eq!(sp.damping_ratio.is_finite(), sp.loading == "Cyclic", "{}: {}", sp.unit, sp.damping_ratio);
+    }
+    let e = drystone::study::inplane::read_loops(&mut s, &root.join("no_such_folder")).unwrap_err().to_string();
+    assert!(e.contains("no_such_folder") && e.contains("curves"), "{e}");
 }
 
 /// A small in-plane study runs, writes its rows, statistics, comparison, figures and report,
