@@ -23,6 +23,17 @@
 //! `χ² = Σ_g z_g²`, `z_g` the difference over the two errors combined, on as many degrees
 //! of freedom as groups; a model fits the loops when its χ² is below the 95th percentile.
 //! Nothing of the check enters the analysis's ranking: it is reported beside it.
+//!
+//! **The friction the loops read.** A bearing's friction acts on the readings only (the
+//! beam's motion is imposed), so each run's curve of the wall's own shear
+//! ([`crate::loading::inplane::InPlaneResult::wall_curve`]) is read again with the rig's
+//! friction `μ_r` in place of the model's ([`crate::loading::inplane::add_rig_force`], the
+//! run's own code; the model's jack kept), on a grid of [`FRICTION_READ_STEPS`] steps over
+//! the range of `rig_friction`, without a new run. Per model, the `μ_r` that minimizes the
+//! χ² above, and its 95 % profile interval (where χ² is within 3.84 of its least): the
+//! bearing friction the loops say the model's wall had. A friction fitted to the peaks
+//! outside that interval is refuted by the loops; a model whose χ² there is below the 95th
+//! percentile fits the loops with that friction.
 
 use super::inplane::{load, read_loops, read_specimens, InPlaneStudyError};
 use super::inplane_discrepancy::stress_group;
@@ -41,6 +52,26 @@ use std::path::Path;
 /// spread little between layouts (σ 0.0001–0.0011 on the granite walls, against the
 /// specimens' 0.0020), so two realizations give the model's mean and a spread to carry.
 pub const LOOP_REALIZATIONS: u64 = 2;
+
+/// The steps of the grid of bearing frictions the loops are read again at (module
+/// documentation), over the range of `rig_friction` from 0: 0.0005 apart on its 0–0.05.
+pub const FRICTION_READ_STEPS: usize = 100;
+
+/// The bearing friction a model's loops read (module documentation).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct FrictionRead {
+    /// The `μ_r` of least χ², on the grid.
+    pub friction: f64,
+    /// Its 95 % profile interval, the grid's frictions where χ² is within 3.84 of the least
+    /// (the ends: the grid's values, 0 or the range's top when the interval reaches them).
+    pub low: f64,
+    /// See `low`.
+    pub high: f64,
+    /// χ² at `friction`.
+    pub chi2: f64,
+    /// Its p-value (degrees of freedom: the groups, less one for the friction read; at least 1).
+    pub p_value: f64,
+}
 
 /// One group (stress) of the check.
 #[derive(Debug, Clone, Serialize)]
@@ -68,6 +99,9 @@ pub struct LoopModel {
     pub chi2: f64,
     /// The probability of a χ² as large under the model (degrees of freedom: the groups).
     pub p_value: f64,
+    /// The bearing friction its loops read, the model's own replaced (`None` when no run
+    /// of it gave a reading).
+    pub friction_read: Option<FrictionRead>,
 }
 
 /// What the check found.
@@ -101,7 +135,9 @@ impl LoopCheck {
              (`rig_friction`) dissipates `4 μ_r N a` a cycle, a force of the displacement alone (`jack_tilt`, the \
              joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
              over the standard errors (the specimens' spread σ = {:.4}, pooled); a model fits the loops when Σ z² is \
-             below the χ² 95th percentile.\n",
+             below the χ² 95th percentile. The last columns read each run's curve of the wall's own shear again \
+             with a bearing friction μ_r in place of the model's (no new run): the μ_r of least χ², its 95 % profile \
+             interval, and the χ² there.\n",
             self.min_drift_pct, LOOP_REALIZATIONS, self.runs, self.measured_sigma
         );
         let Some(first) = self.models.first() else {
@@ -113,15 +149,15 @@ impl LoopCheck {
             let _ = write!(head, " {} (z) |", g.group);
             rule.push_str(" --- |");
         }
-        head.push_str(" χ² | p | fits the loops |");
-        rule.push_str(" --- | --- | --- |");
+        head.push_str(" χ² | p | fits the loops | μ_r the loops read (95 %) | χ² there |");
+        rule.push_str(" --- | --- | --- | --- | --- |");
         let _ = writeln!(md, "{head}\n{rule}");
         let mut measured = String::from("| measured (median of the specimens) |");
         for g in &first.groups {
             let v: Vec<f64> = g.measured.iter().map(|(_, x)| *x).collect();
             let _ = write!(measured, " {:.4} ({}) |", median(&v), v.len());
         }
-        measured.push_str(" | | |");
+        measured.push_str(" | | | | |");
         let _ = writeln!(md, "{measured}");
         for m in &self.models {
             let mut line = format!("| `{}` |", m.name);
@@ -129,6 +165,12 @@ impl LoopCheck {
                 let _ = write!(line, " {:.4} ({:+.1}) |", crate::stats::mean(&finite(&g.simulated)), g.z);
             }
             let _ = write!(line, " {:.1} | {:.2e} | {} |", m.chi2, m.p_value, if Self::fits(m) { "yes" } else { "no" });
+            match &m.friction_read {
+                Some(f) => {
+                    let _ = write!(line, " {:.4} [{:.4}, {:.4}] | {:.1} |", f.friction, f.low, f.high, f.chi2);
+                }
+                None => line.push_str(" – | – |"),
+            }
             let _ = writeln!(md, "{line}");
         }
         let _ = writeln!(md);
@@ -267,51 +309,111 @@ pub fn check_models(
         groups.len(),
         jobs.len()
     ));
-    let readings: Vec<f64> = jobs
+    // The bearing frictions the loops are read again at: the range of `rig_friction`.
+    let friction_max = crate::effects::Library::builtin()
+        .get("rig_friction")
+        .ok()
+        .and_then(|d| d.parameters.first().map(|p| p.max))
+        .unwrap_or(0.05);
+    let frictions: Vec<f64> =
+        (0..=FRICTION_READ_STEPS).map(|k| friction_max * k as f64 / FRICTION_READ_STEPS as f64).collect();
+    // Per job: the model's reading, and the readings with each friction in place of its own.
+    let readings: Vec<(f64, Vec<f64>)> = jobs
         .par_iter()
         .map(|&(mi, gi, r)| {
+            let failed = (f64::NAN, vec![f64::NAN; frictions.len()]);
             let (k, sigma0, _) = &groups[gi];
             let g = &setup.groups[*k];
             let all: Vec<Effect> = g.effects.iter().chain(&models[mi].2).cloned().collect();
             let Ok((_, layout)) = crate::effects::realize(&g.wall, setup.seed, r, &g.name, &all) else {
-                return f64::NAN;
+                return failed;
             };
             match crate::protocol::run(&crate::protocol::InPlane(params(*sigma0)), &layout, solver, &mut ()) {
                 Ok(crate::protocol::InPlaneRun::Penalty(Ok(res)) | crate::protocol::InPlaneRun::Nscd(Ok(res))) => {
-                    let curve: Vec<(f64, f64)> = res.curve.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
-                    loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT)
+                    let read = |c: &[crate::loading::inplane::CurvePoint]| {
+                        let curve: Vec<(f64, f64)> = c.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
+                        loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT)
+                    };
+                    let again = frictions
+                        .iter()
+                        .map(|&friction| {
+                            let rig = crate::layout::VerticalLoadRig { friction, ..res.vertical_load_rig };
+                            let mut curve = res.wall_curve.clone();
+                            crate::loading::inplane::add_rig_force(rig, res.vertical_force_n, &mut curve);
+                            read(&curve)
+                        })
+                        .collect();
+                    (read(&res.curve), again)
                 }
-                _ => f64::NAN,
+                _ => failed,
             }
         })
         .collect();
     let dof = groups.len() as f64;
     let chi = ChiSquared::new(dof).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    // A group's z for the model's readings `simulated` (one per realization).
+    let z_of = |read: &[(String, f64)], simulated: &[f64]| {
+        let sim = finite(simulated);
+        let meas: Vec<f64> = read.iter().map(|(_, x)| *x).collect();
+        let se_meas = 1.2533 * measured_sigma / (meas.len() as f64).sqrt();
+        let se_sim = if sim.len() > 1 { crate::stats::sd(&sim) / (sim.len() as f64).sqrt() } else { 0.0 };
+        (median(&meas) - crate::stats::mean(&sim)) / se_meas.hypot(se_sim)
+    };
+    let p_of = |chi: &ChiSquared, chi2: f64| if chi2.is_finite() { 1.0 - chi.cdf(chi2) } else { 0.0 };
+    let chi_read = ChiSquared::new((dof - 1.0).max(1.0)).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
     let out: Vec<LoopModel> = models
         .iter()
         .enumerate()
         .map(|(mi, (name, parameters, _))| {
+            // The model's jobs of group `gi`.
+            let of = |gi: usize| -> Vec<&(f64, Vec<f64>)> {
+                jobs.iter().zip(&readings).filter(|((m, g, _), _)| *m == mi && *g == gi).map(|(_, v)| v).collect()
+            };
             let per: Vec<LoopGroup> = groups
                 .iter()
                 .enumerate()
                 .map(|(gi, (k, _, read))| {
-                    let simulated: Vec<f64> = jobs
-                        .iter()
-                        .zip(&readings)
-                        .filter(|((m, g, _), _)| *m == mi && *g == gi)
-                        .map(|(_, v)| *v)
-                        .collect();
-                    let sim = finite(&simulated);
-                    let meas: Vec<f64> = read.iter().map(|(_, x)| *x).collect();
-                    let se_meas = 1.2533 * measured_sigma / (meas.len() as f64).sqrt();
-                    let se_sim = if sim.len() > 1 { crate::stats::sd(&sim) / (sim.len() as f64).sqrt() } else { 0.0 };
-                    let z = (median(&meas) - crate::stats::mean(&sim)) / se_meas.hypot(se_sim);
+                    let simulated: Vec<f64> = of(gi).iter().map(|v| v.0).collect();
+                    let z = z_of(read, &simulated);
                     LoopGroup { group: setup.groups[*k].name.clone(), measured: read.clone(), simulated, z }
                 })
                 .collect();
             let chi2: f64 = per.iter().map(|g| g.z * g.z).sum();
-            let p_value = if chi2.is_finite() { 1.0 - chi.cdf(chi2) } else { 0.0 };
-            LoopModel { name: name.clone(), parameters: parameters.clone(), groups: per, chi2, p_value }
+            let p_value = p_of(&chi, chi2);
+            // χ² with each friction of the grid in place of the model's.
+            let profile: Vec<f64> = (0..frictions.len())
+                .map(|f| {
+                    groups
+                        .iter()
+                        .enumerate()
+                        .map(|(gi, (_, _, read))| {
+                            let simulated: Vec<f64> = of(gi).iter().map(|v| v.1[f]).collect();
+                            z_of(read, &simulated).powi(2)
+                        })
+                        .sum()
+                })
+                .collect();
+            let friction_read = profile
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.is_finite())
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(best, &least)| {
+                    let inside: Vec<f64> = frictions
+                        .iter()
+                        .zip(&profile)
+                        .filter(|(_, c)| c.is_finite() && **c <= least + 3.84)
+                        .map(|(f, _)| *f)
+                        .collect();
+                    FrictionRead {
+                        friction: frictions[best],
+                        low: inside.iter().copied().fold(f64::INFINITY, f64::min),
+                        high: inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                        chi2: least,
+                        p_value: p_of(&chi_read, least),
+                    }
+                });
+            LoopModel { name: name.clone(), parameters: parameters.clone(), groups: per, chi2, p_value, friction_read }
         })
         .collect();
     Ok(LoopCheck { min_drift_pct: LOOP_MIN_DRIFT_PCT, measured_sigma, models: out, runs: jobs.len() })

@@ -8,7 +8,8 @@
 //! curves are: displacement to 0.01 mm, force to 0.1 kN. The check runs three models at
 //! their parameters: the plain wall, the wall with `rig_friction` at the hidden value, and
 //! with `jack_tilt` (a force of the displacement alone, which dissipates nothing). The
-//! loops must keep the friction and refuse the other two.
+//! loops must keep the friction and refuse the other two, and the friction they read (each
+//! run's curve read again with a friction in place of the model's) must be the hidden one.
 
 use drystone::dem::SolverParams;
 use drystone::discrepancy::{GroupSetup, Setup};
@@ -103,4 +104,15 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
     assert_eq!(fits, [false, true, false], "measured {measured:?}, z {z:?}, σ {}", check.measured_sigma);
     // The plain wall and the jack dissipate too little: the loops sit above them.
     assert!(z[0] > 0.0 && z[2] > 0.0, "{z:?}");
+    // The friction the loops read: the hidden 0.03 within the interval, near its best, for
+    // the plain wall and for the wall with the fitted friction (the same wall read again);
+    // and the loops fit with it.
+    for m in &check.models[..2] {
+        let f = m.friction_read.unwrap_or_else(|| panic!("{}: no friction read", m.name));
+        assert!(f.low <= MU_R && MU_R <= f.high, "{}: {f:?}", m.name);
+        assert!((f.friction - MU_R).abs() <= 0.005, "{}: {f:?}", m.name);
+        assert!(f.p_value >= 0.05, "{}: {f:?}", m.name);
+    }
+    let (plain, fitted) = (check.models[0].friction_read.unwrap(), check.models[1].friction_read.unwrap());
+    assert_eq!((plain.friction, plain.chi2), (fitted.friction, fitted.chi2));
 }
