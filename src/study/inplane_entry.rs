@@ -55,13 +55,11 @@ fn own_check(
         vec!["the cyclic loops (a reading the fit did not use): the loops' damping ratio, χ² over the stresses"
             .to_string()];
     for m in &l.models {
-        summary.push(format!(
-            "  {:<36} χ² {:>8.1}  p {:.2e}  {}",
-            m.name,
-            m.chi2,
-            m.p_value,
-            if super::inplane_loops::LoopCheck::fits(m) { "fits the loops" } else { "does not fit the loops" }
-        ));
+        let read = m
+            .friction_read
+            .map(|f| format!("  μ_r read {:.4} [{:.4}, {:.4}], χ² {:.1}", f.friction, f.low, f.high, f.chi2))
+            .unwrap_or_default();
+        summary.push(format!("  {:<36} χ² {:>8.1}  p {:.2e}  {}{read}", m.name, m.chi2, m.p_value, m.verdict.words()));
     }
     let json = serde_json::to_value(&l).map_err(|e| OwnStudyError(Box::new(e)))?;
     Ok(Some(OwnCheck { key: "loops", markdown: l.markdown(), json, summary }))

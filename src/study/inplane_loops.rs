@@ -99,9 +99,48 @@ pub struct LoopModel {
     pub chi2: f64,
     /// The probability of a χ² as large under the model (degrees of freedom: the groups).
     pub p_value: f64,
+    /// The model's own bearing friction `μ_r` (`rig_friction`; 0 without it).
+    pub friction: f64,
     /// The bearing friction its loops read, the model's own replaced (`None` when no run
     /// of it gave a reading).
     pub friction_read: Option<FrictionRead>,
+    /// What the loops say of it.
+    pub verdict: LoopVerdict,
+}
+
+/// What the loops say of a model (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoopVerdict {
+    /// It fits the loops as fitted (χ²'s p-value at least 0.05).
+    Fits,
+    /// It does not, but its wall fits them with another bearing friction in place of its
+    /// own ([`FrictionRead`], p-value at least 0.05): the loops refute its friction, not
+    /// the rest of it.
+    FitsWithFriction,
+    /// It fits them with no bearing friction of `rig_friction`'s range.
+    Refuted,
+}
+
+impl LoopVerdict {
+    fn of(fits: bool, read: Option<&FrictionRead>) -> LoopVerdict {
+        if fits {
+            LoopVerdict::Fits
+        } else if read.is_some_and(|f| f.p_value >= 0.05) {
+            LoopVerdict::FitsWithFriction
+        } else {
+            LoopVerdict::Refuted
+        }
+    }
+
+    /// The report's words.
+    pub fn words(self) -> &'static str {
+        match self {
+            LoopVerdict::Fits => "fits the loops",
+            LoopVerdict::FitsWithFriction => "fits the loops with the friction they read",
+            LoopVerdict::Refuted => "refuted by the loops",
+        }
+    }
 }
 
 /// What the check found.
@@ -172,6 +211,25 @@ impl LoopCheck {
                 None => line.push_str(" – | – |"),
             }
             let _ = writeln!(md, "{line}");
+        }
+        let _ = writeln!(md);
+        let named = |v: LoopVerdict| -> Vec<String> {
+            self.models
+                .iter()
+                .filter(|m| m.verdict == v)
+                .map(|m| match (&m.friction_read, v) {
+                    (Some(f), LoopVerdict::FitsWithFriction) => format!(
+                        "`{}` (μ_r {:.4} [{:.4}, {:.4}] in place of its {:.4})",
+                        m.name, f.friction, f.low, f.high, m.friction
+                    ),
+                    _ => format!("`{}`", m.name),
+                })
+                .collect()
+        };
+        let _ = writeln!(md, "What the loops say of each model:\n");
+        for v in [LoopVerdict::Fits, LoopVerdict::FitsWithFriction, LoopVerdict::Refuted] {
+            let n = named(v);
+            let _ = writeln!(md, "- {}: {}", v.words(), if n.is_empty() { "none".into() } else { n.join(", ") });
         }
         let _ = writeln!(md);
         md
@@ -413,7 +471,30 @@ pub fn check_models(
                         p_value: p_of(&chi_read, least),
                     }
                 });
-            LoopModel { name: name.clone(), parameters: parameters.clone(), groups: per, chi2, p_value, friction_read }
+            // The model's own friction: the value of a `RigFriction` step's parameter.
+            let friction = models[mi]
+                .2
+                .iter()
+                .flat_map(|e| {
+                    e.def.steps.iter().filter_map(move |s| match s {
+                        crate::effects::Step::RigFriction { parameter } => {
+                            e.def.parameters.iter().position(|p| &p.name == parameter).and_then(|i| e.values.get(i))
+                        }
+                        _ => None,
+                    })
+                })
+                .sum::<f64>();
+            let verdict = LoopVerdict::of(p_value >= 0.05, friction_read.as_ref());
+            LoopModel {
+                name: name.clone(),
+                parameters: parameters.clone(),
+                groups: per,
+                chi2,
+                p_value,
+                friction,
+                friction_read,
+                verdict,
+            }
         })
         .collect();
     Ok(LoopCheck { min_drift_pct: LOOP_MIN_DRIFT_PCT, measured_sigma, models: out, runs: jobs.len() })

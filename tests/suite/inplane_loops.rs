@@ -18,7 +18,7 @@ use drystone::generator::{generate, Wall};
 use drystone::loading::inplane::{run_in_plane_penalty, History, InPlaneParams};
 use drystone::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
 use drystone::protocol::{InPlane, Protocol};
-use drystone::study::inplane_loops::{check_models, LoopCandidate, LoopCheck};
+use drystone::study::inplane_loops::{check_models, LoopCandidate, LoopCheck, LoopVerdict};
 use std::path::Path;
 
 const WALL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/walls/granite_vasconcelos.toml");
@@ -115,4 +115,9 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
     }
     let (plain, fitted) = (check.models[0].friction_read.unwrap(), check.models[1].friction_read.unwrap());
     assert_eq!((plain.friction, plain.chi2), (fitted.friction, fitted.chi2));
+    // What the loops say: the plain wall fits them with the friction they read in place of
+    // its none, the wall with the hidden friction as it is.
+    assert_eq!(check.models[0].verdict, LoopVerdict::FitsWithFriction);
+    assert_eq!(check.models[1].verdict, LoopVerdict::Fits);
+    assert_eq!((check.models[0].friction, check.models[1].friction), (0.0, MU_R));
 }
