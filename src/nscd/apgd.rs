@@ -28,10 +28,11 @@
 //!
 //! (De Saxcé & Feng 1998: the bipotential's fixed point; Acary, Brémond & Huber 2018).
 //! APGD minimizes it; the shift is updated from the iterate every
-//! [`SHIFT_EVERY`] iterations, relaxed by [`SHIFT_RELAXATION`], and at a fixed point the
-//! natural map of Coulomb's law vanishes. `W r` is never formed: the impulses are summed into each body's impulse and
-//! moment (`Hᵀ r`), which give its velocity change and `½ rᵀ W r` (the kinetic energy of
-//! that change); the relative velocities follow point by point.
+//! [`SHIFT_EVERY`] iterations (relaxed by [`SHIFT_RELAXATION`] once the residual has
+//! risen), and at a fixed point the natural map of Coulomb's law vanishes. `W r` is never
+//! formed: the impulses are summed into each body's impulse and moment (`Hᵀ r`), which
+//! give its velocity change and `½ rᵀ W r` (the kinetic energy of that change); the
+//! relative velocities follow point by point.
 //!
 //! # The iteration
 //!
@@ -72,24 +73,20 @@ use crate::math::{Mat3, Vec3};
 /// shift `s_α = μ ‖u_{t,α}‖`.
 pub const SHIFT_EVERY: u32 = 5;
 
-/// The relaxation of the shift's update past [`SHIFT_PLAIN_ITERATIONS`] iterations of a
-/// step: `s_α ← s_α + ω (μ ‖u_{t,α}‖ − s_α)`, ω = 0.4.
+/// The relaxation of the shift's update once a step's residual has risen:
+/// `s_α ← s_α + ω (μ ‖u_{t,α}‖ − s_α)`, ω = 0.4.
 ///
 /// The shift's fixed point `s = μ ‖u_t(s)‖` is not a contraction where blocks slide past
 /// each other while they rock (docs/nscd.md, "The steps the gradient leaves at its
 /// limit"): there the plain update (ω = 1) overshoots, and the residual, down to 1–4e-4
-/// within about 100 iterations, wanders about the tolerance. The relaxed update has the
-/// same fixed point, so a step still ends only when the natural-map residual of its
-/// impulses and velocities meets the tolerance; on those steps it reaches it in fewer
-/// iterations (docs/nscd.md, "The shift's relaxed update").
+/// within about 100 iterations, wanders about the tolerance. A step updates its shift
+/// plainly until a reading of the residual (every [`SHIFT_EVERY`] iterations) is above the
+/// one before, and relaxed from then to its end: where the fixed point contracts (a block
+/// on a joint of high friction, whose shift is many times its slip velocity) the plain
+/// update converges sooner, and the relaxed one has the same fixed point, so a step still
+/// ends only when the natural-map residual of its impulses and velocities meets the
+/// tolerance (docs/nscd.md, "The shift's relaxed update").
 pub const SHIFT_RELAXATION: f64 = 0.4;
-
-/// The iterations of a step whose shift is updated plainly (ω = 1) before
-/// [`SHIFT_RELAXATION`] applies: where the fixed point contracts (a block on a joint of
-/// high friction, whose shift is many times its slip velocity) the plain update converges
-/// in fewer, and a step that has not met the tolerance by then is one whose residual
-/// wanders.
-pub const SHIFT_PLAIN_ITERATIONS: u32 = 100;
 
 /// Scratch of the iteration, kept across steps to avoid allocations.
 #[derive(Debug, Clone, Default)]
@@ -339,6 +336,10 @@ pub fn solve(
     st.u_y.clone_from(&st.u_last);
     st.body_y.clone_from(&st.body_last);
     st.candidate.resize(m, Vec3::zeros());
+    // Whether the shift's update is relaxed: from the first reading of the residual above
+    // the one before (the plain update overshooting), to the step's end.
+    let mut relaxed = false;
+    let mut last_reading = residual;
     let mut theta = 1.0f64;
     let mut lipschitz = if st.lipschitz > 0.0 { st.lipschitz } else { 1.0 };
     for it in 1..=max_iterations {
@@ -383,7 +384,7 @@ pub fn solve(
         // The candidate's velocities, its residual and shift when due, and the next y.
         st.body_c.velocities(b, &st.vfree, &st.wfree);
         let read = it % SHIFT_EVERY == 0 || it == max_iterations;
-        let omega = if it > SHIFT_PLAIN_ITERATIONS { SHIFT_RELAXATION } else { 1.0 };
+        let omega = if relaxed { SHIFT_RELAXATION } else { 1.0 };
         let mut sum = NaturalSum::default();
         for k in 0..m {
             let p = &st.points[k];
@@ -413,6 +414,8 @@ pub fn solve(
         if read {
             // The bodies' velocities are the candidate's, now the last iterate.
             residual = sum.residual(gh);
+            relaxed |= residual > last_reading;
+            last_reading = residual;
             if residual <= tolerance {
                 st.lipschitz = lipschitz;
                 return finish(st, impulse, it, true, residual);
