@@ -218,10 +218,13 @@ impl LoopCheck {
                 .iter()
                 .filter(|m| m.verdict == v)
                 .map(|m| match (&m.friction_read, v) {
-                    (Some(f), LoopVerdict::FitsWithFriction) => format!(
+                    (Some(f), LoopVerdict::FitsWithFriction) if m.friction > 0.0 => format!(
                         "`{}` (μ_r {:.4} [{:.4}, {:.4}] in place of its {:.4})",
                         m.name, f.friction, f.low, f.high, m.friction
                     ),
+                    (Some(f), LoopVerdict::FitsWithFriction) => {
+                        format!("`{}` (μ_r {:.4} [{:.4}, {:.4}] added)", m.name, f.friction, f.low, f.high)
+                    }
                     _ => format!("`{}`", m.name),
                 })
                 .collect()
@@ -483,7 +486,7 @@ pub fn check_models(
                         _ => None,
                     })
                 })
-                .sum::<f64>();
+                .fold(0.0, |a, b| a + b);
             let verdict = LoopVerdict::of(p_value >= 0.05, friction_read.as_ref());
             LoopModel {
                 name: name.clone(),
