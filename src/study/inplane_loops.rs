@@ -454,26 +454,24 @@ pub fn check_models(
                         .sum()
                 })
                 .collect();
-            let friction_read = profile
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.is_finite())
-                .min_by(|a, b| a.1.total_cmp(b.1))
-                .map(|(best, &least)| {
-                    let inside: Vec<f64> = frictions
-                        .iter()
-                        .zip(&profile)
-                        .filter(|(_, c)| c.is_finite() && **c <= least + 3.84)
-                        .map(|(f, _)| *f)
-                        .collect();
-                    FrictionRead {
-                        friction: frictions[best],
-                        low: inside.iter().copied().fold(f64::INFINITY, f64::min),
-                        high: inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                        chi2: least,
-                        p_value: p_of(&chi_read, least),
-                    }
-                });
+            let friction_read =
+                profile.iter().enumerate().filter(|(_, c)| c.is_finite()).min_by(|a, b| a.1.total_cmp(b.1)).map(
+                    |(best, &least)| {
+                        let inside: Vec<f64> = frictions
+                            .iter()
+                            .zip(&profile)
+                            .filter(|(_, c)| c.is_finite() && **c <= least + 3.84)
+                            .map(|(f, _)| *f)
+                            .collect();
+                        FrictionRead {
+                            friction: frictions[best],
+                            low: inside.iter().copied().fold(f64::INFINITY, f64::min),
+                            high: inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                            chi2: least,
+                            p_value: p_of(&chi_read, least),
+                        }
+                    },
+                );
             // The model's own friction: the value of a `RigFriction` step's parameter.
             let friction = models[mi]
                 .2
