@@ -123,8 +123,8 @@ pub enum LoopVerdict {
 }
 
 impl LoopVerdict {
-    fn of(fits: bool, read: Option<&FrictionRead>) -> LoopVerdict {
-        if fits {
+    fn of(p_value: f64, read: Option<&FrictionRead>) -> LoopVerdict {
+        if p_value >= 0.05 {
             LoopVerdict::Fits
         } else if read.is_some_and(|f| f.p_value >= 0.05) {
             LoopVerdict::FitsWithFriction
@@ -157,9 +157,9 @@ pub struct LoopCheck {
 }
 
 impl LoopCheck {
-    /// Whether a model fits the loops (its χ²'s p-value at least 0.05).
+    /// Whether a model fits the loops as fitted (its χ²'s p-value at least 0.05).
     pub fn fits(m: &LoopModel) -> bool {
-        m.p_value >= 0.05
+        m.verdict == LoopVerdict::Fits
     }
 
     /// The report's section (Markdown).
@@ -485,7 +485,7 @@ pub fn check_models(
                     })
                 })
                 .fold(0.0, |a, b| a + b);
-            let verdict = LoopVerdict::of(p_value >= 0.05, friction_read.as_ref());
+            let verdict = LoopVerdict::of(p_value, friction_read.as_ref());
             LoopModel {
                 name: name.clone(),
                 parameters: parameters.clone(),
