@@ -24,6 +24,22 @@ pub struct FittedParameter {
     pub interval: (f64, f64),
 }
 
+/// A model refit with one parameter held at a value another reading gives
+/// ([`Run::refit_held`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HeldRefit {
+    /// The model's name as a candidate's (`jack_tilt+rig_friction+bed_stiffness`).
+    pub name: String,
+    /// Its parameters fitted to all the data, the held one among them at its value,
+    /// `effect.param` → value.
+    pub parameters: Vec<(String, f64)>,
+    /// Its held-out error (mean held-out score per specimen, leave one specimen out, the
+    /// held parameter held in every fold), comparable with the ranked candidates'.
+    pub heldout_error: f64,
+    /// The standard error of its summed held-out difference to the baseline, per specimen.
+    pub difference_se: f64,
+}
+
 /// Everything a discrepancy run computed.
 #[derive(Debug, Clone)]
 pub struct Run {
@@ -88,6 +104,73 @@ impl Run {
             return Ok(None);
         };
         super::prepare::effects_of(c, &r.x, course_m).map(Some)
+    }
+}
+
+impl Run {
+    /// The model of the effects `effects` with the effect `held` (one parameter) refit to
+    /// the data with `held`'s parameter at `value` (in its unit): the candidate of exactly
+    /// those effects (the analysis's pool first, its confirmed surfaces among them, then the
+    /// library's singles, readings pairs and readings triples), its surface sliced at
+    /// `held`'s coordinate ([`super::Surface::Slice`]) and scored as the ranking scores
+    /// ([`super::fit::loso`]). `None` when no candidate has those effects, `held` has
+    /// another number of parameters than one, or `value` is outside its range. No run.
+    pub fn refit_held(&self, effects: &[&str], held: &str, value: f64) -> Option<HeldRefit> {
+        use super::compare::{difference_se, per_specimen, specimen_weights};
+        use super::fit::{loso, to_x, Data, Surface};
+        let mut want: Vec<&str> = effects.iter().copied().filter(|e| *e != held).chain([held]).collect();
+        want.sort_unstable();
+        let lib = &self.library;
+        let c = self
+            .analysis
+            .pool
+            .iter()
+            .chain(&lib.candidates)
+            .chain(&lib.readings_pairs)
+            .chain(&lib.readings_triples)
+            .find(|c| {
+                let mut names: Vec<&str> = c.effects.iter().map(|e| e.name.as_str()).collect();
+                names.sort_unstable();
+                names == want
+            })?;
+        let mut axis = 0;
+        for e in &c.effects {
+            if e.name == held {
+                break;
+            }
+            axis += e.parameters.len();
+        }
+        let p = c.params.get(axis).filter(|_| c.effects.iter().any(|e| e.name == held && e.parameters.len() == 1))?;
+        let lo = p.min.min(p.max);
+        let hi = p.min.max(p.max);
+        if !(lo..=hi).contains(&value) {
+            return None;
+        }
+        let xv = to_x(p, value).clamp(0.0, 1.0);
+        let surface = Surface::Slice { inner: Box::new(c.surface.clone()), axis, value: xv };
+        let y: Vec<f64> = self.obs.iter().map(|o| o.value).collect();
+        let weight = specimen_weights(&self.obs);
+        let data = Data {
+            obs: &self.obs,
+            y: &y,
+            key: &self.keys.of,
+            weight: &weight,
+            reading: self.settings.reading,
+            bracket_deg: self.bracket_deg,
+        };
+        let (scores, _, (x, _)) = loso(&surface, data, &self.specimens);
+        let mut full = x;
+        full.insert(axis.min(full.len()), xv);
+        let per = per_specimen(&scores, &self.obs, &self.specimens);
+        let base = per_specimen(&self.analysis.baseline_scores, &self.obs, &self.specimens);
+        let d: Vec<f64> = base.iter().zip(&per).map(|(b, c)| b - c).collect();
+        let n = self.specimens.len().max(1) as f64;
+        Some(HeldRefit {
+            name: c.name(),
+            parameters: c.values(&full),
+            heldout_error: per.iter().sum::<f64>() / n,
+            difference_se: difference_se(&d) / n,
+        })
     }
 }
 

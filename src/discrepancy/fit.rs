@@ -132,6 +132,18 @@ pub enum Surface {
         /// The full run, per key.
         full: Vec<Simulated>,
     },
+    /// A surface with one coordinate held: `at(x)` is `inner` at `x` with `value` inserted
+    /// at `axis` (one dimension fewer). Used to refit a model with a parameter another
+    /// reading fixes (the bearing friction the in-plane loops read,
+    /// `study::inplane_loops`).
+    Slice {
+        /// The surface.
+        inner: Box<Surface>,
+        /// The coordinate held, `0..inner.dims()`.
+        axis: usize,
+        /// Its search coordinate, in `[0, 1]`.
+        value: f64,
+    },
 }
 
 fn lerp(a: &Simulated, b: &Simulated, t: f64) -> Simulated {
@@ -217,6 +229,7 @@ impl Surface {
             Surface::Grid { .. } | Surface::Pair { .. } | Surface::Scatter { .. } => 2,
             Surface::Grid3 { .. } => 3,
             Surface::Corrected { inner, .. } => inner.dims(),
+            Surface::Slice { inner, .. } => inner.dims().saturating_sub(1),
         }
     }
 
@@ -298,6 +311,11 @@ impl Surface {
                         heights: f.heights.shifted(&[(&s.heights, &s0.heights)]),
                     })
                     .collect()
+            }
+            Surface::Slice { inner, axis, value } => {
+                let mut full = x[..self.dims()].to_vec();
+                full.insert((*axis).min(full.len()), *value);
+                inner.at(&full)
             }
         }
     }
@@ -483,7 +501,9 @@ pub fn fit_folds(surface: &Surface, data: Data<'_>, folds: &[&[usize]]) -> Vec<(
 pub(super) fn scan_points(surface: &Surface) -> Vec<Vec<f64>> {
     let n = scan_size(surface);
     let at = |i: usize| i as f64 / (n - 1) as f64;
-    if surface.dims() == 1 {
+    if surface.dims() == 0 {
+        vec![vec![]]
+    } else if surface.dims() == 1 {
         (0..n).map(|i| vec![at(i)]).collect()
     } else if surface.dims() == 3 {
         (0..n * n * n).map(|k| vec![at(k / (n * n)), at(k / n % n), at(k % n)]).collect()
@@ -701,6 +721,67 @@ mod tests {
         let scan = scan_points(&s);
         assert_eq!(scan.len(), 11 * 11 * 11);
         assert_eq!((scan[0].clone(), scan[scan.len() - 1].clone()), (vec![0.0; 3], vec![1.0; 3]));
+    }
+
+    /// A slice holds one coordinate: it is the surface at that coordinate, one dimension
+    /// fewer, and a fit on it finds the other coordinates as a fit of the whole surface
+    /// with that coordinate given would (here a line in `a` whose slope `c` sets, the data
+    /// made at `a` = 0.3 with `c` = 0.8, by the closed form, not by the surface).
+    #[test]
+    fn a_slice_is_the_surface_at_its_held_coordinate_and_fits_the_others() {
+        let f = |a: f64, b: f64, c: f64| 10.0 + (2.0 + 3.0 * c) * a + 0.0 * b;
+        let (x1, x2, x3) = (vec![0.0, 0.25, 0.5, 0.75, 1.0], vec![0.0, 1.0], vec![0.0, 0.4, 0.8, 1.0]);
+        let mut sims = Vec::new();
+        for &a in &x1 {
+            for &b in &x2 {
+                for &c in &x3 {
+                    sims.push(vec![sim(f(a, b, c))]);
+                }
+            }
+        }
+        let grid = Surface::Grid3 { x1, x2, x3, sims };
+        let slice = Surface::Slice { inner: Box::new(grid.clone()), axis: 2, value: 0.8 };
+        assert_eq!(slice.dims(), 2);
+        for x in [[0.0, 0.0], [0.3, 0.6], [1.0, 1.0]] {
+            assert_eq!(slice.at(&x)[0].mean, grid.at(&[x[0], x[1], 0.8])[0].mean);
+        }
+        let held = Surface::Slice { inner: Box::new(slice.clone()), axis: 1, value: 0.0 };
+        assert_eq!(held.dims(), 1);
+        let want = f(0.3, 0.0, 0.8);
+        let obs: Vec<Observation> = (0..5)
+            .map(|i| Observation {
+                specimen: format!("S{i}"),
+                group: "G".into(),
+                observable: Observable::CollapseAngle,
+                value: want,
+                sigma: 0.2,
+            })
+            .collect();
+        let y = vec![want; 5];
+        let (key, weight) = (vec![0usize; 5], vec![1.0; 5]);
+        let reading = Reading {
+            angle_deg: 1e-6,
+            displacement_cm: 1e-6,
+            misreading: 0.1,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        };
+        let data = Data { obs: &obs, y: &y, key: &key, weight: &weight, reading, bracket_deg: 0.0 };
+        let (x, _) = fit(&held, data, &(0..5).collect::<Vec<_>>());
+        assert!((x[0] - 0.3).abs() < 1e-3, "{x:?}");
+        // Held at another slope, the same data give another `a`: the held coordinate
+        // is what the fit is conditioned on.
+        let other = Surface::Slice {
+            inner: Box::new(Surface::Slice { inner: Box::new(grid), axis: 2, value: 0.0 }),
+            axis: 1,
+            value: 0.0,
+        };
+        let (x, _) = fit(&other, data, &(0..5).collect::<Vec<_>>());
+        assert!((x[0] - 0.3 * (2.0 + 3.0 * 0.8) / 2.0).abs() < 1e-3, "{x:?}");
+        // Every coordinate held: one point, no scan.
+        let point = Surface::Slice { inner: Box::new(held), axis: 0, value: 0.3 };
+        assert_eq!((point.dims(), scan_points(&point)), (0, vec![vec![]]));
+        assert_eq!(fit(&point, data, &[0]).0, Vec::<f64>::new());
     }
 
     /// A surface re-centred on a full run: the full run's values at its point, the

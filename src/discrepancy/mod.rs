@@ -58,7 +58,7 @@ pub use analysis::{
 };
 pub use candidate::Candidate;
 pub use compare::{difference_se, per_specimen};
-pub use findings::{bootstrap_gain, Design, FittedParameter, Run};
+pub use findings::{bootstrap_gain, Design, FittedParameter, HeldRefit, Run};
 pub use fit::Surface;
 pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
 pub use inplane::{InPlaneQuantity, IN_PLANE_MODES};

@@ -222,14 +222,20 @@ pub fn build_library(
             kinds: kinds(setup),
         });
     }
-    let readings_pairs =
-        if rereads(setup) { readings_pairs(&grid_setup, keys, &plans, &nodes, &full_sims) } else { vec![] };
+    let (readings_pairs, readings_triples) = if rereads(setup) {
+        (
+            readings_pairs(&grid_setup, keys, &plans, &nodes, &full_sims),
+            readings_triples(&grid_setup, keys, &plans, &nodes, &full_sims),
+        )
+    } else {
+        (vec![], vec![])
+    };
     if s.scatter {
         let angle = keys.keys.iter().map(|(_, o)| o.is_angle()).collect();
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
-    Ok((Models { baseline: full_sims, candidates, readings_pairs }, runs))
+    Ok((Models { baseline: full_sims, candidates, readings_pairs, readings_triples }, runs))
 }
 
 /// A grid node with its outcomes: search coordinates, the effect there (`None`: the
@@ -286,6 +292,59 @@ fn readings_pairs(
                 surface: Surface::Corrected { inner: Box::new(inner), x0, full: full_sims.to_vec() },
                 kinds: kinds(grid_setup),
             });
+        }
+    }
+    out
+}
+
+/// The triples of two one-parameter effects that act on the readings only (`r`, `q`, in
+/// the library's order) with every one-parameter plan that moves the wall (`p`): a tensor
+/// grid over `r`'s coordinate, `q`'s, then `p`'s, every node `p`'s outcomes at its node
+/// read again with `r`'s and `q`'s effects at theirs, re-centred on the baseline's full run
+/// at the three neutral points. No run. They are not ranked (the analysis tries pairs);
+/// a check that reads one of the rig's forces elsewhere refits them with that force held
+/// (`Run::refit_held`, the in-plane loops' bearing friction).
+fn readings_triples(
+    grid_setup: &Setup,
+    keys: &Keys,
+    plans: &[Plan],
+    nodes: &[Vec<Node>],
+    full_sims: &[Simulated],
+) -> Vec<Candidate> {
+    let reads: Vec<usize> =
+        (0..plans.len()).filter(|&i| plans[i].def.acts_on_readings_only() && plans[i].params.len() == 1).collect();
+    let mut out = Vec::new();
+    for (a, &ri) in reads.iter().enumerate() {
+        for &qi in &reads[a + 1..] {
+            for (pi, p) in plans.iter().enumerate() {
+                if p.def.acts_on_readings_only() || p.params.len() != 1 {
+                    continue;
+                }
+                let mut sims = Vec::new();
+                for (_, er, _) in &nodes[ri] {
+                    for (_, eq, _) in &nodes[qi] {
+                        let both: Vec<Effect> = er.iter().chain(eq.iter()).cloned().collect();
+                        for (_, _, outs) in &nodes[pi] {
+                            let o =
+                                if both.is_empty() { outs.clone() } else { reread_outcomes(grid_setup, outs, &both) };
+                            sims.push(keys.simulated(&o));
+                        }
+                    }
+                }
+                let xs = |i: usize| -> Vec<f64> { nodes[i].iter().map(|(x, _, _)| x[0]).collect() };
+                let (r, q) = (&plans[ri], &plans[qi]);
+                let x0: Vec<f64> = r.neutral().into_iter().chain(q.neutral()).chain(p.neutral()).collect();
+                out.push(Candidate {
+                    effects: vec![r.def.clone(), q.def.clone(), p.def.clone()],
+                    params: r.params.iter().chain(&q.params).chain(&p.params).cloned().collect(),
+                    surface: Surface::Corrected {
+                        inner: Box::new(Surface::Grid3 { x1: xs(ri), x2: xs(qi), x3: xs(pi), sims }),
+                        x0,
+                        full: full_sims.to_vec(),
+                    },
+                    kinds: kinds(grid_setup),
+                });
+            }
         }
     }
     out

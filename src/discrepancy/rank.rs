@@ -22,6 +22,12 @@ pub struct Models {
     /// [`super::fit::Surface::Grid3`]); tried beside the additive pairs when pairs are
     /// tried. Empty on protocols other than the in-plane test.
     pub readings_pairs: Vec<Candidate>,
+    /// The triples of both effects on the readings only with every one-parameter effect
+    /// that moves the wall (`jack_tilt+rig_friction+bed_stiffness`, …), on the partner's
+    /// grid read again ([`super::fit::Surface::Grid3`]). Not ranked: refit with one of the
+    /// rig's forces held where another reading fixes it ([`super::Run::refit_held`]). Empty
+    /// on protocols other than the in-plane test.
+    pub readings_triples: Vec<Candidate>,
 }
 
 /// A ranked candidate.

@@ -106,6 +106,12 @@ pub struct LoopModel {
     pub friction_read: Option<FrictionRead>,
     /// What the loops say of it.
     pub verdict: LoopVerdict,
+    /// The analysis's observations refit with the bearing friction held at the one its
+    /// loops read ([`crate::discrepancy::Run::refit_held`]; the model's effects with
+    /// `rig_friction`, on the analysis's surrogates read again, no run). `None` without a
+    /// friction read, or where the analysis has no surrogate of those effects (a two-
+    /// parameter partner of both rig forces).
+    pub peaks: Option<crate::discrepancy::HeldRefit>,
 }
 
 /// What the loops say of a model (module documentation).
@@ -154,9 +160,27 @@ pub struct LoopCheck {
     pub models: Vec<LoopModel>,
     /// The cyclic runs made.
     pub runs: usize,
+    /// The baseline's held-out error on the analysis's observations (per specimen), beside
+    /// the models' [`LoopModel::peaks`]; NaN when the check ran without an analysis.
+    pub baseline_heldout_error: f64,
+    /// The analysis's named cause (or partial explanation) and its held-out error.
+    pub cause: Option<(String, f64)>,
 }
 
 impl LoopCheck {
+    /// The models the loops do not refute whose peaks were refit with the friction their
+    /// loops read ([`LoopModel::peaks`]), best held-out error first: what both readings
+    /// leave standing. Empty when none.
+    pub fn standing(&self) -> Vec<&LoopModel> {
+        let mut v: Vec<&LoopModel> =
+            self.models.iter().filter(|m| m.verdict != LoopVerdict::Refuted && m.peaks.is_some()).collect();
+        v.sort_by(|a, b| {
+            let e = |m: &LoopModel| m.peaks.as_ref().map_or(f64::INFINITY, |p| p.heldout_error);
+            e(a).total_cmp(&e(b))
+        });
+        v
+    }
+
     /// Whether a model fits the loops as fitted (its χ²'s p-value at least 0.05).
     pub fn fits(m: &LoopModel) -> bool {
         m.verdict == LoopVerdict::Fits
@@ -235,7 +259,73 @@ impl LoopCheck {
             let _ = writeln!(md, "- {}: {}", v.words(), if n.is_empty() { "none".into() } else { n.join(", ") });
         }
         let _ = writeln!(md);
+        self.peaks_markdown(&mut md);
         md
+    }
+
+    /// The section's part on the peaks refit with the friction the loops read.
+    fn peaks_markdown(&self, md: &mut String) {
+        if !self.models.iter().any(|m| m.peaks.is_some()) {
+            return;
+        }
+        let _ = writeln!(
+            md,
+            "### The analysis's observations with the friction the loops read
+"
+        );
+        let cause = self.cause.as_ref().map(|(n, e)| format!(", the cause's (`{n}`) {e:.2}")).unwrap_or_default();
+        let _ = writeln!(
+            md,
+            "Each model with `rig_friction` added or its own replaced, its other parameters refit to the analysis's \
+             observations with the bearing friction held at the μ_r its loops read (the analysis's surrogates read \
+             again, no run), scored as the ranking scores: held-out error per specimen, against the baseline's {:.2}{cause}.\n",
+            self.baseline_heldout_error
+        );
+        let _ = writeln!(md, "| model | loops say | μ_r held | held-out error (± se of the gain) | parameters |");
+        let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+        for m in &self.models {
+            let (Some(p), Some(f)) = (&m.peaks, &m.friction_read) else { continue };
+            let params: Vec<String> = p
+                .parameters
+                .iter()
+                .filter(|(n, _)| !n.starts_with("rig_friction."))
+                .map(|(n, v)| format!("{n} {v:.3}"))
+                .collect();
+            let _ = writeln!(
+                md,
+                "| `{}` | {} | {:.4} | {:.2} (± {:.2}) | {} |",
+                m.name,
+                m.verdict.words(),
+                f.friction,
+                p.heldout_error,
+                p.difference_se,
+                if params.is_empty() { "–".into() } else { params.join(", ") }
+            );
+        }
+        let standing = self.standing();
+        let _ = writeln!(md);
+        match standing.first().and_then(|m| m.peaks.as_ref().map(|p| (m, p))) {
+            Some((m, p)) => {
+                let others: Vec<String> = standing[1..]
+                    .iter()
+                    .filter_map(|o| o.peaks.as_ref().map(|q| format!("`{}` {:.2}", o.name, q.heldout_error)))
+                    .collect();
+                let _ = writeln!(
+                    md,
+                    "What both readings leave standing: `{}` with μ_r {:.4} held (held-out error {:.2}, gain on the \
+                     baseline {:.2} ± {:.2} per specimen){}.\n",
+                    m.name,
+                    m.friction_read.map_or(f64::NAN, |f| f.friction),
+                    p.heldout_error,
+                    self.baseline_heldout_error - p.heldout_error,
+                    p.difference_se,
+                    if others.is_empty() { String::new() } else { format!("; then {}", others.join(", ")) }
+                );
+            }
+            None => {
+                let _ = writeln!(md, "What both readings leave standing: none of the models checked.\n");
+            }
+        }
     }
 }
 
@@ -322,7 +412,22 @@ pub fn check_loops(
         models.push((name.clone(), parameters, effects));
     }
     let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, ..test.clone() };
-    Ok(Some(check_models(&input.setup, &params, &groups, &models, progress)?))
+    let mut check = check_models(&input.setup, &params, &groups, &models, progress)?;
+    refit_peaks(&mut check, run);
+    Ok(Some(check))
+}
+
+/// Refits each model of `check` with a friction read to `run`'s observations with the
+/// bearing friction held at that read ([`LoopModel::peaks`]), and records the baseline's
+/// and the cause's held-out errors beside them.
+pub fn refit_peaks(check: &mut LoopCheck, run: &Run) {
+    for m in &mut check.models {
+        let Some(f) = m.friction_read else { continue };
+        let effects: Vec<&str> = if m.name == "baseline" { vec![] } else { m.name.split('+').collect() };
+        m.peaks = run.refit_held(&effects, "rig_friction", f.friction);
+    }
+    check.baseline_heldout_error = run.analysis.baseline_heldout_error;
+    check.cause = run.analysis.cause.as_ref().map(|c| (c.name.clone(), c.heldout_error));
 }
 
 /// A measured group of the check: the index of the analysis's group, its vertical stress
@@ -495,8 +600,16 @@ pub fn check_models(
                 friction,
                 friction_read,
                 verdict,
+                peaks: None,
             }
         })
         .collect();
-    Ok(LoopCheck { min_drift_pct: LOOP_MIN_DRIFT_PCT, measured_sigma, models: out, runs: jobs.len() })
+    Ok(LoopCheck {
+        min_drift_pct: LOOP_MIN_DRIFT_PCT,
+        measured_sigma,
+        models: out,
+        runs: jobs.len(),
+        baseline_heldout_error: f64::NAN,
+        cause: None,
+    })
 }

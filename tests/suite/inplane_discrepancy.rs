@@ -82,8 +82,15 @@ fn campaign(
 
 /// The analysis of `obs` against `groups` (small settings: 2 realizations a node, 4 grid
 /// intervals, 40 null data sets) searching `effects`; asserts that it names `effect` with
-/// the interval of its parameter `param` holding `hidden`.
-fn names(obs: Vec<Observation>, groups: Vec<GroupSetup>, effects: &[&str], effect: &str, param: &str, hidden: f64) {
+/// the interval of its parameter `param` holding `hidden`; returns the run.
+fn names(
+    obs: Vec<Observation>,
+    groups: Vec<GroupSetup>,
+    effects: &[&str],
+    effect: &str,
+    param: &str,
+    hidden: f64,
+) -> drystone::discrepancy::Run {
     let protocol = groups[0].protocol.clone().expect("set");
     let setup = Setup { groups, seed: 7, solver: SolverParams::default(), protocol };
     let mut s = Settings::default();
@@ -102,6 +109,7 @@ fn names(obs: Vec<Observation>, groups: Vec<GroupSetup>, effects: &[&str], effec
         p.value,
         p.interval
     );
+    run
 }
 
 #[test]
@@ -121,7 +129,7 @@ fn a_softer_joint_hidden_in_in_plane_data_is_named() {
             (InPlaneQuantity::InitialStiffness, d.initial_stiffness_kn_per_mm, 0.1, 2.0),
         ]
     });
-    names(obs, groups, &["kn_scale", "toe_crushing"], "kn_scale", "factor", HIDDEN);
+    let _ = names(obs, groups, &["kn_scale", "toe_crushing"], "kn_scale", "factor", HIDDEN);
 }
 
 /// The hidden 1/L of the leaning jack, per m.
@@ -143,5 +151,34 @@ fn a_leaning_jack_hidden_in_in_plane_data_is_named() {
             .fold((f64::NEG_INFINITY, 0.0), |best, p| if p.0 > best.0 { p } else { best });
         vec![(InPlaneQuantity::PeakForce, peak, 0.1, 0.5), (InPlaneQuantity::DriftAtPeak, drift, 0.01, 0.15)]
     });
-    names(obs, groups, &["rig_friction", "jack_tilt"], "jack_tilt", "inverse_length_per_m", HIDDEN_INVERSE_LENGTH);
+    let effects = ["rig_friction", "jack_tilt", "bed_stiffness"];
+    let run = names(obs, groups, &effects, "jack_tilt", "inverse_length_per_m", HIDDEN_INVERSE_LENGTH);
+    held_friction(&run);
+}
+
+/// The refit with the bearing friction held (`Run::refit_held`, what the in-plane loops'
+/// check does with the friction they read) on the leaning jack's data, which have none:
+/// held at 0 the jack's 1/L is found again, on its pair with the friction and on the
+/// triple with the beds' stiffness (no run of their own: the analysis's grids read again);
+/// held at 0.04 the fit is worse and gives the jack less; the friction alone held at its
+/// neutral 0 is the baseline, to the last digit.
+fn held_friction(run: &drystone::discrepancy::Run) {
+    let a = &run.analysis;
+    let base = run.refit_held(&[], "rig_friction", 0.0).expect("rig_friction alone");
+    assert!((base.heldout_error - a.baseline_heldout_error).abs() < 1e-9, "{base:?} vs {}", a.baseline_heldout_error);
+    let jack = |h: &drystone::discrepancy::HeldRefit| {
+        h.parameters.iter().find(|(n, _)| n == "jack_tilt.inverse_length_per_m").map(|(_, v)| *v).expect("1/L")
+    };
+    let none = run.refit_held(&["jack_tilt"], "rig_friction", 0.0).expect("the pair of the rig's forces");
+    assert!((0.3..=0.5).contains(&jack(&none)), "{none:?}");
+    assert!(none.heldout_error < a.baseline_heldout_error - 1.0, "{none:?} vs {}", a.baseline_heldout_error);
+    let wrong = run.refit_held(&["jack_tilt"], "rig_friction", 0.04).expect("the pair");
+    assert!(wrong.heldout_error > none.heldout_error + 0.1 && jack(&wrong) < jack(&none), "{wrong:?} vs {none:?}");
+    let triple = run.refit_held(&["jack_tilt", "bed_stiffness"], "rig_friction", 0.0).expect("the triple");
+    let mut parts: Vec<&str> = triple.name.split('+').collect();
+    parts.sort_unstable();
+    assert_eq!(parts, ["bed_stiffness", "jack_tilt", "rig_friction"]);
+    assert!((0.3..=0.5).contains(&jack(&triple)), "{triple:?}");
+    assert!(run.refit_held(&["kn_scale"], "rig_friction", 0.0).is_none(), "an effect not searched has no surrogate");
+    assert!(run.refit_held(&["jack_tilt"], "rig_friction", 0.5).is_none(), "outside rig_friction's range");
 }

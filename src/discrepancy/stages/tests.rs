@@ -218,6 +218,7 @@ fn screening_scores_the_baseline_and_ranks_the_candidates_by_their_heldout_error
         baseline: at(20.0),
         candidates: vec![candidate("kn_scale", [20.0; 3]), candidate("initial_lean", [20.0, 21.0, 22.0])],
         readings_pairs: vec![],
+        readings_triples: vec![],
     };
     let s = screen(&lib, data, &specimens);
     let c = sigma.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln();
