@@ -59,7 +59,24 @@ fn own_check(
             .friction_read
             .map(|f| format!("  μ_r read {:.4} [{:.4}, {:.4}], χ² {:.1}", f.friction, f.low, f.high, f.chi2))
             .unwrap_or_default();
-        summary.push(format!("  {:<36} χ² {:>8.1}  p {:.2e}  {}{read}", m.name, m.chi2, m.p_value, m.verdict.words()));
+        let peaks =
+            m.peaks.as_ref().map(|p| format!("; held-out error with it {:.2}", p.heldout_error)).unwrap_or_default();
+        summary.push(format!(
+            "  {:<36} χ² {:>8.1}  p {:.2e}  {}{read}{peaks}",
+            m.name,
+            m.chi2,
+            m.p_value,
+            m.verdict.words()
+        ));
+    }
+    if let Some((m, p)) = l.standing().first().and_then(|m| m.peaks.as_ref().map(|p| (m, p))) {
+        summary.push(format!(
+            "  both readings leave standing: {} with μ_r {:.4} held, held-out error {:.2} (baseline {:.2})",
+            m.name,
+            m.friction_read.map_or(f64::NAN, |f| f.friction),
+            p.heldout_error,
+            l.baseline_heldout_error
+        ));
     }
     let json = serde_json::to_value(&l).map_err(|e| OwnStudyError(Box::new(e)))?;
     Ok(Some(OwnCheck { key: "loops", markdown: l.markdown(), json, summary }))
