@@ -289,7 +289,7 @@ impl LoopCheck {
                 .parameters
                 .iter()
                 .filter(|(n, _)| !n.starts_with("rig_friction."))
-                .map(|(n, v)| format!("{n} {v:.3}"))
+                .map(|(n, v)| if v.abs() >= 0.1 || *v == 0.0 { format!("{n} {v:.3}") } else { format!("{n} {v:.2e}") })
                 .collect();
             let _ = writeln!(
                 md,
