@@ -16,8 +16,15 @@
 //!
 //! ```sh
 //! cargo run --release --example realwall_design -- run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] [--without-mechanism]
+//! cargo run --release --example realwall_design -- rescore FROM.csv OUT.csv
 //! cargo run --release --example realwall_design -- summary OUT.csv [MORE.csv ...]
 //! ```
+//!
+//! `rescore` makes every data set of FROM.csv again with the current design: where the
+//! design makes the same follow-up as FROM's row, the row's observed columns are kept (the
+//! analysis of both campaigns depends on the data set and the follow-up made, nothing
+//! else) and its predicted columns replaced, with no follow-up run; where it makes
+//! another, the data set is run in full.
 //!
 //! `CLASSES`: indices into the classes (`0,2`; 0–5 the hidden effects, 6 null data),
 //! default all; `--without-mechanism`: the best follow-up that does not read the failure
@@ -77,12 +84,35 @@ fn main() {
     match args.first().map(String::as_str) {
         Some("run") if args.len() >= 2 => run(&args[1..]),
         Some("summary") if args.len() >= 2 => summary(&args[1..]),
+        Some("rescore") if args.len() >= 3 => rescore(&args[1], &args[2]),
         _ => {
             eprintln!(
-                "usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | summary FILE.csv ..."
+                "usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | rescore FROM.csv OUT.csv | summary FILE.csv ..."
             );
             std::process::exit(2);
         }
+    }
+}
+
+/// What every data set of a column shares: the test bed's study, its setup, the prepared
+/// forward runs and the design's settings.
+struct Bed {
+    st: Study,
+    setup: drystone::discrepancy::Setup,
+    prep: drystone::discrepancy::Prepared,
+    ds: DesignSettings,
+}
+
+impl Bed {
+    fn new() -> Bed {
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+        let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
+        let s = st.discrepancy.clone();
+        let setup = setup_of(&st, s.most_realizations());
+        let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
+        let prep = prepare(&setup, &template, &s, &st.library).unwrap();
+        let ds = DesignSettings { specimens: SPECIMENS as usize, replicates: 100, ..DesignSettings::default() };
+        Bed { st, setup, prep, ds }
     }
 }
 
@@ -98,13 +128,7 @@ fn run(args: &[String]) {
     if !out.exists() {
         std::fs::write(&out, format!("{HEADER}\n")).unwrap();
     }
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
-    let s = st.discrepancy.clone();
-    let setup = setup_of(&st, s.most_realizations());
-    let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
-    let prep = prepare(&setup, &template, &s, &st.library).unwrap();
-    let ds = DesignSettings { specimens: SPECIMENS as usize, replicates: 100, ..DesignSettings::default() };
+    let bed = Bed::new();
     for (ci, e) in classes().into_iter().enumerate() {
         if only.as_ref().is_some_and(|o| !o.contains(&ci)) {
             continue;
@@ -113,81 +137,127 @@ fn run(args: &[String]) {
             if done.contains(&(e.label(), i)) {
                 continue;
             }
-            let first = 1000 * ci as u64 + 100 + 10 * i as u64;
-            let t0 = std::time::Instant::now();
-            let obs = data_set(&st, DATA_SEED, first, SPECIMENS, e, NOISE, &TILTS, s.sigma);
-            let mut run = analyze(&prep, obs.clone(), first).unwrap();
-            let a = &run.analysis;
-            let was = alone(e, a.cause.as_ref().map(|c| c.name.as_str()), &a.tie);
-            let first_tie = a.tie.clone();
-            let m = menu(&st, &setup, &run).unwrap();
-            let mut plan = design(&run, &setup, m, &ds, first, &quiet).unwrap();
-            if without_mechanism {
-                // The best follow-up that does not read the mechanism, made as the best.
-                let reads = |r: &drystone::discrepancy::design::RankedFollowUp| {
-                    r.followup.observables.iter().any(|o| o.is_mechanism())
-                };
-                let Some(k) = plan.ranked.iter().position(|r| !reads(r)) else {
-                    eprintln!("{} #{i}: no follow-up without the mechanism", e.label());
-                    continue;
-                };
-                let chosen = plan.ranked.remove(k);
-                plan.ranked.insert(0, chosen);
-                if k > 0 {
-                    // The re-estimate is the design's best's: this column reports the
-                    // ranking's own estimate of the follow-up it makes instead.
-                    plan.reported = None;
-                }
-            }
-            let best = plan.best().unwrap().clone();
-            // The design says no follow-up of its menu reaches the target within its ladder.
-            let says_none = plan.ranked.iter().all(|r| r.to_target.is_none());
-            // The plan kept beside the CSV, to score other readings of it without a rerun.
-            let plans = out.with_extension("plans");
-            let _ = std::fs::create_dir_all(&plans);
-            // The class's label made a file name ("table Kn 5.0e6 Pa/m" → "table_Kn_5.0e6_Pa_m").
-            let stem: String =
-                e.label().chars().map(|c| if c.is_alphanumeric() || c == '.' { c } else { '_' }).collect();
-            let kept = plans.join(format!("{stem}-{i}.json"));
-            if let Err(err) = std::fs::write(&kept, serde_json::to_string(&plan).unwrap_or_default()) {
-                eprintln!("{}: {err} (the design is not kept)", kept.display());
-            }
-            run.followup = Some(plan.clone());
-            let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
-            let _ = std::fs::remove_dir_all(&dir);
-            let files = write_followup(&st, &plan, &dir, SPECIMENS as usize, None).unwrap().unwrap();
-            let fst = Study::from_file(&files.study).expect("the follow-up study reads");
-            // The follow-up's specimens from the hidden truth walls: fresh realizations of the
-            // follow-up's group, edited by the same hidden edit.
-            let mut only_group = fst.clone();
-            only_group.groups.retain(|g| g.name == best.followup.group);
-            let reads_mechanism = best.followup.observables.iter().any(|o| o.is_mechanism());
-            let seen = MechanismNoise { misreading: 0.1 };
-            let more = data_set_with_mechanism(
-                &only_group,
-                DATA_SEED,
-                first + 50_000,
-                SPECIMENS,
-                e,
-                NOISE,
-                seen,
-                &TILTS,
-                s.sigma,
-            );
-            let mut both = obs.clone();
-            both.extend(more.obs);
-            if reads_mechanism {
-                both.extend(mechanism_observations_via_file(&only_group, &dir.join("mech"), &more.mechanism, s.sigma));
-            }
-            let fsetup = setup_of(&fst, fst.discrepancy.most_realizations());
-            let fprep = prepare(&fsetup, &both, &fst.discrepancy, &fst.library).unwrap();
-            let run2 = analyze(&fprep, both, first).unwrap();
-            let b = &run2.analysis;
-            let cause2 = b.cause.as_ref().map(|c| c.name.clone());
-            let now = alone(e, cause2.as_deref(), &b.tie);
-            let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
-            let alarm = e == Edit::None && b.verdict.name() != "no_effect";
-            let row = format!(
+            one_set(&bed, ci, e, i, without_mechanism, None, &out);
+        }
+    }
+}
+
+/// Every row of `from` made again by the current design on the same data set: where the
+/// design makes the same follow-up as the row, the row's observed columns (the analysis of
+/// both campaigns, which depends on the follow-up made alone) are kept and its predicted
+/// columns replaced; where it makes another, the data set is run in full. Rows already in
+/// `out` are skipped.
+fn rescore(from: &str, out: &str) {
+    let out = PathBuf::from(out);
+    let done: Vec<(String, usize)> =
+        read_rows(&out).iter().map(|r| (r[0].clone(), r[1].parse().unwrap_or(0))).collect();
+    if !out.exists() {
+        std::fs::write(&out, format!("{HEADER}\n")).unwrap();
+    }
+    let bed = Bed::new();
+    let classes = classes();
+    for row in read_rows(Path::new(from)) {
+        let i: usize = row[1].parse().unwrap_or(0);
+        let Some(ci) = classes.iter().position(|e| e.label() == row[0]) else { continue };
+        if done.contains(&(row[0].clone(), i)) {
+            continue;
+        }
+        one_set(&bed, ci, classes[ci], i, false, Some(&row), &out);
+    }
+}
+
+/// One data set of class `e` (index `ci`), set `i`: the first campaign analysed, the design,
+/// the follow-up made and both campaigns analysed; the row appended to `out`. With `old`,
+/// a row of the same data set made by another design: if the follow-up made is the same,
+/// its observed columns are kept (no follow-up run).
+fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old: Option<&[String]>, out: &Path) {
+    let (st, setup, prep, ds) = (&bed.st, &bed.setup, &bed.prep, &bed.ds);
+    let s = &st.discrepancy;
+    let first = 1000 * ci as u64 + 100 + 10 * i as u64;
+    let t0 = std::time::Instant::now();
+    let obs = data_set(st, DATA_SEED, first, SPECIMENS, e, NOISE, &TILTS, s.sigma);
+    let mut run = analyze(prep, obs.clone(), first).unwrap();
+    let a = &run.analysis;
+    let was = alone(e, a.cause.as_ref().map(|c| c.name.as_str()), &a.tie);
+    let first_tie = a.tie.clone();
+    let m = menu(st, setup, &run).unwrap();
+    let mut plan = design(&run, setup, m, ds, first, &quiet).unwrap();
+    if without_mechanism {
+        // The best follow-up that does not read the mechanism, made as the best.
+        let reads =
+            |r: &drystone::discrepancy::design::RankedFollowUp| r.followup.observables.iter().any(|o| o.is_mechanism());
+        let Some(k) = plan.ranked.iter().position(|r| !reads(r)) else {
+            eprintln!("{} #{i}: no follow-up without the mechanism", e.label());
+            return;
+        };
+        let chosen = plan.ranked.remove(k);
+        plan.ranked.insert(0, chosen);
+        if k > 0 {
+            // The re-estimate is the design's best's: this column reports the
+            // ranking's own estimate of the follow-up it makes instead.
+            plan.reported = None;
+        }
+    }
+    let best = plan.best().unwrap().clone();
+    // The design says no follow-up of its menu reaches the target within its ladder.
+    let says_none = plan.ranked.iter().all(|r| r.to_target.is_none());
+    // The plan kept beside the CSV, to score other readings of it without a rerun.
+    let plans = out.with_extension("plans");
+    let _ = std::fs::create_dir_all(&plans);
+    // The class's label made a file name ("table Kn 5.0e6 Pa/m" → "table_Kn_5.0e6_Pa_m").
+    let stem: String = e.label().chars().map(|c| if c.is_alphanumeric() || c == '.' { c } else { '_' }).collect();
+    let kept = plans.join(format!("{stem}-{i}.json"));
+    if let Err(err) = std::fs::write(&kept, serde_json::to_string(&plan).unwrap_or_default()) {
+        eprintln!("{}: {err} (the design is not kept)", kept.display());
+    }
+    if let Some(old) = old.filter(|o| o[3] == best.followup.name.replace('"', "'")) {
+        // The same follow-up made: the observed columns are the row's.
+        let mut row: Vec<String> = old.to_vec();
+        row[5] = format!("{:.4}", plan.promise().unwrap_or(best.at_budget.alone));
+        row[6] =
+            format!("{:.4}", plan.reported.as_ref().map_or(best.at_budget.weights_alone, |r| r.chance.weights_alone));
+        row[13] = format!("{:.0}", t0.elapsed().as_secs_f64());
+        row[17] = plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";");
+        row[18] = says_none.to_string();
+        row[19] = format!("{:.4}", best.at_budget.alone);
+        row[20] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0));
+        row[21] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1));
+        for k in [3, 14, 15, 16] {
+            row[k] = format!("\"{}\"", row[k]);
+        }
+        let row = row.join(",");
+        println!("{row}");
+        let mut f = std::fs::OpenOptions::new().append(true).open(out).unwrap();
+        writeln!(f, "{row}").unwrap();
+        return;
+    }
+    run.followup = Some(plan.clone());
+    let dir = std::env::temp_dir().join(format!("realwall_design-{}-{first}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let files = write_followup(st, &plan, &dir, SPECIMENS as usize, None).unwrap().unwrap();
+    let fst = Study::from_file(&files.study).expect("the follow-up study reads");
+    // The follow-up's specimens from the hidden truth walls: fresh realizations of the
+    // follow-up's group, edited by the same hidden edit.
+    let mut only_group = fst.clone();
+    only_group.groups.retain(|g| g.name == best.followup.group);
+    let reads_mechanism = best.followup.observables.iter().any(|o| o.is_mechanism());
+    let seen = MechanismNoise { misreading: 0.1 };
+    let more =
+        data_set_with_mechanism(&only_group, DATA_SEED, first + 50_000, SPECIMENS, e, NOISE, seen, &TILTS, s.sigma);
+    let mut both = obs.clone();
+    both.extend(more.obs);
+    if reads_mechanism {
+        both.extend(mechanism_observations_via_file(&only_group, &dir.join("mech"), &more.mechanism, s.sigma));
+    }
+    let fsetup = setup_of(&fst, fst.discrepancy.most_realizations());
+    let fprep = prepare(&fsetup, &both, &fst.discrepancy, &fst.library).unwrap();
+    let run2 = analyze(&fprep, both, first).unwrap();
+    let b = &run2.analysis;
+    let cause2 = b.cause.as_ref().map(|c| c.name.clone());
+    let now = alone(e, cause2.as_deref(), &b.tie);
+    let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
+    let alarm = e == Edit::None && b.verdict.name() != "no_effect";
+    let row = format!(
                 "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{},{says_none},{:.4},{:.4},{:.4}",
                 e.label(),
                 best.followup.name.replace('"', "'"),
@@ -205,12 +275,10 @@ fn run(args: &[String]) {
                 plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0),
                 plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1),
             );
-            println!("{row}");
-            let mut f = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
-            writeln!(f, "{row}").unwrap();
-            let _ = std::fs::remove_dir_all(&dir);
-        }
-    }
+    println!("{row}");
+    let mut f = std::fs::OpenOptions::new().append(true).open(out).unwrap();
+    writeln!(f, "{row}").unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The rows of a CSV written by `run` (fields split on commas outside quotes).

@@ -233,6 +233,17 @@ impl Surface {
         }
     }
 
+    /// Whether this is the additive surface of two single effects ([`Surface::Pair`],
+    /// re-centred or not): a pair the analysis adds to its ranking only when it beats
+    /// the best single.
+    pub fn is_pair(&self) -> bool {
+        match self {
+            Surface::Pair { .. } => true,
+            Surface::Corrected { inner, .. } => inner.is_pair(),
+            _ => false,
+        }
+    }
+
     /// The simulated values of every key at `x` (`dims()` coordinates).
     pub fn at(&self, x: &[f64]) -> Vec<Simulated> {
         match self {

@@ -36,9 +36,15 @@
 //!    held-out difference per specimen at least two standard errors; a reversal rate, the
 //!    share of data sets drawn from the truth on both campaigns, the first campaign's
 //!    design drawn anew as the analysis draws it, in which the other's held-out score
-//!    beats the truth's, under 5 %), on every observation or, with mechanism readings, on the angles and
+//!    beats the truth's, under 5 %: the analysis estimates that rate on data sets of its
+//!    own, so the test clears with a probability, [`problem::clears`]), on every observation or, with mechanism readings, on the angles and
 //!    displacements alone with the readings not favouring the other (as
-//!    [`super::TieCheck`] clears a challenger). The probability that the cause is then
+//!    [`super::TieCheck`] clears a challenger). A pair of single effects is a challenger
+//!    (and a truth that can be named) only in the simulated data sets where the analysis
+//!    would rank it: where its held-out error is below the best single's by the gain
+//!    margin, as the analysis admits the pairs it adds ([`Problem::pair_margin`]); a pair
+//!    that nests the truth can never be separated from it, and the analysis does not
+//!    rank it unless it beats the truth. The probability that the cause is then
 //!    named alone is the average over the truths, weighted by their prior weights. Beside
 //!    it: the truth alone holding [`super::SHARED`] (90 %) of the weight, and "right", the
 //!    truth among the models that share the weight.
@@ -74,7 +80,7 @@ pub use menu::{menu, GroupWall};
 pub use plan::{
     Chance, Contender, DesignSettings, FollowUp, FollowUpKind, Made, Plan, RankedFollowUp, Reported, WallEdit,
 };
-pub use problem::{FirstCampaign, Problem, Stream};
+pub use problem::{clears, FirstCampaign, Problem, Stream};
 pub use refit::{first_design, first_scores, heldout, FirstDesign, FirstScores, Refit};
 pub use truths::{contenders, pairs_possible, OUTSIDE_PRIOR};
 
@@ -242,7 +248,10 @@ pub fn reported(truths: &[Contender], chance: Chance, replicates: usize, selecte
     } else {
         1.0 / truths.len().max(1) as f64
     };
-    let effective_replicates = replicates as f64 / squares.max(f64::MIN_POSITIVE);
+    let kish = replicates as f64 / squares.max(f64::MIN_POSITIVE);
+    let (p, se) = (chance.alone, chance.alone_se);
+    let effective_replicates =
+        if se > 0.0 && p > 0.0 && p < 1.0 { (p * (1.0 - p) / (se * se)).min(kish) } else { kish };
     // The two-sided normal quantile of `Reported::LEVEL`.
     let z = statrs::distribution::Normal::standard().inverse_cdf(0.5 + Reported::LEVEL / 2.0);
     let interval = crate::stats::wilson(chance.alone, effective_replicates, z);
@@ -295,6 +304,8 @@ impl Shared<'_> {
             unseen_walls: f.new_group.is_some(),
             unseen_keys: &unseen,
             transfer: self.transfer,
+            pair_margin: Some(run.analysis.margins.baseline),
+            check_replicates: run.settings.check_replicates,
             first: Some(FirstCampaign {
                 keys: &fd.keys,
                 sigma: &fd.sigma,

@@ -93,6 +93,12 @@ pub struct Contender {
     /// A truth outside the analysis's contenders (the pair of the best singles, an effect
     /// not ranked among them), its prior a share of [`super::OUTSIDE_PRIOR`].
     pub outside: bool,
+    /// A pair of single effects that the analysis adds to its ranking only when it beats
+    /// the best single (`stages::add_pairs`: the pairs of the best one-parameter effects,
+    /// admitted when their held-out error is below the best single's less the gain
+    /// margin), as the analysis's own pairs and the pair of the best singles are; a
+    /// readings pair, which the analysis ranks always, is not one.
+    pub pair: bool,
     /// The candidate the design built for it (a pair the analysis did not try), with its
     /// first-campaign fit; `None`: the analysis's own.
     #[serde(skip)]
@@ -115,6 +121,10 @@ pub struct Chance {
     /// every other contender after every contender is refit on both campaigns
     /// ([`super::Problem::chances`]), the verdict's criterion.
     pub alone: f64,
+    /// The Monte Carlo standard error of `alone`: the standard deviation of `alone` over
+    /// bootstrap resamples of each truth's simulated follow-ups (the reversal rates, which
+    /// all of a truth's follow-ups share, resampled with them).
+    pub alone_se: f64,
     /// Probability that the true cause alone holds 90 % of the pseudo-BMA+ weight (the
     /// weights' concentration, reported beside the verdict's criterion).
     pub weights_alone: f64,
@@ -164,9 +174,13 @@ pub struct Reported {
     /// The Monte Carlo interval of `chance.alone`: the Wilson score interval
     /// ([`crate::stats::wilson`]) at [`Reported::LEVEL`] on the effective count `n_eff`.
     pub interval: (f64, f64),
-    /// The effective count of the interval: `replicates / Σ_t w_t²` (`w_t` the truths'
-    /// normalized priors; Kish's effective sample size of a weighted mean of proportions
-    /// each from `replicates` draws, Kish 1965, *Survey Sampling*).
+    /// The effective count of the interval: the count whose binomial variance is the
+    /// bootstrap's, `p (1 − p) / se²` (`p` = `chance.alone`, `se` = `chance.alone_se`),
+    /// at most `replicates / Σ_t w_t²` (`w_t` the truths' normalized priors; Kish's
+    /// effective sample size of a weighted mean of proportions each from `replicates`
+    /// draws, Kish 1965, *Survey Sampling*), which it is where `p` is 0 or 1 or the
+    /// bootstrap shows no spread. The reversal rates every follow-up of a truth shares
+    /// make the replicates less than independent, so the count is usually the smaller.
     pub effective_replicates: f64,
     /// The ranking's own estimate at the budget (the selecting replicates), beside it.
     pub selected: f64,

@@ -51,6 +51,15 @@ pub struct Problem<'a> {
     /// `[contender]`: the discrepancy it carries to a key the first campaign did not read
     /// ([`super::Inadequacy::transfer`], same units as `inadequacy`). Empty: none.
     pub transfer: &'a [f64],
+    /// The gain margin a pair contender ([`Contender::pair`]) must clear over the best
+    /// single contender, in held-out error per specimen (nats), to be in the ranking of a
+    /// simulated analysis of both campaigns ([`Problem::present`]; the analysis's
+    /// `margins.baseline`). `None`: every contender is in every ranking.
+    pub pair_margin: Option<f64>,
+    /// The data sets the analysis's own reversal test draws (its `check_replicates`): the
+    /// test is a Monte Carlo estimate, so whether it clears a challenger is itself random
+    /// ([`clears`]).
+    pub check_replicates: usize,
     /// The first campaign's design, to draw it anew from each truth for the reversal
     /// rates as the analysis's tie check draws them (both campaigns simulated). `None`:
     /// the reversal rates are read on the simulated follow-ups beside the first
@@ -135,12 +144,13 @@ struct Tally {
     by_weights: Vec<usize>,
     /// `[ladder]`: replicates with the truth among the models that share the weight.
     right: Vec<usize>,
-    /// `[ladder][other]`: replicates in which `other` scores at least the truth, on every
-    /// observation and on the measures.
-    reversed: Vec<Vec<(usize, usize)>>,
+    /// `[ladder][replicate][other]`: whether `other` scores at least the truth in that
+    /// replicate, on every observation and on the measures.
+    reversed: Vec<Vec<Vec<(bool, bool)>>>,
     /// `[ladder][replicate][other]`: whether the data test separates `other` from the
-    /// truth on every observation and on the measures.
-    seps: Vec<Vec<Vec<(bool, bool)>>>,
+    /// truth on every observation and on the measures, and whether `other` is absent from
+    /// that replicate's ranking ([`Problem::present`]).
+    seps: Vec<Vec<Vec<(bool, bool, bool)>>>,
 }
 
 /// The score of one reading (key, value bits) at every scan point of one contender,
@@ -360,6 +370,22 @@ impl Problem<'_> {
             .collect()
     }
 
+    /// `[contender]`: whether contender `c` is in the ranking of a simulated analysis of
+    /// both campaigns whose held-out log scores per specimen are `elpd[c]` (nats): every
+    /// contender but a pair ([`Contender::pair`]), and a pair when its mean held-out score
+    /// beats the best single contender's by more than [`Problem::pair_margin`], as the
+    /// analysis admits the pairs it adds (`stages::admit_pairs`, held-out error below the
+    /// best single's less the gain margin). The analysis's further conditions (the best
+    /// single's misfit, the pair's AICc below the single's) only admit fewer pairs; the
+    /// best single is taken among the contenders, not the whole library.
+    fn present(&self, elpd: &[Vec<f64>]) -> Vec<bool> {
+        let pair = |c: usize| self.contenders.get(c).is_some_and(|x| x.pair);
+        let Some(margin) = self.pair_margin else { return vec![true; elpd.len()] };
+        let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len().max(1) as f64;
+        let best = (0..elpd.len()).filter(|&c| !pair(c)).map(|c| mean(&elpd[c])).fold(f64::NEG_INFINITY, f64::max);
+        (0..elpd.len()).map(|c| !pair(c) || mean(&elpd[c]) - best > margin).collect()
+    }
+
     /// One truth's replicates: for every ladder count, the weights' answer and the tie
     /// check's two tests against every other contender.
     fn tally(&self, t: usize, ladder: &[usize], replicates: usize, draws: usize, stream: Stream) -> Tally {
@@ -369,7 +395,7 @@ impl Problem<'_> {
         let mut tally = Tally {
             by_weights: vec![0; ladder.len()],
             right: vec![0; ladder.len()],
-            reversed: vec![vec![(0, 0); k]; ladder.len()],
+            reversed: vec![Vec::with_capacity(replicates); ladder.len()],
             seps: vec![Vec::with_capacity(replicates); ladder.len()],
         };
         let mut caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
@@ -388,6 +414,7 @@ impl Problem<'_> {
             // Both campaigns drawn from the truth, for the reversal rates.
             let drawn = self.first.as_ref().map(|f| self.first_scores_drawn(f, t, &mut first_caches, &mut rng));
             for (li, &n) in ladder.iter().enumerate() {
+                let mut reversed = vec![(false, false); k];
                 if let Some(drawn) = &drawn {
                     // The analysis's reversal: a challenger whose held-out score on data
                     // drawn from the cause beats the cause's (its held-out error lower).
@@ -398,18 +425,18 @@ impl Problem<'_> {
                         })
                         .collect();
                     for c in 0..k {
-                        tally.reversed[li][c].0 += usize::from(c != t && totals[c].0 > totals[t].0);
-                        tally.reversed[li][c].1 += usize::from(c != t && totals[c].1 > totals[t].1);
+                        reversed[c] = (c != t && totals[c].0 > totals[t].0, c != t && totals[c].1 > totals[t].1);
                     }
                 }
                 let (elpd, measures): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
                     (0..k).map(|c| heldout_both(&real[c], &new[c], n)).unzip();
-                let w = pseudo_bma(&elpd, draws, &mut rng);
+                let present = self.present(&elpd);
+                let w = pseudo_bma_of(&elpd, &present, draws, &mut rng);
                 let (a, r) = named(&w, t);
                 let mut sep = Vec::with_capacity(k);
                 for c in 0..k {
-                    if c == t {
-                        sep.push((true, true));
+                    if c == t || !present[c] {
+                        sep.push((true, true, !present[c]));
                         continue;
                     }
                     let diff = |e: &[Vec<f64>]| -> Vec<f64> { e[t].iter().zip(&e[c]).map(|(x, y)| x - y).collect() };
@@ -417,8 +444,7 @@ impl Problem<'_> {
                     let dr: Vec<f64> = d.iter().zip(&dm).map(|(x, y)| x - y).collect();
                     let (sum, sum_m, sum_r) = (d.iter().sum::<f64>(), dm.iter().sum::<f64>(), dr.iter().sum::<f64>());
                     if drawn.is_none() {
-                        tally.reversed[li][c].0 += usize::from(sum <= 0.0);
-                        tally.reversed[li][c].1 += usize::from(sum_m <= 0.0);
+                        reversed[c] = (sum <= 0.0, sum_m <= 0.0);
                     }
                     let readings = dr.iter().any(|&x| x != 0.0);
                     // A difference of exactly zero (both models score every specimen alike,
@@ -430,14 +456,57 @@ impl Problem<'_> {
                             && sum_m > 0.0
                             && sum_m >= bound * difference_se(&dm)
                             && sum_r >= -bound * difference_se(&dr),
+                        false,
                     ));
                 }
                 tally.by_weights[li] += usize::from(a);
                 tally.right[li] += usize::from(r);
                 tally.seps[li].push(sep);
+                tally.reversed[li].push(reversed);
             }
         }
         tally
+    }
+
+    /// Truth `t`'s probability of being named alone at ladder count `li` from its
+    /// replicates `which` (indices into its tally, repeats allowed): the data test of each
+    /// replicate against every other contender ranked there, times the probability that
+    /// the analysis's reversal test clears it ([`clears`], from the reversals among
+    /// `which`).
+    fn alone_of(&self, tally: &Tally, t: usize, li: usize, which: &[usize]) -> f64 {
+        let k = self.contenders.len();
+        let n = which.len().max(1);
+        let counts: Vec<(usize, usize)> = (0..k)
+            .map(|c| {
+                which.iter().fold((0, 0), |(a, m), &r| {
+                    let f = tally.reversed[li][r][c];
+                    (a + usize::from(f.0), m + usize::from(f.1))
+                })
+            })
+            .collect();
+        let clear: Vec<(f64, f64)> = counts
+            .iter()
+            .map(|&(all, measures)| (clears(all, n, self.check_replicates), clears(measures, n, self.check_replicates)))
+            .collect();
+        let alone: f64 = which
+            .iter()
+            .map(|&r| &tally.seps[li][r])
+            .filter(|sep| !sep[t].2)
+            .map(|sep| {
+                (0..k)
+                    .filter(|&c| c != t && !sep[c].2)
+                    .map(|c| match (sep[c].0, sep[c].1) {
+                        // The two clears are of one model pair on the same data sets:
+                        // taken as moving together.
+                        (true, true) => clear[c].0.max(clear[c].1),
+                        (true, false) => clear[c].0,
+                        (false, true) => clear[c].1,
+                        (false, false) => 0.0,
+                    })
+                    .product::<f64>()
+            })
+            .sum();
+        alone / n as f64
     }
 
     /// The probabilities at every specimen count of `ladder`, from `replicates` simulated
@@ -454,7 +523,8 @@ impl Problem<'_> {
     /// beside each simulated follow-up, in which the other contender's held-out score
     /// beats the truth's; without [`Problem::first`], the share of the simulated
     /// follow-ups beside the first campaign's data in which it scores at least as well)
-    /// under [`TieCheck::REVERSAL_RATE`]; with readings of the
+    /// under [`TieCheck::REVERSAL_RATE`] (a probability, [`clears`]: the analysis's test
+    /// draws [`Problem::check_replicates`] data sets of its own); with readings of the
     /// mechanism, either on every observation or on the measures alone with the readings
     /// not favouring the other beyond the data bound, as the analysis clears a challenger.
     /// The weights' concentration (the truth alone holding [`crate::discrepancy::SHARED`]
@@ -477,26 +547,22 @@ impl Problem<'_> {
             .iter()
             .enumerate()
             .map(|(li, &n)| {
-                let by: Vec<f64> = tallies
-                    .iter()
-                    .enumerate()
-                    .map(|(t, tally)| {
-                        let clear: Vec<(bool, bool)> = tally.reversed[li]
-                            .iter()
-                            .map(|&(all, measures)| {
-                                (
-                                    (all as f64 / reps) < TieCheck::REVERSAL_RATE,
-                                    (measures as f64 / reps) < TieCheck::REVERSAL_RATE,
-                                )
+                let all: Vec<usize> = (0..replicates).collect();
+                let by: Vec<f64> =
+                    tallies.iter().enumerate().map(|(t, tally)| self.alone_of(tally, t, li, &all)).collect();
+                // The Monte Carlo standard error of `alone`: the replicates of every truth
+                // resampled (a bootstrap; the reversal counts, which every replicate of a
+                // truth shares, resampled with them), on a generator of its own.
+                let mut rng = rng_for(stream.seed ^ BOOTSTRAP_SEED, li as u64, stream.purpose);
+                let boot: Vec<f64> = (0..BOOTSTRAP)
+                    .map(|_| {
+                        (0..truths)
+                            .map(|t| {
+                                let which: Vec<usize> =
+                                    (0..replicates).map(|_| rng.random_range(0..replicates.max(1))).collect();
+                                prior(t) * self.alone_of(&tallies[t], t, li, &which)
                             })
-                            .collect();
-                        let alone = tally.seps[li]
-                            .iter()
-                            .filter(|sep| {
-                                (0..k).filter(|&c| c != t).all(|c| (sep[c].0 && clear[c].0) || (sep[c].1 && clear[c].1))
-                            })
-                            .count();
-                        alone as f64 / reps
+                            .sum()
                     })
                     .collect();
                 let mean = |f: &dyn Fn(&Tally) -> f64| -> f64 {
@@ -505,6 +571,7 @@ impl Problem<'_> {
                 Chance {
                     specimens: n,
                     alone: (0..truths).map(|t| prior(t) * by[t]).sum(),
+                    alone_se: crate::stats::sd(&boot),
                     weights_alone: mean(&|tally| tally.by_weights[li] as f64 / reps),
                     right: mean(&|tally| tally.right[li] as f64 / reps),
                     alone_by_truth: by,
@@ -528,6 +595,48 @@ fn heldout_both(first: &NewScores, new: &NewScores, n: usize) -> (Vec<f64>, Vec<
         }
         _ => unreachable!("a contender is refit on both campaigns or on neither"),
     }
+}
+
+/// Bootstrap resamples of the replicates behind [`Chance::alone_se`].
+const BOOTSTRAP: usize = 200;
+
+/// Mixed into the stream's seed for the bootstrap's generator (no simulated data set draws
+/// from it).
+const BOOTSTRAP_SEED: u64 = 0xb007_5a3d_0000_0001;
+
+/// The probability that the analysis's reversal test clears a challenger
+/// ([`TieCheck::REVERSAL_RATE`]: fewer than 5 % of its `check` data sets drawn from the
+/// truth reversed) when `k` of the design's `n` simulated data sets reversed: the test's
+/// count is binomial, `K ~ Bin(check, p)`, with the reversal probability `p` uncertain
+/// after the design's own draws, `p ~ Beta(k + ½, n − k + ½)` (Jeffreys), so `K` is
+/// beta-binomial and the probability is its distribution function at the last count that
+/// clears. A rate the design estimates near 5 % clears about half the time, as the
+/// analysis's estimate falls on either side of it; the design's own count thresholded at
+/// 5 % would make the promise jump between 0 and 1 on one replicate.
+pub fn clears(k: usize, n: usize, check: usize) -> f64 {
+    use statrs::function::gamma::ln_gamma;
+    let (a, b) = (k as f64 + 0.5, (n.max(k) - k) as f64 + 0.5);
+    let r = check.max(1);
+    let ln_beta = |x: f64, y: f64| ln_gamma(x) + ln_gamma(y) - ln_gamma(x + y);
+    let ln_choose =
+        |m: usize, j: usize| ln_gamma(m as f64 + 1.0) - ln_gamma(j as f64 + 1.0) - ln_gamma((m - j) as f64 + 1.0);
+    let base = ln_beta(a, b);
+    (0..=r)
+        .take_while(|&j| (j as f64) / (r as f64) < TieCheck::REVERSAL_RATE)
+        .map(|j| (ln_choose(r, j) + ln_beta(j as f64 + a, (r - j) as f64 + b) - base).exp())
+        .sum::<f64>()
+        .min(1.0)
+}
+
+/// [`pseudo_bma`] over the contenders `present` in the ranking, 0 for the others (the
+/// same random draws whatever the contenders present).
+fn pseudo_bma_of(elpd: &[Vec<f64>], present: &[bool], draws: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
+    if present.iter().all(|&p| p) {
+        return pseudo_bma(elpd, draws, rng);
+    }
+    let kept: Vec<Vec<f64>> = elpd.iter().zip(present).filter(|(_, &p)| p).map(|(e, _)| e.clone()).collect();
+    let mut w = pseudo_bma(&kept, draws, rng).into_iter();
+    present.iter().map(|&p| if p { w.next().unwrap_or(0.0) } else { 0.0 }).collect()
 }
 
 /// Whether contender `t` alone holds [`crate::discrepancy::SHARED`] of the weights `w` (alone), and

@@ -17,6 +17,7 @@ fn tied(n: usize) -> Vec<Contender> {
             elpd: vec![-1.0; n],
             elpd_measures: vec![-1.0; n],
             outside: false,
+            pair: false,
             made: None,
         })
         .collect()
@@ -39,6 +40,8 @@ fn problem<'a>(
         unseen_walls: false,
         unseen_keys: &[],
         transfer: &[],
+        pair_margin: None,
+        check_replicates: 200,
         truths: cs.len(),
         first: None,
         keys,
@@ -115,6 +118,69 @@ fn the_first_campaign_counts_in_the_weights() {
     assert!((c.alone - (0.99 * c.alone_by_truth[0] + 0.01 * c.alone_by_truth[1])).abs() < 1e-12);
 }
 
+/// A pair that nests the truth (it predicts the follow-up as the truth does, as the pair
+/// of the truth and another effect at that effect's neutral value does) has a held-out
+/// difference of exactly zero from the truth on every simulated follow-up, so no data
+/// separate them. The analysis ranks such a pair only when it beats the best single by
+/// the gain margin, which a pair that predicts as the truth never does: the truth is then
+/// named alone exactly as often as when the pair is not a contender at all (the same
+/// simulated data: a contender draws no random numbers). Without the admission rule the
+/// pair ties the truth in every replicate.
+#[test]
+fn a_pair_that_nests_the_truth_blocks_it_only_where_the_analysis_would_rank_it() {
+    let mut cs = tied(6);
+    cs[0].prior = 0.8;
+    cs[1].prior = 0.2;
+    let mut pair = cs[0].clone();
+    pair.name = "a+b".into();
+    pair.prior = 0.0;
+    pair.pair = true;
+    let keys = [Observable::CollapseAngle];
+    let sims2 = [vec![sim(20.0, 0.3)], vec![sim(23.0, 0.3)]];
+    let sims3 = [vec![sim(20.0, 0.3)], vec![sim(23.0, 0.3)], vec![sim(20.0, 0.3)]];
+    let sigma = [0.25];
+    let with_pair: Vec<Contender> = cs.iter().cloned().chain([pair]).collect();
+    let at8 = |p: Problem<'_>| p.chances(&[8], 100, 100, 3)[0].clone();
+    let alone = at8(Problem { truths: 2, ..problem(&cs, &sims2, &keys, &sigma) });
+    let blocked = at8(Problem { truths: 2, ..problem(&with_pair, &sims3, &keys, &sigma) });
+    let ranked_as_the_analysis_ranks =
+        at8(Problem { truths: 2, pair_margin: Some(0.05), ..problem(&with_pair, &sims3, &keys, &sigma) });
+    assert!(alone.alone_by_truth[0] > 0.95, "{alone:?}");
+    assert_eq!(blocked.alone_by_truth[0], 0.0, "{blocked:?}");
+    assert_eq!(
+        ranked_as_the_analysis_ranks.alone_by_truth[..2],
+        alone.alone_by_truth[..],
+        "{ranked_as_the_analysis_ranks:?}"
+    );
+    assert_eq!(ranked_as_the_analysis_ranks.weights_alone, alone.weights_alone);
+    // The single that differs from the pair is still checked: with `b` the truth, the
+    // pair (as `a`) is not ranked either, and `a` is separated as before.
+    assert_eq!(ranked_as_the_analysis_ranks.alone_by_truth[1], alone.alone_by_truth[1]);
+}
+
+/// The probability that the analysis's reversal test clears: with the reversal
+/// probability known (the design's count from very many data sets) it is the binomial
+/// probability of fewer than 5 % of the analysis's 200 data sets reversed (statrs's
+/// binomial distribution function, an independent path); none reversed of 100 clears
+/// almost surely, all of them never, 5 of 100 (the threshold) about half the time, and
+/// more reversals never clear more often.
+#[test]
+fn the_reversal_test_clears_with_the_probability_of_the_analysis_s_own_count() {
+    use statrs::distribution::{Binomial, DiscreteCDF};
+    for p in [0.01, 0.03, 0.05, 0.08] {
+        let n = 1_000_000;
+        let k = (p * n as f64).round() as usize;
+        let want = Binomial::new(p, 200).unwrap().cdf(9);
+        assert!((clears(k, n, 200) - want).abs() < 0.01, "p {p}: {} against {want}", clears(k, n, 200));
+    }
+    assert!(clears(0, 100, 200) > 0.99);
+    assert!(clears(100, 100, 200) < 1e-12);
+    let mid = clears(5, 100, 200);
+    assert!((0.3..0.7).contains(&mid), "{mid}");
+    let v: Vec<f64> = (0..=20).map(|k| clears(k, 100, 200)).collect();
+    assert!(v.windows(2).all(|w| w[1] <= w[0]), "{v:?}");
+}
+
 /// Mechanism readings drawn from a model: one kind and one start seen per specimen, the
 /// failure height rounded to its reading width within the wall; models whose failures
 /// differ (table joint against mid-height) are separated by them.
@@ -189,7 +255,7 @@ fn a_contender_refit_on_both_campaigns_absorbs_a_follow_up_it_could_fit() {
     let held = problem(&[]).chances(&[8], 100, 100, 5);
     let refit = problem(&refits).chances(&[8], 100, 100, 5);
     assert!(held[0].alone_by_truth[0] > 0.95, "{held:?}");
-    assert!(refit[0].alone_by_truth[0] < 0.05, "{refit:?}");
+    assert!(refit[0].alone_by_truth[0] < 0.1, "{refit:?}");
     assert!(held[0].alone_by_truth[1] > 0.95 && refit[0].alone_by_truth[1] > 0.95, "{held:?} {refit:?}");
     // The same draws: the truths' streams do not depend on the refit or the threads.
     assert_eq!(refit, problem(&refits).chances(&[8], 100, 100, 5));
@@ -217,7 +283,7 @@ fn the_reversal_rates_draw_both_campaigns_from_the_truth_as_the_analysis_does() 
     let beside = problem(None).chances(&[1], 200, 50, 6);
     let drawn = problem(Some(first)).chances(&[1], 200, 50, 6);
     assert!(beside[0].alone > 0.95, "{beside:?}");
-    assert_eq!(drawn[0].alone, 0.0, "{drawn:?}");
+    assert!(drawn[0].alone < 1e-6, "{drawn:?}");
 }
 
 #[test]
@@ -329,12 +395,12 @@ fn on_walls_of_a_new_kind_the_truth_carries_the_contenders_disagreement() {
 }
 
 /// The optimizer's curse (Smith & Winkler 2006), and its cure. Twenty follow-ups that are
-/// the same test (two models 0.6° apart, eight specimens: a true probability near 0.43),
-/// each estimated on 40 replicates per truth of its own stream as the ranking estimates
-/// them: the best of the twenty estimates (0.50) runs above the truth (a reference on 1000
-/// replicates, 0.43). Its re-estimate, drawn on the report streams (by construction disjoint
-/// from every selecting stream: same seed, another ChaCha stream per truth), does not,
-/// and its interval holds the reference.
+/// the same test (two models 0.8° apart, five specimens), each estimated on 40 replicates
+/// per truth of its own stream as the ranking estimates them: the best of the twenty
+/// estimates runs above what such an estimate gives on average (the mean of 50 estimates
+/// on other streams), over ten such selections by 0.05 or more. Its re-estimate, drawn on
+/// the report streams (by construction disjoint from every selecting stream: same seed,
+/// another ChaCha stream per truth), does not, and its interval holds the reference.
 #[test]
 fn the_chosen_follow_up_is_re_estimated_on_replicates_disjoint_from_those_that_chose_it() {
     let first = |s: Stream, t: usize| -> Vec<u64> {
@@ -348,22 +414,33 @@ fn the_chosen_follow_up_is_re_estimated_on_replicates_disjoint_from_those_that_c
     }
     let cs = tied(6);
     let keys = [Observable::CollapseAngle];
-    let sims = [vec![sim(20.0, 0.3)], vec![sim(20.6, 0.3)]];
+    let sims = [vec![sim(20.0, 0.3)], vec![sim(20.8, 0.3)]];
     let sigma = [0.25];
     let p = problem(&cs, &sims, &keys, &sigma);
-    let reference = p.chances_on(&[8], 1000, 100, Stream::select(0xfeed))[0].alone;
+    // What an estimate on 40 replicates gives on average (its expectation: the clear
+    // probabilities depend on the replicate count, [`clears`]), on streams no selection
+    // below uses.
+    let reference =
+        (0..50).map(|i| p.chances_on(&[5], 40, 100, Stream::select(stream_seed(1000, i)))[0].alone).sum::<f64>() / 50.0;
     assert!(reference > 0.2 && reference < 0.7, "{reference}");
-    let estimates: Vec<f64> =
-        (0..20).map(|i| p.chances_on(&[8], 40, 100, Stream::select(stream_seed(17, i)))[0].alone).collect();
-    let best = (0..20).max_by(|&a, &b| estimates[a].total_cmp(&estimates[b]).then(b.cmp(&a))).unwrap();
-    let chance = p.chances_on(&[8], 40, 100, Stream::report(stream_seed(17, best)))[0].clone();
-    let r = reported(&cs, chance, 40, estimates[best]);
-    // Two equal priors: 80 effective replicates; the Monte Carlo standard error about 0.055.
-    assert!((r.effective_replicates - 80.0).abs() < 1e-9);
-    assert!(r.selected > reference + 0.05, "{} vs {reference}", r.selected);
-    assert!((r.chance.alone - reference).abs() < (r.selected - reference) / 2.0, "{r:?} vs {reference}");
-    assert!(r.interval.0 <= r.chance.alone && r.chance.alone <= r.interval.1, "{r:?}");
-    assert!(r.interval.0 <= reference && reference <= r.interval.1, "{r:?} vs {reference}");
+    // Ten such selections, each of twenty follow-ups on streams of its own seed.
+    let (mut selected, mut again, mut held) = (0.0, 0.0, 0);
+    for j in 0..10 {
+        let estimates: Vec<f64> =
+            (0..20).map(|i| p.chances_on(&[5], 40, 100, Stream::select(stream_seed(17 + j, i)))[0].alone).collect();
+        let best = (0..20).max_by(|&a, &b| estimates[a].total_cmp(&estimates[b]).then(b.cmp(&a))).unwrap();
+        let chance = p.chances_on(&[5], 40, 100, Stream::report(stream_seed(17 + j, best)))[0].clone();
+        let r = reported(&cs, chance, 40, estimates[best]);
+        // Two equal priors: at most 80 effective replicates, fewer by the shared reversals.
+        assert!(r.effective_replicates <= 80.0 + 1e-9 && r.effective_replicates > 1.0, "{r:?}");
+        assert!(r.interval.0 <= r.chance.alone && r.chance.alone <= r.interval.1, "{r:?}");
+        selected += r.selected / 10.0;
+        again += r.chance.alone / 10.0;
+        held += usize::from(r.interval.0 <= reference && reference <= r.interval.1);
+    }
+    assert!(selected > reference + 0.05, "{selected} vs {reference}");
+    assert!((again - reference).abs() < (selected - reference) / 2.0, "{again} vs {reference} (selected {selected})");
+    assert!(held >= 8, "the interval held the reference {held} times of 10");
 }
 
 /// The probabilities are the same bit for bit on one thread and on four: each truth draws
@@ -462,6 +539,6 @@ fn a_mechanism_the_first_campaign_did_not_read_is_as_uncertain_as_the_models_dis
     let near = seen.chances(&[8], 200, 100, 4)[0].clone();
     let far = unseen.chances(&[8], 200, 100, 4)[0].clone();
     assert!(near.alone > 0.95, "{near:?}");
-    assert_eq!(far.alone, 0.0, "{far:?}");
+    assert!(far.alone < 1e-6, "{far:?}");
     assert!((far.weights_alone - 0.5).abs() < 0.1, "{far:?}");
 }

@@ -129,6 +129,7 @@ fn of_analysis(run: &Run, name: &str) -> Option<Contender> {
         elpd: elpd(&scores),
         elpd_measures: elpd(&measures),
         outside: false,
+        pair: a.candidates.iter().find(|c| c.name == name).is_some_and(|r| a.pool[r.index].surface.is_pair()),
         made: None,
     })
 }
@@ -187,6 +188,7 @@ fn best_pair(run: &Run) -> Option<Contender> {
         elpd,
         elpd_measures,
         outside: true,
+        pair: true,
         made: Some(Arc::new(Made { x: points[best.0].clone(), candidate })),
     })
 }
