@@ -44,7 +44,7 @@
 #[path = "../tests/realwalls/mod.rs"]
 mod realwalls;
 
-use drystone::discrepancy::design::{design, DesignSettings};
+use drystone::discrepancy::design::{design, DesignSettings, Plan, RankedFollowUp};
 use drystone::discrepancy::{analyze, prepare, quiet};
 use drystone::study::discrepancy::setup_of;
 use drystone::study::followup::{menu, write_followup};
@@ -184,8 +184,7 @@ fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old
     let mut plan = design(&run, setup, m, ds, first, &quiet).unwrap();
     if without_mechanism {
         // The best follow-up that does not read the mechanism, made as the best.
-        let reads =
-            |r: &drystone::discrepancy::design::RankedFollowUp| r.followup.observables.iter().any(|o| o.is_mechanism());
+        let reads = |r: &RankedFollowUp| r.followup.observables.iter().any(|o| o.is_mechanism());
         let Some(k) = plan.ranked.iter().position(|r| !reads(r)) else {
             eprintln!("{} #{i}: no follow-up without the mechanism", e.label());
             return;
@@ -213,22 +212,8 @@ fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old
     if let Some(old) = old.filter(|o| o[3] == best.followup.name.replace('"', "'")) {
         // The same follow-up made: the observed columns are the row's.
         let mut row: Vec<String> = old.to_vec();
-        row[5] = format!("{:.4}", plan.promise().unwrap_or(best.at_budget.alone));
-        row[6] =
-            format!("{:.4}", plan.reported.as_ref().map_or(best.at_budget.weights_alone, |r| r.chance.weights_alone));
-        row[13] = format!("{:.0}", t0.elapsed().as_secs_f64());
-        row[17] = plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";");
-        row[18] = says_none.to_string();
-        row[19] = format!("{:.4}", best.at_budget.alone);
-        row[20] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0));
-        row[21] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1));
-        for k in [3, 14, 15, 16] {
-            row[k] = format!("\"{}\"", row[k]);
-        }
-        let row = row.join(",");
-        println!("{row}");
-        let mut f = std::fs::OpenOptions::new().append(true).open(out).unwrap();
-        writeln!(f, "{row}").unwrap();
+        predicted(&mut row, &plan, &best, says_none, t0.elapsed().as_secs_f64());
+        append(out, &row);
         return;
     }
     run.followup = Some(plan.clone());
@@ -257,28 +242,52 @@ fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old
     let now = alone(e, cause2.as_deref(), &b.tie);
     let by_weights = b.weights.shared.len() == 1 && alone(e, Some(&b.weights.shared[0]), &[]);
     let alarm = e == Edit::None && b.verdict.name() != "no_effect";
-    let row = format!(
-                "{},{i},{was},\"{}\",{reads_mechanism},{:.4},{:.4},{},{},{},{now},{by_weights},{alarm},{:.0},\"{}\",\"{}\",{},{},{says_none},{:.4},{:.4},{:.4}",
-                e.label(),
-                best.followup.name.replace('"', "'"),
-                plan.promise().unwrap_or(best.at_budget.alone),
-                plan.reported.as_ref().map_or(best.at_budget.weights_alone, |r| r.chance.weights_alone),
-                b.verdict.name(),
-                cause2.as_deref().unwrap_or("-"),
-                b.tie.len(),
-                t0.elapsed().as_secs_f64(),
-                first_tie.join(";"),
-                b.tie.join(";"),
-                b.weights.shared.join(";"),
-                plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";"),
-                best.at_budget.alone,
-                plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0),
-                plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1),
-            );
+    let mut row = vec![String::new(); HEADER.split(',').count()];
+    row[0] = e.label();
+    row[1] = i.to_string();
+    row[2] = was.to_string();
+    row[3] = best.followup.name.replace('"', "'");
+    row[4] = reads_mechanism.to_string();
+    row[7] = b.verdict.name().to_string();
+    row[8] = cause2.as_deref().unwrap_or("-").to_string();
+    row[9] = b.tie.len().to_string();
+    row[10] = now.to_string();
+    row[11] = by_weights.to_string();
+    row[12] = alarm.to_string();
+    row[14] = first_tie.join(";");
+    row[15] = b.tie.join(";");
+    row[16] = b.weights.shared.join(";");
+    predicted(&mut row, &plan, &best, says_none, t0.elapsed().as_secs_f64());
+    append(out, &row);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The design's columns of a row (HEADER's order): the promise, the weights' promise, the
+/// discrepancy carried, whether it says no follow-up reaches the target, the ranking's own
+/// estimate, the promise's interval; and the seconds the data set took.
+fn predicted(row: &mut [String], plan: &Plan, best: &RankedFollowUp, says_none: bool, seconds: f64) {
+    row[5] = format!("{:.4}", plan.promise().unwrap_or(best.at_budget.alone));
+    row[6] = format!("{:.4}", plan.reported.as_ref().map_or(best.at_budget.weights_alone, |r| r.chance.weights_alone));
+    row[13] = format!("{seconds:.0}");
+    row[17] = plan.inadequacy.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>().join(";");
+    row[18] = says_none.to_string();
+    row[19] = format!("{:.4}", best.at_budget.alone);
+    row[20] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.0));
+    row[21] = format!("{:.4}", plan.reported.as_ref().map_or(f64::NAN, |r| r.interval.1));
+}
+
+/// Appends `row` to the CSV `out` and prints it (the follow-up's name and the two tie
+/// lists quoted, as the column's files have them).
+fn append(out: &Path, row: &[String]) {
+    let row: Vec<String> = row
+        .iter()
+        .enumerate()
+        .map(|(k, v)| if [3, 14, 15].contains(&k) { format!("\"{v}\"") } else { v.clone() })
+        .collect();
+    let row = row.join(",");
     println!("{row}");
     let mut f = std::fs::OpenOptions::new().append(true).open(out).unwrap();
     writeln!(f, "{row}").unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The rows of a CSV written by `run` (fields split on commas outside quotes).

@@ -614,16 +614,13 @@ const BOOTSTRAP_SEED: u64 = 0xb007_5a3d_0000_0001;
 /// analysis's estimate falls on either side of it; the design's own count thresholded at
 /// 5 % would make the promise jump between 0 and 1 on one replicate.
 pub fn clears(k: usize, n: usize, check: usize) -> f64 {
-    use statrs::function::gamma::ln_gamma;
+    use statrs::function::{beta::ln_beta, factorial::ln_binomial};
     let (a, b) = (k as f64 + 0.5, (n.max(k) - k) as f64 + 0.5);
     let r = check.max(1);
-    let ln_beta = |x: f64, y: f64| ln_gamma(x) + ln_gamma(y) - ln_gamma(x + y);
-    let ln_choose =
-        |m: usize, j: usize| ln_gamma(m as f64 + 1.0) - ln_gamma(j as f64 + 1.0) - ln_gamma((m - j) as f64 + 1.0);
     let base = ln_beta(a, b);
     (0..=r)
         .take_while(|&j| (j as f64) / (r as f64) < TieCheck::REVERSAL_RATE)
-        .map(|j| (ln_choose(r, j) + ln_beta(j as f64 + a, (r - j) as f64 + b) - base).exp())
+        .map(|j| (ln_binomial(r as u64, j as u64) + ln_beta(j as f64 + a, (r - j) as f64 + b) - base).exp())
         .sum::<f64>()
         .min(1.0)
 }
