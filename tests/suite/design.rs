@@ -188,8 +188,16 @@ fn the_refit_without_a_follow_up_is_the_analysis_s_own_held_out_fit() {
 /// A plan whose best follow-up is three more walls of group FREE, read as before (made by
 /// hand: writing the follow-up does not look at the probabilities).
 fn more_free_walls() -> Plan {
-    let chance =
-        Chance { specimens: 3, alone: 0.5, alone_se: 0.0, weights_alone: 0.6, right: 0.9, alone_by_truth: vec![] };
+    let chance = Chance {
+        specimens: 3,
+        alone: 0.5,
+        alone_se: 0.0,
+        weights_alone: 0.6,
+        right: 0.9,
+        alone_by_truth: vec![],
+        blocked_by: vec![],
+        data_blocked_by: vec![],
+    };
     let followup = FollowUp {
         name: "3 more FREE walls".into(),
         kind: FollowUpKind::MoreSpecimens,

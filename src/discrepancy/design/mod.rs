@@ -464,6 +464,33 @@ pub fn markdown(plan: &Plan) -> String {
                 r.chance.right
             );
         }
+        let chance = plan.reported.as_ref().map_or(&b.at_budget, |r| &r.chance);
+        let stops: Vec<String> = chance
+            .blocked_by
+            .iter()
+            .zip(&chance.data_blocked_by)
+            .enumerate()
+            .filter_map(|(t, (row, data))| {
+                let (c, share) =
+                    row.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).filter(|&(_, s)| s >= 0.005)?;
+                Some(format!(
+                    "`{}` by `{}` ({:.2}, the data test {:.2})",
+                    plan.contenders.get(t)?.name,
+                    plan.contenders.get(c)?.name,
+                    share,
+                    data[c]
+                ))
+            })
+            .collect();
+        if !stops.is_empty() {
+            let _ = writeln!(
+                md,
+                "\nWhat most often stops each truth being named alone after it (the contender the tie check fails to \
+                 clear, the share of the simulated follow-ups, and the share in which the data test does not separate \
+                 it): {}.",
+                stops.join("; ")
+            );
+        }
         let _ = writeln!(
             md,
             "\nThese probabilities take the truth to be one of the truths above (the analysis's contenders and, \

@@ -133,6 +133,20 @@ pub struct Chance {
     /// The probability of `alone` for each contender taken as the truth (contender order,
     /// the first [`Plan::truths`]).
     pub alone_by_truth: Vec<f64>,
+    /// `[truth][contender]`: what stops each truth being named alone, contender by
+    /// contender: one less the mean, over the truth's simulated follow-ups, of the
+    /// probability that the tie check clears that contender (0 where it always clears, 1
+    /// where it never does; 0 for the truth itself and for a pair the analysis would not
+    /// rank in that follow-up, [`super::Problem::present`]). A follow-up in which the truth,
+    /// a pair, is not ranked counts as cleared for every contender: it is not named alone,
+    /// and no contender stops it.
+    pub blocked_by: Vec<Vec<f64>>,
+    /// `[truth][contender]`: the share of the truth's simulated follow-ups in which the
+    /// data test of the tie check does not separate the contender from it (the held-out
+    /// difference under [`crate::discrepancy::TieCheck::STANDARD_ERRORS`] standard errors on
+    /// every observation and on the measures); the rest of `blocked_by` is the reversal
+    /// test's.
+    pub data_blocked_by: Vec<Vec<f64>>,
 }
 
 /// One follow-up, with its probabilities.

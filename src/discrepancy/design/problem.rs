@@ -474,6 +474,39 @@ impl Problem<'_> {
     /// the analysis's reversal test clears it ([`clears`], from the reversals among
     /// `which`).
     fn alone_of(&self, tally: &Tally, t: usize, li: usize, which: &[usize]) -> f64 {
+        let clear = self.clear_rates(tally, li, which);
+        let n = which.len().max(1);
+        let alone: f64 = which
+            .iter()
+            .map(|&r| &tally.seps[li][r])
+            .filter(|sep| !sep[t].2)
+            .map(|sep| (0..sep.len()).filter(|&c| c != t).map(|c| cleared(sep[c], clear[c])).product::<f64>())
+            .sum();
+        alone / n as f64
+    }
+
+    /// What stops truth `t` being named alone at ladder count `li`, per contender, over all
+    /// its replicates: `(blocked, by the data test)` ([`Chance::blocked_by`],
+    /// [`Chance::data_blocked_by`]).
+    fn blocked_of(&self, tally: &Tally, t: usize, li: usize) -> (Vec<f64>, Vec<f64>) {
+        let which: Vec<usize> = (0..tally.seps[li].len()).collect();
+        let clear = self.clear_rates(tally, li, &which);
+        let n = which.len().max(1) as f64;
+        let k = self.contenders.len();
+        let (mut blocked, mut data) = (vec![0.0; k], vec![0.0; k]);
+        for sep in tally.seps[li].iter().filter(|sep| !sep[t].2) {
+            for c in (0..k).filter(|&c| c != t) {
+                blocked[c] += 1.0 - cleared(sep[c], clear[c]);
+                data[c] += f64::from(u8::from(!sep[c].2 && !sep[c].0 && !sep[c].1));
+            }
+        }
+        (blocked.iter().map(|b| b / n).collect(), data.iter().map(|d| d / n).collect())
+    }
+
+    /// The probability that the analysis's reversal test clears each contender, on every
+    /// observation and on the measures ([`clears`]), from the reversals among replicates
+    /// `which` of a truth's tally at ladder count `li`.
+    fn clear_rates(&self, tally: &Tally, li: usize, which: &[usize]) -> Vec<(f64, f64)> {
         let k = self.contenders.len();
         let n = which.len().max(1);
         let counts: Vec<(usize, usize)> = (0..k)
@@ -484,29 +517,10 @@ impl Problem<'_> {
                 })
             })
             .collect();
-        let clear: Vec<(f64, f64)> = counts
+        counts
             .iter()
             .map(|&(all, measures)| (clears(all, n, self.check_replicates), clears(measures, n, self.check_replicates)))
-            .collect();
-        let alone: f64 = which
-            .iter()
-            .map(|&r| &tally.seps[li][r])
-            .filter(|sep| !sep[t].2)
-            .map(|sep| {
-                (0..k)
-                    .filter(|&c| c != t && !sep[c].2)
-                    .map(|c| match (sep[c].0, sep[c].1) {
-                        // The two clears are of one model pair on the same data sets:
-                        // taken as moving together.
-                        (true, true) => clear[c].0.max(clear[c].1),
-                        (true, false) => clear[c].0,
-                        (false, true) => clear[c].1,
-                        (false, false) => 0.0,
-                    })
-                    .product::<f64>()
-            })
-            .sum();
-        alone / n as f64
+            .collect()
     }
 
     /// The probabilities at every specimen count of `ladder`, from `replicates` simulated
@@ -550,6 +564,8 @@ impl Problem<'_> {
                 let all: Vec<usize> = (0..replicates).collect();
                 let by: Vec<f64> =
                     tallies.iter().enumerate().map(|(t, tally)| self.alone_of(tally, t, li, &all)).collect();
+                let (blocked_by, data_blocked_by): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+                    tallies.iter().enumerate().map(|(t, tally)| self.blocked_of(tally, t, li)).unzip();
                 // The Monte Carlo standard error of `alone`: the replicates of every truth
                 // resampled (a bootstrap; the reversal counts, which every replicate of a
                 // truth shares, resampled with them), on a generator of its own.
@@ -575,9 +591,27 @@ impl Problem<'_> {
                     weights_alone: mean(&|tally| tally.by_weights[li] as f64 / reps),
                     right: mean(&|tally| tally.right[li] as f64 / reps),
                     alone_by_truth: by,
+                    blocked_by,
+                    data_blocked_by,
                 }
             })
             .collect()
+    }
+}
+
+/// The probability that the tie check clears one contender in one replicate: `sep` its
+/// data tests and absence there (a [`Tally::seps`] entry), `clear` the probabilities that
+/// the reversal test clears it (every observation, the measures). An absent contender is
+/// cleared.
+fn cleared(sep: (bool, bool, bool), clear: (f64, f64)) -> f64 {
+    match (sep.2, sep.0, sep.1) {
+        (true, _, _) => 1.0,
+        // The two clears are of one model pair on the same data sets: taken as moving
+        // together.
+        (false, true, true) => clear.0.max(clear.1),
+        (false, true, false) => clear.0,
+        (false, false, true) => clear.1,
+        (false, false, false) => 0.0,
     }
 }
 

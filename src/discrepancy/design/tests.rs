@@ -156,6 +156,21 @@ fn a_pair_that_nests_the_truth_blocks_it_only_where_the_analysis_would_rank_it()
     // The single that differs from the pair is still checked: with `b` the truth, the
     // pair (as `a`) is not ranked either, and `a` is separated as before.
     assert_eq!(ranked_as_the_analysis_ranks.alone_by_truth[1], alone.alone_by_truth[1]);
+    // What stops the truth is named: the nested pair, by the data test, in every
+    // replicate where it is ranked, and in none where the analysis would not rank it.
+    assert_eq!(blocked.blocked_by[0][2], 1.0, "{blocked:?}");
+    assert_eq!(blocked.data_blocked_by[0][2], 1.0, "{blocked:?}");
+    assert!(blocked.blocked_by[0][1] < 0.05, "{blocked:?}");
+    assert_eq!(ranked_as_the_analysis_ranks.blocked_by[0][2], 0.0);
+    assert_eq!(ranked_as_the_analysis_ranks.blocked_by[0][0], 0.0);
+    // A truth is named alone no more often than its strongest blocker lets it be.
+    for c in [&alone, &blocked, &ranked_as_the_analysis_ranks] {
+        for (t, row) in c.blocked_by.iter().enumerate() {
+            let worst = row.iter().copied().fold(0.0, f64::max);
+            assert!(c.alone_by_truth[t] <= 1.0 - worst + 1e-12, "{c:?}");
+            assert!(row.iter().zip(&c.data_blocked_by[t]).all(|(b, d)| d <= &(b + 1e-12)), "{c:?}");
+        }
+    }
 }
 
 /// The probability that the analysis's reversal test clears: with the reversal
