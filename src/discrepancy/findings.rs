@@ -55,6 +55,8 @@ pub struct Run {
     pub analysis: Analysis,
     /// The baseline's full run, `[group][realization]`.
     pub baseline: Vec<Vec<Outcome>>,
+    /// The surrogate grids' outcomes ([`super::Prepared::grids`]).
+    pub grids: std::sync::Arc<super::prepare::GridRuns>,
     /// The extended model's effects at the fitted parameters and its full run, when a
     /// mechanism was named (also as a partial explanation).
     pub extended: Option<(Vec<Effect>, Vec<Vec<Outcome>>)>,

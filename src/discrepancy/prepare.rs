@@ -162,20 +162,28 @@ impl Plan {
     }
 }
 
+/// The raw outcomes of the surrogate grids, by effect name: every node's search
+/// coordinates and outcomes `[group][realization]` (`None`: the node of the neutral value,
+/// the baseline's first `realizations` layouts). A follow-up that reads, on the analysis's
+/// own walls, a key the analysis did not score (the mechanism, the other top measure)
+/// reads it from these runs (`design::refit`): the same layouts, effects and protocol, so
+/// the same outcomes a new run would give, bit for bit.
+pub type GridRuns = std::collections::BTreeMap<String, Vec<(Vec<f64>, Option<Vec<Vec<Outcome>>>)>>;
+
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
 /// numbers) re-centred on the full baseline at the effect's neutral point
 /// ([`Surface::Corrected`]), and the scatter hypothesis. The baseline and every candidate
 /// are thereby scored with the same number of realizations: a candidate does not gain on
-/// the baseline by being estimated from more layouts. Returns the library and the number of
-/// forward runs its grids made.
+/// the baseline by being estimated from more layouts. Returns the library, the number of
+/// forward runs its grids made and the grids' outcomes.
 pub fn build_library(
     setup: &Setup,
     keys: &Keys,
     baseline: &[Vec<Outcome>],
     s: &Settings,
     defs: &[Arc<EffectDef>],
-) -> Result<(Models, usize), DiscrepancyError> {
+) -> Result<(Models, usize, GridRuns), DiscrepancyError> {
     let course_m = course_height(setup);
     let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
     let models: Vec<Vec<Effect>> =
@@ -235,7 +243,15 @@ pub fn build_library(
         let mechanism = keys.keys.iter().map(|(_, o)| o.is_mechanism()).collect();
         candidates.push(Candidate::scatter(full_sims.clone(), angle, mechanism));
     }
-    Ok((Models { baseline: full_sims, candidates, readings_pairs, readings_triples }, runs))
+    let grids: GridRuns = plans
+        .iter()
+        .zip(nodes)
+        .map(|(p, nodes)| {
+            let nodes = nodes.into_iter().map(|(x, e, outs)| (x, e.map(|_| outs))).collect();
+            (p.def.name.clone(), nodes)
+        })
+        .collect();
+    Ok((Models { baseline: full_sims, candidates, readings_pairs, readings_triples }, runs, grids))
 }
 
 /// A grid node with its outcomes: search coordinates, the effect there (`None`: the
@@ -408,6 +424,8 @@ pub struct Prepared {
     pub baseline: Vec<Vec<Outcome>>,
     /// The surrogate library.
     pub library: Models,
+    /// The grids' outcomes the library was built from.
+    pub grids: Arc<GridRuns>,
     /// The baseline on independent layouts, `[group][realization]`.
     pub null_pool: Vec<Vec<Outcome>>,
     /// The setup of the independent layouts.
@@ -501,7 +519,7 @@ pub fn prepare_with(
         names.join(", "),
         realizations_of(&with_realizations(setup, s.realizations))
     ));
-    let (lib, grid_runs) = build_library(setup, &keys, &baseline, s, &defs)?;
+    let (lib, grid_runs, grids) = build_library(setup, &keys, &baseline, s, &defs)?;
     let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
     progress(&format!("null pool: the baseline on independent layouts ({})", realizations_of(&null_setup)));
     let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
@@ -516,6 +534,7 @@ pub fn prepare_with(
         keys,
         baseline,
         library: lib,
+        grids: Arc::new(grids),
         null_pool,
         null_setup,
         settings: s.clone(),

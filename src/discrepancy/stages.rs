@@ -145,6 +145,7 @@ pub fn analyze_with(
         library: lib.clone(),
         analysis,
         baseline: prep.baseline.clone(),
+        grids: prep.grids.clone(),
         extended: found.extended,
         extended_predictive: found.extended_predictive,
         gain: found.gain,

@@ -78,8 +78,9 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     for r in &plan.ranked {
         assert!((0.0..=1.0).contains(&r.at_budget.alone) && (0.0..=1.0).contains(&r.at_budget.right));
         assert_eq!(r.at_budget.alone_by_truth.len(), plan.truths);
-        // The surrogates answer for more specimens of a group; the others need runs.
-        assert_eq!(r.followup.kind == FollowUpKind::MoreSpecimens, r.runs == 0 && r.followup.new_group.is_none());
+        // The surrogates answer for more specimens of a group, the analysis's runs for
+        // another key of its walls (the mechanism); walls of a new kind need runs.
+        assert_eq!(r.followup.new_group.is_none(), r.runs == 0, "{:?}", r.followup.kind);
     }
     // The promise is re-estimated on fresh replicates, its interval holds it, and the
     // ranking's own estimate is kept beside it.
@@ -142,6 +143,36 @@ fn the_best_follow_up_is_written_as_a_study_whose_templates_the_readers_read() {
     let best = write_followup(&st, &plan, &dir.join("best"), 3, None).unwrap().unwrap();
     assert!(Study::from_file(&best.study).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A follow-up of the analysis's own walls that reads a key the analysis did not score
+/// (the failure mechanism) reads it from the analysis's runs, its baseline and its grids:
+/// the same probabilities, bit for bit, as when the design runs those walls again itself
+/// (the analysis's runs hidden from it), and no run.
+#[test]
+fn a_follow_up_of_the_analysis_s_own_walls_reads_the_analysis_s_runs() {
+    let (st, s) = small_test_bed(2, &["initial_lean", "edge_rounding"], false);
+    let obs = data_set(&st, 0x5eed_da7a, 300, 3, Edit::Lean(1.5), NOISE, &[5.0, 10.0], s.sigma);
+    let setup = setup_of(&st, s.most_realizations());
+    let prep = prepare(&setup, &obs, &s, &st.library).unwrap();
+    let run = analyze(&prep, obs, 300).unwrap();
+    let picked: Vec<FollowUp> = menu(&st, &setup, &run)
+        .unwrap()
+        .into_iter()
+        .filter(|f| f.from_group == "FREE" && f.kind == FollowUpKind::Mechanism)
+        .collect();
+    assert_eq!(picked.len(), 1);
+    let ds = DesignSettings { specimens: 3, replicates: 20, draws: 50, target: 0.8 };
+    let reused = design(&run, &setup, picked.clone(), &ds, 300, &quiet).unwrap();
+    let mut hidden = run.clone();
+    hidden.grids = Default::default();
+    hidden.baseline = vec![];
+    let ran = design(&hidden, &setup, picked, &ds, 300, &quiet).unwrap();
+    assert_eq!(reused.runs, 0);
+    assert!(ran.runs > 0, "{}", ran.runs);
+    assert_eq!(reused.ranked[0].chances, ran.ranked[0].chances);
+    assert_eq!(reused.reported, ran.reported);
+    assert!(reused.ranked[0].at_budget.alone_by_truth.iter().any(|&p| p > 0.0) || ran.ranked[0].at_budget.right > 0.0);
 }
 
 /// The design's refit, with no follow-up yet, is the analysis's own leave-one-specimen-out

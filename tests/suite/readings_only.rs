@@ -123,7 +123,7 @@ fn readings_only_effects_pair_with_every_effect_on_its_runs() {
     let lib = Library::builtin();
     let defs: Vec<_> = ["kn_scale", "joint_closure", "jack_tilt", "rig_friction"].map(|n| lib.get(n).unwrap()).into();
     let base = run_models(&setup, &[vec![]], None).remove(0);
-    let (models, runs) = build_library(&setup, &keys, &base, &s, &defs).unwrap();
+    let (models, runs, _) = build_library(&setup, &keys, &base, &s, &defs).unwrap();
     // kn_scale: 2 nodes off its neutral one; joint_closure: 2 × 2 nodes; 2 groups × 1
     // realization each; nothing for jack_tilt and rig_friction.
     assert_eq!(runs, (2 + 4) * 2);

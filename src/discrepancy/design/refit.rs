@@ -329,7 +329,11 @@ pub fn predictions(
 }
 
 /// Runs, once per wall, the baseline and the grid of every effect of the contenders on
-/// `group`'s walls, into `cache`; returns the runs made now.
+/// `group`'s walls, into `cache`; returns the runs made now. On a group of the analysis's
+/// own setup (a follow-up of its walls that reads another key), the baseline and the grid
+/// of every effect the analysis searched are the analysis's runs ([`Run::baseline`],
+/// [`Run::grids`]): the same layouts, effects, grid nodes and protocol, so the outcomes a
+/// new run would give, bit for bit, without a run.
 fn wall_runs(
     run: &Run,
     setup: &Setup,
@@ -353,14 +357,38 @@ fn wall_runs(
     let one = Setup { groups: vec![group.clone()], ..setup.clone() };
     let full = with_realizations(&one, s.extension_realizations.max(1));
     let grid = with_realizations(&one, s.realizations.max(1));
+    // The analysis's own group, as the analysis ran it.
+    let own = setup.groups.iter().position(|g| g.name == group.name).filter(|&g| {
+        let a = &setup.groups[g];
+        (a.wall == group.wall && a.restrained == group.restrained && a.deterministic == group.deterministic)
+            && (a.effects == group.effects && a.protocol == group.protocol)
+            && run.baseline.get(g).is_some_and(|b| b.len() == full.groups[0].realizations as usize)
+    });
     let wall = cache.entry(group.name.clone()).or_default();
     if wall.base.is_empty() {
-        let o = run_models(&full, &[vec![]], None);
-        wall.base = o[0][0].clone();
-        made += wall.base.len();
+        match own {
+            Some(g) => wall.base = run.baseline[g].clone(),
+            None => {
+                let o = run_models(&full, &[vec![]], None);
+                wall.base = o[0][0].clone();
+                made += wall.base.len();
+            }
+        }
     }
     wall.grid_realizations = grid.groups[0].realizations as usize;
     let base_grid = vec![wall.base[..wall.grid_realizations.min(wall.base.len())].to_vec()];
+    if let Some(g) = own {
+        for d in &defs {
+            let Some(nodes) = run.grids.get(&d.name).filter(|_| !wall.nodes.contains_key(&d.name)) else { continue };
+            let ours = plan(d.clone(), s, course_m)?;
+            let same = ours.nodes.len() == nodes.len()
+                && ours.nodes.iter().zip(nodes).all(|((x, e), (y, o))| x == y && e.is_some() == o.is_some());
+            if same {
+                let nodes = nodes.iter().map(|(x, o)| (x.clone(), o.as_ref().map(|o| o[g].clone()))).collect();
+                wall.nodes.insert(d.name.clone(), nodes);
+            }
+        }
+    }
     let todo: Vec<_> = defs.into_iter().filter(|d| !wall.nodes.contains_key(&d.name)).collect();
     let plans = todo.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<Vec<_>, _>>()?;
     let models: Vec<Vec<crate::effects::Effect>> =
