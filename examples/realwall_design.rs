@@ -45,7 +45,7 @@
 mod realwalls;
 
 use drystone::discrepancy::design::{design, DesignSettings, Plan, RankedFollowUp};
-use drystone::discrepancy::{analyze, prepare, quiet};
+use drystone::discrepancy::{analyze, prepare, prepare_after, quiet};
 use drystone::study::discrepancy::setup_of;
 use drystone::study::followup::{menu, write_followup};
 use drystone::study::Study;
@@ -235,7 +235,8 @@ fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old
         both.extend(mechanism_observations_via_file(&only_group, &dir.join("mech"), &more.mechanism, s.sigma));
     }
     let fsetup = setup_of(&fst, fst.discrepancy.most_realizations());
-    let fprep = prepare(&fsetup, &both, &fst.discrepancy, &fst.library).unwrap();
+    // The first campaign's runs, read where the follow-up's study runs them alike.
+    let fprep = prepare_after(&fsetup, &both, &fst.discrepancy, &fst.library, Some(prep), &quiet).unwrap();
     let run2 = analyze(&fprep, both, first).unwrap();
     let b = &run2.analysis;
     let cause2 = b.cause.as_ref().map(|c| c.name.clone());

@@ -69,8 +69,8 @@ pub use observations::{
 };
 pub use predictive::{Heights, Predictive, Reading, Simulated, HEIGHT_BINS};
 pub use prepare::{
-    build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_with, searched, GridRuns,
-    InertEffect, Keys, Prepared,
+    build_library, course_height, inert_effects, key_labels, null_seed, prepare, prepare_after, prepare_with, searched,
+    GridRuns, InertEffect, Keys, Prepared,
 };
 pub use progress::{quiet, Progress};
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};

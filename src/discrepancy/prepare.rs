@@ -163,12 +163,14 @@ impl Plan {
 }
 
 /// The raw outcomes of the surrogate grids, by effect name: every node's search
-/// coordinates and outcomes `[group][realization]` (`None`: the node of the neutral value,
-/// the baseline's first `realizations` layouts). A follow-up that reads, on the analysis's
+/// coordinates, and its effect with its outcomes `[group][realization]` (`None`: the node
+/// of the neutral value, the baseline's first `realizations` layouts). The effect at a
+/// node depends on the setup's walls (its length parameters scale with their mean course
+/// height), so a node is read again only where its effect is the same. A follow-up that reads, on the analysis's
 /// own walls, a key the analysis did not score (the mechanism, the other top measure)
 /// reads it from these runs (`design::refit`): the same layouts, effects and protocol, so
 /// the same outcomes a new run would give, bit for bit.
-pub type GridRuns = std::collections::BTreeMap<String, Vec<(Vec<f64>, Option<Vec<Vec<Outcome>>>)>>;
+pub type GridRuns = std::collections::BTreeMap<String, Vec<(Vec<f64>, Option<(Effect, Vec<Vec<Outcome>>)>)>>;
 
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
@@ -184,18 +186,33 @@ pub fn build_library(
     s: &Settings,
     defs: &[Arc<EffectDef>],
 ) -> Result<(Models, usize, GridRuns), DiscrepancyError> {
+    build_library_from(setup, keys, baseline, s, defs, None)
+}
+
+/// [`build_library`], the grids of `earlier`'s groups read from its runs where they are
+/// the same (`Earlier::grids`).
+fn build_library_from(
+    setup: &Setup,
+    keys: &Keys,
+    baseline: &[Vec<Outcome>],
+    s: &Settings,
+    defs: &[Arc<EffectDef>],
+    earlier: Option<&Earlier<'_>>,
+) -> Result<(Models, usize, GridRuns), DiscrepancyError> {
     let course_m = course_height(setup);
     let plans: Vec<Plan> = defs.iter().map(|d| plan(d.clone(), s, course_m)).collect::<Result<_, _>>()?;
     let models: Vec<Vec<Effect>> =
         plans.iter().flat_map(|p| p.nodes.iter().filter_map(|(_, e)| e.clone().map(|e| vec![e]))).collect();
     let grid_setup = with_realizations(setup, s.realizations);
-    let runs = forward_runs(&grid_setup, &models, true);
     let base_grid: Vec<Vec<Outcome>> = baseline
         .iter()
         .zip(&grid_setup.groups)
         .map(|(o, g)| o[..(g.realizations as usize).min(o.len())].to_vec())
         .collect();
-    let outcomes = run_models(&grid_setup, &models, Some(&base_grid));
+    let (outcomes, runs) = match earlier.and_then(|e| e.grids(&plans, &grid_setup)) {
+        Some(known) => run_models_knowing(&grid_setup, &models, &base_grid, &known),
+        None => (run_models(&grid_setup, &models, Some(&base_grid)), forward_runs(&grid_setup, &models, true)),
+    };
     let base_sims = keys.simulated(&base_grid);
     let full_sims = keys.simulated(baseline);
     let mut next = outcomes.into_iter();
@@ -247,7 +264,7 @@ pub fn build_library(
         .iter()
         .zip(nodes)
         .map(|(p, nodes)| {
-            let nodes = nodes.into_iter().map(|(x, e, outs)| (x, e.map(|_| outs))).collect();
+            let nodes = nodes.into_iter().map(|(x, e, outs)| (x, e.map(|e| (e, outs)))).collect();
             (p.def.name.clone(), nodes)
         })
         .collect();
@@ -496,6 +513,25 @@ pub fn prepare_with(
     library: &effects::Library,
     progress: super::Progress<'_>,
 ) -> Result<Prepared, DiscrepancyError> {
+    prepare_after(setup, template, s, library, None, progress)
+}
+
+/// [`prepare_with`] for a campaign analysed after `earlier` (the first campaign's
+/// preparation, when the follow-up's study is analysed with it): every run of a group that
+/// `earlier` ran the same way (the same walls, effects, realizations, protocol, solver and
+/// master seed; the same grid nodes for an effect) is read from `earlier` instead of run
+/// again, the same outcomes bit for bit; the rest is run. `None`: everything is run.
+///
+/// # Errors
+/// As [`prepare`].
+pub fn prepare_after(
+    setup: &Setup,
+    template: &[Observation],
+    s: &Settings,
+    library: &effects::Library,
+    earlier: Option<&Prepared>,
+    progress: super::Progress<'_>,
+) -> Result<Prepared, DiscrepancyError> {
     check(setup, template, s)?;
     let defs = searched(s, library, template.iter().any(|o| o.observable.is_mechanism()))?;
     let inert = inert_effects(setup, &defs);
@@ -505,7 +541,8 @@ pub fn prepare_with(
     let keys = Keys::new(setup, template);
     let full = with_realizations(setup, s.extension_realizations);
     progress(&format!("baseline: full run of {} ({})", setup.protocol.name(), realizations_of(&full)));
-    let baseline = run_models(&full, &[vec![]], None).remove(0);
+    let earlier_full = earlier.map(|e| Earlier::new(e, &e.setup, &full, &e.baseline));
+    let (baseline, baseline_runs) = baseline_of(&full, earlier_full.as_ref());
     for (g, outs) in full.groups.iter().zip(&baseline) {
         if outs.iter().all(|o| o.error.is_some()) {
             let error = outs.first().and_then(|o| o.error.clone()).unwrap_or_default();
@@ -519,14 +556,16 @@ pub fn prepare_with(
         names.join(", "),
         realizations_of(&with_realizations(setup, s.realizations))
     ));
-    let (lib, grid_runs, grids) = build_library(setup, &keys, &baseline, s, &defs)?;
+    let earlier_grid = earlier.map(|e| Earlier::new(e, &e.setup, &with_realizations(setup, s.realizations), &[]));
+    let (lib, grid_runs, grids) = build_library_from(setup, &keys, &baseline, s, &defs, earlier_grid.as_ref())?;
     let null_setup = Setup { seed: null_seed(setup.seed), ..with_realizations(setup, s.null_realizations) };
     progress(&format!("null pool: the baseline on independent layouts ({})", realizations_of(&null_setup)));
-    let null_pool = run_models(&null_setup, &[vec![]], None).remove(0);
+    let earlier_null = earlier.map(|e| Earlier::new(e, &e.null_setup, &null_setup, &e.null_pool));
+    let (null_pool, null_runs) = baseline_of(&null_setup, earlier_null.as_ref());
     let forward_runs = vec![
-        StageRuns::new("baseline", forward_runs(&full, &[vec![]], false)),
+        StageRuns::new("baseline", baseline_runs),
         StageRuns::new("surrogate grids", grid_runs),
-        StageRuns::new("null pool", forward_runs(&null_setup, &[vec![]], false)),
+        StageRuns::new("null pool", null_runs),
     ];
     Ok(Prepared {
         forward_runs,
@@ -540,6 +579,127 @@ pub fn prepare_with(
         settings: s.clone(),
         inert,
     })
+}
+
+/// What an earlier preparation ran that a new one can read: for each group of the new
+/// setup `setup`, the index of the same group in the earlier one's setup (the same
+/// [`GroupSetup`], master seed, solver and protocol), with the earlier outcomes of one
+/// model (`[group][realization]`) and its grids.
+struct Earlier<'a> {
+    /// `[group of the new setup]`: the earlier group's index.
+    same: Vec<Option<usize>>,
+    /// The earlier outcomes of the model in question (the baseline's full run, the null
+    /// pool; empty for the grids).
+    outcomes: &'a [Vec<Outcome>],
+    grids: &'a GridRuns,
+}
+
+impl<'a> Earlier<'a> {
+    /// `earlier`'s groups that are `setup`'s, run as `setup` runs them; `old` the setup the
+    /// earlier preparation ran `outcomes`, the earlier outcomes of the model to read, with.
+    fn new(earlier: &'a Prepared, old: &Setup, setup: &Setup, outcomes: &'a [Vec<Outcome>]) -> Earlier<'a> {
+        let alike = old.seed == setup.seed && old.solver == setup.solver && old.protocol == setup.protocol;
+        let same = setup
+            .groups
+            .iter()
+            .map(|g| {
+                let k = old.groups.iter().position(|o| o.name == g.name)?;
+                let o = &old.groups[k];
+                let runs_alike = GroupSetup { realizations: g.realizations, ..o.clone() } == *g;
+                (alike && runs_alike).then_some(k)
+            })
+            .collect();
+        Earlier { same, outcomes, grids: &earlier.grids }
+    }
+
+    /// The earlier outcomes of group `g` of the new setup, if it was run alike with at
+    /// least `n` realizations (the first `n`: the realizations are the same layouts).
+    fn outcomes_of(&self, g: usize, n: usize) -> Option<Vec<Outcome>> {
+        let k = self.same.get(g).copied().flatten()?;
+        let o = self.outcomes.get(k)?;
+        (o.len() >= n).then(|| o[..n].to_vec())
+    }
+
+    /// The earlier grids' outcomes for every node of `plans`, `[node of the models, in
+    /// plan order][group]` (`None` for a model or group to run), where the earlier analysis
+    /// ran the effect's grid on the same nodes; `None` when nothing can be read.
+    fn grids(&self, plans: &[Plan], grid_setup: &Setup) -> Option<Vec<Vec<Option<Vec<Outcome>>>>> {
+        let mut known = Vec::new();
+        let mut any = false;
+        for p in plans {
+            let earlier = self.grids.get(&p.def.name).filter(|nodes| nodes.len() == p.nodes.len());
+            for (k, (x, e)) in p.nodes.iter().enumerate() {
+                let Some(e) = e else { continue };
+                let row: Vec<Option<Vec<Outcome>>> = (0..grid_setup.groups.len())
+                    .map(|g| {
+                        let old = self.same.get(g).copied().flatten()?;
+                        let (y, node) = &earlier?[k];
+                        let (f, outs) = node.as_ref().filter(|(f, _)| y == x && f == e)?;
+                        let outs = outs.get(old)?;
+                        let n = runs_of(grid_setup, g, std::slice::from_ref(e));
+                        (outs.len() >= n).then(|| outs[..n].to_vec())
+                    })
+                    .collect();
+                any |= row.iter().any(Option::is_some);
+                known.push(row);
+            }
+        }
+        any.then_some(known)
+    }
+}
+
+/// The baseline's outcomes on `setup` (`[group][realization]`) and the runs made: every
+/// group run, or read from `earlier` where it ran the group alike.
+fn baseline_of(setup: &Setup, earlier: Option<&Earlier<'_>>) -> (Vec<Vec<Outcome>>, usize) {
+    let known: Vec<Option<Vec<Outcome>>> =
+        (0..setup.groups.len()).map(|g| earlier?.outcomes_of(g, runs_of(setup, g, &[]))).collect();
+    let (outs, runs) = run_models_knowing(setup, &[vec![]], &[], &[known]);
+    (outs.into_iter().next().unwrap_or_default(), runs)
+}
+
+/// The realizations a model (its effects `model`) runs on group `g` of `setup`: the
+/// group's, or one for a deterministic wall without random input ([`forward_runs`]).
+fn runs_of(setup: &Setup, g: usize, model: &[Effect]) -> usize {
+    forward_runs(&Setup { groups: vec![setup.groups[g].clone()], ..setup.clone() }, &[model.to_vec()], false)
+}
+
+/// [`run_models`] with some outcomes known: `known[model][group]`, `Some` where the
+/// model's outcomes on that group are read instead of run; `base` the outcomes to reuse
+/// where a model does not act (empty: none, every group run). Returns the outcomes,
+/// `[model][group][realization]`, and the runs made.
+fn run_models_knowing(
+    setup: &Setup,
+    models: &[Vec<Effect>],
+    base: &[Vec<Outcome>],
+    known: &[Vec<Option<Vec<Outcome>>>],
+) -> (super::simulate::Outcomes, usize) {
+    let reuse = (!base.is_empty()).then_some(base);
+    if known.iter().all(|k| k.iter().all(Option::is_none)) {
+        return (run_models(setup, models, reuse), forward_runs(setup, models, reuse.is_some()));
+    }
+    let mut out: super::simulate::Outcomes = vec![vec![Vec::new(); setup.groups.len()]; models.len()];
+    let mut runs = 0;
+    for g in 0..setup.groups.len() {
+        let todo: Vec<usize> =
+            (0..models.len()).filter(|&m| known.get(m).and_then(|k| k[g].as_ref()).is_none()).collect();
+        for m in 0..models.len() {
+            if let Some(o) = known.get(m).and_then(|k| k[g].clone()) {
+                out[m][g] = o;
+            }
+        }
+        if todo.is_empty() {
+            continue;
+        }
+        let one = Setup { groups: vec![setup.groups[g].clone()], ..setup.clone() };
+        let ms: Vec<Vec<Effect>> = todo.iter().map(|&m| models[m].clone()).collect();
+        let one_base = reuse.map(|b| vec![b[g].clone()]);
+        runs += forward_runs(&one, &ms, one_base.is_some());
+        let ran = run_models(&one, &ms, one_base.as_deref());
+        for (&m, mut o) in todo.iter().zip(ran) {
+            out[m][g] = o.swap_remove(0);
+        }
+    }
+    (out, runs)
 }
 
 /// `GROUP × N realizations, …` of a setup.

@@ -23,7 +23,7 @@ use crate::protocol::{Observed, Protocol, RunOutcome};
 use serde::Serialize;
 
 /// One group of walls the model is run for.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct GroupSetup {
     /// Group name (as in the observations).
     pub name: String,
@@ -47,7 +47,7 @@ pub struct GroupSetup {
 }
 
 /// What the model is run with: groups, master seed, solver and loading protocol.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Setup {
     /// Groups.
     pub groups: Vec<GroupSetup>,

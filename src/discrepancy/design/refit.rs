@@ -381,10 +381,16 @@ fn wall_runs(
         for d in &defs {
             let Some(nodes) = run.grids.get(&d.name).filter(|_| !wall.nodes.contains_key(&d.name)) else { continue };
             let ours = plan(d.clone(), s, course_m)?;
+            // The same nodes with the same effects (an effect's length parameters scale
+            // with the setup's course height).
             let same = ours.nodes.len() == nodes.len()
-                && ours.nodes.iter().zip(nodes).all(|((x, e), (y, o))| x == y && e.is_some() == o.is_some());
+                && ours
+                    .nodes
+                    .iter()
+                    .zip(nodes)
+                    .all(|((x, e), (y, o))| x == y && e.as_ref() == o.as_ref().map(|(f, _)| f));
             if same {
-                let nodes = nodes.iter().map(|(x, o)| (x.clone(), o.as_ref().map(|o| o[g].clone()))).collect();
+                let nodes = nodes.iter().map(|(x, o)| (x.clone(), o.as_ref().map(|(_, o)| o[g].clone()))).collect();
                 wall.nodes.insert(d.name.clone(), nodes);
             }
         }
