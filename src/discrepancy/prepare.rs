@@ -634,7 +634,7 @@ impl<'a> Earlier<'a> {
                     .map(|g| {
                         let old = self.same.get(g).copied().flatten()?;
                         let (y, node) = &earlier?[k];
-                        let (f, outs) = node.as_ref().filter(|(f, _)| y == x && f == e)?;
+                        let (_, outs) = node.as_ref().filter(|(f, _)| y == x && f == e)?;
                         let outs = outs.get(old)?;
                         let n = runs_of(grid_setup, g, std::slice::from_ref(e));
                         (outs.len() >= n).then(|| outs[..n].to_vec())
