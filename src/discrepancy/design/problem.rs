@@ -482,7 +482,9 @@ impl Problem<'_> {
             .filter(|sep| !sep[t].2)
             .map(|sep| (0..sep.len()).filter(|&c| c != t).map(|c| cleared(sep[c], clear[c])).product::<f64>())
             .sum();
-        alone / n as f64
+        // `+ 0.0`: a sum of no replicate (a pair truth never ranked) is −0.0 in Rust's float
+        // sum; a probability reads 0.
+        alone / n as f64 + 0.0
     }
 
     /// What stops truth `t` being named alone at ladder count `li`, per contender, over all

@@ -163,6 +163,10 @@ fn a_pair_that_nests_the_truth_blocks_it_only_where_the_analysis_would_rank_it()
     assert!(blocked.blocked_by[0][1] < 0.05, "{blocked:?}");
     assert_eq!(ranked_as_the_analysis_ranks.blocked_by[0][2], 0.0);
     assert_eq!(ranked_as_the_analysis_ranks.blocked_by[0][0], 0.0);
+    // The pair taken as a truth is never ranked: named alone with probability +0 (not
+    // −0, the float sum of no replicate).
+    let pair_truth = at8(Problem { truths: 3, pair_margin: Some(0.05), ..problem(&with_pair, &sims3, &keys, &sigma) });
+    assert!(pair_truth.alone_by_truth[2] == 0.0 && pair_truth.alone_by_truth[2].is_sign_positive());
     // A truth is named alone no more often than its strongest blocker lets it be.
     for c in [&alone, &blocked, &ranked_as_the_analysis_ranks] {
         for (t, row) in c.blocked_by.iter().enumerate() {
