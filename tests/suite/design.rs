@@ -211,7 +211,7 @@ fn a_follow_up_prepared_after_the_first_campaign_runs_only_what_it_would_run_dif
     same(&again, &first);
     assert!(total(&first) > 0);
     assert_eq!(total(&again), 0);
-    // A new group of free walls (its own layouts: a group's name seeds them).
+    // A new group of the free walls (a group's name seeds its effects' draws).
     let mut fst = st.clone();
     let mut more = fst.groups[0].clone();
     more.name = "FREE_again".into();
