@@ -604,9 +604,7 @@ impl<'a> Earlier<'a> {
             .iter()
             .map(|g| {
                 let k = old.groups.iter().position(|o| o.name == g.name)?;
-                let o = &old.groups[k];
-                let runs_alike = GroupSetup { realizations: g.realizations, ..o.clone() } == *g;
-                (alike && runs_alike).then_some(k)
+                (alike && old.groups[k].runs_alike(g)).then_some(k)
             })
             .collect();
         Earlier { same, outcomes, grids: &earlier.grids }

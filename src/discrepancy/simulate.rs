@@ -23,7 +23,7 @@ use crate::protocol::{Observed, Protocol, RunOutcome};
 use serde::Serialize;
 
 /// One group of walls the model is run for.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct GroupSetup {
     /// Group name (as in the observations).
     pub name: String,
@@ -46,8 +46,23 @@ pub struct GroupSetup {
     pub protocol: Option<Protocol>,
 }
 
+impl GroupSetup {
+    /// Whether `other` runs as this group does, but for the number of realizations: the
+    /// same name (it seeds the effects' draws), walls ([`Wall::same_walls`]: the files
+    /// they were read from aside), end restraints, effects, course height and protocol.
+    /// Realization `i` of either is then the same run.
+    pub fn runs_alike(&self, other: &GroupSetup) -> bool {
+        self.name == other.name
+            && self.wall.same_walls(&other.wall)
+            && (self.restrained, self.deterministic) == (other.restrained, other.deterministic)
+            && self.effects == other.effects
+            && self.course_m == other.course_m
+            && self.protocol == other.protocol
+    }
+}
+
 /// What the model is run with: groups, master seed, solver and loading protocol.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Setup {
     /// Groups.
     pub groups: Vec<GroupSetup>,

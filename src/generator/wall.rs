@@ -148,6 +148,33 @@ pub struct Wall {
 }
 
 impl Wall {
+    /// Whether `other` describes the same walls: equal in every field but the files the two
+    /// were read from (`source`, the wall's and its distributions'), which only name them in
+    /// messages. Two such descriptions generate the same layouts for every seed and
+    /// realization (a follow-up's study, which copies the walls' files, reads the first
+    /// campaign's walls so).
+    pub fn same_walls(&self, other: &Wall) -> bool {
+        self.without_sources() == other.without_sources()
+    }
+
+    /// A copy with every `source` path emptied.
+    fn without_sources(&self) -> Wall {
+        let mut w = self.clone();
+        let clear = |d: &mut Distribution| d.source = std::path::PathBuf::new();
+        w.source = std::path::PathBuf::new();
+        clear(&mut w.course_height);
+        clear(&mut w.block_length);
+        if let Arrangement::Irregular(i) = &mut w.arrangement {
+            clear(&mut i.dip);
+            i.wedge_length.iter_mut().for_each(clear);
+        }
+        if let Some(sc) = &mut w.scatter {
+            sc.kn_factor.iter_mut().for_each(clear);
+            sc.friction_offset.iter_mut().for_each(clear);
+        }
+        w
+    }
+
     /// y of the −y and +y faces at height z (m), table frame.
     pub fn faces_at(&self, z: f64) -> (f64, f64) {
         let (bb, tb, h) = (self.base_width, self.top_width, self.height);

@@ -206,8 +206,16 @@ fn a_follow_up_prepared_after_the_first_campaign_runs_only_what_it_would_run_dif
         }
         assert_eq!(format!("{:?}", a.library), format!("{:?}", b.library));
     };
-    // The same walls: nothing run again.
-    let again = prepare_after(&setup, &obs, &s, &st.library, Some(&first), &quiet).unwrap();
+    // The same walls, as the design writes the follow-up's study and the study reads them
+    // back (other files, the same descriptions): nothing run again.
+    let dir = std::env::temp_dir().join(format!("prepare-after-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let files = write_followup(&st, &more_free_walls(), &dir, 3, None).unwrap().unwrap();
+    let written = Study::from_file(&files.study).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let again_setup = setup_of(&written, s.most_realizations());
+    assert_ne!(again_setup.groups[0].wall.source, setup.groups[0].wall.source);
+    let again = prepare_after(&again_setup, &obs, &s, &written.library, Some(&first), &quiet).unwrap();
     same(&again, &first);
     assert!(total(&first) > 0);
     assert_eq!(total(&again), 0);

@@ -359,9 +359,7 @@ fn wall_runs(
     let grid = with_realizations(&one, s.realizations.max(1));
     // The analysis's own group, as the analysis ran it.
     let own = setup.groups.iter().position(|g| g.name == group.name).filter(|&g| {
-        let a = &setup.groups[g];
-        (a.wall == group.wall && a.restrained == group.restrained && a.deterministic == group.deterministic)
-            && (a.effects == group.effects && a.protocol == group.protocol)
+        setup.groups[g].runs_alike(group)
             && run.baseline.get(g).is_some_and(|b| b.len() == full.groups[0].realizations as usize)
     });
     let wall = cache.entry(group.name.clone()).or_default();
