@@ -8,7 +8,8 @@
 //! way (the follow-up's walls generated with the data's seed, edited as files with the same
 //! hidden edit, tilted, readings rounded; the mechanism read from each edited wall's own
 //! run and misread at 10 % when the follow-up reads it), and both campaigns are analysed
-//! together on the written study. Each data set is one row appended to a CSV file, so the
+//! together on the written study (prepared after the first campaign's analysis,
+//! `prepare_after`, which reads the runs they share). Each data set is one row appended to a CSV file, so the
 //! column runs in parts, resumed (a row already in the file is skipped) and merged; each
 //! data set's design (`design.json`'s content: every follow-up's probabilities at every
 //! specimen count and by truth) is kept in `OUT.plans/CLASS-SET.json`, so other readings of
