@@ -172,6 +172,18 @@ impl Plan {
 /// the same outcomes a new run would give, bit for bit.
 pub type GridRuns = std::collections::BTreeMap<String, Vec<(Vec<f64>, Option<(Effect, Vec<Vec<Outcome>>)>)>>;
 
+/// The nodes of `grids` for plan `p`'s effect, if they are `p`'s nodes: the same search
+/// coordinates and the same effect at each (an effect carries the setup's course height).
+pub(super) fn same_nodes<'g>(
+    grids: &'g GridRuns,
+    p: &Plan,
+) -> Option<&'g [(Vec<f64>, Option<(Effect, Vec<Vec<Outcome>>)>)]> {
+    let nodes = grids.get(&p.def.name)?;
+    let same = nodes.len() == p.nodes.len()
+        && nodes.iter().zip(&p.nodes).all(|((y, o), (x, e))| y == x && o.as_ref().map(|(f, _)| f) == e.as_ref());
+    same.then_some(nodes.as_slice())
+}
+
 /// Builds the surrogate library: the baseline (every realization of `baseline`, the full
 /// run), every effect's grid (the first `realizations` layouts of each group, common random
 /// numbers) re-centred on the full baseline at the effect's neutral point
@@ -625,14 +637,13 @@ impl<'a> Earlier<'a> {
         let mut known = Vec::new();
         let mut any = false;
         for p in plans {
-            let earlier = self.grids.get(&p.def.name).filter(|nodes| nodes.len() == p.nodes.len());
-            for (k, (x, e)) in p.nodes.iter().enumerate() {
+            let earlier = same_nodes(self.grids, p);
+            for (k, (_, e)) in p.nodes.iter().enumerate() {
                 let Some(e) = e else { continue };
                 let row: Vec<Option<Vec<Outcome>>> = (0..grid_setup.groups.len())
                     .map(|g| {
                         let old = self.same.get(g).copied().flatten()?;
-                        let (y, node) = &earlier?[k];
-                        let (_, outs) = node.as_ref().filter(|(f, _)| y == x && f == e)?;
+                        let (_, outs) = earlier?[k].1.as_ref()?;
                         let outs = outs.get(old)?;
                         let n = runs_of(grid_setup, g, std::slice::from_ref(e));
                         (outs.len() >= n).then(|| outs[..n].to_vec())

@@ -32,7 +32,7 @@ use crate::discrepancy::compare::{per_specimen, specimen_weights};
 use crate::discrepancy::fit::{scan_points, Data, Surface};
 use crate::discrepancy::observations::Observable;
 use crate::discrepancy::predictive::Simulated;
-use crate::discrepancy::prepare::{course_height, plan, with_realizations};
+use crate::discrepancy::prepare::{course_height, plan, same_nodes, with_realizations};
 use crate::discrepancy::simulate::{run_models, GroupSetup, Outcome, Setup};
 use crate::discrepancy::{DiscrepancyError, Run};
 use std::collections::BTreeMap;
@@ -377,17 +377,12 @@ fn wall_runs(
     let base_grid = vec![wall.base[..wall.grid_realizations.min(wall.base.len())].to_vec()];
     if let Some(g) = own {
         for d in &defs {
-            let Some(nodes) = run.grids.get(&d.name).filter(|_| !wall.nodes.contains_key(&d.name)) else { continue };
-            let ours = plan(d.clone(), s, course_m)?;
+            if wall.nodes.contains_key(&d.name) {
+                continue;
+            }
             // The same nodes with the same effects (an effect's length parameters scale
             // with the setup's course height).
-            let same = ours.nodes.len() == nodes.len()
-                && ours
-                    .nodes
-                    .iter()
-                    .zip(nodes)
-                    .all(|((x, e), (y, o))| x == y && e.as_ref() == o.as_ref().map(|(f, _)| f));
-            if same {
+            if let Some(nodes) = same_nodes(&run.grids, &plan(d.clone(), s, course_m)?) {
                 let nodes = nodes.iter().map(|(x, o)| (x.clone(), o.as_ref().map(|(_, o)| o[g].clone()))).collect();
                 wall.nodes.insert(d.name.clone(), nodes);
             }
