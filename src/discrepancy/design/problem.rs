@@ -119,6 +119,17 @@ impl Stream {
     pub fn rng(&self, t: usize) -> rand_chacha::ChaCha8Rng {
         rng_for(self.seed, t as u64, self.purpose)
     }
+
+    /// Truth `t`'s generator of the reversal test's follow-up specimens (drawn from the
+    /// truth without bias, as the analysis's reversal test draws them): a seed of its own,
+    /// so the follow-up's own draws, the first campaign's and the weights' stay as
+    /// [`Stream::rng`] gives them.
+    pub fn reversal_rng(&self, t: usize) -> rand_chacha::ChaCha8Rng {
+        rng_for(self.seed ^ Self::REVERSAL, t as u64, self.purpose)
+    }
+
+    /// Mixed into the seed of [`Stream::reversal_rng`].
+    const REVERSAL: u64 = 0x7265_7665_7273_616c;
 }
 
 /// A space of keys: what a simulated specimen is drawn on and scored on.
@@ -169,6 +180,17 @@ impl Problem<'_> {
     pub(super) fn draw_specimen(&self, t: usize, bias: &[f64], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<(usize, f64)> {
         let all: Vec<usize> = (0..self.keys.len()).collect();
         self.space().draw(&self.sims[t], &all, bias, rng)
+    }
+
+    /// The rate at which contender `c` beats truth `t` in the reversal test of the tally
+    /// (`(every observation, measures)`), at `n` follow-up specimens over `replicates`.
+    #[cfg(test)]
+    pub(super) fn reversal_rate(&self, t: usize, c: usize, n: usize, replicates: usize, seed: u64) -> (f64, f64) {
+        let tally = self.tally(t, &[n], replicates, 10, Stream::select(seed));
+        let count = |pick: fn(&(bool, bool)) -> bool| {
+            tally.reversed[0].iter().filter(|r| pick(&r[c])).count() as f64 / replicates as f64
+        };
+        (count(|r| r.0), count(|r| r.1))
     }
 
     /// Whether key `k` is one the first campaign did not read on the follow-up's walls.
@@ -402,6 +424,7 @@ impl Problem<'_> {
         let mut first_caches: Vec<ScoreCache> = (0..k).map(|_| ScoreCache::new()).collect();
         let real = self.first_campaign_scores();
         let mut rng = stream.rng(t);
+        let mut reversal_rng = stream.reversal_rng(t);
         let variances = self.bias_variances(t);
         for _ in 0..replicates {
             let bias = Self::draw_bias(&variances, &mut rng);
@@ -411,16 +434,24 @@ impl Problem<'_> {
             let specimens: Vec<Vec<(usize, f64)>> =
                 (0..nmax).map(|_| self.space().draw(&row, &all, &bias, &mut rng)).collect();
             let new = self.new_scores(&specimens, &mut caches);
-            // Both campaigns drawn from the truth, for the reversal rates.
-            let drawn = self.first.as_ref().map(|f| self.first_scores_drawn(f, t, &mut first_caches, &mut rng));
+            // Both campaigns drawn from the truth, for the reversal rates: as the
+            // analysis's reversal test (`analysis::reversal_rates`) draws them, from the
+            // cause's own predictions, without the follow-up's bias or another model's
+            // mechanism.
+            let drawn = self.first.as_ref().map(|f| {
+                let first = self.first_scores_drawn(f, t, &mut first_caches, &mut rng);
+                let own: Vec<Vec<(usize, f64)>> =
+                    (0..nmax).map(|_| self.space().draw(&self.sims[t], &all, &[], &mut reversal_rng)).collect();
+                (first, self.new_scores(&own, &mut caches))
+            });
             for (li, &n) in ladder.iter().enumerate() {
                 let mut reversed = vec![(false, false); k];
-                if let Some(drawn) = &drawn {
+                if let Some((drawn, own)) = &drawn {
                     // The analysis's reversal: a challenger whose held-out score on data
                     // drawn from the cause beats the cause's (its held-out error lower).
                     let totals: Vec<(f64, f64)> = (0..k)
                         .map(|c| {
-                            let (e, m) = heldout_both(&drawn[c], &new[c], n);
+                            let (e, m) = heldout_both(&drawn[c], &own[c], n);
                             (e.iter().sum(), m.iter().sum())
                         })
                         .collect();

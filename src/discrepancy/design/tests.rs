@@ -305,6 +305,43 @@ fn the_reversal_rates_draw_both_campaigns_from_the_truth_as_the_analysis_does() 
     assert!(drawn[0].alone < 1e-6, "{drawn:?}");
 }
 
+/// The analysis's reversal test draws both campaigns from the cause's own predictions
+/// (`analysis::reversal_rates`), so the design's must too, whatever bias the follow-up it
+/// simulates carries. Two models alike on the first campaign and δ = 0.3° apart on the
+/// follow-up, a Gaussian predictive of variance `s² = σ² + bracket²/12 = 0.12` deg² (exact
+/// readings, one realization): on `n` specimens drawn from `a`, `b` scores higher when the
+/// specimens' mean error exceeds δ/2, at the closed-form rate `Φ(−√n δ / (2 s))` = 0.227
+/// for `n = 3`. A follow-up biased by an inadequacy of 9 (a shared bias of three
+/// predictive σ) would give `Φ(−n δ / (2 s √(n + n² v)))` = 0.444 instead.
+#[test]
+fn the_reversal_test_draws_the_follow_up_from_the_truth_without_its_bias() {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let cs = tied(4);
+    let keys = [Observable::CollapseAngle];
+    let one = |mean| vec![Simulated { mean, sd: 0.0, n: 1, err: 0.0, heights: Heights::NONE }];
+    let sims = vec![one(20.0), one(20.3)];
+    let at_fit = vec![one(20.0), one(20.0)];
+    let sigma = [0.3];
+    let specimens = vec![vec![0usize]; 4];
+    let first = FirstCampaign { keys: &keys, sigma: &sigma, specimens: &specimens, at_fit: &at_fit };
+    let exact =
+        Reading { angle_deg: 0.0, displacement_cm: 0.0, misreading: 0.0, neighbour_joint: 0.0, ..Reading::default() };
+    let base = problem(&cs, &sims, &keys, &sigma);
+    let plain = Problem { first: Some(first), reading: exact, bracket_deg: 0.6, ..base };
+    let biased = Problem { inadequacy: &[9.0, 9.0], ..plain };
+    assert_eq!(biased.bias_variances(0), vec![9.0]);
+    let phi = |x: f64| Normal::standard().cdf(x);
+    let (n, s, d) = (3.0f64, 0.12f64.sqrt(), 0.3);
+    let want = phi(-n.sqrt() * d / (2.0 * s));
+    assert!((want - 0.227).abs() < 0.001 && (phi(-n * d / (2.0 * s * (n + n * n * 9.0).sqrt())) - 0.444).abs() < 0.001);
+    // 4000 replicates: a rate's standard error is about 0.007; 0.025 bounds.
+    for p in [plain, biased] {
+        let (all, measures) = p.reversal_rate(0, 1, 3, 4000, 21);
+        assert!((all - want).abs() < 0.025, "{all} against {want}");
+        assert!((measures - want).abs() < 0.025, "{measures} against {want}");
+    }
+}
+
 #[test]
 fn bad_design_settings_name_their_key() {
     let s = DesignSettings { specimens: 0, ..DesignSettings::default() };
