@@ -66,7 +66,8 @@ pub fn command(a: DesignArgs) -> Result<()> {
         );
     }
     let obs = observations_of(&st, s.sigma)?;
-    let setup = setup_of(&st, s.most_realizations());
+    let mut setup = setup_of(&st, s.most_realizations());
+    setup.store = a.input.store()?;
     let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-design", st.name)));
     let held = HeldDir::acquire(&dir)?;
     let pool = super::discrepancy::pool(a.input.threads)?;
@@ -93,6 +94,9 @@ pub fn command(a: DesignArgs) -> Result<()> {
         ds.specimens,
         a.input.measured.as_deref(),
     )?;
+    if let Some(line) = super::discrepancy::store_line(&setup.store) {
+        eprintln!("{line}");
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&drystone::discrepancy::report_json(&run))?);
         return Ok(());

@@ -32,6 +32,29 @@ pub struct AnalysisInput {
     /// writes), used instead of the study's [measured] files.
     #[arg(long)]
     pub measured: Option<PathBuf>,
+    /// Directory of forward runs kept between commands and processes (made if absent):
+    /// a run of the same build, study inputs, model and realization already in it is read
+    /// instead of made again, the same bit for bit, and every run made is kept there. Give
+    /// the same directory to `drystone discrepancy`, `drystone design` and the analysis of
+    /// the follow-up study it writes, and each runs only what the others have not.
+    /// Default: none, every run is made.
+    #[arg(long, value_name = "DIR")]
+    pub run_store: Option<PathBuf>,
+}
+
+impl AnalysisInput {
+    /// The run store of `--run-store`, opened (`None` without the option).
+    pub fn store(&self) -> Result<Option<std::sync::Arc<drystone::discrepancy::RunStore>>> {
+        match &self.run_store {
+            None => Ok(None),
+            Some(dir) => Ok(Some(std::sync::Arc::new(drystone::discrepancy::RunStore::open(dir)?))),
+        }
+    }
+}
+
+/// The line a command prints of its run store: runs read and kept.
+pub(crate) fn store_line(store: &Option<std::sync::Arc<drystone::discrepancy::RunStore>>) -> Option<String> {
+    store.as_ref().map(|s| format!("run store {}: {} run(s) read, {} kept", s.dir().display(), s.reads(), s.writes()))
 }
 
 /// Options of `drystone discrepancy`.
@@ -114,7 +137,8 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
         return measured_sets(&mut st, &s, dir, a.input.threads);
     }
     let obs = observations_of(&st, s.sigma)?;
-    let setup = setup_of(&st, s.most_realizations());
+    let mut setup = setup_of(&st, s.most_realizations());
+    setup.store = a.input.store()?;
     let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     // The directory is held from here to the end: a second command on it is refused.
     let held = HeldDir::acquire(&dir)?;
@@ -123,6 +147,9 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let progress = progress_lines("discrepancy");
     let run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
     let extended_study = write_discrepancy(&held, &st, &run)?;
+    if let Some(line) = store_line(&setup.store) {
+        eprintln!("{line}");
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
         return Ok(());
@@ -216,6 +243,7 @@ fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     for g in &mut input.setup.groups {
         g.realizations = s.most_realizations();
     }
+    input.setup.store = a.input.store()?;
     let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", input.name)));
     let held = HeldDir::acquire(&dir)?;
     let pool = pool(a.input.threads)?;
@@ -224,6 +252,9 @@ fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     let run = pool.install(|| {
         drystone::discrepancy::run_with(&input.setup, input.obs.clone(), &s, input.seed, &input.library, &progress)
     })?;
+    if let Some(line) = store_line(&input.setup.store) {
+        eprintln!("{line}");
+    }
     // The study's own check after the analysis, on readings the fit did not use.
     let check = match own.check {
         Some(f) => pool.install(|| f(&a.input.study, &input, &run, &progress))?,

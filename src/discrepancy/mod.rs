@@ -47,6 +47,7 @@ mod report;
 mod settings;
 mod simulate;
 mod stages;
+mod store;
 mod synthesize;
 mod weights;
 
@@ -77,6 +78,7 @@ pub use report::{diagnosis, report_json, report_markdown, write_report, Diagnosi
 pub use settings::Settings;
 pub use simulate::{forward_runs, run_models, run_one, GroupSetup, Outcome, Outcomes, Setup, StageRuns};
 pub use stages::{analyze, analyze_with};
+pub use store::{RunStore, StoreError};
 pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,
     write as write_synthetic, Request as SynthesisRequest,

@@ -14,6 +14,7 @@
 //! ([`Setup::check_protocol`]).
 
 use super::observations::Observable;
+use super::store::RunStore;
 use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
@@ -21,6 +22,7 @@ use crate::generator::Wall;
 use crate::loading::tilt::TiltParams;
 use crate::protocol::{Observed, Protocol, RunOutcome};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// One group of walls the model is run for.
 #[derive(Debug, Clone)]
@@ -73,6 +75,9 @@ pub struct Setup {
     /// The loading protocol with its parameters (the study's): [`Protocol::Tilt`] or
     /// [`Protocol::Lateral`].
     pub protocol: Protocol,
+    /// Where runs are read from and kept ([`RunStore`]); `None`: every run is made.
+    /// A run read is the same bit for bit as the run made again.
+    pub store: Option<Arc<RunStore>>,
 }
 
 impl Setup {
@@ -157,6 +162,19 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
             run.error().unwrap_or_else(|| format!("protocol {}: no observables", setup.protocol.name())),
         ),
     }
+}
+
+/// [`run_one`], read from the setup's run store where it holds the run, and kept there
+/// when made ([`Setup::store`]).
+fn run_stored(setup: &Setup, group: usize, realization: u64, effects: &[Effect]) -> Outcome {
+    let Some(store) = &setup.store else { return run_one(setup, group, realization, effects) };
+    let key = RunStore::key(setup, group, realization, effects);
+    if let Some(o) = store.get(&key) {
+        return o;
+    }
+    let o = run_one(setup, group, realization, effects);
+    let _ = store.put(&key, &o);
+    o
 }
 
 /// Whether a model acts on a group: the baseline (no effect) always, a model when one of
@@ -296,7 +314,7 @@ pub fn run_models(setup: &Setup, models: &[Vec<Effect>], reuse: Option<&[Vec<Out
         .collect();
     let cost: Vec<f64> = tasks.iter().map(|&(_, gi, _)| if setup.groups[gi].restrained { 2.0 } else { 1.0 }).collect();
     let results: Vec<Outcome> =
-        run_scheduled(&items, &cost, "discrepancy", |it| run_one(setup, it.group, it.realization, &run[it.point]));
+        run_scheduled(&items, &cost, "discrepancy", |it| run_stored(setup, it.group, it.realization, &run[it.point]));
     let mut ran: Outcomes = run.iter().map(|_| setup.groups.iter().map(|_| Vec::new()).collect()).collect();
     for ((mi, gi, _), o) in tasks.into_iter().zip(results) {
         ran[mi][gi].push(o);

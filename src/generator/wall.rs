@@ -158,7 +158,7 @@ impl Wall {
     }
 
     /// A copy with every `source` path emptied.
-    fn without_sources(&self) -> Wall {
+    pub(crate) fn without_sources(&self) -> Wall {
         let mut w = self.clone();
         let clear = |d: &mut Distribution| d.source = std::path::PathBuf::new();
         w.source = std::path::PathBuf::new();

@@ -416,7 +416,7 @@ pub struct Layout {
 /// The beam's horizontal motion is imposed, so these forces leave the wall's state as it is
 /// and move only the force read (the driver's reading of its result); limit analysis, which has no
 /// displacement, reads the friction alone.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct VerticalLoadRig {
     /// `1/L`, 1/m: the jack's hinges `L` apart (0: no lean).
     pub inverse_jack_length_per_m: f64,

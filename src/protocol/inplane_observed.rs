@@ -4,11 +4,11 @@
 
 use crate::layout::VerticalLoadRig;
 use crate::loading::inplane::{CurvePoint, MechanismKind};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// What an in-plane run gives to compare with measured data: the measures of the first
 /// direction loaded (+x) and the mode read from the blocks (`loading::inplane`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct InPlaneObserved {
     /// The peak horizontal force, kN.
     pub peak_force_kn: f64,
@@ -23,7 +23,7 @@ pub struct InPlaneObserved {
 /// What an in-plane run's readings are made from: the curve of the wall's own shear, the
 /// applied vertical force and the vertical-load system of the run, and the mode read from
 /// the blocks (which the system does not move).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InPlaneReading {
     /// The curve of the wall's own shear ([`crate::loading::inplane::InPlaneResult::wall_curve`]).
     pub wall_curve: Vec<CurvePoint>,

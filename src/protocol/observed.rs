@@ -8,13 +8,13 @@ use crate::loading::mechanism::MechanismReading;
 use crate::loading::monitors::TopMonitor;
 use crate::loading::tilt::TiltResult;
 use crate::units::m_to_cm;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// What a run gives to compare with measured data (`drystone discrepancy`): the collapse
 /// angle with its bracket, the top displacements at every stable state, the failure
 /// mechanism ([`super::RunOutcome::observed`]).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Observed {
     /// Collapse angle α_max, degrees (`max_angle_deg` if the wall stood); `None` under the
     /// lateral load (no collapse angle).

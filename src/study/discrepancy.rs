@@ -38,7 +38,7 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
             }
         })
         .collect();
-    Setup { groups, seed: study.seed, solver: study.solver, protocol: study.protocol_at(0) }
+    Setup { groups, seed: study.seed, solver: study.solver, protocol: study.protocol_at(0), store: None }
 }
 
 /// The observations of a study's measured data (`[measured]`), with the measured group

@@ -157,7 +157,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
         return Err(bad("groups[].specimens".into(), "no group names a measured specimen: nothing to compare".into()));
     }
     let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
-    let setup = Setup { groups, seed: spec.seed, solver: crate::dem::SolverParams::default(), protocol };
+    let setup = Setup { groups, seed: spec.seed, solver: crate::dem::SolverParams::default(), protocol, store: None };
     Ok(OwnAnalysis {
         name: spec.name,
         seed: spec.seed,

@@ -92,7 +92,7 @@ fn names(
     hidden: f64,
 ) -> drystone::discrepancy::Run {
     let protocol = groups[0].protocol.clone().expect("set");
-    let setup = Setup { groups, seed: 7, solver: SolverParams::default(), protocol };
+    let setup = Setup { groups, seed: 7, solver: SolverParams::default(), protocol, store: None };
     let mut s = Settings::default();
     (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
     (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 40, 40, 200);

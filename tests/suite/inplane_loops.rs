@@ -85,7 +85,7 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
         protocol: Some(Protocol::InPlane(InPlane(cyclic(SIGMA0_MPA)))),
     };
     let protocol = group.protocol.clone().unwrap();
-    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol };
+    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None };
     let lib = Library::builtin();
     let model = |name: &str, effect: Option<&str>| -> LoopCandidate {
         (name.into(), vec![], effect.map(|e| vec![lib.parse(e, course_m).unwrap()]).unwrap_or_default())

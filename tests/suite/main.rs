@@ -68,6 +68,7 @@ mod readings_only;
 mod resume;
 mod rope;
 mod rope_tilt;
+mod run_store;
 mod sanity;
 mod shake;
 mod shake_penalty;

@@ -16,7 +16,7 @@ use std::path::Path;
 
 const WALL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/walls/granite_vasconcelos.toml");
 
-fn setup() -> Setup {
+pub(crate) fn setup() -> Setup {
     let wall = Wall::from_file(Path::new(WALL)).unwrap();
     let group = |name: &str, history: History| {
         let p = InPlaneParams {
@@ -40,7 +40,7 @@ fn setup() -> Setup {
     };
     let groups = vec![group("monotonic", History::Monotonic), group("cyclic", History::Cyclic)];
     let protocol = groups[0].protocol.clone().expect("set");
-    Setup { groups, seed: 5, solver: SolverParams::default(), protocol }
+    Setup { groups, seed: 5, solver: SolverParams::default(), protocol, store: None }
 }
 
 fn effect(name: &str, v: f64) -> Effect {

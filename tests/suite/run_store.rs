@@ -1,0 +1,149 @@
+//! The run store (`--run-store`, `drystone::discrepancy::RunStore`): a run read from it is
+//! the run made again, bit for bit, on the tilting table and on the in-plane test (whose
+//! rig reading is read again under another vertical-load system); a run is read only under
+//! everything it read (a key differs when any input differs by one bit, not when the wall
+//! was read from another file); a run that would not read back exactly is not kept, and a
+//! damaged record is a miss. The reference of each check is the engine run without a store.
+
+use crate::common::Scratch;
+use drystone::discrepancy::{run_models, Outcome, RunStore, Setup};
+use drystone::effects::{Effect, Library};
+use drystone::study::discrepancy::setup_of;
+use drystone::study::Study;
+use std::path::Path;
+use std::sync::Arc;
+
+const STUDY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/discrepancy/study.toml");
+
+/// The test bed's free wall, two realizations.
+fn tilt_setup() -> Setup {
+    let st = Study::from_file(Path::new(STUDY)).unwrap();
+    let mut s = setup_of(&st, 2);
+    s.groups.truncate(1);
+    s
+}
+
+fn effect(name: &str, v: f64, course_m: f64) -> Effect {
+    Effect::new(Library::builtin().get(name).unwrap(), vec![v], course_m).unwrap()
+}
+
+/// Outcomes as text: `Debug` prints every float as the shortest text that reads back to its
+/// bits, so equal texts are equal bits (NaN included).
+fn text(o: &[Vec<Vec<Outcome>>]) -> String {
+    format!("{o:?}")
+}
+
+fn with_store(setup: &Setup, dir: &Path) -> (Setup, Arc<RunStore>) {
+    let store = Arc::new(RunStore::open(dir).unwrap());
+    (Setup { store: Some(store.clone()), ..setup.clone() }, store)
+}
+
+#[test]
+fn runs_read_from_the_store_are_the_runs_made_again_bit_for_bit() {
+    let dir = Scratch::new("run-store-tilt");
+    let plain = tilt_setup();
+    let c = plain.groups[0].course_m;
+    let models = vec![vec![], vec![effect("kn_scale", 0.5, c)], vec![effect("initial_lean", 0.5, c)]];
+    let made = run_models(&plain, &models, None);
+    // First command: every run made and kept.
+    let (first, s1) = with_store(&plain, &dir);
+    let kept = run_models(&first, &models, None);
+    assert_eq!(text(&kept), text(&made));
+    assert_eq!((s1.reads(), s1.writes()), (0, 6));
+    // A second command on the same directory (another process's store): every run read.
+    let (second, s2) = with_store(&plain, &dir);
+    let read = run_models(&second, &models, None);
+    assert_eq!(text(&read), text(&made));
+    assert_eq!((s2.reads(), s2.writes()), (6, 0));
+    // Another seed reads nothing and runs everything.
+    let (other, s3) = with_store(&Setup { seed: plain.seed + 1, ..plain.clone() }, &dir);
+    let _ = run_models(&other, &models[..1], None);
+    assert_eq!((s3.reads(), s3.writes()), (0, 2));
+}
+
+/// The in-plane test's runs carry the rig reading they are read again from: a baseline read
+/// from the store and read again under the bearing's friction gives what the run made
+/// with the friction gives.
+#[test]
+fn an_in_plane_run_read_from_the_store_is_read_again_as_the_run_made() {
+    let dir = Scratch::new("run-store-inplane");
+    let plain = crate::readings_only::setup();
+    let plain = Setup { groups: plain.groups[..1].to_vec(), ..plain };
+    let c = plain.groups[0].course_m;
+    let models = vec![vec![], vec![effect("rig_friction", 0.05, c)]];
+    let made = run_models(&plain, &models, None);
+    assert!(made[0][0][0].observed.rig_reading.is_some(), "the in-plane run keeps its rig reading");
+    let (first, _) = with_store(&plain, &dir);
+    let _ = run_models(&first, &models[..1], None);
+    let (second, s2) = with_store(&plain, &dir);
+    let read = run_models(&second, &models, None);
+    assert_eq!(s2.reads(), 1);
+    assert_eq!(text(&read), text(&made));
+}
+
+#[test]
+fn a_run_is_read_only_under_everything_it_read() {
+    let s = tilt_setup();
+    let c = s.groups[0].course_m;
+    let e = |v: f64| vec![effect("kn_scale", v, c)];
+    let key = |s: &Setup, r: u64, m: &[Effect]| RunStore::key(s, 0, r, m);
+    let k0 = key(&s, 0, &e(0.5));
+    assert_eq!(k0.len(), 64);
+    assert_eq!(k0, key(&s.clone(), 0, &e(0.5)));
+    let up = |x: f64| f64::from_bits(x.to_bits() + 1);
+    assert_ne!(k0, key(&s, 1, &e(0.5)), "realization");
+    assert_ne!(k0, key(&s, 0, &e(up(0.5))), "an effect's parameter by one ulp");
+    assert_ne!(k0, key(&s, 0, &[]), "the baseline");
+    assert_ne!(k0, key(&Setup { seed: s.seed ^ 1, ..s.clone() }, 0, &e(0.5)), "seed");
+    let mut g = s.clone();
+    g.groups[0].wall.height = up(g.groups[0].wall.height);
+    assert_ne!(k0, key(&g, 0, &e(0.5)), "the wall's height by one ulp");
+    let mut g = s.clone();
+    g.groups[0].course_m = up(c);
+    assert_ne!(k0, key(&g, 0, &e(0.5)), "the course height by one ulp");
+    let mut g = s.clone();
+    g.groups[0].name.push('x');
+    assert_ne!(k0, key(&g, 0, &e(0.5)), "the group's name");
+    let mut g = s.clone();
+    g.solver.damping = up(g.solver.damping);
+    assert_ne!(k0, key(&g, 0, &e(0.5)), "the solver's damping by one ulp");
+    let mut g = s.clone();
+    g.groups[0].restrained = !g.groups[0].restrained;
+    assert_ne!(k0, key(&g, 0, &e(0.5)), "the end restraints");
+    // The same walls read from another file are the same runs.
+    let mut g = s.clone();
+    g.groups[0].wall.source = "elsewhere/copy.toml".into();
+    assert_eq!(k0, key(&g, 0, &e(0.5)));
+}
+
+#[test]
+fn a_run_that_would_not_read_back_exactly_is_not_kept_and_a_damaged_record_is_a_miss() {
+    let dir = Scratch::new("run-store-exact");
+    let store = RunStore::open(&*dir).unwrap();
+    let key = "ab".repeat(32);
+    let mut o = Outcome { observed: Default::default(), error: None };
+    o.observed.collapse_deg = Some(17.125);
+    o.observed.tilt_deg = vec![0.0, 1.0];
+    o.observed.top_cm = vec![[0.0, -0.0, 1e-300], [0.1 + 0.2, f64::MIN_POSITIVE, 3.0]];
+    assert!(store.put(&key, &o));
+    assert_eq!(format!("{:?}", store.get(&key).unwrap()), format!("{o:?}"));
+    // NaN and infinity do not survive JSON: not kept.
+    let other = "cd".repeat(32);
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut n = o.clone();
+        n.observed.top_cm[1][1] = bad;
+        assert!(!store.put(&other, &n));
+        assert!(store.get(&other).is_none());
+    }
+    // A record cut short reads as a miss.
+    let path = dir.join(&key[..2]).join(format!("{key}.json"));
+    let whole = std::fs::read(&path).unwrap();
+    std::fs::write(&path, &whole[..whole.len() / 2]).unwrap();
+    assert!(store.get(&key).is_none());
+    assert_eq!(store.reads(), 1);
+    // A directory that cannot be made is an error naming it.
+    let file = dir.join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    let err = RunStore::open(file.join("store")).unwrap_err().to_string();
+    assert!(err.contains("a_file"), "{err}");
+}
