@@ -21,6 +21,11 @@
 //! cargo run --release --example realwall_design -- summary OUT.csv [MORE.csv ...]
 //! ```
 //!
+//! `--run-store=DIR` (with `run` or `rescore`): the forward runs are read from and kept in
+//! the run store `DIR` ([`drystone::discrepancy::RunStore`]), so the parts of a column
+//! run side by side, and data sets after the first, read the test bed's runs and the
+//! follow-up walls' grids instead of making them again; the rows are the same bit for bit.
+//!
 //! `rescore` makes every data set of FROM.csv again with the current design: where the
 //! design makes the same follow-up as FROM's row, the row's observed columns are kept (the
 //! analysis of both campaigns depends on the data set and the follow-up made, nothing
@@ -81,14 +86,19 @@ fn alone(e: Edit, cause: Option<&str>, tie: &[String]) -> bool {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let all: Vec<String> = std::env::args().skip(1).collect();
+    let store = all
+        .iter()
+        .find_map(|a| a.strip_prefix("--run-store="))
+        .map(|dir| std::sync::Arc::new(drystone::discrepancy::RunStore::open(dir).unwrap_or_else(|e| panic!("{e}"))));
+    let args: Vec<String> = all.into_iter().filter(|a| !a.starts_with("--run-store=")).collect();
     match args.first().map(String::as_str) {
-        Some("run") if args.len() >= 2 => run(&args[1..]),
+        Some("run") if args.len() >= 2 => run(&args[1..], store),
         Some("summary") if args.len() >= 2 => summary(&args[1..]),
-        Some("rescore") if args.len() >= 3 => rescore(&args[1], &args[2]),
+        Some("rescore") if args.len() >= 3 => rescore(&args[1], &args[2], store),
         _ => {
             eprintln!(
-                "usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] | rescore FROM.csv OUT.csv | summary FILE.csv ..."
+                "usage: realwall_design run OUT.csv [SETS_PER_CLASS] [FIRST_SET] [CLASSES] [--without-mechanism] [--run-store=DIR] | rescore FROM.csv OUT.csv [--run-store=DIR] | summary FILE.csv ..."
             );
             std::process::exit(2);
         }
@@ -105,11 +115,13 @@ struct Bed {
 }
 
 impl Bed {
-    fn new() -> Bed {
+    /// The test bed, its runs read from and kept in `store` when one is given.
+    fn new(store: Option<std::sync::Arc<drystone::discrepancy::RunStore>>) -> Bed {
         let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
         let st = Study::from_file(&root.join("tests/discrepancy/study.toml")).unwrap();
         let s = st.discrepancy.clone();
-        let setup = setup_of(&st, s.most_realizations());
+        let mut setup = setup_of(&st, s.most_realizations());
+        setup.store = store;
         let template = data_set(&st, DATA_SEED, 0, 2, Edit::None, NOISE, &TILTS, s.sigma);
         let prep = prepare(&setup, &template, &s, &st.library).unwrap();
         let ds = DesignSettings { specimens: SPECIMENS as usize, replicates: 100, ..DesignSettings::default() };
@@ -117,7 +129,7 @@ impl Bed {
     }
 }
 
-fn run(args: &[String]) {
+fn run(args: &[String], store: Option<std::sync::Arc<drystone::discrepancy::RunStore>>) {
     let without_mechanism = args.iter().any(|a| a == "--without-mechanism");
     let args: Vec<String> = args.iter().filter(|a| !a.starts_with("--")).cloned().collect();
     let out = PathBuf::from(&args[0]);
@@ -129,7 +141,7 @@ fn run(args: &[String]) {
     if !out.exists() {
         std::fs::write(&out, format!("{HEADER}\n")).unwrap();
     }
-    let bed = Bed::new();
+    let bed = Bed::new(store);
     for (ci, e) in classes().into_iter().enumerate() {
         if only.as_ref().is_some_and(|o| !o.contains(&ci)) {
             continue;
@@ -148,14 +160,14 @@ fn run(args: &[String]) {
 /// both campaigns, which depends on the follow-up made alone) are kept and its predicted
 /// columns replaced; where it makes another, the data set is run in full. Rows already in
 /// `out` are skipped.
-fn rescore(from: &str, out: &str) {
+fn rescore(from: &str, out: &str, store: Option<std::sync::Arc<drystone::discrepancy::RunStore>>) {
     let out = PathBuf::from(out);
     let done: Vec<(String, usize)> =
         read_rows(&out).iter().map(|r| (r[0].clone(), r[1].parse().unwrap_or(0))).collect();
     if !out.exists() {
         std::fs::write(&out, format!("{HEADER}\n")).unwrap();
     }
-    let bed = Bed::new();
+    let bed = Bed::new(store);
     let classes = classes();
     for row in read_rows(Path::new(from)) {
         let i: usize = row[1].parse().unwrap_or(0);
@@ -235,7 +247,8 @@ fn one_set(bed: &Bed, ci: usize, e: Edit, i: usize, without_mechanism: bool, old
     if reads_mechanism {
         both.extend(mechanism_observations_via_file(&only_group, &dir.join("mech"), &more.mechanism, s.sigma));
     }
-    let fsetup = setup_of(&fst, fst.discrepancy.most_realizations());
+    let mut fsetup = setup_of(&fst, fst.discrepancy.most_realizations());
+    fsetup.store = setup.store.clone();
     // The first campaign's runs, read where the follow-up's study runs them alike.
     let fprep = prepare_after(&fsetup, &both, &fst.discrepancy, &fst.library, Some(prep), &quiet).unwrap();
     let run2 = analyze(&fprep, both, first).unwrap();

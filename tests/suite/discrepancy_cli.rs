@@ -154,3 +154,21 @@ fn discrepancy_and_calibrate_hold_their_output_directory_and_write_whole_sets() 
     drystone::study::verify_outputs(&out, &outputs).unwrap();
     assert!(err.contains("calibrate: step 1/1 (FREE): friction_deg in 30.0° .. 31.0°"), "{err}");
 }
+
+/// A run store that cannot be made is refused before anything runs, naming its directory,
+/// by both commands that take one.
+#[test]
+fn a_run_store_that_cannot_be_made_is_named() {
+    let scratch = Scratch::created("run-store-bad");
+    let st = study_with_data(&scratch);
+    write(&scratch, "plain_file", "x");
+    let bad = scratch.join("plain_file").join("runs");
+    let out = scratch.join("out");
+    for command in ["discrepancy", "design"] {
+        let (code, err) =
+            drystone(&[command, &st, "--run-store", &bad.display().to_string(), "--out", &out.display().to_string()]);
+        assert_eq!(code, 2, "{command}: {err}");
+        assert!(err.contains("run store") && err.contains("plain_file"), "{command}: {err}");
+        assert!(!out.join("discrepancy.md").exists(), "{command}: nothing written");
+    }
+}
