@@ -261,43 +261,55 @@ fn level_integrals(u: [f64; 3], area: f64, lower: f64, breaks: &[f64], g: impl F
         }
         return out;
     }
-    let mut centroid = [0.0; 3];
-    let mut piece = |lo: f64, hi: f64, density: &dyn Fn(f64) -> f64, lam: &dyn Fn(f64) -> [f64; 3]| {
-        let lo = lo.max(lower);
-        if hi <= lo {
-            return;
-        }
-        let mut cuts = vec![lo];
-        cuts.extend(breaks.iter().copied().filter(|&b| b > lo && b < hi));
-        cuts.push(hi);
-        for w in cuts.windows(2) {
-            let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
-            for (x, wt) in GAUSS8 {
-                let v = mid + half * x;
-                let d_area = wt * half * density(v);
-                let (gv, l) = (g(v) * d_area, lam(v));
-                for k in 0..3 {
-                    out.moments[idx[k]] += gv * l[k];
-                    centroid[idx[k]] += d_area * l[k];
+    // Sums per node in the sorted order (node `idx[k]` is entry `k`), each taking the same
+    // terms in the same order as the node's own sum would.
+    let (mut moments, mut sorted_centroid) = ([0.0; 3], [0.0; 3]);
+    // One piece from `lo` to `hi` with its density `dA/du` and mean barycentrics `λ̄(u)`
+    // (closures of their own types, so each evaluation is inlined).
+    macro_rules! piece {
+        ($lo:expr, $hi:expr, $density:expr, $lam:expr) => {{
+            let (density, lam) = ($density, $lam);
+            let (lo, hi): (f64, f64) = (f64::max($lo, lower), $hi);
+            if hi > lo {
+                // The intervals between `lo`, the kinks inside and `hi`, in that order.
+                let inside = breaks.iter().copied().filter(|&b| b > lo && b < hi);
+                let mut from = lo;
+                for to in inside.chain(std::iter::once(hi)) {
+                    let (mid, half) = (0.5 * (from + to), 0.5 * (to - from));
+                    from = to;
+                    for (x, wt) in GAUSS8 {
+                        let v = mid + half * x;
+                        let d_area = wt * half * density(v);
+                        let (gv, l): (f64, [f64; 3]) = (g(v) * d_area, lam(v));
+                        for k in 0..3 {
+                            moments[k] += gv * l[k];
+                            sorted_centroid[k] += d_area * l[k];
+                        }
+                        out.area += d_area;
+                    }
                 }
-                out.area += d_area;
             }
-        }
-    };
+        }};
+    }
     let a_low = area * (ub - ua) / span;
     if ub > ua {
         let db = ub - ua;
-        piece(ua, ub, &|v| 2.0 * a_low * (v - ua) / (db * db), &|v| {
+        piece!(ua, ub, |v: f64| 2.0 * a_low * (v - ua) / (db * db), |v: f64| {
             let (s, t) = ((v - ua) / db, (v - ua) / span);
             [1.0 - 0.5 * (s + t), 0.5 * s, 0.5 * t]
         });
     }
     if uc > ub {
         let (dc, a_up) = (uc - ub, area - a_low);
-        piece(ub, uc, &|v| 2.0 * a_up * (uc - v) / (dc * dc), &|v| {
+        piece!(ub, uc, |v: f64| 2.0 * a_up * (uc - v) / (dc * dc), |v: f64| {
             let (r, t) = ((v - ub) / dc, (v - ua) / span);
             [0.5 * (1.0 - t), 0.5 * (1.0 - r), 0.5 * (r + t)]
         });
+    }
+    let mut centroid = [0.0; 3];
+    for k in 0..3 {
+        out.moments[idx[k]] = moments[k];
+        centroid[idx[k]] = sorted_centroid[k];
     }
     if out.area > 0.0 {
         out.centroid = centroid.map(|c| c / out.area);
