@@ -39,6 +39,7 @@ mod identify;
 mod inplane;
 mod null;
 mod observations;
+mod outcome;
 mod predictive;
 mod prepare;
 mod progress;

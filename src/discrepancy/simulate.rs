@@ -13,15 +13,14 @@
 //! state at tilt 0°). The shaking table has no observable here and is refused
 //! ([`Setup::check_protocol`]).
 
-use super::observations::Observable;
+pub use super::outcome::Outcome;
 use super::store::RunStore;
 use crate::dem::SolverParams;
 use crate::effects::Effect;
 use crate::ensemble::{run_scheduled, Item};
 use crate::generator::Wall;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::{Observed, Protocol, RunOutcome};
-use serde::Serialize;
+use crate::protocol::{Protocol, RunOutcome};
 use std::sync::Arc;
 
 /// One group of walls the model is run for.
@@ -81,6 +80,35 @@ pub struct Setup {
 }
 
 impl Setup {
+    /// The run store's key of realization `realization` of group `group` extended by
+    /// `effects` ([`RunStore`]): 64 hex digits, the SHA-256 of everything [`run_one`]
+    /// reads, each written out by its `Debug` form (whose floats are the shortest text that
+    /// reads back to the same bits): the build (`drystone --version`, so a run of another
+    /// build is never read), the group's name (it seeds the effects' draws), its walls as
+    /// [`Wall::same_walls`] compares them (the files they were read from aside), end
+    /// restraints, course height, own effects and protocol, the setup's seed, solver and
+    /// protocol, the realization and `effects`.
+    pub fn run_key(&self, group: usize, realization: u64, effects: &[Effect]) -> String {
+        use sha2::{Digest, Sha256};
+        let g = &self.groups[group];
+        let text = format!(
+            "{}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}\noutcome",
+            env!("DRYSTONE_BUILD"),
+            g.name,
+            g.wall.without_sources(),
+            (g.restrained, g.deterministic),
+            g.course_m.to_bits(),
+            g.effects,
+            g.protocol,
+            self.seed,
+            self.solver,
+            self.protocol,
+            effects,
+            realization,
+        );
+        Sha256::digest(text.as_bytes()).iter().map(|b| format!("{b:02x}")).collect()
+    }
+
     /// The tilting table's parameters, for a tilting-table setup ([`Protocol::tilt`]).
     pub fn tilt(&self) -> Option<&TiltParams> {
         self.protocol.tilt()
@@ -112,36 +140,6 @@ impl Setup {
     }
 }
 
-/// The outcome of one realization of one model: what its run gave to compare with
-/// measured data ([`Observed`], empty for a failed run) and why it failed, if it did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Outcome {
-    /// The run's observables: collapse angle and bracket, stable tilts, top displacements,
-    /// the mechanism's reading (`Observed::collapse_deg` is `None` under the lateral load).
-    #[serde(flatten)]
-    pub observed: Observed,
-    /// Why the run failed, if it did.
-    pub error: Option<String>,
-}
-
-impl Outcome {
-    fn failed(error: String) -> Outcome {
-        Outcome { observed: Observed::default(), error: Some(error) }
-    }
-
-    /// The collapse angle as the middle of its bracket (last stable, first unstable),
-    /// degrees: the unbiased point value of an angle known to lie in the bracket.
-    pub fn collapse_mid_deg(&self) -> Option<f64> {
-        Observable::CollapseAngle.of(&self.observed)
-    }
-
-    /// The value of an observable ([`Observable::of`]); `None` for a failed run.
-    pub fn value(&self, obs: &Observable) -> Option<f64> {
-        self.error.is_none().then_some(())?;
-        obs.of(&self.observed)
-    }
-}
-
 /// Runs one realization of one group with `effects` applied to its layout.
 pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]) -> Outcome {
     let g = &setup.groups[group];
@@ -168,7 +166,7 @@ pub fn run_one(setup: &Setup, group: usize, realization: u64, effects: &[Effect]
 /// when made ([`Setup::store`]).
 fn run_stored(setup: &Setup, group: usize, realization: u64, effects: &[Effect]) -> Outcome {
     let Some(store) = &setup.store else { return run_one(setup, group, realization, effects) };
-    let key = RunStore::key(setup, group, realization, effects);
+    let key = setup.run_key(group, realization, effects);
     if let Some(o) = store.get(&key) {
         return o;
     }
@@ -184,7 +182,7 @@ fn acts(m: &[Effect], g: &GroupSetup) -> bool {
 }
 
 /// Whether the setup's runs can be read again under another vertical-load system
-/// ([`Observed::reread`]): its protocol's drivers read the layout's
+/// ([`crate::protocol::Observed::reread`]): its protocol's drivers read the layout's
 /// ([`crate::protocol::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]).
 pub(super) fn rereads(setup: &Setup) -> bool {
     setup.protocol.loading().reads_vertical_load_rig()
@@ -281,7 +279,7 @@ pub type Outcomes = Vec<Vec<Vec<Outcome>>>;
 
 /// One outcome read again with `reads`, the effects of a model that act on the readings
 /// only, on top of the vertical-load system it was run with, for a wall of declared kind
-/// `kind`: what a run with them gives, bit for bit ([`Observed::reread`]). A failed run
+/// `kind`: what a run with them gives, bit for bit ([`crate::protocol::Observed::reread`]). A failed run
 /// stays failed; a run read again without a +x branch fails as a run would.
 fn reread(o: &Outcome, reads: &[Effect], kind: Option<crate::effects::WallKind>, protocol: &str) -> Outcome {
     let Some(r) = o.observed.rig_reading.as_ref().filter(|_| o.error.is_none()) else {

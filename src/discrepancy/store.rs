@@ -3,11 +3,12 @@
 //! (`drystone discrepancy`, then `drystone design` on the same study, then the analysis of
 //! both campaigns on the follow-up study it writes; the parts of a design column).
 //!
-//! A run is stored under the SHA-256 of everything [`super::run_one`] reads: the build
-//! (`drystone --version`: its version and the digest of its sources, so a run made by
-//! another build is never read), the group's name (it seeds the effects' draws), its walls
-//! as [`Wall::same_walls`](crate::generator::Wall::same_walls) compares them (the files
-//! they were read from aside), its end restraints, course height, own effects and loading
+//! A run is stored under the SHA-256 of everything [`super::run_one`] reads
+//! ([`super::Setup::run_key`]): the build (`drystone --version`: its version and the
+//! digest of its sources, so a run made by another build is never read), the group's name
+//! (it seeds the effects' draws), its walls as
+//! [`Wall::same_walls`](crate::generator::Wall::same_walls) compares them (the files they
+//! were read from aside), its end restraints, course height, own effects and loading
 //! protocol, the setup's master seed, solver and protocol, the realization, and the model's
 //! effects. Each is written out by its `Debug` form, whose floats are the shortest text
 //! that reads back as the same bits, so two inputs that differ in any bit have different
@@ -21,8 +22,7 @@
 //! miss. Runs read from the store are the same bit for bit as runs made again
 //! (`tests/suite/run_store.rs`).
 
-use super::simulate::{Outcome, Setup};
-use crate::effects::Effect;
+use super::outcome::Outcome;
 use crate::protocol::{InPlaneReading, Observed};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -96,34 +96,11 @@ impl RunStore {
         self.written.load(Ordering::Relaxed)
     }
 
-    /// The key of realization `realization` of group `group` of `setup` extended by
-    /// `effects`: 64 hex digits ([module docs](self)).
-    pub fn key(setup: &Setup, group: usize, realization: u64, effects: &[Effect]) -> String {
-        let g = &setup.groups[group];
-        let text = format!(
-            "{}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}\n{:?}",
-            crate::study::BUILD,
-            g.name,
-            g.wall.without_sources(),
-            (g.restrained, g.deterministic),
-            g.course_m.to_bits(),
-            g.effects,
-            g.protocol,
-            setup.seed,
-            setup.solver,
-            setup.protocol,
-            effects,
-            realization,
-            "outcome",
-        );
-        crate::study::sha256_hex(text.as_bytes())
-    }
-
     fn path(&self, key: &str) -> PathBuf {
         self.dir.join(&key[..2]).join(format!("{key}.json"))
     }
 
-    /// The stored run under `key` ([`RunStore::key`]), if there is a complete one; a
+    /// The stored run under `key` ([`super::Setup::run_key`]), if there is a complete one; a
     /// record that does not read is a miss.
     pub fn get(&self, key: &str) -> Option<Outcome> {
         let text = std::fs::read(self.path(key)).ok()?;
@@ -132,7 +109,7 @@ impl RunStore {
         Some(record.outcome())
     }
 
-    /// Stores `outcome` under `key` ([`RunStore::key`]) if it reads back the same to the
+    /// Stores `outcome` under `key` ([`super::Setup::run_key`]) if it reads back the same to the
     /// bit; returns whether it did. A run that cannot be stored (a NaN or infinite reading,
     /// a full disk) is left out, and made again when asked for.
     pub fn put(&self, key: &str, outcome: &Outcome) -> bool {

@@ -86,7 +86,7 @@ fn a_run_is_read_only_under_everything_it_read() {
     let s = tilt_setup();
     let c = s.groups[0].course_m;
     let e = |v: f64| vec![effect("kn_scale", v, c)];
-    let key = |s: &Setup, r: u64, m: &[Effect]| RunStore::key(s, 0, r, m);
+    let key = |s: &Setup, r: u64, m: &[Effect]| s.run_key(0, r, m);
     let k0 = key(&s, 0, &e(0.5));
     assert_eq!(k0.len(), 64);
     assert_eq!(k0, key(&s.clone(), 0, &e(0.5)));
