@@ -28,6 +28,13 @@ impl FileError {
     }
 }
 
+/// SHA-256 of `bytes`, lower-case hex (the digests of the journal's lines, of a study's
+/// inputs and outputs, and the run store's keys).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// The temporary name `path` is written under before [`replace_file`] renames it:
 /// `.NAME.tmp` in the same directory.
 pub fn temporary_name(path: &Path) -> PathBuf {

@@ -89,7 +89,6 @@ impl Setup {
     /// restraints, course height, own effects and protocol, the setup's seed, solver and
     /// protocol, the realization and `effects`.
     pub fn run_key(&self, group: usize, realization: u64, effects: &[Effect]) -> String {
-        use sha2::{Digest, Sha256};
         let g = &self.groups[group];
         let text = format!(
             "{}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}\noutcome",
@@ -106,7 +105,7 @@ impl Setup {
             effects,
             realization,
         );
-        Sha256::digest(text.as_bytes()).iter().map(|b| format!("{b:02x}")).collect()
+        crate::files::sha256_hex(text.as_bytes())
     }
 
     /// The tilting table's parameters, for a tilting-table setup ([`Protocol::tilt`]).

@@ -25,7 +25,6 @@
 use super::outcome::Outcome;
 use crate::protocol::{InPlaneReading, Observed};
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -120,18 +119,11 @@ impl RunStore {
             return false;
         }
         let path = self.path(key);
-        let Some(parent) = path.parent() else { return false };
-        if std::fs::create_dir_all(parent).is_err() {
-            return false;
-        }
-        // A name of this process and thread alone, renamed over the record when whole.
-        let tmp = parent.join(format!(".{key}.{}.{:?}.tmp", std::process::id(), std::thread::current().id()));
-        let written = std::fs::File::create(&tmp).and_then(|mut f| f.write_all(&text)).is_ok()
-            && std::fs::rename(&tmp, &path).is_ok();
+        // Written whole (`files::replace_file`); two writers of one key write the same bytes.
+        let written = path.parent().is_some_and(|d| std::fs::create_dir_all(d).is_ok())
+            && crate::files::replace_file(&path, &text).is_ok();
         if written {
             self.written.fetch_add(1, Ordering::Relaxed);
-        } else {
-            let _ = std::fs::remove_file(&tmp);
         }
         written
     }

@@ -26,7 +26,6 @@ use super::row::RealizationRow;
 use crate::files::FileError;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -87,9 +86,7 @@ struct RowLine {
 const SUM_OPEN: &str = ",\"sum\":\"";
 const SUM_LEN: usize = SUM_OPEN.len() + 64 + 2;
 
-fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
+use crate::files::sha256_hex;
 
 /// A JSON object with its checksum appended as the last member `sum`: the SHA-256 of the
 /// object as given.

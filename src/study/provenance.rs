@@ -11,7 +11,6 @@
 
 use crate::files::FileError;
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::path::{Component, Path, PathBuf};
 
 /// The drystone version of this build (`CARGO_PKG_VERSION`).
@@ -68,10 +67,7 @@ pub struct InputFile {
     pub text: String,
 }
 
-/// SHA-256 of `bytes`, lower-case hex.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
+pub use crate::files::sha256_hex;
 
 /// The input files `(role, path)` read and recorded, in the order given with duplicates
 /// removed (a distribution shared by two walls is one input).
