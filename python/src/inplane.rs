@@ -40,9 +40,12 @@ pub fn _in_plane<'py>(
     let failed = |e: &drystone::loading::inplane::InPlaneError| {
         use drystone::loading::inplane::InPlaneError as E;
         match e {
-            E::Parameter(_) | E::ShearSpan { .. } | E::NotLevel { .. } | E::Solver(_) | E::Beam(_) => {
-                input_error(e.to_string(), Place::default())
-            }
+            E::Parameter(_)
+            | E::ShearSpan { .. }
+            | E::MeasuringPoint { .. }
+            | E::NotLevel { .. }
+            | E::Solver(_)
+            | E::Beam(_) => input_error(e.to_string(), Place::default()),
             _ => drystone_python_solver_error(&e.to_string()),
         }
     };

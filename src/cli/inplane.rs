@@ -7,7 +7,7 @@ use drystone::io::inplane::crack_map_svg;
 use drystone::limit::inplane::InPlaneLimit;
 use drystone::limit::LimitParams;
 use drystone::loading::inplane::{
-    mechanism_joints, BeamRotation, DirectionResult, History, InPlaneParams, InPlaneResult, Rig,
+    mechanism_joints, BeamRotation, DirectionResult, History, InPlaneParams, InPlaneResult, Rig, READING_DRIFTS_PCT,
 };
 use drystone::protocol::{InPlane, InPlaneRun, States, Unsupported};
 use serde_json::json;
@@ -28,6 +28,12 @@ pub struct InPlaneArgs {
     /// `--beam-rotation fixed`.
     #[arg(long, value_name = "M")]
     shear_span_m: Option<f64>,
+    /// The height above the base of the point where the displacement is read, m (on the
+    /// loading beam; the drift is the displacement there over this height). Default: the
+    /// actuator's height (the shear span with a free beam rotation, as the Stone Masonry
+    /// Database reads a test that reports none; the wall's height with a fixed one).
+    #[arg(long, value_name = "M")]
+    measuring_height_m: Option<f64>,
     /// The largest drift, %.
     #[arg(long, value_name = "PCT", default_value_t = InPlaneParams::default().drift_pct)]
     drift_pct: f64,
@@ -95,6 +101,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         },
         step_mm: a.step_mm,
         quarter_increments: a.quarter_increments,
+        measuring_height_m: a.measuring_height_m,
     };
     if a.amplitudes_pct.is_some() && !a.cyclic {
         bail!("--amplitudes-pct gives the cycles' amplitudes: add --cyclic");
@@ -181,6 +188,14 @@ fn dir_json(d: &Option<DirectionResult>) -> serde_json::Value {
             "ultimate_drift_pct": d.ultimate_drift_pct,
             "ultimate_by_drop": d.dropped,
             "initial_stiffness_kn_per_mm": d.initial_stiffness_kn_per_mm,
+            "force_at_drift_kn": READING_DRIFTS_PCT
+                .iter()
+                .zip(d.force_at_drift_kn)
+                .map(|(d, f)| json!({ "drift_pct": d, "force_kn": f }))
+                .collect::<Vec<_>>(),
+            "drift_at_80_pct_of_peak": d.drift_at_80_pct,
+            "drift_at_95_pct_of_peak": d.drift_at_95_pct,
+            "plateau_slope_kn_per_pct": d.plateau_slope_kn_per_pct,
         }),
         None => serde_json::Value::Null,
     }
@@ -205,6 +220,11 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
         "n_total_kn": r.n_total_kn,
         "rocking_force_kn": r.rocking_force_kn,
         "shear_span_m": r.shear_span_m,
+        "measuring_height_m": r.measuring_height_m,
+        "drift_definition": "displacement at the measuring point over its height",
+        "wall_vertical_modulus_mpa": r.wall_vertical_modulus_mpa,
+        "largest_block_excursion_mm": r.largest_block_excursion_mm,
+        "excursion_block": r.excursion_block,
         "length_m": r.length_m,
         "height_m": r.height_m,
         "thickness_m": r.thickness_m,
@@ -270,6 +290,15 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
         r.mechanism.moving_blocks.len()
     );
     out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!(
+        "  displacement read at {:.3} m (drift = displacement / {:.3} m); wall's vertical modulus {:.0} MPa; largest \
+         block excursion from its course {:.2} mm{}",
+        r.measuring_height_m,
+        r.measuring_height_m,
+        r.wall_vertical_modulus_mpa,
+        r.largest_block_excursion_mm,
+        if r.excursion_block.is_empty() { String::new() } else { format!(" ({})", r.excursion_block) }
+    );
     out!(
         "  {} increments, {} unconverged; {} steps, dt {:.2e} s; {:.2} s",
         r.curve.len() - 1,

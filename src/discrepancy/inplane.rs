@@ -18,19 +18,29 @@ pub enum InPlaneQuantity {
     DriftAtPeak,
     /// The initial stiffness, the secant at 15 % of the peak, kN/mm.
     InitialStiffness,
+    /// The wall's vertical modulus from the vertical loading phase, MPa (the database's
+    /// `Epc`): the reading of the joints' normal compliance that the horizontal measures
+    /// mix with the rocking.
+    VerticalModulus,
 }
 
 impl InPlaneQuantity {
     /// Every measure, in report order.
-    pub const ALL: [InPlaneQuantity; 3] =
-        [InPlaneQuantity::PeakForce, InPlaneQuantity::DriftAtPeak, InPlaneQuantity::InitialStiffness];
+    pub const ALL: [InPlaneQuantity; 4] = [
+        InPlaneQuantity::PeakForce,
+        InPlaneQuantity::DriftAtPeak,
+        InPlaneQuantity::InitialStiffness,
+        InPlaneQuantity::VerticalModulus,
+    ];
 
-    /// Its name: `peak_force_kn`, `drift_at_peak_pct`, `initial_stiffness_kn_per_mm`.
+    /// Its name: `peak_force_kn`, `drift_at_peak_pct`, `initial_stiffness_kn_per_mm`,
+    /// `wall_vertical_modulus_mpa`.
     pub fn name(self) -> &'static str {
         match self {
             InPlaneQuantity::PeakForce => "peak_force_kn",
             InPlaneQuantity::DriftAtPeak => "drift_at_peak_pct",
             InPlaneQuantity::InitialStiffness => "initial_stiffness_kn_per_mm",
+            InPlaneQuantity::VerticalModulus => "wall_vertical_modulus_mpa",
         }
     }
 
@@ -40,6 +50,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::PeakForce => "kN",
             InPlaneQuantity::DriftAtPeak => "%",
             InPlaneQuantity::InitialStiffness => "kN/mm",
+            InPlaneQuantity::VerticalModulus => "MPa",
         }
     }
 }
@@ -56,6 +67,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::PeakForce => m.peak_force_kn,
             InPlaneQuantity::DriftAtPeak => m.drift_at_peak_pct,
             InPlaneQuantity::InitialStiffness => m.initial_stiffness_kn_per_mm,
+            InPlaneQuantity::VerticalModulus => m.wall_vertical_modulus_mpa,
         };
         v.is_finite().then_some(v)
     }

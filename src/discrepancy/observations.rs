@@ -75,6 +75,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::PeakForce => Family::PeakForce,
             InPlaneQuantity::DriftAtPeak => Family::DriftAtPeak,
             InPlaneQuantity::InitialStiffness => Family::InitialStiffness,
+            InPlaneQuantity::VerticalModulus => Family::VerticalModulus,
         }
     }
 }
@@ -94,15 +95,23 @@ pub enum Family {
     DriftAtPeak,
     /// In-plane initial stiffnesses, kN/mm.
     InitialStiffness,
+    /// The in-plane walls' vertical moduli, MPa.
+    VerticalModulus,
 }
 
 impl Family {
     /// Every family, in the order of its index (the arrays of per-family estimates).
-    pub const ALL: [Family; 5] =
-        [Family::CollapseAngle, Family::Displacement, Family::PeakForce, Family::DriftAtPeak, Family::InitialStiffness];
+    pub const ALL: [Family; 6] = [
+        Family::CollapseAngle,
+        Family::Displacement,
+        Family::PeakForce,
+        Family::DriftAtPeak,
+        Family::InitialStiffness,
+        Family::VerticalModulus,
+    ];
 
     /// Its index in [`Family::ALL`] (0 collapse angles, 1 displacements, 2 in-plane peak
-    /// forces, 3 drifts, 4 stiffnesses).
+    /// forces, 3 drifts, 4 stiffnesses, 5 vertical moduli).
     pub fn index(self) -> usize {
         match self {
             Family::CollapseAngle => 0,
@@ -110,6 +119,7 @@ impl Family {
             Family::PeakForce => 2,
             Family::DriftAtPeak => 3,
             Family::InitialStiffness => 4,
+            Family::VerticalModulus => 5,
         }
     }
 
@@ -119,7 +129,7 @@ impl Family {
     pub fn always_drawn(self) -> bool {
         match self {
             Family::CollapseAngle | Family::Displacement => true,
-            Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness => false,
+            Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness | Family::VerticalModulus => false,
         }
     }
 }
@@ -343,7 +353,11 @@ impl Observable {
         match self.scale() {
             Scale::Measure(Family::Displacement) => Share::Displacements,
             Scale::Measure(
-                Family::CollapseAngle | Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness,
+                Family::CollapseAngle
+                | Family::PeakForce
+                | Family::DriftAtPeak
+                | Family::InitialStiffness
+                | Family::VerticalModulus,
             ) => Share::Own,
             Scale::Place { .. } | Scale::Category { .. } => Share::Mechanism,
         }
@@ -451,6 +465,12 @@ pub struct MeasurementSigma {
     /// peak divides 2-14 kN by 0.1-0.6 mm of displacement, so a 0.02 mm reading error is
     /// 3-20 % of the 9-36 kN/mm the walls show).
     pub stiffness_kn_per_mm: f64,
+    /// The in-plane wall's vertical modulus, MPa \[400\]: estimate (reasoning: the modulus
+    /// of a 1.2 m wall read from its shortening under 0.5-1.25 MPa, some 0.1-0.5 mm, by
+    /// transducers of about 0.01 mm and over compression cycles whose loading branches
+    /// differ; the database gives one value per stress level of the granite walls, 3.3-4.7
+    /// GPa, so about 10 % of it; the papers give no precision).
+    pub modulus_mpa: f64,
 }
 
 impl MeasurementSigma {
@@ -462,6 +482,7 @@ impl MeasurementSigma {
             Family::PeakForce => self.force_kn,
             Family::DriftAtPeak => self.drift_pct,
             Family::InitialStiffness => self.stiffness_kn_per_mm,
+            Family::VerticalModulus => self.modulus_mpa,
         }
     }
 }
@@ -475,6 +496,7 @@ impl Default for MeasurementSigma {
             force_kn: 0.5,
             drift_pct: 0.05,
             stiffness_kn_per_mm: 2.0,
+            modulus_mpa: 400.0,
         }
     }
 }

@@ -244,6 +244,8 @@ pub struct Reading {
     pub drift_pct: f64,
     /// In-plane initial stiffnesses read to this, kN/mm \[0.1\] (the database's digits).
     pub stiffness_kn_per_mm: f64,
+    /// In-plane walls' vertical moduli read to this, MPa \[1\] (the database's digits).
+    pub modulus_mpa: f64,
 }
 
 impl Default for Reading {
@@ -256,6 +258,7 @@ impl Default for Reading {
             force_kn: 0.1,
             drift_pct: 0.01,
             stiffness_kn_per_mm: 0.1,
+            modulus_mpa: 1.0,
         }
     }
 }
@@ -278,6 +281,7 @@ impl Reading {
             Family::PeakForce => self.force_kn,
             Family::DriftAtPeak => self.drift_pct,
             Family::InitialStiffness => self.stiffness_kn_per_mm,
+            Family::VerticalModulus => self.modulus_mpa,
         }
     }
 

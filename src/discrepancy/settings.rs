@@ -144,6 +144,10 @@ impl Settings {
                 return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
             }
         }
+        let v = self.reading.modulus_mpa;
+        if !(v.is_finite() && (0.0..=1e3).contains(&v)) {
+            return bad("reading.modulus_mpa", v.to_string(), "must be in [0, 1000] MPa (0: exact readings)");
+        }
         // The measurement σ divides every residual: positive, finite and of the scale of a
         // reading (the angle and the displacement as `reading`, a failure height as a
         // fraction of the wall's height).
@@ -154,6 +158,7 @@ impl Settings {
             ("sigma.force_kn", self.sigma.force_kn, 1e4, "must be in (0, 10000] kN"),
             ("sigma.drift_pct", self.sigma.drift_pct, 50.0, "must be in (0, 50] %"),
             ("sigma.stiffness_kn_per_mm", self.sigma.stiffness_kn_per_mm, 1e4, "must be in (0, 10000] kN/mm"),
+            ("sigma.modulus_mpa", self.sigma.modulus_mpa, 1e5, "must be in (0, 100000] MPa"),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= hi) {
                 return bad(key, v.to_string(), range);

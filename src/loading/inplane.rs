@@ -27,8 +27,14 @@
 //!
 //! Monotonic to a drift ([`InPlaneParams::drift_pct`]), or cycles of growing amplitude
 //! ([`History::Cyclic`]: each amplitude [`InPlaneParams::cycles`] times, 0 → +a → −a → 0).
-//! Drift is the top displacement over the wall's height (the database's); the top
-//! displacement is the beam's at the wall's top.
+//! The displacement is read on the beam at the *measuring point*
+//! ([`InPlaneParams::measuring_height_m`]; unset, the actuator's height: the shear span `H0`
+//! with the beam's rotation free, the wall's top with it held), and the drift is that
+//! displacement over the measuring point's height. This is the Stone Masonry Database's
+//! reading (Vanin et al. 2017): where a test reports no measuring height (`HLVDT_mm`
+//! empty), the displacement is taken at the actuator's height, and every curve and
+//! envelope file gives `drift_% = displacement_mm / H0 × 100`. The initial stiffness
+//! (kN/mm) is read on the same displacement.
 //!
 //! # The outputs (the database's definitions, Vanin et al. 2017)
 //!
@@ -128,6 +134,13 @@ pub struct InPlaneParams {
     pub amplitudes_pct: Option<Vec<f64>>,
     /// Cycles per amplitude, ≥ 1 \[2\].
     pub cycles: u32,
+    /// The height above the base of the point where the horizontal displacement is read
+    /// (the database's `HLVDT_mm`), m, on the loading beam: at least the wall's height;
+    /// the drift is that displacement over this height. Unset: the actuator's height, the
+    /// shear span `H0` with the beam's rotation free (the database's reading where a test
+    /// reports none), the wall's height with it held \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measuring_height_m: Option<f64>,
     /// The beam's rotation \[free\].
     pub beam_rotation: BeamRotation,
     /// The displacement increment of one static solve, mm, > 0 \[0.25\]; the first 2.5 mm
@@ -149,6 +162,7 @@ impl Default for InPlaneParams {
             history: History::Monotonic,
             amplitudes_pct: None,
             cycles: 2,
+            measuring_height_m: None,
             beam_rotation: BeamRotation::Free,
             step_mm: 0.25,
             quarter_increments: 8,
@@ -179,6 +193,9 @@ impl InPlaneParams {
         ])?;
         if let (BeamRotation::Free, Some(h0)) = (self.beam_rotation, self.shear_span_m) {
             check_ranges(&[("shear_span_m", h0, h0 > 0.0, "> 0")])?;
+        }
+        if let Some(hm) = self.measuring_height_m {
+            check_ranges(&[("measuring_height_m", hm, hm > 0.0 && hm.is_finite(), "> 0 (m above the base)")])?;
         }
         if self.beam_rotation == BeamRotation::Free && self.shear_span_m.is_none() {
             return Err(OutOfRange::new(
@@ -293,6 +310,16 @@ pub enum InPlaneError {
     /// A solver setting out of its range.
     #[error("solver: {0}")]
     Solver(OutOfRange),
+    /// The measuring point is below the wall's top.
+    #[error(
+        "in_plane.measuring_height_m = {measuring_height_m} m is below the wall's height {height_m} m: the displacement is read on the loading beam, on top of the wall"
+    )]
+    MeasuringPoint {
+        /// The measuring point's height, m.
+        measuring_height_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+    },
     /// The shear span is below the wall's top.
     #[error(
         "in_plane.shear_span_m = {shear_span_m} m is below the wall's height {height_m} m: the horizontal force acts on the beam, on top of the wall"
@@ -383,6 +410,10 @@ pub struct Rig {
     pub anchor_z_m: f64,
     /// The beam's centroid height, m.
     pub beam_z_m: f64,
+    /// The height of the measuring point, m ([`InPlaneParams::measuring_height_m`], or the
+    /// actuator's height: `H0` with the beam's rotation free, the wall's height with it
+    /// held). The drift is the displacement there over this height.
+    pub measure_z_m: f64,
 }
 
 impl Rig {
@@ -459,6 +490,10 @@ impl Rig {
             BeamRotation::Fixed => top,
         };
         params.check_path(lever).map_err(InPlaneError::Parameter)?;
+        let measure_z = params.measuring_height_m.unwrap_or(lever);
+        if measure_z < top - 1e-9 {
+            return Err(InPlaneError::MeasuringPoint { measuring_height_m: measure_z, height_m: top });
+        }
         let (x0, x1, y0, y1) = (bounds.min.x, bounds.max.x, bounds.min.y, bounds.max.y);
         let corners: Vec<Vec3> = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
             .iter()
@@ -512,6 +547,7 @@ impl Rig {
             beam_weight_n: beam_weight,
             anchor_z_m: anchor_z,
             beam_z_m: top + 0.5 * depth,
+            measure_z_m: measure_z,
         })
     }
 
@@ -604,7 +640,8 @@ pub fn read_curve(
 /// `h` (weight `w`, N) on a linear joint of normal and shear stiffness `kn`, `ks` (Pa/m),
 /// under the loading beam (its centroid, where the horizontal force and the vertical force
 /// `n` (N, the beam's weight included) act, at the shear span `h0`) on a joint of the same
-/// law, the beam's rotation free; the top displacement read on the beam at the wall's top.
+/// law, the beam's rotation free; the displacement read on the beam at the height `hm`
+/// (the measuring point, at least `h`: `h0` for the actuator's point).
 ///
 /// Small displacements with the vertical loads staying vertical (first-order P–Δ). The
 /// unknowns: the force V, the base joint's rotation θ and the beam joint's ψ (about their
@@ -616,11 +653,12 @@ pub fn read_curve(
 /// Kn I ψ = V (h0 − h) + n (V / (Ks A) + (θ + ψ)(h0 − h))              (beam joint)
 /// ```
 ///
-/// and the stiffness is `V / (2 V / (Ks A) + θ h)`. Without vertical load it is
-/// `1 / (2 / (Ks A) + h0 h / (Kn I))`. The block is rigid (the DEM's blocks are) and the
-/// joints stay closed (while `V h0 < N_total L / 6`).
+/// and the stiffness is `V / (2 V / (Ks A) + θ h + (θ + ψ)(hm − h))` (at `hm = h0`, `V / u`).
+/// Without vertical load, read at the wall's top, it is `1 / (2 / (Ks A) + h0 h / (Kn I))`.
+/// The block is rigid (the DEM's blocks are) and the joints stay closed (while
+/// `V h0 < N_total L / 6`).
 #[allow(clippy::too_many_arguments)]
-pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64, n: f64, w: f64) -> f64 {
+pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, hm: f64, kn: f64, ks: f64, n: f64, w: f64) -> f64 {
     let (a, i) = (l * t, t * l.powi(3) / 12.0);
     let (kr, c) = (kn * i, 1.0 / (ks * a));
     let e = h0 - h;
@@ -638,7 +676,7 @@ pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64, n:
     );
     let rhs = nalgebra::Vector3::new(n, 0.0, 1.0);
     match m.lu().solve(&rhs) {
-        Some(x) => x[0] / (2.0 * x[0] * c + x[1] * h),
+        Some(x) => x[0] / (2.0 * x[0] * c + x[1] * h + (x[1] + x[2]) * (hm - h)),
         None => f64::NAN,
     }
 }
@@ -646,9 +684,11 @@ pub fn one_block_stiffness(l: f64, t: f64, h: f64, h0: f64, kn: f64, ks: f64, n:
 /// One point of the force–displacement curve.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CurvePoint {
-    /// The beam's horizontal displacement at the wall's top, mm (+x positive).
+    /// The beam's horizontal displacement at the measuring point, mm (+x positive; the
+    /// database's `top_displacement`, read at [`Rig::measure_z_m`]).
     pub top_mm: f64,
-    /// Drift, %: `top_mm` over the wall's height.
+    /// Drift, %: `top_mm` over the measuring point's height ([`Rig::measure_z_m`]: the
+    /// shear span by default, as the database's files give it).
     pub drift_pct: f64,
     /// The actuator's horizontal force, kN (positive towards +x).
     pub force_kn: f64,
@@ -671,6 +711,78 @@ pub struct DirectionResult {
     pub dropped: bool,
     /// The initial stiffness, secant at 15 % of the peak, kN/mm.
     pub initial_stiffness_kn_per_mm: f64,
+    /// The envelope's force at the drifts [`READING_DRIFTS_PCT`], kN (magnitude; NaN past
+    /// the largest drift run): a reading of the whole envelope that does not hang on one
+    /// point as the peak does.
+    #[serde(default = "nan_readings")]
+    pub force_at_drift_kn: [f64; READING_DRIFTS_PCT.len()],
+    /// The drift where the envelope first reaches 80 % of the peak force, % (linear
+    /// between the envelope's points).
+    #[serde(default = "nan")]
+    pub drift_at_80_pct: f64,
+    /// The drift where the envelope first reaches 95 % of the peak force, %.
+    #[serde(default = "nan")]
+    pub drift_at_95_pct: f64,
+    /// The plateau's slope, kN per % of drift: the least-squares slope of the envelope's
+    /// force against its drift from `drift_at_95_pct` to the largest drift run (negative:
+    /// the force falls past the peak; NaN with fewer than three points there).
+    #[serde(default = "nan")]
+    pub plateau_slope_kn_per_pct: f64,
+}
+
+/// The drifts at which [`DirectionResult::force_at_drift_kn`] reads the envelope, %.
+pub const READING_DRIFTS_PCT: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
+
+/// NaN readings, for serde's defaults.
+fn nan_readings() -> [f64; READING_DRIFTS_PCT.len()] {
+    [f64::NAN; READING_DRIFTS_PCT.len()]
+}
+
+/// The robust readings of an envelope `env` (drift %, force kN; magnitudes, growing drift,
+/// starting at the origin) whose peak `fp` (kN) is at index `ip`: the force at
+/// [`READING_DRIFTS_PCT`], the drifts at 80 % and 95 % of the peak, the plateau's slope
+/// (see [`DirectionResult`]). The measured envelopes are read by the same function.
+pub fn envelope_readings(env: &[(f64, f64)], ip: usize, fp: f64) -> ([f64; READING_DRIFTS_PCT.len()], f64, f64, f64) {
+    let reach = env.last().map_or(0.0, |p| p.0);
+    let at = |d: f64| -> f64 {
+        if d > reach + 1e-12 {
+            return f64::NAN;
+        }
+        for w in env.windows(2) {
+            let ((d0, f0), (d1, f1)) = (w[0], w[1]);
+            if d <= d1 {
+                return if d1 > d0 { f0 + (f1 - f0) * (d - d0) / (d1 - d0) } else { f1 };
+            }
+        }
+        env.last().map_or(f64::NAN, |p| p.1)
+    };
+    let first_reach = |share: f64| -> f64 {
+        let f = share * fp;
+        for w in env[..=ip].windows(2) {
+            let ((d0, f0), (d1, f1)) = (w[0], w[1]);
+            if f1 >= f {
+                return if f1 > f0 { d0 + (d1 - d0) * ((f - f0) / (f1 - f0)).clamp(0.0, 1.0) } else { d1 };
+            }
+        }
+        f64::NAN
+    };
+    let forces = READING_DRIFTS_PCT.map(at);
+    let (d80, d95) = (first_reach(0.8), first_reach(0.95));
+    let tail: Vec<(f64, f64)> = env.iter().copied().filter(|p| p.0 >= d95).collect();
+    let slope = if tail.len() >= 3 {
+        let n = tail.len() as f64;
+        let (mx, my) = (tail.iter().map(|p| p.0).sum::<f64>() / n, tail.iter().map(|p| p.1).sum::<f64>() / n);
+        let sxx: f64 = tail.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        let sxy: f64 = tail.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        if sxx > 0.0 {
+            sxy / sxx
+        } else {
+            f64::NAN
+        }
+    } else {
+        f64::NAN
+    };
+    (forces, d80, d95, slope)
 }
 
 /// The kind of an in-plane mechanism.
@@ -928,6 +1040,32 @@ pub struct InPlaneResult {
     pub thickness_m: f64,
     /// The height of the horizontal force, m.
     pub shear_span_m: f64,
+    /// The height of the measuring point, m: `top_mm` is read there and the drift is
+    /// `top_mm` over it ([`Rig::measure_z_m`]; 0 when read from results written before it
+    /// was recorded).
+    #[serde(default)]
+    pub measuring_height_m: f64,
+    /// The wall's vertical modulus, MPa, as the laboratory reads it from the vertical
+    /// loading phase (the database's `Epc`, Vanin et al. 2017): the secant of the loading
+    /// branch, the vertical stress added by the actuator's force (`(N − W_beam) / (L t)`)
+    /// over the wall's shortening (the beam's settlement under it, its centroid's, over the
+    /// wall's height `H`). It holds every joint of the wall's height (base, beds, the beam's
+    /// bed) and the blocks are rigid, so it is about `Kn H / n_joints` for linear joints.
+    /// NaN where the method has no joint compliance (non-smooth contact dynamics: rigid
+    /// contacts) or when read from results written before it was recorded.
+    #[serde(default = "nan")]
+    pub wall_vertical_modulus_mpa: f64,
+    /// The largest excursion of any block from the rigid motion of its course over the
+    /// history, mm ([`super::excursion`]: the distance of its centroid from where the
+    /// nearer-moving of its course neighbours carries it): a wall that stays whole keeps it
+    /// to the joints' own deformation and the crack's opening beside a block; a block shed
+    /// from the wall reads its walk. NaN when read from results written before it was
+    /// recorded.
+    #[serde(default = "nan")]
+    pub largest_block_excursion_mm: f64,
+    /// The block of `largest_block_excursion_mm` (empty: none moved from its course).
+    #[serde(default)]
+    pub excursion_block: String,
     /// Static solves that ended at the step budget rather than in equilibrium (nscd:
     /// increments with a step whose contact problem did not meet its criterion).
     pub unconverged: usize,
@@ -992,12 +1130,19 @@ pub fn direction(curve: &[CurvePoint], sign: f64) -> Option<DirectionResult> {
         }
     }
     let h = curve.iter().find(|p| p.top_mm != 0.0).map_or(f64::NAN, |p| p.drift_pct / p.top_mm);
+    let env_pct: Vec<(f64, f64)> = env.iter().map(|&(d, f)| (d * h, f)).collect();
+    let (force_at_drift_kn, drift_at_80_pct, drift_at_95_pct, plateau_slope_kn_per_pct) =
+        envelope_readings(&env_pct, ip, fp);
     Some(DirectionResult {
         peak_force_kn: fp,
         drift_at_peak_pct: dp * h,
         ultimate_drift_pct: du * h,
         dropped,
         initial_stiffness_kn_per_mm: k,
+        force_at_drift_kn,
+        drift_at_80_pct,
+        drift_at_95_pct,
+        plateau_slope_kn_per_pct,
     })
 }
 
@@ -1060,10 +1205,16 @@ pub fn run_in_plane_penalty(
         }
     }
     observe(0.0, true, &sim);
+    // The vertical modulus: the stress the actuator added over the wall's shortening.
+    let settlement = start[bi].0.z - sim.state.bodies[bi].pos.z;
+    let added_stress = (rig.vertical_force_n - rig.beam_weight_n) / (rig.length_m * rig.thickness_m);
+    let vertical_modulus_mpa = added_stress * rig.height_m / settlement * 1e-6;
     let reference = poses(&sim);
+    let neighbours = super::excursion::JointNeighbours::of(&rig.layout);
+    let mut excursion = Excursion::default();
     let ref_joints = mechanism_joints(&sim);
     let beam_ref = sim.state.bodies[bi].clone();
-    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.height_m));
+    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.measure_z_m));
     let top_x0 = beam_ref.to_world(&top_local).x;
     let anchor_x0 = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref).x;
     let force = |sim: &Simulation| -> f64 {
@@ -1086,6 +1237,13 @@ pub fn run_in_plane_penalty(
     // not made to slip by the jump of the beam alone (a joint's shear law is incremental:
     // a jump of the beam's target alone would be one step's shear increment at its joints).
     let mut last: Option<(Vec<Vec3>, Vec<Vec3>, f64)> = None;
+    // The bodies that walked alone in the last increment (moved from every joint
+    // neighbour), each with the body that pressed on it hardest (`None`: the table): the
+    // predictor carries such a body with that one instead of repeating its own motion. A
+    // loose block (one the beam has lifted off) is in neutral equilibrium along its bed:
+    // wherever the predictor puts it, the relaxation leaves it, so a slip repeated by the
+    // predictor would walk it out of the wall an increment at a time.
+    let mut carriers: Vec<Option<Option<usize>>> = vec![None; sim.state.bodies.len()];
     let mut u_prev = 0.0;
     // The first increment, and the first after a reversal, are a quarter of the smallest
     // slip displacement of the joints under the vertical stress (μ σ0 / Ks), so that a
@@ -1129,10 +1287,11 @@ pub fn run_in_plane_penalty(
                     let k = du / d0;
                     let cap = du.abs();
                     let clip = |v: Vec3, r: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
-                    (
-                        dp.iter().map(|v| clip(v * k, 1.0)).collect(),
-                        dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect(),
-                    )
+                    let mut p: Vec<Vec3> = dp.iter().map(|v| clip(v * k, 1.0)).collect();
+                    let mut r: Vec<Vec3> =
+                        dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect();
+                    carry_with(&mut p, &mut r, &carriers, &sim);
+                    (p, r)
                 }
                 _ => sim
                     .state
@@ -1161,15 +1320,26 @@ pub fn run_in_plane_penalty(
                 Err(e) => return Err(e.into()),
             };
             let now = poses(&sim);
+            excursion.read(&neighbours, &reference, &now, &rig.layout);
+            let alone = neighbours.walked_alone(&start, &now, (WALK_SHARE * du.abs()).max(WALK_FLOOR_M));
+            carriers = alone
+                .iter()
+                .enumerate()
+                .map(|(k, &a)| (a && k != bi).then(|| loose_carrier(&sim, k)).flatten())
+                .collect();
+            carriers.resize(sim.state.bodies.len(), None);
             last = Some((
                 now.iter().zip(&start).map(|(a, b)| a.0 - b.0).collect(),
                 now.iter().zip(&start).map(|(a, b)| (a.1 * b.1.inverse()).scaled_axis()).collect(),
                 du,
             ));
-            let converged = out.end == End::Equilibrium;
+            // Equilibrium of the wall as a whole (the unbalanced-force ratio is a mean over
+            // the bodies) and of each block: a block whose own out-of-balance force is a
+            // share of its weight is moving, whatever the mean says.
+            let converged = out.end == End::Equilibrium && every_block_balanced(&sim, bi);
             unconverged += usize::from(!converged);
             let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
-            let drift = 100.0 * top / rig.height_m;
+            let drift = 100.0 * top / rig.measure_z_m;
             curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: force(&sim) * 1e-3, converged });
             observe(drift, converged, &sim);
             if top >= reading.0 {
@@ -1180,8 +1350,93 @@ pub fn run_in_plane_penalty(
     let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
     let anchor = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref);
     let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor, &reference, &reading);
-    let work = Work { unconverged, retried, steps: sim.state.steps, dt_s: sim.dt(), t0 };
+    let work =
+        Work { unconverged, retried, steps: sim.state.steps, dt_s: sim.dt(), t0, vertical_modulus_mpa, excursion };
     Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
+}
+
+/// The share of an increment's beam displacement by which a body must move from every
+/// joint neighbour to have walked alone \[0.1\] (a body moving with a neighbour departs from
+/// it by the joint's deformation only, orders of magnitude less).
+const WALK_SHARE: f64 = 0.1;
+
+/// The share of a block's weight its out-of-balance force may reach at equilibrium
+/// \[0.1\]: a block with more is accelerating at a tenth of gravity, in flight or sliding,
+/// however small it is beside the wall's mean (the unbalanced-force ratio's).
+pub const BLOCK_IMBALANCE_SHARE: f64 = 0.1;
+
+/// Whether every free body but `beam` has an out-of-balance force of at most
+/// [`BLOCK_IMBALANCE_SHARE`] of its weight.
+fn every_block_balanced(sim: &Simulation, beam: usize) -> bool {
+    let g = sim.state.gravity_magnitude;
+    sim.state
+        .bodies
+        .iter()
+        .enumerate()
+        .all(|(k, b)| k == beam || b.fixed() || sim.unbalanced(k).0.norm() <= BLOCK_IMBALANCE_SHARE * b.mass * g)
+}
+
+/// The least relative motion that counts as walking alone, m \[10 µm\]: above the elastic
+/// deformation of a joint in one increment.
+const WALK_FLOOR_M: f64 = 1e-5;
+
+/// A loose body carries at most this many times its own weight in contact forces \[10\]
+/// (a block of a wall under vertical stress carries hundreds of times its weight).
+const LOOSE_LOAD_RATIO: f64 = 10.0;
+
+/// The carrier of body `k` if it is loose (its contact forces add up to at most
+/// [`LOOSE_LOAD_RATIO`] times its weight): the body that presses on it hardest
+/// (`Some(None)`: the table or a fixed block). `None` for a body that is not loose.
+fn loose_carrier(sim: &Simulation, k: usize) -> Option<Option<usize>> {
+    let load: f64 = sim.state.contacts.iter().filter(|c| c.b == k || c.a == Some(k)).map(|c| c.force.norm()).sum();
+    let weight = sim.state.bodies[k].mass * sim.state.gravity_magnitude;
+    (load <= LOOSE_LOAD_RATIO * weight).then(|| hardest_pressing(sim, k))
+}
+
+/// The body that presses on body `k` hardest (the largest contact force between the two;
+/// `None`: the table or a fixed block, or no contact).
+fn hardest_pressing(sim: &Simulation, k: usize) -> Option<usize> {
+    let mut best: (f64, Option<usize>) = (0.0, None);
+    let mut by: std::collections::BTreeMap<Option<usize>, f64> = std::collections::BTreeMap::new();
+    for c in &sim.state.contacts {
+        let other = if c.b == k {
+            c.a
+        } else if c.a == Some(k) {
+            Some(c.b)
+        } else {
+            continue;
+        };
+        let other = other.filter(|&j| !sim.state.bodies[j].fixed());
+        *by.entry(other).or_default() += c.force.norm();
+    }
+    for (other, f) in by {
+        if f > best.0 {
+            best = (f, other);
+        }
+    }
+    best.1
+}
+
+/// Replaces the predicted motion (`dpos`, `drot`: centroid translation, rotation vector) of
+/// each body that has a carrier (`carriers[k] = Some(c)`) by its carrier's predicted rigid
+/// motion applied to it (`c = None`: no motion).
+fn carry_with(dpos: &mut [Vec3], drot: &mut [Vec3], carriers: &[Option<Option<usize>>], sim: &Simulation) {
+    let (p0, r0) = (dpos.to_vec(), drot.to_vec());
+    for (k, c) in carriers.iter().enumerate() {
+        match c {
+            None => {}
+            Some(None) => {
+                dpos[k] = Vec3::zeros();
+                drot[k] = Vec3::zeros();
+            }
+            Some(Some(j)) => {
+                let arm = sim.state.bodies[k].pos - sim.state.bodies[*j].pos;
+                let q = nalgebra::UnitQuaternion::from_scaled_axis(r0[*j]);
+                dpos[k] = p0[*j] + (q * arm - arm);
+                drot[k] = r0[*j];
+            }
+        }
+    }
 }
 
 /// The poses of the bodies: centroid (m) and rotation, in the simulation's body order.
@@ -1221,6 +1476,42 @@ pub(crate) struct Work {
     pub dt_s: f64,
     /// When the run started.
     pub t0: Instant,
+    /// The wall's vertical modulus read in the vertical loading phase, MPa (NaN: none).
+    pub vertical_modulus_mpa: f64,
+    /// The largest excursion of a block from its course over the history.
+    pub excursion: Excursion,
+}
+
+/// The largest excursion of a block from its course over a history
+/// ([`super::excursion`]), and the block.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Excursion {
+    /// The largest excursion, m.
+    pub largest_m: f64,
+    /// The block's id (empty: none).
+    pub block: String,
+}
+
+impl Excursion {
+    /// Reads the poses `now` against `reference` and keeps the largest.
+    pub(crate) fn read(
+        &mut self,
+        neighbours: &super::excursion::JointNeighbours,
+        reference: &Poses,
+        now: &Poses,
+        layout: &Layout,
+    ) {
+        let (e, k) = neighbours.largest(reference, now);
+        if e > self.largest_m {
+            self.largest_m = e;
+            self.block = k.map_or_else(String::new, |k| layout.blocks[k].id.clone());
+        }
+    }
+}
+
+/// NaN, for serde's defaults.
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// The result of a driver's run: the curve's per-direction outputs (the negative direction
@@ -1252,6 +1543,10 @@ pub(crate) fn result_of(
         height_m: rig.height_m,
         thickness_m: rig.thickness_m,
         shear_span_m: rig.anchor_z_m,
+        measuring_height_m: rig.measure_z_m,
+        wall_vertical_modulus_mpa: work.vertical_modulus_mpa,
+        largest_block_excursion_mm: work.excursion.largest_m * 1e3,
+        excursion_block: work.excursion.block,
         unconverged: work.unconverged,
         retried: work.retried,
         steps: work.steps,

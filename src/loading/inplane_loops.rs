@@ -41,11 +41,15 @@ pub struct Cycle {
 pub fn cycles(curve: &[(f64, f64)]) -> Vec<Cycle> {
     let pts: Vec<(f64, f64)> = curve.iter().copied().filter(|(u, f)| u.is_finite() && f.is_finite()).collect();
     // The upward crossings: (index of the point after it, the force interpolated at u = 0).
+    // A return to zero read a hair below it (1e-6 of the largest displacement: the
+    // history's own zero, read where the actuator imposes it through the beam's hold,
+    // which keeps it to some 1e-7) counts as reaching it.
+    let zero = 1e-6 * pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
     let mut crossings = Vec::new();
     for i in 1..pts.len() {
         let ((u0, f0), (u1, f1)) = (pts[i - 1], pts[i]);
-        if u0 < 0.0 && u1 >= 0.0 {
-            let t = -u0 / (u1 - u0);
+        if u0 < -zero && u1 >= -zero {
+            let t = (-u0 / (u1 - u0)).clamp(0.0, 1.0);
             crossings.push((i, f0 + t * (f1 - f0)));
         }
     }

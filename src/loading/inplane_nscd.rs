@@ -142,9 +142,11 @@ pub fn run_in_plane_nscd(
         }
     }
     let reference = poses(&sim);
+    let neighbours = super::excursion::JointNeighbours::of(&rig.layout);
+    let mut excursion = super::inplane::Excursion::default();
     let ref_joints = nscd_mechanism_joints(&sim);
     let beam_ref = sim.bodies()[bi].clone();
-    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.height_m));
+    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.measure_z_m));
     let top_x0 = beam_ref.to_world(&top_local).x;
     let anchor_ref = sim.constraint(bi).map_or(beam_ref.pos, |c| c.anchor_world(&beam_ref));
     let force0 = actuator_force(&sim, bi);
@@ -171,15 +173,19 @@ pub fn run_in_plane_nscd(
         u_prev = u;
         unconverged += usize::from(!converged);
         let top = sim.bodies()[bi].to_world(&top_local).x - top_x0;
-        let drift = 100.0 * top / rig.height_m;
+        let drift = 100.0 * top / rig.measure_z_m;
         let v = impulse / (f64::from(steps) * h);
         curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: v * 1e-3, converged });
+        let now = poses(&sim);
+        excursion.read(&neighbours, &reference, &now, &rig.layout);
         if top >= reading.0 {
-            reading = (top, poses(&sim));
+            reading = (top, now);
         }
     }
     let ids: Vec<String> = sim.bodies().iter().map(|b| b.id.clone()).collect();
     let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor_ref, &reference, &reading);
-    let work = Work { unconverged, retried: 0, steps: sim.steps(), dt_s: h, t0 };
+    // Rigid contacts: the wall has no vertical compliance to read.
+    let work =
+        Work { unconverged, retried: 0, steps: sim.steps(), dt_s: h, t0, vertical_modulus_mpa: f64::NAN, excursion };
     Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
 }

@@ -5,6 +5,7 @@
 //! ([`monitors`]) and the reading of
 //! the collapse mechanism ([`mechanism`]).
 
+pub mod excursion;
 pub mod inplane;
 pub mod inplane_loops;
 pub mod inplane_nscd;

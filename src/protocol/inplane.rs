@@ -131,6 +131,7 @@ impl Observed {
             vertical_force_n: r.vertical_force_n,
             rig: r.vertical_load_rig,
             mode: r.mechanism.kind,
+            wall_vertical_modulus_mpa: r.wall_vertical_modulus_mpa,
         };
         Observed::of_direction(r.positive.as_ref()?, Arc::new(reading))
     }
@@ -142,6 +143,7 @@ impl Observed {
                 drift_at_peak_pct: d.drift_at_peak_pct,
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
                 mode: reading.mode,
+                wall_vertical_modulus_mpa: reading.wall_vertical_modulus_mpa,
             }),
             rig_reading: Some(reading),
             ..Observed::default()

@@ -18,6 +18,15 @@ pub struct InPlaneObserved {
     pub initial_stiffness_kn_per_mm: f64,
     /// The mechanism's mode (`none`: no joint moved past the threshold).
     pub mode: MechanismKind,
+    /// The wall's vertical modulus read in the vertical loading phase, MPa
+    /// ([`crate::loading::inplane::InPlaneResult::wall_vertical_modulus_mpa`]; NaN: none).
+    #[serde(default = "nan")]
+    pub wall_vertical_modulus_mpa: f64,
+}
+
+/// NaN, for serde's defaults (records written before the modulus was read).
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// What an in-plane run's readings are made from: the curve of the wall's own shear, the
@@ -33,4 +42,7 @@ pub struct InPlaneReading {
     pub rig: VerticalLoadRig,
     /// The mechanism's mode.
     pub mode: MechanismKind,
+    /// The wall's vertical modulus, MPa (which the vertical-load system does not change).
+    #[serde(default = "nan")]
+    pub wall_vertical_modulus_mpa: f64,
 }

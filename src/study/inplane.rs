@@ -215,6 +215,73 @@ pub struct Specimen {
     /// cycles of at least [`LOOP_MIN_DRIFT_PCT`] % of `height_mm`); NaN for a monotonic test
     /// or without the curve ([`read_loops`]).
     pub damping_ratio: f64,
+    /// The shear span `H0_mm`, mm (NaN where the table has none).
+    pub shear_span_mm: f64,
+    /// The height of the measuring point, mm: `HLVDT_mm`, or the shear span where it is
+    /// empty (the database's rule; NaN where the table has neither).
+    pub measuring_height_mm: f64,
+    /// The wall's vertical modulus from the compression cycles at the start of the test,
+    /// MPa (`Epc_MPa`; NaN where the table has none).
+    pub epc_mpa: f64,
+    /// The onset of cracking: drift (%) and force (kN) as the authors reported
+    /// (`dcr_pct`, `Vcr_kN`; NaN where the table has none).
+    pub dcr_pct: f64,
+    /// See `dcr_pct`.
+    pub vcr_kn: f64,
+    /// The robust readings of the measured envelope, + and − directions
+    /// ([`crate::loading::inplane::envelope_readings`]: force at
+    /// [`crate::loading::inplane::READING_DRIFTS_PCT`], drifts at 80 % and 95 % of the peak,
+    /// plateau slope); NaN without an envelope.
+    pub readings_pos: EnvelopeReadings,
+    /// See `readings_pos`.
+    pub readings_neg: EnvelopeReadings,
+}
+
+/// The robust readings of one direction of an envelope (see
+/// [`crate::loading::inplane::DirectionResult`]).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct EnvelopeReadings {
+    /// The force at [`crate::loading::inplane::READING_DRIFTS_PCT`], kN.
+    pub force_at_drift_kn: [f64; crate::loading::inplane::READING_DRIFTS_PCT.len()],
+    /// The drift at 80 % of the peak, %.
+    pub drift_at_80_pct: f64,
+    /// The drift at 95 % of the peak, %.
+    pub drift_at_95_pct: f64,
+    /// The plateau's slope, kN per % drift.
+    pub plateau_slope_kn_per_pct: f64,
+}
+
+impl Default for EnvelopeReadings {
+    fn default() -> Self {
+        EnvelopeReadings {
+            force_at_drift_kn: [f64::NAN; crate::loading::inplane::READING_DRIFTS_PCT.len()],
+            drift_at_80_pct: f64::NAN,
+            drift_at_95_pct: f64::NAN,
+            plateau_slope_kn_per_pct: f64::NAN,
+        }
+    }
+}
+
+impl EnvelopeReadings {
+    /// The readings of the `sign` (+1 or −1) direction of a measured envelope (drift %,
+    /// force kN, in the file's order): its points of that sign's drift, from the origin
+    /// outwards, read by [`crate::loading::inplane::envelope_readings`], the same function
+    /// as a run's.
+    pub fn of(envelope: &[(f64, f64)], sign: f64) -> EnvelopeReadings {
+        let mut env: Vec<(f64, f64)> =
+            envelope.iter().map(|&(d, f)| (sign * d, sign * f)).filter(|p| p.0 > 0.0 && p.1.is_finite()).collect();
+        env.sort_by(|a, b| a.0.total_cmp(&b.0));
+        env.insert(0, (0.0, 0.0));
+        let Some((ip, &(_, fp))) = env.iter().enumerate().max_by(|a, b| a.1 .1.total_cmp(&b.1 .1)) else {
+            return EnvelopeReadings::default();
+        };
+        if env.len() < 2 || !(fp > 0.0) {
+            return EnvelopeReadings::default();
+        }
+        let (force_at_drift_kn, drift_at_80_pct, drift_at_95_pct, plateau_slope_kn_per_pct) =
+            crate::loading::inplane::envelope_readings(&env, ip, fp);
+        EnvelopeReadings { force_at_drift_kn, drift_at_80_pct, drift_at_95_pct, plateau_slope_kn_per_pct }
+    }
 }
 
 /// Reads the database's table of specimens (a CSV with a header; quoted fields).
@@ -246,6 +313,10 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
     .map(col);
     let c: Vec<usize> = c.into_iter().collect::<Result<_, _>>()?;
     let height = header.iter().position(|h| h == "H_mm");
+    // Columns the database added later: NaN where a table does not have them.
+    let optional = |name: &str| header.iter().position(|h| h == name);
+    let (h0_col, hlvdt_col, epc_col, dcr_col, vcr_col) =
+        (optional("H0_mm"), optional("HLVDT_mm"), optional("Epc_MPa"), optional("dcr_pct"), optional("Vcr_kN"));
     let mut out = Vec::new();
     for (i, line) in lines {
         if line.trim().is_empty() {
@@ -253,6 +324,14 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
         }
         let f = split_csv(line);
         let get = |k: usize| f.get(c[k]).cloned().unwrap_or_default();
+        let opt_num = |col: Option<usize>| -> Result<f64, InPlaneStudyError> {
+            let Some(k) = col else { return Ok(f64::NAN) };
+            let v = f.get(k).map(|x| x.trim().to_string()).unwrap_or_default();
+            if v.is_empty() {
+                return Ok(f64::NAN);
+            }
+            v.parse::<f64>().map_err(|_| err(format!("line {}: column {}: {v:?} is not a number", i + 1, header[k])))
+        };
         let num = |k: usize| -> Result<f64, InPlaneStudyError> {
             let s = get(k);
             if s.trim().is_empty() {
@@ -286,12 +365,29 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
                 None => f64::NAN,
             },
             damping_ratio: f64::NAN,
+            shear_span_mm: opt_num(h0_col)?,
+            measuring_height_mm: f64::NAN,
+            epc_mpa: opt_num(epc_col)?,
+            dcr_pct: opt_num(dcr_col)?,
+            vcr_kn: opt_num(vcr_col)?,
+            readings_pos: EnvelopeReadings::default(),
+            readings_neg: EnvelopeReadings::default(),
         };
+        let hlvdt = opt_num(hlvdt_col)?;
+        s.measuring_height_mm = if hlvdt.is_finite() { hlvdt } else { s.shear_span_mm };
+        if s.epc_mpa.is_finite() && !s.sigma0_mpa.is_finite() {
+            return Err(err(format!(
+                "line {}: column Epc_MPa: a vertical modulus without the stress it was read at (sigma0_applied_MPa is empty)",
+                i + 1
+            )));
+        }
         if let Some(dir) = envelopes {
             // `envelope_<unit without dots>_<first author><year>.csv`, the database's names.
             let p = dir.join(format!("envelope_{}.csv", file_stem(&s)));
             if p.exists() {
-                s.envelope = read_envelope(&p)?;
+                s.envelope = read_envelope_of(&p, s.measuring_height_mm)?;
+                s.readings_pos = EnvelopeReadings::of(&s.envelope, 1.0);
+                s.readings_neg = EnvelopeReadings::of(&s.envelope, -1.0);
             }
         }
         out.push(s);
@@ -334,10 +430,48 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
     Ok(read_points(path)?.into_iter().map(|p| (p[2], p[1])).collect())
 }
 
+/// Reads a curve or envelope file ([`read_points`]'s format) of a specimen whose
+/// displacement is read at `measuring_height_mm` (NaN: not checked) and checks that its
+/// drift column is its displacement column over that height (to the files' rounding:
+/// 0.01 % of drift, or 1 % of the drift); returns (drift %, force kN).
+///
+/// # Errors
+/// Naming the file, the line and the column, where the drift disagrees.
+pub fn read_envelope_of(path: &Path, measuring_height_mm: f64) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
+    let pts = read_points(path)?;
+    check_drift_column(path, &pts, measuring_height_mm)?;
+    Ok(pts.into_iter().map(|p| (p[2], p[1])).collect())
+}
+
+/// Checks that a curve file's drift column (% ) is its displacement column (mm) over
+/// `height_mm` (NaN: not checked) to the files' rounding (0.01 % of drift or 1 % of it).
+fn check_drift_column(path: &Path, pts: &[[f64; 3]], height_mm: f64) -> Result<(), InPlaneStudyError> {
+    if !height_mm.is_finite() {
+        return Ok(());
+    }
+    for (k, p) in pts.iter().enumerate() {
+        let expect = 100.0 * p[0] / height_mm;
+        if p[0].is_finite() && p[2].is_finite() && (p[2] - expect).abs() > 0.01_f64.max(0.01 * expect.abs()) {
+            return Err(InPlaneStudyError::File {
+                path: path.to_owned(),
+                message: format!(
+                    "data row {} (line {}): column drift: {} % is not the displacement {} mm over the measuring \
+                     point's height {height_mm} mm ({expect:.4} %): the drift and displacement columns disagree",
+                    k + 1,
+                    k + 5,
+                    p[2],
+                    p[0]
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Sets each cyclic specimen's [`Specimen::damping_ratio`] from its whole measured curve in
-/// `dir` (`FD_<unit without dots>_<source>.csv`, [`read_points`]'s format), read on the top
-/// displacement over the wall's height. A specimen without a curve file or a height keeps
-/// NaN.
+/// `dir` (`FD_<unit without dots>_<source>.csv`, [`read_points`]'s format), read on the
+/// file's drift (the displacement at the measuring point over its height, checked against
+/// the displacement column). A specimen without a curve file keeps NaN.
 ///
 /// # Errors
 /// `dir` not a folder, or a curve file that cannot be read or holds a line that is not
@@ -351,10 +485,12 @@ pub fn read_loops(specimens: &mut [Specimen], dir: &Path) -> Result<(), InPlaneS
     }
     for s in specimens.iter_mut() {
         let p = dir.join(format!("FD_{}.csv", file_stem(s)));
-        if !p.exists() || !s.height_mm.is_finite() {
+        if !p.exists() {
             continue;
         }
-        let curve: Vec<(f64, f64)> = read_points(&p)?.into_iter().map(|q| (100.0 * q[0] / s.height_mm, q[1])).collect();
+        let pts = read_points(&p)?;
+        check_drift_column(&p, &pts, s.measuring_height_mm)?;
+        let curve: Vec<(f64, f64)> = pts.into_iter().map(|q| (q[2], q[1])).collect();
         s.damping_ratio = loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT);
     }
     Ok(())
@@ -428,6 +564,38 @@ pub struct InPlaneRow {
     /// The equivalent viscous damping ratio of its loops (the cycles of at least
     /// [`LOOP_MIN_DRIFT_PCT`] % drift, [`loop_damping_ratio`]); NaN for a monotonic run.
     pub damping_ratio: f64,
+    /// Robust reading of the envelope (the envelope's force at 0.5 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_0_5_pos_kn: f64,
+    /// Robust reading of the envelope (the envelope's force at 1 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_1_pos_kn: f64,
+    /// Robust reading of the envelope (the envelope's force at 2 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_2_pos_kn: f64,
+    /// Robust reading of the envelope (drift at 80 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
+    pub drift_at_80_pos_pct: f64,
+    /// Robust reading of the envelope (drift at 95 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
+    pub drift_at_95_pos_pct: f64,
+    /// Robust reading of the envelope (plateau slope past 95 % of the peak, + (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
+    pub plateau_slope_pos_kn_per_pct: f64,
+    /// Robust reading of the envelope (the envelope's force at 0.5 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_0_5_neg_kn: f64,
+    /// Robust reading of the envelope (the envelope's force at 1 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_1_neg_kn: f64,
+    /// Robust reading of the envelope (the envelope's force at 2 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    pub force_at_2_neg_kn: f64,
+    /// Robust reading of the envelope (drift at 80 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
+    pub drift_at_80_neg_pct: f64,
+    /// Robust reading of the envelope (drift at 95 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
+    pub drift_at_95_neg_pct: f64,
+    /// Robust reading of the envelope (plateau slope past 95 % of the peak, − (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
+    pub plateau_slope_neg_kn_per_pct: f64,
+    /// The wall's vertical modulus read in the vertical loading phase, MPa (the database's
+    /// `Epc`; [`InPlaneResult::wall_vertical_modulus_mpa`]).
+    pub vertical_modulus_mpa: f64,
+    /// The largest excursion of a block from its course over the history, mm
+    /// ([`InPlaneResult::largest_block_excursion_mm`]).
+    pub largest_block_excursion_mm: f64,
+    /// The block of `largest_block_excursion_mm`.
+    pub excursion_block: String,
     /// Static solves that did not reach equilibrium.
     pub unconverged: usize,
     /// Wall-clock time, s.
@@ -441,7 +609,7 @@ pub struct InPlaneRow {
 }
 
 /// The observables compared, with their row accessors.
-const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 8] = [
+const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 17] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
     ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
     ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
@@ -450,6 +618,55 @@ const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 
     ("stiffness_pos_kn_per_mm", "initial stiffness + (kN/mm)", |r| r.stiffness_pos_kn_per_mm, |s| s.kel_pos),
     ("failure_type", "failure type (1 rocking, 0.5 mixed, 0 shear)", |r| r.failure_type, |s| s.failure_type),
     ("damping_ratio", "loops' equivalent damping ratio, cycles ≥ 1 % drift", |r| r.damping_ratio, |s| s.damping_ratio),
+    (
+        "force_at_0_5_pos_kn",
+        "envelope's force at 0.5 % drift + (kN)",
+        |r| r.force_at_0_5_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[1],
+    ),
+    (
+        "force_at_1_pos_kn",
+        "envelope's force at 1 % drift + (kN)",
+        |r| r.force_at_1_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[2],
+    ),
+    (
+        "force_at_2_pos_kn",
+        "envelope's force at 2 % drift + (kN)",
+        |r| r.force_at_2_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[3],
+    ),
+    (
+        "force_at_1_neg_kn",
+        "envelope's force at 1 % drift − (kN)",
+        |r| r.force_at_1_neg_kn,
+        |s| s.readings_neg.force_at_drift_kn[2],
+    ),
+    (
+        "drift_at_80_pos_pct",
+        "drift at 80 % of the peak + (%)",
+        |r| r.drift_at_80_pos_pct,
+        |s| s.readings_pos.drift_at_80_pct,
+    ),
+    (
+        "drift_at_95_pos_pct",
+        "drift at 95 % of the peak + (%)",
+        |r| r.drift_at_95_pos_pct,
+        |s| s.readings_pos.drift_at_95_pct,
+    ),
+    (
+        "plateau_slope_pos_kn_per_pct",
+        "plateau slope past 95 % of the peak + (kN per % drift)",
+        |r| r.plateau_slope_pos_kn_per_pct,
+        |s| s.readings_pos.plateau_slope_kn_per_pct,
+    ),
+    ("vertical_modulus_mpa", "wall's vertical modulus, loading phase (MPa)", |r| r.vertical_modulus_mpa, |s| s.epc_mpa),
+    (
+        "largest_block_excursion_mm",
+        "largest excursion of a block from its course (mm), simulated only",
+        |r| r.largest_block_excursion_mm,
+        |_| f64::NAN,
+    ),
 ];
 
 /// What a run of the study gave.
@@ -665,6 +882,21 @@ fn realization(
         limit_mechanism: String::new(),
         rocking_kn: f64::NAN,
         damping_ratio: f64::NAN,
+        force_at_0_5_pos_kn: f64::NAN,
+        force_at_1_pos_kn: f64::NAN,
+        force_at_2_pos_kn: f64::NAN,
+        drift_at_80_pos_pct: f64::NAN,
+        drift_at_95_pos_pct: f64::NAN,
+        plateau_slope_pos_kn_per_pct: f64::NAN,
+        force_at_0_5_neg_kn: f64::NAN,
+        force_at_1_neg_kn: f64::NAN,
+        force_at_2_neg_kn: f64::NAN,
+        drift_at_80_neg_pct: f64::NAN,
+        drift_at_95_neg_pct: f64::NAN,
+        plateau_slope_neg_kn_per_pct: f64::NAN,
+        vertical_modulus_mpa: f64::NAN,
+        largest_block_excursion_mm: f64::NAN,
+        excursion_block: String::new(),
         unconverged: 0,
         wall_time_s: 0.0,
         curve: Vec::new(),
@@ -708,6 +940,25 @@ fn fill(row: &mut InPlaneRow, r: &InPlaneResult) {
         d(r.positive);
     (row.peak_neg_kn, row.drift_at_peak_neg_pct, row.ultimate_drift_neg_pct, row.stiffness_neg_kn_per_mm) =
         d(r.negative);
+    if let Some(x) = r.positive {
+        row.force_at_0_5_pos_kn = x.force_at_drift_kn[1];
+        row.force_at_1_pos_kn = x.force_at_drift_kn[2];
+        row.force_at_2_pos_kn = x.force_at_drift_kn[3];
+        row.drift_at_80_pos_pct = x.drift_at_80_pct;
+        row.drift_at_95_pos_pct = x.drift_at_95_pct;
+        row.plateau_slope_pos_kn_per_pct = x.plateau_slope_kn_per_pct;
+    }
+    if let Some(x) = r.negative {
+        row.force_at_0_5_neg_kn = x.force_at_drift_kn[1];
+        row.force_at_1_neg_kn = x.force_at_drift_kn[2];
+        row.force_at_2_neg_kn = x.force_at_drift_kn[3];
+        row.drift_at_80_neg_pct = x.drift_at_80_pct;
+        row.drift_at_95_neg_pct = x.drift_at_95_pct;
+        row.plateau_slope_neg_kn_per_pct = x.plateau_slope_kn_per_pct;
+    }
+    row.vertical_modulus_mpa = r.wall_vertical_modulus_mpa;
+    row.largest_block_excursion_mm = r.largest_block_excursion_mm;
+    row.excursion_block = r.excursion_block.clone();
     row.mechanism = r.mechanism.kind.name().into();
     row.failure_type = r.mechanism.kind.failure_type().unwrap_or(f64::NAN);
     row.opening_share = r.mechanism.opening_share;
@@ -741,6 +992,21 @@ const ROW_COLUMNS: &[(&str, fn(&InPlaneRow) -> String)] = &[
     ("limit_mechanism", |r| r.limit_mechanism.clone()),
     ("rocking_kn", |r| r.rocking_kn.to_string()),
     ("damping_ratio", |r| r.damping_ratio.to_string()),
+    ("force_at_0_5_pos_kn", |r| r.force_at_0_5_pos_kn.to_string()),
+    ("force_at_1_pos_kn", |r| r.force_at_1_pos_kn.to_string()),
+    ("force_at_2_pos_kn", |r| r.force_at_2_pos_kn.to_string()),
+    ("drift_at_80_pos_pct", |r| r.drift_at_80_pos_pct.to_string()),
+    ("drift_at_95_pos_pct", |r| r.drift_at_95_pos_pct.to_string()),
+    ("plateau_slope_pos_kn_per_pct", |r| r.plateau_slope_pos_kn_per_pct.to_string()),
+    ("force_at_0_5_neg_kn", |r| r.force_at_0_5_neg_kn.to_string()),
+    ("force_at_1_neg_kn", |r| r.force_at_1_neg_kn.to_string()),
+    ("force_at_2_neg_kn", |r| r.force_at_2_neg_kn.to_string()),
+    ("drift_at_80_neg_pct", |r| r.drift_at_80_neg_pct.to_string()),
+    ("drift_at_95_neg_pct", |r| r.drift_at_95_neg_pct.to_string()),
+    ("plateau_slope_neg_kn_per_pct", |r| r.plateau_slope_neg_kn_per_pct.to_string()),
+    ("vertical_modulus_mpa", |r| r.vertical_modulus_mpa.to_string()),
+    ("largest_block_excursion_mm", |r| r.largest_block_excursion_mm.to_string()),
+    ("excursion_block", |r| r.excursion_block.clone()),
     ("unconverged", |r| r.unconverged.to_string()),
     ("wall_time_s", |r| format!("{:.3}", r.wall_time_s)),
     ("error", |r| format!("\"{}\"", r.error.replace('"', "'"))),
@@ -803,6 +1069,23 @@ fn report(
         solver.penalty.tolerance,
         spec.in_plane.shear_span_m.map_or("–".into(), |h| h.to_string()),
         spec.in_plane.drift_pct
+    );
+    let _ = writeln!(
+        md,
+        "Readings as the measured files define them: the displacement is read on the loading beam at the measuring \
+         point ({}), the drift is that displacement over the point's height (`drift_% = displacement_mm / {} × 100`), \
+         and the stiffness (kN/mm) is read on the same displacement. The wall's vertical modulus is the secant of the \
+         vertical loading phase (the stress the actuator adds over the wall's shortening, the beam's settlement \
+         over the wall's height), as the database's `Epc` is read from the compression cycles at the start of each \
+         test. Measured columns are data drystone did not make; the simulated columns are its own.\n",
+        spec.in_plane.measuring_height_m.map_or_else(
+            || "the actuator's height, the shear span, where a test reports none".to_string(),
+            |h| format!("{h} m")
+        ),
+        spec.in_plane
+            .measuring_height_m
+            .or(spec.in_plane.shear_span_m)
+            .map_or("H".to_string(), |h| format!("{}", h * 1e3))
     );
     for (g, group) in spec.groups.iter().enumerate() {
         let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == group.name && r.status == "ok").collect();
@@ -997,6 +1280,21 @@ mod tests {
             limit_mechanism: String::new(),
             rocking_kn: 1.0,
             damping_ratio: 1.0,
+            force_at_0_5_pos_kn: f64::NAN,
+            force_at_1_pos_kn: f64::NAN,
+            force_at_2_pos_kn: f64::NAN,
+            drift_at_80_pos_pct: f64::NAN,
+            drift_at_95_pos_pct: f64::NAN,
+            plateau_slope_pos_kn_per_pct: f64::NAN,
+            force_at_0_5_neg_kn: f64::NAN,
+            force_at_1_neg_kn: f64::NAN,
+            force_at_2_neg_kn: f64::NAN,
+            drift_at_80_neg_pct: f64::NAN,
+            drift_at_95_neg_pct: f64::NAN,
+            plateau_slope_neg_kn_per_pct: f64::NAN,
+            vertical_modulus_mpa: 1.0,
+            largest_block_excursion_mm: 1.0,
+            excursion_block: String::new(),
             unconverged: 0,
             wall_time_s: 0.0,
             curve: Vec::new(),

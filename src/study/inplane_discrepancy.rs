@@ -124,8 +124,16 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                 (InPlaneQuantity::PeakForce, s.vmax_pos_kn, sigma.force_kn),
                 (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
                 (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
+                (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
             ] {
-                if value.is_finite() {
+                // The database gives one vertical modulus per stress level of a campaign
+                // (the same number in every specimen's row): one reading of the group, not
+                // one per specimen.
+                let repeated = quantity == InPlaneQuantity::VerticalModulus
+                    && obs.iter().any(|o: &Observation| {
+                        o.group == name && o.observable == Observable::InPlane { quantity } && o.value == value
+                    });
+                if value.is_finite() && !repeated {
                     obs.push(Observation {
                         specimen: unit.clone(),
                         group: name.clone(),

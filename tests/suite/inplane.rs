@@ -130,7 +130,8 @@ fn a_monolith_on_a_slippery_base_slides_at_mu_n() {
 /// joints' centres, the beam's centroid (at H0, where V and N act) moves
 /// u = 2s + θH + (θ+ψ)(H0−H); moments about the base and the beam joint's centres:
 /// Kn I θ = V H0 + N u + W (s + θ H/2) and Kn I ψ = V (H0−H) + N (s + (θ+ψ)(H0−H)); the
-/// reading on the beam at H moves 2s + θH.
+/// displacement is read where the database reads it, on the beam at the actuator's height
+/// H0, which moves u itself.
 #[test]
 fn the_elastic_stiffness_of_one_block_is_its_closed_form() {
     let (n, w) = forces();
@@ -145,16 +146,57 @@ fn the_elastic_stiffness_of_one_block_is_its_closed_form() {
         let m = nalgebra::Matrix2::new(kr - n * H - w * H / 2.0 - n * e, -n * e, -n * e, kr - n * e);
         let rhs = nalgebra::Vector2::new(H0 + 2.0 * n / (ks * a) + w / (ks * a), e + n / (ks * a));
         let x = m.lu().solve(&rhs).unwrap();
-        let k = 1.0 / (2.0 / (ks * a) + x[0] * H);
+        let k = 1.0 / (2.0 / (ks * a) + x[0] * H + (x[0] + x[1]) * e);
         let wall = inplane_block(45.0, kn);
         // To half the force that decompresses the base (V H0 = N_total L / 6): a force well
         // above the equilibrium tolerance's share of the contact forces.
-        let drift_pct = 100.0 * 0.5 * (n + w) * L / (6.0 * H0) / k / H;
-        let p = InPlaneParams { step_mm: drift_pct * H * 10.0 / 20.0, ..params(drift_pct) };
+        let drift_pct = 100.0 * 0.5 * (n + w) * L / (6.0 * H0) / k / H0;
+        let p = InPlaneParams { step_mm: drift_pct * H0 * 10.0 / 20.0, ..params(drift_pct) };
         let r = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
         let sim = r.positive.unwrap().initial_stiffness_kn_per_mm * 1e6;
         assert!((sim / k - 1.0).abs() < 0.01, "Kn {kn:e}: {sim} N/m vs {k} N/m");
     }
+}
+
+/// The vertical loading phase as the laboratory reads it (the database's `Epc`): a stack
+/// of `c` rigid blocks between the table and the beam, every joint linear of Kn, shortens
+/// by (c + 1) Δσ / Kn under the stress Δσ the actuator adds, so the wall's vertical
+/// modulus is Kn H / (c + 1), by hand here; and a measuring point above the actuator reads
+/// the drift over its own height.
+#[test]
+fn the_vertical_modulus_of_a_stack_is_its_joints_in_series() {
+    for (courses, kn) in [(1usize, 1e9), (2, 1e10), (4, 2e10)] {
+        let h = H / courses as f64;
+        let blocks = (0..courses).map(|c| box_vertices([0.0, 0.0, c as f64 * h], [L, T, (c + 1) as f64 * h])).collect();
+        let wall = layout_of(blocks, kn, kn / 2.5, 45.0, Default::default());
+        let r = run_in_plane_penalty(&wall, SolverParams::default(), &params(0.05), &mut |_, _, _| {}).unwrap();
+        let e = kn * H / (courses + 1) as f64 * 1e-6;
+        assert!(
+            (r.wall_vertical_modulus_mpa / e - 1.0).abs() < 1e-3,
+            "{courses} courses, Kn {kn:e}: {} MPa vs {e} MPa",
+            r.wall_vertical_modulus_mpa
+        );
+        assert_eq!(r.measuring_height_m, H0);
+    }
+    // Read at the actuator's point (the default), the displacement is the one imposed
+    // there and the drift the history's own; read 0.2 m higher, the drift is that point's
+    // displacement over its own height.
+    let wall = inplane_block(45.0, RIGID_KN);
+    let r = run_in_plane_penalty(&wall, SolverParams::default(), &params(0.5), &mut |_, _, _| {}).unwrap();
+    let last = r.curve.last().unwrap();
+    // (to the beam hold's penalty, some 1e-7 of the displacement)
+    assert!((last.top_mm / (0.5e-2 * H0 * 1e3) - 1.0).abs() < 1e-6, "{last:?}");
+    assert!((last.drift_pct / 0.5 - 1.0).abs() < 1e-6, "{last:?}");
+    let p = InPlaneParams { measuring_height_m: Some(H0 + 0.2), ..params(0.5) };
+    let r = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    assert_eq!(r.measuring_height_m, H0 + 0.2);
+    for c in &r.curve[1..] {
+        assert!((c.drift_pct / (c.top_mm * 1e-1 / (H0 + 0.2)) - 1.0).abs() < 1e-12, "{c:?}");
+    }
+    // Below the wall's top: refused by name.
+    let p = InPlaneParams { measuring_height_m: Some(1.0), ..params(0.5) };
+    let e = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap_err().to_string();
+    assert!(e.contains("measuring_height_m") && e.contains("below the wall's height"), "{e}");
 }
 
 #[test]
@@ -376,14 +418,14 @@ envelopes = "{}"
     let e = drystone::study::inplane::run(&extended, &dir.join("e")).unwrap();
     for (x, a) in e.rows.iter().zip(&a.rows) {
         assert_eq!(x.curve.len(), a.curve.len());
-        // (drift %, kN): the extra force over the drift is N H / (100 L), the same at every
-        // point, with H the wall's height (about 1.2 m).
+        // (drift %, kN): the extra force over the drift is N H0 / (100 L), the same at every
+        // point, with H0 the height where the drift is read (the shear span, 1.325 m).
         for (p, q) in x.curve.iter().zip(&a.curve).filter(|(p, _)| p.0 > 0.05) {
             assert_eq!(p.0, q.0);
             let per_pct = (p.1 - q.1) / p.0;
             let expected = 0.5e3 * 1.0 * 0.2 * 0.5 / 100.0;
             assert!(
-                (per_pct / expected - 1.2).abs() < 0.02,
+                (per_pct / expected - 1.325).abs() < 0.02,
                 "{per_pct} kN per % against {expected} kN per % per m of height"
             );
         }

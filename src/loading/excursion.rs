@@ -1,0 +1,221 @@
+//! How far a block leaves the wall: a sanity reading of a run's poses.
+//!
+//! A wall that stays whole moves as parts: every block moves with at least one of the
+//! bodies it shares a joint with (a block of the course beside it, above or below it, the
+//! loading beam, or the table, which does not move), even where cracks cut the wall into
+//! parts (a block beside a stepped crack moves with its neighbours on its side of it; a
+//! block left behind by the part that rocks away rests on the block below it). A block shed
+//! from the wall (an end block walking out of its course, a half-block squeezed from under
+//! the beam's corner) moves with none of them. The **excursion** of a block is the distance
+//! between its centroid and where the rigid motion of the nearest-moving of its joint
+//! neighbours carries it; a wall's excursion is the largest of its blocks'.
+//!
+//! Joint neighbours are read from the layout: two blocks whose bounding boxes touch (within
+//! [`TOUCH_TOLERANCE_M`]) over an area (an overlap of at least [`CONTACT_SHARE`] of the
+//! smaller block's extent in each of the two directions along the joint), and the table for
+//! a block whose bottom is within the tolerance of z = 0. Fixed blocks do not move.
+
+use crate::layout::Layout;
+use crate::math::Vec3;
+use nalgebra::UnitQuaternion;
+
+/// How close two blocks' boxes must come to share a joint, m \[2 mm\] (the generator's
+/// seating gaps and sawn stone's tolerances are below it).
+pub const TOUCH_TOLERANCE_M: f64 = 2e-3;
+
+/// The share of the smaller block's extent along the joint that the two boxes must
+/// overlap in each direction to share a joint rather than an edge \[0.1\].
+pub const CONTACT_SHARE: f64 = 0.1;
+
+/// The poses of the bodies: centroid (m) and rotation, in the layout's block order.
+pub type Poses = [(Vec3, UnitQuaternion<f64>)];
+
+/// A body a block shares a joint with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Neighbour {
+    /// Another block of the layout (its index).
+    Block(usize),
+    /// The table, or a fixed block: it does not move.
+    Still,
+}
+
+/// Each block's joint neighbours (see the module doc).
+#[derive(Debug, Clone)]
+pub struct JointNeighbours {
+    neighbours: Vec<Vec<Neighbour>>,
+}
+
+impl JointNeighbours {
+    /// The joint neighbours of the layout's blocks, read from their shapes as laid.
+    pub fn of(layout: &Layout) -> JointNeighbours {
+        let boxes: Vec<_> = layout.blocks.iter().map(|b| b.shape.aabb()).collect();
+        let n = boxes.len();
+        let mut neighbours = vec![Vec::new(); n];
+        for i in 0..n {
+            if layout.blocks[i].fixed {
+                continue;
+            }
+            if boxes[i].min.z <= TOUCH_TOLERANCE_M {
+                neighbours[i].push(Neighbour::Still);
+            }
+            for j in 0..n {
+                if i == j || !touch(&boxes[i], &boxes[j]) {
+                    continue;
+                }
+                neighbours[i].push(if layout.blocks[j].fixed { Neighbour::Still } else { Neighbour::Block(j) });
+            }
+        }
+        JointNeighbours { neighbours }
+    }
+
+    /// The largest excursion of any block between `reference` and `now` (m) and the
+    /// block's index; `(0, None)` when no block moved from all of its neighbours.
+    pub fn largest(&self, reference: &Poses, now: &Poses) -> (f64, Option<usize>) {
+        let mut worst = (0.0, None);
+        for (k, ns) in self.neighbours.iter().enumerate() {
+            let off = |nb: &Neighbour| match *nb {
+                Neighbour::Block(j) => carried_off(reference, now, k, j),
+                Neighbour::Still => (now[k].0 - reference[k].0).norm(),
+            };
+            let Some(e) = ns.iter().map(off).min_by(f64::total_cmp) else {
+                continue;
+            };
+            if e > worst.0 {
+                worst = (e, Some(k));
+            }
+        }
+        worst
+    }
+}
+
+impl JointNeighbours {
+    /// Per block, whether it moved between `start` and `now` by more than `eps` (m) from
+    /// where every one of its joint neighbours' rigid motion carries it (it walked alone:
+    /// a block with no neighbour never does).
+    pub fn walked_alone(&self, start: &Poses, now: &Poses, eps: f64) -> Vec<bool> {
+        self.neighbours
+            .iter()
+            .enumerate()
+            .map(|(k, ns)| {
+                !ns.is_empty()
+                    && ns.iter().all(|nb| match *nb {
+                        Neighbour::Block(j) => carried_off(start, now, k, j) > eps,
+                        Neighbour::Still => (now[k].0 - start[k].0).norm() > eps,
+                    })
+            })
+            .collect()
+    }
+}
+
+/// Whether two boxes touch over an area: within [`TOUCH_TOLERANCE_M`] along one axis and
+/// overlapping by [`CONTACT_SHARE`] of the smaller extent along the other two.
+fn touch(a: &crate::geometry::Aabb, b: &crate::geometry::Aabb) -> bool {
+    let gap = |k: usize| (a.min[k] - b.max[k]).max(b.min[k] - a.max[k]);
+    let overlap = |k: usize| {
+        let o = a.max[k].min(b.max[k]) - a.min[k].max(b.min[k]);
+        let smaller = (a.max[k] - a.min[k]).min(b.max[k] - b.min[k]);
+        o >= CONTACT_SHARE * smaller
+    };
+    (0..3).any(|k| gap(k) <= TOUCH_TOLERANCE_M && (0..3).filter(|&m| m != k).all(overlap))
+}
+
+/// The distance between block `k`'s centroid at `now` and where block `j`'s rigid motion
+/// from `reference` to `now` carries it, m.
+fn carried_off(reference: &Poses, now: &Poses, k: usize, j: usize) -> f64 {
+    let (pj0, qj0) = reference[j];
+    let (pj1, qj1) = now[j];
+    let carried = pj1 + (qj1 * qj0.inverse()) * (reference[k].0 - pj0);
+    (now[k].0 - carried).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two courses of 0.2 × 0.2 × 0.15 m boxes: three on the table, two above them
+    /// (running bond), as laid; their centroids as the reference poses.
+    fn two_courses() -> (Layout, Vec<(Vec3, UnitQuaternion<f64>)>) {
+        let mut boxes: Vec<_> = (0..3)
+            .map(|i| crate::verify::box_vertices([0.2 * i as f64, -0.1, 0.0], [0.2 * i as f64 + 0.2, 0.1, 0.15]))
+            .collect();
+        boxes.extend((0..2).map(|i| {
+            crate::verify::box_vertices([0.1 + 0.2 * i as f64, -0.1, 0.15], [0.3 + 0.2 * i as f64, 0.1, 0.3])
+        }));
+        let layout = crate::verify::layout_of(boxes, 1e9, 1e9, 30.0, crate::layout::BaseSliding::Free);
+        let reference =
+            layout.blocks.iter().map(|b| (b.shape.mass_properties(1.0).centroid, UnitQuaternion::identity())).collect();
+        (layout, reference)
+    }
+
+    #[test]
+    fn a_wall_that_moves_rigidly_has_no_excursion() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        // The upper course turned by 0.05 rad about y through its left end and shifted; the
+        // lower course as laid: every block moves with a neighbour.
+        let q = UnitQuaternion::from_scaled_axis(Vec3::new(0.0, 0.05, 0.0));
+        let pivot = Vec3::new(0.1, 0.0, 0.15);
+        let mut now = reference.clone();
+        for k in 3..5 {
+            now[k] = (pivot + q * (reference[k].0 - pivot) + Vec3::new(0.01, 0.0, 0.0), q * reference[k].1);
+        }
+        let (e, _) = nb.largest(&reference, &now);
+        assert!(e < 1e-12, "{e}");
+    }
+
+    #[test]
+    fn a_block_left_behind_by_a_crack_moves_with_the_block_below_it() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        // The right upper block and the right lower block move away 4 cm (a crack through
+        // the wall); the rest stays: no block left its neighbours.
+        let mut now = reference.clone();
+        now[2].0.x += 0.04;
+        now[4].0.x += 0.04;
+        let (e, _) = nb.largest(&reference, &now);
+        assert!(e < 1e-12, "{e}");
+    }
+
+    #[test]
+    fn a_block_that_walks_out_is_named_with_its_distance() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        // The right upper block slides 7 cm off the wall while everything else stands.
+        let mut now = reference.clone();
+        now[4].0.x += 0.07;
+        let (e, k) = nb.largest(&reference, &now);
+        assert!((e - 0.07).abs() < 1e-12, "{e}");
+        assert_eq!(k, Some(4));
+    }
+
+    #[test]
+    fn only_a_block_that_moved_from_all_its_neighbours_walked_alone() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        let mut now = reference.clone();
+        // The upper course moves 1 mm together: each upper block moves with the other.
+        now[3].0.x += 1e-3;
+        now[4].0.x += 1e-3;
+        assert_eq!(nb.walked_alone(&reference, &now, 1e-4), vec![false; 5]);
+        // Block 4 alone moves on.
+        now[4].0.x += 1e-3;
+        assert_eq!(nb.walked_alone(&reference, &now, 1e-4), vec![false, false, false, false, true]);
+    }
+
+    #[test]
+    fn the_table_holds_the_base_course_and_edges_are_not_joints() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        // The whole base course moves 3 cm on the table and the upper course with it: the
+        // base blocks still move with each other (a wall sliding as a whole is whole).
+        let mut now = reference.clone();
+        for p in &mut now {
+            p.0.x += 0.03;
+        }
+        assert!(nb.largest(&reference, &now).0 < 1e-12);
+        // Blocks 0 and 4 meet at an edge only (block 4 starts at x = 0.3 over block 1's
+        // right half and block 2's left half): not neighbours.
+        assert!(!nb.neighbours[0].contains(&Neighbour::Block(4)));
+        assert!(nb.neighbours[4].contains(&Neighbour::Block(1)) && nb.neighbours[4].contains(&Neighbour::Block(2)));
+    }
+}
