@@ -52,9 +52,10 @@ impl AnalysisInput {
     }
 }
 
-/// The line a command prints of its run store: runs read and kept.
+/// The line a command prints of its run store: runs read and kept, and a warning when runs
+/// could not be kept ([`drystone::discrepancy::RunStore::summary`]).
 pub(crate) fn store_line(store: &Option<std::sync::Arc<drystone::discrepancy::RunStore>>) -> Option<String> {
-    store.as_ref().map(|s| format!("run store {}: {} run(s) read, {} kept", s.dir().display(), s.reads(), s.writes()))
+    store.as_ref().map(|s| s.summary())
 }
 
 /// Options of `drystone discrepancy`.

@@ -52,7 +52,7 @@ pub struct InPlaneArgs {
     /// `fixed` (double-fixed).
     #[arg(long, value_enum, default_value = "free")]
     beam_rotation: Rotation,
-    /// Static solves per quarter cycle of a cyclic history.
+    /// Static solves per quarter cycle of a cyclic history, at most 1000.
     #[arg(long, default_value_t = InPlaneParams::default().quarter_increments)]
     quarter_increments: u32,
     /// The imposed displacement's increment per static solve of a monotonic run, mm.
@@ -74,6 +74,12 @@ pub struct InPlaneArgs {
     #[arg(long, value_name = "FILE")]
     svg: Option<PathBuf>,
 }
+
+/// The most static solves a quarter cycle of `--quarter-increments` may ask: at the limit, the
+/// default ladder of eleven amplitudes run twice is 88 000 solves, hours of a run; past it
+/// the history (one displacement a solve, all held before the run) and the run grow without
+/// a useful end (a million asked ran on, its memory growing).
+pub const MAX_QUARTER_INCREMENTS: u32 = 1000;
 
 /// The beam's rotation on the command line.
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -103,6 +109,14 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         quarter_increments: a.quarter_increments,
         measuring_height_m: a.measuring_height_m,
     };
+    if a.quarter_increments > MAX_QUARTER_INCREMENTS {
+        bail!(
+            "--quarter-increments = {} must be at most {MAX_QUARTER_INCREMENTS} (static solves per quarter cycle; the \
+             default is {})",
+            a.quarter_increments,
+            InPlaneParams::default().quarter_increments
+        );
+    }
     if a.amplitudes_pct.is_some() && !a.cyclic {
         bail!("--amplitudes-pct gives the cycles' amplitudes: add --cyclic");
     }

@@ -160,6 +160,18 @@ pub enum DiscrepancyError {
         /// Why it cannot be analysed.
         reason: &'static str,
     },
+    /// A candidate effect named in `[discrepancy] effects` or `also_effects` that the
+    /// setup's protocol does not read (the in-plane test and an out-of-plane effect,
+    /// [`effects::EffectDef::not_read_in_plane`]).
+    #[error("candidate effect {effect} (named in [discrepancy]): protocol {protocol} does not read it ({reason})")]
+    NotRead {
+        /// The effect.
+        effect: String,
+        /// The protocol's name.
+        protocol: &'static str,
+        /// Why it does not read it.
+        reason: &'static str,
+    },
     /// Every realization of the baseline failed for a group.
     #[error("group {group}: every baseline realization failed ({error})")]
     Baseline {

@@ -129,6 +129,39 @@ pub fn searched(
     Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
 }
 
+/// The searched `defs` the setup's protocol reads: on the in-plane test, the default
+/// search leaves out the effects it does not read
+/// ([`effects::EffectDef::not_read_in_plane`]), and one named in `[discrepancy] effects`
+/// or `also_effects` is refused by name; other protocols read every effect.
+///
+/// # Errors
+/// [`DiscrepancyError::NotRead`] naming the first such effect named.
+fn read_by_protocol(
+    setup: &Setup,
+    s: &Settings,
+    defs: Vec<Arc<EffectDef>>,
+) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
+    if setup.protocol.loading() != crate::protocol::Loading::InPlane {
+        return Ok(defs);
+    }
+    let named = |n: &str| s.effects.iter().chain(&s.also_effects).any(|e| e == n);
+    let mut out = Vec::with_capacity(defs.len());
+    for d in defs {
+        match d.not_read_in_plane() {
+            None => out.push(d),
+            Some(reason) if named(&d.name) => {
+                return Err(DiscrepancyError::NotRead {
+                    effect: d.name.clone(),
+                    protocol: setup.protocol.name(),
+                    reason,
+                })
+            }
+            Some(_) => {}
+        }
+    }
+    Ok(out)
+}
+
 /// Mean course height of the analysed walls, m (the effects' length ranges scale with it).
 pub fn course_height(setup: &Setup) -> f64 {
     let v: Vec<f64> = setup.groups.iter().map(|g| g.course_m).collect();
@@ -546,6 +579,7 @@ pub fn prepare_after(
 ) -> Result<Prepared, DiscrepancyError> {
     check(setup, template, s)?;
     let defs = searched(s, library, template.iter().any(|o| o.observable.is_mechanism()))?;
+    let defs = read_by_protocol(setup, s, defs)?;
     let inert = inert_effects(setup, &defs);
     for i in &inert {
         progress(&format!("warning: {i}"));

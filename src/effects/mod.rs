@@ -547,6 +547,16 @@ impl EffectDef {
         !self.steps.is_empty() && self.steps.iter().all(Step::acts_on_readings_only)
     }
 
+    /// Why the in-plane shear–compression test does not read the effect, or `None` when it
+    /// reads every step ([`Step::not_read_in_plane`]: `initial_lean`, `table_kick`,
+    /// `restraint_stiffness`, `end_rope`, `base_restraint`, `leaf_split`,
+    /// `transverse_dip`, or an effect of a file with such a step). Derived from the steps,
+    /// so a file's effect has it by what it does; an in-plane study and its discrepancy
+    /// analysis refuse such an effect by name.
+    pub fn not_read_in_plane(&self) -> Option<&'static str> {
+        self.steps.iter().find_map(Step::not_read_in_plane)
+    }
+
     /// Whether it draws random numbers (a `transverse_dip` step).
     pub fn is_random(&self) -> bool {
         self.steps.iter().any(|s| matches!(s, Step::TransverseDip { .. }))

@@ -174,6 +174,41 @@ impl Step {
         matches!(self, Step::JackTilt { .. } | Step::RigFriction { .. })
     }
 
+    /// Why the in-plane shear–compression test does not read this step, or `None` when it
+    /// does: the out-of-plane set-up's primitives (a lean across the wall, the tilting
+    /// table's overshoot, end restraints and ropes, base stops, a leaf split, beds dipping
+    /// across the thickness) have nothing to act on in a wall loaded in its own plane, and
+    /// those that change the layout's extent across the wall would change the thickness the
+    /// rig takes from it (`loading::inplane::Rig::build`), hence its vertical force.
+    pub fn not_read_in_plane(&self) -> Option<&'static str> {
+        match self {
+            Step::Lean { .. } => Some(
+                "a lean out of plumb across the wall: the test loads the wall in its own plane, and the lean would \
+                 widen the layout's extent across it, from which the rig takes the wall's thickness and its vertical \
+                 force",
+            ),
+            Step::TableOvershoot { .. } => {
+                Some("the tilting table's overshoot at its stops: the test has no tilting table")
+            }
+            Step::RestraintSpring { .. } | Step::RopePretension { .. } | Step::RopeStiffness { .. } => {
+                Some("the wall's end restraints across its plane: the in-plane rig has none")
+            }
+            Step::BaseStop { .. } => Some(
+                "stops on the downhill face of the first course: the test's table does not tilt, and the stops would \
+                 widen the layout's extent across the wall, from which the rig takes its thickness",
+            ),
+            Step::LeafSplit { .. } => Some(
+                "a section split into leaves across its thickness: the test loads the wall in its own plane, where \
+                 the leaves move together",
+            ),
+            Step::TransverseDip { .. } => Some(
+                "bed joints dipping across the thickness: a slope across the wall, which the test, loading the wall \
+                 in its own plane, does not load",
+            ),
+            _ => None,
+        }
+    }
+
     /// Sets the vertical-load system's part this step gives to `v` (the step's parameter
     /// value); nothing for a step that is not one of its parts
     /// ([`Step::acts_on_readings_only`]). The one place these steps enter a layout.

@@ -293,6 +293,27 @@ impl Layout {
         Ok(())
     }
 
+    /// The first joint rule whose faces crush ([`Closure::Crushing`], what the effect
+    /// `toe_crushing` sets): named as the layout file names it, `material NAME` or `joint
+    /// family NAME`, with its strength fc (Pa); `None` when no joint crushes. The rigid
+    /// methods (limit analysis, nscd) have no crushing law and refuse a layout with one
+    /// rather than analyse the wall without it.
+    pub fn crushing_joint(&self) -> Option<(String, f64)> {
+        let material = self.materials.iter().enumerate().find_map(|(i, m)| match m.closure {
+            Closure::Crushing(c) => {
+                let name = self.material_names.get(i).map_or_else(|| format!("#{i}"), Clone::clone);
+                Some((format!("material {name}"), c.strength_pa))
+            }
+            _ => None,
+        });
+        material.or_else(|| {
+            JointFamily::ALL.into_iter().find_map(|f| match self.joint_families.get(f).and_then(|j| j.closure) {
+                Some(Closure::Crushing(c)) => Some((format!("joint family {}", f.name()), c.strength_pa)),
+                _ => None,
+            })
+        })
+    }
+
     /// Every normal closure law of the layout with the stiffness it goes with (Pa/m): the
     /// materials' and the families' (a family with no stiffness of its own is taken with
     /// the smallest material stiffness times its factor).

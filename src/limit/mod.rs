@@ -32,7 +32,10 @@
 //! the rigid limit (its force grows with a displacement the rigid model does not have) and
 //! is left out. A base held against sliding has no friction cone at the table. A layout
 //! with rope restraints is refused ([`LimitError::Ropes`]): a rope's pretension acts only
-//! through its deflection, which the rigid model does not have.
+//! through its deflection, which the rigid model does not have. A layout whose joints
+//! crush (a `crushing` closure law, what the effect `toe_crushing` sets) is refused
+//! ([`LimitError::Crushing`], naming the material or joint family): the rigid joints have
+//! no crushing law, and the wall without it is not the wall asked for.
 //!
 //! # What is solved exactly
 //!
@@ -184,6 +187,19 @@ pub enum LimitError {
         /// The number of ropes.
         count: usize,
     },
+    /// A joint's faces crush ([`Layout::crushing_joint`]): the analysis's joints are rigid,
+    /// with no crushing law, and would analyse the wall without it.
+    #[error(
+        "limit analysis has no crushing law: the faces' crushing of {joint} (closure crushing, strength {:.4} MPa; \
+         the effect toe_crushing sets it) is not modelled; use the penalty DEM",
+        strength_pa * 1e-6
+    )]
+    Crushing {
+        /// The joint rule, `material NAME` or `joint family NAME`.
+        joint: String,
+        /// Its crushing strength fc, Pa.
+        strength_pa: f64,
+    },
     /// No λ balances the dead load.
     #[error("no equilibrium at any load multiplier: the contacts cannot carry the dead load (the mechanism moves block {block} most)")]
     Infeasible {
@@ -318,6 +334,9 @@ pub(crate) fn limit_with(
     contact.validate().map_err(LimitError::Parameter)?;
     if !layout.ropes.is_empty() {
         return Err(LimitError::Ropes { count: layout.ropes.len() });
+    }
+    if let Some((joint, strength_pa)) = layout.crushing_joint() {
+        return Err(LimitError::Crushing { joint, strength_pa });
     }
     let t0 = Instant::now();
     let (mut model, sim) = Model::new(layout, contact);

@@ -4,9 +4,11 @@
 //! 2008, *Numerical Methods for Nonsmooth Dynamical Systems*, ch. 10 and 12). LMGC90 and
 //! Siconos are the reference codes of the method; this is drystone's own implementation.
 //!
-//! Every joint is rigid: the layout's Kn, Ks and closure law are not used; its friction
+//! Every joint is rigid: the layout's Kn, Ks and elastic closure law are not used; its friction
 //! angle φ (material rule and joint families, as the penalty engine reads them) is.
-//! Cohesion and tensile strength are refused ([`NscdError::Cohesion`], naming the joint).
+//! Cohesion and tensile strength are refused ([`NscdError::Cohesion`], naming the joint), and
+//! so is a crushing law ([`NscdError::Crushing`], naming the material or joint family): its
+//! rigid joints crush at no stress.
 //!
 //! # The parts
 //!
@@ -84,6 +86,19 @@ pub enum NscdError {
         cohesion_pa: f64,
         /// Its tensile strength, Pa.
         tensile_strength_pa: f64,
+    },
+    /// A joint's faces crush ([`crate::layout::Layout::crushing_joint`]): the solver's
+    /// joints are rigid, with no crushing law, and would run the wall without it.
+    #[error(
+        "the nscd solver has no crushing law: the faces' crushing of {joint} (closure crushing, strength {:.4} MPa; \
+         the effect toe_crushing sets it) is not modelled; use the penalty DEM",
+        strength_pa * 1e-6
+    )]
+    Crushing {
+        /// The joint rule, `material NAME` or `joint family NAME`.
+        joint: String,
+        /// Its crushing strength fc, Pa.
+        strength_pa: f64,
     },
     /// A body's state became NaN or infinite.
     #[error("block {id} has a non-finite state at step {step} (time step {dt_s:e} s): the run blew up")]

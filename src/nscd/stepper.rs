@@ -148,10 +148,14 @@ impl NscdSimulation {
     /// straight down (table level), its contact points detected.
     ///
     /// # Errors
-    /// [`NscdError::Parameter`] for a parameter out of range, [`NscdError::Cohesion`] for a
-    /// joint in contact with cohesion or tensile strength.
+    /// [`NscdError::Parameter`] for a parameter out of range, [`NscdError::Crushing`] for a
+    /// joint whose faces crush, [`NscdError::Cohesion`] for a joint in contact with cohesion
+    /// or tensile strength.
     pub fn new(layout: &Layout, params: &NscdParams) -> Result<NscdSimulation, NscdError> {
         params.validate().map_err(NscdError::Parameter)?;
+        if let Some((joint, strength_pa)) = layout.crushing_joint() {
+            return Err(NscdError::Crushing { joint, strength_pa });
+        }
         let bodies = crate::dem::state::bodies_of(layout);
         let n = bodies.len();
         let mut spring = vec![None; n];

@@ -3,7 +3,7 @@
 //! ([`super::own`]).
 
 use super::inplane::{load, run, InPlaneStudyError};
-use super::inplane_discrepancy::analysis_of;
+use super::inplane_discrepancy::{analysis_of, refuse_out_of_plane};
 use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
 use std::path::Path;
 
@@ -29,6 +29,8 @@ fn own_name(path: &Path) -> Result<String, OwnStudyError> {
 }
 
 fn own_run(path: &Path, out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
+    // The effects the test does not read, refused before any run.
+    refuse_out_of_plane(&load(path).map_err(boxed)?, path).map_err(boxed)?;
     let run = run(path, out).map_err(boxed)?;
     Ok(OwnStudyRun {
         realizations: run.rows.len(),

@@ -22,6 +22,9 @@
 //! model's is the mean of its realizations, with their standard error. The statistic is
 //! `χ² = Σ_g z_g²`, `z_g` the difference over the two errors combined, on as many degrees
 //! of freedom as groups; a model fits the loops when its χ² is below the 95th percentile.
+//! A group with no measured or no simulated cycle of at least the minimum drift (a history
+//! that stops below it) has no `z` and is left out of the sum; a model with no group read
+//! is not read ([`LoopVerdict::NotRead`]), which is never a refutation.
 //! Nothing of the check enters the analysis's ranking: it is reported beside it.
 //!
 //! **The friction the loops read.** A bearing's friction acts on the readings only (the
@@ -69,7 +72,8 @@ pub struct FrictionRead {
     pub high: f64,
     /// χ² at `friction`.
     pub chi2: f64,
-    /// Its p-value (degrees of freedom: the groups, less one for the friction read; at least 1).
+    /// Its p-value (degrees of freedom: the groups read, less one for the friction read; at
+    /// least 1).
     pub p_value: f64,
 }
 
@@ -95,9 +99,11 @@ pub struct LoopModel {
     pub parameters: Vec<(String, f64)>,
     /// Per group.
     pub groups: Vec<LoopGroup>,
-    /// `Σ z²` over the groups.
+    /// `Σ z²` over the groups read (those with a measured and a simulated cycle of at least
+    /// [`LOOP_MIN_DRIFT_PCT`] % drift); NaN when none was.
     pub chi2: f64,
-    /// The probability of a χ² as large under the model (degrees of freedom: the groups).
+    /// The probability of a χ² as large under the model (degrees of freedom: the groups
+    /// read); NaN when none was ([`LoopVerdict::NotRead`]).
     pub p_value: f64,
     /// The model's own bearing friction `μ_r` (`rig_friction`; 0 without it).
     pub friction: f64,
@@ -126,11 +132,19 @@ pub enum LoopVerdict {
     FitsWithFriction,
     /// It fits them with no bearing friction of `rig_friction`'s range.
     Refuted,
+    /// Nothing to read: no group with both a measured and a simulated cycle of at least
+    /// [`LOOP_MIN_DRIFT_PCT`] % drift (a history that stops below it, runs that all
+    /// failed). Never a refutation: the loops say nothing of the model.
+    NotRead,
 }
 
 impl LoopVerdict {
+    /// The verdict of a model whose χ² over the groups read has the p-value `p_value`
+    /// (NaN when no group was read) and whose loops read `read`.
     fn of(p_value: f64, read: Option<&FrictionRead>) -> LoopVerdict {
-        if p_value >= 0.05 {
+        if p_value.is_nan() {
+            LoopVerdict::NotRead
+        } else if p_value >= 0.05 {
             LoopVerdict::Fits
         } else if read.is_some_and(|f| f.p_value >= 0.05) {
             LoopVerdict::FitsWithFriction
@@ -140,12 +154,18 @@ impl LoopVerdict {
     }
 
     /// The report's words.
-    pub fn words(self) -> &'static str {
+    pub fn words(self) -> String {
         match self {
-            LoopVerdict::Fits => "fits the loops",
-            LoopVerdict::FitsWithFriction => "fits the loops with the friction they read",
-            LoopVerdict::Refuted => "refuted by the loops",
+            LoopVerdict::Fits => "fits the loops".into(),
+            LoopVerdict::FitsWithFriction => "fits the loops with the friction they read".into(),
+            LoopVerdict::Refuted => "refuted by the loops".into(),
+            LoopVerdict::NotRead => format!("not read: no cycle of at least {LOOP_MIN_DRIFT_PCT} % drift"),
         }
+    }
+
+    /// Whether the loops refute the model (never so when they were not read).
+    pub fn refutes(self) -> bool {
+        self == LoopVerdict::Refuted
     }
 }
 
@@ -172,8 +192,7 @@ impl LoopCheck {
     /// loops read ([`LoopModel::peaks`]), best held-out error first: what both readings
     /// leave standing. Empty when none.
     pub fn standing(&self) -> Vec<&LoopModel> {
-        let mut v: Vec<&LoopModel> =
-            self.models.iter().filter(|m| m.verdict != LoopVerdict::Refuted && m.peaks.is_some()).collect();
+        let mut v: Vec<&LoopModel> = self.models.iter().filter(|m| Self::stands(m) && m.peaks.is_some()).collect();
         v.sort_by(|a, b| {
             let e = |m: &LoopModel| m.peaks.as_ref().map_or(f64::INFINITY, |p| p.heldout_error);
             e(a).total_cmp(&e(b))
@@ -184,6 +203,13 @@ impl LoopCheck {
     /// Whether a model fits the loops as fitted (its χ²'s p-value at least 0.05).
     pub fn fits(m: &LoopModel) -> bool {
         m.verdict == LoopVerdict::Fits
+    }
+
+    /// Whether the loops were read and leave a model standing (it fits them, as fitted or
+    /// with the friction they read); a model they did not read is neither standing nor
+    /// refuted.
+    fn stands(m: &LoopModel) -> bool {
+        matches!(m.verdict, LoopVerdict::Fits | LoopVerdict::FitsWithFriction)
     }
 
     /// The report's section (Markdown).
@@ -227,7 +253,12 @@ impl LoopCheck {
             for g in &m.groups {
                 let _ = write!(line, " {:.4} ({:+.1}) |", crate::stats::mean(&finite(&g.simulated)), g.z);
             }
-            let _ = write!(line, " {:.1} | {:.2e} | {} |", m.chi2, m.p_value, if Self::fits(m) { "yes" } else { "no" });
+            let fits = match m.verdict {
+                LoopVerdict::NotRead => "not read",
+                _ if Self::fits(m) => "yes",
+                _ => "no",
+            };
+            let _ = write!(line, " {:.1} | {:.2e} | {fits} |", m.chi2, m.p_value);
             match &m.friction_read {
                 Some(f) => {
                     let _ = write!(line, " {:.4} [{:.4}, {:.4}] | {:.1} |", f.friction, f.low, f.high, f.chi2);
@@ -254,8 +285,11 @@ impl LoopCheck {
                 .collect()
         };
         let _ = writeln!(md, "What the loops say of each model:\n");
-        for v in [LoopVerdict::Fits, LoopVerdict::FitsWithFriction, LoopVerdict::Refuted] {
+        for v in [LoopVerdict::Fits, LoopVerdict::FitsWithFriction, LoopVerdict::Refuted, LoopVerdict::NotRead] {
             let n = named(v);
+            if v == LoopVerdict::NotRead && n.is_empty() {
+                continue;
+            }
             let _ = writeln!(md, "- {}: {}", v.words(), if n.is_empty() { "none".into() } else { n.join(", ") });
         }
         let _ = writeln!(md);
@@ -515,8 +549,9 @@ pub fn check_models(
             }
         })
         .collect();
-    let dof = groups.len() as f64;
-    let chi = ChiSquared::new(dof).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    // A χ² on `dof` degrees of freedom (at least 1).
+    let chi_of = |dof: usize| ChiSquared::new(dof.max(1) as f64).map_err(|e| InPlaneStudyError::Write(e.to_string()));
+    let chi_by_read: Vec<ChiSquared> = (0..=groups.len()).map(chi_of).collect::<Result<_, _>>()?;
     // A group's z for the model's readings `simulated` (one per realization).
     let z_of = |read: &[(String, f64)], simulated: &[f64]| {
         let sim = finite(simulated);
@@ -526,7 +561,13 @@ pub fn check_models(
         (median(&meas) - crate::stats::mean(&sim)) / se_meas.hypot(se_sim)
     };
     let p_of = |chi: &ChiSquared, chi2: f64| if chi2.is_finite() { 1.0 - chi.cdf(chi2) } else { 0.0 };
-    let chi_read = ChiSquared::new((dof - 1.0).max(1.0)).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    // `Σ z²` over the groups read (a group with no measured or no simulated cycle past
+    // the minimum drift has no z and is left out), with their number; NaN when none.
+    let sum_read = |z: &mut dyn Iterator<Item = f64>| {
+        let read: Vec<f64> = z.filter(|z| z.is_finite()).collect();
+        let sum = if read.is_empty() { f64::NAN } else { read.iter().map(|z| z * z).sum() };
+        (sum, read.len())
+    };
     let out: Vec<LoopModel> = models
         .iter()
         .enumerate()
@@ -544,39 +585,40 @@ pub fn check_models(
                     LoopGroup { group: setup.groups[*k].name.clone(), measured: read.clone(), simulated, z }
                 })
                 .collect();
-            let chi2: f64 = per.iter().map(|g| g.z * g.z).sum();
-            let p_value = p_of(&chi, chi2);
+            let (chi2, groups_read) = sum_read(&mut per.iter().map(|g| g.z));
+            // Nothing read: no p-value (the verdict is `NotRead`, not a refutation).
+            let p_value = if groups_read == 0 { f64::NAN } else { p_of(&chi_by_read[groups_read], chi2) };
             // χ² with each friction of the grid in place of the model's.
             let profile: Vec<f64> = (0..frictions.len())
                 .map(|f| {
-                    groups
-                        .iter()
-                        .enumerate()
-                        .map(|(gi, (_, _, read))| {
-                            let simulated: Vec<f64> = of(gi).iter().map(|v| v.1[f]).collect();
-                            z_of(read, &simulated).powi(2)
-                        })
-                        .sum()
+                    sum_read(&mut groups.iter().enumerate().map(|(gi, (_, _, read))| {
+                        let simulated: Vec<f64> = of(gi).iter().map(|v| v.1[f]).collect();
+                        z_of(read, &simulated)
+                    }))
+                    .0
                 })
                 .collect();
-            let friction_read =
-                profile.iter().enumerate().filter(|(_, c)| c.is_finite()).min_by(|a, b| a.1.total_cmp(b.1)).map(
-                    |(best, &least)| {
-                        let inside: Vec<f64> = frictions
-                            .iter()
-                            .zip(&profile)
-                            .filter(|(_, c)| c.is_finite() && **c <= least + 3.84)
-                            .map(|(f, _)| *f)
-                            .collect();
-                        FrictionRead {
-                            friction: frictions[best],
-                            low: inside.iter().copied().fold(f64::INFINITY, f64::min),
-                            high: inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                            chi2: least,
-                            p_value: p_of(&chi_read, least),
-                        }
-                    },
-                );
+            let chi_read = &chi_by_read[groups_read.saturating_sub(1)];
+            let friction_read = profile
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| groups_read > 0 && c.is_finite())
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(best, &least)| {
+                    let inside: Vec<f64> = frictions
+                        .iter()
+                        .zip(&profile)
+                        .filter(|(_, c)| c.is_finite() && **c <= least + 3.84)
+                        .map(|(f, _)| *f)
+                        .collect();
+                    FrictionRead {
+                        friction: frictions[best],
+                        low: inside.iter().copied().fold(f64::INFINITY, f64::min),
+                        high: inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                        chi2: least,
+                        p_value: p_of(chi_read, least),
+                    }
+                });
             // The model's own friction: the value of a `RigFriction` step's parameter.
             let friction = models[mi]
                 .2

@@ -76,3 +76,53 @@ fn an_unreachable_tolerance_is_named_not_blamed_on_the_layout() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("does not stand"), "{err}");
 }
+
+/// `drystone in-plane --quarter-increments 1000000` (a million static solves a quarter
+/// cycle) is refused at once, naming the flag and its limit, instead of running on with its
+/// history's memory growing. The child is killed after 60 s: a run that does not stop is a
+/// failure, not a hang of the suite.
+#[test]
+fn in_plane_quarter_increments_past_the_limit_are_refused_naming_the_flag() {
+    let dir = std::env::temp_dir().join(format!("drystone-quarter-increments-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("block.json");
+    let v = |x: f64, y: f64, z: f64| format!("[{x},{y},{z}]");
+    let vertices: Vec<String> = [0.0, 1.2]
+        .iter()
+        .flat_map(|&z| [(0.0, -0.1), (1.0, -0.1), (1.0, 0.1), (0.0, 0.1)].map(|(x, y)| v(x, y, z)))
+        .collect();
+    std::fs::write(
+        &layout,
+        format!(
+            r#"{{"version": 1, "name": "one block", "materials": [{{"name": "m", "density_kg_per_m3": 2200,
+            "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}}], "table": {{"material": "m"}},
+            "blocks": [{{"id": "wall", "material": "m", "vertices": [{}]}}]}}"#,
+            vertices.join(",")
+        ),
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
+        .args(["--cyclic", "--quarter-increments", "1000000"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if t0.elapsed().as_secs() > 60 {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("--quarter-increments 1000000 still running after 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(2), "{err}");
+    assert!(err.contains("--quarter-increments = 1000000 must be at most 1000"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

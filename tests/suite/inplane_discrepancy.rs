@@ -182,3 +182,46 @@ fn held_friction(run: &drystone::discrepancy::Run) {
     assert!(run.refit_held(&["kn_scale"], "rig_friction", 0.0).is_none(), "an effect not searched has no surrogate");
     assert!(run.refit_held(&["jack_tilt"], "rig_friction", 0.5).is_none(), "outside rig_friction's range");
 }
+
+/// An in-plane study's effects that its test does not read (a lean across the wall, which
+/// would widen the extent the rig takes the wall's thickness from; base stops; end
+/// restraints) are refused by name, by `drystone run` and by `drystone discrepancy`, in the
+/// study's model and in the analysis's candidates, before anything runs.
+#[test]
+fn an_in_plane_study_refuses_the_effects_its_test_does_not_read_by_name() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-not-read-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = |name: &str, body: &str, group: &str| {
+        let text = format!(
+            "version = 1\nname = \"{name}\"\nseed = 7\nrealizations = 1\nprotocol = \"in_plane\"\n\n[in_plane]\n\
+             shear_span_m = 1.325\ndrift_pct = 0.5\n\n[[groups]]\nname = \"G\"\nwall = \"{WALL}\"\nsigma0_mpa = 0.5\n\
+             {group}\n{body}\n"
+        );
+        let p = dir.join(format!("{name}.toml"));
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let refused = |command: &str, p: &Path, fragments: &[&str]| {
+        let out = dir.join(format!("out-{}-{command}", p.file_stem().unwrap().to_str().unwrap()));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .args([command, p.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{command} {}: accepted: {err}", p.display());
+        for f in fragments.iter().chain(&["the in-plane test does not read it"]) {
+            assert!(err.contains(f), "{command} {}: {f:?} not in {err}", p.display());
+        }
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!out.join("realizations.jsonl").exists(), "{command} {}: it ran", p.display());
+    };
+    let lean = study("lean", "[effects]\ninitial_lean = { lean_deg = 1.0 }", "");
+    refused("run", &lean, &["effects.initial_lean", "thickness"]);
+    refused("discrepancy", &lean, &["effects.initial_lean"]);
+    let stops = study("stops", "", "effects = { base_restraint = { stop_height_m = 0.01 } }");
+    refused("run", &stops, &["groups[0].effects.base_restraint"]);
+    let rope = study("rope", "[discrepancy]\neffects = [\"kn_scale\", \"end_rope\"]", "");
+    refused("discrepancy", &rope, &["discrepancy.effects", "end_rope"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

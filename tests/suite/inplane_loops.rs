@@ -121,3 +121,45 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
     assert_eq!(check.models[1].verdict, LoopVerdict::Fits);
     assert_eq!((check.models[0].friction, check.models[1].friction), (0.0, MU_R));
 }
+
+/// A history that stops below the loops' minimum drift has no cycle to read: the check
+/// says the loops were not read, never that they refute the model (the χ² of no group is
+/// no evidence against it).
+#[test]
+fn a_history_below_the_minimum_drift_is_not_read_not_refuted() {
+    let wall = Wall::from_file(Path::new(WALL)).unwrap();
+    // One cycle at half the minimum drift: no cycle of the run reaches it.
+    const SMALL_PCT: f64 = LOOP_MIN_DRIFT_PCT / 2.0;
+    let small = |sigma0_mpa: f64| InPlaneParams {
+        drift_pct: SMALL_PCT,
+        amplitudes_pct: Some(vec![SMALL_PCT]),
+        ..cyclic(sigma0_mpa)
+    };
+    let course_m = drystone::effects::course_height_of(&wall);
+    let group = GroupSetup {
+        name: format!("{SIGMA0_MPA} MPa"),
+        course_m,
+        wall: wall.clone(),
+        realizations: 1,
+        restrained: false,
+        deterministic: false,
+        effects: vec![],
+        protocol: Some(Protocol::InPlane(InPlane(small(SIGMA0_MPA)))),
+    };
+    let protocol = group.protocol.clone().unwrap();
+    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None };
+    // Measured loops of three specimens, read (their values are not what is checked).
+    let measured: Vec<(String, f64)> =
+        [0.05, 0.06, 0.07].iter().enumerate().map(|(i, x)| (format!("S{i}"), *x)).collect();
+    let models: [LoopCandidate; 1] = [("baseline".into(), vec![], vec![])];
+    let check =
+        check_models(&setup, &small, &[(0, SIGMA0_MPA, measured)], &models, &drystone::discrepancy::quiet).unwrap();
+    let m = &check.models[0];
+    assert!(m.groups[0].simulated.iter().all(|x| x.is_nan()), "{:?}", m.groups[0].simulated);
+    assert_eq!(m.verdict, LoopVerdict::NotRead, "χ² {}, p {}", m.chi2, m.p_value);
+    assert!(!m.verdict.refutes());
+    assert!(m.p_value.is_nan() && m.friction_read.is_none());
+    assert_eq!(m.verdict.words(), format!("not read: no cycle of at least {LOOP_MIN_DRIFT_PCT} % drift"));
+    assert!(check.standing().is_empty());
+    assert!(check.markdown().contains("- not read: no cycle of at least"), "{}", check.markdown());
+}

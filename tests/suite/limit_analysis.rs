@@ -256,3 +256,69 @@ fn the_solvers_limit_table_reaches_limit_analysis_through_the_protocol_seam() {
         other => panic!("expected the parameter refused, got {other:?}"),
     }
 }
+
+/// The rigid methods have no crushing law: a block whose faces crush (the `crushing`
+/// closure law, what the effect `toe_crushing` sets) is refused by limit analysis (the
+/// tilting table, the lateral load, the in-plane test) and by nscd (the tilting table, the
+/// in-plane test), naming the law and the material, instead of analysing the plain block.
+/// Without the law the same block still tips at atan(b/h) by both.
+#[test]
+fn a_block_whose_faces_crush_is_refused_by_the_rigid_methods_naming_its_material() {
+    use drystone::closure::{Closure, Crushing};
+    use drystone::limit::inplane::limit_in_plane;
+    use drystone::loading::inplane::{InPlaneError, InPlaneParams};
+    use drystone::loading::inplane_nscd::run_in_plane_nscd;
+    use drystone::loading::tilt::{TiltError, TiltParams};
+    use drystone::loading::tilt_nscd::run_tilt_nscd;
+    use drystone::nscd::{NscdError, NscdParams};
+    let crush = |mut l: Layout| {
+        for m in &mut l.materials {
+            m.closure = Closure::Crushing(Crushing { strength_pa: 2e6 });
+        }
+        l
+    };
+    let (b, h) = (0.15, 0.30);
+    let plain = layout_of(vec![block(b, h, 0.0, 0.0)], KN, KN / 2.0, 40.0, BaseSliding::Free);
+    let crushing = crush(plain.clone());
+    let says = |text: &str, method: &str, layout: &Layout| {
+        let material = format!("material {}", layout.material_names[0]);
+        for part in [method, "no crushing law", &material, "strength 2.0000 MPa", "toe_crushing", "use the penalty DEM"]
+        {
+            assert!(text.contains(part), "`{part}` not in: {text}");
+        }
+    };
+    let s = SolverParams::default();
+    let e = limit_tilt(&crushing, &s, &LimitParams::default()).unwrap_err();
+    assert!(matches!(e, LimitError::Crushing { .. }), "{e:?}");
+    says(&e.to_string(), "limit analysis has no crushing law", &crushing);
+    let e = limit_lateral(&crushing, &s, &LateralParams::default(), &LimitParams::default()).unwrap_err();
+    says(&e.to_string(), "limit analysis has no crushing law", &crushing);
+    let table = TiltParams { resolution_deg: 0.05, ..TiltParams::default() };
+    match run_tilt_nscd(&crushing, &NscdParams::default(), &table) {
+        Err(TiltError::Nscd(e @ NscdError::Crushing { .. })) => {
+            says(&e.to_string(), "nscd solver has no crushing law", &crushing)
+        }
+        other => panic!("expected the crushing law refused by nscd, got {other:?}"),
+    }
+    // The in-plane test's monolith, by its limit analysis and its nscd driver.
+    let wall = crush(drystone::verify::inplane::inplane_block(45.0, KN));
+    let p = InPlaneParams { sigma0_mpa: 0.5, shear_span_m: Some(1.325), drift_pct: 0.5, ..InPlaneParams::default() };
+    match limit_in_plane(&wall, &s, &p, &s.limit) {
+        Err(InPlaneError::Unsupported(text)) => says(&text, "limit analysis has no crushing law", &wall),
+        other => {
+            panic!("expected the crushing law refused by the in-plane limit analysis, got {:?}", other.map(|_| ()))
+        }
+    }
+    match run_in_plane_nscd(&wall, &NscdParams::default(), &p) {
+        Err(e @ InPlaneError::Nscd(NscdError::Crushing { .. })) => {
+            says(&e.to_string(), "nscd solver has no crushing law", &wall)
+        }
+        other => panic!("expected the crushing law refused by the in-plane nscd run, got {:?}", other.map(|_| ())),
+    }
+    // Without the law: the closed form, by both methods.
+    let exact = (b / h).atan().to_degrees();
+    assert_deg("the plain block", deg(&tilt(&plain)), exact);
+    let r = run_tilt_nscd(&plain, &NscdParams::default(), &table).unwrap();
+    let up = r.first_unstable_deg.expect("the plain block tips");
+    assert!(r.last_stable_deg <= exact && exact <= up, "nscd bracket [{}, {up}] misses {exact}", r.last_stable_deg);
+}

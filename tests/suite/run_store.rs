@@ -147,3 +147,67 @@ fn a_run_that_would_not_read_back_exactly_is_not_kept_and_a_damaged_record_is_a_
     let err = RunStore::open(file.join("store")).unwrap_err().to_string();
     assert!(err.contains("a_file"), "{err}");
 }
+
+/// A stored outcome whose collapse angle tells it apart.
+fn outcome_of(collapse_deg: f64) -> Outcome {
+    let mut o = Outcome { observed: Default::default(), error: None };
+    o.observed.collapse_deg = Some(collapse_deg);
+    o
+}
+
+/// Each record is read only under the key stored in it: two records whose files were
+/// swapped are both misses (their runs made again), and a record without its key (as
+/// written before records carried it) is a miss.
+#[test]
+fn records_swapped_between_files_and_records_without_their_key_are_misses() {
+    let dir = Scratch::new("run-store-swap");
+    let store = RunStore::open(&*dir).unwrap();
+    let (k1, k2) = ("ab".repeat(32), "cd".repeat(32));
+    assert!(store.put(&k1, &outcome_of(11.0)));
+    assert!(store.put(&k2, &outcome_of(22.0)));
+    assert_eq!(store.get(&k1).unwrap().observed.collapse_deg, Some(11.0));
+    assert_eq!(store.get(&k2).unwrap().observed.collapse_deg, Some(22.0));
+    assert_eq!(store.reads(), 2);
+    let file = |k: &str| dir.join(&k[..2]).join(format!("{k}.json"));
+    let (t1, t2) = (std::fs::read(file(&k1)).unwrap(), std::fs::read(file(&k2)).unwrap());
+    std::fs::write(file(&k1), &t2).unwrap();
+    std::fs::write(file(&k2), &t1).unwrap();
+    assert!(store.get(&k1).is_none(), "the record of {k2} read under {k1}");
+    assert!(store.get(&k2).is_none(), "the record of {k1} read under {k2}");
+    assert_eq!(store.reads(), 2);
+    // The record of k1 without the key it carries: a miss.
+    let mut old: serde_json::Value = serde_json::from_slice(&t1).unwrap();
+    assert_eq!(old["key"], serde_json::Value::String(k1.clone()));
+    old.as_object_mut().unwrap().remove("key");
+    std::fs::write(file(&k1), serde_json::to_vec(&old).unwrap()).unwrap();
+    assert!(store.get(&k1).is_none(), "a record without its key read");
+    // Written again, it reads.
+    assert!(store.put(&k1, &outcome_of(11.0)));
+    assert_eq!(store.get(&k1).unwrap().observed.collapse_deg, Some(11.0));
+}
+
+/// A store whose directory cannot be written keeps nothing and says so, naming the
+/// directory and the error, instead of a silent "0 kept".
+#[test]
+fn a_store_that_cannot_be_written_warns_naming_its_directory() {
+    let dir = Scratch::new("run-store-unwritable");
+    let store = RunStore::open(&*dir).unwrap();
+    assert!(store.write_failures().is_none());
+    assert!(!store.summary().contains("warning"), "{}", store.summary());
+    // The directory replaced by a file (a permission check would not hold for root).
+    std::fs::remove_dir_all(&*dir).unwrap();
+    std::fs::write(&*dir, "not a directory").unwrap();
+    for k in ["ab", "cd"] {
+        assert!(!store.put(&k.repeat(32), &outcome_of(1.0)));
+    }
+    let (n, error) = store.write_failures().expect("the failed writes counted");
+    assert_eq!(n, 2);
+    assert!(error.contains(&*dir.to_string_lossy()), "{error}");
+    let summary = store.summary();
+    assert_eq!(store.writes(), 0);
+    assert!(
+        summary.contains(&format!("warning: run store {}: nothing could be kept, 2 run(s) not written", dir.display())),
+        "{summary}"
+    );
+    std::fs::remove_file(&*dir).unwrap();
+}
