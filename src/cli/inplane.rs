@@ -79,7 +79,7 @@ pub struct InPlaneArgs {
 /// default ladder of eleven amplitudes run twice is 88 000 solves, hours of a run; past it
 /// the history (one displacement a solve, all held before the run) and the run grow without
 /// a useful end (a million asked ran on, its memory growing).
-pub const MAX_QUARTER_INCREMENTS: u32 = 1000;
+pub use drystone::loading::inplane::MAX_QUARTER_INCREMENTS;
 
 /// The beam's rotation on the command line.
 #[derive(Clone, Copy, clap::ValueEnum)]

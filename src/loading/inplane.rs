@@ -69,6 +69,12 @@ pub const BEAM_ID: &str = "loading_beam";
 /// The most static solves a history may take (some 100 s of CPU on the granite wall).
 pub const MAX_INCREMENTS: usize = 100_000;
 
+/// The most static solves of a quarter cycle ([`InPlaneParams::quarter_increments`]).
+pub const MAX_QUARTER_INCREMENTS: u32 = 1000;
+
+/// The most cycles per amplitude ([`InPlaneParams::cycles`]).
+pub const MAX_CYCLES: u32 = 100;
+
 /// The drop of the force past the peak that defines the ultimate drift (Vanin et al. 2017):
 /// 20 %.
 pub const ULTIMATE_DROP: f64 = 0.2;
@@ -189,7 +195,13 @@ impl InPlaneParams {
             ("drift_pct", self.drift_pct, self.drift_pct > 0.0 && self.drift_pct <= 50.0, "in (0, 50]"),
             ("step_mm", self.step_mm, self.step_mm > 0.0, "> 0"),
             ("cycles", f64::from(self.cycles), self.cycles >= 1, ">= 1"),
-            ("quarter_increments", f64::from(self.quarter_increments), self.quarter_increments >= 2, ">= 2"),
+            (
+                "quarter_increments",
+                f64::from(self.quarter_increments),
+                (2..=MAX_QUARTER_INCREMENTS).contains(&self.quarter_increments),
+                "in [2, 1000] (static solves per quarter cycle; the default is 8)",
+            ),
+            ("cycles", f64::from(self.cycles), self.cycles <= MAX_CYCLES, "at most 100 per amplitude"),
         ])?;
         if let (BeamRotation::Free, Some(h0)) = (self.beam_rotation, self.shear_span_m) {
             check_ranges(&[("shear_span_m", h0, h0 > 0.0, "> 0")])?;

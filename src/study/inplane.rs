@@ -714,6 +714,7 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
             return Err(bad(&format!("groups[{g}].wall"), format!("{} does not exist", wall.display())));
         }
     }
+    super::inplane_discrepancy::refuse_out_of_plane(&spec, path)?;
     Ok(spec)
 }
 

@@ -619,3 +619,65 @@ fn the_loops_of_a_cyclic_history_dissipate_what_their_mechanism_does() {
         assert!((cy.damping_ratio / by_hand - 1.0).abs() < 0.05, "sliding: {cy:?} vs ξ {by_hand}");
     }
 }
+
+/// The robust readings of an envelope against a bilinear envelope worked by hand: a rise
+/// of 40 kN per % of drift to 20 kN at 0.5 %, then a plateau falling 1 kN per % to 3 %.
+/// The force at 0.25, 0.5, 1, 2 % is 10, 20, 19.5, 18.5 kN; 80 % of the peak (16 kN) is
+/// reached at 0.4 %, 95 % (19 kN) at 0.475 %; the plateau's least-squares slope from
+/// 0.475 % on is that of its straight line, −1 kN per %, and the measured side reads the
+/// same by the same function whichever way the file lists its points.
+#[test]
+fn the_envelope_is_read_at_fixed_drifts_and_shares_of_its_peak_by_hand() {
+    use drystone::loading::inplane::envelope_readings;
+    use drystone::study::inplane::EnvelopeReadings;
+    let force = |d: f64| if d <= 0.5 { 40.0 * d } else { 20.0 - (d - 0.5) };
+    let env: Vec<(f64, f64)> = (0..=60).map(|i| 0.05 * f64::from(i)).map(|d| (d, force(d))).collect();
+    let ip = 10;
+    let (f, d80, d95, slope) = envelope_readings(&env, ip, 20.0);
+    for (got, want) in f.iter().zip([10.0, 20.0, 19.5, 18.5]) {
+        assert!((got - want).abs() < 1e-9, "{f:?}");
+    }
+    assert!((d80 - 0.4).abs() < 1e-9 && (d95 - 0.475).abs() < 1e-9, "{d80} {d95}");
+    assert!((slope + 1.0).abs() < 1e-9, "{slope}");
+    // A measured envelope listed from −3 % to +3 % with the negative side twice as strong.
+    let mut file: Vec<(f64, f64)> = env.iter().rev().map(|&(d, f)| (-d, -2.0 * f)).collect();
+    file.extend(env.iter().skip(1).copied());
+    let (pos, neg) = (EnvelopeReadings::of(&file, 1.0), EnvelopeReadings::of(&file, -1.0));
+    assert!((pos.drift_at_80_pct - 0.4).abs() < 1e-9 && (pos.plateau_slope_kn_per_pct + 1.0).abs() < 1e-9);
+    assert!((neg.force_at_drift_kn[2] - 39.0).abs() < 1e-9 && (neg.drift_at_95_pct - 0.475).abs() < 1e-9);
+    // Past the largest drift: no reading.
+    let short: Vec<(f64, f64)> = env.iter().copied().take(16).collect();
+    assert!(envelope_readings(&short, ip, 20.0).0[3].is_nan());
+}
+
+/// A measured file whose drift column is not its displacement column over the measuring
+/// height is refused naming the file, the row and the column; a vertical modulus without
+/// the stress it was read at is refused naming the line and the column.
+#[test]
+fn measured_files_that_contradict_themselves_are_refused_by_name() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    let dir = std::env::temp_dir().join(format!("drystone_inplane_bad_{}", std::process::id()));
+    let env = dir.join("envelopes");
+    std::fs::create_dir_all(&env).unwrap();
+    std::fs::copy(root.join("walls.csv"), dir.join("walls.csv")).unwrap();
+    // WS.100's envelope with its drift read over the wall's height (1200 mm), not H0.
+    let name = "envelope_WS100_Vasconcelos2005.csv";
+    let text = std::fs::read_to_string(root.join("envelopes").join(name)).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let parse = |l: &str| -> Vec<f64> { l.split(',').map(|x| x.trim().parse().unwrap()).collect() };
+    // The first point past 10 mm, where the two heights differ by far more than rounding.
+    let i = (4..lines.len()).find(|&i| parse(&lines[i])[0] > 10.0).unwrap();
+    let v = parse(&lines[i]);
+    lines[i] = format!("{},{},{}", v[0], v[1], 100.0 * v[0] / 1200.0);
+    std::fs::write(env.join(name), lines.join("\n")).unwrap();
+    let e = drystone::study::inplane::read_specimens(&dir.join("walls.csv"), Some(&env)).unwrap_err().to_string();
+    let row = format!("data row {} (line {})", i - 3, i + 1);
+    assert!(e.contains(name) && e.contains(&row) && e.contains("column drift"), "{e}");
+    // Epc without its stress.
+    let walls = std::fs::read_to_string(root.join("walls.csv")).unwrap();
+    let bad = walls.replacen(",0.5,0.524,", ",,0.524,", 1);
+    std::fs::write(dir.join("walls.csv"), bad).unwrap();
+    let e = drystone::study::inplane::read_specimens(&dir.join("walls.csv"), None).unwrap_err().to_string();
+    assert!(e.contains("line 2") && e.contains("Epc_MPa") && e.contains("sigma0_applied_MPa"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
