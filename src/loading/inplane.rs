@@ -1372,20 +1372,30 @@ pub fn run_in_plane_penalty(
 /// it by the joint's deformation only, orders of magnitude less).
 const WALK_SHARE: f64 = 0.1;
 
-/// The share of a block's weight its out-of-balance force may reach at equilibrium
-/// \[0.1\]: a block with more is accelerating at a tenth of gravity, in flight or sliding,
-/// however small it is beside the wall's mean (the unbalanced-force ratio's).
+/// The share of a block's own load (its weight and the magnitudes of its contact forces)
+/// its out-of-balance force may reach at equilibrium \[0.1\]: a loose block with more is
+/// accelerating at a tenth of gravity, in flight or sliding, however small it is beside the
+/// wall's mean (the unbalanced-force ratio's); a loaded block is held to the same share of
+/// what it carries.
 pub const BLOCK_IMBALANCE_SHARE: f64 = 0.1;
 
 /// Whether every free body but `beam` has an out-of-balance force of at most
-/// [`BLOCK_IMBALANCE_SHARE`] of its weight.
+/// [`BLOCK_IMBALANCE_SHARE`] of its own load.
 fn every_block_balanced(sim: &Simulation, beam: usize) -> bool {
     let g = sim.state.gravity_magnitude;
+    let mut load: Vec<f64> = sim.state.bodies.iter().map(|b| b.mass * g).collect();
+    for c in &sim.state.contacts {
+        let f = c.force.norm();
+        load[c.b] += f;
+        if let Some(a) = c.a {
+            load[a] += f;
+        }
+    }
     sim.state
         .bodies
         .iter()
         .enumerate()
-        .all(|(k, b)| k == beam || b.fixed() || sim.unbalanced(k).0.norm() <= BLOCK_IMBALANCE_SHARE * b.mass * g)
+        .all(|(k, b)| k == beam || b.fixed() || sim.unbalanced(k).0.norm() <= BLOCK_IMBALANCE_SHARE * load[k])
 }
 
 /// The least relative motion that counts as walking alone, m \[10 µm\]: above the elastic
