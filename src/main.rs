@@ -15,7 +15,7 @@ const EXIT_STATUS: &str = "Exit status: 0 when the outputs are written and at le
 3 when every realization failed (the outputs are written all the same).";
 
 #[derive(Parser)]
-#[command(name = "drystone", version = drystone::study::BUILD, about = "Out-of-plane collapse of dry stone walls with a rigid-block DEM")]
+#[command(name = "drystone", version = drystone::study::BUILD, about = "How dry stone walls fail, out of plane (tilting table, lateral load, shaking) and in plane (the shear-compression test), by a rigid-block DEM, non-smooth contact dynamics and limit analysis")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
