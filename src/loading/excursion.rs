@@ -197,9 +197,10 @@ mod tests {
         now[3].0.x += 1e-3;
         now[4].0.x += 1e-3;
         assert_eq!(nb.walked_alone(&reference, &now, 1e-4), vec![false; 5]);
-        // Block 4 alone moves on.
+        // From there, block 4 alone moves on.
+        let start = now.clone();
         now[4].0.x += 1e-3;
-        assert_eq!(nb.walked_alone(&reference, &now, 1e-4), vec![false, false, false, false, true]);
+        assert_eq!(nb.walked_alone(&start, &now, 1e-4), vec![false, false, false, false, true]);
     }
 
     #[test]

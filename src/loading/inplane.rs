@@ -1244,6 +1244,8 @@ pub fn run_in_plane_penalty(
     let mut curve = vec![CurvePoint { top_mm: 0.0, drift_pct: 0.0, force_kn: force(&sim) * 1e-3, converged: true }];
     let mut unconverged = 0;
     let mut reading = (f64::NEG_INFINITY, reference.clone());
+    // Where the half-cycle that led to the reading started (module doc, the mechanism).
+    let mut half = HalfCycle::new(&reference);
     // The secant predictor: each increment starts from the last one's motion scaled to its
     // own (the first from a motion growing linearly with height), so that the joints are
     // not made to slip by the jump of the beam alone (a joint's shear law is incremental:
@@ -1333,6 +1335,7 @@ pub fn run_in_plane_penalty(
             };
             let now = poses(&sim);
             excursion.read(&neighbours, &reference, &now, &rig.layout);
+            let now_for_reading = now.clone();
             let alone = neighbours.walked_alone(&start, &now, (WALK_SHARE * du.abs()).max(WALK_FLOOR_M));
             carriers = alone
                 .iter()
@@ -1354,14 +1357,16 @@ pub fn run_in_plane_penalty(
             let drift = 100.0 * top / rig.measure_z_m;
             curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: force(&sim) * 1e-3, converged });
             observe(drift, converged, &sim);
+            half.step(top, &now_for_reading);
             if top >= reading.0 {
-                reading = (top, poses(&sim));
+                reading = (top, now_for_reading);
+                half.keep();
             }
         }
     }
     let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
     let anchor = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref);
-    let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor, &reference, &reading);
+    let mechanism = half.mechanism(&ref_joints, &ids, bi, anchor, &reference, &reading);
     let work =
         Work { unconverged, retried, steps: sim.state.steps, dt_s: sim.dt(), t0, vertical_modulus_mpa, excursion };
     Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
@@ -1484,6 +1489,57 @@ pub(crate) fn mechanism_at_reading(
     };
     let turn = |k: usize| (at[k].1 * reference[k].1.inverse()).scaled_axis().y;
     read_mechanism(ref_joints, ids, beam, anchor, scale.max(0.0), motion, turn)
+}
+
+/// The start of the positive half-cycle that leads to the mechanism's reading: the poses
+/// where the displacement last came up through zero before its largest positive value (the
+/// state under the vertical force for a monotonic run). The mechanism of a cyclic run is the
+/// motion of that half-cycle, as a laboratory reads the mechanism a push opens, not the
+/// residual slips the earlier cycles left.
+pub(crate) struct HalfCycle {
+    /// The last upward crossing: its displacement (m) and poses.
+    start: (f64, Poses),
+    /// The crossing of the reading kept.
+    kept: (f64, Poses),
+    /// The last displacement seen, m.
+    last: f64,
+}
+
+impl HalfCycle {
+    /// Starting at the reference state.
+    pub(crate) fn new(reference: &Poses) -> HalfCycle {
+        HalfCycle { start: (0.0, reference.clone()), kept: (0.0, reference.clone()), last: 0.0 }
+    }
+
+    /// Sees an increment's displacement `top` (m) and poses.
+    pub(crate) fn step(&mut self, top: f64, now: &Poses) {
+        if self.last < 0.0 && top >= 0.0 {
+            self.start = (top, now.clone());
+        }
+        self.last = top;
+    }
+
+    /// The reading moved to the current increment: its half-cycle's start is kept.
+    pub(crate) fn keep(&mut self) {
+        self.kept = self.start.clone();
+    }
+
+    /// The mechanism read between the kept start and `reading` ([`mechanism_at_reading`];
+    /// `anchor` and `reference` those under the vertical force, the anchor moved with the
+    /// beam, body `beam`, to the start).
+    pub(crate) fn mechanism(
+        &self,
+        ref_joints: &[MechanismJoint],
+        ids: &[String],
+        beam: usize,
+        anchor: Vec3,
+        reference: &Poses,
+        reading: &(f64, Poses),
+    ) -> InPlaneMechanism {
+        let (u0, base) = (&self.kept.0, &self.kept.1);
+        let anchor = anchor + (base[beam].0 - reference[beam].0);
+        mechanism_at_reading(ref_joints, ids, beam, anchor, base, &(reading.0 - u0, reading.1.clone()))
+    }
 }
 
 /// What a driver's run cost, for its [`InPlaneResult`].

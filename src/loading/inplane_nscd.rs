@@ -26,9 +26,7 @@
 //! `(N L + W L / 2) / H`), sliding `μ N_total`, less the P–Δ of the drift reached
 //! (`tests/suite/inplane.rs`).
 
-use super::inplane::{
-    mechanism_at_reading, result_of, InPlaneError, InPlaneParams, InPlaneResult, MechanismJoint, Rig, Work,
-};
+use super::inplane::{result_of, InPlaneError, InPlaneParams, InPlaneResult, MechanismJoint, Rig, Work};
 use super::inplane::{BeamRotation, CurvePoint};
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -153,6 +151,7 @@ pub fn run_in_plane_nscd(
     let mut curve = vec![CurvePoint { top_mm: 0.0, drift_pct: 0.0, force_kn: force0 * 1e-3, converged: true }];
     let mut unconverged = 0;
     let mut reading = (f64::NEG_INFINITY, reference.clone());
+    let mut half = super::inplane::HalfCycle::new(&reference);
     let lever = match params.beam_rotation {
         BeamRotation::Free => rig.anchor_z_m,
         BeamRotation::Fixed => rig.height_m,
@@ -178,12 +177,14 @@ pub fn run_in_plane_nscd(
         curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: v * 1e-3, converged });
         let now = poses(&sim);
         excursion.read(&neighbours, &reference, &now, &rig.layout);
+        half.step(top, &now);
         if top >= reading.0 {
             reading = (top, now);
+            half.keep();
         }
     }
     let ids: Vec<String> = sim.bodies().iter().map(|b| b.id.clone()).collect();
-    let mechanism = mechanism_at_reading(&ref_joints, &ids, bi, anchor_ref, &reference, &reading);
+    let mechanism = half.mechanism(&ref_joints, &ids, bi, anchor_ref, &reference, &reading);
     // Rigid contacts: the wall has no vertical compliance to read.
     let work =
         Work { unconverged, retried: 0, steps: sim.steps(), dt_s: h, t0, vertical_modulus_mpa: f64::NAN, excursion };
