@@ -301,10 +301,12 @@ def in_plane(layout: Any, solver: Any = None, **params: Any) -> Dict[str, Any]:
     under the vertical stress `sigma0_mpa` (MPa), its horizontal displacement imposed at the
     shear span `shear_span_m` (m) to `drift_pct` (%), monotonic or `history="cyclic"`
     (`InPlaneParams` keys: `amplitudes_pct`, `cycles`, `beam_rotation`, `step_mm`,
-    `quarter_increments`). By the penalty DEM (the default): a dict with the arrays
-    `top_mm`, `drift_pct`, `force_kn` (the curve) and `result` (per direction the peak
-    force kN, the drift at the peak %, the ultimate drift %, the initial stiffness kN/mm;
-    the mechanism). `solver="limit"`: `result` holds the peak force by limit analysis and
+    `quarter_increments`, `measuring_height_m`). By the penalty DEM (the default): a dict
+    with the arrays `top_mm` (the displacement at the measuring point, the actuator's height
+    by default), `drift_pct` (that displacement over the point's height), `force_kn` (the
+    curve) and `result` (per direction the peak force kN, the drift at the peak %, the
+    ultimate drift %, the initial stiffness kN/mm and the envelope's robust readings; the
+    mechanism, the wall's vertical modulus MPa, the largest block excursion mm). `solver="limit"`: `result` holds the peak force by limit analysis and
     its mechanism. Raises `InputError` for a bad parameter or layout, `SolverError` for a
     solver that does not run it (nscd) or a run that fails.
     """
