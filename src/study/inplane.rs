@@ -608,6 +608,55 @@ pub struct InPlaneRow {
     pub drawing: Option<(Vec<(crate::math::Vec3, crate::math::Vec3)>, crate::loading::inplane::InPlaneMechanism)>,
 }
 
+impl InPlaneRow {
+    /// A row of group `group`'s realization `realization` (generator index `index`) with
+    /// status `error`, every reading NaN and no curve: what a realization that fails before
+    /// it gives anything reports.
+    pub fn empty(group: String, realization: u64, index: u64) -> InPlaneRow {
+        InPlaneRow {
+            group,
+            realization,
+            index,
+            status: "error".into(),
+            error: String::new(),
+            peak_pos_kn: f64::NAN,
+            drift_at_peak_pos_pct: f64::NAN,
+            ultimate_drift_pos_pct: f64::NAN,
+            stiffness_pos_kn_per_mm: f64::NAN,
+            peak_neg_kn: f64::NAN,
+            drift_at_peak_neg_pct: f64::NAN,
+            ultimate_drift_neg_pct: f64::NAN,
+            stiffness_neg_kn_per_mm: f64::NAN,
+            mechanism: String::new(),
+            failure_type: f64::NAN,
+            opening_share: f64::NAN,
+            limit_peak_kn: f64::NAN,
+            limit_mechanism: String::new(),
+            rocking_kn: f64::NAN,
+            damping_ratio: f64::NAN,
+            force_at_0_5_pos_kn: f64::NAN,
+            force_at_1_pos_kn: f64::NAN,
+            force_at_2_pos_kn: f64::NAN,
+            drift_at_80_pos_pct: f64::NAN,
+            drift_at_95_pos_pct: f64::NAN,
+            plateau_slope_pos_kn_per_pct: f64::NAN,
+            force_at_0_5_neg_kn: f64::NAN,
+            force_at_1_neg_kn: f64::NAN,
+            force_at_2_neg_kn: f64::NAN,
+            drift_at_80_neg_pct: f64::NAN,
+            drift_at_95_neg_pct: f64::NAN,
+            plateau_slope_neg_kn_per_pct: f64::NAN,
+            vertical_modulus_mpa: f64::NAN,
+            largest_block_excursion_mm: f64::NAN,
+            excursion_block: String::new(),
+            unconverged: 0,
+            wall_time_s: 0.0,
+            curve: Vec::new(),
+            drawing: None,
+        }
+    }
+}
+
 /// The observables compared, with their row accessors.
 const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 17] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
@@ -714,8 +763,46 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
             return Err(bad(&format!("groups[{g}].wall"), format!("{} does not exist", wall.display())));
         }
     }
-    super::inplane_discrepancy::refuse_out_of_plane(&spec, path)?;
+    refuse_out_of_plane(&spec, path)?;
     Ok(spec)
+}
+
+/// Refuses the effects an in-plane study states that the in-plane test does not read
+/// ([`crate::effects::EffectDef::not_read_in_plane`]: `initial_lean`, `table_kick`,
+/// `restraint_stiffness`, `end_rope`, `base_restraint`, `leaf_split`, `transverse_dip`),
+/// in its model (`effects`, `groups[g].effects`) and in its analysis's candidates
+/// (`[discrepancy] effects`, `also_effects`): accepted, they would run the plain wall (or,
+/// for a lean or base stops, a wall whose extent across its plane gives the rig another
+/// thickness) under the effect's name. An unknown effect is left to the reader that
+/// resolves it.
+///
+/// # Errors
+/// [`InPlaneStudyError::Invalid`] naming the key and the effect.
+pub fn refuse_out_of_plane(spec: &InPlaneStudySpec, path: &Path) -> Result<(), InPlaneStudyError> {
+    let library = crate::effects::Library::builtin();
+    let refuse = |key: &str, name: &str| -> Result<(), InPlaneStudyError> {
+        match library.get(name).ok().and_then(|d| d.not_read_in_plane()) {
+            Some(reason) => Err(InPlaneStudyError::Invalid {
+                path: path.to_owned(),
+                key: key.to_string(),
+                message: format!("{name}: the in-plane test does not read it ({reason})"),
+            }),
+            None => Ok(()),
+        }
+    };
+    for g in 0..spec.groups.len() {
+        for (key, name, _) in super::inplane::stated_effects(spec, g) {
+            refuse(&key, name)?;
+        }
+    }
+    if let Some(d) = &spec.discrepancy {
+        for (list, names) in [("effects", &d.effects), ("also_effects", &d.also_effects)] {
+            for name in names {
+                refuse(&format!("discrepancy.{list}"), name)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The effects of group `g`'s model, each with the key that states it: the study's
@@ -862,47 +949,7 @@ fn realization(
 ) -> InPlaneRow {
     let t0 = std::time::Instant::now();
     let index = g as u64 * 10_000 + i;
-    let mut row = InPlaneRow {
-        group: group.name.clone(),
-        realization: i,
-        index,
-        status: "error".into(),
-        error: String::new(),
-        peak_pos_kn: f64::NAN,
-        drift_at_peak_pos_pct: f64::NAN,
-        ultimate_drift_pos_pct: f64::NAN,
-        stiffness_pos_kn_per_mm: f64::NAN,
-        peak_neg_kn: f64::NAN,
-        drift_at_peak_neg_pct: f64::NAN,
-        ultimate_drift_neg_pct: f64::NAN,
-        stiffness_neg_kn_per_mm: f64::NAN,
-        mechanism: String::new(),
-        failure_type: f64::NAN,
-        opening_share: f64::NAN,
-        limit_peak_kn: f64::NAN,
-        limit_mechanism: String::new(),
-        rocking_kn: f64::NAN,
-        damping_ratio: f64::NAN,
-        force_at_0_5_pos_kn: f64::NAN,
-        force_at_1_pos_kn: f64::NAN,
-        force_at_2_pos_kn: f64::NAN,
-        drift_at_80_pos_pct: f64::NAN,
-        drift_at_95_pos_pct: f64::NAN,
-        plateau_slope_pos_kn_per_pct: f64::NAN,
-        force_at_0_5_neg_kn: f64::NAN,
-        force_at_1_neg_kn: f64::NAN,
-        force_at_2_neg_kn: f64::NAN,
-        drift_at_80_neg_pct: f64::NAN,
-        drift_at_95_neg_pct: f64::NAN,
-        plateau_slope_neg_kn_per_pct: f64::NAN,
-        vertical_modulus_mpa: f64::NAN,
-        largest_block_excursion_mm: f64::NAN,
-        excursion_block: String::new(),
-        unconverged: 0,
-        wall_time_s: 0.0,
-        curve: Vec::new(),
-        drawing: None,
-    };
+    let mut row = InPlaneRow::empty(group.name.clone(), i, index);
     let layout = match realized(wall, effects, seed, index, &group.name) {
         Ok(l) => l,
         Err(e) => {
@@ -1260,47 +1307,7 @@ mod tests {
     /// without its column fails here.
     #[test]
     fn every_field_of_an_in_plane_row_is_a_column() {
-        let row = InPlaneRow {
-            group: "G".into(),
-            realization: 0,
-            index: 0,
-            status: "ok".into(),
-            error: String::new(),
-            peak_pos_kn: 1.0,
-            drift_at_peak_pos_pct: 1.0,
-            ultimate_drift_pos_pct: 1.0,
-            stiffness_pos_kn_per_mm: 1.0,
-            peak_neg_kn: 1.0,
-            drift_at_peak_neg_pct: 1.0,
-            ultimate_drift_neg_pct: 1.0,
-            stiffness_neg_kn_per_mm: 1.0,
-            mechanism: String::new(),
-            failure_type: 1.0,
-            opening_share: 1.0,
-            limit_peak_kn: 1.0,
-            limit_mechanism: String::new(),
-            rocking_kn: 1.0,
-            damping_ratio: 1.0,
-            force_at_0_5_pos_kn: f64::NAN,
-            force_at_1_pos_kn: f64::NAN,
-            force_at_2_pos_kn: f64::NAN,
-            drift_at_80_pos_pct: f64::NAN,
-            drift_at_95_pos_pct: f64::NAN,
-            plateau_slope_pos_kn_per_pct: f64::NAN,
-            force_at_0_5_neg_kn: f64::NAN,
-            force_at_1_neg_kn: f64::NAN,
-            force_at_2_neg_kn: f64::NAN,
-            drift_at_80_neg_pct: f64::NAN,
-            drift_at_95_neg_pct: f64::NAN,
-            plateau_slope_neg_kn_per_pct: f64::NAN,
-            vertical_modulus_mpa: 1.0,
-            largest_block_excursion_mm: 1.0,
-            excursion_block: String::new(),
-            unconverged: 0,
-            wall_time_s: 0.0,
-            curve: Vec::new(),
-            drawing: None,
-        };
+        let row = InPlaneRow::empty("G".into(), 0, 0);
         let serde_json::Value::Object(fields) = serde_json::to_value(&row).unwrap() else { panic!() };
         let mut fields: Vec<&str> = fields.keys().map(String::as_str).collect();
         let mut columns: Vec<&str> = ROW_COLUMNS.iter().map(|(name, _)| *name).collect();

@@ -20,7 +20,7 @@
 //! database does not tell apart) gives no mode reading. The reverse direction of a cyclic
 //! specimen is loaded after the damage of the first and is left to the study's cyclic runs.
 
-use super::inplane::{load, read_specimens, InPlaneStudyError, InPlaneStudySpec};
+use super::inplane::{load, read_specimens, refuse_out_of_plane, InPlaneStudyError};
 use super::own::OwnAnalysis;
 use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
 use crate::generator::{DistributionSource, Wall};
@@ -31,44 +31,6 @@ use std::path::Path;
 /// The name of the analysis's group of vertical stress `sigma0` (MPa): `0.5 MPa`.
 pub fn stress_group(sigma0_mpa: f64) -> String {
     format!("{sigma0_mpa} MPa")
-}
-
-/// Refuses the effects an in-plane study states that the in-plane test does not read
-/// ([`crate::effects::EffectDef::not_read_in_plane`]: `initial_lean`, `table_kick`,
-/// `restraint_stiffness`, `end_rope`, `base_restraint`, `leaf_split`, `transverse_dip`),
-/// in its model (`effects`, `groups[g].effects`) and in its analysis's candidates
-/// (`[discrepancy] effects`, `also_effects`): accepted, they would run the plain wall (or,
-/// for a lean or base stops, a wall whose extent across its plane gives the rig another
-/// thickness) under the effect's name. An unknown effect is left to the reader that
-/// resolves it.
-///
-/// # Errors
-/// [`InPlaneStudyError::Invalid`] naming the key and the effect.
-pub fn refuse_out_of_plane(spec: &InPlaneStudySpec, path: &Path) -> Result<(), InPlaneStudyError> {
-    let library = crate::effects::Library::builtin();
-    let refuse = |key: &str, name: &str| -> Result<(), InPlaneStudyError> {
-        match library.get(name).ok().and_then(|d| d.not_read_in_plane()) {
-            Some(reason) => Err(InPlaneStudyError::Invalid {
-                path: path.to_owned(),
-                key: key.to_string(),
-                message: format!("{name}: the in-plane test does not read it ({reason})"),
-            }),
-            None => Ok(()),
-        }
-    };
-    for g in 0..spec.groups.len() {
-        for (key, name, _) in super::inplane::stated_effects(spec, g) {
-            refuse(&key, name)?;
-        }
-    }
-    if let Some(d) = &spec.discrepancy {
-        for (list, names) in [("effects", &d.effects), ("also_effects", &d.also_effects)] {
-            for name in names {
-                refuse(&format!("discrepancy.{list}"), name)?;
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Reads an in-plane study for its discrepancy analysis (module documentation).

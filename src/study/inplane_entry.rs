@@ -2,8 +2,9 @@
 //! discrepancy` call to run and analyse a study file of `protocol = "in_plane"`
 //! ([`super::own`]).
 
+use super::inplane::refuse_out_of_plane;
 use super::inplane::{load, run, InPlaneStudyError};
-use super::inplane_discrepancy::{analysis_of, refuse_out_of_plane};
+use super::inplane_discrepancy::analysis_of;
 use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
 use std::path::Path;
 
