@@ -212,8 +212,9 @@ pub struct Specimen {
     pub height_mm: f64,
     /// The equivalent viscous damping ratio of its loops
     /// ([`crate::loading::inplane_loops::loop_damping_ratio`] of its whole measured curve, the
-    /// cycles of at least [`LOOP_MIN_DRIFT_PCT`] % of `height_mm`); NaN for a monotonic test
-    /// or without the curve ([`read_loops`]).
+    /// cycles of at least [`LOOP_MIN_DRIFT_PCT`] % of the file's drift, the displacement at
+    /// the measuring point over its height); NaN for a monotonic test or without the curve
+    /// ([`read_loops`]).
     pub damping_ratio: f64,
     /// The shear span `H0_mm`, mm (NaN where the table has none).
     pub shear_span_mm: f64,
