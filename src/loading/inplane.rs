@@ -1469,19 +1469,19 @@ fn carry_with(dpos: &mut [Vec3], drot: &mut [Vec3], carriers: &[Option<Option<us
 /// The poses of the bodies: centroid (m) and rotation, in the simulation's body order.
 pub(crate) type Poses = Vec<(Vec3, nalgebra::UnitQuaternion<f64>)>;
 
-/// The mechanism read between the poses under the vertical force (`reference`) and those at
-/// the largest positive top displacement (`reading`: the displacement, m, and the poses);
-/// `anchor` the beam's anchor (m, world) under the vertical force. The drivers' shared
-/// reading (`run_in_plane_penalty`, `inplane_nscd::run_in_plane_nscd`).
-pub(crate) fn mechanism_at_reading(
+/// The mechanism read between the poses `reference` and those at the largest positive
+/// displacement (`scale`, m, the displacement from `reference`; `at`, the poses); `anchor`
+/// the beam's anchor (m, world) at `reference`. Read by [`HalfCycle::mechanism`] for both
+/// drivers.
+fn mechanism_at_reading(
     ref_joints: &[MechanismJoint],
     ids: &[String],
     beam: usize,
     anchor: Vec3,
     reference: &Poses,
-    reading: &(f64, Poses),
+    scale: f64,
+    at: &Poses,
 ) -> InPlaneMechanism {
-    let (scale, at) = (reading.0, &reading.1);
     let motion = |k: usize, x: &Vec3| -> Vec3 {
         let (p0, q0) = reference[k];
         let (p1, q1) = at[k];
@@ -1538,7 +1538,7 @@ impl HalfCycle {
     ) -> InPlaneMechanism {
         let (u0, base) = (&self.kept.0, &self.kept.1);
         let anchor = anchor + (base[beam].0 - reference[beam].0);
-        mechanism_at_reading(ref_joints, ids, beam, anchor, base, &(reading.0 - u0, reading.1.clone()))
+        mechanism_at_reading(ref_joints, ids, beam, anchor, base, reading.0 - u0, &reading.1)
     }
 }
 
