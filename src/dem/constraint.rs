@@ -15,6 +15,10 @@
 //!   the centroid is the classic roller.
 //! * a **held rotation** about a table axis j keeps the body's angular velocity about j at
 //!   zero; its reaction is whatever moment cancels the out-of-balance moment about j.
+//! * a **rig's moment** ([`RigMoment`]) about a free rotation, linear in the body's motion
+//!   since a reference pose (a vertical load applied off the centroid, or at a point that
+//!   lags the body; a rotational spring), is added to the out-of-balance moment in the load
+//!   stage with the reactions;
 //! * an **applied force** is not a constraint: it is the body's external force
 //!   ([`super::WallState::external_force`], at the centroid) and its external torque.
 //!
@@ -36,7 +40,7 @@
 //! [`super::Simulation::predict`]'s, which zero the held components and put the anchor back
 //! on its target.
 
-pub use super::hold::{DofConstraint, Hold};
+pub use super::hold::{DofConstraint, Hold, RigMoment};
 use super::state::Body;
 use crate::math::Vec3;
 
@@ -69,6 +73,9 @@ impl DofConstraint {
             }
         }
         *t += (body.rot_mat * self.anchor).cross(&reaction);
+        if let Some(m) = &self.moment {
+            t[m.axis] += m.moment_nm(body);
+        }
         for j in 0..3 {
             if self.rotation[j] {
                 t[j] = 0.0;

@@ -1,7 +1,9 @@
 //! The vocabulary of what holds a body's degrees of freedom: [`Hold`] and
 //! [`DofConstraint`] (the module [`super::constraint`] says how the engine applies them).
 
+use super::state::Body;
 use crate::math::Vec3;
+use nalgebra::UnitQuaternion;
 
 /// What holds one body ([`super::constraint`]'s doc): the one vocabulary the penalty DEM, the
 /// non-smooth solver and limit analysis read for a body's degrees of freedom.
@@ -56,12 +58,62 @@ pub struct DofConstraint {
     pub translation: [Option<f64>; 3],
     /// Per table axis (x, y, z): whether the rotation about it is held.
     pub rotation: [bool; 3],
+    /// A moment the rig applies to the body about a free rotation, linear in the body's
+    /// motion from a reference pose ([`RigMoment`]); `None`: none.
+    pub moment: Option<RigMoment>,
+}
+
+/// A moment a test rig applies to a held body about one table axis, linear in the body's
+/// motion since a reference pose (table frame, N·m, right-handed about the axis):
+///
+/// ```text
+/// M = m0 + k_u (x_along − x_along,ref) + k_θ θ_axis
+/// ```
+///
+/// `x_along` the centroid's coordinate along table axis `along` (m), `θ_axis` the
+/// component about `axis` of the rotation since the reference (rad, the rotation vector of
+/// `rot · rot_ref⁻¹`). The in-plane rig's vertical load applied off the beam's centroid is
+/// `m0 = e0 P` (eccentricity e0 along x, applied force P downwards) and, when the load's
+/// point lags the beam by a share κ of its displacement, `k_u = −κ P`; a partial
+/// rotational restraint of the beam is `k_θ = −K_θ` (`loading::inplane`, the module doc).
+/// The penalty DEM adds it in its load stage ([`DofConstraint::react`]); a driver of
+/// another engine applies [`RigMoment::moment_nm`] as the body's external torque.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigMoment {
+    /// The table axis the moment acts about (0 x, 1 y, 2 z).
+    pub axis: usize,
+    /// The table axis of the displacement the moment follows (0 x, 1 y, 2 z).
+    pub along: usize,
+    /// `m0`, N·m: the moment at the reference pose.
+    pub at_reference_nm: f64,
+    /// `k_u`, N·m/m: per metre of the centroid's displacement along `along`.
+    pub per_displacement_n: f64,
+    /// `k_θ`, N·m/rad: per radian of rotation about `axis` (a spring that resists: < 0).
+    pub per_rotation_nm: f64,
+    /// The centroid at the reference pose, m.
+    pub reference_pos: Vec3,
+    /// The orientation at the reference pose.
+    pub reference_rot: UnitQuaternion<f64>,
+}
+
+impl RigMoment {
+    /// The moment on `body` at its pose, N·m about [`RigMoment::axis`].
+    #[inline]
+    pub fn moment_nm(&self, body: &Body) -> f64 {
+        let du = body.pos[self.along] - self.reference_pos[self.along];
+        let theta = if self.per_rotation_nm == 0.0 {
+            0.0
+        } else {
+            (body.rot * self.reference_rot.inverse()).scaled_axis()[self.axis]
+        };
+        self.at_reference_nm + self.per_displacement_n * du + self.per_rotation_nm * theta
+    }
 }
 
 impl DofConstraint {
     /// No degree of freedom held, anchor at the centroid.
     pub fn free() -> DofConstraint {
-        DofConstraint { anchor: Vec3::zeros(), translation: [None; 3], rotation: [false; 3] }
+        DofConstraint { anchor: Vec3::zeros(), translation: [None; 3], rotation: [false; 3], moment: None }
     }
 
     /// Holds the rotation about table axis `axis` (0 x, 1 y, 2 z).

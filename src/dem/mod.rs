@@ -26,7 +26,7 @@ pub mod state;
 pub mod timestep;
 mod workspace;
 
-pub use constraint::{DofConstraint, Hold};
+pub use constraint::{DofConstraint, Hold, RigMoment};
 pub use engine::{Contact, DemError, Isa, Redetection, Simulation};
 pub use method::{Cascade, Method, SolverKind};
 pub use model::WallState;

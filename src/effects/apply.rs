@@ -171,7 +171,13 @@ impl Effect {
                 Step::RopePretension { .. } => super::rope::set_end_rope(layout, RopeProperty::Pretension, v),
                 Step::RopeStiffness { .. } => super::rope::set_end_rope(layout, RopeProperty::AxialStiffness, v),
                 Step::TableOvershoot { .. } => layout.table_overshoot_deg = v,
-                Step::JackTilt { .. } | Step::RigFriction { .. } => step.set_rig(&mut layout.vertical_load_rig, v),
+                Step::JackTilt { .. }
+                | Step::RigFriction { .. }
+                | Step::JackIncline { .. }
+                | Step::SeriesCompliance { .. }
+                | Step::LoadEccentricity { .. }
+                | Step::FixedLoad { .. }
+                | Step::BeamRestraint { .. } => step.set_rig(&mut layout.vertical_load_rig, v),
             }
         }
         Ok(())

@@ -281,6 +281,66 @@ fn wall_effects() -> Vec<EffectDef> {
             )],
             vec![Step::RigFriction { parameter: "friction".into() }],
         ),
+        def(
+            "jack_incline",
+            "the in-plane rig's vertical load leaning by beta in the wall's plane: its horizontal part N tan(beta) pushes the loading beam towards -x, so the actuator reads that much more pushing (+x) and as much less pulling (-x): the two directions' peaks differ by 2 N tan(beta)",
+            "statics of an inclined force: a jack or tie rods set out of plumb, or a reaction frame that deflects under the vertical load; the rig of the granite walls is not described in the data (Vanin et al. 2017 database; Vasconcelos & Lourenco 2009) in enough detail to fix it",
+            vec![sourced(
+                param("tangent", "-", -0.03, 0.03, Scale::Linear, 0.0, false),
+                "estimate (reasoning: a jack set plumb by eye, or rods to the floor, within 1-2 deg (tan 0.017-0.035) of the vertical, and a reaction frame's sway under the vertical load; +-0.03 (1.7 deg) covers the common rigs, which the data do not describe. A property of the set-up: no range per kind)",
+                None,
+                None,
+            )],
+            vec![Step::JackIncline { parameter: "tangent".into() }],
+        ),
+        def(
+            "series_compliance",
+            "a compliance c in series with the in-plane test's wall, between the measuring point and the wall: the bedding of the wall's base on its foundation and of the loading beam, slack in the actuator's pins, a measuring frame that deflects; the displacement read is the beam's own plus c V",
+            "a displacement transducer referenced to the reaction frame or the strong floor reads every compliance between its reference and the beam (Vanin et al. 2017 database: the measuring point is not reported; Vasconcelos & Lourenco 2009 do not describe the reference); the measured pre-peak branch of the granite walls is nearly linear at 12-15 kN/mm to 4 mm (data/inplane_granite/curves)",
+            vec![sourced(
+                param("compliance_mm_per_kn", "mm/kN", 0.0, 0.1, Scale::Linear, 0.0, false),
+                "estimate (reasoning: reaction frames and actuator mounts of wall tests are 10-100 kN/mm stiff or more, 0.01-0.1 mm/kN, and a dry base bedding on a levelling layer or pins with a few tenths of a mm of play add as much at forces of tens of kN; 0.1 mm/kN covers the common rigs, which the data do not describe. A property of the set-up: no range per kind)",
+                None,
+                None,
+            )],
+            vec![Step::SeriesCompliance { parameter: "compliance_mm_per_kn".into() }],
+        ),
+        def(
+            "load_eccentricity",
+            "the in-plane rig's vertical load applied e0 along the wall from the loading beam's centroid: a moment e0 P on the beam, which helps the wall's rocking one way and resists it the other (the two directions' rocking capacities differ by 2 e0 P / H0)",
+            "statics of an eccentric vertical load on a beam free to rotate (Vasconcelos & Lourenco 2009: the top beam free to rotate, the vertical load kept constant); where the jack or the spreader beam bears is not given in the data",
+            vec![sourced(
+                param("eccentricity_m", "m", -0.05, 0.05, Scale::Linear, 0.0, false),
+                "estimate (reasoning: a jack or a spreader beam centred by eye on a wall about 1 m long: within a few cm; +-5 cm, L/20 of the granite walls, covers the common rigs. A property of the set-up: no range per kind)",
+                None,
+                None,
+            )],
+            vec![Step::LoadEccentricity { parameter: "eccentricity_m".into() }],
+        ),
+        def(
+            "fixed_vertical_load",
+            "the in-plane rig's vertical load does not follow the loading beam: its point lags the beam by the share kappa of its displacement (1: it stays where it was, a jack fixed to the reaction frame bearing on the beam through rollers), so the load's sway no longer takes away the wall's capacity as the wall drifts",
+            "statics of a vertical load applied through rollers from a fixed frame, against one applied by rods hinged on the beam or by dead weights that move with it; shear-compression rigs are built both ways (Vanin et al. 2017, the database's test set-ups), and the rig of the granite walls is not described in the data in enough detail to tell which",
+            vec![sourced(
+                param("share", "-", 0.0, 1.0, Scale::Linear, 0.0, false),
+                "geometry: from a load that follows the beam (0) to one fixed in space (1); the data do not say which. A property of the set-up: no range per kind",
+                None,
+                None,
+            )],
+            vec![Step::FixedLoad { parameter: "share".into() }],
+        ),
+        def(
+            "beam_restraint",
+            "the in-plane test's loading beam partly restrained against rotation in the wall's plane by a spring K_theta: two vertical jacks that do not share one pressure, guides, a beam held by the frame",
+            "statics of a rotational spring on the beam between the test's two ideal cases, the beam free (cantilever, the granite walls' stated set-up: Vasconcelos & Lourenco 2009) and held (double curvature)",
+            vec![sourced(
+                param("stiffness_mnm_per_rad", "MN m/rad", 0.0, 5.0, Scale::Linear, 0.0, false),
+                "estimate (reasoning: 0, one jack on a hinge or two on one pressure line, the stated free beam, to 5 MN m/rad, which at 1 % rotation carries 50 kN m, half the rocking moment N L of a 1 m wall under 100 kN: a restraint as strong as the wall's own; the common rigs lie between. A property of the set-up: no range per kind)",
+                None,
+                None,
+            )],
+            vec![Step::BeamRestraint { parameter: "stiffness_mnm_per_rad".into() }],
+        ),
     ]
 }
 

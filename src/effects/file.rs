@@ -179,6 +179,25 @@ impl EffectDef {
                     ));
                 }
             }
+            if matches!(
+                s,
+                Step::JackTilt { .. }
+                    | Step::RigFriction { .. }
+                    | Step::SeriesCompliance { .. }
+                    | Step::BeamRestraint { .. }
+            ) && p.0 < 0.0
+            {
+                return Err(bad(
+                    format!("steps[{i}]"),
+                    "a rig's length, friction, compliance or stiffness needs a parameter range at or above 0".into(),
+                ));
+            }
+            if matches!(s, Step::FixedLoad { .. }) && !(p.0 >= 0.0 && p.1 <= 1.0) {
+                return Err(bad(
+                    format!("steps[{i}]"),
+                    "a share of the beam's displacement needs a parameter range in [0, 1]".into(),
+                ));
+            }
             if matches!(s, Step::RopePretension { .. }) && p.0 < 0.0 {
                 return Err(bad(format!("steps[{i}]"), "a pretension needs a parameter range at or above 0".into()));
             }

@@ -83,9 +83,20 @@ pub const MECHANISM_EFFECTS: [&str; 2] = ["base_restraint", "leaf_split"];
 /// moves only the tilting table's angles, as a lean does; a study of such a table names it.
 /// `toe_crushing` acts only where joints bear stresses of MPa (the in-plane test's toe
 /// under its vertical force), not under a wall's own weight; a study of such a test names
-/// it. `jack_tilt` and `rig_friction` belong to the in-plane rig's vertical load and move
-/// only the force its actuator reads.
-pub const NAMED_ONLY_EFFECTS: [&str; 4] = ["table_kick", "toe_crushing", "jack_tilt", "rig_friction"];
+/// it. The in-plane rig's own terms (`jack_tilt`, `rig_friction`, `jack_incline`,
+/// `series_compliance`, `load_eccentricity`, `fixed_vertical_load`, `beam_restraint`)
+/// belong to a rig that loads a beam; a study of such a test names them.
+pub const NAMED_ONLY_EFFECTS: [&str; 9] = [
+    "table_kick",
+    "toe_crushing",
+    "jack_tilt",
+    "rig_friction",
+    "jack_incline",
+    "series_compliance",
+    "load_eccentricity",
+    "fixed_vertical_load",
+    "beam_restraint",
+];
 
 /// The largest friction angle a [`Step::Dilatancy`] raises a joint to, degrees.
 pub const MAX_FRICTION_DEG: f64 = 85.0;
@@ -531,15 +542,16 @@ impl EffectDef {
     /// on a free wall; the table's overshoot acts on every wall.
     pub fn acts_on(&self, restrained: bool) -> bool {
         restrained
-            || self.steps.iter().any(|s| {
-                s.stage() != Stage::Restraints
-                    || matches!(s, Step::TableOvershoot { .. } | Step::JackTilt { .. } | Step::RigFriction { .. })
-            })
+            || self
+                .steps
+                .iter()
+                .any(|s| s.stage() != Stage::Restraints || matches!(s, Step::TableOvershoot { .. }) || s.on_rig())
     }
 
     /// Whether it acts only on the readings of a run, not on the wall's motion: every step
-    /// is one of the in-plane rig's vertical-load system ([`Step::acts_on_readings_only`]:
-    /// `jack_tilt`, `rig_friction`, or an effect of a file made of such steps). Derived
+    /// is one of the in-plane rig's terms that the readings carry
+    /// ([`Step::acts_on_readings_only`]: `jack_tilt`, `rig_friction`, `jack_incline`,
+    /// `series_compliance`, or an effect of a file made of such steps). Derived
     /// from the steps, so a file's effect has it by what it does. The discrepancy analysis
     /// makes no run for such an effect: the model with it is the model without it, its
     /// runs read again ([`crate::protocol::Observed::reread`]).

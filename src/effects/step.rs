@@ -132,6 +132,38 @@ pub enum Step {
         /// The parameter giving `μ_r`.
         parameter: String,
     },
+    /// The in-plane rig's vertical load leaning by β in the wall's plane: the actuator
+    /// carries `N tan β` more towards +x and as much less towards −x
+    /// (`Layout::vertical_load_rig`).
+    JackIncline {
+        /// The parameter giving `tan β` (signed).
+        parameter: String,
+    },
+    /// A compliance in series with the in-plane test's wall: the displacement read is the
+    /// beam's own plus `c V` (`Layout::vertical_load_rig`).
+    SeriesCompliance {
+        /// The parameter giving `c`, mm/kN (≥ 0).
+        parameter: String,
+    },
+    /// The in-plane rig's vertical load applied `e0` along x from the beam's centroid: a
+    /// moment `e0 P` on the beam (`Layout::vertical_load_rig`).
+    LoadEccentricity {
+        /// The parameter giving `e0`, m (signed).
+        parameter: String,
+    },
+    /// The in-plane rig's vertical load whose point lags the beam by the share κ of its
+    /// displacement (1: fixed in space): a moment `−κ P u` on the beam
+    /// (`Layout::vertical_load_rig`).
+    FixedLoad {
+        /// The parameter giving κ, in [0, 1].
+        parameter: String,
+    },
+    /// The in-plane test's loading beam restrained against rotation in the wall's plane by
+    /// a spring `K_θ` (`Layout::vertical_load_rig`).
+    BeamRestraint {
+        /// The parameter giving `K_θ`, MN·m/rad (≥ 0).
+        parameter: String,
+    },
     /// The section split into two leaves: every block cut so that the +y leaf takes the
     /// share f (the parameter, in [0, 1)) of the section's width ([`super::geometry::split_leaves`]).
     LeafSplit {
@@ -161,17 +193,34 @@ impl Step {
             | Step::TableOvershoot { parameter }
             | Step::JackTilt { parameter }
             | Step::RigFriction { parameter }
+            | Step::JackIncline { parameter }
+            | Step::SeriesCompliance { parameter }
+            | Step::LoadEccentricity { parameter }
+            | Step::FixedLoad { parameter }
+            | Step::BeamRestraint { parameter }
             | Step::LeafSplit { parameter, .. } => parameter,
             Step::Dilatancy { parameter, .. } => parameter,
         }
     }
 
     /// Whether the step acts only on the readings of a run, not on the wall's motion: the
-    /// in-plane rig's vertical-load system (`JackTilt`, `RigFriction`), a force the
-    /// displacement-controlled beam carries on top of the wall's shear. A run with such a
-    /// step is a run without it read again ([`crate::protocol::Observed::reread`]).
+    /// in-plane rig's terms that the readings carry (`JackTilt`, `RigFriction`,
+    /// `JackIncline`: a force the displacement-controlled beam carries on top of the wall's
+    /// shear; `SeriesCompliance`: a displacement read on top of the beam's). A run with
+    /// such a step is a run without it read again ([`crate::protocol::Observed::reread`]).
     pub fn acts_on_readings_only(&self) -> bool {
-        matches!(self, Step::JackTilt { .. } | Step::RigFriction { .. })
+        matches!(
+            self,
+            Step::JackTilt { .. } | Step::RigFriction { .. } | Step::JackIncline { .. } | Step::SeriesCompliance { .. }
+        )
+    }
+
+    /// Whether the step sets one of the in-plane rig's own terms
+    /// (`Layout::vertical_load_rig`, [`Step::set_rig`]): read only by the protocols that
+    /// load a beam.
+    pub fn on_rig(&self) -> bool {
+        self.acts_on_readings_only()
+            || matches!(self, Step::LoadEccentricity { .. } | Step::FixedLoad { .. } | Step::BeamRestraint { .. })
     }
 
     /// Why the in-plane shear–compression test does not read this step, or `None` when it
@@ -209,13 +258,18 @@ impl Step {
         }
     }
 
-    /// Sets the vertical-load system's part this step gives to `v` (the step's parameter
-    /// value); nothing for a step that is not one of its parts
-    /// ([`Step::acts_on_readings_only`]). The one place these steps enter a layout.
+    /// Sets the rig's term this step gives to `v` (the step's parameter value, in its
+    /// unit: mm/kN for the compliance, MN·m/rad for the restraint); nothing for a step that
+    /// is not one of its terms ([`Step::on_rig`]). The one place these steps enter a layout.
     pub fn set_rig(&self, rig: &mut crate::layout::VerticalLoadRig, v: f64) {
         match self {
             Step::JackTilt { .. } => rig.inverse_jack_length_per_m = v,
             Step::RigFriction { .. } => rig.friction = v,
+            Step::JackIncline { .. } => rig.incline = v,
+            Step::SeriesCompliance { .. } => rig.series_compliance_m_per_n = v * 1e-6,
+            Step::LoadEccentricity { .. } => rig.eccentricity_m = v,
+            Step::FixedLoad { .. } => rig.fixed_share = v,
+            Step::BeamRestraint { .. } => rig.rotational_stiffness_nm_per_rad = v * 1e6,
             _ => {}
         }
     }
@@ -234,7 +288,12 @@ impl Step {
             | Step::RopeStiffness { .. }
             | Step::TableOvershoot { .. }
             | Step::JackTilt { .. }
-            | Step::RigFriction { .. } => Stage::Restraints,
+            | Step::RigFriction { .. }
+            | Step::JackIncline { .. }
+            | Step::SeriesCompliance { .. }
+            | Step::LoadEccentricity { .. }
+            | Step::FixedLoad { .. }
+            | Step::BeamRestraint { .. } => Stage::Restraints,
             Step::Dilatancy { .. } => Stage::JointLaw,
         }
     }

@@ -389,8 +389,9 @@ pub struct Layout {
     /// `table_kick`; the other protocols do not read it.
     pub table_overshoot_deg: f64,
     /// The vertical-load system of a loading beam's rig as the horizontal actuator feels it
-    /// (zero as built from a file: an ideal vertical force). Set by the effects `jack_tilt`
-    /// and `rig_friction`; read by the drivers of the protocols that load a beam (those that
+    /// (zero as built from a file: an ideal rig). Set by the effects of the in-plane rig
+    /// (`jack_tilt`, `rig_friction`, `jack_incline`, `series_compliance`,
+    /// `load_eccentricity`, `fixed_vertical_load`, `beam_restraint`); read by the drivers of the protocols that load a beam (those that
     /// state `LoadingProtocol::READS_VERTICAL_LOAD_RIG`), the other protocols do not read it.
     pub vertical_load_rig: VerticalLoadRig,
     /// Monitor points.
@@ -399,42 +400,124 @@ pub struct Layout {
     pub joint_families: JointFamilies,
 }
 
-/// How a loading beam rig's vertical-load system loads the beam horizontally: a force on the
-/// beam along x that the horizontal actuator carries on top of the wall's shear, so that the
-/// force it reads is `V = V_wall + N (u / L + μ_r sgn(u̇))`, with `N = σ0 L t` the applied
-/// vertical force (the loading beam's weight part of it, as the rig applies it), `u` the
-/// beam's displacement at the wall's top and `u̇` the sense of its last increment. Both
-/// zero: an ideal vertical force.
+/// A loading beam rig's own terms: how its vertical-load system, its bearings and its
+/// measurement depart from an ideal vertical force on a beam read at the wall. All zero (as
+/// built from a file): the ideal rig. `N = σ0 L t` is the applied vertical force (the
+/// loading beam's weight part of it, as the rig applies it), `P = N − W_beam` the part the
+/// rig's jacks apply, `u` the beam's horizontal displacement at the measuring point and
+/// `u̇` the sense of its last increment.
+///
+/// **Terms the readings carry** (the beam's horizontal motion is imposed, so these leave
+/// the wall's state as it is and move only what is read: [`VerticalLoadRig::reads_only`]):
 ///
 /// * `inverse_jack_length_per_m` (`1/L`, 1/m, ≥ 0): a jack, or tie rods, hinged at a
 ///   distance `L` from the beam leans by `u / L` as the beam moves, and its force then pulls
-///   the beam back by `N u / L` (the pendulum of a vertical load applied between
-///   hinges);
+///   the beam back by `N u / L` (the pendulum of a vertical load applied between hinges);
 /// * `friction` (`μ_r`, ≥ 0): a vertical load that bears on the beam through rollers or a
-///   sliding bearing resists the beam's motion by `μ_r N`.
+///   sliding bearing resists the beam's motion by `μ_r N`;
+/// * `incline` (`tan β`, signed): a vertical load whose line of action leans by β from the
+///   vertical in the wall's plane pushes the beam along −x by `N tan β` (β > 0), which the
+///   actuator carries in both senses: the force read is `N tan β` more towards +x and as
+///   much less towards −x (an asymmetry of the two directions' peaks of `2 N tan β`);
+/// * `series_compliance_m_per_n` (`c`, m/N, ≥ 0): a compliance in series with the wall
+///   between the measuring point and the wall (the bedding of the base and of the beam,
+///   slack in the actuator's pins, a reference frame that deflects): the displacement read
+///   is the beam's own plus `c V`, V the force read.
 ///
-/// The beam's horizontal motion is imposed, so these forces leave the wall's state as it is
-/// and move only the force read (the driver's reading of its result); limit analysis, which has no
-/// displacement, reads the friction alone.
+/// So the force read is `V = V_wall + N (u / L + μ_r sgn(u̇) + tan β)` and the displacement
+/// read `u + c V` ([`crate::loading::inplane::add_rig_force`]).
+///
+/// **Terms that move the wall** (the beam's drivers apply them as a moment on the beam
+/// about y, [`crate::dem::RigMoment`]; with the beam's rotation held they act on the rig,
+/// not on the wall):
+///
+/// * `eccentricity_m` (`e0`, m, signed along x): the vertical load applied `e0` from the
+///   beam's centroid, a moment `e0 P` about y;
+/// * `fixed_share` (`κ`, in \[0, 1\]): the vertical load's point lags the beam by the share
+///   κ of its displacement (0: it follows the beam, a load through rods hinged on it or dead
+///   weights; 1: it stays where it was, a jack fixed to the reaction frame bearing on the
+///   beam through rollers), a moment `−κ P u_c` (u_c the centroid's displacement);
+/// * `rotational_stiffness_nm_per_rad` (`K_θ`, N·m/rad, ≥ 0): the beam's rotation in the
+///   wall's plane partly restrained (two jacks that do not share one pressure, guides), a
+///   moment `−K_θ θ`.
+///
+/// Limit analysis, which has no displacement, reads the friction, the incline and the
+/// eccentricity.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct VerticalLoadRig {
     /// `1/L`, 1/m: the jack's hinges `L` apart (0: no lean).
     pub inverse_jack_length_per_m: f64,
     /// `μ_r`, the bearing's friction coefficient (0: none).
     pub friction: f64,
+    /// `tan β`, the vertical load's inclination in the wall's plane (0: vertical; > 0: it
+    /// pushes the beam towards −x).
+    #[serde(default)]
+    pub incline: f64,
+    /// `c`, m/N: the compliance in series with the wall (0: none).
+    #[serde(default)]
+    pub series_compliance_m_per_n: f64,
+    /// `e0`, m: the vertical load's point along x from the beam's centroid (0: centred).
+    #[serde(default)]
+    pub eccentricity_m: f64,
+    /// `κ`: the share of the beam's displacement by which the vertical load's point lags it
+    /// (0: it follows the beam).
+    #[serde(default)]
+    pub fixed_share: f64,
+    /// `K_θ`, N·m/rad: the beam's rotational restraint in the wall's plane (0: free).
+    #[serde(default)]
+    pub rotational_stiffness_nm_per_rad: f64,
 }
 
 impl VerticalLoadRig {
-    /// Whether it is the ideal vertical force (both zero).
+    /// Whether it is the ideal rig (every term zero).
     pub fn is_ideal(&self) -> bool {
-        self.inverse_jack_length_per_m == 0.0 && self.friction == 0.0
+        self.reads_only().is_none() && !self.moves_wall()
+    }
+
+    /// The rig's terms that the readings carry, if any (the others zero), or `None` when
+    /// they are all zero.
+    pub fn reads_only(&self) -> Option<VerticalLoadRig> {
+        let r = VerticalLoadRig {
+            inverse_jack_length_per_m: self.inverse_jack_length_per_m,
+            friction: self.friction,
+            incline: self.incline,
+            series_compliance_m_per_n: self.series_compliance_m_per_n,
+            ..VerticalLoadRig::default()
+        };
+        (r != VerticalLoadRig::default()).then_some(r)
+    }
+
+    /// Whether a term that moves the wall is set (the eccentricity, the load's lag or the
+    /// rotational restraint).
+    pub fn moves_wall(&self) -> bool {
+        self.eccentricity_m != 0.0 || self.fixed_share != 0.0 || self.rotational_stiffness_nm_per_rad != 0.0
     }
 
     /// The horizontal force the actuator carries for the rig, N (along +x, the sense of the
-    /// actuator's push) under the vertical force `n_n` (N): `n_n (u_m / L + μ_r sense)`,
-    /// `sense` the sign of the beam's last increment (−1, 0 or +1).
+    /// actuator's push) under the vertical force `n_n` (N): `n_n (u_m / L + μ_r sense +
+    /// tan β)`, `sense` the sign of the beam's last increment (−1, 0 or +1).
     pub fn actuator_force_n(&self, n_n: f64, u_m: f64, sense: f64) -> f64 {
-        n_n * (u_m * self.inverse_jack_length_per_m + self.friction * sense)
+        n_n * (u_m * self.inverse_jack_length_per_m + self.friction * sense + self.incline)
+    }
+
+    /// The moment the rig's terms that move the wall apply to the beam about y
+    /// ([`crate::dem::RigMoment`]), from the beam's pose `pos`, `rot` when the vertical
+    /// force `p_n` (N, the part the jacks apply) is put on; `None` when no such term is set.
+    pub fn beam_moment(
+        &self,
+        p_n: f64,
+        pos: crate::math::Vec3,
+        rot: nalgebra::UnitQuaternion<f64>,
+    ) -> Option<crate::dem::RigMoment> {
+        self.moves_wall().then(|| crate::dem::RigMoment {
+            axis: 1,
+            along: 0,
+            at_reference_nm: self.eccentricity_m * p_n,
+            per_displacement_n: -self.fixed_share * p_n,
+            per_rotation_nm: -self.rotational_stiffness_nm_per_rad,
+            reference_pos: pos,
+            reference_rot: rot,
+        })
     }
 }
 

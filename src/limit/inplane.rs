@@ -10,8 +10,10 @@
 //! held, and its rotation about y with [`BeamRotation::Fixed`] (free reactions of the
 //! program: [`super::model`]). A monolithic wall gives `V = N_total L / (2 H0)` (rocking
 //! about the toe) or `μ N_total` (sliding), whichever is smaller (`drystone verify`). The
-//! rig's vertical-load system (`Layout::vertical_load_rig`) adds its bearing's friction
-//! `μ_r N` to the peak; the lean of its jack needs a displacement and adds nothing.
+//! rig's terms (`Layout::vertical_load_rig`) add their bearing's friction `μ_r N` and the
+//! incline's `N tan β` to the peak, and the eccentric load's moment `e0 (N − W_beam)` to the
+//! beam's dead load; the lean of its jack, the lag of its load and the beam's rotational
+//! restraint need a displacement and add nothing.
 
 use super::{limit_with, LimitError, LimitParams, LimitResult, LiveLoad};
 use crate::dem::SolverParams;
@@ -59,7 +61,10 @@ pub fn limit_in_plane(
     let tag = LiveLoad::InPlane { sigma0_mpa: params.sigma0_mpa, shear_span_m: rig.anchor_z_m };
     let (r, model) = limit_with(&rig.layout, contact, tag, limit, |model, sim| {
         let zc = sim.state.bodies[beam].pos.z;
-        model.dead[beam] = (Vec3::new(0.0, 0.0, -rig.vertical_force_n), Vec3::zeros());
+        // The rig's eccentric vertical load: its moment about y at the pose of the collapse's
+        // start (the load's lag and the beam's restraint need a displacement).
+        let eccentric = rig.layout.vertical_load_rig.eccentricity_m * (rig.vertical_force_n - rig.beam_weight_n);
+        model.dead[beam] = (Vec3::new(0.0, 0.0, -rig.vertical_force_n), Vec3::new(0.0, eccentric, 0.0));
         model.live[beam] = (Vec3::new(n_total, 0.0, 0.0), Vec3::new(0.0, (rig.anchor_z_m - zc) * n_total, 0.0));
         model.held.extend([(beam, 1), (beam, 3), (beam, 5)]);
         if params.beam_rotation == BeamRotation::Fixed {
@@ -90,8 +95,9 @@ pub fn limit_in_plane(
         |k, x| v[k].translation + v[k].rotation.cross(&(x - model.centroid[k])),
         |k| v[k].rotation.y,
     );
-    // The rig's vertical load: its bearing's friction resists the beam's motion; its lean
-    // needs a displacement, which the collapse of rigid blocks does not have.
+    // The rig's vertical load: its bearing's friction resists the beam's motion and its
+    // incline pushes it; its lean needs a displacement, which the collapse of rigid blocks
+    // does not have.
     let rig_friction_n = rig.layout.vertical_load_rig.actuator_force_n(rig.vertical_force_n, 0.0, 1.0);
     Ok(InPlaneLimit {
         peak_force_kn: (r.load_multiplier * n_total + rig_friction_n) * 1e-3,

@@ -585,13 +585,17 @@ impl Rig {
         }
     }
 
-    /// Adds to each point of `curve` the force the horizontal actuator carries for the
-    /// rig's vertical-load system (`Layout::vertical_load_rig`: `N (u / L + μ_r sgn(u̇))`,
-    /// N the applied vertical force `σ0 L t`, u the point's top displacement, u̇'s sense
-    /// that of the increment that led to it, none at the first point); nothing for an
-    /// ideal vertical force.
+    /// Adds to each point of `curve` what the rig's terms that the readings carry add to
+    /// it (`Layout::vertical_load_rig`, [`add_rig_force`]); nothing for an ideal rig.
     pub fn add_vertical_load_rig(&self, curve: &mut [CurvePoint]) {
-        add_rig_force(self.layout.vertical_load_rig, self.vertical_force_n, curve);
+        add_rig_force(self.layout.vertical_load_rig, self.vertical_force_n, self.measure_z_m, curve);
+    }
+
+    /// The moment the rig's terms that move the wall apply to the beam about y, with the
+    /// beam's pose `beam` as its reference (`Layout::vertical_load_rig`,
+    /// [`VerticalLoadRig::beam_moment`]); `None` for none.
+    pub fn beam_moment(&self, beam: &crate::dem::state::Body) -> Option<crate::dem::RigMoment> {
+        self.layout.vertical_load_rig.beam_moment(self.vertical_force_n - self.beam_weight_n, beam.pos, beam.rot)
     }
 
     /// The rigid rocking capacity of the monolithic wall, N: `N_total L / (2 H0)` with the
@@ -605,16 +609,18 @@ impl Rig {
     }
 }
 
-/// Adds to each point of `curve` the force the horizontal actuator carries for the rig's
-/// vertical-load system `r` under the applied vertical force `n` (N): `n (u / L + μ_r
-/// sgn(u̇))`, u the point's top displacement, u̇'s sense that of the increment that led to
-/// it, none at the first point; nothing for an ideal vertical force. The one place the
-/// rig's force enters a curve: [`Rig::add_vertical_load_rig`] in a run, [`read_curve`] on a
-/// run's curve of the wall's own shear.
-pub fn add_rig_force(r: VerticalLoadRig, n: f64, curve: &mut [CurvePoint]) {
-    if r.is_ideal() {
+/// Adds to each point of `curve` what the rig's terms that the readings carry
+/// ([`VerticalLoadRig::reads_only`]) add to it under the applied vertical force `n` (N):
+/// to the force, `n (u / L + μ_r sgn(u̇) + tan β)`, u the point's displacement, u̇'s sense
+/// that of the increment that led to it (none at the first point); then to the displacement
+/// the series compliance's `c V` (V the force so read) and to the drift its share over the
+/// measuring point's height `measure_z_m` (m). Nothing for an ideal rig. The one place the
+/// rig's readings enter a curve: [`Rig::add_vertical_load_rig`] in a run, [`read_curve`] on
+/// a run's curve of the wall's own shear.
+pub fn add_rig_force(r: VerticalLoadRig, n: f64, measure_z_m: f64, curve: &mut [CurvePoint]) {
+    let Some(r) = r.reads_only() else {
         return;
-    }
+    };
     let mut last = None;
     for p in curve.iter_mut() {
         // The sense of the increment that led to the point (0 at the first, or none).
@@ -628,22 +634,28 @@ pub fn add_rig_force(r: VerticalLoadRig, n: f64, curve: &mut [CurvePoint]) {
         });
         last = Some(p.top_mm);
         p.force_kn += 1e-3 * r.actuator_force_n(n, 1e-3 * p.top_mm, sense);
+        if r.series_compliance_m_per_n != 0.0 {
+            let extra_m = r.series_compliance_m_per_n * p.force_kn * 1e3;
+            p.top_mm += extra_m * 1e3;
+            p.drift_pct += 100.0 * extra_m / measure_z_m;
+        }
     }
 }
 
 /// The force read and the first direction's outputs (+x, [`direction`]) of a run's curve of
 /// the wall's own shear (`wall_curve`, [`InPlaneResult::wall_curve`]) under the rig's
-/// vertical-load system `rig` and the applied vertical force `vertical_force_n` (N): the
-/// same computation as the run's own ([`Rig::add_vertical_load_rig`], then [`direction`]),
-/// so that a run with `rig` and a run without it read here give the same numbers, bit for
-/// bit.
+/// terms `rig` and the applied vertical force `vertical_force_n` (N), the displacement read
+/// at the height `measure_z_m` (m): the same computation as the run's own
+/// ([`Rig::add_vertical_load_rig`], then [`direction`]), so that a run with `rig` and a run
+/// without it read here give the same numbers, bit for bit.
 pub fn read_curve(
     wall_curve: &[CurvePoint],
     rig: VerticalLoadRig,
     vertical_force_n: f64,
+    measure_z_m: f64,
 ) -> (Vec<CurvePoint>, Option<DirectionResult>) {
     let mut curve = wall_curve.to_vec();
-    add_rig_force(rig, vertical_force_n, &mut curve);
+    add_rig_force(rig, vertical_force_n, measure_z_m, &mut curve);
     let positive = direction(&curve, 1.0);
     (curve, positive)
 }
@@ -1186,6 +1198,11 @@ pub fn run_in_plane_penalty(
     // The vertical force, the beam's weight part of it.
     let start = poses(&sim);
     sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
+    // The rig's terms that move the wall: a moment on the beam from its pose now.
+    let moment = rig.beam_moment(&sim.state.bodies[bi]);
+    if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
+        c.moment = moment;
+    }
     // The static solves: the solver's stages over the protocol's own, dynamic relaxation.
     // The implicit iteration holds the beam's constrained degrees of freedom (`--solver
     // implicit`), but it leaves increments after a reversal unconverged (BENCHMARKS.md).

@@ -110,11 +110,23 @@ pub fn run_in_plane_nscd(
     let mut force = vec![Vec3::zeros(); n];
     force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
     sim.set_external(&force, &vec![Vec3::zeros(); n]);
+    // The rig's terms that move the wall: a moment on the beam from its pose now, applied
+    // as its external torque at every step (explicit in the step, as gravity is).
+    let moment = rig.beam_moment(&sim.bodies()[bi]);
+    let mut torque = vec![Vec3::zeros(); n];
+    let mut apply_moment = |sim: &mut NscdSimulation| {
+        if let Some(m) = &moment {
+            torque[bi][m.axis] = m.moment_nm(&sim.bodies()[bi]);
+            sim.set_external(&force, &torque);
+        }
+    };
+    apply_moment(&mut sim);
     let h = nscd.dt_s;
     let start = poses(&sim);
     let rest = nscd.rest_velocity_ratio * sim.gravity_magnitude() * h;
     let mut quiet = 0;
     for _ in 0..(SETTLE_S / h).ceil() as u64 {
+        apply_moment(&mut sim);
         sim.step(|_| Vec3::zeros())?;
         quiet = if sim.max_point_speed() <= rest { quiet + 1 } else { 0 };
         if quiet >= QUIET_STEPS {
@@ -165,6 +177,7 @@ pub fn run_in_plane_nscd(
             if let Some(c) = sim.constraint_mut(bi) {
                 c.set_target(0, anchor_ref.x + target);
             }
+            apply_moment(&mut sim);
             let step = sim.step(|_| Vec3::zeros())?;
             converged &= step.converged;
             impulse += actuator_force(&sim, bi) * h;

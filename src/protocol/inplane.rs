@@ -130,6 +130,7 @@ impl Observed {
             wall_curve: r.wall_curve.clone(),
             vertical_force_n: r.vertical_force_n,
             rig: r.vertical_load_rig,
+            measuring_height_m: r.measuring_height_m,
             mode: r.mechanism.kind,
             wall_vertical_modulus_mpa: r.wall_vertical_modulus_mpa,
         };
@@ -160,7 +161,7 @@ impl Observed {
     pub fn reread(&self, rig: VerticalLoadRig) -> Option<Option<Observed>> {
         let r = self.rig_reading.as_ref()?;
         let reading = Arc::new(InPlaneReading { rig, ..(**r).clone() });
-        let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n);
+        let (_, positive) = read_curve(&r.wall_curve, rig, r.vertical_force_n, r.measuring_height_m);
         Some(positive.and_then(|d| Observed::of_direction(&d, reading)))
     }
 }

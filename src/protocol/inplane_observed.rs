@@ -40,6 +40,10 @@ pub struct InPlaneReading {
     pub vertical_force_n: f64,
     /// The run's vertical-load system.
     pub rig: VerticalLoadRig,
+    /// The height of the measuring point, m (the drift's lever: the series compliance's
+    /// displacement enters the drift over it).
+    #[serde(default = "nan")]
+    pub measuring_height_m: f64,
     /// The mechanism's mode.
     pub mode: MechanismKind,
     /// The wall's vertical modulus, MPa (which the vertical-load system does not change).

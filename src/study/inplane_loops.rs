@@ -539,7 +539,12 @@ pub fn check_models(
                         .map(|&friction| {
                             let rig = crate::layout::VerticalLoadRig { friction, ..res.vertical_load_rig };
                             let mut curve = res.wall_curve.clone();
-                            crate::loading::inplane::add_rig_force(rig, res.vertical_force_n, &mut curve);
+                            crate::loading::inplane::add_rig_force(
+                                rig,
+                                res.vertical_force_n,
+                                res.measuring_height_m,
+                                &mut curve,
+                            );
                             read(&curve)
                         })
                         .collect();

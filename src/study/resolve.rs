@@ -392,7 +392,7 @@ impl StudySpec {
     ///
     /// * ropes under `[solver] kind = "limit"` (`LimitError::Ropes`, as `drystone tilt
     ///   --solver limit` refuses them): limit analysis has no displacement for a rope;
-    /// * an effect on a rig's vertical load (`jack_tilt`, `rig_friction`) in a study of a
+    /// * an effect on a rig's own terms (`jack_tilt`, `rig_friction`, …: [`crate::effects::Step::on_rig`]) in a study of a
     ///   protocol that does not read it
     ///   ([`crate::protocol::LoadingProtocol::READS_VERTICAL_LOAD_RIG`]);
     /// * a table overshoot (`table_kick`) with `[tilt] by_hand`: the hand-rolled table runs
@@ -409,11 +409,7 @@ impl StudySpec {
             return Ok(());
         }
         if !reads_rig {
-            if let Some(e) = group.effects.iter().find(|e| {
-                e.def.steps.iter().any(|s| {
-                    matches!(s, crate::effects::Step::JackTilt { .. } | crate::effects::Step::RigFriction { .. })
-                })
-            }) {
+            if let Some(e) = group.effects.iter().find(|e| e.def.steps.iter().any(crate::effects::Step::on_rig)) {
                 let name = &e.def.name;
                 let at = if g.effects.contains_key(name) {
                     format!("groups[{}].effects.{name}", g.name)

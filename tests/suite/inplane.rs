@@ -564,7 +564,8 @@ fn the_rigs_vertical_load_adds_its_bearing_friction_and_its_jacks_lean_to_the_ac
     }
     // Limit analysis: the rocking capacity plus the friction.
     let mut wall = inplane_block(45.0, RIGID_KN);
-    wall.vertical_load_rig = drystone::layout::VerticalLoadRig { inverse_jack_length_per_m: inv_l, friction: mu_r };
+    wall.vertical_load_rig =
+        drystone::layout::VerticalLoadRig { inverse_jack_length_per_m: inv_l, friction: mu_r, ..Default::default() };
     let la = limit_in_plane(&wall, &s, &params(1.0), &s.limit).unwrap();
     let v = (n + w) * L / (2.0 * H0) + mu_r * n_jack;
     assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "limit analysis {} kN vs {v} N", la.peak_force_kn);

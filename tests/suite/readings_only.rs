@@ -1,6 +1,6 @@
-//! Effects that act only on the readings (`jack_tilt`, `rig_friction`: the in-plane rig's
-//! vertical-load system, a force the displacement-controlled beam carries on top of the
-//! wall's shear) make no run in the discrepancy analysis: the model with them is the run
+//! Effects that act only on the readings (`jack_tilt`, `rig_friction`, `jack_incline`: the
+//! in-plane rig's vertical load, a force the displacement-controlled beam carries on top of
+//! the wall's shear; `series_compliance`, a displacement read on top of the beam's) make no run in the discrepancy analysis: the model with them is the run
 //! without them read again. Here a realization run with such an effect and the same
 //! realization's run without it read again give the same observables, bit for bit, on a
 //! small granite wall (a monotonic push and a cyclic one, where the bearing's friction
@@ -72,6 +72,9 @@ fn a_run_with_a_readings_only_effect_is_the_run_without_it_read_again() {
         vec![soft.clone()],
         vec![effect("jack_tilt", 0.54), soft.clone()],
         vec![soft.clone(), effect("rig_friction", 0.01)],
+        vec![effect("jack_incline", -0.013)],
+        vec![effect("series_compliance", 0.05), effect("jack_tilt", 0.5)],
+        vec![soft.clone(), effect("series_compliance", 0.03), effect("jack_incline", 0.02)],
     ];
     assert!(models.iter().flatten().filter(|e| e.name() != "kn_scale").all(|e| e.def.acts_on_readings_only()));
     assert!(!soft.def.acts_on_readings_only());
@@ -79,6 +82,7 @@ fn a_run_with_a_readings_only_effect_is_the_run_without_it_read_again() {
     let per_model = setup.groups.iter().map(|g| g.realizations as usize).sum::<usize>();
     assert_eq!(forward_runs(&setup, &models, true), per_model);
     assert_eq!(forward_runs(&setup, &models[..4], true), 0);
+    assert_eq!(forward_runs(&setup, &models[7..9], true), 0);
     assert_eq!(forward_runs(&setup, &models[..1], false), per_model, "nothing to read again: the baseline is run");
     let reread = run_models(&setup, &models, Some(&base));
     for (m, outs) in models.iter().zip(&reread) {

@@ -1,0 +1,163 @@
+//! The in-plane rig's own terms (`Layout::vertical_load_rig`: the effects `jack_incline`,
+//! `series_compliance`, `load_eccentricity`, `fixed_vertical_load`, `beam_restraint`)
+//! against the statics of a monolithic wall worked by hand here (L × t × H = 1.0 × 0.2 ×
+//! 1.2 m under σ0 = 0.5 MPa, the force at H0 = 1.325 m, the beam's centroid there too):
+//!
+//! * an eccentric vertical load `e0` moves the rocking capacity about the pushed toe to
+//!   `(N_total L / 2 − e0 P) / H0` (P the force the jacks apply, `N − W_beam`), by limit
+//!   analysis exactly and by the penalty DEM and nscd within their closed-form tolerances;
+//! * a load fixed in space (κ = 1) holds its arm `L / 2` while the wall rocks: at the same
+//!   displacement `u` of the beam's centroid the force exceeds a following load's by
+//!   `P u / H0`, and the envelope keeps its peak where the following load's falls;
+//! * a rotational spring `K_θ` on the beam adds `K_θ θ / H0`, θ = u / H0 of rigid rocking;
+//! * an inclined load adds `N tan β` to both senses' readings of a sliding monolith (so the
+//!   peaks differ by `2 N tan β`), and a compliance `c` in series gives the stiffness read
+//!   `1 / (1 / K + c)` and moves every point by `c V`, leaving the force as it was.
+
+use drystone::dem::SolverParams;
+use drystone::layout::{Layout, VerticalLoadRig};
+use drystone::limit::inplane::limit_in_plane;
+use drystone::loading::inplane::{run_in_plane_penalty, History, InPlaneParams, InPlaneResult, MechanismKind, Rig};
+use drystone::loading::inplane_nscd::run_in_plane_nscd;
+use drystone::verify::inplane::inplane_block;
+use drystone::verify::{DENSITY, RIGID_KN};
+
+const G: f64 = drystone::units::STANDARD_GRAVITY;
+const L: f64 = 1.0;
+const T: f64 = 0.2;
+const H: f64 = 1.2;
+const H0: f64 = 1.325;
+const SIGMA0: f64 = 0.5e6;
+
+fn params(drift_pct: f64) -> InPlaneParams {
+    InPlaneParams { sigma0_mpa: SIGMA0 * 1e-6, shear_span_m: Some(H0), drift_pct, ..InPlaneParams::default() }
+}
+
+/// N, W (the wall's weight) and P = N − W_beam, N; the beam is L × t × 2 (H0 − H).
+fn forces() -> (f64, f64, f64) {
+    let n = SIGMA0 * L * T;
+    let w_beam = DENSITY * G * L * T * 2.0 * (H0 - H);
+    (n, DENSITY * G * L * T * H, n - w_beam)
+}
+
+fn with(rig: VerticalLoadRig, kn: f64, phi_deg: f64) -> Layout {
+    let mut wall = inplane_block(phi_deg, kn);
+    wall.vertical_load_rig = rig;
+    wall
+}
+
+fn penalty(wall: &Layout, p: &InPlaneParams) -> InPlaneResult {
+    run_in_plane_penalty(wall, SolverParams::default(), p, &mut |_, _, _| {}).unwrap()
+}
+
+#[test]
+fn the_beams_weight_is_the_one_worked_by_hand() {
+    let (n, _, p) = forces();
+    let rig = Rig::build(&inplane_block(45.0, 1e11), &params(1.0)).unwrap();
+    assert!((rig.beam_weight_n - (n - p)).abs() < 1e-9 * n, "{} N vs {} N", rig.beam_weight_n, n - p);
+    assert!((rig.beam_z_m - H0).abs() < 1e-12);
+}
+
+#[test]
+fn an_eccentric_vertical_load_moves_the_rocking_capacity_by_its_moment() {
+    let (n, w, p) = forces();
+    let s = SolverParams::default();
+    // On the granite walls' order of joint stiffness the peak at 0.5 % drift is not yet the
+    // rigid capacity (the joints' rotation): the eccentricity moves it by its moment alone.
+    let centred = penalty(&inplane_block(45.0, 1e11), &params(0.5)).positive.unwrap().peak_force_kn * 1e3;
+    for e0 in [0.03, -0.03] {
+        let v = ((n + w) * L / 2.0 - e0 * p) / H0;
+        let rig = VerticalLoadRig { eccentricity_m: e0, ..VerticalLoadRig::default() };
+        let la = limit_in_plane(&with(rig, RIGID_KN, 45.0), &s, &params(1.0), &s.limit).unwrap();
+        assert!(
+            (la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6,
+            "e0 {e0}: limit analysis {} kN vs {v} N",
+            la.peak_force_kn
+        );
+        let dem = penalty(&with(rig, RIGID_KN, 45.0), &params(0.5));
+        let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+        assert!((peak / v - 1.0).abs() < 0.02, "e0 {e0}: DEM peak {peak} N vs {v} N");
+        assert_eq!(dem.unconverged, 0);
+        let dem = penalty(&with(rig, 1e11, 45.0), &params(0.5));
+        let shift = dem.positive.unwrap().peak_force_kn * 1e3 - centred;
+        assert!((shift / (-e0 * p / H0) - 1.0).abs() < 0.02, "e0 {e0}: DEM shift {shift} N vs −e0 P / H0");
+        assert_eq!(dem.mechanism.kind, MechanismKind::Rocking);
+    }
+    // nscd, the rigid monolith (its closed-form tolerance: 1 %).
+    let e0 = 0.03;
+    let v = ((n + w) * L / 2.0 - e0 * p) / H0;
+    let rig = VerticalLoadRig { eccentricity_m: e0, ..VerticalLoadRig::default() };
+    let r = run_in_plane_nscd(&with(rig, RIGID_KN, 45.0), &SolverParams::default().nscd, &params(0.2)).unwrap();
+    let peak = r.positive.unwrap().peak_force_kn * 1e3;
+    assert!((peak / v - 1.0).abs() < 0.01, "nscd peak {peak} N vs {v} N");
+}
+
+#[test]
+fn a_vertical_load_fixed_in_space_keeps_its_arm_as_the_wall_rocks() {
+    let (_, _, p) = forces();
+    let follows = penalty(&with(VerticalLoadRig::default(), 1e11, 45.0), &params(3.0));
+    let fixed =
+        penalty(&with(VerticalLoadRig { fixed_share: 1.0, ..VerticalLoadRig::default() }, 1e11, 45.0), &params(3.0));
+    assert_eq!(fixed.unconverged, 0);
+    let (a, b) = (follows.curve.last().unwrap(), fixed.curve.last().unwrap());
+    assert!((a.top_mm - b.top_mm).abs() < 1e-6 * b.top_mm, "the same imposed displacement");
+    // The beam's centroid is the measuring point (at H0): it moved by u.
+    let dv = (b.force_kn - a.force_kn) * 1e3;
+    let want = p * b.top_mm * 1e-3 / H0;
+    assert!((dv / want - 1.0).abs() < 0.05, "ΔV {dv} N vs P u / H0 {want} N at {} mm", b.top_mm);
+    // The fixed load's envelope holds its peak; the following load's sways off it.
+    let (pf, pa) = (fixed.positive.unwrap().peak_force_kn, follows.positive.unwrap().peak_force_kn);
+    assert!(b.force_kn > 0.99 * pf, "fixed: {} kN at 3 % of a {pf} kN peak", b.force_kn);
+    assert!(a.force_kn < 0.95 * pa, "following: {} kN at 3 % of a {pa} kN peak", a.force_kn);
+}
+
+#[test]
+fn a_rotational_restraint_of_the_beam_adds_its_springs_moment_over_the_shear_span() {
+    let k = 2e6;
+    let free = penalty(&with(VerticalLoadRig::default(), 1e11, 45.0), &params(1.0));
+    let held = penalty(
+        &with(VerticalLoadRig { rotational_stiffness_nm_per_rad: k, ..VerticalLoadRig::default() }, 1e11, 45.0),
+        &params(1.0),
+    );
+    assert_eq!(held.unconverged, 0);
+    let (a, b) = (free.curve.last().unwrap(), held.curve.last().unwrap());
+    let theta = b.top_mm * 1e-3 / H0;
+    let want = k * theta / H0;
+    let dv = (b.force_kn - a.force_kn) * 1e3;
+    assert!((dv / want - 1.0).abs() < 0.03, "ΔV {dv} N vs K θ / H0 {want} N");
+}
+
+#[test]
+fn an_inclined_load_and_a_series_compliance_move_the_readings_by_their_statics() {
+    let (n, w, _) = forces();
+    let mu: f64 = 0.2;
+    let phi = mu.atan().to_degrees();
+    let p = InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5]), ..params(0.5) };
+    let tan_b = -0.013;
+    let r = penalty(&with(VerticalLoadRig { incline: tan_b, ..VerticalLoadRig::default() }, 1e10, phi), &p);
+    let (pos, neg) = (r.positive.unwrap().peak_force_kn * 1e3, r.negative.unwrap().peak_force_kn * 1e3);
+    let (vp, vn) = (mu * (n + w) + n * tan_b, mu * (n + w) - n * tan_b);
+    assert!((pos / vp - 1.0).abs() < 0.01, "+x: {pos} N vs {vp} N");
+    assert!((neg / vn - 1.0).abs() < 0.01, "−x: {neg} N vs {vn} N");
+    assert!(((neg - pos) / (-2.0 * n * tan_b) - 1.0).abs() < 0.02, "asymmetry {} N", neg - pos);
+    // The series compliance: every point moved by c V, the force as it was.
+    let c = 0.05e-6;
+    let plain = penalty(&with(VerticalLoadRig::default(), 1e10, phi), &params(0.5));
+    let soft = penalty(
+        &with(VerticalLoadRig { series_compliance_m_per_n: c, ..VerticalLoadRig::default() }, 1e10, phi),
+        &params(0.5),
+    );
+    assert_eq!(plain.curve.len(), soft.curve.len());
+    for (a, b) in plain.curve.iter().zip(&soft.curve) {
+        assert_eq!(a.force_kn, b.force_kn);
+        let moved = (b.top_mm - a.top_mm) * 1e-3;
+        assert!((moved - c * a.force_kn * 1e3).abs() < 1e-12, "{moved} m at {} kN", a.force_kn);
+        let drift = 100.0 * moved / H0;
+        assert!((b.drift_pct - a.drift_pct - drift).abs() < 1e-9);
+    }
+    let (k0, k1) =
+        (plain.positive.unwrap().initial_stiffness_kn_per_mm, soft.positive.unwrap().initial_stiffness_kn_per_mm);
+    // kN/mm → N/m: 1e6.
+    let want = 1.0 / (1.0 / (k0 * 1e6) + c) * 1e-6;
+    assert!((k1 / want - 1.0).abs() < 1e-9, "{k1} kN/mm vs 1 / (1 / {k0} + c) = {want}");
+}
