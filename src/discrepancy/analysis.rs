@@ -381,6 +381,9 @@ pub struct Analysis {
     /// The forward runs made, by stage (those of the preparation included, which many
     /// analyses of one design share).
     pub forward_runs: Vec<super::simulate::StageRuns>,
+    /// The baseline's misfit of one sign in every group, if any
+    /// ([`super::systematic_misfit`]): the scatter hypothesis is then not named.
+    pub systematic: Option<super::SystematicMisfit>,
     /// The candidates analysed, pairs included.
     #[serde(skip)]
     pub pool: Vec<Candidate>,
@@ -470,6 +473,7 @@ mod tests {
             identifiability: Default::default(),
             forward_runs: vec![],
             pool: vec![],
+            systematic: None,
         }
     }
 

@@ -50,6 +50,7 @@ mod simulate;
 mod stages;
 mod store;
 mod synthesize;
+mod systematic;
 mod weights;
 
 /// The effects, as the discrepancy analysis uses them (see [`crate::effects`]).
@@ -84,6 +85,7 @@ pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,
     write as write_synthetic, Request as SynthesisRequest,
 };
+pub use systematic::{systematic_misfit, SystematicMisfit, SYSTEMATIC_Z};
 pub use weights::{weights, ModelWeight, Weights, SHARED};
 
 /// Errors of a discrepancy analysis.

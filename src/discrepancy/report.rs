@@ -161,6 +161,7 @@ pub fn report_json(run: &Run) -> Value {
         "verdict": a.verdict.name(),
         "cause": cause,
         "partial": a.verdict == super::analysis::Verdict::Unexplained && a.cause.is_some(),
+        "systematic_misfit": a.systematic,
         "check": a.check,
         "design": run.design,
         "cause_interval": run.cause_interval,
@@ -282,6 +283,15 @@ fn verdict_section(md: &mut String, run: &Run) {
         }
         (None, None) => {}
     }
+    if let Some(m) = &a.systematic {
+        let z: Vec<String> = m.groups.iter().map(|(g, z)| format!("{g} {z:+.2}")).collect();
+        let _ = writeln!(
+            md,
+            "The baseline's misfit is systematic in the {}: its mean standardized residual has one sign in every group ({}), so `scatter` (a spread alone) is not a cause of it.\n",
+            m.family,
+            z.join(", ")
+        );
+    }
     if let Some(ch) = &a.check {
         let measures = if curve_measures(run) {
             "the peak forces, drifts and stiffnesses"
@@ -320,6 +330,12 @@ fn verdict_section(md: &mut String, run: &Run) {
             s.reading.stiffness_kn_per_mm,
             s.reading.modulus_mpa
         );
+        for note in &s.sigma_notes {
+            let _ = writeln!(md, "- {note}");
+        }
+        if !s.sigma_notes.is_empty() {
+            let _ = writeln!(md);
+        }
         return;
     }
     let _ = writeln!(

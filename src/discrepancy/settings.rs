@@ -55,6 +55,11 @@ pub struct Settings {
     pub sigma: observations::MeasurementSigma,
     /// Reading resolutions of the measured values.
     pub reading: Reading,
+    /// Where the observations' σ came from when a study's reader set them from the data
+    /// (one sentence per family; the report prints them); empty when every σ is the
+    /// setting's. Not a key of the file.
+    #[serde(skip)]
+    pub sigma_notes: Vec<String>,
 }
 
 impl Default for Settings {
@@ -74,6 +79,7 @@ impl Default for Settings {
             confirm: true,
             sigma: observations::MeasurementSigma::default(),
             reading: Reading::default(),
+            sigma_notes: vec![],
         }
     }
 }

@@ -95,7 +95,15 @@ pub fn analyze_with(
     };
     let runs = if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
     let candidates: Vec<Ranked> = ranked;
-    let eligible = |r: &Ranked| r.confirmed || pool[r.index].is_scatter() || !s.confirm;
+    // A misfit of one sign in every group is a bias: a spread alone cannot explain it.
+    let systematic = super::systematic::systematic_misfit(data, &lib.baseline);
+    let eligible = |r: &Ranked| {
+        if pool[r.index].is_scatter() {
+            systematic.is_none()
+        } else {
+            r.confirmed || !s.confirm
+        }
+    };
     let named = name_cause(&candidates, eligible, &screening, margins.baseline);
     let found = match &named {
         Some(b) => examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?,
@@ -137,6 +145,7 @@ pub fn analyze_with(
         identifiability,
         forward_runs: stage_runs,
         pool,
+        systematic,
     };
     Ok(Run {
         obs,
