@@ -1112,7 +1112,7 @@ pub struct InPlaneResult {
     /// The rig's vertical-load system the run had (`Layout::vertical_load_rig`). Not
     /// written to the results (ideal when read from them).
     #[serde(skip)]
-    pub vertical_load_rig: VerticalLoadRig,
+    pub vertical_load_rig: Box<VerticalLoadRig>,
     /// The applied vertical force `σ0 L t`, N, as the rig's system reads it (0 when read
     /// from the results).
     #[serde(skip)]
@@ -1627,7 +1627,7 @@ pub(crate) fn result_of(
         negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
         curve,
         wall_curve,
-        vertical_load_rig: rig.layout.vertical_load_rig,
+        vertical_load_rig: Box::new(rig.layout.vertical_load_rig),
         vertical_force_n: rig.vertical_force_n,
         mechanism,
         poses_at_reading: at.iter().map(|(p, q)| (*p, q.scaled_axis())).collect(),

@@ -129,7 +129,7 @@ impl Observed {
         let reading = InPlaneReading {
             wall_curve: r.wall_curve.clone(),
             vertical_force_n: r.vertical_force_n,
-            rig: r.vertical_load_rig,
+            rig: *r.vertical_load_rig,
             measuring_height_m: r.measuring_height_m,
             mode: r.mechanism.kind,
             wall_vertical_modulus_mpa: r.wall_vertical_modulus_mpa,

@@ -537,7 +537,7 @@ pub fn check_models(
                     let again = frictions
                         .iter()
                         .map(|&friction| {
-                            let rig = crate::layout::VerticalLoadRig { friction, ..res.vertical_load_rig };
+                            let rig = crate::layout::VerticalLoadRig { friction, ..*res.vertical_load_rig };
                             let mut curve = res.wall_curve.clone();
                             crate::loading::inplane::add_rig_force(
                                 rig,
