@@ -74,7 +74,7 @@ impl DofConstraint {
         }
         *t += (body.rot_mat * self.anchor).cross(&reaction);
         if let Some(m) = &self.moment {
-            t[m.axis] += m.moment_nm(body);
+            t[m.axis] += m.moment_nm(&body.pos, &body.rot);
         }
         for j in 0..3 {
             if self.rotation[j] {

@@ -1,7 +1,6 @@
 //! The vocabulary of what holds a body's degrees of freedom: [`Hold`] and
 //! [`DofConstraint`] (the module [`super::constraint`] says how the engine applies them).
 
-use super::state::Body;
 use crate::math::Vec3;
 use nalgebra::UnitQuaternion;
 
@@ -97,14 +96,15 @@ pub struct RigMoment {
 }
 
 impl RigMoment {
-    /// The moment on `body` at its pose, N·m about [`RigMoment::axis`].
+    /// The moment on a body at the pose `pos` (its centroid, m), `rot`, N·m about
+    /// [`RigMoment::axis`].
     #[inline]
-    pub fn moment_nm(&self, body: &Body) -> f64 {
-        let du = body.pos[self.along] - self.reference_pos[self.along];
+    pub fn moment_nm(&self, pos: &Vec3, rot: &UnitQuaternion<f64>) -> f64 {
+        let du = pos[self.along] - self.reference_pos[self.along];
         let theta = if self.per_rotation_nm == 0.0 {
             0.0
         } else {
-            (body.rot * self.reference_rot.inverse()).scaled_axis()[self.axis]
+            (rot * self.reference_rot.inverse()).scaled_axis()[self.axis]
         };
         self.at_reference_nm + self.per_displacement_n * du + self.per_rotation_nm * theta
     }

@@ -5,6 +5,15 @@
 //! bound no measurement gives. The table of every range is in `docs/discrepancy.md`.
 
 use super::{EffectDef, KindRange, ParamDef, Property, Scale, Step, WallKind};
+
+/// `x.pipe(f)` is `f(x)`: a range per finish added to a [`sourced`] parameter in place.
+trait Pipe: Sized {
+    fn pipe<R>(self, f: impl FnOnce(Self) -> R) -> R {
+        f(self)
+    }
+}
+
+impl Pipe for ParamDef {}
 use crate::layout::JointFamily;
 
 fn param(name: &str, unit: &str, min: f64, max: f64, scale: Scale, neutral: f64, per_course: bool) -> ParamDef {
@@ -37,6 +46,21 @@ fn sourced(
     p
 }
 
+/// `p` with the range of walls of finish `kind` (sawn or rubble stone) and its source.
+fn finish(mut p: ParamDef, kind: WallKind, min: f64, max: f64, source: &str) -> ParamDef {
+    p.kinds.push(KindRange { kind, min, max, source: source.into() });
+    p
+}
+
+/// `p` with the ranges of sawn and of rubble stone.
+fn finishes(p: ParamDef, sawn: (f64, f64, &str), rubble: (f64, f64, &str)) -> ParamDef {
+    let p = finish(p, WallKind::SawnStone, sawn.0, sawn.1, sawn.2);
+    finish(p, WallKind::RubbleStone, rubble.0, rubble.1, rubble.2)
+}
+
+/// Sawn faces: the source of their narrower bounds.
+const SAWN: &str = "sawn faces are flat to tenths of a mm over a block and mate: dry joints of sawn stone close and slip by tenths of a mm at their strength (Lourenço, Oliveira, Roca & Orduña 2005, J. Struct. Eng. 131:1665, sawn sandstone; Vasconcelos & Lourenço 2009, Constr. Build. Mater. 23:3337, sawn granite)";
+
 fn def(name: &str, description: &str, source: &str, parameters: Vec<ParamDef>, steps: Vec<Step>) -> EffectDef {
     EffectDef { name: name.into(), description: description.into(), source: source.into(), parameters, steps }
 }
@@ -45,11 +69,16 @@ const NOT_CHECKED: &str = "the publication could not be consulted here: the boun
 
 /// A stiffness factor (Kn and Ks, or Kn alone).
 fn factor() -> ParamDef {
-    sourced(
+    let p = sourced(
         param("factor", "-", 0.05, 2.0, Scale::Log, 1.0, false),
         "estimate (reasoning: a recalibration of the joint stiffness of Santa-Cruz et al. 2021, Table 9, itself back-analysed: from 20 times softer to twice as stiff)",
         Some((0.2, 2.0, &format!("estimate (reasoning: cast faces mate closely, so the calibrated stiffness of the cobblestones, Table 9 of Santa-Cruz et al. 2021, is not off by more than a factor 5 below; the spread of dry-joint normal stiffness measured on units of one kind, Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
         Some((0.05, 2.0, &format!("broad range (hand-dressed beds seat on a few asperities and can be far softer than a calibration; dry joints of shaped stone: Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+    );
+    finishes(
+        p,
+        (0.2, 2.0, &format!("estimate (reasoning: {SAWN}; a stiffness estimated from such tests is not off by more than a factor 5 below; {NOT_CHECKED})")),
+        (0.05, 2.0, "broad range (rubble beds bear on a few points: as soft as any calibration allows)"),
     )
 }
 
@@ -92,17 +121,25 @@ fn joint_effects() -> Vec<EffectDef> {
             "hyperbolic normal closure of rough joints: soft at low stress, stiffening as they close",
             "Bandis, Lumsden & Barton (1983), Int. J. Rock Mech. Min. Sci. 20:249; Goodman (1976)",
             vec![
-                sourced(
-                    param("initial_stiffness_ratio", "-", 0.02, 1.0, Scale::Log, 1.0, false),
-                    &format!("Kni/Kn of unmated rough joints (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
-                    Some((0.2, 1.0, "estimate (reasoning: cast faces are mated: little closure before full contact, the initial stiffness near the calibrated one)")),
-                    Some((0.02, 1.0, &format!("broad range (dressed faces close as unmated rock joints: Bandis et al. 1983; dry stone joints under normal cycles: Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+                finishes(
+                    sourced(
+                        param("initial_stiffness_ratio", "-", 0.02, 1.0, Scale::Log, 1.0, false),
+                        &format!("Kni/Kn of unmated rough joints (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
+                        Some((0.2, 1.0, "estimate (reasoning: cast faces are mated: little closure before full contact, the initial stiffness near the calibrated one)")),
+                        Some((0.02, 1.0, &format!("broad range (dressed faces close as unmated rock joints: Bandis et al. 1983; dry stone joints under normal cycles: Vlachakis et al. 2023, Constr. Build. Mater. 130880; {NOT_CHECKED})"))),
+                    ),
+                    (0.1, 1.0, &format!("estimate (reasoning: {SAWN}: mated joints, some closure before full contact; {NOT_CHECKED})")),
+                    (0.02, 1.0, "broad range (undressed faces close as unmated rock joints: Bandis et al. 1983)"),
                 ),
-                sourced(
-                    param("max_closure_m", "m", 1e-4, 5e-3, Scale::Log, f64::INFINITY, true),
-                    &format!("maximum closure Vm of rough joints, tenths of a mm to mm (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
-                    Some((1e-4, 1e-3, "estimate (reasoning: a cast face is flat to a fraction of a mm: Vm of mated joints is tenths of a mm)")),
-                    Some((2e-4, 5e-3, &format!("estimate (reasoning: hand-dressed faces have mm-size asperities; Vlachakis et al. 2023; {NOT_CHECKED})"))),
+                finishes(
+                    sourced(
+                        param("max_closure_m", "m", 1e-4, 5e-3, Scale::Log, f64::INFINITY, true),
+                        &format!("maximum closure Vm of rough joints, tenths of a mm to mm (Bandis, Lumsden & Barton 1983; {NOT_CHECKED})"),
+                        Some((1e-4, 1e-3, "estimate (reasoning: a cast face is flat to a fraction of a mm: Vm of mated joints is tenths of a mm)")),
+                        Some((2e-4, 5e-3, &format!("estimate (reasoning: hand-dressed faces have mm-size asperities; Vlachakis et al. 2023; {NOT_CHECKED})"))),
+                    ),
+                    (1e-4, 5e-4, &format!("estimate (reasoning: {SAWN}: Vm of a tenth to half a mm; {NOT_CHECKED})")),
+                    (5e-4, 5e-3, "estimate (reasoning: undressed faces seat on asperities of mm to cm; the broad range's upper bound)"),
                 ),
             ],
             vec![
@@ -119,7 +156,11 @@ fn joint_effects() -> Vec<EffectDef> {
                 &format!("estimate (reasoning: Ks/Kn of dry joints from a few hundredths to about one, Savalle, Lourenço & Milani 2022, Appl. Sci. 12:2108, and Vlachakis et al. 2023; the calibration of Santa-Cruz et al. 2021, Table 9, has Ks/Kn 0.49; {NOT_CHECKED})"),
                 Some((0.1, 2.0, "estimate (reasoning: the cobblestone calibration's Ks/Kn = 0.49, Santa-Cruz et al. 2021, Table 9; a factor 0.1 brings it to 0.05, below which a mated cast joint would not hold its shear)")),
                 Some((0.05, 2.0, "broad range (rough dressed faces: Ks/Kn as low as a few hundredths)")),
-            )],
+            ).pipe(|p| finishes(
+                p,
+                (0.1, 2.0, &format!("estimate (reasoning: {SAWN}: peak slips of tenths of a mm; {NOT_CHECKED})")),
+                (0.05, 2.0, "broad range (rough undressed faces)"),
+            ))],
             vec![Step::JointFactor { family: None, property: Property::Ks, parameter: "factor".into() }],
         ),
         def(
@@ -143,7 +184,11 @@ fn joint_effects() -> Vec<EffectDef> {
                 "estimate (reasoning: hand-placed stones seat on asperities of mm size; 3 mm at a 50 mm course)",
                 Some((0.0, 5e-4, "estimate (reasoning: a cast paver is flat within a bed to a fraction of a mm; its thickness tolerance of a few mm tilts the whole block rather than opening gaps within a bed)")),
                 Some((0.0, 3e-3, "broad range (hand-dressed beds)")),
-            )],
+            ).pipe(|p| finishes(
+                p,
+                (0.0, 3e-4, &format!("estimate (reasoning: {SAWN}: gaps within a sawn bed of at most a few tenths of a mm; {NOT_CHECKED})")),
+                (0.0, 3e-3, "broad range (undressed beds seat on a few points)"),
+            ))],
             vec![Step::Closure { family: None, law: "seating".into(), parameter: "max_gap_m".into() }],
         ),
     ]
@@ -176,7 +221,11 @@ fn wall_effects() -> Vec<EffectDef> {
                 &format!("rounded edges of stones (Mehrotra & DeJong 2018); edge rounding back-analysed for dry stone walls (Brady & Kavanagh 2002, TRL Report 550; {NOT_CHECKED})"),
                 Some((0.0, 0.0025, "estimate (reasoning: cast pavers have sharp or chamfered arrises of a few mm; 2.5 mm at a 50 mm course)")),
                 Some((0.0, 0.00625, &format!("broad range (hammer-dressed edges; Brady & Kavanagh 2002, TRL Report 550; {NOT_CHECKED})"))),
-            )],
+            ).pipe(|p| finishes(
+                p,
+                (0.0, 0.0025, "estimate (reasoning: sawn arrises are sharp or chip by a few mm; as cast pavers')"),
+                (0.0, 0.00625, "broad range (edges as found)"),
+            ))],
             vec![Step::Rounding { parameter: "radius_m".into() }],
         ),
         def(

@@ -26,7 +26,7 @@
 //!
 //! ```toml
 //! [[parameters.kinds]]
-//! kind = "concrete_paver"  # concrete_paver | shaped_stone
+//! kind = "concrete_paver"  # concrete_paver | shaped_stone | sawn_stone | rubble_stone
 //! min = 0.3
 //! max = 1.0
 //! source = "our plate-load tests of the pavers"

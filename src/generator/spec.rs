@@ -233,27 +233,35 @@ pub struct ScatterSpec {
 }
 
 /// What a wall is built of, as far as the plausible ranges of the model's effects depend
-/// on it (the `kind` key of a wall description).
+/// on it (the `kind` key of a wall description): the finish of its units' faces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WallKind {
-    /// Prismatic blocks cast or sawn to size (concrete pavers, cobblestones, bricks): flat,
-    /// mated faces, sharp arrises, courses of one height.
+    /// Prismatic blocks cast to size (concrete pavers, cobblestones, bricks): flat, mated
+    /// faces, sharp arrises, courses of one height.
     ConcretePaver,
     /// Shaped, hammer-dressed natural stone: faces dressed by hand, beds that seat on
     /// their asperities, irregular edges.
     ShapedStone,
+    /// Natural stone sawn to size (ashlar): faces flat to tenths of a millimetre, sharp
+    /// arrises; the joints close and slip by tenths of a millimetre, not millimetres.
+    SawnStone,
+    /// Rubble: undressed field stone, beds that seat on a few points, edges as found.
+    RubbleStone,
 }
 
 impl WallKind {
     /// Every kind, in order.
-    pub const ALL: [WallKind; 2] = [WallKind::ConcretePaver, WallKind::ShapedStone];
+    pub const ALL: [WallKind; 4] =
+        [WallKind::ConcretePaver, WallKind::ShapedStone, WallKind::SawnStone, WallKind::RubbleStone];
 
     /// The name as in files.
     pub fn name(self) -> &'static str {
         match self {
             WallKind::ConcretePaver => "concrete_paver",
             WallKind::ShapedStone => "shaped_stone",
+            WallKind::SawnStone => "sawn_stone",
+            WallKind::RubbleStone => "rubble_stone",
         }
     }
 }

@@ -428,7 +428,7 @@ pub struct Layout {
 /// read `u + c V` ([`crate::loading::inplane::add_rig_force`]).
 ///
 /// **Terms that move the wall** (the beam's drivers apply them as a moment on the beam
-/// about y, [`crate::dem::RigMoment`]; with the beam's rotation held they act on the rig,
+/// about y, `dem::RigMoment` in the DEM; with the beam's rotation held they act on the rig,
 /// not on the wall):
 ///
 /// * `eccentricity_m` (`e0`, m, signed along x): the vertical load applied `e0` from the
@@ -498,26 +498,6 @@ impl VerticalLoadRig {
     /// tan β)`, `sense` the sign of the beam's last increment (−1, 0 or +1).
     pub fn actuator_force_n(&self, n_n: f64, u_m: f64, sense: f64) -> f64 {
         n_n * (u_m * self.inverse_jack_length_per_m + self.friction * sense + self.incline)
-    }
-
-    /// The moment the rig's terms that move the wall apply to the beam about y
-    /// ([`crate::dem::RigMoment`]), from the beam's pose `pos`, `rot` when the vertical
-    /// force `p_n` (N, the part the jacks apply) is put on; `None` when no such term is set.
-    pub fn beam_moment(
-        &self,
-        p_n: f64,
-        pos: crate::math::Vec3,
-        rot: nalgebra::UnitQuaternion<f64>,
-    ) -> Option<crate::dem::RigMoment> {
-        self.moves_wall().then(|| crate::dem::RigMoment {
-            axis: 1,
-            along: 0,
-            at_reference_nm: self.eccentricity_m * p_n,
-            per_displacement_n: -self.fixed_share * p_n,
-            per_rotation_nm: -self.rotational_stiffness_nm_per_rad,
-            reference_pos: pos,
-            reference_rot: rot,
-        })
     }
 }
 

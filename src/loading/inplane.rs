@@ -592,10 +592,21 @@ impl Rig {
     }
 
     /// The moment the rig's terms that move the wall apply to the beam about y, with the
-    /// beam's pose `beam` as its reference (`Layout::vertical_load_rig`,
-    /// [`VerticalLoadRig::beam_moment`]); `None` for none.
+    /// beam's pose `beam` as its reference (`Layout::vertical_load_rig`: `e0 P`, `−κ P u_c`
+    /// and `−K_θ θ`, P the force the jacks apply, `N − W_beam`); `None` when the rig has no
+    /// term that moves the wall.
     pub fn beam_moment(&self, beam: &crate::dem::state::Body) -> Option<crate::dem::RigMoment> {
-        self.layout.vertical_load_rig.beam_moment(self.vertical_force_n - self.beam_weight_n, beam.pos, beam.rot)
+        let r = &self.layout.vertical_load_rig;
+        let p = self.vertical_force_n - self.beam_weight_n;
+        r.moves_wall().then(|| crate::dem::RigMoment {
+            axis: 1,
+            along: 0,
+            at_reference_nm: r.eccentricity_m * p,
+            per_displacement_n: -r.fixed_share * p,
+            per_rotation_nm: -r.rotational_stiffness_nm_per_rad,
+            reference_pos: beam.pos,
+            reference_rot: beam.rot,
+        })
     }
 
     /// The rigid rocking capacity of the monolithic wall, N: `N_total L / (2 H0)` with the

@@ -116,7 +116,8 @@ pub fn run_in_plane_nscd(
     let mut torque = vec![Vec3::zeros(); n];
     let mut apply_moment = |sim: &mut NscdSimulation| {
         if let Some(m) = &moment {
-            torque[bi][m.axis] = m.moment_nm(&sim.bodies()[bi]);
+            let b = &sim.bodies()[bi];
+            torque[bi][m.axis] = m.moment_nm(&b.pos, &b.rot);
             sim.set_external(&force, &torque);
         }
     };
