@@ -53,14 +53,6 @@ impl Section {
     }
 }
 
-/// One traced outline: the stone and its corners (x, z) in the survey's frame after the
-/// scale, m (open: the closing corner is not repeated).
-#[derive(Debug, Clone)]
-pub(super) struct Outline {
-    pub stone: Stone,
-    pub points: Vec<[f64; 2]>,
-}
-
 /// A stone's block polygon and what it came from.
 struct Shape {
     /// The block's polygon (convex, counter-clockwise), table frame, m.

@@ -6,8 +6,7 @@
 //! polygons of a `MultiPolygon` are stones `ID.0`, `ID.1`, …; the `material` property names
 //! the stone's material.
 
-use super::elevation::Outline;
-use super::{Stone, SurveyError};
+use super::{Outline, Stone, SurveyError};
 use serde_json::Value;
 use std::path::Path;
 
@@ -48,7 +47,10 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
             Some("MultiPolygon") => {
                 coords.as_array().ok_or_else(|| err("coordinates: an array expected".into()))?.iter().collect()
             }
-            other => return Err(err(format!("geometry type {other:?}: a stone is a Polygon (or a MultiPolygon)"))),
+            other => {
+                let t = other.unwrap_or("none");
+                return Err(err(format!("geometry type {t:?}: a stone is a Polygon (or a MultiPolygon)")));
+            }
         };
         let material = f.get("properties").and_then(|p| p.get("material")).and_then(Value::as_str).map(str::to_owned);
         for (j, poly) in polygons.iter().enumerate() {
@@ -95,7 +97,7 @@ fn outer_ring(poly: &Value) -> Result<Vec<[f64; 2]>, String> {
     match rings.len() {
         0 => return Err("the polygon has no ring".into()),
         1 => {}
-        n => return Err(format!("the polygon has {} holes: a stone is one outline without holes", n - 1)),
+        n => return Err(format!("the polygon has holes ({}): a stone is one outline without holes", n - 1)),
     }
     let ring = rings[0].as_array().ok_or("ring: an array of positions expected")?;
     let mut pts = Vec::with_capacity(ring.len());

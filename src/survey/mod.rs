@@ -311,6 +311,14 @@ pub(crate) struct Stone {
     pub material: Option<String>,
 }
 
+/// One traced outline: the stone and its corners (x, z) in the survey's frame after the
+/// scale, m (open: the closing corner is not repeated).
+#[derive(Debug, Clone)]
+pub(crate) struct Outline {
+    pub stone: Stone,
+    pub points: Vec<[f64; 2]>,
+}
+
 /// What became of one stone.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoneReport {

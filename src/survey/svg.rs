@@ -5,8 +5,7 @@
 //! and elements with a `data-ignore` attribute (on themselves or a group around them) are
 //! not stones; a `<line id="scale" data-length-m="L">` (ignored or not) gives the scale; `<circle>` and `<ellipse>` are refused (a stone is a polygon).
 
-use super::elevation::Outline;
-use super::{Stone, SurveyError};
+use super::{Outline, Stone, SurveyError};
 use std::path::Path;
 
 /// An affine map `x' = a x + c y + e`, `y' = b x + d y + f`, as SVG's `matrix(a b c d e f)`.
