@@ -91,6 +91,10 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
             let k = unit.metres();
             *v = if o.y_up { [v[0] * k, -v[2] * k, v[1] * k] } else { [v[0] * k, v[1] * k, v[2] * k] };
         }
+        if m.vertices.iter().flatten().any(|c| !c.is_finite()) {
+            let reason = "a vertex has a coordinate that is not a finite number".to_string();
+            return Err(SurveyError::Element { path: m.file.clone(), element: m.stone.element.clone(), reason });
+        }
         let (lo, hi) = bounds(&m.vertices);
         check_size(&m.file, &m.stone, (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max), &label)?;
     }

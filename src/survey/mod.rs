@@ -267,7 +267,7 @@ impl SurveyMaterials {
         toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })
     }
 
-    /// The stones' material name, m.
+    /// The stones' material name.
     fn stone(&self) -> String {
         self.stone_material.clone().or_else(|| self.materials.first().map(|m| m.name.clone())).unwrap_or_default()
     }

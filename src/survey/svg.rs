@@ -133,7 +133,7 @@ fn parse_transform(text: &str) -> Result<Affine, String> {
     let mut rest = text.trim_start_matches(|c: char| c.is_whitespace() || c == ',');
     while !rest.is_empty() {
         let open = rest.find('(').ok_or_else(|| format!("{text:?}: expected `name(…)`"))?;
-        let close = rest.find(')').ok_or_else(|| format!("{text:?}: a `(` without its `)`"))?;
+        let close = open + rest[open..].find(')').ok_or_else(|| format!("{text:?}: a `(` without its `)`"))?;
         let name = rest[..open].trim();
         let mut s = Scanner::new(&rest[open + 1..close]);
         let mut args = Vec::new();
@@ -367,7 +367,10 @@ impl<'a> Scanner<'a> {
             }
         }
         let text = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
-        text.parse().map(Some).map_err(|_| format!("{text:?} is not a number"))
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Some(v)),
+            _ => Err(format!("{text:?} is not a finite number")),
+        }
     }
 
     fn required(&mut self) -> Result<f64, String> {
@@ -403,5 +406,7 @@ mod tests {
         let p = apply(&r, [2.0, 1.0]);
         assert!((p[0] - 1.0).abs() < 1e-15 && (p[1] - 2.0).abs() < 1e-15, "{p:?}");
         assert!(parse_transform("spin(3)").is_err());
+        assert!(parse_transform("a)b(").is_err());
+        assert!(parse_points("1e999 0").is_err());
     }
 }
