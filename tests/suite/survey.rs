@@ -428,3 +428,44 @@ fn the_command_writes_a_layout_and_prints_what_it_made() {
     let layout = drystone::layout::Layout::from_file(&out).unwrap();
     assert_eq!(layout.blocks.len(), 2);
 }
+
+/// The fixtures of this file, each with its extension and the options it is read with.
+fn fixtures() -> Vec<(&'static str, Vec<u8>, ImportOptions)> {
+    vec![
+        ("svg", L_SVG.as_bytes().to_vec(), traced(0.25, None)),
+        ("geojson", STACK.as_bytes().to_vec(), traced(0.3, None)),
+        ("obj", cube_obj(200.0, [0.0; 3], 0).into_bytes(), scanned(LengthUnit::Mm)),
+        ("stl", ascii_stl(&cube_triangles(150.0)).into_bytes(), scanned(LengthUnit::Mm)),
+        ("stl", binary_stl(&cube_triangles(150.0)), scanned(LengthUnit::Mm)),
+    ]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config {
+        cases: 150,
+        failure_persistence: None,
+        rng_seed: crate::common::proptest_seed(),
+        ..Default::default()
+    })]
+
+    /// Every fixture with a piece cut out and other text (or a hostile number) put in its
+    /// place is imported or refused with an error, never a panic.
+    #[test]
+    fn altered_surveys_are_imported_or_refused_never_a_panic(
+        k in 0usize..5,
+        at in 0.0f64..1.0,
+        cut in 0usize..12,
+        insert in "\\PC{0,6}|-?[0-9]{1,3}(\\.[0-9]+)?(e-?[0-9]{1,3})?|NaN|inf|1e999",
+    ) {
+        let dir = Scratch::created("survey-fuzz");
+        let (ext, mut bytes, options) = fixtures().swap_remove(k);
+        let i = ((at * bytes.len() as f64) as usize).min(bytes.len());
+        let j = (i + cut).min(bytes.len());
+        bytes.splice(i..j, insert.bytes());
+        let path = dir.join(format!("altered.{ext}"));
+        std::fs::write(&path, &bytes).unwrap();
+        if let Ok(w) = import(&path, &options) {
+            proptest::prop_assert!(w.layout.resolve().is_ok());
+        }
+    }
+}
