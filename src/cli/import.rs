@@ -10,7 +10,7 @@ use std::process::ExitCode;
 /// Options of `drystone import`.
 #[derive(clap::Args)]
 pub struct ImportArgs {
-    /// The survey: a traced elevation (.svg, .geojson) or scanned stones (.obj, .stl, or a
+    /// The survey: a traced elevation (.svg, .geojson, .dxf) or scanned stones (.obj, .stl, or a
     /// folder of them, one stone per file or object).
     survey: PathBuf,
     /// Its format [default: by the extension; a folder: its files' extensions].
@@ -20,7 +20,8 @@ pub struct ImportArgs {
     #[arg(long)]
     out: PathBuf,
     /// Traced elevations: metres per drawing unit (SVG user unit; GeoJSON default 1). SVG
-    /// needs it unless the drawing has a <line id="scale" data-length-m="…">.
+    /// needs it unless the drawing has a <line id="scale" data-length-m="…">, DXF unless
+    /// its $INSUNITS is mm, cm or m.
     #[arg(long)]
     scale_m_per_unit: Option<f64>,
     /// Traced elevations: the wall's thickness at its base, m (every stone is a through stone).

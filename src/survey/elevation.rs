@@ -67,6 +67,10 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
     let text = read_text(path)?;
     let (outlines, scale) = match format {
         SurveyFormat::Svg => super::svg::read(path, &text, o.scale_m_per_unit)?,
+        SurveyFormat::Dxf => {
+            let names: Vec<String> = o.materials.materials.iter().map(|m| m.name.clone()).collect();
+            super::dxf::read(path, &text, o.scale_m_per_unit, &names)?
+        }
         _ => super::geojson::read(path, &text, o.scale_m_per_unit)?,
     };
     if outlines.is_empty() {

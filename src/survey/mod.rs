@@ -5,7 +5,7 @@
 //! reads such a survey and writes the layout file the rest of the tool reads (the format of
 //! `drystone generate … --out LAYOUT.json`, [`crate::layout`]). See docs/survey.md.
 //!
-//! # Traced elevations (SVG, GeoJSON)
+//! # Traced elevations (SVG, GeoJSON, DXF)
 //!
 //! Every stone is a closed polygon of the wall's elevation plane (x along the wall, z up),
 //! extruded through the wall's section as the generator extrudes its through stones
@@ -23,6 +23,8 @@
 //!   `data-length-m` attribute (its length in metres).
 //! * GeoJSON: `Polygon` and `MultiPolygon` features, coordinates `[x, z]` in metres (times
 //!   the scale if one is given).
+//! * DXF (ASCII): closed `LWPOLYLINE`s without bulges, y up; the scale from
+//!   [`ImportOptions::scale_m_per_unit`] or the header's `$INSUNITS`.
 //!
 //! # Scanned stones (OBJ, STL)
 //!
@@ -40,6 +42,7 @@
 //! wall's y extent is centred on y = 0. The table (the plane z = 0) is the foundation the
 //! lowest stones stand on, as in a generated wall's layout.
 
+mod dxf;
 mod elevation;
 mod geojson;
 mod mesh;
@@ -173,6 +176,8 @@ pub enum SurveyFormat {
     Svg,
     /// A traced elevation as GeoJSON polygons (metres).
     Geojson,
+    /// A traced elevation as closed LWPOLYLINEs of an ASCII DXF drawing.
+    Dxf,
     /// Scanned stones, Wavefront OBJ meshes.
     Obj,
     /// Scanned stones, STL meshes (ASCII or binary).
@@ -180,13 +185,14 @@ pub enum SurveyFormat {
 }
 
 impl SurveyFormat {
-    /// The format of a file by its extension (`.svg`, `.geojson` or `.json`, `.obj`,
-    /// `.stl`; any case), if it is one.
+    /// The format of a file by its extension (`.svg`, `.geojson` or `.json`, `.dxf`,
+    /// `.obj`, `.stl`; any case), if it is one.
     pub fn from_path(path: &Path) -> Option<Self> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
             "svg" => Some(Self::Svg),
             "geojson" | "json" => Some(Self::Geojson),
+            "dxf" => Some(Self::Dxf),
             "obj" => Some(Self::Obj),
             "stl" => Some(Self::Stl),
             _ => None,
@@ -198,6 +204,7 @@ impl SurveyFormat {
         match self {
             Self::Svg => "svg",
             Self::Geojson => "geojson",
+            Self::Dxf => "dxf",
             Self::Obj => "obj",
             Self::Stl => "stl",
         }
@@ -205,7 +212,7 @@ impl SurveyFormat {
 
     /// Whether it is a traced elevation (SVG, GeoJSON) rather than scanned stones.
     pub fn is_elevation(self) -> bool {
-        matches!(self, Self::Svg | Self::Geojson)
+        matches!(self, Self::Svg | Self::Geojson | Self::Dxf)
     }
 }
 
@@ -216,9 +223,10 @@ impl std::str::FromStr for SurveyFormat {
         match s {
             "svg" => Ok(Self::Svg),
             "geojson" => Ok(Self::Geojson),
+            "dxf" => Ok(Self::Dxf),
             "obj" => Ok(Self::Obj),
             "stl" => Ok(Self::Stl),
-            _ => Err(format!("unknown survey format {s:?}: svg, geojson, obj or stl")),
+            _ => Err(format!("unknown survey format {s:?}: svg, geojson, dxf, obj or stl")),
         }
     }
 }
@@ -392,8 +400,8 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<ImportedWall, Surv
         None if path.is_dir() => SurveyFormat::Obj,
         None => SurveyFormat::from_path(path).ok_or_else(|| SurveyError::File {
             path: path.to_owned(),
-            reason: "unknown survey format: name it with --format svg|geojson|obj|stl, or use one of the extensions \
-                     .svg, .geojson (.json), .obj, .stl"
+            reason: "unknown survey format: name it with --format svg|geojson|dxf|obj|stl, or use one of the \
+                     extensions .svg, .geojson (.json), .dxf, .obj, .stl"
                 .into(),
         })?,
     };

@@ -1,5 +1,5 @@
 //! `drystone import`: surveyed walls as layouts. The surveys are written here by hand (SVG,
-//! GeoJSON, OBJ, STL), or exported from a generated wall by this file's own SVG writer,
+//! GeoJSON, DXF, OBJ, STL), or exported from a generated wall by this file's own SVG writer,
 //! never by the code under test; the expected blocks and volumes are worked out by hand.
 
 use drystone::dem::SolverParams;
@@ -340,6 +340,90 @@ fn a_geojson_stack_of_three_stones_gives_the_blocks_worked_out_by_hand() {
     l.resolve().unwrap();
 }
 
+/// An ASCII DXF file of group codes and values.
+fn dxf(pairs: &[(i32, &str)]) -> String {
+    pairs.iter().map(|(c, v)| format!("{c:>3}\n{v}\n")).collect()
+}
+
+/// A drawing in millimetres (`$INSUNITS` 4), from an origin at (1000, 500) mm: a stone
+/// 400 × 150 mm on layer `granite`, a triangle 200 mm wide and 150 mm tall on it on layer
+/// `slate`, an open polyline on layer `IGNORE` and a line (neither is a stone); then
+/// `extra` entities.
+fn drawing(extra: &[(i32, &str)]) -> String {
+    let mut p: Vec<(i32, &str)> = vec![(0, "SECTION"), (2, "HEADER"), (9, "$INSUNITS"), (70, "4"), (0, "ENDSEC")];
+    p.extend([(0, "SECTION"), (2, "ENTITIES")]);
+    p.extend([(0, "LWPOLYLINE"), (5, "2A"), (8, "granite"), (90, "4"), (70, "1")]);
+    p.extend([
+        (10, "1000"),
+        (20, "500"),
+        (10, "1400"),
+        (20, "500"),
+        (10, "1400"),
+        (20, "650"),
+        (10, "1000"),
+        (20, "650"),
+    ]);
+    p.extend([(0, "LWPOLYLINE"), (5, "2B"), (8, "slate"), (90, "3"), (70, "1")]);
+    p.extend([(10, "1100"), (20, "650"), (10, "1300"), (20, "650"), (10, "1200"), (20, "800")]);
+    p.extend([(0, "LWPOLYLINE"), (5, "2C"), (8, "IGNORE"), (70, "0"), (10, "0"), (20, "0"), (10, "9000"), (20, "0")]);
+    p.extend([(0, "LINE"), (8, "0"), (10, "0"), (20, "0"), (11, "1"), (21, "1")]);
+    p.extend_from_slice(extra);
+    p.extend([(0, "ENDSEC"), (0, "EOF")]);
+    dxf(&p)
+}
+
+#[test]
+fn a_dxf_drawing_in_millimetres_gives_its_closed_polylines_as_stones() {
+    let dir = Scratch::created("survey-dxf");
+    let materials = SurveyMaterials {
+        materials: vec![material("granite", 2600.0), material("slate", 2700.0)],
+        stone_material: None,
+        table_material: None,
+    };
+    let options = ImportOptions { materials, ..traced(0.2, None) };
+    let w = import(&write(&dir, "wall.dxf", &drawing(&[])), &options).unwrap();
+    let l = &w.layout;
+    assert_eq!(l.blocks.iter().map(|b| b.id.as_str()).collect::<Vec<_>>(), ["2A", "2B"]);
+    assert_eq!(l.blocks.iter().map(|b| b.material.as_str()).collect::<Vec<_>>(), ["granite", "slate"]);
+    let want =
+        [[0.1, -0.1, 0.15], [0.1, 0.1, 0.15], [0.3, -0.1, 0.15], [0.3, 0.1, 0.15], [0.2, -0.1, 0.3], [0.2, 0.1, 0.3]];
+    for (v, u) in l.blocks[1].vertices.iter().zip(&want) {
+        assert!((0..3).all(|k| (v[k] - u[k]).abs() < 1e-12), "{v:?} vs {u:?}");
+    }
+    // 0.4 × 0.15 × 0.2 and 0.2 × 0.15 / 2 × 0.2, m³.
+    assert!((w.stones[0].block_volume_m3 - 0.012).abs() < 1e-15 && (w.stones[1].block_volume_m3 - 0.003).abs() < 1e-15);
+    assert_eq!(w.scale.as_ref().unwrap().0, 0.001);
+    // An arc segment and an open polyline are refused by handle and line.
+    let bulge = [
+        (0, "LWPOLYLINE"),
+        (5, "3F"),
+        (8, "0"),
+        (70, "1"),
+        (10, "2000"),
+        (20, "500"),
+        (42, "0.5"),
+        (10, "2100"),
+        (20, "500"),
+        (10, "2100"),
+        (20, "600"),
+    ];
+    let e = error_of(&dir, "arc.dxf", &drawing(&bulge), &options);
+    assert!(e.contains("arc.dxf: LWPOLYLINE (handle 3F) at line 91: line 103: a bulge"), "{e}");
+    let open = [
+        (0, "LWPOLYLINE"),
+        (8, "0"),
+        (70, "0"),
+        (10, "2000"),
+        (20, "500"),
+        (10, "2100"),
+        (20, "500"),
+        (10, "2100"),
+        (20, "600"),
+    ];
+    let e = error_of(&dir, "open.dxf", &drawing(&open), &options);
+    assert!(e.contains("open.dxf: LWPOLYLINE at line 91: the polyline is not closed"), "{e}");
+}
+
 /// The error of importing `text` as `name` with `options`.
 fn error_of(dir: &Path, name: &str, text: &str, options: &ImportOptions) -> String {
     import(&write(dir, name, text), options).map(|_| ()).unwrap_err().to_string()
@@ -382,8 +466,8 @@ fn errors_name_the_file_and_the_element() {
         cube_obj(0.2, [0.0; 3], 0).lines().filter(|l| *l != "f 2 3 7 6").map(|l| format!("{l}\n")).collect();
     let e = error_of(&dir, "open.obj", &open, &scanned(LengthUnit::M));
     assert!(e.contains("open.obj: open.obj: the mesh is not closed: 4 edges"), "{e}");
-    let e = error_of(&dir, "wall.dxf", "0\nSECTION\n", &t);
-    assert!(e.contains("wall.dxf") && e.contains("unknown survey format"), "{e}");
+    let e = error_of(&dir, "wall.dwg", "AC1032", &t);
+    assert!(e.contains("wall.dwg") && e.contains("unknown survey format"), "{e}");
     let e = error_of(
         &dir,
         "opt.svg",
@@ -437,6 +521,7 @@ fn fixtures() -> Vec<(&'static str, Vec<u8>, ImportOptions)> {
         ("obj", cube_obj(200.0, [0.0; 3], 0).into_bytes(), scanned(LengthUnit::Mm)),
         ("stl", ascii_stl(&cube_triangles(150.0)).into_bytes(), scanned(LengthUnit::Mm)),
         ("stl", binary_stl(&cube_triangles(150.0)), scanned(LengthUnit::Mm)),
+        ("dxf", drawing(&[]).into_bytes(), traced(0.2, None)),
     ]
 }
 
@@ -452,7 +537,7 @@ proptest::proptest! {
     /// place is imported or refused with an error, never a panic.
     #[test]
     fn altered_surveys_are_imported_or_refused_never_a_panic(
-        k in 0usize..5,
+        k in 0usize..6,
         at in 0.0f64..1.0,
         cut in 0usize..12,
         insert in "\\PC{0,6}|-?[0-9]{1,3}(\\.[0-9]+)?(e-?[0-9]{1,3})?|NaN|inf|1e999",
