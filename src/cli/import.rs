@@ -151,6 +151,7 @@ fn summary(w: &ImportedWall) {
     }
     out!("stones read       {}", w.stones.len());
     out!("blocks made       {} ({hulled} convex hulls)", w.layout.blocks.len());
+    out!("on the table      {} blocks", w.on_table());
     out!("total volume      {:.6e} m3", w.volume_m3());
     out!("added by hulls    {:.6e} m3", w.added_m3());
     out!("wall length       {:.4} m", w.length_m);

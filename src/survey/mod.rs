@@ -386,6 +386,13 @@ impl ImportedWall {
     pub fn added_m3(&self) -> f64 {
         self.stones.iter().map(StoneReport::added_m3).sum()
     }
+
+    /// The number of blocks standing on the table: their lowest corner within 1e-9 m of
+    /// z = 0 (the others rest on stones, or fall when the wall settles).
+    pub fn on_table(&self) -> usize {
+        let lowest = |b: &crate::layout::BlockSpec| b.vertices.iter().map(|v| v[2]).fold(f64::INFINITY, f64::min);
+        self.layout.blocks.iter().filter(|b| lowest(b) <= 1e-9).count()
+    }
 }
 
 /// Imports the survey at `path` (a file, or for scanned stones a folder of OBJ and STL

@@ -337,6 +337,7 @@ fn a_geojson_stack_of_three_stones_gives_the_blocks_worked_out_by_hand() {
     }
     assert!((w.height_m - 0.5).abs() < e && (w.length_m - 0.6).abs() < e);
     assert_eq!(w.offset_m, [-10.0, 0.0, -2.0]);
+    assert_eq!(w.on_table(), 1);
     l.resolve().unwrap();
 }
 
@@ -504,6 +505,7 @@ fn the_command_writes_a_layout_and_prints_what_it_made() {
     for part in [
         "stones read       2",
         "blocks made       2 (1 convex hulls)",
+        "on the table      1 blocks",
         "added by hulls    6.250000e-4 m3",
         "wall height       0.2000 m",
     ] {
