@@ -78,6 +78,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
     }
     let stones: Vec<Stone> = outlines.iter().map(|l| l.stone.clone()).collect();
     check_unique_ids(path, &stones)?;
+    super::check_materials(path, &stones, o)?;
     let all = || outlines.iter().flat_map(|l| l.points.iter());
     let x0 = all().map(|p| p[0]).fold(f64::INFINITY, f64::min);
     let z0 = all().map(|p| p[1]).fold(f64::INFINITY, f64::min);

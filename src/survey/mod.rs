@@ -16,7 +16,7 @@
 //! reported). Outlines that overlap by more than [`crate::layout::OVERLAP_TOLERANCE_M`]
 //! are refused, naming both stones.
 //!
-//! * SVG ([`svg`](self)): `<polygon>`, `<polyline>` (closed), `<rect>` and `<path>` (M, L,
+//! * SVG: `<polygon>`, `<polyline>` (closed), `<rect>` and `<path>` (M, L,
 //!   H, V, Z, absolute and relative) with the `transform`s of the element and its groups;
 //!   SVG's y axis points down and is flipped (z = −y × scale). The scale, metres per user
 //!   unit, is [`ImportOptions::scale_m_per_unit`] or a `<line id="scale">` with a
@@ -529,6 +529,21 @@ pub(crate) fn check_unique_ids(path: &Path, stones: &[Stone]) -> Result<(), Surv
                 path: path.to_owned(),
                 element: s.element.clone(),
                 reason: format!("id {:?} is also the id of {first}; every stone needs its own id", s.id),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a stone that names a material not among the materials given, naming its element.
+pub(crate) fn check_materials(path: &Path, stones: &[Stone], o: &ImportOptions) -> Result<(), SurveyError> {
+    let names: Vec<&str> = o.materials.materials.iter().map(|m| m.name.as_str()).collect();
+    for s in stones {
+        if let Some(m) = s.material.as_deref().filter(|m| !names.contains(m)) {
+            return Err(SurveyError::Element {
+                path: path.to_owned(),
+                element: s.element.clone(),
+                reason: format!("material {m:?} is not among the materials given ({})", names.join(", ")),
             });
         }
     }

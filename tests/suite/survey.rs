@@ -134,6 +134,29 @@ fn a_generated_wall_traced_in_svg_comes_back_with_its_blocks_and_its_collapse_an
     assert!((a.collapse_angle_deg() - b.collapse_angle_deg()).abs() < 1e-9);
 }
 
+#[test]
+fn irregular_generated_walls_with_wedges_traced_in_svg_come_back_with_their_blocks() {
+    let dir = Scratch::created("survey-irregular");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (file, seed) in [("studies/walls/sbl.toml", 3), ("studies/walls/full_scale.toml", 11)] {
+        let wall = drystone::generator::Wall::from_file(&root.join(file)).unwrap();
+        let g = generate(&wall, seed, 0).unwrap();
+        assert!(g.counts().1 > 0, "{file}: no wedges");
+        let options = ImportOptions {
+            section: Some(Section { base_m: wall.base_width, top_m: wall.top_width, batter: wall.batter }),
+            materials: SurveyMaterials {
+                materials: g.layout.materials.clone(),
+                stone_material: None,
+                table_material: None,
+            },
+            ..traced(1.0, Some(1.0))
+        };
+        let svg = write(&dir, "irregular.svg", &export_svg(&g, 1.0, 0.0, 0.0, false));
+        let imported = import(&svg, &options).unwrap();
+        assert_same_blocks(&g.layout, &imported.layout, 1e-9);
+    }
+}
+
 /// A base stone 300 × 100 mm and on it an L (200 × 100 mm less a 100 × 50 mm notch at its
 /// top right), drawn with y down, scale by a 500 mm scale line.
 const L_SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 400 300">
@@ -452,6 +475,11 @@ fn errors_name_the_file_and_the_element() {
             assert!(e.contains(p), "{name}: {p:?} not in {e}");
         }
     }
+    let e = error_of(&dir, "mat.svg", &svg(r#"<g data-material="basalt"><rect id="m" width="1" height="1"/></g>"#), &t);
+    assert!(
+        e.contains("mat.svg: <rect id=\"m\"> at line 2: material \"basalt\" is not among the materials given (stone)"),
+        "{e}"
+    );
     let e = error_of(&dir, "noscale.svg", &svg(r#"<rect width="1" height="1"/>"#), &traced(0.3, None));
     assert!(e.contains("noscale.svg") && e.contains("no scale"), "{e}");
     let hole = r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "id": 7, "geometry": {"type": "Polygon",
