@@ -67,7 +67,7 @@ enum Command {
     Verify(cli::verify::VerifyArgs),
     /// Generates a wall layout from a wall description (TOML), a seed and a realization index.
     Generate(cli::generate::GenerateArgs),
-    /// Imports a surveyed wall (a traced elevation: SVG, GeoJSON; scanned stones: OBJ, STL)
+    /// Imports a surveyed wall (a traced elevation: SVG, GeoJSON, DXF; scanned stones: OBJ, STL)
     /// as a layout (docs/survey.md).
     Import(cli::import::ImportArgs),
     /// Model discrepancy: what the simulation gets wrong against the study's measured data,

@@ -37,7 +37,7 @@
 //! # The frame
 //!
 //! The survey is translated into the table frame of [`crate::geometry`]: the lowest point
-//! of the wall on the table (z = 0), its first point at x = 0; a traced wall's section is
+//! of the wall on the table (z = 0), its leftmost point at x = 0; a traced wall's section is
 //! centred as the generator's (y = 0 its centre plane for a symmetric batter), a scanned
 //! wall's y extent is centred on y = 0. The table (the plane z = 0) is the foundation the
 //! lowest stones stand on, as in a generated wall's layout.
