@@ -92,6 +92,7 @@ pub mod range;
 pub mod rng;
 pub mod stats;
 pub mod study;
+pub mod survey;
 pub mod units;
 #[doc(hidden)]
 pub mod verify;

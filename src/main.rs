@@ -67,6 +67,9 @@ enum Command {
     Verify(cli::verify::VerifyArgs),
     /// Generates a wall layout from a wall description (TOML), a seed and a realization index.
     Generate(cli::generate::GenerateArgs),
+    /// Imports a surveyed wall (a traced elevation: SVG, GeoJSON, DXF; scanned stones: OBJ, STL)
+    /// as a layout (docs/survey.md).
+    Import(cli::import::ImportArgs),
     /// Model discrepancy: what the simulation gets wrong against the study's measured data,
     /// the physical effect that explains it (from a library of candidate effects, ranked by
     /// held-out error with margins calibrated on null data), the extended model and its gain.
@@ -124,6 +127,7 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Merge(a) => cli::study::merge(a),
         Command::Verify(a) => cli::verify::command(a),
         Command::Generate(a) => cli::generate::command(a),
+        Command::Import(a) => cli::import::command(a),
         Command::Discrepancy(a) => cli::discrepancy::discrepancy(a).map(|()| ExitCode::SUCCESS),
         Command::Synthesize(a) => cli::discrepancy::synthesize_command(a).map(|()| ExitCode::SUCCESS),
         Command::Design(a) => cli::design::command(a).map(|()| ExitCode::SUCCESS),

@@ -15,6 +15,7 @@ pub mod bench;
 pub mod design;
 pub mod discrepancy;
 pub mod generate;
+pub mod import;
 pub mod inplane;
 pub mod lateral;
 pub mod limit;

@@ -224,8 +224,11 @@ mod wall;
 
 pub use build::{PieceKind, Samples};
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
+pub(crate) use polygon::area as polygon_area;
+pub(crate) use realization::{centroid_z, extrude_polygon, hull_is_faithful};
 pub use realization::{generate, generate_batch, GeneratedWall, Piece, SectionPart};
 pub use spec::{WallKind, WallSpec};
+pub(crate) use wall::faces_at;
 pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 
 /// The wall of a test: the description `text` (TOML) with one material `m` (2000 kg/m³,

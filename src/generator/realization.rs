@@ -177,11 +177,7 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
         let mut built = Vec::new();
         for (part, suffix, polygon) in parts(wall, p) {
             let (lo, hi) = part.bounds();
-            let mut vertices = Vec::with_capacity(2 * polygon.len());
-            for &[x, z] in &polygon {
-                vertices.push([x, lo.y(wall, z), z]);
-                vertices.push([x, hi.y(wall, z), z]);
-            }
+            let vertices = extrude_polygon(&polygon, |z| (lo.y(wall, z), hi.y(wall, z)));
             let a = polygon::area(&polygon);
             let zc = centroid_z(&polygon, a);
             let width = match part {
@@ -402,7 +398,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
 
 /// True if the convex hull of `vertices` (as [`crate::geometry::ConvexBlock`] builds it for
 /// the DEM) has the volume `volume` (m³) to 1e-9 relative: the hull is the block.
-fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
+pub(crate) fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
     let v: Vec<crate::math::Vec3> = vertices.iter().map(|q| crate::math::Vec3::new(q[0], q[1], q[2])).collect();
     match crate::geometry::ConvexBlock::from_vertices(&v) {
         Ok(b) => (b.volume() - volume).abs() <= 1e-9 * volume.abs(),
@@ -410,8 +406,22 @@ fn hull_is_faithful(vertices: &[[f64; 3]], volume: f64) -> bool {
     }
 }
 
+/// The vertices of the prism of the elevation polygon `polygon` ((x, z), m) between the
+/// planes y = faces(z).0 and y = faces(z).1 (each affine in z, so that the prism of a convex
+/// polygon is convex): for every vertex (x, z), the points (x, y₋(z), z) and (x, y₊(z), z),
+/// in that order (table frame, m).
+pub(crate) fn extrude_polygon(polygon: &[[f64; 2]], faces: impl Fn(f64) -> (f64, f64)) -> Vec<[f64; 3]> {
+    let mut vertices = Vec::with_capacity(2 * polygon.len());
+    for &[x, z] in polygon {
+        let (y0, y1) = faces(z);
+        vertices.push([x, y0, z]);
+        vertices.push([x, y1, z]);
+    }
+    vertices
+}
+
 /// Centroid height of a polygon of signed area `a`.
-fn centroid_z(poly: &[[f64; 2]], a: f64) -> f64 {
+pub(crate) fn centroid_z(poly: &[[f64; 2]], a: f64) -> f64 {
     let n = poly.len();
     let mut s = 0.0;
     for i in 0..n {

@@ -177,16 +177,7 @@ impl Wall {
 
     /// y of the −y and +y faces at height z (m), table frame.
     pub fn faces_at(&self, z: f64) -> (f64, f64) {
-        let (bb, tb, h) = (self.base_width, self.top_width, self.height);
-        let s = z / h;
-        match self.batter {
-            Batter::Symmetric => {
-                let half = 0.5 * bb - 0.5 * (bb - tb) * s;
-                (-half, half)
-            }
-            Batter::VerticalNegativeY => (-0.5 * bb, 0.5 * bb - (bb - tb) * s),
-            Batter::VerticalPositiveY => (-0.5 * bb + (bb - tb) * s, 0.5 * bb),
-        }
+        faces_at(self.batter, self.base_width, self.top_width, self.height, z)
     }
 
     /// Width of the section at height z, m: `B − (B − b) z / H`.
@@ -211,6 +202,21 @@ impl Wall {
             HeadGap::VoidFraction(f) => f,
             _ => 0.0,
         }
+    }
+}
+
+/// y of the −y and +y faces at height z (m, table frame) of a section of width `bb` at
+/// z = 0 and `tb` at z = `h`, with the `batter` (the symmetric section is centred on y = 0;
+/// a vertical face is at y = ∓bb/2). Both faces are affine in z.
+pub(crate) fn faces_at(batter: Batter, bb: f64, tb: f64, h: f64, z: f64) -> (f64, f64) {
+    let s = z / h;
+    match batter {
+        Batter::Symmetric => {
+            let half = 0.5 * bb - 0.5 * (bb - tb) * s;
+            (-half, half)
+        }
+        Batter::VerticalNegativeY => (-0.5 * bb, 0.5 * bb - (bb - tb) * s),
+        Batter::VerticalPositiveY => (-0.5 * bb + (bb - tb) * s, 0.5 * bb),
     }
 }
 

@@ -19,6 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["limit"],
     &["protocol"],
     &["generator"],
+    &["survey"],
     &["verify", "benchmark"],
     &["effects"],
     &["ensemble", "stats"],

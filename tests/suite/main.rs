@@ -80,6 +80,7 @@ mod solver_seam;
 mod stiff_end_budget;
 mod stiffness_range;
 mod studies;
+mod survey;
 mod tilt_hand;
 mod timestep;
 mod verification;

@@ -1,0 +1,571 @@
+//! Surveyed walls → layouts: `drystone import`.
+//!
+//! A wall that exists is surveyed rather than generated: an elevation traced from a
+//! photograph as one outline per stone, or one closed mesh per scanned stone. [`import`]
+//! reads such a survey and writes the layout file the rest of the tool reads (the format of
+//! `drystone generate … --out LAYOUT.json`, [`crate::layout`]). See docs/survey.md.
+//!
+//! # Traced elevations (SVG, GeoJSON, DXF)
+//!
+//! Every stone is a closed polygon of the wall's elevation plane (x along the wall, z up),
+//! extruded through the wall's section as the generator extrudes its through stones
+//! ([`crate::generator`]: the faces `y₋(z)`, `y₊(z)` of a section of width B at the base
+//! and b at the top with its batter, [`Section`]). A convex outline is one block; a
+//! non-convex outline is refused, naming the stone and its convexity deficit, unless
+//! [`ImportOptions::hull_nonconvex`] replaces it by its convex hull (the volume added is
+//! reported). Outlines that overlap by more than [`crate::layout::OVERLAP_TOLERANCE_M`]
+//! are refused, naming both stones.
+//!
+//! * SVG: `<polygon>`, `<polyline>` (closed), `<rect>` and `<path>` (M, L,
+//!   H, V, Z, absolute and relative) with the `transform`s of the element and its groups;
+//!   SVG's y axis points down and is flipped (z = −y × scale). The scale, metres per user
+//!   unit, is [`ImportOptions::scale_m_per_unit`] or a `<line id="scale">` with a
+//!   `data-length-m` attribute (its length in metres).
+//! * GeoJSON: `Polygon` and `MultiPolygon` features, coordinates `[x, z]` in metres (times
+//!   the scale if one is given).
+//! * DXF (ASCII): closed `LWPOLYLINE`s without bulges, y up; the scale from
+//!   [`ImportOptions::scale_m_per_unit`] or the header's `$INSUNITS`.
+//!
+//! # Scanned stones (OBJ, STL)
+//!
+//! One closed triangle mesh per stone (a file, or an `o` object of an OBJ file; a folder of
+//! such files is read in file-name order); its convex hull is the block and its volume (by
+//! the divergence theorem) is reported beside the hull's. Units by [`LengthUnit`]; z up
+//! unless [`ImportOptions::y_up`]. A stone longer than [`MAX_STONE_M`] or shorter than
+//! [`MIN_STONE_M`] is refused as a probable unit mistake (traced stones too).
+//!
+//! # The frame
+//!
+//! The survey is translated into the table frame of [`crate::geometry`]: the lowest point
+//! of the wall on the table (z = 0), its leftmost point at x = 0; a traced wall's section is
+//! centred as the generator's (y = 0 its centre plane for a symmetric batter), a scanned
+//! wall's y extent is centred on y = 0. The table (the plane z = 0) is the foundation the
+//! lowest stones stand on, as in a generated wall's layout.
+
+mod dxf;
+mod elevation;
+mod geojson;
+mod mesh;
+mod svg;
+
+pub use elevation::Section;
+pub use mesh::LengthUnit;
+
+use crate::layout::{BaseSliding, LayoutError, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// The longest stone accepted, m: a longer one is a probable unit mistake.
+pub const MAX_STONE_M: f64 = 5.0;
+
+/// The shortest stone accepted (its longest extent), m: a shorter one is a probable unit
+/// mistake.
+pub const MIN_STONE_M: f64 = 0.005;
+
+/// The errors of an import. Each names the survey file and, for its contents, the
+/// element, feature, object or line at fault.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SurveyError {
+    /// The file could not be read.
+    #[error("cannot read survey {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file as a whole is wrong (not XML or JSON, no stone, no scale, unknown format).
+    #[error("{}: {reason}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// One element, feature, object or line of the file is wrong.
+    #[error("{}: {element}: {reason}", path.display())]
+    Element {
+        /// The file.
+        path: PathBuf,
+        /// The element (`<path id="s3"> at line 12`), feature (`feature 2 (id "s3")`), or
+        /// line (`line 40`).
+        element: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A traced stone whose outline is not convex (without `hull_nonconvex`).
+    #[error(
+        "{}: stone {stone} ({element}) is not convex: its convex hull adds {added_m2:.4e} m² ({:.2} % of its \
+         area {area_m2:.4e} m²; reflex corner at x = {:.4} m, z = {:.4} m); a block is a convex polyhedron: trace \
+         the stone as convex pieces, or import with --hull-nonconvex to take its convex hull",
+        path.display(), 100.0 * added_m2 / area_m2, corner[0], corner[1]
+    )]
+    NonConvex {
+        /// The file.
+        path: PathBuf,
+        /// The stone's id.
+        stone: String,
+        /// Its element or feature.
+        element: String,
+        /// The outline's area, m².
+        area_m2: f64,
+        /// The area its convex hull adds, m² (the convexity deficit).
+        added_m2: f64,
+        /// A reflex corner (x, z) in the table frame, m.
+        corner: [f64; 2],
+    },
+    /// Two stones overlap by more than the layout's tolerance.
+    #[error(
+        "{}: stones {a} and {b} overlap by {depth_m:.3e} m (tolerance {:e} m)",
+        path.display(), crate::layout::OVERLAP_TOLERANCE_M
+    )]
+    Overlap {
+        /// The file.
+        path: PathBuf,
+        /// The first stone: its id and element, `s3 (<path id="s3"> at line 12)`.
+        a: String,
+        /// The second stone, as `a`.
+        b: String,
+        /// The penetration depth, m.
+        depth_m: f64,
+    },
+    /// A stone whose size after the unit conversion is implausible.
+    #[error(
+        "{}: stone {stone} ({element}) is {extent_m:.4e} m long after conversion ({unit}): a stone between {MIN_STONE_M} \
+         and {MAX_STONE_M} m is expected; probable unit mistake",
+        path.display()
+    )]
+    Size {
+        /// The file.
+        path: PathBuf,
+        /// The stone's id.
+        stone: String,
+        /// Its element.
+        element: String,
+        /// Its longest extent, m.
+        extent_m: f64,
+        /// The conversion used (`--unit mm`, `--scale-m-per-unit 0.001`).
+        unit: String,
+    },
+    /// An option out of range or not for this format.
+    #[error("{option} = {value}: {reason}")]
+    Option {
+        /// The option, e.g. `--thickness-m`.
+        option: String,
+        /// Its value.
+        value: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The layout made from the survey fails the layout checks.
+    #[error("{}: the imported layout is invalid: {source}", path.display())]
+    Layout {
+        /// The survey file.
+        path: PathBuf,
+        /// The cause.
+        source: LayoutError,
+    },
+}
+
+/// The survey formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SurveyFormat {
+    /// A traced elevation drawn in SVG.
+    Svg,
+    /// A traced elevation as GeoJSON polygons (metres).
+    Geojson,
+    /// A traced elevation as closed LWPOLYLINEs of an ASCII DXF drawing.
+    Dxf,
+    /// Scanned stones, Wavefront OBJ meshes.
+    Obj,
+    /// Scanned stones, STL meshes (ASCII or binary).
+    Stl,
+}
+
+impl SurveyFormat {
+    /// The format of a file by its extension (`.svg`, `.geojson` or `.json`, `.dxf`,
+    /// `.obj`, `.stl`; any case), if it is one.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "svg" => Some(Self::Svg),
+            "geojson" | "json" => Some(Self::Geojson),
+            "dxf" => Some(Self::Dxf),
+            "obj" => Some(Self::Obj),
+            "stl" => Some(Self::Stl),
+            _ => None,
+        }
+    }
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Svg => "svg",
+            Self::Geojson => "geojson",
+            Self::Dxf => "dxf",
+            Self::Obj => "obj",
+            Self::Stl => "stl",
+        }
+    }
+
+    /// Whether it is a traced elevation (SVG, GeoJSON) rather than scanned stones.
+    pub fn is_elevation(self) -> bool {
+        matches!(self, Self::Svg | Self::Geojson | Self::Dxf)
+    }
+}
+
+impl std::str::FromStr for SurveyFormat {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "svg" => Ok(Self::Svg),
+            "geojson" => Ok(Self::Geojson),
+            "dxf" => Ok(Self::Dxf),
+            "obj" => Ok(Self::Obj),
+            "stl" => Ok(Self::Stl),
+            _ => Err(format!("unknown survey format {s:?}: svg, geojson, dxf, obj or stl")),
+        }
+    }
+}
+
+/// The materials of an imported wall: the layout's material fields ([`MaterialSpec`]), the
+/// stones' material (a stone may name another: `data-material` in SVG, the `material`
+/// property in GeoJSON) and the table's.
+///
+/// As a TOML file (`--materials FILE`):
+///
+/// ```toml
+/// stone_material = "granite"   # default: the first material
+/// table_material = "granite"   # default: the stone material
+/// [[materials]]                # the keys of a layout's (and a wall description's) materials
+/// name = "granite"
+/// density_kg_per_m3 = 2600
+/// kn_pa_per_m = 1.0e9
+/// ks_pa_per_m = 5.0e8
+/// friction_deg = 35
+/// ```
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurveyMaterials {
+    /// The materials.
+    pub materials: Vec<MaterialSpec>,
+    /// The stones' material. Default: the first.
+    #[serde(default)]
+    pub stone_material: Option<String>,
+    /// The table's material. Default: the stones'.
+    #[serde(default)]
+    pub table_material: Option<String>,
+}
+
+impl SurveyMaterials {
+    /// One material named `stone` for the stones and the table.
+    pub fn one(material: MaterialSpec) -> Self {
+        Self { materials: vec![material], stone_material: None, table_material: None }
+    }
+
+    /// Reads a materials file (TOML, above).
+    ///
+    /// # Errors
+    /// [`SurveyError::Io`], or [`SurveyError::File`] with toml's message (key, line).
+    pub fn from_file(path: &Path) -> Result<Self, SurveyError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })?;
+        toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })
+    }
+
+    /// The stones' material name.
+    fn stone(&self) -> String {
+        self.stone_material.clone().or_else(|| self.materials.first().map(|m| m.name.clone())).unwrap_or_default()
+    }
+}
+
+/// How to import a survey.
+#[derive(Debug, Clone)]
+pub struct ImportOptions {
+    /// The format; `None`: by the file's extension ([`SurveyFormat::from_path`]).
+    pub format: Option<SurveyFormat>,
+    /// Traced elevations: metres per unit of the drawing (SVG: per user unit; GeoJSON:
+    /// per coordinate unit, default 1). SVG needs it unless it has a scale line.
+    pub scale_m_per_unit: Option<f64>,
+    /// Traced elevations: the section the outlines are extruded through (required).
+    pub section: Option<Section>,
+    /// Traced elevations: a non-convex outline becomes its convex hull instead of an
+    /// error (the volume added is reported). Default false.
+    pub hull_nonconvex: bool,
+    /// Scanned stones: the unit of the mesh coordinates. `None`: metres.
+    pub unit: Option<LengthUnit>,
+    /// Scanned stones: the mesh's y axis is up (converted by the rotation (x, y, z) →
+    /// (x, −z, y) about x). Default false: z up.
+    pub y_up: bool,
+    /// The materials.
+    pub materials: SurveyMaterials,
+    /// The base course's restraint on the table. Default free.
+    pub base_sliding: BaseSliding,
+    /// The layout's name; `None`: the survey's file name.
+    pub name: Option<String>,
+}
+
+/// One stone as the survey gave it: an outline (traced) or a mesh (scanned), before it is
+/// made a block.
+#[derive(Debug, Clone)]
+pub(crate) struct Stone {
+    /// The stone's id in the layout.
+    pub id: String,
+    /// Where it is in the file (`<path id="s3"> at line 12`, `feature 2`, `object "a"`).
+    pub element: String,
+    /// Its material, if the survey names one.
+    pub material: Option<String>,
+}
+
+/// One traced outline: the stone and its corners (x, z) in the survey's frame after the
+/// scale, m (open: the closing corner is not repeated).
+#[derive(Debug, Clone)]
+pub(crate) struct Outline {
+    pub stone: Stone,
+    pub points: Vec<[f64; 2]>,
+}
+
+/// What became of one stone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoneReport {
+    /// The block's id.
+    pub id: String,
+    /// Where the stone is in the survey.
+    pub element: String,
+    /// The block's volume, m³ (the convex hull's for a hulled stone or a mesh).
+    pub block_volume_m3: f64,
+    /// The stone's own volume, m³: its outline's area × the section's width at its centroid
+    /// height (traced), or the closed mesh's volume (scanned).
+    pub survey_volume_m3: f64,
+    /// Whether the block is the stone's convex hull rather than the stone itself.
+    pub hulled: bool,
+}
+
+impl StoneReport {
+    /// The volume the block adds to the stone (its hull's excess), m³ (0 for a block that is
+    /// the stone).
+    pub fn added_m3(&self) -> f64 {
+        if self.hulled {
+            self.block_volume_m3 - self.survey_volume_m3
+        } else {
+            0.0
+        }
+    }
+}
+
+/// An imported wall: its layout and what became of each stone.
+#[derive(Debug, Clone)]
+pub struct ImportedWall {
+    /// The survey file (or folder).
+    pub source: PathBuf,
+    /// Its format.
+    pub format: SurveyFormat,
+    /// The layout (checked: it resolves).
+    pub layout: LayoutSpec,
+    /// One report per block, in layout order.
+    pub stones: Vec<StoneReport>,
+    /// The translation from the survey's frame (after scale and axes) to the table frame, m.
+    pub offset_m: [f64; 3],
+    /// The scale used (traced elevations), m per unit, and where it came from.
+    pub scale: Option<(f64, String)>,
+    /// The wall's length (x extent) and height (z extent), m.
+    pub length_m: f64,
+    /// See `length_m`.
+    pub height_m: f64,
+}
+
+impl ImportedWall {
+    /// The blocks' total volume, m³.
+    pub fn volume_m3(&self) -> f64 {
+        self.stones.iter().map(|s| s.block_volume_m3).sum()
+    }
+
+    /// The volume the convex hulls add to the stones, m³.
+    pub fn added_m3(&self) -> f64 {
+        self.stones.iter().map(StoneReport::added_m3).sum()
+    }
+
+    /// The number of blocks standing on the table: their lowest corner within 1e-9 m of
+    /// z = 0 (the others rest on stones, or fall when the wall settles).
+    pub fn on_table(&self) -> usize {
+        let lowest = |b: &crate::layout::BlockSpec| b.vertices.iter().map(|v| v[2]).fold(f64::INFINITY, f64::min);
+        self.layout.blocks.iter().filter(|b| lowest(b) <= 1e-9).count()
+    }
+}
+
+/// Imports the survey at `path` (a file, or for scanned stones a folder of OBJ and STL
+/// files read in file-name order) into a checked layout.
+///
+/// # Errors
+/// A [`SurveyError`] naming the file and the element, feature, object or line at fault;
+/// [`SurveyError::Option`] for an option that is out of range or not for the format.
+pub fn import(path: &Path, options: &ImportOptions) -> Result<ImportedWall, SurveyError> {
+    let format = match options.format {
+        Some(f) => f,
+        None if path.is_dir() => SurveyFormat::Obj,
+        None => SurveyFormat::from_path(path).ok_or_else(|| SurveyError::File {
+            path: path.to_owned(),
+            reason: "unknown survey format: name it with --format svg|geojson|dxf|obj|stl, or use one of the \
+                     extensions .svg, .geojson (.json), .dxf, .obj, .stl"
+                .into(),
+        })?,
+    };
+    check_options(format, options)?;
+    let mut wall =
+        if format.is_elevation() { elevation::import(path, format, options)? } else { mesh::import(path, options)? };
+    check_layout(path, &mut wall)?;
+    Ok(wall)
+}
+
+/// Refuses the options that do not apply to `format`, and out-of-range values.
+fn check_options(format: SurveyFormat, o: &ImportOptions) -> Result<(), SurveyError> {
+    let refuse = |option: &str, value: String, reason: &str| {
+        Err(SurveyError::Option { option: option.into(), value, reason: reason.into() })
+    };
+    if format.is_elevation() {
+        if let Some(u) = o.unit {
+            return refuse("--unit", u.name().into(), "is for scanned stones; a drawing's unit is --scale-m-per-unit");
+        }
+        if o.y_up {
+            return refuse("--y-up", "true".into(), "is for scanned stones; a drawing is an elevation (x, z)");
+        }
+        if let Some(s) = o.scale_m_per_unit {
+            if !(s.is_finite() && s > 0.0) {
+                return refuse("--scale-m-per-unit", s.to_string(), "must be a positive number (metres per unit)");
+            }
+        }
+        match &o.section {
+            None => return refuse("--thickness-m", "none".into(), "a traced elevation needs the wall's thickness"),
+            Some(s) => s.check()?,
+        }
+    } else {
+        if let Some(s) = o.scale_m_per_unit {
+            return refuse("--scale-m-per-unit", s.to_string(), "is for traced elevations; a mesh's unit is --unit");
+        }
+        if o.section.is_some() {
+            return refuse(
+                "--thickness-m",
+                "given".into(),
+                "is for traced elevations; a scanned stone has its own depth",
+            );
+        }
+        if o.hull_nonconvex {
+            return refuse(
+                "--hull-nonconvex",
+                "true".into(),
+                "is for traced elevations; a scanned stone is always its hull",
+            );
+        }
+    }
+    if o.materials.materials.is_empty() {
+        return refuse("--materials", "none".into(), "at least one material is needed");
+    }
+    Ok(())
+}
+
+/// The layout of the blocks `blocks` (id, material or `None` for the stones', vertices).
+pub(crate) fn layout_of(
+    path: &Path,
+    o: &ImportOptions,
+    blocks: Vec<(String, Option<String>, Vec<[f64; 3]>)>,
+) -> LayoutSpec {
+    let stone = o.materials.stone();
+    let table = o.materials.table_material.clone().unwrap_or_else(|| stone.clone());
+    let name = o.name.clone().unwrap_or_else(|| {
+        format!(
+            "{} (imported)",
+            path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+        )
+    });
+    LayoutSpec {
+        version: crate::layout::LAYOUT_VERSION,
+        name,
+        gravity_m_per_s2: crate::units::STANDARD_GRAVITY,
+        materials: o.materials.materials.clone(),
+        table: TableSpec { material: table },
+        blocks: blocks
+            .into_iter()
+            .map(|(id, material, vertices)| crate::layout::BlockSpec {
+                id,
+                material: material.unwrap_or_else(|| stone.clone()),
+                vertices,
+                fixed: false,
+                course: None,
+                wedge: false,
+            })
+            .collect(),
+        restraints: RestraintSpec { base_sliding: o.base_sliding, ends: vec![], ropes: vec![] },
+        monitors: vec![],
+        joint_families: Default::default(),
+    }
+}
+
+/// Checks the layout as `drystone tilt` would; an overlap of two blocks names both stones'
+/// elements.
+fn check_layout(path: &Path, wall: &mut ImportedWall) -> Result<(), SurveyError> {
+    match wall.layout.resolve() {
+        Ok(_) => Ok(()),
+        Err(LayoutError::Overlap { a, b, depth_m }) => {
+            let named = |id: &str| {
+                wall.stones
+                    .iter()
+                    .find(|s| s.id == id)
+                    .map_or_else(|| "the table".to_string(), |s| format!("{id} ({})", s.element))
+            };
+            Err(SurveyError::Overlap { path: path.to_owned(), a: named(&a), b: named(&b), depth_m })
+        }
+        Err(source) => Err(SurveyError::Layout { path: path.to_owned(), source }),
+    }
+}
+
+/// Refuses ids given twice, naming both elements.
+pub(crate) fn check_unique_ids(path: &Path, stones: &[Stone]) -> Result<(), SurveyError> {
+    let mut seen: std::collections::BTreeMap<&str, &str> = std::collections::BTreeMap::new();
+    for s in stones {
+        if let Some(first) = seen.insert(&s.id, &s.element) {
+            return Err(SurveyError::Element {
+                path: path.to_owned(),
+                element: s.element.clone(),
+                reason: format!("id {:?} is also the id of {first}; every stone needs its own id", s.id),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a stone that names a material not among the materials given, naming its element.
+pub(crate) fn check_materials(path: &Path, stones: &[Stone], o: &ImportOptions) -> Result<(), SurveyError> {
+    let names: Vec<&str> = o.materials.materials.iter().map(|m| m.name.as_str()).collect();
+    for s in stones {
+        if let Some(m) = s.material.as_deref().filter(|m| !names.contains(m)) {
+            return Err(SurveyError::Element {
+                path: path.to_owned(),
+                element: s.element.clone(),
+                reason: format!("material {m:?} is not among the materials given ({})", names.join(", ")),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a stone whose longest extent `extent_m` is outside [`MIN_STONE_M`],
+/// [`MAX_STONE_M`] (a probable unit mistake; `unit` names the conversion used).
+pub(crate) fn check_size(path: &Path, stone: &Stone, extent_m: f64, unit: &str) -> Result<(), SurveyError> {
+    if (MIN_STONE_M..=MAX_STONE_M).contains(&extent_m) {
+        return Ok(());
+    }
+    Err(SurveyError::Size {
+        path: path.to_owned(),
+        stone: stone.id.clone(),
+        element: stone.element.clone(),
+        extent_m,
+        unit: unit.to_owned(),
+    })
+}
+
+/// Reads a file as text.
+pub(crate) fn read_text(path: &Path) -> Result<String, SurveyError> {
+    std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })
+}
