@@ -18,9 +18,11 @@ use serde::Serialize;
 pub struct FittedParameter {
     /// `effect.param`.
     pub name: String,
-    /// The fitted value.
+    /// The fitted value: in the range of the analysed walls' kind when they all declare
+    /// the same one (the value the runs applied, [`crate::effects::ParamDef::at_for`]), in
+    /// the broad range otherwise (the report gives the values per kind).
     pub value: f64,
-    /// The interval (lower, upper).
+    /// The interval (lower, upper), in the same range.
     pub interval: (f64, f64),
 }
 

@@ -657,14 +657,23 @@ fn weigh(
 fn fitted_parameters(cause: &Ranked, c: &Candidate, data: Data<'_>) -> Vec<FittedParameter> {
     let all: Vec<usize> = (0..data.obs.len()).collect();
     let iv = fit::profile_intervals(&c.surface, data, &data.pinning(&all), &cause.x);
+    // Walls of one declared kind: the values in that kind's ranges, as the runs applied them.
+    let kind = match c.kinds.as_slice() {
+        [k] => Some(*k),
+        _ => None,
+    };
     cause
         .parameters
         .iter()
         .zip(c.params.iter().zip(iv))
-        .map(|((name, value), (p, (lo, hi)))| FittedParameter {
-            name: name.clone(),
-            value: *value,
-            interval: (to_value(p, lo), to_value(p, hi)),
+        .zip(&cause.x)
+        .map(|(((name, value), (p, (lo, hi))), &x)| match kind {
+            Some(k) => FittedParameter {
+                name: name.clone(),
+                value: p.at_for(Some(k), x),
+                interval: (p.at_for(Some(k), lo), p.at_for(Some(k), hi)),
+            },
+            None => FittedParameter { name: name.clone(), value: *value, interval: (to_value(p, lo), to_value(p, hi)) },
         })
         .collect()
 }
