@@ -469,11 +469,6 @@ pub struct VerticalLoadRig {
 }
 
 impl VerticalLoadRig {
-    /// Whether it is the ideal rig (every term zero).
-    pub fn is_ideal(&self) -> bool {
-        self.reads_only().is_none() && !self.moves_wall()
-    }
-
     /// The rig's terms that the readings carry, if any (the others zero), or `None` when
     /// they are all zero.
     pub fn reads_only(&self) -> Option<VerticalLoadRig> {
