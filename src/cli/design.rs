@@ -67,8 +67,8 @@ pub fn command(a: DesignArgs) -> Result<()> {
     }
     let obs = observations_of(&st, s.sigma)?;
     let mut setup = setup_of(&st, s.most_realizations());
-    setup.store = a.input.store()?;
-    let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-design", st.name)));
+    let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-design", st.name)));
+    setup.store = a.input.store(&dir, &st.name)?;
     let held = HeldDir::acquire(&dir)?;
     let pool = super::discrepancy::pool(a.input.threads)?;
     let t0 = std::time::Instant::now();

@@ -34,22 +34,42 @@ pub struct AnalysisInput {
     pub measured: Option<PathBuf>,
     /// Directory of forward runs kept between commands and processes (made if absent):
     /// a run of the same build, study inputs, model and realization already in it is read
-    /// instead of made again, the same bit for bit, and every run made is kept there. Give
-    /// the same directory to `drystone discrepancy`, `drystone design` and the analysis of
-    /// the follow-up study it writes, and each runs only what the others have not.
-    /// Default: none, every run is made.
+    /// instead of made again, the same bit for bit, and every run made is kept there.
+    /// Default: `NAME-runs` beside the output directory (`out/NAME-runs` for the default
+    /// output directories, NAME the study's name), so that `drystone discrepancy` and
+    /// `drystone design` of one study read each other's runs; give the same directory to
+    /// the analysis of the follow-up study a design writes, and each runs only what the
+    /// others have not.
     #[arg(long, value_name = "DIR")]
     pub run_store: Option<PathBuf>,
+    /// Keep no forward run and read none: every run is made (no run store).
+    #[arg(long, conflicts_with = "run_store")]
+    pub no_run_store: bool,
 }
 
 impl AnalysisInput {
-    /// The run store of `--run-store`, opened (`None` without the option).
-    pub fn store(&self) -> Result<Option<std::sync::Arc<drystone::discrepancy::RunStore>>> {
-        match &self.run_store {
-            None => Ok(None),
-            Some(dir) => Ok(Some(std::sync::Arc::new(drystone::discrepancy::RunStore::open(dir)?))),
+    /// The run store of `--run-store`, or by default `NAME-runs` beside the output
+    /// directory `out` of the study named `study_name` ([`default_store_dir`]), opened;
+    /// `None` with `--no-run-store`.
+    pub fn store(
+        &self,
+        out: &Path,
+        study_name: &str,
+    ) -> Result<Option<std::sync::Arc<drystone::discrepancy::RunStore>>> {
+        if self.no_run_store {
+            return Ok(None);
         }
+        let dir = self.run_store.clone().unwrap_or_else(|| default_store_dir(out, study_name));
+        Ok(Some(std::sync::Arc::new(drystone::discrepancy::RunStore::open(dir)?)))
     }
+}
+
+/// The default run store of a study named `study_name` whose analysis writes to `out`:
+/// `NAME-runs` in `out`'s parent directory (`out/NAME-runs` for the default
+/// `out/NAME-discrepancy` and `out/NAME-design`).
+pub(crate) fn default_store_dir(out: &Path, study_name: &str) -> PathBuf {
+    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or_else(|| Path::new("."));
+    parent.join(format!("{study_name}-runs"))
 }
 
 /// The line a command prints of its run store: runs read and kept, and a warning when runs
@@ -139,8 +159,8 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     }
     let obs = observations_of(&st, s.sigma)?;
     let mut setup = setup_of(&st, s.most_realizations());
-    setup.store = a.input.store()?;
-    let dir = a.input.out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
+    let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
+    setup.store = a.input.store(&dir, &st.name)?;
     // The directory is held from here to the end: a second command on it is refused.
     let held = HeldDir::acquire(&dir)?;
     let pool = pool(a.input.threads)?;
@@ -244,8 +264,8 @@ fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     for g in &mut input.setup.groups {
         g.realizations = s.most_realizations();
     }
-    input.setup.store = a.input.store()?;
     let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", input.name)));
+    input.setup.store = a.input.store(&dir, &input.name)?;
     let held = HeldDir::acquire(&dir)?;
     let pool = pool(a.input.threads)?;
     let t0 = std::time::Instant::now();

@@ -211,3 +211,52 @@ fn a_store_that_cannot_be_written_warns_naming_its_directory() {
     );
     std::fs::remove_file(&*dir).unwrap();
 }
+
+/// The run store is on by default, beside the output directory (`NAME-runs`): a second
+/// cold `drystone discrepancy` of the same study into another output directory reads every
+/// run the first made and writes the same report, byte for byte; `--no-run-store` makes
+/// every run and keeps none, and writes the same report again. The reference is the first
+/// command, which made every run itself.
+#[test]
+fn the_default_run_store_lets_cold_commands_on_one_study_read_each_others_runs() {
+    let dir = Scratch::created("run-store-default");
+    let text = std::fs::read_to_string(STUDY).unwrap();
+    let walls = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/discrepancy/walls");
+    let mut rows = String::from("specimen,group,collapse_angle_deg\n");
+    for (i, (free, held)) in [(26.0, 33.5), (25.5, 34.0), (26.5, 33.0)].into_iter().enumerate() {
+        rows += &format!("F{i},FREE,{free}\nH{i},HELD,{held}\n");
+    }
+    std::fs::write(dir.join("collapse.csv"), rows).unwrap();
+    let study = text.replace("walls/", &format!("{}/", walls.display())).replacen(
+        "[discrepancy]\n",
+        "[discrepancy]\neffects = [\"kn_scale\"]\n",
+        1,
+    ) + "\n[measured]\ncollapse = \"collapse.csv\"\n";
+    std::fs::write(dir.join("s.toml"), study).unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+            .args(["discrepancy", "s.toml", "--out", out, "--threads", "2", "--realizations", "1", "--no-confirm"])
+            .args(extra)
+            .current_dir(&*dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        (err, std::fs::read_to_string(dir.join(out).join("discrepancy.md")).unwrap())
+    };
+    let store_line = |log: &str| log.lines().find(|l| l.starts_with("run store ")).map(str::to_owned);
+    let (first, report) = run("out/first", &[]);
+    let line = store_line(&first).expect("a store line");
+    assert!(
+        line.starts_with("run store out/small_walls-runs: 0 run(s) read, ") && !line.ends_with(" 0 kept"),
+        "{line}"
+    );
+    let kept: usize = line.rsplit(", ").next().unwrap().trim_end_matches(" kept").parse().unwrap();
+    assert!(dir.join("out/small_walls-runs").is_dir());
+    let (second, again) = run("out/second", &[]);
+    assert_eq!(store_line(&second).unwrap(), format!("run store out/small_walls-runs: {kept} run(s) read, 0 kept"));
+    assert_eq!(again, report);
+    let (none, made) = run("out/third", &["--no-run-store"]);
+    assert_eq!(store_line(&none), None, "{none}");
+    assert_eq!(made, report);
+}
