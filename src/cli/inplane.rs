@@ -45,6 +45,22 @@ pub struct InPlaneArgs {
     /// 1.5, 2, 2.5, 3, 4 … up to --drift-pct).
     #[arg(long, value_name = "PCT,PCT,...", value_delimiter = ',')]
     amplitudes_pct: Option<Vec<f64>>,
+    /// A cyclic history replayed point by point: the drifts the actuator turns at, %, signed,
+    /// in order (e.g. 0.1,-0.1,0.2,-0.2,0); implies --cyclic.
+    #[arg(
+        long,
+        value_name = "PCT,PCT,...",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        conflicts_with_all = ["amplitudes_pct", "replay"]
+    )]
+    reversals_pct: Option<Vec<f64>>,
+    /// A measured curve file (`top_displacement, horizontal_force, drift` in mm, kN, %, four
+    /// header lines, as the bundled data's `curves/FD_*.csv`) whose history is replayed: its
+    /// drift column's turning points (a retreat of more than 0.02 % of drift from the running
+    /// extreme turns it), in the file's order; implies --cyclic.
+    #[arg(long, value_name = "FILE", conflicts_with = "amplitudes_pct")]
+    replay: Option<PathBuf>,
     /// Cycles per amplitude.
     #[arg(long, default_value_t = InPlaneParams::default().cycles)]
     cycles: u32,
@@ -81,6 +97,30 @@ pub struct InPlaneArgs {
 /// a useful end (a million asked ran on, its memory growing).
 pub use drystone::loading::inplane::MAX_QUARTER_INCREMENTS;
 
+/// The turning points of the measured curve `file` (its drift column, %), checked to lie
+/// within ±`drift_pct`.
+///
+/// # Errors
+/// The file unreadable or a line not three numbers (named), no turning point, or a point
+/// past `drift_pct` (naming `--drift-pct`).
+fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
+    let points = drystone::study::inplane::read_envelope(file)?;
+    let drifts: Vec<f64> = points.iter().map(|p| p.0).collect();
+    let turns =
+        drystone::loading::inplane_loops::turning_points(&drifts, drystone::loading::inplane_loops::TURNING_NOISE_PCT);
+    if turns.is_empty() {
+        bail!("{}: no turning point: the drift column never leaves ±0.02 %", file.display());
+    }
+    let largest = turns.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if largest > drift_pct {
+        bail!(
+            "{}: the history reaches {largest} % of drift, past --drift-pct {drift_pct}: give --drift-pct {largest} or more",
+            file.display()
+        );
+    }
+    Ok(turns)
+}
+
 /// The beam's rotation on the command line.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum Rotation {
@@ -94,12 +134,19 @@ enum Rotation {
 /// A bad option or layout (named), a refused solver, a run that fails, an output that
 /// cannot be written.
 pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
+    let reversals_pct = match (&a.reversals_pct, &a.replay) {
+        (Some(r), _) => Some(r.clone()),
+        (None, Some(file)) => Some(replayed(file, a.drift_pct)?),
+        (None, None) => None,
+    };
+    let cyclic = a.cyclic || reversals_pct.is_some();
     let params = InPlaneParams {
         sigma0_mpa: a.sigma0_mpa,
         shear_span_m: a.shear_span_m,
         drift_pct: a.drift_pct,
-        history: if a.cyclic { History::Cyclic } else { History::Monotonic },
+        history: if cyclic { History::Cyclic } else { History::Monotonic },
         amplitudes_pct: a.amplitudes_pct.clone(),
+        reversals_pct,
         cycles: a.cycles,
         beam_rotation: match a.beam_rotation {
             Rotation::Free => BeamRotation::Free,

@@ -152,6 +152,16 @@ pub struct InPlaneParams {
     /// The displacement increment of one static solve, mm, > 0 \[0.25\]; the first 2.5 mm
     /// of a monotonic run take a fifth of it ([`InPlaneParams::path`]).
     pub step_mm: f64,
+    /// A cyclic history replayed point by point, drift % (signed; the points the actuator
+    /// turned at, in the order it reached them, as a specimen's measured curve gives them:
+    /// [`crate::loading::inplane_loops::turning_points`]): 0 → r₁ → r₂ → … → rₙ, each
+    /// leg in increments of `step_mm` or a `quarter_increments`-th of the larger of its
+    /// two ends' drifts, whichever is smaller (the ladder's increments on a ladder's
+    /// points). It is given with a cyclic history only, never with `amplitudes_pct`;
+    /// `cycles` is not read with it; every |rᵢ| is at most
+    /// `drift_pct` and no two consecutive points are equal \[unset\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reversals_pct: Option<Vec<f64>>,
     /// The fewest static solves of a quarter cycle (0 → a, a → 0, …) of a cyclic history,
     /// ≥ 2 \[8\]: a quarter cycle takes increments of `step_mm` or a `quarter_increments`-th
     /// of its amplitude, whichever is smaller (the first increments of a run and of each
@@ -172,6 +182,7 @@ impl Default for InPlaneParams {
             beam_rotation: BeamRotation::Free,
             step_mm: 0.25,
             quarter_increments: 8,
+            reversals_pct: None,
         }
     }
 }
@@ -216,6 +227,37 @@ impl InPlaneParams {
                 "given: a free beam rotation needs the height of the horizontal force (H0, m)",
             ));
         }
+        if let Some(r) = &self.reversals_pct {
+            if self.history != History::Cyclic {
+                return Err(OutOfRange::new("reversals_pct", f64::NAN, "given with history = \"cyclic\" only"));
+            }
+            if self.amplitudes_pct.is_some() {
+                return Err(OutOfRange::new(
+                    "amplitudes_pct",
+                    f64::NAN,
+                    "not given with reversals_pct (the replayed points are the history)",
+                ));
+            }
+            if r.is_empty() {
+                return Err(OutOfRange::new("reversals_pct", f64::NAN, "not empty"));
+            }
+            for (i, &v) in r.iter().enumerate() {
+                check_ranges(&[(
+                    "reversals_pct",
+                    v,
+                    v.is_finite() && v.abs() <= self.drift_pct,
+                    "each within ±drift_pct (drift %, signed)",
+                )])?;
+                let before = if i == 0 { 0.0 } else { r[i - 1] };
+                if v == before {
+                    return Err(OutOfRange::new(
+                        "reversals_pct",
+                        v,
+                        "no point equal to the one before it (the first: not 0, where the history starts)",
+                    ));
+                }
+            }
+        }
         if let Some(a) = &self.amplitudes_pct {
             if a.is_empty() {
                 return Err(OutOfRange::new("amplitudes_pct", f64::NAN, "not empty"));
@@ -242,7 +284,13 @@ impl InPlaneParams {
     pub fn check_path(&self, height_m: f64) -> Result<(), OutOfRange> {
         let travel: f64 = match self.history {
             History::Monotonic => self.drift_pct / 100.0 * height_m,
-            History::Cyclic => 4.0 * f64::from(self.cycles) * self.amplitudes().iter().sum::<f64>() / 100.0 * height_m,
+            History::Cyclic => match &self.reversals_pct {
+                Some(r) => {
+                    let legs: f64 = r.iter().scan(0.0, |at, &v| Some((v - std::mem::replace(at, v)).abs())).sum();
+                    legs / 100.0 * height_m
+                }
+                None => 4.0 * f64::from(self.cycles) * self.amplitudes().iter().sum::<f64>() / 100.0 * height_m,
+            },
         };
         if travel / (self.step_mm * 1e-3) > MAX_INCREMENTS as f64 {
             return Err(OutOfRange::new(
@@ -294,6 +342,15 @@ impl InPlaneParams {
                 go(&mut path, fine, step / 5.0);
                 if target > fine {
                     go(&mut path, target, step);
+                }
+            }
+            History::Cyclic if self.reversals_pct.is_some() => {
+                let mut from = 0.0f64;
+                for &r in self.reversals_pct.as_deref().unwrap_or_default() {
+                    let to = r / 100.0 * height_m;
+                    let inc = step.min(to.abs().max(from.abs()) / f64::from(self.quarter_increments));
+                    go(&mut path, to, inc);
+                    from = to;
                 }
             }
             History::Cyclic => {

@@ -40,6 +40,7 @@ mod implicit;
 mod inplane;
 mod inplane_discrepancy;
 mod inplane_loops;
+mod inplane_replay;
 mod inplane_rig;
 mod joint_families;
 mod lateral;
