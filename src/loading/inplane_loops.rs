@@ -111,6 +111,44 @@ pub fn loop_damping_ratio(curve: &[(f64, f64)], min_amplitude: f64) -> f64 {
     }
 }
 
+/// The drift a measured history must retreat from its running extreme to turn, %: twice
+/// the curve files' rounding of the drift (0.01 %), so that a reading's last digit never
+/// makes a turning point.
+pub const TURNING_NOISE_PCT: f64 = 0.02;
+
+/// The turning points of a drift history `drift_pct` (%, in the order it was read): the
+/// running extreme of each leg, taken where the drift retreats from it by more than
+/// `noise_pct` (a hysteresis band: readings that wander within it neither end a leg nor
+/// start one), then the extreme of the last leg, where the history ends. Readings before
+/// the drift first leaves ±`noise_pct` are skipped; the direction of the first leg is the
+/// data's, whichever it is. The result is what [`InPlaneParams::reversals_pct`] replays
+/// (`crate::loading::inplane::InPlaneParams`); empty for a history that never leaves the
+/// band.
+///
+/// [`InPlaneParams::reversals_pct`]: crate::loading::inplane::InPlaneParams::reversals_pct
+pub fn turning_points(drift_pct: &[f64], noise_pct: f64) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::new();
+    let (mut dir, mut extreme) = (0.0f64, 0.0f64);
+    for &d in drift_pct.iter().filter(|d| d.is_finite()) {
+        if dir == 0.0 {
+            if d.abs() > noise_pct {
+                (dir, extreme) = (d.signum(), d);
+            }
+            continue;
+        }
+        if (d - extreme) * dir > 0.0 {
+            extreme = d;
+        } else if (extreme - d) * dir > noise_pct {
+            out.push(extreme);
+            (dir, extreme) = (-dir, d);
+        }
+    }
+    if dir != 0.0 && out.last() != Some(&extreme) {
+        out.push(extreme);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,42 +227,4 @@ mod tests {
         assert!((a - b).abs() < 1e-12 && (a - c).abs() < 1e-12, "{a} {b} {c}");
         assert!(loop_damping_ratio(&[(0.0, 0.0), (1.0, 1.0), (2.0, 1.5)], 0.0).is_nan());
     }
-}
-
-/// The drift a measured history must retreat from its running extreme to turn, %: twice
-/// the curve files' rounding of the drift (0.01 %), so that a reading's last digit never
-/// makes a turning point.
-pub const TURNING_NOISE_PCT: f64 = 0.02;
-
-/// The turning points of a drift history `drift_pct` (%, in the order it was read): the
-/// running extreme of each leg, taken where the drift retreats from it by more than
-/// `noise_pct` (a hysteresis band: readings that wander within it neither end a leg nor
-/// start one), then the extreme of the last leg, where the history ends. Readings before
-/// the drift first leaves ±`noise_pct` are skipped; the direction of the first leg is the
-/// data's, whichever it is. The result is what [`InPlaneParams::reversals_pct`] replays
-/// (`crate::loading::inplane::InPlaneParams`); empty for a history that never leaves the
-/// band.
-///
-/// [`InPlaneParams::reversals_pct`]: crate::loading::inplane::InPlaneParams::reversals_pct
-pub fn turning_points(drift_pct: &[f64], noise_pct: f64) -> Vec<f64> {
-    let mut out: Vec<f64> = Vec::new();
-    let (mut dir, mut extreme) = (0.0f64, 0.0f64);
-    for &d in drift_pct.iter().filter(|d| d.is_finite()) {
-        if dir == 0.0 {
-            if d.abs() > noise_pct {
-                (dir, extreme) = (d.signum(), d);
-            }
-            continue;
-        }
-        if (d - extreme) * dir > 0.0 {
-            extreme = d;
-        } else if (extreme - d) * dir > noise_pct {
-            out.push(extreme);
-            (dir, extreme) = (-dir, d);
-        }
-    }
-    if dir != 0.0 && out.last() != Some(&extreme) {
-        out.push(extreme);
-    }
-    out
 }
