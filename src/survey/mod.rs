@@ -556,6 +556,15 @@ pub(crate) fn check_size(path: &Path, stone: &Stone, extent_m: f64, unit: &str) 
     if (MIN_STONE_M..=MAX_STONE_M).contains(&extent_m) {
         return Ok(());
     }
+    if !(extent_m > 0.0) {
+        // A stone of no extent (a mesh without triangles, an outline a transform collapses):
+        // not a unit mistake.
+        return Err(SurveyError::Element {
+            path: path.to_owned(),
+            element: stone.element.clone(),
+            reason: format!("stone {} has no extent (every corner at one point)", stone.id),
+        });
+    }
     Err(SurveyError::Size {
         path: path.to_owned(),
         stone: stone.id.clone(),
@@ -563,6 +572,16 @@ pub(crate) fn check_size(path: &Path, stone: &Stone, extent_m: f64, unit: &str) 
         extent_m,
         unit: unit.to_owned(),
     })
+}
+
+/// A number as the survey's messages print it (m, a scale): plain between 1e-4 and 1e6, in
+/// scientific notation outside (a scale of 1e300 is not written out in 301 digits).
+pub fn short_number(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// Reads a file as text.
