@@ -241,6 +241,32 @@ impl InPlaneParams {
         Ok(())
     }
 
+    /// A key given that no run of these parameters reads, with the reason; `any_cyclic`:
+    /// whether any run is cyclic (a study's `[in_plane]` table is shared by its groups,
+    /// each with its own history). The cyclic history's keys (`amplitudes_pct`, and
+    /// `cycles`, `quarter_increments` away from their defaults) when no run is cyclic; the
+    /// shear span with the beam's rotation held. A study refuses it by name, as the
+    /// command line refuses the flags, rather than run without it.
+    pub fn unread_key(&self, any_cyclic: bool) -> Option<(&'static str, &'static str)> {
+        let d = InPlaneParams::default();
+        let cyclic_only = "is read only by a cyclic history, and every run here is monotonic";
+        if !any_cyclic {
+            if self.amplitudes_pct.is_some() {
+                return Some(("amplitudes_pct", cyclic_only));
+            }
+            if self.cycles != d.cycles {
+                return Some(("cycles", cyclic_only));
+            }
+            if self.quarter_increments != d.quarter_increments {
+                return Some(("quarter_increments", cyclic_only));
+            }
+        }
+        if self.beam_rotation == BeamRotation::Fixed && self.shear_span_m.is_some() {
+            return Some(("shear_span_m", "is not read with beam_rotation = \"fixed\" (the beam held level has no shear span)"));
+        }
+        None
+    }
+
     /// Checks that the path of a wall of height `height_m` (the lever of
     /// [`InPlaneParams::path`]) is at most [`MAX_INCREMENTS`] static solves.
     ///

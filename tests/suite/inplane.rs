@@ -749,3 +749,35 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A study's `[in_plane]` keys that none of its runs reads are refused by name, as the
+/// command line refuses the flags: the cyclic history's keys when every group is
+/// monotonic, the shear span with the beam held level (they were accepted and ignored).
+#[test]
+fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-study-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let wall = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/walls/granite_vasconcelos.toml");
+    let study = |table: &str, history: &str| {
+        format!(
+            "version = 1\nname = \"p\"\nseed = 1\nrealizations = 1\nprotocol = \"in_plane\"\n[in_plane]\n{table}\n\
+             [[groups]]\nname = \"g\"\nwall = {:?}\nsigma0_mpa = 0.5\nhistory = \"{history}\"\n",
+            wall.to_str().unwrap()
+        )
+    };
+    for (table, history, key) in [
+        ("shear_span_m = 1.325\namplitudes_pct = [0.1, 0.2]", "monotonic", "in_plane.amplitudes_pct"),
+        ("shear_span_m = 1.325\ncycles = 3", "monotonic", "in_plane.cycles"),
+        ("shear_span_m = 1.325\nquarter_increments = 20", "monotonic", "in_plane.quarter_increments"),
+        ("shear_span_m = 1.325\nbeam_rotation = \"fixed\"", "monotonic", "in_plane.shear_span_m"),
+    ] {
+        let path = dir.join("s.toml");
+        std::fs::write(&path, study(table, history)).unwrap();
+        let err = drystone::study::inplane::load(&path).map(|_| ()).unwrap_err().to_string();
+        assert!(err.contains(key), "{table}: {err}");
+    }
+    let path = dir.join("s.toml");
+    std::fs::write(&path, study("shear_span_m = 1.325\ncycles = 3", "cyclic")).unwrap();
+    assert!(drystone::study::inplane::load(&path).is_ok());
+    let _ = std::fs::remove_dir_all(&dir);
+}
