@@ -262,7 +262,10 @@ impl InPlaneParams {
             }
         }
         if self.beam_rotation == BeamRotation::Fixed && self.shear_span_m.is_some() {
-            return Some(("shear_span_m", "is not read with beam_rotation = \"fixed\" (the beam held level has no shear span)"));
+            return Some((
+                "shear_span_m",
+                "is not read with beam_rotation = \"fixed\" (the beam held level has no shear span)",
+            ));
         }
         None
     }

@@ -87,9 +87,9 @@
 use super::mechanism::{mechanism, Mechanism};
 use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
+use super::tilt::after_snap;
 use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
-use super::tilt::after_snap;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
 use crate::dem::rope::{stiffness_bound, RopeLoad};
 use crate::dem::timestep::Stiffness;

@@ -209,7 +209,7 @@ pub(crate) fn after_snap(
     {
         return Ok(None);
     }
-    let lifted = TiltParams { collapse_increment_fraction: params.collapse_displacement_fraction, ..params.clone() };
+    let lifted = TiltParams { collapse_increment_fraction: params.collapse_displacement_fraction, ..*params };
     let fall = run(&lifted)?;
     if fall.last_stable_deg <= first.last_stable_deg + params.resolution_deg + 1e-9 {
         return Ok(None);
