@@ -118,7 +118,10 @@ pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, dam
     let iw_w = r * (b.inertia * (r.tr_mul(&b.angvel)));
     let gyro = b.angvel.cross(&iw_w);
     let rhs = t * b.inertia_scale_inv - gyro;
-    if c.anchor == Vec3::zeros() || c.translation.iter().all(Option::is_none) {
+    // An anchor at the centroid to rounding (the in-plane beam whose centroid is the
+    // actuator's point) adds nothing: the centroid's inertia, as for a free body.
+    let lever2 = c.anchor.norm_squared();
+    if b.mass * lever2 <= 1e-12 * b.inertia.diagonal().max() || c.translation.iter().all(Option::is_none) {
         b.angvel += r * (b.inv_inertia * r.tr_mul(&rhs)) * dt;
     } else {
         b.angvel += constrained_inertia(b, c).solve(&rhs) * dt;
