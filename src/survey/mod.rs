@@ -272,7 +272,20 @@ impl SurveyMaterials {
     /// [`SurveyError::Io`], or [`SurveyError::File`] with toml's message (key, line).
     pub fn from_file(path: &Path) -> Result<Self, SurveyError> {
         let text = std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })?;
-        toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })
+        let m: Self =
+            toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })?;
+        // A stone or table material the file does not define, named by its own key (the
+        // layout would name `table.material`, a key the user did not write).
+        let names: Vec<&str> = m.materials.iter().map(|x| x.name.as_str()).collect();
+        for (key, given) in [("stone_material", &m.stone_material), ("table_material", &m.table_material)] {
+            if let Some(g) = given.as_deref().filter(|g| !names.contains(g)) {
+                return Err(SurveyError::File {
+                    path: path.to_owned(),
+                    reason: format!("{key} = {g:?} is not among its [[materials]] ({})", names.join(", ")),
+                });
+            }
+        }
+        Ok(m)
     }
 
     /// The stones' material name.

@@ -629,3 +629,17 @@ fn hostile_surveys_are_refused_by_their_real_cause() {
     let e = error_of(&dir, "huge.geojson", geo, &traced(0.3, Some(1e300)));
     assert!(e.contains("1e300 m per unit") && e.len() < 400, "{e}");
 }
+
+/// A materials file naming a stone or table material it does not define is refused naming
+/// the file and its key (the layout used to name `table.material`, a key of its own).
+#[test]
+fn a_materials_file_naming_a_material_it_lacks_is_refused_by_its_key() {
+    let dir = Scratch::created("survey-materials-key");
+    let m = "[[materials]]\nname = \"g\"\ndensity_kg_per_m3 = 2600\nkn_pa_per_m = 1e9\nks_pa_per_m = 5e8\nfriction_deg = 35\n";
+    for key in ["stone_material", "table_material"] {
+        let path = write(&dir, "m.toml", &format!("{key} = \"nope\"\n{m}"));
+        let e = SurveyMaterials::from_file(&path).map(|_| ()).unwrap_err().to_string();
+        assert!(e.contains("m.toml") && e.contains(&format!("{key} = \"nope\" is not among")), "{e}");
+    }
+    assert!(SurveyMaterials::from_file(&write(&dir, "ok.toml", &format!("stone_material = \"g\"\n{m}"))).is_ok());
+}
