@@ -136,6 +136,9 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
     }
+    if a.cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
+        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    }
     if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
         bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
     }

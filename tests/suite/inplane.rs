@@ -737,6 +737,7 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
             vec!["--shear-span-m", "1.325", "--beam-rotation", "fixed"],
             "--shear-span-m is not read with --beam-rotation fixed",
         ),
+        (vec!["--shear-span-m", "1.325", "--cyclic", "--solver", "limit"], "--cyclic is not read by limit analysis"),
     ] {
         let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(base).args(&args).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
