@@ -147,7 +147,7 @@ fn summary(w: &ImportedWall) {
     let hulled = w.stones.iter().filter(|s| s.hulled).count();
     out!("survey            {} ({})", w.source.display(), w.format.name());
     if let Some((k, from)) = &w.scale {
-        out!("scale             {k} m per unit ({from})");
+        out!("scale             {} m per unit ({from})", drystone::survey::short_number(*k));
     }
     out!("stones read       {}", w.stones.len());
     out!("blocks made       {} ({hulled} convex hulls)", w.layout.blocks.len());

@@ -61,16 +61,17 @@ pub struct InPlaneArgs {
     /// extreme turns it), in the file's order; implies --cyclic.
     #[arg(long, value_name = "FILE", conflicts_with = "amplitudes_pct")]
     replay: Option<PathBuf>,
-    /// Cycles per amplitude.
-    #[arg(long, default_value_t = InPlaneParams::default().cycles)]
-    cycles: u32,
+    /// Cycles per amplitude (with --cyclic; default 2).
+    #[arg(long)]
+    cycles: Option<u32>,
     /// The loading beam's rotation: `free` (cantilever, the force at the shear span) or
     /// `fixed` (double-fixed).
     #[arg(long, value_enum, default_value = "free")]
     beam_rotation: Rotation,
-    /// Static solves per quarter cycle of a cyclic history, at most 1000.
-    #[arg(long, default_value_t = InPlaneParams::default().quarter_increments)]
-    quarter_increments: u32,
+    /// Static solves per quarter cycle of a cyclic history, at most 1000 (with --cyclic;
+    /// default 8).
+    #[arg(long)]
+    quarter_increments: Option<u32>,
     /// The imposed displacement's increment per static solve of a monotonic run, mm.
     #[arg(long, value_name = "MM", default_value_t = InPlaneParams::default().step_mm)]
     step_mm: f64,
@@ -147,29 +148,43 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         history: if cyclic { History::Cyclic } else { History::Monotonic },
         amplitudes_pct: a.amplitudes_pct.clone(),
         reversals_pct,
-        cycles: a.cycles,
+        cycles: a.cycles.unwrap_or(InPlaneParams::default().cycles),
         beam_rotation: match a.beam_rotation {
             Rotation::Free => BeamRotation::Free,
             Rotation::Fixed => BeamRotation::Fixed,
         },
         step_mm: a.step_mm,
-        quarter_increments: a.quarter_increments,
+        quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),
         measuring_height_m: a.measuring_height_m,
     };
-    if a.quarter_increments > MAX_QUARTER_INCREMENTS {
+    if params.quarter_increments > MAX_QUARTER_INCREMENTS {
         bail!(
             "--quarter-increments = {} must be at most {MAX_QUARTER_INCREMENTS} (static solves per quarter cycle; the \
              default is {})",
-            a.quarter_increments,
+            params.quarter_increments,
             InPlaneParams::default().quarter_increments
         );
     }
     if a.amplitudes_pct.is_some() && !a.cyclic {
         bail!("--amplitudes-pct gives the cycles' amplitudes: add --cyclic");
     }
+    if a.cycles.is_some() && !cyclic {
+        bail!("--cycles gives the cycles per amplitude of a cyclic history: add --cyclic");
+    }
+    if a.quarter_increments.is_some() && !cyclic {
+        bail!("--quarter-increments gives the static solves per quarter cycle of a cyclic history: add --cyclic");
+    }
+    if a.shear_span_m.is_some() && matches!(a.beam_rotation, Rotation::Fixed) {
+        bail!(
+            "--shear-span-m is not read with --beam-rotation fixed (the beam held level has no shear span): drop one"
+        );
+    }
     params.validate().map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
+    }
+    if cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
+        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
     }
     if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
         bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");

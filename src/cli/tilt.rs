@@ -319,6 +319,24 @@ fn print(layout: &Path, r: &TiltResult, rigid: bool) {
         r.collapse_angle_deg(),
         r.first_unstable_deg.map_or("none".into(), |a| format!("{a:.2} deg"))
     );
+    if let Some(c) = &r.after_snap {
+        out!(
+            "snap              the wall jumps past {:.2} deg and its ropes catch it ({:.1} mm out of plane)",
+            r.collapse_angle_deg(),
+            c.caught_displacement_m * 1e3
+        );
+        out!(
+            "falls             {}",
+            match c.falls_first_unstable_deg {
+                Some(a) => format!(
+                    "at {:.2} deg (last stable), first unstable {a:.2} deg ({})",
+                    c.falls_last_stable_deg,
+                    c.falls_reason.map_or("", |x| x.name())
+                ),
+                None => format!("never: it stands to {:.2} deg", c.falls_last_stable_deg),
+            }
+        );
+    }
     if let Some(reason) = r.collapse_reason {
         let note = if reason == drystone::loading::tilt::CollapseReason::StepBudget {
             " (undecided: the step budget ran out; the critical tilt may lie above)"

@@ -30,7 +30,11 @@
 //! The engine applies a constraint in its load stage (the held components leave the
 //! out-of-balance force, so that the unbalanced-force ratio measures only what can move,
 //! and the reaction's moment is added) and in its integration (the held velocities are
-//! zeroed and the anchor is put back on its target after the rotation of the step). A
+//! zeroed and the anchor is put back on its target after the rotation of the step); the body
+//! turns with its inertia about the anchor (the centroid's plus the parallel-axis term of
+//! the held translations, `integrator::constrained_inertia`), since the hold carries its
+//! centroid round the anchor: with the centroid's alone, an anchor far from the centroid
+//! (the in-plane beam at a large shear span) made the rotation outrun the time step. A
 //! constrained body moves by its scalar inertial mass: the block density scaling's 6 × 6
 //! mass matrix couples held and free degrees of freedom, so a protocol that constrains a
 //! body runs scalar density scaling ([`super::DensityScaling::without_block`]). Every stage

@@ -95,11 +95,15 @@ pub fn advance(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, y
 /// Advances one body with per-degree-of-freedom constraints by one step
 /// ([`super::constraint`]): `force` and `torque` are the out-of-balance loads with the
 /// held components already taken out and the reaction's moment added
-/// ([`DofConstraint::react`]). The scalar inertial mass is used (block density scaling
-/// does not apply to a constrained body); the held velocities are zeroed before the pose
-/// is updated, and the anchor is put back on its targets after the rotation; the held
-/// translations' velocities are then those of that placement, so that the joints see the
-/// imposed motion.
+/// ([`DofConstraint::react`]), that is the moment about the anchor. The scalar inertial
+/// mass is used (block density scaling does not apply to a constrained body); the body
+/// turns about the anchor, whose held coordinates do not move, so its rotational inertia
+/// is the one about the anchor ([`constrained_inertia`]: the centroid's plus the parallel
+/// axis term of the held translations, `m |r|²` for an anchor at a lever `r` above the
+/// centroid of a horizontal hold), the mass's share carried along by the rotation; the
+/// held velocities are zeroed before the pose is updated, and the anchor is put back on
+/// its targets after the rotation; the held translations' velocities are then those of
+/// that placement, so that the joints see the imposed motion.
 #[inline(always)]
 pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, damping: f64, c: &DofConstraint) {
     if b.fixed() {
@@ -113,7 +117,15 @@ pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, dam
     let r = b.rot_mat;
     let iw_w = r * (b.inertia * (r.tr_mul(&b.angvel)));
     let gyro = b.angvel.cross(&iw_w);
-    b.angvel += r * (b.inv_inertia * r.tr_mul(&(t * b.inertia_scale_inv - gyro))) * dt;
+    let rhs = t * b.inertia_scale_inv - gyro;
+    // An anchor at the centroid to rounding (the in-plane beam whose centroid is the
+    // actuator's point) adds nothing: the centroid's inertia, as for a free body.
+    let lever2 = c.anchor.norm_squared();
+    if b.mass * lever2 <= 1e-12 * b.inertia.diagonal().max() || c.translation.iter().all(Option::is_none) {
+        b.angvel += r * (b.inv_inertia * r.tr_mul(&rhs)) * dt;
+    } else {
+        b.angvel += constrained_inertia(b, c).solve(&rhs) * dt;
+    }
     c.hold_velocities(&mut b.vel, &mut b.angvel);
     let before = b.pos;
     b.pos += b.vel * dt;
@@ -125,6 +137,42 @@ pub fn advance_constrained(b: &mut Body, force: Vec3, torque: Vec3, dt: f64, dam
         if c.translation[i].is_some() {
             b.vel[i] = (b.pos[i] - before[i]) / dt;
         }
+    }
+}
+
+/// The rotational inertia (table frame, kg·m², unscaled) of a body whose held
+/// translations act at an anchor off its centroid ([`DofConstraint`]): the anchor's held
+/// coordinates do not accelerate, `P (a + α × r) = 0` (r the anchor's lever from the
+/// centroid, table frame; P the projection on the held axes), so the held reaction
+/// `m P (r × α)` that keeps them there adds to the inertia about the centroid `I` the
+/// parallel-axis term
+/// `m [r]ₓᵀ P [r]ₓ`: `I + m (|r|² − r rᵀ)` with every translation held, `I_yy + m r_z²` for
+/// a horizontal (x) hold at a lever r_z above the centroid. Held rotations keep their row
+/// and column of the centroid's inertia (their velocities are zeroed after).
+pub fn constrained_inertia(b: &Body, c: &DofConstraint) -> ConstrainedInertia {
+    let r = b.rot_mat;
+    let lever = r * c.anchor;
+    let skew = lever.cross_matrix();
+    let mut held = crate::math::Mat3::zeros();
+    for i in 0..3 {
+        if c.translation[i].is_some() {
+            held[(i, i)] = 1.0;
+        }
+    }
+    let inertia = r * b.inertia * r.transpose() + b.mass * (skew.transpose() * held * skew);
+    ConstrainedInertia(inertia)
+}
+
+/// The inertia of [`constrained_inertia`], to solve for the angular acceleration.
+#[derive(Debug, Clone, Copy)]
+pub struct ConstrainedInertia(pub crate::math::Mat3);
+
+impl ConstrainedInertia {
+    /// The angular acceleration (rad/s², table frame) under the moment `t` (N·m, table
+    /// frame, about the centroid with the held reaction's moment in it: about the anchor).
+    #[inline]
+    pub fn solve(&self, t: &Vec3) -> Vec3 {
+        self.0.try_inverse().map_or(Vec3::zeros(), |inv| inv * t)
     }
 }
 

@@ -72,6 +72,13 @@ pub const MAX_INCREMENTS: usize = 100_000;
 /// The most static solves of a quarter cycle ([`InPlaneParams::quarter_increments`]).
 pub const MAX_QUARTER_INCREMENTS: u32 = 1000;
 
+/// The highest shear span and measuring point accepted, as a multiple of the wall's
+/// height \[10\]: both are on the loading beam, on top of the wall, and a test's shear span
+/// is a few times the wall's height at most (the tests of the Stone Masonry Database: 0.5
+/// to 1.5 times); past ten times it is a probable unit mistake (millimetres for metres),
+/// which would otherwise run as a path of drift × H0 refused only by its length.
+pub const MAX_HEIGHT_RATIO: f64 = 10.0;
+
 /// The most cycles per amplitude ([`InPlaneParams::cycles`]).
 pub const MAX_CYCLES: u32 = 100;
 
@@ -125,8 +132,8 @@ pub struct InPlaneParams {
     /// top) \[0.5\].
     pub sigma0_mpa: f64,
     /// Shear span `H0`: the height above the base at which the horizontal force acts, m,
-    /// at least the wall's height; with a free beam rotation it is required, with a held
-    /// one it is not read \[unset\].
+    /// at least the wall's height and at most [`MAX_HEIGHT_RATIO`] times it; with a free
+    /// beam rotation it is required, with a held one it is not read \[unset\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_span_m: Option<f64>,
     /// The largest drift, %, in (0, 50] \[3\].
@@ -276,6 +283,35 @@ impl InPlaneParams {
         Ok(())
     }
 
+    /// A key given that no run of these parameters reads, with the reason; `any_cyclic`:
+    /// whether any run is cyclic (a study's `[in_plane]` table is shared by its groups,
+    /// each with its own history). The cyclic history's keys (`amplitudes_pct`, and
+    /// `cycles`, `quarter_increments` away from their defaults) when no run is cyclic; the
+    /// shear span with the beam's rotation held. A study refuses it by name, as the
+    /// command line refuses the flags, rather than run without it.
+    pub fn unread_key(&self, any_cyclic: bool) -> Option<(&'static str, &'static str)> {
+        let d = InPlaneParams::default();
+        let cyclic_only = "is read only by a cyclic history, and every run here is monotonic";
+        if !any_cyclic {
+            if self.amplitudes_pct.is_some() {
+                return Some(("amplitudes_pct", cyclic_only));
+            }
+            if self.cycles != d.cycles {
+                return Some(("cycles", cyclic_only));
+            }
+            if self.quarter_increments != d.quarter_increments {
+                return Some(("quarter_increments", cyclic_only));
+            }
+        }
+        if self.beam_rotation == BeamRotation::Fixed && self.shear_span_m.is_some() {
+            return Some((
+                "shear_span_m",
+                "is not read with beam_rotation = \"fixed\" (the beam held level has no shear span)",
+            ));
+        }
+        None
+    }
+
     /// Checks that the path of a wall of height `height_m` (the lever of
     /// [`InPlaneParams::path`]) is at most [`MAX_INCREMENTS`] static solves.
     ///
@@ -398,6 +434,20 @@ pub enum InPlaneError {
         shear_span_m: f64,
         /// The wall's height, m.
         height_m: f64,
+    },
+    /// The shear span or the measuring point is implausibly far above the wall.
+    #[error(
+        "in_plane.{key} = {value_m} m is more than {ratio} times the wall's height {height_m} m: a probable unit mistake (millimetres for metres?); it is a height on the loading beam, above the wall's top"
+    )]
+    TooHigh {
+        /// The key (`shear_span_m`, `measuring_height_m`).
+        key: &'static str,
+        /// The value given, m.
+        value_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+        /// [`MAX_HEIGHT_RATIO`].
+        ratio: f64,
     },
     /// The top course is not level enough to carry the beam.
     #[error(
@@ -550,6 +600,14 @@ impl Rig {
                 if h0 < top - 1e-9 {
                     return Err(InPlaneError::ShearSpan { shear_span_m: h0, height_m: top });
                 }
+                if h0 > MAX_HEIGHT_RATIO * top {
+                    return Err(InPlaneError::TooHigh {
+                        key: "shear_span_m",
+                        value_m: h0,
+                        height_m: top,
+                        ratio: MAX_HEIGHT_RATIO,
+                    });
+                }
                 ((2.0 * (h0 - top)).clamp(0.05 * height, 0.25 * height), h0)
             }
             BeamRotation::Fixed => (0.1 * height, top + 0.05 * height),
@@ -562,6 +620,14 @@ impl Rig {
         let measure_z = params.measuring_height_m.unwrap_or(lever);
         if measure_z < top - 1e-9 {
             return Err(InPlaneError::MeasuringPoint { measuring_height_m: measure_z, height_m: top });
+        }
+        if measure_z > MAX_HEIGHT_RATIO * top {
+            return Err(InPlaneError::TooHigh {
+                key: "measuring_height_m",
+                value_m: measure_z,
+                height_m: top,
+                ratio: MAX_HEIGHT_RATIO,
+            });
         }
         let (x0, x1, y0, y1) = (bounds.min.x, bounds.max.x, bounds.min.y, bounds.max.y);
         let corners: Vec<Vec3> = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]

@@ -87,6 +87,7 @@
 use super::mechanism::{mechanism, Mechanism};
 use super::monitors::{body_motion, monitor_points, BodyPose, MonitorPoint};
 use super::settle::SettleError;
+use super::tilt::after_snap;
 use super::tilt::hand::effective_tilt_deg;
 use super::tilt::params::TiltParams;
 use super::tilt::result::{CollapseReason, Increment, TiltError, TiltResult};
@@ -351,6 +352,13 @@ pub(crate) fn released(
 /// [`TiltError::DoesNotStand`] if a free block touches nothing or the wall is not stable
 /// at α = 0, [`TiltError::Dem`] if the state blows up.
 pub fn run_tilt_nscd(layout: &Layout, params: &NscdParams, tilt: &TiltParams) -> Result<TiltResult, TiltError> {
+    let mut first = run_tilt_nscd_once(layout, params, tilt)?;
+    first.after_snap = after_snap(layout, tilt, &first, |lifted| run_tilt_nscd_once(layout, params, lifted))?;
+    Ok(first)
+}
+
+/// [`run_tilt_nscd`] without the fall past a caught snap.
+fn run_tilt_nscd_once(layout: &Layout, params: &NscdParams, tilt: &TiltParams) -> Result<TiltResult, TiltError> {
     tilt.validate().map_err(TiltError::Parameter)?;
     let t0 = Instant::now();
     let base = NscdSimulation::new(layout, &params.for_trials()).map_err(tilt_error)?;
@@ -510,6 +518,7 @@ pub(crate) fn rigid_result(
         max_density_scale: 1.0,
         scalar_fallbacks_deg: Vec::new(),
         bracket_reliable: true,
+        after_snap: None,
     }
 }
 

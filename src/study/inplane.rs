@@ -765,6 +765,9 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
         }
     }
     refuse_out_of_plane(&spec, path)?;
+    if let Some((key, why)) = spec.in_plane.unread_key(spec.groups.iter().any(|g| g.history == History::Cyclic)) {
+        return Err(bad(&format!("in_plane.{key}"), why.into()));
+    }
     Ok(spec)
 }
 

@@ -73,7 +73,7 @@ pub(super) fn read(
         };
         let err = |reason: String| SurveyError::Element { path: path.to_owned(), element: element.clone(), reason };
         let points = polyline(e).map_err(err)?;
-        let id = get(5).map_or_else(|| format!("s{}", outlines.len()), str::to_owned);
+        let id = get(5).filter(|h| !h.trim().is_empty()).map_or_else(|| format!("s{}", outlines.len()), str::to_owned);
         let material = materials.iter().any(|m| m == layer).then(|| layer.to_string());
         let points = points.iter().map(|p| [p[0] * scale.0, p[1] * scale.0]).collect();
         outlines.push(Outline { stone: Stone { id, element, material }, points });

@@ -82,7 +82,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
     let all = || outlines.iter().flat_map(|l| l.points.iter());
     let x0 = all().map(|p| p[0]).fold(f64::INFINITY, f64::min);
     let z0 = all().map(|p| p[1]).fold(f64::INFINITY, f64::min);
-    let unit = format!("{} m per unit", scale.0);
+    let unit = format!("{} m per unit", super::short_number(scale.0));
     let mut shapes = Vec::with_capacity(outlines.len());
     for l in &outlines {
         let moved: Vec<[f64; 2]> = l.points.iter().map(|p| [p[0] - x0, p[1] - z0]).collect();
@@ -144,6 +144,16 @@ fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
 /// convex hull when `hull` is set, else an error naming the stone and its deficit).
 fn shape(path: &Path, s: &Stone, points: &[[f64; 2]], hull: bool) -> Result<Shape, SurveyError> {
     let mut outline = clean(points);
+    if outline.len() >= 4 && polygon_area(&outline) == 0.0 {
+        // A bow tie's lobes cancel: name the crossing, not a missing area.
+        if let Some((i, j)) = crossing(&outline) {
+            return Err(element(
+                path,
+                s,
+                format!("the outline crosses itself (its edges {i} and {j}, counted from its first corner)"),
+            ));
+        }
+    }
     if outline.len() < 3 || polygon_area(&outline) == 0.0 {
         return Err(element(path, s, "the outline has fewer than 3 distinct corners or no area".into()));
     }

@@ -75,7 +75,8 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
 /// The stone id and the description of feature `i`.
 fn names(f: &Value, i: usize) -> (String, String) {
     let text = |v: &Value| match v {
-        Value::String(s) => Some(s.clone()),
+        Value::String(s) if !s.trim().is_empty() => Some(s.clone()),
+        Value::String(_) => None,
         Value::Number(n) => Some(n.to_string()),
         _ => None,
     };

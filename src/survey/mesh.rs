@@ -80,6 +80,10 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
         return Err(SurveyError::File { path: path.to_owned(), reason: "no mesh found".into() });
     }
     for m in &mut meshes {
+        if m.triangles.is_empty() {
+            let reason = "the mesh has no triangles".to_string();
+            return Err(SurveyError::Element { path: m.file.clone(), element: m.stone.element.clone(), reason });
+        }
         (m.vertices, m.triangles) = weld(&m.vertices, &m.triangles);
     }
     let stones: Vec<Stone> = meshes.iter().map(|m| m.stone.clone()).collect();
@@ -181,7 +185,7 @@ fn read_obj(file: &Path, text: &str, stem: &str) -> Result<Vec<Mesh>, SurveyErro
     };
     let mut vertices: Vec<[f64; 3]> = Vec::new();
     // Per object: its name, the line it starts at and its faces (global indices).
-    let mut objects: Vec<(Option<String>, usize, Vec<Vec<usize>>)> = vec![(None, 1, vec![])];
+    let mut objects: Vec<(Option<String>, usize, Vec<(usize, Vec<usize>)>)> = vec![(None, 1, vec![])];
     for (n, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
         let mut tokens = line.split_whitespace();
@@ -212,7 +216,7 @@ fn read_obj(file: &Path, text: &str, stem: &str) -> Result<Vec<Mesh>, SurveyErro
                     return Err(err(n + 1, "a face needs at least 3 vertices".into()));
                 }
                 if let Some(o) = objects.last_mut() {
-                    o.2.push(face);
+                    o.2.push((n + 1, face));
                 }
             }
             Some("o") => {
@@ -240,11 +244,11 @@ fn read_obj(file: &Path, text: &str, stem: &str) -> Result<Vec<Mesh>, SurveyErro
             None => file_name.clone(),
         };
         let mut triangles = Vec::new();
-        for f in &faces {
+        for (at, f) in &faces {
             if let Some(&bad) = f.iter().find(|&&i| i >= vertices.len()) {
                 return Err(SurveyError::Element {
                     path: file.to_owned(),
-                    element: element.clone(),
+                    element: format!("{element}, line {at}"),
                     reason: format!("a face uses vertex {} of {}", bad + 1, vertices.len()),
                 });
             }

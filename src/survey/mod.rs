@@ -272,7 +272,20 @@ impl SurveyMaterials {
     /// [`SurveyError::Io`], or [`SurveyError::File`] with toml's message (key, line).
     pub fn from_file(path: &Path) -> Result<Self, SurveyError> {
         let text = std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })?;
-        toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })
+        let m: Self =
+            toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })?;
+        // A stone or table material the file does not define, named by its own key (the
+        // layout would name `table.material`, a key the user did not write).
+        let names: Vec<&str> = m.materials.iter().map(|x| x.name.as_str()).collect();
+        for (key, given) in [("stone_material", &m.stone_material), ("table_material", &m.table_material)] {
+            if let Some(g) = given.as_deref().filter(|g| !names.contains(g)) {
+                return Err(SurveyError::File {
+                    path: path.to_owned(),
+                    reason: format!("{key} = {g:?} is not among its [[materials]] ({})", names.join(", ")),
+                });
+            }
+        }
+        Ok(m)
     }
 
     /// The stones' material name.
@@ -556,6 +569,15 @@ pub(crate) fn check_size(path: &Path, stone: &Stone, extent_m: f64, unit: &str) 
     if (MIN_STONE_M..=MAX_STONE_M).contains(&extent_m) {
         return Ok(());
     }
+    if !(extent_m > 0.0) {
+        // A stone of no extent (a mesh without triangles, an outline a transform collapses):
+        // not a unit mistake.
+        return Err(SurveyError::Element {
+            path: path.to_owned(),
+            element: stone.element.clone(),
+            reason: format!("stone {} has no extent (every corner at one point)", stone.id),
+        });
+    }
     Err(SurveyError::Size {
         path: path.to_owned(),
         stone: stone.id.clone(),
@@ -563,6 +585,16 @@ pub(crate) fn check_size(path: &Path, stone: &Stone, extent_m: f64, unit: &str) 
         extent_m,
         unit: unit.to_owned(),
     })
+}
+
+/// A number as the survey's messages print it (m, a scale): plain between 1e-4 and 1e6, in
+/// scientific notation outside (a scale of 1e300 is not written out in 301 digits).
+pub fn short_number(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// Reads a file as text.

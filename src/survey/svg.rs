@@ -54,7 +54,10 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
             }
         };
         let points: Vec<[f64; 2]> = points.iter().map(|p| apply(&m, *p)).collect();
-        let id = node.attribute("id").map_or_else(|| format!("s{}", shapes.len()), str::to_owned);
+        let id = node
+            .attribute("id")
+            .filter(|h| !h.trim().is_empty())
+            .map_or_else(|| format!("s{}", shapes.len()), str::to_owned);
         let material = node.ancestors().find_map(|a| a.attribute("data-material")).map(str::to_owned);
         shapes.push((Stone { id, element, material }, points));
     }

@@ -703,3 +703,85 @@ fn a_cycled_granite_wall_rocks_and_keeps_its_blocks() {
     assert!(r.largest_block_excursion_mm < 10.0, "{} mm ({})", r.largest_block_excursion_mm, r.excursion_block);
     assert_eq!(r.unconverged, 0);
 }
+
+/// Options the run would not read, or read as a silently wrong number, are refused by name
+/// before any run: a shear span or a measuring point given in millimetres (1325 for 1.325
+/// m: more than ten times the wall's height; it used to be refused as `step_mm`, the path
+/// of drift × H0 being too long, or, for the measuring point, run with the drift read over
+/// 1.2 km); `--cycles` and `--quarter-increments` without `--cyclic` (a monotonic push
+/// has no cycles: they were ignored); `--shear-span-m` with the beam held level (no shear
+/// span: it was ignored, and the header printed another H0).
+#[test]
+fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let base = ["--sigma0-mpa", "0.5", "--drift-pct", "0.1"];
+    for (args, needle) in [
+        (vec!["--shear-span-m", "1325"], "in_plane.shear_span_m = 1325 m is more than 10 times the wall's height"),
+        (
+            vec!["--shear-span-m", "1.325", "--measuring-height-m", "1200"],
+            "in_plane.measuring_height_m = 1200 m is more than 10 times",
+        ),
+        (vec!["--shear-span-m", "1.325", "--cycles", "5"], "--cycles gives the cycles per amplitude"),
+        (vec!["--shear-span-m", "1.325", "--quarter-increments", "20"], "--quarter-increments gives"),
+        (
+            vec!["--shear-span-m", "1.325", "--beam-rotation", "fixed"],
+            "--shear-span-m is not read with --beam-rotation fixed",
+        ),
+        (vec!["--shear-span-m", "1.325", "--cyclic", "--solver", "limit"], "--cyclic is not read by limit analysis"),
+    ] {
+        let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(base).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    let o = Command::new(bin)
+        .args(["in-plane", layout.to_str().unwrap()])
+        .args(base)
+        .args(["--shear-span-m", "1.325", "--cyclic", "--cycles", "1", "--quarter-increments", "4", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A study's `[in_plane]` keys that none of its runs reads are refused by name, as the
+/// command line refuses the flags: the cyclic history's keys when every group is
+/// monotonic, the shear span with the beam held level (they were accepted and ignored).
+#[test]
+fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-study-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let wall = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/walls/granite_vasconcelos.toml");
+    let study = |table: &str, history: &str| {
+        format!(
+            "version = 1\nname = \"p\"\nseed = 1\nrealizations = 1\nprotocol = \"in_plane\"\n[in_plane]\n{table}\n\
+             [[groups]]\nname = \"g\"\nwall = {:?}\nsigma0_mpa = 0.5\nhistory = \"{history}\"\n",
+            wall.to_str().unwrap()
+        )
+    };
+    for (table, history, key) in [
+        ("shear_span_m = 1.325\namplitudes_pct = [0.1, 0.2]", "monotonic", "in_plane.amplitudes_pct"),
+        ("shear_span_m = 1.325\ncycles = 3", "monotonic", "in_plane.cycles"),
+        ("shear_span_m = 1.325\nquarter_increments = 20", "monotonic", "in_plane.quarter_increments"),
+        ("shear_span_m = 1.325\nbeam_rotation = \"fixed\"", "monotonic", "in_plane.shear_span_m"),
+    ] {
+        let path = dir.join("s.toml");
+        std::fs::write(&path, study(table, history)).unwrap();
+        let err = drystone::study::inplane::load(&path).map(|_| ()).unwrap_err().to_string();
+        assert!(err.contains(key), "{table}: {err}");
+    }
+    let path = dir.join("s.toml");
+    std::fs::write(&path, study("shear_span_m = 1.325\ncycles = 3", "cyclic")).unwrap();
+    assert!(drystone::study::inplane::load(&path).is_ok());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -161,3 +161,30 @@ fn an_inclined_load_and_a_series_compliance_move_the_readings_by_their_statics()
     let want = 1.0 / (1.0 / (k0 * 1e6) + c) * 1e-6;
     assert!((k1 / want - 1.0).abs() < 1e-9, "{k1} kN/mm vs 1 / (1 / {k0} + c) = {want}");
 }
+
+/// The rig at a shear span far above the wall (H0 = 2, 3.5 and 6 times the wall's height
+/// of 1.2 m; the beam, as deep as the wall's quarter, has its centroid well below the
+/// actuator's point): the rigid monolith rocks about its toe at the hand statics
+/// `V = N_total L / (2 H0)` (moments about the toe of the vertical loads, the force's arm
+/// H0), every increment converged, and the beam stays on the wall (its measuring point
+/// moves by the imposed drift, nothing is thrown). The lever of the actuator above the
+/// beam's centroid was integrated with the beam's own inertia about its centroid instead
+/// of about the actuator's point: the rotation about the held point ran unstable.
+#[test]
+fn a_monolith_rocks_at_its_closed_form_at_any_shear_span() {
+    let (n, w, _) = forces();
+    let wall = inplane_block(45.0, RIGID_KN);
+    for h0 in [2.4, 4.2, 7.2] {
+        let v = (n + w) * L / (2.0 * h0);
+        let p = InPlaneParams { shear_span_m: Some(h0), ..params(0.5) };
+        let dem = penalty(&wall, &p);
+        let peak = dem.positive.unwrap().peak_force_kn * 1e3;
+        assert!((peak / v - 1.0).abs() < 0.02, "H0 {h0} m: DEM peak {peak} N vs {v} N");
+        assert_eq!(dem.unconverged, 0, "H0 {h0} m");
+        let last = dem.curve.last().unwrap();
+        assert!((last.drift_pct / 0.5 - 1.0).abs() < 0.01, "H0 {h0} m: {last:?}");
+        let s = SolverParams::default();
+        let la = limit_in_plane(&wall, &s, &p, &s.limit).unwrap();
+        assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "H0 {h0} m: limit {} kN", la.peak_force_kn);
+    }
+}

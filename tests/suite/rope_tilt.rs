@@ -205,3 +205,45 @@ fn a_rope_without_pretension_holds_the_block_by_its_elongation_by_both_solvers()
     assert!(penalty >= 80.0, "penalty {penalty}°");
     assert!(nscd.collapse_angle_deg() >= 80.0, "nscd {}°: {:?}", nscd.collapse_angle_deg(), nscd.collapse_reason);
 }
+
+/// A block behind a slack rope (T₀ 20 N, EA 2e5 N, no wrap): the rope's force
+/// `2 T δ / L` is far below what holds the block at its free limit, so by the statics the
+/// block tips at the free block's limit atan(b/h) = 16.70° (the snap: the first maximum of
+/// the tilt along the path); the rope's elongation then catches it, the statics' tilt
+/// along the path rising again past 80° within a few centimetres (solved by the scan
+/// here, to the total collapse displacement). Both solvers report the two apart: the snap
+/// as the bracket, the fall (none: it stands to 80°) in `after_snap`, with how far the
+/// wall went before the rope caught it. They used to report the snap alone, as the
+/// collapse.
+#[test]
+fn a_block_behind_a_slack_rope_snaps_then_stands_by_both_solvers() {
+    let (t0, ea, s, d) = (20.0, 2e5, 0.1, 0.0);
+    let layout = block_with_rope(t0, ea, s, d);
+    let free = (B / H).atan().to_degrees();
+    let snap = statics_deg(&layout, t0, ea, s, d);
+    assert!((snap - free).abs() < 0.1, "statics' snap {snap}° vs the free limit {free}°");
+    // The statics' tilt along the path past the snap, up to the total collapse displacement
+    // (half the thickness at the top, y = h sin θ − b (1 − cos θ) of the top's far corner).
+    let w = DENSITY * B * H * L * layout.gravity;
+    let (r, a0, zc) = ((B * B + H * H).sqrt() / 2.0, (B / H).atan(), H / 2.0);
+    let mut best = 0.0_f64;
+    let mut theta = 0.0_f64;
+    while H * theta.sin() < 0.5 * B {
+        let delta = zc * theta.sin();
+        let ll = (s * s + delta * delta).sqrt();
+        let force = 2.0 * (t0 + ea * (ll - s) / s).max(0.0) * delta / ll;
+        let x = force * zc * theta.cos() / (w * r);
+        best = best.max(if x >= 1.0 { 90.0 } else { (a0 - theta + x.asin()).to_degrees() });
+        theta += 1e-5;
+    }
+    assert!(best >= 80.0, "the statics' fall {best}°");
+    let penalty = run_tilt(&layout, SolverParams::default(), &tilt()).expect("stands at 0");
+    let nscd = run_tilt_nscd(&layout, &NscdParams::default(), &tilt()).expect("stands at 0");
+    for (name, res) in [("penalty", &penalty), ("nscd", &nscd)] {
+        eprintln!("{name}: snap {:.3}°, after it {:?}", res.collapse_angle_deg(), res.after_snap);
+        assert!((res.collapse_angle_deg() - free).abs() <= 0.5, "{name}: snap {}°", res.collapse_angle_deg());
+        let fall = res.after_snap.unwrap_or_else(|| panic!("{name}: no fall reported past the snap"));
+        assert!(fall.falls_last_stable_deg >= 80.0 && fall.falls_first_unstable_deg.is_none(), "{name}: {fall:?}");
+        assert!(fall.caught_displacement_m > 0.0 && fall.caught_displacement_m < 0.5 * B, "{name}: {fall:?}");
+    }
+}

@@ -584,3 +584,62 @@ proptest::proptest! {
         }
     }
 }
+
+/// Hostile inputs of the import, each refused naming what is at fault (or read as
+/// documented), none as a misleading cause:
+/// * a bow tie whose two lobes cancel (zero signed area) is an outline that crosses
+///   itself, not one with "no area";
+/// * an empty id (SVG `id=""`, GeoJSON `"id": ""`, a DXF handle left empty) is no id: the
+///   stone is `s<N>` (it used to pass to the layout, refused there as `blocks[0].id`
+///   without the element);
+/// * a binary STL of no triangle, and an outline a transform collapses to a point, have
+///   no extent, not a "probable unit mistake";
+/// * an OBJ face using a vertex that is not there names its line;
+/// * a huge scale is printed in scientific notation, not in 301 digits.
+#[test]
+fn hostile_surveys_are_refused_by_their_real_cause() {
+    let dir = Scratch::created("survey-hostile");
+    let t = traced(0.3, Some(0.01));
+    let svg = |body: &str| format!("<svg xmlns=\"http://www.w3.org/2000/svg\">\n{body}\n</svg>\n");
+    let e = error_of(&dir, "tie.svg", &svg(r#"<polygon id="tie" points="0,0 50,0 0,-30 50,-30"/>"#), &t);
+    assert!(e.contains("tie.svg: <polygon id=\"tie\"> at line 2: the outline crosses itself"), "{e}");
+    let wall = import(&write(&dir, "noid.svg", &svg(r#"<rect id="" width="50" height="30"/>"#)), &t).unwrap();
+    assert_eq!(wall.layout.blocks[0].id, "s0");
+    let geo = r#"{"type": "Feature", "id": "", "geometry": {"type": "Polygon",
+        "coordinates": [[[0, 0], [1, 0], [1, 0.3], [0, 0.3], [0, 0]]]}}"#;
+    let wall = import(&write(&dir, "noid.geojson", geo), &traced(0.3, None)).unwrap();
+    assert_eq!(wall.layout.blocks[0].id, "s0");
+    let mut p: Vec<(i32, &str)> = vec![(0, "SECTION"), (2, "HEADER"), (9, "$INSUNITS"), (70, "4"), (0, "ENDSEC")];
+    p.extend([(0, "SECTION"), (2, "ENTITIES"), (0, "LWPOLYLINE"), (5, ""), (8, "0"), (90, "4"), (70, "1")]);
+    p.extend([(10, "0"), (20, "0"), (10, "500"), (20, "0"), (10, "500"), (20, "300"), (10, "0"), (20, "300")]);
+    p.extend([(0, "ENDSEC"), (0, "EOF")]);
+    let wall = import(&write(&dir, "noid.dxf", &dxf(&p)), &traced(0.3, None)).unwrap();
+    assert_eq!(wall.layout.blocks[0].id, "s0");
+    let path = dir.join("none.stl");
+    std::fs::write(&path, binary_stl(&[])).unwrap();
+    let e = import(&path, &scanned(LengthUnit::M)).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("none.stl") && e.contains("no triangles") && !e.contains("unit mistake"), "{e}");
+    let e = error_of(&dir, "flat.svg", &svg(r#"<rect id="z" width="50" height="30" transform="scale(0)"/>"#), &t);
+    assert!(e.contains("flat.svg: <rect id=\"z\"> at line 2") && !e.contains("unit mistake"), "{e}");
+    let obj = cube_obj(0.2, [0.0; 3], 0) + "f 1 2 99\n";
+    let e = error_of(&dir, "far.obj", &obj, &scanned(LengthUnit::M));
+    assert!(e.contains("far.obj") && e.contains("line 15") && e.contains("vertex 99 of 8"), "{e}");
+    let geo = r#"{"type": "Feature", "geometry": {"type": "Polygon",
+        "coordinates": [[[0, 0], [1, 0], [1, 0.3], [0, 0.3], [0, 0]]]}}"#;
+    let e = error_of(&dir, "huge.geojson", geo, &traced(0.3, Some(1e300)));
+    assert!(e.contains("1e300 m per unit") && e.len() < 400, "{e}");
+}
+
+/// A materials file naming a stone or table material it does not define is refused naming
+/// the file and its key (the layout used to name `table.material`, a key of its own).
+#[test]
+fn a_materials_file_naming_a_material_it_lacks_is_refused_by_its_key() {
+    let dir = Scratch::created("survey-materials-key");
+    let m = "[[materials]]\nname = \"g\"\ndensity_kg_per_m3 = 2600\nkn_pa_per_m = 1e9\nks_pa_per_m = 5e8\nfriction_deg = 35\n";
+    for key in ["stone_material", "table_material"] {
+        let path = write(&dir, "m.toml", &format!("{key} = \"nope\"\n{m}"));
+        let e = SurveyMaterials::from_file(&path).map(|_| ()).unwrap_err().to_string();
+        assert!(e.contains("m.toml") && e.contains(&format!("{key} = \"nope\" is not among")), "{e}");
+    }
+    assert!(SurveyMaterials::from_file(&write(&dir, "ok.toml", &format!("stone_material = \"g\"\n{m}"))).is_ok());
+}

@@ -48,7 +48,7 @@ pub(super) mod result;
 pub use params::TiltParams;
 pub use path::elastic_scale;
 use path::{Ctx, StablePath};
-pub use result::{CollapseReason, Increment, NoLoad, TiltError, TiltResult};
+pub use result::{CollapseReason, Increment, NoLoad, RopeCatch, TiltError, TiltResult};
 
 /// The tilting-table test of a layout to collapse by the penalty DEM: the driver of the
 /// tilting table's penalty way (`protocol::tilt`), which the protocol seam calls once it has
@@ -66,7 +66,23 @@ pub use result::{CollapseReason, Increment, NoLoad, TiltError, TiltResult};
 /// [`TiltError::DoesNotStand`] if the layout does not stand as given at α = 0 (a block
 /// touching nothing, no equilibrium, or a block that moved while settling),
 /// [`TiltError::Dem`] if the state blows up, [`TiltError::Parameter`] for bad parameters.
+///
+/// A wall held by ropes whose first instability is a jump its ropes catch is run again with
+/// the jump let run ([`TiltResult::after_snap`]: where it falls; that run is not observed).
 pub fn run_tilt_penalty(
+    layout: &Layout,
+    solver: SolverParams,
+    params: &TiltParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<TiltResult, TiltError> {
+    let mut first = run_tilt_penalty_once(layout, solver, params, observe)?;
+    first.after_snap =
+        after_snap(layout, params, &first, |lifted| run_tilt_penalty_once(layout, solver, lifted, &mut |_, _, _| {}))?;
+    Ok(first)
+}
+
+/// [`run_tilt_penalty`] without the fall past a caught snap.
+fn run_tilt_penalty_once(
     layout: &Layout,
     solver: SolverParams,
     params: &TiltParams,
@@ -133,6 +149,7 @@ pub fn run_tilt_penalty(
             max_density_scale: path.sim.max_density_scale(),
             scalar_fallbacks_deg: path.fallbacks,
             bracket_reliable: true,
+            after_snap: None,
         });
     };
     // Time step of the first failing increment (bisection trials may replace `failed`).
@@ -168,5 +185,46 @@ pub fn run_tilt_penalty(
         max_density_scale: failed.max_density_scale().max(stable_sim.max_density_scale()),
         scalar_fallbacks_deg: fallbacks,
         bracket_reliable: reason != CollapseReason::StepBudget,
+        after_snap: None,
     })
+}
+
+/// Where a wall held by ropes falls after a snap its ropes catch ([`TiltResult::after_snap`],
+/// [`RopeCatch`]), for either solver: when `layout` has ropes and `first` (the test under
+/// `params`) failed by a jump ([`CollapseReason::IncrementDisplacement`]), `run` runs the
+/// test again with the per-increment collapse displacement raised to the total one; the
+/// wall was caught when that run stands past the snap by more than the resolution.
+///
+/// # Errors
+/// What `run` returns.
+pub(crate) fn after_snap(
+    layout: &Layout,
+    params: &TiltParams,
+    first: &TiltResult,
+    run: impl FnOnce(&TiltParams) -> Result<TiltResult, TiltError>,
+) -> Result<Option<RopeCatch>, TiltError> {
+    if layout.ropes.is_empty()
+        || first.collapse_reason != Some(CollapseReason::IncrementDisplacement)
+        || params.collapse_increment_fraction >= params.collapse_displacement_fraction
+    {
+        return Ok(None);
+    }
+    let lifted = TiltParams { collapse_increment_fraction: params.collapse_displacement_fraction, ..*params };
+    let fall = run(&lifted)?;
+    if fall.last_stable_deg <= first.last_stable_deg + params.resolution_deg + 1e-9 {
+        return Ok(None);
+    }
+    let past = first.first_unstable_deg.unwrap_or(first.last_stable_deg);
+    let caught = fall
+        .increments
+        .iter()
+        .filter(|i| i.stable && i.alpha_deg >= past - 1e-9)
+        .min_by(|a, b| a.alpha_deg.total_cmp(&b.alpha_deg))
+        .map_or(f64::NAN, |i| i.displacement_m.iter().fold(0.0_f64, |m, d| m.max(d.abs())));
+    Ok(Some(RopeCatch {
+        falls_last_stable_deg: fall.last_stable_deg,
+        falls_first_unstable_deg: fall.first_unstable_deg,
+        falls_reason: fall.collapse_reason,
+        caught_displacement_m: caught,
+    }))
 }

@@ -125,6 +125,35 @@ pub struct TiltResult {
     /// non-smooth solver (`--solver nscd`). `drystone tilt` prints it, `--json` carries it.
     #[serde(default = "reliable")]
     pub bracket_reliable: bool,
+    /// A wall held by ropes whose first instability is a jump its ropes catch: where it
+    /// falls ([`RopeCatch`]). The bracket above is then the **snap**, the tilt at which
+    /// the wall jumps (a block moved more than the per-increment collapse displacement);
+    /// `None` when the layout has no rope, when the first instability is not such a jump,
+    /// or when the wall, the jump let run, fails there too (the snap is the fall).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub after_snap: Option<RopeCatch>,
+}
+
+/// Where a wall held by ropes falls once its first jump is caught (see
+/// [`TiltResult::after_snap`]): the same test with the per-increment collapse displacement
+/// raised to the total one ([`TiltParams::collapse_displacement_fraction`] of the width:
+/// a jump is a collapse only if it carries a monitor point that far), so that a jump the
+/// ropes catch within it is a stable increment. Tilts in degrees, as the bracket's.
+///
+/// [`TiltParams::collapse_displacement_fraction`]: super::TiltParams::collapse_displacement_fraction
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RopeCatch {
+    /// The last stable tilt with the jump let run, degrees: the collapse angle of the fall
+    /// (`max_angle_deg` if the wall stood to it).
+    pub falls_last_stable_deg: f64,
+    /// The first unstable tilt of the fall, degrees (`None`: the wall stood to
+    /// `max_angle_deg`).
+    pub falls_first_unstable_deg: Option<f64>,
+    /// Why the fall's first unstable tilt was unstable.
+    pub falls_reason: Option<CollapseReason>,
+    /// The largest out-of-plane displacement of a monitor point at the first tilt past the
+    /// snap with the jump let run, m: how far the ropes let the wall go before catching it.
+    pub caught_displacement_m: f64,
 }
 
 fn reliable() -> bool {
