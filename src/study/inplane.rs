@@ -82,6 +82,13 @@ pub struct InPlaneStudySpec {
     pub in_plane: InPlaneParams,
     /// The groups.
     pub groups: Vec<InPlaneGroupSpec>,
+    /// The method every realization's test runs by and its settings (`[solver]`, as in
+    /// every study: `kind` any method of the protocol's `WAYS` that draws the curve, the
+    /// penalty DEM with any of its cascades or nscd; the protocol's default without it).
+    /// Limit analysis runs beside it whatever the kind (`limit_peak_kn`), by
+    /// `[solver.limit]`.
+    #[serde(default)]
+    pub solver: SolverParams,
     /// Effects applied to every group's model (`[effects] NAME = { PARAM = VALUE }`, as in a
     /// tilting-table study: [`crate::effects`]), e.g. the extended model a discrepancy
     /// analysis fitted. Default none.
@@ -737,10 +744,38 @@ pub struct InPlaneStudyRun {
 pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| InPlaneStudyError::File { path: path.to_owned(), message: e.to_string() })?;
-    let spec: InPlaneStudySpec =
+    let mut spec: InPlaneStudySpec =
         toml::from_str(&text).map_err(|e| InPlaneStudyError::File { path: path.to_owned(), message: e.to_string() })?;
     let bad =
         |key: &str, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key: key.into(), message };
+    // The groups' own keys: given in `[in_plane]` they would be overwritten by every group.
+    if let Some(t) =
+        text.parse::<toml::Table>().ok().and_then(|t| t.get("in_plane").and_then(|v| v.as_table()).cloned())
+    {
+        for key in ["sigma0_mpa", "history"] {
+            if t.contains_key(key) {
+                return Err(bad(
+                    &format!("in_plane.{key}"),
+                    format!("is each group's ([[groups]] {key}), not the study's: give it in every group"),
+                ));
+            }
+        }
+    }
+    spec.solver = super::solver::with_default_kind(spec.solver, crate::protocol::Loading::InPlane, &text);
+    spec.solver.validate_static().map_err(|e| bad(&format!("solver.{}", e.key), e.reason()))?;
+    super::solver::check_method(crate::protocol::Loading::InPlane, &spec.solver)
+        .map_err(|(key, why)| bad(&key, why))?;
+    if !spec.solver.kind.method().draws_curves() {
+        return Err(bad(
+            "solver.kind",
+            format!(
+                "{:?}: {} gives no force-displacement curve, which the study's rows read (it runs beside \
+                 every realization, limit_peak_kn): give kind = \"penalty\" or \"nscd\"",
+                spec.solver.kind.name(),
+                spec.solver.kind.method().describe()
+            ),
+        ));
+    }
     if spec.version != 1 {
         return Err(bad("version", format!("{} is not a known version (1)", spec.version)));
     }
@@ -899,7 +934,7 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
         .collect();
     let journal_path = out.join("realizations.jsonl");
     let journal = std::sync::Mutex::new(std::fs::File::create(&journal_path).map_err(|e| werr(&journal_path, &e))?);
-    let solver = SolverParams::default();
+    let solver = spec.solver;
     let mut rows: Vec<InPlaneRow> = items
         .par_iter()
         .map(|&(g, i)| {
@@ -1085,6 +1120,24 @@ fn f(v: f64, d: usize) -> String {
     }
 }
 
+/// The method of the study's runs in the report's words: the penalty DEM with its
+/// tolerance, another method with what it gives (its cell of the protocol's `WAYS`).
+fn method_words(solver: SolverParams) -> String {
+    let method = solver.kind.method();
+    if solver.kind.is_penalty() {
+        let cascade =
+            if solver.kind.names_cascade() { format!(", the {} cascade", solver.kind.name()) } else { String::new() };
+        format!(
+            "the penalty DEM (dynamic relaxation to the unbalanced-force ratio {:e} per increment of the imposed \
+             displacement{cascade})",
+            solver.penalty.tolerance
+        )
+    } else {
+        let what = crate::protocol::methods(crate::protocol::Loading::InPlane, method).unwrap_or_default();
+        format!("{} ({what})", method.describe())
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn report(
     spec: &InPlaneStudySpec,
@@ -1107,15 +1160,14 @@ fn report(
     let ok = rows.iter().filter(|r| r.status == "ok").count();
     let _ = writeln!(
         md,
-        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: the penalty DEM \
-         (dynamic relaxation to the unbalanced-force ratio {:e} per increment of the imposed displacement), and limit \
+        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
          analysis beside it. Shear span {} m, largest drift {} %.\n",
         path.display(),
         spec.seed,
         rows.len(),
         rows.len() - ok,
         elapsed_s,
-        solver.penalty.tolerance,
+        method_words(solver),
         spec.in_plane.shear_span_m.map_or("–".into(), |h| h.to_string()),
         spec.in_plane.drift_pct
     );
@@ -1220,8 +1272,9 @@ fn report(
         let rock = rs.first().map_or(f64::NAN, |r| r.rocking_kn);
         let _ = writeln!(
             md,
-            "\nMechanism (penalty DEM): {}; measured: {}. Limit analysis: peak {} kN (mean), mechanism {}. The \
+            "\nMechanism ({}): {}; measured: {}. Limit analysis: peak {} kN (mean), mechanism {}. The \
              monolith's rigid rocking capacity N_total L / (2 H0) is {} kN.\n",
+            solver.kind.method().describe().trim_start_matches("the "),
             kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
             if ms.is_empty() {
                 "–".into()

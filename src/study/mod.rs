@@ -102,6 +102,7 @@ mod run;
 mod shaking;
 mod shards;
 mod size;
+mod solver;
 mod spec;
 mod suite;
 mod summary;

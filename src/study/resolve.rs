@@ -3,7 +3,6 @@
 //! every measured file read, before anything runs.
 
 use super::checks::{check_calibration, check_name, check_paper};
-use super::error::unsupported;
 use super::error::Invalid;
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
@@ -224,11 +223,9 @@ impl StudySpec {
                 ));
             }
         }
-        crate::protocol::check(self.loading(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
-        self.solver.validate_method().map_err(range("solver"))?;
         // Limit analysis runs beside the other methods too (the shaking study's static
         // capacity), so its table is checked whatever the kind.
-        self.solver.limit.validate().map_err(range("solver.limit"))?;
+        super::solver::check_method(self.loading(), &self.solver).map_err(|(key, why)| invalid.at(&key, why))?;
         if let Some(hand) = &self.tilt.by_hand {
             // What `drystone tilt --by-hand` refuses before it runs, refused before any
             // realization does.

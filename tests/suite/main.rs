@@ -41,6 +41,7 @@ mod inplane;
 mod inplane_discrepancy;
 mod inplane_loops;
 mod inplane_rig;
+mod inplane_study;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;
