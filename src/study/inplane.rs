@@ -3,7 +3,7 @@
 //! by the penalty DEM (and by limit analysis beside it), compared with measured specimens.
 //!
 //! The protocol owns its outputs here: its study file's keys ([`InPlaneStudySpec`]), its
-//! rows (`realizations.csv`, one per realization, and `realizations.jsonl`, each row synced
+//! rows (`realizations.csv`, one per realization, and the run's journal, each row synced
 //! as it finishes so that nothing finished is lost if the run is stopped), its statistics
 //! (`summary.csv`: per group and observable the ensemble's mean, σ, COV and 95 % band), its
 //! comparison with the measured specimens (`comparison.csv`), its figures (the ensemble's
@@ -52,11 +52,9 @@ use crate::limit::inplane::limit_in_plane;
 use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, InPlaneResult, Rig};
 use crate::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
 use crate::stats::{mean, quantile, sd};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The in-plane study file.
@@ -542,74 +540,103 @@ pub struct InPlaneRow {
     /// The error, if any.
     pub error: String,
     /// Peak force, drift at peak, ultimate drift, initial stiffness, + direction.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub peak_pos_kn: f64,
     /// See `peak_pos_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_peak_pos_pct: f64,
     /// See `peak_pos_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub ultimate_drift_pos_pct: f64,
     /// See `peak_pos_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub stiffness_pos_kn_per_mm: f64,
     /// The same, − direction (NaN for monotonic runs).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub peak_neg_kn: f64,
     /// See `peak_neg_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_peak_neg_pct: f64,
     /// See `peak_neg_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub ultimate_drift_neg_pct: f64,
     /// See `peak_neg_kn`.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub stiffness_neg_kn_per_mm: f64,
     /// The mechanism's kind.
     pub mechanism: String,
     /// The database's failure type of the mechanism.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub failure_type: f64,
     /// The share of the crack's motion that is opening.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub opening_share: f64,
     /// Limit analysis's peak force, kN.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub limit_peak_kn: f64,
     /// Limit analysis's mechanism.
     pub limit_mechanism: String,
     /// The rigid rocking capacity N_total L / (2 H0), kN.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub rocking_kn: f64,
     /// The equivalent viscous damping ratio of its loops (the cycles of at least
     /// [`LOOP_MIN_DRIFT_PCT`] % drift, [`loop_damping_ratio`]); NaN for a monotonic run.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub damping_ratio: f64,
     /// Robust reading of the envelope (the envelope's force at 0.5 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_0_5_pos_kn: f64,
     /// Robust reading of the envelope (the envelope's force at 1 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_1_pos_kn: f64,
     /// Robust reading of the envelope (the envelope's force at 2 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_2_pos_kn: f64,
     /// Robust reading of the envelope (drift at 80 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_80_pos_pct: f64,
     /// Robust reading of the envelope (drift at 95 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_95_pos_pct: f64,
     /// Robust reading of the envelope (plateau slope past 95 % of the peak, + (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub plateau_slope_pos_kn_per_pct: f64,
     /// Robust reading of the envelope (the envelope's force at 0.5 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_0_5_neg_kn: f64,
     /// Robust reading of the envelope (the envelope's force at 1 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_1_neg_kn: f64,
     /// Robust reading of the envelope (the envelope's force at 2 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub force_at_2_neg_kn: f64,
     /// Robust reading of the envelope (drift at 80 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_80_neg_pct: f64,
     /// Robust reading of the envelope (drift at 95 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub drift_at_95_neg_pct: f64,
     /// Robust reading of the envelope (plateau slope past 95 % of the peak, − (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub plateau_slope_neg_kn_per_pct: f64,
     /// The wall's vertical modulus read in the vertical loading phase, MPa (the database's
     /// `Epc`; [`InPlaneResult::wall_vertical_modulus_mpa`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub vertical_modulus_mpa: f64,
     /// The largest excursion of a block from its course over the history, mm
     /// ([`InPlaneResult::largest_block_excursion_mm`]).
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub largest_block_excursion_mm: f64,
     /// The block of `largest_block_excursion_mm`.
     pub excursion_block: String,
     /// Static solves that did not reach equilibrium.
     pub unconverged: usize,
     /// Wall-clock time, s.
+    #[serde(with = "crate::ensemble::row::exact::one")]
     pub wall_time_s: f64,
-    /// The curve (drift %, force kN), not written to the CSV.
-    #[serde(skip)]
+    /// The curve (drift %, force kN), not written to the CSV (journaled, for the figures
+    /// of a resumed or merged run).
+    #[serde(with = "crate::ensemble::row::exact::pairs")]
     pub curve: Vec<(f64, f64)>,
     /// The poses at the mechanism's reading and the mechanism, for the report's drawing.
     #[serde(skip)]
@@ -731,10 +758,12 @@ const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 
 pub struct InPlaneStudyRun {
     /// The rows, group by group, realization by realization.
     pub rows: Vec<InPlaneRow>,
-    /// The report's text.
+    /// The report's text (empty for a shard).
     pub report: String,
     /// Wall-clock time, s.
     pub wall_time_s: f64,
+    /// How many of the rows came from the journal of an earlier run (`--resume`).
+    pub resumed: usize,
 }
 
 /// Reads and checks an in-plane study file.
@@ -886,73 +915,104 @@ pub fn group_effects(
     Ok(effects)
 }
 
-/// Runs the study `path` into `out` (see the module doc) on the current rayon pool.
-///
-/// # Errors
-/// A bad study file, wall or measured file (named), an output that cannot be written.
-pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError> {
-    let t0 = std::time::Instant::now();
-    let spec = load(path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let werr = |p: &Path, e: &dyn std::fmt::Display| InPlaneStudyError::Write(format!("{}: {e}", p.display()));
-    std::fs::create_dir_all(out).map_err(|e| werr(out, &e))?;
-    let specimens = match &spec.measured {
-        Some(m) => {
-            let mut s = read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?;
-            if let Some(c) = &m.curves {
-                read_loops(&mut s, &base.join(c))?;
+/// What a study's runs and outputs read: its file checked, its measured specimens, its
+/// groups' walls and effects.
+pub(super) struct Prepared {
+    /// The study file.
+    pub spec: InPlaneStudySpec,
+    /// The measured specimens (none without `[measured]`).
+    pub specimens: Vec<Specimen>,
+    /// Each group's wall.
+    pub walls: Vec<Wall>,
+    /// Each group's effects.
+    pub effects: Vec<Vec<crate::effects::Effect>>,
+}
+
+impl Prepared {
+    /// Reads the study `path` and everything its runs read.
+    ///
+    /// # Errors
+    /// A bad study file, wall or measured file (named).
+    pub fn read(path: &Path) -> Result<Prepared, InPlaneStudyError> {
+        let spec = load(path)?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let specimens = match &spec.measured {
+            Some(m) => {
+                let mut s =
+                    read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?;
+                if let Some(c) = &m.curves {
+                    read_loops(&mut s, &base.join(c))?;
+                }
+                s
             }
-            s
+            None => Vec::new(),
+        };
+        for (g, group) in spec.groups.iter().enumerate() {
+            if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
+                return Err(InPlaneStudyError::Invalid {
+                    path: path.to_owned(),
+                    key: format!("groups[{g}].specimens"),
+                    message: format!("{s} is not a unit of the measured file"),
+                });
+            }
         }
-        None => Vec::new(),
-    };
-    for (g, group) in spec.groups.iter().enumerate() {
-        if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
-            return Err(InPlaneStudyError::Invalid {
-                path: path.to_owned(),
-                key: format!("groups[{g}].specimens"),
-                message: format!("{s} is not a unit of the measured file"),
-            });
-        }
+        let walls: Vec<Wall> = spec
+            .groups
+            .iter()
+            .map(|g| {
+                let p = base.join(&g.wall);
+                Wall::from_file_with(&p, &DistributionSource::default_for(&p))
+                    .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
+            })
+            .collect::<Result<_, _>>()?;
+        let effects: Vec<Vec<crate::effects::Effect>> =
+            (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
+        Ok(Prepared { spec, specimens, walls, effects })
     }
-    let walls: Vec<Wall> = spec
-        .groups
-        .iter()
-        .map(|g| {
-            let p = base.join(&g.wall);
-            Wall::from_file_with(&p, &DistributionSource::default_for(&p))
-                .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
-        })
-        .collect::<Result<_, _>>()?;
-    let effects: Vec<Vec<crate::effects::Effect>> =
-        (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
-    let items: Vec<(usize, u64)> = spec
-        .groups
-        .iter()
-        .enumerate()
-        .flat_map(|(g, group)| (0..group.realizations.unwrap_or(spec.realizations)).map(move |i| (g, i)))
-        .collect();
-    let journal_path = out.join("realizations.jsonl");
-    let journal = std::sync::Mutex::new(std::fs::File::create(&journal_path).map_err(|e| werr(&journal_path, &e))?);
-    let solver = spec.solver;
-    let mut rows: Vec<InPlaneRow> = items
-        .par_iter()
-        .map(|&(g, i)| {
-            let group = &spec.groups[g];
-            let params =
-                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
-            let row = realization(&walls[g], &effects[g], spec.seed, g, i, group, &params, solver);
-            if let Ok(mut f) = journal.lock() {
-                let _ = writeln!(f, "{}", serde_json::to_string(&row).unwrap_or_default());
-                let _ = f.sync_data();
+
+    /// Realizations per group.
+    pub fn realizations(&self) -> Vec<u64> {
+        self.spec.groups.iter().map(|g| g.realizations.unwrap_or(self.spec.realizations)).collect()
+    }
+
+    /// Realization `i` of group `g` (generator index `g · 10000 + i`).
+    pub fn run_one(&self, g: usize, i: u64) -> InPlaneRow {
+        let group = &self.spec.groups[g];
+        let params =
+            InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..self.spec.in_plane.clone() };
+        realization(&self.walls[g], &self.effects[g], self.spec.seed, g, i, group, &params, self.spec.solver)
+    }
+
+    /// Writes the rows (`realizations.csv`) into `dir`, and with `whole` (every item of the
+    /// study, not a shard's) the statistics, the comparison, the figures and the report;
+    /// returns the report's text. A group's first row that lacks its drawing (read back
+    /// from a journal, which does not keep it) is drawn again from its realization, the
+    /// same bits.
+    ///
+    /// # Errors
+    /// An output that cannot be written.
+    pub fn write(
+        &self,
+        path: &Path,
+        dir: &Path,
+        rows: &mut [InPlaneRow],
+        whole: bool,
+        elapsed_s: f64,
+    ) -> Result<String, InPlaneStudyError> {
+        write_rows(&dir.join("realizations.csv"), rows)?;
+        if !whole {
+            return Ok(String::new());
+        }
+        for (g, group) in self.spec.groups.iter().enumerate() {
+            if let Some(r) = rows.iter_mut().find(|r| r.group == group.name && r.status == "ok") {
+                if r.drawing.is_none() {
+                    r.drawing = self.run_one(g, r.realization).drawing;
+                }
             }
-            row
-        })
-        .collect();
-    rows.sort_by_key(|r| r.index);
-    write_rows(&out.join("realizations.csv"), &rows)?;
-    let report = report(&spec, path, out, &rows, &specimens, &walls, &effects, solver, t0.elapsed().as_secs_f64())?;
-    Ok(InPlaneStudyRun { rows, report, wall_time_s: t0.elapsed().as_secs_f64() })
+        }
+        let s = &self.spec;
+        report(s, path, dir, rows, &self.specimens, &self.walls, &self.effects, s.solver, elapsed_s)
+    }
 }
 
 fn nan_dir() -> (f64, f64, f64, f64) {
@@ -1363,7 +1423,8 @@ mod tests {
     fn every_field_of_an_in_plane_row_is_a_column() {
         let row = InPlaneRow::empty("G".into(), 0, 0);
         let serde_json::Value::Object(fields) = serde_json::to_value(&row).unwrap() else { panic!() };
-        let mut fields: Vec<&str> = fields.keys().map(String::as_str).collect();
+        // The curve is journaled for the figures, not a column.
+        let mut fields: Vec<&str> = fields.keys().map(String::as_str).filter(|f| *f != "curve").collect();
         let mut columns: Vec<&str> = ROW_COLUMNS.iter().map(|(name, _)| *name).collect();
         fields.sort_unstable();
         columns.sort_unstable();

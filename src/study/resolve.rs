@@ -509,28 +509,13 @@ fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
 fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
     let mut files = vec![(InputRole::Wall, g.wall_path.clone())];
     for w in &g.walls {
-        for d in wall_distributions(w) {
+        for d in w.distributions() {
             if !d.source.as_os_str().is_empty() && d.source != g.wall_path {
                 files.push((InputRole::Distribution, d.source.clone()));
             }
         }
     }
     files
-}
-
-/// Every distribution of a resolved wall: its course height and block length, an irregular
-/// wall's dip and wedge length, its scatter's Kn factor and friction offset.
-pub(super) fn wall_distributions(w: &Wall) -> Vec<&crate::generator::Distribution> {
-    let mut v = vec![&w.course_height, &w.block_length];
-    if let crate::generator::Arrangement::Irregular(ir) = &w.arrangement {
-        v.push(&ir.dip);
-        v.extend(ir.wedge_length.as_ref());
-    }
-    if let Some(s) = &w.scatter {
-        v.extend(s.kn_factor.as_ref());
-        v.extend(s.friction_offset.as_ref());
-    }
-    v
 }
 
 /// One group: its wall description read, its overrides applied, its wall resolved at every
