@@ -8,14 +8,118 @@
 //! the outputs of an uninterrupted one, byte for byte, but the `wall_time_s` column and the
 //! report's wall-clock time.
 
-use super::inplane::{InPlaneRow, InPlaneStudyError, InPlaneStudyRun, Prepared};
+use super::inplane::{group_effects, load, realization, write_rows, InPlaneRow, InPlaneStudyError, InPlaneStudyRun};
+use super::inplane::{read_loops, read_specimens, InPlaneStudySpec, Specimen};
+use super::inplane_report::report;
 use super::lock::DirLock;
 use super::provenance::{self, InputRole};
 use super::shards::{Manifest, RunMode};
 use crate::ensemble::journal::{Journal, JournalError, JournalRow, FILE_NAME};
 use crate::ensemble::{items_per_group, Item, Shard};
+use crate::generator::{DistributionSource, Wall};
+use crate::loading::inplane::InPlaneParams;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+
+/// What a study's runs and outputs read: its file checked, its measured specimens, its
+/// groups' walls and effects.
+pub(super) struct Prepared {
+    /// The study file.
+    pub spec: InPlaneStudySpec,
+    /// The measured specimens (none without `[measured]`).
+    pub specimens: Vec<Specimen>,
+    /// Each group's wall.
+    pub walls: Vec<Wall>,
+    /// Each group's effects.
+    pub effects: Vec<Vec<crate::effects::Effect>>,
+}
+
+impl Prepared {
+    /// Reads the study `path` and everything its runs read.
+    ///
+    /// # Errors
+    /// A bad study file, wall or measured file (named).
+    pub fn read(path: &Path) -> Result<Prepared, InPlaneStudyError> {
+        let spec = load(path)?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let specimens = match &spec.measured {
+            Some(m) => {
+                let mut s =
+                    read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?;
+                if let Some(c) = &m.curves {
+                    read_loops(&mut s, &base.join(c))?;
+                }
+                s
+            }
+            None => Vec::new(),
+        };
+        for (g, group) in spec.groups.iter().enumerate() {
+            if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
+                return Err(InPlaneStudyError::Invalid {
+                    path: path.to_owned(),
+                    key: format!("groups[{g}].specimens"),
+                    message: format!("{s} is not a unit of the measured file"),
+                });
+            }
+        }
+        let walls: Vec<Wall> = spec
+            .groups
+            .iter()
+            .map(|g| {
+                let p = base.join(&g.wall);
+                Wall::from_file_with(&p, &DistributionSource::default_for(&p))
+                    .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
+            })
+            .collect::<Result<_, _>>()?;
+        let effects: Vec<Vec<crate::effects::Effect>> =
+            (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
+        Ok(Prepared { spec, specimens, walls, effects })
+    }
+
+    /// Realizations per group.
+    pub fn realizations(&self) -> Vec<u64> {
+        self.spec.groups.iter().map(|g| g.realizations.unwrap_or(self.spec.realizations)).collect()
+    }
+
+    /// Realization `i` of group `g` (generator index `g · 10000 + i`).
+    pub fn run_one(&self, g: usize, i: u64) -> InPlaneRow {
+        let group = &self.spec.groups[g];
+        let params =
+            InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..self.spec.in_plane.clone() };
+        realization(&self.walls[g], &self.effects[g], self.spec.seed, g, i, group, &params, self.spec.solver)
+    }
+
+    /// Writes the rows (`realizations.csv`) into `dir`, and with `whole` (every item of the
+    /// study, not a shard's) the statistics, the comparison, the figures and the report;
+    /// returns the report's text. A group's first row that lacks its drawing (read back
+    /// from a journal, which does not keep it) is drawn again from its realization, the
+    /// same bits.
+    ///
+    /// # Errors
+    /// An output that cannot be written.
+    pub fn write(
+        &self,
+        path: &Path,
+        dir: &Path,
+        rows: &mut [InPlaneRow],
+        whole: bool,
+        elapsed_s: f64,
+    ) -> Result<String, InPlaneStudyError> {
+        write_rows(&dir.join("realizations.csv"), rows)?;
+        if !whole {
+            return Ok(String::new());
+        }
+        for (g, group) in self.spec.groups.iter().enumerate() {
+            if let Some(r) = rows.iter_mut().find(|r| r.group == group.name && r.status == "ok") {
+                if r.drawing.is_none() {
+                    r.drawing = self.run_one(g, r.realization).drawing;
+                }
+            }
+        }
+        let s = &self.spec;
+        report(s, path, dir, rows, &self.specimens, &self.walls, &self.effects, s.solver, elapsed_s)
+    }
+}
 
 impl JournalRow for InPlaneRow {
     fn item_index(&self) -> u64 {
