@@ -153,6 +153,18 @@ impl Method {
         }
     }
 
+    /// The other methods whose settings (`[solver.<name>]`) it does not read, of which a
+    /// study warns: the penalty DEM runs no non-smooth solver, nscd no penalty solve;
+    /// limit analysis reads `[solver.limit]` alone and runs beside the others, so a study
+    /// warns of none.
+    pub fn does_not_read(self) -> &'static [Method] {
+        match self {
+            Method::Penalty => &[Method::Nscd],
+            Method::Nscd => &[Method::Penalty],
+            Method::Limit => &[],
+        }
+    }
+
     /// Whether its steps of motion are solved to a tolerance (nscd: each step's contact
     /// problem to its natural-map residual, the steps left above it counted); the penalty
     /// DEM's explicit steps have no tolerance, limit analysis no steps.

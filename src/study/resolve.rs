@@ -263,7 +263,7 @@ impl StudySpec {
         }
         if self.protocol == ProtocolKind::Shake {
             out.extend(self.ignored_by_shaking());
-            if self.solver.kind.method() == crate::dem::Method::Nscd {
+            if self.solver.kind.method().solves_steps_to_a_tolerance() {
                 out.extend(
                     self.solver
                         .nscd
@@ -273,7 +273,8 @@ impl StudySpec {
                 );
             }
         }
-        if self.solver.kind.method() == crate::dem::Method::Penalty {
+        let unread = self.solver.kind.method().does_not_read();
+        if unread.contains(&crate::dem::Method::Nscd) {
             // The penalty DEM does not run the non-smooth solver (the command line refuses
             // `--nscd-*` without `--solver nscd`); a shaking study samples its pulses at
             // `dt_s` whatever the method, so that key is read.
@@ -288,7 +289,7 @@ impl StudySpec {
                 }
             }
         }
-        if self.solver.kind.method() == crate::dem::Method::Nscd {
+        if unread.contains(&crate::dem::Method::Penalty) {
             // Non-smooth contact dynamics runs none of the penalty DEM's static solves or
             // its motion (the command line's penalty options are refused or warned of
             // with `--solver nscd`): the reverse of the case above.
