@@ -197,11 +197,8 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});
     let run = drystone::protocol::run(&InPlane(params.clone()), &l, solver, &mut observe).map_err(unsupported)?;
     let what = || format!("in-plane test of {}", a.layout.display());
-    let (method, engine) = if matches!(run, InPlaneRun::Nscd(_)) {
-        ("nscd", "non-smooth contact dynamics")
-    } else {
-        ("penalty", "penalty DEM")
-    };
+    // The method that ran, by its name and its phrase ("penalty DEM" in the table's title).
+    let (method, engine) = (run.method().name(), run.method().describe().trim_start_matches("the "));
     match run {
         InPlaneRun::Penalty(r) | InPlaneRun::Nscd(r) => {
             let r = r.with_context(what)?;

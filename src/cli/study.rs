@@ -259,6 +259,11 @@ pub fn calibrate(a: CalibrateArgs) -> Result<ExitCode> {
 /// `merge`: shard directories into what an unsharded run writes.
 pub fn merge(a: MergeArgs) -> Result<ExitCode> {
     let (out, shards) = (a.out.as_path(), a.shards.as_slice());
+    if let Some(own) = shards.first().and_then(|d| drystone::study::own_study_of_shard(d)) {
+        let run = (own.merge)(shards, out)?;
+        out!("merged {} shards, {} realizations -> {}", shards.len(), run.realizations, out.display());
+        return Ok(failures(run.realizations, run.failed));
+    }
     let merged = merge_shards(shards, out)?;
     let failed = merged.rows.iter().filter(|r| !r.status.is_ok()).count();
     out!(
@@ -277,12 +282,9 @@ pub fn merge(a: MergeArgs) -> Result<ExitCode> {
 /// `drystone run` on a study of its own (a protocol's: `drystone::study::own`): its own
 /// runner and outputs.
 fn run_own(own: &OwnStudy, study: &Path, a: RunArgs) -> Result<ExitCode> {
-    for (given, flag) in [
-        (a.shard.is_some(), "--shard"),
-        (a.realizations.is_some(), "--realizations"),
-        (!a.vtk_realizations.is_empty(), "--vtk-realizations"),
-        (a.resume, "--resume"),
-    ] {
+    for (given, flag) in
+        [(a.realizations.is_some(), "--realizations"), (!a.vtk_realizations.is_empty(), "--vtk-realizations")]
+    {
         if given {
             bail!("{}: {flag} does not apply to {} (protocol = \"{}\")", study.display(), own.what, own.kind.name());
         }
@@ -291,13 +293,17 @@ fn run_own(own: &OwnStudy, study: &Path, a: RunArgs) -> Result<ExitCode> {
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&name));
     let threads = thread_count(a.workers.threads);
     let pool = pool(Some(threads))?;
-    let run = pool.install(|| (own.run)(study, &dir))?;
+    let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
+    let mode = RunMode { resume: a.resume, force: a.force };
+    let run = pool.install(|| (own.run)(study, &dir, shard, mode))?;
     let failed = run.failed;
+    let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
     out!(
-        "study {}: {} realizations ({} failed) on {} threads in {:.1} s -> {}",
+        "study {}: {} realizations ({} failed{}) on {} threads in {:.1} s -> {}",
         name,
         run.realizations,
         failed,
+        resumed,
         threads,
         run.wall_time_s,
         dir.display()

@@ -142,6 +142,40 @@ impl Method {
     }
 }
 
+impl Method {
+    /// Whether it draws a path of states under an imposed displacement (a
+    /// force–displacement curve): the penalty DEM and nscd do; limit analysis gives the
+    /// collapse load and its mechanism alone.
+    pub fn draws_curves(self) -> bool {
+        match self {
+            Method::Penalty | Method::Nscd => true,
+            Method::Limit => false,
+        }
+    }
+
+    /// The other methods whose settings (`[solver.<name>]`) it does not read, of which a
+    /// study warns: the penalty DEM runs no non-smooth solver, nscd no penalty solve;
+    /// limit analysis reads `[solver.limit]` alone and runs beside the others, so a study
+    /// warns of none.
+    pub fn does_not_read(self) -> &'static [Method] {
+        match self {
+            Method::Penalty => &[Method::Nscd],
+            Method::Nscd => &[Method::Penalty],
+            Method::Limit => &[],
+        }
+    }
+
+    /// Whether its steps of motion are solved to a tolerance (nscd: each step's contact
+    /// problem to its natural-map residual, the steps left above it counted); the penalty
+    /// DEM's explicit steps have no tolerance, limit analysis no steps.
+    pub fn solves_steps_to_a_tolerance(self) -> bool {
+        match self {
+            Method::Nscd => true,
+            Method::Penalty | Method::Limit => false,
+        }
+    }
+}
+
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())

@@ -67,19 +67,33 @@ struct HeaderLine<H> {
     header: H,
 }
 
+/// A row a journal holds: one finished work item of a study, whatever its protocol's rows
+/// (the ensemble's [`RealizationRow`], the in-plane study's), keeping every number exact.
+pub trait JournalRow: Serialize + DeserializeOwned {
+    /// The item it is the row of (unique in a run).
+    fn item_index(&self) -> u64;
+}
+
+impl JournalRow for RealizationRow {
+    fn item_index(&self) -> u64 {
+        self.index
+    }
+}
+
 #[derive(Serialize)]
-struct RowLineRef<'a> {
+struct RowLineRef<'a, R> {
     run: &'a str,
     index: u64,
-    row: &'a RealizationRow,
+    row: &'a R,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RowLine {
+#[serde(bound = "R: DeserializeOwned")]
+struct RowLine<R> {
     run: String,
     index: u64,
-    row: RealizationRow,
+    row: R,
 }
 
 /// The `sum` member closing every line: `,"sum":"` + 64 hex digits + `"}`.
@@ -118,13 +132,13 @@ fn unseal(text: &str) -> Result<String, (&'static str, String)> {
 
 /// What a journal on disk holds.
 #[derive(Debug, Clone)]
-pub struct Contents<H> {
+pub struct Contents<H, R = RealizationRow> {
     /// The identity of the run that wrote it (the `run` of every line).
     pub run: String,
     /// The header of the run.
     pub header: H,
     /// The finished rows, in the order they were written.
-    pub rows: Vec<RealizationRow>,
+    pub rows: Vec<R>,
     /// The 1-based line of each row in the file.
     pub lines: Vec<usize>,
     /// The length in bytes of the complete lines (a torn last line starts there).
@@ -147,6 +161,14 @@ impl Journal {
     /// # Errors
     /// [`JournalError::Corrupt`] naming the file, the line and the field.
     pub fn read<H: DeserializeOwned>(path: &Path) -> Result<Option<Contents<H>>, JournalError> {
+        Journal::read_rows(path)
+    }
+
+    /// [`Journal::read`] of a journal of rows of type `R`.
+    ///
+    /// # Errors
+    /// As [`Journal::read`].
+    pub fn read_rows<H: DeserializeOwned, R: JournalRow>(path: &Path) -> Result<Option<Contents<H, R>>, JournalError> {
         let f = match File::open(path) {
             Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
@@ -193,7 +215,8 @@ impl Journal {
                     head = Some((h.run, h.header));
                 }
                 Some((run, _)) => {
-                    let r: RowLine = serde_json::from_str(&body).map_err(|e| corrupt(line, "line", e.to_string()))?;
+                    let r: RowLine<R> =
+                        serde_json::from_str(&body).map_err(|e| corrupt(line, "line", e.to_string()))?;
                     if &r.run != run {
                         return Err(corrupt(
                             line,
@@ -201,8 +224,9 @@ impl Journal {
                             format!("a row of another run ({}; this journal's run is {run})", r.run),
                         ));
                     }
-                    if r.index != r.row.index {
-                        return Err(corrupt(line, "index", format!("{} but the row is item {}", r.index, r.row.index)));
+                    if r.index != r.row.item_index() {
+                        let item = r.row.item_index();
+                        return Err(corrupt(line, "index", format!("{} but the row is item {item}", r.index)));
                     }
                     if let Some(first) = seen.insert(r.index, line) {
                         return Err(corrupt(line, "index", format!("item {} is already on line {first}", r.index)));
@@ -247,8 +271,8 @@ impl Journal {
     ///
     /// # Errors
     /// [`JournalError::File`] naming the file (e.g. `No space left on device`).
-    pub fn append(&self, row: &RealizationRow) -> Result<(), JournalError> {
-        let body = serde_json::to_string(&RowLineRef { run: &self.run, index: row.index, row })
+    pub fn append<R: JournalRow>(&self, row: &R) -> Result<(), JournalError> {
+        let body = serde_json::to_string(&RowLineRef { run: &self.run, index: row.item_index(), row })
             .map_err(|e| FileError::at(&self.path)(std::io::Error::other(e)))?;
         self.write_line(seal(&body))
     }

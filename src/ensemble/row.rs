@@ -360,8 +360,9 @@ impl RealizationRow {
 }
 
 /// Serde of `f64` values that keeps every bit: finite numbers as JSON numbers, the others
-/// as text.
-mod exact {
+/// as text (the journal's rows, of every study): serde's `with` functions.
+#[allow(missing_docs)]
+pub mod exact {
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
     /// A number as written: a JSON number or a text for the values JSON has no number for.
@@ -425,6 +426,19 @@ mod exact {
 
         pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
             Option::<Repr>::deserialize(d)?.map(from_repr).transpose()
+        }
+    }
+
+    /// A `Vec<(f64, f64)>` (a curve's points).
+    pub mod pairs {
+        use super::*;
+
+        pub fn serialize<S: Serializer>(v: &[(f64, f64)], s: S) -> Result<S::Ok, S::Error> {
+            v.iter().map(|(x, y)| (to_repr(*x), to_repr(*y))).collect::<Vec<_>>().serialize(s)
+        }
+
+        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<(f64, f64)>, D::Error> {
+            Vec::<(Repr, Repr)>::deserialize(d)?.into_iter().map(|(x, y)| Ok((from_repr(x)?, from_repr(y)?))).collect()
         }
     }
 

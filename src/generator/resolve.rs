@@ -46,6 +46,22 @@ impl Wall {
             std::fs::read_to_string(path).map_err(|e| GeneratorError::Io { path: path.to_owned(), source: e })?;
         WallSpec::from_toml(&text, path)?.resolve(path, source)
     }
+
+    /// Every distribution of the wall: its course height and block length, an irregular
+    /// wall's dip and wedge length, its scatter's Kn factor and friction offset (the files
+    /// a study records as its inputs).
+    pub fn distributions(&self) -> Vec<&super::Distribution> {
+        let mut v = vec![&self.course_height, &self.block_length];
+        if let super::Arrangement::Irregular(ir) = &self.arrangement {
+            v.push(&ir.dip);
+            v.extend(ir.wedge_length.as_ref());
+        }
+        if let Some(s) = &self.scatter {
+            v.extend(s.kn_factor.as_ref());
+            v.extend(s.friction_offset.as_ref());
+        }
+        v
+    }
 }
 
 impl WallSpec {

@@ -165,7 +165,7 @@ pub struct ShakeHistory {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ShakeResult {
     /// The solver (`nscd` or `penalty`).
-    pub solver: String,
+    pub solver: SolverKind,
     /// The motion's name.
     pub motion: String,
     /// Its peak ground acceleration (horizontal), g.
@@ -575,7 +575,7 @@ impl<'m> Watch<'m> {
     /// The result of the run that ended with `bodies`.
     pub(super) fn result(self, solver: SolverKind, bodies: &[Body], work: Work) -> ShakeResult {
         ShakeResult {
-            solver: solver.name().to_string(),
+            solver,
             motion: self.motion.name.clone(),
             pga_g: self.motion.pga_g(),
             overturned: self.collapse_time.is_some(),

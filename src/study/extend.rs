@@ -56,7 +56,7 @@ fn wall_text(study: &Study, group: usize) -> Result<String, ExtendError> {
     let g = &study.groups[group];
     let mut spec = g.spec.clone();
     if let Some(w) = g.walls.first() {
-        for d in super::resolve::wall_distributions(w) {
+        for d in w.distributions() {
             if d.source.as_os_str().is_empty() || d.source == g.wall_path || spec.distributions.contains_key(&d.name) {
                 continue;
             }

@@ -169,7 +169,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     let mut settings = settings;
     settings.sigma_notes = sigma_from_data(&mut obs, &stated_sigma_keys(path));
     let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
-    let setup = Setup { groups, seed: spec.seed, solver: crate::dem::SolverParams::default(), protocol, store: None };
+    let setup = Setup { groups, seed: spec.seed, solver: spec.solver, protocol, store: None };
     Ok(OwnAnalysis {
         name: spec.name,
         seed: spec.seed,

@@ -3,8 +3,9 @@
 //! ([`super::own`]).
 
 use super::inplane::refuse_out_of_plane;
-use super::inplane::{load, run, InPlaneStudyError};
+use super::inplane::{load, InPlaneStudyError, InPlaneStudyRun};
 use super::inplane_discrepancy::analysis_of;
+use super::inplane_run::{is_in_plane_shard, merge, run_into};
 use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
 use std::path::Path;
 
@@ -17,6 +18,8 @@ pub const STUDY: OwnStudy = OwnStudy {
     measured: "reads its specimens from [measured] walls",
     name: own_name,
     run: own_run,
+    merge: own_merge,
+    is_shard: is_in_plane_shard,
     analysis: own_analysis,
     check: Some(own_check),
 };
@@ -29,15 +32,28 @@ fn own_name(path: &Path) -> Result<String, OwnStudyError> {
     load(path).map(|s| s.name).map_err(boxed)
 }
 
-fn own_run(path: &Path, out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
+fn own_run(
+    path: &Path,
+    out: &Path,
+    shard: crate::ensemble::Shard,
+    mode: super::RunMode,
+) -> Result<OwnStudyRun, OwnStudyError> {
     // The effects the test does not read, refused before any run.
     refuse_out_of_plane(&load(path).map_err(boxed)?, path).map_err(boxed)?;
-    let run = run(path, out).map_err(boxed)?;
-    Ok(OwnStudyRun {
+    run_into(path, out, shard, mode).map(|r| counts(&r)).map_err(boxed)
+}
+
+fn own_merge(dirs: &[std::path::PathBuf], out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
+    merge(dirs, out).map(|r| counts(&r)).map_err(boxed)
+}
+
+fn counts(run: &InPlaneStudyRun) -> OwnStudyRun {
+    OwnStudyRun {
         realizations: run.rows.len(),
         failed: run.rows.iter().filter(|r| r.status != "ok").count(),
         wall_time_s: run.wall_time_s,
-    })
+        resumed: run.resumed,
+    }
 }
 
 fn own_analysis(path: &Path) -> Result<OwnAnalysis, OwnStudyError> {

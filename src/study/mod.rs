@@ -86,7 +86,11 @@ pub mod followup;
 pub mod inplane;
 pub mod inplane_discrepancy;
 mod inplane_entry;
+mod inplane_error;
 pub mod inplane_loops;
+mod inplane_measured;
+mod inplane_report;
+pub mod inplane_run;
 mod lock;
 mod measured;
 mod motions;
@@ -102,6 +106,7 @@ mod run;
 mod shaking;
 mod shards;
 mod size;
+mod solver;
 mod spec;
 mod suite;
 mod summary;
@@ -114,7 +119,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::{own_study_of, StudyProtocol};
+pub use protocol::{own_study_of, own_study_of_shard, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

@@ -23,6 +23,8 @@ pub struct OwnStudyRun {
     pub failed: usize,
     /// Wall-clock time, s.
     pub wall_time_s: f64,
+    /// How many rows came from the journal of an earlier run (`--resume`).
+    pub resumed: usize,
 }
 
 /// What the discrepancy analysis of a study of its own runs on: its groups, its measured
@@ -81,9 +83,13 @@ pub struct OwnStudy {
     pub measured: &'static str,
     /// The name of the study of a file (read and checked).
     pub name: fn(&Path) -> Result<String, OwnStudyError>,
-    /// Runs the study of a file (first argument) into a folder (second): its outputs
-    /// written there.
-    pub run: fn(&Path, &Path) -> Result<OwnStudyRun, OwnStudyError>,
+    /// Runs a shard of the study of a file (first argument) into a folder (second), its
+    /// journal treated as `RunMode` says: its outputs written there.
+    pub run: fn(&Path, &Path, crate::ensemble::Shard, super::RunMode) -> Result<OwnStudyRun, OwnStudyError>,
+    /// Merges shard folders into a folder: the outputs of the whole study.
+    pub merge: fn(&[std::path::PathBuf], &Path) -> Result<OwnStudyRun, OwnStudyError>,
+    /// Whether a folder holds a shard of one of its studies.
+    pub is_shard: fn(&Path) -> bool,
     /// Reads the study of a file for its discrepancy analysis.
     pub analysis: fn(&Path) -> Result<OwnAnalysis, OwnStudyError>,
     /// Its check after the analysis ([`OwnCheck`]), if it has one.

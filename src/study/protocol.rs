@@ -262,6 +262,12 @@ pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
     super::own::kind_of(path).and_then(own_study)
 }
 
+/// The study of its own whose shard a run directory holds; `None` for a shard of the
+/// ensemble study (or a directory that is no shard, whose errors the merge reports).
+pub fn own_study_of_shard(dir: &Path) -> Option<&'static OwnStudy> {
+    ProtocolKind::ALL.into_iter().filter_map(own_study).find(|own| (own.is_shard)(dir))
+}
+
 impl StudySpec {
     /// The penalty settings the study's protocol table writes under their former keys
     /// (deprecated; [`crate::dem::MovedKey`]), with the table's name. Only the table of

@@ -3,7 +3,6 @@
 //! every measured file read, before anything runs.
 
 use super::checks::{check_calibration, check_name, check_paper};
-use super::error::unsupported;
 use super::error::Invalid;
 use super::motions::protocol_sweep;
 pub use super::motions::ShakeStudy;
@@ -224,11 +223,9 @@ impl StudySpec {
                 ));
             }
         }
-        crate::protocol::check(self.loading(), self.solver.kind).map_err(|e| unsupported(invalid, e))?;
-        self.solver.validate_method().map_err(range("solver"))?;
         // Limit analysis runs beside the other methods too (the shaking study's static
         // capacity), so its table is checked whatever the kind.
-        self.solver.limit.validate().map_err(range("solver.limit"))?;
+        super::solver::check_method(self.loading(), &self.solver).map_err(|(key, why)| invalid.at(&key, why))?;
         if let Some(hand) = &self.tilt.by_hand {
             // What `drystone tilt --by-hand` refuses before it runs, refused before any
             // realization does.
@@ -266,7 +263,7 @@ impl StudySpec {
         }
         if self.protocol == ProtocolKind::Shake {
             out.extend(self.ignored_by_shaking());
-            if self.solver.kind.method() == crate::dem::Method::Nscd {
+            if self.solver.kind.method().solves_steps_to_a_tolerance() {
                 out.extend(
                     self.solver
                         .nscd
@@ -276,7 +273,8 @@ impl StudySpec {
                 );
             }
         }
-        if self.solver.kind.method() == crate::dem::Method::Penalty {
+        let unread = self.solver.kind.method().does_not_read();
+        if unread.contains(&crate::dem::Method::Nscd) {
             // The penalty DEM does not run the non-smooth solver (the command line refuses
             // `--nscd-*` without `--solver nscd`); a shaking study samples its pulses at
             // `dt_s` whatever the method, so that key is read.
@@ -291,7 +289,7 @@ impl StudySpec {
                 }
             }
         }
-        if self.solver.kind.method() == crate::dem::Method::Nscd {
+        if unread.contains(&crate::dem::Method::Penalty) {
             // Non-smooth contact dynamics runs none of the penalty DEM's static solves or
             // its motion (the command line's penalty options are refused or warned of
             // with `--solver nscd`): the reverse of the case above.
@@ -512,28 +510,13 @@ fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
 fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
     let mut files = vec![(InputRole::Wall, g.wall_path.clone())];
     for w in &g.walls {
-        for d in wall_distributions(w) {
+        for d in w.distributions() {
             if !d.source.as_os_str().is_empty() && d.source != g.wall_path {
                 files.push((InputRole::Distribution, d.source.clone()));
             }
         }
     }
     files
-}
-
-/// Every distribution of a resolved wall: its course height and block length, an irregular
-/// wall's dip and wedge length, its scatter's Kn factor and friction offset.
-pub(super) fn wall_distributions(w: &Wall) -> Vec<&crate::generator::Distribution> {
-    let mut v = vec![&w.course_height, &w.block_length];
-    if let crate::generator::Arrangement::Irregular(ir) = &w.arrangement {
-        v.push(&ir.dip);
-        v.extend(ir.wedge_length.as_ref());
-    }
-    if let Some(s) = &w.scatter {
-        v.extend(s.kn_factor.as_ref());
-        v.extend(s.friction_offset.as_ref());
-    }
-    v
 }
 
 /// One group: its wall description read, its overrides applied, its wall resolved at every

@@ -339,7 +339,7 @@ pub(super) fn shake_row(mut row: RealizationRow, r: ShakeResult, level: Option<f
     row.status = if r.overturned { Status::Collapsed } else { Status::Stood };
     // The non-smooth solver's count of steps above its natural-map tolerance; the penalty
     // DEM's explicit steps have none to count.
-    let nscd = r.solver == crate::dem::SolverKind::Nscd.name();
+    let nscd = r.solver.method().solves_steps_to_a_tolerance();
     row.shake = ShakeColumns {
         motion: r.motion,
         pga_g: Some(level.unwrap_or(r.pga_g)),

@@ -237,14 +237,7 @@ impl StudySpec {
         // Without `[solver] kind` a study runs by its protocol's default solver
         // (`protocol::Loading::default_solver`), as the command line does: the shaking
         // table's is nscd (docs/shake.md), every other protocol's the penalty DEM.
-        let kind_given = text
-            .parse::<toml::Table>()
-            .ok()
-            .and_then(|t| t.get("solver").and_then(|s| s.as_table()).map(|s| s.contains_key("kind")))
-            .unwrap_or(false);
-        if !kind_given {
-            spec.solver.kind = spec.loading().default_solver();
-        }
+        spec.solver = super::solver::with_default_kind(spec.solver, spec.loading(), &text);
         Ok(spec)
     }
 }

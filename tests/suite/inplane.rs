@@ -380,11 +380,11 @@ envelopes = "{}"
         ),
     )
     .unwrap();
-    let a = drystone::study::inplane::run(&study, &dir.join("a")).unwrap();
-    let b = drystone::study::inplane::run(&study, &dir.join("b")).unwrap();
+    let a = drystone::study::inplane_run::run(&study, &dir.join("a")).unwrap();
+    let b = drystone::study::inplane_run::run(&study, &dir.join("b")).unwrap();
     assert_eq!(a.rows.len(), 2);
     assert!(a.rows.iter().all(|r| r.status == "ok"), "{:?}", a.rows);
-    for f in ["realizations.csv", "realizations.jsonl", "summary.csv", "comparison.csv", "report.md"] {
+    for f in ["realizations.csv", "journal.jsonl", "manifest.json", "summary.csv", "comparison.csv", "report.md"] {
         assert!(dir.join("a").join(f).exists(), "{f}");
     }
     assert!(dir.join("a/curves_0_5_mpa.svg").exists() && dir.join("a/mechanism_0_5_mpa.svg").exists());
@@ -404,7 +404,7 @@ envelopes = "{}"
     assert!(e.contains("protocol") && e.contains("in_plane") && e.contains("drystone run"), "{e}");
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, std::fs::read_to_string(&study).unwrap().replace("\"WS.100\"", "\"WS.999\"")).unwrap();
-    let e = drystone::study::inplane::run(&bad, &dir.join("c")).unwrap_err().to_string();
+    let e = drystone::study::inplane_run::run(&bad, &dir.join("c")).unwrap_err().to_string();
     assert!(e.contains("groups[0].specimens") && e.contains("WS.999"), "{e}");
     // The model extended by the study's effects: the same walls, the force read with the
     // leaning jack's N u / L on top (N = σ0 L t of the 1.0 × 0.2 m plan), named in the report.
@@ -415,7 +415,7 @@ envelopes = "{}"
         text.replace("[in_plane]", "[effects]\njack_tilt = { inverse_length_per_m = 0.5 }\n\n[in_plane]"),
     )
     .unwrap();
-    let e = drystone::study::inplane::run(&extended, &dir.join("e")).unwrap();
+    let e = drystone::study::inplane_run::run(&extended, &dir.join("e")).unwrap();
     for (x, a) in e.rows.iter().zip(&a.rows) {
         assert_eq!(x.curve.len(), a.curve.len());
         // (drift %, kN): the extra force over the drift is N H0 / (100 L), the same at every
@@ -437,7 +437,7 @@ envelopes = "{}"
         text.replace("[in_plane]", "[effects]\njack_tilt = { inverse_length_per_m = 7.0 }\n\n[in_plane]"),
     )
     .unwrap();
-    let err = drystone::study::inplane::run(&extended, &dir.join("f")).unwrap_err().to_string();
+    let err = drystone::study::inplane_run::run(&extended, &dir.join("f")).unwrap_err().to_string();
     assert!(err.contains("effects.jack_tilt") && err.contains('7'), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -268,7 +268,7 @@ fn an_in_plane_study_refuses_the_effects_its_test_does_not_read_by_name() {
             assert!(err.contains(f), "{command} {}: {f:?} not in {err}", p.display());
         }
         assert!(!err.contains("panicked"), "{err}");
-        assert!(!out.join("realizations.jsonl").exists(), "{command} {}: it ran", p.display());
+        assert!(!out.join("journal.jsonl").exists(), "{command} {}: it ran", p.display());
     };
     let lean = study("lean", "[effects]\ninitial_lean = { lean_deg = 1.0 }", "");
     refused("run", &lean, &["effects.initial_lean", "thickness"]);

@@ -42,6 +42,7 @@ mod inplane_discrepancy;
 mod inplane_loops;
 mod inplane_replay;
 mod inplane_rig;
+mod inplane_study;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;

@@ -198,7 +198,7 @@ fn a_block_slides_on_an_accelerated_base_as_newmarks_block() {
     let slid = r.residual_drift * r.height_m;
     assert!((slid - d).abs() < 0.03 * d, "slid {slid:.5} m against Newmark's {d:.5} m");
     assert!(!r.overturned && r.max_rotation_deg < 0.5, "{r:?}");
-    assert_eq!(r.solver, "penalty");
+    assert_eq!(r.solver, drystone::dem::SolverKind::Penalty);
 }
 
 /// Housner's rocking equation by RK4 at 1e-4 s with the impact rule `θ̇ ← r θ̇` when θ

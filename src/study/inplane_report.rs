@@ -1,0 +1,324 @@
+//! The in-plane study's statistics (`summary.csv`: per group and observable the ensemble's
+//! mean, σ, COV and 95 % band), its comparison with the measured specimens
+//! (`comparison.csv`), its figures (`curves_<group>.svg`, `mechanism_<group>.svg`) and its
+//! report (`report.md`).
+
+use super::inplane::{realized, stated_effects, InPlaneRow, InPlaneStudySpec};
+use super::inplane_error::InPlaneStudyError;
+use super::inplane_measured::{file_stem, Specimen};
+use crate::dem::SolverParams;
+use crate::generator::Wall;
+use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
+use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, Rig};
+use crate::stats::{mean, quantile, sd};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The observables compared, with their row accessors.
+const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 17] = [
+    ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
+    ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
+    ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
+    ("drift_at_peak_neg_pct", "drift at peak − (%)", |r| r.drift_at_peak_neg_pct, |s| s.dmax_neg_pct),
+    ("ultimate_drift_pos_pct", "ultimate drift + (%)", |r| r.ultimate_drift_pos_pct, |s| s.du_pos_pct),
+    ("stiffness_pos_kn_per_mm", "initial stiffness + (kN/mm)", |r| r.stiffness_pos_kn_per_mm, |s| s.kel_pos),
+    ("failure_type", "failure type (1 rocking, 0.5 mixed, 0 shear)", |r| r.failure_type, |s| s.failure_type),
+    ("damping_ratio", "loops' equivalent damping ratio, cycles ≥ 1 % drift", |r| r.damping_ratio, |s| s.damping_ratio),
+    (
+        "force_at_0_5_pos_kn",
+        "envelope's force at 0.5 % drift + (kN)",
+        |r| r.force_at_0_5_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[1],
+    ),
+    (
+        "force_at_1_pos_kn",
+        "envelope's force at 1 % drift + (kN)",
+        |r| r.force_at_1_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[2],
+    ),
+    (
+        "force_at_2_pos_kn",
+        "envelope's force at 2 % drift + (kN)",
+        |r| r.force_at_2_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[3],
+    ),
+    (
+        "force_at_1_neg_kn",
+        "envelope's force at 1 % drift − (kN)",
+        |r| r.force_at_1_neg_kn,
+        |s| s.readings_neg.force_at_drift_kn[2],
+    ),
+    (
+        "drift_at_80_pos_pct",
+        "drift at 80 % of the peak + (%)",
+        |r| r.drift_at_80_pos_pct,
+        |s| s.readings_pos.drift_at_80_pct,
+    ),
+    (
+        "drift_at_95_pos_pct",
+        "drift at 95 % of the peak + (%)",
+        |r| r.drift_at_95_pos_pct,
+        |s| s.readings_pos.drift_at_95_pct,
+    ),
+    (
+        "plateau_slope_pos_kn_per_pct",
+        "plateau slope past 95 % of the peak + (kN per % drift)",
+        |r| r.plateau_slope_pos_kn_per_pct,
+        |s| s.readings_pos.plateau_slope_kn_per_pct,
+    ),
+    ("vertical_modulus_mpa", "wall's vertical modulus, loading phase (MPa)", |r| r.vertical_modulus_mpa, |s| s.epc_mpa),
+    (
+        "largest_block_excursion_mm",
+        "largest excursion of a block from its course (mm), simulated only",
+        |r| r.largest_block_excursion_mm,
+        |_| f64::NAN,
+    ),
+];
+
+/// Mean, σ, COV and the 95 % band (2.5 % and 97.5 % quantiles) of the finite values.
+fn stats(x: &[f64]) -> (usize, f64, f64, f64, f64, f64) {
+    let v: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
+    let (m, s) = (mean(&v), sd(&v));
+    (v.len(), m, s, s / m, quantile(&v, 0.025), quantile(&v, 0.975))
+}
+
+fn f(v: f64, d: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.d$}")
+    } else {
+        "–".into()
+    }
+}
+
+/// The method of the study's runs in the report's words: the penalty DEM with its
+/// tolerance, another method with what it gives (its cell of the protocol's `WAYS`).
+fn method_words(solver: SolverParams) -> String {
+    let method = solver.kind.method();
+    if solver.kind.is_penalty() {
+        let cascade =
+            if solver.kind.names_cascade() { format!(", the {} cascade", solver.kind.name()) } else { String::new() };
+        format!(
+            "the penalty DEM (dynamic relaxation to the unbalanced-force ratio {:e} per increment of the imposed \
+             displacement{cascade})",
+            solver.penalty.tolerance
+        )
+    } else {
+        let what = crate::protocol::methods(crate::protocol::Loading::InPlane, method).unwrap_or_default();
+        format!("{} ({what})", method.describe())
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn report(
+    spec: &InPlaneStudySpec,
+    path: &Path,
+    out: &Path,
+    rows: &[InPlaneRow],
+    specimens: &[Specimen],
+    walls: &[Wall],
+    effects: &[Vec<crate::effects::Effect>],
+    solver: SolverParams,
+    elapsed_s: f64,
+) -> Result<String, InPlaneStudyError> {
+    let mut md = String::new();
+    let mut summary = String::from("group,observable,n,mean,sd,cov,band_lo,band_hi\n");
+    let mut comparison = String::from(
+        "group,specimen,observable,measured,sim_mean,sim_sd,band_lo,band_hi,inside_band,ratio_measured_to_mean\n",
+    );
+    let _ = writeln!(md, "# {}\n", spec.name);
+    let _ = writeln!(md, "{}\n", spec.description.trim());
+    let ok = rows.iter().filter(|r| r.status == "ok").count();
+    let _ = writeln!(
+        md,
+        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
+         analysis beside it. Shear span {} m, largest drift {} %.\n",
+        path.display(),
+        spec.seed,
+        rows.len(),
+        rows.len() - ok,
+        elapsed_s,
+        method_words(solver),
+        spec.in_plane.shear_span_m.map_or("–".into(), |h| h.to_string()),
+        spec.in_plane.drift_pct
+    );
+    let _ = writeln!(
+        md,
+        "Readings as the measured files define them: the displacement is read on the loading beam at the measuring \
+         point ({}), the drift is that displacement over the point's height (`drift_% = displacement_mm / {} × 100`), \
+         and the stiffness (kN/mm) is read on the same displacement. The wall's vertical modulus is the secant of the \
+         vertical loading phase (the stress the actuator adds over the wall's shortening, the beam's settlement \
+         over the wall's height), as the database's `Epc` is read from the compression cycles at the start of each \
+         test. Measured columns are data drystone did not make; the simulated columns are its own.\n",
+        spec.in_plane.measuring_height_m.map_or_else(
+            || "the actuator's height, the shear span, where a test reports none".to_string(),
+            |h| format!("{h} m")
+        ),
+        spec.in_plane
+            .measuring_height_m
+            .or(spec.in_plane.shear_span_m)
+            .map_or("H".to_string(), |h| format!("{}", h * 1e3))
+    );
+    for (g, group) in spec.groups.iter().enumerate() {
+        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == group.name && r.status == "ok").collect();
+        let ms: Vec<&Specimen> =
+            group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
+        let slug: String =
+            group.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+        let _ = writeln!(md, "## {}\n", group.name);
+        if !effects[g].is_empty() {
+            let stated: Vec<String> = stated_effects(spec, g)
+                .iter()
+                .map(|(_, name, values)| {
+                    let v: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                    format!("`{name}` ({})", v.join(", "))
+                })
+                .collect();
+            let _ = writeln!(md, "The model extended by {}.\n", stated.join(", "));
+        }
+        let _ = writeln!(
+            md,
+            "σ0 = {} MPa, {} history, wall `{}`; {} realizations; measured: {}.\n",
+            group.sigma0_mpa,
+            match group.history {
+                History::Monotonic => "monotonic",
+                History::Cyclic => "cyclic",
+            },
+            group.wall.display(),
+            rs.len(),
+            if ms.is_empty() {
+                "none".to_string()
+            } else {
+                ms.iter().map(|m| m.unit.clone()).collect::<Vec<_>>().join(", ")
+            }
+        );
+        let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
+        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+        for (key, label, get, meas) in OBSERVABLES {
+            let d = if key == "damping_ratio" { 3 } else { 2 };
+            let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
+            let (n, m, s, cov, lo, hi) = stats(&x);
+            if n == 0 {
+                continue;
+            }
+            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", group.name);
+            let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
+            let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
+            for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
+                let _ = writeln!(
+                    comparison,
+                    "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
+                    group.name,
+                    sp.unit,
+                    v >= lo && v <= hi,
+                    v / m
+                );
+            }
+            let _ = writeln!(
+                md,
+                "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
+                if measured.is_empty() {
+                    "–".into()
+                } else {
+                    measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
+                },
+                f(m, d),
+                f(s, d),
+                f(cov, 3),
+                f(lo, d),
+                f(hi, d),
+                if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
+            );
+        }
+        let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
+        for r in &rs {
+            *kinds.entry(r.mechanism.as_str()).or_default() += 1;
+        }
+        let la: Vec<f64> = rs.iter().map(|r| r.limit_peak_kn).collect();
+        let (_, la_m, _, _, _, _) = stats(&la);
+        let mut la_kinds: BTreeMap<&str, usize> = BTreeMap::new();
+        for r in &rs {
+            *la_kinds.entry(r.limit_mechanism.as_str()).or_default() += 1;
+        }
+        let rock = rs.first().map_or(f64::NAN, |r| r.rocking_kn);
+        let _ = writeln!(
+            md,
+            "\nMechanism ({}): {}; measured: {}. Limit analysis: peak {} kN (mean), mechanism {}. The \
+             monolith's rigid rocking capacity N_total L / (2 H0) is {} kN.\n",
+            solver.kind.method().describe().trim_start_matches("the "),
+            kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
+            if ms.is_empty() {
+                "–".into()
+            } else {
+                ms.iter().map(|m| format!("{} ({})", m.modes, m.unit)).collect::<Vec<_>>().join(", ")
+            },
+            f(la_m, 2),
+            la_kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
+            f(rock, 2)
+        );
+        // The curves over the measured envelopes.
+        let mut curves: Vec<ForceDriftCurve> = rs
+            .iter()
+            .enumerate()
+            .map(|(k, r)| ForceDriftCurve {
+                label: (k == 0).then(|| "simulated (each realization)".to_string()),
+                colour: 0,
+                measured: false,
+                points: r.curve.clone(),
+            })
+            .collect();
+        for (k, m) in ms.iter().enumerate() {
+            if !m.envelope.is_empty() {
+                curves.push(ForceDriftCurve {
+                    label: Some(format!("{} envelope (measured)", m.unit)),
+                    colour: k + 1,
+                    measured: true,
+                    points: m.envelope.clone(),
+                });
+            }
+        }
+        let svg = out.join(format!("curves_{slug}.svg"));
+        force_drift(&svg, &group.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+        let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
+        // The mechanism of realization 0 beside the measured crack map.
+        if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
+            let params =
+                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
+            let layout = realized(&walls[g], &effects[g], spec.seed, r0.index, &group.name);
+            if let Ok(rig) =
+                layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
+            {
+                {
+                    let sim = crate::dem::Simulation::new(&rig.layout, solver);
+                    let svg = crack_map_svg(
+                        &rig.layout,
+                        poses,
+                        &mechanism_joints(&sim),
+                        mechanism,
+                        &format!("{}: realization 0, {}", group.name, mechanism.kind.name()),
+                    );
+                    let p = out.join(format!("mechanism_{slug}.svg"));
+                    crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+                    let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
+                    if let Some(dir) = spec.measured.as_ref().and_then(|m| m.crackmaps.as_ref()) {
+                        for m in &ms {
+                            let name = format!("crackmap_{}.png", file_stem(m));
+                            let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
+                            if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
+                                let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
+                            }
+                        }
+                    }
+                    md.push_str("\n\n");
+                }
+            }
+        }
+    }
+    let w = |name: &str, text: &str| {
+        crate::io::replace_file(&out.join(name), text.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
+    };
+    w("summary.csv", &summary)?;
+    w("comparison.csv", &comparison)?;
+    w("report.md", &md)?;
+    Ok(md)
+}

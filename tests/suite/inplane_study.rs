@@ -1,0 +1,218 @@
+//! The in-plane study on a tiny wall (two courses, a few blocks, a short monotonic history):
+//! its `[solver]` table chooses the method as in every study, the groups' own keys are
+//! refused in `[in_plane]`.
+
+use drystone::dem::{SolverKind, SolverParams};
+use drystone::loading::inplane::{History, InPlaneParams};
+use std::path::{Path, PathBuf};
+
+const WALL: &str = r#"version = 1
+name = "tiny granite wall"
+kind = "sawn_stone"
+[geometry]
+length_m = 0.4
+height_m = 0.3
+base_width_m = 0.2
+top_width_m = 0.2
+batter = "symmetric"
+[arrangement]
+kind = "discontinuous"
+overlap = 0.5
+[courses]
+height_m = 0.15
+[blocks]
+length_m = 0.2
+material = "granite"
+[[materials]]
+name = "granite"
+density_kg_per_m3 = 2600.0
+kn_pa_per_m = 2.0e10
+ks_pa_per_m = 1.0e9
+friction_deg = 32.2
+cohesion_pa = 0.0
+tensile_strength_pa = 0.0
+[restraints]
+base = "free"
+ends = { kind = "free" }
+"#;
+
+/// Two groups (3 and 2 realizations) on the tiny wall; `extra` goes before `[in_plane]`,
+/// `in_plane` into it.
+fn study_text(extra: &str, in_plane: &str) -> String {
+    format!(
+        "version = 1\nname = \"tiny\"\nseed = 7\nrealizations = 3\nprotocol = \"in_plane\"\n{extra}\n[in_plane]\n\
+         shear_span_m = 0.35\ndrift_pct = 0.4\n{in_plane}\n[[groups]]\nname = \"a\"\nwall = \"wall.toml\"\n\
+         sigma0_mpa = 0.5\n\n[[groups]]\nname = \"b\"\nwall = \"wall.toml\"\nsigma0_mpa = 0.25\nrealizations = 2\n"
+    )
+}
+
+/// A fresh folder with the tiny wall.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-study-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("wall.toml"), WALL).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// `[solver] kind = "nscd"` runs every realization by non-smooth contact dynamics: the row
+/// is the one a direct nscd run of the same realization gives, bit for bit, and not the
+/// penalty DEM's; limit analysis, which draws no curve, is refused at `solver.kind`.
+#[test]
+fn the_solver_table_chooses_the_method() {
+    let dir = folder("solver");
+    let nscd = write(&dir, "nscd.toml", &study_text("[solver]\nkind = \"nscd\"\n", ""));
+    let penalty = write(&dir, "penalty.toml", &study_text("", ""));
+    let spec = drystone::study::inplane::load(&nscd).unwrap();
+    assert_eq!(spec.solver.kind, SolverKind::Nscd);
+    let by_nscd = drystone::study::inplane_run::run(&nscd, &dir.join("n")).unwrap();
+    let by_penalty = drystone::study::inplane_run::run(&penalty, &dir.join("p")).unwrap();
+    assert_eq!(by_nscd.rows.len(), 5);
+    let wall = drystone::generator::Wall::from_file(&dir.join("wall.toml")).unwrap();
+    for (g, sigma0_mpa, i) in [(0usize, 0.5, 0u64), (1, 0.25, 1)] {
+        let index = g as u64 * 10_000 + i;
+        let row = by_nscd.rows.iter().find(|r| r.index == index).unwrap();
+        let (_, layout) = drystone::effects::realize(&wall, 7, index, &row.group, &[]).unwrap();
+        let params = InPlaneParams {
+            sigma0_mpa,
+            history: History::Monotonic,
+            shear_span_m: Some(0.35),
+            drift_pct: 0.4,
+            ..InPlaneParams::default()
+        };
+        let solver = SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() };
+        let run = drystone::protocol::run(&drystone::protocol::InPlane(params), &layout, solver, &mut ()).unwrap();
+        let drystone::protocol::InPlaneRun::Nscd(Ok(direct)) = run else { panic!("{run:?}") };
+        let d = direct.positive.unwrap();
+        assert_eq!(row.status, "ok", "{row:?}");
+        assert_eq!(row.peak_pos_kn.to_bits(), d.peak_force_kn.to_bits());
+        assert_eq!(row.stiffness_pos_kn_per_mm.to_bits(), d.initial_stiffness_kn_per_mm.to_bits());
+        assert_eq!(row.mechanism, direct.mechanism.kind.name());
+        let p = by_penalty.rows.iter().find(|r| r.index == index).unwrap();
+        assert_ne!(p.peak_pos_kn.to_bits(), row.peak_pos_kn.to_bits(), "the penalty DEM's row differs");
+    }
+    let report = std::fs::read_to_string(dir.join("n/report.md")).unwrap();
+    assert!(report.contains("non-smooth contact dynamics"), "{report}");
+    // A method that gives no curve, and a kind that is not one, refused by key.
+    let limit = write(&dir, "limit.toml", &study_text("[solver]\nkind = \"limit\"\n", ""));
+    let e = drystone::study::inplane::load(&limit).unwrap_err().to_string();
+    assert!(e.contains("solver.kind") && e.contains("limit"), "{e}");
+    let bad = write(&dir, "bad.toml", &study_text("[solver]\nkind = \"rigid\"\n", ""));
+    let e = drystone::study::inplane::load(&bad).unwrap_err().to_string();
+    assert!(e.contains("rigid") && e.contains("kind"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The groups' own keys given in `[in_plane]` (every group would overwrite them) are
+/// refused, naming the key.
+#[test]
+fn the_groups_keys_are_refused_in_the_shared_table() {
+    let dir = folder("keys");
+    for key in ["sigma0_mpa = 0.5", "history = \"cyclic\""] {
+        let p = write(&dir, "study.toml", &study_text("", key));
+        let e = drystone::study::inplane::load(&p).unwrap_err().to_string();
+        let name = key.split(' ').next().unwrap();
+        assert!(e.contains(&format!("in_plane.{name}")), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The outputs of a run folder that must be the same bit for bit: every file but the
+/// journal and the manifest (which hold the run's own history), the rows without their
+/// wall-clock column, the report without its wall-clock time.
+fn outputs_of(dir: &Path) -> Vec<(String, String)> {
+    let mut v: Vec<(String, String)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read_to_string(&p).unwrap()))
+        .filter(|(name, _)| name != "journal.jsonl" && name != "manifest.json")
+        .map(|(name, text)| {
+            let text = match name.as_str() {
+                "realizations.csv" => {
+                    text.lines().map(|l| l.rsplitn(3, ',').nth(2).unwrap_or_default().to_string() + "\n").collect()
+                }
+                "report.md" => text.lines().filter(|l| !l.contains("wall-clock")).collect::<Vec<_>>().join("\n"),
+                _ => text,
+            };
+            (name, text)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn same_rows(a: &[drystone::study::inplane::InPlaneRow], b: &[drystone::study::inplane::InPlaneRow]) {
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        assert_eq!(x.index, y.index);
+        assert_eq!(x.peak_pos_kn.to_bits(), y.peak_pos_kn.to_bits());
+        assert_eq!(x.limit_peak_kn.to_bits(), y.limit_peak_kn.to_bits());
+        assert_eq!(x.damping_ratio.to_bits(), y.damping_ratio.to_bits(), "NaN kept");
+        let bits = |c: &[(f64, f64)]| c.iter().map(|(d, f)| (d.to_bits(), f.to_bits())).collect::<Vec<_>>();
+        assert_eq!(bits(&x.curve), bits(&y.curve));
+    }
+}
+
+/// A run killed after two of its five realizations (its journal holds those two rows, as a
+/// kill leaves it) continues with `resume`: it runs the three missing ones and writes the
+/// outputs of the uninterrupted run, bit for bit; without `resume` the unfinished journal is
+/// refused, and a journal of another run (another seed) is refused naming the seed.
+#[test]
+fn a_killed_run_resumes_to_the_uninterrupted_outputs() {
+    use drystone::ensemble::Shard;
+    use drystone::study::{inplane_run, RunMode};
+    let dir = folder("resume");
+    let study = write(&dir, "study.toml", &study_text("", ""));
+    let whole = inplane_run::run(&study, &dir.join("whole")).unwrap();
+    assert_eq!(whole.rows.len(), 5);
+    let manifest = std::fs::read_to_string(dir.join("whole/manifest.json")).unwrap();
+    assert!(manifest.contains("\"shard\": \"1/1\"") && manifest.contains("wall.toml"), "{manifest}");
+    let journal = std::fs::read_to_string(dir.join("whole/journal.jsonl")).unwrap();
+    let killed = dir.join("killed");
+    std::fs::create_dir_all(&killed).unwrap();
+    let kept: String = journal.lines().take(3).map(|l| format!("{l}\n")).collect();
+    std::fs::write(killed.join("journal.jsonl"), kept).unwrap();
+    let e = inplane_run::run(&study, &killed).unwrap_err().to_string();
+    assert!(e.contains("2 of 5") && e.contains("resume"), "{e}");
+    let resume = RunMode { resume: true, force: false };
+    let resumed = inplane_run::run_into(&study, &killed, Shard::ALL, resume).unwrap();
+    assert_eq!(resumed.resumed, 2);
+    same_rows(&resumed.rows, &whole.rows);
+    assert_eq!(outputs_of(&killed), outputs_of(&dir.join("whole")));
+    let other = write(&dir, "other.toml", &study_text("", "").replace("seed = 7", "seed = 8"));
+    let e = inplane_run::run_into(&other, &killed, Shard::ALL, resume).unwrap_err().to_string();
+    assert!(e.contains("seed") && e.contains('7') && e.contains('8'), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Two shards of the study, merged, write the outputs of the whole run bit for bit; a shard
+/// given twice is refused.
+#[test]
+fn two_shards_merged_equal_the_whole() {
+    use drystone::ensemble::Shard;
+    use drystone::study::{inplane_run, RunMode};
+    let dir = folder("shards");
+    let study = write(&dir, "study.toml", &study_text("", ""));
+    let whole = inplane_run::run(&study, &dir.join("whole")).unwrap();
+    let mut shards = Vec::new();
+    for k in 0..2 {
+        let d = dir.join(format!("shard{k}"));
+        let r = inplane_run::run_into(&study, &d, Shard { k, n: 2 }, RunMode::default()).unwrap();
+        assert_eq!(r.rows.len(), [3, 2][k]);
+        assert!(!d.join("report.md").exists(), "a shard writes its rows alone");
+        shards.push(d);
+    }
+    let merged = inplane_run::merge(&shards, &dir.join("merged")).unwrap();
+    same_rows(&merged.rows, &whole.rows);
+    assert_eq!(outputs_of(&dir.join("merged")), outputs_of(&dir.join("whole")));
+    let e = inplane_run::merge(&[shards[0].clone(), shards[0].clone()], &dir.join("twice")).unwrap_err().to_string();
+    assert!(e.contains("shard 1/2"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
