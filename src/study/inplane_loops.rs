@@ -11,9 +11,13 @@
 //! [`LOOP_MIN_DRIFT_PCT`] % drift.
 //!
 //! Each model checked (the baseline and the models in the analysis's tie, at their
-//! parameters fitted to all the data) is run cyclic, the study's history, at each stress
-//! of the study's cyclic specimens, on [`LOOP_REALIZATIONS`] of the analysis's own layouts
-//! of that group (`effects::realize`, the group's effects and the model's). Per group, the
+//! parameters fitted to all the data) is run cyclic at each stress of the study's cyclic
+//! specimens, on the analysis's own layouts of that group (`effects::realize`, the group's
+//! effects and the model's): each specimen whose curve is read on its own history, its
+//! turning points replayed in the order the laboratory ran them
+//! ([`crate::loading::inplane_loops::turning_points`], [`InPlaneParams::reversals_pct`]), on
+//! a layout of its own (the realization of its index in the group); a group given without
+//! histories on [`LOOP_REALIZATIONS`] layouts by the study's history. Per group, the
 //! measured reading is the median of the specimens' (one badly digitized loop does not move
 //! it), its standard error `1.2533 σ / √n` with `σ` the specimens' spread within their
 //! groups pooled over the groups (Shamos's estimator, 1.0483 times the median absolute
@@ -399,19 +403,23 @@ pub fn measured_loops(
         let Some(k) = input.setup.groups.iter().position(|x| x.name == name) else {
             continue;
         };
-        let read: Vec<(String, f64)> = g
+        let of: Vec<&crate::study::inplane::Specimen> = g
             .specimens
             .iter()
             .filter_map(|u| specimens.iter().find(|s| &s.unit == u))
             .filter(|s| s.damping_ratio.is_finite())
-            .map(|s| (s.unit.clone(), s.damping_ratio))
             .collect();
-        if read.is_empty() {
+        if of.is_empty() {
             continue;
         }
-        match groups.iter_mut().find(|(j, _, _)| *j == k) {
-            Some((_, _, r)) => r.extend(read),
-            None => groups.push((k, g.sigma0_mpa, read)),
+        let read: Vec<(String, f64)> = of.iter().map(|s| (s.unit.clone(), s.damping_ratio)).collect();
+        let histories: Vec<Vec<f64>> = of.iter().map(|s| s.reversals_pct.clone()).collect();
+        match groups.iter_mut().find(|(j, _, _, _)| *j == k) {
+            Some((_, _, r, h)) => {
+                r.extend(read);
+                h.extend(histories);
+            }
+            None => groups.push((k, g.sigma0_mpa, read, histories)),
         }
     }
     let test = InPlaneParams { history: History::Cyclic, ..spec.in_plane.clone() };
@@ -465,8 +473,12 @@ pub fn refit_peaks(check: &mut LoopCheck, run: &Run) {
 }
 
 /// A measured group of the check: the index of the analysis's group, its vertical stress
-/// (MPa), and its specimens' readings `(unit, ξ_eq)`.
-pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>);
+/// (MPa), its specimens' readings `(unit, ξ_eq)`, and the turning points of each one's
+/// measured history (drift %, [`InPlaneParams::reversals_pct`]; in the readings' order). A
+/// group whose histories are all empty (none given, or `vec![]`) is run by the study's
+/// history on [`LOOP_REALIZATIONS`] layouts; otherwise each specimen with a history is run
+/// on it, on the layout of its index in the group, and a specimen without one is not run.
+pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>, Vec<Vec<f64>>);
 
 /// A model of the check: its name, its parameters (`effect.param`, value) and its effects.
 pub type LoopCandidate = (String, Vec<(String, f64)>, Vec<Effect>);
@@ -493,15 +505,25 @@ pub fn check_models(
     // the median of the absolute differences of the pairs of one group.
     let differences: Vec<f64> = groups
         .iter()
-        .flat_map(|(_, _, r)| (0..r.len()).flat_map(move |i| (i + 1..r.len()).map(move |j| (r[i].1 - r[j].1).abs())))
+        .flat_map(|(_, _, r, _)| (0..r.len()).flat_map(move |i| (i + 1..r.len()).map(move |j| (r[i].1 - r[j].1).abs())))
         .collect();
     let measured_sigma = 1.0483 * median(&differences);
     if !measured_sigma.is_finite() {
         return Err(InPlaneStudyError::Write("the loops: no group with two specimens read".into()));
     }
     let solver = setup.solver;
-    let jobs: Vec<(usize, usize, u64)> = (0..models.len())
-        .flat_map(|mi| (0..groups.len()).flat_map(move |gi| (0..LOOP_REALIZATIONS).map(move |r| (mi, gi, r))))
+    // Per group, the runs: `(realization, the history's index)`, each specimen's own history
+    // where the group has them, else the study's history on `LOOP_REALIZATIONS` layouts.
+    let runs_of = |gi: usize| -> Vec<(u64, Option<usize>)> {
+        let histories = &groups[gi].3;
+        if histories.iter().all(Vec::is_empty) {
+            (0..LOOP_REALIZATIONS).map(|r| (r, None)).collect()
+        } else {
+            histories.iter().enumerate().filter(|(_, h)| !h.is_empty()).map(|(i, _)| (i as u64, Some(i))).collect()
+        }
+    };
+    let jobs: Vec<(usize, usize, u64, Option<usize>)> = (0..models.len())
+        .flat_map(|mi| (0..groups.len()).flat_map(move |gi| runs_of(gi).into_iter().map(move |(r, h)| (mi, gi, r, h))))
         .collect();
     progress(&format!(
         "the cyclic loops: {} models at {} stresses, {} cyclic runs",
@@ -520,15 +542,29 @@ pub fn check_models(
     // Per job: the model's reading, and the readings with each friction in place of its own.
     let readings: Vec<(f64, Vec<f64>)> = jobs
         .par_iter()
-        .map(|&(mi, gi, r)| {
+        .map(|&(mi, gi, r, history)| {
             let failed = (f64::NAN, vec![f64::NAN; frictions.len()]);
-            let (k, sigma0, _) = &groups[gi];
+            let (k, sigma0, _, histories) = &groups[gi];
             let g = &setup.groups[*k];
             let all: Vec<Effect> = g.effects.iter().chain(&models[mi].2).cloned().collect();
             let Ok((_, layout)) = crate::effects::realize(&g.wall, setup.seed, r, &g.name, &all) else {
                 return failed;
             };
-            match crate::protocol::run(&crate::protocol::InPlane(params(*sigma0)), &layout, solver, &mut ()) {
+            let test = match history.map(|i| &histories[i]) {
+                Some(h) => {
+                    let reach = h.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    let base = params(*sigma0);
+                    InPlaneParams {
+                        history: History::Cyclic,
+                        amplitudes_pct: None,
+                        drift_pct: base.drift_pct.max(reach),
+                        reversals_pct: Some(h.clone()),
+                        ..base
+                    }
+                }
+                None => params(*sigma0),
+            };
+            match crate::protocol::run(&crate::protocol::InPlane(test), &layout, solver, &mut ()) {
                 Ok(crate::protocol::InPlaneRun::Penalty(Ok(res)) | crate::protocol::InPlaneRun::Nscd(Ok(res))) => {
                     let read = |c: &[crate::loading::inplane::CurvePoint]| {
                         let curve: Vec<(f64, f64)> = c.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
@@ -579,12 +615,12 @@ pub fn check_models(
         .map(|(mi, (name, parameters, _))| {
             // The model's jobs of group `gi`.
             let of = |gi: usize| -> Vec<&(f64, Vec<f64>)> {
-                jobs.iter().zip(&readings).filter(|((m, g, _), _)| *m == mi && *g == gi).map(|(_, v)| v).collect()
+                jobs.iter().zip(&readings).filter(|((m, g, _, _), _)| *m == mi && *g == gi).map(|(_, v)| v).collect()
             };
             let per: Vec<LoopGroup> = groups
                 .iter()
                 .enumerate()
-                .map(|(gi, (k, _, read))| {
+                .map(|(gi, (k, _, read, _))| {
                     let simulated: Vec<f64> = of(gi).iter().map(|v| v.0).collect();
                     let z = z_of(read, &simulated);
                     LoopGroup { group: setup.groups[*k].name.clone(), measured: read.clone(), simulated, z }
@@ -596,7 +632,7 @@ pub fn check_models(
             // χ² with each friction of the grid in place of the model's.
             let profile: Vec<f64> = (0..frictions.len())
                 .map(|f| {
-                    sum_read(&mut groups.iter().enumerate().map(|(gi, (_, _, read))| {
+                    sum_read(&mut groups.iter().enumerate().map(|(gi, (_, _, read, _))| {
                         let simulated: Vec<f64> = of(gi).iter().map(|v| v.1[f]).collect();
                         z_of(read, &simulated)
                     }))

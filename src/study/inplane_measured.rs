@@ -4,7 +4,7 @@
 //! damping ratio of a cyclic specimen.
 
 use super::inplane_error::InPlaneStudyError;
-use crate::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
+use crate::loading::inplane_loops::{loop_damping_ratio, turning_points, LOOP_MIN_DRIFT_PCT, TURNING_NOISE_PCT};
 use serde::Serialize;
 use std::path::Path;
 
@@ -50,6 +50,10 @@ pub struct Specimen {
     /// the measuring point over its height); NaN for a monotonic test or without the curve
     /// ([`read_loops`]).
     pub damping_ratio: f64,
+    /// The turning points of its measured history, drift % in the order the actuator
+    /// reached them ([`crate::loading::inplane_loops::turning_points`] of the curve's drift
+    /// column); empty for a monotonic test or without the curve ([`read_loops`]).
+    pub reversals_pct: Vec<f64>,
     /// The shear span `H0_mm`, mm (NaN where the table has none).
     pub shear_span_mm: f64,
     /// The height of the measuring point, mm: `HLVDT_mm`, or the shear span where it is
@@ -200,6 +204,7 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
                 None => f64::NAN,
             },
             damping_ratio: f64::NAN,
+            reversals_pct: Vec::new(),
             shear_span_mm: opt_num(h0_col)?,
             measuring_height_mm: f64::NAN,
             epc_mpa: opt_num(epc_col)?,
@@ -303,7 +308,7 @@ fn check_drift_column(path: &Path, pts: &[[f64; 3]], height_mm: f64) -> Result<(
     Ok(())
 }
 
-/// Sets each cyclic specimen's [`Specimen::damping_ratio`] from its whole measured curve in
+/// Sets each cyclic specimen's [`Specimen::damping_ratio`] and [`Specimen::reversals_pct`] from its whole measured curve in
 /// `dir` (`FD_<unit without dots>_<source>.csv`, [`read_points`]'s format), read on the
 /// file's drift (the displacement at the measuring point over its height, checked against
 /// the displacement column). A specimen without a curve file keeps NaN.
@@ -327,6 +332,8 @@ pub fn read_loops(specimens: &mut [Specimen], dir: &Path) -> Result<(), InPlaneS
         check_drift_column(&p, &pts, s.measuring_height_mm)?;
         let curve: Vec<(f64, f64)> = pts.into_iter().map(|q| (q[2], q[1])).collect();
         s.damping_ratio = loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT);
+        let drifts: Vec<f64> = curve.iter().map(|q| q.0).collect();
+        s.reversals_pct = turning_points(&drifts, TURNING_NOISE_PCT);
     }
     Ok(())
 }

@@ -113,9 +113,14 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
         model("rig_friction", Some(&format!("rig_friction={MU_R}"))),
         model("jack_tilt", Some("jack_tilt=0.4")),
     ];
-    let check =
-        check_models(&setup, &cyclic, &[(0, SIGMA0_MPA, measured.clone())], &models, &drystone::discrepancy::quiet)
-            .unwrap();
+    let check = check_models(
+        &setup,
+        &cyclic,
+        &[(0, SIGMA0_MPA, measured.clone(), vec![])],
+        &models,
+        &drystone::discrepancy::quiet,
+    )
+    .unwrap();
     assert_eq!(check.runs, 3 * 2);
     let fits: Vec<bool> = check.models.iter().map(LoopCheck::fits).collect();
     let z: Vec<f64> = check.models.iter().map(|m| m.groups[0].z).collect();
@@ -171,7 +176,8 @@ fn a_history_below_the_minimum_drift_is_not_read_not_refuted() {
         [0.05, 0.06, 0.07].iter().enumerate().map(|(i, x)| (format!("S{i}"), *x)).collect();
     let models: [LoopCandidate; 1] = [("baseline".into(), vec![], vec![])];
     let check =
-        check_models(&setup, &small, &[(0, SIGMA0_MPA, measured)], &models, &drystone::discrepancy::quiet).unwrap();
+        check_models(&setup, &small, &[(0, SIGMA0_MPA, measured, vec![])], &models, &drystone::discrepancy::quiet)
+            .unwrap();
     let m = &check.models[0];
     assert!(m.groups[0].simulated.iter().all(|x| x.is_nan()), "{:?}", m.groups[0].simulated);
     assert_eq!(m.verdict, LoopVerdict::NotRead, "χ² {}, p {}", m.chi2, m.p_value);
@@ -180,4 +186,51 @@ fn a_history_below_the_minimum_drift_is_not_read_not_refuted() {
     assert_eq!(m.verdict.words(), format!("not read: no cycle of at least {LOOP_MIN_DRIFT_PCT} % drift"));
     assert!(check.standing().is_empty());
     assert!(check.markdown().contains("- not read: no cycle of at least"), "{}", check.markdown());
+}
+
+/// A specimen's own history replaces the study's history in the check: two specimens whose
+/// measured histories are the study's own points (two cycles at 1.25 %, returns to zero
+/// included) give, on the layouts of their indices, the readings the study's history gives
+/// on the check's layouts, bit for bit; a group where one specimen has a history (one
+/// cycle) and one has none runs that one specimen, on its own history.
+#[test]
+fn each_specimen_is_run_on_its_own_history() {
+    let wall = test_bed_wall();
+    let course_m = drystone::effects::course_height_of(&wall);
+    let group = GroupSetup {
+        name: format!("{SIGMA0_MPA} MPa"),
+        course_m,
+        wall: wall.clone(),
+        realizations: 2,
+        restrained: false,
+        deterministic: false,
+        effects: vec![],
+        protocol: Some(Protocol::InPlane(InPlane(cyclic(SIGMA0_MPA)))),
+    };
+    let protocol = group.protocol.clone().unwrap();
+    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None };
+    let measured: Vec<(String, f64)> = vec![("S0".into(), 0.05), ("S1".into(), 0.06)];
+    let models: [LoopCandidate; 1] = [("baseline".into(), vec![], vec![])];
+    let check = |histories: Vec<Vec<f64>>| {
+        check_models(
+            &setup,
+            &cyclic,
+            &[(0, SIGMA0_MPA, measured.clone(), histories)],
+            &models,
+            &drystone::discrepancy::quiet,
+        )
+        .unwrap()
+    };
+    let ladder = check(vec![]);
+    let points = vec![1.25, -1.25, 0.0, 1.25, -1.25, 0.0];
+    let own = check(vec![points.clone(), points]);
+    assert_eq!(ladder.runs, 2);
+    assert_eq!(own.runs, 2);
+    let bits = |c: &LoopCheck| c.models[0].groups[0].simulated.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&own), bits(&ladder));
+    // Not an equality of two failures: a run read.
+    assert!(own.models[0].groups[0].simulated.iter().any(|v| v.is_finite()), "{:?}", own.models[0].groups[0].simulated);
+    let one = check(vec![vec![], vec![1.25, -1.25, 0.0]]);
+    assert_eq!(one.runs, 1);
+    assert_eq!(one.models[0].groups[0].simulated.len(), 1);
 }
