@@ -56,6 +56,23 @@ fn test_bed_wall() -> Wall {
     wall
 }
 
+/// The analysis's setup of one group of `wall` at σ0 = 0.5 MPa, run by `params`, two
+/// realizations, seed 7.
+fn one_group(wall: &Wall, params: InPlaneParams) -> Setup {
+    let group = GroupSetup {
+        name: format!("{SIGMA0_MPA} MPa"),
+        course_m: drystone::effects::course_height_of(wall),
+        wall: wall.clone(),
+        realizations: 2,
+        restrained: false,
+        deterministic: false,
+        effects: vec![],
+        protocol: Some(Protocol::InPlane(InPlane(params))),
+    };
+    let protocol = group.protocol.clone().unwrap();
+    Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None }
+}
+
 fn round(v: f64, r: f64) -> f64 {
     (v / r).round() * r
 }
@@ -91,19 +108,8 @@ fn the_loops_keep_a_bearings_friction_hidden_in_them_and_refuse_the_models_witho
             (format!("S{i}"), loop_damping_ratio(&curve, LOOP_MIN_DRIFT_PCT))
         })
         .collect();
-    let course_m = drystone::effects::course_height_of(&wall);
-    let group = GroupSetup {
-        name: format!("{SIGMA0_MPA} MPa"),
-        course_m,
-        wall: wall.clone(),
-        realizations: 2,
-        restrained: false,
-        deterministic: false,
-        effects: vec![],
-        protocol: Some(Protocol::InPlane(InPlane(cyclic(SIGMA0_MPA)))),
-    };
-    let protocol = group.protocol.clone().unwrap();
-    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None };
+    let setup = one_group(&wall, cyclic(SIGMA0_MPA));
+    let course_m = setup.groups[0].course_m;
     let lib = Library::builtin();
     let model = |name: &str, effect: Option<&str>| -> LoopCandidate {
         (name.into(), vec![], effect.map(|e| vec![lib.parse(e, course_m).unwrap()]).unwrap_or_default())
@@ -196,19 +202,7 @@ fn a_history_below_the_minimum_drift_is_not_read_not_refuted() {
 #[test]
 fn each_specimen_is_run_on_its_own_history() {
     let wall = test_bed_wall();
-    let course_m = drystone::effects::course_height_of(&wall);
-    let group = GroupSetup {
-        name: format!("{SIGMA0_MPA} MPa"),
-        course_m,
-        wall: wall.clone(),
-        realizations: 2,
-        restrained: false,
-        deterministic: false,
-        effects: vec![],
-        protocol: Some(Protocol::InPlane(InPlane(cyclic(SIGMA0_MPA)))),
-    };
-    let protocol = group.protocol.clone().unwrap();
-    let setup = Setup { groups: vec![group], seed: 7, solver: SolverParams::default(), protocol, store: None };
+    let setup = one_group(&wall, cyclic(SIGMA0_MPA));
     let measured: Vec<(String, f64)> = vec![("S0".into(), 0.05), ("S1".into(), 0.06)];
     let models: [LoopCandidate; 1] = [("baseline".into(), vec![], vec![])];
     let check = |histories: Vec<Vec<f64>>| {
