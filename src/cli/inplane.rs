@@ -156,6 +156,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         step_mm: a.step_mm,
         quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),
         measuring_height_m: a.measuring_height_m,
+        mirror_reading: false,
     };
     if params.quarter_increments > MAX_QUARTER_INCREMENTS {
         bail!(

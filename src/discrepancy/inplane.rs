@@ -22,25 +22,33 @@ pub enum InPlaneQuantity {
     /// `Epc`): the reading of the joints' normal compliance that the horizontal measures
     /// mix with the rocking.
     VerticalModulus,
+    /// The ± asymmetry of the peak, kN: the peak pushed towards −x less that towards +x,
+    /// each a magnitude (the database's `Vmax_neg − Vmax_pos` of a cyclic specimen; the
+    /// model's by the mirror image of its push, [`crate::protocol::InPlaneReading::negative_peak_kn`]):
+    /// the reading of what in the rig is not symmetric (a leaning or eccentric vertical
+    /// load), which the peak of one direction mixes with the wall's strength.
+    PeakAsymmetry,
 }
 
 impl InPlaneQuantity {
     /// Every measure, in report order.
-    pub const ALL: [InPlaneQuantity; 4] = [
+    pub const ALL: [InPlaneQuantity; 5] = [
         InPlaneQuantity::PeakForce,
         InPlaneQuantity::DriftAtPeak,
         InPlaneQuantity::InitialStiffness,
         InPlaneQuantity::VerticalModulus,
+        InPlaneQuantity::PeakAsymmetry,
     ];
 
     /// Its name: `peak_force_kn`, `drift_at_peak_pct`, `initial_stiffness_kn_per_mm`,
-    /// `wall_vertical_modulus_mpa`.
+    /// `wall_vertical_modulus_mpa`, `peak_asymmetry_kn`.
     pub fn name(self) -> &'static str {
         match self {
             InPlaneQuantity::PeakForce => "peak_force_kn",
             InPlaneQuantity::DriftAtPeak => "drift_at_peak_pct",
             InPlaneQuantity::InitialStiffness => "initial_stiffness_kn_per_mm",
             InPlaneQuantity::VerticalModulus => "wall_vertical_modulus_mpa",
+            InPlaneQuantity::PeakAsymmetry => "peak_asymmetry_kn",
         }
     }
 
@@ -51,6 +59,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::DriftAtPeak => "%",
             InPlaneQuantity::InitialStiffness => "kN/mm",
             InPlaneQuantity::VerticalModulus => "MPa",
+            InPlaneQuantity::PeakAsymmetry => "kN",
         }
     }
 }
@@ -68,6 +77,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::DriftAtPeak => m.drift_at_peak_pct,
             InPlaneQuantity::InitialStiffness => m.initial_stiffness_kn_per_mm,
             InPlaneQuantity::VerticalModulus => m.wall_vertical_modulus_mpa,
+            InPlaneQuantity::PeakAsymmetry => m.peak_asymmetry_kn,
         };
         v.is_finite().then_some(v)
     }

@@ -76,6 +76,7 @@ impl InPlaneQuantity {
             InPlaneQuantity::DriftAtPeak => Family::DriftAtPeak,
             InPlaneQuantity::InitialStiffness => Family::InitialStiffness,
             InPlaneQuantity::VerticalModulus => Family::VerticalModulus,
+            InPlaneQuantity::PeakAsymmetry => Family::PeakAsymmetry,
         }
     }
 }
@@ -97,21 +98,24 @@ pub enum Family {
     InitialStiffness,
     /// The in-plane walls' vertical moduli, MPa.
     VerticalModulus,
+    /// The in-plane peaks' ± asymmetries, kN.
+    PeakAsymmetry,
 }
 
 impl Family {
     /// Every family, in the order of its index (the arrays of per-family estimates).
-    pub const ALL: [Family; 6] = [
+    pub const ALL: [Family; 7] = [
         Family::CollapseAngle,
         Family::Displacement,
         Family::PeakForce,
         Family::DriftAtPeak,
         Family::InitialStiffness,
         Family::VerticalModulus,
+        Family::PeakAsymmetry,
     ];
 
     /// Its index in [`Family::ALL`] (0 collapse angles, 1 displacements, 2 in-plane peak
-    /// forces, 3 drifts, 4 stiffnesses, 5 vertical moduli).
+    /// forces, 3 drifts, 4 stiffnesses, 5 vertical moduli, 6 peak asymmetries).
     pub fn index(self) -> usize {
         match self {
             Family::CollapseAngle => 0,
@@ -120,6 +124,7 @@ impl Family {
             Family::DriftAtPeak => 3,
             Family::InitialStiffness => 4,
             Family::VerticalModulus => 5,
+            Family::PeakAsymmetry => 6,
         }
     }
 
@@ -129,7 +134,11 @@ impl Family {
     pub fn always_drawn(self) -> bool {
         match self {
             Family::CollapseAngle | Family::Displacement => true,
-            Family::PeakForce | Family::DriftAtPeak | Family::InitialStiffness | Family::VerticalModulus => false,
+            Family::PeakForce
+            | Family::DriftAtPeak
+            | Family::InitialStiffness
+            | Family::VerticalModulus
+            | Family::PeakAsymmetry => false,
         }
     }
 }
@@ -357,7 +366,8 @@ impl Observable {
                 | Family::PeakForce
                 | Family::DriftAtPeak
                 | Family::InitialStiffness
-                | Family::VerticalModulus,
+                | Family::VerticalModulus
+                | Family::PeakAsymmetry,
             ) => Share::Own,
             Scale::Place { .. } | Scale::Category { .. } => Share::Mechanism,
         }
@@ -471,6 +481,9 @@ pub struct MeasurementSigma {
     /// differ; the database gives one value per stress level of the granite walls, 3.3-4.7
     /// GPa, so about 10 % of it; the papers give no precision).
     pub modulus_mpa: f64,
+    /// The in-plane peak's ± asymmetry, kN \[0.7\]: estimate (reasoning: the difference of
+    /// two peak readings of one specimen, each of σ `force_kn` = 0.5 kN, so √2 × 0.5).
+    pub asymmetry_kn: f64,
 }
 
 impl MeasurementSigma {
@@ -483,6 +496,7 @@ impl MeasurementSigma {
             Family::DriftAtPeak => self.drift_pct,
             Family::InitialStiffness => self.stiffness_kn_per_mm,
             Family::VerticalModulus => self.modulus_mpa,
+            Family::PeakAsymmetry => self.asymmetry_kn,
         }
     }
 }
@@ -497,6 +511,7 @@ impl Default for MeasurementSigma {
             drift_pct: 0.05,
             stiffness_kn_per_mm: 2.0,
             modulus_mpa: 400.0,
+            asymmetry_kn: 0.7,
         }
     }
 }

@@ -246,6 +246,9 @@ pub struct Reading {
     pub stiffness_kn_per_mm: f64,
     /// In-plane walls' vertical moduli read to this, MPa \[1\] (the database's digits).
     pub modulus_mpa: f64,
+    /// In-plane peaks' ± asymmetries read to this, kN \[0.1\] (the difference of two of the
+    /// database's peak forces).
+    pub asymmetry_kn: f64,
 }
 
 impl Default for Reading {
@@ -259,6 +262,7 @@ impl Default for Reading {
             drift_pct: 0.01,
             stiffness_kn_per_mm: 0.1,
             modulus_mpa: 1.0,
+            asymmetry_kn: 0.1,
         }
     }
 }
@@ -282,6 +286,7 @@ impl Reading {
             Family::DriftAtPeak => self.drift_pct,
             Family::InitialStiffness => self.stiffness_kn_per_mm,
             Family::VerticalModulus => self.modulus_mpa,
+            Family::PeakAsymmetry => self.asymmetry_kn,
         }
     }
 

@@ -320,15 +320,17 @@ fn verdict_section(md: &mut String, run: &Run) {
     if curve_measures(run) {
         let _ = writeln!(
             md,
-            "Measurement σ used: {}, {}, {}, {}; readings taken as intervals of {} kN, {} %, {} kN/mm and {} MPa.\n",
+            "Measurement σ used: {}, {}, {}, {}, {}; readings taken as intervals of {} kN, {} %, {} kN/mm, {} MPa and {} kN (asymmetries).\n",
             used(Family::PeakForce, s.sigma.force_kn, "kN", "peak forces"),
             used(Family::DriftAtPeak, s.sigma.drift_pct, "%", "drifts at the peak"),
             used(Family::InitialStiffness, s.sigma.stiffness_kn_per_mm, "kN/mm", "initial stiffnesses"),
             used(Family::VerticalModulus, s.sigma.modulus_mpa, "MPa", "walls' vertical moduli"),
+            used(Family::PeakAsymmetry, s.sigma.asymmetry_kn, "kN", "peaks' ± asymmetries"),
             s.reading.force_kn,
             s.reading.drift_pct,
             s.reading.stiffness_kn_per_mm,
-            s.reading.modulus_mpa
+            s.reading.modulus_mpa,
+            s.reading.asymmetry_kn
         );
         for note in &s.sigma_notes {
             let _ = writeln!(md, "- {note}");

@@ -145,6 +145,7 @@ impl Settings {
             ("reading.force_kn", self.reading.force_kn),
             ("reading.drift_pct", self.reading.drift_pct),
             ("reading.stiffness_kn_per_mm", self.reading.stiffness_kn_per_mm),
+            ("reading.asymmetry_kn", self.reading.asymmetry_kn),
         ] {
             if !(v.is_finite() && (0.0..=10.0).contains(&v)) {
                 return bad(key, v.to_string(), "must be in [0, 10] (0: exact readings)");
@@ -165,6 +166,7 @@ impl Settings {
             ("sigma.drift_pct", self.sigma.drift_pct, 50.0, "must be in (0, 50] %"),
             ("sigma.stiffness_kn_per_mm", self.sigma.stiffness_kn_per_mm, 1e4, "must be in (0, 10000] kN/mm"),
             ("sigma.modulus_mpa", self.sigma.modulus_mpa, 1e5, "must be in (0, 100000] MPa"),
+            ("sigma.asymmetry_kn", self.sigma.asymmetry_kn, 1e4, "must be in (0, 10000] kN"),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= hi) {
                 return bad(key, v.to_string(), range);

@@ -33,6 +33,7 @@ fn family_name(f: Family) -> &'static str {
         Family::DriftAtPeak => "drifts at the peak",
         Family::InitialStiffness => "initial stiffnesses",
         Family::VerticalModulus => "vertical moduli",
+        Family::PeakAsymmetry => "peak asymmetries",
     }
 }
 

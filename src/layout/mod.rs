@@ -482,6 +482,16 @@ impl VerticalLoadRig {
         (r != VerticalLoadRig::default()).then_some(r)
     }
 
+    /// The rig seen in a mirror across the wall's mid-length plane (x → −x): the
+    /// inclination `tan β` and the eccentricity `e0` change sign, the terms that follow the
+    /// push's sense or act about the beam's own pose (the jack's lean, the bearing's
+    /// friction, the series compliance, the load's lag, the restraint) do not. A push
+    /// towards −x under this rig is the mirror image of a push towards +x under the
+    /// mirrored one.
+    pub fn mirrored(&self) -> VerticalLoadRig {
+        VerticalLoadRig { incline: -self.incline, eccentricity_m: -self.eccentricity_m, ..*self }
+    }
+
     /// Whether a term that moves the wall is set (the eccentricity, the load's lag or the
     /// rotational restraint).
     pub fn moves_wall(&self) -> bool {

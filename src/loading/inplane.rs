@@ -174,6 +174,12 @@ pub struct InPlaneParams {
     /// of its amplitude, whichever is smaller (the first increments of a run and of each
     /// reversal are finer still, see the driver).
     pub quarter_increments: u32,
+    /// A monotonic history's −x direction read too, as the mirror image of the +x push
+    /// (the model's ± asymmetry, [`InPlaneResult::mirror`]): where the rig's
+    /// eccentricity moves the wall, a second run with it mirrored. Not a key of
+    /// `[in_plane]`: set by the discrepancy analysis's forward runs \[false\].
+    #[serde(skip)]
+    pub mirror_reading: bool,
 }
 
 impl Default for InPlaneParams {
@@ -190,6 +196,7 @@ impl Default for InPlaneParams {
             step_mm: 0.25,
             quarter_increments: 8,
             reversals_pct: None,
+            mirror_reading: false,
         }
     }
 }
@@ -776,6 +783,18 @@ pub fn add_rig_force(r: VerticalLoadRig, n: f64, measure_z_m: f64, curve: &mut [
     }
 }
 
+/// The push towards −x of a monotonic run read both ways, as its mirror image
+/// ([`InPlaneResult::mirror`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Mirror {
+    /// The curve of the wall's own shear pushed the other way, read as its mirror image
+    /// (+x): a second monotonic run with the rig's eccentricity `e0` mirrored, made where the
+    /// eccentricity is not 0 (a moment on the beam whose sense the push's does not follow).
+    /// `None`: the run's own `wall_curve` is its mirror (the wall's layout taken as one of
+    /// an ensemble that is its own mirror image).
+    pub wall_curve: Option<Vec<CurvePoint>>,
+}
+
 /// The force read and the first direction's outputs (+x, [`direction`]) of a run's curve of
 /// the wall's own shear (`wall_curve`, [`InPlaneResult::wall_curve`]) under the rig's
 /// terms `rig` and the applied vertical force `vertical_force_n` (N), the displacement read
@@ -1224,6 +1243,9 @@ pub struct InPlaneResult {
     /// The block of `largest_block_excursion_mm` (empty: none moved from its course).
     #[serde(default)]
     pub excursion_block: String,
+    /// The push read both ways ([`InPlaneParams::mirror_reading`]; `None`: read one way).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mirror: Option<Box<Mirror>>,
     /// Static solves that ended at the step budget rather than in equilibrium (nscd:
     /// increments with a step whose contact problem did not meet its criterion).
     pub unconverged: usize,
@@ -1776,6 +1798,8 @@ pub(crate) fn result_of(
         wall_vertical_modulus_mpa: work.vertical_modulus_mpa,
         largest_block_excursion_mm: work.excursion.largest_m * 1e3,
         excursion_block: work.excursion.block,
+        mirror: (params.mirror_reading && params.history == History::Monotonic)
+            .then(|| Box::new(Mirror { wall_curve: None })),
         unconverged: work.unconverged,
         retried: work.retried,
         steps: work.steps,

@@ -48,15 +48,19 @@ impl LoadingProtocol for InPlane {
             method: Method::Penalty,
             what: "force-displacement curve (static solve per increment of the imposed displacement)",
             run: |p, layout, solver, observer| {
-                InPlaneRun::Penalty(run_in_plane_penalty(layout, *solver, &p.0, &mut |a, s, sim| {
-                    observer.state(a, s, sim)
+                let run = run_in_plane_penalty(layout, *solver, &p.0, &mut |a, s, sim| observer.state(a, s, sim));
+                InPlaneRun::Penalty(with_mirror(run, layout, |l| {
+                    run_in_plane_penalty(l, *solver, &p.0, &mut |_, _, _| {})
                 }))
             },
         },
         Way {
             method: Method::Nscd,
             what: "rigid blocks' force-displacement curve (the beam driven at constant speed)",
-            run: |p, layout, solver, _| InPlaneRun::Nscd(run_in_plane_nscd(layout, &solver.nscd, &p.0)),
+            run: |p, layout, solver, _| {
+                let run = run_in_plane_nscd(layout, &solver.nscd, &p.0);
+                InPlaneRun::Nscd(with_mirror(run, layout, |l| run_in_plane_nscd(l, &solver.nscd, &p.0)))
+            },
         },
         Way {
             method: Method::Limit,
@@ -73,6 +77,7 @@ impl LoadingProtocol for InPlane {
     fn compared(&self) -> Result<Protocol, &'static str> {
         let mut p = self.0.clone();
         p.history = crate::loading::inplane::History::Monotonic;
+        p.mirror_reading = true;
         Ok(Protocol::InPlane(InPlane(p)))
     }
 
@@ -84,6 +89,28 @@ impl LoadingProtocol for InPlane {
             state_step_deg: None,
         }
     }
+}
+
+/// A run read both ways ([`InPlaneResult::mirror`]) under a rig whose
+/// eccentricity moves the wall, with its mirror image: `run_mirrored` run on the layout with
+/// the rig mirrored ([`VerticalLoadRig::mirrored`]), its curve of the wall's own shear
+/// kept as the mirror's curve. A mirror run that fails leaves the asymmetry unread (the
+/// run read one way), not the run.
+fn with_mirror(
+    run: Result<InPlaneResult, InPlaneError>,
+    layout: &crate::layout::Layout,
+    run_mirrored: impl FnOnce(&crate::layout::Layout) -> Result<InPlaneResult, InPlaneError>,
+) -> Result<InPlaneResult, InPlaneError> {
+    let mut r = run?;
+    if r.mirror.is_some() && layout.vertical_load_rig.eccentricity_m != 0.0 {
+        let mut mirror = layout.clone();
+        mirror.vertical_load_rig = layout.vertical_load_rig.mirrored();
+        match run_mirrored(&mirror) {
+            Ok(m) => r.mirror = Some(Box::new(crate::loading::inplane::Mirror { wall_curve: Some(m.wall_curve) })),
+            Err(_) => r.mirror = None,
+        }
+    }
+    Ok(r)
 }
 
 impl InPlaneRun {
@@ -133,6 +160,8 @@ impl Observed {
             measuring_height_m: r.measuring_height_m,
             mode: r.mechanism.kind,
             wall_vertical_modulus_mpa: r.wall_vertical_modulus_mpa,
+            mirror_wall_curve: r.mirror.as_ref().and_then(|m| m.wall_curve.clone()),
+            both_ways: r.mirror.is_some(),
         };
         Observed::of_direction(r.positive.as_ref()?, Arc::new(reading))
     }
@@ -145,6 +174,7 @@ impl Observed {
                 initial_stiffness_kn_per_mm: d.initial_stiffness_kn_per_mm,
                 mode: reading.mode,
                 wall_vertical_modulus_mpa: reading.wall_vertical_modulus_mpa,
+                peak_asymmetry_kn: reading.negative_peak_kn() - d.peak_force_kn,
             }),
             rig_reading: Some(reading),
             ..Observed::default()

@@ -3,7 +3,7 @@
 //! made from ([`InPlaneReading`], to read them again: [`super::Observed::reread`]).
 
 use crate::layout::VerticalLoadRig;
-use crate::loading::inplane::{CurvePoint, MechanismKind};
+use crate::loading::inplane::{read_curve, CurvePoint, MechanismKind};
 use serde::{Deserialize, Serialize};
 
 /// What an in-plane run gives to compare with measured data: the measures of the first
@@ -22,6 +22,12 @@ pub struct InPlaneObserved {
     /// ([`crate::loading::inplane::InPlaneResult::wall_vertical_modulus_mpa`]; NaN: none).
     #[serde(default = "nan")]
     pub wall_vertical_modulus_mpa: f64,
+    /// The ± asymmetry of the peak, kN: the peak of the push towards −x less that towards
+    /// +x, each as a magnitude (the database's `Vmax_neg − Vmax_pos`), the −x push read as
+    /// the mirror image of the +x one ([`InPlaneReading::negative_peak_kn`]); NaN where
+    /// the run was not read both ways.
+    #[serde(default = "nan")]
+    pub peak_asymmetry_kn: f64,
 }
 
 /// NaN, for serde's defaults (records written before the modulus was read).
@@ -49,4 +55,33 @@ pub struct InPlaneReading {
     /// The wall's vertical modulus, MPa (which the vertical-load system does not change).
     #[serde(default = "nan")]
     pub wall_vertical_modulus_mpa: f64,
+    /// The curve of the wall's own shear pushed towards −x, as its mirror image
+    /// ([`crate::loading::inplane::Mirror::wall_curve`]): `None` where
+    /// `wall_curve` is its own mirror; `Some` only in runs read both ways.
+    #[serde(default)]
+    pub mirror_wall_curve: Option<Vec<CurvePoint>>,
+    /// Whether the run was read both ways ([`crate::loading::inplane::InPlaneParams::mirror_reading`]).
+    #[serde(default)]
+    pub both_ways: bool,
+}
+
+impl InPlaneReading {
+    /// The peak of the push towards −x, kN, as a magnitude: the mirror image of the wall's
+    /// own shear (`mirror_wall_curve`, or `wall_curve` where that is its own mirror) read
+    /// under the mirrored rig ([`VerticalLoadRig::mirrored`], the readings' terms by
+    /// [`read_curve`], the run's own computation). NaN where the run was not read both
+    /// ways or the mirror image has no +x branch.
+    ///
+    /// The mirror image is the push towards −x of the mirrored wall; the wall's layout is
+    /// taken as a draw of an ensemble that is its own mirror image (the generator's
+    /// distributions do not tell left from right), so the asymmetry this reads is the rig's
+    /// alone and a layout's own is part of the spread between specimens.
+    pub fn negative_peak_kn(&self) -> f64 {
+        if !self.both_ways {
+            return f64::NAN;
+        }
+        let curve = self.mirror_wall_curve.as_deref().unwrap_or(&self.wall_curve);
+        let (_, d) = read_curve(curve, self.rig.mirrored(), self.vertical_force_n, self.measuring_height_m);
+        d.map_or(f64::NAN, |d| d.peak_force_kn)
+    }
 }

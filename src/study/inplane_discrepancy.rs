@@ -13,12 +13,17 @@
 //!
 //! # Observations
 //!
-//! Per specimen the first direction loaded (+x, the database's `pos` columns): the peak
+//! Per specimen the direction the database calls positive (+x, its `pos` columns): the peak
 //! force (kN), the drift at the peak (%), the initial stiffness (kN/mm), each with the
-//! measurement σ of `[discrepancy.sigma]`, and the mode (`InPlaneMode`, value 1): failure
+//! measurement σ of `[discrepancy.sigma]`; the group's vertical modulus (MPa, one reading a
+//! stress); per cyclic specimen the ± asymmetry of its peaks (`Vmax_neg − Vmax_pos`, kN,
+//! against the model's push read both ways by its mirror image,
+//! [`crate::protocol::InPlaneReading::negative_peak_kn`]); and the mode (`InPlaneMode`,
+//! value 1): failure
 //! type 1 read as rocking, 0.5 as mixed; a failure type 0 (sliding or diagonal, which the
-//! database does not tell apart) gives no mode reading. The reverse direction of a cyclic
-//! specimen is loaded after the damage of the first and is left to the study's cyclic runs.
+//! database does not tell apart) gives no mode reading. Which direction a cyclic specimen
+//! was pushed first is not assumed: its two peaks enter as the positive one and their
+//! difference.
 
 use super::inplane::{load, read_specimens, refuse_out_of_plane, InPlaneStudyError};
 use super::own::OwnAnalysis;
@@ -127,6 +132,9 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                 (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
                 (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
                 (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
+                // A cyclic specimen's two directions' peaks (each a magnitude in the
+                // database's columns): the rig's asymmetry. NaN for a monotonic specimen.
+                (InPlaneQuantity::PeakAsymmetry, s.vmax_neg_kn.abs() - s.vmax_pos_kn, sigma.asymmetry_kn),
             ] {
                 // The database gives one vertical modulus per stress level of a campaign
                 // (the same number in every specimen's row): one reading of the group, not
@@ -167,7 +175,9 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
         return Err(bad("groups[].specimens".into(), "no group names a measured specimen: nothing to compare".into()));
     }
     let mut settings = settings;
-    settings.sigma_notes = sigma_from_data(&mut obs, &stated_sigma_keys(path));
+    let stated = stated_sigma_keys(path);
+    settings.sigma_notes = sigma_from_data(&mut obs, &stated);
+    settings.sigma_notes.extend(asymmetry_sigma_from_data(&mut obs, &stated, settings.sigma.asymmetry_kn));
     let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
     let setup = Setup { groups, seed: spec.seed, solver: spec.solver, protocol, store: None };
     Ok(OwnAnalysis {
@@ -266,6 +276,44 @@ pub fn sigma_from_data(obs: &mut [Observation], stated: &[String]) -> Vec<String
         });
     }
     notes
+}
+
+/// Sets the σ of the peaks' ± asymmetries ([`InPlaneQuantity::PeakAsymmetry`]) from the
+/// data when `[discrepancy.sigma] asymmetry_kn` is not stated: the repeats' spread pooled
+/// over the groups in kN (a difference that can be 0 has no coefficient of variation),
+/// `σ² = (ν0 σ0² + Σ Σ (x − x̄)²) / (ν0 + Σ (n − 1))`, the setting `setting` (kN) as the
+/// prior `σ0` of weight [`PRIOR_DOF`]; each observation's σ becomes the larger of it and
+/// the setting. Returns the sentence the report prints, or nothing.
+pub fn asymmetry_sigma_from_data(obs: &mut [Observation], stated: &[String], setting: f64) -> Option<String> {
+    if stated.iter().any(|k| k == "asymmetry_kn") {
+        return None;
+    }
+    let of = |o: &Observation| {
+        o.observable == Observable::InPlane { quantity: InPlaneQuantity::PeakAsymmetry } && o.value.is_finite()
+    };
+    let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
+    for o in obs.iter().filter(|o| of(o)) {
+        match groups.iter_mut().find(|g| g.0 == o.group) {
+            Some(g) => g.1.push(o.value),
+            None => groups.push((o.group.clone(), vec![o.value])),
+        }
+    }
+    if groups.is_empty() {
+        return None;
+    }
+    let (mut ss, mut dof) = (0.0, 0usize);
+    for (_, v) in groups.iter().filter(|g| g.1.len() >= 2) {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        ss += v.iter().map(|x| (x - m).powi(2)).sum::<f64>();
+        dof += v.len() - 1;
+    }
+    let sd = ((PRIOR_DOF * setting * setting + ss) / (PRIOR_DOF + dof as f64)).sqrt();
+    for o in obs.iter_mut().filter(|o| of(o)) {
+        o.sigma = o.sigma.max(sd);
+    }
+    Some(format!(
+        "peaks' ± asymmetries: σ = {sd:.3} kN, the repeats' spread pooled over the groups ({dof} degrees of freedom) with the setting {setting} kN as the prior (weight {PRIOR_DOF}), the larger of it and the setting"
+    ))
 }
 
 #[cfg(test)]

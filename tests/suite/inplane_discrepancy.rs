@@ -119,7 +119,19 @@ fn names(
     (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
     (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 40, 40, 200);
     s.effects = effects.iter().map(|e| e.to_string()).collect();
-    let run = drystone::discrepancy::run(&setup, obs, &s, 11, &Library::builtin()).unwrap();
+    names_in(&setup, obs, &s, effect, param, hidden)
+}
+
+/// [`names`] on a setup and settings made by the caller.
+fn names_in(
+    setup: &Setup,
+    obs: Vec<Observation>,
+    s: &Settings,
+    effect: &str,
+    param: &str,
+    hidden: f64,
+) -> drystone::discrepancy::Run {
+    let run = drystone::discrepancy::run(setup, obs, s, 11, &Library::builtin()).unwrap();
     let a = &run.analysis;
     let cause = a.cause.as_ref().map(|c| c.name.clone());
     assert!(cause.as_deref().is_some_and(|c| c.starts_with(effect)), "named {cause:?}, verdict {}", a.verdict.name());
@@ -278,4 +290,78 @@ fn an_in_plane_study_refuses_the_effects_its_test_does_not_read_by_name() {
     let rope = study("rope", "[discrepancy]\neffects = [\"kn_scale\", \"end_rope\"]", "");
     refused("discrepancy", &rope, &["discrepancy.effects", "end_rope"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The hidden inclination of the vertical load, `tan β`.
+const HIDDEN_INCLINE: f64 = 0.015;
+
+/// A vertical load leaning in the wall's plane hides in the two directions of a campaign's
+/// specimens: the "measured" specimens are the plain wall pushed by the penalty DEM to 2 %
+/// towards +x and, on the same layout, to −2 % towards −x (two pushes of the real layout,
+/// not a mirror image: the layout's own asymmetry is in the data), with `n tan β` added here
+/// to every point's force (the statics of the leaning load, written in this file, not
+/// through the effect's code), and each direction's peak read as the database reads it (a
+/// magnitude, to 0.1 kN). The +x peak alone rises as a bearing's friction would raise it;
+/// the ± asymmetry (`Vmax_neg − Vmax_pos`, here about −2 n tan β) tells the leaning load
+/// from the friction, which acts against the motion both ways. The analysis searches both
+/// and must name `jack_incline` with its interval holding the hidden tan β, and drop the
+/// friction from its tie; on the +x peaks alone the friction stays in it.
+#[test]
+fn a_leaning_vertical_load_hidden_in_both_directions_is_told_from_friction_by_the_asymmetry() {
+    use drystone::loading::inplane::History;
+    let wall = Wall::from_file(Path::new(WALL)).unwrap();
+    let push = |sigma0_mpa: f64| InPlaneParams { drift_pct: 2.0, ..params(sigma0_mpa) };
+    let pull = |sigma0_mpa: f64| InPlaneParams {
+        history: History::Cyclic,
+        reversals_pct: Some(vec![-2.0]),
+        ..push(sigma0_mpa)
+    };
+    let (obs, groups) = campaign(&wall, &[0.5, 1.0], push, |sigma, i| {
+        let layout = generate(&wall, 4646, i as u64).unwrap().check().unwrap();
+        let peak = |p: &InPlaneParams, sense: f64| {
+            let r = run_in_plane_penalty(&layout, SolverParams::default(), p, &mut |_, _, _| {}).unwrap();
+            let lean_kn = r.vertical_force_kn * HIDDEN_INCLINE;
+            r.curve
+                .iter()
+                .filter(|p| p.top_mm * sense > 0.0)
+                .map(|p| sense * (p.force_kn + lean_kn))
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let (pos, neg) = (peak(&push(sigma), 1.0), peak(&pull(sigma), -1.0));
+        assert!(pos.is_finite() && neg.is_finite(), "both directions pushed");
+        vec![(InPlaneQuantity::PeakForce, pos, 0.1, 0.5), (InPlaneQuantity::PeakAsymmetry, neg - pos, 0.1, 0.7)]
+    });
+    let effects = ["rig_friction", "jack_incline"];
+    let peaks_only: Vec<Observation> = obs
+        .iter()
+        .filter(|o| o.observable != Observable::InPlane { quantity: InPlaneQuantity::PeakAsymmetry })
+        .cloned()
+        .collect();
+    // The two analyses share their forward runs (a run store: the same runs bit for bit).
+    let dir = std::env::temp_dir().join(format!("drystone-incline-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let store = Some(std::sync::Arc::new(drystone::discrepancy::RunStore::open(&dir).unwrap()));
+    let setup = Setup {
+        protocol: groups[0].protocol.clone().expect("set"),
+        groups,
+        seed: 7,
+        solver: SolverParams::default(),
+        store,
+    };
+    let mut s = Settings::default();
+    (s.realizations, s.extension_realizations, s.null_realizations) = (2, 3, 3);
+    (s.grid_points, s.null_replicates, s.check_replicates, s.bootstrap) = (4, 40, 40, 200);
+    s.effects = effects.iter().map(|e| e.to_string()).collect();
+    let run = names_in(&setup, obs, &s, "jack_incline", "tangent", HIDDEN_INCLINE);
+    let a = &run.analysis;
+    assert!(!a.tie.iter().any(|t| t.contains("rig_friction")), "the asymmetry refutes the friction: tie {:?}", a.tie);
+    // The +x peaks alone: the friction explains them as well as the leaning load.
+    let blind = drystone::discrepancy::run(&setup, peaks_only, &s, 11, &Library::builtin()).unwrap().analysis;
+    let _ = std::fs::remove_dir_all(&dir);
+    let named = blind.cause.as_ref().map(|c| c.name.clone()).unwrap_or_default();
+    assert!(
+        named.contains("rig_friction") || blind.tie.iter().any(|t| t.contains("rig_friction")),
+        "the peaks alone cannot tell them apart: named {named}, tie {:?}",
+        blind.tie
+    );
 }

@@ -188,3 +188,53 @@ fn a_monolith_rocks_at_its_closed_form_at_any_shear_span() {
         assert!((la.peak_force_kn * 1e3 / v - 1.0).abs() < 1e-6, "H0 {h0} m: limit {} kN", la.peak_force_kn);
     }
 }
+
+/// The ± asymmetry an analysis reads from a push read both ways (the protocol's compared
+/// run, `InPlaneReading::negative_peak_kn`), against the statics of the monolith:
+///
+/// * an inclined load `tan β` adds `n tan β` to the +x push's force and takes it from the
+///   −x push's, so on a sliding monolith (friction μ, capacity `μ (n + w)` each way) the −x
+///   peak exceeds the +x one by `−2 n tan β`, with the run's own −x push (a cyclic run to
+///   the same drift) agreeing;
+/// * an eccentric load `e0` moves the rocking capacity about the pushed toe to
+///   `((n + w) L / 2 ∓ e0 P) / H0`, so the −x peak exceeds the +x one by `2 e0 P / H0`,
+///   read from the second run with the eccentricity mirrored;
+/// * a centred, plumb load reads no asymmetry, and a run not read both ways reads none
+///   (NaN).
+#[test]
+fn a_push_read_both_ways_gives_the_rigs_asymmetry_by_its_statics() {
+    use drystone::protocol::{InPlane, Protocol, RunOutcome};
+    let (n, w, p) = forces();
+    let s = SolverParams::default();
+    let compared = |drift: f64| Protocol::InPlane(InPlane(params(drift))).observed().unwrap();
+    let asymmetry_n = |layout: &Layout, drift: f64| {
+        let o = compared(drift).run(layout, s).observed().unwrap();
+        o.in_plane.unwrap().peak_asymmetry_kn * 1e3
+    };
+    // The inclined load on a sliding monolith (μ = 0.2: it slides before it rocks).
+    let mu: f64 = 0.2;
+    let phi = mu.atan().to_degrees();
+    let tan_b = -0.013;
+    let inclined = with(VerticalLoadRig { incline: tan_b, ..VerticalLoadRig::default() }, 1e10, phi);
+    let a = asymmetry_n(&inclined, 0.5);
+    let want = -2.0 * n * tan_b;
+    assert!((a / want - 1.0).abs() < 0.02, "incline: {a} N vs −2 n tan β = {want} N");
+    let both =
+        penalty(&inclined, &InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5]), ..params(0.5) });
+    let ran = (both.negative.unwrap().peak_force_kn - both.positive.unwrap().peak_force_kn) * 1e3;
+    assert!((a / ran - 1.0).abs() < 0.02, "incline: read {a} N vs the run's own −x push {ran} N");
+    // The eccentric load on a rocking monolith.
+    let e0 = 0.03;
+    let eccentric = with(VerticalLoadRig { eccentricity_m: e0, ..VerticalLoadRig::default() }, RIGID_KN, 45.0);
+    let a = asymmetry_n(&eccentric, 0.5);
+    let want = 2.0 * e0 * p / H0;
+    assert!((a / want - 1.0).abs() < 0.05, "eccentricity: {a} N vs 2 e0 P / H0 = {want} N");
+    let (vp, vn) = (((n + w) * L / 2.0 - e0 * p) / H0, ((n + w) * L / 2.0 + e0 * p) / H0);
+    assert!((want - (vn - vp)).abs() < 1e-9 * want);
+    // Plumb and centred: none; not read both ways: NaN.
+    let plain = with(VerticalLoadRig::default(), RIGID_KN, 45.0);
+    let a = asymmetry_n(&plain, 0.5);
+    assert!(a.abs() < 1e-9, "plain: {a} N");
+    let once = Protocol::InPlane(InPlane(params(0.5))).run(&plain, s).observed().unwrap();
+    assert!(once.in_plane.unwrap().peak_asymmetry_kn.is_nan());
+}

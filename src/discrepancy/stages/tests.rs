@@ -47,6 +47,7 @@ const EXACT: Reading = Reading {
     drift_pct: 0.0,
     stiffness_kn_per_mm: 0.0,
     modulus_mpa: 0.0,
+    asymmetry_kn: 0.0,
 };
 
 /// Five collapse angles 10, 12, 14, 16, 18° of one group: sample variance 40/4 = 10 deg²;
