@@ -330,6 +330,40 @@ mod tests {
         }
     }
 
+    fn asymmetry(group: &str, value: f64) -> Observation {
+        Observation {
+            specimen: format!("{group}{value}"),
+            group: group.into(),
+            observable: Observable::InPlane { quantity: InPlaneQuantity::PeakAsymmetry },
+            value,
+            sigma: 0.7,
+        }
+    }
+
+    /// By hand: group a reads 3 and 5 kN (mean 4, squared deviations 2, one degree of
+    /// freedom), b reads 7 alone; with the setting 0.7 kN as the prior of weight 2,
+    /// σ² = (2 × 0.49 + 2) / 3, in kN for every specimen (not relative to the mean: an
+    /// asymmetry can be 0). A peak force beside them keeps its σ; a stated key keeps the
+    /// setting.
+    #[test]
+    fn the_sigma_of_the_asymmetry_is_the_repeats_spread_pooled_in_kn_with_the_setting_as_prior() {
+        let mut obs = vec![asymmetry("a", 3.0), asymmetry("a", 5.0), asymmetry("b", 7.0), force("a", 10.0)];
+        let note = asymmetry_sigma_from_data(&mut obs, &[], 0.7).expect("a note");
+        let sd = ((2.0 * 0.49 + 2.0) / 3.0f64).sqrt();
+        for o in &obs[..3] {
+            assert!((o.sigma - sd).abs() < 1e-12, "{} vs {sd}", o.sigma);
+        }
+        assert_eq!(obs[3].sigma, 0.5);
+        assert!(note.contains("1 degrees of freedom"), "{note}");
+        let mut obs = vec![asymmetry("a", 3.0), asymmetry("a", 5.0)];
+        assert!(asymmetry_sigma_from_data(&mut obs, &["asymmetry_kn".to_string()], 0.7).is_none());
+        assert!(obs.iter().all(|o| o.sigma == 0.7));
+        // Repeats that agree to the digit leave the setting.
+        let mut obs = vec![asymmetry("a", 4.0), asymmetry("a", 4.0)];
+        let _ = asymmetry_sigma_from_data(&mut obs, &[], 0.7);
+        assert!(obs.iter().all(|o| o.sigma == 0.7), "{:?}", obs.iter().map(|o| o.sigma).collect::<Vec<_>>());
+    }
+
     /// By hand: group a reads 10 and 12 (mean 11, relative deviations ±1/11, one degree of
     /// freedom), b reads 20 alone; with the prior COV 0.08 of weight 2,
     /// cov² = (2 × 0.0064 + 2/121) / 3; a's σ is cov × 11, b's cov × 20. A stated key keeps
