@@ -785,3 +785,35 @@ fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
     assert!(drystone::study::inplane::load(&path).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A cyclic history by the penalty DEM on joints whose elastic slip range `tan φ σ0 / Ks`
+/// is below 20 µm is refused, naming the material, its range and the Ks that would serve
+/// (its friction falls over the cycles there: `MIN_CYCLIC_SLIP_RANGE_M`); the same joints
+/// pushed monotonically run, and so does the cycle on joints with the range.
+#[test]
+fn a_cyclic_history_on_joints_too_stiff_in_shear_for_the_penalty_dem_is_refused_by_name() {
+    use drystone::loading::inplane::{InPlaneError, MIN_CYCLIC_SLIP_RANGE_M};
+    let s = SolverParams::default();
+    let cyclic = InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.1]), ..params(0.1) };
+    // The base's φ 10° (the block's own 45°), σ0 0.5 MPa, Ks = Kn / 2.5 = 4e11 Pa/m:
+    // 0.22 µm, the least of the layout's materials.
+    let stiff = inplane_block(10.0, 1e12);
+    let e = run_in_plane_penalty(&stiff, s, &cyclic, &mut |_, _, _| {}).unwrap_err();
+    let want = 10f64.to_radians().tan() * 0.5e6 / 4e11;
+    match &e {
+        InPlaneError::CyclicSlipRange { range_um, ks_max_pa_per_m, .. } => {
+            assert!((range_um * 1e-6 / want - 1.0).abs() < 1e-9, "{range_um} µm vs {want} m");
+            assert!(
+                (ks_max_pa_per_m / (10f64.to_radians().tan() * 0.5e6 / MIN_CYCLIC_SLIP_RANGE_M) - 1.0).abs() < 1e-12
+            );
+        }
+        other => panic!("{other}"),
+    }
+    let text = e.to_string();
+    for f in ["material ", "0.22 µm", "φ 10.0°", "20 µm", "--solver nscd", "monotonic"] {
+        assert!(text.contains(f), "{f:?} not in {text}");
+    }
+    assert!(run_in_plane_penalty(&stiff, s, &params(0.1), &mut |_, _, _| {}).is_ok(), "monotonic runs");
+    // φ 10°, Ks 4e9 Pa/m: 22 µm.
+    assert!(run_in_plane_penalty(&inplane_block(10.0, 1e10), s, &cyclic, &mut |_, _, _| {}).is_ok());
+}
