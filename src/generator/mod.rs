@@ -220,11 +220,14 @@ mod build;
 mod polygon;
 mod realization;
 mod resolve;
+pub mod trace_draw;
+pub mod traced;
 mod wall;
 
 pub use build::{PieceKind, Samples};
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
 pub(crate) use polygon::area as polygon_area;
+pub use traced::{TraceSetting, Traced, TracedStone};
 pub(crate) use realization::{centroid_z, extrude_polygon, hull_is_faithful};
 pub use realization::{generate, generate_batch, GeneratedWall, Piece, SectionPart};
 pub use spec::{WallKind, WallSpec};

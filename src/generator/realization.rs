@@ -125,8 +125,12 @@ impl GeneratedWall {
 ///
 /// # Errors
 /// [`GeneratorError::Infeasible`] if this realization cannot be built (far too steep dips
-/// for the course heights, or head-joint gaps wider than the blocks).
+/// for the course heights, or head-joint gaps wider than the blocks); for a surveyed wall
+/// ([`Wall::traced`]), the errors of [`super::traced::generate`].
 pub fn generate(wall: &Wall, seed: u64, realization: u64) -> Result<GeneratedWall, GeneratorError> {
+    if let Some(t) = &wall.traced {
+        return super::traced::generate(wall, t, seed, realization).map(|(g, _)| g);
+    }
     let mut rng = rng_for(seed, realization, Purpose::Layout);
     let elev = build::build(wall, &mut rng)?;
     let mut pieces = extrude(wall, &elev);
