@@ -186,6 +186,9 @@ fn realization(a: &ImportArgs, options: &ImportOptions, seed: u64) -> Result<Exi
         if report.affine { ", affine fallback" } else { "" },
         report.max_displacement_m
     );
+    if let (true, Some(why)) = (report.affine, &report.refused) {
+        out!("last refused draw {why}");
+    }
     out!("wrote             {}", a.out.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -19,7 +19,10 @@
 //! 4. **The check.** Every stone must stay convex and every corner within t of its traced
 //!    place, and no two stones may overlap by more than
 //!    [`crate::layout::OVERLAP_TOLERANCE_M`] (penetration depth of the convex polygons).
-//!    A draw that fails is drawn again from the same stream, up to [`MAX_ATTEMPTS`] times.
+//!    Each node's place is a function of two uniform numbers of its own; when the check
+//!    fails, the numbers of the corners of the stones at fault are drawn again (the next
+//!    numbers of the same stream, in node order) and every node placed anew, up to
+//!    [`MAX_ATTEMPTS`] checks.
 //! 5. **The fallback.** If every attempt fails, the elevation is mapped by one affine map
 //!    fixing the table (x' = x + a x + b z, z' = z + c z: the photograph's scale errors and
 //!    shear), scaled so that no corner moves more than t. An affine map keeps straight edges
@@ -37,7 +40,7 @@ pub const SNAP_M: f64 = 1e-7;
 pub const MAX_ATTEMPTS: u32 = 64;
 
 /// How a realization's outlines were drawn.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DrawReport {
     /// Draws made (1 when the first passed the check; [`MAX_ATTEMPTS`] when the fallback was
     /// used).
@@ -46,27 +49,43 @@ pub struct DrawReport {
     pub affine: bool,
     /// The largest corner displacement, m (≤ the tolerance).
     pub max_displacement_m: f64,
+    /// Why the last refused per-corner draw was refused (stone indices in layout order),
+    /// if one was.
+    pub refused: Option<String>,
 }
 
 /// The outlines `polygons` (convex, counter-clockwise, table frame, m) with their corners
 /// moved within `tolerance_m` (module doc), and how they were drawn. A tolerance of 0
 /// returns the outlines unchanged and draws nothing.
 pub fn draw(polygons: &[Vec<[f64; 2]>], tolerance_m: f64, rng: &mut ChaCha8Rng) -> (Vec<Vec<[f64; 2]>>, DrawReport) {
-    let unchanged = DrawReport { attempts: 0, affine: false, max_displacement_m: 0.0 };
+    let unchanged = DrawReport { attempts: 0, affine: false, max_displacement_m: 0.0, refused: None };
     if tolerance_m <= 0.0 || polygons.is_empty() {
         return (polygons.to_vec(), unchanged);
     }
     let net = Net::new(polygons);
+    let mut raw: Vec<[f64; 2]> = (0..net.nodes.len()).map(|_| [rng.random(), rng.random()]).collect();
+    let mut refused = None;
     for attempt in 1..=MAX_ATTEMPTS {
-        let moved = net.draw(tolerance_m, rng);
-        let out = net.polygons(&moved);
-        if let Some(max) = check(polygons, &out, tolerance_m) {
-            return (out, DrawReport { attempts: attempt, affine: false, max_displacement_m: max });
+        let out = net.polygons(&net.place(&raw, tolerance_m));
+        match check(polygons, &out, tolerance_m) {
+            Ok(max) => {
+                return (out, DrawReport { attempts: attempt, affine: false, max_displacement_m: max, refused });
+            }
+            Err((why, stones)) => {
+                refused = Some(why);
+                // Drawn again: the corners of the stones at fault, in node order.
+                let mut again: Vec<usize> = stones.iter().flat_map(|&k| net.stones[k].iter().copied()).collect();
+                again.sort_unstable();
+                again.dedup();
+                for i in again {
+                    raw[i] = [rng.random(), rng.random()];
+                }
+            }
         }
     }
     let out = affine(polygons, tolerance_m, rng);
     let max = max_displacement(polygons, &out);
-    (out, DrawReport { attempts: MAX_ATTEMPTS, affine: true, max_displacement_m: max })
+    (out, DrawReport { attempts: MAX_ATTEMPTS, affine: true, max_displacement_m: max, refused })
 }
 
 /// The nodes, the stones as node indices, and the joint lines.
@@ -113,16 +132,16 @@ impl Net {
         Self { nodes, stones, lines, inside, on_table }
     }
 
-    /// One draw of every node's new place.
-    fn draw(&self, t: f64, rng: &mut ChaCha8Rng) -> Vec<[f64; 2]> {
+    /// Every node's new place from its two uniform numbers `raw` (module doc, step 3).
+    fn place(&self, raw: &[[f64; 2]], t: f64) -> Vec<[f64; 2]> {
         let n = self.nodes.len();
         let mut moved: Vec<Option<[f64; 2]>> = vec![None; n];
         for i in 0..n {
             let p = self.nodes[i];
             if self.on_table[i] {
-                moved[i] = Some([p[0] + t * (2.0 * rng.random::<f64>() - 1.0), p[1]]);
+                moved[i] = Some([p[0] + t * (2.0 * raw[i][0] - 1.0), p[1]]);
             } else if self.inside[i].is_empty() {
-                let (r, a) = (t * rng.random::<f64>().sqrt(), std::f64::consts::TAU * rng.random::<f64>());
+                let (r, a) = (t * raw[i][0].sqrt(), std::f64::consts::TAU * raw[i][1]);
                 moved[i] = Some([p[0] + r * a.cos(), p[1] + r * a.sin()]);
             }
         }
@@ -145,7 +164,7 @@ impl Net {
                     first_open.get_or_insert(i);
                     continue;
                 }
-                moved[i] = Some(self.on_lines(i, &ready, &moved, t, rng));
+                moved[i] = Some(self.on_lines(i, &ready, &moved, t, raw[i][0]));
                 progress = true;
             }
             match (progress, first_open) {
@@ -158,7 +177,7 @@ impl Net {
     }
 
     /// The new place of node `i`, inside the (placed) lines `lines`.
-    fn on_lines(&self, i: usize, lines: &[usize], moved: &[Option<[f64; 2]>], t: f64, rng: &mut ChaCha8Rng) -> [f64; 2] {
+    fn on_lines(&self, i: usize, lines: &[usize], moved: &[Option<[f64; 2]>], t: f64, u0: f64) -> [f64; 2] {
         let p = self.nodes[i];
         let ends = |l: usize| {
             let line = &self.lines[l];
@@ -183,7 +202,7 @@ impl Net {
         let du = d[0] * u[0] + d[1] * u[1];
         let disc = (du * du - (d[0] * d[0] + d[1] * d[1]) + t * t).max(0.0);
         let (lo, hi) = (-du - disc.sqrt(), -du + disc.sqrt());
-        let s = lo + (hi - lo) * rng.random::<f64>();
+        let s = lo + (hi - lo) * u0;
         [on[0] + s * u[0], on[1] + s * u[1]]
     }
 
@@ -260,23 +279,38 @@ fn joint_lines(nodes: &[[f64; 2]], edges: &[(usize, usize)]) -> Vec<Vec<usize>> 
 }
 
 /// The largest corner displacement if the drawn outlines `out` pass the check (module doc),
-/// else `None`.
-fn check(traced: &[Vec<[f64; 2]>], out: &[Vec<[f64; 2]>], t: f64) -> Option<f64> {
+/// else why not and the stones at fault (in layout order).
+fn check(traced: &[Vec<[f64; 2]>], out: &[Vec<[f64; 2]>], t: f64) -> Result<f64, (String, Vec<usize>)> {
     let max = max_displacement(traced, out);
-    if max > t * (1.0 + 1e-9) + 1e-15 || !out.iter().all(|p| convex(p)) {
-        return None;
+    let mut faults = Vec::new();
+    let mut why = String::new();
+    for (k, (a, b)) in traced.iter().zip(out).enumerate() {
+        let far = a.iter().zip(b).map(|(p, q)| dist(p, q)).fold(0.0, f64::max);
+        if far > t * (1.0 + 1e-9) + 1e-15 {
+            why = format!("a corner of stone {k} moved {far:.3e} m");
+            faults.push(k);
+        } else if !convex(b) {
+            why = format!("stone {k} is no longer convex");
+            faults.push(k);
+        }
     }
     let boxes: Vec<_> = out.iter().map(|p| bounds(p)).collect();
     for i in 0..out.len() {
         for j in i + 1..out.len() {
             let (a, b) = (&boxes[i], &boxes[j]);
             let gap = (a.0[0] - b.1[0]).max(b.0[0] - a.1[0]).max(a.0[1] - b.1[1]).max(b.0[1] - a.1[1]);
-            if gap < -OVERLAP_TOLERANCE_M && penetration(&out[i], &out[j]) > OVERLAP_TOLERANCE_M {
-                return None;
+            let depth = if gap < -OVERLAP_TOLERANCE_M { penetration(&out[i], &out[j]) } else { 0.0 };
+            if depth > OVERLAP_TOLERANCE_M {
+                why = format!("stones {i} and {j} overlap by {depth:.3e} m");
+                faults.extend([i, j]);
             }
         }
     }
-    Some(max)
+    if faults.is_empty() {
+        Ok(max)
+    } else {
+        Err((why, faults))
+    }
 }
 
 /// The largest distance between a traced corner and its drawn place, m.
@@ -417,7 +451,7 @@ mod tests {
             let (out, report) = draw(&traced, 0.01, &mut rng);
             assert!(!report.affine, "realization {r} fell back: {report:?}");
             assert!(report.max_displacement_m <= 0.01 * (1.0 + 1e-9));
-            assert!(check(&traced, &out, 0.01).is_some());
+            assert!(check(&traced, &out, 0.01).is_ok());
         }
     }
 
@@ -426,7 +460,7 @@ mod tests {
         let traced = running_bond();
         let mut rng = rng_for(5, 0, Purpose::Survey);
         let out = affine(&traced, 0.02, &mut rng);
-        assert!(check(&traced, &out, 0.02).is_some());
+        assert!(check(&traced, &out, 0.02).is_ok());
         assert!(out.iter().flatten().all(|p| p[1] >= 0.0));
     }
 

@@ -109,6 +109,7 @@ mod size;
 mod solver;
 mod spec;
 mod suite;
+mod survey;
 mod summary;
 mod sweep;
 mod text;
@@ -135,6 +136,7 @@ pub use size::{
     SizeEstimate, BYTES_PER_BLOCK, MAX_BLOCKS,
 };
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
+pub use survey::SurveyImportSpec;
 pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
 pub use sweep::{point_label, SweepEntryError, SweepError, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
 
