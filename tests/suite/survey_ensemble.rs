@@ -283,7 +283,7 @@ fn survey_study(dir: &Path, name: &str, solver: &str, t: f64, extra: &str) -> Pa
     let import = "scale_m_per_unit = 1.0\nthickness_m = 0.12\ndensity = 2200\nkn = 1e8\nks = 5e7\nfriction_deg = 30\n";
     let text = format!(
         "version = 1\nname = \"{name}\"\nseed = 5\nrealizations = 4\nprotocol = \"tilt\"\n[tilt]\nstep_deg = 1.0\n\
-         resolution_deg = 0.25\n[solver]\nkind = \"{solver}\"\n\
+         resolution_deg = 0.03125\n[solver]\nkind = \"{solver}\"\n\
          [[groups]]\nname = \"traced\"\nsurvey = \"small.svg\"\n[groups.import]\n{import}\
          [[groups]]\nname = \"drawn\"\nsurvey = \"small.svg\"\n[groups.import]\n{import}tolerance_m = {t}\n{extra}"
     );
@@ -312,7 +312,7 @@ fn a_study_of_a_survey_scatters_with_the_tolerance_by_the_dem_and_by_limit_analy
     let (svg, options) = small(&dir);
     let traced = import(&svg, &options).unwrap().layout.resolve().unwrap();
     for (name, solver) in [("by_dem", "penalty"), ("by_limit", "limit")] {
-        let study = Study::from_file(&survey_study(&dir, name, solver, 0.004, "")).unwrap();
+        let study = Study::from_file(&survey_study(&dir, name, solver, 0.006, "")).unwrap();
         let rows = run_study(&study, Shard::ALL);
         let (a, b) = (angles(&rows, "traced"), angles(&rows, "drawn"));
         assert_eq!((a.len(), b.len()), (4, 4));
