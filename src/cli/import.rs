@@ -2,8 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use drystone::generator::spec::Batter;
-use drystone::layout::{BaseSliding, MaterialSpec};
 use drystone::generator::Distribution;
+use drystone::layout::{BaseSliding, MaterialSpec};
 use drystone::survey::{
     import, surveyed_wall, ImportOptions, ImportedWall, LengthUnit, Section, SurveyFormat, SurveyMaterials, Uncertainty,
 };

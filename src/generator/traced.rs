@@ -23,10 +23,11 @@
 use super::build::{PieceKind, Samples};
 use super::distribution::Distribution;
 use super::realization::{centroid_z, extrude_polygon, hull_is_faithful, GeneratedWall, Piece, SectionPart};
+use super::spec::Batter;
+pub use super::trace::{Traced, TracedStone};
 use super::trace_draw::{self, DrawReport};
 use super::wall::Wall;
 use super::GeneratorError;
-use super::spec::Batter;
 use crate::layout::{BaseSliding, BlockSpec, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};
 use crate::rng::{rng_for, Purpose};
 use std::path::PathBuf;
@@ -34,49 +35,6 @@ use std::path::PathBuf;
 /// The thinnest core piece kept behind a stone, m: a stone reaching closer to the back face
 /// is a through stone.
 pub const MIN_CORE_M: f64 = 0.005;
-
-/// One traced stone.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TracedStone {
-    /// Its id in the layout.
-    pub id: String,
-    /// Its material (a name among the wall's materials).
-    pub material: String,
-    /// Its outline (x, z) in the table frame, convex and counter-clockwise, m.
-    pub polygon: Vec<[f64; 2]>,
-}
-
-/// A traced elevation and the uncertainty drawn around it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Traced {
-    /// The stones, in layout order.
-    pub stones: Vec<TracedStone>,
-    /// The tracing tolerance, m (≥ 0): the largest displacement of a traced corner.
-    pub tolerance_m: f64,
-    /// Each stone's depth into the wall from the traced (−y) face, m; `None`: through
-    /// stones. Its support lies in (0, base width].
-    pub depth: Option<Distribution>,
-}
-
-impl Traced {
-    /// The mean height and the mean length of the stones' outlines, m.
-    pub fn mean_stone_size(&self) -> (f64, f64) {
-        let n = self.stones.len().max(1) as f64;
-        let extent = |k: usize| {
-            self.stones
-                .iter()
-                .map(|s| {
-                    let (lo, hi) = s.polygon.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                        (lo.min(p[k]), hi.max(p[k]))
-                    });
-                    hi - lo
-                })
-                .sum::<f64>()
-                / n
-        };
-        (extent(1), extent(0))
-    }
-}
 
 /// What a surveyed wall has besides its trace: its name, section and materials.
 #[derive(Debug, Clone, PartialEq)]

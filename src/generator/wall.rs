@@ -148,7 +148,7 @@ pub struct Wall {
     /// A surveyed wall's trace: when set, [`generate`](super::generate) draws the wall from
     /// it ([`super::traced`]) and the course, block, arrangement and section fields above
     /// describe nothing but its scale. `None` for a wall description.
-    pub traced: Option<Box<super::traced::Traced>>,
+    pub traced: Option<Box<super::trace::Traced>>,
 }
 
 impl Wall {

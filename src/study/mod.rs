@@ -109,8 +109,9 @@ mod size;
 mod solver;
 mod spec;
 mod suite;
-mod survey;
 mod summary;
+mod survey;
+mod survey_spec;
 mod sweep;
 mod text;
 
@@ -136,8 +137,8 @@ pub use size::{
     SizeEstimate, BYTES_PER_BLOCK, MAX_BLOCKS,
 };
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
-pub use survey::SurveyImportSpec;
 pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
+pub use survey_spec::SurveyImportSpec;
 pub use sweep::{point_label, SweepEntryError, SweepError, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
 
 /// A checked study.

@@ -529,7 +529,16 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
     let wall = match (&g.wall, &g.survey) {
         (Some(w), None) => w,
         (None, Some(survey)) => {
-            return super::survey::resolve_group(g, survey, dir, points, invalid);
+            let wall = super::survey::surveyed_wall(g, survey, dir, points, invalid)?;
+            return Ok(Group {
+                name: g.name.clone(),
+                measured_group: g.measured_group.clone().unwrap_or_else(|| g.name.clone()),
+                wall_path: dir.join(survey),
+                walls: vec![wall; points.len()],
+                realizations: g.realizations,
+                spec: None,
+                effects: vec![],
+            });
         }
         (Some(_), Some(_)) => {
             return Err(invalid.at(

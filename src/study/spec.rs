@@ -191,9 +191,9 @@ pub struct GroupSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub survey: Option<PathBuf>,
     /// With `survey`: the options of `drystone import` and the survey's uncertainty
-    /// ([`super::survey::SurveyImportSpec`]).
+    /// ([`super::survey_spec::SurveyImportSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub import: Option<super::survey::SurveyImportSpec>,
+    pub import: Option<super::survey_spec::SurveyImportSpec>,
     /// Group name in the measured data. Default: `name`.
     #[serde(default)]
     pub measured_group: Option<String>,

@@ -8,8 +8,8 @@
 use super::{check_size, check_unique_ids, read_text, ImportOptions, ImportedWall, Stone, StoneReport, SurveyError};
 use super::{SurveyFormat, MAX_STONE_M};
 use crate::generator::spec::Batter;
-use crate::generator::{centroid_z, extrude_polygon, faces_at, hull_is_faithful, polygon_area};
 use crate::generator::trace_draw::penetration;
+use crate::generator::{centroid_z, extrude_polygon, faces_at, hull_is_faithful, polygon_area};
 use crate::layout::OVERLAP_TOLERANCE_M;
 use std::path::Path;
 

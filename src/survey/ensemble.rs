@@ -62,9 +62,8 @@ impl Uncertainty {
     /// # Errors
     /// A message naming the text.
     pub fn depth_from_text(text: &str) -> Result<Distribution, String> {
-        let number = |s: &str| {
-            s.trim().parse::<f64>().map_err(|_| format!("--depth-m {text}: {s:?} is not a number of metres"))
-        };
+        let number =
+            |s: &str| s.trim().parse::<f64>().map_err(|_| format!("--depth-m {text}: {s:?} is not a number of metres"));
         match text.split_once("..") {
             None => Ok(Distribution::fixed(number(text)?, Unit::M)),
             Some((a, b)) => {

@@ -44,7 +44,11 @@ fn surveyed(dir: &Path, file: &str, seed: u64) -> (PathBuf, ImportOptions) {
         hull_nonconvex: false,
         unit: None,
         y_up: false,
-        materials: SurveyMaterials { materials: g.layout.materials.clone(), stone_material: None, table_material: None },
+        materials: SurveyMaterials {
+            materials: g.layout.materials.clone(),
+            stone_material: None,
+            table_material: None,
+        },
         base_sliding: Default::default(),
         name: None,
     };
@@ -89,7 +93,9 @@ fn penetration(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
             let n = [b[1] - a[1], a[0] - b[0]];
             let len = n[0].hypot(n[1]);
             let proj = |s: &[[f64; 2]]| {
-                s.iter().map(|v| (v[0] * n[0] + v[1] * n[1]) / len).fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)))
+                s.iter()
+                    .map(|v| (v[0] * n[0] + v[1] * n[1]) / len)
+                    .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)))
             };
             let ((p0, p1), (q0, q1)) = (proj(p), proj(q));
             depth = depth.min(p1.min(q1) - p0.max(q0));
@@ -104,10 +110,9 @@ fn without_tolerance_and_at_full_depth_the_ensemble_is_the_survey_as_traced() {
     let (svg, options) = surveyed(&dir, "studies/walls/sbl.toml", 3);
     let traced = import(&svg, &options).unwrap();
     let thickness = options.section.unwrap().base_m;
-    for u in [
-        Uncertainty::default(),
-        Uncertainty { tolerance_m: 0.0, depth: Some(Distribution::fixed(thickness, Unit::M)) },
-    ] {
+    for u in
+        [Uncertainty::default(), Uncertainty { tolerance_m: 0.0, depth: Some(Distribution::fixed(thickness, Unit::M)) }]
+    {
         let wall = surveyed_wall(&svg, &options, &u).unwrap();
         for r in [0, 5] {
             let g = generate(&wall, 11, r).unwrap();
@@ -342,13 +347,17 @@ fn bad_survey_groups_are_refused_naming_the_group_and_key() {
     };
     let head = "version = 1\nname = \"bad\"\nseed = 1\nrealizations = 2\nprotocol = \"tilt\"\n";
     let import = "[groups.import]\nthickness_m = 0.12\nscale_m_per_unit = 1\ndensity = 2200\nkn = 1e8\nks = 5e7\nfriction_deg = 30\n";
-    let both = e(&format!("{head}[[groups]]\nname = \"g\"\nwall = {:?}\nsurvey = \"small.svg\"\n{import}", walls.display().to_string()));
+    let both = e(&format!(
+        "{head}[[groups]]\nname = \"g\"\nwall = {:?}\nsurvey = \"small.svg\"\n{import}",
+        walls.display().to_string()
+    ));
     assert!(both.contains("groups[g]") && both.contains("both"), "{both}");
     let neither = e(&format!("{head}[[groups]]\nname = \"g\"\n"));
     assert!(neither.contains("groups[g]") && neither.contains("survey"), "{neither}");
     let missing = e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"missing.svg\"\n{import}"));
     assert!(missing.contains("groups[g].survey") && missing.contains("missing.svg"), "{missing}");
-    let negative = e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n{import}tolerance_m = -0.001\n"));
+    let negative =
+        e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n{import}tolerance_m = -0.001\n"));
     assert!(negative.contains("groups[g].import.tolerance_m"), "{negative}");
     let nan = e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n{import}tolerance_m = nan\n"));
     assert!(nan.contains("groups[g].import.tolerance_m"), "{nan}");
@@ -356,7 +365,8 @@ fn bad_survey_groups_are_refused_naming_the_group_and_key() {
         "{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n{import}depth_m = {{ kind = \"uniform\", min = 0.1, max = 0.3 }}\n"
     ));
     assert!(deep.contains("groups[g].import.depth_m") && deep.contains("(0, 0.12]"), "{deep}");
-    let no_thickness = e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n[groups.import]\ndensity = 1\n"));
+    let no_thickness =
+        e(&format!("{head}[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n[groups.import]\ndensity = 1\n"));
     assert!(no_thickness.contains("groups[g].import.thickness_m"), "{no_thickness}");
     let swept = e(&format!(
         "{head}[sweep]\nfriction_deg = [30, 35]\n[[groups]]\nname = \"g\"\nsurvey = \"small.svg\"\n{import}"
