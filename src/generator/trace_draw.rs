@@ -14,8 +14,10 @@
 //!    one joint line is put on the moved line at its traced fraction of the line's length and
 //!    slides along it, uniformly within the slide that keeps its displacement ≤ t; a node
 //!    inside two joint lines goes to the moved lines' crossing. Lines are placed once their
-//!    ends are; a circle of lines each ending inside the next (a pinwheel) is broken by
-//!    holding its first node.
+//!    ends are. A circle of lines each ending inside the next (a pinwheel; an irregular
+//!    wall's stones resting on one another's corners) is broken by holding its first node
+//!    at its traced place, and with it every node of a line through a held node (so a line
+//!    moves whole or not at all).
 //! 4. **The check.** Every stone must stay convex and every corner within t of its traced
 //!    place, and no two stones may overlap by more than
 //!    [`crate::layout::OVERLAP_TOLERANCE_M`] (penetration depth of the convex polygons).
@@ -99,6 +101,9 @@ struct Net {
     inside: Vec<Vec<usize>>,
     /// Per node, whether it is on the table.
     on_table: Vec<bool>,
+    /// Per node, whether it keeps its traced place (a node of a circle of joint lines, and
+    /// every node of a line through one such node).
+    held: Vec<bool>,
 }
 
 impl Net {
@@ -128,8 +133,9 @@ impl Net {
             }
         }
         let z0 = nodes.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min).min(0.0);
-        let on_table = nodes.iter().map(|p| p[1] <= z0 + SNAP_M).collect();
-        Self { nodes, stones, lines, inside, on_table }
+        let on_table: Vec<bool> = nodes.iter().map(|p| p[1] <= z0 + SNAP_M).collect();
+        let held = held_nodes(&lines, &inside, &on_table);
+        Self { nodes, stones, lines, inside, on_table, held }
     }
 
     /// Every node's new place from its two uniform numbers `raw` (module doc, step 3).
@@ -138,7 +144,9 @@ impl Net {
         let mut moved: Vec<Option<[f64; 2]>> = vec![None; n];
         for i in 0..n {
             let p = self.nodes[i];
-            if self.on_table[i] {
+            if self.held[i] {
+                moved[i] = Some(p);
+            } else if self.on_table[i] {
                 moved[i] = Some([p[0] + t * (2.0 * raw[i][0] - 1.0), p[1]]);
             } else if self.inside[i].is_empty() {
                 let (r, a) = (t * raw[i][0].sqrt(), std::f64::consts::TAU * raw[i][1]);
@@ -209,6 +217,52 @@ impl Net {
     /// The stones' outlines with the nodes at `moved`.
     fn polygons(&self, moved: &[[f64; 2]]) -> Vec<Vec<[f64; 2]>> {
         self.stones.iter().map(|s| s.iter().map(|&i| moved[i]).collect()).collect()
+    }
+}
+
+/// The nodes that keep their traced place: placing the nodes in the order of
+/// [`Net::place`] (a node inside lines once their ends are placed), the first node of a
+/// circle that never gets ready, and then every node of a line through a held node, until
+/// no line has both held and free nodes. A line thus moves whole or not at all, and the
+/// nodes inside it stay on it.
+fn held_nodes(lines: &[Vec<usize>], inside: &[Vec<usize>], on_table: &[bool]) -> Vec<bool> {
+    let n = inside.len();
+    let mut held = vec![false; n];
+    let mut placed: Vec<bool> = (0..n).map(|i| on_table[i] || inside[i].is_empty()).collect();
+    loop {
+        let mut progress = false;
+        let mut first_open = None;
+        for i in 0..n {
+            if placed[i] {
+                continue;
+            }
+            if inside[i].iter().all(|&l| placed[lines[l][0]] && placed[lines[l][lines[l].len() - 1]]) {
+                placed[i] = true;
+                progress = true;
+            } else {
+                first_open.get_or_insert(i);
+            }
+        }
+        match (progress, first_open) {
+            (_, None) => break,
+            (true, Some(_)) => {}
+            (false, Some(i)) => {
+                placed[i] = true;
+                held[i] = true;
+            }
+        }
+    }
+    loop {
+        let mut changed = false;
+        for line in lines {
+            if line.iter().any(|&k| held[k]) && !line.iter().all(|&k| held[k]) {
+                line.iter().for_each(|&k| held[k] = true);
+                changed = true;
+            }
+        }
+        if !changed {
+            return held;
+        }
     }
 }
 
@@ -446,6 +500,7 @@ mod tests {
         let traced = running_bond();
         let net = Net::new(&traced);
         assert!(net.lines.len() >= 2, "bed joints found: {}", net.lines.len());
+        assert!(net.held.iter().all(|h| !h), "a running bond has no circle of joint lines");
         for r in 0..20 {
             let mut rng = rng_for(3, r, Purpose::Survey);
             let (out, report) = draw(&traced, 0.01, &mut rng);
