@@ -33,6 +33,8 @@ pub enum Purpose {
     /// so the probability reported is not the maximum of the ranking's estimates (the
     /// optimizer's curse, Smith & Winkler 2006, *Management Science* 52, 311–322).
     DesignReport,
+    /// A surveyed wall's tracing tolerance drawn per realization (`generator::traced`).
+    Survey,
 }
 
 impl Purpose {
@@ -46,6 +48,7 @@ impl Purpose {
             Purpose::GroundMotion => 6,
             Purpose::Weights => 7,
             Purpose::DesignReport => 8,
+            Purpose::Survey => 9,
         }
     }
 }

@@ -2,8 +2,11 @@
 
 use anyhow::{bail, Context, Result};
 use drystone::generator::spec::Batter;
+use drystone::generator::Distribution;
 use drystone::layout::{BaseSliding, MaterialSpec};
-use drystone::survey::{import, ImportOptions, ImportedWall, LengthUnit, Section, SurveyFormat, SurveyMaterials};
+use drystone::survey::{
+    import, surveyed_wall, ImportOptions, ImportedWall, LengthUnit, Section, SurveyFormat, SurveyMaterials, Uncertainty,
+};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -69,6 +72,21 @@ pub struct ImportArgs {
     /// The layout's name [default: the survey's file name].
     #[arg(long)]
     name: Option<String>,
+    /// Traced elevations: master seed of the survey's uncertainty; with it the layout is
+    /// realization --realization of the ensemble around the survey (the tracing tolerance
+    /// and the depths drawn), without it the survey as traced.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Realization index (with --seed).
+    #[arg(long, requires = "seed")]
+    realization: Option<u64>,
+    /// Tracing tolerance, m (with --seed): every traced corner moves by at most this [default: 0].
+    #[arg(long, requires = "seed")]
+    tolerance_m: Option<f64>,
+    /// Each stone's depth into the wall from the traced (−y) face, m (with --seed): D (fixed)
+    /// or A..B (uniform) [default: through stones].
+    #[arg(long, requires = "seed", value_parser = |s: &str| Uncertainty::depth_from_text(s))]
+    depth_m: Option<Distribution>,
 }
 
 fn parse_batter(s: &str) -> Result<Batter, String> {
@@ -134,9 +152,43 @@ pub fn command(a: ImportArgs) -> Result<ExitCode> {
         base_sliding: a.base,
         name: a.name.clone(),
     };
+    if let Some(seed) = a.seed {
+        return realization(&a, &options, seed);
+    }
     let wall = import(&a.survey, &options)?;
     std::fs::write(&a.out, wall.layout.to_json()).with_context(|| format!("writing {}", a.out.display()))?;
     summary(&wall);
+    out!("wrote             {}", a.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `drystone import --seed`: realization `--realization` of the ensemble around the survey
+/// written as the layout, with how its outlines were drawn.
+fn realization(a: &ImportArgs, options: &ImportOptions, seed: u64) -> Result<ExitCode> {
+    let u = Uncertainty { tolerance_m: a.tolerance_m.unwrap_or(0.0), depth: a.depth_m.clone() };
+    let wall = surveyed_wall(&a.survey, options, &u)?;
+    let traced = wall.traced.as_deref().context("a surveyed wall has its trace")?;
+    let r = a.realization.unwrap_or(0);
+    let (g, report) = drystone::generator::traced::generate(&wall, traced, seed, r)?;
+    g.check().with_context(|| format!("{}: realization {r}", a.survey.display()))?;
+    std::fs::write(&a.out, g.layout.to_json()).with_context(|| format!("writing {}", a.out.display()))?;
+    let cores = g.pieces.iter().filter(|p| p.part == drystone::generator::SectionPart::Hearting).count();
+    out!("survey            {}", a.survey.display());
+    out!("seed, realization {seed}, {r}");
+    out!("tolerance         {} m", u.tolerance_m);
+    out!("depth             {}", u.depth.as_ref().map_or_else(|| "through stones".to_string(), |d| d.name.clone()));
+    out!("stones            {} ({cores} with a core piece behind)", traced.stones.len());
+    out!("blocks            {}", g.layout.blocks.len());
+    out!("total volume      {:.6e} m3", g.volume());
+    out!(
+        "outlines drawn    {} attempt(s){}, largest corner move {:.3e} m",
+        report.attempts,
+        if report.affine { ", affine fallback" } else { "" },
+        report.max_displacement_m
+    );
+    if let (true, Some(why)) = (report.affine, &report.refused) {
+        out!("last refused draw {why}");
+    }
     out!("wrote             {}", a.out.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -217,17 +217,23 @@ pub mod distribution;
 pub mod spec;
 
 mod build;
+mod generate;
 mod polygon;
 mod realization;
 mod resolve;
+mod trace;
+pub mod trace_draw;
+pub mod traced;
 mod wall;
 
 pub use build::{PieceKind, Samples};
 pub use distribution::{Distribution, DistributionSource, DistributionSpec};
+pub use generate::{generate, generate_batch};
 pub(crate) use polygon::area as polygon_area;
 pub(crate) use realization::{centroid_z, extrude_polygon, hull_is_faithful};
-pub use realization::{generate, generate_batch, GeneratedWall, Piece, SectionPart};
+pub use realization::{GeneratedWall, Piece, SectionPart};
 pub use spec::{WallKind, WallSpec};
+pub use traced::{TraceSetting, Traced, TracedStone};
 pub(crate) use wall::faces_at;
 pub use wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
 

@@ -60,6 +60,9 @@ impl Wall {
             v.extend(s.kn_factor.as_ref());
             v.extend(s.friction_offset.as_ref());
         }
+        if let Some(t) = &self.traced {
+            v.extend(t.depth.as_ref());
+        }
         v
     }
 }
@@ -119,6 +122,7 @@ impl WallSpec {
             joints: self.joints.clone(),
             kind: self.kind,
             section,
+            traced: None,
         })
     }
 }

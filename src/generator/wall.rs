@@ -145,6 +145,10 @@ pub struct Wall {
     pub kind: Option<super::WallKind>,
     /// The section across the thickness.
     pub section: Section,
+    /// A surveyed wall's trace: when set, [`generate`](super::generate) draws the wall from
+    /// it ([`super::traced`]) and the course, block, arrangement and section fields above
+    /// describe nothing but its scale. `None` for a wall description.
+    pub traced: Option<Box<super::trace::Traced>>,
 }
 
 impl Wall {
@@ -171,6 +175,9 @@ impl Wall {
         if let Some(sc) = &mut w.scatter {
             sc.kn_factor.iter_mut().for_each(clear);
             sc.friction_offset.iter_mut().for_each(clear);
+        }
+        if let Some(t) = &mut w.traced {
+            t.depth.iter_mut().for_each(clear);
         }
         w
     }

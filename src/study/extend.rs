@@ -54,7 +54,13 @@ fn effects_spec(effects: &[Effect]) -> EffectsSpec {
 /// distribution inline.
 fn wall_text(study: &Study, group: usize) -> Result<String, ExtendError> {
     let g = &study.groups[group];
-    let mut spec = g.spec.clone();
+    let Some(mut spec) = g.spec.clone() else {
+        return Err(ExtendError::Wall(format!(
+            "group {}: a surveyed group has no wall description to extend (its wall is its survey, {})",
+            g.name,
+            g.wall_path.display()
+        )));
+    };
     if let Some(w) = g.walls.first() {
         for d in w.distributions() {
             if d.source.as_os_str().is_empty() || d.source == g.wall_path || spec.distributions.contains_key(&d.name) {
@@ -102,7 +108,9 @@ pub fn write_extended(
         effects.extend(effects_spec(extra));
         groups.push(GroupSpec {
             name: g.name.clone(),
-            wall: PathBuf::from(wall),
+            wall: Some(PathBuf::from(wall)),
+            survey: None,
+            import: None,
             measured_group: Some(g.measured_group.clone()),
             overrides: BTreeMap::new(),
             realizations: g.realizations,

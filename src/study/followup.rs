@@ -104,7 +104,16 @@ pub fn write_followup(
     let mut groups = Vec::new();
     for g in &study.groups {
         let file = format!("walls/{}.toml", g.name);
-        write(&dir.join(&file), &toml::to_string(&g.spec).unwrap_or_default())?;
+        let Some(spec) = &g.spec else {
+            return Err(crate::discrepancy::DiscrepancyError::Design {
+                specimen: g.name.clone(),
+                observable: format!(
+                    "a surveyed group ({}) has no wall description for a follow-up to copy",
+                    g.wall_path.display()
+                ),
+            });
+        };
+        write(&dir.join(&file), &toml::to_string(spec).unwrap_or_default())?;
         let old = doc
             .get("groups")
             .and_then(|v| v.as_array())
@@ -275,7 +284,12 @@ fn readme(study: &Study, plan: &Plan, f: &FollowUp, specimens: &[(String, String
 /// # Errors
 /// As [`crate::discrepancy::design::menu`].
 pub fn menu(study: &Study, setup: &Setup, run: &Run) -> Result<Vec<FollowUp>, DiscrepancyError> {
-    let walls: Vec<GroupWall<'_>> =
-        study.groups.iter().map(|g| GroupWall { name: &g.name, spec: &g.spec, wall_path: &g.wall_path }).collect();
+    // A surveyed group has no wall description to edit: the menu's follow-ups are on the
+    // described walls.
+    let walls: Vec<GroupWall<'_>> = study
+        .groups
+        .iter()
+        .filter_map(|g| g.spec.as_ref().map(|spec| GroupWall { name: &g.name, spec, wall_path: &g.wall_path }))
+        .collect();
     crate::discrepancy::design::menu(&walls, setup, run)
 }

@@ -110,6 +110,8 @@ mod solver;
 mod spec;
 mod suite;
 mod summary;
+mod survey;
+mod survey_spec;
 mod sweep;
 mod text;
 
@@ -136,6 +138,7 @@ pub use size::{
 };
 pub use spec::{GroupSpec, MeasuredSpec, ProtocolKind, ShakeSpec, StudySpec};
 pub use suite::{is_suite, run_suite, run_suite_with, Suite, SuiteError, SuiteOutcome};
+pub use survey_spec::SurveyImportSpec;
 pub use sweep::{point_label, SweepEntryError, SweepError, SweepKey, SweepPoint, SweepValue, DEFAULT_END_ZONE_M};
 
 /// A checked study.

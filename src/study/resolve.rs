@@ -27,14 +27,15 @@ pub struct Group {
     pub name: String,
     /// Group name in the measured data.
     pub measured_group: String,
-    /// The wall description file.
+    /// The wall description file, or the survey of a surveyed group.
     pub wall_path: PathBuf,
     /// The resolved wall at each sweep point.
     pub walls: Vec<Wall>,
     /// Own number of realizations per sweep point, if the group fixes it.
     pub realizations: Option<u64>,
-    /// The group's wall description with its overrides applied (before any sweep point).
-    pub spec: WallSpec,
+    /// The group's wall description with its overrides applied (before any sweep point);
+    /// `None` for a group naming a survey (its wall is [`crate::survey::surveyed_wall`]'s).
+    pub spec: Option<WallSpec>,
     /// The effects of the group's model (the study's, then the group's own), applied to
     /// every realization ([`crate::effects::realize`]).
     pub effects: Vec<crate::effects::Effect>,
@@ -525,7 +526,40 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
     if g.realizations == Some(0) {
         return Err(invalid.at(&format!("groups[{}].realizations", g.name), "must be at least 1".into()));
     }
-    let wall_path = dir.join(&g.wall);
+    let wall = match (&g.wall, &g.survey) {
+        (Some(w), None) => w,
+        (None, Some(survey)) => {
+            let wall = super::survey::surveyed_wall(g, survey, dir, points, invalid)?;
+            return Ok(Group {
+                name: g.name.clone(),
+                measured_group: g.measured_group.clone().unwrap_or_else(|| g.name.clone()),
+                wall_path: dir.join(survey),
+                walls: vec![wall; points.len()],
+                realizations: g.realizations,
+                spec: None,
+                effects: vec![],
+            });
+        }
+        (Some(_), Some(_)) => {
+            return Err(invalid.at(
+                &format!("groups[{}]", g.name),
+                "names both a wall and a survey: a group is one wall description (wall) or one survey (survey)".into(),
+            ))
+        }
+        (None, None) => {
+            return Err(invalid.at(
+                &format!("groups[{}]", g.name),
+                "names no wall: give wall = a wall description, or survey = a traced elevation".into(),
+            ))
+        }
+    };
+    if g.import.is_some() {
+        return Err(invalid.at(
+            &format!("groups[{}].import", g.name),
+            "is for a group naming a survey; this group names a wall description".into(),
+        ));
+    }
+    let wall_path = dir.join(wall);
     let text = std::fs::read_to_string(&wall_path).map_err(|source| {
         invalid.at(&format!("groups[{}].wall", g.name), format!("cannot read {}: {source}", wall_path.display()))
     })?;
@@ -561,7 +595,7 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         wall_path,
         walls,
         realizations: g.realizations,
-        spec: gspec,
+        spec: Some(gspec),
         effects: vec![],
     })
 }
@@ -606,14 +640,15 @@ fn group_effects(
 /// group's `length_m` if either sets it, else the group's wall file.
 fn size_key(g: &GroupSpec, point: &SweepPoint) -> String {
     let label = super::point_label(point);
+    let wall = g.wall.as_deref().unwrap_or(Path::new(""));
     if point.iter().any(|(k, _)| *k == SweepKey::LengthM) {
         format!("groups[{}] at sweep.length_m", g.name)
     } else if g.overrides.contains_key(SweepKey::LengthM.as_str()) {
         format!("groups[{}].overrides.length_m", g.name)
     } else if label.is_empty() {
-        format!("groups[{}].wall ({})", g.name, g.wall.display())
+        format!("groups[{}].wall ({})", g.name, wall.display())
     } else {
-        format!("groups[{}].wall ({}) at sweep point {label}", g.name, g.wall.display())
+        format!("groups[{}].wall ({}) at sweep point {label}", g.name, wall.display())
     }
 }
 
@@ -697,7 +732,13 @@ impl Study {
     /// checks.
     pub fn wall_with(&self, g: usize, values: &[(SweepKey, SweepValue)]) -> Result<Wall, StudyError> {
         let group = &self.groups[g];
-        let mut spec = group.spec.clone();
+        let Some(mut spec) = group.spec.clone() else {
+            return Err(StudyError::Invalid {
+                path: self.path.clone(),
+                key: format!("groups[{}].survey", group.name),
+                reason: "a surveyed group's wall has no wall description keys to set".into(),
+            });
+        };
         for (k, v) in values {
             k.apply(&mut spec, v).map_err(|reason| StudyError::Invalid {
                 path: self.path.clone(),

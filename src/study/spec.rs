@@ -175,14 +175,25 @@ impl ShakeSpec {
 /// parameter's unit).
 pub type EffectsSpec = BTreeMap<String, BTreeMap<String, f64>>;
 
-/// A group of realizations: one wall description.
+/// A group of realizations: one wall description, or one survey (exactly one of `wall`
+/// and `survey`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GroupSpec {
     /// Group name.
     pub name: String,
     /// Wall description file, relative to the study file.
-    pub wall: PathBuf,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall: Option<PathBuf>,
+    /// A traced elevation (.svg, .geojson, .dxf), relative to the study file: the group's
+    /// realizations are the ensemble around it ([`crate::survey::ensemble`]), drawn as its
+    /// `import` table states.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub survey: Option<PathBuf>,
+    /// With `survey`: the options of `drystone import` and the survey's uncertainty
+    /// ([`super::survey_spec::SurveyImportSpec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub import: Option<super::survey_spec::SurveyImportSpec>,
     /// Group name in the measured data. Default: `name`.
     #[serde(default)]
     pub measured_group: Option<String>,

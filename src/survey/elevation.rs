@@ -8,6 +8,7 @@
 use super::{check_size, check_unique_ids, read_text, ImportOptions, ImportedWall, Stone, StoneReport, SurveyError};
 use super::{SurveyFormat, MAX_STONE_M};
 use crate::generator::spec::Batter;
+use crate::generator::trace_draw::penetration;
 use crate::generator::{centroid_z, extrude_polygon, faces_at, hull_is_faithful, polygon_area};
 use crate::layout::OVERLAP_TOLERANCE_M;
 use std::path::Path;
@@ -62,8 +63,25 @@ struct Shape {
     hulled: bool,
 }
 
-/// Reads a traced elevation and makes its blocks.
-pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Result<ImportedWall, SurveyError> {
+/// A traced elevation read and checked: its stones and their shapes in the table frame,
+/// the scale used and the translation to the table frame.
+pub(super) struct Trace {
+    pub stones: Vec<Stone>,
+    shapes: Vec<Shape>,
+    pub scale: (f64, String),
+    pub offset: [f64; 2],
+}
+
+impl Trace {
+    /// Each stone's block polygon (convex, counter-clockwise, table frame, m).
+    pub fn polygons(&self) -> Vec<Vec<[f64; 2]>> {
+        self.shapes.iter().map(|s| s.polygon.clone()).collect()
+    }
+}
+
+/// Reads a traced elevation: its outlines cleaned, checked, made convex (or refused) and
+/// checked for overlaps, in the table frame.
+pub(super) fn trace(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Result<Trace, SurveyError> {
     let text = read_text(path)?;
     let (outlines, scale) = match format {
         SurveyFormat::Svg => super::svg::read(path, &text, o.scale_m_per_unit)?,
@@ -91,6 +109,12 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
         shapes.push(shape(path, &l.stone, &moved, o.hull_nonconvex)?);
     }
     check_overlaps(path, &stones, &shapes)?;
+    Ok(Trace { stones, shapes, scale, offset: [-x0, -z0] })
+}
+
+/// Reads a traced elevation and makes its blocks.
+pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Result<ImportedWall, SurveyError> {
+    let Trace { stones, shapes, scale, offset } = trace(path, format, o)?;
     let section = o.section.unwrap_or(Section::uniform(1.0));
     let (lo, hi) = bounds(&shapes.iter().flat_map(|s| s.polygon.iter().copied()).collect::<Vec<_>>());
     let height = hi[1];
@@ -122,7 +146,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
         format,
         layout: super::layout_of(path, o, blocks),
         stones: reports,
-        offset_m: [-x0, 0.0, -z0],
+        offset_m: [offset[0], 0.0, offset[1]],
         scale: Some(scale),
         length_m: hi[0] - lo[0],
         height_m: height,
@@ -299,27 +323,6 @@ fn check_overlaps(path: &Path, stones: &[Stone], shapes: &[Shape]) -> Result<(),
         }
     }
     Ok(())
-}
-
-/// The penetration depth of two convex polygons, m (≤ 0: apart or touching).
-fn penetration(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
-    let mut depth = f64::INFINITY;
-    for poly in [p, q] {
-        let n = poly.len();
-        for i in 0..n {
-            let (a, b) = (poly[i], poly[(i + 1) % n]);
-            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-            let normal = [(b[1] - a[1]) / len, (a[0] - b[0]) / len];
-            let project = |s: &[[f64; 2]]| {
-                s.iter()
-                    .map(|v| v[0] * normal[0] + v[1] * normal[1])
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)))
-            };
-            let ((p0, p1), (q0, q1)) = (project(p), project(q));
-            depth = depth.min(p1.min(q1) - p0.max(q0));
-        }
-    }
-    depth
 }
 
 #[cfg(test)]

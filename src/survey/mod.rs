@@ -34,6 +34,14 @@
 //! unless [`ImportOptions::y_up`]. A stone longer than [`MAX_STONE_M`] or shorter than
 //! [`MIN_STONE_M`] is refused as a probable unit mistake (traced stones too).
 //!
+//! # The ensemble around a survey
+//!
+//! [`surveyed_wall`] makes a traced elevation a [`crate::generator::Wall`] whose
+//! realizations draw the survey's uncertainty ([`Uncertainty`]: the tracing tolerance, the
+//! stones' unknown depths; [`crate::generator::traced`]): `drystone import --seed N
+//! --realization R` writes one, a study group naming a `survey` runs them through its
+//! protocol.
+//!
 //! # The frame
 //!
 //! The survey is translated into the table frame of [`crate::geometry`]: the lowest point
@@ -44,11 +52,13 @@
 
 mod dxf;
 mod elevation;
+pub mod ensemble;
 mod geojson;
 mod mesh;
 mod svg;
 
 pub use elevation::Section;
+pub use ensemble::{surveyed_wall, Uncertainty};
 pub use mesh::LengthUnit;
 
 use crate::layout::{BaseSliding, LayoutError, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec};

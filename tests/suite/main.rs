@@ -83,6 +83,7 @@ mod stiff_end_budget;
 mod stiffness_range;
 mod studies;
 mod survey;
+mod survey_ensemble;
 mod tilt_hand;
 mod timestep;
 mod verification;

@@ -1,0 +1,94 @@
+//! A study group that names a survey instead of a wall description (`survey = "wall.svg"`
+//! with its `[groups.import]` table): its realizations are the ensemble around the survey
+//! ([`crate::survey::ensemble`]), run through the study's protocol as a generated wall's
+//! are.
+
+use super::error::Invalid;
+use super::spec::GroupSpec;
+use super::sweep::{wall_label, SweepPoint};
+use super::StudyError;
+use crate::generator::Wall;
+use crate::layout::MaterialSpec;
+use crate::survey::ensemble::{surveyed_wall_with, Uncertainty};
+use crate::survey::{ImportOptions, Section, SurveyMaterials};
+use std::path::Path;
+
+/// The wall of a group naming the survey `survey` (the same at every sweep point: a sweep
+/// over wall keys, or overrides, are refused naming the key).
+pub(super) fn surveyed_wall(
+    g: &GroupSpec,
+    survey: &Path,
+    dir: &Path,
+    points: &[SweepPoint],
+    invalid: &Invalid,
+) -> Result<Wall, StudyError> {
+    let key = |k: &str| format!("groups[{}].import.{k}", g.name);
+    if let Some(k) = g.overrides.keys().next() {
+        return Err(invalid.at(
+            &format!("groups[{}].overrides.{k}", g.name),
+            "a surveyed group's wall is its survey: it takes no wall overrides (state its materials in \
+             [groups.import], its joints' properties as effects)"
+                .into(),
+        ));
+    }
+    if let Some((k, _)) =
+        points.iter().find(|p| !wall_label(p).is_empty()).and_then(|p| p.iter().find(|(k, _)| !k.acts_on_protocol()))
+    {
+        return Err(invalid.at(
+            &format!("sweep.{k}"),
+            format!("sweeps a wall description's key; group {} is a survey, which has none", g.name),
+        ));
+    }
+    let spec = g.import.clone().unwrap_or_default();
+    let Some(base) = spec.thickness_m else {
+        return Err(invalid.at(&key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
+    };
+    let materials = match &spec.materials {
+        Some(p) => {
+            SurveyMaterials::from_file(&dir.join(p)).map_err(|e| invalid.at(&key("materials"), e.to_string()))?
+        }
+        None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
+            (Some(density), Some(kn), Some(ks), Some(friction_deg)) => SurveyMaterials::one(MaterialSpec {
+                name: "stone".into(),
+                density_kg_per_m3: density,
+                kn_pa_per_m: kn,
+                ks_pa_per_m: ks,
+                friction_deg,
+                cohesion_pa: spec.cohesion_pa.unwrap_or(0.0),
+                tensile_strength_pa: 0.0,
+                closure: Default::default(),
+            }),
+            _ => {
+                return Err(invalid.at(
+                    &key("materials"),
+                    "the stones' material: give materials = FILE, or all of density, kn, ks and friction_deg".into(),
+                ))
+            }
+        },
+    };
+    let depth = match &spec.depth_m {
+        None => None,
+        Some(v) => Some(
+            Uncertainty::depth_from_toml(v, invalid.0, &key("depth_m")).map_err(|e| invalid.at(&key("depth_m"), e))?,
+        ),
+    };
+    let options = ImportOptions {
+        format: None,
+        scale_m_per_unit: spec.scale_m_per_unit,
+        section: Some(Section { base_m: base, top_m: spec.top_thickness_m.unwrap_or(base), batter: spec.batter }),
+        hull_nonconvex: spec.hull_nonconvex,
+        unit: None,
+        y_up: false,
+        materials,
+        base_sliding: spec.base,
+        name: Some(g.name.clone()),
+    };
+    let path = dir.join(survey);
+    let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
+    let named = |k: &str| match k {
+        "thickness_m" | "top_thickness_m" | "scale_m_per_unit" | "tolerance_m" | "depth_m" => key(k),
+        other => other.to_string(),
+    };
+    surveyed_wall_with(&path, &options, &u, &named)
+        .map_err(|e| invalid.at(&format!("groups[{}].survey", g.name), e.to_string()))
+}
