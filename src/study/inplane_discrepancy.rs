@@ -239,14 +239,7 @@ pub fn sigma_from_data(obs: &mut [Observation], stated: &[String]) -> Vec<String
             continue;
         }
         let of = |o: &Observation| o.observable == Observable::InPlane { quantity } && o.value.is_finite();
-        // Per group: its readings.
-        let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
-        for o in obs.iter().filter(|o| of(o)) {
-            match groups.iter_mut().find(|g| g.0 == o.group) {
-                Some(g) => g.1.push(o.value),
-                None => groups.push((o.group.clone(), vec![o.value])),
-            }
-        }
+        let groups = readings_by_group(obs, quantity);
         if groups.is_empty() {
             continue;
         }
@@ -278,6 +271,19 @@ pub fn sigma_from_data(obs: &mut [Observation], stated: &[String]) -> Vec<String
     notes
 }
 
+/// The finite readings of `quantity` in `obs`, per group, in the order the groups first
+/// appear.
+fn readings_by_group(obs: &[Observation], quantity: InPlaneQuantity) -> Vec<(String, Vec<f64>)> {
+    let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
+    for o in obs.iter().filter(|o| o.observable == Observable::InPlane { quantity } && o.value.is_finite()) {
+        match groups.iter_mut().find(|g| g.0 == o.group) {
+            Some(g) => g.1.push(o.value),
+            None => groups.push((o.group.clone(), vec![o.value])),
+        }
+    }
+    groups
+}
+
 /// Sets the σ of the peaks' ± asymmetries ([`InPlaneQuantity::PeakAsymmetry`]) from the
 /// data when `[discrepancy.sigma] asymmetry_kn` is not stated: the repeats' spread pooled
 /// over the groups in kN (a difference that can be 0 has no coefficient of variation),
@@ -288,16 +294,9 @@ pub fn asymmetry_sigma_from_data(obs: &mut [Observation], stated: &[String], set
     if stated.iter().any(|k| k == "asymmetry_kn") {
         return None;
     }
-    let of = |o: &Observation| {
-        o.observable == Observable::InPlane { quantity: InPlaneQuantity::PeakAsymmetry } && o.value.is_finite()
-    };
-    let mut groups: Vec<(String, Vec<f64>)> = Vec::new();
-    for o in obs.iter().filter(|o| of(o)) {
-        match groups.iter_mut().find(|g| g.0 == o.group) {
-            Some(g) => g.1.push(o.value),
-            None => groups.push((o.group.clone(), vec![o.value])),
-        }
-    }
+    let quantity = InPlaneQuantity::PeakAsymmetry;
+    let of = |o: &Observation| o.observable == Observable::InPlane { quantity } && o.value.is_finite();
+    let groups = readings_by_group(obs, quantity);
     if groups.is_empty() {
         return None;
     }
