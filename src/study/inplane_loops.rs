@@ -184,6 +184,9 @@ pub struct LoopCheck {
     pub models: Vec<LoopModel>,
     /// The cyclic runs made.
     pub runs: usize,
+    /// The groups whose specimens were each run on their own measured history (the others
+    /// ran the study's history on [`LOOP_REALIZATIONS`] layouts).
+    pub own_histories: usize,
     /// The baseline's held-out error on the analysis's observations (per specimen), beside
     /// the models' [`LoopModel::peaks`]; NaN when the check ran without an analysis.
     pub baseline_heldout_error: f64,
@@ -216,6 +219,24 @@ impl LoopCheck {
         matches!(m.verdict, LoopVerdict::Fits | LoopVerdict::FitsWithFriction)
     }
 
+    /// How the runs' histories were chosen, in words.
+    fn histories_run(&self) -> String {
+        let groups = self.models.first().map_or(0, |m| m.groups.len());
+        if self.own_histories == groups {
+            "each specimen on its own measured history (its curve's turning points, in the laboratory's order) on a \
+             layout of its own"
+                .to_string()
+        } else if self.own_histories == 0 {
+            format!("the study's history on {LOOP_REALIZATIONS} layouts a stress")
+        } else {
+            format!(
+                "each specimen on its own measured history where its group has them ({} of {groups} stresses), \
+                 elsewhere the study's history on {LOOP_REALIZATIONS} layouts",
+                self.own_histories
+            )
+        }
+    }
+
     /// The report's section (Markdown).
     pub fn markdown(&self) -> String {
         let mut md = String::new();
@@ -223,15 +244,18 @@ impl LoopCheck {
         let _ = writeln!(
             md,
             "The loops' equivalent viscous damping ratio ξ_eq = E_d / (4π E_s), the median over the cycles of at \
-             least {} % drift, of each cyclic specimen's whole measured curve and of each model run cyclic (the \
-             study's history) at its fitted parameters, {} layouts a stress ({} runs). A friction against the motion \
+             least {} % drift, of each cyclic specimen's whole measured curve and of each model run cyclic at its \
+             fitted parameters, {} ({} runs). A friction against the motion \
              (`rig_friction`) dissipates `4 μ_r N a` a cycle, a force of the displacement alone (`jack_tilt`, the \
              joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
              over the standard errors (the specimens' spread σ = {:.4}, pooled); a model fits the loops when Σ z² is \
              below the χ² 95th percentile. The last columns read each run's curve of the wall's own shear again \
              with a bearing friction μ_r in place of the model's (no new run): the μ_r of least χ², its 95 % profile \
              interval, and the χ² there.\n",
-            self.min_drift_pct, LOOP_REALIZATIONS, self.runs, self.measured_sigma
+            self.min_drift_pct,
+            self.histories_run(),
+            self.runs,
+            self.measured_sigma
         );
         let Some(first) = self.models.first() else {
             return md;
@@ -692,6 +716,7 @@ pub fn check_models(
         measured_sigma,
         models: out,
         runs: jobs.len(),
+        own_histories: (0..groups.len()).filter(|&gi| runs_of(gi).iter().any(|(_, h)| h.is_some())).count(),
         baseline_heldout_error: f64::NAN,
         cause: None,
     })
