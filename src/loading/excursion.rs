@@ -107,6 +107,39 @@ impl JointNeighbours {
     }
 }
 
+impl JointNeighbours {
+    /// The largest **walk** of a block between `start` and `now` (m) and the block's index
+    /// (`(0, None)`: none moved from all of its neighbours): per block, the least over its
+    /// joint neighbours of how far it moved from where the neighbour's rigid motion carries
+    /// it, its centroid's distance plus its rotation relative to the neighbour's (rad) times
+    /// its radius `radii[k]` (m; a bound on the motion of its farthest point, as
+    /// [`crate::dem::motion::body_motion`] reads a body's motion). The table and fixed blocks
+    /// carry nothing. Over one increment of a quasi-static path it is the block's share of
+    /// the mechanism's relative motion; a block shed from the wall, or twisted in its bed,
+    /// reads its own motion.
+    pub fn largest_walk(&self, start: &Poses, now: &Poses, radii: &[f64]) -> (f64, Option<usize>) {
+        let mut worst = (0.0, None);
+        for (k, ns) in self.neighbours.iter().enumerate() {
+            let r = radii.get(k).copied().unwrap_or(0.0);
+            let off = |nb: &Neighbour| match *nb {
+                Neighbour::Block(j) => {
+                    let turn = now[j].1 * start[j].1.inverse();
+                    let carried = (now[j].0 + turn * (start[k].0 - start[j].0), turn * start[k].1);
+                    crate::dem::motion::body_motion(&carried, &now[k], r)
+                }
+                Neighbour::Still => crate::dem::motion::body_motion(&start[k], &now[k], r),
+            };
+            let Some(w) = ns.iter().map(off).min_by(f64::total_cmp) else {
+                continue;
+            };
+            if w > worst.0 {
+                worst = (w, Some(k));
+            }
+        }
+        worst
+    }
+}
+
 /// Whether two boxes touch over an area: within [`TOUCH_TOLERANCE_M`] along one axis and
 /// overlapping by [`CONTACT_SHARE`] of the smaller extent along the other two.
 fn touch(a: &crate::geometry::Aabb, b: &crate::geometry::Aabb) -> bool {
@@ -201,6 +234,29 @@ mod tests {
         let start = now.clone();
         now[4].0.x += 1e-3;
         assert_eq!(nb.walked_alone(&start, &now, 1e-4), vec![false, false, false, false, true]);
+    }
+
+    #[test]
+    fn a_block_twisted_in_its_bed_walks_by_its_turn_times_its_radius() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        let radii = vec![0.1; 5];
+        // The upper course turned 0.05 rad about y with its blocks: no block walked.
+        let q = UnitQuaternion::from_scaled_axis(Vec3::new(0.0, 0.05, 0.0));
+        let pivot = Vec3::new(0.1, 0.0, 0.15);
+        let mut now = reference.clone();
+        for k in 3..5 {
+            now[k] = (pivot + q * (reference[k].0 - pivot), q * reference[k].1);
+        }
+        assert!(nb.largest_walk(&reference, &now, &radii).0 < 1e-12);
+        // From the wall as laid, block 4 alone twisted 0.03 rad about z (in plan) about its
+        // own centroid: its centroid stays, its corners move.
+        let mut now = reference.clone();
+        now[4].1 = UnitQuaternion::from_scaled_axis(Vec3::new(0.0, 0.0, 0.03));
+        let (w, k) = nb.largest_walk(&reference, &now, &radii);
+        assert_eq!(k, Some(4));
+        assert!((w - 0.03 * 0.1).abs() < 1e-9, "{w}");
+        assert!(nb.largest(&reference, &now).0 < 1e-12, "the centroid's excursion does not see a twist");
     }
 
     #[test]

@@ -931,7 +931,8 @@ pub struct CurvePoint {
     /// The actuator's horizontal force, kN (positive towards +x).
     pub force_kn: f64,
     /// Whether the static solve reached equilibrium (the unbalanced-force ratio below the
-    /// tolerance) within its step budget.
+    /// tolerance, every block in balance) within its step budget, on the loading path (no
+    /// block thrown from the wall: [`InPlaneResult::unconverged`]).
     pub converged: bool,
 }
 
@@ -1307,11 +1308,15 @@ pub struct InPlaneResult {
     /// The push read both ways ([`InPlaneParams::mirror_reading`]; `None`: read one way).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mirror: Option<Box<Mirror>>,
-    /// Static solves that ended at the step budget rather than in equilibrium (nscd:
-    /// increments with a step whose contact problem did not meet its criterion).
+    /// Static solves that ended at the step budget rather than in equilibrium, with a
+    /// block out of balance, or with a block thrown from the wall (the penalty DEM's
+    /// driver: a block that walked from every joint neighbour by more than the increment
+    /// can move it, once more when solved again from the increment's start) (nscd: increments with a step whose contact problem did not meet its
+    /// criterion).
     pub unconverged: usize,
-    /// Increments whose relaxation blew up from the predicted state and were solved again
-    /// from their start, warming up from the smallest increment.
+    /// Increments solved again from their start, warming up from the smallest increment:
+    /// those whose relaxation blew up from the predicted state, and those whose relaxation
+    /// threw a block off the path (the penalty DEM's driver, see `unconverged`).
     pub retried: usize,
     /// Engine steps, settling included.
     pub steps: u64,
@@ -1507,6 +1512,9 @@ pub fn run_in_plane_penalty(
             .fold(f64::INFINITY, f64::min);
     let mut allowed = first;
     let mut retried = 0usize;
+    // Whether the increment being solved is one thrown off the path solved again from its
+    // start (it is not solved a third time).
+    let mut from_start = false;
     // The drift history is imposed at the actuator: a drift d moves it by d H0 (free
     // rotation: a rotation of the wall about its base reads the drift d at its top) or
     // d H (the beam held level).
@@ -1514,6 +1522,8 @@ pub fn run_in_plane_penalty(
         BeamRotation::Free => rig.anchor_z_m,
         BeamRotation::Fixed => rig.height_m,
     };
+    let walk_bound = WalkBound::of(&rig, params.sigma0_mpa, lever);
+    let radii: Vec<f64> = sim.state.bodies.iter().map(|b| b.radius).collect();
     for u in params.path(lever) {
         while (u - u_prev).abs() > 1e-15 {
             let du = (u - u_prev).clamp(-allowed, allowed);
@@ -1569,6 +1579,27 @@ pub fn run_in_plane_penalty(
                 Err(e) => return Err(e.into()),
             };
             let now = poses(&sim);
+            // A block that walked from every joint neighbour by more than the increment can
+            // move it ([`WalkBound`]) has left the path: the relaxation threw it to an
+            // equilibrium the loading would not reach (a loose block launched in one
+            // relaxation, or a stiff wall and its beam swung off their supports by the
+            // contact springs' energy). The increment again from its start, warming up from
+            // the smallest one; where even that throws a block, the increment is not
+            // converged, however well balanced the state it ended in.
+            let off_path = neighbours.largest_walk(&start, &now, &radii).0 > walk_bound.at(du);
+            if off_path && !from_start {
+                from_start = true;
+                sim = before;
+                u_prev -= du;
+                if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
+                    c.set_target(0, anchor_x0 + u_prev);
+                }
+                last = None;
+                allowed = first;
+                retried += 1;
+                continue;
+            }
+            from_start = false;
             excursion.read(&neighbours, &reference, &now, &rig.layout);
             let now_for_reading = now.clone();
             let alone = neighbours.walked_alone(&start, &now, (WALK_SHARE * du.abs()).max(WALK_FLOOR_M));
@@ -1585,8 +1616,9 @@ pub fn run_in_plane_penalty(
             ));
             // Equilibrium of the wall as a whole (the unbalanced-force ratio is a mean over
             // the bodies) and of each block: a block whose own out-of-balance force is a
-            // share of its weight is moving, whatever the mean says.
-            let converged = out.end == End::Equilibrium && every_block_balanced(&sim, bi);
+            // share of its weight is moving, whatever the mean says; and on the path: no
+            // block thrown from the wall.
+            let converged = out.end == End::Equilibrium && every_block_balanced(&sim, bi) && !off_path;
             unconverged += usize::from(!converged);
             let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
             let drift = 100.0 * top / rig.measure_z_m;
@@ -1611,6 +1643,50 @@ pub fn run_in_plane_penalty(
 /// joint neighbour to have walked alone \[0.1\] (a body moving with a neighbour departs from
 /// it by the joint's deformation only, orders of magnitude less).
 const WALK_SHARE: f64 = 0.1;
+
+/// The most a block may walk from every one of its joint neighbours in one increment of a
+/// quasi-static path ([`super::excursion::JointNeighbours::largest_walk`]), m: the
+/// mechanism's relative motion plus the joints' own deformation.
+///
+/// The actuator drives every motion of the wall: its parts turn about points of the wall
+/// (a toe, a crack's foot) or slide along its joints, by at most `dθ = du / lever` (`du` the
+/// actuator's increment, over the lever it acts over). A block turned by `dθ` about a point
+/// within the rig's diagonal `D` (wall and beam, the farthest two points) moves by at most
+/// `dθ D` at its centroid and turns by `dθ`, which the walk counts at the block's radius
+/// (at most `D`): `2 D du / lever` (at least `2 du`, the beam's own translation). A block's
+/// joints deform elastically by at most the slip
+/// displacement of the stiffest-slipping joint under the vertical stress, `μ σ0 / Ks` (the
+/// largest over the materials). A block that walked farther in one increment was thrown
+/// by the relaxation (squeezed out of a closing crack, or twisted in its bed by a swing)
+/// to an equilibrium the loading would not reach.
+#[derive(Debug, Clone, Copy)]
+struct WalkBound {
+    /// Twice the diagonal over the lever, ≥ 2.
+    spread: f64,
+    /// The largest `μ σ0 / Ks`, m.
+    slip_m: f64,
+}
+
+impl WalkBound {
+    /// The bound of the rig `rig` under the vertical stress `sigma0_mpa` (MPa), the drift
+    /// imposed over `lever` (m).
+    fn of(rig: &Rig, sigma0_mpa: f64, lever: f64) -> WalkBound {
+        let e = rig.layout.bounds().extent();
+        let spread = 2.0 * (e.x.hypot(e.z) / lever).max(1.0);
+        let slip_m = rig
+            .layout
+            .materials
+            .iter()
+            .map(|m| m.friction.tan().max(1e-3) * sigma0_mpa * 1e6 / m.ks)
+            .fold(0.0, f64::max);
+        WalkBound { spread, slip_m }
+    }
+
+    /// The bound for an increment `du` (m) of the actuator, m.
+    fn at(&self, du: f64) -> f64 {
+        self.spread * du.abs() + self.slip_m
+    }
+}
 
 /// The share of a block's own load (its weight and the magnitudes of its contact forces)
 /// its out-of-balance force may reach at equilibrium \[0.1\]: a loose block with more is

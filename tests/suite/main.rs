@@ -43,6 +43,7 @@ mod inplane_loops;
 mod inplane_replay;
 mod inplane_rig;
 mod inplane_study;
+mod inplane_whole;
 mod joint_families;
 mod lateral;
 mod lateral_pushover;
