@@ -525,6 +525,29 @@ pub enum InPlaneError {
         /// The largest Ks that gives the range at this φ and σ0, Pa/m.
         ks_max_pa_per_m: f64,
     },
+    /// Joints that the vertical stress closes past the penalty DEM's small overlaps
+    /// ([`MAX_CLOSURE_SHARE`]).
+    #[error(
+        "material {material}: the vertical stress σ0 {sigma0_mpa} MPa closes its joints by σ0 / Kn = {closure_mm:.3} mm (Kn {kn_pa_per_m:.3e} Pa/m), {share_pct:.1} % of the lowest block's height ({height_mm:.1} mm); the penalty DEM's contacts hold for overlaps up to {max_pct:.0} % of it, a σ0 of at most {sigma0_max_mpa:.3} MPa on these joints. Check the stress's unit (MPa) and Kn, or run --solver nscd or limit (rigid joints)"
+    )]
+    JointClosure {
+        /// The material's index in the layout.
+        material: usize,
+        /// The vertical stress, MPa.
+        sigma0_mpa: f64,
+        /// The joints' closure `σ0 / Kn`, mm.
+        closure_mm: f64,
+        /// Its normal stiffness, Pa/m.
+        kn_pa_per_m: f64,
+        /// The closure over the lowest block's height, %.
+        share_pct: f64,
+        /// The lowest block's height, mm.
+        height_mm: f64,
+        /// [`MAX_CLOSURE_SHARE`], %.
+        max_pct: f64,
+        /// The largest σ0 the bound allows on these joints, MPa.
+        sigma0_max_mpa: f64,
+    },
     /// The method chosen does not run this form of the test (the protocol seam's
     /// refusal, or a setting the method cannot state), as text.
     #[error("{0}")]
@@ -566,6 +589,52 @@ pub fn check_cyclic_slip_range(wall: &Layout, params: &InPlaneParams) -> Result<
             sigma0_mpa: params.sigma0_mpa,
             min_um: MIN_CYCLIC_SLIP_RANGE_M * 1e6,
             ks_max_pa_per_m: m.friction.tan() * sigma0 / MIN_CYCLIC_SLIP_RANGE_M,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The largest closure of a joint under the vertical stress that the penalty DEM accepts,
+/// as a share of the lowest block's height \[0.01\]. The penalty method reads a contact's
+/// force from the blocks' overlap on the geometry as laid, which holds while overlaps are
+/// small beside the blocks (Cundall & Hart 1992, "Numerical modelling of discontinua",
+/// Eng. Comput. 9:101; 3DEC's guidance on the choice of Kn): past about a percent of a
+/// block's height the sub-contacts' faces turn and slide into each other and the forces
+/// stop being the joint's law. A stress that closes linear joints (`q = Kn u`) further is
+/// a unit mistake or a joint far softer than stone's; at σ0 = 1000 MPa the granite wall
+/// (Kn 2e10 Pa/m, courses of about 0.15 m) would close each joint by 50 mm, and its run
+/// blew up or gave a force of the wrong sign throughout; its bound is some 30 MPa. Joints with a nonlinear closure law are bounded by their law.
+pub const MAX_CLOSURE_SHARE: f64 = 0.01;
+
+/// Refuses a run by the penalty DEM whose vertical stress closes a material's linear joints
+/// (`σ0 / Kn`) by more than [`MAX_CLOSURE_SHARE`] of the lowest block's height, naming the
+/// material.
+///
+/// # Errors
+/// [`InPlaneError::JointClosure`].
+pub fn check_joint_closure(wall: &Layout, params: &InPlaneParams) -> Result<(), InPlaneError> {
+    let height =
+        wall.blocks.iter().filter(|b| !b.fixed).map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+    if !height.is_finite() {
+        return Ok(());
+    }
+    let sigma0 = params.sigma0_mpa * 1e6;
+    let worst = wall
+        .materials
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.closure.is_linear())
+        .min_by(|a, b| a.1.kn.total_cmp(&b.1.kn));
+    match worst {
+        Some((k, m)) if sigma0 / m.kn > MAX_CLOSURE_SHARE * height => Err(InPlaneError::JointClosure {
+            material: k,
+            sigma0_mpa: params.sigma0_mpa,
+            closure_mm: sigma0 / m.kn * 1e3,
+            kn_pa_per_m: m.kn,
+            share_pct: 100.0 * sigma0 / m.kn / height,
+            height_mm: height * 1e3,
+            max_pct: 100.0 * MAX_CLOSURE_SHARE,
+            sigma0_max_mpa: MAX_CLOSURE_SHARE * height * m.kn * 1e-6,
         }),
         _ => Ok(()),
     }
@@ -1408,6 +1477,7 @@ pub fn run_in_plane_penalty(
     let t0 = Instant::now();
     check_cyclic_slip_range(wall, params)?;
     let rig = Rig::build(wall, params)?;
+    check_joint_closure(wall, params)?;
     solver.validate_static().map_err(InPlaneError::Solver)?;
     let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
     let mut sim = Simulation::new(&rig.layout, solver);

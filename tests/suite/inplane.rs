@@ -819,3 +819,32 @@ fn a_cyclic_history_on_joints_too_stiff_in_shear_for_the_penalty_dem_is_refused_
     // φ 10°, Ks 4e9 Pa/m: 22 µm.
     assert!(run_in_plane_penalty(&inplane_block(10.0, 1e10), s, &cyclic, &mut |_, _, _| {}).is_ok());
 }
+
+/// A vertical stress that closes the joints past the penalty DEM's small overlaps is
+/// refused by name: the monolith of 1.2 m on joints of Kn 1e9 Pa/m closes by σ0 / Kn, 20 mm
+/// at 20 MPa (1.7 % of its height, over the 1 % bound), and takes at most 12 MPa.
+#[test]
+fn a_vertical_stress_that_closes_the_joints_past_small_overlaps_is_refused_by_name() {
+    use drystone::loading::inplane::{check_joint_closure, InPlaneError, MAX_CLOSURE_SHARE};
+    let s = SolverParams::default();
+    let soft = inplane_block(45.0, 1e9);
+    let e = run_in_plane_penalty(&soft, s, &InPlaneParams { sigma0_mpa: 20.0, ..params(0.1) }, &mut |_, _, _| {})
+        .unwrap_err();
+    match &e {
+        InPlaneError::JointClosure { closure_mm, sigma0_max_mpa, height_mm, .. } => {
+            assert!((closure_mm - 20.0).abs() < 1e-9, "{closure_mm} mm");
+            assert!((height_mm - 1200.0).abs() < 1e-6, "{height_mm} mm");
+            assert!((sigma0_max_mpa - MAX_CLOSURE_SHARE * 1.2 * 1e9 * 1e-6).abs() < 1e-9, "{sigma0_max_mpa} MPa");
+        }
+        other => panic!("{other}"),
+    }
+    let text = e.to_string();
+    for f in ["material 0", "20 MPa", "20.000 mm", "1 %", "MPa", "--solver nscd"] {
+        assert!(text.contains(f), "{f:?} not in {text}");
+    }
+    assert!(check_joint_closure(&soft, &InPlaneParams { sigma0_mpa: 11.9, ..params(0.1) }).is_ok());
+    assert!(
+        check_joint_closure(&inplane_block(45.0, 1e11), &InPlaneParams { sigma0_mpa: 1000.0, ..params(0.1) }).is_ok(),
+        "stiff joints: 10 mm at 1000 MPa"
+    );
+}
