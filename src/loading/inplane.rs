@@ -1631,21 +1631,11 @@ pub fn run_in_plane_penalty(
             };
             let before = sim.clone();
             sim.predict(&dpos, &drot);
-            let out = match solve_static(&mut sim, &relax, &start, |_| None::<()>) {
-                Ok(out) => out,
+            let solved = match solve_static(&mut sim, &relax, &start, |_| None::<()>) {
+                Ok(out) => Some(out),
                 // A predicted jump the dynamics of the relaxation could not take: the
                 // increment again from its start, warming up from the smallest one.
-                Err(DemError::NonFinite { .. }) if last.is_some() || allowed > first => {
-                    sim = before;
-                    u_prev -= du;
-                    if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
-                        c.set_target(0, anchor_x0 + u_prev);
-                    }
-                    last = None;
-                    allowed = first;
-                    retried += 1;
-                    continue;
-                }
+                Err(DemError::NonFinite { .. }) if last.is_some() || allowed > first => None,
                 Err(e) => return Err(e.into()),
             };
             let now = poses(&sim);
@@ -1656,9 +1646,9 @@ pub fn run_in_plane_penalty(
             // contact springs' energy). The increment again from its start, warming up from
             // the smallest one; where even that throws a block, the increment is not
             // converged, however well balanced the state it ended in.
-            let off_path = neighbours.largest_walk(&start, &now, &radii).0 > walk_bound.at(du);
-            if off_path && !from_start {
-                from_start = true;
+            let off_path = solved.is_some() && neighbours.largest_walk(&start, &now, &radii).0 > walk_bound.at(du);
+            let Some(out) = solved.filter(|_| !off_path || from_start) else {
+                from_start |= off_path;
                 sim = before;
                 u_prev -= du;
                 if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
@@ -1668,7 +1658,7 @@ pub fn run_in_plane_penalty(
                 allowed = first;
                 retried += 1;
                 continue;
-            }
+            };
             from_start = false;
             excursion.read(&neighbours, &reference, &now, &rig.layout);
             let now_for_reading = now.clone();

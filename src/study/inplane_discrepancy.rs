@@ -319,24 +319,22 @@ pub fn asymmetry_sigma_from_data(obs: &mut [Observation], stated: &[String], set
 mod tests {
     use super::*;
 
-    fn force(group: &str, value: f64) -> Observation {
+    fn reading(group: &str, quantity: InPlaneQuantity, value: f64, sigma: f64) -> Observation {
         Observation {
             specimen: format!("{group}{value}"),
             group: group.into(),
-            observable: Observable::InPlane { quantity: InPlaneQuantity::PeakForce },
+            observable: Observable::InPlane { quantity },
             value,
-            sigma: 0.5,
+            sigma,
         }
     }
 
+    fn force(group: &str, value: f64) -> Observation {
+        reading(group, InPlaneQuantity::PeakForce, value, 0.5)
+    }
+
     fn asymmetry(group: &str, value: f64) -> Observation {
-        Observation {
-            specimen: format!("{group}{value}"),
-            group: group.into(),
-            observable: Observable::InPlane { quantity: InPlaneQuantity::PeakAsymmetry },
-            value,
-            sigma: 0.7,
-        }
+        reading(group, InPlaneQuantity::PeakAsymmetry, value, 0.7)
     }
 
     /// By hand: group a reads 3 and 5 kN (mean 4, squared deviations 2, one degree of
