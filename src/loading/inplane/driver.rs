@@ -1,0 +1,335 @@
+//! The driver of the in-plane test by the penalty DEM ([`run_in_plane_penalty`]): the wall
+//! settled under the vertical force, then the imposed path, increment by increment, each a
+//! static solve from a predicted state.
+
+use super::increments::Stepper;
+use super::{check_cyclic_slip_range, check_joint_closure, mechanism_joints, result_of};
+use super::{
+    BeamRotation, CurvePoint, Excursion, HalfCycle, InPlaneError, InPlaneParams, InPlaneResult, Poses, Rig, Work,
+};
+use crate::dem::motion::{poses, BodyPose};
+use crate::dem::state::Body;
+use crate::dem::{solve_static, Cascade, DemError, End, Hold, Simulation, SolverParams, StaticSolve};
+use crate::layout::Layout;
+use crate::loading::excursion::JointNeighbours;
+use crate::loading::settle::{settle, SettleError};
+use crate::math::Vec3;
+use std::time::Instant;
+
+/// The in-plane test of a wall by the penalty DEM: the driver of the protocol's penalty
+/// way (`protocol::inplane`). `observe(drift_pct, converged, state)` sees the state under
+/// the vertical force (drift 0) and every increment's.
+///
+/// # Errors
+/// See [`InPlaneError`]: bad parameters, a top course not level, a wall that does not stand
+/// under gravity or under the vertical force (naming the block), a blow-up.
+pub fn run_in_plane_penalty(
+    wall: &Layout,
+    solver: SolverParams,
+    params: &InPlaneParams,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<InPlaneResult, InPlaneError> {
+    let t0 = Instant::now();
+    check_cyclic_slip_range(wall, params)?;
+    let rig = Rig::build(wall, params)?;
+    check_joint_closure(wall, params)?;
+    solver.validate_static().map_err(InPlaneError::Solver)?;
+    let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
+    let (mut sim, relax, start) = stand_under_vertical_force(&rig, solver, params)?;
+    let bi = rig.beam;
+    observe(0.0, true, &sim);
+    // The vertical modulus: the stress the actuator added over the wall's shortening.
+    let settlement = start[bi].0.z - sim.state.bodies[bi].pos.z;
+    let added_stress = (rig.vertical_force_n - rig.beam_weight_n) / (rig.length_m * rig.thickness_m);
+    let vertical_modulus_mpa = added_stress * rig.height_m / settlement * 1e-6;
+    let reference = poses(&sim);
+    let ref_joints = mechanism_joints(&sim);
+    let beam_ref = sim.state.bodies[bi].clone();
+    let walked = walk_path(&mut sim, &rig, params, &relax, &reference, &beam_ref, observe)?;
+    let ids: Vec<String> = sim.state.bodies.iter().map(|b| b.id.clone()).collect();
+    let anchor = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(&beam_ref);
+    let mechanism = walked.half.mechanism(&ref_joints, &ids, bi, anchor, &reference, &walked.reading);
+    let work = Work {
+        unconverged: walked.unconverged,
+        retried: walked.retried,
+        steps: sim.state.steps,
+        dt_s: sim.dt(),
+        t0,
+        vertical_modulus_mpa,
+        excursion: walked.excursion,
+    };
+    Ok(result_of(&rig, params, walked.curve, mechanism, &walked.reading.1, work))
+}
+
+/// The rig's simulation with the beam held ([`Rig::constraint`]), settled under gravity, then
+/// solved under the vertical force and the rig's moment on the beam, and checked to stand
+/// ([`check_under_vertical_force`]); with the static solve of the increments and the poses
+/// before the vertical force.
+///
+/// # Errors
+/// A wall that does not stand under gravity or under the vertical force, a blow-up.
+fn stand_under_vertical_force(
+    rig: &Rig,
+    solver: SolverParams,
+    params: &InPlaneParams,
+) -> Result<(Simulation, StaticSolve, Vec<BodyPose>), InPlaneError> {
+    let mut sim = Simulation::new(&rig.layout, solver);
+    let (tol, budget) = (solver.penalty.tolerance, solver.penalty.max_steps);
+    let bi = rig.beam;
+    sim.state.bodies[bi].hold = Hold::Dof(rig.constraint(&sim, params.beam_rotation));
+    settle(&mut sim, &rig.layout, tol, budget).map_err(|e| match e {
+        SettleError::Dem(e) => InPlaneError::Dem(e),
+        other => InPlaneError::DoesNotStand(other),
+    })?;
+    // The vertical force, the beam's weight part of it.
+    let start = poses(&sim);
+    sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
+    // The rig's terms that move the wall: a moment on the beam from its pose now.
+    let moment = rig.beam_moment(&sim.state.bodies[bi]);
+    if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
+        c.moment = moment;
+    }
+    // The static solves: the solver's stages over the protocol's own, dynamic relaxation.
+    // The implicit iteration holds the beam's constrained degrees of freedom (`--solver
+    // implicit`), but it leaves increments after a reversal unconverged (BENCHMARKS.md).
+    let relax =
+        StaticSolve::of(&solver.penalty, solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION), None);
+    let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
+    check_under_vertical_force(&sim, rig, params, &start, &out.end)?;
+    Ok((sim, relax, start))
+}
+
+/// Checks that the wall stands under the vertical force: its solve from the poses `start`
+/// ended in equilibrium (`end`), and no block moved by more than the joints' closure
+/// explains.
+///
+/// # Errors
+/// [`InPlaneError::UnderVerticalForce`], naming the block that moved most.
+fn check_under_vertical_force(
+    sim: &Simulation,
+    rig: &Rig,
+    params: &InPlaneParams,
+    start: &[BodyPose],
+    end: &End<()>,
+) -> Result<(), InPlaneError> {
+    // What the joints' closure under the vertical stress explains, twice, on top of the
+    // settling's tolerance: a stack of H / h_min joints each closing σ0 / Kn.
+    let h_min = rig.layout.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+    let kn_min = rig.layout.materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
+    let allowed = crate::loading::settle::settle_tolerance(&rig.layout)
+        + 2.0 * (rig.height_m / h_min).ceil() * params.sigma0_mpa * 1e6 / kn_min;
+    let worst = sim
+        .state
+        .bodies
+        .iter()
+        .zip(start)
+        .map(|(b, (x0, _))| (b.id.clone(), (b.pos - x0).norm()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((block, moved)) = worst {
+        if *end != End::Equilibrium || moved > allowed {
+            return Err(InPlaneError::UnderVerticalForce {
+                block,
+                moved_mm: moved * 1e3,
+                allowed_mm: allowed * 1e3,
+                force_kn: rig.vertical_force_n * 1e-3,
+                equilibrium: *end == End::Equilibrium,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The actuator's horizontal force on the beam, body `beam`, N (positive towards +x): the
+/// reaction of the hold, the opposite of the contact forces on the beam.
+fn actuator_force(sim: &Simulation, beam: usize) -> f64 {
+    let mut fx = 0.0;
+    for c in &sim.state.contacts {
+        if c.b == beam {
+            fx += c.force.x;
+        }
+        if c.a == Some(beam) {
+            fx -= c.force.x;
+        }
+    }
+    -fx
+}
+
+/// What the walk along the imposed path gave ([`walk_path`]).
+struct Walked {
+    /// The force–displacement curve, the state under the vertical force first.
+    curve: Vec<CurvePoint>,
+    /// Increments that did not converge.
+    unconverged: usize,
+    /// Increments solved again from their start.
+    retried: usize,
+    /// The largest positive displacement (m) and the poses there.
+    reading: (f64, Poses),
+    /// The half-cycle that led to the reading.
+    half: HalfCycle,
+    /// The largest excursion of a block from its course.
+    excursion: Excursion,
+}
+
+/// Walks the simulation `sim`, standing under the vertical force (the poses `reference`,
+/// the beam's body `beam_ref` there), along the imposed path of `params`, one static solve
+/// (`relax`) per increment; `observe` sees every increment's state.
+///
+/// # Errors
+/// A blow-up that no restart of its increment can avoid.
+fn walk_path(
+    sim: &mut Simulation,
+    rig: &Rig,
+    params: &InPlaneParams,
+    relax: &StaticSolve,
+    reference: &Poses,
+    beam_ref: &Body,
+    observe: &mut dyn FnMut(f64, bool, &Simulation),
+) -> Result<Walked, InPlaneError> {
+    let bi = rig.beam;
+    let neighbours = JointNeighbours::of(&rig.layout);
+    let mut excursion = Excursion::default();
+    let top_local = beam_ref.to_body(&Vec3::new(beam_ref.pos.x, beam_ref.pos.y, rig.measure_z_m));
+    let top_x0 = beam_ref.to_world(&top_local).x;
+    let anchor_x0 = sim.state.bodies[bi].hold.dof().expect("set").anchor_world(beam_ref).x;
+    let mut curve =
+        vec![CurvePoint { top_mm: 0.0, drift_pct: 0.0, force_kn: actuator_force(sim, bi) * 1e-3, converged: true }];
+    let mut unconverged = 0;
+    let mut reading = (f64::NEG_INFINITY, reference.clone());
+    // Where the half-cycle that led to the reading started (module doc, the mechanism).
+    let mut half = HalfCycle::new(reference);
+    let mut steps = Stepper::new(rig, params, sim.state.bodies.len());
+    // The drift history is imposed at the actuator: a drift d moves it by d H0 (free
+    // rotation: a rotation of the wall about its base reads the drift d at its top) or
+    // d H (the beam held level).
+    let lever = match params.beam_rotation {
+        BeamRotation::Free => rig.anchor_z_m,
+        BeamRotation::Fixed => rig.height_m,
+    };
+    let walk_bound = WalkBound::of(rig, params.sigma0_mpa, lever);
+    let radii: Vec<f64> = sim.state.bodies.iter().map(|b| b.radius).collect();
+    for u in params.path(lever) {
+        while (u - steps.u_prev).abs() > 1e-15 {
+            let Some(du) = steps.next(u) else {
+                continue;
+            };
+            if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
+                c.set_target(0, anchor_x0 + steps.u_prev);
+            }
+            let start = poses(sim);
+            let (dpos, drot) = steps.predict(du, sim, rig.anchor_z_m);
+            let before = sim.clone();
+            sim.predict(&dpos, &drot);
+            let solved = match solve_static(sim, relax, &start, |_| None::<()>) {
+                Ok(out) => Some(out),
+                // A predicted jump the dynamics of the relaxation could not take: the
+                // increment again from its start, warming up from the smallest one.
+                Err(DemError::NonFinite { .. }) if steps.last.is_some() || steps.allowed > steps.first => None,
+                Err(e) => return Err(e.into()),
+            };
+            let now = poses(sim);
+            // A block that walked from every joint neighbour by more than the increment can
+            // move it ([`WalkBound`]) has left the path: the relaxation threw it to an
+            // equilibrium the loading would not reach (a loose block launched in one
+            // relaxation, or a stiff wall and its beam swung off their supports by the
+            // contact springs' energy). The increment again from its start, warming up from
+            // the smallest one; where even that throws a block, the increment is not
+            // converged, however well balanced the state it ended in.
+            let off_path = solved.is_some() && neighbours.largest_walk(&start, &now, &radii).0 > walk_bound.at(du);
+            let Some(out) = solved.filter(|_| !off_path || steps.from_start) else {
+                steps.restart(sim, before, du, off_path, bi, anchor_x0);
+                continue;
+            };
+            steps.from_start = false;
+            excursion.read(&neighbours, reference, &now, &rig.layout);
+            let now_for_reading = now.clone();
+            steps.learn(&neighbours, &start, &now, du, sim, bi);
+            // Equilibrium of the wall as a whole (the unbalanced-force ratio is a mean over
+            // the bodies) and of each block: a block whose own out-of-balance force is a
+            // share of its weight is moving, whatever the mean says; and on the path: no
+            // block thrown from the wall.
+            let converged = out.end == End::Equilibrium && every_block_balanced(sim, bi) && !off_path;
+            unconverged += usize::from(!converged);
+            let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
+            let drift = 100.0 * top / rig.measure_z_m;
+            let force_kn = actuator_force(sim, bi) * 1e-3;
+            curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn, converged });
+            observe(drift, converged, sim);
+            half.step(top, &now_for_reading);
+            if top >= reading.0 {
+                reading = (top, now_for_reading);
+                half.keep();
+            }
+        }
+    }
+    Ok(Walked { curve, unconverged, retried: steps.retried, reading, half, excursion })
+}
+
+/// The most a block may walk from every one of its joint neighbours in one increment of a
+/// quasi-static path ([`crate::loading::excursion::JointNeighbours::largest_walk`]), m: the
+/// mechanism's relative motion plus the joints' own deformation.
+///
+/// The actuator drives every motion of the wall: its parts turn about points of the wall
+/// (a toe, a crack's foot) or slide along its joints, by at most `dθ = du / lever` (`du` the
+/// actuator's increment, over the lever it acts over). A block turned by `dθ` about a point
+/// within the rig's diagonal `D` (wall and beam, the farthest two points) moves by at most
+/// `dθ D` at its centroid and turns by `dθ`, which the walk counts at the block's radius
+/// (at most `D`): `2 D du / lever` (at least `2 du`, the beam's own translation). A block's
+/// joints deform elastically by at most the slip
+/// displacement of the stiffest-slipping joint under the vertical stress, `μ σ0 / Ks` (the
+/// largest over the materials). A block that walked farther in one increment was thrown
+/// by the relaxation (squeezed out of a closing crack, or twisted in its bed by a swing)
+/// to an equilibrium the loading would not reach.
+#[derive(Debug, Clone, Copy)]
+struct WalkBound {
+    /// Twice the diagonal over the lever, ≥ 2.
+    spread: f64,
+    /// The largest `μ σ0 / Ks`, m.
+    slip_m: f64,
+}
+
+impl WalkBound {
+    /// The bound of the rig `rig` under the vertical stress `sigma0_mpa` (MPa), the drift
+    /// imposed over `lever` (m).
+    fn of(rig: &Rig, sigma0_mpa: f64, lever: f64) -> WalkBound {
+        let e = rig.layout.bounds().extent();
+        let spread = 2.0 * (e.x.hypot(e.z) / lever).max(1.0);
+        let slip_m = rig
+            .layout
+            .materials
+            .iter()
+            .map(|m| m.friction.tan().max(1e-3) * sigma0_mpa * 1e6 / m.ks)
+            .fold(0.0, f64::max);
+        WalkBound { spread, slip_m }
+    }
+
+    /// The bound for an increment `du` (m) of the actuator, m.
+    fn at(&self, du: f64) -> f64 {
+        self.spread * du.abs() + self.slip_m
+    }
+}
+
+/// The share of a block's own load (its weight and the magnitudes of its contact forces)
+/// its out-of-balance force may reach at equilibrium \[0.1\]: a loose block with more is
+/// accelerating at a tenth of gravity, in flight or sliding, however small it is beside the
+/// wall's mean (the unbalanced-force ratio's); a loaded block is held to the same share of
+/// what it carries.
+pub const BLOCK_IMBALANCE_SHARE: f64 = 0.1;
+
+/// Whether every free body but `beam` has an out-of-balance force of at most
+/// [`BLOCK_IMBALANCE_SHARE`] of its own load.
+fn every_block_balanced(sim: &Simulation, beam: usize) -> bool {
+    let g = sim.state.gravity_magnitude;
+    let mut load: Vec<f64> = sim.state.bodies.iter().map(|b| b.mass * g).collect();
+    for c in &sim.state.contacts {
+        let f = c.force.norm();
+        load[c.b] += f;
+        if let Some(a) = c.a {
+            load[a] += f;
+        }
+    }
+    sim.state
+        .bodies
+        .iter()
+        .enumerate()
+        .all(|(k, b)| k == beam || b.fixed() || sim.unbalanced(k).0.norm() <= BLOCK_IMBALANCE_SHARE * load[k])
+}

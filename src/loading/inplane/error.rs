@@ -1,0 +1,238 @@
+//! The in-plane test's errors ([`InPlaneError`]) and the checks of a layout against the
+//! penalty DEM's reach ([`check_cyclic_slip_range`], [`check_joint_closure`]).
+
+#[cfg(doc)]
+use super::MAX_HEIGHT_RATIO;
+use super::{History, InPlaneParams};
+use crate::dem::DemError;
+use crate::layout::Layout;
+use crate::loading::settle::SettleError;
+use crate::range::OutOfRange;
+
+/// Errors of the in-plane test.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum InPlaneError {
+    /// A parameter out of its range.
+    #[error("in_plane.{0}")]
+    Parameter(OutOfRange),
+    /// A solver setting out of its range.
+    #[error("solver: {0}")]
+    Solver(OutOfRange),
+    /// The measuring point is below the wall's top.
+    #[error(
+        "in_plane.measuring_height_m = {measuring_height_m} m is below the wall's height {height_m} m: the displacement is read on the loading beam, on top of the wall"
+    )]
+    MeasuringPoint {
+        /// The measuring point's height, m.
+        measuring_height_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+    },
+    /// The shear span is below the wall's top.
+    #[error(
+        "in_plane.shear_span_m = {shear_span_m} m is below the wall's height {height_m} m: the horizontal force acts on the beam, on top of the wall"
+    )]
+    ShearSpan {
+        /// The shear span given, m.
+        shear_span_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+    },
+    /// The shear span or the measuring point is implausibly far above the wall.
+    #[error(
+        "in_plane.{key} = {value_m} m is more than {ratio} times the wall's height {height_m} m: a probable unit mistake (millimetres for metres?); it is a height on the loading beam, above the wall's top"
+    )]
+    TooHigh {
+        /// The key (`shear_span_m`, `measuring_height_m`).
+        key: &'static str,
+        /// The value given, m.
+        value_m: f64,
+        /// The wall's height, m.
+        height_m: f64,
+        /// [`MAX_HEIGHT_RATIO`].
+        ratio: f64,
+    },
+    /// The top course is not level enough to carry the beam.
+    #[error(
+        "the top course is not level enough to carry the loading beam: block {block} tops at {top_m:.4} m, {below_mm:.1} mm below the wall's top {height_m:.4} m, and the blocks within {tolerance_mm:.1} mm of the top cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed)"
+    )]
+    NotLevel {
+        /// The highest block below the level band.
+        block: String,
+        /// Its top, m.
+        top_m: f64,
+        /// How far below the top, mm.
+        below_mm: f64,
+        /// The wall's height, m.
+        height_m: f64,
+        /// The level tolerance, mm.
+        tolerance_mm: f64,
+        /// The share of the length covered by level blocks, %.
+        covered_pct: f64,
+        /// The share needed, %.
+        need_pct: f64,
+    },
+    /// The layout does not stand under gravity alone.
+    #[error(transparent)]
+    DoesNotStand(SettleError),
+    /// The wall does not stand under the vertical force.
+    #[error(
+        "the wall does not stand under the vertical force of {force_kn:.1} kN: block {block} moved {moved_mm:.2} mm (at most {allowed_mm:.2} mm, what its joints' closure explains){}", if *.equilibrium { "" } else { ", and no equilibrium was reached" }
+    )]
+    UnderVerticalForce {
+        /// The block that moved most.
+        block: String,
+        /// How far, mm.
+        moved_mm: f64,
+        /// The tolerance, mm.
+        allowed_mm: f64,
+        /// The vertical force, kN.
+        force_kn: f64,
+        /// Whether the relaxation reached equilibrium.
+        equilibrium: bool,
+    },
+    /// The engine blew up.
+    #[error(transparent)]
+    Dem(#[from] DemError),
+    /// The non-smooth solver refused the layout or blew up.
+    #[error(transparent)]
+    Nscd(#[from] crate::nscd::NscdError),
+    /// The layout's geometry is degenerate for the beam.
+    #[error("the loading beam cannot be built on this layout: {0}")]
+    Beam(String),
+    /// A cyclic history by the penalty DEM on joints too stiff in shear for it
+    /// ([`MIN_CYCLIC_SLIP_RANGE_M`]).
+    #[error(
+        "material {material}: its joints' elastic slip range tan φ σ0 / Ks = {range_um:.2} µm (φ {friction_deg:.1}°, Ks {ks_pa_per_m:.3e} Pa/m, σ0 {sigma0_mpa} MPa) is below the {min_um:.0} µm a cyclic history by the penalty DEM needs: the path's own errors within an increment exceed it, the joints slip against the load and their friction falls over the cycles. Run it monotonic, with --solver nscd (rigid joints, which reverse exactly), or with Ks at most {ks_max_pa_per_m:.3e} Pa/m"
+    )]
+    CyclicSlipRange {
+        /// The material's index in the layout.
+        material: usize,
+        /// Its elastic slip range, µm.
+        range_um: f64,
+        /// Its friction angle, degrees.
+        friction_deg: f64,
+        /// Its shear stiffness, Pa/m.
+        ks_pa_per_m: f64,
+        /// The vertical stress, MPa.
+        sigma0_mpa: f64,
+        /// [`MIN_CYCLIC_SLIP_RANGE_M`], µm.
+        min_um: f64,
+        /// The largest Ks that gives the range at this φ and σ0, Pa/m.
+        ks_max_pa_per_m: f64,
+    },
+    /// Joints that the vertical stress closes past the penalty DEM's small overlaps
+    /// ([`MAX_CLOSURE_SHARE`]).
+    #[error(
+        "material {material}: the vertical stress σ0 {sigma0_mpa} MPa closes its joints by σ0 / Kn = {closure_mm:.3} mm (Kn {kn_pa_per_m:.3e} Pa/m), {share_pct:.1} % of the lowest block's height ({height_mm:.1} mm); the penalty DEM's contacts hold for overlaps up to {max_pct:.0} % of it, a σ0 of at most {sigma0_max_mpa:.3} MPa on these joints. Check the stress's unit (MPa) and Kn, or run --solver nscd or limit (rigid joints)"
+    )]
+    JointClosure {
+        /// The material's index in the layout.
+        material: usize,
+        /// The vertical stress, MPa.
+        sigma0_mpa: f64,
+        /// The joints' closure `σ0 / Kn`, mm.
+        closure_mm: f64,
+        /// Its normal stiffness, Pa/m.
+        kn_pa_per_m: f64,
+        /// The closure over the lowest block's height, %.
+        share_pct: f64,
+        /// The lowest block's height, mm.
+        height_mm: f64,
+        /// [`MAX_CLOSURE_SHARE`], %.
+        max_pct: f64,
+        /// The largest σ0 the bound allows on these joints, MPa.
+        sigma0_max_mpa: f64,
+    },
+    /// The method chosen does not run this form of the test (the protocol seam's
+    /// refusal, or a setting the method cannot state), as text.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// The least elastic slip range `tan φ σ0 / Ks` of a joint that a cyclic history by the
+/// penalty DEM accepts, m (20 µm). Below it the path's own errors within an increment (the
+/// predictor's mismatch, the relaxation's swing, out of plane and in torsion) exceed the
+/// slip a joint takes elastically, so joints slip in senses the load does not drive and
+/// their friction falls over the cycles. Measured on one block under σ0 = 0.5 MPa on a base
+/// of φ 10° (μN 18.7 kN), cycled to ±0.25 and ±0.5 % twice at the defaults, the least force
+/// 0.2 mm past a reversal: Ks 4e9 Pa/m (22 µm) 16.5–18.7 kN, 1e10 (8.8 µm) 13.9 kN, 4e10
+/// (2.2 µm) 4.1 kN, 4e11 (0.22 µm) −9.5 kN, against the motion for whole half-cycles.
+/// The granite walls' joints (Ks 1e9 Pa/m) have about 300 µm at 0.5 MPa. A monotonic
+/// history does not reverse and is not refused; nscd's rigid joints reverse exactly.
+pub const MIN_CYCLIC_SLIP_RANGE_M: f64 = 20e-6;
+
+/// Refuses a cyclic history by the penalty DEM on a layout whose joints' elastic slip
+/// range at the applied vertical stress is below [`MIN_CYCLIC_SLIP_RANGE_M`], naming the
+/// material of the least range (its index in the layout), the range, and the Ks that would
+/// give it.
+///
+/// # Errors
+/// [`InPlaneError::CyclicSlipRange`].
+pub fn check_cyclic_slip_range(wall: &Layout, params: &InPlaneParams) -> Result<(), InPlaneError> {
+    if params.history != History::Cyclic {
+        return Ok(());
+    }
+    let sigma0 = params.sigma0_mpa * 1e6;
+    let range = |m: &crate::layout::Material| m.friction.tan() * sigma0 / m.ks;
+    let least = wall.materials.iter().enumerate().min_by(|a, b| range(a.1).total_cmp(&range(b.1)));
+    match least {
+        Some((k, m)) if range(m) < MIN_CYCLIC_SLIP_RANGE_M => Err(InPlaneError::CyclicSlipRange {
+            material: k,
+            range_um: range(m) * 1e6,
+            friction_deg: m.friction.to_degrees(),
+            ks_pa_per_m: m.ks,
+            sigma0_mpa: params.sigma0_mpa,
+            min_um: MIN_CYCLIC_SLIP_RANGE_M * 1e6,
+            ks_max_pa_per_m: m.friction.tan() * sigma0 / MIN_CYCLIC_SLIP_RANGE_M,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The largest closure of a joint under the vertical stress that the penalty DEM accepts,
+/// as a share of the lowest block's height \[0.01\]. The penalty method reads a contact's
+/// force from the blocks' overlap on the geometry as laid, which holds while overlaps are
+/// small beside the blocks (Cundall & Hart 1992, "Numerical modelling of discontinua",
+/// Eng. Comput. 9:101; 3DEC's guidance on the choice of Kn): past about a percent of a
+/// block's height the sub-contacts' faces turn and slide into each other and the forces
+/// stop being the joint's law. A stress that closes linear joints (`q = Kn u`) further is
+/// a unit mistake or a joint far softer than stone's; at σ0 = 1000 MPa the granite wall
+/// (Kn 2e10 Pa/m, courses of about 0.15 m) would close each joint by 50 mm, and its run
+/// blew up or gave a force of the wrong sign throughout; its bound is some 30 MPa. Joints with a nonlinear closure law are bounded by their law.
+pub const MAX_CLOSURE_SHARE: f64 = 0.01;
+
+/// Refuses a run by the penalty DEM whose vertical stress closes a material's linear joints
+/// (`σ0 / Kn`) by more than [`MAX_CLOSURE_SHARE`] of the lowest block's height, naming the
+/// material.
+///
+/// # Errors
+/// [`InPlaneError::JointClosure`].
+pub fn check_joint_closure(wall: &Layout, params: &InPlaneParams) -> Result<(), InPlaneError> {
+    let height =
+        wall.blocks.iter().filter(|b| !b.fixed).map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
+    if !height.is_finite() {
+        return Ok(());
+    }
+    let sigma0 = params.sigma0_mpa * 1e6;
+    let worst = wall
+        .materials
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.closure.is_linear())
+        .min_by(|a, b| a.1.kn.total_cmp(&b.1.kn));
+    match worst {
+        Some((k, m)) if sigma0 / m.kn > MAX_CLOSURE_SHARE * height => Err(InPlaneError::JointClosure {
+            material: k,
+            sigma0_mpa: params.sigma0_mpa,
+            closure_mm: sigma0 / m.kn * 1e3,
+            kn_pa_per_m: m.kn,
+            share_pct: 100.0 * sigma0 / m.kn / height,
+            height_mm: height * 1e3,
+            max_pct: 100.0 * MAX_CLOSURE_SHARE,
+            sigma0_max_mpa: MAX_CLOSURE_SHARE * height * m.kn * 1e-6,
+        }),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,192 @@
+//! The outcome of an in-plane test ([`InPlaneResult`]) and how a driver's run makes it
+//! ([`result_of`] from its curve, mechanism and [`Work`]).
+
+#[cfg(doc)]
+use super::read_curve;
+use super::readings::nan;
+use super::{direction, CurvePoint, DirectionResult, History, InPlaneMechanism, InPlaneParams, Mirror, Poses, Rig};
+use crate::layout::{Layout, VerticalLoadRig};
+use crate::math::Vec3;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// The outcome of an in-plane test by the penalty DEM or by non-smooth contact dynamics
+/// ([`crate::loading::inplane_nscd`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InPlaneResult {
+    /// The force–displacement curve, one point per static solve (the first the state under
+    /// the vertical force).
+    pub curve: Vec<CurvePoint>,
+    /// The positive direction (+x).
+    pub positive: Option<DirectionResult>,
+    /// The negative direction (cyclic histories).
+    pub negative: Option<DirectionResult>,
+    /// The mechanism at the largest positive drift.
+    pub mechanism: InPlaneMechanism,
+    /// The bodies' poses there (centroid m, rotation as a scaled axis rad), layout order
+    /// with the beam last, for drawing.
+    #[serde(skip)]
+    pub poses_at_reading: Vec<(Vec3, Vec3)>,
+    /// The applied vertical force `σ0 L t`, kN.
+    pub vertical_force_kn: f64,
+    /// The axial force at the base, self-weight included, kN.
+    pub n_total_kn: f64,
+    /// The rigid rocking capacity `N_total L / (2 H0)`, kN (a reference, not a result).
+    pub rocking_force_kn: f64,
+    /// Wall length, height, thickness, m.
+    pub length_m: f64,
+    /// See `length_m`.
+    pub height_m: f64,
+    /// See `length_m`.
+    pub thickness_m: f64,
+    /// The height of the horizontal force, m.
+    pub shear_span_m: f64,
+    /// The height of the measuring point, m: `top_mm` is read there and the drift is
+    /// `top_mm` over it ([`Rig::measure_z_m`]; 0 when read from results written before it
+    /// was recorded).
+    #[serde(default)]
+    pub measuring_height_m: f64,
+    /// The wall's vertical modulus, MPa, as the laboratory reads it from the vertical
+    /// loading phase (the database's `Epc`, Vanin et al. 2017): the secant of the loading
+    /// branch, the vertical stress added by the actuator's force (`(N − W_beam) / (L t)`)
+    /// over the wall's shortening (the beam's settlement under it, its centroid's, over the
+    /// wall's height `H`). It holds every joint of the wall's height (base, beds, the beam's
+    /// bed) and the blocks are rigid, so it is about `Kn H / n_joints` for linear joints.
+    /// NaN where the method has no joint compliance (non-smooth contact dynamics: rigid
+    /// contacts) or when read from results written before it was recorded.
+    #[serde(default = "nan")]
+    pub wall_vertical_modulus_mpa: f64,
+    /// The largest excursion of any block from the rigid motion of its course over the
+    /// history, mm ([`crate::loading::excursion`]: the distance of its centroid from where the
+    /// nearer-moving of its course neighbours carries it): a wall that stays whole keeps it
+    /// to the joints' own deformation and the crack's opening beside a block; a block shed
+    /// from the wall reads its walk. NaN when read from results written before it was
+    /// recorded.
+    #[serde(default = "nan")]
+    pub largest_block_excursion_mm: f64,
+    /// The block of `largest_block_excursion_mm` (empty: none moved from its course).
+    #[serde(default)]
+    pub excursion_block: String,
+    /// The push read both ways ([`InPlaneParams::mirror_reading`]; `None`: read one way).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mirror: Option<Box<Mirror>>,
+    /// Static solves that ended at the step budget rather than in equilibrium, with a
+    /// block out of balance, or with a block thrown from the wall (the penalty DEM's
+    /// driver: a block that walked from every joint neighbour by more than the increment
+    /// can move it, once more when solved again from the increment's start) (nscd: increments with a step whose contact problem did not meet its
+    /// criterion).
+    pub unconverged: usize,
+    /// Increments solved again from their start, warming up from the smallest increment:
+    /// those whose relaxation blew up from the predicted state, and those whose relaxation
+    /// threw a block off the path (the penalty DEM's driver, see `unconverged`).
+    pub retried: usize,
+    /// Engine steps, settling included.
+    pub steps: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Wall-clock time, s.
+    pub wall_time_s: f64,
+    /// The curve of the wall's own shear: `curve` before the rig's vertical-load system
+    /// added its force (the same as `curve` for an ideal vertical force). With
+    /// `vertical_load_rig` it gives the force read under any other such system without a
+    /// new run ([`read_curve`]: the beam's motion is imposed, so the system leaves the
+    /// wall's motion as it is). Not written to the results (empty when read from them).
+    #[serde(skip)]
+    pub wall_curve: Vec<CurvePoint>,
+    /// The rig's vertical-load system the run had (`Layout::vertical_load_rig`). Not
+    /// written to the results (ideal when read from them).
+    #[serde(skip)]
+    pub vertical_load_rig: Box<VerticalLoadRig>,
+    /// The applied vertical force `σ0 L t`, N, as the rig's system reads it (0 when read
+    /// from the results).
+    #[serde(skip)]
+    pub vertical_force_n: f64,
+}
+
+/// What a driver's run cost, for its [`InPlaneResult`].
+pub(crate) struct Work {
+    /// Static solves (increments) that did not converge.
+    pub unconverged: usize,
+    /// Increments solved again from their start.
+    pub retried: usize,
+    /// Engine steps.
+    pub steps: u64,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// When the run started.
+    pub t0: Instant,
+    /// The wall's vertical modulus read in the vertical loading phase, MPa (NaN: none).
+    pub vertical_modulus_mpa: f64,
+    /// The largest excursion of a block from its course over the history.
+    pub excursion: Excursion,
+}
+
+/// The largest excursion of a block from its course over a history
+/// ([`crate::loading::excursion`]), and the block.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Excursion {
+    /// The largest excursion, m.
+    pub largest_m: f64,
+    /// The block's id (empty: none).
+    pub block: String,
+}
+
+impl Excursion {
+    /// Reads the poses `now` against `reference` and keeps the largest.
+    pub(crate) fn read(
+        &mut self,
+        neighbours: &crate::loading::excursion::JointNeighbours,
+        reference: &Poses,
+        now: &Poses,
+        layout: &Layout,
+    ) {
+        let (e, k) = neighbours.largest(reference, now);
+        if e > self.largest_m {
+            self.largest_m = e;
+            self.block = k.map_or_else(String::new, |k| layout.blocks[k].id.clone());
+        }
+    }
+}
+
+/// The result of a driver's run: the curve's per-direction outputs (the negative direction
+/// of a cyclic history only), the mechanism, the poses at the reading and the rig's
+/// references.
+pub(crate) fn result_of(
+    rig: &Rig,
+    params: &InPlaneParams,
+    mut curve: Vec<CurvePoint>,
+    mechanism: InPlaneMechanism,
+    at: &Poses,
+    work: Work,
+) -> InPlaneResult {
+    let wall_curve = curve.clone();
+    rig.add_vertical_load_rig(&mut curve);
+    InPlaneResult {
+        positive: direction(&curve, 1.0),
+        negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
+        curve,
+        wall_curve,
+        vertical_load_rig: Box::new(rig.layout.vertical_load_rig),
+        vertical_force_n: rig.vertical_force_n,
+        mechanism,
+        poses_at_reading: at.iter().map(|(p, q)| (*p, q.scaled_axis())).collect(),
+        vertical_force_kn: rig.vertical_force_n * 1e-3,
+        n_total_kn: rig.n_total_n() * 1e-3,
+        rocking_force_kn: rig.rocking_force_n(params.beam_rotation) * 1e-3,
+        length_m: rig.length_m,
+        height_m: rig.height_m,
+        thickness_m: rig.thickness_m,
+        shear_span_m: rig.anchor_z_m,
+        measuring_height_m: rig.measure_z_m,
+        wall_vertical_modulus_mpa: work.vertical_modulus_mpa,
+        largest_block_excursion_mm: work.excursion.largest_m * 1e3,
+        excursion_block: work.excursion.block,
+        mirror: (params.mirror_reading && params.history == History::Monotonic)
+            .then(|| Box::new(Mirror { wall_curve: None })),
+        unconverged: work.unconverged,
+        retried: work.retried,
+        steps: work.steps,
+        dt_s: work.dt_s,
+        wall_time_s: work.t0.elapsed().as_secs_f64(),
+    }
+}
