@@ -34,7 +34,8 @@ pub struct InPlaneArgs {
     /// Database reads a test that reports none; the wall's height with a fixed one).
     #[arg(long, value_name = "M")]
     measuring_height_m: Option<f64>,
-    /// The largest drift, %.
+    /// The largest drift, % (the penalty DEM: at most 8.8 % with its default face-angle
+    /// tolerance; nscd and limit analysis: up to 50 %).
     #[arg(long, value_name = "PCT", default_value_t = InPlaneParams::default().drift_pct)]
     drift_pct: f64,
     /// Cycles of growing amplitude (each amplitude `--cycles` times) instead of a monotonic

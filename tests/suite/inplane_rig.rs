@@ -238,3 +238,77 @@ fn a_push_read_both_ways_gives_the_rigs_asymmetry_by_its_statics() {
     let once = Protocol::InPlane(InPlane(params(0.5))).run(&plain, s).observed().unwrap();
     assert!(once.in_plane.unwrap().peak_asymmetry_kn.is_nan());
 }
+
+/// The monolith's rigid statics at a rotation θ (rad) about its pushed toe, the beam turning
+/// with it (its centroid and the actuator at H0 above the base, on the wall's vertical
+/// axis at θ = 0): the actuator's displacement `u = L/2 (1 − cos θ) + H0 sin θ` (m) and the
+/// force `V = [W (L/2 cos θ − H/2 sin θ) + N (L/2 cos θ − H0 sin θ)] / (L/2 sin θ + H0 cos θ)`
+/// (N), from the moments about the toe of the wall's weight W at its centroid, the vertical
+/// force N (the beam's weight in it) at the beam's centroid and V at the actuator.
+fn rocking_at(theta: f64) -> (f64, f64) {
+    let (n, w, _) = forces();
+    let (c, s) = (theta.cos(), theta.sin());
+    let u = L / 2.0 * (1.0 - c) + H0 * s;
+    let v = (w * (L / 2.0 * c - H / 2.0 * s) + n * (L / 2.0 * c - H0 * s)) / (L / 2.0 * s + H0 * c);
+    (u, v)
+}
+
+/// [`rocking_at`] at the drift `drift_pct` (the actuator's displacement over H0), N.
+fn rocking_force_at_drift(drift_pct: f64) -> f64 {
+    let target = drift_pct / 100.0 * H0;
+    let (mut lo, mut hi) = (0.0, std::f64::consts::FRAC_PI_2);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if rocking_at(mid).0 < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    rocking_at(0.5 * (lo + hi)).1
+}
+
+/// A monolith rocked far past its peak follows its rigid statics by nscd to 50 % drift,
+/// where the vertical force's moment has turned the force negative (at 37 % it passes
+/// through zero); the penalty DEM follows it within 5 % to the largest drift it accepts,
+/// `max_drift_pct` of its face-angle tolerance (8.8 % at the default 10°), and refuses a
+/// larger one by name (past it a block's bed contact turns from a face into an edge, which
+/// locked the rotation at 10° and held 4.2 kN at 30 % on a one-block wall whose statics
+/// give 3.5 kN).
+#[test]
+fn a_monolith_rocked_to_large_drifts_follows_its_rigid_statics_within_each_methods_reach() {
+    let v0 = rocking_force_at_drift(0.0);
+    let nscd = run_in_plane_nscd(&inplane_block(45.0, RIGID_KN), &SolverParams::default().nscd, &params(50.0)).unwrap();
+    for d in [5.0, 10.0, 20.0, 30.0, 40.0, 50.0] {
+        let p = nscd.curve.iter().min_by(|a, b| (a.drift_pct - d).abs().total_cmp(&(b.drift_pct - d).abs())).unwrap();
+        let v = rocking_force_at_drift(p.drift_pct);
+        assert!(
+            (p.force_kn * 1e3 - v).abs() < 0.01 * v0,
+            "nscd at {} %: {} kN vs the statics' {} N",
+            p.drift_pct,
+            p.force_kn,
+            v
+        );
+    }
+    assert!(rocking_force_at_drift(50.0) < 0.0 && nscd.curve.last().unwrap().force_kn < 0.0);
+    let s = SolverParams::default();
+    let max = drystone::loading::inplane::max_drift_pct(s.face_angle_tolerance_deg);
+    assert!((max - 100.0 * 10f64.to_radians().tan() / 2.0).abs() < 1e-12, "{max}");
+    let dem = penalty(&inplane_block(45.0, 1e11), &params(max));
+    assert_eq!(dem.unconverged, 0);
+    for d in [2.0, 5.0, max] {
+        let p = dem.curve.iter().min_by(|a, b| (a.drift_pct - d).abs().total_cmp(&(b.drift_pct - d).abs())).unwrap();
+        let v = rocking_force_at_drift(p.drift_pct);
+        assert!(
+            (p.force_kn * 1e3 / v - 1.0).abs() < 0.05,
+            "penalty at {} %: {} kN vs the statics' {} N",
+            p.drift_pct,
+            p.force_kn,
+            v
+        );
+    }
+    let e = run_in_plane_penalty(&inplane_block(45.0, 1e11), s, &params(50.0), &mut |_, _, _| {}).unwrap_err();
+    assert!(matches!(e, drystone::loading::inplane::InPlaneError::DriftReach { .. }), "{e}");
+    let text = e.to_string();
+    assert!(text.contains("drift_pct = 50") && text.contains("--solver nscd") && text.contains("8.8 %"), "{text}");
+}

@@ -3,7 +3,7 @@
 //! static solve from a predicted state.
 
 use super::increments::Stepper;
-use super::{check_cyclic_slip_range, check_joint_closure, mechanism_joints, result_of};
+use super::{check_cyclic_slip_range, check_drift_reach, check_joint_closure, mechanism_joints, result_of};
 use super::{
     BeamRotation, CurvePoint, Excursion, HalfCycle, InPlaneError, InPlaneParams, InPlaneResult, Poses, Rig, Work,
 };
@@ -33,6 +33,7 @@ pub fn run_in_plane_penalty(
     check_cyclic_slip_range(wall, params)?;
     let rig = Rig::build(wall, params)?;
     check_joint_closure(wall, params)?;
+    check_drift_reach(params, solver.face_angle_tolerance_deg)?;
     solver.validate_static().map_err(InPlaneError::Solver)?;
     let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
     let (mut sim, relax, start) = stand_under_vertical_force(&rig, solver, params)?;
@@ -223,7 +224,7 @@ fn walk_path(
                 Ok(out) => Some(out),
                 // A predicted jump the dynamics of the relaxation could not take: the
                 // increment again from its start, warming up from the smallest one.
-                Err(DemError::NonFinite { .. }) if steps.last.is_some() || steps.allowed > steps.first => None,
+                Err(DemError::NonFinite { .. }) if !steps.is_warm_up(du) => None,
                 Err(e) => return Err(e.into()),
             };
             let now = poses(sim);

@@ -105,6 +105,12 @@ impl Stepper {
         }
     }
 
+    /// Whether the increment `du` (m) is the smallest one with no predictor: the warm-up's
+    /// first, which is not solved again from its start.
+    pub(super) fn is_warm_up(&self, du: f64) -> bool {
+        self.last.is_none() && du.abs() <= self.first
+    }
+
     /// Puts `sim` back to `before`, the state the increment `du` (m) was solved from, the
     /// beam's target with it (body `beam`, the anchor at `anchor_x0` m at the start), to
     /// solve the increment again from its start, warming up from the smallest one;

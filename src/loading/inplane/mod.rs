@@ -57,7 +57,7 @@
 //! * `params`: the parameters ([`InPlaneParams`], [`History`], [`BeamRotation`]), their
 //!   validation, amplitudes and path, and the bounds they are checked against;
 //! * `error`: the errors ([`InPlaneError`]) and the checks of a layout against the penalty
-//!   DEM's reach ([`check_cyclic_slip_range`], [`check_joint_closure`]);
+//!   DEM's reach ([`check_cyclic_slip_range`], [`check_joint_closure`], [`check_drift_reach`]);
 //! * `rig`: the rig ([`Rig`]: the beam, its constraint, the rig's forces, [`add_rig_force`],
 //!   [`read_curve`]), the mirror reading ([`Mirror`]) and [`one_block_stiffness`];
 //! * `readings`: the curve ([`CurvePoint`]) and its per-direction readings ([`direction`],
@@ -82,7 +82,8 @@ mod wall_mechanism;
 
 pub use driver::{run_in_plane_penalty, BLOCK_IMBALANCE_SHARE};
 pub use error::{
-    check_cyclic_slip_range, check_joint_closure, InPlaneError, MAX_CLOSURE_SHARE, MIN_CYCLIC_SLIP_RANGE_M,
+    check_cyclic_slip_range, check_drift_reach, check_joint_closure, max_drift_pct, InPlaneError, MAX_CLOSURE_SHARE,
+    MIN_CYCLIC_SLIP_RANGE_M,
 };
 pub use params::{
     BeamRotation, History, InPlaneParams, MAX_CYCLES, MAX_HEIGHT_RATIO, MAX_INCREMENTS, MAX_QUARTER_INCREMENTS,

@@ -58,7 +58,8 @@ pub struct InPlaneParams {
     /// beam rotation it is required, with a held one it is not read \[unset\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_span_m: Option<f64>,
-    /// The largest drift, %, in (0, 50] \[3\].
+    /// The largest drift, %, in (0, 50] \[3\]; the penalty DEM follows at most
+    /// [`super::max_drift_pct`] of its face-angle tolerance (8.8 % at the default).
     pub drift_pct: f64,
     /// The history \[monotonic\].
     pub history: History,
