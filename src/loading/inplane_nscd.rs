@@ -51,7 +51,7 @@ fn poses(sim: &NscdSimulation) -> Vec<(Vec3, UnitQuaternion<f64>)> {
     sim.bodies().iter().map(|b| (b.pos, b.rot)).collect()
 }
 
-/// The joints of the simulation's contact points, for [`read_mechanism`]: one per pair,
+/// The joints of the simulation's contact points, for [`read_mechanism`](super::inplane::read_mechanism): one per pair,
 /// its points the midpoints of the pair's contact points.
 pub fn nscd_mechanism_joints(sim: &NscdSimulation) -> Vec<MechanismJoint> {
     let bodies = sim.bodies();

@@ -2,8 +2,6 @@
 //! their validation, the cyclic amplitudes and the imposed path, and the bounds they are
 //! checked against.
 
-#[cfg(doc)]
-use super::InPlaneResult;
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 
@@ -98,7 +96,7 @@ pub struct InPlaneParams {
     /// reversal are finer still, see the driver).
     pub quarter_increments: u32,
     /// A monotonic history's −x direction read too, as the mirror image of the +x push
-    /// (the model's ± asymmetry, [`InPlaneResult::mirror`]): where the rig's
+    /// (the model's ± asymmetry, [`InPlaneResult::mirror`](super::InPlaneResult::mirror)): where the rig's
     /// eccentricity moves the wall, a second run with it mirrored. Not a key of
     /// `[in_plane]`: set by the discrepancy analysis's forward runs \[false\].
     #[serde(skip)]

@@ -2,8 +2,6 @@
 //! ([`direction`], [`DirectionResult`]) the database's definitions and the robust readings of
 //! the envelope ([`envelope_readings`]).
 
-#[cfg(doc)]
-use super::{InPlaneResult, Rig};
 use serde::{Deserialize, Serialize};
 
 /// The drop of the force past the peak that defines the ultimate drift (Vanin et al. 2017):
@@ -18,16 +16,16 @@ pub const STIFFNESS_SHARE: f64 = 0.15;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CurvePoint {
     /// The beam's horizontal displacement at the measuring point, mm (+x positive; the
-    /// database's `top_displacement`, read at [`Rig::measure_z_m`]).
+    /// database's `top_displacement`, read at [`Rig::measure_z_m`](super::Rig::measure_z_m)).
     pub top_mm: f64,
-    /// Drift, %: `top_mm` over the measuring point's height ([`Rig::measure_z_m`]: the
+    /// Drift, %: `top_mm` over the measuring point's height ([`Rig::measure_z_m`](super::Rig::measure_z_m): the
     /// shear span by default, as the database's files give it).
     pub drift_pct: f64,
     /// The actuator's horizontal force, kN (positive towards +x).
     pub force_kn: f64,
     /// Whether the static solve reached equilibrium (the unbalanced-force ratio below the
     /// tolerance, every block in balance) within its step budget, on the loading path (no
-    /// block thrown from the wall: [`InPlaneResult::unconverged`]).
+    /// block thrown from the wall: [`InPlaneResult::unconverged`](super::InPlaneResult::unconverged)).
     pub converged: bool,
 }
 

@@ -2,8 +2,6 @@
 //! forces of the rig's vertical-load system ([`add_rig_force`], [`read_curve`]); the mirror
 //! reading ([`Mirror`]); the one-block wall's elastic stiffness ([`one_block_stiffness`]).
 
-#[cfg(doc)]
-use super::InPlaneResult;
 use super::{direction, BeamRotation, CurvePoint, DirectionResult, InPlaneError, InPlaneParams, MAX_HEIGHT_RATIO};
 use crate::dem::{DofConstraint, Simulation};
 use crate::geometry::ConvexBlock;
@@ -307,7 +305,7 @@ pub fn add_rig_force(r: VerticalLoadRig, n: f64, measure_z_m: f64, curve: &mut [
 }
 
 /// The push towards −x of a monotonic run read both ways, as its mirror image
-/// ([`InPlaneResult::mirror`]).
+/// ([`InPlaneResult::mirror`](super::InPlaneResult::mirror)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Mirror {
     /// The curve of the wall's own shear pushed the other way, read as its mirror image
@@ -319,7 +317,7 @@ pub struct Mirror {
 }
 
 /// The force read and the first direction's outputs (+x, [`direction`]) of a run's curve of
-/// the wall's own shear (`wall_curve`, [`InPlaneResult::wall_curve`]) under the rig's
+/// the wall's own shear (`wall_curve`, [`InPlaneResult::wall_curve`](super::InPlaneResult::wall_curve)) under the rig's
 /// terms `rig` and the applied vertical force `vertical_force_n` (N), the displacement read
 /// at the height `measure_z_m` (m): the same computation as the run's own
 /// ([`Rig::add_vertical_load_rig`], then [`direction`]), so that a run with `rig` and a run

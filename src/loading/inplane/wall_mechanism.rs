@@ -60,7 +60,8 @@ pub struct InPlaneMechanism {
     pub kind: MechanismKind,
     /// The share of the beam's horizontal motion that the moving part's rotation (about y,
     /// the mean of its blocks') about the crack's foot explains, in [0, 1]: 1 for a rotation
-    /// about a toe, 0 for a translation.
+    /// about a toe, 0 for a translation. Where no block moves with the beam (the crack
+    /// along the beam's bed), the crack's opening share.
     pub rotation_share: f64,
     /// The share of the crack's relative motion that is opening (normal), in [0, 1].
     pub opening_share: f64,
@@ -124,7 +125,9 @@ pub fn mechanism_joints(sim: &Simulation) -> Vec<MechanismJoint> {
 /// about the crack's foot explains at least two thirds of the beam's motion at the anchor
 /// (a rotation about a toe, whatever the crack's steps), shear (sliding on one bed level
 /// without head joints, diagonal otherwise) where it explains at most a third (a
-/// translation along the crack), mixed between.
+/// translation along the crack), mixed between. Where no block moves with the beam (the
+/// crack along the beam's bed) the share read is the crack's opening share instead: a
+/// beam held level does not turn with a wall that rocks under it.
 pub fn read_mechanism(
     joints: &[MechanismJoint],
     ids: &[String],
@@ -204,6 +207,11 @@ pub fn read_mechanism(
     let foot = distinct.first().copied().unwrap_or(0.0).min(anchor.z);
     let u = motion(beam, &anchor).x;
     let rotating = if u.abs() > 0.0 { (theta.abs() * (anchor.z - foot) / u.abs()).min(1.0) } else { 0.0 };
+    // A crack along the beam's own bed (no block moves with the beam): the wall under it
+    // turns or slides and the beam follows, turned with it or, held level, lifted by it
+    // (double curvature), so the beam's rotation need not read the wall's; the crack's own
+    // motion does, opening where the wall turns about its toes and sliding where it slides.
+    let rotating = if group.len() == 1 && !active.is_empty() { share } else { rotating };
     let kind = if active.is_empty() {
         MechanismKind::None
     } else if rotating >= 2.0 / 3.0 {
