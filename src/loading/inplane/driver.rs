@@ -217,7 +217,7 @@ fn walk_path(
                 c.set_target(0, anchor_x0 + steps.u_prev);
             }
             let start = poses(sim);
-            let (dpos, drot) = steps.predict(du, sim, rig.anchor_z_m, bi, walk_bound.spread);
+            let (dpos, drot) = steps.predict(du, sim, rig.anchor_z_m);
             let before = sim.clone();
             sim.predict(&dpos, &drot);
             let solved = match solve_static(sim, relax, &start, |_| None::<()>) {

@@ -82,34 +82,17 @@ impl Stepper {
     /// The predicted motion of the bodies of `sim` over the increment `du` (m): centroid
     /// translations and rotation vectors, the last increment's scaled (the loose bodies
     /// carried by their carriers, [`carry_with`]), or, with none, a motion growing linearly
-    /// with height up to the anchor's `anchor_z_m` (m). No block is predicted to move more
-    /// than the increment (its centroid, or its rotation at its radius), so that a
-    /// relaxation's throw is not extrapolated; the beam (body `beam`), whose motion the
-    /// actuator drives, by at most `spread` times it (the walk bound's `2 D / lever`,
-    /// `driver::WalkBound`): its centroid, farther from the toe than the actuator, moves
-    /// more than `du` as the wall rocks. Cut to `du`, the beam was predicted to slide over
-    /// the wall by a tenth of the increment, and on joints whose elastic slip range is
-    /// below that the jump made the top joint slip: the wall rocked under a sliding beam.
-    pub(super) fn predict(
-        &self,
-        du: f64,
-        sim: &Simulation,
-        anchor_z_m: f64,
-        beam: usize,
-        spread: f64,
-    ) -> (Vec<Vec3>, Vec<Vec3>) {
+    /// with height up to the anchor's `anchor_z_m` (m).
+    pub(super) fn predict(&self, du: f64, sim: &Simulation, anchor_z_m: f64) -> (Vec<Vec3>, Vec<Vec3>) {
         match &self.last {
             Some((dp, dr, d0)) if *d0 != 0.0 => {
+                // No body is predicted to move more than the beam's increment (the
+                // last solve's relaxation left no creep to extrapolate).
                 let k = du / d0;
-                let cap = |body: usize| if body == beam { spread * du.abs() } else { du.abs() };
-                let clip = |v: Vec3, r: f64, cap: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
-                let mut p: Vec<Vec3> = dp.iter().enumerate().map(|(i, v)| clip(v * k, 1.0, cap(i))).collect();
-                let mut r: Vec<Vec3> = dr
-                    .iter()
-                    .zip(&sim.state.bodies)
-                    .enumerate()
-                    .map(|(i, (v, b))| clip(v * k, b.radius, cap(i)))
-                    .collect();
+                let cap = du.abs();
+                let clip = |v: Vec3, r: f64| if v.norm() * r > cap { v * (cap / (v.norm() * r)) } else { v };
+                let mut p: Vec<Vec3> = dp.iter().map(|v| clip(v * k, 1.0)).collect();
+                let mut r: Vec<Vec3> = dr.iter().zip(&sim.state.bodies).map(|(v, b)| clip(v * k, b.radius)).collect();
                 carry_with(&mut p, &mut r, &self.carriers, sim);
                 (p, r)
             }
