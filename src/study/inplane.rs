@@ -110,8 +110,20 @@ pub struct InPlaneStudySpec {
 pub struct InPlaneGroupSpec {
     /// Its name.
     pub name: String,
-    /// The wall file, relative to the study file.
-    pub wall: PathBuf,
+    /// The wall description file, relative to the study file (exactly one of `wall` and
+    /// `survey`).
+    #[serde(default)]
+    pub wall: Option<PathBuf>,
+    /// A surveyed wall instead (a traced elevation or scanned stones, as `drystone import`
+    /// reads them), relative to the study file: the realizations are the ensemble around it
+    /// ([`crate::survey::ensemble`]) that `import` states.
+    #[serde(default)]
+    pub survey: Option<PathBuf>,
+    /// With `survey`: the import's options and the survey's uncertainty, as a core study's
+    /// group states them ([`super::survey_spec::SurveyImportSpec`]; `thickness_m` and the
+    /// stones' material required).
+    #[serde(default)]
+    pub import: Option<super::survey_spec::SurveyImportSpec>,
     /// The vertical stress applied, MPa.
     pub sigma0_mpa: f64,
     /// The history.
@@ -127,6 +139,37 @@ pub struct InPlaneGroupSpec {
     /// given here replaces the study's for that effect). Default none.
     #[serde(default)]
     pub effects: super::spec::EffectsSpec,
+}
+
+impl InPlaneGroupSpec {
+    /// The file its wall comes from: the wall description, or the survey (relative to the
+    /// study file).
+    pub fn source(&self) -> &Path {
+        self.wall.as_deref().or(self.survey.as_deref()).unwrap_or(Path::new(""))
+    }
+}
+
+/// The wall of group `g` of the in-plane study `spec` read from the file `path`: its wall
+/// description, or the ensemble around its survey ([`super::survey::wall_of_survey`]).
+///
+/// # Errors
+/// A wall description that cannot be read (named), a survey that cannot be imported or an
+/// `import` table that does not state it (naming the group's key).
+pub(super) fn group_wall(spec: &InPlaneStudySpec, path: &Path, g: usize) -> Result<Wall, InPlaneStudyError> {
+    let group = &spec.groups[g];
+    let base = path.parent().unwrap_or(Path::new("."));
+    match (&group.wall, &group.survey) {
+        (None, Some(survey)) => {
+            let import = group.import.clone().unwrap_or_default();
+            super::survey::wall_of_survey(&group.name, &import, survey, base, path)
+                .map_err(|(key, message)| InPlaneStudyError::Invalid { path: path.to_owned(), key, message })
+        }
+        _ => {
+            let p = base.join(group.source());
+            Wall::from_file_with(&p, &crate::generator::DistributionSource::default_for(&p))
+                .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
+        }
+    }
 }
 
 /// Where the measured specimens are.
@@ -392,9 +435,32 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
         if group.realizations == Some(0) {
             return Err(bad(&format!("groups[{g}].realizations"), "must be at least 1".into()));
         }
-        let wall = path.parent().unwrap_or(Path::new(".")).join(&group.wall);
+        let key = match (&group.wall, &group.survey) {
+            (Some(_), None) if group.import.is_some() => {
+                return Err(bad(
+                    &format!("groups[{g}].import"),
+                    "is for a group naming a survey; this group names a wall description".into(),
+                ))
+            }
+            (Some(_), None) => "wall",
+            (None, Some(_)) => "survey",
+            (Some(_), Some(_)) => {
+                return Err(bad(
+                    &format!("groups[{g}]"),
+                    "names both a wall and a survey: a group is one wall description (wall) or one survey (survey)"
+                        .into(),
+                ))
+            }
+            (None, None) => {
+                return Err(bad(
+                    &format!("groups[{g}]"),
+                    "names no wall: give wall = a wall description, or survey = a traced elevation".into(),
+                ))
+            }
+        };
+        let wall = path.parent().unwrap_or(Path::new(".")).join(group.source());
         if !wall.exists() {
-            return Err(bad(&format!("groups[{g}].wall"), format!("{} does not exist", wall.display())));
+            return Err(bad(&format!("groups[{g}].{key}"), format!("{} does not exist", wall.display())));
         }
     }
     refuse_out_of_plane(&spec, path)?;

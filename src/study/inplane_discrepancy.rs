@@ -28,7 +28,6 @@
 use super::inplane::{load, read_specimens, refuse_out_of_plane, InPlaneStudyError};
 use super::own::OwnAnalysis;
 use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
-use crate::generator::{DistributionSource, Wall};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
 use std::path::Path;
@@ -63,12 +62,12 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     for (g, group) in spec.groups.iter().enumerate() {
         let name = stress_group(group.sigma0_mpa);
         match groups.iter().position(|x| x.name == name) {
-            Some(k) if walls_of[k] != group.wall => {
+            Some(k) if walls_of[k] != group.source() => {
                 return Err(bad(
-                    format!("groups[{g}].wall"),
+                    format!("groups[{g}].{}", if group.survey.is_some() { "survey" } else { "wall" }),
                     format!(
                         "{}: the groups of {name} must share one wall for the analysis ({} is the first's)",
-                        group.wall.display(),
+                        group.source().display(),
                         walls_of[k].display()
                     ),
                 ))
@@ -86,9 +85,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
             }
             Some(_) => {}
             None => {
-                let p = base.join(&group.wall);
-                let wall = Wall::from_file_with(&p, &DistributionSource::default_for(&p))
-                    .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })?;
+                let wall = super::inplane::group_wall(&spec, path, g)?;
                 let effects = super::inplane::group_effects(&spec, path, g, &wall)?;
                 let layout =
                     |r: u64| crate::effects::realize(&wall, spec.seed, r, &name, &effects).ok().map(|(_, l)| l);
@@ -109,7 +106,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                     effects,
                     protocol: Some(Protocol::InPlane(InPlane(params))),
                 });
-                walls_of.push(group.wall.clone());
+                walls_of.push(group.source().to_owned());
                 effects_of.push(g);
             }
         }

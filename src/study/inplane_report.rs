@@ -184,7 +184,7 @@ pub(super) fn report(
                 History::Monotonic => "monotonic",
                 History::Cyclic => "cyclic",
             },
-            group.wall.display(),
+            group.source().display(),
             rs.len(),
             if ms.is_empty() {
                 "none".to_string()

@@ -16,7 +16,7 @@ use super::provenance::{self, InputRole};
 use super::shards::{Manifest, RunMode};
 use crate::ensemble::journal::{Journal, JournalError, JournalRow, FILE_NAME};
 use crate::ensemble::{items_per_group, Item, Shard};
-use crate::generator::{DistributionSource, Wall};
+use crate::generator::Wall;
 use crate::loading::inplane::InPlaneParams;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -62,15 +62,8 @@ impl Prepared {
                 });
             }
         }
-        let walls: Vec<Wall> = spec
-            .groups
-            .iter()
-            .map(|g| {
-                let p = base.join(&g.wall);
-                Wall::from_file_with(&p, &DistributionSource::default_for(&p))
-                    .map_err(|e| InPlaneStudyError::File { path: p.clone(), message: e.to_string() })
-            })
-            .collect::<Result<_, _>>()?;
+        let walls: Vec<Wall> =
+            (0..spec.groups.len()).map(|g| super::inplane::group_wall(&spec, path, g)).collect::<Result<_, _>>()?;
         let effects: Vec<Vec<crate::effects::Effect>> =
             (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
         Ok(Prepared { spec, specimens, walls, effects })
@@ -137,7 +130,7 @@ fn inputs(prepared: &Prepared, path: &Path) -> Result<Vec<provenance::InputFile>
     let base = path.parent().unwrap_or(Path::new("."));
     let mut files = vec![(InputRole::Study, path.to_owned())];
     for (g, wall) in prepared.spec.groups.iter().zip(&prepared.walls) {
-        let p = base.join(&g.wall);
+        let p = base.join(g.source());
         for d in wall.distributions() {
             if !d.source.as_os_str().is_empty() && d.source != p {
                 files.push((InputRole::Distribution, d.source.clone()));

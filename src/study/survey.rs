@@ -22,7 +22,6 @@ pub(super) fn surveyed_wall(
     points: &[SweepPoint],
     invalid: &Invalid,
 ) -> Result<Wall, StudyError> {
-    let key = |k: &str| format!("groups[{}].import.{k}", g.name);
     if let Some(k) = g.overrides.keys().next() {
         return Err(invalid.at(
             &format!("groups[{}].overrides.{k}", g.name),
@@ -40,12 +39,31 @@ pub(super) fn surveyed_wall(
         ));
     }
     let spec = g.import.clone().unwrap_or_default();
+    wall_of_survey(&g.name, &spec, survey, dir, invalid.0).map_err(|(key, reason)| invalid.at(&key, reason))
+}
+
+/// The wall of the group `name` naming the survey `survey` (relative to the study file's
+/// folder `dir`) with the import table `spec`, for the study file `file`: its layout as
+/// `drystone import` makes it and the ensemble around it ([`surveyed_wall_with`]). The
+/// core study's groups and the in-plane study's read their surveys through it.
+///
+/// # Errors
+/// The key (`groups[NAME].import.KEY` or `groups[NAME].survey`) and the reason: a missing
+/// thickness or material, a bad depth distribution, a survey that cannot be imported.
+pub(super) fn wall_of_survey(
+    name: &str,
+    spec: &super::survey_spec::SurveyImportSpec,
+    survey: &Path,
+    dir: &Path,
+    file: &Path,
+) -> Result<Wall, (String, String)> {
+    let key = |k: &str| format!("groups[{name}].import.{k}");
     let Some(base) = spec.thickness_m else {
-        return Err(invalid.at(&key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
+        return Err((key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
     };
     let materials = match &spec.materials {
         Some(p) => {
-            SurveyMaterials::from_file(&dir.join(p)).map_err(|e| invalid.at(&key("materials"), e.to_string()))?
+            SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string()))?
         }
         None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
             (Some(density), Some(kn), Some(ks), Some(friction_deg)) => SurveyMaterials::one(MaterialSpec {
@@ -59,8 +77,8 @@ pub(super) fn surveyed_wall(
                 closure: Default::default(),
             }),
             _ => {
-                return Err(invalid.at(
-                    &key("materials"),
+                return Err((
+                    key("materials"),
                     "the stones' material: give materials = FILE, or all of density, kn, ks and friction_deg".into(),
                 ))
             }
@@ -69,7 +87,7 @@ pub(super) fn surveyed_wall(
     let depth = match &spec.depth_m {
         None => None,
         Some(v) => Some(
-            Uncertainty::depth_from_toml(v, invalid.0, &key("depth_m")).map_err(|e| invalid.at(&key("depth_m"), e))?,
+            Uncertainty::depth_from_toml(v, file, &key("depth_m")).map_err(|e| (key("depth_m"), e))?,
         ),
     };
     let options = ImportOptions {
@@ -81,7 +99,7 @@ pub(super) fn surveyed_wall(
         y_up: false,
         materials,
         base_sliding: spec.base,
-        name: Some(g.name.clone()),
+        name: Some(name.to_string()),
     };
     let path = dir.join(survey);
     let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
@@ -90,5 +108,5 @@ pub(super) fn surveyed_wall(
         other => other.to_string(),
     };
     surveyed_wall_with(&path, &options, &u, &named)
-        .map_err(|e| invalid.at(&format!("groups[{}].survey", g.name), e.to_string()))
+        .map_err(|e| (format!("groups[{name}].survey"), e.to_string()))
 }
