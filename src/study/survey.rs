@@ -62,9 +62,7 @@ pub(super) fn wall_of_survey(
         return Err((key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
     };
     let materials = match &spec.materials {
-        Some(p) => {
-            SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string()))?
-        }
+        Some(p) => SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string()))?,
         None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
             (Some(density), Some(kn), Some(ks), Some(friction_deg)) => SurveyMaterials::one(MaterialSpec {
                 name: "stone".into(),
@@ -86,9 +84,7 @@ pub(super) fn wall_of_survey(
     };
     let depth = match &spec.depth_m {
         None => None,
-        Some(v) => Some(
-            Uncertainty::depth_from_toml(v, file, &key("depth_m")).map_err(|e| (key("depth_m"), e))?,
-        ),
+        Some(v) => Some(Uncertainty::depth_from_toml(v, file, &key("depth_m")).map_err(|e| (key("depth_m"), e))?),
     };
     let options = ImportOptions {
         format: None,
@@ -107,6 +103,5 @@ pub(super) fn wall_of_survey(
         "thickness_m" | "top_thickness_m" | "scale_m_per_unit" | "tolerance_m" | "depth_m" => key(k),
         other => other.to_string(),
     };
-    surveyed_wall_with(&path, &options, &u, &named)
-        .map_err(|e| (format!("groups[{name}].survey"), e.to_string()))
+    surveyed_wall_with(&path, &options, &u, &named).map_err(|e| (format!("groups[{name}].survey"), e.to_string()))
 }

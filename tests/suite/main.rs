@@ -85,6 +85,7 @@ mod stiffness_range;
 mod studies;
 mod survey;
 mod survey_ensemble;
+mod survey_traced_granite;
 mod tilt_hand;
 mod timestep;
 mod verification;

@@ -30,7 +30,8 @@ The trace, step by step (every constant is named below):
    bands up to about 45 mm wide) and the joints are drawn as lines about 2 mm wide. The
    as-built pattern closes them: a course's beds are the means of its faces' bottoms and
    tops, the joint between two courses the mean of the lower one's top and the upper one's
-   bottom (the base 0, the top HEIGHT_M); along a course the faces' rectified widths are
+   bottom (the base 0, the top HEIGHT_M); along a course the faces' rectified widths (the
+   mean of a face's top and bottom edges, so a stone turned at a toe keeps its size) are
    scaled to fill LENGTH_M (an open joint was closed when the wall was built). Each stone is
    the rectangle between its course's beds and its head joints.
 
@@ -54,7 +55,7 @@ GREY_SPREAD = 40
 #: except the cracks that wander through the stones near a toe. Each entry is (course
 #: counted from the base, the first piece's index along the wall counted from 1); the piece
 #: and the next one are one stone.
-SPLIT_STONES = {"WS250": [(1, 5), (2, 5), (3, 5), (4, 5)]}
+SPLIT_STONES = {"WS175": [(1, 1)], "WS250": [(1, 5), (2, 5), (3, 5), (4, 5)]}
 #: A course's end face whose outer edge departs from the line through the other courses'
 #: by more than this share of the wall's length is displaced in the drawing (a crushed toe)
 #: and left out of the fit of the wall's end.
@@ -243,6 +244,10 @@ def courses_of(faces):
     return courses
 
 
+def dist(p, q):
+    return ((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2) ** 0.5
+
+
 def join_split(courses, unit):
     """Joins the pieces of the stones that a crack split during the test (SPLIT_STONES:
     course, counted from the base, and the pieces' first index along the wall, both from 1):
@@ -280,18 +285,23 @@ def trace(unit, png, out_dir):
     for course in courses:
         row = []
         for f in course:
-            pts = [inverse(*p) for p in f]
-            xs = [s * LENGTH_M for s, _ in pts]
-            zs = [t * HEIGHT_M for _, t in pts]
-            row.append((min(xs), max(xs), min(zs), max(zs)))
+            # A face's width is the mean of its top and bottom edges' lengths, its bed and
+            # top the means of those edges' heights (a stone the test turned, as at a toe,
+            # keeps its own size; a stone a crack split is the sum of its pieces).
+            pts = [(s * LENGTH_M, t * HEIGHT_M) for s, t in (inverse(*p) for p in f)]
+            pieces = [pts[i : i + 4] for i in range(0, len(pts), 4)]
+            width = sum((dist(tl, tr) + dist(bl, br)) / 2 for tl, tr, br, bl in pieces)
+            bottom = sum(bl[1] + br[1] for _, _, br, bl in pieces) / (2 * len(pieces))
+            top = sum(tl[1] + tr[1] for tl, tr, _, _ in pieces) / (2 * len(pieces))
+            row.append((width, bottom, top))
         boxed.append(row)
     courses = boxed
-    bottoms = [sum(b[2] for b in c) / len(c) for c in courses]
-    tops = [sum(b[3] for b in c) / len(c) for c in courses]
+    bottoms = [sum(b[1] for b in c) / len(c) for c in courses]
+    tops = [sum(b[2] for b in c) / len(c) for c in courses]
     beds = [0.0] + [(tops[k] + bottoms[k + 1]) / 2 for k in range(len(courses) - 1)] + [HEIGHT_M]
     stones, widths = [], []
     for k, course in enumerate(courses):
-        faces = [b[1] - b[0] for b in course]
+        faces = [b[0] for b in course]
         heads = [0.0]
         for width in faces:
             heads.append(heads[-1] + width * LENGTH_M / sum(faces))
