@@ -201,7 +201,8 @@ fn summary(w: &ImportedWall) {
     if let Some((k, from)) = &w.scale {
         out!("scale             {} m per unit ({from})", drystone::survey::short_number(*k));
     }
-    out!("stones read       {}", w.stones.len());
+    let elements: std::collections::BTreeSet<&str> = w.stones.iter().map(|s| s.element.as_str()).collect();
+    out!("stones read       {}", elements.len());
     out!("blocks made       {} ({hulled} convex hulls)", w.layout.blocks.len());
     out!("on the table      {} blocks", w.on_table());
     out!("total volume      {:.6e} m3", w.volume_m3());

@@ -12,6 +12,9 @@ pub struct TracedStone {
     pub material: String,
     /// Its outline (x, z) in the table frame, convex and counter-clockwise, m.
     pub polygon: Vec<[f64; 2]>,
+    /// Its depth into the wall from the traced (−y) face as the survey states it, m (in
+    /// (0, base width]); `None`: the depth law's draw ([`Traced::depth`]), or a through stone.
+    pub depth_m: Option<f64>,
 }
 
 /// A traced elevation and the uncertainty drawn around it.

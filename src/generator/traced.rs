@@ -119,7 +119,10 @@ pub fn generate(
     let mut depth_rng = rng_for(seed, realization, Purpose::Layout);
     let mut pieces = Vec::with_capacity(t.stones.len());
     for (s, polygon) in t.stones.iter().zip(drawn) {
-        let depth = t.depth.as_ref().map(|d| d.sample(&mut depth_rng));
+        // A measured depth wins over the law's draw, which is still made, so that the other
+        // stones draw the depths they draw without it (common random numbers).
+        let drawn = t.depth.as_ref().map(|d| d.sample(&mut depth_rng));
+        let depth = s.depth_m.or(drawn);
         let a = super::polygon::area(&polygon);
         let top = polygon.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
         let zc = centroid_z(&polygon, a);

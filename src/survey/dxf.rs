@@ -76,7 +76,7 @@ pub(super) fn read(
         let id = get(5).filter(|h| !h.trim().is_empty()).map_or_else(|| format!("s{}", outlines.len()), str::to_owned);
         let material = materials.iter().any(|m| m == layer).then(|| layer.to_string());
         let points = points.iter().map(|p| [p[0] * scale.0, p[1] * scale.0]).collect();
-        outlines.push(Outline { stone: Stone { id, element, material }, points });
+        outlines.push(Outline { stone: Stone { id, element, material, depth_m: None }, points });
     }
     Ok((outlines, scale))
 }

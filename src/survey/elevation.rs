@@ -97,6 +97,21 @@ pub(super) fn trace(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Res
     let stones: Vec<Stone> = outlines.iter().map(|l| l.stone.clone()).collect();
     check_unique_ids(path, &stones)?;
     super::check_materials(path, &stones, o)?;
+    if let Some(section) = &o.section {
+        for s in &stones {
+            if let Some(d) = s.depth_m.filter(|d| !(d.is_finite() && *d > 0.0 && *d <= section.base_m)) {
+                return Err(element(
+                    path,
+                    s,
+                    format!(
+                        "depth {d} m: a stone's depth from the traced face lies within (0, {}] m, the wall's \
+                         thickness at its base",
+                        section.base_m
+                    ),
+                ));
+            }
+        }
+    }
     let all = || outlines.iter().flat_map(|l| l.points.iter());
     let x0 = all().map(|p| p[0]).fold(f64::INFINITY, f64::min);
     let z0 = all().map(|p| p[1]).fold(f64::INFINITY, f64::min);
@@ -119,27 +134,47 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
     let (lo, hi) = bounds(&shapes.iter().flat_map(|s| s.polygon.iter().copied()).collect::<Vec<_>>());
     let height = hi[1];
     let faces = |z: f64| faces_at(section.batter, section.base_m, section.top_m, height, z);
-    let prism_volume = |poly: &[[f64; 2]]| {
-        let a = polygon_area(poly);
-        let (y0, y1) = faces(centroid_z(poly, a));
-        a * (y1 - y0)
-    };
     let mut blocks = Vec::with_capacity(shapes.len());
     let mut reports = Vec::with_capacity(shapes.len());
     for (s, sh) in stones.iter().zip(&shapes) {
-        let vertices = extrude_polygon(&sh.polygon, faces);
-        let volume = prism_volume(&sh.polygon);
-        if !hull_is_faithful(&vertices, volume) {
-            return Err(element(path, s, "the block is too thin for its convex hull to be built (a sliver)".into()));
+        // A stone of a measured depth that leaves a core behind it: the face stone to its
+        // depth and the core from there to the other face (`ID.core`), as the ensemble's
+        // drawn depths make them ([`crate::generator::traced`]).
+        let top = sh.polygon.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+        let (y0_top, y1_top) = faces(top);
+        let split = s.depth_m.filter(|d| *d <= y1_top - y0_top - crate::generator::traced::MIN_CORE_M);
+        let parts: Vec<(String, f64, Option<f64>)> = match split {
+            None => vec![(s.id.clone(), 0.0, None)],
+            Some(d) => vec![(s.id.clone(), 0.0, Some(d)), (format!("{}.core", s.id), d, None)],
+        };
+        for (id, from, to) in parts {
+            let part_faces = |z: f64| {
+                let (y0, y1) = faces(z);
+                (y0 + from, to.map_or(y1, |d| y0 + d))
+            };
+            let vertices = extrude_polygon(&sh.polygon, part_faces);
+            let width_at = |poly: &[[f64; 2]]| {
+                let a = polygon_area(poly);
+                let (y0, y1) = part_faces(centroid_z(poly, a));
+                a * (y1 - y0)
+            };
+            let volume = width_at(&sh.polygon);
+            if !hull_is_faithful(&vertices, volume) {
+                return Err(element(
+                    path,
+                    s,
+                    "the block is too thin for its convex hull to be built (a sliver)".into(),
+                ));
+            }
+            reports.push(StoneReport {
+                id: id.clone(),
+                element: s.element.clone(),
+                block_volume_m3: volume,
+                survey_volume_m3: width_at(&sh.outline),
+                hulled: sh.hulled,
+            });
+            blocks.push((id, s.material.clone(), vertices));
         }
-        reports.push(StoneReport {
-            id: s.id.clone(),
-            element: s.element.clone(),
-            block_volume_m3: volume,
-            survey_volume_m3: prism_volume(&sh.outline),
-            hulled: sh.hulled,
-        });
-        blocks.push((s.id.clone(), s.material.clone(), vertices));
     }
     Ok(ImportedWall {
         source: path.to_owned(),

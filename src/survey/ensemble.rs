@@ -148,6 +148,7 @@ pub fn surveyed_wall_with(
             id: s.id.clone(),
             material: s.material.clone().unwrap_or_else(|| stone.clone()),
             polygon,
+            depth_m: s.depth_m,
         })
         .collect();
     let setting = TraceSetting {

@@ -53,6 +53,12 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
             }
         };
         let material = f.get("properties").and_then(|p| p.get("material")).and_then(Value::as_str).map(str::to_owned);
+        let depth_m = match f.get("properties").and_then(|p| p.get("depth_m")) {
+            None | Some(Value::Null) => None,
+            Some(v) => {
+                Some(v.as_f64().ok_or_else(|| err(format!("property depth_m {v}: a number of metres expected")))?)
+            }
+        };
         for (j, poly) in polygons.iter().enumerate() {
             let (id, element) =
                 if polygons.len() > 1 || geometry.get("type").and_then(Value::as_str) == Some("MultiPolygon") {
@@ -66,7 +72,7 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
                 reason,
             })?;
             let points = ring.iter().map(|p| [p[0] * k, p[1] * k]).collect();
-            outlines.push(Outline { stone: Stone { id, element, material: material.clone() }, points });
+            outlines.push(Outline { stone: Stone { id, element, material: material.clone(), depth_m }, points });
         }
     }
     Ok((outlines, (k, scale_text)))

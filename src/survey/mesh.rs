@@ -256,7 +256,7 @@ fn read_obj(file: &Path, text: &str, stem: &str) -> Result<Vec<Mesh>, SurveyErro
                 triangles.push([f[0], f[k], f[k + 1]]);
             }
         }
-        let stone = Stone { id, element, material: None };
+        let stone = Stone { id, element, material: None, depth_m: None };
         meshes.push(Mesh { stone, file: file.to_owned(), vertices: vertices.clone(), triangles });
     }
     Ok(meshes)
@@ -268,7 +268,7 @@ fn read_stl(file: &Path, bytes: &[u8], stem: &str) -> Result<Vec<Mesh>, SurveyEr
     let file_name = file.file_name().map_or_else(String::new, |f| f.to_string_lossy().into_owned());
     let one = |vertices: Vec<[f64; 3]>| {
         let triangles = (0..vertices.len() / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
-        let stone = Stone { id: stem.to_string(), element: file_name.clone(), material: None };
+        let stone = Stone { id: stem.to_string(), element: file_name.clone(), material: None, depth_m: None };
         Mesh { stone, file: file.to_owned(), vertices, triangles }
     };
     if bytes.len() >= 84 {

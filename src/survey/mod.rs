@@ -340,6 +340,10 @@ pub(crate) struct Stone {
     pub element: String,
     /// Its material, if the survey names one.
     pub material: Option<String>,
+    /// Its depth into the wall from the traced (−y) face, m, if the survey states it (SVG
+    /// `data-depth-m`, GeoJSON property `depth_m`): a measured depth, used in every
+    /// realization in place of the depth law's draw.
+    pub depth_m: Option<f64>,
 }
 
 /// One traced outline: the stone and its corners (x, z) in the survey's frame after the

@@ -59,7 +59,13 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
             .filter(|h| !h.trim().is_empty())
             .map_or_else(|| format!("s{}", shapes.len()), str::to_owned);
         let material = node.ancestors().find_map(|a| a.attribute("data-material")).map(str::to_owned);
-        shapes.push((Stone { id, element, material }, points));
+        let depth_m = match node.ancestors().find_map(|a| a.attribute("data-depth-m")) {
+            None => None,
+            Some(t) => Some(
+                t.trim().parse::<f64>().map_err(|_| err(format!("data-depth-m {t:?} is not a number of metres")))?,
+            ),
+        };
+        shapes.push((Stone { id, element, material, depth_m }, points));
     }
     let scale = match (scale, scale_line) {
         (Some(s), Some(_)) => (s, "--scale-m-per-unit (the scale line is not used)".to_string()),

@@ -370,3 +370,93 @@ fn bad_survey_groups_are_refused_naming_the_group_and_key() {
     ));
     assert!(swept.contains("sweep.friction_deg") && swept.contains("group g"), "{swept}");
 }
+
+/// The y extent of a block of a layout, m.
+fn y_extent(l: &LayoutSpec, id: &str) -> (f64, f64) {
+    let b = l.blocks.iter().find(|b| b.id == id).unwrap_or_else(|| panic!("no block {id}"));
+    b.vertices.iter().fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v[1]), hi.max(v[1])))
+}
+
+/// Depths measured per stone (SVG `data-depth-m` on the stone or a group around it, GeoJSON
+/// property `depth_m`), written here by hand: as traced, a stone of a measured depth is
+/// its face stone to that depth and the core behind it (worked out by hand: a 0.5 m section
+/// centred on y = 0, so the face at −0.25 m); a depth that leaves no core is a through
+/// stone; in the ensemble a measured stone keeps its depth in every realization and the
+/// other stones draw the depths they draw without the measurement (common random numbers);
+/// a depth out of (0, thickness] or not a number is refused naming the element.
+#[test]
+fn measured_depths_are_kept_in_every_realization_and_leave_the_others_draws() {
+    let dir = Scratch::created("survey-measured-depth");
+    let svg = |a: &str| {
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<line id=\"scale\" x1=\"0\" y1=\"0\" x2=\"1000\" y2=\"0\" \
+             data-length-m=\"1\"/>\n<rect id=\"a\" x=\"0\" y=\"200\" width=\"400\" height=\"200\"{a}/>\n<rect \
+             id=\"b\" x=\"400\" y=\"200\" width=\"400\" height=\"200\"/>\n<g data-depth-m=\"0.498\"><rect id=\"c\" \
+             x=\"200\" y=\"0\" width=\"400\" height=\"200\"/></g>\n</svg>\n"
+        )
+    };
+    let options = ImportOptions {
+        format: None,
+        scale_m_per_unit: None,
+        section: Some(Section::uniform(0.5)),
+        hull_nonconvex: false,
+        unit: None,
+        y_up: false,
+        materials: SurveyMaterials::one(MaterialSpec {
+            name: "stone".into(),
+            density_kg_per_m3: 2600.0,
+            kn_pa_per_m: 1e9,
+            ks_pa_per_m: 5e8,
+            friction_deg: 35.0,
+            cohesion_pa: 0.0,
+            tensile_strength_pa: 0.0,
+            closure: Default::default(),
+        }),
+        base_sliding: Default::default(),
+        name: None,
+    };
+    let measured = write(&dir, "measured.svg", &svg(" data-depth-m=\"0.2\""));
+    let w = import(&measured, &options).unwrap();
+    let ids: Vec<&str> = w.layout.blocks.iter().map(|b| b.id.as_str()).collect();
+    assert_eq!(ids, ["a", "a.core", "b", "c"], "c's 0.498 m leaves 2 mm, less than a core");
+    let close = |(p, q): (f64, f64), (r, s): (f64, f64)| (p - r).abs() < 1e-12 && (q - s).abs() < 1e-12;
+    assert!(close(y_extent(&w.layout, "a"), (-0.25, -0.05)));
+    assert!(close(y_extent(&w.layout, "a.core"), (-0.05, 0.25)));
+    assert!(close(y_extent(&w.layout, "b"), (-0.25, 0.25)));
+    assert!((w.volume_m3() - 3.0 * 0.4 * 0.2 * 0.5).abs() < 1e-12);
+    // The same survey in GeoJSON, the depth a feature's property.
+    let geojson = r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"id": "a", "depth_m": 0.2}, "geometry": {"type": "Polygon",
+         "coordinates": [[[0, 0], [0.4, 0], [0.4, 0.2], [0, 0.2], [0, 0]]]}},
+        {"type": "Feature", "properties": {"id": "b"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[0.4, 0], [0.8, 0], [0.8, 0.2], [0.4, 0.2], [0.4, 0]]]}}]}"#;
+    let gj =
+        import(&write(&dir, "a.geojson", geojson), &ImportOptions { scale_m_per_unit: Some(1.0), ..options.clone() })
+            .unwrap();
+    assert!(close(y_extent(&gj.layout, "a"), (-0.25, -0.05)));
+    assert!(close(y_extent(&gj.layout, "a.core"), (-0.05, 0.25)));
+    // The ensemble: a's depth is its measured one; b's and c's draws are those of the survey
+    // without the measurement.
+    let plain = write(&dir, "plain.svg", &svg(""));
+    let u = Uncertainty { tolerance_m: 0.0, depth: Some(Distribution::uniform("d", 0.1, 0.4, Unit::M)) };
+    let (with, without) =
+        (surveyed_wall(&measured, &options, &u).unwrap(), surveyed_wall(&plain, &options, &u).unwrap());
+    for r in 0..4 {
+        let (gw, go) = (generate(&with, 11, r).unwrap(), generate(&without, 11, r).unwrap());
+        let (lw, lo) = (gw.layout.clone(), go.layout.clone());
+        assert!(close(y_extent(&lw, "a"), (-0.25, -0.05)), "realization {r}");
+        assert_ne!(y_extent(&lo, "a"), y_extent(&lw, "a"));
+        assert_eq!(y_extent(&lw, "b"), y_extent(&lo, "b"), "realization {r}");
+        assert!(y_extent(&lw, "c").1 == 0.25 && lw.blocks.iter().all(|b| b.id != "c.core"));
+    }
+    // Refusals, naming the element.
+    for (attr, why) in [
+        (" data-depth-m=\"0.7\"", "(0, 0.5]"),
+        (" data-depth-m=\"0\"", "(0, 0.5]"),
+        (" data-depth-m=\"x\"", "not a number"),
+    ] {
+        let p = write(&dir, "bad.svg", &svg(attr));
+        let e = import(&p, &options).unwrap_err().to_string();
+        assert!(e.contains("<rect id=\"a\">") && e.contains(why), "{attr}: {e}");
+    }
+}
