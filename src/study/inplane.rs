@@ -430,6 +430,12 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
         return Err(bad("groups", "at least one [[groups]] table".into()));
     }
     for (g, group) in spec.groups.iter().enumerate() {
+        if let Some(first) = spec.groups[..g].iter().position(|o| o.name == group.name) {
+            return Err(bad(
+                &format!("groups[{g}].name"),
+                format!("{:?} is also the name of groups[{first}]: every group needs its own name", group.name),
+            ));
+        }
         let p = InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
         p.validate().map_err(|e| bad(&format!("groups[{g}] ({}): in_plane", group.name), e.to_string()))?;
         if group.realizations == Some(0) {

@@ -137,6 +137,9 @@ fn inputs(prepared: &Prepared, path: &Path) -> Result<Vec<provenance::InputFile>
             }
         }
         files.push((InputRole::Wall, p));
+        if let Some(m) = g.import.as_ref().and_then(|i| i.materials.as_ref()).filter(|_| g.survey.is_some()) {
+            files.push((InputRole::Materials, base.join(m)));
+        }
     }
     if let Some(m) = &prepared.spec.measured {
         files.push((InputRole::Measured, base.join(&m.walls)));

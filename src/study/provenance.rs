@@ -38,6 +38,8 @@ pub enum InputRole {
     Effect,
     /// A ground-motion record of a shaking study.
     Record,
+    /// The materials file of a surveyed group (`[groups.import] materials`).
+    Materials,
 }
 
 impl InputRole {
@@ -50,6 +52,7 @@ impl InputRole {
             InputRole::Measured => "measured-data file",
             InputRole::Effect => "effect file",
             InputRole::Record => "ground-motion record",
+            InputRole::Materials => "materials file",
         }
     }
 }

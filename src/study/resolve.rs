@@ -39,6 +39,8 @@ pub struct Group {
     /// The effects of the group's model (the study's, then the group's own), applied to
     /// every realization ([`crate::effects::realize`]).
     pub effects: Vec<crate::effects::Effect>,
+    /// A surveyed group's materials file (`[groups.import] materials`), an input of the run.
+    pub materials_path: Option<PathBuf>,
 }
 
 /// Measured data of a study.
@@ -510,6 +512,7 @@ fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
 /// use (at every sweep point).
 fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
     let mut files = vec![(InputRole::Wall, g.wall_path.clone())];
+    files.extend(g.materials_path.iter().map(|p| (InputRole::Materials, p.clone())));
     for w in &g.walls {
         for d in w.distributions() {
             if !d.source.as_os_str().is_empty() && d.source != g.wall_path {
@@ -538,6 +541,7 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
                 realizations: g.realizations,
                 spec: None,
                 effects: vec![],
+                materials_path: g.import.as_ref().and_then(|i| i.materials.as_ref()).map(|m| dir.join(m)),
             });
         }
         (Some(_), Some(_)) => {
@@ -597,6 +601,7 @@ fn resolve_group(g: &GroupSpec, dir: &Path, points: &[SweepPoint], invalid: &Inv
         realizations: g.realizations,
         spec: Some(gspec),
         effects: vec![],
+        materials_path: None,
     })
 }
 

@@ -58,6 +58,36 @@ pub(super) fn wall_of_survey(
     file: &Path,
 ) -> Result<Wall, (String, String)> {
     let key = |k: &str| format!("groups[{name}].import.{k}");
+    let path = dir.join(survey);
+    let format = if path.is_dir() { None } else { crate::survey::SurveyFormat::from_path(&path) };
+    if format.is_none_or(|f| !f.is_elevation()) {
+        return Err((
+            format!("groups[{name}].survey"),
+            format!(
+                "{}: a study's survey is a traced elevation (.svg, .geojson, .dxf), around which the \
+                 ensemble is drawn; scanned stones are imported as scanned (drystone import SURVEY --out \
+                 LAYOUT.json) and run as a layout",
+                path.display()
+            ),
+        ));
+    }
+    if spec.materials.is_some() {
+        let flags = [
+            ("density", spec.density.is_some()),
+            ("kn", spec.kn.is_some()),
+            ("ks", spec.ks.is_some()),
+            ("friction_deg", spec.friction_deg.is_some()),
+            ("cohesion_pa", spec.cohesion_pa.is_some()),
+        ];
+        if let Some((k, _)) = flags.iter().find(|(_, given)| *given) {
+            return Err((
+                key(k),
+                "is given beside materials = FILE: the stones' material is the file's, or the one these keys \
+                 make (density, kn, ks, friction_deg and cohesion_pa), not both"
+                    .into(),
+            ));
+        }
+    }
     let Some(base) = spec.thickness_m else {
         return Err((key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
     };
@@ -97,7 +127,6 @@ pub(super) fn wall_of_survey(
         base_sliding: spec.base,
         name: Some(name.to_string()),
     };
-    let path = dir.join(survey);
     let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
     let named = |k: &str| match k {
         "thickness_m" | "top_thickness_m" | "scale_m_per_unit" | "tolerance_m" | "depth_m" => key(k),

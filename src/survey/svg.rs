@@ -2,8 +2,10 @@
 //! H, V, Z, absolute and relative), each under the `transform`s of its groups and its own,
 //! in user units of the root; y down in the drawing, z up in the wall. Elements inside
 //! `<defs>`, `<clipPath>`, `<mask>`, `<pattern>`, `<symbol>`, `<marker>` and `<metadata>`,
-//! and elements with a `data-ignore` attribute (on themselves or a group around them) are
-//! not stones; a `<line id="scale" data-length-m="L">` (ignored or not) gives the scale; `<circle>` and `<ellipse>` are refused (a stone is a polygon).
+//! hidden ones (`display` none, a hidden layer), and elements with a `data-ignore`
+//! attribute (on themselves or a group around them) are not stones; one drawn
+//! `<line id="scale" data-length-m="L">` (ignored or not; a second is refused) gives the
+//! scale; `<circle>`, `<ellipse>` and `<use>` (a clone) are refused (a stone is a polygon).
 
 use super::{Outline, Stone, SurveyError};
 use std::path::Path;
@@ -29,8 +31,8 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
     let mut scale_line: Option<(f64, String)> = None;
     for node in doc.descendants().filter(|n| n.is_element()) {
         let tag = node.tag_name().name();
-        let scale_line_here = tag == "line" && node.attribute("id") == Some("scale");
-        let outline = ["polygon", "polyline", "rect", "path", "circle", "ellipse"].contains(&tag);
+        let scale_line_here = tag == "line" && node.attribute("id") == Some("scale") && !not_drawn(node);
+        let outline = ["polygon", "polyline", "rect", "path", "circle", "ellipse", "use"].contains(&tag);
         if !scale_line_here && (!outline || ignored(node)) {
             continue;
         }
@@ -38,8 +40,18 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
         let err = |reason: String| SurveyError::Element { path: path.to_owned(), element: element.clone(), reason };
         let m = transform_of(node).map_err(err)?;
         if scale_line_here {
+            if let Some((_, first)) = &scale_line {
+                return Err(err(format!(
+                    "a second scale line (the first is {first}): a drawing has one <line id=\"scale\">"
+                )));
+            }
             scale_line = Some(scale_from_line(node, &m).map_err(err)?);
             continue;
+        }
+        if tag == "use" {
+            return Err(err("<use> (a clone) is not read: turn clones into paths in the drawing program (unlink the \
+                 clone), or mark it data-ignore"
+                .into()));
         }
         let points = match tag {
             "polygon" => parse_points(node.attribute("points").unwrap_or("")).map_err(err)?,
@@ -96,9 +108,25 @@ fn describe(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
     }
 }
 
-/// Whether the element is not drawn as it stands or is marked `data-ignore`.
+/// Whether the element is inside a container whose content is not drawn as it stands
+/// ([`NOT_DRAWN`]), or hidden (`display="none"` or `display:none` in its `style`, on itself
+/// or a group around it: a hidden layer).
+fn not_drawn(node: roxmltree::Node) -> bool {
+    node.ancestors().any(|a| {
+        NOT_DRAWN.contains(&a.tag_name().name())
+            || a.attribute("display").is_some_and(|d| d.trim() == "none")
+            || a.attribute("style").is_some_and(|st| {
+                st.split(';').any(|d| {
+                    let mut kv = d.splitn(2, ':');
+                    kv.next().map(str::trim) == Some("display") && kv.next().map(str::trim) == Some("none")
+                })
+            })
+    })
+}
+
+/// Whether the element is not drawn ([`not_drawn`]) or is marked `data-ignore`.
 fn ignored(node: roxmltree::Node) -> bool {
-    node.ancestors().any(|a| a.attribute("data-ignore").is_some() || NOT_DRAWN.contains(&a.tag_name().name()))
+    not_drawn(node) || node.ancestors().any(|a| a.attribute("data-ignore").is_some())
 }
 
 /// The element's transform composed with its ancestors' (outermost first).

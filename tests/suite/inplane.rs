@@ -839,7 +839,7 @@ fn a_vertical_stress_that_closes_the_joints_past_small_overlaps_is_refused_by_na
         other => panic!("{other}"),
     }
     let text = e.to_string();
-    for f in ["material 0", "20 MPa", "20.000 mm", "1 %", "MPa", "--solver nscd"] {
+    for f in ["material stone", "20 MPa", "20.000 mm", "1 %", "MPa", "--solver nscd"] {
         assert!(text.contains(f), "{f:?} not in {text}");
     }
     assert!(check_joint_closure(&soft, &InPlaneParams { sigma0_mpa: 11.9, ..params(0.1) }).is_ok());

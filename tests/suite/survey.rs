@@ -643,3 +643,36 @@ fn a_materials_file_naming_a_material_it_lacks_is_refused_by_its_key() {
     }
     assert!(SurveyMaterials::from_file(&write(&dir, "ok.toml", &format!("stone_material = \"g\"\n{m}"))).is_ok());
 }
+
+/// The drawing's scale and what is drawn, by hand: one scale line (a second refused naming
+/// it, one inside `<defs>` not read), a `<use>` clone refused naming it (its stones would be
+/// lost), a stone in a hidden layer (`display:none`) not a stone.
+#[test]
+fn one_drawn_scale_line_no_clones_and_no_hidden_stones() {
+    let dir = Scratch::created("survey-svg-drawn");
+    let o = traced(0.2, None);
+    let scale = "<line id=\"scale\" x1=\"0\" y1=\"0\" x2=\"1000\" y2=\"0\" data-length-m=\"1\"/>";
+    let stone = "<rect id=\"a\" x=\"0\" y=\"800\" width=\"500\" height=\"200\"/>";
+    let svg = |body: &str| format!("<svg xmlns=\"http://www.w3.org/2000/svg\">\n{body}\n</svg>\n");
+    let twice = svg(&format!(
+        "{scale}\n<g data-ignore=\"1\"><line id=\"scale\" x1=\"0\" y1=\"0\" x2=\"100\" y2=\"0\" data-length-m=\"1\"/></g>\n{stone}"
+    ));
+    let e = error_of(&dir, "twice.svg", &twice, &o);
+    assert!(e.contains("a second scale line") && e.contains("line 3"), "{e}");
+    let defs = svg(&format!(
+        "<defs><line id=\"scale\" x1=\"0\" y1=\"0\" x2=\"100\" y2=\"0\" data-length-m=\"1\"/></defs>\n{stone}"
+    ));
+    assert!(error_of(&dir, "defs.svg", &defs, &o).contains("no scale"));
+    let clone = svg(&format!(
+        "{scale}\n<defs><rect id=\"p\" x=\"0\" y=\"0\" width=\"500\" height=\"200\"/></defs>\n<use href=\"#p\" y=\"800\"/>\n{stone}"
+    ));
+    let e = error_of(&dir, "use.svg", &clone, &o);
+    assert!(e.contains("<use> at line 4") && e.contains("clone"), "{e}");
+    let hidden = svg(&format!(
+        "{scale}\n{stone}\n<g style=\"opacity:1; display : none\"><rect id=\"h\" x=\"2000\" y=\"800\" width=\"500\" height=\"200\"/></g>\n\
+         <rect id=\"n\" display=\"none\" x=\"3000\" y=\"800\" width=\"500\" height=\"200\"/>"
+    ));
+    let w = import(&write(&dir, "hidden.svg", &hidden), &o).unwrap();
+    assert_eq!(w.layout.blocks.len(), 1);
+    assert!((w.length_m - 0.5).abs() < 1e-12);
+}

@@ -54,6 +54,21 @@ pub enum InPlaneError {
         /// [`MAX_HEIGHT_RATIO`].
         ratio: f64,
     },
+    /// The wall's highest block stands alone: no other block reaches within half a course of
+    /// its top.
+    #[error(
+        "the loading beam would rest on block {block} alone: it tops the wall at {top_m:.4} m and no other block reaches within half a course of it, so the blocks under the beam cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed); a block above or apart from the wall?"
+    )]
+    TopAlone {
+        /// The highest block.
+        block: String,
+        /// Its top, m.
+        top_m: f64,
+        /// The share of the length under the beam, %.
+        covered_pct: f64,
+        /// [`super::BEARING_SHARE`] in %.
+        need_pct: f64,
+    },
     /// The top course is not level enough to carry the beam.
     #[error(
         "the top course is not level enough to carry the loading beam: block {block} tops at {top_m:.4} m, {below_mm:.1} mm below the wall's top {height_m:.4} m, and the blocks within {tolerance_mm:.1} mm of the top cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed)"
@@ -108,8 +123,8 @@ pub enum InPlaneError {
         "material {material}: its joints' elastic slip range tan φ σ0 / Ks = {range_um:.2} µm (φ {friction_deg:.1}°, Ks {ks_pa_per_m:.3e} Pa/m, σ0 {sigma0_mpa} MPa) is below the {min_um:.0} µm a cyclic history by the penalty DEM needs: the path's own errors within an increment exceed it, the joints slip against the load and their friction falls over the cycles. Run it monotonic, with --solver nscd (rigid joints, which reverse exactly), or with Ks at most {ks_max_pa_per_m:.3e} Pa/m"
     )]
     CyclicSlipRange {
-        /// The material's index in the layout.
-        material: usize,
+        /// The material's name in the layout.
+        material: String,
         /// Its elastic slip range, µm.
         range_um: f64,
         /// Its friction angle, degrees.
@@ -129,8 +144,8 @@ pub enum InPlaneError {
         "material {material}: the vertical stress σ0 {sigma0_mpa} MPa closes its joints by σ0 / Kn = {closure_mm:.3} mm (Kn {kn_pa_per_m:.3e} Pa/m), {share_pct:.1} % of the lowest block's height ({height_mm:.1} mm); the penalty DEM's contacts hold for overlaps up to {max_pct:.0} % of it, a σ0 of at most {sigma0_max_mpa:.3} MPa on these joints. Check the stress's unit (MPa) and Kn, or run --solver nscd or limit (rigid joints)"
     )]
     JointClosure {
-        /// The material's index in the layout.
-        material: usize,
+        /// The material's name in the layout.
+        material: String,
         /// The vertical stress, MPa.
         sigma0_mpa: f64,
         /// The joints' closure `σ0 / Kn`, mm.
@@ -189,10 +204,10 @@ pub fn check_cyclic_slip_range(wall: &Layout, params: &InPlaneParams) -> Result<
     }
     let sigma0 = params.sigma0_mpa * 1e6;
     let range = |m: &crate::layout::Material| m.friction.tan() * sigma0 / m.ks;
-    let least = wall.materials.iter().enumerate().min_by(|a, b| range(a.1).total_cmp(&range(b.1)));
+    let least = used_materials(wall).min_by(|a, b| range(a.1).total_cmp(&range(b.1)));
     match least {
         Some((k, m)) if range(m) < MIN_CYCLIC_SLIP_RANGE_M => Err(InPlaneError::CyclicSlipRange {
-            material: k,
+            material: wall.material_names.get(k).cloned().unwrap_or_else(|| k.to_string()),
             range_um: range(m) * 1e6,
             friction_deg: m.friction.to_degrees(),
             ks_pa_per_m: m.ks,
@@ -229,15 +244,10 @@ pub fn check_joint_closure(wall: &Layout, params: &InPlaneParams) -> Result<(), 
         return Ok(());
     }
     let sigma0 = params.sigma0_mpa * 1e6;
-    let worst = wall
-        .materials
-        .iter()
-        .enumerate()
-        .filter(|(_, m)| m.closure.is_linear())
-        .min_by(|a, b| a.1.kn.total_cmp(&b.1.kn));
+    let worst = used_materials(wall).filter(|(_, m)| m.closure.is_linear()).min_by(|a, b| a.1.kn.total_cmp(&b.1.kn));
     match worst {
         Some((k, m)) if sigma0 / m.kn > MAX_CLOSURE_SHARE * height => Err(InPlaneError::JointClosure {
-            material: k,
+            material: wall.material_names.get(k).cloned().unwrap_or_else(|| k.to_string()),
             sigma0_mpa: params.sigma0_mpa,
             closure_mm: sigma0 / m.kn * 1e3,
             kn_pa_per_m: m.kn,
@@ -285,4 +295,12 @@ pub fn check_drift_reach(params: &InPlaneParams, tolerance_deg: f64) -> Result<(
         return Err(InPlaneError::DriftReach { drift_pct: params.drift_pct, max_pct, tolerance_deg });
     }
     Ok(())
+}
+
+/// The materials of `wall` that a joint of the test has: those of its blocks and of the
+/// table (a materials list may name others, which no joint reads), with their indices.
+fn used_materials(wall: &Layout) -> impl Iterator<Item = (usize, &crate::layout::Material)> {
+    let used: std::collections::BTreeSet<usize> =
+        wall.blocks.iter().map(|b| b.material).chain(std::iter::once(wall.table_material)).collect();
+    wall.materials.iter().enumerate().filter(move |(k, _)| used.contains(k))
 }

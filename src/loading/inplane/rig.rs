@@ -257,7 +257,17 @@ fn check_top_level(wall: &Layout, top: f64, height: f64, length: f64) -> Result<
         reach = reach.max(b);
     }
     if covered < BEARING_SHARE * length {
-        let (z, b) = highest_low.map_or((f64::NAN, "(none)".to_string()), |(z, b)| (z, b.id.clone()));
+        let Some((z, b)) = highest_low.map(|(z, b)| (z, b.id.clone())) else {
+            // Nothing reaches within half a course of the top: the top is a block standing
+            // alone above the wall (drawn or laid apart from it).
+            let highest = wall.blocks.iter().max_by(|a, b| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z));
+            return Err(InPlaneError::TopAlone {
+                block: highest.map_or_else(String::new, |b| b.id.clone()),
+                top_m: top,
+                covered_pct: 100.0 * covered / length,
+                need_pct: 100.0 * BEARING_SHARE,
+            });
+        };
         return Err(InPlaneError::NotLevel {
             block: b,
             top_m: z,
