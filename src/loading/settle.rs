@@ -53,7 +53,7 @@ pub enum SettleError {
         margin_m: f64,
     },
     /// No equilibrium under gravity within the step budget.
-    #[error("no equilibrium at α = 0 within {steps} steps (unbalanced-force ratio {ratio:.3e}){}", why(*.damping, *.ratio, *.tolerance))]
+    #[error("no equilibrium under gravity alone (the table level, α = 0) within {steps} steps (unbalanced-force ratio {ratio:.3e}){}", why(*.damping, *.ratio, *.tolerance))]
     NoEquilibrium {
         /// Steps tried.
         steps: u64,

@@ -430,6 +430,12 @@ pub fn load(path: &Path) -> Result<InPlaneStudySpec, InPlaneStudyError> {
         return Err(bad("groups", "at least one [[groups]] table".into()));
     }
     for (g, group) in spec.groups.iter().enumerate() {
+        if let Some((k, s)) = group.specimens.iter().enumerate().find(|(k, s)| group.specimens[..*k].contains(s)) {
+            return Err(bad(
+                &format!("groups[{g}].specimens[{k}]"),
+                format!("{s} is named twice: a specimen is compared once with its group"),
+            ));
+        }
         if let Some(first) = spec.groups[..g].iter().position(|o| o.name == group.name) {
             return Err(bad(
                 &format!("groups[{g}].name"),

@@ -88,11 +88,19 @@ fn polyline(e: &Entity) -> Result<Vec<[f64; 2]>, String> {
         _ => Err(format!("line {line}: {v:?} is not a finite number")),
     };
     let mut flags = 0;
+    let mut count: Option<(usize, usize)> = None;
     let mut points: Vec<[f64; 2]> = Vec::new();
     for (code, value, line) in e.iter().skip(1) {
         match code {
             70 => {
                 flags = value.parse::<i32>().map_err(|_| format!("line {line}: flags {value:?} are not an integer"))?
+            }
+            90 => {
+                let n = value
+                    .trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("line {line}: the vertex count {value:?} is not a count"))?;
+                count = Some((n, *line));
             }
             10 => points.push([num(value, *line)?, f64::NAN]),
             20 => match points.last_mut() {
@@ -107,6 +115,12 @@ fn polyline(e: &Entity) -> Result<Vec<[f64; 2]>, String> {
     }
     if let Some(k) = points.iter().position(|p| p[1].is_nan()) {
         return Err(format!("corner {k} has no y (20)"));
+    }
+    if let Some((n, line)) = count.filter(|(n, _)| *n != points.len()) {
+        return Err(format!(
+            "line {line}: the vertex count (90) is {n}, but the polyline has {} vertices: a truncated or edited entity",
+            points.len()
+        ));
     }
     if flags & 1 == 0 {
         return Err("the polyline is not closed (flag 70 bit 1): close it, or put it on a layer named IGNORE".into());

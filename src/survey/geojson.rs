@@ -25,9 +25,8 @@ pub(super) fn read(path: &Path, text: &str, scale: Option<f64>) -> Result<(Vec<O
         Some("Feature") => vec![&doc],
         Some("Polygon" | "MultiPolygon") => vec![&doc],
         other => {
-            return Err(file(format!(
-                "type {other:?}: a FeatureCollection, Feature, Polygon or MultiPolygon is expected"
-            )))
+            let t = other.map_or_else(|| "none".to_string(), |t| format!("{t:?}"));
+            return Err(file(format!("type {t}: a FeatureCollection, Feature, Polygon or MultiPolygon is expected")));
         }
     };
     let (k, scale_text) = match scale {

@@ -375,7 +375,8 @@ impl StoneReport {
     /// the stone).
     pub fn added_m3(&self) -> f64 {
         if self.hulled {
-            self.block_volume_m3 - self.survey_volume_m3
+            // A hull holds its stone: a difference below zero is rounding.
+            (self.block_volume_m3 - self.survey_volume_m3).max(0.0)
         } else {
             0.0
         }

@@ -446,6 +446,22 @@ fn a_dxf_drawing_in_millimetres_gives_its_closed_polylines_as_stones() {
     ];
     let e = error_of(&dir, "open.dxf", &drawing(&open), &options);
     assert!(e.contains("open.dxf: LWPOLYLINE at line 91: the polyline is not closed"), "{e}");
+    // A vertex count (90) the vertices do not match: a truncated entity, refused.
+    let short = [
+        (0, "LWPOLYLINE"),
+        (5, "4D"),
+        (8, "0"),
+        (90, "7"),
+        (70, "1"),
+        (10, "2000"),
+        (20, "500"),
+        (10, "2100"),
+        (20, "500"),
+        (10, "2100"),
+        (20, "600"),
+    ];
+    let e = error_of(&dir, "short.dxf", &drawing(&short), &options);
+    assert!(e.contains("handle 4D") && e.contains("vertex count (90) is 7, but the polyline has 3"), "{e}");
 }
 
 /// The error of importing `text` as `name` with `options`.

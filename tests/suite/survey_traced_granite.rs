@@ -166,6 +166,7 @@ fn an_in_plane_study_runs_a_survey_and_refuses_a_bad_group_by_key() {
             "groups[traced].import.thickness_m",
         ),
         ("missing", format!("survey = {}\n{import_table}", s(&dir.join("no.svg"))), "groups[0].survey"),
+        ("specimens", format!("survey = {}\n{import_table}\nspecimens = [\"A\", \"A\"]", s(&svg)), "groups[0].specimens[1]"),
         ("scanned", format!("survey = {}\n{import_table}", s(&dir)), "groups[traced].survey"),
         (
             "both materials",
