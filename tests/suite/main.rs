@@ -85,6 +85,7 @@ mod stiffness_range;
 mod studies;
 mod survey;
 mod survey_ensemble;
+mod survey_real_stones;
 mod tilt_hand;
 mod timestep;
 mod verification;
