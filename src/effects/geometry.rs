@@ -7,28 +7,18 @@
 use crate::geometry::{ConvexBlock, GeometryError};
 use crate::layout::Layout;
 use crate::math::Vec3;
-use parry3d_f64::math::Vector as PVec;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 /// A failed block: its id and the reason.
 pub type BlockFailure = (String, GeometryError);
 
-/// The convex block spanned by `points` (the hull; points inside it are dropped).
-fn hull(points: &[Vec3]) -> Result<ConvexBlock, GeometryError> {
-    let pts: Vec<PVec> = points.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
-    let (hv, _) =
-        parry3d_f64::transformation::try_convex_hull(&pts).map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
-    let hv: Vec<Vec3> = hv.iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect();
-    ConvexBlock::from_vertices(&hv)
-}
-
 /// Applies `f` to every vertex of every block and to every monitor point, and rebuilds the
 /// blocks as the hulls of the moved vertices.
 fn map_layout(layout: &mut Layout, f: impl Fn(&Vec3) -> Vec3) -> Result<(), BlockFailure> {
     for b in &mut layout.blocks {
         let moved: Vec<Vec3> = b.shape.vertices.iter().map(&f).collect();
-        b.shape = hull(&moved).map_err(|e| (b.id.clone(), e))?;
+        b.shape = ConvexBlock::hull_of(&moved).map_err(|e| (b.id.clone(), e))?;
     }
     for m in &mut layout.monitors {
         m.point = f(&m.point);
@@ -101,7 +91,7 @@ fn rounded(s: &ConvexBlock, r: f64) -> Result<ConvexBlock, GeometryError> {
         }
     }
     let pts: Vec<Vec3> = eroded.iter().flat_map(|v| dirs.iter().map(move |u| v + u * r)).collect();
-    hull(&pts)
+    ConvexBlock::hull_of(&pts)
 }
 
 /// The vertices of `{x : n·x ≤ d − r}` for the planes `(n, d)`: the intersections of
@@ -221,7 +211,7 @@ pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<
         }
         let out: Vec<Vec3> = pts.iter().map(|p| p + Vec3::new(0.0, t, 0.0)).collect();
         pts.extend(out);
-        let shape = hull(&pts).map_err(|e| (format!("stop_{}", b.id), e))?;
+        let shape = ConvexBlock::hull_of(&pts).map_err(|e| (format!("stop_{}", b.id), e))?;
         stops.push(crate::layout::Block {
             id: format!("stop_{}", b.id),
             material,
@@ -355,7 +345,7 @@ fn cut(
             pos.push(p);
         }
     }
-    let (n, p) = (hull(&neg)?, hull(&pos)?);
+    let (n, p) = (ConvexBlock::hull_of(&neg)?, ConvexBlock::hull_of(&pos)?);
     let v = s.volume();
     if n.volume() < 1e-6 * v || p.volume() < 1e-6 * v {
         return Ok(None);

@@ -221,6 +221,24 @@ impl ConvexBlock {
         Ok(block)
     }
 
+    /// The convex block spanned by `points`: their convex hull (parry3d's quickhull), the
+    /// points inside it dropped. Unlike [`ConvexBlock::from_vertices`], the points need not
+    /// all lie on the hull: this is the block of a non-convex shape (a scanned stone's mesh)
+    /// taken as its hull.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`], [`GeometryError::Hull`], and those of
+    /// [`ConvexBlock::from_vertices`] on the hull's vertices.
+    pub fn hull_of(points: &[Vec3]) -> Result<Self, GeometryError> {
+        if let Some((i, v)) = points.iter().enumerate().find(|(_, v)| !v.iter().all(|c| c.is_finite())) {
+            return Err(GeometryError::NonFinite { index: i, value: [v.x, v.y, v.z] });
+        }
+        let pts: Vec<PVec> = points.iter().map(to_p).collect();
+        let (hv, _) =
+            parry3d_f64::transformation::try_convex_hull(&pts).map_err(|e| GeometryError::Hull(format!("{e:?}")))?;
+        ConvexBlock::from_vertices(&hv.iter().map(from_p).collect::<Vec<_>>())
+    }
+
     fn from_parts(vertices: Vec<Vec3>, faces: Vec<Face>) -> Self {
         let mut edges = Vec::new();
         for f in &faces {
@@ -580,6 +598,20 @@ mod tests {
         assert!(matches!(ConvexBlock::from_vertices(&three), Err(GeometryError::Degenerate { .. })));
         let nan = vec![Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::new(f64::NAN, 0.0, 1.0)];
         assert!(matches!(ConvexBlock::from_vertices(&nan), Err(GeometryError::NonFinite { index: 3, .. })));
+    }
+
+    #[test]
+    fn the_hull_of_a_non_convex_point_set_drops_its_inner_points() {
+        // A unit cube with two points inside it: the hull is the cube.
+        let mut pts: Vec<Vec3> = ConvexBlock::cuboid(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0)).unwrap().vertices;
+        pts.push(Vec3::new(0.5, 0.5, 0.5));
+        pts.push(Vec3::new(0.5, 0.5, 0.9));
+        let blk = ConvexBlock::hull_of(&pts).unwrap();
+        assert_eq!(blk.vertices.len(), 8);
+        assert_eq!(blk.faces.len(), 6);
+        assert_relative_eq!(blk.volume(), 1.0, epsilon = 1e-12);
+        pts.push(Vec3::new(f64::NAN, 0.0, 0.0));
+        assert!(matches!(ConvexBlock::hull_of(&pts), Err(GeometryError::NonFinite { index: 10, .. })));
     }
 
     #[test]

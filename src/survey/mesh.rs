@@ -116,8 +116,7 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
         check_closed(triangles).map_err(err)?;
         let volume = mesh_volume(vertices, triangles);
         let points: Vec<Vec3> = vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
-        let hull =
-            ConvexBlock::from_vertices(&points).map_err(|e| err(format!("its convex hull cannot be built: {e}")))?;
+        let hull = ConvexBlock::hull_of(&points).map_err(|e| err(format!("its convex hull cannot be built: {e}")))?;
         if !(volume > 0.0) {
             return Err(err("the mesh encloses no volume".into()));
         }

@@ -86,6 +86,7 @@ mod studies;
 mod survey;
 mod survey_ensemble;
 mod survey_traced_granite;
+mod survey_real_stones;
 mod tilt_hand;
 mod timestep;
 mod verification;

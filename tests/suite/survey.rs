@@ -278,6 +278,32 @@ fn scanned_cubes_have_their_volume_in_the_unit_given_and_implausible_sizes_are_r
     assert!(text.contains("huge.obj") && text.contains("1.0000e3 m long") && text.contains("unit mistake"), "{text}");
 }
 
+/// A non-convex stone (every real one is) is taken as its convex hull, not refused: an
+/// L-shaped prism, its section the square of side 2 cm less a 1 cm square (3 cm²), 1 cm
+/// deep, is 3 cm³; its hull adds the triangle across the notch (0.5 cm², 0.5 cm³). The L
+/// faces are six-sided polygons, fan-triangulated from their first corner (star-shaped
+/// about it).
+#[test]
+fn a_non_convex_scanned_stone_is_its_convex_hull_with_the_volume_it_adds() {
+    let dir = Scratch::created("survey-notched");
+    let section = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
+    let mut obj: String =
+        [0.0, 1.0].iter().flat_map(|y| section.iter().map(move |(x, z)| format!("v {x} {y} {z}\n"))).collect();
+    obj += "f 1 2 3 4 5 6\nf 12 11 10 9 8 7\n";
+    for i in 1..=6 {
+        let j = i % 6 + 1;
+        obj += &format!("f {j} {i} {} {}\n", i + 6, j + 6);
+    }
+    let w = import(&write(&dir, "notched.obj", &obj), &scanned(LengthUnit::Cm)).unwrap();
+    let s = &w.stones[0];
+    assert!(s.hulled);
+    assert!((s.survey_volume_m3 - 3e-6).abs() < 1e-18, "{s:?}");
+    assert!((s.block_volume_m3 - 3.5e-6).abs() < 1e-18, "{s:?}");
+    assert!((w.added_m3() - 0.5e-6).abs() < 1e-18);
+    // The hull drops the notch's inner corner (1, y, 1): 10 corners of the 12.
+    assert_eq!(w.layout.blocks[0].vertices.len(), 10);
+}
+
 #[test]
 fn binary_and_ascii_stl_and_a_folder_of_stones_read_alike() {
     let dir = Scratch::created("survey-stl");

@@ -1,0 +1,128 @@
+//! Real stones: four scanned stones of the StonePacking-3D data set (MIT licence,
+//! `data/stones/README.md`), stacked into a wall of three courses by `data/stones/stack.py`
+//! (`data/stones/wall/`), imported by `drystone import` and tilted to collapse by the penalty
+//! DEM and by non-smooth contact dynamics, against limit analysis.
+//!
+//! The expected volumes and sizes are those `stack.py` computes from the meshes (its own
+//! convex hull and divergence theorem, in Python), never the code under test's.
+
+use drystone::dem::{SolverKind, SolverParams};
+use drystone::layout::{Layout, MaterialSpec};
+use drystone::limit::{limit_tilt, FlowRule, LimitParams};
+use drystone::loading::mechanism::MechanismKind;
+use drystone::loading::tilt::{CollapseReason, TiltParams};
+use drystone::protocol::run_tilt;
+use drystone::survey::{import, ImportOptions, ImportedWall, LengthUnit, SurveyMaterials};
+use std::path::Path;
+
+/// The joint the wall fails at: stone_110 (course 2) tips off stone_067 (course 1), taking
+/// stone_089 (course 3) with it.
+const GOVERNING: &str = "c1_stone_067/c2_stone_110";
+
+/// The wall as `drystone import data/stones/wall --unit cm --density 2600 --kn 1e10
+/// --ks 5e9 --friction-deg 35` reads it.
+fn wall() -> ImportedWall {
+    let stone = MaterialSpec {
+        name: "stone".into(),
+        density_kg_per_m3: 2600.0,
+        kn_pa_per_m: 1e10,
+        ks_pa_per_m: 5e9,
+        friction_deg: 35.0,
+        cohesion_pa: 0.0,
+        tensile_strength_pa: 0.0,
+        closure: Default::default(),
+    };
+    let options = ImportOptions {
+        format: None,
+        scale_m_per_unit: None,
+        section: None,
+        hull_nonconvex: false,
+        unit: Some(LengthUnit::Cm),
+        y_up: false,
+        materials: SurveyMaterials::one(stone),
+        base_sliding: Default::default(),
+        name: None,
+    };
+    import(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/stones/wall"), &options).expect("the wall imports")
+}
+
+/// Each stone's block is its mesh's convex hull: the stone's own volume and its hull's are
+/// those `stack.py` reports (cm³, to 1e-9), the hulls add 8–16 %, and the two stones of
+/// course 1 stand on the table.
+#[test]
+fn a_wall_of_scanned_stones_imports_with_each_stones_volume_and_its_hulls() {
+    let w = wall();
+    let expected = [
+        ("c1_stone_003", 1142.1408772938353, 1324.0451678701806),
+        ("c1_stone_067", 1109.2903556567169, 1265.2602725349664),
+        ("c2_stone_110", 1094.7690372504956, 1185.3901400662667),
+        ("c3_stone_089", 463.55171435061317, 537.7216333369906),
+    ];
+    assert_eq!(w.stones.len(), expected.len());
+    for (s, (id, stone_cm3, hull_cm3)) in w.stones.iter().zip(expected) {
+        assert_eq!(s.id, id);
+        assert!(s.hulled, "{id}");
+        let (stone, hull) = (s.survey_volume_m3 * 1e6, s.block_volume_m3 * 1e6);
+        assert!((stone - stone_cm3).abs() < 1e-9 * stone_cm3, "{id}: mesh {stone} cm³, stack.py {stone_cm3}");
+        assert!((hull - hull_cm3).abs() < 1e-9 * hull_cm3, "{id}: hull {hull} cm³, stack.py {hull_cm3}");
+        let excess = hull / stone - 1.0;
+        assert!((0.05..0.20).contains(&excess), "{id}: the hull adds {:.1} %", 100.0 * excess);
+    }
+    assert!((w.added_m3() - (w.volume_m3() - w.stones.iter().map(|s| s.survey_volume_m3).sum::<f64>())).abs() < 1e-15);
+    assert_eq!(w.on_table(), 2);
+    assert!((w.length_m - 0.29386092585551303).abs() < 1e-9, "{}", w.length_m);
+    assert!((w.height_m - 0.24451011099692057).abs() < 1e-9, "{}", w.height_m);
+    w.layout.resolve().expect("the layout resolves");
+}
+
+/// Limit analysis, nscd and the penalty DEM on the same wall, each from the contacts as
+/// built (every stone on a face of its hull, face to face with the stones below).
+///
+/// * Limit analysis: nothing slides in its mechanism at φ = 35° (stone_110 and stone_089
+///   tip off stone_067 as one body), so its associative answer needs no non-associative
+///   correction and is the rigid limit of the wall's contacts: 22.835°.
+/// * nscd (rigid blocks, the same contact detection): its bisection holds that limit and
+///   names the same joint, within 0.1°. A trial a few hundredths of a degree past the limit
+///   sets the mechanism off at about g sin δ: the trial at 22.89°, 0.055° past it, moved
+///   13 µm in its 40 steps, which the trial's growth test does not tell from settling (the
+///   bracket is [22.89, 22.97]).
+/// * The penalty DEM: a no-tension elastic joint tips before the rigid limit, by a loss that
+///   shrinks as Kn^(-1/3). On this wall it is 9.3° at Kn 1e9 Pa/m, 5.7° at 3e9 and 3.6° at
+///   1e10 (the ratio per factor 3 of Kn is 0.61–0.63, against 3^(-1/3) = 0.69): at 1e10
+///   the bracket must lie below the rigid limit and within 5° of it. Two sub-contacts per
+///   fan-triangle edge: a hull's faces are triangles, and at one subdivision a triangular
+///   contact is a single sub-contact, one shear spring that resists no twist about the
+///   joint's normal (a stone on one face of its hull turns on the table at 0.1°).
+#[test]
+fn a_wall_of_scanned_stones_collapses_by_both_dynamic_methods_within_the_bracket_of_limit_analysis() {
+    let layout: Layout = wall().layout.resolve().unwrap();
+    let la = limit_tilt(&layout, &SolverParams::default(), &LimitParams::default()).expect("limit analysis");
+    let alpha = la.collapse_angle_deg.expect("an angle");
+    assert_eq!(la.governing, FlowRule::Associative, "{:?}", la.mechanism);
+    assert!(la.non_associative.is_none(), "nothing slides: no correction");
+    assert_eq!(la.mechanism.kind, MechanismKind::Toppling);
+    assert_eq!(la.mechanism.joint, GOVERNING);
+    assert!((alpha - 22.835).abs() < 0.01, "limit analysis {alpha}°");
+
+    let params = TiltParams::default();
+    let nscd = run_tilt(&layout, SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() }, &params)
+        .expect("nscd tilt");
+    let up = nscd.first_unstable_deg.expect("nscd: collapses");
+    assert!(nscd.bracket_reliable);
+    assert!(
+        nscd.last_stable_deg - 0.1 <= alpha && alpha <= up + 0.1,
+        "nscd [{}, {up}] misses the limit analysis {alpha}° by more than 0.1°",
+        nscd.last_stable_deg
+    );
+    assert_eq!(nscd.mechanism.joint, GOVERNING, "{:?}", nscd.mechanism);
+
+    let penalty = SolverParams { subcontact_subdivisions: 2, ..SolverParams::default() };
+    let dem = run_tilt(&layout, penalty, &params).expect("penalty tilt");
+    let up = dem.first_unstable_deg.expect("penalty: collapses");
+    assert_ne!(dem.collapse_reason, Some(CollapseReason::StepBudget), "step budget at {up}°");
+    assert!(
+        dem.last_stable_deg < alpha && up >= alpha - 5.0,
+        "penalty DEM [{}, {up}] against the limit analysis {alpha}°: not below it, or more than 5° below",
+        dem.last_stable_deg
+    );
+}
