@@ -110,7 +110,7 @@ fn the_as_built_wall_and_a_generated_one_of_its_description_carry_alike_in_plane
     let as_built = import(&traced("WS100"), &options()).unwrap().layout.resolve().unwrap();
     let wall = Wall::from_file(&root().join("studies/walls/granite_vasconcelos.toml")).unwrap();
     let (_, generated) = drystone::effects::realize(&wall, 20090301, 0, "g", &[]).unwrap();
-    let a = run_in_plane_penalty(&as_built, s.clone(), &params, &mut |_, _, _| {}).unwrap();
+    let a = run_in_plane_penalty(&as_built, s, &params, &mut |_, _, _| {}).unwrap();
     let g = run_in_plane_penalty(&generated, s, &params, &mut |_, _, _| {}).unwrap();
     let (pa, pg) = (a.positive.as_ref().unwrap().peak_force_kn, g.positive.as_ref().unwrap().peak_force_kn);
     assert!((pa / pg - 1.0).abs() < 0.05, "as built {pa} kN, generated {pg} kN");
