@@ -244,26 +244,34 @@ impl InPlaneParams {
     /// [`InPlaneParams::path`]) is at most [`MAX_INCREMENTS`] static solves.
     ///
     /// # Errors
-    /// Naming `step_mm` with the count.
+    /// Naming `step_mm` (monotonic), `reversals_pct` (their count) or `cycles` (cyclic).
     pub fn check_path(&self, height_m: f64) -> Result<(), OutOfRange> {
-        let travel: f64 = match self.history {
-            History::Monotonic => self.drift_pct / 100.0 * height_m,
-            History::Cyclic => match &self.reversals_pct {
-                Some(r) => {
-                    let legs: f64 = r.iter().scan(0.0, |at, &v| Some((v - std::mem::replace(at, v)).abs())).sum();
-                    legs / 100.0 * height_m
-                }
-                None => 4.0 * f64::from(self.cycles) * self.amplitudes().iter().sum::<f64>() / 100.0 * height_m,
-            },
-        };
-        if travel / (self.step_mm * 1e-3) > MAX_INCREMENTS as f64 {
-            return Err(OutOfRange::new(
+        // The count of the path's solves, leg by leg, as `path` makes them (no path built:
+        // a history past the bound would take its memory).
+        let mut count = 0.0;
+        self.legs(height_m, &mut |from, to, inc| count += ((to - from).abs() / inc).ceil().max(1.0));
+        if count <= MAX_INCREMENTS as f64 {
+            return Ok(());
+        }
+        Err(match (self.history, &self.reversals_pct) {
+            (History::Monotonic, _) => OutOfRange::new(
                 "step_mm",
                 self.step_mm,
-                "large enough that the history is at most 100000 static solves (with drift_pct, amplitudes_pct and cycles)",
-            ));
-        }
-        Ok(())
+                "large enough that the history is at most 100000 static solves (with drift_pct)",
+            ),
+            (History::Cyclic, Some(r)) => OutOfRange::new(
+                "reversals_pct",
+                r.len() as f64,
+                "a history of at most 100000 static solves: every leg takes at least quarter_increments solves \
+                 and at most one per step_mm (fewer reversals, or fewer quarter_increments)",
+            ),
+            (History::Cyclic, None) => OutOfRange::new(
+                "cycles",
+                f64::from(self.cycles),
+                "few enough, with amplitudes_pct, for a history of at most 100000 static solves: every quarter \
+                 cycle takes at least quarter_increments solves and at most one per step_mm",
+            ),
+        })
     }
 
     /// The cyclic amplitudes, drift %: the given ones, or the default ladder up to
@@ -288,24 +296,32 @@ impl InPlaneParams {
     /// `step_mm` up to 10 steps, then `step_mm`; cyclic, each quarter cycle in increments
     /// of `step_mm` or a `quarter_increments`-th of the amplitude, whichever is smaller.
     pub fn path(&self, height_m: f64) -> Vec<f64> {
-        let step = self.step_mm * 1e-3;
         let mut path = Vec::new();
-        let mut at = 0.0;
-        let mut go = |path: &mut Vec<f64>, to: f64, inc: f64| {
-            let n = ((to - at).abs() / inc).ceil().max(1.0) as usize;
-            let from = at;
+        self.legs(height_m, &mut |from, to, inc| {
+            let n = ((to - from).abs() / inc).ceil().max(1.0) as usize;
             for k in 1..=n {
                 path.push(from + (to - from) * k as f64 / n as f64);
             }
+        });
+        path
+    }
+
+    /// The legs of [`InPlaneParams::path`]: for each, where it starts and ends (m) and the
+    /// largest increment along it (m), in order.
+    fn legs(&self, height_m: f64, leg: &mut dyn FnMut(f64, f64, f64)) {
+        let step = self.step_mm * 1e-3;
+        let mut at = 0.0;
+        let mut go = |to: f64, inc: f64| {
+            leg(at, to, inc);
             at = to;
         };
         match self.history {
             History::Monotonic => {
                 let target = self.drift_pct / 100.0 * height_m;
                 let fine = (10.0 * step).min(target);
-                go(&mut path, fine, step / 5.0);
+                go(fine, step / 5.0);
                 if target > fine {
-                    go(&mut path, target, step);
+                    go(target, step);
                 }
             }
             History::Cyclic if self.reversals_pct.is_some() => {
@@ -313,7 +329,7 @@ impl InPlaneParams {
                 for &r in self.reversals_pct.as_deref().unwrap_or_default() {
                     let to = r / 100.0 * height_m;
                     let inc = step.min(to.abs().max(from.abs()) / f64::from(self.quarter_increments));
-                    go(&mut path, to, inc);
+                    go(to, inc);
                     from = to;
                 }
             }
@@ -322,13 +338,42 @@ impl InPlaneParams {
                     let amp = a / 100.0 * height_m;
                     let inc = step.min(amp / f64::from(self.quarter_increments));
                     for _ in 0..self.cycles {
-                        go(&mut path, amp, inc);
-                        go(&mut path, -amp, inc);
-                        go(&mut path, 0.0, inc);
+                        go(amp, inc);
+                        go(-amp, inc);
+                        go(0.0, inc);
                     }
                 }
             }
         }
-        path
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bound counts the solves the path makes: every leg at least `quarter_increments`
+    /// of them however large `step_mm` (a history of 10,000 cycles at a 100 mm step made
+    /// 140,000 solves where the step alone counted 70), and it names the reversals, not the
+    /// step, when they are the cause.
+    #[test]
+    fn the_path_bound_counts_the_solves_the_path_makes() {
+        let reversals = |n: usize| Some((0..n).map(|i| if i % 2 == 0 { 0.2 } else { -0.2 }).collect::<Vec<f64>>());
+        let p = InPlaneParams {
+            history: History::Cyclic,
+            reversals_pct: reversals(200),
+            quarter_increments: 2,
+            step_mm: 100.0,
+            ..InPlaneParams::default()
+        };
+        let mut count = 0.0;
+        p.legs(1.325, &mut |from, to, inc| count += ((to - from).abs() / inc).ceil().max(1.0));
+        assert_eq!(count as usize, p.path(1.325).len());
+        assert!(p.check_path(1.325).is_ok());
+        let long = InPlaneParams { reversals_pct: reversals(60_000), ..p };
+        let e = long.check_path(1.325).unwrap_err();
+        assert_eq!((e.key.as_str(), e.value), ("reversals_pct", 60_000.0));
+        let mono = InPlaneParams { step_mm: 1e-6, drift_pct: 3.0, ..InPlaneParams::default() };
+        assert_eq!(mono.check_path(1.325).unwrap_err().key, "step_mm");
     }
 }
