@@ -101,6 +101,27 @@ impl Wall {
     }
 }
 
+/// The blocks of a traced stone `id` of depth `depth` (m from the traced −y face; `None`:
+/// a through stone) under a section `width_at_top` wide (m) at the stone's highest corner:
+/// each block's part, id, and its extent across the wall from the traced face (from, and
+/// to or `None` for the other face), m. A depth that leaves less than [`MIN_CORE_M`] at
+/// the top is a through stone; any other is the face stone to its depth and the core
+/// behind it (`ID.core`). The ensemble's drawn depths and the import's measured ones
+/// (`survey::elevation`) are split by it alike.
+pub(crate) fn face_and_core(
+    id: &str,
+    depth: Option<f64>,
+    width_at_top: f64,
+) -> Vec<(SectionPart, String, f64, Option<f64>)> {
+    match depth.filter(|d| *d <= width_at_top - MIN_CORE_M) {
+        None => vec![(SectionPart::Through, id.to_string(), 0.0, None)],
+        Some(d) => vec![
+            (SectionPart::NegativeLeaf, id.to_string(), 0.0, Some(d)),
+            (SectionPart::Hearting, format!("{id}.core"), d, None),
+        ],
+    }
+}
+
 /// Realization `realization` of the surveyed wall `wall` (its trace `t`) from the master
 /// seed `seed` (module doc), with how its outlines were drawn. [`super::generate`] is this
 /// without the report for a wall with [`Wall::traced`].
@@ -126,16 +147,8 @@ pub fn generate(
         let a = super::polygon::area(&polygon);
         let top = polygon.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
         let zc = centroid_z(&polygon, a);
-        let through = depth.is_none_or(|d| d > wall.width_at(top) - MIN_CORE_M);
-        let mut parts = Vec::with_capacity(2);
-        if through {
-            parts.push((SectionPart::Through, s.id.clone(), 0.0, None, wall.width_at(zc)));
-        } else {
-            let d = depth.expect("a depth");
-            parts.push((SectionPart::NegativeLeaf, s.id.clone(), 0.0, Some(d), d));
-            parts.push((SectionPart::Hearting, format!("{}.core", s.id), d, None, wall.width_at(zc) - d));
-        }
-        for (part, id, from, to, width) in parts {
+        for (part, id, from, to) in face_and_core(&s.id, depth, wall.width_at(top)) {
+            let width = to.unwrap_or(wall.width_at(zc)) - from;
             let vertices = extrude_polygon(&polygon, |z| {
                 let (y0, y1) = wall.faces_at(z);
                 (y0 + from, to.map_or(y1, |d| y0 + d))

@@ -142,23 +142,18 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
         // drawn depths make them ([`crate::generator::traced`]).
         let top = sh.polygon.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
         let (y0_top, y1_top) = faces(top);
-        let split = s.depth_m.filter(|d| *d <= y1_top - y0_top - crate::generator::traced::MIN_CORE_M);
-        let parts: Vec<(String, f64, Option<f64>)> = match split {
-            None => vec![(s.id.clone(), 0.0, None)],
-            Some(d) => vec![(s.id.clone(), 0.0, Some(d)), (format!("{}.core", s.id), d, None)],
-        };
-        for (id, from, to) in parts {
+        for (_, id, from, to) in crate::generator::traced::face_and_core(&s.id, s.depth_m, y1_top - y0_top) {
             let part_faces = |z: f64| {
                 let (y0, y1) = faces(z);
                 (y0 + from, to.map_or(y1, |d| y0 + d))
             };
             let vertices = extrude_polygon(&sh.polygon, part_faces);
-            let width_at = |poly: &[[f64; 2]]| {
+            let prism_volume = |poly: &[[f64; 2]]| {
                 let a = polygon_area(poly);
                 let (y0, y1) = part_faces(centroid_z(poly, a));
                 a * (y1 - y0)
             };
-            let volume = width_at(&sh.polygon);
+            let volume = prism_volume(&sh.polygon);
             if !hull_is_faithful(&vertices, volume) {
                 return Err(element(
                     path,
@@ -170,7 +165,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
                 id: id.clone(),
                 element: s.element.clone(),
                 block_volume_m3: volume,
-                survey_volume_m3: width_at(&sh.outline),
+                survey_volume_m3: prism_volume(&sh.outline),
                 hulled: sh.hulled,
             });
             blocks.push((id, s.material.clone(), vertices));
