@@ -87,12 +87,11 @@ fn a_wall_of_scanned_stones_imports_with_each_stones_volume_and_its_hulls() {
 ///   13 µm in its 40 steps, which the trial's growth test does not tell from settling (the
 ///   bracket is [22.89, 22.97]).
 /// * The penalty DEM: a no-tension elastic joint tips before the rigid limit, by a loss that
-///   shrinks as Kn^(-1/3). On this wall it is 9.3° at Kn 1e9 Pa/m, 5.7° at 3e9 and 3.6° at
-///   1e10 (the ratio per factor 3 of Kn is 0.61–0.63, against 3^(-1/3) = 0.69): at 1e10
-///   the bracket must lie below the rigid limit and within 5° of it. Two sub-contacts per
-///   fan-triangle edge: a hull's faces are triangles, and at one subdivision a triangular
-///   contact is a single sub-contact, one shear spring that resists no twist about the
-///   joint's normal (a stone on one face of its hull turns on the table at 0.1°).
+///   shrinks with Kn (3.7° at 1e10 Pa/m, 6.1° at 3e9; docs/survey.md): at 1e10 the bracket
+///   must lie below the rigid limit and within 5° of it. Two sub-contact subdivisions: a
+///   hull's faces are triangles, each fanned into three sub-contacts, and at one
+///   subdivision their three shear springs hold too little twist about the joint's normal
+///   (the wall collapses at 4.88°, the top stone sliding off).
 #[test]
 fn a_wall_of_scanned_stones_collapses_by_both_dynamic_methods_within_the_bracket_of_limit_analysis() {
     let layout: Layout = wall().layout.resolve().unwrap();

@@ -96,9 +96,14 @@ pub struct Triangle {
 /// How a contact polygon is split into triangles before subdivision.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Fan {
-    /// From its first vertex: n − 2 triangles (the fewest; used with exact integration,
-    /// which is exact on any triangulation).
+    /// From its first vertex: n − 2 triangles (the fewest; the contact points of the
+    /// non-smooth solver, which takes the polygon's corners).
     Vertex,
+    /// From its first vertex as [`Fan::Vertex`], but a triangle from its centroid (three
+    /// triangles): used with the penalty DEM's exact integration, which is exact on any
+    /// triangulation for the normal pressure but carries one shear spring per sub-contact,
+    /// at its centroid; a single one resists no twist about the joint's normal.
+    Shear,
     /// From its centroid: n triangles, symmetric node areas (used with the 3DEC vertex
     /// quadrature, whose lumped areas would otherwise depend on the diagonal chosen).
     Centroid,
@@ -318,9 +323,14 @@ fn build_patch(
 /// A fan of a convex polygon (see [`Fan`]) with each triangle subdivided `m × m`: nodes
 /// (deduplicated) and counter-clockwise sub-triangles.
 pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize, fan: Fan) -> (Vec<[f64; 2]>, Vec<Triangle>) {
+    let fan = match fan {
+        Fan::Shear if poly.len() == 3 => Fan::Centroid,
+        Fan::Shear => Fan::Vertex,
+        f => f,
+    };
     let c = match fan {
         Fan::Centroid => polygon::centroid(poly),
-        Fan::Vertex => poly[0],
+        Fan::Vertex | Fan::Shear => poly[0],
     };
     let mut nodes: Vec<[f64; 2]> = Vec::new();
     let mut tris = Vec::new();
@@ -338,7 +348,7 @@ pub fn subdivide_polygon(poly: &[[f64; 2]], m: usize, fan: Fan) -> (Vec<[f64; 2]
     let mf = m as f64;
     let fans: Vec<usize> = match fan {
         Fan::Centroid => (0..nv).collect(),
-        Fan::Vertex => (1..nv.saturating_sub(1)).collect(),
+        Fan::Vertex | Fan::Shear => (1..nv.saturating_sub(1)).collect(),
     };
     for k in fans {
         let p = poly[k];
@@ -414,6 +424,23 @@ mod tests {
                 assert_eq!(nodes.len() + tris.len(), e + 1);
             }
         }
+    }
+
+    /// A triangular joint is never a single sub-contact under the penalty DEM's fan: its
+    /// three fan triangles from the centroid put a shear spring on each side of every
+    /// axis through the centroid, so the joint resists twist; a quadrilateral keeps the
+    /// vertex fan. The non-smooth solver's fan keeps the corners alone.
+    #[test]
+    fn a_triangle_gets_three_shear_points_under_the_penalty_fan() {
+        let tri = vec![[0.0, 0.0], [0.3, 0.0], [0.1, 0.2]];
+        let (_, shear) = subdivide_polygon(&tri, 1, Fan::Shear);
+        assert_eq!(shear.len(), 3);
+        let (nodes, plain) = subdivide_polygon(&tri, 1, Fan::Vertex);
+        assert_eq!((plain.len(), nodes.len()), (1, 3));
+        let quad = vec![[0.0, 0.0], [0.3, 0.0], [0.3, 0.1], [0.0, 0.1]];
+        assert_eq!(subdivide_polygon(&quad, 1, Fan::Shear), subdivide_polygon(&quad, 1, Fan::Vertex));
+        let a: f64 = shear.iter().map(|t| t.area).sum();
+        assert!((a - 0.03).abs() < 1e-15);
     }
 
     #[test]
