@@ -134,9 +134,11 @@ fn add(local: &mut [Matrix6<f64>; 4], kbb: Matrix6<f64>, kba: Matrix6<f64>, kab:
 }
 
 /// The compressed part of a sub-contact triangle with nodal closures `u` (m): its pieces,
-/// each three barycentric points and the piece's area as a fraction of the triangle's.
+/// each three barycentric points and the piece's area as a fraction of the triangle's. A
+/// node at zero closure counts as closed (a block placed touching its neighbours, every
+/// gap zero, gets the stiffness of the joints it is about to close rather than none).
 fn compressed_pieces(u: [f64; 3]) -> Vec<([[f64; 3]; 3], f64)> {
-    let pos = u.iter().filter(|&&v| v > 0.0).count();
+    let pos = u.iter().filter(|&&v| v >= 0.0).count();
     let unit = |i: usize| {
         let mut b = [0.0; 3];
         b[i] = 1.0;
@@ -149,10 +151,10 @@ fn compressed_pieces(u: [f64; 3]) -> Vec<([[f64; 3]; 3], f64)> {
             let mut poly: Vec<[f64; 3]> = Vec::with_capacity(4);
             for i in 0..3 {
                 let j = (i + 1) % 3;
-                if u[i] > 0.0 {
+                if u[i] >= 0.0 {
                     poly.push(unit(i));
                 }
-                if (u[i] > 0.0) != (u[j] > 0.0) {
+                if (u[i] >= 0.0) != (u[j] >= 0.0) {
                     let t = u[i] / (u[i] - u[j]);
                     let mut b = [0.0; 3];
                     b[i] = 1.0 - t;

@@ -57,8 +57,11 @@ fn a_block_past_its_friction_angle_is_unsolved_at_once_and_left_as_it_was() {
 /// tan α = b/h (14.04°); on joints of finite stiffness earlier, since the block's rotation
 /// on its compressed strip adds to the eccentricity of its weight (on Kn 1e8 Pa/m already
 /// below 12°). On Kn 1e10 Pa/m at 13°, the resultant at 0.46 b/2 from the middle and
-/// nine tenths of the base lifted off, Newton converges in a few iterations, to the
-/// equilibrium dynamic relaxation finds.
+/// nine tenths of the base lifted off, Newton converges to the equilibrium dynamic
+/// relaxation finds: in about twenty iterations, the line search cutting the steps while
+/// the base lifts off (about a dozen), then quadratically. The same pose to 1e-6 m and
+/// 1e-5 rad (of a sway of 3e-4 m): the lifted part of the base slips, and the slip left
+/// depends on the path (one jump here, the relaxation's steps there).
 #[test]
 fn a_rocking_block_near_its_limit_converges() {
     let mut sim = settled_on([0.0, -0.05, 0.0], [0.3, 0.05, 0.4], 1e10);
@@ -66,11 +69,11 @@ fn a_rocking_block_near_its_limit_converges() {
     let mut dynamic = sim.clone();
     let out = newton_increment(&mut sim, 1e-9, &NewtonSolve::default(), |_| None::<()>);
     let Solved::Equilibrium(it) = out else { panic!("{out:?}") };
-    assert!(it <= 12, "{it} iterations");
+    assert!(it <= 25, "{it} iterations");
     assert!(dynamic.run_to_equilibrium(1e-9, 2_000_000).unwrap());
     let (a, b) = (&sim.state.bodies[0], &dynamic.state.bodies[0]);
-    assert!((a.pos - b.pos).norm() < 1e-8, "{:?} against {:?}", a.pos, b.pos);
-    assert!(a.rot.angle_to(&b.rot) < 1e-7);
+    assert!((a.pos - b.pos).norm() < 1e-6, "{:?} against {:?}", a.pos, b.pos);
+    assert!(a.rot.angle_to(&b.rot) < 1e-5, "{}", a.rot.angle_to(&b.rot));
 }
 
 /// Close to its friction angle (33° against φ 35°) the joint carries the slope's load
