@@ -295,7 +295,7 @@ def test_supports_is_the_table_the_solvers_follow():
         drystone.supports("tilt", "rigid")
 
 
-SOLVERS = ("penalty", "implicit", "accelerated", "relaxation", "nscd", "limit")
+SOLVERS = ("penalty", "newton", "implicit", "accelerated", "relaxation", "nscd", "limit")
 
 
 def test_every_solver_supports_admits_runs_and_every_other_is_refused_with_its_reason():

@@ -37,9 +37,10 @@ impl Pressure {
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct SolverChoice {
     /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
-    /// method), `implicit`, `accelerated` or `relaxation` (penalty DEM, one static method
-    /// forced), `nscd` (non-smooth contact dynamics, rigid joints), `limit` (limit
-    /// analysis, rigid joints); `kind` in a study's [solver] table.
+    /// method), `newton` (penalty DEM, a semi-smooth Newton solve of each static increment
+    /// before the protocol's own method), `implicit`, `accelerated` or `relaxation`
+    /// (penalty DEM, one static method forced), `nscd` (non-smooth contact dynamics, rigid
+    /// joints), `limit` (limit analysis, rigid joints); `kind` in a study's [solver] table.
     #[arg(long, default_value = "penalty", value_parser = parse_solver)]
     pub solver: SolverKind,
 }

@@ -103,8 +103,12 @@ solvers! {
         /// and the static lateral load run plain dynamic relaxation.
         #[default]
         Penalty = "penalty",
-        /// The penalty DEM, every stage: implicit iteration → stall probe → accelerated,
-        /// probed dynamic relaxation.
+        /// The penalty DEM, the semi-smooth Newton solve of each increment first
+        /// (`dem::drivers::newton`), then the protocol's default cascade where it ends
+        /// unsolved.
+        Newton = "newton",
+        /// The penalty DEM: implicit iteration → stall probe → accelerated, probed dynamic
+        /// relaxation.
         Implicit = "implicit",
         /// The penalty DEM, accelerated and probed dynamic relaxation without the implicit
         /// iteration (formerly `--no-implicit`, `implicit = false` in `[tilt]`).
@@ -193,7 +197,7 @@ impl SolverKind {
     /// run.
     pub fn names_cascade(self) -> bool {
         match self {
-            SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => true,
+            SolverKind::Newton | SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation => true,
             SolverKind::Penalty | SolverKind::Nscd | SolverKind::Limit => false,
         }
     }
@@ -212,8 +216,9 @@ impl SolverKind {
     pub fn cascade(self, protocol_default: Cascade) -> Option<Cascade> {
         match self {
             SolverKind::Penalty => Some(protocol_default),
-            SolverKind::Implicit => Some(Cascade::FULL),
-            SolverKind::Accelerated => Some(Cascade { implicit: false, accelerate: true }),
+            SolverKind::Newton => Some(Cascade { newton: true, ..protocol_default }),
+            SolverKind::Implicit => Some(Cascade::IMPLICIT),
+            SolverKind::Accelerated => Some(Cascade { newton: false, implicit: false, accelerate: true }),
             SolverKind::Relaxation => Some(Cascade::RELAXATION),
             SolverKind::Nscd | SolverKind::Limit => None,
         }
@@ -240,7 +245,10 @@ impl std::str::FromStr for SolverKind {
 /// The stages of the penalty cascade that a static solve runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cascade {
-    /// The implicit iteration first (and the probe of its drift where it stalls).
+    /// The semi-smooth Newton solve of the increment first (`dem::drivers::newton`); where
+    /// it ends unsolved, the state is as it was and the next stage runs.
+    pub newton: bool,
+    /// The implicit iteration (and the probe of its drift where it stalls).
     pub implicit: bool,
     /// The secant acceleration and stability indicator in dynamic relaxation.
     pub accelerate: bool,
@@ -248,9 +256,13 @@ pub struct Cascade {
 
 impl Cascade {
     /// Every stage.
-    pub const FULL: Cascade = Cascade { implicit: true, accelerate: true };
+    pub const FULL: Cascade = Cascade { newton: true, implicit: true, accelerate: true };
+    /// Every stage but the Newton solve.
+    pub const IMPLICIT: Cascade = Cascade { newton: false, implicit: true, accelerate: true };
+    /// The Newton solve, then plain dynamic relaxation.
+    pub const NEWTON_RELAXATION: Cascade = Cascade { newton: true, implicit: false, accelerate: false };
     /// Plain dynamic relaxation.
-    pub const RELAXATION: Cascade = Cascade { implicit: false, accelerate: false };
+    pub const RELAXATION: Cascade = Cascade { newton: false, implicit: false, accelerate: false };
 }
 
 #[cfg(test)]
@@ -265,11 +277,13 @@ mod tests {
         }
         assert!("rigid".parse::<SolverKind>().unwrap_err().contains("nscd"));
         assert_eq!(SolverKind::Penalty.cascade(Cascade::RELAXATION), Some(Cascade::RELAXATION));
-        assert_eq!(SolverKind::Implicit.cascade(Cascade::RELAXATION), Some(Cascade::FULL));
+        assert_eq!(SolverKind::Implicit.cascade(Cascade::RELAXATION), Some(Cascade::IMPLICIT));
+        assert_eq!(SolverKind::Newton.cascade(Cascade::RELAXATION), Some(Cascade::NEWTON_RELAXATION));
+        assert_eq!(SolverKind::Newton.cascade(Cascade::IMPLICIT), Some(Cascade::FULL));
         assert!(!SolverKind::Nscd.is_penalty() && !SolverKind::Limit.is_penalty());
         assert!(SolverKind::Relaxation.is_penalty());
         for k in SolverKind::ALL {
-            assert_eq!(k.is_penalty(), k.cascade(Cascade::FULL).is_some(), "{k}");
+            assert_eq!(k.is_penalty(), k.cascade(Cascade::IMPLICIT).is_some(), "{k}");
             assert_eq!(k.method().kind().method(), k.method());
         }
         assert!(SolverKind::Implicit.names_cascade() && !SolverKind::Penalty.names_cascade());
@@ -295,7 +309,7 @@ mod tests {
         }
         assert_eq!(
             SolverKind::ALL.map(SolverKind::name),
-            ["penalty", "implicit", "accelerated", "relaxation", "nscd", "limit"]
+            ["penalty", "newton", "implicit", "accelerated", "relaxation", "nscd", "limit"]
         );
         assert_eq!(Method::ALL.map(Method::name), ["penalty", "nscd", "limit"]);
         assert_eq!(SolverKind::default(), SolverKind::Penalty);

@@ -8,7 +8,7 @@
 use crate::range::{check_ranges, OutOfRange};
 use serde::{Deserialize, Serialize};
 
-/// Parameters of the penalty DEM's solves (`kind = "penalty"`, `implicit`, `accelerated`,
+/// Parameters of the penalty DEM's solves (`kind = "penalty"`, `newton`, `implicit`, `accelerated`,
 /// `relaxation`; a `[solver.penalty]` table in a study, the `penalty` key of a Python
 /// solver dict, `--tolerance`, `--max-steps`, `--no-predictor` and `--restitution` on the
 /// command line). Defaults in brackets. The method's other settings (local damping, the

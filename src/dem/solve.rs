@@ -7,12 +7,16 @@
 //! the implicit iteration gave up, its cause ([`Unsolved`]). The penalty cascade is owned
 //! here:
 //!
-//! 1. the implicit iteration (`dem::drivers::implicit`: the factorized stiffness of the
+//! 1. the semi-smooth Newton solve of the increment (`dem::drivers::newton`: every iterate
+//!    one jump of the total increment from the state as placed, the consistent tangent of
+//!    the joints, a backtracking line search); where it ends unsolved the state is put back
+//!    as placed, and the cause is kept in the outcome;
+//! 2. the implicit iteration (`dem::drivers::implicit`: the factorized stiffness of the
 //!    contact springs as preconditioner, Anderson mixing), from the state as placed;
-//! 2. if it stalls, the probe of its drift (`dem::drivers::accelerate::probe_along`): when
+//! 3. if it stalls, the probe of its drift (`dem::drivers::accelerate::probe_along`): when
 //!    the out-of-balance force pushes the wall along the drift all the way to the probe's
 //!    reach, no equilibrium lies near the path ([`End::Unstable`] with that drift);
-//! 3. dynamic relaxation with local damping (`dem::drivers::relax`), with the secant
+//! 4. dynamic relaxation with local damping (`dem::drivers::relax`), with the secant
 //!    acceleration of slow creep and its stability indicator, probed along the path ahead.
 //!
 //! Which stages run is the solver's choice ([`SolverKind`](super::method::SolverKind), `[solver] kind` in a study,
@@ -23,6 +27,7 @@
 
 use super::drivers::accelerate::{probe_along, Ahead, SecantAcceleration};
 use super::drivers::implicit::{implicit_relaxation, ImplicitSolve, PoseIncrement, Solved, Unsolved};
+use super::drivers::newton::{newton_increment, NewtonSolve};
 use super::drivers::relax::{dynamic_relaxation, dynamic_relaxation_probed, Relaxed};
 use super::method::Cascade;
 use super::motion::{largest_motion, BodyPose};
@@ -41,6 +46,8 @@ pub struct StaticSolve {
     pub acceleration: SecantAcceleration,
     /// Settings of the implicit iteration (with `cascade.implicit`).
     pub implicit: ImplicitSolve,
+    /// Settings of the semi-smooth Newton solve (with `cascade.newton`).
+    pub newton: NewtonSolve,
     /// Reach of the probes, m: the largest body motion from the start of the solve up to
     /// which a probe looks for an equilibrium along the motion (the protocol's collapse
     /// displacement). `None`: no probes (the stability indicator alone ends an accelerated
@@ -59,6 +66,7 @@ impl StaticSolve {
             max_steps: penalty.max_steps,
             acceleration: penalty.acceleration,
             implicit: penalty.implicit_solve,
+            newton: NewtonSolve::default(),
             reach,
         }
     }
@@ -72,6 +80,7 @@ impl StaticSolve {
             max_steps,
             acceleration: SecantAcceleration::default(),
             implicit: ImplicitSolve::default(),
+            newton: NewtonSolve::default(),
             reach: None,
         }
     }
@@ -99,6 +108,8 @@ impl RunToEquilibrium for Simulation {
 /// The stage of the cascade that ended a static solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SolveStage {
+    /// The semi-smooth Newton solve.
+    Newton,
     /// The implicit iteration (or the probe of its drift).
     Implicit,
     /// Dynamic relaxation.
@@ -129,8 +140,12 @@ pub struct SolveOutcome<R> {
     pub stage: SolveStage,
     /// Dynamic-relaxation steps taken.
     pub steps: u64,
-    /// Implicit iterations taken.
+    /// Newton and implicit iterations taken.
     pub iterations: u32,
+    /// Of `iterations`, the Newton iterations.
+    pub newton_iterations: u32,
+    /// Why the Newton solve handed over, where it ran and did not end the solve.
+    pub newton_unsolved: Option<Unsolved>,
     /// Why the implicit iteration handed over, where it ran and did not end the solve.
     pub unsolved: Option<Unsolved>,
 }
@@ -151,12 +166,41 @@ pub fn solve_static<R>(
 ) -> Result<SolveOutcome<R>, DemError> {
     let mut iterations = 0;
     let mut unsolved = None;
+    let (mut newton_iterations, mut newton_unsolved) = (0, None);
+    if solve.cascade.newton {
+        let end = |end, it| SolveOutcome {
+            end,
+            stage: SolveStage::Newton,
+            steps: 0,
+            iterations: it,
+            newton_iterations: it,
+            newton_unsolved: None,
+            unsolved: None,
+        };
+        match newton_increment(sim, solve.tolerance, &solve.newton, &mut check) {
+            Solved::Equilibrium(it) => return Ok(end(End::Equilibrium, it)),
+            Solved::Stopped(reason, it) => return Ok(end(End::Stopped(reason), it)),
+            Solved::Unsolved(cause, it) => {
+                (newton_iterations, newton_unsolved) = (it, Some(cause));
+                iterations = it;
+            }
+        }
+    }
+    let implicit_end = |end, it| SolveOutcome {
+        end,
+        stage: SolveStage::Implicit,
+        steps: 0,
+        iterations: newton_iterations + it,
+        newton_iterations,
+        newton_unsolved: newton_unsolved.clone(),
+        unsolved: None,
+    };
     if solve.cascade.implicit {
         match implicit_relaxation(sim, solve.tolerance, &solve.implicit, &mut check) {
             Solved::Equilibrium(it) => return Ok(implicit_end(End::Equilibrium, it)),
             Solved::Stopped(reason, it) => return Ok(implicit_end(End::Stopped(reason), it)),
             Solved::Unsolved(Unsolved::Stalled, it) => {
-                iterations = it;
+                iterations += it;
                 unsolved = Some(Unsolved::Stalled);
                 if let Some(limit) = solve.reach {
                     // The iterates drifted from the start without finding an equilibrium:
@@ -176,7 +220,7 @@ pub fn solve_static<R>(
                 }
             }
             Solved::Unsolved(cause, it) => {
-                iterations = it;
+                iterations += it;
                 unsolved = Some(cause);
             }
         }
@@ -193,11 +237,15 @@ pub fn solve_static<R>(
         Relaxed::Budget(steps) => (End::Budget, steps),
         Relaxed::Unstable(steps, direction) => (End::Unstable(direction), steps),
     };
-    Ok(SolveOutcome { end, stage: SolveStage::Relaxation, steps, iterations, unsolved })
-}
-
-fn implicit_end<R>(end: End<R>, iterations: u32) -> SolveOutcome<R> {
-    SolveOutcome { end, stage: SolveStage::Implicit, steps: 0, iterations, unsolved: None }
+    Ok(SolveOutcome {
+        end,
+        stage: SolveStage::Relaxation,
+        steps,
+        iterations,
+        newton_iterations,
+        newton_unsolved,
+        unsolved,
+    })
 }
 
 #[cfg(test)]
@@ -219,6 +267,7 @@ mod tests {
             max_steps: 100_000,
             acceleration: SecantAcceleration::default(),
             implicit: ImplicitSolve::default(),
+            newton: NewtonSolve::default(),
             reach: Some(0.01),
         }
     }
@@ -233,8 +282,10 @@ mod tests {
             b.mass * 9.81 / (1e8 * 0.3 * 0.2)
         };
         for (cascade, stage) in [
-            (Cascade::FULL, SolveStage::Implicit),
-            (Cascade { implicit: false, accelerate: true }, SolveStage::Relaxation),
+            (Cascade::FULL, SolveStage::Newton),
+            (Cascade::NEWTON_RELAXATION, SolveStage::Newton),
+            (Cascade::IMPLICIT, SolveStage::Implicit),
+            (Cascade { newton: false, implicit: false, accelerate: true }, SolveStage::Relaxation),
             (Cascade::RELAXATION, SolveStage::Relaxation),
         ] {
             let mut sim = block();
@@ -243,8 +294,9 @@ mod tests {
             let out = solve_static(&mut sim, &solve(cascade), &start, |_| None::<()>).unwrap();
             assert_eq!(out.end, End::Equilibrium, "{cascade:?}");
             assert_eq!(out.stage, stage, "{cascade:?}");
-            assert_eq!(out.iterations > 0, cascade.implicit, "{cascade:?}");
-            assert_eq!(out.steps > 0, !cascade.implicit, "{cascade:?}");
+            assert_eq!(out.iterations > 0, cascade.implicit || cascade.newton, "{cascade:?}");
+            assert_eq!(out.newton_iterations > 0, cascade.newton, "{cascade:?}");
+            assert_eq!(out.steps > 0, !(cascade.implicit || cascade.newton), "{cascade:?}");
             let closure = z0 - sim.state.bodies[0].pos.z;
             assert!((closure / closure_exact - 1.0).abs() < 0.02, "{cascade:?}: {closure} vs {closure_exact}");
         }
@@ -256,8 +308,11 @@ mod tests {
     fn a_stop_check_and_the_budget_end_the_solve() {
         let mut sim = block();
         let start = crate::dem::motion::poses(&sim);
-        let out = solve_static(&mut sim, &solve(Cascade::FULL), &start, |_| Some("stop")).unwrap();
+        let out = solve_static(&mut sim, &solve(Cascade::IMPLICIT), &start, |_| Some("stop")).unwrap();
         assert_eq!((out.end, out.stage), (End::Stopped("stop"), SolveStage::Implicit));
+        let mut sim = block();
+        let out = solve_static(&mut sim, &solve(Cascade::FULL), &start, |_| Some("stop")).unwrap();
+        assert_eq!((out.end, out.stage), (End::Stopped("stop"), SolveStage::Newton));
         let mut sim = block();
         let tight = StaticSolve { tolerance: 1e-14, max_steps: 7, ..solve(Cascade::RELAXATION) };
         let out = solve_static(&mut sim, &tight, &start, |_| None::<()>).unwrap();

@@ -20,7 +20,7 @@
 //!   (`run_shake_penalty` below). Finite joint stiffness: the joints'
 //!   closure and elastic rocking.
 //!
-//! The other penalty kinds (`implicit`, `accelerated`, `relaxation`) are static methods and
+//! The other penalty kinds (`newton`, `implicit`, `accelerated`, `relaxation`) are static methods and
 //! are refused, as is `limit`.
 //!
 //! What is measured, per run: whether the wall **overturned** (a block has fallen: turned

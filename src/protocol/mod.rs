@@ -209,7 +209,7 @@ macro_rules! registry {
         /// the protocol's row ([`LoadingProtocol::WAYS`]). The table below, as README.md's,
         /// is the registry's: a test generates it and prints it to paste when a copy differs.
         ///
-        /// | protocol | the penalty DEM (`penalty`, `implicit`, `accelerated`, `relaxation`) | non-smooth contact dynamics (`nscd`) | limit analysis (`limit`) |
+        /// | protocol | the penalty DEM (`penalty`, `newton`, `implicit`, `accelerated`, `relaxation`) | non-smooth contact dynamics (`nscd`) | limit analysis (`limit`) |
         /// | --- | --- | --- | --- |
         /// | `tilt`: the tilting table | collapse angle (bisection of static states) | rigid collapse angle | α_max = atan λ |
         /// | `tilt_by_hand`: the tilting table rolled by hand (tilt.by_hand) | – | the rolled table's motion | – |
@@ -422,7 +422,7 @@ pub fn supports(protocol: Loading, method: Method) -> bool {
 }
 
 /// Checks that the solver `kind` runs `protocol`: its method is in the table, and a motion
-/// is not given a cascade of static solves (`implicit`, `accelerated`, `relaxation`).
+/// is not given a cascade of static solves (`newton`, `implicit`, `accelerated`, `relaxation`).
 ///
 /// # Errors
 /// [`Unsupported`], naming the methods that run the protocol.

@@ -124,7 +124,11 @@ pub fn step_rule(solver: &SolverParams) -> Option<StepRule> {
             Some(StepRule { pulse_dt_s: dt, fixed_dt_s: Some(dt).filter(|&d| d > 0.0), from_walls: false })
         }
         SolverKind::Penalty => Some(StepRule { pulse_dt_s: dt.min(1e-3), fixed_dt_s: None, from_walls: true }),
-        SolverKind::Implicit | SolverKind::Accelerated | SolverKind::Relaxation | SolverKind::Limit => None,
+        SolverKind::Newton
+        | SolverKind::Implicit
+        | SolverKind::Accelerated
+        | SolverKind::Relaxation
+        | SolverKind::Limit => None,
     }
 }
 
@@ -139,6 +143,7 @@ pub fn restitutions(kind: SolverKind, e: Option<f64>) -> (f64, f64) {
     match kind {
         SolverKind::Nscd => (e.unwrap_or(nscd), contact),
         SolverKind::Penalty
+        | SolverKind::Newton
         | SolverKind::Implicit
         | SolverKind::Accelerated
         | SolverKind::Relaxation

@@ -88,14 +88,19 @@ impl Default for TiltParams {
 
 impl TiltParams {
     /// The stages of the static solve of every increment and trial with the solver `kind`:
-    /// the tilting table's default is every stage ([`Cascade::FULL`]: the implicit
-    /// iteration, its stall probe, accelerated and probed dynamic relaxation); the
-    /// deprecated [`TiltParams::implicit`] and [`TiltParams::accelerate`] switch stages off.
+    /// the tilting table's default is [`Cascade::IMPLICIT`] (the implicit iteration, its
+    /// stall probe, accelerated and probed dynamic relaxation; `--solver newton` puts the
+    /// semi-smooth Newton solve before them); the deprecated [`TiltParams::implicit`]
+    /// (both implicit stages) and [`TiltParams::accelerate`] switch stages off.
     /// `Cascade::RELAXATION` for a solver that is not a penalty method (which does not run
     /// this protocol).
     pub fn cascade(&self, kind: SolverKind) -> Cascade {
-        let c = kind.cascade(Cascade::FULL).unwrap_or(Cascade::RELAXATION);
-        Cascade { implicit: c.implicit && self.implicit, accelerate: c.accelerate && self.accelerate }
+        let c = kind.cascade(Cascade::IMPLICIT).unwrap_or(Cascade::RELAXATION);
+        Cascade {
+            newton: c.newton && self.implicit,
+            implicit: c.implicit && self.implicit,
+            accelerate: c.accelerate && self.accelerate,
+        }
     }
 
     /// The penalty settings written under this table's former keys (deprecated; see

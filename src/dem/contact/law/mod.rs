@@ -150,12 +150,17 @@ pub struct SubContactState {
     pub bonded: bool,
     /// The shear force was on the slip limit at the last evaluation.
     pub slipping: bool,
+    /// The factor the Coulomb return scaled the trial shear force by at the last
+    /// evaluation, `limit / |Fs_trial|` in (0, 1] while slipping, 1 otherwise (–). Not
+    /// history: the consistent tangent of the slip limit reads it
+    /// (`crate::dem::drivers::newton`).
+    pub return_scale: f64,
 }
 
 impl SubContactState {
     /// A fresh sub-contact with no force; `bonded` if its joint starts intact.
     pub fn new(bonded: bool) -> Self {
-        SubContactState { shear: Vec3::zeros(), normal: 0.0, bonded, slipping: false }
+        SubContactState { shear: Vec3::zeros(), normal: 0.0, bonded, slipping: false, return_scale: 1.0 }
     }
 
     fn clear(&mut self) {
@@ -214,6 +219,7 @@ pub fn evaluate(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k: &
         s.bonded = false;
         s.clear();
         s.slipping = false;
+        s.return_scale = 1.0;
         return NO_FORCE;
     }
     let at = if fnorm.abs() > 0.0 {

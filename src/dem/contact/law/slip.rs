@@ -50,6 +50,7 @@ pub fn shear(p: &SlipParams, s: &mut SubContactState, n: Vec3, du: Vec3, area: f
     }
     fs -= du * (p.ks * area);
     s.slipping = false;
+    s.return_scale = 1.0;
     let mut mobilised = 0.0;
     if p.can_slip {
         let cohesion = if s.bonded { p.cohesion * area } else { 0.0 };
@@ -65,8 +66,10 @@ pub fn shear(p: &SlipParams, s: &mut SubContactState, n: Vec3, du: Vec3, area: f
                 }
             }
             let mag = mag2.sqrt();
-            fs *= if mag > 0.0 { limit / mag } else { 0.0 };
+            let scale = if mag > 0.0 { limit / mag } else { 0.0 };
+            fs *= scale;
             s.slipping = true;
+            s.return_scale = scale;
         }
         mobilised = if s.slipping || limit <= 0.0 { 1.0 } else { (mag2.sqrt() / limit).min(1.0) };
     }

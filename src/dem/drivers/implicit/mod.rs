@@ -62,7 +62,7 @@
 //! the same order, the same factor bit for bit.
 
 mod anderson;
-mod stiffness;
+pub(in crate::dem::drivers) mod stiffness;
 
 use crate::dem::engine::Simulation;
 use crate::math::Vec3;
@@ -104,6 +104,12 @@ pub enum Unsolved {
     /// The unbalanced-force ratio grew tenfold above where it started, or turned
     /// non-finite; the state is put back where the iteration started.
     Diverged,
+    /// The Newton direction of the semi-smooth Newton iteration
+    /// ([`crate::dem::drivers::newton`]) did not reduce the out-of-balance force within the
+    /// line search's halvings: a limit point (the tangent singular, no equilibrium near)
+    /// or a change of the contact states the tangent did not foresee; the state is put
+    /// back where the iteration started.
+    NoDescent,
 }
 
 /// A pose increment: per body, translation (m) and rotation vector (rad), table frame.

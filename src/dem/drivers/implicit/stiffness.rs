@@ -22,21 +22,21 @@ use std::collections::BTreeMap;
 use std::rc::Rc;
 
 /// The numbering of the unknowns: six per free body (translation, rotation), in body order.
-pub(super) struct Dofs {
+pub(in crate::dem::drivers) struct Dofs {
     /// First unknown of each body (`usize::MAX` for a fixed body).
-    first: Vec<usize>,
+    pub(in crate::dem::drivers) first: Vec<usize>,
     /// Which of a body's six degrees of freedom (x, y, z translation of the centroid, then
     /// rotation about x, y, z; table frame) are held: the y translation of a rigid end
     /// restraint, and the held translations and rotations of a per-degree-of-freedom
     /// constraint ([`crate::dem::DofConstraint`]; a held translation anchored off the
     /// centroid is taken as held at the centroid, the jumps put the anchor back).
-    held: Vec<[bool; 6]>,
+    pub(in crate::dem::drivers) held: Vec<[bool; 6]>,
     /// Number of unknowns.
-    pub(super) n: usize,
+    pub(in crate::dem::drivers) n: usize,
 }
 
 impl Dofs {
-    pub(super) fn new(sim: &Simulation) -> Dofs {
+    pub(in crate::dem::drivers) fn new(sim: &Simulation) -> Dofs {
         let mut n = 0;
         let first = sim
             .state

@@ -1,0 +1,199 @@
+//! A semi-smooth Newton method for one static increment of the penalty DEM: the
+//! incremental elasto-plastic problem of the joints solved with their consistent tangent,
+//! globalised by a backtracking line search.
+//!
+//! # The increment as a return mapping
+//!
+//! The joint history of a sub-contact is its shear force (with its slip and bond state);
+//! the normal force follows from the total closure and has none (`contact::law`). The
+//! increment's start state (the poses and the history at entry: the last converged state,
+//! or the secant prediction a protocol jumped to) is kept fixed, and every iterate
+//! evaluates the contact forces from it with the TOTAL motion of the increment `Δq_k` in
+//! one jump of [`Simulation::predict_deferred`]: the joints take the relative motion of
+//! the whole increment as one shear increment, the trial force `T = Fs₀ − Ks A Δuₛ`, and
+//! the Coulomb limit and the no-tension closure act on it once (the radial return of
+//! computational plasticity, Simo & Hughes 1998, *Computational Inelasticity*, ch. 3;
+//! Wriggers 2006, *Computational Contact Mechanics*, ch. 5). Restoring the start state and
+//! making one jump is exact for this: a jump applies the relative motion of the bodies at
+//! each sub-contact's centroid as one shear increment (a straight path), which is what a
+//! return map from the converged state does. The history left by the solve is therefore
+//! that of one jump from the start, whatever path the iterates took (the implicit
+//! iteration, `super::implicit`, chains its jumps, so its joints' history follows the
+//! iterates).
+//!
+//! # The consistent tangent
+//!
+//! `R(Δq)` is the out-of-balance force and moment of every free body (N, N·m about its
+//! centroid, table frame) after the jump; Newton's step solves `K d = R` with `K = −∂R/∂q`
+//! at the current iterate, assembled per body pair with the lever arms of the springs
+//! (`tangent`):
+//!
+//! * the normal springs over the compressed part of each sub-contact triangle (clipped at
+//!   the zero-closure line; the part carrying tension where a bonded joint has a tensile
+//!   strength), integrated by the rule exact for quadratics (weights `a/12` at the
+//!   vertices, `3a/4` at the centroid of each piece of area `a`), with the closure law's
+//!   tangent `dq/du` at each point: exact for the linear law, zero where the joint is open
+//!   (the piecewise-smooth Jacobian of the no-tension closure, Alart & Curnier 1991,
+//!   *Comput. Methods Appl. Mech. Eng.* 92, 353, in its penalty form);
+//! * the shear spring `Ks A (I − n nᵀ)` at the sub-contact's centroid where it sticks;
+//!   where it slips, the derivative of the radial return `Fs = μ Fn T/|T|`:
+//!   `μFn/|T| (I − n nᵀ − e eᵀ) Ks A` (`e = T/|T|`, the factor stored by the law as
+//!   `SubContactState::return_scale`) and the coupling `μ e ⊗ ∂Fn/∂q` to the normal springs
+//!   of the same sub-contact, which makes `K` non-symmetric;
+//! * the end-restraint springs and the rigs' moments linear in the motion;
+//! * held degrees of freedom as the jump holds them: a held rotation is left out, a held
+//!   translation at an anchor off the centroid moves the centroid with the body's rotation
+//!   (`K_red = Eᵀ K E` with that map `E`), which is how the load stage reports the
+//!   out-of-balance moment of such a body.
+//!
+//! Left out: the geometric stiffness (the rotation of the forces and arms with the bodies)
+//! and the lever of the shear force between the centroid and its point of application.
+//! `K` is factorized by faer's sparse LU with partial pivoting (simplicial, COLAMD ordering,
+//! run sequentially); every diagonal entry gets [`tangent::FLOOR`] of the largest
+//! diagonal entry of its kind added, which matters only where the tangent is singular (a
+//! body with no closed contact, a sliding or rocking mechanism).
+//!
+//! # Globalisation and ending
+//!
+//! The step `Δq ← Δq + s d` is accepted at the first `s = 1, ½, ¼, …` (at most
+//! [`NewtonSolve::max_halvings`] halvings) for which the merit `φ = Σ |f|² + |t/ρ|²` (the
+//! out-of-balance forces and moments over the body radius ρ) satisfies Armijo's condition
+//! `φ(s) ≤ (1 − 2σ s) φ(0)` with `σ = 1e-4` (Dennis & Schnabel 1996, *Numerical Methods for
+//! Unconstrained Optimization and Nonlinear Equations*, § 6.3). The solve ends at
+//! equilibrium (unbalanced-force ratio below the tolerance, the criterion of every static
+//! solve), when the protocol's check stops it, when no step length reduces the merit
+//! ([`Unsolved::NoDescent`]: at and past a limit point the tangent is singular and its
+//! direction runs along the mechanism, where the out-of-balance force does not fall), or
+//! after [`NewtonSolve::max_iterations`]. Unsolved, the state is put back as it was at
+//! entry, so that the cascade's next stage starts where it would have without this one.
+//!
+//! The assembly runs in contact order with ordered maps, and the factorization and solves
+//! are sequential: the same bits on any number of threads.
+
+mod tangent;
+
+use super::implicit::stiffness::Dofs;
+use super::implicit::{PoseIncrement, Solved, Unsolved};
+use crate::dem::engine::Simulation;
+use crate::math::Vec3;
+
+/// Settings of the semi-smooth Newton solve of one increment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSolve {
+    /// Newton iterations (tangent factorizations) before giving up \[30\].
+    pub max_iterations: u32,
+    /// Halvings of the step length the line search tries before giving up \[8\].
+    pub max_halvings: u32,
+}
+
+impl Default for NewtonSolve {
+    fn default() -> Self {
+        NewtonSolve { max_iterations: 30, max_halvings: 8 }
+    }
+}
+
+/// Armijo's constant of the line search, –.
+pub const ARMIJO: f64 = 1e-4;
+
+/// The merit of a state: `Σ |f|² + |t/ρ|²` over the free bodies, N² (`f`, `t` the
+/// out-of-balance force and moment of [`Simulation::unbalanced`], `ρ` the body radius).
+fn merit(sim: &Simulation) -> f64 {
+    sim.state
+        .bodies
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| !b.fixed())
+        .map(|(k, b)| {
+            let (f, t) = sim.unbalanced(k);
+            f.norm_squared() + (t / b.radius).norm_squared()
+        })
+        .sum()
+}
+
+/// Solves the static increment of `sim` (its load set, its state at entry the start of
+/// the increment) for an unbalanced-force ratio below `tol` by the semi-smooth Newton
+/// method of the module doc, calling `check` after every accepted iterate; a reason from
+/// `check` stops it. At equilibrium or when stopped, `sim` is the last iterate (one jump of
+/// the total increment from the state at entry; the inertial masses and the time step
+/// brought up to date if contacts were re-detected); unsolved, it is left as it was at
+/// entry. The count returned is of Newton iterations (tangent factorizations).
+pub fn newton_increment<R>(
+    sim: &mut Simulation,
+    tol: f64,
+    settings: &NewtonSolve,
+    check: impl FnMut(&Simulation) -> Option<R>,
+) -> Solved<R> {
+    let (out, last) = iterate(sim, tol, settings, check);
+    if let (Solved::Equilibrium(_) | Solved::Stopped(..), Some((cur, stale))) = (&out, last) {
+        *sim = cur;
+        if stale {
+            sim.update_masses_and_step();
+        }
+    }
+    out
+}
+
+/// The iteration of [`newton_increment`] from `sim`, which it leaves as it is: how it
+/// ended, and the last iterate with whether its jump re-detected contacts (`None` without
+/// free bodies).
+fn iterate<R>(
+    sim: &Simulation,
+    tol: f64,
+    settings: &NewtonSolve,
+    mut check: impl FnMut(&Simulation) -> Option<R>,
+) -> (Solved<R>, Option<(Simulation, bool)>) {
+    let nb = sim.state.bodies.len();
+    let dofs = Dofs::new(sim);
+    if dofs.n == 0 {
+        return (Solved::Unsolved(Unsolved::NoFreeBodies, 0), None);
+    }
+    let zeros = vec![Vec3::zeros(); nb];
+    let jump = |x: &PoseIncrement| {
+        let mut s = sim.clone();
+        let stale = s.predict_deferred(&x.0, &x.1).changed();
+        s.assess_predicted();
+        let phi = merit(&s);
+        (s, stale, phi)
+    };
+    let mut x: PoseIncrement = (zeros.clone(), zeros);
+    let (mut cur, mut stale, mut phi) = jump(&x);
+    for it in 0..settings.max_iterations {
+        if cur.stats().unbalanced_ratio < tol {
+            return (Solved::Equilibrium(it), Some((cur, stale)));
+        }
+        let d = match tangent::newton_step(&cur, &dofs) {
+            Ok(d) => d,
+            Err(e) => return (Solved::Unsolved(Unsolved::Factorization(e), it), Some((cur, stale))),
+        };
+        let mut s = 1.0;
+        let mut accepted = None;
+        for _ in 0..=settings.max_halvings {
+            let xt: PoseIncrement = (
+                x.0.iter().zip(&d.0).map(|(a, b)| a + b * s).collect(),
+                x.1.iter().zip(&d.1).map(|(a, b)| a + b * s).collect(),
+            );
+            let (trial, st, pt) = jump(&xt);
+            if pt <= (1.0 - 2.0 * ARMIJO * s) * phi {
+                accepted = Some((trial, st, pt, xt));
+                break;
+            }
+            s *= 0.5;
+        }
+        let Some((trial, st, pt, xt)) = accepted else {
+            return (Solved::Unsolved(Unsolved::NoDescent, it + 1), Some((cur, stale)));
+        };
+        (cur, stale, phi, x) = (trial, st, pt, xt);
+        if let Some(r) = check(&cur) {
+            return (Solved::Stopped(r, it + 1), Some((cur, stale)));
+        }
+    }
+    let out = if cur.stats().unbalanced_ratio < tol {
+        Solved::Equilibrium(settings.max_iterations)
+    } else {
+        Solved::Unsolved(Unsolved::Budget, settings.max_iterations)
+    };
+    (out, Some((cur, stale)))
+}
+
+#[cfg(test)]
+mod tests;
