@@ -38,7 +38,8 @@ impl Pressure {
 pub struct SolverChoice {
     /// Solver: `penalty` (the default: the penalty DEM with the protocol's own static
     /// method), `newton` (penalty DEM, a semi-smooth Newton solve of each static increment
-    /// before the protocol's own method), `implicit`, `accelerated` or `relaxation`
+    /// before the protocol's own method; about 4 times the default's CPU on a tilt,
+    /// BENCHMARKS.md), `implicit`, `accelerated` or `relaxation`
     /// (penalty DEM, one static method forced), `nscd` (non-smooth contact dynamics, rigid
     /// joints), `limit` (limit analysis, rigid joints); `kind` in a study's [solver] table.
     #[arg(long, default_value = "penalty", value_parser = parse_solver)]

@@ -81,6 +81,7 @@ pub fn limit_in_plane(
             name: j.name.clone(),
             normal: j.frame[0],
             points: j.points.clone().map(|p| model.points[p].x).collect(),
+            elastic_m: 0.0,
         })
         .collect();
     let v = &r.velocities;

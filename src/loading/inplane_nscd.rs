@@ -67,6 +67,7 @@ pub fn nscd_mechanism_joints(sim: &NscdSimulation) -> Vec<MechanismJoint> {
                 name: c.joint_name(bodies),
                 normal: c.normal(bodies),
                 points: vec![x],
+                elastic_m: 0.0,
             }),
         }
     }

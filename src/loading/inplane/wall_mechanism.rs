@@ -90,6 +90,13 @@ pub struct MechanismJoint {
     pub normal: Vec3,
     /// Points on the joint, m.
     pub points: Vec<Vec3>,
+    /// The joint's elastic range, m: over its sub-contacts, the largest shear deflection
+    /// its springs carry before they slip, `(Fn tan φ + c A) / (Ks A)`, plus the largest
+    /// normal deflection `Fn / (Kn A)`, with the normal forces `Fn` of the state the joints
+    /// are taken in (the penalty DEM's springs; 0 for the rigid joints of nscd and limit
+    /// analysis). A relative motion within it may be the springs' alone, so
+    /// [`read_mechanism`] does not count it as the joint moving.
+    pub elastic_m: f64,
 }
 
 /// The joints of a simulation's current contacts, for [`read_mechanism`].
@@ -110,15 +117,34 @@ pub fn mechanism_joints(sim: &Simulation) -> Vec<MechanismJoint> {
                     0.5 * (pa + pb)
                 })
                 .collect(),
+            elastic_m: elastic_deflection(c),
         })
         .collect()
+}
+
+/// A contact's elastic range for [`MechanismJoint::elastic_m`], m.
+fn elastic_deflection(c: &Contact) -> f64 {
+    let j = &c.joint;
+    let (mut shear, mut normal) = (0.0_f64, 0.0_f64);
+    for s in c.subs.iter().filter(|s| s.area > 0.0) {
+        let fn_ = s.state.normal.max(0.0);
+        if j.ks > 0.0 {
+            shear = shear.max((fn_ * j.tan_phi + j.cohesion * s.area) / (j.ks * s.area));
+        }
+        if j.kn > 0.0 {
+            normal = normal.max(fn_ / (j.kn * s.area));
+        }
+    }
+    shear + normal
 }
 
 /// Reads the mechanism of a motion of the blocks: `motion(k, x)` is the displacement (or
 /// virtual velocity) of body k's material point at `x` (table frame), `ids` the bodies' ids,
 /// `beam` the beam's index and `scale` the beam's motion (the relative motions are compared
 /// with it). A joint moves when its largest relative motion reaches [`ACTIVE_JOINT_SHARE`]
-/// of `scale`; the joints that do not move join the blocks into rigid groups, and the
+/// of `scale` and passes its elastic range ([`MechanismJoint::elastic_m`]: the motion its
+/// springs alone may give, as the elastic shear of a loading beam's bed under a wall that
+/// rocks); the joints that do not move join the blocks into rigid groups, and the
 /// crack is the moving joints around the beam's group (bed joints: a normal within 45° of z;
 /// head joints: within 45° of x). `rotation(k)` is body k's rotation about y and `anchor`
 /// the actuator's point (table frame): the mechanism is rocking where the group's rotation
@@ -160,7 +186,7 @@ pub fn read_mechanism(
             js += (d - j.normal * dn).norm();
             largest = largest.max(d.norm());
         }
-        if scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale {
+        if scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale && largest > j.elastic_m {
             moving.push((i, jo, js));
         } else {
             let (ra, rb) = (root(&mut parent, j.a.unwrap_or(n)), root(&mut parent, j.b));
