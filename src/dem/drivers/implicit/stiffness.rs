@@ -36,6 +36,44 @@ pub(in crate::dem::drivers) struct Dofs {
 }
 
 impl Dofs {
+    /// The out-of-balance force and moment of every free body of `sim` (its last
+    /// assessment; N, N·m about the centroid, table frame) as one column in this numbering,
+    /// zero at the held degrees of freedom: the right-hand side of both static solves.
+    pub(in crate::dem::drivers) fn out_of_balance(&self, sim: &Simulation) -> Mat<f64> {
+        let mut rhs = Mat::<f64>::zeros(self.n, 1);
+        for (k, &f0) in self.first.iter().enumerate() {
+            if f0 == usize::MAX {
+                continue;
+            }
+            let (f, t) = sim.unbalanced(k);
+            for r in 0..3 {
+                rhs[(f0 + r, 0)] = f[r];
+                rhs[(f0 + 3 + r, 0)] = t[r];
+            }
+            for (r, &held) in self.held[k].iter().enumerate() {
+                if held {
+                    rhs[(f0 + r, 0)] = 0.0;
+                }
+            }
+        }
+        rhs
+    }
+
+    /// A column in this numbering as a pose increment per body (m, rad; zero for fixed
+    /// bodies).
+    pub(in crate::dem::drivers) fn pose_increment(&self, x: &Mat<f64>) -> PoseIncrement {
+        let nb = self.first.len();
+        let mut step = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
+        for (k, &f0) in self.first.iter().enumerate() {
+            if f0 == usize::MAX {
+                continue;
+            }
+            step.0[k] = Vec3::new(x[(f0, 0)], x[(f0 + 1, 0)], x[(f0 + 2, 0)]);
+            step.1[k] = Vec3::new(x[(f0 + 3, 0)], x[(f0 + 4, 0)], x[(f0 + 5, 0)]);
+        }
+        step
+    }
+
     pub(in crate::dem::drivers) fn new(sim: &Simulation) -> Dofs {
         let mut n = 0;
         let first = sim
@@ -346,36 +384,11 @@ impl Factor {
 
     /// `K⁻¹ R` for the out-of-balance loads `R` of `sim` (its last assessment), per body.
     pub(super) fn solve(&self, sim: &Simulation, dofs: &Dofs) -> PoseIncrement {
-        let nb = sim.state.bodies.len();
-        let mut rhs = Mat::<f64>::zeros(dofs.n, 1);
-        for k in 0..nb {
-            let f0 = dofs.first[k];
-            if f0 == usize::MAX {
-                continue;
-            }
-            let (f, t) = sim.unbalanced(k);
-            for r in 0..3 {
-                rhs[(f0 + r, 0)] = f[r];
-                rhs[(f0 + 3 + r, 0)] = t[r];
-            }
-            for (r, &held) in dofs.held[k].iter().enumerate() {
-                if held {
-                    rhs[(f0 + r, 0)] = 0.0;
-                }
-            }
-        }
+        let mut rhs = dofs.out_of_balance(sim);
         let llt = LltRef::new(&self.symbolic, &self.values);
         let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut mem));
-        let mut step = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
-        for k in 0..nb {
-            let f0 = dofs.first[k];
-            if f0 == usize::MAX {
-                continue;
-            }
-            step.0[k] = Vec3::new(rhs[(f0, 0)], rhs[(f0 + 1, 0)], rhs[(f0 + 2, 0)]);
-            step.1[k] = Vec3::new(rhs[(f0 + 3, 0)], rhs[(f0 + 4, 0)], rhs[(f0 + 5, 0)]);
-        }
+        let step = dofs.pose_increment(&rhs);
         step
     }
 }

@@ -11,7 +11,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, Mat, Par};
+use faer::{Conj, Par};
 use nalgebra::{Matrix6, Vector6};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -541,34 +541,10 @@ pub(super) fn newton_step(sim: &Simulation, dofs: &Dofs) -> Result<PoseIncrement
         let lu = symbolic
             .factorize_numeric_lu(&mut numeric, a.as_ref(), Par::Seq, MemStack::new(&mut mem), Default::default())
             .map_err(|e| format!("numeric LU factorization: {e:?}"))?;
-        let mut rhs = Mat::<f64>::zeros(dofs.n, 1);
-        for k in 0..nb {
-            let f0 = dofs.first[k];
-            if f0 == usize::MAX {
-                continue;
-            }
-            let (f, t) = sim.unbalanced(k);
-            for r in 0..3 {
-                rhs[(f0 + r, 0)] = f[r];
-                rhs[(f0 + 3 + r, 0)] = t[r];
-            }
-            for (r, &held) in dofs.held[k].iter().enumerate() {
-                if held {
-                    rhs[(f0 + r, 0)] = 0.0;
-                }
-            }
-        }
+        let mut rhs = dofs.out_of_balance(sim);
         let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         lu.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut mem));
-        let mut step = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
-        for k in 0..nb {
-            let f0 = dofs.first[k];
-            if f0 == usize::MAX {
-                continue;
-            }
-            step.0[k] = Vec3::new(rhs[(f0, 0)], rhs[(f0 + 1, 0)], rhs[(f0 + 2, 0)]);
-            step.1[k] = Vec3::new(rhs[(f0 + 3, 0)], rhs[(f0 + 4, 0)], rhs[(f0 + 5, 0)]);
-        }
+        let step = dofs.pose_increment(&rhs);
         if step.0.iter().chain(&step.1).any(|v| !v.iter().all(|x| x.is_finite())) {
             return Err("the LU solve gave a non-finite step".into());
         }
