@@ -388,8 +388,7 @@ impl Factor {
         let llt = LltRef::new(&self.symbolic, &self.values);
         let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut mem));
-        let step = dofs.pose_increment(&rhs);
-        step
+        dofs.pose_increment(&rhs)
     }
 }
 
