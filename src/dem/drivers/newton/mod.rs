@@ -46,10 +46,16 @@
 //!   (`K_red = Eᵀ K E` with that map `E`), which is how the load stage reports the
 //!   out-of-balance moment of such a body.
 //!
-//! Left out: the geometric stiffness (the rotation of the forces and arms with the bodies)
-//! and the lever of the shear force between the centroid and its point of application.
-//! `K` is factorized by faer's sparse LU with partial pivoting (simplicial, COLAMD ordering,
-//! run sequentially); every diagonal entry gets [`tangent::FLOOR`] of the largest
+//! * the geometric stiffness: the arms of the normal and shear forces turn with their
+//!   bodies, and the normal force turns with the contact normal (half of the pair's
+//!   relative rotation);
+//! * the lever of the shear force, whose point of application moves between the area
+//!   centroid of the compressed part and the pressure centroid with the closures and the
+//!   mobilised fraction (`contact::law::evaluate`), taken by central differences of the
+//!   law's own rule.
+//!
+//! `K` is factorized by faer's sparse LU with partial pivoting (supernodal, COLAMD
+//! ordering, run sequentially); every diagonal entry gets [`tangent::FLOOR`] of the largest
 //! diagonal entry of its kind added, which matters only where the tangent is singular (a
 //! body with no closed contact, a sliding or rocking mechanism).
 //!

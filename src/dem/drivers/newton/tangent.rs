@@ -460,7 +460,7 @@ fn pattern_of(n: usize, entries: &[Pair<usize, usize>]) -> Result<Rc<Pattern>, S
 /// `R` of `sim`'s state (its last assessment), per body: translation (m) and rotation
 /// vector (rad), table frame; zero for the held degrees of freedom (the jump puts a held
 /// anchor back itself). `K` is assembled and factorized by faer's sparse LU with partial
-/// pivoting (simplicial, COLAMD column ordering, sequential).
+/// pivoting (supernodal, COLAMD column ordering, sequential).
 ///
 /// # Errors
 /// No stiffness on the free bodies, or faer's error from the assembly or the
