@@ -210,6 +210,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece]) -> LayoutSpec {
                 fixed: false,
                 course: None,
                 wedge: false,
+                own_mass: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends: vec![], ropes: vec![] },

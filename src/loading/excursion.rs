@@ -176,7 +176,7 @@ mod tests {
         }));
         let layout = crate::verify::layout_of(boxes, 1e9, 1e9, 30.0, crate::layout::BaseSliding::Free);
         let reference =
-            layout.blocks.iter().map(|b| (b.shape.mass_properties(1.0).centroid, UnitQuaternion::identity())).collect();
+            layout.blocks.iter().map(|b| (b.centroid(), UnitQuaternion::identity())).collect();
         (layout, reference)
     }
 
