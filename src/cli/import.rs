@@ -168,6 +168,13 @@ fn realization(a: &ImportArgs, options: &ImportOptions, seed: u64) -> Result<Exi
     let u = Uncertainty { tolerance_m: a.tolerance_m.unwrap_or(0.0), depth: a.depth_m.clone() };
     let wall = surveyed_wall(&a.survey, options, &u)?;
     let traced = wall.traced.as_deref().context("a surveyed wall has its trace")?;
+    if traced.scanned.is_some() {
+        bail!(
+            "--seed {seed}: {}: scanned stones have no uncertainty drawn per realization (every realization is the \
+             survey as scanned): import them without --seed",
+            a.survey.display()
+        );
+    }
     let r = a.realization.unwrap_or(0);
     let (g, report) = drystone::generator::traced::generate(&wall, traced, seed, r)?;
     g.check().with_context(|| format!("{}: realization {r}", a.survey.display()))?;

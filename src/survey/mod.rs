@@ -623,6 +623,19 @@ pub fn short_number(x: f64) -> String {
 }
 
 /// Reads a file as text.
+/// The files a survey at `path` reads: its `.obj` and `.stl` files in file-name order for
+/// a folder of scanned stones, else `path` itself (a folder that cannot be listed is
+/// returned as itself, for the caller's read to name it).
+pub fn survey_files(path: &Path) -> Vec<PathBuf> {
+    if !path.is_dir() {
+        return vec![path.to_owned()];
+    }
+    match mesh::mesh_files(path, None) {
+        Ok(files) => files.into_iter().map(|(p, _)| p).collect(),
+        Err(_) => vec![path.to_owned()],
+    }
+}
+
 pub(crate) fn read_text(path: &Path) -> Result<String, SurveyError> {
     std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })
 }

@@ -143,3 +143,50 @@ fn a_wall_of_scanned_stones_collapses_by_both_dynamic_methods_within_the_bracket
         dem.last_stable_deg
     );
 }
+
+/// A study whose group names the folder of scanned stones: every realization is the wall
+/// as scanned (no uncertainty is drawn around meshes), run by the study's protocol and
+/// method as the imported layout is run alone: by limit analysis, the limit of the layout
+/// `drystone import` makes, and by nscd, its bracket, the same in every realization. The
+/// keys of a traced elevation are refused naming the group's key.
+#[test]
+fn a_study_of_scanned_stones_runs_the_wall_as_scanned_in_every_realization() {
+    use drystone::ensemble::Shard;
+    use drystone::study::{run_study, Study};
+    let dir = crate::common::Scratch::created("survey-scanned-study");
+    let stones = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/stones/wall");
+    let import = "unit = \"cm\"\ndensity = 2600\nkn = 1e10\nks = 5e9\nfriction_deg = 35\n";
+    let study = |name: &str, solver: &str, extra: &str| {
+        let text = format!(
+            "version = 1\nname = \"{name}\"\nseed = 3\nrealizations = 2\nprotocol = \"tilt\"\n[solver]\nkind = \
+             \"{solver}\"\n[[groups]]\nname = \"stones\"\nsurvey = {:?}\n[groups.import]\n{import}{extra}",
+            stones.display().to_string()
+        );
+        let p = dir.join(format!("{name}.toml"));
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let layout: Layout = wall().layout.resolve().unwrap();
+    let la = limit_tilt(&layout, &SolverParams::default(), &LimitParams::default()).unwrap();
+    let alpha = la.collapse_angle_deg.unwrap();
+    let nscd = run_tilt(&layout, SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() }, &TiltParams::default())
+        .unwrap();
+    for (name, solver, want) in [("by_limit", "limit", alpha), ("by_nscd", "nscd", nscd.collapse_angle_deg())] {
+        let s = Study::from_file(&study(name, solver, "")).unwrap();
+        let rows = run_study(&s, Shard::ALL);
+        assert_eq!(rows.len(), 2, "{name}");
+        for r in &rows {
+            let got = r.collapse.collapse_angle_deg.unwrap_or_else(|| panic!("{name} r{}: {}", r.realization, r.error));
+            assert_eq!(r.blocks, 4, "{name}");
+            assert!((got - want).abs() < 1e-9, "{name} r{}: {got}° against the layout alone {want}°", r.realization);
+        }
+    }
+    for (key, line) in [("tolerance_m", "tolerance_m = 0.001\n"), ("thickness_m", "thickness_m = 0.2\n")] {
+        let e = Study::from_file(&study("bad", "limit", line)).unwrap_err().to_string();
+        assert!(e.contains(&format!("groups[stones].import.{key}")) && e.contains("scanned"), "{e}");
+    }
+    let text = std::fs::read_to_string(study("bad_unit", "limit", "")).unwrap().replace("\"cm\"", "\"inch\"");
+    std::fs::write(dir.join("bad_unit.toml"), text).unwrap();
+    let e = Study::from_file(&dir.join("bad_unit.toml")).unwrap_err().to_string();
+    assert!(e.contains("groups[stones].import.unit") && e.contains("inch"), "{e}");
+}
