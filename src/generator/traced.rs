@@ -113,15 +113,16 @@ impl Wall {
     /// layout's; no end restraint, no scatter.
     pub fn from_scanned(layout: LayoutSpec, source: PathBuf) -> Wall {
         let extent = |b: &BlockSpec, k: usize| {
-            let (lo, hi) = b.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(v[k]), hi.max(v[k]))
-            });
+            let (lo, hi) =
+                b.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[k]), hi.max(v[k])));
             hi - lo
         };
         let all = |k: usize| {
-            layout.blocks.iter().flat_map(|b| b.vertices.iter()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(v[k]), hi.max(v[k]))
-            })
+            layout
+                .blocks
+                .iter()
+                .flat_map(|b| b.vertices.iter())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[k]), hi.max(v[k])))
         };
         let n = layout.blocks.len().max(1) as f64;
         let mean = |k: usize| layout.blocks.iter().map(|b| extent(b, k)).sum::<f64>() / n;
@@ -162,12 +163,7 @@ impl Wall {
 /// the layout itself, named with the seed and the realization, each block a piece whose
 /// polygon is the convex hull of its vertices' (x, z) and whose volume is the stone's own
 /// (its `own_mass`, else its hull's).
-fn scanned(
-    wall: &Wall,
-    layout: &LayoutSpec,
-    seed: u64,
-    realization: u64,
-) -> Result<GeneratedWall, GeneratorError> {
+fn scanned(wall: &Wall, layout: &LayoutSpec, seed: u64, realization: u64) -> Result<GeneratedWall, GeneratorError> {
     let mut pieces = Vec::with_capacity(layout.blocks.len());
     for b in &layout.blocks {
         let infeasible = |reason: String| GeneratorError::Infeasible {
@@ -197,10 +193,8 @@ fn scanned(
             part: SectionPart::Through,
         });
     }
-    let layout = LayoutSpec {
-        name: format!("{} (seed {seed}, realization {realization})", wall.name),
-        ..layout.clone()
-    };
+    let layout =
+        LayoutSpec { name: format!("{} (seed {seed}, realization {realization})", wall.name), ..layout.clone() };
     Ok(GeneratedWall {
         seed,
         realization,

@@ -324,9 +324,10 @@ impl ConvexBlock {
     /// the 3-D tetrahedron inertia tensor in terms of its vertex coordinates").
     pub fn mass_properties(&self, density: f64) -> MassProperties {
         let o = self.vertices.iter().sum::<Vec3>() / self.vertices.len() as f64;
-        let triangles = self.faces.iter().flat_map(|f| {
-            (1..f.vertices.len() - 1).map(move |k| [f.vertices[0], f.vertices[k], f.vertices[k + 1]])
-        });
+        let triangles = self
+            .faces
+            .iter()
+            .flat_map(|f| (1..f.vertices.len() - 1).map(move |k| [f.vertices[0], f.vertices[k], f.vertices[k + 1]]));
         let sums = TetraSums::of(&self.vertices, o, triangles);
         sums.mass_properties(o, density)
     }

@@ -60,7 +60,8 @@ pub(super) fn check_own_mass(
         return Err(super::invalid(key("volume_m3"), m.volume_m3, "must be a finite number > 0"));
     }
     if m.volume_m3 > hull * (1.0 + 1e-9) {
-        let reason = format!("exceeds the volume of the block's convex hull, {hull:e} m³: a solid lies inside its hull");
+        let reason =
+            format!("exceeds the volume of the block's convex hull, {hull:e} m³: a solid lies inside its hull");
         return Err(super::invalid(key("volume_m3"), m.volume_m3, &reason));
     }
     let c = Vec3::from(m.centroid_m);

@@ -1,7 +1,7 @@
 //! Checking a raw [`LayoutSpec`] into a [`Layout`]: every value finite and in its range,
 //! ids unique, blocks convex, materials physical, monitor points on their blocks.
 
-use super::check::{check_convex, check_own_mass, check_overlaps};
+use super::check::{check_convex, check_overlaps, check_own_mass};
 use super::*;
 use crate::units::deg_to_rad;
 use std::collections::BTreeMap;

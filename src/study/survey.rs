@@ -61,7 +61,11 @@ pub(super) fn wall_of_survey(
 ) -> Result<Wall, (String, String)> {
     let key = |k: &str| format!("groups[{name}].import.{k}");
     let path = dir.join(survey);
-    let format = if path.is_dir() { Some(crate::survey::SurveyFormat::Obj) } else { crate::survey::SurveyFormat::from_path(&path) };
+    let format = if path.is_dir() {
+        Some(crate::survey::SurveyFormat::Obj)
+    } else {
+        crate::survey::SurveyFormat::from_path(&path)
+    };
     let Some(format) = format else {
         return Err((
             format!("groups[{name}].survey"),

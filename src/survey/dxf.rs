@@ -148,7 +148,10 @@ fn label(e: &Entity, element: String) -> Result<Label, String> {
     let depth_m = value.parse::<f64>().map_err(|_| format!("depth_m {value:?} is not a number of metres"))?;
     let coordinate = |c: i32| -> Result<f64, String> {
         let (_, v, line) = get(c).ok_or_else(|| format!("the label has no insertion point ({c})"))?;
-        v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| format!("line {line}: {v:?} is not a finite number"))
+        v.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("line {line}: {v:?} is not a finite number"))
     };
     Ok(Label { at: [coordinate(10)?, coordinate(20)?], depth_m, element })
 }
@@ -200,7 +203,9 @@ fn contains(poly: &[[f64; 2]], p: [f64; 2]) -> bool {
 /// The corners of a closed old-style POLYLINE (its header `e`, its VERTEX entities
 /// `vertices`): a 2D polyline without bulges, curve or spline fitting.
 fn old_polyline(e: &Entity, vertices: &[&Entity]) -> Result<Vec<[f64; 2]>, String> {
-    let int = |v: &str, line: usize| v.trim().parse::<i32>().map_err(|_| format!("line {line}: flags {v:?} are not an integer"));
+    let int = |v: &str, line: usize| {
+        v.trim().parse::<i32>().map_err(|_| format!("line {line}: flags {v:?} are not an integer"))
+    };
     let mut flags = 0;
     for (code, value, line) in e.iter().skip(1) {
         if *code == 70 {

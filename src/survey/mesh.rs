@@ -152,7 +152,10 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
 
 /// The mesh files: `path` itself (its format given or by extension), or the OBJ and STL
 /// files of the folder `path` in file-name order.
-pub(super) fn mesh_files(path: &Path, format: Option<SurveyFormat>) -> Result<Vec<(PathBuf, SurveyFormat)>, SurveyError> {
+pub(super) fn mesh_files(
+    path: &Path,
+    format: Option<SurveyFormat>,
+) -> Result<Vec<(PathBuf, SurveyFormat)>, SurveyError> {
     if !path.is_dir() {
         let f = format.or_else(|| SurveyFormat::from_path(path)).unwrap_or(SurveyFormat::Obj);
         return Ok(vec![(path.to_owned(), f)]);

@@ -503,11 +503,7 @@ fn check_options(format: SurveyFormat, o: &ImportOptions) -> Result<(), SurveyEr
 pub(crate) type SurveyBlock = (String, Option<String>, Vec<[f64; 3]>, Option<crate::layout::OwnMassSpec>);
 
 /// The layout of the blocks `blocks`.
-pub(crate) fn layout_of(
-    path: &Path,
-    o: &ImportOptions,
-    blocks: Vec<SurveyBlock>,
-) -> LayoutSpec {
+pub(crate) fn layout_of(path: &Path, o: &ImportOptions, blocks: Vec<SurveyBlock>) -> LayoutSpec {
     let stone = o.materials.stone();
     let table = o.materials.table_material.clone().unwrap_or_else(|| stone.clone());
     let name = o.name.clone().unwrap_or_else(|| {

@@ -170,7 +170,8 @@ fn impossible_own_mass_is_refused_naming_the_block_and_the_key() {
     assert!(zero.contains("blocks[b0].own_mass.volume_m3"), "{zero}");
     let out = e(format!(r#"{{"volume_m3":0.5,"centroid_m":[0.5,0.5,1.5],"inertia_m5":{cube}}}"#));
     assert!(out.contains("blocks[b0].own_mass.centroid_m") && out.contains("inside"), "{out}");
-    let skew = e(r#"{"volume_m3":0.5,"centroid_m":[0.5,0.5,0.5],"inertia_m5":[[0.1,0.01,0],[0,0.1,0],[0,0,0.1]]}"#.into());
+    let skew =
+        e(r#"{"volume_m3":0.5,"centroid_m":[0.5,0.5,0.5],"inertia_m5":[[0.1,0.01,0],[0,0.1,0],[0,0,0.1]]}"#.into());
     assert!(skew.contains("blocks[b0].own_mass.inertia_m5") && skew.contains("symmetric"), "{skew}");
     let rod = e(r#"{"volume_m3":0.5,"centroid_m":[0.5,0.5,0.5],"inertia_m5":[[0.1,0,0],[0,0.1,0],[0,0,0.3]]}"#.into());
     assert!(rod.contains("blocks[b0].own_mass.inertia_m5") && rod.contains("sum of the other two"), "{rod}");
@@ -228,7 +229,10 @@ fn a_reshaping_effect_refuses_a_scanned_stone_by_name() {
     };
     for effect in ["initial_lean=1", "edge_rounding=0.001"] {
         let e = apply(effect).unwrap_err();
-        assert!(e.contains(effect.split('=').next().unwrap()) && e.contains("block ell") && e.contains("own mass"), "{e}");
+        assert!(
+            e.contains(effect.split('=').next().unwrap()) && e.contains("block ell") && e.contains("own mass"),
+            "{e}"
+        );
     }
     let same = apply("initial_lean=0").unwrap();
     assert_eq!(same.blocks[0], layout.blocks[0]);

@@ -493,7 +493,13 @@ fn a_dxf_drawing_in_millimetres_gives_its_closed_polylines_as_stones() {
 /// An old-style POLYLINE (handle `h`) of the corners `xy` (drawing units) with its VERTEX
 /// entities and, if `end`, its SEQEND; `flags` its group 70, `bulge` a group 42 on its
 /// first vertex.
-fn old_polyline(h: &'static str, xy: &[(&'static str, &'static str)], flags: &'static str, bulge: bool, end: bool) -> Vec<(i32, &'static str)> {
+fn old_polyline(
+    h: &'static str,
+    xy: &[(&'static str, &'static str)],
+    flags: &'static str,
+    bulge: bool,
+    end: bool,
+) -> Vec<(i32, &'static str)> {
     let mut p = vec![(0, "POLYLINE"), (5, h), (8, "0"), (66, "1"), (10, "0"), (20, "0"), (30, "0"), (70, flags)];
     for (k, (x, y)) in xy.iter().enumerate() {
         p.extend([(0, "VERTEX"), (8, "0"), (10, *x), (20, *y), (30, "0")]);
@@ -543,7 +549,8 @@ fn a_dxf_drawing_reads_old_style_polylines_and_depth_labels_and_refuses_anything
         assert!((a - lo).abs() < 1e-12 && (b - hi).abs() < 1e-12, "{id}: y from {a} to {b}");
     }
     let e5 = w.layout.blocks.iter().find(|b| b.id == "5E").unwrap();
-    let (x0, x1) = e5.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[0]), hi.max(v[0])));
+    let (x0, x1) =
+        e5.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[0]), hi.max(v[0])));
     assert!((x0 - 0.4).abs() < 1e-12 && (x1 - 0.8).abs() < 1e-12, "{x0} {x1}");
     let vol = w.stones.iter().find(|s| s.id == "5E").unwrap().block_volume_m3;
     assert!((vol - 0.012).abs() < 1e-15, "{vol}");

@@ -82,7 +82,12 @@ fn a_wall_of_scanned_stones_imports_with_each_stones_volume_and_its_hulls() {
         let own = b.own_mass.unwrap_or_else(|| panic!("{}: no own mass", b.id));
         assert_eq!(own.volume_m3, s.survey_volume_m3, "{}", b.id);
         for k in 0..3 {
-            assert!((own.centroid_m[k] - c[k]).abs() < 1e-12, "{}: centroid {:?}, stack.py {c:?}", b.id, own.centroid_m);
+            assert!(
+                (own.centroid_m[k] - c[k]).abs() < 1e-12,
+                "{}: centroid {:?}, stack.py {c:?}",
+                b.id,
+                own.centroid_m
+            );
         }
     }
     assert!((w.added_m3() - (w.volume_m3() - w.stones.iter().map(|s| s.survey_volume_m3).sum::<f64>())).abs() < 1e-15);
@@ -169,8 +174,9 @@ fn a_study_of_scanned_stones_runs_the_wall_as_scanned_in_every_realization() {
     let layout: Layout = wall().layout.resolve().unwrap();
     let la = limit_tilt(&layout, &SolverParams::default(), &LimitParams::default()).unwrap();
     let alpha = la.collapse_angle_deg.unwrap();
-    let nscd = run_tilt(&layout, SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() }, &TiltParams::default())
-        .unwrap();
+    let nscd =
+        run_tilt(&layout, SolverParams { kind: SolverKind::Nscd, ..SolverParams::default() }, &TiltParams::default())
+            .unwrap();
     for (name, solver, want) in [("by_limit", "limit", alpha), ("by_nscd", "nscd", nscd.collapse_angle_deg())] {
         let s = Study::from_file(&study(name, solver, "")).unwrap();
         let rows = run_study(&s, Shard::ALL);
