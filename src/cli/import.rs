@@ -168,6 +168,13 @@ fn realization(a: &ImportArgs, options: &ImportOptions, seed: u64) -> Result<Exi
     let u = Uncertainty { tolerance_m: a.tolerance_m.unwrap_or(0.0), depth: a.depth_m.clone() };
     let wall = surveyed_wall(&a.survey, options, &u)?;
     let traced = wall.traced.as_deref().context("a surveyed wall has its trace")?;
+    if traced.scanned.is_some() {
+        bail!(
+            "--seed {seed}: {}: scanned stones have no uncertainty drawn per realization (every realization is the \
+             survey as scanned): import them without --seed",
+            a.survey.display()
+        );
+    }
     let r = a.realization.unwrap_or(0);
     let (g, report) = drystone::generator::traced::generate(&wall, traced, seed, r)?;
     g.check().with_context(|| format!("{}: realization {r}", a.survey.display()))?;
@@ -205,12 +212,18 @@ fn summary(w: &ImportedWall) {
     out!("stones read       {}", elements.len());
     out!("blocks made       {} ({hulled} convex hulls)", w.layout.blocks.len());
     out!("on the table      {} blocks", w.on_table());
+    let meshes = !w.format.is_elevation();
     out!("total volume      {:.6e} m3", w.volume_m3());
     out!("added by hulls    {:.6e} m3", w.added_m3());
+    if meshes {
+        let own: f64 = w.stones.iter().map(|s| s.survey_volume_m3).sum();
+        out!("meshes' volume    {own:.6e} m3 (the blocks' mass and inertia are the closed meshes')");
+    }
     out!("wall length       {:.4} m", w.length_m);
     out!("wall height       {:.4} m", w.height_m);
     if hulled > 0 {
-        out!("{:<20} {:>14} {:>14} {:>9}", "stone", "hull m3", "stone m3", "added %");
+        let own = if meshes { "mesh m3" } else { "stone m3" };
+        out!("{:<20} {:>14} {:>14} {:>9}", "stone", "hull m3", own, "added %");
         for s in w.stones.iter().filter(|s| s.hulled) {
             out!(
                 "{:<20} {:>14.6e} {:>14.6e} {:>9.2}",

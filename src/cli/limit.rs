@@ -103,7 +103,7 @@ fn svg(l: &Layout, r: &LimitResult, path: &Path) -> String {
         .iter()
         .zip(&r.velocities)
         .map(|(b, v)| {
-            let c = b.shape.mass_properties(1.0).centroid;
+            let c = b.centroid();
             (c + v.translation * scale, nalgebra::UnitQuaternion::from_scaled_axis(v.rotation * scale))
         })
         .collect();

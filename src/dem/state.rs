@@ -71,7 +71,10 @@ pub fn bodies_of(layout: &crate::layout::Layout) -> Vec<Body> {
     layout
         .blocks
         .iter()
-        .map(|b| Body::new(b.id.clone(), &b.shape, layout.materials[b.material].density, b.material, b.fixed))
+        .map(|b| {
+            let mp = b.mass_properties(layout.materials[b.material].density);
+            Body::with_mass(b.id.clone(), &b.shape, mp, b.material, b.fixed)
+        })
         .collect()
 }
 
@@ -82,9 +85,24 @@ impl Body {
         self.hold.is_fixed()
     }
 
-    /// A body at rest in its reference configuration from a block given in the table frame.
+    /// A body at rest in its reference configuration from a block given in the table frame,
+    /// homogeneous of `density` (kg/m³): its mass properties are its shape's.
     pub fn new(id: String, shape_world: &ConvexBlock, density: f64, material: usize, fixed: bool) -> Body {
-        let mp = shape_world.mass_properties(density);
+        Body::with_mass(id, shape_world, shape_world.mass_properties(density), material, fixed)
+    }
+
+    /// A body at rest in its reference configuration from a block given in the table frame
+    /// (its contact geometry) with the mass properties `mp` (table frame: mass kg, centroid
+    /// m, inertia kg·m² about the centroid; [`crate::layout::Block::mass_properties`], which
+    /// may be a scanned stone's own rather than its hull's). The body frame's origin is
+    /// `mp.centroid`.
+    pub fn with_mass(
+        id: String,
+        shape_world: &ConvexBlock,
+        mp: crate::geometry::MassProperties,
+        material: usize,
+        fixed: bool,
+    ) -> Body {
         let c = mp.centroid;
         let shape = shape_world.transformed(|v| v - c, &Mat3::identity());
         let radius = shape.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max);

@@ -120,6 +120,17 @@ impl Effect {
         let geometry = |(block, reason)| EffectError::Geometry { effect: self.def.name.clone(), block, reason };
         for step in self.def.steps.iter().filter(|s| s.stage() == stage) {
             let v = self.value(step.parameter());
+            // A step that reshapes blocks cannot reshape a stone whose mass is its own (a
+            // scanned stone's mesh): its block would no longer be the stone's hull.
+            let reshapes = match step {
+                Step::Lean { .. } => v != 0.0,
+                Step::Rounding { .. } | Step::TransverseDip { .. } => v > 0.0,
+                Step::LeafSplit { .. } => v > 0.0 && v < 1.0,
+                _ => false,
+            };
+            if let Some(b) = layout.blocks.iter().find(|b| reshapes && b.own_mass.is_some()) {
+                return Err(EffectError::OwnMass { effect: self.def.name.clone(), block: b.id.clone() });
+            }
             match step {
                 Step::JointFactor { family, property, .. } => joint_factor(layout, *family, *property, v),
                 Step::Closure { family, law, .. } => {

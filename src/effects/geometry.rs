@@ -219,6 +219,7 @@ pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<
             fixed: true,
             course: None,
             wedge: false,
+            own_mass: None,
         });
     }
     layout.blocks.extend(stops);
@@ -306,6 +307,7 @@ pub fn split_leaves(layout: &mut Layout, f: f64, through_every: Option<u32>) -> 
             fixed: false,
             course: b.course,
             wedge: b.wedge,
+            own_mass: None,
         };
         let j = layout.blocks.len();
         layout.blocks.push(new);

@@ -380,6 +380,18 @@ pub enum EffectError {
         /// What failed.
         reason: crate::geometry::GeometryError,
     },
+    /// The effect reshapes blocks and a block's mass is its own (a scanned stone's mesh,
+    /// the layout's `own_mass`), which no reshaping can follow.
+    #[error(
+        "effect `{effect}` reshapes the blocks, but block {block} has its own mass properties (a scanned stone's \
+         mesh), which a reshaped block would no longer have: leave the effect out for scanned stones"
+    )]
+    OwnMass {
+        /// The effect.
+        effect: String,
+        /// The block id.
+        block: String,
+    },
     /// A `closure` step names a law that is not a closure law of one length parameter.
     #[error("effect `{effect}`: `{law}` is not a closure law with a length parameter (known: {known})")]
     UnknownLaw {

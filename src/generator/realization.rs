@@ -356,6 +356,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
                 fixed: false,
                 course: Some(p.course),
                 wedge: p.kind == PieceKind::Wedge,
+                own_mass: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends, ropes: vec![] },

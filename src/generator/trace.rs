@@ -27,6 +27,11 @@ pub struct Traced {
     /// Each stone's depth into the wall from the traced (−y) face, m; `None`: through
     /// stones. Its support lies in (0, base width].
     pub depth: Option<Distribution>,
+    /// Scanned stones instead of a traced elevation: the layout `drystone import` makes of
+    /// them (each stone's convex hull with its mesh's own mass properties), which every
+    /// realization is (no per-realization uncertainty is defined for meshes); `stones` is
+    /// then empty, the tolerance 0 and `depth` `None`. `None` for a traced elevation.
+    pub scanned: Option<Box<crate::layout::LayoutSpec>>,
 }
 
 impl Traced {

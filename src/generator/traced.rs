@@ -19,6 +19,9 @@
 //!
 //! A tolerance of 0 and no depth law give the survey as traced, block for block the layout
 //! of `drystone import` without a seed.
+//!
+//! Scanned stones ([`Traced::scanned`], [`Wall::from_scanned`]) have no uncertainty drawn
+//! around them: every realization is the layout `drystone import` makes of them.
 
 use super::build::{PieceKind, Samples};
 use super::distribution::Distribution;
@@ -101,6 +104,110 @@ impl Wall {
     }
 }
 
+impl Wall {
+    /// The wall of scanned stones whose layout is `layout` (as `drystone import` makes it,
+    /// from the survey `source`): every realization is that layout ([`Traced::scanned`]).
+    /// Its length, height and width are the layout's extents (x, z above the table, y),
+    /// its course height and block length the stones' mean height and length (the scale
+    /// effects take their lengths from), its materials, table and base restraint the
+    /// layout's; no end restraint, no scatter.
+    pub fn from_scanned(layout: LayoutSpec, source: PathBuf) -> Wall {
+        let extent = |b: &BlockSpec, k: usize| {
+            let (lo, hi) =
+                b.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[k]), hi.max(v[k])));
+            hi - lo
+        };
+        let all = |k: usize| {
+            layout
+                .blocks
+                .iter()
+                .flat_map(|b| b.vertices.iter())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[k]), hi.max(v[k])))
+        };
+        let n = layout.blocks.len().max(1) as f64;
+        let mean = |k: usize| layout.blocks.iter().map(|b| extent(b, k)).sum::<f64>() / n;
+        let ((x0, x1), (y0, y1), (_, z1)) = (all(0), all(1), all(2));
+        let block_material = layout.blocks.first().map_or_else(String::new, |b| b.material.clone());
+        let traced = Traced { stones: vec![], tolerance_m: 0.0, depth: None, scanned: None };
+        Wall {
+            name: layout.name.clone(),
+            source,
+            gravity: layout.gravity_m_per_s2,
+            length: x1 - x0,
+            height: z1,
+            base_width: y1 - y0,
+            top_width: y1 - y0,
+            batter: Batter::Symmetric,
+            arrangement: super::Arrangement::Continuous,
+            course_height: Distribution::fixed(mean(2), super::distribution::Unit::M),
+            min_thickness_fraction: 0.0,
+            block_length: Distribution::fixed(mean(0), super::distribution::Unit::M),
+            min_end_fraction: 0.0,
+            head_gap: super::HeadGap::Closed,
+            materials: layout.materials.clone(),
+            wedge_material: block_material.clone(),
+            block_material,
+            table_material: layout.table.material.clone(),
+            base: layout.restraints.base_sliding,
+            ends: super::Ends::Free,
+            scatter: None,
+            joints: layout.joint_families.clone(),
+            kind: None,
+            section: super::Section::Single,
+            traced: Some(Box::new(Traced { scanned: Some(Box::new(layout)), ..traced })),
+        }
+    }
+}
+
+/// Realization `realization` of the wall of scanned stones `layout` ([`Traced::scanned`]):
+/// the layout itself, named with the seed and the realization, each block a piece whose
+/// polygon is the convex hull of its vertices' (x, z) and whose volume is the stone's own
+/// (its `own_mass`, else its hull's).
+fn scanned(wall: &Wall, layout: &LayoutSpec, seed: u64, realization: u64) -> Result<GeneratedWall, GeneratorError> {
+    let mut pieces = Vec::with_capacity(layout.blocks.len());
+    for b in &layout.blocks {
+        let infeasible = |reason: String| GeneratorError::Infeasible {
+            path: wall.source.clone(),
+            key: format!("stone {}", b.id),
+            reason,
+        };
+        let volume = match &b.own_mass {
+            Some(m) => m.volume_m3,
+            None => {
+                let points: Vec<crate::math::Vec3> =
+                    b.vertices.iter().map(|v| crate::math::Vec3::new(v[0], v[1], v[2])).collect();
+                crate::geometry::ConvexBlock::hull_of(&points).map_err(|e| infeasible(e.to_string()))?.volume()
+            }
+        };
+        let xz: Vec<[f64; 2]> = b.vertices.iter().map(|v| [v[0], v[2]]).collect();
+        pieces.push(Piece {
+            id: b.id.clone(),
+            kind: PieceKind::Stone,
+            course: 0,
+            polygon: crate::geometry::polygon::hull2d(&xz, 1e-12),
+            vertices: b.vertices.clone(),
+            volume,
+            dip_deg: None,
+            material: b.material.clone(),
+            restrained: false,
+            part: SectionPart::Through,
+        });
+    }
+    let layout =
+        LayoutSpec { name: format!("{} (seed {seed}, realization {realization})", wall.name), ..layout.clone() };
+    Ok(GeneratedWall {
+        seed,
+        realization,
+        pieces,
+        course_tops_m: vec![],
+        samples: Samples::default(),
+        layout,
+        dimensions: [wall.length, wall.height, wall.base_width, wall.top_width],
+        envelope_volume_m3: wall.envelope_volume(),
+        stated_void_fraction: 0.0,
+    })
+}
+
 /// The blocks of a traced stone `id` of depth `depth` (m from the traced −y face; `None`:
 /// a through stone) under a section `width_at_top` wide (m) at the stone's highest corner:
 /// each block's part, id, and its extent across the wall from the traced face (from, and
@@ -135,6 +242,10 @@ pub fn generate(
     seed: u64,
     realization: u64,
 ) -> Result<(GeneratedWall, DrawReport), GeneratorError> {
+    if let Some(layout) = &t.scanned {
+        let report = DrawReport { attempts: 0, affine: false, max_displacement_m: 0.0, refused: None };
+        return Ok((scanned(wall, layout, seed, realization)?, report));
+    }
     let polygons: Vec<Vec<[f64; 2]>> = t.stones.iter().map(|s| s.polygon.clone()).collect();
     let (drawn, report) = trace_draw::draw(&polygons, t.tolerance_m, &mut rng_for(seed, realization, Purpose::Survey));
     let mut depth_rng = rng_for(seed, realization, Purpose::Layout);
@@ -210,6 +321,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece]) -> LayoutSpec {
                 fixed: false,
                 course: None,
                 wedge: false,
+                own_mass: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends: vec![], ropes: vec![] },

@@ -324,29 +324,12 @@ impl ConvexBlock {
     /// the 3-D tetrahedron inertia tensor in terms of its vertex coordinates").
     pub fn mass_properties(&self, density: f64) -> MassProperties {
         let o = self.vertices.iter().sum::<Vec3>() / self.vertices.len() as f64;
-        let mut vol = 0.0;
-        let mut first = Vec3::zeros();
-        // Second moment  ∫ x xᵀ dV  about o.
-        let mut second = Matrix3::zeros();
-        for f in &self.faces {
-            let p0 = self.vertices[f.vertices[0]] - o;
-            for k in 1..f.vertices.len() - 1 {
-                let p1 = self.vertices[f.vertices[k]] - o;
-                let p2 = self.vertices[f.vertices[k + 1]] - o;
-                let v = p0.dot(&p1.cross(&p2)) / 6.0;
-                vol += v;
-                first += v * (p0 + p1 + p2) / 4.0;
-                // ∫ x xᵀ over tetra (0,p0,p1,p2) = v/20 (Σ pi piᵀ + (Σ pi)(Σ pi)ᵀ)
-                let s = p0 + p1 + p2;
-                let c = p0 * p0.transpose() + p1 * p1.transpose() + p2 * p2.transpose() + s * s.transpose();
-                second += c * (v / 20.0);
-            }
-        }
-        let centroid_rel = first / vol;
-        // Shift the second moment to the centroid.
-        let second_c = second - centroid_rel * centroid_rel.transpose() * vol;
-        let inertia = (Matrix3::identity() * second_c.trace() - second_c) * density;
-        MassProperties { volume: vol, mass: vol * density, centroid: o + centroid_rel, inertia }
+        let triangles = self
+            .faces
+            .iter()
+            .flat_map(|f| (1..f.vertices.len() - 1).map(move |k| [f.vertices[0], f.vertices[k], f.vertices[k + 1]]));
+        let sums = TetraSums::of(&self.vertices, o, triangles);
+        sums.mass_properties(o, density)
     }
 
     /// Volume, m³.
@@ -374,6 +357,72 @@ impl ConvexBlock {
             .collect();
         ConvexBlock { vertices, faces, edges: self.edges.clone(), edge_faces: self.edge_faces.clone() }
     }
+}
+
+/// The sums over the signed tetrahedra `(o, p₀, p₁, p₂)` of a closed surface's triangles:
+/// volume, first moment and second moment `∫ x xᵀ dV`, all about `o`.
+#[derive(Clone, Copy)]
+struct TetraSums {
+    vol: f64,
+    first: Vec3,
+    second: Matrix3<f64>,
+}
+
+impl TetraSums {
+    fn of(vertices: &[Vec3], o: Vec3, triangles: impl Iterator<Item = [usize; 3]>) -> TetraSums {
+        let mut vol = 0.0;
+        let mut first = Vec3::zeros();
+        // Second moment  ∫ x xᵀ dV  about o.
+        let mut second = Matrix3::zeros();
+        for [a, b, c] in triangles {
+            let p0 = vertices[a] - o;
+            let p1 = vertices[b] - o;
+            let p2 = vertices[c] - o;
+            let v = p0.dot(&p1.cross(&p2)) / 6.0;
+            vol += v;
+            first += v * (p0 + p1 + p2) / 4.0;
+            // ∫ x xᵀ over tetra (0,p0,p1,p2) = v/20 (Σ pi piᵀ + (Σ pi)(Σ pi)ᵀ)
+            let s = p0 + p1 + p2;
+            let c = p0 * p0.transpose() + p1 * p1.transpose() + p2 * p2.transpose() + s * s.transpose();
+            second += c * (v / 20.0);
+        }
+        TetraSums { vol, first, second }
+    }
+
+    /// The mass properties at `density` of the solid the sums describe about `o`.
+    fn mass_properties(&self, o: Vec3, density: f64) -> MassProperties {
+        let TetraSums { vol, first, second } = *self;
+        let centroid_rel = first / vol;
+        // Shift the second moment to the centroid.
+        let second_c = second - centroid_rel * centroid_rel.transpose() * vol;
+        let inertia = (Matrix3::identity() * second_c.trace() - second_c) * density;
+        MassProperties { volume: vol, mass: vol * density, centroid: o + centroid_rel, inertia }
+    }
+}
+
+/// Mass properties of the solid a closed triangle mesh encloses, for a homogeneous density
+/// (kg/m³): volume (m³), mass (kg), centroid (m, the vertices' frame) and inertia tensor
+/// about the centroid (kg·m², the vertices' axes). The mesh need not be convex.
+///
+/// By the divergence theorem: the solid is the signed sum of the tetrahedra joining a
+/// reference point (the vertices' mean, for round-off; any point gives the same sums) to
+/// each triangle, whose volume, first and second moments are exact polynomials of the
+/// corners (Mirtich 1996, "Fast and accurate computation of polyhedral mass properties",
+/// J. Graphics Tools 1(2); Eberly, "Polyhedral Mass Properties (Revisited)", Geometric
+/// Tools 2002; each tetrahedron's second moment by Tonon 2004).
+///
+/// `triangles` index `vertices`; the mesh must be closed and consistently oriented (every
+/// edge met once in each direction), which is not checked here. Either orientation is
+/// accepted: an inward-oriented mesh's signed sums are negated. An open or inconsistently
+/// oriented mesh gives meaningless figures; a mesh enclosing no volume gives a zero volume
+/// and a non-finite centroid.
+pub fn mesh_mass_properties(vertices: &[Vec3], triangles: &[[usize; 3]], density: f64) -> MassProperties {
+    let o = if vertices.is_empty() { Vec3::zeros() } else { vertices.iter().sum::<Vec3>() / vertices.len() as f64 };
+    let mut sums = TetraSums::of(vertices, o, triangles.iter().copied());
+    if sums.vol < 0.0 {
+        sums = TetraSums { vol: -sums.vol, first: -sums.first, second: -sums.second };
+    }
+    sums.mass_properties(o, density)
 }
 
 fn spans_volume(pts: &[Vec3], size: f64) -> bool {

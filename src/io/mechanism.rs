@@ -75,7 +75,7 @@ fn drawn_blocks(f: &MechanismFigure, k: f64) -> Vec<Vec<Vec3>> {
         .iter()
         .zip(f.poses)
         .map(|(b, (pos, rot))| {
-            let c = b.shape.mass_properties(1.0).centroid;
+            let c = b.centroid();
             let r = UnitQuaternion::from_scaled_axis(rot.scaled_axis() * k);
             let p = c + (pos - c) * k;
             b.shape.vertices.iter().map(|v| p + r * (v - c)).collect()
@@ -143,7 +143,7 @@ impl Completed {
         let at_rest = (Vec3::zeros(), UnitQuaternion::identity());
         let mut poses: Vec<BodyPose> = Vec::with_capacity(n);
         for (i, b) in layout.blocks.iter().enumerate() {
-            let c = b.shape.mass_properties(1.0).centroid;
+            let c = b.centroid();
             poses.push(f.poses.get(i).copied().unwrap_or((c + at_rest.0, at_rest.1)));
         }
         let moving: Vec<bool> = (0..n).map(|i| f.moving.get(i).copied().unwrap_or(false)).collect();
@@ -158,7 +158,7 @@ fn magnified_joint(layout: &Layout, joint: &str, moving: &[bool], poses: &[BodyP
     joint_points(layout, joint, moving).map(|(pts, carrier)| match carrier {
         None => pts,
         Some(i) => {
-            let c = layout.blocks[i].shape.mass_properties(1.0).centroid;
+            let c = layout.blocks[i].centroid();
             let (pos, rot) = poses[i];
             let r = UnitQuaternion::from_scaled_axis(rot.scaled_axis() * k);
             let p = c + (pos - c) * k;

@@ -40,3 +40,58 @@ pub(super) fn check_overlaps(blocks: &[Block]) -> Result<(), LayoutError> {
     }
     Ok(())
 }
+
+/// Checks a block's own mass properties against its hull ([`super::OwnMassSpec`]) and
+/// returns them at unit density.
+///
+/// # Errors
+/// [`LayoutError::Invalid`] naming `blocks[ID].own_mass.KEY`: a value that is not finite, a
+/// volume not positive or larger than the hull's, a centroid outside the hull, an inertia
+/// that is not symmetric or whose principal moments are not positive or break the triangle
+/// inequality.
+pub(super) fn check_own_mass(
+    id: &str,
+    m: &super::OwnMassSpec,
+    shape: &ConvexBlock,
+) -> Result<crate::geometry::MassProperties, LayoutError> {
+    let key = |k: &str| format!("blocks[{id}].own_mass.{k}");
+    let hull = shape.volume();
+    if !(m.volume_m3.is_finite() && m.volume_m3 > 0.0) {
+        return Err(super::invalid(key("volume_m3"), m.volume_m3, "must be a finite number > 0"));
+    }
+    if m.volume_m3 > hull * (1.0 + 1e-9) {
+        let reason =
+            format!("exceeds the volume of the block's convex hull, {hull:e} m³: a solid lies inside its hull");
+        return Err(super::invalid(key("volume_m3"), m.volume_m3, &reason));
+    }
+    let c = Vec3::from(m.centroid_m);
+    let size = shape.aabb().extent().norm();
+    if !c.iter().all(|x| x.is_finite()) || shape.signed_distance(&c) < -1e-9 * size {
+        return Err(super::invalid(
+            key("centroid_m"),
+            format!("{:?}", m.centroid_m),
+            "must lie inside the block's convex hull (table frame, m)",
+        ));
+    }
+    let i = &m.inertia_m5;
+    let scale = (0..3).map(|k| i[k][k].abs()).fold(0.0, f64::max);
+    let inertia = format!("{i:?}");
+    if !i.iter().flatten().all(|x| x.is_finite()) {
+        return Err(super::invalid(key("inertia_m5"), inertia, "every entry must be a finite number"));
+    }
+    if (0..3).any(|r| (0..3).any(|c| (i[r][c] - i[c][r]).abs() > 1e-9 * scale)) {
+        return Err(super::invalid(key("inertia_m5"), inertia, "must be symmetric"));
+    }
+    let mp = m.unit_density();
+    let mut ev: Vec<f64> = mp.inertia.symmetric_eigenvalues().iter().copied().collect();
+    ev.sort_by(f64::total_cmp);
+    if !(ev[0] > 0.0) || ev[2] > (ev[0] + ev[1]) * (1.0 + 1e-9) {
+        let reason = format!(
+            "principal moments {:.4e}, {:.4e}, {:.4e} m⁵: a solid's are positive and each at most the sum of the \
+             other two",
+            ev[0], ev[1], ev[2]
+        );
+        return Err(super::invalid(key("inertia_m5"), inertia, &reason));
+    }
+    Ok(mp)
+}

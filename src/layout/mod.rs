@@ -55,7 +55,7 @@ pub use joints::{FamilyJoint, JointFamilies, JointFamiliesSpec, JointFamily, Joi
 pub use resolve::too_soft;
 pub use rope::{Rope, RopeSpec, ROPE_AXIAL_STIFFNESS_RANGE_N, ROPE_PRETENSION_RANGE_N};
 
-use crate::geometry::{ConvexBlock, GeometryError};
+use crate::geometry::{ConvexBlock, GeometryError, MassProperties};
 use crate::math::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -153,7 +153,7 @@ pub enum LayoutError {
 }
 
 /// Raw layout file contents (see the module doc for the format).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LayoutSpec {
     /// Format version; must be [`LAYOUT_VERSION`].
@@ -239,6 +239,63 @@ pub struct BlockSpec {
     /// A wedge stone (its joints are `wedge` joints). Default false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub wedge: bool,
+    /// The stone's own mass properties, when its block (the convex hull of `vertices`) is
+    /// not the stone: a scanned stone's closed mesh ([`crate::geometry::mesh_mass_properties`]).
+    /// Absent (the default, and not written): the block's mass properties are its hull's.
+    /// See [`OwnMassSpec`] for the keys and the checks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub own_mass: Option<OwnMassSpec>,
+}
+
+/// A block's own mass properties per unit density (key `own_mass` of a block): the solid
+/// the stone is, while its block, the contact geometry, is the convex hull of its vertices.
+/// The mass is `density × volume_m3`, the inertia `density × inertia_m5`, with the
+/// density of the block's material.
+///
+/// ```json
+/// "own_mass": {"volume_m3": 4.2e-4, "centroid_m": [0.11, 0.0, 0.05],
+///              "inertia_m5": [[2.1e-7, 0, 0], [0, 2.4e-7, 0], [0, 0, 1.9e-7]]}
+/// ```
+///
+/// Checked on resolve ([`LayoutError::Invalid`] naming `blocks[ID].own_mass.KEY`): every
+/// value finite; the volume positive and at most the hull's (a solid lies inside its
+/// convex hull; a relative 1e-9 is allowed for round-off); the centroid inside the hull;
+/// the inertia symmetric with positive principal moments that satisfy the triangle
+/// inequality (each at most the sum of the other two, as every solid's do).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OwnMassSpec {
+    /// The stone's volume, m³.
+    pub volume_m3: f64,
+    /// The stone's centroid in the table frame, m.
+    pub centroid_m: [f64; 3],
+    /// The stone's inertia tensor about its centroid, table-frame axes, per unit density
+    /// (kg·m² per kg/m³ = m⁵): `∫ (|r|² 1 − r rᵀ) dV`, r from the centroid. Rows in order
+    /// x, y, z.
+    pub inertia_m5: [[f64; 3]; 3],
+}
+
+impl OwnMassSpec {
+    /// The spec of mass properties computed at unit density (`mass` = `volume`).
+    pub fn of(mp: &MassProperties) -> Self {
+        let i = &mp.inertia;
+        OwnMassSpec {
+            volume_m3: mp.volume,
+            centroid_m: [mp.centroid.x, mp.centroid.y, mp.centroid.z],
+            inertia_m5: [0, 1, 2].map(|r| [0, 1, 2].map(|c| i[(r, c)])),
+        }
+    }
+
+    /// The mass properties at unit density (`mass` = `volume`, kg at 1 kg/m³).
+    pub fn unit_density(&self) -> MassProperties {
+        let i = &self.inertia_m5;
+        MassProperties {
+            volume: self.volume_m3,
+            mass: self.volume_m3,
+            centroid: Vec3::new(self.centroid_m[0], self.centroid_m[1], self.centroid_m[2]),
+            inertia: nalgebra::Matrix3::from_fn(|r, c| i[r][c]),
+        }
+    }
 }
 
 /// How the base course is held on the table.
@@ -340,6 +397,36 @@ pub struct Block {
     pub course: Option<usize>,
     /// A wedge stone.
     pub wedge: bool,
+    /// The stone's own mass properties at unit density (volume m³, centroid m, inertia m⁵),
+    /// when they are not its shape's (a scanned stone's closed mesh; [`OwnMassSpec`]);
+    /// `None`: its shape's. Read them through [`Block::mass_properties`].
+    pub own_mass: Option<MassProperties>,
+}
+
+impl Block {
+    /// The block's mass properties at `density` (kg/m³, its material's): volume (m³), mass
+    /// (kg), centroid (m, table frame) and inertia tensor about the centroid (kg·m²,
+    /// table-frame axes). Those of the stone itself when the layout gives them
+    /// ([`Block::own_mass`]: a scanned stone whose block is its convex hull), else its
+    /// shape's ([`ConvexBlock::mass_properties`]). Every mass, weight, inertia and centroid
+    /// of a block is read through this function; the contact geometry is `shape`.
+    pub fn mass_properties(&self, density: f64) -> MassProperties {
+        match &self.own_mass {
+            None => self.shape.mass_properties(density),
+            Some(m) => MassProperties {
+                volume: m.volume,
+                mass: m.volume * density,
+                centroid: m.centroid,
+                inertia: m.inertia * density,
+            },
+        }
+    }
+
+    /// The block's centroid (m, table frame): that of [`Block::mass_properties`], the
+    /// origin of its body frame.
+    pub fn centroid(&self) -> Vec3 {
+        self.mass_properties(1.0).centroid
+    }
 }
 
 /// A checked end restraint.

@@ -1,7 +1,7 @@
 //! Checking a raw [`LayoutSpec`] into a [`Layout`]: every value finite and in its range,
 //! ids unique, blocks convex, materials physical, monitor points on their blocks.
 
-use super::check::{check_convex, check_overlaps};
+use super::check::{check_convex, check_overlaps, check_own_mass};
 use super::*;
 use crate::units::deg_to_rad;
 use std::collections::BTreeMap;
@@ -190,7 +190,16 @@ impl LayoutSpec {
             let shape =
                 ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
             check_convex(&b.id, &verts, &shape)?;
-            blocks.push(Block { id: b.id.clone(), material, shape, fixed: b.fixed, course: b.course, wedge: b.wedge });
+            let own_mass = b.own_mass.as_ref().map(|m| check_own_mass(&b.id, m, &shape)).transpose()?;
+            blocks.push(Block {
+                id: b.id.clone(),
+                material,
+                shape,
+                fixed: b.fixed,
+                course: b.course,
+                wedge: b.wedge,
+                own_mass,
+            });
         }
         Ok((blocks, ids))
     }

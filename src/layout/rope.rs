@@ -96,7 +96,7 @@ pub const MIN_ROPE_SPAN_M: f64 = 1e-3;
 /// the wall's resisting moment.
 pub fn check_as_built(ropes: &[Rope], blocks: &[Block], densities: &[f64], gravity: f64) -> Result<(), LayoutError> {
     let free: Vec<&Block> = blocks.iter().filter(|b| !b.fixed).collect();
-    let weight: f64 = free.iter().map(|b| b.shape.volume() * densities[b.material] * gravity).sum();
+    let weight: f64 = free.iter().map(|b| b.mass_properties(densities[b.material]).mass * gravity).sum();
     let (mut y0, mut y1, mut z0, mut z1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for b in &free {
         let bb = b.shape.aabb();

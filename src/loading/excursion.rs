@@ -175,8 +175,7 @@ mod tests {
             crate::verify::box_vertices([0.1 + 0.2 * i as f64, -0.1, 0.15], [0.3 + 0.2 * i as f64, 0.1, 0.3])
         }));
         let layout = crate::verify::layout_of(boxes, 1e9, 1e9, 30.0, crate::layout::BaseSliding::Free);
-        let reference =
-            layout.blocks.iter().map(|b| (b.shape.mass_properties(1.0).centroid, UnitQuaternion::identity())).collect();
+        let reference = layout.blocks.iter().map(|b| (b.centroid(), UnitQuaternion::identity())).collect();
         (layout, reference)
     }
 

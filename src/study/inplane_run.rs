@@ -136,7 +136,7 @@ fn inputs(prepared: &Prepared, path: &Path) -> Result<Vec<provenance::InputFile>
                 files.push((InputRole::Distribution, d.source.clone()));
             }
         }
-        files.push((InputRole::Wall, p));
+        files.extend(crate::survey::survey_files(&p).into_iter().map(|f| (InputRole::Wall, f)));
         if let Some(m) = g.import.as_ref().and_then(|i| i.materials.as_ref()).filter(|_| g.survey.is_some()) {
             files.push((InputRole::Materials, base.join(m)));
         }

@@ -508,10 +508,12 @@ fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
     v.iter().filter(|(k, x)| d.get(*k) != Some(*x)).map(|(k, _)| k.clone()).collect()
 }
 
-/// The input files of a group: its wall description and the distribution files its walls
-/// use (at every sweep point).
+/// The input files of a group: its wall description (or its survey's files) and the
+/// distribution files its walls use (at every sweep point).
 fn group_files(g: &Group) -> Vec<(InputRole, PathBuf)> {
-    let mut files = vec![(InputRole::Wall, g.wall_path.clone())];
+    // A folder of scanned stones is its mesh files.
+    let mut files: Vec<(InputRole, PathBuf)> =
+        crate::survey::survey_files(&g.wall_path).into_iter().map(|p| (InputRole::Wall, p)).collect();
     files.extend(g.materials_path.iter().map(|p| (InputRole::Materials, p.clone())));
     for w in &g.walls {
         for d in w.distributions() {

@@ -185,9 +185,10 @@ pub struct GroupSpec {
     /// Wall description file, relative to the study file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall: Option<PathBuf>,
-    /// A traced elevation (.svg, .geojson, .dxf), relative to the study file: the group's
-    /// realizations are the ensemble around it ([`crate::survey::ensemble`]), drawn as its
-    /// `import` table states.
+    /// A survey, relative to the study file: a traced elevation (.svg, .geojson, .dxf), the
+    /// group's realizations the ensemble around it ([`crate::survey::ensemble`]), drawn as
+    /// its `import` table states; or scanned stones (a folder, .obj, .stl), every
+    /// realization the survey as scanned.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub survey: Option<PathBuf>,
     /// With `survey`: the options of `drystone import` and the survey's uncertainty

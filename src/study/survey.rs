@@ -1,7 +1,9 @@
 //! A study group that names a survey instead of a wall description (`survey = "wall.svg"`
 //! with its `[groups.import]` table): its realizations are the ensemble around the survey
 //! ([`crate::survey::ensemble`]), run through the study's protocol as a generated wall's
-//! are.
+//! are. A group of scanned stones (a folder, `.obj`, `.stl`) has no uncertainty drawn
+//! around it: its realizations are the survey as scanned, the joints' properties as the
+//! study states them (its materials, and its effects that do not reshape blocks).
 
 use super::error::Invalid;
 use super::spec::GroupSpec;
@@ -10,7 +12,7 @@ use super::StudyError;
 use crate::generator::Wall;
 use crate::layout::MaterialSpec;
 use crate::survey::ensemble::{surveyed_wall_with, Uncertainty};
-use crate::survey::{ImportOptions, Section, SurveyMaterials};
+use crate::survey::{ImportOptions, LengthUnit, Section, SurveyMaterials};
 use std::path::Path;
 
 /// The wall of a group naming the survey `survey` (the same at every sweep point: a sweep
@@ -59,17 +61,43 @@ pub(super) fn wall_of_survey(
 ) -> Result<Wall, (String, String)> {
     let key = |k: &str| format!("groups[{name}].import.{k}");
     let path = dir.join(survey);
-    let format = if path.is_dir() { None } else { crate::survey::SurveyFormat::from_path(&path) };
-    if format.is_none_or(|f| !f.is_elevation()) {
+    let format = if path.is_dir() {
+        Some(crate::survey::SurveyFormat::Obj)
+    } else {
+        crate::survey::SurveyFormat::from_path(&path)
+    };
+    let Some(format) = format else {
         return Err((
             format!("groups[{name}].survey"),
             format!(
-                "{}: a study's survey is a traced elevation (.svg, .geojson, .dxf), around which the \
-                 ensemble is drawn; scanned stones are imported as scanned (drystone import SURVEY --out \
-                 LAYOUT.json) and run as a layout",
+                "{}: unknown survey format: a traced elevation (.svg, .geojson, .dxf) or scanned stones (a folder, \
+                 .obj, .stl)",
                 path.display()
             ),
         ));
+    };
+    let scanned = !format.is_elevation();
+    // The keys of the other kind of survey.
+    let refused: &[(&str, bool)] = if scanned {
+        &[
+            ("scale_m_per_unit", spec.scale_m_per_unit.is_some()),
+            ("thickness_m", spec.thickness_m.is_some()),
+            ("top_thickness_m", spec.top_thickness_m.is_some()),
+            ("hull_nonconvex", spec.hull_nonconvex),
+            ("tolerance_m", spec.tolerance_m != 0.0),
+            ("depth_m", spec.depth_m.is_some()),
+        ]
+    } else {
+        &[("unit", spec.unit.is_some()), ("y_up", spec.y_up)]
+    };
+    if let Some((k, _)) = refused.iter().find(|(_, given)| *given) {
+        let reason = if scanned {
+            "is for a traced elevation; scanned stones have their own shape, and no uncertainty is drawn around \
+             them: their realizations are the survey as scanned"
+        } else {
+            "is for scanned stones; a traced elevation's unit is scale_m_per_unit"
+        };
+        return Err((key(k), reason.into()));
     }
     if spec.materials.is_some() {
         let flags = [
@@ -88,9 +116,15 @@ pub(super) fn wall_of_survey(
             ));
         }
     }
-    let Some(base) = spec.thickness_m else {
-        return Err((key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
+    let section = if scanned {
+        None
+    } else {
+        let Some(base) = spec.thickness_m else {
+            return Err((key("thickness_m"), "a traced survey needs the wall's thickness, m".into()));
+        };
+        Some(Section { base_m: base, top_m: spec.top_thickness_m.unwrap_or(base), batter: spec.batter })
     };
+    let unit = spec.unit.as_deref().map(str::parse::<LengthUnit>).transpose().map_err(|e| (key("unit"), e))?;
     let materials = match &spec.materials {
         Some(p) => SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string()))?,
         None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
@@ -119,17 +153,17 @@ pub(super) fn wall_of_survey(
     let options = ImportOptions {
         format: None,
         scale_m_per_unit: spec.scale_m_per_unit,
-        section: Some(Section { base_m: base, top_m: spec.top_thickness_m.unwrap_or(base), batter: spec.batter }),
+        section,
         hull_nonconvex: spec.hull_nonconvex,
-        unit: None,
-        y_up: false,
+        unit,
+        y_up: spec.y_up,
         materials,
         base_sliding: spec.base,
         name: Some(name.to_string()),
     };
     let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
     let named = |k: &str| match k {
-        "thickness_m" | "top_thickness_m" | "scale_m_per_unit" | "tolerance_m" | "depth_m" => key(k),
+        "thickness_m" | "top_thickness_m" | "scale_m_per_unit" | "tolerance_m" | "depth_m" | "unit" => key(k),
         other => other.to_string(),
     };
     surveyed_wall_with(&path, &options, &u, &named).map_err(|e| (format!("groups[{name}].survey"), e.to_string()))

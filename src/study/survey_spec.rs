@@ -25,6 +25,11 @@ use std::path::PathBuf;
 /// tolerance_m = 0.005           # the tracing tolerance, m (default 0)
 /// depth_m = { kind = "uniform", min = 0.25, max = 0.5 }   # or a number; default: through stones
 /// ```
+///
+/// A group of scanned stones (`survey` a folder, `.obj` or `.stl`) takes `unit` and `y_up`
+/// instead of the keys of a traced elevation (`scale_m_per_unit`, `thickness_m`,
+/// `top_thickness_m`, `hull_nonconvex`, `tolerance_m`, `depth_m`, which it refuses): its
+/// realizations are the survey as scanned.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurveyImportSpec {
@@ -71,4 +76,11 @@ pub struct SurveyImportSpec {
     /// (`--depth-m`; default through stones).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth_m: Option<toml::Value>,
+    /// Scanned stones: the unit of the meshes' coordinates, `m`, `cm` or `mm` (`--unit`;
+    /// default `m`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// Scanned stones: the meshes are y-up (`--y-up`; default false: z up).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub y_up: bool,
 }

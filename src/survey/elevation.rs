@@ -168,7 +168,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
                 survey_volume_m3: prism_volume(&sh.outline),
                 hulled: sh.hulled,
             });
-            blocks.push((id, s.material.clone(), vertices));
+            blocks.push((id, s.material.clone(), vertices, None));
         }
     }
     Ok(ImportedWall {

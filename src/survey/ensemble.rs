@@ -106,11 +106,14 @@ impl Uncertainty {
 /// The surveyed wall of the traced elevation at `path` with the uncertainty `u`: a
 /// [`Wall`] whose realizations ([`crate::generator::generate`]) draw the uncertainty around
 /// the trace. The survey is first imported as traced ([`import`], every check of an import).
+/// Scanned stones at `path` make a wall whose every realization is the survey as scanned
+/// ([`Wall::from_scanned`]), `u` at its default.
 ///
 /// # Errors
-/// The errors of [`import`]; [`SurveyError::Option`] for scanned stones (their ensemble is
-/// not drawn) and for an uncertainty out of range ([`Uncertainty::check`], options named as
-/// on the command line).
+/// The errors of [`import`]; [`SurveyError::Option`] for a tolerance or depth law on
+/// scanned stones (whose every realization is the survey as scanned,
+/// [`Wall::from_scanned`]) and for an uncertainty out of range ([`Uncertainty::check`],
+/// options named as on the command line).
 pub fn surveyed_wall(path: &Path, options: &ImportOptions, u: &Uncertainty) -> Result<Wall, SurveyError> {
     surveyed_wall_with(path, options, u, &|k| format!("--{}", k.replace('_', "-")))
 }
@@ -127,13 +130,19 @@ pub fn surveyed_wall_with(
 ) -> Result<Wall, SurveyError> {
     let traced = import(path, options)?;
     if !traced.format.is_elevation() {
-        return Err(SurveyError::Option {
-            option: "--seed".into(),
-            value: traced.format.name().into(),
-            reason: "the ensemble around a survey is drawn for traced elevations (svg, geojson, dxf); scanned \
-                     stones are imported as scanned"
-                .into(),
-        });
+        // No uncertainty is defined for meshes: every realization is the survey as scanned.
+        for (k, given) in [("tolerance_m", u.tolerance_m != 0.0), ("depth_m", u.depth.is_some())] {
+            if given {
+                return Err(SurveyError::Option {
+                    option: key(k),
+                    value: traced.format.name().into(),
+                    reason: "is for a traced elevation: no uncertainty is drawn around scanned stones, whose \
+                             realizations are the survey as scanned"
+                        .into(),
+                });
+            }
+        }
+        return Ok(Wall::from_scanned(traced.layout, path.to_owned()));
     }
     let section = options.section.expect("checked by the import: a traced elevation has a section");
     u.check(section.base_m, key)?;
@@ -163,5 +172,5 @@ pub fn surveyed_wall_with(
         base: traced.layout.restraints.base_sliding,
     };
     debug_assert!(matches!(format, SurveyFormat::Svg | SurveyFormat::Geojson | SurveyFormat::Dxf));
-    Ok(Wall::from_trace(setting, Traced { stones, tolerance_m: u.tolerance_m, depth: u.depth.clone() }))
+    Ok(Wall::from_trace(setting, Traced { stones, tolerance_m: u.tolerance_m, depth: u.depth.clone(), scanned: None }))
 }

@@ -2,11 +2,14 @@
 //! `o` object a stone) and STL (ASCII, each `solid` a stone; or binary, one stone), or a
 //! folder of such files in file-name order. Vertices with the same coordinates are welded;
 //! a mesh must then be closed and consistently oriented (every edge shared by two faces in
-//! opposite directions). Its volume is the divergence theorem's `|Σ v₀·(v₁×v₂)| / 6`; its
-//! block is its convex hull ([`crate::geometry::ConvexBlock`], parry3d's hull).
+//! opposite directions). Its block, the contact geometry, is its convex hull
+//! ([`crate::geometry::ConvexBlock`], parry3d's hull); its mass, centroid and inertia are
+//! the closed mesh's own, by the divergence theorem
+//! ([`crate::geometry::mesh_mass_properties`]), written as the block's `own_mass`.
 
 use super::{check_size, check_unique_ids, ImportOptions, ImportedWall, Stone, StoneReport, SurveyError, SurveyFormat};
-use crate::geometry::ConvexBlock;
+use crate::geometry::{mesh_mass_properties, ConvexBlock};
+use crate::layout::OwnMassSpec;
 use crate::math::Vec3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -111,24 +114,29 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
             *v = [v[0] + offset[0], v[1] + offset[1], v[2] + offset[2]];
         }
         let (vertices, triangles) = (&m.vertices, &m.triangles);
-        let err =
-            |reason: String| SurveyError::Element { path: m.file.clone(), element: m.stone.element.clone(), reason };
+        let err = |reason: String| SurveyError::Element {
+            path: m.file.clone(),
+            element: m.stone.element.clone(),
+            reason: format!("stone {}: {reason}", m.stone.id),
+        };
         check_closed(triangles).map_err(err)?;
-        let volume = mesh_volume(vertices, triangles);
         let points: Vec<Vec3> = vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
-        let hull = ConvexBlock::hull_of(&points).map_err(|e| err(format!("its convex hull cannot be built: {e}")))?;
-        if !(volume > 0.0) {
+        // The stone's own mass properties, at unit density: its block's mass, weight and
+        // inertia (the block itself, its contact geometry, is the hull).
+        let own = mesh_mass_properties(&points, triangles, 1.0);
+        if !(own.volume > 0.0 && own.centroid.iter().all(|c| c.is_finite())) {
             return Err(err("the mesh encloses no volume".into()));
         }
+        let hull = ConvexBlock::hull_of(&points).map_err(|e| err(format!("its convex hull cannot be built: {e}")))?;
         reports.push(StoneReport {
             id: m.stone.id.clone(),
             element: m.stone.element.clone(),
             block_volume_m3: hull.volume(),
-            survey_volume_m3: volume,
+            survey_volume_m3: own.volume,
             hulled: true,
         });
         let vs = hull.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
-        blocks.push((m.stone.id.clone(), m.stone.material.clone(), vs));
+        blocks.push((m.stone.id.clone(), m.stone.material.clone(), vs, Some(OwnMassSpec::of(&own))));
     }
     Ok(ImportedWall {
         source: path.to_owned(),
@@ -144,7 +152,10 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
 
 /// The mesh files: `path` itself (its format given or by extension), or the OBJ and STL
 /// files of the folder `path` in file-name order.
-fn mesh_files(path: &Path, format: Option<SurveyFormat>) -> Result<Vec<(PathBuf, SurveyFormat)>, SurveyError> {
+pub(super) fn mesh_files(
+    path: &Path,
+    format: Option<SurveyFormat>,
+) -> Result<Vec<(PathBuf, SurveyFormat)>, SurveyError> {
     if !path.is_dir() {
         let f = format.or_else(|| SurveyFormat::from_path(path)).unwrap_or(SurveyFormat::Obj);
         return Ok(vec![(path.to_owned(), f)]);
@@ -382,14 +393,6 @@ fn check_closed(triangles: &[[usize; 3]]) -> Result<(), String> {
     Ok(())
 }
 
-/// The volume enclosed by a closed, consistently oriented triangle mesh, m³ (the divergence
-/// theorem: `|Σ v₀·(v₁×v₂)| / 6`, whichever way the faces are oriented).
-fn mesh_volume(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> f64 {
-    let v = |i: usize| Vec3::new(vertices[i][0], vertices[i][1], vertices[i][2]);
-    let six: f64 = triangles.iter().map(|t| v(t[0]).dot(&v(t[1]).cross(&v(t[2])))).sum();
-    six.abs() / 6.0
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -403,7 +406,8 @@ mod tests {
     fn a_tetrahedron_is_closed_with_a_sixth_of_a_unit() {
         let (v, t) = tetrahedron();
         check_closed(&t).unwrap();
-        assert!((mesh_volume(&v, &t) - 1.0 / 6.0).abs() < 1e-15);
+        let pts: Vec<Vec3> = v.iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+        assert!((mesh_mass_properties(&pts, &t, 1.0).volume - 1.0 / 6.0).abs() < 1e-15);
         assert!(check_closed(&t[..3]).unwrap_err().contains("not closed"));
         let flipped = [t[0], t[1], t[2], [1, 3, 2]];
         assert!(check_closed(&flipped).unwrap_err().contains("oriented"));

@@ -23,14 +23,19 @@
 //!   `data-length-m` attribute (its length in metres).
 //! * GeoJSON: `Polygon` and `MultiPolygon` features, coordinates `[x, z]` in metres (times
 //!   the scale if one is given).
-//! * DXF (ASCII): closed `LWPOLYLINE`s without bulges, y up; the scale from
+//! * DXF (ASCII): closed `LWPOLYLINE`s and old-style `POLYLINE`s without bulges, y up,
+//!   with `depth_m=D` text labels inside the stones whose depth was measured; any other
+//!   entity off the `IGNORE` layer refused; the scale from
 //!   [`ImportOptions::scale_m_per_unit`] or the header's `$INSUNITS`.
 //!
 //! # Scanned stones (OBJ, STL)
 //!
 //! One closed triangle mesh per stone (a file, or an `o` object of an OBJ file; a folder of
-//! such files is read in file-name order); its convex hull is the block and its volume (by
-//! the divergence theorem) is reported beside the hull's. Units by [`LengthUnit`]; z up
+//! such files is read in file-name order); its convex hull is the block (the contact
+//! geometry), and its mass, centroid and inertia are the closed mesh's own, by the
+//! divergence theorem ([`crate::geometry::mesh_mass_properties`]), written as the block's
+//! `own_mass` ([`crate::layout::OwnMassSpec`]); the mesh's volume is reported beside the
+//! hull's. Units by [`LengthUnit`]; z up
 //! unless [`ImportOptions::y_up`]. A stone longer than [`MAX_STONE_M`] or shorter than
 //! [`MIN_STONE_M`] is refused as a probable unit mistake (traced stones too).
 //!
@@ -493,12 +498,12 @@ fn check_options(format: SurveyFormat, o: &ImportOptions) -> Result<(), SurveyEr
     Ok(())
 }
 
-/// The layout of the blocks `blocks` (id, material or `None` for the stones', vertices).
-pub(crate) fn layout_of(
-    path: &Path,
-    o: &ImportOptions,
-    blocks: Vec<(String, Option<String>, Vec<[f64; 3]>)>,
-) -> LayoutSpec {
+/// A block of an imported survey: its id, its material (`None`: the stones'), its vertices
+/// (table frame, m) and its own mass properties (a scanned stone's mesh; `None`: its hull's).
+pub(crate) type SurveyBlock = (String, Option<String>, Vec<[f64; 3]>, Option<crate::layout::OwnMassSpec>);
+
+/// The layout of the blocks `blocks`.
+pub(crate) fn layout_of(path: &Path, o: &ImportOptions, blocks: Vec<SurveyBlock>) -> LayoutSpec {
     let stone = o.materials.stone();
     let table = o.materials.table_material.clone().unwrap_or_else(|| stone.clone());
     let name = o.name.clone().unwrap_or_else(|| {
@@ -515,13 +520,14 @@ pub(crate) fn layout_of(
         table: TableSpec { material: table },
         blocks: blocks
             .into_iter()
-            .map(|(id, material, vertices)| crate::layout::BlockSpec {
+            .map(|(id, material, vertices, own_mass)| crate::layout::BlockSpec {
                 id,
                 material: material.unwrap_or_else(|| stone.clone()),
                 vertices,
                 fixed: false,
                 course: None,
                 wedge: false,
+                own_mass,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: o.base_sliding, ends: vec![], ropes: vec![] },
@@ -613,6 +619,19 @@ pub fn short_number(x: f64) -> String {
 }
 
 /// Reads a file as text.
+/// The files a survey at `path` reads: its `.obj` and `.stl` files in file-name order for
+/// a folder of scanned stones, else `path` itself (a folder that cannot be listed is
+/// returned as itself, for the caller's read to name it).
+pub fn survey_files(path: &Path) -> Vec<PathBuf> {
+    if !path.is_dir() {
+        return vec![path.to_owned()];
+    }
+    match mesh::mesh_files(path, None) {
+        Ok(files) => files.into_iter().map(|(p, _)| p).collect(),
+        Err(_) => vec![path.to_owned()],
+    }
+}
+
 pub(crate) fn read_text(path: &Path) -> Result<String, SurveyError> {
     std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })
 }

@@ -33,6 +33,7 @@ pub fn inplane_block(table_phi_deg: f64, kn: f64) -> Layout {
             fixed: false,
             course: None,
             wedge: false,
+            own_mass: None,
         }],
         restraints: RestraintSpec::default(),
         monitors: vec![],

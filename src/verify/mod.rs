@@ -154,6 +154,7 @@ pub fn layout_of(blocks: Vec<Vec<[f64; 3]>>, kn: f64, ks: f64, phi_deg: f64, bas
                 fixed: false,
                 course: None,
                 wedge: false,
+                own_mass: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: base, ends: vec![], ropes: vec![] },

@@ -62,6 +62,7 @@ mod nscd_residual;
 mod nscd_rest;
 mod nscd_rigid_limits;
 mod nscd_solver_options;
+mod own_mass;
 mod paper_studies;
 mod patch_reuse;
 mod penalty_exact_winkler;

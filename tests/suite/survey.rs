@@ -397,7 +397,7 @@ fn dxf(pairs: &[(i32, &str)]) -> String {
 
 /// A drawing in millimetres (`$INSUNITS` 4), from an origin at (1000, 500) mm: a stone
 /// 400 × 150 mm on layer `granite`, a triangle 200 mm wide and 150 mm tall on it on layer
-/// `slate`, an open polyline on layer `IGNORE` and a line (neither is a stone); then
+/// `slate`, an open polyline and a line on layer `IGNORE` (neither is a stone); then
 /// `extra` entities.
 fn drawing(extra: &[(i32, &str)]) -> String {
     let mut p: Vec<(i32, &str)> = vec![(0, "SECTION"), (2, "HEADER"), (9, "$INSUNITS"), (70, "4"), (0, "ENDSEC")];
@@ -416,7 +416,7 @@ fn drawing(extra: &[(i32, &str)]) -> String {
     p.extend([(0, "LWPOLYLINE"), (5, "2B"), (8, "slate"), (90, "3"), (70, "1")]);
     p.extend([(10, "1100"), (20, "650"), (10, "1300"), (20, "650"), (10, "1200"), (20, "800")]);
     p.extend([(0, "LWPOLYLINE"), (5, "2C"), (8, "IGNORE"), (70, "0"), (10, "0"), (20, "0"), (10, "9000"), (20, "0")]);
-    p.extend([(0, "LINE"), (8, "0"), (10, "0"), (20, "0"), (11, "1"), (21, "1")]);
+    p.extend([(0, "LINE"), (8, "Ignore"), (10, "0"), (20, "0"), (11, "1"), (21, "1")]);
     p.extend_from_slice(extra);
     p.extend([(0, "ENDSEC"), (0, "EOF")]);
     dxf(&p)
@@ -490,6 +490,99 @@ fn a_dxf_drawing_in_millimetres_gives_its_closed_polylines_as_stones() {
     assert!(e.contains("handle 4D") && e.contains("vertex count (90) is 7, but the polyline has 3"), "{e}");
 }
 
+/// An old-style POLYLINE (handle `h`) of the corners `xy` (drawing units) with its VERTEX
+/// entities and, if `end`, its SEQEND; `flags` its group 70, `bulge` a group 42 on its
+/// first vertex.
+fn old_polyline(
+    h: &'static str,
+    xy: &[(&'static str, &'static str)],
+    flags: &'static str,
+    bulge: bool,
+    end: bool,
+) -> Vec<(i32, &'static str)> {
+    let mut p = vec![(0, "POLYLINE"), (5, h), (8, "0"), (66, "1"), (10, "0"), (20, "0"), (30, "0"), (70, flags)];
+    for (k, (x, y)) in xy.iter().enumerate() {
+        p.extend([(0, "VERTEX"), (8, "0"), (10, *x), (20, *y), (30, "0")]);
+        if bulge && k == 0 {
+            p.push((42, "1"));
+        }
+    }
+    if end {
+        p.extend([(0, "SEQEND"), (8, "0")]);
+    }
+    p
+}
+
+/// A TEXT label at (x, y) drawing units.
+fn text(h: &'static str, x: &'static str, y: &'static str, t: &'static str) -> Vec<(i32, &'static str)> {
+    vec![(0, "TEXT"), (5, h), (8, "0"), (10, x), (20, y), (30, "0"), (40, "20"), (1, t)]
+}
+
+/// An old-style POLYLINE is a stone as an LWPOLYLINE is; a TEXT or MTEXT `depth_m=D` inside
+/// a stone's outline is its measured depth (m); every other entity off the IGNORE layer is
+/// refused naming its type, handle and line. The drawing (mm, 0.2 m thick): stone 2A
+/// (400 × 150 mm) labelled 0.12 m deep is a face stone from the traced face (y = −0.1) to
+/// y = 0.02 and a core behind it to y = 0.1; the POLYLINE 5E beside it (x 0.4–0.8 m, z
+/// 0–0.15 m) labelled 0.2 m (the thickness) is a through stone of 0.4 × 0.15 × 0.2 m.
+#[test]
+fn a_dxf_drawing_reads_old_style_polylines_and_depth_labels_and_refuses_anything_else() {
+    let dir = Scratch::created("survey-dxf-old");
+    let materials = SurveyMaterials {
+        materials: vec![material("granite", 2600.0), material("slate", 2700.0)],
+        stone_material: None,
+        table_material: None,
+    };
+    let options = ImportOptions { materials, ..traced(0.2, None) };
+    let stone = [("1400", "500"), ("1800", "500"), ("1800", "650"), ("1400", "650")];
+    let mut extra = old_polyline("5E", &stone, "1", false, true);
+    extra.extend(text("6A", "1200", "560", "depth_m=0.12"));
+    extra.extend([(0, "MTEXT"), (5, "6B"), (8, "0"), (10, "1600"), (20, "560"), (1, "DEPTH_M = 0.2")]);
+    let w = import(&write(&dir, "old.dxf", &drawing(&extra)), &options).unwrap();
+    let ids: Vec<&str> = w.layout.blocks.iter().map(|b| b.id.as_str()).collect();
+    assert_eq!(ids, ["2A", "2A.core", "2B", "5E"]);
+    let y = |id: &str| {
+        let b = w.layout.blocks.iter().find(|b| b.id == id).unwrap();
+        b.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[1]), hi.max(v[1])))
+    };
+    for (id, (lo, hi)) in [("2A", (-0.1, 0.02)), ("2A.core", (0.02, 0.1)), ("2B", (-0.1, 0.1)), ("5E", (-0.1, 0.1))] {
+        let (a, b) = y(id);
+        assert!((a - lo).abs() < 1e-12 && (b - hi).abs() < 1e-12, "{id}: y from {a} to {b}");
+    }
+    let e5 = w.layout.blocks.iter().find(|b| b.id == "5E").unwrap();
+    let (x0, x1) =
+        e5.vertices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v[0]), hi.max(v[0])));
+    assert!((x0 - 0.4).abs() < 1e-12 && (x1 - 0.8).abs() < 1e-12, "{x0} {x1}");
+    let vol = w.stones.iter().find(|s| s.id == "5E").unwrap().block_volume_m3;
+    assert!((vol - 0.012).abs() < 1e-15, "{vol}");
+
+    // Refusals, each naming the file, the entity, its handle and a line.
+    let refused = |name: &str, extra: Vec<(i32, &'static str)>| error_of(&dir, name, &drawing(&extra), &options);
+    let e = refused("line.dxf", vec![(0, "LINE"), (5, "7A"), (8, "0"), (10, "0"), (20, "0"), (11, "1"), (21, "1")]);
+    assert!(e.contains("line.dxf: LINE (handle 7A) at line") && e.contains("IGNORE"), "{e}");
+    let e = refused("insert.dxf", vec![(0, "INSERT"), (5, "7B"), (8, "0"), (2, "STONE"), (10, "0"), (20, "0")]);
+    assert!(e.contains("INSERT (handle 7B)") && e.contains("explode"), "{e}");
+    let e = refused("arc.dxf", old_polyline("7C", &stone, "1", true, true));
+    assert!(e.contains("POLYLINE (handle 7C) at line") && e.contains("a bulge"), "{e}");
+    let e = refused("seqend.dxf", old_polyline("7D", &stone, "1", false, false));
+    assert!(e.contains("POLYLINE (handle 7D)") && e.contains("SEQEND"), "{e}");
+    let e = refused("spline.dxf", old_polyline("7E", &stone, "5", false, true));
+    assert!(e.contains("POLYLINE (handle 7E)") && e.contains("spline"), "{e}");
+    let e = refused("open.dxf", old_polyline("7F", &stone, "0", false, true));
+    assert!(e.contains("POLYLINE (handle 7F)") && e.contains("not closed"), "{e}");
+    let e = refused("outside.dxf", text("80", "5000", "5000", "depth_m=0.1"));
+    assert!(e.contains("TEXT (handle 80)") && e.contains("inside no stone"), "{e}");
+    let mut twice = text("81", "1100", "560", "depth_m=0.1");
+    twice.extend(text("82", "1300", "560", "depth_m=0.15"));
+    let e = refused("twice.dxf", twice);
+    assert!(e.contains("TEXT (handle 82)") && e.contains("second depth label") && e.contains("handle 81"), "{e}");
+    let e = refused("note.dxf", text("83", "1100", "560", "stone 12"));
+    assert!(e.contains("TEXT (handle 83)") && e.contains("not a depth label"), "{e}");
+    let e = refused("nan.dxf", text("84", "1100", "560", "depth_m=deep"));
+    assert!(e.contains("TEXT (handle 84)") && e.contains("not a number of metres"), "{e}");
+    let e = refused("thick.dxf", text("85", "1100", "560", "depth_m=0.5"));
+    assert!(e.contains("thick.dxf") && e.contains("LWPOLYLINE (handle 2A)") && e.contains("depth 0.5 m"), "{e}");
+}
+
 /// The error of importing `text` as `name` with `options`.
 fn error_of(dir: &Path, name: &str, text: &str, options: &ImportOptions) -> String {
     import(&write(dir, name, text), options).map(|_| ()).unwrap_err().to_string()
@@ -536,7 +629,7 @@ fn errors_name_the_file_and_the_element() {
     let open: String =
         cube_obj(0.2, [0.0; 3], 0).lines().filter(|l| *l != "f 2 3 7 6").map(|l| format!("{l}\n")).collect();
     let e = error_of(&dir, "open.obj", &open, &scanned(LengthUnit::M));
-    assert!(e.contains("open.obj: open.obj: the mesh is not closed: 4 edges"), "{e}");
+    assert!(e.contains("open.obj: open.obj: stone open: the mesh is not closed: 4 edges"), "{e}");
     let e = error_of(&dir, "wall.dwg", "AC1032", &t);
     assert!(e.contains("wall.dwg") && e.contains("unknown survey format"), "{e}");
     let e = error_of(

@@ -167,7 +167,8 @@ fn an_in_plane_study_runs_a_survey_and_refuses_a_bad_group_by_key() {
         ),
         ("missing", format!("survey = {}\n{import_table}", s(&dir.join("no.svg"))), "groups[0].survey"),
         ("specimens", format!("survey = {}\n{import_table}\nspecimens = [\"A\", \"A\"]", s(&svg)), "groups[0].specimens[1]"),
-        ("scanned", format!("survey = {}\n{import_table}", s(&dir)), "groups[traced].survey"),
+        // Scanned stones (a folder) take no thickness: they have their own.
+        ("scanned", format!("survey = {}\n{import_table}", s(&dir)), "groups[traced].import.thickness_m"),
         (
             "both materials",
             format!("survey = {}\nimport = {{ thickness_m = 0.2, materials = \"m.toml\", kn = 5e9 }}", s(&svg)),

@@ -126,15 +126,14 @@ impl Rig {
             .max_by(|a, b| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z))
             .map_or(0, |b| b.material);
         let g = wall.gravity;
-        let volume = |s: &ConvexBlock| s.volume();
         let wall_weight: f64 = wall
             .blocks
             .iter()
             .filter(|b| !b.fixed)
-            .map(|b| wall.materials[b.material].density * volume(&b.shape))
+            .map(|b| b.mass_properties(wall.materials[b.material].density).mass)
             .sum::<f64>()
             * g;
-        let beam_weight = wall.materials[material].density * volume(&shape) * g;
+        let beam_weight = wall.materials[material].density * shape.volume() * g;
         let vertical_force_n = params.sigma0_mpa * 1e6 * length * thickness;
         if vertical_force_n < beam_weight {
             return Err(InPlaneError::Parameter(OutOfRange::new(
@@ -151,6 +150,7 @@ impl Rig {
             fixed: false,
             course: None,
             wedge: false,
+            own_mass: None,
         });
         let beam = layout.blocks.len() - 1;
         Ok(Rig {
