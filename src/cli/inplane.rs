@@ -305,6 +305,7 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
         "thickness_m": r.thickness_m,
         "unconverged_increments": r.unconverged,
         "retried_increments": r.retried,
+        "newton_handed_over": r.newton_handed_over,
         "increments": r.curve.len() - 1,
         "steps": r.steps,
         "dt_s": r.dt_s,
@@ -375,9 +376,10 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
         if r.excursion_block.is_empty() { String::new() } else { format!(" ({})", r.excursion_block) }
     );
     out!(
-        "  {} increments, {} unconverged; {} steps, dt {:.2e} s; {:.2} s",
+        "  {} increments, {} unconverged{}; {} steps, dt {:.2e} s; {:.2} s",
         r.curve.len() - 1,
         r.unconverged,
+        r.newton_handed_over.map_or(String::new(), |n| format!(", {n} handed over by the Newton solve to relaxation")),
         r.steps,
         r.dt_s,
         r.wall_time_s

@@ -342,3 +342,23 @@ fn a_monolith_rocking_under_a_beam_held_level_is_read_as_rocking() {
         assert!((peak * 1e3 / double - 1.0).abs() < 0.01, "{name}: {peak} kN vs {double} N");
     }
 }
+
+#[test]
+fn the_newton_solve_rocks_a_monolith_to_its_capacity_and_counts_what_it_hands_over() {
+    let (n, w, _) = forces();
+    let wall = inplane_block(45.0, 1e11);
+    let default = penalty(&wall, &params(0.5));
+    assert_eq!(default.newton_handed_over, None, "the default has no Newton stage");
+    let s = SolverParams { kind: drystone::dem::SolverKind::Newton, ..SolverParams::default() };
+    let r = run_in_plane_penalty(&wall, s, &params(0.5), &mut |_, _, _| {}).unwrap();
+    let handed = r.newton_handed_over.expect("a Newton stage");
+    assert!(handed < r.curve.len(), "{handed} of {} increments", r.curve.len() - 1);
+    // The statics of the rigid block: N_total L / (2 H0), approached from below by the
+    // joints' rotation at 0.5 % drift, as the default's peak is.
+    let capacity = (n + w) * L / 2.0 / H0;
+    let (peak, base) =
+        (r.positive.unwrap().peak_force_kn * 1e3, default.positive.unwrap().peak_force_kn * 1e3);
+    assert!(peak < capacity && peak / capacity > 0.9, "Newton {peak} N vs rigid {capacity} N");
+    assert!((peak / base - 1.0).abs() < 0.01, "Newton {peak} N vs the default's {base} N");
+    assert_eq!(r.unconverged, 0);
+}

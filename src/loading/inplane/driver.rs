@@ -53,6 +53,7 @@ pub fn run_in_plane_penalty(
     let work = Work {
         unconverged: walked.unconverged,
         retried: walked.retried,
+        newton_handed_over: relax.cascade.newton.then_some(walked.handed_over),
         steps: sim.state.steps,
         dt_s: sim.dt(),
         t0,
@@ -163,6 +164,8 @@ struct Walked {
     unconverged: usize,
     /// Increments solved again from their start.
     retried: usize,
+    /// Of the increments kept, those the Newton stage handed over.
+    handed_over: usize,
     /// The largest positive displacement (m) and the poses there.
     reading: (f64, Poses),
     /// The half-cycle that led to the reading.
@@ -195,6 +198,7 @@ fn walk_path(
     let mut curve =
         vec![CurvePoint { top_mm: 0.0, drift_pct: 0.0, force_kn: actuator_force(sim, bi) * 1e-3, converged: true }];
     let mut unconverged = 0;
+    let mut handed_over = 0;
     let mut reading = (f64::NEG_INFINITY, reference.clone());
     // Where the half-cycle that led to the reading started (module doc, the mechanism).
     let mut half = HalfCycle::new(reference);
@@ -250,6 +254,7 @@ fn walk_path(
             // block thrown from the wall.
             let converged = out.end == End::Equilibrium && every_block_balanced(sim, bi) && !off_path;
             unconverged += usize::from(!converged);
+            handed_over += usize::from(out.newton_unsolved.is_some());
             let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;
             let drift = 100.0 * top / rig.measure_z_m;
             let force_kn = actuator_force(sim, bi) * 1e-3;
@@ -262,7 +267,7 @@ fn walk_path(
             }
         }
     }
-    Ok(Walked { curve, unconverged, retried: steps.retried, reading, half, excursion })
+    Ok(Walked { curve, unconverged, retried: steps.retried, handed_over, reading, half, excursion })
 }
 
 /// The most a block may walk from every one of its joint neighbours in one increment of a

@@ -80,6 +80,12 @@ pub struct InPlaneResult {
     /// those whose relaxation blew up from the predicted state, and those whose relaxation
     /// threw a block off the path (the penalty DEM's driver, see `unconverged`).
     pub retried: usize,
+    /// Of the increments kept, those whose semi-smooth Newton solve (`--solver newton`,
+    /// `dem::drivers::newton`) found no equilibrium and handed the increment to the
+    /// protocol's own static method, dynamic relaxation (`None`: the solve has no Newton
+    /// stage).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub newton_handed_over: Option<usize>,
     /// Engine steps, settling included.
     pub steps: u64,
     /// Time step, s.
@@ -109,6 +115,8 @@ pub(crate) struct Work {
     pub unconverged: usize,
     /// Increments solved again from their start.
     pub retried: usize,
+    /// Increments the Newton stage handed over (`None`: no Newton stage).
+    pub newton_handed_over: Option<usize>,
     /// Engine steps.
     pub steps: u64,
     /// Time step, s.
@@ -185,6 +193,7 @@ pub(crate) fn result_of(
             .then(|| Box::new(Mirror { wall_curve: None })),
         unconverged: work.unconverged,
         retried: work.retried,
+        newton_handed_over: work.newton_handed_over,
         steps: work.steps,
         dt_s: work.dt_s,
         wall_time_s: work.t0.elapsed().as_secs_f64(),
