@@ -221,9 +221,18 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                out!("{}", serde_json::to_string_pretty(&penalty_json(&r, method))?);
+                let mut j = penalty_json(&r, method);
+                // The solver chosen, where it names more than the method (`newton`,
+                // `implicit`, … are the penalty DEM with one static solve).
+                j["solver"] = json!(kind.name());
+                out!("{}", serde_json::to_string_pretty(&j)?);
             } else {
-                print_penalty(&a.layout, &params, &r, engine);
+                let engine = if kind.names_cascade() {
+                    format!("{engine}, --solver {}", kind.name())
+                } else {
+                    engine.to_string()
+                };
+                print_penalty(&a.layout, &params, &r, &engine);
             }
         }
         InPlaneRun::Limit(r) => {

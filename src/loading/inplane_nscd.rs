@@ -201,7 +201,15 @@ pub fn run_in_plane_nscd(
     let ids: Vec<String> = sim.bodies().iter().map(|b| b.id.clone()).collect();
     let mechanism = half.mechanism(&ref_joints, &ids, bi, anchor_ref, &reference, &reading);
     // Rigid contacts: the wall has no vertical compliance to read.
-    let work =
-        Work { unconverged, retried: 0, newton_handed_over: None, steps: sim.steps(), dt_s: h, t0, vertical_modulus_mpa: f64::NAN, excursion };
+    let work = Work {
+        unconverged,
+        retried: 0,
+        newton_handed_over: None,
+        steps: sim.steps(),
+        dt_s: h,
+        t0,
+        vertical_modulus_mpa: f64::NAN,
+        excursion,
+    };
     Ok(result_of(&rig, params, curve, mechanism, &reading.1, work))
 }

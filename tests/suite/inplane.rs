@@ -312,7 +312,7 @@ fn the_command_line_prints_the_keys_and_refuses_by_flag() {
     });
     std::fs::write(&layout, text.to_string()).unwrap();
     let bin = env!("CARGO_BIN_EXE_drystone");
-    for solver in ["penalty", "nscd", "limit"] {
+    for (solver, method) in [("penalty", "penalty"), ("newton", "penalty"), ("nscd", "nscd"), ("limit", "limit")] {
         let o = Command::new(bin)
             .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
             .args(["--drift-pct", "0.5", "--solver", solver, "--json"])
@@ -324,6 +324,12 @@ fn the_command_line_prints_the_keys_and_refuses_by_flag() {
             assert!(j.get(key).is_some(), "{solver}: no {key} in {j}");
         }
         assert_eq!(j["mechanism"], "rocking", "{solver}");
+        // The method that ran, and the solver chosen where it says more (the penalty DEM's
+        // Newton solve is not "penalty" alone).
+        assert_eq!(j["method"], method, "{solver}");
+        if method != "limit" {
+            assert_eq!(j["solver"], solver, "{solver}");
+        }
     }
     for (args, needle) in [
         (vec!["--sigma0-mpa", "-1", "--shear-span-m", "1.325"], "--sigma0-mpa"),

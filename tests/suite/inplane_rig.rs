@@ -356,8 +356,7 @@ fn the_newton_solve_rocks_a_monolith_to_its_capacity_and_counts_what_it_hands_ov
     // The statics of the rigid block: N_total L / (2 H0), approached from below by the
     // joints' rotation at 0.5 % drift, as the default's peak is.
     let capacity = (n + w) * L / 2.0 / H0;
-    let (peak, base) =
-        (r.positive.unwrap().peak_force_kn * 1e3, default.positive.unwrap().peak_force_kn * 1e3);
+    let (peak, base) = (r.positive.unwrap().peak_force_kn * 1e3, default.positive.unwrap().peak_force_kn * 1e3);
     assert!(peak < capacity && peak / capacity > 0.9, "Newton {peak} N vs rigid {capacity} N");
     assert!((peak / base - 1.0).abs() < 0.01, "Newton {peak} N vs the default's {base} N");
     assert_eq!(r.unconverged, 0);
