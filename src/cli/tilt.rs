@@ -292,10 +292,21 @@ pub fn run(
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
             o.insert("collapse_angle_deg".into(), r.collapse_angle_deg().into());
+            if solver.kind == drystone::dem::SolverKind::Newton {
+                let handed = r.increments.iter().filter(|i| i.newton_handed_over).count();
+                o.insert("newton_handed_over".into(), handed.into());
+            }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print(layout, &r, solver.kind.method() == drystone::dem::Method::Nscd);
+        if solver.kind == drystone::dem::SolverKind::Newton {
+            let handed = r.increments.iter().filter(|i| i.newton_handed_over).count();
+            out!(
+                "newton            {handed} of {} increments and trials handed over to the protocol's own static solve",
+                r.increments.len()
+            );
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -162,6 +162,7 @@ pub fn run_tilt_by_hand(
         iterations: 0,
         displacement_m: vec![0.0; monitors.len()],
         unbalanced_ratio: 0.0,
+        newton_handed_over: false,
     }];
     let (mut last_stable, mut first_unstable, mut reason) = (0.0, None, None);
     let mut mechanism = Mechanism::none();
@@ -215,6 +216,7 @@ pub fn run_tilt_by_hand(
             iterations: u32::try_from(sim.iterations() - it0).unwrap_or(u32::MAX),
             displacement_m: shown,
             unbalanced_ratio: sim.last_step().residual_m_per_s / g_h,
+            newton_handed_over: false,
         });
         if collapsed {
             break;

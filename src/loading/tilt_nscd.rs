@@ -388,6 +388,7 @@ fn run_tilt_nscd_once(layout: &Layout, params: &NscdParams, tilt: &TiltParams) -
             iterations: u32::try_from(t.iterations).unwrap_or(u32::MAX),
             displacement_m: displacements(&t.sim, &monitors, &reference),
             unbalanced_ratio: t.sim.last_step().residual_m_per_s / g_h,
+            newton_handed_over: false,
         });
     };
 

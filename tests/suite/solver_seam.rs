@@ -65,10 +65,21 @@ fn every_solver_runs_the_tilting_table_through_the_seam() {
     assert!(nscd.last_stable_deg <= rigid && rigid <= up, "nscd [{}, {up}] vs {rigid}", nscd.last_stable_deg);
     // The penalty methods agree with each other within one bracket, below the rigid limit
     // (the exact finite-rotation Winkler angle of this block is 16.31°, `drystone verify`).
-    for kind in [SolverKind::Penalty, SolverKind::Accelerated, SolverKind::Relaxation] {
+    for kind in
+        [SolverKind::Penalty, SolverKind::Newton, SolverKind::Implicit, SolverKind::Accelerated, SolverKind::Relaxation]
+    {
         let r = run_tilt(&l, SolverParams { kind, ..SolverParams::default() }, &params).unwrap();
         let up = r.first_unstable_deg.unwrap();
         assert!(r.last_stable_deg <= 16.31 + 0.02 && up >= 16.31 - 0.02, "{kind}: [{}, {up}]", r.last_stable_deg);
+        // Only a Newton stage hands increments over; it solves the block's stable ones itself.
+        let handed: Vec<f64> = r.increments.iter().filter(|i| i.newton_handed_over).map(|i| i.alpha_deg).collect();
+        if kind == SolverKind::Newton {
+            let stable = r.increments.iter().filter(|i| i.stable && i.alpha_deg < 15.0).count();
+            let early = handed.iter().filter(|&&a| a < 15.0).count();
+            assert!(stable > 0 && early == 0, "{kind}: handed over at {handed:?}");
+        } else {
+            assert!(handed.is_empty(), "{kind}: handed over at {handed:?}");
+        }
     }
 }
 

@@ -114,6 +114,7 @@ fn run_tilt_penalty_once(
         iterations: 0,
         displacement_m: vec![0.0; monitors.len()],
         unbalanced_ratio: sim.stats().unbalanced_ratio,
+        newton_handed_over: false,
     }];
     observe(0.0, true, &sim);
     let mut path = StablePath::new(sim, penalty.predictor);

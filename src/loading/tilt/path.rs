@@ -105,6 +105,8 @@ pub(super) struct StageRun {
     pub(super) stage: StageEnd,
     pub(super) steps: u64,
     pub(super) iterations: u32,
+    /// The Newton stage handed the solve over ([`crate::dem::SolveOutcome::newton_unsolved`]).
+    pub(super) newton_handed_over: bool,
 }
 
 pub(crate) struct Ctx<'a> {
@@ -154,7 +156,12 @@ impl Ctx<'_> {
                 StageEnd::Collapsed(CollapseReason::NegativeStiffness)
             }
         };
-        Ok(StageRun { stage, steps: out.steps, iterations: out.iterations })
+        Ok(StageRun {
+            stage,
+            steps: out.steps,
+            iterations: out.iterations,
+            newton_handed_over: out.newton_unsolved.is_some(),
+        })
     }
 
     /// The per-increment collapse displacement, m: the larger of
@@ -243,7 +250,7 @@ impl StablePath {
         observe: &mut dyn FnMut(f64, bool, &Simulation),
     ) -> Result<Option<(CollapseReason, Simulation)>, DemError> {
         let prediction = if self.predictor { self.secant.predict(alpha_deg) } else { None };
-        let (next, StageRun { stage, steps, iterations }) =
+        let (next, StageRun { stage, steps, iterations, newton_handed_over }) =
             ctx.run_from(&self.sim, alpha_deg, prediction, &mut self.fallbacks)?;
         self.total_steps += steps;
         self.total_iterations += u64::from(iterations);
@@ -254,6 +261,7 @@ impl StablePath {
             iterations,
             displacement_m: ctx.displacements(&next),
             unbalanced_ratio: next.stats().unbalanced_ratio,
+            newton_handed_over,
         });
         observe(alpha_deg, matches!(stage, StageEnd::Stable), &next);
         Ok(match stage {

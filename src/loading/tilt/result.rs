@@ -72,6 +72,11 @@ pub struct Increment {
     pub displacement_m: Vec<f64>,
     /// Unbalanced-force ratio at the end of the increment.
     pub unbalanced_ratio: f64,
+    /// The semi-smooth Newton solve (`--solver newton`) found no equilibrium here and
+    /// handed the increment to the protocol's own static methods (false without a Newton
+    /// stage; not written when false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub newton_handed_over: bool,
 }
 
 /// Outcome of a tilting-table run.
