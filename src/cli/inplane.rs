@@ -103,8 +103,10 @@ pub use drystone::loading::inplane::MAX_QUARTER_INCREMENTS;
 /// within ±`drift_pct`.
 ///
 /// # Errors
-/// The file unreadable or a line not three numbers (named), no turning point, or a point
-/// past `drift_pct` (naming `--drift-pct`).
+/// The file unreadable, a header that does not name the columns, a line that is not three
+/// finite numbers (or a break of `NaN` in every column), each naming the file, the line and
+/// the column (`study::inplane::read_envelope`, the reader of the study's measured curves);
+/// no turning point, or a point past `drift_pct` (naming `--drift-pct`).
 fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
     let points = drystone::study::inplane::read_envelope(file)?;
     let drifts: Vec<f64> = points.iter().map(|p| p.0).collect();
