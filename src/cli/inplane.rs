@@ -34,10 +34,11 @@ pub struct InPlaneArgs {
     /// Database reads a test that reports none; the wall's height with a fixed one).
     #[arg(long, value_name = "M")]
     measuring_height_m: Option<f64>,
-    /// The largest drift, % (the penalty DEM: at most 8.8 % with its default face-angle
-    /// tolerance; nscd and limit analysis: up to 50 %).
-    #[arg(long, value_name = "PCT", default_value_t = InPlaneParams::default().drift_pct)]
-    drift_pct: f64,
+    /// The largest drift, % [default: 3] (the penalty DEM: at most 8.8 % with its default
+    /// face-angle tolerance; nscd: up to 50 %; not read by limit analysis, which has no
+    /// path).
+    #[arg(long, value_name = "PCT")]
+    drift_pct: Option<f64>,
     /// Cycles of growing amplitude (each amplitude `--cycles` times) instead of a monotonic
     /// push.
     #[arg(long)]
@@ -73,12 +74,15 @@ pub struct InPlaneArgs {
     /// default 8).
     #[arg(long)]
     quarter_increments: Option<u32>,
-    /// The imposed displacement's increment per static solve of a monotonic run, mm.
-    #[arg(long, value_name = "MM", default_value_t = InPlaneParams::default().step_mm)]
-    step_mm: f64,
-    /// Unbalanced-force ratio of equilibrium of each static solve.
-    #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
-    tolerance: f64,
+    /// The imposed displacement's increment per static solve of a monotonic run (and its
+    /// largest in a cyclic one), mm [default: 0.25] (the penalty DEM and nscd; not read by
+    /// limit analysis).
+    #[arg(long, value_name = "MM")]
+    step_mm: Option<f64>,
+    /// Unbalanced-force ratio of equilibrium of each static solve of the penalty DEM
+    /// [default: 1e-4] (not read by nscd or limit analysis, which have no such solve).
+    #[arg(long)]
+    tolerance: Option<f64>,
     #[command(flatten)]
     solver: SolverChoice,
     /// Print one JSON object instead of a table.
@@ -125,6 +129,42 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
     Ok(turns)
 }
 
+/// Refuses the options that the chosen solver's method does not read, each by name with what
+/// to do (`--cyclic` and `--curve` with limit analysis are refused beside the history's own
+/// checks): limit analysis gives the collapse load of the first direction from statics, with
+/// no path (`--drift-pct`, `--step-mm`), no reading of a displacement
+/// (`--measuring-height-m`) and no static solve (`--tolerance`); nscd has no static solve
+/// (`--tolerance`). The penalty DEM reads every option.
+///
+/// # Errors
+/// The first such option given, by name.
+fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
+    use drystone::dem::Method::{Limit, Nscd, Penalty};
+    let kind = a.solver.solver;
+    if a.cyclic && kind.method() == Limit {
+        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    }
+    for (flag, given, readers, what) in [
+        ("--drift-pct", a.drift_pct.is_some(), &[Penalty, Nscd][..], "the path's largest drift"),
+        ("--step-mm", a.step_mm.is_some(), &[Penalty, Nscd][..], "the path's increment"),
+        (
+            "--measuring-height-m",
+            a.measuring_height_m.is_some(),
+            &[Penalty, Nscd][..],
+            "where the curve's displacement is read",
+        ),
+        (
+            "--tolerance",
+            a.tolerance.is_some(),
+            &[Penalty][..],
+            "the equilibrium tolerance of the penalty DEM's static solves",
+        ),
+    ] {
+        super::solver::only_with_methods(kind, readers, flag, given, what)?;
+    }
+    Ok(())
+}
+
 /// The beam's rotation on the command line.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum Rotation {
@@ -138,16 +178,18 @@ enum Rotation {
 /// A bad option or layout (named), a refused solver, a run that fails, an output that
 /// cannot be written.
 pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
+    refuse_unread(&a)?;
+    let drift_pct = a.drift_pct.unwrap_or(InPlaneParams::default().drift_pct);
     let reversals_pct = match (&a.reversals_pct, &a.replay) {
         (Some(r), _) => Some(r.clone()),
-        (None, Some(file)) => Some(replayed(file, a.drift_pct)?),
+        (None, Some(file)) => Some(replayed(file, drift_pct)?),
         (None, None) => None,
     };
     let cyclic = a.cyclic || reversals_pct.is_some();
     let params = InPlaneParams {
         sigma0_mpa: a.sigma0_mpa,
         shear_span_m: a.shear_span_m,
-        drift_pct: a.drift_pct,
+        drift_pct,
         history: if cyclic { History::Cyclic } else { History::Monotonic },
         amplitudes_pct: a.amplitudes_pct.clone(),
         reversals_pct,
@@ -156,7 +198,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
             Rotation::Free => BeamRotation::Free,
             Rotation::Fixed => BeamRotation::Fixed,
         },
-        step_mm: a.step_mm,
+        step_mm: a.step_mm.unwrap_or(InPlaneParams::default().step_mm),
         quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),
         measuring_height_m: a.measuring_height_m,
         mirror_reading: false,
@@ -188,14 +230,17 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         super::check_writable(p)?;
     }
     if cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+        bail!("--reversals-pct and --replay give a cyclic history, which limit analysis does not read (the collapse load of the first direction, no history): drop it, or choose another --solver");
     }
     if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
         bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
     }
     let l = super::read_layout(&a.layout)?;
     let kind = a.solver.solver;
-    let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };
+    let penalty = PenaltyParams {
+        tolerance: a.tolerance.unwrap_or(PenaltyParams::default().tolerance),
+        ..PenaltyParams::default()
+    };
     let solver = SolverParams { kind, penalty, limit: LimitParams::default(), ..SolverParams::default() };
     let unsupported = |e: Unsupported| anyhow::anyhow!("{e}; on the command line: --solver NAME");
     let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});

@@ -315,7 +315,8 @@ fn the_command_line_prints_the_keys_and_refuses_by_flag() {
     for solver in ["penalty", "nscd", "limit"] {
         let o = Command::new(bin)
             .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
-            .args(["--drift-pct", "0.5", "--solver", solver, "--json"])
+            .args(if solver == "limit" { &[][..] } else { &["--drift-pct", "0.5"][..] })
+            .args(["--solver", solver, "--json"])
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -773,6 +774,49 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Options that the chosen solver does not read are refused by name, with what to do, before
+/// any run: limit analysis (the collapse load from statics: no path, no displacement read,
+/// no static solve) refuses `--drift-pct`, `--step-mm`, `--measuring-height-m` and
+/// `--tolerance`; nscd (no static solve) refuses `--tolerance`. They were accepted and
+/// ignored. The penalty DEM reads them all, and each solver runs without them.
+#[test]
+fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-solver-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let base = ["--sigma0-mpa", "0.5", "--shear-span-m", "1.325"];
+    let run = |args: &[&str]| {
+        let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(base).args(args).output().unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    for (solver, flag, value) in [
+        ("limit", "--drift-pct", "0.5"),
+        ("limit", "--step-mm", "0.1"),
+        ("limit", "--measuring-height-m", "1.3"),
+        ("limit", "--tolerance", "1e-5"),
+        ("nscd", "--tolerance", "1e-5"),
+    ] {
+        let (code, err) = run(&["--solver", solver, flag, value]);
+        assert_eq!(code, Some(2), "{solver} {flag}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(err.contains(flag) && err.contains(&format!("--solver {solver}")) && err.contains("drop"), "{err}");
+    }
+    // nscd reads the path's options; limit analysis runs without them.
+    let (code, err) = run(&["--solver", "nscd", "--drift-pct", "0.2", "--step-mm", "0.5", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = run(&["--solver", "limit", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
