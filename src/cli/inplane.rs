@@ -268,7 +268,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                out!("{}", serde_json::to_string_pretty(&penalty_json(&r, method))?);
+                out!("{}", serde_json::to_string_pretty(&penalty_json(&r, method, params.beam_rotation))?);
             } else {
                 print_penalty(&a.layout, &params, &r, engine);
             }
@@ -293,9 +293,9 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                out!("{}", serde_json::to_string_pretty(&limit_json(&r))?);
+                out!("{}", serde_json::to_string_pretty(&limit_json(&r, params.beam_rotation))?);
             } else {
-                print_limit(&a.layout, &r);
+                print_limit(&a.layout, &r, params.beam_rotation);
             }
         }
     }
@@ -323,10 +323,36 @@ fn dir_json(d: &Option<DirectionResult>) -> serde_json::Value {
     }
 }
 
+/// What the JSON's `shear_span_m` is (its `shear_span_definition`).
+const SHEAR_SPAN_DEFINITION: &str = "the height above the base at which the horizontal force acts, m, with the beam's \
+     rotation free (cantilever); null with the beam held level (beam_rotation fixed: double curvature), which has no \
+     shear span";
+
+/// The shear span the report gives for the beam's `rotation`: `h0` (m) with it free, none
+/// with it held level (the force's height is then not read: the beam's held rotation sets the
+/// moment, and the rig's anchor is only where the constraint acts).
+fn shear_span(rotation: BeamRotation, h0: f64) -> Option<f64> {
+    match rotation {
+        BeamRotation::Free => Some(h0),
+        BeamRotation::Fixed => None,
+    }
+}
+
+/// The report's words for the beam's `rotation`: its name, the shear span's text and the
+/// rigid rocking capacity's formula.
+fn rotation_words(rotation: BeamRotation, h0: f64) -> (&'static str, String, &'static str) {
+    match rotation {
+        BeamRotation::Free => ("free", format!("H0 {h0:.3} m"), "N_total L / (2 H0)"),
+        BeamRotation::Fixed => ("fixed", "beam held level: no shear span".into(), "(N L + W L / 2) / H"),
+    }
+}
+
 /// The JSON of a curve (the penalty DEM's or nscd's, `method`): the positive direction's
-/// outputs at the top level, then both directions, the mechanism, the forces and the curve.
-fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
+/// outputs at the top level, then both directions, the mechanism, the forces and the curve;
+/// the shear span only with the beam's `rotation` free.
+fn penalty_json(r: &InPlaneResult, method: &str, rotation: BeamRotation) -> serde_json::Value {
     let p = r.positive;
+    let (rotation_name, _, rocking) = rotation_words(rotation, r.shear_span_m);
     json!({
         "method": method,
         "peak_force_kn": p.map(|d| d.peak_force_kn),
@@ -341,7 +367,10 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
         "vertical_force_kn": r.vertical_force_kn,
         "n_total_kn": r.n_total_kn,
         "rocking_force_kn": r.rocking_force_kn,
-        "shear_span_m": r.shear_span_m,
+        "rocking_force_definition": format!("rigid rocking capacity of the monolithic wall, {rocking}"),
+        "beam_rotation": rotation_name,
+        "shear_span_m": shear_span(rotation, r.shear_span_m),
+        "shear_span_definition": SHEAR_SPAN_DEFINITION,
         "measuring_height_m": r.measuring_height_m,
         "drift_definition": "displacement at the measuring point over its height",
         "wall_vertical_modulus_mpa": r.wall_vertical_modulus_mpa,
@@ -360,7 +389,9 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
     })
 }
 
-fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
+/// The JSON of limit analysis's answer; the shear span only with the beam's `rotation` free.
+fn limit_json(r: &InPlaneLimit, rotation: BeamRotation) -> serde_json::Value {
+    let (rotation_name, _, rocking) = rotation_words(rotation, r.shear_span_m);
     json!({
         "method": "limit",
         "peak_force_kn": r.peak_force_kn,
@@ -374,22 +405,25 @@ fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
         "vertical_force_kn": r.vertical_force_kn,
         "n_total_kn": r.n_total_kn,
         "rocking_force_kn": r.rocking_force_kn,
-        "shear_span_m": r.shear_span_m,
+        "rocking_force_definition": format!("rigid rocking capacity of the monolithic wall, {rocking}"),
+        "beam_rotation": rotation_name,
+        "shear_span_m": shear_span(rotation, r.shear_span_m),
+        "shear_span_definition": SHEAR_SPAN_DEFINITION,
         "wall_time_s": r.limit.wall_time_s,
     })
 }
 
 fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engine: &str) {
+    let (_, span, rocking) = rotation_words(params.beam_rotation, r.shear_span_m);
     out!("in-plane test of {} ({engine})", layout.display());
     out!(
-        "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; H0 {:.3} m",
+        "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; {span}",
         r.length_m,
         r.height_m,
         r.thickness_m,
         params.sigma0_mpa,
         r.vertical_force_kn,
         r.n_total_kn,
-        r.shear_span_m
     );
     for (name, d) in [("positive", r.positive), ("negative", r.negative)] {
         if let Some(d) = d {
@@ -411,7 +445,7 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
         r.mechanism.joints.len(),
         r.mechanism.moving_blocks.len()
     );
-    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!("  rigid rocking capacity {rocking}: {:.2} kN", r.rocking_force_kn);
     out!(
         "  displacement read at {:.3} m (drift = displacement / {:.3} m); wall's vertical modulus {:.0} MPa; largest \
          block excursion from its course {:.2} mm{}",
@@ -431,15 +465,15 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
     );
 }
 
-fn print_limit(layout: &Path, r: &InPlaneLimit) {
+fn print_limit(layout: &Path, r: &InPlaneLimit, rotation: BeamRotation) {
+    let (_, span, rocking) = rotation_words(rotation, r.shear_span_m);
     out!("in-plane test of {} (limit analysis)", layout.display());
     out!(
-        "  peak horizontal force {:.2} kN (lambda = V / N_total = {:.4}, {:?} flow rule); N_total {:.1} kN; H0 {:.3} m",
+        "  peak horizontal force {:.2} kN (lambda = V / N_total = {:.4}, {:?} flow rule); N_total {:.1} kN; {span}",
         r.peak_force_kn,
         r.limit.load_multiplier,
         r.limit.governing,
         r.n_total_kn,
-        r.shear_span_m
     );
     out!(
         "  mechanism: {} (opening share {:.2}, crack {}, {} joints)",
@@ -448,7 +482,7 @@ fn print_limit(layout: &Path, r: &InPlaneLimit) {
         r.mechanism.crack,
         r.mechanism.joints.len()
     );
-    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!("  rigid rocking capacity {rocking}: {:.2} kN", r.rocking_force_kn);
 }
 
 fn write_curve(path: &Path, r: &InPlaneResult) -> Result<()> {

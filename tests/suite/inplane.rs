@@ -820,6 +820,51 @@ fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// With the beam held level (`--beam-rotation fixed`) there is no shear span: the text table
+/// and the JSON give none (the JSON's `shear_span_m` is null, `shear_span_definition` says
+/// what it is) and name the rocking capacity's double-curvature formula, by every solver;
+/// with the beam free both give H0. They printed the beam's anchor as H0 beside the
+/// cantilever's formula.
+#[test]
+fn a_beam_held_level_reports_no_shear_span() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-fixed-h0-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let run = |args: &[&str]| {
+        let o = Command::new(bin)
+            .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    for solver in ["penalty", "limit"] {
+        let path: &[&str] = if solver == "limit" { &[] } else { &["--drift-pct", "0.1"] };
+        let fixed = [&["--beam-rotation", "fixed", "--solver", solver][..], path].concat();
+        let table = run(&fixed);
+        assert!(!table.contains("H0 ") && table.contains("no shear span"), "{solver}: {table}");
+        assert!(table.contains("(N L + W L / 2) / H") && !table.contains("(2 H0)"), "{solver}: {table}");
+        let j: serde_json::Value = serde_json::from_str(&run(&[&fixed[..], &["--json"]].concat())).unwrap();
+        assert!(j["shear_span_m"].is_null(), "{solver}: {j}");
+        assert_eq!(j["beam_rotation"], "fixed", "{solver}");
+        assert!(j["shear_span_definition"].as_str().unwrap().contains("null with the beam held level"), "{solver}");
+        let free = [&["--shear-span-m", "1.325", "--solver", solver][..], path].concat();
+        assert!(run(&free).contains("H0 1.325 m"), "{solver}");
+        let j: serde_json::Value = serde_json::from_str(&run(&[&free[..], &["--json"]].concat())).unwrap();
+        assert_eq!(j["shear_span_m"], 1.325, "{solver}: {j}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A study's `[in_plane]` keys that none of its runs reads are refused by name, as the
 /// command line refuses the flags: the cyclic history's keys when every group is
 /// monotonic, the shear span with the beam held level (they were accepted and ignored).
