@@ -34,10 +34,11 @@ pub struct InPlaneArgs {
     /// Database reads a test that reports none; the wall's height with a fixed one).
     #[arg(long, value_name = "M")]
     measuring_height_m: Option<f64>,
-    /// The largest drift, % (the penalty DEM: at most 8.8 % with its default face-angle
-    /// tolerance; nscd and limit analysis: up to 50 %).
-    #[arg(long, value_name = "PCT", default_value_t = InPlaneParams::default().drift_pct)]
-    drift_pct: f64,
+    /// The largest drift, % [default: 3] (the penalty DEM: at most 8.8 % with its default
+    /// face-angle tolerance; nscd: up to 50 %; not read by limit analysis, which has no
+    /// path).
+    #[arg(long, value_name = "PCT")]
+    drift_pct: Option<f64>,
     /// Cycles of growing amplitude (each amplitude `--cycles` times) instead of a monotonic
     /// push.
     #[arg(long)]
@@ -73,12 +74,15 @@ pub struct InPlaneArgs {
     /// default 8).
     #[arg(long)]
     quarter_increments: Option<u32>,
-    /// The imposed displacement's increment per static solve of a monotonic run, mm.
-    #[arg(long, value_name = "MM", default_value_t = InPlaneParams::default().step_mm)]
-    step_mm: f64,
-    /// Unbalanced-force ratio of equilibrium of each static solve.
-    #[arg(long, default_value_t = PenaltyParams::default().tolerance)]
-    tolerance: f64,
+    /// The imposed displacement's increment per static solve of a monotonic run (and its
+    /// largest in a cyclic one), mm [default: 0.25] (the penalty DEM and nscd; not read by
+    /// limit analysis).
+    #[arg(long, value_name = "MM")]
+    step_mm: Option<f64>,
+    /// Unbalanced-force ratio of equilibrium of each static solve of the penalty DEM
+    /// [default: 1e-4] (not read by nscd or limit analysis, which have no such solve).
+    #[arg(long)]
+    tolerance: Option<f64>,
     #[command(flatten)]
     solver: SolverChoice,
     /// Print one JSON object instead of a table.
@@ -103,8 +107,10 @@ pub use drystone::loading::inplane::MAX_QUARTER_INCREMENTS;
 /// within ±`drift_pct`.
 ///
 /// # Errors
-/// The file unreadable or a line not three numbers (named), no turning point, or a point
-/// past `drift_pct` (naming `--drift-pct`).
+/// The file unreadable, a header that does not name the columns, a line that is not three
+/// finite numbers (or a break of `NaN` in every column), each naming the file, the line and
+/// the column (`study::inplane::read_envelope`, the reader of the study's measured curves);
+/// no turning point, or a point past `drift_pct` (naming `--drift-pct`).
 fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
     let points = drystone::study::inplane::read_envelope(file)?;
     let drifts: Vec<f64> = points.iter().map(|p| p.0).collect();
@@ -123,6 +129,42 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
     Ok(turns)
 }
 
+/// Refuses the options that the chosen solver's method does not read, each by name with what
+/// to do (`--cyclic` and `--curve` with limit analysis are refused beside the history's own
+/// checks): limit analysis gives the collapse load of the first direction from statics, with
+/// no path (`--drift-pct`, `--step-mm`), no reading of a displacement
+/// (`--measuring-height-m`) and no static solve (`--tolerance`); nscd has no static solve
+/// (`--tolerance`). The penalty DEM reads every option.
+///
+/// # Errors
+/// The first such option given, by name.
+fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
+    use drystone::dem::Method::{Limit, Nscd, Penalty};
+    let kind = a.solver.solver;
+    if a.cyclic && kind.method() == Limit {
+        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    }
+    for (flag, given, readers, what) in [
+        ("--drift-pct", a.drift_pct.is_some(), &[Penalty, Nscd][..], "the path's largest drift"),
+        ("--step-mm", a.step_mm.is_some(), &[Penalty, Nscd][..], "the path's increment"),
+        (
+            "--measuring-height-m",
+            a.measuring_height_m.is_some(),
+            &[Penalty, Nscd][..],
+            "where the curve's displacement is read",
+        ),
+        (
+            "--tolerance",
+            a.tolerance.is_some(),
+            &[Penalty][..],
+            "the equilibrium tolerance of the penalty DEM's static solves",
+        ),
+    ] {
+        super::solver::only_with_methods(kind, readers, flag, given, what)?;
+    }
+    Ok(())
+}
+
 /// The beam's rotation on the command line.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum Rotation {
@@ -136,16 +178,18 @@ enum Rotation {
 /// A bad option or layout (named), a refused solver, a run that fails, an output that
 /// cannot be written.
 pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
+    refuse_unread(&a)?;
+    let drift_pct = a.drift_pct.unwrap_or(InPlaneParams::default().drift_pct);
     let reversals_pct = match (&a.reversals_pct, &a.replay) {
         (Some(r), _) => Some(r.clone()),
-        (None, Some(file)) => Some(replayed(file, a.drift_pct)?),
+        (None, Some(file)) => Some(replayed(file, drift_pct)?),
         (None, None) => None,
     };
     let cyclic = a.cyclic || reversals_pct.is_some();
     let params = InPlaneParams {
         sigma0_mpa: a.sigma0_mpa,
         shear_span_m: a.shear_span_m,
-        drift_pct: a.drift_pct,
+        drift_pct,
         history: if cyclic { History::Cyclic } else { History::Monotonic },
         amplitudes_pct: a.amplitudes_pct.clone(),
         reversals_pct,
@@ -154,7 +198,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
             Rotation::Free => BeamRotation::Free,
             Rotation::Fixed => BeamRotation::Fixed,
         },
-        step_mm: a.step_mm,
+        step_mm: a.step_mm.unwrap_or(InPlaneParams::default().step_mm),
         quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),
         measuring_height_m: a.measuring_height_m,
         mirror_reading: false,
@@ -186,14 +230,17 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         super::check_writable(p)?;
     }
     if cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+        bail!("--reversals-pct and --replay give a cyclic history, which limit analysis does not read (the collapse load of the first direction, no history): drop it, or choose another --solver");
     }
     if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
         bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
     }
     let l = super::read_layout(&a.layout)?;
     let kind = a.solver.solver;
-    let penalty = PenaltyParams { tolerance: a.tolerance, ..PenaltyParams::default() };
+    let penalty = PenaltyParams {
+        tolerance: a.tolerance.unwrap_or(PenaltyParams::default().tolerance),
+        ..PenaltyParams::default()
+    };
     let solver = SolverParams { kind, penalty, limit: LimitParams::default(), ..SolverParams::default() };
     let unsupported = |e: Unsupported| anyhow::anyhow!("{e}; on the command line: --solver NAME");
     let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});
@@ -221,7 +268,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                let mut j = penalty_json(&r, method);
+                let mut j = penalty_json(&r, method, params.beam_rotation);
                 // The solver chosen, where it names more than the method (`newton`,
                 // `implicit`, … are the penalty DEM with one static solve).
                 j["solver"] = json!(kind.name());
@@ -255,9 +302,9 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
             if a.json {
-                out!("{}", serde_json::to_string_pretty(&limit_json(&r))?);
+                out!("{}", serde_json::to_string_pretty(&limit_json(&r, params.beam_rotation))?);
             } else {
-                print_limit(&a.layout, &r);
+                print_limit(&a.layout, &r, params.beam_rotation);
             }
         }
     }
@@ -285,10 +332,36 @@ fn dir_json(d: &Option<DirectionResult>) -> serde_json::Value {
     }
 }
 
+/// What the JSON's `shear_span_m` is (its `shear_span_definition`).
+const SHEAR_SPAN_DEFINITION: &str = "the height above the base at which the horizontal force acts, m, with the beam's \
+     rotation free (cantilever); null with the beam held level (beam_rotation fixed: double curvature), which has no \
+     shear span";
+
+/// The shear span the report gives for the beam's `rotation`: `h0` (m) with it free, none
+/// with it held level (the force's height is then not read: the beam's held rotation sets the
+/// moment, and the rig's anchor is only where the constraint acts).
+fn shear_span(rotation: BeamRotation, h0: f64) -> Option<f64> {
+    match rotation {
+        BeamRotation::Free => Some(h0),
+        BeamRotation::Fixed => None,
+    }
+}
+
+/// The report's words for the beam's `rotation`: its name, the shear span's text and the
+/// rigid rocking capacity's formula.
+fn rotation_words(rotation: BeamRotation, h0: f64) -> (&'static str, String, &'static str) {
+    match rotation {
+        BeamRotation::Free => ("free", format!("H0 {h0:.3} m"), "N_total L / (2 H0)"),
+        BeamRotation::Fixed => ("fixed", "beam held level: no shear span".into(), "(N L + W L / 2) / H"),
+    }
+}
+
 /// The JSON of a curve (the penalty DEM's or nscd's, `method`): the positive direction's
-/// outputs at the top level, then both directions, the mechanism, the forces and the curve.
-fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
+/// outputs at the top level, then both directions, the mechanism, the forces and the curve;
+/// the shear span only with the beam's `rotation` free.
+fn penalty_json(r: &InPlaneResult, method: &str, rotation: BeamRotation) -> serde_json::Value {
     let p = r.positive;
+    let (rotation_name, _, rocking) = rotation_words(rotation, r.shear_span_m);
     json!({
         "method": method,
         "peak_force_kn": p.map(|d| d.peak_force_kn),
@@ -303,7 +376,10 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
         "vertical_force_kn": r.vertical_force_kn,
         "n_total_kn": r.n_total_kn,
         "rocking_force_kn": r.rocking_force_kn,
-        "shear_span_m": r.shear_span_m,
+        "rocking_force_definition": format!("rigid rocking capacity of the monolithic wall, {rocking}"),
+        "beam_rotation": rotation_name,
+        "shear_span_m": shear_span(rotation, r.shear_span_m),
+        "shear_span_definition": SHEAR_SPAN_DEFINITION,
         "measuring_height_m": r.measuring_height_m,
         "drift_definition": "displacement at the measuring point over its height",
         "wall_vertical_modulus_mpa": r.wall_vertical_modulus_mpa,
@@ -323,7 +399,9 @@ fn penalty_json(r: &InPlaneResult, method: &str) -> serde_json::Value {
     })
 }
 
-fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
+/// The JSON of limit analysis's answer; the shear span only with the beam's `rotation` free.
+fn limit_json(r: &InPlaneLimit, rotation: BeamRotation) -> serde_json::Value {
+    let (rotation_name, _, rocking) = rotation_words(rotation, r.shear_span_m);
     json!({
         "method": "limit",
         "peak_force_kn": r.peak_force_kn,
@@ -337,22 +415,25 @@ fn limit_json(r: &InPlaneLimit) -> serde_json::Value {
         "vertical_force_kn": r.vertical_force_kn,
         "n_total_kn": r.n_total_kn,
         "rocking_force_kn": r.rocking_force_kn,
-        "shear_span_m": r.shear_span_m,
+        "rocking_force_definition": format!("rigid rocking capacity of the monolithic wall, {rocking}"),
+        "beam_rotation": rotation_name,
+        "shear_span_m": shear_span(rotation, r.shear_span_m),
+        "shear_span_definition": SHEAR_SPAN_DEFINITION,
         "wall_time_s": r.limit.wall_time_s,
     })
 }
 
 fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engine: &str) {
+    let (_, span, rocking) = rotation_words(params.beam_rotation, r.shear_span_m);
     out!("in-plane test of {} ({engine})", layout.display());
     out!(
-        "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; H0 {:.3} m",
+        "  wall {:.3} x {:.3} x {:.3} m (L x H x t); sigma0 {} MPa: N {:.1} kN, N_total {:.1} kN; {span}",
         r.length_m,
         r.height_m,
         r.thickness_m,
         params.sigma0_mpa,
         r.vertical_force_kn,
         r.n_total_kn,
-        r.shear_span_m
     );
     for (name, d) in [("positive", r.positive), ("negative", r.negative)] {
         if let Some(d) = d {
@@ -374,7 +455,7 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
         r.mechanism.joints.len(),
         r.mechanism.moving_blocks.len()
     );
-    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!("  rigid rocking capacity {rocking}: {:.2} kN", r.rocking_force_kn);
     out!(
         "  displacement read at {:.3} m (drift = displacement / {:.3} m); wall's vertical modulus {:.0} MPa; largest \
          block excursion from its course {:.2} mm{}",
@@ -395,15 +476,15 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
     );
 }
 
-fn print_limit(layout: &Path, r: &InPlaneLimit) {
+fn print_limit(layout: &Path, r: &InPlaneLimit, rotation: BeamRotation) {
+    let (_, span, rocking) = rotation_words(rotation, r.shear_span_m);
     out!("in-plane test of {} (limit analysis)", layout.display());
     out!(
-        "  peak horizontal force {:.2} kN (lambda = V / N_total = {:.4}, {:?} flow rule); N_total {:.1} kN; H0 {:.3} m",
+        "  peak horizontal force {:.2} kN (lambda = V / N_total = {:.4}, {:?} flow rule); N_total {:.1} kN; {span}",
         r.peak_force_kn,
         r.limit.load_multiplier,
         r.limit.governing,
         r.n_total_kn,
-        r.shear_span_m
     );
     out!(
         "  mechanism: {} (opening share {:.2}, crack {}, {} joints)",
@@ -412,7 +493,7 @@ fn print_limit(layout: &Path, r: &InPlaneLimit) {
         r.mechanism.crack,
         r.mechanism.joints.len()
     );
-    out!("  rigid rocking capacity N_total L / (2 H0): {:.2} kN", r.rocking_force_kn);
+    out!("  rigid rocking capacity {rocking}: {:.2} kN", r.rocking_force_kn);
 }
 
 fn write_curve(path: &Path, r: &InPlaneResult) -> Result<()> {

@@ -3,7 +3,7 @@
 //! the non-smooth solver.
 
 use anyhow::{bail, Result};
-use drystone::dem::{LimitParams, SolverKind};
+use drystone::dem::{LimitParams, Method, SolverKind};
 use drystone::loading::lateral::LateralParams;
 use drystone::loading::tilt::TiltParams;
 use drystone::nscd::{NscdParams, NsgsNorm, RestRule, StepSolver};
@@ -183,6 +183,27 @@ impl LimitFlags {
 fn only_with(kind: SolverKind, own: SolverKind, given: bool, message: &str) -> Result<()> {
     if given && kind != own {
         bail!("{message}");
+    }
+    Ok(())
+}
+
+/// Refuses an option of a command that the chosen solver's method does not read: `flag`
+/// (`given` on the command line) sets `what`, which only the methods `readers` read; `kind`
+/// is the solver chosen.
+///
+/// # Errors
+/// Naming `flag`, what it sets, the method that would ignore it and what to do (drop it, or
+/// choose a solver that reads it), when it is given and `kind`'s method is not a reader.
+pub fn only_with_methods(kind: SolverKind, readers: &[Method], flag: &str, given: bool, what: &str) -> Result<()> {
+    let method = kind.method();
+    if given && !readers.contains(&method) {
+        let solvers: Vec<&str> = readers.iter().map(|m| m.kind().name()).collect();
+        bail!(
+            "{flag} sets {what}, which {} (--solver {}) does not read: drop {flag}, or choose --solver {}",
+            method.describe(),
+            kind.name(),
+            solvers.join(" or ")
+        );
     }
     Ok(())
 }

@@ -35,7 +35,10 @@ pub struct InPlaneLimit {
     pub vertical_force_kn: f64,
     /// The rigid rocking capacity of the monolithic wall, kN (a reference).
     pub rocking_force_kn: f64,
-    /// The height of the horizontal force, m.
+    /// The height of the horizontal force, m: the shear span `H0` with the beam's rotation
+    /// free; with it held level, the height of the beam's constraint
+    /// ([`Rig::anchor_z_m`](crate::loading::inplane::Rig::anchor_z_m)), which is no shear span
+    /// and is not reported as one.
     pub shear_span_m: f64,
     /// The mechanism read from the collapse velocities ([`read_mechanism`]).
     pub mechanism: InPlaneMechanism,

@@ -57,7 +57,7 @@ use std::path::{Path, PathBuf};
 
 pub use super::inplane_error::InPlaneStudyError;
 pub use super::inplane_measured::{
-    read_envelope, read_envelope_of, read_loops, read_specimens, EnvelopeReadings, Specimen,
+    read_envelope, read_envelope_of, read_loops, read_specimens, EnvelopeReadings, Specimen, CURVE_COLUMNS,
 };
 
 /// The in-plane study file.

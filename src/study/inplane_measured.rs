@@ -235,29 +235,72 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
     Ok(out)
 }
 
+/// The columns of a curve file of the database (its third header line) and their units (its
+/// fourth), in order.
+pub const CURVE_COLUMNS: [(&str, &str); 3] =
+    [("top_displacement", "[mm]"), ("horizontal_force", "[kN]"), ("drift", "[%]")];
+
 /// Reads a curve file of the database (an envelope or a whole curve): four header lines
-/// (unit, reference, columns, units), then `top_displacement mm, horizontal_force kN,
-/// drift %` a line (`NaN` where a digitized segment breaks); returns the rows in order.
+/// (unit, reference, the columns `top_displacement,horizontal_force,drift`, their units
+/// `[mm],[kN],[%]`: [`CURVE_COLUMNS`]), then `top_displacement mm, horizontal_force kN,
+/// drift %` a line; returns the rows in order. A line of `NaN` in every column is kept (a
+/// break between digitized segments, as the database marks it, which the readings pass
+/// over); blank lines are passed over.
 ///
 /// # Errors
-/// Naming the file and the line.
+/// Naming the file and the line: a header that does not name the columns or their units, a
+/// line that is not three fields, a field that is not a number (naming its column), a number
+/// that is infinite, or `NaN` in some columns of a line and not in all.
 fn read_points(path: &Path) -> Result<Vec<[f64; 3]>, InPlaneStudyError> {
     let err = |message: String| InPlaneStudyError::File { path: path.to_owned(), message };
     let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    let lines: Vec<&str> = text.lines().collect();
+    let expected = |k: usize| CURVE_COLUMNS.iter().map(|c| if k == 0 { c.0 } else { c.1 }).collect::<Vec<_>>();
+    for (k, what) in [(0usize, "the columns"), (1, "the columns' units")] {
+        let line = lines.get(2 + k).copied().unwrap_or_default();
+        let found: Vec<String> = split_csv(line).iter().map(|x| x.trim().to_string()).collect();
+        let want = expected(k);
+        if found != want {
+            return Err(err(format!(
+                "line {}: header {line:?} does not give {what} of a curve file: expected {:?} (four header lines: \
+                 unit, reference, columns, units)",
+                3 + k,
+                want.join(",")
+            )));
+        }
+    }
     let mut pts = Vec::new();
-    for (i, line) in text.lines().enumerate().skip(4) {
+    for (i, line) in lines.iter().enumerate().skip(4) {
         if line.trim().is_empty() {
             continue;
         }
-        let v: Vec<f64> = split_csv(line)
-            .iter()
-            .map(|x| x.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| err(format!("line {}: {line:?} is not three numbers", i + 1)))?;
-        if v.len() < 3 {
-            return Err(err(format!("line {}: {line:?} is not three numbers", i + 1)));
+        let fields = split_csv(line);
+        if fields.len() != 3 {
+            return Err(err(format!("line {}: {line:?} is not three numbers ({} fields)", i + 1, fields.len())));
         }
-        pts.push([v[0], v[1], v[2]]);
+        let mut v = [0.0f64; 3];
+        for (k, (x, (column, unit))) in fields.iter().zip(CURVE_COLUMNS).enumerate() {
+            let x = x.trim();
+            v[k] =
+                x.parse::<f64>().map_err(|_| err(format!("line {}: column {column}: {x:?} is not a number", i + 1)))?;
+            if v[k].is_infinite() {
+                return Err(err(format!(
+                    "line {}: column {column}: {x:?} is not a finite reading ({unit} expected)",
+                    i + 1
+                )));
+            }
+        }
+        let breaks = v.iter().filter(|x| x.is_nan()).count();
+        if breaks != 0 && breaks != 3 {
+            let k = v.iter().position(|x| x.is_nan()).unwrap_or_default();
+            return Err(err(format!(
+                "line {}: column {}: NaN beside numbers: a break between digitized segments is NaN in every \
+                 column, a reading a number in every column",
+                i + 1,
+                CURVE_COLUMNS[k].0
+            )));
+        }
+        pts.push(v);
     }
     Ok(pts)
 }

@@ -315,7 +315,8 @@ fn the_command_line_prints_the_keys_and_refuses_by_flag() {
     for (solver, method) in [("penalty", "penalty"), ("newton", "penalty"), ("nscd", "nscd"), ("limit", "limit")] {
         let o = Command::new(bin)
             .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
-            .args(["--drift-pct", "0.5", "--solver", solver, "--json"])
+            .args(if solver == "limit" { &[][..] } else { &["--drift-pct", "0.5"][..] })
+            .args(["--solver", solver, "--json"])
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -779,6 +780,167 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Options that the chosen solver does not read are refused by name, with what to do, before
+/// any run: limit analysis (the collapse load from statics: no path, no displacement read,
+/// no static solve) refuses `--drift-pct`, `--step-mm`, `--measuring-height-m` and
+/// `--tolerance`; nscd (no static solve) refuses `--tolerance`. They were accepted and
+/// ignored. The penalty DEM reads them all, and each solver runs without them.
+#[test]
+fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-solver-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let base = ["--sigma0-mpa", "0.5", "--shear-span-m", "1.325"];
+    let run = |args: &[&str]| {
+        let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(base).args(args).output().unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    for (solver, flag, value) in [
+        ("limit", "--drift-pct", "0.5"),
+        ("limit", "--step-mm", "0.1"),
+        ("limit", "--measuring-height-m", "1.3"),
+        ("limit", "--tolerance", "1e-5"),
+        ("nscd", "--tolerance", "1e-5"),
+    ] {
+        let (code, err) = run(&["--solver", solver, flag, value]);
+        assert_eq!(code, Some(2), "{solver} {flag}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(err.contains(flag) && err.contains(&format!("--solver {solver}")) && err.contains("drop"), "{err}");
+    }
+    // nscd reads the path's options; limit analysis runs without them.
+    let (code, err) = run(&["--solver", "nscd", "--drift-pct", "0.2", "--step-mm", "0.5", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = run(&["--solver", "limit", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With the beam held level (`--beam-rotation fixed`) there is no shear span: the text table
+/// and the JSON give none (the JSON's `shear_span_m` is null, `shear_span_definition` says
+/// what it is) and name the rocking capacity's double-curvature formula, by every solver;
+/// with the beam free both give H0. They printed the beam's anchor as H0 beside the
+/// cantilever's formula.
+#[test]
+fn a_beam_held_level_reports_no_shear_span() {
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-fixed-h0-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let run = |args: &[&str]| {
+        let o = Command::new(bin)
+            .args(["in-plane", layout.to_str().unwrap(), "--sigma0-mpa", "0.5"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    for solver in ["penalty", "limit"] {
+        let path: &[&str] = if solver == "limit" { &[] } else { &["--drift-pct", "0.1"] };
+        let fixed = [&["--beam-rotation", "fixed", "--solver", solver][..], path].concat();
+        let table = run(&fixed);
+        assert!(!table.contains("H0 ") && table.contains("no shear span"), "{solver}: {table}");
+        assert!(table.contains("(N L + W L / 2) / H") && !table.contains("(2 H0)"), "{solver}: {table}");
+        let j: serde_json::Value = serde_json::from_str(&run(&[&fixed[..], &["--json"]].concat())).unwrap();
+        assert!(j["shear_span_m"].is_null(), "{solver}: {j}");
+        assert_eq!(j["beam_rotation"], "fixed", "{solver}");
+        assert!(j["shear_span_definition"].as_str().unwrap().contains("null with the beam held level"), "{solver}");
+        let free = [&["--shear-span-m", "1.325", "--solver", solver][..], path].concat();
+        assert!(run(&free).contains("H0 1.325 m"), "{solver}");
+        let j: serde_json::Value = serde_json::from_str(&run(&[&free[..], &["--json"]].concat())).unwrap();
+        assert_eq!(j["shear_span_m"], 1.325, "{solver}: {j}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A top course with a step is refused before any run, naming the stones: the bundled
+/// granite wall (generated by the command line, its layout file edited here) with one top
+/// stone raised by 2 mm, where the beam laid on it would bear on that stone alone (its
+/// neighbours 2 mm below it, 160 times what their joints close under 0.5 MPa: σ0 / Kn =
+/// 0.5e6 / 2e10 = 25 µm). A step within half that closure (5 µm against 12.5 µm) is taken
+/// up by the joints and runs. Before, any step within 2.4 mm (0.002 of the height) passed.
+#[test]
+fn a_top_course_with_a_step_is_refused_naming_its_stones() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("drystone-inplane-step-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    let plain = dir.join("wall.json");
+    let o = Command::new(bin)
+        .args(["generate", root.join("studies/walls/granite_vasconcelos.toml").to_str().unwrap()])
+        .args(["--seed", "20090301", "--out", plain.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let spec: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&plain).unwrap()).unwrap();
+    let top_of = |b: &serde_json::Value| {
+        b["vertices"].as_array().unwrap().iter().map(|v| v[2].as_f64().unwrap()).fold(f64::NEG_INFINITY, f64::max)
+    };
+    let top = spec["blocks"].as_array().unwrap().iter().map(top_of).fold(f64::NEG_INFINITY, f64::max);
+    let course: Vec<String> = spec["blocks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| top_of(b) == top)
+        .map(|b| b["id"].as_str().unwrap().to_string())
+        .collect();
+    assert!(course.len() >= 3, "{course:?}");
+    let raised_id = course[course.len() / 2].clone();
+    // The wall with its middle top stone's top face raised by `dz`.
+    let raised = |dz: f64| -> (Layout, std::path::PathBuf) {
+        let mut spec = spec.clone();
+        for b in spec["blocks"].as_array_mut().unwrap() {
+            if b["id"] == raised_id.as_str() {
+                for v in b["vertices"].as_array_mut().unwrap() {
+                    if v[2].as_f64().unwrap() == top {
+                        v[2] = serde_json::json!(top + dz);
+                    }
+                }
+            }
+        }
+        let path = dir.join(format!("raised_{dz}.json"));
+        std::fs::write(&path, spec.to_string()).unwrap();
+        (Layout::from_file(&path).unwrap(), path)
+    };
+    let p = params(1.0);
+    assert!(drystone::loading::inplane::Rig::build(&Layout::from_file(&plain).unwrap(), &p).is_ok());
+    assert!(drystone::loading::inplane::Rig::build(&raised(5e-6).0, &p).is_ok());
+    let (wall, path) = raised(2e-3);
+    let e = drystone::loading::inplane::Rig::build(&wall, &p).map(|_| ()).unwrap_err();
+    assert!(matches!(e, InPlaneError::NotLevel { .. }), "{e}");
+    let e = e.to_string();
+    assert!(e.contains("not level") && e.contains(&format!("bear on block {raised_id}")), "{e}");
+    for other in course.iter().filter(|id| **id != raised_id) {
+        assert!(e.contains(other.as_str()), "{other}: {e}");
+    }
+    assert!(e.contains("2.000 mm below") && e.contains("0.0125 mm"), "{e}");
+    // Every method refuses it: the command line by limit analysis, no run made.
+    let o = Command::new(bin)
+        .args(["in-plane", path.to_str().unwrap(), "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
+        .args(["--solver", "limit"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("not level") && err.contains(&raised_id), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -171,3 +171,62 @@ fn bad_replayed_histories_are_refused_by_name() {
     assert_ne!(code, Some(0));
     assert!(e.contains("--amplitudes-pct") || e.contains("--reversals-pct"), "{e}");
 }
+
+/// A curve file whose reading is not a finite number, or whose header does not name the
+/// columns, is refused naming the file, the line and the column, by the command line's
+/// `--replay` and by the study's reader of its measured curves alike (both read it through
+/// `study::inplane::read_envelope`'s reader); a line of `NaN` in every column (the
+/// database's break between digitized segments, as the bundled WS1.100 has) is read.
+/// Before, `inf`, `NaN` in one column and a header of other columns were read, and the
+/// readings that were not finite passed over silently.
+#[test]
+fn a_curve_file_with_a_reading_that_is_not_finite_or_a_wrong_header_is_refused_by_line_and_column() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    let name = "FD_WS1100_Vasconcelos2009.csv";
+    let text = std::fs::read_to_string(curves().join(name)).unwrap();
+    assert!(text.lines().any(|l| l == "NaN,NaN,NaN"));
+    let dir = std::env::temp_dir().join(format!("drystone-replay-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Line `n` (1-based) replaced by `line`.
+    let edited = |n: usize, line: &str| -> PathBuf {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[n - 1] = line.to_string();
+        let d = dir.join(format!("edit{n}"));
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join(name), lines.join("\n")).unwrap();
+        d.join(name)
+    };
+    let read = |p: &PathBuf| drystone::study::inplane::read_envelope(p).map(|_| ()).unwrap_err().to_string();
+    for (n, line, needles) in [
+        (10, "0.5,3.1,inf", vec!["line 10", "column drift", "not a finite"]),
+        (11, "-inf,3.1,0.05", vec!["line 11", "column top_displacement", "not a finite"]),
+        (12, "0.6,NaN,0.05", vec!["line 12", "column horizontal_force", "NaN beside numbers"]),
+        (9, "1.2.3,3.0,0.04", vec!["line 9", "column top_displacement", "not a number"]),
+        (9, "0.5,3.0,0.04,7", vec!["line 9", "not three numbers"]),
+        (3, "drift,horizontal_force,top_displacement", vec!["line 3", "top_displacement,horizontal_force,drift"]),
+        (4, "[m],[kN],[%]", vec!["line 4", "[mm],[kN],[%]"]),
+    ] {
+        let p = edited(n, line);
+        let e = read(&p);
+        assert!(e.contains(name), "{line}: {e}");
+        for needle in &needles {
+            assert!(e.contains(needle), "{line}: {e}");
+        }
+        // The study's reader of the measured curves: the same refusal, naming the file.
+        let mut s = drystone::study::inplane::read_specimens(&root.join("walls.csv"), None).unwrap();
+        let e = drystone::study::inplane::read_loops(&mut s, p.parent().unwrap()).unwrap_err().to_string();
+        assert!(e.contains(name) && e.contains(needles[0]), "{line}: {e}");
+    }
+    // On the command line (the history is read before the layout).
+    let p = edited(10, "0.5,3.1,inf");
+    let o = Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["in-plane", "/nonexistent/wall.json", "--sigma0-mpa", "0.5", "--shear-span-m", "1.325"])
+        .args(["--drift-pct", "0.01", "--replay", p.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(!e.contains("panicked"), "{e}");
+    assert!(e.contains(name) && e.contains("line 10") && e.contains("column drift"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

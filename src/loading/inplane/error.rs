@@ -69,25 +69,34 @@ pub enum InPlaneError {
         /// [`super::BEARING_SHARE`] in %.
         need_pct: f64,
     },
-    /// The top course is not level enough to carry the beam.
+    /// The top course is not level enough to carry the beam: some of its stones lie lower
+    /// than the others by more than the joints' closure under the vertical stress takes up
+    /// ([`super::level_tolerance_m`]), so the beam, laid on the highest, would bear on part of
+    /// the top.
     #[error(
-        "the top course is not level enough to carry the loading beam: block {block} tops at {top_m:.4} m, {below_mm:.1} mm below the wall's top {height_m:.4} m, and the blocks within {tolerance_mm:.1} mm of the top cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed)"
+        "the top course is not level enough to carry the loading beam: {} top{} {step_min_mm:.3}{} mm below the wall's top {height_m:.4} m, more than the {tolerance_mm:.4} mm the joints' closure under σ0 {sigma0_mpa} MPa takes up (half the beam joint's closure: within it every top stone carries at least half of σ0); the beam would bear on {} alone ({bearing_pct:.0} % of the wall's length). Level the top course (as a laboratory beds its beam on a levelled top), or edit the layout so the stones named reach the top",
+        list_ids(low, "block", "blocks"),
+        if low.len() == 1 { "s" } else { "" },
+        if step_max_mm - step_min_mm > 1e-6 { format!("–{step_max_mm:.3}") } else { String::new() },
+        list_ids(bearing, "block", "blocks")
     )]
     NotLevel {
-        /// The highest block below the level band.
-        block: String,
-        /// Its top, m.
-        top_m: f64,
-        /// How far below the top, mm.
-        below_mm: f64,
-        /// The wall's height, m.
+        /// The top course's stones below the tolerance (ids).
+        low: Vec<String>,
+        /// The stones the beam would bear on (ids).
+        bearing: Vec<String>,
+        /// The wall's top, m.
         height_m: f64,
-        /// The level tolerance, mm.
+        /// How far below the top the highest of the low stones tops, mm.
+        step_min_mm: f64,
+        /// How far below the top the lowest of them tops, mm.
+        step_max_mm: f64,
+        /// The level tolerance ([`super::level_tolerance_m`]), mm.
         tolerance_mm: f64,
-        /// The share of the length covered by level blocks, %.
-        covered_pct: f64,
-        /// The share needed, %.
-        need_pct: f64,
+        /// The vertical stress, MPa.
+        sigma0_mpa: f64,
+        /// The share of the wall's length under the stones the beam would bear on, %.
+        bearing_pct: f64,
     },
     /// The layout does not stand under gravity alone.
     #[error(transparent)]
@@ -303,4 +312,17 @@ fn used_materials(wall: &Layout) -> impl Iterator<Item = (usize, &crate::layout:
     let used: std::collections::BTreeSet<usize> =
         wall.blocks.iter().map(|b| b.material).chain(std::iter::once(wall.table_material)).collect();
     wall.materials.iter().enumerate().filter(move |(k, _)| used.contains(k))
+}
+
+/// `ids` as a phrase: `block b1`, `blocks b1, b2 and b3`, the first six and how many more.
+fn list_ids(ids: &[String], one: &str, many: &str) -> String {
+    const SHOWN: usize = 6;
+    match ids {
+        [] => format!("no {many}"),
+        [a] => format!("{one} {a}"),
+        _ if ids.len() <= SHOWN => {
+            format!("{many} {} and {}", ids[..ids.len() - 1].join(", "), ids[ids.len() - 1])
+        }
+        _ => format!("{many} {} and {} more", ids[..SHOWN].join(", "), ids.len() - SHOWN),
+    }
 }

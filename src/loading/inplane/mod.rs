@@ -94,7 +94,8 @@ pub use readings::{
 pub use result::InPlaneResult;
 pub(crate) use result::{result_of, Excursion, Work};
 pub use rig::{
-    add_rig_force, one_block_stiffness, read_curve, Mirror, Rig, BEAM_ID, BEARING_SHARE, LEVEL_TOLERANCE_FRACTION,
+    add_rig_force, level_tolerance_m, one_block_stiffness, read_curve, Mirror, Rig, BEAM_ID, BEARING_SHARE,
+    LEVEL_TOLERANCE_FLOOR_M, LEVEL_TOLERANCE_FRACTION,
 };
 pub use wall_mechanism::{
     mechanism_joints, read_mechanism, InPlaneMechanism, MechanismJoint, MechanismKind, ACTIVE_JOINT_SHARE,

@@ -39,7 +39,9 @@ pub struct InPlaneResult {
     pub height_m: f64,
     /// See `length_m`.
     pub thickness_m: f64,
-    /// The height of the horizontal force, m.
+    /// The height of the horizontal force, m: the shear span `H0` with the beam's rotation
+    /// free; with it held level, the height of the beam's constraint ([`Rig::anchor_z_m`]),
+    /// which is no shear span (the held rotation sets the moment) and is not reported as one.
     pub shear_span_m: f64,
     /// The height of the measuring point, m: `top_mm` is read there and the drift is
     /// `top_mm` over it ([`Rig::measure_z_m`]; 0 when read from results written before it
