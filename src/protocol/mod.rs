@@ -241,6 +241,9 @@ macro_rules! registry {
         /// What one run of a protocol came to: what the protocol's run gave (the result of
         /// the method that ran it, or the error that ended it, which a study turns into a
         /// status row), or the solver's refusal.
+        // One value a run, moved once to its caller: the size of its largest protocol's
+        // result (the in-plane test's curve outputs) costs nothing worth a box.
+        #[allow(clippy::large_enum_variant)]
         #[derive(Debug, Clone, PartialEq)]
         pub enum ProtocolRun {
             $($($(#[doc = $doc])* $variant(<$ty as LoadingProtocol>::Run),)+)+
