@@ -132,14 +132,18 @@ pub(super) fn report(
     let _ = writeln!(
         md,
         "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
-         analysis beside it. Shear span {} m, largest drift {} %.\n",
+         analysis beside it. {}, largest drift {} %.\n",
         path.display(),
         spec.seed,
         rows.len(),
         rows.len() - ok,
         elapsed_s,
         method_words(solver),
-        spec.in_plane.shear_span_m.map_or("–".into(), |h| h.to_string()),
+        match (spec.in_plane.beam_rotation, spec.in_plane.shear_span_m) {
+            (crate::loading::inplane::BeamRotation::Fixed, _) => "Beam held level: no shear span".to_string(),
+            (_, Some(h)) => format!("Shear span {h} m"),
+            (_, None) => "Shear span –".to_string(),
+        },
         spec.in_plane.drift_pct
     );
     let _ = writeln!(

@@ -1036,3 +1036,35 @@ fn a_vertical_stress_that_closes_the_joints_past_small_overlaps_is_refused_by_na
         "stiff joints: 10 mm at 1000 MPa"
     );
 }
+
+/// A top course with stones missing is told from a block standing above the wall: two
+/// courses of four 0.25 m stones (1.0 m long); with the two middle top stones left out the
+/// beam would bear on the two end stones, half the length (80 % needed), and the refusal
+/// names both and asks for the missing stones; one stone laid on top of the full wall
+/// tops it alone and is named as a block above the wall.
+#[test]
+fn a_top_course_with_stones_missing_is_not_read_as_a_block_above_the_wall() {
+    let stone = |i: usize, k: usize| {
+        box_vertices(
+            [0.25 * i as f64, -T / 2.0, 0.3 * k as f64],
+            [0.25 * (i + 1) as f64, T / 2.0, 0.3 * (k + 1) as f64],
+        )
+    };
+    let base: Vec<Vec<[f64; 3]>> = (0..4).map(|i| stone(i, 0)).collect();
+    let mut gaps = base.clone();
+    gaps.extend([stone(0, 1), stone(3, 1)]);
+    let wall = layout_of(gaps, 1e10, 5e9, 35.0, drystone::layout::BaseSliding::Free);
+    let ids: Vec<String> = wall.blocks.iter().map(|b| b.id.clone()).collect();
+    let p = InPlaneParams { shear_span_m: Some(0.7), ..params(1.0) };
+    let e = drystone::loading::inplane::Rig::build(&wall, &p).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains(&format!("blocks {}, {}", ids[4], ids[5])), "{e}");
+    assert!(e.contains("50 %") && e.contains("stones missing from the top course"), "{e}");
+    let mut above = base;
+    above.extend((0..4).map(|i| stone(i, 1)));
+    above.push(box_vertices([0.4, -T / 2.0, 0.6], [0.6, T / 2.0, 0.75]));
+    let wall = layout_of(above, 1e10, 5e9, 35.0, drystone::layout::BaseSliding::Free);
+    let lone = wall.blocks.last().unwrap().id.clone();
+    let p = InPlaneParams { shear_span_m: Some(0.9), ..params(1.0) };
+    let e = drystone::loading::inplane::Rig::build(&wall, &p).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains(&format!("block {lone} only")) && e.contains("above or apart from the wall"), "{e}");
+}

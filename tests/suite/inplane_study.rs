@@ -216,3 +216,18 @@ fn two_shards_merged_equal_the_whole() {
     assert!(e.contains("shard 1/2"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A study whose beam is held level (`beam_rotation = "fixed"`, double curvature) has no
+/// shear span: its report says so rather than printing one.
+#[test]
+fn a_study_with_the_beam_held_level_reports_no_shear_span() {
+    let dir = folder("fixed");
+    let text = study_text("", "").replace("shear_span_m = 0.35\n", "beam_rotation = \"fixed\"\n");
+    let p = write(&dir, "fixed.toml", &text);
+    let run = drystone::study::inplane_run::run(&p, &dir.join("f")).unwrap();
+    assert!(run.rows.iter().all(|r| r.status == "ok"), "{:?}", run.rows);
+    let report = std::fs::read_to_string(dir.join("f/report.md")).unwrap();
+    assert!(report.contains("Beam held level: no shear span"), "{report}");
+    assert!(!report.contains("Shear span"), "{report}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -212,5 +212,5 @@ fn the_rig_reads_the_materials_its_joints_use_and_names_a_stone_standing_alone()
     let floating = "<rect id=\"f\" x=\"200\" y=\"300\" width=\"200\" height=\"100\"/>";
     let wall = import(&write(&dir, "f.svg", &svg(floating)), &options()).unwrap().layout.resolve().unwrap();
     let e = run_in_plane_penalty(&wall, SolverParams::default(), &params, &mut |_, _, _| {}).unwrap_err().to_string();
-    assert!(e.contains("block f alone") && !e.contains("NaN"), "{e}");
+    assert!(e.contains("block f only") && e.contains("tops the wall alone") && !e.contains("NaN"), "{e}");
 }

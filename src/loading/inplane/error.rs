@@ -54,14 +54,19 @@ pub enum InPlaneError {
         /// [`MAX_HEIGHT_RATIO`].
         ratio: f64,
     },
-    /// The wall's highest block stands alone: no other block reaches within half a course of
-    /// its top.
+    /// The blocks the beam would bear on (those level with the top, within half a course of
+    /// it) cover too little of the wall's length: one block standing above the wall, or a
+    /// top course with stones missing.
     #[error(
-        "the loading beam would rest on block {block} alone: it tops the wall at {top_m:.4} m and no other block reaches within half a course of it, so the blocks under the beam cover {covered_pct:.0} % of the wall's length (at least {need_pct:.0} % needed); a block above or apart from the wall?"
+        "the loading beam would bear on {} only: {} at {top_m:.4} m and {} {covered_pct:.0} % of the wall's length under the beam (at least {need_pct:.0} % needed); {}",
+        if blocks.len() == 1 { format!("block {}", blocks[0]) } else { format!("blocks {}", blocks.join(", ")) },
+        if blocks.len() == 1 { "it tops the wall alone" } else { "they top the wall" },
+        if blocks.len() == 1 { "covers" } else { "cover" },
+        if blocks.len() == 1 { "a block above or apart from the wall?" } else { "stones missing from the top course?" }
     )]
     TopAlone {
-        /// The highest block.
-        block: String,
+        /// The blocks level with the top, in layout order.
+        blocks: Vec<String>,
         /// Its top, m.
         top_m: f64,
         /// The share of the length under the beam, %.

@@ -281,7 +281,8 @@ impl Rig {
 ///
 /// # Errors
 /// [`InPlaneError::NotLevel`], naming the stones below the tolerance and those the beam would
-/// bear on; [`InPlaneError::TopAlone`], naming a block standing above the wall.
+/// bear on; [`InPlaneError::TopAlone`], naming the blocks level with the top where they cover
+/// too little of the length (a block standing above the wall, or stones missing from the top).
 fn check_top_level(wall: &Layout, top: f64, height: f64, length: f64, sigma0_pa: f64) -> Result<(), InPlaneError> {
     let band = top - 0.5 * wall.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
     // The top course: the blocks reaching into the band under the top; the beam's joint is
@@ -319,11 +320,11 @@ fn check_top_level(wall: &Layout, top: f64, height: f64, length: f64, sigma0_pa:
         reach = reach.max(b);
     }
     if covered < BEARING_SHARE * length {
-        // Every block reaching near the top is level with it, and they cover too little:
-        // the top is a block standing alone above the wall (drawn or laid apart from it).
-        let highest = wall.blocks.iter().max_by(|a, b| a.shape.aabb().max.z.total_cmp(&b.shape.aabb().max.z));
+        // Every block reaching near the top is level with it, and they cover too little: a
+        // block standing alone above the wall (drawn or laid apart from it), or a top course
+        // with stones missing.
         return Err(InPlaneError::TopAlone {
-            block: highest.map_or_else(String::new, |b| b.id.clone()),
+            blocks: bearing.iter().map(|b| b.id.clone()).collect(),
             top_m: top,
             covered_pct: 100.0 * covered / length,
             need_pct: 100.0 * BEARING_SHARE,
