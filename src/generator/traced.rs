@@ -195,7 +195,13 @@ fn scanned(wall: &Wall, layout: &LayoutSpec, seed: u64, realization: u64) -> Res
     }
     let layout =
         LayoutSpec { name: format!("{} (seed {seed}, realization {realization})", wall.name), ..layout.clone() };
-    Ok(GeneratedWall {
+    Ok(surveyed(wall, seed, realization, pieces, layout))
+}
+
+/// The realization `realization` of seed `seed` of a surveyed wall: its pieces and layout,
+/// with no courses or samples of the generator's laws (none were drawn) and no stated voids.
+fn surveyed(wall: &Wall, seed: u64, realization: u64, pieces: Vec<Piece>, layout: LayoutSpec) -> GeneratedWall {
+    GeneratedWall {
         seed,
         realization,
         pieces,
@@ -205,7 +211,7 @@ fn scanned(wall: &Wall, layout: &LayoutSpec, seed: u64, realization: u64) -> Res
         dimensions: [wall.length, wall.height, wall.base_width, wall.top_width],
         envelope_volume_m3: wall.envelope_volume(),
         stated_void_fraction: 0.0,
-    })
+    }
 }
 
 /// The blocks of a traced stone `id` of depth `depth` (m from the traced −y face; `None`:
@@ -289,18 +295,7 @@ pub fn generate(
         }
     }
     let layout = layout(wall, format!("{} (seed {seed}, realization {realization})", wall.name), &pieces);
-    let generated = GeneratedWall {
-        seed,
-        realization,
-        pieces,
-        course_tops_m: vec![],
-        samples: Samples::default(),
-        layout,
-        dimensions: [wall.length, wall.height, wall.base_width, wall.top_width],
-        envelope_volume_m3: wall.envelope_volume(),
-        stated_void_fraction: 0.0,
-    };
-    Ok((generated, report))
+    Ok((surveyed(wall, seed, realization, pieces, layout), report))
 }
 
 /// The layout of a surveyed wall's pieces: no courses (a traced stone belongs to none), the

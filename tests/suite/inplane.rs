@@ -28,6 +28,22 @@ fn params(drift_pct: f64) -> InPlaneParams {
     InPlaneParams { sigma0_mpa: SIGMA0 * 1e-6, shear_span_m: Some(H0), drift_pct, ..InPlaneParams::default() }
 }
 
+/// A fresh folder `<temp>/<name>-<pid>` holding `wall.json`: one block L × t × H (1.0 × 0.2 ×
+/// 1.2 m), Kn 1e10, Ks 4e9 Pa/m, φ 45°, on the table. Returns the folder and the file.
+fn one_block_file(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -T / 2.0, 0.0], [L, T / 2.0, H])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    (dir, layout)
+}
+
 /// The applied force and the wall's weight, N.
 fn forces() -> (f64, f64) {
     (SIGMA0 * L * T, DENSITY * G * L * T * H)
@@ -301,16 +317,7 @@ fn bad_input_is_refused_by_name_before_any_run() {
 
 #[test]
 fn the_command_line_prints_the_keys_and_refuses_by_flag() {
-    let dir = std::env::temp_dir().join(format!("drystone-inplane-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let layout = dir.join("wall.json");
-    let text = serde_json::json!({
-        "version": 1, "name": "one block",
-        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
-        "table": {"material": "m"},
-        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
-    });
-    std::fs::write(&layout, text.to_string()).unwrap();
+    let (dir, layout) = one_block_file("drystone-inplane");
     let bin = env!("CARGO_BIN_EXE_drystone");
     for (solver, method) in [("penalty", "penalty"), ("newton", "penalty"), ("nscd", "nscd"), ("limit", "limit")] {
         let o = Command::new(bin)
@@ -742,16 +749,7 @@ fn a_cycled_granite_wall_rocks_and_keeps_its_blocks() {
 /// span: it was ignored, and the header printed another H0).
 #[test]
 fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
-    let dir = std::env::temp_dir().join(format!("drystone-inplane-unread-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let layout = dir.join("wall.json");
-    let text = serde_json::json!({
-        "version": 1, "name": "one block",
-        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
-        "table": {"material": "m"},
-        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
-    });
-    std::fs::write(&layout, text.to_string()).unwrap();
+    let (dir, layout) = one_block_file("drystone-inplane-unread");
     let bin = env!("CARGO_BIN_EXE_drystone");
     let base = ["--sigma0-mpa", "0.5", "--drift-pct", "0.1"];
     for (args, needle) in [
@@ -790,16 +788,7 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
 /// ignored. The penalty DEM reads them all, and each solver runs without them.
 #[test]
 fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
-    let dir = std::env::temp_dir().join(format!("drystone-inplane-solver-unread-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let layout = dir.join("wall.json");
-    let text = serde_json::json!({
-        "version": 1, "name": "one block",
-        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
-        "table": {"material": "m"},
-        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
-    });
-    std::fs::write(&layout, text.to_string()).unwrap();
+    let (dir, layout) = one_block_file("drystone-inplane-solver-unread");
     let bin = env!("CARGO_BIN_EXE_drystone");
     let base = ["--sigma0-mpa", "0.5", "--shear-span-m", "1.325"];
     let run = |args: &[&str]| {
@@ -833,16 +822,7 @@ fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
 /// cantilever's formula.
 #[test]
 fn a_beam_held_level_reports_no_shear_span() {
-    let dir = std::env::temp_dir().join(format!("drystone-inplane-fixed-h0-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let layout = dir.join("wall.json");
-    let text = serde_json::json!({
-        "version": 1, "name": "one block",
-        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
-        "table": {"material": "m"},
-        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -0.1, 0.0], [1.0, 0.1, 1.2])}]
-    });
-    std::fs::write(&layout, text.to_string()).unwrap();
+    let (dir, layout) = one_block_file("drystone-inplane-fixed-h0");
     let bin = env!("CARGO_BIN_EXE_drystone");
     let run = |args: &[&str]| {
         let o = Command::new(bin)

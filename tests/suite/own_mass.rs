@@ -54,7 +54,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 /// The L-shaped prism of section (x, z) the square [0, 2]² less the square [1, 2]², 1 unit
 /// deep in y (three unit cubes at (0.5, 0.5, 0.5), (1.5, 0.5, 0.5), (0.5, 0.5, 1.5)), as an
 /// OBJ of two hexagonal faces and six quads, outward.
-fn l_prism_obj() -> String {
+pub(crate) fn l_prism_obj() -> String {
     let section = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
     let mut obj: String =
         [0.0, 1.0].iter().flat_map(|y| section.iter().map(move |(x, z)| format!("v {x} {y} {z}\n"))).collect();

@@ -286,14 +286,7 @@ fn scanned_cubes_have_their_volume_in_the_unit_given_and_implausible_sizes_are_r
 #[test]
 fn a_non_convex_scanned_stone_is_its_convex_hull_with_the_volume_it_adds() {
     let dir = Scratch::created("survey-notched");
-    let section = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
-    let mut obj: String =
-        [0.0, 1.0].iter().flat_map(|y| section.iter().map(move |(x, z)| format!("v {x} {y} {z}\n"))).collect();
-    obj += "f 1 2 3 4 5 6\nf 12 11 10 9 8 7\n";
-    for i in 1..=6 {
-        let j = i % 6 + 1;
-        obj += &format!("f {j} {i} {} {}\n", i + 6, j + 6);
-    }
+    let obj = crate::own_mass::l_prism_obj();
     let w = import(&write(&dir, "notched.obj", &obj), &scanned(LengthUnit::Cm)).unwrap();
     let s = &w.stones[0];
     assert!(s.hulled);
