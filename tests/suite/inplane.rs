@@ -1048,3 +1048,28 @@ fn a_top_course_with_stones_missing_is_not_read_as_a_block_above_the_wall() {
     let e = drystone::loading::inplane::Rig::build(&wall, &p).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains(&format!("block {lone} only")) && e.contains("above or apart from the wall"), "{e}");
 }
+
+/// A monolith 2.0 × 0.5 × 0.2 m on joints of φ = 45° under σ0 = 0.5 MPa with the force at
+/// its top slides under its beam at μ N = 200 kN (its rocking capacity N_total L / (2 H0)
+/// is 409 kN and its base holds μ N_total = 204 kN): the beam walks 15 mm along the top
+/// while the wall stays whole. The largest block excursion is the wall's, its joints'
+/// elastic deformation under the shear (μ N / (Ks L t) = 0.06 mm at the base, plus the
+/// rotation's share), not the beam's slip, which is the rig's.
+#[test]
+fn a_beam_sliding_over_a_whole_wall_is_no_block_excursion() {
+    let (l, t, h) = (2.0, 0.2, 0.5);
+    let wall = layout_of(
+        vec![box_vertices([0.0, -t / 2.0, 0.0], [l, t / 2.0, h])],
+        1e10,
+        4e9,
+        45.0,
+        drystone::layout::BaseSliding::Free,
+    );
+    let p = InPlaneParams { sigma0_mpa: 0.5, shear_span_m: Some(h), drift_pct: 3.0, ..InPlaneParams::default() };
+    let dem = run_in_plane_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    let peak = dem.positive.as_ref().unwrap().peak_force_kn;
+    assert!((peak / 200.0 - 1.0).abs() < 0.005, "{peak} kN against μ N = 200 kN");
+    assert_eq!(dem.mechanism.kind, MechanismKind::Sliding, "{:?}", dem.mechanism);
+    assert_eq!(dem.excursion_block, "b0");
+    assert!(dem.largest_block_excursion_mm < 0.5, "{} mm", dem.largest_block_excursion_mm);
+}

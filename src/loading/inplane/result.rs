@@ -62,8 +62,9 @@ pub struct InPlaneResult {
     /// history, mm ([`crate::loading::excursion`]: the distance of its centroid from where the
     /// nearer-moving of its course neighbours carries it): a wall that stays whole keeps it
     /// to the joints' own deformation and the crack's opening beside a block; a block shed
-    /// from the wall reads its walk. NaN when read from results written before it was
-    /// recorded.
+    /// from the wall reads its walk. The wall's blocks only: the loading beam's slip along
+    /// the top course is the rig's (sliding under the beam). NaN when read from results
+    /// written before it was recorded.
     #[serde(default = "nan")]
     pub largest_block_excursion_mm: f64,
     /// The block of `largest_block_excursion_mm` (empty: none moved from its course).
@@ -150,7 +151,10 @@ impl Excursion {
         now: &Poses,
         layout: &Layout,
     ) {
-        let (e, k) = neighbours.largest(reference, now);
+        // The loading beam is the rig's: its slip along the top course is a mechanism
+        // (sliding under the beam), not a block shed from the wall.
+        let beam = layout.blocks.iter().position(|b| b.id == super::BEAM_ID);
+        let (e, k) = neighbours.largest_but(reference, now, beam);
         if e > self.largest_m {
             self.largest_m = e;
             self.block = k.map_or_else(String::new, |k| layout.blocks[k].id.clone());
