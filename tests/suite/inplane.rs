@@ -1073,3 +1073,28 @@ fn a_beam_sliding_over_a_whole_wall_is_no_block_excursion() {
     assert_eq!(dem.excursion_block, "b0");
     assert!(dem.largest_block_excursion_mm < 0.5, "{} mm", dem.largest_block_excursion_mm);
 }
+
+/// The bundled granite wall (seeds 20090301 and 1, realization 0) pushed at 0.5 and
+/// 0.875 MPa to 0.3 % drift by non-smooth contact dynamics rocks on a stepped crack, the
+/// mechanism limit analysis finds on the same wall. A rigid part turning about a point
+/// inside the wall moves its joints near the pivot by less than 5 % of the beam's motion;
+/// read as joints that do not move, they joined the turning part to the table, and the
+/// reading was `none` (no crack) or `diagonal` around two stray blocks.
+#[test]
+fn a_rigid_wall_turning_about_a_point_inside_it_reads_the_mechanism_limit_analysis_finds() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("studies/walls/granite_vasconcelos.toml");
+    let source = drystone::generator::DistributionSource::default_for(&path);
+    let wall = drystone::generator::Wall::from_file_with(&path, &source).unwrap();
+    for (seed, sigma0_mpa) in [(20090301, 0.5), (1, 0.875)] {
+        let layout = drystone::generator::generate(&wall, seed, 0).unwrap().check().unwrap();
+        let p = InPlaneParams { sigma0_mpa, ..params(0.3) };
+        let s = SolverParams::default();
+        let la = limit_in_plane(&layout, &s, &p, &s.limit).unwrap();
+        let nscd = run_in_plane_nscd(&layout, &s.nscd, &p).unwrap();
+        assert_eq!(la.mechanism.kind, MechanismKind::Rocking, "seed {seed}: {:?}", la.mechanism);
+        assert_eq!(nscd.mechanism.kind, la.mechanism.kind, "seed {seed}: {:?}", nscd.mechanism);
+        assert_eq!(nscd.mechanism.crack, "stepped", "seed {seed}");
+        assert!(!nscd.mechanism.joints.is_empty() && nscd.mechanism.moving_blocks.len() < 40, "{:?}", nscd.mechanism);
+    }
+}

@@ -173,40 +173,56 @@ pub fn read_mechanism(
         }
         i
     }
-    // Per moving joint: its index, opening and sliding (sums over its points).
-    let mut moving: Vec<(usize, f64, f64)> = Vec::new();
+    // Per joint: its largest relative motion, opening and sliding (sums over its points).
+    let stats: Vec<(f64, f64, f64)> = joints
+        .iter()
+        .map(|j| {
+            let (mut largest, mut jo, mut js) = (0.0_f64, 0.0, 0.0);
+            for x in &j.points {
+                let ua = j.a.map_or(Vec3::zeros(), |a| motion(a, x));
+                let d = motion(j.b, x) - ua;
+                let dn = d.dot(&j.normal);
+                jo += dn.abs();
+                js += (d - j.normal * dn).norm();
+                largest = largest.max(d.norm());
+            }
+            (largest, jo, js)
+        })
+        .collect();
+    let moves = |i: usize| {
+        let (largest, j) = (stats[i].0, &joints[i]);
+        scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale && largest > j.elastic_m
+    };
     for (i, j) in joints.iter().enumerate() {
-        let mut largest = 0.0_f64;
-        let (mut jo, mut js) = (0.0, 0.0);
-        for x in &j.points {
-            let ua = j.a.map_or(Vec3::zeros(), |a| motion(a, x));
-            let d = motion(j.b, x) - ua;
-            let dn = d.dot(&j.normal);
-            jo += dn.abs();
-            js += (d - j.normal * dn).norm();
-            largest = largest.max(d.norm());
-        }
-        if scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale && largest > j.elastic_m {
-            moving.push((i, jo, js));
-        } else {
+        if !moves(i) {
             let (ra, rb) = (root(&mut parent, j.a.unwrap_or(n)), root(&mut parent, j.b));
             if ra != rb {
                 parent[ra.max(rb)] = ra.min(rb);
             }
         }
     }
+    // The group that moves with the beam (index n: the table).
+    let rb = root(&mut parent, beam);
+    let mut group: Vec<bool> = (0..=n).map(|k| root(&mut parent, k) == rb).collect();
+    // A part turning about a point inside the wall (a rigid wall rocking on a stepped
+    // crack) moves its joints near the pivot by less than the share: they join it to the
+    // table although the beam moved. Its blocks are then those whose motion is nearer the
+    // beam's rigid motion than rest, and its crack every joint between them and the rest.
+    let glued = scale > 0.0 && group[n] && motion(beam, &anchor).norm() >= ACTIVE_JOINT_SHARE * scale;
+    if glued {
+        group = moving_with(joints, n, beam, &motion);
+    }
     // The crack: the moving joints around the group that moves with the beam (joints
     // inside it, or between blocks left behind, are not its crack).
-    let rb = root(&mut parent, beam);
     let (mut open, mut slide) = (0.0, 0.0);
     let mut active = Vec::new();
     let mut levels: Vec<f64> = Vec::new();
     let mut heads = 0usize;
-    for &(i, jo, js) in &moving {
-        let j = &joints[i];
-        if (root(&mut parent, j.a.unwrap_or(n)) == rb) == (root(&mut parent, j.b) == rb) {
+    for (i, j) in joints.iter().enumerate() {
+        if !(glued || moves(i)) || group[j.a.unwrap_or(n)] == group[j.b] {
             continue;
         }
+        let (_, jo, js) = stats[i];
         open += jo;
         slide += js;
         active.push(j.name.clone());
@@ -224,11 +240,11 @@ pub fn read_mechanism(
             distinct.push(z);
         }
     }
-    let moving_blocks = (0..n).filter(|&k| k != beam && root(&mut parent, k) == rb).map(|k| ids[k].clone()).collect();
+    let moving_blocks = (0..n).filter(|&k| k != beam && group[k]).map(|k| ids[k].clone()).collect();
     let share = if open + slide > 0.0 { open / (open + slide) } else { 0.0 };
     // How much of the beam's motion the moving part's rotation about the crack's foot
     // explains: 1 for a rotation about a toe, 0 for a translation.
-    let group: Vec<usize> = (0..n).filter(|&k| root(&mut parent, k) == rb).collect();
+    let group: Vec<usize> = (0..n).filter(|&k| group[k]).collect();
     let theta = group.iter().map(|&k| rotation(k)).sum::<f64>() / group.len().max(1) as f64;
     let foot = distinct.first().copied().unwrap_or(0.0).min(anchor.z);
     let u = motion(beam, &anchor).x;
@@ -267,6 +283,32 @@ pub fn read_mechanism(
         bed_levels_m: distinct,
         moving_blocks,
     }
+}
+
+/// Per body (index n: the table, never), whether it moves with the beam `beam`: whether
+/// its motion (`motion(k, x)`, m) at the mean of its joints' points is nearer the beam's
+/// rigid motion there than rest. The beam always does.
+fn moving_with(joints: &[MechanismJoint], n: usize, beam: usize, motion: &impl Fn(usize, &Vec3) -> Vec3) -> Vec<bool> {
+    let mut at = vec![(Vec3::zeros(), 0usize); n];
+    for j in joints {
+        for k in j.a.into_iter().chain([j.b]) {
+            for x in &j.points {
+                at[k].0 += x;
+                at[k].1 += 1;
+            }
+        }
+    }
+    let mut with = vec![false; n + 1];
+    for (k, (sum, count)) in at.iter().enumerate() {
+        if *count == 0 {
+            continue;
+        }
+        let x = sum / *count as f64;
+        let own = motion(k, &x);
+        with[k] = (own - motion(beam, &x)).norm() < own.norm();
+    }
+    with[beam] = true;
+    with
 }
 
 /// The poses of the bodies: centroid (m) and rotation, in the simulation's body order.
