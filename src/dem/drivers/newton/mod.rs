@@ -1,6 +1,7 @@
 //! A semi-smooth Newton method for one static increment of the penalty DEM: the
 //! incremental elasto-plastic problem of the joints solved with their consistent tangent,
-//! globalised by a backtracking line search.
+//! globalised by a bound on each step from the joints' gaps, Anderson mixing of the steps
+//! and a backtracking line search.
 //!
 //! # The increment as a return mapping
 //!
