@@ -100,3 +100,65 @@ fn converged_increments_of_a_cycled_wall_keep_every_block_with_a_neighbour() {
         );
     }
 }
+
+/// The semi-smooth Newton solve (`--solver newton`) on the same wall at Kn 1e10 Pa/m:
+/// between two increments reported converged no block walks from every one of its joint
+/// neighbours by more than the bound above. Before its step was bounded by the joints' gaps
+/// (`dem::drivers::newton`), the line search on the out-of-balance force accepted steps
+/// that threw the lightly loaded blocks at the wall's top corners off their neighbours
+/// (an open joint carries no force, so the merit fell).
+#[test]
+fn the_newton_solve_keeps_the_cycled_wall_whole() {
+    let kn = 1e10;
+    let ks = kn / 20.0;
+    let wall = layout_of(blocks(), kn, ks, PHI_DEG, BaseSliding::Free);
+    let p = InPlaneParams {
+        sigma0_mpa: SIGMA0_MPA,
+        shear_span_m: Some(H0),
+        drift_pct: 1.0,
+        history: History::Cyclic,
+        reversals_pct: Some(vec![0.5, -0.5, 1.0, -1.0]),
+        ..InPlaneParams::default()
+    };
+    let rig = drystone::loading::inplane::Rig::build(&wall, &p).unwrap();
+    let neighbours = JointNeighbours::of(&rig.layout);
+    let e = rig.layout.bounds().extent();
+    let spread = 2.0 * (e.x.hypot(e.z) / H0).max(1.0);
+    let slip = PHI_DEG.to_radians().tan() * SIGMA0_MPA * 1e6 / ks;
+    let mut last: Option<(f64, Poses)> = None;
+    let mut worst = (0.0_f64, String::new(), 0.0_f64);
+    let mut increments = 0;
+    let s = SolverParams { kind: drystone::dem::SolverKind::Newton, ..SolverParams::default() };
+    let r = run_in_plane_penalty(&wall, s, &p, &mut |drift, converged, sim| {
+        let now: Poses = sim.state.bodies.iter().map(|b| (b.pos, b.rot)).collect();
+        let radii: Vec<f64> = sim.state.bodies.iter().map(|b| b.radius).collect();
+        if let (Some((d0, before)), true) = (&last, converged) {
+            let du = (drift - d0).abs() / 100.0 * H0;
+            let (walk, k) = neighbours.largest_walk(before, &now, &radii);
+            let share = walk / (spread * du + slip);
+            if share > worst.0 {
+                worst = (share, k.map_or_else(String::new, |k| sim.state.bodies[k].id.clone()), walk);
+            }
+        }
+        increments += 1;
+        last = Some((drift, now));
+    })
+    .unwrap();
+    assert!(increments > 100, "{increments} increments");
+    eprintln!(
+        "newton: worst share {:.3} ({} {:.3} mm), {} unconverged, {:?} handed over of {increments}",
+        worst.0,
+        worst.1,
+        worst.2 * 1e3,
+        r.unconverged,
+        r.newton_handed_over
+    );
+    assert!(
+        worst.0 <= 1.0 + 1e-9,
+        "block {} walked {:.3} mm in a converged increment, {:.2} times the bound ({} unconverged)",
+        worst.1,
+        worst.2 * 1e3,
+        worst.0,
+        r.unconverged
+    );
+}

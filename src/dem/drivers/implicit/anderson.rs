@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 use std::collections::VecDeque;
 
 /// Anderson mixing (type II, mixing parameter 1) over the last `depth` iterates.
-pub(super) struct AndersonMixing {
+pub(in crate::dem::drivers) struct AndersonMixing {
     depth: usize,
     /// `(Δx_i, f_{i+1} − f_i)` of the last iterations, oldest first.
     history: VecDeque<(Vec<f64>, Vec<f64>)>,
@@ -14,12 +14,18 @@ pub(super) struct AndersonMixing {
 }
 
 impl AndersonMixing {
-    pub(super) fn new(depth: usize) -> AndersonMixing {
+    pub(in crate::dem::drivers) fn new(depth: usize) -> AndersonMixing {
         AndersonMixing { depth, history: VecDeque::new(), last: None }
     }
 
+    /// Whether the last step [`AndersonMixing::next`] returned mixed in past differences
+    /// (false: it was the residual step itself).
+    pub(in crate::dem::drivers) fn mixed(&self) -> bool {
+        !self.history.is_empty()
+    }
+
     /// The step from the preconditioned residual `f` (flattened, m).
-    pub(super) fn next(&mut self, f: Vec<f64>) -> Vec<f64> {
+    pub(in crate::dem::drivers) fn next(&mut self, f: Vec<f64>) -> Vec<f64> {
         if let Some((lf, dx)) = self.last.take() {
             if self.depth > 0 {
                 let df: Vec<f64> = f.iter().zip(&lf).map(|(a, b)| a - b).collect();

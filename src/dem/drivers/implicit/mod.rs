@@ -61,7 +61,7 @@
 //! computed once per pattern rather than at every factorization: the same operations in
 //! the same order, the same factor bit for bit.
 
-mod anderson;
+pub(in crate::dem::drivers) mod anderson;
 pub(in crate::dem::drivers) mod stiffness;
 
 use crate::dem::engine::Simulation;
@@ -203,7 +203,7 @@ fn iterate<R>(
 }
 
 /// A pose increment as one vector, rotations times the body radius (m).
-fn flatten(d: &PoseIncrement, sim: &Simulation) -> Vec<f64> {
+pub(in crate::dem::drivers) fn flatten(d: &PoseIncrement, sim: &Simulation) -> Vec<f64> {
     let mut v = Vec::with_capacity(6 * d.0.len());
     for (k, b) in sim.state.bodies.iter().enumerate() {
         v.extend_from_slice(d.0[k].as_slice());
@@ -213,7 +213,7 @@ fn flatten(d: &PoseIncrement, sim: &Simulation) -> Vec<f64> {
 }
 
 /// The inverse of [`flatten`].
-fn unflatten(v: &[f64], sim: &Simulation) -> PoseIncrement {
+pub(in crate::dem::drivers) fn unflatten(v: &[f64], sim: &Simulation) -> PoseIncrement {
     sim.state
         .bodies
         .iter()

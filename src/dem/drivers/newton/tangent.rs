@@ -124,6 +124,58 @@ fn shear_point(
     [(1.0 - w) * c[0] + w * at[0], (1.0 - w) * c[1] + w * at[1], (1.0 - w) * c[2] + w * at[2]]
 }
 
+/// The derivatives of [`shear_point`] in closed form where the pressure is linear over the
+/// whole triangle (the linear closure law with every node closed, or a joint carrying
+/// tension): `(∂λ_i/∂u_j` as `[j][i]`, 1/m; `∂λ_i/∂fs`, 1/N`), the same arguments. With
+/// `S = Σu` the normal force is `Kn A S / 3` and the pressure centroid `λ_i = (u_i + S) /
+/// (4S)` under the exact rule (`u_i / S` under the vertex rule), the area centroid the
+/// triangle's; the shear point moves between them with the mobilised fraction `w = fs /
+/// (c A + Fn tan φ)` (`contact::law::evaluate`). `None` elsewhere (a triangle cut by the
+/// zero-closure line, a nonlinear closure law), where the caller differentiates
+/// numerically.
+fn shear_point_jacobian(
+    j: &JointParams,
+    quad: Quadrature,
+    st: &SubContactState,
+    tension: bool,
+    u: [f64; 3],
+    area: f64,
+    fs: f64,
+) -> Option<([[f64; 3]; 3], [f64; 3])> {
+    if j.closure != crate::closure::Closure::Linear || !(tension || u.iter().all(|&v| v > 0.0)) {
+        return None;
+    }
+    let s = u[0] + u[1] + u[2];
+    if s <= 0.0 {
+        return None;
+    }
+    let exact = quad == Quadrature::Exact;
+    let at: [f64; 3] = if exact { u.map(|v| (v + s) / (4.0 * s)) } else { u.map(|v| v / s) };
+    // ∂at_i/∂u_k.
+    let scale = if exact { 4.0 } else { 1.0 };
+    let dat = |i: usize, k: usize| (if i == k { 1.0 } else { 0.0 }) / (scale * s) - u[i] / (scale * s * s);
+    let fnorm = j.kn * area * s / 3.0;
+    let (w, dw_du, dw_dfs) = if !j.can_slip {
+        (0.0, 0.0, 0.0)
+    } else if st.slipping {
+        (1.0, 0.0, 0.0)
+    } else {
+        let limit = if st.bonded { j.cohesion * area } else { 0.0 } + fnorm * j.tan_phi;
+        if limit <= 0.0 || fs >= limit {
+            (1.0, 0.0, 0.0)
+        } else {
+            (fs / limit, -fs / (limit * limit) * j.tan_phi * j.kn * area / 3.0, 1.0 / limit)
+        }
+    };
+    let mut du = [[0.0; 3]; 3];
+    for (k, col) in du.iter_mut().enumerate() {
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = dw_du * (at[i] - 1.0 / 3.0) + w * dat(i, k);
+        }
+    }
+    Some((du, at.map(|a| dw_dfs * (a - 1.0 / 3.0))))
+}
+
 /// Adds the four blocks of a force on B (B's diagonal, B's rows and A's columns, A's rows
 /// and B's columns, A's diagonal) to a contact's blocks.
 fn add(local: &mut [Matrix6<f64>; 4], kbb: Matrix6<f64>, kba: Matrix6<f64>, kab: Matrix6<f64>, kaa: Matrix6<f64>) {
@@ -329,22 +381,33 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
                 // (the arm's change, the same from either centroid): v × Fs on B.
                 let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
                 let (mut vb, mut va) = (nalgebra::Matrix3x6::<f64>::zeros(), nalgebra::Matrix3x6::<f64>::zeros());
+                let closed = shear_point_jacobian(&c.joint, quad, st, tension, u, s.area, mag);
                 for i in 0..3 {
-                    let h = 1e-6 * scale;
-                    let (mut up, mut um) = (u, u);
-                    up[i] += h;
-                    um[i] -= h;
-                    let (lp, lm) = (point(up, mag), point(um, mag));
-                    let dl: [f64; 3] = [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h));
+                    let dl: [f64; 3] = match &closed {
+                        Some((du, _)) => du[i],
+                        None => {
+                            let h = 1e-6 * scale;
+                            let (mut up, mut um) = (u, u);
+                            up[i] += h;
+                            um[i] -= h;
+                            let (lp, lm) = (point(up, mag), point(um, mag));
+                            [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h))
+                        }
+                    };
                     let lever = bary(dl, 1);
                     // du_i = −g_bᵢᵀ q_b + g_aᵢᵀ q_a.
                     vb -= lever * jt(&node[i].1, &n).transpose();
                     va -= lever * jt(&node[i].0, &n).transpose();
                 }
                 if !st.slipping && c.joint.can_slip {
-                    let h = 1e-6 * mag;
-                    let (lp, lm) = (point(u, mag + h), point(u, mag - h));
-                    let dl: [f64; 3] = [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h));
+                    let dl: [f64; 3] = match &closed {
+                        Some((_, dfs)) => *dfs,
+                        None => {
+                            let h = 1e-6 * mag;
+                            let (lp, lm) = (point(u, mag + h), point(u, mag - h));
+                            [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h))
+                        }
+                    };
                     let lever = bary(dl, 1);
                     // d|Fs| = eᵀ dFs = −Ks A (eᵀ J(r_b) q_b − eᵀ J(r_a) q_a) while sticking.
                     vb -= lever * jt(&rbc, &e).transpose() * ksa;
@@ -431,7 +494,19 @@ struct Pattern {
     lu: SymbolicLu<usize>,
 }
 
+/// The numeric LU factorization's storage and the scratch space of its factorization and
+/// solve, kept between the iterations that factorize the same pattern (their sizes depend
+/// on the pattern alone; every factorization overwrites them).
+struct Workspace {
+    pattern: Rc<Pattern>,
+    numeric: NumericLu<usize, f64>,
+    factor: MemBuffer,
+    solve: MemBuffer,
+}
+
 thread_local! {
+    /// The workspace of the last pattern factorized on this thread.
+    static WORKSPACE: RefCell<Option<Workspace>> = const { RefCell::new(None) };
     /// The last pattern factorized on this thread.
     static PATTERN: RefCell<Option<Rc<Pattern>>> = const { RefCell::new(None) };
 }
@@ -535,15 +610,29 @@ pub(super) fn newton_step(sim: &Simulation, dofs: &Dofs) -> Result<PoseIncrement
         let a = SparseColMat::new_from_argsort(pattern.matrix.clone(), &pattern.argsort, &vals)
             .map_err(|e| format!("assembly: {e:?}"))?;
         let symbolic = &pattern.lu;
-        let mut numeric = NumericLu::new();
-        let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()))
-            .map_err(|e| format!("workspace: {e:?}"))?;
-        let lu = symbolic
-            .factorize_numeric_lu(&mut numeric, a.as_ref(), Par::Seq, MemStack::new(&mut mem), Default::default())
-            .map_err(|e| format!("numeric LU factorization: {e:?}"))?;
         let mut rhs = dofs.out_of_balance(sim);
-        let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        lu.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut mem));
+        WORKSPACE.with_borrow_mut(|cache| -> Result<(), String> {
+            if cache.as_ref().is_none_or(|w| !Rc::ptr_eq(&w.pattern, &pattern)) {
+                let factor =
+                    MemBuffer::try_new(symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()))
+                        .map_err(|e| format!("workspace: {e:?}"))?;
+                let solve = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
+                    .map_err(|e| format!("workspace: {e:?}"))?;
+                *cache = Some(Workspace { pattern: Rc::clone(&pattern), numeric: NumericLu::new(), factor, solve });
+            }
+            let w = cache.as_mut().expect("set above");
+            let lu = symbolic
+                .factorize_numeric_lu(
+                    &mut w.numeric,
+                    a.as_ref(),
+                    Par::Seq,
+                    MemStack::new(&mut w.factor),
+                    Default::default(),
+                )
+                .map_err(|e| format!("numeric LU factorization: {e:?}"))?;
+            lu.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut w.solve));
+            Ok(())
+        })?;
         let step = dofs.pose_increment(&rhs);
         if step.0.iter().chain(&step.1).any(|v| !v.iter().all(|x| x.is_finite())) {
             return Err("the LU solve gave a non-finite step".into());
