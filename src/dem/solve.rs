@@ -9,7 +9,8 @@
 //!
 //! 1. the semi-smooth Newton solve of the increment (`dem::drivers::newton`: every iterate
 //!    one jump of the total increment from the state as placed, the consistent tangent of
-//!    the joints, a backtracking line search); where it ends unsolved the state is put back
+//!    the joints, each step bounded by the joints' gaps and Anderson-mixed, a backtracking
+//!    line search; the protocol's check asked at equilibrium only); where it ends unsolved the state is put back
 //!    as placed, and the cause is kept in the outcome;
 //! 2. the implicit iteration (`dem::drivers::implicit`: the factorized stiffness of the
 //!    contact springs as preconditioner, Anderson mixing), from the state as placed;
