@@ -25,8 +25,10 @@
 //! was pushed first is not assumed: its two peaks enter as the positive one and their
 //! difference.
 
-use super::inplane::{load, read_specimens, refuse_out_of_plane, InPlaneStudyError};
+use super::inplane::InPlaneStudyError;
+use super::inplane_run::Prepared;
 use super::own::OwnAnalysis;
+use super::Study;
 use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
@@ -41,61 +43,52 @@ pub fn stress_group(sigma0_mpa: f64) -> String {
 ///
 /// # Errors
 /// A bad study, wall or measured file, or a specimen whose stress is not its group's,
-/// naming the file and the key; an effect the test does not read
-/// ([`refuse_out_of_plane`]).
+/// naming the file and the key; an effect the test does not read (refused by the study
+/// core, [`super::inplane_spec`]).
 pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
-    let spec = load(path)?;
-    refuse_out_of_plane(&spec, path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
+    let study = Study::from_file(path)?;
+    let Prepared { study, test } = Prepared::of(&study)?;
     let bad = |key: String, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key, message };
-    let settings = spec.discrepancy.clone().unwrap_or_default();
-    settings.validate().map_err(|e| bad("discrepancy".into(), e.to_string()))?;
-    let Some(measured) = &spec.measured else {
+    let settings = study.discrepancy.clone();
+    if !study.inputs.iter().any(|f| f.role == super::provenance::InputRole::Measured) {
         return Err(bad("measured".into(), "the analysis needs the measured specimens ([measured] walls)".into()));
-    };
-    let specimens = read_specimens(&base.join(&measured.walls), None)?;
+    }
+    let specimens = &test.specimens;
     let realizations = settings.most_realizations();
     let mut groups: Vec<GroupSetup> = Vec::new();
     let mut walls_of: Vec<std::path::PathBuf> = Vec::new();
     let mut effects_of: Vec<usize> = Vec::new();
     let mut obs = Vec::new();
-    for (g, group) in spec.groups.iter().enumerate() {
+    for (g, (core, group)) in study.groups.iter().zip(&test.groups).enumerate() {
         let name = stress_group(group.sigma0_mpa);
         match groups.iter().position(|x| x.name == name) {
-            Some(k) if walls_of[k] != group.source() => {
+            Some(k) if walls_of[k] != group.source => {
                 return Err(bad(
-                    format!("groups[{g}].{}", if group.survey.is_some() { "survey" } else { "wall" }),
+                    format!("groups[{}].{}", core.name, if core.spec.is_none() { "survey" } else { "wall" }),
                     format!(
                         "{}: the groups of {name} must share one wall for the analysis ({} is the first's)",
-                        group.source().display(),
+                        group.source.display(),
                         walls_of[k].display()
                     ),
                 ))
             }
-            Some(k)
-                if super::inplane::stated_effects(&spec, effects_of[k]) != super::inplane::stated_effects(&spec, g) =>
-            {
+            Some(k) if test.groups[effects_of[k]].stated != group.stated => {
                 return Err(bad(
-                    format!("groups[{g}].effects"),
+                    format!("groups[{}].effects", core.name),
                     format!(
                         "the groups of {name} must share one model for the analysis (groups[{}]'s effects)",
-                        effects_of[k]
+                        study.groups[effects_of[k]].name
                     ),
                 ))
             }
             Some(_) => {}
             None => {
-                let wall = super::inplane::group_wall(&spec, path, g)?;
-                let effects = super::inplane::group_effects(&spec, path, g, &wall)?;
+                let (wall, effects) = (core.walls[0].clone(), core.effects.clone());
                 let layout =
-                    |r: u64| crate::effects::realize(&wall, spec.seed, r, &name, &effects).ok().map(|(_, l)| l);
+                    |r: u64| crate::effects::realize(&wall, study.seed, r, &name, &effects).ok().map(|(_, l)| l);
                 let first = layout(0);
                 let deterministic = first.is_some() && first == layout(1);
-                let params = InPlaneParams {
-                    sigma0_mpa: group.sigma0_mpa,
-                    history: History::Monotonic,
-                    ..spec.in_plane.clone()
-                };
+                let params = InPlaneParams { history: History::Monotonic, ..test.params_of(g) };
                 groups.push(GroupSetup {
                     name: name.clone(),
                     course_m: crate::effects::course_height_of(&wall),
@@ -106,20 +99,20 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                     effects,
                     protocol: Some(Protocol::InPlane(InPlane(params))),
                 });
-                walls_of.push(group.source().to_owned());
+                walls_of.push(group.source.clone());
                 effects_of.push(g);
             }
         }
         for unit in &group.specimens {
             let Some(s) = specimens.iter().find(|s| &s.unit == unit) else {
                 return Err(bad(
-                    format!("groups[{g}].specimens"),
+                    format!("groups[{}].specimens", core.name),
                     format!("{unit} is not a unit of the measured file"),
                 ));
             };
             if (s.sigma0_mpa - group.sigma0_mpa).abs() > 1e-9 {
                 return Err(bad(
-                    format!("groups[{g}].specimens"),
+                    format!("groups[{}].specimens", core.name),
                     format!("{unit} was tested at {} MPa, the group at {} MPa", s.sigma0_mpa, group.sigma0_mpa),
                 ));
             }
@@ -175,11 +168,11 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     let stated = stated_sigma_keys(path);
     settings.sigma_notes = sigma_from_data(&mut obs, &stated);
     settings.sigma_notes.extend(asymmetry_sigma_from_data(&mut obs, &stated, settings.sigma.asymmetry_kn));
-    let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
-    let setup = Setup { groups, seed: spec.seed, solver: spec.solver, protocol, store: None };
+    let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(test.params.clone())));
+    let setup = Setup { groups, seed: study.seed, solver: study.solver, protocol, store: None };
     Ok(OwnAnalysis {
-        name: spec.name,
-        seed: spec.seed,
+        name: study.name.clone(),
+        seed: study.seed,
         setup,
         obs,
         settings,

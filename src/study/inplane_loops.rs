@@ -42,9 +42,11 @@
 //! outside that interval is refuted by the loops; a model whose χ² there is below the 95th
 //! percentile fits the loops with that friction.
 
-use super::inplane::{load, read_loops, read_specimens, InPlaneStudyError};
+use super::inplane::InPlaneStudyError;
 use super::inplane_discrepancy::stress_group;
+use super::inplane_run::Prepared;
 use super::own::OwnAnalysis;
+use super::Study;
 use crate::discrepancy::Run;
 use crate::effects::Effect;
 use crate::loading::inplane::{History, InPlaneParams};
@@ -411,18 +413,15 @@ pub fn measured_loops(
     path: &Path,
     input: &OwnAnalysis,
 ) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
-    let spec = load(path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let Some(m) = &spec.measured else {
+    let study = Study::from_file(path)?;
+    let Prepared { test, .. } = Prepared::of(&study)?;
+    // The loops are read only with `[measured] curves` (their damping ratio NaN without).
+    if !test.specimens.iter().any(|s| s.damping_ratio.is_finite()) {
         return Ok(None);
-    };
-    let Some(curves) = &m.curves else {
-        return Ok(None);
-    };
-    let mut specimens = read_specimens(&base.join(&m.walls), None)?;
-    read_loops(&mut specimens, &base.join(curves))?;
+    }
+    let specimens = &test.specimens;
     let mut groups: Vec<MeasuredLoops> = Vec::new();
-    for g in spec.groups.iter().filter(|g| g.history == History::Cyclic) {
+    for g in test.groups.iter().filter(|g| g.history == History::Cyclic) {
         let name = stress_group(g.sigma0_mpa);
         let Some(k) = input.setup.groups.iter().position(|x| x.name == name) else {
             continue;
@@ -446,8 +445,8 @@ pub fn measured_loops(
             None => groups.push((k, g.sigma0_mpa, read, histories)),
         }
     }
-    let test = InPlaneParams { history: History::Cyclic, ..spec.in_plane.clone() };
-    Ok((!groups.is_empty()).then_some((groups, test)))
+    let cyclic = InPlaneParams { history: History::Cyclic, ..test.params.clone() };
+    Ok((!groups.is_empty()).then_some((groups, cyclic)))
 }
 
 /// The check of the loops (module documentation) of the baseline and the models in `run`'s

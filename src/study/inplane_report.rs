@@ -3,13 +3,14 @@
 //! (`comparison.csv`), its figures (`curves_<group>.svg`, `mechanism_<group>.svg`) and its
 //! report (`report.md`).
 
-use super::inplane::{realized, stated_effects, InPlaneRow, InPlaneStudySpec};
+use super::inplane::{realized, InPlaneRow};
 use super::inplane_error::InPlaneStudyError;
 use super::inplane_measured::{file_stem, Specimen};
+use super::inplane_spec::InPlaneStudy;
+use super::Study;
 use crate::dem::SolverParams;
-use crate::generator::Wall;
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
-use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, Rig};
+use crate::loading::inplane::{mechanism_joints, History, Rig};
 use crate::stats::{mean, quantile, sd};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -109,42 +110,38 @@ fn method_words(solver: SolverParams) -> String {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 pub(super) fn report(
-    spec: &InPlaneStudySpec,
-    path: &Path,
+    study: &Study,
+    test: &InPlaneStudy,
     out: &Path,
     rows: &[InPlaneRow],
-    specimens: &[Specimen],
-    walls: &[Wall],
-    effects: &[Vec<crate::effects::Effect>],
-    solver: SolverParams,
     elapsed_s: f64,
 ) -> Result<String, InPlaneStudyError> {
+    let (path, solver, specimens) = (&study.path, study.solver, &test.specimens);
     let mut md = String::new();
     let mut summary = String::from("group,observable,n,mean,sd,cov,band_lo,band_hi\n");
     let mut comparison = String::from(
         "group,specimen,observable,measured,sim_mean,sim_sd,band_lo,band_hi,inside_band,ratio_measured_to_mean\n",
     );
-    let _ = writeln!(md, "# {}\n", spec.name);
-    let _ = writeln!(md, "{}\n", spec.description.trim());
+    let _ = writeln!(md, "# {}\n", study.name);
+    let _ = writeln!(md, "{}\n", study.description.trim());
     let ok = rows.iter().filter(|r| r.status == "ok").count();
     let _ = writeln!(
         md,
         "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
          analysis beside it. {}, largest drift {} %.\n",
         path.display(),
-        spec.seed,
+        study.seed,
         rows.len(),
         rows.len() - ok,
         elapsed_s,
         method_words(solver),
-        match (spec.in_plane.beam_rotation, spec.in_plane.shear_span_m) {
+        match (test.params.beam_rotation, test.params.shear_span_m) {
             (crate::loading::inplane::BeamRotation::Fixed, _) => "Beam held level: no shear span".to_string(),
             (_, Some(h)) => format!("Shear span {h} m"),
             (_, None) => "Shear span –".to_string(),
         },
-        spec.in_plane.drift_pct
+        test.params.drift_pct
     );
     let _ = writeln!(
         md,
@@ -154,24 +151,22 @@ pub(super) fn report(
          vertical loading phase (the stress the actuator adds over the wall's shortening, the beam's settlement \
          over the wall's height), as the database's `Epc` is read from the compression cycles at the start of each \
          test. Measured columns are data drystone did not make; the simulated columns are its own.\n",
-        spec.in_plane.measuring_height_m.map_or_else(
+        test.params.measuring_height_m.map_or_else(
             || "the actuator's height, the shear span, where a test reports none".to_string(),
             |h| format!("{h} m")
         ),
-        spec.in_plane
-            .measuring_height_m
-            .or(spec.in_plane.shear_span_m)
-            .map_or("H".to_string(), |h| format!("{}", h * 1e3))
+        test.params.measuring_height_m.or(test.params.shear_span_m).map_or("H".to_string(), |h| format!("{}", h * 1e3))
     );
-    for (g, group) in spec.groups.iter().enumerate() {
-        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == group.name && r.status == "ok").collect();
+    for (g, (core, group)) in study.groups.iter().zip(&test.groups).enumerate() {
+        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == core.name && r.status == "ok").collect();
         let ms: Vec<&Specimen> =
             group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
         let slug: String =
-            group.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
-        let _ = writeln!(md, "## {}\n", group.name);
-        if !effects[g].is_empty() {
-            let stated: Vec<String> = stated_effects(spec, g)
+            core.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+        let _ = writeln!(md, "## {}\n", core.name);
+        if !core.effects.is_empty() {
+            let stated: Vec<String> = group
+                .stated
                 .iter()
                 .map(|(_, name, values)| {
                     let v: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
@@ -188,7 +183,7 @@ pub(super) fn report(
                 History::Monotonic => "monotonic",
                 History::Cyclic => "cyclic",
             },
-            group.source().display(),
+            group.source.display(),
             rs.len(),
             if ms.is_empty() {
                 "none".to_string()
@@ -205,14 +200,14 @@ pub(super) fn report(
             if n == 0 {
                 continue;
             }
-            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", group.name);
+            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", core.name);
             let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
             let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
             for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
                 let _ = writeln!(
                     comparison,
                     "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
-                    group.name,
+                    core.name,
                     sp.unit,
                     v >= lo && v <= hi,
                     v / m
@@ -282,13 +277,12 @@ pub(super) fn report(
             }
         }
         let svg = out.join(format!("curves_{slug}.svg"));
-        force_drift(&svg, &group.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+        force_drift(&svg, &core.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
         let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
         // The mechanism of realization 0 beside the measured crack map.
         if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
-            let params =
-                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
-            let layout = realized(&walls[g], &effects[g], spec.seed, r0.index, &group.name);
+            let params = test.params_of(g);
+            let layout = realized(&core.walls[0], &core.effects, study.seed, r0.index, &core.name);
             if let Ok(rig) =
                 layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
             {
@@ -299,12 +293,12 @@ pub(super) fn report(
                         poses,
                         &mechanism_joints(&sim),
                         mechanism,
-                        &format!("{}: realization 0, {}", group.name, mechanism.kind.name()),
+                        &format!("{}: realization 0, {}", core.name, mechanism.kind.name()),
                     );
                     let p = out.join(format!("mechanism_{slug}.svg"));
                     crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
                     let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
-                    if let Some(dir) = spec.measured.as_ref().and_then(|m| m.crackmaps.as_ref()) {
+                    if let Some(dir) = &test.crackmaps {
                         for m in &ms {
                             let name = format!("crackmap_{}.png", file_stem(m));
                             let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);

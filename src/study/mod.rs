@@ -91,6 +91,7 @@ pub mod inplane_loops;
 mod inplane_measured;
 mod inplane_report;
 pub mod inplane_run;
+pub mod inplane_spec;
 mod lock;
 mod measured;
 mod motions;

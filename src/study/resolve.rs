@@ -103,6 +103,7 @@ impl StudySpec {
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut files = vec![(InputRole::Study, path.to_owned())];
         let shake = self.resolve_shake(dir, &invalid, &mut files)?;
+        let in_plane = self.resolve_in_plane(dir, &invalid, &mut files)?;
         let sweep = protocol_sweep(&self.sweep, shake.as_ref());
         self.check_counts(&sweep, &invalid)?;
         let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason.to_string()))?;
@@ -146,7 +147,7 @@ impl StudySpec {
         };
         let inputs = provenance::record(&files)
             .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
-        let protocol = StudyProtocol::from_spec(self, shake, &invalid)?;
+        let protocol = StudyProtocol::from_spec(self, shake, in_plane, &invalid)?;
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
@@ -710,19 +711,14 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
-        if let Some(own) = super::protocol::own_study_of(path) {
-            return Err(StudyError::Invalid {
-                path: path.to_owned(),
-                key: "protocol".into(),
-                reason: format!(
-                    "\"{}\" is a study of its own, run by `drystone run` and analysed by `drystone discrepancy` \
-                     ({}); this command does not read it",
-                    own.kind.name(),
-                    own.doc
-                ),
-            });
-        }
         StudySpec::from_file(path)?.resolve(path)
+    }
+
+    /// The protocol with its parameters that group `group` runs at sweep point `point`
+    /// ([`StudyProtocol::of_group`]: the in-plane test with the group's vertical stress and
+    /// history).
+    pub fn protocol_of(&self, group: usize, point: usize) -> crate::protocol::Protocol {
+        self.protocol.of_group(group, self.points.get(point).map_or(&[], Vec::as_slice))
     }
 
     /// All work items of the study.
