@@ -116,49 +116,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                     format!("{unit} was tested at {} MPa, the group at {} MPa", s.sigma0_mpa, group.sigma0_mpa),
                 ));
             }
-            let sigma = settings.sigma;
-            for (quantity, value, sd) in [
-                (InPlaneQuantity::PeakForce, s.vmax_pos_kn, sigma.force_kn),
-                (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
-                (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
-                (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
-                // A cyclic specimen's two directions' peaks (each a magnitude in the
-                // database's columns): the rig's asymmetry. NaN for a monotonic specimen.
-                (InPlaneQuantity::PeakAsymmetry, s.vmax_neg_kn.abs() - s.vmax_pos_kn, sigma.asymmetry_kn),
-            ] {
-                // The database gives one vertical modulus per stress level of a campaign
-                // (the same number in every specimen's row): one reading of the group, not
-                // one per specimen.
-                let repeated = quantity == InPlaneQuantity::VerticalModulus
-                    && obs.iter().any(|o: &Observation| {
-                        o.group == name && o.observable == Observable::InPlane { quantity } && o.value == value
-                    });
-                if value.is_finite() && !repeated {
-                    obs.push(Observation {
-                        specimen: unit.clone(),
-                        group: name.clone(),
-                        observable: Observable::InPlane { quantity },
-                        value,
-                        sigma: sd,
-                    });
-                }
-            }
-            let mode = if s.failure_type == 1.0 {
-                Some(MechanismKind::Rocking)
-            } else if s.failure_type == 0.5 {
-                Some(MechanismKind::Mixed)
-            } else {
-                None
-            };
-            if let Some(mode) = mode {
-                obs.push(Observation {
-                    specimen: unit.clone(),
-                    group: name.clone(),
-                    observable: Observable::InPlaneMode { mode },
-                    value: 1.0,
-                    sigma: 0.0,
-                });
-            }
+            specimen_observations(unit, s, &name, settings.sigma, &mut obs);
         }
     }
     if obs.is_empty() {
@@ -178,6 +136,61 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
         settings,
         library: crate::effects::Library::builtin(),
     })
+}
+
+/// The observations of the measured specimen `s` (unit `unit`) of the analysis's group
+/// `name`, each with its σ of `sigma`, pushed onto `obs` (module documentation): the peak
+/// force, the drift at the peak, the initial stiffness, the vertical modulus (once a group),
+/// the peaks' asymmetry, and the mode where the failure type tells it.
+fn specimen_observations(
+    unit: &str,
+    s: &super::inplane::Specimen,
+    name: &str,
+    sigma: crate::discrepancy::MeasurementSigma,
+    obs: &mut Vec<Observation>,
+) {
+    for (quantity, value, sd) in [
+        (InPlaneQuantity::PeakForce, s.vmax_pos_kn, sigma.force_kn),
+        (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
+        (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
+        (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
+        // A cyclic specimen's two directions' peaks (each a magnitude in the
+        // database's columns): the rig's asymmetry. NaN for a monotonic specimen.
+        (InPlaneQuantity::PeakAsymmetry, s.vmax_neg_kn.abs() - s.vmax_pos_kn, sigma.asymmetry_kn),
+    ] {
+        // The database gives one vertical modulus per stress level of a campaign
+        // (the same number in every specimen's row): one reading of the group, not
+        // one per specimen.
+        let repeated = quantity == InPlaneQuantity::VerticalModulus
+            && obs.iter().any(|o: &Observation| {
+                o.group == name && o.observable == Observable::InPlane { quantity } && o.value == value
+            });
+        if value.is_finite() && !repeated {
+            obs.push(Observation {
+                specimen: unit.to_string(),
+                group: name.to_string(),
+                observable: Observable::InPlane { quantity },
+                value,
+                sigma: sd,
+            });
+        }
+    }
+    let mode = if s.failure_type == 1.0 {
+        Some(MechanismKind::Rocking)
+    } else if s.failure_type == 0.5 {
+        Some(MechanismKind::Mixed)
+    } else {
+        None
+    };
+    if let Some(mode) = mode {
+        obs.push(Observation {
+            specimen: unit.to_string(),
+            group: name.to_string(),
+            observable: Observable::InPlaneMode { mode },
+            value: 1.0,
+            sigma: 0.0,
+        });
+    }
 }
 
 /// The typical scatter between nominally equal specimens of a shear–compression test, as a

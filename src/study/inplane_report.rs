@@ -161,8 +161,6 @@ pub(super) fn report(
         let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == core.name && r.status == "ok").collect();
         let ms: Vec<&Specimen> =
             group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
-        let slug: String =
-            core.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
         let _ = writeln!(md, "## {}\n", core.name);
         if !core.effects.is_empty() {
             let stated: Vec<String> = group
@@ -191,44 +189,7 @@ pub(super) fn report(
                 ms.iter().map(|m| m.unit.clone()).collect::<Vec<_>>().join(", ")
             }
         );
-        let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
-        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
-        for (key, label, get, meas) in OBSERVABLES {
-            let d = if key == "damping_ratio" { 3 } else { 2 };
-            let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
-            let (n, m, s, cov, lo, hi) = stats(&x);
-            if n == 0 {
-                continue;
-            }
-            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", core.name);
-            let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
-            let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
-            for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
-                let _ = writeln!(
-                    comparison,
-                    "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
-                    core.name,
-                    sp.unit,
-                    v >= lo && v <= hi,
-                    v / m
-                );
-            }
-            let _ = writeln!(
-                md,
-                "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
-                if measured.is_empty() {
-                    "–".into()
-                } else {
-                    measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
-                },
-                f(m, d),
-                f(s, d),
-                f(cov, 3),
-                f(lo, d),
-                f(hi, d),
-                if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
-            );
-        }
+        observables_table(&core.name, &rs, &ms, &mut summary, &mut comparison, &mut md);
         let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
         for r in &rs {
             *kinds.entry(r.mechanism.as_str()).or_default() += 1;
@@ -255,62 +216,7 @@ pub(super) fn report(
             la_kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
             f(rock, 2)
         );
-        // The curves over the measured envelopes.
-        let mut curves: Vec<ForceDriftCurve> = rs
-            .iter()
-            .enumerate()
-            .map(|(k, r)| ForceDriftCurve {
-                label: (k == 0).then(|| "simulated (each realization)".to_string()),
-                colour: 0,
-                measured: false,
-                points: r.curve.clone(),
-            })
-            .collect();
-        for (k, m) in ms.iter().enumerate() {
-            if !m.envelope.is_empty() {
-                curves.push(ForceDriftCurve {
-                    label: Some(format!("{} envelope (measured)", m.unit)),
-                    colour: k + 1,
-                    measured: true,
-                    points: m.envelope.clone(),
-                });
-            }
-        }
-        let svg = out.join(format!("curves_{slug}.svg"));
-        force_drift(&svg, &core.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
-        let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
-        // The mechanism of realization 0 beside the measured crack map.
-        if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
-            let params = test.params_of(g);
-            let layout = realized(&core.walls[0], &core.effects, study.seed, r0.index, &core.name);
-            if let Ok(rig) =
-                layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
-            {
-                {
-                    let sim = crate::dem::Simulation::new(&rig.layout, solver);
-                    let svg = crack_map_svg(
-                        &rig.layout,
-                        poses,
-                        &mechanism_joints(&sim),
-                        mechanism,
-                        &format!("{}: realization 0, {}", core.name, mechanism.kind.name()),
-                    );
-                    let p = out.join(format!("mechanism_{slug}.svg"));
-                    crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
-                    let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
-                    if let Some(dir) = &test.crackmaps {
-                        for m in &ms {
-                            let name = format!("crackmap_{}.png", file_stem(m));
-                            let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
-                            if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
-                                let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
-                            }
-                        }
-                    }
-                    md.push_str("\n\n");
-                }
-            }
-        }
+        figures(study, test, g, &rs, &ms, out, &mut md)?;
     }
     let w = |name: &str, text: &str| {
         crate::io::replace_file(&out.join(name), text.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
@@ -319,4 +225,133 @@ pub(super) fn report(
     w("comparison.csv", &comparison)?;
     w("report.md", &md)?;
     Ok(md)
+}
+
+/// The observables of the group `name` (`rs` its rows that ran, `ms` its measured
+/// specimens): its statistics' lines of `summary.csv`, its comparison's lines of
+/// `comparison.csv` and its table in the report `md`.
+fn observables_table(
+    name: &str,
+    rs: &[&InPlaneRow],
+    ms: &[&Specimen],
+    summary: &mut String,
+    comparison: &mut String,
+    md: &mut String,
+) {
+    let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+    for (key, label, get, meas) in OBSERVABLES {
+        let d = if key == "damping_ratio" { 3 } else { 2 };
+        let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
+        let (n, m, s, cov, lo, hi) = stats(&x);
+        if n == 0 {
+            continue;
+        }
+        let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", name);
+        let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
+        let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
+        for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
+            let _ = writeln!(
+                comparison,
+                "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
+                name,
+                sp.unit,
+                v >= lo && v <= hi,
+                v / m
+            );
+        }
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
+            if measured.is_empty() {
+                "–".into()
+            } else {
+                measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
+            },
+            f(m, d),
+            f(s, d),
+            f(cov, 3),
+            f(lo, d),
+            f(hi, d),
+            if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
+        );
+    }
+}
+
+/// The figures of group `g` (`rs` its rows that ran, `ms` its measured specimens): the
+/// curves over the measured envelopes (`curves_<slug>.svg`) and the mechanism of
+/// realization 0 beside the measured crack maps (`mechanism_<slug>.svg`), written into
+/// `out` and linked in `md`.
+///
+/// # Errors
+/// A figure that cannot be written.
+fn figures(
+    study: &Study,
+    test: &InPlaneStudy,
+    g: usize,
+    rs: &[&InPlaneRow],
+    ms: &[&Specimen],
+    out: &Path,
+    md: &mut String,
+) -> Result<(), InPlaneStudyError> {
+    let (core, path, solver) = (&study.groups[g], &study.path, study.solver);
+    let slug: String =
+        core.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+    // The curves over the measured envelopes.
+    let mut curves: Vec<ForceDriftCurve> = rs
+        .iter()
+        .enumerate()
+        .map(|(k, r)| ForceDriftCurve {
+            label: (k == 0).then(|| "simulated (each realization)".to_string()),
+            colour: 0,
+            measured: false,
+            points: r.curve.clone(),
+        })
+        .collect();
+    for (k, m) in ms.iter().enumerate() {
+        if !m.envelope.is_empty() {
+            curves.push(ForceDriftCurve {
+                label: Some(format!("{} envelope (measured)", m.unit)),
+                colour: k + 1,
+                measured: true,
+                points: m.envelope.clone(),
+            });
+        }
+    }
+    let svg = out.join(format!("curves_{slug}.svg"));
+    force_drift(&svg, &core.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
+    // The mechanism of realization 0 beside the measured crack map.
+    if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
+        let params = test.params_of(g);
+        let layout = realized(&core.walls[0], &core.effects, study.seed, r0.index, &core.name);
+        if let Ok(rig) =
+            layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
+        {
+            {
+                let sim = crate::dem::Simulation::new(&rig.layout, solver);
+                let svg = crack_map_svg(
+                    &rig.layout,
+                    poses,
+                    &mechanism_joints(&sim),
+                    mechanism,
+                    &format!("{}: realization 0, {}", core.name, mechanism.kind.name()),
+                );
+                let p = out.join(format!("mechanism_{slug}.svg"));
+                crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+                let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
+                if let Some(dir) = &test.crackmaps {
+                    for m in ms {
+                        let name = format!("crackmap_{}.png", file_stem(m));
+                        let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
+                        if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
+                            let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
+                        }
+                    }
+                }
+                md.push_str("\n\n");
+            }
+        }
+    }
+    Ok(())
 }
