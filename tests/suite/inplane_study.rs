@@ -280,3 +280,37 @@ fn the_study_core_reads_it_with_realizations_and_refuses_foreign_keys() {
     assert!(e.contains("in_plane") && e.contains("drystone run"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The discrepancy input of the bundled study, read through the study core: one group per
+/// vertical stress (four), each pushed monotonically at its stress, and every specimen's
+/// peak force the measured table's `Vmax_pos_kN` (read here from the CSV by hand).
+#[test]
+fn the_discrepancy_input_reads_the_groups_and_the_measured_peaks() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let input = drystone::study::inplane_discrepancy::analysis_of(&root.join("studies/inplane_granite.toml")).unwrap();
+    let names: Vec<&str> = input.setup.groups.iter().map(|g| g.name.as_str()).collect();
+    assert_eq!(names, ["0.2 MPa", "0.5 MPa", "0.875 MPa", "1.25 MPa"]);
+    for g in &input.setup.groups {
+        let Some(drystone::protocol::Protocol::InPlane(drystone::protocol::InPlane(p))) = &g.protocol else {
+            panic!("{:?}", g.protocol)
+        };
+        assert_eq!((format!("{} MPa", p.sigma0_mpa), p.history), (g.name.clone(), History::Monotonic));
+    }
+    let table = std::fs::read_to_string(root.join("data/inplane_granite/walls.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let column = header.iter().position(|h| *h == "Vmax_pos_kN").unwrap();
+    let mut peaks = 0;
+    for o in input.obs.iter().filter(|o| {
+        o.observable
+            == drystone::discrepancy::Observable::InPlane {
+                quantity: drystone::discrepancy::InPlaneQuantity::PeakForce,
+            }
+    }) {
+        // The unit's row: its cells before any quoted one (the peak is before them).
+        let row = table.lines().find(|l| l.split(',').next() == Some(o.specimen.as_str())).unwrap();
+        let value: f64 = row.split(',').nth(column).unwrap().parse().unwrap();
+        assert_eq!(o.value, value, "{}", o.specimen);
+        peaks += 1;
+    }
+    assert_eq!(peaks, 14);
+}
