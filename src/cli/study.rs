@@ -97,11 +97,10 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
     if a.full {
         bail!("{}: --full applies to suites only", study.display());
     }
-    if let Some(own) = drystone::study::own_study_of(study) {
-        let study = study.to_path_buf();
-        return run_own(own, &study, a);
-    }
     let st = load(study, a.realizations)?;
+    if let Some(own) = drystone::study::own_study_of(study) {
+        return run_own(own, &st, a);
+    }
     let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
     let threads = thread_count(a.workers.threads);
@@ -281,21 +280,22 @@ pub fn merge(a: MergeArgs) -> Result<ExitCode> {
 
 /// `drystone run` on a study of its own (a protocol's: `drystone::study::own`): its own
 /// runner and outputs.
-fn run_own(own: &OwnStudy, study: &Path, a: RunArgs) -> Result<ExitCode> {
-    for (given, flag) in
-        [(a.realizations.is_some(), "--realizations"), (!a.vtk_realizations.is_empty(), "--vtk-realizations")]
-    {
-        if given {
-            bail!("{}: {flag} does not apply to {} (protocol = \"{}\")", study.display(), own.what, own.kind.name());
-        }
+fn run_own(own: &OwnStudy, st: &Study, a: RunArgs) -> Result<ExitCode> {
+    if !a.vtk_realizations.is_empty() {
+        let (path, kind) = (st.path.display(), own.kind.name());
+        bail!("{path}: --vtk-realizations does not apply to {} (protocol = \"{kind}\")", own.what);
     }
-    let name = (own.name)(study)?;
-    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&name));
+    let name = &st.name;
+    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(name));
     let threads = thread_count(a.workers.threads);
+    check_memory(st, threads)?;
     let pool = pool(Some(threads))?;
+    for w in st.warnings() {
+        eprintln!("warning: {w}");
+    }
     let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
     let mode = RunMode { resume: a.resume, force: a.force };
-    let run = pool.install(|| (own.run)(study, &dir, shard, mode))?;
+    let run = pool.install(|| (own.run)(st, &dir, shard, mode))?;
     let failed = run.failed;
     let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
     out!(

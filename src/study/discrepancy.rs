@@ -18,7 +18,8 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
     let groups = study
         .groups
         .iter()
-        .map(|g| {
+        .enumerate()
+        .map(|(i, g)| {
             let wall = g.walls[0].clone();
             let course_m = crate::effects::course_height_of(&wall);
             let layout = |r: u64| crate::generator::generate(&wall, study.seed, r).ok().and_then(|w| w.check().ok());
@@ -34,7 +35,7 @@ pub fn setup_of(study: &Study, realizations: u64) -> Setup {
                 deterministic,
                 effects: g.effects.clone(),
                 course_m,
-                protocol: None,
+                protocol: study.protocol.group_protocol(i),
             }
         })
         .collect();

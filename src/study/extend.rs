@@ -115,6 +115,9 @@ pub fn write_extended(
             overrides: BTreeMap::new(),
             realizations: g.realizations,
             effects,
+            sigma0_mpa: None,
+            history: None,
+            specimens: vec![],
         });
     }
     let mut c = String::from("specimen,group,collapse_angle_deg\n");
@@ -125,7 +128,16 @@ pub fn write_extended(
     for m in &study.measured.displacement {
         let _ = writeln!(d, "{},{},{},{},{}", m.specimen, m.group, m.measure, m.tilt_deg, m.displacement_cm);
     }
-    let mut measured = MeasuredSpec { collapse: None, displacement: None, mechanism: None, paper_dem: None };
+    let mut measured = MeasuredSpec {
+        collapse: None,
+        displacement: None,
+        mechanism: None,
+        paper_dem: None,
+        walls: None,
+        envelopes: None,
+        crackmaps: None,
+        curves: None,
+    };
     if !study.measured.mechanism.is_empty() {
         let p = dir.join("data").join(crate::io::measured::MECHANISM_FILE);
         std::fs::write(&p, crate::io::measured::mechanism_csv(&study.measured.mechanism)).map_err(FileError::at(&p))?;
@@ -157,6 +169,7 @@ pub fn write_extended(
         tilt: TiltParams::default(),
         lateral: LateralParams::default(),
         shake: None,
+        in_plane: None,
         solver: study.solver,
         groups,
         sweep: BTreeMap::new(),

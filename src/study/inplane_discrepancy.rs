@@ -25,8 +25,10 @@
 //! was pushed first is not assumed: its two peaks enter as the positive one and their
 //! difference.
 
-use super::inplane::{load, read_specimens, refuse_out_of_plane, InPlaneStudyError};
+use super::inplane::InPlaneStudyError;
+use super::inplane_run::Prepared;
 use super::own::OwnAnalysis;
+use super::Study;
 use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
@@ -41,61 +43,52 @@ pub fn stress_group(sigma0_mpa: f64) -> String {
 ///
 /// # Errors
 /// A bad study, wall or measured file, or a specimen whose stress is not its group's,
-/// naming the file and the key; an effect the test does not read
-/// ([`refuse_out_of_plane`]).
+/// naming the file and the key; an effect the test does not read (refused by the study
+/// core, [`super::inplane_spec`]).
 pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
-    let spec = load(path)?;
-    refuse_out_of_plane(&spec, path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
+    let study = Study::from_file(path)?;
+    let Prepared { study, test } = Prepared::of(&study)?;
     let bad = |key: String, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key, message };
-    let settings = spec.discrepancy.clone().unwrap_or_default();
-    settings.validate().map_err(|e| bad("discrepancy".into(), e.to_string()))?;
-    let Some(measured) = &spec.measured else {
+    let settings = study.discrepancy.clone();
+    if !study.inputs.iter().any(|f| f.role == super::provenance::InputRole::Measured) {
         return Err(bad("measured".into(), "the analysis needs the measured specimens ([measured] walls)".into()));
-    };
-    let specimens = read_specimens(&base.join(&measured.walls), None)?;
+    }
+    let specimens = &test.specimens;
     let realizations = settings.most_realizations();
     let mut groups: Vec<GroupSetup> = Vec::new();
     let mut walls_of: Vec<std::path::PathBuf> = Vec::new();
     let mut effects_of: Vec<usize> = Vec::new();
     let mut obs = Vec::new();
-    for (g, group) in spec.groups.iter().enumerate() {
+    for (g, (core, group)) in study.groups.iter().zip(&test.groups).enumerate() {
         let name = stress_group(group.sigma0_mpa);
         match groups.iter().position(|x| x.name == name) {
-            Some(k) if walls_of[k] != group.source() => {
+            Some(k) if walls_of[k] != group.source => {
                 return Err(bad(
-                    format!("groups[{g}].{}", if group.survey.is_some() { "survey" } else { "wall" }),
+                    format!("groups[{}].{}", core.name, if core.spec.is_none() { "survey" } else { "wall" }),
                     format!(
                         "{}: the groups of {name} must share one wall for the analysis ({} is the first's)",
-                        group.source().display(),
+                        group.source.display(),
                         walls_of[k].display()
                     ),
                 ))
             }
-            Some(k)
-                if super::inplane::stated_effects(&spec, effects_of[k]) != super::inplane::stated_effects(&spec, g) =>
-            {
+            Some(k) if test.groups[effects_of[k]].stated != group.stated => {
                 return Err(bad(
-                    format!("groups[{g}].effects"),
+                    format!("groups[{}].effects", core.name),
                     format!(
                         "the groups of {name} must share one model for the analysis (groups[{}]'s effects)",
-                        effects_of[k]
+                        study.groups[effects_of[k]].name
                     ),
                 ))
             }
             Some(_) => {}
             None => {
-                let wall = super::inplane::group_wall(&spec, path, g)?;
-                let effects = super::inplane::group_effects(&spec, path, g, &wall)?;
+                let (wall, effects) = (core.walls[0].clone(), core.effects.clone());
                 let layout =
-                    |r: u64| crate::effects::realize(&wall, spec.seed, r, &name, &effects).ok().map(|(_, l)| l);
+                    |r: u64| crate::effects::realize(&wall, study.seed, r, &name, &effects).ok().map(|(_, l)| l);
                 let first = layout(0);
                 let deterministic = first.is_some() && first == layout(1);
-                let params = InPlaneParams {
-                    sigma0_mpa: group.sigma0_mpa,
-                    history: History::Monotonic,
-                    ..spec.in_plane.clone()
-                };
+                let params = InPlaneParams { history: History::Monotonic, ..test.params_of(g) };
                 groups.push(GroupSetup {
                     name: name.clone(),
                     course_m: crate::effects::course_height_of(&wall),
@@ -106,66 +99,24 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
                     effects,
                     protocol: Some(Protocol::InPlane(InPlane(params))),
                 });
-                walls_of.push(group.source().to_owned());
+                walls_of.push(group.source.clone());
                 effects_of.push(g);
             }
         }
         for unit in &group.specimens {
             let Some(s) = specimens.iter().find(|s| &s.unit == unit) else {
                 return Err(bad(
-                    format!("groups[{g}].specimens"),
+                    format!("groups[{}].specimens", core.name),
                     format!("{unit} is not a unit of the measured file"),
                 ));
             };
             if (s.sigma0_mpa - group.sigma0_mpa).abs() > 1e-9 {
                 return Err(bad(
-                    format!("groups[{g}].specimens"),
+                    format!("groups[{}].specimens", core.name),
                     format!("{unit} was tested at {} MPa, the group at {} MPa", s.sigma0_mpa, group.sigma0_mpa),
                 ));
             }
-            let sigma = settings.sigma;
-            for (quantity, value, sd) in [
-                (InPlaneQuantity::PeakForce, s.vmax_pos_kn, sigma.force_kn),
-                (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
-                (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
-                (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
-                // A cyclic specimen's two directions' peaks (each a magnitude in the
-                // database's columns): the rig's asymmetry. NaN for a monotonic specimen.
-                (InPlaneQuantity::PeakAsymmetry, s.vmax_neg_kn.abs() - s.vmax_pos_kn, sigma.asymmetry_kn),
-            ] {
-                // The database gives one vertical modulus per stress level of a campaign
-                // (the same number in every specimen's row): one reading of the group, not
-                // one per specimen.
-                let repeated = quantity == InPlaneQuantity::VerticalModulus
-                    && obs.iter().any(|o: &Observation| {
-                        o.group == name && o.observable == Observable::InPlane { quantity } && o.value == value
-                    });
-                if value.is_finite() && !repeated {
-                    obs.push(Observation {
-                        specimen: unit.clone(),
-                        group: name.clone(),
-                        observable: Observable::InPlane { quantity },
-                        value,
-                        sigma: sd,
-                    });
-                }
-            }
-            let mode = if s.failure_type == 1.0 {
-                Some(MechanismKind::Rocking)
-            } else if s.failure_type == 0.5 {
-                Some(MechanismKind::Mixed)
-            } else {
-                None
-            };
-            if let Some(mode) = mode {
-                obs.push(Observation {
-                    specimen: unit.clone(),
-                    group: name.clone(),
-                    observable: Observable::InPlaneMode { mode },
-                    value: 1.0,
-                    sigma: 0.0,
-                });
-            }
+            specimen_observations(unit, s, &name, settings.sigma, &mut obs);
         }
     }
     if obs.is_empty() {
@@ -175,16 +126,71 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     let stated = stated_sigma_keys(path);
     settings.sigma_notes = sigma_from_data(&mut obs, &stated);
     settings.sigma_notes.extend(asymmetry_sigma_from_data(&mut obs, &stated, settings.sigma.asymmetry_kn));
-    let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(spec.in_plane.clone())));
-    let setup = Setup { groups, seed: spec.seed, solver: spec.solver, protocol, store: None };
+    let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(test.params.clone())));
+    let setup = Setup { groups, seed: study.seed, solver: study.solver, protocol, store: None };
     Ok(OwnAnalysis {
-        name: spec.name,
-        seed: spec.seed,
+        name: study.name.clone(),
+        seed: study.seed,
         setup,
         obs,
         settings,
         library: crate::effects::Library::builtin(),
     })
+}
+
+/// The observations of the measured specimen `s` (unit `unit`) of the analysis's group
+/// `name`, each with its σ of `sigma`, pushed onto `obs` (module documentation): the peak
+/// force, the drift at the peak, the initial stiffness, the vertical modulus (once a group),
+/// the peaks' asymmetry, and the mode where the failure type tells it.
+fn specimen_observations(
+    unit: &str,
+    s: &super::inplane::Specimen,
+    name: &str,
+    sigma: crate::discrepancy::MeasurementSigma,
+    obs: &mut Vec<Observation>,
+) {
+    for (quantity, value, sd) in [
+        (InPlaneQuantity::PeakForce, s.vmax_pos_kn, sigma.force_kn),
+        (InPlaneQuantity::DriftAtPeak, s.dmax_pos_pct, sigma.drift_pct),
+        (InPlaneQuantity::InitialStiffness, s.kel_pos, sigma.stiffness_kn_per_mm),
+        (InPlaneQuantity::VerticalModulus, s.epc_mpa, sigma.modulus_mpa),
+        // A cyclic specimen's two directions' peaks (each a magnitude in the
+        // database's columns): the rig's asymmetry. NaN for a monotonic specimen.
+        (InPlaneQuantity::PeakAsymmetry, s.vmax_neg_kn.abs() - s.vmax_pos_kn, sigma.asymmetry_kn),
+    ] {
+        // The database gives one vertical modulus per stress level of a campaign
+        // (the same number in every specimen's row): one reading of the group, not
+        // one per specimen.
+        let repeated = quantity == InPlaneQuantity::VerticalModulus
+            && obs.iter().any(|o: &Observation| {
+                o.group == name && o.observable == Observable::InPlane { quantity } && o.value == value
+            });
+        if value.is_finite() && !repeated {
+            obs.push(Observation {
+                specimen: unit.to_string(),
+                group: name.to_string(),
+                observable: Observable::InPlane { quantity },
+                value,
+                sigma: sd,
+            });
+        }
+    }
+    let mode = if s.failure_type == 1.0 {
+        Some(MechanismKind::Rocking)
+    } else if s.failure_type == 0.5 {
+        Some(MechanismKind::Mixed)
+    } else {
+        None
+    };
+    if let Some(mode) = mode {
+        obs.push(Observation {
+            specimen: unit.to_string(),
+            group: name.to_string(),
+            observable: Observable::InPlaneMode { mode },
+            value: 1.0,
+            sigma: 0.0,
+        });
+    }
 }
 
 /// The typical scatter between nominally equal specimens of a shear–compression test, as a
@@ -310,6 +316,62 @@ pub fn asymmetry_sigma_from_data(obs: &mut [Observation], stated: &[String], set
     Some(format!(
         "peaks' ± asymmetries: σ = {sd:.3} kN, the repeats' spread pooled over the groups ({dof} degrees of freedom) with the setting {setting} kN as the prior (weight {PRIOR_DOF}), the larger of it and the setting"
     ))
+}
+
+/// A measured group of the check: the index of the analysis's group, its vertical stress
+/// (MPa), its specimens' readings `(unit, ξ_eq)`, and the turning points of each one's
+/// measured history (drift %, [`InPlaneParams::reversals_pct`]; in the readings' order). A
+/// group whose histories are all empty (none given, or `vec![]`) is run by the study's
+/// history on [`super::inplane_loops::LOOP_REALIZATIONS`] layouts; otherwise each specimen with a history is run
+/// on it, on the layout of its index in the group, and a specimen without one is not run.
+pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>, Vec<Vec<f64>>);
+
+/// The measured loops of an in-plane study `path` analysed as `input`: per analysis group
+/// with cyclic specimens whose curves are read (`[measured] curves`), its index, stress and
+/// readings; and the cyclic test of a stress (the study's history). `None` when the study
+/// reads no curve or no cyclic specimen has one.
+///
+/// # Errors
+/// The study or its measured files unreadable, naming the file.
+#[allow(clippy::type_complexity)]
+pub fn measured_loops(
+    path: &Path,
+    input: &OwnAnalysis,
+) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
+    let study = Study::from_file(path)?;
+    let Prepared { test, .. } = Prepared::of(&study)?;
+    // The loops are read only with `[measured] curves` (their damping ratio NaN without).
+    if !test.specimens.iter().any(|s| s.damping_ratio.is_finite()) {
+        return Ok(None);
+    }
+    let specimens = &test.specimens;
+    let mut groups: Vec<MeasuredLoops> = Vec::new();
+    for g in test.groups.iter().filter(|g| g.history == History::Cyclic) {
+        let name = stress_group(g.sigma0_mpa);
+        let Some(k) = input.setup.groups.iter().position(|x| x.name == name) else {
+            continue;
+        };
+        let of: Vec<&crate::study::inplane::Specimen> = g
+            .specimens
+            .iter()
+            .filter_map(|u| specimens.iter().find(|s| &s.unit == u))
+            .filter(|s| s.damping_ratio.is_finite())
+            .collect();
+        if of.is_empty() {
+            continue;
+        }
+        let read: Vec<(String, f64)> = of.iter().map(|s| (s.unit.clone(), s.damping_ratio)).collect();
+        let histories: Vec<Vec<f64>> = of.iter().map(|s| s.reversals_pct.clone()).collect();
+        match groups.iter_mut().find(|(j, _, _, _)| *j == k) {
+            Some((_, _, r, h)) => {
+                r.extend(read);
+                h.extend(histories);
+            }
+            None => groups.push((k, g.sigma0_mpa, read, histories)),
+        }
+    }
+    let cyclic = InPlaneParams { history: History::Cyclic, ..test.params.clone() };
+    Ok((!groups.is_empty()).then_some((groups, cyclic)))
 }
 
 #[cfg(test)]

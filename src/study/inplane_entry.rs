@@ -2,10 +2,9 @@
 //! discrepancy` call to run and analyse a study file of `protocol = "in_plane"`
 //! ([`super::own`]).
 
-use super::inplane::refuse_out_of_plane;
-use super::inplane::{load, InPlaneStudyError, InPlaneStudyRun};
+use super::inplane::{InPlaneStudyError, InPlaneStudyRun};
 use super::inplane_discrepancy::analysis_of;
-use super::inplane_run::{is_in_plane_shard, merge, run_into};
+use super::inplane_run::{is_in_plane_shard, merge, run_study_into};
 use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
 use std::path::Path;
 
@@ -16,7 +15,6 @@ pub const STUDY: OwnStudy = OwnStudy {
     what: "an in-plane study",
     doc: "docs/inplane.md",
     measured: "reads its specimens from [measured] walls",
-    name: own_name,
     run: own_run,
     merge: own_merge,
     is_shard: is_in_plane_shard,
@@ -28,19 +26,13 @@ fn boxed(e: InPlaneStudyError) -> OwnStudyError {
     OwnStudyError(Box::new(e))
 }
 
-fn own_name(path: &Path) -> Result<String, OwnStudyError> {
-    load(path).map(|s| s.name).map_err(boxed)
-}
-
 fn own_run(
-    path: &Path,
+    study: &super::Study,
     out: &Path,
     shard: crate::ensemble::Shard,
     mode: super::RunMode,
 ) -> Result<OwnStudyRun, OwnStudyError> {
-    // The effects the test does not read, refused before any run.
-    refuse_out_of_plane(&load(path).map_err(boxed)?, path).map_err(boxed)?;
-    run_into(path, out, shard, mode).map(|r| counts(&r)).map_err(boxed)
+    run_study_into(study, out, shard, mode).map(|r| counts(&r)).map_err(boxed)
 }
 
 fn own_merge(dirs: &[std::path::PathBuf], out: &Path) -> Result<OwnStudyRun, OwnStudyError> {

@@ -26,4 +26,11 @@ pub enum InPlaneStudyError {
     /// An output could not be written.
     #[error("{0}")]
     Write(String),
+    /// The study file refused by the study core (naming its file and key).
+    #[error(transparent)]
+    Study(#[from] super::StudyError),
+    /// The run directory refused by the study core (its journal, naming the file, line and
+    /// field or the difference of the runs).
+    #[error(transparent)]
+    Output(#[from] super::shards::OutputError),
 }

@@ -42,8 +42,8 @@
 //! outside that interval is refuted by the loops; a model whose χ² there is below the 95th
 //! percentile fits the loops with that friction.
 
-use super::inplane::{load, read_loops, read_specimens, InPlaneStudyError};
-use super::inplane_discrepancy::stress_group;
+use super::inplane::InPlaneStudyError;
+pub use super::inplane_discrepancy::{measured_loops, MeasuredLoops};
 use super::own::OwnAnalysis;
 use crate::discrepancy::Run;
 use crate::effects::Effect;
@@ -399,57 +399,6 @@ fn median(x: &[f64]) -> f64 {
     crate::stats::quantile(&finite(x), 0.5)
 }
 
-/// The measured loops of an in-plane study `path` analysed as `input`: per analysis group
-/// with cyclic specimens whose curves are read (`[measured] curves`), its index, stress and
-/// readings; and the cyclic test of a stress (the study's history). `None` when the study
-/// reads no curve or no cyclic specimen has one.
-///
-/// # Errors
-/// The study or its measured files unreadable, naming the file.
-#[allow(clippy::type_complexity)]
-pub fn measured_loops(
-    path: &Path,
-    input: &OwnAnalysis,
-) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
-    let spec = load(path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let Some(m) = &spec.measured else {
-        return Ok(None);
-    };
-    let Some(curves) = &m.curves else {
-        return Ok(None);
-    };
-    let mut specimens = read_specimens(&base.join(&m.walls), None)?;
-    read_loops(&mut specimens, &base.join(curves))?;
-    let mut groups: Vec<MeasuredLoops> = Vec::new();
-    for g in spec.groups.iter().filter(|g| g.history == History::Cyclic) {
-        let name = stress_group(g.sigma0_mpa);
-        let Some(k) = input.setup.groups.iter().position(|x| x.name == name) else {
-            continue;
-        };
-        let of: Vec<&crate::study::inplane::Specimen> = g
-            .specimens
-            .iter()
-            .filter_map(|u| specimens.iter().find(|s| &s.unit == u))
-            .filter(|s| s.damping_ratio.is_finite())
-            .collect();
-        if of.is_empty() {
-            continue;
-        }
-        let read: Vec<(String, f64)> = of.iter().map(|s| (s.unit.clone(), s.damping_ratio)).collect();
-        let histories: Vec<Vec<f64>> = of.iter().map(|s| s.reversals_pct.clone()).collect();
-        match groups.iter_mut().find(|(j, _, _, _)| *j == k) {
-            Some((_, _, r, h)) => {
-                r.extend(read);
-                h.extend(histories);
-            }
-            None => groups.push((k, g.sigma0_mpa, read, histories)),
-        }
-    }
-    let test = InPlaneParams { history: History::Cyclic, ..spec.in_plane.clone() };
-    Ok((!groups.is_empty()).then_some((groups, test)))
-}
-
 /// The check of the loops (module documentation) of the baseline and the models in `run`'s
 /// tie, for the in-plane study `path` analysed as `input`; `None` when the study has no
 /// cyclic specimen with a measured curve (`[measured] curves`).
@@ -495,14 +444,6 @@ pub fn refit_peaks(check: &mut LoopCheck, run: &Run) {
     check.baseline_heldout_error = run.analysis.baseline_heldout_error;
     check.cause = run.analysis.cause.as_ref().map(|c| (c.name.clone(), c.heldout_error));
 }
-
-/// A measured group of the check: the index of the analysis's group, its vertical stress
-/// (MPa), its specimens' readings `(unit, ξ_eq)`, and the turning points of each one's
-/// measured history (drift %, [`InPlaneParams::reversals_pct`]; in the readings' order). A
-/// group whose histories are all empty (none given, or `vec![]`) is run by the study's
-/// history on [`LOOP_REALIZATIONS`] layouts; otherwise each specimen with a history is run
-/// on it, on the layout of its index in the group, and a specimen without one is not run.
-pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>, Vec<Vec<f64>>);
 
 /// A model of the check: its name, its parameters (`effect.param`, value) and its effects.
 pub type LoopCandidate = (String, Vec<(String, f64)>, Vec<Effect>);

@@ -3,13 +3,14 @@
 //! (`comparison.csv`), its figures (`curves_<group>.svg`, `mechanism_<group>.svg`) and its
 //! report (`report.md`).
 
-use super::inplane::{realized, stated_effects, InPlaneRow, InPlaneStudySpec};
+use super::inplane::{realized, InPlaneRow};
 use super::inplane_error::InPlaneStudyError;
 use super::inplane_measured::{file_stem, Specimen};
+use super::inplane_spec::InPlaneStudy;
+use super::Study;
 use crate::dem::SolverParams;
-use crate::generator::Wall;
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
-use crate::loading::inplane::{mechanism_joints, History, InPlaneParams, Rig};
+use crate::loading::inplane::{mechanism_joints, History, Rig};
 use crate::stats::{mean, quantile, sd};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -109,42 +110,38 @@ fn method_words(solver: SolverParams) -> String {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 pub(super) fn report(
-    spec: &InPlaneStudySpec,
-    path: &Path,
+    study: &Study,
+    test: &InPlaneStudy,
     out: &Path,
     rows: &[InPlaneRow],
-    specimens: &[Specimen],
-    walls: &[Wall],
-    effects: &[Vec<crate::effects::Effect>],
-    solver: SolverParams,
     elapsed_s: f64,
 ) -> Result<String, InPlaneStudyError> {
+    let (path, solver, specimens) = (&study.path, study.solver, &test.specimens);
     let mut md = String::new();
     let mut summary = String::from("group,observable,n,mean,sd,cov,band_lo,band_hi\n");
     let mut comparison = String::from(
         "group,specimen,observable,measured,sim_mean,sim_sd,band_lo,band_hi,inside_band,ratio_measured_to_mean\n",
     );
-    let _ = writeln!(md, "# {}\n", spec.name);
-    let _ = writeln!(md, "{}\n", spec.description.trim());
+    let _ = writeln!(md, "# {}\n", study.name);
+    let _ = writeln!(md, "{}\n", study.description.trim());
     let ok = rows.iter().filter(|r| r.status == "ok").count();
     let _ = writeln!(
         md,
         "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
          analysis beside it. {}, largest drift {} %.\n",
         path.display(),
-        spec.seed,
+        study.seed,
         rows.len(),
         rows.len() - ok,
         elapsed_s,
         method_words(solver),
-        match (spec.in_plane.beam_rotation, spec.in_plane.shear_span_m) {
+        match (test.params.beam_rotation, test.params.shear_span_m) {
             (crate::loading::inplane::BeamRotation::Fixed, _) => "Beam held level: no shear span".to_string(),
             (_, Some(h)) => format!("Shear span {h} m"),
             (_, None) => "Shear span –".to_string(),
         },
-        spec.in_plane.drift_pct
+        test.params.drift_pct
     );
     let _ = writeln!(
         md,
@@ -154,24 +151,20 @@ pub(super) fn report(
          vertical loading phase (the stress the actuator adds over the wall's shortening, the beam's settlement \
          over the wall's height), as the database's `Epc` is read from the compression cycles at the start of each \
          test. Measured columns are data drystone did not make; the simulated columns are its own.\n",
-        spec.in_plane.measuring_height_m.map_or_else(
+        test.params.measuring_height_m.map_or_else(
             || "the actuator's height, the shear span, where a test reports none".to_string(),
             |h| format!("{h} m")
         ),
-        spec.in_plane
-            .measuring_height_m
-            .or(spec.in_plane.shear_span_m)
-            .map_or("H".to_string(), |h| format!("{}", h * 1e3))
+        test.params.measuring_height_m.or(test.params.shear_span_m).map_or("H".to_string(), |h| format!("{}", h * 1e3))
     );
-    for (g, group) in spec.groups.iter().enumerate() {
-        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == group.name && r.status == "ok").collect();
+    for (g, (core, group)) in study.groups.iter().zip(&test.groups).enumerate() {
+        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == core.name && r.status == "ok").collect();
         let ms: Vec<&Specimen> =
             group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
-        let slug: String =
-            group.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
-        let _ = writeln!(md, "## {}\n", group.name);
-        if !effects[g].is_empty() {
-            let stated: Vec<String> = stated_effects(spec, g)
+        let _ = writeln!(md, "## {}\n", core.name);
+        if !core.effects.is_empty() {
+            let stated: Vec<String> = group
+                .stated
                 .iter()
                 .map(|(_, name, values)| {
                     let v: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
@@ -188,7 +181,7 @@ pub(super) fn report(
                 History::Monotonic => "monotonic",
                 History::Cyclic => "cyclic",
             },
-            group.source().display(),
+            group.source.display(),
             rs.len(),
             if ms.is_empty() {
                 "none".to_string()
@@ -196,44 +189,7 @@ pub(super) fn report(
                 ms.iter().map(|m| m.unit.clone()).collect::<Vec<_>>().join(", ")
             }
         );
-        let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
-        let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
-        for (key, label, get, meas) in OBSERVABLES {
-            let d = if key == "damping_ratio" { 3 } else { 2 };
-            let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
-            let (n, m, s, cov, lo, hi) = stats(&x);
-            if n == 0 {
-                continue;
-            }
-            let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", group.name);
-            let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
-            let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
-            for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
-                let _ = writeln!(
-                    comparison,
-                    "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
-                    group.name,
-                    sp.unit,
-                    v >= lo && v <= hi,
-                    v / m
-                );
-            }
-            let _ = writeln!(
-                md,
-                "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
-                if measured.is_empty() {
-                    "–".into()
-                } else {
-                    measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
-                },
-                f(m, d),
-                f(s, d),
-                f(cov, 3),
-                f(lo, d),
-                f(hi, d),
-                if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
-            );
-        }
+        observables_table(&core.name, &rs, &ms, &mut summary, &mut comparison, &mut md);
         let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
         for r in &rs {
             *kinds.entry(r.mechanism.as_str()).or_default() += 1;
@@ -260,63 +216,7 @@ pub(super) fn report(
             la_kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
             f(rock, 2)
         );
-        // The curves over the measured envelopes.
-        let mut curves: Vec<ForceDriftCurve> = rs
-            .iter()
-            .enumerate()
-            .map(|(k, r)| ForceDriftCurve {
-                label: (k == 0).then(|| "simulated (each realization)".to_string()),
-                colour: 0,
-                measured: false,
-                points: r.curve.clone(),
-            })
-            .collect();
-        for (k, m) in ms.iter().enumerate() {
-            if !m.envelope.is_empty() {
-                curves.push(ForceDriftCurve {
-                    label: Some(format!("{} envelope (measured)", m.unit)),
-                    colour: k + 1,
-                    measured: true,
-                    points: m.envelope.clone(),
-                });
-            }
-        }
-        let svg = out.join(format!("curves_{slug}.svg"));
-        force_drift(&svg, &group.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
-        let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
-        // The mechanism of realization 0 beside the measured crack map.
-        if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
-            let params =
-                InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..spec.in_plane.clone() };
-            let layout = realized(&walls[g], &effects[g], spec.seed, r0.index, &group.name);
-            if let Ok(rig) =
-                layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
-            {
-                {
-                    let sim = crate::dem::Simulation::new(&rig.layout, solver);
-                    let svg = crack_map_svg(
-                        &rig.layout,
-                        poses,
-                        &mechanism_joints(&sim),
-                        mechanism,
-                        &format!("{}: realization 0, {}", group.name, mechanism.kind.name()),
-                    );
-                    let p = out.join(format!("mechanism_{slug}.svg"));
-                    crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
-                    let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
-                    if let Some(dir) = spec.measured.as_ref().and_then(|m| m.crackmaps.as_ref()) {
-                        for m in &ms {
-                            let name = format!("crackmap_{}.png", file_stem(m));
-                            let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
-                            if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
-                                let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
-                            }
-                        }
-                    }
-                    md.push_str("\n\n");
-                }
-            }
-        }
+        figures(study, test, g, &rs, &ms, out, &mut md)?;
     }
     let w = |name: &str, text: &str| {
         crate::io::replace_file(&out.join(name), text.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
@@ -325,4 +225,133 @@ pub(super) fn report(
     w("comparison.csv", &comparison)?;
     w("report.md", &md)?;
     Ok(md)
+}
+
+/// The observables of the group `name` (`rs` its rows that ran, `ms` its measured
+/// specimens): its statistics' lines of `summary.csv`, its comparison's lines of
+/// `comparison.csv` and its table in the report `md`.
+fn observables_table(
+    name: &str,
+    rs: &[&InPlaneRow],
+    ms: &[&Specimen],
+    summary: &mut String,
+    comparison: &mut String,
+    md: &mut String,
+) {
+    let _ = writeln!(md, "| observable | measured | simulated mean | σ | COV | 95 % band | measured inside |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+    for (key, label, get, meas) in OBSERVABLES {
+        let d = if key == "damping_ratio" { 3 } else { 2 };
+        let x: Vec<f64> = rs.iter().map(|r| get(r)).collect();
+        let (n, m, s, cov, lo, hi) = stats(&x);
+        if n == 0 {
+            continue;
+        }
+        let _ = writeln!(summary, "\"{}\",{key},{n},{m},{s},{cov},{lo},{hi}", name);
+        let measured: Vec<f64> = ms.iter().map(|s| meas(s)).filter(|v| v.is_finite()).collect();
+        let inside = measured.iter().filter(|v| **v >= lo && **v <= hi).count();
+        for (sp, v) in ms.iter().map(|s| (s, meas(s))).filter(|(_, v)| v.is_finite()) {
+            let _ = writeln!(
+                comparison,
+                "\"{}\",{},{key},{v},{m},{s},{lo},{hi},{},{}",
+                name,
+                sp.unit,
+                v >= lo && v <= hi,
+                v / m
+            );
+        }
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | [{}, {}] | {} |",
+            if measured.is_empty() {
+                "–".into()
+            } else {
+                measured.iter().map(|v| f(*v, d)).collect::<Vec<_>>().join(", ")
+            },
+            f(m, d),
+            f(s, d),
+            f(cov, 3),
+            f(lo, d),
+            f(hi, d),
+            if measured.is_empty() { "–".into() } else { format!("{inside} of {}", measured.len()) }
+        );
+    }
+}
+
+/// The figures of group `g` (`rs` its rows that ran, `ms` its measured specimens): the
+/// curves over the measured envelopes (`curves_<slug>.svg`) and the mechanism of
+/// realization 0 beside the measured crack maps (`mechanism_<slug>.svg`), written into
+/// `out` and linked in `md`.
+///
+/// # Errors
+/// A figure that cannot be written.
+fn figures(
+    study: &Study,
+    test: &InPlaneStudy,
+    g: usize,
+    rs: &[&InPlaneRow],
+    ms: &[&Specimen],
+    out: &Path,
+    md: &mut String,
+) -> Result<(), InPlaneStudyError> {
+    let (core, path, solver) = (&study.groups[g], &study.path, study.solver);
+    let slug: String =
+        core.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+    // The curves over the measured envelopes.
+    let mut curves: Vec<ForceDriftCurve> = rs
+        .iter()
+        .enumerate()
+        .map(|(k, r)| ForceDriftCurve {
+            label: (k == 0).then(|| "simulated (each realization)".to_string()),
+            colour: 0,
+            measured: false,
+            points: r.curve.clone(),
+        })
+        .collect();
+    for (k, m) in ms.iter().enumerate() {
+        if !m.envelope.is_empty() {
+            curves.push(ForceDriftCurve {
+                label: Some(format!("{} envelope (measured)", m.unit)),
+                colour: k + 1,
+                measured: true,
+                points: m.envelope.clone(),
+            });
+        }
+    }
+    let svg = out.join(format!("curves_{slug}.svg"));
+    force_drift(&svg, &core.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
+    // The mechanism of realization 0 beside the measured crack map.
+    if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
+        let params = test.params_of(g);
+        let layout = realized(&core.walls[0], &core.effects, study.seed, r0.index, &core.name);
+        if let Ok(rig) =
+            layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
+        {
+            {
+                let sim = crate::dem::Simulation::new(&rig.layout, solver);
+                let svg = crack_map_svg(
+                    &rig.layout,
+                    poses,
+                    &mechanism_joints(&sim),
+                    mechanism,
+                    &format!("{}: realization 0, {}", core.name, mechanism.kind.name()),
+                );
+                let p = out.join(format!("mechanism_{slug}.svg"));
+                crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+                let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
+                if let Some(dir) = &test.crackmaps {
+                    for m in ms {
+                        let name = format!("crackmap_{}.png", file_stem(m));
+                        let from = path.parent().unwrap_or(Path::new(".")).join(dir).join(&name);
+                        if from.exists() && std::fs::copy(&from, out.join(&name)).is_ok() {
+                            let _ = write!(md, " ![measured crack map {}]({name})", m.unit);
+                        }
+                    }
+                }
+                md.push_str("\n\n");
+            }
+        }
+    }
+    Ok(())
 }

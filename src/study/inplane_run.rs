@@ -8,78 +8,51 @@
 //! the outputs of an uninterrupted one, byte for byte, but the `wall_time_s` column and the
 //! report's wall-clock time.
 
-use super::inplane::{group_effects, load, realization, write_rows, InPlaneRow, InPlaneStudyError, InPlaneStudyRun};
-use super::inplane::{read_loops, read_specimens, InPlaneStudySpec, Specimen};
+use super::inplane::{realization, write_rows, InPlaneRow, InPlaneStudyError, InPlaneStudyRun};
 use super::inplane_report::report;
+use super::inplane_spec::InPlaneStudy;
 use super::lock::DirLock;
 use super::provenance::{self, InputRole};
-use super::shards::{Manifest, RunMode};
-use crate::ensemble::journal::{Journal, JournalError, JournalRow, FILE_NAME};
+use super::shards::{open_journal, Manifest, OutputError, RunMode};
+use super::Study;
+use crate::ensemble::journal::{Journal, JournalRow, FILE_NAME};
 use crate::ensemble::{items_per_group, Item, Shard};
-use crate::generator::Wall;
-use crate::loading::inplane::InPlaneParams;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// What a study's runs and outputs read: its file checked, its measured specimens, its
-/// groups' walls and effects.
-pub(super) struct Prepared {
-    /// The study file.
-    pub spec: InPlaneStudySpec,
-    /// The measured specimens (none without `[measured]`).
-    pub specimens: Vec<Specimen>,
-    /// Each group's wall.
-    pub walls: Vec<Wall>,
-    /// Each group's effects.
-    pub effects: Vec<Vec<crate::effects::Effect>>,
+/// An in-plane study as its run reads it: the study (read by the core,
+/// [`Study::from_file`]) and its in-plane test.
+pub(super) struct Prepared<'a> {
+    /// The study: its groups' walls and effects, seed, realizations, solver and inputs.
+    pub study: &'a Study,
+    /// Its in-plane test: the parameters, each group's values, the measured specimens.
+    pub test: &'a InPlaneStudy,
 }
 
-impl Prepared {
-    /// Reads the study `path` and everything its runs read.
+impl<'a> Prepared<'a> {
+    /// The in-plane study `study`.
     ///
     /// # Errors
-    /// A bad study file, wall or measured file (named).
-    pub fn read(path: &Path) -> Result<Prepared, InPlaneStudyError> {
-        let spec = load(path)?;
-        let base = path.parent().unwrap_or(Path::new("."));
-        let specimens = match &spec.measured {
-            Some(m) => {
-                let mut s =
-                    read_specimens(&base.join(&m.walls), m.envelopes.as_ref().map(|e| base.join(e)).as_deref())?;
-                if let Some(c) = &m.curves {
-                    read_loops(&mut s, &base.join(c))?;
-                }
-                s
-            }
-            None => Vec::new(),
-        };
-        for (g, group) in spec.groups.iter().enumerate() {
-            if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
-                return Err(InPlaneStudyError::Invalid {
-                    path: path.to_owned(),
-                    key: format!("groups[{g}].specimens"),
-                    message: format!("{s} is not a unit of the measured file"),
-                });
-            }
-        }
-        let walls: Vec<Wall> =
-            (0..spec.groups.len()).map(|g| super::inplane::group_wall(&spec, path, g)).collect::<Result<_, _>>()?;
-        let effects: Vec<Vec<crate::effects::Effect>> =
-            (0..spec.groups.len()).map(|g| group_effects(&spec, path, g, &walls[g])).collect::<Result<_, _>>()?;
-        Ok(Prepared { spec, specimens, walls, effects })
+    /// [`InPlaneStudyError::Invalid`] at `protocol` for a study of another protocol.
+    pub fn of(study: &'a Study) -> Result<Prepared<'a>, InPlaneStudyError> {
+        let test = study.protocol.in_plane().ok_or_else(|| InPlaneStudyError::Invalid {
+            path: study.path.clone(),
+            key: "protocol".into(),
+            message: format!("{:?}: this run is the in-plane test's (protocol = \"in_plane\")", study.protocol.name()),
+        })?;
+        Ok(Prepared { study, test })
     }
 
     /// Realizations per group.
     pub fn realizations(&self) -> Vec<u64> {
-        self.spec.groups.iter().map(|g| g.realizations.unwrap_or(self.spec.realizations)).collect()
+        (0..self.study.groups.len()).map(|g| self.study.group_realizations(g)).collect()
     }
 
     /// Realization `i` of group `g` (generator index `g · 10000 + i`).
     pub fn run_one(&self, g: usize, i: u64) -> InPlaneRow {
-        let group = &self.spec.groups[g];
-        let params =
-            InPlaneParams { sigma0_mpa: group.sigma0_mpa, history: group.history, ..self.spec.in_plane.clone() };
-        realization(&self.walls[g], &self.effects[g], self.spec.seed, g, i, group, &params, self.spec.solver)
+        let group = &self.study.groups[g];
+        let (wall, params) = (&group.walls[0], self.test.params_of(g));
+        realization(wall, &group.effects, self.study.seed, g, i, &group.name, &params, self.study.solver)
     }
 
     /// Writes the rows (`realizations.csv`) into `dir`, and with `whole` (every item of the
@@ -92,7 +65,6 @@ impl Prepared {
     /// An output that cannot be written.
     pub fn write(
         &self,
-        path: &Path,
         dir: &Path,
         rows: &mut [InPlaneRow],
         whole: bool,
@@ -102,15 +74,14 @@ impl Prepared {
         if !whole {
             return Ok(String::new());
         }
-        for (g, group) in self.spec.groups.iter().enumerate() {
+        for (g, group) in self.study.groups.iter().enumerate() {
             if let Some(r) = rows.iter_mut().find(|r| r.group == group.name && r.status == "ok") {
                 if r.drawing.is_none() {
                     r.drawing = self.run_one(g, r.realization).drawing;
                 }
             }
         }
-        let s = &self.spec;
-        report(s, path, dir, rows, &self.specimens, &self.walls, &self.effects, s.solver, elapsed_s)
+        report(self.study, self.test, dir, rows, elapsed_s)
     }
 }
 
@@ -124,52 +95,13 @@ fn write_error(p: &Path, e: &dyn std::fmt::Display) -> InPlaneStudyError {
     InPlaneStudyError::Write(format!("{}: {e}", p.display()))
 }
 
-/// The input files of a study: the study file, its walls (with the distribution files they
-/// name), its measured specimens' table.
-fn inputs(prepared: &Prepared, path: &Path) -> Result<Vec<provenance::InputFile>, InPlaneStudyError> {
-    let base = path.parent().unwrap_or(Path::new("."));
-    let mut files = vec![(InputRole::Study, path.to_owned())];
-    for (g, wall) in prepared.spec.groups.iter().zip(&prepared.walls) {
-        let p = base.join(g.source());
-        for d in wall.distributions() {
-            if !d.source.as_os_str().is_empty() && d.source != p {
-                files.push((InputRole::Distribution, d.source.clone()));
-            }
-        }
-        files.extend(crate::survey::survey_files(&p).into_iter().map(|f| (InputRole::Wall, f)));
-        if let Some(m) = g.import.as_ref().and_then(|i| i.materials.as_ref()).filter(|_| g.survey.is_some()) {
-            files.push((InputRole::Materials, base.join(m)));
-        }
-    }
-    if let Some(m) = &prepared.spec.measured {
-        files.push((InputRole::Measured, base.join(&m.walls)));
-    }
-    provenance::record(&files).map_err(|(p, e)| InPlaneStudyError::File { path: p, message: e.to_string() })
-}
-
-/// The manifest of `items` rows of shard `shard` of the study.
-fn manifest(prepared: &Prepared, path: &Path, shard: Shard, items: usize) -> Result<Manifest, InPlaneStudyError> {
-    Ok(Manifest {
-        drystone_version: provenance::VERSION.to_string(),
-        build: provenance::BUILD.to_string(),
-        study: path.to_owned(),
-        seed: prepared.spec.seed,
-        realizations: prepared.spec.realizations,
-        shard: format!("{}/{}", shard.k + 1, shard.n),
-        total_items: items_per_group(&prepared.realizations(), 1).len(),
-        items,
-        inputs: inputs(prepared, path)?,
-        outputs: Vec::new(),
-    })
-}
-
 /// The generator's index of an item (`g · 10000 + i`), the rows' `index`.
 fn row_index(it: &Item) -> u64 {
     it.group as u64 * 10_000 + it.realization
 }
 
-/// Runs the study `path` into `out` (see the module doc) on the current rayon pool: the
-/// whole study, a journal of another run or an unfinished one refused
+/// Runs the study file `path` into `out` (see the module doc) on the current rayon pool:
+/// the whole study, a journal of another run or an unfinished one refused
 /// ([`run_into`]).
 ///
 /// # Errors
@@ -178,7 +110,16 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
     run_into(path, out, crate::ensemble::Shard::ALL, RunMode::default())
 }
 
-/// Runs shard `shard` of the study `path` into `dir`, as the core's run does
+/// Runs shard `shard` of the study file `path` into `dir` ([`run_study_into`] of the study
+/// the core reads, [`Study::from_file`]).
+///
+/// # Errors
+/// As [`run_study_into`]; a bad study file, wall or measured file (named).
+pub fn run_into(path: &Path, dir: &Path, shard: Shard, mode: RunMode) -> Result<InPlaneStudyRun, InPlaneStudyError> {
+    run_study_into(&Study::from_file(path)?, dir, shard, mode)
+}
+
+/// Runs shard `shard` of the in-plane study `study` into `dir`, as the core's run does
 /// ([`super::run_into`]): the directory's lock, the journal checked whole before anything
 /// runs (with `mode.resume` its rows kept and only the missing realizations run; without,
 /// an unfinished journal of this run refused, a finished one started again; a journal of
@@ -187,57 +128,31 @@ pub fn run(path: &Path, out: &Path) -> Result<InPlaneStudyRun, InPlaneStudyError
 /// rows alone, for the whole study every output.
 ///
 /// # Errors
-/// A bad study file, wall or measured file (named), a journal refused (naming its line and
+/// A study of another protocol (at `protocol`), a journal refused (naming its line and
 /// field, or the difference of the runs), an output that cannot be written.
-pub fn run_into(path: &Path, dir: &Path, shard: Shard, mode: RunMode) -> Result<InPlaneStudyRun, InPlaneStudyError> {
+pub fn run_study_into(
+    study: &Study,
+    dir: &Path,
+    shard: Shard,
+    mode: RunMode,
+) -> Result<InPlaneStudyRun, InPlaneStudyError> {
     let t0 = std::time::Instant::now();
-    let prepared = Prepared::read(path)?;
+    let prepared = Prepared::of(study)?;
     std::fs::create_dir_all(dir).map_err(|e| write_error(dir, &e))?;
     let _lock = DirLock::acquire(dir).map_err(|e| write_error(dir, &e))?;
     let items = shard.select(&items_per_group(&prepared.realizations(), 1));
-    let header = manifest(&prepared, path, shard, 0)?;
-    let run = header.identity();
+    let header = Manifest::new(study, &study.path, shard, 0);
     let journal_path = dir.join(FILE_NAME);
-    let refuse = |message: String| write_error(&journal_path, &message);
-    let fresh = || Journal::create(&journal_path, &run, &header).map(|j| (j, Vec::new()));
-    let contents = match Journal::read_rows::<Manifest, InPlaneRow>(&journal_path) {
-        Err(JournalError::Corrupt { .. }) if mode.force => None,
-        Err(e @ JournalError::Corrupt { .. }) => {
-            return Err(refuse(format!("{e}; delete the journal or give --force to start again")))
-        }
-        Err(e) => return Err(refuse(e.to_string())),
-        Ok(c) => c,
-    };
-    let opened = match contents {
-        None => fresh(),
-        Some(c) if c.run != run => {
-            if !mode.force {
-                let d = c.header.difference(&header, "the journal", "this run").unwrap_or_else(|| {
-                    format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
-                });
-                return Err(refuse(format!("was written by another run ({d}); give another --out, or --force")));
-            }
-            fresh()
-        }
-        Some(c) => {
-            if let Some(r) = c.rows.iter().find(|r| !items.iter().any(|it| row_index(it) == r.index)) {
-                return Err(refuse(format!("item {} is not an item of shard {}", r.index, header.shard)));
-            }
-            if mode.resume {
-                Journal::resume(&journal_path, &run, c.complete_len).map(|j| (j, c.rows))
-            } else if c.rows.is_empty() || c.rows.len() == items.len() || mode.force {
-                fresh()
-            } else {
-                return Err(refuse(format!(
-                    "holds {} of {} finished realization(s) of this run; continue it with --resume, or give \
-                     --force to start again",
-                    c.rows.len(),
-                    items.len()
-                )));
-            }
-        }
-    };
-    let (journal, done) = opened.map_err(|e| refuse(e.to_string()))?;
+    let check =
+        |rows: &[InPlaneRow], _: &[usize]| match rows.iter().find(|r| !items.iter().any(|it| row_index(it) == r.index))
+        {
+            Some(r) => Err(OutputError::File {
+                path: journal_path.clone(),
+                message: format!("item {} is not an item of shard {}", r.index, header.shard),
+            }),
+            None => Ok(()),
+        };
+    let (journal, done) = open_journal(&journal_path, &header, items.len(), mode, check)?;
     let resumed = done.len();
     let todo: Vec<&Item> = items.iter().filter(|it| !done.iter().any(|r| r.index == row_index(it))).collect();
     let new: Vec<InPlaneRow> = todo
@@ -247,18 +162,17 @@ pub fn run_into(path: &Path, dir: &Path, shard: Shard, mode: RunMode) -> Result<
             journal.append(&row).map(|()| row)
         })
         .collect::<Result<_, _>>()
-        .map_err(|e| refuse(e.to_string()))?;
+        .map_err(|e| write_error(&journal_path, &e))?;
     let mut rows: Vec<InPlaneRow> = done.into_iter().chain(new).collect();
     rows.sort_by_key(|r| r.index);
     let header = Manifest { items: rows.len(), ..header };
-    let report = write_set(&prepared, path, dir, &mut rows, header, shard.n == 1, t0)?;
+    let report = write_set(&prepared, dir, &mut rows, header, shard.n == 1, t0)?;
     Ok(InPlaneStudyRun { rows, report, wall_time_s: t0.elapsed().as_secs_f64(), resumed })
 }
 
 /// The rows (and for the whole study every output) with their manifest, as one set.
 fn write_set(
     prepared: &Prepared,
-    path: &Path,
     dir: &Path,
     rows: &mut [InPlaneRow],
     mut manifest: Manifest,
@@ -275,7 +189,7 @@ fn write_set(
         dir,
         &previous,
         |staging| -> Result<String, Wrapped> {
-            prepared.write(path, staging, rows, whole, t0.elapsed().as_secs_f64()).map_err(Wrapped::Study)
+            prepared.write(staging, rows, whole, t0.elapsed().as_secs_f64()).map_err(Wrapped::Study)
         },
         |outputs| {
             manifest.outputs = outputs;
@@ -348,9 +262,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<InPlaneStudyRun, InPlaneStu
     if shards.len() != n {
         return Err(merge_error(format!("{} directories for {n} shards", shards.len())));
     }
-    let path = first.study.clone();
-    let prepared = Prepared::read(&path)?;
-    let whole = manifest(&prepared, &path, Shard::ALL, 0)?;
+    // The study the shards ran, with their realizations (`--realizations`).
+    let mut study = Study::from_file(&first.study)?;
+    study.realizations = first.realizations;
+    let prepared = Prepared::of(&study)?;
+    let whole = Manifest::new(&study, &study.path, Shard::ALL, 0);
     if let Some(d) = provenance::first_difference(&first.inputs, &whole.inputs, "the shards", "the study now") {
         return Err(merge_error(format!("the study's inputs changed since the shards ran: {d}")));
     }
@@ -373,7 +289,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<InPlaneStudyRun, InPlaneStu
     std::fs::create_dir_all(out).map_err(|e| write_error(out, &e))?;
     let _lock = DirLock::acquire(out).map_err(|e| write_error(out, &e))?;
     let manifest = Manifest { items: rows.len(), build: first.build.clone(), ..whole };
-    let report = write_set(&prepared, &path, out, &mut rows, manifest, true, t0)?;
+    let report = write_set(&prepared, out, &mut rows, manifest, true, t0)?;
     Ok(InPlaneStudyRun { rows, report, wall_time_s: t0.elapsed().as_secs_f64(), resumed: 0 })
 }
 

@@ -69,8 +69,9 @@
 //! A group may fix its own `realizations` (e.g. 1 for a wall without random input).
 //!
 //! The modules, in the order a study goes through them: `spec` (the file as written),
-//! `resolve` (checked into a [`Study`], with `size` its limits and `provenance` the
-//! files it was read from), `sweep` (the keys and their effect), `run` (one row per
+//! `resolve` (checked into a [`Study`], with `size` its limits, `provenance` the
+//! files it was read from, `read_warnings` the settings it accepts but does not read and
+//! `inplane_spec` the in-plane test's keys), `sweep` (the keys and their effect), `run` (one row per
 //! realization), `shaking` (the report of a shaking study), `shards` (the run directory, its journal, shards and their merge),
 //! `summary` (statistics per group and sweep point), `report` (`report.md` and plots),
 //! `paper` (the source paper's tables and figures), [`calibrate`] and `suite`.
@@ -91,6 +92,7 @@ pub mod inplane_loops;
 mod inplane_measured;
 mod inplane_report;
 pub mod inplane_run;
+pub mod inplane_spec;
 mod lock;
 mod measured;
 mod motions;
@@ -99,6 +101,7 @@ pub mod own;
 mod paper;
 mod protocol;
 mod provenance;
+mod read_warnings;
 mod report;
 mod report_error;
 mod resolve;

@@ -81,11 +81,9 @@ pub struct OwnStudy {
     /// Where it reads its measured data, for the refusal of the tilting table's
     /// `--measured` (`reads its specimens from [measured] walls`).
     pub measured: &'static str,
-    /// The name of the study of a file (read and checked).
-    pub name: fn(&Path) -> Result<String, OwnStudyError>,
-    /// Runs a shard of the study of a file (first argument) into a folder (second), its
-    /// journal treated as `RunMode` says: its outputs written there.
-    pub run: fn(&Path, &Path, crate::ensemble::Shard, super::RunMode) -> Result<OwnStudyRun, OwnStudyError>,
+    /// Runs a shard of a study (read by the study core, [`super::Study::from_file`]) into a
+    /// folder, its journal treated as `RunMode` says: its outputs written there.
+    pub run: fn(&super::Study, &Path, crate::ensemble::Shard, super::RunMode) -> Result<OwnStudyRun, OwnStudyError>,
     /// Merges shard folders into a folder: the outputs of the whole study.
     pub merge: fn(&[std::path::PathBuf], &Path) -> Result<OwnStudyRun, OwnStudyError>,
     /// Whether a folder holds a shard of one of its studies.

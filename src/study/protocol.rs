@@ -12,6 +12,7 @@
 
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
+use super::inplane_spec::InPlaneStudy;
 use super::motions::ShakeStudy;
 use super::own::OwnStudy;
 use super::report::{lateral_sections, tilt_sections};
@@ -44,18 +45,23 @@ pub enum StudyProtocol {
     /// The shaking table (`protocol = "shake"`, `[shake]`): its parameters, motions and
     /// levels.
     Shake(ShakeStudy),
+    /// The in-plane shear–compression test (`protocol = "in_plane"`, `[in_plane]` and each
+    /// group's `sigma0_mpa`, `history`, `specimens`): its parameters and measured specimens.
+    InPlane(InPlaneStudy),
 }
 
 impl StudyProtocol {
     /// The protocol a study file names, with its table (`shake`: the `[shake]` table already
-    /// resolved, [`StudySpec::resolve_shake`]), without the table's former keys of the
-    /// penalty settings (the resolved study's solver holds them).
+    /// resolved, [`StudySpec::resolve_shake`]; `in_plane`: the in-plane test already resolved,
+    /// [`StudySpec::resolve_in_plane`]), without the table's former keys of the penalty
+    /// settings (the resolved study's solver holds them).
     ///
     /// # Errors
     /// [`StudyError::Invalid`] naming the table a protocol needs and the file lacks.
     pub(super) fn from_spec(
         spec: &StudySpec,
         shake: Option<ShakeStudy>,
+        in_plane: Option<InPlaneStudy>,
         invalid: &Invalid,
     ) -> Result<StudyProtocol, StudyError> {
         match (spec.protocol, shake) {
@@ -68,24 +74,30 @@ impl StudyProtocol {
             (ProtocolKind::Shake, None) => {
                 Err(invalid.at("shake", "protocol = \"shake\" needs a [shake] table".into()))
             }
-            (ProtocolKind::InPlane, _) => Err(invalid.at(
-                "protocol",
-                "protocol = \"in_plane\" is run by its own study (`drystone run` reads it: study::inplane); \
-                 this command does not run it"
-                    .into(),
-            )),
+            (ProtocolKind::InPlane, _) => in_plane.map(StudyProtocol::InPlane).ok_or_else(|| {
+                invalid.at("protocol", "protocol = \"in_plane\": the in-plane test was not resolved".into())
+            }),
         }
     }
 
     /// Its table written back into a study file (`drystone discrepancy`'s extended study):
-    /// the kind and the tilting table's or the lateral load's parameters. A shaking study's
-    /// motions are not written (the analysis refuses the shaking table).
+    /// the kind and the tilting table's or the lateral load's parameters, or the in-plane
+    /// test's with each group's values (`spec.groups` in the study's order). A shaking
+    /// study's motions are not written (the analysis refuses the shaking table).
     pub(super) fn write_into(&self, spec: &mut StudySpec) {
         spec.protocol = self.kind();
         match self {
             StudyProtocol::Tilt(t) => spec.tilt = *t,
             StudyProtocol::Lateral(l) => spec.lateral = *l,
             StudyProtocol::Shake(_) => spec.shake = None,
+            StudyProtocol::InPlane(p) => {
+                spec.in_plane = Some(p.params.clone());
+                for (g, own) in spec.groups.iter_mut().zip(&p.groups) {
+                    g.sigma0_mpa = Some(own.sigma0_mpa);
+                    g.history = Some(own.history);
+                    g.specimens.clone_from(&own.specimens);
+                }
+            }
         }
     }
 
@@ -95,6 +107,7 @@ impl StudyProtocol {
             StudyProtocol::Tilt(_) => ProtocolKind::Tilt,
             StudyProtocol::Lateral(_) => ProtocolKind::Lateral,
             StudyProtocol::Shake(_) => ProtocolKind::Shake,
+            StudyProtocol::InPlane(_) => ProtocolKind::InPlane,
         }
     }
 
@@ -111,13 +124,32 @@ impl StudyProtocol {
         self.at(&[]).loading()
     }
 
+    /// The protocol group `group` runs at a sweep point with the values `point`: the
+    /// protocol at the point ([`StudyProtocol::at`]), with the in-plane test's group values
+    /// (its vertical stress and history).
+    pub fn of_group(&self, group: usize, point: &[(SweepKey, SweepValue)]) -> Protocol {
+        match self {
+            StudyProtocol::InPlane(p) if group < p.groups.len() => {
+                Protocol::InPlane(crate::protocol::InPlane(p.params_of(group)))
+            }
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::InPlane(_) => self.at(point),
+        }
+    }
+
     /// The protocol run at a sweep point with the values `point`: the tilting table or the
     /// lateral load with the study's parameters, or the shaking table under the point's
-    /// motion scaled to its PGA level (sweep keys `motion` and `pga_g`). A shaking point
-    /// whose motion is missing (a study not made by [`StudySpec::resolve`]) gets an empty
-    /// motion, which the protocol refuses with an error row.
+    /// motion scaled to its PGA level (sweep keys `motion` and `pga_g`), or the in-plane test
+    /// with its first group's values ([`StudyProtocol::of_group`] gives each group's). A
+    /// shaking point whose motion is missing (a study not made by [`StudySpec::resolve`])
+    /// gets an empty motion, which the protocol refuses with an error row.
     pub fn at(&self, point: &[(SweepKey, SweepValue)]) -> Protocol {
         match self {
+            StudyProtocol::InPlane(p) => Protocol::InPlane(crate::protocol::InPlane(
+                p.groups.first().map_or_else(|| p.params.clone(), |_| p.params_of(0)),
+            )),
             StudyProtocol::Tilt(t) => Protocol::tilting(*t),
             StudyProtocol::Lateral(l) => Protocol::lateral(*l),
             StudyProtocol::Shake(shake) => {
@@ -162,9 +194,11 @@ impl StudyProtocol {
             )
             | ProtocolRun::Shake(Err(_))
             | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
-            // Never built from a study of this kind (`from_spec` refuses it): its study is
-            // its own (study::inplane).
-            ProtocolRun::InPlane(_) => failed_row(row, false, &"the in-plane test runs by its own study"),
+            // An in-plane study's rows are written by its run (study::inplane_run), which
+            // `drystone run` hands its files to.
+            ProtocolRun::InPlane(_) => {
+                failed_row(row, false, &"the in-plane test's rows are its run's (drystone run, study::inplane_run)")
+            }
         }
     }
 
@@ -189,6 +223,8 @@ impl StudyProtocol {
                 Ok(String::new())
             }
             StudyProtocol::Shake(shake) => shake_sections(study, shake, rows, dir, md),
+            // Its report is written by its run with its rows (study::inplane_run).
+            StudyProtocol::InPlane(_) => Ok(String::new()),
         }
     }
 
@@ -208,6 +244,7 @@ impl StudyProtocol {
             StudyProtocol::Tilt(tilt) => tilt_series(study, tilt, layout, out),
             StudyProtocol::Lateral(lateral) => lateral_series(study, lateral, layout, out),
             StudyProtocol::Shake(_) => shake_series(study, point, layout, out),
+            StudyProtocol::InPlane(_) => Ok(None),
         }
     }
 
@@ -215,7 +252,7 @@ impl StudyProtocol {
     /// that cannot reach its levels).
     pub fn warnings(&self) -> Vec<String> {
         match self {
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => vec![],
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::InPlane(_) => vec![],
             StudyProtocol::Shake(s) => s.warnings(),
         }
     }
@@ -225,7 +262,7 @@ impl StudyProtocol {
     pub fn counts_collapses_under_load(&self) -> bool {
         match self {
             StudyProtocol::Lateral(_) => true,
-            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) => false,
+            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) | StudyProtocol::InPlane(_) => false,
         }
     }
 
@@ -233,7 +270,7 @@ impl StudyProtocol {
     pub fn tilt(&self) -> Option<&TiltParams> {
         match self {
             StudyProtocol::Tilt(t) => Some(t),
-            StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
+            StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) | StudyProtocol::InPlane(_) => None,
         }
     }
 
@@ -241,7 +278,39 @@ impl StudyProtocol {
     pub fn shake(&self) -> Option<&ShakeStudy> {
         match self {
             StudyProtocol::Shake(s) => Some(s),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) => None,
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::InPlane(_) => None,
+        }
+    }
+
+    /// The protocol of group `group` where the groups' protocols differ (the in-plane test:
+    /// each group's vertical stress and history), for the discrepancy analysis's groups
+    /// ([`crate::discrepancy::GroupSetup::protocol`]); `None` where every group runs the
+    /// study's.
+    pub fn group_protocol(&self, group: usize) -> Option<Protocol> {
+        match self {
+            StudyProtocol::InPlane(_) => Some(self.of_group(group, &[])),
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
+        }
+    }
+
+    /// Why the ensemble run's rows ([`crate::ensemble::row::RealizationRow`]) cannot hold
+    /// this protocol's, naming the run that writes them; `None` for the protocols they
+    /// hold.
+    pub fn rows_written_elsewhere(&self) -> Option<&'static str> {
+        match self {
+            StudyProtocol::InPlane(_) => Some(
+                "protocol = \"in_plane\": its rows, statistics and report are written by its own run \
+                 (`drystone run` on the study file, study::inplane_run)",
+            ),
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
+        }
+    }
+
+    /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
+    pub fn in_plane(&self) -> Option<&InPlaneStudy> {
+        match self {
+            StudyProtocol::InPlane(p) => Some(p),
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
         }
     }
 }

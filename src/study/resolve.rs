@@ -103,6 +103,7 @@ impl StudySpec {
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut files = vec![(InputRole::Study, path.to_owned())];
         let shake = self.resolve_shake(dir, &invalid, &mut files)?;
+        let in_plane = self.resolve_in_plane(dir, &invalid, &mut files)?;
         let sweep = protocol_sweep(&self.sweep, shake.as_ref());
         self.check_counts(&sweep, &invalid)?;
         let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason.to_string()))?;
@@ -146,7 +147,7 @@ impl StudySpec {
         };
         let inputs = provenance::record(&files)
             .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
-        let protocol = StudyProtocol::from_spec(self, shake, &invalid)?;
+        let protocol = StudyProtocol::from_spec(self, shake, in_plane, &invalid)?;
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),
@@ -239,153 +240,8 @@ impl StudySpec {
 
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
     /// `[tilt] by_hand`).
-    fn rolled_by_hand(&self) -> bool {
+    pub(super) fn rolled_by_hand(&self) -> bool {
         self.loading() == crate::protocol::Loading::TiltByHand
-    }
-
-    /// Settings the study accepts but does not read: `[tilt] step_deg` and
-    /// `resolution_deg` with `[tilt] by_hand` (the hand's increments are the path), and
-    /// `discrepancy.also_effects` beside `discrepancy.effects` (which names every
-    /// candidate), `[solver.nscd]` keys by the penalty DEM and `[solver.penalty]` keys by
-    /// nscd. One message per setting, naming its key.
-    fn ignored_settings(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        let d = crate::loading::tilt::TiltParams::default();
-        if self.rolled_by_hand() {
-            for (key, v, default) in [
-                ("tilt.step_deg", self.tilt.step_deg, d.step_deg),
-                ("tilt.resolution_deg", self.tilt.resolution_deg, d.resolution_deg),
-            ] {
-                if v != default {
-                    out.push(format!(
-                        "{key} = {v} is not read with [tilt] by_hand: the table rolled by hand tilts by its \
-                         increment_deg and reads the collapse from the motion"
-                    ));
-                }
-            }
-        }
-        if self.protocol == ProtocolKind::Shake {
-            out.extend(self.ignored_by_shaking());
-            if self.solver.kind.method().solves_steps_to_a_tolerance() {
-                out.extend(
-                    self.solver
-                        .nscd
-                        .motion_cost_warnings()
-                        .into_iter()
-                        .map(|(k, why)| format!("solver.nscd.{k} {why}")),
-                );
-            }
-        }
-        let unread = self.solver.kind.method().does_not_read();
-        if unread.contains(&crate::dem::Method::Nscd) {
-            // The penalty DEM does not run the non-smooth solver (the command line refuses
-            // `--nscd-*` without `--solver nscd`); a shaking study samples its pulses at
-            // `dt_s` whatever the method, so that key is read.
-            let read = |k: &str| self.protocol == ProtocolKind::Shake && k == "dt_s";
-            for key in changed_keys(&self.solver.nscd, &crate::dem::nscd_params::NscdParams::default()) {
-                if !read(&key) {
-                    out.push(format!(
-                        "solver.nscd.{key} is not read with solver.kind = \"{}\": the penalty DEM does not run the \
-                         non-smooth solver (give kind = \"nscd\", or drop the key)",
-                        self.solver.kind.name()
-                    ));
-                }
-            }
-        }
-        if unread.contains(&crate::dem::Method::Penalty) {
-            // Non-smooth contact dynamics runs none of the penalty DEM's static solves or
-            // its motion (the command line's penalty options are refused or warned of
-            // with `--solver nscd`): the reverse of the case above.
-            // Only a shaking study runs steps of motion; the tilting table's, the hand's
-            // and the pushover's release trials take the sweeps alone and never certify
-            // rest (`NscdParams::for_trials`), as `drystone tilt` refuses these options.
-            if self.protocol != ProtocolKind::Shake {
-                let motion = ["rest", "step_solver", "natural_tolerance", "apgd_after_solves"];
-                let nscd = crate::dem::nscd_params::NscdParams::default();
-                for key in changed_keys(&self.solver.nscd, &nscd).into_iter().filter(|k| motion.contains(&k.as_str())) {
-                    out.push(format!(
-                        "solver.nscd.{key} is not read by protocol = \"{}\": it sets a step of motion of a shaking \
-                         study, and this protocol's release trials take the NSGS sweeps alone and never certify rest",
-                        self.protocol.name()
-                    ));
-                }
-            }
-            for key in changed_keys(&self.solver.penalty, &crate::dem::PenaltyParams::default()) {
-                out.push(format!(
-                    "solver.penalty.{key} is not read with solver.kind = \"{}\": non-smooth contact dynamics does \
-                     not run the penalty DEM (give kind = \"penalty\", or drop the key)",
-                    self.solver.kind.name()
-                ));
-            }
-        }
-        if let Some(dis) = &self.discrepancy {
-            let hand = self.rolled_by_hand();
-            if hand && dis.effects.iter().chain(&dis.also_effects).any(|e| e == "table_kick") {
-                out.push(
-                    "discrepancy: table_kick is the quasi-static equivalent of the kicks [tilt] by_hand already runs; \
-                     the hand-rolled realizations do not read it (its candidate changes nothing)"
-                        .to_string(),
-                );
-            }
-            if !dis.effects.is_empty() && !dis.also_effects.is_empty() {
-                out.push(format!(
-                    "discrepancy.also_effects = {:?} is not read: discrepancy.effects names every candidate \
-                     (add them there)",
-                    dis.also_effects
-                ));
-            }
-        }
-        out
-    }
-
-    /// What a shaking study (protocol `shake`) accepts and does not read, one message per
-    /// key: `[tilt] by_hand`, the keys of `[lateral]` set away from their defaults,
-    /// `[measured]` (a shaking study has no measured data to compare) and the effect
-    /// `table_kick` (a tilting table's overshoot) in the study's or a group's effects.
-    fn ignored_by_shaking(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        let not_read =
-            |key: &str, why: &str| format!("{key} is not read by a shaking study (protocol = \"shake\"): {why}");
-        if self.tilt.by_hand.is_some() {
-            out.push(not_read("tilt.by_hand", "the table rolled by hand is a tilting-table protocol"));
-        }
-        for key in changed_keys(&self.lateral, &crate::loading::lateral::LateralParams::default()) {
-            out.push(not_read(&format!("lateral.{key}"), "the lateral load is another protocol"));
-        }
-        if self.measured.is_some() {
-            out.push(not_read("measured", "a shaking study has no measured data to compare (no row reads it)"));
-        }
-        let kicks = std::iter::once(("effects".to_string(), &self.effects))
-            .chain(self.groups.iter().map(|g| (format!("groups[{}].effects", g.name), &g.effects)));
-        for (key, effects) in kicks {
-            if effects.contains_key("table_kick") {
-                out.push(not_read(
-                    &format!("{key}.table_kick"),
-                    "it sets the tilting table's overshoot, which the shaking table does not have",
-                ));
-            }
-        }
-        out
-    }
-
-    /// A warning when the group's `end_rope` (the group's own or the study's) acts on a
-    /// wall without end restraints, where it changes nothing (docs/rope.md).
-    fn idle_end_rope(&self, g: &GroupSpec, group: &Group) -> Option<String> {
-        let key = if g.effects.contains_key("end_rope") {
-            format!("groups[{}].effects.end_rope", g.name)
-        } else if self.effects.contains_key("end_rope") {
-            "effects.end_rope".to_string()
-        } else {
-            return None;
-        };
-        let wall = group.walls.first()?;
-        let (_, layout) = crate::effects::realize(wall, 0, 0, &g.name, &group.effects).ok()?;
-        layout.ropes.is_empty().then(|| {
-            format!(
-                "{key} changes nothing on group {}: its wall has no end restraints for the ropes to replace",
-                g.name
-            )
-        })
     }
 
     /// What the protocol's run would refuse or drop on the group's realization 0,
@@ -495,17 +351,6 @@ impl StudySpec {
             invalid.at(&key, reason.to_string())
         })
     }
-}
-
-/// The keys of `value` whose values differ from `default`'s, in their serde spelling (a
-/// settings table of a study file against its defaults).
-fn changed_keys<T: serde::Serialize>(value: &T, default: &T) -> Vec<String> {
-    let (Ok(toml::Value::Table(v)), Ok(toml::Value::Table(d))) =
-        (toml::Value::try_from(value), toml::Value::try_from(default))
-    else {
-        return Vec::new();
-    };
-    v.iter().filter(|(k, x)| d.get(*k) != Some(*x)).map(|(k, _)| k.clone()).collect()
 }
 
 /// The input files of a group: its wall description (or its survey's files) and the
@@ -710,19 +555,14 @@ impl Study {
     /// # Errors
     /// Any [`StudyError`].
     pub fn from_file(path: &Path) -> Result<Study, StudyError> {
-        if let Some(own) = super::protocol::own_study_of(path) {
-            return Err(StudyError::Invalid {
-                path: path.to_owned(),
-                key: "protocol".into(),
-                reason: format!(
-                    "\"{}\" is a study of its own, run by `drystone run` and analysed by `drystone discrepancy` \
-                     ({}); this command does not read it",
-                    own.kind.name(),
-                    own.doc
-                ),
-            });
-        }
         StudySpec::from_file(path)?.resolve(path)
+    }
+
+    /// The protocol with its parameters that group `group` runs at sweep point `point`
+    /// ([`StudyProtocol::of_group`]: the in-plane test with the group's vertical stress and
+    /// history).
+    pub fn protocol_of(&self, group: usize, point: usize) -> crate::protocol::Protocol {
+        self.protocol.of_group(group, self.points.get(point).map_or(&[], Vec::as_slice))
     }
 
     /// All work items of the study.

@@ -45,7 +45,7 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Err(e) => RealizationRow::failed(base, Status::LayoutFailed, e.to_string()),
         Ok(layout) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
-            let run = study.protocol_at(item.point).run(&layout, study.solver);
+            let run = study.protocol_of(item.group, item.point).run(&layout, study.solver);
             study.protocol.row(study, item.point, row, run)
         }
     };

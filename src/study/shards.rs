@@ -30,7 +30,7 @@ use super::provenance::{self, InputFile, InputRole};
 use super::report::{write_report, ReportError};
 use super::run::run_study_with;
 use super::Study;
-use crate::ensemble::journal::{self, Journal, JournalError};
+use crate::ensemble::journal::{self, Journal, JournalError, JournalRow};
 use crate::ensemble::row::RealizationRow;
 use crate::ensemble::Shard;
 use crate::io::{table, FileError};
@@ -283,7 +283,10 @@ pub struct StudyRun {
 /// replaced or cut by another command while this one runs: the lock refuses it.
 ///
 /// # Errors
-/// [`OutputError`] naming the file, or the difference with the journal.
+/// [`OutputError`] naming the file, or the difference with the journal; a study whose
+/// rows its protocol's own run writes (the in-plane test,
+/// [`StudyProtocol::rows_written_elsewhere`](super::StudyProtocol::rows_written_elsewhere)),
+/// naming that run.
 pub fn run_into(
     study: &Study,
     study_arg: &Path,
@@ -311,55 +314,18 @@ pub fn run_into_observed(
     mode: RunMode,
     observe: &(dyn Fn(&RealizationRow) -> bool + Sync),
 ) -> Result<StudyRun, OutputError> {
+    if let Some(why) = study.protocol.rows_written_elsewhere() {
+        return Err(OutputError::File { path: study.path.clone(), message: why.into() });
+    }
     let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
     let header = Manifest::new(study, study_arg, shard, 0);
-    let run = header.identity();
     let wanted = shard.select(&study.items()).len();
-    let refuse = |message: String| OutputError::File { path: path.clone(), message };
-    let fresh = || Ok::<_, OutputError>((Journal::create(&path, &run, &header)?, Vec::new()));
-    let contents = match Journal::read::<Manifest>(&path) {
-        Err(JournalError::Corrupt { .. }) if mode.force => None,
-        Err(JournalError::Corrupt { line, field, message, .. }) => {
-            return Err(refuse(format!(
-                "line {line}: {field}: {message}; delete the journal or give --force to start again"
-            )))
-        }
-        other => other?,
+    let check = |rows: &[RealizationRow], lines: &[usize]| {
+        check_rows(study, shard, rows, |i| (path.clone(), format!("line {}", lines[i])), "journal")
     };
-    let (journal, done) = match contents {
-        None => fresh()?,
-        Some(c) if c.run != run => {
-            if mode.force {
-                fresh()?
-            } else {
-                let d = c.header.difference(&header, "the journal", "this run").unwrap_or_else(|| {
-                    format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
-                });
-                return Err(refuse(format!(
-                    "was written by another run ({d}); give another --out, or --force to replace it"
-                )));
-            }
-        }
-        Some(c) => {
-            let lines = &c.lines;
-            let checked =
-                check_rows(study, shard, &c.rows, |i| (path.clone(), format!("line {}", lines[i])), "journal");
-            match checked.map(|()| c.rows) {
-                Err(_) if mode.force => fresh()?,
-                Err(e) => return Err(e),
-                Ok(done) if mode.resume => (Journal::resume(&path, &run, c.complete_len)?, done),
-                Ok(done) if done.is_empty() || done.len() == wanted || mode.force => fresh()?,
-                Ok(done) => {
-                    return Err(refuse(format!(
-                        "holds {} of {wanted} finished realization(s) of this run; continue it with --resume, or give --force to start again",
-                        done.len()
-                    )))
-                }
-            }
-        }
-    };
+    let (journal, done) = open_journal(&path, &header, wanted, mode, check)?;
     let resumed = done.len();
     let rows = run_study_with(study, shard, done, |row| {
         journal.append(row)?;
@@ -371,6 +337,61 @@ pub fn run_into_observed(
     })?;
     let text = write_outputs(study, study_arg, shard, &rows, dir)?;
     Ok(StudyRun { rows, resumed, text })
+}
+
+/// The journal `path` of a run whose manifest is `header` and which has `wanted` items,
+/// opened as `mode` says, with the rows it keeps: the journal read and checked whole (its
+/// rows by `check`, given each row's line) before anything runs; with `mode.resume` its
+/// rows kept; without, an unfinished journal of this run refused, a finished one (or an
+/// empty one) started again; a journal of another run or a damaged one refused, or replaced
+/// with `mode.force`. Every study's run opens its journal here, whatever its rows.
+///
+/// # Errors
+/// [`OutputError::File`] naming the journal and, for a damaged line, the line and field;
+/// for a journal of another run, the difference of the runs.
+pub(super) fn open_journal<R: JournalRow>(
+    path: &Path,
+    header: &Manifest,
+    wanted: usize,
+    mode: RunMode,
+    check: impl Fn(&[R], &[usize]) -> Result<(), OutputError>,
+) -> Result<(Journal, Vec<R>), OutputError> {
+    let run = header.identity();
+    let refuse = |message: String| OutputError::File { path: path.to_owned(), message };
+    let fresh = || Ok::<_, OutputError>((Journal::create(path, &run, header)?, Vec::new()));
+    let contents = match Journal::read_rows::<Manifest, R>(path) {
+        Err(JournalError::Corrupt { .. }) if mode.force => None,
+        Err(JournalError::Corrupt { line, field, message, .. }) => {
+            return Err(refuse(format!(
+                "line {line}: {field}: {message}; delete the journal or give --force to start again"
+            )))
+        }
+        other => other?,
+    };
+    match contents {
+        None => fresh(),
+        Some(c) if c.run != run => {
+            if mode.force {
+                fresh()
+            } else {
+                let d = c.header.difference(header, "the journal", "this run").unwrap_or_else(|| {
+                    format!("run identity {} in the journal, {run} in this run (shard {})", c.run, header.shard)
+                });
+                Err(refuse(format!("was written by another run ({d}); give another --out, or --force to replace it")))
+            }
+        }
+        Some(c) => match check(&c.rows, &c.lines).map(|()| c.rows) {
+            Err(_) if mode.force => fresh(),
+            Err(e) => Err(e),
+            Ok(done) if mode.resume => Ok((Journal::resume(path, &run, c.complete_len)?, done)),
+            Ok(done) if done.is_empty() || done.len() == wanted || mode.force => fresh(),
+            Ok(done) => Err(refuse(format!(
+                "holds {} of {wanted} finished realization(s) of this run; continue it with --resume, or give \
+                 --force to start again",
+                done.len()
+            ))),
+        },
+    }
 }
 
 /// Rows checked against the items of a shard of the study: each one an item of the shard

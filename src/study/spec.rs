@@ -4,6 +4,7 @@
 
 use super::{StudyError, SweepKey};
 use crate::dem::SolverParams;
+use crate::loading::inplane::{History, InPlaneParams};
 use crate::loading::lateral::LateralParams;
 use crate::loading::shake::ShakeParams;
 use crate::loading::tilt::TiltParams;
@@ -42,6 +43,11 @@ pub struct StudySpec {
     /// Shaking-table parameters and motions (protocol `shake`; see [`ShakeSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<ShakeSpec>,
+    /// The in-plane test's parameters shared by the groups (protocol `in_plane`;
+    /// [`crate::loading::inplane::InPlaneParams`] but `sigma0_mpa` and `history`, which are
+    /// each group's; see [`super::inplane`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub in_plane: Option<InPlaneParams>,
     /// Solver parameters: the method (`kind`) and its settings (`[solver.penalty]`,
     /// `[solver.nscd]`, `[solver.limit]`). The penalty settings the protocol's table
     /// still accepts under their former keys (`[tilt] tolerance`, ...; deprecated,
@@ -210,6 +216,17 @@ pub struct GroupSpec {
     /// effect here replaces the study's values).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub effects: EffectsSpec,
+    /// The vertical stress the in-plane test applies to this group, MPa (protocol
+    /// `in_plane`, required there; refused by the other protocols).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma0_mpa: Option<f64>,
+    /// The in-plane test's loading history of this group (protocol `in_plane`) \[monotonic\].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub history: Option<History>,
+    /// The measured specimens compared with this group (protocol `in_plane`: units of
+    /// `[measured] walls`). Default none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub specimens: Vec<String>,
 }
 
 /// Measured data files, relative to the study file.
@@ -231,6 +248,20 @@ pub struct MeasuredSpec {
     /// collapse_angle_deg`.
     #[serde(default)]
     pub paper_dem: Option<PathBuf>,
+    /// The in-plane test's specimens (protocol `in_plane`): the Stone Masonry Database's
+    /// table (`unit`, `loading`, `Vmax_pos_kN`, `dmax_pos_pct`, …; [`super::inplane`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub walls: Option<PathBuf>,
+    /// With `walls`: the folder of the envelopes `envelope_<unit without dots>_<source>.csv`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub envelopes: Option<PathBuf>,
+    /// With `walls`: the folder of the crack maps (PNG), linked in the report.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crackmaps: Option<PathBuf>,
+    /// With `walls`: the folder of the whole measured curves `FD_<unit without
+    /// dots>_<source>.csv`, read for the cyclic specimens' loops.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curves: Option<PathBuf>,
 }
 
 impl StudySpec {
@@ -250,6 +281,19 @@ impl StudySpec {
         // (`protocol::Loading::default_solver`), as the command line does: the shaking
         // table's is nscd (docs/shake.md), every other protocol's the penalty DEM.
         spec.solver = super::solver::with_default_kind(spec.solver, spec.loading(), &text);
+        // The in-plane test's groups' own keys: given in `[in_plane]` they would be
+        // overwritten by every group (the table's type has them for the command line).
+        let shared =
+            text.parse::<toml::Table>().ok().and_then(|t| t.get("in_plane").and_then(|v| v.as_table()).cloned());
+        if let Some(key) =
+            ["sigma0_mpa", "history"].into_iter().find(|k| shared.as_ref().is_some_and(|t| t.contains_key(*k)))
+        {
+            return Err(StudyError::Invalid {
+                path: path.to_owned(),
+                key: format!("in_plane.{key}"),
+                reason: format!("is each group's ([[groups]] {key}), not the study's: give it in every group"),
+            });
+        }
         Ok(spec)
     }
 }

@@ -433,13 +433,14 @@ envelopes = "{}"
     assert_eq!(b.rows[0].peak_pos_kn.to_bits(), a.rows[0].peak_pos_kn.to_bits());
     let comparison = std::fs::read_to_string(dir.join("a/comparison.csv")).unwrap();
     assert!(comparison.contains("WS.100,peak_pos_kn,37,"), "{comparison}");
-    // The tilt-shaped study reader (run's others, discrepancy, design) refuses it by name.
-    let e = drystone::study::Study::from_file(&study).unwrap_err().to_string();
-    assert!(e.contains("protocol") && e.contains("in_plane") && e.contains("drystone run"), "{e}");
+    // The study core reads it: its groups, and the in-plane test with each group's values.
+    let st = drystone::study::Study::from_file(&study).unwrap();
+    let test = st.protocol.in_plane().expect("an in-plane study");
+    assert_eq!((st.groups.len(), test.groups[0].sigma0_mpa, test.specimens.len() > 1), (1, 0.5, true));
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, std::fs::read_to_string(&study).unwrap().replace("\"WS.100\"", "\"WS.999\"")).unwrap();
     let e = drystone::study::inplane_run::run(&bad, &dir.join("c")).unwrap_err().to_string();
-    assert!(e.contains("groups[0].specimens") && e.contains("WS.999"), "{e}");
+    assert!(e.contains("groups[0.5 MPa].specimens") && e.contains("WS.999"), "{e}");
     // The model extended by the study's effects: the same walls, the force read with the
     // leaning jack's N u / L on top (N = σ0 L t of the 1.0 × 0.2 m plan), named in the report.
     let text = std::fs::read_to_string(&study).unwrap();
@@ -947,12 +948,12 @@ fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
     ] {
         let path = dir.join("s.toml");
         std::fs::write(&path, study(table, history)).unwrap();
-        let err = drystone::study::inplane::load(&path).map(|_| ()).unwrap_err().to_string();
+        let err = drystone::study::Study::from_file(&path).map(|_| ()).unwrap_err().to_string();
         assert!(err.contains(key), "{table}: {err}");
     }
     let path = dir.join("s.toml");
     std::fs::write(&path, study("shear_span_m = 1.325\ncycles = 3", "cyclic")).unwrap();
-    assert!(drystone::study::inplane::load(&path).is_ok());
+    assert!(drystone::study::Study::from_file(&path).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -286,7 +286,7 @@ fn an_in_plane_study_refuses_the_effects_its_test_does_not_read_by_name() {
     refused("run", &lean, &["effects.initial_lean", "thickness"]);
     refused("discrepancy", &lean, &["effects.initial_lean"]);
     let stops = study("stops", "", "effects = { base_restraint = { stop_height_m = 0.01 } }");
-    refused("run", &stops, &["groups[0].effects.base_restraint"]);
+    refused("run", &stops, &["groups[G].effects.base_restraint"]);
     let rope = study("rope", "[discrepancy]\neffects = [\"kn_scale\", \"end_rope\"]", "");
     refused("discrepancy", &rope, &["discrepancy.effects", "end_rope"]);
     let _ = std::fs::remove_dir_all(&dir);

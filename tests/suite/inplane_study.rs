@@ -69,7 +69,7 @@ fn the_solver_table_chooses_the_method() {
     let dir = folder("solver");
     let nscd = write(&dir, "nscd.toml", &study_text("[solver]\nkind = \"nscd\"\n", ""));
     let penalty = write(&dir, "penalty.toml", &study_text("", ""));
-    let spec = drystone::study::inplane::load(&nscd).unwrap();
+    let spec = drystone::study::Study::from_file(&nscd).unwrap();
     assert_eq!(spec.solver.kind, SolverKind::Nscd);
     let by_nscd = drystone::study::inplane_run::run(&nscd, &dir.join("n")).unwrap();
     let by_penalty = drystone::study::inplane_run::run(&penalty, &dir.join("p")).unwrap();
@@ -101,10 +101,10 @@ fn the_solver_table_chooses_the_method() {
     assert!(report.contains("non-smooth contact dynamics"), "{report}");
     // A method that gives no curve, and a kind that is not one, refused by key.
     let limit = write(&dir, "limit.toml", &study_text("[solver]\nkind = \"limit\"\n", ""));
-    let e = drystone::study::inplane::load(&limit).unwrap_err().to_string();
+    let e = drystone::study::Study::from_file(&limit).unwrap_err().to_string();
     assert!(e.contains("solver.kind") && e.contains("limit"), "{e}");
     let bad = write(&dir, "bad.toml", &study_text("[solver]\nkind = \"rigid\"\n", ""));
-    let e = drystone::study::inplane::load(&bad).unwrap_err().to_string();
+    let e = drystone::study::Study::from_file(&bad).unwrap_err().to_string();
     assert!(e.contains("rigid") && e.contains("kind"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -116,7 +116,7 @@ fn the_groups_keys_are_refused_in_the_shared_table() {
     let dir = folder("keys");
     for key in ["sigma0_mpa = 0.5", "history = \"cyclic\""] {
         let p = write(&dir, "study.toml", &study_text("", key));
-        let e = drystone::study::inplane::load(&p).unwrap_err().to_string();
+        let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
         let name = key.split(' ').next().unwrap();
         assert!(e.contains(&format!("in_plane.{name}")), "{e}");
     }
@@ -230,4 +230,87 @@ fn a_study_with_the_beam_held_level_reports_no_shear_span() {
     assert!(report.contains("Beam held level: no shear span"), "{report}");
     assert!(!report.contains("Shear span"), "{report}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The study core reads the in-plane study: `drystone run --realizations N` sets the count
+/// of every group that does not fix its own, each row the one the whole study writes for
+/// that realization (the wall-clock column aside); the test's keys are refused in another
+/// protocol's file and the keys the test does not read in its own, each by name.
+#[test]
+fn the_study_core_reads_it_with_realizations_and_refuses_foreign_keys() {
+    let dir = folder("core");
+    let study = write(&dir, "study.toml", &study_text("", ""));
+    let whole = drystone::study::inplane_run::run(&study, &dir.join("whole")).unwrap();
+    let out = dir.join("one");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["run", study.to_str().unwrap(), "--realizations", "1", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Group a takes the command line's 1, group b keeps its own 2.
+    let csv = std::fs::read_to_string(out.join("realizations.csv")).unwrap();
+    let cells = |line: &str| line.rsplitn(3, ',').nth(2).unwrap_or_default().to_string();
+    let rows: Vec<String> = csv.lines().skip(1).map(cells).collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    let all = std::fs::read_to_string(dir.join("whole/realizations.csv")).unwrap();
+    for r in &rows {
+        assert!(all.lines().any(|l| cells(l) == *r), "{r} is not a row of the whole study");
+    }
+    assert_eq!(whole.rows.len(), 5);
+    let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
+    assert!(manifest.contains("\"realizations\": 1"), "{manifest}");
+    // Another protocol's file with the test's keys, the test's file with a sweep.
+    let tilt = study_text("", "").replace("protocol = \"in_plane\"", "protocol = \"tilt\"").replace("[in_plane]\n", "");
+    let tilt = tilt.replace("shear_span_m = 0.35\ndrift_pct = 0.4\n", "");
+    let p = write(&dir, "tilt.toml", &tilt);
+    let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("groups[a].sigma0_mpa") && e.contains("in_plane"), "{e}");
+    let p = write(&dir, "sweep.toml", &study_text("[sweep]\nfriction_deg = [30, 40]\n", ""));
+    let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("sweep.friction_deg") && e.contains("does not read"), "{e}");
+    let p = write(&dir, "missing.toml", &study_text("", "").replace("sigma0_mpa = 0.25\n", ""));
+    let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("groups[b].sigma0_mpa") && e.contains("missing"), "{e}");
+    // The ensemble run, whose rows do not hold the test's, refuses it naming its run.
+    let st = drystone::study::Study::from_file(&study).unwrap();
+    let e =
+        drystone::study::run_into(&st, &study, drystone::ensemble::Shard::ALL, &dir.join("core"), Default::default())
+            .unwrap_err()
+            .to_string();
+    assert!(e.contains("in_plane") && e.contains("drystone run"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The discrepancy input of the bundled study, read through the study core: one group per
+/// vertical stress (four), each pushed monotonically at its stress, and every specimen's
+/// peak force the measured table's `Vmax_pos_kN` (read here from the CSV by hand).
+#[test]
+fn the_discrepancy_input_reads_the_groups_and_the_measured_peaks() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let input = drystone::study::inplane_discrepancy::analysis_of(&root.join("studies/inplane_granite.toml")).unwrap();
+    let names: Vec<&str> = input.setup.groups.iter().map(|g| g.name.as_str()).collect();
+    assert_eq!(names, ["0.2 MPa", "0.5 MPa", "0.875 MPa", "1.25 MPa"]);
+    for g in &input.setup.groups {
+        let Some(drystone::protocol::Protocol::InPlane(drystone::protocol::InPlane(p))) = &g.protocol else {
+            panic!("{:?}", g.protocol)
+        };
+        assert_eq!((format!("{} MPa", p.sigma0_mpa), p.history), (g.name.clone(), History::Monotonic));
+    }
+    let table = std::fs::read_to_string(root.join("data/inplane_granite/walls.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let column = header.iter().position(|h| *h == "Vmax_pos_kN").unwrap();
+    let mut peaks = 0;
+    for o in input.obs.iter().filter(|o| {
+        o.observable
+            == drystone::discrepancy::Observable::InPlane {
+                quantity: drystone::discrepancy::InPlaneQuantity::PeakForce,
+            }
+    }) {
+        // The unit's row: its cells before any quoted one (the peak is before them).
+        let row = table.lines().find(|l| l.split(',').next() == Some(o.specimen.as_str())).unwrap();
+        let value: f64 = row.split(',').nth(column).unwrap().parse().unwrap();
+        assert_eq!(o.value, value, "{}", o.specimen);
+        peaks += 1;
+    }
+    assert_eq!(peaks, 14);
 }

@@ -31,10 +31,7 @@ fn every_shipped_study_loads() {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml") {
-                if drystone::study::inplane::is_in_plane(&p) {
-                    // The in-plane test's study is its own (study::inplane).
-                    drystone::study::inplane::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-                } else if drystone::study::is_suite(&p) {
+                if drystone::study::is_suite(&p) {
                     for full in [false, true] {
                         drystone::study::Suite::from_file(&p, full).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                     }

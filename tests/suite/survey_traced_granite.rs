@@ -157,16 +157,16 @@ fn an_in_plane_study_runs_a_survey_and_refuses_a_bad_group_by_key() {
     let wall = root().join("studies/walls/granite_vasconcelos.toml");
     let s = |p: &Path| format!("{:?}", p.display().to_string());
     for (name, extra, key) in [
-        ("both", format!("survey = {}\nwall = {}\n{import_table}", s(&svg), s(&wall)), "groups[0]"),
-        ("none", String::new(), "groups[0]"),
-        ("import", format!("wall = {}\n{import_table}", s(&wall)), "groups[0].import"),
+        ("both", format!("survey = {}\nwall = {}\n{import_table}", s(&svg), s(&wall)), "groups[traced]"),
+        ("none", String::new(), "groups[traced]"),
+        ("import", format!("wall = {}\n{import_table}", s(&wall)), "groups[traced].import"),
         (
             "thick",
             format!("survey = {}\nimport = {{ density = 2600.0 }}", s(&svg)),
             "groups[traced].import.thickness_m",
         ),
-        ("missing", format!("survey = {}\n{import_table}", s(&dir.join("no.svg"))), "groups[0].survey"),
-        ("specimens", format!("survey = {}\n{import_table}\nspecimens = [\"A\", \"A\"]", s(&svg)), "groups[0].specimens[1]"),
+        ("missing", format!("survey = {}\n{import_table}", s(&dir.join("no.svg"))), "groups[traced].survey"),
+        ("specimens", format!("survey = {}\n{import_table}\nspecimens = [\"A\", \"A\"]", s(&svg)), "groups[traced].specimens[1]"),
         // Scanned stones (a folder) take no thickness: they have their own.
         ("scanned", format!("survey = {}\n{import_table}", s(&dir)), "groups[traced].import.thickness_m"),
         (
@@ -177,7 +177,7 @@ fn an_in_plane_study_runs_a_survey_and_refuses_a_bad_group_by_key() {
         (
             "twice",
             format!("survey = {}\n{import_table}\n[[groups]]\nname = \"traced\"\nsigma0_mpa = 0.5\nsurvey = {}\n{import_table}", s(&svg), s(&svg)),
-            "groups[1].name",
+            "groups[traced].name",
         ),
     ] {
         let p = write(&dir, &format!("{name}.toml"), &group(&extra));
