@@ -35,6 +35,10 @@ pub enum Purpose {
     DesignReport,
     /// A surveyed wall's tracing tolerance drawn per realization (`generator::traced`).
     Survey,
+    /// The seating of each block's bed drawn per realization (`[scatter]
+    /// bed_seating_gap_m` of a wall description, `generator::realization`): a stream of
+    /// its own, so that walls without it draw every other number as before.
+    Seating,
 }
 
 impl Purpose {
@@ -49,6 +53,7 @@ impl Purpose {
             Purpose::Weights => 7,
             Purpose::DesignReport => 8,
             Purpose::Survey => 9,
+            Purpose::Seating => 10,
         }
     }
 }

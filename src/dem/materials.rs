@@ -38,15 +38,20 @@ fn with_family(rule: JointParams, f: &FamilyJoint) -> JointParams {
 
 /// The joint law of every contact a layout can make: the material rule (the table
 /// material's joint for the table; the material joint or the series combination between
-/// blocks), with the layout's joint families on top. Built once per simulation; looked up
-/// at every contact detection.
+/// blocks), with the layout's joint families on top, and a block's own bed law
+/// ([`crate::layout::Block::bed_closure`]) on its bed. Built once per simulation; looked
+/// up at every contact detection.
 #[derive(Debug, Clone)]
 pub struct JointTable {
     table: JointParams,
     pairs: Vec<Vec<JointParams>>,
     block_material: Vec<usize>,
-    /// The layout itself when it has joint families (classification needs its blocks).
+    /// The layout itself when it has joint families or a block with its own bed law
+    /// (classification needs its blocks).
     families: Option<Box<Layout>>,
+    /// Each block's centroid height as built, m, when a block has its own bed law (which
+    /// block of a bed joint without course indices is the upper one); empty otherwise.
+    centroid_z: Vec<f64>,
 }
 
 impl JointTable {
@@ -59,11 +64,13 @@ impl JointTable {
         if layout.base_sliding == BaseSliding::Held {
             table.can_slip = false;
         }
+        let beds = layout.blocks.iter().any(|b| b.bed_closure.is_some());
         JointTable {
             table,
             pairs,
             block_material: layout.blocks.iter().map(|b| b.material).collect(),
-            families: (!layout.joint_families.is_empty()).then(|| Box::new(layout.clone())),
+            families: (!layout.joint_families.is_empty() || beds).then(|| Box::new(layout.clone())),
+            centroid_z: if beds { layout.blocks.iter().map(|b| b.centroid().z).collect() } else { Vec::new() },
         }
     }
 
@@ -76,9 +83,17 @@ impl JointTable {
         };
         let Some(layout) = &self.families else { return rule };
         let family: JointFamily = layout.joint_family(a, b, normal);
-        match layout.joint_families.get(family) {
+        let joint = match layout.joint_families.get(family) {
             Some(f) => with_family(rule, f),
             None => rule,
+        };
+        if self.centroid_z.is_empty() {
+            return joint;
+        }
+        let bed = layout.bed_owner(a, b, family, |i| self.centroid_z[i]).and_then(|i| layout.blocks[i].bed_closure);
+        match bed {
+            Some(closure) => JointParams { closure, ..joint },
+            None => joint,
         }
     }
 }

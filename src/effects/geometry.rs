@@ -220,6 +220,7 @@ pub fn add_base_stops(layout: &mut Layout, h_s: f64, material: usize) -> Result<
             course: None,
             wedge: false,
             own_mass: None,
+            bed_closure: None,
         });
     }
     layout.blocks.extend(stops);
@@ -308,6 +309,7 @@ pub fn split_leaves(layout: &mut Layout, f: f64, through_every: Option<u32>) -> 
             course: b.course,
             wedge: b.wedge,
             own_mass: None,
+            bed_closure: b.bed_closure,
         };
         let j = layout.blocks.len();
         layout.blocks.push(new);

@@ -182,8 +182,10 @@
 //! base = "free"               # or "held"
 //! ends = { kind = "rigid", zone_m = 0.05 }   # "free"; "spring" + stiffness_n_per_m
 //!
-//! [scatter]                   # optional: per-block material scatter (Material stream)
-//! kn_factor = "kn_factor_lognormal_cv20"
+//! [scatter]                   # optional: what differs between nominally equal walls
+//! kn_factor = "kn_factor_lognormal_cv20"   # per-block Kn, Ks factor (Material stream)
+//! friction_offset_deg = "friction_offset_truncated_normal_2"   # per-block φ offset (Material stream)
+//! bed_seating_gap_m = "bed_seating_gap_sawn_granite"   # per-block bed seating g₀ (Seating stream)
 //!
 //! [distributions.my_dip]      # optional inline distributions, same keys as the files
 //! unit = "deg"
@@ -202,7 +204,10 @@
 //! All geometry draws come, in a fixed order (course heights; then per course: block
 //! lengths, wedge lengths and dips, left to right), from one `ChaCha8Rng`:
 //! [`crate::rng::rng_for`]`(seed, realization, Purpose::Layout)`; material scatter draws
-//! from the `Material` stream of the same realization. Realization i is therefore the same
+//! from the `Material` stream of the same realization (a Kn factor, then a friction offset,
+//! per block in layout order), and the beds' seating from its `Seating` stream (one g₀ per
+//! block in layout order), so that a key added to `[scatter]` moves no other draw and a
+//! wall without it gives the layout it always gave. Realization i is therefore the same
 //! bit for bit whether generated alone or in a batch ([`generate_batch`] runs on rayon
 //! threads and returns the same values), and nothing iterates a hash map.
 //!

@@ -4,15 +4,18 @@
 //!
 //! 1. elevation (course tops, head joints, stones and wedges in x–z): [`super::build`];
 //! 2. [`extrude`]: vertices between the two faces, volume, id, end zone;
-//! 3. [`scatter_materials`]: one material per block when the wall has `[scatter]`;
-//! 4. [`layout`]: the layout file with the base and end restraints.
+//! 3. [`scatter_materials`]: one material per block when the wall has `[scatter]` (with a
+//!    Kn factor or a friction offset);
+//! 4. [`seat_beds`]: each block's bed seating gap when the wall's `[scatter]` draws one;
+//! 5. [`layout`]: the layout file with the base and end restraints.
 
 use super::build::{self, Elevation, Piece2, PieceKind, Samples};
 use super::polygon;
 use super::wall::{Ends, Section, Wall};
 use super::GeneratorError;
+use crate::closure::{Seating, CLOSURE_RANGE_M};
 use crate::layout::{
-    BlockSpec, EndRestraintKind, EndRestraintSpec, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec,
+    BlockSpec, Closure, EndRestraintKind, EndRestraintSpec, LayoutSpec, MaterialSpec, RestraintSpec, TableSpec,
 };
 use crate::rng::{rng_for, Purpose};
 use serde::Serialize;
@@ -42,6 +45,11 @@ pub struct Piece {
     /// Where it lies across the section (`through` for every block of a single-leaf wall).
     #[serde(skip_serializing_if = "SectionPart::is_through")]
     pub part: SectionPart,
+    /// The drawn largest initial gap of the block's bed, m (`[scatter] bed_seating_gap_m`;
+    /// the layout gives the bed the seating law with it, [`crate::closure::Seating`], when
+    /// it is at least the closure laws' smallest length). `None` (not written) without it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bed_seating_gap_m: Option<f64>,
 }
 
 /// One generated realization.
@@ -110,6 +118,7 @@ pub(crate) fn generate_described(wall: &Wall, seed: u64, realization: u64) -> Re
     let elev = build::build(wall, &mut rng)?;
     let mut pieces = extrude(wall, &elev);
     let materials = scatter_materials(wall, seed, realization, &mut pieces);
+    seat_beds(wall, seed, realization, &mut pieces);
     let layout = layout(wall, format!("{} (seed {seed}, realization {realization})", wall.name), &pieces, materials);
     Ok(GeneratedWall {
         seed,
@@ -172,6 +181,7 @@ fn extrude(wall: &Wall, elev: &Elevation) -> Vec<Piece> {
                 dip_deg: p.dip_deg,
                 material: material.clone(),
                 part,
+                bed_seating_gap_m: None,
             });
         }
         if !built.is_empty() {
@@ -304,10 +314,12 @@ fn in_end_zone(wall: &Wall, polygon: &[[f64; 2]]) -> bool {
 
 /// The wall's materials, plus with `[scatter]` one material `NAME~ID` per block (Kn and Ks
 /// times the drawn factor, φ plus the drawn offset, clamped to [0°, 89.999°]) drawn from
-/// the realization's `Material` stream in layout order; the pieces are renamed to them.
+/// the realization's `Material` stream in layout order; the pieces are renamed to them. A
+/// `[scatter]` that draws only the beds' seating keeps the wall's materials
+/// ([`super::wall::Scatter::per_block_materials`]).
 fn scatter_materials(wall: &Wall, seed: u64, realization: u64, pieces: &mut [Piece]) -> Vec<MaterialSpec> {
     let mut materials = wall.materials.clone();
-    let Some(sc) = &wall.scatter else { return materials };
+    let Some(sc) = wall.scatter.as_ref().filter(|sc| sc.per_block_materials()) else { return materials };
     let mut mrng = rng_for(seed, realization, Purpose::Material);
     for p in pieces {
         let base = wall.materials.iter().find(|m| m.name == p.material).expect("checked material");
@@ -324,6 +336,23 @@ fn scatter_materials(wall: &Wall, seed: u64, realization: u64, pieces: &mut [Pie
         p.material = name;
     }
     materials
+}
+
+/// With `[scatter] bed_seating_gap_m`, each piece's largest bed gap g₀ (m), one draw per
+/// piece in layout order from the realization's own `Seating` stream (so the geometry and
+/// the material scatter draw the same numbers with it or without it).
+fn seat_beds(wall: &Wall, seed: u64, realization: u64, pieces: &mut [Piece]) {
+    let Some(d) = wall.scatter.as_ref().and_then(|sc| sc.bed_seating_gap.as_ref()) else { return };
+    let mut rng = rng_for(seed, realization, Purpose::Seating);
+    for p in pieces {
+        p.bed_seating_gap_m = Some(d.sample(&mut rng));
+    }
+}
+
+/// The seating law of a bed whose largest initial gap is `gap` (m), or `None` (the
+/// material's law) for a gap below the closure laws' smallest length (a bed seated flat).
+pub(crate) fn bed_closure(gap: Option<f64>) -> Option<Closure> {
+    gap.filter(|&g| g >= CLOSURE_RANGE_M.0).map(|g| Closure::Seating(Seating { max_gap_m: g }))
 }
 
 /// The layout file named `name`: the pieces as blocks, the table joint, the base restraint
@@ -357,6 +386,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece], materials: Vec<MaterialSp
                 course: Some(p.course),
                 wedge: p.kind == PieceKind::Wedge,
                 own_mass: None,
+                bed_closure: bed_closure(p.bed_seating_gap_m),
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends, ropes: vec![] },

@@ -48,7 +48,8 @@ impl Wall {
     }
 
     /// Every distribution of the wall: its course height and block length, an irregular
-    /// wall's dip and wedge length, its scatter's Kn factor and friction offset (the files
+    /// wall's dip and wedge length, its scatter's Kn factor, friction offset and bed seating
+    /// gap (the files
     /// a study records as its inputs).
     pub fn distributions(&self) -> Vec<&super::Distribution> {
         let mut v = vec![&self.course_height, &self.block_length];
@@ -59,6 +60,7 @@ impl Wall {
         if let Some(s) = &self.scatter {
             v.extend(s.kn_factor.as_ref());
             v.extend(s.friction_offset.as_ref());
+            v.extend(s.bed_seating_gap.as_ref());
         }
         if let Some(t) = &self.traced {
             v.extend(t.depth.as_ref());
@@ -415,7 +417,9 @@ impl Resolver<'_> {
     }
 
     /// `[scatter]`: a Kn factor law with positive support; a friction offset law that keeps
-    /// every material's friction angle in [0°, 90°).
+    /// every material's friction angle in [0°, 90°); a bed seating gap law of unit `m`
+    /// with its support in [0, 0.05] m (the closure laws' largest length,
+    /// [`crate::closure::CLOSURE_RANGE_M`]).
     fn scatter(&self) -> Result<Option<Scatter>, GeneratorError> {
         let Some(s) = &self.spec.scatter else { return Ok(None) };
         let kn_factor = match &s.kn_factor {
@@ -446,7 +450,32 @@ impl Resolver<'_> {
             }
             None => None,
         };
-        Ok(Some(Scatter { kn_factor, friction_offset }))
+        let bed_seating_gap = match &s.bed_seating_gap_m {
+            Some(r) => {
+                let key = "scatter.bed_seating_gap_m";
+                let d = self.dist(r, key, Unit::M)?;
+                let (lo, hi) = d.support();
+                let max = crate::closure::CLOSURE_RANGE_M.1;
+                if !(lo >= 0.0 && hi <= max) {
+                    let hint = if lo.is_finite() && hi.is_finite() {
+                        ""
+                    } else {
+                        " (a normal or lognormal law is unbounded; use uniform or truncated_normal)"
+                    };
+                    return Err(self.invalid(
+                        key,
+                        describe(r, &d),
+                        format!(
+                            "gaps in [{lo}, {hi}] m: a bed's largest initial gap must lie in [0, {max}] m (no \
+                             negative gap; the closure laws' largest length){hint}"
+                        ),
+                    ));
+                }
+                Some(d)
+            }
+            None => None,
+        };
+        Ok(Some(Scatter { kn_factor, friction_offset, bed_seating_gap }))
     }
 
     /// `[distributions.NAME]`: inline distributions are checked even when no key uses them.

@@ -215,10 +215,13 @@ pub struct RestraintsSpec {
     pub ends: EndsSpec,
 }
 
-/// `[scatter]`: material property scatter per block (each block gets its own material; the
-/// joint between two blocks combines them as the layout file says: series stiffness, the
-/// smaller friction angle). Drawn from the `Material` stream of the realization, so the
-/// geometry does not change when scatter is switched on.
+/// `[scatter]`: what differs between nominally equal walls, drawn per realization. The
+/// material property scatter per block (`kn_factor`, `friction_offset_deg`: each block gets
+/// its own material; the joint between two blocks combines them as the layout file says:
+/// series stiffness, the smaller friction angle), drawn from the `Material` stream of the
+/// realization, so the geometry does not change when scatter is switched on; and the
+/// seating of each block's bed (`bed_seating_gap_m`), drawn from a stream of its own
+/// (`Seating`), so that a wall without it draws every other number as before.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ScatterSpec {
@@ -230,6 +233,16 @@ pub struct ScatterSpec {
     /// must stay in [0°, 90°)).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_offset_deg: Option<DistRef>,
+    /// The largest initial gap g₀ of each block's bed, m (number or distribution of unit
+    /// `m`, support in [0, 0.05]): one draw per block, in layout order, gives the block's bed
+    /// (its joints with the table or the course below) the seating law
+    /// ([`crate::closure::Seating`]: initial gaps uniform in [0, g₀] that close under load,
+    /// Greenwood & Williamson 1966) over its material's law (layout key `bed_closure`); a
+    /// draw below 1e-6 m (the closure laws' range, [`crate::closure::CLOSURE_RANGE_M`]) is a
+    /// bed seated flat, the material's law. The uneven seating of nominally equal stones,
+    /// which makes nominally equal walls differ in stiffness.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bed_seating_gap_m: Option<DistRef>,
 }
 
 /// What a wall is built of, as far as the plausible ranges of the model's effects depend

@@ -191,6 +191,7 @@ fn scanned(wall: &Wall, layout: &LayoutSpec, seed: u64, realization: u64) -> Res
             material: b.material.clone(),
             restrained: false,
             part: SectionPart::Through,
+            bed_seating_gap_m: None,
         });
     }
     let layout =
@@ -291,6 +292,7 @@ pub fn generate(
                 material: s.material.clone(),
                 restrained: false,
                 part,
+                bed_seating_gap_m: None,
             });
         }
     }
@@ -317,6 +319,7 @@ fn layout(wall: &Wall, name: String, pieces: &[Piece]) -> LayoutSpec {
                 course: None,
                 wedge: false,
                 own_mass: None,
+                bed_closure: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: wall.base, ends: vec![], ropes: vec![] },

@@ -91,6 +91,17 @@ pub struct Scatter {
     pub kn_factor: Option<Distribution>,
     /// Offset on φ, degrees.
     pub friction_offset: Option<Distribution>,
+    /// Largest initial gap of each block's bed, m (support in [0, 0.05]).
+    pub bed_seating_gap: Option<Distribution>,
+}
+
+impl Scatter {
+    /// Whether each block gets a material of its own (a Kn factor or a friction offset is
+    /// drawn, or neither key nor a bed seating is given: an empty `[scatter]` table names
+    /// one material per block, as it always has).
+    pub fn per_block_materials(&self) -> bool {
+        self.kn_factor.is_some() || self.friction_offset.is_some() || self.bed_seating_gap.is_none()
+    }
 }
 
 /// A checked wall description: SI units (m), dips in degrees inside their distribution.
@@ -175,6 +186,7 @@ impl Wall {
         if let Some(sc) = &mut w.scatter {
             sc.kn_factor.iter_mut().for_each(clear);
             sc.friction_offset.iter_mut().for_each(clear);
+            sc.bed_seating_gap.iter_mut().for_each(clear);
         }
         if let Some(t) = &mut w.traced {
             t.depth.iter_mut().for_each(clear);

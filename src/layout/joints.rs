@@ -306,17 +306,25 @@ impl Layout {
             }
             _ => None,
         });
-        material.or_else(|| {
-            JointFamily::ALL.into_iter().find_map(|f| match self.joint_families.get(f).and_then(|j| j.closure) {
-                Some(Closure::Crushing(c)) => Some((format!("joint family {}", f.name()), c.strength_pa)),
-                _ => None,
+        material
+            .or_else(|| {
+                JointFamily::ALL.into_iter().find_map(|f| match self.joint_families.get(f).and_then(|j| j.closure) {
+                    Some(Closure::Crushing(c)) => Some((format!("joint family {}", f.name()), c.strength_pa)),
+                    _ => None,
+                })
             })
-        })
+            .or_else(|| {
+                self.blocks.iter().find_map(|b| match b.bed_closure {
+                    Some(Closure::Crushing(c)) => Some((format!("the bed of block {}", b.id), c.strength_pa)),
+                    _ => None,
+                })
+            })
     }
 
     /// Every normal closure law of the layout with the stiffness it goes with (Pa/m): the
     /// materials' and the families' (a family with no stiffness of its own is taken with
-    /// the smallest material stiffness times its factor).
+    /// the smallest material stiffness times its factor), and the blocks' own beds' (with
+    /// the smallest stiffness of the block's material and the families').
     pub fn closure_laws(&self) -> Vec<(f64, Closure)> {
         let mut out: Vec<(f64, Closure)> = self.materials.iter().map(|m| (m.kn, m.closure)).collect();
         let kn_min = self.materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
@@ -327,6 +335,51 @@ impl Layout {
                 None => out.extend(self.materials.iter().map(|m| (kn, m.closure))),
             }
         }
+        for b in &self.blocks {
+            if let Some(c) = b.bed_closure {
+                let kn = self.joint_families.0.iter().flatten().fold(self.materials[b.material].kn, |k, fj| {
+                    k.min(fj.kn.unwrap_or(self.materials[b.material].kn * fj.kn_factor))
+                });
+                out.push((kn, c));
+            }
+        }
         out
+    }
+
+    /// The block whose bed the joint between block `a` (`None`: the table) and block `b`
+    /// of family `family` is, if it is one ([`crate::layout::Block::bed_closure`]): `b` on
+    /// the table; of a `bed` joint, the block of the higher course, or without course
+    /// indices the one whose centroid (as built) is higher, `centroid_z(i)` giving block
+    /// `i`'s (m); none for the other families.
+    pub fn bed_owner(
+        &self,
+        a: Option<usize>,
+        b: usize,
+        family: JointFamily,
+        centroid_z: impl Fn(usize) -> f64,
+    ) -> Option<usize> {
+        match (family, a) {
+            (JointFamily::Base, _) | (_, None) => Some(b),
+            (JointFamily::Bed, Some(a)) => {
+                let (ba, bb) = (&self.blocks[a], &self.blocks[b]);
+                Some(match (ba.course, bb.course) {
+                    (Some(ca), Some(cb)) if ca != cb => {
+                        if ca > cb {
+                            a
+                        } else {
+                            b
+                        }
+                    }
+                    _ => {
+                        if centroid_z(a) > centroid_z(b) {
+                            a
+                        } else {
+                            b
+                        }
+                    }
+                })
+            }
+            _ => None,
+        }
     }
 }

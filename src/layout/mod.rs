@@ -43,7 +43,8 @@
 //! A material or a family may give a normal closure law:
 //! `"closure": "linear"` (default), `{"hyperbolic": {"max_closure_m": 1e-3}}` (Bandis et
 //! al. 1983) or `{"seating": {"max_gap_m": 1e-3}}` (uneven beds), with the parameter in
-//! [`CLOSURE_RANGE_M`].
+//! [`CLOSURE_RANGE_M`]. A block may give its own bed's law, `"bed_closure"` (same forms;
+//! [`Block::bed_closure`]): the law of its joints with the table and the course below.
 
 mod check;
 mod joints;
@@ -245,6 +246,13 @@ pub struct BlockSpec {
     /// See [`OwnMassSpec`] for the keys and the checks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub own_mass: Option<OwnMassSpec>,
+    /// The normal closure law of the block's own bed: its joints with the table and with
+    /// the blocks of a lower course (see [`Block::bed_closure`]), over the law its material
+    /// and joint family give. Absent (the default, and not written): theirs. The generator
+    /// writes it for a wall whose `[scatter]` draws each block's bed seating
+    /// (`{"seating": {"max_gap_m": G}}`, G the block's drawn largest initial gap).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bed_closure: Option<Closure>,
 }
 
 /// A block's own mass properties per unit density (key `own_mass` of a block): the solid
@@ -401,6 +409,13 @@ pub struct Block {
     /// when they are not its shape's (a scanned stone's closed mesh; [`OwnMassSpec`]);
     /// `None`: its shape's. Read them through [`Block::mass_properties`].
     pub own_mass: Option<MassProperties>,
+    /// The normal closure law of the block's own bed, checked (`None`: the law of its
+    /// material and joint family). The bed is every joint of the block classified `base`
+    /// (the block on the table) or `bed` where the block is the upper one: the higher
+    /// course index when both blocks carry one, else the higher centroid (as built). The
+    /// joints of the block's top, its head joints and its wedge joints keep their law; a
+    /// bed law overrides the joint family's `closure` (the bed is the block's own).
+    pub bed_closure: Option<Closure>,
 }
 
 impl Block {

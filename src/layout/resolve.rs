@@ -191,6 +191,11 @@ impl LayoutSpec {
                 ConvexBlock::from_vertices(&verts).map_err(|source| LayoutError::Block { id: b.id.clone(), source })?;
             check_convex(&b.id, &verts, &shape)?;
             let own_mass = b.own_mass.as_ref().map(|m| check_own_mass(&b.id, m, &shape)).transpose()?;
+            let bed_closure = b
+                .bed_closure
+                .map(|c| c.check(&format!("blocks[{}].bed_closure", b.id)))
+                .transpose()
+                .map_err(super::joints::closure_error)?;
             blocks.push(Block {
                 id: b.id.clone(),
                 material,
@@ -199,6 +204,7 @@ impl LayoutSpec {
                 course: b.course,
                 wedge: b.wedge,
                 own_mass,
+                bed_closure,
             });
         }
         Ok((blocks, ids))

@@ -528,6 +528,7 @@ pub(crate) fn layout_of(path: &Path, o: &ImportOptions, blocks: Vec<SurveyBlock>
                 course: None,
                 wedge: false,
                 own_mass,
+                bed_closure: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: o.base_sliding, ends: vec![], ropes: vec![] },

@@ -34,6 +34,7 @@ pub fn inplane_block(table_phi_deg: f64, kn: f64) -> Layout {
             course: None,
             wedge: false,
             own_mass: None,
+            bed_closure: None,
         }],
         restraints: RestraintSpec::default(),
         monitors: vec![],

@@ -155,6 +155,7 @@ pub fn layout_of(blocks: Vec<Vec<[f64; 3]>>, kn: f64, ks: f64, phi_deg: f64, bas
                 course: None,
                 wedge: false,
                 own_mass: None,
+                bed_closure: None,
             })
             .collect(),
         restraints: RestraintSpec { base_sliding: base, ends: vec![], ropes: vec![] },

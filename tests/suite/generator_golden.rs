@@ -193,6 +193,7 @@ fn material_scatter_changes_materials_not_geometry() {
         friction_offset_deg: Some(drystone::generator::spec::DistRef::Name(
             "friction_offset_truncated_normal_2".into(),
         )),
+        bed_seating_gap_m: None,
     });
     let w = spec.resolve(&path, &DistributionSource::dir(root().join("distributions"))).unwrap();
     let plain = generate(&preset("sbl"), 5, 1).unwrap();

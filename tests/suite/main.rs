@@ -20,6 +20,7 @@ mod bad_inputs_mechanism;
 mod bad_inputs_motion;
 mod bad_inputs_read;
 mod base_restraint;
+mod bed_seating;
 mod design;
 mod determinism;
 mod discrepancy;

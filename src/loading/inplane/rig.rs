@@ -198,6 +198,7 @@ impl Rig {
             course: None,
             wedge: false,
             own_mass: None,
+            bed_closure: None,
         });
         let beam = layout.blocks.len() - 1;
         Ok(Rig {
