@@ -438,12 +438,16 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
     for (name, d) in [("positive", r.positive), ("negative", r.negative)] {
         if let Some(d) = d {
             out!(
-                "  {name}: peak {:.2} kN at drift {:.2} %; ultimate drift {:.2} %{}; initial stiffness {:.2} kN/mm",
+                "  {name}: peak {:.2} kN at drift {:.2} %; ultimate drift {:.2} %{}; initial stiffness {}",
                 d.peak_force_kn,
                 d.drift_at_peak_pct,
                 d.ultimate_drift_pct,
                 if d.dropped { " (20 % drop)" } else { " (largest drift run)" },
-                d.initial_stiffness_kn_per_mm
+                if d.initial_stiffness_kn_per_mm.is_nan() {
+                    "none (rigid joints)".to_string()
+                } else {
+                    format!("{:.2} kN/mm", d.initial_stiffness_kn_per_mm)
+                }
             );
         }
     }

@@ -41,7 +41,9 @@ pub struct DirectionResult {
     pub ultimate_drift_pct: f64,
     /// Whether the ultimate drift is the 20 % drop (true) or the largest drift run.
     pub dropped: bool,
-    /// The initial stiffness, secant at 15 % of the peak, kN/mm.
+    /// The initial stiffness, secant at 15 % of the peak, kN/mm. NaN by non-smooth contact
+    /// dynamics, whose rigid contacts give the wall none (the secant of its first points
+    /// would be the actuator's step).
     pub initial_stiffness_kn_per_mm: f64,
     /// The envelope's force at the drifts [`READING_DRIFTS_PCT`], kN (magnitude; NaN past
     /// the largest drift run): a reading of the whole envelope that does not hang on one
