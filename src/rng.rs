@@ -37,7 +37,7 @@ pub enum Purpose {
     Survey,
     /// The seating of each block's bed drawn per realization (`[scatter]
     /// bed_seating_gap_m` of a wall description, `generator::realization`): a stream of
-    /// its own, so that walls without it draw every other number as before.
+    /// its own, so that switching it on or off changes no other drawn number.
     Seating,
 }
 

@@ -221,7 +221,7 @@ pub struct RestraintsSpec {
 /// series stiffness, the smaller friction angle), drawn from the `Material` stream of the
 /// realization, so the geometry does not change when scatter is switched on; and the
 /// seating of each block's bed (`bed_seating_gap_m`), drawn from a stream of its own
-/// (`Seating`), so that a wall without it draws every other number as before.
+/// (`Seating`), so that switching it on or off changes no other drawn number.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ScatterSpec {

@@ -103,10 +103,10 @@ fn converged_increments_of_a_cycled_wall_keep_every_block_with_a_neighbour() {
 
 /// The semi-smooth Newton solve (`--solver newton`) on the same wall at Kn 1e10 Pa/m:
 /// between two increments reported converged no block walks from every one of its joint
-/// neighbours by more than the bound above. Before its step was bounded by the joints' gaps
-/// (`dem::drivers::newton`), the line search on the out-of-balance force accepted steps
-/// that threw the lightly loaded blocks at the wall's top corners off their neighbours
-/// (an open joint carries no force, so the merit fell).
+/// neighbours by more than the bound above. Its steps are bounded by the joints' gaps
+/// (`dem::drivers::newton`): a line search on the out-of-balance force alone accepts steps
+/// that throw the lightly loaded blocks at the wall's top corners off their neighbours
+/// (an open joint carries no force, so the merit falls).
 #[test]
 fn the_newton_solve_keeps_the_cycled_wall_whole() {
     let kn = 1e10;
