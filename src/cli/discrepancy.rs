@@ -208,6 +208,9 @@ fn print_summary(run: &drystone::discrepancy::Run, name: &str, threads: usize, s
             println!("indistinguishable from: {}", an.tie[1..].join(", "));
         }
     }
+    for f in &an.refuted {
+        println!("refuted by the {}: {} ({})", f.reading, f.candidate, f.words);
+    }
     if let Some((g, lo, hi)) = run.gain {
         println!(
             "held-out error {:.3} -> {:.3} (gain {g:.3}, 95 % interval [{lo:.3}, {hi:.3}])",
@@ -270,15 +273,28 @@ fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
     let pool = pool(a.input.threads)?;
     let t0 = std::time::Instant::now();
     let progress = progress_lines("discrepancy");
+    // The study's reading its fit does not hold: asked of each candidate before it is
+    // named, and reported after the analysis.
+    let reading = match own.held {
+        Some(f) => f(&a.input.study, &input)?,
+        None => None,
+    };
     let run = pool.install(|| {
-        drystone::discrepancy::run_with(&input.setup, input.obs.clone(), &s, input.seed, &input.library, &progress)
+        drystone::discrepancy::run_held(
+            &input.setup,
+            input.obs.clone(),
+            &s,
+            input.seed,
+            &input.library,
+            reading.as_deref(),
+            &progress,
+        )
     })?;
     if let Some(line) = store_line(&input.setup.store) {
         eprintln!("{line}");
     }
-    // The study's own check after the analysis, on readings the fit did not use.
-    let check = match own.check {
-        Some(f) => pool.install(|| f(&a.input.study, &input, &run, &progress))?,
+    let check = match &reading {
+        Some(h) => pool.install(|| h.report(&run, &progress))?,
         None => None,
     };
     held.write_set(drystone::study::discrepancy::OUTPUT_SET, "discrepancy", &input.name, |staging| {

@@ -384,6 +384,9 @@ pub struct Analysis {
     /// The baseline's misfit of one sign in every group, if any
     /// ([`super::systematic_misfit`]): the scatter hypothesis is then not named.
     pub systematic: Option<super::SystematicMisfit>,
+    /// The candidates a reading refutes at their latest fit, in the order they were asked
+    /// ([`super::refute`]): none of them is named, confirmed or in the tie.
+    pub refuted: Vec<super::Refutation>,
     /// The candidates analysed, pairs included.
     #[serde(skip)]
     pub pool: Vec<Candidate>,
@@ -474,6 +477,7 @@ mod tests {
             forward_runs: vec![],
             pool: vec![],
             systematic: None,
+            refuted: vec![],
         }
     }
 

@@ -44,6 +44,7 @@ mod predictive;
 mod prepare;
 mod progress;
 mod rank;
+mod refute;
 mod report;
 mod settings;
 mod simulate;
@@ -76,10 +77,11 @@ pub use prepare::{
     GridRuns, InertEffect, Keys, Prepared,
 };
 pub use progress::{quiet, Progress};
+pub use refute::{in_fit as refuted_in_fit, reading_of, HeldReading, HeldReport, Refutation, REFUTE_NATS, REFUTE_Z};
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};
 pub use settings::Settings;
 pub use simulate::{forward_runs, run_models, run_one, GroupSetup, Outcome, Outcomes, Setup, StageRuns};
-pub use stages::{analyze, analyze_with};
+pub use stages::{analyze, analyze_held, analyze_with};
 pub use store::{RunStore, StoreError};
 pub use synthesize::{
     master_seed as synthetic_master_seed, observables_of as synthetic_observables, synthesize,
@@ -134,6 +136,14 @@ pub enum DiscrepancyError {
         specimen: String,
         /// Its tilt, degrees.
         tilt_deg: f64,
+    },
+    /// A reading the fit does not hold ([`HeldReading`]) could not be made.
+    #[error("the {reading}: {message}")]
+    Held {
+        /// The reading (`loops`).
+        reading: String,
+        /// What went wrong, naming the file or run.
+        message: String,
     },
     /// An observable the setup's protocol does not give (a collapse angle or a mechanism
     /// under the lateral load).
@@ -266,4 +276,23 @@ pub fn run_with(
 ) -> Result<Run, DiscrepancyError> {
     let prepared = prepare_with(setup, &obs, s, library, progress)?;
     analyze_with(&prepared, obs, seed, progress)
+}
+
+/// [`run_with`] with a reading the fit does not hold ([`HeldReading`]: the in-plane test's
+/// cyclic loops), asked of each candidate before it is confirmed or named; a candidate it
+/// refutes is not named ([`Refutation`]).
+///
+/// # Errors
+/// As [`run`], and the held reading's own ([`DiscrepancyError::Held`]).
+pub fn run_held(
+    setup: &Setup,
+    obs: Vec<Observation>,
+    s: &Settings,
+    seed: u64,
+    library: &effects::Library,
+    held: Option<&dyn HeldReading>,
+    progress: Progress<'_>,
+) -> Result<Run, DiscrepancyError> {
+    let prepared = prepare_with(setup, &obs, s, library, progress)?;
+    analyze_held(&prepared, obs, seed, held, progress)
 }

@@ -162,6 +162,7 @@ pub fn report_json(run: &Run) -> Value {
         "cause": cause,
         "partial": a.verdict == super::analysis::Verdict::Unexplained && a.cause.is_some(),
         "systematic_misfit": a.systematic,
+        "refuted": a.refuted,
         "check": a.check,
         "design": run.design,
         "cause_interval": run.cause_interval,
@@ -267,6 +268,18 @@ fn verdict_section(md: &mut String, run: &Run) {
         (None, _, _) => format!("**{}**", a.verdict.name()),
     };
     let _ = writeln!(md, "Verdict: {verdict}.\n");
+    if !a.refuted.is_empty() {
+        let _ = writeln!(
+            md,
+            "Refuted by a reading, and so neither confirmed, named nor in the tie (a candidate that predicts one reading worse than the baseline by more than {} nats, a likelihood ratio of 20, and beyond {} standard errors over the specimens; a held reading by its own statistic):\n",
+            super::REFUTE_NATS,
+            super::REFUTE_Z
+        );
+        for f in &a.refuted {
+            let _ = writeln!(md, "- `{}`, by the {}: {}", f.candidate, f.reading, f.words);
+        }
+        md.push('\n');
+    }
     match (a.named_alone(), &a.cause) {
         (Some(c), _) => {
             let _ = writeln!(md, "Named alone: `{c}` (the tie check clears every challenger; the one meaning of \"named alone\", which `drystone design` predicts).\n");

@@ -28,6 +28,7 @@ use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
 use super::progress::{quiet, Progress};
+use super::refute::{HeldReading, Refutation};
 use super::simulate::{forward_runs, run_models, Outcome, Setup, StageRuns};
 use super::DiscrepancyError;
 
@@ -48,8 +49,23 @@ pub fn analyze(prep: &Prepared, obs: Vec<Observation>, seed: u64) -> Result<Run,
 /// As [`analyze`].
 pub fn analyze_with(
     prep: &Prepared,
+    obs: Vec<Observation>,
+    seed: u64,
+    progress: Progress<'_>,
+) -> Result<Run, DiscrepancyError> {
+    analyze_held(prep, obs, seed, None, progress)
+}
+
+/// [`analyze_with`] with a reading the fit does not hold (`held`, [`HeldReading`]), asked
+/// of each candidate that may be named before it is confirmed or named ([`Gate`]).
+///
+/// # Errors
+/// As [`analyze`], and the held reading's ([`DiscrepancyError::Held`]).
+pub fn analyze_held(
+    prep: &Prepared,
     mut obs: Vec<Observation>,
     seed: u64,
+    held: Option<&dyn HeldReading>,
     progress: Progress<'_>,
 ) -> Result<Run, DiscrepancyError> {
     let (setup, s, lib) = (&prep.setup, &prep.settings, &prep.library);
@@ -93,7 +109,16 @@ pub fn analyze_with(
         seed,
         prep,
     };
-    let runs = if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, progress)? } else { vec![] };
+    let gate = Gate {
+        base_scores: &screening.base_scores,
+        can_name: screening.base_he - margins.baseline,
+        held,
+        course_m: ctx.course_m,
+        judged: std::cell::RefCell::new(vec![]),
+        found: std::cell::RefCell::new(vec![]),
+    };
+    let runs =
+        if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, &gate, progress)? } else { vec![] };
     let candidates: Vec<Ranked> = ranked;
     // A misfit of one sign in every group is a bias: a spread alone cannot explain it.
     let systematic = super::systematic::systematic_misfit(data, &lib.baseline);
@@ -104,9 +129,25 @@ pub fn analyze_with(
             r.confirmed || !s.confirm
         }
     };
-    let named = name_cause(&candidates, eligible, &screening, margins.baseline);
+    let refuted = |r: &Ranked| gate.refuted(r, &pool[r.index], data, progress).map(|f| f.is_some());
+    let named = name_cause(&candidates, eligible, &screening, margins.baseline, refuted)?;
     let found = match &named {
-        Some(b) => examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?,
+        Some(b) => {
+            let mut f = examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?;
+            // A model a reading refutes is told from the cause by that reading: not in its tie.
+            let mut members = vec![];
+            for m in std::mem::take(&mut f.tie.members) {
+                let out = match candidates.iter().find(|r| r.name == m && m != b.name) {
+                    Some(r) => refuted(r)?,
+                    None => false,
+                };
+                if !out {
+                    members.push(m);
+                }
+            }
+            f.tie.members = members;
+            f
+        }
         None => Findings {
             check: predictive_check(data, &lib.baseline, &specimens, null_source, s.check_replicates, seed, &labels),
             passes: false,
@@ -128,6 +169,7 @@ pub fn analyze_with(
     let cause_interval = named.as_ref().map_or(vec![], |b| fitted_parameters(b, &pool[b.index], data));
     let (weights, identifiability) =
         weigh(data, &specimens, &screening.base_scores, &candidates, &pool, &lib.baseline, &labels, s.bootstrap, seed);
+    let refuted = gate.found.into_inner();
     let analysis = Analysis {
         verdict,
         cause: named,
@@ -146,6 +188,7 @@ pub fn analyze_with(
         forward_runs: stage_runs,
         pool,
         systematic,
+        refuted,
     };
     Ok(Run {
         obs,
@@ -390,10 +433,96 @@ struct Confirmation {
     outcomes: Vec<Vec<Outcome>>,
 }
 
-/// The candidates a confirmation round runs: of the two best, those not yet confirmed and
-/// not the scatter hypothesis (which has no model to run), by pool index.
-fn to_confirm(ranked: &[Ranked], is_scatter: impl Fn(usize) -> bool) -> Vec<usize> {
-    ranked.iter().take(2).filter(|r| !r.confirmed && !is_scatter(r.index)).map(|r| r.index).collect()
+/// The candidates a confirmation round runs: of the two best that no reading refutes
+/// (`refuted`, asked in the ranking's order until two are found), those not yet confirmed
+/// and not the scatter hypothesis (which has no model to run), by pool index.
+///
+/// # Errors
+/// Those of `refuted`.
+fn to_confirm<E>(
+    ranked: &[Ranked],
+    is_scatter: impl Fn(usize) -> bool,
+    mut refuted: impl FnMut(&Ranked) -> Result<bool, E>,
+) -> Result<Vec<usize>, E> {
+    let mut best = Vec::with_capacity(2);
+    for r in ranked {
+        if best.len() == 2 {
+            break;
+        }
+        if !refuted(r)? {
+            best.push(r);
+        }
+    }
+    Ok(best.into_iter().filter(|r| !r.confirmed && !is_scatter(r.index)).map(|r| r.index).collect())
+}
+
+/// The readings asked of a candidate before it is confirmed by a full run and before it is
+/// named ([`super::refute`]): the readings of the fit (the candidate's held-out scores
+/// against the baseline's, [`super::refute::in_fit`]) and, for a candidate that may be
+/// named (its held-out error below `can_name`: the baseline's less the gain margin), the
+/// protocol's held reading at its fitted parameters, judged once per fit.
+struct Gate<'a> {
+    /// The baseline's score of every observation.
+    base_scores: &'a [f64],
+    /// The held-out error below which a candidate may be named.
+    can_name: f64,
+    /// The protocol's reading the fit does not hold.
+    held: Option<&'a dyn HeldReading>,
+    /// The walls' mean course height, m (the effects' parameters in courses).
+    course_m: f64,
+    /// The held reading's judgements: the candidate's name, its coordinates' bits and what
+    /// the reading said.
+    judged: std::cell::RefCell<Vec<(String, Vec<u64>, Option<Refutation>)>>,
+    /// The refutations of the candidates at their latest fit, in the order found.
+    found: std::cell::RefCell<Vec<Refutation>>,
+}
+
+impl Gate<'_> {
+    /// The reading that refutes `r` (the candidate `c` of the pool) at its current fit, if
+    /// one does; recorded in [`Gate::found`].
+    ///
+    /// # Errors
+    /// [`DiscrepancyError::Effect`] for effects that cannot take the fitted values, and the
+    /// held reading's.
+    fn refuted(
+        &self,
+        r: &Ranked,
+        c: &Candidate,
+        data: Data<'_>,
+        progress: Progress<'_>,
+    ) -> Result<Option<Refutation>, DiscrepancyError> {
+        let found = match super::refute::in_fit(r, self.base_scores, data) {
+            Some(f) => Some(f),
+            None => self.held_judgement(r, c, progress)?,
+        };
+        let mut all = self.found.borrow_mut();
+        all.retain(|f| f.candidate != r.name);
+        all.extend(found.clone());
+        Ok(found)
+    }
+
+    /// The held reading's judgement of `r` at its fitted coordinates (`None` without a held
+    /// reading, for the scatter hypothesis, which has no model to run, and for a candidate
+    /// that cannot be named).
+    fn held_judgement(
+        &self,
+        r: &Ranked,
+        c: &Candidate,
+        progress: Progress<'_>,
+    ) -> Result<Option<Refutation>, DiscrepancyError> {
+        let Some(held) = self.held else { return Ok(None) };
+        if c.is_scatter() || r.heldout_error >= self.can_name {
+            return Ok(None);
+        }
+        let bits: Vec<u64> = r.x.iter().map(|v| v.to_bits()).collect();
+        if let Some((_, _, j)) = self.judged.borrow().iter().find(|(n, b, _)| *n == r.name && *b == bits) {
+            return Ok(j.clone());
+        }
+        let effects = effects_of(c, &r.x, self.course_m)?;
+        let j = held.judge(&r.name, &r.parameters, &effects, progress)?;
+        self.judged.borrow_mut().push((r.name.clone(), bits, j.clone()));
+        Ok(j)
+    }
 }
 
 /// Stage 5, confirmation runs: up to three rounds in which the two best candidates not
@@ -408,11 +537,16 @@ fn confirm(
     base_per: &[f64],
     pool: &mut [Candidate],
     ranked: &mut [Ranked],
+    gate: &Gate<'_>,
     progress: Progress<'_>,
 ) -> Result<Vec<Confirmation>, DiscrepancyError> {
     let mut runs = Vec::new();
     for _round in 0..3 {
-        let todo = to_confirm(ranked, |i| pool[i].is_scatter());
+        let todo = to_confirm(
+            ranked,
+            |i| pool[i].is_scatter(),
+            |r| gate.refuted(r, &pool[r.index], ctx.data, progress).map(|f| f.is_some()),
+        )?;
         if todo.is_empty() {
             break;
         }
@@ -442,23 +576,33 @@ fn confirm(
 }
 
 /// Stage 6, the cause: the best candidate that may be named (`eligible`: confirmed by a
-/// full run, the scatter hypothesis, or any without confirmation runs), named when the
-/// screening's gain and its own gain on the baseline both exceed the gain margin and its
-/// AICc is below the baseline's. Re-scoring the best few by full runs and keeping the best
-/// is a selection the null calibration does not repeat, so it may veto an alarm, never
-/// raise one.
-fn name_cause(
+/// full run, the scatter hypothesis, or any without confirmation runs) and that no reading
+/// refutes (`refuted`, asked in the ranking's order), named when the screening's gain and
+/// its own gain on the baseline both exceed the gain margin and its AICc is below the
+/// baseline's. Re-scoring the best few by full runs and keeping the best is a selection the
+/// null calibration does not repeat, so it may veto an alarm, never raise one.
+///
+/// # Errors
+/// Those of `refuted`.
+fn name_cause<E>(
     ranked: &[Ranked],
     eligible: impl Fn(&Ranked) -> bool,
     screening: &Screening,
     gain_margin: f64,
-) -> Option<Ranked> {
-    let best = ranked.iter().find(|r| eligible(r)).cloned();
-    best.filter(|b| {
+    mut refuted: impl FnMut(&Ranked) -> Result<bool, E>,
+) -> Result<Option<Ranked>, E> {
+    let mut best = None;
+    for r in ranked.iter().filter(|r| eligible(r)) {
+        if !refuted(r)? {
+            best = Some(r.clone());
+            break;
+        }
+    }
+    Ok(best.filter(|b| {
         screening.screen_gain > gain_margin
             && screening.base_he - b.heldout_error > gain_margin
             && b.information_criterion < screening.base_ic
-    })
+    }))
 }
 
 /// The extended model of a named cause.

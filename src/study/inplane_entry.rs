@@ -5,7 +5,7 @@
 use super::inplane::{InPlaneStudyError, InPlaneStudyRun};
 use super::inplane_discrepancy::analysis_of;
 use super::inplane_run::{is_in_plane_shard, merge, run_study_into};
-use super::own::{OwnAnalysis, OwnCheck, OwnStudy, OwnStudyError, OwnStudyRun};
+use super::own::{OwnAnalysis, OwnStudy, OwnStudyError, OwnStudyRun};
 use std::path::Path;
 
 /// The in-plane test's study of its own, as `drystone run` and `drystone discrepancy` run
@@ -19,7 +19,7 @@ pub const STUDY: OwnStudy = OwnStudy {
     merge: own_merge,
     is_shard: is_in_plane_shard,
     analysis: own_analysis,
-    check: Some(own_check),
+    held: Some(own_held),
 };
 
 fn boxed(e: InPlaneStudyError) -> OwnStudyError {
@@ -52,43 +52,12 @@ fn own_analysis(path: &Path) -> Result<OwnAnalysis, OwnStudyError> {
     analysis_of(path).map_err(boxed)
 }
 
-/// The cyclic loops of the baseline and the tie ([`super::inplane_loops::check_loops`]).
-fn own_check(
+/// The cyclic loops, the reading the analysis's fit does not hold
+/// ([`super::inplane_loops::LoopsReading`]).
+fn own_held(
     path: &Path,
     input: &OwnAnalysis,
-    run: &crate::discrepancy::Run,
-    progress: crate::discrepancy::Progress<'_>,
-) -> Result<Option<OwnCheck>, OwnStudyError> {
-    let Some(l) = super::inplane_loops::check_loops(path, input, run, progress).map_err(boxed)? else {
-        return Ok(None);
-    };
-    let mut summary =
-        vec!["the cyclic loops (a reading the fit did not use): the loops' damping ratio, χ² over the stresses"
-            .to_string()];
-    for m in &l.models {
-        let read = m
-            .friction_read
-            .map(|f| format!("  μ_r read {:.4} [{:.4}, {:.4}], χ² {:.1}", f.friction, f.low, f.high, f.chi2))
-            .unwrap_or_default();
-        let peaks =
-            m.peaks.as_ref().map(|p| format!("; held-out error with it {:.2}", p.heldout_error)).unwrap_or_default();
-        summary.push(format!(
-            "  {:<36} χ² {:>8.1}  p {:.2e}  {}{read}{peaks}",
-            m.name,
-            m.chi2,
-            m.p_value,
-            m.verdict.words()
-        ));
-    }
-    if let Some((m, p)) = l.standing().first().and_then(|m| m.peaks.as_ref().map(|p| (m, p))) {
-        summary.push(format!(
-            "  both readings leave standing: {} with μ_r {:.4} held, held-out error {:.2} (baseline {:.2})",
-            m.name,
-            m.friction_read.map_or(f64::NAN, |f| f.friction),
-            p.heldout_error,
-            l.baseline_heldout_error
-        ));
-    }
-    let json = serde_json::to_value(&l).map_err(|e| OwnStudyError(Box::new(e)))?;
-    Ok(Some(OwnCheck { key: "loops", markdown: l.markdown(), json, summary }))
+) -> Result<Option<Box<dyn crate::discrepancy::HeldReading>>, OwnStudyError> {
+    let reading = super::inplane_loops::LoopsReading::of(path, input).map_err(boxed)?;
+    Ok(reading.map(|r| Box::new(r) as Box<dyn crate::discrepancy::HeldReading>))
 }

@@ -1,5 +1,6 @@
-//! The loops of the cyclic specimens, a reading the in-plane analysis does not fit, as a
-//! check of its leading models (`drystone discrepancy` on an in-plane study).
+//! The loops of the cyclic specimens, a reading the in-plane analysis does not fit: asked of
+//! each candidate before it is named, and reported for the baseline and the leading models
+//! (`drystone discrepancy` on an in-plane study).
 //!
 //! The analysis fits each specimen's first direction pushed monotonically
 //! ([`super::inplane_discrepancy`]); the whole cyclic curves the database holds are left
@@ -10,8 +11,9 @@
 //! viscous damping ratio ([`crate::loading::inplane_loops`]) over the cycles of at least
 //! [`LOOP_MIN_DRIFT_PCT`] % drift.
 //!
-//! Each model checked (the baseline and the models in the analysis's tie, at their
-//! parameters fitted to all the data) is run cyclic at each stress of the study's cyclic
+//! Each model checked (the baseline, every candidate that may be named, asked before it
+//! is confirmed or named, and the models in the analysis's tie, at their parameters fitted
+//! to all the data) is run cyclic at each stress of the study's cyclic
 //! specimens, on the analysis's own layouts of that group (`effects::realize`, the group's
 //! effects and the model's): each specimen whose curve is read on its own history, its
 //! turning points replayed in the order the laboratory ran them
@@ -29,7 +31,14 @@
 //! A group with no measured or no simulated cycle of at least the minimum drift (a history
 //! that stops below it) has no `z` and is left out of the sum; a model with no group read
 //! is not read ([`LoopVerdict::NotRead`]), which is never a refutation.
-//! Nothing of the check enters the analysis's ranking: it is reported beside it.
+//!
+//! **A reading that refutes.** The loops are the analysis's held reading
+//! ([`LoopsReading`], [`crate::discrepancy::HeldReading`]): a candidate whose χ² fails
+//! (p < 0.05) and exceeds the baseline's by more than `2 ×`
+//! [`crate::discrepancy::REFUTE_NATS`] (a likelihood ratio of 20 against it) is refuted by
+//! them, and the analysis names the best candidate they do not refute. A model that fails
+//! the loops no worse than the baseline is not refuted: the loops are then a misfit it
+//! leaves, as the baseline does.
 //!
 //! **The friction the loops read.** A bearing's friction acts on the readings only (the
 //! beam's motion is imposed), so each run's curve of the wall's own shear
@@ -240,12 +249,14 @@ impl LoopCheck {
     /// The report's section (Markdown).
     pub fn markdown(&self) -> String {
         let mut md = String::new();
-        let _ = writeln!(md, "## The cyclic loops: a reading the fit did not use\n");
+        let _ = writeln!(md, "## The cyclic loops: a reading the fit does not hold\n");
         let _ = writeln!(
             md,
             "The loops' equivalent viscous damping ratio ξ_eq = E_d / (4π E_s), the median over the cycles of at \
              least {} % drift, of each cyclic specimen's whole measured curve and of each model run cyclic at its \
-             fitted parameters, {} ({} runs). A friction against the motion \
+             fitted parameters, {} ({} runs): the baseline, every candidate asked before it could be named and the \
+             models of the tie. A model whose χ² fails (p < 0.05) and exceeds the baseline's by more than {} is \
+             refuted by the loops and not named (the verdict's list of refuted candidates). A friction against the motion \
              (`rig_friction`) dissipates `4 μ_r N a` a cycle, a force of the displacement alone (`jack_tilt`, the \
              joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
              over the standard errors (the specimens' spread σ = {:.4}, pooled); a model fits the loops when Σ z² is \
@@ -255,6 +266,7 @@ impl LoopCheck {
             self.min_drift_pct,
             self.histories_run(),
             self.runs,
+            2.0 * crate::discrepancy::REFUTE_NATS,
             self.measured_sigma
         );
         let Some(first) = self.models.first() else {
@@ -399,37 +411,206 @@ fn median(x: &[f64]) -> f64 {
     crate::stats::quantile(&finite(x), 0.5)
 }
 
-/// The check of the loops (module documentation) of the baseline and the models in `run`'s
-/// tie, for the in-plane study `path` analysed as `input`; `None` when the study has no
-/// cyclic specimen with a measured curve (`[measured] curves`).
-///
-/// # Errors
-/// The study or its measured files unreadable (named), a fitted parameter refused.
-pub fn check_loops(
-    path: &Path,
-    input: &OwnAnalysis,
-    run: &Run,
-    progress: crate::discrepancy::Progress<'_>,
-) -> Result<Option<LoopCheck>, InPlaneStudyError> {
-    let Some((groups, test)) = measured_loops(path, input)? else {
-        return Ok(None);
-    };
-    // The models: the baseline, then the tie.
-    let course_m = crate::discrepancy::course_height(&input.setup);
-    let mut models: Vec<LoopCandidate> = vec![("baseline".into(), vec![], vec![])];
-    for name in &run.analysis.tie {
-        let effects = run
-            .fitted_effects(name, course_m)
-            .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
-        let Some(effects) = effects else { continue };
-        let parameters =
-            run.analysis.candidates.iter().find(|r| &r.name == name).map(|r| r.parameters.clone()).unwrap_or_default();
-        models.push((name.clone(), parameters, effects));
+/// The cyclic loops as the analysis's held reading ([`crate::discrepancy::HeldReading`]):
+/// asked of each candidate that may be named before it is confirmed or named (a model whose
+/// loops' χ² fails, p < 0.05, and exceeds the baseline's by more than `2 ×`
+/// [`crate::discrepancy::REFUTE_NATS`] is refuted by them), and reported after the analysis
+/// for the baseline, every model it judged and the models of the tie (module
+/// documentation). Each model's loops are run once (by its name and parameters).
+pub struct LoopsReading {
+    /// The analysis's groups, solver and seed.
+    setup: crate::discrepancy::Setup,
+    /// The measured groups.
+    groups: Vec<MeasuredLoops>,
+    /// The study's test (its history, shear span, solver settings), at each group's σ0.
+    test: InPlaneParams,
+    /// The walls' mean course height, m.
+    course_m: f64,
+    /// The models checked, in the order first asked: name, parameters' bits and the check of
+    /// that model alone.
+    checked: std::sync::Mutex<Vec<(String, Vec<u64>, LoopCheck)>>,
+}
+
+/// The baseline's entry in the check.
+fn baseline_candidate() -> LoopCandidate {
+    ("baseline".into(), vec![], vec![])
+}
+
+impl LoopsReading {
+    /// The loops of the in-plane study `path` analysed as `input`; `None` when the study has
+    /// no cyclic specimen with a measured curve (`[measured] curves`).
+    ///
+    /// # Errors
+    /// The study or its measured files unreadable (named).
+    pub fn of(path: &Path, input: &OwnAnalysis) -> Result<Option<LoopsReading>, InPlaneStudyError> {
+        let Some((groups, test)) = measured_loops(path, input)? else {
+            return Ok(None);
+        };
+        Ok(Some(LoopsReading {
+            course_m: crate::discrepancy::course_height(&input.setup),
+            setup: input.setup.clone(),
+            groups,
+            test,
+            checked: std::sync::Mutex::new(vec![]),
+        }))
     }
-    let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, ..test.clone() };
-    let mut check = check_models(&input.setup, &params, &groups, &models, progress)?;
-    refit_peaks(&mut check, run);
-    Ok(Some(check))
+
+    /// The check of one model, run once.
+    fn model(
+        &self,
+        m: &LoopCandidate,
+        progress: crate::discrepancy::Progress<'_>,
+    ) -> Result<LoopCheck, InPlaneStudyError> {
+        let bits: Vec<u64> = m.1.iter().map(|(_, v)| v.to_bits()).collect();
+        let lock = || self.checked.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, _, c)) = lock().iter().find(|(n, b, _)| *n == m.0 && *b == bits) {
+            return Ok(c.clone());
+        }
+        let params = |sigma0_mpa: f64| InPlaneParams { sigma0_mpa, ..self.test.clone() };
+        let c = check_models(&self.setup, &params, &self.groups, std::slice::from_ref(m), progress)?;
+        lock().push((m.0.clone(), bits, c.clone()));
+        Ok(c)
+    }
+
+    fn held_error(e: InPlaneStudyError) -> crate::discrepancy::DiscrepancyError {
+        crate::discrepancy::DiscrepancyError::Held { reading: "cyclic loops".into(), message: e.to_string() }
+    }
+
+    /// The check of the baseline, every model judged (at its latest parameters) and the
+    /// models of `run`'s tie, with the peaks refit at the friction each model's loops read
+    /// ([`refit_peaks`]).
+    ///
+    /// # Errors
+    /// A fitted parameter refused, a run's layout not made.
+    pub fn check(&self, run: &Run, progress: crate::discrepancy::Progress<'_>) -> Result<LoopCheck, InPlaneStudyError> {
+        let mut models: Vec<LoopCandidate> = vec![baseline_candidate()];
+        let judged: Vec<String> = {
+            let all = self.checked.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            let mut names: Vec<String> = vec![];
+            for (n, _, _) in all.iter() {
+                if n != "baseline" && !names.contains(n) {
+                    names.push(n.clone());
+                }
+            }
+            names
+        };
+        for name in judged.iter().chain(run.analysis.tie.iter().filter(|t| !judged.contains(t))) {
+            let effects = run
+                .fitted_effects(name, self.course_m)
+                .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
+            let Some(effects) = effects else { continue };
+            let parameters = run
+                .analysis
+                .candidates
+                .iter()
+                .find(|r| &r.name == name)
+                .map(|r| r.parameters.clone())
+                .unwrap_or_default();
+            models.push((name.clone(), parameters, effects));
+        }
+        let checks: Vec<LoopCheck> = models.iter().map(|m| self.model(m, progress)).collect::<Result<_, _>>()?;
+        let runs =
+            self.checked.lock().unwrap_or_else(std::sync::PoisonError::into_inner).iter().map(|c| c.2.runs).sum();
+        let first = &checks[0];
+        let mut check = LoopCheck {
+            min_drift_pct: first.min_drift_pct,
+            measured_sigma: first.measured_sigma,
+            models: checks.iter().flat_map(|c| c.models.first().cloned()).collect(),
+            runs,
+            own_histories: first.own_histories,
+            baseline_heldout_error: f64::NAN,
+            cause: None,
+        };
+        refit_peaks(&mut check, run);
+        Ok(check)
+    }
+
+    /// The lines the command prints of `check`.
+    pub fn summary(check: &LoopCheck) -> Vec<String> {
+        let mut summary =
+            vec!["the cyclic loops (a reading the fit does not hold): the loops' damping ratio, χ² over the stresses"
+                .to_string()];
+        for m in &check.models {
+            let read = m
+                .friction_read
+                .map(|f| format!("  μ_r read {:.4} [{:.4}, {:.4}], χ² {:.1}", f.friction, f.low, f.high, f.chi2))
+                .unwrap_or_default();
+            let peaks = m
+                .peaks
+                .as_ref()
+                .map(|p| format!("; held-out error with it {:.2}", p.heldout_error))
+                .unwrap_or_default();
+            summary.push(format!(
+                "  {:<36} χ² {:>8.1}  p {:.2e}  {}{read}{peaks}",
+                m.name,
+                m.chi2,
+                m.p_value,
+                m.verdict.words()
+            ));
+        }
+        if let Some((m, p)) = check.standing().first().and_then(|m| m.peaks.as_ref().map(|p| (m, p))) {
+            summary.push(format!(
+                "  both readings leave standing: {} with μ_r {:.4} held, held-out error {:.2} (baseline {:.2})",
+                m.name,
+                m.friction_read.map_or(f64::NAN, |f| f.friction),
+                p.heldout_error,
+                check.baseline_heldout_error
+            ));
+        }
+        summary
+    }
+}
+
+impl crate::discrepancy::HeldReading for LoopsReading {
+    fn name(&self) -> &str {
+        "loops"
+    }
+
+    fn judge(
+        &self,
+        name: &str,
+        parameters: &[(String, f64)],
+        effects: &[Effect],
+        progress: crate::discrepancy::Progress<'_>,
+    ) -> Result<Option<crate::discrepancy::Refutation>, crate::discrepancy::DiscrepancyError> {
+        progress(&format!("the cyclic loops of {name}, before it may be named"));
+        let base = self.model(&baseline_candidate(), progress).map_err(Self::held_error)?;
+        let m = self
+            .model(&(name.to_string(), parameters.to_vec(), effects.to_vec()), progress)
+            .map_err(Self::held_error)?;
+        let (Some(b), Some(m)) = (base.models.first(), m.models.first()) else { return Ok(None) };
+        // A baseline with nothing read is no yardstick: its χ² counts as 0.
+        let base_chi2 = if b.chi2.is_finite() { b.chi2 } else { 0.0 };
+        let excess = m.chi2 - base_chi2;
+        let read = m.groups.iter().filter(|g| g.z.is_finite()).count();
+        Ok((m.p_value < 0.05 && excess > 2.0 * crate::discrepancy::REFUTE_NATS).then(|| {
+            crate::discrepancy::Refutation {
+                candidate: name.to_string(),
+                reading: "loops".into(),
+                nats: excess / 2.0,
+                words: format!(
+                    "the cyclic loops' damping ratio: χ² {:.1} (p {:.1e}) over {read} stresses against the baseline's {:.1}",
+                    m.chi2, m.p_value, base_chi2
+                ),
+            }
+        }))
+    }
+
+    fn report(
+        &self,
+        run: &Run,
+        progress: crate::discrepancy::Progress<'_>,
+    ) -> Result<Option<crate::discrepancy::HeldReport>, crate::discrepancy::DiscrepancyError> {
+        let check = self.check(run, progress).map_err(Self::held_error)?;
+        let json =
+            serde_json::to_value(&check).map_err(|e| Self::held_error(InPlaneStudyError::Write(e.to_string())))?;
+        Ok(Some(crate::discrepancy::HeldReport {
+            key: "loops",
+            markdown: check.markdown(),
+            summary: Self::summary(&check),
+            json,
+        }))
+    }
 }
 
 /// Refits each model of `check` with a friction read to `run`'s observations with the

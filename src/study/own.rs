@@ -45,29 +45,11 @@ pub struct OwnAnalysis {
     pub library: crate::effects::Library,
 }
 
-/// A check of a study of its own that `drystone discrepancy` runs after the analysis, on
-/// readings the fit did not use (the in-plane test's cyclic loops): its report section, its
-/// JSON and the lines the command prints.
-#[derive(Debug, Clone)]
-pub struct OwnCheck {
-    /// Its output file's name (`loops.json`) and its key in the command's JSON (`loops`).
-    pub key: &'static str,
-    /// Its section of the report (Markdown, appended to `discrepancy.md`).
-    pub markdown: String,
-    /// What it found, as JSON (the file `<key>.json` and the key of `--json`'s object).
-    pub json: serde_json::Value,
-    /// The lines the command prints after its summary.
-    pub summary: Vec<String>,
-}
-
-/// The post-analysis check of a study of its own: the study file, its analysis input and
-/// the analysis's run, and the progress lines; `None` when the study has nothing to check.
-pub type OwnCheckFn = fn(
-    &Path,
-    &OwnAnalysis,
-    &crate::discrepancy::Run,
-    crate::discrepancy::Progress<'_>,
-) -> Result<Option<OwnCheck>, OwnStudyError>;
+/// The reading of a study of its own that its fit does not hold (the in-plane test's cyclic
+/// loops), for the study file and its analysis input: asked of each candidate before it is
+/// named and reported after the analysis ([`crate::discrepancy::HeldReading`]); `None` when
+/// the study has nothing to read.
+pub type HeldFn = fn(&Path, &OwnAnalysis) -> Result<Option<Box<dyn crate::discrepancy::HeldReading>>, OwnStudyError>;
 
 /// A protocol's study of its own: what the command line needs to run and analyse it.
 #[derive(Debug, Clone, Copy)]
@@ -90,8 +72,8 @@ pub struct OwnStudy {
     pub is_shard: fn(&Path) -> bool,
     /// Reads the study of a file for its discrepancy analysis.
     pub analysis: fn(&Path) -> Result<OwnAnalysis, OwnStudyError>,
-    /// Its check after the analysis ([`OwnCheck`]), if it has one.
-    pub check: Option<OwnCheckFn>,
+    /// Its reading the fit does not hold ([`HeldFn`]), if it has one.
+    pub held: Option<HeldFn>,
 }
 
 /// The kind a study file names (`protocol = "..."`); `None` for a file that cannot be read,

@@ -114,10 +114,10 @@ fn ranking_orders_by_heldout_error_then_pool_order_and_admits_pairs_that_beat_th
 #[test]
 fn a_confirmation_round_runs_the_two_best_unconfirmed_mechanisms() {
     let mut r = vec![ranked("a", 4, 0.5, 0.0), ranked("scatter", 7, 0.6, 0.0), ranked("c", 2, 0.7, 0.0)];
-    assert_eq!(to_confirm(&r, |i| i == 7), vec![4]);
+    assert_eq!(to_confirm(&r, |i| i == 7, |_| Ok::<bool, ()>(false)).unwrap(), vec![4]);
     r[0].confirmed = true;
-    assert_eq!(to_confirm(&r, |i| i == 7), Vec::<usize>::new());
-    assert_eq!(to_confirm(&r, |_| false), vec![7]);
+    assert_eq!(to_confirm(&r, |i| i == 7, |_| Ok::<bool, ()>(false)).unwrap(), Vec::<usize>::new());
+    assert_eq!(to_confirm(&r, |_| false, |_| Ok::<bool, ()>(false)).unwrap(), vec![7]);
 }
 
 /// With a gain margin of 0.3 and the baseline at held-out error 2.0, AICc 50: the best
@@ -132,14 +132,36 @@ fn a_cause_is_named_only_when_both_gains_clear_the_margin_and_its_aicc_the_basel
     second.confirmed = true;
     let r = vec![first, second];
     let eligible = |r: &Ranked| r.confirmed;
-    let named = name_cause(&r, eligible, &screening(2.0, 50.0, 0.5), 0.3);
+    let named = name_cause(&r, eligible, &screening(2.0, 50.0, 0.5), 0.3, |_| Ok::<bool, ()>(false)).unwrap();
     assert_eq!(named.map(|n| n.name), Some("confirmed".to_string()));
-    assert!(name_cause(&r, eligible, &screening(2.0, 50.0, 0.25), 0.3).is_none());
-    assert!(name_cause(&r, eligible, &screening(2.0, 50.0, 0.5), 0.45).is_none());
+    assert!(name_cause(&r, eligible, &screening(2.0, 50.0, 0.25), 0.3, |_| Ok::<bool, ()>(false)).unwrap().is_none());
+    assert!(name_cause(&r, eligible, &screening(2.0, 50.0, 0.5), 0.45, |_| Ok::<bool, ()>(false)).unwrap().is_none());
     let mut high_ic = r.clone();
     high_ic[1].information_criterion = 55.0;
-    assert!(name_cause(&high_ic, eligible, &screening(2.0, 50.0, 0.5), 0.3).is_none());
-    assert!(name_cause(&r, |_| false, &screening(2.0, 50.0, 0.5), 0.3).is_none());
+    assert!(name_cause(&high_ic, eligible, &screening(2.0, 50.0, 0.5), 0.3, |_| Ok::<bool, ()>(false))
+        .unwrap()
+        .is_none());
+    assert!(name_cause(&r, |_| false, &screening(2.0, 50.0, 0.5), 0.3, |_| Ok::<bool, ()>(false)).unwrap().is_none());
+}
+
+/// A candidate a reading refutes is passed over: the next eligible one is named, and a
+/// confirmation round runs the two best that no reading refutes.
+#[test]
+fn a_refuted_candidate_is_neither_confirmed_nor_named() {
+    let mut a = ranked("a", 0, 1.0, 10.0);
+    a.confirmed = true;
+    let mut b = ranked("b", 1, 1.2, 20.0);
+    b.confirmed = true;
+    let r = vec![a, b, ranked("c", 2, 1.4, 30.0), ranked("d", 3, 1.5, 30.0)];
+    let refutes_a = |x: &Ranked| Ok::<bool, ()>(x.name == "a");
+    let named = name_cause(&r, |r: &Ranked| r.confirmed, &screening(2.0, 50.0, 0.5), 0.3, refutes_a).unwrap();
+    assert_eq!(named.map(|n| n.name), Some("b".to_string()));
+    // Only the refuted one eligible: nothing is named.
+    let refutes_ab = |x: &Ranked| Ok::<bool, ()>(x.name == "a" || x.name == "b");
+    assert!(name_cause(&r, |r: &Ranked| r.confirmed, &screening(2.0, 50.0, 0.5), 0.3, refutes_ab).unwrap().is_none());
+    // The two best not refuted are b (confirmed) and c.
+    assert_eq!(to_confirm(&r, |_| false, refutes_a).unwrap(), vec![2]);
+    assert_eq!(to_confirm(&r, |_| false, refutes_ab).unwrap(), vec![2, 3]);
 }
 
 /// The tie of a cause with two challengers over four specimens (two observations each):
