@@ -4,7 +4,8 @@
 //! lateral load goes through the same protocol seam, and an analysis of its displacements
 //! finds a joint stiffness by the elastic 1/Kn scaling.
 
-use drystone::discrepancy::{analyze, prepare, run_models, DiscrepancyError, Measure, Observable, Observation};
+use drystone::discrepancy::{analyze, analyze_held, prepare, quiet, run_models, DiscrepancyError, HeldReading};
+use drystone::discrepancy::{Measure, Observable, Observation, Refutation};
 use drystone::discrepancy::{Reading, Settings, Simulated, Verdict};
 use drystone::ensemble::Shard;
 use drystone::study::discrepancy::setup_of;
@@ -57,6 +58,121 @@ fn lateral_study() -> Study {
     Study::from_file(&root.join("tests/studies/good/mini_lateral.toml")).unwrap()
 }
 
+/// The settings of the lateral-load analyses below (one realization, a grid of 4
+/// intervals, `kn_scale` alone), their setup, and the specimens of the `free` group at
+/// `scale` times the model's own displacement under the load (three specimens at 0.99, 1
+/// and 1.01 of it, σ 1 % of it): data made by scaling the baseline's reading by hand.
+fn lateral_analysis(study: &Study) -> (Settings, drystone::discrepancy::Setup, impl Fn(f64) -> Vec<Observation>) {
+    let s = Settings {
+        realizations: 1,
+        extension_realizations: 1,
+        null_realizations: 1,
+        grid_points: 4,
+        null_replicates: 40,
+        check_replicates: 40,
+        bootstrap: 100,
+        effects: vec!["kn_scale".into()],
+        scatter: false,
+        reading: Reading {
+            angle_deg: 0.5,
+            displacement_cm: 0.0,
+            misreading: 0.0,
+            neighbour_joint: 0.0,
+            ..Reading::default()
+        },
+        ..Settings::default()
+    };
+    let setup = setup_of(study, s.most_realizations());
+    let model = run_models(&setup, &[vec![]], None).remove(0);
+    let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 0.0 };
+    let free = study.groups.iter().position(|g| g.name == "free").unwrap();
+    let at_model = model[free][0].value(&ob).unwrap();
+    assert!(at_model > 0.01, "{at_model} cm");
+    let data = move |scale: f64| -> Vec<Observation> {
+        [0.99, 1.0, 1.01]
+            .iter()
+            .enumerate()
+            .map(|(i, f)| Observation {
+                specimen: format!("free{i}"),
+                group: "free".into(),
+                observable: ob,
+                value: scale * at_model * f,
+                sigma: 0.01 * at_model,
+            })
+            .collect()
+    };
+    (s, setup, data)
+}
+
+/// A reading the fit does not hold, made by hand: it refutes the candidates it is told to
+/// and records every candidate it is asked of, with its fitted parameters.
+struct HandReading {
+    refutes: &'static [&'static str],
+    asked: std::sync::Mutex<Vec<(String, Vec<(String, f64)>, usize)>>,
+}
+
+impl HeldReading for HandReading {
+    fn name(&self) -> &str {
+        "hand"
+    }
+    fn judge(
+        &self,
+        name: &str,
+        parameters: &[(String, f64)],
+        effects: &[drystone::effects::Effect],
+        _: drystone::discrepancy::Progress<'_>,
+    ) -> Result<Option<Refutation>, DiscrepancyError> {
+        self.asked.lock().unwrap().push((name.into(), parameters.to_vec(), effects.len()));
+        Ok(self.refutes.contains(&name).then(|| Refutation {
+            candidate: name.into(),
+            reading: "hand".into(),
+            nats: 10.0,
+            words: "refuted by hand".into(),
+        }))
+    }
+    fn report(
+        &self,
+        _: &drystone::discrepancy::Run,
+        _: drystone::discrepancy::Progress<'_>,
+    ) -> Result<Option<drystone::discrepancy::HeldReport>, DiscrepancyError> {
+        Ok(None)
+    }
+}
+
+/// A cause that a reading refutes is not named: on displacements three times the model's
+/// (where `kn_scale` near 1/3 is named, the test above), a held reading that refutes
+/// `kn_scale` leaves the baseline's misfit unexplained, with `kn_scale` listed as refuted
+/// and out of every confirmation; one that refutes nothing changes nothing. The reading is
+/// asked of the candidate at its fitted parameters, with its effects.
+#[test]
+fn a_cause_that_a_held_reading_refutes_is_not_named() {
+    let study = lateral_study();
+    let (s, setup, data) = lateral_analysis(&study);
+    let prep = prepare(&setup, &data(3.0), &s, &study.library).unwrap();
+    let plain = analyze(&prep, data(3.0), study.seed).unwrap();
+    let none = HandReading { refutes: &[], asked: Default::default() };
+    let held = analyze_held(&prep, data(3.0), study.seed, Some(&none), &quiet).unwrap();
+    assert_eq!(held.analysis.cause.as_ref().map(|c| &c.name), plain.analysis.cause.as_ref().map(|c| &c.name));
+    assert_eq!(held.analysis.verdict, plain.analysis.verdict);
+    assert!(held.analysis.refuted.is_empty());
+    let asked = none.asked.lock().unwrap().clone();
+    let cause = plain.analysis.cause.as_ref().expect("kn_scale named without the reading");
+    assert!(
+        asked.iter().any(|(n, p, e)| n == "kn_scale" && *p == cause.parameters && *e == 1),
+        "asked {asked:?}, fitted {:?}",
+        cause.parameters
+    );
+
+    let kn = HandReading { refutes: &["kn_scale"], asked: Default::default() };
+    let run = analyze_held(&prep, data(3.0), study.seed, Some(&kn), &quiet).unwrap();
+    let a = &run.analysis;
+    assert_eq!(a.cause, None, "named {:?}", a.cause.as_ref().map(|c| &c.name));
+    assert_eq!(a.verdict, Verdict::Unexplained);
+    assert_eq!(a.refuted.len(), 1, "{:?}", a.refuted);
+    assert_eq!((a.refuted[0].candidate.as_str(), a.refuted[0].reading.as_str()), ("kn_scale", "hand"));
+    assert!(a.candidates.iter().all(|c| !c.confirmed), "a refuted candidate is not confirmed");
+}
+
 /// The lateral load through the protocol seam: every group's outcome is one state at
 /// tilt 0 holding the top monitors' out-of-plane displacements under the load, the columns
 /// `lateral_disp_{left,centre,right}_cm` of `drystone run` on the same study (first sweep
@@ -94,44 +210,7 @@ fn the_lateral_load_gives_the_study_run_displacements_under_the_load() {
 #[test]
 fn an_analysis_of_lateral_displacements_finds_the_joint_stiffness_by_its_scaling() {
     let study = lateral_study();
-    let s = Settings {
-        realizations: 1,
-        extension_realizations: 1,
-        null_realizations: 1,
-        grid_points: 4,
-        null_replicates: 40,
-        check_replicates: 40,
-        bootstrap: 100,
-        effects: vec!["kn_scale".into()],
-        scatter: false,
-        reading: Reading {
-            angle_deg: 0.5,
-            displacement_cm: 0.0,
-            misreading: 0.0,
-            neighbour_joint: 0.0,
-            ..Reading::default()
-        },
-        ..Settings::default()
-    };
-    let setup = setup_of(&study, s.most_realizations());
-    let model = run_models(&setup, &[vec![]], None).remove(0);
-    let ob = Observable::Displacement { measure: Measure::MeanOfLeftCenterRight, tilt_deg: 0.0 };
-    let free = study.groups.iter().position(|g| g.name == "free").unwrap();
-    let at_model = model[free][0].value(&ob).unwrap();
-    assert!(at_model > 0.01, "{at_model} cm");
-    let data = |scale: f64| -> Vec<Observation> {
-        [0.99, 1.0, 1.01]
-            .iter()
-            .enumerate()
-            .map(|(i, f)| Observation {
-                specimen: format!("free{i}"),
-                group: "free".into(),
-                observable: ob,
-                value: scale * at_model * f,
-                sigma: 0.01 * at_model,
-            })
-            .collect()
-    };
+    let (s, setup, data) = lateral_analysis(&study);
     let prep = prepare(&setup, &data(3.0), &s, &study.library).unwrap();
     let run = analyze(&prep, data(3.0), study.seed).unwrap();
     let a = &run.analysis;
