@@ -160,6 +160,8 @@ pub(super) fn wall_of_survey(
         materials,
         base_sliding: spec.base,
         name: Some(name.to_string()),
+        max_hull_vertices: None,
+        full_hull: false,
     };
     let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
     let named = |k: &str| match k {
