@@ -182,7 +182,8 @@ fn within_budget(full: ConvexBlock, o: &ImportOptions) -> Result<(ConvexBlock, O
     if !(volume_change <= HULL_VOLUME_TOLERANCE) {
         return Err(format!(
             "its hull of {} vertices simplified to the budget of {budget} (--max-hull-vertices) leaves out {:.3} % of \
-             its volume, more than the {:.3} % allowed: raise --max-hull-vertices or keep the full hull with --full-hull",
+             its volume, more than the {:.3} % allowed: raise --max-hull-vertices or keep the full hull with --full-hull \
+             (in a study, the group's import.max_hull_vertices or import.full_hull)",
             s.full_vertices,
             100.0 * volume_change,
             100.0 * HULL_VOLUME_TOLERANCE

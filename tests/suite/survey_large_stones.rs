@@ -245,3 +245,51 @@ fn a_mesh_with_a_degenerate_or_a_duplicate_face_is_handled_as_before() {
         "{e}"
     );
 }
+
+/// A study's scanned group takes the budget in `[groups.import]`: a budget too small for
+/// the tolerance is refused when the study is read, naming the group's survey, the stone and
+/// the keys; `full_hull` keeps the full hull; both together, a budget below 4, or either on
+/// a traced elevation are refused naming the key.
+#[test]
+fn a_study_group_of_scanned_stones_takes_the_vertex_budget_in_its_import_table() {
+    use drystone::study::Study;
+    let dir = Scratch::created("large-sphere-study");
+    let (obj, _) = uv_sphere(40, 41, 0.15);
+    let sphere = write(&dir, "ball.obj", &obj);
+    let study = |name: &str, survey: &Path, extra: &str| {
+        let text = format!(
+            "version = 1\nname = \"{name}\"\nseed = 3\nrealizations = 1\nprotocol = \"tilt\"\n[solver]\nkind = \
+             \"limit\"\n[[groups]]\nname = \"ball\"\nsurvey = {:?}\n[groups.import]\ndensity = 2600\nkn = 1e10\n\
+             ks = 5e9\nfriction_deg = 35\n{extra}",
+            survey.display().to_string()
+        );
+        write(&dir, &format!("{name}.toml"), &text)
+    };
+    // 1,602 hull vertices: simplified to the default 1,000 within the tolerance.
+    let blocks = |s: &Study| {
+        let (_, layout) = drystone::effects::realize(&s.groups[0].walls[0], 3, 0, "ball", &[]).unwrap();
+        layout.blocks[0].shape.vertices.len()
+    };
+    let s = Study::from_file(&study("default", &sphere, "")).unwrap();
+    assert_eq!(blocks(&s), drystone::survey::DEFAULT_MAX_HULL_VERTICES);
+    let s = Study::from_file(&study("full", &sphere, "full_hull = true\n")).unwrap();
+    assert_eq!(blocks(&s), 2 + 40 * 40);
+    let e = Study::from_file(&study("small", &sphere, "max_hull_vertices = 60\n")).unwrap_err().to_string();
+    for part in ["groups[ball].survey", "ball.obj", "stone ball", "import.max_hull_vertices", "import.full_hull"] {
+        assert!(e.contains(part), "{part}: {e}");
+    }
+    for (extra, want) in [
+        ("max_hull_vertices = 3\n", "at least 4"),
+        ("max_hull_vertices = 500\nfull_hull = true\n", "exclude each other"),
+    ] {
+        let e = Study::from_file(&study("bad", &sphere, extra)).unwrap_err().to_string();
+        assert!(e.contains("groups[ball].import.max_hull_vertices") && e.contains(want), "{e}");
+    }
+    let svg = write(
+        &dir,
+        "one.svg",
+        "<svg xmlns=\"http://www.w3.org/2000/svg\"><rect id=\"s\" x=\"0\" y=\"0\" width=\"1\" height=\"1\"/></svg>",
+    );
+    let e = Study::from_file(&study("traced", &svg, "full_hull = true\n")).unwrap_err().to_string();
+    assert!(e.contains("groups[ball].import.full_hull") && e.contains("scanned stones"), "{e}");
+}
