@@ -47,6 +47,15 @@ pub struct ImportArgs {
     /// Scanned stones: the meshes have y up (default z up).
     #[arg(long)]
     y_up: bool,
+    /// Scanned stones: the most vertices a stone's hull keeps; a hull with more becomes the
+    /// hull of that many of its vertices, spread over it, and the volume it leaves out is
+    /// reported (refused above 1 % of the hull's, naming the stone) [default: 1000, for
+    /// contact detection's cost; see docs/survey.md].
+    #[arg(long)]
+    max_hull_vertices: Option<usize>,
+    /// Scanned stones: keep every stone's full hull, whatever its number of vertices.
+    #[arg(long, conflicts_with = "max_hull_vertices")]
+    full_hull: bool,
     /// Materials file (TOML: [[materials]] with the layout's keys, stone_material,
     /// table_material); or give one material by the four flags below.
     #[arg(long, conflicts_with_all = ["density", "kn", "ks", "friction_deg"])]
@@ -151,6 +160,8 @@ pub fn command(a: ImportArgs) -> Result<ExitCode> {
         materials: materials(&a)?,
         base_sliding: a.base,
         name: a.name.clone(),
+        max_hull_vertices: a.max_hull_vertices,
+        full_hull: a.full_hull,
     };
     if let Some(seed) = a.seed {
         return realization(&a, &options, seed);
@@ -221,6 +232,23 @@ fn summary(w: &ImportedWall) {
     }
     out!("wall length       {:.4} m", w.length_m);
     out!("wall height       {:.4} m", w.height_m);
+    let simplified: Vec<_> = w.stones.iter().filter_map(|s| s.simplified.map(|h| (s, h))).collect();
+    if !simplified.is_empty() {
+        out!(
+            "hulls simplified  {} to the vertex budget (--max-hull-vertices; --full-hull keeps them)",
+            simplified.len()
+        );
+        out!("{:<20} {:>14} {:>14} {:>14}", "stone", "full hull", "kept", "volume -%");
+        for (s, h) in simplified {
+            out!(
+                "{:<20} {:>14} {:>14} {:>14.4}",
+                s.id,
+                format!("{} vertices", h.full_vertices),
+                format!("{} vertices", h.kept_vertices),
+                100.0 * h.volume_change
+            );
+        }
+    }
     if hulled > 0 {
         let own = if meshes { "mesh m3" } else { "stone m3" };
         out!("{:<20} {:>14} {:>14} {:>9}", "stone", "hull m3", own, "added %");

@@ -16,6 +16,7 @@
 //! detection of the DEM works with true faces (3DEC's face–face, edge–face, vertex–face
 //! contacts, Cundall 1988; Hart, Cundall & Lemos 1988).
 
+pub mod hull;
 pub mod polygon;
 pub mod sat;
 pub mod sweep;
@@ -211,10 +212,31 @@ impl ConvexBlock {
             faces_out.push(Face { vertices: idx, normal: f.normal, offset: f.offset });
         }
         let block = ConvexBlock::from_parts(vertices, faces_out);
-        // Convexity of the input: every input vertex on the hull surface.
+        // Convexity of the input: every input vertex on the hull surface, its depth the
+        // smallest `offset − normal · v` over the faces. A vertex of the hull that is within
+        // the tolerance of one of its own faces passes without the others (the smallest over
+        // all faces is no larger); only the input's other points are measured against every
+        // face.
+        let deep = 1e-7 * size.max(1e-12);
+        let bits = |v: &Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+        let mut hull_keys: Vec<([u64; 3], usize)> =
+            block.vertices.iter().enumerate().map(|(i, v)| (bits(v), i)).collect();
+        hull_keys.sort_unstable();
+        let mut faces_at: Vec<Vec<usize>> = vec![Vec::new(); block.vertices.len()];
+        for (fi, f) in block.faces.iter().enumerate() {
+            for &i in &f.vertices {
+                faces_at[i].push(fi);
+            }
+        }
         for (i, v) in input.iter().enumerate() {
+            if let Ok(k) = hull_keys.binary_search_by(|e| e.0.cmp(&bits(v))) {
+                let own = &faces_at[hull_keys[k].1];
+                if own.iter().any(|&fi| block.faces[fi].offset - block.faces[fi].normal.dot(v) <= deep) {
+                    continue;
+                }
+            }
             let depth = block.signed_distance(v);
-            if depth > 1e-7 * size.max(1e-12) {
+            if depth > deep {
                 return Err(GeometryError::NotConvex { index: i, value: [v.x, v.y, v.z], depth_m: depth });
             }
         }
@@ -443,35 +465,10 @@ fn spans_volume(pts: &[Vec3], size: f64) -> bool {
     pts.iter().any(|p| nn.dot(&(p - p0)).abs() > 1e-7 * size)
 }
 
-/// Groups hull triangles into polygonal faces by plane, and orders each face's vertices
-/// counter-clockwise about the outward normal.
+/// Groups hull triangles into polygonal faces by plane ([`hull::coplanar_planes`]), and
+/// orders each face's vertices counter-clockwise about the outward normal.
 fn merge_coplanar(v: &[Vec3], tris: &[[u32; 3]], tol: f64) -> Result<Vec<Face>, GeometryError> {
-    let centre = v.iter().sum::<Vec3>() / v.len() as f64;
-    let mut faces: Vec<(Vec3, f64, Vec<usize>)> = Vec::new();
-    for t in tris {
-        let (a, b, c) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
-        let nrm = (b - a).cross(&(c - a));
-        if nrm.norm() == 0.0 {
-            continue;
-        }
-        let mut n = nrm.normalize();
-        if n.dot(&(a - centre)) < 0.0 {
-            n = -n;
-        }
-        let off = n.dot(&a);
-        if let Some(f) =
-            faces.iter_mut().find(|(fn_, fo, _)| fn_.dot(&n) > 1.0 - 1e-9 && (fo - off).abs() <= tol.max(1e-12) * 10.0)
-        {
-            for &i in t {
-                if !f.2.contains(&(i as usize)) {
-                    f.2.push(i as usize);
-                }
-            }
-        } else {
-            faces.push((n, off, t.iter().map(|&i| i as usize).collect()));
-        }
-    }
-    faces_from_planes(v, faces, tol)
+    faces_from_planes(v, hull::coplanar_planes(v, tris, tol), tol)
 }
 
 /// Supporting planes of a small point set by brute force: every plane through three points
@@ -504,25 +501,19 @@ fn brute_force_planes(v: &[Vec3], tol: f64) -> Vec<(Vec3, f64, Vec<usize>)> {
     planes
 }
 
-/// A hull is valid if every vertex lies behind every face (within `tol`) and it is a closed
-/// polyhedron: V − E + F = 2.
+/// A hull is valid if its faces bound a convex polyhedron within `tol` (m): a closed,
+/// consistently oriented topological sphere, locally convex at every edge and vertex
+/// ([`hull::is_convex_polyhedron`], which proves convexity without testing every vertex
+/// against every face), and the points of `vertices` no face uses (collinear or coplanar
+/// points the faces dropped) lie behind every face.
 fn hull_is_valid(vertices: &[Vec3], faces: &[Face], tol: f64) -> bool {
-    let behind = faces.iter().all(|f| vertices.iter().all(|p| f.normal.dot(p) <= f.offset + tol));
-    let mut edges: Vec<(usize, usize)> = faces
-        .iter()
-        .flat_map(|f| {
-            let n = f.vertices.len();
-            (0..n).map(move |k| {
-                let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
-                (a.min(b), a.max(b))
-            })
-        })
-        .collect();
-    let half_edges = edges.len();
-    edges.sort_unstable();
-    edges.dedup();
-    let used: std::collections::BTreeSet<usize> = faces.iter().flat_map(|f| f.vertices.iter().copied()).collect();
-    behind && half_edges == 2 * edges.len() && used.len() as i64 - edges.len() as i64 + faces.len() as i64 == 2
+    if !hull::is_convex_polyhedron(vertices, faces, tol) {
+        return false;
+    }
+    let mut used = vec![false; vertices.len()];
+    faces.iter().flat_map(|f| &f.vertices).for_each(|&i| used[i] = true);
+    let behind = |p: &Vec3| faces.iter().all(|f| f.normal.dot(p) <= f.offset + tol);
+    vertices.iter().zip(&used).all(|(p, &u)| u || behind(p))
 }
 
 fn faces_from_planes(v: &[Vec3], faces: Vec<(Vec3, f64, Vec<usize>)>, tol: f64) -> Result<Vec<Face>, GeometryError> {
@@ -696,5 +687,235 @@ mod tests {
                 assert!((f.normal.dot(q) - f.offset).abs() < 1e-12);
             }
         }
+    }
+
+    // ---- the local hull code against the global definitions ----
+
+    /// The definition the edge-adjacent merge must reproduce: each hull triangle searched
+    /// against every face already made (O(T²)).
+    fn merge_coplanar_by_search(v: &[Vec3], tris: &[[u32; 3]], tol: f64) -> Result<Vec<Face>, GeometryError> {
+        let centre = v.iter().sum::<Vec3>() / v.len() as f64;
+        let mut faces: Vec<(Vec3, f64, Vec<usize>)> = Vec::new();
+        for t in tris {
+            let (a, b, c) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+            let nrm = (b - a).cross(&(c - a));
+            if nrm.norm() == 0.0 {
+                continue;
+            }
+            let mut n = nrm.normalize();
+            if n.dot(&(a - centre)) < 0.0 {
+                n = -n;
+            }
+            let off = n.dot(&a);
+            if let Some(f) = faces
+                .iter_mut()
+                .find(|(fn_, fo, _)| fn_.dot(&n) > 1.0 - 1e-9 && (fo - off).abs() <= tol.max(1e-12) * 10.0)
+            {
+                for &i in t {
+                    if !f.2.contains(&(i as usize)) {
+                        f.2.push(i as usize);
+                    }
+                }
+            } else {
+                faces.push((n, off, t.iter().map(|&i| i as usize).collect()));
+            }
+        }
+        faces_from_planes(v, faces, tol)
+    }
+
+    /// The global definition of a valid hull the local proof must agree with: every vertex
+    /// behind every face (within `tol`, O(V·F)), each edge met twice, V − E + F = 2.
+    fn every_vertex_behind_every_face(vertices: &[Vec3], faces: &[Face], tol: f64) -> bool {
+        let behind = faces.iter().all(|f| vertices.iter().all(|p| f.normal.dot(p) <= f.offset + tol));
+        let mut edges: Vec<(usize, usize)> = faces
+            .iter()
+            .flat_map(|f| {
+                let n = f.vertices.len();
+                (0..n).map(move |k| {
+                    let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+                    (a.min(b), a.max(b))
+                })
+            })
+            .collect();
+        let half_edges = edges.len();
+        edges.sort_unstable();
+        edges.dedup();
+        let used: std::collections::BTreeSet<usize> = faces.iter().flat_map(|f| f.vertices.iter().copied()).collect();
+        behind && half_edges == 2 * edges.len() && used.len() as i64 - edges.len() as i64 + faces.len() as i64 == 2
+    }
+
+    /// Random point sets of the shapes the generator and the survey make: boxes cut by
+    /// random planes, points on a sphere, a cube with its faces gridded (many coplanar
+    /// triangles), slivers and near-duplicates.
+    fn differential_cases() -> Vec<Vec<Vec3>> {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+        let mut cases = Vec::new();
+        for _ in 0..300 {
+            let c = Vec3::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0), rng.random_range(0.0..3.0));
+            let e = Vec3::new(rng.random_range(0.05..0.6), rng.random_range(0.05..0.4), rng.random_range(0.03..0.3));
+            let mut pts: Vec<Vec3> = (0..8)
+                .map(|k| c + Vec3::new(e.x * (k & 1) as f64, e.y * ((k >> 1) & 1) as f64, e.z * ((k >> 2) & 1) as f64))
+                .collect();
+            for p in pts.iter_mut() {
+                *p += Vec3::new(rng.random_range(-0.2..0.2), 0.0, rng.random_range(-0.2..0.2)).component_mul(&e);
+            }
+            cases.push(pts.clone());
+            // A prism of a random convex section (the generator's extrusions).
+            let m = rng.random_range(3..9);
+            let sec: Vec<[f64; 2]> = (0..m)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * (k as f64 + rng.random_range(0.0..0.8)) / m as f64;
+                    [c.x + e.x * a.cos(), c.z + e.z * a.sin()]
+                })
+                .collect();
+            let (y0, y1) = (c.y - e.y, c.y + e.y * rng.random_range(0.2..1.0));
+            cases.push(sec.iter().flat_map(|q| [Vec3::new(q[0], y0, q[1]), Vec3::new(q[0], y1, q[1])]).collect());
+        }
+        for n in [20, 80, 300] {
+            let pts: Vec<Vec3> = (0..n)
+                .map(|_| {
+                    let v = Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    );
+                    v.normalize() * 0.2
+                })
+                .collect();
+            cases.push(pts);
+        }
+        let mut grid = Vec::new();
+        for i in 0..=4 {
+            for j in 0..=4 {
+                for k in 0..=4 {
+                    if [i, j, k].iter().any(|&x| x == 0 || x == 4) {
+                        grid.push(Vec3::new(i as f64 * 0.1, j as f64 * 0.07, k as f64 * 0.05));
+                    }
+                }
+            }
+        }
+        // The grid with noise below and about the merge tolerance (1e-9 of the size): near-
+        // coplanar triangles, points dropped from faces, points just outside a face.
+        for noise in [1e-12, 3e-10, 2e-9] {
+            let g = grid
+                .iter()
+                .map(|p| {
+                    p + Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
+                        * noise
+                })
+                .collect();
+            cases.push(g);
+        }
+        cases.push(grid);
+        // The sliver of `thin_sliver_gets_a_valid_hull_and_its_true_volume`, on which
+        // quickhull's triangles are inconsistent (both definitions must refuse them).
+        let sliver = [
+            (0.24980422391327317, 0.04531873824754805, 0.22501931971624725),
+            (0.24980422391327317, 0.04573339409453124, 0.22463118616890096),
+            (0.19620242069766625, 0.022864852626500776, 0.24603700544577842),
+        ];
+        cases.push(sliver.iter().flat_map(|&(x, z, hw)| [Vec3::new(x, -hw, z), Vec3::new(x, hw, z)]).collect());
+        cases
+    }
+
+    #[test]
+    fn edge_adjacent_merge_and_local_convexity_agree_with_the_global_definitions() {
+        let (mut compared, mut refused) = (0, 0);
+        for pts in differential_cases() {
+            let size = Aabb::from_points(&pts).extent().norm();
+            let pp: Vec<PVec> = pts.iter().map(to_p).collect();
+            let (hv, tris) = parry3d_f64::transformation::try_convex_hull(&pp).unwrap();
+            let hv: Vec<Vec3> = hv.iter().map(from_p).collect();
+            let tol = 1e-9 * size;
+            let new = merge_coplanar(&hv, &tris, tol);
+            let old = merge_coplanar_by_search(&hv, &tris, tol);
+            assert_eq!(new, old, "{pts:?}");
+            if let Ok(faces) = new {
+                for t in [1e-7 * size, 1e-12] {
+                    let valid = hull_is_valid(&hv, &faces, t);
+                    assert_eq!(valid, every_vertex_behind_every_face(&hv, &faces, t), "{pts:?}");
+                    refused += usize::from(!valid);
+                }
+                compared += 1;
+            }
+        }
+        assert!(compared > 500 && refused > 0, "{compared} {refused}");
+    }
+
+    #[test]
+    fn the_local_proof_refuses_a_valley_an_open_surface_a_turned_face_and_two_cubes() {
+        let cube = ConvexBlock::cuboid(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        assert!(hull_is_valid(&cube.vertices, &cube.faces, 1e-12));
+        // A valley roof: the cube's top replaced by two faces sloping down to a ridge at
+        // x = 0.5, z = 0.8 (a concave edge); every face planar, the surface a closed sphere.
+        let mut v: Vec<Vec3> = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.]]
+            .iter()
+            .chain(&[[1., 1., 1.], [0., 1., 1.], [0.5, 0., 0.8], [0.5, 1., 0.8]])
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .collect();
+        let centre = v.iter().sum::<Vec3>() / v.len() as f64;
+        let face = |v: &[Vec3], mut idx: Vec<usize>| {
+            // Newell's normal of the listed order, turned outwards.
+            let mut n = Vec3::zeros();
+            for k in 0..idx.len() {
+                let (a, b) = (v[idx[k]], v[idx[(k + 1) % idx.len()]]);
+                n += Vec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+            }
+            let c = idx.iter().map(|&i| v[i]).sum::<Vec3>() / idx.len() as f64;
+            if n.dot(&(c - centre)) < 0.0 {
+                n = -n;
+                idx.reverse();
+            }
+            let n = n.normalize();
+            Face { offset: n.dot(&v[idx[0]]), vertices: idx, normal: n }
+        };
+        let lists = [vec![0, 1, 2, 3], vec![0, 1, 5, 8, 4], vec![3, 2, 6, 9, 7], vec![0, 3, 7, 4], vec![1, 2, 6, 5]];
+        let mut faces: Vec<Face> = lists.iter().map(|l| face(&v, l.clone())).collect();
+        faces.push(face(&v, vec![4, 8, 9, 7]));
+        faces.push(face(&v, vec![8, 5, 6, 9]));
+        assert!(!hull_is_valid(&v, &faces, 1e-12));
+        assert!(!every_vertex_behind_every_face(&v, &faces, 1e-12));
+        // The same with the ridge raised to z = 1.2: a convex roof, accepted by both.
+        v[8].z = 1.2;
+        v[9].z = 1.2;
+        let faces: Vec<Face> =
+            lists.iter().chain(&[vec![4, 8, 9, 7], vec![8, 5, 6, 9]]).map(|l| face(&v, l.clone())).collect();
+        assert!(hull_is_valid(&v, &faces, 1e-12));
+        assert!(every_vertex_behind_every_face(&v, &faces, 1e-12));
+        // Open: a face left out.
+        assert!(!hull_is_valid(&cube.vertices, &cube.faces[1..], 1e-12));
+        // A face reversed: the orientation is not consistent.
+        let mut flipped = cube.faces.clone();
+        flipped[0].vertices.reverse();
+        assert!(!hull_is_valid(&cube.vertices, &flipped, 1e-12));
+        // Two disjoint cubes: V − E + F = 4.
+        let mut two_v = cube.vertices.clone();
+        two_v.extend(cube.vertices.iter().map(|v| v + Vec3::new(3.0, 0.0, 0.0)));
+        let mut two_f = cube.faces.clone();
+        two_f.extend(cube.faces.iter().map(|f| Face {
+            vertices: f.vertices.iter().map(|i| i + 8).collect(),
+            normal: f.normal,
+            offset: f.offset + 3.0 * f.normal.x,
+        }));
+        assert!(!hull_is_valid(&two_v, &two_f, 1e-12));
+    }
+
+    #[test]
+    fn a_spread_subsample_keeps_the_extremes_and_is_deterministic() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let pts: Vec<Vec3> = (0..2000)
+            .map(|_| Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-0.5..0.5), rng.random_range(-0.3..0.3)))
+            .collect();
+        let k = hull::spread_subsample(&pts, 100);
+        assert_eq!(k.len(), 100);
+        assert_eq!(k, hull::spread_subsample(&pts, 100));
+        assert!(k.windows(2).all(|w| w[0] < w[1]));
+        for axis in 0..3 {
+            let max = pts.iter().map(|p| p[axis]).fold(f64::NEG_INFINITY, f64::max);
+            assert!(k.iter().any(|&i| pts[i][axis] == max));
+        }
+        assert_eq!(hull::spread_subsample(&pts[..50], 100), (0..50).collect::<Vec<_>>());
     }
 }

@@ -10,8 +10,15 @@ use crate::math::Vec3;
 pub(super) fn check_convex(id: &str, given: &[Vec3], shape: &ConvexBlock) -> Result<(), LayoutError> {
     let size = shape.aabb().extent().norm();
     let tol = 1e-9 * size;
+    // The hull's vertices by x: only those within `tol` in x can be within `tol` of a given
+    // vertex (the window is twice that, clear of rounding), so each is looked up in
+    // O(log V) rather than against every hull vertex.
+    let mut by_x: Vec<&Vec3> = shape.vertices.iter().collect();
+    by_x.sort_unstable_by(|a, b| a.x.total_cmp(&b.x));
     for (i, v) in given.iter().enumerate() {
-        if !shape.vertices.iter().any(|h| (h - v).norm() <= tol) {
+        let from = by_x.partition_point(|h| h.x < v.x - 2.0 * tol);
+        let near = by_x[from..].iter().take_while(|h| h.x <= v.x + 2.0 * tol);
+        if !near.into_iter().any(|h| (*h - v).norm() <= tol) {
             return Err(LayoutError::NotConvex { id: id.to_owned(), index: i, vertex: [v.x, v.y, v.z] });
         }
     }
@@ -46,7 +53,8 @@ pub(super) fn check_overlaps(blocks: &[Block]) -> Result<(), LayoutError> {
 ///
 /// # Errors
 /// [`LayoutError::Invalid`] naming `blocks[ID].own_mass.KEY`: a value that is not finite, a
-/// volume not positive or larger than the hull's, a centroid outside the hull, an inertia
+/// volume not positive or larger than the hull's by more than
+/// [`super::SIMPLIFIED_HULL_VOLUME_TOLERANCE`] of itself, a centroid outside the hull, an inertia
 /// that is not symmetric or whose principal moments are not positive or break the triangle
 /// inequality.
 pub(super) fn check_own_mass(
@@ -59,9 +67,12 @@ pub(super) fn check_own_mass(
     if !(m.volume_m3.is_finite() && m.volume_m3 > 0.0) {
         return Err(super::invalid(key("volume_m3"), m.volume_m3, "must be a finite number > 0"));
     }
-    if m.volume_m3 > hull * (1.0 + 1e-9) {
-        let reason =
-            format!("exceeds the volume of the block's convex hull, {hull:e} m³: a solid lies inside its hull");
+    if m.volume_m3 * (1.0 - super::SIMPLIFIED_HULL_VOLUME_TOLERANCE) > hull * (1.0 + 1e-9) {
+        let reason = format!(
+            "exceeds the volume of the block's convex hull, {hull:e} m³, by more than {} % of itself: a solid lies \
+             inside its hull (up to what a simplified hull leaves out)",
+            100.0 * super::SIMPLIFIED_HULL_VOLUME_TOLERANCE
+        );
         return Err(super::invalid(key("volume_m3"), m.volume_m3, &reason));
     }
     let c = Vec3::from(m.centroid_m);

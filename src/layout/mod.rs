@@ -65,6 +65,14 @@ use thiserror::Error;
 /// Two blocks (or a block and the table) may interpenetrate by at most this much, m.
 pub const OVERLAP_TOLERANCE_M: f64 = 1e-5;
 
+/// The fraction of a block's `own_mass` volume its convex hull may leave out (1 %): a
+/// scanned stone's hull simplified to a vertex budget lies inside the stone's full hull and
+/// may leave out up to this fraction of the full hull's volume, hence of the stone's (which
+/// the full hull holds), so the stone's solid may stick out of its block by as much
+/// (`drystone import` refuses a simplification that leaves out more,
+/// `survey::HULL_VOLUME_TOLERANCE`, the same figure). See [`OwnMassSpec`].
+pub const SIMPLIFIED_HULL_VOLUME_TOLERANCE: f64 = 0.01;
+
 /// Range of a material's density, kg/m³ (from cork-light fills to the densest metals; dry
 /// stone is 1,500–3,000).
 pub const DENSITY_RANGE_KG_PER_M3: (f64, f64) = (100.0, 30_000.0);
@@ -266,8 +274,10 @@ pub struct BlockSpec {
 /// ```
 ///
 /// Checked on resolve ([`LayoutError::Invalid`] naming `blocks[ID].own_mass.KEY`): every
-/// value finite; the volume positive and at most the hull's (a solid lies inside its
-/// convex hull; a relative 1e-9 is allowed for round-off); the centroid inside the hull;
+/// value finite; the volume positive and larger than the hull's by no more than
+/// [`SIMPLIFIED_HULL_VOLUME_TOLERANCE`] of itself (a solid lies inside its convex hull, up
+/// to what a hull simplified to a vertex budget may leave out; a relative 1e-9 more for
+/// round-off); the centroid inside the hull;
 /// the inertia symmetric with positive principal moments that satisfy the triangle
 /// inequality (each at most the sum of the other two, as every solid's do).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]

@@ -51,7 +51,7 @@ use super::inplane_measured::{read_loops, read_specimens, Specimen};
 use super::provenance::InputRole;
 use super::spec::{EffectsSpec, GroupSpec, ProtocolKind, StudySpec};
 use super::StudyError;
-use crate::loading::inplane::{History, InPlaneParams};
+use crate::loading::inplane::{BeamRotation, History, InPlaneParams, MAX_HEIGHT_RATIO};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -96,6 +96,47 @@ impl InPlaneStudy {
     /// Whether a group runs the cyclic history.
     pub fn any_cyclic(&self) -> bool {
         self.groups.iter().any(|g| g.history == History::Cyclic)
+    }
+
+    /// Refuses, before any run, a shear span (`in_plane.shear_span_m`, with the beam's
+    /// rotation free) or a measuring height (`in_plane.measuring_height_m`) more than
+    /// [`MAX_HEIGHT_RATIO`] times the height of a group's wall: a probable unit mistake
+    /// (millimetres for metres) that the rig refuses in every realization
+    /// ([`crate::loading::inplane::InPlaneError::TooHigh`], which stays for a direct
+    /// `drystone in-plane` run). `walls` gives each group's name, its wall's height (m, the
+    /// wall description's or the survey's; `None`: no wall to check) and its wall
+    /// description or survey, in the order of the groups.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] naming the key, the group and its wall.
+    pub(super) fn check_heights<'a>(
+        &self,
+        walls: impl IntoIterator<Item = (&'a str, Option<f64>, &'a Path)>,
+        invalid: &Invalid,
+    ) -> Result<(), StudyError> {
+        for (g, (name, height_m, source)) in walls.into_iter().enumerate() {
+            let Some(height_m) = height_m else { continue };
+            let p = self.params_of(g);
+            let span = match p.beam_rotation {
+                BeamRotation::Free => p.shear_span_m,
+                BeamRotation::Fixed => None,
+            };
+            for (key, value) in [("shear_span_m", span), ("measuring_height_m", p.measuring_height_m)] {
+                let Some(v) = value else { continue };
+                if v > MAX_HEIGHT_RATIO * height_m {
+                    return Err(invalid.at(
+                        &format!("in_plane.{key}"),
+                        format!(
+                            "{v} m is more than {MAX_HEIGHT_RATIO} times the height {height_m} m of the wall of group \
+                             {name:?} ({}): a probable unit mistake (millimetres for metres?); it is a height on the \
+                             loading beam, above the wall's top",
+                            source.display()
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 }
 

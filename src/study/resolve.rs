@@ -140,6 +140,10 @@ impl StudySpec {
             }
             groups.push(group);
         }
+        if let Some(ip) = &in_plane {
+            let walls = groups.iter().map(|g| (g.name.as_str(), g.walls.first().map(|w| w.height), &*g.wall_path));
+            ip.check_heights(walls, &invalid)?;
+        }
         files.extend(groups.iter().flat_map(group_files));
         let measured = match &self.measured {
             Some(m) => read_measured(m, dir, path, &mut files)?,

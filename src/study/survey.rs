@@ -88,16 +88,31 @@ pub(super) fn wall_of_survey(
             ("depth_m", spec.depth_m.is_some()),
         ]
     } else {
-        &[("unit", spec.unit.is_some()), ("y_up", spec.y_up)]
+        &[
+            ("unit", spec.unit.is_some()),
+            ("y_up", spec.y_up),
+            ("max_hull_vertices", spec.max_hull_vertices.is_some()),
+            ("full_hull", spec.full_hull),
+        ]
     };
     if let Some((k, _)) = refused.iter().find(|(_, given)| *given) {
         let reason = if scanned {
             "is for a traced elevation; scanned stones have their own shape, and no uncertainty is drawn around \
              them: their realizations are the survey as scanned"
-        } else {
+        } else if matches!(*k, "unit" | "y_up") {
             "is for scanned stones; a traced elevation's unit is scale_m_per_unit"
+        } else {
+            "is for scanned stones; a traced stone's block is its outline"
         };
         return Err((key(k), reason.into()));
+    }
+    if let Some(n) = spec.max_hull_vertices {
+        if n < 4 {
+            return Err((key("max_hull_vertices"), format!("{n}: must be at least 4 (a tetrahedron)")));
+        }
+        if spec.full_hull {
+            return Err((key("max_hull_vertices"), "and full_hull exclude each other".into()));
+        }
     }
     if spec.materials.is_some() {
         let flags = [
@@ -160,6 +175,8 @@ pub(super) fn wall_of_survey(
         materials,
         base_sliding: spec.base,
         name: Some(name.to_string()),
+        max_hull_vertices: spec.max_hull_vertices,
+        full_hull: spec.full_hull,
     };
     let u = Uncertainty { tolerance_m: spec.tolerance_m, depth };
     let named = |k: &str| match k {

@@ -26,8 +26,8 @@ use std::path::PathBuf;
 /// depth_m = { kind = "uniform", min = 0.25, max = 0.5 }   # or a number; default: through stones
 /// ```
 ///
-/// A group of scanned stones (`survey` a folder, `.obj` or `.stl`) takes `unit` and `y_up`
-/// instead of the keys of a traced elevation (`scale_m_per_unit`, `thickness_m`,
+/// A group of scanned stones (`survey` a folder, `.obj` or `.stl`) takes `unit`, `y_up`,
+/// `max_hull_vertices` and `full_hull` instead of the keys of a traced elevation (`scale_m_per_unit`, `thickness_m`,
 /// `top_thickness_m`, `hull_nonconvex`, `tolerance_m`, `depth_m`, which it refuses): its
 /// realizations are the survey as scanned.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -83,4 +83,11 @@ pub struct SurveyImportSpec {
     /// Scanned stones: the meshes are y-up (`--y-up`; default false: z up).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub y_up: bool,
+    /// Scanned stones: the most vertices a stone's hull keeps, at least 4
+    /// (`--max-hull-vertices`; default [`crate::survey::DEFAULT_MAX_HULL_VERTICES`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_hull_vertices: Option<usize>,
+    /// Scanned stones: keep every stone's full hull (`--full-hull`; default false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub full_hull: bool,
 }

@@ -167,6 +167,7 @@ pub(super) fn import(path: &Path, format: SurveyFormat, o: &ImportOptions) -> Re
                 block_volume_m3: volume,
                 survey_volume_m3: prism_volume(&sh.outline),
                 hulled: sh.hulled,
+                simplified: None,
             });
             blocks.push((id, s.material.clone(), vertices, None));
         }

@@ -7,7 +7,10 @@
 //! the closed mesh's own, by the divergence theorem
 //! ([`crate::geometry::mesh_mass_properties`]), written as the block's `own_mass`.
 
-use super::{check_size, check_unique_ids, ImportOptions, ImportedWall, Stone, StoneReport, SurveyError, SurveyFormat};
+use super::{
+    check_size, check_unique_ids, HullSimplification, ImportOptions, ImportedWall, Stone, StoneReport, SurveyError,
+    SurveyFormat, DEFAULT_MAX_HULL_VERTICES, HULL_VOLUME_TOLERANCE,
+};
 use crate::geometry::{mesh_mass_properties, ConvexBlock};
 use crate::layout::OwnMassSpec;
 use crate::math::Vec3;
@@ -128,12 +131,14 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
             return Err(err("the mesh encloses no volume".into()));
         }
         let hull = ConvexBlock::hull_of(&points).map_err(|e| err(format!("its convex hull cannot be built: {e}")))?;
+        let (hull, simplified) = within_budget(hull, o).map_err(err)?;
         reports.push(StoneReport {
             id: m.stone.id.clone(),
             element: m.stone.element.clone(),
             block_volume_m3: hull.volume(),
             survey_volume_m3: own.volume,
             hulled: true,
+            simplified,
         });
         let vs = hull.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
         blocks.push((m.stone.id.clone(), m.stone.material.clone(), vs, Some(OwnMassSpec::of(&own))));
@@ -148,6 +153,43 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
         length_m: hi[0] - lo[0],
         height_m: hi[2] - lo[2],
     })
+}
+
+/// The stone's hull within the vertex budget ([`ImportOptions::max_hull_vertices`], by
+/// default [`DEFAULT_MAX_HULL_VERTICES`]): the full hull if it has no more vertices or
+/// [`ImportOptions::full_hull`] is set, else the hull of its vertices'
+/// [`crate::geometry::hull::spread_subsample`] with what the simplification left out.
+///
+/// # Errors
+/// The reason, when the simplified hull leaves out more than [`HULL_VOLUME_TOLERANCE`] of
+/// the full hull's volume (the caller names the file and the stone), or cannot be built.
+fn within_budget(full: ConvexBlock, o: &ImportOptions) -> Result<(ConvexBlock, Option<HullSimplification>), String> {
+    let budget = o.max_hull_vertices.unwrap_or(DEFAULT_MAX_HULL_VERTICES);
+    if o.full_hull || full.vertices.len() <= budget {
+        return Ok((full, None));
+    }
+    let kept: Vec<Vec3> =
+        crate::geometry::hull::spread_subsample(&full.vertices, budget).into_iter().map(|i| full.vertices[i]).collect();
+    let hull = ConvexBlock::hull_of(&kept).map_err(|e| format!("its hull simplified to {budget} vertices: {e}"))?;
+    let full_volume_m3 = full.volume();
+    let volume_change = ((full_volume_m3 - hull.volume()) / full_volume_m3).max(0.0);
+    let s = HullSimplification {
+        full_vertices: full.vertices.len(),
+        kept_vertices: hull.vertices.len(),
+        full_volume_m3,
+        volume_change,
+    };
+    if !(volume_change <= HULL_VOLUME_TOLERANCE) {
+        return Err(format!(
+            "its hull of {} vertices simplified to the budget of {budget} (--max-hull-vertices) leaves out {:.3} % of \
+             its volume, more than the {:.3} % allowed: raise --max-hull-vertices or keep the full hull with --full-hull \
+             (in a study, the group's import.max_hull_vertices or import.full_hull)",
+            s.full_vertices,
+            100.0 * volume_change,
+            100.0 * HULL_VOLUME_TOLERANCE
+        ));
+    }
+    Ok((hull, Some(s)))
 }
 
 /// The mesh files: `path` itself (its format given or by extension), or the OBJ and STL

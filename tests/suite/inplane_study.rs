@@ -314,3 +314,36 @@ fn the_discrepancy_input_reads_the_groups_and_the_measured_peaks() {
     }
     assert_eq!(peaks, 14);
 }
+
+/// A shear span a thousand times too large (`shear_span_m = 1e9` in the bundled study, a
+/// probable unit mistake) is refused when the study is read, naming the key, the file and
+/// the wall, before any realization runs; the same file at the bundled 1.325 m reads.
+#[test]
+fn a_shear_span_far_above_the_wall_is_refused_before_any_run() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bundled = std::fs::read_to_string(root.join("studies/inplane_granite.toml")).unwrap();
+    assert!(bundled.contains("\nshear_span_m = 1.325\n"), "the bundled study's shear span moved");
+    let studies = root.join("studies");
+    let here = bundled
+        .replace("wall = \"walls/", &format!("wall = \"{}/walls/", studies.display()))
+        .replace("\"../data/", &format!("\"{}/data/", root.display()));
+    let dir = folder("shear-span");
+    let good = write(&dir, "good.toml", &here);
+    assert!(drystone::study::Study::from_file(&good).is_ok());
+    let bad = write(&dir, "span.toml", &here.replace("\nshear_span_m = 1.325\n", "\nshear_span_m = 1e9\n"));
+    let e = drystone::study::Study::from_file(&bad).unwrap_err().to_string();
+    assert!(e.contains("span.toml") && e.contains("in_plane.shear_span_m") && e.contains("10 times"), "{e}");
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
+        .args(["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    for part in ["span.toml", "in_plane.shear_span_m", "1000000000 m", "granite_vasconcelos.toml", "millimetres"] {
+        assert!(stderr.contains(part), "{part}: {stderr}");
+    }
+    let made: Vec<_> = std::fs::read_dir(&out).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
+    assert!(made.is_empty(), "the run wrote {made:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -87,6 +87,7 @@ mod stiffness_range;
 mod studies;
 mod survey;
 mod survey_ensemble;
+mod survey_large_stones;
 mod survey_real_stones;
 mod survey_traced_granite;
 mod tilt_hand;

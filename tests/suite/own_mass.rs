@@ -38,6 +38,8 @@ fn options(unit: LengthUnit) -> ImportOptions {
         }),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     }
 }
 

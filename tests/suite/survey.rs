@@ -39,6 +39,8 @@ fn traced(t: f64, scale: Option<f64>) -> ImportOptions {
         materials: SurveyMaterials::one(material("stone", 2200.0)),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     }
 }
 

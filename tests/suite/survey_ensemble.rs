@@ -51,6 +51,8 @@ fn surveyed(dir: &Path, file: &str, seed: u64) -> (PathBuf, ImportOptions) {
         },
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     };
     (svg, options)
 }
@@ -75,6 +77,8 @@ fn small(dir: &Path) -> (PathBuf, ImportOptions) {
         materials: SurveyMaterials::one(MaterialSpec { ..g.layout.materials[0].clone() }),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     };
     (svg, options)
 }
@@ -414,6 +418,8 @@ fn measured_depths_are_kept_in_every_realization_and_leave_the_others_draws() {
         }),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     };
     let measured = write(&dir, "measured.svg", &svg(" data-depth-m=\"0.2\""));
     let w = import(&measured, &options).unwrap();

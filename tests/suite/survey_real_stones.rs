@@ -42,6 +42,8 @@ fn wall() -> ImportedWall {
         materials: SurveyMaterials::one(stone),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     };
     import(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/stones/wall"), &options).expect("the wall imports")
 }

@@ -45,6 +45,8 @@ fn options() -> ImportOptions {
         }),
         base_sliding: Default::default(),
         name: None,
+        max_hull_vertices: None,
+        full_hull: false,
     }
 }
 
