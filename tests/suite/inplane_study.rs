@@ -208,8 +208,19 @@ fn two_shards_merged_equal_the_whole() {
     use drystone::ensemble::Shard;
     use drystone::study::RunMode;
     let dir = folder("shards");
-    let study = write(&dir, "study.toml", &study_text("", ""));
+    // With a measured specimen (the database's table, its envelope and its curve, copied
+    // beside the study): the merge rebuilds the study from the inputs its manifest stores.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    for f in ["walls.csv", "envelopes/envelope_WS100_Vasconcelos2005.csv", "curves/FD_WS100_Vasconcelos2005.csv"] {
+        std::fs::create_dir_all(dir.join("data").join(f).parent().unwrap()).unwrap();
+        std::fs::copy(data.join(f), dir.join("data").join(f)).unwrap();
+    }
+    let text = study_text("", "").replace("sigma0_mpa = 0.5\n", "sigma0_mpa = 0.5\nspecimens = [\"WS.100\"]\n")
+        + "[measured]\nwalls = \"data/walls.csv\"\nenvelopes = \"data/envelopes\"\ncurves = \"data/curves\"\n";
+    let study = write(&dir, "study.toml", &text);
     let whole = run_study_file(&study, &dir.join("whole")).unwrap();
+    let manifest = std::fs::read_to_string(dir.join("whole/manifest.json")).unwrap();
+    assert!(manifest.contains("envelope_WS100_Vasconcelos2005.csv") && manifest.contains("FD_WS100"), "{manifest}");
     let mut shards = Vec::new();
     for k in 0..2 {
         let d = dir.join(format!("shard{k}"));
@@ -221,8 +232,12 @@ fn two_shards_merged_equal_the_whole() {
     let merged = drystone::study::merge(&shards, &dir.join("merged")).unwrap();
     same_rows(&merged.rows, &whole.rows);
     assert_eq!(outputs_of(&dir.join("merged")), outputs_of(&dir.join("whole")));
-    let csv = |d: &str| std::fs::read_to_string(dir.join(d).join("realizations.csv")).unwrap();
-    assert_eq!(csv("merged").lines().count(), 6, "{}", csv("merged"));
+    let csv = |d: &str, f: &str| std::fs::read_to_string(dir.join(d).join(f)).unwrap();
+    assert_eq!(csv("merged", "realizations.csv").lines().count(), 6, "{}", csv("merged", "realizations.csv"));
+    // The measured peak of WS.100 (the table's Vmax_pos_kN) and its envelope drawn.
+    let comparison = csv("merged", "comparison.csv");
+    assert!(comparison.contains("WS.100,peak_pos_kn,37,"), "{comparison}");
+    assert!(csv("merged", "curves_a.svg").contains("WS.100 envelope (measured)"));
     let twice = [shards[0].clone(), shards[0].clone()];
     let e = drystone::study::merge(&twice, &dir.join("twice")).unwrap_err().to_string();
     assert!(e.contains("shard 2/2 missing"), "{e}");
