@@ -9,9 +9,7 @@ use std::path::Path;
 
 /// The in-plane test's discrepancy analysis, as `drystone discrepancy` runs it.
 pub const STUDY: OwnStudy = OwnStudy {
-    kind: crate::protocol::ProtocolKind::InPlane,
     what: "an in-plane study",
-    doc: "docs/inplane.md",
     measured: "reads its specimens from [measured] walls",
     analysis: own_analysis,
     held: Some(own_held),

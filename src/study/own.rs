@@ -42,12 +42,8 @@ pub type HeldFn = fn(&Path, &OwnAnalysis) -> Result<Option<Box<dyn crate::discre
 /// analyse its study files.
 #[derive(Debug, Clone, Copy)]
 pub struct OwnStudy {
-    /// Its kind (`protocol = "..."` of its study files).
-    pub kind: ProtocolKind,
     /// Its study in a phrase, for messages (`an in-plane study`).
     pub what: &'static str,
-    /// Where its study files are documented (`docs/<name>.md`).
-    pub doc: &'static str,
     /// Where it reads its measured data, for the refusal of the tilting table's
     /// `--measured` (`reads its specimens from [measured] walls`).
     pub measured: &'static str,

@@ -370,8 +370,9 @@ impl StudyProtocol {
     }
 }
 
-/// The study of its own of a kind ([`super::own`]), which `drystone run` and `drystone
-/// discrepancy` hand its files to; `None` for a kind the ensemble study runs.
+/// The discrepancy analysis of its own of a kind ([`super::own`]), which `drystone
+/// discrepancy` hands its files to; `None` for a kind whose analysis is the ensemble's
+/// (`study::discrepancy`). Every kind's run is the study core's.
 pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     match kind {
         ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake => None,
@@ -379,9 +380,9 @@ pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     }
 }
 
-/// The study of its own of the protocol a study file names ([`own_study`] of its
-/// [`super::own::kind_of`]); `None` for a file of the ensemble study (or one that cannot be
-/// read, whose errors that study reports).
+/// The discrepancy analysis of its own of the protocol a study file names ([`own_study`]
+/// of its [`super::own::kind_of`]); `None` for a file the ensemble's analysis reads (or one
+/// that cannot be read, whose errors that analysis reports).
 pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
     super::own::kind_of(path).and_then(own_study)
 }
