@@ -4,7 +4,6 @@ use super::{pool, thread_count};
 use anyhow::{bail, Result};
 use drystone::ensemble::Shard;
 use drystone::study::calibrate::{calibrate_with, write_calibration, OUTPUT_SET as CALIBRATION_SET};
-use drystone::study::own::OwnStudy;
 use drystone::study::write_vtk_realizations;
 use drystone::study::HeldDir;
 use drystone::study::Study;
@@ -98,9 +97,6 @@ pub fn run(a: RunArgs) -> Result<ExitCode> {
         bail!("{}: --full applies to suites only", study.display());
     }
     let st = load(study, a.realizations)?;
-    if let Some(own) = drystone::study::own_study_of(study) {
-        return run_own(own, &st, a);
-    }
     let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
     let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(&st.name));
     let threads = thread_count(a.workers.threads);
@@ -258,11 +254,6 @@ pub fn calibrate(a: CalibrateArgs) -> Result<ExitCode> {
 /// `merge`: shard directories into what an unsharded run writes.
 pub fn merge(a: MergeArgs) -> Result<ExitCode> {
     let (out, shards) = (a.out.as_path(), a.shards.as_slice());
-    if let Some(own) = shards.first().and_then(|d| drystone::study::own_study_of_shard(d)) {
-        let run = (own.merge)(shards, out)?;
-        out!("merged {} shards, {} realizations -> {}", shards.len(), run.realizations, out.display());
-        return Ok(failures(run.realizations, run.failed));
-    }
     let merged = merge_shards(shards, out)?;
     let failed = merged.rows.iter().filter(|r| !r.status.is_ok()).count();
     out!(
@@ -276,40 +267,4 @@ pub fn merge(a: MergeArgs) -> Result<ExitCode> {
         out!("{t}");
     }
     Ok(failures(merged.rows.len(), failed))
-}
-
-/// `drystone run` on a study of its own (a protocol's: `drystone::study::own`): its own
-/// runner and outputs.
-fn run_own(own: &OwnStudy, st: &Study, a: RunArgs) -> Result<ExitCode> {
-    if !a.vtk_realizations.is_empty() {
-        let (path, kind) = (st.path.display(), own.kind.name());
-        bail!("{path}: --vtk-realizations does not apply to {} (protocol = \"{kind}\")", own.what);
-    }
-    let name = &st.name;
-    let dir = a.out.unwrap_or_else(|| PathBuf::from("out").join(name));
-    let threads = thread_count(a.workers.threads);
-    check_memory(st, threads)?;
-    let pool = pool(Some(threads))?;
-    for w in st.warnings() {
-        eprintln!("warning: {w}");
-    }
-    let shard = a.shard.as_deref().map_or(Ok(Shard::ALL), Shard::parse)?;
-    let mode = RunMode { resume: a.resume, force: a.force };
-    let run = pool.install(|| (own.run)(st, &dir, shard, mode))?;
-    let failed = run.failed;
-    let resumed = if run.resumed > 0 { format!(", {} from the journal", run.resumed) } else { String::new() };
-    out!(
-        "study {}: {} realizations ({} failed{}) on {} threads in {:.1} s -> {}",
-        name,
-        run.realizations,
-        failed,
-        resumed,
-        threads,
-        run.wall_time_s,
-        dir.display()
-    );
-    if failed > 0 {
-        eprintln!("warning: {failed} realizations failed; their rows carry the error");
-    }
-    Ok(if failed == run.realizations { ExitCode::from(3) } else { ExitCode::SUCCESS })
 }

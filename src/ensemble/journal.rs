@@ -341,6 +341,7 @@ mod tests {
             },
             shake: Default::default(),
             pushover: Default::default(),
+            in_plane: None,
             steps: 10,
             iterations: 3,
             dt_s: 1e-4,

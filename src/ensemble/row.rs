@@ -7,13 +7,16 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::inplane_columns::InPlaneColumns;
+
 /// Outcome of one realization.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// Ran to collapse.
     Collapsed,
-    /// Stood up to the largest tilt tried (or, for a lateral load, reached equilibrium).
+    /// Stood up to the largest tilt tried (or, for a lateral load, reached equilibrium; for
+    /// the in-plane test, ran its whole history: its readings are in [`InPlaneColumns`]).
     Stood,
     /// The generated layout did not reach equilibrium under gravity at α = 0.
     NoInitialEquilibrium,
@@ -50,11 +53,12 @@ impl Status {
 
 /// One realization's results: the columns every protocol has (identification, status,
 /// solver effort), then each protocol's own ([`CollapseColumns`], [`TiltColumns`],
-/// [`LateralColumns`], [`ShakeColumns`]), empty where the protocol does not fill them.
+/// [`LateralColumns`], [`ShakeColumns`], [`PushoverColumns`], [`InPlaneColumns`]), empty where the protocol does not fill them.
 /// Angles in degrees, displacements in cm (report units), times in s.
 ///
 /// The protocol groups serialize flat (their fields are columns of the row, as in the
-/// tables), except the shaking table's, which nest under `shake`.
+/// tables), except the shaking table's and the in-plane test's, which nest under `shake`
+/// and `in_plane`.
 /// [`RealizationRow::default`] is a row with no result yet: status `layout_failed`,
 /// every number zero or empty.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,6 +101,10 @@ pub struct RealizationRow {
     /// empty otherwise, and then absent from the tables.
     #[serde(flatten)]
     pub pushover: PushoverColumns,
+    /// The in-plane shear–compression test's readings (`protocol = "in_plane"`); `None` for
+    /// the other protocols (and then absent from the journal and the tables).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub in_plane: Option<Box<InPlaneColumns>>,
     /// Dynamic-relaxation steps (engine steps).
     pub steps: u64,
     /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
@@ -128,6 +136,7 @@ impl Default for RealizationRow {
             lateral: LateralColumns::default(),
             shake: ShakeColumns::default(),
             pushover: PushoverColumns::default(),
+            in_plane: None,
             steps: 0,
             iterations: 0,
             dt_s: 0.0,
@@ -513,6 +522,7 @@ mod tests {
                 load_multiplier_dem_unstable: None,
                 load_multiplier_limit: Some(values[9]),
             },
+            in_plane: None,
             steps: 77,
             iterations: 5,
             dt_s: values[1],

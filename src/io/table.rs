@@ -10,7 +10,7 @@ pub use super::measured::{
     MeasuredDisplacement, MeasuredMechanism,
 };
 use crate::ensemble::row::{
-    CollapseColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns, Status, TiltColumns,
+    CollapseColumns, InPlaneColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns, Status, TiltColumns,
 };
 use crate::protocol::Loading;
 use polars::prelude::*;
@@ -125,6 +125,31 @@ macro_rules! field {
     (number $($f:ident).+) => { Field::Number(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
     (opt_number $($f:ident).+) => { Field::OptNumber(|r| r.$($f).+, |r, v| r.$($f).+ = v) };
     (series $($f:ident).+) => { Field::Series(|r| &r.$($f).+, |r| &mut r.$($f).+) };
+    // The in-plane test's group, `None` for the other protocols (a number reads NaN, a
+    // text empty, a count and a series absent); a value set makes the group.
+    (in_plane number $f:ident) => {
+        Field::Number(|r| r.in_plane.as_ref().map_or(f64::NAN, |p| p.$f), |r, v| in_plane(r).$f = v)
+    };
+    (in_plane text $f:ident) => {
+        Field::Text(|r| r.in_plane.as_ref().map(|p| p.$f.clone()).unwrap_or_default(), |r, v| {
+            in_plane(r).$f = v;
+            Ok(())
+        })
+    };
+    (in_plane count $f:ident) => {
+        Field::OptCount(|r| r.in_plane.as_ref().map(|p| p.$f), |r, v| in_plane(r).$f = v.unwrap_or(0))
+    };
+    (in_plane series $f:ident) => {
+        Field::Series(|r| r.in_plane.as_ref().map_or(&NO_SERIES, |p| &p.$f), |r| &mut in_plane(r).$f)
+    };
+}
+
+/// The series of a row without the group that holds it.
+static NO_SERIES: Vec<f64> = Vec::new();
+
+/// The in-plane group of a row, made (every reading NaN) if it has none.
+fn in_plane(r: &mut RealizationRow) -> &mut InPlaneColumns {
+    r.in_plane.get_or_insert_with(Box::default)
 }
 
 /// Every field of a row by name, each column group's too: a destructuring without `..`, so
@@ -148,6 +173,7 @@ const _FIELDS: fn(&RealizationRow) = |r| {
         lateral,
         shake,
         pushover,
+        in_plane,
         steps: _,
         iterations: _,
         dt_s: _,
@@ -186,6 +212,45 @@ const _FIELDS: fn(&RealizationRow) = |r| {
     } = shake;
     let PushoverColumns { load_multiplier_dem: _, load_multiplier_dem_unstable: _, load_multiplier_limit: _ } =
         pushover;
+    if let Some(p) = in_plane {
+        let InPlaneColumns {
+            peak_pos_kn: _,
+            drift_at_peak_pos_pct: _,
+            ultimate_drift_pos_pct: _,
+            stiffness_pos_kn_per_mm: _,
+            peak_neg_kn: _,
+            drift_at_peak_neg_pct: _,
+            ultimate_drift_neg_pct: _,
+            stiffness_neg_kn_per_mm: _,
+            in_plane_mechanism: _,
+            failure_type: _,
+            opening_share: _,
+            limit_peak_kn: _,
+            limit_mechanism: _,
+            rocking_kn: _,
+            damping_ratio: _,
+            force_at_0_5_pos_kn: _,
+            force_at_1_pos_kn: _,
+            force_at_2_pos_kn: _,
+            drift_at_80_pos_pct: _,
+            drift_at_95_pos_pct: _,
+            plateau_slope_pos_kn_per_pct: _,
+            force_at_0_5_neg_kn: _,
+            force_at_1_neg_kn: _,
+            force_at_2_neg_kn: _,
+            drift_at_80_neg_pct: _,
+            drift_at_95_neg_pct: _,
+            plateau_slope_neg_kn_per_pct: _,
+            vertical_modulus_mpa: _,
+            largest_block_excursion_mm: _,
+            excursion_block: _,
+            unconverged: _,
+            curve_drift_pct: _,
+            curve_force_kn: _,
+            // The mechanism figure's poses: not a column (not serialized).
+            drawing: _,
+        } = &**p;
+    }
 };
 
 #[rustfmt::skip]
@@ -242,6 +307,39 @@ const COLUMNS: &[RowColumn] = &[
     later("load_multiplier_dem", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_dem)),
     later("load_multiplier_dem_unstable", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_dem_unstable)),
     later("load_multiplier_limit", Some(Loading::Pushover), field!(opt_number pushover.load_multiplier_limit)),
+    later("peak_pos_kn", Some(Loading::InPlane), field!(in_plane number peak_pos_kn)),
+    later("drift_at_peak_pos_pct", Some(Loading::InPlane), field!(in_plane number drift_at_peak_pos_pct)),
+    later("ultimate_drift_pos_pct", Some(Loading::InPlane), field!(in_plane number ultimate_drift_pos_pct)),
+    later("stiffness_pos_kn_per_mm", Some(Loading::InPlane), field!(in_plane number stiffness_pos_kn_per_mm)),
+    later("peak_neg_kn", Some(Loading::InPlane), field!(in_plane number peak_neg_kn)),
+    later("drift_at_peak_neg_pct", Some(Loading::InPlane), field!(in_plane number drift_at_peak_neg_pct)),
+    later("ultimate_drift_neg_pct", Some(Loading::InPlane), field!(in_plane number ultimate_drift_neg_pct)),
+    later("stiffness_neg_kn_per_mm", Some(Loading::InPlane), field!(in_plane number stiffness_neg_kn_per_mm)),
+    later("in_plane_mechanism", Some(Loading::InPlane), field!(in_plane text in_plane_mechanism)),
+    later("failure_type", Some(Loading::InPlane), field!(in_plane number failure_type)),
+    later("opening_share", Some(Loading::InPlane), field!(in_plane number opening_share)),
+    later("limit_peak_kn", Some(Loading::InPlane), field!(in_plane number limit_peak_kn)),
+    later("limit_mechanism", Some(Loading::InPlane), field!(in_plane text limit_mechanism)),
+    later("rocking_kn", Some(Loading::InPlane), field!(in_plane number rocking_kn)),
+    later("damping_ratio", Some(Loading::InPlane), field!(in_plane number damping_ratio)),
+    later("force_at_0_5_pos_kn", Some(Loading::InPlane), field!(in_plane number force_at_0_5_pos_kn)),
+    later("force_at_1_pos_kn", Some(Loading::InPlane), field!(in_plane number force_at_1_pos_kn)),
+    later("force_at_2_pos_kn", Some(Loading::InPlane), field!(in_plane number force_at_2_pos_kn)),
+    later("drift_at_80_pos_pct", Some(Loading::InPlane), field!(in_plane number drift_at_80_pos_pct)),
+    later("drift_at_95_pos_pct", Some(Loading::InPlane), field!(in_plane number drift_at_95_pos_pct)),
+    later("plateau_slope_pos_kn_per_pct", Some(Loading::InPlane), field!(in_plane number plateau_slope_pos_kn_per_pct)),
+    later("force_at_0_5_neg_kn", Some(Loading::InPlane), field!(in_plane number force_at_0_5_neg_kn)),
+    later("force_at_1_neg_kn", Some(Loading::InPlane), field!(in_plane number force_at_1_neg_kn)),
+    later("force_at_2_neg_kn", Some(Loading::InPlane), field!(in_plane number force_at_2_neg_kn)),
+    later("drift_at_80_neg_pct", Some(Loading::InPlane), field!(in_plane number drift_at_80_neg_pct)),
+    later("drift_at_95_neg_pct", Some(Loading::InPlane), field!(in_plane number drift_at_95_neg_pct)),
+    later("plateau_slope_neg_kn_per_pct", Some(Loading::InPlane), field!(in_plane number plateau_slope_neg_kn_per_pct)),
+    later("vertical_modulus_mpa", Some(Loading::InPlane), field!(in_plane number vertical_modulus_mpa)),
+    later("largest_block_excursion_mm", Some(Loading::InPlane), field!(in_plane number largest_block_excursion_mm)),
+    later("excursion_block", Some(Loading::InPlane), field!(in_plane text excursion_block)),
+    later("unconverged", Some(Loading::InPlane), field!(in_plane count unconverged)),
+    later("curve_drift_pct", Some(Loading::InPlane), field!(in_plane series curve_drift_pct)),
+    later("curve_force_kn", Some(Loading::InPlane), field!(in_plane series curve_force_kn)),
 ];
 
 /// The column `c` of `rows`; `lists` chooses list columns (Parquet) or joined strings
@@ -283,14 +381,24 @@ pub fn realizations_frame(rows: &[RealizationRow], lists: bool) -> PolarsResult<
 /// # Errors
 /// [`TableError`] naming the file.
 pub fn write_realizations(rows: &[RealizationRow], dir: &Path) -> Result<(), TableError> {
+    write_realizations_parquet(rows, dir)?;
+    let csv = dir.join("realizations.csv");
+    let mut df = realizations_frame(rows, false).map_err(pe(&csv))?;
+    write_csv(&mut df, &csv)
+}
+
+/// Writes `realizations.parquet` into `dir`, replaced whole: every column of the rows,
+/// what `drystone merge` reads back ([`read_realizations`]) whatever the protocol's
+/// `realizations.csv`.
+///
+/// # Errors
+/// [`TableError`] naming the file.
+pub fn write_realizations_parquet(rows: &[RealizationRow], dir: &Path) -> Result<(), TableError> {
     let pq = dir.join("realizations.parquet");
     let mut df = realizations_frame(rows, true).map_err(pe(&pq))?;
     let mut bytes = Vec::new();
     ParquetWriter::new(&mut bytes).finish(&mut df).map_err(pe(&pq))?;
-    replace(&pq, &bytes)?;
-    let csv = dir.join("realizations.csv");
-    let mut df = realizations_frame(rows, false).map_err(pe(&csv))?;
-    write_csv(&mut df, &csv)
+    replace(&pq, &bytes)
 }
 
 /// Writes a data frame as CSV with a header, replacing the file whole.
@@ -521,117 +629,5 @@ impl SimpleTable {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use serde_json::Value;
-
-    /// The keys of a row's fields as serde writes them (the column groups flat, the shaking
-    /// table's nested under `shake`), with their values.
-    fn leaves(r: &RealizationRow) -> Vec<(String, Value)> {
-        let Value::Object(top) = serde_json::to_value(r).unwrap() else { panic!("a row is an object") };
-        let mut out = Vec::new();
-        for (k, v) in top {
-            match v {
-                Value::Object(inner) => out.extend(inner),
-                v => out.push((k, v)),
-            }
-        }
-        out
-    }
-
-    /// A row whose every field holds a value (none left out by serde).
-    fn full() -> RealizationRow {
-        RealizationRow {
-            collapse: CollapseColumns {
-                collapse_angle_deg: Some(1.0),
-                first_unstable_deg: Some(1.5),
-                failure_height_fraction: Some(0.5),
-                mechanism_extent: Some(0.25),
-                ..CollapseColumns::default()
-            },
-            lateral: LateralColumns {
-                lateral_disp_left_cm: Some(1.0),
-                lateral_disp_centre_cm: Some(1.0),
-                lateral_disp_right_cm: Some(1.0),
-                lateral_disp_max_cm: Some(1.0),
-                lateral_drift: Some(1.0),
-            },
-            pushover: PushoverColumns {
-                load_multiplier_dem: Some(1.0),
-                load_multiplier_dem_unstable: Some(1.0),
-                load_multiplier_limit: Some(1.0),
-            },
-            ..RealizationRow::default()
-        }
-    }
-
-    fn derived(c: &RowColumn) -> bool {
-        matches!(c.field, Field::Derived(_))
-    }
-
-    /// Every field of a row (`_FIELDS` names them for the compiler) is a column of
-    /// [`COLUMNS`], and every column but the derived ones a field: a field added to a row
-    /// or to one of its column groups without its line in `COLUMNS` fails here.
-    #[test]
-    fn every_field_of_a_row_is_a_column_and_every_column_a_field() {
-        let mut fields: Vec<String> = leaves(&full()).into_iter().map(|(k, _)| k).collect();
-        fields.sort();
-        let mut columns: Vec<String> = COLUMNS.iter().filter(|c| !derived(c)).map(|c| c.name.to_string()).collect();
-        columns.sort();
-        let missing: Vec<&String> = fields.iter().filter(|f| !columns.contains(f)).collect();
-        let extra: Vec<&String> = columns.iter().filter(|c| !fields.contains(c)).collect();
-        assert!(
-            missing.is_empty() && extra.is_empty(),
-            "fields without a column: {missing:?}; columns without a field: {extra:?}"
-        );
-        let mut names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        names.sort_unstable();
-        names.dedup();
-        assert_eq!(names.len(), COLUMNS.len(), "a column is listed twice");
-    }
-
-    /// Each column writes and reads the field of its name: setting a value through the
-    /// column changes that field of the row and no other, and the column reads it back.
-    #[test]
-    fn each_column_reads_and_writes_the_field_of_its_name() {
-        let base = RealizationRow::default();
-        let before = leaves(&base);
-        for c in COLUMNS.iter().filter(|c| !derived(c)) {
-            let mut r = base.clone();
-            match c.field {
-                Field::Count(get, set) => {
-                    set(&mut r, 7);
-                    assert_eq!(get(&r), 7, "{}", c.name);
-                }
-                Field::OptCount(get, set) => {
-                    set(&mut r, Some(7));
-                    assert_eq!(get(&r), Some(7), "{}", c.name);
-                }
-                Field::Text(get, set) => {
-                    let reason = crate::loading::tilt::CollapseReason::ALL[0].name();
-                    let v = ["x", "stood", reason].into_iter().find(|v| set(&mut r, v.to_string()).is_ok()).unwrap();
-                    assert_eq!(get(&r), v, "{}", c.name);
-                }
-                Field::Number(get, set) => {
-                    set(&mut r, 0.5);
-                    assert_eq!(get(&r), 0.5, "{}", c.name);
-                }
-                Field::OptNumber(get, set) => {
-                    set(&mut r, Some(0.5));
-                    assert_eq!(get(&r), Some(0.5), "{}", c.name);
-                }
-                Field::Series(get, set) => {
-                    *set(&mut r) = vec![0.5];
-                    assert_eq!(get(&r), &vec![0.5], "{}", c.name);
-                }
-                Field::Derived(_) => unreachable!(),
-            }
-            let changed: Vec<String> = leaves(&r)
-                .into_iter()
-                .filter(|(k, v)| before.iter().find(|(b, _)| b == k).is_none_or(|(_, w)| w != v))
-                .map(|(k, _)| k)
-                .collect();
-            assert_eq!(changed, [c.name], "the column {} changes other fields", c.name);
-        }
-    }
-}
+#[path = "table_tests.rs"]
+mod tests;

@@ -1,370 +1,216 @@
-//! The in-plane shear–compression test's rows (`protocol = "in_plane"`): one realization
-//! run by the study's method (the penalty DEM or nscd, `[solver] kind`) with limit analysis
-//! beside it ([`realization`]), its row ([`InPlaneRow`]) and `realizations.csv`. The study
-//! file is read by the study core ([`super::inplane_spec`]); its run directory, journal,
-//! shards and merge are [`super::inplane_run`]'s, its statistics, comparison, figures and
-//! report [`super::inplane_report`]'s.
+//! The in-plane shear–compression test's rows (`protocol = "in_plane"`): a realization run
+//! by the study core ([`super::run::run_item`]: the study's method, the penalty DEM or
+//! nscd, `[solver] kind`) gets its column group ([`InPlaneColumns`]) with limit analysis
+//! beside it ([`in_plane_row`]), and the study's `realizations.csv` is the in-plane test's
+//! columns ([`write_rows`]); `realizations.parquet`, the journal, shards and merge are the
+//! core's. The study file is read by the study core ([`super::inplane_spec`]); its
+//! statistics, comparison, figures and report are [`super::inplane_report`]'s.
 //!
 //! Realization i of group g is the wall generated with the study's seed and index
-//! `g · 10000 + i` (`generator::generate`), with the group's effects applied
-//! (`effects::realize`): the same bits on any thread count.
+//! `g · 10000 + i` (its seed index, [`super::StudyProtocol::seed_index`]), with the group's
+//! effects applied (`effects::realize`): the same bits on any thread count.
 
+use super::Study;
 use crate::dem::SolverParams;
-use crate::generator::Wall;
+use crate::ensemble::inplane_columns::InPlaneDrawing;
+use crate::ensemble::row::{InPlaneColumns, RealizationRow, Status};
+use crate::layout::Layout;
 use crate::limit::inplane::limit_in_plane;
 use crate::loading::inplane::{InPlaneParams, InPlaneResult};
 use crate::loading::inplane_loops::{loop_damping_ratio, LOOP_MIN_DRIFT_PCT};
-use serde::{Deserialize, Serialize};
+use crate::protocol::{InPlaneRun, ProtocolRun};
 use std::fmt::Write as _;
 use std::path::Path;
+use std::sync::LazyLock;
 
 pub use super::inplane_error::InPlaneStudyError;
 pub use super::inplane_measured::{
     read_envelope, read_envelope_of, read_loops, read_specimens, EnvelopeReadings, Specimen, CURVE_COLUMNS,
 };
 
-/// One realization's row.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct InPlaneRow {
-    /// Group name.
-    pub group: String,
-    /// Realization index within the group.
-    pub realization: u64,
-    /// The generator's index (`g · 10000 + i`).
-    pub index: u64,
-    /// `ok` or `error`.
-    pub status: String,
-    /// The error, if any.
-    pub error: String,
-    /// Peak force, drift at peak, ultimate drift, initial stiffness, + direction.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub peak_pos_kn: f64,
-    /// See `peak_pos_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_peak_pos_pct: f64,
-    /// See `peak_pos_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub ultimate_drift_pos_pct: f64,
-    /// See `peak_pos_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub stiffness_pos_kn_per_mm: f64,
-    /// The same, − direction (NaN for monotonic runs).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub peak_neg_kn: f64,
-    /// See `peak_neg_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_peak_neg_pct: f64,
-    /// See `peak_neg_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub ultimate_drift_neg_pct: f64,
-    /// See `peak_neg_kn`.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub stiffness_neg_kn_per_mm: f64,
-    /// The mechanism's kind.
-    pub mechanism: String,
-    /// The database's failure type of the mechanism.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub failure_type: f64,
-    /// The share of the crack's motion that is opening.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub opening_share: f64,
-    /// Limit analysis's peak force, kN.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub limit_peak_kn: f64,
-    /// Limit analysis's mechanism.
-    pub limit_mechanism: String,
-    /// The rigid rocking capacity N_total L / (2 H0), kN.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub rocking_kn: f64,
-    /// The equivalent viscous damping ratio of its loops (the cycles of at least
-    /// [`LOOP_MIN_DRIFT_PCT`] % drift, [`loop_damping_ratio`]); NaN for a monotonic run.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub damping_ratio: f64,
-    /// Robust reading of the envelope (the envelope's force at 0.5 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_0_5_pos_kn: f64,
-    /// Robust reading of the envelope (the envelope's force at 1 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_1_pos_kn: f64,
-    /// Robust reading of the envelope (the envelope's force at 2 % drift, + (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_2_pos_kn: f64,
-    /// Robust reading of the envelope (drift at 80 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_80_pos_pct: f64,
-    /// Robust reading of the envelope (drift at 95 % of the peak, + (%); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_95_pos_pct: f64,
-    /// Robust reading of the envelope (plateau slope past 95 % of the peak, + (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub plateau_slope_pos_kn_per_pct: f64,
-    /// Robust reading of the envelope (the envelope's force at 0.5 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_0_5_neg_kn: f64,
-    /// Robust reading of the envelope (the envelope's force at 1 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_1_neg_kn: f64,
-    /// Robust reading of the envelope (the envelope's force at 2 % drift, − (kN); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub force_at_2_neg_kn: f64,
-    /// Robust reading of the envelope (drift at 80 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_80_neg_pct: f64,
-    /// Robust reading of the envelope (drift at 95 % of the peak, − (%); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub drift_at_95_neg_pct: f64,
-    /// Robust reading of the envelope (plateau slope past 95 % of the peak, − (kN per % drift); [`crate::loading::inplane::DirectionResult`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub plateau_slope_neg_kn_per_pct: f64,
-    /// The wall's vertical modulus read in the vertical loading phase, MPa (the database's
-    /// `Epc`; [`InPlaneResult::wall_vertical_modulus_mpa`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub vertical_modulus_mpa: f64,
-    /// The largest excursion of a block from its course over the history, mm
-    /// ([`InPlaneResult::largest_block_excursion_mm`]).
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub largest_block_excursion_mm: f64,
-    /// The block of `largest_block_excursion_mm`.
-    pub excursion_block: String,
-    /// Static solves that did not reach equilibrium.
-    pub unconverged: usize,
-    /// Wall-clock time, s.
-    #[serde(with = "crate::ensemble::row::exact::one")]
-    pub wall_time_s: f64,
-    /// The curve (drift %, force kN), not written to the CSV (journaled, for the figures
-    /// of a resumed or merged run).
-    #[serde(with = "crate::ensemble::row::exact::pairs")]
-    pub curve: Vec<(f64, f64)>,
-    /// The poses at the mechanism's reading and the mechanism, for the report's drawing.
-    #[serde(skip)]
-    pub drawing: Option<(Vec<(crate::math::Vec3, crate::math::Vec3)>, crate::loading::inplane::InPlaneMechanism)>,
-}
-
-impl InPlaneRow {
-    /// A row of group `group`'s realization `realization` (generator index `index`) with
-    /// status `error`, every reading NaN and no curve: what a realization that fails before
-    /// it gives anything reports.
-    pub fn empty(group: String, realization: u64, index: u64) -> InPlaneRow {
-        InPlaneRow {
-            group,
-            realization,
-            index,
-            status: "error".into(),
-            error: String::new(),
-            peak_pos_kn: f64::NAN,
-            drift_at_peak_pos_pct: f64::NAN,
-            ultimate_drift_pos_pct: f64::NAN,
-            stiffness_pos_kn_per_mm: f64::NAN,
-            peak_neg_kn: f64::NAN,
-            drift_at_peak_neg_pct: f64::NAN,
-            ultimate_drift_neg_pct: f64::NAN,
-            stiffness_neg_kn_per_mm: f64::NAN,
-            mechanism: String::new(),
-            failure_type: f64::NAN,
-            opening_share: f64::NAN,
-            limit_peak_kn: f64::NAN,
-            limit_mechanism: String::new(),
-            rocking_kn: f64::NAN,
-            damping_ratio: f64::NAN,
-            force_at_0_5_pos_kn: f64::NAN,
-            force_at_1_pos_kn: f64::NAN,
-            force_at_2_pos_kn: f64::NAN,
-            drift_at_80_pos_pct: f64::NAN,
-            drift_at_95_pos_pct: f64::NAN,
-            plateau_slope_pos_kn_per_pct: f64::NAN,
-            force_at_0_5_neg_kn: f64::NAN,
-            force_at_1_neg_kn: f64::NAN,
-            force_at_2_neg_kn: f64::NAN,
-            drift_at_80_neg_pct: f64::NAN,
-            drift_at_95_neg_pct: f64::NAN,
-            plateau_slope_neg_kn_per_pct: f64::NAN,
-            vertical_modulus_mpa: f64::NAN,
-            largest_block_excursion_mm: f64::NAN,
-            excursion_block: String::new(),
-            unconverged: 0,
-            wall_time_s: 0.0,
-            curve: Vec::new(),
-            drawing: None,
-        }
-    }
-}
-
-/// What a run of the study gave.
-#[derive(Debug, Clone)]
-pub struct InPlaneStudyRun {
-    /// The rows, group by group, realization by realization.
-    pub rows: Vec<InPlaneRow>,
-    /// The report's text (empty for a shard).
-    pub report: String,
-    /// Wall-clock time, s.
-    pub wall_time_s: f64,
-    /// How many of the rows came from the journal of an earlier run (`--resume`).
-    pub resumed: usize,
-}
-
-fn nan_dir() -> (f64, f64, f64, f64) {
-    (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
-}
-
-/// The layout of realization `index` of a group's wall with its effects.
-pub(super) fn realized(
-    wall: &Wall,
-    effects: &[crate::effects::Effect],
-    seed: u64,
-    index: u64,
-    group: &str,
-) -> Result<crate::layout::Layout, String> {
-    crate::effects::realize(wall, seed, index, group, effects).map(|(_, l)| l).map_err(|e| e.to_string())
-}
-
-/// One realization: the generated wall with its group's effects, its test by the penalty
-/// DEM and by limit analysis.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn realization(
-    wall: &Wall,
-    effects: &[crate::effects::Effect],
-    seed: u64,
-    g: usize,
-    i: u64,
-    group: &str,
+/// A realization's row (`row`: its identification and block count) filled with what the
+/// in-plane test gave (`run`, on `layout` with `params`, by `solver`), and limit analysis's
+/// peak and mechanism of the same layout beside it: status `stood` with the readings, or
+/// the run's error (`no_initial_equilibrium` if the wall did not stand as built,
+/// `does_not_stand`, else `blew_up`) with the readings it has.
+pub(super) fn in_plane_row(
+    mut row: RealizationRow,
+    run: InPlaneRun,
+    does_not_stand: bool,
+    layout: &Layout,
     params: &InPlaneParams,
     solver: SolverParams,
-) -> InPlaneRow {
-    let t0 = std::time::Instant::now();
-    let index = g as u64 * 10_000 + i;
-    let mut row = InPlaneRow::empty(group.to_string(), i, index);
-    let layout = match realized(wall, effects, seed, index, group) {
-        Ok(l) => l,
-        Err(e) => {
-            row.error = e;
-            return row;
+) -> RealizationRow {
+    let mut c = InPlaneColumns::default();
+    let error = match run {
+        InPlaneRun::Penalty(Ok(r)) | InPlaneRun::Nscd(Ok(r)) => {
+            fill(&mut c, &r);
+            None
         }
+        InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
+        InPlaneRun::Limit(Ok(_)) => Some("limit analysis gives no curve".to_string()),
     };
-    match crate::protocol::run(&crate::protocol::InPlane(params.clone()), &layout, solver, &mut ()) {
-        Ok(crate::protocol::InPlaneRun::Penalty(Ok(r)) | crate::protocol::InPlaneRun::Nscd(Ok(r))) => {
-            fill(&mut row, &r)
+    match error {
+        None => row.status = Status::Stood,
+        Some(e) => {
+            row.status = if does_not_stand { Status::NoInitialEquilibrium } else { Status::BlewUp };
+            row.error = e;
         }
-        Ok(
-            crate::protocol::InPlaneRun::Penalty(Err(e))
-            | crate::protocol::InPlaneRun::Nscd(Err(e))
-            | crate::protocol::InPlaneRun::Limit(Err(e)),
-        ) => row.error = e.to_string(),
-        Ok(crate::protocol::InPlaneRun::Limit(Ok(_))) => row.error = "limit analysis gives no curve".into(),
-        Err(e) => row.error = e.to_string(),
     }
-    if let Ok(l) = limit_in_plane(&layout, &solver, params, &solver.limit) {
-        row.limit_peak_kn = l.peak_force_kn;
-        row.limit_mechanism = l.mechanism.kind.name().into();
+    if let Ok(l) = limit_in_plane(layout, &solver, params, &solver.limit) {
+        c.limit_peak_kn = l.peak_force_kn;
+        c.limit_mechanism = l.mechanism.kind.name().into();
     }
-    row.wall_time_s = t0.elapsed().as_secs_f64();
+    row.in_plane = Some(Box::new(c));
     row
 }
 
-fn fill(row: &mut InPlaneRow, r: &InPlaneResult) {
-    row.status = "ok".into();
+fn fill(c: &mut InPlaneColumns, r: &InPlaneResult) {
+    let nan = (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
     let d = |x: Option<crate::loading::inplane::DirectionResult>| {
-        x.map_or(nan_dir(), |d| {
-            (d.peak_force_kn, d.drift_at_peak_pct, d.ultimate_drift_pct, d.initial_stiffness_kn_per_mm)
-        })
+        x.map_or(nan, |d| (d.peak_force_kn, d.drift_at_peak_pct, d.ultimate_drift_pct, d.initial_stiffness_kn_per_mm))
     };
-    (row.peak_pos_kn, row.drift_at_peak_pos_pct, row.ultimate_drift_pos_pct, row.stiffness_pos_kn_per_mm) =
-        d(r.positive);
-    (row.peak_neg_kn, row.drift_at_peak_neg_pct, row.ultimate_drift_neg_pct, row.stiffness_neg_kn_per_mm) =
-        d(r.negative);
+    (c.peak_pos_kn, c.drift_at_peak_pos_pct, c.ultimate_drift_pos_pct, c.stiffness_pos_kn_per_mm) = d(r.positive);
+    (c.peak_neg_kn, c.drift_at_peak_neg_pct, c.ultimate_drift_neg_pct, c.stiffness_neg_kn_per_mm) = d(r.negative);
     if let Some(x) = r.positive {
-        row.force_at_0_5_pos_kn = x.force_at_drift_kn[1];
-        row.force_at_1_pos_kn = x.force_at_drift_kn[2];
-        row.force_at_2_pos_kn = x.force_at_drift_kn[3];
-        row.drift_at_80_pos_pct = x.drift_at_80_pct;
-        row.drift_at_95_pos_pct = x.drift_at_95_pct;
-        row.plateau_slope_pos_kn_per_pct = x.plateau_slope_kn_per_pct;
+        (c.force_at_0_5_pos_kn, c.force_at_1_pos_kn, c.force_at_2_pos_kn) =
+            (x.force_at_drift_kn[1], x.force_at_drift_kn[2], x.force_at_drift_kn[3]);
+        (c.drift_at_80_pos_pct, c.drift_at_95_pos_pct) = (x.drift_at_80_pct, x.drift_at_95_pct);
+        c.plateau_slope_pos_kn_per_pct = x.plateau_slope_kn_per_pct;
     }
     if let Some(x) = r.negative {
-        row.force_at_0_5_neg_kn = x.force_at_drift_kn[1];
-        row.force_at_1_neg_kn = x.force_at_drift_kn[2];
-        row.force_at_2_neg_kn = x.force_at_drift_kn[3];
-        row.drift_at_80_neg_pct = x.drift_at_80_pct;
-        row.drift_at_95_neg_pct = x.drift_at_95_pct;
-        row.plateau_slope_neg_kn_per_pct = x.plateau_slope_kn_per_pct;
+        (c.force_at_0_5_neg_kn, c.force_at_1_neg_kn, c.force_at_2_neg_kn) =
+            (x.force_at_drift_kn[1], x.force_at_drift_kn[2], x.force_at_drift_kn[3]);
+        (c.drift_at_80_neg_pct, c.drift_at_95_neg_pct) = (x.drift_at_80_pct, x.drift_at_95_pct);
+        c.plateau_slope_neg_kn_per_pct = x.plateau_slope_kn_per_pct;
     }
-    row.vertical_modulus_mpa = r.wall_vertical_modulus_mpa;
-    row.largest_block_excursion_mm = r.largest_block_excursion_mm;
-    row.excursion_block = r.excursion_block.clone();
-    row.mechanism = r.mechanism.kind.name().into();
-    row.failure_type = r.mechanism.kind.failure_type().unwrap_or(f64::NAN);
-    row.opening_share = r.mechanism.opening_share;
-    row.rocking_kn = r.rocking_force_kn;
-    row.unconverged = r.unconverged;
-    row.curve = r.curve.iter().map(|p| (p.drift_pct, p.force_kn)).collect();
-    row.damping_ratio = loop_damping_ratio(&row.curve, LOOP_MIN_DRIFT_PCT);
-    row.drawing = Some((r.poses_at_reading.clone(), r.mechanism.clone()));
+    c.vertical_modulus_mpa = r.wall_vertical_modulus_mpa;
+    c.largest_block_excursion_mm = r.largest_block_excursion_mm;
+    c.excursion_block = r.excursion_block.clone();
+    c.in_plane_mechanism = r.mechanism.kind.name().into();
+    c.failure_type = r.mechanism.kind.failure_type().unwrap_or(f64::NAN);
+    c.opening_share = r.mechanism.opening_share;
+    c.rocking_kn = r.rocking_force_kn;
+    c.unconverged = r.unconverged as u64;
+    c.curve_drift_pct = r.curve.iter().map(|p| p.drift_pct).collect();
+    c.curve_force_kn = r.curve.iter().map(|p| p.force_kn).collect();
+    c.damping_ratio = loop_damping_ratio(&c.curve(), LOOP_MIN_DRIFT_PCT);
+    c.drawing = Some(Box::new((r.poses_at_reading.clone(), r.mechanism.clone())));
+}
+
+/// The in-plane readings of a row; every reading NaN for a row without them (a layout
+/// that could not be made).
+pub(super) fn readings(r: &RealizationRow) -> &InPlaneColumns {
+    static NONE: LazyLock<InPlaneColumns> = LazyLock::new(InPlaneColumns::default);
+    r.in_plane.as_deref().unwrap_or(&NONE)
+}
+
+/// The drawing of a row (its poses at the mechanism's reading and the mechanism): the one
+/// its run kept, or, for a row read back from a journal or a shard, its realization run
+/// again (the same layout and run, the same bits); `None` if that run fails.
+pub(super) fn drawing(study: &Study, r: &RealizationRow) -> Option<InPlaneDrawing> {
+    if let Some(d) = readings(r).drawing.as_deref() {
+        return Some(d.clone());
+    }
+    let item = study.items().into_iter().nth(r.index as usize)?;
+    let layout = super::run::realize_item(study, &item).ok()?;
+    match study.protocol_of(item.group, item.point).run(&layout, study.solver) {
+        ProtocolRun::InPlane(InPlaneRun::Penalty(Ok(x)) | InPlaneRun::Nscd(Ok(x))) => {
+            Some((x.poses_at_reading, x.mechanism))
+        }
+        _ => None,
+    }
+}
+
+/// A row of `realizations.csv` of an in-plane study: the core's row, its readings and its
+/// seed index.
+struct CsvRow<'a> {
+    row: &'a RealizationRow,
+    p: &'a InPlaneColumns,
+    seed_index: u64,
 }
 
 /// The columns of `realizations.csv` of an in-plane study, in their order, each with its
 /// cell: the one list the header and the rows follow (a test checks that every field of
-/// [`InPlaneRow`] the rows serialize is one of them).
-const ROW_COLUMNS: &[(&str, fn(&InPlaneRow) -> String)] = &[
-    ("group", |r| format!("\"{}\"", r.group)),
-    ("realization", |r| r.realization.to_string()),
-    ("index", |r| r.index.to_string()),
-    ("status", |r| r.status.clone()),
-    ("peak_pos_kn", |r| r.peak_pos_kn.to_string()),
-    ("drift_at_peak_pos_pct", |r| r.drift_at_peak_pos_pct.to_string()),
-    ("ultimate_drift_pos_pct", |r| r.ultimate_drift_pos_pct.to_string()),
-    ("stiffness_pos_kn_per_mm", |r| r.stiffness_pos_kn_per_mm.to_string()),
-    ("peak_neg_kn", |r| r.peak_neg_kn.to_string()),
-    ("drift_at_peak_neg_pct", |r| r.drift_at_peak_neg_pct.to_string()),
-    ("ultimate_drift_neg_pct", |r| r.ultimate_drift_neg_pct.to_string()),
-    ("stiffness_neg_kn_per_mm", |r| r.stiffness_neg_kn_per_mm.to_string()),
-    ("mechanism", |r| r.mechanism.clone()),
-    ("failure_type", |r| r.failure_type.to_string()),
-    ("opening_share", |r| r.opening_share.to_string()),
-    ("limit_peak_kn", |r| r.limit_peak_kn.to_string()),
-    ("limit_mechanism", |r| r.limit_mechanism.clone()),
-    ("rocking_kn", |r| r.rocking_kn.to_string()),
-    ("damping_ratio", |r| r.damping_ratio.to_string()),
-    ("force_at_0_5_pos_kn", |r| r.force_at_0_5_pos_kn.to_string()),
-    ("force_at_1_pos_kn", |r| r.force_at_1_pos_kn.to_string()),
-    ("force_at_2_pos_kn", |r| r.force_at_2_pos_kn.to_string()),
-    ("drift_at_80_pos_pct", |r| r.drift_at_80_pos_pct.to_string()),
-    ("drift_at_95_pos_pct", |r| r.drift_at_95_pos_pct.to_string()),
-    ("plateau_slope_pos_kn_per_pct", |r| r.plateau_slope_pos_kn_per_pct.to_string()),
-    ("force_at_0_5_neg_kn", |r| r.force_at_0_5_neg_kn.to_string()),
-    ("force_at_1_neg_kn", |r| r.force_at_1_neg_kn.to_string()),
-    ("force_at_2_neg_kn", |r| r.force_at_2_neg_kn.to_string()),
-    ("drift_at_80_neg_pct", |r| r.drift_at_80_neg_pct.to_string()),
-    ("drift_at_95_neg_pct", |r| r.drift_at_95_neg_pct.to_string()),
-    ("plateau_slope_neg_kn_per_pct", |r| r.plateau_slope_neg_kn_per_pct.to_string()),
-    ("vertical_modulus_mpa", |r| r.vertical_modulus_mpa.to_string()),
-    ("largest_block_excursion_mm", |r| r.largest_block_excursion_mm.to_string()),
-    ("excursion_block", |r| r.excursion_block.clone()),
-    ("unconverged", |r| r.unconverged.to_string()),
-    ("wall_time_s", |r| format!("{:.3}", r.wall_time_s)),
-    ("error", |r| format!("\"{}\"", r.error.replace('"', "'"))),
+/// [`InPlaneColumns`] but the curve is one of them). `index` is the realization's seed
+/// index (`g · 10000 + i`), `status` `ok` for a run that gave its readings, else `error`.
+const ROW_COLUMNS: &[(&str, fn(&CsvRow) -> String)] = &[
+    ("group", |r| format!("\"{}\"", r.row.group)),
+    ("realization", |r| r.row.realization.to_string()),
+    ("index", |r| r.seed_index.to_string()),
+    ("status", |r| if r.row.status.is_ok() { "ok" } else { "error" }.to_string()),
+    ("peak_pos_kn", |r| r.p.peak_pos_kn.to_string()),
+    ("drift_at_peak_pos_pct", |r| r.p.drift_at_peak_pos_pct.to_string()),
+    ("ultimate_drift_pos_pct", |r| r.p.ultimate_drift_pos_pct.to_string()),
+    ("stiffness_pos_kn_per_mm", |r| r.p.stiffness_pos_kn_per_mm.to_string()),
+    ("peak_neg_kn", |r| r.p.peak_neg_kn.to_string()),
+    ("drift_at_peak_neg_pct", |r| r.p.drift_at_peak_neg_pct.to_string()),
+    ("ultimate_drift_neg_pct", |r| r.p.ultimate_drift_neg_pct.to_string()),
+    ("stiffness_neg_kn_per_mm", |r| r.p.stiffness_neg_kn_per_mm.to_string()),
+    ("mechanism", |r| r.p.in_plane_mechanism.clone()),
+    ("failure_type", |r| r.p.failure_type.to_string()),
+    ("opening_share", |r| r.p.opening_share.to_string()),
+    ("limit_peak_kn", |r| r.p.limit_peak_kn.to_string()),
+    ("limit_mechanism", |r| r.p.limit_mechanism.clone()),
+    ("rocking_kn", |r| r.p.rocking_kn.to_string()),
+    ("damping_ratio", |r| r.p.damping_ratio.to_string()),
+    ("force_at_0_5_pos_kn", |r| r.p.force_at_0_5_pos_kn.to_string()),
+    ("force_at_1_pos_kn", |r| r.p.force_at_1_pos_kn.to_string()),
+    ("force_at_2_pos_kn", |r| r.p.force_at_2_pos_kn.to_string()),
+    ("drift_at_80_pos_pct", |r| r.p.drift_at_80_pos_pct.to_string()),
+    ("drift_at_95_pos_pct", |r| r.p.drift_at_95_pos_pct.to_string()),
+    ("plateau_slope_pos_kn_per_pct", |r| r.p.plateau_slope_pos_kn_per_pct.to_string()),
+    ("force_at_0_5_neg_kn", |r| r.p.force_at_0_5_neg_kn.to_string()),
+    ("force_at_1_neg_kn", |r| r.p.force_at_1_neg_kn.to_string()),
+    ("force_at_2_neg_kn", |r| r.p.force_at_2_neg_kn.to_string()),
+    ("drift_at_80_neg_pct", |r| r.p.drift_at_80_neg_pct.to_string()),
+    ("drift_at_95_neg_pct", |r| r.p.drift_at_95_neg_pct.to_string()),
+    ("plateau_slope_neg_kn_per_pct", |r| r.p.plateau_slope_neg_kn_per_pct.to_string()),
+    ("vertical_modulus_mpa", |r| r.p.vertical_modulus_mpa.to_string()),
+    ("largest_block_excursion_mm", |r| r.p.largest_block_excursion_mm.to_string()),
+    ("excursion_block", |r| r.p.excursion_block.clone()),
+    ("unconverged", |r| r.p.unconverged.to_string()),
+    ("wall_time_s", |r| format!("{:.3}", r.row.wall_time_s)),
+    ("error", |r| format!("\"{}\"", r.row.error.replace('"', "'"))),
 ];
 
-pub(super) fn write_rows(path: &Path, rows: &[InPlaneRow]) -> Result<(), InPlaneStudyError> {
+/// Writes `realizations.csv` of the in-plane study `study` (its rows `rows`, in item order)
+/// into `dir`: one line per realization, the columns of [`ROW_COLUMNS`].
+///
+/// # Errors
+/// [`crate::io::FileError`] naming the file.
+pub(super) fn write_rows(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), crate::io::FileError> {
+    let items = study.items();
     let mut s = ROW_COLUMNS.iter().map(|(name, _)| *name).collect::<Vec<_>>().join(",");
     s.push('\n');
-    for r in rows {
-        let _ = writeln!(s, "{}", ROW_COLUMNS.iter().map(|(_, cell)| cell(r)).collect::<Vec<_>>().join(","));
+    for row in rows {
+        let seed_index = items.get(row.index as usize).map_or(row.realization, |it| study.protocol.seed_index(it));
+        let r = CsvRow { row, p: readings(row), seed_index };
+        let _ = writeln!(s, "{}", ROW_COLUMNS.iter().map(|(_, cell)| cell(&r)).collect::<Vec<_>>().join(","));
     }
-    crate::io::replace_file(path, s.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
+    crate::io::replace_file(&dir.join("realizations.csv"), s.as_bytes())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Every field of a row the rows serialize is a column of `realizations.csv`
-    /// ([`ROW_COLUMNS`]), and every column a field: a field added to [`InPlaneRow`]
-    /// without its column fails here.
+    /// Every field of the in-plane column group the rows serialize but the curve is a column
+    /// of `realizations.csv` ([`ROW_COLUMNS`], `in_plane_mechanism` as `mechanism`), with the
+    /// core's columns of the row it writes, and every column one of those: a field added to
+    /// [`InPlaneColumns`] without its column fails here.
     #[test]
-    fn every_field_of_an_in_plane_row_is_a_column() {
-        let row = InPlaneRow::empty("G".into(), 0, 0);
-        let serde_json::Value::Object(fields) = serde_json::to_value(&row).unwrap() else { panic!() };
-        // The curve is journaled for the figures, not a column.
-        let mut fields: Vec<&str> = fields.keys().map(String::as_str).filter(|f| *f != "curve").collect();
+    fn every_field_of_the_in_plane_group_is_a_column() {
+        let serde_json::Value::Object(fields) = serde_json::to_value(InPlaneColumns::default()).unwrap() else {
+            panic!()
+        };
+        let mut fields: Vec<&str> = fields
+            .keys()
+            .map(String::as_str)
+            .filter(|f| !f.starts_with("curve_"))
+            .map(|f| if f == "in_plane_mechanism" { "mechanism" } else { f })
+            .chain(["group", "realization", "index", "status", "wall_time_s", "error"])
+            .collect();
         let mut columns: Vec<&str> = ROW_COLUMNS.iter().map(|(name, _)| *name).collect();
         fields.sort_unstable();
         columns.sort_unstable();

@@ -1,51 +1,22 @@
-//! The in-plane study's entry points ([`STUDY`]): what `drystone run` and `drystone
-//! discrepancy` call to run and analyse a study file of `protocol = "in_plane"`
-//! ([`super::own`]).
+//! The in-plane study's entry points for `drystone discrepancy` ([`STUDY`]): what it calls
+//! to analyse a study file of `protocol = "in_plane"` ([`super::own`]). Its run, shards and
+//! merge are the study core's (`drystone run`, `drystone merge`).
 
-use super::inplane::{InPlaneStudyError, InPlaneStudyRun};
+use super::inplane::InPlaneStudyError;
 use super::inplane_discrepancy::analysis_of;
-use super::inplane_run::{is_in_plane_shard, merge, run_study_into};
-use super::own::{OwnAnalysis, OwnStudy, OwnStudyError, OwnStudyRun};
+use super::own::{OwnAnalysis, OwnStudy, OwnStudyError};
 use std::path::Path;
 
-/// The in-plane test's study of its own, as `drystone run` and `drystone discrepancy` run
-/// and analyse it.
+/// The in-plane test's discrepancy analysis, as `drystone discrepancy` runs it.
 pub const STUDY: OwnStudy = OwnStudy {
-    kind: crate::protocol::ProtocolKind::InPlane,
     what: "an in-plane study",
-    doc: "docs/inplane.md",
     measured: "reads its specimens from [measured] walls",
-    run: own_run,
-    merge: own_merge,
-    is_shard: is_in_plane_shard,
     analysis: own_analysis,
     held: Some(own_held),
 };
 
 fn boxed(e: InPlaneStudyError) -> OwnStudyError {
     OwnStudyError(Box::new(e))
-}
-
-fn own_run(
-    study: &super::Study,
-    out: &Path,
-    shard: crate::ensemble::Shard,
-    mode: super::RunMode,
-) -> Result<OwnStudyRun, OwnStudyError> {
-    run_study_into(study, out, shard, mode).map(|r| counts(&r)).map_err(boxed)
-}
-
-fn own_merge(dirs: &[std::path::PathBuf], out: &Path) -> Result<OwnStudyRun, OwnStudyError> {
-    merge(dirs, out).map(|r| counts(&r)).map_err(boxed)
-}
-
-fn counts(run: &InPlaneStudyRun) -> OwnStudyRun {
-    OwnStudyRun {
-        realizations: run.rows.len(),
-        failed: run.rows.iter().filter(|r| r.status != "ok").count(),
-        wall_time_s: run.wall_time_s,
-        resumed: run.resumed,
-    }
 }
 
 fn own_analysis(path: &Path) -> Result<OwnAnalysis, OwnStudyError> {

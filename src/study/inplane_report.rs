@@ -1,14 +1,16 @@
 //! The in-plane study's statistics (`summary.csv`: per group and observable the ensemble's
 //! mean, σ, COV and 95 % band), its comparison with the measured specimens
 //! (`comparison.csv`), its figures (`curves_<group>.svg`, `mechanism_<group>.svg`) and its
-//! report (`report.md`).
+//! report (`report.md`): the in-plane protocol's report of the study core's rows
+//! ([`super::StudyProtocol::write_report`]).
 
-use super::inplane::{realized, InPlaneRow};
-use super::inplane_error::InPlaneStudyError;
+use super::inplane::{drawing, readings};
 use super::inplane_measured::{file_stem, Specimen};
 use super::inplane_spec::InPlaneStudy;
+use super::report_error::ReportError;
 use super::Study;
 use crate::dem::SolverParams;
+use crate::ensemble::row::{InPlaneColumns, RealizationRow};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
 use crate::loading::inplane::{mechanism_joints, History, Rig};
 use crate::stats::{mean, quantile, sd};
@@ -17,7 +19,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The observables compared, with their row accessors.
-const OBSERVABLES: [(&str, &str, fn(&InPlaneRow) -> f64, fn(&Specimen) -> f64); 17] = [
+const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 17] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
     ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
     ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
@@ -110,13 +112,18 @@ fn method_words(solver: SolverParams) -> String {
     }
 }
 
+/// Writes the in-plane study's `summary.csv`, `comparison.csv`, figures and `report.md`
+/// into `out` from its rows `rows` (every realization of the study, in item order); returns
+/// the text `drystone run` prints of it (none: the report is the file).
+///
+/// # Errors
+/// [`ReportError`] naming the file that could not be written.
 pub(super) fn report(
     study: &Study,
     test: &InPlaneStudy,
     out: &Path,
-    rows: &[InPlaneRow],
-    elapsed_s: f64,
-) -> Result<String, InPlaneStudyError> {
+    rows: &[RealizationRow],
+) -> Result<String, ReportError> {
     let (path, solver, specimens) = (&study.path, study.solver, &test.specimens);
     let mut md = String::new();
     let mut summary = String::from("group,observable,n,mean,sd,cov,band_lo,band_hi\n");
@@ -125,16 +132,16 @@ pub(super) fn report(
     );
     let _ = writeln!(md, "# {}\n", study.name);
     let _ = writeln!(md, "{}\n", study.description.trim());
-    let ok = rows.iter().filter(|r| r.status == "ok").count();
+    let ok = rows.iter().filter(|r| r.status.is_ok()).count();
     let _ = writeln!(
         md,
-        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of wall-clock time. Method: {}, and limit \
-         analysis beside it. {}, largest drift {} %.\n",
+        "Study file `{}`; seed {}; {} realizations ({} failed); {:.1} s of run time summed over the realizations. \
+         Method: {}, and limit analysis beside it. {}, largest drift {} %.\n",
         path.display(),
         study.seed,
         rows.len(),
         rows.len() - ok,
-        elapsed_s,
+        rows.iter().map(|r| r.wall_time_s).sum::<f64>(),
         method_words(solver),
         match (test.params.beam_rotation, test.params.shear_span_m) {
             (crate::loading::inplane::BeamRotation::Fixed, _) => "Beam held level: no shear span".to_string(),
@@ -158,7 +165,8 @@ pub(super) fn report(
         test.params.measuring_height_m.or(test.params.shear_span_m).map_or("H".to_string(), |h| format!("{}", h * 1e3))
     );
     for (g, (core, group)) in study.groups.iter().zip(&test.groups).enumerate() {
-        let rs: Vec<&InPlaneRow> = rows.iter().filter(|r| r.group == core.name && r.status == "ok").collect();
+        let ran: Vec<&RealizationRow> = rows.iter().filter(|r| r.group == core.name && r.status.is_ok()).collect();
+        let rs: Vec<&InPlaneColumns> = ran.iter().map(|r| readings(r)).collect();
         let ms: Vec<&Specimen> =
             group.specimens.iter().filter_map(|u| specimens.iter().find(|s| &s.unit == u)).collect();
         let _ = writeln!(md, "## {}\n", core.name);
@@ -192,7 +200,7 @@ pub(super) fn report(
         observables_table(&core.name, &rs, &ms, &mut summary, &mut comparison, &mut md);
         let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
         for r in &rs {
-            *kinds.entry(r.mechanism.as_str()).or_default() += 1;
+            *kinds.entry(r.in_plane_mechanism.as_str()).or_default() += 1;
         }
         let la: Vec<f64> = rs.iter().map(|r| r.limit_peak_kn).collect();
         let (_, la_m, _, _, _, _) = stats(&la);
@@ -216,15 +224,12 @@ pub(super) fn report(
             la_kinds.iter().map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", "),
             f(rock, 2)
         );
-        figures(study, test, g, &rs, &ms, out, &mut md)?;
+        figures(study, test, g, (ran.first().copied(), &rs), &ms, out, &mut md)?;
     }
-    let w = |name: &str, text: &str| {
-        crate::io::replace_file(&out.join(name), text.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))
-    };
-    w("summary.csv", &summary)?;
-    w("comparison.csv", &comparison)?;
-    w("report.md", &md)?;
-    Ok(md)
+    for (name, text) in [("summary.csv", &summary), ("comparison.csv", &comparison), ("report.md", &md)] {
+        crate::io::replace_file(&out.join(name), text.as_bytes())?;
+    }
+    Ok(String::new())
 }
 
 /// The observables of the group `name` (`rs` its rows that ran, `ms` its measured
@@ -232,7 +237,7 @@ pub(super) fn report(
 /// `comparison.csv` and its table in the report `md`.
 fn observables_table(
     name: &str,
-    rs: &[&InPlaneRow],
+    rs: &[&InPlaneColumns],
     ms: &[&Specimen],
     summary: &mut String,
     comparison: &mut String,
@@ -278,10 +283,10 @@ fn observables_table(
     }
 }
 
-/// The figures of group `g` (`rs` its rows that ran, `ms` its measured specimens): the
-/// curves over the measured envelopes (`curves_<slug>.svg`) and the mechanism of
-/// realization 0 beside the measured crack maps (`mechanism_<slug>.svg`), written into
-/// `out` and linked in `md`.
+/// The figures of group `g` (`first` its first row that ran and `rs` the readings of those
+/// that ran, `ms` its measured specimens): the curves over the measured envelopes
+/// (`curves_<slug>.svg`) and the mechanism of the first realization that ran beside the
+/// measured crack maps (`mechanism_<slug>.svg`), written into `out` and linked in `md`.
 ///
 /// # Errors
 /// A figure that cannot be written.
@@ -289,11 +294,11 @@ fn figures(
     study: &Study,
     test: &InPlaneStudy,
     g: usize,
-    rs: &[&InPlaneRow],
+    (first, rs): (Option<&RealizationRow>, &[&InPlaneColumns]),
     ms: &[&Specimen],
     out: &Path,
     md: &mut String,
-) -> Result<(), InPlaneStudyError> {
+) -> Result<(), ReportError> {
     let (core, path, solver) = (&study.groups[g], &study.path, study.solver);
     let slug: String =
         core.name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
@@ -305,7 +310,7 @@ fn figures(
             label: (k == 0).then(|| "simulated (each realization)".to_string()),
             colour: 0,
             measured: false,
-            points: r.curve.clone(),
+            points: r.curve(),
         })
         .collect();
     for (k, m) in ms.iter().enumerate() {
@@ -319,26 +324,27 @@ fn figures(
         }
     }
     let svg = out.join(format!("curves_{slug}.svg"));
-    force_drift(&svg, &core.name, &curves).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+    force_drift(&svg, &core.name, &curves)?;
     let _ = writeln!(md, "![force-drift curves](curves_{slug}.svg)\n");
     // The mechanism of realization 0 beside the measured crack map.
-    if let Some((r0, (poses, mechanism))) = rs.first().and_then(|r| r.drawing.as_ref().map(|d| (r, d))) {
+    if let Some((r0, (poses, mechanism))) = first.and_then(|r| drawing(study, r).map(|d| (r, d))) {
         let params = test.params_of(g);
-        let layout = realized(&core.walls[0], &core.effects, study.seed, r0.index, &core.name);
-        if let Ok(rig) =
-            layout.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string()))
+        let item = study.items().into_iter().nth(r0.index as usize);
+        let layout = item.map(|it| super::run::realize_item(study, &it));
+        if let Some(Ok(rig)) = layout
+            .map(|l| l.map_err(|e| e.to_string()).and_then(|l| Rig::build(&l, &params).map_err(|e| e.to_string())))
         {
             {
                 let sim = crate::dem::Simulation::new(&rig.layout, solver);
                 let svg = crack_map_svg(
                     &rig.layout,
-                    poses,
+                    &poses,
                     &mechanism_joints(&sim),
-                    mechanism,
+                    &mechanism,
                     &format!("{}: realization 0, {}", core.name, mechanism.kind.name()),
                 );
                 let p = out.join(format!("mechanism_{slug}.svg"));
-                crate::io::replace_file(&p, svg.as_bytes()).map_err(|e| InPlaneStudyError::Write(e.to_string()))?;
+                crate::io::replace_file(&p, svg.as_bytes())?;
                 let _ = write!(md, "![mechanism, realization 0](mechanism_{slug}.svg)");
                 if let Some(dir) = &test.crackmaps {
                     for m in ms {

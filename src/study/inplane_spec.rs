@@ -47,7 +47,7 @@
 //! analysis runs beside it whatever the kind (`limit_peak_kn`), by `[solver.limit]`.
 
 use super::error::Invalid;
-use super::inplane_measured::{read_loops, read_specimens, Specimen};
+use super::inplane_measured::{file_stem, read_loops, read_specimens, Specimen};
 use super::provenance::InputRole;
 use super::spec::{EffectsSpec, GroupSpec, ProtocolKind, StudySpec};
 use super::StudyError;
@@ -355,5 +355,16 @@ fn read_measured_specimens(
         read_loops(&mut s, &dir.join(c)).map_err(|e| invalid.at("measured.curves", e.to_string()))?;
     }
     files.push((InputRole::Measured, dir.join(walls)));
+    // The envelopes and curves read (the specimens' files that exist), stored with the run
+    // so that `drystone merge` rebuilds the study from its manifest alone.
+    let read = |folder: &Option<PathBuf>, name: fn(&Specimen) -> String| -> Vec<PathBuf> {
+        folder
+            .as_ref()
+            .map_or_else(Vec::new, |f| s.iter().map(|x| dir.join(f).join(name(x))).filter(|p| p.is_file()).collect())
+    };
+    files.extend(
+        read(&m.envelopes, |x| format!("envelope_{}.csv", file_stem(x))).into_iter().map(|p| (InputRole::Measured, p)),
+    );
+    files.extend(read(&m.curves, |x| format!("FD_{}.csv", file_stem(x))).into_iter().map(|p| (InputRole::Measured, p)));
     Ok(s)
 }

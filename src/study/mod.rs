@@ -124,7 +124,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::{own_study_of, own_study_of_shard, StudyProtocol};
+pub use protocol::{own_study_of, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

@@ -2,8 +2,10 @@
 //! its table together. The decisions a study takes per protocol are exhaustive matches on
 //! it here: the table read from the file and written back, the protocol of each sweep point
 //! (a [`crate::protocol::Protocol`]), the row its run fills (a match on
-//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`]), the report's
-//! sections ([`super::report`], [`super::shaking`]), the VTK series ([`super::figures`]),
+//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`] and
+//! [`super::inplane`]), the seed index of an item, the realizations table, the report (the
+//! ensemble's with its sections, [`super::report`], [`super::shaking`]; the in-plane
+//! test's, [`super::inplane_report`]), the VTK series ([`super::figures`]),
 //! its warnings and what its summary counts; the compiler points to each at a new protocol.
 //! Elsewhere in the study a key that only one protocol reads asks its accessor
 //! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
@@ -12,20 +14,24 @@
 
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
+use super::inplane::{in_plane_row, write_rows};
+use super::inplane_report::report as in_plane_report;
 use super::inplane_spec::InPlaneStudy;
 use super::motions::ShakeStudy;
 use super::own::OwnStudy;
-use super::report::{lateral_sections, tilt_sections};
+use super::report::{ensemble_report, lateral_sections, tilt_sections};
 use super::report_error::ReportError;
 use super::run::{
     failed_row, lateral_row, limit_lateral_row, limit_tilt_row, nscd_pushover_row, pushover_row, shake_row, tilt_row,
 };
 use super::shaking::shake_sections;
+use super::shards::OutputError;
 use super::spec::{ProtocolKind, StudySpec};
 use super::summary::{CellSummary, Comparison};
 use super::sweep::{SweepKey, SweepValue};
 use super::{Study, StudyError};
 use crate::ensemble::row::RealizationRow;
+use crate::ensemble::Item;
 use crate::ground::Motion;
 use crate::io::series::SeriesError;
 use crate::layout::Layout;
@@ -168,9 +174,17 @@ impl StudyProtocol {
     }
 
     /// A realization's row (`row`: its identification and block count) filled with what its
-    /// run at sweep point `point` gave: one row function per kind of run
-    /// ([`super::run`]), an error as a status row.
-    pub(super) fn row(&self, study: &Study, point: usize, row: RealizationRow, run: ProtocolRun) -> RealizationRow {
+    /// run of item `item` on `layout` gave: one row function per kind of run
+    /// ([`super::run`]; the in-plane test's [`super::inplane::in_plane_row`], with limit
+    /// analysis of `layout` beside it), an error as a status row.
+    pub(super) fn row(
+        &self,
+        study: &Study,
+        item: &Item,
+        layout: &Layout,
+        row: RealizationRow,
+        run: ProtocolRun,
+    ) -> RealizationRow {
         let does_not_stand = run.does_not_stand();
         let error = run.error().unwrap_or_default();
         match run {
@@ -185,7 +199,11 @@ impl StudyProtocol {
                 pushover_row(lateral_row(row, r), collapse.map(|c| *c))
             }
             ProtocolRun::Pushover(PushoverRun::Nscd(Ok(r))) => nscd_pushover_row(row, r),
-            ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(point, SweepKey::PgaG)),
+            ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
+            ProtocolRun::InPlane(r) => match self.in_plane() {
+                Some(test) => in_plane_row(row, r, does_not_stand, layout, &test.params_of(item.group), study.solver),
+                None => failed_row(row, false, &"an in-plane run of a study of another protocol"),
+            },
             ProtocolRun::Tilt(TiltRun::Penalty(Err(_)) | TiltRun::Nscd(Err(_)) | TiltRun::Limit(Err(_)))
             | ProtocolRun::TiltByHand(Err(_))
             | ProtocolRun::Lateral(LateralRun::Penalty(Err(_)) | LateralRun::Limit(Err(_)))
@@ -194,10 +212,59 @@ impl StudyProtocol {
             )
             | ProtocolRun::Shake(Err(_))
             | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
-            // An in-plane study's rows are written by its run (study::inplane_run), which
-            // `drystone run` hands its files to.
-            ProtocolRun::InPlane(_) => {
-                failed_row(row, false, &"the in-plane test's rows are its run's (drystone run, study::inplane_run)")
+        }
+    }
+
+    /// The seed index of item `item`: the index its layout is generated with
+    /// ([`crate::effects::realize`], with the study's seed). The realization's index in its
+    /// group, but for the in-plane test's `g · 10000 + i` (group g, realization i), the
+    /// index its studies have always used.
+    pub fn seed_index(&self, item: &Item) -> u64 {
+        match self {
+            StudyProtocol::InPlane(_) => item.group as u64 * 10_000 + item.realization,
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => item.realization,
+        }
+    }
+
+    /// Writes the realizations table of `rows` into `dir`: `realizations.parquet` with every
+    /// column (what `drystone merge` reads back) and `realizations.csv`, the core's columns
+    /// ([`crate::io::table::write_realizations`]) or the in-plane test's
+    /// ([`super::inplane::write_rows`]).
+    ///
+    /// # Errors
+    /// [`OutputError`] naming the file.
+    pub(super) fn write_rows(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
+        match self {
+            StudyProtocol::InPlane(_) => {
+                crate::io::table::write_realizations_parquet(rows, dir)?;
+                Ok(write_rows(study, rows, dir)?)
+            }
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
+                Ok(crate::io::table::write_realizations(rows, dir)?)
+            }
+        }
+    }
+
+    /// Writes the report of a whole study's `rows` into `dir` and returns what `drystone
+    /// run` prints of it: the ensemble's (`summary.csv` of its cells, [`report_sections`],
+    /// [`super::report::ensemble_report`]), or the in-plane test's (`summary.csv` per
+    /// observable, `comparison.csv` with the measured specimens, its figures,
+    /// [`super::inplane_report::report`]).
+    ///
+    /// [`report_sections`]: StudyProtocol::report_sections
+    ///
+    /// # Errors
+    /// [`ReportError`] naming the file.
+    pub(super) fn write_report(
+        &self,
+        study: &Study,
+        rows: &[RealizationRow],
+        dir: &Path,
+    ) -> Result<String, ReportError> {
+        match self {
+            StudyProtocol::InPlane(test) => in_plane_report(study, test, dir, rows),
+            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
+                ensemble_report(study, rows, dir)
             }
         }
     }
@@ -223,7 +290,7 @@ impl StudyProtocol {
                 Ok(String::new())
             }
             StudyProtocol::Shake(shake) => shake_sections(study, shake, rows, dir, md),
-            // Its report is written by its run with its rows (study::inplane_run).
+            // Its report is its own, whole (`write_report`), which does not ask for these.
             StudyProtocol::InPlane(_) => Ok(String::new()),
         }
     }
@@ -244,6 +311,7 @@ impl StudyProtocol {
             StudyProtocol::Tilt(tilt) => tilt_series(study, tilt, layout, out),
             StudyProtocol::Lateral(lateral) => lateral_series(study, lateral, layout, out),
             StudyProtocol::Shake(_) => shake_series(study, point, layout, out),
+            // The in-plane test records no time series.
             StudyProtocol::InPlane(_) => Ok(None),
         }
     }
@@ -293,19 +361,6 @@ impl StudyProtocol {
         }
     }
 
-    /// Why the ensemble run's rows ([`crate::ensemble::row::RealizationRow`]) cannot hold
-    /// this protocol's, naming the run that writes them; `None` for the protocols they
-    /// hold.
-    pub fn rows_written_elsewhere(&self) -> Option<&'static str> {
-        match self {
-            StudyProtocol::InPlane(_) => Some(
-                "protocol = \"in_plane\": its rows, statistics and report are written by its own run \
-                 (`drystone run` on the study file, study::inplane_run)",
-            ),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
-        }
-    }
-
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
     pub fn in_plane(&self) -> Option<&InPlaneStudy> {
         match self {
@@ -315,8 +370,9 @@ impl StudyProtocol {
     }
 }
 
-/// The study of its own of a kind ([`super::own`]), which `drystone run` and `drystone
-/// discrepancy` hand its files to; `None` for a kind the ensemble study runs.
+/// The discrepancy analysis of its own of a kind ([`super::own`]), which `drystone
+/// discrepancy` hands its files to; `None` for a kind whose analysis is the ensemble's
+/// (`study::discrepancy`). Every kind's run is the study core's.
 pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     match kind {
         ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake => None,
@@ -324,17 +380,11 @@ pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     }
 }
 
-/// The study of its own of the protocol a study file names ([`own_study`] of its
-/// [`super::own::kind_of`]); `None` for a file of the ensemble study (or one that cannot be
-/// read, whose errors that study reports).
+/// The discrepancy analysis of its own of the protocol a study file names ([`own_study`]
+/// of its [`super::own::kind_of`]); `None` for a file the ensemble's analysis reads (or one
+/// that cannot be read, whose errors that analysis reports).
 pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
     super::own::kind_of(path).and_then(own_study)
-}
-
-/// The study of its own whose shard a run directory holds; `None` for a shard of the
-/// ensemble study (or a directory that is no shard, whose errors the merge reports).
-pub fn own_study_of_shard(dir: &Path) -> Option<&'static OwnStudy> {
-    ProtocolKind::ALL.into_iter().filter_map(own_study).find(|own| (own.is_shard)(dir))
 }
 
 impl StudySpec {

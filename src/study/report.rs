@@ -94,12 +94,24 @@ fn sweep_label(c: &CellSummary) -> &str {
     }
 }
 
-/// Writes `summary.csv`, `report.md` and the plots into `dir`. Returns what `drystone run`
-/// prints: the measured-against-simulated table and the paper comparison, if any.
+/// Writes the report of a whole study into `dir`: `summary.csv`, `report.md` and the plots
+/// (the ensemble's, [`ensemble_report`], or the in-plane test's with its `comparison.csv`,
+/// [`super::StudyProtocol::write_report`]). Returns what `drystone run` prints: the
+/// measured-against-simulated table and the paper comparison, if any.
 ///
 /// # Errors
 /// [`ReportError`] naming the file.
 pub fn write_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
+    study.protocol.write_report(study, rows, dir)
+}
+
+/// The ensemble's report: `summary.csv` of its cells, `report.md` with the protocol's
+/// sections ([`super::StudyProtocol::report_sections`]), the paper's, the warnings and the
+/// failed realizations, and the plots. Returns what `drystone run` prints.
+///
+/// # Errors
+/// [`ReportError`] naming the file.
+pub(super) fn ensemble_report(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
     let cells = summarize(study, rows);
     let cmp = comparisons(study, &cells);
     write_summary_csv(&cells, &dir.join("summary.csv"))?;

@@ -46,14 +46,15 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
         Ok(layout) => {
             let row = RealizationRow { blocks: layout.blocks.len() as u64, ..base };
             let run = study.protocol_of(item.group, item.point).run(&layout, study.solver);
-            study.protocol.row(study, item.point, row, run)
+            study.protocol.row(study, item, &layout, row, run)
         }
     };
     finish(row, t0)
 }
 
-/// The layout of an item: realization `item.realization` (master seed `study.seed`) of its
-/// group's wall at its sweep point, with the group's effects applied
+/// The layout of an item: its group's wall at its sweep point generated with the master
+/// seed `study.seed` and the item's seed index ([`super::StudyProtocol::seed_index`]: its
+/// realization, or the in-plane test's `g · 10000 + i`), with the group's effects applied
 /// ([`crate::effects::realize`]). The one layout every run of the item is made of: its row
 /// ([`run_item`]), its mechanism figure and its ParaView series (`study::figures`).
 ///
@@ -62,7 +63,8 @@ pub fn run_item(study: &Study, item: &Item) -> RealizationRow {
 pub(super) fn realize_item(study: &Study, item: &Item) -> Result<Layout, crate::effects::EffectError> {
     let group = &study.groups[item.group];
     let wall = &group.walls[item.point];
-    crate::effects::realize(wall, study.seed, item.realization, &group.name, &group.effects).map(|(_, layout)| layout)
+    let index = study.protocol.seed_index(item);
+    crate::effects::realize(wall, study.seed, index, &group.name, &group.effects).map(|(_, layout)| layout)
 }
 
 /// The row with its wall time since `t0`.

@@ -233,7 +233,7 @@ fn write_outputs_by(
         dir,
         &previous,
         |staging| -> Result<Option<String>, OutputError> {
-            table::write_realizations(rows, staging)?;
+            study.protocol.write_rows(study, rows, staging)?;
             Ok(if shard.n == 1 { Some(write_report(study, rows, staging)?) } else { None })
         },
         |outputs| {
@@ -283,10 +283,7 @@ pub struct StudyRun {
 /// replaced or cut by another command while this one runs: the lock refuses it.
 ///
 /// # Errors
-/// [`OutputError`] naming the file, or the difference with the journal; a study whose
-/// rows its protocol's own run writes (the in-plane test,
-/// [`StudyProtocol::rows_written_elsewhere`](super::StudyProtocol::rows_written_elsewhere)),
-/// naming that run.
+/// [`OutputError`] naming the file, or the difference with the journal.
 pub fn run_into(
     study: &Study,
     study_arg: &Path,
@@ -314,9 +311,6 @@ pub fn run_into_observed(
     mode: RunMode,
     observe: &(dyn Fn(&RealizationRow) -> bool + Sync),
 ) -> Result<StudyRun, OutputError> {
-    if let Some(why) = study.protocol.rows_written_elsewhere() {
-        return Err(OutputError::File { path: study.path.clone(), message: why.into() });
-    }
     let _lock = DirLock::acquire(dir)?;
     check_writable(dir)?;
     let path = dir.join(journal::FILE_NAME);
@@ -586,5 +580,8 @@ fn rebuild(manifest: &Manifest, scratch: &Path) -> Result<Study, OutputError> {
     if let Some(d) = d {
         return Err(merge_error(format!("the stored inputs do not rebuild the study: {d}")));
     }
+    // The study file as the shards ran it (the rebuilt one's folder is removed): what a
+    // report names, and where the in-plane report finds its crack maps.
+    study.path.clone_from(&manifest.study);
     Ok(study)
 }

@@ -102,3 +102,25 @@ pub fn proptest_seed() -> proptest::test_runner::RngSeed {
         None => RngSeed::Fixed(20210917),
     }
 }
+
+/// Runs the whole study of the file `path` into `out` by the study core, as `drystone run`
+/// does (its journal, outputs and manifest); the error as text.
+pub fn run_study_file(path: &Path, out: &Path) -> Result<drystone::study::StudyRun, String> {
+    run_study_shard(path, out, drystone::ensemble::Shard::ALL, drystone::study::RunMode::default())
+}
+
+/// As [`run_study_file`], for shard `shard` of the study, its journal treated as `mode` says.
+pub fn run_study_shard(
+    path: &Path,
+    out: &Path,
+    shard: drystone::ensemble::Shard,
+    mode: drystone::study::RunMode,
+) -> Result<drystone::study::StudyRun, String> {
+    let study = drystone::study::Study::from_file(path).map_err(|e| e.to_string())?;
+    drystone::study::run_into(&study, path, shard, out, mode).map_err(|e| e.to_string())
+}
+
+/// The in-plane test's readings of a row of an in-plane study.
+pub fn in_plane(r: &drystone::ensemble::row::RealizationRow) -> &drystone::ensemble::row::InPlaneColumns {
+    r.in_plane.as_deref().expect("a row of an in-plane study holds the in-plane columns")
+}

@@ -2,7 +2,9 @@
 //! its `[solver]` table chooses the method as in every study, the groups' own keys are
 //! refused in `[in_plane]`.
 
+use crate::common::{in_plane, run_study_file, run_study_shard};
 use drystone::dem::{SolverKind, SolverParams};
+use drystone::ensemble::row::RealizationRow;
 use drystone::loading::inplane::{History, InPlaneParams};
 use std::path::{Path, PathBuf};
 
@@ -71,13 +73,15 @@ fn the_solver_table_chooses_the_method() {
     let penalty = write(&dir, "penalty.toml", &study_text("", ""));
     let spec = drystone::study::Study::from_file(&nscd).unwrap();
     assert_eq!(spec.solver.kind, SolverKind::Nscd);
-    let by_nscd = drystone::study::inplane_run::run(&nscd, &dir.join("n")).unwrap();
-    let by_penalty = drystone::study::inplane_run::run(&penalty, &dir.join("p")).unwrap();
+    let by_nscd = run_study_file(&nscd, &dir.join("n")).unwrap();
+    let by_penalty = run_study_file(&penalty, &dir.join("p")).unwrap();
     assert_eq!(by_nscd.rows.len(), 5);
     let wall = drystone::generator::Wall::from_file(&dir.join("wall.toml")).unwrap();
     for (g, sigma0_mpa, i) in [(0usize, 0.5, 0u64), (1, 0.25, 1)] {
+        // The seed index of realization i of group g; group a has 3 realizations.
         let index = g as u64 * 10_000 + i;
-        let row = by_nscd.rows.iter().find(|r| r.index == index).unwrap();
+        let row = &by_nscd.rows[[0, 3][g] + i as usize];
+        assert_eq!((row.group.as_str(), row.realization), (["a", "b"][g], i));
         let (_, layout) = drystone::effects::realize(&wall, 7, index, &row.group, &[]).unwrap();
         let params = InPlaneParams {
             sigma0_mpa,
@@ -90,12 +94,13 @@ fn the_solver_table_chooses_the_method() {
         let run = drystone::protocol::run(&drystone::protocol::InPlane(params), &layout, solver, &mut ()).unwrap();
         let drystone::protocol::InPlaneRun::Nscd(Ok(direct)) = run else { panic!("{run:?}") };
         let d = direct.positive.unwrap();
-        assert_eq!(row.status, "ok", "{row:?}");
-        assert_eq!(row.peak_pos_kn.to_bits(), d.peak_force_kn.to_bits());
-        assert_eq!(row.stiffness_pos_kn_per_mm.to_bits(), d.initial_stiffness_kn_per_mm.to_bits());
-        assert_eq!(row.mechanism, direct.mechanism.kind.name());
-        let p = by_penalty.rows.iter().find(|r| r.index == index).unwrap();
-        assert_ne!(p.peak_pos_kn.to_bits(), row.peak_pos_kn.to_bits(), "the penalty DEM's row differs");
+        assert!(row.status.is_ok(), "{row:?}");
+        let c = in_plane(row);
+        assert_eq!(c.peak_pos_kn.to_bits(), d.peak_force_kn.to_bits());
+        assert_eq!(c.stiffness_pos_kn_per_mm.to_bits(), d.initial_stiffness_kn_per_mm.to_bits());
+        assert_eq!(c.in_plane_mechanism, direct.mechanism.kind.name());
+        let p = &by_penalty.rows[row.index as usize];
+        assert_ne!(in_plane(p).peak_pos_kn.to_bits(), c.peak_pos_kn.to_bits(), "the penalty DEM's row differs");
     }
     let report = std::fs::read_to_string(dir.join("n/report.md")).unwrap();
     assert!(report.contains("non-smooth contact dynamics"), "{report}");
@@ -124,13 +129,14 @@ fn the_groups_keys_are_refused_in_the_shared_table() {
 }
 
 /// The outputs of a run folder that must be the same bit for bit: every file but the
-/// journal and the manifest (which hold the run's own history), the rows without their
-/// wall-clock column, the report without its wall-clock time.
+/// journal and the manifest (which hold the run's own history) and `realizations.parquet`
+/// (which holds the wall-clock column), the rows of `realizations.csv` without their
+/// wall-clock column, the report without its run time.
 fn outputs_of(dir: &Path) -> Vec<(String, String)> {
     let mut v: Vec<(String, String)> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.is_file())
+        .filter(|p| p.is_file() && p.file_name().is_some_and(|n| n != "realizations.parquet"))
         .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read_to_string(&p).unwrap()))
         .filter(|(name, _)| name != "journal.jsonl" && name != "manifest.json")
         .map(|(name, text)| {
@@ -138,7 +144,7 @@ fn outputs_of(dir: &Path) -> Vec<(String, String)> {
                 "realizations.csv" => {
                     text.lines().map(|l| l.rsplitn(3, ',').nth(2).unwrap_or_default().to_string() + "\n").collect()
                 }
-                "report.md" => text.lines().filter(|l| !l.contains("wall-clock")).collect::<Vec<_>>().join("\n"),
+                "report.md" => text.lines().filter(|l| !l.contains("s of run time")).collect::<Vec<_>>().join("\n"),
                 _ => text,
             };
             (name, text)
@@ -148,15 +154,17 @@ fn outputs_of(dir: &Path) -> Vec<(String, String)> {
     v
 }
 
-fn same_rows(a: &[drystone::study::inplane::InPlaneRow], b: &[drystone::study::inplane::InPlaneRow]) {
+fn same_rows(a: &[RealizationRow], b: &[RealizationRow]) {
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(b) {
-        assert_eq!(x.index, y.index);
+        assert_eq!((x.index, &x.group, x.realization, x.status), (y.index, &y.group, y.realization, y.status));
+        let (x, y) = (in_plane(x), in_plane(y));
         assert_eq!(x.peak_pos_kn.to_bits(), y.peak_pos_kn.to_bits());
         assert_eq!(x.limit_peak_kn.to_bits(), y.limit_peak_kn.to_bits());
         assert_eq!(x.damping_ratio.to_bits(), y.damping_ratio.to_bits(), "NaN kept");
         let bits = |c: &[(f64, f64)]| c.iter().map(|(d, f)| (d.to_bits(), f.to_bits())).collect::<Vec<_>>();
-        assert_eq!(bits(&x.curve), bits(&y.curve));
+        assert_eq!(bits(&x.curve()), bits(&y.curve()));
+        assert_eq!(x.curve().len(), x.curve_drift_pct.len());
     }
 }
 
@@ -167,10 +175,10 @@ fn same_rows(a: &[drystone::study::inplane::InPlaneRow], b: &[drystone::study::i
 #[test]
 fn a_killed_run_resumes_to_the_uninterrupted_outputs() {
     use drystone::ensemble::Shard;
-    use drystone::study::{inplane_run, RunMode};
+    use drystone::study::RunMode;
     let dir = folder("resume");
     let study = write(&dir, "study.toml", &study_text("", ""));
-    let whole = inplane_run::run(&study, &dir.join("whole")).unwrap();
+    let whole = run_study_file(&study, &dir.join("whole")).unwrap();
     assert_eq!(whole.rows.len(), 5);
     let manifest = std::fs::read_to_string(dir.join("whole/manifest.json")).unwrap();
     assert!(manifest.contains("\"shard\": \"1/1\"") && manifest.contains("wall.toml"), "{manifest}");
@@ -179,41 +187,60 @@ fn a_killed_run_resumes_to_the_uninterrupted_outputs() {
     std::fs::create_dir_all(&killed).unwrap();
     let kept: String = journal.lines().take(3).map(|l| format!("{l}\n")).collect();
     std::fs::write(killed.join("journal.jsonl"), kept).unwrap();
-    let e = inplane_run::run(&study, &killed).unwrap_err().to_string();
+    let e = run_study_file(&study, &killed).unwrap_err();
     assert!(e.contains("2 of 5") && e.contains("resume"), "{e}");
     let resume = RunMode { resume: true, force: false };
-    let resumed = inplane_run::run_into(&study, &killed, Shard::ALL, resume).unwrap();
+    let resumed = run_study_shard(&study, &killed, Shard::ALL, resume).unwrap();
     assert_eq!(resumed.resumed, 2);
     same_rows(&resumed.rows, &whole.rows);
     assert_eq!(outputs_of(&killed), outputs_of(&dir.join("whole")));
     let other = write(&dir, "other.toml", &study_text("", "").replace("seed = 7", "seed = 8"));
-    let e = inplane_run::run_into(&other, &killed, Shard::ALL, resume).unwrap_err().to_string();
+    let e = run_study_shard(&other, &killed, Shard::ALL, resume).unwrap_err();
     assert!(e.contains("seed") && e.contains('7') && e.contains('8'), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Two shards of the study, merged, write the outputs of the whole run bit for bit; a shard
-/// given twice is refused.
+/// Two shards of the study, merged by the study core (`drystone merge`), write the outputs
+/// of the whole run bit for bit (`realizations.csv` among them); a shard given twice, the
+/// other missing, is refused naming it.
 #[test]
 fn two_shards_merged_equal_the_whole() {
     use drystone::ensemble::Shard;
-    use drystone::study::{inplane_run, RunMode};
+    use drystone::study::RunMode;
     let dir = folder("shards");
-    let study = write(&dir, "study.toml", &study_text("", ""));
-    let whole = inplane_run::run(&study, &dir.join("whole")).unwrap();
+    // With a measured specimen (the database's table, its envelope and its curve, copied
+    // beside the study): the merge rebuilds the study from the inputs its manifest stores.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    for f in ["walls.csv", "envelopes/envelope_WS100_Vasconcelos2005.csv", "curves/FD_WS100_Vasconcelos2005.csv"] {
+        std::fs::create_dir_all(dir.join("data").join(f).parent().unwrap()).unwrap();
+        std::fs::copy(data.join(f), dir.join("data").join(f)).unwrap();
+    }
+    let text = study_text("", "").replace("sigma0_mpa = 0.5\n", "sigma0_mpa = 0.5\nspecimens = [\"WS.100\"]\n")
+        + "[measured]\nwalls = \"data/walls.csv\"\nenvelopes = \"data/envelopes\"\ncurves = \"data/curves\"\n";
+    let study = write(&dir, "study.toml", &text);
+    let whole = run_study_file(&study, &dir.join("whole")).unwrap();
+    let manifest = std::fs::read_to_string(dir.join("whole/manifest.json")).unwrap();
+    assert!(manifest.contains("envelope_WS100_Vasconcelos2005.csv") && manifest.contains("FD_WS100"), "{manifest}");
     let mut shards = Vec::new();
     for k in 0..2 {
         let d = dir.join(format!("shard{k}"));
-        let r = inplane_run::run_into(&study, &d, Shard { k, n: 2 }, RunMode::default()).unwrap();
+        let r = run_study_shard(&study, &d, Shard { k, n: 2 }, RunMode::default()).unwrap();
         assert_eq!(r.rows.len(), [3, 2][k]);
         assert!(!d.join("report.md").exists(), "a shard writes its rows alone");
         shards.push(d);
     }
-    let merged = inplane_run::merge(&shards, &dir.join("merged")).unwrap();
+    let merged = drystone::study::merge(&shards, &dir.join("merged")).unwrap();
     same_rows(&merged.rows, &whole.rows);
     assert_eq!(outputs_of(&dir.join("merged")), outputs_of(&dir.join("whole")));
-    let e = inplane_run::merge(&[shards[0].clone(), shards[0].clone()], &dir.join("twice")).unwrap_err().to_string();
-    assert!(e.contains("shard 1/2"), "{e}");
+    let csv = |d: &str, f: &str| std::fs::read_to_string(dir.join(d).join(f)).unwrap();
+    assert_eq!(csv("merged", "realizations.csv").lines().count(), 6, "{}", csv("merged", "realizations.csv"));
+    // The measured peak of WS.100 (the table's Vmax_pos_kN) and its envelope drawn.
+    let comparison = csv("merged", "comparison.csv");
+    assert!(comparison.contains("WS.100,peak_pos_kn,37,"), "{comparison}");
+    assert!(csv("merged", "curves_a.svg").contains("WS.100 envelope (measured)"));
+    let twice = [shards[0].clone(), shards[0].clone()];
+    let e = drystone::study::merge(&twice, &dir.join("twice")).unwrap_err().to_string();
+    assert!(e.contains("shard 2/2 missing"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -224,8 +251,8 @@ fn a_study_with_the_beam_held_level_reports_no_shear_span() {
     let dir = folder("fixed");
     let text = study_text("", "").replace("shear_span_m = 0.35\n", "beam_rotation = \"fixed\"\n");
     let p = write(&dir, "fixed.toml", &text);
-    let run = drystone::study::inplane_run::run(&p, &dir.join("f")).unwrap();
-    assert!(run.rows.iter().all(|r| r.status == "ok"), "{:?}", run.rows);
+    let run = run_study_file(&p, &dir.join("f")).unwrap();
+    assert!(run.rows.iter().all(|r| r.status.is_ok()), "{:?}", run.rows);
     let report = std::fs::read_to_string(dir.join("f/report.md")).unwrap();
     assert!(report.contains("Beam held level: no shear span"), "{report}");
     assert!(!report.contains("Shear span"), "{report}");
@@ -240,7 +267,7 @@ fn a_study_with_the_beam_held_level_reports_no_shear_span() {
 fn the_study_core_reads_it_with_realizations_and_refuses_foreign_keys() {
     let dir = folder("core");
     let study = write(&dir, "study.toml", &study_text("", ""));
-    let whole = drystone::study::inplane_run::run(&study, &dir.join("whole")).unwrap();
+    let whole = run_study_file(&study, &dir.join("whole")).unwrap();
     let out = dir.join("one");
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_drystone"))
         .args(["run", study.to_str().unwrap(), "--realizations", "1", "--out", out.to_str().unwrap()])
@@ -271,13 +298,6 @@ fn the_study_core_reads_it_with_realizations_and_refuses_foreign_keys() {
     let p = write(&dir, "missing.toml", &study_text("", "").replace("sigma0_mpa = 0.25\n", ""));
     let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
     assert!(e.contains("groups[b].sigma0_mpa") && e.contains("missing"), "{e}");
-    // The ensemble run, whose rows do not hold the test's, refuses it naming its run.
-    let st = drystone::study::Study::from_file(&study).unwrap();
-    let e =
-        drystone::study::run_into(&st, &study, drystone::ensemble::Shard::ALL, &dir.join("core"), Default::default())
-            .unwrap_err()
-            .to_string();
-    assert!(e.contains("in_plane") && e.contains("drystone run"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
