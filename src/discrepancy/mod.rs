@@ -35,6 +35,7 @@ mod compare;
 pub mod design;
 mod findings;
 mod fit;
+mod held;
 mod identify;
 mod inplane;
 mod null;
@@ -64,6 +65,7 @@ pub use candidate::Candidate;
 pub use compare::{difference_se, per_specimen};
 pub use findings::{bootstrap_gain, Design, FittedParameter, HeldRefit, Run};
 pub use fit::Surface;
+pub use held::{HeldReading, HeldReport};
 pub use identify::{identifiability, Identifiability, KeySeparation, PairSeparation, INDISTINGUISHABLE};
 pub use inplane::{InPlaneQuantity, IN_PLANE_MODES};
 pub use null::Margins;
@@ -77,7 +79,7 @@ pub use prepare::{
     GridRuns, InertEffect, Keys, Prepared,
 };
 pub use progress::{quiet, Progress};
-pub use refute::{in_fit as refuted_in_fit, reading_of, HeldReading, HeldReport, Refutation, REFUTE_NATS, REFUTE_Z};
+pub use refute::{in_fit as refuted_in_fit, reading_of, Refutation, REFUTE_NATS, REFUTE_Z};
 pub use report::{diagnosis, report_json, report_markdown, write_report, DiagnosisRow, WriteError};
 pub use settings::Settings;
 pub use simulate::{forward_runs, run_models, run_one, GroupSetup, Outcome, Outcomes, Setup, StageRuns};

@@ -23,12 +23,13 @@ use super::compare::{self, specimen_weights};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
 use super::fit::{self, to_value, Data, Surface};
+use super::held::HeldReading;
 use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
 use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
 use super::progress::{quiet, Progress};
-use super::refute::{HeldReading, Refutation};
+use super::refute::Refutation;
 use super::simulate::{forward_runs, run_models, Outcome, Setup, StageRuns};
 use super::DiscrepancyError;
 

@@ -6,7 +6,7 @@
 //! Forces in kN, drifts in % of the measuring height, stiffnesses in kN/mm; NaN where a
 //! reading does not exist (the − direction of a monotonic run, a failed run).
 
-use super::row::exact;
+use super::exact;
 use crate::loading::inplane::InPlaneMechanism;
 #[cfg(doc)]
 use crate::loading::inplane::InPlaneResult;
