@@ -414,18 +414,7 @@ mod tests {
     use crate::discrepancy::observations::{Observable, Observation};
 
     fn ranked(name: &str, scores: Vec<f64>) -> Ranked {
-        Ranked {
-            name: name.into(),
-            parameters: vec![],
-            heldout_error: 0.0,
-            difference_se: 0.0,
-            information_criterion: 0.0,
-            confirmed: false,
-            x: vec![],
-            index: 0,
-            scores,
-            predictive: vec![],
-        }
+        Ranked::with_scores(name, scores)
     }
 
     fn observations(kinds: &[Observable]) -> Vec<Observation> {

@@ -59,6 +59,25 @@ pub struct Ranked {
     pub predictive: Vec<Predictive>,
 }
 
+#[cfg(test)]
+impl Ranked {
+    /// A candidate `name` with the held-out scores `scores` and nothing else, for tests.
+    pub(crate) fn with_scores(name: &str, scores: Vec<f64>) -> Ranked {
+        Ranked {
+            name: name.into(),
+            parameters: vec![],
+            heldout_error: 0.0,
+            difference_se: 0.0,
+            information_criterion: 0.0,
+            confirmed: false,
+            x: vec![],
+            index: 0,
+            scores,
+            predictive: vec![],
+        }
+    }
+}
+
 /// Held-out error and full-data fit of one candidate.
 pub fn score(c: &Candidate, data: Data<'_>, specimens: &[String], index: usize, base: &[f64]) -> Ranked {
     // The full-data fit and the held-out fits share one scan of the surface.

@@ -120,18 +120,7 @@ mod tests {
     use crate::discrepancy::InPlaneQuantity;
 
     fn ranked(scores: Vec<f64>) -> Ranked {
-        Ranked {
-            name: "c".into(),
-            parameters: vec![],
-            heldout_error: 0.0,
-            difference_se: 0.0,
-            information_criterion: 0.0,
-            confirmed: false,
-            x: vec![],
-            index: 0,
-            scores,
-            predictive: vec![],
-        }
+        Ranked::with_scores("c", scores)
     }
 
     /// Four specimens, each with a peak force and a vertical modulus.
