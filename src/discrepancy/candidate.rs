@@ -1,7 +1,7 @@
 //! A candidate explanation of the discrepancy: one effect, a pair of effects, or the
 //! specimen scatter, each with its surrogate over its parameters ([`super::fit`]).
 
-use super::fit::{to_value, Surface, SCATTER_ANGLE_MAX_DEG, SCATTER_DISP_MAX};
+use super::fit::{to_value, to_x, Surface, SCATTER_ANGLE_MAX_DEG, SCATTER_DISP_MAX};
 use super::predictive::Simulated;
 use crate::effects::{EffectDef, ParamDef, Scale, WallKind};
 use std::sync::Arc;
@@ -80,6 +80,17 @@ impl Candidate {
             .collect()
     }
 
+    /// Whether the candidate's model at search coordinates `x` is the baseline's: the
+    /// specimen-scatter hypothesis (no effect on the wall, any `x`), or every coordinate
+    /// exactly at its parameter's neutral value's (an effect there leaves the model
+    /// unchanged, [`ParamDef::neutral`]; the surrogate grids read the baseline's runs at that
+    /// node). `false` when `x` has another length than the parameters.
+    pub fn is_baseline_at(&self, x: &[f64]) -> bool {
+        self.is_scatter()
+            || (self.params.len() == x.len()
+                && self.params.iter().zip(x).all(|(q, xi)| to_x(q, q.neutral).clamp(0.0, 1.0) == *xi))
+    }
+
     /// Parameter values at `x`, as `effect.param` → value.
     pub fn values(&self, x: &[f64]) -> Vec<(String, f64)> {
         let mut names = Vec::new();
@@ -96,5 +107,39 @@ impl Candidate {
             debug_assert_eq!(k, self.params.len());
         }
         names.into_iter().zip(self.params.iter().zip(x)).map(|(n, (p, &xi))| (n, to_value(p, xi))).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn single(name: &str) -> Candidate {
+        let def = crate::effects::Library::builtin().get(name).unwrap();
+        Candidate {
+            params: def.params_for(0.2),
+            effects: vec![def],
+            kinds: vec![],
+            surface: Surface::axis(vec![], vec![]),
+        }
+    }
+
+    /// The baseline's model: a seating gap of 0 m (its range's lower end, coordinate 0), a
+    /// stiffness factor of 1 (inside its log range 0.05–2, at ln 20 / ln 40 of it), and the
+    /// scatter hypothesis anywhere; a gap a millionth of its range up or a factor at either
+    /// end of its range is another model.
+    #[test]
+    fn the_neutral_values_and_the_scatter_hypothesis_are_the_baselines_model() {
+        let gap = single("seating_gap");
+        assert!(gap.is_baseline_at(&[0.0]));
+        assert!(!gap.is_baseline_at(&[1e-6]));
+        assert!(!gap.is_baseline_at(&[]), "a coordinate missing is not the baseline");
+        let kn = single("kn_scale");
+        let one = to_x(&kn.params[0], 1.0);
+        assert!((to_value(&kn.params[0], one) - 1.0).abs() < 1e-12, "the factor at its neutral coordinate is 1");
+        assert!(kn.is_baseline_at(&[one]));
+        assert!(!kn.is_baseline_at(&[0.0]) && !kn.is_baseline_at(&[1.0]));
+        let scatter = Candidate::scatter(vec![], vec![], vec![]);
+        assert!(scatter.is_baseline_at(&[0.3, 0.7]));
     }
 }

@@ -109,6 +109,19 @@ impl Run {
         };
         super::prepare::effects_of(c, &r.x, course_m).map(Some)
     }
+
+    /// Whether the ranked candidate `name`'s model at its fitted parameters is the
+    /// baseline's ([`super::Candidate::is_baseline_at`]): a run of it is a run of the
+    /// baseline. `false` for a name the analysis did not rank.
+    pub fn is_baseline_model(&self, name: &str) -> bool {
+        let Some(r) = self.analysis.candidates.iter().find(|r| r.name == name) else {
+            return false;
+        };
+        let Some(c) = self.analysis.pool.get(r.index) else {
+            return false;
+        };
+        c.is_baseline_at(&r.x)
+    }
 }
 
 impl Run {

@@ -131,6 +131,11 @@ pub struct LoopModel {
     /// friction read, or where the analysis has no surrogate of those effects (a two-
     /// parameter partner of both rig forces).
     pub peaks: Option<crate::discrepancy::HeldRefit>,
+    /// Its wall is the baseline's ([`crate::discrepancy::Run::is_baseline_model`]: the
+    /// specimen-scatter hypothesis, or every effect at its neutral value), so its loops are
+    /// the baseline's, read once and not run again.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub baseline_wall: bool,
 }
 
 /// What the loops say of a model (module documentation).
@@ -255,7 +260,8 @@ impl LoopCheck {
             "The loops' equivalent viscous damping ratio ξ_eq = E_d / (4π E_s), the median over the cycles of at \
              least {} % drift, of each cyclic specimen's whole measured curve and of each model run cyclic at its \
              fitted parameters, {} ({} runs): the baseline, every candidate asked before it could be named and the \
-             models of the tie. A model whose χ² fails (p < 0.05) and exceeds the baseline's by more than {} is \
+             models of the tie (a model whose wall is the baseline's, the scatter hypothesis or effects at their \
+             neutral values, takes the baseline's loops). A model whose χ² fails (p < 0.05) and exceeds the baseline's by more than {} is \
              refuted by the loops and not named (the verdict's list of refuted candidates). A friction against the motion \
              (`rig_friction`) dissipates `4 μ_r N a` a cycle, a force of the displacement alone (`jack_tilt`, the \
              joints' closure) nothing. Per stress: the specimens' median against the model's mean, z their difference \
@@ -289,7 +295,8 @@ impl LoopCheck {
         measured.push_str(" | | | | |");
         let _ = writeln!(md, "{measured}");
         for m in &self.models {
-            let mut line = format!("| `{}` |", m.name);
+            let wall = if m.baseline_wall { " (the baseline's wall)" } else { "" };
+            let mut line = format!("| `{}`{wall} |", m.name);
             for g in &m.groups {
                 let _ = write!(line, " {:.4} ({:+.1}) |", crate::stats::mean(&finite(&g.simulated)), g.z);
             }
@@ -494,7 +501,14 @@ impl LoopsReading {
             }
             names
         };
+        // The tie's models whose wall is the baseline's take the baseline's loops.
+        let mut as_baseline: Vec<(String, Vec<(String, f64)>)> = vec![];
         for name in judged.iter().chain(run.analysis.tie.iter().filter(|t| !judged.contains(t))) {
+            if run.is_baseline_model(name) {
+                let parameters = run.analysis.candidates.iter().find(|r| &r.name == name).map(|r| r.parameters.clone());
+                as_baseline.push((name.clone(), parameters.unwrap_or_default()));
+                continue;
+            }
             let effects = run
                 .fitted_effects(name, self.course_m)
                 .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
@@ -515,7 +529,14 @@ impl LoopsReading {
         let mut check = LoopCheck {
             min_drift_pct: first.min_drift_pct,
             measured_sigma: first.measured_sigma,
-            models: checks.iter().flat_map(|c| c.models.first().cloned()).collect(),
+            models: checks
+                .iter()
+                .flat_map(|c| c.models.first().cloned())
+                .chain(as_baseline.into_iter().filter_map(|(name, parameters)| {
+                    let base = checks[0].models.first()?;
+                    Some(LoopModel { name, parameters, baseline_wall: true, ..base.clone() })
+                }))
+                .collect(),
             runs,
             own_histories: first.own_histories,
             baseline_heldout_error: f64::NAN,
@@ -830,6 +851,7 @@ pub fn check_models(
                 friction_read,
                 verdict,
                 peaks: None,
+                baseline_wall: false,
             }
         })
         .collect();

@@ -163,6 +163,23 @@ fn a_cause_that_a_held_reading_refutes_is_not_named() {
         cause.parameters
     );
 
+    // The models whose wall is the baseline's (a held reading of them reads the baseline's
+    // runs): the scatter hypothesis, and a candidate whose every fitted value is its
+    // parameter's neutral value, read from the library's definitions, not from the search
+    // coordinates the product compares.
+    for r in &plain.analysis.candidates {
+        let neutral = r.name != "scatter"
+            && r.parameters.iter().all(|(key, v)| {
+                let (effect, name) = key.split_once('.').expect("effect.param");
+                let def = study.library.get(effect).expect("a library effect");
+                let n = def.parameters.iter().find(|q| q.name == name).expect("its parameter").neutral;
+                (v - n).abs() <= 1e-12 * n.abs().max(1.0)
+            });
+        assert_eq!(plain.is_baseline_model(&r.name), r.name == "scatter" || neutral, "{}: {:?}", r.name, r.parameters);
+    }
+    assert!(!plain.is_baseline_model("kn_scale"), "kn_scale is fitted away from its neutral factor");
+    assert!(!plain.is_baseline_model("no_such_effect"));
+
     let kn = HandReading { refutes: &["kn_scale"], asked: Default::default() };
     let run = analyze_held(&prep, data(3.0), study.seed, Some(&kn), &quiet).unwrap();
     let a = &run.analysis;
