@@ -172,13 +172,13 @@ enum Rotation {
     Fixed,
 }
 
-/// `drystone in-plane`.
+/// The test's parameters from the options, each checked and a wrong combination refused
+/// naming its options.
 ///
 /// # Errors
-/// A bad option or layout (named), a refused solver, a run that fails, an output that
-/// cannot be written.
-pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
-    refuse_unread(&a)?;
+/// An option out of its range or given without the one it needs (named), a replayed file
+/// that cannot be read.
+fn params_of(a: &InPlaneArgs) -> Result<InPlaneParams> {
     let drift_pct = a.drift_pct.unwrap_or(InPlaneParams::default().drift_pct);
     let reversals_pct = match (&a.reversals_pct, &a.replay) {
         (Some(r), _) => Some(r.clone()),
@@ -226,6 +226,18 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         );
     }
     params.validate().map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
+    Ok(params)
+}
+
+/// `drystone in-plane`.
+///
+/// # Errors
+/// A bad option or layout (named), a refused solver, a run that fails, an output that
+/// cannot be written.
+pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
+    refuse_unread(&a)?;
+    let params = params_of(&a)?;
+    let cyclic = params.history == History::Cyclic;
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
     }
