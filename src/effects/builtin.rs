@@ -304,6 +304,18 @@ fn wall_effects() -> Vec<EffectDef> {
             )],
             vec![Step::LeafSplit { parameter: "loose_leaf_fraction".into(), through_stone_every: None }],
         ),
+        ]
+        .into_iter()
+        .chain(rig_effects())
+        .collect()
+}
+
+/// The in-plane rig's effects, after the wall's in library order: its vertical jacks' tilt,
+/// their bearing's friction and their incline, a compliance in series with the wall, the
+/// vertical load's eccentricity, a vertical load fixed in space, and the beam's partial
+/// rotational restraint, each with its range and its reasoning from the test's set-up.
+fn rig_effects() -> Vec<EffectDef> {
+    vec![
         // The in-plane rig's vertical load: what the horizontal actuator carries besides
         // the wall's shear.
         def(
