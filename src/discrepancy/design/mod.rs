@@ -431,77 +431,85 @@ pub fn markdown(plan: &Plan) -> String {
         );
     }
     if let Some(b) = plan.best() {
-        if plan.ranked.iter().all(|r| r.to_target.is_none()) {
-            let _ = writeln!(
-                md,
-                "\nNo follow-up of the menu names the cause alone with probability {:.2} within {} specimens: the \
-                 contenders are not told apart by these tests at an affordable size.",
-                plan.settings.target, most
-            );
-        }
-        let _ = writeln!(
-            md,
-            "\nBest: **{}**, {} specimens. Written as a study with empty measured-file templates in \
-             `design/followup/`.",
-            b.followup.name, plan.settings.specimens
-        );
-        if let Some(r) = &plan.reported {
-            let _ = writeln!(
-                md,
-                "\nThe cause named alone after it with probability **{:.2}** ({:.0} % Monte Carlo interval {:.2}–{:.2}, \
-                 Wilson on {:.0} effective replicates): re-estimated on {} fresh simulated follow-ups per truth, drawn \
-                 on random streams disjoint from those that ranked the menu, since the best of many estimates runs \
-                 high even when each is unbiased (the optimizer's curse, Smith & Winkler 2006). The ranking's own \
-                 estimate was {:.2}; weights' criterion {:.2}, right {:.2}.",
-                r.chance.alone,
-                100.0 * Reported::LEVEL,
-                r.interval.0,
-                r.interval.1,
-                r.effective_replicates,
-                r.replicates,
-                r.selected,
-                r.chance.weights_alone,
-                r.chance.right
-            );
-        }
-        let chance = plan.reported.as_ref().map_or(&b.at_budget, |r| &r.chance);
-        let stops: Vec<String> = chance
-            .blocked_by
-            .iter()
-            .zip(&chance.data_blocked_by)
-            .enumerate()
-            .filter_map(|(t, (row, data))| {
-                let (c, share) =
-                    row.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).filter(|&(_, s)| s >= 0.005)?;
-                Some(format!(
-                    "`{}` by `{}` ({:.2}, the data test {:.2})",
-                    plan.contenders.get(t)?.name,
-                    plan.contenders.get(c)?.name,
-                    share,
-                    data[c]
-                ))
-            })
-            .collect();
-        if !stops.is_empty() {
-            let _ = writeln!(
-                md,
-                "\nWhat most often stops each truth being named alone after it (the contender the tie check fails to \
-                 clear, the share of the simulated follow-ups, and the share in which the data test does not separate \
-                 it): {}.",
-                stops.join("; ")
-            );
-        }
-        let _ = writeln!(
-            md,
-            "\nThese probabilities take the truth to be one of the truths above (the analysis's contenders and, \
-             sharing {:.2} of the prior, the truths outside them), off by the discrepancy the first campaign shows \
-             and, on what it did not read, by as much as the models disagree there. Real walls can differ from every \
-             one of them in ways the first campaign does not show (docs/discrepancy.md, \"On data it did not make\", \
-             scores the promise on walls the engine did not make).",
-            OUTSIDE_PRIOR
-        );
+        best_markdown(&mut md, plan, b, most);
     }
     md
+}
+
+/// The markdown of the best follow-up `b` of `plan`: whether any follow-up reaches the
+/// target within `most` specimens, the promise re-estimated on fresh draws, what most
+/// often stops each truth being named alone, and what the probabilities assume.
+fn best_markdown(md: &mut String, plan: &Plan, b: &RankedFollowUp, most: usize) {
+    use std::fmt::Write;
+    if plan.ranked.iter().all(|r| r.to_target.is_none()) {
+        let _ = writeln!(
+            md,
+            "\nNo follow-up of the menu names the cause alone with probability {:.2} within {} specimens: the \
+             contenders are not told apart by these tests at an affordable size.",
+            plan.settings.target, most
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nBest: **{}**, {} specimens. Written as a study with empty measured-file templates in \
+         `design/followup/`.",
+        b.followup.name, plan.settings.specimens
+    );
+    if let Some(r) = &plan.reported {
+        let _ = writeln!(
+            md,
+            "\nThe cause named alone after it with probability **{:.2}** ({:.0} % Monte Carlo interval {:.2}–{:.2}, \
+             Wilson on {:.0} effective replicates): re-estimated on {} fresh simulated follow-ups per truth, drawn \
+             on random streams disjoint from those that ranked the menu, since the best of many estimates runs \
+             high even when each is unbiased (the optimizer's curse, Smith & Winkler 2006). The ranking's own \
+             estimate was {:.2}; weights' criterion {:.2}, right {:.2}.",
+            r.chance.alone,
+            100.0 * Reported::LEVEL,
+            r.interval.0,
+            r.interval.1,
+            r.effective_replicates,
+            r.replicates,
+            r.selected,
+            r.chance.weights_alone,
+            r.chance.right
+        );
+    }
+    let chance = plan.reported.as_ref().map_or(&b.at_budget, |r| &r.chance);
+    let stops: Vec<String> = chance
+        .blocked_by
+        .iter()
+        .zip(&chance.data_blocked_by)
+        .enumerate()
+        .filter_map(|(t, (row, data))| {
+            let (c, share) =
+                row.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).filter(|&(_, s)| s >= 0.005)?;
+            Some(format!(
+                "`{}` by `{}` ({:.2}, the data test {:.2})",
+                plan.contenders.get(t)?.name,
+                plan.contenders.get(c)?.name,
+                share,
+                data[c]
+            ))
+        })
+        .collect();
+    if !stops.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nWhat most often stops each truth being named alone after it (the contender the tie check fails to \
+             clear, the share of the simulated follow-ups, and the share in which the data test does not separate \
+             it): {}.",
+            stops.join("; ")
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nThese probabilities take the truth to be one of the truths above (the analysis's contenders and, \
+         sharing {:.2} of the prior, the truths outside them), off by the discrepancy the first campaign shows \
+         and, on what it did not read, by as much as the models disagree there. Real walls can differ from every \
+         one of them in ways the first campaign does not show (docs/discrepancy.md, \"On data it did not make\", \
+         scores the promise on walls the engine did not make).",
+        OUTSIDE_PRIOR
+    );
 }
 
 /// The mechanism keys of a follow-up that reads the mechanism: the failure height read to
