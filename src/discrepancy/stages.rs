@@ -16,20 +16,19 @@
 //! posterior predictive check, the tie checks and the verdict; beside them, the models'
 //! weights and what separates the leading ones.
 
-use super::analysis::{pairs, predictive_check, rank, reversal_rates, score, sort, Analysis, Models, Ranked};
+use super::analysis::{pairs, predictive_check, rank, reversal_rates, sort, Analysis, Models, Ranked};
 use super::analysis::{PredictiveCheck, Reversal, TieCheck, Verdict, TIE_CHALLENGERS};
 use super::candidate::Candidate;
 use super::compare::{self, specimen_weights};
 use super::effects::Effect;
 use super::findings::{bootstrap_gain, design, FittedParameter, Run};
-use super::fit::{self, to_value, Data, Surface};
+use super::fit::{self, to_value, Data};
 use super::held::HeldReading;
 use super::null::{calibrate_margins, Margins, NullSource, SigmaRule};
 use super::observations::{self, Observation};
 use super::predictive::{Predictive, Reading, Simulated};
 use super::prepare::{check, course_height, effects_of, key_labels, with_realizations, Keys, Prepared};
 use super::progress::{quiet, Progress};
-use super::refute::Refutation;
 use super::simulate::{forward_runs, run_models, Outcome, Setup, StageRuns};
 use super::DiscrepancyError;
 
@@ -132,33 +131,16 @@ pub fn analyze_held(
     };
     let refuted = |r: &Ranked| gate.refuted(r, &pool[r.index], data, progress).map(|f| f.is_some());
     let named = name_cause(&candidates, eligible, &screening, margins.baseline, refuted)?;
-    let found = match &named {
-        Some(b) => {
-            let mut f = examine_cause(&ctx, b, &candidates, &pool, &runs, &screening.base_per, progress)?;
-            // A model a reading refutes is told from the cause by that reading: not in its tie.
-            let mut members = vec![];
-            for m in std::mem::take(&mut f.tie.members) {
-                let out = match candidates.iter().find(|r| r.name == m && m != b.name) {
-                    Some(r) => refuted(r)?,
-                    None => false,
-                };
-                if !out {
-                    members.push(m);
-                }
-            }
-            f.tie.members = members;
-            f
-        }
-        None => Findings {
-            check: predictive_check(data, &lib.baseline, &specimens, null_source, s.check_replicates, seed, &labels),
-            passes: false,
-            extended: None,
-            extended_predictive: (0..obs.len()).map(|j| data.predictive(&lib.baseline, j)).collect(),
-            gain: None,
-            tie: Tie::default(),
-            runs: 0,
-        },
-    };
+    let found = findings(
+        &ctx,
+        named.as_ref(),
+        (&candidates, &pool),
+        &runs,
+        &screening.base_per,
+        null_source,
+        &refuted,
+        progress,
+    )?;
     let mut stage_runs = prep.forward_runs.clone();
     let confirmation: usize = runs.iter().map(|r| forward_runs(&full, std::slice::from_ref(&r.effects), true)).sum();
     stage_runs.push(StageRuns::new("confirmation", confirmation));
@@ -241,6 +223,56 @@ struct Findings {
     /// Forward runs of the extended model (its full run unless a confirmation run is
     /// reused, and its realizations on the independent layouts).
     runs: usize,
+}
+
+/// What the analysis finds of the named cause `named` (its extended model, check, gain and
+/// tie, [`examine_cause`], the tie's members a reading refutes left out: that reading tells
+/// them from the cause), or, with none named, the baseline's predictive check against
+/// `null_source`. `ranking`: the ranked candidates and the pool they index.
+#[allow(clippy::too_many_arguments)]
+fn findings(
+    ctx: &Ctx<'_>,
+    named: Option<&Ranked>,
+    (candidates, pool): (&[Ranked], &[Candidate]),
+    runs: &[Confirmation],
+    base_per: &[f64],
+    null_source: NullSource<'_>,
+    refuted: &dyn Fn(&Ranked) -> Result<bool, DiscrepancyError>,
+    progress: Progress<'_>,
+) -> Result<Findings, DiscrepancyError> {
+    let (data, s, baseline) = (ctx.data, &ctx.prep.settings, &ctx.prep.library.baseline);
+    let Some(b) = named else {
+        return Ok(Findings {
+            check: predictive_check(
+                data,
+                baseline,
+                ctx.specimens,
+                null_source,
+                s.check_replicates,
+                ctx.seed,
+                ctx.labels,
+            ),
+            passes: false,
+            extended: None,
+            extended_predictive: (0..data.obs.len()).map(|j| data.predictive(baseline, j)).collect(),
+            gain: None,
+            tie: Tie::default(),
+            runs: 0,
+        });
+    };
+    let mut f = examine_cause(ctx, b, candidates, pool, runs, base_per, progress)?;
+    let mut members = vec![];
+    for m in std::mem::take(&mut f.tie.members) {
+        let out = match candidates.iter().find(|r| r.name == m && m != b.name) {
+            Some(r) => refuted(r)?,
+            None => false,
+        };
+        if !out {
+            members.push(m);
+        }
+    }
+    f.tie.members = members;
+    Ok(f)
 }
 
 /// Stages 7 and 8 for a named cause `b`: its extended model ([`extended_model`]) checked
@@ -419,191 +451,6 @@ fn add_pairs(
     pool.extend(extra);
     admit_pairs(ranked, more, best.heldout_error - margins.baseline, best.information_criterion);
     added
-}
-
-/// A full run of a candidate at its fitted parameters.
-#[derive(Debug, Clone)]
-struct Confirmation {
-    /// The candidate's index in the pool.
-    candidate: usize,
-    /// The search coordinates of the run.
-    x: Vec<f64>,
-    /// The effects at those coordinates.
-    effects: Vec<Effect>,
-    /// The outcomes, `[group][realization]`.
-    outcomes: Vec<Vec<Outcome>>,
-}
-
-/// The candidates a confirmation round runs: of the two best that no reading refutes
-/// (`refuted`, asked in the ranking's order until two are found), those not yet confirmed
-/// and not the scatter hypothesis (which has no model to run), by pool index.
-///
-/// # Errors
-/// Those of `refuted`.
-fn to_confirm<E>(
-    ranked: &[Ranked],
-    is_scatter: impl Fn(usize) -> bool,
-    mut refuted: impl FnMut(&Ranked) -> Result<bool, E>,
-) -> Result<Vec<usize>, E> {
-    let mut best = Vec::with_capacity(2);
-    for r in ranked {
-        if best.len() == 2 {
-            break;
-        }
-        if !refuted(r)? {
-            best.push(r);
-        }
-    }
-    Ok(best.into_iter().filter(|r| !r.confirmed && !is_scatter(r.index)).map(|r| r.index).collect())
-}
-
-/// The readings asked of a candidate before it is confirmed by a full run and before it is
-/// named ([`super::refute`]): the readings of the fit (the candidate's held-out scores
-/// against the baseline's, [`super::refute::in_fit`]) and, for a candidate that may be
-/// named (its held-out error below `can_name`: the baseline's less the gain margin), the
-/// protocol's held reading at its fitted parameters, judged once per fit.
-struct Gate<'a> {
-    /// The baseline's score of every observation.
-    base_scores: &'a [f64],
-    /// The held-out error below which a candidate may be named.
-    can_name: f64,
-    /// The protocol's reading the fit does not hold.
-    held: Option<&'a dyn HeldReading>,
-    /// The walls' mean course height, m (the effects' parameters in courses).
-    course_m: f64,
-    /// The held reading's judgements: the candidate's name, its coordinates' bits and what
-    /// the reading said.
-    judged: std::cell::RefCell<Vec<(String, Vec<u64>, Option<Refutation>)>>,
-    /// The refutations of the candidates at their latest fit, in the order found.
-    found: std::cell::RefCell<Vec<Refutation>>,
-}
-
-impl Gate<'_> {
-    /// The reading that refutes `r` (the candidate `c` of the pool) at its current fit, if
-    /// one does; recorded in [`Gate::found`].
-    ///
-    /// # Errors
-    /// [`DiscrepancyError::Effect`] for effects that cannot take the fitted values, and the
-    /// held reading's.
-    fn refuted(
-        &self,
-        r: &Ranked,
-        c: &Candidate,
-        data: Data<'_>,
-        progress: Progress<'_>,
-    ) -> Result<Option<Refutation>, DiscrepancyError> {
-        let found = match super::refute::in_fit(r, self.base_scores, data) {
-            Some(f) => Some(f),
-            None => self.held_judgement(r, c, progress)?,
-        };
-        let mut all = self.found.borrow_mut();
-        all.retain(|f| f.candidate != r.name);
-        all.extend(found.clone());
-        Ok(found)
-    }
-
-    /// The held reading's judgement of `r` at its fitted coordinates (`None` without a held
-    /// reading, for the scatter hypothesis, which has no model to run, and for a candidate
-    /// that cannot be named).
-    fn held_judgement(
-        &self,
-        r: &Ranked,
-        c: &Candidate,
-        progress: Progress<'_>,
-    ) -> Result<Option<Refutation>, DiscrepancyError> {
-        let Some(held) = self.held else { return Ok(None) };
-        if c.is_scatter() || r.heldout_error >= self.can_name {
-            return Ok(None);
-        }
-        let bits: Vec<u64> = r.x.iter().map(|v| v.to_bits()).collect();
-        if let Some((_, _, j)) = self.judged.borrow().iter().find(|(n, b, _)| *n == r.name && *b == bits) {
-            return Ok(j.clone());
-        }
-        let effects = effects_of(c, &r.x, self.course_m)?;
-        let j = held.judge(&r.name, &r.parameters, &effects, progress)?;
-        self.judged.borrow_mut().push((r.name.clone(), bits, j.clone()));
-        Ok(j)
-    }
-}
-
-/// Stage 5, confirmation runs: up to three rounds in which the two best candidates not
-/// yet confirmed ([`to_confirm`]) are run as full ensembles at their fitted parameters
-/// and re-scored with their surrogates re-centred on those runs
-/// ([`Surface::Corrected`]); the ranking is sorted again after each round.
-///
-/// # Errors
-/// [`DiscrepancyError::Effect`] for an effect that cannot take its fitted values.
-fn confirm(
-    ctx: &Ctx<'_>,
-    base_per: &[f64],
-    pool: &mut [Candidate],
-    ranked: &mut [Ranked],
-    gate: &Gate<'_>,
-    progress: Progress<'_>,
-) -> Result<Vec<Confirmation>, DiscrepancyError> {
-    let mut runs = Vec::new();
-    for _round in 0..3 {
-        let todo = to_confirm(
-            ranked,
-            |i| pool[i].is_scatter(),
-            |r| gate.refuted(r, &pool[r.index], ctx.data, progress).map(|f| f.is_some()),
-        )?;
-        if todo.is_empty() {
-            break;
-        }
-        for idx in todo {
-            let pos = ranked.iter().position(|r| r.index == idx).unwrap_or(0);
-            let x = ranked[pos].x.clone();
-            progress(&format!("confirming {} by a full run at its fitted parameters", ranked[pos].name));
-            let effects = effects_of(&pool[idx], &x, ctx.course_m)?;
-            let outcomes = run_models(ctx.full, std::slice::from_ref(&effects), Some(&ctx.prep.baseline)).remove(0);
-            let corrected = Candidate {
-                surface: Surface::Corrected {
-                    inner: Box::new(pool[idx].surface.clone()),
-                    x0: x.clone(),
-                    full: ctx.keys.simulated(&outcomes),
-                },
-                ..pool[idx].clone()
-            };
-            let mut r = score(&corrected, ctx.data, ctx.specimens, idx, base_per);
-            r.confirmed = true;
-            pool[idx] = corrected;
-            ranked[pos] = r;
-            runs.push(Confirmation { candidate: idx, x, effects, outcomes });
-        }
-        sort(ranked);
-    }
-    Ok(runs)
-}
-
-/// Stage 6, the cause: the best candidate that may be named (`eligible`: confirmed by a
-/// full run, the scatter hypothesis, or any without confirmation runs) and that no reading
-/// refutes (`refuted`, asked in the ranking's order), named when the screening's gain and
-/// its own gain on the baseline both exceed the gain margin and its AICc is below the
-/// baseline's. Re-scoring the best few by full runs and keeping the best is a selection the
-/// null calibration does not repeat, so it may veto an alarm, never raise one.
-///
-/// # Errors
-/// Those of `refuted`.
-fn name_cause<E>(
-    ranked: &[Ranked],
-    eligible: impl Fn(&Ranked) -> bool,
-    screening: &Screening,
-    gain_margin: f64,
-    mut refuted: impl FnMut(&Ranked) -> Result<bool, E>,
-) -> Result<Option<Ranked>, E> {
-    let mut best = None;
-    for r in ranked.iter().filter(|r| eligible(r)) {
-        if !refuted(r)? {
-            best = Some(r.clone());
-            break;
-        }
-    }
-    Ok(best.filter(|b| {
-        screening.screen_gain > gain_margin
-            && screening.base_he - b.heldout_error > gain_margin
-            && b.information_criterion < screening.base_ic
-    }))
 }
 
 /// The extended model of a named cause.
@@ -822,6 +669,10 @@ fn fitted_parameters(cause: &Ranked, c: &Candidate, data: Data<'_>) -> Vec<Fitte
         })
         .collect()
 }
+
+mod naming;
+
+use naming::{confirm, name_cause, Confirmation, Gate};
 
 #[cfg(test)]
 mod tests;

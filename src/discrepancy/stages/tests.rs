@@ -1,6 +1,8 @@
 //! The stages on small hand-made inputs whose answer is stated independently.
 
+use super::naming::to_confirm;
 use super::*;
+use crate::discrepancy::fit::Surface;
 use crate::discrepancy::observations::{Measure, Observable};
 
 fn ranked(name: &str, index: usize, heldout_error: f64, information_criterion: f64) -> Ranked {
