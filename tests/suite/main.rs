@@ -21,6 +21,7 @@ mod bad_inputs_motion;
 mod bad_inputs_read;
 mod base_restraint;
 mod bed_seating;
+mod compression;
 mod design;
 mod determinism;
 mod discrepancy;
