@@ -22,6 +22,7 @@ mod bad_inputs_read;
 mod base_restraint;
 mod bed_seating;
 mod compression;
+mod compression_study;
 mod design;
 mod determinism;
 mod discrepancy;
