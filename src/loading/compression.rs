@@ -188,6 +188,25 @@ pub enum CompressionError {
     /// under the first loading (the in-plane test's vertical phase, its errors).
     #[error(transparent)]
     Rig(InPlaneError),
+    /// The largest stress of the history closes a linear joint past what the penalty DEM's
+    /// contacts hold ([`check_joint_closure`]).
+    #[error(
+        "compression.{key} = {stress_mpa} MPa closes the joints of material {material} by {closure_mm:.3} mm, more than the penalty DEM's contacts hold ({max_pct:.0} % of the lowest block's height): at most {max_mpa:.3} MPa on these joints. Check the stress's unit (MPa) and Kn"
+    )]
+    Closure {
+        /// The key of the stress (`sigma0_mpa`, or `raise_to_mpa` when given).
+        key: &'static str,
+        /// The stress, MPa.
+        stress_mpa: f64,
+        /// The material's name.
+        material: String,
+        /// The closure σ / Kn, mm.
+        closure_mm: f64,
+        /// The largest closure the contacts hold, % of the lowest block's height.
+        max_pct: f64,
+        /// The largest stress on these joints, MPa.
+        max_mpa: f64,
+    },
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
@@ -326,7 +345,20 @@ pub fn run_compression_penalty(
     let rig_params = params.rig_params();
     let rig = Rig::build(wall, &rig_params)?;
     let peak = InPlaneParams { sigma0_mpa: params.raise_to_mpa.unwrap_or(params.sigma0_mpa), ..rig_params };
-    check_joint_closure(wall, &peak)?;
+    let key = if params.raise_to_mpa.is_some() { "raise_to_mpa" } else { "sigma0_mpa" };
+    check_joint_closure(wall, &peak).map_err(|e| match e {
+        InPlaneError::JointClosure { material, sigma0_mpa, closure_mm, max_pct, sigma0_max_mpa, .. } => {
+            CompressionError::Closure {
+                key,
+                stress_mpa: sigma0_mpa,
+                material,
+                closure_mm,
+                max_pct,
+                max_mpa: sigma0_max_mpa,
+            }
+        }
+        other => other.into(),
+    })?;
     solver.validate_static().map_err(CompressionError::Solver)?;
     let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
     let area = rig.length_m * rig.thickness_m;

@@ -102,7 +102,7 @@ fn a_stack_on_crushing_joints_is_as_strong_as_its_joints() {
     let closure: drystone::closure::Closure =
         serde_json::from_value(serde_json::json!({"crushing": {"strength_pa": fc}})).unwrap();
     for m in &mut wall.materials {
-        m.closure = closure.clone();
+        m.closure = closure;
     }
     let p = CompressionParams {
         sigma0_mpa: 0.5,
@@ -127,6 +127,8 @@ fn bad_parameters_are_refused_by_name() {
         (CompressionParams { unload_to_mpa: Some(1e-9), ..Default::default() }, "compression.unload_to_mpa"),
         (CompressionParams { raise_to_mpa: Some(0.4), ..Default::default() }, "compression.raise_to_mpa"),
         (CompressionParams { points_per_branch: 0, ..Default::default() }, "compression.points_per_branch"),
+        // 1000 MPa closes joints of 1e10 Pa/m by 0.1 m: a unit mistake, refused at its key.
+        (CompressionParams { raise_to_mpa: Some(1000.0), ..Default::default() }, "compression.raise_to_mpa"),
         (CompressionParams { beam_rotation: BeamRotation::Free, ..Default::default() }, "compression.shear_span_m"),
         (
             CompressionParams { beam_rotation: BeamRotation::Free, shear_span_m: Some(1.0), ..Default::default() },
