@@ -27,8 +27,10 @@
 //! bounds the pressure (the `crushing` closure law, `q = min(Kn u, fc)`) the wall's
 //! compressive strength is bracketed there.
 //!
-//! # The readings (the Stone Masonry Database's, Vanin et al. 2017, Bull. Earthquake Eng.
-//! 15:5435)
+//! # The readings
+//!
+//! As the Stone Masonry Database reads them (Vanin et al. 2017, Bull. Earthquake Eng.
+//! 15:5435):
 //!
 //! * the wall's vertical modulus `Epc`: the secant of the first loading branch, the stress
 //!   the actuator added over the wall's shortening (the beam's settlement over the wall's

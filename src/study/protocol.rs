@@ -2,10 +2,11 @@
 //! its table together. The decisions a study takes per protocol are exhaustive matches on
 //! it here: the table read from the file and written back, the protocol of each sweep point
 //! (a [`crate::protocol::Protocol`]), the row its run fills (a match on
-//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`] and
-//! [`super::inplane`]), the seed index of an item, the realizations table, the report (the
-//! ensemble's with its sections, [`super::report`], [`super::shaking`]; the in-plane
-//! test's, [`super::inplane_report`]), the VTK series ([`super::figures`]),
+//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`],
+//! [`super::inplane`] and [`super::compression`]), the seed index of an item, the
+//! realizations table, the report (the ensemble's with its sections, [`super::report`],
+//! [`super::shaking`], [`super::compression`]; the in-plane test's,
+//! [`super::inplane_report`]), the VTK series ([`super::figures`]),
 //! its warnings and what its summary counts; the compiler points to each at a new protocol.
 //! Elsewhere in the study a key that only one protocol reads asks its accessor
 //! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
