@@ -36,6 +36,12 @@ enum Command {
     /// mechanism (`--solver limit`: the peak force by limit analysis).
     #[command(name = "in-plane", allow_negative_numbers = true)]
     InPlane(cli::inplane::InPlaneArgs),
+    /// Vertical compression test: the loading beam's vertical force cycled between σ0 and
+    /// the beam's own weight (and optionally raised); prints the wall's vertical modulus
+    /// (the secant of the first loading branch, the database's Epc), each cycle's secant and
+    /// residual settlement, and the force–shortening curve.
+    #[command(allow_negative_numbers = true)]
+    Compression(cli::compression::CompressionArgs),
     /// Shaking table: the layout on a base that moves with a recorded or a built-in
     /// acceleration along y (out of plane), by non-smooth contact dynamics (rigid blocks;
     /// `--solver penalty`: the penalty DEM in explicit dynamics); prints whether it overturned, the largest rocking rotation and the drifts.
@@ -120,6 +126,7 @@ fn run() -> anyhow::Result<ExitCode> {
         Command::Tilt(a) => cli::tilt::command(a),
         Command::Lateral(a) => cli::lateral::command(a),
         Command::InPlane(a) => cli::inplane::command(a),
+        Command::Compression(a) => cli::compression::command(a),
         Command::Shake(a) => cli::shake::command(a),
         Command::Limit(a) => cli::limit::run(&a),
         Command::Run(a) => cli::study::run(a),

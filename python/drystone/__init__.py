@@ -54,6 +54,7 @@ __all__ = [
     "lateral",
     "pushover",
     "in_plane",
+    "compression",
     "supports",
     "run_study",
     "discrepancy",
@@ -313,10 +314,25 @@ def in_plane(layout: Any, solver: Any = None, **params: Any) -> Dict[str, Any]:
     return dict(_native._in_plane(_layout_of(layout), solver, params or None))
 
 
+def compression(layout: Any, solver: Any = None, **params: Any) -> Dict[str, Any]:
+    """The vertical compression test of `layout`: the loading beam's vertical force cycled
+    between the stress `sigma0_mpa` (MPa, on the wall's top, the beam's weight part of it)
+    and `unload_to_mpa` (default: the beam's own weight), `cycles` times (default 3), then
+    optionally raised to `raise_to_mpa` (`CompressionParams` keys: `points_per_branch`,
+    `beam_rotation`, `shear_span_m`). By the penalty DEM (the only method that runs it): a
+    dict with the arrays `stress_mpa`, `shortening_mm` and `force_kn` (the force-shortening
+    curve) and `result` (`wall_vertical_modulus_mpa`, the secant of the first loading
+    branch, the database's Epc; `loading_secants_mpa` and `residual_settlements_mm` per
+    cycle; `strength_bracket_mpa` of the raise). Raises `InputError` for a bad parameter or
+    layout, `SolverError` for a solver that does not run it (nscd, limit) or a run that fails.
+    """
+    return dict(_native._compression(_layout_of(layout), solver, params or None))
+
+
 def supports(protocol: str, solver: str) -> Tuple[bool, str]:
     """Whether the solver kind `solver` (`penalty`, `implicit`, `accelerated`,
     `relaxation`, `nscd`, `limit`) runs `protocol` (`tilt`, `tilt_by_hand`, `lateral`,
-    `pushover`, `shake`, `in_plane`): the library's one compatibility table, which studies,
+    `pushover`, `shake`, `in_plane`, `compression`): the library's one compatibility table, which studies,
     the command line and these functions all ask (`tilt`, `lateral`, `pushover` and
     `in_plane` run every solver it admits; `tilt_by_hand` is `tilt` with `by_hand`). Returns
     `(runs, reason)`, the reason a refusal gives (empty when it runs). Raises `InputError`

@@ -3,6 +3,7 @@
 //! wraps these classes and functions; the classes are the library's own types
 //! (`drystone::prelude`), the results its own result types as dicts and NumPy arrays.
 
+mod compression;
 mod errors;
 mod inplane;
 mod model;
@@ -24,6 +25,7 @@ fn _drystone(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<study::PyStudy>()?;
     protocols::register(m)?;
     inplane::register(m)?;
+    compression::register(m)?;
     m.add_function(wrap_pyfunction!(study::_run_study, m)?)?;
     m.add_function(wrap_pyfunction!(study::_discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(study::_effects, m)?)?;

@@ -405,3 +405,20 @@ def test_in_plane_rocks_a_monolith_at_its_closed_form():
     rigid = drystone.in_plane(layout, solver="nscd", sigma0_mpa=0.5, shear_span_m=1.325, drift_pct=0.2)
     assert rigid["method"] == "nscd"
     assert rigid["result"]["positive"]["peak_force_kn"] * 1e3 == pytest.approx(v, rel=0.01)
+
+
+def test_compression_reads_a_blocks_two_joints_in_series():
+    """A 1.0 x 0.2 x 1.2 m block between the table and the loading beam on linear joints
+    (Kn 1e10 Pa/m) shortens on its two joints in series: the vertical modulus is Kn H / 2,
+    on every cycle's loading branch; nscd (rigid contacts) is refused by name."""
+    layout = drystone.Layout.from_json(box_layout(1.0, 0.2, 1.2, kn=1e10, friction_deg=45.0))
+    r = drystone.compression(layout, sigma0_mpa=0.5, cycles=2)
+    e = 1e10 * 1.2 / 2.0 * 1e-6
+    assert r["result"]["wall_vertical_modulus_mpa"] == pytest.approx(e, rel=0.01)
+    for s in r["result"]["loading_secants_mpa"]:
+        assert s == pytest.approx(e, rel=0.01)
+    assert r["stress_mpa"].shape == r["shortening_mm"].shape == r["force_kn"].shape
+    with pytest.raises(drystone.SolverError, match="penalty"):
+        drystone.compression(layout, solver="nscd", sigma0_mpa=0.5)
+    with pytest.raises(drystone.InputError, match="cycles"):
+        drystone.compression(layout, sigma0_mpa=0.5, cycles=0)

@@ -12,6 +12,7 @@ macro_rules! out {
 }
 
 pub mod bench;
+pub mod compression;
 pub mod design;
 pub mod discrepancy;
 pub mod generate;

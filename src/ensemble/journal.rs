@@ -342,6 +342,7 @@ mod tests {
             shake: Default::default(),
             pushover: Default::default(),
             in_plane: None,
+            compression: None,
             steps: 10,
             iterations: 3,
             dt_s: 1e-4,

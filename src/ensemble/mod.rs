@@ -12,6 +12,7 @@
 //! realization i the same alone or inside the ensemble, and shards that merge into exactly
 //! the unsharded run.
 
+pub mod compression_columns;
 pub mod exact;
 pub mod inplane_columns;
 pub mod journal;

@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::compression_columns::CompressionColumns;
 pub use super::exact;
 pub use super::inplane_columns::InPlaneColumns;
 
@@ -54,7 +55,7 @@ impl Status {
 
 /// One realization's results: the columns every protocol has (identification, status,
 /// solver effort), then each protocol's own ([`CollapseColumns`], [`TiltColumns`],
-/// [`LateralColumns`], [`ShakeColumns`], [`PushoverColumns`], [`InPlaneColumns`]), empty where the protocol does not fill them.
+/// [`LateralColumns`], [`ShakeColumns`], [`PushoverColumns`], [`InPlaneColumns`], [`CompressionColumns`]), empty where the protocol does not fill them.
 /// Angles in degrees, displacements in cm (report units), times in s.
 ///
 /// The protocol groups serialize flat (their fields are columns of the row, as in the
@@ -106,6 +107,10 @@ pub struct RealizationRow {
     /// the other protocols (and then absent from the journal and the tables).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub in_plane: Option<Box<InPlaneColumns>>,
+    /// The vertical compression test's readings (`protocol = "compression"`); `None` for
+    /// the other protocols (and then absent from the journal and the tables).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compression: Option<Box<CompressionColumns>>,
     /// Dynamic-relaxation steps (engine steps).
     pub steps: u64,
     /// Iterations of the implicit relaxation (tilting table; 0 for the lateral load).
@@ -138,6 +143,7 @@ impl Default for RealizationRow {
             shake: ShakeColumns::default(),
             pushover: PushoverColumns::default(),
             in_plane: None,
+            compression: None,
             steps: 0,
             iterations: 0,
             dt_s: 0.0,
@@ -427,6 +433,7 @@ mod tests {
                 load_multiplier_limit: Some(values[9]),
             },
             in_plane: None,
+            compression: None,
             steps: 77,
             iterations: 5,
             dt_s: values[1],

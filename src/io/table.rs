@@ -10,7 +10,8 @@ pub use super::measured::{
     MeasuredDisplacement, MeasuredMechanism,
 };
 use crate::ensemble::row::{
-    CollapseColumns, InPlaneColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns, Status, TiltColumns,
+    CollapseColumns, CompressionColumns, InPlaneColumns, LateralColumns, PushoverColumns, RealizationRow, ShakeColumns,
+    Status, TiltColumns,
 };
 use crate::protocol::Loading;
 use polars::prelude::*;
@@ -142,10 +143,25 @@ macro_rules! field {
     (in_plane series $f:ident) => {
         Field::Series(|r| r.in_plane.as_ref().map_or(&NO_SERIES, |p| &p.$f), |r| &mut in_plane(r).$f)
     };
+    // The compression test's group, as the in-plane test's.
+    (compression number $f:ident) => {
+        Field::Number(|r| r.compression.as_ref().map_or(f64::NAN, |p| p.$f), |r, v| compression(r).$f = v)
+    };
+    (compression count $f:ident) => {
+        Field::OptCount(|r| r.compression.as_ref().map(|p| p.$f), |r, v| compression(r).$f = v.unwrap_or(0))
+    };
+    (compression series $f:ident) => {
+        Field::Series(|r| r.compression.as_ref().map_or(&NO_SERIES, |p| &p.$f), |r| &mut compression(r).$f)
+    };
 }
 
 /// The series of a row without the group that holds it.
 static NO_SERIES: Vec<f64> = Vec::new();
+
+/// The compression group of a row, made (every reading NaN) if it has none.
+fn compression(r: &mut RealizationRow) -> &mut CompressionColumns {
+    r.compression.get_or_insert_with(Box::default)
+}
 
 /// The in-plane group of a row, made (every reading NaN) if it has none.
 fn in_plane(r: &mut RealizationRow) -> &mut InPlaneColumns {
@@ -174,6 +190,7 @@ const _FIELDS: fn(&RealizationRow) = |r| {
         shake,
         pushover,
         in_plane,
+        compression,
         steps: _,
         iterations: _,
         dt_s: _,
@@ -250,6 +267,18 @@ const _FIELDS: fn(&RealizationRow) = |r| {
             // The mechanism figure's poses: not a column (not serialized).
             drawing: _,
         } = &**p;
+    }
+    if let Some(c) = compression {
+        let CompressionColumns {
+            compression_modulus_mpa: _,
+            loading_secants_mpa: _,
+            residual_settlements_mm: _,
+            strength_low_mpa: _,
+            strength_high_mpa: _,
+            compression_unconverged: _,
+            curve_stress_mpa: _,
+            curve_shortening_mm: _,
+        } = &**c;
     }
 };
 
@@ -340,6 +369,14 @@ const COLUMNS: &[RowColumn] = &[
     later("unconverged", Some(Loading::InPlane), field!(in_plane count unconverged)),
     later("curve_drift_pct", Some(Loading::InPlane), field!(in_plane series curve_drift_pct)),
     later("curve_force_kn", Some(Loading::InPlane), field!(in_plane series curve_force_kn)),
+    later("compression_modulus_mpa", Some(Loading::Compression), field!(compression number compression_modulus_mpa)),
+    later("loading_secants_mpa", Some(Loading::Compression), field!(compression series loading_secants_mpa)),
+    later("residual_settlements_mm", Some(Loading::Compression), field!(compression series residual_settlements_mm)),
+    later("strength_low_mpa", Some(Loading::Compression), field!(compression number strength_low_mpa)),
+    later("strength_high_mpa", Some(Loading::Compression), field!(compression number strength_high_mpa)),
+    later("compression_unconverged", Some(Loading::Compression), field!(compression count compression_unconverged)),
+    later("curve_stress_mpa", Some(Loading::Compression), field!(compression series curve_stress_mpa)),
+    later("curve_shortening_mm", Some(Loading::Compression), field!(compression series curve_shortening_mm)),
 ];
 
 /// The column `c` of `rows`; `lists` chooses list columns (Parquet) or joined strings

@@ -40,6 +40,7 @@ fn full() -> RealizationRow {
             load_multiplier_limit: Some(1.0),
         },
         in_plane: Some(Box::default()),
+        compression: Some(Box::default()),
         ..RealizationRow::default()
     }
 }
@@ -73,8 +74,13 @@ fn every_field_of_a_row_is_a_column_and_every_column_a_field() {
 /// column changes that field of the row and no other, and the column reads it back.
 #[test]
 fn each_column_reads_and_writes_the_field_of_its_name() {
-    // With the in-plane group, which a value set through one of its columns makes.
-    let base = RealizationRow { in_plane: Some(Box::default()), ..RealizationRow::default() };
+    // With the in-plane and compression groups, which a value set through one of their
+    // columns makes.
+    let base = RealizationRow {
+        in_plane: Some(Box::default()),
+        compression: Some(Box::default()),
+        ..RealizationRow::default()
+    };
     let before = leaves(&base);
     for c in COLUMNS.iter().filter(|c| !derived(c)) {
         let mut r = base.clone();

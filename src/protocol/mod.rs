@@ -37,6 +37,7 @@
 //!   [`InPlaneRun::method`]). The realizations table's `load_multiplier_dem` columns keep
 //!   their name from before nscd filled them: the pushover by a method that steps.
 
+pub mod compression;
 mod contract;
 pub mod inplane;
 mod inplane_observed;
@@ -48,6 +49,7 @@ pub mod shake;
 pub mod tilt;
 pub mod tilt_by_hand;
 
+pub use compression::{Compression, CompressionRun};
 pub use contract::{
     Choice, ChosenBy, Instants, LoadingProtocol, Observables, Observer, Output, RunOutcome, States, Unsupported, Way,
 };
@@ -217,6 +219,7 @@ macro_rules! registry {
         /// | `pushover`: the lateral pushover (lateral.pushover) | λ by increments (and λ of limit analysis beside it) | rigid λ by bisection | λ |
         /// | `shake`: the shaking table | explicit dynamics with contact damping (`penalty` only) | Moreau–Jean time stepping | – |
         /// | `in_plane`: the in-plane shear-compression test | force-displacement curve (static solve per increment of the imposed displacement) | rigid blocks' force-displacement curve (the beam driven at constant speed) | peak horizontal force under the vertical force, and the mechanism |
+        /// | `compression`: the vertical compression test | vertical modulus and cycles (static solve per branch of the vertical force) | – | – |
         pub fn methods(protocol: Loading, method: Method) -> Option<&'static str> {
             match protocol {
                 $($(Loading::$variant => <$ty as LoadingProtocol>::way(method).map(|w| w.what),)+)+
@@ -367,6 +370,12 @@ registry! {
         /// The in-plane shear–compression test ([`inplane`]).
         InPlane(InPlane),
     },
+    /// The vertical compression test (`[compression]`): the loading beam's vertical force
+    /// cycled, the wall's vertical modulus read.
+    Compression = "compression" {
+        /// The vertical compression test ([`compression`]).
+        Compression(Compression),
+    },
 }
 
 impl Default for ProtocolKind {
@@ -468,7 +477,9 @@ impl Protocol {
             ProtocolKind::Lateral => Some(Protocol::Lateral(Lateral(lateral))),
             // The in-plane test's live load needs its vertical stress and shear span:
             // `drystone in-plane --solver limit`.
-            ProtocolKind::Shake | ProtocolKind::InPlane => None,
+            // The compression test's load is the vertical force, which no mechanism of rigid
+            // blocks on cohesionless joints multiplies to collapse.
+            ProtocolKind::Shake | ProtocolKind::InPlane | ProtocolKind::Compression => None,
         }
     }
 
@@ -672,9 +683,12 @@ mod tests {
             assert_eq!(k.name().parse::<ProtocolKind>(), Ok(k));
             assert!(k.loadings().iter().all(|l| l.kind() == k), "{k:?}");
         }
-        assert_eq!(ProtocolKind::ALL.map(ProtocolKind::name), ["tilt", "lateral", "shake", "in_plane"]);
+        assert_eq!(ProtocolKind::ALL.map(ProtocolKind::name), ["tilt", "lateral", "shake", "in_plane", "compression"]);
         assert_eq!(ProtocolKind::default(), ProtocolKind::Tilt);
-        assert!("pushover".parse::<ProtocolKind>().unwrap_err().contains("tilt, lateral, shake, in_plane"));
+        assert!("pushover"
+            .parse::<ProtocolKind>()
+            .unwrap_err()
+            .contains("tilt, lateral, shake, in_plane, compression"));
         for p in Loading::ALL {
             assert!(p.kind().loadings().contains(&p), "{p:?}");
         }

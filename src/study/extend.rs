@@ -170,6 +170,7 @@ pub fn write_extended(
         lateral: LateralParams::default(),
         shake: None,
         in_plane: None,
+        compression: None,
         solver: study.solver,
         groups,
         sweep: BTreeMap::new(),

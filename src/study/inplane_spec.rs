@@ -158,8 +158,8 @@ pub fn stated_effects(study: &EffectsSpec, group: &GroupSpec) -> Vec<(String, St
 }
 
 /// The keys of `[[groups]]` only the in-plane test reads, given in group `g`.
-fn in_plane_group_keys(g: &GroupSpec) -> Option<&'static str> {
-    if g.sigma0_mpa.is_some() {
+fn in_plane_group_keys(g: &GroupSpec, reads_sigma0: bool) -> Option<&'static str> {
+    if g.sigma0_mpa.is_some() && !reads_sigma0 {
         Some("sigma0_mpa")
     } else if g.history.is_some() {
         Some("history")
@@ -199,7 +199,10 @@ impl StudySpec {
             if self.in_plane.is_some() {
                 return Err(only("in_plane".into()));
             }
-            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g).map(|k| (g, k))) {
+            // The compression test reads each group's vertical stress too.
+            let reads_sigma0 = self.protocol == ProtocolKind::Compression;
+            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g, reads_sigma0).map(|k| (g, k)))
+            {
                 return Err(only(format!("groups[{}].{k}", g.name)));
             }
             if let Some(k) = measured_in_plane {

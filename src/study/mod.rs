@@ -78,6 +78,7 @@
 
 pub mod calibrate;
 mod checks;
+pub mod compression;
 pub mod discrepancy;
 mod error;
 mod estimate;

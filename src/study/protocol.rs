@@ -2,16 +2,18 @@
 //! its table together. The decisions a study takes per protocol are exhaustive matches on
 //! it here: the table read from the file and written back, the protocol of each sweep point
 //! (a [`crate::protocol::Protocol`]), the row its run fills (a match on
-//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`] and
-//! [`super::inplane`]), the seed index of an item, the realizations table, the report (the
-//! ensemble's with its sections, [`super::report`], [`super::shaking`]; the in-plane
-//! test's, [`super::inplane_report`]), the VTK series ([`super::figures`]),
+//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`],
+//! [`super::inplane`] and [`super::compression`]), the seed index of an item, the
+//! realizations table, the report (the ensemble's with its sections, [`super::report`],
+//! [`super::shaking`], [`super::compression`]; the in-plane test's,
+//! [`super::inplane_report`]), the VTK series ([`super::figures`]),
 //! its warnings and what its summary counts; the compiler points to each at a new protocol.
 //! Elsewhere in the study a key that only one protocol reads asks its accessor
 //! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
 //! and the sweep keys (`checks.rs`, `resolve.rs`), the paper's comparison and the
 //! calibration (which compare collapse angles), the measured data's tilt step.
 
+use super::compression::{compression_row, compression_sections, CompressionStudy};
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
 use super::inplane::{in_plane_row, write_rows};
@@ -37,7 +39,9 @@ use crate::io::series::SeriesError;
 use crate::layout::Layout;
 use crate::loading::lateral::LateralParams;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::{LateralRun, Loading, Protocol, ProtocolRun, PushoverRun, RunOutcome, Shake, TiltRun};
+use crate::protocol::{
+    Compression, CompressionRun, LateralRun, Loading, Protocol, ProtocolRun, PushoverRun, RunOutcome, Shake, TiltRun,
+};
 use std::path::{Path, PathBuf};
 
 /// A study's protocol with its parameters: the kind and its table together, so that every
@@ -54,6 +58,9 @@ pub enum StudyProtocol {
     /// The in-plane shear–compression test (`protocol = "in_plane"`, `[in_plane]` and each
     /// group's `sigma0_mpa`, `history`, `specimens`): its parameters and measured specimens.
     InPlane(InPlaneStudy),
+    /// The vertical compression test (`protocol = "compression"`, `[compression]` and each
+    /// group's `sigma0_mpa`).
+    Compression(CompressionStudy),
 }
 
 impl StudyProtocol {
@@ -68,6 +75,7 @@ impl StudyProtocol {
         spec: &StudySpec,
         shake: Option<ShakeStudy>,
         in_plane: Option<InPlaneStudy>,
+        compression: Option<CompressionStudy>,
         invalid: &Invalid,
     ) -> Result<StudyProtocol, StudyError> {
         match (spec.protocol, shake) {
@@ -82,6 +90,9 @@ impl StudyProtocol {
             }
             (ProtocolKind::InPlane, _) => in_plane.map(StudyProtocol::InPlane).ok_or_else(|| {
                 invalid.at("protocol", "protocol = \"in_plane\": the in-plane test was not resolved".into())
+            }),
+            (ProtocolKind::Compression, _) => compression.map(StudyProtocol::Compression).ok_or_else(|| {
+                invalid.at("protocol", "protocol = \"compression\": the compression test was not resolved".into())
             }),
         }
     }
@@ -104,6 +115,12 @@ impl StudyProtocol {
                     g.specimens.clone_from(&own.specimens);
                 }
             }
+            StudyProtocol::Compression(c) => {
+                spec.compression = Some(c.params.clone());
+                for (g, s) in spec.groups.iter_mut().zip(&c.sigma0_mpa) {
+                    g.sigma0_mpa = Some(*s);
+                }
+            }
         }
     }
 
@@ -114,6 +131,7 @@ impl StudyProtocol {
             StudyProtocol::Lateral(_) => ProtocolKind::Lateral,
             StudyProtocol::Shake(_) => ProtocolKind::Shake,
             StudyProtocol::InPlane(_) => ProtocolKind::InPlane,
+            StudyProtocol::Compression(_) => ProtocolKind::Compression,
         }
     }
 
@@ -138,6 +156,7 @@ impl StudyProtocol {
             StudyProtocol::InPlane(p) if group < p.groups.len() => {
                 Protocol::InPlane(crate::protocol::InPlane(p.params_of(group)))
             }
+            StudyProtocol::Compression(c) => Protocol::Compression(Compression(c.params_of(group))),
             StudyProtocol::Tilt(_)
             | StudyProtocol::Lateral(_)
             | StudyProtocol::Shake(_)
@@ -156,6 +175,7 @@ impl StudyProtocol {
             StudyProtocol::InPlane(p) => Protocol::InPlane(crate::protocol::InPlane(
                 p.groups.first().map_or_else(|| p.params.clone(), |_| p.params_of(0)),
             )),
+            StudyProtocol::Compression(c) => Protocol::Compression(Compression(c.params_of(0))),
             StudyProtocol::Tilt(t) => Protocol::tilting(*t),
             StudyProtocol::Lateral(l) => Protocol::lateral(*l),
             StudyProtocol::Shake(shake) => {
@@ -199,6 +219,7 @@ impl StudyProtocol {
                 pushover_row(lateral_row(row, r), collapse.map(|c| *c))
             }
             ProtocolRun::Pushover(PushoverRun::Nscd(Ok(r))) => nscd_pushover_row(row, r),
+            ProtocolRun::Compression(CompressionRun::Penalty(Ok(r))) => compression_row(row, r),
             ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
             ProtocolRun::InPlane(r) => match self.in_plane() {
                 Some(test) => in_plane_row(row, r, does_not_stand, layout, &test.params_of(item.group), study.solver),
@@ -211,6 +232,7 @@ impl StudyProtocol {
                 PushoverRun::Penalty { service: Err(_), .. } | PushoverRun::Nscd(Err(_)) | PushoverRun::Limit(Err(_)),
             )
             | ProtocolRun::Shake(Err(_))
+            | ProtocolRun::Compression(CompressionRun::Penalty(Err(_)))
             | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
         }
     }
@@ -222,7 +244,10 @@ impl StudyProtocol {
     pub fn seed_index(&self, item: &Item) -> u64 {
         match self {
             StudyProtocol::InPlane(_) => item.group as u64 * 10_000 + item.realization,
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => item.realization,
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::Compression(_) => item.realization,
         }
     }
 
@@ -239,9 +264,10 @@ impl StudyProtocol {
                 crate::io::table::write_realizations_parquet(rows, dir)?;
                 Ok(write_rows(study, rows, dir)?)
             }
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
-                Ok(crate::io::table::write_realizations(rows, dir)?)
-            }
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::Compression(_) => Ok(crate::io::table::write_realizations(rows, dir)?),
         }
     }
 
@@ -263,9 +289,10 @@ impl StudyProtocol {
     ) -> Result<String, ReportError> {
         match self {
             StudyProtocol::InPlane(test) => in_plane_report(study, test, dir, rows),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => {
-                ensemble_report(study, rows, dir)
-            }
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::Compression(_) => ensemble_report(study, rows, dir),
         }
     }
 
@@ -290,6 +317,10 @@ impl StudyProtocol {
                 Ok(String::new())
             }
             StudyProtocol::Shake(shake) => shake_sections(study, shake, rows, dir, md),
+            StudyProtocol::Compression(test) => {
+                compression_sections(study, test, rows, cells, md);
+                Ok(String::new())
+            }
             // Its report is its own, whole (`write_report`), which does not ask for these.
             StudyProtocol::InPlane(_) => Ok(String::new()),
         }
@@ -311,8 +342,8 @@ impl StudyProtocol {
             StudyProtocol::Tilt(tilt) => tilt_series(study, tilt, layout, out),
             StudyProtocol::Lateral(lateral) => lateral_series(study, lateral, layout, out),
             StudyProtocol::Shake(_) => shake_series(study, point, layout, out),
-            // The in-plane test records no time series.
-            StudyProtocol::InPlane(_) => Ok(None),
+            // The in-plane and compression tests record no time series.
+            StudyProtocol::InPlane(_) | StudyProtocol::Compression(_) => Ok(None),
         }
     }
 
@@ -320,7 +351,10 @@ impl StudyProtocol {
     /// that cannot reach its levels).
     pub fn warnings(&self) -> Vec<String> {
         match self {
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::InPlane(_) => vec![],
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::InPlane(_)
+            | StudyProtocol::Compression(_) => vec![],
             StudyProtocol::Shake(s) => s.warnings(),
         }
     }
@@ -330,7 +364,10 @@ impl StudyProtocol {
     pub fn counts_collapses_under_load(&self) -> bool {
         match self {
             StudyProtocol::Lateral(_) => true,
-            StudyProtocol::Tilt(_) | StudyProtocol::Shake(_) | StudyProtocol::InPlane(_) => false,
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::InPlane(_)
+            | StudyProtocol::Compression(_) => false,
         }
     }
 
@@ -338,7 +375,10 @@ impl StudyProtocol {
     pub fn tilt(&self) -> Option<&TiltParams> {
         match self {
             StudyProtocol::Tilt(t) => Some(t),
-            StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) | StudyProtocol::InPlane(_) => None,
+            StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::InPlane(_)
+            | StudyProtocol::Compression(_) => None,
         }
     }
 
@@ -346,7 +386,10 @@ impl StudyProtocol {
     pub fn shake(&self) -> Option<&ShakeStudy> {
         match self {
             StudyProtocol::Shake(s) => Some(s),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::InPlane(_) => None,
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::InPlane(_)
+            | StudyProtocol::Compression(_) => None,
         }
     }
 
@@ -356,7 +399,7 @@ impl StudyProtocol {
     /// study's.
     pub fn group_protocol(&self, group: usize) -> Option<Protocol> {
         match self {
-            StudyProtocol::InPlane(_) => Some(self.of_group(group, &[])),
+            StudyProtocol::InPlane(_) | StudyProtocol::Compression(_) => Some(self.of_group(group, &[])),
             StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
         }
     }
@@ -365,7 +408,10 @@ impl StudyProtocol {
     pub fn in_plane(&self) -> Option<&InPlaneStudy> {
         match self {
             StudyProtocol::InPlane(p) => Some(p),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::Compression(_) => None,
         }
     }
 }
@@ -375,7 +421,7 @@ impl StudyProtocol {
 /// (`study::discrepancy`). Every kind's run is the study core's.
 pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
     match kind {
-        ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake => None,
+        ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake | ProtocolKind::Compression => None,
         ProtocolKind::InPlane => Some(&super::inplane_entry::STUDY),
     }
 }
@@ -397,6 +443,7 @@ impl StudySpec {
             ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
             ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
             ProtocolKind::InPlane => ("in_plane", Vec::new()),
+            ProtocolKind::Compression => ("compression", Vec::new()),
         }
     }
 
@@ -408,6 +455,7 @@ impl StudySpec {
             ProtocolKind::Lateral => Protocol::lateral(self.lateral).loading(),
             ProtocolKind::Shake => Loading::Shake,
             ProtocolKind::InPlane => Loading::InPlane,
+            ProtocolKind::Compression => Loading::Compression,
         }
     }
 }

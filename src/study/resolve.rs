@@ -104,6 +104,7 @@ impl StudySpec {
         let mut files = vec![(InputRole::Study, path.to_owned())];
         let shake = self.resolve_shake(dir, &invalid, &mut files)?;
         let in_plane = self.resolve_in_plane(dir, &invalid, &mut files)?;
+        let compression = self.resolve_compression(&invalid)?;
         let sweep = protocol_sweep(&self.sweep, shake.as_ref());
         self.check_counts(&sweep, &invalid)?;
         let points = sweep::grid(&sweep).map_err(|e| invalid.at(&format!("sweep.{}", e.key), e.reason.to_string()))?;
@@ -151,7 +152,7 @@ impl StudySpec {
         };
         let inputs = provenance::record(&files)
             .map_err(|(p, e)| invalid.at("inputs", format!("cannot read {}: {e}", p.display())))?;
-        let protocol = StudyProtocol::from_spec(self, shake, in_plane, &invalid)?;
+        let protocol = StudyProtocol::from_spec(self, shake, in_plane, compression, &invalid)?;
         let study = Study {
             name: self.name.clone(),
             description: self.description.clone(),

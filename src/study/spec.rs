@@ -48,6 +48,11 @@ pub struct StudySpec {
     /// each group's; see [`super::inplane`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub in_plane: Option<InPlaneParams>,
+    /// The compression test's parameters (protocol `compression`;
+    /// [`crate::loading::compression::CompressionParams`], its `sigma0_mpa` the groups'
+    /// default; see [`super::compression`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compression: Option<crate::loading::compression::CompressionParams>,
     /// Solver parameters: the method (`kind`) and its settings (`[solver.penalty]`,
     /// `[solver.nscd]`, `[solver.limit]`). The penalty settings the protocol's table
     /// still accepts under their former keys (`[tilt] tolerance`, ...; deprecated,
@@ -217,7 +222,8 @@ pub struct GroupSpec {
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub effects: EffectsSpec,
     /// The vertical stress the in-plane test applies to this group, MPa (protocol
-    /// `in_plane`, required there; refused by the other protocols).
+    /// `in_plane`, required there; protocol `compression`, the stress its modulus is read
+    /// at, `[compression] sigma0_mpa` by default; refused by the other protocols).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sigma0_mpa: Option<f64>,
     /// The in-plane test's loading history of this group (protocol `in_plane`) \[monotonic\].

@@ -65,6 +65,12 @@ pub struct CellSummary {
     pub lambda_limit: Summary,
     /// The ratio λ_DEM / λ_limit of each realization that has both.
     pub lambda_ratio: Summary,
+    /// Whether the cell holds the compression test's readings (`protocol =
+    /// "compression"`).
+    pub compression: bool,
+    /// The compression test's wall vertical modulus, MPa (the secant of the first loading
+    /// branch, the database's `Epc`), over the realizations that have one.
+    pub modulus: Summary,
 }
 
 /// A measured-vs-simulated comparison line.
@@ -108,6 +114,8 @@ pub enum StreamBlock {
     /// `base + g`). They share the pushover's block: a study is a pushover or shakes the
     /// table, never both.
     Shaking,
+    /// The compression test's vertical modulus.
+    Compression,
 }
 
 impl StreamBlock {
@@ -117,6 +125,7 @@ impl StreamBlock {
             StreamBlock::Tilt => 0,
             StreamBlock::Lateral => 1 << 32,
             StreamBlock::Pushover | StreamBlock::Shaking => 2 << 32,
+            StreamBlock::Compression => 3 << 32,
         }
     }
 }
@@ -180,6 +189,12 @@ pub const LAMBDA_RATIO: Statistic = Statistic {
     ..stat("load_multiplier_dem_over_limit", |c| &c.lambda_ratio, StreamBlock::Pushover, 2)
 };
 
+/// The compression test's wall vertical modulus, MPa.
+pub const MODULUS: Statistic = Statistic {
+    when: Some(|c| c.compression),
+    ..stat("vertical_modulus_mpa", |c| &c.modulus, StreamBlock::Compression, 0)
+};
+
 /// A column (or, for a statistic, the columns) of `summary.csv`.
 pub enum SummaryColumn {
     /// Text.
@@ -214,6 +229,7 @@ pub const SUMMARY_COLUMNS: &[SummaryColumn] = &[
     SummaryColumn::Stats(&LAMBDA_DEM),
     SummaryColumn::Stats(&LAMBDA_LIMIT),
     SummaryColumn::Stats(&LAMBDA_RATIO),
+    SummaryColumn::Stats(&MODULUS),
 ];
 
 /// The `Summary` fields of a cell: a destructuring without `..`, so that the compiler
@@ -243,8 +259,10 @@ const CELL_STATISTICS: for<'a> fn(&'a CellSummary) -> Vec<&'a Summary> = |c| {
         lambda_dem,
         lambda_limit,
         lambda_ratio,
+        compression: _,
+        modulus,
     } = c;
-    vec![collapse, disp5, disp10, lateral_max, lateral_centre, drift, lambda_dem, lambda_limit, lambda_ratio]
+    vec![collapse, disp5, disp10, lateral_max, lateral_centre, drift, lambda_dem, lambda_limit, lambda_ratio, modulus]
 };
 
 pub(super) fn measure_of(study: &Study, group: usize) -> Measure {
@@ -321,6 +339,12 @@ pub fn summarize(study: &Study, rows: &[RealizationRow]) -> Vec<CellSummary> {
                     LAMBDA_LIMIT.stream(stream),
                 ),
                 lambda_ratio: stats::summarize(&ratio, study.seed, LAMBDA_RATIO.stream(stream)),
+                compression: cell.iter().any(|r| r.compression.is_some()),
+                modulus: stats::summarize(
+                    &pushed(|r| r.compression.as_ref().map(|c| c.compression_modulus_mpa).filter(|v| v.is_finite())),
+                    study.seed,
+                    MODULUS.stream(stream),
+                ),
             });
         }
     }
@@ -489,6 +513,8 @@ mod tests {
             lambda_dem: s(7.0),
             lambda_limit: s(8.0),
             lambda_ratio: s(9.0),
+            compression: true,
+            modulus: s(10.0),
         }
     }
 
@@ -504,7 +530,8 @@ mod tests {
 
     /// Every `Summary` field of a cell is a statistic of the list, once; no two statistics
     /// draw from one stream; the streams keep their values (the collapse angle of cell `k`
-    /// at `3k`, the lateral load's at `2³² + 3k + i`, the pushover's at `2³³ + 3k + i`).
+    /// at `3k`, the lateral load's at `2³² + 3k + i`, the pushover's at `2³³ + 3k + i`, the
+    /// compression test's modulus at `3 · 2³² + 3k`).
     #[test]
     fn every_statistic_of_a_cell_is_listed_once_with_a_stream_of_its_own() {
         let c = cell();
@@ -531,7 +558,8 @@ mod tests {
                 (1 << 32) + 23,
                 (2 << 32) + 21,
                 (2 << 32) + 22,
-                (2 << 32) + 23
+                (2 << 32) + 23,
+                (3 << 32) + 21
             ]
         );
         assert_eq!(StreamBlock::Shaking.base(), 1 << 33);

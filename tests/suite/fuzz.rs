@@ -248,6 +248,7 @@ fn row(index: u64) -> RealizationRow {
         shake: Default::default(),
         pushover: Default::default(),
         in_plane: None,
+        compression: None,
         steps: 140,
         iterations: 30,
         dt_s: 1.5e-5,

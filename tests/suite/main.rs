@@ -21,6 +21,8 @@ mod bad_inputs_motion;
 mod bad_inputs_read;
 mod base_restraint;
 mod bed_seating;
+mod compression;
+mod compression_study;
 mod design;
 mod determinism;
 mod discrepancy;

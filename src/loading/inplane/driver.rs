@@ -3,16 +3,16 @@
 //! static solve from a predicted state.
 
 use super::increments::Stepper;
+use super::vertical::{stand_under_vertical_force, VerticalPhase};
 use super::{check_cyclic_slip_range, check_drift_reach, check_joint_closure, mechanism_joints, result_of};
 use super::{
     BeamRotation, CurvePoint, Excursion, HalfCycle, InPlaneError, InPlaneParams, InPlaneResult, Poses, Rig, Work,
 };
-use crate::dem::motion::{poses, BodyPose};
+use crate::dem::motion::poses;
 use crate::dem::state::Body;
-use crate::dem::{solve_static, Cascade, DemError, End, Hold, Simulation, SolverParams, StaticSolve};
+use crate::dem::{solve_static, DemError, End, Simulation, SolverParams, StaticSolve};
 use crate::layout::Layout;
 use crate::loading::excursion::JointNeighbours;
-use crate::loading::settle::{settle, SettleError};
 use crate::math::Vec3;
 use std::time::Instant;
 
@@ -36,13 +36,10 @@ pub fn run_in_plane_penalty(
     check_drift_reach(params, solver.face_angle_tolerance_deg)?;
     solver.validate_static().map_err(InPlaneError::Solver)?;
     let solver = SolverParams { density_scaling: solver.density_scaling.without_block(), ..solver };
-    let (mut sim, relax, start) = stand_under_vertical_force(&rig, solver, params)?;
+    let VerticalPhase { mut sim, relax, vertical_modulus_mpa, .. } =
+        stand_under_vertical_force(&rig, solver, params.beam_rotation, params.sigma0_mpa, &mut |_| {})?;
     let bi = rig.beam;
     observe(0.0, true, &sim);
-    // The vertical modulus: the stress the actuator added over the wall's shortening.
-    let settlement = start[bi].0.z - sim.state.bodies[bi].pos.z;
-    let added_stress = (rig.vertical_force_n - rig.beam_weight_n) / (rig.length_m * rig.thickness_m);
-    let vertical_modulus_mpa = added_stress * rig.height_m / settlement * 1e-6;
     let reference = poses(&sim);
     let ref_joints = mechanism_joints(&sim);
     let beam_ref = sim.state.bodies[bi].clone();
@@ -61,84 +58,6 @@ pub fn run_in_plane_penalty(
         excursion: walked.excursion,
     };
     Ok(result_of(&rig, params, walked.curve, mechanism, &walked.reading.1, work))
-}
-
-/// The rig's simulation with the beam held ([`Rig::constraint`]), settled under gravity, then
-/// solved under the vertical force and the rig's moment on the beam, and checked to stand
-/// ([`check_under_vertical_force`]); with the static solve of the increments and the poses
-/// before the vertical force.
-///
-/// # Errors
-/// A wall that does not stand under gravity or under the vertical force, a blow-up.
-fn stand_under_vertical_force(
-    rig: &Rig,
-    solver: SolverParams,
-    params: &InPlaneParams,
-) -> Result<(Simulation, StaticSolve, Vec<BodyPose>), InPlaneError> {
-    let mut sim = Simulation::new(&rig.layout, solver);
-    let (tol, budget) = (solver.penalty.tolerance, solver.penalty.max_steps);
-    let bi = rig.beam;
-    sim.state.bodies[bi].hold = Hold::Dof(rig.constraint(&sim, params.beam_rotation));
-    settle(&mut sim, &rig.layout, tol, budget).map_err(|e| match e {
-        SettleError::Dem(e) => InPlaneError::Dem(e),
-        other => InPlaneError::DoesNotStand(other),
-    })?;
-    // The vertical force, the beam's weight part of it.
-    let start = poses(&sim);
-    sim.state.external_force[bi] = Vec3::new(0.0, 0.0, -(rig.vertical_force_n - rig.beam_weight_n));
-    // The rig's terms that move the wall: a moment on the beam from its pose now.
-    let moment = rig.beam_moment(&sim.state.bodies[bi]);
-    if let Some(c) = sim.state.bodies[bi].hold.dof_mut() {
-        c.moment = moment;
-    }
-    // The static solves: the solver's stages over the protocol's own, dynamic relaxation.
-    // The implicit iteration holds the beam's constrained degrees of freedom (`--solver
-    // implicit`), but it leaves increments after a reversal unconverged (BENCHMARKS.md).
-    let relax =
-        StaticSolve::of(&solver.penalty, solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION), None);
-    let out = solve_static(&mut sim, &relax, &start, |_| None::<()>)?;
-    check_under_vertical_force(&sim, rig, params, &start, &out.end)?;
-    Ok((sim, relax, start))
-}
-
-/// Checks that the wall stands under the vertical force: its solve from the poses `start`
-/// ended in equilibrium (`end`), and no block moved by more than the joints' closure
-/// explains.
-///
-/// # Errors
-/// [`InPlaneError::UnderVerticalForce`], naming the block that moved most.
-fn check_under_vertical_force(
-    sim: &Simulation,
-    rig: &Rig,
-    params: &InPlaneParams,
-    start: &[BodyPose],
-    end: &End<()>,
-) -> Result<(), InPlaneError> {
-    // What the joints' closure under the vertical stress explains, twice, on top of the
-    // settling's tolerance: a stack of H / h_min joints each closing σ0 / Kn.
-    let h_min = rig.layout.blocks.iter().map(|b| b.shape.aabb().extent().z).fold(f64::INFINITY, f64::min);
-    let kn_min = rig.layout.materials.iter().map(|m| m.kn).fold(f64::INFINITY, f64::min);
-    let allowed = crate::loading::settle::settle_tolerance(&rig.layout)
-        + 2.0 * (rig.height_m / h_min).ceil() * params.sigma0_mpa * 1e6 / kn_min;
-    let worst = sim
-        .state
-        .bodies
-        .iter()
-        .zip(start)
-        .map(|(b, (x0, _))| (b.id.clone(), (b.pos - x0).norm()))
-        .max_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((block, moved)) = worst {
-        if *end != End::Equilibrium || moved > allowed {
-            return Err(InPlaneError::UnderVerticalForce {
-                block,
-                moved_mm: moved * 1e3,
-                allowed_mm: allowed * 1e3,
-                force_kn: rig.vertical_force_n * 1e-3,
-                equilibrium: *end == End::Equilibrium,
-            });
-        }
-    }
-    Ok(())
 }
 
 /// The actuator's horizontal force on the beam, body `beam`, N (positive towards +x): the

@@ -67,6 +67,9 @@
 //!   read over;
 //! * `driver`: the penalty DEM's driver ([`run_in_plane_penalty`]): the wall under the
 //!   vertical force, then the imposed path;
+//! * `vertical`: the vertical phase every test on the rig starts with
+//!   ([`stand_under_vertical_force`]: the wall under the vertical force, and its vertical
+//!   modulus read on that first loading branch, [`VerticalPhase`]);
 //! * `increments`: the driver's increments along the path, their size, predictor and
 //!   restarts;
 //! * `result`: the outcome ([`InPlaneResult`]) and how a driver's run makes it.
@@ -78,6 +81,7 @@ mod params;
 mod readings;
 mod result;
 mod rig;
+mod vertical;
 mod wall_mechanism;
 
 pub use driver::{run_in_plane_penalty, BLOCK_IMBALANCE_SHARE};
@@ -97,6 +101,7 @@ pub use rig::{
     add_rig_force, level_tolerance_m, one_block_stiffness, read_curve, Mirror, Rig, BEAM_ID, BEARING_SHARE,
     LEVEL_TOLERANCE_FLOOR_M, LEVEL_TOLERANCE_FRACTION,
 };
+pub use vertical::{stand_under_vertical_force, VerticalPhase};
 pub use wall_mechanism::{
     mechanism_joints, read_mechanism, InPlaneMechanism, MechanismJoint, MechanismKind, ACTIVE_JOINT_SHARE,
 };
