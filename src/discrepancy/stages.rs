@@ -88,16 +88,8 @@ pub fn analyze_held(
         centre: &lib.baseline,
         sigma: sigma_rule,
     };
-    progress(&format!("margins: {} null data sets on independent layouts", s.null_replicates));
-    let margins = calibrate_margins(lib, data, &specimens, s.null_replicates, seed, null_source);
-    progress(&format!("screening: {} candidates on their surrogates", lib.candidates.len()));
-    let screening = screen(lib, data, &specimens);
-    let mut pool = lib.candidates.clone();
-    let mut ranked = screening.ranked.clone();
-    let added = add_pairs(lib, data, &specimens, &screening, &margins, &mut pool, &mut ranked);
-    if added > 0 {
-        progress(&format!("ranking: {added} pairs of effects added"));
-    }
+    let (margins, screening, mut pool, mut ranked) =
+        screen_and_pair(lib, data, &specimens, seed, null_source, s, progress);
     let ctx = Ctx {
         data,
         specimens: &specimens,
@@ -109,14 +101,7 @@ pub fn analyze_held(
         seed,
         prep,
     };
-    let gate = Gate {
-        base_scores: &screening.base_scores,
-        can_name: screening.base_he - margins.baseline,
-        held,
-        course_m: ctx.course_m,
-        judged: std::cell::RefCell::new(vec![]),
-        found: std::cell::RefCell::new(vec![]),
-    };
+    let gate = Gate::new(&screening, &margins, held, ctx.course_m);
     let runs =
         if s.confirm { confirm(&ctx, &screening.base_per, &mut pool, &mut ranked, &gate, progress)? } else { vec![] };
     let candidates: Vec<Ranked> = ranked;
@@ -141,10 +126,7 @@ pub fn analyze_held(
         &refuted,
         progress,
     )?;
-    let mut stage_runs = prep.forward_runs.clone();
-    let confirmation: usize = runs.iter().map(|r| forward_runs(&full, std::slice::from_ref(&r.effects), true)).sum();
-    stage_runs.push(StageRuns::new("confirmation", confirmation));
-    stage_runs.push(StageRuns::new("extended model", found.runs));
+    let stage_runs = stage_runs(prep, &full, &runs, found.runs);
     let (passes, tie) = (found.passes, found.tie);
     let verdict = verdict(named.is_some(), passes, screening.base_misfit, margins.misfit);
     progress(&format!("verdict: {}", verdict.name()));
@@ -192,6 +174,41 @@ pub fn analyze_held(
         inert: prep.inert.clone(),
         followup: None,
     })
+}
+
+/// The margins from null data ([`calibrate_margins`]), the screening of the library's
+/// candidates on their surrogates ([`screen`]) and the pairs it admits ([`add_pairs`]):
+/// the margins, the screening, and the pool of candidates with their ranking.
+fn screen_and_pair(
+    lib: &Models,
+    data: Data<'_>,
+    specimens: &[String],
+    seed: u64,
+    null_source: NullSource<'_>,
+    s: &super::Settings,
+    progress: Progress<'_>,
+) -> (Margins, Screening, Vec<Candidate>, Vec<Ranked>) {
+    progress(&format!("margins: {} null data sets on independent layouts", s.null_replicates));
+    let margins = calibrate_margins(lib, data, specimens, s.null_replicates, seed, null_source);
+    progress(&format!("screening: {} candidates on their surrogates", lib.candidates.len()));
+    let screening = screen(lib, data, specimens);
+    let mut pool = lib.candidates.clone();
+    let mut ranked = screening.ranked.clone();
+    let added = add_pairs(lib, data, specimens, &screening, &margins, &mut pool, &mut ranked);
+    if added > 0 {
+        progress(&format!("ranking: {added} pairs of effects added"));
+    }
+    (margins, screening, pool, ranked)
+}
+
+/// The forward runs by stage: the preparation's, the confirmation runs of `runs` on the
+/// setup `full`, and the extended model's `extended`.
+fn stage_runs(prep: &Prepared, full: &Setup, runs: &[Confirmation], extended: usize) -> Vec<StageRuns> {
+    let mut stage_runs = prep.forward_runs.clone();
+    let confirmation: usize = runs.iter().map(|r| forward_runs(full, std::slice::from_ref(&r.effects), true)).sum();
+    stage_runs.push(StageRuns::new("confirmation", confirmation));
+    stage_runs.push(StageRuns::new("extended model", extended));
+    stage_runs
 }
 
 /// What the later stages share: the data, the specimens, the keys and their labels, the

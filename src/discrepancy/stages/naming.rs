@@ -8,6 +8,7 @@ use crate::discrepancy::candidate::Candidate;
 use crate::discrepancy::effects::Effect;
 use crate::discrepancy::fit::{Data, Surface};
 use crate::discrepancy::held::HeldReading;
+use crate::discrepancy::null::Margins;
 use crate::discrepancy::prepare::effects_of;
 use crate::discrepancy::progress::Progress;
 use crate::discrepancy::refute::{self, Refutation};
@@ -69,6 +70,26 @@ pub(super) struct Gate<'a> {
     pub(super) judged: std::cell::RefCell<Vec<(String, Vec<u64>, Option<Refutation>)>>,
     /// The refutations of the candidates at their latest fit, in the order found.
     pub(super) found: std::cell::RefCell<Vec<Refutation>>,
+}
+
+impl<'a> Gate<'a> {
+    /// The gate of an analysis: a candidate may be named below the baseline's held-out
+    /// error less the gain margin; `held` the protocol's held reading, if any.
+    pub(super) fn new(
+        screening: &'a Screening,
+        margins: &Margins,
+        held: Option<&'a dyn HeldReading>,
+        course_m: f64,
+    ) -> Gate<'a> {
+        Gate {
+            base_scores: &screening.base_scores,
+            can_name: screening.base_he - margins.baseline,
+            held,
+            course_m,
+            judged: std::cell::RefCell::new(vec![]),
+            found: std::cell::RefCell::new(vec![]),
+        }
+    }
 }
 
 impl Gate<'_> {
