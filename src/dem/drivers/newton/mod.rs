@@ -47,9 +47,16 @@
 //!   (`K_red = Eᵀ K E` with that map `E`), which is how the load stage reports the
 //!   out-of-balance moment of such a body.
 //!
-//! * the geometric stiffness: the arms of the normal and shear forces turn with their
-//!   bodies, and the normal force turns with the contact normal (half of the pair's
-//!   relative rotation);
+//! * the geometric stiffness, every term of the law as coded that moves with the poses
+//!   (`tangent_blocks`): the forces act at the mid-points of the node pairs, whose arms
+//!   move half with each body; the normal `n = (R_a n_a + R_b n_b)/|…|` turns with both
+//!   bodies, and with it the normal force, the closures (by the offset `p_a − p_b` of
+//!   each node's two points along the joint) and the trial shear force (the stored force
+//!   projected onto the current plane, `slip::shear`: `δT = −n (δn·T) + Ks A (n·r) δn`,
+//!   through the radial return); the jump's own rotation enters the shear increment
+//!   `r = Δx_b + w_b × (x_c − x_b) − …` through its arms, and the rotation columns are
+//!   taken with respect to the jump's rotation vector (`δθ = J(w) δw`, `J` the left
+//!   Jacobian of SO(3));
 //! * the lever of the shear force, whose point of application moves between the area
 //!   centroid of the compressed part and the pressure centroid with the closures and the
 //!   mobilised fraction (`contact::law::evaluate`), taken by central differences of the
@@ -83,11 +90,9 @@
 //! * **The Newton steps are mixed** ([`NewtonSolve::anderson_depth`]): the steps `d_k`
 //!   taken at full length are combined by Anderson mixing (Anderson 1965, *J. ACM* 12, 547;
 //!   Walker & Ni 2011, *SIAM J. Numer. Anal.* 49, 1715) as the implicit iteration combines
-//!   its preconditioned steps (`super::implicit`). The tangent above leaves out the
-//!   rotation of the stored shear force with the pair and holds each sub-contact's
-//!   stick/slip state for the step; where that matters (the out-of-plane shear of the joints
-//!   between the end blocks of a course sheared in plane) plain Newton converges linearly,
-//!   by a factor of about 0.9 an iteration, and the mixing takes those few slow modes.
+//!   its preconditioned steps (`super::implicit`). The tangent holds each sub-contact's
+//!   stick/slip state and its open or closed nodes for the step; where those change
+//!   between iterates the mixing takes the slow modes this leaves.
 //!
 //! An iteration first tries the mixed step at full length (where the gap bound allows it)
 //! and takes it if it satisfies Armijo's condition `φ(1) ≤ (1 − 2σ) φ(0)`; otherwise it
@@ -221,7 +226,7 @@ fn iterate<R>(
             };
             return (out, Some((cur, stale)));
         }
-        let d = match tangent::newton_step(&cur, &dofs) {
+        let d = match tangent::newton_step(&cur, &x, &dofs) {
             Ok(d) => d,
             Err(e) => return (Solved::Unsolved(Unsolved::Factorization(e), it), Some((cur, stale))),
         };
@@ -395,8 +400,8 @@ mod tests {
 
     /// The tangent at an iterate (a rocking block with its base partly lifted, a block on a
     /// slope near φ with a sub-contact slipping) against central differences of the jump from
-    /// the increment's start: each column to 2 % of its largest entry (what is left out: the
-    /// rotation of the stored shear force and of the normal with the pair).
+    /// the increment's start: each column to 2 % of its largest entry (the geometric terms
+    /// are checked to 1 % of their own size in `tangent::tests`).
     #[test]
     fn the_tangent_is_the_derivative_of_the_jump() {
         for (min, max, tilt) in [([0.0, -0.05, 0.0], [0.3, 0.05, 0.4], 12.0), ([0.0, -0.1, 0.0], [0.3, 0.1, 0.1], 33.0)]
@@ -420,7 +425,7 @@ mod tests {
             let mut at = sim.clone();
             at.predict_deferred(&x.0, &x.1);
             at.assess_predicted();
-            let blocks = tangent::tangent_blocks(&at);
+            let blocks = tangent::tangent_blocks(&at, &x);
             for dof in 0..6 {
                 let eps = if dof < 3 { 1e-9 } else { 1e-8 };
                 let mut p = (vec![Vec3::zeros()], vec![Vec3::zeros()]);

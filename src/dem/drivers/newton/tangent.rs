@@ -29,18 +29,6 @@ fn skew(a: &Vec3) -> Mat3 {
     Mat3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
 }
 
-/// `J(rf)ᵀ C J(rd)` with `J(r) = [I | −[r]×]` (3 × 6): the 6 × 6 stiffness between a force
-/// `−C δ` acting at the arm `rf` and the relative displacement `δ` at the arm `rd` (m).
-fn jtcj(rf: &Vec3, c: &Mat3, rd: &Vec3) -> Matrix6<f64> {
-    let (sf, sd) = (skew(rf), skew(rd));
-    let mut k = Matrix6::zeros();
-    k.fixed_view_mut::<3, 3>(0, 0).copy_from(c);
-    k.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-(c * sd)));
-    k.fixed_view_mut::<3, 3>(3, 0).copy_from(&(sf * c));
-    k.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-(sf * c * sd)));
-    k
-}
-
 /// `J(r)ᵀ v = [v; r × v]`: the generalized force (N, N·m) of the force `v` at the arm `r`.
 fn jt(r: &Vec3, v: &Vec3) -> Vector6<f64> {
     let m = r.cross(v);
@@ -176,6 +164,17 @@ fn shear_point_jacobian(
     Some((du, at.map(|a| dw_dfs * (a - 1.0 / 3.0))))
 }
 
+/// A node of a contact at the current poses: the arms of its material points from A's
+/// centroid and from B's (m, table frame), its closure `u = (p_a − p_b)·n` (m) and the
+/// offset `o = p_a − p_b` of its two points (m).
+#[derive(Clone, Copy)]
+struct Arm {
+    ra: Vec3,
+    rb: Vec3,
+    u: f64,
+    o: Vec3,
+}
+
 /// Adds the four blocks of a force on B (B's diagonal, B's rows and A's columns, A's rows
 /// and B's columns, A's diagonal) to a contact's blocks.
 fn add(local: &mut [Matrix6<f64>; 4], kbb: Matrix6<f64>, kba: Matrix6<f64>, kab: Matrix6<f64>, kaa: Matrix6<f64>) {
@@ -226,15 +225,66 @@ fn compressed_pieces(u: [f64; 3]) -> Vec<([[f64; 3]; 3], f64)> {
     }
 }
 
+/// The left Jacobian of the rotation vector, `J(w) = Σ_k [w]×^k / (k+1)!` (–): a jump by
+/// `exp(w + δw)` turns a body by `exp(J(w) δw) exp(w)` to first order (Chirikjian 2011,
+/// *Stochastic Models, Information Theory, and Lie Groups* vol. 2, § 10.6).
+fn left_jacobian(w: &Vec3) -> Mat3 {
+    let t2 = w.norm_squared();
+    let wx = skew(w);
+    let (a, b) = if t2 < 1e-8 {
+        (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+    } else {
+        let t = t2.sqrt();
+        ((1.0 - t.cos()) / t2, (t - t.sin()) / (t2 * t))
+    };
+    Mat3::identity() + wx * a + wx * wx * b
+}
+
 /// The tangent blocks of the contact forces of `sim`'s state (its last assessment: the
 /// closures at the current poses, each sub-contact's shear force, slip state and return
-/// factor), the end-restraint springs and the rigs' moments.
-pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
+/// factor), the end-restraint springs and the rigs' moments, with respect to the jump `x`
+/// of the Newton iteration (per body: translation, m, and rotation vector, rad, table
+/// frame) that led from the increment's start to `sim`'s poses.
+///
+/// The derivative of the law as `contact::forces` and `contact::law` code it (3DEC's
+/// contact update, Itasca, *3DEC Theory and Background*, "contact mechanics"; Cundall
+/// 1988, *Int. J. Rock Mech. Min. Sci.* 25, 107), for a force `F` on B at the mid-point
+/// `x_m = ½ (p_a + p_b)` of a node pair (moment `(x_m − x_b) × F` on B, the opposite about
+/// `x_a` on A):
+///
+/// * the springs: the normal springs on `δu = n·(δp_a − δp_b)` at the material points and
+///   the shear spring `Ks A` on the shear increment at the sub-contact's centroid, through
+///   the radial return where it slips (Alart & Curnier 1991, *Comput. Methods Appl. Mech.
+///   Eng.* 92, 353; Simo & Hughes 1998, ch. 3);
+/// * the arms: `δ(x_m − x_b) = ½ (δx_a − δx_b) + ½ (δθ_a × r_a + δθ_b × r_b)`, so that a
+///   rigid motion of the pair turns the moments with it;
+/// * the normal `n = m/|m|`, `m = R_a n_a + R_b n_b`: `δn = N_a δθ_a + N_b δθ_b`,
+///   `N = −(I − n nᵀ) [R n]× / |m|` (both bodies turn it: a rigid turn of the pair turns
+///   it with them). With it turn the normal force (`Fn δn`), every closure (`u = (p_a −
+///   p_b)·n` changes by `(p_a − p_b)·δn`, the offset of the node's two points along the
+///   joint: zero on a rigid turn) and the trial shear force: the law projects the stored
+///   force onto the current plane and adds `−Ks A (I − n nᵀ) r`, so `δT = −n (δn·T) +
+///   Ks A (n·r) δn − Ks A (I − n nᵀ) δr`, and through the return `δFs = Ret δT` with
+///   `Ret n = n limit/|T|`: `δFs ⊇ (−n Fsᵀ + Ks A (n·r) Ret) δn`. The stored force is not
+///   turned about the normal (the law keeps its direction in the plane), and neither is it
+///   here;
+/// * the shear increment of the jump `r = Δx_b + w_b × (x_c − x_b) − Δx_a − w_a × (x_c −
+///   x_a)` (the jump's translation and rotation vector as one step's velocities times the
+///   step) depends on `w` directly and through the centroid's arms;
+/// * the point of application of the shear force moves with the closures (including their
+///   change as `n` turns) and with `|Fs|`;
+/// * the rotation columns are with respect to the jump's rotation vector `w`, which turns a
+///   body by `exp(w) R₀`: `δθ = J(w) δw` ([`left_jacobian`]).
+///
+/// What the tangent holds fixed for the step: each sub-contact's stick/slip state and its
+/// open or closed nodes (the semi-smooth part), and the magnitude-preserving rescaling of
+/// the stored force (second order in the tilt of the plane since the increment's start).
+pub(super) fn tangent_blocks(sim: &Simulation, x: &PoseIncrement) -> Blocks {
     let nb = sim.state.bodies.len();
     let free: Vec<bool> = sim.state.bodies.iter().map(|b| !b.fixed()).collect();
     let mut blocks = Blocks { diag: vec![Matrix6::zeros(); nb], off: BTreeMap::new(), free };
     let quad = sim.params().quadrature;
-    let mut arms: Vec<(Vec3, Vec3, f64)> = Vec::new();
+    let mut arms: Vec<Arm> = Vec::new();
     for c in &sim.state.contacts {
         // This contact's blocks: B's, (B, A), (A, B), A's.
         let mut local = [Matrix6::zeros(); 4];
@@ -244,19 +294,39 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
         let np = c.joint.normal();
         let rb_mat = &sim.state.bodies[c.b].rot_mat;
         let ra_mat = c.a.map(|i| sim.state.bodies[i].rot_mat);
+        // The normal n = m/|m|, m = R_a n_a + R_b n_b (`contact_normal`), turns with either
+        // body: δn = N_a δθ_a + N_b δθ_b, N = −(I − n nᵀ) [R n]× / |m|.
+        let (na_w, nb_w) = (ra_mat.map_or(c.normal_a, |m| m * c.normal_a), rb_mat * c.normal_b);
+        let inv_m = 1.0 / (na_w + nb_w).norm();
+        let (dn_a, dn_b) = (-(pt * skew(&na_w)) * inv_m, -(pt * skew(&nb_w)) * inv_m);
+        // The columns of a force's change `G δn` on B's rotation and on A's.
+        let turn_cols = |g: Mat3, arm: &Vec3| {
+            let (mut kb, mut ka) = (Matrix6::zeros(), Matrix6::zeros());
+            kb.fixed_view_mut::<6, 3>(0, 3).copy_from(&(jt_mat(arm) * g * dn_b));
+            ka.fixed_view_mut::<6, 3>(0, 3).copy_from(&(jt_mat(arm) * g * dn_a));
+            (kb, ka)
+        };
+        // The jump of each body from the increment's start (translation, rotation vector).
+        let (xb_pos, (db, wb)) = (sim.state.bodies[c.b].pos, (x.0[c.b], x.1[c.b]));
+        let (xa_pos, (da, wa)) = match c.a {
+            Some(i) => (sim.state.bodies[i].pos, (x.0[i], x.1[i])),
+            None => (Vec3::zeros(), (Vec3::zeros(), Vec3::zeros())),
+        };
         arms.clear();
         for nd in &c.nodes {
             let (pa, pb) = sim.state.node_points(c, nd);
             let rb = rb_mat * nd.on_b;
             let ra = ra_mat.map_or(Vec3::zeros(), |m| m * nd.on_a);
-            arms.push((ra, rb, (pa - pb).dot(&n)));
+            arms.push(Arm { ra, rb, u: (pa - pb).dot(&n), o: pa - pb });
         }
-        // Moments of the normal springs over the contact (as `timestep::block` takes them).
-        let (mut w, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());
+        // Moments of the normal springs over the contact (as `timestep::block` takes them):
+        // rows at the mid-points (`_m`), columns at the material points.
+        let (mut w, mut sa_m, mut sb_m, mut sa, mut sb) =
+            (0.0, Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
         let (mut raa, mut rab, mut rba, mut rbb) = (Mat3::zeros(), Mat3::zeros(), Mat3::zeros(), Mat3::zeros());
         for s in &c.subs {
             let node = s.nodes.map(|k| arms[k as usize]);
-            let u = node.map(|v| v.2);
+            let u = node.map(|v| v.u);
             let tension = c.joint.tension != TensionCutoff::NoTension && s.state.bonded;
             // Normal springs: the quadrature points of the compressed part, weight × tangent.
             let mut points: Vec<([f64; 3], f64)> = Vec::with_capacity(8);
@@ -285,26 +355,59 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
                     }
                 }
             }
+            // The arms at barycentric `l`: A's and B's material points, and the mid-point's
+            // arm from A's centroid and from B's (where the law applies the forces).
+            let at_l = |l: &[f64; 3]| {
+                let mix = |f: &dyn Fn(&Arm) -> Vec3| f(&node[0]) * l[0] + f(&node[1]) * l[1] + f(&node[2]) * l[2];
+                let (ra, rb, o) = (mix(&|a| a.ra), mix(&|a| a.rb), mix(&|a| a.o));
+                (ra, rb, ra - o * 0.5, rb + o * 0.5, o)
+            };
             // Σ c_p [n; r_p × n] on each side: the normal force's gradient (for the slip
-            // coupling).
+            // coupling); the closure u = (p_a − p_b)·n also changes as n turns, by
+            // (p_a − p_b)·δn (the offset of the two material points along the joint): its
+            // Σ c_p (p_a − p_b) and the moments on each side.
             let (mut ga, mut gb) = (Vector6::zeros(), Vector6::zeros());
+            let (mut so, mut moa, mut mob) =
+                (Vec3::zeros(), nalgebra::Matrix6x3::zeros(), nalgebra::Matrix6x3::zeros());
             for (l, wt) in &points {
-                let ra = node[0].0 * l[0] + node[1].0 * l[1] + node[2].0 * l[2];
-                let rb = node[0].1 * l[0] + node[1].1 * l[1] + node[2].1 * l[2];
+                let (ra, rb, ram, rbm, o) = at_l(l);
                 let uu = u[0] * l[0] + u[1] * l[1] + u[2] * l[2];
                 let k = wt * np.tangent(uu);
                 if k == 0.0 {
                     continue;
                 }
+                so += o * k;
+                moa += jt(&ram, &n) * o.transpose() * k;
+                mob += jt(&rbm, &n) * o.transpose() * k;
                 w += k;
+                sa_m += ram * k;
+                sb_m += rbm * k;
                 sa += ra * k;
                 sb += rb * k;
-                raa += ra * ra.transpose() * k;
-                rab += ra * rb.transpose() * k;
-                rba += rb * ra.transpose() * k;
-                rbb += rb * rb.transpose() * k;
+                raa += ram * ra.transpose() * k;
+                rab += ram * rb.transpose() * k;
+                rba += rbm * ra.transpose() * k;
+                rbb += rbm * rb.transpose() * k;
                 ga += jt(&ra, &n) * k;
                 gb += jt(&rb, &n) * k;
+            }
+            // δFn on B along n = Σ c_p o_pᵀ δn: B's rows −, A's rows +.
+            {
+                let cols = |m: &nalgebra::Matrix6x3<f64>, dn: &Mat3| {
+                    let mut k = Matrix6::zeros();
+                    k.fixed_view_mut::<6, 3>(0, 3).copy_from(&(m * dn));
+                    k
+                };
+                add(&mut local, -cols(&mob, &dn_b), -cols(&mob, &dn_a), cols(&moa, &dn_b), cols(&moa, &dn_a));
+            }
+            // The normal force's gradient on each side's dofs: δFn = dfa·q_a + dfb·q_b.
+            let (mut dfa, mut dfb) = (ga, -gb);
+            {
+                let (ta, tb) = (dn_a.transpose() * so, dn_b.transpose() * so);
+                for i in 0..3 {
+                    dfa[3 + i] += ta[i];
+                    dfb[3 + i] += tb[i];
+                }
             }
             // The shear spring at the sub-contact's centroid, where the law takes the shear
             // increment; nothing where the sub-contact carries no force.
@@ -312,8 +415,8 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
             if st.normal == 0.0 && st.shear == Vec3::zeros() {
                 continue;
             }
-            let rac = (node[0].0 + node[1].0 + node[2].0) / 3.0;
-            let rbc = (node[0].1 + node[1].1 + node[2].1) / 3.0;
+            let third = [1.0 / 3.0; 3];
+            let (rac, rbc, rac_m, rbc_m, _) = at_l(&third);
             let ksa = c.joint.ks * s.area;
             let mag = st.shear.norm();
             let e = if mag > 0.0 { st.shear / mag } else { Vec3::zeros() };
@@ -321,67 +424,95 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
             // the shear force's magnitude (central differences of the law's rule).
             let point = |u: [f64; 3], fs: f64| shear_point(&c.joint, quad, st, tension, u, s.area, fs);
             let lam = point(u, mag);
-            let bary = |l: [f64; 3], side: usize| {
-                let r = |i: usize| if side == 0 { node[i].0 } else { node[i].1 };
-                r(0) * l[0] + r(1) * l[1] + r(2) * l[2]
+            let (ras, rbs, ras_m, rbs_m, _) = at_l(&lam);
+            // Geometric stiffness of a force F on B at a mid-point x_m (node arms r_a, r_b):
+            // the arms move with the mid-point, δ(x_m − x_b) = ½ (δx_a − δx_b) + ½ (δθ_a ×
+            // r_a + δθ_b × r_b) and δ(x_m − x_a) = ½ (δx_b − δx_a) + the same turn, so the
+            // moment (x_m − x_b) × F on B changes by −[F]× of that, and A's by its opposite.
+            let arm_turn = |f: &Vec3, ra: &Vec3, rb: &Vec3| {
+                let fx = skew(f);
+                let half = Mat3::identity() * 0.5;
+                let mut h = [Matrix6::zeros(); 4];
+                // B's rows: B's columns, A's columns; A's rows: B's columns, A's columns.
+                let blocks3 = [(-half, -skew(rb) * 0.5), (half, -skew(ra) * 0.5)];
+                for (k, (t, r)) in blocks3.iter().enumerate() {
+                    // k = 0: B's columns, 1: A's columns (for B's rows: δ(x_m − x_b)).
+                    h[k].fixed_view_mut::<3, 3>(3, 0).copy_from(&(fx * t));
+                    h[k].fixed_view_mut::<3, 3>(3, 3).copy_from(&(fx * r));
+                    // A's rows: δ(x_m − x_a) has the opposite translation parts, −[F]× × −1.
+                    h[2 + k].fixed_view_mut::<3, 3>(3, 0).copy_from(&(fx * t));
+                    h[2 + k].fixed_view_mut::<3, 3>(3, 3).copy_from(&(-(fx * r)));
+                }
+                h
             };
-            let (ras, rbs) = (bary(lam, 0), bary(lam, 1));
-            // Geometric stiffness: the arms turn with their bodies (a force f at the arm r
-            // of B gives δ(r × f) = [f]× [r]× δθ_b), and the normal force turns with the
-            // contact normal, half of the pair's relative rotation (δn = ½ (δθ_b − δθ_a) × n).
             let nr = normal::integrate(&np, quad, u, s.area, tension);
             let fnorm = nr.moments[0] + nr.moments[1] + nr.moments[2];
             if fnorm != 0.0 || mag > 0.0 {
                 let at = if fnorm.abs() > 0.0 { nr.moments.map(|m| m / fnorm) } else { [1.0 / 3.0; 3] };
-                let (raa_t, rba_t) = (bary(at, 0), bary(at, 1));
+                let (raa_t, rba_t, raa_m, rba_m, _) = at_l(&at);
                 let fnv = n * fnorm;
-                let turn = |f: &Vec3, r: &Vec3| {
-                    let mut k = Matrix6::zeros();
-                    k.fixed_view_mut::<3, 3>(3, 3).copy_from(&(skew(f) * skew(r)));
-                    k
-                };
-                let kbb = -(turn(&fnv, &rba_t) + turn(&st.shear, &rbs));
-                let kaa = turn(&fnv, &raa_t) + turn(&st.shear, &ras);
-                add(&mut local, kbb, Matrix6::zeros(), Matrix6::zeros(), kaa);
-                let half = skew(&n) * (0.5 * fnorm);
-                let rot_cols = |r: &Vec3| {
-                    let mut k = Matrix6::zeros();
-                    k.fixed_view_mut::<6, 3>(0, 3).copy_from(&(jt_mat(r) * half));
-                    k
-                };
-                let (kb, ka) = (rot_cols(&rba_t), rot_cols(&raa_t));
-                add(&mut local, kb, -kb, -ka, ka);
+                for (f, ra, rb) in [(fnv, raa_t, rba_t), (st.shear, ras, rbs)] {
+                    let [bb, ba, ab, aa] = arm_turn(&f, &ra, &rb);
+                    add(&mut local, bb, ba, ab, aa);
+                }
+                // The normal force turns with n: δ(Fn n) = Fn δn on B.
+                let g = Mat3::identity() * fnorm;
+                let ((bb, ba), (ab, aa)) = (turn_cols(g, &rba_m), turn_cols(g, &raa_m));
+                add(&mut local, -bb, -ba, ab, aa);
             }
-            let cs = if st.slipping {
+            let ret = if st.slipping {
                 // Radial return: d Fs = (limit/|T|) (I − e eᵀ) dT + tan φ e dFn.
                 let coupling = c.joint.tan_phi;
                 if mag > 0.0 && coupling > 0.0 {
-                    let (eb, ea) = (jt(&rbs, &e) * coupling, jt(&ras, &e) * coupling);
+                    let (eb, ea) = (jt(&rbs_m, &e) * coupling, jt(&ras_m, &e) * coupling);
                     add(
                         &mut local,
-                        eb * gb.transpose(),
-                        -(eb * ga.transpose()),
-                        -(ea * gb.transpose()),
-                        ea * ga.transpose(),
+                        -(eb * dfb.transpose()),
+                        -(eb * dfa.transpose()),
+                        ea * dfb.transpose(),
+                        ea * dfa.transpose(),
                     );
                 }
-                (pt - e * e.transpose()) * (ksa * st.return_scale)
+                (Mat3::identity() - e * e.transpose()) * st.return_scale
             } else {
-                pt * ksa
+                Mat3::identity()
             };
-            add(
-                &mut local,
-                jtcj(&rbs, &cs, &rbc),
-                -jtcj(&rbs, &cs, &rac),
-                -jtcj(&ras, &cs, &rbc),
-                jtcj(&ras, &cs, &rac),
-            );
+            let cs = ret * pt * ksa;
+            // The shear increment of the jump, r = Δx_b + w_b × (x_c − x_b) − Δx_a − w_a ×
+            // (x_c − x_a) at the mid-plane centroid x_c (`contact::forces`), changes with the
+            // arms as well as with the motion (x_c moves as x_m above), so
+            // δr = J_b q_b − J_a q_a with J_b = [I − ½ [w_a + w_b]× | −[x_c − x_b]× −
+            // ½ [w_b − w_a]× [r_b]×] and J_a = [I − ½ [w_a + w_b]× | −[x_c − x_a]× +
+            // ½ [w_b − w_a]× [r_a]×].
+            let xc = xb_pos + rbc_m;
+            let r_jump = db + wb.cross(&(xc - xb_pos)) - da - wa.cross(&(xc - xa_pos));
+            let (wsum, wdiff) = (skew(&(wa + wb)) * 0.5, skew(&(wb - wa)) * 0.5);
+            // The jump's own rotation vector w enters r directly (not through the body's
+            // turn δθ = J(w) δw the columns are mapped by below): that column is
+            // −[x_c − x]× J(w)⁻¹ before the mapping.
+            let jmat = |r_m: &Vec3, r: &Vec3, w: &Vec3, sgn: f64| {
+                let mut j = nalgebra::Matrix3x6::<f64>::zeros();
+                let direct = left_jacobian(w).try_inverse().unwrap_or_else(Mat3::identity);
+                j.fixed_view_mut::<3, 3>(0, 0).copy_from(&(Mat3::identity() - wsum));
+                j.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(r_m) * direct - wdiff * skew(r) * sgn));
+                j
+            };
+            let (jb, ja) = (jmat(&rbc_m, &rbc, &wb, 1.0), jmat(&rac_m, &rac, &wa, -1.0));
+            let spring = |rf: &Vec3, jd: &nalgebra::Matrix3x6<f64>| jt_mat(rf) * cs * jd;
+            add(&mut local, spring(&rbs_m, &jb), -spring(&rbs_m, &ja), -spring(&ras_m, &jb), spring(&ras_m, &ja));
+            // The trial force turns with n (`slip::shear`: the stored force projected onto
+            // the current plane, the increment −Ks A (I − n nᵀ) r): δT ⊇ −n (δn·T) +
+            // Ks A (n·r) δn, through the return: δFs ⊇ (−n Fsᵀ + Ks A (n·r) Ret) δn.
+            let g = -(n * st.shear.transpose()) + ret * (ksa * n.dot(&r_jump));
+            let ((bb, ba), (ab, aa)) = (turn_cols(g, &rbs_m), turn_cols(g, &ras_m));
+            add(&mut local, -bb, -ba, ab, aa);
             if mag > 0.0 {
                 // The moment of the shear force as its point moves by v = V_b q_b − V_a q_a
                 // (the arm's change, the same from either centroid): v × Fs on B.
                 let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
                 let (mut vb, mut va) = (nalgebra::Matrix3x6::<f64>::zeros(), nalgebra::Matrix3x6::<f64>::zeros());
                 let closed = shear_point_jacobian(&c.joint, quad, st, tension, u, s.area, mag);
+                let lever_of = |dl: [f64; 3]| at_l(&dl).3;
                 for i in 0..3 {
                     let dl: [f64; 3] = match &closed {
                         Some((du, _)) => du[i],
@@ -394,10 +525,15 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
                             [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h))
                         }
                     };
-                    let lever = bary(dl, 1);
-                    // du_i = −g_bᵢᵀ q_b + g_aᵢᵀ q_a.
-                    vb -= lever * jt(&node[i].1, &n).transpose();
-                    va -= lever * jt(&node[i].0, &n).transpose();
+                    let lever = lever_of(dl);
+                    // du_i = −g_bᵢᵀ q_b + g_aᵢᵀ q_a + o_iᵀ (N_a δθ_a + N_b δθ_b).
+                    vb -= lever * jt(&node[i].rb, &n).transpose();
+                    va -= lever * jt(&node[i].ra, &n).transpose();
+                    let (ob, oa) = (node[i].o.transpose() * dn_b, node[i].o.transpose() * dn_a);
+                    let mut rot_b = vb.fixed_view_mut::<3, 3>(0, 3);
+                    rot_b += lever * ob;
+                    let mut rot_a = va.fixed_view_mut::<3, 3>(0, 3);
+                    rot_a -= lever * oa;
                 }
                 if !st.slipping && c.joint.can_slip {
                     let dl: [f64; 3] = match &closed {
@@ -408,10 +544,16 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
                             [0, 1, 2].map(|j| (lp[j] - lm[j]) / (2.0 * h))
                         }
                     };
-                    let lever = bary(dl, 1);
-                    // d|Fs| = eᵀ dFs = −Ks A (eᵀ J(r_b) q_b − eᵀ J(r_a) q_a) while sticking.
-                    vb -= lever * jt(&rbc, &e).transpose() * ksa;
-                    va -= lever * jt(&rac, &e).transpose() * ksa;
+                    let lever = lever_of(dl);
+                    // d|Fs| = eᵀ dFs = −Ks A eᵀ (J_b q_b − J_a q_a) + Ks A (n·r) eᵀ δn while
+                    // sticking.
+                    vb -= lever * (e.transpose() * jb) * ksa;
+                    va -= lever * (e.transpose() * ja) * ksa;
+                    let tilt = ksa * n.dot(&r_jump);
+                    let mut rot_b = vb.fixed_view_mut::<3, 3>(0, 3);
+                    rot_b += lever * (e.transpose() * dn_b) * tilt;
+                    let mut rot_a = va.fixed_view_mut::<3, 3>(0, 3);
+                    rot_a -= lever * (e.transpose() * dn_a) * tilt;
                 }
                 let fx = skew(&st.shear);
                 let lift = |m: nalgebra::Matrix3x6<f64>| {
@@ -427,16 +569,28 @@ pub(super) fn tangent_blocks(sim: &Simulation) -> Blocks {
                 |sp: &Vec3, sq: &Vec3, rpq: &Mat3| crate::dem::timestep::block(&nn, &n, 0.0, 1.0, w, sp, sq, rpq);
             add(
                 &mut local,
-                normal(&sb, &sb, &rbb),
-                -normal(&sb, &sa, &rba),
-                -normal(&sa, &sb, &rab),
-                normal(&sa, &sa, &raa),
+                normal(&sb_m, &sb, &rbb),
+                -normal(&sb_m, &sa, &rba),
+                -normal(&sa_m, &sb, &rab),
+                normal(&sa_m, &sa, &raa),
             );
         }
         // Every contact between free bodies has its coupling blocks, zero or not, so that
         // the pattern changes only with the contacts.
         let [kbb, kba, kab, kaa] = local;
         blocks.add(c.a, c.b, kbb, kba, kab, kaa);
+    }
+    // The rotation columns with respect to the jump's rotation vector: δθ = J(w) δw.
+    let jl: Vec<Mat3> = x.1.iter().map(left_jacobian).collect();
+    let right = |m: &mut Matrix6<f64>, j: &Mat3| {
+        let cols = m.fixed_view::<6, 3>(0, 3) * j;
+        m.fixed_view_mut::<6, 3>(0, 3).copy_from(&cols);
+    };
+    for (k, d) in blocks.diag.iter_mut().enumerate() {
+        right(d, &jl[k]);
+    }
+    for ((_, b), m) in blocks.off.iter_mut() {
+        right(m, &jl[*b]);
     }
     for (k, b) in sim.state.bodies.iter().enumerate() {
         if b.fixed() {
@@ -540,9 +694,9 @@ fn pattern_of(n: usize, entries: &[Pair<usize, usize>]) -> Result<Rc<Pattern>, S
 /// # Errors
 /// No stiffness on the free bodies, or faer's error from the assembly or the
 /// factorization, as text.
-pub(super) fn newton_step(sim: &Simulation, dofs: &Dofs) -> Result<PoseIncrement, String> {
+pub(super) fn newton_step(sim: &Simulation, x: &PoseIncrement, dofs: &Dofs) -> Result<PoseIncrement, String> {
     {
-        let blocks = tangent_blocks(sim);
+        let blocks = tangent_blocks(sim, x);
         let nb = sim.state.bodies.len();
         let e: Vec<Matrix6<f64>> = (0..nb)
             .map(|k| if dofs.first[k] == usize::MAX { Matrix6::zeros() } else { reduction(sim, dofs, k) })
@@ -640,3 +794,6 @@ pub(super) fn newton_step(sim: &Simulation, dofs: &Dofs) -> Result<PoseIncrement
         Ok(step)
     }
 }
+
+#[cfg(test)]
+mod tests;
