@@ -124,35 +124,7 @@ pub fn run_in_plane_nscd(
     };
     apply_moment(&mut sim);
     let h = nscd.dt_s;
-    let start = poses(&sim);
-    let rest = nscd.rest_velocity_ratio * sim.gravity_magnitude() * h;
-    let mut quiet = 0;
-    for _ in 0..(SETTLE_S / h).ceil() as u64 {
-        apply_moment(&mut sim);
-        sim.step(|_| Vec3::zeros())?;
-        quiet = if sim.max_point_speed() <= rest { quiet + 1 } else { 0 };
-        if quiet >= QUIET_STEPS {
-            break;
-        }
-    }
-    let allowed = super::settle::settle_tolerance(&rig.layout);
-    let worst = sim
-        .bodies()
-        .iter()
-        .zip(&start)
-        .map(|(b, (x0, _))| (b.id.clone(), (b.pos - x0).norm()))
-        .max_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((block, moved)) = worst {
-        if quiet < QUIET_STEPS || moved > allowed {
-            return Err(InPlaneError::UnderVerticalForce {
-                block,
-                moved_mm: moved * 1e3,
-                allowed_mm: allowed * 1e3,
-                force_kn: rig.vertical_force_n * 1e-3,
-                equilibrium: quiet >= QUIET_STEPS,
-            });
-        }
-    }
+    stand_under_vertical_force(&mut sim, &rig, nscd, &mut apply_moment)?;
     let reference = poses(&sim);
     let neighbours = super::excursion::JointNeighbours::of(&rig.layout);
     let mut excursion = super::inplane::Excursion::default();
@@ -219,4 +191,50 @@ pub fn run_in_plane_nscd(
         d.initial_stiffness_kn_per_mm = f64::NAN;
     }
     Ok(result)
+}
+
+/// Settles the rig's wall under the vertical force (`apply_moment` sets the rig's moment on
+/// the beam before each step) until every point moves slower than the rest velocity for
+/// [`QUIET_STEPS`] steps, within [`SETTLE_S`] of simulated time.
+///
+/// # Errors
+/// [`InPlaneError::UnderVerticalForce`] naming the block that moved farthest, when the wall
+/// did not come to rest or a block moved past the settling tolerance; a blow-up.
+fn stand_under_vertical_force(
+    sim: &mut NscdSimulation,
+    rig: &Rig,
+    nscd: &NscdParams,
+    apply_moment: &mut dyn FnMut(&mut NscdSimulation),
+) -> Result<(), InPlaneError> {
+    let h = nscd.dt_s;
+    let start = poses(sim);
+    let rest = nscd.rest_velocity_ratio * sim.gravity_magnitude() * h;
+    let mut quiet = 0;
+    for _ in 0..(SETTLE_S / h).ceil() as u64 {
+        apply_moment(sim);
+        sim.step(|_| Vec3::zeros())?;
+        quiet = if sim.max_point_speed() <= rest { quiet + 1 } else { 0 };
+        if quiet >= QUIET_STEPS {
+            break;
+        }
+    }
+    let allowed = super::settle::settle_tolerance(&rig.layout);
+    let worst = sim
+        .bodies()
+        .iter()
+        .zip(&start)
+        .map(|(b, (x0, _))| (b.id.clone(), (b.pos - x0).norm()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((block, moved)) = worst {
+        if quiet < QUIET_STEPS || moved > allowed {
+            return Err(InPlaneError::UnderVerticalForce {
+                block,
+                moved_mm: moved * 1e3,
+                allowed_mm: allowed * 1e3,
+                force_kn: rig.vertical_force_n * 1e-3,
+                equilibrium: quiet >= QUIET_STEPS,
+            });
+        }
+    }
+    Ok(())
 }
