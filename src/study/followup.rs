@@ -145,23 +145,7 @@ pub fn write_followup(
             }
         }
     }
-    // The named distributions the walls use, beside the walls.
-    for g in &study.groups {
-        let source = crate::generator::DistributionSource::default_for(&g.wall_path);
-        for d in source.dirs.iter().take(1) {
-            let entries = std::fs::read_dir(d).map_err(|e| io(d, e))?;
-            for e in entries.flatten() {
-                let p = e.path();
-                if p.extension().is_some_and(|x| x == "toml") {
-                    let to = dir.join("distributions").join(e.file_name());
-                    if !to.exists() {
-                        let text = std::fs::read_to_string(&p).map_err(|e| io(&p, e))?;
-                        write(&to, &text)?;
-                    }
-                }
-            }
-        }
-    }
+    copy_distributions(study, dir)?;
     // The measured files: the first campaign's (those the analysis read: the measured
     // directory's when given, else the study's own), and the templates of the follow-up's
     // rows.
@@ -204,6 +188,31 @@ pub fn write_followup(
     write(&study_file, &format!("{header}{}", toml::to_string(&doc).unwrap_or_default()))?;
     write(&dir.join("README.md"), &readme(study, plan, f, &specimens))?;
     Ok(Some(FollowUpFiles { study: study_file, measured, templates, specimens }))
+}
+
+/// Copies the named distributions the study's walls use (the first directory each wall's
+/// `distributions/` search finds) into `dir/distributions/`, each file once.
+///
+/// # Errors
+/// A directory or file that cannot be read, a file that cannot be written (named).
+fn copy_distributions(study: &Study, dir: &Path) -> Result<(), crate::discrepancy::DiscrepancyError> {
+    for g in &study.groups {
+        let source = crate::generator::DistributionSource::default_for(&g.wall_path);
+        for d in source.dirs.iter().take(1) {
+            let entries = std::fs::read_dir(d).map_err(|e| io(d, e))?;
+            for e in entries.flatten() {
+                let p = e.path();
+                if p.extension().is_some_and(|x| x == "toml") {
+                    let to = dir.join("distributions").join(e.file_name());
+                    if !to.exists() {
+                        let text = std::fs::read_to_string(&p).map_err(|e| io(&p, e))?;
+                        write(&to, &text)?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// What the laboratory reads on each specimen, as sentences.

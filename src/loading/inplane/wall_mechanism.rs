@@ -173,22 +173,7 @@ pub fn read_mechanism(
         }
         i
     }
-    // Per joint: its largest relative motion, opening and sliding (sums over its points).
-    let stats: Vec<(f64, f64, f64)> = joints
-        .iter()
-        .map(|j| {
-            let (mut largest, mut jo, mut js) = (0.0_f64, 0.0, 0.0);
-            for x in &j.points {
-                let ua = j.a.map_or(Vec3::zeros(), |a| motion(a, x));
-                let d = motion(j.b, x) - ua;
-                let dn = d.dot(&j.normal);
-                jo += dn.abs();
-                js += (d - j.normal * dn).norm();
-                largest = largest.max(d.norm());
-            }
-            (largest, jo, js)
-        })
-        .collect();
+    let stats = joint_motions(joints, &motion);
     let moves = |i: usize| {
         let (largest, j) = (stats[i].0, &joints[i]);
         scale > 0.0 && largest >= ACTIVE_JOINT_SHARE * scale && largest > j.elastic_m
@@ -283,6 +268,26 @@ pub fn read_mechanism(
         bed_levels_m: distinct,
         moving_blocks,
     }
+}
+
+/// Per joint: its largest relative motion, its opening and its sliding (sums over its
+/// points; m), from the bodies' motions `motion(k, x)` (m) at the points `x`.
+fn joint_motions(joints: &[MechanismJoint], motion: &impl Fn(usize, &Vec3) -> Vec3) -> Vec<(f64, f64, f64)> {
+    joints
+        .iter()
+        .map(|j| {
+            let (mut largest, mut jo, mut js) = (0.0_f64, 0.0, 0.0);
+            for x in &j.points {
+                let ua = j.a.map_or(Vec3::zeros(), |a| motion(a, x));
+                let d = motion(j.b, x) - ua;
+                let dn = d.dot(&j.normal);
+                jo += dn.abs();
+                js += (d - j.normal * dn).norm();
+                largest = largest.max(d.norm());
+            }
+            (largest, jo, js)
+        })
+        .collect()
 }
 
 /// Per body (index n: the table, never), whether it moves with the beam `beam`: whether
