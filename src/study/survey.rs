@@ -140,27 +140,7 @@ pub(super) fn wall_of_survey(
         Some(Section { base_m: base, top_m: spec.top_thickness_m.unwrap_or(base), batter: spec.batter })
     };
     let unit = spec.unit.as_deref().map(str::parse::<LengthUnit>).transpose().map_err(|e| (key("unit"), e))?;
-    let materials = match &spec.materials {
-        Some(p) => SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string()))?,
-        None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
-            (Some(density), Some(kn), Some(ks), Some(friction_deg)) => SurveyMaterials::one(MaterialSpec {
-                name: "stone".into(),
-                density_kg_per_m3: density,
-                kn_pa_per_m: kn,
-                ks_pa_per_m: ks,
-                friction_deg,
-                cohesion_pa: spec.cohesion_pa.unwrap_or(0.0),
-                tensile_strength_pa: 0.0,
-                closure: Default::default(),
-            }),
-            _ => {
-                return Err((
-                    key("materials"),
-                    "the stones' material: give materials = FILE, or all of density, kn, ks and friction_deg".into(),
-                ))
-            }
-        },
-    };
+    let materials = materials_of(spec, dir, &key)?;
     let depth = match &spec.depth_m {
         None => None,
         Some(v) => Some(Uncertainty::depth_from_toml(v, file, &key("depth_m")).map_err(|e| (key("depth_m"), e))?),
@@ -184,4 +164,37 @@ pub(super) fn wall_of_survey(
         other => other.to_string(),
     };
     surveyed_wall_with(&path, &options, &u, &named).map_err(|e| (format!("groups[{name}].survey"), e.to_string()))
+}
+
+/// The stones' materials of a surveyed group's import: the file `materials` names (read
+/// beside the study, `dir`), or the one material its `density`, `kn`, `ks`, `friction_deg`
+/// and `cohesion_pa` keys make.
+///
+/// # Errors
+/// `(key, message)`: the materials file unreadable, or neither it nor every key of the one
+/// material given (`key` makes the group's key of a name).
+fn materials_of(
+    spec: &super::survey_spec::SurveyImportSpec,
+    dir: &Path,
+    key: &dyn Fn(&str) -> String,
+) -> Result<SurveyMaterials, (String, String)> {
+    match &spec.materials {
+        Some(p) => SurveyMaterials::from_file(&dir.join(p)).map_err(|e| (key("materials"), e.to_string())),
+        None => match (spec.density, spec.kn, spec.ks, spec.friction_deg) {
+            (Some(density), Some(kn), Some(ks), Some(friction_deg)) => Ok(SurveyMaterials::one(MaterialSpec {
+                name: "stone".into(),
+                density_kg_per_m3: density,
+                kn_pa_per_m: kn,
+                ks_pa_per_m: ks,
+                friction_deg,
+                cohesion_pa: spec.cohesion_pa.unwrap_or(0.0),
+                tensile_strength_pa: 0.0,
+                closure: Default::default(),
+            })),
+            _ => Err((
+                key("materials"),
+                "the stones' material: give materials = FILE, or all of density, kn, ks and friction_deg".into(),
+            )),
+        },
+    }
 }
