@@ -73,6 +73,11 @@ pub fn command(a: CompressionArgs) -> Result<ExitCode> {
             "--shear-span-m is read with --beam-rotation free only (a beam held level has no actuator's lever)"
         );
     }
+    if beam_rotation == BeamRotation::Free && a.shear_span_m.is_none() {
+        anyhow::bail!(
+            "--beam-rotation free needs --shear-span-m (the height of the actuator's point the beam turns about, m)"
+        );
+    }
     let d = CompressionParams::default();
     let params = CompressionParams {
         sigma0_mpa: a.sigma0_mpa,
@@ -83,6 +88,9 @@ pub fn command(a: CompressionArgs) -> Result<ExitCode> {
         beam_rotation,
         shear_span_m: a.shear_span_m,
     };
+    // On the command line a parameter is named by its flag (`--sigma0-mpa`), not by the
+    // study file's key (`compression.sigma0_mpa`).
+    params.validate().map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
     let penalty = PenaltyParams {
         tolerance: a.tolerance.unwrap_or(PenaltyParams::default().tolerance),
         ..PenaltyParams::default()

@@ -145,3 +145,39 @@ fn bad_parameters_are_refused_by_name() {
         .to_string();
     assert!(e.contains("vertical_load_rig"), "{e}");
 }
+
+/// On the command line a parameter out of range is named by its flag, as the command's
+/// help spells it (the study file's key is `compression.KEY`), and a free beam without its
+/// shear span names both flags; never a panic.
+#[test]
+fn the_command_names_the_flag_at_fault() {
+    let dir = std::env::temp_dir().join(format!("drystone-compression-flags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let layout = dir.join("wall.json");
+    let text = serde_json::json!({
+        "version": 1, "name": "one block",
+        "materials": [{"name": "m", "density_kg_per_m3": 2200, "kn_pa_per_m": 1e10, "ks_pa_per_m": 4e9, "friction_deg": 45}],
+        "table": {"material": "m"},
+        "blocks": [{"id": "wall", "material": "m", "vertices": box_vertices([0.0, -T / 2.0, 0.0], [L, T / 2.0, H])}]
+    });
+    std::fs::write(&layout, text.to_string()).unwrap();
+    let bin = env!("CARGO_BIN_EXE_drystone");
+    for (args, flag) in [
+        (&["--sigma0-mpa", "-1"][..], "--sigma0-mpa"),
+        (&["--sigma0-mpa", "0.5", "--cycles", "0"][..], "--cycles"),
+        (&["--sigma0-mpa", "0.5", "--unload-to-mpa", "0.6"][..], "--unload-to-mpa"),
+        (&["--sigma0-mpa", "0.5", "--raise-to-mpa", "0.4"][..], "--raise-to-mpa"),
+        (&["--sigma0-mpa", "0.5", "--points-per-branch", "0"][..], "--points-per-branch"),
+        (&["--sigma0-mpa", "0.5", "--beam-rotation", "free"][..], "--shear-span-m"),
+    ] {
+        let o = std::process::Command::new(bin)
+            .args(["compression", layout.to_str().unwrap()])
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(flag) && !err.contains("compression.") && !err.contains("panicked"), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
