@@ -75,7 +75,7 @@ impl LoopsReading {
     /// # Errors
     /// A fitted parameter refused, a run's layout not made.
     pub fn check(&self, run: &Run, progress: crate::discrepancy::Progress<'_>) -> Result<LoopCheck, InPlaneStudyError> {
-        let mut models: Vec<LoopCandidate> = vec![baseline_candidate()];
+        let mut models: Vec<(LoopCandidate, bool)> = vec![(baseline_candidate(), false)];
         let judged: Vec<String> = {
             let all = self.checked.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
             let mut names: Vec<String> = vec![];
@@ -86,18 +86,9 @@ impl LoopsReading {
             }
             names
         };
-        // The tie's models whose wall is the baseline's take the baseline's loops.
-        let mut as_baseline: Vec<(String, Vec<(String, f64)>)> = vec![];
+        // In the order checked; a model whose wall is the baseline's takes the baseline's
+        // loops (`true`), not run again.
         for name in judged.iter().chain(run.analysis.tie.iter().filter(|t| !judged.contains(t))) {
-            if run.is_baseline_model(name) {
-                let parameters = run.analysis.candidates.iter().find(|r| &r.name == name).map(|r| r.parameters.clone());
-                as_baseline.push((name.clone(), parameters.unwrap_or_default()));
-                continue;
-            }
-            let effects = run
-                .fitted_effects(name, self.course_m)
-                .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
-            let Some(effects) = effects else { continue };
             let parameters = run
                 .analysis
                 .candidates
@@ -105,22 +96,41 @@ impl LoopsReading {
                 .find(|r| &r.name == name)
                 .map(|r| r.parameters.clone())
                 .unwrap_or_default();
-            models.push((name.clone(), parameters, effects));
+            if run.is_baseline_model(name) {
+                models.push(((name.clone(), parameters, vec![]), true));
+                continue;
+            }
+            let effects = run
+                .fitted_effects(name, self.course_m)
+                .map_err(|e| InPlaneStudyError::Write(format!("the loops of {name}: {e}")))?;
+            let Some(effects) = effects else { continue };
+            models.push(((name.clone(), parameters, effects), false));
         }
-        let checks: Vec<LoopCheck> = models.iter().map(|m| self.model(m, progress)).collect::<Result<_, _>>()?;
+        let checks: Vec<Option<LoopCheck>> = models
+            .iter()
+            .map(|(m, as_baseline)| if *as_baseline { Ok(None) } else { self.model(m, progress).map(Some) })
+            .collect::<Result<_, _>>()?;
         let runs =
             self.checked.lock().unwrap_or_else(std::sync::PoisonError::into_inner).iter().map(|c| c.2.runs).sum();
-        let first = &checks[0];
+        let Some(first) = checks.first().and_then(Option::as_ref) else {
+            return Err(InPlaneStudyError::Write("the loops: the baseline was not run".into()));
+        };
+        let base = first.models.first();
         let mut check = LoopCheck {
             min_drift_pct: first.min_drift_pct,
             measured_sigma: first.measured_sigma,
-            models: checks
+            models: models
                 .iter()
-                .flat_map(|c| c.models.first().cloned())
-                .chain(as_baseline.into_iter().filter_map(|(name, parameters)| {
-                    let base = checks[0].models.first()?;
-                    Some(LoopModel { name, parameters, baseline_wall: true, ..base.clone() })
-                }))
+                .zip(&checks)
+                .filter_map(|(((name, parameters, _), _), c)| match c {
+                    Some(c) => c.models.first().cloned(),
+                    None => base.map(|b| LoopModel {
+                        name: name.clone(),
+                        parameters: parameters.clone(),
+                        baseline_wall: true,
+                        ..b.clone()
+                    }),
+                })
                 .collect(),
             runs,
             own_histories: first.own_histories,
