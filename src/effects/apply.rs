@@ -9,7 +9,8 @@ use crate::layout::{EndRestraint, FamilyJoint, JointFamily, Layout};
 
 impl Effect {
     /// A checked effect: one value per parameter, each in its range for a wall of mean
-    /// course height `course_m` (m).
+    /// course height `course_m` (m) ([`ParamDef::statable`]: the broad range scaled to the
+    /// wall, or a kind's range stated as built).
     ///
     /// # Errors
     /// [`EffectError::Arity`] or [`EffectError::OutOfRange`].
@@ -24,14 +25,15 @@ impl Effect {
             });
         }
         for (p, &v) in ps.iter().zip(&values) {
-            let tol = 1e-9 * (p.max - p.min).abs();
-            if !(v.is_finite() && v >= p.min - tol && v <= p.max + tol) {
+            let (min, max) = p.statable();
+            let tol = 1e-9 * (max - min).abs();
+            if !(v.is_finite() && v >= min - tol && v <= max + tol) {
                 return Err(EffectError::OutOfRange {
                     effect: def.name.clone(),
                     param: p.name.clone(),
                     value: v,
-                    min: p.min,
-                    max: p.max,
+                    min,
+                    max,
                     unit: p.unit.clone(),
                 });
             }

@@ -40,15 +40,17 @@ fn sourced(
     p.source = broad.into();
     for (kind, r) in [(WallKind::ConcretePaver, paver), (WallKind::ShapedStone, shaped)] {
         if let Some((min, max, source)) = r {
-            p.kinds.push(KindRange { kind, min, max, source: source.into() });
+            p.kinds.push(KindRange { kind, min, max, source: source.into(), as_built: false });
         }
     }
     p
 }
 
-/// `p` with the range of walls of finish `kind` (sawn or rubble stone) and its source.
+/// `p` with the range of walls of finish `kind` (sawn or rubble stone) and its source. A
+/// finish's range is the stone's surface as built, in absolute units: it does not scale with
+/// the course height ([`KindRange::as_built`]).
 fn finish(mut p: ParamDef, kind: WallKind, min: f64, max: f64, source: &str) -> ParamDef {
-    p.kinds.push(KindRange { kind, min, max, source: source.into() });
+    p.kinds.push(KindRange { kind, min, max, source: source.into(), as_built: true });
     p
 }
 
@@ -496,5 +498,26 @@ mod tests {
         ];
         want.sort();
         assert_eq!(not_read, want);
+    }
+
+    /// A finish's range is the stone's surface as built: on the granite walls' 0.15 m courses
+    /// (three times the reference course height) the sawn stone's maximum closure is searched
+    /// on [0.1, 0.5] mm as its reasoning states, where a model-scale kind's range and the
+    /// broad range scale with the course; a value in the sawn range can be stated on any
+    /// wall, and a value outside every range cannot.
+    #[test]
+    fn a_finishs_range_is_as_built_and_a_model_scale_kinds_scales() {
+        let d = builtin().into_iter().find(|d| d.name == "joint_closure").unwrap();
+        let course = 3.0 * crate::effects::REFERENCE_COURSE_HEIGHT_M;
+        let vm = d.parameters[1].for_course_height(course);
+        let (lo, hi, _) = vm.range_for(Some(WallKind::SawnStone));
+        assert_eq!((lo, hi), (1e-4, 5e-4));
+        let (lo, hi, _) = vm.range_for(Some(WallKind::ConcretePaver));
+        assert!((lo - 3e-4).abs() < 1e-15 && (hi - 3e-3).abs() < 1e-15, "[{lo}, {hi}]");
+        assert!((vm.min - 3e-4).abs() < 1e-15, "{}", vm.min);
+        assert_eq!(vm.statable().0, 1e-4);
+        let def = std::sync::Arc::new(d);
+        assert!(crate::effects::Effect::new(def.clone(), vec![1.0, 1e-4], course).is_ok());
+        assert!(crate::effects::Effect::new(def, vec![1.0, 5e-5], course).is_err());
     }
 }

@@ -163,7 +163,7 @@ pub struct KindRange {
     /// The kind of wall.
     pub kind: WallKind,
     /// Lower bound, in the parameter's unit (scaled like the broad range when the parameter
-    /// is `range_per_course_height`).
+    /// is `range_per_course_height`, unless the range is [`KindRange::as_built`]).
     pub min: f64,
     /// Upper bound.
     pub max: f64,
@@ -171,6 +171,13 @@ pub struct KindRange {
     /// or `estimate (reasoning: ...)`.
     #[serde(default)]
     pub source: String,
+    /// The range is stated for walls of this kind as they are built, in absolute units, and
+    /// does not scale with the course height even when the parameter does: a saw's
+    /// flatness or the asperities of a split face do not grow with the block (the
+    /// `sawn_stone` and `rubble_stone` finishes). Default `false`: the range scales like the
+    /// broad one (written for [`REFERENCE_COURSE_HEIGHT_M`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub as_built: bool,
 }
 
 fn linear() -> Scale {
@@ -178,7 +185,9 @@ fn linear() -> Scale {
 }
 
 impl ParamDef {
-    /// The parameter with its range scaled to a wall of mean course height `course_m` (m).
+    /// The parameter with its range scaled to a wall of mean course height `course_m` (m):
+    /// the broad range, a finite neutral value and every kind's range but those stated
+    /// [`KindRange::as_built`] are multiplied by `course_m / REFERENCE_COURSE_HEIGHT_M`.
     pub fn for_course_height(&self, course_m: f64) -> ParamDef {
         if !self.range_per_course_height {
             return self.clone();
@@ -189,9 +198,21 @@ impl ParamDef {
             max: self.max * f,
             neutral: if self.neutral.is_finite() { self.neutral * f } else { self.neutral },
             range_per_course_height: false,
-            kinds: self.kinds.iter().map(|k| KindRange { min: k.min * f, max: k.max * f, ..k.clone() }).collect(),
+            kinds: self
+                .kinds
+                .iter()
+                .map(|k| if k.as_built { k.clone() } else { KindRange { min: k.min * f, max: k.max * f, ..k.clone() } })
+                .collect(),
             ..self.clone()
         }
+    }
+
+    /// The values a user may state, `(min, max)`: the broad range, widened to hold every
+    /// [`KindRange::as_built`] range (so that any value a kind's search can reach can be
+    /// stated on a wall of any course height).
+    pub fn statable(&self) -> (f64, f64) {
+        let built = self.kinds.iter().filter(|k| k.as_built);
+        built.fold((self.min, self.max), |(lo, hi), k| (lo.min(k.min), hi.max(k.max)))
     }
 
     /// The plausible range `(min, max)` and its source for a wall of `kind` (`None`, or a
