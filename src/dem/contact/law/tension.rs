@@ -39,15 +39,17 @@ impl TensionCutoff {
     }
 }
 
-/// The tension kernel: given the nodal pressures `q` (Pa, compression positive) of a
+/// The tension kernel: given the nodal pressures `q()` (Pa, compression positive) of a
 /// sub-contact, breaks an intact joint whose pressure falls below `−T` anywhere (clearing
-/// `bonded`), and returns whether the sub-contact carries tension this step.
+/// `bonded`), and returns whether the sub-contact carries tension this step. The pressures
+/// are asked only of an intact joint with a tensile strength (a dry joint, the common
+/// case, needs none: the contact pass does not evaluate them).
 #[inline(always)]
-pub fn carries_tension(t: TensionCutoff, bonded: &mut bool, q: [f64; 3]) -> bool {
+pub fn carries_tension(t: TensionCutoff, bonded: &mut bool, q: impl FnOnce() -> [f64; 3]) -> bool {
     match t {
         TensionCutoff::NoTension => false,
         TensionCutoff::Strength { pa } => {
-            if *bonded && q.iter().any(|&v| v < -pa) {
+            if *bonded && q().iter().any(|&v| v < -pa) {
                 *bonded = false;
             }
             *bonded
