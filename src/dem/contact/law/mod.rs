@@ -212,7 +212,7 @@ pub const NO_FORCE: SubContactForce = SubContactForce {
 pub fn evaluate(p: &JointParams, quad: Quadrature, s: &mut SubContactState, k: &Kinematics) -> SubContactForce {
     let np = p.normal();
     let u = [-k.gaps[0], -k.gaps[1], -k.gaps[2]];
-    let tension = tension::carries_tension(p.tension, &mut s.bonded, u.map(|v| np.pressure(v)));
+    let tension = tension::carries_tension(p.tension, &mut s.bonded, || u.map(|v| np.pressure(v)));
     let nr = normal::integrate(&np, quad, u, k.area, tension);
     let fnorm = nr.moments[0] + nr.moments[1] + nr.moments[2];
     if fnorm <= 0.0 && !tension {
