@@ -7,20 +7,21 @@
 //! realizations table, the report (the ensemble's with its sections, [`super::report`],
 //! [`super::shaking`], [`super::compression`]; the in-plane test's,
 //! [`super::inplane_report`]), the VTK series ([`super::figures`]),
-//! its warnings and what its summary counts; the compiler points to each at a new protocol.
+//! its warnings, what its summary counts and how `drystone discrepancy` analyses it
+//! ([`StudyProtocol::analysis`]); the compiler points to each at a new protocol.
 //! Elsewhere in the study a key that only one protocol reads asks its accessor
 //! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
 //! and the sweep keys (`checks.rs`, `resolve.rs`), the paper's comparison and the
 //! calibration (which compare collapse angles), the measured data's tilt step.
 
 use super::compression::{compression_row, compression_sections, CompressionStudy};
+use super::discrepancy::{AnalysisWay, ENSEMBLE};
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
 use super::inplane::{in_plane_row, write_rows};
 use super::inplane_report::report as in_plane_report;
 use super::inplane_spec::InPlaneStudy;
 use super::motions::ShakeStudy;
-use super::own::OwnStudy;
 use super::report::{ensemble_report, lateral_sections, tilt_sections};
 use super::report_error::ReportError;
 use super::run::{
@@ -404,6 +405,22 @@ impl StudyProtocol {
         }
     }
 
+    /// How `drystone discrepancy` analyses a study of this protocol ([`AnalysisWay`]: its
+    /// study read into the analysis's groups, observations, settings and library, where it
+    /// reads its measured data, its reading the fit does not hold, whether a named cause is
+    /// written as an extended study): the ensemble's ([`ENSEMBLE`]), or the in-plane test's
+    /// ([`IN_PLANE_ANALYSIS`]). The command's one path runs it
+    /// ([`super::discrepancy`]).
+    pub fn analysis(&self) -> AnalysisWay {
+        match self {
+            StudyProtocol::Tilt(_)
+            | StudyProtocol::Lateral(_)
+            | StudyProtocol::Shake(_)
+            | StudyProtocol::Compression(_) => ENSEMBLE,
+            StudyProtocol::InPlane(_) => IN_PLANE_ANALYSIS,
+        }
+    }
+
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
     pub fn in_plane(&self) -> Option<&InPlaneStudy> {
         match self {
@@ -416,22 +433,18 @@ impl StudyProtocol {
     }
 }
 
-/// The discrepancy analysis of its own of a kind ([`super::own`]), which `drystone
-/// discrepancy` hands its files to; `None` for a kind whose analysis is the ensemble's
-/// (`study::discrepancy`). Every kind's run is the study core's.
-pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
-    match kind {
-        ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake | ProtocolKind::Compression => None,
-        ProtocolKind::InPlane => Some(&super::inplane_entry::STUDY),
-    }
-}
-
-/// The discrepancy analysis of its own of the protocol a study file names ([`own_study`]
-/// of its [`super::own::kind_of`]); `None` for a file the ensemble's analysis reads (or one
-/// that cannot be read, whose errors that analysis reports).
-pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
-    super::own::kind_of(path).and_then(own_study)
-}
+/// The in-plane test's analysis ([`StudyProtocol::analysis`]): its stresses as the
+/// analysis's groups and its specimens as observations
+/// ([`super::inplane_discrepancy::analysis_of`]), its cyclic loops as the reading the fit
+/// does not hold ([`super::inplane_loops::LoopsReading::held`]); its measured data the
+/// `[measured] walls` table (the tilting table's files of `--measured` refused), no extended
+/// study (its analysis's groups are stresses, not the study's groups).
+const IN_PLANE_ANALYSIS: AnalysisWay = AnalysisWay {
+    measured_elsewhere: Some("an in-plane study reads its specimens from [measured] walls"),
+    input: super::inplane_discrepancy::analysis_of,
+    held: Some(super::inplane_loops::LoopsReading::held),
+    extends: false,
+};
 
 impl StudySpec {
     /// The penalty settings the study's protocol table writes under their former keys
