@@ -123,7 +123,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::StudyProtocol;
+pub use protocol::{StudyKind, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

@@ -125,15 +125,21 @@ impl StudyProtocol {
         }
     }
 
-    /// Its kind, as the study file names it.
-    pub fn kind(&self) -> ProtocolKind {
+    /// What its kind declares of its own ([`StudyKind`]): the one match on the kind for
+    /// the questions whose answer is the kind's alone, not its table's.
+    pub fn declared(&self) -> &'static StudyKind {
         match self {
-            StudyProtocol::Tilt(_) => ProtocolKind::Tilt,
-            StudyProtocol::Lateral(_) => ProtocolKind::Lateral,
-            StudyProtocol::Shake(_) => ProtocolKind::Shake,
-            StudyProtocol::InPlane(_) => ProtocolKind::InPlane,
-            StudyProtocol::Compression(_) => ProtocolKind::Compression,
+            StudyProtocol::Tilt(_) => &TILT,
+            StudyProtocol::Lateral(_) => &LATERAL,
+            StudyProtocol::Shake(_) => &SHAKE,
+            StudyProtocol::InPlane(_) => &IN_PLANE,
+            StudyProtocol::Compression(_) => &COMPRESSION,
         }
+    }
+
+    /// Its kind, as the study file names it ([`StudyKind::kind`]).
+    pub fn kind(&self) -> ProtocolKind {
+        self.declared().kind
     }
 
     /// Its name in study files (`protocol = "..."`), as the protocol seam names it
@@ -243,13 +249,7 @@ impl StudyProtocol {
     /// group, but for the in-plane test's `g · 10000 + i` (group g, realization i), the
     /// index its studies have always used.
     pub fn seed_index(&self, item: &Item) -> u64 {
-        match self {
-            StudyProtocol::InPlane(_) => item.group as u64 * 10_000 + item.realization,
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => item.realization,
-        }
+        (self.declared().seed_index)(item)
     }
 
     /// Writes the realizations table of `rows` into `dir`: `realizations.parquet` with every
@@ -260,16 +260,7 @@ impl StudyProtocol {
     /// # Errors
     /// [`OutputError`] naming the file.
     pub(super) fn write_rows(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
-        match self {
-            StudyProtocol::InPlane(_) => {
-                crate::io::table::write_realizations_parquet(rows, dir)?;
-                Ok(write_rows(study, rows, dir)?)
-            }
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => Ok(crate::io::table::write_realizations(rows, dir)?),
-        }
+        (self.declared().write_rows)(study, rows, dir)
     }
 
     /// Writes the report of a whole study's `rows` into `dir` and returns what `drystone
@@ -363,13 +354,7 @@ impl StudyProtocol {
     /// Whether its summary counts the walls that collapsed under the load (the lateral
     /// load: a collapse is an outcome of the service load, not a collapse angle).
     pub fn counts_collapses_under_load(&self) -> bool {
-        match self {
-            StudyProtocol::Lateral(_) => true,
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => false,
-        }
+        self.declared().counts_collapses_under_load
     }
 
     /// The tilting table's parameters, for a tilting-table study.
@@ -399,26 +384,17 @@ impl StudyProtocol {
     /// ([`crate::discrepancy::GroupSetup::protocol`]); `None` where every group runs the
     /// study's.
     pub fn group_protocol(&self, group: usize) -> Option<Protocol> {
-        match self {
-            StudyProtocol::InPlane(_) | StudyProtocol::Compression(_) => Some(self.of_group(group, &[])),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
-        }
+        self.declared().groups_differ.then(|| self.of_group(group, &[]))
     }
 
     /// How `drystone discrepancy` analyses a study of this protocol ([`AnalysisWay`]: its
     /// study read into the analysis's groups, observations, settings and library, where it
     /// reads its measured data, its reading the fit does not hold, whether a named cause is
-    /// written as an extended study): the ensemble's ([`ENSEMBLE`]), or the in-plane test's
-    /// ([`IN_PLANE_ANALYSIS`]). The command's one path runs it
+    /// written as an extended study; [`StudyKind::analysis`]): the ensemble's
+    /// ([`ENSEMBLE`]), or the in-plane test's. The command's one path runs it
     /// ([`super::discrepancy`]).
     pub fn analysis(&self) -> AnalysisWay {
-        match self {
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => ENSEMBLE,
-            StudyProtocol::InPlane(_) => IN_PLANE_ANALYSIS,
-        }
+        self.declared().analysis
     }
 
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
@@ -431,6 +407,120 @@ impl StudyProtocol {
             | StudyProtocol::Compression(_) => None,
         }
     }
+}
+
+/// What a protocol's study declares of its own, as data: one constant a kind (`TILT`,
+/// `LATERAL`, `SHAKE`, `IN_PLANE`, `COMPRESSION` in `study/protocol.rs`), read through
+/// [`StudyProtocol::declared`]. A new kind states each answer once (the compiler asks for
+/// every field), and no caller matches on the kind to ask it.
+#[derive(Debug, Clone, Copy)]
+pub struct StudyKind {
+    /// The kind, as the study file names it (`protocol = "..."`).
+    pub kind: ProtocolKind,
+    /// The seed index of a work item ([`StudyProtocol::seed_index`]): the realization's
+    /// index in its group, or the in-plane test's `g · 10000 + i`.
+    pub seed_index: fn(&Item) -> u64,
+    /// Writes the realizations table of the rows into the directory: the core's columns
+    /// (`realizations.parquet` and `realizations.csv`), or the in-plane test's own
+    /// `realizations.csv` beside the parquet table.
+    ///
+    /// # Errors
+    /// [`OutputError`] naming the file.
+    pub write_rows: fn(&Study, &[RealizationRow], &Path) -> Result<(), OutputError>,
+    /// Whether its groups run protocols of their own (the in-plane test's and the
+    /// compression test's vertical stress a group), which the discrepancy analysis's
+    /// groups carry ([`StudyProtocol::group_protocol`]).
+    pub groups_differ: bool,
+    /// Whether its summary counts the walls that collapsed under the load
+    /// ([`StudyProtocol::counts_collapses_under_load`]): the lateral load's.
+    pub counts_collapses_under_load: bool,
+    /// How `drystone discrepancy` analyses its studies ([`StudyProtocol::analysis`]).
+    pub analysis: AnalysisWay,
+}
+
+/// The tilting table's study (`protocol = "tilt"`).
+const TILT: StudyKind = StudyKind {
+    kind: ProtocolKind::Tilt,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The lateral load's study (`protocol = "lateral"`, or its pushover): its summary counts
+/// the walls that collapsed under the service load.
+const LATERAL: StudyKind = StudyKind {
+    kind: ProtocolKind::Lateral,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: true,
+    analysis: ENSEMBLE,
+};
+
+/// The shaking table's study (`protocol = "shake"`).
+const SHAKE: StudyKind = StudyKind {
+    kind: ProtocolKind::Shake,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The in-plane test's study (`protocol = "in_plane"`): its seed index, its own
+/// `realizations.csv`, a protocol a group, its own analysis (`IN_PLANE_ANALYSIS`).
+const IN_PLANE: StudyKind = StudyKind {
+    kind: ProtocolKind::InPlane,
+    seed_index: group_stride_index,
+    write_rows: in_plane_rows,
+    groups_differ: true,
+    counts_collapses_under_load: false,
+    analysis: IN_PLANE_ANALYSIS,
+};
+
+/// The compression test's study (`protocol = "compression"`): a protocol a group (its
+/// vertical stress).
+const COMPRESSION: StudyKind = StudyKind {
+    kind: ProtocolKind::Compression,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: true,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The seed index of an item: its realization's index in its group.
+fn realization_index(item: &Item) -> u64 {
+    item.realization
+}
+
+/// The in-plane test's seed index of an item, `g · 10000 + i` (group g, realization i), the
+/// index its studies have always used.
+fn group_stride_index(item: &Item) -> u64 {
+    item.group as u64 * 10_000 + item.realization
+}
+
+/// Writes the realizations table of `rows` into `dir` with the core's columns
+/// ([`crate::io::table::write_realizations`]: `realizations.parquet` and
+/// `realizations.csv`).
+///
+/// # Errors
+/// [`OutputError`] naming the file.
+fn core_rows(_study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
+    Ok(crate::io::table::write_realizations(rows, dir)?)
+}
+
+/// Writes the in-plane test's realizations table of `rows` into `dir`:
+/// `realizations.parquet` with every column and its own `realizations.csv`
+/// ([`super::inplane::write_rows`]).
+///
+/// # Errors
+/// [`OutputError`] naming the file.
+fn in_plane_rows(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
+    crate::io::table::write_realizations_parquet(rows, dir)?;
+    Ok(write_rows(study, rows, dir)?)
 }
 
 /// The in-plane test's analysis ([`StudyProtocol::analysis`]): its stresses as the
