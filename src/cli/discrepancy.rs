@@ -1,11 +1,11 @@
 //! `drystone discrepancy` and `drystone synthesize`.
 
 use anyhow::{bail, Context, Result};
-use drystone::discrepancy::{report_json, synthetic_master_seed, synthetic_observables, SynthesisRequest};
+use drystone::discrepancy::{synthetic_master_seed, synthetic_observables, SynthesisRequest};
 use drystone::discrepancy::{write_synthetic, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
-use drystone::study::discrepancy::{observations_of, setup_of, write_analysis, AnalysisWay};
+use drystone::study::discrepancy::{analyse, input_of, observations_of, setup_of, write_analysis};
 use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
@@ -138,14 +138,13 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
 }
 
 /// Runs the analysis and writes its report; prints the JSON object or a summary. Every
-/// study takes this one path; what its protocol declares
-/// ([`drystone::study::discrepancy::AnalysisWay`]) is where its measured data come from, how
-/// its study becomes the analysis's input, its reading the fit does not hold and whether a
-/// named cause is written as an extended study.
+/// study takes this one path ([`drystone::study::discrepancy::analyse`]); what its protocol
+/// declares ([`drystone::study::discrepancy::AnalysisWay`]) is where its measured data come
+/// from, how its study becomes the analysis's input, its reading the fit does not hold and
+/// whether a named cause is written as an extended study.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let mut st = Study::from_file(&a.input.study)?;
-    let way = st.protocol.analysis();
-    if let Some(elsewhere) = way.measured_elsewhere {
+    if let Some(elsewhere) = st.protocol.analysis().measured_elsewhere {
         if a.input.measured.is_some() || a.measured_sets.is_some() {
             bail!(
                 "{}: --measured and --measured-sets read the tilting table's files; {elsewhere}",
@@ -164,9 +163,9 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     apply_options(&a, &mut s)?;
     s.validate().with_context(|| a.input.study.display().to_string())?;
     if let Some(dir) = &a.measured_sets {
-        return measured_sets(&mut st, &way, &s, dir, a.input.threads);
+        return measured_sets(&mut st, &s, dir, a.input.threads);
     }
-    let mut input = (way.input)(&st, s)?;
+    let mut input = input_of(&st, s)?;
     let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
     input.setup.store = a.input.store(&dir, &st.name)?;
     // The directory is held from here to the end: a second command on it is refused.
@@ -174,46 +173,17 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     let pool = pool(a.input.threads)?;
     let t0 = std::time::Instant::now();
     let progress = progress_lines("discrepancy");
-    // The study's reading its fit does not hold: asked of each candidate before it is
-    // named, and reported after the analysis.
-    let reading = match way.held {
-        Some(f) => f(&st, &input)?,
-        None => None,
-    };
-    let run = pool.install(|| {
-        drystone::discrepancy::run_held(
-            &input.setup,
-            input.obs.clone(),
-            &input.settings,
-            input.seed,
-            &input.library,
-            reading.as_deref(),
-            &progress,
-        )
-    })?;
-    if let Some(line) = store_line(&input.setup.store) {
+    let done = pool.install(|| analyse(&st, input, &progress))?;
+    if let Some(line) = store_line(&done.input.setup.store) {
         eprintln!("{line}");
     }
-    let check = match &reading {
-        Some(h) => pool.install(|| h.report(&run, &progress))?,
-        None => None,
-    };
-    let extended_study = write_analysis(&held, &st, &run, check.as_ref(), way.extends)?;
+    let extended_study = write_analysis(&held, &st, &done)?;
     if a.json {
-        match &check {
-            Some(c) => {
-                let mut v = serde_json::to_value(report_json(&run))?;
-                if let Some(o) = v.as_object_mut() {
-                    o.insert(c.key.into(), c.json.clone());
-                }
-                println!("{}", serde_json::to_string_pretty(&v)?);
-            }
-            None => println!("{}", serde_json::to_string_pretty(&report_json(&run))?),
-        }
+        println!("{}", serde_json::to_string_pretty(&done.json())?);
         return Ok(());
     }
-    print_summary(&run, &st.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
-    for line in check.iter().flat_map(|c| &c.summary) {
+    print_summary(&done.run, &st.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
+    for line in done.held.iter().flat_map(|c| &c.summary) {
         println!("{line}");
     }
     if let Some(p) = extended_study {
@@ -290,8 +260,9 @@ fn apply_options(a: &DiscrepancyArgs, s: &mut Settings) -> Result<()> {
 
 /// Analyses every data set (a subdirectory with the two measured files) of `dir` against
 /// one preparation of the forward runs, printing one JSON line per set: each set's
-/// observations as the study's protocol reads them (`way`), the groups of the first.
-fn measured_sets(st: &mut Study, way: &AnalysisWay, s: &Settings, dir: &Path, threads: Option<usize>) -> Result<()> {
+/// observations as the study's protocol reads them ([`input_of`]), the groups of the
+/// first.
+fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize>) -> Result<()> {
     let mut sets: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("cannot read {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -305,7 +276,7 @@ fn measured_sets(st: &mut Study, way: &AnalysisWay, s: &Settings, dir: &Path, th
     let mut first = None;
     for set in &sets {
         use_measured_dir(st, set)?;
-        let input = (way.input)(st, s.clone()).with_context(|| set.display().to_string())?;
+        let input = input_of(st, s.clone()).with_context(|| set.display().to_string())?;
         all.push(input.obs);
         first.get_or_insert(input.setup);
     }

@@ -1,12 +1,13 @@
 //! The model-discrepancy analysis of a study: its groups and measured data handed to
 //! [`crate::discrepancy`] (`drystone discrepancy STUDY.toml`, `drystone synthesize`).
 //!
-//! `drystone discrepancy` runs every study the same way: the study read by the core
-//! ([`Study::from_file`]), its protocol's [`AnalysisWay`] ([`super::StudyProtocol::analysis`])
-//! turning it into the analysis's input ([`Analysis`]: groups, observations, settings,
-//! effect library) and, where the protocol has one, a reading the fit does not hold
+//! `drystone discrepancy` and the Python package's `discrepancy` run every study the same
+//! way, [`analyse`]: the study read by the core ([`Study::from_file`]), its protocol's
+//! [`AnalysisWay`] ([`super::StudyProtocol::analysis`]) turning it into the analysis's
+//! input ([`Analysis`]: groups, observations, settings, effect library) and, where the
+//! protocol has one, a reading the fit does not hold
 //! ([`crate::discrepancy::HeldReading`]), the analysis run
-//! ([`crate::discrepancy::run_held`]) and its outputs written ([`write_analysis`]). What
+//! ([`crate::discrepancy::run_held`]); then its outputs written ([`write_analysis`]). What
 //! differs between protocols is what the way declares: the tilting table's, the lateral
 //! load's, the shaking table's and the compression test's is [`ENSEMBLE`] (the study's
 //! groups at the first sweep point, [`setup_of`]; its `[measured]` files, [`observations_of`]),
@@ -17,7 +18,7 @@ use super::inplane_error::InPlaneStudyError;
 use super::outputs::{HeldDir, SetNames};
 use super::Study;
 use crate::discrepancy::{mechanism_observations, observations, write_report, DiscrepancyError, GroupSetup};
-use crate::discrepancy::{HeldReading, HeldReport, Settings};
+use crate::discrepancy::{run_held, HeldReading, HeldReport, Progress, Settings};
 use crate::discrepancy::{MeasurementSigma, Observation, ObservationError, Run, Setup, WriteError};
 use crate::io::FileError;
 use std::path::PathBuf;
@@ -44,16 +45,30 @@ pub struct Analysis {
     pub library: crate::effects::Library,
 }
 
-/// An error of reading a study into its discrepancy analysis, naming the file and key.
+/// An error of a study's discrepancy analysis, naming the file and key.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum AnalysisError {
-    /// The measured data refused (naming the file and line, or the study's `[measured]`).
+    /// The measured data refused (naming the file and line, or the study's `[measured]`),
+    /// or the analysis's own (a setting, an effect, a baseline that fails entirely, the
+    /// held reading's).
     #[error(transparent)]
-    Observations(#[from] DiscrepancyError),
+    Analysis(#[from] DiscrepancyError),
     /// The in-plane study refused (naming the study file and key, or the measured file).
     #[error(transparent)]
     InPlane(#[from] InPlaneStudyError),
+}
+
+impl AnalysisError {
+    /// The study file and its key at fault, where the error names a key of the study file
+    /// (an in-plane study's groups and `[measured]`); `None` where it names a measured
+    /// file's line or a setting in its message.
+    pub fn file_key(&self) -> Option<(&std::path::Path, &str)> {
+        match self {
+            AnalysisError::InPlane(InPlaneStudyError::Invalid { path, key, .. }) => Some((path, key)),
+            AnalysisError::InPlane(_) | AnalysisError::Analysis(_) => None,
+        }
+    }
 }
 
 /// Reads a study into its analysis's input ([`Analysis`]) with the settings `settings`
@@ -96,11 +111,80 @@ pub struct AnalysisWay {
 pub const ENSEMBLE: AnalysisWay =
     AnalysisWay { measured_elsewhere: None, input: ensemble_analysis, held: None, extends: true };
 
+/// A study's discrepancy analysis, run ([`analyse`]): its input, the analysis and the
+/// report of the reading its fit does not hold.
+pub struct Analysed {
+    /// The analysis's input (its setup with the run store it was given).
+    pub input: Analysis,
+    /// The analysis.
+    pub run: Run,
+    /// The held reading's report after the analysis (its section of `discrepancy.md`, its
+    /// JSON, the lines the command prints); `None` without a held reading.
+    pub held: Option<HeldReport>,
+}
+
+impl Analysed {
+    /// The analysis as JSON (`drystone discrepancy --json`, the Python package's
+    /// `discrepancy`): [`crate::discrepancy::report_json`] with the held reading's JSON
+    /// under its key (`loops`).
+    pub fn json(&self) -> serde_json::Value {
+        let mut v = crate::discrepancy::report_json(&self.run);
+        if let (Some(h), Some(o)) = (&self.held, v.as_object_mut()) {
+            o.insert(h.key.into(), h.json.clone());
+        }
+        v
+    }
+}
+
+/// The input of the discrepancy analysis of `study` with the settings `settings` (its
+/// `[discrepancy]` with the caller's options, checked), read the way its protocol declares
+/// ([`super::StudyProtocol::analysis`], [`AnalysisWay::input`]), without a run store.
+///
+/// # Errors
+/// [`AnalysisError`]: the study's measured data or groups refused by its way, naming the
+/// file and key.
+pub fn input_of(study: &Study, settings: Settings) -> Result<Analysis, AnalysisError> {
+    (study.protocol.analysis().input)(study, settings)
+}
+
+/// Runs the discrepancy analysis of `study` on its input `input` ([`input_of`], with the
+/// run store its setup is given: `None`, every run made and none kept) the way its
+/// protocol declares ([`super::StudyProtocol::analysis`]): the held reading, if the
+/// protocol has one and the study something to read, asked of each candidate before it is
+/// named ([`run_held`]) and reported after the analysis. In the current rayon pool (the
+/// results do not depend on its threads); each stage reported to `progress`. The one path
+/// of `drystone discrepancy` and of the Python package.
+///
+/// # Errors
+/// [`AnalysisError`]: the held reading's study refused (naming the file and key); the
+/// analysis's errors ([`crate::discrepancy::DiscrepancyError`]).
+pub fn analyse(study: &Study, input: Analysis, progress: Progress<'_>) -> Result<Analysed, AnalysisError> {
+    let way = study.protocol.analysis();
+    let reading = match way.held {
+        Some(f) => f(study, &input)?,
+        None => None,
+    };
+    let run = run_held(
+        &input.setup,
+        input.obs.clone(),
+        &input.settings,
+        input.seed,
+        &input.library,
+        reading.as_deref(),
+        progress,
+    )?;
+    let held = match &reading {
+        Some(h) => h.report(&run, progress)?,
+        None => None,
+    };
+    Ok(Analysed { input, run, held })
+}
+
 /// The analysis's input of a study of [`ENSEMBLE`]'s way: [`setup_of`] with the settings'
 /// most realizations, [`observations_of`] with their σ, the study's effect library.
 ///
 /// # Errors
-/// [`AnalysisError::Observations`] as [`observations_of`].
+/// [`AnalysisError::Analysis`] as [`observations_of`].
 pub fn ensemble_analysis(study: &Study, settings: Settings) -> Result<Analysis, AnalysisError> {
     let obs = observations_of(study, settings.sigma)?;
     Ok(Analysis {
@@ -220,19 +304,31 @@ pub enum DiscrepancyOutputError {
 /// # Errors
 /// [`DiscrepancyOutputError`] naming the file.
 pub fn write_discrepancy(out: &HeldDir, study: &Study, run: &Run) -> Result<Option<PathBuf>, DiscrepancyOutputError> {
-    write_analysis(out, study, run, None, true)
+    write_outputs(out, study, run, None, true)
 }
 
-/// Writes an analysis of `study` into the held directory `out`: the report
-/// (`discrepancy.md`, `discrepancy.json`, `residuals.svg`, `displacement_<group>.svg`) with
-/// the held reading's report `held` (its section appended to `discrepancy.md`, its JSON
-/// `<key>.json`) as one set ([`HeldDir::write_set`], manifest `discrepancy-manifest.json`),
-/// then, when `extends` and a mechanism was named, the extended study under `extended/`
-/// (still under the directory's lock). Returns the extended study's file.
+/// Writes the analysis `done` of `study` ([`analyse`]) into the held directory `out`: the
+/// report (`discrepancy.md`, `discrepancy.json`, `residuals.svg`,
+/// `displacement_<group>.svg`) with the held reading's report (its section appended to
+/// `discrepancy.md`, its JSON `<key>.json`, `loops.json`) as one set
+/// ([`HeldDir::write_set`], manifest `discrepancy-manifest.json`), then, where the
+/// protocol's way writes one ([`AnalysisWay::extends`]) and a mechanism was named, the
+/// extended study under `extended/` (still under the directory's lock). Returns the
+/// extended study's file.
 ///
 /// # Errors
 /// [`DiscrepancyOutputError`] naming the file.
 pub fn write_analysis(
+    out: &HeldDir,
+    study: &Study,
+    done: &Analysed,
+) -> Result<Option<PathBuf>, DiscrepancyOutputError> {
+    write_outputs(out, study, &done.run, done.held.as_ref(), study.protocol.analysis().extends)
+}
+
+/// The outputs of [`write_analysis`] and [`write_discrepancy`]: the report with the held
+/// reading's `held`, and the extended study when `extends`.
+fn write_outputs(
     out: &HeldDir,
     study: &Study,
     run: &Run,

@@ -562,3 +562,31 @@ impl StudySpec {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each kind's constant names its own kind, every kind has one, and the answers each
+    /// states are the protocol's: the in-plane test's seed index `g · 10000 + i`, the lateral
+    /// load's count of collapses under the load, the
+    /// in-plane and compression tests' protocol a group, the in-plane test's own analysis
+    /// (refusing the tilting table's files, no extended study), every other kind's the
+    /// ensemble's.
+    #[test]
+    fn each_kind_states_its_own_answers_once() {
+        let kinds = [&TILT, &LATERAL, &SHAKE, &IN_PLANE, &COMPRESSION];
+        assert_eq!(kinds.map(|k| k.kind), ProtocolKind::ALL);
+        let item = Item { group: 3, point: 0, realization: 5, index: 0 };
+        for k in kinds {
+            let in_plane = k.kind == ProtocolKind::InPlane;
+            assert_eq!((k.seed_index)(&item), if in_plane { 30_005 } else { 5 }, "{:?}", k.kind);
+            assert_eq!(k.counts_collapses_under_load, k.kind == ProtocolKind::Lateral, "{:?}", k.kind);
+            let per_group = matches!(k.kind, ProtocolKind::InPlane | ProtocolKind::Compression);
+            assert_eq!(k.groups_differ, per_group, "{:?}", k.kind);
+            assert_eq!(k.analysis.measured_elsewhere.is_some(), in_plane, "{:?}", k.kind);
+            assert_eq!(k.analysis.held.is_some(), in_plane, "{:?}", k.kind);
+            assert_eq!(k.analysis.extends, !in_plane, "{:?}", k.kind);
+        }
+    }
+}
