@@ -33,8 +33,8 @@ pub struct Analysis {
     /// Its master seed.
     pub seed: u64,
     /// The groups (each with the realizations the settings' runs take at most,
-    /// [`Settings::most_realizations`]), the solver and the protocol; no run store (the
-    /// command gives it).
+    /// [`Settings::most_realizations`], or a group's own fixed count where smaller), the
+    /// solver and the protocol; no run store (the caller gives it).
     pub setup: Setup,
     /// The measured observations.
     pub obs: Vec<Observation>,
