@@ -15,6 +15,7 @@
 use drystone::effects::Library;
 use drystone::study::inplane_discrepancy::analysis_of;
 use drystone::study::inplane_loops::{check_models, measured_loops, LoopCandidate};
+use drystone::study::Study;
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -22,9 +23,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let Some(study) = args.next().map(PathBuf::from) else {
         return Err("usage: inplane_loops STUDY [MODEL ...], MODEL = NAME=V[,NAME=V...]".into());
     };
-    let input = analysis_of(&study)?;
+    let path = study;
+    let study = Study::from_file(&path)?;
+    let input = analysis_of(&study, study.discrepancy.clone())?;
     let Some((groups, test)) = measured_loops(&study, &input)? else {
-        return Err(format!("{}: no cyclic specimen with a measured curve ([measured] curves)", study.display()).into());
+        return Err(format!("{}: no cyclic specimen with a measured curve ([measured] curves)", path.display()).into());
     };
     let course_m = drystone::discrepancy::course_height(&input.setup);
     let lib = Library::builtin();

@@ -10,12 +10,12 @@
 
 use crate::errors::{guard, input_error, study_error, DrystoneError, Place, SolverError};
 use crate::model::{from_json, to_json};
-use drystone::discrepancy::{report_json, DiscrepancyError, Settings};
+use drystone::discrepancy::{DiscrepancyError, Settings};
 use drystone::effects::Library;
 use drystone::ensemble::row::RealizationRow;
 use drystone::ensemble::Shard;
 use drystone::io::table::realizations_frame;
-use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
+use drystone::study::discrepancy::{analyse, input_of, write_analysis, AnalysisError};
 use drystone::study::Study;
 use drystone::study::{run_into_observed, HeldDir, OutputError, RunMode, StudyRun};
 use numpy::PyArray1;
@@ -355,8 +355,9 @@ pub fn _discrepancy<'py>(
     }
     let place = Place::file(&study).with_key("discrepancy");
     s.validate().map_err(|e| input_error(format!("{}: {e}", study.display()), place.clone()))?;
-    let obs = observations_of(&st, s.sigma).map_err(|e| input_error(&e, place.clone()))?;
-    let setup = setup_of(&st, s.most_realizations());
+    // Its groups and observations the way its protocol declares, as `drystone discrepancy`
+    // reads them (`study::discrepancy::input_of`).
+    let input = input_of(&st, s).map_err(|e| input_failure(e, &place))?;
     // The output directory is held from before the analysis to the end, as by
     // `drystone discrepancy`: a second command on it is refused.
     let held = match &out {
@@ -369,19 +370,35 @@ pub fn _discrepancy<'py>(
         None => None,
     };
     let pool = pool(threads)?;
-    let run = py.detach(|| {
+    let done = py.detach(|| {
         guard(|| {
-            pool.install(|| drystone::discrepancy::run(&setup, obs, &s, st.seed, &st.library))
-                .map_err(discrepancy_error)
+            pool.install(|| analyse(&st, input, &drystone::discrepancy::quiet)).map_err(|e| analysis_failure(e, &place))
         })
     })?;
     py.check_signals()?;
     if let Some(held) = &held {
         py.detach(|| {
-            guard(|| write_discrepancy(held, &st, &run).map(|_| ()).map_err(|e| DrystoneError::new_err(e.to_string())))
+            guard(|| write_analysis(held, &st, &done).map(|_| ()).map_err(|e| DrystoneError::new_err(e.to_string())))
         })?;
     }
-    from_json(py, &report_json(&run).to_string())
+    from_json(py, &done.json().to_string())
+}
+
+/// The error of reading a study into its analysis: the study file's key at fault where the
+/// error names one ([`AnalysisError::file_key`]), else at `place` (the study's
+/// `[discrepancy]`; measured rows name their file and line in the message).
+fn input_failure(e: AnalysisError, place: &Place) -> PyErr {
+    let place = e.file_key().map_or_else(|| place.clone(), |(path, key)| Place::file(path).with_key(key));
+    input_error(&e, place)
+}
+
+/// The error of an analysis run: the analysis's own ([`discrepancy_error`]), or its held
+/// reading's study refused ([`input_failure`]).
+fn analysis_failure(e: AnalysisError, place: &Place) -> PyErr {
+    match e {
+        AnalysisError::Analysis(e) => discrepancy_error(e),
+        other => input_failure(other, place),
+    }
 }
 
 /// The settings with the keys of `d` put over them (unknown keys refused, naming the key).

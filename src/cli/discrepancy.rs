@@ -1,12 +1,11 @@
 //! `drystone discrepancy` and `drystone synthesize`.
 
 use anyhow::{bail, Context, Result};
-use drystone::discrepancy::{report_json, synthetic_master_seed, synthetic_observables, SynthesisRequest};
+use drystone::discrepancy::{synthetic_master_seed, synthetic_observables, SynthesisRequest};
 use drystone::discrepancy::{write_synthetic, Settings};
 use drystone::effects::Effect;
 use drystone::io::table::{read_measured_collapse, read_measured_displacement};
-use drystone::study::discrepancy::{observations_of, setup_of, write_discrepancy};
-use drystone::study::own::OwnStudy;
+use drystone::study::discrepancy::{analyse, input_of, observations_of, setup_of, write_analysis};
 use drystone::study::HeldDir;
 use drystone::study::Study;
 use drystone::study::{estimated_blocks, human_seconds, simulation_seconds};
@@ -138,12 +137,21 @@ pub fn progress_lines(command: &'static str) -> impl Fn(&str) + Sync {
     }
 }
 
-/// Runs the analysis and writes its report; prints the JSON object or a summary.
+/// Runs the analysis and writes its report; prints the JSON object or a summary. Every
+/// study takes this one path ([`drystone::study::discrepancy::analyse`]); what its protocol
+/// declares ([`drystone::study::discrepancy::AnalysisWay`]) is where its measured data come
+/// from, how its study becomes the analysis's input, its reading the fit does not hold and
+/// whether a named cause is written as an extended study.
 pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
-    if let Some(own) = drystone::study::own_study_of(&a.input.study) {
-        return own_discrepancy(own, a);
-    }
     let mut st = Study::from_file(&a.input.study)?;
+    if let Some(elsewhere) = st.protocol.analysis().measured_elsewhere {
+        if a.input.measured.is_some() || a.measured_sets.is_some() {
+            bail!(
+                "{}: --measured and --measured-sets read the tilting table's files; {elsewhere}",
+                a.input.study.display()
+            );
+        }
+    }
     if let Some(dir) = &a.input.measured {
         use_measured_dir(&mut st, dir)?;
     }
@@ -157,25 +165,27 @@ pub fn discrepancy(a: DiscrepancyArgs) -> Result<()> {
     if let Some(dir) = &a.measured_sets {
         return measured_sets(&mut st, &s, dir, a.input.threads);
     }
-    let obs = observations_of(&st, s.sigma)?;
-    let mut setup = setup_of(&st, s.most_realizations());
+    let mut input = input_of(&st, s)?;
     let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", st.name)));
-    setup.store = a.input.store(&dir, &st.name)?;
+    input.setup.store = a.input.store(&dir, &st.name)?;
     // The directory is held from here to the end: a second command on it is refused.
     let held = HeldDir::acquire(&dir)?;
     let pool = pool(a.input.threads)?;
     let t0 = std::time::Instant::now();
     let progress = progress_lines("discrepancy");
-    let run = pool.install(|| drystone::discrepancy::run_with(&setup, obs, &s, st.seed, &st.library, &progress))?;
-    let extended_study = write_discrepancy(&held, &st, &run)?;
-    if let Some(line) = store_line(&setup.store) {
+    let done = pool.install(|| analyse(&st, input, &progress))?;
+    if let Some(line) = store_line(&done.input.setup.store) {
         eprintln!("{line}");
     }
+    let extended_study = write_analysis(&held, &st, &done)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report_json(&run))?);
+        println!("{}", serde_json::to_string_pretty(&done.json())?);
         return Ok(());
     }
-    print_summary(&run, &st.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
+    print_summary(&done.run, &st.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
+    for line in done.held.iter().flat_map(|c| &c.summary) {
+        println!("{line}");
+    }
     if let Some(p) = extended_study {
         println!("extended model: drystone run {}", p.display());
     }
@@ -248,86 +258,10 @@ fn apply_options(a: &DiscrepancyArgs, s: &mut Settings) -> Result<()> {
     Ok(())
 }
 
-/// `drystone discrepancy` on a study of its own (a protocol's: `drystone::study::own`): its
-/// groups and observations as its study reads them; the report as for any study, without
-/// an extended study file.
-fn own_discrepancy(own: &OwnStudy, a: DiscrepancyArgs) -> Result<()> {
-    if a.input.measured.is_some() || a.measured_sets.is_some() {
-        bail!(
-            "{}: --measured and --measured-sets read the tilting table's files; {} {}",
-            a.input.study.display(),
-            own.what,
-            own.measured
-        );
-    }
-    let mut input = (own.analysis)(&a.input.study)?;
-    apply_options(&a, &mut input.settings)?;
-    let s = input.settings.clone();
-    s.validate().with_context(|| a.input.study.display().to_string())?;
-    for g in &mut input.setup.groups {
-        g.realizations = s.most_realizations();
-    }
-    let dir = a.input.out.clone().unwrap_or_else(|| PathBuf::from("out").join(format!("{}-discrepancy", input.name)));
-    input.setup.store = a.input.store(&dir, &input.name)?;
-    let held = HeldDir::acquire(&dir)?;
-    let pool = pool(a.input.threads)?;
-    let t0 = std::time::Instant::now();
-    let progress = progress_lines("discrepancy");
-    // The study's reading its fit does not hold: asked of each candidate before it is
-    // named, and reported after the analysis.
-    let reading = match own.held {
-        Some(f) => f(&a.input.study, &input)?,
-        None => None,
-    };
-    let run = pool.install(|| {
-        drystone::discrepancy::run_held(
-            &input.setup,
-            input.obs.clone(),
-            &s,
-            input.seed,
-            &input.library,
-            reading.as_deref(),
-            &progress,
-        )
-    })?;
-    if let Some(line) = store_line(&input.setup.store) {
-        eprintln!("{line}");
-    }
-    let check = match &reading {
-        Some(h) => pool.install(|| h.report(&run, &progress))?,
-        None => None,
-    };
-    held.write_set(drystone::study::discrepancy::OUTPUT_SET, "discrepancy", &input.name, |staging| {
-        drystone::discrepancy::write_report(staging, &run, &input.name)?;
-        if let Some(c) = &check {
-            let md = staging.join("discrepancy.md");
-            let mut text = std::fs::read_to_string(&md).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
-            text.push('\n');
-            text.push_str(&c.markdown);
-            std::fs::write(&md, text).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
-            let js = staging.join(format!("{}.json", c.key));
-            std::fs::write(&js, serde_json::to_string_pretty(&c.json)?)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", js.display()))?;
-        }
-        Ok::<(), anyhow::Error>(())
-    })?;
-    if a.json {
-        let mut v = serde_json::to_value(report_json(&run))?;
-        if let (Some(c), Some(o)) = (&check, v.as_object_mut()) {
-            o.insert(c.key.into(), c.json.clone());
-        }
-        println!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(());
-    }
-    print_summary(&run, &input.name, pool.current_num_threads(), t0.elapsed().as_secs_f64(), &dir);
-    for line in check.iter().flat_map(|c| &c.summary) {
-        println!("{line}");
-    }
-    Ok(())
-}
-
 /// Analyses every data set (a subdirectory with the two measured files) of `dir` against
-/// one preparation of the forward runs, printing one JSON line per set.
+/// one preparation of the forward runs, printing one JSON line per set: each set's
+/// observations as the study's protocol reads them ([`input_of`]), the groups of the
+/// first.
 fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize>) -> Result<()> {
     let mut sets: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("cannot read {}", dir.display()))?
@@ -339,13 +273,15 @@ fn measured_sets(st: &mut Study, s: &Settings, dir: &Path, threads: Option<usize
         bail!("{}: no data set (a subdirectory with tilting_table_collapse.csv)", dir.display());
     }
     let mut all = Vec::new();
+    let mut first = None;
     for set in &sets {
         use_measured_dir(st, set)?;
-        let obs = observations_of(st, s.sigma).with_context(|| set.display().to_string())?;
-        all.push(obs);
+        let input = input_of(st, s.clone()).with_context(|| set.display().to_string())?;
+        all.push(input.obs);
+        first.get_or_insert(input.setup);
     }
     let template: Vec<_> = all.iter().flatten().cloned().collect();
-    let setup = setup_of(st, s.most_realizations());
+    let Some(setup) = first else { bail!("{}: no data set", dir.display()) };
     let pool = pool(threads)?;
     let progress = progress_lines("discrepancy");
     let prepared =

@@ -25,11 +25,11 @@
 //! was pushed first is not assumed: its two peaks enter as the positive one and their
 //! difference.
 
+use super::discrepancy::{Analysis, AnalysisError};
 use super::inplane::InPlaneStudyError;
 use super::inplane_run::Prepared;
-use super::own::OwnAnalysis;
 use super::Study;
-use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Setup};
+use crate::discrepancy::{GroupSetup, InPlaneQuantity, Observable, Observation, Settings, Setup};
 use crate::loading::inplane::{History, InPlaneParams, MechanismKind};
 use crate::protocol::{InPlane, Protocol};
 use std::path::Path;
@@ -39,17 +39,26 @@ pub fn stress_group(sigma0_mpa: f64) -> String {
     format!("{sigma0_mpa} MPa")
 }
 
-/// Reads an in-plane study for its discrepancy analysis (module documentation).
+/// The in-plane study `study` as its discrepancy analysis reads it (module documentation),
+/// with the settings `settings` (its `[discrepancy]` with the command's options): each
+/// group's realizations the settings' most ([`Settings::most_realizations`]), the σ of the
+/// measures the study does not state set from the data ([`sigma_from_data`],
+/// [`asymmetry_sigma_from_data`], their notes in the settings), the built-in effects.
+/// `drystone discrepancy` reads an in-plane study by it (the protocol's
+/// [`super::discrepancy::AnalysisWay`]).
 ///
 /// # Errors
-/// A bad study, wall or measured file, or a specimen whose stress is not its group's,
-/// naming the file and the key; an effect the test does not read (refused by the study
-/// core, [`super::inplane_spec`]).
-pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
-    let study = Study::from_file(path)?;
-    let Prepared { study, test } = Prepared::of(&study)?;
+/// [`AnalysisError::InPlane`]: a study of another protocol, a study without measured
+/// specimens, a specimen whose stress is not its group's, groups of one stress with
+/// different walls or effects, naming the file and the key.
+pub fn analysis_of(study: &Study, settings: Settings) -> Result<Analysis, AnalysisError> {
+    Ok(analysis(study, settings)?)
+}
+
+fn analysis(study: &Study, settings: Settings) -> Result<Analysis, InPlaneStudyError> {
+    let Prepared { study, test } = Prepared::of(study)?;
+    let path = study.path.as_path();
     let bad = |key: String, message: String| InPlaneStudyError::Invalid { path: path.to_owned(), key, message };
-    let settings = study.discrepancy.clone();
     if !study.inputs.iter().any(|f| f.role == super::provenance::InputRole::Measured) {
         return Err(bad("measured".into(), "the analysis needs the measured specimens ([measured] walls)".into()));
     }
@@ -128,7 +137,7 @@ pub fn analysis_of(path: &Path) -> Result<OwnAnalysis, InPlaneStudyError> {
     settings.sigma_notes.extend(asymmetry_sigma_from_data(&mut obs, &stated, settings.sigma.asymmetry_kn));
     let protocol = groups[0].protocol.clone().unwrap_or_else(|| Protocol::InPlane(InPlane(test.params.clone())));
     let setup = Setup { groups, seed: study.seed, solver: study.solver, protocol, store: None };
-    Ok(OwnAnalysis {
+    Ok(Analysis {
         name: study.name.clone(),
         seed: study.seed,
         setup,
@@ -326,20 +335,19 @@ pub fn asymmetry_sigma_from_data(obs: &mut [Observation], stated: &[String], set
 /// on it, on the layout of its index in the group, and a specimen without one is not run.
 pub type MeasuredLoops = (usize, f64, Vec<(String, f64)>, Vec<Vec<f64>>);
 
-/// The measured loops of an in-plane study `path` analysed as `input`: per analysis group
+/// The measured loops of the in-plane study `study` analysed as `input`: per analysis group
 /// with cyclic specimens whose curves are read (`[measured] curves`), its index, stress and
 /// readings; and the cyclic test of a stress (the study's history). `None` when the study
 /// reads no curve or no cyclic specimen has one.
 ///
 /// # Errors
-/// The study or its measured files unreadable, naming the file.
+/// [`InPlaneStudyError::Invalid`] at `protocol` for a study of another protocol.
 #[allow(clippy::type_complexity)]
 pub fn measured_loops(
-    path: &Path,
-    input: &OwnAnalysis,
+    study: &Study,
+    input: &Analysis,
 ) -> Result<Option<(Vec<MeasuredLoops>, InPlaneParams)>, InPlaneStudyError> {
-    let study = Study::from_file(path)?;
-    let Prepared { test, .. } = Prepared::of(&study)?;
+    let Prepared { test, .. } = Prepared::of(study)?;
     // The loops are read only with `[measured] curves` (their damping ratio NaN without).
     if !test.specimens.iter().any(|s| s.damping_ratio.is_finite()) {
         return Ok(None);

@@ -87,7 +87,6 @@ mod figures;
 pub mod followup;
 pub mod inplane;
 pub mod inplane_discrepancy;
-mod inplane_entry;
 mod inplane_error;
 pub mod inplane_loops;
 mod inplane_measured;
@@ -98,7 +97,6 @@ mod lock;
 mod measured;
 mod motions;
 mod outputs;
-pub mod own;
 mod paper;
 mod protocol;
 mod provenance;
@@ -125,7 +123,7 @@ pub use figures::write_vtk_realizations;
 pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
-pub use protocol::{own_study_of, StudyProtocol};
+pub use protocol::{StudyKind, StudyProtocol};
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

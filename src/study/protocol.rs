@@ -7,20 +7,21 @@
 //! realizations table, the report (the ensemble's with its sections, [`super::report`],
 //! [`super::shaking`], [`super::compression`]; the in-plane test's,
 //! [`super::inplane_report`]), the VTK series ([`super::figures`]),
-//! its warnings and what its summary counts; the compiler points to each at a new protocol.
+//! its warnings, what its summary counts and how `drystone discrepancy` analyses it
+//! ([`StudyProtocol::analysis`]); the compiler points to each at a new protocol.
 //! Elsewhere in the study a key that only one protocol reads asks its accessor
 //! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
 //! and the sweep keys (`checks.rs`, `resolve.rs`), the paper's comparison and the
 //! calibration (which compare collapse angles), the measured data's tilt step.
 
 use super::compression::{compression_row, compression_sections, CompressionStudy};
+use super::discrepancy::{AnalysisWay, ENSEMBLE};
 use super::error::Invalid;
 use super::figures::{lateral_series, shake_series, tilt_series};
 use super::inplane::{in_plane_row, write_rows};
 use super::inplane_report::report as in_plane_report;
 use super::inplane_spec::InPlaneStudy;
 use super::motions::ShakeStudy;
-use super::own::OwnStudy;
 use super::report::{ensemble_report, lateral_sections, tilt_sections};
 use super::report_error::ReportError;
 use super::run::{
@@ -124,15 +125,21 @@ impl StudyProtocol {
         }
     }
 
-    /// Its kind, as the study file names it.
-    pub fn kind(&self) -> ProtocolKind {
+    /// What its kind declares of its own ([`StudyKind`]): the one match on the kind for
+    /// the questions whose answer is the kind's alone, not its table's.
+    pub fn declared(&self) -> &'static StudyKind {
         match self {
-            StudyProtocol::Tilt(_) => ProtocolKind::Tilt,
-            StudyProtocol::Lateral(_) => ProtocolKind::Lateral,
-            StudyProtocol::Shake(_) => ProtocolKind::Shake,
-            StudyProtocol::InPlane(_) => ProtocolKind::InPlane,
-            StudyProtocol::Compression(_) => ProtocolKind::Compression,
+            StudyProtocol::Tilt(_) => &TILT,
+            StudyProtocol::Lateral(_) => &LATERAL,
+            StudyProtocol::Shake(_) => &SHAKE,
+            StudyProtocol::InPlane(_) => &IN_PLANE,
+            StudyProtocol::Compression(_) => &COMPRESSION,
         }
+    }
+
+    /// Its kind, as the study file names it ([`StudyKind::kind`]).
+    pub fn kind(&self) -> ProtocolKind {
+        self.declared().kind
     }
 
     /// Its name in study files (`protocol = "..."`), as the protocol seam names it
@@ -242,13 +249,7 @@ impl StudyProtocol {
     /// group, but for the in-plane test's `g · 10000 + i` (group g, realization i), the
     /// index its studies have always used.
     pub fn seed_index(&self, item: &Item) -> u64 {
-        match self {
-            StudyProtocol::InPlane(_) => item.group as u64 * 10_000 + item.realization,
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => item.realization,
-        }
+        (self.declared().seed_index)(item)
     }
 
     /// Writes the realizations table of `rows` into `dir`: `realizations.parquet` with every
@@ -259,16 +260,7 @@ impl StudyProtocol {
     /// # Errors
     /// [`OutputError`] naming the file.
     pub(super) fn write_rows(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
-        match self {
-            StudyProtocol::InPlane(_) => {
-                crate::io::table::write_realizations_parquet(rows, dir)?;
-                Ok(write_rows(study, rows, dir)?)
-            }
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => Ok(crate::io::table::write_realizations(rows, dir)?),
-        }
+        (self.declared().write_rows)(study, rows, dir)
     }
 
     /// Writes the report of a whole study's `rows` into `dir` and returns what `drystone
@@ -362,13 +354,7 @@ impl StudyProtocol {
     /// Whether its summary counts the walls that collapsed under the load (the lateral
     /// load: a collapse is an outcome of the service load, not a collapse angle).
     pub fn counts_collapses_under_load(&self) -> bool {
-        match self {
-            StudyProtocol::Lateral(_) => true,
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => false,
-        }
+        self.declared().counts_collapses_under_load
     }
 
     /// The tilting table's parameters, for a tilting-table study.
@@ -398,10 +384,17 @@ impl StudyProtocol {
     /// ([`crate::discrepancy::GroupSetup::protocol`]); `None` where every group runs the
     /// study's.
     pub fn group_protocol(&self, group: usize) -> Option<Protocol> {
-        match self {
-            StudyProtocol::InPlane(_) | StudyProtocol::Compression(_) => Some(self.of_group(group, &[])),
-            StudyProtocol::Tilt(_) | StudyProtocol::Lateral(_) | StudyProtocol::Shake(_) => None,
-        }
+        self.declared().groups_differ.then(|| self.of_group(group, &[]))
+    }
+
+    /// How `drystone discrepancy` analyses a study of this protocol ([`AnalysisWay`]: its
+    /// study read into the analysis's groups, observations, settings and library, where it
+    /// reads its measured data, its reading the fit does not hold, whether a named cause is
+    /// written as an extended study; [`StudyKind::analysis`]): the ensemble's
+    /// ([`ENSEMBLE`]), or the in-plane test's. The command's one path runs it
+    /// ([`super::discrepancy`]).
+    pub fn analysis(&self) -> AnalysisWay {
+        self.declared().analysis
     }
 
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
@@ -416,22 +409,132 @@ impl StudyProtocol {
     }
 }
 
-/// The discrepancy analysis of its own of a kind ([`super::own`]), which `drystone
-/// discrepancy` hands its files to; `None` for a kind whose analysis is the ensemble's
-/// (`study::discrepancy`). Every kind's run is the study core's.
-pub(super) fn own_study(kind: ProtocolKind) -> Option<&'static OwnStudy> {
-    match kind {
-        ProtocolKind::Tilt | ProtocolKind::Lateral | ProtocolKind::Shake | ProtocolKind::Compression => None,
-        ProtocolKind::InPlane => Some(&super::inplane_entry::STUDY),
-    }
+/// What a protocol's study declares of its own, as data: one constant a kind (`TILT`,
+/// `LATERAL`, `SHAKE`, `IN_PLANE`, `COMPRESSION` in `study/protocol.rs`), read through
+/// [`StudyProtocol::declared`]. A new kind states each answer once (the compiler asks for
+/// every field), and no caller matches on the kind to ask it.
+#[derive(Debug, Clone, Copy)]
+pub struct StudyKind {
+    /// The kind, as the study file names it (`protocol = "..."`).
+    pub kind: ProtocolKind,
+    /// The seed index of a work item ([`StudyProtocol::seed_index`]): the realization's
+    /// index in its group, or the in-plane test's `g · 10000 + i`.
+    pub seed_index: fn(&Item) -> u64,
+    /// Writes the realizations table of the rows into the directory: the core's columns
+    /// (`realizations.parquet` and `realizations.csv`), or the in-plane test's own
+    /// `realizations.csv` beside the parquet table.
+    ///
+    /// # Errors
+    /// [`OutputError`] naming the file.
+    pub write_rows: fn(&Study, &[RealizationRow], &Path) -> Result<(), OutputError>,
+    /// Whether its groups run protocols of their own (the in-plane test's and the
+    /// compression test's vertical stress a group), which the discrepancy analysis's
+    /// groups carry ([`StudyProtocol::group_protocol`]).
+    pub groups_differ: bool,
+    /// Whether its summary counts the walls that collapsed under the load
+    /// ([`StudyProtocol::counts_collapses_under_load`]): the lateral load's.
+    pub counts_collapses_under_load: bool,
+    /// How `drystone discrepancy` analyses its studies ([`StudyProtocol::analysis`]).
+    pub analysis: AnalysisWay,
 }
 
-/// The discrepancy analysis of its own of the protocol a study file names ([`own_study`]
-/// of its [`super::own::kind_of`]); `None` for a file the ensemble's analysis reads (or one
-/// that cannot be read, whose errors that analysis reports).
-pub fn own_study_of(path: &Path) -> Option<&'static OwnStudy> {
-    super::own::kind_of(path).and_then(own_study)
+/// The tilting table's study (`protocol = "tilt"`).
+const TILT: StudyKind = StudyKind {
+    kind: ProtocolKind::Tilt,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The lateral load's study (`protocol = "lateral"`, or its pushover): its summary counts
+/// the walls that collapsed under the service load.
+const LATERAL: StudyKind = StudyKind {
+    kind: ProtocolKind::Lateral,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: true,
+    analysis: ENSEMBLE,
+};
+
+/// The shaking table's study (`protocol = "shake"`).
+const SHAKE: StudyKind = StudyKind {
+    kind: ProtocolKind::Shake,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: false,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The in-plane test's study (`protocol = "in_plane"`): its seed index, its own
+/// `realizations.csv`, a protocol a group, its own analysis (`IN_PLANE_ANALYSIS`).
+const IN_PLANE: StudyKind = StudyKind {
+    kind: ProtocolKind::InPlane,
+    seed_index: group_stride_index,
+    write_rows: in_plane_rows,
+    groups_differ: true,
+    counts_collapses_under_load: false,
+    analysis: IN_PLANE_ANALYSIS,
+};
+
+/// The compression test's study (`protocol = "compression"`): a protocol a group (its
+/// vertical stress).
+const COMPRESSION: StudyKind = StudyKind {
+    kind: ProtocolKind::Compression,
+    seed_index: realization_index,
+    write_rows: core_rows,
+    groups_differ: true,
+    counts_collapses_under_load: false,
+    analysis: ENSEMBLE,
+};
+
+/// The seed index of an item: its realization's index in its group.
+fn realization_index(item: &Item) -> u64 {
+    item.realization
 }
+
+/// The in-plane test's seed index of an item, `g · 10000 + i` (group g, realization i), the
+/// index its studies have always used.
+fn group_stride_index(item: &Item) -> u64 {
+    item.group as u64 * 10_000 + item.realization
+}
+
+/// Writes the realizations table of `rows` into `dir` with the core's columns
+/// ([`crate::io::table::write_realizations`]: `realizations.parquet` and
+/// `realizations.csv`).
+///
+/// # Errors
+/// [`OutputError`] naming the file.
+fn core_rows(_study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
+    Ok(crate::io::table::write_realizations(rows, dir)?)
+}
+
+/// Writes the in-plane test's realizations table of `rows` into `dir`:
+/// `realizations.parquet` with every column and its own `realizations.csv`
+/// ([`super::inplane::write_rows`]).
+///
+/// # Errors
+/// [`OutputError`] naming the file.
+fn in_plane_rows(study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<(), OutputError> {
+    crate::io::table::write_realizations_parquet(rows, dir)?;
+    Ok(write_rows(study, rows, dir)?)
+}
+
+/// The in-plane test's analysis ([`StudyProtocol::analysis`]): its stresses as the
+/// analysis's groups and its specimens as observations
+/// ([`super::inplane_discrepancy::analysis_of`]), its cyclic loops as the reading the fit
+/// does not hold ([`super::inplane_loops::LoopsReading::held`]); its measured data the
+/// `[measured] walls` table (the tilting table's files of `--measured` refused), no extended
+/// study (its analysis's groups are stresses, not the study's groups).
+const IN_PLANE_ANALYSIS: AnalysisWay = AnalysisWay {
+    measured_elsewhere: Some("an in-plane study reads its specimens from [measured] walls"),
+    input: super::inplane_discrepancy::analysis_of,
+    held: Some(super::inplane_loops::LoopsReading::held),
+    extends: false,
+};
 
 impl StudySpec {
     /// The penalty settings the study's protocol table writes under their former keys
@@ -456,6 +559,34 @@ impl StudySpec {
             ProtocolKind::Shake => Loading::Shake,
             ProtocolKind::InPlane => Loading::InPlane,
             ProtocolKind::Compression => Loading::Compression,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each kind's constant names its own kind, every kind has one, and the answers each
+    /// states are the protocol's: the in-plane test's seed index `g · 10000 + i`, the lateral
+    /// load's count of collapses under the load, the
+    /// in-plane and compression tests' protocol a group, the in-plane test's own analysis
+    /// (refusing the tilting table's files, no extended study), every other kind's the
+    /// ensemble's.
+    #[test]
+    fn each_kind_states_its_own_answers_once() {
+        let kinds = [&TILT, &LATERAL, &SHAKE, &IN_PLANE, &COMPRESSION];
+        assert_eq!(kinds.map(|k| k.kind), ProtocolKind::ALL);
+        let item = Item { group: 3, point: 0, realization: 5, index: 0 };
+        for k in kinds {
+            let in_plane = k.kind == ProtocolKind::InPlane;
+            assert_eq!((k.seed_index)(&item), if in_plane { 30_005 } else { 5 }, "{:?}", k.kind);
+            assert_eq!(k.counts_collapses_under_load, k.kind == ProtocolKind::Lateral, "{:?}", k.kind);
+            let per_group = matches!(k.kind, ProtocolKind::InPlane | ProtocolKind::Compression);
+            assert_eq!(k.groups_differ, per_group, "{:?}", k.kind);
+            assert_eq!(k.analysis.measured_elsewhere.is_some(), in_plane, "{:?}", k.kind);
+            assert_eq!(k.analysis.held.is_some(), in_plane, "{:?}", k.kind);
+            assert_eq!(k.analysis.extends, !in_plane, "{:?}", k.kind);
         }
     }
 }

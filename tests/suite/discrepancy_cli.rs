@@ -172,3 +172,38 @@ fn a_run_store_that_cannot_be_made_is_named() {
         assert!(!out.join("discrepancy.md").exists(), "{command}: nothing written");
     }
 }
+
+/// An in-plane study reads its specimens from `[measured] walls`: `--measured` and
+/// `--measured-sets`, which replace a study's data by the tilting table's files, are
+/// refused naming the study file and where its data come from, before anything is run or
+/// written; without them the same study is read (a missing `[measured]` named by its key).
+#[test]
+fn an_in_plane_study_refuses_the_tilting_tables_measured_files_naming_its_own() {
+    let dir = Scratch::new("disc-inplane-measured");
+    let wall = root().join("studies/walls/granite_vasconcelos.toml");
+    let walls = root().join("data/inplane_granite/walls.csv");
+    let text = format!(
+        "version = 1\nname = \"ip\"\nseed = 7\nrealizations = 1\nprotocol = \"in_plane\"\n\n[in_plane]\n\
+         shear_span_m = 1.325\ndrift_pct = 0.5\n\n[[groups]]\nname = \"G\"\nwall = \"{}\"\nsigma0_mpa = 0.5\n",
+        wall.display()
+    );
+    let measured = format!("specimens = [\"WS.100\"]\n\n[measured]\nwalls = \"{}\"\n", walls.display());
+    write(&dir, "ip.toml", &format!("{text}{measured}"));
+    write(&dir, "bare.toml", &text);
+    let study = dir.join("ip.toml").display().to_string();
+    let out = dir.join("out");
+    let data = dir.display().to_string();
+    for flag in ["--measured", "--measured-sets"] {
+        let (code, err) = drystone(&["discrepancy", &study, flag, &data, "--out", &out.display().to_string()]);
+        assert_eq!(code, 2, "{flag}: {err}");
+        for part in [study.as_str(), "--measured and --measured-sets", "[measured] walls"] {
+            assert!(err.contains(part), "{flag}: {part:?} not in {err}");
+        }
+        assert!(!out.exists(), "{flag}: {} written", out.display());
+    }
+    let bare = dir.join("bare.toml").display().to_string();
+    let (code, err) = drystone(&["discrepancy", &bare, "--out", &out.display().to_string()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(&bare) && err.contains("measured: the analysis needs the measured specimens"), "{err}");
+    assert!(!out.exists(), "{} written", out.display());
+}

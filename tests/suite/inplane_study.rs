@@ -307,7 +307,8 @@ fn the_study_core_reads_it_with_realizations_and_refuses_foreign_keys() {
 #[test]
 fn the_discrepancy_input_reads_the_groups_and_the_measured_peaks() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let input = drystone::study::inplane_discrepancy::analysis_of(&root.join("studies/inplane_granite.toml")).unwrap();
+    let study = drystone::study::Study::from_file(&root.join("studies/inplane_granite.toml")).unwrap();
+    let input = (study.protocol.analysis().input)(&study, study.discrepancy.clone()).unwrap();
     let names: Vec<&str> = input.setup.groups.iter().map(|g| g.name.as_str()).collect();
     assert_eq!(names, ["0.2 MPa", "0.5 MPa", "0.875 MPa", "1.25 MPa"]);
     for g in &input.setup.groups {

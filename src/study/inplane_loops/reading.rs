@@ -1,12 +1,12 @@
 //! The loops as the analysis's held reading: each model run once, judged against the baseline, reported.
 
 use super::{baseline_candidate, check_models, measured_loops, LoopCandidate, LoopCheck, LoopModel, MeasuredLoops};
-use crate::discrepancy::Run;
+use crate::discrepancy::{HeldReading, Run};
 use crate::effects::Effect;
 use crate::loading::inplane::InPlaneParams;
+use crate::study::discrepancy::{Analysis, AnalysisError};
 use crate::study::inplane::InPlaneStudyError;
-use crate::study::own::OwnAnalysis;
-use std::path::Path;
+use crate::study::Study;
 
 /// The cyclic loops as the analysis's held reading ([`crate::discrepancy::HeldReading`]):
 /// asked of each candidate that may be named before it is confirmed or named (a model whose
@@ -29,13 +29,14 @@ pub struct LoopsReading {
 }
 
 impl LoopsReading {
-    /// The loops of the in-plane study `path` analysed as `input`; `None` when the study has
-    /// no cyclic specimen with a measured curve (`[measured] curves`).
+    /// The loops of the in-plane study `study` analysed as `input` (its groups, solver, seed
+    /// and run store); `None` when the study has no cyclic specimen with a measured curve
+    /// (`[measured] curves`).
     ///
     /// # Errors
-    /// The study or its measured files unreadable (named).
-    pub fn of(path: &Path, input: &OwnAnalysis) -> Result<Option<LoopsReading>, InPlaneStudyError> {
-        let Some((groups, test)) = measured_loops(path, input)? else {
+    /// [`InPlaneStudyError::Invalid`] at `protocol` for a study of another protocol.
+    pub fn of(study: &Study, input: &Analysis) -> Result<Option<LoopsReading>, InPlaneStudyError> {
+        let Some((groups, test)) = measured_loops(study, input)? else {
             return Ok(None);
         };
         Ok(Some(LoopsReading {
@@ -62,6 +63,16 @@ impl LoopsReading {
         let c = check_models(&self.setup, &params, &self.groups, std::slice::from_ref(m), progress)?;
         lock().push((m.0.clone(), bits, c.clone()));
         Ok(c)
+    }
+
+    /// The loops of the in-plane study `study` analysed as `input` as the analysis's held
+    /// reading ([`LoopsReading::of`]): the in-plane test's
+    /// [`crate::study::discrepancy::AnalysisWay::held`].
+    ///
+    /// # Errors
+    /// As [`LoopsReading::of`].
+    pub fn held(study: &Study, input: &Analysis) -> Result<Option<Box<dyn HeldReading>>, AnalysisError> {
+        Ok(LoopsReading::of(study, input)?.map(|r| Box::new(r) as Box<dyn HeldReading>))
     }
 
     fn held_error(e: InPlaneStudyError) -> crate::discrepancy::DiscrepancyError {
