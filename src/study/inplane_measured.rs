@@ -235,8 +235,9 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             readings_neg: EnvelopeReadings::default(),
         };
         let hlvdt = opt_num(hlvdt_col)?;
-        if let Some((name, _)) =
-            [("H_mm", s.height_mm), ("H0_mm", s.shear_span_mm), ("HLVDT_mm", hlvdt)].into_iter().find(|(_, v)| *v == 0.0)
+        if let Some((name, _)) = [("H_mm", s.height_mm), ("H0_mm", s.shear_span_mm), ("HLVDT_mm", hlvdt)]
+            .into_iter()
+            .find(|(_, v)| *v == 0.0)
         {
             return Err(err(format!("line {}: column {name}: 0 is not a height (mm above the base)", i + 1)));
         }
@@ -353,9 +354,18 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
 /// 0.01 % of drift, or 1 % of the drift); returns (drift %, force kN).
 ///
 /// # Errors
-/// Naming the file, the line and the column, where the drift disagrees.
+/// Naming the file, the line and the column, where the drift disagrees; a file with no
+/// reading (its header alone, or breaks only), which would compare as an envelope with none.
 pub fn read_envelope_of(path: &Path, measuring_height_mm: f64) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
     let pts = read_points(path)?;
+    if !pts.iter().any(|p| p.iter().all(|x| x.is_finite())) {
+        return Err(InPlaneStudyError::File {
+            path: path.to_owned(),
+            message:
+                "no reading after the four header lines: an envelope file holds at least one line of three numbers"
+                    .into(),
+        });
+    }
     check_drift_column(path, &pts, measuring_height_mm)?;
     Ok(pts.into_iter().map(|p| (p[2], p[1])).collect())
 }

@@ -1183,5 +1183,18 @@ fn the_specimens_table_refuses_cut_rows_repeated_units_and_impossible_numbers() 
     }
     // A missing value is an empty field, as the table writes it.
     assert!(read(&with_cell("Kel_pos_kN_per_mm", "")).unwrap()[11].kel_pos.is_nan());
+    // An envelope file of its four header lines alone (it read as an envelope with no point,
+    // every reading of the comparison empty).
+    let env = dir.join("envelopes");
+    std::fs::create_dir_all(&env).unwrap();
+    let name = "envelope_WS100_Vasconcelos2005.csv";
+    let full = std::fs::read_to_string(root.join("envelopes").join(name)).unwrap();
+    std::fs::write(env.join(name), full.lines().take(4).collect::<Vec<_>>().join("\n")).unwrap();
+    let p = dir.join("walls.csv");
+    std::fs::write(&p, &table).unwrap();
+    let e = drystone::study::inplane::read_specimens(&p, Some(&env)).unwrap_err().to_string();
+    assert!(e.contains(name) && e.contains("no reading"), "{e}");
+    std::fs::write(env.join(name), &full).unwrap();
+    assert!(!drystone::study::inplane::read_specimens(&p, Some(&env)).unwrap()[11].envelope.is_empty());
     let _ = std::fs::remove_dir_all(&dir);
 }

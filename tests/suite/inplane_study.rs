@@ -390,14 +390,14 @@ fn a_specimen_of_another_stress_or_a_missing_envelopes_folder_is_refused() {
     let dir = folder("specimen-stress");
     let good = bundled_study(&dir, "good.toml", |t| t);
     assert!(drystone::study::Study::from_file(&good).is_ok());
-    let swapped = bundled_study(&dir, "swapped.toml", |t| {
-        t.replacen("specimens = [\"WS.175\"]", "specimens = [\"WS.100\"]", 1)
-    });
+    let swapped =
+        bundled_study(&dir, "swapped.toml", |t| t.replacen("specimens = [\"WS.175\"]", "specimens = [\"WS.100\"]", 1));
     let e = drystone::study::Study::from_file(&swapped).unwrap_err().to_string();
     for part in ["swapped.toml", "groups[0.875 MPa monotonic].specimens", "WS.100 was tested at 0.5 MPa", "0.875 MPa"] {
         assert!(e.contains(part), "{part:?} not in {e}");
     }
-    let no_env = bundled_study(&dir, "no_env.toml", |t| t.replace("inplane_granite/envelopes\"", "inplane_granite/envelope\""));
+    let no_env =
+        bundled_study(&dir, "no_env.toml", |t| t.replace("inplane_granite/envelopes\"", "inplane_granite/envelope\""));
     let e = drystone::study::Study::from_file(&no_env).unwrap_err().to_string();
     assert!(e.contains("no_env.toml") && e.contains("measured.envelopes") && e.contains("not a folder"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
