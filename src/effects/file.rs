@@ -38,7 +38,7 @@
 //! `transverse_dip` take degrees, `dilatancy` (a `family` or every joint) the asperity
 //! angle in degrees (at or above 0), `rounding` m, `restraint_spring` N/m per block.
 
-use super::{EffectDef, Scale, Step};
+use super::{EffectDef, ParamDef, Scale, Step};
 use crate::closure::Closure;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -78,12 +78,20 @@ pub enum EffectFileError {
     },
 }
 
+/// The file's keys, [`EffectDef`]'s written out rather than flattened: a flattened struct is
+/// read through an intermediate map, whose errors lose their position (every one was
+/// reported at line 1, column 1).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct EffectFile {
     version: u32,
-    #[serde(flatten)]
-    def: EffectDef,
+    name: String,
+    #[serde(default)]
+    description: String,
+    #[serde(default)]
+    source: String,
+    parameters: Vec<ParamDef>,
+    steps: Vec<Step>,
 }
 
 impl EffectDef {
@@ -108,7 +116,13 @@ impl EffectDef {
         if f.version != EFFECT_VERSION {
             return Err(bad("version".into(), format!("this drystone reads effect version {EFFECT_VERSION}")));
         }
-        let d = f.def;
+        let d = EffectDef {
+            name: f.name,
+            description: f.description,
+            source: f.source,
+            parameters: f.parameters,
+            steps: f.steps,
+        };
         if d.name.is_empty() || !d.name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_') {
             return Err(bad("name".into(), format!("{:?} must be non-empty, of a-z, 0-9 and _", d.name)));
         }

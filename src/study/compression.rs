@@ -13,6 +13,7 @@ use super::{Study, StudyError};
 use crate::dem::Cascade;
 use crate::ensemble::row::{CompressionColumns, RealizationRow, Status};
 use crate::loading::compression::{CompressionParams, CompressionResult};
+use crate::loading::inplane::BeamRotation;
 use std::fmt::Write as _;
 
 /// A compression study's parameters: the `[compression]` table and each group's vertical
@@ -54,13 +55,44 @@ impl StudySpec {
             }
             return Ok(None);
         }
+        self.refuse_unread_by_compression(invalid)?;
         let params = self.compression.clone().unwrap_or_default();
         params.validate().map_err(|e| invalid.at(&format!("compression.{}", e.key), e.reason()))?;
+        if params.beam_rotation == BeamRotation::Fixed && params.shear_span_m.is_some() {
+            return Err(invalid.at(
+                "compression.shear_span_m",
+                "is not read with beam_rotation = \"fixed\" (the beam held level has no actuator's lever): drop it, or give beam_rotation = \"free\"".into(),
+            ));
+        }
         let mut sigma0_mpa = Vec::with_capacity(self.groups.len());
         for g in &self.groups {
             sigma0_mpa.push(group_stress(g, &params, invalid)?);
         }
         Ok(Some(CompressionStudy { params, sigma0_mpa }))
+    }
+}
+
+impl StudySpec {
+    /// The keys of a compression study that the compression test does not read, refused:
+    /// the other protocols' tables (`[tilt]`, `[lateral]`, `[shake]`), `[measured]`,
+    /// `[paper]`, `[[calibrate]]`. Accepted, they would leave a study that reads as tuned by
+    /// them and runs without them.
+    fn refuse_unread_by_compression(&self, invalid: &Invalid) -> Result<(), StudyError> {
+        let tables = [
+            ("tilt", self.tilt != crate::loading::tilt::TiltParams::default()),
+            ("lateral", self.lateral != crate::loading::lateral::LateralParams::default()),
+            ("shake", self.shake.is_some()),
+            ("measured", self.measured.is_some()),
+            ("paper", self.paper.is_some()),
+            ("calibrate", !self.calibrate.is_empty()),
+        ];
+        match tables.iter().find(|(_, given)| *given) {
+            Some((k, _)) => Err(invalid.at(
+                k,
+                "the compression test does not read it (another protocol's key; the compression study reads no measured file)".into(),
+            )),
+            None => Ok(()),
+        }
     }
 }
 

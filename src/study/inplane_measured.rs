@@ -123,12 +123,32 @@ impl EnvelopeReadings {
     }
 }
 
-/// Reads the database's table of specimens (a CSV with a header; quoted fields).
+/// A number of the specimens' table: every column read is a magnitude (a stress, a force,
+/// a drift, a stiffness, a height, a modulus, a failure type), finite and not negative; a
+/// missing value is an empty field. `Err` gives the reason.
+fn magnitude(v: &str) -> Result<f64, String> {
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        Ok(_) => Err(format!("{v:?} is not a finite number >= 0 (leave the field empty where the value is missing)")),
+        Err(_) => Err(format!("{v:?} is not a number")),
+    }
+}
+
+/// Reads the database's table of specimens (a CSV with a header; quoted fields). Every row
+/// has the header's count of fields, every unit one row, every number read is finite and
+/// not negative and every height (`H_mm`, `H0_mm`, `HLVDT_mm`) positive; the envelopes'
+/// folder, when given, exists.
 ///
 /// # Errors
 /// Naming the file, the line and the column.
 pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Specimen>, InPlaneStudyError> {
     let err = |message: String| InPlaneStudyError::File { path: path.to_owned(), message };
+    if let Some(dir) = envelopes.filter(|d| !d.is_dir()) {
+        return Err(InPlaneStudyError::File {
+            path: dir.to_owned(),
+            message: "[measured] envelopes: not a folder of the measured envelopes".into(),
+        });
+    }
     let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
     let mut lines = text.lines().enumerate();
     let header = split_csv(lines.next().ok_or_else(|| err("empty file".into()))?.1.trim_start_matches('\u{feff}'));
@@ -157,11 +177,20 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
     let (h0_col, hlvdt_col, epc_col, dcr_col, vcr_col) =
         (optional("H0_mm"), optional("HLVDT_mm"), optional("Epc_MPa"), optional("dcr_pct"), optional("Vcr_kN"));
     let mut out = Vec::new();
+    let mut seen: Vec<(String, usize)> = Vec::new();
     for (i, line) in lines {
         if line.trim().is_empty() {
             continue;
         }
         let f = split_csv(line);
+        if f.len() != header.len() {
+            return Err(err(format!(
+                "line {}: {} fields, the header has {} (a field missing or one too many: a missing value is an empty field)",
+                i + 1,
+                f.len(),
+                header.len()
+            )));
+        }
         let get = |k: usize| f.get(c[k]).cloned().unwrap_or_default();
         let opt_num = |col: Option<usize>| -> Result<f64, InPlaneStudyError> {
             let Some(k) = col else { return Ok(f64::NAN) };
@@ -169,17 +198,9 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             if v.is_empty() {
                 return Ok(f64::NAN);
             }
-            v.parse::<f64>().map_err(|_| err(format!("line {}: column {}: {v:?} is not a number", i + 1, header[k])))
+            magnitude(&v).map_err(|why| err(format!("line {}: column {}: {why}", i + 1, header[k])))
         };
-        let num = |k: usize| -> Result<f64, InPlaneStudyError> {
-            let s = get(k);
-            if s.trim().is_empty() {
-                return Ok(f64::NAN);
-            }
-            s.trim()
-                .parse::<f64>()
-                .map_err(|_| err(format!("line {}: column {}: {s:?} is not a number", i + 1, header[c[k]])))
-        };
+        let num = |k: usize| opt_num(Some(c[k]));
         let mut s = Specimen {
             unit: get(0),
             reference: get(1),
@@ -199,7 +220,7 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             height_mm: match height {
                 Some(k) => {
                     let v = f.get(k).map(|x| x.trim().to_string()).unwrap_or_default();
-                    v.parse::<f64>().map_err(|_| err(format!("line {}: column H_mm: {v:?} is not a number", i + 1)))?
+                    magnitude(&v).map_err(|why| err(format!("line {}: column H_mm: {why}", i + 1)))?
                 }
                 None => f64::NAN,
             },
@@ -214,6 +235,20 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
             readings_neg: EnvelopeReadings::default(),
         };
         let hlvdt = opt_num(hlvdt_col)?;
+        if let Some((name, _)) = [("H_mm", s.height_mm), ("H0_mm", s.shear_span_mm), ("HLVDT_mm", hlvdt)]
+            .into_iter()
+            .find(|(_, v)| *v == 0.0)
+        {
+            return Err(err(format!("line {}: column {name}: 0 is not a height (mm above the base)", i + 1)));
+        }
+        if let Some((_, first)) = seen.iter().find(|(u, _)| *u == s.unit) {
+            return Err(err(format!(
+                "line {}: column unit: {} is given twice (first on line {first}): a specimen has one row",
+                i + 1,
+                s.unit
+            )));
+        }
+        seen.push((s.unit.clone(), i + 1));
         s.measuring_height_mm = if hlvdt.is_finite() { hlvdt } else { s.shear_span_mm };
         if s.epc_mpa.is_finite() && !s.sigma0_mpa.is_finite() {
             return Err(err(format!(
@@ -319,9 +354,18 @@ pub fn read_envelope(path: &Path) -> Result<Vec<(f64, f64)>, InPlaneStudyError> 
 /// 0.01 % of drift, or 1 % of the drift); returns (drift %, force kN).
 ///
 /// # Errors
-/// Naming the file, the line and the column, where the drift disagrees.
+/// Naming the file, the line and the column, where the drift disagrees; a file with no
+/// reading (its header alone, or breaks only), which would compare as an envelope with none.
 pub fn read_envelope_of(path: &Path, measuring_height_mm: f64) -> Result<Vec<(f64, f64)>, InPlaneStudyError> {
     let pts = read_points(path)?;
+    if !pts.iter().any(|p| p.iter().all(|x| x.is_finite())) {
+        return Err(InPlaneStudyError::File {
+            path: path.to_owned(),
+            message:
+                "no reading after the four header lines: an envelope file holds at least one line of three numbers"
+                    .into(),
+        });
+    }
     check_drift_column(path, &pts, measuring_height_mm)?;
     Ok(pts.into_iter().map(|p| (p[2], p[1])).collect())
 }

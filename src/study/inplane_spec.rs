@@ -239,6 +239,19 @@ impl StudySpec {
                     format!("{s} is not a unit of the measured file"),
                 ));
             }
+            // A specimen is compared with the walls of its own stress (the table's
+            // `sigma0_applied_MPa`, where it gives one), as the discrepancy analysis pairs them.
+            let tested = |name: &String| specimens.iter().find(|m| &m.unit == name).map_or(f64::NAN, |m| m.sigma0_mpa);
+            if let Some(s) = group.specimens.iter().find(|s| (tested(s) - group.sigma0_mpa).abs() > 1e-9) {
+                return Err(invalid.at(
+                    &format!("groups[{}].specimens", spec.name),
+                    format!(
+                        "{s} was tested at {} MPa (the measured file's sigma0_applied_MPa), the group at sigma0_mpa = {} MPa: a specimen is compared with walls of its own stress",
+                        tested(s),
+                        group.sigma0_mpa
+                    ),
+                ));
+            }
         }
         let crackmaps = self.measured.as_ref().and_then(|m| m.crackmaps.clone());
         Ok(Some(InPlaneStudy { params, groups, specimens, crackmaps }))
@@ -352,6 +365,12 @@ fn read_measured_specimens(
     let Some(walls) = &m.walls else {
         return Err(invalid.at("measured.walls", "missing: the measured specimens' table of an in-plane study".into()));
     };
+    if let Some(e) = m.envelopes.as_ref().filter(|e| !dir.join(e).is_dir()) {
+        return Err(invalid.at(
+            "measured.envelopes",
+            format!("{}: not a folder of the measured envelopes (envelope_<unit>_<author><year>.csv)", e.display()),
+        ));
+    }
     let mut s = read_specimens(&dir.join(walls), m.envelopes.as_ref().map(|e| dir.join(e)).as_deref())
         .map_err(|e| invalid.at("measured.walls", e.to_string()))?;
     if let Some(c) = &m.curves {

@@ -286,7 +286,7 @@ impl StudySpec {
                 return Err(invalid.at(
                     &at,
                     format!(
-                        "acts on the vertical load of {} (the force its horizontal actuator reads); the {} does not read it (drop the effect, or run the study with {})",
+                        "acts on the vertical load of {} (the force its horizontal actuator reads); {} does not read it (drop the effect, or run the study with {})",
                         what.join(" or "),
                         self.loading().describe(),
                         kinds.join(" or ")

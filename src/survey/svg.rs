@@ -261,6 +261,13 @@ fn parse_points(text: &str) -> Result<Vec<[f64; 2]>, String> {
             s.number()?.ok_or_else(|| format!("points: an odd number of coordinates ({} pairs and one)", v.len()))?;
         v.push([x, y]);
     }
+    // `number` stops before a letter (a path's next command); a `points` list has none, so
+    // a word among its numbers (`nan`, `inf`, a unit) is refused, not read as its end.
+    if !s.at_end() {
+        let rest = String::from_utf8_lossy(&s.s[s.i..]);
+        let word: String = rest.chars().take_while(|c| !c.is_whitespace() && *c != ',').collect();
+        return Err(format!("points: {word:?} at character {} is not a number", s.i + 1));
+    }
     Ok(v)
 }
 

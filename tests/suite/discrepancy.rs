@@ -240,3 +240,26 @@ parameter = "psi"
     let e = EffectDef::from_toml(&closure("bandis"), Path::new("bad.toml")).unwrap_err().to_string();
     assert!(e.contains("bad.toml") && e.contains("steps[0].law") && e.contains("hyperbolic, seating"), "{e}");
 }
+
+/// A value of the wrong type or an unknown key in an effect file is refused at its own
+/// line: the file's keys were read through a flattened struct, and every such error was
+/// reported at line 1, column 1, wherever it was.
+#[test]
+fn an_effect_files_type_errors_name_their_own_line() {
+    let text = "version = 1\nname = \"soft\"\n[[parameters]]\nname = \"factor\"\nunit = \"-\"\nmin = 0.05\n\
+                max = 1.0\nscale = \"log\"\nneutral = 1.0\n[[parameters.kinds]]\nkind = \"sawn_stone\"\nmin = 0.3\n\
+                max = 1.0\nas_built = true\n[[steps]]\nkind = \"joint_factor\"\nproperty = \"stiffness\"\n\
+                parameter = \"factor\"\n";
+    assert!(EffectDef::from_toml(text, Path::new("soft.toml")).is_ok());
+    // Line 14: as_built; line 11: the kind; line 2, after the name: a key of no effect file.
+    let cases = [
+        (text.replace("as_built = true", "as_built = \"yes\""), "line 14", "expected a boolean"),
+        (text.replace("kind = \"sawn_stone\"", "kind = \"granite\""), "line 11", "sawn_stone"),
+        (text.replace("name = \"soft\"\n", "name = \"soft\"\ncolour = \"red\"\n"), "line 3", "unknown field `colour`"),
+    ];
+    for (bad, line, what) in cases {
+        let e = EffectDef::from_toml(&bad, Path::new("soft.toml")).unwrap_err().to_string();
+        assert!(e.contains("soft.toml") && e.contains(line) && e.contains(what), "{line} {what:?}: {e}");
+        assert!(!e.contains("line 1, column 1"), "{e}");
+    }
+}

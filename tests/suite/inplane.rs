@@ -1128,3 +1128,73 @@ fn nscd_reports_no_initial_stiffness_for_rigid_joints() {
     }
     assert!((peaks[0] / peaks[1] - 1.0).abs() < 0.005, "{peaks:?}");
 }
+
+/// The specimens' table refuses, naming the file, the line and the column, what it read
+/// before as a silently wrong or missing value: a row cut short (its last columns were read
+/// as empty), a unit given twice (the comparison took one row of the two), a negative,
+/// infinite or `nan` number (a negative peak force, an infinite stiffness compared as
+/// such), a height of 0; the bundled table reads its 14 specimens.
+#[test]
+fn the_specimens_table_refuses_cut_rows_repeated_units_and_impossible_numbers() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/inplane_granite");
+    let dir = std::env::temp_dir().join(format!("drystone_inplane_table_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = std::fs::read_to_string(root.join("walls.csv")).unwrap();
+    let read = |text: &str| {
+        let p = dir.join("walls.csv");
+        std::fs::write(&p, text).unwrap();
+        drystone::study::inplane::read_specimens(&p, None)
+    };
+    assert_eq!(read(&table).unwrap().len(), 14);
+    let lines: Vec<&str> = table.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    // WS.100's row (line 13): no quoted field, so its cells split on commas.
+    let row = lines.iter().position(|l| l.starts_with("WS.100,")).unwrap();
+    assert_eq!(row + 1, 13);
+    let with_cell = |column: &str, value: &str| {
+        let k = header.iter().position(|h| *h == column).unwrap();
+        let mut cells: Vec<String> = lines[row].split(',').map(str::to_string).collect();
+        cells[k] = value.to_string();
+        let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        out[row] = cells.join(",");
+        out.join("\n")
+    };
+    let cut = {
+        let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        out[row] = lines[row].split(',').take(5).collect::<Vec<_>>().join(",");
+        out.join("\n")
+    };
+    let twice = format!("{table}{}\n", lines[row]);
+    let dup_line = format!("line {}", lines.len() + 1);
+    let cases: Vec<(String, Vec<&str>)> = vec![
+        (cut, vec!["line 13", "5 fields", "35"]),
+        (twice, vec![&dup_line, "WS.100 is given twice", "line 13"]),
+        (with_cell("Vmax_pos_kN", "-30"), vec!["line 13", "column Vmax_pos_kN", "\"-30\""]),
+        (with_cell("Kel_pos_kN_per_mm", "inf"), vec!["line 13", "column Kel_pos_kN_per_mm", "\"inf\""]),
+        (with_cell("sigma0_applied_MPa", "nan"), vec!["line 13", "column sigma0_applied_MPa", "\"nan\""]),
+        (with_cell("HLVDT_mm", "0"), vec!["line 13", "column HLVDT_mm", "0 is not a height"]),
+        (with_cell("H_mm", "-1200"), vec!["line 13", "column H_mm", "\"-1200\""]),
+    ];
+    for (text, parts) in cases {
+        let e = read(&text).unwrap_err().to_string();
+        for part in parts.iter().chain(&["walls.csv"]) {
+            assert!(e.contains(part), "{part:?} not in {e}");
+        }
+    }
+    // A missing value is an empty field, as the table writes it.
+    assert!(read(&with_cell("Kel_pos_kN_per_mm", "")).unwrap()[11].kel_pos.is_nan());
+    // An envelope file of its four header lines alone (it read as an envelope with no point,
+    // every reading of the comparison empty).
+    let env = dir.join("envelopes");
+    std::fs::create_dir_all(&env).unwrap();
+    let name = "envelope_WS100_Vasconcelos2005.csv";
+    let full = std::fs::read_to_string(root.join("envelopes").join(name)).unwrap();
+    std::fs::write(env.join(name), full.lines().take(4).collect::<Vec<_>>().join("\n")).unwrap();
+    let p = dir.join("walls.csv");
+    std::fs::write(&p, &table).unwrap();
+    let e = drystone::study::inplane::read_specimens(&p, Some(&env)).unwrap_err().to_string();
+    assert!(e.contains(name) && e.contains("no reading"), "{e}");
+    std::fs::write(env.join(name), &full).unwrap();
+    assert!(!drystone::study::inplane::read_specimens(&p, Some(&env)).unwrap()[11].envelope.is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -368,3 +368,38 @@ fn a_shear_span_far_above_the_wall_is_refused_before_any_run() {
     assert!(made.is_empty(), "the run wrote {made:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The bundled study with its paths made absolute, written in `dir` under `name` with
+/// `edit` applied to its text.
+fn bundled_study(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bundled = std::fs::read_to_string(root.join("studies/inplane_granite.toml")).unwrap();
+    let here = bundled
+        .replace("wall = \"walls/", &format!("wall = \"{}/walls/", root.join("studies").display()))
+        .replace("\"../data/", &format!("\"{}/data/", root.display()));
+    write(dir, name, &edit(here))
+}
+
+/// A group compared with a specimen tested at another vertical stress (WS.100, 0.5 MPa in
+/// the table's `sigma0_applied_MPa`, named by the 0.875 MPa group) is refused naming the
+/// group, the specimen and both stresses; it ran before, its report setting the walls at
+/// one stress beside the specimen's readings at another. An envelopes folder that does not
+/// exist is refused naming `measured.envelopes` (before, every envelope reading of the
+/// comparison came out empty without a word).
+#[test]
+fn a_specimen_of_another_stress_or_a_missing_envelopes_folder_is_refused() {
+    let dir = folder("specimen-stress");
+    let good = bundled_study(&dir, "good.toml", |t| t);
+    assert!(drystone::study::Study::from_file(&good).is_ok());
+    let swapped =
+        bundled_study(&dir, "swapped.toml", |t| t.replacen("specimens = [\"WS.175\"]", "specimens = [\"WS.100\"]", 1));
+    let e = drystone::study::Study::from_file(&swapped).unwrap_err().to_string();
+    for part in ["swapped.toml", "groups[0.875 MPa monotonic].specimens", "WS.100 was tested at 0.5 MPa", "0.875 MPa"] {
+        assert!(e.contains(part), "{part:?} not in {e}");
+    }
+    let no_env =
+        bundled_study(&dir, "no_env.toml", |t| t.replace("inplane_granite/envelopes\"", "inplane_granite/envelope\""));
+    let e = drystone::study::Study::from_file(&no_env).unwrap_err().to_string();
+    assert!(e.contains("no_env.toml") && e.contains("measured.envelopes") && e.contains("not a folder"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

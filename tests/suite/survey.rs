@@ -806,3 +806,30 @@ fn one_drawn_scale_line_no_clones_and_no_hidden_stones() {
     assert_eq!(w.layout.blocks.len(), 1);
     assert!((w.length_m - 0.5).abs() < 1e-12);
 }
+
+/// A word among a polygon's coordinates (`nan`, `inf`, a unit written after a number) is
+/// refused naming the file, the element and the word: read as the list's end it dropped the
+/// stone's last corners, and the pentagon below came out as the unit square.
+#[test]
+fn a_traced_polygon_with_a_word_among_its_points_is_refused_not_cut_short() {
+    let dir = Scratch::created("survey-points-word");
+    for (name, word) in [("nan.svg", "nan"), ("inf.svg", "inf"), ("unit.svg", "cm")] {
+        let points = format!("0,0 10,0 10,10 0,10 {word},5");
+        let text = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\">\n<polygon points=\"{points}\"/>\n</svg>\n"
+        );
+        let svg = write(&dir, name, &text);
+        let e = import(&svg, &traced(0.2, Some(0.01))).expect_err(name).to_string();
+        for part in [name, "<polygon> at line 2", &format!("{word:?}"), "not a number"] {
+            assert!(e.contains(part), "{part:?} not in {e}");
+        }
+    }
+    // The same pentagon written with numbers only is read with its five corners.
+    let svg = write(
+        &dir,
+        "ok.svg",
+        "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<polygon points=\"0,0 10,0 10,10 0,10 -5,5\"/>\n</svg>\n",
+    );
+    let w = import(&svg, &traced(0.2, Some(0.01))).unwrap();
+    assert_eq!(w.layout.blocks[0].vertices.len(), 10);
+}
