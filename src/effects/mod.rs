@@ -270,8 +270,9 @@ impl ParamDef {
         }
     }
 
-    /// Checks the kinds' ranges: finite, `min < max`, positive on a log axis, containing a
-    /// finite neutral value and ending at it where the broad range does.
+    /// Checks the kinds' ranges: finite, `min < max`, positive on a log axis, within the
+    /// broad range unless [`KindRange::as_built`], containing a finite neutral value and
+    /// ending at it where the broad range does.
     ///
     /// # Errors
     /// What is wrong, naming the kind.
@@ -283,6 +284,16 @@ impl ParamDef {
             }
             if self.scale == Scale::Log && r.min <= 0.0 {
                 return Err(format!("kind {k}: a log-scale range needs min > 0, got {}", r.min));
+            }
+            // A range that scales with the broad one narrows it: a value its search
+            // reaches can be stated ([`ParamDef::statable`]). An as-built range is stated
+            // apart and widens what can be stated.
+            let tol = 1e-9 * (self.max - self.min).abs();
+            if !r.as_built && (r.min < self.min - tol || r.max > self.max + tol) {
+                return Err(format!(
+                    "kind {k}: [{}, {}] must lie within the broad range [{}, {}] (or be stated `as_built = true`)",
+                    r.min, r.max, self.min, self.max
+                ));
             }
             if self.neutral.is_finite() {
                 if !(r.min..=r.max).contains(&self.neutral) {

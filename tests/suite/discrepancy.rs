@@ -263,3 +263,19 @@ fn an_effect_files_type_errors_name_their_own_line() {
         assert!(!e.contains("line 1, column 1"), "{e}");
     }
 }
+
+/// A kind's range that scales with the broad one must lie within it, or a search of that
+/// kind could reach a value no one can state; stated `as_built`, it may reach past it.
+#[test]
+fn a_kinds_range_wider_than_the_broad_one_is_refused_unless_as_built() {
+    let text = "version = 1\nname = \"soft\"\n[[parameters]]\nname = \"factor\"\nunit = \"-\"\nmin = 0.05\n\
+                max = 1.0\nscale = \"log\"\nneutral = 1.0\n[[parameters.kinds]]\nkind = \"concrete_paver\"\nmin = 0.01\n\
+                max = 1.0\n[[steps]]\nkind = \"joint_factor\"\nproperty = \"stiffness\"\n\
+                parameter = \"factor\"\n";
+    let e = EffectDef::from_toml(text, Path::new("soft.toml")).unwrap_err().to_string();
+    assert!(e.contains("soft.toml") && e.contains("concrete_paver") && e.contains("within the broad range"), "{e}");
+    let built = text.replace("max = 1.0\n[[steps]]", "max = 1.0\nas_built = true\n[[steps]]");
+    assert!(EffectDef::from_toml(&built, Path::new("soft.toml")).is_ok());
+    let inside = text.replace("min = 0.01", "min = 0.3");
+    assert!(EffectDef::from_toml(&inside, Path::new("soft.toml")).is_ok());
+}
