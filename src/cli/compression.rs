@@ -1,7 +1,7 @@
 //! `drystone compression`: the vertical compression test of a layout file.
 
 use super::solver::SolverChoice;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use drystone::dem::{PenaltyParams, SolverParams};
 use drystone::loading::compression::{CompressionParams, CompressionResult};
 use drystone::loading::inplane::BeamRotation;
@@ -100,7 +100,8 @@ pub fn command(a: CompressionArgs) -> Result<ExitCode> {
     let run = drystone::protocol::run(&Compression(params), &layout, solver, &mut ())
         .map_err(|e| anyhow::anyhow!("{e}; on the command line: --solver NAME"))?;
     let CompressionRun::Penalty(r) = run;
-    let r = r.with_context(|| format!("compression test of {}", a.layout.display()))?;
+    let r =
+        r.map_err(|e| anyhow::anyhow!("compression test of {}: {}", a.layout.display(), as_flags(&e.to_string())))?;
     if a.json {
         out!("{}", serde_json::to_string_pretty(&r)?);
     } else {
@@ -146,4 +147,14 @@ fn print(layout: &Path, r: &CompressionResult) {
         r.dt_s,
         r.wall_time_s
     );
+}
+
+/// `msg` with the study file's keys of the test (`compression.shear_span_m`) named by their
+/// flags (`--shear-span-m`): the checks that need the layout word their refusals for a
+/// study file.
+fn as_flags(msg: &str) -> String {
+    const KEYS: [&str; 7] =
+        ["sigma0_mpa", "cycles", "unload_to_mpa", "raise_to_mpa", "points_per_branch", "beam_rotation", "shear_span_m"];
+    KEYS.iter()
+        .fold(msg.to_string(), |m, k| m.replace(&format!("compression.{k}"), &format!("--{}", k.replace('_', "-"))))
 }

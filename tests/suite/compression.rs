@@ -169,6 +169,11 @@ fn the_command_names_the_flag_at_fault() {
         (&["--sigma0-mpa", "0.5", "--raise-to-mpa", "0.4"][..], "--raise-to-mpa"),
         (&["--sigma0-mpa", "0.5", "--points-per-branch", "0"][..], "--points-per-branch"),
         (&["--sigma0-mpa", "0.5", "--beam-rotation", "free"][..], "--shear-span-m"),
+        // Refused once the wall is known: below the beam's own weight, a lever under the
+        // wall's top.
+        (&["--sigma0-mpa", "1e-9"][..], "--sigma0-mpa"),
+        (&["--sigma0-mpa", "0.5", "--unload-to-mpa", "0"][..], "--unload-to-mpa"),
+        (&["--sigma0-mpa", "0.5", "--beam-rotation", "free", "--shear-span-m", "0.01"][..], "--shear-span-m"),
     ] {
         let o = std::process::Command::new(bin)
             .args(["compression", layout.to_str().unwrap()])
