@@ -383,11 +383,13 @@ fn bundled_study(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> Pat
 /// A group compared with a specimen tested at another vertical stress (WS.100, 0.5 MPa in
 /// the table's `sigma0_applied_MPa`, named by the 0.875 MPa group) is refused naming the
 /// group, the specimen and both stresses; it ran before, its report setting the walls at
-/// one stress beside the specimen's readings at another. An envelopes folder that does not
+/// one stress beside the specimen's readings at another. So is a monotonic specimen named
+/// by a cyclic group of its own stress (WS.100 by the 0.5 MPa cyclic group). An envelopes
+/// folder that does not
 /// exist is refused naming `measured.envelopes` (before, every envelope reading of the
 /// comparison came out empty without a word).
 #[test]
-fn a_specimen_of_another_stress_or_a_missing_envelopes_folder_is_refused() {
+fn a_specimen_of_another_stress_or_history_or_a_missing_envelopes_folder_is_refused() {
     let dir = folder("specimen-stress");
     let good = bundled_study(&dir, "good.toml", |t| t);
     assert!(drystone::study::Study::from_file(&good).is_ok());
@@ -395,6 +397,14 @@ fn a_specimen_of_another_stress_or_a_missing_envelopes_folder_is_refused() {
         bundled_study(&dir, "swapped.toml", |t| t.replacen("specimens = [\"WS.175\"]", "specimens = [\"WS.100\"]", 1));
     let e = drystone::study::Study::from_file(&swapped).unwrap_err().to_string();
     for part in ["swapped.toml", "groups[0.875 MPa monotonic].specimens", "WS.100 was tested at 0.5 MPa", "0.875 MPa"] {
+        assert!(e.contains(part), "{part:?} not in {e}");
+    }
+    // A monotonic specimen in a cyclic group of its own stress: another history.
+    let history = bundled_study(&dir, "history.toml", |t| {
+        t.replacen("specimens = [\"WS1.100\", \"WS2.100\", \"WS3.100\", \"WS4.100\"]", "specimens = [\"WS.100\"]", 1)
+    });
+    let e = drystone::study::Study::from_file(&history).unwrap_err().to_string();
+    for part in ["history.toml", "groups[0.5 MPa cyclic].specimens", "WS.100 was tested monotonic", "cyclic"] {
         assert!(e.contains(part), "{part:?} not in {e}");
     }
     let no_env =
