@@ -12,7 +12,7 @@ use super::Study;
 use crate::dem::SolverParams;
 use crate::ensemble::row::{InPlaneColumns, RealizationRow};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
-use crate::loading::inplane::{mechanism_joints, History, Rig};
+use crate::loading::inplane::{mechanism_joints, Rig};
 use crate::stats::{mean, quantile, sd};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -185,10 +185,7 @@ pub(super) fn report(
             md,
             "σ0 = {} MPa, {} history, wall `{}`; {} realizations; measured: {}.\n",
             group.sigma0_mpa,
-            match group.history {
-                History::Monotonic => "monotonic",
-                History::Cyclic => "cyclic",
-            },
+            group.history.name(),
             group.source.display(),
             rs.len(),
             if ms.is_empty() {

@@ -253,18 +253,16 @@ impl StudySpec {
                 ));
             }
             // And with walls of its own history, where the file's `loading` names one.
-            let measured = |name: &String| specimens.iter().find(|m| &m.unit == name).and_then(history_of);
+            let measured = |name: &String| {
+                specimens.iter().find(|m| &m.unit == name).and_then(|m| History::of_loading(&m.loading))
+            };
             if let Some(s) = group.specimens.iter().find(|s| measured(s).is_some_and(|h| h != group.history)) {
-                let name = |h: History| match h {
-                    History::Monotonic => "monotonic",
-                    History::Cyclic => "cyclic",
-                };
                 return Err(invalid.at(
                     &format!("groups[{}].specimens", spec.name),
                     format!(
                         "{s} was tested {} (the measured file's loading), the group's history is {}: a specimen is compared with walls of its own history",
-                        measured(s).map_or("", name),
-                        name(group.history)
+                        measured(s).map_or("", History::name),
+                        group.history.name()
                     ),
                 ));
             }
@@ -405,17 +403,4 @@ fn read_measured_specimens(
     );
     files.extend(read(&m.curves, |x| format!("FD_{}.csv", file_stem(x))).into_iter().map(|p| (InputRole::Measured, p)));
     Ok(s)
-}
-
-/// The history a measured specimen's `loading` names (`Monotonic`, `Cyclic`, in any case,
-/// as the Stone Masonry Database writes them); `None` where it names neither.
-fn history_of(m: &Specimen) -> Option<History> {
-    let l = m.loading.to_ascii_lowercase();
-    if l.contains("monotonic") {
-        Some(History::Monotonic)
-    } else if l.contains("cyclic") {
-        Some(History::Cyclic)
-    } else {
-        None
-    }
 }

@@ -33,6 +33,30 @@ pub enum History {
     Cyclic,
 }
 
+impl History {
+    /// Its name in study files and reports (`monotonic`, `cyclic`).
+    pub fn name(self) -> &'static str {
+        match self {
+            History::Monotonic => "monotonic",
+            History::Cyclic => "cyclic",
+        }
+    }
+
+    /// The history a measured specimen's `loading` column names (`Monotonic`, `Cyclic`,
+    /// in any case, as the Stone Masonry Database writes them); `None` where it names
+    /// neither.
+    pub fn of_loading(loading: &str) -> Option<History> {
+        let l = loading.to_ascii_lowercase();
+        if l.contains("monotonic") {
+            Some(History::Monotonic)
+        } else if l.contains("cyclic") {
+            Some(History::Cyclic)
+        } else {
+            None
+        }
+    }
+}
+
 /// The loading beam's rotation in the wall's plane.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
