@@ -30,7 +30,7 @@ mod linear;
 mod seating;
 
 pub use crushing::{Crushing, STRENGTH_RANGE_PA};
-pub use hyperbolic::{Hyperbolic, HYPERBOLIC_CAP};
+pub use hyperbolic::{Hyperbolic, HYPERBOLIC_CAP, WINDOW_TANGENT_RATIO};
 pub use linear::Linear;
 pub use seating::Seating;
 
@@ -69,6 +69,17 @@ pub trait ClosureLaw {
     /// Largest tangent stiffness the law reaches, Pa/m: the stiffness the critical time step
     /// must be taken from.
     fn stiffness_bound(&self, kn: f64) -> f64;
+
+    /// A window of the closure over which the tangent stays bounded below the law's
+    /// [`ClosureLaw::stiffness_bound`], for a sub-contact whose largest nodal closure is
+    /// `u` (m): `Some((cap, k))` where every closure up to `cap` (m, `> u`; infinite once
+    /// the window reaches the law's own bound) has a tangent of at most `k` (Pa/m). The
+    /// time step is then taken from `k` until a node passes `cap`, which the contact pass
+    /// watches. `None` (the default): the law's tangent is bounded by a constant of the
+    /// order of `kn` and the step takes the bound itself.
+    fn tangent_window(&self, _kn: f64, _u: f64) -> Option<(f64, f64)> {
+        None
+    }
 
     /// Strain energy per unit area at closure `u > 0`, `∫₀ᵘ q ds`, J/m².
     fn energy_density(&self, kn: f64, u: f64) -> f64;
@@ -181,6 +192,17 @@ impl Closure {
     /// See [`ClosureLaw::stiffness_bound`].
     pub fn stiffness_bound(&self, kn: f64) -> f64 {
         each_law!(self, l => l.stiffness_bound(kn))
+    }
+
+    /// See [`ClosureLaw::tangent_window`].
+    pub fn tangent_window(&self, kn: f64, u: f64) -> Option<(f64, f64)> {
+        each_law!(self, l => l.tangent_window(kn, u))
+    }
+
+    /// Whether the law has a [`ClosureLaw::tangent_window`] (a tangent that grows far
+    /// past `kn` with the closure).
+    pub fn is_windowed(&self) -> bool {
+        self.tangent_window(1.0, 0.0).is_some()
     }
 
     /// See [`ClosureLaw::energy_density`]; `kn u² / 2` for `u ≤ 0` (the tensile branch).

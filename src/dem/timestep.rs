@@ -29,6 +29,15 @@
 //! eigenvalue) at 97–98 % of the damped limit, and a layout with a ratio above 1.75 (a column
 //! of blocks tends to 2) past it.
 //!
+//! A joint's normal stiffness is the bound of its closure law's tangent
+//! ([`crate::dem::contact::law::JointParams::kn_bound`]: `Kn` for the linear law), except for
+//! a law whose tangent grows far past its initial stiffness (the hyperbolic law's reaches
+//! `25 Kni` at its cap): each sub-contact then takes the bound over a window of the closure
+//! from its nodes' largest ([`set_closure_windows`],
+//! [`crate::closure::ClosureLaw::tangent_window`]), and the contact pass asks for a new step
+//! as soon as a node closes past its window, as the ropes' bound is taken over a window of
+//! their deflection ([`Stiffness::add_restraints`]).
+//!
 //! The three springs of a node sum to `w C₀` with `C₀ = Ks I + (Kn − Ks) n nᵀ` (`w` the
 //! node's area), so a contact's blocks follow from the moments `Σ w`, `Σ w r` and
 //! `Σ w r_p r_qᵀ` of its nodes (see [`Stiffness::new`]) instead of three outer products
@@ -80,6 +89,77 @@ pub struct Stiffness {
     body_lambdas: Vec<f64>,
 }
 
+/// The moments of a contact's nodes for [`block`] under the node weights `w_i` (m² or
+/// N/m): `w = Σ w_i`, `sa = Σ w_i r_A`, `sb = Σ w_i r_B`, `raa = Σ w_i r_A r_Aᵀ`,
+/// `rab = Σ w_i r_A r_Bᵀ`, `rbb = Σ w_i r_B r_Bᵀ`, arms in the table frame (zero on A's side
+/// for the table).
+struct NodeMoments {
+    w: f64,
+    sa: Vec3,
+    sb: Vec3,
+    raa: Mat3,
+    rab: Mat3,
+    rbb: Mat3,
+}
+
+impl NodeMoments {
+    fn of(c: &Contact, weight: &[f64], ra_mat: Option<&Mat3>, rb_mat: &Mat3) -> NodeMoments {
+        let (mut w, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());
+        let (mut raa, mut rab, mut rbb) = (Mat3::zeros(), Mat3::zeros(), Mat3::zeros());
+        for (nd, &wi) in c.nodes.iter().zip(weight) {
+            if wi == 0.0 {
+                continue;
+            }
+            let rb = rb_mat * nd.on_b;
+            w += wi;
+            sb += rb * wi;
+            rbb += rb * rb.transpose() * wi;
+            if let Some(m) = ra_mat {
+                let ra = m * nd.on_a;
+                sa += ra * wi;
+                raa += ra * ra.transpose() * wi;
+                rab += ra * rb.transpose() * wi;
+            }
+        }
+        NodeMoments { w, sa, sb, raa, rab, rbb }
+    }
+}
+
+/// Takes each sub-contact's window of its closure law's tangent at the current poses
+/// ([`crate::closure::ClosureLaw::tangent_window`], from the largest closure of its three
+/// nodes): what [`Stiffness::new`] then reads as the sub-contact's normal stiffness, and
+/// what the contact pass watches ([`super::contact::types::SubContact::window_cap_m`]).
+/// Contacts whose law has no windows are left as they are. Closures as in the contact
+/// pass: the nodes' overlap along the mean of the two bodies' detection normals.
+pub fn set_closure_windows(bodies: &[Body], contacts: &mut [Contact]) {
+    for c in contacts.iter_mut().filter(|c| c.joint.closure.is_windowed()) {
+        let bb = &bodies[c.b];
+        let (pa_of, n) = match c.a {
+            None => ((Mat3::identity(), Vec3::zeros()), (c.normal_a + bb.rot_mat * c.normal_b).normalize()),
+            Some(i) => {
+                let a = &bodies[i];
+                ((a.rot_mat, a.pos), (a.rot_mat * c.normal_a + bb.rot_mat * c.normal_b).normalize())
+            }
+        };
+        let closure = |k: u32| {
+            let nd = &c.nodes[k as usize];
+            let pa = pa_of.1 + pa_of.0 * nd.on_a;
+            let pb = bb.pos + bb.rot_mat * nd.on_b;
+            -(pb - pa).dot(&n)
+        };
+        let (kn, law) = (c.joint.kn, c.joint.closure);
+        let mut windows = Vec::with_capacity(c.subs.len());
+        for s in &c.subs {
+            let u = s.nodes.iter().map(|&k| closure(k)).fold(f64::NEG_INFINITY, f64::max);
+            windows.push(law.tangent_window(kn, u).unwrap_or((f64::INFINITY, c.joint.kn_bound())));
+        }
+        for (s, (cap, k)) in c.subs.iter_mut().zip(windows) {
+            s.window_cap_m = cap;
+            s.window_kn = k;
+        }
+    }
+}
+
 impl Stiffness {
     /// Assembles the springs of `contacts` at the current poses of `bodies` (normal from
     /// the mean of the two bodies' detection normals, as in the contact pass; node arms
@@ -90,16 +170,16 @@ impl Stiffness {
         let mut touched = vec![false; nb];
         let mut off = Vec::new();
         let mut weight = Vec::new();
+        let mut normal_weight = Vec::new();
         for c in contacts {
             let rb_mat = &bodies[c.b].rot_mat;
-            let na = match c.a {
+            let ra_mat = c.a.map(|i| bodies[i].rot_mat);
+            let na = match &ra_mat {
                 None => c.normal_a,
-                Some(i) => bodies[i].rot_mat * c.normal_a,
+                Some(m) => m * c.normal_a,
             };
             let n = (na + rb_mat * c.normal_b).normalize();
-            let (kn, ks) = (c.joint.kn_bound(), c.joint.ks);
-            let beta = kn - ks;
-            let c0 = Mat3::identity() * ks + n * n.transpose() * beta;
+            let ks = c.joint.ks;
             // Node areas: a third of every sub-contact the node belongs to.
             weight.clear();
             weight.resize(c.nodes.len(), 0.0);
@@ -108,39 +188,48 @@ impl Stiffness {
                     weight[i as usize] += s.area / 3.0;
                 }
             }
-            let (mut w, mut sa, mut sb) = (0.0, Vec3::zeros(), Vec3::zeros());
-            let (mut raa, mut rab, mut rbb) = (Mat3::zeros(), Mat3::zeros(), Mat3::zeros());
-            let ra_mat = c.a.map(|i| bodies[i].rot_mat);
-            for (nd, &wi) in c.nodes.iter().zip(&weight) {
-                if wi == 0.0 {
-                    continue;
-                }
-                let rb = rb_mat * nd.on_b;
-                w += wi;
-                sb += rb * wi;
-                rbb += rb * rb.transpose() * wi;
-                if let Some(m) = &ra_mat {
-                    let ra = m * nd.on_a;
-                    sa += ra * wi;
-                    raa += ra * ra.transpose() * wi;
-                    rab += ra * rb.transpose() * wi;
-                }
-            }
-            if w == 0.0 {
+            let m = NodeMoments::of(c, &weight, ra_mat.as_ref(), rb_mat);
+            if m.w == 0.0 {
                 continue;
             }
+            // The blocks: one normal stiffness for the whole contact (the law's bound), or,
+            // for a law with tangent windows, each sub-contact's window bound on its nodes
+            // (`Ks I` over the areas plus `(k_s − Ks) n nᵀ` over the areas so weighted: a
+            // sub-contact's tangent is at most its window's anywhere on it, so the nodes'
+            // sum bounds the law's stiffness as the vertex rule bounds the linear one's).
+            let blocks = |p: &Vec3, q: &Vec3, r: &Mat3, nm: Option<(&NodeMoments, &Vec3, &Vec3, &Mat3)>| match nm {
+                None => {
+                    let kn = c.joint.kn_bound();
+                    let c0 = Mat3::identity() * ks + n * n.transpose() * (kn - ks);
+                    block(&c0, &n, ks, kn - ks, m.w, p, q, r)
+                }
+                Some((nw, np, nq, nr)) => {
+                    block(&(Mat3::identity() * ks), &n, ks, 0.0, m.w, p, q, r)
+                        + block(&(n * n.transpose()), &n, 0.0, 1.0, nw.w, np, nq, nr)
+                }
+            };
+            let nm = c.joint.closure.is_windowed().then(|| {
+                normal_weight.clear();
+                normal_weight.resize(c.nodes.len(), 0.0);
+                for s in &c.subs {
+                    for &i in &s.nodes {
+                        normal_weight[i as usize] += (s.window_kn - ks) * s.area / 3.0;
+                    }
+                }
+                NodeMoments::of(c, &normal_weight, ra_mat.as_ref(), rb_mat)
+            });
             let free_b = !bodies[c.b].fixed();
             let free_a = c.a.filter(|&i| !bodies[i].fixed());
             if free_b {
-                diag[c.b] += block(&c0, &n, ks, beta, w, &sb, &sb, &rbb);
+                diag[c.b] += blocks(&m.sb, &m.sb, &m.rbb, nm.as_ref().map(|x| (x, &x.sb, &x.sb, &x.rbb)));
                 touched[c.b] = true;
             }
             if let Some(a) = free_a {
-                diag[a] += block(&c0, &n, ks, beta, w, &sa, &sa, &raa);
+                diag[a] += blocks(&m.sa, &m.sa, &m.raa, nm.as_ref().map(|x| (x, &x.sa, &x.sa, &x.raa)));
                 touched[a] = true;
                 if free_b {
                     // g_A = −(d, r_A × d): the coupling carries a minus sign.
-                    off.push((a, c.b, -block(&c0, &n, ks, beta, w, &sa, &sb, &rab)));
+                    off.push((a, c.b, -blocks(&m.sa, &m.sb, &m.rab, nm.as_ref().map(|x| (x, &x.sa, &x.sb, &x.rab)))));
                 }
             }
         }

@@ -5,7 +5,7 @@
 
 use super::contact::forces::{contact_dashpot, contact_forces, effective_mass, NodeScratch};
 use super::contact::geometry as cgeom;
-use super::contact::law::{JointParams, SubContactState};
+use super::contact::law::JointParams;
 use super::contact::types::{Contact, ContactNode, SubContact};
 use super::damping::ContactDamping;
 use super::error::DemError;
@@ -14,7 +14,7 @@ use super::materials::JointTable;
 use super::model::WallState;
 use super::monitor::StepStats;
 use super::params::{DensityScaling, SolverParams};
-use super::timestep::{block_masses, density_scaling, step_for, Stiffness};
+use super::timestep::{block_masses, density_scaling, set_closure_windows, step_for, Stiffness};
 use crate::closure::Closure;
 use crate::geometry::sweep::sweep_pairs;
 use crate::layout::{EndRestraint, Layout};
@@ -72,6 +72,10 @@ pub(super) struct Workspace {
     /// Each rope's deflection δ̄ (m) at the last update of the time step: the centre of
     /// the window its stiffness bound covers.
     pub(super) rope_window: Vec<f64>,
+    /// Set by the contact pass when a sub-contact closed past its closure window
+    /// ([`super::contact::types::SubContact::window_cap_m`]); the next step's redetection
+    /// updates the time step.
+    pub(super) closure_left_window: bool,
 }
 
 impl Workspace {
@@ -91,6 +95,7 @@ impl Workspace {
             contact_damping: None,
             node_area: Vec::new(),
             rope_window: Vec::new(),
+            closure_left_window: false,
         }
     }
 
@@ -202,11 +207,7 @@ impl Workspace {
                 on_b: bb.to_body(&q.on_b),
             })
             .collect();
-        let subs = p
-            .triangles
-            .iter()
-            .map(|t| SubContact { nodes: t.nodes, area: t.area, state: SubContactState::new(bonded) })
-            .collect();
+        let subs = p.triangles.iter().map(|t| SubContact::new(t.nodes, t.area, &joint, bonded)).collect();
         let normal_a = match a {
             None => p.normal,
             Some(i) => st.bodies[i].rot_mat.transpose() * p.normal,
@@ -227,6 +228,8 @@ impl Workspace {
     /// Sets the inertial masses (density scaling, scalar or block) and the time step from
     /// the stiffness of the current contacts at the current poses.
     pub(super) fn update_masses_and_step(&mut self, st: &mut WallState, params: &SolverParams) {
+        set_closure_windows(&st.bodies, &mut st.contacts);
+        self.closure_left_window = false;
         let mut stiffness = Stiffness::new(&st.bodies, &st.contacts);
         // A rope's deflection is checked at every detection (`rope_left_window`), and a
         // bearer moves at most the re-detection threshold between two: the bound covers
@@ -291,12 +294,20 @@ impl Workspace {
     /// Stage 1 when needed: re-detects if a body moved past the threshold, and updates the
     /// masses and the time step of changed contacts unless `deferred`.
     pub(super) fn redetect(&mut self, st: &mut WallState, params: &SolverParams, deferred: bool) -> Redetection {
+        // A sub-contact closed past the window of its closure law's tangent the step was
+        // taken over (`Stiffness::new`): the step follows, as it follows a rope. A deferred
+        // redetection leaves the flag to the next step.
+        let closure_left = !deferred && std::mem::take(&mut self.closure_left_window);
         if !self.needs_detection(st, params) {
+            if closure_left {
+                self.update_masses_and_step(st, params);
+            }
             return Redetection::None;
         }
         let mut r = self.detect(st, params, false);
-        if r == Redetection::Unchanged && self.rope_left_window(st, params) {
-            // The contacts stand but a rope's stiffness bound no longer covers its deflection.
+        if r == Redetection::Unchanged && (closure_left || self.rope_left_window(st, params)) {
+            // The contacts stand but a rope's stiffness bound no longer covers its deflection,
+            // or a closure law's tangent bound no longer covers a sub-contact's closure.
             r = Redetection::Changed;
         }
         if r.changed() && !deferred {
@@ -323,8 +334,16 @@ impl Workspace {
         for c in &mut st.contacts {
             let bb = &bodies[c.b];
             let (fsum, ta, tb) = match c.a {
-                None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch),
-                Some(i) => contact_forces::<true>(c, &bodies[i], bb, dt, quad, &mut self.scratch),
+                None => contact_forces::<false>(c, bb, bb, dt, quad, &mut self.scratch, &mut self.closure_left_window),
+                Some(i) => contact_forces::<true>(
+                    c,
+                    &bodies[i],
+                    bb,
+                    dt,
+                    quad,
+                    &mut self.scratch,
+                    &mut self.closure_left_window,
+                ),
             };
             let (fsum, ta, tb) = match &self.contact_damping {
                 None => (fsum, ta, tb),

@@ -25,7 +25,9 @@ pub(crate) fn unit(v: Vec3) -> Vec3 {
 /// (N, N·m, table frame). `PAIR` is false for a table contact (A is the table: fixed, at the
 /// origin, identity rotation; `a` is then ignored and no moment on A is returned), which
 /// skips the transformations and products by the identity and zero (the results are those
-/// of the general expressions, up to the sign of zero).
+/// of the general expressions, up to the sign of zero). Sets `left_window` when a
+/// sub-contact's closure has passed the window its time step was taken over
+/// ([`super::types::SubContact::window_cap_m`]).
 #[inline(always)]
 pub(crate) fn contact_forces<const PAIR: bool>(
     c: &mut Contact,
@@ -34,6 +36,7 @@ pub(crate) fn contact_forces<const PAIR: bool>(
     dt: f64,
     quad: Quadrature,
     scratch: &mut Vec<NodeScratch>,
+    left_window: &mut bool,
 ) -> (Vec3, Vec3, Vec3) {
     let (xb, rb, vb, wb) = (&bb.pos, &bb.rot_mat, &bb.vel, &bb.angvel);
     let (xa, ra, va, wa) = (&a.pos, &a.rot_mat, &a.vel, &a.angvel);
@@ -55,6 +58,9 @@ pub(crate) fn contact_forces<const PAIR: bool>(
         let gaps = [s0.gap, s1.gap, s2.gap];
         if gaps[0] >= 0.0 && gaps[1] >= 0.0 && gaps[2] >= 0.0 && !s.state.bonded && s.state.normal == 0.0 {
             continue; // open everywhere, no history: no force
+        }
+        if -gaps[0].min(gaps[1]).min(gaps[2]) > s.window_cap_m {
+            *left_window = true;
         }
         let (x0, x1, x2) = (s0.x, s1.x, s2.x);
         let xc = (x0 + x1 + x2) * (1.0 / 3.0);

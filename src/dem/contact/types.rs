@@ -23,6 +23,28 @@ pub struct SubContact {
     pub area: f64,
     /// Joint history.
     pub state: SubContactState,
+    /// The time step's window of the closure law ([`crate::closure::ClosureLaw::tangent_window`]):
+    /// the closure up to which `window_kn` bounds the tangent, m. Infinite for a law
+    /// without windows (its bound holds everywhere); `−∞` until the first update of the
+    /// step, so that a node closing ahead of it asks for one.
+    pub window_cap_m: f64,
+    /// The normal tangent bound within the window, Pa/m (the law's bound for a law
+    /// without windows): the stiffness the time step takes for this sub-contact.
+    pub window_kn: f64,
+}
+
+impl SubContact {
+    /// A sub-contact of the joint `joint` at rest, its window not yet taken.
+    pub fn new(nodes: [u32; 3], area: f64, joint: &JointParams, bonded: bool) -> SubContact {
+        let windowed = joint.closure.is_windowed();
+        SubContact {
+            nodes,
+            area,
+            state: SubContactState::new(bonded),
+            window_cap_m: if windowed { f64::NEG_INFINITY } else { f64::INFINITY },
+            window_kn: joint.kn_bound(),
+        }
+    }
 }
 
 /// A contact between body A (or the table) and body B.

@@ -6,7 +6,9 @@
 //! * a uniform closure `u` over a sub-contact of area `A` gives `Fn = q(u) A` along `n`,
 //!   applied at the centroid;
 //! * the normal force never falls as the closure grows, with a tangent stiffness never above the
-//!   law's [`super::JointParams::kn_bound`] (the time step depends on it);
+//!   law's [`super::JointParams::kn_bound`] (the time step depends on it), nor, within a
+//!   tangent window ([`crate::closure::ClosureLaw::tangent_window`]), above the window's
+//!   bound, which never exceeds the law's;
 //! * the stored normal energy is the work of the normal force (`dE/du = Fn`);
 //! * the shear force opposes the motion, never exceeds `c A + Fn tan φ`, and reaches slip.
 
@@ -41,6 +43,27 @@ pub fn representative_laws() -> Vec<JointParams> {
     laws.iter().map(|&c| base.with_closure(c)).collect()
 }
 
+/// A tangent window taken at the closure `u0` (m) bounds the law's tangent from any
+/// closure up to `u0` to the window's cap (sampled, with the cap far out read as the
+/// contract's range `[u0, 20 scale]`), and its bound is never above the law's.
+fn check_windows_cover(p: &JointParams, u0: f64, scale: f64) {
+    let np = p.normal();
+    let Some((cap, k)) = p.closure.tangent_window(p.kn, u0) else {
+        return;
+    };
+    assert!(cap > u0.max(0.0), "{p:?}: the window at {u0:e} m ends at {cap:e} m, not past it");
+    assert!(k <= p.kn_bound() * (1.0 + 1e-12), "{p:?}: the window's bound {k:e} above the law's");
+    let hi = cap.min(u0.max(0.0) + 20.0 * scale);
+    for j in 0..=50 {
+        let u = u0.min(0.0) + (hi - u0.min(0.0)) * j as f64 / 50.0;
+        assert!(
+            np.tangent(u) <= k * (1.0 + 1e-9),
+            "{p:?}: the window taken at {u0:e} m bounds the tangent by {k:e} Pa/m, but it is {:e} at {u:e} m",
+            np.tangent(u)
+        );
+    }
+}
+
 /// Checks the contract on `p` with both quadratures; panics naming the property violated.
 /// `scale` is a closure (m) of the order the law is meant for (e.g. 1e-4).
 pub fn check_contact_law(p: &JointParams, scale: f64) {
@@ -70,6 +93,7 @@ pub fn check_contact_law(p: &JointParams, scale: f64) {
             let q0 = np.pressure(u - h);
             let tangent = (q1 - q0) / (2.0 * h);
             assert!(tangent <= p.kn_bound() * (1.0 + 1e-6), "{p:?}: tangent {tangent:e} above the bound at {u:e} m");
+            check_windows_cover(p, u, scale);
             if quad == Quadrature::Exact {
                 let e1 = normal_energy(p, [-(u + h); 3], AREA);
                 let e0 = normal_energy(p, [-(u - h); 3], AREA);
