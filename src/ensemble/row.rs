@@ -26,6 +26,11 @@ pub enum Status {
     BlewUp,
     /// The layout could not be generated or did not pass the layout checks.
     LayoutFailed,
+    /// The protocol refused the realization's parameters for its wall before running it (a
+    /// parameter out of range once the wall's dimensions are known, such as a shear span
+    /// below its top or a stress that closes its joints past the contacts' reach, or a
+    /// wall the rig cannot be laid on), with the refusal in the row's error.
+    Refused,
 }
 
 impl Status {
@@ -37,14 +42,33 @@ impl Status {
             Status::NoInitialEquilibrium => "no_initial_equilibrium",
             Status::BlewUp => "blew_up",
             Status::LayoutFailed => "layout_failed",
+            Status::Refused => "refused",
         }
     }
 
     /// Parses [`Status::as_str`].
     pub fn parse(s: &str) -> Option<Status> {
-        [Status::Collapsed, Status::Stood, Status::NoInitialEquilibrium, Status::BlewUp, Status::LayoutFailed]
-            .into_iter()
-            .find(|v| v.as_str() == s)
+        [
+            Status::Collapsed,
+            Status::Stood,
+            Status::NoInitialEquilibrium,
+            Status::BlewUp,
+            Status::LayoutFailed,
+            Status::Refused,
+        ]
+        .into_iter()
+        .find(|v| v.as_str() == s)
+    }
+
+    /// The status of a run that ended in an error: `no_initial_equilibrium` if the layout did
+    /// not stand as given, `refused` if the protocol refused its parameters for the wall
+    /// before running, else `blew_up`.
+    pub fn of_failure(does_not_stand: bool, refused: bool) -> Status {
+        match (does_not_stand, refused) {
+            (true, _) => Status::NoInitialEquilibrium,
+            (false, true) => Status::Refused,
+            (false, false) => Status::BlewUp,
+        }
     }
 
     /// A result usable in the statistics.

@@ -215,6 +215,20 @@ pub enum CompressionError {
 }
 
 impl CompressionError {
+    /// Whether the test refused its parameters for the wall before running (every error
+    /// but the wall not standing, which [`CompressionError::does_not_stand`] tells, and
+    /// the engine's blow-up).
+    pub fn is_refusal(&self) -> bool {
+        match self {
+            CompressionError::Parameter(_)
+            | CompressionError::Solver(_)
+            | CompressionError::RigTerms(_)
+            | CompressionError::Closure { .. } => true,
+            CompressionError::Rig(e) => e.is_refusal(),
+            CompressionError::Dem(_) => false,
+        }
+    }
+
     /// Whether the layout did not stand as given (under gravity, or under the first
     /// loading).
     pub fn does_not_stand(&self) -> bool {

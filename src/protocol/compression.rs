@@ -79,4 +79,9 @@ impl RunOutcome for CompressionRun {
             CompressionRun::Penalty(r) => r.as_ref().err().is_some_and(CompressionError::does_not_stand),
         }
     }
+    fn refused(&self) -> bool {
+        match self {
+            CompressionRun::Penalty(r) => r.as_ref().err().is_some_and(CompressionError::is_refusal),
+        }
+    }
 }

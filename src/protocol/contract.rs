@@ -222,6 +222,14 @@ pub trait RunOutcome {
     /// Whether the run ended because the layout did not stand as given under gravity alone
     /// (as opposed to a blow-up or a bad parameter).
     fn does_not_stand(&self) -> bool;
+    /// Whether the run ended because the protocol refused its parameters for this layout
+    /// before running it (a value out of range once the wall's dimensions are known, a wall
+    /// the rig cannot be laid on, a stiffness or drift past the method's reach), as
+    /// opposed to a blow-up. `false` by default: the protocols whose parameters are all
+    /// checked before a layout exists.
+    fn refused(&self) -> bool {
+        false
+    }
     /// What limit analysis gave, for a run by limit analysis (the collapse load multiplier
     /// of the protocol's live load, `drystone limit`); `None` for a run by another method
     /// (the default).

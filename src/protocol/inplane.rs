@@ -152,6 +152,12 @@ impl RunOutcome for InPlaneRun {
                 | InPlaneRun::Limit(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
         )
     }
+    fn refused(&self) -> bool {
+        match self {
+            InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => e.is_refusal(),
+            InPlaneRun::Penalty(Ok(_)) | InPlaneRun::Nscd(Ok(_)) | InPlaneRun::Limit(Ok(_)) => false,
+        }
+    }
 }
 
 impl Observed {

@@ -332,6 +332,12 @@ macro_rules! registry {
                     ProtocolRun::Unsupported(_) => false,
                 }
             }
+            fn refused(&self) -> bool {
+                match self {
+                    $($(ProtocolRun::$variant(r) => r.refused(),)+)+
+                    ProtocolRun::Unsupported(_) => true,
+                }
+            }
             fn limit(&self) -> Option<&Result<crate::limit::LimitResult, crate::limit::LimitError>> {
                 match self {
                     $($(ProtocolRun::$variant(r) => r.limit(),)+)+

@@ -31,12 +31,12 @@ pub use super::inplane_measured::{
 /// A realization's row (`row`: its identification and block count) filled with what the
 /// in-plane test gave (`run`, on `layout` with `params`, by `solver`), and limit analysis's
 /// peak and mechanism of the same layout beside it: status `stood` with the readings, or
-/// the run's error (`no_initial_equilibrium` if the wall did not stand as built,
-/// `does_not_stand`, else `blew_up`) with the readings it has.
+/// the run's error with the status `failure` ([`Status::of_failure`]) and the readings it
+/// has.
 pub(super) fn in_plane_row(
     mut row: RealizationRow,
     run: InPlaneRun,
-    does_not_stand: bool,
+    failure: Status,
     layout: &Layout,
     params: &InPlaneParams,
     solver: SolverParams,
@@ -53,7 +53,7 @@ pub(super) fn in_plane_row(
     match error {
         None => row.status = Status::Stood,
         Some(e) => {
-            row.status = if does_not_stand { Status::NoInitialEquilibrium } else { Status::BlewUp };
+            row.status = failure;
             row.error = e;
         }
     }
@@ -133,12 +133,14 @@ struct CsvRow<'a> {
 /// The columns of `realizations.csv` of an in-plane study, in their order, each with its
 /// cell: the one list the header and the rows follow (a test checks that every field of
 /// [`InPlaneColumns`] but the curve is one of them). `index` is the realization's seed
-/// index (`g · 10000 + i`), `status` `ok` for a run that gave its readings, else `error`.
+/// index (`g · 10000 + i`), `status` `ok` for a run that gave its readings, else the
+/// row's status (`no_initial_equilibrium`, `refused` or `blew_up`,
+/// [`crate::ensemble::row::Status`]) with the message in `error`.
 const ROW_COLUMNS: &[(&str, fn(&CsvRow) -> String)] = &[
     ("group", |r| format!("\"{}\"", r.row.group)),
     ("realization", |r| r.row.realization.to_string()),
     ("index", |r| r.seed_index.to_string()),
-    ("status", |r| if r.row.status.is_ok() { "ok" } else { "error" }.to_string()),
+    ("status", |r| if r.row.status.is_ok() { "ok" } else { r.row.status.as_str() }.to_string()),
     ("peak_pos_kn", |r| r.p.peak_pos_kn.to_string()),
     ("drift_at_peak_pos_pct", |r| r.p.drift_at_peak_pos_pct.to_string()),
     ("ultimate_drift_pos_pct", |r| r.p.ultimate_drift_pos_pct.to_string()),

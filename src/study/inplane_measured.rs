@@ -250,6 +250,20 @@ pub fn read_specimens(path: &Path, envelopes: Option<&Path>) -> Result<Vec<Speci
         }
         seen.push((s.unit.clone(), i + 1));
         s.measuring_height_mm = if hlvdt.is_finite() { hlvdt } else { s.shear_span_mm };
+        // The ultimate drift is read on the envelope's falling branch past the peak (the
+        // database's rule: the drift where the force has dropped by 20 % past the peak, or the
+        // largest drift tested): never before the peak.
+        for (du, dmax, du_col, dmax_col) in [
+            (s.du_pos_pct, s.dmax_pos_pct, "du_pos_pct", "dmax_pos_pct"),
+            (s.du_neg_pct, s.dmax_neg_pct, "du_neg_pct", "dmax_neg_pct"),
+        ] {
+            if du < dmax {
+                return Err(err(format!(
+                    "line {}: column {du_col}: the ultimate drift {du} % is below the drift at the peak ({dmax_col} {dmax} %): the ultimate drift is read past the peak",
+                    i + 1
+                )));
+            }
+        }
         if s.epc_mpa.is_finite() && !s.sigma0_mpa.is_finite() {
             return Err(err(format!(
                 "line {}: column Epc_MPa: a vertical modulus without the stress it was read at (sigma0_applied_MPa is empty)",

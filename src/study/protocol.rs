@@ -33,7 +33,7 @@ use super::spec::{ProtocolKind, StudySpec};
 use super::summary::{CellSummary, Comparison};
 use super::sweep::{SweepKey, SweepValue};
 use super::{Study, StudyError};
-use crate::ensemble::row::RealizationRow;
+use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::Item;
 use crate::ground::Motion;
 use crate::io::series::SeriesError;
@@ -212,7 +212,7 @@ impl StudyProtocol {
         row: RealizationRow,
         run: ProtocolRun,
     ) -> RealizationRow {
-        let does_not_stand = run.does_not_stand();
+        let failure = Status::of_failure(run.does_not_stand(), run.refused());
         let error = run.error().unwrap_or_default();
         match run {
             ProtocolRun::Tilt(TiltRun::Penalty(Ok(t)) | TiltRun::Nscd(Ok(t))) | ProtocolRun::TiltByHand(Ok(t)) => {
@@ -229,8 +229,8 @@ impl StudyProtocol {
             ProtocolRun::Compression(CompressionRun::Penalty(Ok(r))) => compression_row(row, r),
             ProtocolRun::Shake(Ok(r)) => shake_row(row, r, study.sweep_number(item.point, SweepKey::PgaG)),
             ProtocolRun::InPlane(r) => match self.in_plane() {
-                Some(test) => in_plane_row(row, r, does_not_stand, layout, &test.params_of(item.group), study.solver),
-                None => failed_row(row, false, &"an in-plane run of a study of another protocol"),
+                Some(test) => in_plane_row(row, r, failure, layout, &test.params_of(item.group), study.solver),
+                None => failed_row(row, Status::BlewUp, &"an in-plane run of a study of another protocol"),
             },
             ProtocolRun::Tilt(TiltRun::Penalty(Err(_)) | TiltRun::Nscd(Err(_)) | TiltRun::Limit(Err(_)))
             | ProtocolRun::TiltByHand(Err(_))
@@ -240,7 +240,7 @@ impl StudyProtocol {
             )
             | ProtocolRun::Shake(Err(_))
             | ProtocolRun::Compression(CompressionRun::Penalty(Err(_)))
-            | ProtocolRun::Unsupported(_) => failed_row(row, does_not_stand, &error),
+            | ProtocolRun::Unsupported(_) => failed_row(row, failure, &error),
         }
     }
 

@@ -304,10 +304,11 @@ fn mechanism_columns(c: &mut CollapseColumns, m: &Mechanism) {
     }
 }
 
-/// The row of a protocol that failed: the layout did not stand as given (`does_not_stand`)
-/// or the run blew up, with the message.
-pub(super) fn failed_row(mut row: RealizationRow, does_not_stand: bool, e: &dyn std::fmt::Display) -> RealizationRow {
-    row.status = if does_not_stand { Status::NoInitialEquilibrium } else { Status::BlewUp };
+/// The row of a protocol that failed, its status `status` ([`Status::of_failure`]: the
+/// layout did not stand as given, the protocol refused its parameters, or the run blew up),
+/// with the message.
+pub(super) fn failed_row(mut row: RealizationRow, status: Status, e: &dyn std::fmt::Display) -> RealizationRow {
+    row.status = status;
     row.error = e.to_string();
     row
 }

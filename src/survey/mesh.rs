@@ -291,8 +291,9 @@ fn read_obj(file: &Path, text: &str, stem: &str) -> Result<Vec<Mesh>, SurveyErro
             (_, false) => format!("{stem}.{}", meshes.len()),
             (_, true) => stem.to_string(),
         };
+        // The file's name is the error's own; the element names the object in it.
         let element = match &name {
-            Some(nm) => format!("{file_name}, object {nm:?} at line {line}"),
+            Some(nm) => format!("object {nm:?} at line {line}"),
             None => file_name.clone(),
         };
         let mut triangles = Vec::new();

@@ -99,8 +99,9 @@ pub enum SurveyError {
         /// What is wrong.
         reason: String,
     },
-    /// One element, feature, object or line of the file is wrong.
-    #[error("{}: {element}: {reason}", path.display())]
+    /// One element, feature, object or line of the file is wrong. A file of one mesh is
+    /// its own element: its name is not given twice.
+    #[error("{}{}: {reason}", path.display(), element_in(path, element))]
     Element {
         /// The file.
         path: PathBuf,
@@ -340,6 +341,15 @@ pub struct ImportOptions {
     /// Scanned stones: keep every stone's full hull, whatever its number of vertices.
     /// Default false.
     pub full_hull: bool,
+}
+
+/// `": element"`, or nothing where the element is the file itself (a file of one mesh).
+fn element_in(path: &Path, element: &str) -> String {
+    if path.file_name().is_some_and(|f| f.to_string_lossy() == element) {
+        String::new()
+    } else {
+        format!(": {element}")
+    }
 }
 
 /// The default vertex budget of a scanned stone's hull ([`ImportOptions::max_hull_vertices`]).

@@ -1174,6 +1174,7 @@ fn the_specimens_table_refuses_cut_rows_repeated_units_and_impossible_numbers() 
         (with_cell("sigma0_applied_MPa", "nan"), vec!["line 13", "column sigma0_applied_MPa", "\"nan\""]),
         (with_cell("HLVDT_mm", "0"), vec!["line 13", "column HLVDT_mm", "0 is not a height"]),
         (with_cell("H_mm", "-1200"), vec!["line 13", "column H_mm", "\"-1200\""]),
+        (with_cell("du_pos_pct", "0.5"), vec!["line 13", "column du_pos_pct", "below the drift at the peak"]),
     ];
     for (text, parts) in cases {
         let e = read(&text).unwrap_err().to_string();

@@ -244,6 +244,25 @@ fn two_shards_merged_equal_the_whole() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A parameter that only the wall's dimensions refuse (a shear span below the wall's top)
+/// is a row of status `refused` with the refusal in its error column, not a blow-up; the
+/// study goes on and writes every row.
+#[test]
+fn a_parameter_the_wall_refuses_is_a_refused_row_not_a_blow_up() {
+    let dir = folder("refused");
+    let text = study_text("", "").replace("shear_span_m = 0.35\n", "shear_span_m = 0.1\n");
+    let p = write(&dir, "low.toml", &text);
+    let run = run_study_file(&p, &dir.join("r")).unwrap();
+    assert_eq!(run.rows.len(), 5);
+    for r in &run.rows {
+        assert_eq!(r.status, drystone::ensemble::row::Status::Refused, "{r:?}");
+        assert!(r.error.contains("in_plane.shear_span_m = 0.1 m is below the wall's height"), "{}", r.error);
+    }
+    let table = std::fs::read_to_string(dir.join("r/realizations.csv")).unwrap();
+    assert_eq!(table.matches(",refused,").count(), 5, "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A study whose beam is held level (`beam_rotation = "fixed"`, double curvature) has no
 /// shear span: its report says so rather than printing one.
 #[test]

@@ -163,6 +163,8 @@ fn the_vertex_budget_simplifies_a_large_hull_and_reports_the_volume_it_leaves_ou
     for part in ["sphere.obj", "stone sphere", "budget of 100", "--max-hull-vertices", "--full-hull", "1.000 %"] {
         assert!(text.contains(part), "{part}: {text}");
     }
+    // A file of one mesh is its own element: its name once.
+    assert_eq!(text.matches("sphere.obj").count(), 1, "{text}");
     let lost: f64 = text.split("leaves out ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
     assert!(lost > 100.0 * HULL_VOLUME_TOLERANCE && lost < 100.0 * 2.0 * 3f64.sqrt() * PI / 100.0, "{lost}");
     // The budget is for meshes, at least 4, and not with --full-hull.

@@ -193,6 +193,34 @@ pub enum InPlaneError {
     Unsupported(String),
 }
 
+impl InPlaneError {
+    /// Whether the test refused its parameters for the wall before running it: a value out
+    /// of range once the wall is known, a wall the beam cannot be laid on, joints or a
+    /// drift past the method's reach, a form of the test the method does not run. Not the
+    /// wall failing to stand (`DoesNotStand`, `UnderVerticalForce`) nor a solver's
+    /// blow-up (`Dem`, `Nscd`, `Beam`).
+    pub fn is_refusal(&self) -> bool {
+        match self {
+            InPlaneError::Parameter(_)
+            | InPlaneError::Solver(_)
+            | InPlaneError::MeasuringPoint { .. }
+            | InPlaneError::ShearSpan { .. }
+            | InPlaneError::TooHigh { .. }
+            | InPlaneError::TopAlone { .. }
+            | InPlaneError::NotLevel { .. }
+            | InPlaneError::CyclicSlipRange { .. }
+            | InPlaneError::JointClosure { .. }
+            | InPlaneError::DriftReach { .. }
+            | InPlaneError::Unsupported(_) => true,
+            InPlaneError::DoesNotStand(_)
+            | InPlaneError::UnderVerticalForce { .. }
+            | InPlaneError::Dem(_)
+            | InPlaneError::Nscd(_)
+            | InPlaneError::Beam(_) => false,
+        }
+    }
+}
+
 /// The least elastic slip range `tan φ σ0 / Ks` of a joint that a cyclic history by the
 /// penalty DEM accepts, m (20 µm). Below it the path's own errors within an increment (the
 /// predictor's mismatch, the relaxation's swing, out of plane and in torsion) exceed the
