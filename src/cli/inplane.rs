@@ -139,10 +139,11 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
 /// # Errors
 /// The first such option given, by name.
 fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
-    use drystone::dem::Method::{Limit, Nscd, Penalty};
+    use drystone::dem::Method::{Nscd, Penalty};
     let kind = a.solver.solver;
-    if a.cyclic && kind.method() == Limit {
-        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    let method = kind.method();
+    if a.cyclic && !method.draws_curves() {
+        bail!("--cyclic is not read by {} (the collapse load of the first direction, no history): drop it, or choose another --solver", method.describe());
     }
     for (flag, given, readers, what) in [
         ("--drift-pct", a.drift_pct.is_some(), &[Penalty, Nscd][..], "the path's largest drift"),
@@ -241,11 +242,13 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
     }
-    if cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--reversals-pct and --replay give a cyclic history, which limit analysis does not read (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    // A method that draws no path (limit analysis) reads no history and writes no curve.
+    let method = a.solver.solver.method();
+    if cyclic && !method.draws_curves() {
+        bail!("--reversals-pct and --replay give a cyclic history, which {} does not read (the collapse load of the first direction, no history): drop it, or choose another --solver", method.describe());
     }
-    if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
+    if a.curve.is_some() && !method.draws_curves() {
+        bail!("--curve writes the penalty DEM's force-displacement curve; {} has none", method.describe());
     }
     let l = super::read_layout(&a.layout)?;
     let kind = a.solver.solver;

@@ -189,6 +189,14 @@ macro_rules! registry {
                 }
             }
 
+            /// Whether it loads the wall in its own plane and does not read the effects
+            /// across it ([`LoadingProtocol::LOADS_IN_PLANE`]).
+            pub fn loads_in_plane(self) -> bool {
+                match self {
+                    $($(Loading::$variant => <$ty as LoadingProtocol>::LOADS_IN_PLANE,)+)+
+                }
+            }
+
             /// The key of its kind's table that chooses it within its kind, and its value
             /// ([`LoadingProtocol::CHOSEN_BY`]); `None` for the first of its kind.
             pub fn chosen_by(self) -> Option<ChosenBy> {
