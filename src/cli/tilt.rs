@@ -122,7 +122,7 @@ impl HandArgs {
         if let Err(e) = refused {
             // The default kind (`penalty`) is also what no --solver gives: the message does
             // not say the user named it.
-            if kind == drystone::dem::SolverKind::default() {
+            if kind.is_default() {
                 bail!(
                     "--by-hand: the table rolled by hand runs by non-smooth contact dynamics only: give it with \
                      --solver nscd (tilt's solver is the penalty DEM unless --solver names another)"

@@ -211,6 +211,13 @@ impl SolverKind {
         }
     }
 
+    /// Whether it is the kind that a study file without `[solver] kind` and a command without
+    /// `--solver` give (its `Default`, `penalty`; a protocol may state its own default,
+    /// `protocol::LoadingProtocol::DEFAULT_SOLVER`).
+    pub fn is_default(self) -> bool {
+        self == SolverKind::default()
+    }
+
     /// Whether it names the semi-smooth Newton solve of each increment first, whatever the
     /// protocol's default cascade (`newton`): its own cascade's choice
     /// ([`SolverKind::cascade`] over a default without it).

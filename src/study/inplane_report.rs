@@ -426,4 +426,8 @@ impl ProtocolTable for InPlaneStudy {
     fn warnings(&self) -> Vec<String> {
         vec![]
     }
+
+    fn in_plane(&self) -> Option<&InPlaneStudy> {
+        Some(self)
+    }
 }

@@ -290,24 +290,12 @@ impl StudyProtocol {
 
     /// The tilting table's parameters, for a tilting-table study.
     pub fn tilt(&self) -> Option<&TiltParams> {
-        match self {
-            StudyProtocol::Tilt(t) => Some(t),
-            StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().tilt()
     }
 
     /// The shaking table's parameters, motions and levels, for a shaking study.
     pub fn shake(&self) -> Option<&ShakeStudy> {
-        match self {
-            StudyProtocol::Shake(s) => Some(s),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().shake()
     }
 
     /// The protocol of group `group` where the groups' protocols differ (the in-plane test:
@@ -330,13 +318,7 @@ impl StudyProtocol {
 
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
     pub fn in_plane(&self) -> Option<&InPlaneStudy> {
-        match self {
-            StudyProtocol::InPlane(p) => Some(p),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().in_plane()
     }
 }
 

@@ -4,17 +4,22 @@
 //! the in-plane test's groups and specimens, `study/inplane.rs`; the compression test's
 //! stresses, `study/compression.rs`) answers for itself, and
 //! [`super::StudyProtocol::table`] is the one match that hands a study's table over.
-//! A method has no default: a new kind's table states every answer (the compiler asks for
+//! A method has no default, but the accessors of the tables only one kind has
+//! ([`ProtocolTable::tilt`], [`ProtocolTable::shake`], [`ProtocolTable::in_plane`], `None`
+//! unless the kind's own): a new kind's table states every answer (the compiler asks for
 //! each).
 
 use super::report_error::ReportError;
 use super::spec::StudySpec;
 use super::summary::{CellSummary, Comparison};
 use super::sweep::{SweepKey, SweepValue};
+use super::inplane_spec::InPlaneStudy;
+use super::motions::ShakeStudy;
 use super::Study;
 use crate::ensemble::row::RealizationRow;
 use crate::io::series::SeriesError;
 use crate::layout::Layout;
+use crate::loading::tilt::TiltParams;
 use crate::protocol::Protocol;
 use std::path::{Path, PathBuf};
 
@@ -75,4 +80,21 @@ pub trait ProtocolTable {
     /// What the study warns of before it runs and in its report (a shaking study's motions
     /// that cannot reach its levels); empty for none.
     fn warnings(&self) -> Vec<String>;
+
+    /// The tilting table's parameters, for a tilting-table study (`None` for another).
+    fn tilt(&self) -> Option<&TiltParams> {
+        None
+    }
+
+    /// The shaking table's parameters, motions and levels, for a shaking study (`None` for
+    /// another).
+    fn shake(&self) -> Option<&ShakeStudy> {
+        None
+    }
+
+    /// The in-plane test's parameters, groups and measured specimens, for an in-plane study
+    /// (`None` for another).
+    fn in_plane(&self) -> Option<&InPlaneStudy> {
+        None
+    }
 }

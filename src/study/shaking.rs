@@ -446,4 +446,8 @@ impl ProtocolTable for ShakeStudy {
     fn warnings(&self) -> Vec<String> {
         ShakeStudy::warnings(self)
     }
+
+    fn shake(&self) -> Option<&ShakeStudy> {
+        Some(self)
+    }
 }

@@ -62,6 +62,10 @@ impl ProtocolTable for TiltParams {
     fn warnings(&self) -> Vec<String> {
         vec![]
     }
+
+    fn tilt(&self) -> Option<&TiltParams> {
+        Some(self)
+    }
 }
 
 impl ProtocolTable for LateralParams {
