@@ -81,7 +81,8 @@ pub fn run(
     // table: nscd, the rigid pushover) runs the pushover without --pushover too, a spelling
     // kept working with a note.
     let method = solver.kind.method();
-    let (chosen, pushed) = (Protocol::lateral(params).loading(), Protocol::lateral(LateralParams { pushover: true, ..params }).loading());
+    let (chosen, pushed) =
+        (Protocol::lateral(params).loading(), Protocol::lateral(LateralParams { pushover: true, ..params }).loading());
     if !supports(chosen, method) && supports(pushed, method) {
         eprintln!(
             "note: `--solver {}` runs the rigid pushover; give it with --pushover (without it is deprecated)",

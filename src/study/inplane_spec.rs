@@ -197,8 +197,7 @@ impl StudySpec {
             // The keys of the groups its own kind reads (the compression test's vertical
             // stress) are not refused.
             let reads = self.declared().group_keys;
-            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g, reads).map(|k| (g, k)))
-            {
+            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g, reads).map(|k| (g, k))) {
                 return Err(only(format!("groups[{}].{k}", g.name)));
             }
             if let Some(k) = measured_in_plane {

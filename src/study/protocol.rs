@@ -555,6 +555,39 @@ mod tests {
             assert_eq!(k.analysis.measured_elsewhere.is_some(), in_plane, "{:?}", k.kind);
             assert_eq!(k.analysis.held.is_some(), in_plane, "{:?}", k.kind);
             assert_eq!(k.analysis.extends, !in_plane, "{:?}", k.kind);
+            assert!(std::ptr::eq(StudyKind::of(k.kind), k), "{:?}", k.kind);
+            // Each kind's table is named as the kind; only the shaking table steps motions.
+            assert_eq!(k.table, k.kind.name());
+            assert_eq!(k.ground_motions, k.kind == ProtocolKind::Shake, "{:?}", k.kind);
+            let sigma0 = k.group_keys.contains(&"sigma0_mpa");
+            assert_eq!(sigma0, per_group, "{:?}", k.kind);
+            assert_eq!(k.group_keys.contains(&"history"), in_plane, "{:?}", k.kind);
+            assert_eq!(k.group_keys.contains(&"specimens"), in_plane, "{:?}", k.kind);
         }
+    }
+
+    /// A study file of each kind, as written: its row of the compatibility table is its
+    /// kind's first, or the one its table chooses (`[tilt] by_hand`, `[lateral] pushover`);
+    /// its former keys are read from its own table only.
+    #[test]
+    fn each_kind_reads_its_row_and_former_keys_from_its_own_table() {
+        let file = |kind: &str, tables: &str| -> StudySpec {
+            toml::from_str(&format!(
+                "version = 1\nname = \"x\"\nseed = 1\nrealizations = 1\nprotocol = \"{kind}\"\n{tables}\n\
+                 [[groups]]\nname = \"g\"\nwall = \"w.toml\"\n"
+            ))
+            .unwrap()
+        };
+        for kind in ProtocolKind::ALL {
+            let spec = file(kind.name(), "");
+            assert_eq!(spec.loading(), kind.loadings()[0], "{kind}");
+            assert_eq!(spec.moved_keys(), (kind.name(), vec![]), "{kind}");
+            // The tilting table's former key is read by the tilting table alone.
+            let moved = file(kind.name(), "[tilt]\nmax_steps_per_increment = 100");
+            assert_eq!(moved.moved_keys().1.is_empty(), kind != ProtocolKind::Tilt, "{kind}");
+        }
+        assert_eq!(file("tilt", "[tilt.by_hand]").loading(), Loading::TiltByHand);
+        assert_eq!(file("lateral", "[lateral]\npushover = true").loading(), Loading::Pushover);
+        assert_eq!(file("shake", "[lateral]\npushover = true").loading(), Loading::Shake);
     }
 }

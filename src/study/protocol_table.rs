@@ -9,12 +9,12 @@
 //! unless the kind's own): a new kind's table states every answer (the compiler asks for
 //! each).
 
+use super::inplane_spec::InPlaneStudy;
+use super::motions::ShakeStudy;
 use super::report_error::ReportError;
 use super::spec::StudySpec;
 use super::summary::{CellSummary, Comparison};
 use super::sweep::{SweepKey, SweepValue};
-use super::inplane_spec::InPlaneStudy;
-use super::motions::ShakeStudy;
 use super::Study;
 use crate::ensemble::row::RealizationRow;
 use crate::io::series::SeriesError;

@@ -27,9 +27,9 @@ use crate::ground::Motion;
 use crate::io::plot::{self, IdaCurve, IntensityFragilityPanel};
 use crate::io::replace_file_with;
 use crate::io::series::SeriesError;
+use crate::io::table::{SimpleTable, TableColumn};
 use crate::layout::Layout;
 use crate::protocol::{Protocol, Shake};
-use crate::io::table::{SimpleTable, TableColumn};
 use crate::stats::fragility::{fragility_band, FragilityBand, IntensityFragility, LevelCount};
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -408,8 +408,12 @@ impl ProtocolTable for ShakeStudy {
         let value = |key: SweepKey| point.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
         let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
         let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
-        let motion =
-            self.motion(&name, pga).unwrap_or_else(|| Motion { name, dt_s: 0.0, horizontal_g: vec![], vertical_g: None });
+        let motion = self.motion(&name, pga).unwrap_or_else(|| Motion {
+            name,
+            dt_s: 0.0,
+            horizontal_g: vec![],
+            vertical_g: None,
+        });
         Protocol::Shake(Shake { params: self.params, motion: Box::new(motion) })
     }
 
