@@ -139,25 +139,24 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
 /// # Errors
 /// The first such option given, by name.
 fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
-    use drystone::dem::Method::{Nscd, Penalty};
+    use drystone::dem::Method;
     let kind = a.solver.solver;
     let method = kind.method();
     if a.cyclic && !method.draws_curves() {
         bail!("--cyclic is not read by {} (the collapse load of the first direction, no history): drop it, or choose another --solver", method.describe());
     }
+    // The methods that read each option, as they declare it: a path of states (the methods
+    // that draw curves), static solves to a tolerance (the penalty DEM's).
+    let path: Vec<Method> = Method::ALL.into_iter().filter(|m| m.draws_curves()).collect();
+    let statics: Vec<Method> = Method::ALL.into_iter().filter(|m| m.kind().is_penalty()).collect();
     for (flag, given, readers, what) in [
-        ("--drift-pct", a.drift_pct.is_some(), &[Penalty, Nscd][..], "the path's largest drift"),
-        ("--step-mm", a.step_mm.is_some(), &[Penalty, Nscd][..], "the path's increment"),
-        (
-            "--measuring-height-m",
-            a.measuring_height_m.is_some(),
-            &[Penalty, Nscd][..],
-            "where the curve's displacement is read",
-        ),
+        ("--drift-pct", a.drift_pct.is_some(), &path, "the path's largest drift"),
+        ("--step-mm", a.step_mm.is_some(), &path, "the path's increment"),
+        ("--measuring-height-m", a.measuring_height_m.is_some(), &path, "where the curve's displacement is read"),
         (
             "--tolerance",
             a.tolerance.is_some(),
-            &[Penalty][..],
+            &statics,
             "the equilibrium tolerance of the penalty DEM's static solves",
         ),
     ] {
