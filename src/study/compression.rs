@@ -222,7 +222,7 @@ pub(super) fn compression_sections(
 }
 
 /// The compression test's study: each group's vertical stress its own protocol, the
-/// ensemble's report with its section ([`compression_sections`]), no time series.
+/// ensemble's report with its section (`compression_sections`), no time series.
 impl ProtocolTable for CompressionStudy {
     fn write_into(&self, spec: &mut StudySpec) {
         spec.compression = Some(self.params.clone());

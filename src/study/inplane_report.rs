@@ -367,7 +367,7 @@ fn figures(
 }
 
 /// The in-plane test's study: each group's vertical stress and history its own protocol,
-/// its own report ([`report`]: statistics per observable, the comparison
+/// its own report (`report`: statistics per observable, the comparison
 /// with the measured specimens, its figures), no ensemble sections and no time series.
 impl ProtocolTable for InPlaneStudy {
     fn write_into(&self, spec: &mut StudySpec) {

@@ -350,7 +350,7 @@ pub struct StudyKind {
     /// How `drystone discrepancy` analyses its studies ([`StudyProtocol::analysis`]).
     pub analysis: AnalysisWay,
     /// Its parameters table in a study file (`tilt` for `[tilt]`): a study of another kind
-    /// refuses it, or warns that it is not read ([`StudySpec::reads_table`]).
+    /// refuses it, or warns that it is not read (`StudySpec::reads_table`).
     pub table: &'static str,
     /// The keys of its own it reads in a study file's groups (`[[groups]] sigma0_mpa`):
     /// a study of a kind that does not list one refuses it in a group.
@@ -360,7 +360,7 @@ pub struct StudyKind {
     /// `solver.nscd.dt_s`, at which its pulses are sampled whatever the method, are read.
     pub ground_motions: bool,
     /// The penalty settings its table writes under their former keys (deprecated;
-    /// [`crate::dem::MovedKey`]; [`StudySpec::moved_keys`]).
+    /// [`crate::dem::MovedKey`]; `StudySpec::moved_keys`).
     pub moved: fn(&StudySpec) -> Vec<crate::dem::MovedKey>,
     /// Its row of the compatibility table with the variant its table chooses
     /// (`tilt.by_hand`, `lateral.pushover`; [`StudySpec::loading`]).

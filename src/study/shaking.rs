@@ -392,7 +392,7 @@ fn write_tables(frag: &[GroupFragility], dir: &Path) -> Result<(), ReportError> 
 }
 
 /// The shaking table's study: its table's protocol at a sweep point (the point's motion
-/// scaled to its PGA level), the ensemble's report with its sections ([`shake_sections`])
+/// scaled to its PGA level), the ensemble's report with its sections (`shake_sections`)
 /// and the point's ParaView series; its warnings, the motions that cannot reach its levels.
 impl ProtocolTable for ShakeStudy {
     fn write_into(&self, spec: &mut StudySpec) {
