@@ -139,24 +139,24 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
 /// # Errors
 /// The first such option given, by name.
 fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
-    use drystone::dem::Method::{Limit, Nscd, Penalty};
+    use drystone::dem::Method;
     let kind = a.solver.solver;
-    if a.cyclic && kind.method() == Limit {
-        bail!("--cyclic is not read by limit analysis (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    let method = kind.method();
+    if a.cyclic && !method.draws_curves() {
+        bail!("--cyclic is not read by {} (the collapse load of the first direction, no history): drop it, or choose another --solver", method.describe());
     }
+    // The methods that read each option, as they declare it: a path of states (the methods
+    // that draw curves), static solves to a tolerance (the penalty DEM's).
+    let path: Vec<Method> = Method::ALL.into_iter().filter(|m| m.draws_curves()).collect();
+    let statics: Vec<Method> = Method::ALL.into_iter().filter(|m| m.kind().is_penalty()).collect();
     for (flag, given, readers, what) in [
-        ("--drift-pct", a.drift_pct.is_some(), &[Penalty, Nscd][..], "the path's largest drift"),
-        ("--step-mm", a.step_mm.is_some(), &[Penalty, Nscd][..], "the path's increment"),
-        (
-            "--measuring-height-m",
-            a.measuring_height_m.is_some(),
-            &[Penalty, Nscd][..],
-            "where the curve's displacement is read",
-        ),
+        ("--drift-pct", a.drift_pct.is_some(), &path, "the path's largest drift"),
+        ("--step-mm", a.step_mm.is_some(), &path, "the path's increment"),
+        ("--measuring-height-m", a.measuring_height_m.is_some(), &path, "where the curve's displacement is read"),
         (
             "--tolerance",
             a.tolerance.is_some(),
-            &[Penalty][..],
+            &statics,
             "the equilibrium tolerance of the penalty DEM's static solves",
         ),
     ] {
@@ -241,11 +241,13 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
     for p in [&a.curve, &a.svg].into_iter().flatten() {
         super::check_writable(p)?;
     }
-    if cyclic && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--reversals-pct and --replay give a cyclic history, which limit analysis does not read (the collapse load of the first direction, no history): drop it, or choose another --solver");
+    // A method that draws no path (limit analysis) reads no history and writes no curve.
+    let method = a.solver.solver.method();
+    if cyclic && !method.draws_curves() {
+        bail!("--reversals-pct and --replay give a cyclic history, which {} does not read (the collapse load of the first direction, no history): drop it, or choose another --solver", method.describe());
     }
-    if a.curve.is_some() && a.solver.solver.method() == drystone::dem::Method::Limit {
-        bail!("--curve writes the penalty DEM's force-displacement curve; limit analysis has none");
+    if a.curve.is_some() && !method.draws_curves() {
+        bail!("--curve writes the penalty DEM's force-displacement curve; {} has none", method.describe());
     }
     let l = super::read_layout(&a.layout)?;
     let kind = a.solver.solver;

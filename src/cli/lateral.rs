@@ -8,7 +8,7 @@ use drystone::limit::LimitParams;
 use drystone::loading::lateral::{LateralError, LateralParams, LateralResult};
 use drystone::loading::lateral_nscd::LateralLimit;
 use drystone::loading::lateral_pushover::LateralPushover;
-use drystone::protocol::{supports, Lateral, LateralRun, Loading, Observer, Pushover, PushoverRun, Unsupported};
+use drystone::protocol::{supports, Lateral, LateralRun, Observer, Protocol, Pushover, PushoverRun, Unsupported};
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -81,7 +81,9 @@ pub fn run(
     // table: nscd, the rigid pushover) runs the pushover without --pushover too, a spelling
     // kept working with a note.
     let method = solver.kind.method();
-    if !params.pushover && !supports(Loading::Lateral, method) && supports(Loading::Pushover, method) {
+    let (chosen, pushed) =
+        (Protocol::lateral(params).loading(), Protocol::lateral(LateralParams { pushover: true, ..params }).loading());
+    if !supports(chosen, method) && supports(pushed, method) {
         eprintln!(
             "note: `--solver {}` runs the rigid pushover; give it with --pushover (without it is deprecated)",
             solver.kind.name()

@@ -97,7 +97,7 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     let (nscd_e, contact_e) = restitutions(a.solver, a.restitution);
     let base = NscdParams { dt_s: a.dt_s, restitution: nscd_e, ..NscdParams::default() };
     let nscd = a.nscd.params_for(a.solver, base)?;
-    if a.solver == SolverKind::Nscd {
+    if a.solver.method().solves_steps_to_a_tolerance() {
         for (key, why) in nscd.motion_cost_warnings() {
             eprintln!("warning: --nscd-{} {why}", key.replace('_', "-"));
         }
@@ -109,7 +109,9 @@ pub fn command(a: ShakeArgs) -> Result<ExitCode> {
     if let Some(w) = duration_warning(&motion, a.duration_s) {
         eprintln!("warning: {w}");
     }
-    if from_record && a.solver.method() == drystone::dem::Method::Nscd && a.dt_s > motion.dt_s * (1.0 + 1e-9) {
+    // A method of a fixed step (nscd's) receives the record's mean over each step.
+    let fixed_step = drystone::protocol::shake::step_rule(&solver).and_then(|r| r.fixed_dt_s);
+    if from_record && fixed_step.is_some_and(|dt| dt > motion.dt_s * (1.0 + 1e-9)) {
         eprintln!(
             "warning: the solver's step --dt-s {} s is coarser than the record's sampling {} s: each step receives the \
              record's mean over it (its impulse), and a peak shorter than the step is spread over the step",

@@ -117,10 +117,12 @@ impl HandArgs {
             }
             return Ok(None);
         }
-        if let Err(e) = drystone::protocol::check(Loading::TiltByHand, kind) {
-            // `penalty` is also what no --solver gives: the message does not say the user
-            // named it.
-            if kind == drystone::dem::SolverKind::Penalty {
+        // The compatibility table's row of the hand-rolled table.
+        let refused = drystone::protocol::check(Loading::TiltByHand, kind);
+        if let Err(e) = refused {
+            // The default kind (`penalty`) is also what no --solver gives: the message does
+            // not say the user named it.
+            if kind.is_default() {
                 bail!(
                     "--by-hand: the table rolled by hand runs by non-smooth contact dynamics only: give it with \
                      --solver nscd (tilt's solver is the penalty DEM unless --solver names another)"
@@ -269,10 +271,10 @@ pub fn run(
     // The one choice of a method: the protocol seam.
     let run = drystone::protocol::run(&Tilt(*params), &l, solver, observer)
         .map_err(|e| anyhow::anyhow!("{e}; on the command line: --solver NAME"))?;
-    let r = match run {
-        TiltRun::Penalty(r) | TiltRun::Nscd(r) => {
-            r.with_context(|| format!("tilting-table test of {}", layout.display()))?
-        }
+    // Whether the run was nscd's (rigid joints: its work is time steps and sweeps).
+    let (r, rigid) = match run {
+        TiltRun::Penalty(r) => (r.with_context(|| format!("tilting-table test of {}", layout.display()))?, false),
+        TiltRun::Nscd(r) => (r.with_context(|| format!("tilting-table test of {}", layout.display()))?, true),
         TiltRun::Limit(r) => {
             if vtk.is_some() {
                 bail!("--vtk draws the states of a DEM run; limit analysis has none (its mechanism: `drystone limit LAYOUT.json --svg FILE`)");
@@ -287,20 +289,21 @@ pub fn run(
         write_series(dir, "unstable_trials", &rec, &others)?;
         eprintln!("ParaView series: {} ({} states)", pvd.display(), series.len());
     }
+    let newton = solver.kind.runs_newton();
     if json {
         // The result with its collapse angle α_max (the last stable tilt) as a key of its own.
         let mut v = serde_json::to_value(&r)?;
         if let Some(o) = v.as_object_mut() {
             o.insert("collapse_angle_deg".into(), r.collapse_angle_deg().into());
-            if solver.kind == drystone::dem::SolverKind::Newton {
+            if newton {
                 let handed = r.increments.iter().filter(|i| i.newton_handed_over).count();
                 o.insert("newton_handed_over".into(), handed.into());
             }
         }
         out!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print(layout, &r, solver.kind.method() == drystone::dem::Method::Nscd);
-        if solver.kind == drystone::dem::SolverKind::Newton {
+        print(layout, &r, rigid);
+        if newton {
             let handed = r.increments.iter().filter(|i| i.newton_handed_over).count();
             out!(
                 "newton            {handed} of {} increments and trials handed over to the protocol's own static solve",

@@ -211,6 +211,20 @@ impl SolverKind {
         }
     }
 
+    /// Whether it is the kind that a study file without `[solver] kind` and a command without
+    /// `--solver` give (its `Default`, `penalty`; a protocol may state its own default,
+    /// `protocol::LoadingProtocol::DEFAULT_SOLVER`).
+    pub fn is_default(self) -> bool {
+        self == SolverKind::default()
+    }
+
+    /// Whether it names the semi-smooth Newton solve of each increment first, whatever the
+    /// protocol's default cascade (`newton`): its own cascade's choice
+    /// ([`SolverKind::cascade`] over a default without it).
+    pub fn runs_newton(self) -> bool {
+        self.cascade(Cascade::RELAXATION).is_some_and(|c| c.newton)
+    }
+
     /// The stages of a static solve for a protocol whose default is `protocol_default`;
     /// `None` for a solver that is not a penalty method.
     pub fn cascade(self, protocol_default: Cascade) -> Option<Cascade> {
@@ -287,6 +301,8 @@ mod tests {
             assert_eq!(k.method().kind().method(), k.method());
         }
         assert!(SolverKind::Implicit.names_cascade() && !SolverKind::Penalty.names_cascade());
+        let newton: Vec<SolverKind> = SolverKind::ALL.into_iter().filter(|k| k.runs_newton()).collect();
+        assert_eq!(newton, [SolverKind::Newton]);
     }
 
     /// The one list makes every spelling agree: a kind's serde name (a study file) is its

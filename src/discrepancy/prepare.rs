@@ -129,7 +129,8 @@ pub fn searched(
     Ok(s.effects.iter().map(|n| library.get(n)).collect::<Result<_, _>>()?)
 }
 
-/// The searched `defs` the setup's protocol reads: on the in-plane test, the default
+/// The searched `defs` the setup's protocol reads: on a protocol that loads the wall in its
+/// own plane ([`crate::protocol::Loading::loads_in_plane`]: the in-plane test), the default
 /// search leaves out the effects it does not read
 /// ([`effects::EffectDef::not_read_in_plane`]), and one named in `[discrepancy] effects`
 /// or `also_effects` is refused by name; other protocols read every effect.
@@ -141,7 +142,7 @@ fn read_by_protocol(
     s: &Settings,
     defs: Vec<Arc<EffectDef>>,
 ) -> Result<Vec<Arc<EffectDef>>, DiscrepancyError> {
-    if setup.protocol.loading() != crate::protocol::Loading::InPlane {
+    if !setup.protocol.loading().loads_in_plane() {
         return Ok(defs);
     }
     let named = |n: &str| s.effects.iter().chain(&s.also_effects).any(|e| e == n);

@@ -95,6 +95,12 @@ pub trait LoadingProtocol: Sized + 'static {
     /// ([`super::Observed::reread`]) \[false\]. A study of a protocol that does not read it
     /// refuses those effects.
     const READS_VERTICAL_LOAD_RIG: bool = false;
+    /// Whether it loads the wall in its own plane (the in-plane test), so that its runs do
+    /// not read the effects that act across the plane
+    /// ([`crate::effects::EffectDef::not_read_in_plane`]: a lean, a table's overshoot):
+    /// the discrepancy analysis's default search leaves them out and refuses one named
+    /// \[false\].
+    const LOADS_IN_PLANE: bool = false;
     /// The key of its kind's table that chooses it within its kind, and the value that
     /// chooses it ([`ChosenBy`]); `None` for the first protocol of its kind, which its
     /// kind's name chooses.

@@ -41,6 +41,7 @@ impl LoadingProtocol for InPlane {
     const MOTION: bool = false;
     const CHOSEN_BY: Option<ChosenBy> = None;
     const READS_VERTICAL_LOAD_RIG: bool = true;
+    const LOADS_IN_PLANE: bool = true;
     // Its column group (`ensemble::row::InPlaneColumns`) is written to its study's tables
     // only, not to every protocol's.
     const OPTIONAL_COLUMNS: bool = true;

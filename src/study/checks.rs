@@ -67,15 +67,14 @@ pub fn check_calibration(c: &CalibrateSpec, study: &Study) -> Result<(), Calibra
 pub fn check_paper(p: PaperStudy, study: &Study) -> Result<(), PaperSpecError> {
     let has = |key: SweepKey| study.points[0].iter().any(|(k, _)| *k == key);
     let ends: Vec<bool> = study.groups.iter().map(|g| restrained(&g.walls[0].ends)).collect();
-    // The protocol each comparison is made under.
-    let lateral = study.protocol.kind() == ProtocolKind::Lateral;
-    let (paper, protocol_fits, protocol) = match p {
-        PaperStudy::JointArrangement => ("joint_arrangement", lateral, "protocol = \"lateral\""),
-        PaperStudy::LengthHeight => ("length_height", lateral, "protocol = \"lateral\""),
-        PaperStudy::KnPhi => ("kn_phi", study.protocol.kind() == ProtocolKind::Tilt, "protocol = \"tilt\""),
+    // The protocol each comparison is made under, as the paper study states it.
+    let (paper, under, need) = match p {
+        PaperStudy::JointArrangement => ("joint_arrangement", ProtocolKind::Lateral, "protocol = \"lateral\""),
+        PaperStudy::LengthHeight => ("length_height", ProtocolKind::Lateral, "protocol = \"lateral\""),
+        PaperStudy::KnPhi => ("kn_phi", ProtocolKind::Tilt, "protocol = \"tilt\""),
     };
-    if !protocol_fits {
-        return Err(PaperSpecError { paper, need: protocol });
+    if study.protocol.kind() != under {
+        return Err(PaperSpecError { paper, need });
     }
     match p {
         PaperStudy::JointArrangement => {

@@ -5,16 +5,23 @@
 //! `study::summary`'s `MODULUS`).
 
 use super::error::Invalid;
-use super::report::solver_text;
-use super::spec::{GroupSpec, ProtocolKind, StudySpec};
-use super::summary::CellSummary;
+use super::protocol_table::ProtocolTable;
+use super::report::{ensemble_report, solver_text};
+use super::report_error::ReportError;
+use super::spec::{GroupSpec, StudySpec};
+use super::summary::{CellSummary, Comparison};
+use super::sweep::{SweepKey, SweepValue};
 use super::text::md_table;
 use super::{Study, StudyError};
 use crate::dem::Cascade;
 use crate::ensemble::row::{CompressionColumns, RealizationRow, Status};
+use crate::io::series::SeriesError;
+use crate::layout::Layout;
 use crate::loading::compression::{CompressionParams, CompressionResult};
 use crate::loading::inplane::BeamRotation;
+use crate::protocol::{Compression, Protocol};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// A compression study's parameters: the `[compression]` table and each group's vertical
 /// stress.
@@ -46,7 +53,7 @@ impl StudySpec {
     /// protocol, a key of the table out of its range (`compression.KEY`), a group's stress
     /// (`groups[NAME].sigma0_mpa`).
     pub(super) fn resolve_compression(&self, invalid: &Invalid) -> Result<Option<CompressionStudy>, StudyError> {
-        if self.protocol != ProtocolKind::Compression {
+        if !self.reads_table("compression") {
             if self.compression.is_some() {
                 return Err(invalid.at(
                     "compression",
@@ -212,4 +219,57 @@ pub(super) fn compression_sections(
         }),
     );
     let _ = writeln!(md);
+}
+
+/// The compression test's study: each group's vertical stress its own protocol, the
+/// ensemble's report with its section (`compression_sections`), no time series.
+impl ProtocolTable for CompressionStudy {
+    fn write_into(&self, spec: &mut StudySpec) {
+        spec.compression = Some(self.params.clone());
+        for (g, s) in spec.groups.iter_mut().zip(&self.sigma0_mpa) {
+            g.sigma0_mpa = Some(*s);
+        }
+    }
+
+    /// The first group's protocol (its vertical stress); the point's values are not the
+    /// test's.
+    fn at(&self, _point: &[(SweepKey, SweepValue)]) -> Protocol {
+        Protocol::Compression(Compression(self.params_of(0)))
+    }
+
+    fn of_group(&self, group: usize, _point: &[(SweepKey, SweepValue)]) -> Protocol {
+        Protocol::Compression(Compression(self.params_of(group)))
+    }
+
+    fn write_report(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
+        ensemble_report(study, rows, dir)
+    }
+
+    fn report_sections(
+        &self,
+        study: &Study,
+        rows: &[RealizationRow],
+        _dir: &Path,
+        cells: &[CellSummary],
+        _cmp: &[Comparison],
+        md: &mut String,
+    ) -> Result<String, ReportError> {
+        compression_sections(study, self, rows, cells, md);
+        Ok(String::new())
+    }
+
+    /// None: the compression test records no time series.
+    fn write_series(
+        &self,
+        _study: &Study,
+        _point: usize,
+        _layout: &Layout,
+        _out: &Path,
+    ) -> Result<Option<PathBuf>, SeriesError> {
+        Ok(None)
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        vec![]
+    }
 }

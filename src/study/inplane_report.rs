@@ -7,16 +7,23 @@
 use super::inplane::{drawing, readings};
 use super::inplane_measured::{file_stem, Specimen};
 use super::inplane_spec::InPlaneStudy;
+use super::protocol_table::ProtocolTable;
 use super::report_error::ReportError;
+use super::spec::StudySpec;
+use super::summary::{CellSummary, Comparison};
+use super::sweep::{SweepKey, SweepValue};
 use super::Study;
 use crate::dem::SolverParams;
 use crate::ensemble::row::{InPlaneColumns, RealizationRow};
 use crate::io::inplane::{crack_map_svg, force_drift, ForceDriftCurve};
+use crate::io::series::SeriesError;
+use crate::layout::Layout;
 use crate::loading::inplane::{mechanism_joints, Rig};
+use crate::protocol::{InPlane, Protocol};
 use crate::stats::{mean, quantile, sd};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The observables compared, with their row accessors.
 const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 17] = [
@@ -357,4 +364,70 @@ fn figures(
         }
     }
     Ok(())
+}
+
+/// The in-plane test's study: each group's vertical stress and history its own protocol,
+/// its own report (`report`: statistics per observable, the comparison
+/// with the measured specimens, its figures), no ensemble sections and no time series.
+impl ProtocolTable for InPlaneStudy {
+    fn write_into(&self, spec: &mut StudySpec) {
+        spec.in_plane = Some(self.params.clone());
+        for (g, own) in spec.groups.iter_mut().zip(&self.groups) {
+            g.sigma0_mpa = Some(own.sigma0_mpa);
+            g.history = Some(own.history);
+            g.specimens.clone_from(&own.specimens);
+        }
+    }
+
+    /// The first group's protocol (its vertical stress and history; the table's without
+    /// groups); the point's values are not the test's.
+    fn at(&self, _point: &[(SweepKey, SweepValue)]) -> Protocol {
+        Protocol::InPlane(InPlane(self.groups.first().map_or_else(|| self.params.clone(), |_| self.params_of(0))))
+    }
+
+    /// Group `group`'s protocol; [`ProtocolTable::at`] for an index past the groups.
+    fn of_group(&self, group: usize, point: &[(SweepKey, SweepValue)]) -> Protocol {
+        if group < self.groups.len() {
+            Protocol::InPlane(InPlane(self.params_of(group)))
+        } else {
+            self.at(point)
+        }
+    }
+
+    fn write_report(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
+        report(study, self, dir, rows)
+    }
+
+    /// None: its report is its own, whole ([`ProtocolTable::write_report`]), which does not
+    /// ask for these.
+    fn report_sections(
+        &self,
+        _study: &Study,
+        _rows: &[RealizationRow],
+        _dir: &Path,
+        _cells: &[CellSummary],
+        _cmp: &[Comparison],
+        _md: &mut String,
+    ) -> Result<String, ReportError> {
+        Ok(String::new())
+    }
+
+    /// None: the in-plane test records no time series.
+    fn write_series(
+        &self,
+        _study: &Study,
+        _point: usize,
+        _layout: &Layout,
+        _out: &Path,
+    ) -> Result<Option<PathBuf>, SeriesError> {
+        Ok(None)
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        vec![]
+    }
+
+    fn in_plane(&self) -> Option<&InPlaneStudy> {
+        Some(self)
+    }
 }

@@ -49,7 +49,7 @@
 use super::error::Invalid;
 use super::inplane_measured::{file_stem, read_loops, read_specimens, Specimen};
 use super::provenance::InputRole;
-use super::spec::{EffectsSpec, GroupSpec, ProtocolKind, StudySpec};
+use super::spec::{EffectsSpec, GroupSpec, StudySpec};
 use super::StudyError;
 use crate::loading::inplane::{BeamRotation, History, InPlaneParams, MAX_HEIGHT_RATIO};
 use std::collections::BTreeMap;
@@ -157,17 +157,12 @@ pub fn stated_effects(study: &EffectsSpec, group: &GroupSpec) -> Vec<(String, St
     v
 }
 
-/// The keys of `[[groups]]` only the in-plane test reads, given in group `g`.
-fn in_plane_group_keys(g: &GroupSpec, reads_sigma0: bool) -> Option<&'static str> {
-    if g.sigma0_mpa.is_some() && !reads_sigma0 {
-        Some("sigma0_mpa")
-    } else if g.history.is_some() {
-        Some("history")
-    } else if !g.specimens.is_empty() {
-        Some("specimens")
-    } else {
-        None
-    }
+/// The first key of `[[groups]]` the in-plane test reads that group `g` gives and the
+/// study's kind does not read (`reads`, its [`super::StudyKind::group_keys`]).
+fn in_plane_group_keys(g: &GroupSpec, reads: &[&str]) -> Option<&'static str> {
+    [("sigma0_mpa", g.sigma0_mpa.is_some()), ("history", g.history.is_some()), ("specimens", !g.specimens.is_empty())]
+        .into_iter()
+        .find_map(|(key, given)| (given && !reads.contains(&key)).then_some(key))
 }
 
 impl StudySpec {
@@ -192,17 +187,17 @@ impl StudySpec {
                 .into_iter()
                 .find_map(|(k, v)| v.is_some().then_some(k))
         });
-        if self.protocol != ProtocolKind::InPlane {
+        if !self.reads_table("in_plane") {
             let only = |key: String| {
                 invalid.at(&key, "is read by the in-plane test only (protocol = \"in_plane\", docs/inplane.md)".into())
             };
             if self.in_plane.is_some() {
                 return Err(only("in_plane".into()));
             }
-            // The compression test reads each group's vertical stress too.
-            let reads_sigma0 = self.protocol == ProtocolKind::Compression;
-            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g, reads_sigma0).map(|k| (g, k)))
-            {
+            // The keys of the groups its own kind reads (the compression test's vertical
+            // stress) are not refused.
+            let reads = self.declared().group_keys;
+            if let Some((g, k)) = self.groups.iter().find_map(|g| in_plane_group_keys(g, reads).map(|k| (g, k))) {
                 return Err(only(format!("groups[{}].{k}", g.name)));
             }
             if let Some(k) = measured_in_plane {

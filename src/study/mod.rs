@@ -99,6 +99,7 @@ mod motions;
 mod outputs;
 mod paper;
 mod protocol;
+mod protocol_table;
 mod provenance;
 mod read_warnings;
 mod report;
@@ -110,6 +111,7 @@ mod shards;
 mod size;
 mod solver;
 mod spec;
+mod static_tables;
 mod suite;
 mod summary;
 mod survey;
@@ -124,6 +126,7 @@ pub use outputs::{
     verify as verify_outputs, write_named_set, CommandManifest, HeldDir, OutputFile, SetNames, VerifyError,
 };
 pub use protocol::{StudyKind, StudyProtocol};
+pub use protocol_table::ProtocolTable;
 pub use provenance::{sha256_hex, InputFile, InputRole, MaterializeError, BUILD, VERSION};
 pub use report::write_report;
 pub use report_error::ReportError;

@@ -6,12 +6,12 @@
 use super::error::Invalid;
 use super::provenance::InputRole;
 use super::size;
-use super::spec::{ProtocolKind, StudySpec};
+use super::spec::StudySpec;
 use super::sweep::SweepKey;
 use super::StudyError;
 use crate::ground::Motion;
 use crate::loading::shake::ShakeParams;
-use crate::protocol::{Loading, Unsupported};
+use crate::protocol::Unsupported;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -78,7 +78,7 @@ impl StudySpec {
         files: &mut Vec<(InputRole, PathBuf)>,
     ) -> Result<Option<ShakeStudy>, StudyError> {
         // The `[shake]` table is read by the shaking table alone.
-        let spec = match (&self.shake, self.protocol == ProtocolKind::Shake) {
+        let spec = match (&self.shake, self.reads_table("shake")) {
             (None, true) => {
                 return Err(invalid.at(
                     "shake",
@@ -101,7 +101,7 @@ impl StudySpec {
             // solves on a motion; limit analysis has no motion).
             return Err(super::error::unsupported(
                 invalid,
-                Unsupported { protocol: Loading::Shake, kind: self.solver.kind },
+                Unsupported { protocol: self.loading(), kind: self.solver.kind },
             ));
         };
         let (pulse_dt, nscd_dt) = (rule.pulse_dt_s, rule.fixed_dt_s);

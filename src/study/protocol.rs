@@ -1,33 +1,32 @@
 //! A study's protocol with its parameters ([`StudyProtocol`]): the kind the file names and
-//! its table together. The decisions a study takes per protocol are exhaustive matches on
-//! it here: the table read from the file and written back, the protocol of each sweep point
-//! (a [`crate::protocol::Protocol`]), the row its run fills (a match on
-//! [`crate::protocol::ProtocolRun`]; the row functions of [`super::run`],
-//! [`super::inplane`] and [`super::compression`]), the seed index of an item, the
-//! realizations table, the report (the ensemble's with its sections, [`super::report`],
-//! [`super::shaking`], [`super::compression`]; the in-plane test's,
-//! [`super::inplane_report`]), the VTK series ([`super::figures`]),
-//! its warnings, what its summary counts and how `drystone discrepancy` analyses it
-//! ([`StudyProtocol::analysis`]); the compiler points to each at a new protocol.
-//! Elsewhere in the study a key that only one protocol reads asks its accessor
-//! ([`StudyProtocol::tilt`], [`StudyProtocol::shake`]): the checks of `[tilt]`, `[shake]`
-//! and the sweep keys (`checks.rs`, `resolve.rs`), the paper's comparison and the
-//! calibration (which compare collapse angles), the measured data's tilt step.
+//! its table together. What a kind declares of its own is data, one [`StudyKind`] constant
+//! a kind here (its name, seed index, realizations table, whether its groups differ, what its
+//! summary counts, how `drystone discrepancy` analyses it, its table's name, its groups'
+//! keys, whether it steps ground motions, its table's former keys and its row of the
+//! compatibility table), read through [`StudyProtocol::declared`] or, for a study file not
+//! yet resolved, [`StudyKind::of`]. What its table does is the table's own
+//! ([`ProtocolTable`], [`StudyProtocol::table`]: the protocol of each sweep point and group,
+//! the table written back, the report and its sections, the VTK series, its warnings). The
+//! other matches on it here are the table read from the file ([`StudyProtocol::from_spec`]),
+//! the row its run fills (a match on [`crate::protocol::ProtocolRun`]; the row functions of
+//! [`super::run`], [`super::inplane`] and [`super::compression`]) and the accessors of the
+//! tables only one protocol has ([`StudyProtocol::tilt`], [`StudyProtocol::shake`],
+//! [`StudyProtocol::in_plane`]): the checks of `[tilt]`, `[shake]` and the sweep keys
+//! (`checks.rs`, `resolve.rs`), the paper's comparison and the calibration (which compare
+//! collapse angles), the measured data's tilt step. The compiler points to each at a new
+//! protocol.
 
-use super::compression::{compression_row, compression_sections, CompressionStudy};
+use super::compression::{compression_row, CompressionStudy};
 use super::discrepancy::{AnalysisWay, ENSEMBLE};
 use super::error::Invalid;
-use super::figures::{lateral_series, shake_series, tilt_series};
 use super::inplane::{in_plane_row, write_rows};
-use super::inplane_report::report as in_plane_report;
 use super::inplane_spec::InPlaneStudy;
 use super::motions::ShakeStudy;
-use super::report::{ensemble_report, lateral_sections, tilt_sections};
+use super::protocol_table::ProtocolTable;
 use super::report_error::ReportError;
 use super::run::{
     failed_row, lateral_row, limit_lateral_row, limit_tilt_row, nscd_pushover_row, pushover_row, shake_row, tilt_row,
 };
-use super::shaking::shake_sections;
 use super::shards::OutputError;
 use super::spec::{ProtocolKind, StudySpec};
 use super::summary::{CellSummary, Comparison};
@@ -35,14 +34,11 @@ use super::sweep::{SweepKey, SweepValue};
 use super::{Study, StudyError};
 use crate::ensemble::row::{RealizationRow, Status};
 use crate::ensemble::Item;
-use crate::ground::Motion;
 use crate::io::series::SeriesError;
 use crate::layout::Layout;
 use crate::loading::lateral::LateralParams;
 use crate::loading::tilt::TiltParams;
-use crate::protocol::{
-    Compression, CompressionRun, LateralRun, Loading, Protocol, ProtocolRun, PushoverRun, RunOutcome, Shake, TiltRun,
-};
+use crate::protocol::{CompressionRun, LateralRun, Loading, Protocol, ProtocolRun, PushoverRun, RunOutcome, TiltRun};
 use std::path::{Path, PathBuf};
 
 /// A study's protocol with its parameters: the kind and its table together, so that every
@@ -104,24 +100,18 @@ impl StudyProtocol {
     /// study's motions are not written (the analysis refuses the shaking table).
     pub(super) fn write_into(&self, spec: &mut StudySpec) {
         spec.protocol = self.kind();
+        self.table().write_into(spec);
+    }
+
+    /// Its table ([`ProtocolTable`]: the kind's parameters as the study resolved them), the
+    /// one match on the kind for the questions whose answer is its table's.
+    pub fn table(&self) -> &dyn ProtocolTable {
         match self {
-            StudyProtocol::Tilt(t) => spec.tilt = *t,
-            StudyProtocol::Lateral(l) => spec.lateral = *l,
-            StudyProtocol::Shake(_) => spec.shake = None,
-            StudyProtocol::InPlane(p) => {
-                spec.in_plane = Some(p.params.clone());
-                for (g, own) in spec.groups.iter_mut().zip(&p.groups) {
-                    g.sigma0_mpa = Some(own.sigma0_mpa);
-                    g.history = Some(own.history);
-                    g.specimens.clone_from(&own.specimens);
-                }
-            }
-            StudyProtocol::Compression(c) => {
-                spec.compression = Some(c.params.clone());
-                for (g, s) in spec.groups.iter_mut().zip(&c.sigma0_mpa) {
-                    g.sigma0_mpa = Some(*s);
-                }
-            }
+            StudyProtocol::Tilt(t) => t,
+            StudyProtocol::Lateral(l) => l,
+            StudyProtocol::Shake(s) => s,
+            StudyProtocol::InPlane(p) => p,
+            StudyProtocol::Compression(c) => c,
         }
     }
 
@@ -159,16 +149,7 @@ impl StudyProtocol {
     /// protocol at the point ([`StudyProtocol::at`]), with the in-plane test's group values
     /// (its vertical stress and history).
     pub fn of_group(&self, group: usize, point: &[(SweepKey, SweepValue)]) -> Protocol {
-        match self {
-            StudyProtocol::InPlane(p) if group < p.groups.len() => {
-                Protocol::InPlane(crate::protocol::InPlane(p.params_of(group)))
-            }
-            StudyProtocol::Compression(c) => Protocol::Compression(Compression(c.params_of(group))),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::InPlane(_) => self.at(point),
-        }
+        self.table().of_group(group, point)
     }
 
     /// The protocol run at a sweep point with the values `point`: the tilting table or the
@@ -178,26 +159,7 @@ impl StudyProtocol {
     /// shaking point whose motion is missing (a study not made by [`StudySpec::resolve`])
     /// gets an empty motion, which the protocol refuses with an error row.
     pub fn at(&self, point: &[(SweepKey, SweepValue)]) -> Protocol {
-        match self {
-            StudyProtocol::InPlane(p) => Protocol::InPlane(crate::protocol::InPlane(
-                p.groups.first().map_or_else(|| p.params.clone(), |_| p.params_of(0)),
-            )),
-            StudyProtocol::Compression(c) => Protocol::Compression(Compression(c.params_of(0))),
-            StudyProtocol::Tilt(t) => Protocol::tilting(*t),
-            StudyProtocol::Lateral(l) => Protocol::lateral(*l),
-            StudyProtocol::Shake(shake) => {
-                let value = |key: SweepKey| point.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
-                let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
-                let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
-                let motion = shake.motion(&name, pga).unwrap_or_else(|| Motion {
-                    name,
-                    dt_s: 0.0,
-                    horizontal_g: vec![],
-                    vertical_g: None,
-                });
-                Protocol::Shake(Shake { params: shake.params, motion: Box::new(motion) })
-            }
-        }
+        self.table().at(point)
     }
 
     /// A realization's row (`row`: its identification and block count) filled with what its
@@ -279,13 +241,7 @@ impl StudyProtocol {
         rows: &[RealizationRow],
         dir: &Path,
     ) -> Result<String, ReportError> {
-        match self {
-            StudyProtocol::InPlane(test) => in_plane_report(study, test, dir, rows),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => ensemble_report(study, rows, dir),
-        }
+        self.table().write_report(study, rows, dir)
     }
 
     /// Its sections of the report (`report.md`, with their plots in `dir`); returns what
@@ -302,20 +258,7 @@ impl StudyProtocol {
         cmp: &[Comparison],
         md: &mut String,
     ) -> Result<String, ReportError> {
-        match self {
-            StudyProtocol::Tilt(tilt) => tilt_sections(study, tilt, rows, dir, cells, cmp, md).map(|()| String::new()),
-            StudyProtocol::Lateral(lateral) => {
-                lateral_sections(study, lateral, cells, md);
-                Ok(String::new())
-            }
-            StudyProtocol::Shake(shake) => shake_sections(study, shake, rows, dir, md),
-            StudyProtocol::Compression(test) => {
-                compression_sections(study, test, rows, cells, md);
-                Ok(String::new())
-            }
-            // Its report is its own, whole (`write_report`), which does not ask for these.
-            StudyProtocol::InPlane(_) => Ok(String::new()),
-        }
+        self.table().report_sections(study, rows, dir, cells, cmp, md)
     }
 
     /// The ParaView time series of one realization (`layout`, at sweep point `point`), run
@@ -330,25 +273,13 @@ impl StudyProtocol {
         layout: &Layout,
         out: &Path,
     ) -> Result<Option<PathBuf>, SeriesError> {
-        match self {
-            StudyProtocol::Tilt(tilt) => tilt_series(study, tilt, layout, out),
-            StudyProtocol::Lateral(lateral) => lateral_series(study, lateral, layout, out),
-            StudyProtocol::Shake(_) => shake_series(study, point, layout, out),
-            // The in-plane and compression tests record no time series.
-            StudyProtocol::InPlane(_) | StudyProtocol::Compression(_) => Ok(None),
-        }
+        self.table().write_series(study, point, layout, out)
     }
 
     /// What the study warns of before it runs and in its report (a shaking study's motions
     /// that cannot reach its levels).
     pub fn warnings(&self) -> Vec<String> {
-        match self {
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => vec![],
-            StudyProtocol::Shake(s) => s.warnings(),
-        }
+        self.table().warnings()
     }
 
     /// Whether its summary counts the walls that collapsed under the load (the lateral
@@ -359,24 +290,12 @@ impl StudyProtocol {
 
     /// The tilting table's parameters, for a tilting-table study.
     pub fn tilt(&self) -> Option<&TiltParams> {
-        match self {
-            StudyProtocol::Tilt(t) => Some(t),
-            StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().tilt()
     }
 
     /// The shaking table's parameters, motions and levels, for a shaking study.
     pub fn shake(&self) -> Option<&ShakeStudy> {
-        match self {
-            StudyProtocol::Shake(s) => Some(s),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::InPlane(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().shake()
     }
 
     /// The protocol of group `group` where the groups' protocols differ (the in-plane test:
@@ -399,13 +318,7 @@ impl StudyProtocol {
 
     /// The in-plane test's parameters, groups and measured specimens, for an in-plane study.
     pub fn in_plane(&self) -> Option<&InPlaneStudy> {
-        match self {
-            StudyProtocol::InPlane(p) => Some(p),
-            StudyProtocol::Tilt(_)
-            | StudyProtocol::Lateral(_)
-            | StudyProtocol::Shake(_)
-            | StudyProtocol::Compression(_) => None,
-        }
+        self.table().in_plane()
     }
 }
 
@@ -436,6 +349,36 @@ pub struct StudyKind {
     pub counts_collapses_under_load: bool,
     /// How `drystone discrepancy` analyses its studies ([`StudyProtocol::analysis`]).
     pub analysis: AnalysisWay,
+    /// Its parameters table in a study file (`tilt` for `[tilt]`): a study of another kind
+    /// refuses it, or warns that it is not read (`StudySpec::reads_table`).
+    pub table: &'static str,
+    /// The keys of its own it reads in a study file's groups (`[[groups]] sigma0_mpa`):
+    /// a study of a kind that does not list one refuses it in a group.
+    pub group_keys: &'static [&'static str],
+    /// Whether its runs step ground motions (the shaking table): nscd's steps of motion
+    /// (`solver.nscd.rest`, `step_solver`, `natural_tolerance`, `apgd_after_solves`) and
+    /// `solver.nscd.dt_s`, at which its pulses are sampled whatever the method, are read.
+    pub ground_motions: bool,
+    /// The penalty settings its table writes under their former keys (deprecated;
+    /// [`crate::dem::MovedKey`]; `StudySpec::moved_keys`).
+    pub moved: fn(&StudySpec) -> Vec<crate::dem::MovedKey>,
+    /// Its row of the compatibility table with the variant its table chooses
+    /// (`tilt.by_hand`, `lateral.pushover`; [`StudySpec::loading`]).
+    pub loading: fn(&StudySpec) -> Loading,
+}
+
+impl StudyKind {
+    /// What kind `kind` declares: the one match on the kind for a study file not yet
+    /// resolved ([`StudySpec::declared`]).
+    pub fn of(kind: ProtocolKind) -> &'static StudyKind {
+        match kind {
+            ProtocolKind::Tilt => &TILT,
+            ProtocolKind::Lateral => &LATERAL,
+            ProtocolKind::Shake => &SHAKE,
+            ProtocolKind::InPlane => &IN_PLANE,
+            ProtocolKind::Compression => &COMPRESSION,
+        }
+    }
 }
 
 /// The tilting table's study (`protocol = "tilt"`).
@@ -446,6 +389,11 @@ const TILT: StudyKind = StudyKind {
     groups_differ: false,
     counts_collapses_under_load: false,
     analysis: ENSEMBLE,
+    table: "tilt",
+    group_keys: &[],
+    ground_motions: false,
+    moved: |spec| spec.tilt.moved(),
+    loading: |spec| Protocol::tilting(spec.tilt).loading(),
 };
 
 /// The lateral load's study (`protocol = "lateral"`, or its pushover): its summary counts
@@ -457,6 +405,11 @@ const LATERAL: StudyKind = StudyKind {
     groups_differ: false,
     counts_collapses_under_load: true,
     analysis: ENSEMBLE,
+    table: "lateral",
+    group_keys: &[],
+    ground_motions: false,
+    moved: |spec| spec.lateral.moved(),
+    loading: |spec| Protocol::lateral(spec.lateral).loading(),
 };
 
 /// The shaking table's study (`protocol = "shake"`).
@@ -467,6 +420,11 @@ const SHAKE: StudyKind = StudyKind {
     groups_differ: false,
     counts_collapses_under_load: false,
     analysis: ENSEMBLE,
+    table: "shake",
+    group_keys: &[],
+    ground_motions: true,
+    moved: |spec| spec.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default(),
+    loading: |_| Loading::Shake,
 };
 
 /// The in-plane test's study (`protocol = "in_plane"`): its seed index, its own
@@ -478,6 +436,11 @@ const IN_PLANE: StudyKind = StudyKind {
     groups_differ: true,
     counts_collapses_under_load: false,
     analysis: IN_PLANE_ANALYSIS,
+    table: "in_plane",
+    group_keys: &["sigma0_mpa", "history", "specimens"],
+    ground_motions: false,
+    moved: |_| Vec::new(),
+    loading: |_| Loading::InPlane,
 };
 
 /// The compression test's study (`protocol = "compression"`): a protocol a group (its
@@ -489,6 +452,11 @@ const COMPRESSION: StudyKind = StudyKind {
     groups_differ: true,
     counts_collapses_under_load: false,
     analysis: ENSEMBLE,
+    table: "compression",
+    group_keys: &["sigma0_mpa"],
+    ground_motions: false,
+    moved: |_| Vec::new(),
+    loading: |_| Loading::Compression,
 };
 
 /// The seed index of an item: its realization's index in its group.
@@ -537,29 +505,29 @@ const IN_PLANE_ANALYSIS: AnalysisWay = AnalysisWay {
 };
 
 impl StudySpec {
+    /// What the study's kind declares ([`StudyKind::of`]).
+    pub fn declared(&self) -> &'static StudyKind {
+        StudyKind::of(self.protocol)
+    }
+
+    /// Whether the study's kind reads the parameters table `table` (`"tilt"` for `[tilt]`):
+    /// it is its own ([`StudyKind::table`]).
+    pub(super) fn reads_table(&self, table: &str) -> bool {
+        self.declared().table == table
+    }
+
     /// The penalty settings the study's protocol table writes under their former keys
     /// (deprecated; [`crate::dem::MovedKey`]), with the table's name. Only the table of
     /// the study's protocol is read.
     pub(super) fn moved_keys(&self) -> (&'static str, Vec<crate::dem::MovedKey>) {
-        match self.protocol {
-            ProtocolKind::Tilt => ("tilt", self.tilt.moved()),
-            ProtocolKind::Lateral => ("lateral", self.lateral.moved()),
-            ProtocolKind::Shake => ("shake", self.shake.as_ref().map(|s| s.params().moved()).unwrap_or_default()),
-            ProtocolKind::InPlane => ("in_plane", Vec::new()),
-            ProtocolKind::Compression => ("compression", Vec::new()),
-        }
+        let kind = self.declared();
+        (kind.table, (kind.moved)(self))
     }
 
     /// The study's row of the compatibility table ([`crate::protocol::methods`]): its
     /// protocol with the variant its tables choose (`tilt.by_hand`, `lateral.pushover`).
     pub fn loading(&self) -> Loading {
-        match self.protocol {
-            ProtocolKind::Tilt => Protocol::tilting(self.tilt).loading(),
-            ProtocolKind::Lateral => Protocol::lateral(self.lateral).loading(),
-            ProtocolKind::Shake => Loading::Shake,
-            ProtocolKind::InPlane => Loading::InPlane,
-            ProtocolKind::Compression => Loading::Compression,
-        }
+        (self.declared().loading)(self)
     }
 }
 
@@ -587,6 +555,39 @@ mod tests {
             assert_eq!(k.analysis.measured_elsewhere.is_some(), in_plane, "{:?}", k.kind);
             assert_eq!(k.analysis.held.is_some(), in_plane, "{:?}", k.kind);
             assert_eq!(k.analysis.extends, !in_plane, "{:?}", k.kind);
+            assert!(std::ptr::eq(StudyKind::of(k.kind), k), "{:?}", k.kind);
+            // Each kind's table is named as the kind; only the shaking table steps motions.
+            assert_eq!(k.table, k.kind.name());
+            assert_eq!(k.ground_motions, k.kind == ProtocolKind::Shake, "{:?}", k.kind);
+            let sigma0 = k.group_keys.contains(&"sigma0_mpa");
+            assert_eq!(sigma0, per_group, "{:?}", k.kind);
+            assert_eq!(k.group_keys.contains(&"history"), in_plane, "{:?}", k.kind);
+            assert_eq!(k.group_keys.contains(&"specimens"), in_plane, "{:?}", k.kind);
         }
+    }
+
+    /// A study file of each kind, as written: its row of the compatibility table is its
+    /// kind's first, or the one its table chooses (`[tilt] by_hand`, `[lateral] pushover`);
+    /// its former keys are read from its own table only.
+    #[test]
+    fn each_kind_reads_its_row_and_former_keys_from_its_own_table() {
+        let file = |kind: &str, tables: &str| -> StudySpec {
+            toml::from_str(&format!(
+                "version = 1\nname = \"x\"\nseed = 1\nrealizations = 1\nprotocol = \"{kind}\"\n{tables}\n\
+                 [[groups]]\nname = \"g\"\nwall = \"w.toml\"\n"
+            ))
+            .unwrap()
+        };
+        for kind in ProtocolKind::ALL {
+            let spec = file(kind.name(), "");
+            assert_eq!(spec.loading(), kind.loadings()[0], "{kind}");
+            assert_eq!(spec.moved_keys(), (kind.name(), vec![]), "{kind}");
+            // The tilting table's former key is read by the tilting table alone.
+            let moved = file(kind.name(), "[tilt]\nmax_steps_per_increment = 100");
+            assert_eq!(moved.moved_keys().1.is_empty(), kind != ProtocolKind::Tilt, "{kind}");
+        }
+        assert_eq!(file("tilt", "[tilt.by_hand]").loading(), Loading::TiltByHand);
+        assert_eq!(file("lateral", "[lateral]\npushover = true").loading(), Loading::Pushover);
+        assert_eq!(file("shake", "[lateral]\npushover = true").loading(), Loading::Shake);
     }
 }

@@ -5,7 +5,8 @@
 //! rope on a wall that does not reach it.
 
 use super::resolve::Group;
-use super::spec::{GroupSpec, ProtocolKind, StudySpec};
+use super::spec::{GroupSpec, StudySpec};
+use crate::dem::Method;
 
 impl StudySpec {
     /// Settings the study accepts but does not read: `[tilt] step_deg` and
@@ -29,7 +30,8 @@ impl StudySpec {
                 }
             }
         }
-        if self.protocol == ProtocolKind::Shake {
+        let motions = self.declared().ground_motions;
+        if motions {
             out.extend(self.ignored_by_shaking());
             if self.solver.kind.method().solves_steps_to_a_tolerance() {
                 out.extend(
@@ -41,46 +43,14 @@ impl StudySpec {
                 );
             }
         }
-        let unread = self.solver.kind.method().does_not_read();
-        if unread.contains(&crate::dem::Method::Nscd) {
-            // The penalty DEM does not run the non-smooth solver (the command line refuses
-            // `--nscd-*` without `--solver nscd`); a shaking study samples its pulses at
-            // `dt_s` whatever the method, so that key is read.
-            let read = |k: &str| self.protocol == ProtocolKind::Shake && k == "dt_s";
-            for key in changed_keys(&self.solver.nscd, &crate::dem::nscd_params::NscdParams::default()) {
-                if !read(&key) {
-                    out.push(format!(
-                        "solver.nscd.{key} is not read with solver.kind = \"{}\": the penalty DEM does not run the \
-                         non-smooth solver (give kind = \"nscd\", or drop the key)",
-                        self.solver.kind.name()
-                    ));
-                }
-            }
-        }
-        if unread.contains(&crate::dem::Method::Penalty) {
-            // Non-smooth contact dynamics runs none of the penalty DEM's static solves or
-            // its motion (the command line's penalty options are refused or warned of
-            // with `--solver nscd`): the reverse of the case above.
-            // Only a shaking study runs steps of motion; the tilting table's, the hand's
-            // and the pushover's release trials take the sweeps alone and never certify
-            // rest (`NscdParams::for_trials`), as `drystone tilt` refuses these options.
-            if self.protocol != ProtocolKind::Shake {
-                let motion = ["rest", "step_solver", "natural_tolerance", "apgd_after_solves"];
-                let nscd = crate::dem::nscd_params::NscdParams::default();
-                for key in changed_keys(&self.solver.nscd, &nscd).into_iter().filter(|k| motion.contains(&k.as_str())) {
-                    out.push(format!(
-                        "solver.nscd.{key} is not read by protocol = \"{}\": it sets a step of motion of a shaking \
-                         study, and this protocol's release trials take the NSGS sweeps alone and never certify rest",
-                        self.protocol.name()
-                    ));
-                }
-            }
-            for key in changed_keys(&self.solver.penalty, &crate::dem::PenaltyParams::default()) {
-                out.push(format!(
-                    "solver.penalty.{key} is not read with solver.kind = \"{}\": non-smooth contact dynamics does \
-                     not run the penalty DEM (give kind = \"penalty\", or drop the key)",
-                    self.solver.kind.name()
-                ));
+        // The settings of each method the chosen one does not read (its declared list).
+        for &unread in self.solver.kind.method().does_not_read() {
+            match unread {
+                Method::Nscd => out.extend(self.nscd_not_read(motions)),
+                Method::Penalty => out.extend(self.penalty_not_read(motions)),
+                // Limit analysis runs beside the other methods (the shaking study's static
+                // capacity): its settings are read whatever the method.
+                Method::Limit => {}
             }
         }
         if let Some(dis) = &self.discrepancy {
@@ -99,6 +69,54 @@ impl StudySpec {
                     dis.also_effects
                 ));
             }
+        }
+        out
+    }
+
+    /// `[solver.nscd]` keys set away from their defaults with a penalty solver, which runs
+    /// no non-smooth solver (the command line refuses `--nscd-*` without `--solver nscd`):
+    /// one message a key, but `dt_s` in a study that steps ground motions (`motions`), whose
+    /// pulses are sampled at it whatever the method.
+    fn nscd_not_read(&self, motions: bool) -> Vec<String> {
+        let read = |k: &str| motions && k == "dt_s";
+        changed_keys(&self.solver.nscd, &crate::dem::nscd_params::NscdParams::default())
+            .into_iter()
+            .filter(|key| !read(key))
+            .map(|key| {
+                format!(
+                    "solver.nscd.{key} is not read with solver.kind = \"{}\": the penalty DEM does not run the \
+                     non-smooth solver (give kind = \"nscd\", or drop the key)",
+                    self.solver.kind.name()
+                )
+            })
+            .collect()
+    }
+
+    /// With nscd, which runs none of the penalty DEM's static solves or its motion (the
+    /// command line's penalty options are refused or warned of with `--solver nscd`): the
+    /// `[solver.nscd]` keys of a step of motion in a study that steps no ground motion
+    /// (`motions` false: the tilting table's, the hand's and the pushover's release trials
+    /// take the sweeps alone and never certify rest, `NscdParams::for_trials`, as `drystone
+    /// tilt` refuses these options), then the `[solver.penalty]` keys set; one message a key.
+    fn penalty_not_read(&self, motions: bool) -> Vec<String> {
+        let mut out = Vec::new();
+        if !motions {
+            let motion = ["rest", "step_solver", "natural_tolerance", "apgd_after_solves"];
+            let nscd = crate::dem::nscd_params::NscdParams::default();
+            for key in changed_keys(&self.solver.nscd, &nscd).into_iter().filter(|k| motion.contains(&k.as_str())) {
+                out.push(format!(
+                    "solver.nscd.{key} is not read by protocol = \"{}\": it sets a step of motion of a shaking \
+                     study, and this protocol's release trials take the NSGS sweeps alone and never certify rest",
+                    self.protocol.name()
+                ));
+            }
+        }
+        for key in changed_keys(&self.solver.penalty, &crate::dem::PenaltyParams::default()) {
+            out.push(format!(
+                "solver.penalty.{key} is not read with solver.kind = \"{}\": non-smooth contact dynamics does \
+                 not run the penalty DEM (give kind = \"penalty\", or drop the key)",
+                self.solver.kind.name()
+            ));
         }
         out
     }

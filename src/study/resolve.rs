@@ -10,7 +10,7 @@ pub use super::motions::ShakeStudy;
 use super::protocol::StudyProtocol;
 use super::provenance::{self, InputRole};
 use super::size;
-use super::spec::{GroupSpec, MeasuredSpec, ProtocolKind, StudySpec};
+use super::spec::{GroupSpec, MeasuredSpec, StudySpec};
 use super::sweep::{self, SweepKey, SweepPoint, SweepValue};
 use super::{Study, StudyError};
 use crate::generator::distribution::DistributionSource;
@@ -121,7 +121,7 @@ impl StudySpec {
         let mut read_warnings = self.ignored_settings();
         let (table, moved) = self.moved_keys();
         read_warnings.extend(moved.iter().map(|m| m.warning(table)));
-        if self.protocol == ProtocolKind::Tilt {
+        if self.reads_table("tilt") {
             read_warnings.extend(self.tilt.cascade_warnings("tilt"));
         }
         let solver = crate::dem::with_moved(self.solver, &moved);
@@ -211,7 +211,7 @@ impl StudySpec {
         self.tilt.validate().map_err(range("tilt"))?;
         self.lateral.validate().map_err(range("lateral"))?;
         // `[lateral] pushover` chooses the pushover within the lateral load only.
-        if self.lateral.pushover && self.protocol != ProtocolKind::Lateral {
+        if self.lateral.pushover && !self.reads_table("lateral") {
             return Err(invalid.at(
                 "lateral.pushover",
                 format!("pushes the lateral load over: it needs protocol = \"lateral\" (got {:?})", self.protocol),
@@ -246,7 +246,7 @@ impl StudySpec {
     /// Whether the study rolls the tilting table by hand (protocol `tilt` with
     /// `[tilt] by_hand`).
     pub(super) fn rolled_by_hand(&self) -> bool {
-        self.loading() == crate::protocol::Loading::TiltByHand
+        self.reads_table("tilt") && self.tilt.by_hand.is_some()
     }
 
     /// What the protocol's run would refuse or drop on the group's realization 0,

@@ -12,18 +12,28 @@
 //! from `rng_for(seed, 2³³ + g, Bootstrap)`, its block of streams
 //! ([`super::summary::StreamBlock`]).
 
+use super::figures::shake_series;
 use super::motions::ShakeStudy;
+use super::protocol_table::ProtocolTable;
+use super::report::ensemble_report;
 use super::report_error::ReportError;
+use super::spec::StudySpec;
+use super::summary::{CellSummary, Comparison};
+use super::sweep::{SweepKey, SweepValue};
 use super::text::{fixed, md_table};
 use super::Study;
 use crate::ensemble::row::{RealizationRow, Status};
+use crate::ground::Motion;
 use crate::io::plot::{self, IdaCurve, IntensityFragilityPanel};
 use crate::io::replace_file_with;
+use crate::io::series::SeriesError;
 use crate::io::table::{SimpleTable, TableColumn};
+use crate::layout::Layout;
+use crate::protocol::{Protocol, Shake};
 use crate::stats::fragility::{fragility_band, FragilityBand, IntensityFragility, LevelCount};
 use rayon::prelude::*;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Bootstrap replicates of the fragility band.
 pub const BOOTSTRAP_REPLICATES: usize = 1000;
@@ -379,4 +389,69 @@ fn write_tables(frag: &[GroupFragility], dir: &Path) -> Result<(), ReportError> 
     ];
     c.write_csv(&dir.join("static_capacity.csv"))?;
     Ok(())
+}
+
+/// The shaking table's study: its table's protocol at a sweep point (the point's motion
+/// scaled to its PGA level), the ensemble's report with its sections (`shake_sections`)
+/// and the point's ParaView series; its warnings, the motions that cannot reach its levels.
+impl ProtocolTable for ShakeStudy {
+    fn write_into(&self, spec: &mut StudySpec) {
+        // A shaking study's motions are not written (the analysis refuses the shaking table).
+        spec.shake = None;
+    }
+
+    /// The shaking table under the point's motion (sweep key `motion`) scaled to its PGA
+    /// level (`pga_g`). A point whose motion is missing (a study not made by
+    /// [`StudySpec::resolve`]) gets an empty motion, which the protocol refuses with an
+    /// error row.
+    fn at(&self, point: &[(SweepKey, SweepValue)]) -> Protocol {
+        let value = |key: SweepKey| point.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
+        let name = value(SweepKey::Motion).map(|v| v.to_string()).unwrap_or_default();
+        let pga = value(SweepKey::PgaG).and_then(SweepValue::number).unwrap_or(0.0);
+        let motion = self.motion(&name, pga).unwrap_or_else(|| Motion {
+            name,
+            dt_s: 0.0,
+            horizontal_g: vec![],
+            vertical_g: None,
+        });
+        Protocol::Shake(Shake { params: self.params, motion: Box::new(motion) })
+    }
+
+    fn of_group(&self, _group: usize, point: &[(SweepKey, SweepValue)]) -> Protocol {
+        self.at(point)
+    }
+
+    fn write_report(&self, study: &Study, rows: &[RealizationRow], dir: &Path) -> Result<String, ReportError> {
+        ensemble_report(study, rows, dir)
+    }
+
+    fn report_sections(
+        &self,
+        study: &Study,
+        rows: &[RealizationRow],
+        dir: &Path,
+        _cells: &[CellSummary],
+        _cmp: &[Comparison],
+        md: &mut String,
+    ) -> Result<String, ReportError> {
+        shake_sections(study, self, rows, dir, md)
+    }
+
+    fn write_series(
+        &self,
+        study: &Study,
+        point: usize,
+        layout: &Layout,
+        out: &Path,
+    ) -> Result<Option<PathBuf>, SeriesError> {
+        shake_series(study, point, layout, out)
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        ShakeStudy::warnings(self)
+    }
+
+    fn shake(&self) -> Option<&ShakeStudy> {
+        Some(self)
+    }
 }
