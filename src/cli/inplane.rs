@@ -7,7 +7,8 @@ use drystone::io::inplane::crack_map_svg;
 use drystone::limit::inplane::InPlaneLimit;
 use drystone::limit::LimitParams;
 use drystone::loading::inplane::{
-    mechanism_joints, BeamRotation, DirectionResult, History, InPlaneParams, InPlaneResult, Rig, READING_DRIFTS_PCT,
+    mechanism_joints, BeamRotation, DirectionResult, History, InPlaneParams, InPlaneResult, OutOfPlane, Rig,
+    READING_DRIFTS_PCT,
 };
 use drystone::protocol::{InPlane, InPlaneRun, States, Unsupported};
 use serde_json::json;
@@ -70,6 +71,11 @@ pub struct InPlaneArgs {
     /// `fixed` (double-fixed).
     #[arg(long, value_enum, default_value = "free")]
     beam_rotation: Rotation,
+    /// What holds the wall's blocks out of its plane in the penalty DEM: `held` (the plane
+    /// model of the test: each block's translation across the wall and its rotations about
+    /// x and z held) or `free` (a 3D run); not read by nscd or limit analysis.
+    #[arg(long, value_enum, default_value = "held")]
+    out_of_plane: Plane,
     /// Static solves per quarter cycle of a cyclic history, at most 1000 (with --cyclic;
     /// default 8).
     #[arg(long)]
@@ -172,6 +178,13 @@ enum Rotation {
     Fixed,
 }
 
+/// What holds the blocks out of the wall's plane, on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Plane {
+    Held,
+    Free,
+}
+
 /// The test's parameters from the options, each checked and a wrong combination refused
 /// naming its options.
 ///
@@ -197,6 +210,10 @@ fn params_of(a: &InPlaneArgs) -> Result<InPlaneParams> {
         beam_rotation: match a.beam_rotation {
             Rotation::Free => BeamRotation::Free,
             Rotation::Fixed => BeamRotation::Fixed,
+        },
+        out_of_plane: match a.out_of_plane {
+            Plane::Held => OutOfPlane::Held,
+            Plane::Free => OutOfPlane::Free,
         },
         step_mm: a.step_mm.unwrap_or(InPlaneParams::default().step_mm),
         quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),
@@ -286,6 +303,7 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 // The solver chosen, where it names more than the method (`newton`,
                 // `implicit`, … are the penalty DEM with one static solve).
                 j["solver"] = json!(kind.name());
+                j["out_of_plane"] = json!(params.out_of_plane.name());
                 out!("{}", serde_json::to_string_pretty(&j)?);
             } else {
                 let engine = if kind.names_cascade() {

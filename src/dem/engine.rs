@@ -163,6 +163,46 @@ impl Simulation {
         (f, self.work.torque[k])
     }
 
+    /// The largest **local unbalanced-force ratio** after the last step and its body: per
+    /// free body, its out-of-balance load `|F| + |T| / r` (the net force, N, plus the net
+    /// moment about its centroid, N·m, over its radius r, m: the unbalanced-force ratio's
+    /// measure, [`super::monitor::StepStats`]) over the load it carries, its weight plus the
+    /// magnitudes of its contact forces (N). The global ratio is a mean over the wall, so a
+    /// lightly loaded block that is still moving (a half-stone rocking back onto its bed,
+    /// a loose block sliding) hides under the wall's forces; the local ratio sees it
+    /// (3DEC and FLAC3D's `ratio-local`, Itasca 2019). `(0, None)` with no free body; a
+    /// body that carries nothing and is pushed reads infinity.
+    pub fn largest_local_ratio(&self) -> (f64, Option<usize>) {
+        let g = self.state.gravity_magnitude;
+        let mut load: Vec<f64> = self.state.bodies.iter().map(|b| b.mass * g).collect();
+        for c in &self.state.contacts {
+            let f = c.force.norm();
+            load[c.b] += f;
+            if let Some(a) = c.a {
+                load[a] += f;
+            }
+        }
+        let mut worst = (0.0, None);
+        for (k, b) in self.state.bodies.iter().enumerate() {
+            if b.fixed() {
+                continue;
+            }
+            let (f, t) = self.unbalanced(k);
+            let out = f.norm() + if b.radius > 0.0 { t.norm() / b.radius } else { 0.0 };
+            let ratio = if load[k] > 0.0 {
+                out / load[k]
+            } else if out > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+            if ratio > worst.0 {
+                worst = (ratio, Some(k));
+            }
+        }
+        worst
+    }
+
     /// Moves the free bodies by a predicted increment of their pose and starts them at
     /// rest there: a predictor for quasi-static continuation (the secant predictor of
     /// path-following solvers, e.g. the previous increment's motion scaled to this

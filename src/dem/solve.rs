@@ -29,7 +29,7 @@
 use super::drivers::accelerate::{probe_along, Ahead, SecantAcceleration};
 use super::drivers::implicit::{implicit_relaxation, ImplicitSolve, PoseIncrement, Solved, Unsolved};
 use super::drivers::newton::{newton_increment, NewtonSolve};
-use super::drivers::relax::{dynamic_relaxation, dynamic_relaxation_probed, Relaxed};
+use super::drivers::relax::{dynamic_relaxation, dynamic_relaxation_probed, Relaxed, Tolerance};
 use super::method::Cascade;
 use super::motion::{largest_motion, BodyPose};
 use super::{DemError, Simulation};
@@ -41,6 +41,11 @@ pub struct StaticSolve {
     pub cascade: Cascade,
     /// Equilibrium when the unbalanced-force ratio is below this, –.
     pub tolerance: f64,
+    /// Equilibrium also needs every body's local unbalanced-force ratio below this, –
+    /// ([`Simulation::largest_local_ratio`]; `None`, the default: not checked). A stage
+    /// that reaches the global tolerance with a body still out of balance hands over to the
+    /// next, dynamic relaxation last.
+    pub local_tolerance: Option<f64>,
     /// Step budget of the dynamic relaxation.
     pub max_steps: u64,
     /// Settings of the secant acceleration (with `cascade.accelerate`).
@@ -64,6 +69,7 @@ impl StaticSolve {
         StaticSolve {
             cascade,
             tolerance: penalty.tolerance,
+            local_tolerance: None,
             max_steps: penalty.max_steps,
             acceleration: penalty.acceleration,
             implicit: penalty.implicit_solve,
@@ -78,6 +84,7 @@ impl StaticSolve {
         StaticSolve {
             cascade: Cascade::RELAXATION,
             tolerance,
+            local_tolerance: None,
             max_steps,
             acceleration: SecantAcceleration::default(),
             implicit: ImplicitSolve::default(),
@@ -179,7 +186,11 @@ pub fn solve_static<R>(
             unsolved: None,
         };
         match newton_increment(sim, solve.tolerance, &solve.newton, &mut check) {
-            Solved::Equilibrium(it) => return Ok(end(End::Equilibrium, it)),
+            Solved::Equilibrium(it) if locally_balanced(sim, solve) => return Ok(end(End::Equilibrium, it)),
+            Solved::Equilibrium(it) => {
+                newton_iterations = it;
+                iterations = it;
+            }
             Solved::Stopped(reason, it) => return Ok(end(End::Stopped(reason), it)),
             Solved::Unsolved(cause, it) => {
                 (newton_iterations, newton_unsolved) = (it, Some(cause));
@@ -198,7 +209,8 @@ pub fn solve_static<R>(
     };
     if solve.cascade.implicit {
         match implicit_relaxation(sim, solve.tolerance, &solve.implicit, &mut check) {
-            Solved::Equilibrium(it) => return Ok(implicit_end(End::Equilibrium, it)),
+            Solved::Equilibrium(it) if locally_balanced(sim, solve) => return Ok(implicit_end(End::Equilibrium, it)),
+            Solved::Equilibrium(it) => iterations += it,
             Solved::Stopped(reason, it) => return Ok(implicit_end(End::Stopped(reason), it)),
             Solved::Unsolved(Unsolved::Stalled, it) => {
                 iterations += it;
@@ -226,7 +238,7 @@ pub fn solve_static<R>(
             }
         }
     }
-    let (tol, budget) = (solve.tolerance, solve.max_steps);
+    let (tol, budget) = (Tolerance { global: solve.tolerance, local: solve.local_tolerance }, solve.max_steps);
     let relaxed = match (solve.cascade.accelerate, solve.reach) {
         (true, Some(reach)) => dynamic_relaxation_probed(sim, tol, budget, solve.acceleration, reach, check)?,
         (true, None) => dynamic_relaxation(sim, tol, budget, Some(solve.acceleration), check)?,
@@ -249,6 +261,12 @@ pub fn solve_static<R>(
     })
 }
 
+/// Whether every body of `sim` is balanced by the local tolerance of `solve` (always, with
+/// none).
+fn locally_balanced(sim: &Simulation, solve: &StaticSolve) -> bool {
+    solve.local_tolerance.is_none_or(|l| sim.largest_local_ratio().0 < l)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,6 +283,7 @@ mod tests {
         StaticSolve {
             cascade,
             tolerance: 1e-6,
+            local_tolerance: None,
             max_steps: 100_000,
             acceleration: SecantAcceleration::default(),
             implicit: ImplicitSolve::default(),

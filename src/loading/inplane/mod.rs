@@ -54,7 +54,7 @@
 //!
 //! # The parts
 //!
-//! * `params`: the parameters ([`InPlaneParams`], [`History`], [`BeamRotation`]), their
+//! * `params`: the parameters ([`InPlaneParams`], [`History`], [`BeamRotation`], [`OutOfPlane`]), their
 //!   validation, amplitudes and path, and the bounds they are checked against;
 //! * `error`: the errors ([`InPlaneError`]) and the checks of a layout against the penalty
 //!   DEM's reach ([`check_cyclic_slip_range`], [`check_joint_closure`], [`check_drift_reach`]);
@@ -90,7 +90,8 @@ pub use error::{
     MIN_CYCLIC_SLIP_RANGE_M,
 };
 pub use params::{
-    BeamRotation, History, InPlaneParams, MAX_CYCLES, MAX_HEIGHT_RATIO, MAX_INCREMENTS, MAX_QUARTER_INCREMENTS,
+    BeamRotation, History, InPlaneParams, OutOfPlane, MAX_CYCLES, MAX_HEIGHT_RATIO, MAX_INCREMENTS,
+    MAX_QUARTER_INCREMENTS,
 };
 pub use readings::{
     direction, envelope_readings, CurvePoint, DirectionResult, READING_DRIFTS_PCT, STIFFNESS_SHARE, ULTIMATE_DROP,
@@ -101,7 +102,7 @@ pub use rig::{
     add_rig_force, level_tolerance_m, one_block_stiffness, read_curve, Mirror, Rig, BEAM_ID, BEARING_SHARE,
     LEVEL_TOLERANCE_FLOOR_M, LEVEL_TOLERANCE_FRACTION,
 };
-pub use vertical::{stand_under_vertical_force, VerticalPhase};
+pub use vertical::{stand_under_vertical_force, VerticalPhase, LOCAL_TOLERANCE};
 pub use wall_mechanism::{
     mechanism_joints, read_mechanism, InPlaneMechanism, MechanismJoint, MechanismKind, ACTIVE_JOINT_SHARE,
 };

@@ -2,7 +2,9 @@
 //! forces of the rig's vertical-load system ([`add_rig_force`], [`read_curve`]); the mirror
 //! reading ([`Mirror`]); the one-block wall's elastic stiffness ([`one_block_stiffness`]).
 
-use super::{direction, BeamRotation, CurvePoint, DirectionResult, InPlaneError, InPlaneParams, MAX_HEIGHT_RATIO};
+use super::{
+    direction, BeamRotation, CurvePoint, DirectionResult, InPlaneError, InPlaneParams, OutOfPlane, MAX_HEIGHT_RATIO,
+};
 use crate::dem::{DofConstraint, Simulation};
 use crate::geometry::ConvexBlock;
 use crate::layout::{Block, Layout, VerticalLoadRig};
@@ -97,6 +99,8 @@ pub struct Rig {
     /// actuator's height: `H0` with the beam's rotation free, the wall's height with it
     /// held). The drift is the displacement there over this height.
     pub measure_z_m: f64,
+    /// What holds the blocks out of the wall's plane ([`InPlaneParams::out_of_plane`]).
+    pub out_of_plane: OutOfPlane,
 }
 
 impl Rig {
@@ -214,7 +218,19 @@ impl Rig {
             anchor_z_m: anchor_z,
             beam_z_m: top + 0.5 * depth,
             measure_z_m: measure_z,
+            out_of_plane: params.out_of_plane,
         })
+    }
+
+    /// The constraint of a block of the wall (not the beam) at the pose of its body `b`:
+    /// with [`OutOfPlane::Held`], its translation across the wall (y) and its rotations
+    /// about x and z held where they are (the plane model, [`OutOfPlane`]); `None` with
+    /// [`OutOfPlane::Free`].
+    pub fn block_constraint_of(&self, b: &crate::dem::state::Body) -> Option<DofConstraint> {
+        match self.out_of_plane {
+            OutOfPlane::Held => Some(DofConstraint::free().hold_translation(b, 1).hold_rotation(0).hold_rotation(2)),
+            OutOfPlane::Free => None,
+        }
     }
 
     /// The beam's constraint at its pose in `sim` (see the module doc): x held at the
