@@ -147,7 +147,12 @@ pub enum LoopVerdict {
     /// own ([`FrictionRead`], p-value at least 0.05): the loops refute its friction, not
     /// the rest of it.
     FitsWithFriction,
-    /// It fits them with no bearing friction of `rig_friction`'s range.
+    /// It fits them with no bearing friction of `rig_friction`'s range, but its χ² exceeds
+    /// the baseline's by at most `2 REFUTE_NATS` ([`refutes_beyond_baseline`]): worse than
+    /// the baseline by less than the analysis refutes any reading at, so not refuted.
+    Misfits,
+    /// It fits them with no bearing friction of `rig_friction`'s range, and its χ² exceeds
+    /// the baseline's by more than `2 REFUTE_NATS` ([`refutes_beyond_baseline`]).
     Refuted,
     /// Nothing to read: no group with both a measured and a simulated cycle of at least
     /// [`LOOP_MIN_DRIFT_PCT`] % drift (a history that stops below it, runs that all
@@ -175,6 +180,10 @@ impl LoopVerdict {
         match self {
             LoopVerdict::Fits => "fits the loops".into(),
             LoopVerdict::FitsWithFriction => "fits the loops with the friction they read".into(),
+            LoopVerdict::Misfits => format!(
+                "misfits the loops, by less than {} nats beyond the baseline: not refuted",
+                crate::discrepancy::REFUTE_NATS
+            ),
             LoopVerdict::Refuted => "refuted by the loops".into(),
             LoopVerdict::NotRead => format!("not read: no cycle of at least {LOOP_MIN_DRIFT_PCT} % drift"),
         }
@@ -184,6 +193,17 @@ impl LoopVerdict {
     pub fn refutes(self) -> bool {
         self == LoopVerdict::Refuted
     }
+}
+
+/// Whether a model whose loops' χ² is `chi2` with the p-value `p_value` is refuted by them
+/// beside a baseline of χ² `baseline_chi2` (NaN: nothing read, counted as 0): its fit fails
+/// (p below 0.05) and it predicts the loops worse than the baseline by more than
+/// [`crate::discrepancy::REFUTE_NATS`] (a χ² excess of twice that), the rule by which every
+/// other reading refutes a candidate (`discrepancy::refute`). The report's verdict and the
+/// analysis's judge both read it.
+pub fn refutes_beyond_baseline(chi2: f64, p_value: f64, baseline_chi2: f64) -> bool {
+    let base = if baseline_chi2.is_finite() { baseline_chi2 } else { 0.0 };
+    p_value < 0.05 && chi2 - base > 2.0 * crate::discrepancy::REFUTE_NATS
 }
 
 /// What the check found.
@@ -221,4 +241,24 @@ pub type LoopCandidate = (String, Vec<(String, f64)>, Vec<Effect>);
 /// The baseline's entry in the check.
 fn baseline_candidate() -> LoopCandidate {
     ("baseline".into(), vec![], vec![])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The loops refute a model as every other reading refutes a candidate: its fit fails
+    /// and it is worse than the baseline by more than `REFUTE_NATS` (a χ² excess of 6). The
+    /// in-plane analysis's `jack_tilt+load_eccentricity` on the granite walls (χ² 9.7, p
+    /// 0.021, the baseline 5.1) misfits the loops without being refuted; its
+    /// `rig_friction+load_eccentricity` (χ² 657) is refuted; a baseline with nothing read
+    /// counts as 0.
+    #[test]
+    fn the_loops_refute_by_the_analysiss_margin_over_the_baseline() {
+        assert!(!refutes_beyond_baseline(9.7, 0.021, 5.1));
+        assert!(refutes_beyond_baseline(657.2, 0.0, 5.1));
+        assert!(!refutes_beyond_baseline(11.0, 0.2, 5.0), "a fit that holds is never refuted");
+        assert!(refutes_beyond_baseline(6.5, 0.01, f64::NAN));
+        assert!(!refutes_beyond_baseline(5.9, 0.01, f64::NAN));
+    }
 }

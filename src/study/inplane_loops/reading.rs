@@ -210,7 +210,7 @@ impl crate::discrepancy::HeldReading for LoopsReading {
         let base_chi2 = if b.chi2.is_finite() { b.chi2 } else { 0.0 };
         let excess = m.chi2 - base_chi2;
         let read = m.groups.iter().filter(|g| g.z.is_finite()).count();
-        Ok((m.p_value < 0.05 && excess > 2.0 * crate::discrepancy::REFUTE_NATS).then(|| {
+        Ok(super::refutes_beyond_baseline(m.chi2, m.p_value, b.chi2).then(|| {
             crate::discrepancy::Refutation {
                 candidate: name.to_string(),
                 reading: "loops".into(),

@@ -127,9 +127,15 @@ impl LoopCheck {
                 .collect()
         };
         let _ = writeln!(md, "What the loops say of each model:\n");
-        for v in [LoopVerdict::Fits, LoopVerdict::FitsWithFriction, LoopVerdict::Refuted, LoopVerdict::NotRead] {
+        for v in [
+            LoopVerdict::Fits,
+            LoopVerdict::FitsWithFriction,
+            LoopVerdict::Misfits,
+            LoopVerdict::Refuted,
+            LoopVerdict::NotRead,
+        ] {
             let n = named(v);
-            if v == LoopVerdict::NotRead && n.is_empty() {
+            if matches!(v, LoopVerdict::NotRead | LoopVerdict::Misfits) && n.is_empty() {
                 continue;
             }
             let _ = writeln!(md, "- {}: {}", v.words(), if n.is_empty() { "none".into() } else { n.join(", ") });
