@@ -163,6 +163,21 @@ impl Simulation {
         (f, self.work.torque[k])
     }
 
+    /// The load each body carries after the last step, N, in body order: its weight plus
+    /// the magnitudes of its contact forces (the yardstick of a block's own balance).
+    pub fn carried_loads(&self) -> Vec<f64> {
+        let g = self.state.gravity_magnitude;
+        let mut load: Vec<f64> = self.state.bodies.iter().map(|b| b.mass * g).collect();
+        for c in &self.state.contacts {
+            let f = c.force.norm();
+            load[c.b] += f;
+            if let Some(a) = c.a {
+                load[a] += f;
+            }
+        }
+        load
+    }
+
     /// The largest **local unbalanced-force ratio** after the last step and its body: per
     /// free body, its out-of-balance load `|F| + |T| / r` (the net force, N, plus the net
     /// moment about its centroid, N·m, over its radius r, m: the unbalanced-force ratio's
@@ -173,15 +188,7 @@ impl Simulation {
     /// (3DEC and FLAC3D's `ratio-local`, Itasca 2019). `(0, None)` with no free body; a
     /// body that carries nothing and is pushed reads infinity.
     pub fn largest_local_ratio(&self) -> (f64, Option<usize>) {
-        let g = self.state.gravity_magnitude;
-        let mut load: Vec<f64> = self.state.bodies.iter().map(|b| b.mass * g).collect();
-        for c in &self.state.contacts {
-            let f = c.force.norm();
-            load[c.b] += f;
-            if let Some(a) = c.a {
-                load[a] += f;
-            }
-        }
+        let load = self.carried_loads();
         let mut worst = (0.0, None);
         for (k, b) in self.state.bodies.iter().enumerate() {
             if b.fixed() {

@@ -243,15 +243,7 @@ pub const BLOCK_IMBALANCE_SHARE: f64 = 0.1;
 /// Whether every free body but `beam` has an out-of-balance force of at most
 /// [`BLOCK_IMBALANCE_SHARE`] of its own load.
 fn every_block_balanced(sim: &Simulation, beam: usize) -> bool {
-    let g = sim.state.gravity_magnitude;
-    let mut load: Vec<f64> = sim.state.bodies.iter().map(|b| b.mass * g).collect();
-    for c in &sim.state.contacts {
-        let f = c.force.norm();
-        load[c.b] += f;
-        if let Some(a) = c.a {
-            load[a] += f;
-        }
-    }
+    let load = sim.carried_loads();
     sim.state
         .bodies
         .iter()
