@@ -73,9 +73,10 @@ pub struct InPlaneArgs {
     beam_rotation: Rotation,
     /// What holds the wall's blocks out of its plane in the penalty DEM: `held` (the plane
     /// model of the test: each block's translation across the wall and its rotations about
-    /// x and z held) or `free` (a 3D run); not read by nscd or limit analysis.
-    #[arg(long, value_enum, default_value = "held")]
-    out_of_plane: Plane,
+    /// x and z held) or `free` (a 3D run) [default: held]; not read by nscd or limit
+    /// analysis, whose walls are 3D.
+    #[arg(long, value_enum)]
+    out_of_plane: Option<Plane>,
     /// Static solves per quarter cycle of a cyclic history, at most 1000 (with --cyclic;
     /// default 8).
     #[arg(long)]
@@ -139,8 +140,9 @@ fn replayed(file: &std::path::Path, drift_pct: f64) -> Result<Vec<f64>> {
 /// to do (`--cyclic` and `--curve` with limit analysis are refused beside the history's own
 /// checks): limit analysis gives the collapse load of the first direction from statics, with
 /// no path (`--drift-pct`, `--step-mm`), no reading of a displacement
-/// (`--measuring-height-m`) and no static solve (`--tolerance`); nscd has no static solve
-/// (`--tolerance`). The penalty DEM reads every option.
+/// (`--measuring-height-m`) and no static solve (`--tolerance`, `--out-of-plane`); nscd has
+/// no static solve (`--tolerance`) and runs its wall in 3D (`--out-of-plane`). The penalty
+/// DEM reads every option.
 ///
 /// # Errors
 /// The first such option given, by name.
@@ -164,6 +166,12 @@ fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
             a.tolerance.is_some(),
             &statics,
             "the equilibrium tolerance of the penalty DEM's static solves",
+        ),
+        (
+            "--out-of-plane",
+            a.out_of_plane.is_some(),
+            &statics,
+            "what holds the penalty DEM's blocks out of the wall's plane",
         ),
     ] {
         super::solver::only_with_methods(kind, readers, flag, given, what)?;
@@ -212,8 +220,8 @@ fn params_of(a: &InPlaneArgs) -> Result<InPlaneParams> {
             Rotation::Fixed => BeamRotation::Fixed,
         },
         out_of_plane: match a.out_of_plane {
-            Plane::Held => OutOfPlane::Held,
-            Plane::Free => OutOfPlane::Free,
+            None | Some(Plane::Held) => OutOfPlane::Held,
+            Some(Plane::Free) => OutOfPlane::Free,
         },
         step_mm: a.step_mm.unwrap_or(InPlaneParams::default().step_mm),
         quarter_increments: a.quarter_increments.unwrap_or(InPlaneParams::default().quarter_increments),

@@ -788,8 +788,8 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
 /// Options that the chosen solver does not read are refused by name, with what to do, before
 /// any run: limit analysis (the collapse load from statics: no path, no displacement read,
 /// no static solve) refuses `--drift-pct`, `--step-mm`, `--measuring-height-m` and
-/// `--tolerance`; nscd (no static solve) refuses `--tolerance`. They were accepted and
-/// ignored. The penalty DEM reads them all, and each solver runs without them.
+/// `--tolerance`; nscd (no static solve) refuses `--tolerance`; both, whose walls are 3D,
+/// refuse `--out-of-plane`. They were accepted and ignored. The penalty DEM reads them all, and each solver runs without them.
 #[test]
 fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
     let (dir, layout) = one_block_file("drystone-inplane-solver-unread");
@@ -805,6 +805,8 @@ fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
         ("limit", "--measuring-height-m", "1.3"),
         ("limit", "--tolerance", "1e-5"),
         ("nscd", "--tolerance", "1e-5"),
+        ("nscd", "--out-of-plane", "free"),
+        ("limit", "--out-of-plane", "held"),
     ] {
         let (code, err) = run(&["--solver", solver, flag, value]);
         assert_eq!(code, Some(2), "{solver} {flag}: {err}");
