@@ -158,7 +158,7 @@ pub(super) fn compression_sections(
             crate::loading::inplane::BeamRotation::Free => "free",
         },
         p.raise_to_mpa.map_or(String::new(), |r| format!(", then raised to {r} MPa")),
-        solver_text(study, study.solver.kind.cascade(Cascade::RELAXATION).unwrap_or(Cascade::RELAXATION))
+        solver_text(study, study.solver.kind.cascade(crate::loading::inplane::CASCADE).unwrap_or(Cascade::RELAXATION))
     );
     let _ = writeln!(md, "## The wall's vertical modulus\n");
     let _ = writeln!(md, "The secant of the first loading branch (the Stone Masonry Database's `Epc`): the stress the actuator added over the wall's shortening (the beam's settlement over the wall's height). Cycle secants: the mean over the realizations of each cycle's loading branch; residual: the mean settlement left after each unloading, below the first loading at the same stress. Statistics over the realizations that ran.\n");

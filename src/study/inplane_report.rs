@@ -106,12 +106,24 @@ fn f(v: f64, d: usize) -> String {
 fn method_words(solver: SolverParams) -> String {
     let method = solver.kind.method();
     if solver.kind.is_penalty() {
-        let cascade =
-            if solver.kind.names_cascade() { format!(", the {} cascade", solver.kind.name()) } else { String::new() };
+        let cascade = solver.kind.cascade(crate::loading::inplane::CASCADE).unwrap_or(crate::loading::inplane::CASCADE);
+        let iterations: Vec<&str> =
+            [(cascade.newton, "the Newton solve"), (cascade.implicit, "the implicit iteration")]
+                .into_iter()
+                .filter_map(|(on, name)| on.then_some(name))
+                .collect();
+        let relaxation = if cascade.accelerate { "accelerated dynamic relaxation" } else { "dynamic relaxation" };
+        let stages = if iterations.is_empty() {
+            relaxation.to_string()
+        } else {
+            format!("{}, then {relaxation} where it hands over", iterations.join(", then "))
+        };
         format!(
-            "the penalty DEM (dynamic relaxation to the unbalanced-force ratio {:e} per increment of the imposed \
-             displacement{cascade})",
-            solver.penalty.tolerance
+            "the penalty DEM (`{}`: {stages}, to the unbalanced-force ratio {:e} and every block's local ratio {} \
+             per increment of the imposed displacement)",
+            solver.kind.name(),
+            solver.penalty.tolerance,
+            crate::loading::inplane::LOCAL_TOLERANCE
         )
     } else {
         let what = crate::protocol::methods(crate::protocol::Loading::InPlane, method).unwrap_or_default();

@@ -17,7 +17,8 @@
 //!   top, so the axial force at the base is `N_total = N + W_wall`;
 //! * **horizontal (x)**: held at the actuator's point, the *shear span* `H0` above the base
 //!   (the anchor), and moved by the imposed displacement, quasi-statically: one static solve
-//!   (dynamic relaxation to the penalty tolerance) per increment. The actuator's force `V`
+//!   ([`CASCADE`]: the implicit iteration, dynamic relaxation where it hands over, to the
+//!   penalty tolerance) per increment. The actuator's force `V`
 //!   is the reaction of that hold;
 //! * **rotation in the plane (about y)**: free (cantilever: the horizontal force acts at
 //!   `H0`, where the moment is zero, the tests' case) or held (double-fixed, no shear span);
@@ -102,7 +103,7 @@ pub use rig::{
     add_rig_force, level_tolerance_m, one_block_stiffness, read_curve, Mirror, Rig, BEAM_ID, BEARING_SHARE,
     LEVEL_TOLERANCE_FLOOR_M, LEVEL_TOLERANCE_FRACTION,
 };
-pub use vertical::{stand_under_vertical_force, VerticalPhase, LOCAL_TOLERANCE};
+pub use vertical::{stand_under_vertical_force, VerticalPhase, CASCADE, LOCAL_TOLERANCE};
 pub use wall_mechanism::{
     mechanism_joints, read_mechanism, InPlaneMechanism, MechanismJoint, MechanismKind, ACTIVE_JOINT_SHARE,
 };
