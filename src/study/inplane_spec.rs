@@ -226,6 +226,19 @@ impl StudySpec {
         if let Some((key, why)) = params.unread_key(any_cyclic) {
             return Err(invalid.at(&format!("in_plane.{key}"), why.into()));
         }
+        // What holds the blocks out of the plane is the penalty DEM's setting (nscd's walls
+        // are 3D), refused by name with another method as `--out-of-plane` is.
+        if !self.solver.kind.is_penalty() && params.out_of_plane != InPlaneParams::default().out_of_plane {
+            return Err(invalid.at(
+                "in_plane.out_of_plane",
+                format!(
+                    "{:?} is read by the penalty DEM only (what holds its blocks out of the wall's plane); \
+                     {} runs its walls in 3D: drop the key, or give [solver] kind = \"penalty\"",
+                    params.out_of_plane.name(),
+                    self.solver.kind.method().describe()
+                ),
+            ));
+        }
         let specimens = read_measured_specimens(self, dir, invalid, files)?;
         for (spec, group) in self.groups.iter().zip(&groups) {
             if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {

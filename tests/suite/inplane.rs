@@ -932,7 +932,8 @@ fn a_top_course_with_a_step_is_refused_naming_its_stones() {
 
 /// A study's `[in_plane]` keys that none of its runs reads are refused by name, as the
 /// command line refuses the flags: the cyclic history's keys when every group is
-/// monotonic, the shear span with the beam held level (they were accepted and ignored).
+/// monotonic, the shear span with the beam held level, the blocks free out of the plane
+/// with a method other than the penalty DEM.
 #[test]
 fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
     let dir = std::env::temp_dir().join(format!("drystone-inplane-study-unread-{}", std::process::id()));
@@ -958,6 +959,14 @@ fn a_study_refuses_in_plane_keys_none_of_its_runs_reads() {
     }
     let path = dir.join("s.toml");
     std::fs::write(&path, study("shear_span_m = 1.325\ncycles = 3", "cyclic")).unwrap();
+    assert!(drystone::study::Study::from_file(&path).is_ok());
+    // What holds the blocks out of the plane is the penalty DEM's: refused with nscd, whose
+    // walls are 3D, read with the penalty DEM.
+    let free = study("shear_span_m = 1.325\nout_of_plane = \"free\"", "monotonic");
+    std::fs::write(&path, format!("{free}[solver]\nkind = \"nscd\"\n")).unwrap();
+    let err = drystone::study::Study::from_file(&path).map(|_| ()).unwrap_err().to_string();
+    assert!(err.contains("in_plane.out_of_plane") && err.contains("3D"), "{err}");
+    std::fs::write(&path, free).unwrap();
     assert!(drystone::study::Study::from_file(&path).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }
