@@ -3,13 +3,16 @@
 //! the defaults of the [module doc](super). The first problem found is the error; every
 //! error names the file and the key.
 
-use super::distribution::{valid_name, Distribution, DistributionSource, DistributionSpec, Law, Unit};
+mod section;
+mod values;
+
+use super::distribution::{valid_name, Distribution, DistributionSource, Unit};
 use super::spec::{
     ArrangementKind, DistRef, EndKind, WallSpec, DEFAULT_DIP_DEG, DEFAULT_MIN_END_FRACTION,
     DEFAULT_MIN_THICKNESS_FRACTION, DEFAULT_MIN_WEDGE_LENGTH_FRACTION, DEFAULT_MIN_WEDGE_THICKNESS_FRACTION,
     DEFAULT_OVERLAP, WALL_VERSION,
 };
-use super::wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Section, Wall};
+use super::wall::{Arrangement, Ends, HeadGap, Irregular, Scatter, Wall};
 use super::GeneratorError;
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -19,13 +22,6 @@ use std::path::Path;
 /// twice the solvers' default contact margin (1 mm), so that the two faces of a piece are
 /// told apart by contact detection. Thinner pieces are slivers no solver resolves.
 pub const MIN_SECTION_PIECE_M: f64 = 2e-3;
-
-fn thinner_than_a_piece() -> String {
-    format!(
-        "must be at least {MIN_SECTION_PIECE_M} m: a piece of a double-faced section thinner than twice the \
-         solvers' contact margin (1 mm) is a sliver no solver resolves"
-    )
-}
 
 impl Wall {
     /// Reads and checks a wall file, finding named distributions with
@@ -478,21 +474,6 @@ impl Resolver<'_> {
         Ok(Some(Scatter { kn_factor, friction_offset, bed_seating_gap }))
     }
 
-    /// `[distributions.NAME]`: inline distributions are checked even when no key uses them.
-    fn inline_distributions(&self) -> Result<(), GeneratorError> {
-        for (n, d) in &self.spec.distributions {
-            if !valid_name(n) {
-                return Err(self.invalid(&format!("distributions.{n}"), n.clone(), "names are [A-Za-z0-9_-]+"));
-            }
-            d.resolve(n, self.path, &format!("distributions.{n}."))?;
-        }
-        Ok(())
-    }
-}
-
-/// Values and distributions.
-impl Resolver<'_> {
-    /// [`GeneratorError::Invalid`] for `key = value` in this file.
     /// `[joints]`: every family's values in range, and no family the wall cannot have
     /// (`wedge` joints need the irregular arrangement).
     fn joints(&self, arrangement: &super::Arrangement) -> Result<(), GeneratorError> {
@@ -540,207 +521,14 @@ impl Resolver<'_> {
         Ok(())
     }
 
-    /// `[section]`: one leaf, or two leaves narrower together than the top width, each
-    /// leaf, the hearting between them and a hearting piece at least
-    /// [`MIN_SECTION_PIECE_M`].
-    fn section(&self, e: &Envelope) -> Result<Section, GeneratorError> {
-        let Some(s) = &self.spec.section else { return Ok(Section::Single) };
-        let double_only = [
-            ("section.leaf_width_m", s.leaf_width_m.is_some()),
-            ("section.hearting_stone_m", s.hearting_stone_m.is_some()),
-            ("section.through_stone_spacing_m", s.through_stone_spacing_m.is_some()),
-            ("section.through_stone_every_courses", s.through_stone_every_courses.is_some()),
-        ];
-        match s.leaves {
-            1 => {
-                if let Some((key, _)) = double_only.iter().find(|(_, given)| *given) {
-                    return Err(self.invalid(
-                        key,
-                        "(given)".into(),
-                        "applies to a double-faced section (leaves = 2) only",
-                    ));
-                }
-                return Ok(Section::Single);
+    /// `[distributions.NAME]`: inline distributions are checked even when no key uses them.
+    fn inline_distributions(&self) -> Result<(), GeneratorError> {
+        for (n, d) in &self.spec.distributions {
+            if !valid_name(n) {
+                return Err(self.invalid(&format!("distributions.{n}"), n.clone(), "names are [A-Za-z0-9_-]+"));
             }
-            2 => {}
-            n => return Err(self.invalid("section.leaves", n.to_string(), "must be 1 or 2")),
+            d.resolve(n, self.path, &format!("distributions.{n}."))?;
         }
-        let leaf_width = match s.leaf_width_m {
-            Some(w) => {
-                let w = self.positive("section.leaf_width_m", w)?;
-                if w < MIN_SECTION_PIECE_M {
-                    return Err(self.invalid("section.leaf_width_m", w.to_string(), thinner_than_a_piece()));
-                }
-                if e.top_width - 2.0 * w < MIN_SECTION_PIECE_M && 2.0 * w < e.top_width {
-                    return Err(self.invalid(
-                        "section.leaf_width_m",
-                        w.to_string(),
-                        format!(
-                            "leaves the hearting {} m wide at the top (top width {} m − 2 × {w} m), {}",
-                            e.top_width - 2.0 * w,
-                            e.top_width,
-                            thinner_than_a_piece()
-                        ),
-                    ));
-                }
-                if 2.0 * w >= e.top_width {
-                    return Err(self.invalid(
-                        "section.leaf_width_m",
-                        w.to_string(),
-                        format!(
-                            "two leaves must leave room for the hearting at the top: 2 × {w} m >= top width {} m",
-                            e.top_width
-                        ),
-                    ));
-                }
-                Some(w)
-            }
-            None => None,
-        };
-        let hearting_stone = match s.hearting_stone_m {
-            Some(_) if leaf_width.is_none() => {
-                return Err(self.invalid(
-                    "section.hearting_stone_m",
-                    "(given)".into(),
-                    "needs section.leaf_width_m (without it the leaves meet and there is no hearting)",
-                ))
-            }
-            Some(v) => {
-                let v = self.positive("section.hearting_stone_m", v)?;
-                if v < MIN_SECTION_PIECE_M {
-                    return Err(self.invalid("section.hearting_stone_m", v.to_string(), thinner_than_a_piece()));
-                }
-                Some(v)
-            }
-            None => None,
-        };
-        let through = match (s.through_stone_spacing_m, s.through_stone_every_courses) {
-            (None, Some(_)) => {
-                return Err(self.invalid(
-                    "section.through_stone_every_courses",
-                    "(given)".into(),
-                    "needs section.through_stone_spacing_m",
-                ))
-            }
-            (None, None) => None,
-            (Some(sp), every) => {
-                let sp = self.positive("section.through_stone_spacing_m", sp)?;
-                let every = every.unwrap_or(1);
-                if every == 0 {
-                    return Err(self.invalid("section.through_stone_every_courses", "0".into(), "must be >= 1"));
-                }
-                Some((sp, every as usize))
-            }
-        };
-        Ok(Section::Double { leaf_width, hearting_stone, through })
-    }
-
-    fn invalid(&self, key: &str, value: String, reason: impl Into<String>) -> GeneratorError {
-        GeneratorError::Invalid { path: self.path.to_owned(), key: key.into(), value, reason: reason.into() }
-    }
-
-    /// A finite number > 0.
-    fn positive(&self, key: &str, v: f64) -> Result<f64, GeneratorError> {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(self.invalid(key, v.to_string(), "must be a finite number > 0"))
-        }
-    }
-
-    /// A finite number ≥ 0.
-    fn nonneg(&self, key: &str, v: f64) -> Result<f64, GeneratorError> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(v)
-        } else {
-            Err(self.invalid(key, v.to_string(), "must be a finite number >= 0"))
-        }
-    }
-
-    /// A fraction in (0, 1), with 0 and 1 allowed as asked.
-    fn fraction(&self, key: &str, v: f64, zero_ok: bool, one_ok: bool) -> Result<f64, GeneratorError> {
-        let ok =
-            v.is_finite() && (if zero_ok { v >= 0.0 } else { v > 0.0 }) && (if one_ok { v <= 1.0 } else { v < 1.0 });
-        if ok {
-            Ok(v)
-        } else {
-            let (open, close) = (if zero_ok { "[" } else { "(" }, if one_ok { "]" } else { ")" });
-            Err(self.invalid(key, v.to_string(), format!("must be in {open}0, 1{close}")))
-        }
-    }
-
-    /// Resolves a number or a name to a distribution of the expected unit: inline
-    /// distributions first, then the files of the distribution source.
-    fn dist(&self, r: &DistRef, key: &str, unit: Unit) -> Result<Distribution, GeneratorError> {
-        let d = match r {
-            DistRef::Value(v) => {
-                if !v.is_finite() {
-                    return Err(self.invalid(key, v.to_string(), "must be finite"));
-                }
-                return Ok(Distribution::fixed(*v, unit));
-            }
-            DistRef::Name(name) => {
-                if !valid_name(name) {
-                    return Err(self.invalid(key, format!("{name:?}"), "distribution names are [A-Za-z0-9_-]+"));
-                }
-                if let Some(inline) = self.spec.distributions.get(name) {
-                    inline.resolve(name, self.path, &format!("distributions.{name}."))?
-                } else if let Some(file) = self.source.find(name) {
-                    DistributionSpec::from_file(&file)?.resolve(name, &file, "")?
-                } else {
-                    let mut available: Vec<String> = self.spec.distributions.keys().cloned().collect();
-                    available.extend(self.source.available());
-                    return Err(GeneratorError::UnknownDistribution {
-                        path: self.path.to_owned(),
-                        key: key.into(),
-                        name: name.clone(),
-                        searched: self.source.dirs.clone(),
-                        available,
-                    });
-                }
-            }
-        };
-        if d.unit != unit {
-            return Err(self.invalid(
-                key,
-                format!("{:?}", d.name),
-                format!("distribution {} has unit {}, this key needs {}", d.name, d.unit, unit),
-            ));
-        }
-        Ok(d)
-    }
-
-    /// A block-size law in m: positive support, mean not larger than `limit` m (the wall
-    /// dimension `limit_name`).
-    fn size_law(
-        &self,
-        r: &DistRef,
-        key: &str,
-        what: &str,
-        limit_name: &str,
-        limit: f64,
-    ) -> Result<Distribution, GeneratorError> {
-        let d = self.dist(r, key, Unit::M)?;
-        self.positive_support(&d, key)?;
-        if d.mean() > limit {
-            return Err(self.invalid(
-                key,
-                describe(r, &d),
-                format!("{what} (mean {}) larger than the {limit_name} = {limit} m", d.mean()),
-            ));
-        }
-        Ok(d)
-    }
-
-    /// The law's support lies above 0 (a lognormal may start at 0).
-    fn positive_support(&self, d: &Distribution, key: &str) -> Result<(), GeneratorError> {
-        let (lo, _) = d.support();
-        if lo > 0.0 || (lo == 0.0 && matches!(d.law, Law::Lognormal { .. })) {
-            Ok(())
-        } else {
-            let hint =
-                if lo.is_finite() { "" } else { " (a normal law is unbounded; use truncated_normal or lognormal)" };
-            Err(self.invalid(key, format!("{} ({:?})", d.name, d.law), format!("must be > 0{hint}")))
-        }
+        Ok(())
     }
 }

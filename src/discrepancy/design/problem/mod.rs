@@ -2,18 +2,21 @@
 //! contender taken as the truth, every contender refit on both campaigns
 //! ([`super::refit`]), and the answer the analysis would give.
 
+mod bias;
+mod space;
+mod weights;
+
 use super::plan::{Chance, Contender};
 use super::refit::Refit;
-use crate::discrepancy::compare::{difference_se, per_specimen, specimen_weights};
-use crate::discrepancy::fit::Data;
-use crate::discrepancy::observations::{CategorySet, Observable, Observation, Scale};
-use crate::discrepancy::predictive::{Predictive, Reading, Simulated};
+use crate::discrepancy::compare::difference_se;
+use crate::discrepancy::observations::Observable;
+use crate::discrepancy::predictive::{Reading, Simulated};
 use crate::discrepancy::TieCheck;
 use crate::rng::{rng_for, Purpose};
 use rand::RngExt;
-use rand_distr::{Distribution, Exp1, StandardNormal, StudentT};
 use rayon::prelude::*;
-use std::collections::HashMap;
+use space::{NewScores, ScoreCache, Space};
+use weights::{named, pseudo_bma_of};
 
 /// The preposterior problem of one follow-up: the contenders, their predictions of each
 /// key at their first-campaign fits (`sims[contender][key]`, what the simulated follow-ups
@@ -132,23 +135,6 @@ impl Stream {
     const REVERSAL: u64 = 0x7265_7665_7273_616c;
 }
 
-/// A space of keys: what a simulated specimen is drawn on and scored on.
-#[derive(Debug, Clone, Copy)]
-struct Space<'a> {
-    keys: &'a [Observable],
-    sigma: &'a [f64],
-    reading: Reading,
-    bracket_deg: f64,
-}
-
-/// One contender's scores of a simulated follow-up's specimens: per specimen, the measures'
-/// and every observation's summed score (nats, lower is better); refit, one row per scan
-/// point.
-enum NewScores {
-    Fixed { pins: Vec<f64>, all: Vec<f64> },
-    Scan { pins: Vec<Vec<f64>>, all: Vec<Vec<f64>> },
-}
-
 /// What one truth's replicates give, per ladder count.
 struct Tally {
     /// `[ladder]`: replicates named alone by the weights.
@@ -163,10 +149,6 @@ struct Tally {
     /// that replicate's ranking ([`Problem::present`]).
     seps: Vec<Vec<Vec<(bool, bool, bool)>>>,
 }
-
-/// The score of one reading (key, value bits) at every scan point of one contender,
-/// computed once (the readings are rounded, so values repeat across replicates).
-type ScoreCache = HashMap<(usize, u64), Vec<f64>>;
 
 impl Problem<'_> {
     fn space(&self) -> Space<'_> {
@@ -196,151 +178,6 @@ impl Problem<'_> {
     /// Whether key `k` is one the first campaign did not read on the follow-up's walls.
     pub fn unseen(&self, k: usize) -> bool {
         self.unseen_walls || self.unseen_keys.get(k).copied().unwrap_or(false)
-    }
-
-    /// Whether key `k` of a follow-up drawn from contender `t` carries a bias: an angle or a
-    /// displacement `t` predicts (not the mechanism's readings, nor the failure height,
-    /// which are drawn from their categories).
-    fn biased(&self, t: usize, k: usize) -> bool {
-        let o = &self.keys[k];
-        !o.is_mechanism() && self.sims[t][k].mean.is_finite()
-    }
-
-    /// The contenders' disagreement on the follow-up's keys (`[key]`, in units of the key's
-    /// predictive variance under contender `t`): the between-model variance of the model
-    /// average over the truths `B = Σ_c w_c (m_c − m̄)²` (`w_c`: their first-campaign
-    /// weights, `m_c`: their predicted means of the key, `m̄ = Σ_c w_c m_c`). 0 for the
-    /// mechanism's readings and failure heights (not biased) and a key `t` does not predict.
-    ///
-    /// A floor: the same variance over every contender the follow-up refits (the truths and
-    /// the challengers, the library's plausible models, equally weighted), so that a truth
-    /// that holds nearly all the weight, or the only truth, still carries the spread of the
-    /// models that fit the first campaign on keys none of them was fitted on.
-    pub fn disagreement(&self, t: usize) -> Vec<f64> {
-        let space = self.space();
-        let n = self.contenders.len().min(self.sims.len());
-        let truths = self.truths.min(n);
-        let between = |k: usize, of: &dyn Fn(usize) -> f64, upto: usize| -> f64 {
-            let (mut w, mut m, mut m2) = (0.0, 0.0, 0.0);
-            for c in 0..upto {
-                let (p, x) = (of(c), self.sims[c][k].mean);
-                if p > 0.0 && x.is_finite() {
-                    w += p;
-                    m += p * x;
-                    m2 += p * x * x;
-                }
-            }
-            if w > 0.0 {
-                (m2 / w - (m / w).powi(2)).max(0.0)
-            } else {
-                0.0
-            }
-        };
-        (0..self.keys.len())
-            .map(|k| {
-                let sim = &self.sims[t][k];
-                if !self.biased(t, k) {
-                    return 0.0;
-                }
-                let sd = Predictive::new(sim, &space.template(k), self.bracket_deg).sd;
-                let weighted = between(k, &|c| self.contenders[c].prior, truths);
-                let floor = between(k, &|_| 1.0, n);
-                if sd > 0.0 {
-                    weighted.max(floor) / (sd * sd)
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    }
-
-    /// The variance of the bias per key (`[key]`, in units of the key's predictive variance
-    /// under contender `t`) that a follow-up drawn from `t` carries: `inadequacy[t]`, and on
-    /// walls of a new kind ([`Problem::unseen_walls`]) the contenders' disagreement there
-    /// ([`Problem::disagreement`]). Every truth fits the first campaign comparably, so on
-    /// walls it did not test any of them, the cause's model included, may be off by as much
-    /// as they disagree (the between-model part of a Bayesian model average's predictive
-    /// variance; Hoeting et al. 1999, *Statist. Sci.* 14, 382–417). 0 for the mechanism's
-    /// readings and failure heights (not biased). Empty when every key is 0, so nothing is
-    /// drawn.
-    ///
-    /// Per key: a key the first campaign did not read ([`Problem::unseen`]: walls of a new
-    /// kind, the other top measure, a tilt not read) carries `transfer[t]` and the
-    /// disagreement there beside `inadequacy[t]`; a key it read carries `inadequacy[t]`.
-    pub fn bias_variances(&self, t: usize) -> Vec<f64> {
-        let own = self.inadequacy.get(t).copied().unwrap_or(0.0).max(0.0);
-        let carried = self.transfer.get(t).copied().unwrap_or(0.0).max(0.0);
-        let any = (0..self.keys.len()).any(|k| self.unseen(k));
-        let between = if any { self.disagreement(t) } else { vec![0.0; self.keys.len()] };
-        let v: Vec<f64> = (0..self.keys.len())
-            .map(|k| match (self.biased(t, k), self.unseen(k)) {
-                (false, _) => 0.0,
-                (true, false) => own,
-                (true, true) => own + carried + between[k],
-            })
-            .collect();
-        if v.iter().all(|x| !(*x > 0.0)) {
-            Vec::new()
-        } else {
-            v
-        }
-    }
-
-    /// The biases of one simulated follow-up (`[key]`, in units of each key's predictive
-    /// standard deviation): `N(0, variances[key])` per key ([`Problem::bias_variances`]),
-    /// shared by every specimen of the follow-up, as the walls of a campaign share the way
-    /// they differ from the model. Empty, drawing nothing, when `variances` is empty.
-    pub(super) fn draw_bias(variances: &[f64], rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
-        variances
-            .iter()
-            .map(|v| {
-                let z: f64 = StandardNormal.sample(rng);
-                v.sqrt() * z
-            })
-            .collect()
-    }
-
-    /// Whether key `k` is a mechanism reading (a kind, a start, a failure height) the
-    /// first campaign did not read.
-    fn unseen_mechanism(&self, k: usize) -> bool {
-        self.keys[k].is_mechanism() && self.unseen(k)
-    }
-
-    /// The model whose mechanism one simulated follow-up drawn from a truth reads, where
-    /// the first campaign did not read it: a truth drawn by the priors (the truth itself
-    /// included). No model was checked against a failure no one watched, so the truth's
-    /// mechanism there is as uncertain as the models that fit the first campaign disagree
-    /// about it (the model average's draw, Hoeting et al. 1999, *Statist. Sci.* 14,
-    /// 382–417), shared by the follow-up's specimens as a wall kind's mechanism is.
-    /// `None`, drawing nothing, when the follow-up reads no unseen mechanism key.
-    pub fn mechanism_source(&self, rng: &mut rand_chacha::ChaCha8Rng) -> Option<usize> {
-        if !(0..self.keys.len()).any(|k| self.unseen_mechanism(k)) {
-            return None;
-        }
-        let truths = self.truths.clamp(1, self.contenders.len().max(1)).min(self.contenders.len());
-        let total: f64 = self.contenders[..truths].iter().map(|c| c.prior.max(0.0)).sum();
-        let mut u = rng.random::<f64>() * total;
-        for (c, con) in self.contenders[..truths].iter().enumerate() {
-            if u < con.prior.max(0.0) {
-                return Some(c);
-            }
-            u -= con.prior.max(0.0);
-        }
-        Some(truths.saturating_sub(1))
-    }
-
-    /// The predictions a follow-up drawn from truth `t` is drawn from: `t`'s, with its
-    /// unseen mechanism keys read from `source` ([`Problem::mechanism_source`]).
-    fn drawn_from(&self, t: usize, source: Option<usize>) -> Vec<Simulated> {
-        let mut row = self.sims[t].clone();
-        if let Some(c) = source {
-            for (k, x) in row.iter_mut().enumerate() {
-                if self.unseen_mechanism(k) {
-                    *x = self.sims[c][k];
-                }
-            }
-        }
-        row
     }
 
     fn refit(&self, c: usize) -> Option<&Refit<'_>> {
@@ -690,210 +527,4 @@ pub fn clears(k: usize, n: usize, check: usize) -> f64 {
         .map(|j| (ln_binomial(r as u64, j as u64) + ln_beta(j as f64 + a, (r - j) as f64 + b) - base).exp())
         .sum::<f64>()
         .min(1.0)
-}
-
-/// [`pseudo_bma`] over the contenders `present` in the ranking, 0 for the others (the
-/// same random draws whatever the contenders present).
-fn pseudo_bma_of(elpd: &[Vec<f64>], present: &[bool], draws: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
-    if present.iter().all(|&p| p) {
-        return pseudo_bma(elpd, draws, rng);
-    }
-    let kept: Vec<Vec<f64>> = elpd.iter().zip(present).filter(|(_, &p)| p).map(|(e, _)| e.clone()).collect();
-    let mut w = pseudo_bma(&kept, draws, rng).into_iter();
-    present.iter().map(|&p| if p { w.next().unwrap_or(0.0) } else { 0.0 }).collect()
-}
-
-/// Whether contender `t` alone holds [`crate::discrepancy::SHARED`] of the weights `w` (alone), and
-/// whether it is among the fewest heaviest that hold it (right).
-fn named(w: &[f64], t: usize) -> (bool, bool) {
-    let mut order: Vec<usize> = (0..w.len()).collect();
-    order.sort_by(|&a, &b| w[b].total_cmp(&w[a]).then(a.cmp(&b)));
-    let mut held = 0.0;
-    let mut shared = Vec::new();
-    for &m in &order {
-        shared.push(m);
-        held += w[m];
-        if held >= crate::discrepancy::SHARED - 1e-12 {
-            break;
-        }
-    }
-    (shared == [t], shared.contains(&t))
-}
-
-/// Pseudo-BMA+ weights of the models with log scores per specimen `elpd[k][i]`: `w_k ∝
-/// exp(n Σ_i α_i elpd_ik)` averaged over `draws` Bayesian-bootstrap draws `α ~
-/// Dirichlet(1, …, 1)` (as [`crate::discrepancy::weights`]).
-fn pseudo_bma(elpd: &[Vec<f64>], draws: usize, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
-    let k = elpd.len();
-    let n = elpd.first().map_or(0, Vec::len);
-    let mut w = vec![0.0; k];
-    let mut z = vec![0.0; k];
-    let mut a = vec![0.0; n];
-    for _ in 0..draws.max(1) {
-        for x in a.iter_mut() {
-            *x = Exp1.sample(rng);
-        }
-        let s: f64 = a.iter().sum();
-        for (zk, e) in z.iter_mut().zip(elpd) {
-            *zk = n as f64 * e.iter().zip(&a).map(|(x, a)| x * a).sum::<f64>() / s;
-        }
-        let m = z.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max);
-        let e: Vec<f64> = z.iter().map(|x| if x.is_finite() { (x - m).exp() } else { 0.0 }).collect();
-        let total: f64 = e.iter().sum();
-        for (wk, ek) in w.iter_mut().zip(&e) {
-            *wk += ek / total / draws.max(1) as f64;
-        }
-    }
-    w
-}
-
-impl Space<'_> {
-    /// One simulated specimen from the predictions `sims` (`[key]`) reading the keys
-    /// `which`, each measure shifted by its bias `bias[key]` predictive standard deviations
-    /// (empty: none; the mechanism's readings are not biased): its observations (key index,
-    /// value).
-    fn draw(
-        &self,
-        sims: &[Simulated],
-        which: &[usize],
-        bias: &[f64],
-        rng: &mut rand_chacha::ChaCha8Rng,
-    ) -> Vec<(usize, f64)> {
-        let mut out = Vec::new();
-        // The keys of each set of categories ([`CategorySet::ALL`]'s order), drawn as one.
-        let mut sets: [Vec<usize>; CategorySet::ALL.len()] = Default::default();
-        for &k in which {
-            let (o, sim) = (&self.keys[k], &sims[k]);
-            match o.scale() {
-                Scale::Category { set, .. } => sets[set.index()].push(k),
-                Scale::Place { width } => {
-                    if sim.heights.is_empty() {
-                        continue;
-                    }
-                    let v = if rng.random::<f64>() < self.reading.misreading {
-                        rng.random::<f64>()
-                    } else {
-                        let u: f64 = rng.random();
-                        let mut acc = 0.0;
-                        let last = (sim.heights.0.len() - 1) as f64;
-                        let mut c = 1.0;
-                        for (i, m) in sim.heights.0.iter().enumerate() {
-                            acc += m;
-                            if u <= acc {
-                                c = i as f64 / last;
-                                break;
-                            }
-                        }
-                        let z: f64 = StandardNormal.sample(rng);
-                        (c + z * (self.sigma[k].powi(2) + sim.err.powi(2)).sqrt()).clamp(0.0, 1.0)
-                    };
-                    let v = self.reading.neighbour_read(v, width, rng.random());
-                    out.push((k, self.reading.round(o, v)));
-                }
-                Scale::Measure(_) => {
-                    if !sim.mean.is_finite() {
-                        continue;
-                    }
-                    let p = Predictive::new(sim, &self.template(k), self.bracket_deg);
-                    let z: f64 = if p.dof < 1e4 {
-                        StudentT::new(p.dof.max(1.0)).map_or(0.0, |d| d.sample(rng))
-                    } else {
-                        StandardNormal.sample(rng)
-                    };
-                    let b = bias.get(k).copied().unwrap_or(0.0);
-                    out.push((k, self.reading.round(o, p.mean + p.sd * (z + b))));
-                }
-            }
-        }
-        for group in sets {
-            if group.is_empty() {
-                continue;
-            }
-            // The seen category, by the smoothed and misread probabilities.
-            let q: Vec<f64> = group
-                .iter()
-                .map(|&k| self.reading.category_probability(&self.keys[k], &sims[k]).unwrap_or(0.0))
-                .collect();
-            let total: f64 = q.iter().sum();
-            if !(total > 0.0) {
-                continue;
-            }
-            let mut u = rng.random::<f64>() * total;
-            let mut pick = group[group.len() - 1];
-            for (&k, q) in group.iter().zip(&q) {
-                if u < *q {
-                    pick = k;
-                    break;
-                }
-                u -= q;
-            }
-            out.push((pick, 1.0));
-        }
-        out
-    }
-
-    /// An observation of key `k` with its σ (its value set later).
-    fn template(&self, k: usize) -> Observation {
-        Observation {
-            specimen: String::new(),
-            group: String::new(),
-            observable: self.keys[k],
-            value: 0.0,
-            sigma: self.sigma[k],
-        }
-    }
-
-    /// The scores of the simulated `specimens` (each its observations) under one
-    /// contender: at `fixed`, or at every scan point of `scan` (`cache` keeps each
-    /// reading's row of scores).
-    fn scores(
-        &self,
-        specimens: &[Vec<(usize, f64)>],
-        fixed: &[Simulated],
-        scan: Option<&[Vec<Simulated>]>,
-        cache: &mut ScoreCache,
-    ) -> NewScores {
-        let mut obs = Vec::new();
-        let mut key = Vec::new();
-        let mut y = Vec::new();
-        let names: Vec<String> = (0..specimens.len()).map(|i| format!("s{i}")).collect();
-        let mut of = Vec::new();
-        for (i, s) in specimens.iter().enumerate() {
-            for &(k, v) in s {
-                obs.push(Observation { specimen: names[i].clone(), value: v, ..self.template(k) });
-                key.push(k);
-                y.push(v);
-                of.push(i);
-            }
-        }
-        let weight = specimen_weights(&obs);
-        let data =
-            Data { obs: &obs, y: &y, key: &key, weight: &weight, reading: self.reading, bracket_deg: self.bracket_deg };
-        let Some(scan) = scan else {
-            let scores: Vec<f64> = (0..obs.len()).map(|j| data.score(fixed, j)).collect();
-            return NewScores::Fixed {
-                all: per_specimen(&scores, &obs, &names),
-                pins: per_specimen(&data.split_scores(&scores).0, &obs, &names),
-            };
-        };
-        let points = scan.len();
-        let mut pins_t = vec![vec![0.0; specimens.len()]; points];
-        let mut all_t = vec![vec![0.0; specimens.len()]; points];
-        let unit = vec![1.0; obs.len()];
-        let unweighted = Data { weight: &unit, ..data };
-        for j in 0..obs.len() {
-            let pins = data.pins(j);
-            let row = cache
-                .entry((key[j], y[j].to_bits()))
-                .or_insert_with(|| scan.iter().map(|sims| unweighted.score(sims, j)).collect());
-            for p in 0..points {
-                let s = weight[j] * row[p];
-                all_t[p][of[j]] += s;
-                if pins {
-                    pins_t[p][of[j]] += s;
-                }
-            }
-        }
-        NewScores::Scan { pins: pins_t, all: all_t }
-    }
 }

@@ -33,19 +33,24 @@
 //! ([`ShakeParams::settle_s`], by the same integration); the motion's time 0 is the end of
 //! that settling.
 
-use super::monitors::{monitor_points_of, MonitorPoint};
+mod penalty;
+mod watch;
+
+pub use penalty::penalty_step;
+
 use super::settle::{settle, SettleError};
 use super::tilt::TiltError;
-use crate::dem::damping::ContactDamping;
 use crate::dem::state::Body;
-use crate::dem::{DemError, DensityScaling, MovedKey, MovedValue, Simulation, SolverKind, SolverParams};
+use crate::dem::{DemError, MovedKey, MovedValue, Simulation, SolverKind, SolverParams};
 use crate::ground::{Motion, G, MAX_MOTION_DURATION_S};
 use crate::layout::Layout;
 use crate::math::Vec3;
 use crate::nscd::{NscdError, NscdSimulation};
 use crate::range::{check_ranges, OutOfRange};
+use penalty::shake_penalty;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+use watch::{Watch, Work};
 
 /// Shaking-table parameters. Defaults in brackets.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -459,247 +464,4 @@ pub(super) fn base_mean(motion: &Motion, motion_s: f64, vertical: bool, t0: f64,
     let share = (hi - t0) / (t1 - t0);
     let z = if vertical { motion.vertical_mean(t0, hi) } else { 0.0 };
     Vec3::new(0.0, motion.horizontal_mean(t0, hi), z) * (G * share)
-}
-
-/// The work of a run, for its result.
-pub(super) struct Work {
-    pub(super) simulated_s: f64,
-    pub(super) dt_s: f64,
-    pub(super) steps: u64,
-    pub(super) iterations: u64,
-    pub(super) unconverged_steps: u64,
-    pub(super) max_natural_residual: f64,
-    pub(super) wall_time_s: f64,
-}
-
-/// What a run measures, from the bodies after every step of the motion (either solver).
-pub(super) struct Watch<'m> {
-    monitors: Vec<MonitorPoint>,
-    reference: Vec<Vec3>,
-    /// Each body's place when the motion starts: centroid, orientation, height.
-    places: Vec<(Vec3, nalgebra::UnitQuaternion<f64>, f64)>,
-    height: f64,
-    fall: f64,
-    motion: &'m Motion,
-    /// Simulated duration of the motion, s.
-    pub(super) motion_s: f64,
-    history_dt_s: f64,
-    stop_at_collapse: bool,
-    history: ShakeHistory,
-    next_record: f64,
-    max_rot: f64,
-    max_drift: f64,
-    collapse_time: Option<f64>,
-}
-
-impl<'m> Watch<'m> {
-    /// The measures of a run whose motion starts with the bodies `bodies`.
-    pub(super) fn new(layout: &Layout, bodies: &[Body], motion: &'m Motion, params: &ShakeParams) -> Watch<'m> {
-        let monitors: Vec<MonitorPoint> = monitor_points_of(layout, bodies);
-        let reference: Vec<Vec3> = monitors.iter().map(|m| bodies[m.body].to_world(&m.local)).collect();
-        let places = bodies.iter().map(|b| (b.pos, b.rot, b.shape.aabb().extent().z)).collect();
-        Watch {
-            monitors,
-            reference,
-            places,
-            height: layout.bounds().extent().z,
-            fall: params.fall_rotation_deg.to_radians(),
-            motion,
-            motion_s: params.duration_s.map_or(motion.duration_s(), |d| d.min(motion.duration_s())),
-            history_dt_s: params.history_dt_s,
-            stop_at_collapse: params.stop_at_collapse,
-            history: ShakeHistory::default(),
-            next_record: 0.0,
-            max_rot: 0.0,
-            max_drift: 0.0,
-            collapse_time: None,
-        }
-    }
-
-    /// Blocks fallen: turned by more than the fall rotation from their place, or dropped
-    /// by more than half their height.
-    fn fallen(&self, bodies: &[Body]) -> usize {
-        bodies
-            .iter()
-            .zip(&self.places)
-            .filter(|(b, (pos, rot, hz))| {
-                !b.fixed() && ((b.rot * rot.inverse()).angle() > self.fall || pos.z - b.pos.z > 0.5 * hz)
-            })
-            .count()
-    }
-
-    /// The drift: the largest |y displacement| of the monitor points over the height.
-    fn drift(&self, bodies: &[Body]) -> f64 {
-        self.monitors
-            .iter()
-            .zip(&self.reference)
-            .map(|(m, r)| (bodies[m.body].to_world(&m.local) - r).y.abs())
-            .fold(0.0, f64::max)
-            / self.height
-    }
-
-    /// The largest |rotation about x| of a free block, rad.
-    fn rocking(&self, bodies: &[Body]) -> f64 {
-        bodies
-            .iter()
-            .zip(&self.places)
-            .filter(|(b, _)| !b.fixed())
-            .map(|(b, (_, rot, _))| (b.rot * rot.inverse()).scaled_axis().x.abs())
-            .fold(0.0, f64::max)
-    }
-
-    /// Takes the bodies after a step ending at `t` (s from the start of the motion): the
-    /// maxima, the history (and `observe`) at its times, the first fall. True when the run
-    /// should stop (a block fell and the run stops at collapse).
-    pub(super) fn after_step(&mut self, t: f64, bodies: &[Body], observe: &mut dyn FnMut(f64, &[Body])) -> bool {
-        let (rot, dr) = (self.rocking(bodies), self.drift(bodies));
-        self.max_rot = self.max_rot.max(rot);
-        self.max_drift = self.max_drift.max(dr);
-        if t + 1e-12 >= self.next_record {
-            self.history.time_s.push(t);
-            self.history.base_g.push(if t <= self.motion_s { self.motion.horizontal_at(t) } else { 0.0 });
-            self.history.drift.push(dr);
-            self.history.rotation_deg.push(rot.to_degrees());
-            self.next_record += self.history_dt_s;
-            observe(t, bodies);
-        }
-        if self.collapse_time.is_none() && self.fallen(bodies) > 0 {
-            self.collapse_time = Some(t);
-            if self.stop_at_collapse {
-                return true;
-            }
-        }
-        false
-    }
-
-    /// The result of the run that ended with `bodies`.
-    pub(super) fn result(self, solver: SolverKind, bodies: &[Body], work: Work) -> ShakeResult {
-        ShakeResult {
-            solver,
-            motion: self.motion.name.clone(),
-            pga_g: self.motion.pga_g(),
-            overturned: self.collapse_time.is_some(),
-            collapse_time_s: self.collapse_time,
-            max_rotation_deg: self.max_rot.to_degrees(),
-            max_drift: self.max_drift,
-            residual_drift: self.drift(bodies),
-            blocks_fallen: self.fallen(bodies),
-            blocks: self.places.len(),
-            height_m: self.height,
-            simulated_s: work.simulated_s,
-            dt_s: work.dt_s,
-            steps: work.steps,
-            iterations: work.iterations,
-            unconverged_steps: work.unconverged_steps,
-            max_natural_residual: work.max_natural_residual,
-            wall_time_s: work.wall_time_s,
-            history: self.history,
-        }
-    }
-}
-
-// The shaking table by the penalty DEM (`run_shake_penalty`): explicit dynamics of the
-// sub-contact spring model with true masses, no local damping and normal contact
-// dashpots set by a coefficient of restitution.
-//
-// The engine's stages are those of every penalty run (`dem::Simulation::step`:
-// contact detection, the contact pass with the dashpots of `dem::damping`, the
-// load pass, central-difference integration); only the loads differ: the weight and the
-// d'Alembert force `−m a_g(t)` of every free block in the frame of the table, set as the
-// body force `m (g − a_g(t))` at the start of each step (time `tⁿ` of the scheme's
-// positions). The time step is the critical step of the assembly's joint stiffness
-// (its highest frequency against the true masses, `dem::timestep`) times
-// `timestep_safety` (0.95), `PenaltyParams::step_fraction` (0.1: a contact's
-// impact in about thirty steps) and the dashpots' factor
-// (`ContactDamping::step_factor`); it only shrinks as contacts
-// change.
-//
-// The wall settles on the still table for `settle_s` by the same integration (the blocks
-// sink into their bed joints and the dashpots damp the oscillation), then the motion
-// starts.
-
-/// Runs the shaking-table test by the penalty DEM in explicit dynamics: the joints of the
-/// layout (Kn, Ks, friction, cohesion and tension as given), `solver`'s contact and
-/// step settings (`contact_margin_m`, `subcontact_subdivisions`, `quadrature`,
-/// `timestep_safety` times [`crate::dem::PenaltyParams::step_fraction`], ...) with local damping 0 and
-/// density scaling off whatever `solver` says, and dashpots of restitution
-/// [`crate::dem::PenaltyParams::contact_restitution`] (the table's former keys applied,
-/// [`ShakeParams::moved`]). Called by
-/// [`run_shake_penalty`], which has checked `params` and the motion.
-///
-/// # Errors
-/// The simulation a penalty shaking run starts from: no local damping, no density
-/// scaling, the step `timestep_safety × step_fraction` of the critical step, the normal
-/// contact damping of `contact_restitution` ([`crate::dem::PenaltyParams`]).
-///
-/// # Errors
-/// [`ShakeError::Parameter`] for a solver parameter out of range.
-fn penalty_simulation(layout: &Layout, solver: SolverParams, params: &ShakeParams) -> Result<Simulation, ShakeError> {
-    let solver = crate::dem::with_moved(solver, &params.moved());
-    solver.validate().map_err(ShakeError::Parameter)?;
-    let p = solver.penalty;
-    let sp = SolverParams {
-        damping: 0.0,
-        density_scaling: DensityScaling::Off,
-        timestep_safety: solver.timestep_safety * p.step_fraction,
-        ..solver
-    };
-    sp.validate().map_err(ShakeError::Parameter)?;
-    let damping = ContactDamping::from_restitution(p.contact_restitution).map_err(ShakeError::Parameter)?;
-    let mut sim = Simulation::new(layout, sp);
-    sim.set_contact_damping(Some(damping));
-    Ok(sim)
-}
-
-/// The time step (s) a penalty shaking run of `layout` starts with: the critical step of
-/// its blocks' masses and joint stiffnesses (and contact damping) times
-/// `timestep_safety × step_fraction` ([`crate::dem::PenaltyParams`]), known before the run (with [`check_steps`], the run's step count).
-///
-/// # Errors
-/// [`ShakeError::Parameter`] for a solver parameter out of range.
-pub fn penalty_step(layout: &Layout, solver: SolverParams, params: &ShakeParams) -> Result<f64, ShakeError> {
-    Ok(penalty_simulation(layout, solver, params)?.dt())
-}
-
-/// [`ShakeError::Parameter`] for a solver parameter out of range, [`ShakeError::Dem`] if
-/// the integration blows up.
-fn shake_penalty(
-    layout: &Layout,
-    solver: SolverParams,
-    motion: &Motion,
-    params: &ShakeParams,
-    observe: &mut dyn FnMut(f64, &[Body]),
-) -> Result<ShakeResult, ShakeError> {
-    let t0 = Instant::now();
-    let mut sim = penalty_simulation(layout, solver, params)?;
-    check_steps(motion, params, sim.dt())?;
-    let weight = sim.state.gravity;
-    while sim.state.time < params.settle_s - 0.5 * sim.dt() {
-        sim.step()?;
-    }
-    let start = sim.state.time;
-    let mut watch = Watch::new(layout, &sim.state.bodies, motion, params);
-    let motion_s = watch.motion_s;
-    let total = motion_s + params.tail_s;
-    let vertical = params.vertical && motion.vertical_g.is_some();
-    while sim.state.time - start < total - 0.5 * sim.dt() {
-        sim.state.gravity = weight - base_acceleration(motion, motion_s, vertical, sim.state.time - start);
-        sim.step()?;
-        if watch.after_step(sim.state.time - start, &sim.state.bodies, observe) {
-            break;
-        }
-    }
-    Ok(watch.result(
-        SolverKind::Penalty,
-        &sim.state.bodies,
-        Work {
-            simulated_s: sim.state.time - start,
-            dt_s: sim.dt(),
-            steps: sim.state.steps,
-            iterations: 0,
-            unconverged_steps: 0,
-            max_natural_residual: 0.0,
-            wall_time_s: t0.elapsed().as_secs_f64(),
-        },
-    ))
 }
