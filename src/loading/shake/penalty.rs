@@ -71,7 +71,7 @@ pub fn penalty_step(layout: &Layout, solver: SolverParams, params: &ShakeParams)
 /// density scaling off whatever `solver` says, and dashpots of restitution
 /// [`crate::dem::PenaltyParams::contact_restitution`] (the table's former keys applied,
 /// [`ShakeParams::moved`]). Called by
-/// [`run_shake_penalty`], which has checked `params` and the motion.
+/// [`super::run_shake_penalty`], which has checked `params` and the motion.
 ///
 /// # Errors
 /// [`ShakeError::Parameter`] for a solver parameter out of range, [`ShakeError::Dem`] if
