@@ -107,17 +107,7 @@ fn method_words(solver: SolverParams) -> String {
     let method = solver.kind.method();
     if solver.kind.is_penalty() {
         let cascade = solver.kind.cascade(crate::loading::inplane::CASCADE).unwrap_or(crate::loading::inplane::CASCADE);
-        let iterations: Vec<&str> =
-            [(cascade.newton, "the Newton solve"), (cascade.implicit, "the implicit iteration")]
-                .into_iter()
-                .filter_map(|(on, name)| on.then_some(name))
-                .collect();
-        let relaxation = if cascade.accelerate { "accelerated dynamic relaxation" } else { "dynamic relaxation" };
-        let stages = if iterations.is_empty() {
-            relaxation.to_string()
-        } else {
-            format!("{}, then {relaxation} where it hands over", iterations.join(", then "))
-        };
+        let stages = super::report::cascade_words(cascade);
         format!(
             "the penalty DEM (`{}`: {stages}, to the unbalanced-force ratio {:e} and every block's local ratio {} \
              per increment of the imposed displacement)",

@@ -56,12 +56,7 @@ pub(super) fn solver_text(study: &Study, cascade: Cascade) -> String {
     if !kind.is_penalty() {
         return format!("solver `{kind}`: {method}");
     }
-    let stages = match (cascade.implicit, cascade.accelerate) {
-        (true, true) => "the implicit iteration, then accelerated dynamic relaxation",
-        (true, false) => "the implicit iteration, then plain dynamic relaxation",
-        (false, true) => "accelerated dynamic relaxation, without the implicit iteration",
-        (false, false) => "plain dynamic relaxation",
-    };
+    let stages = cascade_words(cascade);
     let on = |b: bool| if b { "on" } else { "off" };
     format!(
         "solver `{kind}`: {method}, static states by {stages}, equilibrium at unbalanced-force ratio {}, secant predictor {}, local damping {}, sub-contact subdivisions {}",
@@ -70,6 +65,22 @@ pub(super) fn solver_text(study: &Study, cascade: Cascade) -> String {
         study.solver.damping,
         study.solver.subcontact_subdivisions
     )
+}
+
+/// The stages of a penalty cascade in the reports' words: the iterations that run first,
+/// then the dynamic relaxation they hand over to.
+pub(super) fn cascade_words(cascade: Cascade) -> String {
+    let stages = match (cascade.implicit, cascade.accelerate) {
+        (true, true) => "the implicit iteration, then accelerated dynamic relaxation",
+        (true, false) => "the implicit iteration, then plain dynamic relaxation",
+        (false, true) => "accelerated dynamic relaxation, without the implicit iteration",
+        (false, false) => "plain dynamic relaxation",
+    };
+    if cascade.newton {
+        format!("the Newton solve, then {stages}")
+    } else {
+        stages.to_string()
+    }
 }
 
 fn num(v: f64) -> String {

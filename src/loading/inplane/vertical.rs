@@ -30,7 +30,8 @@ pub const LOCAL_TOLERANCE: f64 = 0.01;
 /// predicted motion, and an accelerated relaxation that overshoots it throws the loose
 /// blocks of a rocking wall's heel. The same equilibria as dynamic relaxation alone within
 /// the tolerance (on the bundled granite wall the monotonic peaks at 0.2–1.25 MPa within
-/// 0.04 %, linear or hyperbolic joints; BENCHMARKS.md, "The in-plane test's static solve"),
+/// 0.04 % of relaxation's and 0.02 % of runs at 1e-6, linear or hyperbolic joints;
+/// BENCHMARKS.md, "In-plane shear–compression test"),
 /// for a half (linear joints) to a tenth (the hyperbolic closure law, whose stiffening
 /// tangent slows the relaxation's time step) of the CPU. `--solver relaxation` gives the
 /// relaxation alone, `--solver implicit` the implicit iteration over the accelerated
