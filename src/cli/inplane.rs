@@ -306,6 +306,14 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
                 let svg = crack_map_svg(&rig.layout, &r.poses_at_reading, &joints, &r.mechanism, &title);
                 drystone::io::replace_file(p, svg.as_bytes())?;
             }
+            if !r.shed_block.is_empty() {
+                eprintln!(
+                    "warning: block {} was shed from the wall (its excursion from its course passed a quarter of \
+                     its smallest extent): the increments from then on are counted unconverged and the \
+                     readings are no whole wall's",
+                    r.shed_block
+                );
+            }
             if a.json {
                 let mut j = penalty_json(&r, method, params.beam_rotation);
                 // The solver chosen, where it names more than the method (`newton`,
@@ -425,6 +433,7 @@ fn penalty_json(r: &InPlaneResult, method: &str, rotation: BeamRotation) -> serd
         "wall_vertical_modulus_mpa": r.wall_vertical_modulus_mpa,
         "largest_block_excursion_mm": r.largest_block_excursion_mm,
         "excursion_block": r.excursion_block,
+        "shed_block": r.shed_block,
         "length_m": r.length_m,
         "height_m": r.height_m,
         "thickness_m": r.thickness_m,

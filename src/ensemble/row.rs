@@ -31,6 +31,11 @@ pub enum Status {
     /// below its top or a stress that closes its joints past the contacts' reach, or a
     /// wall the rig cannot be laid on), with the refusal in the row's error.
     Refused,
+    /// The run ended, but a block was shed from the wall on the way (the in-plane test: its
+    /// excursion from its course passed a quarter of its smallest extent,
+    /// [`crate::loading::excursion::SHED_SHARE`]), with the block in the row's error: its
+    /// readings are in the row, but they are no wall's, and the statistics leave them out.
+    ShedBlock,
 }
 
 impl Status {
@@ -43,6 +48,7 @@ impl Status {
             Status::BlewUp => "blew_up",
             Status::LayoutFailed => "layout_failed",
             Status::Refused => "refused",
+            Status::ShedBlock => "shed_block",
         }
     }
 
@@ -55,6 +61,7 @@ impl Status {
             Status::BlewUp,
             Status::LayoutFailed,
             Status::Refused,
+            Status::ShedBlock,
         ]
         .into_iter()
         .find(|v| v.as_str() == s)

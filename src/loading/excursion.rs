@@ -14,6 +14,10 @@
 //! [`TOUCH_TOLERANCE_M`]) over an area (an overlap of at least [`CONTACT_SHARE`] of the
 //! smaller block's extent in each of the two directions along the joint), and the table for
 //! a block whose bottom is within the tolerance of z = 0. Fixed blocks do not move.
+//!
+//! A block is **shed** when its excursion exceeds [`SHED_SHARE`] of its smallest extent
+//! ([`JointNeighbours::shed_but`]): farther than a joint's deformation or a crack's opening
+//! beside it can carry it, it has left the wall.
 
 use crate::layout::Layout;
 use crate::math::Vec3;
@@ -26,6 +30,14 @@ pub const TOUCH_TOLERANCE_M: f64 = 2e-3;
 /// The share of the smaller block's extent along the joint that the two boxes must
 /// overlap in each direction to share a joint rather than an edge \[0.1\].
 pub const CONTACT_SHARE: f64 = 0.1;
+
+/// The share of a block's smallest extent (of its box as laid) that its excursion must
+/// exceed for it to have been shed from the wall \[0.25\]: a block carried that far from
+/// every neighbour has lost a quarter of its bearing (25 mm for the 0.1 m half-stones of the
+/// bundled granite wall, 37 mm for its 0.15 m courses), where the joints' deformation and
+/// the openings of a rocking wall's cracks beside a block that stays in it are a few
+/// millimetres. Between the two, `largest_block_excursion_mm` reads a block walking.
+pub const SHED_SHARE: f64 = 0.25;
 
 /// The poses of the bodies: centroid (m) and rotation, in the layout's block order.
 pub type Poses = [(Vec3, UnitQuaternion<f64>)];
@@ -43,6 +55,8 @@ enum Neighbour {
 #[derive(Debug, Clone)]
 pub struct JointNeighbours {
     neighbours: Vec<Vec<Neighbour>>,
+    /// Each block's smallest extent as laid, m.
+    sizes: Vec<f64>,
 }
 
 impl JointNeighbours {
@@ -65,7 +79,8 @@ impl JointNeighbours {
                 neighbours[i].push(if layout.blocks[j].fixed { Neighbour::Still } else { Neighbour::Block(j) });
             }
         }
-        JointNeighbours { neighbours }
+        let sizes = boxes.iter().map(|b| (b.max - b.min).min()).collect();
+        JointNeighbours { neighbours, sizes }
     }
 
     /// The largest excursion of any block between `reference` and `now` (m) and the
@@ -78,22 +93,43 @@ impl JointNeighbours {
     /// the in-plane test's loading beam, whose slip on the wall is no block leaving it).
     pub fn largest_but(&self, reference: &Poses, now: &Poses, skip: Option<usize>) -> (f64, Option<usize>) {
         let mut worst = (0.0, None);
-        for (k, ns) in self.neighbours.iter().enumerate() {
-            if skip == Some(k) {
-                continue;
-            }
-            let off = |nb: &Neighbour| match *nb {
-                Neighbour::Block(j) => carried_off(reference, now, k, j),
-                Neighbour::Still => (now[k].0 - reference[k].0).norm(),
-            };
-            let Some(e) = ns.iter().map(off).min_by(f64::total_cmp) else {
-                continue;
-            };
+        for (k, e) in self.excursions(reference, now, skip) {
             if e > worst.0 {
                 worst = (e, Some(k));
             }
         }
         worst
+    }
+
+    /// The block shed from the wall between `reference` and `now` (its excursion above
+    /// [`SHED_SHARE`] of its smallest extent; of several, the one farthest past its bound),
+    /// every block but `skip` read; `None`: the wall is whole.
+    pub fn shed_but(&self, reference: &Poses, now: &Poses, skip: Option<usize>) -> Option<usize> {
+        let mut worst = (1.0, None);
+        for (k, e) in self.excursions(reference, now, skip) {
+            let past = e / (SHED_SHARE * self.sizes[k]);
+            if past > worst.0 {
+                worst = (past, Some(k));
+            }
+        }
+        worst.1
+    }
+
+    /// Each block's excursion (its index, m), the blocks with no joint neighbour and `skip`
+    /// left out.
+    fn excursions<'a>(
+        &'a self,
+        reference: &'a Poses,
+        now: &'a Poses,
+        skip: Option<usize>,
+    ) -> impl Iterator<Item = (usize, f64)> + 'a {
+        self.neighbours.iter().enumerate().filter(move |(k, _)| skip != Some(*k)).filter_map(move |(k, ns)| {
+            let off = |nb: &Neighbour| match *nb {
+                Neighbour::Block(j) => carried_off(reference, now, k, j),
+                Neighbour::Still => (now[k].0 - reference[k].0).norm(),
+            };
+            ns.iter().map(off).min_by(f64::total_cmp).map(|e| (k, e))
+        })
     }
 }
 
@@ -227,6 +263,24 @@ mod tests {
         let (e, k) = nb.largest(&reference, &now);
         assert!((e - 0.07).abs() < 1e-12, "{e}");
         assert_eq!(k, Some(4));
+    }
+
+    #[test]
+    fn a_block_is_shed_past_a_quarter_of_its_smallest_extent_and_a_rigid_wall_sheds_none() {
+        let (layout, reference) = two_courses();
+        let nb = JointNeighbours::of(&layout);
+        // The upper blocks are 0.15 m high: shed past 37.5 mm of excursion.
+        let mut now = reference.clone();
+        now[4].0.x += 0.0374;
+        assert_eq!(nb.shed_but(&reference, &now, None), None);
+        now[4].0.x += 0.0002;
+        assert_eq!(nb.shed_but(&reference, &now, None), Some(4));
+        assert_eq!(nb.shed_but(&reference, &now, Some(4)), None);
+        // The upper course slides 5 cm as one part on the lower: no block left the wall.
+        let mut now = reference.clone();
+        now[3].0.x += 0.05;
+        now[4].0.x += 0.05;
+        assert_eq!(nb.shed_but(&reference, &now, None), None);
     }
 
     #[test]

@@ -157,13 +157,14 @@ pub fn run_in_plane_nscd(
             impulse += actuator_force(&sim, bi) * h;
         }
         u_prev = u;
+        let now = poses(&sim);
+        // A block shed from the wall: the increment is no state of the wall.
+        converged &= !excursion.read(&neighbours, &reference, &now, &rig.layout);
         unconverged += usize::from(!converged);
         let top = sim.bodies()[bi].to_world(&top_local).x - top_x0;
         let drift = 100.0 * top / rig.measure_z_m;
         let v = impulse / (f64::from(steps) * h);
         curve.push(CurvePoint { top_mm: top * 1e3, drift_pct: drift, force_kn: v * 1e-3, converged });
-        let now = poses(&sim);
-        excursion.read(&neighbours, &reference, &now, &rig.layout);
         half.step(top, &now);
         if top >= reading.0 {
             reading = (top, now);

@@ -45,15 +45,21 @@ pub(super) fn in_plane_row(
     let error = match run {
         InPlaneRun::Penalty(Ok(r)) | InPlaneRun::Nscd(Ok(r)) => {
             fill(&mut c, &r);
-            None
+            (!r.shed_block.is_empty()).then(|| {
+                let e =
+                    format!("block {} shed from the wall (readings kept, left out of the statistics)", r.shed_block);
+                (Status::ShedBlock, e)
+            })
         }
-        InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => Some(e.to_string()),
-        InPlaneRun::Limit(Ok(_)) => Some("limit analysis gives no curve".to_string()),
+        InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => {
+            Some((failure, e.to_string()))
+        }
+        InPlaneRun::Limit(Ok(_)) => Some((failure, "limit analysis gives no curve".to_string())),
     };
     match error {
         None => row.status = Status::Stood,
-        Some(e) => {
-            row.status = failure;
+        Some((status, e)) => {
+            row.status = status;
             row.error = e;
         }
     }
@@ -134,7 +140,8 @@ struct CsvRow<'a> {
 /// cell: the one list the header and the rows follow (a test checks that every field of
 /// [`InPlaneColumns`] but the curve is one of them). `index` is the realization's seed
 /// index (`g · 10000 + i`), `status` `ok` for a run that gave its readings, else the
-/// row's status (`no_initial_equilibrium`, `refused` or `blew_up`,
+/// row's status (`no_initial_equilibrium`, `refused`, `blew_up`, or `shed_block` for a run
+/// whose readings are kept but a block of its wall was shed,
 /// [`crate::ensemble::row::Status`]) with the message in `error`.
 const ROW_COLUMNS: &[(&str, fn(&CsvRow) -> String)] = &[
     ("group", |r| format!("\"{}\"", r.row.group)),

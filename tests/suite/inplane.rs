@@ -723,12 +723,12 @@ fn measured_files_that_contradict_themselves_are_refused_by_name() {
 
 /// The mechanism of a cyclic run is read over the half-cycle that opens it, as a laboratory
 /// reads the push it watches: a granite wall of the bundled file (seed 20090301,
-/// realization 0) cycled at 0.5 MPa to 0.5, 1 and 1.5 % rocks, as its monotonic push does
-/// and as every specimen did (read from the state under the vertical force, the residual
+/// realization 0) cycled at 0.5 MPa to 3 % (the default ladder, three cycles an amplitude)
+/// rocks, as its monotonic push does and as every specimen did (read from the state under the vertical force, the residual
 /// slips of the earlier cycles made it `mixed`); its blocks stay with the wall (largest
-/// excursion under 10 mm). The increments in which the relaxation threw a loose block from
-/// its neighbours are counted unconverged, each a point of the curve that says
-/// so.
+/// excursion under 5 mm, none shed: 6.8 mm, the top course's end half-stone, when the
+/// predictor repeated a loaded block's slip). The increments counted unconverged are the
+/// points of the curve that say so.
 #[test]
 fn a_cycled_granite_wall_rocks_and_keeps_its_blocks() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -736,11 +736,11 @@ fn a_cycled_granite_wall_rocks_and_keeps_its_blocks() {
     let source = drystone::generator::DistributionSource::default_for(&path);
     let wall = drystone::generator::Wall::from_file_with(&path, &source).unwrap();
     let layout = drystone::generator::generate(&wall, 20090301, 0).unwrap().check().unwrap();
-    let p =
-        InPlaneParams { history: History::Cyclic, amplitudes_pct: Some(vec![0.5, 1.0, 1.5]), cycles: 1, ..params(1.5) };
+    let p = InPlaneParams { history: History::Cyclic, ..params(3.0) };
     let r = run_in_plane_penalty(&layout, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
     assert_eq!(r.mechanism.kind, MechanismKind::Rocking, "{:?}", r.mechanism.kind);
-    assert!(r.largest_block_excursion_mm < 10.0, "{} mm ({})", r.largest_block_excursion_mm, r.excursion_block);
+    assert!(r.largest_block_excursion_mm < 5.0, "{} mm ({})", r.largest_block_excursion_mm, r.excursion_block);
+    assert!(r.shed_block.is_empty(), "{}", r.shed_block);
     assert_eq!(r.unconverged, r.curve.iter().filter(|p| !p.converged).count());
 }
 

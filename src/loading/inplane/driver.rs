@@ -171,14 +171,15 @@ fn walk_path(
                 continue;
             };
             steps.from_start = false;
-            excursion.read(&neighbours, reference, &now, &rig.layout);
+            let shed = excursion.read(&neighbours, reference, &now, &rig.layout);
             let now_for_reading = now.clone();
             steps.learn(&neighbours, &start, &now, du, sim, bi);
             // Equilibrium of the wall as a whole (the unbalanced-force ratio is a mean over
             // the bodies) and of each block: a block whose own out-of-balance force is a
             // share of its weight is moving, whatever the mean says; and on the path: no
-            // block thrown from the wall.
-            let converged = out.end == End::Equilibrium && every_block_balanced(sim, bi) && !off_path;
+            // block thrown from the wall in the increment, and none shed from it over the
+            // history.
+            let converged = out.end == End::Equilibrium && every_block_balanced(sim, bi) && !off_path && !shed;
             unconverged += usize::from(!converged);
             handed_over += usize::from(out.newton_unsolved.is_some());
             let top = sim.state.bodies[bi].to_world(&top_local).x - top_x0;

@@ -70,14 +70,21 @@ pub struct InPlaneResult {
     /// The block of `largest_block_excursion_mm` (empty: none moved from its course).
     #[serde(default)]
     pub excursion_block: String,
+    /// The first block shed from the wall: its excursion passed a quarter of its smallest
+    /// extent ([`crate::loading::excursion::SHED_SHARE`]); every increment from then on with
+    /// a block shed is counted in `unconverged`, and a study's row reads `shed_block`.
+    /// Empty: the wall stayed whole.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub shed_block: String,
     /// The push read both ways ([`InPlaneParams::mirror_reading`]; `None`: read one way).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mirror: Option<Box<Mirror>>,
-    /// Static solves that ended at the step budget rather than in equilibrium, with a
-    /// block out of balance, or with a block thrown from the wall (the penalty DEM's
-    /// driver: a block that walked from every joint neighbour by more than the increment
-    /// can move it, once more when solved again from the increment's start) (nscd: increments with a step whose contact problem did not meet its
-    /// criterion).
+    /// Increments not converged: with a block shed from the wall (`shed_block`, both
+    /// methods); for the penalty DEM, static solves that ended at the step budget rather
+    /// than in equilibrium, with a block out of balance, or with a block thrown from the
+    /// wall (one that walked from every joint neighbour by more than the increment can move
+    /// it, once more when solved again from the increment's start); for nscd, increments
+    /// with a step whose contact problem did not meet its criterion.
     pub unconverged: usize,
     /// Increments solved again from their start, warming up from the smallest increment:
     /// those whose relaxation blew up from the predicted state, and those whose relaxation
@@ -140,17 +147,21 @@ pub(crate) struct Excursion {
     pub largest_m: f64,
     /// The block's id (empty: none).
     pub block: String,
+    /// The first block shed from the wall ([`crate::loading::excursion::SHED_SHARE`]; empty:
+    /// none).
+    pub shed: String,
 }
 
 impl Excursion {
-    /// Reads the poses `now` against `reference` and keeps the largest.
+    /// Reads the poses `now` against `reference` and keeps the largest; whether a block is
+    /// shed from the wall in `now` (the first one shed is kept).
     pub(crate) fn read(
         &mut self,
         neighbours: &crate::loading::excursion::JointNeighbours,
         reference: &Poses,
         now: &Poses,
         layout: &Layout,
-    ) {
+    ) -> bool {
         // The loading beam is the rig's: its slip along the top course is a mechanism
         // (sliding under the beam), not a block shed from the wall.
         let beam = layout.blocks.iter().position(|b| b.id == super::BEAM_ID);
@@ -159,6 +170,11 @@ impl Excursion {
             self.largest_m = e;
             self.block = k.map_or_else(String::new, |k| layout.blocks[k].id.clone());
         }
+        let shed = neighbours.shed_but(reference, now, beam);
+        if let (Some(k), true) = (shed, self.shed.is_empty()) {
+            self.shed = layout.blocks[k].id.clone();
+        }
+        shed.is_some()
     }
 }
 
@@ -195,6 +211,7 @@ pub(crate) fn result_of(
         wall_vertical_modulus_mpa: work.vertical_modulus_mpa,
         largest_block_excursion_mm: work.excursion.largest_m * 1e3,
         excursion_block: work.excursion.block,
+        shed_block: work.excursion.shed,
         mirror: (params.mirror_reading && params.history == History::Monotonic)
             .then(|| Box::new(Mirror { wall_curve: None })),
         unconverged: work.unconverged,
