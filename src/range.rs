@@ -12,23 +12,41 @@ pub struct OutOfRange {
     pub value: f64,
     /// The allowed range, e.g. `in [0, 1)`.
     pub allowed: &'static str,
+    /// The key has no single value to show (it is missing, or a list): the message says what
+    /// it must be, not a value (`value` is NaN).
+    pub no_value: bool,
 }
 
 impl OutOfRange {
     /// `key = value` is outside `allowed`.
     pub fn new(key: &str, value: f64, allowed: &'static str) -> Self {
-        OutOfRange { key: key.to_string(), value, allowed }
+        OutOfRange { key: key.to_string(), value, allowed, no_value: false }
     }
 
-    /// What is wrong with the value, without the key: `-0.5 is out of range: must be in (0, 10]`.
+    /// `key` has no single value to show (missing, or a list that breaks the rule) and must
+    /// be `allowed`.
+    pub fn without_value(key: &str, allowed: &'static str) -> Self {
+        OutOfRange { key: key.to_string(), value: f64::NAN, allowed, no_value: true }
+    }
+
+    /// What is wrong with the value, without the key: `-0.5 is out of range: must be in (0, 10]`
+    /// (for a key without a value: `must be given: …`).
     pub fn reason(&self) -> String {
-        format!("{} is out of range: must be {}", self.value, self.allowed)
+        if self.no_value {
+            format!("must be {}", self.allowed)
+        } else {
+            format!("{} is out of range: must be {}", self.value, self.allowed)
+        }
     }
 }
 
 impl std::fmt::Display for OutOfRange {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} = {}", self.key, self.reason())
+        if self.no_value {
+            write!(f, "{}: {}", self.key, self.reason())
+        } else {
+            write!(f, "{} = {}", self.key, self.reason())
+        }
     }
 }
 

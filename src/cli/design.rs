@@ -141,6 +141,9 @@ pub fn command(a: DesignArgs) -> Result<()> {
             r.replicates,
             r.selected
         );
+        if r.misleads {
+            eprintln!("warning: {}", design::misleading_words(r));
+        }
     }
     if let Some(f) = files {
         println!(

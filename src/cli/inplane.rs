@@ -35,9 +35,11 @@ pub struct InPlaneArgs {
     /// Database reads a test that reports none; the wall's height with a fixed one).
     #[arg(long, value_name = "M")]
     measuring_height_m: Option<f64>,
-    /// The largest drift, % [default: 3] (the penalty DEM: at most 8.8 % with its default
-    /// face-angle tolerance; nscd: up to 50 %; not read by limit analysis, which has no
-    /// path).
+    /// The largest drift of the imposed path, % [default: 3]: the actuator travels this
+    /// share of its lever (the shear span; the wall's height with the beam held level), so
+    /// a drift read at another --measuring-height-m ends elsewhere (the penalty DEM: at most
+    /// 8.8 % with its default face-angle tolerance; nscd: up to 50 %; not read by limit
+    /// analysis, which has no path).
     #[arg(long, value_name = "PCT")]
     drift_pct: Option<f64>,
     /// Cycles of growing amplitude (each amplitude `--cycles` times) instead of a monotonic

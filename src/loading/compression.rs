@@ -149,9 +149,8 @@ impl CompressionParams {
             check_ranges(&[("raise_to_mpa", r, r > self.sigma0_mpa && r <= 1e3, "in (sigma0_mpa, 1000] (MPa)")])?;
         }
         match (self.beam_rotation, self.shear_span_m) {
-            (BeamRotation::Free, None) => Err(OutOfRange::new(
+            (BeamRotation::Free, None) => Err(OutOfRange::without_value(
                 "shear_span_m",
-                f64::NAN,
                 "given: a free beam rotation turns about the actuator's point (its height, m)",
             )),
             (BeamRotation::Free, Some(h0)) => check_ranges(&[("shear_span_m", h0, h0 > 0.0, "> 0 (m above the base)")]),

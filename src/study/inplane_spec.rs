@@ -242,10 +242,15 @@ impl StudySpec {
         let specimens = read_measured_specimens(self, dir, invalid, files)?;
         for (spec, group) in self.groups.iter().zip(&groups) {
             if let Some(s) = group.specimens.iter().find(|s| !specimens.iter().any(|m| &m.unit == *s)) {
-                return Err(invalid.at(
-                    &format!("groups[{}].specimens", spec.name),
-                    format!("{s} is not a unit of the measured file"),
-                ));
+                let walls = self.measured.as_ref().and_then(|m| m.walls.as_ref());
+                let why = match walls {
+                    Some(w) => format!("{s} is not a unit of the measured file {}", w.display()),
+                    None => format!(
+                        "{s} names a measured specimen, but the study gives no measured file: add [measured] walls \
+                         (the specimens' table, docs/inplane.md) or drop the key"
+                    ),
+                };
+                return Err(invalid.at(&format!("groups[{}].specimens", spec.name), why));
             }
             // A specimen is compared with the walls of its own stress (the table's
             // `sigma0_applied_MPa`, where it gives one), as the discrepancy analysis pairs them.
@@ -391,6 +396,14 @@ fn read_measured_specimens(
         return Err(invalid.at(
             "measured.envelopes",
             format!("{}: not a folder of the measured envelopes (envelope_<unit>_<author><year>.csv)", e.display()),
+        ));
+    }
+    // The crack maps are only linked in the report, but a folder that is not there is a
+    // typo the user would otherwise never see.
+    if let Some(c) = m.crackmaps.as_ref().filter(|c| !dir.join(c).is_dir()) {
+        return Err(invalid.at(
+            "measured.crackmaps",
+            format!("{}: not a folder of the measured crack maps (crackmap_<unit>_<author><year>.png)", c.display()),
         ));
     }
     let mut s = read_specimens(&dir.join(walls), m.envelopes.as_ref().map(|e| dir.join(e)).as_deref())

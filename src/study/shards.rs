@@ -547,6 +547,19 @@ pub struct Merged {
 /// # Errors
 /// [`OutputError`] naming the shard, field or file.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
+    // The merged outputs would replace a shard's own (its manifest and rows) as they are
+    // read: the output folder is none of the shards.
+    let same = |d: &Path| match (std::fs::canonicalize(d), std::fs::canonicalize(out)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => d == out,
+    };
+    if let Some(d) = dirs.iter().find(|d| same(d)) {
+        return Err(OutputError::Merge(format!(
+            "--out {} is one of the shards to merge ({}): write the merged study to another folder",
+            out.display(),
+            d.display()
+        )));
+    }
     let _lock = DirLock::acquire(out)?;
     check_writable(out)?;
     let (manifest, rows, origin) = read_shards_with_origin(dirs)?;

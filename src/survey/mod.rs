@@ -179,9 +179,13 @@ impl SurveyMaterials {
     /// Reads a materials file (TOML, above).
     ///
     /// # Errors
-    /// [`SurveyError::Io`], or [`SurveyError::File`] with toml's message (key, line).
+    /// [`SurveyError::File`]: the file cannot be read (named as the materials file), or
+    /// toml's message (key, line).
     pub fn from_file(path: &Path) -> Result<Self, SurveyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SurveyError::Io { path: path.to_owned(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|e| SurveyError::File {
+            path: path.to_owned(),
+            reason: format!("cannot read the materials file: {e}"),
+        })?;
         let m: Self =
             toml::from_str(&text).map_err(|e| SurveyError::File { path: path.to_owned(), reason: e.to_string() })?;
         // A stone or table material the file does not define, named by its own key (the

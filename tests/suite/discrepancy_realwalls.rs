@@ -238,3 +238,21 @@ fn the_independent_observers_readings_keep_the_verdicts() {
     assert_eq!(without.0, "no_effect", "{}", without.3);
     assert_eq!(with.0, "no_effect", "{} (without: {})", with.3, without.3);
 }
+
+/// A reading never hurts, on the lean class: a wall built out of plumb (1.5°, the power
+/// table's class, and 1°, a lean a surveyor would miss), read from the angles and
+/// displacements alone and with the mechanism readings added (the product's observer,
+/// misread at 10 %), is named a lean both ways (alone or in its tie). A change of the engine
+/// that turns the lean's answer with the mechanisms to `no_effect` or another cause fails
+/// here.
+#[test]
+#[ignore = "two preparations and four analyses: some 4 minutes on 2 cores (see the module doc)"]
+fn a_lean_is_named_with_and_without_the_mechanisms() {
+    let product = (Observer::Product, MechanismNoise { misreading: 0.1 });
+    for (e, first) in [(Edit::Lean(1.5), 201_200), (Edit::Lean(1.0), 201_300)] {
+        let [without, with] = both_ways(e, first, product);
+        eprintln!("{} | {}", without.3, with.3);
+        assert_eq!(without.1, Answer::Right, "{}", without.3);
+        assert_eq!(with.1, Answer::Right, "{} (without the mechanisms: {})", with.3, without.3);
+    }
+}

@@ -782,6 +782,11 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The shear span not given: said to be missing, not "= NaN is out of range".
+    let o = Command::new(bin).args(["in-plane", layout.to_str().unwrap()]).args(base).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--shear-span-m: must be given") && !err.contains("NaN"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -241,6 +241,12 @@ fn two_shards_merged_equal_the_whole() {
     let twice = [shards[0].clone(), shards[0].clone()];
     let e = drystone::study::merge(&twice, &dir.join("twice")).unwrap_err().to_string();
     assert!(e.contains("shard 2/2 missing"), "{e}");
+    // The merged study written over one of its shards (it replaced that shard's manifest,
+    // and the next merge failed): refused naming it, the shard untouched.
+    let before = std::fs::read(shards[0].join("manifest.json")).unwrap();
+    let e = drystone::study::merge(&shards, &shards[0]).unwrap_err().to_string();
+    assert!(e.contains("is one of the shards to merge"), "{e}");
+    assert_eq!(std::fs::read(shards[0].join("manifest.json")).unwrap(), before);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -430,5 +436,15 @@ fn a_specimen_of_another_stress_or_history_or_a_missing_envelopes_folder_is_refu
         bundled_study(&dir, "no_env.toml", |t| t.replace("inplane_granite/envelopes\"", "inplane_granite/envelope\""));
     let e = drystone::study::Study::from_file(&no_env).unwrap_err().to_string();
     assert!(e.contains("no_env.toml") && e.contains("measured.envelopes") && e.contains("not a folder"), "{e}");
+    // A crack maps folder that is not there (it ran, the report linking no crack map).
+    let no_maps =
+        bundled_study(&dir, "no_maps.toml", |t| t.replace("inplane_granite/crackmaps\"", "inplane_granite/crackmap\""));
+    let e = drystone::study::Study::from_file(&no_maps).unwrap_err().to_string();
+    assert!(e.contains("no_maps.toml") && e.contains("measured.crackmaps") && e.contains("not a folder"), "{e}");
+    // Specimens named with no measured table at all: said so, not "not a unit of the
+    // measured file".
+    let no_measured = bundled_study(&dir, "no_measured.toml", |t| t[..t.find("[measured]").unwrap()].to_string());
+    let e = drystone::study::Study::from_file(&no_measured).unwrap_err().to_string();
+    assert!(e.contains("specimens") && e.contains("gives no measured file") && e.contains("[measured] walls"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

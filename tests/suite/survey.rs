@@ -765,7 +765,8 @@ fn hostile_surveys_are_refused_by_their_real_cause() {
 }
 
 /// A materials file naming a stone or table material it does not define is refused naming
-/// the file and its key (the layout used to name `table.material`, a key of its own).
+/// the file and its key (the layout used to name `table.material`, a key of its own); one
+/// that cannot be read is named as the materials file (it was called a survey).
 #[test]
 fn a_materials_file_naming_a_material_it_lacks_is_refused_by_its_key() {
     let dir = Scratch::created("survey-materials-key");
@@ -776,6 +777,12 @@ fn a_materials_file_naming_a_material_it_lacks_is_refused_by_its_key() {
         assert!(e.contains("m.toml") && e.contains(&format!("{key} = \"nope\" is not among")), "{e}");
     }
     assert!(SurveyMaterials::from_file(&write(&dir, "ok.toml", &format!("stone_material = \"g\"\n{m}"))).is_ok());
+    // A materials file that is not there is named as the materials file, not as a survey.
+    let e = SurveyMaterials::from_file(&dir.join("nofile.toml")).map(|_| ()).unwrap_err().to_string();
+    assert!(
+        e.contains("nofile.toml") && e.contains("cannot read the materials file") && !e.contains("read survey"),
+        "{e}"
+    );
 }
 
 /// The drawing's scale and what is drawn, by hand: one scale line (a second refused naming

@@ -255,7 +255,8 @@ pub fn reported(truths: &[Contender], chance: Chance, replicates: usize, selecte
     // The two-sided normal quantile of `Reported::LEVEL`.
     let z = statrs::distribution::Normal::standard().inverse_cdf(0.5 + Reported::LEVEL / 2.0);
     let interval = crate::stats::wilson(chance.alone, effective_replicates, z);
-    Reported { specimens: chance.specimens, replicates, chance, interval, effective_replicates, selected }
+    let misleads = 1.0 - chance.right > chance.alone;
+    Reported { specimens: chance.specimens, replicates, chance, interval, effective_replicates, selected, misleads }
 }
 
 /// What every follow-up's problem shares: the analysis, the contenders, their first
@@ -473,6 +474,9 @@ fn best_markdown(md: &mut String, plan: &Plan, b: &RankedFollowUp, most: usize) 
             r.chance.weights_alone,
             r.chance.right
         );
+        if r.misleads {
+            let _ = writeln!(md, "\n**{}**", misleading_words(r));
+        }
     }
     let chance = plan.reported.as_ref().map_or(&b.at_budget, |r| &r.chance);
     let stops: Vec<String> = chance
@@ -510,6 +514,18 @@ fn best_markdown(md: &mut String, plan: &Plan, b: &RankedFollowUp, most: usize) 
          scores the promise on walls the engine did not make).",
         OUTSIDE_PRIOR
     );
+}
+
+/// The caution of a follow-up that is likelier to mislead than to help
+/// ([`Reported::misleads`]), one sentence.
+pub fn misleading_words(r: &Reported) -> String {
+    format!(
+        "Likelier to mislead than to help: after this follow-up the true cause leaves the models that share the \
+         weight with probability {:.2}, more than the {:.2} with which it is named alone; more data of this kind \
+         would more often move the answer away from the truth than settle on it. Read the tie as it stands.",
+        1.0 - r.chance.right,
+        r.chance.alone
+    )
 }
 
 /// The mechanism keys of a follow-up that reads the mechanism: the failure height read to

@@ -198,6 +198,13 @@ pub struct Reported {
     pub effective_replicates: f64,
     /// The ranking's own estimate at the budget (the selecting replicates), beside it.
     pub selected: f64,
+    /// Whether the follow-up is likelier to mislead than to help: the probability that the
+    /// truth leaves the models that share the weight after both campaigns (`1 − right`),
+    /// where every truth is among them after the first (the contenders are those models),
+    /// exceeds the probability that it is named alone (`alone`). Added data then moves the
+    /// answer away from the truth more often than it settles on it; the report and the
+    /// command say so beside the promise.
+    pub misleads: bool,
 }
 
 impl Reported {

@@ -215,25 +215,23 @@ impl InPlaneParams {
             check_ranges(&[("measuring_height_m", hm, hm > 0.0 && hm.is_finite(), "> 0 (m above the base)")])?;
         }
         if self.beam_rotation == BeamRotation::Free && self.shear_span_m.is_none() {
-            return Err(OutOfRange::new(
+            return Err(OutOfRange::without_value(
                 "shear_span_m",
-                f64::NAN,
                 "given: a free beam rotation needs the height of the horizontal force (H0, m)",
             ));
         }
         if let Some(r) = &self.reversals_pct {
             if self.history != History::Cyclic {
-                return Err(OutOfRange::new("reversals_pct", f64::NAN, "given with history = \"cyclic\" only"));
+                return Err(OutOfRange::without_value("reversals_pct", "given with history = \"cyclic\" only"));
             }
             if self.amplitudes_pct.is_some() {
-                return Err(OutOfRange::new(
+                return Err(OutOfRange::without_value(
                     "amplitudes_pct",
-                    f64::NAN,
                     "not given with reversals_pct (the replayed points are the history)",
                 ));
             }
             if r.is_empty() {
-                return Err(OutOfRange::new("reversals_pct", f64::NAN, "not empty"));
+                return Err(OutOfRange::without_value("reversals_pct", "not empty"));
             }
             for (i, &v) in r.iter().enumerate() {
                 check_ranges(&[(
@@ -254,7 +252,7 @@ impl InPlaneParams {
         }
         if let Some(a) = &self.amplitudes_pct {
             if a.is_empty() {
-                return Err(OutOfRange::new("amplitudes_pct", f64::NAN, "not empty"));
+                return Err(OutOfRange::without_value("amplitudes_pct", "not empty"));
             }
             for (i, &v) in a.iter().enumerate() {
                 check_ranges(&[("amplitudes_pct", v, v > 0.0 && v <= self.drift_pct, "in (0, drift_pct]")])?;
@@ -363,6 +361,14 @@ impl InPlaneParams {
             }
         });
         path
+    }
+
+    /// Whether the history pushes the wall the negative way: a cyclic history of the ladder,
+    /// or one whose replayed reversals ([`InPlaneParams::reversals_pct`]) turn at a negative
+    /// drift. A history that never does has no negative direction to read (its unloading
+    /// back to zero overshoots by the joints' elastic recovery alone).
+    pub fn pushes_negative(&self) -> bool {
+        self.history == History::Cyclic && self.reversals_pct.as_deref().is_none_or(|r| r.iter().any(|&x| x < 0.0))
     }
 
     /// The legs of [`InPlaneParams::path`]: for each, where it starts and ends (m) and the

@@ -193,7 +193,7 @@ pub(crate) fn result_of(
     rig.add_vertical_load_rig(&mut curve);
     InPlaneResult {
         positive: direction(&curve, 1.0),
-        negative: if params.history == History::Cyclic { direction(&curve, -1.0) } else { None },
+        negative: if params.pushes_negative() { direction(&curve, -1.0) } else { None },
         curve,
         wall_curve,
         vertical_load_rig: Box::new(rig.layout.vertical_load_rig),
