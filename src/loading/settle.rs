@@ -118,7 +118,7 @@ fn why(damping: f64, ratio: f64, tolerance: f64) -> String {
 /// [`SettleError::Untouched`] for the first free block (in layout order) without a contact,
 /// [`SettleError::NoEquilibrium`] (where the ratio stalled at the rounding floor, 1e-6,
 /// with every block where it was laid: the message names the tolerance it can reach),
-/// [`SettleError::Moved`] for the block that moved most if it moved more than the
+/// [`SettleError::Moved`] for the lowest block as laid that moved more than the
 /// tolerance (also where the ratio stalled at the rounding floor), [`SettleError::Dem`] if the state blows up (with block
 /// density scaling, after a second attempt with scalar scaling, which `sim` then keeps).
 pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: u64) -> Result<(), SettleError> {
@@ -157,18 +157,20 @@ pub fn settle(sim: &mut Simulation, layout: &Layout, tolerance: f64, max_steps: 
         return Err(no_equilibrium());
     }
     let tolerance_m = settle_tolerance(layout);
-    let worst = sim
+    // Of the blocks that moved past the tolerance, the lowest as laid is named: what rests on
+    // a block that gave way moves with it, often farther (a loading beam on a block laid
+    // above the table falls with it), and is no cause.
+    let lowest = sim
         .state
         .bodies
         .iter()
         .zip(&start)
         .filter(|(b, _)| !b.fixed())
-        .map(|(b, from)| (b, body_motion(from, &(b.pos, b.rot), b.radius)))
-        .max_by(|x, y| x.1.total_cmp(&y.1));
-    if let Some((b, moved_m)) = worst {
-        if !(moved_m <= tolerance_m) {
-            return Err(SettleError::Moved { block: b.id.clone(), moved_m, tolerance_m });
-        }
+        .map(|(b, from)| (b, from.0.z, body_motion(from, &(b.pos, b.rot), b.radius)))
+        .filter(|(_, _, moved)| !(*moved <= tolerance_m))
+        .min_by(|x, y| x.1.total_cmp(&y.1));
+    if let Some((b, _, moved_m)) = lowest {
+        return Err(SettleError::Moved { block: b.id.clone(), moved_m, tolerance_m });
     }
     if !settled {
         return Err(no_equilibrium());

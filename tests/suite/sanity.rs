@@ -95,6 +95,22 @@ fn a_floating_block_is_named() {
     assert!(matches!(lateral_error(&l), SettleError::Untouched { block, .. } if block == "floater"));
 }
 
+/// A block laid 5 cm above the table with a block resting on it: both fall, the one on top
+/// as far or farther, and the one laid in the air is named, not the one that fell with it
+/// (as a loading beam on such a block was named).
+#[test]
+fn a_block_that_gave_way_is_named_not_what_fell_with_it() {
+    let blocks = vec![
+        block("below", [0.0, 0.2], [0.0, 0.2], [0.05, 0.15]),
+        block("above", [0.0, 0.2], [0.0, 0.2], [0.15, 0.25]),
+    ];
+    let l = parse(&layout_json(&blocks, 2150.0, 5e7, "")).unwrap();
+    for m in modes() {
+        let e = tilt_error(&l, m);
+        assert!(matches!(&e, SettleError::Moved { block, .. } if block == "below"), "{m:?}: {e}");
+    }
+}
+
 /// An L-shaped block is not replaced by its hull.
 #[test]
 fn a_non_convex_block_is_refused() {
