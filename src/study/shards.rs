@@ -547,6 +547,7 @@ pub struct Merged {
 /// # Errors
 /// [`OutputError`] naming the shard, field or file.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
+    let _lock = DirLock::acquire(out)?;
     // The merged outputs would replace a shard's own (its manifest and rows) as they are
     // read: the output folder is none of the shards.
     let same = |d: &Path| match (std::fs::canonicalize(d), std::fs::canonicalize(out)) {
@@ -560,7 +561,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, OutputError> {
             d.display()
         )));
     }
-    let _lock = DirLock::acquire(out)?;
     check_writable(out)?;
     let (manifest, rows, origin) = read_shards_with_origin(dirs)?;
     if manifest.inputs.is_empty() {
