@@ -92,27 +92,35 @@ impl JointNeighbours {
     /// [`JointNeighbours::largest`] over every block but `skip` (a body of the rig, such as
     /// the in-plane test's loading beam, whose slip on the wall is no block leaving it).
     pub fn largest_but(&self, reference: &Poses, now: &Poses, skip: Option<usize>) -> (f64, Option<usize>) {
-        let mut worst = (0.0, None);
-        for (k, e) in self.excursions(reference, now, skip) {
-            if e > worst.0 {
-                worst = (e, Some(k));
-            }
-        }
-        worst
+        self.read_but(reference, now, skip).0
     }
 
     /// The block shed from the wall between `reference` and `now` (its excursion above
     /// [`SHED_SHARE`] of its smallest extent; of several, the one farthest past its bound),
     /// every block but `skip` read; `None`: the wall is whole.
     pub fn shed_but(&self, reference: &Poses, now: &Poses, skip: Option<usize>) -> Option<usize> {
-        let mut worst = (1.0, None);
+        self.read_but(reference, now, skip).1
+    }
+
+    /// [`JointNeighbours::largest_but`] and [`JointNeighbours::shed_but`] in one pass over
+    /// the blocks.
+    pub fn read_but(
+        &self,
+        reference: &Poses,
+        now: &Poses,
+        skip: Option<usize>,
+    ) -> ((f64, Option<usize>), Option<usize>) {
+        let (mut largest, mut shed) = ((0.0, None), (1.0, None));
         for (k, e) in self.excursions(reference, now, skip) {
+            if e > largest.0 {
+                largest = (e, Some(k));
+            }
             let past = e / (SHED_SHARE * self.sizes[k]);
-            if past > worst.0 {
-                worst = (past, Some(k));
+            if past > shed.0 {
+                shed = (past, Some(k));
             }
         }
-        worst.1
+        (largest, shed.1)
     }
 
     /// Each block's excursion (its index, m), the blocks with no joint neighbour and `skip`

@@ -165,12 +165,11 @@ impl Excursion {
         // The loading beam is the rig's: its slip along the top course is a mechanism
         // (sliding under the beam), not a block shed from the wall.
         let beam = layout.blocks.iter().position(|b| b.id == super::BEAM_ID);
-        let (e, k) = neighbours.largest_but(reference, now, beam);
+        let ((e, k), shed) = neighbours.read_but(reference, now, beam);
         if e > self.largest_m {
             self.largest_m = e;
             self.block = k.map_or_else(String::new, |k| layout.blocks[k].id.clone());
         }
-        let shed = neighbours.shed_but(reference, now, beam);
         if let (Some(k), true) = (shed, self.shed.is_empty()) {
             self.shed = layout.blocks[k].id.clone();
         }
