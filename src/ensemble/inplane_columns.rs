@@ -70,6 +70,9 @@ pub struct InPlaneColumns {
     /// [`LOOP_MIN_DRIFT_PCT`] % drift, [`loop_damping_ratio`]); NaN for a monotonic run.
     #[serde(with = "exact::one")]
     pub damping_ratio: f64,
+    /// The envelope's force at 0.25 % drift, +, kN.
+    #[serde(with = "exact::one")]
+    pub force_at_0_25_pos_kn: f64,
     /// The envelope's force at 0.5 % drift, +, kN.
     #[serde(with = "exact::one")]
     pub force_at_0_5_pos_kn: f64,
@@ -88,6 +91,9 @@ pub struct InPlaneColumns {
     /// The plateau's slope past 95 % of the peak, +, kN per % drift.
     #[serde(with = "exact::one")]
     pub plateau_slope_pos_kn_per_pct: f64,
+    /// The envelope's force at 0.25 % drift, −, kN.
+    #[serde(with = "exact::one")]
+    pub force_at_0_25_neg_kn: f64,
     /// The envelope's force at 0.5 % drift, −, kN.
     #[serde(with = "exact::one")]
     pub force_at_0_5_neg_kn: f64,
@@ -150,12 +156,14 @@ impl Default for InPlaneColumns {
             limit_mechanism: String::new(),
             rocking_kn: f64::NAN,
             damping_ratio: f64::NAN,
+            force_at_0_25_pos_kn: f64::NAN,
             force_at_0_5_pos_kn: f64::NAN,
             force_at_1_pos_kn: f64::NAN,
             force_at_2_pos_kn: f64::NAN,
             drift_at_80_pos_pct: f64::NAN,
             drift_at_95_pos_pct: f64::NAN,
             plateau_slope_pos_kn_per_pct: f64::NAN,
+            force_at_0_25_neg_kn: f64::NAN,
             force_at_0_5_neg_kn: f64::NAN,
             force_at_1_neg_kn: f64::NAN,
             force_at_2_neg_kn: f64::NAN,

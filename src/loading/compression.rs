@@ -231,7 +231,7 @@ impl CompressionError {
     /// Whether the layout did not stand as given (under gravity, or under the first
     /// loading).
     pub fn does_not_stand(&self) -> bool {
-        matches!(self, CompressionError::Rig(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
+        matches!(self, CompressionError::Rig(e) if e.does_not_stand())
     }
 }
 

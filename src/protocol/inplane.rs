@@ -146,12 +146,10 @@ impl RunOutcome for InPlaneRun {
         }
     }
     fn does_not_stand(&self) -> bool {
-        matches!(
-            self,
-            InPlaneRun::Penalty(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
-                | InPlaneRun::Nscd(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
-                | InPlaneRun::Limit(Err(InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. }))
-        )
+        match self {
+            InPlaneRun::Penalty(Err(e)) | InPlaneRun::Nscd(Err(e)) | InPlaneRun::Limit(Err(e)) => e.does_not_stand(),
+            InPlaneRun::Penalty(Ok(_)) | InPlaneRun::Nscd(Ok(_)) | InPlaneRun::Limit(Ok(_)) => false,
+        }
     }
     fn refused(&self) -> bool {
         match self {

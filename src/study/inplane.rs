@@ -79,14 +79,14 @@ fn fill(c: &mut InPlaneColumns, r: &InPlaneResult) {
     (c.peak_pos_kn, c.drift_at_peak_pos_pct, c.ultimate_drift_pos_pct, c.stiffness_pos_kn_per_mm) = d(r.positive);
     (c.peak_neg_kn, c.drift_at_peak_neg_pct, c.ultimate_drift_neg_pct, c.stiffness_neg_kn_per_mm) = d(r.negative);
     if let Some(x) = r.positive {
-        (c.force_at_0_5_pos_kn, c.force_at_1_pos_kn, c.force_at_2_pos_kn) =
-            (x.force_at_drift_kn[1], x.force_at_drift_kn[2], x.force_at_drift_kn[3]);
+        (c.force_at_0_25_pos_kn, c.force_at_0_5_pos_kn, c.force_at_1_pos_kn, c.force_at_2_pos_kn) =
+            x.force_at_drift_kn.into();
         (c.drift_at_80_pos_pct, c.drift_at_95_pos_pct) = (x.drift_at_80_pct, x.drift_at_95_pct);
         c.plateau_slope_pos_kn_per_pct = x.plateau_slope_kn_per_pct;
     }
     if let Some(x) = r.negative {
-        (c.force_at_0_5_neg_kn, c.force_at_1_neg_kn, c.force_at_2_neg_kn) =
-            (x.force_at_drift_kn[1], x.force_at_drift_kn[2], x.force_at_drift_kn[3]);
+        (c.force_at_0_25_neg_kn, c.force_at_0_5_neg_kn, c.force_at_1_neg_kn, c.force_at_2_neg_kn) =
+            x.force_at_drift_kn.into();
         (c.drift_at_80_neg_pct, c.drift_at_95_neg_pct) = (x.drift_at_80_pct, x.drift_at_95_pct);
         c.plateau_slope_neg_kn_per_pct = x.plateau_slope_kn_per_pct;
     }
@@ -163,12 +163,14 @@ const ROW_COLUMNS: &[(&str, fn(&CsvRow) -> String)] = &[
     ("limit_mechanism", |r| r.p.limit_mechanism.clone()),
     ("rocking_kn", |r| r.p.rocking_kn.to_string()),
     ("damping_ratio", |r| r.p.damping_ratio.to_string()),
+    ("force_at_0_25_pos_kn", |r| r.p.force_at_0_25_pos_kn.to_string()),
     ("force_at_0_5_pos_kn", |r| r.p.force_at_0_5_pos_kn.to_string()),
     ("force_at_1_pos_kn", |r| r.p.force_at_1_pos_kn.to_string()),
     ("force_at_2_pos_kn", |r| r.p.force_at_2_pos_kn.to_string()),
     ("drift_at_80_pos_pct", |r| r.p.drift_at_80_pos_pct.to_string()),
     ("drift_at_95_pos_pct", |r| r.p.drift_at_95_pos_pct.to_string()),
     ("plateau_slope_pos_kn_per_pct", |r| r.p.plateau_slope_pos_kn_per_pct.to_string()),
+    ("force_at_0_25_neg_kn", |r| r.p.force_at_0_25_neg_kn.to_string()),
     ("force_at_0_5_neg_kn", |r| r.p.force_at_0_5_neg_kn.to_string()),
     ("force_at_1_neg_kn", |r| r.p.force_at_1_neg_kn.to_string()),
     ("force_at_2_neg_kn", |r| r.p.force_at_2_neg_kn.to_string()),

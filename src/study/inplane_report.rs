@@ -26,7 +26,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The observables compared, with their row accessors.
-const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 17] = [
+const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 18] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
     ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
     ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
@@ -35,6 +35,12 @@ const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f6
     ("stiffness_pos_kn_per_mm", "initial stiffness + (kN/mm)", |r| r.stiffness_pos_kn_per_mm, |s| s.kel_pos),
     ("failure_type", "failure type (1 rocking, 0.5 mixed, 0 shear)", |r| r.failure_type, |s| s.failure_type),
     ("damping_ratio", "loops' equivalent damping ratio, cycles ≥ 1 % drift", |r| r.damping_ratio, |s| s.damping_ratio),
+    (
+        "force_at_0_25_pos_kn",
+        "envelope's force at 0.25 % drift + (kN)",
+        |r| r.force_at_0_25_pos_kn,
+        |s| s.readings_pos.force_at_drift_kn[0],
+    ),
     (
         "force_at_0_5_pos_kn",
         "envelope's force at 0.5 % drift + (kN)",

@@ -138,6 +138,18 @@ impl InPlaneStudy {
         }
         Ok(())
     }
+
+    /// Refuses, on read, a drift the study's method cannot follow
+    /// ([`crate::loading::inplane::check_drift_reach`]: the penalty DEM's reach is
+    /// [`crate::loading::inplane::max_drift_pct`] of its face-angle tolerance), rather than
+    /// failing every realization of the study with the same error.
+    pub(super) fn check_reach(&self, solver: &crate::dem::SolverParams, invalid: &Invalid) -> Result<(), StudyError> {
+        if !solver.kind.is_penalty() {
+            return Ok(());
+        }
+        crate::loading::inplane::check_drift_reach(&self.params, solver.face_angle_tolerance_deg)
+            .map_err(|e| invalid.at("in_plane.drift_pct", e.to_string()))
+    }
 }
 
 /// The effects of group `g`'s model, each with the key that states it: the study's

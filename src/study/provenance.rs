@@ -75,19 +75,25 @@ pub use crate::files::sha256_hex;
 /// The input files `(role, path)` read and recorded, in the order given with duplicates
 /// removed (a distribution shared by two walls is one input).
 ///
+/// Each path is recorded as the study reaches it ([`lexical`]: made absolute, `.` and `..`
+/// taken from the path's own text, symbolic links not followed), so the stored tree lays
+/// out the files as the study file's relative paths name them, and a study rebuilt from it
+/// ([`materialize`]) finds each one where it names it, even when a wall or measured folder
+/// is a link to another place.
+///
 /// # Errors
 /// The file that cannot be read or located, with the reason.
 pub fn record(files: &[(InputRole, PathBuf)]) -> Result<Vec<InputFile>, (PathBuf, std::io::Error)> {
     let mut seen: Vec<PathBuf> = Vec::new();
     let mut read: Vec<(InputRole, PathBuf, Vec<u8>)> = Vec::new();
     for (role, p) in files {
-        let canonical = std::fs::canonicalize(p).map_err(|e| (p.clone(), e))?;
-        if seen.contains(&canonical) {
+        let at = lexical(p).map_err(|e| (p.clone(), e))?;
+        if seen.contains(&at) {
             continue;
         }
-        let bytes = std::fs::read(&canonical).map_err(|e| (p.clone(), e))?;
-        seen.push(canonical.clone());
-        read.push((*role, canonical, bytes));
+        let bytes = std::fs::read(p).map_err(|e| (p.clone(), e))?;
+        seen.push(at.clone());
+        read.push((*role, at, bytes));
     }
     let root = common_dir(read.iter().map(|(_, p, _)| p.as_path()));
     Ok(read
@@ -99,6 +105,26 @@ pub fn record(files: &[(InputRole, PathBuf)]) -> Result<Vec<InputFile>, (PathBuf
             text: String::from_utf8_lossy(&bytes).into_owned(),
         })
         .collect())
+}
+
+/// `p` made absolute against the working directory, its `.` and `..` components taken
+/// from the path's text (`a/b/../c` is `a/c`), symbolic links not resolved: the place the
+/// study's relative paths name, which a tree rebuilt without links reproduces.
+///
+/// # Errors
+/// The working directory cannot be read.
+fn lexical(p: &Path) -> std::io::Result<PathBuf> {
+    let mut out = PathBuf::new();
+    for c in std::path::absolute(p)?.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    Ok(out)
 }
 
 /// The deepest directory that holds every path (absolute paths of files).

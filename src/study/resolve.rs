@@ -125,6 +125,9 @@ impl StudySpec {
             read_warnings.extend(self.tilt.cascade_warnings("tilt"));
         }
         let solver = crate::dem::with_moved(self.solver, &moved);
+        if let Some(ip) = &in_plane {
+            ip.check_reach(&solver, &invalid)?;
+        }
         for g in &self.groups {
             if !names.insert(g.name.clone()) {
                 return Err(invalid.at(&format!("groups[{}].name", g.name), "duplicate group name".into()));

@@ -117,6 +117,29 @@ fn a_stack_on_crushing_joints_is_as_strong_as_its_joints() {
     assert!(hi - lo < 0.3 + 1e-9, "[{lo}, {hi}]");
 }
 
+/// A vertical stress at or above the joints' crushing strength is said to crush the wall,
+/// naming the joint rule and both stresses, and counted as a wall that does not stand
+/// (before, the static solve ran the joints closed without end and named the loading beam
+/// as a block moved some 500 km).
+#[test]
+fn a_vertical_stress_past_the_crushing_strength_crushes_the_wall_by_name() {
+    let mut wall = stack(2, 1e10);
+    let closure: drystone::closure::Closure =
+        serde_json::from_value(serde_json::json!({"crushing": {"strength_pa": 2.0e6}})).unwrap();
+    for m in &mut wall.materials {
+        m.closure = closure;
+    }
+    let p = CompressionParams { sigma0_mpa: 2.5, cycles: 1, ..Default::default() };
+    let e = run_compression_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap_err();
+    let text = e.to_string();
+    assert!(e.does_not_stand(), "{text}");
+    assert!(text.contains("crushes the wall") && text.contains("fc = 2.000 MPa"), "{text}");
+    assert!(!text.contains("loading_beam"), "{text}");
+    // Below the strength the cycles run.
+    let p = CompressionParams { sigma0_mpa: 1.5, cycles: 1, ..Default::default() };
+    run_compression_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+}
+
 #[test]
 fn bad_parameters_are_refused_by_name() {
     let wall = stack(2, 1e10);

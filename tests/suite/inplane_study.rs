@@ -448,3 +448,39 @@ fn a_specimen_of_another_stress_or_history_or_a_missing_envelopes_folder_is_refu
     assert!(e.contains("specimens") && e.contains("gives no measured file") && e.contains("[measured] walls"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A drift past the penalty DEM's reach (8.8 % at the default face-angle tolerance,
+/// `loading::inplane::max_drift_pct`) is refused when the study is read, at
+/// `in_plane.drift_pct`, not in every realization's row; nscd, which has no such reach,
+/// reads the same file.
+#[test]
+fn a_drift_past_the_penalty_dems_reach_is_refused_on_read() {
+    let dir = folder("reach");
+    let text = study_text("", "").replace("drift_pct = 0.4\n", "drift_pct = 9\n");
+    let p = write(&dir, "far.toml", &text);
+    let e = drystone::study::Study::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("in_plane.drift_pct") && e.contains("8.8"), "{e}");
+    let nscd = write(&dir, "far_nscd.toml", &text.replace("\n[in_plane]", "[solver]\nkind = \"nscd\"\n\n[in_plane]"));
+    drystone::study::Study::from_file(&nscd).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `realizations.csv` carries the envelope's force at each reading drift of the JSON
+/// (0.25, 0.5, 1 and 2 %), the same numbers as the run's own readings.
+#[test]
+fn the_rows_carry_the_force_at_every_reading_drift() {
+    let dir = folder("readings");
+    let text = study_text("", "").replace("drift_pct = 0.4\n", "drift_pct = 0.6\n");
+    let p = write(&dir, "r.toml", &text);
+    let run = run_study_file(&p, &dir.join("r")).unwrap();
+    let table = std::fs::read_to_string(dir.join("r/realizations.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("{name}: {header:?}"));
+    let (c25, c50) = (col("force_at_0_25_pos_kn"), col("force_at_0_5_pos_kn"));
+    let first: Vec<&str> = table.lines().nth(1).unwrap().split(',').collect();
+    let row = run.rows[0].in_plane.as_ref().unwrap();
+    assert_eq!(first[c25].parse::<f64>().unwrap(), row.force_at_0_25_pos_kn);
+    assert_eq!(first[c50].parse::<f64>().unwrap(), row.force_at_0_5_pos_kn);
+    assert!(row.force_at_0_25_pos_kn > 0.0 && row.force_at_0_25_pos_kn <= row.peak_pos_kn, "{row:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -290,3 +290,33 @@ fn shards_with_distributions_from_the_working_directory_merge_from_anywhere() {
     assert_eq!(std::fs::read(whole.join("summary.csv")).unwrap(), std::fs::read(merged.join("summary.csv")).unwrap());
     assert_eq!(manifest(&whole)["inputs"], manifest(&merged)["inputs"]);
 }
+
+/// A study whose wall and measured folders are links to another place merges: the manifest
+/// records each input where the study file's relative paths reach it, not where the links
+/// point, so the study rebuilt from the stored texts finds every file (before, the stored
+/// tree held the links' targets and the rebuilt study could not read its wall).
+#[cfg(unix)]
+#[test]
+fn shards_of_a_study_reaching_its_files_through_links_merge() {
+    let s = common::Scratch::created("prov-linked");
+    let elsewhere = s.join("elsewhere");
+    copy_study(&elsewhere, 7, "a");
+    let study_dir = s.join("study");
+    std::fs::create_dir_all(&study_dir).unwrap();
+    for d in ["walls", "data"] {
+        std::os::unix::fs::symlink(elsewhere.join(d), study_dir.join(d)).unwrap();
+    }
+    let study = study_dir.join("study.toml");
+    std::fs::copy(elsewhere.join("study.toml"), &study).unwrap();
+    let (a, b) = (s.join("a"), s.join("b"));
+    shard(&study, "1/2", &a);
+    shard(&study, "2/2", &b);
+    let paths: Vec<String> =
+        manifest(&a)["inputs"].as_array().unwrap().iter().map(|f| f["path"].as_str().unwrap().to_string()).collect();
+    assert_eq!(paths, ["study.toml", "walls/cbl.toml", "data/collapse.csv"], "recorded where the study names them");
+    let merged = s.join("merged");
+    ok(drystone(&[&"merge", &"--out", &merged, &a, &b], &s));
+    let whole = s.join("whole");
+    ok(drystone(&[&"run", &study, &"--out", &whole], &study_dir));
+    assert_eq!(std::fs::read(whole.join("summary.csv")).unwrap(), std::fs::read(merged.join("summary.csv")).unwrap());
+}

@@ -122,6 +122,21 @@ pub enum InPlaneError {
         /// Whether the relaxation reached equilibrium.
         equilibrium: bool,
     },
+    /// The vertical force crushes the wall's joints before they carry it: the mean stress
+    /// at the base reaches the faces' crushing strength.
+    #[error(
+        "the vertical stress crushes the wall: {stress_mpa:.3} MPa at its base (the vertical force {force_kn:.1} kN and the wall's own weight over its plan area) reaches the crushing strength fc = {strength_mpa:.3} MPa of {joint}, and a joint carries at most fc over its area; give a vertical stress below fc (the compression test's --raise-to-mpa finds the strength)"
+    )]
+    Crushes {
+        /// The crushing joint rule, as the layout names it (`material NAME`, …).
+        joint: String,
+        /// Its crushing strength fc, MPa.
+        strength_mpa: f64,
+        /// The mean stress at the wall's base, (N + W) / (L t), MPa.
+        stress_mpa: f64,
+        /// The vertical force N, kN.
+        force_kn: f64,
+    },
     /// The engine blew up.
     #[error(transparent)]
     Dem(#[from] DemError),
@@ -214,10 +229,20 @@ impl InPlaneError {
             | InPlaneError::Unsupported(_) => true,
             InPlaneError::DoesNotStand(_)
             | InPlaneError::UnderVerticalForce { .. }
+            | InPlaneError::Crushes { .. }
             | InPlaneError::Dem(_)
             | InPlaneError::Nscd(_)
             | InPlaneError::Beam(_) => false,
         }
+    }
+
+    /// Whether the wall did not stand as given: under gravity, under the vertical force, or
+    /// crushed by it (a realization's outcome, not a refusal of its input).
+    pub fn does_not_stand(&self) -> bool {
+        matches!(
+            self,
+            InPlaneError::DoesNotStand(_) | InPlaneError::UnderVerticalForce { .. } | InPlaneError::Crushes { .. }
+        )
     }
 }
 

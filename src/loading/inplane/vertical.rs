@@ -73,8 +73,10 @@ pub struct VerticalPhase {
 /// option and check the static settings before).
 ///
 /// # Errors
-/// [`InPlaneError::DoesNotStand`] (under gravity), [`InPlaneError::UnderVerticalForce`]
-/// naming the block that moved most, [`InPlaneError::Dem`] for a blow-up.
+/// [`InPlaneError::Crushes`] where the mean stress at the base reaches a crushing joint's
+/// strength ([`check_crushing`]), [`InPlaneError::DoesNotStand`] (under gravity),
+/// [`InPlaneError::UnderVerticalForce`] naming the block that moved most,
+/// [`InPlaneError::Dem`] for a blow-up.
 pub fn stand_under_vertical_force(
     rig: &Rig,
     solver: SolverParams,
@@ -82,6 +84,7 @@ pub fn stand_under_vertical_force(
     sigma0_mpa: f64,
     settled: &mut dyn FnMut(&Simulation),
 ) -> Result<VerticalPhase, InPlaneError> {
+    check_crushing(rig)?;
     let mut sim = Simulation::new(&rig.layout, solver);
     let (tol, budget) = (solver.penalty.tolerance, solver.penalty.max_steps);
     let bi = rig.beam;
@@ -120,6 +123,28 @@ pub fn stand_under_vertical_force(
     let added_stress = (rig.vertical_force_n - rig.beam_weight_n) / (rig.length_m * rig.thickness_m);
     let vertical_modulus_mpa = added_stress * rig.height_m / settlement_m * 1e-6;
     Ok(VerticalPhase { sim, relax, start, settlement_m, vertical_modulus_mpa })
+}
+
+/// Refuses a vertical force the wall's joints crush under: where the layout has a crushing
+/// law (`q = min(Kn u, fc)`, [`crate::closure::Closure::Crushing`]), a bed joint across the
+/// wall carries at most fc over its area, at most the plan area `L t`; the mean stress at the
+/// base, `(N + W) / (L t)`, reaching fc leaves the joints closing without end (the wall
+/// crushes), which the static solve would report as a block moved kilometres.
+///
+/// # Errors
+/// [`InPlaneError::Crushes`], naming the joint rule and both stresses.
+pub fn check_crushing(rig: &Rig) -> Result<(), InPlaneError> {
+    let Some((joint, fc_pa)) = rig.layout.crushing_joint() else { return Ok(()) };
+    let stress_pa = rig.n_total_n() / (rig.length_m * rig.thickness_m);
+    if stress_pa >= fc_pa {
+        return Err(InPlaneError::Crushes {
+            joint,
+            strength_mpa: fc_pa * 1e-6,
+            stress_mpa: stress_pa * 1e-6,
+            force_kn: rig.vertical_force_n * 1e-3,
+        });
+    }
+    Ok(())
 }
 
 /// Checks that the wall stands under the vertical force: its solve from the poses `start`
