@@ -436,6 +436,8 @@ fn penalty_json(r: &InPlaneResult, method: &str, rotation: BeamRotation) -> serd
         "largest_block_excursion_mm": r.largest_block_excursion_mm,
         "excursion_block": r.excursion_block,
         "shed_block": r.shed_block,
+        "course_widening_mm": r.course_widening_mm,
+        "widened_course": r.widened_course,
         "length_m": r.length_m,
         "height_m": r.height_m,
         "thickness_m": r.thickness_m,
@@ -520,6 +522,12 @@ fn print_penalty(layout: &Path, params: &InPlaneParams, r: &InPlaneResult, engin
         r.largest_block_excursion_mm,
         if r.excursion_block.is_empty() { String::new() } else { format!(" ({})", r.excursion_block) }
     );
+    if let Some(c) = r.widened_course {
+        out!(
+            "  widest course at the history's end: course {c}, {:.2} mm wider than under the vertical force",
+            r.course_widening_mm
+        );
+    }
     out!(
         "  {} increments, {} unconverged{}; {} steps, dt {:.2e} s; {:.2} s",
         r.curve.len() - 1,

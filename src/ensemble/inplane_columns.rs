@@ -122,6 +122,10 @@ pub struct InPlaneColumns {
     pub largest_block_excursion_mm: f64,
     /// The block of `largest_block_excursion_mm`.
     pub excursion_block: String,
+    /// The widening of the most widened course at the history's end, mm
+    /// ([`InPlaneResult::course_widening_mm`]).
+    #[serde(with = "exact::one")]
+    pub course_widening_mm: f64,
     /// Static solves that did not reach equilibrium.
     pub unconverged: u64,
     /// The force–drift curve's drifts, % (in the journal and `realizations.parquet`, for
@@ -173,6 +177,7 @@ impl Default for InPlaneColumns {
             vertical_modulus_mpa: f64::NAN,
             largest_block_excursion_mm: f64::NAN,
             excursion_block: String::new(),
+            course_widening_mm: f64::NAN,
             unconverged: 0,
             curve_drift_pct: Vec::new(),
             curve_force_kn: Vec::new(),

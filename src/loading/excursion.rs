@@ -214,6 +214,31 @@ fn carried_off(reference: &Poses, now: &Poses, k: usize, j: usize) -> f64 {
     (now[k].0 - carried).norm()
 }
 
+/// The widening of the most widened course of `layout` in the poses `now` from `reference`
+/// (m) and the course: for each course (the blocks' `course`; the block `beam` left out),
+/// the span of its blocks' centroids along the wall's length (x) now, less that in
+/// `reference`. Where the excursion reads a block leaving
+/// every joint neighbour, this reads a course's ends moving apart together with the courses
+/// above and below them (an end column walking outwards over the cycles, its head joints
+/// left open), which no neighbour of theirs departs from. `(0, None)` for a layout without
+/// courses.
+pub fn course_widening(layout: &Layout, reference: &Poses, now: &Poses, beam: Option<usize>) -> (f64, Option<usize>) {
+    let mut spans: std::collections::BTreeMap<usize, [f64; 4]> = std::collections::BTreeMap::new();
+    for (k, b) in layout.blocks.iter().enumerate() {
+        let Some(c) = b.course.filter(|_| Some(k) != beam) else { continue };
+        let e = spans.entry(c).or_insert([f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY]);
+        let (x0, x1) = (reference[k].0.x, now[k].0.x);
+        *e = [e[0].min(x0), e[1].max(x0), e[2].min(x1), e[3].max(x1)];
+    }
+    spans.into_iter().map(|(c, [r0, r1, n0, n1])| ((n1 - n0) - (r1 - r0), Some(c))).fold((0.0, None), |best, w| {
+        if w.0 > best.0 {
+            w
+        } else {
+            best
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -230,6 +255,28 @@ mod tests {
         let layout = crate::verify::layout_of(boxes, 1e9, 1e9, 30.0, crate::layout::BaseSliding::Free);
         let reference = layout.blocks.iter().map(|b| (b.centroid(), UnitQuaternion::identity())).collect();
         (layout, reference)
+    }
+
+    /// A course whose end blocks move apart by 3 mm and 1 mm is 4 mm wider; a wall moved
+    /// and turned rigidly widens none of its courses.
+    #[test]
+    fn a_course_whose_ends_move_apart_widens_by_their_sum() {
+        let (mut layout, reference) = two_courses();
+        for (k, b) in layout.blocks.iter_mut().enumerate() {
+            b.course = Some(usize::from(k >= 3));
+        }
+        let mut now = reference.clone();
+        now[0].0.x -= 3e-3;
+        now[2].0.x += 1e-3;
+        let (w, c) = course_widening(&layout, &reference, &now, None);
+        assert!((w - 4e-3).abs() < 1e-12 && c == Some(0), "{w} {c:?}");
+        let shift = Vec3::new(0.02, 0.0, 0.001);
+        let moved: Vec<_> = reference.iter().map(|(p, q)| (p + shift, *q)).collect();
+        assert!(course_widening(&layout, &reference, &moved, None).0 < 1e-12);
+        // The beam (here the upper course's last block) is left out.
+        now = reference.clone();
+        now[4].0.x += 5e-3;
+        assert!(course_widening(&layout, &reference, &now, Some(4)).0 < 1e-12);
     }
 
     #[test]

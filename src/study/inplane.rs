@@ -93,6 +93,7 @@ fn fill(c: &mut InPlaneColumns, r: &InPlaneResult) {
     c.vertical_modulus_mpa = r.wall_vertical_modulus_mpa;
     c.largest_block_excursion_mm = r.largest_block_excursion_mm;
     c.excursion_block = r.excursion_block.clone();
+    c.course_widening_mm = r.course_widening_mm;
     c.in_plane_mechanism = r.mechanism.kind.name().into();
     c.failure_type = r.mechanism.kind.failure_type().unwrap_or(f64::NAN);
     c.opening_share = r.mechanism.opening_share;
@@ -180,6 +181,7 @@ const ROW_COLUMNS: &[(&str, fn(&CsvRow) -> String)] = &[
     ("vertical_modulus_mpa", |r| r.p.vertical_modulus_mpa.to_string()),
     ("largest_block_excursion_mm", |r| r.p.largest_block_excursion_mm.to_string()),
     ("excursion_block", |r| r.p.excursion_block.clone()),
+    ("course_widening_mm", |r| r.p.course_widening_mm.to_string()),
     ("unconverged", |r| r.p.unconverged.to_string()),
     ("wall_time_s", |r| format!("{:.3}", r.row.wall_time_s)),
     ("error", |r| format!("\"{}\"", r.row.error.replace('"', "'"))),

@@ -76,6 +76,17 @@ pub struct InPlaneResult {
     /// Empty: the wall stayed whole.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub shed_block: String,
+    /// The widening of the most widened course at the history's end, mm: the span of its
+    /// blocks' centroids along the wall's length, less that under the vertical force
+    /// ([`crate::loading::excursion::course_widening`]). A cyclic history ends at zero drift, where it reads the spread
+    /// the cycles left (the end columns walked outwards, head joints left open); a monotonic
+    /// one at its largest drift, where it includes the open cracks of the mechanism. NaN
+    /// when read from results written before it was recorded.
+    #[serde(default = "nan")]
+    pub course_widening_mm: f64,
+    /// The course of `course_widening_mm` (0 at the base; `None`: no course widened).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub widened_course: Option<usize>,
     /// The push read both ways ([`InPlaneParams::mirror_reading`]; `None`: read one way).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mirror: Option<Box<Mirror>>,
@@ -150,6 +161,9 @@ pub(crate) struct Excursion {
     /// The first block shed from the wall ([`crate::loading::excursion::SHED_SHARE`]; empty:
     /// none).
     pub shed: String,
+    /// The widening of the most widened course in the last poses read, m, and the course
+    /// ([`crate::loading::excursion::course_widening`]).
+    pub widening: (f64, Option<usize>),
 }
 
 impl Excursion {
@@ -173,6 +187,7 @@ impl Excursion {
         if let (Some(k), true) = (shed, self.shed.is_empty()) {
             self.shed = layout.blocks[k].id.clone();
         }
+        self.widening = crate::loading::excursion::course_widening(layout, reference, now, beam);
         shed.is_some()
     }
 }
@@ -211,6 +226,8 @@ pub(crate) fn result_of(
         largest_block_excursion_mm: work.excursion.largest_m * 1e3,
         excursion_block: work.excursion.block,
         shed_block: work.excursion.shed,
+        course_widening_mm: work.excursion.widening.0 * 1e3,
+        widened_course: work.excursion.widening.1,
         mirror: (params.mirror_reading && params.history == History::Monotonic)
             .then(|| Box::new(Mirror { wall_curve: None })),
         unconverged: work.unconverged,
