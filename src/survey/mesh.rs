@@ -91,6 +91,12 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
             return Err(SurveyError::Element { path: m.file.clone(), element: m.stone.element.clone(), reason });
         }
         (m.vertices, m.triangles) = weld(&m.vertices, &m.triangles);
+        // Checked in the file's own coordinates, which the message gives.
+        check_closed(&m.vertices, &m.triangles).map_err(|reason| SurveyError::Element {
+            path: m.file.clone(),
+            element: m.stone.element.clone(),
+            reason: format!("stone {}: {reason}", m.stone.id),
+        })?;
     }
     let stones: Vec<Stone> = meshes.iter().map(|m| m.stone.clone()).collect();
     check_unique_ids(path, &stones)?;
@@ -122,7 +128,6 @@ pub(super) fn import(path: &Path, o: &ImportOptions) -> Result<ImportedWall, Sur
             element: m.stone.element.clone(),
             reason: format!("stone {}: {reason}", m.stone.id),
         };
-        check_closed(triangles).map_err(err)?;
         let points: Vec<Vec3> = vertices.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect();
         // The stone's own mass properties, at unit density: its block's mass, weight and
         // inertia (the block itself, its contact geometry, is the hull).
@@ -409,8 +414,11 @@ fn weld(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> (Vec<[f64; 3]>, Vec<
 
 /// Refuses a mesh that is not closed and consistently oriented: every edge of a triangle
 /// must be met once in the other direction by another triangle. Degenerate triangles (two
-/// corners the same) are left out.
-fn check_closed(triangles: &[[usize; 3]]) -> Result<(), String> {
+/// corners the same) are left out. The message names an edge at fault by its two corners'
+/// coordinates (`vertices`, as the file gives them: the vertices are welded and numbered
+/// anew, so the file's own numbering is not at hand).
+fn check_closed(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<(), String> {
+    let at = |i: usize| format!("({}, {}, {})", vertices[i][0], vertices[i][1], vertices[i][2]);
     let mut directed: BTreeMap<(usize, usize), usize> = BTreeMap::new();
     for t in triangles.iter().filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) {
         for k in 0..3 {
@@ -422,15 +430,19 @@ fn check_closed(triangles: &[[usize; 3]]) -> Result<(), String> {
     }
     if let Some(((a, b), _)) = directed.iter().find(|(_, &n)| n > 1) {
         return Err(format!(
-            "the edge between vertices {a} and {b} is used twice in the same direction: the faces are not consistently \
-             oriented (or the surface is not a manifold)"
+            "the edge from {} to {} is used twice in the same direction: the faces are not consistently oriented (or \
+             the surface is not a manifold)",
+            at(*a),
+            at(*b)
         ));
     }
     let open: Vec<_> = directed.keys().filter(|(a, b)| !directed.contains_key(&(*b, *a))).collect();
     if let Some((a, b)) = open.first() {
         return Err(format!(
-            "the mesh is not closed: {} edges belong to one face only (the first between vertices {a} and {b})",
-            open.len()
+            "the mesh is not closed: {} edges belong to one face only (the first from {} to {})",
+            open.len(),
+            at(*a),
+            at(*b)
         ));
     }
     Ok(())
@@ -448,11 +460,12 @@ mod tests {
     #[test]
     fn a_tetrahedron_is_closed_with_a_sixth_of_a_unit() {
         let (v, t) = tetrahedron();
-        check_closed(&t).unwrap();
+        check_closed(&v, &t).unwrap();
         let pts: Vec<Vec3> = v.iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
         assert!((mesh_mass_properties(&pts, &t, 1.0).volume - 1.0 / 6.0).abs() < 1e-15);
-        assert!(check_closed(&t[..3]).unwrap_err().contains("not closed"));
+        let open = check_closed(&v, &t[..3]).unwrap_err();
+        assert!(open.contains("not closed") && open.contains("from (1, 0, 0) to (0, 0, 1)"), "{open}");
         let flipped = [t[0], t[1], t[2], [1, 3, 2]];
-        assert!(check_closed(&flipped).unwrap_err().contains("oriented"));
+        assert!(check_closed(&v, &flipped).unwrap_err().contains("oriented"));
     }
 }
