@@ -26,7 +26,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The observables compared, with their row accessors.
-const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 18] = [
+const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f64); 19] = [
     ("peak_pos_kn", "peak force + (kN)", |r| r.peak_pos_kn, |s| s.vmax_pos_kn),
     ("peak_neg_kn", "peak force − (kN)", |r| r.peak_neg_kn, |s| s.vmax_neg_kn),
     ("drift_at_peak_pos_pct", "drift at peak + (%)", |r| r.drift_at_peak_pos_pct, |s| s.dmax_pos_pct),
@@ -88,6 +88,12 @@ const OBSERVABLES: [(&str, &str, fn(&InPlaneColumns) -> f64, fn(&Specimen) -> f6
         "largest_block_excursion_mm",
         "largest excursion of a block from its course (mm), simulated only",
         |r| r.largest_block_excursion_mm,
+        |_| f64::NAN,
+    ),
+    (
+        "course_widening_mm",
+        "widening of the most widened course at the history's end (mm), simulated only",
+        |r| r.course_widening_mm,
         |_| f64::NAN,
     ),
 ];
