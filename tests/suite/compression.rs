@@ -138,6 +138,16 @@ fn a_vertical_stress_past_the_crushing_strength_crushes_the_wall_by_name() {
     // Below the strength the cycles run.
     let p = CompressionParams { sigma0_mpa: 1.5, cycles: 1, ..Default::default() };
     run_compression_penalty(&wall, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap();
+    // Only the upper block's bed crushes: the base joint does not, and the refusal, which
+    // speaks of the base, is not given (the static solve says what the wall does).
+    let mut upper_only = stack(2, 1e10);
+    let top = (0..upper_only.blocks.len())
+        .max_by(|&a, &b| upper_only.blocks[a].centroid().z.total_cmp(&upper_only.blocks[b].centroid().z))
+        .unwrap();
+    upper_only.blocks[top].bed_closure = Some(closure);
+    let p = CompressionParams { sigma0_mpa: 2.5, cycles: 1, ..Default::default() };
+    let e = run_compression_penalty(&upper_only, SolverParams::default(), &p, &mut |_, _, _| {}).unwrap_err();
+    assert!(e.does_not_stand() && !e.to_string().contains("crushes the wall"), "{e}");
 }
 
 #[test]

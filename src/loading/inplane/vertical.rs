@@ -125,21 +125,36 @@ pub fn stand_under_vertical_force(
     Ok(VerticalPhase { sim, relax, start, settlement_m, vertical_modulus_mpa })
 }
 
-/// Refuses a vertical force the wall's joints crush under: where the layout has a crushing
-/// law (`q = min(Kn u, fc)`, [`crate::closure::Closure::Crushing`]), a bed joint across the
-/// wall carries at most fc over its area, at most the plan area `L t`; the mean stress at the
-/// base, `(N + W) / (L t)`, reaching fc leaves the joints closing without end (the wall
-/// crushes), which the static solve would report as a block moved kilometres.
+/// Refuses a vertical force the wall's base joint crushes under: where every block on the
+/// table meets it with a crushing law (`q = min(Kn u, fc)`,
+/// [`crate::closure::Closure::Crushing`]: a material's, the base family's or a block's
+/// own bed law, as the engine's joint table resolves them), the base joint carries at most
+/// the largest of their fc over an area of at most the plan area `L t`, and a mean stress
+/// `(N + W) / (L t)` reaching it leaves the joint closing without end (the wall crushes),
+/// which the static solve would report as a block moved kilometres. A base that any block
+/// bears on without a crushing law, or crushing joints higher up, are left to that solve.
 ///
 /// # Errors
-/// [`InPlaneError::Crushes`], naming the joint rule and both stresses.
+/// [`InPlaneError::Crushes`], naming the layout's crushing rule and both stresses.
 pub fn check_crushing(rig: &Rig) -> Result<(), InPlaneError> {
-    let Some((joint, fc_pa)) = rig.layout.crushing_joint() else { return Ok(()) };
+    let Some((joint, _)) = rig.layout.crushing_joint() else { return Ok(()) };
+    let table = crate::dem::materials::JointTable::new(&rig.layout);
+    let up = Vec3::new(0.0, 0.0, 1.0);
+    let mut strength_pa = f64::NEG_INFINITY;
+    for (k, b) in rig.layout.blocks.iter().enumerate() {
+        if b.shape.aabb().min.z > crate::loading::excursion::TOUCH_TOLERANCE_M {
+            continue;
+        }
+        match table.joint(None, k, &up).closure {
+            crate::closure::Closure::Crushing(c) => strength_pa = strength_pa.max(c.strength_pa),
+            _ => return Ok(()),
+        }
+    }
     let stress_pa = rig.n_total_n() / (rig.length_m * rig.thickness_m);
-    if stress_pa >= fc_pa {
+    if strength_pa.is_finite() && stress_pa >= strength_pa {
         return Err(InPlaneError::Crushes {
             joint,
-            strength_mpa: fc_pa * 1e-6,
+            strength_mpa: strength_pa * 1e-6,
             stress_mpa: stress_pa * 1e-6,
             force_kn: rig.vertical_force_n * 1e-3,
         });
