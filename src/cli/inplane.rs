@@ -92,6 +92,11 @@ pub struct InPlaneArgs {
     /// [default: 1e-4] (not read by nscd or limit analysis, which have no such solve).
     #[arg(long)]
     tolerance: Option<f64>,
+    /// Sub-contact subdivisions of the penalty DEM's joints per fan-triangle edge, 1–64
+    /// [default: 2] (`subcontact_subdivisions` of a study's `[solver]`; not read by nscd or
+    /// limit analysis, which take a contact polygon's corners).
+    #[arg(long, value_name = "M")]
+    subdivisions: Option<u32>,
     #[command(flatten)]
     solver: SolverChoice,
     /// Print one JSON object instead of a table.
@@ -175,6 +180,7 @@ fn refuse_unread(a: &InPlaneArgs) -> Result<()> {
             &statics,
             "what holds the penalty DEM's blocks out of the wall's plane",
         ),
+        ("--subdivisions", a.subdivisions.is_some(), &statics, "the density of the penalty DEM's sub-contacts"),
     ] {
         super::solver::only_with_methods(kind, readers, flag, given, what)?;
     }
@@ -282,7 +288,17 @@ pub fn command(a: InPlaneArgs) -> Result<ExitCode> {
         tolerance: a.tolerance.unwrap_or(PenaltyParams::default().tolerance),
         ..PenaltyParams::default()
     };
-    let solver = SolverParams { kind, penalty, limit: LimitParams::default(), ..SolverParams::default() };
+    let subcontact_subdivisions = a.subdivisions.unwrap_or(SolverParams::default().subcontact_subdivisions);
+    if !(1..=64).contains(&subcontact_subdivisions) {
+        bail!("--subdivisions {subcontact_subdivisions} is out of range: an integer in [1, 64]");
+    }
+    let solver = SolverParams {
+        kind,
+        penalty,
+        limit: LimitParams::default(),
+        subcontact_subdivisions,
+        ..SolverParams::default()
+    };
     let unsupported = |e: Unsupported| anyhow::anyhow!("{e}; on the command line: --solver NAME");
     let mut observe = States(|_: f64, _: bool, _: &drystone::dem::Simulation| {});
     let run = drystone::protocol::run(&InPlane(params.clone()), &l, solver, &mut observe).map_err(unsupported)?;

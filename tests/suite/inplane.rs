@@ -793,7 +793,10 @@ fn options_the_run_would_not_read_or_would_misread_are_refused_by_name() {
 /// any run: limit analysis (the collapse load from statics: no path, no displacement read,
 /// no static solve) refuses `--drift-pct`, `--step-mm`, `--measuring-height-m` and
 /// `--tolerance`; nscd (no static solve) refuses `--tolerance`; both, whose walls are 3D,
-/// refuse `--out-of-plane`. They were accepted and ignored. The penalty DEM reads them all, and each solver runs without them.
+/// refuse `--out-of-plane`, and both, which take a contact polygon's corners, refuse the
+/// penalty DEM's sub-contact mesh (`--subdivisions`). They were accepted and ignored. The
+/// penalty DEM reads them all, and each solver runs without them; a mesh outside 1–64 is
+/// refused naming `--subdivisions`.
 #[test]
 fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
     let (dir, layout) = one_block_file("drystone-inplane-solver-unread");
@@ -811,6 +814,8 @@ fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
         ("nscd", "--tolerance", "1e-5"),
         ("nscd", "--out-of-plane", "free"),
         ("limit", "--out-of-plane", "held"),
+        ("nscd", "--subdivisions", "3"),
+        ("limit", "--subdivisions", "1"),
     ] {
         let (code, err) = run(&["--solver", solver, flag, value]);
         assert_eq!(code, Some(2), "{solver} {flag}: {err}");
@@ -821,6 +826,11 @@ fn options_the_chosen_solver_does_not_read_are_refused_by_name() {
     let (code, err) = run(&["--solver", "nscd", "--drift-pct", "0.2", "--step-mm", "0.5", "--json"]);
     assert_eq!(code, Some(0), "{err}");
     let (code, err) = run(&["--solver", "limit", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = run(&["--subdivisions", "0", "--drift-pct", "0.1"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--subdivisions 0") && err.contains("[1, 64]"), "{err}");
+    let (code, err) = run(&["--subdivisions", "3", "--drift-pct", "0.1", "--json"]);
     assert_eq!(code, Some(0), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -61,13 +61,7 @@ pub fn check_models(
     let mut out = out;
     // A model the loops misfit but that predicts them no worse than the baseline by the
     // analysis's margin is not refuted by them (`refutes_beyond_baseline`).
-    if let Some(base_chi2) = out.iter().find(|m| m.name == "baseline").map(|m| m.chi2) {
-        for m in out.iter_mut().filter(|m| m.verdict == LoopVerdict::Refuted) {
-            if !super::refutes_beyond_baseline(m.chi2, m.p_value, base_chi2) {
-                m.verdict = LoopVerdict::Misfits;
-            }
-        }
-    }
+    super::judge_against_baseline(&mut out);
     Ok(LoopCheck {
         min_drift_pct: LOOP_MIN_DRIFT_PCT,
         measured_sigma,

@@ -148,6 +148,9 @@ impl LoopsReading {
             baseline_heldout_error: f64::NAN,
             cause: None,
         };
+        // Each model was checked alone: judged against the baseline once assembled, as the
+        // analysis's verdict judges it.
+        super::judge_against_baseline(&mut check.models);
         refit_peaks(&mut check, run);
         Ok(check)
     }
