@@ -93,7 +93,7 @@ pub struct InPlaneArgs {
     #[arg(long)]
     tolerance: Option<f64>,
     /// Sub-contact subdivisions of the penalty DEM's joints per fan-triangle edge, 1–64
-    /// [default: 2] (`subcontact_subdivisions` of a study's `[solver]`; not read by nscd or
+    /// [default: 1] (`subcontact_subdivisions` of a study's `[solver]`; not read by nscd or
     /// limit analysis, which take a contact polygon's corners).
     #[arg(long, value_name = "M")]
     subdivisions: Option<u32>,

@@ -133,10 +133,9 @@ pub struct SolverParams {
     /// edge, ≥ 1 (each fan triangle becomes `m²` sub-contacts; see [`Self::fan`]). Each
     /// sub-contact carries one shear spring at its centroid, so `m` sets how well a joint
     /// resists twist about its normal: at 1 a quadrilateral joint has two springs (62 % of
-    /// its frictional torque), at 2 eight (95 %). Default 2, the converged density: the
-    /// main job's 36 walls collapse within one bracket (0.125°) of 4 subdivisions at 2,
-    /// where at 1 the SBR walls collapse up to 0.5° early and a slender block reads as
-    /// sliding where it topples (README, "The model": sub-contacts).
+    /// its frictional torque), at 2 eight (95 %). Default 1, which is not converged for
+    /// every wall: the main job's SBR walls collapse 0.25–0.5° later at 2 and 3 than at 1
+    /// (README, "The model": sub-contacts).
     pub subcontact_subdivisions: u32,
     /// Integration of the joint pressure over a sub-contact. Default `exact`.
     pub quadrature: Quadrature,
@@ -174,7 +173,7 @@ impl Default for SolverParams {
             contact_margin_m: 1e-3,
             feature_tolerance_m: 5e-4,
             face_angle_tolerance_deg: 10.0,
-            subcontact_subdivisions: 2,
+            subcontact_subdivisions: 1,
             quadrature: Quadrature::Exact,
             degenerate_width_fraction: 0.05,
             redetect_fraction: 0.5,

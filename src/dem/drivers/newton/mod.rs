@@ -288,14 +288,9 @@ mod tests {
 
     /// A block `[x0, y0, z0]`–`[x1, y1, z1]` (m) on the table, φ 35°, Kn `kn` Pa/m, Ks Kn/2,
     /// settled under gravity.
-    /// A block settled on the table on the one-subdivision sub-contact mesh (two fan
-    /// triangles, each across the whole base), the mesh these checks were written on: on the
-    /// default mesh of two, where a sub-contact lies wholly in the lifted part of a rocking
-    /// base, the tangent's shear block of the 12° case reads twice the law's central
-    /// differences (K_xx 1.4996e6 against 7.498e5 N/m), which the line search absorbs.
     fn settled_on(min: [f64; 3], max: [f64; 3], kn: f64) -> Simulation {
         let l = layout_of(vec![box_vertices(min, max)], kn, kn / 2.0, 35.0, BaseSliding::Free);
-        let mut sim = Simulation::new(&l, SolverParams { subcontact_subdivisions: 1, ..SolverParams::default() });
+        let mut sim = Simulation::new(&l, SolverParams::default());
         assert!(sim.run_to_equilibrium(1e-9, 400_000).unwrap());
         sim
     }
