@@ -402,9 +402,11 @@ pub(super) fn tangent_blocks(sim: &Simulation, x: &PoseIncrement) -> Blocks {
                 }
             }
             // The shear spring at the sub-contact's centroid, where the law takes the shear
-            // increment; nothing where the sub-contact carries no force.
+            // increment; nothing where the law gives the sub-contact no force (no compression
+            // and no tension carried: `contact::law::evaluate`), whatever shear it stores (a
+            // sub-contact wholly open keeps the history it had when it opened).
             let st = &s.state;
-            if st.normal == 0.0 && st.shear == Vec3::zeros() {
+            if st.normal <= 0.0 && !tension {
                 continue;
             }
             let third = [1.0 / 3.0; 3];
